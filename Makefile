@@ -1,0 +1,35 @@
+# Set-up is part of every target: a fresh clone needs only `make <target>`.
+PYTHON ?= python3
+VENV ?= .venv
+PY := $(VENV)/bin/python
+STAMP := $(VENV)/.installed
+VARIANT ?=
+JOBS ?=
+
+.PHONY: setup derive verify test bench demo clean
+
+setup: $(STAMP)
+
+$(STAMP): pyproject.toml constraints.txt
+	$(PYTHON) -m venv $(VENV)
+	$(PY) -m pip install --quiet --upgrade pip
+	$(PY) -m pip install --quiet -c constraints.txt -e ".[test]"
+	touch $(STAMP)
+
+derive: $(STAMP)
+	$(PY) -m derive $(if $(VARIANT),--variant $(VARIANT))
+
+verify: $(STAMP)
+	$(VENV)/bin/rocking verify
+
+test: $(STAMP)
+	$(PY) -m pytest -q $(if $(JOBS),-n $(JOBS))
+
+bench: $(STAMP)
+	$(PY) bench/run.py
+
+demo: $(STAMP)
+	$(VENV)/bin/rocking demo --out out
+
+clean:
+	rm -rf $(VENV) out build *.egg-info

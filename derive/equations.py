@@ -1,0 +1,270 @@
+"""Lagrange's equations and everything a time integrator needs, from the energies.
+
+The results are SymPy expressions in the symbols of :class:`~derive.mechanics.System`
+(``s``, coordinates, velocities, the ground acceleration ``ag`` and the
+parameters). Each is derived, never typed: the rocking equations as mass matrix
+and forcing, the full-contact accelerations, the uplift functions as the
+reaction that keeps ``theta = 0``, the impact map from conservation laws, the
+mechanical energy and its rate, and the static critical angle.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .mechanics import System, ag, build_system, s
+from .spec import IMPACT_LAWS, INERTIA_OPTIONS, Spec, SpecError
+
+DEFAULT_OPTIONS = {"impact": "spec", "inertia": "free"}
+
+
+@dataclass(frozen=True)
+class Equations:
+    """The derived model.
+
+    Attributes
+    ----------
+    system : System
+        Symbols and energies the equations come from.
+    options : dict
+        Resolved derivation options (per-coordinate impact laws included).
+    mass_matrix : Matrix
+        ``M(q)`` of the rocking phase, ``M ddq = forcing``.
+    forcing : Matrix
+        Right-hand side of the rocking phase.
+    rocking_accel : list of Expr
+        ``ddq`` of the rocking phase, solved so that ``ddtheta`` stays finite
+        when the attached masses vanish.
+    contact_accel : list of Expr
+        ``ddq`` in full contact (``ddtheta = 0``).
+    uplift : Expr
+        Positive when the block would uplift about the pivot ``s``.
+    impact : list of Expr
+        Velocities after an impact at ``theta = 0`` that ends rocking about
+        ``s`` (the new pivot is ``-s``); coordinates are continuous.
+    energy, power : Expr
+        Mechanical energy in the ground frame and its rate along solutions
+        (dissipation plus the work of the inertial ground force).
+    critical_angle : Expr
+        Static critical angle about the pivot ``s`` (sign of ``s``).
+    """
+
+    system: System
+    options: dict
+    mass_matrix: sp.Matrix
+    forcing: sp.Matrix
+    rocking_accel: list
+    contact_accel: list
+    uplift: sp.Expr
+    impact: list
+    energy: sp.Expr
+    power: sp.Expr
+    critical_angle: sp.Expr
+
+
+def resolve_options(spec: Spec, options: dict | None) -> dict:
+    """Check ``options`` and resolve the impact law of every coordinate."""
+    opts = dict(DEFAULT_OPTIONS)
+    for key, value in (options or {}).items():
+        if key not in DEFAULT_OPTIONS:
+            raise SpecError(f"unknown option {key!r}; options are {', '.join(DEFAULT_OPTIONS)}")
+        opts[key] = value
+    if opts["inertia"] not in INERTIA_OPTIONS:
+        raise SpecError(
+            f"option inertia: unknown value {opts['inertia']!r}; choose one of {', '.join(INERTIA_OPTIONS)}"
+        )
+    if opts["impact"] not in ("spec",) + IMPACT_LAWS:
+        raise SpecError(
+            f"option impact: unknown value {opts['impact']!r}; choose one of spec, {', '.join(IMPACT_LAWS)}"
+        )
+    laws = dict(spec.impact) if opts["impact"] == "spec" else {c: opts["impact"] for c in spec.coordinates}
+    return {"impact": opts["impact"], "impact_laws": laws, "inertia": opts["inertia"]}
+
+
+def _reduce(expr):
+    """Canonical form: expanded, ``s**2 = 1``, ``sin**2 = 1 - cos**2``."""
+    expr = sp.expand(expr)
+    expr = expr.replace(
+        lambda a: a.is_Pow and a.base == s and a.exp.is_Integer,
+        lambda a: s ** (int(a.exp) % 2),
+    )
+    expr = expr.replace(
+        lambda a: a.is_Pow and isinstance(a.base, sp.sin) and a.exp.is_Integer and a.exp >= 2,
+        lambda a: a.base ** (int(a.exp) % 2) * (1 - sp.cos(a.base.args[0]) ** 2) ** (int(a.exp) // 2),
+    )
+    return sp.expand(expr)
+
+
+def _to_symbols(expr, sysm: System, vg):
+    """Replace the time functions and their derivatives by plain symbols."""
+    t_ = sysm.x_g.args[0]
+    rep = {sysm.x_g.diff(t_, 2): ag, sysm.x_g.diff(t_): vg}
+    for f, q, dq, ddq in zip(sysm.qt, sysm.q, sysm.dq, sysm.ddq):
+        rep[f.diff(f.args[0], 2)] = ddq
+        rep[f.diff(f.args[0])] = dq
+    expr = expr.xreplace(rep)
+    return expr.xreplace(dict(zip(sysm.qt, sysm.q)))
+
+
+def lagrange(sysm: System):
+    """Residuals ``d/dt dT/ddq - dT/dq + dV/dq + dD/ddq`` of every coordinate."""
+    t_ = sysm.x_g.args[0]
+    vg = sp.Symbol("vg", real=True)
+    out = []
+    for f in sysm.qt:
+        v = f.diff(t_)
+        r = sysm.T.diff(v).diff(t_) - sysm.T.diff(f) + sysm.V.diff(f) + sysm.D.diff(v)
+        r = _reduce(_to_symbols(r, sysm, vg))
+        if r.has(vg) or r.has(sysm.x_g):
+            raise SpecError("the equations depend on the ground velocity or position: the model is inconsistent")
+        out.append(r)
+    return out
+
+
+def _schur_solve(A, rhs, finite=True):
+    """Solve ``A u = rhs`` by the Schur complement of the first unknown.
+
+    ``A[1:, 1:]`` belongs to the attached bodies and is proportional to their
+    masses, as is the coupling ``A[1:, 0]``; cancelling their ratio first keeps
+    ``u[0]`` finite as the masses go to zero.
+    """
+    n = A.shape[0]
+    if n == 1:
+        return [sp.cancel(rhs[0] / A[0, 0])]
+    a, c, b, Dm = A[0, 0], A[0, 1:], A[1:, 0], A[1:, 1:]
+    Dinv_b = Dm.LUsolve(b).applyfunc(sp.cancel)
+    cT_Dinv = Dm.T.LUsolve(c.T).applyfunc(sp.cancel).T
+    u0 = (rhs[0] - (cT_Dinv * rhs[1:, 0])[0]) / _reduce(a - (c * Dinv_b)[0])
+    Dinv_rhs = Dm.LUsolve(rhs[1:, 0])
+    if finite:
+        Dinv_rhs = Dinv_rhs.applyfunc(sp.cancel)
+    rest = Dinv_rhs - Dinv_b * u0
+    return [u0] + list(rest)
+
+
+def _angular_momentum(sysm: System, pivot_sign, velocities):
+    """Angular momentum about the corner ``-pivot_sign`` at ``theta = 0``.
+
+    Bodies move as while rocking about ``pivot_sign`` with ``velocities``.
+    """
+    t_ = sysm.x_g.args[0]
+    B = sysm.params[[p.name for p in sysm.params].index("B")]
+    point = sp.Matrix([pivot_sign * B / 2, 0])
+    vg = sp.Symbol("vg", real=True)
+    total = sp.Integer(0)
+    for mass, inertia, X, angle in sysm.bodies:
+        Xr = X - sp.Matrix([sysm.x_g, 0])
+        V = Xr.diff(t_)
+        omega = (sysm.qt[0] + angle).diff(t_)
+        r = Xr - point
+        total += mass * (r[0] * V[1] - r[1] * V[0]) + inertia * omega
+    total = _to_symbols(total, sysm, vg).subs(s, pivot_sign).subs(sysm.q[0], 0)
+    return _reduce(total.xreplace(dict(zip(sysm.dq, velocities))))
+
+
+def impact_map(sysm: System, laws: dict):
+    """Velocities after an impact ending rocking about ``s``.
+
+    The total angular momentum about the new pivot ``-s`` is conserved; each
+    attached coordinate keeps either its generalised momentum (``"momentum"``:
+    no impulse acts along it) or its velocity (``"velocity"``).
+    """
+    plus = tuple(sp.Symbol(d.name + "_plus", real=True) for d in sysm.dq)
+    vg = sp.Symbol("vg", real=True)
+    T_rel = _to_symbols(sysm.T.xreplace({sysm.x_g: 0}).doit(), sysm, vg).subs(vg, 0)
+    names = [str(q) for q in sysm.q]
+    eqs = [_angular_momentum(sysm, -s, plus) - _angular_momentum(sysm, s, sysm.dq)]
+    unknowns = [plus[0]]
+    known = {}
+    for j in range(1, len(sysm.q)):
+        if laws[names[j]] == "velocity":
+            known[plus[j]] = sysm.dq[j]
+            continue
+        p_j = T_rel.diff(sysm.dq[j]).subs(sysm.q[0], 0)
+        after = p_j.subs(s, -s).xreplace(dict(zip(sysm.dq, plus)))
+        eqs.append(_reduce(after - p_j))
+        unknowns.append(plus[j])
+    eqs = [_reduce(e.xreplace(known)) for e in eqs]
+    A = sp.Matrix([[sp.diff(e, u) for u in unknowns] for e in eqs])
+    rhs = -sp.Matrix([e.xreplace({u: 0 for u in unknowns}) for e in eqs])
+    sol = dict(zip(unknowns, _schur_solve(A, rhs)))
+    sol.update(known)
+    return [sol[p] for p in plus]
+
+
+def critical_angle(sysm: System):
+    """Angle where gravity's moment about the pivot vanishes, other coordinates held."""
+    vg = sp.Symbol("vg", real=True)
+    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    Vg = sp.Integer(0)
+    for mass, _, X, _ in sysm.bodies:
+        Vg += mass * g * X[1]
+    Vg = _to_symbols(Vg, sysm, vg)
+    theta = sysm.q[0]
+    if sp.simplify(Vg.diff(theta, 2) + Vg) != 0:
+        raise SpecError("the gravity potential is not of the form a cos(theta) + b sin(theta)")
+    a = _reduce(Vg.subs(theta, 0))
+    b = _reduce(Vg.diff(theta).subs(theta, 0))
+    return sp.atan2(b, a)
+
+
+def derive(spec: Spec, options: dict | None = None) -> Equations:
+    """Derive every expression of ``spec`` under ``options``.
+
+    Parameters
+    ----------
+    spec : Spec
+        The model.
+    options : dict, optional
+        ``impact``: ``"spec"`` (the spec's law per coordinate, default),
+        ``"momentum"`` or ``"velocity"`` for all coordinates; ``inertia``:
+        ``"free"`` (``I_G`` is a parameter, default) or ``"homogeneous"``.
+    """
+    opts = resolve_options(spec, options)
+    sysm = build_system(spec, opts["inertia"])
+    n = len(sysm.q)
+    E = lagrange(sysm)
+    Mm = sp.Matrix(n, n, lambda i, j: _reduce(sp.diff(E[i], sysm.ddq[j])))
+    f = sp.Matrix([_reduce(-(E[i] - sum(Mm[i, j] * sysm.ddq[j] for j in range(n)))) for i in range(n)])
+    if any(f[i].has(*sysm.ddq) for i in range(n)):
+        raise SpecError("the equations are not linear in the accelerations")
+
+    rocking = _schur_solve(Mm, f, finite=False)
+
+    at_contact = {sysm.q[0]: 0, sysm.dq[0]: 0}
+    D0 = Mm[1:, 1:].subs(at_contact)
+    f0 = f.subs(at_contact)
+    contact = [sp.Integer(0)]
+    if n > 1:
+        contact += list(D0.LUsolve(f0[1:, 0]).applyfunc(sp.cancel))
+        coupling = D0.LUsolve(Mm[1:, 0].subs(at_contact)).applyfunc(sp.cancel)
+        reaction = (coupling.T * f0[1:, 0])[0] - f0[0]
+    else:
+        reaction = -f0[0]
+    uplift = _reduce(-s * reaction)
+
+    vg = sp.Symbol("vg", real=True)
+    T_rel = _to_symbols(sysm.T.xreplace({sysm.x_g: 0}).doit(), sysm, vg).subs(vg, 0)
+    V = _to_symbols(sysm.V, sysm, vg)
+    energy = _reduce(T_rel + V)
+    momentum_x = sp.Integer(0)
+    for mass, _, X, _ in sysm.bodies:
+        momentum_x += mass * (X[0] - sysm.x_g).diff(sysm.x_g.args[0])
+    D = _to_symbols(sysm.D, sysm, vg)
+    power = _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
+
+    return Equations(
+        system=sysm,
+        options=opts,
+        mass_matrix=Mm,
+        forcing=f,
+        rocking_accel=rocking,
+        contact_accel=contact,
+        uplift=uplift,
+        impact=impact_map(sysm, opts["impact_laws"]),
+        energy=energy,
+        power=power,
+        critical_angle=critical_angle(sysm),
+    )

@@ -1,0 +1,128 @@
+"""Kinematics and energies of the block and its bodies, about either base corner.
+
+Nothing here is an equation of motion: positions are written in the block
+frame, rotated about the active pivot, and turned into kinetic energy,
+potential energy and Rayleigh dissipation. ``derive.equations`` applies
+Lagrange's equations to them.
+
+The pivot is the symbol ``s``: ``+1`` rotates about the left corner ``A``,
+``-1`` about the right corner ``A'`` (model.md section 1). Positions are
+absolute: the ground displacement ``x_g(t)`` is added to every point, so the
+ground acceleration enters through Lagrange's equations, not by hand.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .spec import BLOCK_PARAMETERS, INERTIA_OPTIONS, Spec, SpecError
+
+t = sp.Symbol("t", real=True)
+s = sp.Symbol("s", real=True)
+#: Ground acceleration ``ddx_g`` once the derivation is done.
+ag = sp.Symbol("ag", real=True)
+
+
+@dataclass(frozen=True)
+class System:
+    """Symbols and energies of one model about the pivot ``s``.
+
+    Attributes
+    ----------
+    q, dq, ddq : tuple of Symbol
+        Coordinates (``theta`` first), velocities and accelerations.
+    params : tuple of Symbol
+        Parameters in argument order.
+    T, V, D : Expr
+        Kinetic energy (absolute velocities, functions of ``t``), potential
+        energy and Rayleigh dissipation function, written with the
+        time functions ``qt``.
+    qt : tuple of Function
+        The coordinates as functions of time, used by Lagrange's equations.
+    x_g : Function
+        Ground displacement.
+    bodies : list of (mass, inertia, position, angle)
+        All bodies including the block, positions relative to the ground.
+    """
+
+    q: tuple
+    dq: tuple
+    ddq: tuple
+    params: tuple
+    qt: tuple
+    x_g: sp.Expr
+    T: sp.Expr
+    V: sp.Expr
+    D: sp.Expr
+    bodies: tuple
+    pivot_point: tuple
+
+
+def rotation(angle):
+    """Counter-clockwise rotation matrix."""
+    return sp.Matrix([[sp.cos(angle), -sp.sin(angle)], [sp.sin(angle), sp.cos(angle)]])
+
+
+def block_symbols(inertia: str):
+    """The block's parameter symbols; ``I_G`` is an expression when homogeneous."""
+    if inertia not in INERTIA_OPTIONS:
+        raise SpecError(f"option inertia: unknown value {inertia!r}; choose one of {', '.join(INERTIA_OPTIONS)}")
+    sym = {name: sp.Symbol(name, real=True) for name, *_ in BLOCK_PARAMETERS}
+    I_G = sym["I_G"]
+    if inertia == "homogeneous":
+        I_G = sym["M"] * (sym["B"] ** 2 + sym["H"] ** 2) / 12
+        del sym["I_G"]
+    return sym, I_G
+
+
+def build_system(spec: Spec, inertia: str = "free") -> System:
+    """Energies of ``spec`` rotating about the pivot ``s``.
+
+    Parameters
+    ----------
+    spec : Spec
+        The model.
+    inertia : {"free", "homogeneous"}
+        ``I_G`` as a parameter, or the homogeneous rectangle's value.
+    """
+    block, I_G = block_symbols(inertia)
+    own = {p.name: sp.Symbol(p.name, real=True) for p in spec.parameters}
+    names = ("theta",) + spec.coordinates
+    q = tuple(sp.Symbol(n, real=True) for n in names)
+    dq = tuple(sp.Symbol("d" + n, real=True) for n in names)
+    ddq = tuple(sp.Symbol("dd" + n, real=True) for n in names)
+    qt = tuple(sp.Function(n, real=True)(t) for n in names)
+    x_g = sp.Function("x_g", real=True)(t)
+    to_time = dict(zip(q, qt))
+
+    M, B, H, e, g = (block[k] for k in ("M", "B", "H", "e", "g"))
+    theta = qt[0]
+    corner = sp.Matrix([-s * B / 2, 0])
+    rot = rotation(theta)
+
+    def place(r):
+        """Ground-frame position of a block-frame point while rocking about ``s``."""
+        return corner + rot * (sp.Matrix(r) - corner) + sp.Matrix([x_g, 0])
+
+    bodies = [(M, I_G, place((e, H / 2)), sp.Integer(0))]
+    for b in spec.bodies:
+        r = [sp.sympify(c).subs(to_time) for c in b.position]
+        bodies.append((b.mass, b.inertia, place(r), b.angle.subs(to_time)))
+
+    T = sp.Integer(0)
+    V = sp.Integer(0)
+    for mass, inertia_b, X, angle in bodies:
+        v = X.diff(t)
+        omega = (theta + angle).diff(t)
+        T += mass * (v[0] ** 2 + v[1] ** 2) / 2 + inertia_b * omega**2 / 2
+        V += mass * g * X[1]
+    for el in spec.springs:
+        V += el.coefficient * el.measure.subs(to_time) ** 2 / 2
+    D = sp.Integer(0)
+    for el in spec.dashpots:
+        D += el.coefficient * el.measure.subs(to_time).diff(t) ** 2 / 2
+
+    params = tuple(block.values()) + tuple(own.values())
+    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), tuple(corner))

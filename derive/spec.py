@@ -1,0 +1,284 @@
+"""Model specifications: a rocking block and the bodies it carries, as data.
+
+A spec is a TOML file (see ``derive/variants/*.toml``). It names the internal
+coordinates of the attached bodies, their parameters, the bodies with their
+positions in the block frame, the springs and dashpots, and the impact law of
+each internal coordinate. The rocking block itself is common to every model:
+height ``H``, base ``B``, mass ``M``, centroidal inertia ``I_G``, eccentricity
+``e`` and gravity ``g``; its rocking angle ``theta`` is always the first
+coordinate.
+
+The block frame has its origin at the centre of the base, ``x`` to the right,
+``y`` up; at ``theta = 0`` it coincides with the frame that translates with the
+ground. Units are SI.
+
+Everything is checked here, before any derivation starts.
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+from pathlib import Path
+
+import sympy as sp
+import tomllib
+
+#: Parameters of the rocking block, shared by every model, in argument order.
+BLOCK_PARAMETERS = (
+    ("M", "kg", "block mass", "> 0"),
+    ("I_G", "kg m^2", "centroidal moment of inertia of the block", "> 0"),
+    ("B", "m", "base width", "> 0"),
+    ("H", "m", "height", "> 0"),
+    ("e", "m", "eccentricity of the centroid G (positive towards A')", "|e| < B/2"),
+    ("g", "m/s^2", "gravity", "> 0"),
+)
+
+IMPACT_LAWS = ("momentum", "velocity")
+INERTIA_OPTIONS = ("free", "homogeneous")
+_RESERVED = {"theta", "s", "t", "ag", "x_g"} | {p[0] for p in BLOCK_PARAMETERS}
+
+
+class SpecError(ValueError):
+    """A model specification or a derivation option is invalid."""
+
+
+@dataclass(frozen=True)
+class Parameter:
+    """A model parameter: its symbol name, unit, meaning and valid range."""
+
+    name: str
+    unit: str
+    doc: str
+    valid: str = ">= 0"
+
+
+@dataclass(frozen=True)
+class Body:
+    """A body carried by the block.
+
+    ``position`` is the body's centre of mass in the block frame, ``angle`` its
+    rotation relative to the block (for its own rotary inertia).
+    """
+
+    name: str
+    mass: sp.Expr
+    position: tuple[sp.Expr, sp.Expr]
+    inertia: sp.Expr = sp.Integer(0)
+    angle: sp.Expr = sp.Integer(0)
+
+
+@dataclass(frozen=True)
+class Element:
+    """A linear spring (``coefficient`` is a stiffness, ``measure`` a stretch)
+    or dashpot (``coefficient`` a damping, ``measure`` whose rate it resists)."""
+
+    name: str
+    coefficient: sp.Expr
+    measure: sp.Expr
+    acts_on: str
+
+
+@dataclass(frozen=True)
+class Spec:
+    """A complete model specification."""
+
+    name: str
+    title: str
+    coordinates: tuple[str, ...]
+    parameters: tuple[Parameter, ...]
+    bodies: tuple[Body, ...]
+    springs: tuple[Element, ...]
+    dashpots: tuple[Element, ...]
+    impact: dict[str, str] = field(default_factory=dict)
+    source: str = ""
+
+    @property
+    def all_parameters(self) -> tuple[Parameter, ...]:
+        """Block parameters first, then the model's own, in argument order."""
+        block = tuple(Parameter(*p) for p in BLOCK_PARAMETERS)
+        return block + self.parameters
+
+
+def _expr(text, where: str, known: dict[str, sp.Symbol]) -> sp.Expr:
+    """Parse ``text`` with only the declared symbols in scope."""
+    if isinstance(text, (int, float)):
+        return sp.nsimplify(text)
+    if not isinstance(text, str):
+        raise SpecError(f"{where}: expected an expression, got {text!r}")
+    try:
+        expr = sp.parse_expr(text, local_dict=dict(known), evaluate=True)
+    except Exception as exc:  # SymPy raises many kinds for bad text
+        raise SpecError(f"{where}: cannot parse {text!r} ({exc})") from None
+    unknown = sorted(str(a) for a in expr.free_symbols if a.name not in known)
+    if unknown:
+        raise SpecError(
+            f"{where}: unknown symbol(s) {', '.join(unknown)} in {text!r}; "
+            f"declare them under [parameters] or [coordinates]"
+        )
+    return expr
+
+
+def _require(table: dict, key: str, where: str):
+    if key not in table:
+        raise SpecError(f"{where}: missing required key {key!r}")
+    return table[key]
+
+
+def _check_keys(table: dict, allowed: set[str], where: str) -> None:
+    extra = sorted(set(table) - allowed)
+    if extra:
+        raise SpecError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(allowed))}")
+
+
+def parse_spec(data: dict, source: str = "") -> Spec:
+    """Build a checked :class:`Spec` from the parsed TOML tables.
+
+    Raises
+    ------
+    SpecError
+        With a message naming the offending entry.
+    """
+    _check_keys(
+        data,
+        {"name", "title", "coordinates", "parameters", "bodies", "springs", "dashpots", "impact"},
+        "spec",
+    )
+    name = _require(data, "name", "spec")
+    if not (isinstance(name, str) and name.isidentifier()):
+        raise SpecError(f"spec: name must be an identifier, got {name!r}")
+    coords = tuple(data.get("coordinates", ()))
+    params_table = data.get("parameters", {})
+    names = list(coords) + list(params_table)
+    for n in names:
+        if not (isinstance(n, str) and n.isidentifier()):
+            raise SpecError(f"spec: {n!r} is not a valid symbol name")
+        if n in _RESERVED:
+            raise SpecError(f"spec: {n!r} is reserved for the block or the derivation")
+    if len(set(names)) != len(names):
+        raise SpecError("spec: a name is declared twice among coordinates and parameters")
+
+    parameters = []
+    for pname, ptab in params_table.items():
+        where = f"parameters.{pname}"
+        _check_keys(ptab, {"unit", "doc", "valid"}, where)
+        parameters.append(Parameter(pname, ptab.get("unit", ""), ptab.get("doc", ""), ptab.get("valid", ">= 0")))
+
+    known = {n: sp.Symbol(n, real=True) for n in names}
+    known.update({p[0]: sp.Symbol(p[0], real=True) for p in BLOCK_PARAMETERS})
+
+    bodies = []
+    for i, btab in enumerate(data.get("bodies", [])):
+        where = f"bodies[{i}]"
+        _check_keys(btab, {"name", "mass", "position", "inertia", "angle"}, where)
+        bname = _require(btab, "name", where)
+        where = f"body {bname!r}"
+        pos = _require(btab, "position", where)
+        if not (isinstance(pos, list) and len(pos) == 2):
+            raise SpecError(f"{where}: position must be a list of two expressions [x, y]")
+        mass = _expr(_require(btab, "mass", where), f"{where} mass", known)
+        inertia = _expr(btab.get("inertia", 0), f"{where} inertia", known)
+        for label, value in (("mass", mass), ("inertia", inertia)):
+            if value.is_number and value < 0:
+                raise SpecError(f"{where}: {label} must be >= 0, got {value}")
+        bodies.append(
+            Body(
+                bname,
+                mass,
+                (_expr(pos[0], f"{where} position x", known), _expr(pos[1], f"{where} position y", known)),
+                inertia,
+                _expr(btab.get("angle", 0), f"{where} angle", known),
+            )
+        )
+    body_names = [b.name for b in bodies]
+    if len(set(body_names)) != len(body_names):
+        raise SpecError("spec: two bodies have the same name")
+
+    def elements(kind: str, coef_key: str, measure_key: str) -> tuple[Element, ...]:
+        out = []
+        for i, etab in enumerate(data.get(kind, [])):
+            where = f"{kind}[{i}]"
+            _check_keys(etab, {"name", coef_key, measure_key, "acts_on"}, where)
+            ename = etab.get("name", f"{kind}{i}")
+            where = f"{kind[:-1]} {ename!r}"
+            acts_on = _require(etab, "acts_on", where)
+            if acts_on not in body_names:
+                raise SpecError(
+                    f"{where}: acts on unknown body {acts_on!r}; bodies are {', '.join(body_names) or 'none'}"
+                )
+            out.append(
+                Element(
+                    ename,
+                    _expr(_require(etab, coef_key, where), f"{where} {coef_key}", known),
+                    _expr(_require(etab, measure_key, where), f"{where} {measure_key}", known),
+                    acts_on,
+                )
+            )
+        return tuple(out)
+
+    springs = elements("springs", "stiffness", "stretch")
+    dashpots = elements("dashpots", "damping", "rate_of")
+
+    impact = dict(data.get("impact", {}))
+    for c in coords:
+        impact.setdefault(c, "momentum")
+    for c, law in impact.items():
+        if c not in coords:
+            raise SpecError(f"impact: {c!r} is not a coordinate; coordinates are {', '.join(coords)}")
+        if law not in IMPACT_LAWS:
+            raise SpecError(f"impact.{c}: unknown law {law!r}; choose one of {', '.join(IMPACT_LAWS)}")
+
+    spec = Spec(
+        name=name,
+        title=data.get("title", name),
+        coordinates=coords,
+        parameters=tuple(parameters),
+        bodies=tuple(bodies),
+        springs=springs,
+        dashpots=dashpots,
+        impact={c: impact[c] for c in coords},
+        source=source,
+    )
+    _check_coordinates_used(spec)
+    return spec
+
+
+def _check_coordinates_used(spec: Spec) -> None:
+    """Every internal coordinate must move a body or stretch a spring."""
+    used = set()
+    for expr in [e for b in spec.bodies for e in (*b.position, b.angle)] + [el.measure for el in spec.springs]:
+        used |= {str(a) for a in expr.free_symbols}
+    missing = [c for c in spec.coordinates if c not in used]
+    if missing:
+        raise SpecError(
+            f"spec {spec.name!r}: coordinate(s) {', '.join(missing)} appear in no energy "
+            "(no body position, body angle or spring depends on them)"
+        )
+
+
+def load_spec(path: str | Path) -> Spec:
+    """Read and check a spec file."""
+    path = Path(path)
+    if not path.is_file():
+        raise SpecError(f"spec file not found: {path}")
+    text = path.read_text(encoding="utf-8")
+    try:
+        data = tomllib.loads(text)
+    except tomllib.TOMLDecodeError as exc:
+        raise SpecError(f"{path}: not valid TOML ({exc})") from None
+    return parse_spec(data, source=text)
+
+
+VARIANTS_DIR = Path(__file__).parent / "variants"
+
+
+def registered_variants() -> list[str]:
+    """Names of the variants shipped in ``derive/variants``, sorted."""
+    return sorted(p.stem for p in VARIANTS_DIR.glob("*.toml"))
+
+
+def variant_spec(name: str) -> Spec:
+    """The shipped spec called ``name``."""
+    known = registered_variants()
+    if name not in known:
+        raise SpecError(f"unknown variant {name!r}; registered variants: {', '.join(known)}")
+    return load_spec(VARIANTS_DIR / f"{name}.toml")

@@ -1,0 +1,13 @@
+"""rocking: a rigid block rocking on the ground with an oscillating mass damper on its top.
+
+The equations come from SymPy (``derive/``) as generated NumPy and C code
+(``generated/``, installed as :mod:`rocking.generated`); this package is the
+runtime around them. Units are SI throughout: m, kg, s, rad, N/m, N s/m.
+"""
+
+from .model import Model, available_models, load_model
+from .params import Block, Damper, ParameterError
+from .pulse import OneSinePulse
+
+__all__ = ["Block", "Damper", "Model", "OneSinePulse", "ParameterError", "available_models", "load_model"]
+__version__ = "0.1.0"

@@ -1,0 +1,125 @@
+"""Generated models, loaded from their folder and manifest.
+
+The runtime knows a model only through ``manifest.json`` and the generated
+files next to it, so any folder written by ``python -m derive`` can be used.
+"""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+from collections.abc import Mapping
+from dataclasses import dataclass, field
+from pathlib import Path
+from types import ModuleType
+
+import numpy as np
+
+import rocking.generated
+
+GENERATED = Path(rocking.generated.__file__).resolve().parent
+MANIFEST_FORMAT = 1
+
+
+class ModelError(ValueError):
+    """A model cannot be found, loaded, or given the parameters it needs."""
+
+
+@dataclass(frozen=True)
+class Model:
+    """A generated model.
+
+    Attributes
+    ----------
+    name : str
+        Model name (``manifest["model"]``).
+    folder : Path
+        Folder holding the generated files.
+    manifest : dict
+        The parsed ``manifest.json``.
+    functions : ModuleType
+        The generated NumPy module.
+    """
+
+    name: str
+    folder: Path
+    manifest: dict
+    functions: ModuleType = field(repr=False)
+
+    @property
+    def coordinates(self) -> tuple[str, ...]:
+        return tuple(self.manifest["coordinates"])
+
+    @property
+    def state(self) -> tuple[str, ...]:
+        return tuple(self.manifest["state"])
+
+    @property
+    def parameters(self) -> tuple[str, ...]:
+        return tuple(p["name"] for p in self.manifest["parameters"])
+
+    @property
+    def nq(self) -> int:
+        return len(self.coordinates)
+
+    @property
+    def c_source(self) -> Path:
+        return self.folder / self.manifest["files"]["c_source"]
+
+    @property
+    def c_header(self) -> Path:
+        return self.folder / self.manifest["files"]["c_header"]
+
+    @property
+    def c_prefix(self) -> str:
+        return self.manifest["files"]["c_prefix"]
+
+    def param_vector(self, values: Mapping[str, float]) -> np.ndarray:
+        """Parameters in the model's argument order, from a mapping by name.
+
+        Raises
+        ------
+        ModelError
+            Naming the parameters the mapping lacks.
+        """
+        missing = [p for p in self.parameters if p not in values]
+        if missing:
+            raise ModelError(f"model {self.name!r} needs parameter(s) {', '.join(missing)}")
+        return np.array([float(values[p]) for p in self.parameters])
+
+    def call(self, function: str, s, y, ag, p):
+        """Call a generated NumPy function with a state vector ``y`` and parameter vector ``p``.
+
+        ``y`` has the state on its first axis, ``p`` the parameters on its first axis.
+        """
+        fn = getattr(self.functions, function)
+        return fn(s, *y, ag, *p)
+
+
+def available_models() -> list[str]:
+    """Names of the models installed in :mod:`rocking.generated`."""
+    return sorted(p.parent.name for p in GENERATED.glob("*/manifest.json"))
+
+
+def load_model(model: str | Path | Model = "omd") -> Model:
+    """Load a model by name (installed) or by the folder ``python -m derive`` wrote."""
+    if isinstance(model, Model):
+        return model
+    folder = Path(model)
+    if not (folder / "manifest.json").is_file():
+        folder = GENERATED / str(model)
+    manifest_path = folder / "manifest.json"
+    if not manifest_path.is_file():
+        raise ModelError(
+            f"unknown model {str(model)!r}: not an installed model ({', '.join(available_models())}) "
+            "nor a folder with a manifest.json"
+        )
+    manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
+    if manifest.get("format") != MANIFEST_FORMAT:
+        raise ModelError(f"{manifest_path}: manifest format {manifest.get('format')} is not {MANIFEST_FORMAT}")
+    spec = importlib.util.spec_from_file_location(
+        f"rocking_model_{manifest['model']}", folder / manifest["files"]["numpy"]
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return Model(manifest["model"], folder.resolve(), manifest, module)

@@ -1,0 +1,78 @@
+"""Shared fixtures: compiled generated C, loaded models."""
+
+from __future__ import annotations
+
+import ctypes
+import shutil
+import subprocess
+import sys
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+ROOT = Path(__file__).resolve().parent.parent
+sys.path.insert(0, str(ROOT))  # derive/ is a development tool, not installed
+
+CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2", "-fPIC", "-shared"]
+
+
+class CModel:
+    """The generated C functions of a model, compiled and called through ctypes."""
+
+    def __init__(self, model, lib_path: Path):
+        self.model = model
+        self.lib = ctypes.CDLL(str(lib_path))
+        dbl, ptr = ctypes.c_double, ctypes.POINTER(ctypes.c_double)
+        self.ny = len(model.state)
+        self.np = len(model.parameters)
+        for name, info in model.manifest["functions"].items():
+            fn = getattr(self.lib, f"{model.c_prefix}_{name}")
+            fn.restype = dbl if info["scalar"] else None
+            fn.argtypes = [dbl, ptr, dbl, ptr] + ([] if info["scalar"] else [ptr])
+
+    def __call__(self, name: str, values: dict):
+        """Evaluate ``name`` case by case on arrays of values keyed by argument name."""
+        info = self.model.manifest["functions"][name]
+        y = np.stack(np.broadcast_arrays(*(np.asarray(values[k], float) for k in self.model.state)), axis=-1)
+        p = np.stack(np.broadcast_arrays(*(np.asarray(values[k], float) for k in self.model.parameters)), axis=-1)
+        s = np.broadcast_to(np.asarray(values["s"], float), y.shape[:-1])
+        ag = np.broadcast_to(np.asarray(values["ag"], float), y.shape[:-1])
+        fn = getattr(self.lib, f"{self.model.c_prefix}_{name}")
+        out = np.zeros(y.shape[:-1] + (info["outputs"],))
+        as_ptr = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
+        for i in np.ndindex(y.shape[:-1]):
+            yi, pi = np.ascontiguousarray(y[i]), np.ascontiguousarray(p[i])
+            if info["scalar"]:
+                out[i][0] = fn(s[i], as_ptr(yi), ag[i], as_ptr(pi))
+            else:
+                oi = np.zeros(info["outputs"])
+                fn(s[i], as_ptr(yi), ag[i], as_ptr(pi), as_ptr(oi))
+                out[i][:] = oi
+        return out[..., 0] if info["scalar"] else tuple(np.moveaxis(out, -1, 0))
+
+
+def compile_model(model, folder: Path) -> Path:
+    """Compile a model's generated C with strict warnings into a shared library."""
+    cc = shutil.which("cc") or shutil.which("gcc")
+    if cc is None:
+        pytest.fail("no C compiler found (cc or gcc); the generated C cannot be checked")
+    lib = folder / f"lib{model.c_prefix}.so"
+    subprocess.run([cc, *CFLAGS, "-I", str(model.folder), str(model.c_source), "-o", str(lib), "-lm"], check=True)
+    return lib
+
+
+@pytest.fixture(scope="session")
+def c_model(tmp_path_factory):
+    """``c_model(name)``: the compiled generated C of an installed model."""
+    from rocking import load_model
+
+    cache = {}
+
+    def get(name):
+        if name not in cache:
+            model = load_model(name)
+            cache[name] = CModel(model, compile_model(model, tmp_path_factory.mktemp(name)))
+        return cache[name]
+
+    return get

@@ -1,0 +1,162 @@
+"""The derivation: spec checks, options, reproducibility and freshness of generated/."""
+
+from __future__ import annotations
+
+import importlib.util
+import json
+import os
+import subprocess
+import sys
+
+import numpy as np
+import pytest
+import sympy
+
+from derive.build import GENERATED, build, stale_files
+from derive.codegen import NumpyGenerator
+from derive.equations import derive
+from derive.spec import SpecError, parse_spec, registered_variants, variant_spec
+from rocking import paper
+
+ROOT = GENERATED.parent
+
+
+def test_generated_folder_is_fresh():
+    """generated/ equals a fresh derivation of every registered variant (CI fails when stale)."""
+    for name in registered_variants():
+        manifest = json.loads((GENERATED / name / "manifest.json").read_text())
+        assert manifest["sympy"] == sympy.__version__, (
+            f"generated/{name} was written with SymPy {manifest['sympy']}, this is {sympy.__version__}: "
+            "install constraints.txt"
+        )
+        assert stale_files(build(variant_spec(name)), GENERATED / name) == [], (
+            f"generated/{name} is stale: run `make derive`"
+        )
+
+
+def test_derive_is_byte_identical_across_processes():
+    """A second run of the derivation in a new process, with another hash seed, changes nothing."""
+    env = dict(os.environ, PYTHONHASHSEED="12345")
+    run = subprocess.run([sys.executable, "-m", "derive", "--check"], cwd=ROOT, env=env, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "up to date" in run.stdout
+
+
+def _numpy_module(spec, options):
+    """Derive ``spec`` with ``options`` in memory and import its NumPy module."""
+    eq = derive(spec, options)
+    text = NumpyGenerator(eq, spec).files()["model.py"]
+    module_spec = importlib.util.spec_from_loader("alt_model", loader=None)
+    module = importlib.util.module_from_spec(module_spec)
+    exec(compile(text, "alt_model", "exec"), module.__dict__)
+    return eq, module
+
+
+def test_impact_option_velocity_matches_hand_derivation():
+    """impact=velocity keeps dx and conserves only the angular momentum about the new pivot."""
+    eq, mod = _numpy_module(variant_spec("omd"), {"impact": "velocity"})
+    assert eq.options["impact_laws"] == {"x": "velocity"}
+    rng = np.random.default_rng(3)
+    from rocking.verify import random_cases, rel_error
+
+    for s in (1, -1):
+        v = random_cases(rng, 500, s)
+        args = [v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c")]
+        got = mod.impact(v["s"], 0 * v["x"], v["x"], v["dtheta"], v["dx"], v["ag"], *args)
+        ref = paper.impact(
+            s, v["x"], v["dtheta"], v["dx"], v["M"], v["I_G"], v["B"], v["H"], v["e"], v["m"], v["h"], law="velocity"
+        )
+        assert rel_error(got[0], ref[0]) < 1e-12
+        assert np.array_equal(got[1], v["dx"])
+
+
+def test_homogeneous_inertia_option_drops_I_G():
+    eq, mod = _numpy_module(variant_spec("omd"), {"inertia": "homogeneous"})
+    assert "I_G" not in mod.PARAMETERS
+    eq_free, free = _numpy_module(variant_spec("omd"), None)
+    M, B, H, e, g, m, h, k, c = 800.0, 0.5, 2.0, 0.02, 9.81, 40.0, 0.05, 500.0, 10.0
+    I_G = M * (B**2 + H**2) / 12
+    state = (0.1, 0.02, -0.3, 0.4)
+    a = mod.rocking_accel(1.0, *state, 3.0, M, B, H, e, g, m, h, k, c)
+    b = free.rocking_accel(1.0, *state, 3.0, M, I_G, B, H, e, g, m, h, k, c)
+    np.testing.assert_allclose(a, b, rtol=1e-14)
+
+
+@pytest.mark.parametrize(
+    "options, message",
+    [
+        ({"impact": "bounce"}, "option impact: unknown value 'bounce'"),
+        ({"inertia": "solid"}, "option inertia: unknown value 'solid'"),
+        ({"friction": "on"}, "unknown option 'friction'"),
+    ],
+)
+def test_unknown_option_is_rejected(options, message):
+    with pytest.raises(SpecError, match=message):
+        derive(variant_spec("omd"), options)
+
+
+BASE = {
+    "name": "probe",
+    "coordinates": ["x"],
+    "parameters": {"m": {}, "k": {}},
+    "bodies": [{"name": "mass", "mass": "m", "position": ["x", "H"]}],
+    "springs": [{"name": "spring", "stiffness": "k", "stretch": "x", "acts_on": "mass"}],
+}
+
+
+def _with(**changes):
+    data = json.loads(json.dumps(BASE))
+    data.update(changes)
+    return data
+
+
+@pytest.mark.parametrize(
+    "data, message",
+    [
+        (_with(coordinates=["x", "y"]), "coordinate\\(s\\) y appear in no energy"),
+        (_with(bodies=[{"name": "mass", "mass": -2, "position": ["x", "H"]}]), "mass must be >= 0"),
+        (
+            _with(springs=[{"name": "spring", "stiffness": "k", "stretch": "x", "acts_on": "bob"}]),
+            "acts on unknown body 'bob'",
+        ),
+        (_with(bodies=[{"name": "mass", "mass": "m", "position": ["x + z", "H"]}]), "unknown symbol\\(s\\) z"),
+        (_with(bodies=[{"name": "mass", "mass": "m", "position": ["x"]}]), "position must be a list of two"),
+        (_with(impact={"x": "stick"}), "unknown law 'stick'"),
+        (_with(parameters={"m": {}, "k": {}, "B": {}}), "'B' is reserved"),
+        (_with(colour="red"), "unknown key\\(s\\) colour"),
+    ],
+)
+def test_inconsistent_spec_is_rejected_before_derivation(data, message):
+    with pytest.raises(SpecError, match=message):
+        parse_spec(data)
+
+
+def test_registered_variants_include_the_paper_model_and_the_bare_block():
+    assert {"omd", "block"} <= set(registered_variants())
+    with pytest.raises(SpecError, match="unknown variant 'nope'"):
+        variant_spec("nope")
+
+
+def test_command_line_builds_a_user_spec_into_a_folder(tmp_path):
+    spec = tmp_path / "probe.toml"
+    spec.write_text(
+        'name = "probe"\ncoordinates = ["x"]\n[parameters.m]\n[parameters.k]\n'
+        '[[bodies]]\nname = "mass"\nmass = "m"\nposition = ["x", "H"]\n'
+        '[[springs]]\nstiffness = "k"\nstretch = "x"\nacts_on = "mass"\n'
+    )
+    out = tmp_path / "model"
+    run = subprocess.run(
+        [sys.executable, "-m", "derive", "--spec", str(spec), "--out", str(out)],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert run.returncode == 0, run.stderr
+    assert {"manifest.json", "model.py", "probe.c", "probe.h", "EQUATIONS.md"} <= {p.name for p in out.iterdir()}
+    bad = subprocess.run(
+        [sys.executable, "-m", "derive", "--variant", "omd", "--option", "impact=bounce"],
+        cwd=ROOT,
+        capture_output=True,
+        text=True,
+    )
+    assert bad.returncode == 2 and "option impact: unknown value 'bounce'" in bad.stderr
