@@ -7,7 +7,19 @@ runtime around them. Units are SI throughout: m, kg, s, rad, N/m, N s/m.
 
 from .model import Model, available_models, load_model
 from .params import Block, Damper, ParameterError
+from .problem import Response
 from .pulse import OneSinePulse
+from .simulate import simulate
 
-__all__ = ["Block", "Damper", "Model", "OneSinePulse", "ParameterError", "available_models", "load_model"]
+__all__ = [
+    "Block",
+    "Damper",
+    "Model",
+    "OneSinePulse",
+    "ParameterError",
+    "Response",
+    "available_models",
+    "load_model",
+    "simulate",
+]
 __version__ = "0.1.0"

@@ -3,10 +3,13 @@
 from __future__ import annotations
 
 import argparse
+import json
 import sys
 
 from .model import ModelError, available_models, load_model
-from .params import ParameterError
+from .params import Block, Damper, ParameterError
+from .pulse import OneSinePulse
+from .simulate import BACKENDS, simulate
 
 
 def _cmd_verify(args) -> int:
@@ -19,6 +22,86 @@ def _cmd_verify(args) -> int:
         print(report(model, checks))
         ok &= all(c.ok for c in checks)
     return 0 if ok else 1
+
+
+def _block(args) -> Block:
+    if args.lam is not None or args.alpha is not None:
+        if args.p is None:
+            raise ParameterError("--p is needed with --lambda or --alpha (non-dimensional block)")
+        return Block.from_nondim(p=args.p, lam=args.lam, alpha=args.alpha, M=args.M, e_ratio=args.e_ratio)
+    if args.H is None and args.B is None:
+        return Block.reference()
+    if args.H is None or args.B is None:
+        raise ParameterError("give both --H and --B (or neither, for the reference block)")
+    return Block(H=args.H, B=args.B, M=args.M, e=args.e, I_G=args.I_G)
+
+
+def _damper(args, block: Block) -> Damper | None:
+    if args.no_damper or (args.gamma is None and args.m is None):
+        return None
+    if args.gamma is not None:
+        return Damper.from_nondim(
+            block, gamma=args.gamma, T_m=args.T_m, omega_ratio=args.omega_ratio, zeta=args.zeta, h=args.h
+        )
+    return Damper(m=args.m, k_m=args.k_m, c=args.c, h=args.h)
+
+
+def _pulse(args, block: Block) -> OneSinePulse:
+    if args.a_g is not None or args.omega_g is not None:
+        if args.a_g is None or args.omega_g is None:
+            raise ParameterError("give both --a-g and --omega-g (SI pulse), or --beta and --Omega")
+        return OneSinePulse(a_g=args.a_g, omega_g=args.omega_g, psi=args.psi)
+    if args.beta is None or args.Omega is None:
+        raise ParameterError("a pulse is needed: --beta and --Omega, or --a-g and --omega-g")
+    return OneSinePulse.from_nondim(block, beta=args.beta, Omega=args.Omega, psi=args.psi)
+
+
+def _cmd_simulate(args) -> int:
+    block = _block(args)
+    damper = _damper(args, block)
+    pulse = _pulse(args, block)
+    cases = {"with damper" if damper else "block alone": damper}
+    if args.compare and damper is not None:
+        cases["block alone"] = None
+    responses = {
+        label: simulate(block, d, pulse, backend=args.backend, rtol=args.rtol, t_max=args.t_max, record=bool(args.plot))
+        for label, d in cases.items()
+    }
+    if args.json:
+        payload = {
+            "block": block.as_params(),
+            "damper": damper.as_params() if damper else None,
+            "pulse": {
+                "a_g": pulse.a_g,
+                "omega_g": pulse.omega_g,
+                "psi": pulse.psi,
+                "beta": pulse.beta(block),
+                "Omega": pulse.Omega(block),
+            },
+            "responses": {label: r.summary() for label, r in responses.items()},
+        }
+        print(json.dumps(payload, indent=2))
+    else:
+        print(
+            f"block H={block.H:g} m B={block.B:g} m e={block.e:g} m "
+            f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); "
+            f"pulse beta={pulse.beta(block):.4g} Omega={pulse.Omega(block):.4g} (a_g={pulse.a_g:.4g} m/s2, "
+            f"omega_g={pulse.omega_g:.4g} rad/s, psi={pulse.psi:g})"
+        )
+        for label, r in responses.items():
+            verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
+            print(
+                f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
+                f"{r.uplifts} uplift(s), {r.impacts} impact(s), ended at t = {r.t_end:.3f} s ({r.status})"
+            )
+    if args.plot:
+        from .response_plot import plot_responses
+
+        path = plot_responses(
+            responses, block.alpha, args.plot, title=f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}"
+        )
+        print(f"figure written to {path}", file=sys.stderr)
+    return 0
 
 
 def build_parser() -> argparse.ArgumentParser:
@@ -34,6 +117,43 @@ def build_parser() -> argparse.ArgumentParser:
     p.add_argument("--cases", type=int, default=1000, help="random cases per pivot (default 1000)")
     p.add_argument("--seed", type=int, default=0)
     p.set_defaults(func=_cmd_verify)
+
+    p = sub.add_parser("simulate", help="response of a block (with or without damper) to a one-sine pulse")
+    g = p.add_argument_group("block (SI; default: the reference block of model.md section 9)")
+    g.add_argument("--H", type=float, help="height [m]")
+    g.add_argument("--B", type=float, help="base [m]")
+    g.add_argument("--M", type=float, default=1000.0, help="mass [kg] (default 1000)")
+    g.add_argument("--e", type=float, default=0.0, help="eccentricity of G [m]")
+    g.add_argument("--I_G", type=float, help="centroidal inertia [kg m2] (default: homogeneous)")
+    g = p.add_argument_group("block, non-dimensional (homogeneous)")
+    g.add_argument("--lambda", dest="lam", type=float, help="slenderness H/B")
+    g.add_argument("--alpha", type=float, help="slenderness angle atan(B/H) [rad]")
+    g.add_argument("--p", type=float, help="frequency parameter [rad/s]")
+    g.add_argument("--e-ratio", type=float, default=0.0, help="e/B")
+    g = p.add_argument_group("damper (SI or non-dimensional; none given: bare block)")
+    g.add_argument("--m", type=float, help="mass [kg]")
+    g.add_argument("--k_m", type=float, default=0.0, help="stiffness [N/m]")
+    g.add_argument("--c", type=float, default=0.0, help="damping [N s/m]")
+    g.add_argument("--h", type=float, default=0.05, help="guide height above the top [m] (default 0.05)")
+    g.add_argument("--gamma", type=float, help="mass ratio m/M")
+    g.add_argument("--T_m", type=float, help="damper period [s]")
+    g.add_argument("--omega-ratio", type=float, help="omega_m / p")
+    g.add_argument("--zeta", type=float, default=0.05, help="damping ratio (default 0.05)")
+    g.add_argument("--no-damper", action="store_true", help="ignore damper options: the bare block")
+    g = p.add_argument_group("pulse")
+    g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")
+    g.add_argument("--Omega", type=float, help="frequency ratio omega_g / p")
+    g.add_argument("--a-g", type=float, help="amplitude [m/s2]")
+    g.add_argument("--omega-g", type=float, help="circular frequency [rad/s]")
+    g.add_argument("--psi", type=float, default=0.0, help="phase [rad] (default 0)")
+    g = p.add_argument_group("run and output")
+    g.add_argument("--backend", choices=BACKENDS, default="auto")
+    g.add_argument("--rtol", type=float, default=1e-8)
+    g.add_argument("--t-max", type=float, help="end time [s] (default: 15 s after the pulse)")
+    g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
+    g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
+    g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
+    p.set_defaults(func=_cmd_simulate)
     return parser
 
 

@@ -43,7 +43,7 @@ class Model:
 
     name: str
     folder: Path
-    manifest: dict
+    manifest: dict = field(repr=False)
     functions: ModuleType = field(repr=False)
 
     @property

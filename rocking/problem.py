@@ -136,6 +136,30 @@ class Response:
         }
 
 
+#: Default rest criteria, relative to the block (see :func:`make_problem`).
+DTHETA_REST = 1e-3
+ENERGY_REST = 1e-8
+#: Steps per shortest period in full contact while the pulse acts.
+CONTACT_STEPS_PER_PERIOD = 64
+
+
+def default_settings(block: Block, T_g, T_m, rtol: float, nq: int) -> dict:
+    """Tolerances, contact step and rest thresholds of a run; broadcasts over ``T_g``, ``T_m``.
+
+    ``T_m`` is ``inf`` without a damper. Returned keys: ``atol`` (shape
+    ``(..., 2 nq)``), ``contact_max_step``, ``dtheta_rest``, ``energy_rest``.
+    """
+    T_g, T_m = np.asarray(T_g, float), np.asarray(T_m, float)
+    shortest = np.minimum(np.minimum(T_g, 2 * np.pi / block.p), T_m)
+    scale = np.array([block.alpha] * nq + [block.alpha * block.p] * nq)
+    return {
+        "atol": rtol * np.broadcast_to(scale, shortest.shape + scale.shape),
+        "contact_max_step": shortest / CONTACT_STEPS_PER_PERIOD,
+        "dtheta_rest": DTHETA_REST * block.alpha * block.p,
+        "energy_rest": ENERGY_REST * block.M * block.g * block.B / 2,
+    }
+
+
 def _positive(name: str, value: float) -> float:
     value = float(value)
     if not (np.isfinite(value) and value > 0):
@@ -209,12 +233,8 @@ def make_problem(
 
     t_p = pulse.t_p
     t_max = t_p + _positive("t_after", t_after) if t_max is None else _positive("t_max", t_max)
-    scale_q = block.alpha
-    scale_dq = block.alpha * block.p
-    atol = np.array([rtol * scale_q] * model.nq + [rtol * scale_dq] * model.nq)
-    periods = [pulse.T_g, 2 * np.pi / block.p]
-    if damper is not None and hasattr(damper, "T_m") and values.get("m", 0.0) > 0:
-        periods.append(damper.T_m)
+    T_m = damper.T_m if damper is not None and hasattr(damper, "T_m") and values.get("m", 0.0) > 0 else np.inf
+    defaults = default_settings(block, pulse.T_g, T_m, rtol, model.nq)
     return Problem(
         model=model,
         p=p,
@@ -224,12 +244,10 @@ def make_problem(
         t_p=t_p,
         t_max=t_max,
         rtol=rtol,
-        atol=atol,
-        contact_max_step=min(periods) / 64,
-        dtheta_rest=1e-3 * block.alpha * block.p if dtheta_rest is None else _positive("dtheta_rest", dtheta_rest),
-        energy_rest=1e-8 * block.M * block.g * block.B / 2
-        if energy_rest is None
-        else _positive("energy_rest", energy_rest),
+        atol=defaults["atol"],
+        contact_max_step=float(defaults["contact_max_step"]),
+        dtheta_rest=defaults["dtheta_rest"] if dtheta_rest is None else _positive("dtheta_rest", dtheta_rest),
+        energy_rest=defaults["energy_rest"] if energy_rest is None else _positive("energy_rest", energy_rest),
         max_events=int(max_events),
-        record_dt=min(periods[:2]) / 100 if record_dt is None else _positive("record_dt", record_dt),
+        record_dt=min(pulse.T_g, 2 * np.pi / block.p) / 100 if record_dt is None else _positive("record_dt", record_dt),
     )

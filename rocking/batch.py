@@ -1,0 +1,195 @@
+"""Many responses at once: arrays of one-sine pulses and dampers for one block.
+
+:func:`pulse_cases` builds the per-case arrays with the same rules as
+:func:`rocking.problem.make_problem`, without a Python object per case, and
+:func:`run_cases` runs them on the C batch entry point (or, as the reference,
+case by case on NumPy/SciPy).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+
+from .model import Model, load_model
+from .params import Block, ParameterError
+from .problem import STATUS, Problem, default_settings
+
+#: Result arrays returned by :func:`run_cases`, with their dtypes.
+RESULT_FIELDS = {
+    "overturned": bool,
+    "t_overturn": float,
+    "t_critical": float,
+    "theta_max": float,
+    "x_max": float,
+    "impacts": np.int64,
+    "uplifts": np.int64,
+    "t_end": float,
+    "status": np.int64,
+}
+
+
+@dataclass(frozen=True)
+class Cases:
+    """Resolved inputs of ``n`` runs of one model: arrays with ``n`` rows."""
+
+    model: Model
+    p: np.ndarray
+    a_g: np.ndarray
+    omega_g: np.ndarray
+    psi: np.ndarray
+    t_p: np.ndarray
+    t_max: np.ndarray
+    atol: np.ndarray
+    contact_max_step: np.ndarray
+    dtheta_rest: np.ndarray
+    energy_rest: np.ndarray
+    rtol: float
+    max_events: int
+
+    def __len__(self) -> int:
+        return len(self.a_g)
+
+    def problem(self, i: int) -> Problem:
+        """Case ``i`` as a :class:`Problem` (for the NumPy back end)."""
+        return Problem(
+            model=self.model,
+            p=self.p[i],
+            a_g=float(self.a_g[i]),
+            omega_g=float(self.omega_g[i]),
+            psi=float(self.psi[i]),
+            t_p=float(self.t_p[i]),
+            t_max=float(self.t_max[i]),
+            rtol=self.rtol,
+            atol=self.atol[i],
+            contact_max_step=float(self.contact_max_step[i]),
+            dtheta_rest=float(self.dtheta_rest[i]),
+            energy_rest=float(self.energy_rest[i]),
+            max_events=self.max_events,
+            record_dt=float(self.contact_max_step[i]),
+        )
+
+
+def _array(name: str, value, low: float, *, inclusive: bool) -> np.ndarray:
+    """``value`` as a float array, every element finite and above ``low``."""
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be numeric (got {value!r})") from None
+    bad = ~np.isfinite(a) | ((a < low) if inclusive else (a <= low))
+    if np.any(bad):
+        sign = ">=" if inclusive else ">"
+        raise ParameterError(f"{name} must be finite and {sign} {low:g} (got {a[bad].ravel()[0]!r})")
+    return a
+
+
+def pulse_cases(
+    block: Block,
+    Omega,
+    beta,
+    *,
+    gamma=0.0,
+    omega_ratio=1.0,
+    zeta=0.05,
+    h=0.05,
+    psi=0.0,
+    rtol: float = 1e-8,
+    t_after: float = 15.0,
+    max_events: int = 10_000,
+    model: str | Model | None = None,
+) -> Cases:
+    """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
+
+    All array arguments broadcast together (model.md section 9 for their
+    meaning); the result is flattened in C order. ``gamma = 0`` everywhere
+    means the bare block (model ``"block"``); otherwise every ``gamma`` must
+    be > 0 and the model is ``"omd"`` unless given.
+    """
+    Omega = _array("Omega", Omega, 0.0, inclusive=False)
+    beta = _array("beta", beta, 0.0, inclusive=True)
+    gamma = _array("gamma", gamma, 0.0, inclusive=True)
+    omega_ratio = _array("omega_ratio", omega_ratio, 0.0, inclusive=False)
+    zeta = _array("zeta", zeta, 0.0, inclusive=True)
+    h = _array("h", h, 0.0, inclusive=True)
+    psi = _array("psi", psi, 0.0, inclusive=True)
+    if np.any(psi >= 2 * np.pi):
+        raise ParameterError("psi must be in [0, 2 pi)")
+    try:
+        arrays = np.broadcast_arrays(Omega, beta, gamma, omega_ratio, zeta, h, psi)
+    except ValueError:
+        raise ParameterError("Omega, beta, gamma, omega_ratio, zeta, h and psi must broadcast together") from None
+    Omega, beta, gamma, omega_ratio, zeta, h, psi = (a.ravel() for a in arrays)
+    bare = not np.any(gamma > 0)
+    if not bare and np.any(gamma == 0):
+        raise ParameterError("gamma must be > 0 in every case of a batch with a damper (use a separate bare batch)")
+    model = load_model(model if model is not None else ("block" if bare else "omd"))
+
+    omega_g = Omega * block.p
+    psi = psi + 0 * Omega
+    t_p = (2 * np.pi - psi) / omega_g
+    values = {k: np.full(Omega.shape, v) for k, v in block.as_params().items()}
+    T_m = np.full(Omega.shape, np.inf)
+    if not bare:
+        m = gamma * block.M
+        omega_m = omega_ratio * block.p
+        values.update(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)
+        T_m = 2 * np.pi / omega_m
+    missing = [name for name in model.parameters if name not in values]
+    if missing:
+        raise ParameterError(
+            f"model {model.name!r} needs parameter(s) {', '.join(missing)} that pulse_cases cannot set"
+        )
+    settings = default_settings(block, 2 * np.pi / omega_g, T_m, float(rtol), model.nq)
+    n = Omega.size
+    return Cases(
+        model=model,
+        p=np.column_stack([values[k] for k in model.parameters]),
+        a_g=beta * block.g * block.tan_alpha,
+        omega_g=omega_g,
+        psi=psi,
+        t_p=t_p,
+        t_max=t_p + float(t_after),
+        atol=np.ascontiguousarray(settings["atol"]),
+        contact_max_step=settings["contact_max_step"],
+        dtheta_rest=np.full(n, settings["dtheta_rest"]),
+        energy_rest=np.full(n, settings["energy_rest"]),
+        rtol=float(rtol),
+        max_events=int(max_events),
+    )
+
+
+def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, np.ndarray]:
+    """Simulate every case; a dict of arrays keyed by :data:`RESULT_FIELDS`.
+
+    ``status`` holds indices into :data:`rocking.problem.STATUS`.
+    """
+    if backend == "c":
+        from . import c_backend
+
+        return c_backend.simulate_batch(
+            cases.model,
+            cases.p,
+            cases.a_g,
+            cases.omega_g,
+            cases.psi,
+            cases.t_p,
+            cases.t_max,
+            cases.atol,
+            cases.contact_max_step,
+            cases.dtheta_rest,
+            cases.energy_rest,
+            rtol=cases.rtol,
+            max_events=cases.max_events,
+            threads=threads,
+        )
+    if backend != "numpy":
+        raise ParameterError(f"backend must be 'c' or 'numpy' (got {backend!r})")
+    from . import numpy_backend
+
+    out = {k: np.zeros(len(cases), dtype=t) for k, t in RESULT_FIELDS.items()}
+    for i in range(len(cases)):
+        r = numpy_backend.simulate(cases.problem(i))
+        for k in RESULT_FIELDS:
+            out[k][i] = STATUS.index(r.status) if k == "status" else getattr(r, k)
+    return out
