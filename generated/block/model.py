@@ -30,6 +30,9 @@ ARGUMENTS = ("s", "theta", "dtheta", "ag", "M", "I_G", "B", "H", "e", "g", )
 
 def _broadcast(values, args):
     """Broadcast every output to the common shape of the arguments."""
+    if not any(isinstance(a, numpy.ndarray) for a in args):
+        # Scalars in, floats out: the integrators call with scalars, and fast.
+        return tuple(float(v) for v in values)
     shape = numpy.broadcast_shapes(*(numpy.shape(a) for a in args))
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 

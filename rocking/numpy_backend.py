@@ -1,0 +1,650 @@
+"""NumPy/SciPy reference back end: the phase machine of ``docs/simulation.md``.
+
+:func:`simulate` runs one :class:`~rocking.problem.Problem` with
+``scipy.integrate.solve_ivp`` (``RK45``, Dormand-Prince 5(4)) on the generated
+NumPy functions of ``problem.model``. It is the readable reference that the C
+back end (``rocking/csrc/sim.c``) must reproduce, so it does exactly what the
+contract says and nothing clever:
+
+- one ``solve_ivp`` call per *segment*: a phase (full contact, rocking about
+  ``A``, rocking about ``A'``) between two events or breakpoints;
+- the contract's events are ``solve_ivp`` events (located by SciPy on the dense
+  output with Brent's method to ``4 eps``), built by the small factories of the
+  section "Event functions" and kept apart from the phase logic;
+- what happens at an event (impact map, rest, uplift, end) is decided in
+  :func:`simulate`, segment by segment.
+
+The state is ``y = (q, dq)`` in manifest order with ``theta = q[0]``; the
+damper coordinate (if any) is ``q[1]``. Nothing here knows a coordinate's or a
+parameter's name: another generated model runs unchanged.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.integrate import RK45, OdeSolution, solve_ivp
+
+from .problem import CONTACT, STATUS, Problem, Response
+
+__all__ = ["simulate"]
+
+#: ``(t, y) -> value``: the signature of right-hand sides and event functions.
+StateFunction = Callable[[float, np.ndarray], float]
+
+#: Terminal events: their names, as :func:`simulate` dispatches on them.
+UPLIFT_A, UPLIFT_A_PRIME, IMPACT, OVERTURN, REST = "uplift A", "uplift A'", "impact", "overturn", "rest"
+
+#: Non-terminal events: reported values only, the run goes on.
+CRITICAL, EXTREMUM = "critical angle", "extremum"
+
+#: How a rocking segment from ``theta = 0`` ends when the block cannot rise at all.
+NO_LIFT = "no lift"
+
+
+# --------------------------------------------------------------------------- #
+# The generated model with the run's parameters bound                          #
+# --------------------------------------------------------------------------- #
+
+
+class _System:
+    """The generated functions of one problem, called with a bound parameter tuple.
+
+    Every generated function takes ``(s, *q, *dq, ag, *params)``; this class
+    fixes ``params`` once per run (a tuple of Python floats: cheaper to unpack
+    and to compute with than NumPy scalars) and exposes the few calls the
+    phase machine needs, with a state vector ``y`` instead of unpacked
+    arguments.
+
+    Parameters
+    ----------
+    problem : Problem
+        The run.
+    """
+
+    def __init__(self, problem: Problem):
+        self.n = problem.model.nq
+        self.functions = problem.model.functions
+        self.params = tuple(float(v) for v in problem.p)
+        self.a_g = float(problem.a_g)
+        self.omega_g = float(problem.omega_g)
+        self.psi = float(problem.psi)
+        # Energy of the rest state, the zero of "energy above rest". In full
+        # contact (theta = dtheta = 0) the energy does not depend on the pivot.
+        self.energy_at_rest = self.energy(np.zeros(2 * self.n))
+
+    def _call(self, name: str, s: float, y: np.ndarray, ag: float):
+        # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic.
+        return getattr(self.functions, name)(s, *y.tolist(), ag, *self.params)
+
+    def ground(self, pulse_on: bool) -> Callable[[float], float]:
+        """Ground acceleration of one segment.
+
+        A segment never straddles the pulse's end ``t_p`` (a breakpoint), so
+        it sees either the sine or zero, never the kink: the integrator's
+        stages (which may land an ulp beyond ``t_p``) then all see one smooth
+        function.
+
+        Parameters
+        ----------
+        pulse_on : bool
+            The segment lies in ``[0, t_p]``.
+
+        Returns
+        -------
+        callable
+            ``ag(t)``.
+        """
+        if not pulse_on:
+            return lambda t: 0.0
+        a_g, omega_g, psi = self.a_g, self.omega_g, self.psi
+        return lambda t: a_g * math.sin(omega_g * t + psi)
+
+    def rocking_rhs(self, s: int, ground: Callable[[float], float]) -> StateFunction:
+        """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase)."""
+        n = self.n
+
+        def rhs(t, y):
+            dy = np.empty_like(y)
+            dy[:n] = y[n:]
+            dy[n:] = self._call("rocking_accel", s, y, ground(t))
+            return dy
+
+        return rhs
+
+    def contact_rhs(self, ground: Callable[[float], float]) -> StateFunction:
+        """``y' = (dq, c(y, ag))``: full contact.
+
+        The whole state is integrated, ``theta`` and ``dtheta`` included: the
+        generated ``contact_accel`` returns ``ddtheta = 0`` and ``dtheta = 0``,
+        so both stay exactly 0, and the error norm runs over the same ``2 n``
+        components in every phase.
+        """
+        n = self.n
+
+        def rhs(t, y):
+            dy = np.empty_like(y)
+            dy[:n] = y[n:]
+            # contact_accel ignores s; +1 is as good as any.
+            dy[n:] = self._call("contact_accel", 1.0, y, ground(t))
+            return dy
+
+        return rhs
+
+    def uplift(self, s: int, y: np.ndarray, ag: float) -> float:
+        """Uplift function ``u_s``: the block leaves full contact about ``s`` when it turns positive."""
+        return float(self._call("uplift", s, y, ag))
+
+    def critical_angle(self, s: int, y: np.ndarray, ag: float) -> float:
+        """Static critical angle ``theta_cr_s(y)`` (with the sign of ``s``)."""
+        return float(self._call("critical_angle", s, y, ag))
+
+    def energy(self, y: np.ndarray, s: int = 1) -> float:
+        """Mechanical energy ``E_s(y)`` (``ag`` does not enter it)."""
+        return float(self._call("energy", s, y, 0.0))
+
+    def energy_above_rest(self, y: np.ndarray) -> float:
+        """``E(y) - E(0)`` in full contact."""
+        return self.energy(y) - self.energy_at_rest
+
+    def impact(self, s: int, y: np.ndarray, ag: float) -> np.ndarray:
+        """State right after an impact that ends rocking about ``s``: ``theta = 0``, ``dq = J_s(y)``."""
+        after = np.array(y, dtype=float)
+        after[0] = 0.0
+        after[self.n :] = self._call("impact", s, after, ag)
+        return after
+
+
+# --------------------------------------------------------------------------- #
+# Event functions (what solve_ivp watches; no phase logic here)                #
+# --------------------------------------------------------------------------- #
+
+
+@dataclass(frozen=True)
+class _Event:
+    """A ``solve_ivp`` event: ``function(t, y)`` with its name, ``terminal`` and ``direction``.
+
+    ``direction`` follows ``solve_ivp``: ``+1`` catches the function rising
+    through 0, ``-1`` falling, ``0`` both.
+    """
+
+    name: str
+    function: StateFunction
+    terminal: bool
+    direction: int
+
+    def __call__(self, t, y):
+        return self.function(t, y)
+
+
+def uplift_event(system: _System, s: int, ground: Callable[[float], float]) -> _Event:
+    """Full contact: ``u_s`` turns positive (uplift about ``A`` for ``s = +1``, ``A'`` for ``-1``)."""
+    return _Event(
+        UPLIFT_A if s == 1 else UPLIFT_A_PRIME,
+        lambda t, y: system.uplift(s, y, ground(t)),
+        terminal=True,
+        direction=+1,
+    )
+
+
+def impact_event(s: int) -> _Event:
+    """Rocking about ``s``: ``s theta`` falls to 0.
+
+    The phase starts at ``theta = 0`` with ``s theta`` rising, so that root
+    is crossed upwards and a falling ``direction`` ignores it: only the
+    return to the base is an impact. (That needs ``s theta > 0`` at the end
+    of the first step: :func:`integrate_segment` sees to it.)
+    """
+    return _Event(IMPACT, lambda t, y: s * y[0], terminal=True, direction=-1)
+
+
+def overturn_event(s: int) -> _Event:
+    """Rocking about ``s``: ``|theta| = s theta`` reaches ``pi / 2``."""
+    return _Event(OVERTURN, lambda t, y: s * y[0] - math.pi / 2, terminal=True, direction=+1)
+
+
+def critical_event(system: _System, s: int, ground: Callable[[float], float]) -> _Event:
+    """Rocking about ``s``: ``s theta - s theta_cr_s(y)`` turns positive (reported only)."""
+    return _Event(
+        CRITICAL,
+        lambda t, y: s * y[0] - s * system.critical_angle(s, y, ground(t)),
+        terminal=False,
+        direction=+1,
+    )
+
+
+def extremum_event(n: int, coordinate: int) -> _Event:
+    """The velocity of ``q[coordinate]`` vanishes: ``|q[coordinate]|`` may peak there (reported only)."""
+    return _Event(EXTREMUM, lambda t, y: y[n + coordinate], terminal=False, direction=0)
+
+
+def rest_event(system: _System, energy_rest: float) -> _Event:
+    """Full contact after the pulse: ``E(y) - E(0)`` falls below ``energy_rest``."""
+    return _Event(REST, lambda t, y: system.energy_above_rest(y) - energy_rest, terminal=True, direction=-1)
+
+
+def phase_events(system: _System, phase: int, ground, *, after_pulse: bool, want_critical: bool, energy_rest: float):
+    """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases").
+
+    Parameters
+    ----------
+    system : _System
+        The model with its parameters.
+    phase : int
+        ``CONTACT`` (0) or the pivot ``s`` (``+1``, ``-1``).
+    ground : callable
+        The segment's ``ag(t)``.
+    after_pulse : bool
+        The segment lies after ``t_p`` (full contact may then end in rest).
+    want_critical : bool
+        ``t_critical`` is still unknown (the critical-angle event is only
+        needed for its first crossing).
+    energy_rest : float
+        The rest threshold on the energy.
+
+    Returns
+    -------
+    list of _Event
+    """
+    # q[1] is the damper's coordinate: its extrema give x_max, in every phase.
+    damper = [extremum_event(system.n, 1)] if system.n > 1 else []
+    if phase == CONTACT:
+        events = [uplift_event(system, +1, ground), uplift_event(system, -1, ground)] + damper
+        if after_pulse:
+            events.append(rest_event(system, energy_rest))
+        return events
+    s = phase
+    events = [impact_event(s), overturn_event(s), extremum_event(system.n, 0)] + damper
+    if want_critical:
+        events.append(critical_event(system, s, ground))
+    return events
+
+
+# --------------------------------------------------------------------------- #
+# One segment: a phase between two events or breakpoints                       #
+# --------------------------------------------------------------------------- #
+
+
+@dataclass
+class _Segment:
+    """What one ``solve_ivp`` call returned, sorted for the phase machine.
+
+    Attributes
+    ----------
+    t, y : float, ndarray
+        End of the segment: the terminal event, or ``t_bound``.
+    event : str or None
+        Name of the terminal event that ended it (``None``: ``t_bound`` reached).
+    t_critical : float
+        First critical-angle crossing in the segment (``nan`` if none).
+    peaks : dict
+        ``{coordinate: largest |q[coordinate]|}`` over the step ends and all
+        event points of the segment.
+    dense : OdeSolution or None
+        The dense output (with ``record=True``).
+    """
+
+    t: float
+    y: np.ndarray
+    event: str | None
+    t_critical: float
+    peaks: dict
+    dense: OdeSolution | None = None
+
+
+def lift_off_step(rhs: StateFunction, s: int, t0: float, y0: np.ndarray, t_bound: float, **options) -> float | None:
+    """A first step after which the block has risen: ``s theta > 0`` at its end.
+
+    Tries SciPy's own first step (Hairer's heuristic), then ten times
+    shorter each time, down to SciPy's smallest step (10 ulps of ``t0``).
+    One step of ``RK45`` per try, the integrator ``solve_ivp`` then runs with.
+
+    Parameters
+    ----------
+    rhs : callable
+        Right-hand side of the rocking phase about ``s``.
+    s : int
+        The pivot.
+    t0, y0 : float, ndarray
+        Start of the phase (``theta = 0``).
+    t_bound : float
+        End of the segment.
+    **options
+        ``rtol``, ``atol``, ``max_step`` of the segment.
+
+    Returns
+    -------
+    float or None
+        The first step to give ``solve_ivp``; ``None`` if even the smallest
+        step does not lift the block: it stays on its base.
+    """
+    first_step = None
+    while True:
+        probe = RK45(rhs, t0, y0, t_bound, first_step=first_step, **options)
+        probe.step()
+        if s * probe.y[0] > 0.0:
+            return probe.step_size
+        first_step = 0.1 * probe.step_size
+        if first_step < 10 * (np.nextafter(t0, np.inf) - t0):
+            return None
+
+
+def integrate_segment(
+    problem: Problem,
+    system: _System,
+    phase: int,
+    t0: float,
+    y0: np.ndarray,
+    t_bound: float,
+    *,
+    want_critical: bool,
+    record: bool,
+) -> _Segment:
+    """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
+
+    Parameters
+    ----------
+    problem : Problem
+        Tolerances, pulse, rest threshold, contact step bound.
+    system : _System
+        The model with its parameters.
+    phase : int
+        ``CONTACT`` or the pivot ``s``.
+    t0, y0 : float, ndarray
+        Start of the segment.
+    t_bound : float
+        The next breakpoint: ``min(t_p, t_max)`` during the pulse, ``t_max`` after.
+    want_critical : bool
+        Watch the critical angle (``t_critical`` still unknown).
+    record : bool
+        Keep the dense output for the history.
+
+    Returns
+    -------
+    _Segment
+    """
+    pulse_on = t0 < problem.t_p
+    ground = system.ground(pulse_on)
+    if phase == CONTACT:
+        rhs = system.contact_rhs(ground)
+        # While the pulse acts, the uplift functions move with ag(t) even when the
+        # state does not (the bare block: error estimate 0, so the step would grow
+        # tenfold per step); a bounded step keeps an uplift from being stepped over.
+        max_step = problem.contact_max_step if pulse_on else np.inf
+    else:
+        rhs = system.rocking_rhs(phase, ground)
+        max_step = np.inf
+    events = phase_events(
+        system, phase, ground, after_pulse=not pulse_on, want_critical=want_critical, energy_rest=problem.energy_rest
+    )
+    options = {"rtol": problem.rtol, "atol": problem.atol, "max_step": max_step}
+
+    def solve(first_step=None):
+        sol = solve_ivp(
+            rhs, (t0, t_bound), y0, method="RK45", events=events, dense_output=record, first_step=first_step, **options
+        )
+        if sol.status < 0:
+            raise RuntimeError(f"solve_ivp failed in phase {phase} at t = {sol.t[-1]:.17g}: {sol.message}")
+        return sol
+
+    sol = solve()
+    fired = [e.name for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
+    if fired == [IMPACT] and sol.t[-1] == t0:
+        # A phase from theta = 0 whose first step ends with s theta <= 0: solve_ivp
+        # sees "s theta falls to 0" at the start (Brent returns the bracket's end
+        # where the function is exactly 0). Either the step was too long to see the
+        # block rise and fall back, or it does not rise at all (a grazing uplift).
+        first_step = lift_off_step(rhs, phase, t0, y0, t_bound, **options)
+        if first_step is None:
+            return _Segment(t=t0, y=np.array(y0), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, dense=None)
+        sol = solve(first_step)
+        fired = [e.name for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
+
+    y_end = np.array(sol.y[:, -1])
+    if fired == [IMPACT]:
+        y_end[0] = 0.0  # the impact is at theta = 0; the located root is 0 only to the tolerance
+    crossings = [float(min(times)) for e, times in zip(events, sol.t_events) if e.name == CRITICAL and len(times)]
+    # Step ends (first and last included) and every located event point.
+    points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
+    peaks = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
+    return _Segment(
+        t=float(sol.t[-1]),
+        y=y_end,
+        event=fired[0] if fired else None,
+        t_critical=crossings[0] if crossings else math.nan,
+        peaks=peaks,
+        dense=sol.sol,
+    )
+
+
+# --------------------------------------------------------------------------- #
+# Bookkeeping: counters, maxima and the recorded history                       #
+# --------------------------------------------------------------------------- #
+
+
+@dataclass
+class _History:
+    """Recorded rows ``(t, y, phase)`` in time order, events included."""
+
+    rows: list = field(default_factory=list)
+
+    def add(self, t: float, y: np.ndarray, phase: int) -> None:
+        """Append a row, unless it repeats the last one (a segment restarting at ``t_p``)."""
+        y = np.array(y, dtype=float)
+        if self.rows:
+            last_t, last_y, last_phase = self.rows[-1]
+            if last_t == t and last_phase == phase and np.array_equal(last_y, y):
+                return
+        self.rows.append((float(t), y, int(phase)))
+
+    def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float) -> None:
+        """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``."""
+        if dense is None:  # a segment that did not integrate (the block did not lift)
+            return
+        k = np.arange(math.floor(t0 / dt) + 1, math.ceil(t1 / dt) + 1)
+        times = k * dt
+        times = times[(times > t0) & (times < t1)]
+        if times.size:
+            for t, y in zip(times, dense(times).T):
+                self.rows.append((float(t), np.array(y), int(phase)))
+
+    def as_dict(self, problem: Problem) -> dict:
+        """``t``, each state component by name, ``phase`` and ``ag`` as arrays."""
+        t = np.array([row[0] for row in self.rows])
+        y = np.array([row[1] for row in self.rows]).reshape(len(self.rows), -1)
+        history = {"t": t}
+        for i, name in enumerate(problem.model.state):
+            history[name] = y[:, i]
+        history["phase"] = np.array([row[2] for row in self.rows], dtype=int)
+        history["ag"] = np.asarray(problem.ground_acceleration(t), dtype=float).reshape(t.shape)
+        return history
+
+
+@dataclass
+class _Tally:
+    """What the run has seen so far: the fields of :class:`Response` before the end."""
+
+    impacts: int = 0
+    uplifts: int = 0
+    theta_max: float = 0.0
+    x_max: float = 0.0
+    t_critical: float = math.nan
+
+    def see_state(self, y: np.ndarray, n: int) -> None:
+        self.theta_max = max(self.theta_max, abs(float(y[0])))
+        if n > 1:
+            self.x_max = max(self.x_max, abs(float(y[1])))
+
+    def see_segment(self, segment: _Segment) -> None:
+        self.theta_max = max(self.theta_max, segment.peaks[0])
+        self.x_max = max(self.x_max, segment.peaks.get(1, 0.0))
+        if math.isnan(self.t_critical):
+            self.t_critical = segment.t_critical
+
+
+# --------------------------------------------------------------------------- #
+# The phase machine                                                            #
+# --------------------------------------------------------------------------- #
+
+
+def _initial_state(problem: Problem, y0, phase0) -> tuple[np.ndarray, int]:
+    """Validate the optional initial state; default: at rest in full contact."""
+    n = problem.model.nq
+    y = np.zeros(2 * n) if y0 is None else np.array(y0, dtype=float).reshape(-1)
+    phase = CONTACT if phase0 is None else int(phase0)
+    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+        raise ValueError(f"y0 must hold {2 * n} finite values {problem.model.state} (got {y0!r})")
+    if phase not in (CONTACT, 1, -1):
+        raise ValueError(f"phase0 must be 0 (full contact), +1 (pivot A) or -1 (pivot A') (got {phase0!r})")
+    if phase == CONTACT and (y[0] != 0.0 or y[n] != 0.0):
+        raise ValueError("full contact (phase0 = 0) needs theta = dtheta = 0 in y0")
+    if phase != CONTACT and phase * y[0] < 0.0:
+        raise ValueError(f"rocking about s = {phase:+d} needs s theta >= 0 (got theta = {y[0]!r})")
+    return y, phase
+
+
+def _uplift_at_start(system: _System, t: float, y: np.ndarray, ground) -> int:
+    """Pivot ``s`` whose ``u_s`` is already positive when full contact starts, else 0.
+
+    A root-finding event only sees a sign change *during* a step; when the
+    phase starts above a threshold (a pulse with ``psi > 0``, or a mass that
+    is moving when the block comes to rest) the uplift is at that instant.
+    """
+    for s in (+1, -1):
+        if system.uplift(s, y, ground(t)) > 0.0:
+            return s
+    return 0
+
+
+def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) -> Response:
+    """Simulate one problem with SciPy's Dormand-Prince 5(4), following docs/simulation.md.
+
+    Parameters
+    ----------
+    problem : Problem
+        The run (see :func:`rocking.problem.make_problem`).
+    record : bool
+        Keep the history: samples every ``problem.record_dt`` from the dense
+        output plus every event (uplift, impact before and after, rest, pulse
+        end, overturning, end), in time order.
+    y0 : array_like, optional
+        State ``(q, dq)`` at ``t = 0`` in the model's manifest order; default
+        all zeros (at rest). For tests and studies of free rocking.
+    phase0 : int, optional
+        Phase at ``t = 0``: 0 (full contact; needs ``theta = dtheta = 0``),
+        ``+1`` or ``-1`` (rocking about that pivot; needs ``s theta >= 0``).
+        Default 0. A full-contact start is checked for uplift at once.
+
+    Returns
+    -------
+    Response
+        With ``history`` (``t``, each state component by name, ``phase``,
+        ``ag``) when ``record`` is true.
+
+    Raises
+    ------
+    ValueError
+        If ``y0`` or ``phase0`` are invalid.
+    RuntimeError
+        If ``solve_ivp`` fails (step size too small).
+    """
+    system = _System(problem)
+    n = system.n
+    y, phase = _initial_state(problem, y0, phase0)
+    t = 0.0
+    tally = _Tally()
+    tally.see_state(y, n)
+    history = _History() if record else None
+    # After a lift-off that failed, u_s is still (barely) positive: checking it
+    # again at the contact phase's start would lift the block again, forever.
+    skip_uplift_check = False
+
+    def finish(status: str, t_overturn: float = math.nan) -> Response:
+        assert status in STATUS
+        if history is not None:
+            history.add(t, y, phase)
+        return Response(
+            overturned=status == "overturned",
+            t_overturn=t_overturn,
+            t_critical=tally.t_critical,
+            theta_max=tally.theta_max,
+            x_max=tally.x_max,
+            impacts=tally.impacts,
+            uplifts=tally.uplifts,
+            t_end=t,
+            status=status,
+            history=history.as_dict(problem) if history is not None else None,
+        )
+
+    def events_exhausted() -> bool:
+        return tally.uplifts + tally.impacts >= problem.max_events
+
+    while True:
+        if history is not None:
+            history.add(t, y, phase)
+        if t >= problem.t_max:
+            return finish("t_max")
+        pulse_on = t < problem.t_p
+
+        # Rule 1: a full-contact phase first asks whether it is already over.
+        if phase == CONTACT:
+            s = 0 if skip_uplift_check else _uplift_at_start(system, t, y, system.ground(pulse_on))
+            skip_uplift_check = False
+            if s:
+                tally.uplifts += 1
+                phase = s
+                if events_exhausted():
+                    return finish("max_events")
+                continue
+            # Rule 4. For the bare block E(y) = E(0) in full contact: rest at once.
+            if not pulse_on and system.energy_above_rest(y) < problem.energy_rest:
+                return finish("rest")
+
+        # Rule 3: no segment straddles the pulse's end.
+        t_bound = min(problem.t_p, problem.t_max) if pulse_on else problem.t_max
+        segment = integrate_segment(
+            problem, system, phase, t, y, t_bound, want_critical=math.isnan(tally.t_critical), record=record
+        )
+        tally.see_segment(segment)
+        if history is not None:
+            history.add_samples(segment.dense, t, segment.t, phase, problem.record_dt)
+            # The segment's end: the pulse's end, t_max, or an event (an impact's "before").
+            history.add(segment.t, segment.y, phase)
+        t, y = segment.t, segment.y
+
+        if segment.event is None:
+            if t_bound == problem.t_max:
+                return finish("t_max")
+            t = problem.t_p  # exactly the breakpoint; the same phase restarts from here
+        elif segment.event in (UPLIFT_A, UPLIFT_A_PRIME):
+            # theta and dtheta are exactly 0 in full contact: the state carries over.
+            tally.uplifts += 1
+            phase = 1 if segment.event == UPLIFT_A else -1
+            if events_exhausted():
+                return finish("max_events")
+        elif segment.event == IMPACT:
+            s = phase
+            y = system.impact(s, y, system.ground(pulse_on)(t))
+            tally.impacts += 1
+            if abs(y[n]) < problem.dtheta_rest:
+                # At rest on the base; the other velocities keep their J_s values.
+                y[n] = 0.0
+                phase = CONTACT
+            else:
+                phase = -s
+            if events_exhausted():
+                return finish("max_events")
+        elif segment.event == NO_LIFT:
+            # The block never rose: back to full contact (the uplift stays counted).
+            y[0] = y[n] = 0.0
+            phase = CONTACT
+            skip_uplift_check = True
+        elif segment.event == OVERTURN:
+            return finish("overturned", t_overturn=t)
+        elif segment.event == REST:
+            return finish("rest")
+        else:  # pragma: no cover - every terminal event is handled above
+            raise AssertionError(f"unhandled event {segment.event!r}")
