@@ -90,14 +90,20 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     results = {"simulator": bench_simulator(args.grid, args.subset, args.seed)}
     sim = results["simulator"]
-    print(f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, {sim['overturned_fraction']:.0%} overturn):")
+    print(
+        f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, {sim['overturned_fraction']:.0%} overturn):"
+    )
     print(f"  C path        {sim['c_responses_per_s_per_core']:10.0f} responses/s/core  (target >= 10,000)")
-    print(f"  NumPy path    {sim['numpy_ms_per_response']:10.2f} ms/response   C is {sim['speedup_c_vs_numpy']:.0f}x faster")
+    print(
+        f"  NumPy path    {sim['numpy_ms_per_response']:10.2f} ms/response   C is {sim['speedup_c_vs_numpy']:.0f}x faster"
+    )
     print(
         f"  baseline      {sim['baseline_ms_per_response']:10.2f} ms/response   C is {sim['speedup_c_vs_baseline']:.0f}x faster"
         " (target >= 300)"
     )
-    print(f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, C = baseline {sim['verdicts_c_eq_baseline']}")
+    print(
+        f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, C = baseline {sim['verdicts_c_eq_baseline']}"
+    )
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=2)

@@ -154,6 +154,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     p.set_defaults(func=_cmd_simulate)
+
+    from .study_cli import add_study_commands
+
+    add_study_commands(sub)
     return parser
 
 

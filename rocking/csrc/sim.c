@@ -1,0 +1,973 @@
+/* The phase machine of docs/simulation.md on a hand-written Dormand-Prince 5(4).
+ *
+ * Layout, bottom-up:
+ *   1. the model as an ODE: right-hand side of one phase, ground acceleration;
+ *   2. the integrator: DOPRI5 step with error control, initial step, dense output
+ *      (knows nothing about events or phases);
+ *   3. events: functions of (t, y), detection of a crossing over an accepted
+ *      step, location on the dense output (knows nothing about what an event does);
+ *   4. the phase machine: segments between events and breakpoints, and what
+ *      happens at each event (uplift, impact, rest, overturning);
+ *   5. the entry points of sim.h.
+ *
+ * Only the generic names of the model header are used, so the same file serves
+ * every generated model. No allocation, no global state: the tables below are
+ * constants, everything else lives in the caller's stack frame.
+ */
+#include <float.h>
+#include <math.h>
+#include <stddef.h>
+#include <string.h>
+
+#ifndef MODEL_NQ
+#ifndef ROCKING_MODEL_HEADER
+#error "compile with -DROCKING_MODEL_HEADER='\"<model>.h\"' (or -DROCKING_GENERIC_NAMES -include <model>.h)"
+#endif
+#ifndef ROCKING_GENERIC_NAMES
+#define ROCKING_GENERIC_NAMES
+#endif
+#include ROCKING_MODEL_HEADER
+#endif
+
+#include "sim.h"
+
+#define NQ MODEL_NQ
+#define NY MODEL_NY
+
+/* pi/2: M_PI is not C99. */
+#define HALF_PI 1.57079632679489661923
+
+/* ------------------------------------------------------------------------ */
+/* 1. The model as an ODE                                                    */
+/* ------------------------------------------------------------------------ */
+
+/* One phase's right-hand side: y' = (dq, accelerations of the phase). */
+typedef struct ode {
+    const double *p; /* model parameters */
+    int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
+    int pulse_on;    /* the segment lies in [0, t_p] */
+    double a_g, omega_g, psi;
+} ode;
+
+/* Ground acceleration inside a segment. A segment never straddles t_p, so it
+ * sees either the sine or 0 for all its stages (even one an ulp past t_p):
+ * one smooth function per segment, no kink inside a step. */
+static double ode_ag(const ode *o, double t)
+{
+    return o->pulse_on ? o->a_g * sin(o->omega_g * t + o->psi) : 0.0;
+}
+
+static void ode_rhs(const ode *o, double t, const double *y, double *dy)
+{
+    const double ag = ode_ag(o, t);
+    /* In full contact contact_accel returns ddtheta = 0 and dtheta is 0, so
+     * theta and dtheta stay exactly 0 while the whole state is integrated (the
+     * error norm then runs over the same components in every phase). */
+    if (o->phase == 0)
+        model_contact_accel(1.0, y, ag, o->p, dy + NQ);
+    else
+        model_rocking_accel((double)o->phase, y, ag, o->p, dy + NQ);
+    memcpy(dy, y + NQ, NQ * sizeof *dy);
+}
+
+/* ------------------------------------------------------------------------ */
+/* 2. Dormand-Prince 5(4) with its continuous extension                      */
+/* ------------------------------------------------------------------------ */
+
+enum { STAGES = 7 };
+
+/* Butcher tableau. Row 7 is the 5th-order solution itself (FSAL: its stage is
+ * f at the new point, the first stage of the next step). */
+static const double RK_C[STAGES] = {0.0, 1.0 / 5, 3.0 / 10, 4.0 / 5, 8.0 / 9, 1.0, 1.0};
+static const double RK_A[STAGES][STAGES - 1] = {
+    {0.0, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {1.0 / 5, 0.0, 0.0, 0.0, 0.0, 0.0},
+    {3.0 / 40, 9.0 / 40, 0.0, 0.0, 0.0, 0.0},
+    {44.0 / 45, -56.0 / 15, 32.0 / 9, 0.0, 0.0, 0.0},
+    {19372.0 / 6561, -25360.0 / 2187, 64448.0 / 6561, -212.0 / 729, 0.0, 0.0},
+    {9017.0 / 3168, -355.0 / 33, 46732.0 / 5247, 49.0 / 176, -5103.0 / 18656, 0.0},
+    {35.0 / 384, 0.0, 500.0 / 1113, 125.0 / 192, -2187.0 / 6784, 11.0 / 84},
+};
+/* Difference of the 5th- and the embedded 4th-order weights: the local error estimate. */
+static const double RK_E[STAGES] = {71.0 / 57600,      0.0,         -71.0 / 16695, 71.0 / 1920,
+                                    -17253.0 / 339200, 22.0 / 525, -1.0 / 40};
+/* Continuous extension of Hairer's DOPRI5 (4th order, exact at both ends of the step). */
+static const double RK_D[STAGES] = {-12715105075.0 / 11282082432.0,  0.0,
+                                    87487479700.0 / 32700410799.0,   -10690763975.0 / 1880347072.0,
+                                    701980252875.0 / 199316789632.0, -1453857185.0 / 822651844.0,
+                                    69997945.0 / 29380423.0};
+
+/* Step-size control of docs/simulation.md (as SciPy's RK45). The exponent is
+ * 1/(q+1) with q = 4, the order of the embedded error estimate. */
+#define SAFETY 0.9
+#define MIN_FACTOR 0.2
+#define MAX_FACTOR 10.0
+#define ERROR_EXPONENT (-1.0 / 5.0)
+
+typedef struct tolerance {
+    double rtol;
+    const double *atol; /* NY values */
+} tolerance;
+
+typedef struct dopri {
+    double t, y[NY], f[NY]; /* current point; f = rhs(t, y) */
+    double t_old, h;        /* the last accepted step: [t_old, t], h = t - t_old */
+    double y_old[NY];
+    double k[STAGES][NY];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
+    double dense[5][NY];    /* its continuous extension, once dense_ready */
+    int dense_ready;
+    double h_next; /* proposed size of the next step */
+} dopri;
+
+static double max2(double a, double b)
+{
+    return a > b ? a : b;
+}
+
+static double min2(double a, double b)
+{
+    return a < b ? a : b;
+}
+
+/* Smallest step SciPy allows at t: 10 ulps, so that t + h != t. */
+static double min_step_at(double t)
+{
+    return 10.0 * (nextafter(t, INFINITY) - t);
+}
+
+/* h < min_step_at(t), without nextafter in the common case: an ulp of t is
+ * at most eps |t|. */
+static int below_min_step(double h, double t)
+{
+    return h <= 16.0 * DBL_EPSILON * fabs(t) && h < min_step_at(t);
+}
+
+/* RMS norm of v / scale (Hairer's norm). */
+static double rms_ratio(const double *v, const double *scale)
+{
+    double sum = 0.0;
+    int i;
+    for (i = 0; i < NY; ++i) {
+        const double r = v[i] / scale[i];
+        sum += r * r;
+    }
+    return sqrt(sum / NY);
+}
+
+/* Hairer's initial step heuristic (SciPy's select_initial_step): a step whose
+ * explicit Euler error estimate would be about 1 % of the tolerance. */
+static double initial_step(const ode *o, const tolerance *tol, double t0, const double *y0, const double *f0,
+                           double span)
+{
+    double scale[NY], y1[NY], f1[NY], df[NY];
+    double d0, d1, d2, h0, h1;
+    int i;
+    if (span <= 0.0)
+        return 0.0;
+    for (i = 0; i < NY; ++i)
+        scale[i] = tol->atol[i] + tol->rtol * fabs(y0[i]);
+    d0 = rms_ratio(y0, scale);
+    d1 = rms_ratio(f0, scale);
+    h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
+    h0 = fmin(h0, span);
+    for (i = 0; i < NY; ++i)
+        y1[i] = y0[i] + h0 * f0[i];
+    ode_rhs(o, t0 + h0, y1, f1);
+    for (i = 0; i < NY; ++i)
+        df[i] = f1[i] - f0[i];
+    d2 = rms_ratio(df, scale) / h0;
+    if (d1 <= 1e-15 && d2 <= 1e-15)
+        h1 = fmax(1e-6, h0 * 1e-3);
+    else
+        h1 = pow(0.01 / fmax(d1, d2), 1.0 / 5.0);
+    return fmin(fmin(100.0 * h0, h1), span);
+}
+
+/* Start integrating at (t, y): f and the first step size. */
+static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, const double *y, double t_bound)
+{
+    d->t = t;
+    memcpy(d->y, y, sizeof d->y);
+    ode_rhs(o, t, y, d->f);
+    d->h_next = initial_step(o, tol, t, d->y, d->f, t_bound - t);
+    d->t_old = t;
+    d->h = 0.0;
+    d->dense_ready = 0;
+}
+
+/* acc = sum_j w[j] k[j] over the first n stages. The component loop is
+ * innermost, over a compile-time NY: unrolled and vectorised. */
+static inline void combine_stages(const double (*k)[NY], const double *w, int n, double *acc)
+{
+    int i, j;
+    for (i = 0; i < NY; ++i)
+        acc[i] = 0.0;
+    for (j = 0; j < n; ++j) {
+        const double wj = w[j];
+        for (i = 0; i < NY; ++i)
+            acc[i] += wj * k[j][i];
+    }
+}
+
+/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. */
+static inline void dopri_stage(dopri *d, const ode *o, int s, double h, double t_new, double *y)
+{
+    double acc[NY];
+    int i;
+    combine_stages((const double(*)[NY])d->k, RK_A[s], s, acc);
+    for (i = 0; i < NY; ++i)
+        y[i] = d->y[i] + h * acc[i];
+    /* The last stages sit at t_new itself, which may be a breakpoint. */
+    ode_rhs(o, RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h, y, d->k[s]);
+}
+
+/* The stages of a step of size h from d->t, into d->k; the new state into y_new.
+ * Written out stage by stage (the coefficients stay in the tableau): each
+ * combination then has a constant length the compiler can specialise. */
+static void dopri_stages(dopri *d, const ode *o, double h, double t_new, double *y_new)
+{
+    memcpy(d->k[0], d->f, sizeof d->f);
+    dopri_stage(d, o, 1, h, t_new, y_new);
+    dopri_stage(d, o, 2, h, t_new, y_new);
+    dopri_stage(d, o, 3, h, t_new, y_new);
+    dopri_stage(d, o, 4, h, t_new, y_new);
+    dopri_stage(d, o, 5, h, t_new, y_new);
+    dopri_stage(d, o, 6, h, t_new, y_new);
+    /* The last stage was evaluated at the 5th-order solution: y_new holds it. */
+}
+
+static double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new)
+{
+    double err[NY], scale[NY];
+    int i;
+    combine_stages((const double(*)[NY])d->k, RK_E, STAGES, err);
+    for (i = 0; i < NY; ++i) {
+        const double a = fabs(d->y[i]), b = fabs(y_new[i]);
+        err[i] *= h;
+        scale[i] = tol->atol[i] + tol->rtol * (a > b ? a : b);
+    }
+    return rms_ratio(err, scale);
+}
+
+/* One accepted step towards t_bound, at most max_step long. Returns 0, or -1
+ * when the error cannot be controlled above the smallest step. */
+static int dopri_step(dopri *d, const ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    double y_new[NY];
+    double h = min2(d->h_next, max_step);
+    int rejected = 0;
+    if (!(h > 0.0) || below_min_step(h, d->t)) /* NaN included */
+        h = min_step_at(d->t);
+    for (;;) {
+        double t_new = d->t + h, err;
+        if (t_new > t_bound)
+            t_new = t_bound;
+        h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
+        dopri_stages(d, o, h, t_new, y_new);
+        err = dopri_error(d, tol, h, y_new);
+        if (err < 1.0) {
+            double factor = err == 0.0 ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+            if (rejected) /* no growth right after a rejection */
+                factor = min2(1.0, factor);
+            d->t_old = d->t;
+            d->h = h;
+            memcpy(d->y_old, d->y, sizeof d->y);
+            d->t = t_new;
+            memcpy(d->y, y_new, sizeof y_new);
+            memcpy(d->f, d->k[STAGES - 1], sizeof d->f);
+            d->dense_ready = 0;
+            d->h_next = h * factor;
+            return 0;
+        }
+        /* fmax ignores a NaN error: a non-finite state shrinks the step until it fails. */
+        h *= fmax(MIN_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+        rejected = 1;
+        if (!(h > 0.0) || below_min_step(h, d->t))
+            return -1;
+    }
+}
+
+/* Take back the last accepted step and propose h_next instead. */
+static void dopri_undo(dopri *d, double h_next)
+{
+    d->t = d->t_old;
+    memcpy(d->y, d->y_old, sizeof d->y);
+    memcpy(d->f, d->k[0], sizeof d->f);
+    d->h = 0.0;
+    d->dense_ready = 0;
+    d->h_next = h_next;
+}
+
+/* Coefficients of the continuous extension, computed only for the steps that
+ * need it (an event to locate, a sample to record). */
+static void dopri_prepare_dense(dopri *d)
+{
+    double sum[NY];
+    int i;
+    if (d->dense_ready)
+        return;
+    combine_stages((const double(*)[NY])d->k, RK_D, STAGES, sum);
+    for (i = 0; i < NY; ++i) {
+        const double dy = d->y[i] - d->y_old[i];
+        const double bspl = d->h * d->k[0][i] - dy;
+        d->dense[0][i] = d->y_old[i];
+        d->dense[1][i] = dy;
+        d->dense[2][i] = bspl;
+        d->dense[3][i] = dy - d->h * d->k[STAGES - 1][i] - bspl;
+        d->dense[4][i] = d->h * sum[i];
+    }
+    d->dense_ready = 1;
+}
+
+/* Component i of the dense output at t in [t_old, t]. */
+static double dopri_dense1(dopri *d, double t, int i)
+{
+    double th, th1;
+    if (t == d->t)
+        return d->y[i];
+    dopri_prepare_dense(d);
+    th = (t - d->t_old) / d->h;
+    th1 = 1.0 - th;
+    return d->dense[0][i] +
+           th * (d->dense[1][i] + th1 * (d->dense[2][i] + th * (d->dense[3][i] + th1 * d->dense[4][i])));
+}
+
+static void dopri_dense(dopri *d, double t, double *y)
+{
+    int i;
+    for (i = 0; i < NY; ++i)
+        y[i] = dopri_dense1(d, t, i);
+}
+
+/* ------------------------------------------------------------------------ */
+/* 3. Events                                                                 */
+/* ------------------------------------------------------------------------ */
+
+enum event_kind {
+    EV_UPLIFT_A,       /* contact: u_{+1} turns positive */
+    EV_UPLIFT_A_PRIME, /* contact: u_{-1} turns positive */
+    EV_REST,           /* contact after the pulse: E(y) - E(0) falls below energy_rest */
+    EV_IMPACT,         /* rocking: s theta falls from > 0 to 0 */
+    EV_OVERTURN,       /* rocking: s theta reaches pi/2 */
+    EV_CRITICAL,       /* rocking: s theta - s theta_cr_s(y) turns positive (reported) */
+    EV_THETA_PEAK,     /* rocking: dtheta changes sign (theta_max) */
+    EV_X_PEAK,         /* any phase, with a damper: dq[1] changes sign (x_max) */
+    N_EVENTS
+};
+
+/* How an event's function g fires. With phi = sense * g, the event is phi
+ * leaving its "before" set, phi < 0 (strict) or phi <= 0: so the strict and
+ * non-strict inequalities of the contract ("turns positive", "falls from > 0
+ * to 0", "below", "reaches") are each kept exactly. sense 0: a sign change
+ * either way, the before set being the sign g had at the step's start.
+ *
+ * Most events read one state component: g = (s or 1) y[component] - offset,
+ * cheap to evaluate, and on the dense output only that component is needed.
+ * component -1: g is a function of the model (event_value). */
+typedef struct event_rule {
+    int sense;
+    int strict;
+    int terminal;
+    int component;
+    int times_pivot; /* the component is multiplied by the pivot s */
+    double offset;
+} event_rule;
+
+static const event_rule EVENT_RULES[N_EVENTS] = {
+    {+1, 0, 1, -1, 0, 0.0},                 /* EV_UPLIFT_A:       g <= 0  ->  g > 0 */
+    {+1, 0, 1, -1, 0, 0.0},                 /* EV_UPLIFT_A_PRIME: g <= 0  ->  g > 0 */
+    {-1, 0, 1, -1, 0, 0.0},                 /* EV_REST:           g >= 0  ->  g < 0 */
+    {-1, 1, 1, 0, 1, 0.0},                  /* EV_IMPACT:         g > 0   ->  g <= 0 (a start at theta = 0 is not "before") */
+    {+1, 1, 1, 0, 1, HALF_PI},              /* EV_OVERTURN:       g < 0   ->  g >= 0 */
+    {+1, 0, 0, -1, 0, 0.0},                 /* EV_CRITICAL:       g <= 0  ->  g > 0 */
+    {0, 1, 0, NQ, 0, 0.0},                  /* EV_THETA_PEAK:     sign change */
+    {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0} /* EV_X_PEAK:         sign change */
+};
+
+static int is_before(double phi, int strict)
+{
+    return strict ? phi < 0.0 : phi <= 0.0;
+}
+
+/* The events' context: what their functions depend on besides (t, y). */
+typedef struct event_ctx {
+    const ode *o;
+    double energy_zero; /* E(0), the energy of the rest state */
+    double energy_rest; /* the rest threshold on E(y) - E(0) */
+} event_ctx;
+
+/* g of an event that reads one component, from that component's value. */
+static double component_event(const event_ctx *ec, const event_rule *e, double v)
+{
+    return (e->times_pivot ? (double)ec->o->phase * v : v) - e->offset;
+}
+
+/* g of an event that is a function of the model. */
+static double model_event(const event_ctx *ec, int kind, double t, const double *y)
+{
+    const double s = (double)ec->o->phase;
+    switch (kind) {
+    case EV_UPLIFT_A:
+        return model_uplift(1.0, y, ode_ag(ec->o, t), ec->o->p);
+    case EV_UPLIFT_A_PRIME:
+        return model_uplift(-1.0, y, ode_ag(ec->o, t), ec->o->p);
+    case EV_REST:
+        /* In full contact the energy does not depend on the pivot. */
+        return (model_energy(1.0, y, 0.0, ec->o->p) - ec->energy_zero) - ec->energy_rest;
+    case EV_CRITICAL:
+        return s * y[0] - s * model_critical_angle(s, y, ode_ag(ec->o, t), ec->o->p);
+    default:
+        return 0.0; /* not reached: the other events read one component */
+    }
+}
+
+static double event_value(const event_ctx *ec, int kind, double t, const double *y)
+{
+    const event_rule *e = &EVENT_RULES[kind];
+    return e->component >= 0 ? component_event(ec, e, y[e->component]) : model_event(ec, kind, t, y);
+}
+
+/* The event function on the dense output of the last step. */
+static double event_on_dense(const event_ctx *ec, dopri *d, int kind, double t)
+{
+    const event_rule *e = &EVENT_RULES[kind];
+    double y[NY];
+    if (e->component >= 0)
+        return component_event(ec, e, dopri_dense1(d, t, e->component));
+    dopri_dense(d, t, y);
+    return model_event(ec, kind, t, y);
+}
+
+/* The sense of an event over a step that starts with g = g_old. */
+static int event_sense(int kind, double g_old)
+{
+    const int sense = EVENT_RULES[kind].sense;
+    return sense ? sense : (g_old > 0.0 ? -1 : +1);
+}
+
+/* Locate an event that fired in the last step: phi = sense g is "before" at ta
+ * and not at tb. Illinois: regula falsi that halves the value kept at an end
+ * that survived twice, so that both ends converge. A trial point is kept at
+ * least half the tolerance away from both ends: once one end has converged,
+ * the next trial lands just across the root and closes the bracket (plain
+ * regula falsi would creep towards it from one side). Bisection only as a
+ * safety net. Returns the end of the final bracket on the "after" side, so
+ * that the event has happened at the returned time; |dt| <= 4 eps t. */
+static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, double ta, double phi_a, double tb,
+                           double phi_b)
+{
+    const int strict = EVENT_RULES[kind].strict;
+    const double tol = 4.0 * DBL_EPSILON * max2(fabs(ta), fabs(tb));
+    int kept = 0; /* +1: ta moved last time (tb kept), -1: tb moved */
+    int iter;
+    for (iter = 0; iter < 200 && tb - ta > tol; ++iter) {
+        double tc, phi_c;
+        if (iter < 40 && phi_b != phi_a) {
+            tc = tb - phi_b * ((tb - ta) / (phi_b - phi_a));
+            tc = min2(max2(tc, ta + 0.5 * tol), tb - 0.5 * tol); /* a NaN becomes the lower limit */
+        } else {
+            tc = ta + 0.5 * (tb - ta);
+        }
+        if (!(tc > ta && tc < tb)) /* NaN, or rounding at the ends */
+            tc = ta + 0.5 * (tb - ta);
+        if (!(tc > ta && tc < tb)) /* no double left between the ends */
+            break;
+        phi_c = sense * event_on_dense(ec, d, kind, tc);
+        if (is_before(phi_c, strict)) {
+            ta = tc;
+            phi_a = phi_c;
+            if (kept == +1)
+                phi_b *= 0.5;
+            kept = +1;
+        } else {
+            tb = tc;
+            phi_b = phi_c;
+            if (kept == -1)
+                phi_a *= 0.5;
+            kept = -1;
+        }
+    }
+    return tb;
+}
+
+/* The events watched during one segment, with their values at the last step end. */
+typedef struct event_set {
+    int n, kinds[N_EVENTS]; /* the watched events, in enum order (ties go to the first) */
+    double g[N_EVENTS];     /* by kind */
+} event_set;
+
+/* What the events of one accepted step found. */
+typedef struct step_events {
+    int terminal;       /* the earliest terminal event, or -1 */
+    double t_stop;      /* its time, or the step's end */
+    int n_passed, passed[N_EVENTS]; /* non-terminal events located at or before t_stop */
+    double t_root[N_EVENTS];        /* by kind */
+} step_events;
+
+static void events_start(event_set *es, const event_ctx *ec, const int *active, double t, const double *y)
+{
+    int k;
+    es->n = 0;
+    for (k = 0; k < N_EVENTS; ++k) {
+        if (!active[k])
+            continue;
+        es->kinds[es->n++] = k;
+        es->g[k] = event_value(ec, k, t, y);
+    }
+}
+
+/* Stop watching an event for the rest of the segment. */
+static void events_drop(event_set *es, int kind)
+{
+    int i, j = 0;
+    for (i = 0; i < es->n; ++i)
+        if (es->kinds[i] != kind)
+            es->kinds[j++] = es->kinds[i];
+    es->n = j;
+}
+
+/* Check every watched event over the step just accepted: detection from the
+ * values at both ends, location on the dense output, the earliest terminal
+ * event wins and the non-terminal ones after it are dropped. */
+static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_events *out)
+{
+    double g_new[N_EVENTS];
+    int fired[N_EVENTS];
+    int i, n_fired = 0;
+    out->terminal = -1;
+    out->t_stop = d->t;
+    out->n_passed = 0;
+    for (i = 0; i < es->n; ++i) {
+        const int k = es->kinds[i];
+        const int strict = EVENT_RULES[k].strict;
+        const int sense = event_sense(k, es->g[k]);
+        g_new[k] = event_value(ec, k, d->t, d->y);
+        if (!is_before(sense * es->g[k], strict) || is_before(sense * g_new[k], strict))
+            continue;
+        fired[n_fired++] = k;
+        out->t_root[k] = locate_event(ec, d, k, sense, d->t_old, sense * es->g[k], d->t, sense * g_new[k]);
+        if (EVENT_RULES[k].terminal && (out->terminal < 0 || out->t_root[k] < out->t_stop)) {
+            out->terminal = k;
+            out->t_stop = out->t_root[k];
+        }
+    }
+    for (i = 0; i < n_fired; ++i) {
+        const int k = fired[i];
+        if (!EVENT_RULES[k].terminal && out->t_root[k] <= out->t_stop)
+            out->passed[out->n_passed++] = k;
+    }
+    if (out->terminal < 0)
+        for (i = 0; i < es->n; ++i)
+            es->g[es->kinds[i]] = g_new[es->kinds[i]];
+}
+
+/* ------------------------------------------------------------------------ */
+/* 4. The phase machine                                                      */
+/* ------------------------------------------------------------------------ */
+
+/* How a segment ended, besides an event (enum event_kind). */
+enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3 };
+
+typedef struct run {
+    const rocking_case *c;
+    tolerance tol;
+    ode o;
+    event_ctx ec;
+    dopri d;
+    event_set events;
+    double t, y[NY]; /* the state between segments */
+    int phase;
+    rocking_result *res;
+    /* history */
+    rocking_history *hist;
+    int64_t n_rec;
+    double last_t, last_y[NY];
+    int last_phase;
+    double next_sample; /* index of the next record_dt multiple to sample */
+} run;
+
+/* Ground acceleration of the recorded history: the pulse on [0, t_p]. */
+static double pulse_at(const rocking_case *c, double t)
+{
+    return (t >= 0.0 && t <= c->t_p) ? c->a_g * sin(c->omega_g * t + c->psi) : 0.0;
+}
+
+/* Append a history sample, unless it repeats the last one exactly (a segment
+ * restarting where the previous one ended). Counts past the capacity. */
+static void record(run *r, double t, const double *y, int phase)
+{
+    rocking_history *h = r->hist;
+    int i, same;
+    if (h == NULL)
+        return;
+    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase;
+    for (i = 0; same && i < NY; ++i)
+        same = y[i] == r->last_y[i];
+    if (same)
+        return;
+    if (r->n_rec < h->capacity) {
+        h->t[r->n_rec] = t;
+        memcpy(h->y + r->n_rec * NY, y, NY * sizeof *y);
+        h->phase[r->n_rec] = phase;
+        h->ag[r->n_rec] = pulse_at(r->c, t);
+    }
+    ++r->n_rec;
+    r->last_t = t;
+    memcpy(r->last_y, y, sizeof r->last_y);
+    r->last_phase = phase;
+}
+
+/* Samples at the multiples of record_dt in [t_old, t_stop), strictly after
+ * the segment's start (next_sample was set past it) and strictly before its
+ * end (the end is recorded as an event sample). */
+static void record_samples(run *r, double t_stop)
+{
+    const double dt = r->c->record_dt;
+    double y[NY];
+    if (r->hist == NULL || !(dt > 0.0))
+        return;
+    for (;;) {
+        const double t = r->next_sample * dt;
+        if (!(t < t_stop))
+            break;
+        dopri_dense(&r->d, t, y);
+        record(r, t, y, r->phase);
+        r->next_sample += 1.0;
+    }
+}
+
+static void see_state(run *r, const double *y)
+{
+    r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
+#if NQ > 1
+    r->res->x_max = max2(r->res->x_max, fabs(y[1]));
+#endif
+}
+
+/* A non-terminal event located at t inside the last step. */
+static void pass_event(run *r, int kind, double t)
+{
+    switch (kind) {
+    case EV_CRITICAL:
+        if (isnan(r->res->t_critical))
+            r->res->t_critical = t;
+        events_drop(&r->events, EV_CRITICAL); /* only the first crossing is wanted */
+        break;
+    case EV_THETA_PEAK:
+        r->res->theta_max = max2(r->res->theta_max, fabs(dopri_dense1(&r->d, t, 0)));
+        break;
+#if NQ > 1
+    case EV_X_PEAK:
+        r->res->x_max = max2(r->res->x_max, fabs(dopri_dense1(&r->d, t, 1)));
+        break;
+#endif
+    default:
+        break;
+    }
+}
+
+/* The events of docs/simulation.md for the current phase. */
+static void watched_events(const run *r, int *active)
+{
+    int k;
+    for (k = 0; k < N_EVENTS; ++k)
+        active[k] = 0;
+    if (r->phase == 0) {
+        active[EV_UPLIFT_A] = active[EV_UPLIFT_A_PRIME] = 1;
+        active[EV_REST] = !r->o.pulse_on;
+    } else {
+        active[EV_IMPACT] = active[EV_OVERTURN] = active[EV_THETA_PEAK] = 1;
+        active[EV_CRITICAL] = isnan(r->res->t_critical);
+    }
+    active[EV_X_PEAK] = NQ > 1;
+}
+
+/* Integrate the current phase from (r->t, r->y) until t_bound or a terminal
+ * event; (r->t, r->y) is then the segment's end. Returns the event, or
+ * SEG_BOUND, SEG_FAILED, SEG_NO_LIFT. */
+static int run_segment(run *r, double t_bound)
+{
+    const double s = (double)r->phase;
+    /* While the pulse acts, the bare block's contact phase has no dynamics at
+     * all: only a bounded step keeps an uplift from being stepped over. */
+    const double max_step = (r->phase == 0 && r->t < r->c->t_p) ? r->c->contact_max_step : INFINITY;
+    /* Rocking from theta = 0 (an uplift, an impact): s theta must turn
+     * positive, or the impact event (armed by s theta > 0) would never fire. */
+    int lifting = r->phase != 0 && r->y[0] == 0.0;
+    int active[N_EVENTS];
+    step_events found;
+    int k;
+
+    r->o.phase = r->phase;
+    r->o.pulse_on = r->t < r->c->t_p;
+    dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound);
+    watched_events(r, active);
+    events_start(&r->events, &r->ec, active, r->t, r->y);
+    if (r->hist != NULL && r->c->record_dt > 0.0) {
+        r->next_sample = floor(r->t / r->c->record_dt) + 1.0;
+        while (r->next_sample * r->c->record_dt <= r->t) /* floor() of a rounded ratio */
+            r->next_sample += 1.0;
+    }
+
+    while (r->d.t < t_bound) {
+        if (dopri_step(&r->d, &r->o, &r->tol, t_bound, max_step) != 0)
+            return SEG_FAILED;
+        if (lifting) {
+            if (!(s * r->d.y[0] > 0.0)) {
+                /* The block fell back within the first step (or never rose):
+                 * retry shorter; if even the shortest step cannot lift it, it
+                 * does not lift (a grazing uplift). */
+                const double h = 0.1 * r->d.h;
+                if (h < min_step_at(r->d.t_old))
+                    return SEG_NO_LIFT;
+                dopri_undo(&r->d, h);
+                continue;
+            }
+            lifting = 0;
+        }
+        events_scan(&r->events, &r->ec, &r->d, &found);
+        for (k = 0; k < found.n_passed; ++k)
+            pass_event(r, found.passed[k], found.t_root[found.passed[k]]);
+        record_samples(r, found.t_stop);
+        if (found.terminal >= 0) {
+            r->t = found.t_stop;
+            dopri_dense(&r->d, r->t, r->y);
+            see_state(r, r->y);
+            if (found.terminal == EV_IMPACT)
+                r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
+            return found.terminal;
+        }
+        see_state(r, r->d.y);
+    }
+    r->t = t_bound;
+    memcpy(r->y, r->d.y, sizeof r->y);
+    return SEG_BOUND;
+}
+
+/* Pivot whose uplift function is already positive when full contact starts, else 0. */
+static int uplift_at_start(const run *r)
+{
+    const double ag = r->t < r->c->t_p ? r->c->a_g * sin(r->c->omega_g * r->t + r->c->psi) : 0.0;
+    if (model_uplift(1.0, r->y, ag, r->o.p) > 0.0)
+        return 1;
+    if (model_uplift(-1.0, r->y, ag, r->o.p) > 0.0)
+        return -1;
+    return 0;
+}
+
+static double energy_above_rest(const run *r)
+{
+    return model_energy(1.0, r->y, 0.0, r->o.p) - r->ec.energy_zero;
+}
+
+static int events_exhausted(const run *r)
+{
+    return r->res->uplifts + r->res->impacts >= r->c->max_events;
+}
+
+/* The impact that ends rocking about s: theta = 0 already, dq = J_s(y); the
+ * block rests if the outgoing |dtheta| is below dtheta_rest. */
+static void impact(run *r)
+{
+    double dq[NQ];
+    const double s = (double)r->phase;
+    model_impact(s, r->y, ode_ag(&r->o, r->t), r->o.p, dq);
+    memcpy(r->y + NQ, dq, sizeof dq);
+    r->res->impacts += 1;
+    if (fabs(r->y[NQ]) < r->c->dtheta_rest) {
+        r->y[NQ] = 0.0; /* the other velocities keep their J_s values */
+        r->phase = 0;
+    } else {
+        /* The corner that just hit the ground is the new pivot. */
+        r->phase = -r->phase;
+    }
+}
+
+/* The whole run: docs/simulation.md, "Phases" and "End". */
+static void phase_machine(run *r)
+{
+    const rocking_case *c = r->c;
+    int skip_uplift_check = 0;
+    for (;;) {
+        double t_bound;
+        int ended;
+        record(r, r->t, r->y, r->phase);
+        if (r->t >= c->t_max) {
+            r->res->status = ROCKING_T_MAX;
+            return;
+        }
+        if (r->phase == 0) {
+            const int s = skip_uplift_check ? 0 : uplift_at_start(r);
+            skip_uplift_check = 0;
+            if (s != 0) { /* already above a threshold: uplift at this very instant */
+                r->res->uplifts += 1;
+                r->phase = s;
+                if (events_exhausted(r)) {
+                    r->res->status = ROCKING_MAX_EVENTS;
+                    return;
+                }
+                continue;
+            }
+            /* For the bare block E(y) = E(0) in full contact: rest at once. */
+            if (r->t >= c->t_p && energy_above_rest(r) < c->energy_rest) {
+                r->res->status = ROCKING_REST;
+                return;
+            }
+        }
+        /* Every segment stops at the pulse's end: no step straddles its kink. */
+        t_bound = r->t < c->t_p ? fmin(c->t_p, c->t_max) : c->t_max;
+        ended = run_segment(r, t_bound);
+        record(r, r->t, r->y, r->phase);
+        switch (ended) {
+        case SEG_BOUND:
+            if (t_bound == c->t_max) {
+                r->res->status = ROCKING_T_MAX;
+                return;
+            }
+            break; /* the pulse's end: the same phase restarts from t_p */
+        case SEG_FAILED:
+            r->res->status = ROCKING_FAILED;
+            return;
+        case SEG_NO_LIFT:
+            /* A grazing uplift: the block cannot rise, it stays on its base (the
+             * uplift stays counted). u_s is still barely positive: the start
+             * check of the contact phase would lift it again, forever. */
+            r->y[0] = r->y[NQ] = 0.0;
+            r->phase = 0;
+            skip_uplift_check = 1;
+            break;
+        case EV_UPLIFT_A:
+        case EV_UPLIFT_A_PRIME:
+            r->res->uplifts += 1;
+            r->phase = ended == EV_UPLIFT_A ? 1 : -1;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            break;
+        case EV_IMPACT:
+            impact(r);
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            break;
+        case EV_OVERTURN:
+            r->res->overturned = 1;
+            r->res->t_overturn = r->t;
+            r->res->status = ROCKING_OVERTURNED;
+            return;
+        case EV_REST:
+            r->res->status = ROCKING_REST;
+            return;
+        default:
+            r->res->status = ROCKING_FAILED; /* not reached: every terminal event is handled */
+            return;
+        }
+    }
+}
+
+/* The initial state: at rest, or a valid (y0, phase0). Returns 0 or -1. */
+static int initial_state(const rocking_case *c, double *y, int *phase)
+{
+    int i;
+    *phase = c->phase0;
+    if (c->y0 == NULL) {
+        memset(y, 0, NY * sizeof *y);
+        return *phase == 0 ? 0 : -1;
+    }
+    for (i = 0; i < NY; ++i) {
+        if (!isfinite(c->y0[i]))
+            return -1;
+        y[i] = c->y0[i];
+    }
+    if (*phase == 0)
+        return (y[0] == 0.0 && y[NQ] == 0.0) ? 0 : -1;
+    if (*phase != 1 && *phase != -1)
+        return -1;
+    /* s theta >= 0; from theta = 0 the block must move towards s theta > 0. */
+    return (*phase * y[0] >= 0.0 && !(y[0] == 0.0 && *phase * y[NQ] < 0.0)) ? 0 : -1;
+}
+
+static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
+{
+    run r;
+    const double zeros[NY] = {0.0};
+
+    out->status = ROCKING_FAILED;
+    out->overturned = 0;
+    out->impacts = out->uplifts = 0;
+    out->t_overturn = out->t_critical = NAN;
+    out->theta_max = out->x_max = 0.0;
+    out->t_end = 0.0;
+
+    r.c = c;
+    r.tol.rtol = c->rtol;
+    r.tol.atol = c->atol;
+    r.o.p = p;
+    r.o.phase = 0;
+    r.o.pulse_on = 1;
+    r.o.a_g = c->a_g;
+    r.o.omega_g = c->omega_g;
+    r.o.psi = c->psi;
+    r.ec.o = &r.o;
+    /* In full contact the energy does not depend on the pivot: E(0) with s = +1. */
+    r.ec.energy_zero = model_energy(1.0, zeros, 0.0, p);
+    r.ec.energy_rest = c->energy_rest;
+    r.t = 0.0;
+    r.res = out;
+    r.hist = history;
+    r.n_rec = 0;
+    r.last_t = 0.0;
+    r.last_phase = 0;
+    r.next_sample = 0.0;
+    if (initial_state(c, r.y, &r.phase) != 0)
+        return -1;
+    see_state(&r, r.y);
+
+    phase_machine(&r);
+    out->t_end = r.t;
+    record(&r, r.t, r.y, r.phase);
+    return r.n_rec;
+}
+
+/* ------------------------------------------------------------------------ */
+/* 5. Entry points                                                           */
+/* ------------------------------------------------------------------------ */
+
+int rocking_model_nq(void) { return MODEL_NQ; }
+int rocking_model_ny(void) { return MODEL_NY; }
+int rocking_model_np(void) { return MODEL_NP; }
+int rocking_result_size(void) { return (int)sizeof(rocking_result); }
+int rocking_api_version(void) { return ROCKING_SIM_API_VERSION; }
+
+int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
+{
+    return simulate_one(p, c, out, history);
+}
+
+void rocking_simulate_batch(int64_t n, const double *p, const double *a_g, const double *omega_g, const double *psi,
+                            const double *t_p, const double *t_max, const double *atol,
+                            const double *contact_max_step, const double *dtheta_rest, const double *energy_rest,
+                            double rtol, int64_t max_events, rocking_result *out)
+{
+    int64_t i;
+    for (i = 0; i < n; ++i) {
+        rocking_case c;
+        c.a_g = a_g[i];
+        c.omega_g = omega_g[i];
+        c.psi = psi[i];
+        c.t_p = t_p[i];
+        c.t_max = t_max[i];
+        c.rtol = rtol;
+        c.atol = atol + i * MODEL_NY;
+        c.contact_max_step = contact_max_step[i];
+        c.dtheta_rest = dtheta_rest[i];
+        c.energy_rest = energy_rest[i];
+        c.max_events = max_events;
+        c.record_dt = 0.0;
+        c.y0 = NULL;
+        c.phase0 = 0;
+        simulate_one(p + i * MODEL_NP, &c, out + i, NULL);
+    }
+}

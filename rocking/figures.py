@@ -1,0 +1,282 @@
+"""Figures of the studies, drawn from saved data only.
+
+Every figure is drawn from a :class:`rocking.study_io.Study` as
+:func:`rocking.study_io.load` reads it back, so :func:`redraw` re-renders a
+figure from its ``.npz``/``.json`` without recomputing anything. Figures are
+written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
+
+- map: outcome of the bare block and of the damped block over ``(Omega,
+  beta)`` (safe / overturned without impact / after n impacts), and the
+  damper's effect (cells saved, cells lost);
+- spectrum: ``beta_min(Omega)`` with and without damper, the safe windows
+  above it as bars, and the gain ``beta_min`` ratio;
+- optimize: optimal ``T_m / T_g`` and ``T_m p / (2 pi)``, best gain with
+  ``Omega*`` marked, and the gain landscape ``G(Omega, T_m)`` of the coarse scan.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.figure import Figure
+from matplotlib.patches import Patch
+
+from .params import ParameterError
+from .spectrum import ABOVE, BELOW, BRACKETED
+from .study_io import Study, load
+
+#: Outcome classes of a map cell: label and colour; the class is min(outcome + 1, 4).
+OUTCOME_CLASSES = (
+    ("safe", "#f7f7f7"),
+    ("overturned, no impact", "#b2182b"),
+    ("overturned after 1 impact", "#ef8a62"),
+    ("after 2 impacts", "#fddbc7"),
+    ("after 3 or more impacts", "#9970ab"),
+)
+#: Effect classes: bare overturned + 2 x damped overturned.
+EFFECT_CLASSES = (
+    ("safe either way", "#f7f7f7"),
+    ("saved by the damper", "#1a9850"),
+    ("lost with the damper", "#d73027"),
+    ("overturned either way", "#bdbdbd"),
+)
+PART_STYLE = {
+    "bare": {"color": "black", "label": "block alone"},
+    "damper": {"color": "tab:blue", "label": "with damper"},
+}
+
+
+def _edges(centres: np.ndarray) -> np.ndarray:
+    """Cell edges around grid points (mid-points; half a step beyond the ends)."""
+    c = np.asarray(centres, float)
+    if c.size == 1:
+        return np.array([c[0] - 0.5, c[0] + 0.5])
+    mid = 0.5 * (c[1:] + c[:-1])
+    return np.concatenate([[2 * c[0] - mid[0]], mid, [2 * c[-1] - mid[-1]]])
+
+
+def _classes(ax, Omega, beta, classes: np.ndarray, palette) -> None:
+    """Draw integer classes on the (Omega, beta) plane with a categorical palette and legend."""
+    cmap = ListedColormap([c for _, c in palette])
+    norm = BoundaryNorm(np.arange(len(palette) + 1) - 0.5, cmap.N)
+    ax.pcolormesh(_edges(Omega), _edges(beta), classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
+    present = np.unique(classes)
+    handles = [Patch(facecolor=c, edgecolor="0.5", label=label) for i, (label, c) in enumerate(palette) if i in present]
+    ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
+    ax.set_xlabel(r"$\Omega = \omega_g / p$")
+    ax.set_ylabel(r"$\beta = a_g / (g \tan\alpha)$")
+
+
+def _damper_label(config: dict) -> str:
+    d = config["damper"]
+    period = rf"$T_m p / 2\pi$ = {1 / d['omega_ratio']:.3g}"
+    return rf"$\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m"
+
+
+#: Legend of the open triangles of :func:`_gain_curve`.
+LOWER_BOUND = r"lower bound (no overturning up to the last $\beta$ scanned)"
+
+
+def _gain_curve(ax, Omega, gain, flag, color, label) -> bool:
+    """A gain curve, open triangles where the damped block did not overturn in the scan; True if any."""
+    ax.plot(Omega, gain, "-", color=color, label=label)
+    exact = flag != ABOVE
+    ax.plot(Omega[exact], gain[exact], "o", ms=3, color=color)
+    ax.plot(Omega[~exact], gain[~exact], "^", ms=5, mfc="none", color=color)
+    return not exact.all()
+
+
+def _lower_bound_legend(ax) -> None:
+    ax.plot([], [], "^", ms=5, mfc="none", color="0.3", label=LOWER_BOUND)
+
+
+def map_figure(study: Study) -> Figure:
+    """Outcome maps of the bare and the damped block, and the damper's effect."""
+    a = study.arrays
+    fig = Figure(figsize=(15, 4.8), layout="constrained")
+    axes = fig.subplots(1, 3, sharex=True, sharey=True)
+    for ax, part, title in zip(axes, ("bare", "damper"), ("block alone", "with damper")):
+        cls = np.where(a[f"{part}_overturned"], np.minimum(a[f"{part}_impacts"] + 1, 4), 0)
+        _classes(ax, a["Omega"], a["beta"], cls, OUTCOME_CLASSES)
+        ax.set_title(title)
+    effect = a["bare_overturned"].astype(int) + 2 * a["damper_overturned"].astype(int)
+    _classes(axes[2], a["Omega"], a["beta"], effect, EFFECT_CLASSES)
+    s = study.summary
+    axes[2].set_title(f"effect of the damper: {s.get('saved', 0)} cells saved, {s.get('lost', 0)} lost")
+    fig.suptitle(f"Overturning map, one-sine pulse; damper {_damper_label(study.config)}")
+    return fig
+
+
+def spectrum_figure(study: Study) -> Figure:
+    """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
+    a = study.arrays
+    Om = a["Omega"]
+    step = np.diff(Om).min() if Om.size > 1 else 1.0
+    fig = Figure(figsize=(12, 4.8), layout="constrained")
+    ax, ax_gain = fig.subplots(1, 2, width_ratios=(2, 1))
+    for shift, part in zip((-0.12, 0.12), ("bare", "damper")):
+        style = PART_STYLE[part]
+        flag, bm = a[f"{part}_flag"], a[f"{part}_beta_min"]
+        ax.plot(
+            Om,
+            np.where(flag == BRACKETED, bm, np.nan),
+            "-o",
+            ms=3,
+            color=style["color"],
+            label=rf"$\beta_{{min}}$, {style['label']}",
+        )
+        for code, marker, text in ((BELOW, "v", "at or below"), (ABOVE, "^", "above")):
+            sel = flag == code
+            if sel.any():
+                ax.plot(
+                    Om[sel],
+                    bm[sel],
+                    marker,
+                    color=style["color"],
+                    mfc="none",
+                    label=f"{style['label']}: {text} the scan range",
+                )
+        w = a[f"{part}_windows"]
+        if len(w):
+            ax.vlines(
+                w[:, 0] + shift * step,
+                w[:, 1],
+                w[:, 2],
+                color=style["color"],
+                alpha=0.45,
+                lw=3,
+                label=f"safe windows, {style['label']}",
+            )
+    ax.set_xlabel(r"$\Omega = \omega_g / p$")
+    ax.set_ylabel(r"$\beta = a_g / (g \tan\alpha)$")
+    ax.set_title("minimum overturning amplitude (bars: safe windows above it)")
+    ax.legend(fontsize=7)
+    both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
+    gain = np.where(both, a["damper_beta_min"] / a["bare_beta_min"], np.nan)
+    if _gain_curve(ax_gain, Om, gain, a["damper_flag"], PART_STYLE["damper"]["color"], None):
+        _lower_bound_legend(ax_gain)
+        ax_gain.legend(fontsize=7)
+    ax_gain.axhline(1.0, color="0.4", lw=0.8)
+    ax_gain.set_xlabel(r"$\Omega$")
+    ax_gain.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
+    ax_gain.set_title("gain of the damper")
+    fig.suptitle(f"Minimum overturning spectrum; damper {_damper_label(study.config)}")
+    return fig
+
+
+def _threshold_text(t: dict) -> str:
+    """``Omega*`` as :func:`rocking.optimize.threshold_frequency` found it, for a figure."""
+    if t["status"] == "bracketed":
+        return rf"$\Omega^*$ = {t['Omega_star']:.3g} (scanned {t['low']:.3g} .. {t['high']:.3g})"
+    if t["status"] == "above_range":
+        return rf"$\Omega^*$ > {t['low']:.3g} (still useful there)"
+    if t["status"] == "below_range":
+        return rf"$\Omega^*$ $\leq$ {t['high']:.3g} (never useful)"
+    return r"$\Omega^*$ unknown (no gain defined)"
+
+
+def optimize_figure(study: Study) -> Figure:
+    """Optimal period (two normalisations), best gain with ``Omega*``, gain landscape of one ``gamma``."""
+    a = study.arrays
+    Om, gammas = a["Omega"], a["gamma"]
+    fig = Figure(figsize=(12, 8.5), layout="constrained")
+    (ax_tg, ax_tp), (ax_g, ax_map) = fig.subplots(2, 2)
+    colors = [f"C{i}" for i in range(len(gammas))]
+    useless = study.summary.get("useless_gain", 1.01)
+    bounded = False
+    for g, (gamma, c) in enumerate(zip(gammas, colors)):
+        label = rf"$\gamma$ = {gamma:g}"
+        ax_tg.plot(Om, a["Tm_over_Tg_opt"][g], "-o", ms=3, color=c, label=label)
+        ax_tp.plot(Om, a["r_opt"][g], "-o", ms=3, color=c, label=label)
+        bounded = _gain_curve(ax_g, Om, a["gain_opt"][g], a["flag_opt"][g], c, label) or bounded
+        threshold = study.summary["Omega_star"][f"{gamma:g}"]
+        if threshold["status"] == "bracketed":
+            ax_g.axvspan(threshold["low"], threshold["high"], color=c, alpha=0.12)
+            ax_g.axvline(threshold["Omega_star"], color=c, ls="--", lw=1)
+    if len(gammas) > 1:
+        ax_g.plot(Om, a["best_gain"], "k:", lw=1.5, label=r"best over $\gamma$")
+    if bounded:
+        _lower_bound_legend(ax_g)
+    who = {key: "best" if key == "best" else rf"$\gamma$ = {key}" for key in study.summary["Omega_star"]}
+    text = "\n".join(f"{who[key]}: {_threshold_text(t)}" for key, t in study.summary["Omega_star"].items())
+    ax_g.text(
+        0.98,
+        0.97,
+        text,
+        transform=ax_g.transAxes,
+        ha="right",
+        va="top",
+        fontsize=7,
+        bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9},
+    )
+    ax_g.axhline(useless, color="0.3", lw=0.8, ls=":")
+    ax_g.axhline(1.0, color="0.3", lw=0.8)
+    ax_g.set_ylabel(r"best gain $G = \beta_{min}$(damper) / $\beta_{min}$(block)")
+    ax_g.set_title(rf"best gain; $\Omega^*$: above it $G$ < {useless:g}")
+    ax_tg.set_ylabel(r"optimal $T_m / T_g$")
+    ax_tp.set_ylabel(r"optimal $T_m p / 2\pi$")
+    for ax in (ax_tg, ax_tp):
+        ax.set_yscale("log")
+    for ax in (ax_tg, ax_tp, ax_g):
+        ax.set_xlabel(r"$\Omega = \omega_g / p$")
+        ax.legend(fontsize=7)
+    g = len(gammas) // 2
+    r = a["r_coarse"]
+    image = ax_map.pcolormesh(
+        _edges(Om), np.exp(_edges(np.log(r))), a["gain_coarse"][g].T, cmap="RdBu", vmin=0.5, vmax=1.5
+    )
+    ax_map.plot(Om, a["r_opt"][g], "k.", ms=4, label="optimum (after refinement)")
+    ax_map.set_yscale("log")
+    ax_map.set_xlabel(r"$\Omega$")
+    ax_map.set_ylabel(r"$T_m p / 2\pi$")
+    ax_map.set_title(rf"gain over the coarse scan, $\gamma$ = {gammas[g]:g}")
+    ax_map.legend(fontsize=7, loc="upper right")
+    fig.colorbar(image, ax=ax_map, label="G")
+    cfg = study.config
+    fig.suptitle(rf"Optimal damper ($\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m)")
+    return fig
+
+
+FIGURES = {"map": map_figure, "spectrum": spectrum_figure, "optimize": optimize_figure}
+
+
+def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
+    """Draw the figure of ``study`` as ``<folder>/<name>.png`` and ``.pdf`` (name: the study's kind)."""
+    if study.kind not in FIGURES:
+        raise ParameterError(f"no figure for a study of kind {study.kind!r} (known: {', '.join(FIGURES)})")
+    fig = FIGURES[study.kind](study)
+    FigureCanvasAgg(fig)
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    paths = [folder / f"{name or study.kind}.{ext}" for ext in ("png", "pdf")]
+    for path in paths:
+        fig.savefig(path, dpi=150)
+    return paths
+
+
+def redraw(path: str | Path) -> list[Path]:
+    """Redraw figures from saved data: one study (its ``.npz``, ``.json`` or stem) or every study in a folder.
+
+    The figures are written next to the data, under the same stem.
+
+    Raises
+    ------
+    ParameterError
+        If nothing saved is found at ``path``.
+    """
+    path = Path(path)
+    stems = (
+        sorted(p.with_suffix("") for p in path.glob("*.json") if p.with_suffix(".npz").is_file())
+        if path.is_dir()
+        else [path]
+    )
+    if not stems:
+        raise ParameterError(f"no saved study (<name>.npz with <name>.json) in {path}")
+    written = []
+    for stem in stems:
+        stem = stem.with_suffix("") if stem.suffix in (".npz", ".json") else stem
+        written += draw(load(stem), stem.parent, stem.name)
+    return written

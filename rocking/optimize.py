@@ -1,0 +1,311 @@
+"""The optimal damper: for each pulse frequency, the damper period that makes overturning hardest.
+
+The gain of a damper at the pulse frequency ratio ``Omega`` is
+
+    G(Omega) = beta_min(with damper) / beta_min(block alone)
+
+(:func:`rocking.spectrum.beta_min`); ``G > 1``: a stronger pulse is needed to
+overturn the damped block. For each ``Omega`` and mass ratio ``gamma`` (given
+``zeta`` and ``h``), :func:`optimize_tile` searches the damper period ``T_m``,
+written ``r = T_m p / (2 pi)`` (``T_m`` in units of the block's ``2 pi / p``),
+over a range (default ``r`` in [0.1, 10]).
+
+How the search copes with a noisy, discontinuous gain
+-----------------------------------------------------
+``G(r)`` is not smooth: ``beta_min`` jumps when the mode of overturning
+changes (after n impacts, after n + 1, without impact) or when a safe window
+opens or closes below it, and it is known only to the bisection tolerance and
+the resolution of the ``beta`` scan. Gradient or bracketing methods (golden
+section, Brent) assume unimodality and would lock onto a local step, so:
+
+1. *coarse scan*: ``G`` on a logarithmic grid of ``r`` over the whole range,
+   every point evaluated (one vectorised :func:`~rocking.spectrum.beta_min`
+   call for all of them); the best point ``r_k`` is a global choice among them;
+2. *local refinement*: ``refine`` points, log-spaced, strictly inside each of
+   the two coarse intervals next to ``r_k`` (``(r_{k-1}, r_k)`` and
+   ``(r_k, r_{k+1})``): a finer scan, not a line search, so a jump inside the
+   bracket cannot mislead it;
+3. the optimum is the best of all points evaluated, coarse and fine; ties go
+   to the shortest period (the stiffest spring, the smallest stroke).
+
+The refinement is local: an optimum in a narrow peak that the coarse grid
+misses altogether is not found, and the reported gain is the best *evaluated*
+gain, a lower bound of the true maximum. Both ``beta_min`` use the same scan
+grid and tolerance, so their errors are alike; gains closer to each other
+than about ``2 tol`` are not distinguished.
+
+When the damped block does not overturn anywhere in the ``beta`` scan, its
+``beta_min`` exceeds the last scan amplitude: the gain is then that lower
+bound (flag ``ABOVE``), which still ranks it first. Where the bare block's
+``beta_min`` is not bracketed by the scan, the gain is undefined (``nan``):
+widen the ``beta`` range.
+
+The threshold frequency ``Omega*`` (:func:`threshold_frequency`) is the
+frequency above which the best gain stays below 1.01: the damper is useless
+there.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .overturning_map import preflight
+from .params import ParameterError
+from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
+from .study_io import Grid, Setting, Study, part_config
+from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
+
+#: Gain below which a damper is useless (the definition of Omega*).
+USELESS_GAIN = 1.01
+
+#: Default coarse grid of r = T_m p / (2 pi) (log-spaced) and refinement points per side.
+TM_GRID = (0.1, 10.0, 17)
+REFINE = 3
+
+
+def refinement(r_coarse, k: int, refine: int) -> np.ndarray:
+    """``refine`` log-spaced points strictly inside each coarse interval next to ``r_coarse[k]``.
+
+    Returns ``2 refine`` values; when ``r_k`` ends the grid there is one interval only,
+    and the ``refine`` missing values are ``nan`` (every tile has the same shape).
+    """
+    r = np.asarray(r_coarse, float)
+    points = [np.geomspace(r[a], r[b], refine + 2)[1:-1] for a, b in ((k - 1, k), (k, k + 1)) if 0 <= a and b < r.size]
+    out = np.concatenate(points) if points else np.zeros(0)
+    return np.concatenate([out, np.full(2 * refine - out.size, np.nan)])
+
+
+def _gains(setting, Omega, r, damper, beta_scan, tol, reference):
+    """Gain and flag of the damped block for the periods ``r`` (nan where ``r`` or ``reference`` is nan)."""
+    ok = np.isfinite(r) & np.isfinite(reference)
+    gain, flag = np.full(r.shape, np.nan), np.zeros(r.shape, np.int64)
+    if ok.any():
+        res = beta_min(setting, np.full(ok.sum(), Omega), beta_scan, {**damper, "omega_ratio": 1.0 / r[ok]}, tol=tol)
+        gain[ok], flag[ok] = res["beta_min"] / reference, res["flag"]
+    return gain, flag
+
+
+def optimize_tile(payload: tuple) -> dict:
+    """Optimal period at one ``(gamma, Omega)``: coarse scan of ``r``, refinement, best point.
+
+    ``payload = (setting, damper, Omega, beta_scan, tol, r_coarse, refine)`` with
+    ``damper`` the keyword arguments ``gamma``, ``zeta``, ``h``.
+    """
+    setting, damper, Omega, beta_scan, tol, r_coarse, refine = payload
+    bare = beta_min(setting, [Omega], beta_scan, None, tol=tol)
+    # Only a bracketed bare beta_min is a reference; a bound would give a meaningless ratio.
+    reference = bare["beta_min"][0] if bare["flag"][0] == BRACKETED else np.nan
+    gain_coarse, flag_coarse = _gains(setting, Omega, r_coarse, damper, beta_scan, tol, reference)
+    k = int(np.argmax(np.nan_to_num(gain_coarse, nan=-np.inf)))
+    r_fine = refinement(r_coarse, k, refine) if np.isfinite(reference) else np.full(2 * refine, np.nan)
+    gain_fine, flag_fine = _gains(setting, Omega, r_fine, damper, beta_scan, tol, reference)
+    r_all = np.concatenate([r_coarse, r_fine])
+    gain_all = np.concatenate([gain_coarse, gain_fine])
+    flag_all = np.concatenate([flag_coarse, flag_fine])
+    order = np.argsort(r_all)  # nan last; argmax then takes the shortest period among ties
+    best = order[np.argmax(np.nan_to_num(gain_all[order], nan=-np.inf))]
+    found = np.isfinite(gain_all[best])
+    return {
+        "bare_beta_min": bare["beta_min"],
+        "bare_flag": bare["flag"],
+        "gain_coarse": gain_coarse,
+        "flag_coarse": flag_coarse,
+        "r_fine": r_fine,
+        "gain_fine": gain_fine,
+        "r_opt": np.array([r_all[best] if found else np.nan]),
+        "gain_opt": np.array([gain_all[best]]),
+        "flag_opt": np.array([flag_all[best]]),
+    }
+
+
+def threshold_frequency(Omega, gain, level: float = USELESS_GAIN) -> dict:
+    """``Omega*``: above it the gain stays below ``level``; with the scanned bracket around it.
+
+    Only frequencies where the gain is defined count (``nan``: the bare block's
+    ``beta_min`` is outside the ``beta`` scan); the bracket is made of two of them.
+
+    Parameters
+    ----------
+    Omega : array_like
+        Increasing frequency ratios.
+    gain : array_like
+        Best gain at each.
+    level : float
+        Gain that counts as useful.
+
+    Returns
+    -------
+    dict
+        ``Omega_star`` (linear interpolation of the gain across ``level``
+        inside the bracket), ``low`` and ``high`` (the two scanned values
+        around it), ``status``: ``"bracketed"``, ``"below_range"`` (the gain
+        is below ``level`` everywhere: ``Omega* <= high``), ``"above_range"``
+        (useful at the last defined frequency: ``Omega* > low``) or
+        ``"undefined"``; ``defined_up_to``: the last frequency with a defined
+        gain. Values that are not known are ``None``.
+    """
+    Omega, gain = np.asarray(Omega, float), np.asarray(gain, float)
+    defined = np.isfinite(gain)
+    out = {"Omega_star": None, "low": None, "high": None, "status": "undefined", "defined_up_to": None}
+    if not defined.any():
+        return out
+    Omega, gain = Omega[defined], gain[defined]
+    out["defined_up_to"] = float(Omega[-1])
+    useful = np.flatnonzero(gain >= level)
+    if useful.size == 0:
+        return {**out, "high": float(Omega[0]), "status": "below_range"}
+    i = useful[-1]
+    if i == Omega.size - 1:
+        return {**out, "low": float(Omega[-1]), "status": "above_range"}
+    lo, hi, g_lo, g_hi = Omega[i], Omega[i + 1], gain[i], gain[i + 1]
+    star = lo + (hi - lo) * (g_lo - level) / (g_lo - g_hi)
+    return {**out, "Omega_star": float(star), "low": float(lo), "high": float(hi), "status": "bracketed"}
+
+
+def check_gammas(gammas) -> tuple[float, ...]:
+    """Mass ratios, validated: a non-empty list of numbers in (0, 1]."""
+    gammas = tuple(gammas)
+    if not gammas:
+        raise ParameterError("gammas must list at least one mass ratio in (0, 1]")
+    for g in gammas:
+        if not (isinstance(g, (int, float)) and 0 < g <= 1):
+            raise ParameterError(f"gamma must be a mass ratio in (0, 1] (got {g!r})")
+    return tuple(float(g) for g in gammas)
+
+
+def optimal_damper(
+    setting: Setting,
+    gammas,
+    Omega: Grid,
+    beta: Grid,
+    execution: Execution = LOCAL,
+    *,
+    zeta: float = 0.05,
+    h: float = 0.05,
+    Tm: Grid | None = None,
+    refine: int = REFINE,
+    tol: float = TOL,
+    runs: str | Path = "out/runs",
+    on_tile=None,
+) -> Study:
+    """Optimal damper period and best gain against ``Omega`` for each mass ratio in ``gammas``.
+
+    Parameters
+    ----------
+    setting : Setting
+        Block and solver.
+    gammas : sequence of float
+        Mass ratios; the best over them is reported too (a search in ``gamma``).
+    Omega : Grid
+        Pulse frequency ratios (increasing).
+    beta : Grid
+        Scan amplitudes of every ``beta_min``.
+    execution : Execution
+        Where the tiles run.
+    zeta, h : float
+        Damping ratio and guide height (m) of the damper.
+    Tm : Grid, optional
+        Coarse grid of ``r = T_m p / (2 pi)``, log-spaced; default :data:`TM_GRID`.
+    refine : int
+        Refinement points on each side of the best coarse point (>= 0).
+    tol : float
+        Relative tolerance of the bisections.
+    runs : path
+        Folder of the run folders.
+    on_tile : callable, optional
+        Passed to :func:`rocking.tiles.run_tiles`.
+
+    Returns
+    -------
+    Study
+        Arrays ``Omega``, ``gamma``, ``r_coarse``, ``bare_beta_min``, and per
+        ``(gamma, Omega)``: ``r_opt``, ``Tm_over_Tg_opt`` (``T_m / T_g``,
+        ``T_g = 2 pi / omega_g``), ``gain_opt``, ``flag_opt``; per
+        ``(gamma, Omega, r)``: ``gain_coarse``, ``r_fine``, ``gain_fine``;
+        the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
+        ``Omega_star`` (per gamma, then over all, ``nan`` if not bracketed).
+    """
+    gammas = check_gammas(gammas)
+    tol = check_tol(tol)
+    if not (isinstance(refine, int) and refine >= 0):
+        raise ParameterError(f"refine must be an integer >= 0 (got {refine!r})")
+    Tm = Tm or Grid("Tm-range", *TM_GRID, log=True)
+    if not Tm.log:
+        raise ParameterError("the coarse T_m grid must be logarithmic (Grid(..., log=True))")
+    for name, value in (("zeta", zeta), ("h", h)):
+        if not (isinstance(value, (int, float)) and value >= 0):
+            raise ParameterError(f"{name} must be a number >= 0 (got {value!r})")
+    Om, b, r = Omega.values(), beta.values(), Tm.values()
+    nG, nO, nr = len(gammas), Om.size, r.size
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
+    arrays = {
+        "Omega": Om,
+        "gamma": np.array(gammas),
+        "r_coarse": r,
+        "bare_beta_min": np.full(nO, np.nan),
+        "bare_flag": np.zeros(nO, np.int64),
+        "gain_coarse": np.full((nG, nO, nr), np.nan),
+        "flag_coarse": np.zeros((nG, nO, nr), np.int64),
+        "r_fine": np.full((nG, nO, 2 * refine), np.nan),
+        "gain_fine": np.full((nG, nO, 2 * refine), np.nan),
+        "r_opt": np.full((nG, nO), np.nan),
+        "gain_opt": np.full((nG, nO), np.nan),
+        "flag_opt": np.zeros((nG, nO), np.int64),
+    }
+    groups, where, folders = [], {}, {}
+    for g, gamma in enumerate(gammas):
+        damper = {"gamma": gamma, "zeta": float(zeta), "h": float(h)}
+        folder = run_folder(runs, part_config("optimize", f"gamma{gamma:g}", setting, damper=damper, **grids))
+        folders[f"{gamma:g}"] = folder.name
+        part_tasks: list[Task] = []
+        groups.append(part_tasks)
+        for i, Omega_i in enumerate(Om):
+            task = Task(folder / f"Omega-{i}.npz", optimize_tile, (setting, damper, float(Omega_i), b, tol, r, refine))
+            part_tasks.append(task)
+            where[task.path] = (g, i)
+
+    def place(task: Task, res: dict) -> None:
+        g, i = where[task.path]
+        arrays["bare_beta_min"][i], arrays["bare_flag"][i] = res["bare_beta_min"][0], res["bare_flag"][0]
+        for k in ("gain_coarse", "flag_coarse", "r_fine", "gain_fine"):
+            arrays[k][g, i] = res[k]
+        for k in ("r_opt", "gain_opt", "flag_opt"):
+            arrays[k][g, i] = res[k][0]
+
+    preflight(setting)
+    stats = run_tiles(interleave(*groups), place, execution, desc="optimize", on_tile=on_tile)
+    arrays["Tm_over_Tg_opt"] = arrays["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
+    best = np.argmax(np.nan_to_num(arrays["gain_opt"], nan=-np.inf), axis=0)
+    cols = np.arange(nO)
+    arrays["best_gain"] = arrays["gain_opt"][best, cols]
+    arrays["best_gamma"] = np.where(np.isfinite(arrays["best_gain"]), arrays["gamma"][best], np.nan)
+    arrays["best_r"] = arrays["r_opt"][best, cols]
+    thresholds = {f"{gamma:g}": threshold_frequency(Om, arrays["gain_opt"][g]) for g, gamma in enumerate(gammas)}
+    thresholds["best"] = threshold_frequency(Om, arrays["best_gain"])
+    for key, name in (("Omega_star", "Omega_star"), ("low", "Omega_star_low"), ("high", "Omega_star_high")):
+        arrays[name] = np.array([np.nan if t[key] is None else t[key] for t in thresholds.values()])
+    config = {"kind": "optimize", **setting.record(), "gammas": list(gammas), "zeta": zeta, "h": h, **grids}
+    return Study(
+        "optimize",
+        config,
+        arrays,
+        tables={"optimize": optimize_table(arrays)},
+        summary={"useless_gain": USELESS_GAIN, "Omega_star": thresholds},
+        run={**stats.record(), "run_folders": folders},
+    )
+
+
+def optimize_table(arrays: dict) -> dict:
+    """One CSV row per ``(gamma, Omega)``: the optimal period (both ways of writing it) and gain."""
+    G, Om = np.meshgrid(arrays["gamma"], arrays["Omega"], indexing="ij")
+    return {
+        "gamma": G.ravel(),
+        "Omega": Om.ravel(),
+        "bare_beta_min": np.broadcast_to(arrays["bare_beta_min"], G.shape).ravel(),
+        "Tm_p_over_2pi_opt": arrays["r_opt"].ravel(),
+        "Tm_over_Tg_opt": arrays["Tm_over_Tg_opt"].ravel(),
+        "gain_opt": arrays["gain_opt"].ravel(),
+        "gain_lower_bound": (arrays["flag_opt"] == ABOVE).ravel(),
+    }

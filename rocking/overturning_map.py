@@ -1,0 +1,209 @@
+"""The overturning map: the outcome of every pulse of an ``(Omega, beta)`` grid, with and without a damper.
+
+Each cell of the grid of pulse frequency ratios ``Omega = omega_g / p`` and
+amplitude ratios ``beta = a_g / (g tan(alpha))`` (``model.md`` section 9) is
+one response of the block alone (part ``bare``) and one of the block with its
+damper (part ``damper``). A cell's *outcome* is ``SAFE`` (-1) or the number of
+impacts before overturning (0: overturned without impact). The comparison map
+(*effect*) marks the cells the damper saves (+1: the bare block overturns, the
+damped one does not) and those it loses (-1: the reverse).
+
+The grid is cut into rectangular tiles; each tile is one call of
+:func:`rocking.batch.run_cases` (:func:`map_tile`), run by
+:func:`rocking.tiles.run_tiles`.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .batch import pulse_cases, run_cases
+from .params import ParameterError
+from .problem import STATUS
+from .study_io import Grid, Setting, Study, Tuning, part_config
+from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
+
+#: Result fields kept per response.
+FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status")
+
+#: Outcome of a response that does not overturn.
+SAFE = -1
+
+#: Default tile: Omega values x beta values per call of run_cases.
+TILE = (16, 16)
+
+
+def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
+    """Responses to the pulses ``(Omega, beta)``, shaped like their broadcast.
+
+    Parameters
+    ----------
+    setting : Setting
+        Block and solver.
+    Omega, beta : array_like
+        Pulse frequency and amplitude ratios; broadcast together.
+    damper : dict, optional
+        Keyword arguments ``gamma``, ``omega_ratio``, ``zeta``, ``h`` of
+        :func:`rocking.batch.pulse_cases` (array_like, broadcasting with the
+        pulses); ``None`` for the bare block.
+
+    Returns
+    -------
+    dict of ndarray
+        The arrays :data:`FIELDS`.
+    """
+    shape = np.broadcast_shapes(np.shape(Omega), np.shape(beta), *(np.shape(v) for v in (damper or {}).values()))
+    cases = pulse_cases(
+        setting.block, Omega, beta, rtol=setting.rtol, t_after=setting.t_after, **(damper or {"gamma": 0.0})
+    )
+    result = run_cases(cases, backend=setting.backend, threads=1)
+    return {k: result[k].reshape(shape) for k in FIELDS}
+
+
+def preflight(setting: Setting) -> None:
+    """Run one trivial case of each model here, before any worker starts.
+
+    A missing or unbuildable back end then fails at once, with a clear
+    message, and the C library is built (and cached) once, not by every worker.
+
+    Raises
+    ------
+    ParameterError
+        If the back end cannot run.
+    """
+    from .cbuild import CBuildError
+
+    try:
+        for damper in (None, {"gamma": 0.01}):
+            respond(setting, 1.0, 0.0, damper)
+    except (ImportError, CBuildError) as exc:
+        raise ParameterError(f"backend {setting.backend!r} is not available ({exc}); try --backend numpy") from None
+
+
+def outcome(overturned, impacts) -> np.ndarray:
+    """:data:`SAFE`, or the impacts before overturning."""
+    return np.where(overturned, impacts, SAFE)
+
+
+def effect(bare_overturned, damper_overturned) -> np.ndarray:
+    """+1 where the damper saves the block, -1 where it makes it overturn, 0 elsewhere."""
+    return np.asarray(bare_overturned, int) - np.asarray(damper_overturned, int)
+
+
+def map_tile(payload: tuple) -> dict:
+    """One tile: ``(setting, damper_or_None, Omega_values, beta_values)`` -> arrays ``(nOmega, nbeta)``."""
+    setting, damper, Omega, beta = payload
+    return respond(setting, Omega[:, None], beta[None, :], damper)
+
+
+def _check_tile(tile) -> tuple[int, int]:
+    try:
+        a, b = (int(v) for v in tile)
+    except (TypeError, ValueError):
+        raise ParameterError(f"tile must be two integers (Omega values, beta values) (got {tile!r})") from None
+    if a < 1 or b < 1:
+        raise ParameterError(f"tile sizes must be >= 1 (got {tile!r})")
+    return a, b
+
+
+def overturning_map(
+    setting: Setting,
+    tuning: Tuning,
+    Omega: Grid,
+    beta: Grid,
+    execution: Execution = LOCAL,
+    *,
+    runs: str | Path = "out/runs",
+    tile: tuple[int, int] = TILE,
+    on_tile=None,
+) -> Study:
+    """Outcome over the ``Omega x beta`` grid for the bare block and with the damper ``tuning``.
+
+    Parameters
+    ----------
+    setting : Setting
+        Block and solver.
+    tuning : Tuning
+        The damper.
+    Omega, beta : Grid
+        Pulse frequency and amplitude ratios.
+    execution : Execution
+        Where the tiles run.
+    runs : path
+        Folder of the run folders (finished tiles, for resuming).
+    tile : (int, int)
+        Omega values x beta values per tile.
+    on_tile : callable, optional
+        Passed to :func:`rocking.tiles.run_tiles`.
+
+    Returns
+    -------
+    Study
+        Arrays ``Omega``, ``beta``, ``<part>_<field>`` for the parts ``bare``
+        and ``damper`` and the :data:`FIELDS` (shape ``(nOmega, nbeta)``), and
+        ``effect``.
+    """
+    tile = _check_tile(tile)
+    Om, b = Omega.values(), beta.values()
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile)}
+    arrays = {"Omega": Om, "beta": b}
+    groups, where, folders = [], {}, {}
+    for part, damper in (("bare", None), ("damper", tuning.record())):
+        for k, dtype in (("overturned", bool), ("impacts", np.int64), ("status", np.int64)):
+            arrays[f"{part}_{k}"] = np.zeros((Om.size, b.size), dtype)
+        for k in ("theta_max", "x_max"):
+            arrays[f"{part}_{k}"] = np.full((Om.size, b.size), np.nan)
+        folder = run_folder(runs, part_config("map", part, setting, damper=damper, **grids))
+        folders[part] = folder.name
+        part_tasks: list[Task] = []
+        groups.append(part_tasks)
+        for i in range(0, Om.size, tile[0]):
+            for j in range(0, b.size, tile[1]):
+                rows, cols = slice(i, i + tile[0]), slice(j, j + tile[1])
+                task = Task(folder / f"tile-{i}-{j}.npz", map_tile, (setting, damper, Om[rows], b[cols]))
+                part_tasks.append(task)
+                where[task.path] = (part, rows, cols)
+
+    def place(task: Task, tile_arrays: dict) -> None:
+        part, rows, cols = where[task.path]
+        for k in FIELDS:
+            arrays[f"{part}_{k}"][rows, cols] = tile_arrays[k]
+
+    preflight(setting)
+    stats = run_tiles(interleave(*groups), place, execution, desc="map", on_tile=on_tile)
+    arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"])
+    config = {"kind": "map", **setting.record(), "damper": tuning.record(), **grids}
+    return Study(
+        "map",
+        config,
+        arrays,
+        tables={"map": map_table(arrays)},
+        summary=map_summary(arrays),
+        run={**stats.record(), "run_folders": folders, "responses": 2 * Om.size * b.size},
+    )
+
+
+def map_table(arrays: dict) -> dict:
+    """One CSV row per cell: the pulse, both responses, the damper's effect."""
+    Om, b = np.meshgrid(arrays["Omega"], arrays["beta"], indexing="ij")
+    table = {"Omega": Om, "beta": b}
+    for part in ("bare", "damper"):
+        table[f"{part}_outcome"] = outcome(arrays[f"{part}_overturned"], arrays[f"{part}_impacts"])
+        for k in ("impacts", "theta_max", "x_max"):
+            table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
+        table[f"{part}_status"] = np.asarray(STATUS)[arrays[f"{part}_status"]]
+    table["effect"] = arrays["effect"]
+    return {k: np.ravel(v) for k, v in table.items()}
+
+
+def map_summary(arrays: dict) -> dict:
+    """Cell counts: overturned per part, saved and lost by the damper, runs that hit ``t_max``."""
+    out = {"cells": int(arrays["effect"].size)}
+    for part in ("bare", "damper"):
+        out[f"{part}_overturned"] = int(arrays[f"{part}_overturned"].sum())
+        out[f"{part}_t_max"] = int((arrays[f"{part}_status"] == STATUS.index("t_max")).sum())
+    out["saved"] = int((arrays["effect"] > 0).sum())
+    out["lost"] = int((arrays["effect"] < 0).sum())
+    return out

@@ -1,0 +1,251 @@
+"""The minimum overturning spectrum ``beta_min(Omega)``, with the safe windows above it.
+
+``beta_min`` is the smallest amplitude ratio ``beta`` of a one-sine pulse of
+frequency ratio ``Omega`` that overturns the block (``model.md`` section 9).
+The overturning domain is not monotone in ``beta`` (``model.md`` 10.4: above
+the first overturning amplitude there are windows where the block survives),
+so a bisection from a safe to an overturning amplitude alone could land on
+any of its edges. :func:`beta_min` therefore
+
+1. scans ``beta`` on a grid (one call of :func:`rocking.batch.run_cases` for
+   every column of a tile at once),
+2. bisects between the last safe scan amplitude below the first overturning
+   one and that one, to a relative tolerance ``tol``; ``beta_min`` is the
+   smallest amplitude found to overturn (the upper end of the final bracket),
+3. reports the *windows*: runs of safe scan amplitudes above ``beta_min``
+   (:func:`windows`). A window is known to the resolution of the scan: it
+   extends from its first to its last safe scan point, plus less than one
+   scan step at either end; windows narrower than a step may be missed.
+
+Each column's ``flag`` says how ``beta_min`` was found: ``BRACKETED`` (0,
+bisected), ``BELOW`` (-1: the first scan amplitude overturns already;
+``beta_min`` is then that amplitude, an upper bound) or ``ABOVE`` (+1: no
+scan amplitude overturns; ``beta_min`` is then the last one, a lower bound).
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from .overturning_map import SAFE, outcome, preflight, respond
+from .params import ParameterError
+from .study_io import Grid, Setting, Study, Tuning, part_config
+from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
+
+BELOW, BRACKETED, ABOVE = -1, 0, 1
+
+#: Default relative tolerance of the bisection on beta.
+TOL = 1e-3
+
+
+def check_tol(tol) -> float:
+    """The bisection tolerance, validated: a number in (0, 0.1]."""
+    if not (isinstance(tol, (int, float)) and 0 < tol <= 0.1):
+        raise ParameterError(f"beta_tol must be a relative tolerance in (0, 0.1] (got {tol!r})")
+    return float(tol)
+
+
+def _column(values, n: int) -> dict | None:
+    """Damper keyword arrays as columns ``(n, 1)``, to broadcast against the scan amplitudes."""
+    if values is None:
+        return None
+    return {k: np.broadcast_to(np.asarray(v, float), (n,))[:, None] for k, v in values.items()}
+
+
+def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL) -> dict:
+    """Minimum overturning amplitude of each column ``(Omega[i], damper[.][i])``: scan, then bisection.
+
+    Parameters
+    ----------
+    setting : Setting
+        Block and solver.
+    Omega : array_like, shape (n,)
+        Pulse frequency ratio of each column.
+    beta_scan : array_like, shape (m,)
+        Increasing scan amplitudes.
+    damper : dict, optional
+        Keyword arguments of :func:`rocking.batch.pulse_cases` (``gamma``,
+        ``omega_ratio``, ``zeta``, ``h``), scalars or arrays of shape (n,);
+        ``None`` for the bare block.
+    tol : float
+        Relative width of the final bracket, ``(hi - lo) <= tol * hi``.
+
+    Returns
+    -------
+    dict of ndarray
+        ``beta_min`` (n,), ``beta_safe`` (n,: lower end of the final bracket,
+        ``nan`` unless bracketed), ``flag`` (n,), ``impacts`` (n,: impacts
+        before overturning at ``beta_min``, -1 if none), ``scan_outcome``
+        (n, m: :func:`rocking.overturning_map.outcome` along the scan).
+    """
+    Omega = np.atleast_1d(np.asarray(Omega, float))
+    beta_scan = np.asarray(beta_scan, float)
+    n = Omega.size
+    cols = _column(damper, n)
+    scan = respond(setting, Omega[:, None], beta_scan[None, :], cols)
+    over = scan["overturned"]
+    first = np.argmax(over, axis=1)  # first overturning scan point (0 if none)
+    rows = np.arange(n)
+    flag = np.where(~over.any(axis=1), ABOVE, np.where(first == 0, BELOW, BRACKETED))
+    hi = np.where(flag == ABOVE, beta_scan[-1], beta_scan[first])
+    lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
+    impacts = np.where(flag == ABOVE, -1, scan["impacts"][rows, first])
+    while True:
+        active = np.flatnonzero((flag == BRACKETED) & (hi - lo > tol * hi))
+        if active.size == 0:
+            break
+        mid = 0.5 * (lo[active] + hi[active])
+        sub = None if cols is None else {k: v[active, 0] for k, v in cols.items()}
+        r = respond(setting, Omega[active], mid, sub)
+        up = r["overturned"]
+        hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
+        lo[active[~up]] = mid[~up]
+    return {
+        "beta_min": hi,
+        "beta_safe": lo,
+        "flag": flag,
+        "impacts": impacts,
+        "scan_outcome": outcome(over, scan["impacts"]),
+    }
+
+
+def windows(beta_scan, scan_overturned) -> np.ndarray:
+    """Safe windows above the first overturning scan point, shape (k, 2): first and last safe amplitude.
+
+    A window that reaches the end of the scan ends there (it may go on).
+    """
+    over = np.asarray(scan_overturned, bool)
+    if not over.any():
+        return np.zeros((0, 2))
+    safe = ~over
+    safe[: np.argmax(over)] = False
+    edges = np.diff(np.concatenate([[0], safe.astype(np.int8), [0]]))
+    starts, stops = np.flatnonzero(edges == 1), np.flatnonzero(edges == -1) - 1
+    beta_scan = np.asarray(beta_scan, float)
+    return np.column_stack([beta_scan[starts], beta_scan[stops]])
+
+
+def spectrum_tile(payload: tuple) -> dict:
+    """One column: ``(setting, damper_or_None, Omega, beta_scan, tol)`` -> :func:`beta_min` of it."""
+    setting, damper, Omega, beta_scan, tol = payload
+    return beta_min(setting, [Omega], beta_scan, damper, tol=tol)
+
+
+def minimum_overturning_spectrum(
+    setting: Setting,
+    tuning: Tuning,
+    Omega: Grid,
+    beta: Grid,
+    execution: Execution = LOCAL,
+    *,
+    tol: float = TOL,
+    runs: str | Path = "out/runs",
+    on_tile=None,
+) -> Study:
+    """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, one tile per column.
+
+    Parameters
+    ----------
+    setting : Setting
+        Block and solver.
+    tuning : Tuning
+        The damper.
+    Omega : Grid
+        Pulse frequency ratios.
+    beta : Grid
+        Scan amplitudes; the scan step bounds the width of the windows seen.
+    execution : Execution
+        Where the tiles run.
+    tol : float
+        Relative tolerance of the bisection.
+    runs : path
+        Folder of the run folders.
+    on_tile : callable, optional
+        Passed to :func:`rocking.tiles.run_tiles`.
+
+    Returns
+    -------
+    Study
+        Arrays ``Omega``, ``beta_scan`` and, per part ``bare``/``damper``,
+        the :func:`beta_min` results (``<part>_beta_min`` ...) and
+        ``<part>_windows`` (k, 3): ``Omega``, first and last safe amplitude.
+    """
+    tol = check_tol(tol)
+    Om, b = Omega.values(), beta.values()
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol}
+    arrays = {"Omega": Om, "beta_scan": b}
+    groups, where, folders = [], {}, {}
+    for part, damper in (("bare", None), ("damper", tuning.record())):
+        arrays[f"{part}_beta_min"] = np.full(Om.size, np.nan)
+        arrays[f"{part}_beta_safe"] = np.full(Om.size, np.nan)
+        arrays[f"{part}_flag"] = np.zeros(Om.size, np.int64)
+        arrays[f"{part}_impacts"] = np.zeros(Om.size, np.int64)
+        arrays[f"{part}_scan_outcome"] = np.zeros((Om.size, b.size), np.int64)
+        folder = run_folder(runs, part_config("spectrum", part, setting, damper=damper, **grids))
+        folders[part] = folder.name
+        part_tasks: list[Task] = []
+        groups.append(part_tasks)
+        for i, Omega_i in enumerate(Om):
+            task = Task(folder / f"column-{i}.npz", spectrum_tile, (setting, damper, float(Omega_i), b, tol))
+            part_tasks.append(task)
+            where[task.path] = (part, i)
+
+    def place(task: Task, column: dict) -> None:
+        part, i = where[task.path]
+        for k in ("beta_min", "beta_safe", "flag", "impacts", "scan_outcome"):
+            arrays[f"{part}_{k}"][i] = column[k][0]
+
+    preflight(setting)
+    stats = run_tiles(interleave(*groups), place, execution, desc="spectrum", on_tile=on_tile)
+    for part in ("bare", "damper"):
+        arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
+    config = {"kind": "spectrum", **setting.record(), "damper": tuning.record(), **grids}
+    return Study(
+        "spectrum",
+        config,
+        arrays,
+        tables=spectrum_tables(arrays),
+        summary=spectrum_summary(arrays),
+        run={**stats.record(), "run_folders": folders},
+    )
+
+
+def _all_windows(Omega, beta_scan, scan_outcome) -> np.ndarray:
+    """Windows of every column, stacked as rows ``(Omega, first safe, last safe)``."""
+    rows = []
+    for Om, column in zip(Omega, scan_outcome):
+        w = windows(beta_scan, column != SAFE)
+        rows.append(np.column_stack([np.full(len(w), Om), w]))
+    return np.concatenate(rows)
+
+
+def spectrum_tables(arrays: dict) -> dict:
+    """CSV tables: ``spectrum`` (one row per Omega) and ``spectrum-windows`` (one row per window)."""
+    main = {"Omega": arrays["Omega"]}
+    windows_table = {"part": [], "Omega": [], "beta_first_safe": [], "beta_last_safe": []}
+    for part in ("bare", "damper"):
+        for k in ("beta_min", "beta_safe", "flag", "impacts"):
+            main[f"{part}_{k}"] = arrays[f"{part}_{k}"]
+        w = arrays[f"{part}_windows"]
+        main[f"{part}_windows"] = np.array([np.sum(w[:, 0] == Om) for Om in arrays["Omega"]])
+        windows_table["part"] += [part] * len(w)
+        windows_table["Omega"] += list(w[:, 0])
+        windows_table["beta_first_safe"] += list(w[:, 1])
+        windows_table["beta_last_safe"] += list(w[:, 2])
+    return {"spectrum": main, "spectrum-windows": {k: np.asarray(v) for k, v in windows_table.items()}}
+
+
+def spectrum_summary(arrays: dict) -> dict:
+    """Columns bracketed / out of the scan range, and windows found, per part."""
+    out = {}
+    for part in ("bare", "damper"):
+        flag = arrays[f"{part}_flag"]
+        out[part] = {
+            "bracketed": int((flag == BRACKETED).sum()),
+            "overturned_at_first_scan_point": int((flag == BELOW).sum()),
+            "not_overturned_in_scan": int((flag == ABOVE).sum()),
+            "windows": int(len(arrays[f"{part}_windows"])),
+        }
+    return out

@@ -1,0 +1,363 @@
+"""The study subcommands of the ``rocking`` command: ``map``, ``spectrum``, ``optimize``, ``demo``, ``redraw``.
+
+:func:`add_study_commands` adds them to the ``rocking`` parser's subparsers;
+each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.npz``,
+``.csv``, ``.json``, ``.png`` and ``.pdf``, and keeps its finished tiles in
+``<out>/runs`` so that an interrupted run resumes where it stopped.
+
+Bad parameters end with a one-line message naming the parameter and its valid
+range and exit code 2 (argparse's own errors, e.g. an unknown option, too).
+"""
+
+from __future__ import annotations
+
+import argparse
+import sys
+import time
+from pathlib import Path
+
+from .figures import draw, redraw
+from .optimize import REFINE, TM_GRID, optimal_damper
+from .overturning_map import TILE, overturning_map
+from .params import Block, ParameterError
+from .spectrum import TOL, minimum_overturning_spectrum
+from .study_io import Grid, Setting, Study, Tuning, save
+from .tiles import Execution
+
+#: Default grids (MIN, MAX, N) of the commands; model.md section 9 gives the ranges. The beta
+#: scans of spectra start at 0.5, below the uplift threshold (about 0.9 .. 1.1 for the reference
+#: block), so that beta_min is bracketed also for long, quasi-static pulses.
+MAP_OMEGA, MAP_BETA = (0.5, 15.0, 146), (1.0, 15.0, 141)
+SPECTRUM_OMEGA, SPECTRUM_BETA = (0.5, 15.0, 59), (0.5, 15.0, 117)
+OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
+OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
+
+
+# --- options -------------------------------------------------------------------------
+
+
+def _add_block(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("block (default: the reference block H = 2 m, B = 0.5 m, e = 0.025 m, M = 1000 kg)")
+    for name, text in (("H", "height, m"), ("B", "base width, m"), ("e", "eccentricity of G, m"), ("M", "mass, kg")):
+        g.add_argument(f"--{name}", type=float, help=f"{text} (others keep their reference values)")
+    g.add_argument("--p", type=float, help="non-dimensional block: frequency parameter p, rad/s")
+    g.add_argument("--lam", type=float, help="non-dimensional block: slenderness H/B")
+    g.add_argument("--alpha", type=float, help="non-dimensional block: slenderness angle atan(B/H), rad")
+    g.add_argument("--e-ratio", type=float, help="non-dimensional block: eccentricity e/B (default 0)")
+
+
+def _add_solver(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("solver and execution")
+    g.add_argument(
+        "--rtol", type=float, default=1e-8, help="relative tolerance of the integrator, in (0, 0.01] (default 1e-8)"
+    )
+    g.add_argument("--t-after", type=float, default=15.0, help="time followed after the pulse, s (default 15)")
+    g.add_argument("--backend", default="c", help="c or numpy (default c)")
+    g.add_argument("--workers", type=int, help="local worker processes (default: all cores)")
+    g.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://host:port)")
+    g.add_argument("--dask-workers", type=int, metavar="N", help="run on a local Dask cluster of N worker processes")
+    g.add_argument("--out", default="out", help="output folder (default out/); finished tiles are kept in OUT/runs")
+    g.add_argument("--no-progress", action="store_true", help="no progress bar")
+
+
+def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> None:
+    """Damper options: one damper (``tuned``) and/or the mass ratios of the optimisation (``searched``)."""
+    g = p.add_argument_group("damper")
+    if tuned:
+        g.add_argument("--gamma", type=float, default=0.05, help="mass ratio m/M (default 0.05)")
+        tuning = g.add_mutually_exclusive_group()
+        tuning.add_argument("--Tm-ratio", type=float, help="damper period T_m p / (2 pi) (default 1)")
+        tuning.add_argument("--omega-ratio", type=float, help="damper frequency omega_m / p (default 1)")
+    if searched:
+        g.add_argument(
+            "--gammas",
+            type=float,
+            nargs="+",
+            default=list(OPTIMIZE_GAMMAS),
+            help=f"mass ratios of the optimal damper (default {' '.join(map(str, OPTIMIZE_GAMMAS))}); "
+            "the best over them is reported too",
+        )
+    g.add_argument("--zeta", type=float, default=0.05, help="damping ratio (default 0.05)")
+    g.add_argument("--h", type=float, default=0.05, help="height of the guide above the block, m (default 0.05)")
+
+
+def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
+    p.add_argument(
+        f"--{name}",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        default=default,
+        help=f"{text} (default {default[0]:g} {default[1]:g} {default[2]})",
+    )
+
+
+def _add_tol(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--beta-tol", type=float, default=TOL, help=f"relative tolerance of the bisection on beta (default {TOL:g})"
+    )
+
+
+# --- building the study's objects from the options -----------------------------------------
+
+
+def block_from(args) -> Block:
+    """The block of the options: SI overrides of the reference block, or a non-dimensional one."""
+    si = {k: getattr(args, k) for k in ("H", "B", "e", "M") if getattr(args, k) is not None}
+    nondim = {k: getattr(args, k) for k in ("p", "lam", "alpha", "e_ratio") if getattr(args, k) is not None}
+    if si and nondim:
+        raise ParameterError(
+            "give the block in SI (--H --B --e --M) or non-dimensionally "
+            "(--p with --lam or --alpha, --e-ratio), not both"
+        )
+    if nondim:
+        if "p" not in nondim:
+            raise ParameterError("a non-dimensional block needs --p (rad/s) with --lam or --alpha")
+        return Block.from_nondim(**nondim)
+    ref = Block.reference()
+    return Block(**{k: si.get(k, getattr(ref, k)) for k in ("H", "B", "e", "M")})
+
+
+def grid_from(name: str, values, *, log: bool = False) -> Grid:
+    """A :class:`Grid` from the three strings ``MIN MAX N`` of an option."""
+    try:
+        low, high, n = float(values[0]), float(values[1]), int(values[2])
+    except (TypeError, ValueError):
+        raise ParameterError(
+            f"--{name} takes MIN MAX N: two numbers and an integer (got {' '.join(map(str, values))})"
+        ) from None
+    return Grid(name, low, high, n, log=log)
+
+
+def setting_from(args) -> Setting:
+    return Setting(block_from(args), rtol=args.rtol, t_after=args.t_after, backend=args.backend)
+
+
+def tuning_from(args) -> Tuning:
+    if args.Tm_ratio is not None:
+        if not args.Tm_ratio > 0:
+            raise ParameterError(f"--Tm-ratio must be > 0 (got {args.Tm_ratio!r})")
+        omega_ratio = 1.0 / args.Tm_ratio
+    else:
+        omega_ratio = 1.0 if args.omega_ratio is None else args.omega_ratio
+    return Tuning(args.gamma, omega_ratio, args.zeta, args.h)
+
+
+def execution_from(args) -> Execution:
+    return Execution(args.workers, args.scheduler, args.dask_workers, progress=not args.no_progress)
+
+
+# --- commands --------------------------------------------------------------------------
+
+
+def _report(study: Study, out: Path) -> list[Path]:
+    """Save the study's data and figure; print where they are and how it ran."""
+    paths = save(study, out) + draw(study, out)
+    run = study.run
+    print(
+        f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
+        f"{run['wall_s']:.1f} s; wrote {', '.join(str(p) for p in paths)}"
+    )
+    return paths
+
+
+def _cmd_map(args) -> int:
+    study = overturning_map(
+        setting_from(args),
+        tuning_from(args),
+        grid_from("Omega", args.Omega),
+        grid_from("beta", args.beta),
+        execution_from(args),
+        runs=Path(args.out) / "runs",
+        tile=tuple(args.tile),
+    )
+    _report(study, Path(args.out))
+    s = study.summary
+    print(
+        f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
+        f"saved {s['saved']}, lost {s['lost']}"
+    )
+    return 0
+
+
+def _cmd_spectrum(args) -> int:
+    study = minimum_overturning_spectrum(
+        setting_from(args),
+        tuning_from(args),
+        grid_from("Omega", args.Omega),
+        grid_from("beta", args.beta),
+        execution_from(args),
+        tol=args.beta_tol,
+        runs=Path(args.out) / "runs",
+    )
+    _report(study, Path(args.out))
+    for part, s in study.summary.items():
+        print(
+            f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
+            f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
+        )
+    return 0
+
+
+def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: Grid, Tm: Grid, refine: int) -> Study:
+    return optimal_damper(
+        setting,
+        args.gammas,
+        Omega,
+        beta,
+        execution,
+        zeta=args.zeta,
+        h=args.h,
+        Tm=Tm,
+        refine=refine,
+        tol=args.beta_tol,
+        runs=Path(args.out) / "runs",
+    )
+
+
+def _print_threshold(study: Study) -> None:
+    Omega_max = float(study.arrays["Omega"][-1])
+    for key, t in study.summary["Omega_star"].items():
+        who = "best over gamma" if key == "best" else f"gamma = {key}"
+        if t["status"] == "bracketed":
+            print(f"Omega* ({who}) = {t['Omega_star']:.3g}, between the scanned {t['low']:.3g} and {t['high']:.3g}")
+        elif t["status"] == "above_range":
+            print(f"Omega* ({who}) > {t['low']:.3g}: the damper still helps at the highest frequency with a gain")
+        elif t["status"] == "below_range":
+            print(f"Omega* ({who}) <= {t['high']:.3g}: the damper does not help at any frequency scanned")
+        else:
+            print(f"Omega* ({who}) unknown: no gain is defined (the bare block's beta_min is outside the beta scan)")
+        if t["defined_up_to"] is not None and t["defined_up_to"] < Omega_max:
+            print(
+                f"  (gain undefined above Omega = {t['defined_up_to']:.3g}: the bare block does not overturn "
+                "within the beta scan there; widen --beta to see further)"
+            )
+
+
+def _cmd_optimize(args) -> int:
+    study = _optimize(
+        args,
+        setting_from(args),
+        execution_from(args),
+        grid_from("Omega", args.Omega),
+        grid_from("beta", args.beta),
+        grid_from("Tm-range", args.Tm_range, log=True),
+        args.refine,
+    )
+    _report(study, Path(args.out))
+    _print_threshold(study)
+    return 0
+
+
+def _cmd_demo(args) -> int:
+    """The default grids of ``map``, ``spectrum`` and ``optimize``, one after the other."""
+    setting, tuning, execution, out = setting_from(args), tuning_from(args), execution_from(args), Path(args.out)
+    start = time.perf_counter()
+    runs = out / "runs"
+    _report(
+        overturning_map(
+            setting, tuning, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA), execution, runs=runs
+        ),
+        out,
+    )
+    spectrum = minimum_overturning_spectrum(
+        setting,
+        tuning,
+        grid_from("Omega", SPECTRUM_OMEGA),
+        grid_from("beta", SPECTRUM_BETA),
+        execution,
+        tol=args.beta_tol,
+        runs=runs,
+    )
+    _report(spectrum, out)
+    Tm = grid_from("Tm-range", TM_GRID, log=True)
+    study = _optimize(
+        args, setting, execution, grid_from("Omega", OPTIMIZE_OMEGA), grid_from("beta", OPTIMIZE_BETA), Tm, REFINE
+    )
+    _report(study, out)
+    _print_threshold(study)
+    print(f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, spectrum, optimize .png/.pdf)")
+    return 0
+
+
+def _cmd_redraw(args) -> int:
+    for path in args.paths:
+        written = redraw(path)
+        print(f"redrew {', '.join(str(p) for p in written)}")
+    return 0
+
+
+def _guarded(command):
+    """``command(args)`` with bad parameters reported in one line (exit 2) and Ctrl-C as a resumable stop."""
+
+    def run(args) -> int:
+        try:
+            return command(args)
+        except ParameterError as exc:
+            print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
+            return 2
+        except KeyboardInterrupt:
+            print(
+                f"rocking {args.command}: interrupted; finished tiles are kept, rerun the same command to resume",
+                file=sys.stderr,
+            )
+            return 130
+
+    return run
+
+
+def add_study_commands(subparsers) -> None:
+    """Add ``map``, ``spectrum``, ``optimize``, ``demo`` and ``redraw`` to the ``rocking`` subparsers."""
+    p = subparsers.add_parser("map", help="overturning map over (Omega, beta), block alone and with a damper")
+    _add_block(p)
+    _add_damper(p, tuned=True, searched=False)
+    _add_grid(p, "Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p")
+    _add_grid(p, "beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)")
+    p.add_argument(
+        "--tile",
+        type=int,
+        nargs=2,
+        default=TILE,
+        metavar=("NOMEGA", "NBETA"),
+        help=f"cells per tile (default {TILE[0]} {TILE[1]})",
+    )
+    _add_solver(p)
+    p.set_defaults(func=_guarded(_cmd_map))
+
+    p = subparsers.add_parser("spectrum", help="minimum overturning amplitude beta_min(Omega), with safe windows")
+    _add_block(p)
+    _add_damper(p, tuned=True, searched=False)
+    _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
+    _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
+    _add_tol(p)
+    _add_solver(p)
+    p.set_defaults(func=_guarded(_cmd_spectrum))
+
+    p = subparsers.add_parser("optimize", help="optimal damper period and best gain against Omega; threshold Omega*")
+    _add_block(p)
+    _add_damper(p, tuned=False, searched=True)
+    _add_grid(p, "Omega", OPTIMIZE_OMEGA, "pulse frequency ratios")
+    _add_grid(p, "beta", OPTIMIZE_BETA, "scan amplitudes of every beta_min")
+    _add_grid(p, "Tm-range", TM_GRID, "coarse log grid of T_m p / (2 pi)")
+    p.add_argument(
+        "--refine",
+        type=int,
+        default=REFINE,
+        help=f"refinement points each side of the best coarse T_m (default {REFINE})",
+    )
+    _add_tol(p)
+    _add_solver(p)
+    p.set_defaults(func=_guarded(_cmd_optimize))
+
+    p = subparsers.add_parser(
+        "demo",
+        help="the default study: map, spectra and optimal damper of the reference block (gamma = zeta = 0.05)",
+    )
+    _add_block(p)
+    _add_damper(p, tuned=True, searched=True)
+    _add_tol(p)
+    _add_solver(p)
+    p.set_defaults(func=_guarded(_cmd_demo))
+
+    p = subparsers.add_parser("redraw", help="redraw figures from saved study data, without recomputing")
+    p.add_argument("paths", nargs="+", help="a saved study (.npz, .json or their stem) or a folder of them")
+    p.set_defaults(func=_guarded(_cmd_redraw))

@@ -1,0 +1,324 @@
+"""What a parametric study is given and what it leaves on disk.
+
+A study (the overturning map, the minimum overturning spectrum, the optimal
+damper) is described by a :class:`Setting` (the block and the solver), a
+damper :class:`Tuning` and :class:`Grid` s of the non-dimensional pulse
+parameters of ``model.md`` section 9 (``Omega = omega_g / p``,
+``beta = a_g / (g tan(alpha))``). Its result is a :class:`Study`: arrays,
+CSV tables, a JSON-ready configuration and a summary. :func:`save` writes it
+as ``<name>.npz`` (every array, the source of the figures), ``<name>*.csv``
+(the tables) and ``<name>.json`` (configuration, its hash, software versions,
+summary, timing); :func:`load` reads it back without recomputing anything.
+
+Units SI (m, kg, s, rad); the study parameters themselves are non-dimensional.
+"""
+
+from __future__ import annotations
+
+import hashlib
+import json
+import math
+import platform
+from dataclasses import dataclass, field
+from importlib import metadata
+from pathlib import Path
+
+import numpy as np
+
+from .model import load_model
+from .params import Block, ParameterError
+
+#: Version of the layout of study data and tiles; part of every configuration hash.
+FORMAT = 1
+
+#: Back ends that :func:`rocking.batch.run_cases` accepts.
+BACKENDS = ("c", "numpy")
+
+
+@dataclass(frozen=True)
+class Grid:
+    """``n`` values from ``low`` to ``high``, evenly spaced (``log``: in logarithm).
+
+    Parameters
+    ----------
+    name : str
+        Parameter name shown in error messages (e.g. ``"Omega"``).
+    low, high : float
+        End points, both included; ``low < high`` when ``n > 1``, ``low == high``
+        when ``n == 1``.
+    n : int
+        Number of values, >= 1.
+    log : bool, optional
+        Logarithmic spacing (then ``low > 0``).
+    minimum : float, optional
+        Values must exceed it (default 0: every study parameter is positive).
+
+    Raises
+    ------
+    ParameterError
+        Naming the grid and its valid range, for an empty, reversed or
+        non-finite range or a grid size below 1.
+    """
+
+    name: str
+    low: float
+    high: float
+    n: int
+    log: bool = False
+    minimum: float = 0.0
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.n, (int, np.integer)) or isinstance(self.n, bool) or self.n < 1:
+            raise ParameterError(f"{self.name}: the number of values N must be an integer >= 1 (got {self.n!r})")
+        for end in ("low", "high"):
+            value = getattr(self, end)
+            if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value)):
+                raise ParameterError(f"{self.name}: {end} end must be a finite number (got {value!r})")
+            if not value > self.minimum:
+                raise ParameterError(f"{self.name}: values must be > {self.minimum:g} (got {end} end {value!r})")
+        if self.n > 1 and not self.low < self.high:
+            raise ParameterError(
+                f"{self.name}: the range MIN MAX must have MIN < MAX (got {self.low!r} .. {self.high!r})"
+            )
+        if self.n == 1 and self.low != self.high:
+            raise ParameterError(f"{self.name}: with N = 1 give MIN = MAX (got {self.low!r} .. {self.high!r})")
+        object.__setattr__(self, "low", float(self.low))
+        object.__setattr__(self, "high", float(self.high))
+        object.__setattr__(self, "n", int(self.n))
+
+    def values(self) -> np.ndarray:
+        """The grid as a float array of length ``n``."""
+        if self.log:
+            return np.geomspace(self.low, self.high, self.n)
+        return np.linspace(self.low, self.high, self.n)
+
+    def record(self) -> dict:
+        """JSON-ready description."""
+        return {"low": self.low, "high": self.high, "n": self.n, "scale": "log" if self.log else "linear"}
+
+
+@dataclass(frozen=True)
+class Setting:
+    """The block and the solver, shared by every response of a study.
+
+    Parameters
+    ----------
+    block : Block
+        The rocking block.
+    rtol : float, optional
+        Relative tolerance of the integrator, in (0, 0.01].
+    t_after : float, optional
+        Time followed after the pulse ends, s (> 0).
+    backend : {"c", "numpy"}, optional
+        Back end of :func:`rocking.batch.run_cases`.
+    """
+
+    block: Block
+    rtol: float = 1e-8
+    t_after: float = 15.0
+    backend: str = "c"
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.block, Block):
+            raise ParameterError(f"block must be a rocking.Block (got {type(self.block).__name__})")
+        if not (isinstance(self.rtol, (int, float)) and 0 < self.rtol <= 1e-2):
+            raise ParameterError(f"rtol must be in (0, 0.01] (got {self.rtol!r})")
+        if not (isinstance(self.t_after, (int, float)) and math.isfinite(self.t_after) and self.t_after > 0):
+            raise ParameterError(f"t_after must be a finite number of seconds > 0 (got {self.t_after!r})")
+        if self.backend not in BACKENDS:
+            raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
+
+    def record(self) -> dict:
+        """JSON-ready description."""
+        return {"block": self.block.as_params(), "rtol": self.rtol, "t_after": self.t_after, "backend": self.backend}
+
+
+@dataclass(frozen=True)
+class Tuning:
+    """A damper relative to its block (``model.md`` section 9).
+
+    Parameters
+    ----------
+    gamma : float
+        Mass ratio ``m / M``, > 0.
+    omega_ratio : float, optional
+        ``omega_m / p`` (> 0); ``T_m p / (2 pi) = 1 / omega_ratio``.
+    zeta : float, optional
+        Damping ratio, >= 0.
+    h : float, optional
+        Height of the guide above the top of the block, m (>= 0).
+    """
+
+    gamma: float
+    omega_ratio: float = 1.0
+    zeta: float = 0.05
+    h: float = 0.05
+
+    def __post_init__(self) -> None:
+        for name, low, strict in (
+            ("gamma", 0.0, True),
+            ("omega_ratio", 0.0, True),
+            ("zeta", 0.0, False),
+            ("h", 0.0, False),
+        ):
+            value = getattr(self, name)
+            ok = isinstance(value, (int, float)) and math.isfinite(value) and (value > low if strict else value >= low)
+            if not ok:
+                raise ParameterError(
+                    f"{name} must be a finite number {'>' if strict else '>='} {low:g} (got {value!r})"
+                )
+
+    @property
+    def Tm_ratio(self) -> float:
+        """``T_m p / (2 pi)``: the damper period in units of ``2 pi / p``."""
+        return 1.0 / self.omega_ratio
+
+    def record(self) -> dict:
+        """JSON-ready description (also the keyword arguments of :func:`rocking.batch.pulse_cases`)."""
+        return {"gamma": self.gamma, "omega_ratio": self.omega_ratio, "zeta": self.zeta, "h": self.h}
+
+
+@dataclass
+class Study:
+    """A finished study.
+
+    Attributes
+    ----------
+    kind : str
+        ``"map"``, ``"spectrum"`` or ``"optimize"``.
+    config : dict
+        Full JSON-ready configuration.
+    arrays : dict of ndarray
+        Every result array (what the figures are drawn from).
+    tables : dict of dict of ndarray
+        CSV tables by file stem, each a dict of equal-length columns.
+    summary : dict
+        JSON-ready key results.
+    run : dict
+        How it ran (tiles computed and reused, wall time); not part of the configuration.
+    """
+
+    kind: str
+    config: dict
+    arrays: dict
+    tables: dict = field(default_factory=dict)
+    summary: dict = field(default_factory=dict)
+    run: dict = field(default_factory=dict)
+
+
+def config_hash(config: dict) -> str:
+    """SHA-256 of the canonical JSON of ``config`` (sorted keys, exact float repr)."""
+    text = json.dumps(config, sort_keys=True, separators=(",", ":"), allow_nan=False)
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def model_hash(name: str) -> str:
+    """SHA-256 of a generated model's ``manifest.json``, which lists the hashes of its files."""
+    return hashlib.sha256((load_model(name).folder / "manifest.json").read_bytes()).hexdigest()
+
+
+def versions() -> dict:
+    """Versions of Python, the numerical stack, ``rocking`` and the generated models.
+
+    Read from the installed distributions' metadata: nothing is imported (SymPy and
+    Dask are heavy and not needed to write a study).
+    """
+    import rocking
+
+    out = {"python": platform.python_version(), "rocking": rocking.__version__}
+    for package in ("numpy", "scipy", "sympy", "matplotlib", "dask", "distributed", "tqdm"):
+        try:
+            out[package] = metadata.version(package)
+        except metadata.PackageNotFoundError:
+            out[package] = None
+    out["model_manifest_sha256"] = {name: model_hash(name) for name in ("block", "omd")}
+    return out
+
+
+def part_config(kind: str, part: str, setting: Setting, **entries) -> dict:
+    """Configuration of one part of a study (e.g. ``"bare"``, ``"damper"``): what its tiles depend on.
+
+    ``entries`` holds the rest, JSON-ready: the damper (``None`` for the bare
+    block), grids as :meth:`Grid.record`, tolerances. The bare part does not
+    name the damper, so studies that differ only in the damper share its tiles.
+    """
+    import rocking
+
+    return {
+        "format": FORMAT,
+        "rocking": rocking.__version__,
+        "model_manifest_sha256": {name: model_hash(name) for name in ("block", "omd")},
+        "kind": kind,
+        "part": part,
+        **setting.record(),
+        **entries,
+    }
+
+
+def _stem(path: str | Path) -> Path:
+    path = Path(path)
+    return path.with_suffix("") if path.suffix in (".npz", ".json", ".csv") else path
+
+
+def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
+    """Write equal-length columns as CSV with a header; floats as their shortest exact ``repr``.
+
+    Rows are formatted ``chunk`` at a time, so that a big map needs no Python
+    object per value of the whole table at once.
+    """
+    names = list(columns)
+    data = [np.asarray(columns[k]).ravel() for k in names]
+    row = ",".join("%r" if d.dtype.kind == "f" else "%s" for d in data) + "\n"
+    with open(path, "w", encoding="utf-8") as f:
+        f.write(",".join(names) + "\n")
+        for start in range(0, len(data[0]) if data else 0, chunk):
+            f.writelines(row % values for values in zip(*(d[start : start + chunk].tolist() for d in data)))
+
+
+def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
+    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json`` and its CSV tables.
+
+    Returns
+    -------
+    list of Path
+        The files written.
+    """
+    folder = Path(folder)
+    folder.mkdir(parents=True, exist_ok=True)
+    stem = folder / (name or study.kind)
+    np.savez(stem.with_suffix(".npz"), **study.arrays)
+    written = [stem.with_suffix(".npz")]
+    for table, columns in study.tables.items():
+        path = folder / f"{table}.csv"
+        write_csv(path, columns)
+        written.append(path)
+    record = {
+        "kind": study.kind,
+        "config": study.config,
+        "config_sha256": config_hash(study.config),
+        "versions": versions(),
+        "summary": study.summary,
+        "run": study.run,
+        "files": [p.name for p in written],
+    }
+    stem.with_suffix(".json").write_text(json.dumps(record, indent=2, sort_keys=True) + "\n", encoding="utf-8")
+    return [*written, stem.with_suffix(".json")]
+
+
+def load(path: str | Path) -> Study:
+    """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem).
+
+    Raises
+    ------
+    ParameterError
+        If either file is missing.
+    """
+    stem = _stem(path)
+    npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
+    for p in (npz, meta):
+        if not p.is_file():
+            raise ParameterError(f"no saved study at {stem}: {p} is missing (a study writes both .npz and .json)")
+    record = json.loads(meta.read_text(encoding="utf-8"))
+    with np.load(npz) as z:
+        arrays = {k: z[k] for k in z.files}
+    return Study(record["kind"], record["config"], arrays, summary=record["summary"], run=record.get("run", {}))

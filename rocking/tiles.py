@@ -1,0 +1,301 @@
+"""Running a study's tiles: in parallel, resumable, with a progress bar.
+
+A study splits its work into :class:`Task` s (a tile of a map, a column of a
+spectrum, one frequency of the optimiser), each a call of a pure,
+deterministic, module-level function on a picklable payload that calls
+:func:`rocking.batch.run_cases` on the whole tile. :func:`run_tiles` runs
+them
+
+- in this process (``workers=1``), on a local process pool (default: one
+  process per core; every worker calls ``run_cases`` with ``threads=1``), or
+  on a Dask cluster (``scheduler`` address, or ``dask_workers`` local worker
+  processes): the same function on the same payload gives the same arrays;
+- interruption-safe: each finished tile is written at once, atomically
+  (temporary file + ``os.replace``), as ``<run folder>/<tile>.npz``; the run
+  folder is named by the hash of the full configuration of the work
+  (:func:`run_folder`), so a rerun with the same configuration loads the
+  finished tiles instead of recomputing them, and a changed configuration
+  lands in another folder and never sees stale tiles;
+- in bounded memory: at most two tiles per worker are in flight, and each
+  result is handed to the study's ``place`` callback and dropped, so a study
+  holds its result arrays plus a few tiles.
+"""
+
+from __future__ import annotations
+
+import json
+import os
+import tempfile
+import threading
+import time
+from collections import deque
+from collections.abc import Callable, Iterator, Sequence
+from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
+from contextlib import closing, contextmanager
+from dataclasses import dataclass
+from itertools import zip_longest
+from multiprocessing import get_context
+from pathlib import Path
+
+import numpy as np
+from tqdm import tqdm
+
+from .params import ParameterError
+from .study_io import config_hash
+
+#: Tiles in flight per worker: one running, one queued, so no worker waits.
+IN_FLIGHT_PER_WORKER = 2
+
+
+@dataclass(frozen=True)
+class Task:
+    """One tile of work.
+
+    Attributes
+    ----------
+    path : Path
+        Where the finished tile is stored (inside its run folder).
+    fn : callable
+        Module-level pure function ``fn(payload) -> dict of ndarray``.
+    payload : object
+        Its picklable argument.
+    """
+
+    path: Path
+    fn: Callable[[object], dict]
+    payload: object
+
+
+@dataclass(frozen=True)
+class Execution:
+    """Where tiles run. Never part of a configuration: it does not change results.
+
+    Parameters
+    ----------
+    workers : int, optional
+        Local processes; default: every core (``os.cpu_count()``). 1 runs in this process.
+    scheduler : str, optional
+        Address of a running Dask scheduler (``"tcp://host:8786"``).
+    dask_workers : int, optional
+        Start a ``distributed.LocalCluster`` of this many single-threaded worker processes.
+    progress : bool, optional
+        Show a progress bar with an ETA (tqdm, on stderr).
+    """
+
+    workers: int | None = None
+    scheduler: str | None = None
+    dask_workers: int | None = None
+    progress: bool = True
+
+    def __post_init__(self) -> None:
+        for name in ("workers", "dask_workers"):
+            value = getattr(self, name)
+            if value is not None and not (isinstance(value, int) and not isinstance(value, bool) and value >= 1):
+                raise ParameterError(f"{name} must be an integer >= 1 (got {value!r})")
+        if self.scheduler is not None and self.dask_workers is not None:
+            raise ParameterError(
+                "give either scheduler (a running Dask cluster) or dask_workers (a local one), not both"
+            )
+        if self.scheduler is not None and not (isinstance(self.scheduler, str) and self.scheduler):
+            raise ParameterError(f"scheduler must be an address such as tcp://127.0.0.1:8786 (got {self.scheduler!r})")
+
+    @property
+    def local_workers(self) -> int:
+        """Local worker processes when Dask is not used."""
+        return self.workers or os.cpu_count() or 1
+
+    @property
+    def uses_dask(self) -> bool:
+        return self.scheduler is not None or self.dask_workers is not None
+
+
+#: Default execution: local processes on every core, with a progress bar.
+LOCAL = Execution()
+
+
+@dataclass
+class TileStats:
+    """What :func:`run_tiles` did: tiles computed now, tiles loaded from earlier runs, wall time (s)."""
+
+    computed: int = 0
+    reused: int = 0
+    wall: float = 0.0
+
+    def record(self) -> dict:
+        return {"tiles_computed": self.computed, "tiles_reused": self.reused, "wall_s": round(self.wall, 3)}
+
+
+def _atomic_write(path: Path, write: Callable) -> None:
+    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``.
+
+    A reader (or a rerun after a crash) sees either no file or a whole one.
+    """
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "wb") as f:
+            write(f)
+            f.flush()
+            os.fsync(f.fileno())
+        os.replace(tmp, path)
+    except BaseException:
+        os.unlink(tmp)
+        raise
+
+
+def save_tile(path: Path, arrays: dict) -> None:
+    """Store a finished tile atomically."""
+    _atomic_write(path, lambda f: np.savez(f, **arrays))
+
+
+def load_tile(path: Path) -> dict | None:
+    """A stored tile, or ``None`` if there is none (or it cannot be read: it is then recomputed)."""
+    try:
+        with np.load(path) as z:
+            return {k: z[k] for k in z.files}
+    except (OSError, ValueError, EOFError):
+        return None
+
+
+def run_folder(root: str | Path, config: dict) -> Path:
+    """The folder of the tiles of ``config``: ``<root>/<kind>-<part>-<hash>``, with ``config.json``.
+
+    The name carries the first 16 hex digits of :func:`rocking.study_io.config_hash`.
+    """
+    name = f"{config.get('kind', 'run')}-{config.get('part', 'all')}-{config_hash(config)[:16]}"
+    folder = Path(root) / name
+    folder.mkdir(parents=True, exist_ok=True)
+    meta = folder / "config.json"
+    if not meta.is_file():
+        text = json.dumps(config, indent=2, sort_keys=True) + "\n"
+        _atomic_write(meta, lambda f: f.write(text.encode()))
+    return folder
+
+
+def _exit_with(pid: int) -> None:
+    """Worker initializer: exit when process ``pid`` (the one that started the pool) is gone.
+
+    A pool that is shut down stops its workers; one whose parent is killed
+    (SIGKILL, SIGTERM) would leave them waiting for work forever.
+    """
+
+    def watch() -> None:
+        while True:
+            time.sleep(1.0)
+            try:
+                os.kill(pid, 0)
+            except ProcessLookupError:
+                os._exit(1)
+
+    threading.Thread(target=watch, daemon=True).start()
+
+
+@contextmanager
+def _executor(execution: Execution, tasks: Sequence[Task]) -> Iterator[tuple[object, int, bool]]:
+    """``(executor, slots, is_dask)`` for ``tasks``; ``executor`` is ``None`` in this process."""
+    if execution.uses_dask:
+        from distributed import Client, LocalCluster
+
+        cluster = None
+        if execution.dask_workers is not None:
+            cluster = LocalCluster(
+                n_workers=execution.dask_workers,
+                processes=True,
+                threads_per_worker=1,
+                dashboard_address=":0",  # any free port: several clusters may run at once
+            )
+        client = Client(cluster if cluster is not None else execution.scheduler)
+        try:
+            workers = sum(client.nthreads().values()) or 1
+            yield client.get_executor(), IN_FLIGHT_PER_WORKER * workers, True
+        finally:
+            client.close()
+            if cluster is not None:
+                cluster.close()
+    elif min(execution.local_workers, len(tasks)) <= 1:
+        yield None, 1, False
+    else:
+        workers = min(execution.local_workers, len(tasks))
+        # forkserver: workers are not forked from a process that runs threads (tqdm, Dask);
+        # preloading the tile functions' modules there makes later pools start at once.
+        context = get_context("forkserver")
+        context.set_forkserver_preload(sorted({task.fn.__module__ for task in tasks}))
+        pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_exit_with, initargs=(os.getpid(),))
+        try:
+            yield pool, IN_FLIGHT_PER_WORKER * workers, False
+        finally:
+            pool.shutdown(wait=True, cancel_futures=True)
+
+
+def _results(tasks: Sequence[Task], execution: Execution) -> Iterator[tuple[Task, dict]]:
+    """``(task, result)`` as tiles finish, with at most ``slots`` tiles submitted at a time."""
+    if not tasks:
+        return
+    with _executor(execution, tasks) as (executor, slots, is_dask):
+        if executor is None:
+            for task in tasks:
+                yield task, task.fn(task.payload)
+            return
+        pending, in_flight = deque(tasks), {}
+        try:
+            while pending or in_flight:
+                while pending and len(in_flight) < slots:
+                    task = pending.popleft()
+                    in_flight[executor.submit(task.fn, task.payload)] = task
+                done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
+                for future in done:
+                    yield in_flight.pop(future), future.result()
+        finally:
+            if is_dask:
+                executor.shutdown(wait=False)  # cancels what is still queued on the cluster
+
+
+def interleave(*groups: Sequence[Task]) -> list[Task]:
+    """The tasks of several parts (bare, damped, ...) taken in turn.
+
+    Parts differ in cost per tile; taking them in turn keeps the rate of the
+    progress bar, hence its ETA, steady.
+    """
+    return [task for row in zip_longest(*groups) for task in row if task is not None]
+
+
+def run_tiles(
+    tasks: Sequence[Task],
+    place: Callable[[Task, dict], None],
+    execution: Execution,
+    *,
+    desc: str = "tiles",
+    on_tile: Callable[[Task], None] | None = None,
+) -> TileStats:
+    """Run ``tasks``, handing every tile's arrays to ``place(task, arrays)``.
+
+    Tiles already stored at ``task.path`` are loaded, not recomputed.
+    ``on_tile(task)`` is called after each computed tile is stored (a hook
+    for tests: raising there interrupts the run like a crash would).
+
+    Returns
+    -------
+    TileStats
+    """
+    start = time.perf_counter()
+    stats = TileStats()
+    todo = []
+    for task in tasks:
+        stored = load_tile(task.path) if task.path.is_file() else None
+        if stored is None:
+            todo.append(task)
+        else:
+            place(task, stored)
+            stats.reused += 1
+    with tqdm(total=len(tasks), initial=stats.reused, desc=desc, unit="tile", disable=not execution.progress) as bar:
+        # closing(): an exception in place/on_tile must stop the workers now, not when the
+        # traceback holding the generator is collected.
+        with closing(_results(todo, execution)) as results:
+            for task, arrays in results:
+                save_tile(task.path, arrays)
+                place(task, arrays)
+                stats.computed += 1
+                bar.update()
+                if on_tile is not None:
+                    on_tile(task)
+    stats.wall = time.perf_counter() - start
+    return stats

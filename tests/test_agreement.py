@@ -1,0 +1,103 @@
+"""The C and NumPy back ends agree, and the C path meets model.md section 10 too."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+from rocking import c_backend, numpy_backend
+from rocking.params import Block, Damper
+from rocking.problem import make_problem
+from rocking.pulse import OneSinePulse
+
+N_CASES = 200
+#: A verdict may differ only where the overturning boundary lies within this
+#: relative distance of the case's amplitude: there the two integrators, each
+#: right to its tolerance, may fall on either side.
+BOUNDARY = 2e-3
+
+
+def random_case(rng: np.random.Generator, i: int):
+    """A random block (eccentric, any slenderness), a damper on every other case, a pulse of any phase."""
+    B = rng.uniform(0.3, 1.0)
+    block = Block(H=B * rng.uniform(2.5, 6.0), B=B, M=1000.0, e=B * rng.uniform(-0.2, 0.2))
+    damper = None
+    if i % 2 == 0:
+        damper = Damper.from_nondim(
+            block,
+            gamma=rng.uniform(0.01, 0.2),
+            omega_ratio=rng.uniform(0.3, 3.0),
+            zeta=rng.uniform(0.0, 0.3),
+            h=rng.uniform(0.0, 0.2),
+        )
+    psi = 0.0 if i % 3 else rng.uniform(0.0, 2 * math.pi)
+    beta = rng.uniform(1.0, 8.0)
+    Omega = rng.uniform(0.5, 10.0)
+    return block, damper, psi, beta, Omega
+
+
+def run_both(block, damper, psi, beta, Omega):
+    pulse = OneSinePulse.from_nondim(block, beta=beta, Omega=Omega, psi=psi)
+    problem = make_problem(block, damper, pulse, rtol=1e-8, t_after=6.0)
+    return c_backend.simulate(problem), numpy_backend.simulate(problem)
+
+
+def c_verdict(block, damper, psi, beta, Omega) -> bool:
+    pulse = OneSinePulse.from_nondim(block, beta=beta, Omega=Omega, psi=psi)
+    return c_backend.simulate(make_problem(block, damper, pulse, rtol=1e-8, t_after=6.0)).overturned
+
+
+def test_back_ends_agree_on_random_cases():
+    rng = np.random.default_rng(2026)
+    verdicts_differ, compared = [], 0
+    for i in range(N_CASES):
+        case = random_case(rng, i)
+        c, n = run_both(*case)
+        if c.overturned != n.overturned:
+            block, damper, psi, beta, Omega = case
+            below = c_verdict(block, damper, psi, beta * (1 - BOUNDARY), Omega)
+            above = c_verdict(block, damper, psi, beta * (1 + BOUNDARY), Omega)
+            verdicts_differ.append((i, below != above))
+            continue
+        if not c.overturned and c.impacts == n.impacts:
+            compared += 1
+            assert c.theta_max == pytest.approx(n.theta_max, rel=1e-6), (i, case)
+            assert c.uplifts == n.uplifts, (i, case)
+    assert all(near for _, near in verdicts_differ), verdicts_differ
+    assert len(verdicts_differ) <= N_CASES // 20
+    assert compared >= N_CASES // 4
+
+
+@pytest.mark.parametrize("Omega, beta_min", [(1, 1.418), (2, 2.350), (4, 5.239), (6, 9.417)])
+def test_c_path_overturning_without_impact_boundary(Omega, beta_min):
+    """model.md 10.4 on the C path: slender bare symmetric block, alpha = 0.02."""
+    block = Block.from_nondim(p=2.0, alpha=0.02)
+
+    def overturns_without_impact(beta):
+        pulse = OneSinePulse.from_nondim(block, beta=beta, Omega=Omega)
+        r = c_backend.simulate(
+            make_problem(block, None, pulse, rtol=1e-9, t_max=pulse.t_p + 20 / block.p, max_events=2)
+        )
+        return r.overturned and r.impacts == 0
+
+    lo, hi = 0.9 * beta_min, 1.1 * beta_min
+    assert not overturns_without_impact(lo) and overturns_without_impact(hi)
+    while hi - lo > 1e-3 * beta_min:
+        mid = 0.5 * (lo + hi)
+        lo, hi = (lo, mid) if overturns_without_impact(mid) else (mid, hi)
+    assert 0.5 * (lo + hi) == pytest.approx(beta_min, rel=0.01)
+
+
+@pytest.mark.parametrize("psi, pivot", [(0.0, 1), (math.pi, -1)])
+def test_c_path_uplift_at_the_static_threshold(psi, pivot):
+    """model.md 10.2: uplift about A at g (B + 2e)/H, about A' at -g (B - 2e)/H."""
+    block = Block.reference()
+    pulse = OneSinePulse.from_nondim(block, beta=3.0, Omega=2.0, psi=psi)
+    r = c_backend.simulate(make_problem(block, None, pulse), record=True)
+    j = int(np.nonzero(r.history["phase"] != 0)[0][0])
+    threshold = block.g * (block.B + 2 * pivot * block.e) / block.H
+    expected = (math.asin(threshold / pulse.a_g) - psi + (math.pi if pivot < 0 else 0.0)) / pulse.omega_g
+    assert r.history["phase"][j] == pivot
+    assert r.history["t"][j] == pytest.approx(expected, abs=1e-7)

@@ -1,0 +1,94 @@
+"""The studies on a Dask cluster give the same arrays as on local processes."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import pytest
+
+from rocking import Block
+from rocking.overturning_map import overturning_map
+from rocking.spectrum import minimum_overturning_spectrum
+from rocking.study_cli import add_study_commands
+from rocking.study_io import Grid, Setting, Tuning, load
+from rocking.tiles import Execution
+
+distributed = pytest.importorskip("distributed")
+
+SETTING = Setting(Block.reference(), backend="c")
+OMEGA = Grid("Omega", 1.0, 8.0, 5)
+BETA = Grid("beta", 0.5, 8.0, 16)
+TUNING = Tuning(0.05, omega_ratio=0.8)
+
+
+@pytest.fixture(scope="module")
+def cluster():
+    with distributed.LocalCluster(
+        n_workers=2, processes=True, threads_per_worker=1, dashboard_address=":0"
+    ) as local_cluster:
+        yield local_cluster
+
+
+def assert_same(a: dict, b: dict) -> None:
+    assert a.keys() == b.keys()
+    for k in a:
+        np.testing.assert_array_equal(a[k], b[k], err_msg=k)
+
+
+def test_map_on_dask_equals_local(cluster, tmp_path):
+    local = overturning_map(
+        SETTING, TUNING, OMEGA, BETA, Execution(workers=2, progress=False), runs=tmp_path / "local", tile=(2, 4)
+    )
+    on_dask = overturning_map(
+        SETTING,
+        TUNING,
+        OMEGA,
+        BETA,
+        Execution(scheduler=cluster.scheduler_address, progress=False),
+        runs=tmp_path / "dask",
+        tile=(2, 4),
+    )
+    assert on_dask.run["tiles_computed"] == local.run["tiles_computed"] == 2 * 3 * 4
+    assert_same(on_dask.arrays, local.arrays)
+
+
+def test_spectrum_on_local_dask_cluster_equals_serial(tmp_path):
+    serial = minimum_overturning_spectrum(
+        SETTING, TUNING, OMEGA, BETA, Execution(workers=1, progress=False), runs=tmp_path / "serial"
+    )
+    on_dask = minimum_overturning_spectrum(
+        SETTING, TUNING, OMEGA, BETA, Execution(dask_workers=2, progress=False), runs=tmp_path / "dask"
+    )
+    assert_same(on_dask.arrays, serial.arrays)
+
+
+def test_cli_runs_on_a_scheduler_and_resumes_from_its_tiles(cluster, tmp_path, capsys):
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+    argv = [
+        "map",
+        "--Omega",
+        "1",
+        "8",
+        "5",
+        "--beta",
+        "0.5",
+        "8",
+        "16",
+        "--omega-ratio",
+        "0.8",
+        "--tile",
+        "2",
+        "4",
+        "--no-progress",
+        "--out",
+        str(tmp_path),
+    ]
+    args = parser.parse_args([*argv, "--scheduler", cluster.scheduler_address])
+    assert args.func(args) == 0
+    on_dask = load(tmp_path / "map")
+    args = parser.parse_args([*argv, "--workers", "2"])  # same configuration: every tile is reused
+    assert args.func(args) == 0
+    assert "0 tiles computed, 24 reused" in capsys.readouterr().out
+    assert_same(load(tmp_path / "map").arrays, on_dask.arrays)

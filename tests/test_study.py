@@ -1,0 +1,297 @@
+"""The parametric study: maps, spectra, optimal damper, resumable tiles, data, figures, CLI."""
+
+from __future__ import annotations
+
+import argparse
+import json
+
+import numpy as np
+import pytest
+
+from rocking import Block
+from rocking.optimize import optimal_damper, refinement, threshold_frequency
+from rocking.overturning_map import SAFE, overturning_map
+from rocking.params import ParameterError
+from rocking.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
+from rocking.study_cli import add_study_commands
+from rocking.study_io import Grid, Setting, Tuning, config_hash, load, part_config
+from rocking.tiles import Execution
+
+SETTING = Setting(Block.reference(), backend="c")
+SERIAL = Execution(workers=1, progress=False)
+POOL = Execution(workers=2, progress=False)
+OMEGA = Grid("Omega", 1.0, 6.0, 4)
+BETA = Grid("beta", 0.5, 6.0, 12)
+TUNING = Tuning(0.05)
+
+
+def cli(argv: list[str]) -> int:
+    """Run ``rocking <argv>`` through :func:`add_study_commands` on a fresh parser."""
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+def tiny(*extra: str) -> list[str]:
+    return ["--workers", "1", "--no-progress", *extra]
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    return tmp_path_factory.mktemp("runs")
+
+
+@pytest.fixture(scope="module")
+def ref_map(runs):
+    return overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+
+
+# --- physics of the studies --------------------------------------------------------------
+
+
+def test_map_agrees_with_spectrum(ref_map, runs):
+    spectrum = minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, POOL, runs=runs)
+    beta = ref_map.arrays["beta"]
+    step = beta[1] - beta[0]
+    for part in ("bare", "damper"):
+        for i in range(OMEGA.n):
+            overturned = ref_map.arrays[f"{part}_overturned"][i]
+            assert overturned.any() and not overturned[0]
+            lowest = beta[np.argmax(overturned)]
+            assert spectrum.arrays[f"{part}_flag"][i] == BRACKETED
+            assert 0 <= lowest - spectrum.arrays[f"{part}_beta_min"][i] <= step
+            # The scan of the spectrum is the map's column: the same outcomes.
+            np.testing.assert_array_equal(spectrum.arrays[f"{part}_scan_outcome"][i] != SAFE, overturned)
+
+
+def test_vanishing_damper_reproduces_bare_map(ref_map, runs):
+    light = overturning_map(SETTING, Tuning(1e-6), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    assert light.run["tiles_reused"] == light.run["tiles_computed"]  # the bare half is shared with ref_map
+    a = light.arrays
+    np.testing.assert_array_equal(a["damper_overturned"], ref_map.arrays["bare_overturned"])
+    np.testing.assert_array_equal(a["damper_impacts"], a["bare_impacts"])
+    np.testing.assert_allclose(a["damper_theta_max"], a["bare_theta_max"], rtol=1e-4)
+    assert light.summary["saved"] == light.summary["lost"] == 0
+
+
+def test_damper_changes_outcomes(ref_map):
+    """The reference damper saves cells: the comparison map is not trivially empty."""
+    s = ref_map.summary
+    assert s["saved"] > 0
+    assert s["saved"] == int((ref_map.arrays["effect"] == 1).sum())
+    assert s["cells"] == OMEGA.n * BETA.n
+
+
+def test_spectrum_reports_windows_of_a_slender_block(tmp_path):
+    """model.md 10.4: below the no-impact boundary (9.417 at Omega = 6) the slender block survives a window."""
+    setting = Setting(Block.from_nondim(p=2.0, alpha=0.2), backend="c")
+    study = minimum_overturning_spectrum(
+        setting, TUNING, Grid("Omega", 6.0, 6.0, 1), Grid("beta", 3.0, 11.0, 33), SERIAL, runs=tmp_path
+    )
+    w = study.arrays["bare_windows"]
+    assert len(w) >= 1 and study.summary["bare"]["windows"] == len(w)
+    assert np.all(w[:, 1] > study.arrays["bare_beta_min"][0])
+    assert np.any((w[:, 1] < 9.417) & (w[:, 2] > 8.5))
+    assert len(study.tables["spectrum-windows"]["Omega"]) == len(w) + len(study.arrays["damper_windows"])
+
+
+def test_windows_and_flags():
+    beta = np.arange(1.0, 9.0)
+    np.testing.assert_array_equal(windows(beta, [0, 0, 1, 0, 0, 1, 1, 0]), [[4.0, 5.0], [8.0, 8.0]])
+    assert windows(beta, np.zeros(8)).shape == (0, 2)
+    r = beta_min(SETTING, [0.5, 1.0, 3.0], [1.5, 50.0], tol=0.01)  # far too coarse: bounds, not brackets
+    assert r["flag"][0] == BELOW and r["beta_min"][0] == 1.5
+    assert set(r["flag"]) <= {BELOW, ABOVE, BRACKETED}
+
+
+def test_optimal_damper(tmp_path):
+    study = optimal_damper(
+        SETTING,
+        [0.05],
+        Grid("Omega", 3.0, 6.0, 2),
+        BETA,
+        POOL,
+        Tm=Grid("Tm-range", 0.5, 2.0, 3, log=True),
+        refine=1,
+        runs=tmp_path,
+    )
+    a = study.arrays
+    assert a["gain_opt"].shape == (1, 2) and np.all(np.isfinite(a["gain_opt"]))
+    assert np.all(a["gain_opt"] >= np.nanmax(a["gain_coarse"], axis=2))
+    np.testing.assert_allclose(a["Tm_over_Tg_opt"], a["r_opt"] * a["Omega"])
+    # The optimum is what the spectrum gives for that damper.
+    r_opt, Omega = a["r_opt"][0, 1], a["Omega"][1]
+    direct = beta_min(
+        SETTING, [Omega], BETA.values(), {"gamma": 0.05, "omega_ratio": 1 / r_opt, "zeta": 0.05, "h": 0.05}
+    )
+    assert direct["beta_min"][0] / a["bare_beta_min"][1] == a["gain_opt"][0, 1]
+    assert set(study.summary["Omega_star"]) == {"0.05", "best"}
+
+
+def test_refinement_points():
+    r = np.geomspace(0.1, 10.0, 5)
+    inner = refinement(r, 2, 2)
+    assert inner.size == 4 and np.all((inner > r[1]) & (inner < r[3])) and not np.any(np.isclose(inner, r[2]))
+    edge = refinement(r, 0, 2)
+    assert np.all((edge[:2] > r[0]) & (edge[:2] < r[1])) and np.all(np.isnan(edge[2:]))
+
+
+def test_threshold_frequency():
+    Omega = np.arange(1.0, 7.0)
+    t = threshold_frequency(Omega, [1.5, 1.2, 1.03, 1.005, 1.02, 1.0])
+    assert (t["low"], t["high"], t["status"]) == (5.0, 6.0, "bracketed")
+    assert 5.0 < t["Omega_star"] < 6.0
+    assert threshold_frequency(Omega, np.full(6, 1.0))["status"] == "below_range"
+    assert threshold_frequency(Omega, np.full(6, 1.2))["status"] == "above_range"
+    assert threshold_frequency(Omega, np.full(6, np.nan))["status"] == "undefined"
+    skip = threshold_frequency(Omega, [1.2, 1.2, 1.2, 1.2, np.nan, 1.0])  # the bracket is made of defined gains
+    assert (skip["low"], skip["high"], skip["defined_up_to"]) == (4.0, 6.0, 6.0)
+    tail = threshold_frequency(Omega, [1.2, 1.2, 1.2, 1.2, np.nan, np.nan])
+    assert (tail["status"], tail["low"], tail["defined_up_to"]) == ("above_range", 4.0, 4.0)
+
+
+# --- tiles: resuming and configurations -----------------------------------------------------
+
+
+class Crash(RuntimeError):
+    pass
+
+
+def test_resume_recomputes_nothing_finished(ref_map, tmp_path):
+    done = []
+
+    def crash_after_five(task):
+        done.append(task.path)
+        if len(done) == 5:
+            raise Crash
+
+    with pytest.raises(Crash):
+        overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3), on_tile=crash_after_five)
+    resumed = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3))
+    total = 2 * 2 * 4  # parts x Omega tiles x beta tiles
+    assert (resumed.run["tiles_reused"], resumed.run["tiles_computed"]) == (5, total - 5)
+    again = overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=tmp_path, tile=(2, 3))
+    assert (again.run["tiles_reused"], again.run["tiles_computed"]) == (total, 0)
+    assert not list(tmp_path.rglob("*.tmp"))
+    for k, v in ref_map.arrays.items():  # other tiling, same cells
+        np.testing.assert_array_equal(resumed.arrays[k], v, err_msg=k)
+
+
+def test_changed_configuration_reuses_no_tile(ref_map, runs):
+    changed = overturning_map(SETTING, Tuning(0.05, zeta=0.1), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    assert changed.run["run_folders"]["bare"] == ref_map.run["run_folders"]["bare"]
+    assert changed.run["run_folders"]["damper"] != ref_map.run["run_folders"]["damper"]
+    assert changed.run["tiles_computed"] == changed.run["tiles_reused"] == 6  # 2 x 3 tiles per part
+    other = Setting(Block.reference(), rtol=1e-7, backend="c")
+    fresh = overturning_map(other, TUNING, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    assert (fresh.run["tiles_computed"], fresh.run["tiles_reused"]) == (12, 0)
+
+
+def test_every_input_changes_the_configuration_hash():
+    grids = {"damper": TUNING.record(), "Omega": OMEGA.record(), "beta": BETA.record()}
+    base = part_config("map", "damper", SETTING, **grids)
+    variants = [
+        part_config("spectrum", "damper", SETTING, **grids),
+        part_config("map", "damper", Setting(Block(H=2.0, B=0.5, M=1000.0, e=0.0)), **grids),
+        part_config("map", "damper", SETTING, **{**grids, "damper": Tuning(0.06).record()}),
+        part_config("map", "damper", SETTING, **{**grids, "Omega": Grid("Omega", 1.0, 6.0, 5).record()}),
+        part_config("map", "damper", SETTING, **{**grids, "beta": Grid("beta", 0.5, 6.5, 12).record()}),
+        part_config("map", "damper", Setting(Block.reference(), rtol=1e-7), **grids),
+        part_config("map", "damper", Setting(Block.reference(), t_after=10.0), **grids),
+        part_config("map", "damper", Setting(Block.reference(), backend="numpy"), **grids),
+    ]
+    hashes = {config_hash(c) for c in [base, *variants]}
+    assert len(hashes) == 1 + len(variants)
+    assert set(base["model_manifest_sha256"]) == {"block", "omd"}
+
+
+# --- data, figures, CLI ---------------------------------------------------------------------
+
+
+def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, capsys):
+    out = str(tmp_path)
+    grids = ["--Omega", "2", "5", "3", "--beta", "0.5", "5", "6"]
+    assert cli(["map", *tiny(*grids, "--out", out)]) == 0
+    assert cli(["spectrum", *tiny(*grids, "--out", out)]) == 0
+    assert (
+        cli(
+            [
+                "optimize",
+                *tiny(*grids, "--gammas", "0.05", "0.1", "--Tm-range", "0.5", "2", "3", "--refine", "1", "--out", out),
+            ]
+        )
+        == 0
+    )
+    printed = capsys.readouterr().out
+    assert "saved" in printed and "Omega*" in printed and str(tmp_path) in printed
+    kinds = ("map", "spectrum", "optimize")
+    for kind in kinds:
+        for ext in ("npz", "csv", "json", "png", "pdf"):
+            assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0, (kind, ext)
+        record = json.loads((tmp_path / f"{kind}.json").read_text())
+        assert record["config"]["kind"] == kind and record["config_sha256"]
+        assert {"python", "numpy", "scipy", "sympy", "rocking", "model_manifest_sha256"} <= set(record["versions"])
+    assert load(tmp_path / "map").arrays["bare_overturned"].shape == (3, 6)
+
+    for kind in kinds:
+        (tmp_path / f"{kind}.png").unlink()
+        (tmp_path / f"{kind}.pdf").unlink()
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("redraw must not simulate")
+
+    monkeypatch.setattr("rocking.overturning_map.run_cases", no_simulation)
+    assert cli(["redraw", out]) == 0
+    assert cli(["redraw", str(tmp_path / "spectrum.npz")]) == 0
+    for kind in kinds:
+        for ext in ("png", "pdf"):
+            assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0
+
+
+@pytest.mark.parametrize(
+    "argv, message",
+    [
+        (["map", "--Omega", "1", "2", "0"], "Omega: the number of values N must be an integer >= 1"),
+        (["map", "--Omega", "3", "2", "5"], "Omega: the range MIN MAX must have MIN < MAX"),
+        (["map", "--beta", "0", "2", "5"], "beta: values must be > 0"),
+        (["spectrum", "--beta", "1", "2", "x"], "--beta takes MIN MAX N"),
+        (["map", "--rtol", "0"], "rtol must be in (0, 0.01]"),
+        (["map", "--rtol=-1e-8"], "rtol must be in (0, 0.01]"),
+        (["spectrum", "--beta-tol", "0"], "beta_tol must be a relative tolerance in (0, 0.1]"),
+        (["optimize", "--gammas", "0.05", "-1"], "gamma must be a mass ratio in (0, 1]"),
+        (["optimize", "--Tm-range", "10", "0.1", "5"], "Tm-range: the range MIN MAX must have MIN < MAX"),
+        (["optimize", "--refine", "-1"], "refine must be an integer >= 0"),
+        (["map", "--gamma", "0"], "gamma must be a finite number > 0"),
+        (["map", "--Tm-ratio", "-2"], "--Tm-ratio must be > 0"),
+        (["map", "--e", "0.3"], "e must be in (-B/2, B/2)"),
+        (["map", "--H", "2", "--lam", "4"], "not both"),
+        (["map", "--lam", "4"], "needs --p"),
+        (["map", "--workers", "0"], "workers must be an integer >= 1"),
+        (["map", "--backend", "fortran"], "backend must be one of c, numpy"),
+        (["map", "--t-after", "0"], "t_after must be a finite number of seconds > 0"),
+        (["map", "--tile", "0", "4"], "tile sizes must be >= 1"),
+        (["redraw", "/nonexistent/study"], "no saved study"),
+    ],
+)
+def test_bad_parameters_give_clear_errors(argv, message, capsys, tmp_path):
+    options = [] if argv[0] == "redraw" else tiny("--out", str(tmp_path))
+    assert cli([argv[0], *options, *argv[1:]]) == 2
+    err = capsys.readouterr().err
+    assert message in err and "Traceback" not in err
+
+
+@pytest.mark.parametrize("argv", [["map", "--bogus"], ["map", "--Omega", "1", "2"], ["spectrum", "--workers", "two"]])
+def test_malformed_options_are_argparse_errors(argv, capsys):
+    with pytest.raises(SystemExit) as exc:
+        cli(argv)
+    assert exc.value.code == 2 and "error:" in capsys.readouterr().err
+
+
+def test_library_errors_name_the_parameter():
+    with pytest.raises(ParameterError, match="Omega: the range"):
+        Grid("Omega", 2.0, 1.0, 3)
+    with pytest.raises(ParameterError, match="scheduler .* or dask_workers"):
+        Execution(scheduler="tcp://127.0.0.1:1", dask_workers=2)
+    with pytest.raises(ParameterError, match="coarse T_m grid must be logarithmic"):
+        optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, Tm=Grid("Tm", 0.1, 10.0, 3))
