@@ -30,9 +30,13 @@ def build_functions():
         - ag * ((M * H / 2 + m * eta) * sp.cos(th) + (M * d + m * xi) * sp.sin(th))
     )
     r2 = m * ddx - m * eta * ddth + c * dx + k * x - m * xi * dth**2 + m * g * sp.sin(th) + m * ag * sp.cos(th)
-    sol = sp.solve([r1, r2], [ddth, ddx], dict=True)[0]
+    # Linear in the accelerations: mass matrix and the rest, solved without
+    # simplification (sympy.solve takes minutes on this system).
+    residual = sp.Matrix([r1, r2])
+    mass = residual.jacobian([ddth, ddx])
+    acc = mass.LUsolve(-residual.subs({ddth: 0, ddx: 0}))
     params = (M, I_G, B, H, e, g, m, h, k, c)
-    rocking = sp.lambdify((s, th, x, dth, dx, ag, *params), [sol[ddth], sol[ddx]], "numpy")
+    rocking = sp.lambdify((s, th, x, dth, dx, ag, *params), list(acc), "numpy")
     Mo = M * H / 2 * ag - eta * (k * x + c * dx)
     up_A = Mo - g * (M * (B / 2 + e) + m * (B / 2 + x))
     up_Ap = -Mo - g * (M * (B / 2 - e) + m * (B / 2 - x))

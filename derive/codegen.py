@@ -98,6 +98,13 @@ def model_functions(eq: Equations) -> list[Function]:
             ("",),
         ),
         Function(
+            "uplift_energy",
+            "Least energy above rest at which the attached bodies can lift the block about s in full contact "
+            "without ground motion (inf: never; 0: no bound derived); y and ag are ignored.",
+            (eq.uplift_energy,),
+            ("",),
+        ),
+        Function(
             "critical_angle",
             "Static critical angle about the pivot s, the other coordinates held (sign of s).",
             (eq.critical_angle,),
@@ -191,7 +198,8 @@ class NumpyGenerator(Generator):
                     "outs": [printer.doprint(o) for o in outs],
                 }
             )
-        text = self.env.get_template("numpy_model.py.j2").render(**self.context(), functions=funcs)
+        imports = sorted(set(printer.module_imports) | {"numpy"})
+        text = self.env.get_template("numpy_model.py.j2").render(**self.context(), functions=funcs, imports=imports)
         return {"model.py": text}
 
 

@@ -49,6 +49,10 @@ class Equations:
         (dissipation plus the work of the inertial ground force).
     critical_angle : Expr
         Static critical angle about the pivot ``s`` (sign of ``s``).
+    uplift_energy : Expr
+        Least energy above rest, in full contact without ground motion, at
+        which the attached bodies can lift the block about ``s``; ``oo`` when
+        they cannot, 0 when no bound could be derived.
     """
 
     system: System
@@ -62,6 +66,7 @@ class Equations:
     energy: sp.Expr
     power: sp.Expr
     critical_angle: sp.Expr
+    uplift_energy: sp.Expr
 
 
 def resolve_options(spec: Spec, options: dict | None) -> dict:
@@ -210,6 +215,35 @@ def critical_angle(sysm: System):
     return sp.atan2(b, a)
 
 
+def uplift_energy(sysm: System, energy, uplift):
+    """Least energy above rest at which the attached bodies can lift the block.
+
+    In full contact after the pulse the energy can only fall (the power is
+    ``-2 D``), so once it is below this bound the block can never uplift
+    again. With ``E = z^T Q z / 2`` quadratic and ``u = u_0 + a^T z`` affine in
+    the attached bodies' state ``z``, the least ``E`` on ``u = 0`` is
+    ``u_0^2 / (2 a^T Q^-1 a)``, written with ``adj(Q) / det(Q)`` so that it
+    stays finite when ``Q`` is singular. Other energies get no bound (0).
+    """
+    if len(sysm.q) == 1:
+        return sp.oo
+    rest = {sysm.q[0]: 0, sysm.dq[0]: 0, ag: 0}
+    z = list(sysm.q[1:]) + list(sysm.dq[1:])
+    at_zero = {v: 0 for v in z}
+    E = _reduce(energy.subs(rest) - energy.subs(rest).subs(at_zero))
+    u = _reduce(uplift.subs(rest))
+    Q = sp.hessian(E, z)
+    a = sp.Matrix([sp.diff(u, v) for v in z])
+    quadratic = not any(Q.has(v) for v in z) and _reduce(E - (sp.Matrix(z).T * Q * sp.Matrix(z))[0] / 2) == 0
+    affine = not any(a.has(v) for v in z)
+    if not (quadratic and affine):
+        return sp.Integer(0)
+    u0 = u.subs(at_zero)
+    det = sp.factor(Q.det())
+    spread = _reduce((a.T * Q.adjugate() * a)[0])
+    return sp.Max(0, -u0) ** 2 * det / (2 * spread)
+
+
 def derive(spec: Spec, options: dict | None = None) -> Equations:
     """Derive every expression of ``spec`` under ``options``.
 
@@ -256,6 +290,7 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
     power = _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
 
     return Equations(
+        uplift_energy=uplift_energy(sysm, energy, uplift),
         system=sysm,
         options=opts,
         mass_matrix=Mm,

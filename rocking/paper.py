@@ -101,6 +101,21 @@ def impact(s, x, dtheta, dx, M, I_G, B, H, e, m, h, law="momentum"):
     return dtheta_plus, dx + 0 * dtheta_plus
 
 
+def uplift_energy(s, M, B, H, e, g, m, h, k_m, c):
+    """Least damper energy ``k_m x^2/2 + m dx^2/2`` at which the mass alone lifts the block about ``s``.
+
+    Without ground motion (U1)/(U2) read ``u = u_0 + a_x x + a_v dx = 0`` with
+    ``u_0 = -g [M (B/2 + s e) + m B/2]``, ``a_x = -s (eta k_m + m g)`` and
+    ``a_v = -s eta c``; a Lagrange multiplier gives the least energy on that line,
+    ``u_0^2 / (2 (a_x^2 / k_m + a_v^2 / m))``.
+    """
+    eta = H + h
+    u0 = -g * (M * (B / 2 + s * e) + m * B / 2)
+    a_x = -s * (eta * k_m + m * g)
+    a_v = -s * eta * c
+    return u0**2 / (2 * (a_x**2 / k_m + a_v**2 / m))
+
+
 def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m):
     """Mechanical energy ``T + V`` in the ground frame while rocking about ``s``."""
     d, xi = arms(s, x, B, e)

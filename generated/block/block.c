@@ -140,6 +140,16 @@ double block_power(double s, const double *y, double ag, const double *p)
     return (1.0/2.0)*B*cse1*s + (1.0/2.0)*H*cse0*cos(theta) + cse1*e;
 }
 
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
+double block_uplift_energy(double s, const double *y, double ag, const double *p)
+{
+    (void)s;
+    (void)ag;
+    (void)y;
+    (void)p;
+    return INFINITY;
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double block_critical_angle(double s, const double *y, double ag, const double *p)
 {

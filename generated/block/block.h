@@ -55,6 +55,9 @@ double block_energy(double s, const double *y, double ag, const double *p);
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double block_power(double s, const double *y, double ag, const double *p);
 
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
+double block_uplift_energy(double s, const double *y, double ag, const double *p);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double block_critical_angle(double s, const double *y, double ag, const double *p);
 
@@ -71,6 +74,7 @@ double block_critical_angle(double s, const double *y, double ag, const double *
 #define model_impact block_impact
 #define model_energy block_energy
 #define model_power block_power
+#define model_uplift_energy block_uplift_energy
 #define model_critical_angle block_critical_angle
 #endif
 

@@ -347,6 +347,40 @@ def power(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out[0]
 
 
+def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+
+    Returns
+    -------
+    ndarray
+    """
+    out = _broadcast((numpy.inf, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out[0]
+
+
 def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 

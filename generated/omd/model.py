@@ -25,6 +25,7 @@ c          damping coefficient of the damper dashpot [N s/m]
 Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
 """
 
+import functools
 import numpy
 
 NAME = "omd"
@@ -510,6 +511,61 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     cse7 = cse1*cse4
     cse8 = (1/2)*B*s
     out = _broadcast(((1/2)*H*cse0*cse5*dtheta + H*cse3 - c*dx**2 - cse2*dx + cse3*h + cse6*cse8 + cse6*e + cse7*cse8 + cse7*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    return out[0]
+
+
+def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = M*g
+    cse1 = (1/2)*B
+    cse2 = c**2*k_m
+    cse3 = 4*H
+    cse4 = cse3*h
+    cse5 = g*k_m*m**2
+    cse6 = k_m**2*m
+    cse7 = 2*H**2
+    cse8 = 2*h**2
+    out = _broadcast((k_m*m*functools.reduce(numpy.maximum, [0, cse0*cse1 + cse0*e*s + cse1*g*m])**2/(cse2*cse4 + cse2*cse7 + cse2*cse8 + cse3*cse5 + cse4*cse6 + 4*cse5*h + cse6*cse7 + cse6*cse8 + 2*g**2*m**3), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 

@@ -248,6 +248,32 @@ double omd_power(double s, const double *y, double ag, const double *p)
     return (1.0/2.0)*H*cse0*cse5*dtheta + H*cse3 - c*(dx*dx) - cse2*dx + cse3*h + cse6*cse8 + cse6*e + cse7*cse8 + cse7*x;
 }
 
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
+double omd_uplift_energy(double s, const double *y, double ag, const double *p)
+{
+    (void)ag;
+    (void)y;
+    const double M = p[0];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[5];
+    const double m = p[6];
+    const double h = p[7];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double cse0 = M*g;
+    const double cse1 = (1.0/2.0)*B;
+    const double cse2 = (c*c)*k_m;
+    const double cse3 = 4*H;
+    const double cse4 = cse3*h;
+    const double cse5 = g*k_m*(m*m);
+    const double cse6 = (k_m*k_m)*m;
+    const double cse7 = 2*(H*H);
+    const double cse8 = 2*(h*h);
+    return k_m*m*(fmax(0, cse0*cse1 + cse0*e*s + cse1*g*m)*fmax(0, cse0*cse1 + cse0*e*s + cse1*g*m))/(cse2*cse4 + cse2*cse7 + cse2*cse8 + cse3*cse5 + cse4*cse6 + 4*cse5*h + cse6*cse7 + cse6*cse8 + 2*(g*g)*(m*m*m));
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd_critical_angle(double s, const double *y, double ag, const double *p)
 {

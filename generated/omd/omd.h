@@ -61,6 +61,9 @@ double omd_energy(double s, const double *y, double ag, const double *p);
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double omd_power(double s, const double *y, double ag, const double *p);
 
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
+double omd_uplift_energy(double s, const double *y, double ag, const double *p);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd_critical_angle(double s, const double *y, double ag, const double *p);
 
@@ -77,6 +80,7 @@ double omd_critical_angle(double s, const double *y, double ag, const double *p)
 #define model_impact omd_impact
 #define model_energy omd_energy
 #define model_power omd_power
+#define model_uplift_energy omd_uplift_energy
 #define model_critical_angle omd_critical_angle
 #endif
 
