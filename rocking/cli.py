@@ -10,6 +10,7 @@ from .model import ModelError, available_models, load_model
 from .params import Block, Damper, ParameterError
 from .pulse import OneSinePulse
 from .simulate import BACKENDS, simulate
+from .study_cli import add_block_options, add_study_commands, block_from
 
 
 def _cmd_verify(args) -> int:
@@ -22,18 +23,6 @@ def _cmd_verify(args) -> int:
         print(report(model, checks))
         ok &= all(c.ok for c in checks)
     return 0 if ok else 1
-
-
-def _block(args) -> Block:
-    if args.lam is not None or args.alpha is not None:
-        if args.p is None:
-            raise ParameterError("--p is needed with --lambda or --alpha (non-dimensional block)")
-        return Block.from_nondim(p=args.p, lam=args.lam, alpha=args.alpha, M=args.M, e_ratio=args.e_ratio)
-    if args.H is None and args.B is None:
-        return Block.reference()
-    if args.H is None or args.B is None:
-        raise ParameterError("give both --H and --B (or neither, for the reference block)")
-    return Block(H=args.H, B=args.B, M=args.M, e=args.e, I_G=args.I_G)
 
 
 def _damper(args, block: Block) -> Damper | None:
@@ -57,7 +46,7 @@ def _pulse(args, block: Block) -> OneSinePulse:
 
 
 def _cmd_simulate(args) -> int:
-    block = _block(args)
+    block = block_from(args)
     damper = _damper(args, block)
     pulse = _pulse(args, block)
     cases = {"with damper" if damper else "block alone": damper}
@@ -119,17 +108,7 @@ def build_parser() -> argparse.ArgumentParser:
     p.set_defaults(func=_cmd_verify)
 
     p = sub.add_parser("simulate", help="response of a block (with or without damper) to a one-sine pulse")
-    g = p.add_argument_group("block (SI; default: the reference block of model.md section 9)")
-    g.add_argument("--H", type=float, help="height [m]")
-    g.add_argument("--B", type=float, help="base [m]")
-    g.add_argument("--M", type=float, default=1000.0, help="mass [kg] (default 1000)")
-    g.add_argument("--e", type=float, default=0.0, help="eccentricity of G [m]")
-    g.add_argument("--I_G", type=float, help="centroidal inertia [kg m2] (default: homogeneous)")
-    g = p.add_argument_group("block, non-dimensional (homogeneous)")
-    g.add_argument("--lambda", dest="lam", type=float, help="slenderness H/B")
-    g.add_argument("--alpha", type=float, help="slenderness angle atan(B/H) [rad]")
-    g.add_argument("--p", type=float, help="frequency parameter [rad/s]")
-    g.add_argument("--e-ratio", type=float, default=0.0, help="e/B")
+    add_block_options(p)
     g = p.add_argument_group("damper (SI or non-dimensional; none given: bare block)")
     g.add_argument("--m", type=float, help="mass [kg]")
     g.add_argument("--k_m", type=float, default=0.0, help="stiffness [N/m]")
@@ -154,9 +133,6 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     p.set_defaults(func=_cmd_simulate)
-
-    from .study_cli import add_study_commands
-
     add_study_commands(sub)
     return parser
 

@@ -36,7 +36,8 @@ OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
 # --- options -------------------------------------------------------------------------
 
 
-def _add_block(p: argparse.ArgumentParser) -> None:
+def add_block_options(p: argparse.ArgumentParser) -> None:
+    """Block options shared by every command: SI overrides of the reference block, or non-dimensional."""
     g = p.add_argument_group("block (default: the reference block H = 2 m, B = 0.5 m, e = 0.025 m, M = 1000 kg)")
     for name, text in (("H", "height, m"), ("B", "base width, m"), ("e", "eccentricity of G, m"), ("M", "mass, kg")):
         g.add_argument(f"--{name}", type=float, help=f"{text} (others keep their reference values)")
@@ -308,7 +309,7 @@ def _guarded(command):
 def add_study_commands(subparsers) -> None:
     """Add ``map``, ``spectrum``, ``optimize``, ``demo`` and ``redraw`` to the ``rocking`` subparsers."""
     p = subparsers.add_parser("map", help="overturning map over (Omega, beta), block alone and with a damper")
-    _add_block(p)
+    add_block_options(p)
     _add_damper(p, tuned=True, searched=False)
     _add_grid(p, "Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p")
     _add_grid(p, "beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)")
@@ -324,7 +325,7 @@ def add_study_commands(subparsers) -> None:
     p.set_defaults(func=_guarded(_cmd_map))
 
     p = subparsers.add_parser("spectrum", help="minimum overturning amplitude beta_min(Omega), with safe windows")
-    _add_block(p)
+    add_block_options(p)
     _add_damper(p, tuned=True, searched=False)
     _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
@@ -333,7 +334,7 @@ def add_study_commands(subparsers) -> None:
     p.set_defaults(func=_guarded(_cmd_spectrum))
 
     p = subparsers.add_parser("optimize", help="optimal damper period and best gain against Omega; threshold Omega*")
-    _add_block(p)
+    add_block_options(p)
     _add_damper(p, tuned=False, searched=True)
     _add_grid(p, "Omega", OPTIMIZE_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", OPTIMIZE_BETA, "scan amplitudes of every beta_min")
@@ -352,7 +353,7 @@ def add_study_commands(subparsers) -> None:
         "demo",
         help="the default study: map, spectra and optimal damper of the reference block (gamma = zeta = 0.05)",
     )
-    _add_block(p)
+    add_block_options(p)
     _add_damper(p, tuned=True, searched=True)
     _add_tol(p)
     _add_solver(p)
