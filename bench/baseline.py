@@ -82,11 +82,11 @@ def simulate(funcs, params, a_g, omega_g, t_after=15.0, rtol=1e-8, atol=1e-10, r
         else:
             s = pivot
 
-            def rhs(t, y):
+            def rhs(t, y, s=s):
                 a1, a2 = rocking(s, y[0], y[1], y[2], y[3], ag(t), *params)
                 return [y[2], y[3], a1, a2]
 
-            def hit(t, y):
+            def hit(t, y, s=s, t_start=t):
                 return s * y[0] if t > t_start + 1e-9 else 1.0
 
             def over(t, y):
@@ -94,7 +94,6 @@ def simulate(funcs, params, a_g, omega_g, t_after=15.0, rtol=1e-8, atol=1e-10, r
 
             hit.terminal = over.terminal = True
             hit.direction = -1
-            t_start = t
             t1 = t_p if t < t_p else t_end
             sol = solve_ivp(rhs, (t, t1), y, events=[hit, over], rtol=rtol, atol=atol)
             t, y = sol.t[-1], sol.y[:, -1].copy()

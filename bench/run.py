@@ -81,29 +81,87 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
     }
 
 
+def _map(n: int, workers: int, runs: str):
+    """A bare + damper overturning map of ``n x n`` on fresh tiles; (study, seconds)."""
+    from rocking.overturning_map import overturning_map
+    from rocking.study_io import Grid, Setting, Tuning
+    from rocking.tiles import Execution
+
+    setting = Setting(Block.reference())
+    tuning = Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS)
+    grid_o, grid_b = Grid("Omega", 1.0, 10.0, n), Grid("beta", 1.0, 10.0, n)
+    execution = Execution(workers=workers, progress=False)
+    return timed(overturning_map, setting, tuning, grid_o, grid_b, execution, runs=runs)
+
+
+def bench_studies(n_map: int, n_memory: int) -> dict:
+    """Map throughput with 1 and 2 local workers; memory of a large map; the demo's wall time."""
+    import subprocess
+    import tempfile
+
+    out = {}
+    with tempfile.TemporaryDirectory() as tmp:
+        for workers in (1, 2):
+            _, seconds = _map(n_map, workers, f"{tmp}/runs{workers}")
+            out[f"map_responses_per_s_{workers}_workers"] = 2 * n_map * n_map / seconds
+        out["map_speedup_2_vs_1"] = out["map_responses_per_s_2_workers"] / out["map_responses_per_s_1_workers"]
+        # Peak memory in a fresh process per size: it must not grow with the grid beyond the result arrays.
+        probe = (
+            "import resource, sys; sys.path.insert(0, {here!r}); import run; "
+            "study, _ = run._map({n}, 2, {runs!r}); "
+            "size = sum(a.nbytes for a in study.arrays.values()); "
+            "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, size)"
+        )
+        for n in (n_memory // 4, n_memory):
+            code = probe.format(here=os.path.dirname(os.path.abspath(__file__)), n=n, runs=f"{tmp}/mem{n}")
+            rss, size = map(
+                int,
+                subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split(),
+            )
+            out[f"map_{n}x{n}_peak_rss_mb"] = rss / 2**20
+            out[f"map_{n}x{n}_result_arrays_mb"] = size / 2**20
+        start = time.perf_counter()
+        subprocess.run(["rocking", "demo", "--out", f"{tmp}/demo", "--no-progress"], check=True, capture_output=True)
+        out["demo_seconds"] = time.perf_counter() - start
+    out["n_map"], out["n_memory"] = n_map, n_memory
+    return out
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grid", type=int, default=50)
     parser.add_argument("--subset", type=int, default=30, help="cases run on the NumPy path and the baseline")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--memory-grid", type=int, default=400, help="side of the map whose peak memory is measured")
     parser.add_argument("--json", help="also write the figures to this file")
+    parser.add_argument("--no-studies", action="store_true", help="only the simulator")
     args = parser.parse_args(argv)
     results = {"simulator": bench_simulator(args.grid, args.subset, args.seed)}
     sim = results["simulator"]
-    print(
-        f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, {sim['overturned_fraction']:.0%} overturn):"
-    )
+    print(f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, ", end="")
+    print(f"{sim['overturned_fraction']:.0%} overturn):")
     print(f"  C path        {sim['c_responses_per_s_per_core']:10.0f} responses/s/core  (target >= 10,000)")
-    print(
-        f"  NumPy path    {sim['numpy_ms_per_response']:10.2f} ms/response   C is {sim['speedup_c_vs_numpy']:.0f}x faster"
-    )
-    print(
-        f"  baseline      {sim['baseline_ms_per_response']:10.2f} ms/response   C is {sim['speedup_c_vs_baseline']:.0f}x faster"
-        " (target >= 300)"
-    )
-    print(
-        f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, C = baseline {sim['verdicts_c_eq_baseline']}"
-    )
+    print(f"  NumPy path    {sim['numpy_ms_per_response']:10.2f} ms/response   ", end="")
+    print(f"C is {sim['speedup_c_vs_numpy']:.0f}x faster")
+    print(f"  baseline      {sim['baseline_ms_per_response']:10.2f} ms/response   ", end="")
+    print(f"C is {sim['speedup_c_vs_baseline']:.0f}x faster (target >= 300)")
+    print(f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, ", end="")
+    print(f"C = baseline {sim['verdicts_c_eq_baseline']}")
+    if not args.no_studies:
+        st = results["studies"] = bench_studies(args.grid, args.memory_grid)
+        n, m = st["n_map"], st["n_memory"]
+        print(f"studies, {n}x{n} map (block alone + damper):")
+        print(f"  1 worker      {st['map_responses_per_s_1_workers']:10.0f} responses/s")
+        print(
+            f"  2 workers     {st['map_responses_per_s_2_workers']:10.0f} responses/s   "
+            f"{st['map_speedup_2_vs_1']:.2f}x (target >= 1.8)"
+        )
+        for side in (m // 4, m):
+            print(
+                f"  {side}x{side} map: peak memory {st[f'map_{side}x{side}_peak_rss_mb']:.0f} MB, "
+                f"result arrays {st[f'map_{side}x{side}_result_arrays_mb']:.1f} MB"
+            )
+        print(f"  rocking demo  {st['demo_seconds']:10.1f} s")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=2)
