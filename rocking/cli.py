@@ -25,7 +25,18 @@ def _cmd_verify(args) -> int:
     return 0 if ok else 1
 
 
-def _damper(args, block: Block) -> Damper | None:
+def _damper(args, block: Block) -> Damper | dict | None:
+    if args.param:
+        values = {}
+        for pair in args.param:
+            name, sep, value = pair.partition("=")
+            try:
+                values[name] = float(value)
+            except ValueError:
+                raise ParameterError(f"--param expects NAME=NUMBER (got {pair!r})") from None
+            if not sep:
+                raise ParameterError(f"--param expects NAME=NUMBER (got {pair!r})")
+        return values
     if args.no_damper or (args.gamma is None and args.m is None):
         return None
     if args.gamma is not None:
@@ -53,13 +64,23 @@ def _cmd_simulate(args) -> int:
     if args.compare and damper is not None:
         cases["block alone"] = None
     responses = {
-        label: simulate(block, d, pulse, backend=args.backend, rtol=args.rtol, t_max=args.t_max, record=bool(args.plot))
+        label: simulate(
+            block,
+            d,
+            pulse,
+            model=args.model if d is not None else None,
+            backend=args.backend,
+            rtol=args.rtol,
+            t_max=args.t_max,
+            record=bool(args.plot),
+        )
         for label, d in cases.items()
     }
     if args.json:
         payload = {
             "block": block.as_params(),
-            "damper": damper.as_params() if damper else None,
+            "model": args.model,
+            "damper": (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None,
             "pulse": {
                 "a_g": pulse.a_g,
                 "omega_g": pulse.omega_g,
@@ -119,6 +140,10 @@ def build_parser() -> argparse.ArgumentParser:
     g.add_argument("--omega-ratio", type=float, help="omega_m / p")
     g.add_argument("--zeta", type=float, default=0.05, help="damping ratio (default 0.05)")
     g.add_argument("--no-damper", action="store_true", help="ignore damper options: the bare block")
+    g.add_argument("--model", help="model variant by name or generated folder (default: omd, or block without damper)")
+    g.add_argument(
+        "--param", action="append", metavar="NAME=VALUE", help="a parameter of the variant's bodies (repeatable)"
+    )
     g = p.add_argument_group("pulse")
     g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")
     g.add_argument("--Omega", type=float, help="frequency ratio omega_g / p")

@@ -85,7 +85,17 @@ class Model:
         missing = [p for p in self.parameters if p not in values]
         if missing:
             raise ModelError(f"model {self.name!r} needs parameter(s) {', '.join(missing)}")
-        return np.array([float(values[p]) for p in self.parameters])
+        vector = np.array([float(values[p]) for p in self.parameters])
+        for (name, valid), value in zip(self.valid_ranges.items(), vector):
+            bad = not np.isfinite(value) or (valid == "> 0" and value <= 0) or (valid == ">= 0" and value < 0)
+            if bad:
+                raise ModelError(f"model {self.name!r}: {name} must be finite and {valid} (got {value:g})")
+        return vector
+
+    @property
+    def valid_ranges(self) -> dict[str, str]:
+        """Valid range of each parameter as the spec states it (``"> 0"``, ``">= 0"``, ``"any"``, ...)."""
+        return {p["name"]: p["valid"] for p in self.manifest["parameters"]}
 
     def call(self, function: str, s, y, ag, p):
         """Call a generated NumPy function with a state vector ``y`` and parameter vector ``p``.
