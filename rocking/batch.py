@@ -47,6 +47,7 @@ class Cases:
     energy_rest: np.ndarray
     rtol: float
     max_events: int
+    early_rest: bool = True  # as Problem.early_rest, common to all cases
 
     def __len__(self) -> int:
         return len(self.a_g)
@@ -68,6 +69,7 @@ class Cases:
             energy_rest=float(self.energy_rest[i]),
             max_events=self.max_events,
             record_dt=float(self.contact_max_step[i]),
+            early_rest=self.early_rest,
         )
 
 
@@ -181,6 +183,7 @@ def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, n
             cases.energy_rest,
             rtol=cases.rtol,
             max_events=cases.max_events,
+            early_rest=cases.early_rest,
             threads=threads,
         )
     if backend != "numpy":

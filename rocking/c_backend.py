@@ -29,7 +29,7 @@ from .problem import STATUS, Problem, Response
 
 __all__ = ["CBuildError", "SimulationError", "available", "batch_arguments", "library", "simulate", "simulate_batch"]
 
-_API_VERSION = 1  # ROCKING_SIM_API_VERSION of sim.h
+_API_VERSION = 2  # ROCKING_SIM_API_VERSION of sim.h
 _FAILED = -1  # ROCKING_FAILED
 
 _dbl = ctypes.c_double
@@ -59,6 +59,7 @@ class _Case(ctypes.Structure):
         ("record_dt", _dbl),
         ("y0", _dbl_p),
         ("phase0", ctypes.c_int32),
+        ("early_rest", ctypes.c_int32),
     ]
 
 
@@ -166,7 +167,7 @@ class _Library:
             + [vector] * 5  # a_g, omega_g, psi, t_p, t_max
             + [matrix]  # atol
             + [vector] * 3  # contact_max_step, dtheta_rest, energy_rest
-            + [_dbl, ctypes.c_int64, _array_arg(RESULT_DTYPE, 1)]  # rtol, max_events, out
+            + [_dbl, ctypes.c_int64, ctypes.c_int32, _array_arg(RESULT_DTYPE, 1)]  # rtol, max_events, early_rest, out
         )
         self.lib = lib
 
@@ -329,6 +330,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
         record_dt=problem.record_dt,
         y0=None if y0 is None else y0.ctypes.data_as(_dbl_p),
         phase0=0 if phase0 is None else int(phase0),
+        early_rest=int(bool(problem.early_rest)),
     )
     result = _Result()
     history = None
@@ -412,6 +414,7 @@ def simulate_batch(
     *,
     rtol: float,
     max_events: int,
+    early_rest: bool = True,
     threads: int | None = None,
 ) -> dict[str, np.ndarray]:
     """Simulate ``n`` runs of ``model`` from rest, without history.
@@ -432,6 +435,8 @@ def simulate_batch(
         Relative tolerance, common to all runs.
     max_events : int
         Bound on uplifts plus impacts, common to all runs.
+    early_rest : bool
+        The early rest of :class:`~rocking.problem.Problem`, common to all runs.
     threads : int, optional
         Threads to run chunks of the batch on (the GIL is released in C);
         default all the CPUs this process may use. The results do not depend
@@ -500,6 +505,7 @@ def simulate_batch(
             *(a[lo:hi] for a in rest),
             rtol,
             int(max_events),
+            int(bool(early_rest)),
             out[lo:hi],
         )
 
@@ -534,13 +540,13 @@ def batch_arguments(problems) -> dict:
     Raises
     ------
     ValueError
-        If the list is empty, or the problems differ in model, ``rtol`` or ``max_events``.
+        If the list is empty, or the problems differ in model, ``rtol``, ``max_events`` or ``early_rest``.
     """
     problems = list(problems)
     if not problems:
         raise ValueError("no problems given")
     first = problems[0]
-    for name in ("rtol", "max_events"):
+    for name in ("rtol", "max_events", "early_rest"):
         values = {getattr(pr, name) for pr in problems}
         if len(values) > 1:
             raise ValueError(f"a batch needs one {name} for all problems (got {sorted(values)})")
@@ -565,4 +571,5 @@ def batch_arguments(problems) -> dict:
         "energy_rest": column("energy_rest"),
         "rtol": float(first.rtol),
         "max_events": int(first.max_events),
+        "early_rest": bool(first.early_rest),
     }

@@ -38,6 +38,13 @@ StateFunction = Callable[[float, np.ndarray], float]
 #: Terminal events: their names, as :func:`simulate` dispatches on them.
 UPLIFT_A, UPLIFT_A_PRIME, IMPACT, OVERTURN, REST = "uplift A", "uplift A'", "impact", "overturn", "rest"
 
+#: Terminal events of the early rest (docs/simulation.md, rule 4): the energy falls
+#: below the uplift energy; once safe, the damper's next extremum ends the run.
+SAFE, SETTLED = "safe", "settled"
+
+#: Relative safety margin below the uplift energy (rule 4).
+SAFE_MARGIN = 1e-9
+
 #: Non-terminal events: reported values only, the run goes on.
 CRITICAL, EXTREMUM = "critical angle", "extremum"
 
@@ -75,6 +82,20 @@ class _System:
         # Energy of the rest state, the zero of "energy above rest". In full
         # contact (theta = dtheta = 0) the energy does not depend on the pivot.
         self.energy_at_rest = self.energy(np.zeros(2 * self.n))
+        self.safe_energy = self._safe_energy()
+
+    def _safe_energy(self) -> float | None:
+        """The least energy above rest at which the attached bodies can lift the block, less the margin.
+
+        ``min(U_{+1}, U_{-1}) (1 - SAFE_MARGIN)`` of the generated
+        ``uplift_energy`` (constant per run); ``None`` when no bound applies
+        (0 or NaN about either pivot). ``inf`` for the bare block.
+        """
+        zeros = np.zeros(2 * self.n)
+        a, b = (float(self._call("uplift_energy", s, zeros, 0.0)) for s in (1.0, -1.0))
+        if not (a > 0.0 and b > 0.0):
+            return None
+        return min(a, b) * (1.0 - SAFE_MARGIN)
 
     def _call(self, name: str, s: float, y: np.ndarray, ag: float):
         # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic.
@@ -221,13 +242,33 @@ def extremum_event(n: int, coordinate: int) -> _Event:
     return _Event(EXTREMUM, lambda t, y: y[n + coordinate], terminal=False, direction=0)
 
 
+def settled_event(n: int) -> _Event:
+    """Full contact once safe: the next extremum of ``q[1]`` is the last one; it ends the run."""
+    return _Event(SETTLED, lambda t, y: y[n + 1], terminal=True, direction=0)
+
+
+def safe_event(system: _System, safe_energy: float) -> _Event:
+    """Full contact after the pulse: ``E(y) - E(0)`` falls below the uplift energy (less the margin)."""
+    return _Event(SAFE, lambda t, y: system.energy_above_rest(y) - safe_energy, terminal=True, direction=-1)
+
+
 def rest_event(system: _System, energy_rest: float) -> _Event:
     """Full contact after the pulse: ``E(y) - E(0)`` falls below ``energy_rest``."""
     return _Event(REST, lambda t, y: system.energy_above_rest(y) - energy_rest, terminal=True, direction=-1)
 
 
-def phase_events(system: _System, phase: int, ground, *, after_pulse: bool, want_critical: bool, energy_rest: float):
-    """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases").
+def phase_events(
+    system: _System,
+    phase: int,
+    ground,
+    *,
+    after_pulse: bool,
+    want_critical: bool,
+    energy_rest: float,
+    safe_energy: float | None = None,
+    settling: bool = False,
+):
+    """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases" and "End").
 
     Parameters
     ----------
@@ -244,6 +285,11 @@ def phase_events(system: _System, phase: int, ground, *, after_pulse: bool, want
         needed for its first crossing).
     energy_rest : float
         The rest threshold on the energy.
+    safe_energy : float or None
+        Watch the energy falling below this bound (full contact after the
+        pulse, not yet safe); ``None``: not watched.
+    settling : bool
+        Full contact once safe: the next extremum of ``q[1]`` ends the run.
 
     Returns
     -------
@@ -252,9 +298,13 @@ def phase_events(system: _System, phase: int, ground, *, after_pulse: bool, want
     # q[1] is the damper's coordinate: its extrema give x_max, in every phase.
     damper = [extremum_event(system.n, 1)] if system.n > 1 else []
     if phase == CONTACT:
+        if settling and system.n > 1:
+            damper = [settled_event(system.n)]
         events = [uplift_event(system, +1, ground), uplift_event(system, -1, ground)] + damper
         if after_pulse:
             events.append(rest_event(system, energy_rest))
+            if safe_energy is not None and not settling:
+                events.append(safe_event(system, safe_energy))
         return events
     s = phase
     events = [impact_event(s), overturn_event(s), extremum_event(system.n, 0)] + damper
@@ -342,6 +392,8 @@ def integrate_segment(
     *,
     want_critical: bool,
     record: bool,
+    safe_energy: float | None = None,
+    settling: bool = False,
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -361,6 +413,10 @@ def integrate_segment(
         Watch the critical angle (``t_critical`` still unknown).
     record : bool
         Keep the dense output for the history.
+    safe_energy : float or None
+        The uplift energy bound to watch in full contact after the pulse (see :func:`phase_events`).
+    settling : bool
+        Full contact once safe: the next extremum of ``q[1]`` ends the segment.
 
     Returns
     -------
@@ -378,7 +434,14 @@ def integrate_segment(
         rhs = system.rocking_rhs(phase, ground)
         max_step = np.inf
     events = phase_events(
-        system, phase, ground, after_pulse=not pulse_on, want_critical=want_critical, energy_rest=problem.energy_rest
+        system,
+        phase,
+        ground,
+        after_pulse=not pulse_on,
+        want_critical=want_critical,
+        energy_rest=problem.energy_rest,
+        safe_energy=safe_energy,
+        settling=settling,
     )
     options = {"rtol": problem.rtol, "atol": problem.atol, "max_step": max_step}
 
@@ -561,6 +624,10 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
     # After a lift-off that failed, u_s is still (barely) positive: checking it
     # again at the contact phase's start would lift the block again, forever.
     skip_uplift_check = False
+    # Rule 4's early rest: the energy bound below which the block never lifts
+    # again (None: no bound, or disabled), and whether the run is below it.
+    safe_energy = system.safe_energy if problem.early_rest else None
+    safe = False
 
     def finish(status: str, t_overturn: float = math.nan) -> Response:
         assert status in STATUS
@@ -596,17 +663,35 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
             if s:
                 tally.uplifts += 1
                 phase = s
+                safe = False
                 if events_exhausted():
                     return finish("max_events")
                 continue
-            # Rule 4. For the bare block E(y) = E(0) in full contact: rest at once.
-            if not pulse_on and system.energy_above_rest(y) < problem.energy_rest:
-                return finish("rest")
+            if not pulse_on:
+                energy = system.energy_above_rest(y)
+                # Rule 4. For the bare block E(y) = E(0) in full contact: rest at once.
+                if energy < problem.energy_rest:
+                    return finish("rest")
+                # Below the uplift energy the block can never lift again: only the
+                # damper's stroke is left to settle, up to the next extremum of q[1].
+                if safe_energy is not None and (safe or energy < safe_energy):
+                    if n == 1 or y[n + 1] == 0.0:  # nothing to settle, or at the extremum already
+                        return finish("rest")
+                    safe = True
 
         # Rule 3: no segment straddles the pulse's end.
         t_bound = min(problem.t_p, problem.t_max) if pulse_on else problem.t_max
         segment = integrate_segment(
-            problem, system, phase, t, y, t_bound, want_critical=math.isnan(tally.t_critical), record=record
+            problem,
+            system,
+            phase,
+            t,
+            y,
+            t_bound,
+            want_critical=math.isnan(tally.t_critical),
+            record=record,
+            safe_energy=safe_energy,
+            settling=safe and phase == CONTACT,
         )
         tally.see_segment(segment)
         if history is not None:
@@ -623,6 +708,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
             # theta and dtheta are exactly 0 in full contact: the state carries over.
             tally.uplifts += 1
             phase = 1 if segment.event == UPLIFT_A else -1
+            safe = False  # not reached below the uplift energy; kept consistent if it were
             if events_exhausted():
                 return finish("max_events")
         elif segment.event == IMPACT:
@@ -644,7 +730,9 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
             skip_uplift_check = True
         elif segment.event == OVERTURN:
             return finish("overturned", t_overturn=t)
-        elif segment.event == REST:
+        elif segment.event in (REST, SETTLED):
             return finish("rest")
+        elif segment.event == SAFE:
+            safe = True  # the next contact phase settles (not rechecked: E is at the bound)
         else:  # pragma: no cover - every terminal event is handled above
             raise AssertionError(f"unhandled event {segment.event!r}")

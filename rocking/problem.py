@@ -57,6 +57,13 @@ class Problem:
         ``"max_events"`` when reached.
     record_dt : float
         Spacing of the recorded history (events are recorded as well).
+    early_rest : bool
+        In full contact after the pulse, end the run once the energy above
+        rest is below the least energy at which the attached bodies can lift
+        the block (the generated ``uplift_energy``), at the next extremum of
+        the damper's stroke: verdict, ``theta_max`` and ``x_max`` are then
+        final (docs/simulation.md, rule 4). ``False``: only ``energy_rest``
+        ends a run in full contact, as before.
     """
 
     model: Model
@@ -73,6 +80,7 @@ class Problem:
     energy_rest: float
     max_events: int
     record_dt: float
+    early_rest: bool = True
 
     def ground_acceleration(self, t):
         """``ddx_g(t)``, vectorised."""

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -65,9 +66,43 @@ def test_back_ends_agree_on_random_cases():
             compared += 1
             assert c.theta_max == pytest.approx(n.theta_max, rel=1e-6), (i, case)
             assert c.uplifts == n.uplifts, (i, case)
+            # The end (rest, early rest at the damper's extremum, t_max) is the same rule in both.
+            assert c.status == n.status, (i, case)
+            assert c.x_max == pytest.approx(n.x_max, rel=1e-6), (i, case)
+            assert c.t_end == pytest.approx(n.t_end, rel=1e-6), (i, case)
     assert all(near for _, near in verdicts_differ), verdicts_differ
     assert len(verdicts_differ) <= N_CASES // 20
     assert compared >= N_CASES // 4
+
+
+def test_early_rest_keeps_verdicts_and_maxima_on_random_cases():
+    """docs/simulation.md rule 4 only ends runs sooner: verdict, theta_max, counts and x_max are unchanged."""
+    rng = np.random.default_rng(7)
+    shortened, numpy_checked = 0, 0
+    for i in range(N_CASES):
+        block, damper, psi, beta, Omega = random_case(rng, 2 * i)  # every case with a damper
+        pulse = OneSinePulse.from_nondim(block, beta=beta, Omega=Omega, psi=psi)
+        problem = make_problem(block, damper, pulse, rtol=1e-8, t_after=6.0)
+        backends = [c_backend] + ([numpy_backend] if i % 20 == 0 else [])  # NumPy on a few: it is slow
+        for backend in backends:
+            early = backend.simulate(problem)
+            full = backend.simulate(dataclasses.replace(problem, early_rest=False))
+            case = (i, backend.__name__)
+            # Identical until the energy falls below the bound, in full contact (theta = 0) after the pulse.
+            assert (early.overturned, early.theta_max, early.impacts, early.uplifts) == (
+                full.overturned,
+                full.theta_max,
+                full.impacts,
+                full.uplifts,
+            ), case
+            assert early.t_critical == full.t_critical or (math.isnan(early.t_critical) and math.isnan(full.t_critical))
+            assert early.x_max == pytest.approx(full.x_max, rel=1e-9), case
+            assert early.t_end <= full.t_end, case
+            if early.status != full.status:
+                assert early.status == "rest" and full.status in ("t_max", "rest"), case
+            shortened += backend is c_backend and early.t_end < full.t_end
+            numpy_checked += backend is numpy_backend
+    assert shortened >= N_CASES // 10 and numpy_checked >= 10
 
 
 @pytest.mark.parametrize("Omega, beta_min", [(1, 1.418), (2, 2.350), (4, 5.239), (6, 9.417)])

@@ -157,7 +157,7 @@ def test_strict_warnings_compile(tmp_path):
 def test_sim_is_model_independent(tmp_path):
     """sim.c compiles strictly against any generic model header: here three coordinates, declarations only."""
     names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact"]
-    scalars = ["uplift", "energy", "power", "critical_angle"]
+    scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle"]
     args = "double s, const double *y, double ag, const double *p"
     lines = ["#ifndef STUB3_H", "#define STUB3_H"]
     lines += [f"void stub3_{n}({args}, double *out);" for n in names]
@@ -229,7 +229,8 @@ def test_free_rocking_first_impact_converges_with_rtol(theta0):
 
 def test_contact_phase_damper_matches_the_exact_oscillator():
     """Below the uplift thresholds the damper is a linear oscillator under -m ag(t): exact by expm."""
-    pr = problem(0.5, 3.0, DAMPER, psi=0.4, rtol=1e-9, t_max=None, t_after=4.0)
+    # early_rest=False: the damper is followed to t_max (no uplift is ever possible here).
+    pr = dataclasses.replace(problem(0.5, 3.0, DAMPER, psi=0.4, rtol=1e-9, t_max=None, t_after=4.0), early_rest=False)
     r = cb.simulate(pr, record=True)
     assert r.uplifts == 0 and r.impacts == 0 and r.status == "t_max"
     h = r.history
@@ -309,7 +310,7 @@ def test_moderate_pulse_rocks_and_comes_to_rest():
 
 def test_damped_damper_reaches_rest_by_energy():
     damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.3, h=0.05)
-    pr = problem(1.5, 4.0, damper)
+    pr = dataclasses.replace(problem(1.5, 4.0, damper), early_rest=False)  # energy_rest alone
     r = cb.simulate(pr, record=True)
     assert r.status == "rest" and r.t_end < pr.t_max and r.t_end > pr.t_p
     model = pr.model
@@ -318,6 +319,36 @@ def test_damped_damper_reaches_rest_by_energy():
     # The rest event is located: the energy above rest is at the threshold, not below it by a step.
     assert energy == pytest.approx(pr.energy_rest, rel=1e-6)
     assert r.x_max > 0
+
+
+def test_early_rest_ends_a_safe_run_at_the_damper_s_next_extremum():
+    """docs/simulation.md rule 4: below the uplift energy after the pulse, the run ends at the next extremum of x."""
+    pr = problem(0.5, 3.0, DAMPER, rtol=1e-9, t_max=None, t_after=4.0)  # below both uplift thresholds
+    early = cb.simulate(pr, record=True)
+    full = cb.simulate(dataclasses.replace(pr, early_rest=False))
+    assert (early.status, full.status) == ("rest", "t_max")
+    # Safe from the pulse's end on: the run ends within half a damped period of the damper.
+    wd = DAMPER.omega_m * math.sqrt(1 - DAMPER.zeta**2)
+    assert pr.t_p < early.t_end < pr.t_p + math.pi / wd
+    # ... at an extremum of x, which here is the largest |x| of the whole run (settling matters).
+    h = early.history
+    assert h["t"][-1] == early.t_end and h["phase"][-1] == 0
+    assert abs(h["dx"][-1]) < 1e-9 * DAMPER.omega_m * early.x_max
+    assert abs(h["x"][-1]) == pytest.approx(early.x_max, rel=1e-12)
+    assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
+    assert (early.theta_max, early.uplifts, early.impacts) == (full.theta_max, full.uplifts, full.impacts) == (0, 0, 0)
+
+
+def test_early_rest_after_rocking_keeps_the_verdict_and_the_maxima():
+    damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.1, h=0.05)
+    pr = problem(1.5, 4.0, damper)
+    early = cb.simulate(pr, record=True)
+    full = cb.simulate(dataclasses.replace(pr, early_rest=False))
+    assert early.status == "rest" and early.impacts > 0 and early.t_end < full.t_end
+    assert abs(early.history["dx"][-1]) < 1e-9 * damper.omega_m * early.x_max
+    for name in ("overturned", "theta_max", "t_critical", "impacts", "uplifts"):
+        assert same(getattr(early, name), getattr(full, name)), name
+    assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
 
 
 def test_strong_pulse_overturns():
@@ -476,3 +507,19 @@ def test_batch_argument_errors():
         cb.batch_arguments([problem(2, 2, DAMPER), problem(2, 2, DAMPER, rtol=1e-6)])
     with pytest.raises(ValueError, match="one model"):
         cb.batch_arguments([problem(2, 2, DAMPER), problem(2, 2)])
+    with pytest.raises(ValueError, match="one early_rest"):
+        cb.batch_arguments([problem(2, 2, DAMPER), dataclasses.replace(problem(2, 2, DAMPER), early_rest=False)])
+
+
+def test_batch_without_early_rest_equals_single_runs():
+    problems = [dataclasses.replace(pr, early_rest=False) for pr in _map(3, 3) + [problem(0.5, 3.0, DAMPER)]]
+    args = cb.batch_arguments(problems)
+    assert args["early_rest"] is False
+    batch = cb.simulate_batch(**args, threads=1)
+    early = cb.simulate_batch(**{**args, "early_rest": True}, threads=1)
+    assert np.all(batch["t_end"] >= early["t_end"]) and np.any(batch["t_end"] > early["t_end"])
+    for i, pr in enumerate(problems):
+        r = cb.simulate(pr)
+        for name in cb.RESULT_FIELDS:
+            expected = STATUS.index(r.status) if name == "status" else getattr(r, name)
+            assert same(batch[name][i], expected), (i, name)

@@ -8,6 +8,7 @@ generated functions the back end runs on.
 
 from __future__ import annotations
 
+import dataclasses
 import math
 
 import numpy as np
@@ -277,7 +278,7 @@ def test_t_max_ends_a_run_with_a_lightly_damped_damper():
     block = Block.reference()
     damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.0, h=0.05)
     pulse = OneSinePulse.from_nondim(block, beta=1.3, Omega=4.0)
-    problem = make_problem(block, damper, pulse, rtol=1e-8, t_after=3.0)
+    problem = dataclasses.replace(make_problem(block, damper, pulse, rtol=1e-8, t_after=3.0), early_rest=False)
     response = simulate(problem, record=True)
     assert response.status == "t_max" and response.t_end == problem.t_max
     assert response.x_max > 0 and response.x_max >= np.max(np.abs(response.history["x"]))
@@ -358,10 +359,67 @@ def test_the_damper_lifts_the_block_from_rest_and_again_after_it_came_back_to_re
     assert abs(t_relift - t_rest - expected_dt) < 1e-7
 
 
+def least_uplift_energy(block: Block, damper: Damper) -> float:
+    """Least damper energy ``k x^2/2 + m dx^2/2`` on which (U1) or (U2) can hold without ground motion.
+
+    Both read ``u0 + a_x x + a_v dx > 0`` (see :func:`predicted_uplift`); on the
+    line ``u = 0`` the least energy is ``u0^2 / (2 (a_x^2 / k + a_v^2 / m))``.
+    """
+    M, B, e, g = block.M, block.B, block.e, block.g
+    m, k, c, eta = damper.m, damper.k_m, damper.c, block.H + damper.h
+    a_x, a_v = eta * k + m * g, eta * c
+    u0 = [g * (M * (B / 2 + s * e) + m * B / 2) for s in (1, -1)]
+    return min(u**2 / (2 * (a_x**2 / k + a_v**2 / m)) for u in u0)
+
+
+def test_early_rest_settles_the_damper_to_its_next_extremum():
+    # docs/simulation.md rule 4: below the least uplift energy after the pulse the
+    # block can never lift again; the run ends at the mass's next extremum.
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    pulse = no_pulse(block, Omega=15.0)  # short and empty: full contact after it at once
+    problem = make_problem(block, damper, pulse, rtol=1e-10, t_max=pulse.t_p + 6.0)
+    v0 = math.sqrt(0.5 * least_uplift_energy(block, damper) * 2 / damper.m)  # half the least uplift energy
+    start = {"y0": [0.0, 0.0, 0.0, v0], "phase0": CONTACT}
+    early = simulate(problem, record=True, **start)
+    check_history(early, problem)
+    # x = v0 / wd exp(-zeta w t) sin(wd t) peaks first where tan(wd t) = wd / (zeta w).
+    w, zeta = damper.omega_m, damper.zeta
+    wd = w * math.sqrt(1 - zeta**2)
+    t_peak = math.atan2(wd, zeta * w) / wd
+    motion = contact_motion(damper, 0.0, v0)
+    assert pulse.t_p < t_peak and abs(motion(pulse.t_p)[0]) < 0.5 * abs(motion(t_peak)[0])
+    assert (early.status, early.uplifts, early.theta_max) == ("rest", 0, 0.0)
+    assert early.t_end == pytest.approx(t_peak, abs=1e-8)
+    assert early.x_max == pytest.approx(abs(motion(t_peak)[0]), rel=1e-8)
+    full = simulate(dataclasses.replace(problem, early_rest=False), **start)
+    assert full.status == "t_max" and full.uplifts == 0
+    assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
+
+
+def test_early_rest_keeps_verdict_and_maxima_after_rocking():
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.1, h=0.05)
+    problem = make_problem(block, damper, OneSinePulse.from_nondim(block, beta=1.3, Omega=4.0), rtol=1e-8, t_after=4.0)
+    early = simulate(problem, record=True)
+    full = simulate(dataclasses.replace(problem, early_rest=False))
+    check_history(early, problem)
+    assert early.status == "rest" and early.impacts > 0 and early.t_end < full.t_end
+    assert abs(early.history["dx"][-1]) < 1e-9 * damper.omega_m * early.x_max  # at an extremum of x
+    assert (early.overturned, early.theta_max, early.impacts, early.uplifts) == (
+        full.overturned,
+        full.theta_max,
+        full.impacts,
+        full.uplifts,
+    )
+    assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
+
+
 def test_energy_rest_in_full_contact_after_the_pulse():
     block = Block.reference()
     damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.3, h=0.05)
     problem = make_problem(block, damper, OneSinePulse.from_nondim(block, beta=1.3, Omega=4.0), rtol=1e-8)
+    problem = dataclasses.replace(problem, early_rest=False)  # energy_rest alone
     response = simulate(problem, record=True)
     assert response.status == "rest" and problem.t_p < response.t_end < problem.t_max
     h = response.history

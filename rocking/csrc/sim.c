@@ -195,19 +195,37 @@ static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, 
     d->dense_ready = 0;
 }
 
-/* acc = sum_j w[j] k[j] over the first n stages. The component loop is
- * innermost, over a compile-time NY: unrolled and vectorised. */
+/* acc = sum_j w[j] k[j] over the first n stages, summed from 0.0 in stage
+ * order. Every call has a constant n and w (a row of a table): written out per
+ * length, each inlined call folds to one loop over the components with the
+ * weights as immediates, the same sums in the same order as a loop over j. */
+#define TERMS1(i) 0.0 + w[0] * k[0][i]
+#define TERMS2(i) TERMS1(i) + w[1] * k[1][i]
+#define TERMS3(i) TERMS2(i) + w[2] * k[2][i]
+#define TERMS4(i) TERMS3(i) + w[3] * k[3][i]
+#define TERMS5(i) TERMS4(i) + w[4] * k[4][i]
+#define TERMS6(i) TERMS5(i) + w[5] * k[5][i]
+#define TERMS7(i) TERMS6(i) + w[6] * k[6][i]
 static inline void combine_stages(const double (*k)[NY], const double *w, int n, double *acc)
 {
-    int i, j;
-    for (i = 0; i < NY; ++i)
-        acc[i] = 0.0;
-    for (j = 0; j < n; ++j) {
-        const double wj = w[j];
-        for (i = 0; i < NY; ++i)
-            acc[i] += wj * k[j][i];
+    int i;
+    switch (n) {
+    case 1: for (i = 0; i < NY; ++i) acc[i] = TERMS1(i); break;
+    case 2: for (i = 0; i < NY; ++i) acc[i] = TERMS2(i); break;
+    case 3: for (i = 0; i < NY; ++i) acc[i] = TERMS3(i); break;
+    case 4: for (i = 0; i < NY; ++i) acc[i] = TERMS4(i); break;
+    case 5: for (i = 0; i < NY; ++i) acc[i] = TERMS5(i); break;
+    case 6: for (i = 0; i < NY; ++i) acc[i] = TERMS6(i); break;
+    default: for (i = 0; i < NY; ++i) acc[i] = TERMS7(i); break;
     }
 }
+#undef TERMS1
+#undef TERMS2
+#undef TERMS3
+#undef TERMS4
+#undef TERMS5
+#undef TERMS6
+#undef TERMS7
 
 /* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. */
 static inline void dopri_stage(dopri *d, const ode *o, int s, double h, double t_new, double *y)
@@ -347,11 +365,13 @@ enum event_kind {
     EV_UPLIFT_A,       /* contact: u_{+1} turns positive */
     EV_UPLIFT_A_PRIME, /* contact: u_{-1} turns positive */
     EV_REST,           /* contact after the pulse: E(y) - E(0) falls below energy_rest */
+    EV_SAFE,           /* contact after the pulse: E(y) - E(0) falls below the uplift energy */
     EV_IMPACT,         /* rocking: s theta falls from > 0 to 0 */
     EV_OVERTURN,       /* rocking: s theta reaches pi/2 */
     EV_CRITICAL,       /* rocking: s theta - s theta_cr_s(y) turns positive (reported) */
     EV_THETA_PEAK,     /* rocking: dtheta changes sign (theta_max) */
     EV_X_PEAK,         /* any phase, with a damper: dq[1] changes sign (x_max) */
+    EV_SETTLED,        /* contact once safe: dq[1] changes sign, the last extremum (ends the run) */
     N_EVENTS
 };
 
@@ -377,11 +397,13 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {+1, 0, 1, -1, 0, 0.0},                 /* EV_UPLIFT_A:       g <= 0  ->  g > 0 */
     {+1, 0, 1, -1, 0, 0.0},                 /* EV_UPLIFT_A_PRIME: g <= 0  ->  g > 0 */
     {-1, 0, 1, -1, 0, 0.0},                 /* EV_REST:           g >= 0  ->  g < 0 */
+    {-1, 0, 1, -1, 0, 0.0},                 /* EV_SAFE:           g >= 0  ->  g < 0 */
     {-1, 1, 1, 0, 1, 0.0},                  /* EV_IMPACT:         g > 0   ->  g <= 0 (a start at theta = 0 is not "before") */
     {+1, 1, 1, 0, 1, HALF_PI},              /* EV_OVERTURN:       g < 0   ->  g >= 0 */
     {+1, 0, 0, -1, 0, 0.0},                 /* EV_CRITICAL:       g <= 0  ->  g > 0 */
     {0, 1, 0, NQ, 0, 0.0},                  /* EV_THETA_PEAK:     sign change */
-    {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0} /* EV_X_PEAK:         sign change */
+    {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_X_PEAK:        sign change */
+    {0, 1, 1, NQ > 1 ? NQ + 1 : -1, 0, 0.0}  /* EV_SETTLED:       sign change */
 };
 
 static int is_before(double phi, int strict)
@@ -394,6 +416,7 @@ typedef struct event_ctx {
     const ode *o;
     double energy_zero; /* E(0), the energy of the rest state */
     double energy_rest; /* the rest threshold on E(y) - E(0) */
+    double energy_safe; /* below it the block can never uplift again; NaN: no bound (rule 4) */
 } event_ctx;
 
 /* g of an event that reads one component, from that component's value. */
@@ -414,6 +437,8 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
         return (model_energy(1.0, y, 0.0, ec->o->p) - ec->energy_zero) - ec->energy_rest;
+    case EV_SAFE:
+        return (model_energy(1.0, y, 0.0, ec->o->p) - ec->energy_zero) - ec->energy_safe;
     case EV_CRITICAL:
         return s * y[0] - s * model_critical_angle(s, y, ode_ag(ec->o, t), ec->o->p);
     default:
@@ -577,6 +602,8 @@ typedef struct run {
     event_set events;
     double t, y[NY]; /* the state between segments */
     int phase;
+    int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
+    int safe;   /* in full contact after the pulse below the uplift energy: settling */
     rocking_result *res;
     /* history */
     rocking_history *hist;
@@ -675,11 +702,16 @@ static void watched_events(const run *r, int *active)
     if (r->phase == 0) {
         active[EV_UPLIFT_A] = active[EV_UPLIFT_A_PRIME] = 1;
         active[EV_REST] = !r->o.pulse_on;
+        active[EV_SAFE] = !r->o.pulse_on && r->early && !r->safe;
     } else {
         active[EV_IMPACT] = active[EV_OVERTURN] = active[EV_THETA_PEAK] = 1;
         active[EV_CRITICAL] = isnan(r->res->t_critical);
     }
-    active[EV_X_PEAK] = NQ > 1;
+    /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
+    if (r->phase == 0 && r->safe)
+        active[EV_SETTLED] = NQ > 1;
+    else
+        active[EV_X_PEAK] = NQ > 1;
 }
 
 /* Integrate the current phase from (r->t, r->y) until t_bound or a terminal
@@ -760,6 +792,30 @@ static double energy_above_rest(const run *r)
     return model_energy(1.0, r->y, 0.0, r->o.p) - r->ec.energy_zero;
 }
 
+/* Settling ends before it starts: nothing to settle without attached bodies,
+ * and dq[1] = 0 is the extremum itself. */
+static int settled_at_once(const run *r)
+{
+#if NQ > 1
+    return r->y[NQ + 1] == 0.0;
+#else
+    (void)r;
+    return 1;
+#endif
+}
+
+/* The least energy above rest at which the attached bodies can lift the block,
+ * with the safety margin of rule 4; NaN when no bound applies (a bound of 0
+ * about either pivot, or NaN). */
+static double safe_energy(const double *p)
+{
+    const double zeros[NY] = {0.0};
+    const double a = model_uplift_energy(1.0, zeros, 0.0, p), b = model_uplift_energy(-1.0, zeros, 0.0, p);
+    if (!(a > 0.0 && b > 0.0))
+        return NAN;
+    return min2(a, b) * (1.0 - 1e-9);
+}
+
 static int events_exhausted(const run *r)
 {
     return r->res->uplifts + r->res->impacts >= r->c->max_events;
@@ -802,16 +858,29 @@ static void phase_machine(run *r)
             if (s != 0) { /* already above a threshold: uplift at this very instant */
                 r->res->uplifts += 1;
                 r->phase = s;
+                r->safe = 0;
                 if (events_exhausted(r)) {
                     r->res->status = ROCKING_MAX_EVENTS;
                     return;
                 }
                 continue;
             }
-            /* For the bare block E(y) = E(0) in full contact: rest at once. */
-            if (r->t >= c->t_p && energy_above_rest(r) < c->energy_rest) {
-                r->res->status = ROCKING_REST;
-                return;
+            if (r->t >= c->t_p) {
+                const double energy = energy_above_rest(r);
+                /* For the bare block E(y) = E(0) in full contact: rest at once. */
+                if (energy < c->energy_rest) {
+                    r->res->status = ROCKING_REST;
+                    return;
+                }
+                /* Below the uplift energy the block can never lift again: only
+                 * the damper's stroke is left to settle (rule 4). */
+                if (r->early && (r->safe || energy < r->ec.energy_safe)) {
+                    if (settled_at_once(r)) {
+                        r->res->status = ROCKING_REST;
+                        return;
+                    }
+                    r->safe = 1;
+                }
             }
         }
         /* Every segment stops at the pulse's end: no step straddles its kink. */
@@ -840,6 +909,7 @@ static void phase_machine(run *r)
         case EV_UPLIFT_A_PRIME:
             r->res->uplifts += 1;
             r->phase = ended == EV_UPLIFT_A ? 1 : -1;
+            r->safe = 0; /* not reached below the uplift energy; kept consistent if it were */
             if (events_exhausted(r)) {
                 r->res->status = ROCKING_MAX_EVENTS;
                 return;
@@ -858,8 +928,12 @@ static void phase_machine(run *r)
             r->res->status = ROCKING_OVERTURNED;
             return;
         case EV_REST:
+        case EV_SETTLED:
             r->res->status = ROCKING_REST;
             return;
+        case EV_SAFE:
+            r->safe = 1; /* the next contact phase settles (not rechecked: E is at the bound) */
+            break;
         default:
             r->res->status = ROCKING_FAILED; /* not reached: every terminal event is handled */
             return;
@@ -914,6 +988,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     /* In full contact the energy does not depend on the pivot: E(0) with s = +1. */
     r.ec.energy_zero = model_energy(1.0, zeros, 0.0, p);
     r.ec.energy_rest = c->energy_rest;
+    r.ec.energy_safe = c->early_rest ? safe_energy(p) : NAN;
+    r.early = !isnan(r.ec.energy_safe);
+    r.safe = 0;
     r.t = 0.0;
     r.res = out;
     r.hist = history;
@@ -949,7 +1026,7 @@ int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result 
 void rocking_simulate_batch(int64_t n, const double *p, const double *a_g, const double *omega_g, const double *psi,
                             const double *t_p, const double *t_max, const double *atol,
                             const double *contact_max_step, const double *dtheta_rest, const double *energy_rest,
-                            double rtol, int64_t max_events, rocking_result *out)
+                            double rtol, int64_t max_events, int32_t early_rest, rocking_result *out)
 {
     int64_t i;
     for (i = 0; i < n; ++i) {
@@ -968,6 +1045,7 @@ void rocking_simulate_batch(int64_t n, const double *p, const double *a_g, const
         c.record_dt = 0.0;
         c.y0 = NULL;
         c.phase0 = 0;
+        c.early_rest = early_rest;
         simulate_one(p + i * MODEL_NP, &c, out + i, NULL);
     }
 }

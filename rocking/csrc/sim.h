@@ -4,7 +4,7 @@
  * sim.c knows no model: it is compiled together with one generated model and
  * uses only its generic names (MODEL_NQ, MODEL_NY, MODEL_NP, model_rocking_accel,
  * model_contact_accel, model_uplift, model_impact, model_energy,
- * model_critical_angle). Build, e.g. for the model "omd":
+ * model_uplift_energy, model_critical_angle). Build, e.g. for the model "omd":
  *
  *     cc -std=c99 -O2 -fPIC -shared -I rocking/csrc -I generated/omd \
  *        -DROCKING_MODEL_HEADER='"omd.h"' rocking/csrc/sim.c generated/omd/omd.c -lm
@@ -29,12 +29,13 @@ extern "C" {
 #endif
 
 /* Bumped whenever a struct or a signature below changes. */
-#define ROCKING_SIM_API_VERSION 1
+#define ROCKING_SIM_API_VERSION 2
 
 /* Why a run ended: indices into rocking.problem.STATUS, plus a failure code. */
 enum rocking_status {
     ROCKING_OVERTURNED = 0, /* |theta| reached pi/2 */
-    ROCKING_REST = 1,       /* full contact after the pulse, energy above rest < energy_rest */
+    ROCKING_REST = 1,       /* full contact after the pulse: energy above rest < energy_rest, or settled
+                             * below the uplift energy (early_rest) */
     ROCKING_T_MAX = 2,      /* t_max reached */
     ROCKING_MAX_EVENTS = 3, /* uplifts + impacts reached max_events */
     ROCKING_FAILED = -1     /* the step size underflowed (non-finite right-hand side, ...) */
@@ -62,6 +63,8 @@ typedef struct rocking_case {
     double record_dt;        /* history spacing [s] (<= 0: events only); unused without history */
     const double *y0;        /* initial state, model_ny() values; NULL: at rest (all zeros) */
     int32_t phase0;          /* initial phase: 0 (needs theta = dtheta = 0), +1 or -1 (s theta >= 0) */
+    int32_t early_rest;      /* nonzero: full contact after the pulse below the uplift energy ends the run
+                              * at the next extremum of q[1] (docs/simulation.md, rule 4) */
 } rocking_case;
 
 /* One run's answer: the scalar fields of rocking.problem.Response. 64 bytes,
@@ -119,7 +122,7 @@ int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result 
  *   a_g ... t_max     n values each
  *   atol              n x model_ny(), row-major
  *   contact_max_step, dtheta_rest, energy_rest   n values each
- *   rtol, max_events  common to all runs
+ *   rtol, max_events, early_rest   common to all runs
  *   out               n results
  *
  * Case i gives exactly what rocking_simulate gives for the same settings.
@@ -127,7 +130,7 @@ int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result 
 void rocking_simulate_batch(int64_t n, const double *p, const double *a_g, const double *omega_g, const double *psi,
                             const double *t_p, const double *t_max, const double *atol,
                             const double *contact_max_step, const double *dtheta_rest, const double *energy_rest,
-                            double rtol, int64_t max_events, rocking_result *out);
+                            double rtol, int64_t max_events, int32_t early_rest, rocking_result *out);
 
 #ifdef __cplusplus
 }
