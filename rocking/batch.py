@@ -14,20 +14,7 @@ import numpy as np
 
 from .model import Model, load_model
 from .params import Block, ParameterError
-from .problem import STATUS, Problem, default_settings
-
-#: Result arrays returned by :func:`run_cases`, with their dtypes.
-RESULT_FIELDS = {
-    "overturned": bool,
-    "t_overturn": float,
-    "t_critical": float,
-    "theta_max": float,
-    "x_max": float,
-    "impacts": np.int64,
-    "uplifts": np.int64,
-    "t_end": float,
-    "status": np.int64,
-}
+from .problem import RESULT_FIELDS, STATUS, Problem, default_settings
 
 
 @dataclass(frozen=True)

@@ -25,7 +25,7 @@ import numpy as np
 from . import cbuild
 from .cbuild import CBuildError
 from .model import Model, load_model
-from .problem import STATUS, Problem, Response
+from .problem import RESULT_FIELDS, STATUS, Problem, Response
 
 __all__ = ["CBuildError", "SimulationError", "available", "batch_arguments", "library", "simulate", "simulate_batch"]
 
@@ -102,19 +102,6 @@ RESULT_DTYPE = np.dtype(
 )
 
 assert ctypes.sizeof(_Result) == RESULT_DTYPE.itemsize == 64
-
-#: What :func:`simulate_batch` returns: field -> dtype (as ``rocking.batch.RESULT_FIELDS``).
-RESULT_FIELDS = {
-    "overturned": bool,
-    "t_overturn": np.float64,
-    "t_critical": np.float64,
-    "theta_max": np.float64,
-    "x_max": np.float64,
-    "impacts": np.int64,
-    "uplifts": np.int64,
-    "t_end": np.float64,
-    "status": np.int64,
-}
 
 
 def _array_arg(dtype, ndim: int):

@@ -24,6 +24,19 @@ CONTACT, PIVOT_A, PIVOT_A_PRIME = 0, 1, -1
 #: Why a run ended.
 STATUS = ("overturned", "rest", "t_max", "max_events")
 
+#: Scalar results of a run, as arrays of a batch: field -> dtype (``status`` indexes :data:`STATUS`).
+RESULT_FIELDS = {
+    "overturned": bool,
+    "t_overturn": np.float64,
+    "t_critical": np.float64,
+    "theta_max": np.float64,
+    "x_max": np.float64,
+    "impacts": np.int64,
+    "uplifts": np.int64,
+    "t_end": np.float64,
+    "status": np.int64,
+}
+
 
 @dataclass(frozen=True)
 class Problem:
