@@ -12,7 +12,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import Model, load_model
+from .model import Model, ModelError, load_model
 from .params import Block, ParameterError
 from .problem import RESULT_FIELDS, STATUS, Problem, default_settings
 
@@ -73,12 +73,42 @@ def _array(name: str, value, low: float, *, inclusive: bool) -> np.ndarray:
     return a
 
 
+def _fixed_params(model: Model, block: Block, params) -> dict[str, float]:
+    """``params`` checked once: the model's own parameters only, all of them, within the model's ranges."""
+    if not isinstance(params, dict):
+        raise ParameterError(f"params must be a dict of parameter values by name (got {type(params).__name__})")
+    block_values = block.as_params()
+    own = [k for k in model.parameters if k not in block_values]
+    by_block = sorted(k for k in params if k in block_values)
+    if by_block:
+        raise ParameterError(f"params: {', '.join(by_block)} set by the block, not by params")
+    unknown = sorted(k for k in params if k not in model.parameters)
+    if unknown:
+        raise ParameterError(
+            f"model {model.name!r} has no parameter(s) {', '.join(map(str, unknown))}; "
+            f"its own are {', '.join(own) or 'none'}"
+        )
+    fixed = {}
+    for k, v in params.items():
+        if np.ndim(v) != 0:
+            raise ParameterError(f"params: {k} must be one number (got {v!r})")
+        try:
+            fixed[k] = float(v)
+        except (TypeError, ValueError):
+            raise ParameterError(f"params: {k} must be numeric (got {v!r})") from None
+    try:
+        model.param_vector({**block_values, **fixed})
+    except ModelError as exc:
+        raise ParameterError(str(exc)) from None
+    return fixed
+
+
 def pulse_cases(
     block: Block,
     Omega,
     beta,
     *,
-    gamma=0.0,
+    gamma=None,
     omega_ratio=1.0,
     zeta=0.05,
     h=0.05,
@@ -87,17 +117,27 @@ def pulse_cases(
     t_after: float = 15.0,
     max_events: int = 10_000,
     model: str | Model | None = None,
+    params: dict | None = None,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
     All array arguments broadcast together (model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
-    means the bare block (model ``"block"``); otherwise every ``gamma`` must
-    be > 0 and the model is ``"omd"`` unless given.
+    (or not given) means the bare block (model ``"block"``); otherwise every
+    ``gamma`` must be > 0 and the model is ``"omd"`` unless given.
+
+    ``params`` instead gives fixed values of the model's own parameters by
+    name (those not set by the block), for any generated ``model`` (default
+    ``"omd"``); it excludes ``gamma`` (``omega_ratio``, ``zeta`` and ``h``
+    are then unused). The values are checked once against the model's ranges.
     """
+    if params is not None and gamma is not None:
+        raise ParameterError(
+            "give either gamma (the omd damper relative to its block) or params (a model's own parameters), not both"
+        )
     Omega = _array("Omega", Omega, 0.0, inclusive=False)
     beta = _array("beta", beta, 0.0, inclusive=True)
-    gamma = _array("gamma", gamma, 0.0, inclusive=True)
+    gamma = _array("gamma", 0.0 if gamma is None else gamma, 0.0, inclusive=True)
     omega_ratio = _array("omega_ratio", omega_ratio, 0.0, inclusive=False)
     zeta = _array("zeta", zeta, 0.0, inclusive=True)
     h = _array("h", h, 0.0, inclusive=True)
@@ -109,17 +149,23 @@ def pulse_cases(
     except ValueError:
         raise ParameterError("Omega, beta, gamma, omega_ratio, zeta, h and psi must broadcast together") from None
     Omega, beta, gamma, omega_ratio, zeta, h, psi = (a.ravel() for a in arrays)
-    bare = not np.any(gamma > 0)
-    if not bare and np.any(gamma == 0):
+    bare = params is None and not np.any(gamma > 0)
+    if not bare and params is None and np.any(gamma == 0):
         raise ParameterError("gamma must be > 0 in every case of a batch with a damper (use a separate bare batch)")
-    model = load_model(model if model is not None else ("block" if bare else "omd"))
+    try:
+        model = load_model(model if model is not None else ("block" if bare else "omd"))
+    except ModelError as exc:
+        raise ParameterError(str(exc)) from None
 
     omega_g = Omega * block.p
     psi = psi + 0 * Omega
     t_p = (2 * np.pi - psi) / omega_g
     values = {k: np.full(Omega.shape, v) for k, v in block.as_params().items()}
     T_m = np.full(Omega.shape, np.inf)
-    if not bare:
+    if params is not None:
+        fixed = _fixed_params(model, block, params)
+        values.update({k: np.full(Omega.shape, v) for k, v in fixed.items()})
+    elif not bare:
         m = gamma * block.M
         omega_m = omega_ratio * block.p
         values.update(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)

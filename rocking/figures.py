@@ -71,9 +71,13 @@ def _classes(ax, Omega, beta, classes: np.ndarray, palette) -> None:
 
 
 def _damper_label(config: dict) -> str:
+    """The damper of a study for a title: the omd tuning, or a variant's model name and parameters."""
     d = config["damper"]
+    if "model" in d:
+        params = ", ".join(f"{k} = {v:g}" for k, v in d["params"].items())
+        return f"model {d['model']}" + (f" ({params})" if params else "")
     period = rf"$T_m p / 2\pi$ = {1 / d['omega_ratio']:.3g}"
-    return rf"$\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m"
+    return rf"damper $\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m"
 
 
 #: Legend of the open triangles of :func:`_gain_curve`.
@@ -106,7 +110,7 @@ def map_figure(study: Study) -> Figure:
     _classes(axes[2], a["Omega"], a["beta"], effect, EFFECT_CLASSES)
     s = study.summary
     axes[2].set_title(f"effect of the damper: {s.get('saved', 0)} cells saved, {s.get('lost', 0)} lost")
-    fig.suptitle(f"Overturning map, one-sine pulse; damper {_damper_label(study.config)}")
+    fig.suptitle(f"Overturning map, one-sine pulse; {_damper_label(study.config)}")
     return fig
 
 
@@ -163,7 +167,7 @@ def spectrum_figure(study: Study) -> Figure:
     ax_gain.set_xlabel(r"$\Omega$")
     ax_gain.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
     ax_gain.set_title("gain of the damper")
-    fig.suptitle(f"Minimum overturning spectrum; damper {_damper_label(study.config)}")
+    fig.suptitle(f"Minimum overturning spectrum; {_damper_label(study.config)}")
     return fig
 
 

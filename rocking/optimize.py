@@ -54,7 +54,7 @@ import numpy as np
 from .overturning_map import preflight
 from .params import ParameterError
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
-from .study_io import Grid, Setting, Study, part_config
+from .study_io import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Gain below which a damper is useless (the definition of Omega*).
@@ -164,6 +164,13 @@ def threshold_frequency(Omega, gain, level: float = USELESS_GAIN) -> dict:
     return {**out, "Omega_star": float(star), "low": float(lo), "high": float(hi), "status": "bracketed"}
 
 
+def _iterable(values) -> tuple:
+    try:
+        return tuple(values)
+    except TypeError:
+        return ()
+
+
 def check_gammas(gammas) -> tuple[float, ...]:
     """Mass ratios, validated: a non-empty list of numbers in (0, 1]."""
     gammas = tuple(gammas)
@@ -227,6 +234,12 @@ def optimal_damper(
         the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
         ``Omega_star`` (per gamma, then over all, ``nan`` if not bracketed).
     """
+    if isinstance(gammas, (Tuning, Variant)) or any(isinstance(g, (Tuning, Variant)) for g in _iterable(gammas)):
+        raise ParameterError(
+            "optimal_damper searches the period T_m of the paper's omd damper: give mass ratios gammas, "
+            "not a Tuning or a Variant (a Variant's parameters are fixed; run overturning_map or "
+            "minimum_overturning_spectrum for it)"
+        )
     gammas = check_gammas(gammas)
     tol = check_tol(tol)
     if not (isinstance(refine, int) and refine >= 0):

@@ -3,7 +3,8 @@
 Each cell of the grid of pulse frequency ratios ``Omega = omega_g / p`` and
 amplitude ratios ``beta = a_g / (g tan(alpha))`` (``model.md`` section 9) is
 one response of the block alone (part ``bare``) and one of the block with its
-damper (part ``damper``). A cell's *outcome* is ``SAFE`` (-1) or the number of
+damper (part ``damper``: the paper's ``omd`` given as a :class:`Tuning`, or any
+generated model as a :class:`Variant`). A cell's *outcome* is ``SAFE`` (-1) or the number of
 impacts before overturning (0: overturned without impact). The comparison map
 (*effect*) marks the cells the damper saves (+1: the bare block overturns, the
 damped one does not) and those it loses (-1: the reverse).
@@ -22,7 +23,7 @@ import numpy as np
 from .batch import pulse_cases, run_cases
 from .params import ParameterError
 from .problem import STATUS
-from .study_io import Grid, Setting, Study, Tuning, part_config
+from .study_io import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
@@ -30,6 +31,9 @@ FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status")
 
 #: Outcome of a response that does not overturn.
 SAFE = -1
+
+#: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
+FIXED = ("model", "params")
 
 #: Default tile: Omega values x beta values per call of run_cases.
 TILE = (16, 16)
@@ -45,16 +49,18 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
     Omega, beta : array_like
         Pulse frequency and amplitude ratios; broadcast together.
     damper : dict, optional
-        Keyword arguments ``gamma``, ``omega_ratio``, ``zeta``, ``h`` of
-        :func:`rocking.batch.pulse_cases` (array_like, broadcasting with the
-        pulses); ``None`` for the bare block.
+        Keyword arguments of :func:`rocking.batch.pulse_cases`: ``gamma``,
+        ``omega_ratio``, ``zeta``, ``h`` (array_like, broadcasting with the
+        pulses) or ``model`` and ``params`` (:meth:`Variant.case_args`);
+        ``None`` for the bare block.
 
     Returns
     -------
     dict of ndarray
         The arrays :data:`FIELDS`.
     """
-    shape = np.broadcast_shapes(np.shape(Omega), np.shape(beta), *(np.shape(v) for v in (damper or {}).values()))
+    arrays = {k: v for k, v in (damper or {}).items() if k not in FIXED}
+    shape = np.broadcast_shapes(np.shape(Omega), np.shape(beta), *(np.shape(v) for v in arrays.values()))
     cases = pulse_cases(
         setting.block, Omega, beta, rtol=setting.rtol, t_after=setting.t_after, **(damper or {"gamma": 0.0})
     )
@@ -62,8 +68,11 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
     return {k: result[k].reshape(shape) for k in FIELDS}
 
 
-def preflight(setting: Setting) -> None:
-    """Run one trivial case of each model here, before any worker starts.
+def preflight(setting: Setting, damper: dict | None = None) -> None:
+    """Run one trivial case of the bare block and of ``damper`` here, before any worker starts.
+
+    ``damper``: keyword arguments of :func:`rocking.batch.pulse_cases`
+    (default: a small ``omd`` damper). Its parameters are checked too.
 
     A missing or unbuildable back end then fails at once, with a clear
     message, and the C library is built (and cached) once, not by every worker.
@@ -76,8 +85,8 @@ def preflight(setting: Setting) -> None:
     from .cbuild import CBuildError
 
     try:
-        for damper in (None, {"gamma": 0.01}):
-            respond(setting, 1.0, 0.0, damper)
+        for case in (None, damper or {"gamma": 0.01}):
+            respond(setting, 1.0, 0.0, case)
     except (ImportError, CBuildError) as exc:
         raise ParameterError(f"backend {setting.backend!r} is not available ({exc}); try --backend numpy") from None
 
@@ -98,6 +107,14 @@ def map_tile(payload: tuple) -> dict:
     return respond(setting, Omega[:, None], beta[None, :], damper)
 
 
+def check_damper(damper) -> None:
+    """Refuse anything but a :class:`Tuning` or a :class:`Variant` as a study's damper."""
+    if not isinstance(damper, (Tuning, Variant)):
+        raise ParameterError(
+            f"the damper must be a rocking.study_io.Tuning (omd) or Variant (any model) (got {type(damper).__name__})"
+        )
+
+
 def _check_tile(tile) -> tuple[int, int]:
     try:
         a, b = (int(v) for v in tile)
@@ -110,7 +127,7 @@ def _check_tile(tile) -> tuple[int, int]:
 
 def overturning_map(
     setting: Setting,
-    tuning: Tuning,
+    tuning: Tuning | Variant,
     Omega: Grid,
     beta: Grid,
     execution: Execution = LOCAL,
@@ -125,8 +142,9 @@ def overturning_map(
     ----------
     setting : Setting
         Block and solver.
-    tuning : Tuning
-        The damper.
+    tuning : Tuning or Variant
+        The damper: the paper's ``omd`` relative to the block, or any
+        generated model with its parameters.
     Omega, beta : Grid
         Pulse frequency and amplitude ratios.
     execution : Execution
@@ -149,13 +167,15 @@ def overturning_map(
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile)}
     arrays = {"Omega": Om, "beta": b}
+    check_damper(tuning)
+    record = tuning.record()
     groups, where, folders = [], {}, {}
-    for part, damper in (("bare", None), ("damper", tuning.record())):
+    for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
         for k, dtype in (("overturned", bool), ("impacts", np.int64), ("status", np.int64)):
             arrays[f"{part}_{k}"] = np.zeros((Om.size, b.size), dtype)
         for k in ("theta_max", "x_max"):
             arrays[f"{part}_{k}"] = np.full((Om.size, b.size), np.nan)
-        folder = run_folder(runs, part_config("map", part, setting, damper=damper, **grids))
+        folder = run_folder(runs, part_config("map", part, setting, damper=described, **grids))
         folders[part] = folder.name
         part_tasks: list[Task] = []
         groups.append(part_tasks)
@@ -171,10 +191,10 @@ def overturning_map(
         for k in FIELDS:
             arrays[f"{part}_{k}"][rows, cols] = tile_arrays[k]
 
-    preflight(setting)
+    preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, desc="map", on_tile=on_tile)
     arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"])
-    config = {"kind": "map", **setting.record(), "damper": tuning.record(), **grids}
+    config = {"kind": "map", **setting.record(), "damper": record, **grids}
     return Study(
         "map",
         config,

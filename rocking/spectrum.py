@@ -29,9 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .overturning_map import SAFE, outcome, preflight, respond
+from .overturning_map import FIXED, SAFE, check_damper, outcome, preflight, respond
 from .params import ParameterError
-from .study_io import Grid, Setting, Study, Tuning, part_config
+from .study_io import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 BELOW, BRACKETED, ABOVE = -1, 0, 1
@@ -48,10 +48,13 @@ def check_tol(tol) -> float:
 
 
 def _column(values, n: int) -> dict | None:
-    """Damper keyword arrays as columns ``(n, 1)``, to broadcast against the scan amplitudes."""
+    """Damper keyword arrays as columns ``(n, 1)``, to broadcast against the scan amplitudes.
+
+    ``model`` and ``params`` (:data:`rocking.overturning_map.FIXED`) pass through unchanged.
+    """
     if values is None:
         return None
-    return {k: np.broadcast_to(np.asarray(v, float), (n,))[:, None] for k, v in values.items()}
+    return {k: v if k in FIXED else np.broadcast_to(np.asarray(v, float), (n,))[:, None] for k, v in values.items()}
 
 
 def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL) -> dict:
@@ -67,8 +70,9 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         Increasing scan amplitudes.
     damper : dict, optional
         Keyword arguments of :func:`rocking.batch.pulse_cases` (``gamma``,
-        ``omega_ratio``, ``zeta``, ``h``), scalars or arrays of shape (n,);
-        ``None`` for the bare block.
+        ``omega_ratio``, ``zeta``, ``h``), scalars or arrays of shape (n,),
+        or ``model`` and ``params`` (:meth:`Variant.case_args`); ``None`` for
+        the bare block.
     tol : float
         Relative width of the final bracket, ``(hi - lo) <= tol * hi``.
 
@@ -97,7 +101,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         if active.size == 0:
             break
         mid = 0.5 * (lo[active] + hi[active])
-        sub = None if cols is None else {k: v[active, 0] for k, v in cols.items()}
+        sub = None if cols is None else {k: v if k in FIXED else v[active, 0] for k, v in cols.items()}
         r = respond(setting, Omega[active], mid, sub)
         up = r["overturned"]
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
@@ -135,7 +139,7 @@ def spectrum_tile(payload: tuple) -> dict:
 
 def minimum_overturning_spectrum(
     setting: Setting,
-    tuning: Tuning,
+    tuning: Tuning | Variant,
     Omega: Grid,
     beta: Grid,
     execution: Execution = LOCAL,
@@ -150,8 +154,9 @@ def minimum_overturning_spectrum(
     ----------
     setting : Setting
         Block and solver.
-    tuning : Tuning
-        The damper.
+    tuning : Tuning or Variant
+        The damper: the paper's ``omd`` relative to the block, or any
+        generated model with its parameters.
     Omega : Grid
         Pulse frequency ratios.
     beta : Grid
@@ -176,14 +181,16 @@ def minimum_overturning_spectrum(
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol}
     arrays = {"Omega": Om, "beta_scan": b}
+    check_damper(tuning)
+    record = tuning.record()
     groups, where, folders = [], {}, {}
-    for part, damper in (("bare", None), ("damper", tuning.record())):
+    for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
         arrays[f"{part}_beta_min"] = np.full(Om.size, np.nan)
         arrays[f"{part}_beta_safe"] = np.full(Om.size, np.nan)
         arrays[f"{part}_flag"] = np.zeros(Om.size, np.int64)
         arrays[f"{part}_impacts"] = np.zeros(Om.size, np.int64)
         arrays[f"{part}_scan_outcome"] = np.zeros((Om.size, b.size), np.int64)
-        folder = run_folder(runs, part_config("spectrum", part, setting, damper=damper, **grids))
+        folder = run_folder(runs, part_config("spectrum", part, setting, damper=described, **grids))
         folders[part] = folder.name
         part_tasks: list[Task] = []
         groups.append(part_tasks)
@@ -197,11 +204,11 @@ def minimum_overturning_spectrum(
         for k in ("beta_min", "beta_safe", "flag", "impacts", "scan_outcome"):
             arrays[f"{part}_{k}"][i] = column[k][0]
 
-    preflight(setting)
+    preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, desc="spectrum", on_tile=on_tile)
     for part in ("bare", "damper"):
         arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
-    config = {"kind": "spectrum", **setting.record(), "damper": tuning.record(), **grids}
+    config = {"kind": "spectrum", **setting.record(), "damper": record, **grids}
     return Study(
         "spectrum",
         config,

@@ -21,7 +21,7 @@ from .optimize import REFINE, TM_GRID, optimal_damper
 from .overturning_map import TILE, overturning_map
 from .params import Block, ParameterError
 from .spectrum import TOL, minimum_overturning_spectrum
-from .study_io import Grid, Setting, Study, Tuning, save
+from .study_io import Grid, Setting, Study, Tuning, Variant, save
 from .tiles import Execution
 
 #: Default grids (MIN, MAX, N) of the commands; model.md section 9 gives the ranges. The beta
@@ -31,6 +31,10 @@ MAP_OMEGA, MAP_BETA = (0.5, 15.0, 146), (1.0, 15.0, 141)
 SPECTRUM_OMEGA, SPECTRUM_BETA = (0.5, 15.0, 59), (0.5, 15.0, 117)
 OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
+
+#: Default damper of the options (the omd tuning), and the options that set it.
+DAMPER = {"gamma": 0.05, "zeta": 0.05, "h": 0.05}
+DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h")
 
 
 # --- options -------------------------------------------------------------------------
@@ -65,7 +69,7 @@ def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> N
     """Damper options: one damper (``tuned``) and/or the mass ratios of the optimisation (``searched``)."""
     g = p.add_argument_group("damper")
     if tuned:
-        g.add_argument("--gamma", type=float, default=0.05, help="mass ratio m/M (default 0.05)")
+        g.add_argument("--gamma", type=float, help=f"mass ratio m/M (default {DAMPER['gamma']:g})")
         tuning = g.add_mutually_exclusive_group()
         tuning.add_argument("--Tm-ratio", type=float, help="damper period T_m p / (2 pi) (default 1)")
         tuning.add_argument("--omega-ratio", type=float, help="damper frequency omega_m / p (default 1)")
@@ -78,8 +82,27 @@ def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> N
             help=f"mass ratios of the optimal damper (default {' '.join(map(str, OPTIMIZE_GAMMAS))}); "
             "the best over them is reported too",
         )
-    g.add_argument("--zeta", type=float, default=0.05, help="damping ratio (default 0.05)")
-    g.add_argument("--h", type=float, default=0.05, help="height of the guide above the block, m (default 0.05)")
+    g.add_argument("--zeta", type=float, help=f"damping ratio (default {DAMPER['zeta']:g})")
+    g.add_argument("--h", type=float, help=f"height of the guide above the block, m (default {DAMPER['h']:g})")
+
+
+def _add_variant(p: argparse.ArgumentParser) -> None:
+    """``--model`` and ``--param``: any generated model with its own parameters, instead of the omd damper."""
+    g = p.add_argument_group("model variant (instead of the damper options)")
+    g.add_argument(
+        "--model",
+        metavar="NAME|FOLDER",
+        help="generated model by name (omd, pendulum, omd2, ...) or folder written by python -m derive "
+        "(default omd, tuned by the damper options)",
+    )
+    g.add_argument(
+        "--param",
+        action="append",
+        default=[],
+        metavar="NAME=VALUE",
+        help="a parameter of the model's own, SI units (repeat for each); with --model other than omd, "
+        "every parameter not set by the block is needed",
+    )
 
 
 def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
@@ -133,6 +156,11 @@ def setting_from(args) -> Setting:
     return Setting(block_from(args), rtol=args.rtol, t_after=args.t_after, backend=args.backend)
 
 
+def _damper_option(args, name: str):
+    value = getattr(args, name, None)
+    return DAMPER[name] if value is None else value
+
+
 def tuning_from(args) -> Tuning:
     if args.Tm_ratio is not None:
         if not args.Tm_ratio > 0:
@@ -140,7 +168,47 @@ def tuning_from(args) -> Tuning:
         omega_ratio = 1.0 / args.Tm_ratio
     else:
         omega_ratio = 1.0 if args.omega_ratio is None else args.omega_ratio
-    return Tuning(args.gamma, omega_ratio, args.zeta, args.h)
+    return Tuning(_damper_option(args, "gamma"), omega_ratio, _damper_option(args, "zeta"), _damper_option(args, "h"))
+
+
+def params_from(items) -> dict:
+    """``NAME=VALUE`` strings as a dict of floats."""
+    params = {}
+    for item in items:
+        name, sep, value = item.partition("=")
+        name = name.strip()
+        if not sep or not name:
+            raise ParameterError(f"--param takes NAME=VALUE (got {item!r})")
+        if name in params:
+            raise ParameterError(f"--param {name} given twice")
+        try:
+            params[name] = float(value)
+        except ValueError:
+            raise ParameterError(f"--param {name} must be a number (got {value!r})") from None
+    return params
+
+
+def damper_from(args) -> Tuning | Variant:
+    """The damper of ``map``/``spectrum``: the omd :class:`Tuning`, or a :class:`Variant` with ``--model``/``--param``.
+
+    ``--model omd`` without ``--param`` is the tuned omd damper; any other
+    ``--model``, or ``--param`` given, is a variant whose parameters are the
+    ``--param`` values, and the damper options are then refused.
+    """
+    model, items = getattr(args, "model", None), getattr(args, "param", [])
+    if model is None and not items:
+        return tuning_from(args)
+    if model is None:
+        raise ParameterError("--param sets a model's parameters: give the model with --model NAME|FOLDER")
+    if model == "omd" and not items:
+        return tuning_from(args)
+    given = [f"--{o.replace('_', '-')}" for o in DAMPER_OPTIONS if getattr(args, o, None) is not None]
+    if given:
+        raise ParameterError(
+            f"{', '.join(given)}: damper options of the omd model; with --model {model} "
+            "give the model's own parameters as --param NAME=VALUE"
+        )
+    return Variant(model, params_from(items))
 
 
 def execution_from(args) -> Execution:
@@ -164,7 +232,7 @@ def _report(study: Study, out: Path) -> list[Path]:
 def _cmd_map(args) -> int:
     study = overturning_map(
         setting_from(args),
-        tuning_from(args),
+        damper_from(args),
         grid_from("Omega", args.Omega),
         grid_from("beta", args.beta),
         execution_from(args),
@@ -183,7 +251,7 @@ def _cmd_map(args) -> int:
 def _cmd_spectrum(args) -> int:
     study = minimum_overturning_spectrum(
         setting_from(args),
-        tuning_from(args),
+        damper_from(args),
         grid_from("Omega", args.Omega),
         grid_from("beta", args.beta),
         execution_from(args),
@@ -206,8 +274,8 @@ def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: G
         Omega,
         beta,
         execution,
-        zeta=args.zeta,
-        h=args.h,
+        zeta=_damper_option(args, "zeta"),
+        h=_damper_option(args, "h"),
         Tm=Tm,
         refine=refine,
         tol=args.beta_tol,
@@ -311,6 +379,7 @@ def add_study_commands(subparsers) -> None:
     p = subparsers.add_parser("map", help="overturning map over (Omega, beta), block alone and with a damper")
     add_block_options(p)
     _add_damper(p, tuned=True, searched=False)
+    _add_variant(p)
     _add_grid(p, "Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p")
     _add_grid(p, "beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)")
     p.add_argument(
@@ -327,6 +396,7 @@ def add_study_commands(subparsers) -> None:
     p = subparsers.add_parser("spectrum", help="minimum overturning amplitude beta_min(Omega), with safe windows")
     add_block_options(p)
     _add_damper(p, tuned=True, searched=False)
+    _add_variant(p)
     _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
     _add_tol(p)

@@ -2,7 +2,8 @@
 
 A study (the overturning map, the minimum overturning spectrum, the optimal
 damper) is described by a :class:`Setting` (the block and the solver), a
-damper :class:`Tuning` and :class:`Grid` s of the non-dimensional pulse
+damper :class:`Tuning` (the paper's ``omd``) or a :class:`Variant` (any
+generated model with its parameters given explicitly) and :class:`Grid` s of the non-dimensional pulse
 parameters of ``model.md`` section 9 (``Omega = omega_g / p``,
 ``beta = a_g / (g tan(alpha))``). Its result is a :class:`Study`: arrays,
 CSV tables, a JSON-ready configuration and a summary. :func:`save` writes it
@@ -25,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import load_model
+from .model import GENERATED, ModelError, load_model
 from .params import Block, ParameterError
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
@@ -176,6 +177,81 @@ class Tuning:
     def record(self) -> dict:
         """JSON-ready description (also the keyword arguments of :func:`rocking.batch.pulse_cases`)."""
         return {"gamma": self.gamma, "omega_ratio": self.omega_ratio, "zeta": self.zeta, "h": self.h}
+
+    def case_args(self) -> dict:
+        """Keyword arguments of :func:`rocking.batch.pulse_cases` for this damper."""
+        return self.record()
+
+
+@dataclass(frozen=True)
+class Variant:
+    """Any generated model with its own parameters given explicitly, in place of a :class:`Tuning`.
+
+    Parameters
+    ----------
+    model : str
+        Installed model name (``"pendulum"``, ``"omd2"``, ...) or a folder
+        written by ``python -m derive`` (kept as its absolute path).
+    params : dict
+        Value of each of the model's own parameters (those not set by the
+        block), SI units; their ranges are checked against the block when the
+        study runs (:func:`rocking.batch.pulse_cases`).
+
+    Raises
+    ------
+    ParameterError
+        For an unknown model, or parameters missing, unknown, set by the
+        block or not numeric.
+    """
+
+    model: str
+    params: dict = field(default_factory=dict)
+
+    def __post_init__(self) -> None:
+        try:
+            model = load_model(self.model)
+        except (ModelError, TypeError) as exc:
+            raise ParameterError(str(exc)) from None
+        if model.folder != (GENERATED / model.name).resolve():
+            object.__setattr__(self, "model", str(model.folder))  # a folder: absolute, for every worker
+        if not isinstance(self.params, dict):
+            raise ParameterError(f"params must be a dict of values by name (got {type(self.params).__name__})")
+        own = [k for k in model.parameters if k not in BLOCK_PARAMETERS]
+        unknown = sorted(str(k) for k in self.params if k not in own)
+        if unknown:
+            raise ParameterError(
+                f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; "
+                f"give {', '.join(own) or 'none'} (the block sets {', '.join(BLOCK_PARAMETERS)})"
+            )
+        missing = [k for k in own if k not in self.params]
+        if missing:
+            raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
+        values = {}
+        for k in own:
+            v = self.params[k]
+            ok = isinstance(v, (int, float, np.integer, np.floating)) and not isinstance(v, bool)
+            if not (ok and math.isfinite(v)):
+                raise ParameterError(f"model {model.name!r}: {k} must be a finite number (got {v!r})")
+            values[k] = float(v)
+        object.__setattr__(self, "params", values)
+        object.__setattr__(self, "_name", model.name)
+
+    @property
+    def name(self) -> str:
+        """The model's name (``manifest["model"]``)."""
+        return self._name
+
+    def record(self) -> dict:
+        """JSON-ready description, with the hash of the model's manifest (stale tiles are never reused)."""
+        return {"model": self.name, "params": dict(self.params), "model_manifest_sha256": model_hash(self.model)}
+
+    def case_args(self) -> dict:
+        """Keyword arguments of :func:`rocking.batch.pulse_cases` for this damper."""
+        return {"model": self.model, "params": dict(self.params)}
+
+
+#: Parameters every model takes from the block (``Block.as_params``).
+BLOCK_PARAMETERS = ("M", "I_G", "B", "H", "e", "g")
 
 
 @dataclass
