@@ -44,7 +44,9 @@ def timed(fn, *args, **kw):
 def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
     block, Omega, beta, cases = map_cases(n_grid)
     run_cases(pulse_cases(block, [2.0], [2.0], gamma=GAMMA, h=H_MASS), "c")  # build and load outside the timing
-    c_res, c_time = timed(run_cases, cases, "c", 1)
+    # Best of three: the machine is shared, and the slowest runs measure the neighbours.
+    runs = [timed(run_cases, cases, "c", 1) for _ in range(3)]
+    c_res, c_time = min(runs, key=lambda r: r[1])
     n = len(cases)
     pick = np.random.default_rng(seed).choice(n, size=n_subset, replace=False)
     from rocking import numpy_backend
@@ -101,9 +103,13 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
 
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
-        for workers in (1, 2):
-            _, seconds = _map(n_map, workers, f"{tmp}/runs{workers}")
-            out[f"map_responses_per_s_{workers}_workers"] = 2 * n_map * n_map / seconds
+        # Best of two interleaved runs each: the machine is shared, and the pool's
+        # start-up (about half a second) is part of what a user waits for.
+        for repeat in range(2):
+            for workers in (1, 2):
+                _, seconds = _map(n_map, workers, f"{tmp}/runs{repeat}{workers}")
+                key = f"map_responses_per_s_{workers}_workers"
+                out[key] = max(out.get(key, 0.0), 2 * n_map * n_map / seconds)
         out["map_speedup_2_vs_1"] = out["map_responses_per_s_2_workers"] / out["map_responses_per_s_1_workers"]
         # Peak memory in a fresh process per size: it must not grow with the grid beyond the result arrays.
         probe = (
@@ -132,6 +138,7 @@ def main(argv=None) -> int:
     parser.add_argument("--grid", type=int, default=50)
     parser.add_argument("--subset", type=int, default=30, help="cases run on the NumPy path and the baseline")
     parser.add_argument("--seed", type=int, default=0)
+    parser.add_argument("--map-grid", type=int, default=150, help="side of the map timed with 1 and 2 workers")
     parser.add_argument("--memory-grid", type=int, default=400, help="side of the map whose peak memory is measured")
     parser.add_argument("--json", help="also write the figures to this file")
     parser.add_argument("--no-studies", action="store_true", help="only the simulator")
@@ -148,7 +155,7 @@ def main(argv=None) -> int:
     print(f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, ", end="")
     print(f"C = baseline {sim['verdicts_c_eq_baseline']}")
     if not args.no_studies:
-        st = results["studies"] = bench_studies(args.grid, args.memory_grid)
+        st = results["studies"] = bench_studies(args.map_grid, args.memory_grid)
         n, m = st["n_map"], st["n_memory"]
         print(f"studies, {n}x{n} map (block alone + damper):")
         print(f"  1 worker      {st['map_responses_per_s_1_workers']:10.0f} responses/s")
