@@ -41,12 +41,19 @@ def timed(fn, *args, **kw):
     return out, time.perf_counter() - start
 
 
+def cpu_timed(fn, *args, **kw):
+    """Result, wall seconds and CPU seconds of this process (time stolen by neighbours excluded)."""
+    cpu = time.process_time()
+    out, wall = timed(fn, *args, **kw)
+    return out, wall, time.process_time() - cpu
+
+
 def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
     block, Omega, beta, cases = map_cases(n_grid)
     run_cases(pulse_cases(block, [2.0], [2.0], gamma=GAMMA, h=H_MASS), "c")  # build and load outside the timing
     # Best of three: the machine is shared, and the slowest runs measure the neighbours.
-    runs = [timed(run_cases, cases, "c", 1) for _ in range(3)]
-    c_res, c_time = min(runs, key=lambda r: r[1])
+    runs = [cpu_timed(run_cases, cases, "c", 1) for _ in range(3)]
+    c_res, c_time, c_cpu = min(runs, key=lambda r: r[1])
     n = len(cases)
     pick = np.random.default_rng(seed).choice(n, size=n_subset, replace=False)
     from rocking import numpy_backend
@@ -71,6 +78,7 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
         "responses": n,
         "c_seconds": c_time,
         "c_responses_per_s_per_core": n / c_time,
+        "c_responses_per_cpu_s": n / c_cpu,
         "numpy_ms_per_response": 1e3 * np_per,
         "baseline_ms_per_response": 1e3 * base_per,
         "baseline_lambdify_s": t_lambdify,
@@ -147,7 +155,8 @@ def main(argv=None) -> int:
     sim = results["simulator"]
     print(f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, ", end="")
     print(f"{sim['overturned_fraction']:.0%} overturn):")
-    print(f"  C path        {sim['c_responses_per_s_per_core']:10.0f} responses/s/core  (target >= 10,000)")
+    print(f"  C path        {sim['c_responses_per_s_per_core']:10.0f} responses/s/core  (target >= 10,000); ", end="")
+    print(f"{sim['c_responses_per_cpu_s']:.0f} per CPU second")
     print(f"  NumPy path    {sim['numpy_ms_per_response']:10.2f} ms/response   ", end="")
     print(f"C is {sim['speedup_c_vs_numpy']:.0f}x faster")
     print(f"  baseline      {sim['baseline_ms_per_response']:10.2f} ms/response   ", end="")

@@ -89,7 +89,9 @@ def rel_error(got, ref) -> float:
     size = np.abs(ref)
     scale = np.maximum(size, CANCELLATION_FLOOR * np.median(size))
     same = got == ref  # equal infinities are no error
-    err = np.divide(np.abs(got - ref), scale, out=np.zeros_like(scale), where=(scale > 0) & ~same)
+    with np.errstate(invalid="ignore"):  # inf - inf where both are inf: masked by `same`
+        diff = np.abs(got - ref)
+    err = np.divide(diff, scale, out=np.zeros_like(scale), where=(scale > 0) & ~same)
     return float(np.max(err))
 
 
