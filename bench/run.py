@@ -146,7 +146,7 @@ def main(argv=None) -> int:
     parser.add_argument("--grid", type=int, default=50)
     parser.add_argument("--subset", type=int, default=30, help="cases run on the NumPy path and the baseline")
     parser.add_argument("--seed", type=int, default=0)
-    parser.add_argument("--map-grid", type=int, default=150, help="side of the map timed with 1 and 2 workers")
+    parser.add_argument("--map-grid", type=int, default=200, help="side of the map timed with 1 and 2 workers")
     parser.add_argument("--memory-grid", type=int, default=400, help="side of the map whose peak memory is measured")
     parser.add_argument("--json", help="also write the figures to this file")
     parser.add_argument("--no-studies", action="store_true", help="only the simulator")

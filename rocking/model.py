@@ -6,6 +6,7 @@ files next to it, so any folder written by ``python -m derive`` can be used.
 
 from __future__ import annotations
 
+import functools
 import importlib.util
 import json
 from collections.abc import Mapping
@@ -124,6 +125,14 @@ def load_model(model: str | Path | Model = "omd") -> Model:
             f"unknown model {str(model)!r}: not an installed model ({', '.join(available_models())}) "
             "nor a folder with a manifest.json"
         )
+    # Studies load the model once per tile: import each generated module once,
+    # again only when the folder is regenerated.
+    return _load_folder(folder.resolve(), manifest_path.stat().st_mtime_ns)
+
+
+@functools.lru_cache(maxsize=32)
+def _load_folder(folder: Path, manifest_mtime_ns: int) -> Model:
+    manifest_path = folder / "manifest.json"
     manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
     if manifest.get("format") != MANIFEST_FORMAT:
         raise ModelError(f"{manifest_path}: manifest format {manifest.get('format')} is not {MANIFEST_FORMAT}")

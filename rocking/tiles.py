@@ -128,14 +128,15 @@ class TileStats:
 def _atomic_write(path: Path, write: Callable) -> None:
     """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``.
 
-    A reader (or a rerun after a crash) sees either no file or a whole one.
+    A reader (or a rerun after Ctrl-C or a killed process) sees either no file
+    or a whole one. No fsync: it would cost as much as a small tile's work, and
+    only a power cut can leave a damaged file, which :func:`load_tile` refuses
+    and the rerun recomputes.
     """
     fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
     try:
         with os.fdopen(fd, "wb") as f:
             write(f)
-            f.flush()
-            os.fsync(f.fileno())
         os.replace(tmp, path)
     except BaseException:
         os.unlink(tmp)
