@@ -135,7 +135,8 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
             out[f"map_{n}x{n}_peak_rss_mb"] = rss / 2**20
             out[f"map_{n}x{n}_result_arrays_mb"] = size / 2**20
         start = time.perf_counter()
-        subprocess.run(["rocking", "demo", "--out", f"{tmp}/demo", "--no-progress"], check=True, capture_output=True)
+        demo = [sys.executable, "-m", "rocking.cli", "demo", "--out", f"{tmp}/demo", "--no-progress"]
+        subprocess.run(demo, check=True, capture_output=True)
         out["demo_seconds"] = time.perf_counter() - start
     out["n_map"], out["n_memory"] = n_map, n_memory
     return out
