@@ -138,6 +138,54 @@ def _cse(outputs):
     return sp.cse(list(outputs), symbols=sp.numbered_symbols("cse"), order="canonical")
 
 
+def hoist_constants(outputs, varying):
+    """Split expressions into constants of the parameters and what varies along a run.
+
+    Every largest subexpression that depends on none of ``varying`` (the state
+    and ``ag``) becomes a symbol ``cst<i>``, the same symbol wherever it
+    recurs; the terms of a sum that differ only by such a factor are gathered
+    first, so that ``a x + b x`` costs one constant ``a + b``. A runtime
+    computes the constants once per run and pivot, not at every call.
+
+    Returns
+    -------
+    constants : list of (Symbol, Expr)
+        In order of first use.
+    outputs : list of Expr
+        The outputs in terms of ``varying`` and the constants.
+    """
+    varying = set(varying)
+    table: dict = {}
+
+    def constant(expr):
+        if expr.is_number:
+            return expr
+        if expr not in table:
+            table[expr] = sp.Symbol(f"cst{len(table)}", real=True)
+        return table[expr]
+
+    def walk(expr):
+        if not isinstance(expr, sp.Expr):
+            return expr
+        if not (expr.free_symbols & varying):
+            return constant(expr)
+        if not expr.args:
+            return expr
+        if expr.is_Add:
+            gathered: dict = {}
+            for term in expr.args:
+                coefficient, rest = term.as_independent(*varying, as_Add=False)
+                gathered.setdefault(rest, []).append(coefficient)
+            return sp.Add(*(constant(sp.Add(*c)) * walk(rest) for rest, c in gathered.items()))
+        if expr.is_Mul:
+            coefficient, rest = expr.as_independent(*varying, as_Add=False)
+            return constant(coefficient) * sp.Mul(*(walk(f) for f in sp.Mul.make_args(rest)))
+        return expr.func(*(walk(a) for a in expr.args))
+
+    hoisted = [walk(sp.sympify(o)) for o in outputs]
+    return [(symbol, expr) for expr, symbol in table.items()], hoisted
+
+
 def _used(exprs, names):
     free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
     return [n for n in names if sp.Symbol(n, real=True) in free]
@@ -214,15 +262,35 @@ class _C99(C99CodePrinter):
 
 
 class CGenerator(Generator):
-    """C99 source and header: pure functions of doubles, no allocation, no globals."""
+    """C99 source and header: pure functions of doubles, no allocation, no globals.
+
+    The constants of a run (:func:`hoist_constants`: every subexpression of
+    the parameters and the pivot alone) come from ``prefix_prepare(s, p, cst)``;
+    ``prefix_<name>_prepared(y, ag, cst[, out])`` is the work left per call,
+    what a runtime calls in its inner loop. ``prefix_<name>(s, y, ag, p[, out])``
+    prepares and calls it: the interface of every back end.
+    """
 
     def files(self):
         printer = _C99()
         ctx = self.context()
         state, params = ctx["state"], ctx["params"]
-        funcs = []
+        varying = [sp.Symbol(n, real=True) for n in state] + [ag]
+        outputs = [o for f in self.functions for o in f.outputs]
+        constants, hoisted = hoist_constants(outputs, varying)
+        subs, outs = _cse([expr for _, expr in constants])
+        exprs = [b for _, b in subs] + list(outs)
+        ctx["prepare"] = {
+            "uses_s": bool(_used(exprs, ["s"])),
+            "params": [(i, n) for i, n in enumerate(params) if n in _used(exprs, params)],
+            "subs": [(str(a), printer.doprint(b)) for a, b in subs],
+            "outs": [printer.doprint(o) for o in outs],
+        }
+        names = [str(symbol) for symbol, _ in constants]
+        funcs, start = [], 0
         for f in self.functions:
-            subs, outs = _cse(f.outputs)
+            subs, outs = _cse(hoisted[start : start + len(f.outputs)])
+            start += len(f.outputs)
             exprs = [b for _, b in subs] + list(outs)
             funcs.append(
                 {
@@ -230,16 +298,15 @@ class CGenerator(Generator):
                     "doc": f.doc,
                     "labels": f.labels,
                     "scalar": f.scalar,
-                    "uses_s": bool(_used(exprs, ["s"])),
                     "uses_ag": bool(_used(exprs, ["ag"])),
                     "state": [(i, n) for i, n in enumerate(state) if n in _used(exprs, state)],
-                    "params": [(i, n) for i, n in enumerate(params) if n in _used(exprs, params)],
+                    "constants": [(i, n) for i, n in enumerate(names) if n in _used(exprs, names)],
                     "subs": [(str(a), printer.doprint(b)) for a, b in subs],
                     "outs": [printer.doprint(o) for o in outs],
-                    "n_out": len(outs),
                 }
             )
         ctx["functions"] = funcs
+        ctx["n_constants"] = len(constants)
         ctx["prefix"] = self.spec.name
         ctx["PREFIX"] = self.spec.name.upper()
         return {

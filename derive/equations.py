@@ -106,7 +106,7 @@ def _to_symbols(expr, sysm: System, vg):
     """Replace the time functions and their derivatives by plain symbols."""
     t_ = sysm.x_g.args[0]
     rep = {sysm.x_g.diff(t_, 2): ag, sysm.x_g.diff(t_): vg}
-    for f, q, dq, ddq in zip(sysm.qt, sysm.q, sysm.dq, sysm.ddq):
+    for f, _q, dq, ddq in zip(sysm.qt, sysm.q, sysm.dq, sysm.ddq):
         rep[f.diff(f.args[0], 2)] = ddq
         rep[f.diff(f.args[0])] = dq
     expr = expr.xreplace(rep)

@@ -36,6 +36,8 @@ BLOCK_PARAMETERS = (
 IMPACT_LAWS = ("momentum", "velocity")
 INERTIA_OPTIONS = ("free", "homogeneous")
 _RESERVED = {"theta", "s", "t", "ag", "x_g"} | {p[0] for p in BLOCK_PARAMETERS}
+#: Temporaries (cse<i>) and run constants (cst<i>) of the generated code.
+_GENERATED_PREFIXES = ("cse", "cst")
 
 
 class SpecError(ValueError):
@@ -154,6 +156,9 @@ def parse_spec(data: dict, source: str = "") -> Spec:
             raise SpecError(f"spec: {n!r} is not a valid symbol name")
         if n in _RESERVED:
             raise SpecError(f"spec: {n!r} is reserved for the block or the derivation")
+        if n.startswith(_GENERATED_PREFIXES):
+            prefixes = " or ".join(_GENERATED_PREFIXES)
+            raise SpecError(f"spec: {n!r}: names starting with {prefixes} are the generated code's")
     if len(set(names)) != len(names):
         raise SpecError("spec: a name is declared twice among coordinates and parameters")
 

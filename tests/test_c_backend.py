@@ -159,11 +159,16 @@ def test_sim_is_model_independent(tmp_path):
     names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact"]
     scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle"]
     args = "double s, const double *y, double ag, const double *p"
-    lines = ["#ifndef STUB3_H", "#define STUB3_H"]
+    prepared = "const double *y, double ag, const double *cst"
+    lines = ["#ifndef STUB3_H", "#define STUB3_H", "void stub3_prepare(double s, const double *p, double *cst);"]
     lines += [f"void stub3_{n}({args}, double *out);" for n in names]
+    lines += [f"void stub3_{n}_prepared({prepared}, double *out);" for n in names]
     lines += [f"double stub3_{n}({args});" for n in scalars]
+    lines += [f"double stub3_{n}_prepared({prepared});" for n in scalars]
     lines += ["#ifdef ROCKING_GENERIC_NAMES", "#define MODEL_NQ 3", "#define MODEL_NY 6", "#define MODEL_NP 7"]
+    lines += ["#define MODEL_NK 11", "#define model_prepare stub3_prepare"]
     lines += [f"#define model_{n} stub3_{n}" for n in names + scalars]
+    lines += [f"#define model_{n}_prepared stub3_{n}_prepared" for n in names + scalars]
     lines += ["#endif", "#endif", ""]
     (tmp_path / "stub3.h").write_text("\n".join(lines))
     cmd = [*cbuild.compiler(), "-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2", "-c",

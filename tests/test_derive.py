@@ -13,7 +13,7 @@ import pytest
 import sympy
 
 from derive.build import GENERATED, build, stale_files
-from derive.codegen import NumpyGenerator
+from derive.codegen import NumpyGenerator, hoist_constants
 from derive.equations import derive
 from derive.spec import SpecError, parse_spec, registered_variants, variant_spec
 from rocking import paper
@@ -123,12 +123,25 @@ def _with(**changes):
         (_with(bodies=[{"name": "mass", "mass": "m", "position": ["x"]}]), "position must be a list of two"),
         (_with(impact={"x": "stick"}), "unknown law 'stick'"),
         (_with(parameters={"m": {}, "k": {}, "B": {}}), "'B' is reserved"),
+        (_with(parameters={"m": {}, "k": {}, "cst0": {}}), "'cst0': names starting with cse or cst"),
         (_with(colour="red"), "unknown key\\(s\\) colour"),
     ],
 )
 def test_inconsistent_spec_is_rejected_before_derivation(data, message):
     with pytest.raises(SpecError, match=message):
         parse_spec(data)
+
+
+def test_hoisting_gathers_the_constants_of_a_sum_and_keeps_the_value():
+    x, dx, a, b, c, s = sympy.symbols("x dx a b c s", real=True)
+    exprs = [a * x + b * x + c * sympy.sin(x) * s, (a + b) / (c + a * x**2) + a * x * dx]
+    constants, hoisted = hoist_constants(exprs, [x, dx])
+    assert [e for _, e in constants] == [a + b, c * s, c, a]
+    k = {sym: e for sym, e in constants}
+    assert hoisted[0] == sympy.Symbol("cst0", real=True) * x + sympy.Symbol("cst1", real=True) * sympy.sin(x)
+    for original, split in zip(exprs, hoisted):
+        assert sympy.simplify(split.subs(k) - original) == 0
+    assert all(not (e.free_symbols & {x, dx}) for e in k.values())
 
 
 def test_registered_variants_include_the_paper_model_and_the_bare_block():

@@ -7,160 +7,244 @@
 
 #include "block.h"
 
-/* Mass matrix of the rocking phase about the pivot s, row-major. */
-void block_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+/* The constants of a run about the pivot s: what the functions share that
+ * depends on the parameters alone. */
+void block_prepare(double s, const double *p, double *cst)
 {
-    (void)ag;
-    (void)y;
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
     const double H = p[3];
     const double e = p[4];
-    const double cse0 = (1.0/4.0)*M;
-    out[0] = (B*B)*cse0 + B*M*e*s + (H*H)*cse0 + I_G + M*(e*e);
+    const double g = p[5];
+    const double cse0 = M*(e*e);
+    const double cse1 = M*e;
+    const double cse2 = B*s;
+    const double cse3 = cse1*cse2;
+    const double cse4 = (B*B)*M;
+    const double cse5 = (H*H)*M;
+    const double cse6 = M*cse2;
+    const double cse7 = (1.0/2.0)*cse6;
+    const double cse8 = H*M;
+    const double cse9 = (1.0/2.0)*cse8;
+    const double cse10 = cse9*g;
+    const double cse11 = cse1*g;
+    const double cse12 = cse11 + cse7*g;
+    const double cse13 = 4*cse1;
+    const double cse14 = 4*I_G + 4*cse0 + cse5;
+    const double cse15 = cse14 + cse4;
+    const double cse16 = 2*cse6;
+    const double cse17 = 2*cse8;
+    cst[0] = I_G + cse0 + cse3 + (1.0/4.0)*cse4 + (1.0/4.0)*cse5;
+    cst[1] = cse1 + cse7;
+    cst[2] = cse9;
+    cst[3] = cse10;
+    cst[4] = -cse12;
+    cst[5] = 1.0/(cse13*cse2 + cse15);
+    cst[6] = -4*cse11 - cse16*g;
+    cst[7] = cse17;
+    cst[8] = cse17*g;
+    cst[9] = cse13 + cse16;
+    cst[10] = -1.0/2.0*B*M*g - cse11*s;
+    cst[11] = cse9*s;
+    cst[12] = 1.0/(4*B*M*e*s - cse15);
+    cst[13] = -cse14 + cse4;
+    cst[14] = (1.0/2.0)*I_G + (1.0/2.0)*cse0 + (1.0/2.0)*cse3 + (1.0/8.0)*cse4 + (1.0/8.0)*cse5;
+    cst[15] = cse12;
+    cst[16] = atan2(cse12, cse10);
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major.
+ * From the constants of block_prepare(s, p, cst). */
+void block_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    const double cst0 = cst[0];
+    out[0] = cst0;
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major. */
+void block_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_mass_matrix_prepared(y, ag, cst, out);
+}
+
+/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
+ * From the constants of block_prepare(s, p, cst). */
+void block_forcing_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cse0 = sin(theta);
+    const double cse1 = cos(theta);
+    out[0] = ag*cse0*cst1 + ag*cse1*cst2 + cse0*cst3 + cse1*cst4;
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
 void block_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_forcing_prepared(y, ag, cst, out);
+}
+
+/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
+ * From the constants of block_prepare(s, p, cst). */
+void block_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
     const double theta = y[0];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double cse0 = M*e;
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cse0 = cos(theta);
     const double cse1 = sin(theta);
-    const double cse2 = ag*cse1;
-    const double cse3 = cos(theta);
-    const double cse4 = (1.0/2.0)*M;
-    const double cse5 = H*cse4;
-    const double cse6 = cse3*g;
-    const double cse7 = B*cse4*s;
-    out[0] = ag*cse3*cse5 + cse0*cse2 - cse0*cse6 + cse1*cse5*g + cse2*cse7 - cse6*cse7;
+    out[0] = cst5*(ag*cse0*cst7 + ag*cse1*cst9 + cse0*cst6 + cse1*cst8);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
 void block_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
-    const double theta = y[0];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double cse0 = 4*M;
-    const double cse1 = cse0*e;
-    const double cse2 = B*s;
-    const double cse3 = cos(theta);
-    const double cse4 = 2*M;
-    const double cse5 = H*cse4;
-    const double cse6 = sin(theta);
-    const double cse7 = ag*cse6;
-    const double cse8 = cse3*g;
-    const double cse9 = cse2*cse4;
-    out[0] = (ag*cse3*cse5 + cse1*cse7 - cse1*cse8 + cse5*cse6*g + cse7*cse9 - cse8*cse9)/((B*B)*M + (H*H)*M + 4*I_G + cse0*(e*e) + cse1*cse2);
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_rocking_accel_prepared(y, ag, cst, out);
+}
+
+/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
+ * From the constants of block_prepare(s, p, cst). */
+void block_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    out[0] = 0;
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
 void block_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
-    (void)s;
-    (void)ag;
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_contact_accel_prepared(y, ag, cst, out);
+}
+
+/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
+ * From the constants of block_prepare(s, p, cst). */
+double block_uplift_prepared(const double *y, double ag, const double *cst)
+{
     (void)y;
-    (void)p;
-    out[0] = 0;
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    return ag*cst11 + cst10;
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double block_uplift(double s, const double *y, double ag, const double *p)
 {
-    (void)y;
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double cse0 = M*g;
-    return -1.0/2.0*B*cse0 + (1.0/2.0)*H*M*ag*s - cse0*e*s;
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    return block_uplift_prepared(y, ag, cst);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+ * From the constants of block_prepare(s, p, cst). */
+void block_impact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double dtheta = y[1];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    out[0] = cst12*cst13*dtheta;
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
 void block_impact(double s, const double *y, double ag, const double *p, double *out)
 {
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_impact_prepared(y, ag, cst, out);
+}
+
+/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+ * From the constants of block_prepare(s, p, cst). */
+double block_energy_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
+    const double theta = y[0];
     const double dtheta = y[1];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double cse0 = 4*I_G;
-    const double cse1 = (H*H)*M;
-    const double cse2 = (B*B);
-    const double cse3 = 4*M*(e*e);
-    out[0] = (M*cse2*dtheta - cse0*dtheta - cse1*dtheta - cse3*dtheta)/(4*B*M*e*s - M*cse2 - cse0 - cse1 - cse3);
+    const double cst3 = cst[3];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    return cst14*(dtheta*dtheta) + cst15*sin(theta) + cst3*cos(theta);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double block_energy(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    return block_energy_prepared(y, ag, cst);
+}
+
+/* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
+ * From the constants of block_prepare(s, p, cst). */
+double block_power_prepared(const double *y, double ag, const double *cst)
+{
     const double theta = y[0];
     const double dtheta = y[1];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double cse0 = (dtheta*dtheta);
-    const double cse1 = (1.0/2.0)*cse0;
-    const double cse2 = M*g;
-    const double cse3 = cse2*sin(theta);
-    const double cse4 = B*s;
-    const double cse5 = (1.0/8.0)*M*cse0;
-    const double cse6 = M*cse1;
-    return (B*B)*cse5 + (H*H)*cse5 + (1.0/2.0)*H*cse2*cos(theta) + I_G*cse1 + (1.0/2.0)*cse3*cse4 + cse3*e + cse4*cse6*e + cse6*(e*e);
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cse0 = ag*dtheta;
+    return cse0*cst1*sin(theta) + cse0*cst2*cos(theta);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double block_power(double s, const double *y, double ag, const double *p)
 {
-    const double theta = y[0];
-    const double dtheta = y[1];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double cse0 = M*ag*dtheta;
-    const double cse1 = cse0*sin(theta);
-    return (1.0/2.0)*B*cse1*s + (1.0/2.0)*H*cse0*cos(theta) + cse1*e;
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    return block_power_prepared(y, ag, cst);
+}
+
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+ * From the constants of block_prepare(s, p, cst). */
+double block_uplift_energy_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    return INFINITY;
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double block_uplift_energy(double s, const double *y, double ag, const double *p)
 {
-    (void)s;
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    return block_uplift_energy_prepared(y, ag, cst);
+}
+
+/* Static critical angle about the pivot s, the other coordinates held (sign of s).
+ * From the constants of block_prepare(s, p, cst). */
+double block_critical_angle_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
     (void)y;
-    (void)p;
-    return INFINITY;
+    const double cst16 = cst[16];
+    return cst16;
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double block_critical_angle(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
-    (void)y;
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double cse0 = M*g;
-    const double cse1 = (1.0/2.0)*cse0;
-    return atan2(B*cse1*s + cse0*e, H*cse1);
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    return block_critical_angle_prepared(y, ag, cst);
 }

@@ -9,6 +9,10 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 6 doubles: M, I_G, B, H, e, g
  *   out results (vector functions only)
+ * Each function also comes prepared: block_prepare(s, p, cst) fills the
+ * BLOCK_NK constants of a run about the pivot s (all that depends on s and p
+ * alone), and block_<name>_prepared(y, ag, cst[, out]) does the rest, the
+ * cheaper call for a loop over states with the same s and p.
  * Derivation options: {"impact": "spec", "impact_laws": {}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_BLOCK_H
@@ -17,6 +21,7 @@
 #define BLOCK_NQ 1
 #define BLOCK_NY 2
 #define BLOCK_NP 6
+#define BLOCK_NK 17
 #define BLOCK_Y_theta 0
 #define BLOCK_Y_dtheta 1
 #define BLOCK_P_M 0
@@ -26,56 +31,81 @@
 #define BLOCK_P_e 4
 #define BLOCK_P_g 5
 
+/* The constants of a run about the pivot s: cst, BLOCK_NK doubles. */
+void block_prepare(double s, const double *p, double *cst);
+
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0] */
 void block_mass_matrix(double s, const double *y, double ag, const double *p, double *out);
+void block_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * out: f[theta] */
 void block_forcing(double s, const double *y, double ag, const double *p, double *out);
+void block_forcing_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * out: ddtheta */
 void block_rocking_accel(double s, const double *y, double ag, const double *p, double *out);
+void block_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * out: ddtheta */
 void block_contact_accel(double s, const double *y, double ag, const double *p, double *out);
+void block_contact_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double block_uplift(double s, const double *y, double ag, const double *p);
+double block_uplift_prepared(const double *y, double ag, const double *cst);
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
  * out: dtheta_plus */
 void block_impact(double s, const double *y, double ag, const double *p, double *out);
+void block_impact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double block_energy(double s, const double *y, double ag, const double *p);
+double block_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double block_power(double s, const double *y, double ag, const double *p);
+double block_power_prepared(const double *y, double ag, const double *cst);
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double block_uplift_energy(double s, const double *y, double ag, const double *p);
+double block_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double block_critical_angle(double s, const double *y, double ag, const double *p);
+double block_critical_angle_prepared(const double *y, double ag, const double *cst);
 
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ BLOCK_NQ
 #define MODEL_NY BLOCK_NY
 #define MODEL_NP BLOCK_NP
+#define MODEL_NK BLOCK_NK
+#define model_prepare block_prepare
 #define model_mass_matrix block_mass_matrix
+#define model_mass_matrix_prepared block_mass_matrix_prepared
 #define model_forcing block_forcing
+#define model_forcing_prepared block_forcing_prepared
 #define model_rocking_accel block_rocking_accel
+#define model_rocking_accel_prepared block_rocking_accel_prepared
 #define model_contact_accel block_contact_accel
+#define model_contact_accel_prepared block_contact_accel_prepared
 #define model_uplift block_uplift
+#define model_uplift_prepared block_uplift_prepared
 #define model_impact block_impact
+#define model_impact_prepared block_impact_prepared
 #define model_energy block_energy
+#define model_energy_prepared block_energy_prepared
 #define model_power block_power
+#define model_power_prepared block_power_prepared
 #define model_uplift_energy block_uplift_energy
+#define model_uplift_energy_prepared block_uplift_energy_prepared
 #define model_critical_angle block_critical_angle
+#define model_critical_angle_prepared block_critical_angle_prepared
 #endif
 
 #endif

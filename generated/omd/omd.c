@@ -7,288 +7,366 @@
 
 #include "omd.h"
 
-/* Mass matrix of the rocking phase about the pivot s, row-major. */
-void omd_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+/* The constants of a run about the pivot s: what the functions share that
+ * depends on the parameters alone. */
+void omd_prepare(double s, const double *p, double *cst)
 {
-    (void)ag;
-    const double x = y[1];
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
     const double H = p[3];
     const double e = p[4];
+    const double g = p[5];
     const double m = p[6];
     const double h = p[7];
-    const double cse0 = (H*H);
-    const double cse1 = H*m;
-    const double cse2 = B*s;
+    const double k_m = p[8];
+    const double c = p[9];
+    const double cse0 = M*e;
+    const double cse1 = B*s;
+    const double cse2 = cse0*cse1;
     const double cse3 = (B*B);
     const double cse4 = (1.0/4.0)*M;
-    const double cse5 = -cse1 - h*m;
-    out[0] = I_G + M*cse2*e + M*(e*e) + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1.0/4.0)*cse3*m + (h*h)*m + m*(x*x);
-    out[1] = cse5;
-    out[2] = cse5;
-    out[3] = m;
+    const double cse5 = cse3*cse4;
+    const double cse6 = cse3*m;
+    const double cse7 = (1.0/4.0)*cse6;
+    const double cse8 = M*(e*e);
+    const double cse9 = (H*H);
+    const double cse10 = I_G + cse4*cse9 + cse8;
+    const double cse11 = cse10 + cse5 + cse7;
+    const double cse12 = cse11 + cse2;
+    const double cse13 = cse9*m;
+    const double cse14 = (h*h);
+    const double cse15 = cse14*m;
+    const double cse16 = H*m;
+    const double cse17 = cse16*h;
+    const double cse18 = cse13 + cse15 + 2*cse17;
+    const double cse19 = cse1*m;
+    const double cse20 = h*m;
+    const double cse21 = cse16 + cse20;
+    const double cse22 = (1.0/2.0)*M;
+    const double cse23 = H*cse22;
+    const double cse24 = cse1*cse22;
+    const double cse25 = (1.0/2.0)*m;
+    const double cse26 = cse1*cse25;
+    const double cse27 = cse0*g;
+    const double cse28 = g*m;
+    const double cse29 = (1.0/2.0)*cse28;
+    const double cse30 = cse1*cse29 + cse24*g + cse27;
+    const double cse31 = H + h;
+    const double cse32 = B*cse22*g + B*cse29 + cse27*s;
+    const double cse33 = c*s;
+    const double cse34 = k_m*s;
+    const double cse35 = (1.0/8.0)*M;
+    const double cse36 = (c*c)*k_m;
+    const double cse37 = 4*H;
+    const double cse38 = g*k_m*(m*m);
+    const double cse39 = (k_m*k_m);
+    const double cse40 = 2*cse36;
+    const double cse41 = 2*cse39;
+    cst[0] = cse12 + cse18;
+    cst[1] = m;
+    cst[2] = cse19;
+    cst[3] = -cse21;
+    cst[4] = cse21 + cse23;
+    cst[5] = cse16*g + cse20*g + cse23*g;
+    cst[6] = cse0 + cse24 + cse26;
+    cst[7] = -cse30;
+    cst[8] = -cse28;
+    cst[9] = -2*m;
+    cst[10] = -cse19;
+    cst[11] = -c;
+    cst[12] = -k_m;
+    cst[13] = -m;
+    cst[14] = cse26;
+    cst[15] = cse12;
+    cst[16] = cse31;
+    cst[17] = 1.0/m;
+    cst[18] = -cse32;
+    cst[19] = cse23*s;
+    cst[20] = -H*cse33 - cse33*h;
+    cst[21] = -H*cse34 - cse28*s - cse34*h;
+    cst[22] = cse11 - cse2;
+    cst[23] = cse10 + cse18 - cse5 - cse7;
+    cst[24] = -cse31;
+    cst[25] = (1.0/2.0)*I_G + (1.0/2.0)*cse13 + (1.0/2.0)*cse15 + cse17 + (1.0/2.0)*cse2 + cse3*cse35 + cse35*cse9 + (1.0/8.0)*cse6 + (1.0/2.0)*cse8;
+    cst[26] = (1.0/2.0)*k_m;
+    cst[27] = cse25;
+    cst[28] = cse30;
+    cst[29] = cse28;
+    cst[30] = k_m*m*(fmax(0, cse32)*fmax(0, cse32))/(cse13*cse41 + cse14*cse40 + cse15*cse41 + 4*cse17*cse39 + cse36*cse37*h + cse37*cse38 + 4*cse38*h + cse40*cse9 + 2*(g*g)*(m*m*m));
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major.
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x = y[1];
+    const double cst0 = cst[0];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    out[0] = cst0 + cst1*(x*x) + cst2*x;
+    out[1] = cst3;
+    out[2] = cst3;
+    out[3] = cst1;
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major. */
+void omd_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_mass_matrix_prepared(y, ag, cst, out);
+}
+
+/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_forcing_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double cst1 = cst[1];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cse0 = sin(theta);
+    const double cse1 = cos(theta);
+    const double cse2 = dtheta*dx;
+    const double cse3 = ag*cse1;
+    const double cse4 = ag*cse0;
+    const double cse5 = cst1*x;
+    const double cse6 = (dtheta*dtheta);
+    out[0] = cse0*cst5 + cse1*cst7 + cse1*cst8*x + cse2*cst10 + cse2*cst9*x + cse3*cst4 + cse4*cse5 + cse4*cst6;
+    out[1] = cse0*cst8 + cse3*cst13 + cse5*cse6 + cse6*cst14 + cst11*dx + cst12*x;
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
 void omd_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_forcing_prepared(y, ag, cst, out);
+}
+
+/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
     const double theta = y[0];
     const double x = y[1];
     const double dtheta = y[2];
     const double dx = y[3];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double h = p[7];
-    const double k_m = p[8];
-    const double c = p[9];
-    const double cse0 = cos(theta);
-    const double cse1 = ag*cse0;
-    const double cse2 = cse1*m;
-    const double cse3 = sin(theta);
-    const double cse4 = cse3*g;
-    const double cse5 = cse4*m;
-    const double cse6 = ag*cse3;
-    const double cse7 = M*e;
-    const double cse8 = m*x;
-    const double cse9 = dtheta*dx;
-    const double cse10 = (1.0/2.0)*M;
-    const double cse11 = H*cse10;
-    const double cse12 = cse0*g;
-    const double cse13 = B*s;
-    const double cse14 = cse13*m;
-    const double cse15 = cse10*cse13;
-    const double cse16 = (1.0/2.0)*cse14;
-    const double cse17 = (dtheta*dtheta);
-    out[0] = H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9;
-    out[1] = (1.0/2.0)*B*cse17*m*s - c*dx + cse17*m*x - cse2 - cse5 - k_m*x;
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst17 = cst[17];
+    const double cse0 = sin(theta);
+    const double cse1 = cos(theta);
+    const double cse2 = dtheta*dx;
+    const double cse3 = ag*cse1;
+    const double cse4 = ag*cse0;
+    const double cse5 = cst1*x;
+    const double cse6 = (dtheta*dtheta);
+    const double cse7 = cse0*cst8 + cse3*cst13 + cse5*cse6 + cse6*cst14 + cst11*dx + cst12*x;
+    const double cse8 = (cse0*cst5 + cse1*cst7 + cse1*cst8*x + cse2*cst10 + cse2*cst9*x + cse3*cst4 + cse4*cse5 + cse4*cst6 + cse7*cst16)/(cst1*(x*x) + cst15 + cst2*x);
+    out[0] = cse8;
+    out[1] = cse7*cst17 + cse8*cst16;
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
 void omd_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
-    const double theta = y[0];
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_rocking_accel_prepared(y, ag, cst, out);
+}
+
+/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
     const double x = y[1];
-    const double dtheta = y[2];
     const double dx = y[3];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double h = p[7];
-    const double k_m = p[8];
-    const double c = p[9];
-    const double cse0 = B*s;
-    const double cse1 = M*e;
-    const double cse2 = m*x;
-    const double cse3 = (B*B);
-    const double cse4 = (1.0/4.0)*M;
-    const double cse5 = cos(theta);
-    const double cse6 = ag*cse5;
-    const double cse7 = cse6*m;
-    const double cse8 = sin(theta);
-    const double cse9 = cse8*g;
-    const double cse10 = cse9*m;
-    const double cse11 = ag*cse8;
-    const double cse12 = dtheta*dx;
-    const double cse13 = (1.0/2.0)*M;
-    const double cse14 = H*cse13;
-    const double cse15 = cse5*g;
-    const double cse16 = cse0*m;
-    const double cse17 = cse0*cse13;
-    const double cse18 = (1.0/2.0)*cse16;
-    const double cse19 = -H - h;
-    const double cse20 = (dtheta*dtheta);
-    const double cse21 = (1.0/2.0)*B*cse20*m*s - c*dx - cse10 + cse20*m*x - cse7 - k_m*x;
-    const double cse22 = (H*cse10 + H*cse7 + cse1*cse11 - cse1*cse15 + cse10*h + cse11*cse17 + cse11*cse18 + cse11*cse2 - cse12*cse16 - 2*cse12*cse2 + cse14*cse6 + cse14*cse9 - cse15*cse17 - cse15*cse18 - cse15*cse2 - cse19*cse21 + cse7*h)/((H*H)*cse4 + I_G + M*(e*e) + cse0*cse1 + cse0*cse2 + cse3*cse4 + (1.0/4.0)*cse3*m + m*(x*x));
-    out[0] = cse22;
-    out[1] = -cse19*cse22 + cse21/m;
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst17 = cst[17];
+    out[0] = 0;
+    out[1] = cst17*(ag*cst13 + cst11*dx + cst12*x);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
 void omd_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
-    (void)s;
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_contact_accel_prepared(y, ag, cst, out);
+}
+
+/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
+ * From the constants of omd_prepare(s, p, cst). */
+double omd_uplift_prepared(const double *y, double ag, const double *cst)
+{
     const double x = y[1];
     const double dx = y[3];
-    const double m = p[6];
-    const double k_m = p[8];
-    const double c = p[9];
-    out[0] = 0;
-    out[1] = (-ag*m - c*dx - k_m*x)/m;
+    const double cst18 = cst[18];
+    const double cst19 = cst[19];
+    const double cst20 = cst[20];
+    const double cst21 = cst[21];
+    return ag*cst19 + cst18 + cst20*dx + cst21*x;
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double omd_uplift(double s, const double *y, double ag, const double *p)
 {
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    return omd_uplift_prepared(y, ag, cst);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_impact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
     const double x = y[1];
+    const double dtheta = y[2];
     const double dx = y[3];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double h = p[7];
-    const double k_m = p[8];
-    const double c = p[9];
-    const double cse0 = M*g;
-    const double cse1 = (1.0/2.0)*B;
-    const double cse2 = g*m;
-    const double cse3 = H*s;
-    const double cse4 = c*dx;
-    const double cse5 = k_m*x;
-    const double cse6 = h*s;
-    return (1.0/2.0)*H*M*ag*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6;
+    const double cst1 = cst[1];
+    const double cst3 = cst[3];
+    const double cst10 = cst[10];
+    const double cst16 = cst[16];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cst24 = cst[24];
+    const double cse0 = cst1*(x*x);
+    const double cse1 = (cse0*dtheta + cst16*(cst1*dx + cst3*dtheta) + cst23*dtheta + cst3*dx)/(cse0 + cst10*x + cst22);
+    out[0] = cse1;
+    out[1] = cse1*cst16 + cst24*dtheta + dx;
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
 void omd_impact(double s, const double *y, double ag, const double *p, double *out)
 {
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_impact_prepared(y, ag, cst, out);
+}
+
+/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+ * From the constants of omd_prepare(s, p, cst). */
+double omd_energy_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
+    const double theta = y[0];
     const double x = y[1];
     const double dtheta = y[2];
     const double dx = y[3];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m = p[6];
-    const double h = p[7];
-    const double cse0 = M*(e*e);
-    const double cse1 = m*(x*x);
-    const double cse2 = (B*B);
-    const double cse3 = (1.0/4.0)*M;
-    const double cse4 = cse2*cse3;
-    const double cse5 = (1.0/4.0)*cse2*m;
-    const double cse6 = (H*H);
-    const double cse7 = cse3*cse6;
-    const double cse8 = B*s;
-    const double cse9 = dx*m;
-    const double cse10 = dtheta*m;
-    const double cse11 = H*dtheta;
-    const double cse12 = cse11*m;
-    const double cse13 = -H - h;
-    const double cse14 = dtheta*h;
-    const double cse15 = (-H*cse9 + I_G*dtheta + cse0*dtheta + cse1*dtheta + cse10*cse6 + cse10*(h*h) + 2*cse12*h - cse13*(-cse12 - cse14*m + dx*m) - cse4*dtheta - cse5*dtheta + cse7*dtheta - cse9*h)/(I_G - M*cse8*e + cse0 + cse1 + cse4 + cse5 + cse7 - cse8*m*x);
-    out[0] = cse15;
-    out[1] = -cse11 - cse13*cse15 - cse14 + dx;
+    const double cst3 = cst[3];
+    const double cst5 = cst[5];
+    const double cst14 = cst[14];
+    const double cst25 = cst[25];
+    const double cst26 = cst[26];
+    const double cst27 = cst[27];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = (x*x);
+    return cse0*cst28 + cse0*cst29*x + cse1*cse2*cst27 + cse1*cst14*x + cse1*cst25 + cse2*cst26 + cst27*(dx*dx) + cst3*dtheta*dx + cst5*cos(theta);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double omd_energy(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    return omd_energy_prepared(y, ag, cst);
+}
+
+/* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
+ * From the constants of omd_prepare(s, p, cst). */
+double omd_power_prepared(const double *y, double ag, const double *cst)
+{
     const double theta = y[0];
     const double x = y[1];
     const double dtheta = y[2];
     const double dx = y[3];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double h = p[7];
-    const double k_m = p[8];
-    const double cse0 = (dtheta*dtheta);
-    const double cse1 = (1.0/2.0)*cse0;
-    const double cse2 = (1.0/2.0)*m;
-    const double cse3 = (x*x);
-    const double cse4 = dtheta*dx*m;
-    const double cse5 = cos(theta);
-    const double cse6 = g*m;
-    const double cse7 = cse5*cse6;
-    const double cse8 = sin(theta);
-    const double cse9 = M*g;
-    const double cse10 = cse8*cse9;
-    const double cse11 = cse0*m;
-    const double cse12 = B*s;
-    const double cse13 = (B*B);
-    const double cse14 = (1.0/8.0)*M*cse0;
-    const double cse15 = (H*H);
-    const double cse16 = cse1*m;
-    const double cse17 = M*cse1;
-    return H*cse11*h - H*cse4 + (1.0/2.0)*H*cse5*cse9 + H*cse7 + I_G*cse1 + (1.0/2.0)*cse10*cse12 + cse10*e + (1.0/8.0)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*(h*h) + cse17*(e*e) + cse2*(dx*dx) + (1.0/2.0)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h;
+    const double cst1 = cst[1];
+    const double cst4 = cst[4];
+    const double cst6 = cst[6];
+    const double cst11 = cst[11];
+    const double cst13 = cst[13];
+    const double cse0 = ag*cos(theta);
+    const double cse1 = ag*dtheta*sin(theta);
+    return cse0*cst13*dx + cse0*cst4*dtheta + cse1*cst1*x + cse1*cst6 + cst11*(dx*dx);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double omd_power(double s, const double *y, double ag, const double *p)
 {
-    const double theta = y[0];
-    const double x = y[1];
-    const double dtheta = y[2];
-    const double dx = y[3];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m = p[6];
-    const double h = p[7];
-    const double c = p[9];
-    const double cse0 = cos(theta);
-    const double cse1 = ag*m;
-    const double cse2 = cse0*cse1;
-    const double cse3 = cse2*dtheta;
-    const double cse4 = dtheta*sin(theta);
-    const double cse5 = M*ag;
-    const double cse6 = cse4*cse5;
-    const double cse7 = cse1*cse4;
-    const double cse8 = (1.0/2.0)*B*s;
-    return (1.0/2.0)*H*cse0*cse5*dtheta + H*cse3 - c*(dx*dx) - cse2*dx + cse3*h + cse6*cse8 + cse6*e + cse7*cse8 + cse7*x;
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    return omd_power_prepared(y, ag, cst);
+}
+
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+ * From the constants of omd_prepare(s, p, cst). */
+double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    const double cst30 = cst[30];
+    return cst30;
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double omd_uplift_energy(double s, const double *y, double ag, const double *p)
 {
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    return omd_uplift_energy_prepared(y, ag, cst);
+}
+
+/* Static critical angle about the pivot s, the other coordinates held (sign of s).
+ * From the constants of omd_prepare(s, p, cst). */
+double omd_critical_angle_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
-    (void)y;
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double h = p[7];
-    const double k_m = p[8];
-    const double c = p[9];
-    const double cse0 = M*g;
-    const double cse1 = (1.0/2.0)*B;
-    const double cse2 = (c*c)*k_m;
-    const double cse3 = 4*H;
-    const double cse4 = cse3*h;
-    const double cse5 = g*k_m*(m*m);
-    const double cse6 = (k_m*k_m)*m;
-    const double cse7 = 2*(H*H);
-    const double cse8 = 2*(h*h);
-    return k_m*m*(fmax(0, cse0*cse1 + cse0*e*s + cse1*g*m)*fmax(0, cse0*cse1 + cse0*e*s + cse1*g*m))/(cse2*cse4 + cse2*cse7 + cse2*cse8 + cse3*cse5 + cse4*cse6 + 4*cse5*h + cse6*cse7 + cse6*cse8 + 2*(g*g)*(m*m*m));
+    const double x = y[1];
+    const double cst5 = cst[5];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    return atan2(cst28 + cst29*x, cst5);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd_critical_angle(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
-    const double x = y[1];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double h = p[7];
-    const double cse0 = M*g;
-    const double cse1 = g*m;
-    const double cse2 = (1.0/2.0)*cse0;
-    const double cse3 = B*s;
-    return atan2(cse0*e + (1.0/2.0)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h);
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    return omd_critical_angle_prepared(y, ag, cst);
 }

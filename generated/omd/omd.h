@@ -9,6 +9,10 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 10 doubles: M, I_G, B, H, e, g, m, h, k_m, c
  *   out results (vector functions only)
+ * Each function also comes prepared: omd_prepare(s, p, cst) fills the
+ * OMD_NK constants of a run about the pivot s (all that depends on s and p
+ * alone), and omd_<name>_prepared(y, ag, cst[, out]) does the rest, the
+ * cheaper call for a loop over states with the same s and p.
  * Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD_H
@@ -17,6 +21,7 @@
 #define OMD_NQ 2
 #define OMD_NY 4
 #define OMD_NP 10
+#define OMD_NK 31
 #define OMD_Y_theta 0
 #define OMD_Y_x 1
 #define OMD_Y_dtheta 2
@@ -32,56 +37,81 @@
 #define OMD_P_k_m 8
 #define OMD_P_c 9
 
+/* The constants of a run about the pivot s: cst, OMD_NK doubles. */
+void omd_prepare(double s, const double *p, double *cst);
+
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[1,0], M[1,1] */
 void omd_mass_matrix(double s, const double *y, double ag, const double *p, double *out);
+void omd_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * out: f[theta], f[x] */
 void omd_forcing(double s, const double *y, double ag, const double *p, double *out);
+void omd_forcing_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * out: ddtheta, ddx */
 void omd_rocking_accel(double s, const double *y, double ag, const double *p, double *out);
+void omd_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * out: ddtheta, ddx */
 void omd_contact_accel(double s, const double *y, double ag, const double *p, double *out);
+void omd_contact_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double omd_uplift(double s, const double *y, double ag, const double *p);
+double omd_uplift_prepared(const double *y, double ag, const double *cst);
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
  * out: dtheta_plus, dx_plus */
 void omd_impact(double s, const double *y, double ag, const double *p, double *out);
+void omd_impact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double omd_energy(double s, const double *y, double ag, const double *p);
+double omd_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double omd_power(double s, const double *y, double ag, const double *p);
+double omd_power_prepared(const double *y, double ag, const double *cst);
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double omd_uplift_energy(double s, const double *y, double ag, const double *p);
+double omd_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd_critical_angle(double s, const double *y, double ag, const double *p);
+double omd_critical_angle_prepared(const double *y, double ag, const double *cst);
 
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD_NQ
 #define MODEL_NY OMD_NY
 #define MODEL_NP OMD_NP
+#define MODEL_NK OMD_NK
+#define model_prepare omd_prepare
 #define model_mass_matrix omd_mass_matrix
+#define model_mass_matrix_prepared omd_mass_matrix_prepared
 #define model_forcing omd_forcing
+#define model_forcing_prepared omd_forcing_prepared
 #define model_rocking_accel omd_rocking_accel
+#define model_rocking_accel_prepared omd_rocking_accel_prepared
 #define model_contact_accel omd_contact_accel
+#define model_contact_accel_prepared omd_contact_accel_prepared
 #define model_uplift omd_uplift
+#define model_uplift_prepared omd_uplift_prepared
 #define model_impact omd_impact
+#define model_impact_prepared omd_impact_prepared
 #define model_energy omd_energy
+#define model_energy_prepared omd_energy_prepared
 #define model_power omd_power
+#define model_power_prepared omd_power_prepared
 #define model_uplift_energy omd_uplift_energy
+#define model_uplift_energy_prepared omd_uplift_energy_prepared
 #define model_critical_angle omd_critical_angle
+#define model_critical_angle_prepared omd_critical_angle_prepared
 #endif
 
 #endif

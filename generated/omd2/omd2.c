@@ -7,96 +7,10 @@
 
 #include "omd2.h"
 
-/* Mass matrix of the rocking phase about the pivot s, row-major. */
-void omd2_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+/* The constants of a run about the pivot s: what the functions share that
+ * depends on the parameters alone. */
+void omd2_prepare(double s, const double *p, double *cst)
 {
-    (void)ag;
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double m2 = p[10];
-    const double cse0 = (H*H);
-    const double cse1 = H*m1;
-    const double cse2 = B*s;
-    const double cse3 = (B*B);
-    const double cse4 = (1.0/4.0)*M;
-    const double cse5 = (1.0/4.0)*cse3;
-    const double cse6 = -cse1 - h*m1;
-    const double cse7 = -1.0/2.0*H*m2;
-    out[0] = I_G + M*cse2*e + M*(e*e) + cse0*cse4 + cse0*m1 + (1.0/4.0)*cse0*m2 + 2*cse1*h + cse2*m1*x1 + cse2*m2*x2 + cse3*cse4 + cse5*m1 + cse5*m2 + (h*h)*m1 + m1*(x1*x1) + m2*(x2*x2);
-    out[1] = cse6;
-    out[2] = cse7;
-    out[3] = cse6;
-    out[4] = m1;
-    out[5] = 0;
-    out[6] = cse7;
-    out[7] = 0;
-    out[8] = m2;
-}
-
-/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
-void omd2_forcing(double s, const double *y, double ag, const double *p, double *out)
-{
-    const double theta = y[0];
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double dtheta = y[3];
-    const double dx1 = y[4];
-    const double dx2 = y[5];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double k1 = p[8];
-    const double c1 = p[9];
-    const double m2 = p[10];
-    const double k2 = p[11];
-    const double c2 = p[12];
-    const double cse0 = cos(theta);
-    const double cse1 = ag*cse0;
-    const double cse2 = cse1*m1;
-    const double cse3 = sin(theta);
-    const double cse4 = cse3*g;
-    const double cse5 = cse4*m1;
-    const double cse6 = ag*cse3;
-    const double cse7 = M*e;
-    const double cse8 = m1*x1;
-    const double cse9 = m2*x2;
-    const double cse10 = 2*dtheta;
-    const double cse11 = (1.0/2.0)*H;
-    const double cse12 = M*cse11;
-    const double cse13 = cse1*m2;
-    const double cse14 = cse4*m2;
-    const double cse15 = cse0*g;
-    const double cse16 = B*s;
-    const double cse17 = cse16*dtheta;
-    const double cse18 = (1.0/2.0)*cse16;
-    const double cse19 = cse18*cse6;
-    const double cse20 = cse15*cse18;
-    const double cse21 = (dtheta*dtheta);
-    out[0] = H*cse2 + H*cse5 + M*cse19 - M*cse20 + cse1*cse12 - cse10*cse8*dx1 - cse10*cse9*dx2 + cse11*cse13 + cse11*cse14 + cse12*cse4 - cse15*cse7 - cse15*cse8 - cse15*cse9 - cse17*dx1*m1 - cse17*dx2*m2 + cse19*m1 + cse19*m2 + cse2*h - cse20*m1 - cse20*m2 + cse5*h + cse6*cse7 + cse6*cse8 + cse6*cse9;
-    out[1] = (1.0/2.0)*B*cse21*m1*s - c1*dx1 - cse2 + cse21*m1*x1 - cse5 - k1*x1;
-    out[2] = (1.0/2.0)*B*cse21*m2*s - c2*dx2 - cse13 - cse14 + cse21*m2*x2 - k2*x2;
-}
-
-/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
-void omd2_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
-{
-    const double theta = y[0];
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double dtheta = y[3];
-    const double dx1 = y[4];
-    const double dx2 = y[5];
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
@@ -110,270 +24,464 @@ void omd2_rocking_accel(double s, const double *y, double ag, const double *p, d
     const double m2 = p[10];
     const double k2 = p[11];
     const double c2 = p[12];
-    const double cse0 = B*s;
-    const double cse1 = M*e;
-    const double cse2 = m1*x1;
-    const double cse3 = m2*x2;
-    const double cse4 = (B*B);
-    const double cse5 = (1.0/4.0)*M;
-    const double cse6 = (1.0/4.0)*cse4;
-    const double cse7 = cos(theta);
-    const double cse8 = ag*cse7;
-    const double cse9 = cse8*m1;
-    const double cse10 = sin(theta);
-    const double cse11 = cse10*g;
-    const double cse12 = cse11*m1;
-    const double cse13 = ag*cse10;
-    const double cse14 = 2*dtheta;
-    const double cse15 = (1.0/2.0)*H;
-    const double cse16 = M*cse15;
-    const double cse17 = cse8*m2;
-    const double cse18 = cse11*m2;
-    const double cse19 = cse7*g;
-    const double cse20 = cse0*m1;
-    const double cse21 = cse0*m2;
-    const double cse22 = (1.0/2.0)*cse13;
-    const double cse23 = M*cse0;
-    const double cse24 = (1.0/2.0)*cse19;
-    const double cse25 = (dtheta*dtheta);
-    const double cse26 = (1.0/2.0)*B*cse25*m2*s - c2*dx2 - cse17 - cse18 + cse25*m2*x2 - k2*x2;
-    const double cse27 = -H - h;
-    const double cse28 = (1.0/2.0)*B*cse25*m1*s - c1*dx1 - cse12 + cse25*m1*x1 - cse9 - k1*x1;
-    const double cse29 = (H*cse12 + H*cse9 + cse1*cse13 - cse1*cse19 + cse11*cse16 + cse12*h + cse13*cse2 + cse13*cse3 - cse14*cse2*dx1 - cse14*cse3*dx2 + cse15*cse17 + cse15*cse18 + cse15*cse26 + cse16*cse8 - cse19*cse2 - cse19*cse3 + cse20*cse22 - cse20*cse24 - cse20*dtheta*dx1 + cse21*cse22 - cse21*cse24 - cse21*dtheta*dx2 + cse22*cse23 - cse23*cse24 - cse27*cse28 + cse9*h)/((H*H)*cse5 + I_G + M*(e*e) + cse0*cse1 + cse0*cse2 + cse0*cse3 + cse4*cse5 + cse6*m1 + cse6*m2 + m1*(x1*x1) + m2*(x2*x2));
-    out[0] = cse29;
-    out[1] = -cse27*cse29 + cse28/m1;
-    out[2] = cse15*cse29 + cse26/m2;
-}
-
-/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
-void omd2_contact_accel(double s, const double *y, double ag, const double *p, double *out)
-{
-    (void)s;
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double dx1 = y[4];
-    const double dx2 = y[5];
-    const double m1 = p[6];
-    const double k1 = p[8];
-    const double c1 = p[9];
-    const double m2 = p[10];
-    const double k2 = p[11];
-    const double c2 = p[12];
-    out[0] = 0;
-    out[1] = (-ag*m1 - c1*dx1 - k1*x1)/m1;
-    out[2] = (-ag*m2 - c2*dx2 - k2*x2)/m2;
-}
-
-/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
-double omd2_uplift(double s, const double *y, double ag, const double *p)
-{
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double dx1 = y[4];
-    const double dx2 = y[5];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double k1 = p[8];
-    const double c1 = p[9];
-    const double m2 = p[10];
-    const double k2 = p[11];
-    const double c2 = p[12];
-    const double cse0 = M*g;
-    const double cse1 = (1.0/2.0)*B;
-    const double cse2 = cse1*g;
-    const double cse3 = H*s;
-    const double cse4 = c1*dx1;
-    const double cse5 = k1*x1;
-    const double cse6 = h*s;
-    const double cse7 = g*s;
-    const double cse8 = (1.0/2.0)*cse3;
-    return (1.0/2.0)*H*M*ag*s - c2*cse8*dx2 - cse0*cse1 - cse0*e*s - cse2*m1 - cse2*m2 - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6 - cse7*m1*x1 - cse7*m2*x2 - cse8*k2*x2;
-}
-
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
-void omd2_impact(double s, const double *y, double ag, const double *p, double *out)
-{
-    (void)ag;
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double dtheta = y[3];
-    const double dx1 = y[4];
-    const double dx2 = y[5];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double m2 = p[10];
-    const double cse0 = M*(e*e);
-    const double cse1 = m1*(x1*x1);
-    const double cse2 = m2*(x2*x2);
+    const double cse0 = M*e;
+    const double cse1 = B*s;
+    const double cse2 = cse0*cse1;
     const double cse3 = (B*B);
     const double cse4 = (1.0/4.0)*M;
     const double cse5 = cse3*cse4;
     const double cse6 = (1.0/4.0)*cse3;
     const double cse7 = cse6*m1;
     const double cse8 = cse6*m2;
-    const double cse9 = (H*H);
-    const double cse10 = cse4*cse9;
-    const double cse11 = B*s;
-    const double cse12 = dx1*m1;
-    const double cse13 = (1.0/2.0)*H;
-    const double cse14 = dtheta*m1;
-    const double cse15 = H*dtheta;
+    const double cse9 = M*(e*e);
+    const double cse10 = (H*H);
+    const double cse11 = I_G + cse10*cse4 + cse9;
+    const double cse12 = cse11 + cse5 + cse7 + cse8;
+    const double cse13 = cse12 + cse2;
+    const double cse14 = cse10*m1;
+    const double cse15 = (h*h);
     const double cse16 = cse15*m1;
-    const double cse17 = (1.0/2.0)*cse15;
-    const double cse18 = -H - h;
-    const double cse19 = dtheta*h;
-    const double cse20 = (-H*cse12 + I_G*dtheta + cse0*dtheta + cse1*dtheta + cse10*dtheta - cse12*h - cse13*dx2*m2 + cse13*(-cse17*m2 + dx2*m2) + cse14*cse9 + cse14*(h*h) + 2*cse16*h - cse18*(-cse16 - cse19*m1 + dx1*m1) + cse2*dtheta - cse5*dtheta - cse7*dtheta - cse8*dtheta + (1.0/4.0)*cse9*dtheta*m2)/(I_G - M*cse11*e + cse0 + cse1 + cse10 - cse11*m1*x1 - cse11*m2*x2 + cse2 + cse5 + cse7 + cse8);
-    out[0] = cse20;
-    out[1] = -cse15 - cse18*cse20 - cse19 + dx1;
-    out[2] = cse13*cse20 - cse17 + dx2;
+    const double cse17 = cse10*m2;
+    const double cse18 = H*m1;
+    const double cse19 = cse18*h;
+    const double cse20 = cse14 + cse16 + (1.0/4.0)*cse17 + 2*cse19;
+    const double cse21 = cse1*m1;
+    const double cse22 = cse1*m2;
+    const double cse23 = h*m1;
+    const double cse24 = cse18 + cse23;
+    const double cse25 = (1.0/2.0)*H;
+    const double cse26 = cse25*m2;
+    const double cse27 = M*cse25;
+    const double cse28 = cse18*g;
+    const double cse29 = g*m2;
+    const double cse30 = (1.0/2.0)*M;
+    const double cse31 = cse1*cse30;
+    const double cse32 = (1.0/2.0)*m1;
+    const double cse33 = cse1*cse32;
+    const double cse34 = (1.0/2.0)*m2;
+    const double cse35 = cse1*cse34;
+    const double cse36 = cse0*g;
+    const double cse37 = g*m1;
+    const double cse38 = (1.0/2.0)*cse1;
+    const double cse39 = cse29*cse38 + cse31*g + cse36 + cse37*cse38;
+    const double cse40 = 2*m1;
+    const double cse41 = 2*m2;
+    const double cse42 = H + h;
+    const double cse43 = (1.0/2.0)*B;
+    const double cse44 = B*cse30*g + cse29*cse43 + cse36*s + cse37*cse43;
+    const double cse45 = c1*s;
+    const double cse46 = k1*s;
+    const double cse47 = cse25*s;
+    const double cse48 = (1.0/8.0)*M;
+    const double cse49 = (1.0/8.0)*cse3;
+    const double cse50 = (1.0/2.0)*k1;
+    const double cse51 = (g*g);
+    const double cse52 = cse41*k2;
+    const double cse53 = (c1*c1)*k1;
+    const double cse54 = 4*H;
+    const double cse55 = k2*m2;
+    const double cse56 = k1*k2;
+    const double cse57 = cse29*cse56*(m1*m1);
+    const double cse58 = (k1*k1);
+    const double cse59 = cse52*cse53;
+    const double cse60 = cse14*cse50;
+    const double cse61 = cse52*cse58;
+    cst[0] = cse13 + cse20;
+    cst[1] = m1;
+    cst[2] = m2;
+    cst[3] = cse21;
+    cst[4] = cse22;
+    cst[5] = -cse24;
+    cst[6] = -cse26;
+    cst[7] = cse24 + cse26 + cse27;
+    cst[8] = cse23*g + cse25*cse29 + cse27*g + cse28;
+    cst[9] = cse0 + cse31 + cse33 + cse35;
+    cst[10] = -cse39;
+    cst[11] = -cse37;
+    cst[12] = -cse29;
+    cst[13] = -cse40;
+    cst[14] = -cse41;
+    cst[15] = -cse21;
+    cst[16] = -cse22;
+    cst[17] = -c1;
+    cst[18] = -k1;
+    cst[19] = -m1;
+    cst[20] = cse33;
+    cst[21] = -c2;
+    cst[22] = -k2;
+    cst[23] = -m2;
+    cst[24] = cse35;
+    cst[25] = cse13;
+    cst[26] = cse25;
+    cst[27] = cse42;
+    cst[28] = 1.0/m1;
+    cst[29] = 1.0/m2;
+    cst[30] = -cse44;
+    cst[31] = cse27*s;
+    cst[32] = -H*cse45 - cse45*h;
+    cst[33] = -H*cse46 - cse37*s - cse46*h;
+    cst[34] = -cse29*s - cse47*k2;
+    cst[35] = -c2*cse47;
+    cst[36] = cse12 - cse2;
+    cst[37] = cse11 + cse20 - cse5 - cse7 - cse8;
+    cst[38] = -cse42;
+    cst[39] = -cse25;
+    cst[40] = (1.0/2.0)*I_G + cse10*cse48 + (1.0/2.0)*cse14 + (1.0/2.0)*cse16 + (1.0/8.0)*cse17 + cse19 + (1.0/2.0)*cse2 + cse3*cse48 + cse49*m1 + cse49*m2 + (1.0/2.0)*cse9;
+    cst[41] = cse50;
+    cst[42] = (1.0/2.0)*k2;
+    cst[43] = cse32;
+    cst[44] = cse34;
+    cst[45] = cse39;
+    cst[46] = cse37;
+    cst[47] = cse29;
+    cst[48] = cse56*m1*m2*(fmax(0, cse44)*fmax(0, cse44))/((c2*c2)*cse60*k2 + cse10*cse59 + cse14*cse61 + cse15*cse59 + cse16*cse61 + 4*cse19*cse55*cse58 + 2*cse28*cse56*(m2*m2) + cse40*cse51*k1*(m2*m2*m2) + cse51*cse52*(m1*m1*m1) + cse53*cse54*cse55*h + cse54*cse57 + 4*cse57*h + cse60*(k2*k2)*m2);
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major.
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double cst0 = cst[0];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    out[0] = cst0 + cst1*(x1*x1) + cst2*(x2*x2) + cst3*x1 + cst4*x2;
+    out[1] = cst5;
+    out[2] = cst6;
+    out[3] = cst5;
+    out[4] = cst1;
+    out[5] = 0;
+    out[6] = cst6;
+    out[7] = 0;
+    out[8] = cst2;
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major. */
+void omd2_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_mass_matrix_prepared(y, ag, cst, out);
+}
+
+/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_forcing_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dtheta = y[3];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst17 = cst[17];
+    const double cst18 = cst[18];
+    const double cst19 = cst[19];
+    const double cst20 = cst[20];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cst24 = cst[24];
+    const double cse0 = cos(theta);
+    const double cse1 = sin(theta);
+    const double cse2 = dtheta*dx1;
+    const double cse3 = dtheta*dx2;
+    const double cse4 = ag*cse0;
+    const double cse5 = ag*cse1;
+    const double cse6 = cst1*x1;
+    const double cse7 = cst2*x2;
+    const double cse8 = (dtheta*dtheta);
+    out[0] = cse0*cst10 + cse0*cst11*x1 + cse0*cst12*x2 + cse1*cst8 + cse2*cst13*x1 + cse2*cst15 + cse3*cst14*x2 + cse3*cst16 + cse4*cst7 + cse5*cse6 + cse5*cse7 + cse5*cst9;
+    out[1] = cse1*cst11 + cse4*cst19 + cse6*cse8 + cse8*cst20 + cst17*dx1 + cst18*x1;
+    out[2] = cse1*cst12 + cse4*cst23 + cse7*cse8 + cse8*cst24 + cst21*dx2 + cst22*x2;
+}
+
+/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
+void omd2_forcing(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_forcing_prepared(y, ag, cst, out);
+}
+
+/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dtheta = y[3];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst17 = cst[17];
+    const double cst18 = cst[18];
+    const double cst19 = cst[19];
+    const double cst20 = cst[20];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cst24 = cst[24];
+    const double cst25 = cst[25];
+    const double cst26 = cst[26];
+    const double cst27 = cst[27];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    const double cse0 = cos(theta);
+    const double cse1 = sin(theta);
+    const double cse2 = dtheta*dx1;
+    const double cse3 = dtheta*dx2;
+    const double cse4 = ag*cse0;
+    const double cse5 = ag*cse1;
+    const double cse6 = cst1*x1;
+    const double cse7 = cst2*x2;
+    const double cse8 = (dtheta*dtheta);
+    const double cse9 = cse1*cst12 + cse4*cst23 + cse7*cse8 + cse8*cst24 + cst21*dx2 + cst22*x2;
+    const double cse10 = cse1*cst11 + cse4*cst19 + cse6*cse8 + cse8*cst20 + cst17*dx1 + cst18*x1;
+    const double cse11 = (cse0*cst10 + cse0*cst11*x1 + cse0*cst12*x2 + cse1*cst8 + cse10*cst27 + cse2*cst13*x1 + cse2*cst15 + cse3*cst14*x2 + cse3*cst16 + cse4*cst7 + cse5*cse6 + cse5*cse7 + cse5*cst9 + cse9*cst26)/(cst1*(x1*x1) + cst2*(x2*x2) + cst25 + cst3*x1 + cst4*x2);
+    out[0] = cse11;
+    out[1] = cse10*cst28 + cse11*cst27;
+    out[2] = cse11*cst26 + cse9*cst29;
+}
+
+/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
+void omd2_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_rocking_accel_prepared(y, ag, cst, out);
+}
+
+/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst17 = cst[17];
+    const double cst18 = cst[18];
+    const double cst19 = cst[19];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    out[0] = 0;
+    out[1] = cst28*(ag*cst19 + cst17*dx1 + cst18*x1);
+    out[2] = cst29*(ag*cst23 + cst21*dx2 + cst22*x2);
+}
+
+/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
+void omd2_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_contact_accel_prepared(y, ag, cst, out);
+}
+
+/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
+ * From the constants of omd2_prepare(s, p, cst). */
+double omd2_uplift_prepared(const double *y, double ag, const double *cst)
+{
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst30 = cst[30];
+    const double cst31 = cst[31];
+    const double cst32 = cst[32];
+    const double cst33 = cst[33];
+    const double cst34 = cst[34];
+    const double cst35 = cst[35];
+    return ag*cst31 + cst30 + cst32*dx1 + cst33*x1 + cst34*x2 + cst35*dx2;
+}
+
+/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
+double omd2_uplift(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    return omd2_uplift_prepared(y, ag, cst);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_impact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dtheta = y[3];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst26 = cst[26];
+    const double cst27 = cst[27];
+    const double cst36 = cst[36];
+    const double cst37 = cst[37];
+    const double cst38 = cst[38];
+    const double cst39 = cst[39];
+    const double cse0 = cst1*(x1*x1);
+    const double cse1 = cst2*(x2*x2);
+    const double cse2 = (cse0*dtheta + cse1*dtheta + cst26*(cst2*dx2 + cst6*dtheta) + cst27*(cst1*dx1 + cst5*dtheta) + cst37*dtheta + cst5*dx1 + cst6*dx2)/(cse0 + cse1 + cst15*x1 + cst16*x2 + cst36);
+    out[0] = cse2;
+    out[1] = cse2*cst27 + cst38*dtheta + dx1;
+    out[2] = cse2*cst26 + cst39*dtheta + dx2;
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
+void omd2_impact(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_impact_prepared(y, ag, cst, out);
+}
+
+/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+ * From the constants of omd2_prepare(s, p, cst). */
+double omd2_energy_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dtheta = y[3];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst8 = cst[8];
+    const double cst20 = cst[20];
+    const double cst24 = cst[24];
+    const double cst40 = cst[40];
+    const double cst41 = cst[41];
+    const double cst42 = cst[42];
+    const double cst43 = cst[43];
+    const double cst44 = cst[44];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
+    const double cst47 = cst[47];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = (x1*x1);
+    const double cse3 = (x2*x2);
+    return cse0*cst45 + cse0*cst46*x1 + cse0*cst47*x2 + cse1*cse2*cst43 + cse1*cse3*cst44 + cse1*cst20*x1 + cse1*cst24*x2 + cse1*cst40 + cse2*cst41 + cse3*cst42 + cst43*(dx1*dx1) + cst44*(dx2*dx2) + cst5*dtheta*dx1 + cst6*dtheta*dx2 + cst8*cos(theta);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double omd2_energy(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    return omd2_energy_prepared(y, ag, cst);
+}
+
+/* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
+ * From the constants of omd2_prepare(s, p, cst). */
+double omd2_power_prepared(const double *y, double ag, const double *cst)
+{
     const double theta = y[0];
     const double x1 = y[1];
     const double x2 = y[2];
     const double dtheta = y[3];
     const double dx1 = y[4];
     const double dx2 = y[5];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double k1 = p[8];
-    const double m2 = p[10];
-    const double k2 = p[11];
-    const double cse0 = (dtheta*dtheta);
-    const double cse1 = (1.0/2.0)*cse0;
-    const double cse2 = (1.0/2.0)*m1;
-    const double cse3 = (1.0/2.0)*m2;
-    const double cse4 = (x1*x1);
-    const double cse5 = (x2*x2);
-    const double cse6 = H*m1;
-    const double cse7 = dtheta*dx1;
-    const double cse8 = g*cos(theta);
-    const double cse9 = g*sin(theta);
-    const double cse10 = M*cse9;
-    const double cse11 = h*m1;
-    const double cse12 = H*cse8;
-    const double cse13 = B*s;
-    const double cse14 = cse13*cse9;
-    const double cse15 = (B*B);
-    const double cse16 = (1.0/8.0)*cse0;
-    const double cse17 = M*cse16;
-    const double cse18 = cse15*cse16;
-    const double cse19 = (H*H);
-    const double cse20 = cse1*m1;
-    const double cse21 = M*cse1;
-    const double cse22 = cse1*m2;
-    return -H*cse3*dtheta*dx2 + I_G*cse1 + (1.0/2.0)*M*cse12 + cse0*cse6*h + (1.0/2.0)*cse10*cse13 + cse10*e - cse11*cse7 + cse11*cse8 + cse12*cse3 + cse13*cse20*x1 + cse13*cse21*e + cse13*cse22*x2 + cse14*cse2 + cse14*cse3 + cse15*cse17 + cse16*cse19*m2 + cse17*cse19 + cse18*m1 + cse18*m2 + cse19*cse20 + cse2*(dx1*dx1) + cse20*cse4 + cse20*(h*h) + cse21*(e*e) + cse22*cse5 + cse3*(dx2*dx2) + (1.0/2.0)*cse4*k1 + (1.0/2.0)*cse5*k2 - cse6*cse7 + cse6*cse8 + cse9*m1*x1 + cse9*m2*x2;
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst7 = cst[7];
+    const double cst9 = cst[9];
+    const double cst17 = cst[17];
+    const double cst19 = cst[19];
+    const double cst21 = cst[21];
+    const double cst23 = cst[23];
+    const double cse0 = ag*cos(theta);
+    const double cse1 = ag*dtheta*sin(theta);
+    return cse0*cst19*dx1 + cse0*cst23*dx2 + cse0*cst7*dtheta + cse1*cst1*x1 + cse1*cst2*x2 + cse1*cst9 + cst17*(dx1*dx1) + cst21*(dx2*dx2);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double omd2_power(double s, const double *y, double ag, const double *p)
 {
-    const double theta = y[0];
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double dtheta = y[3];
-    const double dx1 = y[4];
-    const double dx2 = y[5];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double c1 = p[9];
-    const double m2 = p[10];
-    const double c2 = p[12];
-    const double cse0 = ag*cos(theta);
-    const double cse1 = cse0*m1;
-    const double cse2 = cse0*m2;
-    const double cse3 = cse1*dtheta;
-    const double cse4 = M*dtheta;
-    const double cse5 = ag*sin(theta);
-    const double cse6 = cse4*cse5;
-    const double cse7 = cse5*dtheta;
-    const double cse8 = cse7*m1;
-    const double cse9 = cse7*m2;
-    const double cse10 = (1.0/2.0)*H;
-    const double cse11 = (1.0/2.0)*B*s;
-    return H*cse3 - c1*(dx1*dx1) - c2*(dx2*dx2) + cse0*cse10*cse4 - cse1*dx1 + cse10*cse2*dtheta + cse11*cse6 + cse11*cse8 + cse11*cse9 - cse2*dx2 + cse3*h + cse6*e + cse8*x1 + cse9*x2;
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    return omd2_power_prepared(y, ag, cst);
+}
+
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+ * From the constants of omd2_prepare(s, p, cst). */
+double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    const double cst48 = cst[48];
+    return cst48;
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double omd2_uplift_energy(double s, const double *y, double ag, const double *p)
 {
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    return omd2_uplift_energy_prepared(y, ag, cst);
+}
+
+/* Static critical angle about the pivot s, the other coordinates held (sign of s).
+ * From the constants of omd2_prepare(s, p, cst). */
+double omd2_critical_angle_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
-    (void)y;
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double k1 = p[8];
-    const double c1 = p[9];
-    const double m2 = p[10];
-    const double k2 = p[11];
-    const double c2 = p[12];
-    const double cse0 = 2*(g*g);
-    const double cse1 = k1*m1;
-    const double cse2 = k2*m2;
-    const double cse3 = (c1*c1)*k1;
-    const double cse4 = 4*cse2;
-    const double cse5 = H*cse4*h;
-    const double cse6 = cse1*k2;
-    const double cse7 = H*g;
-    const double cse8 = cse4*k1*(m1*m1);
-    const double cse9 = (k1*k1)*m1;
-    const double cse10 = (H*H);
-    const double cse11 = 2*cse2;
-    const double cse12 = cse10*cse11;
-    const double cse13 = (1.0/2.0)*cse10;
-    const double cse14 = cse11*(h*h);
-    const double cse15 = M*g;
-    const double cse16 = (1.0/2.0)*B;
-    const double cse17 = cse16*g;
-    return cse1*cse2*(fmax(0, cse15*cse16 + cse15*e*s + cse17*m1 + cse17*m2)*fmax(0, cse15*cse16 + cse15*e*s + cse17*m1 + cse17*m2))/((c2*c2)*cse13*cse6 + cse0*cse1*(m2*m2*m2) + cse0*cse2*(m1*m1*m1) + cse1*cse13*(k2*k2)*m2 + cse12*cse3 + cse12*cse9 + cse14*cse3 + cse14*cse9 + cse3*cse5 + cse5*cse9 + 2*cse6*cse7*(m2*m2) + cse7*cse8 + cse8*g*h);
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double cst8 = cst[8];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
+    const double cst47 = cst[47];
+    return atan2(cst45 + cst46*x1 + cst47*x2, cst8);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd2_critical_angle(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
-    const double x1 = y[1];
-    const double x2 = y[2];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m1 = p[6];
-    const double h = p[7];
-    const double m2 = p[10];
-    const double cse0 = M*g;
-    const double cse1 = g*m1;
-    const double cse2 = g*m2;
-    const double cse3 = (1.0/2.0)*B*s;
-    const double cse4 = (1.0/2.0)*H;
-    return atan2(cse0*cse3 + cse0*e + cse1*cse3 + cse1*x1 + cse2*cse3 + cse2*x2, H*cse1 + cse0*cse4 + cse1*h + cse2*cse4);
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    return omd2_critical_angle_prepared(y, ag, cst);
 }

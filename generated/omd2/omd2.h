@@ -9,6 +9,10 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 13 doubles: M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2
  *   out results (vector functions only)
+ * Each function also comes prepared: omd2_prepare(s, p, cst) fills the
+ * OMD2_NK constants of a run about the pivot s (all that depends on s and p
+ * alone), and omd2_<name>_prepared(y, ag, cst[, out]) does the rest, the
+ * cheaper call for a loop over states with the same s and p.
  * Derivation options: {"impact": "spec", "impact_laws": {"x1": "momentum", "x2": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD2_H
@@ -17,6 +21,7 @@
 #define OMD2_NQ 3
 #define OMD2_NY 6
 #define OMD2_NP 13
+#define OMD2_NK 49
 #define OMD2_Y_theta 0
 #define OMD2_Y_x1 1
 #define OMD2_Y_x2 2
@@ -37,56 +42,81 @@
 #define OMD2_P_k2 11
 #define OMD2_P_c2 12
 
+/* The constants of a run about the pivot s: cst, OMD2_NK doubles. */
+void omd2_prepare(double s, const double *p, double *cst);
+
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[0,2], M[1,0], M[1,1], M[1,2], M[2,0], M[2,1], M[2,2] */
 void omd2_mass_matrix(double s, const double *y, double ag, const double *p, double *out);
+void omd2_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * out: f[theta], f[x1], f[x2] */
 void omd2_forcing(double s, const double *y, double ag, const double *p, double *out);
+void omd2_forcing_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * out: ddtheta, ddx1, ddx2 */
 void omd2_rocking_accel(double s, const double *y, double ag, const double *p, double *out);
+void omd2_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * out: ddtheta, ddx1, ddx2 */
 void omd2_contact_accel(double s, const double *y, double ag, const double *p, double *out);
+void omd2_contact_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double omd2_uplift(double s, const double *y, double ag, const double *p);
+double omd2_uplift_prepared(const double *y, double ag, const double *cst);
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
  * out: dtheta_plus, dx1_plus, dx2_plus */
 void omd2_impact(double s, const double *y, double ag, const double *p, double *out);
+void omd2_impact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double omd2_energy(double s, const double *y, double ag, const double *p);
+double omd2_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double omd2_power(double s, const double *y, double ag, const double *p);
+double omd2_power_prepared(const double *y, double ag, const double *cst);
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double omd2_uplift_energy(double s, const double *y, double ag, const double *p);
+double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd2_critical_angle(double s, const double *y, double ag, const double *p);
+double omd2_critical_angle_prepared(const double *y, double ag, const double *cst);
 
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD2_NQ
 #define MODEL_NY OMD2_NY
 #define MODEL_NP OMD2_NP
+#define MODEL_NK OMD2_NK
+#define model_prepare omd2_prepare
 #define model_mass_matrix omd2_mass_matrix
+#define model_mass_matrix_prepared omd2_mass_matrix_prepared
 #define model_forcing omd2_forcing
+#define model_forcing_prepared omd2_forcing_prepared
 #define model_rocking_accel omd2_rocking_accel
+#define model_rocking_accel_prepared omd2_rocking_accel_prepared
 #define model_contact_accel omd2_contact_accel
+#define model_contact_accel_prepared omd2_contact_accel_prepared
 #define model_uplift omd2_uplift
+#define model_uplift_prepared omd2_uplift_prepared
 #define model_impact omd2_impact
+#define model_impact_prepared omd2_impact_prepared
 #define model_energy omd2_energy
+#define model_energy_prepared omd2_energy_prepared
 #define model_power omd2_power
+#define model_power_prepared omd2_power_prepared
 #define model_uplift_energy omd2_uplift_energy
+#define model_uplift_energy_prepared omd2_uplift_energy_prepared
 #define model_critical_angle omd2_critical_angle
+#define model_critical_angle_prepared omd2_critical_angle_prepared
 #endif
 
 #endif

@@ -7,332 +7,469 @@
 
 #include "pendulum.h"
 
-/* Mass matrix of the rocking phase about the pivot s, row-major. */
-void pendulum_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+/* The constants of a run about the pivot s: what the functions share that
+ * depends on the parameters alone. */
+void pendulum_prepare(double s, const double *p, double *cst)
 {
-    (void)ag;
-    const double phi = y[1];
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
     const double H = p[3];
     const double e = p[4];
+    const double g = p[5];
     const double m = p[6];
     const double l = p[7];
     const double x_p = p[8];
     const double y_p = p[9];
-    const double cse0 = (l*l)*m;
-    const double cse1 = B*s;
-    const double cse2 = m*x_p;
-    const double cse3 = (B*B);
-    const double cse4 = (1.0/4.0)*M;
-    const double cse5 = l*sin(phi);
-    const double cse6 = cse2*cse5;
-    const double cse7 = l*m*y_p*cos(phi);
-    const double cse8 = cse1*cse5*m;
-    const double cse9 = cse0 + cse6 - cse7 + (1.0/2.0)*cse8;
-    out[0] = (H*H)*cse4 + I_G + M*cse1*e + M*(e*e) + cse0 + cse1*cse2 + cse3*cse4 + (1.0/4.0)*cse3*m + 2*cse6 - 2*cse7 + cse8 + m*(x_p*x_p) + m*(y_p*y_p);
-    out[1] = cse9;
-    out[2] = cse9;
-    out[3] = cse0;
+    const double k_phi = p[10];
+    const double c_phi = p[11];
+    const double cse0 = (B*B);
+    const double cse1 = cse0*m;
+    const double cse2 = (1.0/4.0)*cse1;
+    const double cse3 = m*x_p;
+    const double cse4 = B*s;
+    const double cse5 = cse3*cse4;
+    const double cse6 = M*e;
+    const double cse7 = cse4*cse6;
+    const double cse8 = (1.0/4.0)*M;
+    const double cse9 = cse0*cse8;
+    const double cse10 = M*(e*e);
+    const double cse11 = m*(y_p*y_p);
+    const double cse12 = (H*H);
+    const double cse13 = I_G + cse10 + cse11 + cse12*cse8;
+    const double cse14 = cse13 + cse9;
+    const double cse15 = cse14 + cse7;
+    const double cse16 = m*(x_p*x_p);
+    const double cse17 = (l*l);
+    const double cse18 = cse17*m;
+    const double cse19 = cse16 + cse18;
+    const double cse20 = m*y_p;
+    const double cse21 = 2*l;
+    const double cse22 = cse21*cse3;
+    const double cse23 = l*m;
+    const double cse24 = cse23*cse4;
+    const double cse25 = cse22 + cse24;
+    const double cse26 = cse3*l;
+    const double cse27 = (1.0/2.0)*cse24;
+    const double cse28 = cse26 + cse27;
+    const double cse29 = cse20*l;
+    const double cse30 = (1.0/2.0)*M;
+    const double cse31 = cse30*cse4;
+    const double cse32 = (1.0/2.0)*m;
+    const double cse33 = cse32*cse4;
+    const double cse34 = H*cse30;
+    const double cse35 = cse20*g;
+    const double cse36 = cse6*g;
+    const double cse37 = cse3*g;
+    const double cse38 = cse31*g + cse33*g + cse36 + cse37;
+    const double cse39 = cse23*g;
+    const double cse40 = -cse11 + cse16 + cse2;
+    const double cse41 = 2*y_p;
+    const double cse42 = cse20*cse4;
+    const double cse43 = 1.0/l;
+    const double cse44 = (1.0/2.0)*cse43;
+    const double cse45 = c_phi*s;
+    const double cse46 = k_phi*s;
+    const double cse47 = cse20*s;
+    const double cse48 = B*cse32;
+    const double cse49 = B*cse44;
+    const double cse50 = cse43*x_p;
+    const double cse51 = cse43*y_p;
+    const double cse52 = (1.0/8.0)*M;
+    const double cse53 = (1.0/2.0)*cse18;
+    cst[0] = cse15 + cse19 + cse2 + cse5;
+    cst[1] = -cse20*cse21;
+    cst[2] = cse25;
+    cst[3] = cse18;
+    cst[4] = cse28;
+    cst[5] = -cse29;
+    cst[6] = cse3 + cse31 + cse33 + cse6;
+    cst[7] = cse20 + cse34;
+    cst[8] = cse34*g + cse35;
+    cst[9] = -cse38;
+    cst[10] = cse23;
+    cst[11] = -cse23;
+    cst[12] = -cse39;
+    cst[13] = -cse28;
+    cst[14] = -cse25;
+    cst[15] = -c_phi;
+    cst[16] = -k_phi;
+    cst[17] = cse29;
+    cst[18] = cse15;
+    cst[19] = cse40 + cse5;
+    cst[20] = cse3*cse41 + cse42;
+    cst[21] = -cse44;
+    cst[22] = cse21;
+    cst[23] = -cse41;
+    cst[24] = cse4 + 2*x_p;
+    cst[25] = 1/(cse17*m);
+    cst[26] = cse45;
+    cst[27] = cse46;
+    cst[28] = -B*cse30*g - cse36*s;
+    cst[29] = cse34*s + cse47;
+    cst[30] = -cse37*s - cse48*g;
+    cst[31] = cse3*s + cse48;
+    cst[32] = c_phi*cse49 + cse45*cse50;
+    cst[33] = cse46*cse50 + cse49*k_phi;
+    cst[34] = -cse47;
+    cst[35] = -1.0/2.0*B*cse23 - cse26*s;
+    cst[36] = -cse45*cse51;
+    cst[37] = -cse35*s;
+    cst[38] = -cse46*cse51;
+    cst[39] = -cse29*s;
+    cst[40] = cse14 - cse7;
+    cst[41] = cse40 - cse5;
+    cst[42] = -cse42 + 2*m*x_p*y_p;
+    cst[43] = cse13 + cse19 - cse2 - cse9;
+    cst[44] = -cse4 + 2*x_p;
+    cst[45] = cse26 - cse27;
+    cst[46] = cse22;
+    cst[47] = cse44;
+    cst[48] = (1.0/2.0)*I_G + cse0*cse52 + (1.0/8.0)*cse1 + (1.0/2.0)*cse10 + (1.0/2.0)*cse11 + cse12*cse52 + (1.0/2.0)*cse16 + (1.0/2.0)*cse5 + cse53 + (1.0/2.0)*cse7;
+    cst[49] = (1.0/2.0)*k_phi;
+    cst[50] = cse53;
+    cst[51] = cse38;
+    cst[52] = cse39;
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major.
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double phi = y[1];
+    const double cst0 = cst[0];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cse0 = cos(phi);
+    const double cse1 = sin(phi);
+    const double cse2 = cse0*cst5 + cse1*cst4 + cst3;
+    out[0] = cse0*cst1 + cse1*cst2 + cst0;
+    out[1] = cse2;
+    out[2] = cse2;
+    out[3] = cst3;
+}
+
+/* Mass matrix of the rocking phase about the pivot s, row-major. */
+void pendulum_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_mass_matrix_prepared(y, ag, cst, out);
+}
+
+/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_forcing_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double phi = y[1];
+    const double dtheta = y[2];
+    const double dphi = y[3];
+    const double cst1 = cst[1];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst17 = cst[17];
+    const double cse0 = sin(theta);
+    const double cse1 = cos(theta);
+    const double cse2 = ag*cse0;
+    const double cse3 = ag*cse1;
+    const double cse4 = cos(phi);
+    const double cse5 = (dphi*dphi);
+    const double cse6 = sin(phi);
+    const double cse7 = dphi*dtheta;
+    const double cse8 = cse0*cse4*cst12 + cse1*cse6*cst12 + cse2*cse6*cst10 + cse3*cse4*cst11;
+    const double cse9 = (dtheta*dtheta);
+    out[0] = cse0*cst8 + cse1*cst9 + cse2*cst6 + cse3*cst7 + cse4*cse5*cst13 + cse4*cse7*cst14 + cse5*cse6*cst5 + cse6*cse7*cst1 + cse8;
+    out[1] = cse4*cse9*cst4 + cse6*cse9*cst17 + cse8 + cst15*dphi + cst16*phi;
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
 void pendulum_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_forcing_prepared(y, ag, cst, out);
+}
+
+/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
     const double theta = y[0];
     const double phi = y[1];
     const double dtheta = y[2];
     const double dphi = y[3];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double k_phi = p[10];
-    const double c_phi = p[11];
-    const double cse0 = cos(theta);
-    const double cse1 = cse0*g;
-    const double cse2 = m*x_p;
-    const double cse3 = sin(theta);
-    const double cse4 = (dphi*dphi);
-    const double cse5 = cse4*l;
-    const double cse6 = cos(phi);
-    const double cse7 = cse2*cse6;
-    const double cse8 = sin(phi);
-    const double cse9 = cse8*m*y_p;
-    const double cse10 = B*s;
-    const double cse11 = cse1*cse10;
-    const double cse12 = l*m;
-    const double cse13 = cse12*cse6;
-    const double cse14 = cse10*cse13;
-    const double cse15 = dphi*dtheta;
-    const double cse16 = 2*cse15*l;
-    const double cse17 = ag*cse0*cse13 - ag*cse3*cse8*l*m + cse1*cse12*cse8 + cse13*cse3*g;
-    const double cse18 = (dtheta*dtheta);
-    out[0] = (1.0/2.0)*B*M*ag*cse3*s + (1.0/2.0)*B*ag*cse3*m*s + (1.0/2.0)*H*M*ag*cse0 + (1.0/2.0)*H*M*cse3*g + M*ag*cse3*e - M*cse1*e - 1.0/2.0*M*cse11 + ag*cse0*m*y_p + ag*cse3*m*x_p - cse1*cse2 - 1.0/2.0*cse11*m - cse14*cse15 - 1.0/2.0*cse14*cse4 - cse16*cse7 - cse16*cse9 - cse17 + cse3*g*m*y_p - cse5*cse7 - cse5*cse9;
-    out[1] = (1.0/2.0)*B*cse18*cse6*l*m*s - c_phi*dphi - cse17 + cse18*cse6*l*m*x_p + cse18*cse8*l*m*y_p - k_phi*phi;
+    const double cst1 = cst[1];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst17 = cst[17];
+    const double cst18 = cst[18];
+    const double cst19 = cst[19];
+    const double cst20 = cst[20];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cst24 = cst[24];
+    const double cst25 = cst[25];
+    const double cse0 = cos(phi);
+    const double cse1 = sin(phi);
+    const double cse2 = sin(theta);
+    const double cse3 = cos(theta);
+    const double cse4 = ag*cse2;
+    const double cse5 = ag*cse3;
+    const double cse6 = (dphi*dphi);
+    const double cse7 = (dtheta*dtheta);
+    const double cse8 = cse0*cse2*cst12 + cse0*cse5*cst11 + cse1*cse3*cst12 + cse1*cse4*cst10;
+    const double cse9 = cse0*cse7*cst4 + cse1*cse7*cst17 + cse8 + cst15*dphi + cst16*phi;
+    const double cse10 = cst21*(cse0*cst23 + cse1*cst24 + cst22);
+    const double cse11 = dphi*dtheta;
+    const double cse12 = (cse0*cse11*cst14 + cse0*cse6*cst13 + cse1*cse11*cst1 + cse1*cse6*cst5 + cse10*cse9 + cse2*cst8 + cse3*cst9 + cse4*cst6 + cse5*cst7 + cse8)/((cse0*cse0)*cst19 + cse0*cse1*cst20 + cst18);
+    out[0] = cse12;
+    out[1] = cse10*cse12 + cse9*cst25;
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
 void pendulum_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
-    const double theta = y[0];
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_rocking_accel_prepared(y, ag, cst, out);
+}
+
+/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
+{
     const double phi = y[1];
-    const double dtheta = y[2];
     const double dphi = y[3];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double k_phi = p[10];
-    const double c_phi = p[11];
-    const double cse0 = m*(y_p*y_p);
-    const double cse1 = B*s;
-    const double cse2 = M*e;
-    const double cse3 = (B*B);
-    const double cse4 = (1.0/4.0)*M;
-    const double cse5 = cos(phi);
-    const double cse6 = (cse5*cse5);
-    const double cse7 = cse6*m;
-    const double cse8 = cse5*y_p;
-    const double cse9 = 2*cse8;
-    const double cse10 = sin(phi);
-    const double cse11 = cse10*x_p;
-    const double cse12 = cse1*cse10;
-    const double cse13 = (dtheta*dtheta);
-    const double cse14 = cos(theta);
-    const double cse15 = cse5*l;
-    const double cse16 = cse15*m;
-    const double cse17 = sin(theta);
-    const double cse18 = cse10*l;
-    const double cse19 = cse14*g;
-    const double cse20 = cse19*m;
-    const double cse21 = -ag*cse10*cse17*l*m + ag*cse14*cse16 + cse16*cse17*g + cse18*cse20;
-    const double cse22 = (1.0/2.0)*B*cse13*cse5*l*m*s - c_phi*dphi + cse10*cse13*l*m*y_p + cse13*cse5*l*m*x_p - cse21 - k_phi*phi;
-    const double cse23 = 2*l;
-    const double cse24 = (1.0/2.0)*(2*cse11 + cse12 + cse23 - cse9)/l;
-    const double cse25 = m*x_p;
-    const double cse26 = (dphi*dphi);
-    const double cse27 = m*y_p;
-    const double cse28 = (1.0/2.0)*cse1;
-    const double cse29 = dphi*dtheta;
-    const double cse30 = cse23*cse29;
-    const double cse31 = ((1.0/2.0)*B*M*ag*cse17*s + (1.0/2.0)*B*ag*cse17*m*s + (1.0/2.0)*H*M*ag*cse14 + (1.0/2.0)*H*M*cse17*g + M*ag*cse17*e - 1.0/2.0*M*cse1*cse19 + ag*cse14*m*y_p + ag*cse17*m*x_p - cse1*cse16*cse29 - cse10*cse27*cse30 - cse15*cse25*cse26 - cse16*cse26*cse28 + cse17*g*m*y_p - cse18*cse26*cse27 - cse19*cse2 - cse19*cse25 - cse20*cse28 - cse21 - cse22*cse24 - cse25*cse30*cse5)/((H*H)*cse4 + I_G + M*(e*e) - cse0*cse6 + cse0 + cse1*cse2 + cse1*cse7*x_p + cse11*cse9*m + cse12*cse8*m + cse3*cse4 + (1.0/4.0)*cse3*cse7 + cse7*(x_p*x_p));
-    out[0] = cse31;
-    out[1] = cse22/((l*l)*m) - cse24*cse31;
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst25 = cst[25];
+    out[0] = 0;
+    out[1] = cst25*(ag*cst11*cos(phi) + cst12*sin(phi) + cst15*dphi + cst16*phi);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
 void pendulum_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
-    (void)s;
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_contact_accel_prepared(y, ag, cst, out);
+}
+
+/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
+ * From the constants of pendulum_prepare(s, p, cst). */
+double pendulum_uplift_prepared(const double *y, double ag, const double *cst)
+{
     const double phi = y[1];
     const double dphi = y[3];
-    const double g = p[5];
-    const double m = p[6];
-    const double l = p[7];
-    const double k_phi = p[10];
-    const double c_phi = p[11];
-    const double cse0 = l*m;
-    out[0] = 0;
-    out[1] = (-ag*cse0*cos(phi) - c_phi*dphi - cse0*g*sin(phi) - k_phi*phi)/((l*l)*m);
+    const double cst26 = cst[26];
+    const double cst27 = cst[27];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    const double cst30 = cst[30];
+    const double cst31 = cst[31];
+    const double cst32 = cst[32];
+    const double cst33 = cst[33];
+    const double cst34 = cst[34];
+    const double cst35 = cst[35];
+    const double cst36 = cst[36];
+    const double cst37 = cst[37];
+    const double cst38 = cst[38];
+    const double cst39 = cst[39];
+    const double cse0 = sin(phi);
+    const double cse1 = cos(phi);
+    const double cse2 = (cse1*cse1);
+    const double cse3 = cse0*cse1;
+    const double cse4 = (dphi*dphi);
+    return ag*cse2*cst34 + ag*cse3*cst31 + ag*cst29 + cse0*cse4*cst39 + cse0*cst32*dphi + cse0*cst33*phi + cse1*cse4*cst35 + cse1*cst36*dphi + cse1*cst38*phi + cse2*cst30 + cse3*cst37 + cst26*dphi + cst27*phi + cst28;
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double pendulum_uplift(double s, const double *y, double ag, const double *p)
 {
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    return pendulum_uplift_prepared(y, ag, cst);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_impact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
     const double phi = y[1];
+    const double dtheta = y[2];
     const double dphi = y[3];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double k_phi = p[10];
-    const double c_phi = p[11];
-    const double cse0 = M*g;
-    const double cse1 = (1.0/2.0)*B;
-    const double cse2 = cse1*m;
-    const double cse3 = cos(phi);
-    const double cse4 = (cse3*cse3);
-    const double cse5 = cse4*g;
-    const double cse6 = sin(phi);
-    const double cse7 = m*s;
-    const double cse8 = cse7*x_p;
-    const double cse9 = cse7*y_p;
-    const double cse10 = 1.0/l;
-    const double cse11 = (dphi*dphi)*l;
-    const double cse12 = cse10*cse3*y_p;
-    return (1.0/2.0)*B*ag*cse3*cse6*m + (1.0/2.0)*B*c_phi*cse10*cse6*dphi + (1.0/2.0)*B*cse10*cse6*k_phi*phi + (1.0/2.0)*H*M*ag*s + ag*cse3*cse6*m*s*x_p - ag*cse4*m*s*y_p + ag*m*s*y_p + c_phi*cse10*cse6*dphi*s*x_p - c_phi*cse12*dphi*s + c_phi*dphi*s - cse0*cse1 - cse0*e*s + cse10*cse6*k_phi*phi*s*x_p - cse11*cse2*cse3 - cse11*cse3*cse8 - cse11*cse6*cse9 - cse12*k_phi*phi*s - cse2*cse5 - cse3*cse6*cse9*g - cse5*cse8 + k_phi*phi*s;
+    const double cst1 = cst[1];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cst24 = cst[24];
+    const double cst40 = cst[40];
+    const double cst41 = cst[41];
+    const double cst42 = cst[42];
+    const double cst43 = cst[43];
+    const double cst44 = cst[44];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
+    const double cst47 = cst[47];
+    const double cse0 = cos(phi);
+    const double cse1 = sin(phi);
+    const double cse2 = cst3*dphi;
+    const double cse3 = cse0*dtheta;
+    const double cse4 = cse1*dtheta;
+    const double cse5 = cse0*cst23;
+    const double cse6 = cst21*(cse1*cst44 + cse5 + cst22);
+    const double cse7 = (cse0*cst5*dphi + cse1*cst45*dphi + cse2 + cse3*cst1 + cse4*cst46 + cse6*(cse2 + cse3*cst5 + cse4*cst4 + cst3*dtheta) + cst43*dtheta)/((cse0*cse0)*cst41 + cse0*cse1*cst42 + cst40);
+    out[0] = cse7;
+    out[1] = cse6*cse7 + cst47*(cse4*cst24 + cse5*dtheta + cst22*dphi + cst22*dtheta);
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
 void pendulum_impact(double s, const double *y, double ag, const double *p, double *out)
 {
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_impact_prepared(y, ag, cst, out);
+}
+
+/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+ * From the constants of pendulum_prepare(s, p, cst). */
+double pendulum_energy_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
+    const double theta = y[0];
     const double phi = y[1];
     const double dtheta = y[2];
     const double dphi = y[3];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double cse0 = M*(e*e);
-    const double cse1 = m*(y_p*y_p);
-    const double cse2 = (B*B);
-    const double cse3 = (1.0/4.0)*M;
-    const double cse4 = cse2*cse3;
-    const double cse5 = (H*H)*cse3;
-    const double cse6 = B*s;
-    const double cse7 = cos(phi);
-    const double cse8 = (cse7*cse7);
-    const double cse9 = m*(x_p*x_p);
-    const double cse10 = cse7*y_p;
-    const double cse11 = 2*cse10;
-    const double cse12 = sin(phi);
-    const double cse13 = cse12*x_p;
-    const double cse14 = cse13*m;
-    const double cse15 = cse8*m;
-    const double cse16 = (1.0/4.0)*cse2;
-    const double cse17 = cse12*cse6;
-    const double cse18 = cse10*m;
-    const double cse19 = dtheta*m;
-    const double cse20 = cse19*l;
-    const double cse21 = (1.0/2.0)*cse17;
-    const double cse22 = (l*l)*m;
-    const double cse23 = cse22*dphi + cse22*dtheta;
-    const double cse24 = 1.0/l;
-    const double cse25 = (1.0/2.0)*cse24*(-cse11 + 2*cse12*x_p - cse17 + 2*l);
-    const double cse26 = dphi*l;
-    const double cse27 = 2*l;
-    const double cse28 = cse27*dtheta;
-    const double cse29 = (I_G*dtheta + cse0*dtheta + cse1*dtheta + cse14*cse26 + cse14*cse28 - cse16*cse19 - cse18*cse26 - cse18*cse28 - cse21*cse26*m + cse23 - cse25*(-cse10*cse20 + cse13*cse20 + cse20*cse21 + cse23) - cse4*dtheta + cse5*dtheta + cse9*dtheta)/(I_G - M*cse6*e + cse0 - cse1*cse8 + cse1 + cse11*cse14 + cse15*cse16 - cse15*cse6*x_p - cse17*cse18 + cse4 + cse5 + cse8*cse9);
-    out[0] = cse29;
-    out[1] = (1.0/2.0)*cse24*(-cse11*dtheta + 2*cse13*dtheta + cse17*dtheta + cse27*dphi + cse28) - cse25*cse29;
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst8 = cst[8];
+    const double cst12 = cst[12];
+    const double cst48 = cst[48];
+    const double cst49 = cst[49];
+    const double cst50 = cst[50];
+    const double cst51 = cst[51];
+    const double cst52 = cst[52];
+    const double cse0 = sin(theta);
+    const double cse1 = cos(theta);
+    const double cse2 = dphi*dtheta;
+    const double cse3 = (dtheta*dtheta);
+    const double cse4 = cos(phi);
+    const double cse5 = sin(phi);
+    const double cse6 = cse5*cst4;
+    const double cse7 = cse4*cst5;
+    return cse0*cse5*cst52 + cse0*cst51 + cse1*cse4*cst12 + cse1*cst8 + cse2*cse6 + cse2*cse7 + cse2*cst3 + cse3*cse6 + cse3*cse7 + cse3*cst48 + cst49*(phi*phi) + cst50*(dphi*dphi);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double pendulum_energy(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    return pendulum_energy_prepared(y, ag, cst);
+}
+
+/* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
+ * From the constants of pendulum_prepare(s, p, cst). */
+double pendulum_power_prepared(const double *y, double ag, const double *cst)
+{
     const double theta = y[0];
     const double phi = y[1];
     const double dtheta = y[2];
     const double dphi = y[3];
-    const double M = p[0];
-    const double I_G = p[1];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double k_phi = p[10];
-    const double cse0 = (dtheta*dtheta);
-    const double cse1 = (1.0/2.0)*cse0;
-    const double cse2 = g*sin(theta);
-    const double cse3 = M*cse2;
-    const double cse4 = cse2*m;
-    const double cse5 = g*cos(theta);
-    const double cse6 = m*y_p;
-    const double cse7 = (l*l)*m;
-    const double cse8 = dphi*dtheta;
-    const double cse9 = B*s;
-    const double cse10 = (1.0/2.0)*cse9;
-    const double cse11 = l*sin(phi);
-    const double cse12 = cse11*x_p;
-    const double cse13 = cse8*m;
-    const double cse14 = (B*B);
-    const double cse15 = (1.0/8.0)*M*cse0;
-    const double cse16 = cse0*m;
-    const double cse17 = M*cse1;
-    const double cse18 = cse1*m;
-    const double cse19 = cse18*cse9;
-    const double cse20 = l*cos(phi);
-    return (H*H)*cse15 + (1.0/2.0)*H*M*cse5 + I_G*cse1 + cse1*cse7 + cse10*cse11*cse13 + cse10*cse3 + cse10*cse4 + cse11*cse19 + cse11*cse4 + cse12*cse13 + cse12*cse16 + cse14*cse15 + (1.0/8.0)*cse14*cse16 - cse16*cse20*y_p + cse17*cse9*e + cse17*(e*e) + cse18*(x_p*x_p) + cse18*(y_p*y_p) + cse19*x_p - cse20*cse5*m - cse20*cse6*cse8 + cse3*e + cse4*x_p + cse5*cse6 + cse7*cse8 + (1.0/2.0)*cse7*(dphi*dphi) + (1.0/2.0)*k_phi*(phi*phi);
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst15 = cst[15];
+    const double cse0 = sin(theta);
+    const double cse1 = ag*dtheta;
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    const double cse5 = cst10*sin(phi);
+    const double cse6 = ag*dphi;
+    const double cse7 = cst11*cos(phi);
+    return cse0*cse5*cse6 + cse2*cse5 + cse2*cst6 + cse3*cse6*cse7 + cse4*cse7 + cse4*cst7 + cst15*(dphi*dphi);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double pendulum_power(double s, const double *y, double ag, const double *p)
 {
-    const double theta = y[0];
-    const double phi = y[1];
-    const double dtheta = y[2];
-    const double dphi = y[3];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double c_phi = p[11];
-    const double cse0 = sin(theta);
-    const double cse1 = ag*dtheta;
-    const double cse2 = cse0*cse1;
-    const double cse3 = M*cse2;
-    const double cse4 = cse2*m;
-    const double cse5 = cos(theta);
-    const double cse6 = cse1*cse5;
-    const double cse7 = cse6*m;
-    const double cse8 = (1.0/2.0)*B*s;
-    const double cse9 = l*sin(phi);
-    const double cse10 = ag*dphi*m;
-    const double cse11 = l*cos(phi);
-    return (1.0/2.0)*H*M*cse6 - c_phi*(dphi*dphi) + cse0*cse10*cse9 - cse10*cse11*cse5 - cse11*cse7 + cse3*cse8 + cse3*e + cse4*cse8 + cse4*cse9 + cse4*x_p + cse7*y_p;
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    return pendulum_power_prepared(y, ag, cst);
+}
+
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+ * From the constants of pendulum_prepare(s, p, cst). */
+double pendulum_uplift_energy_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    return 0;
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double pendulum_uplift_energy(double s, const double *y, double ag, const double *p)
 {
-    (void)s;
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    return pendulum_uplift_energy_prepared(y, ag, cst);
+}
+
+/* Static critical angle about the pivot s, the other coordinates held (sign of s).
+ * From the constants of pendulum_prepare(s, p, cst). */
+double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst)
+{
     (void)ag;
-    (void)y;
-    (void)p;
-    return 0;
+    const double phi = y[1];
+    const double cst8 = cst[8];
+    const double cst12 = cst[12];
+    const double cst51 = cst[51];
+    const double cst52 = cst[52];
+    return atan2(cst51 + cst52*sin(phi), cst12*cos(phi) + cst8);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double pendulum_critical_angle(double s, const double *y, double ag, const double *p)
 {
-    (void)ag;
-    const double phi = y[1];
-    const double M = p[0];
-    const double B = p[2];
-    const double H = p[3];
-    const double e = p[4];
-    const double g = p[5];
-    const double m = p[6];
-    const double l = p[7];
-    const double x_p = p[8];
-    const double y_p = p[9];
-    const double cse0 = M*g;
-    const double cse1 = g*m;
-    const double cse2 = (1.0/2.0)*cse0;
-    const double cse3 = B*s;
-    const double cse4 = cse1*l;
-    return atan2(cse0*e + (1.0/2.0)*cse1*cse3 + cse1*x_p + cse2*cse3 + cse4*sin(phi), H*cse2 + cse1*y_p - cse4*cos(phi));
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    return pendulum_critical_angle_prepared(y, ag, cst);
 }

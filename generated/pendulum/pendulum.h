@@ -9,6 +9,10 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 12 doubles: M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi
  *   out results (vector functions only)
+ * Each function also comes prepared: pendulum_prepare(s, p, cst) fills the
+ * PENDULUM_NK constants of a run about the pivot s (all that depends on s and p
+ * alone), and pendulum_<name>_prepared(y, ag, cst[, out]) does the rest, the
+ * cheaper call for a loop over states with the same s and p.
  * Derivation options: {"impact": "spec", "impact_laws": {"phi": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_PENDULUM_H
@@ -17,6 +21,7 @@
 #define PENDULUM_NQ 2
 #define PENDULUM_NY 4
 #define PENDULUM_NP 12
+#define PENDULUM_NK 53
 #define PENDULUM_Y_theta 0
 #define PENDULUM_Y_phi 1
 #define PENDULUM_Y_dtheta 2
@@ -34,56 +39,81 @@
 #define PENDULUM_P_k_phi 10
 #define PENDULUM_P_c_phi 11
 
+/* The constants of a run about the pivot s: cst, PENDULUM_NK doubles. */
+void pendulum_prepare(double s, const double *p, double *cst);
+
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[1,0], M[1,1] */
 void pendulum_mass_matrix(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * out: f[theta], f[phi] */
 void pendulum_forcing(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_forcing_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * out: ddtheta, ddphi */
 void pendulum_rocking_accel(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * out: ddtheta, ddphi */
 void pendulum_contact_accel(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_contact_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
 double pendulum_uplift(double s, const double *y, double ag, const double *p);
+double pendulum_uplift_prepared(const double *y, double ag, const double *cst);
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
  * out: dtheta_plus, dphi_plus */
 void pendulum_impact(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_impact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
 double pendulum_energy(double s, const double *y, double ag, const double *p);
+double pendulum_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
 double pendulum_power(double s, const double *y, double ag, const double *p);
+double pendulum_power_prepared(const double *y, double ag, const double *cst);
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
 double pendulum_uplift_energy(double s, const double *y, double ag, const double *p);
+double pendulum_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double pendulum_critical_angle(double s, const double *y, double ag, const double *p);
+double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst);
 
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ PENDULUM_NQ
 #define MODEL_NY PENDULUM_NY
 #define MODEL_NP PENDULUM_NP
+#define MODEL_NK PENDULUM_NK
+#define model_prepare pendulum_prepare
 #define model_mass_matrix pendulum_mass_matrix
+#define model_mass_matrix_prepared pendulum_mass_matrix_prepared
 #define model_forcing pendulum_forcing
+#define model_forcing_prepared pendulum_forcing_prepared
 #define model_rocking_accel pendulum_rocking_accel
+#define model_rocking_accel_prepared pendulum_rocking_accel_prepared
 #define model_contact_accel pendulum_contact_accel
+#define model_contact_accel_prepared pendulum_contact_accel_prepared
 #define model_uplift pendulum_uplift
+#define model_uplift_prepared pendulum_uplift_prepared
 #define model_impact pendulum_impact
+#define model_impact_prepared pendulum_impact_prepared
 #define model_energy pendulum_energy
+#define model_energy_prepared pendulum_energy_prepared
 #define model_power pendulum_power
+#define model_power_prepared pendulum_power_prepared
 #define model_uplift_energy pendulum_uplift_energy
+#define model_uplift_energy_prepared pendulum_uplift_energy_prepared
 #define model_critical_angle pendulum_critical_angle
+#define model_critical_angle_prepared pendulum_critical_angle_prepared
 #endif
 
 #endif

@@ -41,9 +41,28 @@
 /* 1. The model as an ODE                                                    */
 /* ------------------------------------------------------------------------ */
 
+/* The generated constants of a run (model_prepare), one array per pivot. */
+#define NK (MODEL_NK > 0 ? MODEL_NK : 1)
+typedef struct constants {
+    double about[2][NK]; /* [0]: s = +1, [1]: s = -1 */
+} constants;
+
+static void constants_prepare(constants *k, const double *p)
+{
+    model_prepare(1.0, p, k->about[0]);
+    model_prepare(-1.0, p, k->about[1]);
+}
+
+/* The constants about the pivot s; full contact uses those of s = +1, as
+ * the functions evaluated there do not depend on the pivot. */
+static const double *about(const constants *k, double s)
+{
+    return k->about[s < 0.0];
+}
+
 /* One phase's right-hand side: y' = (dq, accelerations of the phase). */
 typedef struct ode {
-    const double *p; /* model parameters */
+    const constants *k; /* of the model's parameters */
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
     int pulse_on;    /* the segment lies in [0, t_p] */
     double a_g, omega_g, psi;
@@ -64,9 +83,9 @@ static void ode_rhs(const ode *o, double t, const double *y, double *dy)
      * theta and dtheta stay exactly 0 while the whole state is integrated (the
      * error norm then runs over the same components in every phase). */
     if (o->phase == 0)
-        model_contact_accel(1.0, y, ag, o->p, dy + NQ);
+        model_contact_accel_prepared(y, ag, about(o->k, 1.0), dy + NQ);
     else
-        model_rocking_accel((double)o->phase, y, ag, o->p, dy + NQ);
+        model_rocking_accel_prepared(y, ag, about(o->k, (double)o->phase), dy + NQ);
     memcpy(dy, y + NQ, NQ * sizeof *dy);
 }
 
@@ -431,16 +450,16 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     const double s = (double)ec->o->phase;
     switch (kind) {
     case EV_UPLIFT_A:
-        return model_uplift(1.0, y, ode_ag(ec->o, t), ec->o->p);
+        return model_uplift_prepared(y, ode_ag(ec->o, t), about(ec->o->k, 1.0));
     case EV_UPLIFT_A_PRIME:
-        return model_uplift(-1.0, y, ode_ag(ec->o, t), ec->o->p);
+        return model_uplift_prepared(y, ode_ag(ec->o, t), about(ec->o->k, -1.0));
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
-        return (model_energy(1.0, y, 0.0, ec->o->p) - ec->energy_zero) - ec->energy_rest;
+        return (model_energy_prepared(y, 0.0, about(ec->o->k, 1.0)) - ec->energy_zero) - ec->energy_rest;
     case EV_SAFE:
-        return (model_energy(1.0, y, 0.0, ec->o->p) - ec->energy_zero) - ec->energy_safe;
+        return (model_energy_prepared(y, 0.0, about(ec->o->k, 1.0)) - ec->energy_zero) - ec->energy_safe;
     case EV_CRITICAL:
-        return s * y[0] - s * model_critical_angle(s, y, ode_ag(ec->o, t), ec->o->p);
+        return s * y[0] - s * model_critical_angle_prepared(y, ode_ag(ec->o, t), about(ec->o->k, s));
     default:
         return 0.0; /* not reached: the other events read one component */
     }
@@ -780,16 +799,16 @@ static int run_segment(run *r, double t_bound)
 static int uplift_at_start(const run *r)
 {
     const double ag = r->t < r->c->t_p ? r->c->a_g * sin(r->c->omega_g * r->t + r->c->psi) : 0.0;
-    if (model_uplift(1.0, r->y, ag, r->o.p) > 0.0)
+    if (model_uplift_prepared(r->y, ag, about(r->o.k, 1.0)) > 0.0)
         return 1;
-    if (model_uplift(-1.0, r->y, ag, r->o.p) > 0.0)
+    if (model_uplift_prepared(r->y, ag, about(r->o.k, -1.0)) > 0.0)
         return -1;
     return 0;
 }
 
 static double energy_above_rest(const run *r)
 {
-    return model_energy(1.0, r->y, 0.0, r->o.p) - r->ec.energy_zero;
+    return model_energy_prepared(r->y, 0.0, about(r->o.k, 1.0)) - r->ec.energy_zero;
 }
 
 /* Settling ends before it starts: nothing to settle without attached bodies,
@@ -807,10 +826,11 @@ static int settled_at_once(const run *r)
 /* The least energy above rest at which the attached bodies can lift the block,
  * with the safety margin of rule 4; NaN when no bound applies (a bound of 0
  * about either pivot, or NaN). */
-static double safe_energy(const double *p)
+static double safe_energy(const constants *k)
 {
     const double zeros[NY] = {0.0};
-    const double a = model_uplift_energy(1.0, zeros, 0.0, p), b = model_uplift_energy(-1.0, zeros, 0.0, p);
+    const double a = model_uplift_energy_prepared(zeros, 0.0, about(k, 1.0));
+    const double b = model_uplift_energy_prepared(zeros, 0.0, about(k, -1.0));
     if (!(a > 0.0 && b > 0.0))
         return NAN;
     return min2(a, b) * (1.0 - 1e-9);
@@ -827,7 +847,7 @@ static void impact(run *r)
 {
     double dq[NQ];
     const double s = (double)r->phase;
-    model_impact(s, r->y, ode_ag(&r->o, r->t), r->o.p, dq);
+    model_impact_prepared(r->y, ode_ag(&r->o, r->t), about(r->o.k, s), dq);
     memcpy(r->y + NQ, dq, sizeof dq);
     r->res->impacts += 1;
     if (fabs(r->y[NQ]) < r->c->dtheta_rest) {
@@ -966,6 +986,7 @@ static int initial_state(const rocking_case *c, double *y, int *phase)
 static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
 {
     run r;
+    constants k;
     const double zeros[NY] = {0.0};
 
     out->status = ROCKING_FAILED;
@@ -978,7 +999,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.c = c;
     r.tol.rtol = c->rtol;
     r.tol.atol = c->atol;
-    r.o.p = p;
+    constants_prepare(&k, p);
+    r.o.k = &k;
     r.o.phase = 0;
     r.o.pulse_on = 1;
     r.o.a_g = c->a_g;
@@ -986,9 +1008,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.psi = c->psi;
     r.ec.o = &r.o;
     /* In full contact the energy does not depend on the pivot: E(0) with s = +1. */
-    r.ec.energy_zero = model_energy(1.0, zeros, 0.0, p);
+    r.ec.energy_zero = model_energy_prepared(zeros, 0.0, about(&k, 1.0));
     r.ec.energy_rest = c->energy_rest;
-    r.ec.energy_safe = c->early_rest ? safe_energy(p) : NAN;
+    r.ec.energy_safe = c->early_rest ? safe_energy(&k) : NAN;
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.t = 0.0;
