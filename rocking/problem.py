@@ -158,7 +158,7 @@ class Response:
 
 
 #: Default rest criteria, relative to the block (see :func:`make_problem`).
-DTHETA_REST = 1e-2
+DTHETA_REST = 1e-3
 ENERGY_REST = 1e-8
 #: Steps per shortest period in full contact while the pulse acts.
 CONTACT_STEPS_PER_PERIOD = 64
@@ -223,9 +223,8 @@ def make_problem(
         Time followed after the pulse when ``t_max`` is not given [s].
     dtheta_rest : float, optional
         Rest criterion on ``|dtheta|`` after an impact [rad/s]; default
-        ``1e-2 alpha p``: the next half-cycle would rise to about
-        ``(dtheta / (alpha p))^2 alpha / 2`` (bare slender block), 5e-5 ``alpha``:
-        some micrometres at the top of a 2 m block.
+        ``1e-3 alpha p``: the next half-cycle would rise less than about
+        0.1 % of ``alpha``.
     energy_rest : float, optional
         Rest criterion on the energy above rest in full contact after the
         pulse [J]; default ``1e-8 M g B / 2``.
