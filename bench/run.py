@@ -111,8 +111,8 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
 
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
-        # Best of two interleaved runs each: the machine is shared, and the pool's
-        # start-up (about half a second) is part of what a user waits for.
+        # Best of two interleaved runs each: the machine is shared. Each run is a whole study,
+        # as a user waits for it (on the C back end the 2 workers are threads: no pool start-up).
         for repeat in range(2):
             for workers in (1, 2):
                 _, seconds = _map(n_map, workers, f"{tmp}/runs{repeat}{workers}")

@@ -288,7 +288,7 @@ def optimal_damper(
             arrays[k][g, i] = res[k][0]
 
     preflight(setting)
-    stats = run_tiles(interleave(*groups), place, execution, desc="optimize", on_tile=on_tile)
+    stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="optimize", on_tile=on_tile)
     arrays["Tm_over_Tg_opt"] = arrays["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
     best = np.argmax(np.nan_to_num(arrays["gain_opt"], nan=-np.inf), axis=0)
     cols = np.arange(nO)

@@ -75,7 +75,8 @@ def preflight(setting: Setting, damper: dict | None = None) -> None:
     (default: a small ``omd`` damper). Its parameters are checked too.
 
     A missing or unbuildable back end then fails at once, with a clear
-    message, and the C library is built (and cached) once, not by every worker.
+    message, and the models and C libraries are built (and cached) and loaded
+    once, here, not by every worker: threads share what this loads.
 
     Raises
     ------
@@ -192,7 +193,7 @@ def overturning_map(
             arrays[f"{part}_{k}"][rows, cols] = tile_arrays[k]
 
     preflight(setting, tuning.case_args())
-    stats = run_tiles(interleave(*groups), place, execution, desc="map", on_tile=on_tile)
+    stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="map", on_tile=on_tile)
     arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"])
     config = {"kind": "map", **setting.record(), "damper": record, **grids}
     return Study(

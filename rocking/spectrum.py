@@ -205,7 +205,7 @@ def minimum_overturning_spectrum(
             arrays[f"{part}_{k}"][i] = column[k][0]
 
     preflight(setting, tuning.case_args())
-    stats = run_tiles(interleave(*groups), place, execution, desc="spectrum", on_tile=on_tile)
+    stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)
     for part in ("bare", "damper"):
         arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
     config = {"kind": "spectrum", **setting.record(), "damper": record, **grids}

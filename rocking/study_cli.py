@@ -58,7 +58,9 @@ def _add_solver(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument("--t-after", type=float, default=15.0, help="time followed after the pulse, s (default 15)")
     g.add_argument("--backend", default="c", help="c or numpy (default c)")
-    g.add_argument("--workers", type=int, help="local worker processes (default: all cores)")
+    g.add_argument(
+        "--workers", type=int, help="local workers (default: all cores): threads on the C back end, processes on NumPy"
+    )
     g.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://host:port)")
     g.add_argument("--dask-workers", type=int, metavar="N", help="run on a local Dask cluster of N worker processes")
     g.add_argument("--out", default="out", help="output folder (default out/); finished tiles are kept in OUT/runs")

@@ -6,16 +6,21 @@ deterministic, module-level function on a picklable payload that calls
 :func:`rocking.batch.run_cases` on the whole tile. :func:`run_tiles` runs
 them
 
-- in this process (``workers=1``), on a local process pool (default: one
-  process per core; every worker calls ``run_cases`` with ``threads=1``), or
-  on a Dask cluster (``scheduler`` address, or ``dask_workers`` local worker
-  processes): the same function on the same payload gives the same arrays;
+- in this process (``workers=1``), on local workers (default: one per core;
+  every worker calls ``run_cases`` with ``threads=1``), or on a Dask cluster
+  (``scheduler`` address, or ``dask_workers`` local worker processes): the
+  same function on the same payload gives the same arrays. Local workers are
+  threads of this process on the C back end, which releases the GIL for a
+  whole batch (no start-up, no pickling, the compiled library loaded once),
+  and processes on the NumPy back end, which holds it (:func:`local_pool`);
 - interruption-safe: each finished tile is written at once, atomically
   (temporary file + ``os.replace``), as ``<run folder>/<tile>.npz``; the run
   folder is named by the hash of the full configuration of the work
   (:func:`run_folder`), so a rerun with the same configuration loads the
   finished tiles instead of recomputing them, and a changed configuration
-  lands in another folder and never sees stale tiles;
+  lands in another folder and never sees stale tiles. On an interruption
+  (Ctrl-C, an error) local workers get no new tiles, and the tiles they are
+  running are waited for and stored too: a thread cannot be stopped inside C;
 - in bounded memory: at most two tiles per worker are in flight, and each
   result is handed to the study's ``place`` callback and dropped, so a study
   holds its result arrays plus a few tiles.
@@ -30,8 +35,8 @@ import threading
 import time
 from collections import deque
 from collections.abc import Callable, Iterator, Sequence
-from concurrent.futures import FIRST_COMPLETED, ProcessPoolExecutor, wait
-from contextlib import closing, contextmanager
+from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor, wait
+from contextlib import closing, contextmanager, suppress
 from dataclasses import dataclass
 from itertools import zip_longest
 from multiprocessing import get_context
@@ -73,7 +78,9 @@ class Execution:
     Parameters
     ----------
     workers : int, optional
-        Local processes; default: every core (``os.cpu_count()``). 1 runs in this process.
+        Local workers; default: every core (``os.cpu_count()``). 1 runs in this process.
+        They are threads of this process on the C back end and processes on the NumPy
+        back end (:func:`local_pool`).
     scheduler : str, optional
         Address of a running Dask scheduler (``"tcp://host:8786"``).
     dask_workers : int, optional
@@ -101,7 +108,7 @@ class Execution:
 
     @property
     def local_workers(self) -> int:
-        """Local worker processes when Dask is not used."""
+        """Local workers (threads or processes) when Dask is not used."""
         return self.workers or os.cpu_count() or 1
 
     @property
@@ -109,7 +116,7 @@ class Execution:
         return self.scheduler is not None or self.dask_workers is not None
 
 
-#: Default execution: local processes on every core, with a progress bar.
+#: Default execution: local workers on every core, with a progress bar.
 LOCAL = Execution()
 
 
@@ -190,9 +197,40 @@ def _exit_with(pid: int) -> None:
     threading.Thread(target=watch, daemon=True).start()
 
 
+def local_pool(backend: str) -> str:
+    """The local workers of tiles simulated on ``backend``: ``"threads"`` or ``"processes"``.
+
+    The C back end releases the GIL for a whole batch, so threads of this
+    process run tiles in parallel, without a pool to start, payloads to pickle
+    or a library to load per worker. The NumPy back end holds the GIL: only
+    processes run it in parallel.
+
+    Parameters
+    ----------
+    backend : {"c", "numpy"}
+        :attr:`rocking.study_io.Setting.backend` of the study.
+
+    Returns
+    -------
+    str
+    """
+    return "threads" if backend == "c" else "processes"
+
+
+def _local_executor(workers: int, backend: str, tasks: Sequence[Task]) -> Executor:
+    """A pool of ``workers`` local workers for ``tasks`` simulated on ``backend``."""
+    if local_pool(backend) == "threads":
+        return ThreadPoolExecutor(workers, thread_name_prefix="rocking-tile")
+    # forkserver: workers are not forked from a process that runs threads (tqdm, Dask);
+    # preloading the tile functions' modules there makes later pools start at once.
+    context = get_context("forkserver")
+    context.set_forkserver_preload(sorted({task.fn.__module__ for task in tasks}))
+    return ProcessPoolExecutor(workers, mp_context=context, initializer=_exit_with, initargs=(os.getpid(),))
+
+
 @contextmanager
-def _executor(execution: Execution, tasks: Sequence[Task]) -> Iterator[tuple[object, int, bool]]:
-    """``(executor, slots, is_dask)`` for ``tasks``; ``executor`` is ``None`` in this process."""
+def _executor(execution: Execution, tasks: Sequence[Task], backend: str) -> Iterator[tuple[object, int, bool]]:
+    """``(executor, slots, is_dask)`` for ``tasks`` on ``backend``; ``executor`` is ``None`` in this process."""
     if execution.uses_dask:
         from distributed import Client, LocalCluster
 
@@ -216,22 +254,33 @@ def _executor(execution: Execution, tasks: Sequence[Task]) -> Iterator[tuple[obj
         yield None, 1, False
     else:
         workers = min(execution.local_workers, len(tasks))
-        # forkserver: workers are not forked from a process that runs threads (tqdm, Dask);
-        # preloading the tile functions' modules there makes later pools start at once.
-        context = get_context("forkserver")
-        context.set_forkserver_preload(sorted({task.fn.__module__ for task in tasks}))
-        pool = ProcessPoolExecutor(workers, mp_context=context, initializer=_exit_with, initargs=(os.getpid(),))
+        pool = _local_executor(workers, backend, tasks)
         try:
             yield pool, IN_FLIGHT_PER_WORKER * workers, False
         finally:
             pool.shutdown(wait=True, cancel_futures=True)
 
 
-def _results(tasks: Sequence[Task], execution: Execution) -> Iterator[tuple[Task, dict]]:
+def _store_unfinished(pool: Executor, in_flight: dict[Future, Task]) -> None:
+    """After an interruption: cancel the queued tiles, wait for the running ones and store those that succeed.
+
+    A thread cannot be stopped inside its C call, and a process pool's shutdown
+    waits for its running tiles too: the wait is due anyway, and the tiles it
+    gives spare the rerun their work.
+    """
+    pool.shutdown(wait=True, cancel_futures=True)
+    for future, task in in_flight.items():
+        if not future.cancelled() and future.exception() is None:
+            # Best effort: the interruption is what to report, and a tile not stored is recomputed.
+            with suppress(OSError):
+                save_tile(task.path, future.result())
+
+
+def _results(tasks: Sequence[Task], execution: Execution, backend: str) -> Iterator[tuple[Task, dict]]:
     """``(task, result)`` as tiles finish, with at most ``slots`` tiles submitted at a time."""
     if not tasks:
         return
-    with _executor(execution, tasks) as (executor, slots, is_dask):
+    with _executor(execution, tasks, backend) as (executor, slots, is_dask):
         if executor is None:
             for task in tasks:
                 yield task, task.fn(task.payload)
@@ -245,6 +294,10 @@ def _results(tasks: Sequence[Task], execution: Execution) -> Iterator[tuple[Task
                 done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
                 for future in done:
                     yield in_flight.pop(future), future.result()
+        except BaseException:  # GeneratorExit when run_tiles stops early, KeyboardInterrupt, a tile's error
+            if not is_dask:
+                _store_unfinished(executor, in_flight)
+            raise
         finally:
             if is_dask:
                 executor.shutdown(wait=False)  # cancels what is still queued on the cluster
@@ -264,6 +317,7 @@ def run_tiles(
     place: Callable[[Task, dict], None],
     execution: Execution,
     *,
+    backend: str,
     desc: str = "tiles",
     on_tile: Callable[[Task], None] | None = None,
 ) -> TileStats:
@@ -272,6 +326,12 @@ def run_tiles(
     Tiles already stored at ``task.path`` are loaded, not recomputed.
     ``on_tile(task)`` is called after each computed tile is stored (a hook
     for tests: raising there interrupts the run like a crash would).
+
+    ``backend`` is the back end the tiles simulate on: it chooses threads or
+    processes as local workers (:func:`local_pool`). Threads share this
+    process's models and C libraries: the caller loads them first (the
+    studies' :func:`rocking.overturning_map.preflight` does), so that each is
+    built and imported once, before any thread starts, not by threads racing.
 
     Returns
     -------
@@ -290,7 +350,7 @@ def run_tiles(
     with tqdm(total=len(tasks), initial=stats.reused, desc=desc, unit="tile", disable=not execution.progress) as bar:
         # closing(): an exception in place/on_tile must stop the workers now, not when the
         # traceback holding the generator is collected.
-        with closing(_results(todo, execution)) as results:
+        with closing(_results(todo, execution, backend)) as results:
             for task, arrays in results:
                 save_tile(task.path, arrays)
                 place(task, arrays)

@@ -4,6 +4,8 @@ from __future__ import annotations
 
 import argparse
 import json
+import os
+import threading
 
 import numpy as np
 import pytest
@@ -15,7 +17,7 @@ from rocking.params import ParameterError
 from rocking.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
 from rocking.study_cli import add_study_commands
 from rocking.study_io import Grid, Setting, Tuning, config_hash, load, part_config
-from rocking.tiles import Execution
+from rocking.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
 
 SETTING = Setting(Block.reference(), backend="c")
 SERIAL = Execution(workers=1, progress=False)
@@ -158,19 +160,81 @@ class Crash(RuntimeError):
     pass
 
 
-def test_resume_recomputes_nothing_finished(ref_map, tmp_path):
+def pid_tile(payload) -> dict:
+    """A tile that tells which process computed it."""
+    return {"pid": np.array([os.getpid()])}
+
+
+def held_tile(payload) -> dict:
+    """A tile that, given ``(started, release)`` events, says it runs and waits to be released."""
+    if payload is not None:
+        started, release = payload
+        started.set()
+        assert release.wait(30)
+    return {"held": np.array([payload is not None])}
+
+
+@pytest.mark.parametrize("backend, pool", [("c", "threads"), ("numpy", "processes")])
+def test_local_workers_are_threads_on_c_and_processes_on_numpy(backend, pool, tmp_path):
+    """C releases the GIL: threads of this process; NumPy does not: processes."""
+    assert local_pool(backend) == pool
+    pids = set()
+    tasks = [Task(tmp_path / f"{i}.npz", pid_tile, i) for i in range(4)]
+    stats = run_tiles(tasks, lambda task, arrays: pids.add(int(arrays["pid"][0])), POOL, backend=backend)
+    assert stats.computed == 4
+    assert (pids == {os.getpid()}) == (pool == "threads")
+
+
+def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
+    monkeypatch.setattr("rocking.tiles.ProcessPoolExecutor", None)  # threads only: no process pool can start
+    threaded = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path / "map", tile=(2, 5))
+    assert threaded.run["tiles_computed"] == 2 * 2 * 3
+    for k, v in ref_map.arrays.items():
+        np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
+    serial, threaded = (
+        minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, execution, runs=tmp_path / name)
+        for name, execution in (("serial", SERIAL), ("threads", POOL))
+    )
+    assert serial.run["tiles_computed"] == threaded.run["tiles_computed"] == 2 * OMEGA.n
+    for k, v in serial.arrays.items():
+        np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
+
+
+def test_interrupted_threads_store_their_running_tiles(tmp_path):
+    """A thread cannot be stopped inside C: the interruption waits for the running tiles and keeps them."""
+    release = threading.Event()
+    started = [threading.Event() for _ in range(2)]
+    tasks = [Task(tmp_path / "quick.npz", held_tile, None)]
+    tasks += [Task(tmp_path / f"held-{i}.npz", held_tile, (event, release)) for i, event in enumerate(started)]
+
+    def interrupt(task):
+        assert all(event.wait(30) for event in started)  # both held tiles run: none is merely queued
+        release.set()
+        raise KeyboardInterrupt
+
+    with pytest.raises(KeyboardInterrupt):
+        run_tiles(tasks, lambda task, arrays: None, POOL, backend="c", on_tile=interrupt)
+    assert sorted(path.name for path in tmp_path.iterdir()) == ["held-0.npz", "held-1.npz", "quick.npz"]
+    assert run_tiles(tasks, lambda task, arrays: None, POOL, backend="c").reused == 3
+
+
+@pytest.mark.parametrize("interruption", [Crash, KeyboardInterrupt])
+def test_resume_recomputes_nothing_finished(ref_map, tmp_path, interruption):
     done = []
 
     def crash_after_five(task):
         done.append(task.path)
         if len(done) == 5:
-            raise Crash
+            raise interruption
 
-    with pytest.raises(Crash):
+    with pytest.raises(interruption):
         overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3), on_tile=crash_after_five)
+    # The five tiles handed over, and those still in flight, which the interruption waited for.
+    stored = len(list(tmp_path.rglob("tile-*.npz")))
+    assert 5 <= stored <= 5 + IN_FLIGHT_PER_WORKER * POOL.workers
     resumed = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3))
     total = 2 * 2 * 4  # parts x Omega tiles x beta tiles
-    assert (resumed.run["tiles_reused"], resumed.run["tiles_computed"]) == (5, total - 5)
+    assert (resumed.run["tiles_reused"], resumed.run["tiles_computed"]) == (stored, total - stored)
     again = overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=tmp_path, tile=(2, 3))
     assert (again.run["tiles_reused"], again.run["tiles_computed"]) == (total, 0)
     assert not list(tmp_path.rglob("*.tmp"))
