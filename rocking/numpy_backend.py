@@ -345,11 +345,13 @@ class _Segment:
     dense: OdeSolution | None = None
 
 
-def lift_off_step(rhs: StateFunction, s: int, t0: float, y0: np.ndarray, t_bound: float, **options) -> float | None:
+def lift_off_step(
+    rhs: StateFunction, s: int, t0: float, y0: np.ndarray, t_bound: float, first_step: float | None, **options
+) -> float | None:
     """A first step after which the block has risen: ``s theta > 0`` at its end.
 
-    Tries SciPy's own first step (Hairer's heuristic), then ten times
-    shorter each time, down to SciPy's smallest step (10 ulps of ``t0``).
+    Tries ``first_step`` (``None``: SciPy's own, Hairer's heuristic), then ten
+    times shorter each time, down to SciPy's smallest step (10 ulps of ``t0``).
     One step of ``RK45`` per try, the integrator ``solve_ivp`` then runs with.
 
     Parameters
@@ -362,6 +364,8 @@ def lift_off_step(rhs: StateFunction, s: int, t0: float, y0: np.ndarray, t_bound
         Start of the phase (``theta = 0``).
     t_bound : float
         End of the segment.
+    first_step : float or None
+        The segment's first step.
     **options
         ``rtol``, ``atol``, ``max_step`` of the segment.
 
@@ -371,7 +375,6 @@ def lift_off_step(rhs: StateFunction, s: int, t0: float, y0: np.ndarray, t_bound
         The first step to give ``solve_ivp``; ``None`` if even the smallest
         step does not lift the block: it stays on its base.
     """
-    first_step = None
     while True:
         probe = RK45(rhs, t0, y0, t_bound, first_step=first_step, **options)
         probe.step()
@@ -394,6 +397,7 @@ def integrate_segment(
     record: bool,
     safe_energy: float | None = None,
     settling: bool = False,
+    first_step: float | None = None,
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -417,6 +421,8 @@ def integrate_segment(
         The uplift energy bound to watch in full contact after the pulse (see :func:`phase_events`).
     settling : bool
         Full contact once safe: the next extremum of ``q[1]`` ends the segment.
+    first_step : float or None
+        The first step (cut to the segment); ``None``: Hairer's heuristic.
 
     Returns
     -------
@@ -453,14 +459,16 @@ def integrate_segment(
             raise RuntimeError(f"solve_ivp failed in phase {phase} at t = {sol.t[-1]:.17g}: {sol.message}")
         return sol
 
-    sol = solve()
+    if first_step is not None:
+        first_step = min(first_step, t_bound - t0)
+    sol = solve(first_step)
     fired = [e.name for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
     if fired == [IMPACT] and sol.t[-1] == t0:
         # A phase from theta = 0 whose first step ends with s theta <= 0: solve_ivp
         # sees "s theta falls to 0" at the start (Brent returns the bracket's end
         # where the function is exactly 0). Either the step was too long to see the
         # block rise and fall back, or it does not rise at all (a grazing uplift).
-        first_step = lift_off_step(rhs, phase, t0, y0, t_bound, **options)
+        first_step = lift_off_step(rhs, phase, t0, y0, t_bound, first_step, **options)
         if first_step is None:
             return _Segment(t=t0, y=np.array(y0), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, dense=None)
         sol = solve(first_step)
@@ -569,6 +577,24 @@ def _initial_state(problem: Problem, y0, phase0) -> tuple[np.ndarray, int]:
     return y, phase
 
 
+#: First step of a rocking phase after an impact, as a fraction of the
+#: expected length of its half-cycle (docs/simulation.md, Integration).
+FIRST_STEP_FRACTION = 0.25
+
+
+def _first_step_after_impact(duration: float, dtheta_out: float, dtheta_in: float) -> float | None:
+    """The first step of the half-cycle after an impact; ``None``: Hairer's heuristic.
+
+    The next half-cycle lasts about the last one (``duration``) times
+    ``|dtheta+ / dtheta-|`` (small rocking is nearly a parabola in time, whose
+    length is proportional to its initial velocity); its first step is
+    :data:`FIRST_STEP_FRACTION` of that.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        h = FIRST_STEP_FRACTION * duration * abs(dtheta_out / dtheta_in)
+    return float(h) if np.isfinite(h) and h > 0 else None
+
+
 def _uplift_at_start(system: _System, t: float, y: np.ndarray, ground) -> int:
     """Pivot ``s`` whose ``u_s`` is already positive when full contact starts, else 0.
 
@@ -628,6 +654,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
     # again (None: no bound, or disabled), and whether the run is below it.
     safe_energy = system.safe_energy if problem.early_rest else None
     safe = False
+    first_step = None  # of the next segment; None: Hairer's heuristic
 
     def finish(status: str, t_overturn: float = math.nan) -> Response:
         assert status in STATUS
@@ -692,12 +719,15 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
             record=record,
             safe_energy=safe_energy,
             settling=safe and phase == CONTACT,
+            first_step=first_step,
         )
+        first_step = None
         tally.see_segment(segment)
         if history is not None:
             history.add_samples(segment.dense, t, segment.t, phase, problem.record_dt)
             # The segment's end: the pulse's end, t_max, or an event (an impact's "before").
             history.add(segment.t, segment.y, phase)
+        t_start = t
         t, y = segment.t, segment.y
 
         if segment.event is None:
@@ -712,7 +742,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
             if events_exhausted():
                 return finish("max_events")
         elif segment.event == IMPACT:
-            s = phase
+            s, dtheta_in = phase, y[n]
             y = system.impact(s, y, system.ground(pulse_on)(t))
             tally.impacts += 1
             if abs(y[n]) < problem.dtheta_rest:
@@ -721,6 +751,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
                 phase = CONTACT
             else:
                 phase = -s
+                first_step = _first_step_after_impact(t - t_start, y[n], dtheta_in)
             if events_exhausted():
                 return finish("max_events")
         elif segment.event == NO_LIFT:

@@ -122,6 +122,9 @@ static const double RK_D[STAGES] = {-12715105075.0 / 11282082432.0,  0.0,
 #define MIN_FACTOR 0.2
 #define MAX_FACTOR 10.0
 #define ERROR_EXPONENT (-1.0 / 5.0)
+/* First step of a rocking phase after an impact, as a fraction of the
+ * expected length of the half-cycle (docs/simulation.md, Integration). */
+#define FIRST_STEP_FRACTION 0.25
 
 typedef struct tolerance {
     double rtol;
@@ -202,13 +205,15 @@ static double initial_step(const ode *o, const tolerance *tol, double t0, const 
     return fmin(fmin(100.0 * h0, h1), span);
 }
 
-/* Start integrating at (t, y): f and the first step size. */
-static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, const double *y, double t_bound)
+/* Start integrating at (t, y): f and the first step size, h_first if > 0,
+ * else by Hairer's heuristic. */
+static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, const double *y, double t_bound,
+                        double h_first)
 {
     d->t = t;
     memcpy(d->y, y, sizeof d->y);
     ode_rhs(o, t, y, d->f);
-    d->h_next = initial_step(o, tol, t, d->y, d->f, t_bound - t);
+    d->h_next = h_first > 0.0 ? min2(h_first, t_bound - t) : initial_step(o, tol, t, d->y, d->f, t_bound - t);
     d->t_old = t;
     d->h = 0.0;
     d->dense_ready = 0;
@@ -621,6 +626,8 @@ typedef struct run {
     event_set events;
     double t, y[NY]; /* the state between segments */
     int phase;
+    double t_start; /* when the current segment started */
+    double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     rocking_result *res;
@@ -751,7 +758,9 @@ static int run_segment(run *r, double t_bound)
 
     r->o.phase = r->phase;
     r->o.pulse_on = r->t < r->c->t_p;
-    dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound);
+    r->t_start = r->t;
+    dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
+    r->h_first = 0.0;
     watched_events(r, active);
     events_start(&r->events, &r->ec, active, r->t, r->y);
     if (r->hist != NULL && r->c->record_dt > 0.0) {
@@ -847,6 +856,7 @@ static void impact(run *r)
 {
     double dq[NQ];
     const double s = (double)r->phase;
+    const double dtheta_in = r->y[NQ];
     model_impact_prepared(r->y, ode_ag(&r->o, r->t), about(r->o.k, s), dq);
     memcpy(r->y + NQ, dq, sizeof dq);
     r->res->impacts += 1;
@@ -854,8 +864,12 @@ static void impact(run *r)
         r->y[NQ] = 0.0; /* the other velocities keep their J_s values */
         r->phase = 0;
     } else {
-        /* The corner that just hit the ground is the new pivot. */
+        /* The corner that just hit the ground is the new pivot. The next
+         * half-cycle lasts about this one times |dtheta+ / dtheta-|: its first
+         * step is a fraction of that (docs/simulation.md, Integration). */
+        const double h = FIRST_STEP_FRACTION * (r->t - r->t_start) * fabs(r->y[NQ] / dtheta_in);
         r->phase = -r->phase;
+        r->h_first = isfinite(h) ? h : 0.0;
     }
 }
 
@@ -1014,6 +1028,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.t = 0.0;
+    r.h_first = 0.0;
     r.res = out;
     r.hist = history;
     r.n_rec = 0;
