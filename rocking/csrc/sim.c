@@ -374,6 +374,18 @@ static double dopri_dense1(dopri *d, double t, int i)
            th * (d->dense[1][i] + th1 * (d->dense[2][i] + th * (d->dense[3][i] + th1 * d->dense[4][i])));
 }
 
+/* An upper bound of |component i| of the dense output over the whole last
+ * step: with u in [0, 1], u (1 - u) <= 1/4 and u^2 (1 - u) <= 4/27, term by
+ * term; widened by 16 eps for the rounding of any evaluation inside. */
+static double dopri_dense_bound(dopri *d, int i)
+{
+    double b;
+    dopri_prepare_dense(d);
+    b = fabs(d->dense[0][i]) + fabs(d->dense[1][i]) + 0.25 * fabs(d->dense[2][i]) +
+        (4.0 / 27.0) * fabs(d->dense[3][i]) + 0.0625 * fabs(d->dense[4][i]);
+    return b * (1.0 + 16.0 * DBL_EPSILON);
+}
+
 static void dopri_dense(dopri *d, double t, double *y)
 {
     int i;
@@ -441,6 +453,7 @@ typedef struct event_ctx {
     double energy_zero; /* E(0), the energy of the rest state */
     double energy_rest; /* the rest threshold on E(y) - E(0) */
     double energy_safe; /* below it the block can never uplift again; NaN: no bound (rule 4) */
+    const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
 } event_ctx;
 
 /* g of an event that reads one component, from that component's value. */
@@ -575,6 +588,18 @@ static void events_drop(event_set *es, int kind)
     es->n = j;
 }
 
+/* An extremum of theta or x inside the last step that cannot raise the
+ * largest |theta| or |x| so far: not worth locating (the bound holds for the
+ * whole step), and not reported. */
+static int peak_below_max(const event_ctx *ec, dopri *d, int kind)
+{
+    if (kind == EV_THETA_PEAK)
+        return dopri_dense_bound(d, 0) <= *ec->theta_max;
+    if (kind == EV_X_PEAK)
+        return NQ > 1 && dopri_dense_bound(d, 1) <= *ec->x_max;
+    return 0;
+}
+
 /* Check every watched event over the step just accepted: detection from the
  * values at both ends, location on the dense output, the earliest terminal
  * event wins and the non-terminal ones after it are dropped. */
@@ -591,7 +616,8 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
         const int strict = EVENT_RULES[k].strict;
         const int sense = event_sense(k, es->g[k]);
         g_new[k] = event_value(ec, k, d->t, d->y);
-        if (!is_before(sense * es->g[k], strict) || is_before(sense * g_new[k], strict))
+        if (!is_before(sense * es->g[k], strict) || is_before(sense * g_new[k], strict) ||
+            peak_below_max(ec, d, k))
             continue;
         fired[n_fired++] = k;
         out->t_root[k] = locate_event(ec, d, k, sense, d->t_old, sense * es->g[k], d->t, sense * g_new[k]);
@@ -1024,6 +1050,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     /* In full contact the energy does not depend on the pivot: E(0) with s = +1. */
     r.ec.energy_zero = model_energy_prepared(zeros, 0.0, about(&k, 1.0));
     r.ec.energy_rest = c->energy_rest;
+    r.ec.theta_max = &out->theta_max;
+    r.ec.x_max = &out->x_max;
     r.ec.energy_safe = c->early_rest ? safe_energy(&k) : NAN;
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
