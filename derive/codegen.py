@@ -110,6 +110,13 @@ def model_functions(eq: Equations) -> list[Function]:
             (eq.critical_angle,),
             ("",),
         ),
+        Function(
+            "critical_tangent",
+            "Tangent of the static critical angle about the pivot s where the weights' centre is above the "
+            "ground (the angle is then its atan), NaN elsewhere.",
+            (eq.critical_tangent,),
+            ("",),
+        ),
     ]
 
 
@@ -165,8 +172,8 @@ def hoist_constants(outputs, varying):
         return table[expr]
 
     def walk(expr):
-        if not isinstance(expr, sp.Expr):
-            return expr
+        if not isinstance(expr, sp.Expr):  # a condition of a Piecewise, its (expression, condition) pairs
+            return expr.func(*(walk(a) for a in expr.args)) if expr.args else expr
         if not (expr.free_symbols & varying):
             return constant(expr)
         if not expr.args:

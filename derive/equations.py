@@ -49,6 +49,10 @@ class Equations:
         (dissipation plus the work of the inertial ground force).
     critical_angle : Expr
         Static critical angle about the pivot ``s`` (sign of ``s``).
+    critical_tangent : Expr
+        Its tangent where the weights' centre is above the ground (then the
+        angle is ``atan`` of it), NaN elsewhere: a runtime can tell that an
+        angle is below the critical one without an ``atan2``.
     uplift_energy : Expr
         Least energy above rest, in full contact without ground motion, at
         which the attached bodies can lift the block about ``s``; ``oo`` when
@@ -66,6 +70,7 @@ class Equations:
     energy: sp.Expr
     power: sp.Expr
     critical_angle: sp.Expr
+    critical_tangent: sp.Expr
     uplift_energy: sp.Expr
 
 
@@ -199,8 +204,13 @@ def impact_map(sysm: System, laws: dict):
     return [sol[p] for p in plus]
 
 
-def critical_angle(sysm: System):
-    """Angle where gravity's moment about the pivot vanishes, other coordinates held."""
+def _weights_moment(sysm: System):
+    """``(a, b)`` of the weights' potential ``a cos(theta) + b sin(theta)`` about the pivot.
+
+    ``a`` is the weights' height term (their centre above the ground when
+    positive), ``b`` their lever arm; gravity's moment about the pivot
+    vanishes at ``atan2(b, a)``, the other coordinates held.
+    """
     vg = sp.Symbol("vg", real=True)
     g = sysm.params[[p.name for p in sysm.params].index("g")]
     Vg = sp.Integer(0)
@@ -210,9 +220,19 @@ def critical_angle(sysm: System):
     theta = sysm.q[0]
     if sp.simplify(Vg.diff(theta, 2) + Vg) != 0:
         raise SpecError("the gravity potential is not of the form a cos(theta) + b sin(theta)")
-    a = _reduce(Vg.subs(theta, 0))
-    b = _reduce(Vg.diff(theta).subs(theta, 0))
+    return _reduce(Vg.subs(theta, 0)), _reduce(Vg.diff(theta).subs(theta, 0))
+
+
+def critical_angle(sysm: System):
+    """Angle where gravity's moment about the pivot vanishes, other coordinates held."""
+    a, b = _weights_moment(sysm)
     return sp.atan2(b, a)
+
+
+def critical_tangent(sysm: System):
+    """``tan`` of :func:`critical_angle` where ``a > 0`` (the angle is then ``atan(b / a)``), NaN elsewhere."""
+    a, b = _weights_moment(sysm)
+    return sp.Piecewise((b / a, a > 0), (sp.nan, True))
 
 
 def uplift_energy(sysm: System, energy, uplift):
@@ -302,4 +322,5 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         energy=energy,
         power=power,
         critical_angle=critical_angle(sysm),
+        critical_tangent=critical_tangent(sysm),
     )

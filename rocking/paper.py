@@ -137,7 +137,19 @@ def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c):
     return -c * dx**2 - ag * (M * vx_G + m * vx_m)
 
 
+def _weights(s, x, M, B, H, e, m, h):
+    """Lever arm ``M d_s + m xi_s`` and height ``M H/2 + m eta`` of the weights about ``s`` (over ``g``)."""
+    d, xi = arms(s, x, B, e)
+    return M * d + m * xi, M * H / 2 + m * (H + h)
+
+
 def critical_angle(s, x, M, B, H, e, m, h):
     """Static critical angle about ``s``: ``tan = (M d_s + m xi_s) / (M H/2 + m eta)``."""
-    d, xi = arms(s, x, B, e)
-    return np.arctan2(M * d + m * xi, M * H / 2 + m * (H + h))
+    return np.arctan2(*_weights(s, x, M, B, H, e, m, h))
+
+
+def critical_tangent(s, x, M, B, H, e, m, h):
+    """``tan`` of :func:`critical_angle` where the weights' centre is above the ground, NaN elsewhere."""
+    lever, height = _weights(s, x, M, B, H, e, m, h)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return np.where(height > 0, lever / height, np.nan)

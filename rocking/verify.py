@@ -117,6 +117,7 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m),),
             "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c),),
             "critical_angle": (paper.critical_angle(s, x, M, B, H, e, m, h),),
+            "critical_tangent": (paper.critical_tangent(s, x, M, B, H, e, m, h),),
             "uplift_energy": (paper.uplift_energy(s, M, B, H, e, g, m, h, k_m, c),),
         }
 

@@ -114,8 +114,24 @@ def _rigid_moments(v, masses):
     return out
 
 
+class _Weights:
+    """The static critical angle from a model's ``weights(v)``: lever arm and height of the weights."""
+
+    @classmethod
+    def critical_angle(cls, v):
+        # The combined centre of mass straight above the pivot.
+        return np.arctan2(*cls.weights(v))
+
+    @classmethod
+    def critical_tangent(cls, v):
+        # Where the weights' centre is above the ground, NaN elsewhere.
+        lever, height = cls.weights(v)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return np.where(height > 0, lever / height, np.nan)
+
+
 # ----------------------------------------------------------------------------- pendulum
-class Pendulum:
+class Pendulum(_Weights):
     """Block with a pendulum mass damper: bob ``m`` on a massless rod ``l`` hinged at
     ``(x_p, y_p)``, relative angle ``phi`` (0: hanging down), spring ``k_phi``, dashpot ``c_phi``.
 
@@ -260,16 +276,16 @@ class Pendulum:
         return -v["c_phi"] * v["dphi"] ** 2 - v["ag"] * (v["M"] * VG[0] + v["m"] * Vb[0])
 
     @staticmethod
-    def critical_angle(v):
-        # The combined centre of mass straight above the pivot, phi held relative to the block.
-        d, _, rG = _block(v)
+    def weights(v):
+        """Lever arm and height of the weights about the pivot (over g), phi held relative to the block."""
+        _, _, rG = _block(v)
         rb, _, _ = Pendulum._bob(v)
         M, m = v["M"], v["m"]
-        return np.arctan2(M * rG[0] + m * rb[0], M * rG[1] + m * rb[1])
+        return M * rG[0] + m * rb[0], M * rG[1] + m * rb[1]
 
 
 # ----------------------------------------------------------------------------- omd2
-class OMD2:
+class OMD2(_Weights):
     """Block with two masses on horizontal guides: ``m1`` at ``(x1, H + h)``, ``m2`` at
     ``(x2, H/2)``, springs ``k1``, ``k2``, dashpots ``c1``, ``c2``.
 
@@ -392,12 +408,13 @@ class OMD2:
         return P
 
     @staticmethod
-    def critical_angle(v):
-        d, _, rG = _block(v)
+    def weights(v):
+        """Lever arm and height of the weights about the pivot (over g)."""
+        _, _, rG = _block(v)
         lever, height = v["M"] * rG[0], v["M"] * rG[1]
         for m, xi, eta, *_ in OMD2._masses(v):
             lever, height = lever + m * xi, height + m * eta
-        return np.arctan2(lever, height)
+        return lever, height
 
     @staticmethod
     def uplift_energy(v):

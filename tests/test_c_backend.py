@@ -157,7 +157,7 @@ def test_strict_warnings_compile(tmp_path):
 def test_sim_is_model_independent(tmp_path):
     """sim.c compiles strictly against any generic model header: here three coordinates, declarations only."""
     names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact"]
-    scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle"]
+    scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle", "critical_tangent"]
     args = "double s, const double *y, double ag, const double *p"
     prepared = "const double *y, double ag, const double *cst"
     lines = ["#ifndef STUB3_H", "#define STUB3_H", "void stub3_prepare(double s, const double *p, double *cst);"]

@@ -18,7 +18,7 @@ from rocking.verify import TOLERANCE, random_cases, verify
 def test_generated_numpy_matches_model_md(name):
     checks = verify(load_model(name), n=1000, seed=1)
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 20 and not bad, bad
+    assert len(checks) == 22 and not bad, bad
 
 
 @pytest.mark.parametrize("name", ["omd", "block"])
@@ -27,7 +27,7 @@ def test_generated_c_matches_model_md(name, c_model):
     model = load_model(name)
     checks = verify(model, n=1000, seed=2, evaluate=c_model(name))
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 20 and not bad, bad
+    assert len(checks) == 22 and not bad, bad
 
 
 def _reference_params(**over):
@@ -153,17 +153,24 @@ def test_energy_balance_with_damping_and_ground_motion():
 )
 def test_no_impact_increases_the_energy(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx):
     """model.md 10.5 with the default impact law: E after (about -s) <= E before (about s)."""
-    assert _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, "momentum") <= 1e-12
+    gain, rounding = _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, "momentum")
+    assert gain <= 1e-12 + rounding
 
 
 def test_velocity_impact_law_can_add_energy():
     """The option that keeps dx continuous needs an impulse along the frictionless guide,
     and that impulse can do positive work: the option is not dissipative in general."""
-    assert _energy_gain(1.0, 1.0, 0.0, 1.0, 0.25, 0.0, 0.0, 0.5, 1.0, "velocity") > 1e-3
+    gain, rounding = _energy_gain(1.0, 1.0, 0.0, 1.0, 0.25, 0.0, 0.0, 0.5, 1.0, "velocity")
+    assert gain > 1e-3 > 1e3 * rounding
 
 
 def _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, law):
-    """Energy after an impact minus before, relative to max(kinetic energy, 1 J)."""
+    """Energy after an impact minus before, relative to max(kinetic energy, 1 J), and the rounding error of that.
+
+    Both energies hold the potential energy of the weights (some 1e4 J here),
+    written differently about each pivot: their difference is only known to a
+    few ulps of it, more than 1e-12 J when the block barely moves.
+    """
     mod = _impact_module(law)
     B, M = 0.5, 1000.0
     H = slender * B
@@ -185,7 +192,8 @@ def _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, la
     dth_plus, dx_plus = mod.impact(s, 0.0, x, dtheta, dx, 0.0, *p)
     after = mod.energy(-s, 0.0, x, dth_plus, dx_plus, 0.0, *p)
     kinetic = before - mod.energy(s, 0.0, x, 0.0, 0.0, 0.0, *p)
-    return (after - before) / max(kinetic, 1.0)
+    scale = max(kinetic, 1.0)
+    return (after - before) / scale, 8 * np.finfo(float).eps * abs(before) / scale
 
 
 @functools.cache

@@ -177,6 +177,7 @@ BLOCK_OUTPUTS = [
     ("energy", "rocking", 0),
     ("power", "rocking", 0),
     ("critical_angle", "rocking", 0),
+    ("critical_tangent", "rocking", 0),
 ]
 
 

@@ -52,6 +52,12 @@ void block_prepare(double s, const double *p, double *cst)
     cst[14] = (1.0/2.0)*I_G + (1.0/2.0)*cse0 + (1.0/2.0)*cse3 + (1.0/8.0)*cse4 + (1.0/8.0)*cse5;
     cst[15] = cse12;
     cst[16] = atan2(cse12, cse10);
+    cst[17] = ((cse8*g > 0) ? (
+   2*cse12/(H*M*g)
+)
+: (
+   NAN
+));
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -247,4 +253,22 @@ double block_critical_angle(double s, const double *y, double ag, const double *
     double cst[BLOCK_NK];
     block_prepare(s, p, cst);
     return block_critical_angle_prepared(y, ag, cst);
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+ * From the constants of block_prepare(s, p, cst). */
+double block_critical_tangent_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    const double cst17 = cst[17];
+    return cst17;
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double block_critical_tangent(double s, const double *y, double ag, const double *p)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    return block_critical_tangent_prepared(y, ag, cst);
 }

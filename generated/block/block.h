@@ -21,7 +21,7 @@
 #define BLOCK_NQ 1
 #define BLOCK_NY 2
 #define BLOCK_NP 6
-#define BLOCK_NK 17
+#define BLOCK_NK 18
 #define BLOCK_Y_theta 0
 #define BLOCK_Y_dtheta 1
 #define BLOCK_P_M 0
@@ -79,6 +79,10 @@ double block_uplift_energy_prepared(const double *y, double ag, const double *cs
 double block_critical_angle(double s, const double *y, double ag, const double *p);
 double block_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double block_critical_tangent(double s, const double *y, double ag, const double *p);
+double block_critical_tangent_prepared(const double *y, double ag, const double *cst);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ BLOCK_NQ
@@ -106,6 +110,8 @@ double block_critical_angle_prepared(const double *y, double ag, const double *c
 #define model_uplift_energy_prepared block_uplift_energy_prepared
 #define model_critical_angle block_critical_angle
 #define model_critical_angle_prepared block_critical_angle_prepared
+#define model_critical_tangent block_critical_tangent
+#define model_critical_tangent_prepared block_critical_tangent_prepared
 #endif
 
 #endif

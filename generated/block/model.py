@@ -415,3 +415,38 @@ def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     cse1 = (1/2)*cse0
     out = _broadcast((numpy.arctan2(B*cse1*s + cse0*e, H*cse1), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
     return out[0]
+
+
+def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+    """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = M*g
+    out = _broadcast((numpy.select([numpy.greater(H*cse0, 0),True], [2*((1/2)*B*cse0*s + cse0*e)/(H*M*g),numpy.nan], default=numpy.nan), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out[0]

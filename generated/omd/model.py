@@ -617,3 +617,54 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     cse3 = B*s
     out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
+
+
+def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+    """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = g*m
+    cse1 = M*g
+    cse2 = (1/2)*cse1
+    cse3 = H*cse0 + H*cse2 + cse0*h
+    cse4 = B*s
+    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    return out[0]

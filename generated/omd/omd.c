@@ -45,55 +45,57 @@ void omd_prepare(double s, const double *p, double *cst)
     const double cse21 = cse16 + cse20;
     const double cse22 = (1.0/2.0)*M;
     const double cse23 = H*cse22;
-    const double cse24 = cse1*cse22;
-    const double cse25 = (1.0/2.0)*m;
-    const double cse26 = cse1*cse25;
-    const double cse27 = cse0*g;
-    const double cse28 = g*m;
-    const double cse29 = (1.0/2.0)*cse28;
-    const double cse30 = cse1*cse29 + cse24*g + cse27;
-    const double cse31 = H + h;
-    const double cse32 = B*cse22*g + B*cse29 + cse27*s;
-    const double cse33 = c*s;
-    const double cse34 = k_m*s;
-    const double cse35 = (1.0/8.0)*M;
-    const double cse36 = (c*c)*k_m;
-    const double cse37 = 4*H;
-    const double cse38 = g*k_m*(m*m);
-    const double cse39 = (k_m*k_m);
-    const double cse40 = 2*cse36;
-    const double cse41 = 2*cse39;
+    const double cse24 = cse16*g + cse20*g + cse23*g;
+    const double cse25 = cse1*cse22;
+    const double cse26 = (1.0/2.0)*m;
+    const double cse27 = cse1*cse26;
+    const double cse28 = cse0*g;
+    const double cse29 = g*m;
+    const double cse30 = (1.0/2.0)*cse29;
+    const double cse31 = cse1*cse30 + cse25*g + cse28;
+    const double cse32 = H + h;
+    const double cse33 = B*cse22*g + B*cse30 + cse28*s;
+    const double cse34 = c*s;
+    const double cse35 = k_m*s;
+    const double cse36 = (1.0/8.0)*M;
+    const double cse37 = (c*c)*k_m;
+    const double cse38 = 4*H;
+    const double cse39 = g*k_m*(m*m);
+    const double cse40 = (k_m*k_m);
+    const double cse41 = 2*cse37;
+    const double cse42 = 2*cse40;
     cst[0] = cse12 + cse18;
     cst[1] = m;
     cst[2] = cse19;
     cst[3] = -cse21;
     cst[4] = cse21 + cse23;
-    cst[5] = cse16*g + cse20*g + cse23*g;
-    cst[6] = cse0 + cse24 + cse26;
-    cst[7] = -cse30;
-    cst[8] = -cse28;
+    cst[5] = cse24;
+    cst[6] = cse0 + cse25 + cse27;
+    cst[7] = -cse31;
+    cst[8] = -cse29;
     cst[9] = -2*m;
     cst[10] = -cse19;
     cst[11] = -c;
     cst[12] = -k_m;
     cst[13] = -m;
-    cst[14] = cse26;
+    cst[14] = cse27;
     cst[15] = cse12;
-    cst[16] = cse31;
+    cst[16] = cse32;
     cst[17] = 1.0/m;
-    cst[18] = -cse32;
+    cst[18] = -cse33;
     cst[19] = cse23*s;
-    cst[20] = -H*cse33 - cse33*h;
-    cst[21] = -H*cse34 - cse28*s - cse34*h;
+    cst[20] = -H*cse34 - cse34*h;
+    cst[21] = -H*cse35 - cse29*s - cse35*h;
     cst[22] = cse11 - cse2;
     cst[23] = cse10 + cse18 - cse5 - cse7;
-    cst[24] = -cse31;
-    cst[25] = (1.0/2.0)*I_G + (1.0/2.0)*cse13 + (1.0/2.0)*cse15 + cse17 + (1.0/2.0)*cse2 + cse3*cse35 + cse35*cse9 + (1.0/8.0)*cse6 + (1.0/2.0)*cse8;
+    cst[24] = -cse32;
+    cst[25] = (1.0/2.0)*I_G + (1.0/2.0)*cse13 + (1.0/2.0)*cse15 + cse17 + (1.0/2.0)*cse2 + cse3*cse36 + cse36*cse9 + (1.0/8.0)*cse6 + (1.0/2.0)*cse8;
     cst[26] = (1.0/2.0)*k_m;
-    cst[27] = cse25;
-    cst[28] = cse30;
-    cst[29] = cse28;
-    cst[30] = k_m*m*(fmax(0, cse32)*fmax(0, cse32))/(cse13*cse41 + cse14*cse40 + cse15*cse41 + 4*cse17*cse39 + cse36*cse37*h + cse37*cse38 + 4*cse38*h + cse40*cse9 + 2*(g*g)*(m*m*m));
+    cst[27] = cse26;
+    cst[28] = cse31;
+    cst[29] = cse29;
+    cst[30] = k_m*m*(fmax(0, cse33)*fmax(0, cse33))/(cse13*cse42 + cse14*cse41 + cse15*cse42 + 4*cse17*cse40 + cse37*cse38*h + cse38*cse39 + 4*cse39*h + cse41*cse9 + 2*(g*g)*(m*m*m));
+    cst[31] = 1.0/cse24;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -369,4 +371,30 @@ double omd_critical_angle(double s, const double *y, double ag, const double *p)
     double cst[OMD_NK];
     omd_prepare(s, p, cst);
     return omd_critical_angle_prepared(y, ag, cst);
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+ * From the constants of omd_prepare(s, p, cst). */
+double omd_critical_tangent_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double x = y[1];
+    const double cst5 = cst[5];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    const double cst31 = cst[31];
+    return ((cst5 > 0) ? (
+   cst31*(cst28 + cst29*x)
+)
+: (
+   NAN
+));
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double omd_critical_tangent(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    return omd_critical_tangent_prepared(y, ag, cst);
 }

@@ -21,7 +21,7 @@
 #define OMD_NQ 2
 #define OMD_NY 4
 #define OMD_NP 10
-#define OMD_NK 31
+#define OMD_NK 32
 #define OMD_Y_theta 0
 #define OMD_Y_x 1
 #define OMD_Y_dtheta 2
@@ -85,6 +85,10 @@ double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
 double omd_critical_angle(double s, const double *y, double ag, const double *p);
 double omd_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double omd_critical_tangent(double s, const double *y, double ag, const double *p);
+double omd_critical_tangent_prepared(const double *y, double ag, const double *cst);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD_NQ
@@ -112,6 +116,8 @@ double omd_critical_angle_prepared(const double *y, double ag, const double *cst
 #define model_uplift_energy_prepared omd_uplift_energy_prepared
 #define model_critical_angle omd_critical_angle
 #define model_critical_angle_prepared omd_critical_angle_prepared
+#define model_critical_tangent omd_critical_tangent
+#define model_critical_tangent_prepared omd_critical_tangent_prepared
 #endif
 
 #endif

@@ -54,38 +54,39 @@ void omd2_prepare(double s, const double *p, double *cst)
     const double cse27 = M*cse25;
     const double cse28 = cse18*g;
     const double cse29 = g*m2;
-    const double cse30 = (1.0/2.0)*M;
-    const double cse31 = cse1*cse30;
-    const double cse32 = (1.0/2.0)*m1;
-    const double cse33 = cse1*cse32;
-    const double cse34 = (1.0/2.0)*m2;
-    const double cse35 = cse1*cse34;
-    const double cse36 = cse0*g;
-    const double cse37 = g*m1;
-    const double cse38 = (1.0/2.0)*cse1;
-    const double cse39 = cse29*cse38 + cse31*g + cse36 + cse37*cse38;
-    const double cse40 = 2*m1;
-    const double cse41 = 2*m2;
-    const double cse42 = H + h;
-    const double cse43 = (1.0/2.0)*B;
-    const double cse44 = B*cse30*g + cse29*cse43 + cse36*s + cse37*cse43;
-    const double cse45 = c1*s;
-    const double cse46 = k1*s;
-    const double cse47 = cse25*s;
-    const double cse48 = (1.0/8.0)*M;
-    const double cse49 = (1.0/8.0)*cse3;
-    const double cse50 = (1.0/2.0)*k1;
-    const double cse51 = (g*g);
-    const double cse52 = cse41*k2;
-    const double cse53 = (c1*c1)*k1;
-    const double cse54 = 4*H;
-    const double cse55 = k2*m2;
-    const double cse56 = k1*k2;
-    const double cse57 = cse29*cse56*(m1*m1);
-    const double cse58 = (k1*k1);
-    const double cse59 = cse52*cse53;
-    const double cse60 = cse14*cse50;
-    const double cse61 = cse52*cse58;
+    const double cse30 = cse23*g + cse25*cse29 + cse27*g + cse28;
+    const double cse31 = (1.0/2.0)*M;
+    const double cse32 = cse1*cse31;
+    const double cse33 = (1.0/2.0)*m1;
+    const double cse34 = cse1*cse33;
+    const double cse35 = (1.0/2.0)*m2;
+    const double cse36 = cse1*cse35;
+    const double cse37 = cse0*g;
+    const double cse38 = g*m1;
+    const double cse39 = (1.0/2.0)*cse1;
+    const double cse40 = cse29*cse39 + cse32*g + cse37 + cse38*cse39;
+    const double cse41 = 2*m1;
+    const double cse42 = 2*m2;
+    const double cse43 = H + h;
+    const double cse44 = (1.0/2.0)*B;
+    const double cse45 = B*cse31*g + cse29*cse44 + cse37*s + cse38*cse44;
+    const double cse46 = c1*s;
+    const double cse47 = k1*s;
+    const double cse48 = cse25*s;
+    const double cse49 = (1.0/8.0)*M;
+    const double cse50 = (1.0/8.0)*cse3;
+    const double cse51 = (1.0/2.0)*k1;
+    const double cse52 = (g*g);
+    const double cse53 = cse42*k2;
+    const double cse54 = (c1*c1)*k1;
+    const double cse55 = 4*H;
+    const double cse56 = k2*m2;
+    const double cse57 = k1*k2;
+    const double cse58 = cse29*cse57*(m1*m1);
+    const double cse59 = (k1*k1);
+    const double cse60 = cse53*cse54;
+    const double cse61 = cse14*cse51;
+    const double cse62 = cse53*cse59;
     cst[0] = cse13 + cse20;
     cst[1] = m1;
     cst[2] = m2;
@@ -94,47 +95,48 @@ void omd2_prepare(double s, const double *p, double *cst)
     cst[5] = -cse24;
     cst[6] = -cse26;
     cst[7] = cse24 + cse26 + cse27;
-    cst[8] = cse23*g + cse25*cse29 + cse27*g + cse28;
-    cst[9] = cse0 + cse31 + cse33 + cse35;
-    cst[10] = -cse39;
-    cst[11] = -cse37;
+    cst[8] = cse30;
+    cst[9] = cse0 + cse32 + cse34 + cse36;
+    cst[10] = -cse40;
+    cst[11] = -cse38;
     cst[12] = -cse29;
-    cst[13] = -cse40;
-    cst[14] = -cse41;
+    cst[13] = -cse41;
+    cst[14] = -cse42;
     cst[15] = -cse21;
     cst[16] = -cse22;
     cst[17] = -c1;
     cst[18] = -k1;
     cst[19] = -m1;
-    cst[20] = cse33;
+    cst[20] = cse34;
     cst[21] = -c2;
     cst[22] = -k2;
     cst[23] = -m2;
-    cst[24] = cse35;
+    cst[24] = cse36;
     cst[25] = cse13;
     cst[26] = cse25;
-    cst[27] = cse42;
+    cst[27] = cse43;
     cst[28] = 1.0/m1;
     cst[29] = 1.0/m2;
-    cst[30] = -cse44;
+    cst[30] = -cse45;
     cst[31] = cse27*s;
-    cst[32] = -H*cse45 - cse45*h;
-    cst[33] = -H*cse46 - cse37*s - cse46*h;
-    cst[34] = -cse29*s - cse47*k2;
-    cst[35] = -c2*cse47;
+    cst[32] = -H*cse46 - cse46*h;
+    cst[33] = -H*cse47 - cse38*s - cse47*h;
+    cst[34] = -cse29*s - cse48*k2;
+    cst[35] = -c2*cse48;
     cst[36] = cse12 - cse2;
     cst[37] = cse11 + cse20 - cse5 - cse7 - cse8;
-    cst[38] = -cse42;
+    cst[38] = -cse43;
     cst[39] = -cse25;
-    cst[40] = (1.0/2.0)*I_G + cse10*cse48 + (1.0/2.0)*cse14 + (1.0/2.0)*cse16 + (1.0/8.0)*cse17 + cse19 + (1.0/2.0)*cse2 + cse3*cse48 + cse49*m1 + cse49*m2 + (1.0/2.0)*cse9;
-    cst[41] = cse50;
+    cst[40] = (1.0/2.0)*I_G + cse10*cse49 + (1.0/2.0)*cse14 + (1.0/2.0)*cse16 + (1.0/8.0)*cse17 + cse19 + (1.0/2.0)*cse2 + cse3*cse49 + cse50*m1 + cse50*m2 + (1.0/2.0)*cse9;
+    cst[41] = cse51;
     cst[42] = (1.0/2.0)*k2;
-    cst[43] = cse32;
-    cst[44] = cse34;
-    cst[45] = cse39;
-    cst[46] = cse37;
+    cst[43] = cse33;
+    cst[44] = cse35;
+    cst[45] = cse40;
+    cst[46] = cse38;
     cst[47] = cse29;
-    cst[48] = cse56*m1*m2*(fmax(0, cse44)*fmax(0, cse44))/((c2*c2)*cse60*k2 + cse10*cse59 + cse14*cse61 + cse15*cse59 + cse16*cse61 + 4*cse19*cse55*cse58 + 2*cse28*cse56*(m2*m2) + cse40*cse51*k1*(m2*m2*m2) + cse51*cse52*(m1*m1*m1) + cse53*cse54*cse55*h + cse54*cse57 + 4*cse57*h + cse60*(k2*k2)*m2);
+    cst[48] = cse57*m1*m2*(fmax(0, cse45)*fmax(0, cse45))/((c2*c2)*cse61*k2 + cse10*cse60 + cse14*cse62 + cse15*cse60 + cse16*cse62 + 4*cse19*cse56*cse59 + 2*cse28*cse57*(m2*m2) + cse41*cse52*k1*(m2*m2*m2) + cse52*cse53*(m1*m1*m1) + cse54*cse55*cse56*h + cse55*cse58 + 4*cse58*h + cse61*(k2*k2)*m2);
+    cst[49] = 1.0/cse30;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -484,4 +486,32 @@ double omd2_critical_angle(double s, const double *y, double ag, const double *p
     double cst[OMD2_NK];
     omd2_prepare(s, p, cst);
     return omd2_critical_angle_prepared(y, ag, cst);
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+ * From the constants of omd2_prepare(s, p, cst). */
+double omd2_critical_tangent_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double cst8 = cst[8];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
+    const double cst47 = cst[47];
+    const double cst49 = cst[49];
+    return ((cst8 > 0) ? (
+   cst49*(cst45 + cst46*x1 + cst47*x2)
+)
+: (
+   NAN
+));
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double omd2_critical_tangent(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    return omd2_critical_tangent_prepared(y, ag, cst);
 }

@@ -21,7 +21,7 @@
 #define OMD2_NQ 3
 #define OMD2_NY 6
 #define OMD2_NP 13
-#define OMD2_NK 49
+#define OMD2_NK 50
 #define OMD2_Y_theta 0
 #define OMD2_Y_x1 1
 #define OMD2_Y_x2 2
@@ -90,6 +90,10 @@ double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst
 double omd2_critical_angle(double s, const double *y, double ag, const double *p);
 double omd2_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double omd2_critical_tangent(double s, const double *y, double ag, const double *p);
+double omd2_critical_tangent_prepared(const double *y, double ag, const double *cst);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD2_NQ
@@ -117,6 +121,8 @@ double omd2_critical_angle_prepared(const double *y, double ag, const double *cs
 #define model_uplift_energy_prepared omd2_uplift_energy_prepared
 #define model_critical_angle omd2_critical_angle
 #define model_critical_angle_prepared omd2_critical_angle_prepared
+#define model_critical_tangent omd2_critical_tangent
+#define model_critical_tangent_prepared omd2_critical_tangent_prepared
 #endif
 
 #endif

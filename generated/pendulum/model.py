@@ -691,3 +691,59 @@ def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
     cse4 = cse1*l
     out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x_p + cse2*cse3 + cse4*numpy.sin(phi), H*cse2 + cse1*y_p - cse4*numpy.cos(phi)), ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
+
+
+def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+    """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = g*m
+    cse1 = M*g
+    cse2 = (1/2)*cse1
+    cse3 = cse0*l
+    cse4 = H*cse2 + cse0*y_p - cse3*numpy.cos(phi)
+    cse5 = B*s
+    out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [((1/2)*cse0*cse5 + cse0*x_p + cse1*e + cse2*cse5 + cse3*numpy.sin(phi))/cse4,numpy.nan], default=numpy.nan), ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out[0]

@@ -473,3 +473,30 @@ double pendulum_critical_angle(double s, const double *y, double ag, const doubl
     pendulum_prepare(s, p, cst);
     return pendulum_critical_angle_prepared(y, ag, cst);
 }
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+ * From the constants of pendulum_prepare(s, p, cst). */
+double pendulum_critical_tangent_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double phi = y[1];
+    const double cst8 = cst[8];
+    const double cst12 = cst[12];
+    const double cst51 = cst[51];
+    const double cst52 = cst[52];
+    const double cse0 = cst12*cos(phi) + cst8;
+    return ((cse0 > 0) ? (
+   (cst51 + cst52*sin(phi))/cse0
+)
+: (
+   NAN
+));
+}
+
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double pendulum_critical_tangent(double s, const double *y, double ag, const double *p)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    return pendulum_critical_tangent_prepared(y, ag, cst);
+}

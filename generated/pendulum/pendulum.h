@@ -87,6 +87,10 @@ double pendulum_uplift_energy_prepared(const double *y, double ag, const double 
 double pendulum_critical_angle(double s, const double *y, double ag, const double *p);
 double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+double pendulum_critical_tangent(double s, const double *y, double ag, const double *p);
+double pendulum_critical_tangent_prepared(const double *y, double ag, const double *cst);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ PENDULUM_NQ
@@ -114,6 +118,8 @@ double pendulum_critical_angle_prepared(const double *y, double ag, const double
 #define model_uplift_energy_prepared pendulum_uplift_energy_prepared
 #define model_critical_angle pendulum_critical_angle
 #define model_critical_angle_prepared pendulum_critical_angle_prepared
+#define model_critical_tangent pendulum_critical_tangent
+#define model_critical_tangent_prepared pendulum_critical_tangent_prepared
 #endif
 
 #endif

@@ -483,10 +483,29 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     }
 }
 
+/* EV_CRITICAL's g = s theta - atan(z), z = s tan(theta_cr), or an upper
+ * bound of it that is < 0: atan(z) >= z / (1 + z) for z >= 0 (equal at 0, and
+ * the derivatives are 1 / (1 + z^2) >= 1 / (1 + z)^2), narrowed by 4 eps for
+ * the rounding. Most steps are far below the critical angle: no atan2 there.
+ * A NaN tangent (the weights' centre not above the ground) fails the test. */
+static double critical_event_bound(const event_ctx *ec, double t, const double *y)
+{
+    const double s = (double)ec->o->phase;
+    const double z = s * model_critical_tangent_prepared(y, ode_ag(ec->o, t), about(ec->o->k, s));
+    const double below = z / (1.0 + z) * (1.0 - 4.0 * DBL_EPSILON);
+    if (z >= 0.0 && s * y[0] < below)
+        return s * y[0] - below;
+    return model_event(ec, EV_CRITICAL, t, y);
+}
+
+/* g at a step's end: exact, except that a value known to be < 0 may be a
+ * bound (critical_event_bound); locating an event uses exact values only. */
 static double event_value(const event_ctx *ec, int kind, double t, const double *y)
 {
     const event_rule *e = &EVENT_RULES[kind];
-    return e->component >= 0 ? component_event(ec, e, y[e->component]) : model_event(ec, kind, t, y);
+    if (e->component >= 0)
+        return component_event(ec, e, y[e->component]);
+    return kind == EV_CRITICAL ? critical_event_bound(ec, t, y) : model_event(ec, kind, t, y);
 }
 
 /* The event function on the dense output of the last step. */
@@ -605,7 +624,7 @@ static int peak_below_max(const event_ctx *ec, dopri *d, int kind)
  * event wins and the non-terminal ones after it are dropped. */
 static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_events *out)
 {
-    double g_new[N_EVENTS];
+    double g_new[N_EVENTS], g_old;
     int fired[N_EVENTS];
     int i, n_fired = 0;
     out->terminal = -1;
@@ -620,7 +639,9 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
             peak_below_max(ec, d, k))
             continue;
         fired[n_fired++] = k;
-        out->t_root[k] = locate_event(ec, d, k, sense, d->t_old, sense * es->g[k], d->t, sense * g_new[k]);
+        /* The value at the step's start may be a bound (g_new is exact: a bound is only ever "before"). */
+        g_old = k == EV_CRITICAL ? model_event(ec, k, d->t_old, d->y_old) : es->g[k];
+        out->t_root[k] = locate_event(ec, d, k, sense, d->t_old, sense * g_old, d->t, sense * g_new[k]);
         if (EVENT_RULES[k].terminal && (out->terminal < 0 || out->t_root[k] < out->t_stop)) {
             out->terminal = k;
             out->t_stop = out->t_root[k];
