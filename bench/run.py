@@ -111,9 +111,9 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
 
     out = {}
     with tempfile.TemporaryDirectory() as tmp:
-        # Best of two interleaved runs each: the machine is shared. Each run is a whole study,
+        # Best of three interleaved runs each: the machine is shared. Each run is a whole study,
         # as a user waits for it (on the C back end the 2 workers are threads: no pool start-up).
-        for repeat in range(2):
+        for repeat in range(3):
             for workers in (1, 2):
                 _, seconds = _map(n_map, workers, f"{tmp}/runs{repeat}{workers}")
                 key = f"map_responses_per_s_{workers}_workers"
