@@ -457,7 +457,7 @@ typedef struct event_ctx {
 } event_ctx;
 
 /* g of an event that reads one component, from that component's value. */
-static double component_event(const event_ctx *ec, const event_rule *e, double v)
+static inline double component_event(const event_ctx *ec, const event_rule *e, double v)
 {
     return (e->times_pivot ? (double)ec->o->phase * v : v) - e->offset;
 }
@@ -500,7 +500,7 @@ static double critical_event_bound(const event_ctx *ec, double t, const double *
 
 /* g at a step's end: exact, except that a value known to be < 0 may be a
  * bound (critical_event_bound); locating an event uses exact values only. */
-static double event_value(const event_ctx *ec, int kind, double t, const double *y)
+static inline double event_value(const event_ctx *ec, int kind, double t, const double *y)
 {
     const event_rule *e = &EVENT_RULES[kind];
     if (e->component >= 0)
