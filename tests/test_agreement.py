@@ -52,7 +52,7 @@ def c_verdict(block, damper, psi, beta, Omega) -> bool:
 
 def test_back_ends_agree_on_random_cases():
     rng = np.random.default_rng(2026)
-    verdicts_differ, compared = [], 0
+    verdicts_differ, compared, critical = [], 0, 0
     for i in range(N_CASES):
         case = random_case(rng, i)
         c, n = run_both(*case)
@@ -62,17 +62,25 @@ def test_back_ends_agree_on_random_cases():
             above = c_verdict(block, damper, psi, beta * (1 + BOUNDARY), Omega)
             verdicts_differ.append((i, below != above))
             continue
-        if not c.overturned and c.impacts == n.impacts:
-            compared += 1
-            assert c.theta_max == pytest.approx(n.theta_max, rel=1e-6), (i, case)
-            assert c.uplifts == n.uplifts, (i, case)
-            # The end (rest, early rest at the damper's extremum, t_max) is the same rule in both.
-            assert c.status == n.status, (i, case)
-            assert c.x_max == pytest.approx(n.x_max, rel=1e-6), (i, case)
-            assert c.t_end == pytest.approx(n.t_end, rel=1e-6), (i, case)
+        if c.impacts != n.impacts:
+            continue
+        # The C path's cheap bound below the critical angle must not move the crossing.
+        assert c.t_critical == pytest.approx(n.t_critical, rel=1e-6, nan_ok=True), (i, case)
+        critical += not math.isnan(c.t_critical)
+        if c.overturned:
+            assert c.t_overturn == pytest.approx(n.t_overturn, rel=1e-6), (i, case)
+            continue
+        compared += 1
+        assert c.theta_max == pytest.approx(n.theta_max, rel=1e-6), (i, case)
+        assert c.uplifts == n.uplifts, (i, case)
+        # The end (rest, early rest at the damper's extremum, t_max) is the same rule in both.
+        assert c.status == n.status, (i, case)
+        assert c.x_max == pytest.approx(n.x_max, rel=1e-6), (i, case)
+        assert c.t_end == pytest.approx(n.t_end, rel=1e-6), (i, case)
     assert all(near for _, near in verdicts_differ), verdicts_differ
     assert len(verdicts_differ) <= N_CASES // 20
     assert compared >= N_CASES // 4
+    assert critical >= N_CASES // 10, critical
 
 
 def test_early_rest_keeps_verdicts_and_maxima_on_random_cases():
