@@ -122,6 +122,9 @@ static const double RK_D[STAGES] = {-12715105075.0 / 11282082432.0,  0.0,
 #define MIN_FACTOR 0.2
 #define MAX_FACTOR 10.0
 #define ERROR_EXPONENT (-1.0 / 5.0)
+/* SAFETY err^ERROR_EXPONENT >= MAX_FACTOR for err <= (SAFETY / MAX_FACTOR)^5 =
+ * 5.9049e-6; a little below it, so that rounding cannot matter. */
+#define SATURATED 5.9e-6
 /* First step of a rocking phase after an impact, as a fraction of the
  * expected length of the half-cycle (docs/simulation.md, Integration). */
 #define FIRST_STEP_FRACTION 0.25
@@ -308,7 +311,8 @@ static int dopri_step(dopri *d, const ode *o, const tolerance *tol, double t_bou
         dopri_stages(d, o, h, t_new, y_new);
         err = dopri_error(d, tol, h, y_new);
         if (err < 1.0) {
-            double factor = err == 0.0 ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+            /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
+            double factor = err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
             if (rejected) /* no growth right after a rejection */
                 factor = min2(1.0, factor);
             d->t_old = d->t;
