@@ -39,6 +39,12 @@ BELOW, BRACKETED, ABOVE = -1, 0, 1
 #: Default relative tolerance of the bisection on beta.
 TOL = 1e-3
 
+#: Default Omega columns per tile. Each step of the bisection is one call of
+#: run_cases for all the columns of a tile: with one column per call the
+#: Python around it, which holds the GIL, would stop local worker threads
+#: from running in parallel.
+COLUMNS = 8
+
 
 def check_tol(tol) -> float:
     """The bisection tolerance, validated: a number in (0, 0.1]."""
@@ -132,9 +138,9 @@ def windows(beta_scan, scan_overturned) -> np.ndarray:
 
 
 def spectrum_tile(payload: tuple) -> dict:
-    """One column: ``(setting, damper_or_None, Omega, beta_scan, tol)`` -> :func:`beta_min` of it."""
+    """Some columns: ``(setting, damper_or_None, Omega values, beta_scan, tol)`` -> :func:`beta_min` of them."""
     setting, damper, Omega, beta_scan, tol = payload
-    return beta_min(setting, [Omega], beta_scan, damper, tol=tol)
+    return beta_min(setting, Omega, beta_scan, damper, tol=tol)
 
 
 def minimum_overturning_spectrum(
@@ -146,9 +152,10 @@ def minimum_overturning_spectrum(
     *,
     tol: float = TOL,
     runs: str | Path = "out/runs",
+    columns: int = COLUMNS,
     on_tile=None,
 ) -> Study:
-    """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, one tile per column.
+    """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, ``columns`` Omega values per tile.
 
     Parameters
     ----------
@@ -167,6 +174,8 @@ def minimum_overturning_spectrum(
         Relative tolerance of the bisection.
     runs : path
         Folder of the run folders.
+    columns : int
+        Omega values per tile.
     on_tile : callable, optional
         Passed to :func:`rocking.tiles.run_tiles`.
 
@@ -178,8 +187,10 @@ def minimum_overturning_spectrum(
         ``<part>_windows`` (k, 3): ``Omega``, first and last safe amplitude.
     """
     tol = check_tol(tol)
+    if not (isinstance(columns, int) and not isinstance(columns, bool) and columns >= 1):
+        raise ParameterError(f"columns must be an integer >= 1 (Omega values per tile) (got {columns!r})")
     Om, b = Omega.values(), beta.values()
-    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol}
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns}
     arrays = {"Omega": Om, "beta_scan": b}
     check_damper(tuning)
     record = tuning.record()
@@ -194,15 +205,18 @@ def minimum_overturning_spectrum(
         folders[part] = folder.name
         part_tasks: list[Task] = []
         groups.append(part_tasks)
-        for i, Omega_i in enumerate(Om):
-            task = Task(folder / f"column-{i}.npz", spectrum_tile, (setting, damper, float(Omega_i), b, tol))
+        for i in range(0, Om.size, columns):
+            cols = slice(i, min(i + columns, Om.size))
+            task = Task(
+                folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, (setting, damper, Om[cols], b, tol)
+            )
             part_tasks.append(task)
-            where[task.path] = (part, i)
+            where[task.path] = (part, cols)
 
-    def place(task: Task, column: dict) -> None:
-        part, i = where[task.path]
+    def place(task: Task, tile: dict) -> None:
+        part, cols = where[task.path]
         for k in ("beta_min", "beta_safe", "flag", "impacts", "scan_outcome"):
-            arrays[f"{part}_{k}"][i] = column[k][0]
+            arrays[f"{part}_{k}"][cols] = tile[k]
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)

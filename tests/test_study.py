@@ -191,11 +191,12 @@ def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
     assert threaded.run["tiles_computed"] == 2 * 2 * 3
     for k, v in ref_map.arrays.items():
         np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
+    # Columns bisect independently: how they are grouped into tiles changes nothing either.
     serial, threaded = (
-        minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, execution, runs=tmp_path / name)
-        for name, execution in (("serial", SERIAL), ("threads", POOL))
+        minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, execution, runs=tmp_path / name, columns=columns)
+        for name, execution, columns in (("serial", SERIAL, 1), ("threads", POOL, 3))
     )
-    assert serial.run["tiles_computed"] == threaded.run["tiles_computed"] == 2 * OMEGA.n
+    assert (serial.run["tiles_computed"], threaded.run["tiles_computed"]) == (2 * OMEGA.n, 2 * 2)
     for k, v in serial.arrays.items():
         np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
 
@@ -359,3 +360,5 @@ def test_library_errors_name_the_parameter():
         Execution(scheduler="tcp://127.0.0.1:1", dask_workers=2)
     with pytest.raises(ParameterError, match="coarse T_m grid must be logarithmic"):
         optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, Tm=Grid("Tm", 0.1, 10.0, 3))
+    with pytest.raises(ParameterError, match="columns must be an integer >= 1"):
+        minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, SERIAL, columns=0)
