@@ -590,9 +590,10 @@ def _first_step_after_impact(duration: float, dtheta_out: float, dtheta_in: floa
     length is proportional to its initial velocity); its first step is
     :data:`FIRST_STEP_FRACTION` of that.
     """
-    with np.errstate(divide="ignore", invalid="ignore"):
-        h = FIRST_STEP_FRACTION * duration * abs(dtheta_out / dtheta_in)
-    return float(h) if np.isfinite(h) and h > 0 else None
+    if dtheta_in == 0.0:
+        return None
+    h = FIRST_STEP_FRACTION * duration * abs(dtheta_out / dtheta_in)
+    return float(h) if math.isfinite(h) and h > 0 else None
 
 
 def _uplift_at_start(system: _System, t: float, y: np.ndarray, ground) -> int:
@@ -655,6 +656,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
     safe_energy = system.safe_energy if problem.early_rest else None
     safe = False
     first_step = None  # of the next segment; None: Hairer's heuristic
+    t_start = 0.0  # when the current rocking phase started, at theta = 0
 
     def finish(status: str, t_overturn: float = math.nan) -> Response:
         assert status in STATUS
@@ -706,6 +708,8 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
                         return finish("rest")
                     safe = True
 
+        if phase != CONTACT and y[0] == 0.0:
+            t_start = t  # a half-cycle starts (not a restart at the pulse's end)
         # Rule 3: no segment straddles the pulse's end.
         t_bound = min(problem.t_p, problem.t_max) if pulse_on else problem.t_max
         segment = integrate_segment(
@@ -727,7 +731,6 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
             history.add_samples(segment.dense, t, segment.t, phase, problem.record_dt)
             # The segment's end: the pulse's end, t_max, or an event (an impact's "before").
             history.add(segment.t, segment.y, phase)
-        t_start = t
         t, y = segment.t, segment.y
 
         if segment.event is None:

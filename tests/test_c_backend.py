@@ -8,6 +8,7 @@ generated NumPy functions.
 
 from __future__ import annotations
 
+import ctypes
 import dataclasses
 import math
 import os
@@ -188,6 +189,15 @@ def test_library_matches_the_model():
             len(model.state),
             len(model.parameters),
         )
+
+
+def test_first_step_rule_is_the_numpy_back_end_s():
+    """docs/simulation.md (Integration): both back ends start a half-cycle after an impact alike."""
+    from rocking import numpy_backend
+
+    fraction = cb.library("omd").lib.rocking_first_step_fraction
+    fraction.restype, fraction.argtypes = ctypes.c_double, []
+    assert fraction() == numpy_backend.FIRST_STEP_FRACTION
 
 
 # --------------------------------------------------------------------------- #

@@ -677,7 +677,7 @@ typedef struct run {
     event_set events;
     double t, y[NY]; /* the state between segments */
     int phase;
-    double t_start; /* when the current segment started */
+    double t_start; /* when the current rocking phase started, at theta = 0 */
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
@@ -809,7 +809,8 @@ static int run_segment(run *r, double t_bound)
 
     r->o.phase = r->phase;
     r->o.pulse_on = r->t < r->c->t_p;
-    r->t_start = r->t;
+    if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
+        r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
     r->h_first = 0.0;
     watched_events(r, active);
@@ -1081,7 +1082,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.t = 0.0;
-    r.h_first = 0.0;
+    r.t_start = r.h_first = 0.0;
     r.res = out;
     r.hist = history;
     r.n_rec = 0;
@@ -1107,6 +1108,7 @@ int rocking_model_ny(void) { return MODEL_NY; }
 int rocking_model_np(void) { return MODEL_NP; }
 int rocking_result_size(void) { return (int)sizeof(rocking_result); }
 int rocking_api_version(void) { return ROCKING_SIM_API_VERSION; }
+double rocking_first_step_fraction(void) { return FIRST_STEP_FRACTION; }
 
 int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
 {

@@ -96,6 +96,9 @@ int rocking_model_ny(void);
 int rocking_model_np(void);
 int rocking_result_size(void);
 int rocking_api_version(void);
+/* First step of a rocking phase after an impact, as a fraction of the
+ * expected length of its half-cycle (the NumPy back end uses the same). */
+double rocking_first_step_fraction(void);
 
 /* Simulate one run.
  *
