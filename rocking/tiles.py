@@ -30,6 +30,7 @@ from __future__ import annotations
 
 import json
 import os
+import signal
 import tempfile
 import threading
 import time
@@ -179,12 +180,15 @@ def run_folder(root: str | Path, config: dict) -> Path:
     return folder
 
 
-def _exit_with(pid: int) -> None:
-    """Worker initializer: exit when process ``pid`` (the one that started the pool) is gone.
+def _worker_init(pid: int) -> None:
+    """Worker initializer: ignore Ctrl-C, and exit when process ``pid`` (the one that started the pool) is gone.
 
-    A pool that is shut down stops its workers; one whose parent is killed
-    (SIGKILL, SIGTERM) would leave them waiting for work forever.
+    Ctrl-C reaches the whole process group: the parent handles it, waits for
+    the tiles running here and stores them; a worker stopped by it would lose
+    them. A pool that is shut down stops its workers; one whose parent is
+    killed (SIGKILL, SIGTERM) would leave them waiting for work forever.
     """
+    signal.signal(signal.SIGINT, signal.SIG_IGN)
 
     def watch() -> None:
         while True:
@@ -225,7 +229,7 @@ def _local_executor(workers: int, backend: str, tasks: Sequence[Task]) -> Execut
     # preloading the tile functions' modules there makes later pools start at once.
     context = get_context("forkserver")
     context.set_forkserver_preload(sorted({task.fn.__module__ for task in tasks}))
-    return ProcessPoolExecutor(workers, mp_context=context, initializer=_exit_with, initargs=(os.getpid(),))
+    return ProcessPoolExecutor(workers, mp_context=context, initializer=_worker_init, initargs=(os.getpid(),))
 
 
 @contextmanager

@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import json
 import os
+import signal
 import threading
 
 import numpy as np
@@ -161,8 +162,11 @@ class Crash(RuntimeError):
 
 
 def pid_tile(payload) -> dict:
-    """A tile that tells which process computed it."""
-    return {"pid": np.array([os.getpid()])}
+    """A tile that tells which process computed it, and whether Ctrl-C would stop that process."""
+    return {
+        "pid": np.array([os.getpid()]),
+        "sigint_ignored": np.array([signal.getsignal(signal.SIGINT) is signal.SIG_IGN]),
+    }
 
 
 def held_tile(payload) -> dict:
@@ -176,13 +180,19 @@ def held_tile(payload) -> dict:
 
 @pytest.mark.parametrize("backend, pool", [("c", "threads"), ("numpy", "processes")])
 def test_local_workers_are_threads_on_c_and_processes_on_numpy(backend, pool, tmp_path):
-    """C releases the GIL: threads of this process; NumPy does not: processes."""
+    """C releases the GIL: threads of this process; NumPy does not: processes, which leave
+    Ctrl-C to this process (it waits for their running tiles and stores them)."""
     assert local_pool(backend) == pool
-    pids = set()
-    tasks = [Task(tmp_path / f"{i}.npz", pid_tile, i) for i in range(4)]
-    stats = run_tiles(tasks, lambda task, arrays: pids.add(int(arrays["pid"][0])), POOL, backend=backend)
+    seen = set()
+
+    def place(task, arrays):
+        seen.add((int(arrays["pid"][0]), bool(arrays["sigint_ignored"][0])))
+
+    stats = run_tiles([Task(tmp_path / f"{i}.npz", pid_tile, i) for i in range(4)], place, POOL, backend=backend)
     assert stats.computed == 4
+    pids, ignored = {pid for pid, _ in seen}, {flag for _, flag in seen}
     assert (pids == {os.getpid()}) == (pool == "threads")
+    assert ignored == {pool == "processes"}
 
 
 def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
@@ -210,7 +220,7 @@ def test_interrupted_threads_store_their_running_tiles(tmp_path):
 
     def interrupt(task):
         assert all(event.wait(30) for event in started)  # both held tiles run: none is merely queued
-        release.set()
+        threading.Timer(0.2, release.set).start()  # they are still running when the interruption comes
         raise KeyboardInterrupt
 
     with pytest.raises(KeyboardInterrupt):
