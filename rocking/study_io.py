@@ -16,6 +16,7 @@ Units SI (m, kg, s, rad); the study parameters themselves are non-dimensional.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 import math
@@ -293,6 +294,20 @@ def model_hash(name: str) -> str:
     return hashlib.sha256((load_model(name).folder / "manifest.json").read_bytes()).hexdigest()
 
 
+#: The runtime's files that decide a response, besides the generated models.
+SOLVER_SOURCES = ("csrc/sim.c", "csrc/sim.h", "numpy_backend.py", "problem.py", "batch.py")
+
+
+@functools.cache
+def solver_hash() -> str:
+    """SHA-256 of :data:`SOLVER_SOURCES`: a change of the simulator never reuses finished tiles."""
+    here = Path(__file__).resolve().parent
+    digest = hashlib.sha256()
+    for name in SOLVER_SOURCES:
+        digest.update(name.encode() + b"\0" + (here / name).read_bytes())
+    return digest.hexdigest()
+
+
 def versions() -> dict:
     """Versions of Python, the numerical stack, ``rocking`` and the generated models.
 
@@ -324,6 +339,7 @@ def part_config(kind: str, part: str, setting: Setting, **entries) -> dict:
         "format": FORMAT,
         "rocking": rocking.__version__,
         "model_manifest_sha256": {name: model_hash(name) for name in ("block", "omd")},
+        "solver_sha256": solver_hash(),
         "kind": kind,
         "part": part,
         **setting.record(),

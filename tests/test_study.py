@@ -11,7 +11,7 @@ import threading
 import numpy as np
 import pytest
 
-from rocking import Block
+from rocking import Block, study_io
 from rocking.optimize import optimal_damper, refinement, threshold_frequency
 from rocking.overturning_map import SAFE, overturning_map
 from rocking.params import ParameterError
@@ -279,6 +279,18 @@ def test_every_input_changes_the_configuration_hash():
     hashes = {config_hash(c) for c in [base, *variants]}
     assert len(hashes) == 1 + len(variants)
     assert set(base["model_manifest_sha256"]) == {"block", "omd"}
+    assert base["solver_sha256"] == study_io.solver_hash()
+
+
+def test_the_simulator_s_sources_are_part_of_the_configuration(monkeypatch):
+    """Tiles of an older sim.c or NumPy back end are never reused: their sources are hashed."""
+    before = study_io.solver_hash()
+    study_io.solver_hash.cache_clear()
+    monkeypatch.setattr(study_io, "SOLVER_SOURCES", study_io.SOLVER_SOURCES[1:])  # as if sim.c had changed
+    try:
+        assert study_io.solver_hash() != before
+    finally:
+        study_io.solver_hash.cache_clear()
 
 
 # --- data, figures, CLI ---------------------------------------------------------------------
