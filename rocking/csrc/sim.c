@@ -379,8 +379,9 @@ static double dopri_dense1(dopri *d, double t, int i)
 }
 
 /* An upper bound of |component i| of the dense output over the whole last
- * step: with u in [0, 1], u (1 - u) <= 1/4 and u^2 (1 - u) <= 4/27, term by
- * term; widened by 16 eps for the rounding of any evaluation inside. */
+ * step, term by term: with u in [0, 1], u <= 1, u (1 - u) <= 1/4,
+ * u^2 (1 - u) <= 4/27 and u^2 (1 - u)^2 <= 1/16; widened by 16 eps for the
+ * rounding of any evaluation inside. */
 static double dopri_dense_bound(dopri *d, int i)
 {
     double b;
@@ -466,10 +467,16 @@ static inline double component_event(const event_ctx *ec, const event_rule *e, d
     return (e->times_pivot ? (double)ec->o->phase * v : v) - e->offset;
 }
 
+/* g of EV_CRITICAL: s theta - s theta_cr_s(y). */
+static double critical_event(const event_ctx *ec, const double *y, double ag)
+{
+    const double s = (double)ec->o->phase;
+    return s * y[0] - s * model_critical_angle_prepared(y, ag, about(ec->o->k, s));
+}
+
 /* g of an event that is a function of the model. */
 static double model_event(const event_ctx *ec, int kind, double t, const double *y)
 {
-    const double s = (double)ec->o->phase;
     switch (kind) {
     case EV_UPLIFT_A:
         return model_uplift_prepared(y, ode_ag(ec->o, t), about(ec->o->k, 1.0));
@@ -481,7 +488,7 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     case EV_SAFE:
         return (model_energy_prepared(y, 0.0, about(ec->o->k, 1.0)) - ec->energy_zero) - ec->energy_safe;
     case EV_CRITICAL:
-        return s * y[0] - s * model_critical_angle_prepared(y, ode_ag(ec->o, t), about(ec->o->k, s));
+        return critical_event(ec, y, ode_ag(ec->o, t));
     default:
         return 0.0; /* not reached: the other events read one component */
     }
@@ -489,17 +496,19 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
 
 /* EV_CRITICAL's g = s theta - atan(z), z = s tan(theta_cr), or an upper
  * bound of it that is < 0: atan(z) >= z / (1 + z) for z >= 0 (equal at 0, and
- * the derivatives are 1 / (1 + z^2) >= 1 / (1 + z)^2), narrowed by 4 eps for
- * the rounding. Most steps are far below the critical angle: no atan2 there.
- * A NaN tangent (the weights' centre not above the ground) fails the test. */
+ * the derivatives are 1 / (1 + z^2) >= 1 / (1 + z)^2). Narrowed by 4 eps,
+ * relative and absolute: the tangent and the angle are generated separately,
+ * each right to a few ulps of its terms, which may cancel. Most steps are far
+ * below the critical angle: no atan2 there. A NaN tangent (the weights'
+ * centre not above the ground) fails the test. */
 static double critical_event_bound(const event_ctx *ec, double t, const double *y)
 {
-    const double s = (double)ec->o->phase;
-    const double z = s * model_critical_tangent_prepared(y, ode_ag(ec->o, t), about(ec->o->k, s));
-    const double below = z / (1.0 + z) * (1.0 - 4.0 * DBL_EPSILON);
+    const double s = (double)ec->o->phase, ag = ode_ag(ec->o, t);
+    const double z = s * model_critical_tangent_prepared(y, ag, about(ec->o->k, s));
+    const double below = z / (1.0 + z) - 4.0 * DBL_EPSILON * (1.0 + z);
     if (z >= 0.0 && s * y[0] < below)
         return s * y[0] - below;
-    return model_event(ec, EV_CRITICAL, t, y);
+    return critical_event(ec, y, ag);
 }
 
 /* g at a step's end: exact, except that a value known to be < 0 may be a
