@@ -152,7 +152,9 @@ def hoist_constants(outputs, varying):
     and ``ag``) becomes a symbol ``cst<i>``, the same symbol wherever it
     recurs; the terms of a sum that differ only by such a factor are gathered
     first, so that ``a x + b x`` costs one constant ``a + b``. A runtime
-    computes the constants once per run and pivot, not at every call.
+    computes the constants once per run and pivot, not at every call, all of
+    them: one that only a branch of a ``Piecewise`` uses is computed even where
+    that branch is not taken (an inf or NaN there is never read).
 
     Returns
     -------

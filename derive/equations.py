@@ -223,15 +223,13 @@ def _weights_moment(sysm: System):
     return _reduce(Vg.subs(theta, 0)), _reduce(Vg.diff(theta).subs(theta, 0))
 
 
-def critical_angle(sysm: System):
-    """Angle where gravity's moment about the pivot vanishes, other coordinates held."""
-    a, b = _weights_moment(sysm)
+def critical_angle(a, b):
+    """Angle where gravity's moment about the pivot vanishes, other coordinates held (:func:`_weights_moment`)."""
     return sp.atan2(b, a)
 
 
-def critical_tangent(sysm: System):
+def critical_tangent(a, b):
     """``tan`` of :func:`critical_angle` where ``a > 0`` (the angle is then ``atan(b / a)``), NaN elsewhere."""
-    a, b = _weights_moment(sysm)
     return sp.Piecewise((b / a, a > 0), (sp.nan, True))
 
 
@@ -308,6 +306,7 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         momentum_x += mass * (X[0] - sysm.x_g).diff(sysm.x_g.args[0])
     D = _to_symbols(sysm.D, sysm, vg)
     power = _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
+    weights = _weights_moment(sysm)
 
     return Equations(
         uplift_energy=uplift_energy(sysm, energy, uplift),
@@ -321,6 +320,6 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         impact=impact_map(sysm, opts["impact_laws"]),
         energy=energy,
         power=power,
-        critical_angle=critical_angle(sysm),
-        critical_tangent=critical_tangent(sysm),
+        critical_angle=critical_angle(*weights),
+        critical_tangent=critical_tangent(*weights),
     )

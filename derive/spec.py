@@ -17,11 +17,16 @@ Everything is checked here, before any derivation starts.
 
 from __future__ import annotations
 
+import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import sympy as sp
-import tomllib
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10: the same parser, from PyPI
+    import tomli as tomllib
 
 #: Parameters of the rocking block, shared by every model, in argument order.
 BLOCK_PARAMETERS = (
@@ -37,7 +42,7 @@ IMPACT_LAWS = ("momentum", "velocity")
 INERTIA_OPTIONS = ("free", "homogeneous")
 _RESERVED = {"theta", "s", "t", "ag", "x_g"} | {p[0] for p in BLOCK_PARAMETERS}
 #: Temporaries (cse<i>) and run constants (cst<i>) of the generated code.
-_GENERATED_PREFIXES = ("cse", "cst")
+_GENERATED_NAME = re.compile(r"cs[et]\d+")
 
 
 class SpecError(ValueError):
@@ -156,9 +161,8 @@ def parse_spec(data: dict, source: str = "") -> Spec:
             raise SpecError(f"spec: {n!r} is not a valid symbol name")
         if n in _RESERVED:
             raise SpecError(f"spec: {n!r} is reserved for the block or the derivation")
-        if n.startswith(_GENERATED_PREFIXES):
-            prefixes = " or ".join(_GENERATED_PREFIXES)
-            raise SpecError(f"spec: {n!r}: names starting with {prefixes} are the generated code's")
+        if _GENERATED_NAME.fullmatch(n):
+            raise SpecError(f"spec: {n!r}: names cse<digits> and cst<digits> are the generated code's")
     if len(set(names)) != len(names):
         raise SpecError("spec: a name is declared twice among coordinates and parameters")
 

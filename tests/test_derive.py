@@ -123,7 +123,7 @@ def _with(**changes):
         (_with(bodies=[{"name": "mass", "mass": "m", "position": ["x"]}]), "position must be a list of two"),
         (_with(impact={"x": "stick"}), "unknown law 'stick'"),
         (_with(parameters={"m": {}, "k": {}, "B": {}}), "'B' is reserved"),
-        (_with(parameters={"m": {}, "k": {}, "cst0": {}}), "'cst0': names starting with cse or cst"),
+        (_with(parameters={"m": {}, "k": {}, "cst0": {}}), "'cst0': names cse<digits> and cst<digits>"),
         (_with(colour="red"), "unknown key\\(s\\) colour"),
     ],
 )
@@ -142,6 +142,16 @@ def test_hoisting_gathers_the_constants_of_a_sum_and_keeps_the_value():
     for original, split in zip(exprs, hoisted):
         assert sympy.simplify(split.subs(k) - original) == 0
     assert all(not (e.free_symbols & {x, dx}) for e in k.values())
+
+
+def test_hoisting_goes_into_the_branches_and_conditions_of_a_piecewise():
+    x, a, b = sympy.symbols("x a b", real=True)
+    expr = sympy.Piecewise(((a + b) * x, a * b > 0), (sympy.nan, True))
+    constants, (hoisted,) = hoist_constants([expr], [x])
+    k = dict(constants)
+    assert hoisted.free_symbols == {x} | set(k)  # neither a nor b is left to a prepared function
+    for values, value in (({a: 1.0, b: 2.0, x: 3.0}, "9.00000000000000"), ({a: -1.0, b: 2.0, x: 3.0}, "nan")):
+        assert str(hoisted.subs(k).subs(values)) == str(expr.subs(values)) == value
 
 
 def test_registered_variants_include_the_paper_model_and_the_bare_block():

@@ -8,7 +8,7 @@
 #include "omd2.h"
 
 /* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters alone. */
+ * depends on the parameters and the pivot alone. */
 void omd2_prepare(double s, const double *p, double *cst)
 {
     const double M = p[0];

@@ -8,7 +8,7 @@
 #include "pendulum.h"
 
 /* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters alone. */
+ * depends on the parameters and the pivot alone. */
 void pendulum_prepare(double s, const double *p, double *cst)
 {
     const double M = p[0];
