@@ -12,6 +12,7 @@ import ctypes
 import dataclasses
 import math
 import os
+import shlex
 import shutil
 import subprocess
 import sys
@@ -493,6 +494,34 @@ def test_threads_give_identical_results():
     default = cb.simulate_batch(**args)
     for name in cb.RESULT_FIELDS:
         assert same(one[name], three[name]) and same(one[name], default[name])
+
+
+def test_shortcuts_change_no_result(tmp_path, monkeypatch):
+    """sim.c skips work it can prove useless (extrema that cannot raise a maximum, atan2 far below
+    the critical angle, pow where the step factor is saturated): built without them, it gives the
+    same results bit for bit, on a map of the reference block and its damper and on eccentric blocks."""
+    eccentric = [Block(H=2.0, B=0.5, M=1000.0, e=e) for e in (-0.2, 0.2)]
+    problems = _map(8, 8) + [
+        make_problem(
+            block,
+            Damper.from_nondim(block, gamma=0.1, omega_ratio=0.8, h=0.05),
+            OneSinePulse.from_nondim(block, beta=beta, Omega=3.0, psi=psi),
+        )
+        for block in eccentric
+        for beta in (1.5, 2.5, 4.0)
+        for psi in (0.0, 2.0)
+    ]
+    args = cb.batch_arguments(problems)
+    fast = cb.simulate_batch(**args, threads=1)
+    monkeypatch.setenv("CC", shlex.join([*cbuild.compiler(), "-DROCKING_NO_SHORTCUTS"]))
+    model = load_model("omd")
+    monkeypatch.setitem(
+        cb._LIBRARIES, (model.folder, model.c_prefix), cb._Library(model, cbuild.build(model, cache=tmp_path))
+    )
+    plain = cb.simulate_batch(**args, threads=1)
+    assert np.any(fast["overturned"]) and not np.all(fast["overturned"]) and np.any(np.isfinite(fast["t_critical"]))
+    for name in cb.RESULT_FIELDS:
+        assert same(fast[name], plain[name]), name
 
 
 def test_batch_of_the_bare_block_and_broadcasting():

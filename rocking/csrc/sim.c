@@ -122,6 +122,13 @@ static const double RK_D[STAGES] = {-12715105075.0 / 11282082432.0,  0.0,
 #define MIN_FACTOR 0.2
 #define MAX_FACTOR 10.0
 #define ERROR_EXPONENT (-1.0 / 5.0)
+/* Shortcuts that skip work without changing any result: a test builds the
+ * library with -DROCKING_NO_SHORTCUTS too and compares the two bit for bit. */
+#ifdef ROCKING_NO_SHORTCUTS
+#define SHORTCUTS 0
+#else
+#define SHORTCUTS 1
+#endif
 /* SAFETY err^ERROR_EXPONENT >= MAX_FACTOR for err <= (SAFETY / MAX_FACTOR)^5 =
  * 5.9049e-6; a little below it, so that rounding cannot matter. */
 #define SATURATED 5.9e-6
@@ -312,7 +319,8 @@ static int dopri_step(dopri *d, const ode *o, const tolerance *tol, double t_bou
         err = dopri_error(d, tol, h, y_new);
         if (err < 1.0) {
             /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
-            double factor = err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+            double factor =
+                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
             if (rejected) /* no growth right after a rejection */
                 factor = min2(1.0, factor);
             d->t_old = d->t;
@@ -518,7 +526,7 @@ static inline double event_value(const event_ctx *ec, int kind, double t, const 
     const event_rule *e = &EVENT_RULES[kind];
     if (e->component >= 0)
         return component_event(ec, e, y[e->component]);
-    return kind == EV_CRITICAL ? critical_event_bound(ec, t, y) : model_event(ec, kind, t, y);
+    return SHORTCUTS && kind == EV_CRITICAL ? critical_event_bound(ec, t, y) : model_event(ec, kind, t, y);
 }
 
 /* The event function on the dense output of the last step. */
@@ -649,7 +657,7 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
         const int sense = event_sense(k, es->g[k]);
         g_new[k] = event_value(ec, k, d->t, d->y);
         if (!is_before(sense * es->g[k], strict) || is_before(sense * g_new[k], strict) ||
-            peak_below_max(ec, d, k))
+            (SHORTCUTS && peak_below_max(ec, d, k)))
             continue;
         fired[n_fired++] = k;
         /* The value at the step's start may be a bound (g_new is exact: a bound is only ever "before"). */
