@@ -17,7 +17,7 @@ $(STAMP): pyproject.toml constraints.txt
 	touch $(STAMP)
 
 derive: $(STAMP)
-	$(PY) -m derive $(if $(VARIANT),--variant $(VARIANT))
+	$(PY) -m rocking.derive $(if $(VARIANT),--variant $(VARIANT))
 
 verify: $(STAMP)
 	$(VENV)/bin/rocking verify

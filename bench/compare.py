@@ -25,9 +25,10 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 from run import map_cases  # noqa: E402
 
-from rocking import c_backend, cbuild  # noqa: E402
-from rocking.batch import run_cases  # noqa: E402
-from rocking.model import load_model  # noqa: E402
+from rocking.sim import cbuild  # noqa: E402
+from rocking.sim import c_backend  # noqa: E402
+from rocking.sim.cases import run_cases  # noqa: E402
+from rocking.model.loading import load_model  # noqa: E402
 
 ROOT = Path(__file__).resolve().parent.parent
 

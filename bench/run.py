@@ -23,7 +23,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import baseline  # noqa: E402
 
 from rocking import Block  # noqa: E402
-from rocking.batch import pulse_cases, run_cases  # noqa: E402
+from rocking.sim.cases import pulse_cases, run_cases  # noqa: E402
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
 
@@ -56,7 +56,7 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
     c_res, c_time, c_cpu = min(runs, key=lambda r: r[1])
     n = len(cases)
     pick = np.random.default_rng(seed).choice(n, size=n_subset, replace=False)
-    from rocking import numpy_backend
+    from rocking.sim import numpy_backend
 
     np_over, np_time = [], 0.0
     for i in pick:
@@ -93,9 +93,9 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
 
 def _map(n: int, workers: int, runs: str):
     """A bare + damper overturning map of ``n x n`` on fresh tiles; (study, seconds)."""
-    from rocking.overturning_map import overturning_map
-    from rocking.study_io import Grid, Setting, Tuning
-    from rocking.tiles import Execution
+    from rocking.study.overturning_map import overturning_map
+    from rocking.study.config import Grid, Setting, Tuning
+    from rocking.study.tiles import Execution
 
     setting = Setting(Block.reference())
     tuning = Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS)
@@ -135,7 +135,7 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
             out[f"map_{n}x{n}_peak_rss_mb"] = rss / 2**20
             out[f"map_{n}x{n}_result_arrays_mb"] = size / 2**20
         start = time.perf_counter()
-        demo = [sys.executable, "-m", "rocking.cli", "demo", "--out", f"{tmp}/demo", "--no-progress"]
+        demo = [sys.executable, "-m", "rocking.cli.main", "demo", "--out", f"{tmp}/demo", "--no-progress"]
         subprocess.run(demo, check=True, capture_output=True)
         out["demo_seconds"] = time.perf_counter() - start
     out["n_map"], out["n_memory"] = n_map, n_memory

@@ -5,11 +5,11 @@ The equations come from SymPy (``derive/``) as generated NumPy and C code
 runtime around them. Units are SI throughout: m, kg, s, rad, N/m, N s/m.
 """
 
-from .model import Model, available_models, load_model
-from .params import Block, Damper, ParameterError
-from .problem import Response
-from .pulse import OneSinePulse
-from .simulate import simulate
+from .model.loading import Model, available_models, load_model
+from .model.params import Block, Damper, ParameterError
+from .sim.problem import Response
+from .model.pulse import OneSinePulse
+from .sim.run import simulate
 
 __all__ = [
     "Block",

@@ -1,6 +1,6 @@
 """Hand-written equations of the ``pendulum`` and ``omd2`` variants, and of a locked rigid block.
 
-Like :mod:`rocking.paper` for ``omd``, this module is a yardstick: it is derived
+Like :mod:`rocking.reference.paper` for ``omd``, this module is a yardstick: it is derived
 by hand (the steps are in the comments), uses plain NumPy, and never imports
 SymPy or ``derive/``. Every function takes a mapping ``v`` of arrays keyed by
 argument name (``s``, the state names, ``ag`` and the parameter names of the

@@ -8,10 +8,11 @@ import math
 import numpy as np
 import pytest
 
-from rocking import c_backend, numpy_backend
-from rocking.params import Block, Damper
-from rocking.problem import make_problem
-from rocking.pulse import OneSinePulse
+from rocking.sim import c_backend
+from rocking.sim import numpy_backend
+from rocking.model.params import Block, Damper
+from rocking.sim.problem import make_problem
+from rocking.model.pulse import OneSinePulse
 
 N_CASES = 200
 #: A verdict may differ only where the overturning boundary lies within this

@@ -24,10 +24,11 @@ import pytest
 from scipy.integrate import solve_ivp
 from scipy.linalg import expm
 
-from rocking import Block, Damper, OneSinePulse, cbuild, load_model
-from rocking import c_backend as cb
-from rocking.cbuild import CBuildError
-from rocking.problem import STATUS, make_problem
+from rocking import Block, Damper, OneSinePulse, load_model
+from rocking.sim import cbuild
+from rocking.sim import c_backend as cb
+from rocking.sim.cbuild import CBuildError
+from rocking.sim.problem import STATUS, make_problem
 
 ROOT = Path(__file__).resolve().parent.parent
 BLOCK = Block.reference()
@@ -83,7 +84,8 @@ def test_concurrent_builds_from_several_processes(tmp_path):
     code = textwrap.dedent(
         """
         import ctypes, sys
-        from rocking import cbuild, load_model
+        from rocking import load_model
+        from rocking.sim import cbuild
         lib = cbuild.build(load_model("omd"), cache=sys.argv[1])
         assert ctypes.CDLL(str(lib)).rocking_model_ny() == 4
         print(lib)
@@ -195,7 +197,7 @@ def test_library_matches_the_model():
 
 def test_first_step_rule_is_the_numpy_back_end_s():
     """docs/simulation.md (Integration): both back ends start a half-cycle after an impact alike."""
-    from rocking import numpy_backend
+    from rocking.sim import numpy_backend
 
     fraction = cb.library("omd").lib.rocking_first_step_fraction
     fraction.restype, fraction.argtypes = ctypes.c_double, []

@@ -6,7 +6,7 @@ import json
 
 import pytest
 
-from rocking.cli import main
+from rocking.cli.main import main
 
 
 def test_simulate_json_with_and_without_damper(capsys):

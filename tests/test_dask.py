@@ -8,11 +8,12 @@ import numpy as np
 import pytest
 
 from rocking import Block
-from rocking.overturning_map import overturning_map
-from rocking.spectrum import minimum_overturning_spectrum
-from rocking.study_cli import add_study_commands
-from rocking.study_io import Grid, Setting, Tuning, load
-from rocking.tiles import Execution
+from rocking.study.overturning_map import overturning_map
+from rocking.study.spectrum import minimum_overturning_spectrum
+from rocking.cli.study import add_study_commands
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.storage import load
+from rocking.study.tiles import Execution
 
 distributed = pytest.importorskip("distributed")
 

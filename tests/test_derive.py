@@ -12,11 +12,11 @@ import numpy as np
 import pytest
 import sympy
 
-from derive.build import GENERATED, build, stale_files
-from derive.codegen import NumpyGenerator, hoist_constants
-from derive.equations import derive
-from derive.spec import SpecError, parse_spec, registered_variants, variant_spec
-from rocking import paper
+from rocking.derive.build import GENERATED, build, stale_files
+from rocking.derive.codegen import NumpyGenerator, hoist_constants
+from rocking.derive.equations import derive
+from rocking.derive.spec import SpecError, parse_spec, registered_variants, variant_spec
+from rocking.reference import paper
 
 ROOT = GENERATED.parent
 
@@ -37,7 +37,7 @@ def test_generated_folder_is_fresh():
 def test_derive_is_byte_identical_across_processes():
     """A second run of the derivation in a new process, with another hash seed, changes nothing."""
     env = dict(os.environ, PYTHONHASHSEED="12345")
-    run = subprocess.run([sys.executable, "-m", "derive", "--check"], cwd=ROOT, env=env, capture_output=True, text=True)
+    run = subprocess.run([sys.executable, "-m", "rocking.derive", "--check"], cwd=ROOT, env=env, capture_output=True, text=True)
     assert run.returncode == 0, run.stdout + run.stderr
     assert "up to date" in run.stdout
 
@@ -57,7 +57,7 @@ def test_impact_option_velocity_matches_hand_derivation():
     eq, mod = _numpy_module(variant_spec("omd"), {"impact": "velocity"})
     assert eq.options["impact_laws"] == {"x": "velocity"}
     rng = np.random.default_rng(3)
-    from rocking.verify import random_cases, rel_error
+    from rocking.reference.verify import random_cases, rel_error
 
     for s in (1, -1):
         v = random_cases(rng, 500, s)
@@ -169,7 +169,7 @@ def test_command_line_builds_a_user_spec_into_a_folder(tmp_path):
     )
     out = tmp_path / "model"
     run = subprocess.run(
-        [sys.executable, "-m", "derive", "--spec", str(spec), "--out", str(out)],
+        [sys.executable, "-m", "rocking.derive", "--spec", str(spec), "--out", str(out)],
         cwd=ROOT,
         capture_output=True,
         text=True,
@@ -177,7 +177,7 @@ def test_command_line_builds_a_user_spec_into_a_folder(tmp_path):
     assert run.returncode == 0, run.stderr
     assert {"manifest.json", "model.py", "probe.c", "probe.h", "EQUATIONS.md"} <= {p.name for p in out.iterdir()}
     bad = subprocess.run(
-        [sys.executable, "-m", "derive", "--variant", "omd", "--option", "impact=bounce"],
+        [sys.executable, "-m", "rocking.derive", "--variant", "omd", "--option", "impact=bounce"],
         cwd=ROOT,
         capture_output=True,
         text=True,

@@ -11,7 +11,7 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from rocking import load_model
-from rocking.verify import TOLERANCE, random_cases, verify
+from rocking.reference.verify import TOLERANCE, random_cases, verify
 
 
 @pytest.mark.parametrize("name", ["omd", "block"])
@@ -199,7 +199,7 @@ def _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, la
 @functools.cache
 def _impact_module(law):
     """The omd model derived with the impact law ``law``."""
-    from derive.spec import variant_spec
+    from rocking.derive.spec import variant_spec
     from tests.test_derive import _numpy_module
 
     return _numpy_module(variant_spec("omd"), {"impact": law})[1]

@@ -15,10 +15,10 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from rocking.numpy_backend import simulate
-from rocking.params import Block, Damper
-from rocking.problem import CONTACT, STATUS, make_problem
-from rocking.pulse import OneSinePulse
+from rocking.sim.numpy_backend import simulate
+from rocking.model.params import Block, Damper
+from rocking.sim.problem import CONTACT, STATUS, make_problem
+from rocking.model.pulse import OneSinePulse
 
 
 def slender_block(alpha: float = 0.02, p: float = 2.0) -> Block:

@@ -1,11 +1,11 @@
-"""Tests for rocking.params: construction, derived quantities, round trips, validation."""
+"""Tests for rocking.model.params: construction, derived quantities, round trips, validation."""
 
 import math
 
 import numpy as np
 import pytest
 
-from rocking.params import Block, Damper, ParameterError
+from rocking.model.params import Block, Damper, ParameterError
 
 G = 9.81
 

@@ -1,12 +1,12 @@
-"""Tests for rocking.pulse: the one-sine ground acceleration pulse."""
+"""Tests for rocking.model.pulse: the one-sine ground acceleration pulse."""
 
 import math
 
 import numpy as np
 import pytest
 
-from rocking.params import Block, ParameterError
-from rocking.pulse import OneSinePulse
+from rocking.model.params import Block, ParameterError
+from rocking.model.pulse import OneSinePulse
 
 
 def test_pulse_defaults_and_float_storage():

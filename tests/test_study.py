@@ -6,19 +6,24 @@ import argparse
 import json
 import os
 import signal
+import shutil
 import threading
+from pathlib import Path
 
 import numpy as np
 import pytest
 
-from rocking import Block, study_io
-from rocking.optimize import optimal_damper, refinement, threshold_frequency
-from rocking.overturning_map import SAFE, overturning_map
-from rocking.params import ParameterError
-from rocking.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
-from rocking.study_cli import add_study_commands
-from rocking.study_io import Grid, Setting, Tuning, config_hash, load, part_config
-from rocking.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
+import rocking
+from rocking import Block, load_model
+from rocking.study import config as study_config
+from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
+from rocking.study.overturning_map import SAFE, overturning_map
+from rocking.model.params import ParameterError
+from rocking.study.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
+from rocking.cli.study import add_study_commands
+from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
+from rocking.study.storage import load
+from rocking.study.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
 
 SETTING = Setting(Block.reference(), backend="c")
 SERIAL = Execution(workers=1, progress=False)
@@ -196,7 +201,7 @@ def test_local_workers_are_threads_on_c_and_processes_on_numpy(backend, pool, tm
 
 
 def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
-    monkeypatch.setattr("rocking.tiles.ProcessPoolExecutor", None)  # threads only: no process pool can start
+    monkeypatch.setattr("rocking.study.tiles.ProcessPoolExecutor", None)  # threads only: no process pool can start
     threaded = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path / "map", tile=(2, 5))
     assert threaded.run["tiles_computed"] == 2 * 2 * 3
     for k, v in ref_map.arrays.items():
@@ -278,19 +283,42 @@ def test_every_input_changes_the_configuration_hash():
     ]
     hashes = {config_hash(c) for c in [base, *variants]}
     assert len(hashes) == 1 + len(variants)
-    assert set(base["model_manifest_sha256"]) == {"block", "omd"}
-    assert base["solver_sha256"] == study_io.solver_hash()
+    assert set(base["model_sha256"]) == {"block", "omd"}
+    assert base["solver_sha256"] == study_config.solver_hash()
 
 
-def test_the_simulator_s_sources_are_part_of_the_configuration(monkeypatch):
-    """Tiles of an older sim.c or NumPy back end are never reused: their sources are hashed."""
-    before = study_io.solver_hash()
-    study_io.solver_hash.cache_clear()
-    monkeypatch.setattr(study_io, "SOLVER_SOURCES", study_io.SOLVER_SOURCES[1:])  # as if sim.c had changed
-    try:
-        assert study_io.solver_hash() != before
-    finally:
-        study_io.solver_hash.cache_clear()
+def _each_file_changes(folders, digest):
+    """``digest()`` changes when any one file under ``folders`` gains a byte."""
+    before = digest()
+    files = sorted(p for folder in folders for p in folder.rglob("*") if p.is_file())
+    assert files
+    for path in files:
+        original = path.read_bytes()
+        path.write_bytes(original + b" ")
+        try:
+            assert digest() != before, path
+        finally:
+            path.write_bytes(original)
+
+
+def test_every_source_of_the_simulator_keys_the_tiles(tmp_path):
+    """Tiles of an older simulator are never reused: every file of rocking.sim and rocking.model is hashed."""
+    root = Path(rocking.__file__).resolve().parent
+    folders = []
+    for package in study_config.SOLVER_PACKAGES:
+        shutil.copytree(root / package, tmp_path / package, ignore=shutil.ignore_patterns("__pycache__"))
+        folders.append(tmp_path / package)
+    assert study_config.tree_hash(*folders) == study_config.solver_hash()
+    assert {"c_backend.py", "sim.c", "sim.h", "loading.py", "pulse.py"} <= {p.name for f in folders for p in f.rglob("*")}
+    _each_file_changes(folders, lambda: study_config.tree_hash(*folders))
+
+
+def test_every_generated_file_keys_the_tiles(tmp_path):
+    """A regenerated model (any of its files) never reuses tiles of the old one."""
+    folder = tmp_path / "omd"
+    shutil.copytree(load_model("omd").folder, folder, ignore=shutil.ignore_patterns("__pycache__"))
+    assert study_config.model_hash(str(folder)) == study_config.model_hash("omd")
+    _each_file_changes([folder], lambda: study_config.tree_hash(folder))
 
 
 # --- data, figures, CLI ---------------------------------------------------------------------
@@ -318,7 +346,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0, (kind, ext)
         record = json.loads((tmp_path / f"{kind}.json").read_text())
         assert record["config"]["kind"] == kind and record["config_sha256"]
-        assert {"python", "numpy", "scipy", "sympy", "rocking", "model_manifest_sha256"} <= set(record["versions"])
+        assert {"python", "numpy", "scipy", "sympy", "rocking", "model_sha256"} <= set(record["versions"])
     assert load(tmp_path / "map").arrays["bare_overturned"].shape == (3, 6)
 
     for kind in kinds:
@@ -328,7 +356,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
     def no_simulation(*args, **kwargs):
         raise AssertionError("redraw must not simulate")
 
-    monkeypatch.setattr("rocking.overturning_map.run_cases", no_simulation)
+    monkeypatch.setattr("rocking.study.overturning_map.run_cases", no_simulation)
     assert cli(["redraw", out]) == 0
     assert cli(["redraw", str(tmp_path / "spectrum.npz")]) == 0
     for kind in kinds:

@@ -9,14 +9,14 @@ import pytest
 
 import rocking
 from rocking import Block, OneSinePulse
-from rocking.batch import pulse_cases
-from rocking.cli import main
-from rocking.optimize import optimal_damper
-from rocking.overturning_map import overturning_map
-from rocking.params import ParameterError
-from rocking.spectrum import minimum_overturning_spectrum
-from rocking.study_io import Grid, Setting, Tuning, Variant, config_hash, part_config
-from rocking.tiles import Execution
+from rocking.sim.cases import pulse_cases
+from rocking.cli.main import main
+from rocking.study.optimize import optimal_damper
+from rocking.study.overturning_map import overturning_map
+from rocking.model.params import ParameterError
+from rocking.study.spectrum import minimum_overturning_spectrum
+from rocking.study.config import Grid, Setting, Tuning, Variant, config_hash, part_config
+from rocking.study.tiles import Execution
 
 BLOCK = Block.reference()
 SETTING = Setting(BLOCK, backend="c")
@@ -93,7 +93,7 @@ def test_changed_variant_parameter_reuses_no_tile(pendulum_map, runs):
     before = part_config("map", "damper", SETTING, damper=Variant("pendulum", PENDULUM).record())
     after = part_config("map", "damper", SETTING, damper=changed.record())
     assert config_hash(before) != config_hash(after)
-    assert Variant("pendulum", PENDULUM).record()["model_manifest_sha256"]
+    assert Variant("pendulum", PENDULUM).record()["model_sha256"]
     study = overturning_map(SETTING, changed, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 3))
     assert study.run["run_folders"]["damper"] != pendulum_map.run["run_folders"]["damper"]
     assert study.run["run_folders"]["bare"] == pendulum_map.run["run_folders"]["bare"]
@@ -104,7 +104,7 @@ def test_variant_by_folder_is_absolute():
     folder = rocking.load_model("pendulum").folder
     v = Variant(str(folder), PENDULUM)
     assert v.name == "pendulum" and v.record()["model"] == "pendulum"
-    assert v.record()["model_manifest_sha256"] == Variant("pendulum", PENDULUM).record()["model_manifest_sha256"]
+    assert v.record()["model_sha256"] == Variant("pendulum", PENDULUM).record()["model_sha256"]
 
 
 def test_bad_inputs_give_clear_errors():

@@ -20,9 +20,10 @@ import pytest
 from scipy.integrate import solve_ivp
 
 import rocking
-from rocking import load_model, paper
-from rocking.problem import DTHETA_REST
-from rocking.verify import TOLERANCE, random_cases, rel_error
+from rocking import load_model
+from rocking.reference import paper
+from rocking.sim.problem import DTHETA_REST
+from rocking.reference.verify import TOLERANCE, random_cases, rel_error
 from tests.handwritten_variants import HANDWRITTEN, Rigid
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -34,7 +35,7 @@ BLOCK_PARAMS = ("M", "I_G", "B", "H", "e", "g")
 def random_variant_cases(name: str, rng: np.random.Generator, n: int, s: int) -> dict[str, np.ndarray]:
     """``n`` random states and parameter sets of variant ``name`` rocking about ``s``.
 
-    The block part is :func:`rocking.verify.random_cases`; attached bodies from light
+    The block part is :func:`rocking.reference.verify.random_cases`; attached bodies from light
     to heavy (up to 30 % of the block), soft to stiff, damped up to 50 % critical.
     """
     v = random_cases(rng, n, s, damper=False)
@@ -70,7 +71,7 @@ def random_variant_cases(name: str, rng: np.random.Generator, n: int, s: int) ->
     return v
 
 
-#: The state each generated function is defined at (as in rocking.verify).
+#: The state each generated function is defined at (as in rocking.reference.verify).
 _STATE_OF = {"contact_accel": "contact", "uplift": "contact", "impact": "impact"}
 
 
@@ -417,7 +418,7 @@ def test_every_variant_runs_on_both_back_ends(name):
 
 # ----------------------------------------------------------------------------- specs
 def _derive_cli(*args: str) -> subprocess.CompletedProcess:
-    return subprocess.run([sys.executable, "-m", "derive", *args], cwd=ROOT, capture_output=True, text=True)
+    return subprocess.run([sys.executable, "-m", "rocking.derive", *args], cwd=ROOT, capture_output=True, text=True)
 
 
 _GOOD_BODY = '[[bodies]]\nname = "mass"\nmass = "m"\nposition = ["x", "H/2"]\n'

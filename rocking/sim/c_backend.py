@@ -1,10 +1,10 @@
 """The C back end: ``rocking/csrc/sim.c`` through ctypes.
 
-:func:`simulate` runs one :class:`~rocking.problem.Problem` and
+:func:`simulate` runs one :class:`~rocking.sim.problem.Problem` and
 :func:`simulate_batch` many runs of one model given as arrays; both follow the
-phase machine of ``docs/simulation.md``, like :mod:`rocking.numpy_backend`,
+phase machine of ``docs/simulation.md``, like :mod:`rocking.sim.numpy_backend`,
 with a hand-written Dormand-Prince 5(4) in C. The library of a model is built
-at first use by :mod:`rocking.cbuild` (cached on disk) and loaded once per
+at first use by :mod:`rocking.sim.cbuild` (cached on disk) and loaded once per
 process.
 
 ctypes releases the GIL during a foreign call, so :func:`simulate_batch` runs
@@ -24,7 +24,7 @@ import numpy as np
 
 from . import cbuild
 from .cbuild import CBuildError
-from .model import Model, load_model
+from ..model.loading import Model, load_model
 from .problem import RESULT_FIELDS, STATUS, Problem, Response
 
 __all__ = ["CBuildError", "SimulationError", "available", "batch_arguments", "library", "simulate", "simulate_batch"]
@@ -266,7 +266,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
     Parameters
     ----------
     problem : Problem
-        The run (see :func:`rocking.problem.make_problem`).
+        The run (see :func:`rocking.sim.problem.make_problem`).
     record : bool
         Keep the history: samples every ``problem.record_dt`` from the dense
         output plus every event (uplift, impact before and after, rest, pulse
@@ -417,13 +417,13 @@ def simulate_batch(
     atol : array_like, shape (n, ny)
         Absolute tolerances (a single row broadcasts).
     contact_max_step, dtheta_rest, energy_rest : array_like, shape (n,)
-        As in :class:`~rocking.problem.Problem` (scalars broadcast).
+        As in :class:`~rocking.sim.problem.Problem` (scalars broadcast).
     rtol : float
         Relative tolerance, common to all runs.
     max_events : int
         Bound on uplifts plus impacts, common to all runs.
     early_rest : bool
-        The early rest of :class:`~rocking.problem.Problem`, common to all runs.
+        The early rest of :class:`~rocking.sim.problem.Problem`, common to all runs.
     threads : int, optional
         Threads to run chunks of the batch on (the GIL is released in C);
         default all the CPUs this process may use. The results do not depend
@@ -434,7 +434,7 @@ def simulate_batch(
     dict of ndarray
         ``overturned`` (bool), ``t_overturn``, ``t_critical``, ``theta_max``,
         ``x_max``, ``impacts``, ``uplifts``, ``t_end``, ``status`` (int64
-        indices into :data:`rocking.problem.STATUS`), each of shape ``(n,)``.
+        indices into :data:`rocking.sim.problem.STATUS`), each of shape ``(n,)``.
 
     Raises
     ------

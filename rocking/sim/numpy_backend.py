@@ -1,6 +1,6 @@
 """NumPy/SciPy reference back end: the phase machine of ``docs/simulation.md``.
 
-:func:`simulate` runs one :class:`~rocking.problem.Problem` with
+:func:`simulate` runs one :class:`~rocking.sim.problem.Problem` with
 ``scipy.integrate.solve_ivp`` (``RK45``, Dormand-Prince 5(4)) on the generated
 NumPy functions of ``problem.model``. It is the readable reference that the C
 back end (``rocking/csrc/sim.c``) must reproduce, so it does exactly what the
@@ -615,7 +615,7 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
     Parameters
     ----------
     problem : Problem
-        The run (see :func:`rocking.problem.make_problem`).
+        The run (see :func:`rocking.sim.problem.make_problem`).
     record : bool
         Keep the history: samples every ``problem.record_dt`` from the dense
         output plus every event (uplift, impact before and after, rest, pulse

@@ -1,6 +1,6 @@
 """What a simulation is asked (:class:`Problem`) and what it answers (:class:`Response`).
 
-Both back ends (``rocking.numpy_backend`` and ``rocking.c_backend``) take the
+Both back ends (``rocking.sim.numpy_backend`` and ``rocking.sim.c_backend``) take the
 same :class:`Problem` and follow the same phase machine, documented in
 ``docs/simulation.md``; they differ only in the language they run in.
 
@@ -14,9 +14,9 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from .model import Model, load_model
-from .params import Block, ParameterError
-from .pulse import OneSinePulse
+from ..model.loading import Model, load_model
+from ..model.params import Block, ParameterError
+from ..model.pulse import OneSinePulse
 
 #: Phase codes in recorded histories: full contact, rocking about A, about A'.
 CONTACT, PIVOT_A, PIVOT_A_PRIME = 0, 1, -1

@@ -1,4 +1,4 @@
-"""Hold a generated model against the hand-written equations of :mod:`rocking.paper`.
+"""Hold a generated model against the hand-written equations of :mod:`rocking.reference.paper`.
 
 ``rocking verify`` (and ``make verify``) runs :func:`verify` on random states
 and parameter sets for both pivots and prints the largest relative error of
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from . import paper
-from .model import Model, ModelError
+from ..model.loading import Model, ModelError
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
@@ -149,7 +149,7 @@ def verify(
     seed: int = 0,
     evaluate: Callable | None = None,
 ) -> list[Check]:
-    """Compare every generated function of ``model`` with :mod:`rocking.paper`.
+    """Compare every generated function of ``model`` with :mod:`rocking.reference.paper`.
 
     Parameters
     ----------

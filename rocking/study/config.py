@@ -1,4 +1,4 @@
-"""What a parametric study is given and what it leaves on disk.
+"""What a parametric study is given: its configuration, and the hash that keys its tiles.
 
 A study (the overturning map, the minimum overturning spectrum, the optimal
 damper) is described by a :class:`Setting` (the block and the solver), a
@@ -6,10 +6,8 @@ damper :class:`Tuning` (the paper's ``omd``) or a :class:`Variant` (any
 generated model with its parameters given explicitly) and :class:`Grid` s of the non-dimensional pulse
 parameters of ``model.md`` section 9 (``Omega = omega_g / p``,
 ``beta = a_g / (g tan(alpha))``). Its result is a :class:`Study`: arrays,
-CSV tables, a JSON-ready configuration and a summary. :func:`save` writes it
-as ``<name>.npz`` (every array, the source of the figures), ``<name>*.csv``
-(the tables) and ``<name>.json`` (configuration, its hash, software versions,
-summary, timing); :func:`load` reads it back without recomputing anything.
+CSV tables, a JSON-ready configuration and a summary
+(:mod:`rocking.study.storage` writes and reads it).
 
 Units SI (m, kg, s, rad); the study parameters themselves are non-dimensional.
 """
@@ -27,13 +25,13 @@ from pathlib import Path
 
 import numpy as np
 
-from .model import GENERATED, ModelError, load_model
-from .params import Block, ParameterError
+from ..model.loading import GENERATED, ModelError, load_model
+from ..model.params import Block, ParameterError
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
 FORMAT = 1
 
-#: Back ends that :func:`rocking.batch.run_cases` accepts.
+#: Back ends that :func:`rocking.sim.cases.run_cases` accepts.
 BACKENDS = ("c", "numpy")
 
 
@@ -112,7 +110,7 @@ class Setting:
     t_after : float, optional
         Time followed after the pulse ends, s (> 0).
     backend : {"c", "numpy"}, optional
-        Back end of :func:`rocking.batch.run_cases`.
+        Back end of :func:`rocking.sim.cases.run_cases`.
     """
 
     block: Block
@@ -176,11 +174,11 @@ class Tuning:
         return 1.0 / self.omega_ratio
 
     def record(self) -> dict:
-        """JSON-ready description (also the keyword arguments of :func:`rocking.batch.pulse_cases`)."""
+        """JSON-ready description (also the keyword arguments of :func:`rocking.sim.cases.pulse_cases`)."""
         return {"gamma": self.gamma, "omega_ratio": self.omega_ratio, "zeta": self.zeta, "h": self.h}
 
     def case_args(self) -> dict:
-        """Keyword arguments of :func:`rocking.batch.pulse_cases` for this damper."""
+        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for this damper."""
         return self.record()
 
 
@@ -196,7 +194,7 @@ class Variant:
     params : dict
         Value of each of the model's own parameters (those not set by the
         block), SI units; their ranges are checked against the block when the
-        study runs (:func:`rocking.batch.pulse_cases`).
+        study runs (:func:`rocking.sim.cases.pulse_cases`).
 
     Raises
     ------
@@ -244,10 +242,10 @@ class Variant:
 
     def record(self) -> dict:
         """JSON-ready description, with the hash of the model's manifest (stale tiles are never reused)."""
-        return {"model": self.name, "params": dict(self.params), "model_manifest_sha256": model_hash(self.model)}
+        return {"model": self.name, "params": dict(self.params), "model_sha256": model_hash(self.model)}
 
     def case_args(self) -> dict:
-        """Keyword arguments of :func:`rocking.batch.pulse_cases` for this damper."""
+        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for this damper."""
         return {"model": self.model, "params": dict(self.params)}
 
 
@@ -289,23 +287,32 @@ def config_hash(config: dict) -> str:
     return hashlib.sha256(text.encode()).hexdigest()
 
 
+def tree_hash(*folders: Path) -> str:
+    """SHA-256 of every file under ``folders`` (relative path and bytes, in sorted order; caches skipped)."""
+    digest = hashlib.sha256()
+    for folder in folders:
+        for path in sorted(folder.rglob("*")):
+            if path.is_file() and "__pycache__" not in path.parts:
+                digest.update(path.relative_to(folder.parent).as_posix().encode() + b"\0")
+                digest.update(hashlib.sha256(path.read_bytes()).digest())
+    return digest.hexdigest()
+
+
 def model_hash(name: str) -> str:
-    """SHA-256 of a generated model's ``manifest.json``, which lists the hashes of its files."""
-    return hashlib.sha256((load_model(name).folder / "manifest.json").read_bytes()).hexdigest()
+    """SHA-256 of every file of a generated model's folder (manifest, NumPy, C, equations)."""
+    return tree_hash(load_model(name).folder)
 
 
-#: The runtime's files that decide a response, besides the generated models.
-SOLVER_SOURCES = ("csrc/sim.c", "csrc/sim.h", "numpy_backend.py", "problem.py", "batch.py")
+#: The runtime's packages that decide a response, besides the generated models:
+#: the parameters and pulses (``rocking.model``) and the simulator (``rocking.sim``, C sources included).
+SOLVER_PACKAGES = ("model", "sim")
 
 
 @functools.cache
 def solver_hash() -> str:
-    """SHA-256 of :data:`SOLVER_SOURCES`: a change of the simulator never reuses finished tiles."""
-    here = Path(__file__).resolve().parent
-    digest = hashlib.sha256()
-    for name in SOLVER_SOURCES:
-        digest.update(name.encode() + b"\0" + (here / name).read_bytes())
-    return digest.hexdigest()
+    """SHA-256 of :data:`SOLVER_PACKAGES`: a change of the simulator never reuses finished tiles."""
+    root = Path(__file__).resolve().parent.parent
+    return tree_hash(*(root / name for name in SOLVER_PACKAGES))
 
 
 def versions() -> dict:
@@ -322,7 +329,7 @@ def versions() -> dict:
             out[package] = metadata.version(package)
         except metadata.PackageNotFoundError:
             out[package] = None
-    out["model_manifest_sha256"] = {name: model_hash(name) for name in ("block", "omd")}
+    out["model_sha256"] = {name: model_hash(name) for name in ("block", "omd")}
     return out
 
 
@@ -338,79 +345,10 @@ def part_config(kind: str, part: str, setting: Setting, **entries) -> dict:
     return {
         "format": FORMAT,
         "rocking": rocking.__version__,
-        "model_manifest_sha256": {name: model_hash(name) for name in ("block", "omd")},
+        "model_sha256": {name: model_hash(name) for name in ("block", "omd")},
         "solver_sha256": solver_hash(),
         "kind": kind,
         "part": part,
         **setting.record(),
         **entries,
     }
-
-
-def _stem(path: str | Path) -> Path:
-    path = Path(path)
-    return path.with_suffix("") if path.suffix in (".npz", ".json", ".csv") else path
-
-
-def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
-    """Write equal-length columns as CSV with a header; floats as their shortest exact ``repr``.
-
-    Rows are formatted ``chunk`` at a time, so that a big map needs no Python
-    object per value of the whole table at once.
-    """
-    names = list(columns)
-    data = [np.asarray(columns[k]).ravel() for k in names]
-    row = ",".join("%r" if d.dtype.kind == "f" else "%s" for d in data) + "\n"
-    with open(path, "w", encoding="utf-8") as f:
-        f.write(",".join(names) + "\n")
-        for start in range(0, len(data[0]) if data else 0, chunk):
-            f.writelines(row % values for values in zip(*(d[start : start + chunk].tolist() for d in data)))
-
-
-def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
-    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json`` and its CSV tables.
-
-    Returns
-    -------
-    list of Path
-        The files written.
-    """
-    folder = Path(folder)
-    folder.mkdir(parents=True, exist_ok=True)
-    stem = folder / (name or study.kind)
-    np.savez(stem.with_suffix(".npz"), **study.arrays)
-    written = [stem.with_suffix(".npz")]
-    for table, columns in study.tables.items():
-        path = folder / f"{table}.csv"
-        write_csv(path, columns)
-        written.append(path)
-    record = {
-        "kind": study.kind,
-        "config": study.config,
-        "config_sha256": config_hash(study.config),
-        "versions": versions(),
-        "summary": study.summary,
-        "run": study.run,
-        "files": [p.name for p in written],
-    }
-    stem.with_suffix(".json").write_text(json.dumps(record, indent=2, sort_keys=True) + "\n", encoding="utf-8")
-    return [*written, stem.with_suffix(".json")]
-
-
-def load(path: str | Path) -> Study:
-    """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem).
-
-    Raises
-    ------
-    ParameterError
-        If either file is missing.
-    """
-    stem = _stem(path)
-    npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
-    for p in (npz, meta):
-        if not p.is_file():
-            raise ParameterError(f"no saved study at {stem}: {p} is missing (a study writes both .npz and .json)")
-    record = json.loads(meta.read_text(encoding="utf-8"))
-    with np.load(npz) as z:
-        arrays = {k: z[k] for k in z.files}
-    return Study(record["kind"], record["config"], arrays, summary=record["summary"], run=record.get("run", {}))

@@ -1,7 +1,7 @@
 """Figures of the studies, drawn from saved data only.
 
-Every figure is drawn from a :class:`rocking.study_io.Study` as
-:func:`rocking.study_io.load` reads it back, so :func:`redraw` re-renders a
+Every figure is drawn from a :class:`rocking.study.config.Study` as
+:func:`rocking.study.storage.load` reads it back, so :func:`redraw` re-renders a
 figure from its ``.npz``/``.json`` without recomputing anything. Figures are
 written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
 
@@ -24,9 +24,10 @@ from matplotlib.colors import BoundaryNorm, ListedColormap
 from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
-from .params import ParameterError
-from .spectrum import ABOVE, BELOW, BRACKETED
-from .study_io import Study, load
+from ..model.params import ParameterError
+from ..study.spectrum import ABOVE, BELOW, BRACKETED
+from ..study.config import Study
+from ..study.storage import load
 
 #: Outcome classes of a map cell: label and colour; the class is min(outcome + 1, 4).
 OUTCOME_CLASSES = (
@@ -172,7 +173,7 @@ def spectrum_figure(study: Study) -> Figure:
 
 
 def _threshold_text(t: dict) -> str:
-    """``Omega*`` as :func:`rocking.optimize.threshold_frequency` found it, for a figure."""
+    """``Omega*`` as :func:`rocking.study.optimize.threshold_frequency` found it, for a figure."""
     if t["status"] == "bracketed":
         return rf"$\Omega^*$ = {t['Omega_star']:.3g} (scanned {t['low']:.3g} .. {t['high']:.3g})"
     if t["status"] == "above_range":

@@ -4,7 +4,7 @@ The gain of a damper at the pulse frequency ratio ``Omega`` is
 
     G(Omega) = beta_min(with damper) / beta_min(block alone)
 
-(:func:`rocking.spectrum.beta_min`); ``G > 1``: a stronger pulse is needed to
+(:func:`rocking.study.spectrum.beta_min`); ``G > 1``: a stronger pulse is needed to
 overturn the damped block. For each ``Omega`` and mass ratio ``gamma`` (given
 ``zeta`` and ``h``), :func:`optimize_tile` searches the damper period ``T_m``,
 written ``r = T_m p / (2 pi)`` (``T_m`` in units of the block's ``2 pi / p``),
@@ -19,7 +19,7 @@ the resolution of the ``beta`` scan. Gradient or bracketing methods (golden
 section, Brent) assume unimodality and would lock onto a local step, so:
 
 1. *coarse scan*: ``G`` on a logarithmic grid of ``r`` over the whole range,
-   every point evaluated (one vectorised :func:`~rocking.spectrum.beta_min`
+   every point evaluated (one vectorised :func:`~rocking.study.spectrum.beta_min`
    call for all of them); the best point ``r_k`` is a global choice among them;
 2. *local refinement*: ``refine`` points, log-spaced, strictly inside each of
    the two coarse intervals next to ``r_k`` (``(r_{k-1}, r_k)`` and
@@ -52,9 +52,9 @@ from pathlib import Path
 import numpy as np
 
 from .overturning_map import preflight
-from .params import ParameterError
+from ..model.params import ParameterError
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
-from .study_io import Grid, Setting, Study, Tuning, Variant, part_config
+from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Gain below which a damper is useless (the definition of Omega*).
@@ -222,7 +222,7 @@ def optimal_damper(
     runs : path
         Folder of the run folders.
     on_tile : callable, optional
-        Passed to :func:`rocking.tiles.run_tiles`.
+        Passed to :func:`rocking.study.tiles.run_tiles`.
 
     Returns
     -------

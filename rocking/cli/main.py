@@ -6,15 +6,15 @@ import argparse
 import json
 import sys
 
-from .model import ModelError, available_models, load_model
-from .params import Block, Damper, ParameterError
-from .pulse import OneSinePulse
-from .simulate import BACKENDS, simulate
-from .study_cli import add_block_options, add_study_commands, block_from
+from ..model.loading import ModelError, available_models, load_model
+from ..model.params import Block, Damper, ParameterError
+from ..model.pulse import OneSinePulse
+from ..sim.run import BACKENDS, simulate
+from .study import add_block_options, add_study_commands, block_from
 
 
 def _cmd_verify(args) -> int:
-    from .verify import report, verify
+    from ..reference.verify import report, verify
 
     ok = True
     for name in args.model or ["omd", "block"]:
@@ -105,7 +105,7 @@ def _cmd_simulate(args) -> int:
                 f"{r.uplifts} uplift(s), {r.impacts} impact(s), ended at t = {r.t_end:.3f} s ({r.status})"
             )
     if args.plot:
-        from .response_plot import plot_responses
+        from ..plot.response import plot_responses
 
         path = plot_responses(
             responses, block.alpha, args.plot, title=f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}"

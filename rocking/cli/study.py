@@ -16,13 +16,14 @@ import sys
 import time
 from pathlib import Path
 
-from .figures import draw, redraw
-from .optimize import REFINE, TM_GRID, optimal_damper
-from .overturning_map import TILE, overturning_map
-from .params import Block, ParameterError
-from .spectrum import TOL, minimum_overturning_spectrum
-from .study_io import Grid, Setting, Study, Tuning, Variant, save
-from .tiles import Execution
+from ..plot.figures import draw, redraw
+from ..study.optimize import REFINE, TM_GRID, optimal_damper
+from ..study.overturning_map import TILE, overturning_map
+from ..model.params import Block, ParameterError
+from ..study.spectrum import TOL, minimum_overturning_spectrum
+from ..study.config import Grid, Setting, Study, Tuning, Variant
+from ..study.storage import save
+from ..study.tiles import Execution
 
 #: Default grids (MIN, MAX, N) of the commands; model.md section 9 gives the ranges. The beta
 #: scans of spectra start at 0.5, below the uplift threshold (about 0.9 .. 1.1 for the reference

@@ -7,7 +7,7 @@ the first overturning amplitude there are windows where the block survives),
 so a bisection from a safe to an overturning amplitude alone could land on
 any of its edges. :func:`beta_min` therefore
 
-1. scans ``beta`` on a grid (one call of :func:`rocking.batch.run_cases` for
+1. scans ``beta`` on a grid (one call of :func:`rocking.sim.cases.run_cases` for
    every column of a tile at once),
 2. bisects between the last safe scan amplitude below the first overturning
    one and that one, to a relative tolerance ``tol``; ``beta_min`` is the
@@ -30,8 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from .overturning_map import FIXED, SAFE, check_damper, outcome, preflight, respond
-from .params import ParameterError
-from .study_io import Grid, Setting, Study, Tuning, Variant, part_config
+from ..model.params import ParameterError
+from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 BELOW, BRACKETED, ABOVE = -1, 0, 1
@@ -56,7 +56,7 @@ def check_tol(tol) -> float:
 def _column(values, n: int) -> dict | None:
     """Damper keyword arrays as columns ``(n, 1)``, to broadcast against the scan amplitudes.
 
-    ``model`` and ``params`` (:data:`rocking.overturning_map.FIXED`) pass through unchanged.
+    ``model`` and ``params`` (:data:`rocking.study.overturning_map.FIXED`) pass through unchanged.
     """
     if values is None:
         return None
@@ -75,7 +75,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     beta_scan : array_like, shape (m,)
         Increasing scan amplitudes.
     damper : dict, optional
-        Keyword arguments of :func:`rocking.batch.pulse_cases` (``gamma``,
+        Keyword arguments of :func:`rocking.sim.cases.pulse_cases` (``gamma``,
         ``omega_ratio``, ``zeta``, ``h``), scalars or arrays of shape (n,),
         or ``model`` and ``params`` (:meth:`Variant.case_args`); ``None`` for
         the bare block.
@@ -88,7 +88,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         ``beta_min`` (n,), ``beta_safe`` (n,: lower end of the final bracket,
         ``nan`` unless bracketed), ``flag`` (n,), ``impacts`` (n,: impacts
         before overturning at ``beta_min``, -1 if none), ``scan_outcome``
-        (n, m: :func:`rocking.overturning_map.outcome` along the scan).
+        (n, m: :func:`rocking.study.overturning_map.outcome` along the scan).
     """
     Omega = np.atleast_1d(np.asarray(Omega, float))
     beta_scan = np.asarray(beta_scan, float)
@@ -177,7 +177,7 @@ def minimum_overturning_spectrum(
     columns : int
         Omega values per tile.
     on_tile : callable, optional
-        Passed to :func:`rocking.tiles.run_tiles`.
+        Passed to :func:`rocking.study.tiles.run_tiles`.
 
     Returns
     -------

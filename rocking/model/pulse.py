@@ -2,7 +2,7 @@
 
 All quantities are in SI units: accelerations in m/s^2, circular frequencies in
 rad/s, times in s and phases in rad. Invalid parameters raise
-:class:`rocking.params.ParameterError`.
+:class:`rocking.model.params.ParameterError`.
 """
 
 from __future__ import annotations
@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocking.params import (
+from rocking.model.params import (
     Block,
     check_interval,
     check_nonnegative,

@@ -3,7 +3,7 @@
 A study splits its work into :class:`Task` s (a tile of a map, a column of a
 spectrum, one frequency of the optimiser), each a call of a pure,
 deterministic, module-level function on a picklable payload that calls
-:func:`rocking.batch.run_cases` on the whole tile. :func:`run_tiles` runs
+:func:`rocking.sim.cases.run_cases` on the whole tile. :func:`run_tiles` runs
 them
 
 - in this process (``workers=1``), on local workers (default: one per core;
@@ -46,8 +46,8 @@ from pathlib import Path
 import numpy as np
 from tqdm import tqdm
 
-from .params import ParameterError
-from .study_io import config_hash
+from ..model.params import ParameterError
+from .config import config_hash
 
 #: Tiles in flight per worker: one running, one queued, so no worker waits.
 IN_FLIGHT_PER_WORKER = 2
@@ -168,7 +168,7 @@ def load_tile(path: Path) -> dict | None:
 def run_folder(root: str | Path, config: dict) -> Path:
     """The folder of the tiles of ``config``: ``<root>/<kind>-<part>-<hash>``, with ``config.json``.
 
-    The name carries the first 16 hex digits of :func:`rocking.study_io.config_hash`.
+    The name carries the first 16 hex digits of :func:`rocking.study.config.config_hash`.
     """
     name = f"{config.get('kind', 'run')}-{config.get('part', 'all')}-{config_hash(config)[:16]}"
     folder = Path(root) / name
@@ -212,7 +212,7 @@ def local_pool(backend: str) -> str:
     Parameters
     ----------
     backend : {"c", "numpy"}
-        :attr:`rocking.study_io.Setting.backend` of the study.
+        :attr:`rocking.study.config.Setting.backend` of the study.
 
     Returns
     -------
@@ -334,7 +334,7 @@ def run_tiles(
     ``backend`` is the back end the tiles simulate on: it chooses threads or
     processes as local workers (:func:`local_pool`). Threads share this
     process's models and C libraries: the caller loads them first (the
-    studies' :func:`rocking.overturning_map.preflight` does), so that each is
+    studies' :func:`rocking.study.overturning_map.preflight` does), so that each is
     built and imported once, before any thread starts, not by threads racing.
 
     Returns

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import warnings
 
-from .params import ParameterError
+from ..model.params import ParameterError
 from .problem import Problem, Response, make_problem
 
 BACKENDS = ("auto", "c", "numpy")
@@ -68,7 +68,7 @@ def simulate(
     record : bool
         Keep the time history (``Response.history``).
     **settings
-        Further options of :func:`rocking.problem.make_problem` (``model``,
+        Further options of :func:`rocking.sim.problem.make_problem` (``model``,
         ``t_after``, ``dtheta_rest``, ``energy_rest``, ``max_events``, ``record_dt``).
 
     Returns

@@ -1,7 +1,7 @@
 """Many responses at once: arrays of one-sine pulses and dampers for one block.
 
 :func:`pulse_cases` builds the per-case arrays with the same rules as
-:func:`rocking.problem.make_problem`, without a Python object per case, and
+:func:`rocking.sim.problem.make_problem`, without a Python object per case, and
 :func:`run_cases` runs them on the C batch entry point (or, as the reference,
 case by case on NumPy/SciPy).
 """
@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .model import Model, ModelError, load_model
-from .params import Block, ParameterError
+from ..model.loading import Model, ModelError, load_model
+from ..model.params import Block, ParameterError
 from .problem import RESULT_FIELDS, STATUS, Problem, default_settings
 
 
@@ -197,7 +197,7 @@ def pulse_cases(
 def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, np.ndarray]:
     """Simulate every case; a dict of arrays keyed by :data:`RESULT_FIELDS`.
 
-    ``status`` holds indices into :data:`rocking.problem.STATUS`.
+    ``status`` holds indices into :data:`rocking.sim.problem.STATUS`.
     """
     if backend == "c":
         from . import c_backend

@@ -10,8 +10,8 @@ impacts before overturning (0: overturned without impact). The comparison map
 damped one does not) and those it loses (-1: the reverse).
 
 The grid is cut into rectangular tiles; each tile is one call of
-:func:`rocking.batch.run_cases` (:func:`map_tile`), run by
-:func:`rocking.tiles.run_tiles`.
+:func:`rocking.sim.cases.run_cases` (:func:`map_tile`), run by
+:func:`rocking.study.tiles.run_tiles`.
 """
 
 from __future__ import annotations
@@ -20,10 +20,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .batch import pulse_cases, run_cases
-from .params import ParameterError
-from .problem import STATUS
-from .study_io import Grid, Setting, Study, Tuning, Variant, part_config
+from ..sim.cases import pulse_cases, run_cases
+from ..model.params import ParameterError
+from ..sim.problem import STATUS
+from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
@@ -51,7 +51,7 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
     Omega, beta : array_like
         Pulse frequency and amplitude ratios; broadcast together.
     damper : dict, optional
-        Keyword arguments of :func:`rocking.batch.pulse_cases`: ``gamma``,
+        Keyword arguments of :func:`rocking.sim.cases.pulse_cases`: ``gamma``,
         ``omega_ratio``, ``zeta``, ``h`` (array_like, broadcasting with the
         pulses) or ``model`` and ``params`` (:meth:`Variant.case_args`);
         ``None`` for the bare block.
@@ -73,7 +73,7 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
 def preflight(setting: Setting, damper: dict | None = None) -> None:
     """Run one trivial case of the bare block and of ``damper`` here, before any worker starts.
 
-    ``damper``: keyword arguments of :func:`rocking.batch.pulse_cases`
+    ``damper``: keyword arguments of :func:`rocking.sim.cases.pulse_cases`
     (default: a small ``omd`` damper). Its parameters are checked too.
 
     A missing or unbuildable back end then fails at once, with a clear
@@ -85,7 +85,7 @@ def preflight(setting: Setting, damper: dict | None = None) -> None:
     ParameterError
         If the back end cannot run.
     """
-    from .cbuild import CBuildError
+    from ..sim.cbuild import CBuildError
 
     try:
         for case in (None, damper or {"gamma": 0.01}):
@@ -114,7 +114,7 @@ def check_damper(damper) -> None:
     """Refuse anything but a :class:`Tuning` or a :class:`Variant` as a study's damper."""
     if not isinstance(damper, (Tuning, Variant)):
         raise ParameterError(
-            f"the damper must be a rocking.study_io.Tuning (omd) or Variant (any model) (got {type(damper).__name__})"
+            f"the damper must be a rocking.study.config.Tuning (omd) or Variant (any model) (got {type(damper).__name__})"
         )
 
 
@@ -157,7 +157,7 @@ def overturning_map(
     tile : (int, int)
         Omega values x beta values per tile.
     on_tile : callable, optional
-        Passed to :func:`rocking.tiles.run_tiles`.
+        Passed to :func:`rocking.study.tiles.run_tiles`.
 
     Returns
     -------
