@@ -23,6 +23,7 @@ verify: $(STAMP)
 	$(VENV)/bin/rocking verify
 
 test: $(STAMP)
+	$(VENV)/bin/ruff check rocking derive tests bench
 	$(PY) -m pytest -q $(if $(JOBS),-n $(JOBS))
 
 bench: $(STAMP)

@@ -1,25 +1,66 @@
 """rocking: a rigid block rocking on the ground with an oscillating mass damper on its top.
 
-The equations come from SymPy (``derive/``) as generated NumPy and C code
-(``generated/``, installed as :mod:`rocking.generated`); this package is the
-runtime around them. Units are SI throughout: m, kg, s, rad, N/m, N s/m.
+The equations come from SymPy (:mod:`rocking.derive`) as generated NumPy and C
+code (:mod:`rocking.generated`); this package is the runtime around them,
+one subpackage per layer:
+
+- :mod:`rocking.model`: the generated models, the block and its damper, the pulse;
+- :mod:`rocking.sim`: one response, on the C or the NumPy/SciPy back end;
+- :mod:`rocking.study`: overturning maps, spectra and the optimal damper, in tiles;
+- :mod:`rocking.plot`, :mod:`rocking.cli`: figures and the ``rocking`` command;
+- :mod:`rocking.reference`: the paper's equations typed by hand, and ``rocking verify``.
+
+The names below are the public interface. Units are SI throughout: m, kg, s,
+rad, N/m, N s/m; study parameters are non-dimensional (docs/model.md section 9).
+
+Examples
+--------
+>>> import rocking
+>>> block = rocking.Block.reference()
+>>> damper = rocking.Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+>>> pulse = rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
+>>> rocking.simulate(block, None, pulse).overturned, rocking.simulate(block, damper, pulse).overturned
+(True, True)
 """
 
-from .model.loading import Model, available_models, load_model
+from .model.loading import Model, ModelError, available_models, load_model
 from .model.params import Block, Damper, ParameterError
-from .sim.problem import Response
 from .model.pulse import OneSinePulse
-from .sim.run import simulate
+from .sim.c_backend import SimulationError
+from .sim.cbuild import CBuildError
+from .sim.problem import Response
+from .sim.run import BackendWarning, simulate
+from .study.config import Grid, Setting, Study, Tuning, Variant
+from .study.optimize import optimal_damper
+from .study.overturning_map import overturning_map
+from .study.spectrum import minimum_overturning_spectrum
+from .study.storage import load, save
+from .study.tiles import Execution
 
 __all__ = [
+    "BackendWarning",
     "Block",
+    "CBuildError",
     "Damper",
+    "Execution",
+    "Grid",
     "Model",
+    "ModelError",
     "OneSinePulse",
     "ParameterError",
     "Response",
+    "Setting",
+    "SimulationError",
+    "Study",
+    "Tuning",
+    "Variant",
     "available_models",
+    "load",
     "load_model",
+    "minimum_overturning_spectrum",
+    "optimal_damper",
+    "overturning_map",
+    "save",
     "simulate",
 ]
 __version__ = "0.1.0"

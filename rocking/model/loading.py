@@ -113,7 +113,17 @@ def available_models() -> list[str]:
 
 
 def load_model(model: str | Path | Model = "omd") -> Model:
-    """Load a model by name (installed) or by the folder ``python -m derive`` wrote."""
+    """Load a model by name (installed) or by the folder ``rocking derive`` wrote.
+
+    Examples
+    --------
+    >>> import rocking
+    >>> rocking.available_models()
+    ['block', 'omd', 'omd2', 'pendulum']
+    >>> omd = rocking.load_model("omd")
+    >>> omd.coordinates, omd.parameters
+    (('theta', 'x'), ('M', 'I_G', 'B', 'H', 'e', 'g', 'm', 'h', 'k_m', 'c'))
+    """
     if isinstance(model, Model):
         return model
     folder = Path(model)

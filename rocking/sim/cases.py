@@ -14,50 +14,81 @@ import numpy as np
 
 from ..model.loading import Model, ModelError, load_model
 from ..model.params import Block, ParameterError
+from . import boundary
+from .boundary import CASE, DOUBLES
 from .problem import RESULT_FIELDS, STATUS, Problem, default_settings
 
 
 @dataclass(frozen=True)
 class Cases:
-    """Resolved inputs of ``n`` runs of one model: arrays with ``n`` rows."""
+    """Resolved inputs of ``n`` runs of one model, from rest: one row per run.
+
+    Attributes
+    ----------
+    model : Model
+        The generated model.
+    p : ndarray, shape (n, np)
+        Parameters in the model's order.
+    settings : dict of ndarray
+        Every field of :data:`rocking.sim.boundary.CASE` but ``y0`` by name:
+        shape ``(n,)``, or ``(n, ny)`` for ``atol``. A field with a default
+        may be left out. Checked on construction against the table's ranges.
+    """
 
     model: Model
     p: np.ndarray
-    a_g: np.ndarray
-    omega_g: np.ndarray
-    psi: np.ndarray
-    t_p: np.ndarray
-    t_max: np.ndarray
-    atol: np.ndarray
-    contact_max_step: np.ndarray
-    dtheta_rest: np.ndarray
-    energy_rest: np.ndarray
-    rtol: float
-    max_events: int
-    early_rest: bool = True  # as Problem.early_rest, common to all cases
+    settings: dict
+
+    def __post_init__(self) -> None:
+        n = len(self.p)
+        columns = {}
+        for f in CASE:
+            if f.name == "y0":
+                continue
+            value = self.settings.get(f.name, None if f.required else f.default)
+            if value is None:
+                raise ParameterError(f"cases: the setting {f.name} is missing")
+            shape = (n, len(self.model.state)) if f.kind == DOUBLES else (n,)
+            try:
+                column = np.ascontiguousarray(np.broadcast_to(np.asarray(value, dtype=float), shape))
+            except ValueError:
+                raise ParameterError(f"cases: {f.name} must broadcast to shape {shape} (got {np.shape(value)})") from None
+            columns[f.name] = boundary.check(f.name, column)
+        unknown = sorted(set(self.settings) - set(columns))
+        if unknown:
+            raise ParameterError(f"cases: unknown setting(s) {', '.join(unknown)}")
+        if np.any(~np.isfinite(columns["atol"]) | (columns["atol"] < 0)):
+            raise ParameterError("atol must be finite and >= 0")
+        object.__setattr__(self, "p", np.ascontiguousarray(self.p, dtype=float))
+        object.__setattr__(self, "settings", columns)
 
     def __len__(self) -> int:
-        return len(self.a_g)
+        return len(self.p)
 
     def problem(self, i: int) -> Problem:
         """Case ``i`` as a :class:`Problem` (for the NumPy back end)."""
-        return Problem(
-            model=self.model,
-            p=self.p[i],
-            a_g=float(self.a_g[i]),
-            omega_g=float(self.omega_g[i]),
-            psi=float(self.psi[i]),
-            t_p=float(self.t_p[i]),
-            t_max=float(self.t_max[i]),
-            rtol=self.rtol,
-            atol=self.atol[i],
-            contact_max_step=float(self.contact_max_step[i]),
-            dtheta_rest=float(self.dtheta_rest[i]),
-            energy_rest=float(self.energy_rest[i]),
-            max_events=self.max_events,
-            record_dt=float(self.contact_max_step[i]),
-            early_rest=self.early_rest,
-        )
+        return Problem(model=self.model, p=self.p[i], **{k: v[i] for k, v in self.settings.items()})
+
+    @classmethod
+    def of(cls, problems) -> Cases:
+        """The problems of one model, from rest, as one batch.
+
+        Raises
+        ------
+        ParameterError
+            If the list is empty, the problems differ in model, or one starts
+            elsewhere than at rest.
+        """
+        problems = list(problems)
+        if not problems:
+            raise ParameterError("no problems given")
+        folders = {pr.model.folder for pr in problems}
+        if len(folders) > 1:
+            raise ParameterError(f"a batch needs one model for all problems (got {sorted(str(f) for f in folders)})")
+        if any(pr.y0 is not None for pr in problems):
+            raise ParameterError("a batch runs from rest: y0 must be None in every problem")
+        settings = {f.name: np.array([getattr(pr, f.name) for pr in problems]) for f in CASE if f.name != "y0"}
+        return cls(problems[0].model, np.array([pr.p for pr in problems]), settings)
 
 
 def _array(name: str, value, low: float, *, inclusive: bool) -> np.ndarray:
@@ -176,49 +207,35 @@ def pulse_cases(
             f"model {model.name!r} needs parameter(s) {', '.join(missing)} that pulse_cases cannot set"
         )
     settings = default_settings(block, 2 * np.pi / omega_g, T_m, float(rtol), model.nq)
-    n = Omega.size
     return Cases(
-        model=model,
-        p=np.column_stack([values[k] for k in model.parameters]),
-        a_g=beta * block.g * block.tan_alpha,
-        omega_g=omega_g,
-        psi=psi,
-        t_p=t_p,
-        t_max=t_p + float(t_after),
-        atol=np.ascontiguousarray(settings["atol"]),
-        contact_max_step=settings["contact_max_step"],
-        dtheta_rest=np.full(n, settings["dtheta_rest"]),
-        energy_rest=np.full(n, settings["energy_rest"]),
-        rtol=float(rtol),
-        max_events=int(max_events),
+        model,
+        np.column_stack([values[k] for k in model.parameters]),
+        {
+            "a_g": beta * block.g * block.tan_alpha,
+            "omega_g": omega_g,
+            "psi": psi,
+            "t_p": t_p,
+            "t_max": t_p + float(t_after),
+            "rtol": rtol,
+            "atol": settings["atol"],
+            "contact_max_step": settings["contact_max_step"],
+            "dtheta_rest": settings["dtheta_rest"],
+            "energy_rest": settings["energy_rest"],
+            "max_events": max_events,
+            "record_dt": settings["contact_max_step"],
+        },
     )
 
 
 def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, np.ndarray]:
     """Simulate every case; a dict of arrays keyed by :data:`RESULT_FIELDS`.
 
-    ``status`` holds indices into :data:`rocking.sim.problem.STATUS`.
+    ``status`` holds indices into :data:`rocking.sim.boundary.STATUS`.
     """
     if backend == "c":
         from . import c_backend
 
-        return c_backend.simulate_batch(
-            cases.model,
-            cases.p,
-            cases.a_g,
-            cases.omega_g,
-            cases.psi,
-            cases.t_p,
-            cases.t_max,
-            cases.atol,
-            cases.contact_max_step,
-            cases.dtheta_rest,
-            cases.energy_rest,
-            rtol=cases.rtol,
-            max_events=cases.max_events,
-            early_rest=cases.early_rest,
-            threads=threads,
-        )
+        return c_backend.simulate_cases(cases, threads=threads)
     if backend != "numpy":
         raise ParameterError(f"backend must be 'c' or 'numpy' (got {backend!r})")
     from . import numpy_backend

@@ -10,151 +10,188 @@ rocking angle ``theta`` first.
 
 from __future__ import annotations
 
-from dataclasses import dataclass, field
+from dataclasses import MISSING, field, make_dataclass
 
 import numpy as np
 
 from ..model.loading import Model, load_model
 from ..model.params import Block, ParameterError
 from ..model.pulse import OneSinePulse
+from . import boundary
+from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, PIVOT_A, PIVOT_A_PRIME, RESULT, STATUS
 
-#: Phase codes in recorded histories: full contact, rocking about A, about A'.
-CONTACT, PIVOT_A, PIVOT_A_PRIME = 0, 1, -1
+__all__ = [
+    "CONTACT",
+    "PIVOT_A",
+    "PIVOT_A_PRIME",
+    "RESULT_FIELDS",
+    "STATUS",
+    "Problem",
+    "Response",
+    "default_settings",
+    "make_problem",
+]
 
-#: Why a run ended.
-STATUS = ("overturned", "rest", "t_max", "max_events")
+#: Python type of each kind of field.
+_PYTHON = {DOUBLE: float, boundary.INT64: int, boundary.INT32: int, DOUBLES: np.ndarray}
+
+#: Fields whose Python value is not their C number: a name of :data:`STATUS`, truth values.
+_NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool}
+
+
+def _python(f) -> type:
+    """The Python type of a field of :data:`~rocking.sim.boundary.CASE` or :data:`~rocking.sim.boundary.RESULT`."""
+    return _NAMED_PYTHON.get(f.name, _PYTHON[f.kind])
+
+
+def _result_dtype(f):
+    if _python(f) is bool:
+        return bool
+    return np.float64 if f.kind == DOUBLE else np.int64
+
 
 #: Scalar results of a run, as arrays of a batch: field -> dtype (``status`` indexes :data:`STATUS`).
-RESULT_FIELDS = {
-    "overturned": bool,
-    "t_overturn": np.float64,
-    "t_critical": np.float64,
-    "theta_max": np.float64,
-    "x_max": np.float64,
-    "impacts": np.int64,
-    "uplifts": np.int64,
-    "t_end": np.float64,
-    "status": np.int64,
-}
+RESULT_FIELDS = {f.name: _result_dtype(f) for f in RESULT}
 
 
-@dataclass(frozen=True)
-class Problem:
-    """A fully resolved simulation: numbers only, nothing left to default.
+def _attributes(fields, python) -> str:
+    lines = []
+    for f in fields:
+        unit = f" [{f.unit}]" if f.unit else ""
+        lines += [f"    {f.name} : {python(f).__name__}", f"        {f.doc[0].upper()}{f.doc[1:]}{unit}."]
+    return "\n".join(lines)
 
-    Attributes
-    ----------
+
+# --------------------------------------------------------------------------- #
+# Problem: what a run is given                                                 #
+# --------------------------------------------------------------------------- #
+
+
+def _initial_state(model: Model, y0, phase0: int):
+    """``y0`` as a state vector (or ``None``) if it and ``phase0`` obey docs/simulation.md, "Initial state"."""
+    if y0 is None:
+        if phase0 != CONTACT:
+            raise ParameterError(f"phase0 = {phase0:+d} (rocking) needs an initial state y0 with s theta >= 0")
+        return None
+    n = model.nq
+    try:
+        y = np.array(y0, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ParameterError(f"y0 must hold {2 * n} finite numbers {model.state} (got {y0!r})") from None
+    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+        raise ParameterError(f"y0 must hold {2 * n} finite numbers {model.state} (got {y0!r})")
+    if phase0 == CONTACT and (y[0] != 0.0 or y[n] != 0.0):
+        raise ParameterError(f"full contact (phase0 = 0) needs theta = dtheta = 0 (got theta = {float(y[0])!r}, dtheta = {float(y[n])!r})")
+    if phase0 != CONTACT and phase0 * y[0] < 0.0:
+        raise ParameterError(f"rocking about s = {phase0:+d} needs s theta >= 0 (got theta = {float(y[0])!r})")
+    if phase0 != CONTACT and y[0] == 0.0 and phase0 * y[n] < 0.0:
+        raise ParameterError(
+            f"rocking about s = {phase0:+d} from theta = 0 needs s dtheta >= 0 (got dtheta = {float(y[n])!r})"
+        )
+    return y
+
+
+def _state_vector(name: str, value, model: Model) -> np.ndarray:
+    ny = 2 * model.nq
+    a = np.ascontiguousarray(value, dtype=float).reshape(-1)
+    if a.shape != (ny,) or not np.all(np.isfinite(a) & (a >= 0)):
+        raise ParameterError(f"{name} must hold {ny} finite numbers >= 0 {model.state} (got {value!r})")
+    return a
+
+
+def _problem_post_init(self) -> None:
+    """Check every setting against its range in :data:`~rocking.sim.boundary.CASE` and store it typed."""
+    for f in CASE:
+        value = getattr(self, f.name)
+        if f.kind != DOUBLES:
+            boundary.check(f.name, value)
+            object.__setattr__(self, f.name, _python(f)(value))
+    p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
+    if p.shape != (len(self.model.parameters),):
+        raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
+    object.__setattr__(self, "p", p)
+    object.__setattr__(self, "atol", _state_vector("atol", self.atol, self.model))
+    object.__setattr__(self, "y0", _initial_state(self.model, self.y0, self.phase0))
+
+
+def _ground_acceleration(self, t):
+    """``ddx_g(t)``, vectorised."""
+    t = np.asarray(t, dtype=float)
+    a = np.where((t >= 0) & (t <= self.t_p), self.a_g * np.sin(self.omega_g * t + self.psi), 0.0)
+    return a if a.ndim else float(a)
+
+
+def _problem_settings(self) -> dict:
+    """The settings by name (every field of :data:`~rocking.sim.boundary.CASE`)."""
+    return {f.name: getattr(self, f.name) for f in CASE}
+
+
+Problem = make_dataclass(
+    "Problem",
+    [("model", Model), ("p", np.ndarray)]
+    + [(f.name, _python(f), field(default=MISSING if f.required else f.default)) for f in CASE],
+    frozen=True,
+    namespace={
+        "__post_init__": _problem_post_init,
+        "ground_acceleration": _ground_acceleration,
+        "settings": _problem_settings,
+        "__module__": __name__,
+    },
+)
+Problem.__doc__ = f"""A fully resolved simulation: numbers only, nothing left to default but the initial state.
+
+Built by :func:`make_problem`; its fields are the table
+:data:`rocking.sim.boundary.CASE` (checked on construction: a value out of
+range raises :class:`~rocking.ParameterError` naming it and its range).
+
+Attributes
+----------
     model : Model
         The generated model.
     p : ndarray
         Parameters in the model's order.
-    a_g, omega_g, psi, t_p : float
-        One-sine pulse ``a_g sin(omega_g t + psi)`` on ``[0, t_p]``, 0 after.
-    t_max : float
-        End of the run if nothing else ends it first.
-    rtol : float
-        Relative tolerance of the integrator.
-    atol : ndarray
-        Absolute tolerance per state component.
-    contact_max_step : float
-        Largest step in full contact while the pulse acts, so that no uplift
-        can be stepped over (the bare block's contact phase has no dynamics).
-    dtheta_rest : float
-        An impact whose outgoing ``|dtheta|`` is below this ends rocking: the
-        block is back in full contact (the rest criterion).
-    energy_rest : float
-        In full contact after the pulse, the run ends once the energy above
-        the rest state is below this (the damper's motion has decayed).
-    max_events : int
-        Upper bound on uplifts plus impacts; the run ends with status
-        ``"max_events"`` when reached.
-    record_dt : float
-        Spacing of the recorded history (events are recorded as well).
-    early_rest : bool
-        In full contact after the pulse, end the run once the energy above
-        rest is below the least energy at which the attached bodies can lift
-        the block (the generated ``uplift_energy``), at the next extremum of
-        the damper's stroke: verdict, ``theta_max`` and ``x_max`` are then
-        final (docs/simulation.md, rule 4). ``False``: only ``energy_rest``
-        ends a run in full contact, as before.
-    """
-
-    model: Model
-    p: np.ndarray
-    a_g: float
-    omega_g: float
-    psi: float
-    t_p: float
-    t_max: float
-    rtol: float
-    atol: np.ndarray
-    contact_max_step: float
-    dtheta_rest: float
-    energy_rest: float
-    max_events: int
-    record_dt: float
-    early_rest: bool = True
-
-    def ground_acceleration(self, t):
-        """``ddx_g(t)``, vectorised."""
-        t = np.asarray(t, dtype=float)
-        a = np.where((t >= 0) & (t <= self.t_p), self.a_g * np.sin(self.omega_g * t + self.psi), 0.0)
-        return a if a.ndim else float(a)
+{_attributes(CASE, _python)}
+"""
 
 
-@dataclass
-class Response:
-    """The response of the block to one pulse.
+# --------------------------------------------------------------------------- #
+# Response: what a run answers                                                 #
+# --------------------------------------------------------------------------- #
 
-    Attributes
-    ----------
-    overturned : bool
-        ``|theta|`` reached ``pi/2``.
-    t_overturn : float
-        When it did (``nan`` if not).
-    t_critical : float
-        First time ``|theta|`` passed the static critical angle of the active
-        pivot (``nan`` if never).
-    theta_max : float
-        Largest ``|theta|`` [rad].
-    x_max : float
-        Largest ``|q[1]|`` (the damper's stroke), 0 without a damper.
-    impacts, uplifts : int
-        Number of impacts and of uplifts from full contact.
-    t_end : float
-        When the run ended.
-    status : str
-        One of :data:`STATUS`.
+
+def _summary(self) -> dict:
+    """The scalar results as a plain dict (JSON-ready; NaN times as ``None``)."""
+    out = {}
+    for f in RESULT:
+        value = _python(f)(getattr(self, f.name))
+        out[f.name] = None if isinstance(value, float) and np.isnan(value) else value
+    return out
+
+
+def _from_record(cls, record, history: dict | None = None):
+    """A response from a C ``rocking_result`` (or a row of a NumPy record array) and a history."""
+    values = {f.name: getattr(record, f.name) if hasattr(record, f.name) else record[f.name] for f in RESULT}
+    values["status"] = STATUS[int(values["status"])]
+    return cls(**{f.name: _python(f)(values[f.name]) for f in RESULT}, history=history)
+
+
+Response = make_dataclass(
+    "Response",
+    [(f.name, _python(f)) for f in RESULT] + [("history", dict, field(default=None, repr=False))],
+    namespace={"summary": _summary, "from_record": classmethod(_from_record), "__module__": __name__},
+)
+Response.__doc__ = f"""The response of the block to one pulse.
+
+Its fields are the table :data:`rocking.sim.boundary.RESULT`.
+
+Attributes
+----------
+{_attributes(RESULT, _python)}
     history : dict of ndarray, optional
         With ``record=True``: ``t``, every state component by name (``theta``,
         ``x``, ``dtheta``, ``dx``, ...), ``phase`` (:data:`CONTACT`,
         :data:`PIVOT_A`, :data:`PIVOT_A_PRIME`) and ``ag``.
-    """
-
-    overturned: bool
-    t_overturn: float
-    t_critical: float
-    theta_max: float
-    x_max: float
-    impacts: int
-    uplifts: int
-    t_end: float
-    status: str
-    history: dict | None = field(default=None, repr=False)
-
-    def summary(self) -> dict:
-        """The scalar results as a plain dict (JSON-ready)."""
-        return {
-            "overturned": bool(self.overturned),
-            "t_overturn": None if np.isnan(self.t_overturn) else float(self.t_overturn),
-            "t_critical": None if np.isnan(self.t_critical) else float(self.t_critical),
-            "theta_max": float(self.theta_max),
-            "x_max": float(self.x_max),
-            "impacts": int(self.impacts),
-            "uplifts": int(self.uplifts),
-            "t_end": float(self.t_end),
-            "status": self.status,
-        }
+"""
 
 
 #: Default rest criteria, relative to the block (see :func:`make_problem`).
@@ -201,6 +238,9 @@ def make_problem(
     energy_rest: float | None = None,
     max_events: int = 10_000,
     record_dt: float | None = None,
+    early_rest: bool = True,
+    y0=None,
+    phase0: int = CONTACT,
 ) -> Problem:
     """Resolve the physical description of a run into a :class:`Problem`.
 
@@ -232,6 +272,15 @@ def make_problem(
         Bound on uplifts plus impacts.
     record_dt : float, optional
         History spacing [s]; default ``min(T_g, 2 pi / p) / 100``.
+    early_rest : bool
+        End a run that can no longer uplift at the next extremum of the
+        damper's stroke (docs/simulation.md, rule 4); ``False``: follow it to
+        ``energy_rest``.
+    y0 : array_like, optional
+        State at ``t = 0`` in manifest order; default at rest.
+    phase0 : int
+        Phase at ``t = 0``: 0 (full contact), +1 or -1 (rocking about ``A``
+        or ``A'``); the rule is docs/simulation.md, "Initial state".
     """
     if not isinstance(block, Block):
         raise ParameterError(f"block must be a rocking.Block (got {type(block).__name__})")
@@ -271,4 +320,7 @@ def make_problem(
         energy_rest=defaults["energy_rest"] if energy_rest is None else _positive("energy_rest", energy_rest),
         max_events=int(max_events),
         record_dt=min(pulse.T_g, 2 * np.pi / block.p) / 100 if record_dt is None else _positive("record_dt", record_dt),
+        early_rest=early_rest,
+        y0=y0,
+        phase0=phase0,
     )

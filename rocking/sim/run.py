@@ -34,7 +34,7 @@ def run(problem: Problem, backend: str = "auto", record: bool = False) -> Respon
             warnings.warn(f"C back end unavailable, using NumPy: {exc}", BackendWarning, stacklevel=3)
     from . import numpy_backend
 
-    return numpy_backend.simulate(problem, record=record)
+    return numpy_backend.simulate(problem, record=record, y0=problem.y0, phase0=problem.phase0)
 
 
 def simulate(
@@ -69,11 +69,45 @@ def simulate(
         Keep the time history (``Response.history``).
     **settings
         Further options of :func:`rocking.sim.problem.make_problem` (``model``,
-        ``t_after``, ``dtheta_rest``, ``energy_rest``, ``max_events``, ``record_dt``).
+        ``t_after``, ``dtheta_rest``, ``energy_rest``, ``max_events``, ``record_dt``,
+        ``early_rest``, ``y0``, ``phase0``).
 
     Returns
     -------
     Response
+
+    Raises
+    ------
+    ParameterError
+        A setting out of its range (named, with the range).
+    CBuildError
+        ``backend="c"`` and the C back end cannot be built.
+    SimulationError
+        The C integrator failed (a non-finite right-hand side).
+
+    Examples
+    --------
+    The reference block (docs/model.md section 9) and a damper of 5 % of its
+    mass tuned to its frequency parameter ``p``, under a one-sine pulse:
+
+    >>> import rocking
+    >>> block = rocking.Block.reference()
+    >>> damper = rocking.Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    >>> pulse = rocking.OneSinePulse.from_nondim(block, beta=5.0, Omega=4.0)
+    >>> bare = rocking.simulate(block, None, pulse)
+    >>> with_damper = rocking.simulate(block, damper, pulse)
+    >>> bare.overturned, with_damper.overturned, with_damper.status
+    (True, False, 'rest')
+    >>> round(with_damper.theta_max / block.alpha, 2)  # largest rotation over the slenderness angle
+    1.18
+    >>> round(with_damper.x_max, 2)  # the damper's stroke [m]: unlimited guide, on a 0.5 m base
+    1.34
+
+    Both back ends follow the same rules (docs/simulation.md):
+
+    >>> r = rocking.simulate(block, damper, pulse, backend="numpy")
+    >>> abs(r.theta_max - with_damper.theta_max) < 1e-6 * block.alpha
+    True
     """
     problem = make_problem(block, damper, pulse, rtol=rtol, t_max=t_max, **settings)
     return run(problem, backend=backend, record=record)

@@ -233,6 +233,17 @@ def optimal_damper(
         ``(gamma, Omega, r)``: ``gain_coarse``, ``r_fine``, ``gain_fine``;
         the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
         ``Omega_star`` (per gamma, then over all, ``nan`` if not bracketed).
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> study = rocking.optimal_damper(
+    ...     rocking.Setting(rocking.Block.reference()), [0.05],
+    ...     rocking.Grid("Omega", 4.0, 6.0, 2), rocking.Grid("beta", 0.5, 15.0, 30),
+    ...     rocking.Execution(workers=1, progress=False),
+    ...     Tm=rocking.Grid("Tm", 0.5, 2.0, 3, log=True), refine=1, runs=tempfile.mkdtemp())
+    >>> study.arrays["r_opt"].round(3), study.arrays["best_gain"].round(2)  # T_m p / 2 pi, and its gain
+    (array([[1.414, 1.414]]), array([1.12, 1.41]))
     """
     if isinstance(gammas, (Tuning, Variant)) or any(isinstance(g, (Tuning, Variant)) for g in _iterable(gammas)):
         raise ParameterError(

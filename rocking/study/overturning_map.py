@@ -165,6 +165,22 @@ def overturning_map(
         Arrays ``Omega``, ``beta``, ``<part>_<field>`` for the parts ``bare``
         and ``damper`` and the :data:`FIELDS` (shape ``(nOmega, nbeta)``), and
         ``effect``.
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> setting = rocking.Setting(rocking.Block.reference())
+    >>> study = rocking.overturning_map(
+    ...     setting, rocking.Tuning(0.05), rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 1.0, 9.0, 3),
+    ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
+    >>> study.arrays["bare_overturned"].astype(int)  # rows: Omega, columns: beta
+    array([[0, 1, 1],
+           [0, 1, 1],
+           [0, 1, 1]])
+    >>> study.arrays["effect"]  # +1: the damper saves the block, -1: it loses it
+    array([[0, 0, 0],
+           [0, 1, 0],
+           [0, 0, 1]])
     """
     tile = _check_tile(tile)
     Om, b = Omega.values(), beta.values()

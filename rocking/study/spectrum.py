@@ -185,6 +185,16 @@ def minimum_overturning_spectrum(
         Arrays ``Omega``, ``beta_scan`` and, per part ``bare``/``damper``,
         the :func:`beta_min` results (``<part>_beta_min`` ...) and
         ``<part>_windows`` (k, 3): ``Omega``, first and last safe amplitude.
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> study = rocking.minimum_overturning_spectrum(
+    ...     rocking.Setting(rocking.Block.reference()), rocking.Tuning(0.05),
+    ...     rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 0.5, 15.0, 30),
+    ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
+    >>> study.arrays["bare_beta_min"].round(2), study.arrays["damper_beta_min"].round(2)
+    (array([1.28, 1.6 , 2.82]), array([1.33, 1.79, 3.97]))
     """
     tol = check_tol(tol)
     if not (isinstance(columns, int) and not isinstance(columns, bool) and columns >= 1):

@@ -132,9 +132,6 @@ static const double RK_D[STAGES] = {-12715105075.0 / 11282082432.0,  0.0,
 /* SAFETY err^ERROR_EXPONENT >= MAX_FACTOR for err <= (SAFETY / MAX_FACTOR)^5 =
  * 5.9049e-6; a little below it, so that rounding cannot matter. */
 #define SATURATED 5.9e-6
-/* First step of a rocking phase after an impact, as a fraction of the
- * expected length of the half-cycle (docs/simulation.md, Integration). */
-#define FIRST_STEP_FRACTION 0.25
 
 typedef struct tolerance {
     double rtol;
@@ -911,7 +908,7 @@ static double safe_energy(const constants *k)
     const double b = model_uplift_energy_prepared(zeros, 0.0, about(k, -1.0));
     if (!(a > 0.0 && b > 0.0))
         return NAN;
-    return min2(a, b) * (1.0 - 1e-9);
+    return min2(a, b) * (1.0 - ROCKING_SAFE_MARGIN);
 }
 
 static int events_exhausted(const run *r)
@@ -936,7 +933,7 @@ static void impact(run *r)
         /* The corner that just hit the ground is the new pivot. The next
          * half-cycle lasts about this one times |dtheta+ / dtheta-|: its first
          * step is a fraction of that (docs/simulation.md, Integration). */
-        const double h = FIRST_STEP_FRACTION * (r->t - r->t_start) * fabs(r->y[NQ] / dtheta_in);
+        const double h = ROCKING_FIRST_STEP_FRACTION * (r->t - r->t_start) * fabs(r->y[NQ] / dtheta_in);
         r->phase = -r->phase;
         r->h_first = isfinite(h) ? h : 0.0;
     }
@@ -1123,38 +1120,38 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
 int rocking_model_nq(void) { return MODEL_NQ; }
 int rocking_model_ny(void) { return MODEL_NY; }
 int rocking_model_np(void) { return MODEL_NP; }
-int rocking_result_size(void) { return (int)sizeof(rocking_result); }
 int rocking_api_version(void) { return ROCKING_SIM_API_VERSION; }
-double rocking_first_step_fraction(void) { return FIRST_STEP_FRACTION; }
+
+void rocking_layout(int64_t *case_offsets, int64_t *result_offsets)
+{
+    int64_t i = 0;
+#define OFFSET(f) case_offsets[i++] = (int64_t)offsetof(rocking_case, f);
+    ROCKING_CASE_FIELDS(OFFSET)
+#undef OFFSET
+    case_offsets[i] = (int64_t)sizeof(rocking_case);
+    i = 0;
+#define OFFSET(f) result_offsets[i++] = (int64_t)offsetof(rocking_result, f);
+    ROCKING_RESULT_FIELDS(OFFSET)
+#undef OFFSET
+    result_offsets[i] = (int64_t)sizeof(rocking_result);
+}
+
+void rocking_constants(double *out)
+{
+    int i = 0;
+#define VALUE(c) out[i++] = (double)(c);
+    ROCKING_CONSTANTS(VALUE)
+#undef VALUE
+}
 
 int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
 {
     return simulate_one(p, c, out, history);
 }
 
-void rocking_simulate_batch(int64_t n, const double *p, const double *a_g, const double *omega_g, const double *psi,
-                            const double *t_p, const double *t_max, const double *atol,
-                            const double *contact_max_step, const double *dtheta_rest, const double *energy_rest,
-                            double rtol, int64_t max_events, int32_t early_rest, rocking_result *out)
+void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out)
 {
     int64_t i;
-    for (i = 0; i < n; ++i) {
-        rocking_case c;
-        c.a_g = a_g[i];
-        c.omega_g = omega_g[i];
-        c.psi = psi[i];
-        c.t_p = t_p[i];
-        c.t_max = t_max[i];
-        c.rtol = rtol;
-        c.atol = atol + i * MODEL_NY;
-        c.contact_max_step = contact_max_step[i];
-        c.dtheta_rest = dtheta_rest[i];
-        c.energy_rest = energy_rest[i];
-        c.max_events = max_events;
-        c.record_dt = 0.0;
-        c.y0 = NULL;
-        c.phase0 = 0;
-        c.early_rest = early_rest;
-        simulate_one(p + i * MODEL_NP, &c, out + i, NULL);
-    }
+    for (i = 0; i < n; ++i)
+        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL);
 }

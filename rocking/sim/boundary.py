@@ -1,0 +1,330 @@
+"""The boundary between the simulator's two back ends and their callers, declared once.
+
+One table each for what a run is given (:data:`CASE`), what it answers
+(:data:`RESULT`), why it ended (:data:`STATUSES`), the phase codes
+(:data:`PHASES`) and the constants both back ends use (:data:`CONSTANTS`).
+Everything else is built from them: the C declarations of ``csrc/boundary.h``
+(:func:`c_header`), the ctypes structures and NumPy records of
+:mod:`rocking.sim.c_backend`, the fields of :class:`~rocking.sim.problem.Problem`
+and :class:`~rocking.sim.problem.Response`, the checks of every setting
+(:func:`check`) and the table of ``docs/simulation.md`` (:func:`markdown`).
+The C library reports its layout and constants when it is loaded, and the
+loader refuses a library that disagrees with these tables.
+
+Adding a setting is one :class:`Field` in :data:`CASE` plus its use in the
+two back ends. ``python -m rocking.sim.boundary`` rewrites ``csrc/boundary.h``
+and the table of ``docs/simulation.md``; a test fails while either is stale.
+
+Units SI.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from pathlib import Path
+
+import numpy as np
+
+from ..model.params import ParameterError
+
+#: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
+API_VERSION = 3
+
+DOUBLE, INT64, INT32, DOUBLES = "double", "int64", "int32", "doubles"
+
+#: C type of each kind of field (``DOUBLES``: a caller-owned array of state values).
+C_TYPES = {DOUBLE: "double", INT64: "int64_t", INT32: "int32_t", DOUBLES: "const double *"}
+
+#: Checks a setting must pass; the text is the valid range of the error message.
+CHECKS = {
+    "finite": lambda v: np.isfinite(v),
+    "> 0": lambda v: np.isfinite(v) & (v > 0),
+    ">= 0": lambda v: np.isfinite(v) & (v >= 0),
+    ">= 1": lambda v: (v >= 1) & (v == np.floor(v)),
+    "0 or 1": lambda v: (v == 0) | (v == 1),
+    "-1, 0 or +1": lambda v: (v == -1) | (v == 0) | (v == 1),
+}
+
+_REQUIRED = object()
+
+
+@dataclass(frozen=True)
+class Field:
+    """One field of a C structure and of its Python counterparts.
+
+    Attributes
+    ----------
+    name : str
+        The same in C, in Python and in the documentation.
+    kind : str
+        :data:`DOUBLE`, :data:`INT64`, :data:`INT32` or :data:`DOUBLES` (one
+        value per state component, ``model_ny()`` of them).
+    unit : str
+        SI unit, ``""`` for a pure number.
+    doc : str
+        What it is, in one line.
+    valid : str or None
+        Key of :data:`CHECKS`, or ``None``: not checked (an array, or a result).
+    default : object
+        Value of a :class:`~rocking.sim.problem.Problem` that does not give it.
+    """
+
+    name: str
+    kind: str
+    unit: str
+    doc: str
+    valid: str | None = None
+    default: object = _REQUIRED
+
+    @property
+    def required(self) -> bool:
+        return self.default is _REQUIRED
+
+
+#: What one run is given besides the model's parameters: ``rocking_case`` of sim.h.
+CASE = (
+    Field("a_g", DOUBLE, "m/s^2", "pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after", "finite"),
+    Field("omega_g", DOUBLE, "rad/s", "pulse circular frequency", "finite"),
+    Field("psi", DOUBLE, "rad", "pulse phase at t = 0", "finite"),
+    Field("t_p", DOUBLE, "s", "end of the pulse, a breakpoint of the integration", "finite"),
+    Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "finite"),
+    Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "> 0"),
+    Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
+    Field("contact_max_step", DOUBLE, "s", "largest step in full contact while t < t_p", "> 0"),
+    Field("dtheta_rest", DOUBLE, "rad/s", "an impact with outgoing |dtheta| below this ends rocking", ">= 0"),
+    Field("energy_rest", DOUBLE, "J", "full contact after the pulse ends once E(y) - E(0) is below this", ">= 0"),
+    Field("max_events", INT64, "", "the run ends when uplifts + impacts reach this", ">= 1"),
+    Field("record_dt", DOUBLE, "s", "spacing of a recorded history (<= 0: events only)", "finite", 0.0),
+    Field("y0", DOUBLES, "state units", "initial state (NULL / None: at rest)", None, None),
+    Field("phase0", INT32, "", "initial phase: 0 full contact, +1 / -1 rocking about A / A'", "-1, 0 or +1", 0),
+    Field("early_rest", INT32, "", "1: below the uplift energy after the pulse, end at the next extremum", "0 or 1", 1),
+)
+
+#: What one run answers: ``rocking_result`` of sim.h (ordered so that the C structure has no padding).
+RESULT = (
+    Field("status", INT32, "", "why the run ended: an index into STATUSES"),
+    Field("overturned", INT32, "", "|theta| reached pi/2"),
+    Field("impacts", INT64, "", "impacts at theta = 0"),
+    Field("uplifts", INT64, "", "uplifts from full contact"),
+    Field("t_overturn", DOUBLE, "s", "when |theta| reached pi/2 (NaN if it did not)"),
+    Field("t_critical", DOUBLE, "s", "first time |theta| passed the static critical angle (NaN: never)"),
+    Field("theta_max", DOUBLE, "rad", "largest |theta|"),
+    Field("x_max", DOUBLE, "m", "largest |q[1]|, the damper's stroke (0 without a damper)"),
+    Field("t_end", DOUBLE, "s", "when the run ended"),
+)
+
+
+@dataclass(frozen=True)
+class Code:
+    """A named integer code shared by C and Python."""
+
+    name: str
+    value: int
+    doc: str
+
+
+#: Why a run ended; ``STATUSES[i].value == i``, and :data:`FAILED` is C's alone.
+STATUSES = (
+    Code("overturned", 0, "|theta| reached pi/2"),
+    Code("rest", 1, "back in full contact after the pulse, below energy_rest or below the uplift energy"),
+    Code("t_max", 2, "t_max reached"),
+    Code("max_events", 3, "uplifts + impacts reached max_events"),
+)
+#: Status code of a run whose step size underflowed (a non-finite right-hand side); never a result.
+FAILED = Code("failed", -1, "the step size underflowed (non-finite right-hand side, ...)")
+
+#: Phase codes of a recorded history and of ``phase0``.
+PHASES = (
+    Code("contact", 0, "full contact: theta = dtheta = 0"),
+    Code("pivot_a", 1, "rocking about the corner A (s = +1, theta > 0)"),
+    Code("pivot_a_prime", -1, "rocking about the corner A' (s = -1, theta < 0)"),
+)
+
+
+@dataclass(frozen=True)
+class Constant:
+    """A number both back ends use."""
+
+    name: str
+    value: float
+    doc: str
+
+
+CONSTANTS = (
+    Constant("SAFE_MARGIN", 1e-9, "relative margin below the uplift energy of the early rest (rule 4)"),
+    Constant("FIRST_STEP_FRACTION", 0.25, "first step after an impact, as a fraction of the expected half-cycle"),
+)
+
+STATUS = tuple(code.name for code in STATUSES)
+CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
+SAFE_MARGIN, FIRST_STEP_FRACTION = (constant.value for constant in CONSTANTS)
+
+assert all(code.value == i for i, code in enumerate(STATUSES))
+
+
+def field_named(table: tuple[Field, ...], name: str) -> Field:
+    """The field ``name`` of ``table``."""
+    return next(f for f in table if f.name == name)
+
+
+# --------------------------------------------------------------------------- #
+# Checks                                                                       #
+# --------------------------------------------------------------------------- #
+
+
+def check(name: str, value):
+    """``value`` of the case field ``name`` if it passes the field's check (elementwise), else raise.
+
+    Raises
+    ------
+    ParameterError
+        Naming the setting, its valid range and the first offending value.
+    """
+    valid = field_named(CASE, name).valid
+    if valid is None:
+        return value
+    try:
+        a = np.asarray(value, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"{name} must be a number {valid} (got {value!r})") from None
+    with np.errstate(invalid="ignore"):
+        ok = CHECKS[valid](a)
+    if not np.all(ok):
+        bad = a[~ok].ravel()[0] if a.ndim else a
+        raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(bad)})")
+    return value
+
+
+def valid_text(valid: str) -> str:
+    """The valid range as a phrase: ``"finite and > 0"``, ``"an integer >= 1"``, ..."""
+    if valid == "finite":
+        return "finite"
+    if valid in ("> 0", ">= 0"):
+        return f"finite and {valid}"
+    return f"an integer {valid}" if valid == ">= 1" else valid
+
+
+def _shown(value: float) -> str:
+    value = float(value)
+    return repr(int(value)) if math.isfinite(value) and value == int(value) else repr(value)
+
+
+# --------------------------------------------------------------------------- #
+# Generated text: the C header and the documentation                           #
+# --------------------------------------------------------------------------- #
+
+HEADER = Path(__file__).resolve().parent / "csrc" / "boundary.h"
+DOC = Path(__file__).resolve().parents[2] / "docs" / "simulation.md"
+DOC_BEGIN, DOC_END = "<!-- boundary table: begin -->", "<!-- boundary table: end -->"
+
+
+def _c_struct(name: str, fields: tuple[Field, ...]) -> list[str]:
+    lines = [f"typedef struct {name} {{"]
+    for f in fields:
+        unit = f" [{f.unit}]" if f.unit else ""
+        ctype = C_TYPES[f.kind]
+        lines.append(f"    {ctype}{'' if ctype.endswith('*') else ' '}{f.name}; /* {f.doc}{unit} */")
+    return [*lines, f"}} {name};", ""]
+
+
+def _c_enum(name: str, prefix: str, codes) -> list[str]:
+    lines = [f"enum {name} {{"]
+    lines += [f"    {prefix}{c.name.upper()} = {c.value}, /* {c.doc} */" for c in codes]
+    return [*lines, "};", ""]
+
+
+def _x_macro(name: str, fields: tuple[Field, ...]) -> list[str]:
+    return [f"#define {name}(X) " + " ".join(f"X({f.name})" for f in fields), ""]
+
+
+def c_header() -> str:
+    """The text of ``csrc/boundary.h``: the C side of these tables."""
+    lines = [
+        "/* Generated by `python -m rocking.sim.boundary` from rocking/sim/boundary.py: do not edit. */",
+        "#ifndef ROCKING_BOUNDARY_H",
+        "#define ROCKING_BOUNDARY_H",
+        "",
+        "#include <stdint.h>",
+        "",
+        f"#define ROCKING_SIM_API_VERSION {API_VERSION}",
+        "",
+    ]
+    lines += [f"#define ROCKING_{c.name} {c.value!r} /* {c.doc} */" for c in CONSTANTS] + [""]
+    lines += _c_enum("rocking_status", "ROCKING_", (*STATUSES, FAILED))
+    lines += _c_enum("rocking_phase", "ROCKING_", PHASES)
+    lines += _c_struct("rocking_case", CASE) + _c_struct("rocking_result", RESULT)
+    lines += ["/* The fields in table order, for the layout the library reports (rocking_layout). */"]
+    lines += _x_macro("ROCKING_CASE_FIELDS", CASE) + _x_macro("ROCKING_RESULT_FIELDS", RESULT)
+    lines += ["/* The constants in table order (rocking_constants). */"]
+    codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, *PHASES)]
+    values = [f"ROCKING_{c.name}" for c in CONSTANTS] + codes
+    lines += ["#define ROCKING_CONSTANTS(X) " + " ".join(f"X({v})" for v in values), ""]
+    return "\n".join([*lines, "#endif", ""])
+
+
+def constant_values() -> tuple[float, ...]:
+    """What ``rocking_constants`` of the C library must report, in its order."""
+    return tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, *PHASES))
+
+
+def _md_rows(fields: tuple[Field, ...], with_valid: bool) -> list[str]:
+    rows = []
+    for f in fields:
+        cells = [f"`{f.name}`", f.kind, f.unit or "-"]
+        if with_valid:
+            cells.append(valid_text(f.valid) if f.valid else "-")
+            cells.append("-" if f.required else f"`{f.default!r}`")
+        rows.append("| " + " | ".join([*cells, f.doc.replace("|", "\\|")]) + " |")
+    return rows
+
+
+def markdown() -> str:
+    """The table of ``docs/simulation.md``: settings, results, statuses, phases, constants."""
+    lines = [
+        DOC_BEGIN,
+        "",
+        "Generated from `rocking/sim/boundary.py` by `python -m rocking.sim.boundary`.",
+        "",
+        "Settings of a run (`Problem`, `rocking_case`):",
+        "",
+        "| field | type | unit | valid | default | meaning |",
+        "| --- | --- | --- | --- | --- | --- |",
+        *_md_rows(CASE, True),
+        "",
+        "Results of a run (`Response`, `rocking_result`):",
+        "",
+        "| field | type | unit | meaning |",
+        "| --- | --- | --- | --- |",
+        *_md_rows(RESULT, False),
+        "",
+        "Statuses: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in (*STATUSES, FAILED)) + ".",
+        "",
+        "Phases: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in PHASES) + ".",
+        "",
+        "Constants: " + "; ".join(f"`{c.name}` = {c.value!r}: {c.doc}" for c in CONSTANTS) + ".",
+        "",
+        DOC_END,
+    ]
+    return "\n".join(lines)
+
+
+def document(text: str) -> str:
+    """``text`` (of ``docs/simulation.md``) with its boundary table replaced by :func:`markdown`."""
+    head, begin, rest = text.partition(DOC_BEGIN)
+    _, end, tail = rest.partition(DOC_END)
+    if not (begin and end):
+        raise ValueError(f"{DOC} has no {DOC_BEGIN} ... {DOC_END} block")
+    return head + markdown() + tail
+
+
+def main() -> int:
+    """Rewrite ``csrc/boundary.h`` and the table of ``docs/simulation.md`` from the tables."""
+    HEADER.write_text(c_header(), encoding="utf-8")
+    DOC.write_text(document(DOC.read_text(encoding="utf-8")), encoding="utf-8")
+    print(f"wrote {HEADER} and the boundary table of {DOC}")
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
