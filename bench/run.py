@@ -1,7 +1,7 @@
 """`make bench`: speed of the simulator and of the studies, measured in one run.
 
 Cases: the 50 x 50 map of issue 3 (Omega and beta in [1, 10], the reference block
-of model.md section 9, a damper with gamma = 0.05, omega_m = p, zeta = 0.05,
+of docs/model.md section 9, a damper with gamma = 0.05, omega_m = p, zeta = 0.05,
 rtol = 1e-8, each response followed until overturning, rest, or 15 s after the
 pulse). The C path runs the whole map; the NumPy path and the baseline (SymPy
 lambdify + solve_ivp, bench/baseline.py) run the same random subset of it.
@@ -93,8 +93,8 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
 
 def _map(n: int, workers: int, runs: str):
     """A bare + damper overturning map of ``n x n`` on fresh tiles; (study, seconds)."""
-    from rocking.study.overturning_map import overturning_map
     from rocking.study.config import Grid, Setting, Tuning
+    from rocking.study.overturning_map import overturning_map
     from rocking.study.tiles import Execution
 
     setting = Setting(Block.reference())

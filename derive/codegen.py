@@ -1,4 +1,12 @@
-"""From derived expressions to files: one generator interface, one class per back end.
+"""From derived expressions to files: one model context, one generator per back end.
+
+:func:`model_context` builds once per model what every back end needs: the
+table of generated functions (:func:`model_functions`: name, meaning,
+outputs), their arguments, and their expressions after common-subexpression
+elimination and after hoisting the constants of a run. Each back end, a
+:class:`Generator`, renders its files from that context alone and walks the
+same table, so that the NumPy module, the C source and header, EQUATIONS.md
+and manifest.json hold the same functions in the same order.
 
 Every model exposes the same functions with the same arguments, so that a
 runtime can drive any model from its manifest alone:
@@ -11,6 +19,7 @@ does not need are accepted and ignored.
 
 from __future__ import annotations
 
+import functools
 import hashlib
 import json
 from dataclasses import dataclass
@@ -23,105 +32,142 @@ from sympy.printing.numpy import NumPyPrinter
 
 from .equations import Equations
 from .mechanics import ag, s
+from .spec import BLOCK_PARAMETERS, Parameter
 
 TEMPLATES = Path(__file__).parent / "templates"
-FORMAT_VERSION = 1
+#: Version of the layout of manifest.json; also written into ``rocking.generated`` (see build.py).
+MANIFEST_FORMAT = 2
 
 
 @dataclass(frozen=True)
 class Function:
-    """One generated function: its outputs, in order, and what they mean."""
+    """One generated function: what it computes and its outputs, in order.
+
+    Attributes
+    ----------
+    name, doc : str
+        Its name in every back end, and its meaning in one line.
+    outputs : tuple of Expr
+        The derived expressions, in the symbols of the arguments.
+    labels : tuple of str
+        What each output is, in code comments and docstrings (``""`` for a
+        scalar function).
+    symbols : tuple of Expr
+        What each output is, as a SymPy quantity: EQUATIONS.md writes
+        ``symbol = output``.
+    """
 
     name: str
     doc: str
     outputs: tuple
     labels: tuple
+    symbols: tuple
 
     @property
     def scalar(self) -> bool:
+        """Whether the function returns one value rather than filling ``out``."""
         return len(self.outputs) == 1 and self.labels == ("",)
 
 
+def _scalar(name: str, doc: str, output, symbol) -> Function:
+    """A function of one output, returned rather than written to ``out``."""
+    return Function(name, doc, (output,), ("",), (symbol,))
+
+
 def model_functions(eq: Equations) -> list[Function]:
-    """The generated interface of a derived model, in a fixed order."""
+    """The generated interface of a derived model, in a fixed order: the table every back end follows."""
     sysm = eq.system
     names = [str(q) for q in sysm.q]
     n = len(names)
     acc = tuple("dd" + q for q in names)
+    M, f = sp.IndexedBase("M"), sp.IndexedBase("f")
+    theta_cr = sp.Symbol("theta_cr", real=True)
     return [
         Function(
             "mass_matrix",
             "Mass matrix of the rocking phase about the pivot s, row-major.",
             tuple(eq.mass_matrix[i, j] for i in range(n) for j in range(n)),
             tuple(f"M[{i},{j}]" for i in range(n) for j in range(n)),
+            tuple(M[sysm.q[i], sysm.q[j]] for i in range(n) for j in range(n)),
         ),
         Function(
             "forcing",
             "Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.",
             tuple(eq.forcing),
             tuple(f"f[{q}]" for q in names),
+            tuple(f[q] for q in sysm.q),
         ),
         Function(
             "rocking_accel",
             "Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).",
             tuple(eq.rocking_accel),
             acc,
+            tuple(sysm.ddq),
         ),
         Function(
             "contact_accel",
             "Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.",
             tuple(eq.contact_accel),
             acc,
+            tuple(sysm.ddq),
         ),
-        Function(
+        _scalar(
             "uplift",
             "Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.",
-            (eq.uplift,),
-            ("",),
+            eq.uplift,
+            sp.Symbol("u_s", real=True),
         ),
         Function(
             "impact",
             "Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.",
             tuple(eq.impact),
             tuple("d" + q + "_plus" for q in names),
+            tuple(_after_impact(d) for d in sysm.dq),
         ),
-        Function(
+        _scalar(
             "energy",
             "Mechanical energy in the ground frame while rocking about s; ag is ignored.",
-            (eq.energy,),
-            ("",),
+            eq.energy,
+            sp.Symbol("E", real=True),
         ),
-        Function(
+        _scalar(
             "power",
             "Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.",
-            (eq.power,),
-            ("",),
+            eq.power,
+            sp.Symbol("Edot", real=True),
         ),
-        Function(
+        _scalar(
             "uplift_energy",
             "Least energy above rest at which the attached bodies can lift the block about s in full contact "
             "without ground motion (inf: never; 0: no bound derived); y and ag are ignored.",
-            (eq.uplift_energy,),
-            ("",),
+            eq.uplift_energy,
+            sp.Symbol("E_uplift", real=True),
         ),
-        Function(
+        _scalar(
             "critical_angle",
             "Static critical angle about the pivot s, the other coordinates held (sign of s).",
-            (eq.critical_angle,),
-            ("",),
+            eq.critical_angle,
+            theta_cr,
         ),
-        Function(
+        _scalar(
             "critical_tangent",
             "Tangent of the static critical angle about the pivot s where the weights' centre is above the "
             "ground (the angle is then its atan), NaN elsewhere.",
-            (eq.critical_tangent,),
-            ("",),
+            eq.critical_tangent,
+            sp.tan(theta_cr),
         ),
     ]
 
 
+def _after_impact(velocity: sp.Symbol) -> sp.Symbol:
+    """The symbol of ``velocity`` just after an impact."""
+    return sp.Symbol(velocity.name + "_plus", real=True)
+
+
 @dataclass(frozen=True)
 class Argument:
+    """One argument of every generated function."""
+
     name: str
     doc: str
 
@@ -140,9 +186,32 @@ def arguments(eq: Equations, spec) -> list[Argument]:
     return args
 
 
-def _cse(outputs):
-    """Common subexpressions, named so that no model symbol can clash with them."""
-    return sp.cse(list(outputs), symbols=sp.numbered_symbols("cse"), order="canonical")
+@dataclass(frozen=True)
+class Cse:
+    """Expressions after common-subexpression elimination.
+
+    Attributes
+    ----------
+    subs : tuple of (Symbol, Expr)
+        The temporaries ``cse<i>``, each in terms of the ones before it.
+    outputs : tuple of Expr
+        The expressions in terms of the temporaries.
+    """
+
+    subs: tuple
+    outputs: tuple
+
+    def uses(self, names) -> list[str]:
+        """Those of ``names`` that the expressions read, in the order of ``names``."""
+        exprs = [b for _, b in self.subs] + list(self.outputs)
+        free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
+        return [n for n in names if sp.Symbol(n, real=True) in free]
+
+
+def common_subexpressions(outputs) -> Cse:
+    """:class:`Cse` of ``outputs``, its temporaries named so that no model symbol can clash with them."""
+    subs, outs = sp.cse(list(outputs), symbols=sp.numbered_symbols("cse"), order="canonical")
+    return Cse(tuple(subs), tuple(outs))
 
 
 def hoist_constants(outputs, varying):
@@ -195,172 +264,35 @@ def hoist_constants(outputs, varying):
     return [(symbol, expr) for expr, symbol in table.items()], hoisted
 
 
-def _used(exprs, names):
-    free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
-    return [n for n in names if sp.Symbol(n, real=True) in free]
+@dataclass(frozen=True)
+class Prepared:
+    """The functions split for a run (:func:`hoist_constants`): what the C back end computes.
 
-
-class Generator:
-    """Base class: renders one or more files of a model from its templates."""
-
-    template_names: tuple = ()
-
-    def __init__(self, eq: Equations, spec):
-        self.eq = eq
-        self.spec = spec
-        self.functions = model_functions(eq)
-        self.args = arguments(eq, spec)
-        env = jinja2.Environment(
-            loader=jinja2.FileSystemLoader(TEMPLATES),
-            keep_trailing_newline=True,
-            trim_blocks=True,
-            lstrip_blocks=True,
-            undefined=jinja2.StrictUndefined,
-        )
-        self.env = env
-
-    def context(self) -> dict:
-        sysm = self.eq.system
-        return {
-            "name": self.spec.name,
-            "title": self.spec.title,
-            "coordinates": [str(q) for q in sysm.q],
-            "state": [str(q) for q in sysm.q] + [str(d) for d in sysm.dq],
-            "params": [str(p) for p in sysm.params],
-            "args": self.args,
-            "options": self.eq.options,
-            "nq": len(sysm.q),
-        }
-
-    def files(self) -> dict[str, str]:
-        """Map of file name to text."""
-        raise NotImplementedError
-
-
-class NumpyGenerator(Generator):
-    """A NumPy module whose functions broadcast over states and parameters."""
-
-    def files(self):
-        printer = NumPyPrinter({"fully_qualified_modules": True})
-        funcs = []
-        for f in self.functions:
-            subs, outs = _cse(f.outputs)
-            funcs.append(
-                {
-                    "name": f.name,
-                    "doc": f.doc,
-                    "labels": f.labels,
-                    "scalar": f.scalar,
-                    "subs": [(str(a), printer.doprint(b)) for a, b in subs],
-                    "outs": [printer.doprint(o) for o in outs],
-                }
-            )
-        imports = sorted(set(printer.module_imports) | {"numpy"})
-        text = self.env.get_template("numpy_model.py.j2").render(**self.context(), functions=funcs, imports=imports)
-        return {"model.py": text}
-
-
-class _C99(C99CodePrinter):
-    """C99 printer that writes small integer powers as products (exact, no libm call)."""
-
-    def _print_Pow(self, expr):
-        if expr.exp.is_Integer and 2 <= expr.exp <= 4:
-            base = self.parenthesize(expr.base, 100)
-            return "(" + "*".join([base] * int(expr.exp)) + ")"
-        return super()._print_Pow(expr)
-
-
-class CGenerator(Generator):
-    """C99 source and header: pure functions of doubles, no allocation, no globals.
-
-    The constants of a run (:func:`hoist_constants`: every subexpression of
-    the parameters and the pivot alone) come from ``prefix_prepare(s, p, cst)``;
-    ``prefix_<name>_prepared(y, ag, cst[, out])`` is the work left per call,
-    what a runtime calls in its inner loop. ``prefix_<name>(s, y, ag, p[, out])``
-    prepares and calls it: the interface of every back end.
+    Attributes
+    ----------
+    constants : tuple of str
+        Names of the constants ``cst<i>``, in order.
+    prepare : Cse
+        The constants, from the pivot and the parameters.
+    functions : tuple of Cse
+        Each function of the table, from the state, ``ag`` and the constants.
     """
 
-    def files(self):
-        printer = _C99()
-        ctx = self.context()
-        state, params = ctx["state"], ctx["params"]
-        varying = [sp.Symbol(n, real=True) for n in state] + [ag]
-        outputs = [o for f in self.functions for o in f.outputs]
-        constants, hoisted = hoist_constants(outputs, varying)
-        subs, outs = _cse([expr for _, expr in constants])
-        exprs = [b for _, b in subs] + list(outs)
-        ctx["prepare"] = {
-            "uses_s": bool(_used(exprs, ["s"])),
-            "params": [(i, n) for i, n in enumerate(params) if n in _used(exprs, params)],
-            "subs": [(str(a), printer.doprint(b)) for a, b in subs],
-            "outs": [printer.doprint(o) for o in outs],
-        }
-        names = [str(symbol) for symbol, _ in constants]
-        funcs, start = [], 0
-        for f in self.functions:
-            subs, outs = _cse(hoisted[start : start + len(f.outputs)])
-            start += len(f.outputs)
-            exprs = [b for _, b in subs] + list(outs)
-            funcs.append(
-                {
-                    "name": f.name,
-                    "doc": f.doc,
-                    "labels": f.labels,
-                    "scalar": f.scalar,
-                    "uses_ag": bool(_used(exprs, ["ag"])),
-                    "state": [(i, n) for i, n in enumerate(state) if n in _used(exprs, state)],
-                    "constants": [(i, n) for i, n in enumerate(names) if n in _used(exprs, names)],
-                    "subs": [(str(a), printer.doprint(b)) for a, b in subs],
-                    "outs": [printer.doprint(o) for o in outs],
-                }
-            )
-        ctx["functions"] = funcs
-        ctx["n_constants"] = len(constants)
-        ctx["prefix"] = self.spec.name
-        ctx["PREFIX"] = self.spec.name.upper()
-        return {
-            f"{self.spec.name}.h": self.env.get_template("model.h.j2").render(**ctx),
-            f"{self.spec.name}.c": self.env.get_template("model.c.j2").render(**ctx),
-        }
+    constants: tuple
+    prepare: Cse
+    functions: tuple
 
 
-class LatexGenerator(Generator):
-    """EQUATIONS.md: the derived equations in LaTeX, to hold against the paper."""
-
-    def files(self):
-        sysm = self.eq.system
-        symbol_names = {sp.Symbol(str(d), real=True): r"\dot{" + sp.latex(q) + "}" for q, d in zip(sysm.q, sysm.dq)}
-        symbol_names.update({d: r"\ddot{" + sp.latex(q) + "}" for q, d in zip(sysm.q, sysm.ddq)})
-        symbol_names[ag] = r"\ddot{x}_g"
-        plus = {
-            sp.Symbol(str(d) + "_plus", real=True): r"\dot{" + sp.latex(q) + "}^{+}" for q, d in zip(sysm.q, sysm.dq)
-        }
-        symbol_names.update(plus)
-
-        def tex(expr):
-            return sp.latex(expr, symbol_names=symbol_names)
-
-        n = len(sysm.q)
-        ddq = sp.Matrix(sysm.ddq)
-        eqs_rock = [
-            tex(
-                sp.Eq(
-                    sp.Add(*[sp.collect(self.eq.mass_matrix[i, j], s) * ddq[j] for j in range(n)]), self.eq.forcing[i]
-                )
-            )
-            for i in range(n)
-        ]
-        ctx = self.context()
-        ctx.update(
-            rocking=eqs_rock,
-            contact=[tex(sp.Eq(d, a)) for d, a in zip(sysm.ddq[1:], self.eq.contact_accel[1:])],
-            uplift=tex(self.eq.uplift),
-            impact=[tex(sp.Eq(p, sp.factor_terms(sp.cancel(v)))) for p, v in zip(plus, self.eq.impact)],
-            energy=tex(self.eq.energy),
-            power=tex(self.eq.power),
-            critical=tex(self.eq.critical_angle),
-        )
-        return {"EQUATIONS.md": self.env.get_template("EQUATIONS.md.j2").render(**ctx)}
+def prepare_run(functions: list[Function], state: tuple) -> Prepared:
+    """Hoist the constants of a run out of every function of the table at once (shared across functions)."""
+    varying = [sp.Symbol(n, real=True) for n in state] + [ag]
+    constants, hoisted = hoist_constants([o for f in functions for o in f.outputs], varying)
+    prepare = common_subexpressions([expr for _, expr in constants])
+    split, start = [], 0
+    for f in functions:
+        split.append(common_subexpressions(hoisted[start : start + len(f.outputs)]))
+        start += len(f.outputs)
+    return Prepared(tuple(str(symbol) for symbol, _ in constants), prepare, tuple(split))
 
 
 def input_hash(spec, options: dict) -> str:
@@ -375,52 +307,273 @@ def input_hash(spec, options: dict) -> str:
     return h.hexdigest()
 
 
+@dataclass(frozen=True)
+class ModelContext:
+    """Everything the back ends render a model from, built once by :func:`model_context`.
+
+    Attributes
+    ----------
+    name, title : str
+        The spec's name (file names, C prefix) and one-line description.
+    options : dict
+        Resolved derivation options.
+    coordinates, state, params : tuple of str
+        Coordinates (``theta`` first), state ``(q, dq)`` and parameters, in argument order.
+    kinematics : tuple of (Symbol, Symbol, Symbol)
+        Each coordinate with its velocity and acceleration symbols.
+    arguments : tuple of Argument
+        The arguments of every function, in order.
+    parameters : tuple of Parameter
+        Unit, meaning and valid range of each parameter, in argument order.
+    block_parameters : tuple of str
+        The parameters the block sets, in argument order.
+    functions : tuple of Function
+        The table of generated functions.
+    cse : tuple of Cse
+        Each function's outputs after common-subexpression elimination.
+    prepared : Prepared
+        The functions split into the constants of a run and the rest.
+    inputs_sha256 : str
+        :func:`input_hash` of the spec and options.
+    """
+
+    name: str
+    title: str
+    options: dict
+    coordinates: tuple
+    state: tuple
+    params: tuple
+    kinematics: tuple
+    arguments: tuple
+    parameters: tuple
+    block_parameters: tuple
+    functions: tuple
+    cse: tuple
+    prepared: Prepared
+    inputs_sha256: str
+
+
+def model_context(eq: Equations, spec) -> ModelContext:
+    """Build the context of a derived model: the table, the arguments, the expressions ready to print."""
+    sysm = eq.system
+    coordinates = tuple(str(q) for q in sysm.q)
+    state = coordinates + tuple(str(d) for d in sysm.dq)
+    params = tuple(str(p) for p in sysm.params)
+    functions = tuple(model_functions(eq))
+    block = {p[0] for p in BLOCK_PARAMETERS}
+    return ModelContext(
+        name=spec.name,
+        title=spec.title,
+        options=eq.options,
+        coordinates=coordinates,
+        state=state,
+        params=params,
+        kinematics=tuple(zip(sysm.q, sysm.dq, sysm.ddq)),
+        arguments=tuple(arguments(eq, spec)),
+        parameters=tuple(p for p in spec.all_parameters if p.name in params),
+        block_parameters=tuple(p for p in params if p in block),
+        functions=functions,
+        cse=tuple(common_subexpressions(f.outputs) for f in functions),
+        prepared=prepare_run(list(functions), state),
+        inputs_sha256=input_hash(spec, eq.options),
+    )
+
+
+@functools.cache
+def _environment() -> jinja2.Environment:
+    """The templates, loaded once per process."""
+    return jinja2.Environment(
+        loader=jinja2.FileSystemLoader(TEMPLATES),
+        keep_trailing_newline=True,
+        trim_blocks=True,
+        lstrip_blocks=True,
+        undefined=jinja2.StrictUndefined,
+    )
+
+
+class Generator:
+    """One back end: renders files of a model from its context alone."""
+
+    def __init__(self, model: ModelContext):
+        self.model = model
+
+    def render(self, template: str, **fields) -> str:
+        """Render ``template`` with the fields every template shares and ``fields``."""
+        m = self.model
+        shared = {
+            "name": m.name,
+            "title": m.title,
+            "coordinates": list(m.coordinates),
+            "state": list(m.state),
+            "params": list(m.params),
+            "args": list(m.arguments),
+            "options": m.options,
+            "nq": len(m.coordinates),
+        }
+        return _environment().get_template(template).render(**shared, **fields)
+
+    def files(self) -> dict[str, str]:
+        """Map of file name to text."""
+        raise NotImplementedError
+
+
+def _printed(f: Function, cse: Cse, printer) -> dict:
+    """The fields of one function in a template, its expressions printed by ``printer``."""
+    return {
+        "name": f.name,
+        "doc": f.doc,
+        "labels": f.labels,
+        "scalar": f.scalar,
+        "subs": [(str(a), printer.doprint(b)) for a, b in cse.subs],
+        "outs": [printer.doprint(o) for o in cse.outputs],
+    }
+
+
+class NumpyGenerator(Generator):
+    """A NumPy module whose functions broadcast over states and parameters."""
+
+    def files(self):
+        printer = NumPyPrinter({"fully_qualified_modules": True})
+        funcs = [_printed(f, c, printer) for f, c in zip(self.model.functions, self.model.cse)]
+        imports = sorted(set(printer.module_imports) | {"numpy"})
+        return {"model.py": self.render("numpy_model.py.j2", functions=funcs, imports=imports)}
+
+
+class _C99(C99CodePrinter):
+    """C99 printer that writes small integer powers as products (exact, no libm call)."""
+
+    def _print_Pow(self, expr):
+        if expr.exp.is_Integer and 2 <= expr.exp <= 4:
+            base = self.parenthesize(expr.base, 100)
+            return "(" + "*".join([base] * int(expr.exp)) + ")"
+        return super()._print_Pow(expr)
+
+
+def _read(names, cse: Cse) -> list[tuple[int, str]]:
+    """``(index, name)`` of those of ``names`` that ``cse`` reads: the array elements a C function loads."""
+    used = set(cse.uses(names))
+    return [(i, n) for i, n in enumerate(names) if n in used]
+
+
+class CGenerator(Generator):
+    """C99 source and header: pure functions of doubles, no allocation, no globals.
+
+    The constants of a run (:func:`hoist_constants`: every subexpression of
+    the parameters and the pivot alone) come from ``prefix_prepare(s, p, cst)``;
+    ``prefix_<name>_prepared(y, ag, cst[, out])`` is the work left per call,
+    what a runtime calls in its inner loop. ``prefix_<name>(s, y, ag, p[, out])``
+    prepares and calls it: the interface of every back end.
+    """
+
+    def files(self):
+        m = self.model
+        printer = _C99()
+        run = m.prepared
+        prepare = {
+            "uses_s": bool(run.prepare.uses(["s"])),
+            "params": _read(m.params, run.prepare),
+            "subs": [(str(a), printer.doprint(b)) for a, b in run.prepare.subs],
+            "outs": [printer.doprint(o) for o in run.prepare.outputs],
+        }
+        funcs = [
+            dict(
+                _printed(f, c, printer),
+                uses_ag=bool(c.uses(["ag"])),
+                state=_read(m.state, c),
+                constants=_read(run.constants, c),
+            )
+            for f, c in zip(m.functions, run.functions)
+        ]
+        fields = {
+            "prepare": prepare,
+            "functions": funcs,
+            "n_constants": len(run.constants),
+            "prefix": m.name,
+            "PREFIX": m.name.upper(),
+        }
+        return {
+            f"{m.name}.h": self.render("model.h.j2", **fields),
+            f"{m.name}.c": self.render("model.c.j2", **fields),
+        }
+
+
+#: How EQUATIONS.md shows the outputs of some functions, to be read against the paper;
+#: the others are shown as derived.
+_SHOWN = {
+    "mass_matrix": lambda e: sp.collect(e, s),
+    "impact": lambda e: sp.factor_terms(sp.cancel(e)),
+}
+
+
+class LatexGenerator(Generator):
+    """EQUATIONS.md: every function of the table in LaTeX, to hold against the paper."""
+
+    def files(self):
+        names = {ag: r"\ddot{x}_g"}
+        for q, dq, ddq in self.model.kinematics:
+            names[dq] = r"\dot{" + sp.latex(q) + "}"
+            names[ddq] = r"\ddot{" + sp.latex(q) + "}"
+            names[_after_impact(dq)] = r"\dot{" + sp.latex(q) + "}^{+}"
+
+        def tex(expr):
+            return sp.latex(expr, symbol_names=names)
+
+        sections = []
+        for f in self.model.functions:
+            shown = _SHOWN.get(f.name, lambda e: e)
+            equations = [(tex(y), tex(shown(o))) for y, o in zip(f.symbols, f.outputs)]
+            sections.append({"name": f.name, "doc": f.doc, "equations": equations})
+        coordinates = [sp.latex(q) for q, _, _ in self.model.kinematics]
+        return {"EQUATIONS.md": self.render("EQUATIONS.md.j2", functions=sections, coordinates_tex=coordinates)}
+
+
 class ManifestGenerator(Generator):
     """manifest.json: what the model is, so a runtime can use it without knowing it."""
 
-    def __init__(self, eq, spec, produced: dict[str, str]):
-        super().__init__(eq, spec)
+    def __init__(self, model: ModelContext, produced: dict[str, str]):
+        super().__init__(model)
         self.produced = produced
 
     def files(self):
-        ctx = self.context()
+        m = self.model
         data = {
-            "format": FORMAT_VERSION,
-            "model": self.spec.name,
-            "title": self.spec.title,
-            "options": self.eq.options,
-            "coordinates": ctx["coordinates"],
-            "state": ctx["state"],
-            "parameters": [
-                {"name": p.name, "unit": p.unit, "doc": p.doc, "valid": p.valid}
-                for p in self.spec.all_parameters
-                if p.name in ctx["params"]
-            ],
-            "arguments": [a.name for a in self.args],
-            "functions": {
-                f.name: {"outputs": len(f.outputs), "scalar": f.scalar, "doc": f.doc} for f in self.functions
-            },
+            "format": MANIFEST_FORMAT,
+            "model": m.name,
+            "title": m.title,
+            "options": m.options,
+            "coordinates": list(m.coordinates),
+            "state": list(m.state),
+            "parameters": [_parameter_entry(p) for p in m.parameters],
+            "block_parameters": list(m.block_parameters),
+            "arguments": [a.name for a in m.arguments],
+            "functions": {f.name: {"outputs": len(f.outputs), "scalar": f.scalar, "doc": f.doc} for f in m.functions},
             "files": {
                 "numpy": "model.py",
-                "c_source": f"{self.spec.name}.c",
-                "c_header": f"{self.spec.name}.h",
-                "c_prefix": self.spec.name,
+                "c_source": f"{m.name}.c",
+                "c_header": f"{m.name}.h",
+                "c_prefix": m.name,
                 "equations": "EQUATIONS.md",
             },
             "sha256": {name: hashlib.sha256(text.encode()).hexdigest() for name, text in sorted(self.produced.items())},
             "sympy": sp.__version__,
-            "inputs_sha256": input_hash(self.spec, self.eq.options),
+            "inputs_sha256": m.inputs_sha256,
         }
         return {"manifest.json": json.dumps(data, indent=2, sort_keys=True) + "\n"}
+
+
+def _parameter_entry(p: Parameter) -> dict:
+    """A parameter as manifest.json lists it."""
+    return {"name": p.name, "unit": p.unit, "doc": p.doc, "valid": p.valid}
 
 
 BACKENDS = (NumpyGenerator, CGenerator, LatexGenerator)
 
 
 def generate(eq: Equations, spec) -> dict[str, str]:
-    """All files of a model, keyed by file name."""
+    """All files of a model, keyed by file name: one context, handed to every back end."""
+    model = model_context(eq, spec)
     out: dict[str, str] = {}
     for backend in BACKENDS:
-        out.update(backend(eq, spec).files())
-    out.update(ManifestGenerator(eq, spec, dict(out)).files())
+        out.update(backend(model).files())
+    out.update(ManifestGenerator(model, dict(out)).files())
     return out

@@ -1,6 +1,6 @@
 """Lagrange's equations and everything a time integrator needs, from the energies.
 
-The results are SymPy expressions in the symbols of :class:`~derive.mechanics.System`
+The results are SymPy expressions in the symbols of :class:`~rocking.derive.mechanics.System`
 (``s``, coordinates, velocities, the ground acceleration ``ag`` and the
 parameters). Each is derived, never typed: the rocking equations as mass matrix
 and forcing, the full-contact accelerations, the uplift functions as the

@@ -2,11 +2,11 @@
 
 Nothing here is an equation of motion: positions are written in the block
 frame, rotated about the active pivot, and turned into kinetic energy,
-potential energy and Rayleigh dissipation. ``derive.equations`` applies
+potential energy and Rayleigh dissipation. ``rocking.derive.equations`` applies
 Lagrange's equations to them.
 
 The pivot is the symbol ``s``: ``+1`` rotates about the left corner ``A``,
-``-1`` about the right corner ``A'`` (model.md section 1). Positions are
+``-1`` about the right corner ``A'`` (docs/model.md section 1). Positions are
 absolute: the ground displacement ``x_g(t)`` is added to every point, so the
 ground acceleration enters through Lagrange's equations, not by hand.
 """

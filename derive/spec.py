@@ -137,97 +137,163 @@ def _check_keys(table: dict, allowed: set[str], where: str) -> None:
         raise SpecError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(allowed))}")
 
 
-def parse_spec(data: dict, source: str = "") -> Spec:
-    """Build a checked :class:`Spec` from the parsed TOML tables.
+#: Keys of the top-level table of a spec.
+_SPEC_KEYS = {"name", "title", "coordinates", "parameters", "bodies", "springs", "dashpots", "impact"}
+
+
+def _model_name(data: dict) -> str:
+    """The spec's ``name``, an identifier.
 
     Raises
     ------
     SpecError
-        With a message naming the offending entry.
+        When it is missing or not an identifier.
     """
-    _check_keys(
-        data,
-        {"name", "title", "coordinates", "parameters", "bodies", "springs", "dashpots", "impact"},
-        "spec",
-    )
     name = _require(data, "name", "spec")
     if not (isinstance(name, str) and name.isidentifier()):
         raise SpecError(f"spec: name must be an identifier, got {name!r}")
-    coords = tuple(data.get("coordinates", ()))
-    params_table = data.get("parameters", {})
+    return name
+
+
+def _check_symbol_name(n) -> None:
+    """A coordinate or parameter name must be an identifier the block and the generated code leave free.
+
+    Raises
+    ------
+    SpecError
+        When it is not.
+    """
+    if not (isinstance(n, str) and n.isidentifier()):
+        raise SpecError(f"spec: {n!r} is not a valid symbol name")
+    if n in _RESERVED:
+        raise SpecError(f"spec: {n!r} is reserved for the block or the derivation")
+    if _GENERATED_NAME.fullmatch(n):
+        raise SpecError(f"spec: {n!r}: names cse<digits> and cst<digits> are the generated code's")
+
+
+def _declared_names(coords: tuple, params_table: dict) -> list[str]:
+    """Coordinates then parameters, each checked, none declared twice.
+
+    Raises
+    ------
+    SpecError
+        Naming the first bad name, or when a name is declared twice.
+    """
     names = list(coords) + list(params_table)
     for n in names:
-        if not (isinstance(n, str) and n.isidentifier()):
-            raise SpecError(f"spec: {n!r} is not a valid symbol name")
-        if n in _RESERVED:
-            raise SpecError(f"spec: {n!r} is reserved for the block or the derivation")
-        if _GENERATED_NAME.fullmatch(n):
-            raise SpecError(f"spec: {n!r}: names cse<digits> and cst<digits> are the generated code's")
+        _check_symbol_name(n)
     if len(set(names)) != len(names):
         raise SpecError("spec: a name is declared twice among coordinates and parameters")
+    return names
 
+
+def _parameters(params_table: dict) -> tuple[Parameter, ...]:
+    """The model's own parameters from the ``[parameters.<name>]`` tables, in their order.
+
+    Raises
+    ------
+    SpecError
+        For an unknown key in a table.
+    """
     parameters = []
     for pname, ptab in params_table.items():
-        where = f"parameters.{pname}"
-        _check_keys(ptab, {"unit", "doc", "valid"}, where)
+        _check_keys(ptab, {"unit", "doc", "valid"}, f"parameters.{pname}")
         parameters.append(Parameter(pname, ptab.get("unit", ""), ptab.get("doc", ""), ptab.get("valid", ">= 0")))
+    return tuple(parameters)
 
+
+def _symbols(names: list[str]) -> dict[str, sp.Symbol]:
+    """The symbols in scope of every expression: the declared names and the block's parameters."""
     known = {n: sp.Symbol(n, real=True) for n in names}
     known.update({p[0]: sp.Symbol(p[0], real=True) for p in BLOCK_PARAMETERS})
+    return known
 
-    bodies = []
-    for i, btab in enumerate(data.get("bodies", [])):
-        where = f"bodies[{i}]"
-        _check_keys(btab, {"name", "mass", "position", "inertia", "angle"}, where)
-        bname = _require(btab, "name", where)
-        where = f"body {bname!r}"
-        pos = _require(btab, "position", where)
-        if not (isinstance(pos, list) and len(pos) == 2):
-            raise SpecError(f"{where}: position must be a list of two expressions [x, y]")
-        mass = _expr(_require(btab, "mass", where), f"{where} mass", known)
-        inertia = _expr(btab.get("inertia", 0), f"{where} inertia", known)
-        for label, value in (("mass", mass), ("inertia", inertia)):
-            if value.is_number and value < 0:
-                raise SpecError(f"{where}: {label} must be >= 0, got {value}")
-        bodies.append(
-            Body(
-                bname,
-                mass,
-                (_expr(pos[0], f"{where} position x", known), _expr(pos[1], f"{where} position y", known)),
-                inertia,
-                _expr(btab.get("angle", 0), f"{where} angle", known),
-            )
-        )
+
+def _body(i: int, btab: dict, known: dict[str, sp.Symbol]) -> Body:
+    """The ``i``-th ``[[bodies]]`` table as a :class:`Body`.
+
+    Raises
+    ------
+    SpecError
+        For an unknown or missing key, a position that is not two
+        expressions, a bad expression or a negative numeric mass or inertia.
+    """
+    where = f"bodies[{i}]"
+    _check_keys(btab, {"name", "mass", "position", "inertia", "angle"}, where)
+    bname = _require(btab, "name", where)
+    where = f"body {bname!r}"
+    pos = _require(btab, "position", where)
+    if not (isinstance(pos, list) and len(pos) == 2):
+        raise SpecError(f"{where}: position must be a list of two expressions [x, y]")
+    mass = _expr(_require(btab, "mass", where), f"{where} mass", known)
+    inertia = _expr(btab.get("inertia", 0), f"{where} inertia", known)
+    for label, value in (("mass", mass), ("inertia", inertia)):
+        if value.is_number and value < 0:
+            raise SpecError(f"{where}: {label} must be >= 0, got {value}")
+    return Body(
+        bname,
+        mass,
+        (_expr(pos[0], f"{where} position x", known), _expr(pos[1], f"{where} position y", known)),
+        inertia,
+        _expr(btab.get("angle", 0), f"{where} angle", known),
+    )
+
+
+def _bodies(tables: list, known: dict[str, sp.Symbol]) -> tuple[Body, ...]:
+    """The ``[[bodies]]`` tables, each checked, their names unique.
+
+    Raises
+    ------
+    SpecError
+        For a bad body, or two bodies with the same name.
+    """
+    bodies = tuple(_body(i, btab, known) for i, btab in enumerate(tables))
     body_names = [b.name for b in bodies]
     if len(set(body_names)) != len(body_names):
         raise SpecError("spec: two bodies have the same name")
+    return bodies
 
-    def elements(kind: str, coef_key: str, measure_key: str) -> tuple[Element, ...]:
-        out = []
-        for i, etab in enumerate(data.get(kind, [])):
-            where = f"{kind}[{i}]"
-            _check_keys(etab, {"name", coef_key, measure_key, "acts_on"}, where)
-            ename = etab.get("name", f"{kind}{i}")
-            where = f"{kind[:-1]} {ename!r}"
-            acts_on = _require(etab, "acts_on", where)
-            if acts_on not in body_names:
-                raise SpecError(
-                    f"{where}: acts on unknown body {acts_on!r}; bodies are {', '.join(body_names) or 'none'}"
-                )
-            out.append(
-                Element(
-                    ename,
-                    _expr(_require(etab, coef_key, where), f"{where} {coef_key}", known),
-                    _expr(_require(etab, measure_key, where), f"{where} {measure_key}", known),
-                    acts_on,
-                )
-            )
-        return tuple(out)
 
-    springs = elements("springs", "stiffness", "stretch")
-    dashpots = elements("dashpots", "damping", "rate_of")
+def _element(kind: str, i: int, etab: dict, keys: tuple[str, str], bodies: list[str], known) -> Element:
+    """The ``i``-th table of ``kind`` (springs or dashpots) as an :class:`Element`.
 
-    impact = dict(data.get("impact", {}))
+    ``keys`` are the keys of its coefficient and of its measure.
+
+    Raises
+    ------
+    SpecError
+        For an unknown or missing key, a bad expression or an unknown body.
+    """
+    coef_key, measure_key = keys
+    where = f"{kind}[{i}]"
+    _check_keys(etab, {"name", coef_key, measure_key, "acts_on"}, where)
+    ename = etab.get("name", f"{kind}{i}")
+    where = f"{kind[:-1]} {ename!r}"
+    acts_on = _require(etab, "acts_on", where)
+    if acts_on not in bodies:
+        raise SpecError(f"{where}: acts on unknown body {acts_on!r}; bodies are {', '.join(bodies) or 'none'}")
+    return Element(
+        ename,
+        _expr(_require(etab, coef_key, where), f"{where} {coef_key}", known),
+        _expr(_require(etab, measure_key, where), f"{where} {measure_key}", known),
+        acts_on,
+    )
+
+
+def _elements(data: dict, kind: str, keys: tuple[str, str], bodies: list[str], known) -> tuple[Element, ...]:
+    """The tables of ``kind`` (springs or dashpots), each checked; ``keys`` as for :func:`_element`."""
+    return tuple(_element(kind, i, etab, keys, bodies, known) for i, etab in enumerate(data.get(kind, [])))
+
+
+def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
+    """The impact law of every coordinate, in coordinate order (``momentum`` unless the table says otherwise).
+
+    Raises
+    ------
+    SpecError
+        For a law given to a name that is not a coordinate, or an unknown law.
+    """
+    impact = dict(table)
     for c in coords:
         impact.setdefault(c, "momentum")
     for c, law in impact.items():
@@ -235,16 +301,42 @@ def parse_spec(data: dict, source: str = "") -> Spec:
             raise SpecError(f"impact: {c!r} is not a coordinate; coordinates are {', '.join(coords)}")
         if law not in IMPACT_LAWS:
             raise SpecError(f"impact.{c}: unknown law {law!r}; choose one of {', '.join(IMPACT_LAWS)}")
+    return {c: impact[c] for c in coords}
 
+
+def parse_spec(data: dict, source: str = "") -> Spec:
+    """Build a checked :class:`Spec` from the parsed TOML tables.
+
+    Parameters
+    ----------
+    data : dict
+        The spec's tables, as a TOML parser returns them.
+    source : str
+        The spec's text, kept for the hash of the generated files.
+
+    Raises
+    ------
+    SpecError
+        With a message naming the offending entry.
+    """
+    _check_keys(data, _SPEC_KEYS, "spec")
+    name = _model_name(data)
+    coords = tuple(data.get("coordinates", ()))
+    params_table = data.get("parameters", {})
+    names = _declared_names(coords, params_table)
+    parameters = _parameters(params_table)
+    known = _symbols(names)
+    bodies = _bodies(data.get("bodies", []), known)
+    body_names = [b.name for b in bodies]
     spec = Spec(
         name=name,
         title=data.get("title", name),
         coordinates=coords,
-        parameters=tuple(parameters),
-        bodies=tuple(bodies),
-        springs=springs,
-        dashpots=dashpots,
-        impact={c: impact[c] for c in coords},
+        parameters=parameters,
+        bodies=bodies,
+        springs=_elements(data, "springs", ("stiffness", "stretch"), body_names, known),
+        dashpots=_elements(data, "dashpots", ("damping", "rate_of"), body_names, known),
+        impact=_impact_laws(data.get("impact", {}), coords),
         source=source,
     )
     _check_coordinates_used(spec)

@@ -26,9 +26,8 @@ Examples
 from .model.loading import Model, ModelError, available_models, load_model
 from .model.params import Block, Damper, ParameterError
 from .model.pulse import OneSinePulse
-from .sim.c_backend import SimulationError
 from .sim.cbuild import CBuildError
-from .sim.problem import Response
+from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
 from .study.config import Grid, Setting, Study, Tuning, Variant
 from .study.optimize import optimal_damper

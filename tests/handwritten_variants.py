@@ -8,7 +8,7 @@ variant's manifest) and returns the outputs in the order of the generated
 function of the same name. The functions broadcast and keep the dtype of their
 inputs, so a reference can be computed in ``np.longdouble``.
 
-Conventions (model.md sections 1-2): block frame with its origin at the centre of
+Conventions (docs/model.md sections 1-2): block frame with its origin at the centre of
 the base, ``y`` up; pivot ``P_s = (-s B/2, 0)``; a point ``r`` of the block frame,
 measured from the pivot, is at ``P_s + R(theta) r`` in the frame translating with
 the ground. The ground acceleration enters as the inertial force ``-(mass) ag``
@@ -293,7 +293,7 @@ class OMD2(_Weights):
     pivot with ``xi = s B/2 + x``; ``X = -s B/2 + xi cos - eta sin``, ``Y = xi sin + eta cos``
     and ``|V|^2 = dx^2 + dtheta^2 (xi^2 + eta^2) - 2 eta dx dtheta`` (the rotation terms
     of the cross product cancel). The two masses do not see each other: every term is
-    a sum over the masses of model.md (R1)-(R2)-like terms.
+    a sum over the masses of docs/model.md (R1)-(R2)-like terms.
     """
 
     @staticmethod

@@ -1,4 +1,4 @@
-"""The C and NumPy back ends agree, and the C path meets model.md section 10 too."""
+"""The C and NumPy back ends agree, and the C path meets docs/model.md section 10 too."""
 
 from __future__ import annotations
 
@@ -8,11 +8,10 @@ import math
 import numpy as np
 import pytest
 
-from rocking.sim import c_backend
-from rocking.sim import numpy_backend
 from rocking.model.params import Block, Damper
-from rocking.sim.problem import make_problem
 from rocking.model.pulse import OneSinePulse
+from rocking.sim import c_backend, numpy_backend
+from rocking.sim.problem import make_problem
 
 N_CASES = 200
 #: A verdict may differ only where the overturning boundary lies within this
@@ -116,7 +115,7 @@ def test_early_rest_keeps_verdicts_and_maxima_on_random_cases():
 
 @pytest.mark.parametrize("Omega, beta_min", [(1, 1.418), (2, 2.350), (4, 5.239), (6, 9.417)])
 def test_c_path_overturning_without_impact_boundary(Omega, beta_min):
-    """model.md 10.4 on the C path: slender bare symmetric block, alpha = 0.02."""
+    """docs/model.md 10.4 on the C path: slender bare symmetric block, alpha = 0.02."""
     block = Block.from_nondim(p=2.0, alpha=0.02)
 
     def overturns_without_impact(beta):
@@ -136,7 +135,7 @@ def test_c_path_overturning_without_impact_boundary(Omega, beta_min):
 
 @pytest.mark.parametrize("psi, pivot", [(0.0, 1), (math.pi, -1)])
 def test_c_path_uplift_at_the_static_threshold(psi, pivot):
-    """model.md 10.2: uplift about A at g (B + 2e)/H, about A' at -g (B - 2e)/H."""
+    """docs/model.md 10.2: uplift about A at g (B + 2e)/H, about A' at -g (B - 2e)/H."""
     block = Block.reference()
     pulse = OneSinePulse.from_nondim(block, beta=3.0, Omega=2.0, psi=psi)
     r = c_backend.simulate(make_problem(block, None, pulse), record=True)

@@ -1,44 +1,34 @@
-"""The C back end: build and cache, the integrator's accuracy, the phase machine, batches, histories.
+"""What only the C back end has: the build and its cache, the library's checks at load, batches, threads,
+the shortcuts of sim.c, the history buffer and the failure of a run.
 
-References are independent of sim.c: analytic uplift times (model.md section
-10 item 2), the exact solution of the damper's linear oscillator in full
-contact (matrix exponential), and SciPy's DOP853 at tight tolerance on the
-generated NumPy functions.
+The rules of docs/simulation.md, on both back ends, are in tests/test_contract.py.
 """
 
 from __future__ import annotations
 
-import ctypes
 import dataclasses
-import math
 import os
 import shlex
 import shutil
 import subprocess
 import sys
 import textwrap
+from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
 import numpy as np
 import pytest
-from scipy.integrate import solve_ivp
-from scipy.linalg import expm
 
-from rocking import Block, Damper, OneSinePulse, load_model
-from rocking.sim import cbuild
+from rocking import Block, Damper, OneSinePulse, ParameterError, load_model
+from rocking.sim import boundary, cbuild
 from rocking.sim import c_backend as cb
+from rocking.sim.cases import Cases, pulse_cases
 from rocking.sim.cbuild import CBuildError
-from rocking.sim.problem import STATUS, make_problem
+from rocking.sim.problem import RESULT_FIELDS, STATUS, make_problem
 
 ROOT = Path(__file__).resolve().parent.parent
 BLOCK = Block.reference()
 DAMPER = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, h=0.05)
-
-pytestmark = pytest.mark.skipif(
-    shutil.which(os.environ.get("CC", "").split()[0] if os.environ.get("CC") else "cc") is None
-    and shutil.which("gcc") is None,
-    reason="no C compiler",
-)
 
 
 def problem(beta, Omega, damper=None, psi=0.0, **settings):
@@ -70,13 +60,15 @@ def test_build_is_cached_and_keyed_by_the_sources(tmp_path, monkeypatch):
     assert cbuild.cache_dir() == tmp_path and cbuild.build(model) == lib
     assert not list(tmp_path.glob("*.tmp")), "a temporary file was left behind"
 
-    # Any change of a source gives a new key, hence a new library.
+    # Any change of a source, the generated boundary.h included, gives a new key, hence a new library.
     csrc = tmp_path / "csrc"
     shutil.copytree(cbuild.CSRC, csrc)
     assert cbuild.build_key(model, csrc=csrc) == cbuild.build_key(model)
-    with open(csrc / "sim.c", "a") as f:
-        f.write("\n/* changed */\n")
-    assert cbuild.build_key(model, csrc=csrc) != cbuild.build_key(model)
+    for name in ("sim.c", "sim.h", "boundary.h"):
+        original = (csrc / name).read_text()
+        (csrc / name).write_text(original + "\n/* changed */\n")
+        assert cbuild.build_key(model, csrc=csrc) != cbuild.build_key(model), name
+        (csrc / name).write_text(original)
     assert cbuild.build_key(load_model("omd")) != cbuild.build_key(model)
 
 
@@ -183,6 +175,11 @@ def test_sim_is_model_independent(tmp_path, n_constants):
     assert proc.returncode == 0, proc.stderr
 
 
+# --------------------------------------------------------------------------- #
+# The library's checks at load                                                 #
+# --------------------------------------------------------------------------- #
+
+
 def test_library_matches_the_model():
     for name in ("omd", "block"):
         assert cb.available(name)
@@ -193,237 +190,76 @@ def test_library_matches_the_model():
             len(model.state),
             len(model.parameters),
         )
+        assert lib.lib.rocking_api_version() == boundary.API_VERSION
 
 
-def test_first_step_rule_is_the_numpy_back_end_s():
-    """docs/simulation.md (Integration): both back ends start a half-cycle after an impact alike."""
-    from rocking.sim import numpy_backend
-
-    fraction = cb.library("omd").lib.rocking_first_step_fraction
-    fraction.restype, fraction.argtypes = ctypes.c_double, []
-    assert fraction() == numpy_backend.FIRST_STEP_FRACTION
-
-
-# --------------------------------------------------------------------------- #
-# The integrator against independent references                               #
-# --------------------------------------------------------------------------- #
+def _swap_lines(text: str, a: str, b: str) -> str:
+    """``text`` with its (single) lines containing ``a`` and ``b`` exchanged."""
+    lines = text.split("\n")
+    (i,) = [k for k, line in enumerate(lines) if a in line]
+    (j,) = [k for k, line in enumerate(lines) if b in line]
+    lines[i], lines[j] = lines[j], lines[i]
+    return "\n".join(lines)
 
 
-def _free_rocking_reference(p, theta0):
-    """First impact of free rocking about A from rest at theta0: DOP853 at rtol 1e-13."""
-    functions = load_model("block").functions
-
-    def rhs(t, y):
-        return [y[1], functions.rocking_accel(1.0, y[0], y[1], 0.0, *p)[0]]
-
-    def impact(t, y):
-        return y[0]
-
-    impact.terminal, impact.direction = True, -1
-    sol = solve_ivp(
-        rhs, (0.0, 10.0), [theta0, 0.0], method="DOP853", rtol=1e-13, atol=1e-15, events=impact, dense_output=True
-    )
-    return sol.t_events[0][0], sol.sol
-
-
-@pytest.mark.parametrize("theta0", [0.05, 0.2])
-def test_free_rocking_first_impact_converges_with_rtol(theta0):
-    errors = {}
-    for rtol in (1e-6, 1e-8, 1e-10):
-        pr = problem(0.0, 1.0, rtol=rtol, max_events=1, t_max=10.0)
-        if rtol == 1e-6:
-            t_ref, dense = _free_rocking_reference(pr.p, theta0)
-        r = cb.simulate(pr, record=True, y0=[theta0, 0.0], phase0=1)
-        assert (r.status, r.impacts, r.uplifts) == ("max_events", 1, 0)
-        errors[rtol] = abs(r.t_end - t_ref)
-        # The recorded samples come from the dense output: as accurate as the steps.
-        h = r.history
-        inside = h["t"] < r.t_end
-        assert np.max(np.abs(h["theta"][inside] - dense(h["t"][inside])[0])) < 100 * rtol * BLOCK.alpha
-        assert r.theta_max == pytest.approx(theta0, abs=1e-15)
-    # Global error proportional to the tolerance: ~100x smaller per 100x smaller rtol.
-    assert errors[1e-8] < 1e-7
-    assert errors[1e-8] < errors[1e-6] / 30 and errors[1e-10] < errors[1e-8] / 30
+#: A change of csrc/boundary.h that the Python tables do not know of, and what the loader must name.
+TAMPERED_HEADERS = {
+    "a constant": (
+        lambda h: h.replace("ROCKING_FIRST_STEP_FRACTION 0.25", "ROCKING_FIRST_STEP_FRACTION 0.3"),
+        "constants",
+    ),
+    "a status code": (lambda h: h.replace("ROCKING_T_MAX = 2,", "ROCKING_T_MAX = 7,"), "constants"),
+    "a phase code": (lambda h: h.replace("ROCKING_PIVOT_A_PRIME = -1,", "ROCKING_PIVOT_A_PRIME = 2,"), "constants"),
+    "rocking_case field order": (
+        lambda h: _swap_lines(h, "double omega_g;", "double psi;"),
+        "rocking_case offsets and size",
+    ),
+    "rocking_case field type": (
+        lambda h: h.replace("int32_t early_rest;", "int64_t early_rest;"),
+        "rocking_case offsets and size",
+    ),
+    "rocking_result field order": (
+        lambda h: _swap_lines(h, "double t_overturn;", "double t_critical;"),
+        "rocking_result offsets and size",
+    ),
+    "the API version": (
+        lambda h: h.replace(f"ROCKING_SIM_API_VERSION {boundary.API_VERSION}", "ROCKING_SIM_API_VERSION 999"),
+        r"\(api, nq, ny, np\) = \(999,",
+    ),
+}
 
 
-def test_contact_phase_damper_matches_the_exact_oscillator():
-    """Below the uplift thresholds the damper is a linear oscillator under -m ag(t): exact by expm."""
-    # early_rest=False: the damper is followed to t_max (no uplift is ever possible here).
-    pr = dataclasses.replace(problem(0.5, 3.0, DAMPER, psi=0.4, rtol=1e-9, t_max=None, t_after=4.0), early_rest=False)
-    r = cb.simulate(pr, record=True)
-    assert r.uplifts == 0 and r.impacts == 0 and r.status == "t_max"
-    h = r.history
-    assert np.all(h["phase"] == 0) and np.all(h["theta"] == 0) and np.all(h["dtheta"] == 0)
+@pytest.fixture(scope="module")
+def tampered_libraries(tmp_path_factory) -> dict:
+    """sim.c of the model "block" built once per change of TAMPERED_HEADERS (in parallel: each is a compiler run)."""
+    model = load_model("block")
 
-    m, k, c = (DAMPER.m, DAMPER.k_m, DAMPER.c)
-    w = pr.omega_g
+    def build(change: str):
+        folder = tmp_path_factory.mktemp("tampered")
+        csrc = folder / "csrc"
+        shutil.copytree(cbuild.CSRC, csrc)
+        header = (csrc / "boundary.h").read_text()
+        tampered = TAMPERED_HEADERS[change][0](header)
+        assert tampered != header, f"{change}: the change did not apply: update this test to the generated header"
+        (csrc / "boundary.h").write_text(tampered)
+        return cbuild.build(model, cache=folder / "cache", csrc=csrc)  # it compiles: only the check can tell
 
-    def system(a):  # z = (x, dx, sin(w t + psi), cos(w t + psi))
-        return np.array([[0, 1, 0, 0], [-k / m, -c / m, -a, 0], [0, 0, 0, w], [0, 0, -w, 0]], dtype=float)
-
-    z0 = np.array([0.0, 0.0, math.sin(pr.psi), math.cos(pr.psi)])
-    z_p = expm(system(pr.a_g) * pr.t_p) @ z0
-    exact = np.array(
-        [expm(system(pr.a_g) * t) @ z0 if t <= pr.t_p else expm(system(0.0) * (t - pr.t_p)) @ z_p for t in h["t"]]
-    )
-    scale = np.max(np.abs(exact[:, 0]))
-    assert np.max(np.abs(h["x"] - exact[:, 0])) < 1e-6 * scale
-    assert np.max(np.abs(h["dx"] - exact[:, 1])) < 1e-6 * scale * DAMPER.omega_m
-
-    # The largest |x| lies between samples: the exact one on a fine grid (error ~ x'' dt^2 / 2).
-    def fine(a, z, duration, dt=1e-4):
-        step, zs = expm(system(a) * dt), [z]
-        for _ in range(int(duration / dt)):
-            zs.append(step @ zs[-1])
-        return np.array(zs)
-
-    x_max = max(np.max(np.abs(fine(pr.a_g, z0, pr.t_p)[:, 0])), np.max(np.abs(fine(0.0, z_p, pr.t_max - pr.t_p)[:, 0])))
-    assert r.x_max == pytest.approx(x_max, rel=1e-6)  # extrema located on the dense output
-    assert r.x_max > scale
+    with ThreadPoolExecutor(max_workers=4) as pool:
+        return dict(zip(TAMPERED_HEADERS, pool.map(build, TAMPERED_HEADERS)))
 
 
-@pytest.mark.parametrize(("beta", "pivot"), [(2.0, 1), (1.0, -1)])
-def test_uplift_time_of_the_bare_block_is_analytic(beta, pivot):
-    pr = problem(beta, 2.0, max_events=1)
-    r = cb.simulate(pr, record=True)
-    assert (r.status, r.uplifts) == ("max_events", 1)
-    g, B, H, e = BLOCK.g, BLOCK.B, BLOCK.H, BLOCK.e
-    if pivot == 1:  # a_g sin(w t) first reaches g (B + 2 e) / H
-        t_up = math.asin(g * (B + 2 * e) / H / pr.a_g) / pr.omega_g
-    else:  # below that, -a_g sin(w t) first reaches g (B - 2 e) / H, in the second half
-        t_up = (math.pi + math.asin(g * (B - 2 * e) / H / pr.a_g)) / pr.omega_g
-    assert r.t_end == pytest.approx(t_up, abs=1e-9)
-    assert r.history["phase"][-1] == pivot and r.history["t"][-1] == r.t_end
-
-
-def test_pulse_starting_above_the_threshold_lifts_at_once():
-    pr = problem(2.0, 2.0, psi=1.2, max_events=1)
-    r = cb.simulate(pr)
-    assert (r.status, r.uplifts, r.t_end) == ("max_events", 1, 0.0)
+@pytest.mark.parametrize("change", list(TAMPERED_HEADERS), ids=list(TAMPERED_HEADERS))
+def test_a_library_whose_layout_or_constants_differ_is_refused(tampered_libraries, change):
+    """sim.c built against a boundary.h that differs from rocking.sim.boundary's tables is refused at load."""
+    path = tampered_libraries[change]
+    with pytest.raises(CBuildError, match=TAMPERED_HEADERS[change][1]) as info:
+        cb._Library(load_model("block"), path)
+    assert str(path) in str(info.value)
 
 
 # --------------------------------------------------------------------------- #
-# The phase machine                                                            #
+# One run: failure and the history buffer                                     #
 # --------------------------------------------------------------------------- #
-
-
-def test_moderate_pulse_rocks_and_comes_to_rest():
-    r = cb.simulate(problem(1.5, 8.0), record=True)
-    assert r.status == "rest" and not r.overturned and math.isnan(r.t_overturn)
-    assert r.uplifts >= 1 and r.impacts > 5
-    assert 0 < r.theta_max < BLOCK.alpha and math.isnan(r.t_critical)
-    h = r.history
-    assert h["phase"][-1] == 0 and h["t"][-1] == r.t_end
-    # Every impact is recorded before and after, at one instant: a pivot change or rest.
-    same_t = np.flatnonzero(np.diff(h["t"]) == 0)
-    impacts = [i for i in same_t if h["phase"][i] != 0]
-    assert len(impacts) == r.impacts
-    for i in impacts:
-        assert h["theta"][i] == 0 and h["theta"][i + 1] == 0
-        assert h["phase"][i + 1] in (0, -h["phase"][i])
-        assert abs(h["dtheta"][i + 1]) < abs(h["dtheta"][i])  # the impact dissipates
-    # The last impact was slower than dtheta_rest: full contact with dtheta = 0.
-    last = impacts[-1]
-    assert h["phase"][last + 1] == 0 and h["dtheta"][last + 1] == 0
-
-
-def test_damped_damper_reaches_rest_by_energy():
-    damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.3, h=0.05)
-    pr = dataclasses.replace(problem(1.5, 4.0, damper), early_rest=False)  # energy_rest alone
-    r = cb.simulate(pr, record=True)
-    assert r.status == "rest" and r.t_end < pr.t_max and r.t_end > pr.t_p
-    model = pr.model
-    y_end = np.array([r.history[name][-1] for name in model.state])
-    energy = model.call("energy", 1.0, y_end, 0.0, pr.p) - model.call("energy", 1.0, np.zeros(4), 0.0, pr.p)
-    # The rest event is located: the energy above rest is at the threshold, not below it by a step.
-    assert energy == pytest.approx(pr.energy_rest, rel=1e-6)
-    assert r.x_max > 0
-
-
-def test_early_rest_ends_a_safe_run_at_the_damper_s_next_extremum():
-    """docs/simulation.md rule 4: below the uplift energy after the pulse, the run ends at the next extremum of x."""
-    pr = problem(0.5, 3.0, DAMPER, rtol=1e-9, t_max=None, t_after=4.0)  # below both uplift thresholds
-    early = cb.simulate(pr, record=True)
-    full = cb.simulate(dataclasses.replace(pr, early_rest=False))
-    assert (early.status, full.status) == ("rest", "t_max")
-    # Safe from the pulse's end on: the run ends within half a damped period of the damper.
-    wd = DAMPER.omega_m * math.sqrt(1 - DAMPER.zeta**2)
-    assert pr.t_p < early.t_end < pr.t_p + math.pi / wd
-    # ... at an extremum of x, which here is the largest |x| of the whole run (settling matters).
-    h = early.history
-    assert h["t"][-1] == early.t_end and h["phase"][-1] == 0
-    assert abs(h["dx"][-1]) < 1e-9 * DAMPER.omega_m * early.x_max
-    assert abs(h["x"][-1]) == pytest.approx(early.x_max, rel=1e-12)
-    assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
-    assert (early.theta_max, early.uplifts, early.impacts) == (full.theta_max, full.uplifts, full.impacts) == (0, 0, 0)
-
-
-def test_early_rest_after_rocking_keeps_the_verdict_and_the_maxima():
-    damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.1, h=0.05)
-    pr = problem(1.5, 4.0, damper)
-    early = cb.simulate(pr, record=True)
-    full = cb.simulate(dataclasses.replace(pr, early_rest=False))
-    assert early.status == "rest" and early.impacts > 0 and early.t_end < full.t_end
-    assert abs(early.history["dx"][-1]) < 1e-9 * damper.omega_m * early.x_max
-    for name in ("overturned", "theta_max", "t_critical", "impacts", "uplifts"):
-        assert same(getattr(early, name), getattr(full, name)), name
-    assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
-
-
-def test_strong_pulse_overturns():
-    r = cb.simulate(problem(3.0, 2.0, DAMPER), record=True)
-    assert r.status == "overturned" and r.overturned
-    assert r.t_end == r.t_overturn and r.t_critical < r.t_overturn
-    assert r.theta_max == pytest.approx(math.pi / 2, abs=1e-12)
-    assert abs(r.history["theta"][-1]) == pytest.approx(math.pi / 2, abs=1e-12)
-
-
-def test_max_events_ends_the_run():
-    r = cb.simulate(problem(1.5, 8.0, max_events=3))
-    assert r.status == "max_events" and r.uplifts + r.impacts == 3
-
-
-def test_t_max_ends_the_run():
-    pr = problem(1.5, 8.0, DAMPER, t_max=2.0)
-    r = cb.simulate(pr)
-    assert r.status == "t_max" and r.t_end == 2.0
-
-
-def test_mirror_symmetry():
-    """(e, x, theta, ag) -> (-e, -x, -theta, -ag) maps solutions onto solutions (model.md 10.6)."""
-    pr = problem(2.5, 5.0, DAMPER, t_max=None, t_after=5.0)
-    p = pr.p.copy()
-    p[list(pr.model.parameters).index("e")] *= -1
-    mirror = dataclasses.replace(pr, p=p, a_g=-pr.a_g)
-    a, b = cb.simulate(pr, record=True), cb.simulate(mirror, record=True)
-    assert (a.status, a.impacts, a.uplifts) == (b.status, b.impacts, b.uplifts)
-    assert a.theta_max == pytest.approx(b.theta_max, rel=1e-6)
-    assert a.x_max == pytest.approx(b.x_max, rel=1e-6)
-    flips = {(pa, pb) for pa, pb in zip(a.history["phase"], b.history["phase"])}
-    assert flips <= {(0, 0), (1, -1), (-1, 1)}
-
-
-def test_invalid_initial_state():
-    pr = problem(0.0, 1.0)
-    with pytest.raises(ValueError, match="initial state"):
-        cb.simulate(pr, y0=[0.1, 0.0], phase0=0)
-    with pytest.raises(ValueError, match="initial state"):
-        cb.simulate(pr, y0=[0.1, 0.0], phase0=-1)
-    with pytest.raises(ValueError, match="y0 must hold 2"):
-        cb.simulate(pr, y0=[0.1], phase0=1)
-
-
-def test_settings_that_would_never_end_are_refused():
-    pr = problem(2.0, 2.0, DAMPER)
-    for change, message in [
-        ({"contact_max_step": 0.0}, "contact_max_step must be finite and > 0"),
-        ({"t_max": math.inf}, "t_max must be finite"),
-        ({"rtol": 0.0}, "rtol must be"),
-        ({"atol": -pr.atol}, "atol must be"),
-        ({"energy_rest": -1.0}, "energy_rest must be finite and >= 0"),
-    ]:
-        with pytest.raises(ValueError, match=message):
-            cb.simulate(dataclasses.replace(pr, **change))
 
 
 def test_non_finite_input_fails_cleanly():
@@ -432,38 +268,20 @@ def test_non_finite_input_fails_cleanly():
     p[list(pr.model.parameters).index("m")] = np.nan
     with pytest.raises(cb.SimulationError, match="failed"):
         cb.simulate(dataclasses.replace(pr, p=p))
+    with pytest.raises(cb.SimulationError, match="failed on 1 of 2 runs"):
+        cb.simulate_cases(Cases.of([pr, dataclasses.replace(pr, p=p)]), threads=1)
 
 
-# --------------------------------------------------------------------------- #
-# History                                                                      #
-# --------------------------------------------------------------------------- #
-
-
-def test_history_layout_and_buffer_retry(monkeypatch):
+def test_history_buffer_too_small_is_retried(monkeypatch):
+    """Too small a first buffer: the run is repeated with the size it reported, same history."""
     pr = problem(2.0, 6.0, DAMPER, t_max=None, t_after=3.0)
     r = cb.simulate(pr, record=True)
-    h = r.history
-    assert list(h) == ["t", *pr.model.state, "phase", "ag"]
-    n = len(h["t"])
-    assert all(len(v) == n for v in h.values()) and n > pr.t_max / pr.record_dt
-    assert h["t"][0] == 0.0 and h["t"][-1] == r.t_end
-    assert np.all(np.diff(h["t"]) >= 0)
-    assert set(np.unique(h["phase"])) <= {-1, 0, 1}
-    assert np.array_equal(h["ag"], pr.ground_acceleration(h["t"]))
-    assert pr.t_p in h["t"]  # the pulse's end is a breakpoint
-    assert r.impacts > 0 and r.status == "t_max"
-    events = np.flatnonzero(np.diff(h["t"]) == 0)  # impacts: before and after at one instant
-    assert len(events) >= r.impacts + r.uplifts
-    grid = h["t"][(h["t"] > 0) & (np.abs(h["t"] / pr.record_dt - np.round(h["t"] / pr.record_dt)) < 1e-9)]
-    assert len(grid) >= int(pr.t_max / pr.record_dt) - 1
-
-    # Too small a first buffer: the run is repeated with the size it reported.
     monkeypatch.setattr(cb, "_history_capacity", lambda problem: 7)
     again = cb.simulate(pr, record=True)
+    assert len(r.history["t"]) > 7
     assert again.summary() == r.summary()
-    assert all(same(again.history[k], h[k]) for k in h)
-    no_history = cb.simulate(pr)
-    assert no_history.history is None and no_history.summary() == r.summary()
+    assert list(again.history) == list(r.history)
+    assert all(same(again.history[k], r.history[k]) for k in r.history)
 
 
 # --------------------------------------------------------------------------- #
@@ -471,31 +289,74 @@ def test_history_layout_and_buffer_retry(monkeypatch):
 # --------------------------------------------------------------------------- #
 
 
-def _map(n_omega, n_beta, damper=DAMPER):
+def _map(n_omega, n_beta, damper=DAMPER, **settings):
     grid = [(beta, Omega) for Omega in np.linspace(1, 10, n_omega) for beta in np.linspace(1, 10, n_beta)]
-    return [problem(beta, Omega, damper) for beta, Omega in grid]
+    return [problem(beta, Omega, damper, **settings) for beta, Omega in grid]
 
 
-def test_batch_equals_single_runs():
-    problems = _map(4, 5) + [problem(1.5, 8.0, DAMPER, psi=0.5), problem(0.5, 3.0, DAMPER)]
-    batch = cb.simulate_batch(**cb.batch_arguments(problems), threads=1)
-    assert set(batch) == set(cb.RESULT_FIELDS)
-    assert batch["overturned"].dtype == bool and batch["status"].dtype == np.int64
-    assert len(set(batch["status"].tolist())) >= 2  # the map holds different outcomes
+def _assert_batch_is_single_runs(batch: dict, problems) -> None:
+    assert set(batch) == set(RESULT_FIELDS)
     for i, pr in enumerate(problems):
         r = cb.simulate(pr)
-        for name in cb.RESULT_FIELDS:
+        for name in RESULT_FIELDS:
             expected = STATUS.index(r.status) if name == "status" else getattr(r, name)
             assert same(batch[name][i], expected), (i, name)
 
 
+def test_batch_equals_single_runs():
+    """simulate_cases(Cases.of(problems)) gives each problem's simulate(), bit for bit, whatever differs per case."""
+    problems = _map(4, 5) + [
+        problem(1.5, 8.0, DAMPER, psi=0.5, rtol=1e-6),
+        problem(0.5, 3.0, DAMPER, max_events=3),
+        dataclasses.replace(problem(0.5, 3.0, DAMPER), early_rest=False),
+        dataclasses.replace(problem(1.5, 4.0, DAMPER), early_rest=False, dtheta_rest=0.0),
+        problem(2.5, 5.0, DAMPER, t_max=2.0, record_dt=0.5),
+    ]
+    batch = cb.simulate_cases(Cases.of(problems), threads=1)
+    assert batch["overturned"].dtype == bool and batch["status"].dtype == np.int64
+    assert len(set(batch["status"].tolist())) >= 3  # the map holds different outcomes
+    _assert_batch_is_single_runs(batch, problems)
+    # Without the early rest a run ends no sooner, with the same verdict.
+    early = cb.simulate_cases(Cases.of(dataclasses.replace(pr, early_rest=True) for pr in problems), threads=1)
+    assert np.all(batch["t_end"] >= early["t_end"]) and np.any(batch["t_end"] > early["t_end"])
+    assert same(batch["overturned"], early["overturned"])
+
+
+def test_batch_of_the_bare_block():
+    problems = _map(3, 3, damper=None)
+    cases = Cases.of(problems)
+    assert cases.model.name == "block" and len(cases) == 9
+    _assert_batch_is_single_runs(cb.simulate_cases(cases, threads=2), problems)
+
+
+def test_pulse_cases_are_the_problems_of_make_problem():
+    """pulse_cases builds, without a Problem per case, the cases of make_problem: same results."""
+    Omega, beta = np.meshgrid([2.0, 5.0], [1.5, 3.0, 6.0])
+    cases = pulse_cases(BLOCK, Omega, beta, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    problems = [problem(b, o, DAMPER) for o, b in zip(Omega.ravel(), beta.ravel())]
+    _assert_batch_is_single_runs(cb.simulate_cases(cases, threads=1), problems)
+
+
 def test_threads_give_identical_results():
-    args = cb.batch_arguments(_map(6, 5))
-    one = cb.simulate_batch(**args, threads=1)
-    three = cb.simulate_batch(**args, threads=3)
-    default = cb.simulate_batch(**args)
-    for name in cb.RESULT_FIELDS:
+    cases = Cases.of(_map(6, 5))
+    one = cb.simulate_cases(cases, threads=1)
+    three = cb.simulate_cases(cases, threads=3)
+    default = cb.simulate_cases(cases)
+    for name in RESULT_FIELDS:
         assert same(one[name], three[name]) and same(one[name], default[name])
+
+
+def test_settings_shared_by_every_case_may_be_given_once():
+    cases = Cases.of(_map(3, 3, damper=None))
+    full = cb.simulate_cases(cases, threads=1)
+    settings = dict(cases.settings)
+    settings.update(atol=settings["atol"][0], dtheta_rest=float(settings["dtheta_rest"][0]), rtol=1e-8)
+    del settings["early_rest"]  # a field with a default may be left out
+    shared = Cases(cases.model, cases.p, settings)
+    assert shared.settings["atol"].shape == (9, 2) and np.all(shared.settings["early_rest"] == 1)
+    again = cb.simulate_cases(shared, threads=2)
+    for name in RESULT_FIELDS:
+        assert same(full[name], again[name]), name
 
 
 def test_shortcuts_change_no_result(tmp_path, monkeypatch):
@@ -513,60 +374,51 @@ def test_shortcuts_change_no_result(tmp_path, monkeypatch):
         for beta in (1.5, 2.5, 4.0)
         for psi in (0.0, 2.0)
     ]
-    args = cb.batch_arguments(problems)
-    fast = cb.simulate_batch(**args, threads=1)
+    cases = Cases.of(problems)
+    fast = cb.simulate_cases(cases, threads=1)
     monkeypatch.setenv("CC", shlex.join([*cbuild.compiler(), "-DROCKING_NO_SHORTCUTS"]))
     model = load_model("omd")
     monkeypatch.setitem(
         cb._LIBRARIES, (model.folder, model.c_prefix), cb._Library(model, cbuild.build(model, cache=tmp_path))
     )
-    plain = cb.simulate_batch(**args, threads=1)
+    plain = cb.simulate_cases(cases, threads=1)
     assert np.any(fast["overturned"]) and not np.all(fast["overturned"]) and np.any(np.isfinite(fast["t_critical"]))
-    for name in cb.RESULT_FIELDS:
+    for name in RESULT_FIELDS:
         assert same(fast[name], plain[name]), name
 
 
-def test_batch_of_the_bare_block_and_broadcasting():
-    problems = _map(3, 3, damper=None)
-    args = cb.batch_arguments(problems)
-    assert args["model"].name == "block"
-    full = cb.simulate_batch(**args, threads=1)
-    # Rows and values shared by every run may be given once.
-    args.update(p=args["p"][0], atol=args["atol"][0], dtheta_rest=float(args["dtheta_rest"][0]))
-    shared = cb.simulate_batch(**args, threads=2)
-    for name in cb.RESULT_FIELDS:
-        assert same(full[name], shared[name])
-
-
-def test_batch_argument_errors():
-    args = cb.batch_arguments(_map(2, 2))
-    with pytest.raises(ValueError, match="p must have shape"):
-        cb.simulate_batch(**{**args, "p": args["p"][:, :3]})
-    with pytest.raises(ValueError, match="different lengths"):
-        cb.simulate_batch(**{**args, "a_g": args["a_g"][:3]})
-    with pytest.raises(ValueError, match="contact_max_step must be finite and > 0"):
-        cb.simulate_batch(**{**args, "contact_max_step": np.zeros(4)})
-    with pytest.raises(ValueError, match="max_events"):
-        cb.simulate_batch(**{**args, "max_events": 0})
+def test_cases_errors():
+    problems = _map(2, 2)
+    cases = Cases.of(problems)
+    with pytest.raises(ParameterError, match="no problems given"):
+        Cases.of([])
+    with pytest.raises(ParameterError, match="one model"):
+        Cases.of([problem(2, 2, DAMPER), problem(2, 2)])
+    with pytest.raises(ParameterError, match="from rest: y0 must be None"):
+        Cases.of([problem(2, 2, DAMPER), problem(2, 2, DAMPER, y0=[0.0, 0.1, 0.0, 0.0])])
+    with pytest.raises(ParameterError, match="the setting a_g is missing"):
+        Cases(cases.model, cases.p, {k: v for k, v in cases.settings.items() if k != "a_g"})
+    with pytest.raises(ParameterError, match="unknown setting"):
+        Cases(cases.model, cases.p, {**cases.settings, "y0": np.zeros((4, 4))})
+    with pytest.raises(ParameterError, match=r"a_g must broadcast to shape \(4,\)"):
+        Cases(cases.model, cases.p, {**cases.settings, "a_g": cases.settings["a_g"][:3]})
+    # The checks of the table, with the same messages as a Problem's.
+    with pytest.raises(ParameterError, match=r"contact_max_step must be finite and > 0 \(got 0\)"):
+        Cases(cases.model, cases.p, {**cases.settings, "contact_max_step": np.zeros(4)})
+    with pytest.raises(ParameterError, match=r"max_events must be an integer >= 1 \(got 0\)"):
+        Cases(cases.model, cases.p, {**cases.settings, "max_events": 0})
+    with pytest.raises(ParameterError, match=r"t_max must be finite and > 0 \(got inf\)"):
+        Cases(cases.model, cases.p, {**cases.settings, "t_max": np.inf})
+    with pytest.raises(ParameterError, match="atol must be finite and >= 0"):
+        Cases(cases.model, cases.p, {**cases.settings, "atol": -cases.settings["atol"]})
     with pytest.raises(ValueError, match="threads"):
-        cb.simulate_batch(**args, threads=0)
-    with pytest.raises(ValueError, match="one rtol"):
-        cb.batch_arguments([problem(2, 2, DAMPER), problem(2, 2, DAMPER, rtol=1e-6)])
-    with pytest.raises(ValueError, match="one model"):
-        cb.batch_arguments([problem(2, 2, DAMPER), problem(2, 2)])
-    with pytest.raises(ValueError, match="one early_rest"):
-        cb.batch_arguments([problem(2, 2, DAMPER), dataclasses.replace(problem(2, 2, DAMPER), early_rest=False)])
+        cb.simulate_cases(cases, threads=0)
 
 
-def test_batch_without_early_rest_equals_single_runs():
-    problems = [dataclasses.replace(pr, early_rest=False) for pr in _map(3, 3) + [problem(0.5, 3.0, DAMPER)]]
-    args = cb.batch_arguments(problems)
-    assert args["early_rest"] is False
-    batch = cb.simulate_batch(**args, threads=1)
-    early = cb.simulate_batch(**{**args, "early_rest": True}, threads=1)
-    assert np.all(batch["t_end"] >= early["t_end"]) and np.any(batch["t_end"] > early["t_end"])
-    for i, pr in enumerate(problems):
-        r = cb.simulate(pr)
-        for name in cb.RESULT_FIELDS:
-            expected = STATUS.index(r.status) if name == "status" else getattr(r, name)
-            assert same(batch[name][i], expected), (i, name)
+def test_cases_refuse_parameters_of_the_wrong_length():
+    """p must hold one value per model parameter in every row: sim.c reads model_np() of them per case."""
+    cases = Cases.of(_map(2, 2))
+    with pytest.raises(ParameterError, match=r"\bp\b"):
+        Cases(cases.model, cases.p[:, :3], cases.settings)
+    with pytest.raises(ParameterError, match=r"\bp\b"):
+        Cases(cases.model, np.hstack([cases.p, cases.p]), cases.settings)

@@ -1,12 +1,178 @@
-"""The command line: simulate (summary, JSON, figure), verify, and clear errors."""
+"""The command line: the same objects and results as the Python API, one flag style, plain help texts."""
 
 from __future__ import annotations
 
+import argparse
 import json
+import re
+import subprocess
+import sys
 
+import numpy as np
 import pytest
 
-from rocking.cli.main import main
+import rocking
+from rocking import Block, Damper, Execution, Grid, OneSinePulse, Setting, Tuning, overturning_map
+from rocking.cli.main import build_parser, main
+from rocking.cli.options import block_from
+from rocking.cli.study import setting_from, tuning_from
+
+
+def parsers(parser: argparse.ArgumentParser | None = None, name: str = "rocking"):
+    """Every parser of the command, with its name: rocking and each subcommand (argparse keeps them in _actions)."""
+    parser = parser or build_parser()
+    yield name, parser
+    for action in parser._actions:
+        if isinstance(action, argparse._SubParsersAction):
+            for sub_name, sub in action.choices.items():
+                yield from parsers(sub, f"{name} {sub_name}")
+
+
+def long_flags():
+    for name, parser in parsers():
+        for action in parser._actions:
+            for option in action.option_strings:
+                if option.startswith("--"):
+                    yield name, option, action
+
+
+# --- the same as Python ---------------------------------------------------------------------------
+
+
+def test_simulate_with_only_H_B_M_is_rocking_simulate_of_the_same_block(capsys):
+    """e and h not given: the Python defaults (0), not the reference block's (the 344 differing verdicts)."""
+    argv = ["simulate", "--H", "1.8", "--B", "0.45", "--M", "300", "--gamma", "0.05", "--omega-ratio", "1"]
+    assert main([*argv, "--beta", "3", "--Omega", "4", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+
+    block = Block(H=1.8, B=0.45, M=300)
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1)
+    response = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
+    assert out["block"] == block.as_params() and out["block"]["e"] == 0.0
+    assert out["damper"] == damper.as_params() and out["damper"]["h"] == 0.0
+    # Through JSON on both sides: nan and inf compare as text.
+    assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(response.summary(), sort_keys=True)
+
+
+@pytest.mark.parametrize(
+    "block_options, block, damper_options, tuning",
+    [
+        (["--H", "1.8", "--B", "0.45", "--M", "300"], Block(H=1.8, B=0.45, M=300), ["--gamma", "0.05"], Tuning(0.05)),
+        (
+            ["--block", "reference"],
+            Block.reference(),
+            ["--gamma", "0.1", "--Tm-ratio", "0.8", "--zeta", "0.1", "--h", "0"],
+            Tuning(0.1, omega_ratio=1 / 0.8, zeta=0.1, h=0.0),
+        ),
+    ],
+)
+def test_map_gives_the_arrays_of_the_python_study_api(block_options, block, damper_options, tuning, tmp_path, capsys):
+    grids = ["--Omega", "1", "8", "5", "--beta", "1", "8", "6"]
+    run = ["--workers", "1", "--no-progress", "--out", str(tmp_path / "cli")]
+    assert main(["map", *block_options, *damper_options, *grids, *run]) == 0
+    capsys.readouterr()
+
+    study = overturning_map(
+        Setting(block),
+        tuning,
+        Grid("Omega", 1.0, 8.0, 5),
+        Grid("beta", 1.0, 8.0, 6),
+        Execution(workers=1, progress=False),
+        runs=tmp_path / "python",  # its own tiles: computed again, not read back from the command's
+    )
+    with np.load(tmp_path / "cli" / "map.npz") as saved:
+        assert set(saved.files) == set(study.arrays)
+        for name in saved.files:
+            assert np.array_equal(saved[name], study.arrays[name]), name
+    config = json.loads((tmp_path / "cli" / "map.json").read_text())["config"]
+    assert config["block"] == block.as_params() and config["damper"] == tuning.record()
+    assert config == study.config
+    assert study.arrays["bare_overturned"].any()  # not a vacuous comparison
+
+
+def test_omitted_options_are_the_python_defaults():
+    parser = build_parser()
+    args = parser.parse_args(["map"])
+    assert setting_from(args) == Setting(Block.reference())  # the named default block, stated in the help
+    assert tuning_from(args) == Tuning()
+    args = parser.parse_args(["simulate", "--H", "1.8", "--B", "0.45", "--M", "300"])
+    assert block_from(args) == Block(H=1.8, B=0.45, M=300)
+    args = parser.parse_args(["simulate", "--p", "3", "--lam", "4"])
+    assert block_from(args) == Block.from_nondim(p=3, lam=4)
+    args = parser.parse_args(["simulate", "--block", "reference"])
+    assert block_from(args) == Block.reference()
+
+
+@pytest.mark.parametrize("command", ["simulate", "map", "spectrum", "optimize", "demo"])
+def test_every_block_command_says_which_block_it_uses(command):
+    text = dict(parsers())[f"rocking {command}"].format_help()
+    assert "--block reference" in " ".join(text.split())
+
+
+# --- one flag style, plain help texts, --version ---------------------------------------------------
+
+#: Flags that keep the case of their docs/model.md symbol, and the Python parameter each one is.
+SYMBOL_FLAGS = {
+    "--H": (Block, "H"),
+    "--B": (Block, "B"),
+    "--M": (Block, "M"),
+    "--Omega": (OneSinePulse.from_nondim, "Omega"),
+    "--T-m": (Damper.from_nondim, "T_m"),
+    "--Tm-ratio": (Tuning, "Tm_ratio"),
+}
+
+
+def test_one_flag_style():
+    """Flag = Python name with - for _; lower case but for the symbols of docs/model.md."""
+    import inspect
+
+    for name, option, action in long_flags():
+        assert re.fullmatch(r"--[A-Za-z][A-Za-z0-9]*(-[A-Za-z0-9]+)*", option), (name, option)
+        if option in ("--help", "--version"):
+            continue
+        assert action.dest == option[2:].replace("-", "_"), (name, option)
+        if option != option.lower():
+            assert option in SYMBOL_FLAGS, (name, option)
+    for func, attribute in SYMBOL_FLAGS.values():
+        assert attribute in inspect.signature(func).parameters or hasattr(func, attribute)
+
+
+@pytest.mark.parametrize(
+    "argv",
+    [
+        ["simulate", "--k_m", "1"],
+        ["simulate", "--T_m", "1"],
+        ["optimize", "--Tm-range", "0.1", "10", "5"],
+        ["map", "--gam", "0.05"],  # abbreviations are refused: one spelling per flag
+        ["simulate", "--omega", "1"],
+    ],
+)
+def test_old_and_abbreviated_flags_are_refused(argv, capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(argv)
+    assert exc.value.code == 2 and "unrecognized arguments" in capsys.readouterr().err
+
+
+def test_help_texts_have_no_rst_markup():
+    markup = re.compile(r"``|`|:(func|class|mod|meth|data|attr):")
+    for name, parser in parsers():
+        text = parser.format_help()
+        assert not markup.search(text), (name, markup.search(text).group())
+
+
+def test_version(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["--version"])
+    assert exc.value.code == 0
+    assert capsys.readouterr().out.strip() == f"rocking {rocking.__version__}"
+
+
+def test_python_dash_m_rocking_runs_the_command_line():
+    done = subprocess.run([sys.executable, "-m", "rocking", "--version"], capture_output=True, text=True, check=True)
+    assert done.stdout.strip() == f"rocking {rocking.__version__}"
+
+
+# --- simulate, verify, derive ----------------------------------------------------------------------
 
 
 def test_simulate_json_with_and_without_damper(capsys):
@@ -26,27 +192,8 @@ def test_simulate_json_with_and_without_damper(capsys):
 
 def test_simulate_summary_and_plot(tmp_path, capsys):
     fig = tmp_path / "response.png"
-    code = main(
-        [
-            "simulate",
-            "--H",
-            "2",
-            "--B",
-            "0.5",
-            "--gamma",
-            "0.05",
-            "--T_m",
-            "2",
-            "--beta",
-            "3",
-            "--Omega",
-            "2",
-            "--compare",
-            "--plot",
-            str(fig),
-        ]
-    )
-    assert code == 0
+    argv = ["simulate", "--H", "2", "--B", "0.5", "--M", "1000", "--gamma", "0.05", "--T-m", "2"]
+    assert main([*argv, "--beta", "3", "--Omega", "2", "--compare", "--plot", str(fig)]) == 0
     text = capsys.readouterr().out
     assert "with damper:" in text and "block alone:" in text
     assert fig.stat().st_size > 10_000
@@ -55,20 +202,41 @@ def test_simulate_summary_and_plot(tmp_path, capsys):
 @pytest.mark.parametrize(
     "argv, message",
     [
-        (["simulate", "--beta", "2"], "a pulse is needed"),
-        (["simulate", "--H", "-2", "--B", "0.5", "--beta", "2", "--Omega", "2"], "H must be"),
+        (["simulate", "--beta", "2"], "a pulse needs --Omega"),
+        (["simulate", "--H", "-2", "--B", "0.5", "--M", "1", "--beta", "2", "--Omega", "2"], "H must be"),
+        (["simulate", "--H", "2", "--B", "0.5", "--beta", "2", "--Omega", "2"], "needs --M"),
+        (["simulate", "--block", "reference", "--e", "0", "--beta", "2", "--Omega", "2"], "not both"),
         (["simulate", "--beta", "2", "--Omega", "0"], "Omega"),
         (["simulate", "--gamma", "0.05", "--beta", "2", "--Omega", "2"], "T_m"),
+        (["simulate", "--m", "5", "--beta", "2", "--Omega", "2"], "needs --k-m"),
+        (["simulate", "--m", "5", "--k-m", "9", "--gamma", "0.1", "--beta", "2", "--Omega", "2"], "not both"),
+        (["simulate", "--h", "0.05", "--beta", "2", "--Omega", "2"], "--h is the damper's guide height"),
         (["simulate", "--beta", "2", "--Omega", "2", "--rtol", "0.5"], "rtol must be in"),
     ],
 )
 def test_simulate_bad_input_names_the_parameter(argv, message, capsys):
     assert main(argv) == 2
     err = capsys.readouterr().err
-    assert "rocking: error:" in err and message in err
+    assert err.startswith("rocking simulate: error:") and message in err and "Traceback" not in err
 
 
 def test_verify_command_reports_agreement(capsys):
     assert main(["verify", "--cases", "200"]) == 0
     out = capsys.readouterr().out
     assert "model omd" in out and "model block" in out and "22 passed, 0 failed" in out
+
+
+def test_derive_is_the_derive_packages_command_line(capsys):
+    with pytest.raises(SystemExit) as exc:
+        main(["derive", "--help"])
+    assert exc.value.code == 0 and "--variant" in capsys.readouterr().out
+    assert main(["derive", "--check", "--variant", "block"]) == 0
+
+
+def test_derive_without_sympy_says_how_to_install_it():
+    # A fresh interpreter in which SymPy cannot be imported (None in sys.modules blocks it).
+    code = "import sys; sys.modules['sympy'] = None; from rocking.cli.main import main; sys.exit(main(['derive']))"
+    done = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True)
+    assert done.returncode == 1 and done.stdout == ""
+    lines = done.stderr.strip().splitlines()
+    assert len(lines) == 1 and 'pip install "rocking[derive]"' in lines[0] and "sympy" in lines[0]

@@ -8,10 +8,10 @@ import numpy as np
 import pytest
 
 from rocking import Block
-from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.cli.study import add_study_commands
 from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.overturning_map import overturning_map
+from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.storage import load
 from rocking.study.tiles import Execution
 

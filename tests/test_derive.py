@@ -5,18 +5,35 @@ from __future__ import annotations
 import importlib.util
 import json
 import os
+import re
+import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import numpy as np
 import pytest
 import sympy
 
-from rocking.derive.build import GENERATED, build, stale_files
-from rocking.derive.codegen import NumpyGenerator, hoist_constants
+import rocking.generated
+from rocking.derive.build import GENERATED, build, package_init_is_stale, stale_files
+from rocking.derive.cli import main
+from rocking.derive.codegen import MANIFEST_FORMAT, NumpyGenerator, hoist_constants, model_context
 from rocking.derive.equations import derive
-from rocking.derive.spec import SpecError, parse_spec, registered_variants, variant_spec
+from rocking.derive.spec import (
+    BLOCK_PARAMETERS,
+    VARIANTS_DIR,
+    SpecError,
+    parse_spec,
+    registered_variants,
+    variant_spec,
+)
 from rocking.reference import paper
+
+try:
+    import tomllib
+except ModuleNotFoundError:  # Python 3.10
+    import tomli as tomllib
 
 ROOT = GENERATED.parent
 
@@ -32,12 +49,42 @@ def test_generated_folder_is_fresh():
         assert stale_files(build(variant_spec(name)), GENERATED / name) == [], (
             f"generated/{name} is stale: run `make derive`"
         )
+    assert not package_init_is_stale(), "generated/__init__.py is stale: run `make derive`"
+
+
+def test_generated_package_declares_the_manifest_format_and_the_block_parameters():
+    """The runtime reads the format and the block's parameters from generated/, not from derive."""
+    assert rocking.generated.MANIFEST_FORMAT == MANIFEST_FORMAT
+    block = [p[0] for p in BLOCK_PARAMETERS]
+    for name in registered_variants():
+        manifest = json.loads((GENERATED / name / "manifest.json").read_text())
+        assert manifest["format"] == MANIFEST_FORMAT
+        assert manifest["block_parameters"] == block == [p["name"] for p in manifest["parameters"]][:6]
+    spec = variant_spec("omd")
+    homogeneous = model_context(derive(spec, {"inertia": "homogeneous"}), spec)
+    assert homogeneous.block_parameters == ("M", "B", "H", "e", "g")
+
+
+@pytest.mark.parametrize("name", ["block", "omd", "pendulum", "omd2"])
+def test_every_file_follows_the_one_table_of_functions(name):
+    """model.py, the C header and source, EQUATIONS.md and manifest.json hold the same functions,
+    in the same order (the manifest's keys are sorted)."""
+    folder = GENERATED / name
+    manifest = json.loads((folder / "manifest.json").read_text())
+    python = re.findall(r"^def ([a-z]\w*)\(", (folder / "model.py").read_text(), re.M)
+    header = re.findall(rf"^\w+ {name}_(\w+)\(double s, const double \*y,", (folder / f"{name}.h").read_text(), re.M)
+    source = re.findall(rf"^\w+ {name}_(\w+)\(double s, const double \*y,", (folder / f"{name}.c").read_text(), re.M)
+    latex = re.findall(r"^## `(\w+)`$", (folder / "EQUATIONS.md").read_text(), re.M)
+    assert python == header == source == latex and len(python) == 11
+    assert sorted(python) == sorted(manifest["functions"]) == list(manifest["functions"])
 
 
 def test_derive_is_byte_identical_across_processes():
     """A second run of the derivation in a new process, with another hash seed, changes nothing."""
     env = dict(os.environ, PYTHONHASHSEED="12345")
-    run = subprocess.run([sys.executable, "-m", "rocking.derive", "--check"], cwd=ROOT, env=env, capture_output=True, text=True)
+    run = subprocess.run(
+        [sys.executable, "-m", "rocking.derive", "--check"], cwd=ROOT, env=env, capture_output=True, text=True
+    )
     assert run.returncode == 0, run.stdout + run.stderr
     assert "up to date" in run.stdout
 
@@ -45,7 +92,7 @@ def test_derive_is_byte_identical_across_processes():
 def _numpy_module(spec, options):
     """Derive ``spec`` with ``options`` in memory and import its NumPy module."""
     eq = derive(spec, options)
-    text = NumpyGenerator(eq, spec).files()["model.py"]
+    text = NumpyGenerator(model_context(eq, spec)).files()["model.py"]
     module_spec = importlib.util.spec_from_loader("alt_model", loader=None)
     module = importlib.util.module_from_spec(module_spec)
     exec(compile(text, "alt_model", "exec"), module.__dict__)
@@ -125,11 +172,44 @@ def _with(**changes):
         (_with(parameters={"m": {}, "k": {}, "B": {}}), "'B' is reserved"),
         (_with(parameters={"m": {}, "k": {}, "cst0": {}}), "'cst0': names cse<digits> and cst<digits>"),
         (_with(colour="red"), "unknown key\\(s\\) colour"),
+        (_with(name="2probe"), "name must be an identifier, got '2probe'"),
+        ({k: v for k, v in BASE.items() if k != "name"}, "spec: missing required key 'name'"),
+        (_with(coordinates=["x", "m"]), "a name is declared twice"),
+        (_with(parameters={"m": {}, "k": {}, "bad name": {}}), "'bad name' is not a valid symbol name"),
+        (_with(parameters={"m": {"colour": "red"}, "k": {}}), "parameters.m: unknown key\\(s\\) colour"),
+        (_with(bodies=[{"name": "mass", "mass": "m"}]), "body 'mass': missing required key 'position'"),
+        (_with(bodies=[{"name": "mass", "mass": "m", "position": ["x", "H"], "inertia": -1}]), "inertia must be >= 0"),
+        (_with(bodies=[BASE["bodies"][0], BASE["bodies"][0]]), "two bodies have the same name"),
+        (_with(bodies=[{"name": "mass", "mass": "m + (", "position": ["x", "H"]}]), "body 'mass' mass: cannot parse"),
+        (_with(springs=[{"stiffness": "k", "stretch": "x"}]), "spring 'springs0': missing required key 'acts_on'"),
+        (_with(dashpots=[{"damping": "k", "rate_of": "x", "acts_on": "bob"}]), "dashpot 'dashpots0': acts on unknown"),
+        (
+            _with(dashpots=[{"damping": "k", "rate": "x", "acts_on": "mass"}]),
+            "dashpots\\[0\\]: unknown key\\(s\\) rate",
+        ),
+        (_with(impact={"y": "momentum"}), "impact: 'y' is not a coordinate"),
     ],
 )
 def test_inconsistent_spec_is_rejected_before_derivation(data, message):
     with pytest.raises(SpecError, match=message):
         parse_spec(data)
+
+
+def test_parsed_spec_keeps_every_entry():
+    data = _with(
+        title="Probe",
+        dashpots=[{"name": "damper", "damping": "k/10", "rate_of": "x", "acts_on": "mass"}],
+        impact={"x": "velocity"},
+    )
+    spec = parse_spec(data, source="text")
+    x, m, k, H = (sympy.Symbol(n, real=True) for n in ("x", "m", "k", "H"))
+    assert (spec.name, spec.title, spec.coordinates, spec.source) == ("probe", "Probe", ("x",), "text")
+    assert [(p.name, p.unit, p.valid) for p in spec.parameters] == [("m", "", ">= 0"), ("k", "", ">= 0")]
+    assert [(b.name, b.mass, b.position) for b in spec.bodies] == [("mass", m, (x, H))]
+    assert [(e.name, e.coefficient, e.measure, e.acts_on) for e in spec.springs] == [("spring", k, x, "mass")]
+    assert [(e.name, e.coefficient, e.measure) for e in spec.dashpots] == [("damper", k / 10, x)]
+    assert spec.impact == {"x": "velocity"}
+    assert parse_spec(BASE).impact == {"x": "momentum"}
 
 
 def test_hoisting_gathers_the_constants_of_a_sum_and_keeps_the_value():
@@ -183,3 +263,61 @@ def test_command_line_builds_a_user_spec_into_a_folder(tmp_path):
         text=True,
     )
     assert bad.returncode == 2 and "option impact: unknown value 'bounce'" in bad.stderr
+
+
+def test_main_takes_the_program_name_of_the_command_that_delegates_to_it(capsys):
+    assert main(["--variant", "nope"], prog="rocking derive") == 2
+    assert "unknown variant 'nope'" in capsys.readouterr().err
+    with pytest.raises(SystemExit) as stop:
+        main(["--spec", "my.toml"], prog="rocking derive")
+    assert stop.value.code == 2
+    assert capsys.readouterr().err.startswith("usage: rocking derive")
+
+
+def _installed_layout(tmp_path: Path) -> Path:
+    """The files a wheel of the project installs, laid out by setuptools (build_py) from a copy of the sources.
+
+    The copy keeps the checkout clean (setuptools writes build metadata next to
+    the sources); which folders to copy is read from pyproject.toml.
+    """
+    pyproject = tomllib.loads((ROOT / "pyproject.toml").read_text())
+    src = tmp_path / "src"
+    src.mkdir()
+    for name in ("pyproject.toml", pyproject["project"]["readme"]):
+        shutil.copy2(ROOT / name, src / name)
+    ignore = shutil.ignore_patterns("__pycache__", "*.so", "*.egg-info")
+    for folder in sorted({p.split("/")[0] for p in pyproject["tool"]["setuptools"]["package-dir"].values()}):
+        shutil.copytree(ROOT / folder, src / folder, ignore=ignore)
+    site = tmp_path / "site"
+    setup = [sys.executable, "-c", "from setuptools import setup; setup()", "-q", "build_py", "--build-lib", str(site)]
+    run = subprocess.run(setup, cwd=src, capture_output=True, text=True)
+    assert run.returncode == 0, run.stdout + run.stderr
+    return site
+
+
+def test_installed_package_derives_a_spec_from_any_folder(tmp_path):
+    """Installed (no checkout, no editable install on the path), ``python -m rocking.derive --spec --out``
+    works from an unrelated folder, writes what the checkout writes, and finds its own generated models."""
+    site = _installed_layout(tmp_path)
+    spec = tmp_path / "spec" / "mine.toml"
+    spec.parent.mkdir()
+    shutil.copy2(VARIANTS_DIR / "block.toml", spec)
+    elsewhere = tmp_path / "elsewhere"
+    elsewhere.mkdir()
+    env = dict(os.environ, PYTHONPATH=str(site))
+
+    def python(*args):
+        return subprocess.run([sys.executable, *args], cwd=elsewhere, env=env, capture_output=True, text=True)
+
+    where = python("-c", "import rocking.derive.build as b; print(b.__file__); print(b.GENERATED)")
+    assert where.returncode == 0, where.stderr
+    assert where.stdout.split() == [str(site / "rocking" / "derive" / "build.py"), str(site / "rocking" / "generated")]
+    out = tmp_path / "out"
+    run = python("-m", "rocking.derive", "--spec", str(spec), "--out", str(out))
+    assert run.returncode == 0, run.stdout + run.stderr
+    assert "block: derived in" in run.stdout
+    assert json.loads((out / "manifest.json").read_text())["model"] == "block"
+    for path in (GENERATED / "block").iterdir():
+        assert (out / path.name).read_text() == path.read_text(), path.name
+    check = python("-m", "rocking.derive", "--check", "--variant", "block")
+    assert check.returncode == 0 and "up to date" in check.stdout, check.stdout + check.stderr

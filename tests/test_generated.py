@@ -44,7 +44,7 @@ def _call(model, fn, s, state, ag, params):
 
 @pytest.mark.parametrize("H, B", [(2.0, 0.5), (1.0, 1.0), (3.0, 0.3)])
 def test_housner_restitution_for_bare_symmetric_block(H, B, c_model):
-    """model.md 10.1: m = 0, e = 0 gives dtheta+/dtheta- = 1 - 1.5 sin^2(alpha)."""
+    """docs/model.md 10.1: m = 0, e = 0 gives dtheta+/dtheta- = 1 - 1.5 sin^2(alpha)."""
     alpha = np.arctan(B / H)
     expected = 1 - 1.5 * np.sin(alpha) ** 2
     params = _reference_params(H=H, B=B, e=0.0, m=0.0, k_m=0.0, c=0.0)
@@ -60,7 +60,7 @@ def test_housner_restitution_for_bare_symmetric_block(H, B, c_model):
 
 @pytest.mark.parametrize("e", [0.0, 0.04, -0.06])
 def test_bare_block_uplift_thresholds(e):
-    """model.md 10.2: uplift about A at g (B + 2e)/H, about A' at -g (B - 2e)/H."""
+    """docs/model.md 10.2: uplift about A at g (B + 2e)/H, about A' at -g (B - 2e)/H."""
     params = _reference_params(e=e, m=0.0, k_m=0.0, c=0.0)
     B, H, g = params["B"], params["H"], params["g"]
     thresholds = {1.0: g * (B + 2 * e) / H, -1.0: -g * (B - 2 * e) / H}
@@ -74,7 +74,7 @@ def test_bare_block_uplift_thresholds(e):
 
 
 def test_mirror_symmetry():
-    """model.md 10.6: (e, x, theta, ddx_g) -> (-e, -x, -theta, -ddx_g) maps solutions onto solutions."""
+    """docs/model.md 10.6: (e, x, theta, ddx_g) -> (-e, -x, -theta, -ddx_g) maps solutions onto solutions."""
     model = load_model("omd")
     rng = np.random.default_rng(5)
     for s in (1, -1):
@@ -118,7 +118,7 @@ def _energy_drift(model, params, y0, s, t_end, ag=lambda t: 0.0):
 
 
 def test_energy_conserved_without_damping_or_ground_motion():
-    """model.md 10.5: c = 0 and no ground motion keep the energy constant along a tight integration."""
+    """docs/model.md 10.5: c = 0 and no ground motion keep the energy constant along a tight integration."""
     model = load_model("omd")
     params = _reference_params(c=0.0)
     E, _ = _energy_drift(model, params, np.array([0.05, 0.03, 0.0, -0.1]), 1.0, 3.0)
@@ -152,7 +152,7 @@ def test_energy_balance_with_damping_and_ground_motion():
     dx=st.floats(-5.0, 5.0),
 )
 def test_no_impact_increases_the_energy(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx):
-    """model.md 10.5 with the default impact law: E after (about -s) <= E before (about s)."""
+    """docs/model.md 10.5 with the default impact law: E after (about -s) <= E before (about s)."""
     gain, rounding = _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, "momentum")
     assert gain <= 1e-12 + rounding
 

@@ -5,8 +5,8 @@ from __future__ import annotations
 import argparse
 import json
 import os
-import signal
 import shutil
+import signal
 import threading
 from pathlib import Path
 
@@ -15,13 +15,13 @@ import pytest
 
 import rocking
 from rocking import Block, load_model
+from rocking.cli.study import add_study_commands
+from rocking.model.params import ParameterError
 from rocking.study import config as study_config
+from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
 from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
 from rocking.study.overturning_map import SAFE, overturning_map
-from rocking.model.params import ParameterError
 from rocking.study.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
-from rocking.cli.study import add_study_commands
-from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
 from rocking.study.storage import load
 from rocking.study.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
 
@@ -92,7 +92,7 @@ def test_damper_changes_outcomes(ref_map):
 
 
 def test_spectrum_reports_windows_of_a_slender_block(tmp_path):
-    """model.md 10.4: below the no-impact boundary (9.417 at Omega = 6) the slender block survives a window."""
+    """docs/model.md 10.4: below the no-impact boundary (9.417 at Omega = 6) the slender block survives a window."""
     setting = Setting(Block.from_nondim(p=2.0, alpha=0.2), backend="c")
     study = minimum_overturning_spectrum(
         setting, TUNING, Grid("Omega", 6.0, 6.0, 1), Grid("beta", 3.0, 11.0, 33), SERIAL, runs=tmp_path
@@ -120,7 +120,7 @@ def test_optimal_damper(tmp_path):
         Grid("Omega", 3.0, 6.0, 2),
         BETA,
         POOL,
-        Tm=Grid("Tm-range", 0.5, 2.0, 3, log=True),
+        Tm=Grid("Tm-ratio", 0.5, 2.0, 3, log=True),
         refine=1,
         runs=tmp_path,
     )
@@ -309,7 +309,8 @@ def test_every_source_of_the_simulator_keys_the_tiles(tmp_path):
         shutil.copytree(root / package, tmp_path / package, ignore=shutil.ignore_patterns("__pycache__"))
         folders.append(tmp_path / package)
     assert study_config.tree_hash(*folders) == study_config.solver_hash()
-    assert {"c_backend.py", "sim.c", "sim.h", "loading.py", "pulse.py"} <= {p.name for f in folders for p in f.rglob("*")}
+    names = {p.name for f in folders for p in f.rglob("*")}
+    assert {"c_backend.py", "sim.c", "sim.h", "loading.py", "pulse.py"} <= names
     _each_file_changes(folders, lambda: study_config.tree_hash(*folders))
 
 
@@ -333,7 +334,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
         cli(
             [
                 "optimize",
-                *tiny(*grids, "--gammas", "0.05", "0.1", "--Tm-range", "0.5", "2", "3", "--refine", "1", "--out", out),
+                *tiny(*grids, "--gammas", "0.05", "0.1", "--Tm-ratio", "0.5", "2", "3", "--refine", "1", "--out", out),
             ]
         )
         == 0
@@ -375,11 +376,12 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
         (["map", "--rtol=-1e-8"], "rtol must be in (0, 0.01]"),
         (["spectrum", "--beta-tol", "0"], "beta_tol must be a relative tolerance in (0, 0.1]"),
         (["optimize", "--gammas", "0.05", "-1"], "gamma must be a mass ratio in (0, 1]"),
-        (["optimize", "--Tm-range", "10", "0.1", "5"], "Tm-range: the range MIN MAX must have MIN < MAX"),
+        (["optimize", "--Tm-ratio", "10", "0.1", "5"], "Tm-ratio: the range MIN MAX must have MIN < MAX"),
         (["optimize", "--refine", "-1"], "refine must be an integer >= 0"),
         (["map", "--gamma", "0"], "gamma must be a finite number > 0"),
         (["map", "--Tm-ratio", "-2"], "--Tm-ratio must be > 0"),
-        (["map", "--e", "0.3"], "e must be in (-B/2, B/2)"),
+        (["map", "--H", "2", "--B", "0.5", "--M", "1000", "--e", "0.3"], "e must be in (-B/2, B/2)"),
+        (["map", "--e", "0.1"], "a block by its dimensions needs --H, --B, --M too (got --e)"),
         (["map", "--H", "2", "--lam", "4"], "not both"),
         (["map", "--lam", "4"], "needs --p"),
         (["map", "--workers", "0"], "workers must be an integer >= 1"),

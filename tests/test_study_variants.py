@@ -9,13 +9,13 @@ import pytest
 
 import rocking
 from rocking import Block, OneSinePulse
-from rocking.sim.cases import pulse_cases
 from rocking.cli.main import main
+from rocking.model.params import ParameterError
+from rocking.sim.cases import pulse_cases
+from rocking.study.config import Grid, Setting, Tuning, Variant, config_hash, part_config
 from rocking.study.optimize import optimal_damper
 from rocking.study.overturning_map import overturning_map
-from rocking.model.params import ParameterError
 from rocking.study.spectrum import minimum_overturning_spectrum
-from rocking.study.config import Grid, Setting, Tuning, Variant, config_hash, part_config
 from rocking.study.tiles import Execution
 
 BLOCK = Block.reference()

@@ -11,6 +11,7 @@
 from __future__ import annotations
 
 import math
+import re
 import subprocess
 import sys
 from pathlib import Path
@@ -22,8 +23,8 @@ from scipy.integrate import solve_ivp
 import rocking
 from rocking import load_model
 from rocking.reference import paper
-from rocking.sim.problem import DTHETA_REST
 from rocking.reference.verify import TOLERANCE, random_cases, rel_error
+from rocking.sim.problem import DTHETA_REST
 from tests.handwritten_variants import HANDWRITTEN, Rigid
 
 ROOT = Path(__file__).resolve().parent.parent
@@ -220,79 +221,93 @@ def simulate_rigid(block, m, x_m, y_m, pulse, t_max, dtheta_rest):
     integration of the hand-written :class:`Rigid` equations (full contact until the uplift
     function turns positive, rocking until theta = 0, impact, rest when ``|dtheta+| <
     dtheta_rest``, overturning at ``|theta| = pi/2``). Returns ``(overturned, theta_max)``."""
-    P = (block.M, block.I_G, block.B, block.H, block.e)
-    M, I_G, B, H, e = P
-    g = block.g
+    M, I_G, B, H, e, g = block.M, block.I_G, block.B, block.H, block.e, block.g
 
     def ag(t):
         return pulse.a_g * math.sin(pulse.omega_g * t + pulse.psi) if 0.0 <= t <= pulse.t_p else 0.0
 
+    def uplift(s, a):
+        return Rigid.uplift(s, a, M, B, H, e, g, m, x_m, y_m)
+
+    def accel(s, theta, dtheta, a):
+        return Rigid.rocking_accel(s, theta, dtheta, a, M, I_G, B, H, e, g, m, x_m, y_m)
+
     t, s, dth, theta_max = 0.0, 0, 0.0, 0.0
     while True:
         if s == 0:  # full contact: the rigid body has no dynamics, only the uplift watch
-            if t >= pulse.t_p:
-                return False, theta_max
-            ts = np.linspace(t, pulse.t_p, 20001)
-            ag_ts = pulse.a_g * np.sin(pulse.omega_g * ts + pulse.psi)
-            first = None
-            for sg in (1, -1):
-                u = Rigid.uplift(sg, ag_ts, M, B, H, e, g, m, x_m, y_m)
-                hit = np.flatnonzero(u > 0)
-                if hit.size:
-                    j = hit[0]
-                    if j > 0:  # refine the crossing by bisection
-                        lo, hi = ts[j - 1], ts[j]
-                        for _ in range(60):
-                            mid = (lo + hi) / 2
-                            up = Rigid.uplift(sg, ag(mid), M, B, H, e, g, m, x_m, y_m) > 0
-                            lo, hi = (lo, mid) if up else (mid, hi)
-                        tu = hi
-                    else:
-                        tu = ts[0]
-                    if first is None or tu < first[0]:
-                        first = (tu, sg)
+            first = _first_uplift(t, pulse, ag, uplift) if t < pulse.t_p else None
             if first is None:
                 return False, theta_max
             (t, s), dth = first, 0.0
-
-        def rhs(tt, y, s=s):
-            return [y[1], Rigid.rocking_accel(s, y[0], y[1], ag(tt), M, I_G, B, H, e, g, m, x_m, y_m)]
-
-        def land(tt, y, s=s):
-            return s * y[0]
-
-        def over(tt, y):
-            return abs(y[0]) - math.pi / 2
-
-        def peak(tt, y):
-            return y[1]
-
-        land.terminal, land.direction = True, -1
-        over.terminal, over.direction = True, 1
-        y = [0.0, dth]
-        for t_stop in [x for x in (pulse.t_p, t_max) if x > t]:
-            sol = solve_ivp(rhs, (t, t_stop), y, method="DOP853", rtol=1e-11, atol=1e-13, events=(land, over, peak))
-            for ye in sol.y_events[2]:
-                theta_max = max(theta_max, abs(ye[0]))
-            if sol.status == 1:
-                break
-            t, y = sol.t[-1], sol.y[:, -1]
-        else:
+        sol, peak = _rocking_phase(s, t, dth, [x for x in (pulse.t_p, t_max) if x > t], ag, accel)
+        theta_max = max(theta_max, peak)
+        if sol is None:
             return False, theta_max
         if sol.t_events[1].size:
             return True, math.pi / 2
         t = sol.t_events[0][0]
         dth = Rigid.impact(s, sol.y_events[0][0][1], M, I_G, B, H, e, m, x_m, y_m)
-        s = -s
-        if abs(dth) < dtheta_rest:
-            s = 0
+        s = 0 if abs(dth) < dtheta_rest else -s
         if t >= t_max:
             return False, theta_max
 
 
+def _first_uplift(t0, pulse, ag, uplift):
+    """``(time, pivot)`` of the first uplift in full contact from ``t0`` to the pulse's end, or None:
+    ``uplift(s, ag)`` scanned on a fine grid, its first positive value refined by bisection."""
+    ts = np.linspace(t0, pulse.t_p, 20001)
+    ag_ts = pulse.a_g * np.sin(pulse.omega_g * ts + pulse.psi)
+    first = None
+    for s in (1, -1):
+        hit = np.flatnonzero(uplift(s, ag_ts) > 0)
+        if not hit.size:
+            continue
+        j = hit[0]
+        tu = ts[0]
+        if j > 0:
+            lo, hi = ts[j - 1], ts[j]
+            for _ in range(60):
+                mid = (lo + hi) / 2
+                lo, hi = (lo, mid) if uplift(s, ag(mid)) > 0 else (mid, hi)
+            tu = hi
+        if first is None or tu < first[0]:
+            first = (tu, s)
+    return first
+
+
+def _rocking_phase(s, t, dtheta, stops, ag, accel):
+    """Rocking about ``s`` from ``theta = 0``, ``dtheta`` at ``t``, integrated through the breakpoints ``stops``.
+
+    Returns the solution that ended on landing or overturning (None when the last stop came
+    first) and the largest ``|theta|`` of its peaks."""
+
+    def rhs(tt, y):
+        return [y[1], accel(s, y[0], y[1], ag(tt))]
+
+    def land(tt, y):
+        return s * y[0]
+
+    def over(tt, y):
+        return abs(y[0]) - math.pi / 2
+
+    def peak(tt, y):
+        return y[1]
+
+    land.terminal, land.direction = True, -1
+    over.terminal, over.direction = True, 1
+    y, theta_max = [0.0, dtheta], 0.0
+    for t_stop in stops:
+        sol = solve_ivp(rhs, (t, t_stop), y, method="DOP853", rtol=1e-11, atol=1e-13, events=(land, over, peak))
+        theta_max = max([theta_max] + [abs(ye[0]) for ye in sol.y_events[2]])
+        if sol.status == 1:
+            return sol, theta_max
+        t, y = sol.t[-1], sol.y[:, -1]
+    return None, theta_max
+
+
 def test_rigid_reference_is_the_omd_equations_with_the_mass_held():
     """The locked-rigid equations are omd's (R1) at x = dx = ddx = 0, the velocity impact law of
-    model.md section 6 at x = 0, and omd's critical angle at x = 0."""
+    docs/model.md section 6 at x = 0, and omd's critical angle at x = 0."""
     rng = np.random.default_rng(4)
     for s in (1, -1):
         v = random_cases(rng, 200, s)
@@ -491,7 +506,8 @@ def test_a_user_spec_is_built_and_simulated_from_its_folder(tmp_path):
     assert run.returncode == 0, run.stderr
     assert "incline: derived in" in run.stdout
     assert {"manifest.json", "model.py", "incline.c", "incline.h", "EQUATIONS.md"} <= {p.name for p in folder.iterdir()}
-    assert "Uplift about the pivot" in (folder / "EQUATIONS.md").read_text()
+    sections = re.findall(r"^## `(\w+)`$", (folder / "EQUATIONS.md").read_text(), re.M)
+    assert sorted(sections) == sorted(load_model(folder).manifest["functions"])
     model = load_model(folder)
     assert model.coordinates == ("theta", "u") and model.parameters[-4:] == ("m", "k", "c", "incl")
 

@@ -1,4 +1,11 @@
-"""The ``rocking`` command line."""
+"""The ``rocking`` command: ``simulate``, ``verify`` and ``derive`` here, the studies in :mod:`.study`.
+
+Every command builds the Python API's objects from the options that were
+given and nothing else (:mod:`.options`), so ``rocking simulate --H 1.8 --B 0.45
+--M 300 ...`` simulates ``rocking.Block(H=1.8, B=0.45, M=300)``, with the same
+defaults. Bad parameters end with a one-line message naming the parameter and
+its valid range, and exit code 2.
+"""
 
 from __future__ import annotations
 
@@ -6,54 +13,144 @@ import argparse
 import json
 import sys
 
+from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
-from ..model.params import Block, Damper, ParameterError
+from ..model.params import Damper, ParameterError
 from ..model.pulse import OneSinePulse
 from ..sim.run import BACKENDS, simulate
-from .study import add_block_options, add_study_commands, block_from
+from .options import (
+    add_block_options,
+    add_parser,
+    block_from,
+    block_help,
+    call_with,
+    default_text,
+    flags,
+    given,
+    params_from,
+)
+from .study import add_study_commands
+
+DESCRIPTION = (
+    "A rigid block rocking on the ground with an oscillating mass damper on its top: "
+    "one response (simulate), the studies (map, spectrum, optimize, demo, redraw), "
+    "the generated code against the paper (verify) and its derivation (derive). "
+    "Units SI; rocking COMMAND --help for a command's options."
+)
+
+#: Damper options of simulate: in SI (rocking.Damper), or relative to the block (Damper.from_nondim); --h is both's.
+SI_DAMPER = ("m", "k_m", "c")
+NONDIM_DAMPER = ("gamma", "T_m", "omega_ratio", "zeta")
+
+#: Top-level packages of the derive extra (pyproject.toml): their absence is a missing install, not a bug.
+DERIVE_EXTRA = ("sympy", "jinja2", "tomli")
+DERIVE_INSTALL = 'pip install "rocking[derive]"'
+
+
+# --- verify ---------------------------------------------------------------------------------------
 
 
 def _cmd_verify(args) -> int:
     from ..reference.verify import report, verify
 
     ok = True
+    options = {"n": args.cases} if args.cases is not None else {}
+    options.update(given(args, ("seed",)))
     for name in args.model or ["omd", "block"]:
         model = load_model(name)
-        checks = verify(model, n=args.cases, seed=args.seed)
+        checks = verify(model, **options)
         print(report(model, checks))
         ok &= all(c.ok for c in checks)
     return 0 if ok else 1
 
 
-def _damper(args, block: Block) -> Damper | dict | None:
-    if args.param:
-        values = {}
-        for pair in args.param:
-            name, sep, value = pair.partition("=")
-            try:
-                values[name] = float(value)
-            except ValueError:
-                raise ParameterError(f"--param expects NAME=NUMBER (got {pair!r})") from None
-            if not sep:
-                raise ParameterError(f"--param expects NAME=NUMBER (got {pair!r})")
-        return values
-    if args.no_damper or (args.gamma is None and args.m is None):
+def _add_verify(sub) -> None:
+    from ..reference.verify import verify
+
+    p = add_parser(sub, "verify", "compare the generated code with the hand-written equations of docs/model.md")
+    p.add_argument(
+        "--model",
+        action="append",
+        help=f"model name or folder, repeatable (default: omd and block; installed: {', '.join(available_models())})",
+    )
+    p.add_argument("--cases", type=int, help=f"random cases per pivot ({default_text(verify, 'n')})")
+    p.add_argument("--seed", type=int, help=f"seed of the random cases ({default_text(verify, 'seed')})")
+    p.set_defaults(func=_cmd_verify)
+
+
+# --- simulate -------------------------------------------------------------------------------------
+
+
+def _damper(args, block) -> Damper | dict | None:
+    """The damper of the options: None (bare block), a Damper (SI or relative), or a variant's parameters."""
+    params = params_from(args.param)
+    si, nondim, options = given(args, SI_DAMPER), given(args, NONDIM_DAMPER), given(args, (*SI_DAMPER, *NONDIM_DAMPER))
+    h = given(args, ("h",))
+    if args.no_damper:
         return None
-    if args.gamma is not None:
-        return Damper.from_nondim(
-            block, gamma=args.gamma, T_m=args.T_m, omega_ratio=args.omega_ratio, zeta=args.zeta, h=args.h
+    if params:
+        if options or h:
+            raise ParameterError(
+                f"{flags({**options, **h})}: damper options of the omd model; "
+                "with --param give the model's own parameters as --param NAME=VALUE"
+            )
+        return params
+    if si and nondim:
+        raise ParameterError(
+            "give the damper in SI (--m --k-m [--c] [--h]) or relative to the block "
+            "(--gamma with --T-m or --omega-ratio [--zeta] [--h]), not both"
         )
-    return Damper(m=args.m, k_m=args.k_m, c=args.c, h=args.h)
+    if nondim:
+        return call_with(Damper.from_nondim, {**nondim, **h}, "a damper relative to the block", block)
+    if si:
+        return call_with(Damper, {**si, **h}, "a damper in SI")
+    if h:
+        raise ParameterError("--h is the damper's guide height: give the damper (--gamma or --m) or --no-damper")
+    return None
 
 
-def _pulse(args, block: Block) -> OneSinePulse:
-    if args.a_g is not None or args.omega_g is not None:
-        if args.a_g is None or args.omega_g is None:
-            raise ParameterError("give both --a-g and --omega-g (SI pulse), or --beta and --Omega")
-        return OneSinePulse(a_g=args.a_g, omega_g=args.omega_g, psi=args.psi)
-    if args.beta is None or args.Omega is None:
+def _pulse(args, block) -> OneSinePulse:
+    """The pulse of the options: SI (OneSinePulse) or relative to the block (OneSinePulse.from_nondim)."""
+    si, nondim, psi = given(args, ("a_g", "omega_g")), given(args, ("beta", "Omega")), given(args, ("psi",))
+    if si and nondim:
+        raise ParameterError("give the pulse as --beta and --Omega, or in SI as --a-g and --omega-g, not both")
+    if si:
+        return call_with(OneSinePulse, {**si, **psi}, "a pulse in SI")
+    if not nondim:
         raise ParameterError("a pulse is needed: --beta and --Omega, or --a-g and --omega-g")
-    return OneSinePulse.from_nondim(block, beta=args.beta, Omega=args.Omega, psi=args.psi)
+    return call_with(OneSinePulse.from_nondim, {**nondim, **psi}, "a pulse", block)
+
+
+def _payload(block, damper, pulse, model, responses) -> dict:
+    """What simulate --json prints."""
+    return {
+        "block": block.as_params(),
+        "model": model,
+        "damper": (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None,
+        "pulse": {
+            "a_g": pulse.a_g,
+            "omega_g": pulse.omega_g,
+            "psi": pulse.psi,
+            "beta": pulse.beta(block),
+            "Omega": pulse.Omega(block),
+        },
+        "responses": {label: r.summary() for label, r in responses.items()},
+    }
+
+
+def _print_summary(block, pulse, responses) -> None:
+    print(
+        f"block H={block.H:g} m B={block.B:g} m M={block.M:g} kg e={block.e:g} m "
+        f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); "
+        f"pulse beta={pulse.beta(block):.4g} Omega={pulse.Omega(block):.4g} (a_g={pulse.a_g:.4g} m/s2, "
+        f"omega_g={pulse.omega_g:.4g} rad/s, psi={pulse.psi:g})"
+    )
+    for label, r in responses.items():
+        verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
+        print(
+            f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
+            f"{r.uplifts} uplift(s), {r.impacts} impact(s), ended at t = {r.t_end:.3f} s ({r.status})"
+        )
 
 
 def _cmd_simulate(args) -> int:
@@ -63,47 +160,15 @@ def _cmd_simulate(args) -> int:
     cases = {"with damper" if damper else "block alone": damper}
     if args.compare and damper is not None:
         cases["block alone"] = None
-    responses = {
-        label: simulate(
-            block,
-            d,
-            pulse,
-            model=args.model if d is not None else None,
-            backend=args.backend,
-            rtol=args.rtol,
-            t_max=args.t_max,
-            record=bool(args.plot),
-        )
-        for label, d in cases.items()
-    }
+    run = given(args, ("backend", "rtol", "t_max"))
+    responses = {}
+    for label, d in cases.items():
+        model = {"model": args.model} if d is not None and args.model is not None else {}
+        responses[label] = simulate(block, d, pulse, record=bool(args.plot), **run, **model)
     if args.json:
-        payload = {
-            "block": block.as_params(),
-            "model": args.model,
-            "damper": (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None,
-            "pulse": {
-                "a_g": pulse.a_g,
-                "omega_g": pulse.omega_g,
-                "psi": pulse.psi,
-                "beta": pulse.beta(block),
-                "Omega": pulse.Omega(block),
-            },
-            "responses": {label: r.summary() for label, r in responses.items()},
-        }
-        print(json.dumps(payload, indent=2))
+        print(json.dumps(_payload(block, damper, pulse, args.model, responses), indent=2))
     else:
-        print(
-            f"block H={block.H:g} m B={block.B:g} m e={block.e:g} m "
-            f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); "
-            f"pulse beta={pulse.beta(block):.4g} Omega={pulse.Omega(block):.4g} (a_g={pulse.a_g:.4g} m/s2, "
-            f"omega_g={pulse.omega_g:.4g} rad/s, psi={pulse.psi:g})"
-        )
-        for label, r in responses.items():
-            verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
-            print(
-                f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
-                f"{r.uplifts} uplift(s), {r.impacts} impact(s), ended at t = {r.t_end:.3f} s ({r.status})"
-            )
+        _print_summary(block, pulse, responses)
     if args.plot:
         from ..plot.response import plot_responses
 
@@ -114,61 +179,146 @@ def _cmd_simulate(args) -> int:
     return 0
 
 
-def build_parser() -> argparse.ArgumentParser:
-    parser = argparse.ArgumentParser(prog="rocking", description=__doc__)
-    sub = parser.add_subparsers(dest="command", required=True)
-
-    p = sub.add_parser("verify", help="compare the generated code with the hand-written equations of model.md")
-    p.add_argument(
-        "--model",
-        action="append",
-        help=f"model name or folder (default: omd and block; installed: {', '.join(available_models())})",
+def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group(
+        "damper (none given: the bare block)",
+        "In SI as rocking.Damper(m, k_m, c, h), or relative to the block as "
+        "rocking.Damper.from_nondim(block, gamma, T_m or omega_ratio, zeta, h).",
     )
-    p.add_argument("--cases", type=int, default=1000, help="random cases per pivot (default 1000)")
-    p.add_argument("--seed", type=int, default=0)
-    p.set_defaults(func=_cmd_verify)
-
-    p = sub.add_parser("simulate", help="response of a block (with or without damper) to a one-sine pulse")
-    add_block_options(p)
-    g = p.add_argument_group("damper (SI or non-dimensional; none given: bare block)")
-    g.add_argument("--m", type=float, help="mass [kg]")
-    g.add_argument("--k_m", type=float, default=0.0, help="stiffness [N/m]")
-    g.add_argument("--c", type=float, default=0.0, help="damping [N s/m]")
-    g.add_argument("--h", type=float, default=0.05, help="guide height above the top [m] (default 0.05)")
-    g.add_argument("--gamma", type=float, help="mass ratio m/M")
-    g.add_argument("--T_m", type=float, help="damper period [s]")
-    g.add_argument("--omega-ratio", type=float, help="omega_m / p")
-    g.add_argument("--zeta", type=float, default=0.05, help="damping ratio (default 0.05)")
-    g.add_argument("--no-damper", action="store_true", help="ignore damper options: the bare block")
+    g.add_argument("--m", type=float, help="mass, kg (with --k-m)")
+    g.add_argument("--k-m", type=float, help="spring stiffness, N/m")
+    g.add_argument("--c", type=float, help=f"dashpot coefficient, N s/m ({default_text(Damper, 'c')})")
+    g.add_argument(
+        "--h", type=float, help=f"height of the guide above the top of the block, m ({default_text(Damper, 'h')})"
+    )
+    g.add_argument("--gamma", type=float, help="mass ratio m/M (with --T-m or --omega-ratio)")
+    tuning = g.add_mutually_exclusive_group()
+    tuning.add_argument("--T-m", type=float, help="damper period, s")
+    tuning.add_argument("--omega-ratio", type=float, help="damper frequency over the block's, omega_m / p")
+    g.add_argument(
+        "--zeta", type=float, help=f"damping ratio, with --gamma ({default_text(Damper.from_nondim, 'zeta')})"
+    )
+    g.add_argument("--no-damper", action="store_true", help="ignore the damper options: the bare block")
     g.add_argument("--model", help="model variant by name or generated folder (default: omd, or block without damper)")
     g.add_argument(
-        "--param", action="append", metavar="NAME=VALUE", help="a parameter of the variant's bodies (repeatable)"
+        "--param", action="append", metavar="NAME=VALUE", help="a parameter of the variant's bodies, SI (repeatable)"
     )
-    g = p.add_argument_group("pulse")
+
+
+def _add_simulate(sub) -> None:
+    p = add_parser(
+        sub,
+        "simulate",
+        "response of a block, with or without a damper, to a one-sine pulse",
+        "Response of a block, with or without a damper, to a one-sine pulse, as rocking.simulate. " + block_help(),
+    )
+    add_block_options(p)
+    _add_simulate_damper(p)
+    g = p.add_argument_group(
+        "pulse",
+        "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi) or, in SI, "
+        "rocking.OneSinePulse(a_g, omega_g, psi).",
+    )
     g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")
     g.add_argument("--Omega", type=float, help="frequency ratio omega_g / p")
-    g.add_argument("--a-g", type=float, help="amplitude [m/s2]")
-    g.add_argument("--omega-g", type=float, help="circular frequency [rad/s]")
-    g.add_argument("--psi", type=float, default=0.0, help="phase [rad] (default 0)")
+    g.add_argument("--a-g", type=float, help="amplitude, m/s2")
+    g.add_argument("--omega-g", type=float, help="circular frequency, rad/s")
+    g.add_argument("--psi", type=float, help=f"phase at t = 0, rad ({default_text(OneSinePulse, 'psi')})")
     g = p.add_argument_group("run and output")
-    g.add_argument("--backend", choices=BACKENDS, default="auto")
-    g.add_argument("--rtol", type=float, default=1e-8)
-    g.add_argument("--t-max", type=float, help="end time [s] (default: 15 s after the pulse)")
+    g.add_argument("--backend", choices=BACKENDS, help=f"back end ({default_text(simulate, 'backend')})")
+    g.add_argument(
+        "--rtol", type=float, help=f"relative tolerance of the integrator ({default_text(simulate, 'rtol')})"
+    )
+    g.add_argument("--t-max", type=float, help="end time, s (default: 15 s after the pulse)")
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
     g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     p.set_defaults(func=_cmd_simulate)
+
+
+# --- derive ---------------------------------------------------------------------------------------
+
+
+def run_derive(argv: list[str]) -> int:
+    """``python -m rocking.derive ARGV``: the derive package's own command line.
+
+    Parameters
+    ----------
+    argv : list of str
+        Its options (what follows ``rocking derive``).
+
+    Returns
+    -------
+    int
+        Its exit code; 1, with a one-line message naming the install command,
+        when SymPy or another package of the optional ``derive`` extra is missing.
+    """
+    try:
+        from ..derive.cli import main as derive_main
+
+        return derive_main(argv, prog="rocking derive")
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").partition(".")[0] not in DERIVE_EXTRA:
+            raise
+        print(
+            f"rocking derive: error: {exc.name} is not installed; the derivation is an optional extra: "
+            f"{DERIVE_INSTALL}",
+            file=sys.stderr,
+        )
+        return 1
+
+
+def _add_derive(sub) -> None:
+    # No options of its own: everything after "derive" goes to the derive package (main() hands it over
+    # before parsing); this parser only lists the command in rocking --help.
+    p = add_parser(
+        sub,
+        "derive",
+        "derive the models' equations and code from their specs (SymPy; rocking derive --help for its options)",
+        f"The derive package's command line (python -m rocking.derive); needs SymPy: {DERIVE_INSTALL}.",
+        add_help=False,
+    )
+    p.add_argument("argv", nargs=argparse.REMAINDER, help="options of the derivation")
+
+
+# --- the command ----------------------------------------------------------------------------------
+
+
+def build_parser() -> argparse.ArgumentParser:
+    """The ``rocking`` parser with every subcommand."""
+    parser = argparse.ArgumentParser(prog="rocking", description=DESCRIPTION, allow_abbrev=False)
+    parser.add_argument("--version", action="version", version=f"%(prog)s {__version__}")
+    sub = parser.add_subparsers(dest="command", required=True, metavar="COMMAND")
+    _add_simulate(sub)
     add_study_commands(sub)
+    _add_verify(sub)
+    _add_derive(sub)
     return parser
 
 
 def main(argv: list[str] | None = None) -> int:
-    parser = build_parser()
-    args = parser.parse_args(argv)
+    """Run ``rocking ARGV``.
+
+    Parameters
+    ----------
+    argv : list of str, optional
+        The arguments; default ``sys.argv[1:]``.
+
+    Returns
+    -------
+    int
+        Exit code: 0 on success, 2 for bad parameters (one line on stderr).
+    """
+    argv = sys.argv[1:] if argv is None else list(argv)
+    if argv[:1] == ["derive"]:
+        # argparse cannot pass options it does not know through a subparser (its REMAINDER
+        # skips a leading --option): hand them over before parsing.
+        return run_derive(argv[1:])
+    args = build_parser().parse_args(argv)
     try:
         return args.func(args)
     except (ParameterError, ModelError) as exc:
-        print(f"rocking: error: {exc}", file=sys.stderr)
+        print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
         return 2
 
 

@@ -5,6 +5,12 @@ each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.npz``,
 ``.csv``, ``.json``, ``.png`` and ``.pdf``, and keeps its finished tiles in
 ``<out>/runs`` so that an interrupted run resumes where it stopped.
 
+Each command calls the Python study API with the options given and nothing
+else (:mod:`.options`): ``rocking map ...`` computes what
+``rocking.overturning_map(Setting(block, ...), Tuning(...), Grid(...), Grid(...))``
+computes, with the same defaults. The grids (and the mass ratios of
+``optimize``) have no default in Python; the command line's are below.
+
 Bad parameters end with a one-line message naming the parameter and its valid
 range and exit code 2 (argparse's own errors, e.g. an unknown option, too).
 """
@@ -16,16 +22,27 @@ import sys
 import time
 from pathlib import Path
 
+from ..model.params import ParameterError
 from ..plot.figures import draw, redraw
-from ..study.optimize import REFINE, TM_GRID, optimal_damper
-from ..study.overturning_map import TILE, overturning_map
-from ..model.params import Block, ParameterError
-from ..study.spectrum import TOL, minimum_overturning_spectrum
-from ..study.config import Grid, Setting, Study, Tuning, Variant
+from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
+from ..study.optimize import TM_GRID, optimal_damper
+from ..study.overturning_map import overturning_map
+from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
 from ..study.tiles import Execution
+from .options import (
+    add_block_options,
+    add_parser,
+    block_from,
+    block_help,
+    default_text,
+    flags,
+    given,
+    params_from,
+    python_default,
+)
 
-#: Default grids (MIN, MAX, N) of the commands; model.md section 9 gives the ranges. The beta
+#: Default grids (MIN, MAX, N) of the commands; docs/model.md section 9 gives the ranges. The beta
 #: scans of spectra start at 0.5, below the uplift threshold (about 0.9 .. 1.1 for the reference
 #: block), so that beta_min is bracketed also for long, quasi-static pulses.
 MAP_OMEGA, MAP_BETA = (0.5, 15.0, 146), (1.0, 15.0, 141)
@@ -33,49 +50,57 @@ SPECTRUM_OMEGA, SPECTRUM_BETA = (0.5, 15.0, 59), (0.5, 15.0, 117)
 OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
 
-#: Default damper of the options (the omd tuning), and the options that set it.
-DAMPER = {"gamma": 0.05, "zeta": 0.05, "h": 0.05}
+#: Options that set the omd damper (a Tuning), refused with a model variant.
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h")
 
 
 # --- options -------------------------------------------------------------------------
 
 
-def add_block_options(p: argparse.ArgumentParser) -> None:
-    """Block options shared by every command: SI overrides of the reference block, or non-dimensional."""
-    g = p.add_argument_group("block (default: the reference block H = 2 m, B = 0.5 m, e = 0.025 m, M = 1000 kg)")
-    for name, text in (("H", "height, m"), ("B", "base width, m"), ("e", "eccentricity of G, m"), ("M", "mass, kg")):
-        g.add_argument(f"--{name}", type=float, help=f"{text} (others keep their reference values)")
-    g.add_argument("--p", type=float, help="non-dimensional block: frequency parameter p, rad/s")
-    g.add_argument("--lam", type=float, help="non-dimensional block: slenderness H/B")
-    g.add_argument("--alpha", type=float, help="non-dimensional block: slenderness angle atan(B/H), rad")
-    g.add_argument("--e-ratio", type=float, help="non-dimensional block: eccentricity e/B (default 0)")
-
-
 def _add_solver(p: argparse.ArgumentParser) -> None:
-    g = p.add_argument_group("solver and execution")
-    g.add_argument(
-        "--rtol", type=float, default=1e-8, help="relative tolerance of the integrator, in (0, 0.01] (default 1e-8)"
+    g = p.add_argument_group(
+        "solver and execution",
+        "As rocking.Setting(block, rtol, t_after, backend) and "
+        "rocking.Execution(workers, scheduler, dask_workers, progress).",
     )
-    g.add_argument("--t-after", type=float, default=15.0, help="time followed after the pulse, s (default 15)")
-    g.add_argument("--backend", default="c", help="c or numpy (default c)")
+    g.add_argument(
+        "--rtol",
+        type=float,
+        help=f"relative tolerance of the integrator, in (0, 0.01] ({default_text(Setting, 'rtol')})",
+    )
+    g.add_argument(
+        "--t-after", type=float, help=f"time followed after the pulse, s ({default_text(Setting, 't_after')})"
+    )
+    g.add_argument("--backend", help=f"{' or '.join(BACKENDS)} ({default_text(Setting, 'backend')})")
     g.add_argument(
         "--workers", type=int, help="local workers (default: all cores): threads on the C back end, processes on NumPy"
     )
     g.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://host:port)")
     g.add_argument("--dask-workers", type=int, metavar="N", help="run on a local Dask cluster of N worker processes")
-    g.add_argument("--out", default="out", help="output folder (default out/); finished tiles are kept in OUT/runs")
+    g.add_argument("--out", default="out", help="output folder (default out); finished tiles are kept in OUT/runs")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
 def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> None:
-    """Damper options: one damper (``tuned``) and/or the mass ratios of the optimisation (``searched``)."""
-    g = p.add_argument_group("damper")
+    """Damper options: one damper (``tuned``: a Tuning) and/or the mass ratios of the optimisation (``searched``)."""
+    # The defaults shown are those of the Python call each command makes: Tuning, or optimal_damper.
+    source = Tuning if tuned else optimal_damper
+    g = p.add_argument_group(
+        "damper", "As rocking.Tuning(gamma, omega_ratio, zeta, h)." if tuned else "As rocking.optimal_damper."
+    )
     if tuned:
-        g.add_argument("--gamma", type=float, help=f"mass ratio m/M (default {DAMPER['gamma']:g})")
+        g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(Tuning, 'gamma')})")
         tuning = g.add_mutually_exclusive_group()
-        tuning.add_argument("--Tm-ratio", type=float, help="damper period T_m p / (2 pi) (default 1)")
-        tuning.add_argument("--omega-ratio", type=float, help="damper frequency omega_m / p (default 1)")
+        tuning.add_argument(
+            "--Tm-ratio",
+            type=float,
+            help=f"damper period T_m p / (2 pi), i.e. 1 / omega_ratio ({default_text(Tuning, 'omega_ratio')})",
+        )
+        tuning.add_argument(
+            "--omega-ratio",
+            type=float,
+            help=f"damper frequency omega_m / p ({default_text(Tuning, 'omega_ratio')})",
+        )
     if searched:
         g.add_argument(
             "--gammas",
@@ -85,17 +110,19 @@ def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> N
             help=f"mass ratios of the optimal damper (default {' '.join(map(str, OPTIMIZE_GAMMAS))}); "
             "the best over them is reported too",
         )
-    g.add_argument("--zeta", type=float, help=f"damping ratio (default {DAMPER['zeta']:g})")
-    g.add_argument("--h", type=float, help=f"height of the guide above the block, m (default {DAMPER['h']:g})")
+    g.add_argument("--zeta", type=float, help=f"damping ratio ({default_text(source, 'zeta')})")
+    g.add_argument(
+        "--h", type=float, help=f"height of the guide above the top of the block, m ({default_text(source, 'h')})"
+    )
 
 
 def _add_variant(p: argparse.ArgumentParser) -> None:
     """``--model`` and ``--param``: any generated model with its own parameters, instead of the omd damper."""
-    g = p.add_argument_group("model variant (instead of the damper options)")
+    g = p.add_argument_group("model variant (instead of the damper options)", "As rocking.Variant(model, params).")
     g.add_argument(
         "--model",
         metavar="NAME|FOLDER",
-        help="generated model by name (omd, pendulum, omd2, ...) or folder written by python -m derive "
+        help="generated model by name (omd, pendulum, omd2, ...) or folder written by python -m rocking.derive "
         "(default omd, tuned by the damper options)",
     )
     g.add_argument(
@@ -120,28 +147,13 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
 
 def _add_tol(p: argparse.ArgumentParser) -> None:
     p.add_argument(
-        "--beta-tol", type=float, default=TOL, help=f"relative tolerance of the bisection on beta (default {TOL:g})"
+        "--beta-tol",
+        type=float,
+        help=f"relative tolerance of the bisection on beta ({default_text(minimum_overturning_spectrum, 'tol')})",
     )
 
 
 # --- building the study's objects from the options -----------------------------------------
-
-
-def block_from(args) -> Block:
-    """The block of the options: SI overrides of the reference block, or a non-dimensional one."""
-    si = {k: getattr(args, k) for k in ("H", "B", "e", "M") if getattr(args, k) is not None}
-    nondim = {k: getattr(args, k) for k in ("p", "lam", "alpha", "e_ratio") if getattr(args, k) is not None}
-    if si and nondim:
-        raise ParameterError(
-            "give the block in SI (--H --B --e --M) or non-dimensionally "
-            "(--p with --lam or --alpha, --e-ratio), not both"
-        )
-    if nondim:
-        if "p" not in nondim:
-            raise ParameterError("a non-dimensional block needs --p (rad/s) with --lam or --alpha")
-        return Block.from_nondim(**nondim)
-    ref = Block.reference()
-    return Block(**{k: si.get(k, getattr(ref, k)) for k in ("H", "B", "e", "M")})
 
 
 def grid_from(name: str, values, *, log: bool = False) -> Grid:
@@ -156,39 +168,18 @@ def grid_from(name: str, values, *, log: bool = False) -> Grid:
 
 
 def setting_from(args) -> Setting:
-    return Setting(block_from(args), rtol=args.rtol, t_after=args.t_after, backend=args.backend)
-
-
-def _damper_option(args, name: str):
-    value = getattr(args, name, None)
-    return DAMPER[name] if value is None else value
+    return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")))
 
 
 def tuning_from(args) -> Tuning:
-    if args.Tm_ratio is not None:
-        if not args.Tm_ratio > 0:
-            raise ParameterError(f"--Tm-ratio must be > 0 (got {args.Tm_ratio!r})")
-        omega_ratio = 1.0 / args.Tm_ratio
-    else:
-        omega_ratio = 1.0 if args.omega_ratio is None else args.omega_ratio
-    return Tuning(_damper_option(args, "gamma"), omega_ratio, _damper_option(args, "zeta"), _damper_option(args, "h"))
-
-
-def params_from(items) -> dict:
-    """``NAME=VALUE`` strings as a dict of floats."""
-    params = {}
-    for item in items:
-        name, sep, value = item.partition("=")
-        name = name.strip()
-        if not sep or not name:
-            raise ParameterError(f"--param takes NAME=VALUE (got {item!r})")
-        if name in params:
-            raise ParameterError(f"--param {name} given twice")
-        try:
-            params[name] = float(value)
-        except ValueError:
-            raise ParameterError(f"--param {name} must be a number (got {value!r})") from None
-    return params
+    """The omd damper of the options, as ``rocking.Tuning`` with the options given (``--Tm-ratio``: 1 / omega_ratio)."""
+    values = given(args, ("gamma", "omega_ratio", "zeta", "h"))
+    Tm_ratio = getattr(args, "Tm_ratio", None)
+    if Tm_ratio is not None:
+        if not Tm_ratio > 0:
+            raise ParameterError(f"--Tm-ratio must be > 0 (got {Tm_ratio!r})")
+        values["omega_ratio"] = 1.0 / Tm_ratio
+    return Tuning(**values)
 
 
 def damper_from(args) -> Tuning | Variant:
@@ -205,17 +196,23 @@ def damper_from(args) -> Tuning | Variant:
         raise ParameterError("--param sets a model's parameters: give the model with --model NAME|FOLDER")
     if model == "omd" and not items:
         return tuning_from(args)
-    given = [f"--{o.replace('_', '-')}" for o in DAMPER_OPTIONS if getattr(args, o, None) is not None]
-    if given:
+    options = given(args, DAMPER_OPTIONS)
+    if options:
         raise ParameterError(
-            f"{', '.join(given)}: damper options of the omd model; with --model {model} "
+            f"{flags(options)}: damper options of the omd model; with --model {model} "
             "give the model's own parameters as --param NAME=VALUE"
         )
     return Variant(model, params_from(items))
 
 
 def execution_from(args) -> Execution:
-    return Execution(args.workers, args.scheduler, args.dask_workers, progress=not args.no_progress)
+    progress = {"progress": False} if args.no_progress else {}
+    return Execution(**given(args, ("workers", "scheduler", "dask_workers")), **progress)
+
+
+def _tol(args) -> dict:
+    """``tol=`` of the spectrum and optimize calls, only when ``--beta-tol`` is given."""
+    return {"tol": args.beta_tol} if args.beta_tol is not None else {}
 
 
 # --- commands --------------------------------------------------------------------------
@@ -233,6 +230,7 @@ def _report(study: Study, out: Path) -> list[Path]:
 
 
 def _cmd_map(args) -> int:
+    tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
     study = overturning_map(
         setting_from(args),
         damper_from(args),
@@ -240,7 +238,7 @@ def _cmd_map(args) -> int:
         grid_from("beta", args.beta),
         execution_from(args),
         runs=Path(args.out) / "runs",
-        tile=tuple(args.tile),
+        **tile,
     )
     _report(study, Path(args.out))
     s = study.summary
@@ -258,8 +256,8 @@ def _cmd_spectrum(args) -> int:
         grid_from("Omega", args.Omega),
         grid_from("beta", args.beta),
         execution_from(args),
-        tol=args.beta_tol,
         runs=Path(args.out) / "runs",
+        **_tol(args),
     )
     _report(study, Path(args.out))
     for part, s in study.summary.items():
@@ -270,19 +268,18 @@ def _cmd_spectrum(args) -> int:
     return 0
 
 
-def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: Grid, Tm: Grid, refine: int) -> Study:
+def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: Grid, **search) -> Study:
+    """``optimal_damper`` with the options given (zeta, h, tolerance) and ``search`` (Tm, refine) if any."""
     return optimal_damper(
         setting,
         args.gammas,
         Omega,
         beta,
         execution,
-        zeta=_damper_option(args, "zeta"),
-        h=_damper_option(args, "h"),
-        Tm=Tm,
-        refine=refine,
-        tol=args.beta_tol,
         runs=Path(args.out) / "runs",
+        **given(args, ("zeta", "h")),
+        **_tol(args),
+        **search,
     )
 
 
@@ -306,14 +303,16 @@ def _print_threshold(study: Study) -> None:
 
 
 def _cmd_optimize(args) -> int:
+    search = given(args, ("refine",))
+    if args.Tm_ratio is not None:
+        search["Tm"] = grid_from("Tm-ratio", args.Tm_ratio, log=True)
     study = _optimize(
         args,
         setting_from(args),
         execution_from(args),
         grid_from("Omega", args.Omega),
         grid_from("beta", args.beta),
-        grid_from("Tm-range", args.Tm_range, log=True),
-        args.refine,
+        **search,
     )
     _report(study, Path(args.out))
     _print_threshold(study)
@@ -337,14 +336,11 @@ def _cmd_demo(args) -> int:
         grid_from("Omega", SPECTRUM_OMEGA),
         grid_from("beta", SPECTRUM_BETA),
         execution,
-        tol=args.beta_tol,
         runs=runs,
+        **_tol(args),
     )
     _report(spectrum, out)
-    Tm = grid_from("Tm-range", TM_GRID, log=True)
-    study = _optimize(
-        args, setting, execution, grid_from("Omega", OPTIMIZE_OMEGA), grid_from("beta", OPTIMIZE_BETA), Tm, REFINE
-    )
+    study = _optimize(args, setting, execution, grid_from("Omega", OPTIMIZE_OMEGA), grid_from("beta", OPTIMIZE_BETA))
     _report(study, out)
     _print_threshold(study)
     print(f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, spectrum, optimize .png/.pdf)")
@@ -377,27 +373,28 @@ def _guarded(command):
     return run
 
 
+def _study_parser(subparsers, name: str, text: str) -> argparse.ArgumentParser:
+    """A study's parser, its description saying which block it uses; the block options first."""
+    p = add_parser(subparsers, name, text, f"{text[:1].upper()}{text[1:]}. {block_help()}")
+    add_block_options(p)
+    return p
+
+
 def add_study_commands(subparsers) -> None:
     """Add ``map``, ``spectrum``, ``optimize``, ``demo`` and ``redraw`` to the ``rocking`` subparsers."""
-    p = subparsers.add_parser("map", help="overturning map over (Omega, beta), block alone and with a damper")
-    add_block_options(p)
+    p = _study_parser(subparsers, "map", "overturning map over (Omega, beta), block alone and with a damper")
     _add_damper(p, tuned=True, searched=False)
     _add_variant(p)
     _add_grid(p, "Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p")
     _add_grid(p, "beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)")
+    tile = python_default(overturning_map, "tile")
     p.add_argument(
-        "--tile",
-        type=int,
-        nargs=2,
-        default=TILE,
-        metavar=("NOMEGA", "NBETA"),
-        help=f"cells per tile (default {TILE[0]} {TILE[1]})",
+        "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
     )
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_map))
 
-    p = subparsers.add_parser("spectrum", help="minimum overturning amplitude beta_min(Omega), with safe windows")
-    add_block_options(p)
+    p = _study_parser(subparsers, "spectrum", "minimum overturning amplitude beta_min(Omega), with safe windows")
     _add_damper(p, tuned=True, searched=False)
     _add_variant(p)
     _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
@@ -406,32 +403,34 @@ def add_study_commands(subparsers) -> None:
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_spectrum))
 
-    p = subparsers.add_parser("optimize", help="optimal damper period and best gain against Omega; threshold Omega*")
-    add_block_options(p)
+    p = _study_parser(subparsers, "optimize", "optimal damper period and best gain against Omega; threshold Omega*")
     _add_damper(p, tuned=False, searched=True)
     _add_grid(p, "Omega", OPTIMIZE_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", OPTIMIZE_BETA, "scan amplitudes of every beta_min")
-    _add_grid(p, "Tm-range", TM_GRID, "coarse log grid of T_m p / (2 pi)")
+    p.add_argument(
+        "--Tm-ratio",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help="coarse log grid of damper periods T_m p / (2 pi) "
+        f"(default {TM_GRID[0]:g} {TM_GRID[1]:g} {TM_GRID[2]}, as rocking.optimal_damper)",
+    )
     p.add_argument(
         "--refine",
         type=int,
-        default=REFINE,
-        help=f"refinement points each side of the best coarse T_m (default {REFINE})",
+        help=f"refinement points each side of the best coarse T_m ({default_text(optimal_damper, 'refine')})",
     )
     _add_tol(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_optimize))
 
-    p = subparsers.add_parser(
-        "demo",
-        help="the default study: map, spectra and optimal damper of the reference block (gamma = zeta = 0.05)",
+    p = _study_parser(
+        subparsers, "demo", "the default study: map, spectra and optimal damper, on the default grids of each"
     )
-    add_block_options(p)
     _add_damper(p, tuned=True, searched=True)
     _add_tol(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_demo))
 
-    p = subparsers.add_parser("redraw", help="redraw figures from saved study data, without recomputing")
+    p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
     p.add_argument("paths", nargs="+", help="a saved study (.npz, .json or their stem) or a folder of them")
     p.set_defaults(func=_guarded(_cmd_redraw))

@@ -1,7 +1,7 @@
 """Generated models, loaded from their folder and manifest.
 
 The runtime knows a model only through ``manifest.json`` and the generated
-files next to it, so any folder written by ``python -m derive`` can be used.
+files next to it, so any folder written by ``rocking derive`` can be used.
 """
 
 from __future__ import annotations
@@ -19,7 +19,8 @@ import numpy as np
 import rocking.generated
 
 GENERATED = Path(rocking.generated.__file__).resolve().parent
-MANIFEST_FORMAT = 1
+#: The manifest layout this runtime reads; the derivation declares it.
+MANIFEST_FORMAT = rocking.generated.MANIFEST_FORMAT
 
 
 class ModelError(ValueError):
@@ -58,6 +59,11 @@ class Model:
     @property
     def parameters(self) -> tuple[str, ...]:
         return tuple(p["name"] for p in self.manifest["parameters"])
+
+    @property
+    def block_parameters(self) -> tuple[str, ...]:
+        """The parameters the block sets (``Block.as_params``); the rest are the attached bodies'."""
+        return tuple(self.manifest["block_parameters"])
 
     @property
     def nq(self) -> int:
@@ -145,7 +151,10 @@ def _load_folder(folder: Path, manifest_mtime_ns: int) -> Model:
     manifest_path = folder / "manifest.json"
     manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
     if manifest.get("format") != MANIFEST_FORMAT:
-        raise ModelError(f"{manifest_path}: manifest format {manifest.get('format')} is not {MANIFEST_FORMAT}")
+        raise ModelError(
+            f"{manifest_path}: manifest format {manifest.get('format')} is not {MANIFEST_FORMAT}; "
+            "derive the model again (rocking derive --spec ... --out ...)"
+        )
     spec = importlib.util.spec_from_file_location(
         f"rocking_model_{manifest['model']}", folder / manifest["files"]["numpy"]
     )

@@ -1,6 +1,6 @@
 """Physical parameters of the rocking block and of the oscillating mass damper.
 
-Notation follows ``model.md`` (sections 1 and 9). All quantities are in SI units:
+Notation follows ``docs/model.md`` (sections 1 and 9). All quantities are in SI units:
 lengths in m, masses in kg, moments of inertia in kg m^2, times in s, angles in rad,
 accelerations in m/s^2, stiffnesses in N/m and damping coefficients in N s/m.
 
@@ -172,7 +172,7 @@ def _require_one(name_a: str, a: object, name_b: str, b: object) -> None:
 
 @dataclass(frozen=True)
 class Block:
-    """Rigid rectangular block rocking on its base corners (``model.md`` section 1).
+    """Rigid rectangular block rocking on its base corners (``docs/model.md`` section 1).
 
     Parameters
     ----------
@@ -335,7 +335,7 @@ class Block:
 
     @classmethod
     def reference(cls) -> Block:
-        """Return the project's reference block (``model.md`` section 9).
+        """Return the project's reference block (``docs/model.md`` section 9).
 
         ``H = 2.0 m``, ``B = 0.5 m`` (``lambda = 4``), ``e = 0.025 m``,
         ``M = 1000 kg``, homogeneous ``I_G``. The reference damper height

@@ -1,4 +1,4 @@
-"""One-sine ground acceleration pulse (``model.md`` section 8).
+"""One-sine ground acceleration pulse (``docs/model.md`` section 8).
 
 All quantities are in SI units: accelerations in m/s^2, circular frequencies in
 rad/s, times in s and phases in rad. Invalid parameters raise

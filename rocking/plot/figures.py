@@ -25,8 +25,8 @@ from matplotlib.figure import Figure
 from matplotlib.patches import Patch
 
 from ..model.params import ParameterError
-from ..study.spectrum import ABOVE, BELOW, BRACKETED
 from ..study.config import Study
+from ..study.spectrum import ABOVE, BELOW, BRACKETED
 from ..study.storage import load
 
 #: Outcome classes of a map cell: label and colour; the class is min(outcome + 1, 4).

@@ -1,11 +1,11 @@
-"""The paper's equations, typed by hand from ``model.md`` sections 3-7.
+"""The paper's equations, typed by hand from ``docs/model.md`` sections 3-7.
 
 This module is deliberately independent of SymPy and of ``derive/``: it is the
 yardstick the generated code is held against (``rocking verify``). Every
 function broadcasts over NumPy arrays. Units SI; ``s = +1`` is the pivot ``A``
 (left corner), ``s = -1`` the pivot ``A'``.
 
-Short-hands (model.md section 1)::
+Short-hands (docs/model.md section 1)::
 
     d_s  = s B/2 + e        xi_s = s B/2 + x        eta = H + h
     I_s  = I_G + M (d_s^2 + H^2/4)

@@ -12,8 +12,8 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from . import paper
 from ..model.loading import Model, ModelError
+from . import paper
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
@@ -199,7 +199,7 @@ def _numpy_eval(model: Model, name: str, v: dict):
 
 def report(model: Model, checks: list[Check]) -> str:
     """A short human-readable report."""
-    lines = [f"model {model.name}: generated code against the hand-written equations of model.md"]
+    lines = [f"model {model.name}: generated code against the hand-written equations of docs/model.md"]
     for c in checks:
         pivot = "A " if c.pivot == 1 else "A'"
         status = "ok" if c.ok else "MISMATCH"

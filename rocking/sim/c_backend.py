@@ -26,9 +26,9 @@ import numpy as np
 from ..model.loading import Model, load_model
 from . import boundary, cbuild
 from .boundary import CASE, DOUBLES, RESULT
-from .cbuild import CBuildError
 from .cases import Cases
-from .problem import RESULT_FIELDS, Problem, Response
+from .cbuild import CBuildError
+from .problem import RESULT_FIELDS, Problem, Response, SimulationError
 
 __all__ = ["CBuildError", "SimulationError", "available", "library", "simulate", "simulate_cases"]
 
@@ -40,10 +40,6 @@ _i64_p = ctypes.POINTER(ctypes.c_int64)
 #: ctypes and NumPy types of each kind of field of the boundary tables.
 _CTYPES = {boundary.DOUBLE: _dbl, boundary.INT64: ctypes.c_int64, boundary.INT32: ctypes.c_int32, DOUBLES: _dbl_p}
 _NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32, DOUBLES: np.uintp}
-
-
-class SimulationError(RuntimeError):
-    """The C integrator failed (its step size underflowed, e.g. on a non-finite right-hand side)."""
 
 
 def _structure(name: str, fields) -> type[ctypes.Structure]:
@@ -117,7 +113,9 @@ class _Library:
         lib.rocking_constants.argtypes = [_dbl_p]
         _check_library(lib, model, path)
         lib.rocking_simulate.restype = ctypes.c_int64
-        lib.rocking_simulate.argtypes = [_dbl_p, ctypes.POINTER(_Case), ctypes.POINTER(_Result), ctypes.POINTER(_History)]
+        lib.rocking_simulate.argtypes = [
+            _dbl_p, ctypes.POINTER(_Case), ctypes.POINTER(_Result), ctypes.POINTER(_History)
+        ]
         lib.rocking_simulate_batch.restype = None
         lib.rocking_simulate_batch.argtypes = [
             ctypes.c_int64,

@@ -40,7 +40,14 @@ class Cases:
     settings: dict
 
     def __post_init__(self) -> None:
-        n = len(self.p)
+        p = np.asarray(self.p, dtype=float)
+        width = len(self.model.parameters)
+        if p.ndim != 2 or p.shape[1] != width:
+            raise ParameterError(
+                f"cases: p must have shape (n, {width}), one column per parameter "
+                f"{tuple(self.model.parameters)} (got shape {p.shape})"
+            )
+        n = len(p)
         columns = {}
         for f in CASE:
             if f.name == "y0":
@@ -52,14 +59,16 @@ class Cases:
             try:
                 column = np.ascontiguousarray(np.broadcast_to(np.asarray(value, dtype=float), shape))
             except ValueError:
-                raise ParameterError(f"cases: {f.name} must broadcast to shape {shape} (got {np.shape(value)})") from None
+                raise ParameterError(
+                    f"cases: {f.name} must broadcast to shape {shape} (got {np.shape(value)})"
+                ) from None
             columns[f.name] = boundary.check(f.name, column)
         unknown = sorted(set(self.settings) - set(columns))
         if unknown:
             raise ParameterError(f"cases: unknown setting(s) {', '.join(unknown)}")
         if np.any(~np.isfinite(columns["atol"]) | (columns["atol"] < 0)):
             raise ParameterError("atol must be finite and >= 0")
-        object.__setattr__(self, "p", np.ascontiguousarray(self.p, dtype=float))
+        object.__setattr__(self, "p", np.ascontiguousarray(p))
         object.__setattr__(self, "settings", columns)
 
     def __len__(self) -> int:
@@ -152,7 +161,7 @@ def pulse_cases(
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
-    All array arguments broadcast together (model.md section 9 for their
+    All array arguments broadcast together (docs/model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
     (or not given) means the bare block (model ``"block"``); otherwise every
     ``gamma`` must be > 0 and the model is ``"omd"`` unless given.

@@ -3,16 +3,44 @@
 :func:`simulate` runs one :class:`~rocking.sim.problem.Problem` with
 ``scipy.integrate.solve_ivp`` (``RK45``, Dormand-Prince 5(4)) on the generated
 NumPy functions of ``problem.model``. It is the readable reference that the C
-back end (``rocking/csrc/sim.c``) must reproduce, so it does exactly what the
-contract says and nothing clever:
+back end (``rocking/sim/csrc/sim.c``) must reproduce, so it does exactly what
+the contract says and nothing clever:
 
 - one ``solve_ivp`` call per *segment*: a phase (full contact, rocking about
   ``A``, rocking about ``A'``) between two events or breakpoints;
 - the contract's events are ``solve_ivp`` events (located by SciPy on the dense
   output with Brent's method to ``4 eps``), built by the small factories of the
   section "Event functions" and kept apart from the phase logic;
-- what happens at an event (impact map, rest, uplift, end) is decided in
-  :func:`simulate`, segment by segment.
+- what happens at an event (impact map, rest, uplift, end) is decided by the
+  phase machine, segment by segment.
+
+The phase machine is split as in sim.c, with the same names where the role is
+the same; the state of a run lives in :class:`_Run`, sim.c's ``struct run``:
+
+- :func:`simulate`: ``simulate_one``;
+- :func:`_initial_state`: ``initial_state``;
+- :class:`_Run`: ``struct run``;
+- :func:`phase_machine`: ``phase_machine``;
+- :func:`contact_start`: the ``phase == 0`` block at the top of its loop;
+- :func:`uplift_at_start`: ``uplift_at_start``;
+- :func:`rest_at_start`: the ``t >= t_p`` checks of that block;
+- :func:`settled_at_once`: ``settled_at_once``;
+- :func:`run_segment`: ``run_segment``;
+- :func:`integrate_segment`: ``run_segment``'s loop of ``dopri_step`` and
+  ``events_scan``;
+- :func:`lift_off_step`: ``run_segment``'s ``lifting`` retry;
+- :func:`watched_events`: ``watched_events``;
+- :func:`segment_end`: the ``switch`` on ``run_segment``'s result;
+- :func:`uplift`: its ``EV_UPLIFT_A`` and ``EV_UPLIFT_A_PRIME`` cases, and the
+  uplift at the start of full contact;
+- :func:`impact`: ``impact`` and the ``events_exhausted`` check after it;
+- :func:`events_exhausted`: ``events_exhausted``;
+- :func:`record`: ``record``; ``_History.add_samples``: ``record_samples``;
+- ``_Tally.see_state``: ``see_state``; ``_Tally.see_segment``:
+  ``pass_event`` and ``see_state`` over a whole segment;
+- :func:`finish`: the end of ``simulate_one``;
+- ``_System.safe_energy``: ``safe_energy``; ``_System.energy_above_rest``:
+  ``energy_above_rest``.
 
 The state is ``y = (q, dq)`` in manifest order with ``theta = q[0]``; the
 damper coordinate (if any) is ``q[1]``. Nothing here knows a coordinate's or a
@@ -28,7 +56,8 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import RK45, OdeSolution, solve_ivp
 
-from .problem import CONTACT, STATUS, Problem, Response
+from .boundary import CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
+from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
 
@@ -41,9 +70,6 @@ UPLIFT_A, UPLIFT_A_PRIME, IMPACT, OVERTURN, REST = "uplift A", "uplift A'", "imp
 #: Terminal events of the early rest (docs/simulation.md, rule 4): the energy falls
 #: below the uplift energy; once safe, the damper's next extremum ends the run.
 SAFE, SETTLED = "safe", "settled"
-
-#: Relative safety margin below the uplift energy (rule 4).
-SAFE_MARGIN = 1e-9
 
 #: Non-terminal events: reported values only, the run goes on.
 CRITICAL, EXTREMUM = "critical angle", "extremum"
@@ -257,7 +283,7 @@ def rest_event(system: _System, energy_rest: float) -> _Event:
     return _Event(REST, lambda t, y: system.energy_above_rest(y) - energy_rest, terminal=True, direction=-1)
 
 
-def phase_events(
+def watched_events(
     system: _System,
     phase: int,
     ground,
@@ -418,7 +444,7 @@ def integrate_segment(
     record : bool
         Keep the dense output for the history.
     safe_energy : float or None
-        The uplift energy bound to watch in full contact after the pulse (see :func:`phase_events`).
+        The uplift energy bound to watch in full contact after the pulse (see :func:`watched_events`).
     settling : bool
         Full contact once safe: the next extremum of ``q[1]`` ends the segment.
     first_step : float or None
@@ -439,7 +465,7 @@ def integrate_segment(
     else:
         rhs = system.rocking_rhs(phase, ground)
         max_step = np.inf
-    events = phase_events(
+    events = watched_events(
         system,
         phase,
         ground,
@@ -456,7 +482,7 @@ def integrate_segment(
             rhs, (t0, t_bound), y0, method="RK45", events=events, dense_output=record, first_step=first_step, **options
         )
         if sol.status < 0:
-            raise RuntimeError(f"solve_ivp failed in phase {phase} at t = {sol.t[-1]:.17g}: {sol.message}")
+            raise SimulationError(f"solve_ivp failed in phase {phase} at t = {sol.t[-1]:.17g}: {sol.message}")
         return sol
 
     if first_step is not None:
@@ -513,7 +539,7 @@ class _History:
 
     def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float) -> None:
         """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``."""
-        if dense is None:  # a segment that did not integrate (the block did not lift)
+        if dense is None or dt <= 0.0:  # events only, or a segment that did not integrate (no lift)
             return
         k = np.arange(math.floor(t0 / dt) + 1, math.ceil(t1 / dt) + 1)
         times = k * dt
@@ -561,27 +587,6 @@ class _Tally:
 # --------------------------------------------------------------------------- #
 
 
-def _initial_state(problem: Problem, y0, phase0) -> tuple[np.ndarray, int]:
-    """Validate the optional initial state; default: at rest in full contact."""
-    n = problem.model.nq
-    y = np.zeros(2 * n) if y0 is None else np.array(y0, dtype=float).reshape(-1)
-    phase = CONTACT if phase0 is None else int(phase0)
-    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
-        raise ValueError(f"y0 must hold {2 * n} finite values {problem.model.state} (got {y0!r})")
-    if phase not in (CONTACT, 1, -1):
-        raise ValueError(f"phase0 must be 0 (full contact), +1 (pivot A) or -1 (pivot A') (got {phase0!r})")
-    if phase == CONTACT and (y[0] != 0.0 or y[n] != 0.0):
-        raise ValueError("full contact (phase0 = 0) needs theta = dtheta = 0 in y0")
-    if phase != CONTACT and phase * y[0] < 0.0:
-        raise ValueError(f"rocking about s = {phase:+d} needs s theta >= 0 (got theta = {y[0]!r})")
-    return y, phase
-
-
-#: First step of a rocking phase after an impact, as a fraction of the
-#: expected length of its half-cycle (docs/simulation.md, Integration).
-FIRST_STEP_FRACTION = 0.25
-
-
 def _first_step_after_impact(duration: float, dtheta_out: float, dtheta_in: float) -> float | None:
     """The first step of the half-cycle after an impact; ``None``: Hairer's heuristic.
 
@@ -596,37 +601,305 @@ def _first_step_after_impact(duration: float, dtheta_out: float, dtheta_in: floa
     return float(h) if math.isfinite(h) and h > 0 else None
 
 
-def _uplift_at_start(system: _System, t: float, y: np.ndarray, ground) -> int:
+@dataclass
+class _Run:
+    """The state of one run between segments (``struct run`` of sim.c).
+
+    Attributes
+    ----------
+    problem : Problem
+        The run's settings.
+    system : _System
+        The model with its parameters.
+    t, y : float, ndarray
+        The state between segments.
+    phase : int
+        ``CONTACT`` or the pivot ``s``.
+    history : _History or None
+        The recorded history (``record=True``).
+    safe_energy : float or None
+        Rule 4's bound on the energy above rest below which the block never
+        lifts again; ``None``: no bound, or the early rest is off.
+    tally : _Tally
+        Counters and maxima so far.
+    pulse_on : bool
+        The current turn of the phase machine started before ``t_p``: its
+        contact checks and its segment see the pulse. An impact at the
+        segment's end is still evaluated with the segment's ground motion,
+        even when it falls exactly on ``t_p``.
+    safe : bool
+        Full contact after the pulse below ``safe_energy``: settling.
+    t_start : float
+        When the current rocking phase started, at ``theta = 0``.
+    first_step : float or None
+        First step of the next segment; ``None``: Hairer's heuristic.
+    skip_uplift_check : bool
+        The next contact phase starts without the uplift check: after a
+        lift-off that failed, ``u_s`` is still (barely) positive, and checking
+        it again would lift the block again, forever.
+    """
+
+    problem: Problem
+    system: _System
+    t: float
+    y: np.ndarray
+    phase: int
+    history: _History | None
+    safe_energy: float | None
+    tally: _Tally = field(default_factory=_Tally)
+    pulse_on: bool = True
+    safe: bool = False
+    t_start: float = 0.0
+    first_step: float | None = None
+    skip_uplift_check: bool = False
+
+
+def record(run: _Run) -> None:
+    """Append the current state to the history, if the run keeps one."""
+    if run.history is not None:
+        run.history.add(run.t, run.y, run.phase)
+
+
+def events_exhausted(run: _Run) -> bool:
+    """``uplifts + impacts`` has reached ``max_events``."""
+    return run.tally.uplifts + run.tally.impacts >= run.problem.max_events
+
+
+def uplift_at_start(run: _Run) -> int:
     """Pivot ``s`` whose ``u_s`` is already positive when full contact starts, else 0.
 
     A root-finding event only sees a sign change *during* a step; when the
     phase starts above a threshold (a pulse with ``psi > 0``, or a mass that
     is moving when the block comes to rest) the uplift is at that instant.
     """
+    ground = run.system.ground(run.pulse_on)
     for s in (+1, -1):
-        if system.uplift(s, y, ground(t)) > 0.0:
+        if run.system.uplift(s, run.y, ground(run.t)) > 0.0:
             return s
     return 0
 
 
-def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) -> Response:
+def settled_at_once(run: _Run) -> bool:
+    """Settling ends before it starts: nothing to settle without a damper, and ``dq[1] = 0`` is the extremum itself."""
+    n = run.system.n
+    return n == 1 or run.y[n + 1] == 0.0
+
+
+def rest_at_start(run: _Run) -> bool:
+    """Rule 4 when full contact starts after the pulse: the run ends here at rest.
+
+    Below the uplift energy the block can never lift again: only the
+    damper's stroke is left to settle, up to the next extremum of ``q[1]``;
+    the run is then marked safe unless that extremum is now.
+    """
+    energy = run.system.energy_above_rest(run.y)
+    # For the bare block E(y) = E(0) in full contact: rest at once.
+    if energy < run.problem.energy_rest:
+        return True
+    if run.safe_energy is not None and (run.safe or energy < run.safe_energy):
+        if settled_at_once(run):
+            return True
+        run.safe = True
+    return False
+
+
+def uplift(run: _Run, s: int) -> str | None:
+    """The block leaves full contact about ``s`` (rule 1).
+
+    Returns
+    -------
+    str or None
+        ``"max_events"`` if this uplift exhausts ``max_events``, else ``None``.
+    """
+    run.tally.uplifts += 1
+    run.phase = s
+    run.safe = False  # not reached below the uplift energy; kept consistent if it were
+    return "max_events" if events_exhausted(run) else None
+
+
+def impact(run: _Run) -> str | None:
+    """The impact that ends rocking about ``s``: ``theta = 0`` already, ``dq = J_s(y)`` (rule 2).
+
+    The block rests on its base if the outgoing ``|dtheta|`` is below
+    ``dtheta_rest``; otherwise it rocks on about ``-s``, the corner that
+    just hit the ground.
+
+    Returns
+    -------
+    str or None
+        ``"max_events"`` if this impact exhausts ``max_events``, else ``None``.
+    """
+    n = run.system.n
+    s, dtheta_in = run.phase, run.y[n]
+    run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on)(run.t))
+    run.tally.impacts += 1
+    if abs(run.y[n]) < run.problem.dtheta_rest:
+        # The other velocities keep their J_s values.
+        run.y[n] = 0.0
+        run.phase = CONTACT
+    else:
+        run.phase = -s
+        run.first_step = _first_step_after_impact(run.t - run.t_start, run.y[n], dtheta_in)
+    return "max_events" if events_exhausted(run) else None
+
+
+def contact_start(run: _Run) -> str | None:
+    """Rules 1 and 4 as a full-contact phase starts: is it already over?
+
+    An uplift at this very instant leaves ``run`` rocking; after the pulse,
+    :func:`rest_at_start` may end the run.
+
+    Returns
+    -------
+    str or None
+        The status if the run ends here, else ``None``.
+    """
+    s = 0 if run.skip_uplift_check else uplift_at_start(run)
+    run.skip_uplift_check = False
+    if s:
+        return uplift(run, s)
+    if not run.pulse_on and rest_at_start(run):
+        return "rest"
+    return None
+
+
+def run_segment(run: _Run, t_bound: float) -> str | None:
+    """Integrate the current phase from ``(run.t, run.y)`` until ``t_bound`` or a terminal event.
+
+    ``(run.t, run.y)`` is then the segment's end; the tally and the history's
+    samples have seen the segment.
+
+    Returns
+    -------
+    str or None
+        The terminal event's name, or ``NO_LIFT``; ``None``: ``t_bound`` reached.
+    """
+    if run.phase != CONTACT and run.y[0] == 0.0:
+        run.t_start = run.t  # a half-cycle starts (not a restart at the pulse's end)
+    segment = integrate_segment(
+        run.problem,
+        run.system,
+        run.phase,
+        run.t,
+        run.y,
+        t_bound,
+        want_critical=math.isnan(run.tally.t_critical),
+        record=run.history is not None,
+        safe_energy=run.safe_energy,
+        settling=run.safe and run.phase == CONTACT,
+        first_step=run.first_step,
+    )
+    run.first_step = None
+    run.tally.see_segment(segment)
+    if run.history is not None:
+        run.history.add_samples(segment.dense, run.t, segment.t, run.phase, run.problem.record_dt)
+    run.t, run.y = segment.t, segment.y
+    return segment.event
+
+
+def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
+    """What the end of a segment does: the event of :func:`run_segment`, or its bound.
+
+    Returns
+    -------
+    str or None
+        The status if the run ends here, else ``None``.
+    """
+    if event is None:
+        if t_bound == run.problem.t_max:
+            return "t_max"
+        run.t = run.problem.t_p  # exactly the breakpoint; the same phase restarts from here
+    elif event in (UPLIFT_A, UPLIFT_A_PRIME):
+        # theta and dtheta are exactly 0 in full contact: the state carries over.
+        return uplift(run, 1 if event == UPLIFT_A else -1)
+    elif event == IMPACT:
+        return impact(run)
+    elif event == NO_LIFT:
+        # The block never rose: back to full contact (the uplift stays counted).
+        run.y[0] = run.y[run.system.n] = 0.0
+        run.phase = CONTACT
+        run.skip_uplift_check = True
+    elif event == OVERTURN:
+        return "overturned"
+    elif event in (REST, SETTLED):
+        return "rest"
+    elif event == SAFE:
+        run.safe = True  # the next contact phase settles (not rechecked: E is at the bound)
+    else:  # pragma: no cover - every terminal event is handled above
+        raise AssertionError(f"unhandled event {event!r}")
+    return None
+
+
+def phase_machine(run: _Run) -> str:
+    """The whole run: docs/simulation.md, "Phases" and "End".
+
+    Parameters
+    ----------
+    run : _Run
+        At its initial state; at its end on return.
+
+    Returns
+    -------
+    str
+        Why the run ended (one of ``STATUS``).
+    """
+    problem = run.problem
+    while True:
+        record(run)
+        if run.t >= problem.t_max:
+            return "t_max"
+        run.pulse_on = run.t < problem.t_p
+        if run.phase == CONTACT:
+            status = contact_start(run)
+            if status is not None:
+                return status
+            if run.phase != CONTACT:
+                continue  # lifted at this very instant: the new phase starts from here
+        # Rule 3: no segment straddles the pulse's end.
+        t_bound = min(problem.t_p, problem.t_max) if run.pulse_on else problem.t_max
+        event = run_segment(run, t_bound)
+        # The segment's end: the pulse's end, t_max, or an event (an impact's "before").
+        record(run)
+        status = segment_end(run, event, t_bound)
+        if status is not None:
+            return status
+
+
+def finish(run: _Run, status: str) -> Response:
+    """The :class:`Response` of a run that :func:`phase_machine` ended with ``status``.
+
+    The end state is the history's last row.
+    """
+    assert status in STATUS
+    record(run)
+    tally = run.tally
+    return Response(
+        overturned=status == "overturned",
+        t_overturn=run.t if status == "overturned" else math.nan,
+        t_critical=tally.t_critical,
+        theta_max=tally.theta_max,
+        x_max=tally.x_max,
+        impacts=tally.impacts,
+        uplifts=tally.uplifts,
+        t_end=run.t,
+        status=status,
+        history=run.history.as_dict(run.problem) if run.history is not None else None,
+    )
+
+
+def simulate(problem: Problem, record: bool = False) -> Response:
     """Simulate one problem with SciPy's Dormand-Prince 5(4), following docs/simulation.md.
 
     Parameters
     ----------
     problem : Problem
-        The run (see :func:`rocking.sim.problem.make_problem`).
+        The run (see :func:`rocking.sim.problem.make_problem`), its initial
+        state ``y0``, ``phase0`` included (``None``: at rest in full contact,
+        checked for uplift at once).
     record : bool
         Keep the history: samples every ``problem.record_dt`` from the dense
         output plus every event (uplift, impact before and after, rest, pulse
         end, overturning, end), in time order.
-    y0 : array_like, optional
-        State ``(q, dq)`` at ``t = 0`` in the model's manifest order; default
-        all zeros (at rest). For tests and studies of free rocking.
-    phase0 : int, optional
-        Phase at ``t = 0``: 0 (full contact; needs ``theta = dtheta = 0``),
-        ``+1`` or ``-1`` (rocking about that pivot; needs ``s theta >= 0``).
-        Default 0. A full-contact start is checked for uplift at once.
 
     Returns
     -------
@@ -636,137 +909,20 @@ def simulate(problem: Problem, record: bool = False, *, y0=None, phase0=None) ->
 
     Raises
     ------
-    ValueError
-        If ``y0`` or ``phase0`` are invalid.
-    RuntimeError
-        If ``solve_ivp`` fails (step size too small).
+    SimulationError
+        If ``solve_ivp`` fails (step size too small, e.g. on a non-finite
+        right-hand side).
     """
     system = _System(problem)
-    n = system.n
-    y, phase = _initial_state(problem, y0, phase0)
-    t = 0.0
-    tally = _Tally()
-    tally.see_state(y, n)
-    history = _History() if record else None
-    # After a lift-off that failed, u_s is still (barely) positive: checking it
-    # again at the contact phase's start would lift the block again, forever.
-    skip_uplift_check = False
-    # Rule 4's early rest: the energy bound below which the block never lifts
-    # again (None: no bound, or disabled), and whether the run is below it.
-    safe_energy = system.safe_energy if problem.early_rest else None
-    safe = False
-    first_step = None  # of the next segment; None: Hairer's heuristic
-    t_start = 0.0  # when the current rocking phase started, at theta = 0
-
-    def finish(status: str, t_overturn: float = math.nan) -> Response:
-        assert status in STATUS
-        if history is not None:
-            history.add(t, y, phase)
-        return Response(
-            overturned=status == "overturned",
-            t_overturn=t_overturn,
-            t_critical=tally.t_critical,
-            theta_max=tally.theta_max,
-            x_max=tally.x_max,
-            impacts=tally.impacts,
-            uplifts=tally.uplifts,
-            t_end=t,
-            status=status,
-            history=history.as_dict(problem) if history is not None else None,
-        )
-
-    def events_exhausted() -> bool:
-        return tally.uplifts + tally.impacts >= problem.max_events
-
-    while True:
-        if history is not None:
-            history.add(t, y, phase)
-        if t >= problem.t_max:
-            return finish("t_max")
-        pulse_on = t < problem.t_p
-
-        # Rule 1: a full-contact phase first asks whether it is already over.
-        if phase == CONTACT:
-            s = 0 if skip_uplift_check else _uplift_at_start(system, t, y, system.ground(pulse_on))
-            skip_uplift_check = False
-            if s:
-                tally.uplifts += 1
-                phase = s
-                safe = False
-                if events_exhausted():
-                    return finish("max_events")
-                continue
-            if not pulse_on:
-                energy = system.energy_above_rest(y)
-                # Rule 4. For the bare block E(y) = E(0) in full contact: rest at once.
-                if energy < problem.energy_rest:
-                    return finish("rest")
-                # Below the uplift energy the block can never lift again: only the
-                # damper's stroke is left to settle, up to the next extremum of q[1].
-                if safe_energy is not None and (safe or energy < safe_energy):
-                    if n == 1 or y[n + 1] == 0.0:  # nothing to settle, or at the extremum already
-                        return finish("rest")
-                    safe = True
-
-        if phase != CONTACT and y[0] == 0.0:
-            t_start = t  # a half-cycle starts (not a restart at the pulse's end)
-        # Rule 3: no segment straddles the pulse's end.
-        t_bound = min(problem.t_p, problem.t_max) if pulse_on else problem.t_max
-        segment = integrate_segment(
-            problem,
-            system,
-            phase,
-            t,
-            y,
-            t_bound,
-            want_critical=math.isnan(tally.t_critical),
-            record=record,
-            safe_energy=safe_energy,
-            settling=safe and phase == CONTACT,
-            first_step=first_step,
-        )
-        first_step = None
-        tally.see_segment(segment)
-        if history is not None:
-            history.add_samples(segment.dense, t, segment.t, phase, problem.record_dt)
-            # The segment's end: the pulse's end, t_max, or an event (an impact's "before").
-            history.add(segment.t, segment.y, phase)
-        t, y = segment.t, segment.y
-
-        if segment.event is None:
-            if t_bound == problem.t_max:
-                return finish("t_max")
-            t = problem.t_p  # exactly the breakpoint; the same phase restarts from here
-        elif segment.event in (UPLIFT_A, UPLIFT_A_PRIME):
-            # theta and dtheta are exactly 0 in full contact: the state carries over.
-            tally.uplifts += 1
-            phase = 1 if segment.event == UPLIFT_A else -1
-            safe = False  # not reached below the uplift energy; kept consistent if it were
-            if events_exhausted():
-                return finish("max_events")
-        elif segment.event == IMPACT:
-            s, dtheta_in = phase, y[n]
-            y = system.impact(s, y, system.ground(pulse_on)(t))
-            tally.impacts += 1
-            if abs(y[n]) < problem.dtheta_rest:
-                # At rest on the base; the other velocities keep their J_s values.
-                y[n] = 0.0
-                phase = CONTACT
-            else:
-                phase = -s
-                first_step = _first_step_after_impact(t - t_start, y[n], dtheta_in)
-            if events_exhausted():
-                return finish("max_events")
-        elif segment.event == NO_LIFT:
-            # The block never rose: back to full contact (the uplift stays counted).
-            y[0] = y[n] = 0.0
-            phase = CONTACT
-            skip_uplift_check = True
-        elif segment.event == OVERTURN:
-            return finish("overturned", t_overturn=t)
-        elif segment.event in (REST, SETTLED):
-            return finish("rest")
-        elif segment.event == SAFE:
-            safe = True  # the next contact phase settles (not rechecked: E is at the bound)
-        else:  # pragma: no cover - every terminal event is handled above
-            raise AssertionError(f"unhandled event {segment.event!r}")
+    y = np.zeros(2 * system.n) if problem.y0 is None else np.array(problem.y0, dtype=float)
+    run = _Run(
+        problem=problem,
+        system=system,
+        t=0.0,
+        y=y,
+        phase=int(problem.phase0),
+        history=_History() if record else None,
+        safe_energy=system.safe_energy if problem.early_rest else None,
+    )
+    run.tally.see_state(run.y, system.n)
+    return finish(run, phase_machine(run))

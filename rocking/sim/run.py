@@ -34,7 +34,7 @@ def run(problem: Problem, backend: str = "auto", record: bool = False) -> Respon
             warnings.warn(f"C back end unavailable, using NumPy: {exc}", BackendWarning, stacklevel=3)
     from . import numpy_backend
 
-    return numpy_backend.simulate(problem, record=record, y0=problem.y0, phase0=problem.phase0)
+    return numpy_backend.simulate(problem, record=record)
 
 
 def simulate(

@@ -4,7 +4,7 @@ A study (the overturning map, the minimum overturning spectrum, the optimal
 damper) is described by a :class:`Setting` (the block and the solver), a
 damper :class:`Tuning` (the paper's ``omd``) or a :class:`Variant` (any
 generated model with its parameters given explicitly) and :class:`Grid` s of the non-dimensional pulse
-parameters of ``model.md`` section 9 (``Omega = omega_g / p``,
+parameters of ``docs/model.md`` section 9 (``Omega = omega_g / p``,
 ``beta = a_g / (g tan(alpha))``). Its result is a :class:`Study`: arrays,
 CSV tables, a JSON-ready configuration and a summary
 (:mod:`rocking.study.storage` writes and reads it).
@@ -27,6 +27,7 @@ import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
 from ..model.params import Block, ParameterError
+from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
 FORMAT = 1
@@ -121,8 +122,9 @@ class Setting:
     def __post_init__(self) -> None:
         if not isinstance(self.block, Block):
             raise ParameterError(f"block must be a rocking.Block (got {type(self.block).__name__})")
-        if not (isinstance(self.rtol, (int, float)) and 0 < self.rtol <= 1e-2):
-            raise ParameterError(f"rtol must be in (0, 0.01] (got {self.rtol!r})")
+        if not isinstance(self.rtol, (int, float)):
+            raise ParameterError(f"rtol must be a number in (0, 0.01] (got {self.rtol!r})")
+        boundary.check("rtol", self.rtol)
         if not (isinstance(self.t_after, (int, float)) and math.isfinite(self.t_after) and self.t_after > 0):
             raise ParameterError(f"t_after must be a finite number of seconds > 0 (got {self.t_after!r})")
         if self.backend not in BACKENDS:
@@ -135,21 +137,22 @@ class Setting:
 
 @dataclass(frozen=True)
 class Tuning:
-    """A damper relative to its block (``model.md`` section 9).
+    """A damper relative to its block (``docs/model.md`` section 9).
 
     Parameters
     ----------
-    gamma : float
-        Mass ratio ``m / M``, > 0.
+    gamma : float, optional
+        Mass ratio ``m / M``, > 0 (default 0.05, the damper of docs/model.md section 9).
     omega_ratio : float, optional
-        ``omega_m / p`` (> 0); ``T_m p / (2 pi) = 1 / omega_ratio``.
+        ``omega_m / p`` (> 0); ``T_m p / (2 pi) = 1 / omega_ratio``. Default 1.
     zeta : float, optional
-        Damping ratio, >= 0.
+        Damping ratio, >= 0. Default 0.05.
     h : float, optional
-        Height of the guide above the top of the block, m (>= 0).
+        Height of the guide above the top of the block, m (>= 0). Default 0.05 m,
+        the reference damper of docs/model.md section 9 (``Damper``'s own default is 0).
     """
 
-    gamma: float
+    gamma: float = 0.05
     omega_ratio: float = 1.0
     zeta: float = 0.05
     h: float = 0.05
@@ -190,7 +193,7 @@ class Variant:
     ----------
     model : str
         Installed model name (``"pendulum"``, ``"omd2"``, ...) or a folder
-        written by ``python -m derive`` (kept as its absolute path).
+        written by ``rocking derive`` (kept as its absolute path).
     params : dict
         Value of each of the model's own parameters (those not set by the
         block), SI units; their ranges are checked against the block when the
@@ -215,12 +218,12 @@ class Variant:
             object.__setattr__(self, "model", str(model.folder))  # a folder: absolute, for every worker
         if not isinstance(self.params, dict):
             raise ParameterError(f"params must be a dict of values by name (got {type(self.params).__name__})")
-        own = [k for k in model.parameters if k not in BLOCK_PARAMETERS]
+        own = [k for k in model.parameters if k not in model.block_parameters]
         unknown = sorted(str(k) for k in self.params if k not in own)
         if unknown:
             raise ParameterError(
                 f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; "
-                f"give {', '.join(own) or 'none'} (the block sets {', '.join(BLOCK_PARAMETERS)})"
+                f"give {', '.join(own) or 'none'} (the block sets {', '.join(model.block_parameters)})"
             )
         missing = [k for k in own if k not in self.params]
         if missing:
@@ -247,10 +250,6 @@ class Variant:
     def case_args(self) -> dict:
         """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for this damper."""
         return {"model": self.model, "params": dict(self.params)}
-
-
-#: Parameters every model takes from the block (``Block.as_params``).
-BLOCK_PARAMETERS = ("M", "I_G", "B", "H", "e", "g")
 
 
 @dataclass

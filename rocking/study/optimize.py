@@ -51,10 +51,10 @@ from pathlib import Path
 
 import numpy as np
 
-from .overturning_map import preflight
 from ..model.params import ParameterError
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
 from .config import Grid, Setting, Study, Tuning, Variant, part_config
+from .overturning_map import preflight
+from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Gain below which a damper is useless (the definition of Omega*).
@@ -255,7 +255,7 @@ def optimal_damper(
     tol = check_tol(tol)
     if not (isinstance(refine, int) and refine >= 0):
         raise ParameterError(f"refine must be an integer >= 0 (got {refine!r})")
-    Tm = Tm or Grid("Tm-range", *TM_GRID, log=True)
+    Tm = Tm or Grid("Tm-ratio", *TM_GRID, log=True)
     if not Tm.log:
         raise ParameterError("the coarse T_m grid must be logarithmic (Grid(..., log=True))")
     for name, value in (("zeta", zeta), ("h", h)):

@@ -1,7 +1,7 @@
 """The overturning map: the outcome of every pulse of an ``(Omega, beta)`` grid, with and without a damper.
 
 Each cell of the grid of pulse frequency ratios ``Omega = omega_g / p`` and
-amplitude ratios ``beta = a_g / (g tan(alpha))`` (``model.md`` section 9) is
+amplitude ratios ``beta = a_g / (g tan(alpha))`` (``docs/model.md`` section 9) is
 one response of the block alone (part ``bare``) and one of the block with its
 damper (part ``damper``: the paper's ``omd`` given as a :class:`Tuning`, or any
 generated model as a :class:`Variant`). A cell's *outcome* is ``SAFE`` (-1) or the number of
@@ -20,8 +20,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..sim.cases import pulse_cases, run_cases
 from ..model.params import ParameterError
+from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
 from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
@@ -114,7 +114,8 @@ def check_damper(damper) -> None:
     """Refuse anything but a :class:`Tuning` or a :class:`Variant` as a study's damper."""
     if not isinstance(damper, (Tuning, Variant)):
         raise ParameterError(
-            f"the damper must be a rocking.study.config.Tuning (omd) or Variant (any model) (got {type(damper).__name__})"
+            "the damper must be a rocking.study.config.Tuning (omd) or Variant (any model) "
+            f"(got {type(damper).__name__})"
         )
 
 

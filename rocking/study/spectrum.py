@@ -1,8 +1,8 @@
 """The minimum overturning spectrum ``beta_min(Omega)``, with the safe windows above it.
 
 ``beta_min`` is the smallest amplitude ratio ``beta`` of a one-sine pulse of
-frequency ratio ``Omega`` that overturns the block (``model.md`` section 9).
-The overturning domain is not monotone in ``beta`` (``model.md`` 10.4: above
+frequency ratio ``Omega`` that overturns the block (``docs/model.md`` section 9).
+The overturning domain is not monotone in ``beta`` (``docs/model.md`` 10.4: above
 the first overturning amplitude there are windows where the block survives),
 so a bisection from a safe to an overturning amplitude alone could land on
 any of its edges. :func:`beta_min` therefore
@@ -29,9 +29,9 @@ from pathlib import Path
 
 import numpy as np
 
-from .overturning_map import FIXED, SAFE, check_damper, outcome, preflight, respond
 from ..model.params import ParameterError
 from .config import Grid, Setting, Study, Tuning, Variant, part_config
+from .overturning_map import FIXED, SAFE, check_damper, outcome, preflight, respond
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 BELOW, BRACKETED, ABOVE = -1, 0, 1
