@@ -66,7 +66,7 @@ def _add_solver(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--rtol",
         type=float,
-        help=f"relative tolerance of the integrator, in (0, 0.01] ({default_text(Setting, 'rtol')})",
+        help=f"relative tolerance of the integrator, in [1e-12, 0.01] ({default_text(Setting, 'rtol')})",
     )
     g.add_argument(
         "--t-after", type=float, help=f"time followed after the pulse, s ({default_text(Setting, 't_after')})"

@@ -40,7 +40,7 @@ C_TYPES = {DOUBLE: "double", INT64: "int64_t", INT32: "int32_t", DOUBLES: "const
 CHECKS = {
     "finite": lambda v: np.isfinite(v),
     "> 0": lambda v: np.isfinite(v) & (v > 0),
-    "in (0, 0.01]": lambda v: (v > 0) & (v <= 0.01),
+    "in [1e-12, 0.01]": lambda v: (v >= 1e-12) & (v <= 0.01),
     ">= 0": lambda v: np.isfinite(v) & (v >= 0),
     ">= 1": lambda v: (v >= 1) & (v == np.floor(v)),
     "0 or 1": lambda v: (v == 0) | (v == 1),
@@ -90,7 +90,7 @@ CASE = (
     Field("psi", DOUBLE, "rad", "pulse phase at t = 0", "finite"),
     Field("t_p", DOUBLE, "s", "end of the pulse, a breakpoint of the integration", "finite"),
     Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "> 0"),
-    Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "in (0, 0.01]"),
+    Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "in [1e-12, 0.01]"),
     Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
     Field("contact_max_step", DOUBLE, "s", "largest step in full contact while t < t_p", "> 0"),
     Field("dtheta_rest", DOUBLE, "rad/s", "an impact with outgoing |dtheta| below this ends rocking", ">= 0"),

@@ -267,7 +267,7 @@ def make_problem(
     model : str or Model, optional
         Model name or folder; default ``"omd"`` with a damper, ``"block"`` without.
     rtol : float
-        Relative tolerance, in (0, 0.01].
+        Relative tolerance, in [1e-12, 0.01].
 
     Every setting is checked against its range in
     :data:`rocking.sim.boundary.CASE`; a :class:`ParameterError` names it.

@@ -107,7 +107,7 @@ class Setting:
     block : Block
         The rocking block.
     rtol : float, optional
-        Relative tolerance of the integrator, in (0, 0.01].
+        Relative tolerance of the integrator, in [1e-12, 0.01].
     t_after : float, optional
         Time followed after the pulse ends, s (> 0).
     backend : {"c", "numpy"}, optional
@@ -123,7 +123,7 @@ class Setting:
         if not isinstance(self.block, Block):
             raise ParameterError(f"block must be a rocking.Block (got {type(self.block).__name__})")
         if not isinstance(self.rtol, (int, float)):
-            raise ParameterError(f"rtol must be a number in (0, 0.01] (got {self.rtol!r})")
+            raise ParameterError(f"rtol must be a number in [1e-12, 0.01] (got {self.rtol!r})")
         boundary.check("rtol", self.rtol)
         if not (isinstance(self.t_after, (int, float)) and math.isfinite(self.t_after) and self.t_after > 0):
             raise ParameterError(f"t_after must be a finite number of seconds > 0 (got {self.t_after!r})")
