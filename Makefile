@@ -5,8 +5,10 @@ PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 VARIANT ?=
 JOBS ?=
+# Inputs per back end of `make fuzz` (bench/fuzz.py).
+FUZZ_N ?= 10000
 
-.PHONY: setup derive verify test bench demo clean
+.PHONY: setup derive verify test bench fuzz demo clean
 
 setup: $(STAMP)
 
@@ -28,6 +30,9 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) bench/run.py
+
+fuzz: $(STAMP)
+	$(PY) bench/fuzz.py -n $(FUZZ_N) --json out/fuzz.json
 
 demo: $(STAMP)
 	$(VENV)/bin/rocking demo --out out

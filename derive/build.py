@@ -2,13 +2,18 @@
 
 from __future__ import annotations
 
+import contextlib
+import json
+import os
+import re
+import tempfile
 import time
 from dataclasses import dataclass
 from pathlib import Path
 
 from .codegen import MANIFEST_FORMAT, generate
 from .equations import derive
-from .spec import Spec
+from .spec import Spec, SpecError
 
 #: The folder of the package ``rocking.generated``, the default home of the models. It is
 #: derive's sibling both in a checkout (``derive/``, ``generated/``) and once installed
@@ -32,16 +37,97 @@ def build(spec: Spec, options: dict | None = None) -> Built:
     return Built(spec.name, files, time.perf_counter() - start)
 
 
+#: A file name a manifest may list: no folder, no hidden file, no ``..``.
+_FILE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
+
+
+def previous_files(folder: Path) -> set[str] | None:
+    """The files a previous derivation wrote into ``folder``, as its manifest.json lists them.
+
+    Returns
+    -------
+    set of str or None
+        ``manifest.json`` and every file its ``sha256`` and ``files`` name (plain
+        file names only); None when ``folder`` holds no readable manifest of a
+        derivation.
+    """
+    try:
+        manifest = json.loads((folder / "manifest.json").read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError):
+        return None
+    if not (isinstance(manifest, dict) and isinstance(manifest.get("sha256"), dict) and "model" in manifest):
+        return None
+    files = isinstance(manifest.get("files"), dict) and manifest["files"] or {}
+    named = set(manifest["sha256"]) | {v for k, v in files.items() if k != "c_prefix" and isinstance(v, str)}
+    return {"manifest.json"} | {n for n in named if isinstance(n, str) and _FILE_NAME.fullmatch(n) and ".." not in n}
+
+
+def check_output_folder(built: Built, folder: Path) -> set[str]:
+    """The files of ``folder`` a derivation may replace or remove: those of the previous derivation.
+
+    ``--out`` writes only into a new or empty folder, or one holding the
+    manifest of a previous derivation; it never touches a file that manifest
+    does not list (the user's own notes, scripts, spec).
+
+    Raises
+    ------
+    SpecError
+        When ``folder`` is not a folder, holds files but no previous manifest, or
+        holds a file of the user's under the name of a file to write.
+    """
+    if not folder.exists():
+        return set()
+    if not folder.is_dir():
+        raise SpecError(f"output {folder} exists and is not a folder")
+    entries = {p.name for p in folder.iterdir()}
+    if not entries:
+        return set()
+    previous = previous_files(folder)
+    if previous is None:
+        raise SpecError(
+            f"output {folder} is not empty and holds no manifest.json of a previous derivation; "
+            "choose a new or empty folder"
+        )
+    theirs = sorted(n for n in built.files if n in entries and n not in previous)
+    if theirs:
+        raise SpecError(f"output {folder}: {', '.join(theirs)} is not listed in its manifest.json; not overwriting it")
+    return previous & entries
+
+
+def _replace(path: Path, text: str) -> None:
+    """Write ``text`` to ``path`` through a new file: a symbolic link at ``path`` is replaced, never followed."""
+    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
+    try:
+        with os.fdopen(fd, "w", encoding="utf-8") as handle:
+            handle.write(text)
+        os.chmod(tmp, 0o644)  # mkstemp made it private; generated code is meant to be read
+        os.replace(tmp, path)
+    finally:
+        with contextlib.suppress(FileNotFoundError):
+            os.unlink(tmp)
+
+
 def write(built: Built, folder: Path) -> None:
-    """Write the files into ``folder``, removing files the model no longer has."""
-    folder.mkdir(parents=True, exist_ok=True)
-    for old in folder.iterdir():
-        if old.is_file() and old.name not in built.files:
-            old.unlink()
-    for name, text in built.files.items():
-        path = folder / name
-        if not path.exists() or path.read_text(encoding="utf-8") != text:
-            path.write_text(text, encoding="utf-8")
+    """Write the files into ``folder``, removing only files of the previous derivation the model no longer has.
+
+    Raises
+    ------
+    SpecError
+        When ``folder`` may not be written (:func:`check_output_folder`), or writing fails.
+    """
+    previous = check_output_folder(built, folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        for name in sorted(previous - set(built.files)):
+            path = folder / name
+            if path.is_file() or path.is_symlink():
+                path.unlink()
+        for name, text in built.files.items():
+            path = folder / name
+            if path.is_symlink() or not path.is_file() or path.read_text(encoding="utf-8") != text:
+                _replace(path, text)
+    except OSError as exc:
+        raise SpecError(f"cannot write {folder}: {exc.strerror or exc}") from None
 
 
 def stale_files(built: Built, folder: Path) -> list[str]:

@@ -23,6 +23,12 @@ from .spec import SpecError, load_spec, registered_variants, variant_spec
 PROG = "python -m rocking.derive"
 
 
+def one_line(message) -> str:
+    """``message`` on one line of printable characters: an error never spreads over lines or moves the cursor."""
+    text = " ".join(str(message).split())
+    return "".join(c if c.isprintable() else "?" for c in text)
+
+
 def parse_options(pairs: list[str]) -> dict:
     """``KEY=VALUE`` pairs of ``--option`` as a dict.
 
@@ -114,7 +120,11 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
     try:
         stale = run(targets(args, parser), parse_options(args.option), args.check)
     except SpecError as exc:
-        print(f"error: {exc}", file=sys.stderr)
+        print(f"error: {one_line(exc)}", file=sys.stderr)
+        return 2
+    except (RecursionError, MemoryError, ArithmeticError, ValueError, TypeError, OSError) as exc:
+        # A spec that passed every check but still breaks the derivation: one line, never a traceback.
+        print(f"error: the derivation failed ({type(exc).__name__}: {one_line(exc)[:200]})", file=sys.stderr)
         return 2
     # The package's __init__.py (its MANIFEST_FORMAT) goes with the models of rocking.generated.
     if args.spec is None and args.out is None:

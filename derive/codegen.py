@@ -32,6 +32,7 @@ from sympy.printing.numpy import NumPyPrinter
 
 from .equations import Equations
 from .mechanics import ag, s
+from .names import escape_c_comment, escape_markdown, escape_python_doc
 from .spec import BLOCK_PARAMETERS, Parameter
 
 TEMPLATES = Path(__file__).parent / "templates"
@@ -381,14 +382,21 @@ def model_context(eq: Equations, spec) -> ModelContext:
 
 @functools.cache
 def _environment() -> jinja2.Environment:
-    """The templates, loaded once per process."""
-    return jinja2.Environment(
+    """The templates, loaded once per process, with one escaping filter per target language.
+
+    The spec's free text was checked already (:func:`rocking.derive.names.check_text`); the
+    templates escape it once more where it lands (``pydoc``, ``ccomment``, ``md``), so that no
+    text can close a docstring or a comment even if a check is ever loosened.
+    """
+    env = jinja2.Environment(
         loader=jinja2.FileSystemLoader(TEMPLATES),
         keep_trailing_newline=True,
         trim_blocks=True,
         lstrip_blocks=True,
         undefined=jinja2.StrictUndefined,
     )
+    env.filters.update(pydoc=escape_python_doc, ccomment=escape_c_comment, md=escape_markdown)
+    return env
 
 
 class Generator:

@@ -12,16 +12,21 @@ The block frame has its origin at the centre of the base, ``x`` to the right,
 ``y`` up; at ``theta = 0`` it coincides with the frame that translates with the
 ground. Units are SI.
 
-Everything is checked here, before any derivation starts.
+Everything is checked here, before any derivation starts. A spec is data
+from a stranger: nothing in it is ever executed. Expressions are read by
+:mod:`rocking.derive.expressions` (a small grammar, no ``eval``), names and
+free text are held to the rules of :mod:`rocking.derive.names`.
 """
 
 from __future__ import annotations
 
-import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import sympy as sp
+
+from .expressions import parse_expression
+from .names import NAME_PATTERN, SpecError, check_model_name, check_symbol, check_text, quote
 
 try:
     import tomllib
@@ -41,12 +46,12 @@ BLOCK_PARAMETERS = (
 IMPACT_LAWS = ("momentum", "velocity")
 INERTIA_OPTIONS = ("free", "homogeneous")
 _RESERVED = {"theta", "s", "t", "ag", "x_g"} | {p[0] for p in BLOCK_PARAMETERS}
-#: Temporaries (cse<i>) and run constants (cst<i>) of the generated code.
-_GENERATED_NAME = re.compile(r"cs[et]\d+")
+#: Largest spec file read, in bytes: a spec is a few dozen lines.
+MAX_SPEC_BYTES = 64 * 1024
+#: Most coordinates, parameters, bodies and elements of each kind a spec may declare.
+MAX_ENTRIES = 32
 
-
-class SpecError(ValueError):
-    """A model specification or a derivation option is invalid."""
+__all__ = ["SpecError", "Spec", "Parameter", "Body", "Element", "parse_spec", "load_spec", "variant_spec"]
 
 
 @dataclass(frozen=True)
@@ -107,22 +112,24 @@ class Spec:
 
 
 def _expr(text, where: str, known: dict[str, sp.Symbol]) -> sp.Expr:
-    """Parse ``text`` with only the declared symbols in scope."""
-    if isinstance(text, (int, float)):
-        return sp.nsimplify(text)
-    if not isinstance(text, str):
-        raise SpecError(f"{where}: expected an expression, got {text!r}")
-    try:
-        expr = sp.parse_expr(text, local_dict=dict(known), evaluate=True)
-    except Exception as exc:  # SymPy raises many kinds for bad text
-        raise SpecError(f"{where}: cannot parse {text!r} ({exc})") from None
-    unknown = sorted(str(a) for a in expr.free_symbols if a.name not in known)
-    if unknown:
-        raise SpecError(
-            f"{where}: unknown symbol(s) {', '.join(unknown)} in {text!r}; "
-            f"declare them under [parameters] or [coordinates]"
-        )
-    return expr
+    """Parse ``text`` with only the declared symbols in scope, as data (:func:`parse_expression`)."""
+    return parse_expression(text, where, known)
+
+
+def _table(value, where: str) -> dict:
+    """``value`` if it is a TOML table."""
+    if not isinstance(value, dict):
+        raise SpecError(f"{where} must be a table, got {quote(value)}")
+    return value
+
+
+def _list(value, where: str) -> list:
+    """``value`` if it is a list of at most :data:`MAX_ENTRIES` entries."""
+    if not isinstance(value, list):
+        raise SpecError(f"{where} must be a list, got {quote(value)}")
+    if len(value) > MAX_ENTRIES:
+        raise SpecError(f"{where} has {len(value)} entries, at most {MAX_ENTRIES} allowed")
+    return value
 
 
 def _require(table: dict, key: str, where: str):
@@ -134,7 +141,8 @@ def _require(table: dict, key: str, where: str):
 def _check_keys(table: dict, allowed: set[str], where: str) -> None:
     extra = sorted(set(table) - allowed)
     if extra:
-        raise SpecError(f"{where}: unknown key(s) {', '.join(extra)}; allowed: {', '.join(sorted(allowed))}")
+        shown = ", ".join(k if NAME_PATTERN.fullmatch(k) and len(k) <= 40 else quote(k) for k in extra[:10])
+        raise SpecError(f"{where}: unknown key(s) {shown}; allowed: {', '.join(sorted(allowed))}")
 
 
 #: Keys of the top-level table of a spec.
@@ -142,20 +150,17 @@ _SPEC_KEYS = {"name", "title", "coordinates", "parameters", "bodies", "springs",
 
 
 def _model_name(data: dict) -> str:
-    """The spec's ``name``, an identifier.
+    """The spec's ``name``, an ASCII identifier that no file, module or C name of the model collides with.
 
     Raises
     ------
     SpecError
-        When it is missing or not an identifier.
+        When it is missing, not an identifier, or reserved.
     """
-    name = _require(data, "name", "spec")
-    if not (isinstance(name, str) and name.isidentifier()):
-        raise SpecError(f"spec: name must be an identifier, got {name!r}")
-    return name
+    return check_model_name(_require(data, "name", "spec"))
 
 
-def _check_symbol_name(n) -> None:
+def _check_symbol_name(n, model: str) -> None:
     """A coordinate or parameter name must be an identifier the block and the generated code leave free.
 
     Raises
@@ -163,16 +168,28 @@ def _check_symbol_name(n) -> None:
     SpecError
         When it is not.
     """
-    if not (isinstance(n, str) and n.isidentifier()):
-        raise SpecError(f"spec: {n!r} is not a valid symbol name")
-    if n in _RESERVED:
-        raise SpecError(f"spec: {n!r} is reserved for the block or the derivation")
-    if _GENERATED_NAME.fullmatch(n):
-        raise SpecError(f"spec: {n!r}: names cse<digits> and cst<digits> are the generated code's")
+    if isinstance(n, str) and n in _RESERVED:
+        raise SpecError(f"spec: {quote(n)} is reserved for the block or the derivation")
+    check_symbol(n, model)
 
 
-def _declared_names(coords: tuple, params_table: dict) -> list[str]:
-    """Coordinates then parameters, each checked, none declared twice.
+def _derived_names(coords: tuple) -> dict[str, str]:
+    """The names the derivation gives each coordinate's velocity, acceleration and velocity after an impact.
+
+    Returns
+    -------
+    dict
+        Each derived name, with what it is (for messages).
+    """
+    derived = {}
+    for q in ("theta",) + tuple(coords):
+        for name, what in ((f"d{q}", "velocity"), (f"dd{q}", "acceleration"), (f"d{q}_plus", "velocity after impact")):
+            derived.setdefault(name, f"the {what} of coordinate {q!r}")
+    return derived
+
+
+def _declared_names(coords: tuple, params_table: dict, model: str) -> list[str]:
+    """Coordinates then parameters, each checked, none declared twice nor equal to a derived name.
 
     Raises
     ------
@@ -181,9 +198,20 @@ def _declared_names(coords: tuple, params_table: dict) -> list[str]:
     """
     names = list(coords) + list(params_table)
     for n in names:
-        _check_symbol_name(n)
+        _check_symbol_name(n, model)
     if len(set(names)) != len(names):
         raise SpecError("spec: a name is declared twice among coordinates and parameters")
+    derived = _derived_names(coords)
+    for n in names:
+        if n in derived:
+            raise SpecError(f"spec: {quote(n)} is {derived[n]} (the derivation names d<q>, dd<q>, d<q>_plus)")
+    for n, what in derived.items():
+        # A derived name is a C local and a Python argument too: 'ouble' would give the velocity 'double'.
+        try:
+            check_symbol(n, model)
+        except SpecError as exc:
+            reason = str(exc).removeprefix("spec: ")
+            raise SpecError(f"spec: {what} would be named {quote(n)}: {reason}; rename the coordinate") from None
     return names
 
 
@@ -197,8 +225,16 @@ def _parameters(params_table: dict) -> tuple[Parameter, ...]:
     """
     parameters = []
     for pname, ptab in params_table.items():
-        _check_keys(ptab, {"unit", "doc", "valid"}, f"parameters.{pname}")
-        parameters.append(Parameter(pname, ptab.get("unit", ""), ptab.get("doc", ""), ptab.get("valid", ">= 0")))
+        where = f"parameters.{pname}"
+        _check_keys(_table(ptab, where), {"unit", "doc", "valid"}, where)
+        parameters.append(
+            Parameter(
+                pname,
+                check_text(ptab.get("unit", ""), f"{where} unit", "unit"),
+                check_text(ptab.get("doc", ""), f"{where} doc", "doc"),
+                check_text(ptab.get("valid", ">= 0"), f"{where} valid", "valid"),
+            )
+        )
     return tuple(parameters)
 
 
@@ -219,8 +255,8 @@ def _body(i: int, btab: dict, known: dict[str, sp.Symbol]) -> Body:
         expressions, a bad expression or a negative numeric mass or inertia.
     """
     where = f"bodies[{i}]"
-    _check_keys(btab, {"name", "mass", "position", "inertia", "angle"}, where)
-    bname = _require(btab, "name", where)
+    _check_keys(_table(btab, where), {"name", "mass", "position", "inertia", "angle"}, where)
+    bname = check_text(_require(btab, "name", where), f"{where} name", "label")
     where = f"body {bname!r}"
     pos = _require(btab, "position", where)
     if not (isinstance(pos, list) and len(pos) == 2):
@@ -247,7 +283,7 @@ def _bodies(tables: list, known: dict[str, sp.Symbol]) -> tuple[Body, ...]:
     SpecError
         For a bad body, or two bodies with the same name.
     """
-    bodies = tuple(_body(i, btab, known) for i, btab in enumerate(tables))
+    bodies = tuple(_body(i, btab, known) for i, btab in enumerate(_list(tables, "spec: bodies")))
     body_names = [b.name for b in bodies]
     if len(set(body_names)) != len(body_names):
         raise SpecError("spec: two bodies have the same name")
@@ -266,12 +302,12 @@ def _element(kind: str, i: int, etab: dict, keys: tuple[str, str], bodies: list[
     """
     coef_key, measure_key = keys
     where = f"{kind}[{i}]"
-    _check_keys(etab, {"name", coef_key, measure_key, "acts_on"}, where)
-    ename = etab.get("name", f"{kind}{i}")
+    _check_keys(_table(etab, where), {"name", coef_key, measure_key, "acts_on"}, where)
+    ename = check_text(etab.get("name", f"{kind}{i}"), f"{where} name", "label")
     where = f"{kind[:-1]} {ename!r}"
     acts_on = _require(etab, "acts_on", where)
-    if acts_on not in bodies:
-        raise SpecError(f"{where}: acts on unknown body {acts_on!r}; bodies are {', '.join(bodies) or 'none'}")
+    if not isinstance(acts_on, str) or acts_on not in bodies:
+        raise SpecError(f"{where}: acts on unknown body {quote(acts_on)}; bodies are {', '.join(bodies) or 'none'}")
     return Element(
         ename,
         _expr(_require(etab, coef_key, where), f"{where} {coef_key}", known),
@@ -282,7 +318,8 @@ def _element(kind: str, i: int, etab: dict, keys: tuple[str, str], bodies: list[
 
 def _elements(data: dict, kind: str, keys: tuple[str, str], bodies: list[str], known) -> tuple[Element, ...]:
     """The tables of ``kind`` (springs or dashpots), each checked; ``keys`` as for :func:`_element`."""
-    return tuple(_element(kind, i, etab, keys, bodies, known) for i, etab in enumerate(data.get(kind, [])))
+    tables = _list(data.get(kind, []), f"spec: {kind}")
+    return tuple(_element(kind, i, etab, keys, bodies, known) for i, etab in enumerate(tables))
 
 
 def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
@@ -293,14 +330,14 @@ def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
     SpecError
         For a law given to a name that is not a coordinate, or an unknown law.
     """
-    impact = dict(table)
+    impact = dict(_table(table, "spec: impact"))
     for c in coords:
         impact.setdefault(c, "momentum")
     for c, law in impact.items():
         if c not in coords:
-            raise SpecError(f"impact: {c!r} is not a coordinate; coordinates are {', '.join(coords)}")
-        if law not in IMPACT_LAWS:
-            raise SpecError(f"impact.{c}: unknown law {law!r}; choose one of {', '.join(IMPACT_LAWS)}")
+            raise SpecError(f"impact: {quote(c)} is not a coordinate; coordinates are {', '.join(coords)}")
+        if not isinstance(law, str) or law not in IMPACT_LAWS:
+            raise SpecError(f"impact.{c}: unknown law {quote(law)}; choose one of {', '.join(IMPACT_LAWS)}")
     return {c: impact[c] for c in coords}
 
 
@@ -319,18 +356,20 @@ def parse_spec(data: dict, source: str = "") -> Spec:
     SpecError
         With a message naming the offending entry.
     """
-    _check_keys(data, _SPEC_KEYS, "spec")
+    _check_keys(_table(data, "spec"), _SPEC_KEYS, "spec")
     name = _model_name(data)
-    coords = tuple(data.get("coordinates", ()))
-    params_table = data.get("parameters", {})
-    names = _declared_names(coords, params_table)
+    coords = tuple(_list(data.get("coordinates", []), "spec: coordinates"))
+    params_table = _table(data.get("parameters", {}), "spec: parameters")
+    if len(params_table) > MAX_ENTRIES:
+        raise SpecError(f"spec: {len(params_table)} parameters, at most {MAX_ENTRIES} allowed")
+    names = _declared_names(coords, params_table, name)
     parameters = _parameters(params_table)
     known = _symbols(names)
     bodies = _bodies(data.get("bodies", []), known)
     body_names = [b.name for b in bodies]
     spec = Spec(
         name=name,
-        title=data.get("title", name),
+        title=check_text(data.get("title", name), "spec: title", "title"),
         coordinates=coords,
         parameters=parameters,
         bodies=bodies,
@@ -361,10 +400,15 @@ def load_spec(path: str | Path) -> Spec:
     path = Path(path)
     if not path.is_file():
         raise SpecError(f"spec file not found: {path}")
-    text = path.read_text(encoding="utf-8")
     try:
+        raw = path.read_bytes()
+        if len(raw) > MAX_SPEC_BYTES:
+            raise SpecError(f"{path}: {len(raw)} bytes, a spec holds at most {MAX_SPEC_BYTES}")
+        text = raw.decode("utf-8")
         data = tomllib.loads(text)
-    except tomllib.TOMLDecodeError as exc:
+    except (OSError, UnicodeDecodeError) as exc:
+        raise SpecError(f"{path}: cannot be read as UTF-8 text ({type(exc).__name__})") from None
+    except (tomllib.TOMLDecodeError, RecursionError) as exc:
         raise SpecError(f"{path}: not valid TOML ({exc})") from None
     return parse_spec(data, source=text)
 

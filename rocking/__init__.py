@@ -34,7 +34,7 @@ from .study.optimize import optimal_damper
 from .study.overturning_map import overturning_map
 from .study.spectrum import minimum_overturning_spectrum
 from .study.storage import load, save
-from .study.tiles import Execution
+from .study.tiles import Execution, Interrupted, TileWarning
 
 __all__ = [
     "BackendWarning",
@@ -43,6 +43,7 @@ __all__ = [
     "Damper",
     "Execution",
     "Grid",
+    "Interrupted",
     "Model",
     "ModelError",
     "OneSinePulse",
@@ -51,6 +52,7 @@ __all__ = [
     "Setting",
     "SimulationError",
     "Study",
+    "TileWarning",
     "Tuning",
     "Variant",
     "available_models",

@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import ctypes
 import shutil
+import signal
 import subprocess
 import sys
 from pathlib import Path
@@ -13,6 +14,9 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(ROOT))  # derive/ is a development tool, not installed
+# A shell without job control starts background commands with SIGINT ignored, and children inherit that:
+# the interruption tests need Ctrl-C to reach this process and the commands it starts.
+signal.signal(signal.SIGINT, signal.default_int_handler)
 
 CFLAGS = ["-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2", "-fPIC", "-shared"]
 

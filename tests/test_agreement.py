@@ -11,7 +11,8 @@ import pytest
 from rocking.model.params import Block, Damper
 from rocking.model.pulse import OneSinePulse
 from rocking.sim import c_backend, numpy_backend
-from rocking.sim.problem import make_problem
+from rocking.sim.cases import Cases, pulse_cases
+from rocking.sim.problem import STATUS, make_problem
 
 N_CASES = 200
 #: A verdict may differ only where the overturning boundary lies within this
@@ -144,3 +145,30 @@ def test_c_path_uplift_at_the_static_threshold(psi, pivot):
     expected = (math.asin(threshold / pulse.a_g) - psi + (math.pi if pivot < 0 else 0.0)) / pulse.omega_g
     assert r.history["phase"][j] == pivot
     assert r.history["t"][j] == pytest.approx(expected, abs=1e-7)
+
+
+def test_both_back_ends_count_the_same_work():
+    """Rule 5: the work of a run is counted alike: the least max_steps a run needs is the same on both.
+
+    Found on C by bisection (a batch per step), then checked on NumPy: with that
+    bound the run ends as without it, with one less it ends with "max_steps".
+    """
+    rng = np.random.default_rng(5)
+    block = Block.reference()
+    n = 4
+    cases = pulse_cases(
+        block, rng.uniform(1.0, 8.0, n), rng.uniform(1.2, 4.0, n), gamma=rng.uniform(0.02, 0.2, n),
+        omega_ratio=rng.uniform(0.3, 3.0, n), zeta=rng.uniform(0.0, 0.3, n), h=0.05, t_after=4.0,
+    )
+    hit = STATUS.index("max_steps")
+    low, high = np.zeros(n, dtype=np.int64), np.full(n, 1 << 20, dtype=np.int64)
+    while np.any(high - low > 1):
+        mid = (low + high) // 2
+        status = c_backend.simulate_cases(Cases(cases.model, cases.p, {**cases.settings, "max_steps": mid}))["status"]
+        low, high = np.where(status == hit, mid, low), np.where(status == hit, high, mid)
+    assert np.all(high < 1 << 20)
+    for i in range(n):
+        problem = cases.problem(i)
+        enough = numpy_backend.simulate(dataclasses.replace(problem, max_steps=int(high[i])))
+        assert enough.status == numpy_backend.simulate(problem).status != "max_steps"
+        assert numpy_backend.simulate(dataclasses.replace(problem, max_steps=int(high[i]) - 1)).status == "max_steps"

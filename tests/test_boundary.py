@@ -19,7 +19,7 @@ import pytest
 from rocking import Block, OneSinePulse, ParameterError
 from rocking.sim import boundary, numpy_backend
 from rocking.sim import c_backend as cb
-from rocking.sim.boundary import CASE, CONSTANTS, FAILED, PHASES, RESULT, STATUSES, Field
+from rocking.sim.boundary import CASE, CONSTANTS, FAILED, PHASES, RESULT, STATUSES, STOPPED, Field
 from rocking.sim.problem import (
     CONTACT,
     PIVOT_A,
@@ -69,11 +69,11 @@ def test_the_header_declares_the_tables_in_their_order():
     assert _struct_fields(header, "rocking_result") == RESULT_NAMES
     assert _x_macro(header, "ROCKING_CASE_FIELDS") == CASE_NAMES
     assert _x_macro(header, "ROCKING_RESULT_FIELDS") == RESULT_NAMES
-    codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, *PHASES)]
+    codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, STOPPED, *PHASES)]
     assert _x_macro(header, "ROCKING_CONSTANTS") == [f"ROCKING_{c.name}" for c in CONSTANTS] + codes
     for c in CONSTANTS:
         assert float(re.search(rf"#define ROCKING_{c.name} (\S+)", header).group(1)) == c.value
-    for c in (*STATUSES, FAILED, *PHASES):
+    for c in (*STATUSES, FAILED, STOPPED, *PHASES):
         assert int(re.search(rf"ROCKING_{c.name.upper()} = (-?\d+),", header).group(1)) == c.value
     assert re.search(r"#define ROCKING_SIM_API_VERSION (\d+)", header).group(1) == str(boundary.API_VERSION)
 
@@ -102,10 +102,13 @@ def test_a_new_field_reaches_the_header_the_documentation_and_the_checks(monkeyp
 
 def test_codes():
     assert STATUS == tuple(c.name for c in STATUSES)
-    assert all(c.value == i for i, c in enumerate(STATUSES)) and FAILED.value < 0
-    assert FAILED.name not in STATUS  # never a result
+    assert all(c.value == i for i, c in enumerate(STATUSES)) and FAILED.value < 0 and STOPPED.value < 0
+    assert FAILED.name not in STATUS and STOPPED.name not in STATUS  # never a result
+    assert FAILED.value != STOPPED.value
     assert (CONTACT, PIVOT_A, PIVOT_A_PRIME) == (0, 1, -1) == tuple(c.value for c in PHASES)
-    assert boundary.constant_values() == tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, *PHASES))
+    assert boundary.constant_values() == tuple(
+        float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES)
+    )
     assert len({f.name for f in (*CASE, *RESULT)}) == len(CASE) + len(RESULT)
 
 

@@ -6,13 +6,13 @@ The rules of docs/simulation.md, on both back ends, are in tests/test_contract.p
 
 from __future__ import annotations
 
+import _thread
 import dataclasses
-import os
 import shlex
 import shutil
 import subprocess
-import sys
-import textwrap
+import threading
+import time
 from concurrent.futures import ThreadPoolExecutor
 from pathlib import Path
 
@@ -44,80 +44,6 @@ def same(a, b) -> bool:
 # --------------------------------------------------------------------------- #
 # Build and cache                                                              #
 # --------------------------------------------------------------------------- #
-
-
-def test_build_is_cached_and_keyed_by_the_sources(tmp_path, monkeypatch):
-    model = load_model("block")
-    lib = cbuild.build(model, cache=tmp_path)
-    assert lib.is_file() and lib.parent == tmp_path and lib.name.startswith("block-")
-
-    def no_compiler(cmd):
-        raise AssertionError("a cached library was compiled again")
-
-    monkeypatch.setattr(cbuild, "_compile", no_compiler)
-    assert cbuild.build(model, cache=tmp_path) == lib
-    monkeypatch.setenv("ROCKING_CACHE_DIR", str(tmp_path))
-    assert cbuild.cache_dir() == tmp_path and cbuild.build(model) == lib
-    assert not list(tmp_path.glob("*.tmp")), "a temporary file was left behind"
-
-    # Any change of a source, the generated boundary.h included, gives a new key, hence a new library.
-    csrc = tmp_path / "csrc"
-    shutil.copytree(cbuild.CSRC, csrc)
-    assert cbuild.build_key(model, csrc=csrc) == cbuild.build_key(model)
-    for name in ("sim.c", "sim.h", "boundary.h"):
-        original = (csrc / name).read_text()
-        (csrc / name).write_text(original + "\n/* changed */\n")
-        assert cbuild.build_key(model, csrc=csrc) != cbuild.build_key(model), name
-        (csrc / name).write_text(original)
-    assert cbuild.build_key(load_model("omd")) != cbuild.build_key(model)
-
-
-def test_concurrent_builds_from_several_processes(tmp_path):
-    code = textwrap.dedent(
-        """
-        import ctypes, sys
-        from rocking import load_model
-        from rocking.sim import cbuild
-        lib = cbuild.build(load_model("omd"), cache=sys.argv[1])
-        assert ctypes.CDLL(str(lib)).rocking_model_ny() == 4
-        print(lib)
-        """
-    )
-    env = {**os.environ, "PYTHONPATH": str(ROOT)}
-    procs = [
-        subprocess.Popen(
-            [sys.executable, "-c", code, str(tmp_path)],
-            stdout=subprocess.PIPE,
-            stderr=subprocess.PIPE,
-            text=True,
-            env=env,
-        )
-        for _ in range(4)
-    ]
-    outputs = [p.communicate(timeout=120) for p in procs]
-    assert all(p.returncode == 0 for p in procs), [err for _, err in outputs]
-    assert len({out.strip() for out, _ in outputs}) == 1
-    assert len(list(tmp_path.glob("*.so"))) == 1
-    assert not list(tmp_path.glob("*.tmp"))
-
-
-def test_missing_compiler_raises_cbuilderror(tmp_path, monkeypatch):
-    monkeypatch.setenv("CC", str(tmp_path / "no-such-cc"))
-    with pytest.raises(CBuildError, match="no-such-cc.*not found"):
-        cbuild.build(load_model("block"), cache=tmp_path)
-
-
-def test_compiler_failure_carries_its_message(tmp_path):
-    csrc = tmp_path / "csrc"
-    shutil.copytree(cbuild.CSRC, csrc)
-    source = (csrc / "sim.c").read_text()
-    (csrc / "sim.c").write_text(source.replace("static double ode_ag(", "static double ode_ag(int broken,", 1))
-    with pytest.raises(CBuildError) as info:
-        cbuild.build(load_model("block"), cache=tmp_path / "cache", csrc=csrc)
-    message = str(info.value)
-    assert "C compiler failed" in message and "sim.c" in message and "error" in message
-    assert not list((tmp_path / "cache").glob("*.so"))
-    assert not list((tmp_path / "cache").glob("*.tmp"))
 
 
 def test_strict_warnings_compile(tmp_path):
@@ -422,3 +348,70 @@ def test_cases_refuse_parameters_of_the_wrong_length():
         Cases(cases.model, cases.p[:, :3], cases.settings)
     with pytest.raises(ParameterError, match=r"\bp\b"):
         Cases(cases.model, np.hstack([cases.p, cases.p]), cases.settings)
+
+
+# --------------------------------------------------------------------------- #
+# Stopping a running call                                                      #
+# --------------------------------------------------------------------------- #
+
+
+def _slow_cases(n: int = 4) -> Cases:
+    """Cases that would run for minutes: a stiff undamped damper (period ~3e-4 s) under a pulse below the
+    uplift thresholds, followed for 1e4 s in full contact, with no bound on the work (and no rest)."""
+    cases = pulse_cases(BLOCK, [4.0] * n, [0.5] * n, gamma=0.05, omega_ratio=1e4, zeta=0.0, h=0.05, t_after=1e4)
+    return Cases(cases.model, cases.p, {**cases.settings, "max_steps": 1 << 62, "early_rest": 0, "energy_rest": 0.0})
+
+
+def _stop_after(seconds: float, stop=cb.request_stop) -> threading.Timer:
+    timer = threading.Timer(seconds, stop)
+    timer.start()
+    return timer
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_request_stop_ends_a_running_batch_and_later_calls_run(threads):
+    """request_stop from another thread: the batch raises KeyboardInterrupt at once; the next batch runs normally."""
+    timer = _stop_after(0.3)
+    start = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        cb.simulate_cases(_slow_cases(), threads=threads)
+    assert time.perf_counter() - start < 2.0
+    timer.join()
+    cases = pulse_cases(BLOCK, [2.0, 4.0], [2.0, 3.0], gamma=0.05, h=0.05)
+    statuses = cb.simulate_cases(cases, threads=threads)["status"]
+    assert set(statuses) <= {STATUS.index("rest"), STATUS.index("overturned")}
+
+
+def test_request_stop_ends_a_running_simulate_and_a_stop_before_a_call_does_not_touch_it():
+    cb.request_stop()  # nothing running: no effect on the calls that follow
+    slow = _slow_cases(1).problem(0)
+    timer = _stop_after(0.3)
+    start = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        cb.simulate(slow)
+    assert time.perf_counter() - start < 2.0
+    timer.join()
+    assert cb.simulate(problem(2.0, 2.0, DAMPER)).status in ("rest", "overturned")
+
+
+def test_ctrl_c_in_the_main_thread_stops_a_batch():
+    """SIGINT (here _thread.interrupt_main) while the main thread waits for C: stopped, KeyboardInterrupt."""
+    assert threading.current_thread() is threading.main_thread()
+    timer = _stop_after(0.3, _thread.interrupt_main)
+    start = time.perf_counter()
+    with pytest.raises(KeyboardInterrupt):
+        cb.simulate_cases(_slow_cases(2), threads=1)
+    assert time.perf_counter() - start < 2.0
+    timer.join()
+    assert not cb._RUNNING  # every flag unregistered
+
+
+def test_the_stop_flag_changes_no_result():
+    """Results with a flag that is never set are those of a direct call without control (NULL)."""
+    cases = pulse_cases(BLOCK, np.linspace(1, 10, 6), np.linspace(1, 10, 6), gamma=0.05, h=0.05)
+    records = cb._records(cases)
+    direct = np.zeros(len(cases), dtype=cb.RESULT_DTYPE)
+    cb.library().lib.rocking_simulate_batch(len(cases), cases.p, records, direct, None)
+    via = cb.simulate_cases(cases, threads=1)
+    for name in RESULT_FIELDS:
+        assert same(direct[name].astype(RESULT_FIELDS[name]), via[name])

@@ -36,7 +36,7 @@ from scipy.optimize import brentq
 import rocking
 from rocking import Block, Damper, OneSinePulse, ParameterError, load_model
 from rocking.sim import c_backend, numpy_backend
-from rocking.sim.problem import CONTACT, STATUS, make_problem
+from rocking.sim.problem import CONTACT, STATUS, default_settings, make_problem
 from rocking.sim.run import run
 
 BACKENDS = ("numpy", "c")
@@ -430,6 +430,33 @@ def test_the_contact_step_is_at_most_contact_max_step_while_the_pulse_acts(backe
     assert r.t_end == pytest.approx(r_up / pulse.omega_g, rel=1e-12)
 
 
+@pytest.mark.parametrize("rtol", [1e-6, 1e-10])
+@pytest.mark.parametrize("beta, Omega", [(1 + 1e-4, 1.0), (1 + 1e-6, 0.1)])
+def test_a_threshold_exceeded_briefly_is_not_stepped_over(backend, beta, Omega, rtol):
+    """Rules 1 and 3: an uplift is found however briefly u_s is positive (breakpoints at the extrema of ag).
+
+    The bare symmetric block uplifts about A while ag > g tan(alpha) (docs/model.md
+    10.2, beta > 1), here for a window shorter than contact_max_step (0.29 of it, at
+    any Omega: the window scales with the pulse's period), and about A' while
+    ag < -g tan(alpha). The rocking each time is
+    tiny: an impact brings the block back to rest within the window's neighbourhood,
+    so each half-sine lifts it exactly once, inside its window.
+    """
+    block = Block(H=2.0, B=0.5, M=1000.0)
+    pulse = OneSinePulse.from_nondim(block, beta=beta, Omega=Omega)
+    problem = make_problem(block, None, pulse, rtol=rtol)
+    half = math.acos(1 / beta) / pulse.omega_g  # ag beyond the threshold for |t - t_peak| < half
+    assert 2 * half < 0.3 * problem.contact_max_step
+    r = simulate(backend, problem, record=True)
+    ups = [(float(r.history["t"][j]), int(r.history["phase"][j])) for i, j in transitions(r.history)
+           if r.history["phase"][i] == CONTACT]
+    assert r.uplifts == 2 and len(ups) == 2
+    for (t_up, pivot), peak, expected in zip(ups, (0.25, 0.75), (1, -1)):
+        t_peak = peak * pulse.t_p
+        assert pivot == expected and t_peak - half * (1 + 1e-9) <= t_up <= t_peak
+    check_history(r, problem)
+
+
 @pytest.mark.parametrize("psi, pivot", [(math.pi / 2, 1), (3 * math.pi / 2, -1)])
 def test_a_pulse_starting_above_the_threshold_lifts_at_once(backend, psi, pivot):
     """Rule 1: when a contact phase starts both u_s are evaluated first; one > 0 is an uplift at that instant."""
@@ -478,11 +505,11 @@ def test_the_damper_lifts_the_block_from_rest_and_again_after_it_came_back_to_re
     rests = [(i, j) for i, j in pairs if h["phase"][i] != CONTACT and h["phase"][j] == CONTACT]
     assert rests and r.uplifts >= 2
     i, j = rests[0]
-    # Rule 2: at rest dtheta = 0 and the other velocities come from the impact map J_s (generated `impact`).
-    y_before = np.array([h[name][i] for name in problem.model.state])
-    _, dx_after = problem.model.call("impact", float(h["phase"][i]), y_before, 0.0, problem.p)
+    # Rule 2: at rest dtheta = 0 and the mass keeps its absolute horizontal velocity
+    # dx - eta dtheta through the impact and the rest snap (docs/model.md (I2), eta = H + h).
+    eta = block.H + damper.h
     assert h["t"][i] == h["t"][j] and h["dtheta"][j] == 0.0 and h["x"][j] == h["x"][i]
-    assert h["dx"][j] == pytest.approx(float(dx_after), rel=1e-12)
+    assert h["dx"][j] == pytest.approx(h["dx"][i] - eta * h["dtheta"][i], rel=1e-12)
     t_rest, x_rest, dx_rest = h["t"][j], h["x"][j], h["dx"][j]
     relift = [(a, b) for a, b in pairs if h["phase"][a] == CONTACT and h["t"][a] > t_rest]
     assert relift
@@ -697,6 +724,114 @@ def test_max_events_ends_the_run(backend):
     r = simulate(backend, problem, record=True)
     assert r.status == "max_events" and r.uplifts + r.impacts == 3
     check_history(r, problem)
+
+
+def _kinetic_energy(block: Block, damper: Damper, s: float, x: float, dtheta: float, dx: float) -> float:
+    """T about the pivot s at theta = 0 (docs/model.md section 2): V is continuous through an impact."""
+    d_s, xi_s, eta = s * block.B / 2 + block.e, s * block.B / 2 + x, block.H + damper.h
+    I_s = block.I_G + block.M * (d_s**2 + block.H**2 / 4)
+    return 0.5 * I_s * dtheta**2 + 0.5 * damper.m * (dtheta**2 * (xi_s**2 + eta**2) + dx**2 - 2 * eta * dtheta * dx)
+
+
+def _impact_map(block: Block, damper: Damper, s: float, x: float, dtheta: float, dx: float) -> tuple[float, float]:
+    """(dtheta+, dx+) of docs/model.md (I1), (I2): the momentum law, typed from the document."""
+    d_s, d_o = s * block.B / 2 + block.e, -s * block.B / 2 + block.e
+    xi_s, xi_o, eta = s * block.B / 2 + x, -s * block.B / 2 + x, block.H + damper.h
+    I_o = block.I_G + block.M * (d_o**2 + block.H**2 / 4)
+    ratio = (block.I_G + block.M * (block.H**2 / 4 + d_s * d_o) + damper.m * xi_s * xi_o) / (I_o + damper.m * xi_o**2)
+    dtheta_plus = dtheta * ratio
+    return dtheta_plus, dx + eta * (dtheta_plus - dtheta)
+
+
+def test_no_impact_and_no_rest_snap_adds_energy(backend):
+    """Rule 2: the momentum law never adds energy (docs/model.md 10.5), nor does the rest snap that follows it.
+
+    At an impact theta = 0 and x are continuous, so V is too: the kinetic energy
+    of section 2 about the old pivot before, about the new one after, must not
+    grow; nor, at rest, from the state the impact law (I1)-(I2) gives to the
+    state after the snap. Tolerance: 1e-12 of the energy before, plus 1e-9 J: the
+    impact map and the snap are a few roundings of velocities of order 1
+    (relative errors ~1e-15), far below what keeping dx at the snap adds (up to
+    0.1 J here: m eta dtheta+ dx+ with dtheta+ up to dtheta_rest).
+    """
+    rng = np.random.default_rng(7)
+    snaps = impacts = 0
+    for _ in range(12):
+        damper = Damper.from_nondim(
+            REFERENCE, gamma=rng.uniform(0.01, 0.2), omega_ratio=rng.uniform(0.3, 3.0), zeta=rng.uniform(0.0, 0.3),
+            h=0.05,
+        )
+        problem = reference_problem(
+            rng.uniform(1.2, 2.5), rng.uniform(2.0, 8.0), damper, rtol=1e-8, t_after=5.0,
+            dtheta_rest=0.1 * REFERENCE.alpha * REFERENCE.p,
+        )
+        h = simulate(backend, problem, record=True).history
+        for i in impact_rows(h):
+            j = i + 1
+            s_before = float(h["phase"][i])
+            s_after = float(h["phase"][j]) or -s_before
+            x = h["x"][i]
+            before = _kinetic_energy(REFERENCE, damper, s_before, x, h["dtheta"][i], h["dx"][i])
+            after = _kinetic_energy(REFERENCE, damper, s_after, x, h["dtheta"][j], h["dx"][j])
+            assert h["theta"][i] == h["theta"][j] == 0.0 and h["x"][j] == x
+            assert after <= before * (1 + 1e-12) + 1e-9, (i, before, after)
+            if h["phase"][j] == CONTACT:  # the snap alone, from the state of (I1)-(I2)
+                plus = _impact_map(REFERENCE, damper, s_before, x, h["dtheta"][i], h["dx"][i])
+                impacted = _kinetic_energy(REFERENCE, damper, -s_before, x, *plus)
+                assert after <= impacted * (1 + 1e-12) + 1e-9, (i, impacted, after)
+            impacts += 1
+            snaps += h["phase"][j] == CONTACT
+    assert impacts > 30 and snaps > 5
+
+
+def test_max_steps_ends_a_run_that_cannot_be_integrated(backend):
+    """Rule 5: a degenerate damper (a stiff oscillator of period ~1e-150 s) ends with status "max_steps"."""
+    # Below the public checks (Damper refuses m = 1e-300): the bound must hold for any Problem.
+    problem = reference_problem(3.0, 4.0, DAMPER)
+    p = problem.p.copy()
+    p[problem.model.parameters.index("m")], p[problem.model.parameters.index("k_m")] = 1e-300, 200.0
+    T_m = 2 * math.pi * math.sqrt(1e-300 / 200.0)  # the contact step follows the damper, as in make_problem
+    T_g = 2 * math.pi / problem.omega_g
+    step = default_settings(REFERENCE, T_g, T_m, problem.rtol, problem.model.nq)["contact_max_step"]
+    problem = dataclasses.replace(problem, p=p, contact_max_step=float(step), max_steps=5000)
+    r = simulate(backend, problem, record=True)
+    assert r.status == "max_steps" and r.t_end < problem.t_max and not r.overturned
+    assert r.history["t"][-1] == r.t_end
+
+
+def test_recorded_samples_count_as_work(backend):
+    """Rule 5: a history sampled every 1e-9 s ends with status "max_steps" at the first segment's start."""
+    # Below the public checks (make_problem refuses record_dt = 1e-9 s): the bound must hold for any Problem.
+    problem = dataclasses.replace(reference_problem(3.0, 4.0, DAMPER), record_dt=1e-9, max_steps=100_000)
+    r = simulate(backend, problem, record=True)
+    assert (r.status, r.t_end, r.uplifts, r.theta_max, r.x_max) == ("max_steps", 0.0, 0, 0.0, 0.0)
+    assert len(r.history["t"]) == 1
+    assert simulate(backend, problem).status == "overturned"  # without a history, far below the bound
+
+
+@pytest.mark.parametrize("max_steps", [100, 300, 500])
+def test_max_steps_ends_the_run_at_the_start_of_a_segment(backend, max_steps):
+    """Rule 5: the run ends where the segment in which the work passed max_steps started, with the results so far."""
+    problem = reference_problem(1.6, 3.0, DAMPER, rtol=1e-8)
+    full = simulate(backend, problem, record=True)
+    assert full.status in ("rest", "overturned")
+    cut = simulate(backend, dataclasses.replace(problem, max_steps=max_steps), record=True)
+    assert cut.status == "max_steps" and cut.t_end < full.t_end
+    # The history up to the cut is the full run's (same steps, same samples), and ends
+    # at the start of a segment: a breakpoint or an event of the full run, where the
+    # full history holds two rows at one instant or changes phase.
+    h, n = full.history, len(cut.history["t"])
+    for name in ("t", *problem.model.state, "phase"):
+        assert same(cut.history[name], h[name][:n])
+    assert cut.history["t"][-1] == cut.t_end
+    phase_of_ag = (problem.omega_g * cut.t_end + problem.psi - math.pi / 2) / math.pi  # an integer at an extremum
+    assert (
+        h["t"][n - 2] == cut.t_end  # an event: two rows at one instant
+        or cut.t_end in (0.0, problem.t_p)
+        or abs(phase_of_ag - round(phase_of_ag)) < 1e-12
+    )
+    assert cut.uplifts <= full.uplifts and cut.impacts <= full.impacts
+    assert cut.theta_max <= full.theta_max and cut.x_max <= full.x_max
 
 
 @pytest.mark.parametrize("t_max", [2.0, None], ids=["while rocking", "after the pulse"])
@@ -960,6 +1095,7 @@ REFUSED_SETTINGS = {
     "energy_rest inf": ({"energy_rest": math.inf}, "energy_rest must be finite and >= 0 (got inf)"),
     "max_events 0": ({"max_events": 0}, "max_events must be an integer >= 1 (got 0)"),
     "max_events 1.5": ({"max_events": 1.5}, "max_events must be an integer >= 1 (got 1.5)"),
+    "max_steps 0": ({"max_steps": 0}, "max_steps must be an integer >= 1 (got 0)"),
     "record_dt nan": ({"record_dt": math.nan}, "record_dt must be finite (got nan)"),
     "early_rest 2": ({"early_rest": 2}, "early_rest must be 0 or 1 (got 2)"),
     "atol negative": (

@@ -160,7 +160,7 @@ def _with(**changes):
 @pytest.mark.parametrize(
     "data, message",
     [
-        (_with(coordinates=["x", "y"]), "coordinate\\(s\\) y appear in no energy"),
+        (_with(coordinates=["x", "z"]), "coordinate\\(s\\) z appear in no energy"),
         (_with(bodies=[{"name": "mass", "mass": -2, "position": ["x", "H"]}]), "mass must be >= 0"),
         (
             _with(springs=[{"name": "spring", "stiffness": "k", "stretch": "x", "acts_on": "bob"}]),
@@ -170,7 +170,7 @@ def _with(**changes):
         (_with(bodies=[{"name": "mass", "mass": "m", "position": ["x"]}]), "position must be a list of two"),
         (_with(impact={"x": "stick"}), "unknown law 'stick'"),
         (_with(parameters={"m": {}, "k": {}, "B": {}}), "'B' is reserved"),
-        (_with(parameters={"m": {}, "k": {}, "cst0": {}}), "'cst0': names cse<digits> and cst<digits>"),
+        (_with(parameters={"m": {}, "k": {}, "cst0": {}}), "'cst0' is reserved \\(names cse<digits> and cst<digits>"),
         (_with(colour="red"), "unknown key\\(s\\) colour"),
         (_with(name="2probe"), "name must be an identifier, got '2probe'"),
         ({k: v for k, v in BASE.items() if k != "name"}, "spec: missing required key 'name'"),

@@ -124,7 +124,7 @@ def test_block_validation(name, value):
 
 
 def test_block_error_messages_give_range_and_value():
-    with pytest.raises(ParameterError, match=r"^H must be > 0 m \(got -1\.0\)$"):
+    with pytest.raises(ParameterError, match=r"^H must be in \[0\.001, 1000\] m \(got -1\.0\): from a 1 mm"):
         Block(H=-1, B=0.5, M=1.0)
     with pytest.raises(
         ParameterError,
@@ -240,7 +240,7 @@ def test_damper_validation(name, value):
 
 
 def test_damper_error_message_gives_range_and_value():
-    with pytest.raises(ParameterError, match=r"^c must be >= 0 N s/m \(got -2\.0\)$"):
+    with pytest.raises(ParameterError, match=r"^c must be in \[0, 1e\+30\] N s/m \(got -2\.0\): "):
         Damper(m=1.0, k_m=1.0, c=-2)
     with pytest.raises(ParameterError, match=r"k_m must be > 0 N/m when m > 0"):
         Damper(m=1.0, k_m=0.0)
@@ -265,3 +265,96 @@ def test_damper_error_message_gives_range_and_value():
 def test_damper_from_nondim_validation(kwargs, name):
     with pytest.raises(ParameterError, match=name):
         Damper.from_nondim(Block.reference(), **kwargs)
+
+
+# --- ranges (issue 10): declared once in RANGES, refused with the range and its reason ----------
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"H": 1e-300}, r"^H must be in \[0\.001, 1000\] m \(got 1e-300\): from a 1 mm"),
+        ({"H": 1e4}, r"^H must be in \[0\.001, 1000\] m"),
+        ({"B": 5e-324}, r"^B must be in"),
+        ({"H": 200.0, "B": 1.0}, r"^H / B must be in \[0\.01, 100\] \(got 200\.0\): slenderness"),
+        ({"M": 1e-300}, r"^M must be in \[1e-06, 1e\+12\] kg"),
+        ({"M": True}, r"^M must be a real number \(got True\)$"),
+        ({"I_G": 1e300}, r"^I_G must be in \(0, 4 M R\^2\] = \(0, "),
+        ({"g": 1e-300}, r"^g must be in \[0\.1, 10000\] m/s\^2"),
+        ({"g": "9.81"}, r"^g must be a real number"),
+    ],
+)
+def test_block_ranges(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        Block(**{"H": 2.0, "B": 0.5, "M": 1000.0, **kwargs})
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"p": 1e-300, "lam": 4.0}, r"^p must be in \[0\.01, 10000\] rad/s"),
+        ({"p": 0.02, "lam": 4.0}, r"^p = 0\.02 rad/s with g = 9\.81 m/s\^2 gives R = .*: H must be in"),
+        ({"p": 2.0, "lam": 1e4}, r"^lam must be in \[0\.01, 100\]"),
+        ({"p": 2.0, "alpha": 1e-6}, r"^alpha must be in \[atan\(0\.01\), atan\(100\)\]"),
+        ({"p": True, "lam": 4.0}, r"^p must be a real number"),
+    ],
+)
+def test_block_from_nondim_ranges(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        Block.from_nondim(**kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"m": 1e-300, "k_m": 200.0}, r"^m must be 0 or in \[1e-16, 1e\+13\] kg \(got 1e-300\): a subnormal"),
+        ({"m": 50.0, "k_m": 1e300}, r"^k_m must be in \[0, 1e\+30\] N/m"),
+        ({"m": 50.0, "k_m": 200.0, "c": 1e300}, r"^c must be in \[0, 1e\+30\] N s/m"),
+        ({"m": 50.0, "k_m": 200.0, "h": 1e4}, r"^h must be in \[0, 1000\] m"),
+        ({"m": 50.0, "k_m": False}, r"^k_m must be a real number"),
+    ],
+)
+def test_damper_ranges(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        Damper(**kwargs)
+
+
+@pytest.mark.parametrize(
+    "damper, message",
+    [
+        (Damper(m=1e-9, k_m=1e-8), r"^m must be 0 or in \[1e-10 M, 10 M\] = \[1e-07, 10000\] kg"),
+        (Damper(m=50.0, k_m=1e12), r"^omega_m must be in \[1e-3 p, 1e4 p\] = .* rad/s .*between a free mass"),
+        (Damper(m=50.0, k_m=200.0, c=1e12), r"^zeta must be in \[0, 10\] .*stiff for the explicit integrator"),
+    ],
+)
+def test_damper_on_its_block(damper, message):
+    with pytest.raises(ParameterError, match=message):
+        damper.check_on(Block.reference())
+
+
+def test_a_valid_damper_passes_on_its_block():
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    assert damper.check_on(block) is damper
+    assert Damper(m=0.0, k_m=0.0).check_on(block).m == 0.0
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"gamma": 1e-300, "T_m": 1.0}, r"^gamma must be 0 or in \[1e-10, 10\]"),
+        ({"gamma": 0.05, "omega_ratio": 1e6}, r"^omega_ratio must be in \[0\.001, 10000\]"),
+        ({"gamma": 0.05, "T_m": 1e-6}, r"^T_m must be in \[2 pi/\(1e4 p\), 2 pi/\(1e-3 p\)\] = \[0\.000235"),
+        ({"gamma": 0.05, "T_m": 1.0, "zeta": 1e6}, r"^zeta must be in \[0, 10\]"),
+        ({"gamma": "0.05", "T_m": 1.0}, r"^gamma must be a real number"),
+    ],
+)
+def test_damper_from_nondim_ranges(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        Damper.from_nondim(Block.reference(), **kwargs)
+
+
+@pytest.mark.parametrize("block", [None, "reference", 3.0])
+def test_from_nondim_needs_a_block(block):
+    with pytest.raises(ParameterError, match=r"^block must be a rocking\.Block"):
+        Damper.from_nondim(block, gamma=0.05, T_m=1.0)

@@ -136,3 +136,33 @@ def test_pulse_error_message_gives_range_and_value():
 def test_from_nondim_validation(kwargs, name):
     with pytest.raises(ParameterError, match=name):
         OneSinePulse.from_nondim(Block.reference(), **kwargs)
+
+
+@pytest.mark.parametrize(
+    "kwargs, message",
+    [
+        ({"a_g": 1e300, "omega_g": 2.0}, r"^a_g must be in \[0, 100000\] m/s\^2"),
+        ({"a_g": 1.0, "omega_g": 1e-300}, r"^omega_g must be in \[2 pi/1000, 2 pi/0\.001\] = \[0\.00628319, 6283"),
+        ({"a_g": 1.0, "omega_g": 1e300}, r"^omega_g must be in .*sine periods from 1 ms to 1000 s"),
+        ({"a_g": True, "omega_g": 2.0}, r"^a_g must be a real number \(got True\)$"),
+        ({"a_g": 1.0, "omega_g": "2"}, r"^omega_g must be a real number"),
+    ],
+)
+def test_pulse_ranges(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        OneSinePulse(**kwargs)
+
+
+@pytest.mark.parametrize(
+    "block, kwargs, message",
+    [
+        (Block.reference(), {"beta": 0.5, "Omega": 5e-324}, r"^Omega must be in \[0\.01, 1000\]"),
+        (Block.reference(), {"beta": 0.5, "Omega": 1e-6}, r"^Omega must be in"),
+        (Block.reference(), {"beta": 1e300, "Omega": 1.0}, r"^beta must be in \[0, 10000\]"),
+        (Block.from_nondim(p=0.2, lam=1.0), {"beta": 1.0, "Omega": 0.01}, r"^beta = 1\.0, Omega = 0\.01 .* omega_g"),
+        (None, {"beta": 1.0, "Omega": 1.0}, r"^block must be a rocking\.Block \(got NoneType\)$"),
+    ],
+)
+def test_from_nondim_ranges(block, kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        OneSinePulse.from_nondim(block, **kwargs)

@@ -443,7 +443,7 @@ _GOOD_SPRING = '[[springs]]\nstiffness = "k"\nstretch = "x"\nacts_on = "mass"\n'
 @pytest.mark.parametrize(
     "coordinates, body, spring, message",
     [
-        ('["x", "y"]', _GOOD_BODY, _GOOD_SPRING, "coordinate(s) y appear in no energy"),
+        ('["x", "z"]', _GOOD_BODY, _GOOD_SPRING, "coordinate(s) z appear in no energy"),
         ('["x"]', _GOOD_BODY.replace('"m"', "-2"), _GOOD_SPRING, "body 'mass': mass must be >= 0, got -2"),
         ('["x"]', _GOOD_BODY, _GOOD_SPRING.replace('"mass"', '"bob"'), "acts on unknown body 'bob'; bodies are mass"),
     ],

@@ -17,6 +17,8 @@ from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
 from ..model.params import Damper, ParameterError
 from ..model.pulse import OneSinePulse
+from ..sim.cbuild import CBuildError
+from ..sim.problem import SimulationError
 from ..sim.run import BACKENDS, simulate
 from .options import (
     add_block_options,
@@ -307,7 +309,8 @@ def main(argv: list[str] | None = None) -> int:
     Returns
     -------
     int
-        Exit code: 0 on success, 2 for bad parameters (one line on stderr).
+        Exit code: 0 on success, 2 for bad parameters, 1 for a run or a C build that
+        failed (one line on stderr in both cases).
     """
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["derive"]:
@@ -320,6 +323,9 @@ def main(argv: list[str] | None = None) -> int:
     except (ParameterError, ModelError) as exc:
         print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
         return 2
+    except (SimulationError, CBuildError) as exc:  # valid input, but the run or the build failed: no traceback
+        print(f"rocking {args.command}: error: {type(exc).__name__}: {exc}", file=sys.stderr)
+        return 1
 
 
 if __name__ == "__main__":

@@ -20,6 +20,9 @@ from __future__ import annotations
 import argparse
 import sys
 import time
+import warnings
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 from ..model.params import ParameterError
@@ -28,8 +31,8 @@ from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
 from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import overturning_map
 from ..study.spectrum import minimum_overturning_spectrum
-from ..study.storage import save
-from ..study.tiles import Execution
+from ..study.storage import make_folder, save
+from ..study.tiles import Execution, Interrupted, TileWarning
 from .options import (
     add_block_options,
     add_parser,
@@ -205,6 +208,11 @@ def damper_from(args) -> Tuning | Variant:
     return Variant(model, params_from(items))
 
 
+def out_from(args) -> Path:
+    """The output folder ``--out``, created if needed: refused now if it cannot be written, not after the study."""
+    return make_folder(args.out, "--out")
+
+
 def execution_from(args) -> Execution:
     progress = {"progress": False} if args.no_progress else {}
     return Execution(**given(args, ("workers", "scheduler", "dask_workers")), **progress)
@@ -229,18 +237,26 @@ def _report(study: Study, out: Path) -> list[Path]:
     return paths
 
 
-def _cmd_map(args) -> int:
-    tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
-    study = overturning_map(
+def _inputs(args) -> tuple[tuple, Path]:
+    """``(setting, damper, Omega, beta, execution)`` of ``map``/``spectrum``, then the output folder.
+
+    In this order: bad parameters are refused before the folder is created.
+    """
+    inputs = (
         setting_from(args),
         damper_from(args),
         grid_from("Omega", args.Omega),
         grid_from("beta", args.beta),
         execution_from(args),
-        runs=Path(args.out) / "runs",
-        **tile,
     )
-    _report(study, Path(args.out))
+    return inputs, out_from(args)
+
+
+def _cmd_map(args) -> int:
+    tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
+    inputs, out = _inputs(args)
+    study = overturning_map(*inputs, runs=out / "runs", **tile)
+    _report(study, out)
     s = study.summary
     print(
         f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
@@ -250,16 +266,9 @@ def _cmd_map(args) -> int:
 
 
 def _cmd_spectrum(args) -> int:
-    study = minimum_overturning_spectrum(
-        setting_from(args),
-        damper_from(args),
-        grid_from("Omega", args.Omega),
-        grid_from("beta", args.beta),
-        execution_from(args),
-        runs=Path(args.out) / "runs",
-        **_tol(args),
-    )
-    _report(study, Path(args.out))
+    inputs, out = _inputs(args)
+    study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args))
+    _report(study, out)
     for part, s in study.summary.items():
         print(
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
@@ -306,22 +315,18 @@ def _cmd_optimize(args) -> int:
     search = given(args, ("refine",))
     if args.Tm_ratio is not None:
         search["Tm"] = grid_from("Tm-ratio", args.Tm_ratio, log=True)
-    study = _optimize(
-        args,
-        setting_from(args),
-        execution_from(args),
-        grid_from("Omega", args.Omega),
-        grid_from("beta", args.beta),
-        **search,
-    )
-    _report(study, Path(args.out))
+    setting, execution = setting_from(args), execution_from(args)
+    Omega, beta = grid_from("Omega", args.Omega), grid_from("beta", args.beta)
+    out = out_from(args)
+    study = _optimize(args, setting, execution, Omega, beta, **search)
+    _report(study, out)
     _print_threshold(study)
     return 0
 
 
 def _cmd_demo(args) -> int:
     """The default grids of ``map``, ``spectrum`` and ``optimize``, one after the other."""
-    setting, tuning, execution, out = setting_from(args), tuning_from(args), execution_from(args), Path(args.out)
+    setting, tuning, execution, out = setting_from(args), tuning_from(args), execution_from(args), out_from(args)
     start = time.perf_counter()
     runs = out / "runs"
     _report(
@@ -354,20 +359,41 @@ def _cmd_redraw(args) -> int:
     return 0
 
 
+@contextmanager
+def _warnings_in_one_line(command: str) -> Iterator[None]:
+    """Show :class:`TileWarning` s as ``rocking COMMAND: warning: ...``, one line each, like the errors."""
+    default = warnings.showwarning
+
+    def show(message, category, filename, lineno, file=None, line=None) -> None:
+        if issubclass(category, TileWarning):
+            print(f"rocking {command}: warning: {message}", file=sys.stderr)
+        else:
+            default(message, category, filename, lineno, file, line)
+
+    with warnings.catch_warnings():  # restores showwarning on leaving
+        warnings.showwarning = show
+        yield
+
+
 def _guarded(command):
-    """``command(args)`` with bad parameters reported in one line (exit 2) and Ctrl-C as a resumable stop."""
+    """``command(args)`` with bad parameters reported in one line (exit 2) and Ctrl-C as a resumable stop (130)."""
 
     def run(args) -> int:
         try:
-            return command(args)
+            with _warnings_in_one_line(args.command):
+                return command(args)
         except ParameterError as exc:
             print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
             return 2
-        except KeyboardInterrupt:
+        except Interrupted as exc:
             print(
-                f"rocking {args.command}: interrupted; finished tiles are kept, rerun the same command to resume",
+                f"rocking {args.command}: interrupted: {exc.kept} of {exc.total} tiles kept in {exc.folder}; "
+                "run the same command again to resume",
                 file=sys.stderr,
             )
+            return 130
+        except KeyboardInterrupt:  # outside the tiles (checks, saving): nothing to resume from yet
+            print(f"rocking {args.command}: interrupted; run the same command again to resume", file=sys.stderr)
             return 130
 
     return run

@@ -7,8 +7,9 @@ files next to it, so any folder written by ``rocking derive`` can be used.
 from __future__ import annotations
 
 import functools
-import importlib.util
+import hashlib
 import json
+import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
 from pathlib import Path
@@ -141,23 +142,81 @@ def load_model(model: str | Path | Model = "omd") -> Model:
             f"unknown model {str(model)!r}: not an installed model ({', '.join(available_models())}) "
             "nor a folder with a manifest.json"
         )
-    # Studies load the model once per tile: import each generated module once,
-    # again only when the folder is regenerated.
-    return _load_folder(folder.resolve(), manifest_path.stat().st_mtime_ns)
+    # Studies load the model once per tile: import each generated module once, again
+    # only when the folder is regenerated or one of its checked files changes.
+    folder = folder.resolve()
+    return _load_folder(folder, _mtimes(folder))
+
+
+#: The files of ``manifest["files"]`` the runtime executes or compiles; each must match its ``sha256``.
+CHECKED_FILES = ("numpy", "c_source", "c_header")
+#: A file name a manifest may give: no folder, no hidden file.
+_FILE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
+
+
+def _mtimes(folder: Path) -> tuple:
+    """Modification times of the manifest and the files next to it: the key of the cache of loaded models."""
+    return tuple((p.name, p.stat().st_mtime_ns, p.stat().st_size) for p in sorted(folder.iterdir()) if p.is_file())
+
+
+def _rederive(folder: Path) -> str:
+    """How to write ``folder`` again."""
+    if folder.parent == GENERATED:
+        return "re-derive it: make derive (or rocking derive --variant " + folder.name + ")"
+    return "re-derive it: rocking derive --spec <spec.toml> --out " + str(folder)
+
+
+def _checked_bytes(folder: Path, manifest: dict) -> dict[str, bytes]:
+    """The content of every file of :data:`CHECKED_FILES`, each checked against the manifest's SHA-256.
+
+    A generated file that was edited by hand is never imported or compiled: the
+    manifest records the SHA-256 of every file the derivation wrote.
+
+    Raises
+    ------
+    ModelError
+        Naming the file that is missing, not listed or does not match, and how to derive it again.
+    """
+    files, hashes = manifest.get("files"), manifest.get("sha256")
+    if not (isinstance(files, dict) and isinstance(hashes, dict)):
+        raise ModelError(f"{folder / 'manifest.json'}: no files or sha256 table; {_rederive(folder)}")
+    out = {}
+    for key in CHECKED_FILES:
+        name = files.get(key)
+        if not (isinstance(name, str) and _FILE_NAME.fullmatch(name) and ".." not in name):
+            raise ModelError(f"{folder / 'manifest.json'}: files.{key} is not a file name ({name!r})")
+        path = folder / name
+        try:
+            data = path.read_bytes()
+        except OSError:
+            raise ModelError(f"{path}: generated file missing or unreadable; {_rederive(folder)}") from None
+        if hashes.get(name) != hashlib.sha256(data).hexdigest():
+            raise ModelError(
+                f"{path}: does not match the SHA-256 its manifest.json records (edited by hand?); "
+                f"generated files must not be edited, {_rederive(folder)}"
+            )
+        out[key] = data
+    return out
 
 
 @functools.lru_cache(maxsize=32)
-def _load_folder(folder: Path, manifest_mtime_ns: int) -> Model:
+def _load_folder(folder: Path, mtimes: tuple) -> Model:
     manifest_path = folder / "manifest.json"
-    manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
-    if manifest.get("format") != MANIFEST_FORMAT:
+    try:
+        manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
+    except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise ModelError(
-            f"{manifest_path}: manifest format {manifest.get('format')} is not {MANIFEST_FORMAT}; "
+            f"{manifest_path}: not a readable manifest ({type(exc).__name__}); {_rederive(folder)}"
+        ) from None
+    if not isinstance(manifest, dict) or manifest.get("format") != MANIFEST_FORMAT:
+        found = manifest.get("format") if isinstance(manifest, dict) else None
+        raise ModelError(
+            f"{manifest_path}: manifest format {found} is not {MANIFEST_FORMAT}; "
             "derive the model again (rocking derive --spec ... --out ...)"
         )
-    spec = importlib.util.spec_from_file_location(
-        f"rocking_model_{manifest['model']}", folder / manifest["files"]["numpy"]
-    )
-    module = importlib.util.module_from_spec(spec)
-    spec.loader.exec_module(module)
-    return Model(manifest["model"], folder.resolve(), manifest, module)
+    source = _checked_bytes(folder, manifest)["numpy"]
+    # Run the bytes that were checked, not the file again: no window to swap it, no stale bytecode cache.
+    module = ModuleType(f"rocking_model_{manifest['model']}")
+    module.__file__ = str(folder / manifest["files"]["numpy"])
+    exec(compile(source, module.__file__, "exec"), module.__dict__)
+    return Model(manifest["model"], folder, manifest, module)

@@ -14,14 +14,17 @@ from __future__ import annotations
 
 import math
 import numbers
-from dataclasses import dataclass
+from dataclasses import dataclass, replace
 
 import numpy as np
 
 __all__ = [
+    "RANGES",
     "Block",
     "Damper",
     "ParameterError",
+    "Range",
+    "check_in_range",
     "check_interval",
     "check_nonnegative",
     "check_positive",
@@ -165,6 +168,156 @@ def check_interval(
     return x
 
 
+@dataclass(frozen=True)
+class Range:
+    """The valid values of one input: a closed interval (0 may be allowed besides), and why.
+
+    Attributes
+    ----------
+    low, high : float
+        Bounds, both included unless ``open_low`` / ``open_high``.
+    unit : str
+        SI unit shown in messages.
+    why : str
+        The reason for the bounds, appended to every message.
+    open_low, open_high : bool
+        Exclude the bound.
+    zero : bool
+        ``0`` is valid too (``m = 0``: no damper).
+    """
+
+    low: float
+    high: float
+    unit: str = ""
+    why: str = ""
+    open_low: bool = False
+    open_high: bool = False
+    zero: bool = False
+
+    def holds(self, x):
+        """Elementwise: ``x`` lies in the range (NaN never does)."""
+        x = np.asarray(x, dtype=float)
+        with np.errstate(invalid="ignore"):
+            above = x > self.low if self.open_low else x >= self.low
+            below = x < self.high if self.open_high else x <= self.high
+            return (above & below) | ((x == 0.0) if self.zero else False)
+
+    def __contains__(self, x: float) -> bool:
+        return bool(self.holds(x))
+
+    def text(self, label: str | None = None) -> str:
+        """``"in [0.001, 1000] m"`` (``label``, a symbolic form of the bounds, before the numbers)."""
+        numeric = f"{'(' if self.open_low else '['}{self.low:g}, {self.high:g}{')' if self.open_high else ']'}"
+        interval = f"{label} = {numeric}" if label else numeric
+        return ("0 or in " if self.zero else "in ") + _with_unit(interval, self.unit)
+
+
+TWO_PI = 2 * math.pi
+
+#: The valid range of every input of the public API, declared once; the messages come from here.
+#: Users are engineers checking cabinets, transformers, statues, machines and laboratory
+#: specimens under ground-motion pulses of 0.1 - 10 s: every bound lies orders of magnitude
+#: beyond them, and excludes what is degenerate in double precision (subnormal masses,
+#: overflowing stiffnesses) or cannot be integrated within a bounded work (a rate of the
+#: system far above the block's, a run of unbounded length).
+RANGES: dict[str, Range] = {
+    # --- the block (Block, Block.from_nondim)
+    "H": Range(1e-3, 1e3, "m", "from a 1 mm laboratory specimen to a 1 km structure"),
+    "B": Range(1e-3, 1e3, "m", "from a 1 mm laboratory specimen to a 1 km structure"),
+    # Beyond, alpha or pi/2 - alpha nears the rounding of the tolerances scaled by alpha.
+    "lam": Range(1e-2, 1e2, "", "slenderness H/B from a flat slab (0.01) to a mast (100)"),
+    "alpha": Range(math.atan(1e-2), math.atan(1e2), "rad", "slenderness H/B in [0.01, 100]"),
+    # Energies and the rest threshold M g B stay normal doubles.
+    "M": Range(1e-6, 1e12, "kg", "from a 1 mg specimen to a 1 Gt structure"),
+    # No mass inside the block's rectangle lies farther than 2 R from G: I_G <= M (2 R)^2.
+    "I_G": Range(0.0, 4.0, "kg m^2", "a radius of gyration beyond 2 R would put mass outside the block", True),
+    "g": Range(0.1, 1e4, "m/s^2", "from small planetary bodies to a geotechnical centrifuge at 1000 g"),
+    # p = sqrt(3 g / (4 R)) of the blocks above spans [0.01, 3300] rad/s.
+    "p": Range(1e-2, 1e4, "rad/s", "the frequency parameter of blocks of 1 mm to 1 km under 0.1 to 1e4 m/s^2"),
+    "e_ratio": Range(-0.5, 0.5, "", "the centroid lies inside the base", True, True),
+    # --- the damper (Damper: absolute bounds; relative to its block: gamma, omega_ratio, zeta)
+    # Absolute bounds only keep k_m / m and c / m normal doubles; the physics is checked against the block.
+    "m": Range(1e-16, 1e13, "kg", "a subnormal or astronomical mass makes k_m / m degenerate", zero=True),
+    "k_m": Range(0.0, 1e30, "N/m", "the stiffness must keep k_m / m a normal double"),
+    "c": Range(0.0, 1e30, "N s/m", "the dashpot must keep c / m a normal double"),
+    "h": Range(0.0, 1e3, "m", "a guide at most 1 km above the block, as the block's own dimensions"),
+    # Tuned mass dampers use 0.01 - 0.2; 1e-10 keeps a vanishing damper (the bare block as a limit)
+    # well above rounding, 10 a damper ten times the block's mass.
+    "gamma": Range(1e-10, 10.0, "", "mass ratio m/M; 0 is the bare block", zero=True),
+    # A damper tuned 1000 times below p is a free mass within any run; 1e4 p is a locked damper (the
+    # rigid limit the tests converge to, at about 1100 p); beyond, a run needs ~1e5 integrator steps
+    # per second of motion, past any bound on its work (the studies: 0.1 - 10).
+    "omega_ratio": Range(1e-3, 1e4, "", "damper frequency omega_m / p between a free mass and a locked damper"),
+    # Dampers use 0 - 0.3, viscous devices a few; beyond 10 the dashpot's rate 2 zeta omega_m is a
+    # stiff mode for the explicit integrator (and the mass hardly moves anyway).
+    "zeta": Range(0.0, 10.0, "", "damping ratio of the damper, stiff for the explicit integrator above 10"),
+    # --- the pulse (OneSinePulse, OneSinePulse.from_nondim)
+    "a_g": Range(0.0, 1e5, "m/s^2", "up to 10,000 g, beyond any ground motion, shake table or centrifuge"),
+    # Ground-motion pulses last 0.1 - 10 s; 1 ms to 1000 s bounds the pulse's share of a run.
+    "omega_g": Range(TWO_PI / 1e3, TWO_PI / 1e-3, "rad/s", "sine periods from 1 ms to 1000 s"),
+    "psi": Range(0.0, TWO_PI, "rad", "one sine cycle", open_high=True),
+    "beta": Range(0.0, 1e4, "", "amplitude over the uplift threshold, a_g / (g tan alpha)"),
+    "Omega": Range(1e-2, 1e3, "", "pulse frequency over the block's, omega_g / p (the studies: 0.5 - 15)"),
+    # --- a run (make_problem, simulate, pulse_cases): its length bounds its work
+    "t_after": Range(0.0, 1e4, "s", "a run follows the block at most 10^4 s after the pulse", open_low=True),
+    "t_max": Range(0.0, 1.1e4, "s", "a run lasts at most the longest pulse plus 10^4 s", open_low=True),
+    "max_events": Range(1, 1e8, "", "uplifts plus impacts of one run (default 10,000)"),
+    "record_samples": Range(0.0, 1e6, "", "samples of a recorded history, t_max / record_dt"),
+}
+
+
+def check_in_range(name: str, value: object, key: str | None = None, *, label: str | None = None) -> float:
+    """Return ``value`` as a float if it is a real number within ``RANGES[key or name]``.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : object
+        Python or NumPy real scalar; booleans and strings are refused.
+    key : str, optional
+        Entry of :data:`RANGES`, default ``name``.
+    label : str, optional
+        Symbolic form of the bounds for the message (``"(0, 4 M R^2]"``).
+
+    Returns
+    -------
+    float
+
+    Raises
+    ------
+    ParameterError
+        ``"{name} must be in {range} (got {value}): {why}"`` (``0 or in`` where 0 is valid).
+    """
+    x = check_real(name, value)
+    return _in_range(name, x, RANGES[key or name], label)
+
+
+def _in_range(name: str, x: float, valid: Range, label: str | None = None, scale: float = 1.0, unit=None) -> float:
+    """``x`` if ``x / scale`` lies in ``valid``; the message shows the bounds times ``scale`` (in ``unit``)."""
+    if x / scale not in valid:
+        unit = valid.unit if unit is None else unit
+        shown = replace(valid, low=valid.low * scale, high=valid.high * scale, unit=unit)
+        raise ParameterError(f"{name} must be {shown.text(label)} (got {x!r}): {shown.why}")
+    return x
+
+
+def check_scaled(name: str, value: object, key: str, scale: float, label: str, unit: str | None = None) -> float:
+    """Return ``value`` as a float if ``value / scale`` lies in ``RANGES[key]`` (a range relative to the block).
+
+    The message gives the bounds times ``scale`` (in ``unit``, default the range's), after
+    ``label`` (``"[1e-10 M, 10 M]"``).
+    """
+    return _in_range(name, check_real(name, value), RANGES[key], label, scale, unit)
+
+
+def check_block(block: object, name: str = "block") -> Block:
+    """``block`` if it is a :class:`Block`, else a :class:`ParameterError` naming ``name``."""
+    if not isinstance(block, Block):
+        raise ParameterError(f"{name} must be a rocking.Block (got {type(block).__name__})")
+    return block
+
+
 def _require_one(name_a: str, a: object, name_b: str, b: object) -> None:
     if (a is None) == (b is None):
         raise ParameterError(f"give exactly one of {name_a} or {name_b} (got {name_a}={a!r}, {name_b}={b!r})")
@@ -177,25 +330,31 @@ class Block:
     Parameters
     ----------
     H : float
-        Height of the block, m (> 0).
+        Height of the block, m, in [1e-3, 1e3] (a 1 mm specimen to a 1 km structure).
     B : float
-        Width of the base, m (> 0).
+        Width of the base, m, in [1e-3, 1e3]; the slenderness ``H / B`` must lie in
+        [0.01, 100] (a flat slab to a mast).
     M : float
-        Mass of the block, kg (> 0).
+        Mass of the block, kg, in [1e-6, 1e12].
     e : float, optional
         Horizontal eccentricity of the centroid ``G`` from the geometric centre, m;
         ``e > 0`` moves ``G`` towards the right corner ``A'``. Requires
         ``|e| < B/2``. Default 0.
     I_G : float or None, optional
-        Centroidal moment of inertia, kg m^2 (> 0). ``None`` (default) stores the
+        Centroidal moment of inertia, kg m^2, in ``(0, 4 M R^2]`` (no mass of the
+        block lies farther than ``2 R`` from ``G``). ``None`` (default) stores the
         homogeneous value ``M (B^2 + H^2) / 12``.
     g : float, optional
-        Gravitational acceleration, m/s^2 (> 0). Default 9.81.
+        Gravitational acceleration, m/s^2, in [0.1, 1e4] (small planetary bodies to
+        a centrifuge at 1000 g). Default 9.81.
+
+    Every range is an entry of :data:`RANGES`; bool and str are not numbers.
 
     Raises
     ------
     ParameterError
-        If any parameter is non-numeric, non-finite or out of range.
+        If any parameter is non-numeric, non-finite or out of range (the message
+        names it, gives its range and the reason for the range).
     """
 
     H: float
@@ -206,13 +365,15 @@ class Block:
     g: float = 9.81
 
     def __post_init__(self) -> None:
-        H = check_positive("H", self.H, "m")
-        B = check_positive("B", self.B, "m")
-        M = check_positive("M", self.M, "kg")
+        H = check_in_range("H", self.H)
+        B = check_in_range("B", self.B)
+        _in_range("H / B", H / B, RANGES["lam"])
+        M = check_in_range("M", self.M)
         e = check_interval("e", self.e, -B / 2, B / 2, "m", label="(-B/2, B/2)")
+        R2 = (B**2 + H**2) / 4
         I_G = M * (B**2 + H**2) / 12 if self.I_G is None else self.I_G
-        I_G = check_positive("I_G", I_G, "kg m^2")
-        g = check_positive("g", self.g, "m/s^2")
+        I_G = check_scaled("I_G", I_G, "I_G", M * R2, "(0, 4 M R^2]")
+        g = check_in_range("g", self.g)
         # Frozen dataclass: the normalised floats can only be stored this way.
         for field, value in (
             ("H", H),
@@ -296,18 +457,19 @@ class Block:
         Parameters
         ----------
         p : float
-            Frequency parameter, rad/s (> 0).
+            Frequency parameter, rad/s, in [0.01, 1e4]; with ``g`` it must give
+            dimensions within the ranges of :class:`Block`.
         lam : float, optional
-            Slenderness ``H / B`` (> 0). Give exactly one of ``lam`` and ``alpha``.
+            Slenderness ``H / B``, in [0.01, 100]. Give exactly one of ``lam`` and ``alpha``.
         alpha : float, optional
-            Slenderness angle ``atan(B / H)``, rad, in ``(0, pi/2)``.
+            Slenderness angle ``atan(B / H)``, rad, in [atan(0.01), atan(100)].
         M : float, optional
-            Mass, kg (> 0). Default 1.
+            Mass, kg, in [1e-6, 1e12]. Default 1.
         e_ratio : float, optional
             Eccentricity as a fraction of the base, ``e / B``, in ``(-0.5, 0.5)``.
             Default 0.
         g : float, optional
-            Gravitational acceleration, m/s^2 (> 0). Default 9.81.
+            Gravitational acceleration, m/s^2, in [0.1, 1e4]. Default 9.81.
 
         Returns
         -------
@@ -322,16 +484,23 @@ class Block:
             out of range.
         """
         _require_one("lam", lam, "alpha", alpha)
-        p = check_positive("p", p, "rad/s")
-        g = check_positive("g", g, "m/s^2")
+        p = check_in_range("p", p)
+        g = check_in_range("g", g)
         if lam is not None:
-            alpha = math.atan2(1.0, check_positive("lam", lam))
+            alpha = math.atan2(1.0, check_in_range("lam", lam))
         else:
-            alpha = check_interval("alpha", alpha, 0.0, math.pi / 2, "rad", label="(0, pi/2)")
-        e_ratio = check_interval("e_ratio", e_ratio, -0.5, 0.5)
+            alpha = check_in_range("alpha", alpha, label="[atan(0.01), atan(100)]")
+        e_ratio = check_in_range("e_ratio", e_ratio)
         R = 3 * g / (4 * p**2)
         B = 2 * R * math.sin(alpha)
-        return cls(H=2 * R * math.cos(alpha), B=B, M=M, e=e_ratio * B, g=g)
+        try:
+            return cls(H=2 * R * math.cos(alpha), B=B, M=M, e=e_ratio * B, g=g)
+        except ParameterError as exc:
+            if str(exc).startswith(("H ", "B ")):  # the dimensions p and g give, not inputs: say so
+                raise ParameterError(
+                    f"p = {p!r} rad/s with g = {g!r} m/s^2 gives R = 3 g / (4 p^2) = {R:g} m: {exc}"
+                ) from None
+            raise
 
     @classmethod
     def reference(cls) -> Block:
@@ -351,13 +520,20 @@ class Damper:
     Parameters
     ----------
     m : float
-        Moving mass, kg (>= 0); ``m = 0`` is the bare block.
+        Moving mass, kg: 0 (the bare block) or in [1e-16, 1e13].
     k_m : float
-        Spring stiffness, N/m (>= 0, and > 0 when ``m > 0``).
+        Spring stiffness, N/m, in [0, 1e30], and > 0 when ``m > 0``.
     c : float, optional
-        Dashpot coefficient, N s/m (>= 0). Default 0.
+        Dashpot coefficient, N s/m, in [0, 1e30]. Default 0.
     h : float, optional
-        Height of the guide above the top side of the block, m (>= 0). Default 0.
+        Height of the guide above the top side of the block, m, in [0, 1e3]. Default 0.
+
+    These absolute bounds only keep ``k_m / m`` and ``c / m`` normal doubles. On its
+    block (:meth:`check_on`, which :func:`rocking.simulate` calls) a damper must also
+    have a mass ratio ``m / M`` of 0 or in [1e-10, 10], a frequency ratio
+    ``omega_m / p`` in [1e-3, 1e4] (a stiffer damper needs more integrator steps
+    than a run's bound on work) and a damping ratio ``zeta`` in [0, 10] (above, the
+    dashpot is a stiff mode for the explicit integrator).
 
     Raises
     ------
@@ -371,10 +547,10 @@ class Damper:
     h: float = 0.0
 
     def __post_init__(self) -> None:
-        m = check_nonnegative("m", self.m, "kg")
-        k_m = check_nonnegative("k_m", self.k_m, "N/m")
-        c = check_nonnegative("c", self.c, "N s/m")
-        h = check_nonnegative("h", self.h, "m")
+        m = check_in_range("m", self.m)
+        k_m = check_in_range("k_m", self.k_m)
+        c = check_in_range("c", self.c)
+        h = check_in_range("h", self.h)
         if m > 0.0 and k_m == 0.0:
             # Without a spring the mass has no rest position and drifts off the guide.
             raise ParameterError(f"k_m must be > 0 N/m when m > 0 (got k_m={k_m!r}, m={m!r})")
@@ -424,7 +600,32 @@ class Damper:
 
     def gamma(self, block: Block) -> float:
         """Mass ratio ``gamma = m / M`` with respect to ``block``."""
-        return self.m / block.M
+        return self.m / check_block(block).M
+
+    def check_on(self, block: Block) -> Damper:
+        """This damper if it suits ``block``: the ranges of ``m / M``, ``omega_m / p`` and ``zeta``.
+
+        Parameters
+        ----------
+        block : Block
+            The block carrying the damper.
+
+        Returns
+        -------
+        Damper
+            ``self``.
+
+        Raises
+        ------
+        ParameterError
+            Naming the parameter, its range relative to the block and the reason.
+        """
+        check_block(block)
+        check_scaled("m", self.m, "gamma", block.M, "[1e-10 M, 10 M]", "kg")
+        if self.m > 0.0:
+            check_scaled("omega_m", self.omega_m, "omega_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
+            check_in_range("zeta", self.zeta)
+        return self
 
     def as_params(self) -> dict[str, float]:
         """Return the damper parameters under the symbol names of the derivation.
@@ -454,15 +655,16 @@ class Damper:
         block : Block
             Block carrying the damper; supplies ``M`` and ``p``.
         gamma : float
-            Mass ratio ``m / M`` (>= 0).
+            Mass ratio ``m / M``: 0 (the bare block) or in [1e-10, 10].
         T_m : float, optional
-            Natural period, s (> 0). Give exactly one of ``T_m`` and ``omega_ratio``.
+            Natural period, s, in ``[2 pi / (1e4 p), 2 pi / (1e-3 p)]``. Give exactly
+            one of ``T_m`` and ``omega_ratio``.
         omega_ratio : float, optional
-            Frequency ratio ``omega_m / p`` (> 0).
+            Frequency ratio ``omega_m / p``, in [1e-3, 1e4].
         zeta : float, optional
-            Damping ratio (>= 0). Default 0.05.
+            Damping ratio, in [0, 10]. Default 0.05.
         h : float, optional
-            Height of the guide above the top of the block, m (>= 0). Default 0.
+            Height of the guide above the top of the block, m, in [0, 1e3]. Default 0.
 
         Returns
         -------
@@ -477,11 +679,16 @@ class Damper:
             is out of range.
         """
         _require_one("T_m", T_m, "omega_ratio", omega_ratio)
-        gamma = check_nonnegative("gamma", gamma)
-        zeta = check_nonnegative("zeta", zeta)
+        check_block(block)
+        gamma = check_in_range("gamma", gamma)
+        zeta = check_in_range("zeta", zeta)
         if T_m is not None:
-            omega_m = 2 * math.pi / check_positive("T_m", T_m, "s")
+            # omega_ratio = 2 pi / (T_m p): T_m's range is omega_ratio's, inverted.
+            T_m = check_real("T_m", T_m)
+            valid = RANGES["omega_ratio"]
+            bounds = Range(TWO_PI / (valid.high * block.p), TWO_PI / (valid.low * block.p), "s", valid.why)
+            omega_m = TWO_PI / _in_range("T_m", T_m, bounds, "[2 pi/(1e4 p), 2 pi/(1e-3 p)]")
         else:
-            omega_m = check_positive("omega_ratio", omega_ratio) * block.p
+            omega_m = check_in_range("omega_ratio", omega_ratio) * block.p
         m = gamma * block.M
         return cls(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)

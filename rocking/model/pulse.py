@@ -13,12 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocking.model.params import (
-    Block,
-    check_interval,
-    check_nonnegative,
-    check_positive,
-)
+from rocking.model.params import Block, ParameterError, check_block, check_in_range
 
 __all__ = ["OneSinePulse"]
 
@@ -34,11 +29,16 @@ class OneSinePulse:
     Parameters
     ----------
     a_g : float
-        Amplitude, m/s^2 (>= 0).
+        Amplitude, m/s^2, in [0, 1e5] (10,000 g: beyond any ground motion).
     omega_g : float
-        Circular frequency, rad/s (> 0).
+        Circular frequency, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``: sine periods
+        from 1 ms to 1000 s (ground-motion pulses last 0.1 - 10 s), which bounds the
+        pulse's share of a run.
     psi : float, optional
         Phase at ``t = 0``, rad, in ``[0, 2 pi)``. Default 0.
+
+    The ranges are entries of :data:`rocking.model.params.RANGES`; bool and str are
+    not numbers.
 
     Raises
     ------
@@ -51,9 +51,9 @@ class OneSinePulse:
     psi: float = 0.0
 
     def __post_init__(self) -> None:
-        a_g = check_nonnegative("a_g", self.a_g, "m/s^2")
-        omega_g = check_positive("omega_g", self.omega_g, "rad/s")
-        psi = check_interval("psi", self.psi, 0.0, 2 * math.pi, "rad", closed_low=True, label="[0, 2 pi)")
+        a_g = check_in_range("a_g", self.a_g)
+        omega_g = check_in_range("omega_g", self.omega_g, label="[2 pi/1000, 2 pi/0.001]")
+        psi = check_in_range("psi", self.psi, label="[0, 2 pi)")
         # Frozen dataclass: the normalised floats can only be stored this way.
         for field, value in (("a_g", a_g), ("omega_g", omega_g), ("psi", psi)):
             object.__setattr__(self, field, value)
@@ -104,10 +104,13 @@ class OneSinePulse:
         block : Block
             Block that sets the scales ``g tan(alpha)`` and ``p``.
         beta : float
-            Amplitude ratio ``a_g / (g tan(alpha))`` (>= 0); ``beta = 1`` is the
-            static uplift threshold of the bare symmetric block.
+            Amplitude ratio ``a_g / (g tan(alpha))``, in [0, 1e4]; ``beta = 1`` is the
+            static uplift threshold of the bare symmetric block. ``a_g`` must also lie
+            in the range of :class:`OneSinePulse`.
         Omega : float
-            Frequency ratio ``omega_g / p`` (> 0).
+            Frequency ratio ``omega_g / p``, in [0.01, 1000] (the studies use 0.5 - 15);
+            ``omega_g`` must also lie in the range of :class:`OneSinePulse` (periods of
+            1 ms to 1000 s).
         psi : float, optional
             Phase at ``t = 0``, rad, in ``[0, 2 pi)``. Default 0.
 
@@ -121,6 +124,15 @@ class OneSinePulse:
         ParameterError
             If any value is out of range.
         """
-        beta = check_nonnegative("beta", beta)
-        Omega = check_positive("Omega", Omega)
-        return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, psi=psi)
+        check_block(block)
+        beta = check_in_range("beta", beta)
+        Omega = check_in_range("Omega", Omega)
+        try:
+            return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, psi=psi)
+        except ParameterError as exc:
+            if str(exc).startswith(("a_g ", "omega_g ")):  # derived from beta and Omega: say so
+                raise ParameterError(
+                    f"beta = {beta!r}, Omega = {Omega!r} on this block (g tan(alpha) = "
+                    f"{block.g * block.tan_alpha:g} m/s^2, p = {block.p:g} rad/s) give {exc}"
+                ) from None
+            raise

@@ -258,8 +258,31 @@ def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path
     folder.mkdir(parents=True, exist_ok=True)
     paths = [folder / f"{name or study.kind}.{ext}" for ext in ("png", "pdf")]
     for path in paths:
-        fig.savefig(path, dpi=150)
+        try:
+            fig.savefig(path, dpi=150)
+        except OSError as exc:
+            raise ParameterError(f"cannot write the figure {path} ({exc.strerror or exc})") from None
     return paths
+
+
+#: What drawing a saved study whose data do not fit its figure raises: a missing array or
+#: summary entry, an array of another shape or type.
+UNFIT = (KeyError, IndexError, TypeError, ValueError, AttributeError)
+
+
+def _redraw_one(stem: Path) -> list[Path]:
+    """Draw the study saved at ``stem`` next to it; a ParameterError naming it if its data do not fit."""
+    study = load(stem)
+    try:
+        return draw(study, stem.parent, stem.name)
+    except ParameterError:
+        raise
+    except UNFIT as exc:  # the file passed load()'s checks but is not what this version of rocking writes
+        text = str(exc).splitlines()[0] if str(exc) else ""
+        raise ParameterError(
+            f"{stem}.npz/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
+            "it lacks data its figure needs (saved by another version of rocking?)"
+        ) from exc
 
 
 def redraw(path: str | Path) -> list[Path]:
@@ -270,7 +293,9 @@ def redraw(path: str | Path) -> list[Path]:
     Raises
     ------
     ParameterError
-        If nothing saved is found at ``path``.
+        Naming the file: nothing saved at ``path``, a study that cannot be read
+        (:func:`rocking.study.storage.load`) or drawn (data missing), or a
+        figure that cannot be written.
     """
     path = Path(path)
     stems = (
@@ -282,6 +307,5 @@ def redraw(path: str | Path) -> list[Path]:
         raise ParameterError(f"no saved study (<name>.npz with <name>.json) in {path}")
     written = []
     for stem in stems:
-        stem = stem.with_suffix("") if stem.suffix in (".npz", ".json") else stem
-        written += draw(load(stem), stem.parent, stem.name)
+        written += _redraw_one(stem.with_suffix("") if stem.suffix in (".npz", ".json") else stem)
     return written

@@ -29,7 +29,7 @@ import numpy as np
 from ..model.params import ParameterError
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 3
+API_VERSION = 4
 
 DOUBLE, INT64, INT32, DOUBLES = "double", "int64", "int32", "doubles"
 
@@ -48,6 +48,10 @@ CHECKS = {
 }
 
 _REQUIRED = object()
+
+#: Default of ``max_steps`` (docs/simulation.md, rule 5): far above what any response
+#: of the bench map needs, and a few seconds of the NumPy back end at most.
+MAX_STEPS_DEFAULT = 300_000
 
 
 @dataclass(frozen=True)
@@ -96,6 +100,14 @@ CASE = (
     Field("dtheta_rest", DOUBLE, "rad/s", "an impact with outgoing |dtheta| below this ends rocking", ">= 0"),
     Field("energy_rest", DOUBLE, "J", "full contact after the pulse ends once E(y) - E(0) is below this", ">= 0"),
     Field("max_events", INT64, "", "the run ends when uplifts + impacts reach this", ">= 1"),
+    Field(
+        "max_steps",
+        INT64,
+        "",
+        "bound on the work of a run: right-hand-side evaluations plus recorded samples (rule 5)",
+        ">= 1",
+        MAX_STEPS_DEFAULT,
+    ),
     Field("record_dt", DOUBLE, "s", "spacing of a recorded history (<= 0: events only)", "finite", 0.0),
     Field("y0", DOUBLES, "state units", "initial state (NULL / None: at rest)", None, None),
     Field("phase0", INT32, "", "initial phase: 0 full contact, +1 / -1 rocking about A / A'", "-1, 0 or +1", 0),
@@ -131,9 +143,12 @@ STATUSES = (
     Code("rest", 1, "back in full contact after the pulse, below energy_rest or below the uplift energy"),
     Code("t_max", 2, "t_max reached"),
     Code("max_events", 3, "uplifts + impacts reached max_events"),
+    Code("max_steps", 4, "the work of the run passed max_steps (rule 5)"),
 )
 #: Status code of a run whose step size underflowed (a non-finite right-hand side); never a result.
 FAILED = Code("failed", -1, "the step size underflowed (non-finite right-hand side, ...)")
+#: Status code of a run stopped by its caller's stop flag (``rocking_control.stop``); never a result.
+STOPPED = Code("stopped", -2, "stopped by the caller's stop flag (Python: KeyboardInterrupt)")
 
 #: Phase codes of a recorded history and of ``phase0``.
 PHASES = (
@@ -252,13 +267,13 @@ def c_header() -> str:
         "",
     ]
     lines += [f"#define ROCKING_{c.name} {c.value!r} /* {c.doc} */" for c in CONSTANTS] + [""]
-    lines += _c_enum("rocking_status", "ROCKING_", (*STATUSES, FAILED))
+    lines += _c_enum("rocking_status", "ROCKING_", (*STATUSES, FAILED, STOPPED))
     lines += _c_enum("rocking_phase", "ROCKING_", PHASES)
     lines += _c_struct("rocking_case", CASE) + _c_struct("rocking_result", RESULT)
     lines += ["/* The fields in table order, for the layout the library reports (rocking_layout). */"]
     lines += _x_macro("ROCKING_CASE_FIELDS", CASE) + _x_macro("ROCKING_RESULT_FIELDS", RESULT)
     lines += ["/* The constants in table order (rocking_constants). */"]
-    codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, *PHASES)]
+    codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, STOPPED, *PHASES)]
     values = [f"ROCKING_{c.name}" for c in CONSTANTS] + codes
     lines += ["#define ROCKING_CONSTANTS(X) " + " ".join(f"X({v})" for v in values), ""]
     return "\n".join([*lines, "#endif", ""])
@@ -266,7 +281,7 @@ def c_header() -> str:
 
 def constant_values() -> tuple[float, ...]:
     """What ``rocking_constants`` of the C library must report, in its order."""
-    return tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, *PHASES))
+    return tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES))
 
 
 def _md_rows(fields: tuple[Field, ...], with_valid: bool) -> list[str]:
@@ -299,7 +314,7 @@ def markdown() -> str:
         "| --- | --- | --- | --- |",
         *_md_rows(RESULT, False),
         "",
-        "Statuses: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in (*STATUSES, FAILED)) + ".",
+        "Statuses: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in (*STATUSES, FAILED, STOPPED)) + ".",
         "",
         "Phases: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in PHASES) + ".",
         "",

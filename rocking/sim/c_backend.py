@@ -11,6 +11,13 @@ from them is refused at load. The library of a model is built at first use by
 
 ctypes releases the GIL during a foreign call, so :func:`simulate_cases` runs
 its chunks on threads in parallel.
+
+Every call passes sim.c a stop flag of its own (``rocking_control.stop``),
+which the runs read once per step: :func:`request_stop` sets the flags of all
+the calls running in this process, which then raise :exc:`KeyboardInterrupt`
+within a few milliseconds; calls started later run normally. Called from the
+main thread, :func:`simulate` and :func:`simulate_cases` run the C code on a
+worker thread and wait for it in short slices, so that Ctrl-C stops them too.
 """
 
 from __future__ import annotations
@@ -30,7 +37,7 @@ from .cases import Cases
 from .cbuild import CBuildError
 from .problem import RESULT_FIELDS, Problem, Response, SimulationError
 
-__all__ = ["CBuildError", "SimulationError", "available", "library", "simulate", "simulate_cases"]
+__all__ = ["CBuildError", "SimulationError", "available", "library", "request_stop", "simulate", "simulate_cases"]
 
 _dbl = ctypes.c_double
 _dbl_p = ctypes.POINTER(ctypes.c_double)
@@ -60,6 +67,12 @@ class _History(ctypes.Structure):
     """``rocking_history`` of sim.h."""
 
     _fields_ = [("capacity", ctypes.c_int64), ("t", _dbl_p), ("y", _dbl_p), ("phase", _i32_p), ("ag", _dbl_p)]
+
+
+class _Control(ctypes.Structure):
+    """``rocking_control`` of sim.h: the stop flag of one call and the model's impact laws."""
+
+    _fields_ = [("stop", _i32_p), ("velocity_law", _i32_p)]
 
 
 def _layout(structure, dtype: np.dtype, fields) -> list[int]:
@@ -114,7 +127,7 @@ class _Library:
         _check_library(lib, model, path)
         lib.rocking_simulate.restype = ctypes.c_int64
         lib.rocking_simulate.argtypes = [
-            _dbl_p, ctypes.POINTER(_Case), ctypes.POINTER(_Result), ctypes.POINTER(_History)
+            _dbl_p, ctypes.POINTER(_Case), ctypes.POINTER(_Result), ctypes.POINTER(_History), ctypes.POINTER(_Control)
         ]
         lib.rocking_simulate_batch.restype = None
         lib.rocking_simulate_batch.argtypes = [
@@ -122,8 +135,18 @@ class _Library:
             _array_arg(np.float64, 2),
             _array_arg(CASE_DTYPE, 1),
             _array_arg(RESULT_DTYPE, 1),
+            ctypes.POINTER(_Control),
         ]
         self.lib = lib
+        # The impact law of each coordinate (the model header does not carry them): 1 for "velocity".
+        laws = model.manifest.get("options", {}).get("impact_laws", {})
+        self.velocity_law = (ctypes.c_int32 * model.nq)(
+            *[int(laws.get(name) == "velocity") for name in model.coordinates]
+        )
+
+    def control(self, stop: ctypes.c_int32) -> _Control:
+        """The ``rocking_control`` of one call with the stop flag ``stop``."""
+        return _Control(ctypes.pointer(stop), ctypes.cast(self.velocity_law, _i32_p))
 
 
 _LIBRARIES: dict[tuple[Path, str], _Library] = {}
@@ -159,6 +182,76 @@ def available(model: str | Model = "omd") -> bool:
     except CBuildError:
         return False
     return True
+
+
+# --------------------------------------------------------------------------- #
+# Stopping                                                                     #
+# --------------------------------------------------------------------------- #
+
+#: The stop flags of the calls running now (sim.c reads each once per step).
+_RUNNING: dict[int, ctypes.c_int32] = {}
+_RUNNING_LOCK = threading.Lock()
+#: How often the main thread wakes up while it waits for a C call [s].
+_WAIT_SLICE = 0.02
+
+
+def request_stop() -> None:
+    """Stop every C run and batch running now in this process.
+
+    Each of their :func:`simulate` / :func:`simulate_cases` calls raises
+    :exc:`KeyboardInterrupt` within a few milliseconds (a run reads its flag
+    once per step of the integrator); calls started afterwards run normally.
+    Safe to call from any thread, or from a signal handler.
+    """
+    with _RUNNING_LOCK:
+        flags = list(_RUNNING.values())
+    for flag in flags:
+        flag.value = 1
+
+
+def _stoppable(call):
+    """``call(stop)`` with a fresh stop flag registered for :func:`request_stop`.
+
+    From the main thread the call runs on a worker thread while the main
+    thread waits in short slices: a Ctrl-C there (KeyboardInterrupt) stops
+    the runs, waits for the worker and is raised again.
+    """
+    stop = ctypes.c_int32(0)
+    with _RUNNING_LOCK:
+        _RUNNING[id(stop)] = stop
+    try:
+        if threading.current_thread() is not threading.main_thread():
+            result = call(stop)
+        else:
+            result = _on_worker(call, stop)
+    finally:
+        with _RUNNING_LOCK:
+            del _RUNNING[id(stop)]
+    return result
+
+
+def _on_worker(call, stop: ctypes.c_int32):
+    outcome: dict = {}
+
+    def work() -> None:
+        try:
+            outcome["result"] = call(stop)
+        except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
+            outcome["error"] = exc
+
+    worker = threading.Thread(target=work, name="rocking-c", daemon=True)
+    worker.start()
+    try:
+        while worker.is_alive():
+            worker.join(_WAIT_SLICE)
+    except KeyboardInterrupt:
+        stop.value = 1
+        request_stop()
+        worker.join()
+        raise
+    if "error" in outcome:
+        raise outcome["error"]
+    return outcome["result"]
 
 
 # --------------------------------------------------------------------------- #
@@ -215,6 +308,8 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         If the C back end cannot be built.
     SimulationError
         If the integrator fails.
+    KeyboardInterrupt
+        If :func:`request_stop` (or Ctrl-C in the main thread) stopped it.
     """
     lib = library(problem.model)
     case = _case(problem)
@@ -222,12 +317,19 @@ def simulate(problem: Problem, record: bool = False) -> Response:
     capacity = _history_capacity(problem) if record else 0
     while True:
         buffers = _history_buffers(capacity, lib.ny) if record else None
-        n = lib.lib.rocking_simulate(
-            problem.p.ctypes.data_as(_dbl_p),
-            ctypes.byref(case),
-            ctypes.byref(result),
-            ctypes.byref(_history(buffers)) if record else None,
-        )
+
+        def call(stop, buffers=buffers):
+            return lib.lib.rocking_simulate(
+                problem.p.ctypes.data_as(_dbl_p),
+                ctypes.byref(case),
+                ctypes.byref(result),
+                ctypes.byref(_history(buffers)) if record else None,
+                ctypes.byref(lib.control(stop)),
+            )
+
+        n = _stoppable(call)
+        if result.status == boundary.STOPPED.value:
+            raise KeyboardInterrupt("rocking.sim.c_backend.request_stop() stopped the run")
         if n < 0:  # Problem checked the initial state: the two checks disagree
             raise SimulationError(f"sim.c refused the initial state y0 = {problem.y0}, phase0 = {problem.phase0}")
         if n <= capacity:
@@ -313,6 +415,8 @@ def simulate_cases(cases: Cases, threads: int | None = None) -> dict[str, np.nda
         If the C back end cannot be built.
     SimulationError
         If the integrator fails on any run (the message lists them).
+    KeyboardInterrupt
+        If :func:`request_stop` (or Ctrl-C in the main thread) stopped it.
     """
     lib = library(cases.model)
     n = len(cases)
@@ -321,21 +425,28 @@ def simulate_cases(cases: Cases, threads: int | None = None) -> dict[str, np.nda
         raise ValueError(f"threads must be an integer >= 1 (got {threads!r})")
     records = _records(cases)
     out = np.zeros(n, dtype=RESULT_DTYPE)
-
-    def run(lo: int, hi: int) -> None:
-        # Row slices of C-contiguous arrays are C-contiguous: no copies.
-        lib.lib.rocking_simulate_batch(hi - lo, cases.p[lo:hi], records[lo:hi], out[lo:hi])
-
     threads = min(int(threads), max(n, 1))
-    if threads == 1:
-        run(0, n)
-    else:
+
+    def batch(stop: ctypes.c_int32) -> None:
+        control = lib.control(stop)
+
+        def run(lo: int, hi: int) -> None:
+            # Row slices of C-contiguous arrays are C-contiguous: no copies.
+            lib.lib.rocking_simulate_batch(hi - lo, cases.p[lo:hi], records[lo:hi], out[lo:hi], ctypes.byref(control))
+
+        if threads == 1:
+            run(0, n)
+            return
         # More chunks than threads: runs differ a lot in cost (an early overturn
         # against a long rocking history), small chunks keep the threads busy.
         bounds = np.linspace(0, n, min(n, 8 * threads) + 1).astype(int)
         with ThreadPoolExecutor(max_workers=threads) as pool:
             for future in [pool.submit(run, lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo]:
                 future.result()
+
+    _stoppable(batch)
+    if np.any(out["status"] == boundary.STOPPED.value):
+        raise KeyboardInterrupt("rocking.sim.c_backend.request_stop() stopped the batch")
     failed = np.flatnonzero(out["status"] == boundary.FAILED.value)
     if failed.size:
         raise SimulationError(

@@ -12,11 +12,11 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..model.loading import Model, ModelError, load_model
-from ..model.params import Block, ParameterError
+from ..model.loading import Model, ModelError
+from ..model.params import RANGES, Block, ParameterError, check_block, check_in_range, check_real
 from . import boundary
 from .boundary import CASE, DOUBLES
-from .problem import RESULT_FIELDS, STATUS, Problem, default_settings
+from .problem import RESULT_FIELDS, STATUS, Problem, check_integer, default_settings, own_parameters, resolve_model
 
 
 @dataclass(frozen=True)
@@ -100,47 +100,34 @@ class Cases:
         return cls(problems[0].model, np.array([pr.p for pr in problems]), settings)
 
 
-def _array(name: str, value, low: float, *, inclusive: bool) -> np.ndarray:
-    """``value`` as a float array, every element finite and above ``low``."""
-    try:
-        a = np.asarray(value, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be numeric (got {value!r})") from None
-    bad = ~np.isfinite(a) | ((a < low) if inclusive else (a <= low))
+def _array(name: str, value, key: str | None = None) -> np.ndarray:
+    """``value`` as a float array, every element within ``RANGES[key or name]`` (bool and str refused)."""
+    a = np.asarray(value)
+    if a.dtype.kind not in "iuf":
+        raise ParameterError(f"{name} must be a number or an array of numbers (got {value!r})")
+    a = a.astype(float)
+    valid = RANGES[key or name]
+    bad = ~valid.holds(a)
     if np.any(bad):
-        sign = ">=" if inclusive else ">"
-        raise ParameterError(f"{name} must be finite and {sign} {low:g} (got {a[bad].ravel()[0]!r})")
+        raise ParameterError(f"{name} must be {valid.text()} (got {a[bad].ravel()[0]!r}): {valid.why}")
     return a
+
+
+def _derived(name: str, a: np.ndarray, given: str) -> None:
+    """Refuse a derived array (``omega_g = Omega p``, ...) out of its own range, saying what gave it."""
+    valid = RANGES[name]
+    bad = ~valid.holds(a)
+    if np.any(bad):
+        raise ParameterError(
+            f"{given} gives {name} = {a[bad].ravel()[0]!r}, but {name} must be {valid.text()}: {valid.why}"
+        )
 
 
 def _fixed_params(model: Model, block: Block, params) -> dict[str, float]:
     """``params`` checked once: the model's own parameters only, all of them, within the model's ranges."""
     if not isinstance(params, dict):
         raise ParameterError(f"params must be a dict of parameter values by name (got {type(params).__name__})")
-    block_values = block.as_params()
-    own = [k for k in model.parameters if k not in block_values]
-    by_block = sorted(k for k in params if k in block_values)
-    if by_block:
-        raise ParameterError(f"params: {', '.join(by_block)} set by the block, not by params")
-    unknown = sorted(k for k in params if k not in model.parameters)
-    if unknown:
-        raise ParameterError(
-            f"model {model.name!r} has no parameter(s) {', '.join(map(str, unknown))}; "
-            f"its own are {', '.join(own) or 'none'}"
-        )
-    fixed = {}
-    for k, v in params.items():
-        if np.ndim(v) != 0:
-            raise ParameterError(f"params: {k} must be one number (got {v!r})")
-        try:
-            fixed[k] = float(v)
-        except (TypeError, ValueError):
-            raise ParameterError(f"params: {k} must be numeric (got {v!r})") from None
-    try:
-        model.param_vector({**block_values, **fixed})
-    except ModelError as exc:
-        raise ParameterError(str(exc)) from None
-    return fixed
+    return own_parameters(model, params, block)
 
 
 def pulse_cases(
@@ -175,15 +162,13 @@ def pulse_cases(
         raise ParameterError(
             "give either gamma (the omd damper relative to its block) or params (a model's own parameters), not both"
         )
-    Omega = _array("Omega", Omega, 0.0, inclusive=False)
-    beta = _array("beta", beta, 0.0, inclusive=True)
-    gamma = _array("gamma", 0.0 if gamma is None else gamma, 0.0, inclusive=True)
-    omega_ratio = _array("omega_ratio", omega_ratio, 0.0, inclusive=False)
-    zeta = _array("zeta", zeta, 0.0, inclusive=True)
-    h = _array("h", h, 0.0, inclusive=True)
-    psi = _array("psi", psi, 0.0, inclusive=True)
-    if np.any(psi >= 2 * np.pi):
-        raise ParameterError("psi must be in [0, 2 pi)")
+    check_block(block)
+    rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
+    t_after = check_in_range("t_after", t_after)
+    max_events = check_integer("max_events", max_events)
+    Omega, beta, gamma = _array("Omega", Omega), _array("beta", beta), _array("gamma", 0.0 if gamma is None else gamma)
+    omega_ratio, zeta = _array("omega_ratio", omega_ratio), _array("zeta", zeta)
+    h, psi = _array("h", h), _array("psi", psi)
     try:
         arrays = np.broadcast_arrays(Omega, beta, gamma, omega_ratio, zeta, h, psi)
     except ValueError:
@@ -193,9 +178,11 @@ def pulse_cases(
     if not bare and params is None and np.any(gamma == 0):
         raise ParameterError("gamma must be > 0 in every case of a batch with a damper (use a separate bare batch)")
     try:
-        model = load_model(model if model is not None else ("block" if bare else "omd"))
+        model = resolve_model(model, "block" if bare else "omd")
     except ModelError as exc:
         raise ParameterError(str(exc)) from None
+    _derived("omega_g", Omega * block.p, "Omega p")
+    _derived("a_g", beta * block.g * block.tan_alpha, "beta g tan(alpha)")
 
     omega_g = Omega * block.p
     psi = psi + 0 * Omega
@@ -215,7 +202,7 @@ def pulse_cases(
         raise ParameterError(
             f"model {model.name!r} needs parameter(s) {', '.join(missing)} that pulse_cases cannot set"
         )
-    settings = default_settings(block, 2 * np.pi / omega_g, T_m, float(rtol), model.nq)
+    settings = default_settings(block, 2 * np.pi / omega_g, T_m, rtol, model.nq)
     return Cases(
         model,
         np.column_stack([values[k] for k in model.parameters]),
@@ -224,7 +211,7 @@ def pulse_cases(
             "omega_g": omega_g,
             "psi": psi,
             "t_p": t_p,
-            "t_max": t_p + float(t_after),
+            "t_max": t_p + t_after,
             "rtol": rtol,
             "atol": settings["atol"],
             "contact_max_step": settings["contact_max_step"],

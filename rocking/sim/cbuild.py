@@ -1,16 +1,55 @@
-"""Build the C back end: ``rocking/csrc/sim.c`` with one generated model, as a cached shared library.
+"""Build the C back end: ``rocking/sim/csrc/sim.c`` with one generated model, as a cached shared library.
 
 The library is compiled at first use into a cache directory (``~/.cache/rocking``,
-or ``$ROCKING_CACHE_DIR``) under a name keyed by the SHA-256 of everything that
-goes into it: the C sources and headers, the flags, the compiler's command and
-its ``--version``. A changed source, flag or compiler gives a new key, hence a
-new build; an unchanged one is loaded as it is.
+or ``$ROCKING_CACHE_DIR``) and found there afterwards without running the compiler.
 
-Several processes may build the same library at once (a parallel test run, the
-workers of a study): each compiles into its own temporary file in the cache
-directory and renames it into place with :func:`os.replace`, which is atomic, so
-a reader never sees half a library. Where :mod:`fcntl` exists a lock file also
-keeps them from compiling the same thing twice.
+Names and keys
+--------------
+A library is ``<prefix>-<source key>-<compiler key>.so``:
+
+- the *source key* is the SHA-256 of what decides the library's behaviour: the C
+  sources and headers, :data:`CFLAGS`, the arguments of ``$CC`` after the program
+  (``CC="cc -DX"`` builds another library than ``CC=cc``) and the platform;
+- the *compiler key* is the SHA-256 of the compiler program's resolved path, size
+  and modification time, read with :func:`os.stat`.
+
+Trade-off: the compiler's ``--version`` is not part of the key, because reading it
+means running the compiler, and a cached library must stay usable when the
+compiler is broken or gone (``CC=/nonexistent``, ``CC=false``, a machine that shares
+the cache but has no compiler). The program's size and modification time stand in
+for its version: an upgrade in place changes them, hence the key; a compiler whose
+driver stays the same while its back end changes (a ``ccache`` wrapper, an
+upgraded ``cc1`` behind an unchanged ``gcc``) is not noticed: clear the cache then.
+The version is recorded in the sidecar (below), for the record only. When the
+compiler cannot be found or does not run (not when it runs and rejects the code),
+any valid library of the same source key is used, whichever compiler built it:
+the same sources and flags, possibly not bit for bit what the requested compiler
+would have produced.
+
+Integrity
+---------
+Each library has a sidecar, ``<library>.json``, written after a successful compile:
+the library's SHA-256 and size, its source key, the compiler's command and version.
+A library is used only if it matches its sidecar; otherwise (a truncated file,
+which would kill the process with SIGBUS when loaded, a flipped byte, a missing or
+unreadable sidecar) it is built again. Hashing a library of some 100 kB costs
+well under a millisecond.
+
+Concurrency
+-----------
+Several threads and processes may build the same library at once (a parallel test
+run, the workers of a study). Checking a library needs no lock. Building it is done
+under a lock held across threads (a :class:`threading.Lock` per library) and
+processes (:func:`fcntl.flock` on ``.<library>.lock`` where :mod:`fcntl` exists), and
+the library is checked again once the lock is held, so it is compiled once. The
+compiler writes into a temporary file of the cache directory, the sidecar too, and
+both are renamed into place with :func:`os.replace`, which is atomic: a reader never
+sees half a file, and a process that has loaded the old file keeps it (a rename
+does not change the file it mapped). The library is renamed first: in between, a
+reader finds it does not match the old sidecar and waits for the lock.
+
+Any failure to create or write the cache is a :class:`CBuildError` naming the
+folder, so that ``backend="auto"`` falls back to NumPy.
 
 No ``-march=native``: the cache may be shared between machines.
 """
@@ -19,15 +58,17 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import json
 import os
 import shlex
 import shutil
 import subprocess
 import sys
 import tempfile
+import threading
 from pathlib import Path
 
-try:  # POSIX only; without it concurrent builds are still safe, only duplicated.
+try:  # POSIX only; without it concurrent processes are still safe, only duplicated.
     import fcntl
 except ImportError:  # pragma: no cover - Windows
     fcntl = None
@@ -40,20 +81,42 @@ CSRC = Path(__file__).resolve().parent / "csrc"
 #: Flags of every build: portable (no -march=native), position independent.
 CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra")
 
-#: Part of the key: bump to invalidate every cached library.
-_KEY_VERSION = b"rocking-cbuild-1"
+#: Part of the source key: bump to invalidate every cached library.
+_KEY_VERSION = b"rocking-cbuild-2"
+
+#: Lengths of the source and compiler keys in a library's name (hex digits).
+_SOURCE_DIGITS, _COMPILER_DIGITS = 24, 12
+
+_SIDECAR_FORMAT = 1
 
 _TIMEOUT = 300  # seconds for one compiler call
 
 
 class CBuildError(RuntimeError):
-    """The C back end cannot be built: no compiler, or the compiler failed (its message included)."""
+    """The C back end cannot be built: no compiler, the compiler failed (its message included), or no cache."""
+
+
+class _CompilerUnavailable(CBuildError):
+    """The compiler cannot be found or run: a cached library of the same sources may stand in for a build."""
 
 
 def cache_dir() -> Path:
-    """Where libraries are cached: ``$ROCKING_CACHE_DIR``, else ``~/.cache/rocking``."""
+    """Where libraries are cached: ``$ROCKING_CACHE_DIR``, else ``~/.cache/rocking``.
+
+    Raises
+    ------
+    CBuildError
+        If ``$ROCKING_CACHE_DIR`` is not set and there is no home directory.
+    """
     env = os.environ.get("ROCKING_CACHE_DIR")
-    return Path(env).expanduser() if env else Path.home() / ".cache" / "rocking"
+    if env:
+        return Path(env).expanduser()
+    try:
+        return Path.home() / ".cache" / "rocking"
+    except (RuntimeError, KeyError, OSError):  # no $HOME and no password entry
+        raise CBuildError(
+            "no home directory for the C library cache: set ROCKING_CACHE_DIR to a writable folder"
+        ) from None
 
 
 def compiler() -> list[str]:
@@ -62,36 +125,45 @@ def compiler() -> list[str]:
     Raises
     ------
     CBuildError
-        If ``$CC`` is empty and neither ``cc`` nor ``gcc`` is found.
+        If ``$CC`` cannot be split, or is empty and neither ``cc`` nor ``gcc`` is found.
     """
-    env = os.environ.get("CC", "").strip()
+    env = _split_cc()
     if env:
-        return shlex.split(env)
+        return env
     for name in ("cc", "gcc"):
         path = shutil.which(name)
         if path:
             return [path]
-    raise CBuildError("no C compiler found: set $CC or install cc/gcc (e.g. `apt-get install gcc`)")
+    raise _CompilerUnavailable("no C compiler found: set $CC or install cc/gcc (e.g. `apt-get install gcc`)")
 
 
 def _run(cmd: list[str]) -> subprocess.CompletedProcess:
     try:
         return subprocess.run(cmd, capture_output=True, text=True, timeout=_TIMEOUT, check=False)
     except FileNotFoundError:
-        raise CBuildError(f"C compiler {cmd[0]!r} not found (from $CC or PATH): cannot build the C back end") from None
-    except PermissionError as exc:
-        raise CBuildError(f"C compiler {cmd[0]!r} cannot be run: {exc}") from None
+        raise _CompilerUnavailable(
+            f"C compiler {cmd[0]!r} not found (from $CC or PATH): cannot build the C back end"
+        ) from None
+    except OSError as exc:  # not executable, not a program (ENOEXEC), ...
+        raise _CompilerUnavailable(f"C compiler {cmd[0]!r} cannot be run ({exc.strerror or exc}): fix $CC") from None
     except subprocess.TimeoutExpired:
         raise CBuildError(f"C compiler timed out after {_TIMEOUT} s: {shlex.join(cmd)}") from None
 
 
+def _first_line(text: str) -> str:
+    return next((line.strip() for line in text.splitlines() if line.strip()), "")
+
+
 def _compiler_version(cc: list[str]) -> str:
+    """The first line of ``cc --version``; run only when a library is to be compiled."""
     proc = _run([*cc, "--version"])
     if proc.returncode != 0:
-        raise CBuildError(
-            f"C compiler {shlex.join(cc)!r} does not run (`--version` exit {proc.returncode}):\n{proc.stderr.strip()}"
+        said = _first_line(proc.stderr or proc.stdout)
+        raise _CompilerUnavailable(
+            f"C compiler {shlex.join(cc)!r} does not run (`--version` exit {proc.returncode}"
+            f"{': ' + said if said else ''}): fix $CC or unset it"
         )
-    return proc.stdout + proc.stderr
+    return _first_line(proc.stdout + proc.stderr)
 
 
 def _sources(model, csrc: Path) -> dict[str, Path]:
@@ -122,51 +194,154 @@ def build_command(model, output: Path, *, cc: list[str] | None = None, csrc: Pat
     ]
 
 
-def build_key(model, *, cc: list[str] | None = None, csrc: Path | None = None) -> str:
-    """SHA-256 (hex) of the sources, headers, flags, compiler command and compiler version.
-
-    Raises
-    ------
-    CBuildError
-        If the compiler is missing or does not run, or a source cannot be read.
-    """
-    cc = compiler() if cc is None else list(cc)
-    csrc = CSRC if csrc is None else Path(csrc)
+def _digest(*parts: tuple[str, bytes]) -> str:
     digest = hashlib.sha256(_KEY_VERSION)
-
-    def add(label: str, data: bytes) -> None:
+    for label, data in parts:
         # Length-prefixed, so that no two different inputs hash alike.
         for part in (label.encode(), data):
             digest.update(len(part).to_bytes(8, "little"))
             digest.update(part)
+    return digest.hexdigest()
 
+
+def _source_key(model, cc_args, csrc: Path) -> str:
+    """SHA-256 of the sources, headers, flags (``$CC``'s arguments included) and platform.
+
+    The output path and the source folders are left out: the key must not depend on
+    where the package or the cache is.
+    """
+    parts = []
     for name, path in _sources(model, csrc).items():
         try:
-            add(f"source {name}", path.read_bytes())
+            parts.append((f"source {name}", path.read_bytes()))
         except OSError as exc:
-            raise CBuildError(f"cannot read C source {path}: {exc}") from None
-    # The command with the output path and source folders left out: the key must
-    # not depend on where the package or the cache is.
-    add("flags", "\0".join(CFLAGS).encode())
-    add("header", model.c_header.name.encode())
-    add("compiler", "\0".join(cc).encode())
-    add("version", _compiler_version(cc).encode())
-    add("platform", f"{sys.platform} {os.uname().machine if hasattr(os, 'uname') else ''}".encode())
-    return digest.hexdigest()
+            raise CBuildError(f"cannot read C source {path}: {exc.strerror or exc}") from None
+    machine = os.uname().machine if hasattr(os, "uname") else ""
+    return _digest(
+        *parts,
+        ("flags", "\0".join(CFLAGS).encode()),
+        ("cc arguments", "\0".join(cc_args).encode()),
+        ("header", model.c_header.name.encode()),
+        ("platform", f"{sys.platform} {machine}".encode()),
+    )
+
+
+def _compiler_key(cc: list[str]) -> tuple[str, str]:
+    """SHA-256 of the compiler program's resolved path, size and modification time, and that path.
+
+    Stands in for the compiler's version without running it (see the module's docstring).
+    """
+    found = shutil.which(cc[0])  # a path is checked as it is, a bare name looked up on PATH
+    if found is None:
+        raise _CompilerUnavailable(
+            f"C compiler {cc[0]!r} not found or not executable (from $CC or PATH): cannot build the C back end"
+        )
+    try:
+        real = os.path.realpath(found)
+        stat = os.stat(real)
+    except OSError as exc:
+        raise _CompilerUnavailable(f"C compiler {cc[0]!r} cannot be read ({exc.strerror or exc}): fix $CC") from None
+    return _digest(("compiler", f"{real}\0{stat.st_size}\0{stat.st_mtime_ns}".encode())), real
+
+
+def _name(model, source: str, tool: str) -> str:
+    return f"{model.c_prefix}-{source[:_SOURCE_DIGITS]}-{tool[:_COMPILER_DIGITS]}.so"
+
+
+def build_key(model, *, cc: list[str] | None = None, csrc: Path | str | None = None) -> str:
+    """The key in the name of ``model``'s library: ``<source key>-<compiler key>`` (truncated SHA-256s, hex).
+
+    Computed without running the compiler (see the module's docstring).
+
+    Raises
+    ------
+    CBuildError
+        If the compiler is not found, or a source cannot be read.
+    """
+    cc = compiler() if cc is None else list(cc)
+    csrc = CSRC if csrc is None else Path(csrc)
+    source = _source_key(model, cc[1:], csrc)
+    tool, _ = _compiler_key(cc)
+    return f"{source[:_SOURCE_DIGITS]}-{tool[:_COMPILER_DIGITS]}"
+
+
+def _sidecar(library: Path) -> Path:
+    return library.with_name(library.name + ".json")
+
+
+def _file_digest(path: Path) -> tuple[str, int]:
+    """SHA-256 (hex) and size of a file."""
+    digest = hashlib.sha256()
+    size = 0
+    with open(path, "rb") as handle:
+        for chunk in iter(lambda: handle.read(1 << 20), b""):
+            digest.update(chunk)
+            size += len(chunk)
+    return digest.hexdigest(), size
+
+
+def _valid(library: Path, source: str) -> bool:
+    """Whether ``library`` exists and matches its sidecar, which was written for ``source``.
+
+    Anything short of that (no file, no or a damaged sidecar, another size or hash)
+    is ``False``: the library is built again rather than loaded, since loading a
+    truncated one kills the process.
+    """
+    try:
+        record = json.loads(_sidecar(library).read_text(encoding="utf-8"))
+        if record["source_key"] != source or os.stat(library).st_size != record["size"]:
+            return False
+        return _file_digest(library) == (record["sha256"], record["size"])
+    except (OSError, ValueError, KeyError, TypeError):
+        return False
+
+
+def _any_valid(folder: Path, model, source: str) -> Path | None:
+    """The newest valid library of ``source`` in ``folder``, whichever compiler built it, or ``None``."""
+    stem = f"{model.c_prefix}-{source[:_SOURCE_DIGITS]}-"
+    try:
+        names = [name for name in os.listdir(folder) if name.startswith(stem) and name.endswith(".so")]
+    except OSError:
+        return None
+    candidates = []
+    for name in names:
+        with contextlib.suppress(OSError):
+            candidates.append((os.stat(folder / name).st_mtime_ns, name))
+    for _, name in sorted(candidates, reverse=True):
+        if _valid(folder / name, source):
+            return folder / name
+    return None
+
+
+def _cache_error(folder: Path, exc: OSError) -> CBuildError:
+    return CBuildError(
+        f"cannot write the C library cache {folder} ({exc.strerror or exc}): set ROCKING_CACHE_DIR to a writable folder"
+    )
+
+
+_THREAD_LOCKS: dict[str, threading.Lock] = {}
+_THREAD_LOCKS_GUARD = threading.Lock()
 
 
 @contextlib.contextmanager
 def _lock(path: Path):
-    """An exclusive lock on ``path`` where fcntl exists; nothing otherwise."""
-    if fcntl is None:  # pragma: no cover - Windows
-        yield
-        return
-    with open(path, "a+b") as handle:
-        fcntl.flock(handle, fcntl.LOCK_EX)
-        try:
+    """An exclusive lock on ``path``, across the threads of this process and, where fcntl exists, across processes.
+
+    flock alone would do between threads on a local file system (each call opens its
+    own file description), but not where it is emulated with per-process locks (NFS).
+    """
+    with _THREAD_LOCKS_GUARD:
+        thread_lock = _THREAD_LOCKS.setdefault(str(path), threading.Lock())
+    with thread_lock:
+        if fcntl is None:  # pragma: no cover - Windows
             yield
-        finally:
-            fcntl.flock(handle, fcntl.LOCK_UN)
+            return
+        with open(path, "a+b") as handle:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+            try:
+                yield
+            finally:
+                fcntl.flock(handle, fcntl.LOCK_UN)
 
 
 def _compile(cmd: list[str]) -> None:
@@ -177,8 +352,51 @@ def _compile(cmd: list[str]) -> None:
         )
 
 
+def _temporary(folder: Path, prefix: str) -> Path:
+    fd, tmp = tempfile.mkstemp(dir=folder, prefix=prefix, suffix=".tmp")
+    os.close(fd)
+    return Path(tmp)
+
+
+def _compile_into(model, library: Path, source: str, cc: list[str], version: str, csrc: Path) -> None:
+    """Compile ``library`` and its sidecar; the caller holds the lock. OSError: the cache cannot be written."""
+    temporaries = []
+    try:
+        tmp_library = _temporary(library.parent, f".{library.stem}-")
+        temporaries.append(tmp_library)
+        tmp_sidecar = _temporary(library.parent, f".{library.name}.json-")
+        temporaries.append(tmp_sidecar)
+        _compile(build_command(model, tmp_library, cc=cc, csrc=csrc))
+        sha256, size = _file_digest(tmp_library)
+        record = {
+            "format": _SIDECAR_FORMAT,
+            "library": library.name,
+            "sha256": sha256,
+            "size": size,
+            "source_key": source,
+            "compiler": shlex.join(cc),
+            "compiler_version": version,
+            "flags": list(CFLAGS),
+        }
+        tmp_sidecar.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
+        for tmp in (tmp_library, tmp_sidecar):
+            os.chmod(tmp, 0o644)  # mkstemp made them private; the cache may be shared
+        # The library first: until the sidecar follows, readers see a mismatch and wait for the lock.
+        os.replace(tmp_library, library)
+        os.replace(tmp_sidecar, _sidecar(library))
+    finally:
+        for tmp in temporaries:
+            with contextlib.suppress(FileNotFoundError):
+                os.unlink(tmp)
+
+
 def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = None) -> Path:
     """The shared library of ``sim.c`` with ``model``'s generated C, built at first use.
+
+    A cached library that matches its sidecar is returned without running the
+    compiler; a damaged one is built again. If the compiler cannot be found or run,
+    a valid cached library of the same sources and flags built by another compiler
+    is returned instead (see the module's docstring).
 
     Parameters
     ----------
@@ -192,35 +410,58 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     Returns
     -------
     Path
-        The library, ``<cache>/<prefix>-<key>.so``.
+        The library, ``<cache>/<prefix>-<source key>-<compiler key>.so``, checked against its sidecar.
 
     Raises
     ------
     CBuildError
-        If there is no compiler, it fails (the message includes its output), or
-        the cache directory cannot be written.
+        If there is no usable compiler and no library to stand in, the compiler
+        fails (the message includes its output), or the cache directory cannot be
+        created or written (one line, naming the folder).
     """
-    cc = compiler()
     csrc = CSRC if csrc is None else Path(csrc)
     folder = cache_dir() if cache is None else Path(cache).expanduser()
-    key = build_key(model, cc=cc, csrc=csrc)
-    library = folder / f"{model.c_prefix}-{key[:32]}.so"
-    if library.is_file():
+    # $CC is split without running anything: its arguments are known even when its program is not.
+    source = _source_key(model, _cc_arguments(), csrc)
+    try:
+        cc = compiler()
+        tool, _ = _compiler_key(cc)
+    except _CompilerUnavailable as exc:
+        return _stand_in(folder, model, source, exc)
+    library = folder / _name(model, source, tool)
+    if _valid(library, source):
         return library
     try:
+        version = _compiler_version(cc)
+    except _CompilerUnavailable as exc:
+        return _stand_in(folder, model, source, exc)
+    try:
         folder.mkdir(parents=True, exist_ok=True)
+        with _lock(folder / f".{library.name}.lock"):
+            if not _valid(library, source):  # another thread or process may have built it while this one waited
+                _compile_into(model, library, source, cc, version, csrc)
     except OSError as exc:
-        raise CBuildError(f"cannot create the C cache directory {folder}: {exc}") from None
-    with _lock(folder / f".{library.name}.lock"):
-        if library.is_file():  # another process built it while this one waited
-            return library
-        fd, tmp = tempfile.mkstemp(dir=folder, prefix=f".{library.stem}-", suffix=".tmp")
-        os.close(fd)
-        try:
-            _compile(build_command(model, Path(tmp), cc=cc, csrc=csrc))
-            os.chmod(tmp, 0o644)  # mkstemp made it private; the cache may be shared
-            os.replace(tmp, library)
-        finally:
-            with contextlib.suppress(FileNotFoundError):
-                os.unlink(tmp)
+        raise _cache_error(folder, exc) from None
+    return library
+
+
+def _split_cc() -> list[str]:
+    """``$CC`` split like a shell would (empty if unset)."""
+    env = os.environ.get("CC", "").strip()
+    try:
+        return shlex.split(env)
+    except ValueError as exc:  # an unbalanced quote
+        raise CBuildError(f"$CC={env!r} cannot be split like a shell would ({exc}): fix $CC or unset it") from None
+
+
+def _cc_arguments() -> list[str]:
+    """The arguments of ``$CC`` after its program (none without ``$CC``): ``compiler()[1:]``."""
+    return _split_cc()[1:]
+
+
+def _stand_in(folder: Path, model, source: str, exc: _CompilerUnavailable) -> Path:
+    """A valid cached library of ``source`` built by any compiler, else the reason there is none (one line)."""
+    library = _any_valid(folder, model, source)
+    if library is None:
+        raise CBuildError(str(exc)) from None
     return library

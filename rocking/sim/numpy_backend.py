@@ -78,6 +78,32 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 NO_LIFT = "no lift"
 
 
+class _MaxSteps(Exception):
+    """The work of the run passed ``max_steps`` (docs/simulation.md, rule 5): raised out of a segment."""
+
+
+@dataclass
+class _Work:
+    """The work of a run (rule 5): right-hand-side evaluations plus recorded samples, against ``max_steps``."""
+
+    max_steps: int
+    done: int = 0
+
+    def add(self, amount: int) -> None:
+        self.done += amount
+        if self.done > self.max_steps:
+            raise _MaxSteps
+
+    def counted(self, rhs: StateFunction) -> StateFunction:
+        """``rhs`` counting its evaluations (what sim.c's ``dopri.evaluations`` counts)."""
+
+        def counted_rhs(t, y):
+            self.add(1)
+            return rhs(t, y)
+
+        return counted_rhs
+
+
 # --------------------------------------------------------------------------- #
 # The generated model with the run's parameters bound                          #
 # --------------------------------------------------------------------------- #
@@ -109,6 +135,9 @@ class _System:
         # contact (theta = dtheta = 0) the energy does not depend on the pivot.
         self.energy_at_rest = self.energy(np.zeros(2 * self.n))
         self.safe_energy = self._safe_energy()
+        # Each coordinate's impact law (docs/model.md section 6; "momentum" unless the manifest says otherwise).
+        laws = problem.model.manifest.get("options", {}).get("impact_laws", {})
+        self.impact_laws = tuple(laws.get(name, "momentum") for name in problem.model.coordinates)
 
     def _safe_energy(self) -> float | None:
         """The least energy above rest at which the attached bodies can lift the block, less the margin.
@@ -196,6 +225,10 @@ class _System:
     def energy_above_rest(self, y: np.ndarray) -> float:
         """``E(y) - E(0)`` in full contact."""
         return self.energy(y) - self.energy_at_rest
+
+    def mass_matrix(self, s: int, y: np.ndarray):
+        """The mass matrix about ``s`` at ``y``, row-major (``n * n`` values)."""
+        return self._call("mass_matrix", s, y, 0.0)
 
     def impact(self, s: int, y: np.ndarray, ag: float) -> np.ndarray:
         """State right after an impact that ends rocking about ``s``: ``theta = 0``, ``dq = J_s(y)``."""
@@ -372,7 +405,14 @@ class _Segment:
 
 
 def lift_off_step(
-    rhs: StateFunction, s: int, t0: float, y0: np.ndarray, t_bound: float, first_step: float | None, **options
+    rhs: StateFunction,
+    s: int,
+    t0: float,
+    y0: np.ndarray,
+    t_bound: float,
+    first_step: float | None,
+    work: _Work | None = None,
+    **options,
 ) -> float | None:
     """A first step after which the block has risen: ``s theta > 0`` at its end.
 
@@ -392,6 +432,11 @@ def lift_off_step(
         End of the segment.
     first_step : float or None
         The segment's first step.
+    work : _Work or None
+        Counts what sim.c evaluates for the same retries (rule 5): the first
+        try repeats the step the segment already took (not counted again);
+        each later one is sim.c's retry, its step attempts without the
+        probe's own start.
     **options
         ``rtol``, ``atol``, ``max_step`` of the segment.
 
@@ -401,9 +446,13 @@ def lift_off_step(
         The first step to give ``solve_ivp``; ``None`` if even the smallest
         step does not lift the block: it stays on its base.
     """
+    repeat = True
     while True:
         probe = RK45(rhs, t0, y0, t_bound, first_step=first_step, **options)
         probe.step()
+        if work is not None and not repeat:
+            work.add(probe.nfev - 1)
+        repeat = False
         if s * probe.y[0] > 0.0:
             return probe.step_size
         first_step = 0.1 * probe.step_size
@@ -424,6 +473,7 @@ def integrate_segment(
     safe_energy: float | None = None,
     settling: bool = False,
     first_step: float | None = None,
+    work: _Work | None = None,
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -449,10 +499,17 @@ def integrate_segment(
         Full contact once safe: the next extremum of ``q[1]`` ends the segment.
     first_step : float or None
         The first step (cut to the segment); ``None``: Hairer's heuristic.
+    work : _Work or None
+        Counts the evaluations of the right-hand side (rule 5).
 
     Returns
     -------
     _Segment
+
+    Raises
+    ------
+    _MaxSteps
+        When ``work`` passes its bound.
     """
     pulse_on = t0 < problem.t_p
     ground = system.ground(pulse_on)
@@ -465,6 +522,9 @@ def integrate_segment(
     else:
         rhs = system.rocking_rhs(phase, ground)
         max_step = np.inf
+    plain_rhs = rhs
+    if work is not None:
+        rhs = work.counted(rhs)
     events = watched_events(
         system,
         phase,
@@ -494,9 +554,13 @@ def integrate_segment(
         # sees "s theta falls to 0" at the start (Brent returns the bracket's end
         # where the function is exactly 0). Either the step was too long to see the
         # block rise and fall back, or it does not rise at all (a grazing uplift).
-        first_step = lift_off_step(rhs, phase, t0, y0, t_bound, first_step, **options)
+        first_step = lift_off_step(plain_rhs, phase, t0, y0, t_bound, first_step, work, **options)
         if first_step is None:
             return _Segment(t=t0, y=np.array(y0), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, dense=None)
+        if work is not None:
+            # The new solve starts (1 evaluation) and repeats the step the last try
+            # took (accepted at once: 6), which sim.c does not: not counted (rule 5).
+            work.done -= 7
         sol = solve(first_step)
         fired = [e.name for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
 
@@ -537,13 +601,29 @@ class _History:
                 return
         self.rows.append((float(t), y, int(phase)))
 
+    @staticmethod
+    def sample_range(t0: float, t1: float, dt: float) -> tuple[int, int]:
+        """``(lo, hi)``: the samples ``k dt``, ``lo <= k < hi``, strictly inside ``(t0, t1)``.
+
+        The same multiples as sim.c's ``record_samples``.
+        """
+        if dt <= 0.0 or not t1 > t0:
+            return 0, 0
+        lo = math.floor(t0 / dt) + 1
+        while lo * dt <= t0:  # floor() of a rounded ratio
+            lo += 1
+        hi = max(lo, math.ceil(t1 / dt))
+        while hi > lo and (hi - 1) * dt >= t1:
+            hi -= 1
+        while hi * dt < t1:
+            hi += 1
+        return lo, hi
+
     def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float) -> None:
         """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``."""
         if dense is None or dt <= 0.0:  # events only, or a segment that did not integrate (no lift)
             return
-        k = np.arange(math.floor(t0 / dt) + 1, math.ceil(t1 / dt) + 1)
-        times = k * dt
-        times = times[(times > t0) & (times < t1)]
+        times = np.arange(*self.sample_range(t0, t1, dt)) * dt
         if times.size:
             for t, y in zip(times, dense(times).T):
                 self.rows.append((float(t), np.array(y), int(phase)))
@@ -637,6 +717,8 @@ class _Run:
         The next contact phase starts without the uplift check: after a
         lift-off that failed, ``u_s`` is still (barely) positive, and checking
         it again would lift the block again, forever.
+    work : _Work or None
+        The work so far against ``max_steps`` (rule 5).
     """
 
     problem: Problem
@@ -652,6 +734,7 @@ class _Run:
     t_start: float = 0.0
     first_step: float | None = None
     skip_uplift_check: bool = False
+    work: _Work | None = None
 
 
 def record(run: _Run) -> None:
@@ -717,6 +800,60 @@ def uplift(run: _Run, s: int) -> str | None:
     return "max_events" if events_exhausted(run) else None
 
 
+def next_extremum(problem: Problem, t: float) -> float:
+    """The first extremum of the pulse's sine after ``t``: ``omega_g t + psi = pi/2 + k pi`` (rule 3).
+
+    ``inf`` for a constant ground acceleration. The same operations as
+    sim.c's ``next_extremum``.
+    """
+    w, psi = float(problem.omega_g), float(problem.psi)
+    if not w != 0.0 or problem.a_g == 0.0:
+        return math.inf
+    k = (w * t + psi - math.pi / 2) / math.pi
+    k = float(math.ceil(k) if w > 0.0 else math.floor(k))
+    for _ in range(4):  # rounding: the first or the second candidate
+        tk = (math.pi / 2 + k * math.pi - psi) / w
+        if tk > t:
+            return tk
+        k += 1.0 if w > 0.0 else -1.0
+    return math.inf  # pragma: no cover - not reached
+
+
+def rest_snap(run: _Run, pivot: int) -> None:
+    """The rest snap after an impact (rule 2): ``dtheta = 0``, each other velocity keeping what its law keeps.
+
+    A coordinate with the ``velocity`` impact law keeps its velocity; those
+    with the ``momentum`` law (manifest ``options.impact_laws``, the default)
+    keep their generalised momenta ``(M dq)_j``, ``M`` the mass matrix about
+    the new ``pivot``: the momentum-law block ``m`` of the velocities moves by
+    ``delta``, ``M_mm delta = M_m0 dtheta``. Gauss elimination without
+    pivoting (``M_mm`` is symmetric positive definite), the operations of
+    sim.c's ``rest_snap``, so that both give the same bits.
+    """
+    system, y = run.system, run.y
+    n, dtheta = system.n, float(run.y[system.n])
+    mm = [float(v) for v in system.mass_matrix(pivot, y)]
+    idx = [j for j in range(1, n) if system.impact_laws[j] != "velocity"]
+    a = [[mm[i * n + j] for j in idx] for i in idx]
+    b = [mm[i * n] * dtheta for i in idx]
+    m = len(idx)
+    for k in range(m):
+        for i in range(k + 1, m):
+            f = a[i][k] / a[k][k]
+            for j in range(k, m):
+                a[i][j] -= f * a[k][j]
+            b[i] -= f * b[k]
+    delta = [0.0] * m
+    for i in reversed(range(m)):
+        total = b[i]
+        for j in range(i + 1, m):
+            total -= a[i][j] * delta[j]
+        delta[i] = total / a[i][i]
+    for i, j in enumerate(idx):
+        y[n + j] = float(y[n + j]) + delta[i]
+    y[n] = 0.0
+
+
 def impact(run: _Run) -> str | None:
     """The impact that ends rocking about ``s``: ``theta = 0`` already, ``dq = J_s(y)`` (rule 2).
 
@@ -734,8 +871,7 @@ def impact(run: _Run) -> str | None:
     run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on)(run.t))
     run.tally.impacts += 1
     if abs(run.y[n]) < run.problem.dtheta_rest:
-        # The other velocities keep their J_s values.
-        run.y[n] = 0.0
+        rest_snap(run, -s)
         run.phase = CONTACT
     else:
         run.phase = -s
@@ -773,6 +909,12 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
     -------
     str or None
         The terminal event's name, or ``NO_LIFT``; ``None``: ``t_bound`` reached.
+
+    Raises
+    ------
+    _MaxSteps
+        The work passed ``max_steps`` inside the segment: ``run`` is left at
+        the segment's start, untouched (rule 5).
     """
     if run.phase != CONTACT and run.y[0] == 0.0:
         run.t_start = run.t  # a half-cycle starts (not a restart at the pulse's end)
@@ -788,8 +930,13 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         safe_energy=run.safe_energy,
         settling=run.safe and run.phase == CONTACT,
         first_step=run.first_step,
+        work=run.work,
     )
     run.first_step = None
+    if run.history is not None and segment.dense is not None:
+        # Rule 5: recorded samples count as work, before any of them is kept.
+        lo, hi = _History.sample_range(run.t, segment.t, run.problem.record_dt)
+        run.work.add(hi - lo)
     run.tally.see_segment(segment)
     if run.history is not None:
         run.history.add_samples(segment.dense, run.t, segment.t, run.phase, run.problem.record_dt)
@@ -808,7 +955,7 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
     if event is None:
         if t_bound == run.problem.t_max:
             return "t_max"
-        run.t = run.problem.t_p  # exactly the breakpoint; the same phase restarts from here
+        run.t = t_bound  # exactly the breakpoint (rule 3); the same phase restarts from here
     elif event in (UPLIFT_A, UPLIFT_A_PRIME):
         # theta and dtheta are exactly 0 in full contact: the state carries over.
         return uplift(run, 1 if event == UPLIFT_A else -1)
@@ -855,9 +1002,14 @@ def phase_machine(run: _Run) -> str:
                 return status
             if run.phase != CONTACT:
                 continue  # lifted at this very instant: the new phase starts from here
-        # Rule 3: no segment straddles the pulse's end.
+        # Rule 3: no segment straddles the pulse's end, nor, in full contact, an extremum of ag.
         t_bound = min(problem.t_p, problem.t_max) if run.pulse_on else problem.t_max
-        event = run_segment(run, t_bound)
+        if run.phase == CONTACT and run.pulse_on:
+            t_bound = min(t_bound, next_extremum(problem, run.t))
+        try:
+            event = run_segment(run, t_bound)
+        except _MaxSteps:
+            return "max_steps"  # at the segment's start, with the results before it
         # The segment's end: the pulse's end, t_max, or an event (an impact's "before").
         record(run)
         status = segment_end(run, event, t_bound)
@@ -923,6 +1075,7 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         phase=int(problem.phase0),
         history=_History() if record else None,
         safe_energy=system.safe_energy if problem.early_rest else None,
+        work=_Work(int(problem.max_steps)),
     )
     run.tally.see_state(run.y, system.n)
     return finish(run, phase_machine(run))

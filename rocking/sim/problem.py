@@ -10,12 +10,15 @@ rocking angle ``theta`` first.
 
 from __future__ import annotations
 
+import numbers
+import os
+from collections.abc import Mapping
 from dataclasses import MISSING, field, make_dataclass
 
 import numpy as np
 
-from ..model.loading import Model, load_model
-from ..model.params import Block, ParameterError
+from ..model.loading import Model, ModelError, load_model
+from ..model.params import RANGES, Block, Damper, ParameterError, check_block, check_in_range, check_real
 from ..model.pulse import OneSinePulse
 from . import boundary
 from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, PIVOT_A, PIVOT_A_PRIME, RESULT, STATUS
@@ -229,11 +232,140 @@ def default_settings(block: Block, T_g, T_m, rtol: float, nq: int) -> dict:
     }
 
 
-def _positive(name: str, value: float) -> float:
-    value = float(value)
-    if not (np.isfinite(value) and value > 0):
-        raise ParameterError(f"{name} must be a finite number > 0 (got {value})")
-    return value
+def check_integer(name: str, value: object) -> int:
+    """``value`` as an int within ``RANGES[name]``; bool and float are refused (``max_events=True`` is no count)."""
+    if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be an integer (got {value!r})")
+    return int(check_in_range(name, int(value)))
+
+
+def check_flag(name: str, value: object) -> bool:
+    """``value`` if it is a bool (``"no"`` is a true string, 1 an int: both refused)."""
+    if not isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"{name} must be True or False (got {value!r})")
+    return bool(value)
+
+
+def _optional_real(name: str, value: object) -> object:
+    """``None`` or a finite real number (bool and str refused); the range is the boundary table's."""
+    return None if value is None else check_real(name, value)
+
+
+def resolve_model(model: object, default: str) -> Model:
+    """The :class:`Model` of ``model`` (a name, a folder or a Model; ``None``: ``default``).
+
+    Raises
+    ------
+    ParameterError
+        If ``model`` is of another type.
+    ModelError
+        If no such model exists or it cannot be loaded.
+    """
+    if model is None:
+        model = default
+    if not isinstance(model, (str, os.PathLike, Model)):
+        raise ParameterError(f"model must be a model name, a folder or a rocking.Model (got {type(model).__name__})")
+    return load_model(model)
+
+
+def _damper_mapping(damper: object) -> dict | None:
+    """The attached bodies' parameters of ``damper`` by name (``None``: the bare block)."""
+    if damper is None:
+        return None
+    if isinstance(damper, Damper):
+        return damper.as_params()
+    if not isinstance(damper, Mapping) and callable(getattr(damper, "as_params", None)):
+        damper = damper.as_params()
+    if not isinstance(damper, Mapping):
+        raise ParameterError(
+            f"damper must be a rocking.Damper, a mapping of the model's own parameters by name, or None "
+            f"(got {type(damper).__name__})"
+        )
+    return dict(damper)
+
+
+def own_parameters(model: Model, values: Mapping, block: Block) -> dict[str, float]:
+    """``values`` checked as the parameters of ``model``'s attached bodies on ``block``.
+
+    The keys must be exactly the model's own parameters (``Model.parameters`` minus
+    ``Model.block_parameters``, the rule of :class:`rocking.Variant`): a damper never sets
+    the block. The values are real numbers (bool and str refused) within the model's
+    ranges; those of the ``omd`` model (a :class:`Damper`'s) must also pass
+    :meth:`Damper.check_on`; a mass of another model (unit kg) has the mass ratio range of
+    ``gamma``, a length (unit m) the range of ``h`` in absolute value.
+
+    Raises
+    ------
+    ParameterError
+        Naming the parameters set by the block, unknown, missing or out of range.
+    """
+    own = [k for k in model.parameters if k not in model.block_parameters]
+    by_block = sorted(str(k) for k in values if k in model.block_parameters)
+    if by_block:
+        raise ParameterError(f"damper: {', '.join(by_block)} set by the block, not by the damper")
+    unknown = sorted(str(k) for k in values if k not in own)
+    if unknown:
+        raise ParameterError(
+            f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; give "
+            f"{', '.join(own) or 'none'} (the block sets {', '.join(model.block_parameters)})"
+        )
+    missing = [k for k in own if k not in values]
+    if missing:
+        raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
+    checked = {k: check_real(k, values[k]) for k in own}
+    if set(own) == set(Damper.__dataclass_fields__):
+        Damper(**checked).check_on(block)
+        return checked
+    units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}
+    for k, v in checked.items():
+        _check_by_unit(k, v, units.get(k, ""), block)
+    try:
+        model.param_vector({**block.as_params(), **checked})
+    except ModelError as exc:
+        raise ParameterError(str(exc)) from None
+    return checked
+
+
+#: Magnitude of a parameter of another unit than kg or m: far from overflow in any product of two.
+LARGEST = 1e30
+
+
+def _check_by_unit(name: str, value: float, unit: str, block: Block) -> None:
+    """The generic range of a variant's parameter, by its unit (the models say no more of their physics)."""
+    if unit == "kg":
+        # No zero mass here: a massless body on a spring is an infinitely fast mode (the bare block is model "block").
+        if value == 0.0 or value / block.M not in RANGES["gamma"]:
+            valid = RANGES["gamma"]
+            raise ParameterError(
+                f"{name} must be in [{valid.low:g} M, {valid.high:g} M] = "
+                f"[{valid.low * block.M:g}, {valid.high * block.M:g}] kg (got {value!r}): mass ratio to the block"
+            )
+    elif unit == "m":
+        if abs(value) > RANGES["h"].high:
+            raise ParameterError(f"{name} must be in [-1000, 1000] m (got {value!r}): a body within 1 km of the block")
+    elif abs(value) > LARGEST:
+        raise ParameterError(f"{name} must be in [-1e30, 1e30] {unit} (got {value!r}): beyond, products overflow")
+
+
+def _record_dt(record_dt: object, t_max: float, default: float) -> float:
+    """The spacing of a history: at most ``RANGES["record_samples"]`` samples over ``t_max``."""
+    most = RANGES["record_samples"].high
+    if record_dt is None:
+        return max(default, t_max / most)  # the default's rule, capped like a given spacing
+    record_dt = check_real("record_dt", record_dt)
+    if record_dt > 0.0 and t_max / record_dt > most:
+        raise ParameterError(
+            f"record_dt must be <= 0 (events only) or >= t_max / {most:g} = {t_max / most:g} s "
+            f"(got {record_dt!r}): {RANGES['record_samples'].why} at most {most:g}"
+        )
+    return record_dt
+
+
+def _run_length(t_max: object, t_after: object, t_p: float) -> float:
+    """``t_max``, or ``t_p + t_after``: bounded, since a run's work grows with its length."""
+    if t_max is None:
+        return t_p + check_in_range("t_after", t_after)
+    return check_in_range("t_max", t_max)
 
 
 def make_problem(
@@ -297,24 +429,36 @@ def make_problem(
         Phase at ``t = 0``: 0 (full contact), +1 or -1 (rocking about ``A``
         or ``A'``); the rule is docs/simulation.md, "Initial state".
     """
-    if not isinstance(block, Block):
-        raise ParameterError(f"block must be a rocking.Block (got {type(block).__name__})")
+    check_block(block)
     if not isinstance(pulse, OneSinePulse):
         raise ParameterError(f"pulse must be a rocking.OneSinePulse (got {type(pulse).__name__})")
-    rtol = float(boundary.check("rtol", rtol))
+    rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
+    dtheta_rest, energy_rest = _optional_real("dtheta_rest", dtheta_rest), _optional_real("energy_rest", energy_rest)
+    max_events, early_rest = check_integer("max_events", max_events), check_flag("early_rest", early_rest)
+    if not isinstance(phase0, numbers.Integral) or isinstance(phase0, (bool, np.bool_)):
+        raise ParameterError(f"phase0 must be -1, 0 or +1 (got {phase0!r})")
+    own = _damper_mapping(damper)
+    model = resolve_model(model, "omd" if own is not None else "block")
     values = dict(block.as_params())
-    if damper is not None:
-        values.update(damper.as_params() if hasattr(damper, "as_params") else dict(damper))
-    model = load_model(model if model is not None else ("omd" if damper is not None else "block"))
-    if damper is None and model.nq > 1:
+    if own is not None:
+        values.update(own_parameters(model, own, block))
+    elif model.nq > 1:
+        # Zeros for the bodies' parameters would be massless bodies on springs (a degenerate mode), except
+        # on omd where m = 0 is refused below with its own message.
+        if {k for k in model.parameters if k not in model.block_parameters} != set(Damper.__dataclass_fields__):
+            raise ParameterError(
+                f"damper=None is the bare block (model 'block'); model {model.name!r} needs its own "
+                f"parameters as a damper mapping ({', '.join(k for k in model.parameters if k not in values)})"
+            )
         values.update({name: 0.0 for name in model.parameters if name not in values})
     p = model.param_vector(values)
     if model.nq > 1 and values.get("m", 1.0) == 0.0:
         raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
 
     t_p = pulse.t_p
-    t_max = t_p + _positive("t_after", t_after) if t_max is None else _positive("t_max", t_max)
-    T_m = damper.T_m if damper is not None and hasattr(damper, "T_m") and values.get("m", 0.0) > 0 else np.inf
+    t_max = _run_length(t_max, t_after, t_p)
+    # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
+    T_m = damper.T_m if own is not None and hasattr(damper, "T_m") and values.get("m", 0.0) > 0 else np.inf
     defaults = default_settings(block, pulse.T_g, T_m, rtol, model.nq)
     return Problem(
         model=model,
@@ -330,8 +474,8 @@ def make_problem(
         dtheta_rest=defaults["dtheta_rest"] if dtheta_rest is None else dtheta_rest,
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
         max_events=max_events,
-        record_dt=min(pulse.T_g, 2 * np.pi / block.p) / 100 if record_dt is None else record_dt,
+        record_dt=_record_dt(record_dt, t_max, min(pulse.T_g, 2 * np.pi / block.p) / 100),
         early_rest=early_rest,
         y0=y0,
-        phase0=phase0,
+        phase0=int(phase0),
     )

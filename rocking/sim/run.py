@@ -2,12 +2,22 @@
 
 from __future__ import annotations
 
+import inspect
 import warnings
 
 from ..model.params import ParameterError
-from .problem import Problem, Response, make_problem
+from .problem import Problem, Response, check_flag, make_problem
 
 BACKENDS = ("auto", "c", "numpy")
+
+#: The options of :func:`simulate` passed on to :func:`~rocking.sim.problem.make_problem`.
+SETTINGS = tuple(inspect.signature(make_problem).parameters)[3:]
+
+
+def _check_backend(backend: object) -> str:
+    if not isinstance(backend, str) or backend not in BACKENDS:
+        raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {backend!r})")
+    return backend
 
 
 class BackendWarning(UserWarning):
@@ -20,8 +30,10 @@ def run(problem: Problem, backend: str = "auto", record: bool = False) -> Respon
     ``"auto"`` uses C and falls back to NumPy with a :class:`BackendWarning`
     when C cannot be built; ``"c"`` raises the build error instead.
     """
-    if backend not in BACKENDS:
-        raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {backend!r})")
+    _check_backend(backend)
+    if not isinstance(problem, Problem):
+        raise ParameterError(f"problem must be a rocking.sim.problem.Problem (got {type(problem).__name__})")
+    record = check_flag("record", record)
     if backend != "numpy":
         from . import c_backend
         from .cbuild import CBuildError
@@ -62,15 +74,15 @@ def simulate(
         ``"c"``: compiled (fast); ``"numpy"``: SciPy's ``solve_ivp`` (the
         reference); ``"auto"``: C, or NumPy with a warning if C cannot be built.
     rtol : float
-        Relative tolerance of the integrator.
+        Relative tolerance of the integrator, in [1e-12, 0.01].
     t_max : float, optional
-        End of the run [s]; default 15 s after the pulse.
+        End of the run [s], in (0, 1.1e4]; default ``t_after`` (15 s) after the pulse.
     record : bool
-        Keep the time history (``Response.history``).
+        Keep the time history (``Response.history``); a bool, nothing else.
     **settings
         Further options of :func:`rocking.sim.problem.make_problem` (``model``,
         ``t_after``, ``dtheta_rest``, ``energy_rest``, ``max_events``, ``record_dt``,
-        ``early_rest``, ``y0``, ``phase0``).
+        ``early_rest``, ``y0``, ``phase0``), with their types and ranges.
 
     Returns
     -------
@@ -109,5 +121,12 @@ def simulate(
     >>> abs(r.theta_max - with_damper.theta_max) < 1e-6 * block.alpha
     True
     """
+    # Checked before the problem is built: a bad option is refused before any work.
+    _check_backend(backend)
+    record = check_flag("record", record)
+    unknown = sorted(set(settings) - set(SETTINGS))
+    if unknown:
+        known = ", ".join(name for name in SETTINGS if name not in ("rtol", "t_max"))
+        raise ParameterError(f"simulate: unknown option(s) {', '.join(map(str, unknown))}; known: {known}")
     problem = make_problem(block, damper, pulse, rtol=rtol, t_max=t_max, **settings)
     return run(problem, backend=backend, record=record)

@@ -30,10 +30,41 @@ from ..model.params import Block, ParameterError
 from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
-FORMAT = 1
+#: 2: tiles carry a manifest (place, names, shapes, dtypes, checksum of their arrays).
+FORMAT = 2
+
+#: Largest number of values of a :class:`Grid`, and of cells (pulses) of a study's grid of
+#: pulses (:func:`check_cells`): about 1 GB of results, and hours of work on a few cores.
+MAX_N = 100_000
+MAX_CELLS = 10_000_000
 
 #: Back ends that :func:`rocking.sim.cases.run_cases` accepts.
 BACKENDS = ("c", "numpy")
+
+
+def is_number(value) -> bool:
+    """True for a finite real number (``bool`` is not one, nor NaN, nor infinity)."""
+    real = isinstance(value, (int, float, np.integer, np.floating)) and not isinstance(value, (bool, np.bool_))
+    return real and math.isfinite(value)
+
+
+def is_count(value) -> bool:
+    """True for an integer (``bool`` is not one)."""
+    return isinstance(value, (int, np.integer)) and not isinstance(value, (bool, np.bool_))
+
+
+def check_type(name: str, value, kind: type, text: str) -> None:
+    """Refuse ``value`` unless it is a ``kind``; ``text`` says what is expected (``"a rocking.Grid"``)."""
+    if not isinstance(value, kind):
+        raise ParameterError(f"{name} must be {text} (got {type(value).__name__} {value!r})")
+
+
+def check_cells(*grids: Grid) -> None:
+    """Refuse a grid of pulses of more than :data:`MAX_CELLS` cells (the product of the grids' sizes)."""
+    cells = math.prod(g.n for g in grids)
+    if cells > MAX_CELLS:
+        names = " x ".join(f"{g.name} ({g.n})" for g in grids)
+        raise ParameterError(f"{names}: {cells} cells, at most {MAX_CELLS} in one study; split it or coarsen a grid")
 
 
 @dataclass(frozen=True)
@@ -48,7 +79,7 @@ class Grid:
         End points, both included; ``low < high`` when ``n > 1``, ``low == high``
         when ``n == 1``.
     n : int
-        Number of values, >= 1.
+        Number of values, in [1, :data:`MAX_N`].
     log : bool, optional
         Logarithmic spacing (then ``low > 0``).
     minimum : float, optional
@@ -58,7 +89,8 @@ class Grid:
     ------
     ParameterError
         Naming the grid and its valid range, for an empty, reversed or
-        non-finite range or a grid size below 1.
+        non-finite range, a grid size outside [1, MAX_N], or arguments of
+        the wrong type.
     """
 
     name: str
@@ -69,11 +101,17 @@ class Grid:
     minimum: float = 0.0
 
     def __post_init__(self) -> None:
-        if not isinstance(self.n, (int, np.integer)) or isinstance(self.n, bool) or self.n < 1:
-            raise ParameterError(f"{self.name}: the number of values N must be an integer >= 1 (got {self.n!r})")
+        check_type("a grid's name", self.name, str, "a string")
+        if not (is_count(self.n) and 1 <= self.n <= MAX_N):
+            raise ParameterError(
+                f"{self.name}: the number of values N must be an integer in [1, {MAX_N}] (got {self.n!r})"
+            )
+        check_type(f"{self.name}: log", self.log, bool, "True or False")
+        if not is_number(self.minimum):
+            raise ParameterError(f"{self.name}: minimum must be a finite number (got {self.minimum!r})")
         for end in ("low", "high"):
             value = getattr(self, end)
-            if not (isinstance(value, (int, float, np.floating, np.integer)) and math.isfinite(value)):
+            if not is_number(value):
                 raise ParameterError(f"{self.name}: {end} end must be a finite number (got {value!r})")
             if not value > self.minimum:
                 raise ParameterError(f"{self.name}: values must be > {self.minimum:g} (got {end} end {value!r})")
@@ -83,6 +121,8 @@ class Grid:
             )
         if self.n == 1 and self.low != self.high:
             raise ParameterError(f"{self.name}: with N = 1 give MIN = MAX (got {self.low!r} .. {self.high!r})")
+        if self.log and not self.low > 0:
+            raise ParameterError(f"{self.name}: a logarithmic grid needs values > 0 (got low end {self.low!r})")
         object.__setattr__(self, "low", float(self.low))
         object.__setattr__(self, "high", float(self.high))
         object.__setattr__(self, "n", int(self.n))
@@ -122,13 +162,16 @@ class Setting:
     def __post_init__(self) -> None:
         if not isinstance(self.block, Block):
             raise ParameterError(f"block must be a rocking.Block (got {type(self.block).__name__})")
-        if not isinstance(self.rtol, (int, float)):
+        if not is_number(self.rtol):
             raise ParameterError(f"rtol must be a number in [1e-12, 0.01] (got {self.rtol!r})")
         boundary.check("rtol", self.rtol)
-        if not (isinstance(self.t_after, (int, float)) and math.isfinite(self.t_after) and self.t_after > 0):
+        if not (is_number(self.t_after) and self.t_after > 0):
             raise ParameterError(f"t_after must be a finite number of seconds > 0 (got {self.t_after!r})")
-        if self.backend not in BACKENDS:
+        if not isinstance(self.backend, str) or self.backend not in BACKENDS:
             raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
+        # Plain floats: the configuration's JSON, hence its hash, is the same for 15, 15.0 and np.float32(15).
+        object.__setattr__(self, "rtol", float(self.rtol))
+        object.__setattr__(self, "t_after", float(self.t_after))
 
     def record(self) -> dict:
         """JSON-ready description."""
@@ -165,11 +208,11 @@ class Tuning:
             ("h", 0.0, False),
         ):
             value = getattr(self, name)
-            ok = isinstance(value, (int, float)) and math.isfinite(value) and (value > low if strict else value >= low)
-            if not ok:
+            if not (is_number(value) and (value > low if strict else value >= low)):
                 raise ParameterError(
                     f"{name} must be a finite number {'>' if strict else '>='} {low:g} (got {value!r})"
                 )
+            object.__setattr__(self, name, float(value))  # JSON-ready, and one hash for 1 and 1.0
 
     @property
     def Tm_ratio(self) -> float:

@@ -52,17 +52,18 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import ParameterError
-from .config import Grid, Setting, Study, Tuning, Variant, part_config
-from .overturning_map import preflight
+from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
+from .overturning_map import check_study, preflight
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Gain below which a damper is useless (the definition of Omega*).
 USELESS_GAIN = 1.01
 
-#: Default coarse grid of r = T_m p / (2 pi) (log-spaced) and refinement points per side.
+#: Default coarse grid of r = T_m p / (2 pi) (log-spaced) and refinement points per side (at most MAX_REFINE).
 TM_GRID = (0.1, 10.0, 17)
 REFINE = 3
+MAX_REFINE = 1000
 
 
 def refinement(r_coarse, k: int, refine: int) -> np.ndarray:
@@ -120,6 +121,14 @@ def optimize_tile(payload: tuple) -> dict:
     }
 
 
+def tile_arrays(n_coarse: int, refine: int) -> dict:
+    """Name -> shape of the arrays of :func:`optimize_tile` (``n_coarse`` coarse periods)."""
+    shapes = dict.fromkeys(("bare_beta_min", "bare_flag", "r_opt", "gain_opt", "flag_opt"), (1,))
+    shapes.update(dict.fromkeys(("gain_coarse", "flag_coarse"), (n_coarse,)))
+    shapes.update(dict.fromkeys(("r_fine", "gain_fine"), (2 * refine,)))
+    return shapes
+
+
 def threshold_frequency(Omega, gain, level: float = USELESS_GAIN) -> dict:
     """``Omega*``: above it the gain stays below ``level``; with the scanned bracket around it.
 
@@ -173,11 +182,11 @@ def _iterable(values) -> tuple:
 
 def check_gammas(gammas) -> tuple[float, ...]:
     """Mass ratios, validated: a non-empty list of numbers in (0, 1]."""
-    gammas = tuple(gammas)
+    gammas = _iterable(gammas)
     if not gammas:
         raise ParameterError("gammas must list at least one mass ratio in (0, 1]")
     for g in gammas:
-        if not (isinstance(g, (int, float)) and 0 < g <= 1):
+        if not (is_number(g) and 0 < g <= 1):
             raise ParameterError(f"gamma must be a mass ratio in (0, 1] (got {g!r})")
     return tuple(float(g) for g in gammas)
 
@@ -234,6 +243,22 @@ def optimal_damper(
         the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
         ``Omega_star`` (per gamma, then over all, ``nan`` if not bracketed).
 
+    Raises
+    ------
+    ParameterError
+        Naming the parameter and its valid range, before any work: inputs of
+        the wrong type, more than :data:`rocking.study.config.MAX_CELLS`
+        cells, a folder that cannot be written, a back end or a Dask cluster
+        that cannot be used.
+    rocking.study.tiles.Interrupted
+        On Ctrl-C (a KeyboardInterrupt): the finished tiles are kept in
+        ``runs``, and the same call resumes from them.
+
+    Warns
+    -----
+    rocking.study.tiles.TileWarning
+        For a stored tile that is damaged or foreign: it is computed again.
+
     Examples
     --------
     >>> import tempfile, rocking
@@ -251,16 +276,19 @@ def optimal_damper(
             "not a Tuning or a Variant (a Variant's parameters are fixed; run overturning_map or "
             "minimum_overturning_spectrum for it)"
         )
+    Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
+    check_study(setting, execution, runs, Omega=Omega, beta=beta, Tm=Tm)
     gammas = check_gammas(gammas)
     tol = check_tol(tol)
-    if not (isinstance(refine, int) and refine >= 0):
-        raise ParameterError(f"refine must be an integer >= 0 (got {refine!r})")
-    Tm = Tm or Grid("Tm-ratio", *TM_GRID, log=True)
+    if not (is_count(refine) and 0 <= refine <= MAX_REFINE):
+        raise ParameterError(f"refine must be an integer in [0, {MAX_REFINE}] (got {refine!r})")
+    refine = int(refine)
     if not Tm.log:
         raise ParameterError("the coarse T_m grid must be logarithmic (Grid(..., log=True))")
     for name, value in (("zeta", zeta), ("h", h)):
-        if not (isinstance(value, (int, float)) and value >= 0):
-            raise ParameterError(f"{name} must be a number >= 0 (got {value!r})")
+        if not (is_number(value) and value >= 0):
+            raise ParameterError(f"{name} must be a finite number >= 0 (got {value!r})")
+    zeta, h = float(zeta), float(h)
     Om, b, r = Omega.values(), beta.values(), Tm.values()
     nG, nO, nr = len(gammas), Om.size, r.size
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
@@ -286,7 +314,8 @@ def optimal_damper(
         part_tasks: list[Task] = []
         groups.append(part_tasks)
         for i, Omega_i in enumerate(Om):
-            task = Task(folder / f"Omega-{i}.npz", optimize_tile, (setting, damper, float(Omega_i), b, tol, r, refine))
+            payload = (setting, damper, float(Omega_i), b, tol, r, refine)
+            task = Task(folder / f"Omega-{i}.npz", optimize_tile, payload, tile_arrays(nr, refine))
             part_tasks.append(task)
             where[task.path] = (g, i)
 

@@ -16,6 +16,7 @@ The grid is cut into rectangular tiles; each tile is one call of
 
 from __future__ import annotations
 
+from os import PathLike
 from pathlib import Path
 
 import numpy as np
@@ -23,7 +24,7 @@ import numpy as np
 from ..model.params import ParameterError
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
-from .config import Grid, Setting, Study, Tuning, Variant, part_config
+from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
@@ -119,14 +120,29 @@ def check_damper(damper) -> None:
         )
 
 
+def check_study(setting, execution, runs, **grids) -> None:
+    """Refuse inputs of a study of the wrong type, and grids of pulses too large (:func:`check_cells`).
+
+    ``grids``: the study's grids by parameter name (``Omega=..., beta=...``).
+    """
+    check_type("setting", setting, Setting, "a rocking.Setting")
+    for name, grid in grids.items():
+        check_type(name, grid, Grid, f'a rocking.Grid (e.g. Grid("{name}", 1.0, 10.0, 50))')
+    check_type("execution", execution, Execution, "a rocking.Execution")
+    check_type("runs", runs, (str, PathLike), "a folder (str or Path)")
+    check_cells(*grids.values())
+
+
 def _check_tile(tile) -> tuple[int, int]:
     try:
-        a, b = (int(v) for v in tile)
+        a, b = tile
     except (TypeError, ValueError):
-        raise ParameterError(f"tile must be two integers (Omega values, beta values) (got {tile!r})") from None
+        a = b = None
+    if not (is_count(a) and is_count(b)):
+        raise ParameterError(f"tile must be two integers (Omega values, beta values) (got {tile!r})")
     if a < 1 or b < 1:
         raise ParameterError(f"tile sizes must be >= 1 (got {tile!r})")
-    return a, b
+    return int(a), int(b)
 
 
 def overturning_map(
@@ -167,6 +183,22 @@ def overturning_map(
         and ``damper`` and the :data:`FIELDS` (shape ``(nOmega, nbeta)``), and
         ``effect``.
 
+    Raises
+    ------
+    ParameterError
+        Naming the parameter and its valid range, before any work: inputs of
+        the wrong type, more than :data:`rocking.study.config.MAX_CELLS`
+        cells, a folder that cannot be written, a back end or a Dask cluster
+        that cannot be used.
+    rocking.study.tiles.Interrupted
+        On Ctrl-C (a KeyboardInterrupt): the finished tiles are kept in
+        ``runs``, and the same call resumes from them.
+
+    Warns
+    -----
+    rocking.study.tiles.TileWarning
+        For a stored tile that is damaged or foreign: it is computed again.
+
     Examples
     --------
     >>> import tempfile, rocking
@@ -183,6 +215,7 @@ def overturning_map(
            [0, 1, 0],
            [0, 0, 1]])
     """
+    check_study(setting, execution, runs, Omega=Omega, beta=beta)
     tile = _check_tile(tile)
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile)}
@@ -202,7 +235,9 @@ def overturning_map(
         for i in range(0, Om.size, tile[0]):
             for j in range(0, b.size, tile[1]):
                 rows, cols = slice(i, i + tile[0]), slice(j, j + tile[1])
-                task = Task(folder / f"tile-{i}-{j}.npz", map_tile, (setting, damper, Om[rows], b[cols]))
+                payload = (setting, damper, Om[rows], b[cols])
+                expect = dict.fromkeys(FIELDS, (Om[rows].size, b[cols].size))
+                task = Task(folder / f"tile-{i}-{j}.npz", map_tile, payload, expect)
                 part_tasks.append(task)
                 where[task.path] = (part, rows, cols)
 

@@ -30,8 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import ParameterError
-from .config import Grid, Setting, Study, Tuning, Variant, part_config
-from .overturning_map import FIXED, SAFE, check_damper, outcome, preflight, respond
+from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
+from .overturning_map import FIXED, SAFE, check_damper, check_study, outcome, preflight, respond
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 BELOW, BRACKETED, ABOVE = -1, 0, 1
@@ -48,7 +48,7 @@ COLUMNS = 8
 
 def check_tol(tol) -> float:
     """The bisection tolerance, validated: a number in (0, 0.1]."""
-    if not (isinstance(tol, (int, float)) and 0 < tol <= 0.1):
+    if not (is_number(tol) and 0 < tol <= 0.1):
         raise ParameterError(f"beta_tol must be a relative tolerance in (0, 0.1] (got {tol!r})")
     return float(tol)
 
@@ -186,6 +186,22 @@ def minimum_overturning_spectrum(
         the :func:`beta_min` results (``<part>_beta_min`` ...) and
         ``<part>_windows`` (k, 3): ``Omega``, first and last safe amplitude.
 
+    Raises
+    ------
+    ParameterError
+        Naming the parameter and its valid range, before any work: inputs of
+        the wrong type, more than :data:`rocking.study.config.MAX_CELLS`
+        cells, a folder that cannot be written, a back end or a Dask cluster
+        that cannot be used.
+    rocking.study.tiles.Interrupted
+        On Ctrl-C (a KeyboardInterrupt): the finished tiles are kept in
+        ``runs``, and the same call resumes from them.
+
+    Warns
+    -----
+    rocking.study.tiles.TileWarning
+        For a stored tile that is damaged or foreign: it is computed again.
+
     Examples
     --------
     >>> import tempfile, rocking
@@ -196,9 +212,11 @@ def minimum_overturning_spectrum(
     >>> study.arrays["bare_beta_min"].round(2), study.arrays["damper_beta_min"].round(2)
     (array([1.28, 1.6 , 2.82]), array([1.33, 1.79, 3.97]))
     """
+    check_study(setting, execution, runs, Omega=Omega, beta=beta)
     tol = check_tol(tol)
-    if not (isinstance(columns, int) and not isinstance(columns, bool) and columns >= 1):
+    if not (is_count(columns) and columns >= 1):
         raise ParameterError(f"columns must be an integer >= 1 (Omega values per tile) (got {columns!r})")
+    columns = int(columns)
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns}
     arrays = {"Omega": Om, "beta_scan": b}
@@ -217,9 +235,9 @@ def minimum_overturning_spectrum(
         groups.append(part_tasks)
         for i in range(0, Om.size, columns):
             cols = slice(i, min(i + columns, Om.size))
-            task = Task(
-                folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, (setting, damper, Om[cols], b, tol)
-            )
+            payload, n = (setting, damper, Om[cols], b, tol), cols.stop - cols.start
+            expect = {**dict.fromkeys(("beta_min", "beta_safe", "flag", "impacts"), (n,)), "scan_outcome": (n, b.size)}
+            task = Task(folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, payload, expect)
             part_tasks.append(task)
             where[task.path] = (part, cols)
 

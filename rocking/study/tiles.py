@@ -6,21 +6,27 @@ deterministic, module-level function on a picklable payload that calls
 :func:`rocking.sim.cases.run_cases` on the whole tile. :func:`run_tiles` runs
 them
 
-- in this process (``workers=1``), on local workers (default: one per core;
-  every worker calls ``run_cases`` with ``threads=1``), or on a Dask cluster
-  (``scheduler`` address, or ``dask_workers`` local worker processes): the
-  same function on the same payload gives the same arrays. Local workers are
-  threads of this process on the C back end, which releases the GIL for a
-  whole batch (no start-up, no pickling, the compiled library loaded once),
-  and processes on the NumPy back end, which holds it (:func:`local_pool`);
-- interruption-safe: each finished tile is written at once, atomically
-  (temporary file + ``os.replace``), as ``<run folder>/<tile>.npz``; the run
-  folder is named by the hash of the full configuration of the work
+- on local workers (default: one per core; every worker calls ``run_cases``
+  with ``threads=1``) or on a Dask cluster (``scheduler`` address, or
+  ``dask_workers`` local worker processes): the same function on the same
+  payload gives the same arrays. Local workers are threads of this process on
+  the C back end, which releases the GIL for a whole batch (no start-up, no
+  pickling, the compiled library loaded once), and processes on the NumPy back
+  end, which holds it (:func:`local_pool`); one worker is this thread;
+- resumably: each finished tile is written at once, atomically, as
+  ``<run folder>/<tile>.npz`` with a manifest (its place, the names, shapes
+  and dtypes of its arrays, their checksum: :func:`save_tile`); the run folder
+  is named by the hash of the full configuration of the work
   (:func:`run_folder`), so a rerun with the same configuration loads the
   finished tiles instead of recomputing them, and a changed configuration
-  lands in another folder and never sees stale tiles. On an interruption
-  (Ctrl-C, an error) local workers get no new tiles, and the tiles they are
-  running are waited for and stored too: a thread cannot be stopped inside C;
+  lands in another folder and never sees stale tiles. A stored tile that does
+  not match its manifest or what its task expects (:func:`load_tile`) is
+  computed again, with a :class:`TileWarning`;
+- interruptibly: on Ctrl-C the C runs of this process are stopped
+  (:func:`rocking.sim.c_backend.request_stop`), worker processes are
+  terminated and queued tiles cancelled, so the study ends at once; finished
+  tiles are on disk already, and :class:`Interrupted` says how many. On an
+  error instead, the running tiles are waited for and stored too;
 - in bounded memory: at most two tiles per worker are in flight, and each
   result is handed to the study's ``place`` callback and dropped, so a study
   holds its result arrays plus a few tiles.
@@ -29,16 +35,17 @@ them
 from __future__ import annotations
 
 import json
+import logging
 import os
 import signal
-import tempfile
 import threading
 import time
+import warnings
 from collections import deque
-from collections.abc import Callable, Iterator, Sequence
+from collections.abc import Callable, Iterator, Mapping, Sequence
 from concurrent.futures import FIRST_COMPLETED, Executor, Future, ProcessPoolExecutor, ThreadPoolExecutor, wait
-from contextlib import closing, contextmanager, suppress
-from dataclasses import dataclass
+from contextlib import contextmanager, suppress
+from dataclasses import dataclass, field
 from itertools import zip_longest
 from multiprocessing import get_context
 from pathlib import Path
@@ -48,9 +55,49 @@ from tqdm import tqdm
 
 from ..model.params import ParameterError
 from .config import config_hash
+from .storage import UNREADABLE, atomic_write, checksum, describe, layout, make_folder, read_npz
 
 #: Tiles in flight per worker: one running, one queued, so no worker waits.
 IN_FLIGHT_PER_WORKER = 2
+
+#: Upper bound of ``workers`` and ``dask_workers``: more is a typo, not a machine.
+MAX_WORKERS = 1024
+
+#: Seconds to wait for a Dask scheduler to answer (Dask's own default, 30 s, is long for a typo).
+SCHEDULER_TIMEOUT = 5.0
+
+#: How to get the optional Dask extra.
+DASK_INSTALL = 'pip install "rocking[dask]"'
+
+#: Name of the manifest inside a stored tile, and its version.
+MANIFEST = "__tile__"
+TILE_FORMAT = 1
+
+
+class TileWarning(UserWarning):
+    """A stored tile is damaged or foreign (unreadable, changed, misplaced, wrong shape): it is computed again."""
+
+
+class DamagedTile(ValueError):
+    """Why a stored tile cannot be used (:func:`load_tile`); :func:`run_tiles` recomputes it."""
+
+
+class Interrupted(KeyboardInterrupt):
+    """Ctrl-C stopped a study; its finished tiles are kept on disk, and a rerun resumes from them.
+
+    Attributes
+    ----------
+    kept : int
+        Tiles of the study on disk (found at the start, or finished before the interruption).
+    total : int
+        Tiles of the study.
+    folder : Path
+        Where they are: the folder of the study's run folders.
+    """
+
+    def __init__(self, kept: int, total: int, folder: Path) -> None:
+        super().__init__(f"interrupted: {kept} of {total} tiles kept in {folder}")
+        self.kept, self.total, self.folder = kept, total, folder
 
 
 @dataclass(frozen=True)
@@ -65,11 +112,38 @@ class Task:
         Module-level pure function ``fn(payload) -> dict of ndarray``.
     payload : object
         Its picklable argument.
+    expect : mapping of str to tuple of int, optional
+        The arrays ``fn`` returns, name -> shape: a stored tile with other
+        names or shapes is computed again. ``None``: not checked.
     """
 
     path: Path
     fn: Callable[[object], dict]
     payload: object
+    expect: Mapping[str, tuple[int, ...]] | None = field(default=None, compare=False)
+
+
+def _count(name: str, value, optional: bool = True) -> None:
+    """Refuse a worker count that is not an integer in [1, MAX_WORKERS]."""
+    if value is None and optional:
+        return
+    ok = isinstance(value, (int, np.integer)) and not isinstance(value, bool) and 1 <= value <= MAX_WORKERS
+    if not ok:
+        raise ParameterError(f"{name} must be an integer in [1, {MAX_WORKERS}] (got {value!r})")
+
+
+def _import_distributed():
+    """The ``distributed`` package, or a ParameterError saying how to install it."""
+    try:
+        import distributed
+    except ModuleNotFoundError as exc:
+        if (exc.name or "").partition(".")[0] not in ("dask", "distributed"):
+            raise
+        raise ParameterError(
+            f"scheduler (--scheduler) and dask_workers (--dask-workers) run on Dask, which is not installed "
+            f"(no module {exc.name}): {DASK_INSTALL}"
+        ) from None
+    return distributed
 
 
 @dataclass(frozen=True)
@@ -79,15 +153,23 @@ class Execution:
     Parameters
     ----------
     workers : int, optional
-        Local workers; default: every core (``os.cpu_count()``). 1 runs in this process.
-        They are threads of this process on the C back end and processes on the NumPy
-        back end (:func:`local_pool`).
+        Local workers, in [1, :data:`MAX_WORKERS`]; default: every core
+        (``os.cpu_count()``). They are threads of this process on the C back
+        end and processes on the NumPy back end (:func:`local_pool`).
     scheduler : str, optional
-        Address of a running Dask scheduler (``"tcp://host:8786"``).
+        Address of a running Dask scheduler (``"tcp://host:8786"``); it must
+        answer within :data:`SCHEDULER_TIMEOUT` seconds.
     dask_workers : int, optional
         Start a ``distributed.LocalCluster`` of this many single-threaded worker processes.
     progress : bool, optional
         Show a progress bar with an ETA (tqdm, on stderr).
+
+    Raises
+    ------
+    ParameterError
+        For a count that is not an integer in range, both ``scheduler`` and
+        ``dask_workers``, a scheduler that is not an address, or Dask asked
+        for and not installed (the ``dask`` extra).
     """
 
     workers: int | None = None
@@ -96,16 +178,18 @@ class Execution:
     progress: bool = True
 
     def __post_init__(self) -> None:
-        for name in ("workers", "dask_workers"):
-            value = getattr(self, name)
-            if value is not None and not (isinstance(value, int) and not isinstance(value, bool) and value >= 1):
-                raise ParameterError(f"{name} must be an integer >= 1 (got {value!r})")
+        _count("workers", self.workers)
+        _count("dask_workers", self.dask_workers)
         if self.scheduler is not None and self.dask_workers is not None:
             raise ParameterError(
                 "give either scheduler (a running Dask cluster) or dask_workers (a local one), not both"
             )
-        if self.scheduler is not None and not (isinstance(self.scheduler, str) and self.scheduler):
+        if self.scheduler is not None and not (isinstance(self.scheduler, str) and self.scheduler.strip()):
             raise ParameterError(f"scheduler must be an address such as tcp://127.0.0.1:8786 (got {self.scheduler!r})")
+        if not isinstance(self.progress, bool):
+            raise ParameterError(f"progress must be True or False (got {self.progress!r})")
+        if self.uses_dask:
+            _import_distributed()  # now, not after the tiles are loaded and the back end checked
 
     @property
     def local_workers(self) -> int:
@@ -123,45 +207,93 @@ LOCAL = Execution()
 
 @dataclass
 class TileStats:
-    """What :func:`run_tiles` did: tiles computed now, tiles loaded from earlier runs, wall time (s)."""
+    """What :func:`run_tiles` did: tiles computed now, tiles loaded from earlier runs, wall time (s).
+
+    ``salvaged``: tiles that finished while an interruption or an error was being handled (stored, not placed).
+    """
 
     computed: int = 0
     reused: int = 0
     wall: float = 0.0
+    salvaged: int = 0
 
     def record(self) -> dict:
         return {"tiles_computed": self.computed, "tiles_reused": self.reused, "wall_s": round(self.wall, 3)}
 
 
-def _atomic_write(path: Path, write: Callable) -> None:
-    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``.
+# --- stored tiles ------------------------------------------------------------------------------
 
-    A reader (or a rerun after Ctrl-C or a killed process) sees either no file
-    or a whole one. No fsync: it would cost as much as a small tile's work, and
-    only a power cut can leave a damaged file, which :func:`load_tile` refuses
-    and the rerun recomputes.
-    """
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "wb") as f:
-            write(f)
-        os.replace(tmp, path)
-    except BaseException:
-        os.unlink(tmp)
-        raise
+
+def _place(path: Path) -> str:
+    """A tile's place, stored in its manifest: a tile copied or moved to another place is refused."""
+    return f"{path.parent.name}/{path.name}"
 
 
 def save_tile(path: Path, arrays: dict) -> None:
-    """Store a finished tile atomically."""
-    _atomic_write(path, lambda f: np.savez(f, **arrays))
+    """Store a finished tile atomically, with its manifest: place, names, shapes, dtypes, checksum."""
+    manifest = {"format": TILE_FORMAT, "tile": _place(path), "arrays": layout(arrays), "sha256": checksum(arrays)}
+    text = np.array(json.dumps(manifest, sort_keys=True))  # a 0-d unicode array: no pickle needed to read it
+    atomic_write(path, lambda f: np.savez(f, **arrays, **{MANIFEST: text}))
 
 
-def load_tile(path: Path) -> dict | None:
-    """A stored tile, or ``None`` if there is none (or it cannot be read: it is then recomputed)."""
+def _manifest(stored: dict) -> dict:
+    """The manifest of a stored tile, taken out of its arrays."""
+    text = stored.pop(MANIFEST, None)
+    if text is None or text.dtype.kind != "U" or text.shape != ():
+        raise DamagedTile("no manifest: not written by this version of rocking")
     try:
-        with np.load(path) as z:
-            return {k: z[k] for k in z.files}
-    except (OSError, ValueError, EOFError):
+        manifest = json.loads(str(text))
+    except ValueError:
+        manifest = None
+    if not isinstance(manifest, dict) or manifest.get("format") != TILE_FORMAT:
+        raise DamagedTile(f"its manifest is not a tile manifest of format {TILE_FORMAT}")
+    return manifest
+
+
+def _check_expected(arrays: dict, expect: Mapping[str, tuple[int, ...]]) -> None:
+    """Refuse arrays that are not those a task returns: other names, or other shapes."""
+    if set(arrays) != set(expect):
+        raise DamagedTile(f"arrays {', '.join(sorted(arrays))}, expected {', '.join(sorted(expect))}")
+    wrong = [k for k in sorted(expect) if tuple(arrays[k].shape) != tuple(expect[k])]
+    if wrong:
+        k = wrong[0]
+        raise DamagedTile(f"array {k} has shape {arrays[k].shape}, expected {tuple(expect[k])}")
+
+
+def load_tile(path: Path, expect: Mapping[str, tuple[int, ...]] | None = None) -> dict:
+    """A stored tile's arrays, checked against its manifest and against ``expect`` (name -> shape).
+
+    Raises
+    ------
+    DamagedTile
+        With the reason: unreadable (truncated, damaged, not an archive), no
+        manifest, written for another place, arrays or content that differ from
+        the manifest (checksum), or names and shapes other than ``expect``.
+    """
+    try:
+        stored = read_npz(path)
+    except UNREADABLE as exc:
+        raise DamagedTile(f"unreadable ({describe(exc)})") from None
+    manifest = _manifest(stored)
+    if manifest.get("tile") != _place(path):
+        raise DamagedTile(f"it is the tile {manifest.get('tile')!r}, stored in another place")
+    if manifest.get("arrays") != layout(stored):
+        raise DamagedTile("its arrays differ from its manifest")
+    if manifest.get("sha256") != checksum(stored):
+        raise DamagedTile("its content does not match its checksum")
+    if expect is not None:
+        _check_expected(stored, expect)
+    return stored
+
+
+def _stored(task: Task) -> dict | None:
+    """The stored tile of ``task``, or ``None`` (none yet, or damaged: then with a :class:`TileWarning`)."""
+    if not task.path.is_file():
+        return None
+    try:
+        return load_tile(task.path, task.expect)
+    except DamagedTile as exc:
+        warnings.warn(f"{task.path}: damaged tile ({exc}); computing it again", TileWarning, stacklevel=4)
         return None
 
 
@@ -169,24 +301,32 @@ def run_folder(root: str | Path, config: dict) -> Path:
     """The folder of the tiles of ``config``: ``<root>/<kind>-<part>-<hash>``, with ``config.json``.
 
     The name carries the first 16 hex digits of :func:`rocking.study.config.config_hash`.
+
+    Raises
+    ------
+    ParameterError
+        If the folder cannot be created or written.
     """
     name = f"{config.get('kind', 'run')}-{config.get('part', 'all')}-{config_hash(config)[:16]}"
-    folder = Path(root) / name
-    folder.mkdir(parents=True, exist_ok=True)
+    folder = make_folder(Path(root) / name, "tiles folder")
     meta = folder / "config.json"
     if not meta.is_file():
         text = json.dumps(config, indent=2, sort_keys=True) + "\n"
-        _atomic_write(meta, lambda f: f.write(text.encode()))
+        atomic_write(meta, lambda f: f.write(text), mode="w")
     return folder
+
+
+# --- local workers and Dask ----------------------------------------------------------------------
 
 
 def _worker_init(pid: int) -> None:
     """Worker initializer: ignore Ctrl-C, and exit when process ``pid`` (the one that started the pool) is gone.
 
-    Ctrl-C reaches the whole process group: the parent handles it, waits for
-    the tiles running here and stores them; a worker stopped by it would lose
-    them. A pool that is shut down stops its workers; one whose parent is
-    killed (SIGKILL, SIGTERM) would leave them waiting for work forever.
+    Ctrl-C reaches the whole process group: the parent handles it (it
+    terminates its workers); a worker stopped by it in the middle of sending a
+    result could leave the pool broken for the parent's clean-up. A pool that
+    is shut down stops its workers; one whose parent is killed (SIGKILL,
+    SIGTERM) would leave them waiting for work forever.
     """
     signal.signal(signal.SIGINT, signal.SIG_IGN)
 
@@ -221,6 +361,91 @@ def local_pool(backend: str) -> str:
     return "threads" if backend == "c" else "processes"
 
 
+def _stop_c_runs() -> None:
+    """Stop every C run of this process now: worker threads cannot be stopped otherwise."""
+    from ..sim import c_backend
+
+    c_backend.request_stop()
+
+
+def _terminate(pool: ProcessPoolExecutor) -> None:
+    """Terminate the processes of ``pool`` now, running tiles lost (Python < 3.14 has no public way)."""
+    terminate = getattr(pool, "terminate_workers", None)
+    if terminate is not None:
+        terminate()
+        return
+    for process in list((getattr(pool, "_processes", None) or {}).values()):
+        with suppress(OSError, ValueError):  # already gone
+            process.terminate()
+
+
+class Stopped(RuntimeError):
+    """A tile stopped on a Dask worker by :func:`rocking.sim.c_backend.request_stop` (after Ctrl-C)."""
+
+
+def _on_dask(fn: Callable[[object], dict], payload: object) -> dict:
+    """``fn(payload)`` on a Dask worker, where a KeyboardInterrupt (a stopped C run) would kill the worker process."""
+    try:
+        return fn(payload)
+    except KeyboardInterrupt:
+        raise Stopped("stopped after Ctrl-C") from None
+
+
+class _Workers:
+    """Where tiles run (``kind``: ``"here"``, ``"threads"``, ``"processes"``, ``"dask"``), and the tiles in flight.
+
+    ``slots`` tiles are submitted at a time; :meth:`results` hands them over as
+    they finish. After an exception, :meth:`interrupt` (Ctrl-C: stop now) or
+    :meth:`drain` (an error: let the running tiles finish) stores, through
+    ``store(task, arrays)``, the tiles that finished and were not handed over.
+    """
+
+    def __init__(self, executor: Executor | None, slots: int, kind: str, store: Callable[[Task, dict], None]):
+        self.executor, self.slots, self.kind, self.store = executor, slots, kind, store
+        self.in_flight: dict[Future, Task] = {}
+
+    def results(self, tasks: Sequence[Task]) -> Iterator[tuple[Task, dict]]:
+        """``(task, arrays)`` as tiles finish."""
+        if self.executor is None:
+            for task in tasks:
+                yield task, task.fn(task.payload)
+            return
+        pending = deque(tasks)
+        while pending or self.in_flight:
+            while pending and len(self.in_flight) < self.slots:
+                task = pending.popleft()
+                call = (_on_dask, task.fn) if self.kind == "dask" else (task.fn,)
+                self.in_flight[self.executor.submit(*call, task.payload)] = task
+            done, _ = wait(self.in_flight, return_when=FIRST_COMPLETED)
+            for future in done:
+                task = self.in_flight.pop(future)
+                yield task, future.result()
+
+    def interrupt(self) -> None:
+        """Ctrl-C: stop the running tiles and cancel the queued ones, at once; store those that finished."""
+        if self.kind == "threads":
+            _stop_c_runs()
+        elif self.kind == "processes":
+            _terminate(self.executor)
+        self.drain()
+
+    def drain(self) -> None:
+        """Cancel the queued tiles, wait for the running local ones (after an error: they finish) and store them.
+
+        Tiles running on Dask are cancelled, not waited for: the cluster may be busy with others' work.
+        """
+        if self.kind == "dask":
+            self.executor.shutdown(wait=False)  # Dask's executor has no cancel_futures: this cancels
+        elif self.executor is not None:
+            self.executor.shutdown(wait=True, cancel_futures=True)
+        for future, task in self.in_flight.items():
+            if future.done() and not future.cancelled() and future.exception() is None:
+                # Best effort: the interruption is what to report, and a tile not stored is recomputed.
+                with suppress(OSError):
+                    self.store(task, future.result())
+        self.in_flight.clear()
+
+
 def _local_executor(workers: int, backend: str, tasks: Sequence[Task]) -> Executor:
     """A pool of ``workers`` local workers for ``tasks`` simulated on ``backend``."""
     if local_pool(backend) == "threads":
@@ -232,79 +457,95 @@ def _local_executor(workers: int, backend: str, tasks: Sequence[Task]) -> Execut
     return ProcessPoolExecutor(workers, mp_context=context, initializer=_worker_init, initargs=(os.getpid(),))
 
 
+def _connect(distributed, address: str):
+    """A client of the scheduler at ``address``, or a one-line ParameterError after :data:`SCHEDULER_TIMEOUT`."""
+    try:
+        return distributed.Client(address, timeout=SCHEDULER_TIMEOUT)
+    except (OSError, ValueError, TypeError) as exc:  # TimeoutError is an OSError
+        raise ParameterError(
+            f"scheduler {address}: no Dask scheduler answered within {SCHEDULER_TIMEOUT:g} s ({describe(exc)}); "
+            "check the address and that the scheduler runs (dask scheduler)"
+        ) from None
+
+
 @contextmanager
-def _executor(execution: Execution, tasks: Sequence[Task], backend: str) -> Iterator[tuple[object, int, bool]]:
-    """``(executor, slots, is_dask)`` for ``tasks`` on ``backend``; ``executor`` is ``None`` in this process."""
-    if execution.uses_dask:
-        from distributed import Client, LocalCluster
-
-        cluster = None
-        if execution.dask_workers is not None:
-            cluster = LocalCluster(
-                n_workers=execution.dask_workers,
-                processes=True,
-                threads_per_worker=1,
-                dashboard_address=":0",  # any free port: several clusters may run at once
-            )
-        client = Client(cluster if cluster is not None else execution.scheduler)
+def _dask(execution: Execution) -> Iterator[tuple[Executor, int]]:
+    """``(executor, workers)`` of the Dask cluster of ``execution``: a running one, or a local one started here."""
+    distributed = _import_distributed()
+    cluster = None
+    if execution.dask_workers is not None:
+        cluster = distributed.LocalCluster(
+            n_workers=execution.dask_workers,
+            processes=True,
+            threads_per_worker=1,
+            dashboard_address=":0",  # any free port: several clusters may run at once
+            silence_logs=logging.ERROR,  # not a warning per tile cancelled by Ctrl-C
+        )
+    try:
+        client = distributed.Client(cluster) if cluster is not None else _connect(distributed, execution.scheduler)
         try:
-            workers = sum(client.nthreads().values()) or 1
-            yield client.get_executor(), IN_FLIGHT_PER_WORKER * workers, True
-        finally:
-            client.close()
+            yield client.get_executor(), sum(client.nthreads().values()) or 1
+        except KeyboardInterrupt:
             if cluster is not None:
-                cluster.close()
-    elif min(execution.local_workers, len(tasks)) <= 1:
-        yield None, 1, False
-    else:
-        workers = min(execution.local_workers, len(tasks))
-        pool = _local_executor(workers, backend, tasks)
-        try:
-            yield pool, IN_FLIGHT_PER_WORKER * workers, False
-        finally:
-            pool.shutdown(wait=True, cancel_futures=True)
-
-
-def _store_unfinished(pool: Executor, in_flight: dict[Future, Task]) -> None:
-    """After an interruption: cancel the queued tiles, wait for the running ones and store those that succeed.
-
-    A thread cannot be stopped inside its C call, and a process pool's shutdown
-    waits for its running tiles too: the wait is due anyway, and the tiles it
-    gives spare the rerun their work.
-    """
-    pool.shutdown(wait=True, cancel_futures=True)
-    for future, task in in_flight.items():
-        if not future.cancelled() and future.exception() is None:
-            # Best effort: the interruption is what to report, and a tile not stored is recomputed.
-            with suppress(OSError):
-                save_tile(task.path, future.result())
-
-
-def _results(tasks: Sequence[Task], execution: Execution, backend: str) -> Iterator[tuple[Task, dict]]:
-    """``(task, result)`` as tiles finish, with at most ``slots`` tiles submitted at a time."""
-    if not tasks:
-        return
-    with _executor(execution, tasks, backend) as (executor, slots, is_dask):
-        if executor is None:
-            for task in tasks:
-                yield task, task.fn(task.payload)
-            return
-        pending, in_flight = deque(tasks), {}
-        try:
-            while pending or in_flight:
-                while pending and len(in_flight) < slots:
-                    task = pending.popleft()
-                    in_flight[executor.submit(task.fn, task.payload)] = task
-                done, _ = wait(in_flight, return_when=FIRST_COMPLETED)
-                for future in done:
-                    yield in_flight.pop(future), future.result()
-        except BaseException:  # GeneratorExit when run_tiles stops early, KeyboardInterrupt, a tile's error
-            if not is_dask:
-                _store_unfinished(executor, in_flight)
+                # The local workers' tiles, cancelled, still run in C, and closing would wait for them. Never
+                # on a running cluster: its other clients' C runs would stop too.
+                with suppress(Exception):
+                    client.run(_stop_c_runs)
             raise
         finally:
-            if is_dask:
+            client.close()
+    finally:
+        if cluster is not None:
+            cluster.close()
+
+
+@contextmanager
+def _executor(
+    execution: Execution, tasks: Sequence[Task], backend: str, store: Callable[[Task, dict], None]
+) -> Iterator[_Workers]:
+    """The :class:`_Workers` of ``tasks`` on ``backend``; on leaving, the queued tiles are cancelled.
+
+    Ctrl-C inside stops the running tiles at once (:meth:`_Workers.interrupt`);
+    any other exception lets the local ones finish (:meth:`_Workers.drain`).
+    Both store the tiles that finished, and re-raise.
+    """
+    with _pool(execution, tasks, backend, store) as workers:
+        try:
+            yield workers
+        except KeyboardInterrupt:
+            workers.interrupt()
+            raise
+        except BaseException:
+            workers.drain()
+            raise
+
+
+@contextmanager
+def _pool(
+    execution: Execution, tasks: Sequence[Task], backend: str, store: Callable[[Task, dict], None]
+) -> Iterator[_Workers]:
+    """Start the workers of ``tasks`` and shut them down on leaving."""
+    if not tasks:  # every tile was stored already: no worker, no cluster to start
+        yield _Workers(None, 1, "here", store)
+        return
+    if execution.uses_dask:
+        with _dask(execution) as (executor, workers):
+            try:
+                yield _Workers(executor, IN_FLIGHT_PER_WORKER * workers, "dask", store)
+            finally:
                 executor.shutdown(wait=False)  # cancels what is still queued on the cluster
+        return
+    workers = min(execution.local_workers, len(tasks))
+    if workers <= 1:
+        # In this thread, Ctrl-C stops a tile at once: NumPy runs Python, and the C back end waits for
+        # its C calls in short slices from the main thread (rocking.sim.c_backend).
+        yield _Workers(None, 1, "here", store)
+        return
+    pool = _local_executor(workers, backend, tasks)
+    try:
+        yield _Workers(pool, IN_FLIGHT_PER_WORKER * workers, local_pool(backend), store)
+    finally:
+        pool.shutdown(wait=True, cancel_futures=True)
 
 
 def interleave(*groups: Sequence[Task]) -> list[Task]:
@@ -314,6 +555,11 @@ def interleave(*groups: Sequence[Task]) -> list[Task]:
     progress bar, hence its ETA, steady.
     """
     return [task for row in zip_longest(*groups) for task in row if task is not None]
+
+
+def _root(tasks: Sequence[Task]) -> Path:
+    """The folder that holds every run folder of ``tasks``."""
+    return Path(os.path.commonpath([task.path.parent for task in tasks])) if tasks else Path(".")
 
 
 def run_tiles(
@@ -327,9 +573,11 @@ def run_tiles(
 ) -> TileStats:
     """Run ``tasks``, handing every tile's arrays to ``place(task, arrays)``.
 
-    Tiles already stored at ``task.path`` are loaded, not recomputed.
-    ``on_tile(task)`` is called after each computed tile is stored (a hook
-    for tests: raising there interrupts the run like a crash would).
+    Tiles already stored at ``task.path`` are loaded, not recomputed; a stored
+    tile that is damaged or foreign (:func:`load_tile`) is computed again, with
+    a :class:`TileWarning`. ``on_tile(task)`` is called after each computed
+    tile is stored (a hook for tests: raising there interrupts the run like a
+    crash would).
 
     ``backend`` is the back end the tiles simulate on: it chooses threads or
     processes as local workers (:func:`local_pool`). Threads share this
@@ -340,27 +588,47 @@ def run_tiles(
     Returns
     -------
     TileStats
+
+    Raises
+    ------
+    Interrupted
+        On Ctrl-C (a KeyboardInterrupt), after stopping the workers; the tiles
+        finished so far are stored.
     """
     start = time.perf_counter()
     stats = TileStats()
+
+    def store(task: Task, arrays: dict) -> None:
+        save_tile(task.path, arrays)
+        stats.salvaged += 1
+
+    try:
+        todo = _reuse(tasks, place, stats)
+        with (
+            tqdm(total=len(tasks), initial=stats.reused, desc=desc, unit="tile", disable=not execution.progress) as bar,
+            _executor(execution, todo, backend, store) as workers,
+        ):
+            for task, arrays in workers.results(todo):
+                save_tile(task.path, arrays)
+                stats.computed += 1
+                place(task, arrays)
+                bar.update()
+                if on_tile is not None:
+                    on_tile(task)
+    except KeyboardInterrupt as exc:
+        raise Interrupted(stats.reused + stats.computed + stats.salvaged, len(tasks), _root(tasks)) from exc
+    stats.wall = time.perf_counter() - start
+    return stats
+
+
+def _reuse(tasks: Sequence[Task], place: Callable[[Task, dict], None], stats: TileStats) -> list[Task]:
+    """Place the stored tiles of ``tasks``; the tasks left to compute."""
     todo = []
     for task in tasks:
-        stored = load_tile(task.path) if task.path.is_file() else None
+        stored = _stored(task)
         if stored is None:
             todo.append(task)
         else:
             place(task, stored)
             stats.reused += 1
-    with tqdm(total=len(tasks), initial=stats.reused, desc=desc, unit="tile", disable=not execution.progress) as bar:
-        # closing(): an exception in place/on_tile must stop the workers now, not when the
-        # traceback holding the generator is collected.
-        with closing(_results(todo, execution, backend)) as results:
-            for task, arrays in results:
-                save_tile(task.path, arrays)
-                place(task, arrays)
-                stats.computed += 1
-                bar.update()
-                if on_tile is not None:
-                    on_tile(task)
-    stats.wall = time.perf_counter() - start
-    return stats
+    return todo

@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 3
+#define ROCKING_SIM_API_VERSION 4
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the uplift energy of the early rest (rule 4) */
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
@@ -14,7 +14,9 @@ enum rocking_status {
     ROCKING_REST = 1, /* back in full contact after the pulse, below energy_rest or below the uplift energy */
     ROCKING_T_MAX = 2, /* t_max reached */
     ROCKING_MAX_EVENTS = 3, /* uplifts + impacts reached max_events */
+    ROCKING_MAX_STEPS = 4, /* the work of the run passed max_steps (rule 5) */
     ROCKING_FAILED = -1, /* the step size underflowed (non-finite right-hand side, ...) */
+    ROCKING_STOPPED = -2, /* stopped by the caller's stop flag (Python: KeyboardInterrupt) */
 };
 
 enum rocking_phase {
@@ -35,6 +37,7 @@ typedef struct rocking_case {
     double dtheta_rest; /* an impact with outgoing |dtheta| below this ends rocking [rad/s] */
     double energy_rest; /* full contact after the pulse ends once E(y) - E(0) is below this [J] */
     int64_t max_events; /* the run ends when uplifts + impacts reach this */
+    int64_t max_steps; /* bound on the work of a run: right-hand-side evaluations plus recorded samples (rule 5) */
     double record_dt; /* spacing of a recorded history (<= 0: events only) [s] */
     const double *y0; /* initial state (NULL / None: at rest) [state units] */
     int32_t phase0; /* initial phase: 0 full contact, +1 / -1 rocking about A / A' */
@@ -54,11 +57,11 @@ typedef struct rocking_result {
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(a_g) X(omega_g) X(psi) X(t_p) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(record_dt) X(y0) X(phase0) X(early_rest)
+#define ROCKING_CASE_FIELDS(X) X(a_g) X(omega_g) X(psi) X(t_p) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
 
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_FAILED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME)
 
 #endif

@@ -12,7 +12,8 @@
  *
  * Only the generic names of the model header are used, so the same file serves
  * every generated model. No allocation, no global state: the tables below are
- * constants, everything else lives in the caller's stack frame.
+ * constants, everything else lives in the caller's stack frame (the stop
+ * flag of rocking_control is the caller's).
  */
 #include <float.h>
 #include <math.h>
@@ -34,7 +35,8 @@
 #define NQ MODEL_NQ
 #define NY MODEL_NY
 
-/* pi/2: M_PI is not C99. */
+/* pi and pi/2: M_PI is not C99. */
+#define PI 3.14159265358979323846
 #define HALF_PI 1.57079632679489661923
 
 /* ------------------------------------------------------------------------ */
@@ -146,6 +148,7 @@ typedef struct dopri {
     double dense[5][NY];    /* its continuous extension, once dense_ready */
     int dense_ready;
     double h_next; /* proposed size of the next step */
+    int64_t evaluations; /* of the right-hand side, over the whole run (rule 5) */
 } dopri;
 
 static double max2(double a, double b)
@@ -220,6 +223,8 @@ static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, 
     d->t = t;
     memcpy(d->y, y, sizeof d->y);
     ode_rhs(o, t, y, d->f);
+    /* initial_step evaluates the right-hand side once, unless the span is empty. */
+    d->evaluations += (h_first > 0.0 || !(t_bound - t > 0.0)) ? 1 : 2;
     d->h_next = h_first > 0.0 ? min2(h_first, t_bound - t) : initial_step(o, tol, t, d->y, d->f, t_bound - t);
     d->t_old = t;
     d->h = 0.0;
@@ -313,6 +318,7 @@ static int dopri_step(dopri *d, const ode *o, const tolerance *tol, double t_bou
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
         dopri_stages(d, o, h, t_new, y_new);
+        d->evaluations += STAGES - 1;
         err = dopri_error(d, tol, h, y_new);
         if (err < 1.0) {
             /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
@@ -680,7 +686,7 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 /* ------------------------------------------------------------------------ */
 
 /* How a segment ended, besides an event (enum event_kind). */
-enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3 };
+enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3, SEG_MAX_STEPS = -4, SEG_STOPPED = -5 };
 
 typedef struct run {
     const rocking_case *c;
@@ -696,6 +702,9 @@ typedef struct run {
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     rocking_result *res;
+    const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
+    const int32_t *velocity_law;   /* NQ flags: 1 for the velocity impact law; NULL: momentum everywhere */
+    int64_t samples;               /* recorded history samples (rule 5: they count as work) */
     /* history */
     rocking_history *hist;
     int64_t n_rec;
@@ -738,6 +747,12 @@ static void record(run *r, double t, const double *y, int phase)
 /* Samples at the multiples of record_dt in [t_old, t_stop), strictly after
  * the segment's start (next_sample was set past it) and strictly before its
  * end (the end is recorded as an event sample). */
+/* The work of the run so far has passed max_steps (rule 5). */
+static int over_budget(const run *r)
+{
+    return r->d.evaluations + r->samples > r->c->max_steps;
+}
+
 static void record_samples(run *r, double t_stop)
 {
     const double dt = r->c->record_dt;
@@ -746,10 +761,11 @@ static void record_samples(run *r, double t_stop)
         return;
     for (;;) {
         const double t = r->next_sample * dt;
-        if (!(t < t_stop))
+        if (!(t < t_stop) || over_budget(r)) /* past the budget the segment is undone anyway */
             break;
         dopri_dense(&r->d, t, y);
         record(r, t, y, r->phase);
+        r->samples += 1;
         r->next_sample += 1.0;
     }
 }
@@ -805,9 +821,48 @@ static void watched_events(const run *r, int *active)
         active[EV_X_PEAK] = NQ > 1;
 }
 
+/* What a segment changes in the results and the history before its end:
+ * restored when the work passes max_steps inside it (rule 5). */
+typedef struct segment_start {
+    double theta_max, x_max, t_critical;
+    int64_t n_rec;
+} segment_start;
+
+static void segment_saved(const run *r, segment_start *saved)
+{
+    saved->theta_max = r->res->theta_max;
+    saved->x_max = r->res->x_max;
+    saved->t_critical = r->res->t_critical;
+    saved->n_rec = r->n_rec;
+}
+
+/* Rule 5: the run ends at the start of the segment in which its work passed
+ * max_steps, with the results of the segments before it. (r->t, r->y) still
+ * hold that start; the history drops the segment's samples. */
+static int segment_undone(run *r, const segment_start *saved)
+{
+    r->res->theta_max = saved->theta_max;
+    r->res->x_max = saved->x_max;
+    r->res->t_critical = saved->t_critical;
+    if (r->hist != NULL) {
+        r->n_rec = saved->n_rec; /* its last row is the segment's start */
+        r->last_t = r->t;
+        memcpy(r->last_y, r->y, sizeof r->last_y);
+        r->last_phase = r->phase;
+    }
+    return SEG_MAX_STEPS;
+}
+
+/* The caller's stop flag is set. */
+static int stop_requested(const run *r)
+{
+    return r->stop != NULL && *r->stop != 0;
+}
+
 /* Integrate the current phase from (r->t, r->y) until t_bound or a terminal
  * event; (r->t, r->y) is then the segment's end. Returns the event, or
- * SEG_BOUND, SEG_FAILED, SEG_NO_LIFT. */
+ * SEG_BOUND, SEG_FAILED, SEG_NO_LIFT, SEG_MAX_STEPS (then (r->t, r->y) is
+ * still the segment's start), SEG_STOPPED. */
 static int run_segment(run *r, double t_bound)
 {
     const double s = (double)r->phase;
@@ -819,14 +874,18 @@ static int run_segment(run *r, double t_bound)
     int lifting = r->phase != 0 && r->y[0] == 0.0;
     int active[N_EVENTS];
     step_events found;
+    segment_start saved;
     int k;
 
+    segment_saved(r, &saved);
     r->o.phase = r->phase;
     r->o.pulse_on = r->t < r->c->t_p;
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
     r->h_first = 0.0;
+    if (over_budget(r))
+        return segment_undone(r, &saved);
     watched_events(r, active);
     events_start(&r->events, &r->ec, active, r->t, r->y);
     if (r->hist != NULL && r->c->record_dt > 0.0) {
@@ -837,7 +896,11 @@ static int run_segment(run *r, double t_bound)
 
     while (r->d.t < t_bound) {
         if (dopri_step(&r->d, &r->o, &r->tol, t_bound, max_step) != 0)
-            return SEG_FAILED;
+            return over_budget(r) ? segment_undone(r, &saved) : SEG_FAILED;
+        if (over_budget(r))
+            return segment_undone(r, &saved);
+        if (stop_requested(r))
+            return SEG_STOPPED;
         if (lifting) {
             if (!(s * r->d.y[0] > 0.0)) {
                 /* The block fell back within the first step (or never rose):
@@ -855,6 +918,8 @@ static int run_segment(run *r, double t_bound)
         for (k = 0; k < found.n_passed; ++k)
             pass_event(r, found.passed[k], found.t_root[found.passed[k]]);
         record_samples(r, found.t_stop);
+        if (over_budget(r))
+            return segment_undone(r, &saved);
         if (found.terminal >= 0) {
             r->t = found.t_stop;
             dopri_dense(&r->d, r->t, r->y);
@@ -916,6 +981,50 @@ static int events_exhausted(const run *r)
     return r->res->uplifts + r->res->impacts >= r->c->max_events;
 }
 
+/* The rest snap after an impact (rule 2): dtheta = 0, and each other
+ * velocity keeps what its impact law keeps. A coordinate j with the velocity
+ * law keeps dq[j]; those with the momentum law keep their generalised momenta
+ * (M dq)_j, M the mass matrix about the new pivot (constants cst): with
+ * dtheta' = 0 and the velocity-law coordinates unchanged, the momentum-law
+ * block m of the velocities moves by delta, M_mm delta = M_m0 dtheta. Gauss
+ * elimination without pivoting (M_mm is symmetric positive definite), the
+ * same operations as numpy_backend.rest_snap. */
+static void rest_snap(run *r, const double *cst)
+{
+#if NQ > 1
+    double mm[NQ * NQ], a[NQ][NQ], b[NQ], delta[NQ];
+    int idx[NQ], n = 0, i, j, k;
+    const double dtheta = r->y[NQ];
+    model_mass_matrix_prepared(r->y, 0.0, cst, mm);
+    for (i = 1; i < NQ; ++i)
+        if (r->velocity_law == NULL || !r->velocity_law[i])
+            idx[n++] = i;
+    for (i = 0; i < n; ++i) {
+        for (j = 0; j < n; ++j)
+            a[i][j] = mm[idx[i] * NQ + idx[j]];
+        b[i] = mm[idx[i] * NQ] * dtheta;
+    }
+    for (k = 0; k < n; ++k)
+        for (i = k + 1; i < n; ++i) {
+            const double f = a[i][k] / a[k][k];
+            for (j = k; j < n; ++j)
+                a[i][j] -= f * a[k][j];
+            b[i] -= f * b[k];
+        }
+    for (i = n - 1; i >= 0; --i) {
+        double sum = b[i];
+        for (j = i + 1; j < n; ++j)
+            sum -= a[i][j] * delta[j];
+        delta[i] = sum / a[i][i];
+    }
+    for (i = 0; i < n; ++i)
+        r->y[NQ + idx[i]] += delta[i];
+#else
+    (void)cst;
+#endif
+    r->y[NQ] = 0.0;
+}
+
 /* The impact that ends rocking about s: theta = 0 already, dq = J_s(y); the
  * block rests if the outgoing |dtheta| is below dtheta_rest. */
 static void impact(run *r)
@@ -927,7 +1036,7 @@ static void impact(run *r)
     memcpy(r->y + NQ, dq, sizeof dq);
     r->res->impacts += 1;
     if (fabs(r->y[NQ]) < r->c->dtheta_rest) {
-        r->y[NQ] = 0.0; /* the other velocities keep their J_s values */
+        rest_snap(r, about(r->o.k, -s)); /* the new pivot's mass matrix */
         r->phase = 0;
     } else {
         /* The corner that just hit the ground is the new pivot. The next
@@ -937,6 +1046,27 @@ static void impact(run *r)
         r->phase = -r->phase;
         r->h_first = isfinite(h) ? h : 0.0;
     }
+}
+
+/* The first extremum of the pulse's sine after t: omega_g t + psi = pi/2 + k pi
+ * (rule 3); infinity for a constant ground acceleration. The same operations
+ * as numpy_backend.next_extremum. */
+static double next_extremum(const rocking_case *c, double t)
+{
+    const double w = c->omega_g;
+    double k;
+    int i;
+    if (!(w != 0.0) || c->a_g == 0.0)
+        return INFINITY;
+    k = (w * t + c->psi - HALF_PI) / PI;
+    k = w > 0.0 ? ceil(k) : floor(k);
+    for (i = 0; i < 4; ++i) { /* rounding: the first or the second candidate */
+        const double tk = (HALF_PI + k * PI - c->psi) / w;
+        if (tk > t)
+            return tk;
+        k += w > 0.0 ? 1.0 : -1.0;
+    }
+    return INFINITY; /* not reached */
 }
 
 /* The whole run: docs/simulation.md, "Phases" and "End". */
@@ -985,6 +1115,9 @@ static void phase_machine(run *r)
         }
         /* Every segment stops at the pulse's end: no step straddles its kink. */
         t_bound = r->t < c->t_p ? fmin(c->t_p, c->t_max) : c->t_max;
+        /* In full contact also at the extrema of ag: no uplift is stepped over (rule 3). */
+        if (r->phase == 0 && r->t < c->t_p)
+            t_bound = fmin(t_bound, next_extremum(c, r->t));
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
         switch (ended) {
@@ -993,9 +1126,15 @@ static void phase_machine(run *r)
                 r->res->status = ROCKING_T_MAX;
                 return;
             }
-            break; /* the pulse's end: the same phase restarts from t_p */
+            break; /* a breakpoint: the same phase restarts from there */
         case SEG_FAILED:
             r->res->status = ROCKING_FAILED;
+            return;
+        case SEG_MAX_STEPS:
+            r->res->status = ROCKING_MAX_STEPS;
+            return;
+        case SEG_STOPPED:
+            r->res->status = ROCKING_STOPPED;
             return;
         case SEG_NO_LIFT:
             /* A grazing uplift: the block cannot rise, it stays on its base (the
@@ -1063,7 +1202,8 @@ static int initial_state(const rocking_case *c, double *y, int *phase)
     return (*phase * y[0] >= 0.0 && !(y[0] == 0.0 && *phase * y[NQ] < 0.0)) ? 0 : -1;
 }
 
-static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
+static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
+                            const rocking_control *control)
 {
     run r;
     constants k;
@@ -1098,6 +1238,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.t = 0.0;
     r.t_start = r.h_first = 0.0;
     r.res = out;
+    r.stop = control != NULL ? control->stop : NULL;
+    r.velocity_law = control != NULL ? control->velocity_law : NULL;
+    r.samples = 0;
+    r.d.evaluations = 0;
     r.hist = history;
     r.n_rec = 0;
     r.last_t = 0.0;
@@ -1144,14 +1288,21 @@ void rocking_constants(double *out)
 #undef VALUE
 }
 
-int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history)
+int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
+                         const rocking_control *control)
 {
-    return simulate_one(p, c, out, history);
+    return simulate_one(p, c, out, history, control);
 }
 
-void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out)
+void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                            const rocking_control *control)
 {
     int64_t i;
-    for (i = 0; i < n; ++i)
-        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL);
+    for (i = 0; i < n; ++i) {
+        if (control != NULL && control->stop != NULL && *control->stop != 0) {
+            out[i].status = ROCKING_STOPPED; /* the rest of the batch is not run */
+            continue;
+        }
+        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control);
+    }
 }

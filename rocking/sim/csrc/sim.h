@@ -16,7 +16,8 @@
  * below are those of the model the library was built with, which
  * rocking_model_ny() and friends report.
  *
- * Every entry point is a pure function of its arguments: no global state, no
+ * Every entry point is a pure function of its arguments (the stop flag of
+ * rocking_control, which the caller owns, included): no global state, no
  * allocation, safe to call from several threads at once.
  */
 #ifndef ROCKING_SIM_H
@@ -32,9 +33,10 @@ extern "C" {
  * the shared constants and ROCKING_SIM_API_VERSION: generated from the tables
  * of rocking/sim/boundary.py, the one place they are declared.
  *
- * A case: t_max must be finite and contact_max_step > 0, or a run may never
- * end (rocking.sim.boundary checks every field before a call); a non-finite
- * right-hand side ends the run with ROCKING_FAILED. */
+ * A case: t_max must be finite and contact_max_step > 0 (rocking.sim.boundary
+ * checks every field before a call); max_steps bounds the work of a run
+ * (docs/simulation.md, rule 5); a non-finite right-hand side ends the run
+ * with ROCKING_FAILED. */
 #include "boundary.h"
 
 /* Caller-owned buffers for a recorded history of at most `capacity` samples. */
@@ -59,6 +61,24 @@ void rocking_layout(int64_t *case_offsets, int64_t *result_offsets);
 /* The values of ROCKING_CONSTANTS, in its order. */
 void rocking_constants(double *out);
 
+/* What the caller controls besides the cases; the entry points accept NULL
+ * for it, and NULL for either pointer:
+ *
+ *   stop          a flag the runs read once per accepted step (and between the
+ *                 runs of a batch): set it to non-zero from another thread and
+ *                 every run reading it ends at once with status ROCKING_STOPPED
+ *                 (its other results are then meaningless). NULL: never stopped.
+ *   velocity_law  model_nq() flags, 1 where the coordinate's impact law is
+ *                 "velocity" (manifest.json, options.impact_laws), 0 where it is
+ *                 "momentum" (entry 0, theta, is ignored); the model header does
+ *                 not carry them. The rest snap of an impact keeps what the law
+ *                 keeps (docs/simulation.md, rule 2). NULL: "momentum" everywhere.
+ */
+typedef struct rocking_control {
+    const volatile int32_t *stop;
+    const int32_t *velocity_law;
+} rocking_control;
+
 /* Simulate one run.
  *
  *   p        model parameters, model_np() values in manifest order
@@ -67,8 +87,9 @@ void rocking_constants(double *out);
  *   history  NULL, or buffers for the history: samples at the multiples of
  *            c->record_dt strictly inside each phase segment (dense output)
  *            and the states at every segment start and end (uplift, impact
- *            before and after, pulse end, rest, overturning, end), in time
+ *            before and after, breakpoints, rest, overturning, end), in time
  *            order, consecutive duplicates dropped.
+ *   control  NULL, or the stop flag and the impact laws (rocking_control)
  *
  * Returns the number of history samples the run produced (0 without
  * history). Only the first history->capacity are written: when the return
@@ -76,13 +97,17 @@ void rocking_constants(double *out);
  * deterministic). Returns -1 if c->y0 / c->phase0 are inconsistent (out is then
  * left with status ROCKING_FAILED).
  */
-int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history);
+int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
+                         const rocking_control *control);
 
 /* Simulate n runs of the same model without history: case i with the
  * parameters p + i * model_np() (row-major n x model_np()), result in out[i].
  * Case i gives exactly what rocking_simulate gives for it; an inconsistent
- * y0 / phase0 leaves its result with status ROCKING_FAILED. */
-void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out);
+ * y0 / phase0 leaves its result with status ROCKING_FAILED. Once the stop
+ * flag is set, the run in progress and every later one end with status
+ * ROCKING_STOPPED. */
+void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                            const rocking_control *control);
 
 #ifdef __cplusplus
 }

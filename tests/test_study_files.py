@@ -1,0 +1,350 @@
+"""Studies and their files (issue 10): damaged tiles, atomic saves, unreadable studies, Ctrl-C,
+unreachable Dask, unwritable output folders, and the checks of a study's configuration."""
+
+from __future__ import annotations
+
+import argparse
+import dataclasses
+import glob
+import json
+import re
+import shutil
+import signal
+import socket
+import subprocess
+import sys
+import time
+import warnings
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+import rocking
+from rocking import Block, ParameterError
+from rocking.cli.study import add_study_commands
+from rocking.study import storage, tiles
+from rocking.study.config import MAX_CELLS, MAX_N, Grid, Setting, Tuning, Variant
+from rocking.study.optimize import optimal_damper
+from rocking.study.overturning_map import overturning_map
+from rocking.study.spectrum import minimum_overturning_spectrum
+from rocking.study.storage import load, save
+from rocking.study.tiles import Execution, TileWarning, load_tile, save_tile
+
+SETTING = Setting(Block.reference())
+SERIAL = Execution(workers=1, progress=False)
+OMEGA = Grid("Omega", 1.0, 6.0, 4)
+BETA = Grid("beta", 0.5, 6.0, 12)
+TILE = (2, 5)  # 2 x 3 tiles per part
+GRIDS = ["--Omega", "1", "6", "4", "--beta", "0.5", "6", "12", "--tile", "2", "5"]
+ROOT = Path(rocking.__file__).resolve().parent.parent
+
+
+def cli(argv: list[str]) -> int:
+    """``rocking <argv>`` through :func:`add_study_commands` on a fresh parser."""
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+def one_line_error(capsys, command: str) -> str:
+    """The error the command printed: exactly one line, ``rocking COMMAND: error: ...``, no traceback."""
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and err.startswith(f"rocking {command}: error: "), err
+    return err
+
+
+def same_bits(a: dict, b: dict) -> None:
+    assert a.keys() == b.keys()
+    for k in a:
+        assert a[k].dtype == b[k].dtype and a[k].shape == b[k].shape and a[k].tobytes() == b[k].tobytes(), k
+
+
+@pytest.fixture(scope="module")
+def reference(tmp_path_factory):
+    """The reference map, and its run folder (to copy and damage)."""
+    runs = tmp_path_factory.mktemp("reference") / "runs"
+    return overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE), runs
+
+
+# --- 1. damaged tiles -----------------------------------------------------------------------------
+
+
+def _rewrite(path: Path, change) -> None:
+    """Save the tile's arrays changed by ``change(arrays)``, with a manifest that matches them (a valid tile)."""
+    arrays = load_tile(path)
+    save_tile(path, change(arrays))
+
+
+def _keep_manifest(path: Path) -> None:
+    """Change one value and keep the old manifest: a valid .npz whose content no longer matches its checksum."""
+    with np.load(path, allow_pickle=False) as z:
+        arrays = {k: z[k] for k in z.files}
+    arrays["impacts"] = arrays["impacts"] + 1
+    np.savez(path, **arrays)
+
+
+DAMAGES = {
+    # A valid .npz with wrong values, as another program (or an older rocking) would write it: no manifest.
+    "valid npz, wrong values": lambda p, other: np.savez(p, **{**load_tile(p), "impacts": np.full((2, 5), 7)}),
+    "valid npz, wrong values, old manifest": lambda p, other: _keep_manifest(p),
+    "truncated": lambda p, other: p.write_bytes(p.read_bytes()[: p.stat().st_size // 2]),
+    "flipped byte": lambda p, other: p.write_bytes(_flip(p.read_bytes(), p.stat().st_size // 2)),
+    "missing key": lambda p, other: _rewrite(p, lambda a: {k: v for k, v in a.items() if k != "x_max"}),
+    "wrong shape": lambda p, other: _rewrite(p, lambda a: {k: v[:1] for k, v in a.items()}),
+    "foreign file (.npy)": lambda p, other: _npy(p),
+    "another tile's file": lambda p, other: shutil.copyfile(other, p),
+}
+
+
+def _npy(path: Path) -> None:
+    """A NumPy file that is not an archive, under the name of one."""
+    with open(path, "wb") as f:
+        np.save(f, np.arange(10))
+
+
+def _flip(data: bytes, at: int) -> bytes:
+    return data[:at] + bytes([data[at] ^ 0xFF]) + data[at + 1 :]
+
+
+def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp_path, capsys):
+    ref, ref_runs = reference
+    runs = tmp_path / "runs"
+    shutil.copytree(ref_runs, runs)
+    stored = sorted(runs.rglob("tile-*.npz"))
+    assert len(stored) == 12
+    damaged = {}
+    for (kind, damage), path in zip(DAMAGES.items(), stored):
+        damage(path, stored[-1])
+        damaged[path] = kind
+    with pytest.warns(TileWarning) as caught:
+        study = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE)
+    warned = {Path(str(w.message).partition(": damaged tile")[0]) for w in caught}
+    assert warned == set(damaged), {str(w.message) for w in caught}
+    assert (study.run["tiles_computed"], study.run["tiles_reused"]) == (len(damaged), 12 - len(damaged))
+    same_bits(study.arrays, ref.arrays)
+    for path in damaged:  # recomputed and stored whole: the next run reuses all, silently
+        same_bits(load_tile(path), load_tile(ref_runs / path.relative_to(runs)))
+    # The command line shows the warning in one line, like its errors.
+    (stored[0]).write_bytes(b"not a tile")
+    assert cli(["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]) == 0
+    err = capsys.readouterr().err
+    assert (
+        err == f"rocking map: warning: {stored[0]}: damaged tile (unreadable (ValueError: not an .npz archive)); "
+        "computing it again\n"
+    )
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TileWarning)
+        again = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE)
+    assert again.run["tiles_reused"] == 12
+    same_bits(again.arrays, ref.arrays)
+
+
+# --- 2. atomic saves ------------------------------------------------------------------------------
+
+
+def test_every_file_of_a_study_is_written_atomically(reference, tmp_path, monkeypatch):
+    study = dataclasses.replace(reference[0], arrays=dict(reference[0].arrays))
+    replaced = []
+    real_replace = storage.os.replace
+
+    def spy(src, dst):
+        replaced.append(Path(dst))
+        real_replace(src, dst)
+
+    monkeypatch.setattr(storage.os, "replace", spy)
+    written = save(study, tmp_path)
+    assert sorted(replaced) == sorted(written)  # each file went through a temporary file in its folder
+    before = {p.name: p.read_bytes() for p in written}
+
+    def crash(src, dst):
+        raise KeyboardInterrupt  # Ctrl-C between writing a file and renaming it
+
+    monkeypatch.setattr(storage.os, "replace", crash)
+    changed = dataclasses.replace(study, arrays={**study.arrays, "effect": study.arrays["effect"] * 0})
+    with pytest.raises(KeyboardInterrupt):
+        save(changed, tmp_path)
+    assert {p.name: p.read_bytes() for p in written} == before  # the old files, whole
+    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(before)  # no temporary file left
+    monkeypatch.undo()
+    same_bits(load(tmp_path / "map").arrays, study.arrays)
+
+
+# --- 3. unreadable saved studies ------------------------------------------------------------------
+
+
+def _drop_array(folder: Path, name: str, *, listed: bool) -> None:
+    arrays = dict(np.load(folder / "map.npz"))
+    arrays.pop(name)
+    np.savez(folder / "map.npz", **arrays)
+    if not listed:  # as saved before the JSON listed the arrays
+        record = json.loads((folder / "map.json").read_text())
+        del record["arrays"], record["arrays_sha256"]
+        (folder / "map.json").write_text(json.dumps(record))
+
+
+BROKEN = {
+    "truncated npz": ("map.npz", lambda f: (f / "map.npz").write_bytes((f / "map.npz").read_bytes()[:900])),
+    "npz of text": ("map.npz", lambda f: (f / "map.npz").write_text("hello")),
+    "npz of a .npy": ("map.npz", lambda f: _npy(f / "map.npz")),
+    "changed array": ("map.npz", lambda f: np.savez(f / "map.npz", **{**load(f / "map").arrays, "effect": 0})),
+    "missing array": ("map.npz", lambda f: _drop_array(f, "effect", listed=True)),
+    "missing array, old JSON": ("map", lambda f: _drop_array(f, "bare_overturned", listed=False)),
+    "corrupt JSON": ("map.json", lambda f: (f / "map.json").write_text('{"kind": "map", ')),
+    "binary JSON": ("map.json", lambda f: (f / "map.json").write_bytes(b"\xff\xfe\x00")),
+    "foreign JSON": ("map.json", lambda f: (f / "map.json").write_text('{"name": "something else"}')),
+    "JSON list": ("map.json", lambda f: (f / "map.json").write_text("[1, 2]")),
+    "unknown kind": ("map.json", lambda f: (f / "map.json").write_text('{"kind": "x", "config": {}, "summary": {}}')),
+}
+
+
+@pytest.mark.parametrize("broken", BROKEN)
+def test_unreadable_studies_give_one_line_errors(broken, reference, tmp_path, capsys):
+    culprit, damage = BROKEN[broken]
+    save(reference[0], tmp_path)
+    damage(tmp_path)
+    assert cli(["redraw", str(tmp_path / "map.npz")]) == 2
+    assert str(tmp_path / culprit) in one_line_error(capsys, "redraw")
+    if broken != "missing array, old JSON":  # load() cannot know what an old JSON did not list
+        with pytest.raises(ParameterError, match=str(tmp_path / culprit)):
+            rocking.load(tmp_path / "map")
+
+
+# --- 4. Ctrl-C ------------------------------------------------------------------------------------
+
+#: Four tiles of 50 x 50 long pulses below the uplift threshold, about 3 s each on the C back end.
+SLOW = ["--Omega", "0.01", "0.012", "100", "--beta", "0.3", "0.6", "50", "--tile", "50", "50"]
+
+
+def test_ctrl_c_ends_a_study_at_once_and_keeps_its_finished_tiles(tmp_path, capsys):
+    argv = ["map", *SLOW, "--workers", "2", "--no-progress", "--out", str(tmp_path)]
+    process = subprocess.Popen(
+        [sys.executable, "-m", "rocking.cli.main", *argv], cwd=ROOT, stderr=subprocess.PIPE, text=True
+    )
+    deadline = time.monotonic() + 60
+    while not glob.glob(str(tmp_path / "runs" / "*" / "tile-*.npz")) and time.monotonic() < deadline:
+        assert process.poll() is None, process.communicate()
+        time.sleep(0.01)
+    start = time.monotonic()
+    process.send_signal(signal.SIGINT)
+    _, err = process.communicate(timeout=30)
+    took = time.monotonic() - start
+    kept = len(list(tmp_path.rglob("tile-*.npz")))
+    assert process.returncode == 130 and took < 2.0, (process.returncode, took, err)
+    assert err == (
+        f"rocking map: interrupted: {kept} of 4 tiles kept in {tmp_path / 'runs'}; "
+        "run the same command again to resume\n"
+    )
+    assert 1 <= kept < 4 and not list(tmp_path.rglob("*.tmp"))
+    assert cli(argv) == 0
+    assert f"{4 - kept} tiles computed, {kept} reused" in capsys.readouterr().out
+
+
+# --- 5. Dask --------------------------------------------------------------------------------------
+
+
+def _closed_port() -> int:
+    with socket.socket() as s:
+        s.bind(("127.0.0.1", 0))
+        return s.getsockname()[1]
+
+
+def test_dask_unreachable_or_missing_gives_one_line_errors(tmp_path, monkeypatch, capsys):
+    pytest.importorskip("distributed")
+    monkeypatch.setattr(tiles, "SCHEDULER_TIMEOUT", 1.0)
+    address = f"tcp://127.0.0.1:{_closed_port()}"
+    start = time.monotonic()
+    assert cli(["map", *GRIDS, "--no-progress", "--out", str(tmp_path), "--scheduler", address]) == 2
+    assert time.monotonic() - start < 4.0
+    err = one_line_error(capsys, "map")
+    assert f"scheduler {address}: no Dask scheduler answered within 1 s" in err
+    monkeypatch.setitem(sys.modules, "distributed", None)  # as if the dask extra were not installed
+    for option in (["--dask-workers", "2"], ["--scheduler", address]):
+        assert cli(["map", *GRIDS, "--out", str(tmp_path), *option]) == 2
+        assert 'Dask, which is not installed (no module distributed): pip install "rocking[dask]"' in one_line_error(
+            capsys, "map"
+        )
+
+
+# --- 6. unwritable output -------------------------------------------------------------------------
+
+
+def test_unwritable_output_gives_one_line_errors_naming_it(reference, tmp_path, capsys):
+    blocker = tmp_path / "a-file"
+    blocker.write_text("in the way")
+    for out, why in ((blocker, "it is a file, not a folder"), (blocker / "sub", f"{blocker} is a file, not a folder")):
+        for command in ("map", "spectrum", "optimize"):
+            assert cli([command, "--Omega", "1", "6", "2", "--out", str(out)]) == 2
+            assert one_line_error(capsys, command) == (
+                f"rocking {command}: error: --out {out}: cannot write there ({why})\n"
+            )
+        with pytest.raises(ParameterError, match=f"output folder {out}: cannot write there"):
+            save(reference[0], out)
+        with pytest.raises(ParameterError, match=f"tiles folder {out}/runs/map-bare-.*: cannot write there"):
+            overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=out / "runs")
+    assert blocker.read_text() == "in the way"
+
+
+# --- the configuration ----------------------------------------------------------------------------
+
+BLOCK = Block.reference()
+NAN, INF = float("nan"), float("inf")
+
+BAD_CONFIGURATIONS = [
+    (lambda: Grid("Omega", 1.0, 2.0, MAX_N + 1), f"Omega: the number of values N must be an integer in [1, {MAX_N}]"),
+    (lambda: Grid("Omega", 1.0, 2.0, 3.0), "Omega: the number of values N must be an intege"),
+    (lambda: Grid("Omega", 1.0, 2.0, True), "Omega: the number of values N must be an intege"),
+    (lambda: Grid("Omega", NAN, 2.0, 3), "Omega: low end must be a finite numbe"),
+    (lambda: Grid("beta", 1.0, INF, 3), "beta: high end must be a finite numbe"),
+    (lambda: Grid("beta", "1", 2.0, 3), "beta: low end must be a finite numbe"),
+    (lambda: Grid("beta", True, 2.0, 3), "beta: low end must be a finite numbe"),
+    (lambda: Grid("beta", 1.0, 2.0, 3, log="yes"), "beta: log must be True or False"),
+    (lambda: Grid(7, 1.0, 2.0, 3), "a grid's name must be a string"),
+    (lambda: Setting("reference"), "block must be a rocking.Block"),
+    (lambda: Setting(BLOCK, rtol=NAN), "rtol must be a number in [1e-12, 0.01]"),
+    (lambda: Setting(BLOCK, rtol=True), "rtol must be a number in [1e-12, 0.01]"),
+    (lambda: Setting(BLOCK, t_after=INF), "t_after must be a finite number of seconds > 0"),
+    (lambda: Setting(BLOCK, t_after=True), "t_after must be a finite number of seconds > 0"),
+    (lambda: Setting(BLOCK, backend=None), "backend must be one of c, numpy"),
+    (lambda: Tuning(gamma=NAN), "gamma must be a finite number > 0"),
+    (lambda: Tuning(gamma=True), "gamma must be a finite number > 0"),
+    (lambda: Tuning(zeta=-0.1), "zeta must be a finite number >= 0"),
+    (lambda: Tuning(h=INF), "h must be a finite number >= 0"),
+    (lambda: Tuning(omega_ratio="1"), "omega_ratio must be a finite number > 0"),
+    (lambda: Variant("no-such-model"), "no-such-model"),
+    (lambda: Variant("pendulum", [1.0]), "params must be a dict"),
+    (
+        lambda: Variant("pendulum", {"m": NAN, "l": 0.3, "x_p": 0, "y_p": 0, "k_phi": 0, "c_phi": 1}),
+        "m must be a finite numbe",
+    ),
+    (lambda: Execution(workers=0), "workers must be an integer in [1, 1024]"),
+    (lambda: Execution(workers=10**6), "workers must be an integer in [1, 1024]"),
+    (lambda: Execution(workers=2.0), "workers must be an integer in [1, 1024]"),
+    (lambda: Execution(dask_workers=True), "dask_workers must be an integer in [1, 1024]"),
+    (lambda: Execution(scheduler=" "), "scheduler must be an address"),
+    (lambda: Execution(progress="no"), "progress must be True or False"),
+    (
+        lambda: overturning_map(SETTING, Tuning(), Grid("Omega", 1, 2, 5000), Grid("beta", 1, 2, 5000), SERIAL),
+        f"Omega (5000) x beta (5000): 25000000 cells, at most {MAX_CELLS}",
+    ),
+    (lambda: overturning_map("setting", Tuning(), OMEGA, BETA, SERIAL), "setting must be a rocking.Setting"),
+    (lambda: overturning_map(SETTING, Tuning(), (1, 6, 4), BETA, SERIAL), "Omega must be a rocking.Grid"),
+    (lambda: overturning_map(SETTING, Tuning(), OMEGA, BETA, 2), "execution must be a rocking.Execution"),
+    (lambda: overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, tile=(2.5, 3)), "tile must be two integers"),
+    (lambda: overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=3), "runs must be a folde"),
+    (lambda: minimum_overturning_spectrum(SETTING, Tuning(), OMEGA, 5, SERIAL), "beta must be a rocking.Grid"),
+    (lambda: minimum_overturning_spectrum(SETTING, Tuning(), OMEGA, BETA, SERIAL, tol=NAN), "beta_tol must be"),
+    (lambda: optimal_damper(SETTING, [True], OMEGA, BETA, SERIAL), "gamma must be a mass ratio in (0, 1]"),
+    (lambda: optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, refine=True), "refine must be an intege"),
+    (lambda: optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, zeta=NAN), "zeta must be a finite number >= 0"),
+    (lambda: optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, h=INF), "h must be a finite number >= 0"),
+]
+
+
+@pytest.mark.parametrize("make, message", BAD_CONFIGURATIONS)
+def test_bad_configurations_are_refused_up_front(make, message, tmp_path, monkeypatch):
+    monkeypatch.chdir(tmp_path)  # nothing may be written (out/runs) before the refusal: it would be here
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        make()
+    assert not list(tmp_path.iterdir())
