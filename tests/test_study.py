@@ -17,10 +17,11 @@ import rocking
 from rocking import Block, load_model
 from rocking.cli.study import add_study_commands
 from rocking.model.params import ParameterError
+from rocking.sim.problem import STATUS
 from rocking.study import config as study_config
 from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
 from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
-from rocking.study.overturning_map import SAFE, overturning_map
+from rocking.study.overturning_map import SAFE, UndeterminedWarning, overturning_map
 from rocking.study.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
 from rocking.study.storage import load
 from rocking.study.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
@@ -157,6 +158,24 @@ def test_threshold_frequency():
     assert (skip["low"], skip["high"], skip["defined_up_to"]) == (4.0, 6.0, 6.0)
     tail = threshold_frequency(Omega, [1.2, 1.2, 1.2, 1.2, np.nan, np.nan])
     assert (tail["status"], tail["low"], tail["defined_up_to"]) == ("above_range", 4.0, 4.0)
+
+
+def test_responses_without_a_verdict_are_counted_and_change_no_effect(tmp_path):
+    """A damper 1e4 times stiffer than the block, undamped, passes max_steps (docs/simulation.md, rule 5): the
+    studies count those responses, warn, and a map leaves the damper's effect there at 0."""
+    stiff = Tuning(0.05, omega_ratio=1e4, zeta=0.0)
+    with pytest.warns(UndeterminedWarning, match="map: 4 response"):
+        study = overturning_map(
+            SETTING, stiff, Grid("Omega", 1.0, 4.0, 2), Grid("beta", 1.2, 3.0, 2), SERIAL, runs=tmp_path / "map"
+        )
+    assert (study.arrays["damper_status"] == STATUS.index("max_steps")).all()
+    assert study.arrays["bare_overturned"].any() and not study.arrays["effect"].any()
+    assert (study.summary["bare_undetermined"], study.summary["damper_undetermined"]) == (0, 4)
+    with pytest.warns(UndeterminedWarning, match="spectrum"):
+        spectrum = minimum_overturning_spectrum(
+            SETTING, stiff, Grid("Omega", 1.0, 4.0, 2), BETA, SERIAL, runs=tmp_path / "spectrum"
+        )
+    assert spectrum.arrays["damper_undetermined"].min() >= BETA.n and spectrum.summary["bare"]["undetermined"] == 0
 
 
 # --- tiles: resuming and configurations -----------------------------------------------------
@@ -375,10 +394,10 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
         (["map", "--rtol", "0"], "rtol must be in [1e-12, 0.01]"),
         (["map", "--rtol=-1e-8"], "rtol must be in [1e-12, 0.01]"),
         (["spectrum", "--beta-tol", "0"], "beta_tol must be a relative tolerance in (0, 0.1]"),
-        (["optimize", "--gammas", "0.05", "-1"], "gamma must be a mass ratio in (0, 1]"),
+        (["optimize", "--gammas", "0.05", "-1"], "gamma must be in [1e-10, 10] (got -1.0)"),
         (["optimize", "--Tm-ratio", "10", "0.1", "5"], "Tm-ratio: the range MIN MAX must have MIN < MAX"),
         (["optimize", "--refine", "-1"], "refine must be an integer in [0, 1000]"),
-        (["map", "--gamma", "0"], "gamma must be a finite number > 0"),
+        (["map", "--gamma", "0"], "gamma must be in [1e-10, 10] (got 0.0)"),
         (["map", "--Tm-ratio", "-2"], "--Tm-ratio must be > 0"),
         (["map", "--H", "2", "--B", "0.5", "--M", "1000", "--e", "0.3"], "e must be in (-B/2, B/2)"),
         (["map", "--e", "0.1"], "a block by its dimensions needs --H, --B, --M too (got --e)"),
@@ -386,7 +405,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
         (["map", "--lam", "4"], "needs --p"),
         (["map", "--workers", "0"], "workers must be an integer in [1, 1024]"),
         (["map", "--backend", "fortran"], "backend must be one of c, numpy"),
-        (["map", "--t-after", "0"], "t_after must be a finite number of seconds > 0"),
+        (["map", "--t-after", "0"], "t_after must be in (0, 10000] s"),
         (["map", "--tile", "0", "4"], "tile sizes must be >= 1"),
         (["redraw", "/nonexistent/study"], "no saved study"),
     ],

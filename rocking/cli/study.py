@@ -29,7 +29,7 @@ from ..model.params import ParameterError
 from ..plot.figures import draw, redraw
 from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
 from ..study.optimize import TM_GRID, optimal_damper
-from ..study.overturning_map import overturning_map
+from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import make_folder, save
 from ..study.tiles import Execution, Interrupted, TileWarning
@@ -261,6 +261,7 @@ def _cmd_map(args) -> int:
     print(
         f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
         f"saved {s['saved']}, lost {s['lost']}"
+        + (f"; {unknown} without a verdict" if (unknown := s["bare_undetermined"] + s["damper_undetermined"]) else "")
     )
     return 0
 
@@ -359,13 +360,17 @@ def _cmd_redraw(args) -> int:
     return 0
 
 
+#: Warnings of a study that the command line shows as one line each, like its errors.
+STUDY_WARNINGS = (TileWarning, UndeterminedWarning)
+
+
 @contextmanager
 def _warnings_in_one_line(command: str) -> Iterator[None]:
-    """Show :class:`TileWarning` s as ``rocking COMMAND: warning: ...``, one line each, like the errors."""
+    """Show the studies' warnings (:data:`STUDY_WARNINGS`) as ``rocking COMMAND: warning: ...``, one line each."""
     default = warnings.showwarning
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
-        if issubclass(category, TileWarning):
+        if issubclass(category, STUDY_WARNINGS):
             print(f"rocking {command}: warning: {message}", file=sys.stderr)
         else:
             default(message, category, filename, lineno, file, line)

@@ -266,7 +266,9 @@ RANGES: dict[str, Range] = {
 }
 
 
-def check_in_range(name: str, value: object, key: str | None = None, *, label: str | None = None) -> float:
+def check_in_range(
+    name: str, value: object, key: str | None = None, *, label: str | None = None, nonzero: bool = False
+) -> float:
     """Return ``value`` as a float if it is a real number within ``RANGES[key or name]``.
 
     Parameters
@@ -279,6 +281,8 @@ def check_in_range(name: str, value: object, key: str | None = None, *, label: s
         Entry of :data:`RANGES`, default ``name``.
     label : str, optional
         Symbolic form of the bounds for the message (``"(0, 4 M R^2]"``).
+    nonzero : bool, optional
+        Refuse 0 even where the range admits it (the studies' damper is never the bare block).
 
     Returns
     -------
@@ -290,7 +294,8 @@ def check_in_range(name: str, value: object, key: str | None = None, *, label: s
         ``"{name} must be in {range} (got {value}): {why}"`` (``0 or in`` where 0 is valid).
     """
     x = check_real(name, value)
-    return _in_range(name, x, RANGES[key or name], label)
+    valid = RANGES[key or name]
+    return _in_range(name, x, replace(valid, zero=False) if nonzero else valid, label)
 
 
 def _in_range(name: str, x: float, valid: Range, label: str | None = None, scale: float = 1.0, unit=None) -> float:

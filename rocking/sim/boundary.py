@@ -173,6 +173,8 @@ CONSTANTS = (
 )
 
 STATUS = tuple(code.name for code in STATUSES)
+#: Statuses of a run cut short by a bound on its work: whether the block would overturn is not known.
+UNDETERMINED = ("max_events", "max_steps")
 CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
 SAFE_MARGIN, FIRST_STEP_FRACTION = (constant.value for constant in CONSTANTS)
 

@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
-from ..model.params import Block, ParameterError
+from ..model.params import Block, ParameterError, check_in_range
 from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
@@ -149,7 +149,7 @@ class Setting:
     rtol : float, optional
         Relative tolerance of the integrator, in [1e-12, 0.01].
     t_after : float, optional
-        Time followed after the pulse ends, s (> 0).
+        Time followed after the pulse ends, s, in (0, 1e4].
     backend : {"c", "numpy"}, optional
         Back end of :func:`rocking.sim.cases.run_cases`.
     """
@@ -165,8 +165,7 @@ class Setting:
         if not is_number(self.rtol):
             raise ParameterError(f"rtol must be a number in [1e-12, 0.01] (got {self.rtol!r})")
         boundary.check("rtol", self.rtol)
-        if not (is_number(self.t_after) and self.t_after > 0):
-            raise ParameterError(f"t_after must be a finite number of seconds > 0 (got {self.t_after!r})")
+        check_in_range("t_after", self.t_after)
         if not isinstance(self.backend, str) or self.backend not in BACKENDS:
             raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
         # Plain floats: the configuration's JSON, hence its hash, is the same for 15, 15.0 and np.float32(15).
@@ -185,13 +184,13 @@ class Tuning:
     Parameters
     ----------
     gamma : float, optional
-        Mass ratio ``m / M``, > 0 (default 0.05, the damper of docs/model.md section 9).
+        Mass ratio ``m / M``, in [1e-10, 10] (default 0.05, the damper of docs/model.md section 9).
     omega_ratio : float, optional
-        ``omega_m / p`` (> 0); ``T_m p / (2 pi) = 1 / omega_ratio``. Default 1.
+        ``omega_m / p``, in [1e-3, 1e4]; ``T_m p / (2 pi) = 1 / omega_ratio``. Default 1.
     zeta : float, optional
-        Damping ratio, >= 0. Default 0.05.
+        Damping ratio, in [0, 10]. Default 0.05.
     h : float, optional
-        Height of the guide above the top of the block, m (>= 0). Default 0.05 m,
+        Height of the guide above the top of the block, m, in [0, 1e3]. Default 0.05 m,
         the reference damper of docs/model.md section 9 (``Damper``'s own default is 0).
     """
 
@@ -201,18 +200,10 @@ class Tuning:
     h: float = 0.05
 
     def __post_init__(self) -> None:
-        for name, low, strict in (
-            ("gamma", 0.0, True),
-            ("omega_ratio", 0.0, True),
-            ("zeta", 0.0, False),
-            ("h", 0.0, False),
-        ):
-            value = getattr(self, name)
-            if not (is_number(value) and (value > low if strict else value >= low)):
-                raise ParameterError(
-                    f"{name} must be a finite number {'>' if strict else '>='} {low:g} (got {value!r})"
-                )
-            object.__setattr__(self, name, float(value))  # JSON-ready, and one hash for 1 and 1.0
+        # The ranges of Damper.from_nondim; JSON-ready floats, and one hash for 1 and 1.0.
+        object.__setattr__(self, "gamma", check_in_range("gamma", self.gamma, nonzero=True))
+        for name in ("omega_ratio", "zeta", "h"):
+            object.__setattr__(self, name, check_in_range(name, getattr(self, name)))
 
     @property
     def Tm_ratio(self) -> float:

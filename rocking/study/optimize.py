@@ -51,9 +51,9 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.params import ParameterError
-from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
-from .overturning_map import check_study, preflight
+from ..model.params import ParameterError, check_in_range
+from .config import Grid, Setting, Study, Tuning, Variant, is_count, part_config
+from .overturning_map import check_study, preflight, warn_undetermined
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
@@ -79,13 +79,15 @@ def refinement(r_coarse, k: int, refine: int) -> np.ndarray:
 
 
 def _gains(setting, Omega, r, damper, beta_scan, tol, reference):
-    """Gain and flag of the damped block for the periods ``r`` (nan where ``r`` or ``reference`` is nan)."""
+    """Gain and flag of the damped block for the periods ``r`` (nan where ``r`` or ``reference`` is nan), and
+    the number of responses that ended without a verdict."""
     ok = np.isfinite(r) & np.isfinite(reference)
     gain, flag = np.full(r.shape, np.nan), np.zeros(r.shape, np.int64)
-    if ok.any():
-        res = beta_min(setting, np.full(ok.sum(), Omega), beta_scan, {**damper, "omega_ratio": 1.0 / r[ok]}, tol=tol)
-        gain[ok], flag[ok] = res["beta_min"] / reference, res["flag"]
-    return gain, flag
+    if not ok.any():
+        return gain, flag, 0
+    res = beta_min(setting, np.full(ok.sum(), Omega), beta_scan, {**damper, "omega_ratio": 1.0 / r[ok]}, tol=tol)
+    gain[ok], flag[ok] = res["beta_min"] / reference, res["flag"]
+    return gain, flag, int(res["undetermined"].sum())
 
 
 def optimize_tile(payload: tuple) -> dict:
@@ -98,10 +100,10 @@ def optimize_tile(payload: tuple) -> dict:
     bare = beta_min(setting, [Omega], beta_scan, None, tol=tol)
     # Only a bracketed bare beta_min is a reference; a bound would give a meaningless ratio.
     reference = bare["beta_min"][0] if bare["flag"][0] == BRACKETED else np.nan
-    gain_coarse, flag_coarse = _gains(setting, Omega, r_coarse, damper, beta_scan, tol, reference)
+    gain_coarse, flag_coarse, unknown_coarse = _gains(setting, Omega, r_coarse, damper, beta_scan, tol, reference)
     k = int(np.argmax(np.nan_to_num(gain_coarse, nan=-np.inf)))
     r_fine = refinement(r_coarse, k, refine) if np.isfinite(reference) else np.full(2 * refine, np.nan)
-    gain_fine, flag_fine = _gains(setting, Omega, r_fine, damper, beta_scan, tol, reference)
+    gain_fine, flag_fine, unknown_fine = _gains(setting, Omega, r_fine, damper, beta_scan, tol, reference)
     r_all = np.concatenate([r_coarse, r_fine])
     gain_all = np.concatenate([gain_coarse, gain_fine])
     flag_all = np.concatenate([flag_coarse, flag_fine])
@@ -118,12 +120,13 @@ def optimize_tile(payload: tuple) -> dict:
         "r_opt": np.array([r_all[best] if found else np.nan]),
         "gain_opt": np.array([gain_all[best]]),
         "flag_opt": np.array([flag_all[best]]),
+        "undetermined": np.array([bare["undetermined"][0] + unknown_coarse + unknown_fine]),
     }
 
 
 def tile_arrays(n_coarse: int, refine: int) -> dict:
     """Name -> shape of the arrays of :func:`optimize_tile` (``n_coarse`` coarse periods)."""
-    shapes = dict.fromkeys(("bare_beta_min", "bare_flag", "r_opt", "gain_opt", "flag_opt"), (1,))
+    shapes = dict.fromkeys(("bare_beta_min", "bare_flag", "r_opt", "gain_opt", "flag_opt", "undetermined"), (1,))
     shapes.update(dict.fromkeys(("gain_coarse", "flag_coarse"), (n_coarse,)))
     shapes.update(dict.fromkeys(("r_fine", "gain_fine"), (2 * refine,)))
     return shapes
@@ -181,14 +184,11 @@ def _iterable(values) -> tuple:
 
 
 def check_gammas(gammas) -> tuple[float, ...]:
-    """Mass ratios, validated: a non-empty list of numbers in (0, 1]."""
+    """Mass ratios, validated: a non-empty list of numbers in the range of :class:`Tuning`'s ``gamma``."""
     gammas = _iterable(gammas)
     if not gammas:
-        raise ParameterError("gammas must list at least one mass ratio in (0, 1]")
-    for g in gammas:
-        if not (is_number(g) and 0 < g <= 1):
-            raise ParameterError(f"gamma must be a mass ratio in (0, 1] (got {g!r})")
-    return tuple(float(g) for g in gammas)
+        raise ParameterError("gammas must list at least one mass ratio m/M")
+    return tuple(check_in_range("gamma", g, nonzero=True) for g in gammas)
 
 
 def optimal_damper(
@@ -238,7 +238,8 @@ def optimal_damper(
     Study
         Arrays ``Omega``, ``gamma``, ``r_coarse``, ``bare_beta_min``, and per
         ``(gamma, Omega)``: ``r_opt``, ``Tm_over_Tg_opt`` (``T_m / T_g``,
-        ``T_g = 2 pi / omega_g``), ``gain_opt``, ``flag_opt``; per
+        ``T_g = 2 pi / omega_g``), ``gain_opt``, ``flag_opt``, ``undetermined`` (responses
+        without a verdict, counted as not overturned); per
         ``(gamma, Omega, r)``: ``gain_coarse``, ``r_fine``, ``gain_fine``;
         the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
         ``Omega_star`` (per gamma, then over all, ``nan`` if not bracketed).
@@ -285,10 +286,7 @@ def optimal_damper(
     refine = int(refine)
     if not Tm.log:
         raise ParameterError("the coarse T_m grid must be logarithmic (Grid(..., log=True))")
-    for name, value in (("zeta", zeta), ("h", h)):
-        if not (is_number(value) and value >= 0):
-            raise ParameterError(f"{name} must be a finite number >= 0 (got {value!r})")
-    zeta, h = float(zeta), float(h)
+    zeta, h = check_in_range("zeta", zeta), check_in_range("h", h)
     Om, b, r = Omega.values(), beta.values(), Tm.values()
     nG, nO, nr = len(gammas), Om.size, r.size
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
@@ -305,6 +303,7 @@ def optimal_damper(
         "r_opt": np.full((nG, nO), np.nan),
         "gain_opt": np.full((nG, nO), np.nan),
         "flag_opt": np.zeros((nG, nO), np.int64),
+        "undetermined": np.zeros((nG, nO), np.int64),
     }
     groups, where, folders = [], {}, {}
     for g, gamma in enumerate(gammas):
@@ -324,11 +323,12 @@ def optimal_damper(
         arrays["bare_beta_min"][i], arrays["bare_flag"][i] = res["bare_beta_min"][0], res["bare_flag"][0]
         for k in ("gain_coarse", "flag_coarse", "r_fine", "gain_fine"):
             arrays[k][g, i] = res[k]
-        for k in ("r_opt", "gain_opt", "flag_opt"):
+        for k in ("r_opt", "gain_opt", "flag_opt", "undetermined"):
             arrays[k][g, i] = res[k][0]
 
     preflight(setting)
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="optimize", on_tile=on_tile)
+    warn_undetermined("optimize", int(arrays["undetermined"].sum()))
     arrays["Tm_over_Tg_opt"] = arrays["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
     best = np.argmax(np.nan_to_num(arrays["gain_opt"], nan=-np.inf), axis=0)
     cols = np.arange(nO)
@@ -345,7 +345,11 @@ def optimal_damper(
         config,
         arrays,
         tables={"optimize": optimize_table(arrays)},
-        summary={"useless_gain": USELESS_GAIN, "Omega_star": thresholds},
+        summary={
+            "useless_gain": USELESS_GAIN,
+            "Omega_star": thresholds,
+            "undetermined": int(arrays["undetermined"].sum()),
+        },
         run={**stats.record(), "run_folders": folders},
     )
 

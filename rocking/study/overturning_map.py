@@ -16,12 +16,14 @@ The grid is cut into rectangular tiles; each tile is one call of
 
 from __future__ import annotations
 
+import warnings
 from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
 from ..model.params import ParameterError
+from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
 from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
@@ -100,9 +102,32 @@ def outcome(overturned, impacts) -> np.ndarray:
     return np.where(overturned, impacts, SAFE)
 
 
-def effect(bare_overturned, damper_overturned) -> np.ndarray:
-    """+1 where the damper saves the block, -1 where it makes it overturn, 0 elsewhere."""
-    return np.asarray(bare_overturned, int) - np.asarray(damper_overturned, int)
+def undetermined(status) -> np.ndarray:
+    """Where a run was cut short by a bound on its work (``max_events``, ``max_steps``): no verdict."""
+    return np.isin(status, [STATUS.index(name) for name in UNDETERMINED])
+
+
+def effect(bare_overturned, damper_overturned, unknown=False) -> np.ndarray:
+    """+1 where the damper saves the block, -1 where it makes it overturn, 0 elsewhere and where ``unknown``."""
+    change = np.asarray(bare_overturned, int) - np.asarray(damper_overturned, int)
+    return np.where(unknown, 0, change)
+
+
+def warn_undetermined(study: str, count: int) -> None:
+    """Warn that ``count`` responses of ``study`` ended without a verdict (:data:`UNDETERMINED`)."""
+    if count:
+        warnings.warn(
+            f"{study}: {count} response(s) ended at a bound on their work (status {' or '.join(UNDETERMINED)}) "
+            "before overturning or coming to rest; they count as not overturned (a map leaves the damper's "
+            "effect there at 0). A damper far stiffer than the block (omega_ratio >> 10) with little damping "
+            "needs many steps: docs/simulation.md, rule 5",
+            UndeterminedWarning,
+            stacklevel=3,
+        )
+
+
+class UndeterminedWarning(UserWarning):
+    """Some responses of a study ended without a verdict (status ``max_events`` or ``max_steps``)."""
 
 
 def map_tile(payload: tuple) -> dict:
@@ -248,7 +273,9 @@ def overturning_map(
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="map", on_tile=on_tile)
-    arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"])
+    bare_unknown, damper_unknown = undetermined(arrays["bare_status"]), undetermined(arrays["damper_status"])
+    arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"], bare_unknown | damper_unknown)
+    warn_undetermined("map", int(bare_unknown.sum() + damper_unknown.sum()))
     config = {"kind": "map", **setting.record(), "damper": record, **grids}
     return Study(
         "map",
@@ -274,11 +301,12 @@ def map_table(arrays: dict) -> dict:
 
 
 def map_summary(arrays: dict) -> dict:
-    """Cell counts: overturned per part, saved and lost by the damper, runs that hit ``t_max``."""
+    """Cell counts: overturned per part, saved and lost by the damper, runs that hit ``t_max`` or a bound."""
     out = {"cells": int(arrays["effect"].size)}
     for part in ("bare", "damper"):
         out[f"{part}_overturned"] = int(arrays[f"{part}_overturned"].sum())
         out[f"{part}_t_max"] = int((arrays[f"{part}_status"] == STATUS.index("t_max")).sum())
+        out[f"{part}_undetermined"] = int(undetermined(arrays[f"{part}_status"]).sum())
     out["saved"] = int((arrays["effect"] > 0).sum())
     out["lost"] = int((arrays["effect"] < 0).sum())
     return out

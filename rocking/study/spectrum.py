@@ -31,7 +31,17 @@ import numpy as np
 
 from ..model.params import ParameterError
 from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
-from .overturning_map import FIXED, SAFE, check_damper, check_study, outcome, preflight, respond
+from .overturning_map import (
+    FIXED,
+    SAFE,
+    check_damper,
+    check_study,
+    outcome,
+    preflight,
+    respond,
+    undetermined,
+    warn_undetermined,
+)
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 BELOW, BRACKETED, ABOVE = -1, 0, 1
@@ -44,6 +54,8 @@ TOL = 1e-3
 #: Python around it, which holds the GIL, would stop local worker threads
 #: from running in parallel.
 COLUMNS = 8
+#: What :func:`beta_min` gives per column (each of shape (n,)), besides ``scan_outcome``.
+COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
 
 
 def check_tol(tol) -> float:
@@ -87,8 +99,11 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     dict of ndarray
         ``beta_min`` (n,), ``beta_safe`` (n,: lower end of the final bracket,
         ``nan`` unless bracketed), ``flag`` (n,), ``impacts`` (n,: impacts
-        before overturning at ``beta_min``, -1 if none), ``scan_outcome``
-        (n, m: :func:`rocking.study.overturning_map.outcome` along the scan).
+        before overturning at ``beta_min``, -1 if none), ``undetermined``
+        (n,: responses of the scan and the bisection that ended without a
+        verdict, :func:`rocking.study.overturning_map.undetermined`; they
+        count as not overturned), ``scan_outcome`` (n, m:
+        :func:`rocking.study.overturning_map.outcome` along the scan).
     """
     Omega = np.atleast_1d(np.asarray(Omega, float))
     beta_scan = np.asarray(beta_scan, float)
@@ -102,6 +117,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     hi = np.where(flag == ABOVE, beta_scan[-1], beta_scan[first])
     lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
     impacts = np.where(flag == ABOVE, -1, scan["impacts"][rows, first])
+    unknown = undetermined(scan["status"]).sum(axis=1)
     while True:
         active = np.flatnonzero((flag == BRACKETED) & (hi - lo > tol * hi))
         if active.size == 0:
@@ -112,11 +128,13 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         up = r["overturned"]
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
         lo[active[~up]] = mid[~up]
+        unknown[active] += undetermined(r["status"])
     return {
         "beta_min": hi,
         "beta_safe": lo,
         "flag": flag,
         "impacts": impacts,
+        "undetermined": unknown,
         "scan_outcome": outcome(over, scan["impacts"]),
     }
 
@@ -228,6 +246,7 @@ def minimum_overturning_spectrum(
         arrays[f"{part}_beta_safe"] = np.full(Om.size, np.nan)
         arrays[f"{part}_flag"] = np.zeros(Om.size, np.int64)
         arrays[f"{part}_impacts"] = np.zeros(Om.size, np.int64)
+        arrays[f"{part}_undetermined"] = np.zeros(Om.size, np.int64)
         arrays[f"{part}_scan_outcome"] = np.zeros((Om.size, b.size), np.int64)
         folder = run_folder(runs, part_config("spectrum", part, setting, damper=described, **grids))
         folders[part] = folder.name
@@ -236,20 +255,21 @@ def minimum_overturning_spectrum(
         for i in range(0, Om.size, columns):
             cols = slice(i, min(i + columns, Om.size))
             payload, n = (setting, damper, Om[cols], b, tol), cols.stop - cols.start
-            expect = {**dict.fromkeys(("beta_min", "beta_safe", "flag", "impacts"), (n,)), "scan_outcome": (n, b.size)}
+            expect = {**dict.fromkeys(COLUMN_FIELDS, (n,)), "scan_outcome": (n, b.size)}
             task = Task(folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, payload, expect)
             part_tasks.append(task)
             where[task.path] = (part, cols)
 
     def place(task: Task, tile: dict) -> None:
         part, cols = where[task.path]
-        for k in ("beta_min", "beta_safe", "flag", "impacts", "scan_outcome"):
+        for k in (*COLUMN_FIELDS, "scan_outcome"):
             arrays[f"{part}_{k}"][cols] = tile[k]
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)
     for part in ("bare", "damper"):
         arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
+    warn_undetermined("spectrum", int(arrays["bare_undetermined"].sum() + arrays["damper_undetermined"].sum()))
     config = {"kind": "spectrum", **setting.record(), "damper": record, **grids}
     return Study(
         "spectrum",
@@ -275,7 +295,7 @@ def spectrum_tables(arrays: dict) -> dict:
     main = {"Omega": arrays["Omega"]}
     windows_table = {"part": [], "Omega": [], "beta_first_safe": [], "beta_last_safe": []}
     for part in ("bare", "damper"):
-        for k in ("beta_min", "beta_safe", "flag", "impacts"):
+        for k in COLUMN_FIELDS:
             main[f"{part}_{k}"] = arrays[f"{part}_{k}"]
         w = arrays[f"{part}_windows"]
         main[f"{part}_windows"] = np.array([np.sum(w[:, 0] == Om) for Om in arrays["Omega"]])
@@ -296,5 +316,6 @@ def spectrum_summary(arrays: dict) -> dict:
             "overturned_at_first_scan_point": int((flag == BELOW).sum()),
             "not_overturned_in_scan": int((flag == ABOVE).sum()),
             "windows": int(len(arrays[f"{part}_windows"])),
+            "undetermined": int(arrays[f"{part}_undetermined"].sum()),
         }
     return out
