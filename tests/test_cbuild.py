@@ -322,17 +322,10 @@ def test_concurrent_processes_compile_once(cache, start):
 
 
 def unwritable(tmp_path: Path, how: str) -> Path:
-    """A cache folder that cannot be created or written, even by root (except "read-only")."""
+    """A cache folder that cannot be created or written, even by root: a file, or a path under one."""
     file = tmp_path / "a-file"
     file.write_text("not a folder\n")
-    if how == "under a file":
-        return file / "cache"
-    if how == "a file":
-        return file
-    folder = tmp_path / "read-only"
-    folder.mkdir()
-    folder.chmod(0o555)
-    return folder
+    return file / "cache" if how == "under a file" else file
 
 
 def permissions_ignored() -> bool:
@@ -353,10 +346,35 @@ def permissions_ignored() -> bool:
         shutil.rmtree(folder)
 
 
-#: Tests of a read-only folder cannot fail where permissions are not enforced.
-READ_ONLY = pytest.mark.skipif(permissions_ignored(), reason="permissions are not enforced for this user (root)")
+#: Capabilities that let root write into a read-only folder.
+_OVERRIDES = "-dac_override,-dac_read_search"
 
-UNWRITABLE = ["under a file", "a file", pytest.param("read-only", marks=READ_ONLY)]
+
+def respecting_permissions(code: str, env: dict | None = None) -> subprocess.CompletedProcess:
+    """Run ``code`` in a Python child that respects file permissions, and return it.
+
+    For root (``permissions_ignored()``) the child runs without the capabilities that
+    override them (util-linux ``setpriv``), so that a read-only folder is read-only to
+    it as it is to any user.
+    """
+    prefix = []
+    if permissions_ignored():
+        setpriv = shutil.which("setpriv")
+        assert setpriv, "root ignores permissions here, and util-linux setpriv is missing to drop that"
+        prefix = [setpriv, "--bounding-set", _OVERRIDES, "--inh-caps", _OVERRIDES]
+    child = textwrap.dedent(code)
+    run_env = {**os.environ, **(env or {})}
+    return subprocess.run([*prefix, sys.executable, "-c", child], capture_output=True, text=True, env=run_env)
+
+
+def read_only(tmp_path: Path) -> Path:
+    folder = tmp_path / "read-only"
+    folder.mkdir()
+    folder.chmod(0o555)
+    return folder
+
+
+UNWRITABLE = ["under a file", "a file"]
 
 
 @pytest.mark.parametrize("how", UNWRITABLE)
@@ -369,6 +387,24 @@ def test_an_unwritable_cache_is_a_one_line_cbuilderror(tmp_path, how):
     assert not list(tmp_path.rglob("*.tmp"))
 
 
+def test_a_read_only_cache_is_a_one_line_cbuilderror(tmp_path):
+    folder = read_only(tmp_path)
+    child = respecting_permissions(
+        f"""
+        from rocking import load_model
+        from rocking.sim import cbuild
+        try:
+            cbuild.build(load_model({MODEL!r}), cache={str(folder)!r})
+        except cbuild.CBuildError as exc:
+            print(exc)
+        """
+    )
+    message = child.stdout
+    assert child.returncode == 0 and message.count("\n") == 1, (child.stdout, child.stderr)
+    assert str(folder) in message and "set ROCKING_CACHE_DIR" in message, message
+    assert not list(folder.iterdir())
+
+
 @pytest.mark.parametrize("how", UNWRITABLE)
 def test_auto_falls_back_to_numpy_when_the_cache_is_unwritable(tmp_path, monkeypatch, unloaded, how):
     monkeypatch.setenv("ROCKING_CACHE_DIR", str(unwritable(tmp_path, how)))
@@ -379,14 +415,52 @@ def test_auto_falls_back_to_numpy_when_the_cache_is_unwritable(tmp_path, monkeyp
         rocking.simulate(BLOCK, None, PULSE, backend="c")
 
 
-@READ_ONLY
-def test_a_read_only_warm_cache_is_used(cache, monkeypatch):
+def test_auto_falls_back_to_numpy_when_the_cache_is_read_only(tmp_path):
+    child = respecting_permissions(
+        """
+        import warnings
+        import rocking
+        from rocking import BackendWarning, Block, OneSinePulse
+        from rocking.sim.cbuild import CBuildError
+        block = Block.reference()
+        pulse = OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
+        fields = lambda r: (r.overturned, r.theta_max, r.impacts, r.status, r.t_end)
+        with warnings.catch_warnings(record=True) as caught:
+            warnings.simplefilter("always")
+            auto = rocking.simulate(block, None, pulse, backend="auto")
+        assert [w.category for w in caught] == [BackendWarning], caught
+        assert "ROCKING_CACHE_DIR" in str(caught[0].message)
+        assert fields(auto) == fields(rocking.simulate(block, None, pulse, backend="numpy"))
+        try:
+            rocking.simulate(block, None, pulse, backend="c")
+        except CBuildError as exc:
+            assert "ROCKING_CACHE_DIR" in str(exc)
+        else:
+            raise AssertionError("backend='c' ran without a writable cache")
+        print("ok")
+        """,
+        env={"ROCKING_CACHE_DIR": str(read_only(tmp_path))},
+    )
+    assert child.returncode == 0 and child.stdout == "ok\n", child.stderr
+
+
+def test_a_read_only_warm_cache_is_used(cache):
+    library = library_of(cache)
     cache.chmod(0o555)
     try:
-        no_compiler_runs(monkeypatch)
-        assert cbuild.build(load_model(MODEL), cache=cache) == library_of(cache)
+        child = respecting_permissions(
+            f"""
+            from rocking import load_model
+            from rocking.sim import cbuild
+            def refuse(cmd):
+                raise AssertionError("the compiler was run")
+            cbuild._run = refuse
+            print(cbuild.build(load_model({MODEL!r}), cache={str(cache)!r}))
+            """
+        )
     finally:
         cache.chmod(0o755)
+    assert child.returncode == 0 and child.stdout == f"{library}\n", child.stderr
 
 
 # --------------------------------------------------------------------------- #

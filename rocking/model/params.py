@@ -230,7 +230,7 @@ RANGES: dict[str, Range] = {
     # Energies and the rest threshold M g B stay normal doubles.
     "M": Range(1e-6, 1e12, "kg", "from a 1 mg specimen to a 1 Gt structure"),
     # No mass inside the block's rectangle lies farther than 2 R from G: I_G <= M (2 R)^2.
-    "I_G": Range(0.0, 4.0, "kg m^2", "a radius of gyration beyond 2 R would put mass outside the block", True),
+    "I_G": Range(0.0, 4.0, "", "a radius of gyration above 2 R (I_G > 4 M R^2) puts mass outside the block", True),
     "g": Range(0.1, 1e4, "m/s^2", "from small planetary bodies to a geotechnical centrifuge at 1000 g"),
     # p = sqrt(3 g / (4 R)) of the blocks above spans [0.01, 3300] rad/s.
     "p": Range(1e-2, 1e4, "rad/s", "the frequency parameter of blocks of 1 mm to 1 km under 0.1 to 1e4 m/s^2"),
@@ -377,7 +377,7 @@ class Block:
         e = check_interval("e", self.e, -B / 2, B / 2, "m", label="(-B/2, B/2)")
         R2 = (B**2 + H**2) / 4
         I_G = M * (B**2 + H**2) / 12 if self.I_G is None else self.I_G
-        I_G = check_scaled("I_G", I_G, "I_G", M * R2, "(0, 4 M R^2]")
+        I_G = check_scaled("I_G", I_G, "I_G", M * R2, "(0, 4 M R^2]", "kg m^2")
         g = check_in_range("g", self.g)
         # Frozen dataclass: the normalised floats can only be stored this way.
         for field, value in (

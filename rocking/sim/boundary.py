@@ -26,7 +26,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.params import ParameterError
+from ..model.params import RANGES, ParameterError
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
 API_VERSION = 4
@@ -321,6 +321,14 @@ def markdown() -> str:
         "Phases: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in PHASES) + ".",
         "",
         "Constants: " + "; ".join(f"`{c.name}` = {c.value!r}: {c.doc}" for c in CONSTANTS) + ".",
+        "",
+        "Ranges of the public API (`rocking.model.params.RANGES`; `Block`, `Damper`, `OneSinePulse`,",
+        "their `from_nondim`, `make_problem`, `simulate` and the studies refuse anything outside, with",
+        "the reason):",
+        "",
+        "| parameter | valid | why |",
+        "| --- | --- | --- |",
+        *(f"| `{name}` | {valid.text()} | {valid.why} |" for name, valid in RANGES.items()),
         "",
         DOC_END,
     ]
