@@ -97,8 +97,17 @@ def main(argv=None) -> int:
     print(f"this tree / {args.rev}: {np.median(then_s / now_s):.2f}x (median of {args.runs} paired runs)")
     old, new = last[args.rev], last["this tree"]
     for k in ("overturned", "impacts", "uplifts", "status", "theta_max", "x_max", "t_critical", "t_end"):
-        same = np.array_equal(old[k], new[k], equal_nan=old[k].dtype.kind == "f")
-        print(f"{k:>12}: {'identical' if same else f'{np.sum(old[k] != new[k])} of {n} differ'}")
+        floats = old[k].dtype.kind == "f"
+        if np.array_equal(old[k], new[k], equal_nan=floats):
+            print(f"{k:>12}: identical")
+            continue
+        differ = old[k] != new[k]
+        text = f"{k:>12}: {np.sum(differ)} of {n} differ"
+        if floats:
+            with np.errstate(invalid="ignore", divide="ignore"):
+                rel = np.abs(new[k] - old[k]) / np.maximum(np.abs(old[k]), np.abs(new[k]))
+            text += f", by at most {np.nanmax(rel[differ]):.2g} (relative), median {np.nanmedian(rel[differ]):.2g}"
+        print(text)
     return 0
 
 
