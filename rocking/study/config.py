@@ -26,7 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
-from ..model.params import Block, ParameterError, check_in_range
+from ..model.params import Block, ParameterError, check_in_range, check_real
 from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
@@ -162,9 +162,7 @@ class Setting:
     def __post_init__(self) -> None:
         if not isinstance(self.block, Block):
             raise ParameterError(f"block must be a rocking.Block (got {type(self.block).__name__})")
-        if not is_number(self.rtol):
-            raise ParameterError(f"rtol must be a number in [1e-12, 0.01] (got {self.rtol!r})")
-        boundary.check("rtol", self.rtol)
+        boundary.check("rtol", check_real("rtol", self.rtol))
         check_in_range("t_after", self.t_after)
         if not isinstance(self.backend, str) or self.backend not in BACKENDS:
             raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
