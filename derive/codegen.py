@@ -82,6 +82,7 @@ def model_functions(eq: Equations) -> list[Function]:
     n = len(names)
     acc = tuple("dd" + q for q in names)
     M, f = sp.IndexedBase("M"), sp.IndexedBase("f")
+    delta, force = sp.IndexedBase("delta"), sp.IndexedBase("F_b")
     theta_cr = sp.Symbol("theta_cr", real=True)
     return [
         Function(
@@ -149,6 +150,20 @@ def model_functions(eq: Equations) -> list[Function]:
             "Static critical angle about the pivot s, the other coordinates held (sign of s).",
             eq.critical_angle,
             theta_cr,
+        ),
+        Function(
+            "stop_gaps",
+            "Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.",
+            tuple(eq.stop_gaps),
+            tuple(f"delta[{i}]" for i in range(len(eq.stop_gaps))),
+            tuple(delta[i] for i in range(len(eq.stop_gaps))),
+        ),
+        Function(
+            "stop_forces",
+            "Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).",
+            tuple(eq.stop_forces),
+            tuple(f"F_b[{i}]" for i in range(len(eq.stop_forces))),
+            tuple(force[i] for i in range(len(eq.stop_forces))),
         ),
         _scalar(
             "critical_tangent",
@@ -456,6 +471,15 @@ class _C99(C99CodePrinter):
             return "(" + "*".join([base] * int(expr.exp)) + ")"
         return super()._print_Pow(expr)
 
+    def _print_Piecewise(self, expr):
+        """Nested conditional expressions on one line (SymPy's own spread one over several)."""
+        if expr.args[-1].cond != True:  # noqa: E712 - SymPy's true, not Python's
+            raise ValueError("a Piecewise without a default branch cannot be printed as an expression")
+        text = self._print(expr.args[-1].expr)
+        for branch in reversed(expr.args[:-1]):
+            text = f"(({self._print(branch.cond)}) ? ({self._print(branch.expr)}) : ({text}))"
+        return text
+
 
 def _read(names, cse: Cse) -> list[tuple[int, str]]:
     """``(index, name)`` of those of ``names`` that ``cse`` reads: the array elements a C function loads."""
@@ -496,6 +520,7 @@ class CGenerator(Generator):
             "prepare": prepare,
             "functions": funcs,
             "n_constants": len(run.constants),
+            "n_stops": next(len(f.outputs) for f in m.functions if f.name == "stop_gaps"),
             "prefix": m.name,
             "PREFIX": m.name.upper(),
         }

@@ -57,6 +57,12 @@ class Equations:
         Least energy above rest, in full contact without ground motion, at
         which the attached bodies can lift the block about ``s``; ``oo`` when
         they cannot, 0 when no bound could be derived.
+    stop_gaps : list of Expr
+        Per side of every end stop, the penetration ``delta``: its bumper acts
+        while it is > 0 (docs/model.md section 11); a runtime stops at its zeros.
+    stop_forces : list of Expr
+        Per side of every end stop, the bumper's force on the travel,
+        ``k_b delta + c_b ddelta`` while ``delta > 0``, else 0 (positive: pushes back).
     """
 
     system: System
@@ -72,6 +78,8 @@ class Equations:
     critical_angle: sp.Expr
     critical_tangent: sp.Expr
     uplift_energy: sp.Expr
+    stop_gaps: list = ()
+    stop_forces: list = ()
 
 
 def resolve_options(spec: Spec, options: dict | None) -> dict:
@@ -233,33 +241,113 @@ def critical_tangent(a, b):
     return sp.Piecewise((b / a, a > 0), (sp.nan, True))
 
 
+def _least_uplift_energy(E, u, z):
+    """Least ``E`` on ``u >= 0`` for ``E`` quadratic and ``u`` affine in ``z``, or ``None`` if they are not.
+
+    With ``E = E* + w^T Q w / 2`` about its minimum ``z* = -Q^-1 b`` (``b`` the
+    gradient of ``E`` at ``z = 0``) and ``u = u* + a^T w``, the least ``E`` is
+    ``E* + max(0, -u*)^2 / (2 a^T Q^-1 a)``, written with ``adj(Q) / det(Q)``
+    so that it stays finite when ``Q`` is singular and ``b = 0``.
+    """
+    Q = sp.hessian(E, z)
+    a = sp.Matrix([sp.diff(u, v) for v in z])
+    at_zero = {v: 0 for v in z}
+    b = sp.Matrix([sp.diff(E, v) for v in z]).subs(at_zero)
+    e0 = E.subs(at_zero)
+    zv = sp.Matrix(z)
+    quadratic = not any(Q.has(v) for v in z) and _reduce(E - (zv.T * Q * zv)[0] / 2 - (b.T * zv)[0] - e0) == 0
+    if not (quadratic and not any(a.has(v) for v in z)):
+        return None
+    det = sp.factor(Q.det())
+    spread = _reduce((a.T * Q.adjugate() * a)[0])
+    u0 = u.subs(at_zero)
+    if b.is_zero_matrix and e0 == 0:
+        return sp.Max(0, -u0) ** 2 * det / (2 * spread)
+    adj_b = Q.adjugate() * b
+    least = _reduce(e0 - (b.T * adj_b)[0] / (2 * det))
+    u_least = _reduce(u0 - (a.T * adj_b)[0] / det)
+    return least + sp.Max(0, -u_least) ** 2 * det / (2 * spread)
+
+
+def _stop_regions(sysm: System) -> list[dict]:
+    """Every assignment of the stops' indicators with at most one side of each stop acting, all off first."""
+    regions = [{}]
+    for on, *_, stop in sysm.stops:
+        sides = [o for o, *_, j in sysm.stops if j == stop]
+        regions = [{**r, on: 0} for r in regions] + [{**r, on: 1} for r in regions if not any(r.get(o) for o in sides)]
+    return regions
+
+
 def uplift_energy(sysm: System, energy, uplift):
     """Least energy above rest at which the attached bodies can lift the block.
 
     In full contact after the pulse the energy can only fall (the power is
     ``-2 D``), so once it is below this bound the block can never uplift
-    again. With ``E = z^T Q z / 2`` quadratic and ``u = u_0 + a^T z`` affine in
-    the attached bodies' state ``z``, the least ``E`` on ``u = 0`` is
-    ``u_0^2 / (2 a^T Q^-1 a)``, written with ``adj(Q) / det(Q)`` so that it
-    stays finite when ``Q`` is singular. Other energies get no bound (0).
+    again. Within each region of the stops (no bumper acting, or one side of
+    some stops) ``E`` is quadratic and ``u`` affine in the attached bodies'
+    state ``z`` (:func:`_least_uplift_energy`); the least of the regions' bounds,
+    each taken over all ``z``, is a bound for the whole. Other energies get no
+    bound (0).
     """
     if len(sysm.q) == 1:
         return sp.oo
     rest = {sysm.q[0]: 0, sysm.dq[0]: 0, ag: 0}
     z = list(sysm.q[1:]) + list(sysm.dq[1:])
     at_zero = {v: 0 for v in z}
-    E = _reduce(energy.subs(rest) - energy.subs(rest).subs(at_zero))
-    u = _reduce(uplift.subs(rest))
-    Q = sp.hessian(E, z)
-    a = sp.Matrix([sp.diff(u, v) for v in z])
-    quadratic = not any(Q.has(v) for v in z) and _reduce(E - (sp.Matrix(z).T * Q * sp.Matrix(z))[0] / 2) == 0
-    affine = not any(a.has(v) for v in z)
-    if not (quadratic and affine):
-        return sp.Integer(0)
-    u0 = u.subs(at_zero)
-    det = sp.factor(Q.det())
-    spread = _reduce((a.T * Q.adjugate() * a)[0])
-    return sp.Max(0, -u0) ** 2 * det / (2 * spread)
+    off = {on: 0 for on, *_ in sysm.stops}
+    E_rest = energy.subs(rest).subs(at_zero).subs(off)
+    bounds = []
+    for region in _stop_regions(sysm):
+        E = _reduce(energy.subs(rest).subs(region) - E_rest)
+        bound = _least_uplift_energy(E, _reduce(uplift.subs(rest).subs(region)), z)
+        if bound is None:
+            return sp.Integer(0)
+        bounds.append(bound)
+    return bounds[0] if len(bounds) == 1 else sp.Min(*bounds)
+
+
+def stop_indicators(sysm: System, vg) -> dict:
+    """Each stop side's indicator symbol -> 1 while its penetration is > 0, else 0."""
+    return {on: sp.Piecewise((1, _to_symbols(delta, sysm, vg) > 0), (0, True)) for on, delta, *_ in sysm.stops}
+
+
+def in_penetrations(expr, sysm: System, vg):
+    """``expr`` with the terms of each bumper written with its penetration: ``k_b (x - L)``, not ``k_b x - k_b L``.
+
+    Expanded, a bumper's force is a difference of terms much larger than itself
+    near the stop, where it matters; in every sum, the terms of a side's
+    indicator ``on`` are gathered and divided by its penetration ``delta``
+    (when ``delta`` is linear in a coordinate), so that the code computes
+    ``delta`` first.
+    """
+    for on, delta, *_ in sysm.stops:
+        d = _to_symbols(delta, sysm, vg)
+        coordinate = next((q for q in sysm.q if sp.degree(d, q) == 1 and d.is_polynomial(q)), None)
+        if coordinate is None:
+            continue
+
+        def gather(add, on=on, d=d, q=coordinate):
+            acting = [term for term in add.args if term.has(on)]
+            others = [term for term in add.args if not term.has(on)]
+            bumper = sp.expand(sp.Add(*acting) / on)
+            if bumper.has(on) or not bumper.is_polynomial(q):
+                return add
+            quotient, remainder = sp.div(bumper, d, q)
+            return sp.Add(*others, on * (sp.Mul(quotient, d, evaluate=False) + remainder))
+
+        expr = expr.replace(lambda e, on=on: e.is_Add and any(t.has(on) for t in e.args), gather)
+    return expr
+
+
+def stop_gaps_and_forces(sysm: System, vg) -> tuple[list, list]:
+    """Per stop side: the penetration and the bumper's force on it (0 while the bumper is clear)."""
+    t_ = sysm.x_g.args[0]
+    gaps = [_reduce(_to_symbols(delta, sysm, vg)) for _, delta, *_ in sysm.stops]
+    forces = [
+        on * (k * gap + c * _reduce(_to_symbols(delta.diff(t_), sysm, vg)))
+        for (on, delta, k, c, _), gap in zip(sysm.stops, gaps)
+    ]
+    return gaps, forces
 
 
 def derive(spec: Spec, options: dict | None = None) -> Equations:
@@ -307,19 +395,27 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
     D = _to_symbols(sysm.D, sysm, vg)
     power = _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
     weights = _weights_moment(sysm)
+    gaps, forces = stop_gaps_and_forces(sysm, vg)
+    on = stop_indicators(sysm, vg)
+
+    def where(expr):
+        """``expr`` with each stop side's indicator written as the condition on its penetration."""
+        return in_penetrations(expr, sysm, vg).xreplace(on) if on else expr
 
     return Equations(
         uplift_energy=uplift_energy(sysm, energy, uplift),
         system=sysm,
         options=opts,
         mass_matrix=Mm,
-        forcing=f,
-        rocking_accel=rocking,
-        contact_accel=contact,
-        uplift=uplift,
+        forcing=f.applyfunc(where),
+        rocking_accel=[where(a) for a in rocking],
+        contact_accel=[where(a) for a in contact],
+        uplift=where(uplift),
         impact=impact_map(sysm, opts["impact_laws"]),
-        energy=energy,
-        power=power,
+        energy=where(energy),
+        power=where(power),
         critical_angle=critical_angle(*weights),
         critical_tangent=critical_tangent(*weights),
+        stop_gaps=gaps,
+        stop_forces=[where(force) for force in forces],
     )

@@ -45,6 +45,12 @@ class System:
         Ground displacement.
     bodies : list of (mass, inertia, position, angle)
         All bodies including the block, positions relative to the ground.
+    stops : tuple of (Symbol, Expr, Expr, Expr, int)
+        One per side of every end stop: its indicator ``on`` (1 while the
+        bumper acts, 0 elsewhere; a symbol while deriving), the penetration
+        ``delta`` (written with the time functions ``qt``; the bumper acts
+        while it is > 0), the bumper's stiffness and damping, and the index
+        of its stop in the spec.
     """
 
     q: tuple
@@ -58,6 +64,7 @@ class System:
     D: sp.Expr
     bodies: tuple
     pivot_point: tuple
+    stops: tuple = ()
 
 
 def rotation(angle):
@@ -123,6 +130,18 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
     D = sp.Integer(0)
     for el in spec.dashpots:
         D += el.coefficient * el.measure.subs(to_time).diff(t) ** 2 / 2
+    sides = [
+        (sigma * stop.travel.subs(to_time) - stop.gap, stop.stiffness, stop.damping, j)
+        for j, stop in enumerate(spec.stops)
+        for sigma in stop.sides
+    ]
+    # A bumper acts beyond its gap only (docs/model.md section 11). Its potential k delta^2 / 2 has a
+    # continuous derivative at delta = 0, so Lagrange's equations hold with the indicator "on" held
+    # constant: the equations stay polynomial in it, and each region of the guide is a plain model.
+    stops = tuple((sp.Symbol(f"_on{i}", real=True), *side) for i, side in enumerate(sides))
+    for on, delta, stiffness, damping, _ in stops:
+        V += on * stiffness * delta**2 / 2
+        D += on * damping * delta.diff(t) ** 2 / 2
 
     params = tuple(block.values()) + tuple(own.values())
-    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), tuple(corner))
+    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), tuple(corner), stops)

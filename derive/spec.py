@@ -51,7 +51,7 @@ MAX_SPEC_BYTES = 64 * 1024
 #: Most coordinates, parameters, bodies and elements of each kind a spec may declare.
 MAX_ENTRIES = 32
 
-__all__ = ["SpecError", "Spec", "Parameter", "Body", "Element", "parse_spec", "load_spec", "variant_spec"]
+__all__ = ["SpecError", "Spec", "Parameter", "Body", "Element", "Stop", "parse_spec", "load_spec", "variant_spec"]
 
 
 @dataclass(frozen=True)
@@ -90,6 +90,29 @@ class Element:
     acts_on: str
 
 
+#: Sides of a stop: ``upper`` acts while ``travel > gap``, ``lower`` while ``travel < -gap``.
+STOP_SIDES = {"both": (1, -1), "upper": (1,), "lower": (-1,)}
+
+
+@dataclass(frozen=True)
+class Stop:
+    """End stops on a travel of the attached bodies (docs/model.md section 11): compliant bumpers.
+
+    Beyond the gap, the penetration ``delta = sigma travel - gap`` (``sigma = +1``
+    for the upper stop, ``-1`` for the lower one) stores ``stiffness delta^2 / 2``
+    and dissipates ``damping ddelta^2 / 2`` (a Kelvin-Voigt bumper); inside the
+    gap the stop does nothing.
+    """
+
+    name: str
+    gap: sp.Expr
+    stiffness: sp.Expr
+    damping: sp.Expr
+    travel: sp.Expr
+    sides: tuple[int, ...]
+    acts_on: str
+
+
 @dataclass(frozen=True)
 class Spec:
     """A complete model specification."""
@@ -103,6 +126,7 @@ class Spec:
     dashpots: tuple[Element, ...]
     impact: dict[str, str] = field(default_factory=dict)
     source: str = ""
+    stops: tuple[Stop, ...] = ()
 
     @property
     def all_parameters(self) -> tuple[Parameter, ...]:
@@ -146,7 +170,7 @@ def _check_keys(table: dict, allowed: set[str], where: str) -> None:
 
 
 #: Keys of the top-level table of a spec.
-_SPEC_KEYS = {"name", "title", "coordinates", "parameters", "bodies", "springs", "dashpots", "impact"}
+_SPEC_KEYS = {"name", "title", "coordinates", "parameters", "bodies", "springs", "dashpots", "stops", "impact"}
 
 
 def _model_name(data: dict) -> str:
@@ -322,6 +346,38 @@ def _elements(data: dict, kind: str, keys: tuple[str, str], bodies: list[str], k
     return tuple(_element(kind, i, etab, keys, bodies, known) for i, etab in enumerate(tables))
 
 
+def _stop(i: int, table: dict, bodies: list[str], coords: tuple, known) -> Stop:
+    """The ``i``-th table of ``stops`` as a :class:`Stop`.
+
+    Raises
+    ------
+    SpecError
+        For an unknown or missing key, a bad expression, an unknown body or side, or a
+        travel that moves with no attached coordinate.
+    """
+    where = f"stops[{i}]"
+    keys = {"name", "gap", "stiffness", "damping", "travel", "sides", "acts_on"}
+    _check_keys(_table(table, where), keys, where)
+    name = check_text(table.get("name", f"stops{i}"), f"{where} name", "label")
+    where = f"stop {name!r}"
+    acts_on = _require(table, "acts_on", where)
+    if not isinstance(acts_on, str) or acts_on not in bodies:
+        raise SpecError(f"{where}: acts on unknown body {quote(acts_on)}; bodies are {', '.join(bodies) or 'none'}")
+    sides = table.get("sides", "both")
+    if not isinstance(sides, str) or sides not in STOP_SIDES:
+        raise SpecError(f"{where}: unknown sides {quote(sides)}; choose one of {', '.join(STOP_SIDES)}")
+    travel = _expr(_require(table, "travel", where), f"{where} travel", known)
+    if not {str(a) for a in travel.free_symbols} & set(coords):
+        raise SpecError(f"{where}: travel {quote(str(travel))} moves with no coordinate of {', '.join(coords)}")
+    return Stop(
+        name,
+        *(_expr(_require(table, k, where), f"{where} {k}", known) for k in ("gap", "stiffness", "damping")),
+        travel,
+        STOP_SIDES[sides],
+        acts_on,
+    )
+
+
 def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
     """The impact law of every coordinate, in coordinate order (``momentum`` unless the table says otherwise).
 
@@ -377,6 +433,10 @@ def parse_spec(data: dict, source: str = "") -> Spec:
         dashpots=_elements(data, "dashpots", ("damping", "rate_of"), body_names, known),
         impact=_impact_laws(data.get("impact", {}), coords),
         source=source,
+        stops=tuple(
+            _stop(i, table, body_names, coords, known)
+            for i, table in enumerate(_list(data.get("stops", []), "spec: stops"))
+        ),
     )
     _check_coordinates_used(spec)
     return spec

@@ -129,6 +129,15 @@ class _Weights:
         with np.errstate(divide="ignore", invalid="ignore"):
             return np.where(height > 0, lever / height, np.nan)
 
+    @staticmethod
+    def stop_gaps(v):
+        # These models' guides have no end stops: no penetration to report.
+        return ()
+
+    @staticmethod
+    def stop_forces(v):
+        return ()
+
 
 # ----------------------------------------------------------------------------- pendulum
 class Pendulum(_Weights):

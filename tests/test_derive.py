@@ -75,7 +75,7 @@ def test_every_file_follows_the_one_table_of_functions(name):
     header = re.findall(rf"^\w+ {name}_(\w+)\(double s, const double \*y,", (folder / f"{name}.h").read_text(), re.M)
     source = re.findall(rf"^\w+ {name}_(\w+)\(double s, const double \*y,", (folder / f"{name}.c").read_text(), re.M)
     latex = re.findall(r"^## `(\w+)`$", (folder / "EQUATIONS.md").read_text(), re.M)
-    assert python == header == source == latex and len(python) == 11
+    assert python == header == source == latex and len(python) == 13
     assert sorted(python) == sorted(manifest["functions"]) == list(manifest["functions"])
 
 
@@ -151,6 +151,10 @@ BASE = {
 }
 
 
+#: A stop on the probe's travel, each test changes one entry.
+STOP = {"travel": "x", "gap": "k", "stiffness": "k", "damping": "m", "acts_on": "mass"}
+
+
 def _with(**changes):
     data = json.loads(json.dumps(BASE))
     data.update(changes)
@@ -188,6 +192,13 @@ def _with(**changes):
             "dashpots\\[0\\]: unknown key\\(s\\) rate",
         ),
         (_with(impact={"y": "momentum"}), "impact: 'y' is not a coordinate"),
+        (_with(stops=[dict(STOP, sides="left")]), "stop 'stops0': unknown sides 'left'; choose one of both"),
+        (_with(stops=[dict(STOP, travel="H")]), "travel 'H' moves with no coordinate of x"),
+        (_with(stops=[dict(STOP, acts_on="bob")]), "stop 'stops0': acts on unknown body 'bob'"),
+        (_with(stops=[dict(STOP, gap="__import__('os')")]), "stop 'stops0' gap: a call of something other than"),
+        (_with(stops=[dict(STOP, depth="1")]), "stops\\[0\\]: unknown key\\(s\\) depth"),
+        (_with(stops=[{k: v for k, v in STOP.items() if k != "stiffness"}]), "missing required key 'stiffness'"),
+        (_with(stops="x"), "spec: stops must be a list"),
     ],
 )
 def test_inconsistent_spec_is_rejected_before_derivation(data, message):
@@ -321,3 +332,22 @@ def test_installed_package_derives_a_spec_from_any_folder(tmp_path):
         assert (out / path.name).read_text() == path.read_text(), path.name
     check = python("-m", "rocking.derive", "--check", "--variant", "block")
     assert check.returncode == 0 and "up to date" in check.stdout, check.stdout + check.stderr
+
+
+def test_one_sided_stops_derive_only_their_side():
+    """A stop with sides = "upper" has one penetration, x - L; its bumper's energy, force and dissipation
+    follow docs/model.md section 11 on that side only."""
+    data = _with(
+        parameters={"m": {}, "k": {}, "L": {}, "k_b": {}, "c_b": {}},
+        stops=[{"travel": "x", "gap": "L", "stiffness": "k_b", "damping": "c_b", "sides": "upper", "acts_on": "mass"}],
+    )
+    eq = derive(parse_spec(data))
+    x, dx, L, k_b, c_b, k = sympy.symbols("x dx L k_b c_b k", real=True)
+    assert eq.stop_gaps == [x - L]
+    for value, inside in ((0.9, True), (1.2, False), (-5.0, True)):
+        at = {x: value, dx: 0.3, L: 1.0, k_b: 50.0, c_b: 2.0, k: 3.0}
+        force = float(eq.stop_forces[0].subs(at))
+        assert force == (0.0 if inside else pytest.approx(50.0 * (value - 1.0) + 2.0 * 0.3))
+        bumper = 0.0 if inside else 50.0 * (value - 1.0) ** 2 / 2
+        stored = float((eq.energy - eq.energy.subs(k_b, 0)).subs(at))
+        assert stored == pytest.approx(bumper, abs=1e-12)

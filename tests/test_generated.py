@@ -11,23 +11,23 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from rocking import load_model
-from rocking.reference.verify import TOLERANCE, random_cases, verify
+from rocking.reference.verify import BY_HAND, TOLERANCE, random_cases, verify
 
 
-@pytest.mark.parametrize("name", ["omd", "block"])
+@pytest.mark.parametrize("name", BY_HAND)
 def test_generated_numpy_matches_model_md(name):
     checks = verify(load_model(name), n=1000, seed=1)
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 22 and not bad, bad
+    assert len(checks) == 26 and not bad, bad
 
 
-@pytest.mark.parametrize("name", ["omd", "block"])
+@pytest.mark.parametrize("name", BY_HAND)
 def test_generated_c_matches_model_md(name, c_model):
     """Compiled with -std=c99 -Wall -Wextra -Werror -pedantic, 1000 cases per pivot."""
     model = load_model(name)
     checks = verify(model, n=1000, seed=2, evaluate=c_model(name))
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 22 and not bad, bad
+    assert len(checks) == 26 and not bad, bad
 
 
 def _reference_params(**over):

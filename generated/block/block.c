@@ -52,12 +52,7 @@ void block_prepare(double s, const double *p, double *cst)
     cst[14] = (1.0/2.0)*I_G + (1.0/2.0)*cse0 + (1.0/2.0)*cse3 + (1.0/8.0)*cse4 + (1.0/8.0)*cse5;
     cst[15] = cse12;
     cst[16] = atan2(cse12, cse10);
-    cst[17] = ((cse8*g > 0) ? (
-   2*cse12/(H*M*g)
-)
-: (
-   NAN
-));
+    cst[17] = ((cse8*g > 0) ? (2*cse12/(H*M*g)) : (NAN));
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -253,6 +248,42 @@ double block_critical_angle(double s, const double *y, double ag, const double *
     double cst[BLOCK_NK];
     block_prepare(s, p, cst);
     return block_critical_angle_prepared(y, ag, cst);
+}
+
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * From the constants of block_prepare(s, p, cst). */
+void block_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
+void block_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_stop_gaps_prepared(y, ag, cst, out);
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * From the constants of block_prepare(s, p, cst). */
+void block_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+void block_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, p, cst);
+    block_stop_forces_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.

@@ -22,6 +22,7 @@
 #define BLOCK_NY 2
 #define BLOCK_NP 6
 #define BLOCK_NK 18
+#define BLOCK_NSTOPS 0
 #define BLOCK_Y_theta 0
 #define BLOCK_Y_dtheta 1
 #define BLOCK_P_M 0
@@ -79,6 +80,16 @@ double block_uplift_energy_prepared(const double *y, double ag, const double *cs
 double block_critical_angle(double s, const double *y, double ag, const double *p);
 double block_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * out:  */
+void block_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
+void block_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * out:  */
+void block_stop_forces(double s, const double *y, double ag, const double *p, double *out);
+void block_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double block_critical_tangent(double s, const double *y, double ag, const double *p);
 double block_critical_tangent_prepared(const double *y, double ag, const double *cst);
@@ -110,6 +121,10 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 #define model_uplift_energy_prepared block_uplift_energy_prepared
 #define model_critical_angle block_critical_angle
 #define model_critical_angle_prepared block_critical_angle_prepared
+#define model_stop_gaps block_stop_gaps
+#define model_stop_gaps_prepared block_stop_gaps_prepared
+#define model_stop_forces block_stop_forces
+#define model_stop_forces_prepared block_stop_forces_prepared
 #define model_critical_tangent block_critical_tangent
 #define model_critical_tangent_prepared block_critical_tangent_prepared
 #endif

@@ -373,6 +373,42 @@ double omd_critical_angle(double s, const double *y, double ag, const double *p)
     return omd_critical_angle_prepared(y, ag, cst);
 }
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
+void omd_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_stop_gaps_prepared(y, ag, cst, out);
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * From the constants of omd_prepare(s, p, cst). */
+void omd_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+void omd_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, p, cst);
+    omd_stop_forces_prepared(y, ag, cst, out);
+}
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
  * From the constants of omd_prepare(s, p, cst). */
 double omd_critical_tangent_prepared(const double *y, double ag, const double *cst)
@@ -383,12 +419,7 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
     const double cst28 = cst[28];
     const double cst29 = cst[29];
     const double cst31 = cst[31];
-    return ((cst5 > 0) ? (
-   cst31*(cst28 + cst29*x)
-)
-: (
-   NAN
-));
+    return ((cst5 > 0) ? (cst31*(cst28 + cst29*x)) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */

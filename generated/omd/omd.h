@@ -22,6 +22,7 @@
 #define OMD_NY 4
 #define OMD_NP 10
 #define OMD_NK 32
+#define OMD_NSTOPS 0
 #define OMD_Y_theta 0
 #define OMD_Y_x 1
 #define OMD_Y_dtheta 2
@@ -85,6 +86,16 @@ double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
 double omd_critical_angle(double s, const double *y, double ag, const double *p);
 double omd_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * out:  */
+void omd_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
+void omd_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * out:  */
+void omd_stop_forces(double s, const double *y, double ag, const double *p, double *out);
+void omd_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double omd_critical_tangent(double s, const double *y, double ag, const double *p);
 double omd_critical_tangent_prepared(const double *y, double ag, const double *cst);
@@ -116,6 +127,10 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 #define model_uplift_energy_prepared omd_uplift_energy_prepared
 #define model_critical_angle omd_critical_angle
 #define model_critical_angle_prepared omd_critical_angle_prepared
+#define model_stop_gaps omd_stop_gaps
+#define model_stop_gaps_prepared omd_stop_gaps_prepared
+#define model_stop_forces omd_stop_forces
+#define model_stop_forces_prepared omd_stop_forces_prepared
 #define model_critical_tangent omd_critical_tangent
 #define model_critical_tangent_prepared omd_critical_tangent_prepared
 #endif

@@ -762,6 +762,120 @@ def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
     return out[0]
 
 
+def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+    """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out
+
+
+def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+    """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out
+
+
 def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 

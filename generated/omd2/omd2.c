@@ -488,6 +488,42 @@ double omd2_critical_angle(double s, const double *y, double ag, const double *p
     return omd2_critical_angle_prepared(y, ag, cst);
 }
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
+void omd2_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_stop_gaps_prepared(y, ag, cst, out);
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * From the constants of omd2_prepare(s, p, cst). */
+void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+void omd2_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, p, cst);
+    omd2_stop_forces_prepared(y, ag, cst, out);
+}
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
  * From the constants of omd2_prepare(s, p, cst). */
 double omd2_critical_tangent_prepared(const double *y, double ag, const double *cst)
@@ -500,12 +536,7 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
     const double cst46 = cst[46];
     const double cst47 = cst[47];
     const double cst49 = cst[49];
-    return ((cst8 > 0) ? (
-   cst49*(cst45 + cst46*x1 + cst47*x2)
-)
-: (
-   NAN
-));
+    return ((cst8 > 0) ? (cst49*(cst45 + cst46*x1 + cst47*x2)) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */

@@ -22,6 +22,7 @@
 #define OMD2_NY 6
 #define OMD2_NP 13
 #define OMD2_NK 50
+#define OMD2_NSTOPS 0
 #define OMD2_Y_theta 0
 #define OMD2_Y_x1 1
 #define OMD2_Y_x2 2
@@ -90,6 +91,16 @@ double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst
 double omd2_critical_angle(double s, const double *y, double ag, const double *p);
 double omd2_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * out:  */
+void omd2_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
+void omd2_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * out:  */
+void omd2_stop_forces(double s, const double *y, double ag, const double *p, double *out);
+void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double omd2_critical_tangent(double s, const double *y, double ag, const double *p);
 double omd2_critical_tangent_prepared(const double *y, double ag, const double *cst);
@@ -121,6 +132,10 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 #define model_uplift_energy_prepared omd2_uplift_energy_prepared
 #define model_critical_angle omd2_critical_angle
 #define model_critical_angle_prepared omd2_critical_angle_prepared
+#define model_stop_gaps omd2_stop_gaps
+#define model_stop_gaps_prepared omd2_stop_gaps_prepared
+#define model_stop_forces omd2_stop_forces
+#define model_stop_forces_prepared omd2_stop_forces_prepared
 #define model_critical_tangent omd2_critical_tangent
 #define model_critical_tangent_prepared omd2_critical_tangent_prepared
 #endif

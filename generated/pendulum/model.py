@@ -693,6 +693,108 @@ def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
     return out[0]
 
 
+def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+    """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out
+
+
+def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+    """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out
+
+
 def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 

@@ -474,6 +474,42 @@ double pendulum_critical_angle(double s, const double *y, double ag, const doubl
     return pendulum_critical_angle_prepared(y, ag, cst);
 }
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
+void pendulum_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_stop_gaps_prepared(y, ag, cst, out);
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * From the constants of pendulum_prepare(s, p, cst). */
+void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+void pendulum_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, p, cst);
+    pendulum_stop_forces_prepared(y, ag, cst, out);
+}
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
  * From the constants of pendulum_prepare(s, p, cst). */
 double pendulum_critical_tangent_prepared(const double *y, double ag, const double *cst)
@@ -485,12 +521,7 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
     const double cst51 = cst[51];
     const double cst52 = cst[52];
     const double cse0 = cst12*cos(phi) + cst8;
-    return ((cse0 > 0) ? (
-   (cst51 + cst52*sin(phi))/cse0
-)
-: (
-   NAN
-));
+    return ((cse0 > 0) ? ((cst51 + cst52*sin(phi))/cse0) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */

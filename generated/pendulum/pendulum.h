@@ -22,6 +22,7 @@
 #define PENDULUM_NY 4
 #define PENDULUM_NP 12
 #define PENDULUM_NK 53
+#define PENDULUM_NSTOPS 0
 #define PENDULUM_Y_theta 0
 #define PENDULUM_Y_phi 1
 #define PENDULUM_Y_dtheta 2
@@ -87,6 +88,16 @@ double pendulum_uplift_energy_prepared(const double *y, double ag, const double 
 double pendulum_critical_angle(double s, const double *y, double ag, const double *p);
 double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst);
 
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * out:  */
+void pendulum_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * out:  */
+void pendulum_stop_forces(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double pendulum_critical_tangent(double s, const double *y, double ag, const double *p);
 double pendulum_critical_tangent_prepared(const double *y, double ag, const double *cst);
@@ -118,6 +129,10 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
 #define model_uplift_energy_prepared pendulum_uplift_energy_prepared
 #define model_critical_angle pendulum_critical_angle
 #define model_critical_angle_prepared pendulum_critical_angle_prepared
+#define model_stop_gaps pendulum_stop_gaps
+#define model_stop_gaps_prepared pendulum_stop_gaps_prepared
+#define model_stop_forces pendulum_stop_forces
+#define model_stop_forces_prepared pendulum_stop_forces_prepared
 #define model_critical_tangent pendulum_critical_tangent
 #define model_critical_tangent_prepared pendulum_critical_tangent_prepared
 #endif

@@ -53,12 +53,12 @@ DERIVE_INSTALL = 'pip install "rocking[derive]"'
 
 
 def _cmd_verify(args) -> int:
-    from ..reference.verify import report, verify
+    from ..reference.verify import BY_HAND, report, verify
 
     ok = True
     options = {"n": args.cases} if args.cases is not None else {}
     options.update(given(args, ("seed",)))
-    for name in args.model or ["omd", "block"]:
+    for name in args.model or BY_HAND:
         model = load_model(name)
         checks = verify(model, **options)
         print(report(model, checks))
@@ -67,13 +67,14 @@ def _cmd_verify(args) -> int:
 
 
 def _add_verify(sub) -> None:
-    from ..reference.verify import verify
+    from ..reference.verify import BY_HAND, verify
 
     p = add_parser(sub, "verify", "compare the generated code with the hand-written equations of docs/model.md")
     p.add_argument(
         "--model",
         action="append",
-        help=f"model name or folder, repeatable (default: omd and block; installed: {', '.join(available_models())})",
+        help=f"model name or folder, repeatable (default: {', '.join(BY_HAND)}; "
+        f"installed: {', '.join(available_models())})",
     )
     p.add_argument("--cases", type=int, help=f"random cases per pivot ({default_text(verify, 'n')})")
     p.add_argument("--seed", type=int, help=f"seed of the random cases ({default_text(verify, 'seed')})")

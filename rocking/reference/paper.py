@@ -1,4 +1,4 @@
-"""The paper's equations, typed by hand from ``docs/model.md`` sections 3-7.
+"""The paper's equations, typed by hand from ``docs/model.md`` sections 3-7 and 11.
 
 This module is deliberately independent of SymPy and of ``derive/``: it is the
 yardstick the generated code is held against (``rocking verify``). Every
@@ -9,6 +9,10 @@ Short-hands (docs/model.md section 1)::
 
     d_s  = s B/2 + e        xi_s = s B/2 + x        eta = H + h
     I_s  = I_G + M (d_s^2 + H^2/4)
+
+End stops (section 11): a bumper of stiffness ``k_b`` and damping ``c_b`` at
+``|x| = L`` on either side. Every function that sees the guide force takes
+``L, k_b, c_b`` as keywords, default ``L = inf`` (the paper's unlimited guide).
 """
 
 from __future__ import annotations
@@ -29,6 +33,22 @@ def pivot_inertia(s, M, I_G, B, H, e):
     return I_G + M * (d**2 + H**2 / 4)
 
 
+def penetration(x, L):
+    """``delta = |x| - L``: the bumper acts while it is > 0."""
+    return np.abs(x) - L
+
+
+def bumper_force(x, dx, L=np.inf, k_b=0.0, c_b=0.0):
+    """The bumper's part of the guide force: ``[delta > 0] (k_b delta sign(x) + c_b dx)``."""
+    delta = np.maximum(penetration(x, L), 0.0)  # 0, not -inf, where the guide is unlimited
+    return np.where(delta > 0, k_b * delta * np.sign(x) + c_b * dx, 0.0)
+
+
+def guide_force(x, dx, k_m, c, L=np.inf, k_b=0.0, c_b=0.0):
+    """``G(x, dx) = k_m x + c dx`` plus :func:`bumper_force`: what the guide exerts on the mass, reversed."""
+    return k_m * x + c * dx + bumper_force(x, dx, L, k_b, c_b)
+
+
 def mass_matrix(s, theta, x, M, I_G, B, H, e, m, h):
     """Mass matrix of (R1), (R2): ``((m11, m12), (m21, m22))``."""
     _, xi = arms(s, x, B, e)
@@ -38,7 +58,7 @@ def mass_matrix(s, theta, x, M, I_G, B, H, e, m, h):
     return (m11, m12), (m12, m + 0 * theta)
 
 
-def forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c):
+def forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops):
     """Right-hand sides of (R1) and (R2) once the acceleration terms are moved left."""
     d, xi = arms(s, x, B, e)
     eta = H + h
@@ -46,35 +66,35 @@ def forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c):
     lever = M * d + m * xi
     height = M * H / 2 + m * eta
     f1 = ag * (height * cos + lever * sin) - g * (lever * cos - height * sin) - 2 * m * xi * dtheta * dx
-    f2 = -m * ag * cos - c * dx - k_m * x + m * xi * dtheta**2 - m * g * sin
+    f2 = -m * ag * cos - guide_force(x, dx, k_m, c, **stops) + m * xi * dtheta**2 - m * g * sin
     return f1, f2
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
     """``(ddtheta, ddx)`` from (R1), (R2) by solving the 2x2 system numerically."""
     (a, b), (_, d) = mass_matrix(s, theta, x, M, I_G, B, H, e, m, h)
-    f1, f2 = forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c)
+    f1, f2 = forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops)
     det = a * d - b * b
     return (d * f1 - b * f2) / det, (a * f2 - b * f1) / det
 
 
-def contact_accel(x, dx, ag, m, k_m, c):
-    """``ddx`` in full contact, (C1): ``m ddx + c dx + k_m x = -m ddx_g``."""
-    return (-m * ag - c * dx - k_m * x) / m
+def contact_accel(x, dx, ag, m, k_m, c, **stops):
+    """``ddx`` in full contact, (C1): ``m ddx + G(x, dx) = -m ddx_g``."""
+    return (-m * ag - guide_force(x, dx, k_m, c, **stops)) / m
 
 
-def overturning_moment(x, dx, ag, M, H, h, k_m, c):
-    """``Mo = M (H/2) ddx_g - eta (k_m x + c dx)`` of section 5."""
-    return M * H / 2 * ag - (H + h) * (k_m * x + c * dx)
+def overturning_moment(x, dx, ag, M, H, h, k_m, c, **stops):
+    """``Mo = M (H/2) ddx_g - eta G(x, dx)`` of sections 5 and 11."""
+    return M * H / 2 * ag - (H + h) * guide_force(x, dx, k_m, c, **stops)
 
 
-def uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c):
+def uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops):
     """How far (U1) (``s = +1``) or (U2) (``s = -1``) is from holding; positive: uplift.
 
     ``s = +1``: ``Mo - g [M (B/2 + e) + m (B/2 + x)]``;
     ``s = -1``: ``-Mo - g [M (B/2 - e) + m (B/2 - x)]``.
     """
-    Mo = overturning_moment(x, dx, ag, M, H, h, k_m, c)
+    Mo = overturning_moment(x, dx, ag, M, H, h, k_m, c, **stops)
     return s * Mo - g * (M * (B / 2 + s * e) + m * (B / 2 + s * x))
 
 
@@ -116,25 +136,70 @@ def uplift_energy(s, M, B, H, e, g, m, h, k_m, c):
     return u0**2 / (2 * (a_x**2 / k_m + a_v**2 / m))
 
 
-def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m):
-    """Mechanical energy ``T + V`` in the ground frame while rocking about ``s``."""
+def stop_regions(s, M, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+    """The least damper energy to lift the block about ``s`` with the mass pressing a bumper (side ``sigma``).
+
+    For ``sigma x > L`` the guide force is ``(k_m + k_b) x - sigma k_b L + (c + c_b) dx`` and the
+    energy ``(k_m + k_b) x^2/2 - sigma k_b L x + k_b L^2/2 + m dx^2/2``, least
+    ``E* = k_m k_b L^2 / (2 (k_m + k_b))`` at ``x* = sigma k_b L / (k_m + k_b)``. The uplift margin
+    ``u = u_0 + a_x x + a_v dx`` has ``u_0 = -g [M (B/2 + s e) + m B/2] + s eta sigma k_b L``,
+    ``a_x = -s (eta (k_m + k_b) + m g)``, ``a_v = -s eta (c + c_b)``; its value at ``x*`` is ``u*``, and
+    the least energy on ``u >= 0`` is ``E* + max(0, -u*)^2 / (2 (a_x^2 / (k_m + k_b) + a_v^2 / m))``,
+    taken over every state (a bound for the region's). Returns the two sides' values.
+    """
+    eta = H + h
+    k = k_m + k_b
+    least = k_m * k_b * L**2 / (2 * k)
+    a_x = -s * (eta * k + m * g)
+    a_v = -s * eta * (c + c_b)
+    out = []
+    for sigma in (1, -1):
+        u0 = -g * (M * (B / 2 + s * e) + m * B / 2) + s * eta * sigma * k_b * L
+        u_least = u0 + a_x * sigma * k_b * L / k
+        out.append(least + np.maximum(0, -u_least) ** 2 / (2 * (a_x**2 / k + a_v**2 / m)))
+    return tuple(out)
+
+
+def uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, L=np.inf, k_b=0.0, c_b=0.0):
+    """:func:`uplift_energy` with bumpers: the least over the free guide and each bumper (:func:`stop_regions`)."""
+    free = uplift_energy(s, M, B, H, e, g, m, h, k_m, c)
+    if not np.all(np.isfinite(L)):
+        return free
+    return np.minimum(free, np.minimum(*stop_regions(s, M, B, H, e, g, m, h, k_m, c, L, k_b, c_b)))
+
+
+def stop_gaps(x, L):
+    """Penetrations of the upper and lower bumpers: ``(x - L, -x - L)``."""
+    return x - L, -x - L
+
+
+def stop_forces(x, dx, L, k_b, c_b):
+    """Each bumper's force against its penetration (> 0 pushes the mass back), 0 while it is clear."""
+    upper, lower = stop_gaps(x, L)
+    return np.where(upper > 0, k_b * upper + c_b * dx, 0.0), np.where(lower > 0, k_b * lower - c_b * dx, 0.0)
+
+
+def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, L=np.inf, k_b=0.0):
+    """Mechanical energy ``T + V`` in the ground frame while rocking about ``s``, bumpers' ``V_b`` included."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     sin, cos = np.sin(theta), np.cos(theta)
     T = pivot_inertia(s, M, I_G, B, H, e) * dtheta**2 / 2
     T = T + m * (dtheta**2 * (xi**2 + eta**2) + dx**2 - 2 * eta * dtheta * dx) / 2
     V = M * g * (d * sin + H / 2 * cos) + m * g * (xi * sin + eta * cos) + k_m * x**2 / 2
-    return T + V
+    delta = np.maximum(penetration(x, L), 0.0)
+    return T + V + k_b * delta**2 / 2
 
 
-def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c):
-    """``dE/dt`` between impacts: ``-c dx^2`` plus the power of ``-(mass) ddx_g``."""
+def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c, L=np.inf, c_b=0.0):
+    """``dE/dt`` between impacts: ``-(c + [delta > 0] c_b) dx^2`` plus the power of ``-(mass) ddx_g``."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     sin, cos = np.sin(theta), np.cos(theta)
     vx_G = -dtheta * (d * sin + H / 2 * cos)
     vx_m = -dtheta * (xi * sin + eta * cos) + dx * cos
-    return -c * dx**2 - ag * (M * vx_G + m * vx_m)
+    damping = c + np.where(penetration(x, L) > 0, c_b, 0.0)
+    return -damping * dx**2 - ag * (M * vx_G + m * vx_m)
 
 
 def _weights(s, x, M, B, H, e, m, h):

@@ -17,6 +17,8 @@ from . import paper
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
+#: The shipped models that :mod:`rocking.reference.paper` writes by hand (docs/model.md sections 3-7 and 11).
+BY_HAND = ("omd", "omd_stops", "block")
 
 
 @dataclass(frozen=True)
@@ -33,11 +35,15 @@ class Check:
         return bool(self.max_rel_error <= TOLERANCE)
 
 
-def random_cases(rng: np.random.Generator, n: int, s: int, damper: bool = True) -> dict[str, np.ndarray]:
+def random_cases(
+    rng: np.random.Generator, n: int, s: int, damper: bool = True, stops: bool = False
+) -> dict[str, np.ndarray]:
     """``n`` random states and parameter sets rocking about ``s``, by name.
 
     Blocks from stocky to slender, eccentric, with any inertia; dampers from
     light to heavy, soft to stiff. Without ``damper`` the mass and its state are 0.
+    With ``stops``, bumpers at ``|x| = L`` from 5 % to 45 % of ``B``, 1 to 1000 times
+    stiffer than the damper's spring: ``x`` lies inside the gap or beyond it.
     """
     u = rng.uniform
     M = u(50.0, 5000.0, n)
@@ -68,6 +74,9 @@ def random_cases(rng: np.random.Generator, n: int, s: int, damper: bool = True) 
         )
     else:
         v.update({k: np.zeros(n) for k in ("m", "h", "k_m", "c", "x", "dx")})
+    if stops:
+        k_b = v["k_m"] * 10 ** u(0.0, 3.0, n)
+        v.update(L=B * u(0.05, 0.45, n), k_b=k_b, c_b=2 * np.sqrt(k_b * v["m"]) * u(0.0, 0.5, n))
     return v
 
 
@@ -100,25 +109,31 @@ _STATE_OF = {"contact_accel": "contact", "uplift": "contact", "impact": "impact"
 
 
 def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
-    """The hand-written value of every generated function, by function name."""
+    """The hand-written value of every generated function, by function name (bumpers if ``v`` has ``L``)."""
     s, th, x, dth, dx, ag = (v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag"))
     M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
     (m11, m12), (m21, m22) = paper.mass_matrix(s, th, x, M, I_G, B, H, e, m, h)
     zero = 0 * th
+    stops = {k: v[k] for k in ("L", "k_b", "c_b") if k in v}
+    L, k_b, c_b = stops.get("L", np.inf), stops.get("k_b", 0.0), stops.get("c_b", 0.0)
+    gaps = paper.stop_gaps(x, L) if stops else ()
+    forces = paper.stop_forces(x, dx, L, k_b, c_b) if stops else ()
     # Without a damper (m = 0) the outputs of x are undefined and dropped by _select.
     with np.errstate(divide="ignore", invalid="ignore"):
         return {
             "mass_matrix": (m11, m12, m21, m22),
-            "forcing": paper.forcing(s, th, x, dth, dx, ag, M, B, H, e, g, m, h, k_m, c),
-            "rocking_accel": paper.rocking_accel(s, th, x, dth, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c),
-            "contact_accel": (zero, paper.contact_accel(x, dx, ag, m, k_m, c)),
-            "uplift": (paper.uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c),),
+            "forcing": paper.forcing(s, th, x, dth, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops),
+            "rocking_accel": paper.rocking_accel(s, th, x, dth, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, **stops),
+            "contact_accel": (zero, paper.contact_accel(x, dx, ag, m, k_m, c, **stops)),
+            "uplift": (paper.uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops),),
             "impact": paper.impact(s, x, dth, dx, M, I_G, B, H, e, m, h, law=impact_law),
-            "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m),),
-            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c),),
+            "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m, L=L, k_b=k_b),),
+            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c, L=L, c_b=c_b),),
             "critical_angle": (paper.critical_angle(s, x, M, B, H, e, m, h),),
             "critical_tangent": (paper.critical_tangent(s, x, M, B, H, e, m, h),),
-            "uplift_energy": (paper.uplift_energy(s, M, B, H, e, g, m, h, k_m, c),),
+            "uplift_energy": (paper.uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, **stops),),
+            "stop_gaps": gaps,
+            "stop_forces": forces,
         }
 
 
@@ -164,13 +179,14 @@ def verify(
         implementation of the model (the compiled C); default: the generated NumPy.
     """
     damper = _check_model_kind(model)
+    stops = {"L", "k_b", "c_b"} <= set(model.parameters)
     law = model.manifest["options"]["impact_laws"].get("x", "momentum")
     rng = np.random.default_rng(seed)
     if evaluate is None:
         evaluate = lambda name, v: _numpy_eval(model, name, v)
     checks = []
     for s in (1, -1):
-        v = random_cases(rng, n, s, damper)
+        v = random_cases(rng, n, s, damper, stops)
         zero = np.zeros(n)
         cases = {
             "rocking": v,
@@ -187,7 +203,7 @@ def verify(
             kind = _STATE_OF.get(name, "rocking")
             got = evaluate(name, cases[kind])
             got = got if isinstance(got, tuple) else (got,)
-            err = max(rel_error(a, b) for a, b in zip(got, refs[kind][name]))
+            err = max((rel_error(a, b) for a, b in zip(got, refs[kind][name], strict=True)), default=0.0)
             checks.append(Check(name, s, n, err))
     return checks
 
