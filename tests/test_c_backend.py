@@ -78,8 +78,9 @@ def test_strict_warnings_compile(tmp_path):
 
 @pytest.mark.parametrize("n_constants", [11, 0])
 def test_sim_is_model_independent(tmp_path, n_constants):
-    """sim.c compiles strictly against any generic model header: here three coordinates, declarations only."""
-    names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact"]
+    """sim.c compiles strictly against any generic model header: here three coordinates and two stop sides,
+    declarations only."""
+    names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact", "stop_gaps", "stop_forces"]
     scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle", "critical_tangent"]
     args = "double s, const double *y, double ag, const double *p"
     prepared = "const double *y, double ag, const double *cst"
@@ -89,7 +90,7 @@ def test_sim_is_model_independent(tmp_path, n_constants):
     lines += [f"double stub3_{n}({args});" for n in scalars]
     lines += [f"double stub3_{n}_prepared({prepared});" for n in scalars]
     lines += ["#ifdef ROCKING_GENERIC_NAMES", "#define MODEL_NQ 3", "#define MODEL_NY 6", "#define MODEL_NP 7"]
-    lines += [f"#define MODEL_NK {n_constants}", "#define model_prepare stub3_prepare"]
+    lines += [f"#define MODEL_NK {n_constants}", "#define MODEL_NSTOPS 2", "#define model_prepare stub3_prepare"]
     lines += [f"#define model_{n} stub3_{n}" for n in names + scalars]
     lines += [f"#define model_{n}_prepared stub3_{n}_prepared" for n in names + scalars]
     lines += ["#endif", "#endif", ""]

@@ -1123,3 +1123,16 @@ def test_settings_out_of_range_are_refused(backend, case, monkeypatch):
     with pytest.raises(ParameterError) as info:
         simulate(backend, dataclasses.replace(problem, **change))
     assert str(info.value) == message
+
+
+def test_a_function_that_only_touches_zero_fires_no_event(backend):
+    """The strict rules of docs/simulation.md hold at an exact 0 on both back ends (the fuzzer found NumPy
+    firing there): beta = 1 on a symmetric block brings u_s exactly to 0 at the peaks of ag, which is no
+    uplift ("turns positive"); with energy_rest = 0 an energy exactly at rest is not below it ("below")."""
+    block = Block.from_nondim(alpha=0.14842172548849247, p=0.5, M=10.0)
+    r = simulate(backend, make_problem(block, None, OneSinePulse.from_nondim(block, beta=1.0, Omega=1.0)))
+    assert (r.status, r.uplifts, r.theta_max) == ("rest", 0, 0.0)
+    block = Block.from_nondim(alpha=0.1054658490165491, p=0.5)
+    still = OneSinePulse(a_g=0.0, omega_g=1.0)
+    r = simulate(backend, make_problem(block, None, still, t_after=0.5, energy_rest=0.0, early_rest=False))
+    assert (r.status, r.t_end) == ("t_max", still.t_p + 0.5)

@@ -100,6 +100,7 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 #define MODEL_NY BLOCK_NY
 #define MODEL_NP BLOCK_NP
 #define MODEL_NK BLOCK_NK
+#define MODEL_NSTOPS BLOCK_NSTOPS
 #define model_prepare block_prepare
 #define model_mass_matrix block_mass_matrix
 #define model_mass_matrix_prepared block_mass_matrix_prepared

@@ -106,6 +106,7 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 #define MODEL_NY OMD_NY
 #define MODEL_NP OMD_NP
 #define MODEL_NK OMD_NK
+#define MODEL_NSTOPS OMD_NSTOPS
 #define model_prepare omd_prepare
 #define model_mass_matrix omd_mass_matrix
 #define model_mass_matrix_prepared omd_mass_matrix_prepared

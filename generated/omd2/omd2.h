@@ -111,6 +111,7 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 #define MODEL_NY OMD2_NY
 #define MODEL_NP OMD2_NP
 #define MODEL_NK OMD2_NK
+#define MODEL_NSTOPS OMD2_NSTOPS
 #define model_prepare omd2_prepare
 #define model_mass_matrix omd2_mass_matrix
 #define model_mass_matrix_prepared omd2_mass_matrix_prepared

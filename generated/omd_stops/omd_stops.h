@@ -109,6 +109,7 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
 #define MODEL_NY OMD_STOPS_NY
 #define MODEL_NP OMD_STOPS_NP
 #define MODEL_NK OMD_STOPS_NK
+#define MODEL_NSTOPS OMD_STOPS_NSTOPS
 #define model_prepare omd_stops_prepare
 #define model_mass_matrix omd_stops_mass_matrix
 #define model_mass_matrix_prepared omd_stops_mass_matrix_prepared

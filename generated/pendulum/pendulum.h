@@ -108,6 +108,7 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
 #define MODEL_NY PENDULUM_NY
 #define MODEL_NP PENDULUM_NP
 #define MODEL_NK PENDULUM_NK
+#define MODEL_NSTOPS PENDULUM_NSTOPS
 #define model_prepare pendulum_prepare
 #define model_mass_matrix pendulum_mass_matrix
 #define model_mass_matrix_prepared pendulum_mass_matrix_prepared

@@ -29,7 +29,7 @@ import numpy as np
 from ..model.params import RANGES, ParameterError
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 4
+API_VERSION = 5
 
 DOUBLE, INT64, INT32, DOUBLES = "double", "int64", "int32", "doubles"
 
@@ -125,6 +125,8 @@ RESULT = (
     Field("theta_max", DOUBLE, "rad", "largest |theta|"),
     Field("x_max", DOUBLE, "m", "largest |q[1]|, the damper's stroke (0 without a damper)"),
     Field("t_end", DOUBLE, "s", "when the run ended"),
+    Field("stop_contacts", INT64, "", "closings of an end stop's gap (0 without stops)"),
+    Field("bumper_force_max", DOUBLE, "N", "largest force of a bumper against its penetration (rule 6)"),
 )
 
 

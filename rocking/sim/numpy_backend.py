@@ -77,6 +77,9 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 #: How a rocking segment from ``theta = 0`` ends when the block cannot rise at all.
 NO_LIFT = "no lift"
 
+#: Terminal events of the end stops (rule 6): a side's gap closes, or opens again.
+GAP_CLOSE, GAP_OPEN = "gap closes", "gap opens"
+
 
 class _MaxSteps(Exception):
     """The work of the run passed ``max_steps`` (docs/simulation.md, rule 5): raised out of a segment."""
@@ -138,6 +141,7 @@ class _System:
         # Each coordinate's impact law (docs/model.md section 6; "momentum" unless the manifest says otherwise).
         laws = problem.model.manifest.get("options", {}).get("impact_laws", {})
         self.impact_laws = tuple(laws.get(name, "momentum") for name in problem.model.coordinates)
+        self.n_stops = int(problem.model.manifest["functions"]["stop_gaps"]["outputs"])
 
     def _safe_energy(self) -> float | None:
         """The least energy above rest at which the attached bodies can lift the block, less the margin.
@@ -210,6 +214,17 @@ class _System:
 
         return rhs
 
+    def stop_gap(self, i: int, y: np.ndarray) -> float:
+        """Penetration of stop side ``i``: its bumper acts while it is > 0 (it does not depend on the pivot)."""
+        return float(self._call("stop_gaps", 1.0, y, 0.0)[i])
+
+    def largest_bumper_force(self, states: np.ndarray) -> float:
+        """The largest force of any bumper against its penetration over ``states`` (rows), 0 without stops."""
+        if self.n_stops == 0 or len(states) == 0:
+            return 0.0
+        forces = self.functions.stop_forces(1.0, *np.asarray(states, dtype=float).T, 0.0, *self.params)
+        return float(max(np.max(f) for f in forces))
+
     def uplift(self, s: int, y: np.ndarray, ag: float) -> float:
         """Uplift function ``u_s``: the block leaves full contact about ``s`` when it turns positive."""
         return float(self._call("uplift", s, y, ag))
@@ -243,6 +258,35 @@ class _System:
 # --------------------------------------------------------------------------- #
 
 
+#: The smallest double above 0: an exact 0 of an event function moved to one side of it.
+_TINY = 5e-324
+
+
+def _zero_below(function: StateFunction) -> StateFunction:
+    """``function`` with an exact 0 read as just below 0.
+
+    ``solve_ivp`` fires a rising event when its function goes from ``<= 0`` to ``>= 0``,
+    so a function that only touches 0 fires; sim.c's "turns positive" needs ``> 0``
+    after (``is_before``). Moving an exact 0 below makes the two the same rule.
+    """
+
+    def strict(t, y):
+        value = function(t, y)
+        return -_TINY if value == 0.0 else value
+
+    return strict
+
+
+def _zero_above(function: StateFunction) -> StateFunction:
+    """``function`` with an exact 0 read as just above 0: a falling event then needs ``< 0`` after, as in sim.c."""
+
+    def strict(t, y):
+        value = function(t, y)
+        return _TINY if value == 0.0 else value
+
+    return strict
+
+
 @dataclass(frozen=True)
 class _Event:
     """A ``solve_ivp`` event: ``function(t, y)`` with its name, ``terminal`` and ``direction``.
@@ -255,6 +299,7 @@ class _Event:
     function: StateFunction
     terminal: bool
     direction: int
+    side: int = -1  # the stop side of a gap event
 
     def __call__(self, t, y):
         return self.function(t, y)
@@ -264,7 +309,7 @@ def uplift_event(system: _System, s: int, ground: Callable[[float], float]) -> _
     """Full contact: ``u_s`` turns positive (uplift about ``A`` for ``s = +1``, ``A'`` for ``-1``)."""
     return _Event(
         UPLIFT_A if s == 1 else UPLIFT_A_PRIME,
-        lambda t, y: system.uplift(s, y, ground(t)),
+        _zero_below(lambda t, y: system.uplift(s, y, ground(t))),
         terminal=True,
         direction=+1,
     )
@@ -290,7 +335,7 @@ def critical_event(system: _System, s: int, ground: Callable[[float], float]) ->
     """Rocking about ``s``: ``s theta - s theta_cr_s(y)`` turns positive (reported only)."""
     return _Event(
         CRITICAL,
-        lambda t, y: s * y[0] - s * system.critical_angle(s, y, ground(t)),
+        _zero_below(lambda t, y: s * y[0] - s * system.critical_angle(s, y, ground(t))),
         terminal=False,
         direction=+1,
     )
@@ -301,6 +346,18 @@ def extremum_event(n: int, coordinate: int) -> _Event:
     return _Event(EXTREMUM, lambda t, y: y[n + coordinate], terminal=False, direction=0)
 
 
+def gap_event(system: _System, side: int, acting: bool) -> _Event:
+    """Stop side ``side``: its penetration turns positive (the gap closes), or, once its bumper acts, falls to 0."""
+    # Closing: g <= 0 -> g > 0; opening: g > 0 -> g <= 0 (sim.c's rules): an exact 0 is below either way.
+    return _Event(
+        GAP_OPEN if acting else GAP_CLOSE,
+        _zero_below(lambda t, y: system.stop_gap(side, y)),
+        terminal=True,
+        direction=-1 if acting else +1,
+        side=side,
+    )
+
+
 def settled_event(n: int) -> _Event:
     """Full contact once safe: the next extremum of ``q[1]`` is the last one; it ends the run."""
     return _Event(SETTLED, lambda t, y: y[n + 1], terminal=True, direction=0)
@@ -308,12 +365,14 @@ def settled_event(n: int) -> _Event:
 
 def safe_event(system: _System, safe_energy: float) -> _Event:
     """Full contact after the pulse: ``E(y) - E(0)`` falls below the uplift energy (less the margin)."""
-    return _Event(SAFE, lambda t, y: system.energy_above_rest(y) - safe_energy, terminal=True, direction=-1)
+    below = _zero_above(lambda t, y: system.energy_above_rest(y) - safe_energy)
+    return _Event(SAFE, below, terminal=True, direction=-1)
 
 
 def rest_event(system: _System, energy_rest: float) -> _Event:
     """Full contact after the pulse: ``E(y) - E(0)`` falls below ``energy_rest``."""
-    return _Event(REST, lambda t, y: system.energy_above_rest(y) - energy_rest, terminal=True, direction=-1)
+    below = _zero_above(lambda t, y: system.energy_above_rest(y) - energy_rest)
+    return _Event(REST, below, terminal=True, direction=-1)
 
 
 def watched_events(
@@ -326,8 +385,9 @@ def watched_events(
     energy_rest: float,
     safe_energy: float | None = None,
     settling: bool = False,
+    stop_on: tuple = (),
 ):
-    """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases" and "End").
+    """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases", "End" and rule 6).
 
     Parameters
     ----------
@@ -349,6 +409,8 @@ def watched_events(
         pulse, not yet safe); ``None``: not watched.
     settling : bool
         Full contact once safe: the next extremum of ``q[1]`` ends the run.
+    stop_on : tuple of bool
+        Whether each stop side's bumper acts: its gap's opening is watched, else its closing.
 
     Returns
     -------
@@ -356,6 +418,7 @@ def watched_events(
     """
     # q[1] is the damper's coordinate: its extrema give x_max, in every phase.
     damper = [extremum_event(system.n, 1)] if system.n > 1 else []
+    gaps = [gap_event(system, i, acting) for i, acting in enumerate(stop_on)]
     if phase == CONTACT:
         if settling and system.n > 1:
             damper = [settled_event(system.n)]
@@ -364,12 +427,12 @@ def watched_events(
             events.append(rest_event(system, energy_rest))
             if safe_energy is not None and not settling:
                 events.append(safe_event(system, safe_energy))
-        return events
+        return events + gaps
     s = phase
     events = [impact_event(s), overturn_event(s), extremum_event(system.n, 0)] + damper
     if want_critical:
         events.append(critical_event(system, s, ground))
-    return events
+    return events + gaps
 
 
 # --------------------------------------------------------------------------- #
@@ -394,6 +457,10 @@ class _Segment:
         event points of the segment.
     dense : OdeSolution or None
         The dense output (with ``record=True``).
+    side : int
+        The stop side of a gap event (-1 otherwise).
+    bumper_force : float
+        The largest bumper force at the step ends and the terminal event (sim.c's ``see_state``).
     """
 
     t: float
@@ -402,6 +469,8 @@ class _Segment:
     t_critical: float
     peaks: dict
     dense: OdeSolution | None = None
+    side: int = -1
+    bumper_force: float = 0.0
 
 
 def lift_off_step(
@@ -460,6 +529,23 @@ def lift_off_step(
             return None
 
 
+def after_gap(system: _System, event: _Event, dense: OdeSolution, t: float, y: np.ndarray):
+    """The state of a gap event on the side after its root: the next segment's regime from its first stage.
+
+    ``solve_ivp`` locates a root to a few ulps on either side; sim.c returns the end
+    of its final bracket on the side after it (``locate_event``). A bumper's dashpot
+    force jumps at the root, so the state the next segment starts from must be on
+    the new side, as in sim.c: ``t`` moves up by ulps until it is.
+    """
+    after = (lambda g: g > 0.0) if event.name == GAP_CLOSE else (lambda g: g <= 0.0)
+    for _ in range(64):
+        if after(system.stop_gap(event.side, y)):
+            break
+        t = float(np.nextafter(t, np.inf))
+        y = np.asarray(dense(t), dtype=float)
+    return t, y
+
+
 def integrate_segment(
     problem: Problem,
     system: _System,
@@ -474,6 +560,7 @@ def integrate_segment(
     settling: bool = False,
     first_step: float | None = None,
     work: _Work | None = None,
+    stop_on: tuple = (),
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -501,6 +588,8 @@ def integrate_segment(
         The first step (cut to the segment); ``None``: Hairer's heuristic.
     work : _Work or None
         Counts the evaluations of the right-hand side (rule 5).
+    stop_on : tuple of bool
+        Whether each stop side's bumper acts (see :func:`watched_events`).
 
     Returns
     -------
@@ -534,12 +623,21 @@ def integrate_segment(
         energy_rest=problem.energy_rest,
         safe_energy=safe_energy,
         settling=settling,
+        stop_on=stop_on,
     )
     options = {"rtol": problem.rtol, "atol": problem.atol, "max_step": max_step}
 
     def solve(first_step=None):
         sol = solve_ivp(
-            rhs, (t0, t_bound), y0, method="RK45", events=events, dense_output=record, first_step=first_step, **options
+            rhs,
+            (t0, t_bound),
+            y0,
+            method="RK45",
+            events=events,
+            # A gap event needs the dense output to step onto the side after the root (after_gap).
+            dense_output=record or system.n_stops > 0,
+            first_step=first_step,
+            **options,
         )
         if sol.status < 0:
             raise SimulationError(f"solve_ivp failed in phase {phase} at t = {sol.t[-1]:.17g}: {sol.message}")
@@ -548,8 +646,8 @@ def integrate_segment(
     if first_step is not None:
         first_step = min(first_step, t_bound - t0)
     sol = solve(first_step)
-    fired = [e.name for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
-    if fired == [IMPACT] and sol.t[-1] == t0:
+    fired = [e for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
+    if [e.name for e in fired] == [IMPACT] and sol.t[-1] == t0:
         # A phase from theta = 0 whose first step ends with s theta <= 0: solve_ivp
         # sees "s theta falls to 0" at the start (Brent returns the bracket's end
         # where the function is exactly 0). Either the step was too long to see the
@@ -562,22 +660,27 @@ def integrate_segment(
             # took (accepted at once: 6), which sim.c does not: not counted (rule 5).
             work.done -= 7
         sol = solve(first_step)
-        fired = [e.name for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
+        fired = [e for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
 
-    y_end = np.array(sol.y[:, -1])
-    if fired == [IMPACT]:
+    t_end, y_end = float(sol.t[-1]), np.array(sol.y[:, -1])
+    if [e.name for e in fired] == [IMPACT]:
         y_end[0] = 0.0  # the impact is at theta = 0; the located root is 0 only to the tolerance
+    if fired and fired[0].name in (GAP_CLOSE, GAP_OPEN):
+        t_end, y_end = after_gap(system, fired[0], sol.sol, t_end, y_end)
     crossings = [float(min(times)) for e, times in zip(events, sol.t_events) if e.name == CRITICAL and len(times)]
     # Step ends (first and last included) and every located event point.
     points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
     peaks = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
     return _Segment(
-        t=float(sol.t[-1]),
+        t=t_end,
         y=y_end,
-        event=fired[0] if fired else None,
+        event=fired[0].name if fired else None,
         t_critical=crossings[0] if crossings else math.nan,
         peaks=peaks,
         dense=sol.sol,
+        side=fired[0].side if fired else -1,
+        # Step ends and the terminal event (the last point), not the start: what sim.c's see_state sees.
+        bumper_force=system.largest_bumper_force(sol.y.T[1:]),
     )
 
 
@@ -649,15 +752,19 @@ class _Tally:
     theta_max: float = 0.0
     x_max: float = 0.0
     t_critical: float = math.nan
+    stop_contacts: int = 0
+    bumper_force_max: float = 0.0
 
-    def see_state(self, y: np.ndarray, n: int) -> None:
+    def see_state(self, y: np.ndarray, system: _System) -> None:
         self.theta_max = max(self.theta_max, abs(float(y[0])))
-        if n > 1:
+        if system.n > 1:
             self.x_max = max(self.x_max, abs(float(y[1])))
+        self.bumper_force_max = max(self.bumper_force_max, system.largest_bumper_force(np.asarray(y)[None, :]))
 
     def see_segment(self, segment: _Segment) -> None:
         self.theta_max = max(self.theta_max, segment.peaks[0])
         self.x_max = max(self.x_max, segment.peaks.get(1, 0.0))
+        self.bumper_force_max = max(self.bumper_force_max, segment.bumper_force)
         if math.isnan(self.t_critical):
             self.t_critical = segment.t_critical
 
@@ -719,6 +826,10 @@ class _Run:
         it again would lift the block again, forever.
     work : _Work or None
         The work so far against ``max_steps`` (rule 5).
+    stop_on : list of bool
+        Whether each stop side's bumper acts (rule 6).
+    side : int
+        The stop side whose gap event ended the last segment (-1: none).
     """
 
     problem: Problem
@@ -735,6 +846,8 @@ class _Run:
     first_step: float | None = None
     skip_uplift_check: bool = False
     work: _Work | None = None
+    stop_on: list = field(default_factory=list)
+    side: int = -1
 
 
 def record(run: _Run) -> None:
@@ -931,8 +1044,10 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         settling=run.safe and run.phase == CONTACT,
         first_step=run.first_step,
         work=run.work,
+        stop_on=tuple(run.stop_on),
     )
     run.first_step = None
+    run.side = segment.side
     if run.history is not None and segment.dense is not None:
         # Rule 5: recorded samples count as work, before any of them is kept.
         lo, hi = _History.sample_range(run.t, segment.t, run.problem.record_dt)
@@ -972,6 +1087,10 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
         return "rest"
     elif event == SAFE:
         run.safe = True  # the next contact phase settles (not rechecked: E is at the bound)
+    elif event in (GAP_CLOSE, GAP_OPEN):
+        # A breakpoint: the same phase restarts from here with the side's bumper on or off (rule 6).
+        run.stop_on[run.side] = event == GAP_CLOSE
+        run.tally.stop_contacts += event == GAP_CLOSE
     else:  # pragma: no cover - every terminal event is handled above
         raise AssertionError(f"unhandled event {event!r}")
     return None
@@ -1035,6 +1154,8 @@ def finish(run: _Run, status: str) -> Response:
         uplifts=tally.uplifts,
         t_end=run.t,
         status=status,
+        stop_contacts=tally.stop_contacts,
+        bumper_force_max=tally.bumper_force_max,
         history=run.history.as_dict(run.problem) if run.history is not None else None,
     )
 
@@ -1076,6 +1197,7 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         history=_History() if record else None,
         safe_energy=system.safe_energy if problem.early_rest else None,
         work=_Work(int(problem.max_steps)),
+        stop_on=[system.stop_gap(i, y) > 0.0 for i in range(system.n_stops)],
     )
-    run.tally.see_state(run.y, system.n)
+    run.tally.see_state(run.y, system)
     return finish(run, phase_machine(run))

@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 4
+#define ROCKING_SIM_API_VERSION 5
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the uplift energy of the early rest (rule 4) */
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
@@ -54,12 +54,14 @@ typedef struct rocking_result {
     double theta_max; /* largest |theta| [rad] */
     double x_max; /* largest |q[1]|, the damper's stroke (0 without a damper) [m] */
     double t_end; /* when the run ended [s] */
+    int64_t stop_contacts; /* closings of an end stop's gap (0 without stops) */
+    double bumper_force_max; /* largest force of a bumper against its penetration (rule 6) [N] */
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
 #define ROCKING_CASE_FIELDS(X) X(a_g) X(omega_g) X(psi) X(t_p) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
 
-#define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end)
+#define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
 
 /* The constants in table order (rocking_constants). */
 #define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME)

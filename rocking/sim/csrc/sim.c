@@ -413,6 +413,12 @@ static void dopri_dense(dopri *d, double t, double *y)
 /* 3. Events                                                                 */
 /* ------------------------------------------------------------------------ */
 
+/* End-stop sides (the outputs of model_stop_gaps) that the events can follow. */
+#define MAX_STOP_SIDES 4
+#if MODEL_NSTOPS > MAX_STOP_SIDES
+#error "the model has more end-stop sides than sim.c follows: raise MAX_STOP_SIDES"
+#endif
+
 enum event_kind {
     EV_UPLIFT_A,       /* contact: u_{+1} turns positive */
     EV_UPLIFT_A_PRIME, /* contact: u_{-1} turns positive */
@@ -424,7 +430,9 @@ enum event_kind {
     EV_THETA_PEAK,     /* rocking: dtheta changes sign (theta_max) */
     EV_X_PEAK,         /* any phase, with a damper: dq[1] changes sign (x_max) */
     EV_SETTLED,        /* contact once safe: dq[1] changes sign, the last extremum (ends the run) */
-    N_EVENTS
+    EV_GAP_CLOSE,      /* any phase: the penetration of a clear stop side turns positive (one kind per side) */
+    EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side in contact falls to 0 */
+    N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
 };
 
 /* How an event's function g fires. With phi = sense * g, the event is phi
@@ -455,8 +463,27 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {+1, 0, 0, -1, 0, 0.0},                 /* EV_CRITICAL:       g <= 0  ->  g > 0 */
     {0, 1, 0, NQ, 0, 0.0},                  /* EV_THETA_PEAK:     sign change */
     {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_X_PEAK:        sign change */
-    {0, 1, 1, NQ > 1 ? NQ + 1 : -1, 0, 0.0}  /* EV_SETTLED:       sign change */
+    {0, 1, 1, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_SETTLED:       sign change */
+    /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's penetration. */
+    {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
+    {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
 };
+
+/* The stop side an event follows, or -1. */
+static int gap_side(int kind)
+{
+    if (kind >= EV_GAP_CLOSE && kind < N_EVENTS)
+        return (kind - EV_GAP_CLOSE) % MAX_STOP_SIDES;
+    return -1;
+}
+
+/* The penetration of stop side i (it does not depend on the pivot). */
+static double stop_gap(const constants *k, const double *y, int i)
+{
+    double gaps[MAX_STOP_SIDES] = {0.0};
+    model_stop_gaps_prepared(y, 0.0, about(k, 1.0), gaps);
+    return gaps[i];
+}
 
 static int is_before(double phi, int strict)
 {
@@ -501,6 +528,8 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     case EV_CRITICAL:
         return critical_event(ec, y, ode_ag(ec->o, t));
     default:
+        if (gap_side(kind) >= 0)
+            return stop_gap(ec->o->k, y, gap_side(kind));
         return 0.0; /* not reached: the other events read one component */
     }
 }
@@ -700,6 +729,7 @@ typedef struct run {
     double t_start; /* when the current rocking phase started, at theta = 0 */
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
+    int stop_on[MAX_STOP_SIDES]; /* each stop side's bumper acts (its penetration is > 0) */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
@@ -776,6 +806,15 @@ static void see_state(run *r, const double *y)
 #if NQ > 1
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
+#if MODEL_NSTOPS > 0
+    {
+        double forces[MODEL_NSTOPS];
+        int i;
+        model_stop_forces_prepared(y, 0.0, about(r->o.k, 1.0), forces);
+        for (i = 0; i < MODEL_NSTOPS; ++i)
+            r->res->bumper_force_max = max2(r->res->bumper_force_max, forces[i]);
+    }
+#endif
 }
 
 /* A non-terminal event located at t inside the last step. */
@@ -819,12 +858,15 @@ static void watched_events(const run *r, int *active)
         active[EV_SETTLED] = NQ > 1;
     else
         active[EV_X_PEAK] = NQ > 1;
+    /* In every phase, each stop side's gap closing, or opening once its bumper acts (rule 6). */
+    for (k = 0; k < MODEL_NSTOPS; ++k)
+        active[(r->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k] = 1;
 }
 
 /* What a segment changes in the results and the history before its end:
  * restored when the work passes max_steps inside it (rule 5). */
 typedef struct segment_start {
-    double theta_max, x_max, t_critical;
+    double theta_max, x_max, t_critical, bumper_force_max;
     int64_t n_rec;
 } segment_start;
 
@@ -833,6 +875,7 @@ static void segment_saved(const run *r, segment_start *saved)
     saved->theta_max = r->res->theta_max;
     saved->x_max = r->res->x_max;
     saved->t_critical = r->res->t_critical;
+    saved->bumper_force_max = r->res->bumper_force_max;
     saved->n_rec = r->n_rec;
 }
 
@@ -844,6 +887,7 @@ static int segment_undone(run *r, const segment_start *saved)
     r->res->theta_max = saved->theta_max;
     r->res->x_max = saved->x_max;
     r->res->t_critical = saved->t_critical;
+    r->res->bumper_force_max = saved->bumper_force_max;
     if (r->hist != NULL) {
         r->n_rec = saved->n_rec; /* its last row is the segment's start */
         r->last_t = r->t;
@@ -1120,6 +1164,11 @@ static void phase_machine(run *r)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
+        if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
+            r->stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
+            r->res->stop_contacts += ended < EV_GAP_OPEN;
+            continue;
+        }
         switch (ended) {
         case SEG_BOUND:
             if (t_bound == c->t_max) {
@@ -1208,6 +1257,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     run r;
     constants k;
     const double zeros[NY] = {0.0};
+    int i;
 
     out->status = ROCKING_FAILED;
     out->overturned = 0;
@@ -1215,6 +1265,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     out->t_overturn = out->t_critical = NAN;
     out->theta_max = out->x_max = 0.0;
     out->t_end = 0.0;
+    out->stop_contacts = 0;
+    out->bumper_force_max = 0.0;
 
     r.c = c;
     r.tol.rtol = c->rtol;
@@ -1249,6 +1301,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.next_sample = 0.0;
     if (initial_state(c, r.y, &r.phase) != 0)
         return -1;
+    for (i = 0; i < MAX_STOP_SIDES; ++i)
+        r.stop_on[i] = i < MODEL_NSTOPS && stop_gap(&k, r.y, i) > 0.0;
     see_state(&r, r.y);
 
     phase_machine(&r);

@@ -2,9 +2,11 @@
  * on a hand-written Dormand-Prince 5(4) integrator.
  *
  * sim.c knows no model: it is compiled together with one generated model and
- * uses only its generic names (MODEL_NQ, MODEL_NY, MODEL_NP, model_rocking_accel,
- * model_contact_accel, model_uplift, model_impact, model_energy,
- * model_uplift_energy, model_critical_angle). Build, e.g. for the model "omd":
+ * uses only its generic names (MODEL_NQ, MODEL_NY, MODEL_NP, MODEL_NK, MODEL_NSTOPS,
+ * model_prepare and the prepared forms of model_rocking_accel, model_contact_accel,
+ * model_uplift, model_impact, model_energy, model_uplift_energy, model_critical_angle,
+ * model_critical_tangent, model_mass_matrix, model_stop_gaps, model_stop_forces).
+ * Build, e.g. for the model "omd":
  *
  *     cc -std=c99 -O2 -fPIC -shared -I rocking/csrc -I generated/omd \
  *        -DROCKING_MODEL_HEADER='"omd.h"' rocking/csrc/sim.c generated/omd/omd.c -lm
