@@ -395,6 +395,18 @@ def test_request_stop_ends_a_running_simulate_and_a_stop_before_a_call_does_not_
     assert cb.simulate(problem(2.0, 2.0, DAMPER)).status in ("rest", "overturned")
 
 
+def test_a_call_that_starts_while_halted_stops_at_once_and_later_calls_run():
+    """A study's interruption: a worker thread may start a tile's C call after the stop; halted() stops it too."""
+    start = time.perf_counter()
+    with cb.halted():
+        worker = ThreadPoolExecutor(1).submit(cb.simulate_cases, _slow_cases(1), 1)
+        with pytest.raises(KeyboardInterrupt):
+            worker.result(timeout=30)
+    assert time.perf_counter() - start < 2.0
+    statuses = cb.simulate_cases(pulse_cases(BLOCK, [2.0], [2.0], gamma=0.05, h=0.05), threads=1)["status"]
+    assert set(statuses) <= {STATUS.index("rest"), STATUS.index("overturned")}
+
+
 def test_ctrl_c_in_the_main_thread_stops_a_batch():
     """SIGINT (here _thread.interrupt_main) while the main thread waits for C: stopped, KeyboardInterrupt."""
     assert threading.current_thread() is threading.main_thread()

@@ -25,7 +25,9 @@ from __future__ import annotations
 import ctypes
 import os
 import threading
+from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
@@ -191,6 +193,8 @@ def available(model: str | Model = "omd") -> bool:
 #: The stop flags of the calls running now (sim.c reads each once per step).
 _RUNNING: dict[int, ctypes.c_int32] = {}
 _RUNNING_LOCK = threading.Lock()
+#: Inside :func:`halted`: calls that start are stopped at once too.
+_HALTED = [False]
 #: How often the main thread wakes up while it waits for a C call [s].
 _WAIT_SLICE = 0.02
 
@@ -209,6 +213,24 @@ def request_stop() -> None:
         flag.value = 1
 
 
+@contextmanager
+def halted() -> Iterator[None]:
+    """Stop every C run of this process, and every one that starts inside the ``with``.
+
+    :func:`request_stop` spares the calls that start after it; a study's
+    interruption needs them stopped too: between the stop and the end of its
+    pool, a worker thread may still take a queued tile and start its C call.
+    """
+    with _RUNNING_LOCK:
+        _HALTED[0] = True
+    request_stop()
+    try:
+        yield
+    finally:
+        with _RUNNING_LOCK:
+            _HALTED[0] = False
+
+
 def _stoppable(call):
     """``call(stop)`` with a fresh stop flag registered for :func:`request_stop`.
 
@@ -219,6 +241,7 @@ def _stoppable(call):
     stop = ctypes.c_int32(0)
     with _RUNNING_LOCK:
         _RUNNING[id(stop)] = stop
+        stop.value = int(_HALTED[0])
     try:
         if threading.current_thread() is not threading.main_thread():
             result = call(stop)

@@ -424,8 +424,13 @@ class _Workers:
     def interrupt(self) -> None:
         """Ctrl-C: stop the running tiles and cancel the queued ones, at once; store those that finished."""
         if self.kind == "threads":
-            _stop_c_runs()
-        elif self.kind == "processes":
+            from ..sim import c_backend
+
+            # A worker thread may take a queued tile after the stop: halted() stops its C call too.
+            with c_backend.halted():
+                self.drain()
+            return
+        if self.kind == "processes":
             _terminate(self.executor)
         self.drain()
 
