@@ -24,7 +24,7 @@ Examples
 """
 
 from .model.loading import Model, ModelError, available_models, load_model
-from .model.params import Block, Damper, ParameterError
+from .model.params import Block, Damper, ParameterError, Stops
 from .model.pulse import OneSinePulse
 from .sim.cbuild import CBuildError
 from .sim.problem import Response, SimulationError
@@ -51,6 +51,7 @@ __all__ = [
     "Response",
     "Setting",
     "SimulationError",
+    "Stops",
     "Study",
     "TileWarning",
     "Tuning",

@@ -161,8 +161,8 @@ def test_a_gap_beyond_any_stroke_is_the_unlimited_damper(backend):
     for beta, Omega in ((1.5, 1.0), (3.0, 4.0), (7.5, 10.0)):
         pulse = OneSinePulse.from_nondim(REFERENCE, beta=beta, Omega=Omega)
         free = run(make_problem(REFERENCE, damper, pulse), backend=backend)
-        params = {**damper.as_params(), "L": 100.0, "k_b": 1e6, "c_b": 1e3}
-        stopped = run(make_problem(REFERENCE, params, pulse, model="omd_stops"), backend=backend)
+        far = dataclasses.replace(damper, stops=Stops(L=100.0, k_b=1e6, c_b=1e3, beyond_edges=True))
+        stopped = run(make_problem(REFERENCE, far, pulse), backend=backend)
         assert (stopped.stop_contacts, stopped.bumper_force_max) == (0, 0.0)
         for field in ("status", "overturned", "impacts", "uplifts"):
             assert getattr(stopped, field) == getattr(free, field)
@@ -194,3 +194,64 @@ def test_the_contact_counters_of_a_run_cut_by_max_steps_are_those_of_its_last_se
     cut = run(dataclasses.replace(problem, max_steps=400), backend=backend)
     assert cut.status == "max_steps" and full.stop_contacts > 0
     assert cut.stop_contacts <= full.stop_contacts and cut.bumper_force_max <= full.bumper_force_max
+
+
+# --- the damper as built: Stops in the public API ---------------------------------------------------
+
+from rocking import ParameterError, Stops  # noqa: E402
+from rocking import simulate as public_simulate  # noqa: E402
+
+TUNED = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+
+
+def test_stops_at_the_edges_follow_the_documented_choice():
+    """L = B/2 - 20 mm, a bumper 20 times the damper's frequency with zeta_b = 0.2 (restitution 0.53)."""
+    stops = Stops.at_edges(REFERENCE, TUNED)
+    assert stops.L == pytest.approx(REFERENCE.B / 2 - 0.02)
+    assert math.sqrt(stops.k_b / TUNED.m) == pytest.approx(20 * TUNED.omega_m)
+    assert stops.c_b / (2 * math.sqrt(stops.k_b * TUNED.m)) == pytest.approx(0.2)
+    damper = dataclasses.replace(TUNED, stops=stops)
+    assert damper.model == "omd_stops" and TUNED.model == "omd"
+    assert damper.as_params() == {**TUNED.as_params(), "L": stops.L, "k_b": stops.k_b, "c_b": stops.c_b}
+
+
+def test_a_damper_the_unlimited_guide_saves_overturns_with_stops_at_the_edges(backend):
+    """The issue's case (Omega = 7.5, beta = 10): the free mass saves the block only by running 1.1 m off
+    a 0.5 m base; stopped at the edges, the block overturns."""
+    pulse = OneSinePulse.from_nondim(REFERENCE, beta=10.0, Omega=7.5)
+    free = public_simulate(REFERENCE, TUNED, pulse, backend=backend)
+    stopped = public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=Stops.at_edges(REFERENCE, TUNED)), pulse,
+                              backend=backend)  # fmt: skip
+    assert not free.overturned and free.x_max > 2 * REFERENCE.B
+    assert stopped.overturned and stopped.stop_contacts >= 1
+    assert REFERENCE.B / 2 - 0.02 < stopped.x_max < REFERENCE.B / 2
+
+
+@pytest.mark.parametrize(
+    "make, message",
+    [
+        (lambda: Stops(L=0.0, k_b=1e5), r"^L must be in \(0, 1000\] m \(got 0.0\)"),
+        (lambda: Stops(L=-0.1, k_b=1e5), r"^L must be in \(0, 1000\] m"),
+        (lambda: Stops(L=0.2, k_b=0.0), r"^k_b must be in \(0, 1e\+30\] N/m"),
+        (lambda: Stops(L=0.2, k_b=1e5, c_b=-1.0), r"^c_b must be in \[0, 1e\+30\] N s/m"),
+        (lambda: Stops(L=0.2, k_b=1e5, beyond_edges="yes"), r"^beyond_edges must be True or False"),
+        (lambda: Damper(50.0, 200.0, stops=(0.2, 1e5)), r"^stops must be a rocking.Stops or None"),
+        (lambda: Stops(L=0.3, k_b=1e5).check_on(REFERENCE, TUNED), r"^L must be in \(0, B/2\] = \(0, 0.25\] m"),
+        (lambda: Stops(L=0.2, k_b=1e20).check_on(REFERENCE, TUNED), r"^omega_b must be in \[1e-3 p, 1e4 p\]"),
+        (lambda: Stops(L=0.2, k_b=1e5, c_b=1e6).check_on(REFERENCE, TUNED), r"^zeta_b must be in \[0, 10\]"),
+        (lambda: Stops.at_edges(REFERENCE, TUNED, depth=0.25), r"^depth must be in \(0, B/2\)"),
+        (lambda: public_simulate(REFERENCE, {**TUNED.as_params(), "L": 0.3, "k_b": 1e5, "c_b": 0.0}, STILL,
+                                 model="omd_stops"), r"^L must be in \(0, B/2\]"),  # fmt: skip
+        (lambda: public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=Stops(0.2, 1e5)), STILL, model="omd"),
+         r"has no parameter\(s\) L, c_b, k_b of its own"),  # fmt: skip
+    ],
+)
+def test_bad_stops_are_refused_with_the_parameter_and_its_range(make, message):
+    with pytest.raises(ParameterError, match=message):
+        make()
+
+
+def test_a_guide_beyond_the_edges_needs_the_explicit_override(backend):
+    stops = Stops(L=0.3, k_b=1e5, c_b=100.0, beyond_edges=True)
+    r = public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=stops), STILL, backend=backend)
+    assert r.status == "rest" and r.stop_contacts == 0

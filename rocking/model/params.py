@@ -251,6 +251,14 @@ RANGES: dict[str, Range] = {
     # Dampers use 0 - 0.3, viscous devices a few; beyond 10 the dashpot's rate 2 zeta omega_m is a
     # stiff mode for the explicit integrator (and the mass hardly moves anyway).
     "zeta": Range(0.0, 10.0, "", "damping ratio of the damper, stiff for the explicit integrator above 10"),
+    # --- the end stops of the guide (Stops: absolute bounds; on its damper and block, the ratios below)
+    "L": Range(0.0, 1e3, "m", "the half-stroke, from the centre line to either bumper", open_low=True),
+    "k_b": Range(0.0, 1e30, "N/m", "the stiffness must keep k_b / m a normal double", open_low=True),
+    "c_b": Range(0.0, 1e30, "N s/m", "the dashpot must keep c_b / m a normal double"),
+    # A contact lasts pi / omega_b: above 1e4 p the steps it needs pass a run's bound on work, as for omega_m.
+    "omega_b_ratio": Range(1e-3, 1e4, "", "bumper frequency sqrt(k_b / m) / p, as the damper's (a run's work)"),
+    # Rubber and elastomer pads restitute 0.3 - 0.7 (zeta_b 0.1 - 0.35); 10 as for the damper's zeta.
+    "zeta_b": Range(0.0, 10.0, "", "damping ratio of a bumper, stiff for the explicit integrator above 10"),
     # --- the pulse (OneSinePulse, OneSinePulse.from_nondim)
     "a_g": Range(0.0, 1e5, "m/s^2", "up to 10,000 g, beyond any ground motion, shake table or centrifuge"),
     # Ground-motion pulses last 0.1 - 10 s; 1 ms to 1000 s bounds the pulse's share of a run.
@@ -518,6 +526,124 @@ class Block:
         return cls(H=2.0, B=0.5, M=1000.0, e=0.025)
 
 
+#: The parameters of the paper's damper (model ``omd``) and of its end stops (model ``omd_stops``), by name.
+DAMPER_PARAMETERS = ("m", "k_m", "c", "h")
+STOP_PARAMETERS = ("L", "k_b", "c_b")
+
+#: Default depth of a bumper pad at the block's edge, m: a 20 mm elastomer pad (Stops.at_edges).
+BUMPER_DEPTH = 0.02
+#: Default bumper frequency over the damper's, sqrt(k_b / m) / omega_m: a contact lasts 1/40 of the
+#: damper's period, and the stroke is within a few per cent of a rigid stop's (tests/test_stops.py).
+BUMPER_FREQUENCY_RATIO = 20.0
+#: Default bumper damping ratio: a restitution of exp(-0.2 pi / sqrt(0.96)) = 0.53, a rubber pad's.
+BUMPER_DAMPING_RATIO = 0.2
+
+
+@dataclass(frozen=True)
+class Stops:
+    """End stops of the damper's guide: a compliant bumper at ``x = +L`` and at ``x = -L`` (docs/model.md section 11).
+
+    Beyond the gap each bumper is a linear spring ``k_b`` and dashpot ``c_b`` on the
+    penetration ``|x| - L`` (a Kelvin-Voigt contact: its dashpot acts from the moment the
+    gap closes, so on rebound it can briefly pull the mass back). A damper with stops
+    runs on the model ``omd_stops``.
+
+    Parameters
+    ----------
+    L : float
+        Half-stroke, m, in (0, 1e3]; on a block, at most ``B/2`` unless ``beyond_edges``.
+    k_b : float
+        Bumper stiffness, N/m, in (0, 1e30].
+    c_b : float, optional
+        Bumper dashpot, N s/m, in [0, 1e30]. Default 0.
+    beyond_edges : bool, optional
+        Allow a guide longer than the block is wide (``L > B/2``). Default False.
+
+    On its damper and block (:meth:`check_on`) the bumper's frequency
+    ``omega_b = sqrt(k_b / m)`` must lie in [1e-3 p, 1e4 p] (a stiffer bumper's
+    contacts need more steps than a run's bound on work) and its damping ratio
+    ``zeta_b = c_b / (2 sqrt(k_b m))`` in [0, 10].
+
+    Raises
+    ------
+    ParameterError
+        If a parameter is non-numeric, non-finite or out of range.
+    """
+
+    L: float
+    k_b: float
+    c_b: float = 0.0
+    beyond_edges: bool = False
+
+    def __post_init__(self) -> None:
+        for field in ("L", "k_b", "c_b"):
+            object.__setattr__(self, field, check_in_range(field, getattr(self, field)))
+        if not isinstance(self.beyond_edges, (bool, np.bool_)):
+            raise ParameterError(f"beyond_edges must be True or False (got {self.beyond_edges!r})")
+
+    def check_on(self, block: Block, damper: Damper) -> Stops:
+        """These stops if they suit ``damper`` on ``block``: the gap within the block, the bumper's ratios.
+
+        Raises
+        ------
+        ParameterError
+            Naming the parameter, its range relative to the block or damper, and the reason.
+        """
+        check_block(block)
+        if not self.beyond_edges and self.L > block.B / 2:
+            raise ParameterError(
+                f"L must be in (0, B/2] = (0, {block.B / 2:g}] m (got {self.L!r}): the stops at the block's edges "
+                "at most; Stops(..., beyond_edges=True) for a guide that overhangs the block"
+            )
+        if damper.m == 0.0:
+            raise ParameterError("stops need a damper mass m > 0 kg (a bare block has no guide)")
+        omega_b = math.sqrt(self.k_b / damper.m)
+        check_scaled("omega_b", omega_b, "omega_b_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
+        check_in_range("zeta_b", self.c_b / (2 * math.sqrt(self.k_b * damper.m)))
+        return self
+
+    def as_params(self) -> dict[str, float]:
+        """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``."""
+        return dict(zip(STOP_PARAMETERS, (self.L, self.k_b, self.c_b)))
+
+    @classmethod
+    def at_edges(
+        cls,
+        block: Block,
+        damper: Damper,
+        *,
+        depth: float = BUMPER_DEPTH,
+        frequency_ratio: float = BUMPER_FREQUENCY_RATIO,
+        zeta_b: float = BUMPER_DAMPING_RATIO,
+    ) -> Stops:
+        """Bumper pads of ``depth`` at the block's edges: ``L = B/2 - depth``.
+
+        Parameters
+        ----------
+        block, damper : Block, Damper
+            The block and its damper (``m > 0``).
+        depth : float, optional
+            The pads' depth, m, in (0, B/2). Default :data:`BUMPER_DEPTH` (20 mm).
+        frequency_ratio : float, optional
+            ``sqrt(k_b / m) / omega_m``. Default :data:`BUMPER_FREQUENCY_RATIO` (20).
+        zeta_b : float, optional
+            The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2).
+
+        Returns
+        -------
+        Stops
+            With ``k_b = m (frequency_ratio omega_m)^2`` and ``c_b = 2 zeta_b sqrt(k_b m)``.
+        """
+        check_block(block)
+        depth = check_interval("depth", depth, 0.0, block.B / 2, "m", label="(0, B/2)")
+        if not check_real("frequency_ratio", frequency_ratio) > 0:
+            raise ParameterError(f"frequency_ratio must be > 0 (got {frequency_ratio!r})")
+        zeta_b = check_in_range("zeta_b", zeta_b)
+        k_b = damper.m * (frequency_ratio * damper.omega_m) ** 2
+        stops = cls(L=block.B / 2 - depth, k_b=k_b, c_b=2 * zeta_b * math.sqrt(k_b * damper.m))
+        return stops.check_on(block, damper)
+
+
 @dataclass(frozen=True)
 class Damper:
     """Oscillating mass damper on a horizontal guide on top of the block.
@@ -532,6 +658,9 @@ class Damper:
         Dashpot coefficient, N s/m, in [0, 1e30]. Default 0.
     h : float, optional
         Height of the guide above the top side of the block, m, in [0, 1e3]. Default 0.
+    stops : Stops, optional
+        End stops of the guide (model ``omd_stops``). Default None: the paper's
+        unlimited guide (model ``omd``).
 
     These absolute bounds only keep ``k_m / m`` and ``c / m`` normal doubles. On its
     block (:meth:`check_on`, which :func:`rocking.simulate` calls) a damper must also
@@ -550,15 +679,18 @@ class Damper:
     k_m: float
     c: float = 0.0
     h: float = 0.0
+    stops: Stops | None = None
 
     def __post_init__(self) -> None:
+        if not (self.stops is None or isinstance(self.stops, Stops)):
+            raise ParameterError(f"stops must be a rocking.Stops or None (got {type(self.stops).__name__})")
         m = check_in_range("m", self.m)
         k_m = check_in_range("k_m", self.k_m)
         c = check_in_range("c", self.c)
         h = check_in_range("h", self.h)
-        if m > 0.0 and k_m == 0.0:
-            # Without a spring the mass has no rest position and drifts off the guide.
-            raise ParameterError(f"k_m must be > 0 N/m when m > 0 (got k_m={k_m!r}, m={m!r})")
+        if m > 0.0 and k_m == 0.0 and self.stops is None:
+            # Without a spring the mass has no rest position and drifts off an unlimited guide.
+            raise ParameterError(f"k_m must be > 0 N/m when m > 0 and no stops hold the mass (got k_m={k_m!r})")
         # Frozen dataclass: the normalised floats can only be stored this way.
         for field, value in (("m", m), ("k_m", k_m), ("c", c), ("h", h)):
             object.__setattr__(self, field, value)
@@ -566,6 +698,8 @@ class Damper:
     def _require_mass(self, quantity: str) -> None:
         if self.m == 0.0:
             raise ParameterError(f"{quantity} is undefined for m = 0 kg (no damper)")
+        if self.k_m == 0.0 and quantity != "omega_m":
+            raise ParameterError(f"{quantity} is undefined for k_m = 0 N/m (a free mass between stops)")
 
     @property
     def omega_m(self) -> float:
@@ -627,10 +761,17 @@ class Damper:
         """
         check_block(block)
         check_scaled("m", self.m, "gamma", block.M, "[1e-10 M, 10 M]", "kg")
-        if self.m > 0.0:
+        if self.k_m > 0.0:  # k_m = 0 only for a free mass between stops: no frequency, no damping ratio
             check_scaled("omega_m", self.omega_m, "omega_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
             check_in_range("zeta", self.zeta)
+        if self.stops is not None:
+            self.stops.check_on(block, self)
         return self
+
+    @property
+    def model(self) -> str:
+        """The generated model this damper runs on: ``omd``, or ``omd_stops`` with stops."""
+        return "omd" if self.stops is None else "omd_stops"
 
     def as_params(self) -> dict[str, float]:
         """Return the damper parameters under the symbol names of the derivation.
@@ -638,9 +779,10 @@ class Damper:
         Returns
         -------
         dict
-            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``.
+            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``.
         """
-        return {"m": self.m, "k_m": self.k_m, "c": self.c, "h": self.h}
+        own = dict(zip(DAMPER_PARAMETERS, (self.m, self.k_m, self.c, self.h)))
+        return own if self.stops is None else {**own, **self.stops.as_params()}
 
     @classmethod
     def from_nondim(

@@ -18,7 +18,18 @@ from dataclasses import MISSING, field, make_dataclass
 import numpy as np
 
 from ..model.loading import Model, ModelError, load_model
-from ..model.params import RANGES, Block, Damper, ParameterError, check_block, check_in_range, check_real
+from ..model.params import (
+    DAMPER_PARAMETERS,
+    RANGES,
+    STOP_PARAMETERS,
+    Block,
+    Damper,
+    ParameterError,
+    Stops,
+    check_block,
+    check_in_range,
+    check_real,
+)
 from ..model.pulse import OneSinePulse
 from . import boundary
 from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, PIVOT_A, PIVOT_A_PRIME, RESULT, STATUS
@@ -284,15 +295,17 @@ def _damper_mapping(damper: object) -> dict | None:
     return dict(damper)
 
 
-def own_parameters(model: Model, values: Mapping, block: Block) -> dict[str, float]:
+def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper | None = None) -> dict[str, float]:
     """``values`` checked as the parameters of ``model``'s attached bodies on ``block``.
 
     The keys must be exactly the model's own parameters (``Model.parameters`` minus
     ``Model.block_parameters``, the rule of :class:`rocking.Variant`): a damper never sets
     the block. The values are real numbers (bool and str refused) within the model's
-    ranges; those of the ``omd`` model (a :class:`Damper`'s) must also pass
-    :meth:`Damper.check_on`; a mass of another model (unit kg) has the mass ratio range of
-    ``gamma``, a length (unit m) the range of ``h`` in absolute value.
+    ranges; those of the ``omd`` and ``omd_stops`` models (a :class:`Damper`'s, with its
+    :class:`Stops`) must also pass :meth:`Damper.check_on` (that of ``damper``, the object
+    ``values`` came from, if given: its stops may allow a guide beyond the block's edges);
+    a mass of another model (unit kg) has the mass ratio range of ``gamma``, a length
+    (unit m) the range of ``h`` in absolute value.
 
     Raises
     ------
@@ -313,8 +326,15 @@ def own_parameters(model: Model, values: Mapping, block: Block) -> dict[str, flo
     if missing:
         raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
     checked = {k: check_real(k, values[k]) for k in own}
-    if set(own) == set(Damper.__dataclass_fields__):
+    if damper is not None:
+        damper.check_on(block)
+        return checked
+    if set(own) == set(DAMPER_PARAMETERS):
         Damper(**checked).check_on(block)
+        return checked
+    if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
+        stops = Stops(**{k: checked[k] for k in STOP_PARAMETERS})
+        Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}
     for k, v in checked.items():
@@ -438,14 +458,14 @@ def make_problem(
     if not isinstance(phase0, numbers.Integral) or isinstance(phase0, (bool, np.bool_)):
         raise ParameterError(f"phase0 must be -1, 0 or +1 (got {phase0!r})")
     own = _damper_mapping(damper)
-    model = resolve_model(model, "omd" if own is not None else "block")
+    model = resolve_model(model, damper.model if isinstance(damper, Damper) else "omd" if own else "block")
     values = dict(block.as_params())
     if own is not None:
-        values.update(own_parameters(model, own, block))
+        values.update(own_parameters(model, own, block, damper if isinstance(damper, Damper) else None))
     elif model.nq > 1:
         # Zeros for the bodies' parameters would be massless bodies on springs (a degenerate mode), except
         # on omd where m = 0 is refused below with its own message.
-        if {k for k in model.parameters if k not in model.block_parameters} != set(Damper.__dataclass_fields__):
+        if {k for k in model.parameters if k not in model.block_parameters} != set(DAMPER_PARAMETERS):
             raise ParameterError(
                 f"damper=None is the bare block (model 'block'); model {model.name!r} needs its own "
                 f"parameters as a damper mapping ({', '.join(k for k in model.parameters if k not in values)})"
@@ -458,7 +478,7 @@ def make_problem(
     t_p = pulse.t_p
     t_max = _run_length(t_max, t_after, t_p)
     # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
-    T_m = damper.T_m if own is not None and hasattr(damper, "T_m") and values.get("m", 0.0) > 0 else np.inf
+    T_m = damper.T_m if isinstance(damper, Damper) and damper.m > 0 and damper.k_m > 0 else np.inf
     defaults = default_settings(block, pulse.T_g, T_m, rtol, model.nq)
     return Problem(
         model=model,
