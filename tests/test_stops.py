@@ -205,10 +205,10 @@ TUNED = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=
 
 
 def test_stops_at_the_edges_follow_the_documented_choice():
-    """L = B/2 - 20 mm, a bumper 20 times the damper's frequency with zeta_b = 0.2 (restitution 0.53)."""
+    """L = B/2 - 20 mm, a bumper 60 times the damper's frequency with zeta_b = 0.2 (restitution 0.53)."""
     stops = Stops.at_edges(REFERENCE, TUNED)
     assert stops.L == pytest.approx(REFERENCE.B / 2 - 0.02)
-    assert math.sqrt(stops.k_b / TUNED.m) == pytest.approx(20 * TUNED.omega_m)
+    assert math.sqrt(stops.k_b / TUNED.m) == pytest.approx(60 * TUNED.omega_m)
     assert stops.c_b / (2 * math.sqrt(stops.k_b * TUNED.m)) == pytest.approx(0.2)
     damper = dataclasses.replace(TUNED, stops=stops)
     assert damper.model == "omd_stops" and TUNED.model == "omd"

@@ -433,3 +433,20 @@ def test_library_errors_name_the_parameter():
         optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, Tm=Grid("Tm", 0.1, 10.0, 3))
     with pytest.raises(ParameterError, match="columns must be an integer >= 1"):
         minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, SERIAL, columns=0)
+
+
+def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
+    """The paper's unlimited guide: cells the damper saves with its mass beyond B/2 are counted apart
+    (issue 12: on the demo map every saved cell needed more than B/2)."""
+    study = overturning_map(
+        SETTING, TUNING, Grid("Omega", 5.0, 9.0, 5), Grid("beta", 4.0, 12.0, 9), SERIAL, runs=tmp_path / "map"
+    )
+    a, half = study.arrays, SETTING.block.B / 2
+    saved = a["effect"] > 0
+    assert study.summary["saved"] == saved.sum() > 0
+    assert study.summary["saved_past_edges"] == int((saved & (a["damper_x_max"] > half)).sum())
+    assert 0 < study.summary["saved_past_edges"] <= study.summary["saved"]
+    from rocking.plot.figures import map_figure
+
+    title = map_figure(study).axes[2].get_title()
+    assert f"({study.summary['saved_past_edges']} only past the edge)" in title

@@ -260,7 +260,7 @@ def _cmd_map(args) -> int:
     s = study.summary
     print(
         f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
-        f"saved {s['saved']}, lost {s['lost']}"
+        f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge), lost {s['lost']}"
         + (f"; {unknown} without a verdict" if (unknown := s["bare_undetermined"] + s["damper_undetermined"]) else "")
     )
     return 0

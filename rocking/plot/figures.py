@@ -26,6 +26,7 @@ from matplotlib.patches import Patch
 
 from ..model.params import ParameterError
 from ..study.config import Study
+from ..study.overturning_map import saved_past_edges
 from ..study.spectrum import ABOVE, BELOW, BRACKETED
 from ..study.storage import load
 
@@ -37,12 +38,14 @@ OUTCOME_CLASSES = (
     ("after 2 impacts", "#fddbc7"),
     ("after 3 or more impacts", "#9970ab"),
 )
-#: Effect classes: bare overturned + 2 x damped overturned.
+#: Effect classes: bare overturned + 2 x damped overturned, and 4 for cells saved only with the
+#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges).
 EFFECT_CLASSES = (
     ("safe either way", "#f7f7f7"),
     ("saved by the damper", "#1a9850"),
     ("lost with the damper", "#d73027"),
     ("overturned either way", "#bdbdbd"),
+    ("saved only with the mass past the edge (x_max > B/2)", "#a6d96a"),
 )
 PART_STYLE = {
     "bare": {"color": "black", "label": "block alone"},
@@ -108,9 +111,14 @@ def map_figure(study: Study) -> Figure:
         _classes(ax, a["Omega"], a["beta"], cls, OUTCOME_CLASSES)
         ax.set_title(title)
     effect = a["bare_overturned"].astype(int) + 2 * a["damper_overturned"].astype(int)
-    _classes(axes[2], a["Omega"], a["beta"], effect, EFFECT_CLASSES)
+    past = saved_past_edges(a, study.config["block"]["B"] / 2)
+    _classes(axes[2], a["Omega"], a["beta"], np.where(past, 4, effect), EFFECT_CLASSES)
     s = study.summary
-    axes[2].set_title(f"effect of the damper: {s.get('saved', 0)} cells saved, {s.get('lost', 0)} lost")
+    axes[2].set_title(
+        f"effect of the damper: {s.get('saved', 0)} cells saved ({int(past.sum())} only past the edge), "
+        f"{s.get('lost', 0)} lost",
+        fontsize=9,
+    )
     fig.suptitle(f"Overturning map, one-sine pulse; {_damper_label(study.config)}")
     return fig
 

@@ -282,7 +282,7 @@ def overturning_map(
         config,
         arrays,
         tables={"map": map_table(arrays)},
-        summary=map_summary(arrays),
+        summary=map_summary(arrays, setting.block.B / 2),
         run={**stats.record(), "run_folders": folders, "responses": 2 * Om.size * b.size},
     )
 
@@ -300,13 +300,24 @@ def map_table(arrays: dict) -> dict:
     return {k: np.ravel(v) for k, v in table.items()}
 
 
-def map_summary(arrays: dict) -> dict:
-    """Cell counts: overturned per part, saved and lost by the damper, runs that hit ``t_max`` or a bound."""
+def saved_past_edges(arrays: dict, half_width: float) -> np.ndarray:
+    """Cells the damper saves only by running its mass past the block's edge: ``x_max > B/2``.
+
+    An unlimited guide (the paper's) lets the mass travel anywhere; a real one ends at the
+    block's edges (docs/model.md section 11), so these cells are saved on paper only.
+    """
+    return (np.asarray(arrays["effect"]) > 0) & (np.asarray(arrays["damper_x_max"]) > half_width)
+
+
+def map_summary(arrays: dict, half_width: float) -> dict:
+    """Cell counts: overturned per part, saved and lost by the damper (saved within the block's half-width
+    ``B/2`` or only past it), runs that hit ``t_max`` or a bound."""
     out = {"cells": int(arrays["effect"].size)}
     for part in ("bare", "damper"):
         out[f"{part}_overturned"] = int(arrays[f"{part}_overturned"].sum())
         out[f"{part}_t_max"] = int((arrays[f"{part}_status"] == STATUS.index("t_max")).sum())
         out[f"{part}_undetermined"] = int(undetermined(arrays[f"{part}_status"]).sum())
     out["saved"] = int((arrays["effect"] > 0).sum())
+    out["saved_past_edges"] = int(saved_past_edges(arrays, half_width).sum())
     out["lost"] = int((arrays["effect"] < 0).sum())
     return out
