@@ -39,6 +39,21 @@ def long_flags():
 # --- the same as Python ---------------------------------------------------------------------------
 
 
+def test_simulate_sign_is_the_pulses_sign(capsys):
+    """--sign -1 is OneSinePulse(..., sign=-1): the mirrored pulse, a different response on an eccentric block."""
+    argv = ["simulate", "--gamma", "0.05", "--omega-ratio", "1", "--h", "0.05", "--beta", "3", "--Omega", "4"]
+    assert main([*argv, "--sign", "-1", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1, h=0.05)
+    down = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4, sign=-1))
+    up = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
+    assert out["pulse"]["sign"] == -1
+    assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(down.summary(), sort_keys=True)
+    assert (down.overturned, down.impacts) != (up.overturned, up.impacts)
+    assert main([*argv, "--sign", "0"]) == 2
+
+
 def test_simulate_with_only_H_B_M_is_rocking_simulate_of_the_same_block(capsys):
     """e and h not given: the Python defaults (0), not the reference block's (the 344 differing verdicts)."""
     argv = ["simulate", "--H", "1.8", "--B", "0.45", "--M", "300", "--gamma", "0.05", "--omega-ratio", "1"]

@@ -979,6 +979,21 @@ def test_mirror_symmetry_under_a_pulse(backend):
     _assert_mirrored(a, b, problem.model.state)
 
 
+@pytest.mark.parametrize("stops", [False, True], ids=["unlimited guide", "stops at the edges"])
+def test_a_pulse_of_the_other_sign_is_the_mirror_image(backend, stops):
+    """OneSinePulse(sign=-1) on the block of eccentricity e is the mirror image of the pulse of sign +1 on the
+    block of -e (docs/model.md 10.6), through the public API; symmetric stops keep the symmetry."""
+    damper = dataclasses.replace(DAMPER, stops=rocking.Stops.at_edges(REFERENCE, DAMPER)) if stops else DAMPER
+    mirrored = dataclasses.replace(REFERENCE, e=-REFERENCE.e)
+    pulse = OneSinePulse.from_nondim(REFERENCE, beta=2.5, Omega=5.0)
+    a = rocking.simulate(REFERENCE, damper, pulse, backend=backend, record=True, t_after=5.0)
+    b = rocking.simulate(mirrored, damper, dataclasses.replace(pulse, sign=-1), backend=backend, record=True,
+                         t_after=5.0)  # fmt: skip
+    assert a.uplifts >= 1
+    _assert_mirrored(a, b, load_model(damper.model).state)
+    assert (a.stop_contacts, a.bumper_force_max == pytest.approx(b.bumper_force_max)) == (b.stop_contacts, True)
+
+
 def test_mirror_symmetry_of_an_initial_state(backend):
     """docs/model.md 10.6 from a mirrored initial state and phase0, eccentric block with a damper, no ground motion."""
     runs = []

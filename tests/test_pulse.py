@@ -166,3 +166,19 @@ def test_pulse_ranges(kwargs, message):
 def test_from_nondim_ranges(block, kwargs, message):
     with pytest.raises(ParameterError, match=message):
         OneSinePulse.from_nondim(block, **kwargs)
+
+
+@pytest.mark.parametrize("sign", [0, 2, True, 1.0, "-1", None])
+def test_the_sign_of_a_pulse_is_plus_or_minus_one(sign):
+    with pytest.raises(ParameterError, match=r"^sign must be \+1 or -1"):
+        OneSinePulse(a_g=1.0, omega_g=2.0, sign=sign)
+    with pytest.raises(ParameterError, match=r"^sign must be \+1 or -1"):
+        OneSinePulse.from_nondim(Block.reference(), beta=2.0, Omega=3.0, sign=sign)
+
+
+def test_a_pulse_of_sign_minus_one_is_the_opposite_ground_motion():
+    up = OneSinePulse(a_g=3.0, omega_g=2.0, psi=0.5)
+    down = OneSinePulse(a_g=3.0, omega_g=2.0, psi=0.5, sign=-1)
+    t = np.linspace(-1.0, 4.0, 50)
+    assert np.array_equal(down.acceleration(t), -up.acceleration(t))
+    assert down.beta(Block.reference()) == up.beta(Block.reference())  # beta is the amplitude

@@ -114,7 +114,7 @@ def _damper(args, block) -> Damper | dict | None:
 
 def _pulse(args, block) -> OneSinePulse:
     """The pulse of the options: SI (OneSinePulse) or relative to the block (OneSinePulse.from_nondim)."""
-    si, nondim, psi = given(args, ("a_g", "omega_g")), given(args, ("beta", "Omega")), given(args, ("psi",))
+    si, nondim, psi = given(args, ("a_g", "omega_g")), given(args, ("beta", "Omega")), given(args, ("psi", "sign"))
     if si and nondim:
         raise ParameterError("give the pulse as --beta and --Omega, or in SI as --a-g and --omega-g, not both")
     if si:
@@ -134,6 +134,7 @@ def _payload(block, damper, pulse, model, responses) -> dict:
             "a_g": pulse.a_g,
             "omega_g": pulse.omega_g,
             "psi": pulse.psi,
+            "sign": pulse.sign,
             "beta": pulse.beta(block),
             "Omega": pulse.Omega(block),
         },
@@ -146,7 +147,7 @@ def _print_summary(block, pulse, responses) -> None:
         f"block H={block.H:g} m B={block.B:g} m M={block.M:g} kg e={block.e:g} m "
         f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); "
         f"pulse beta={pulse.beta(block):.4g} Omega={pulse.Omega(block):.4g} (a_g={pulse.a_g:.4g} m/s2, "
-        f"omega_g={pulse.omega_g:.4g} rad/s, psi={pulse.psi:g})"
+        f"omega_g={pulse.omega_g:.4g} rad/s, psi={pulse.psi:g}, sign={pulse.sign:+d})"
     )
     for label, r in responses.items():
         verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
@@ -219,14 +220,19 @@ def _add_simulate(sub) -> None:
     _add_simulate_damper(p)
     g = p.add_argument_group(
         "pulse",
-        "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi) or, in SI, "
-        "rocking.OneSinePulse(a_g, omega_g, psi).",
+        "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi, sign) or, in SI, "
+        "rocking.OneSinePulse(a_g, omega_g, psi, sign).",
     )
     g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")
     g.add_argument("--Omega", type=float, help="frequency ratio omega_g / p")
     g.add_argument("--a-g", type=float, help="amplitude, m/s2")
     g.add_argument("--omega-g", type=float, help="circular frequency, rad/s")
     g.add_argument("--psi", type=float, help=f"phase at t = 0, rad ({default_text(OneSinePulse, 'psi')})")
+    g.add_argument(
+        "--sign",
+        type=int,
+        help=f"direction, +1 or -1: +1 pushes the ground right first ({default_text(OneSinePulse, 'sign')})",
+    )
     g = p.add_argument_group("run and output")
     g.add_argument("--backend", choices=BACKENDS, help=f"back end ({default_text(simulate, 'backend')})")
     g.add_argument(

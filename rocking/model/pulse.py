@@ -18,9 +18,16 @@ from rocking.model.params import Block, ParameterError, check_block, check_in_ra
 __all__ = ["OneSinePulse"]
 
 
+def check_sign(sign: object) -> int:
+    """``sign`` if it is the integer +1 or -1 (a direction; bool and float refused)."""
+    if not (isinstance(sign, (int, np.integer)) and not isinstance(sign, (bool, np.bool_)) and sign in (1, -1)):
+        raise ParameterError(f"sign must be +1 or -1 (got {sign!r}): the direction of the pulse")
+    return int(sign)
+
+
 @dataclass(frozen=True)
 class OneSinePulse:
-    """Ground acceleration ``ddx_g(t) = a_g sin(omega_g t + psi)`` on ``[0, t_p]``.
+    """Ground acceleration ``ddx_g(t) = sign a_g sin(omega_g t + psi)`` on ``[0, t_p]``.
 
     The pulse lasts ``t_p = (2 pi - psi) / omega_g``, i.e. it runs from the phase
     ``psi`` to the end of one sine cycle, and the ground acceleration is zero
@@ -36,6 +43,9 @@ class OneSinePulse:
         pulse's share of a run.
     psi : float, optional
         Phase at ``t = 0``, rad, in ``[0, 2 pi)``. Default 0.
+    sign : {+1, -1}, optional
+        Direction: +1 (default) first pushes the ground to the right, ``ddx_g > 0``,
+        towards an uplift about ``A``; -1 is the mirrored pulse (docs/model.md 10.6).
 
     The ranges are entries of :data:`rocking.model.params.RANGES`; bool and str are
     not numbers.
@@ -49,8 +59,10 @@ class OneSinePulse:
     a_g: float
     omega_g: float
     psi: float = 0.0
+    sign: int = 1
 
     def __post_init__(self) -> None:
+        check_sign(self.sign)
         a_g = check_in_range("a_g", self.a_g)
         omega_g = check_in_range("omega_g", self.omega_g, label="[2 pi/1000, 2 pi/0.001]")
         psi = check_in_range("psi", self.psi, label="[0, 2 pi)")
@@ -84,7 +96,7 @@ class OneSinePulse:
         """
         t = np.asarray(t, dtype=float)
         active = (t >= 0.0) & (t <= self.t_p)
-        acc = np.where(active, self.a_g * np.sin(self.omega_g * t + self.psi), 0.0)
+        acc = np.where(active, self.sign * self.a_g * np.sin(self.omega_g * t + self.psi), 0.0)
         return float(acc) if acc.ndim == 0 else acc
 
     def beta(self, block: Block) -> float:
@@ -96,7 +108,9 @@ class OneSinePulse:
         return self.omega_g / block.p
 
     @classmethod
-    def from_nondim(cls, block: Block, *, beta: float, Omega: float, psi: float = 0.0) -> OneSinePulse:
+    def from_nondim(
+        cls, block: Block, *, beta: float, Omega: float, psi: float = 0.0, sign: int = 1
+    ) -> OneSinePulse:
         """Build a pulse scaled to ``block``.
 
         Parameters
@@ -113,6 +127,8 @@ class OneSinePulse:
             1 ms to 1000 s).
         psi : float, optional
             Phase at ``t = 0``, rad, in ``[0, 2 pi)``. Default 0.
+        sign : {+1, -1}, optional
+            Direction of the pulse (see :class:`OneSinePulse`). Default +1.
 
         Returns
         -------
@@ -125,10 +141,11 @@ class OneSinePulse:
             If any value is out of range.
         """
         check_block(block)
+        check_sign(sign)
         beta = check_in_range("beta", beta)
         Omega = check_in_range("Omega", Omega)
         try:
-            return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, psi=psi)
+            return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, psi=psi, sign=sign)
         except ParameterError as exc:
             if str(exc).startswith(("a_g ", "omega_g ")):  # derived from beta and Omega: say so
                 raise ParameterError(

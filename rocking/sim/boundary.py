@@ -89,7 +89,7 @@ class Field:
 
 #: What one run is given besides the model's parameters: ``rocking_case`` of sim.h.
 CASE = (
-    Field("a_g", DOUBLE, "m/s^2", "pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after", "finite"),
+    Field("a_g", DOUBLE, "m/s^2", "signed pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after", "finite"),
     Field("omega_g", DOUBLE, "rad/s", "pulse circular frequency", "finite"),
     Field("psi", DOUBLE, "rad", "pulse phase at t = 0", "finite"),
     Field("t_p", DOUBLE, "s", "end of the pulse, a breakpoint of the integration", "finite"),

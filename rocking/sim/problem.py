@@ -483,7 +483,7 @@ def make_problem(
     return Problem(
         model=model,
         p=p,
-        a_g=pulse.a_g,
+        a_g=pulse.sign * pulse.a_g,
         omega_g=pulse.omega_g,
         psi=pulse.psi,
         t_p=t_p,

@@ -26,7 +26,7 @@ enum rocking_phase {
 };
 
 typedef struct rocking_case {
-    double a_g; /* pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after [m/s^2] */
+    double a_g; /* signed pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after [m/s^2] */
     double omega_g; /* pulse circular frequency [rad/s] */
     double psi; /* pulse phase at t = 0 [rad] */
     double t_p; /* end of the pulse, a breakpoint of the integration [s] */
