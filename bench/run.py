@@ -67,7 +67,8 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
     base_over, base_time = [], 0.0
     for i in pick:
         params = tuple(cases.p[i])
-        (over, _), dt = timed(baseline.simulate, funcs, params, cases.a_g[i], cases.omega_g[i])
+        pulse = cases.settings["a_g"][i], cases.settings["omega_g"][i]
+        (over, _), dt = timed(baseline.simulate, funcs, params, *pulse)
         base_over.append(over)
         base_time += dt
     c_per = c_time / n
@@ -88,6 +89,26 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
         "verdicts_c_eq_numpy": int(np.sum(c_res["overturned"][pick] == np.array(np_over))),
         "verdicts_c_eq_baseline": int(np.sum(c_res["overturned"][pick] == np.array(base_over))),
         "overturned_fraction": float(np.mean(c_res["overturned"])),
+    }
+
+
+def bench_stops(n_grid: int, pairs: int = 3) -> dict:
+    """The bench map with stops at the block's edges against the unlimited damper, in paired runs (C path)."""
+    import stops_map
+
+    block, free = stops_map.cases("free", n_grid)
+    _, stopped = stops_map.cases("stops", n_grid)
+    run_cases(stops_map.cases("stops", 1)[1], "c", 1)  # build and load outside the timing
+    ratios, contacts = [], 0
+    for _ in range(pairs):
+        _, t_free = timed(run_cases, free, "c", 1)
+        res, t_stops = timed(run_cases, stopped, "c", 1)
+        ratios.append(t_stops / t_free)
+        contacts = int(res["stop_contacts"].sum())
+    return {
+        "stops_over_free_time": float(np.median(ratios)),
+        "stop_contacts_per_response": contacts / len(stopped),
+        "stroke_past_edges_with_stops": int((res["x_max"] > block.B / 2).sum()),
     }
 
 
@@ -164,6 +185,11 @@ def main(argv=None) -> int:
     print(f"C is {sim['speedup_c_vs_baseline']:.0f}x faster (target >= 300)")
     print(f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, ", end="")
     print(f"C = baseline {sim['verdicts_c_eq_baseline']}")
+    stops = results["stops"] = bench_stops(args.grid)
+    print(
+        f"  stops at the edges: {stops['stops_over_free_time']:.2f}x the time per response of the unlimited damper "
+        f"(median of 3 paired runs; target <= 2), {stops['stop_contacts_per_response']:.1f} contacts per response"
+    )
     if not args.no_studies:
         st = results["studies"] = bench_studies(args.map_grid, args.memory_grid)
         n, m = st["n_map"], st["n_memory"]
