@@ -8,6 +8,7 @@ import math
 import numpy as np
 import pytest
 
+import rocking
 from rocking.model.params import Block, Damper
 from rocking.model.pulse import OneSinePulse
 from rocking.sim import c_backend, numpy_backend
@@ -172,3 +173,16 @@ def test_both_back_ends_count_the_same_work():
         enough = numpy_backend.simulate(dataclasses.replace(problem, max_steps=int(high[i])))
         assert enough.status == numpy_backend.simulate(problem).status != "max_steps"
         assert numpy_backend.simulate(dataclasses.replace(problem, max_steps=int(high[i]) - 1)).status == "max_steps"
+
+
+def test_the_least_rest_threshold_still_ends_both_back_ends_alike():
+    """dtheta_rest has a floor, 1e-9 alpha p: the fuzzer's input #4694 (seed 20240610) at 1e-38 rad/s made C
+    cycle to max_events while NumPy came to rest; at the floor both come to rest after the same 194 impacts."""
+    block = rocking.Block(B=0.9971758928651336, H=4.1156196565800345, M=7052.253032291311, I_G=1e4, e=-0.0289080609)
+    damper = rocking.Damper.from_nondim(block, gamma=0.19704431117544555, zeta=0.0, omega_ratio=0.99999, h=0.0148766)
+    pulse = rocking.OneSinePulse.from_nondim(block, Omega=13.932483677482987, psi=4.860474897626126, beta=11.68481444)
+    floor = 1e-9 * block.alpha * block.p
+    c, n = (rocking.simulate(block, damper, pulse, backend=b, rtol=1e-5, dtheta_rest=floor) for b in ("c", "numpy"))
+    assert (c.status, c.impacts) == (n.status, n.impacts) and c.status == "rest" and c.impacts > 100
+    with pytest.raises(rocking.ParameterError, match=r"^dtheta_rest must be >= 1e-9 alpha p"):
+        rocking.simulate(block, damper, pulse, dtheta_rest=0.5 * floor)

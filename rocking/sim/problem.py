@@ -221,6 +221,10 @@ Attributes
 
 #: Default rest criteria, relative to the block (see :func:`make_problem`).
 DTHETA_REST = 1e-3
+#: Least dtheta_rest accepted, over alpha p: below, the impacts of a block coming to rest follow each
+#: other closer than double precision tells apart, and a run may never end (the fuzzer found C cycling
+#: to max_events at dtheta_rest = 1e-233 where NumPy came to rest).
+DTHETA_REST_FLOOR = 1e-9
 ENERGY_REST = 1e-8
 #: Steps per shortest period in full contact while the pulse acts.
 CONTACT_STEPS_PER_PERIOD = 64
@@ -381,6 +385,17 @@ def _record_dt(record_dt: object, t_max: float, default: float) -> float:
     return record_dt
 
 
+def _dtheta_rest(dtheta_rest: float, block: Block) -> float:
+    """``dtheta_rest`` if it is at least :data:`DTHETA_REST_FLOOR` ``alpha p``."""
+    floor = DTHETA_REST_FLOOR * block.alpha * block.p
+    if not dtheta_rest >= floor:
+        raise ParameterError(
+            f"dtheta_rest must be >= 1e-9 alpha p = {floor:g} rad/s (got {dtheta_rest!r}): below, the impacts of a "
+            "block coming to rest follow each other closer than double precision tells apart"
+        )
+    return dtheta_rest
+
+
 def _run_length(t_max: object, t_after: object, t_p: float) -> float:
     """``t_max``, or ``t_p + t_after``: bounded, since a run's work grows with its length."""
     if t_max is None:
@@ -428,9 +443,9 @@ def make_problem(
     t_after : float
         Time followed after the pulse when ``t_max`` is not given [s].
     dtheta_rest : float, optional
-        Rest criterion on ``|dtheta|`` after an impact [rad/s]; default
-        ``1e-3 alpha p``: the next half-cycle would rise less than about
-        0.1 % of ``alpha``.
+        Rest criterion on ``|dtheta|`` after an impact [rad/s], at least
+        ``1e-9 alpha p``; default ``1e-3 alpha p``: the next half-cycle would
+        rise less than about 0.1 % of ``alpha``.
     energy_rest : float, optional
         Rest criterion on the energy above rest in full contact after the
         pulse [J]; default ``1e-8 M g B / 2``.
@@ -491,7 +506,7 @@ def make_problem(
         rtol=rtol,
         atol=defaults["atol"],
         contact_max_step=float(defaults["contact_max_step"]),
-        dtheta_rest=defaults["dtheta_rest"] if dtheta_rest is None else dtheta_rest,
+        dtheta_rest=defaults["dtheta_rest"] if dtheta_rest is None else _dtheta_rest(dtheta_rest, block),
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
         max_events=max_events,
         record_dt=_record_dt(record_dt, t_max, min(pulse.T_g, 2 * np.pi / block.p) / 100),
