@@ -1,0 +1,19 @@
+"""The Python examples of the README run as written, in order (each may use the names of those before it)."""
+
+from __future__ import annotations
+
+import re
+from pathlib import Path
+
+README = Path(__file__).resolve().parent.parent / "README.md"
+
+
+def test_the_readme_examples_run(capsys):
+    blocks = re.findall(r"```python\n(.*?)```", README.read_text(encoding="utf-8"), re.S)
+    assert len(blocks) >= 2
+    namespace: dict = {}
+    for block in blocks:
+        exec(compile(block, str(README), "exec"), namespace)  # noqa: S102 - the project's own documentation
+    printed = capsys.readouterr().out.splitlines()
+    assert len(printed) == len(blocks)  # each example prints its results
+    assert namespace["r"].stop_contacts >= 1  # the end-stop example meets the stops
