@@ -186,3 +186,19 @@ def test_the_least_rest_threshold_still_ends_both_back_ends_alike():
     assert (c.status, c.impacts) == (n.status, n.impacts) and c.status == "rest" and c.impacts > 100
     with pytest.raises(rocking.ParameterError, match=r"^dtheta_rest must be >= 1e-9 alpha p"):
         rocking.simulate(block, damper, pulse, dtheta_rest=0.5 * floor)
+
+
+def test_batch_cases_of_either_sign_are_the_single_runs():
+    """pulse_cases(sign=-1) gives, case by case, what rocking.simulate gives for OneSinePulse(..., sign=-1)."""
+    block = Block.reference()
+    Omega, beta = np.array([2.0, 4.0, 7.5]), np.array([1.5, 3.0, 10.0])
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    for sign in (1, -1):
+        batch = c_backend.simulate_cases(pulse_cases(block, Omega, beta, gamma=0.05, h=0.05, sign=sign), threads=1)
+        for i in range(3):
+            pulse = OneSinePulse.from_nondim(block, beta=beta[i], Omega=Omega[i], sign=sign)
+            one = rocking.simulate(block, damper, pulse, backend="c", t_after=15.0)
+            assert (bool(batch["overturned"][i]), int(batch["impacts"][i])) == (one.overturned, one.impacts)
+            assert batch["theta_max"][i] == pytest.approx(one.theta_max, rel=1e-12)
+    with pytest.raises(rocking.ParameterError, match=r"^sign must be \+1 or -1"):
+        pulse_cases(block, Omega, beta, sign=0)

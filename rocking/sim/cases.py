@@ -14,6 +14,7 @@ import numpy as np
 
 from ..model.loading import Model, ModelError
 from ..model.params import RANGES, Block, ParameterError, check_block, check_in_range, check_real
+from ..model.pulse import check_sign
 from . import boundary
 from .boundary import CASE, DOUBLES
 from .problem import RESULT_FIELDS, STATUS, Problem, check_integer, default_settings, own_parameters, resolve_model
@@ -145,8 +146,11 @@ def pulse_cases(
     max_events: int = 10_000,
     model: str | Model | None = None,
     params: dict | None = None,
+    sign: int = 1,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
+
+    ``sign`` (+1 or -1) is the direction of every pulse (:class:`rocking.OneSinePulse`).
 
     All array arguments broadcast together (docs/model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
@@ -163,6 +167,7 @@ def pulse_cases(
             "give either gamma (the omd damper relative to its block) or params (a model's own parameters), not both"
         )
     check_block(block)
+    sign = check_sign(sign)
     rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
     t_after = check_in_range("t_after", t_after)
     max_events = check_integer("max_events", max_events)
@@ -207,7 +212,7 @@ def pulse_cases(
         model,
         np.column_stack([values[k] for k in model.parameters]),
         {
-            "a_g": beta * block.g * block.tan_alpha,
+            "a_g": sign * beta * block.g * block.tan_alpha,
             "omega_g": omega_g,
             "psi": psi,
             "t_p": t_p,
