@@ -193,8 +193,8 @@ def available(model: str | Model = "omd") -> bool:
 #: The stop flags of the calls running now (sim.c reads each once per step).
 _RUNNING: dict[int, ctypes.c_int32] = {}
 _RUNNING_LOCK = threading.Lock()
-#: Inside :func:`halted`: calls that start are stopped at once too.
-_HALTED = [False]
+#: Set inside :func:`halted`: calls that start are stopped at once too.
+_HALTED = threading.Event()
 #: How often the main thread wakes up while it waits for a C call [s].
 _WAIT_SLICE = 0.02
 
@@ -222,13 +222,12 @@ def halted() -> Iterator[None]:
     pool, a worker thread may still take a queued tile and start its C call.
     """
     with _RUNNING_LOCK:
-        _HALTED[0] = True
+        _HALTED.set()
     request_stop()
     try:
         yield
     finally:
-        with _RUNNING_LOCK:
-            _HALTED[0] = False
+        _HALTED.clear()
 
 
 def _stoppable(call):
@@ -241,7 +240,7 @@ def _stoppable(call):
     stop = ctypes.c_int32(0)
     with _RUNNING_LOCK:
         _RUNNING[id(stop)] = stop
-        stop.value = int(_HALTED[0])
+        stop.value = int(_HALTED.is_set())
     try:
         if threading.current_thread() is not threading.main_thread():
             result = call(stop)
