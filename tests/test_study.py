@@ -450,3 +450,27 @@ def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
 
     title = map_figure(study).axes[2].get_title()
     assert f"({study.summary['saved_past_edges']} only past the edge)" in title
+
+
+def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
+    """Tuning(stops=True) runs the damper of Stops.at_edges: contacts and bumper forces per cell, no mass past the
+    block's edge, and fewer cells saved than the unlimited guide claims; the command line gives the same arrays."""
+    grids = Grid("Omega", 5.0, 9.0, 5), Grid("beta", 4.0, 12.0, 9)
+    free = overturning_map(SETTING, TUNING, *grids, SERIAL, runs=tmp_path / "free")
+    stopped = overturning_map(SETTING, Tuning(0.05, stops=True), *grids, SERIAL, runs=tmp_path / "stops")
+    a = stopped.arrays
+    assert a["damper_stop_contacts"].max() > 0 and np.nanmax(a["damper_bumper_force_max"]) > 0
+    assert (a["bare_stop_contacts"] == 0).all() and (a["bare_bumper_force_max"] == 0).all()
+    assert np.nanmax(a["damper_x_max"]) <= SETTING.block.B / 2 and stopped.summary["saved_past_edges"] == 0
+    assert stopped.summary["saved"] < free.summary["saved"]
+    assert stopped.config["damper"]["stops"] is True and "stops" not in free.config["damper"]
+    argv = ["map", "--stops", "--Omega", "5", "9", "5", "--beta", "4", "12", "9", "--workers", "1", "--no-progress"]
+    assert cli([*argv, "--out", str(tmp_path / "cli")]) == 0
+    saved = load(tmp_path / "cli" / "map")
+    for k in ("damper_overturned", "damper_stop_contacts", "damper_x_max"):
+        assert np.array_equal(saved.arrays[k], a[k], equal_nan=True), k
+
+
+def test_stops_of_a_tuning_must_be_a_flag():
+    with pytest.raises(ParameterError, match=r"^stops must be True or False"):
+        Tuning(0.05, stops="edges")

@@ -54,7 +54,7 @@ OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
 
 #: Options that set the omd damper (a Tuning), refused with a model variant.
-DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h")
+DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
 
 
 # --- options -------------------------------------------------------------------------
@@ -89,10 +89,16 @@ def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> N
     # The defaults shown are those of the Python call each command makes: Tuning, or optimal_damper.
     source = Tuning if tuned else optimal_damper
     g = p.add_argument_group(
-        "damper", "As rocking.Tuning(gamma, omega_ratio, zeta, h)." if tuned else "As rocking.optimal_damper."
+        "damper", "As rocking.Tuning(gamma, omega_ratio, zeta, h, stops)." if tuned else "As rocking.optimal_damper."
     )
     if tuned:
         g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(Tuning, 'gamma')})")
+        g.add_argument(
+            "--stops",
+            action="store_const",
+            const=True,
+            help="the guide ends in the stops of rocking.Stops.at_edges (default: the paper's unlimited guide)",
+        )
         tuning = g.add_mutually_exclusive_group()
         tuning.add_argument(
             "--Tm-ratio",
@@ -176,7 +182,7 @@ def setting_from(args) -> Setting:
 
 def tuning_from(args) -> Tuning:
     """The omd damper of the options, as ``rocking.Tuning`` with the options given (``--Tm-ratio``: 1 / omega_ratio)."""
-    values = given(args, ("gamma", "omega_ratio", "zeta", "h"))
+    values = given(args, ("gamma", "omega_ratio", "zeta", "h", "stops"))
     Tm_ratio = getattr(args, "Tm_ratio", None)
     if Tm_ratio is not None:
         if not Tm_ratio > 0:

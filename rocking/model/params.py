@@ -640,9 +640,19 @@ class Stops:
         if not check_real("frequency_ratio", frequency_ratio) > 0:
             raise ParameterError(f"frequency_ratio must be > 0 (got {frequency_ratio!r})")
         zeta_b = check_in_range("zeta_b", zeta_b)
-        k_b = damper.m * (frequency_ratio * damper.omega_m) ** 2
-        stops = cls(L=block.B / 2 - depth, k_b=k_b, c_b=2 * zeta_b * math.sqrt(k_b * damper.m))
-        return stops.check_on(block, damper)
+        L, k_b, c_b = edge_stops(block, damper.m, damper.omega_m, depth, frequency_ratio, zeta_b)
+        return cls(L=float(L), k_b=float(k_b), c_b=float(c_b)).check_on(block, damper)
+
+
+def edge_stops(block: Block, m, omega_m, depth=BUMPER_DEPTH, frequency_ratio=BUMPER_FREQUENCY_RATIO,
+               zeta_b=BUMPER_DAMPING_RATIO) -> tuple:  # fmt: skip
+    """``(L, k_b, c_b)`` of :meth:`Stops.at_edges` for dampers of mass ``m`` and frequency ``omega_m`` (broadcasting).
+
+    ``L = B/2 - depth``, ``k_b = m (frequency_ratio omega_m)^2``, ``c_b = 2 zeta_b sqrt(k_b m)``; unchecked.
+    """
+    m, omega_m = np.asarray(m, dtype=float), np.asarray(omega_m, dtype=float)
+    k_b = m * (frequency_ratio * omega_m) ** 2
+    return np.full(np.shape(k_b), block.B / 2 - depth), k_b, 2 * zeta_b * np.sqrt(k_b * m)
 
 
 @dataclass(frozen=True)

@@ -81,7 +81,8 @@ def _damper_label(config: dict) -> str:
         params = ", ".join(f"{k} = {v:g}" for k, v in d["params"].items())
         return f"model {d['model']}" + (f" ({params})" if params else "")
     period = rf"$T_m p / 2\pi$ = {1 / d['omega_ratio']:.3g}"
-    return rf"damper $\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m"
+    stops = ", stops at the edges" if d.get("stops") else ""
+    return rf"damper $\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m{stops}"
 
 
 #: Legend of the open triangles of :func:`_gain_curve`.

@@ -13,7 +13,16 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.loading import Model, ModelError
-from ..model.params import RANGES, Block, ParameterError, check_block, check_in_range, check_real
+from ..model.params import (
+    RANGES,
+    STOP_PARAMETERS,
+    Block,
+    ParameterError,
+    check_block,
+    check_in_range,
+    check_real,
+    edge_stops,
+)
 from ..model.pulse import check_sign
 from . import boundary
 from .boundary import CASE, DOUBLES
@@ -114,9 +123,10 @@ def _array(name: str, value, key: str | None = None) -> np.ndarray:
     return a
 
 
-def _derived(name: str, a: np.ndarray, given: str) -> None:
-    """Refuse a derived array (``omega_g = Omega p``, ...) out of its own range, saying what gave it."""
-    valid = RANGES[name]
+def _derived(name: str, a: np.ndarray, given: str, key: str | None = None) -> None:
+    """Refuse a derived array (``omega_g = Omega p``, ...) out of its range (``RANGES[key or name]``), saying what
+    gave it."""
+    valid = RANGES[key or name]
     bad = ~valid.holds(a)
     if np.any(bad):
         raise ParameterError(
@@ -147,10 +157,13 @@ def pulse_cases(
     model: str | Model | None = None,
     params: dict | None = None,
     sign: int = 1,
+    stops: bool = False,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
     ``sign`` (+1 or -1) is the direction of every pulse (:class:`rocking.OneSinePulse`).
+    ``stops``: the dampers' guides end in the stops of :meth:`rocking.Stops.at_edges`
+    (model ``"omd_stops"``); with ``gamma`` only.
 
     All array arguments broadcast together (docs/model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
@@ -168,6 +181,8 @@ def pulse_cases(
         )
     check_block(block)
     sign = check_sign(sign)
+    if not isinstance(stops, (bool, np.bool_)):
+        raise ParameterError(f"stops must be True or False (got {stops!r})")
     rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
     t_after = check_in_range("t_after", t_after)
     max_events = check_integer("max_events", max_events)
@@ -182,8 +197,11 @@ def pulse_cases(
     bare = params is None and not np.any(gamma > 0)
     if not bare and params is None and np.any(gamma == 0):
         raise ParameterError("gamma must be > 0 in every case of a batch with a damper (use a separate bare batch)")
+    if stops and (bare or params is not None):
+        raise ParameterError("stops=True puts the stops of Stops.at_edges on the omd damper of gamma > 0: "
+                             "give the damper by gamma (a model's params set their own stops)")  # fmt: skip
     try:
-        model = resolve_model(model, "block" if bare else "omd")
+        model = resolve_model(model, "block" if bare else "omd_stops" if stops else "omd")
     except ModelError as exc:
         raise ParameterError(str(exc)) from None
     _derived("omega_g", Omega * block.p, "Omega p")
@@ -202,6 +220,9 @@ def pulse_cases(
         omega_m = omega_ratio * block.p
         values.update(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)
         T_m = 2 * np.pi / omega_m
+        if stops:
+            values.update(zip(STOP_PARAMETERS, edge_stops(block, m, omega_m)))
+            _derived("omega_b", np.sqrt(values["k_b"] / m) / block.p, "the bumpers' frequency over p", "omega_b_ratio")
     missing = [name for name in model.parameters if name not in values]
     if missing:
         raise ParameterError(

@@ -31,7 +31,8 @@ from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
 #: 2: tiles carry a manifest (place, names, shapes, dtypes, checksum of their arrays).
-FORMAT = 2
+#: 3: map tiles carry stop_contacts and bumper_force_max.
+FORMAT = 3
 
 #: Largest number of values of a :class:`Grid`, and of cells (pulses) of a study's grid of
 #: pulses (:func:`check_cells`): about 1 GB of results, and hours of work on a few cores.
@@ -190,18 +191,25 @@ class Tuning:
     h : float, optional
         Height of the guide above the top of the block, m, in [0, 1e3]. Default 0.05 m,
         the reference damper of docs/model.md section 9 (``Damper``'s own default is 0).
+    stops : bool, optional
+        The guide ends in the stops of :meth:`rocking.Stops.at_edges` (model ``omd_stops``).
+        Default False: the paper's unlimited guide.
     """
 
     gamma: float = 0.05
     omega_ratio: float = 1.0
     zeta: float = 0.05
     h: float = 0.05
+    stops: bool = False
 
     def __post_init__(self) -> None:
         # The ranges of Damper.from_nondim; JSON-ready floats, and one hash for 1 and 1.0.
         object.__setattr__(self, "gamma", check_in_range("gamma", self.gamma, nonzero=True))
         for name in ("omega_ratio", "zeta", "h"):
             object.__setattr__(self, name, check_in_range(name, getattr(self, name)))
+        if not isinstance(self.stops, (bool, np.bool_)):
+            raise ParameterError(f"stops must be True or False (got {self.stops!r})")
+        object.__setattr__(self, "stops", bool(self.stops))
 
     @property
     def Tm_ratio(self) -> float:
@@ -210,7 +218,9 @@ class Tuning:
 
     def record(self) -> dict:
         """JSON-ready description (also the keyword arguments of :func:`rocking.sim.cases.pulse_cases`)."""
-        return {"gamma": self.gamma, "omega_ratio": self.omega_ratio, "zeta": self.zeta, "h": self.h}
+        record = {"gamma": self.gamma, "omega_ratio": self.omega_ratio, "zeta": self.zeta, "h": self.h}
+        # Only when set: the record of the paper's unlimited damper stays as it was.
+        return {**record, "stops": True} if self.stops else record
 
     def case_args(self) -> dict:
         """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for this damper."""

@@ -30,7 +30,7 @@ from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_ty
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
-FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status")
+FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contacts", "bumper_force_max")
 
 #: Outcome of a response that does not overturn.
 SAFE = -1
@@ -249,9 +249,9 @@ def overturning_map(
     record = tuning.record()
     groups, where, folders = [], {}, {}
     for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
-        for k, dtype in (("overturned", bool), ("impacts", np.int64), ("status", np.int64)):
-            arrays[f"{part}_{k}"] = np.zeros((Om.size, b.size), dtype)
-        for k in ("theta_max", "x_max"):
+        for k, dtype in (("overturned", bool), ("impacts", int), ("status", int), ("stop_contacts", int)):
+            arrays[f"{part}_{k}"] = np.zeros((Om.size, b.size), np.int64 if dtype is int else dtype)
+        for k in ("theta_max", "x_max", "bumper_force_max"):
             arrays[f"{part}_{k}"] = np.full((Om.size, b.size), np.nan)
         folder = run_folder(runs, part_config("map", part, setting, damper=described, **grids))
         folders[part] = folder.name
@@ -293,7 +293,7 @@ def map_table(arrays: dict) -> dict:
     table = {"Omega": Om, "beta": b}
     for part in ("bare", "damper"):
         table[f"{part}_outcome"] = outcome(arrays[f"{part}_overturned"], arrays[f"{part}_impacts"])
-        for k in ("impacts", "theta_max", "x_max"):
+        for k in ("impacts", "theta_max", "x_max", "stop_contacts", "bumper_force_max"):
             table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
         table[f"{part}_status"] = np.asarray(STATUS)[arrays[f"{part}_status"]]
     table["effect"] = arrays["effect"]
