@@ -474,3 +474,13 @@ def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
 def test_stops_of_a_tuning_must_be_a_flag():
     with pytest.raises(ParameterError, match=r"^stops must be True or False"):
         Tuning(0.05, stops="edges")
+
+
+def test_a_spectrum_of_the_damper_with_stops(tmp_path):
+    """Tuning(stops=True) in a spectrum: the same bare block, another damped one (at Omega = 2 the stopped damper's
+    beta_min, 1.265, is below even the bare block's, 1.284; the unlimited one claims 1.335)."""
+    Omega, beta = Grid("Omega", 2.0, 6.0, 3), Grid("beta", 0.5, 10.0, 20)
+    free = minimum_overturning_spectrum(SETTING, TUNING, Omega, beta, SERIAL, runs=tmp_path / "free")
+    stopped = minimum_overturning_spectrum(SETTING, Tuning(0.05, stops=True), Omega, beta, SERIAL, runs=tmp_path / "s")
+    assert np.array_equal(stopped.arrays["bare_beta_min"], free.arrays["bare_beta_min"])
+    assert not np.array_equal(stopped.arrays["damper_beta_min"], free.arrays["damper_beta_min"])

@@ -36,7 +36,7 @@ FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contact
 SAFE = -1
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
-FIXED = ("model", "params")
+FIXED = ("model", "params", "stops")
 
 #: Default tile: Omega values x beta values per call of run_cases. About 0.1 s of
 #: C on the reference block: the Python around a tile (its cases, storing it),
