@@ -484,3 +484,16 @@ def test_a_spectrum_of_the_damper_with_stops(tmp_path):
     stopped = minimum_overturning_spectrum(SETTING, Tuning(0.05, stops=True), Omega, beta, SERIAL, runs=tmp_path / "s")
     assert np.array_equal(stopped.arrays["bare_beta_min"], free.arrays["bare_beta_min"])
     assert not np.array_equal(stopped.arrays["damper_beta_min"], free.arrays["damper_beta_min"])
+
+
+def test_the_optimal_damper_with_stops_at_the_edges(tmp_path):
+    """optimal_damper(stops=True) searches the damper with stops: its gains differ from the unlimited guide's."""
+    grids = Grid("Omega", 2.0, 4.0, 2), Grid("beta", 0.5, 8.0, 16)
+    search = {"Tm": Grid("Tm-ratio", 0.5, 2.0, 4, log=True), "refine": 1}
+    free = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "free", **search)
+    stopped = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "stops", stops=True, **search)
+    assert stopped.config["stops"] is True and "stops" not in free.config
+    assert np.array_equal(stopped.arrays["bare_beta_min"], free.arrays["bare_beta_min"])
+    assert not np.array_equal(stopped.arrays["gain_coarse"], free.arrays["gain_coarse"], equal_nan=True)
+    with pytest.raises(ParameterError, match=r"^stops must be True or False"):
+        optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "x", stops=1)

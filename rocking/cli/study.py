@@ -91,14 +91,14 @@ def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> N
     g = p.add_argument_group(
         "damper", "As rocking.Tuning(gamma, omega_ratio, zeta, h, stops)." if tuned else "As rocking.optimal_damper."
     )
+    g.add_argument(
+        "--stops",
+        action="store_const",
+        const=True,
+        help="the guide ends in the stops of rocking.Stops.at_edges (default: the paper's unlimited guide)",
+    )
     if tuned:
         g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(Tuning, 'gamma')})")
-        g.add_argument(
-            "--stops",
-            action="store_const",
-            const=True,
-            help="the guide ends in the stops of rocking.Stops.at_edges (default: the paper's unlimited guide)",
-        )
         tuning = g.add_mutually_exclusive_group()
         tuning.add_argument(
             "--Tm-ratio",
@@ -293,7 +293,7 @@ def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: G
         beta,
         execution,
         runs=Path(args.out) / "runs",
-        **given(args, ("zeta", "h")),
+        **given(args, ("zeta", "h", "stops")),
         **_tol(args),
         **search,
     )

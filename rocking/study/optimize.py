@@ -200,6 +200,7 @@ def optimal_damper(
     *,
     zeta: float = 0.05,
     h: float = 0.05,
+    stops: bool = False,
     Tm: Grid | None = None,
     refine: int = REFINE,
     tol: float = TOL,
@@ -222,6 +223,8 @@ def optimal_damper(
         Where the tiles run.
     zeta, h : float
         Damping ratio and guide height (m) of the damper.
+    stops : bool
+        The guide ends in the stops of :meth:`rocking.Stops.at_edges` (as :class:`Tuning`).
     Tm : Grid, optional
         Coarse grid of ``r = T_m p / (2 pi)``, log-spaced; default :data:`TM_GRID`.
     refine : int
@@ -287,6 +290,8 @@ def optimal_damper(
     if not Tm.log:
         raise ParameterError("the coarse T_m grid must be logarithmic (Grid(..., log=True))")
     zeta, h = check_in_range("zeta", zeta), check_in_range("h", h)
+    if not isinstance(stops, (bool, np.bool_)):
+        raise ParameterError(f"stops must be True or False (got {stops!r})")
     Om, b, r = Omega.values(), beta.values(), Tm.values()
     nG, nO, nr = len(gammas), Om.size, r.size
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
@@ -307,7 +312,7 @@ def optimal_damper(
     }
     groups, where, folders = [], {}, {}
     for g, gamma in enumerate(gammas):
-        damper = {"gamma": gamma, "zeta": float(zeta), "h": float(h)}
+        damper = {"gamma": gamma, "zeta": float(zeta), "h": float(h), **({"stops": True} if stops else {})}
         folder = run_folder(runs, part_config("optimize", f"gamma{gamma:g}", setting, damper=damper, **grids))
         folders[f"{gamma:g}"] = folder.name
         part_tasks: list[Task] = []
@@ -340,6 +345,8 @@ def optimal_damper(
     for key, name in (("Omega_star", "Omega_star"), ("low", "Omega_star_low"), ("high", "Omega_star_high")):
         arrays[name] = np.array([np.nan if t[key] is None else t[key] for t in thresholds.values()])
     config = {"kind": "optimize", **setting.record(), "gammas": list(gammas), "zeta": zeta, "h": h, **grids}
+    if stops:
+        config["stops"] = True
     return Study(
         "optimize",
         config,
