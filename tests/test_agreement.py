@@ -202,3 +202,9 @@ def test_batch_cases_of_either_sign_are_the_single_runs():
             assert batch["theta_max"][i] == pytest.approx(one.theta_max, rel=1e-12)
     with pytest.raises(rocking.ParameterError, match=r"^sign must be \+1 or -1"):
         pulse_cases(block, Omega, beta, sign=0)
+
+
+def test_batch_stops_are_refused_where_the_pads_do_not_fit():
+    """pulse_cases(stops=True) on a block narrower than the pads: a one-line error naming L and its range."""
+    with pytest.raises(rocking.ParameterError, match=r"gives L = -0.005.*but L must be in \(0, 1000\] m"):
+        pulse_cases(Block(H=0.1, B=0.03, M=1.0), [2.0], [2.0], gamma=0.05, stops=True)

@@ -130,7 +130,7 @@ def _derived(name: str, a: np.ndarray, given: str, key: str | None = None) -> No
     bad = ~valid.holds(a)
     if np.any(bad):
         raise ParameterError(
-            f"{given} gives {name} = {a[bad].ravel()[0]!r}, but {name} must be {valid.text()}: {valid.why}"
+            f"{given} gives {name} = {float(a[bad].ravel()[0])!r}, but {name} must be {valid.text()}: {valid.why}"
         )
 
 
@@ -222,6 +222,7 @@ def pulse_cases(
         T_m = 2 * np.pi / omega_m
         if stops:
             values.update(zip(STOP_PARAMETERS, edge_stops(block, m, omega_m)))
+            _derived("L", values["L"], "B/2 minus the pads' depth of Stops.at_edges")
             _derived("omega_b", np.sqrt(values["k_b"] / m) / block.p, "the bumpers' frequency over p", "omega_b_ratio")
     missing = [name for name in model.parameters if name not in values]
     if missing:
