@@ -446,6 +446,9 @@ def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
     assert study.summary["saved"] == saved.sum() > 0
     assert study.summary["saved_past_edges"] == int((saved & (a["damper_x_max"] > half)).sum())
     assert 0 < study.summary["saved_past_edges"] <= study.summary["saved"]
+    stroke = study.tables["map"]["damper_stroke_over_half_width"]
+    assert np.array_equal(stroke, np.ravel(a["damper_x_max"]) / half)
+    assert int(np.sum((stroke > 1) & (np.ravel(a["effect"]) > 0))) == study.summary["saved_past_edges"]
     from rocking.plot.figures import map_figure
 
     title = map_figure(study).axes[2].get_title()

@@ -281,14 +281,15 @@ def overturning_map(
         "map",
         config,
         arrays,
-        tables={"map": map_table(arrays)},
+        tables={"map": map_table(arrays, setting.block.B / 2)},
         summary=map_summary(arrays, setting.block.B / 2),
         run={**stats.record(), "run_folders": folders, "responses": 2 * Om.size * b.size},
     )
 
 
-def map_table(arrays: dict) -> dict:
-    """One CSV row per cell: the pulse, both responses, the damper's effect."""
+def map_table(arrays: dict, half_width: float) -> dict:
+    """One CSV row per cell: the pulse, both responses, the damper's stroke over the block's half-width ``B/2``
+    (above 1: the mass past the block's edge), the damper's effect."""
     Om, b = np.meshgrid(arrays["Omega"], arrays["beta"], indexing="ij")
     table = {"Omega": Om, "beta": b}
     for part in ("bare", "damper"):
@@ -296,6 +297,7 @@ def map_table(arrays: dict) -> dict:
         for k in ("impacts", "theta_max", "x_max", "stop_contacts", "bumper_force_max"):
             table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
         table[f"{part}_status"] = np.asarray(STATUS)[arrays[f"{part}_status"]]
+    table["damper_stroke_over_half_width"] = arrays["damper_x_max"] / half_width
     table["effect"] = arrays["effect"]
     return {k: np.ravel(v) for k, v in table.items()}
 
