@@ -79,8 +79,10 @@ def test_vanishing_damper_reproduces_bare_map(ref_map, runs):
     assert light.run["tiles_reused"] == light.run["tiles_computed"]  # the bare half is shared with ref_map
     a = light.arrays
     np.testing.assert_array_equal(a["damper_overturned"], ref_map.arrays["bare_overturned"])
-    np.testing.assert_array_equal(a["damper_impacts"], a["bare_impacts"])
-    np.testing.assert_allclose(a["damper_theta_max"], a["bare_theta_max"], rtol=1e-4)
+    # Per direction: where both directions barely uplift, their theta_max tie and the envelope may pick either.
+    # A mass of 1e-6 M shifts each impact slightly, and dozens of impacts add up: theta_max to 1e-3.
+    np.testing.assert_array_equal(a["damper_impacts_by_sign"], a["bare_impacts_by_sign"])
+    np.testing.assert_allclose(a["damper_theta_max_by_sign"], a["bare_theta_max_by_sign"], rtol=1e-3)
     assert light.summary["saved"] == light.summary["lost"] == 0
 
 
@@ -164,7 +166,7 @@ def test_responses_without_a_verdict_are_counted_and_change_no_effect(tmp_path):
     """A damper 1e4 times stiffer than the block, undamped, passes max_steps (docs/simulation.md, rule 5): the
     studies count those responses, warn, and a map leaves the damper's effect there at 0."""
     stiff = Tuning(0.05, omega_ratio=1e4, zeta=0.0)
-    with pytest.warns(UndeterminedWarning, match="map: 4 response"):
+    with pytest.warns(UndeterminedWarning, match="map: 8 response"):  # 4 cells, 2 directions
         study = overturning_map(
             SETTING, stiff, Grid("Omega", 1.0, 4.0, 2), Grid("beta", 1.2, 3.0, 2), SERIAL, runs=tmp_path / "map"
         )

@@ -54,12 +54,14 @@ def test_pendulum_map_agrees_with_simulate(pendulum_map):
             assert a[f"{part}_{k}"].shape == (OMEGA.n, BETA.n)
     assert pendulum_map.config["damper"]["model"] == "pendulum"
     assert a["damper_overturned"].any() and not a["damper_overturned"].all()
-    for i, j in [(0, 0), (1, 2), (2, 3), (3, 4), (3, 1)]:
-        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["beta"][j], Omega=a["Omega"][i])
+    assert pendulum_map.config["directions"]["signs"] == [1, -1]  # a Variant may not be symmetric
+    for i, j in [(0, 0), (1, 2), (2, 3), (3, 4), (3, 1)]:  # the envelope is the response of the worse direction
+        sign = int(a["damper_worst_sign"][i, j])
+        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["beta"][j], Omega=a["Omega"][i], sign=sign)
         r = rocking.simulate(BLOCK, PENDULUM, pulse, model="pendulum", backend="c")
         assert a["damper_overturned"][i, j] == r.overturned, (i, j)
         assert a["damper_impacts"][i, j] == r.impacts, (i, j)
-        assert a["damper_theta_max"][i, j] == pytest.approx(r.theta_max, rel=1e-12)
+        assert a["damper_theta_max_by_sign"][i, j].max() == pytest.approx(r.theta_max, rel=1e-12)
 
 
 def test_pendulum_spectrum(runs):
@@ -75,8 +77,9 @@ def test_pendulum_spectrum(runs):
     assert a["damper_beta_min"].shape == a["bare_beta_min"].shape == (3,)
     assert a["damper_scan_outcome"].shape == (3, 12)
     assert np.isfinite(a["damper_beta_min"]).all()
-    for i, Om in enumerate(a["Omega"]):  # beta_min overturns the pendulum-damped block
-        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["damper_beta_min"][i], Omega=Om)
+    for i, Om in enumerate(a["Omega"]):  # beta_min overturns the pendulum-damped block, in its worse direction
+        sign = int(a["damper_worst_sign"][i])
+        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["damper_beta_min"][i], Omega=Om, sign=sign)
         assert rocking.simulate(BLOCK, PENDULUM, pulse, model="pendulum", backend="c").overturned
 
 
@@ -84,8 +87,8 @@ def test_vanishing_pendulum_reproduces_bare_map(runs):
     tiny = Variant("pendulum", {**PENDULUM, "m": 1e-6, "c_phi": 1e-6, "k_phi": 0.0})
     study = overturning_map(SETTING, tiny, OMEGA, BETA, SERIAL, runs=runs, tile=(4, 5))
     a = study.arrays
-    np.testing.assert_array_equal(a["damper_overturned"], a["bare_overturned"])
-    np.testing.assert_array_equal(a["damper_impacts"], a["bare_impacts"])
+    np.testing.assert_array_equal(a["damper_overturned_by_sign"], a["bare_overturned_by_sign"])
+    np.testing.assert_array_equal(a["damper_impacts_by_sign"], a["bare_impacts_by_sign"])
 
 
 def test_changed_variant_parameter_reuses_no_tile(pendulum_map, runs):

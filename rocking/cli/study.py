@@ -28,6 +28,10 @@ from pathlib import Path
 from ..model.params import ParameterError
 from ..plot.figures import draw, redraw
 from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
+from ..study.design import REFINE as DESIGN_REFINE
+from ..study.design import TM_GRID as DESIGN_TM_GRID
+from ..study.design import ZETA_GRID, design
+from ..study.directions import DIRECTIONS
 from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import minimum_overturning_spectrum
@@ -52,6 +56,8 @@ MAP_OMEGA, MAP_BETA = (0.5, 15.0, 146), (1.0, 15.0, 141)
 SPECTRUM_OMEGA, SPECTRUM_BETA = (0.5, 15.0, 59), (0.5, 15.0, 117)
 OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
+#: The band of pulses of ``design`` and its beta scan (reaching above the damped block's beta_min at Omega = 8).
+DESIGN_OMEGA, DESIGN_BETA = (2.0, 8.0, 7), (0.5, 25.0, 50)
 
 #: Options that set the omd damper (a Tuning), refused with a model variant.
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
@@ -154,6 +160,15 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
     )
 
 
+def _add_directions(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--directions",
+        choices=DIRECTIONS,
+        help="signs of the pulses: auto runs both unless the block (e = 0) and its damper are symmetric, "
+        f"and reports the envelope ({default_text(overturning_map, 'directions')})",
+    )
+
+
 def _add_tol(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--beta-tol",
@@ -240,6 +255,9 @@ def _report(study: Study, out: Path) -> list[Path]:
         f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
         f"{run['wall_s']:.1f} s; wrote {', '.join(str(p) for p in paths)}"
     )
+    chosen = study.config["directions"]
+    signs = " and ".join(f"{s:+d}" for s in chosen["signs"])
+    print(f"{study.kind}: pulses of sign {signs}: {chosen['reason']}")
     return paths
 
 
@@ -261,7 +279,7 @@ def _inputs(args) -> tuple[tuple, Path]:
 def _cmd_map(args) -> int:
     tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
     inputs, out = _inputs(args)
-    study = overturning_map(*inputs, runs=out / "runs", **tile)
+    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions",)))
     _report(study, out)
     s = study.summary
     print(
@@ -274,9 +292,10 @@ def _cmd_map(args) -> int:
 
 def _cmd_spectrum(args) -> int:
     inputs, out = _inputs(args)
-    study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args))
+    study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)))
     _report(study, out)
-    for part, s in study.summary.items():
+    for part in ("bare", "damper"):
+        s = study.summary[part]
         print(
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
@@ -293,7 +312,7 @@ def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: G
         beta,
         execution,
         runs=Path(args.out) / "runs",
-        **given(args, ("zeta", "h", "stops")),
+        **given(args, ("zeta", "h", "stops", "directions")),
         **_tol(args),
         **search,
     )
@@ -329,6 +348,56 @@ def _cmd_optimize(args) -> int:
     _report(study, out)
     _print_threshold(study)
     return 0
+
+
+def _cmd_design(args) -> int:
+    setting, execution = setting_from(args), execution_from(args)
+    Omega, beta = grid_from("Omega", args.Omega), grid_from("beta", args.beta)
+    search = {}
+    if args.Tm_ratio is not None:
+        search["Tm"] = grid_from("Tm-ratio", args.Tm_ratio, log=True)
+    if args.zeta_grid is not None:
+        search["zeta"] = grid_from("zeta", args.zeta_grid, log=True)
+    out = out_from(args)
+    study = design(
+        setting,
+        Omega,
+        beta,
+        execution,
+        runs=out / "runs",
+        **given(args, ("gamma", "stroke", "h", "refine", "directions")),
+        **_tol(args),
+        **search,
+    )
+    _report(study, out)
+    _print_design(study)
+    return 0
+
+
+def _print_design(study: Study) -> None:
+    s, d = study.summary, study.summary["damper"]
+    print(
+        f"design: m = {d['m_kg']:.4g} kg (gamma = {d['gamma']:g}), k_m = {d['k_m_N_per_m']:.4g} N/m, "
+        f"c = {d['c_N_s_per_m']:.4g} N s/m (T_m = {d['T_m_s']:.4g} s, T_m p / 2 pi = {d['Tm_ratio']:.3g}, "
+        f"zeta = {d['zeta']:.3g}); stops at L = {d['L_m']:.3g} m, k_b = {d['k_b_N_per_m']:.4g} N/m, "
+        f"c_b = {d['c_b_N_s_per_m']:.4g} N s/m"
+    )
+    bound = " (a lower bound: the damped block did not overturn in the scan)" if s["worst_gain_is_lower_bound"] else ""
+    print(f"design: worst gain over the band {s['worst_gain']:.3g} at Omega = {s['worst_at_Omega']:.3g}{bound}"
+          + ("; no damper of this budget and stroke helps over the whole band" if s["worst_gain"] < 1 else ""))
+    for name, edge, ends in (("T_m", s["Tm_at_edge"], ("shortest", "longest")),
+                             ("zeta", s["zeta_at_edge"], ("smallest", "largest"))):  # fmt: skip
+        if edge:
+            end = ends[0] if edge < 0 else ends[1]
+            print(f"design: warning: the optimal {name} is the {end} of its search range; the best may lie beyond")
+    print(
+        f"design: stroke used at the pulses that overturn the block alone: up to {s['stroke_use_max']:.3g} L, "
+        f"{s['stop_contacts_max']} stop contacts; {s['candidates_on_block']} of {s['candidates']} dampers tried "
+        "keep their mass on the block"
+    )
+    if s["gain_undefined_at"]:
+        print(f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
+              "within the beta scan there; widen --beta)")
 
 
 def _cmd_demo(args) -> int:
@@ -428,6 +497,7 @@ def add_study_commands(subparsers) -> None:
     p.add_argument(
         "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
     )
+    _add_directions(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_map))
 
@@ -437,6 +507,7 @@ def add_study_commands(subparsers) -> None:
     _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
     _add_tol(p)
+    _add_directions(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_spectrum))
 
@@ -457,8 +528,41 @@ def add_study_commands(subparsers) -> None:
         help=f"refinement points each side of the best coarse T_m ({default_text(optimal_damper, 'refine')})",
     )
     _add_tol(p)
+    _add_directions(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_optimize))
+
+    p = _study_parser(
+        subparsers, "design", "one damper with stops for a band of pulses: the best worst gain, in SI units"
+    )
+    g = p.add_argument_group("damper", "As rocking.design: the mass budget and the stroke; the search ranges.")
+    g.add_argument("--gamma", type=float, help=f"mass budget m/M ({default_text(design, 'gamma')})")
+    g.add_argument(
+        "--stroke", type=float, help="half-stroke L of the stops, m, in (0, B/2) (default B/2 minus the pads' 20 mm)"
+    )
+    g.add_argument("--h", type=float, help=f"height of the guide above the block, m ({default_text(design, 'h')})")
+    g.add_argument(
+        "--Tm-ratio",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help="coarse log grid of T_m p / (2 pi) "
+        f"(default {DESIGN_TM_GRID[0]:g} {DESIGN_TM_GRID[1]:g} {DESIGN_TM_GRID[2]})",
+    )
+    g.add_argument(
+        "--zeta-grid",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help=f"coarse log grid of the damping ratio (default {ZETA_GRID[0]:g} {ZETA_GRID[1]:g} {ZETA_GRID[2]})",
+    )
+    g.add_argument(
+        "--refine", type=int, help=f"refinement points each side of the best coarse point (default {DESIGN_REFINE})"
+    )
+    _add_grid(p, "Omega", DESIGN_OMEGA, "the band of pulse frequency ratios")
+    _add_grid(p, "beta", DESIGN_BETA, "scan amplitudes of every beta_min")
+    _add_tol(p)
+    _add_directions(p)
+    _add_solver(p)
+    p.set_defaults(func=_guarded(_cmd_design))
 
     p = _study_parser(
         subparsers, "demo", "the default study: map, spectra and optimal damper, on the default grids of each"

@@ -25,6 +25,14 @@ def check_sign(sign: object) -> int:
     return int(sign)
 
 
+def check_signs(sign: object) -> np.ndarray:
+    """``sign`` as an integer array of +1 and -1 (a scalar or an array of directions; bool and float refused)."""
+    a = np.asarray(sign)
+    if a.dtype.kind not in "iu" or not np.isin(a, (1, -1)).all():
+        raise ParameterError(f"sign must be +1 or -1, or an array of them (got {sign!r}): the direction of the pulse")
+    return a.astype(np.int64)
+
+
 @dataclass(frozen=True)
 class OneSinePulse:
     """Ground acceleration ``ddx_g(t) = sign a_g sin(omega_g t + psi)`` on ``[0, t_p]``.

@@ -85,6 +85,15 @@ def _damper_label(config: dict) -> str:
     return rf"damper $\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m{stops}"
 
 
+def _directions_label(config: dict) -> str:
+    """The directions of a study's pulses for a title: both (the envelope shown) or one sign."""
+    chosen = config.get("directions", {"directions": "positive", "signs": [1]})  # studies before format 4
+    if len(chosen["signs"]) > 1:
+        return "pulses of both signs, the worse shown"
+    mirrored = " (symmetric: the other sign mirrors them)" if chosen["directions"] == "auto" else ""
+    return f"{'positive' if chosen['signs'][0] > 0 else 'negative'} pulses{mirrored}"
+
+
 #: Legend of the open triangles of :func:`_gain_curve`.
 LOWER_BOUND = r"lower bound (no overturning up to the last $\beta$ scanned)"
 
@@ -120,7 +129,9 @@ def map_figure(study: Study) -> Figure:
         f"{s.get('lost', 0)} lost",
         fontsize=9,
     )
-    fig.suptitle(f"Overturning map, one-sine pulse; {_damper_label(study.config)}")
+    fig.suptitle(
+        f"Overturning map, one-sine pulse; {_damper_label(study.config)}\n{_directions_label(study.config)}"
+    )
     return fig
 
 
@@ -177,7 +188,9 @@ def spectrum_figure(study: Study) -> Figure:
     ax_gain.set_xlabel(r"$\Omega$")
     ax_gain.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
     ax_gain.set_title("gain of the damper")
-    fig.suptitle(f"Minimum overturning spectrum; {_damper_label(study.config)}")
+    fig.suptitle(
+        f"Minimum overturning spectrum; {_damper_label(study.config)}\n{_directions_label(study.config)}"
+    )
     return fig
 
 
@@ -250,11 +263,58 @@ def optimize_figure(study: Study) -> Figure:
     ax_map.legend(fontsize=7, loc="upper right")
     fig.colorbar(image, ax=ax_map, label="G")
     cfg = study.config
-    fig.suptitle(rf"Optimal damper ($\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m)")
+    fig.suptitle(rf"Optimal damper ($\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m); {_directions_label(cfg)}")
     return fig
 
 
-FIGURES = {"map": map_figure, "spectrum": spectrum_figure, "optimize": optimize_figure}
+def design_figure(study: Study) -> Figure:
+    """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
+    the coarse search, and the stroke the design uses at the pulses that overturn the block alone."""
+    a, s = study.arrays, study.summary
+    fig = Figure(figsize=(15, 4.6), layout="constrained")
+    ax_g, ax_map, ax_x = fig.subplots(1, 3)
+    Om = a["Omega"]
+    for i, sign in enumerate(a["signs"]):
+        ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
+        ax_g.plot(Om, ratio, ":", color="0.5" if sign > 0 else "tab:orange", label=f"pulses of sign {sign:+d} alone")
+    if _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], PART_STYLE["damper"]["color"], "gain (envelopes)"):
+        _lower_bound_legend(ax_g)
+    ax_g.axhline(1.0, color="0.3", lw=0.8)
+    ax_g.set_xlabel(r"$\Omega = \omega_g / p$")
+    ax_g.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
+    ax_g.set_title(f"worst gain over the band: {s['worst_gain']:.3g} at Omega = {s['worst_at_Omega']:.3g}")
+    ax_g.legend(fontsize=7)
+    r, z = a["r_coarse"], a["zeta_coarse"]
+    worst = a["candidate_worst_gain"][: r.size * z.size].reshape(z.size, r.size)
+    image = ax_map.pcolormesh(np.exp(_edges(np.log(r))), np.exp(_edges(np.log(z))), worst, cmap="RdBu", vmin=0.5,
+                              vmax=1.5)  # fmt: skip
+    off = ~a["candidate_on_block"]
+    ax_map.plot(a["candidate_r"][off], a["candidate_zeta"][off], "kx", ms=5, label="mass past the block's edge")
+    d = s["damper"]
+    ax_map.plot([d["Tm_ratio"]], [d["zeta"]], "*", color="gold", mec="k", ms=14, label="design")
+    ax_map.set_xscale("log")
+    ax_map.set_yscale("log")
+    ax_map.set_xlabel(r"$T_m p / 2\pi$")
+    ax_map.set_ylabel(r"$\zeta$")
+    ax_map.set_title("worst gain over the band, coarse search", fontsize=9)
+    ax_map.legend(fontsize=7, loc="upper right")
+    fig.colorbar(image, ax=ax_map, label="worst G")
+    ax_x.bar(Om, a["stroke_use"], width=0.6 * np.min(np.diff(Om)) if Om.size > 1 else 0.5, color="tab:green")
+    ax_x.axhline(1.0, color="0.3", lw=0.8, label="the stops (|x| = L)")
+    ax_x.axhline(study.config["block"]["B"] / 2 / d["L_m"], color="tab:red", lw=0.8, ls="--", label="block's edge")
+    ax_x.set_xlabel(r"$\Omega$")
+    ax_x.set_ylabel(r"$x_{max} / L$ at $\beta_{min}$ of the block alone")
+    ax_x.set_title("stroke used at the pulses that overturn the block alone", fontsize=9)
+    ax_x.legend(fontsize=7)
+    fig.suptitle(
+        f"Damper design: m = {d['m_kg']:.4g} kg, k_m = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
+        f"(T_m = {d['T_m_s']:.3g} s, zeta = {d['zeta']:.3g}), stops at L = {d['L_m']:.3g} m; "
+        f"{_directions_label(study.config)}"
+    )
+    return fig
+
+
+FIGURES = {"map": map_figure, "spectrum": spectrum_figure, "optimize": optimize_figure, "design": design_figure}
 
 
 def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:

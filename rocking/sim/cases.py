@@ -14,16 +14,18 @@ import numpy as np
 
 from ..model.loading import Model, ModelError
 from ..model.params import (
+    BUMPER_DEPTH,
     RANGES,
     STOP_PARAMETERS,
     Block,
     ParameterError,
     check_block,
     check_in_range,
+    check_interval,
     check_real,
     edge_stops,
 )
-from ..model.pulse import check_sign
+from ..model.pulse import check_signs
 from . import boundary
 from .boundary import CASE, DOUBLES
 from .problem import RESULT_FIELDS, STATUS, Problem, check_integer, default_settings, own_parameters, resolve_model
@@ -156,14 +158,16 @@ def pulse_cases(
     max_events: int = 10_000,
     model: str | Model | None = None,
     params: dict | None = None,
-    sign: int = 1,
+    sign=1,
     stops: bool = False,
+    stroke: float | None = None,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
-    ``sign`` (+1 or -1) is the direction of every pulse (:class:`rocking.OneSinePulse`).
+    ``sign`` (+1 or -1, or an array of them) is the direction of each pulse (:class:`rocking.OneSinePulse`).
     ``stops``: the dampers' guides end in the stops of :meth:`rocking.Stops.at_edges`
-    (model ``"omd_stops"``); with ``gamma`` only.
+    (model ``"omd_stops"``); with ``gamma`` only. ``stroke``: their half-stroke ``L``, m, in
+    ``(0, B/2)`` (default ``B/2`` minus the pads' depth, :data:`rocking.model.params.BUMPER_DEPTH`).
 
     All array arguments broadcast together (docs/model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
@@ -180,7 +184,7 @@ def pulse_cases(
             "give either gamma (the omd damper relative to its block) or params (a model's own parameters), not both"
         )
     check_block(block)
-    sign = check_sign(sign)
+    sign = check_signs(sign)
     if not isinstance(stops, (bool, np.bool_)):
         raise ParameterError(f"stops must be True or False (got {stops!r})")
     rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
@@ -190,13 +194,18 @@ def pulse_cases(
     omega_ratio, zeta = _array("omega_ratio", omega_ratio), _array("zeta", zeta)
     h, psi = _array("h", h), _array("psi", psi)
     try:
-        arrays = np.broadcast_arrays(Omega, beta, gamma, omega_ratio, zeta, h, psi)
+        arrays = np.broadcast_arrays(Omega, beta, gamma, omega_ratio, zeta, h, psi, sign)
     except ValueError:
-        raise ParameterError("Omega, beta, gamma, omega_ratio, zeta, h and psi must broadcast together") from None
-    Omega, beta, gamma, omega_ratio, zeta, h, psi = (a.ravel() for a in arrays)
+        raise ParameterError("Omega, beta, gamma, omega_ratio, zeta, h, psi and sign must broadcast together") from None
+    Omega, beta, gamma, omega_ratio, zeta, h, psi, sign = (a.ravel() for a in arrays)
     bare = params is None and not np.any(gamma > 0)
     if not bare and params is None and np.any(gamma == 0):
         raise ParameterError("gamma must be > 0 in every case of a batch with a damper (use a separate bare batch)")
+    if stroke is not None and not stops:
+        raise ParameterError("stroke is the half-stroke of the stops: give it with stops=True")
+    depth = BUMPER_DEPTH
+    if stroke is not None:
+        depth = block.B / 2 - check_interval("stroke", stroke, 0.0, block.B / 2, "m", label="(0, B/2)")
     if stops and (bare or params is not None):
         raise ParameterError("stops=True puts the stops of Stops.at_edges on the omd damper of gamma > 0: "
                              "give the damper by gamma (a model's params set their own stops)")  # fmt: skip
@@ -221,7 +230,7 @@ def pulse_cases(
         values.update(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)
         T_m = 2 * np.pi / omega_m
         if stops:
-            values.update(zip(STOP_PARAMETERS, edge_stops(block, m, omega_m)))
+            values.update(zip(STOP_PARAMETERS, edge_stops(block, m, omega_m, depth)))
             _derived("L", values["L"], "B/2 minus the pads' depth of Stops.at_edges")
             _derived("omega_b", np.sqrt(values["k_b"] / m) / block.p, "the bumpers' frequency over p", "omega_b_ratio")
     missing = [name for name in model.parameters if name not in values]

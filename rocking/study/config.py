@@ -32,7 +32,8 @@ from ..sim import boundary
 #: Version of the layout of study data and tiles; part of every configuration hash.
 #: 2: tiles carry a manifest (place, names, shapes, dtypes, checksum of their arrays).
 #: 3: map tiles carry stop_contacts and bumper_force_max.
-FORMAT = 3
+#: 4: tiles of maps, spectra and optimisations carry a last axis of pulse directions (signs).
+FORMAT = 4
 
 #: Largest number of values of a :class:`Grid`, and of cells (pulses) of a study's grid of
 #: pulses (:func:`check_cells`): about 1 GB of results, and hours of work on a few cores.
@@ -194,6 +195,9 @@ class Tuning:
     stops : bool, optional
         The guide ends in the stops of :meth:`rocking.Stops.at_edges` (model ``omd_stops``).
         Default False: the paper's unlimited guide.
+    stroke : float, optional
+        With ``stops``: their half-stroke ``L``, m, in ``(0, B/2)`` of the study's block.
+        Default None: ``B/2`` minus the pads' depth (:meth:`rocking.Stops.at_edges`).
     """
 
     gamma: float = 0.05
@@ -201,6 +205,7 @@ class Tuning:
     zeta: float = 0.05
     h: float = 0.05
     stops: bool = False
+    stroke: float | None = None
 
     def __post_init__(self) -> None:
         # The ranges of Damper.from_nondim; JSON-ready floats, and one hash for 1 and 1.0.
@@ -210,6 +215,10 @@ class Tuning:
         if not isinstance(self.stops, (bool, np.bool_)):
             raise ParameterError(f"stops must be True or False (got {self.stops!r})")
         object.__setattr__(self, "stops", bool(self.stops))
+        if self.stroke is not None:
+            if not self.stops:
+                raise ParameterError("stroke is the half-stroke of the stops: give it with stops=True")
+            object.__setattr__(self, "stroke", check_in_range("stroke", self.stroke, "L"))
 
     @property
     def Tm_ratio(self) -> float:
@@ -220,7 +229,8 @@ class Tuning:
         """JSON-ready description (also the keyword arguments of :func:`rocking.sim.cases.pulse_cases`)."""
         record = {"gamma": self.gamma, "omega_ratio": self.omega_ratio, "zeta": self.zeta, "h": self.h}
         # Only when set: the record of the paper's unlimited damper stays as it was.
-        return {**record, "stops": True} if self.stops else record
+        stops = {"stops": True, **({} if self.stroke is None else {"stroke": self.stroke})} if self.stops else {}
+        return {**record, **stops}
 
     def case_args(self) -> dict:
         """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for this damper."""

@@ -53,7 +53,8 @@ import numpy as np
 
 from ..model.params import ParameterError, check_in_range
 from .config import Grid, Setting, Study, Tuning, Variant, is_count, part_config
-from .overturning_map import check_study, preflight, warn_undetermined
+from .directions import beta_min_envelope, choose, repeat, sign_column
+from .overturning_map import FIXED, check_study, preflight, warn_undetermined
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
@@ -78,32 +79,47 @@ def refinement(r_coarse, k: int, refine: int) -> np.ndarray:
     return np.concatenate([out, np.full(2 * refine - out.size, np.nan)])
 
 
-def _gains(setting, Omega, r, damper, beta_scan, tol, reference):
-    """Gain and flag of the damped block for the periods ``r`` (nan where ``r`` or ``reference`` is nan), and
-    the number of responses that ended without a verdict."""
+def _envelope_beta_min(setting, Omega, beta_scan, damper, tol, signs) -> dict:
+    """:func:`beta_min` of the columns of ``Omega`` (n,) and ``damper`` (arrays (n,)) in each direction of
+    ``signs``, and their envelope (:func:`rocking.study.directions.beta_min_envelope`), each of shape (n,)."""
+    n = np.size(Omega)
+    cols = None
+    if damper is not None:
+        cols = {k: v if k in FIXED else repeat(np.broadcast_to(v, (n,)), signs) for k, v in damper.items()}
+    res = beta_min(setting, repeat(Omega, signs), beta_scan, cols, tol=tol, sign=sign_column(n, signs))
+    by_sign = {k: v.reshape(n, len(signs)) for k, v in res.items() if k != "scan_outcome"}
+    return {**beta_min_envelope(by_sign), "beta_min_by_sign": by_sign["beta_min"]}
+
+
+def _gains(r, setting, Omega, damper, beta_scan, tol, reference, signs):
+    """Gain (the ratio of the envelopes over ``signs``) and flag of the damped block for the periods ``r`` (nan
+    where ``r`` or ``reference`` is nan), and the number of responses that ended without a verdict."""
     ok = np.isfinite(r) & np.isfinite(reference)
     gain, flag = np.full(r.shape, np.nan), np.zeros(r.shape, np.int64)
     if not ok.any():
         return gain, flag, 0
-    res = beta_min(setting, np.full(ok.sum(), Omega), beta_scan, {**damper, "omega_ratio": 1.0 / r[ok]}, tol=tol)
-    gain[ok], flag[ok] = res["beta_min"] / reference, res["flag"]
-    return gain, flag, int(res["undetermined"].sum())
+    columns = {**damper, "omega_ratio": 1.0 / r[ok]}
+    env = _envelope_beta_min(setting, np.full(ok.sum(), Omega), beta_scan, columns, tol, signs)
+    gain[ok], flag[ok] = env["beta_min"] / reference, env["flag"]
+    return gain, flag, int(env["undetermined"].sum())
 
 
 def optimize_tile(payload: tuple) -> dict:
     """Optimal period at one ``(gamma, Omega)``: coarse scan of ``r``, refinement, best point.
 
-    ``payload = (setting, damper, Omega, beta_scan, tol, r_coarse, refine)`` with
-    ``damper`` the keyword arguments ``gamma``, ``zeta``, ``h``.
+    ``payload = (setting, damper, Omega, beta_scan, tol, r_coarse, refine, signs)`` with
+    ``damper`` the keyword arguments ``gamma``, ``zeta``, ``h`` (and ``stops``); every
+    ``beta_min`` is the envelope over the directions ``signs``.
     """
-    setting, damper, Omega, beta_scan, tol, r_coarse, refine = payload
-    bare = beta_min(setting, [Omega], beta_scan, None, tol=tol)
+    setting, damper, Omega, beta_scan, tol, r_coarse, refine, signs = payload
+    bare = _envelope_beta_min(setting, np.array([Omega]), beta_scan, None, tol, signs)
     # Only a bracketed bare beta_min is a reference; a bound would give a meaningless ratio.
     reference = bare["beta_min"][0] if bare["flag"][0] == BRACKETED else np.nan
-    gain_coarse, flag_coarse, unknown_coarse = _gains(setting, Omega, r_coarse, damper, beta_scan, tol, reference)
+    search = (setting, Omega, damper, beta_scan, tol, reference, signs)
+    gain_coarse, flag_coarse, unknown_coarse = _gains(r_coarse, *search)
     k = int(np.argmax(np.nan_to_num(gain_coarse, nan=-np.inf)))
     r_fine = refinement(r_coarse, k, refine) if np.isfinite(reference) else np.full(2 * refine, np.nan)
-    gain_fine, flag_fine, unknown_fine = _gains(setting, Omega, r_fine, damper, beta_scan, tol, reference)
+    gain_fine, flag_fine, unknown_fine = _gains(r_fine, *search)
     r_all = np.concatenate([r_coarse, r_fine])
     gain_all = np.concatenate([gain_coarse, gain_fine])
     flag_all = np.concatenate([flag_coarse, flag_fine])
@@ -112,6 +128,7 @@ def optimize_tile(payload: tuple) -> dict:
     found = np.isfinite(gain_all[best])
     return {
         "bare_beta_min": bare["beta_min"],
+        "bare_beta_min_by_sign": bare["beta_min_by_sign"][0],
         "bare_flag": bare["flag"],
         "gain_coarse": gain_coarse,
         "flag_coarse": flag_coarse,
@@ -124,12 +141,21 @@ def optimize_tile(payload: tuple) -> dict:
     }
 
 
-def tile_arrays(n_coarse: int, refine: int) -> dict:
-    """Name -> shape of the arrays of :func:`optimize_tile` (``n_coarse`` coarse periods)."""
+def tile_arrays(n_coarse: int, refine: int, n_signs: int) -> dict:
+    """Name -> shape of the arrays of :func:`optimize_tile` (``n_coarse`` coarse periods, ``n_signs``
+    directions)."""
     shapes = dict.fromkeys(("bare_beta_min", "bare_flag", "r_opt", "gain_opt", "flag_opt", "undetermined"), (1,))
+    shapes["bare_beta_min_by_sign"] = (n_signs,)
     shapes.update(dict.fromkeys(("gain_coarse", "flag_coarse"), (n_coarse,)))
     shapes.update(dict.fromkeys(("r_fine", "gain_fine"), (2 * refine,)))
     return shapes
+
+
+def at_edge(r_opt, r_coarse) -> np.ndarray:
+    """-1 where the optimum is the shortest period of the search range, +1 the longest, 0 inside (or none):
+    an optimum at an edge may lie beyond it (widen ``Tm``)."""
+    r_opt = np.asarray(r_opt, float)
+    return np.where(r_opt == r_coarse[0], -1, np.where(r_opt == r_coarse[-1], 1, 0))
 
 
 def threshold_frequency(Omega, gain, level: float = USELESS_GAIN) -> dict:
@@ -205,9 +231,11 @@ def optimal_damper(
     refine: int = REFINE,
     tol: float = TOL,
     runs: str | Path = "out/runs",
+    directions: str = "auto",
     on_tile=None,
 ) -> Study:
-    """Optimal damper period and best gain against ``Omega`` for each mass ratio in ``gammas``.
+    """Optimal damper period and best gain against ``Omega`` for each mass ratio in ``gammas``; the gain is
+    the ratio of the envelopes of ``beta_min`` over the directions of the pulse.
 
     Parameters
     ----------
@@ -233,15 +261,20 @@ def optimal_damper(
         Relative tolerance of the bisections.
     runs : path
         Folder of the run folders.
+    directions : {"auto", "both", "positive", "negative"}
+        Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
+        is symmetric.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
 
     Returns
     -------
     Study
-        Arrays ``Omega``, ``gamma``, ``r_coarse``, ``bare_beta_min``, and per
+        Arrays ``Omega``, ``gamma``, ``signs``, ``r_coarse``, ``bare_beta_min`` (the envelope) and
+        ``bare_beta_min_by_sign``, and per
         ``(gamma, Omega)``: ``r_opt``, ``Tm_over_Tg_opt`` (``T_m / T_g``,
-        ``T_g = 2 pi / omega_g``), ``gain_opt``, ``flag_opt``, ``undetermined`` (responses
+        ``T_g = 2 pi / omega_g``), ``gain_opt``, ``flag_opt``, ``edge_opt`` (:func:`at_edge`),
+        ``k_m_opt`` and ``c_opt`` (the damper's spring, N/m, and dashpot, N s/m), ``undetermined`` (responses
         without a verdict, counted as not overturned); per
         ``(gamma, Omega, r)``: ``gain_coarse``, ``r_fine``, ``gain_fine``;
         the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
@@ -292,14 +325,19 @@ def optimal_damper(
     zeta, h = check_in_range("zeta", zeta), check_in_range("h", h)
     if not isinstance(stops, (bool, np.bool_)):
         raise ParameterError(f"stops must be True or False (got {stops!r})")
+    chosen = choose(directions, setting.block)
+    signs = chosen["signs"]
     Om, b, r = Omega.values(), beta.values(), Tm.values()
     nG, nO, nr = len(gammas), Om.size, r.size
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
+    grids["signs"] = signs
     arrays = {
         "Omega": Om,
         "gamma": np.array(gammas),
+        "signs": np.array(signs),
         "r_coarse": r,
         "bare_beta_min": np.full(nO, np.nan),
+        "bare_beta_min_by_sign": np.full((nO, len(signs)), np.nan),
         "bare_flag": np.zeros(nO, np.int64),
         "gain_coarse": np.full((nG, nO, nr), np.nan),
         "flag_coarse": np.zeros((nG, nO, nr), np.int64),
@@ -318,14 +356,15 @@ def optimal_damper(
         part_tasks: list[Task] = []
         groups.append(part_tasks)
         for i, Omega_i in enumerate(Om):
-            payload = (setting, damper, float(Omega_i), b, tol, r, refine)
-            task = Task(folder / f"Omega-{i}.npz", optimize_tile, payload, tile_arrays(nr, refine))
+            payload = (setting, damper, float(Omega_i), b, tol, r, refine, signs)
+            task = Task(folder / f"Omega-{i}.npz", optimize_tile, payload, tile_arrays(nr, refine, len(signs)))
             part_tasks.append(task)
             where[task.path] = (g, i)
 
     def place(task: Task, res: dict) -> None:
         g, i = where[task.path]
         arrays["bare_beta_min"][i], arrays["bare_flag"][i] = res["bare_beta_min"][0], res["bare_flag"][0]
+        arrays["bare_beta_min_by_sign"][i] = res["bare_beta_min_by_sign"]
         for k in ("gain_coarse", "flag_coarse", "r_fine", "gain_fine"):
             arrays[k][g, i] = res[k]
         for k in ("r_opt", "gain_opt", "flag_opt", "undetermined"):
@@ -335,6 +374,10 @@ def optimal_damper(
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="optimize", on_tile=on_tile)
     warn_undetermined("optimize", int(arrays["undetermined"].sum()))
     arrays["Tm_over_Tg_opt"] = arrays["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
+    arrays["edge_opt"] = at_edge(arrays["r_opt"], r)
+    m = arrays["gamma"][:, None] * setting.block.M
+    omega_m = setting.block.p / arrays["r_opt"]
+    arrays["k_m_opt"], arrays["c_opt"] = m * omega_m**2, 2 * zeta * m * omega_m
     best = np.argmax(np.nan_to_num(arrays["gain_opt"], nan=-np.inf), axis=0)
     cols = np.arange(nO)
     arrays["best_gain"] = arrays["gain_opt"][best, cols]
@@ -345,6 +388,7 @@ def optimal_damper(
     for key, name in (("Omega_star", "Omega_star"), ("low", "Omega_star_low"), ("high", "Omega_star_high")):
         arrays[name] = np.array([np.nan if t[key] is None else t[key] for t in thresholds.values()])
     config = {"kind": "optimize", **setting.record(), "gammas": list(gammas), "zeta": zeta, "h": h, **grids}
+    config["directions"] = chosen
     if stops:
         config["stops"] = True
     return Study(
@@ -356,13 +400,16 @@ def optimal_damper(
             "useless_gain": USELESS_GAIN,
             "Omega_star": thresholds,
             "undetermined": int(arrays["undetermined"].sum()),
+            "optima_at_edge": int((arrays["edge_opt"] != 0).sum()),
+            "directions": chosen,
         },
         run={**stats.record(), "run_folders": folders},
     )
 
 
 def optimize_table(arrays: dict) -> dict:
-    """One CSV row per ``(gamma, Omega)``: the optimal period (both ways of writing it) and gain."""
+    """One CSV row per ``(gamma, Omega)``: the optimal period (both ways of writing it, and whether it is
+    an edge of the search range: -1 the shortest, +1 the longest), the damper in SI units, and the gain."""
     G, Om = np.meshgrid(arrays["gamma"], arrays["Omega"], indexing="ij")
     return {
         "gamma": G.ravel(),
@@ -372,4 +419,7 @@ def optimize_table(arrays: dict) -> dict:
         "Tm_over_Tg_opt": arrays["Tm_over_Tg_opt"].ravel(),
         "gain_opt": arrays["gain_opt"].ravel(),
         "gain_lower_bound": (arrays["flag_opt"] == ABOVE).ravel(),
+        "Tm_at_edge": arrays["edge_opt"].ravel(),
+        "k_m_opt_N_per_m": arrays["k_m_opt"].ravel(),
+        "c_opt_N_s_per_m": arrays["c_opt"].ravel(),
     }

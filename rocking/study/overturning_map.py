@@ -27,6 +27,7 @@ from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
 from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
+from .directions import SIGN_NAMES, choose, response_envelope
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
@@ -36,7 +37,7 @@ FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contact
 SAFE = -1
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
-FIXED = ("model", "params", "stops")
+FIXED = ("model", "params", "stops", "stroke")
 
 #: Default tile: Omega values x beta values per call of run_cases. About 0.1 s of
 #: C on the reference block: the Python around a tile (its cases, storing it),
@@ -44,8 +45,8 @@ FIXED = ("model", "params", "stops")
 TILE = (32, 32)
 
 
-def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
-    """Responses to the pulses ``(Omega, beta)``, shaped like their broadcast.
+def respond(setting: Setting, Omega, beta, damper: dict | None = None, sign=1) -> dict:
+    """Responses to the pulses ``(Omega, beta, sign)``, shaped like their broadcast.
 
     Parameters
     ----------
@@ -58,6 +59,8 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
         ``omega_ratio``, ``zeta``, ``h`` (array_like, broadcasting with the
         pulses) or ``model`` and ``params`` (:meth:`Variant.case_args`);
         ``None`` for the bare block.
+    sign : int or array_like
+        Direction of each pulse, +1 or -1 (broadcast with the pulses).
 
     Returns
     -------
@@ -65,12 +68,18 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None) -> dict:
         The arrays :data:`FIELDS`.
     """
     arrays = {k: v for k, v in (damper or {}).items() if k not in FIXED}
-    shape = np.broadcast_shapes(np.shape(Omega), np.shape(beta), *(np.shape(v) for v in arrays.values()))
+    shapes = (np.shape(Omega), np.shape(beta), np.shape(sign), *(np.shape(v) for v in arrays.values()))
     cases = pulse_cases(
-        setting.block, Omega, beta, rtol=setting.rtol, t_after=setting.t_after, **(damper or {"gamma": 0.0})
+        setting.block,
+        Omega,
+        beta,
+        rtol=setting.rtol,
+        t_after=setting.t_after,
+        sign=sign,
+        **(damper or {"gamma": 0.0}),
     )
     result = run_cases(cases, backend=setting.backend, threads=1)
-    return {k: result[k].reshape(shape) for k in FIELDS}
+    return {k: result[k].reshape(np.broadcast_shapes(*shapes)) for k in FIELDS}
 
 
 def preflight(setting: Setting, damper: dict | None = None) -> None:
@@ -131,9 +140,10 @@ class UndeterminedWarning(UserWarning):
 
 
 def map_tile(payload: tuple) -> dict:
-    """One tile: ``(setting, damper_or_None, Omega_values, beta_values)`` -> arrays ``(nOmega, nbeta)``."""
-    setting, damper, Omega, beta = payload
-    return respond(setting, Omega[:, None], beta[None, :], damper)
+    """One tile: ``(setting, damper_or_None, Omega_values, beta_values, signs)`` -> arrays ``(nOmega, nbeta,
+    nsigns)``."""
+    setting, damper, Omega, beta, signs = payload
+    return respond(setting, Omega[:, None, None], beta[None, :, None], damper, np.asarray(signs)[None, None, :])
 
 
 def check_damper(damper) -> None:
@@ -179,9 +189,11 @@ def overturning_map(
     *,
     runs: str | Path = "out/runs",
     tile: tuple[int, int] = TILE,
+    directions: str = "auto",
     on_tile=None,
 ) -> Study:
-    """Outcome over the ``Omega x beta`` grid for the bare block and with the damper ``tuning``.
+    """Outcome over the ``Omega x beta`` grid for the bare block and with the damper ``tuning``, in both
+    directions of the pulse (:mod:`rocking.study.directions`) and their envelope.
 
     Parameters
     ----------
@@ -198,15 +210,20 @@ def overturning_map(
         Folder of the run folders (finished tiles, for resuming).
     tile : (int, int)
         Omega values x beta values per tile.
+    directions : {"auto", "both", "positive", "negative"}
+        Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
+        and its damper are symmetric.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
 
     Returns
     -------
     Study
-        Arrays ``Omega``, ``beta``, ``<part>_<field>`` for the parts ``bare``
-        and ``damper`` and the :data:`FIELDS` (shape ``(nOmega, nbeta)``), and
-        ``effect``.
+        Arrays ``Omega``, ``beta``, ``signs``; for the parts ``bare`` and ``damper`` and the
+        :data:`FIELDS`, ``<part>_<field>_by_sign`` (shape ``(nOmega, nbeta, nsigns)``) and their
+        envelope ``<part>_<field>`` (``(nOmega, nbeta)``,
+        :func:`rocking.study.directions.response_envelope`), ``<part>_worst_sign`` (the direction
+        that governs each cell); and ``effect``, from the envelopes.
 
     Raises
     ------
@@ -235,24 +252,35 @@ def overturning_map(
     array([[0, 1, 1],
            [0, 1, 1],
            [0, 1, 1]])
-    >>> study.arrays["effect"]  # +1: the damper saves the block, -1: it loses it
+    >>> study.config["directions"]["signs"]  # the reference block is eccentric (e > 0): both directions
+    [1, -1]
+    >>> study.arrays["effect"]  # +1: the damper saves the block (in both directions), -1: it loses it
+    array([[0, 0, 0],
+           [0, 0, 0],
+           [0, 0, 0]])
+    >>> (study.arrays["bare_overturned_by_sign"] & ~study.arrays["damper_overturned_by_sign"]).astype(int)[..., 0]
     array([[0, 0, 0],
            [0, 1, 0],
            [0, 0, 1]])
+
+    The cells the damper saves from the positive pulses alone overturn under the mirrored ones.
     """
     check_study(setting, execution, runs, Omega=Omega, beta=beta)
     tile = _check_tile(tile)
-    Om, b = Omega.values(), beta.values()
-    grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile)}
-    arrays = {"Omega": Om, "beta": b}
     check_damper(tuning)
+    chosen = choose(directions, setting.block, tuning)
+    signs = chosen["signs"]
+    Om, b = Omega.values(), beta.values()
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile), "signs": signs}
+    arrays = {"Omega": Om, "beta": b, "signs": np.array(signs)}
     record = tuning.record()
     groups, where, folders = [], {}, {}
+    shape = (Om.size, b.size, len(signs))
     for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
         for k, dtype in (("overturned", bool), ("impacts", int), ("status", int), ("stop_contacts", int)):
-            arrays[f"{part}_{k}"] = np.zeros((Om.size, b.size), np.int64 if dtype is int else dtype)
+            arrays[f"{part}_{k}_by_sign"] = np.zeros(shape, np.int64 if dtype is int else dtype)
         for k in ("theta_max", "x_max", "bumper_force_max"):
-            arrays[f"{part}_{k}"] = np.full((Om.size, b.size), np.nan)
+            arrays[f"{part}_{k}_by_sign"] = np.full(shape, np.nan)
         folder = run_folder(runs, part_config("map", part, setting, damper=described, **grids))
         folders[part] = folder.name
         part_tasks: list[Task] = []
@@ -260,8 +288,8 @@ def overturning_map(
         for i in range(0, Om.size, tile[0]):
             for j in range(0, b.size, tile[1]):
                 rows, cols = slice(i, i + tile[0]), slice(j, j + tile[1])
-                payload = (setting, damper, Om[rows], b[cols])
-                expect = dict.fromkeys(FIELDS, (Om[rows].size, b[cols].size))
+                payload = (setting, damper, Om[rows], b[cols], signs)
+                expect = dict.fromkeys(FIELDS, (Om[rows].size, b[cols].size, len(signs)))
                 task = Task(folder / f"tile-{i}-{j}.npz", map_tile, payload, expect)
                 part_tasks.append(task)
                 where[task.path] = (part, rows, cols)
@@ -269,34 +297,47 @@ def overturning_map(
     def place(task: Task, tile_arrays: dict) -> None:
         part, rows, cols = where[task.path]
         for k in FIELDS:
-            arrays[f"{part}_{k}"][rows, cols] = tile_arrays[k]
+            arrays[f"{part}_{k}_by_sign"][rows, cols] = tile_arrays[k]
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="map", on_tile=on_tile)
+    for part in ("bare", "damper"):
+        by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
+        envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
+        arrays.update({f"{part}_{k}": envelope[k] for k in FIELDS})
+        arrays[f"{part}_worst_sign"] = arrays["signs"][envelope["worst_sign_index"]]
     bare_unknown, damper_unknown = undetermined(arrays["bare_status"]), undetermined(arrays["damper_status"])
     arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"], bare_unknown | damper_unknown)
-    warn_undetermined("map", int(bare_unknown.sum() + damper_unknown.sum()))
-    config = {"kind": "map", **setting.record(), "damper": record, **grids}
+    unknown = sum(int(undetermined(arrays[f"{part}_status_by_sign"]).sum()) for part in ("bare", "damper"))
+    warn_undetermined("map", unknown)
+    config = {"kind": "map", **setting.record(), "damper": record, **grids, "directions": chosen}
     return Study(
         "map",
         config,
         arrays,
         tables={"map": map_table(arrays, setting.block.B / 2)},
-        summary=map_summary(arrays, setting.block.B / 2),
-        run={**stats.record(), "run_folders": folders, "responses": 2 * Om.size * b.size},
+        summary={**map_summary(arrays, setting.block.B / 2), "directions": chosen},
+        run={**stats.record(), "run_folders": folders, "responses": 2 * len(signs) * Om.size * b.size},
     )
 
 
 def map_table(arrays: dict, half_width: float) -> dict:
-    """One CSV row per cell: the pulse, both responses, the damper's stroke over the block's half-width ``B/2``
-    (above 1: the mass past the block's edge), the damper's effect."""
+    """One CSV row per cell: the pulse, both responses (their envelope over the directions, and with two
+    directions the outcome in each and the sign of the worse), the damper's stroke over the block's
+    half-width ``B/2`` (above 1: the mass past the block's edge), the damper's effect."""
     Om, b = np.meshgrid(arrays["Omega"], arrays["beta"], indexing="ij")
     table = {"Omega": Om, "beta": b}
+    signs = arrays["signs"]
     for part in ("bare", "damper"):
         table[f"{part}_outcome"] = outcome(arrays[f"{part}_overturned"], arrays[f"{part}_impacts"])
         for k in ("impacts", "theta_max", "x_max", "stop_contacts", "bumper_force_max"):
             table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
         table[f"{part}_status"] = np.asarray(STATUS)[arrays[f"{part}_status"]]
+        if signs.size > 1:
+            table[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
+            for i, sign in enumerate(signs):
+                over, impacts = arrays[f"{part}_overturned_by_sign"], arrays[f"{part}_impacts_by_sign"]
+                table[f"{part}_outcome_{SIGN_NAMES[sign]}"] = outcome(over[..., i], impacts[..., i])
     table["damper_stroke_over_half_width"] = arrays["damper_x_max"] / half_width
     table["effect"] = arrays["effect"]
     return {k: np.ravel(v) for k, v in table.items()}

@@ -31,6 +31,7 @@ import numpy as np
 
 from ..model.params import ParameterError
 from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
     FIXED,
     SAFE,
@@ -75,8 +76,8 @@ def _column(values, n: int) -> dict | None:
     return {k: v if k in FIXED else np.broadcast_to(np.asarray(v, float), (n,))[:, None] for k, v in values.items()}
 
 
-def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL) -> dict:
-    """Minimum overturning amplitude of each column ``(Omega[i], damper[.][i])``: scan, then bisection.
+def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL, sign=1) -> dict:
+    """Minimum overturning amplitude of each column ``(Omega[i], damper[.][i], sign[i])``: scan, then bisection.
 
     Parameters
     ----------
@@ -93,6 +94,8 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         the bare block.
     tol : float
         Relative width of the final bracket, ``(hi - lo) <= tol * hi``.
+    sign : int or array_like, shape (n,)
+        Direction of the pulses of each column, +1 or -1.
 
     Returns
     -------
@@ -109,7 +112,8 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     beta_scan = np.asarray(beta_scan, float)
     n = Omega.size
     cols = _column(damper, n)
-    scan = respond(setting, Omega[:, None], beta_scan[None, :], cols)
+    sign = np.broadcast_to(np.asarray(sign), (n,))
+    scan = respond(setting, Omega[:, None], beta_scan[None, :], cols, sign[:, None])
     over = scan["overturned"]
     first = np.argmax(over, axis=1)  # first overturning scan point (0 if none)
     rows = np.arange(n)
@@ -124,7 +128,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
             break
         mid = 0.5 * (lo[active] + hi[active])
         sub = None if cols is None else {k: v if k in FIXED else v[active, 0] for k, v in cols.items()}
-        r = respond(setting, Omega[active], mid, sub)
+        r = respond(setting, Omega[active], mid, sub, sign[active])
         up = r["overturned"]
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
         lo[active[~up]] = mid[~up]
@@ -156,9 +160,11 @@ def windows(beta_scan, scan_overturned) -> np.ndarray:
 
 
 def spectrum_tile(payload: tuple) -> dict:
-    """Some columns: ``(setting, damper_or_None, Omega values, beta_scan, tol)`` -> :func:`beta_min` of them."""
-    setting, damper, Omega, beta_scan, tol = payload
-    return beta_min(setting, Omega, beta_scan, damper, tol=tol)
+    """Some columns in every direction: ``(setting, damper_or_None, Omega values, beta_scan, tol, signs)`` ->
+    :func:`beta_min` of them, each array with an axis of the signs after that of ``Omega``."""
+    setting, damper, Omega, beta_scan, tol, signs = payload
+    res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs))
+    return {k: v.reshape(len(Omega), len(signs), *v.shape[1:]) for k, v in res.items()}
 
 
 def minimum_overturning_spectrum(
@@ -171,9 +177,11 @@ def minimum_overturning_spectrum(
     tol: float = TOL,
     runs: str | Path = "out/runs",
     columns: int = COLUMNS,
+    directions: str = "auto",
     on_tile=None,
 ) -> Study:
-    """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, ``columns`` Omega values per tile.
+    """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, ``columns`` Omega values per tile;
+    in both directions of the pulse, and their envelope (the smaller ``beta_min``).
 
     Parameters
     ----------
@@ -194,15 +202,21 @@ def minimum_overturning_spectrum(
         Folder of the run folders.
     columns : int
         Omega values per tile.
+    directions : {"auto", "both", "positive", "negative"}
+        Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
+        and its damper are symmetric.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
 
     Returns
     -------
     Study
-        Arrays ``Omega``, ``beta_scan`` and, per part ``bare``/``damper``,
-        the :func:`beta_min` results (``<part>_beta_min`` ...) and
-        ``<part>_windows`` (k, 3): ``Omega``, first and last safe amplitude.
+        Arrays ``Omega``, ``beta_scan``, ``signs`` and, per part ``bare``/``damper``,
+        the :func:`beta_min` results per direction (``<part>_beta_min_by_sign`` ..., an axis of the
+        signs after that of ``Omega``), their envelope (``<part>_beta_min`` ...,
+        :func:`rocking.study.directions.beta_min_envelope`), ``<part>_worst_sign`` (the direction of
+        the smaller ``beta_min``) and ``<part>_windows`` (k, 3): ``Omega``, first and last amplitude
+        safe in every direction.
 
     Raises
     ------
@@ -227,35 +241,41 @@ def minimum_overturning_spectrum(
     ...     rocking.Setting(rocking.Block.reference()), rocking.Tuning(0.05),
     ...     rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 0.5, 15.0, 30),
     ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
-    >>> study.arrays["bare_beta_min"].round(2), study.arrays["damper_beta_min"].round(2)
-    (array([1.28, 1.6 , 2.82]), array([1.33, 1.79, 3.97]))
+    >>> study.arrays["bare_beta_min_by_sign"].round(2)  # columns: sign +1, -1 (the block is eccentric)
+    array([[1.28, 1.15],
+           [1.6 , 1.91],
+           [2.82, 8.66]])
+    >>> study.arrays["bare_beta_min"].round(2), study.arrays["damper_beta_min"].round(2)  # the envelopes
+    (array([1.15, 1.6 , 2.82]), array([1.25, 1.79, 3.97]))
     """
     check_study(setting, execution, runs, Omega=Omega, beta=beta)
     tol = check_tol(tol)
     if not (is_count(columns) and columns >= 1):
         raise ParameterError(f"columns must be an integer >= 1 (Omega values per tile) (got {columns!r})")
     columns = int(columns)
-    Om, b = Omega.values(), beta.values()
-    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns}
-    arrays = {"Omega": Om, "beta_scan": b}
     check_damper(tuning)
+    chosen = choose(directions, setting.block, tuning)
+    signs = chosen["signs"]
+    Om, b = Omega.values(), beta.values()
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns, "signs": signs}
+    arrays = {"Omega": Om, "beta_scan": b, "signs": np.array(signs)}
     record = tuning.record()
     groups, where, folders = [], {}, {}
+    ns = len(signs)
     for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
-        arrays[f"{part}_beta_min"] = np.full(Om.size, np.nan)
-        arrays[f"{part}_beta_safe"] = np.full(Om.size, np.nan)
-        arrays[f"{part}_flag"] = np.zeros(Om.size, np.int64)
-        arrays[f"{part}_impacts"] = np.zeros(Om.size, np.int64)
-        arrays[f"{part}_undetermined"] = np.zeros(Om.size, np.int64)
-        arrays[f"{part}_scan_outcome"] = np.zeros((Om.size, b.size), np.int64)
+        arrays[f"{part}_beta_min_by_sign"] = np.full((Om.size, ns), np.nan)
+        arrays[f"{part}_beta_safe_by_sign"] = np.full((Om.size, ns), np.nan)
+        for k in ("flag", "impacts", "undetermined"):
+            arrays[f"{part}_{k}_by_sign"] = np.zeros((Om.size, ns), np.int64)
+        arrays[f"{part}_scan_outcome_by_sign"] = np.zeros((Om.size, ns, b.size), np.int64)
         folder = run_folder(runs, part_config("spectrum", part, setting, damper=described, **grids))
         folders[part] = folder.name
         part_tasks: list[Task] = []
         groups.append(part_tasks)
         for i in range(0, Om.size, columns):
             cols = slice(i, min(i + columns, Om.size))
-            payload, n = (setting, damper, Om[cols], b, tol), cols.stop - cols.start
-            expect = {**dict.fromkeys(COLUMN_FIELDS, (n,)), "scan_outcome": (n, b.size)}
+            payload, n = (setting, damper, Om[cols], b, tol, signs), cols.stop - cols.start
+            expect = {**dict.fromkeys(COLUMN_FIELDS, (n, ns)), "scan_outcome": (n, ns, b.size)}
             task = Task(folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, payload, expect)
             part_tasks.append(task)
             where[task.path] = (part, cols)
@@ -263,20 +283,23 @@ def minimum_overturning_spectrum(
     def place(task: Task, tile: dict) -> None:
         part, cols = where[task.path]
         for k in (*COLUMN_FIELDS, "scan_outcome"):
-            arrays[f"{part}_{k}"][cols] = tile[k]
+            arrays[f"{part}_{k}_by_sign"][cols] = tile[k]
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)
     for part in ("bare", "damper"):
+        envelope = beta_min_envelope({k: arrays[f"{part}_{k}_by_sign"] for k in (*COLUMN_FIELDS, "scan_outcome")})
+        arrays.update({f"{part}_{k}": envelope[k] for k in (*COLUMN_FIELDS, "scan_outcome")})
+        arrays[f"{part}_worst_sign"] = arrays["signs"][envelope["worst_sign_index"]]
         arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
     warn_undetermined("spectrum", int(arrays["bare_undetermined"].sum() + arrays["damper_undetermined"].sum()))
-    config = {"kind": "spectrum", **setting.record(), "damper": record, **grids}
+    config = {"kind": "spectrum", **setting.record(), "damper": record, **grids, "directions": chosen}
     return Study(
         "spectrum",
         config,
         arrays,
         tables=spectrum_tables(arrays),
-        summary=spectrum_summary(arrays),
+        summary={**spectrum_summary(arrays), "directions": chosen},
         run={**stats.record(), "run_folders": folders},
     )
 
@@ -291,12 +314,19 @@ def _all_windows(Omega, beta_scan, scan_outcome) -> np.ndarray:
 
 
 def spectrum_tables(arrays: dict) -> dict:
-    """CSV tables: ``spectrum`` (one row per Omega) and ``spectrum-windows`` (one row per window)."""
+    """CSV tables: ``spectrum`` (one row per Omega: the envelope and, with two directions, each direction's
+    ``beta_min``) and ``spectrum-windows`` (one row per window)."""
     main = {"Omega": arrays["Omega"]}
     windows_table = {"part": [], "Omega": [], "beta_first_safe": [], "beta_last_safe": []}
+    signs = arrays["signs"]
     for part in ("bare", "damper"):
         for k in COLUMN_FIELDS:
             main[f"{part}_{k}"] = arrays[f"{part}_{k}"]
+        if signs.size > 1:
+            main[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
+            for i, sign in enumerate(signs):
+                main[f"{part}_beta_min_{SIGN_NAMES[sign]}"] = arrays[f"{part}_beta_min_by_sign"][:, i]
+                main[f"{part}_flag_{SIGN_NAMES[sign]}"] = arrays[f"{part}_flag_by_sign"][:, i]
         w = arrays[f"{part}_windows"]
         main[f"{part}_windows"] = np.array([np.sum(w[:, 0] == Om) for Om in arrays["Omega"]])
         windows_table["part"] += [part] * len(w)

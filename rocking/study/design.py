@@ -1,0 +1,353 @@
+"""The design answer: one damper, with its stops, for a band of pulses and both directions.
+
+For a block, a band of one-sine pulse frequency ratios ``Omega`` (pulses of both
+signs when the block is not symmetric, :mod:`rocking.study.directions`), a mass
+budget ``gamma = m / M`` and a stroke (stops at ``x = +-L``), :func:`design`
+finds the damper period ``T_m`` (written ``r = T_m p / (2 pi)``) and damping
+ratio ``zeta`` that maximise the *worst gain over the band*:
+
+    G_worst(r, zeta) = min over Omega of G(Omega),
+    G(Omega) = beta_min(with the damper) / beta_min(block alone),
+
+each ``beta_min`` the envelope over the directions (the smaller of the two).
+The damper's whole mass budget is used.
+
+The search is that of :mod:`rocking.study.optimize`, in two parameters: every
+point of a coarse grid of ``r`` (log) x ``zeta`` (log) is evaluated (one tile
+each: ``beta_min`` of every ``Omega`` and direction in one call), then
+``refine`` log-spaced points inside the coarse intervals next to the best point,
+along ``r`` at its ``zeta`` and along ``zeta`` at its ``r``. The optimum is the
+best point evaluated (a lower bound of the true maximum; ties go to the
+shorter period, then the smaller damping). An optimum on an edge of the coarse
+grid is flagged: the best damper may lie beyond it.
+
+The damper must be buildable: its mass must stay on the block (``|x| <= B/2``,
+the stop's pad not crushed) under the *design pulses*, those that just overturn
+the block alone (its envelope ``beta_min`` at each ``Omega``, both directions).
+Every candidate is run there too, and the optimum is the best candidate that
+keeps its mass on the block (the best of all, flagged, if none does). Its
+*stroke use* there is reported: the largest ``|x| / L``, the stop contacts and
+the largest bumper force.
+
+Units SI (m, kg, s, N); the pulse parameters are non-dimensional.
+"""
+
+from __future__ import annotations
+
+from pathlib import Path
+
+import numpy as np
+
+from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
+from .config import Grid, Setting, Study, is_count, part_config
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
+from .optimize import MAX_REFINE, at_edge, refinement
+from .overturning_map import check_study, preflight, respond, warn_undetermined
+from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
+from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
+
+#: Default coarse grids: r = T_m p / (2 pi) and zeta (both log-spaced), and refinement points per side.
+TM_GRID = (0.1, 10.0, 13)
+ZETA_GRID = (0.02, 0.5, 5)
+REFINE = 2
+
+
+#: Arrays of :func:`band_tile`, each ``(nOmega, nsigns)``: the ``beta_min`` results, and the stroke at the
+#: design pulses.
+BAND_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined", "x_max", "stop_contacts",
+               "bumper_force_max")  # fmt: skip
+
+
+def band_tile(payload: tuple) -> dict:
+    """One damper over the band, every direction: ``(setting, damper_or_None, Omega, beta_scan, tol, signs,
+    design_beta)`` -> :data:`BAND_FIELDS`.
+
+    ``design_beta`` (nOmega,): the pulses at which the stroke is measured (the bare block's ``beta_min``;
+    nan: none, and for the bare block itself).
+    """
+    setting, damper, Omega, beta_scan, tol, signs, design_beta = payload
+    n, ns = len(Omega), len(signs)
+    res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(n, signs))
+    out = {k: res[k].reshape(n, ns) for k in BAND_FIELDS[:5]}
+    out.update(stroke_at(setting, damper, Omega, design_beta, signs))
+    return out
+
+
+def stroke_at(setting: Setting, damper: dict | None, Omega, beta, signs) -> dict:
+    """``x_max`` (m), ``stop_contacts`` and ``bumper_force_max`` (N) of the responses to ``(Omega, beta)`` in
+    every direction, each ``(nOmega, nsigns)``; nan and 0 where ``beta`` is nan (or for the bare block)."""
+    shape = (np.size(Omega), len(signs))
+    out = {"x_max": np.full(shape, np.nan), "stop_contacts": np.zeros(shape, np.int64),
+           "bumper_force_max": np.full(shape, np.nan)}  # fmt: skip
+    ok = np.isfinite(beta)
+    if damper is not None and ok.any():
+        res = respond(setting, np.asarray(Omega)[ok, None], np.asarray(beta)[ok, None], damper, np.array(signs)[None])
+        for k in out:
+            out[k][ok] = res[k]
+    return out
+
+
+def band_gain(damped: dict, reference) -> tuple[np.ndarray, np.ndarray]:
+    """The gain over the band (ratio of the envelopes; nan where the bare ``beta_min`` is not bracketed) and
+    the flag of the damped envelope (:data:`rocking.study.spectrum.ABOVE`: the gain is a lower bound)."""
+    env = beta_min_envelope(damped)
+    return env["beta_min"] / reference, env["flag"]
+
+
+def worst_gain(gain) -> float:
+    """The smallest gain over the band where it is defined; nan if nowhere."""
+    gain = np.asarray(gain, float)
+    return float(np.nanmin(gain)) if np.isfinite(gain).any() else np.nan
+
+
+def best_candidate(r, zeta, worst, admissible) -> int:
+    """Index of the largest worst gain among the ``admissible`` candidates (all, if none is); ties to the
+    shorter period, then the smaller damping."""
+    admissible = np.asarray(admissible, bool)
+    score = np.where(admissible | ~admissible.any(), np.nan_to_num(np.asarray(worst, float), nan=-np.inf), -np.inf)
+    order = np.lexsort((zeta, r))
+    return int(order[np.argmax(score[order])])
+
+
+def _grid_values(grid: Grid, name: str) -> np.ndarray:
+    if not grid.log:
+        raise ParameterError(f"the coarse {name} grid must be logarithmic (Grid(..., log=True))")
+    return grid.values()
+
+
+def design(
+    setting: Setting,
+    Omega: Grid,
+    beta: Grid,
+    execution: Execution = LOCAL,
+    *,
+    gamma: float = 0.05,
+    stroke: float | None = None,
+    h: float = 0.05,
+    Tm: Grid | None = None,
+    zeta: Grid | None = None,
+    refine: int = REFINE,
+    tol: float = TOL,
+    directions: str = "auto",
+    runs: str | Path = "out/runs",
+    on_tile=None,
+) -> Study:
+    """The damper with stops that maximises the worst gain over a band of pulses and both directions.
+
+    Parameters
+    ----------
+    setting : Setting
+        Block and solver.
+    Omega : Grid
+        The band of pulse frequency ratios the damper must serve.
+    beta : Grid
+        Scan amplitudes of every ``beta_min``; the bare block's must be bracketed over the band.
+    execution : Execution
+        Where the tiles run.
+    gamma : float
+        Mass budget ``m / M``, in [1e-10, 10]; the damper's mass is ``gamma M``.
+    stroke : float, optional
+        Half-stroke ``L`` of the stops, m, in ``(0, B/2)``. Default ``B/2`` minus the pads' depth
+        (:data:`rocking.model.params.BUMPER_DEPTH`); the bumpers are those of :meth:`rocking.Stops.at_edges`.
+    h : float
+        Height of the guide above the top of the block, m.
+    Tm, zeta : Grid, optional
+        Coarse log grids of ``r = T_m p / (2 pi)`` and of the damping ratio; defaults :data:`TM_GRID`,
+        :data:`ZETA_GRID`.
+    refine : int
+        Refinement points each side of the best coarse point, along each parameter (>= 0).
+    tol : float
+        Relative tolerance of the bisections.
+    directions : {"auto", "both", "positive", "negative"}
+        Signs of the pulses (:func:`rocking.study.directions.choose`).
+    runs : path
+        Folder of the run folders.
+    on_tile : callable, optional
+        Passed to :func:`rocking.study.tiles.run_tiles`.
+
+    Returns
+    -------
+    Study
+        ``kind = "design"``. Arrays: ``Omega``, ``signs``, ``r_coarse``, ``zeta_coarse``;
+        ``bare_beta_min`` (the envelope) and ``bare_beta_min_by_sign``; every candidate evaluated
+        (coarse first): ``candidate_r``, ``candidate_zeta``, ``candidate_gain`` (over the band),
+        ``candidate_worst_gain``; the optimum: ``gain_opt`` and ``flag_opt`` (over the band),
+        ``damper_beta_min_by_sign``, and its stroke use at the bare block's ``beta_min``:
+        ``stroke_use`` (largest ``|x| / L`` over the directions), ``stop_contacts``,
+        ``bumper_force_max`` (N). The summary gives the damper in SI units (``m``, ``k_m``, ``c``,
+        ``T_m``, ``L``, ``k_b``, ``c_b``) and non-dimensionally (``gamma``, ``Tm_ratio``, ``zeta``),
+        the worst gain and where, and the edge flags.
+
+    Raises
+    ------
+    ParameterError
+        Naming the parameter and its valid range, before any work.
+    rocking.study.tiles.Interrupted
+        On Ctrl-C: the finished tiles are kept in ``runs``, and the same call resumes from them.
+    """
+    Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
+    zeta = Grid("zeta", *ZETA_GRID, log=True) if zeta is None else zeta
+    check_study(setting, execution, runs, Omega=Omega, beta=beta, Tm=Tm, zeta=zeta)
+    r_grid, z_grid = _grid_values(Tm, "T_m"), _grid_values(zeta, "zeta")
+    for z in z_grid[[0, -1]]:
+        check_in_range("zeta", z)
+    gamma, h, tol = check_in_range("gamma", gamma, nonzero=True), check_in_range("h", h), check_tol(tol)
+    block = setting.block
+    L = block.B / 2 - BUMPER_DEPTH if stroke is None else check_interval("stroke", stroke, 0.0, block.B / 2, "m",
+                                                                          label="(0, B/2)")  # fmt: skip
+    if not L > 0:
+        raise ParameterError(f"the block (B = {block.B:g} m) is narrower than the pads: give stroke in (0, B/2)")
+    if not (is_count(refine) and 0 <= refine <= MAX_REFINE):
+        raise ParameterError(f"refine must be an integer in [0, {MAX_REFINE}] (got {refine!r})")
+    chosen = choose(directions, block)
+    signs = chosen["signs"]
+    Om, b = Omega.values(), beta.values()
+    fixed = {"gamma": gamma, "h": h, "stops": True, "stroke": L}
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "signs": signs}
+    preflight(setting, {**fixed, "omega_ratio": 1.0 / r_grid[0], "zeta": float(z_grid[0])})
+    folders = {"bare": run_folder(runs, part_config("design", "bare", setting, damper=None, **grids))}
+    tiles: dict[tuple, dict] = {}
+    stats = []
+
+    def evaluate(points, design_beta) -> None:
+        """Run the tiles of the candidates ``points`` ((r, zeta) pairs; ``None``: the bare block) not yet run."""
+        tasks, where = [], {}
+        for point in dict.fromkeys(points):
+            if point in tiles:
+                continue
+            if point is None:
+                damper, path = None, folders["bare"] / "bare.npz"
+            else:
+                damper = {**fixed, "omega_ratio": 1.0 / point[0], "zeta": point[1]}
+                path = folders["damper"] / f"r{point[0]:.17g}-zeta{point[1]:.17g}.npz"
+            expect = dict.fromkeys(BAND_FIELDS, (Om.size, len(signs)))
+            tasks.append(Task(path, band_tile, (setting, damper, Om, b, tol, signs, design_beta), expect))
+            tiles[point], where[path] = {}, point
+
+        def place(task: Task, arrays: dict) -> None:
+            tiles[where[task.path]].update(arrays)
+
+        stats.append(run_tiles(tasks, place, execution, backend=setting.backend, desc="design", on_tile=on_tile))
+
+    evaluate([None], np.full(Om.size, np.nan))
+    bare = beta_min_envelope({k: tiles[None][k] for k in BAND_FIELDS[:5]})
+    reference = np.where(bare["flag"] == BRACKETED, bare["beta_min"], np.nan)
+    if not np.isfinite(reference).any():
+        raise ParameterError(
+            "the block alone does not overturn within the beta scan at any Omega of the band: widen beta"
+        )
+    folders["damper"] = run_folder(runs, part_config("design", "damper", setting, damper=fixed, **grids,
+                                                     design_beta=[float(x) for x in bare["beta_min"]]))  # fmt: skip
+
+    def judged(points) -> tuple[np.ndarray, np.ndarray]:
+        """The worst gain over the band of each candidate, and whether its mass stays on the block."""
+        worst = np.array([worst_gain(band_gain(tiles[p], reference)[0]) for p in points])
+        on_block = np.array([np.nanmax(tiles[p]["x_max"], initial=0.0) <= block.B / 2 for p in points])
+        return worst, on_block
+
+    coarse = [(float(r), float(z)) for z in z_grid for r in r_grid]
+    evaluate(coarse, bare["beta_min"])
+    r_best, z_best = coarse[best_candidate(*np.array(coarse).T, *judged(coarse))]
+    fine = [(float(r), z_best) for r in refinement(r_grid, int(np.flatnonzero(r_grid == r_best)[0]), refine)]
+    fine += [(r_best, float(z)) for z in refinement(z_grid, int(np.flatnonzero(z_grid == z_best)[0]), refine)]
+    fine = [p for p in fine if np.isfinite(p).all()]
+    evaluate(fine, bare["beta_min"])
+    points = list(dict.fromkeys([*coarse, *fine]))
+    worst, on_block = judged(points)
+    r_all, z_all = np.array(points).T
+    best = points[best_candidate(r_all, z_all, worst, on_block)]
+    gain_opt, flag_opt = band_gain(tiles[best], reference)
+    arrays = {
+        "Omega": Om,
+        "signs": np.array(signs),
+        "r_coarse": r_grid,
+        "zeta_coarse": z_grid,
+        "bare_beta_min": bare["beta_min"],
+        "bare_flag": bare["flag"],
+        "bare_beta_min_by_sign": tiles[None]["beta_min"],
+        "candidate_r": r_all,
+        "candidate_zeta": z_all,
+        "candidate_gain": np.array([band_gain(tiles[p], reference)[0] for p in points]),
+        "candidate_worst_gain": worst,
+        "candidate_on_block": on_block,
+        "gain_opt": gain_opt,
+        "flag_opt": flag_opt,
+        "damper_beta_min_by_sign": tiles[best]["beta_min"],
+        "stroke_use": np.nanmax(tiles[best]["x_max"], axis=1) / L,
+        "stop_contacts": tiles[best]["stop_contacts"].max(axis=1),
+        "bumper_force_max": np.nanmax(tiles[best]["bumper_force_max"], axis=1),
+    }
+    damper = {**fixed, "omega_ratio": 1.0 / best[0], "zeta": best[1]}
+    unknown = sum(int(np.sum(t["undetermined"])) for t in tiles.values())
+    warn_undetermined("design", unknown)
+    edges = int(at_edge(best[0], r_grid)), int(at_edge(best[1], z_grid))
+    summary = design_summary(setting, arrays, damper, L, *edges)
+    config = {"kind": "design", **setting.record(), "damper": fixed, "Tm_ratio": Tm.record(),
+              "zeta_grid": zeta.record(), "refine": refine, **grids, "directions": chosen}  # fmt: skip
+    return Study(
+        "design",
+        config,
+        arrays,
+        tables={"design": design_table(arrays), "design-candidates": candidates_table(arrays)},
+        summary={**summary, "candidates": len(points), "candidates_on_block": int(on_block.sum()),
+                 "undetermined": unknown, "directions": chosen},  # fmt: skip
+        run={"tiles_computed": sum(s.computed for s in stats), "tiles_reused": sum(s.reused for s in stats),
+             "wall_s": round(sum(s.wall for s in stats), 3),
+             "run_folders": {k: v.name for k, v in folders.items()}},  # fmt: skip
+    )
+
+
+def design_summary(setting: Setting, arrays: dict, damper: dict, L: float, r_edge: int, zeta_edge: int) -> dict:
+    """The damper in SI and non-dimensional terms, its worst gain over the band and where, and the flags."""
+    block = setting.block
+    m = damper["gamma"] * block.M
+    omega_m = damper["omega_ratio"] * block.p
+    _, k_b, c_b = (float(v) for v in edge_stops(block, m, omega_m, block.B / 2 - L))
+    gain = arrays["gain_opt"]
+    defined = np.isfinite(gain)
+    i = int(np.nanargmin(gain)) if defined.any() else None
+    return {
+        "damper": {
+            "m_kg": m,
+            "k_m_N_per_m": m * omega_m**2,
+            "c_N_s_per_m": 2 * damper["zeta"] * m * omega_m,
+            "T_m_s": 2 * np.pi / omega_m,
+            "h_m": damper["h"],
+            "L_m": L,
+            "k_b_N_per_m": k_b,
+            "c_b_N_s_per_m": c_b,
+            "gamma": damper["gamma"],
+            "Tm_ratio": 1.0 / damper["omega_ratio"],
+            "zeta": damper["zeta"],
+        },
+        "worst_gain": None if i is None else float(gain[i]),
+        "worst_at_Omega": None if i is None else float(arrays["Omega"][i]),
+        "worst_gain_is_lower_bound": None if i is None else bool(arrays["flag_opt"][i] == ABOVE),
+        "gain_undefined_at": [float(x) for x in arrays["Omega"][~defined]],
+        "Tm_at_edge": r_edge,
+        "zeta_at_edge": zeta_edge,
+        "stroke_use_max": float(np.nanmax(arrays["stroke_use"], initial=0.0)),
+        "stop_contacts_max": int(arrays["stop_contacts"].max()),
+    }
+
+
+def design_table(arrays: dict) -> dict:
+    """One CSV row per ``Omega`` of the band: the envelopes, the gain of the design, its stroke use."""
+    table = {"Omega": arrays["Omega"], "bare_beta_min": arrays["bare_beta_min"]}
+    for i, sign in enumerate(arrays["signs"]):
+        table[f"bare_beta_min_{SIGN_NAMES[sign]}"] = arrays["bare_beta_min_by_sign"][:, i]
+        table[f"damper_beta_min_{SIGN_NAMES[sign]}"] = arrays["damper_beta_min_by_sign"][:, i]
+    table.update(gain=arrays["gain_opt"], gain_lower_bound=arrays["flag_opt"] == ABOVE)
+    table.update(stroke_use=arrays["stroke_use"], stop_contacts=arrays["stop_contacts"],
+                 bumper_force_max_N=arrays["bumper_force_max"])  # fmt: skip
+    return table
+
+
+def candidates_table(arrays: dict) -> dict:
+    """One CSV row per damper evaluated: ``T_m p / (2 pi)``, ``zeta`` and the worst gain over the band."""
+    return {
+        "Tm_p_over_2pi": arrays["candidate_r"],
+        "zeta": arrays["candidate_zeta"],
+        "worst_gain": arrays["candidate_worst_gain"],
+        "mass_stays_on_block": arrays["candidate_on_block"],
+    }

@@ -1,0 +1,124 @@
+"""The design answer: one damper with stops for a band of pulses, both directions (rocking design)."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import pytest
+
+import rocking
+from rocking import Block, Damper, OneSinePulse, Stops
+from rocking.cli.study import add_study_commands
+from rocking.model.params import ParameterError
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.design import best_candidate, design
+from rocking.study.spectrum import minimum_overturning_spectrum
+from rocking.study.tiles import Execution
+
+SERIAL = Execution(workers=1, progress=False)
+SETTING = Setting(Block.reference())
+BAND, BETA = Grid("Omega", 4.0, 6.0, 2), Grid("beta", 0.5, 20.0, 27)
+SEARCH = {"Tm": Grid("Tm", 0.5, 4.0, 3, log=True), "zeta": Grid("zeta", 0.02, 0.2, 2, log=True), "refine": 1}
+
+
+@pytest.fixture(scope="module")
+def runs(tmp_path_factory):
+    return tmp_path_factory.mktemp("runs")
+
+
+@pytest.fixture(scope="module")
+def small(runs):
+    return design(SETTING, BAND, BETA, SERIAL, runs=runs, **SEARCH)
+
+
+def test_design_is_the_best_damper_that_keeps_its_mass_on_the_block(small):
+    a, s = small.arrays, small.summary
+    assert s["directions"]["signs"] == [1, -1]
+    worst = np.nanmin(a["candidate_gain"], axis=1)
+    np.testing.assert_array_equal(a["candidate_worst_gain"], worst)
+    on = a["candidate_on_block"]
+    assert on.any()
+    assert s["worst_gain"] == pytest.approx(worst[on].max())
+    assert s["worst_gain"] == pytest.approx(np.nanmin(a["gain_opt"]))
+    # The gain is the ratio of the envelopes over the directions.
+    envelope = a["damper_beta_min_by_sign"].min(axis=1) / a["bare_beta_min_by_sign"].min(axis=1)
+    np.testing.assert_allclose(a["gain_opt"], envelope)
+    assert a["candidate_r"].size == s["candidates"] == 3 * 2 + 2 + 1  # coarse, 2 along T_m, 1 along zeta
+    d = s["damper"]
+    m, omega_m = d["gamma"] * SETTING.block.M, 2 * np.pi / d["T_m_s"]
+    assert (d["m_kg"], d["k_m_N_per_m"]) == pytest.approx((m, m * omega_m**2))
+    assert d["c_N_s_per_m"] == pytest.approx(2 * d["zeta"] * m * omega_m)
+    assert d["L_m"] == pytest.approx(SETTING.block.B / 2 - 0.02)
+
+
+def test_design_gain_is_what_the_spectrum_gives_for_that_damper(small, tmp_path):
+    """The same damper through minimum_overturning_spectrum (a Tuning with stops and the stroke): the same gain."""
+    d = small.summary["damper"]
+    tuning = Tuning(gamma=d["gamma"], omega_ratio=1 / d["Tm_ratio"], zeta=d["zeta"], h=d["h_m"], stops=True,
+                    stroke=d["L_m"])  # fmt: skip
+    spectrum = minimum_overturning_spectrum(SETTING, tuning, BAND, BETA, SERIAL, runs=tmp_path)
+    s = spectrum.arrays
+    np.testing.assert_allclose(small.arrays["gain_opt"], s["damper_beta_min"] / s["bare_beta_min"], rtol=1e-12)
+
+
+def test_design_stroke_use_is_that_of_single_runs(small):
+    """x_max / L at the bare block's beta_min, both directions, through rocking.simulate and a Damper with Stops."""
+    block, d, a = SETTING.block, small.summary["damper"], small.arrays
+    stops = Stops(L=d["L_m"], k_b=d["k_b_N_per_m"], c_b=d["c_b_N_s_per_m"])
+    damper = Damper(m=d["m_kg"], k_m=d["k_m_N_per_m"], c=d["c_N_s_per_m"], h=d["h_m"], stops=stops)
+    for i, Om in enumerate(a["Omega"]):
+        runs = [rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=a["bare_beta_min"][i], Omega=Om,
+                                                                          sign=sign))
+                for sign in (1, -1)]  # fmt: skip
+        assert a["stroke_use"][i] == pytest.approx(max(r.x_max for r in runs) / d["L_m"], rel=1e-9)
+        assert a["stop_contacts"][i] == max(r.stop_contacts for r in runs)
+
+
+def test_design_resumes_from_its_tiles(small, runs):
+    again = design(SETTING, BAND, BETA, SERIAL, runs=runs, **SEARCH)
+    assert again.run["tiles_computed"] == 0 and again.run["tiles_reused"] == small.summary["candidates"] + 1
+    assert again.summary == small.summary
+
+
+def test_optimum_at_an_edge_is_flagged(runs):
+    """A one-point grid: the optimum is both ends of it."""
+    study = design(SETTING, BAND, BETA, SERIAL, runs=runs, Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
+                   zeta=Grid("zeta", 0.05, 0.05, 1, log=True), refine=0)  # fmt: skip
+    assert study.summary["Tm_at_edge"] == -1 and study.summary["zeta_at_edge"] == -1
+
+
+def test_best_candidate_prefers_dampers_on_the_block_then_shorter_periods():
+    r, z = np.array([1.0, 2.0, 0.5, 3.0]), np.array([0.1, 0.1, 0.1, 0.1])
+    assert best_candidate(r, z, [1.2, 1.5, 1.5, 2.0], [True, True, True, False]) == 2
+    assert best_candidate(r, z, [1.2, 1.5, 1.5, 2.0], [False] * 4) == 3  # none on the block: the best, flagged
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"stroke": 0.25}, r"stroke must be in \(0, B/2\)"),
+        ({"gamma": 0.0}, r"gamma"),
+        ({"Tm": Grid("Tm", 0.5, 2.0, 3)}, r"logarithmic"),
+        ({"refine": -1}, r"refine must be an integer"),
+        ({"directions": "up"}, r"directions must be one of"),
+    ],
+)
+def test_bad_design_input_is_refused_naming_it(kwargs, message, tmp_path):
+    with pytest.raises(ParameterError, match=message):
+        design(SETTING, BAND, BETA, SERIAL, runs=tmp_path, **kwargs)
+
+
+def test_cli_design_writes_data_and_prints_the_damper_in_si(tmp_path, capsys):
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(["design", "--Omega", "4", "6", "2", "--beta", "0.5", "20", "27", "--Tm-ratio", "0.5",
+                              "4", "3", "--zeta-grid", "0.02", "0.2", "2", "--refine", "1", "--workers", "1",
+                              "--no-progress", "--out", str(tmp_path)])  # fmt: skip
+    assert args.func(args) == 0
+    out = capsys.readouterr().out
+    assert "design: m = 50 kg (gamma = 0.05), k_m = " in out and "N s/m" in out
+    assert "pulses of sign +1 and -1" in out
+    for name in ("design.npz", "design.json", "design.csv", "design-candidates.csv", "design.png"):
+        assert (tmp_path / name).is_file()
+    assert rocking.study.storage.load(tmp_path / "design").summary["worst_gain"] > 0
