@@ -25,6 +25,8 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
 
+import numpy as np
+
 from ..model.params import ParameterError
 from ..plot.figures import draw, redraw
 from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
@@ -36,6 +38,8 @@ from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import make_folder, save
+from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
+from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
 from .options import (
     add_block_options,
@@ -383,8 +387,10 @@ def _print_design(study: Study) -> None:
         f"c_b = {d['c_b_N_s_per_m']:.4g} N s/m"
     )
     bound = " (a lower bound: the damped block did not overturn in the scan)" if s["worst_gain_is_lower_bound"] else ""
-    print(f"design: worst gain over the band {s['worst_gain']:.3g} at Omega = {s['worst_at_Omega']:.3g}{bound}"
-          + ("; no damper of this budget and stroke helps over the whole band" if s["worst_gain"] < 1 else ""))
+    print(
+        f"design: worst gain over the band {s['worst_gain']:.3g} at Omega = {s['worst_at_Omega']:.3g}{bound}"
+        + ("; no damper of this budget and stroke helps over the whole band" if s["worst_gain"] < 1 else "")
+    )
     for name, edge, ends in (("T_m", s["Tm_at_edge"], ("shortest", "longest")),
                              ("zeta", s["zeta_at_edge"], ("smallest", "largest"))):  # fmt: skip
         if edge:
@@ -396,8 +402,41 @@ def _print_design(study: Study) -> None:
         "keep their mass on the block"
     )
     if s["gain_undefined_at"]:
-        print(f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
-              "within the beta scan there; widen --beta)")
+        print(
+            f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
+            "within the beta scan there; widen --beta)"
+        )
+
+
+def _cmd_threshold(args) -> int:
+    grids = [grid_from(name, getattr(args, name)) for name in ("lam", "p", "Omega")]
+    search = {"Tm": grid_from("Tm-ratio", args.Tm_ratio, log=True)} if args.Tm_ratio is not None else {}
+    options = given(args, ("e_ratio", "gamma", "zeta", "h", "refine", "a_max", "rtol", "t_after", "backend",
+                           "directions"))  # fmt: skip
+    execution, out = execution_from(args), out_from(args)
+    study = threshold_map(*grids, execution, runs=out / "runs", **options, **_tol(args), **search)
+    _report(study, out)
+    _print_threshold_map(study)
+    return 0
+
+
+def _print_threshold_map(study: Study) -> None:
+    a, bound = study.arrays, study.summary["a_max_g"]
+    for kind in ("unlimited", "stops"):
+        print(f"threshold, {kind} guide: Omega* bracketed at {study.summary[kind]['bracketed']} of "
+              f"{a['lam'].size * a['p'].size} geometries")  # fmt: skip
+        for i, lam in enumerate(a["lam"]):
+            cells = []
+            for j, p in enumerate(a["p"]):
+                status = a[f"{kind}_status"][i, j]
+                star, low = a[f"{kind}_Omega_star"][i, j], a[f"{kind}_Omega_star_low"][i, j]
+                text = {0: f"{star:.3g}", 1: f"<= {a[f'{kind}_Omega_star_high'][i, j]:.3g}", 2: f"> {low:.3g}"}
+                cells.append(f"p = {p:g}: Omega* {text.get(int(status), 'undefined')}")
+            print(f"  lambda = {lam:g}: " + "; ".join(cells))
+    for i, lam in enumerate(a["lam"]):
+        safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in a["safe_from"][i])
+        print(f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
+              f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)")  # fmt: skip
 
 
 def _cmd_demo(args) -> int:
@@ -563,6 +602,42 @@ def add_study_commands(subparsers) -> None:
     _add_directions(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_design))
+
+    p = add_parser(
+        subparsers,
+        "threshold",
+        "threshold frequency Omega* over block geometries, unlimited guide and stops",
+        "The threshold frequency Omega* (above it the best damper gains less than 1 %) over a grid of "
+        "slenderness lambda = H/B and size p, for the unlimited guide and the stops at the block's edges, both "
+        "directions; the beta scan rises until the block overturns or the pulse passes --a-max g.",
+    )
+    _add_grid(p, "lam", LAM_GRID, "slenderness H/B of the blocks")
+    _add_grid(p, "p", P_GRID, "size p = sqrt(3 g / 4 R) of the blocks, rad/s")
+    _add_grid(p, "Omega", OMEGA_GRID, "pulse frequency ratios scanned at each geometry")
+    g = p.add_argument_group("blocks and damper", "As rocking.study.threshold.threshold_map.")
+    g.add_argument(
+        "--e-ratio", type=float, help=f"eccentricity e/B of every block ({default_text(threshold_map, 'e_ratio')})"
+    )
+    g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(threshold_map, 'gamma')})")
+    g.add_argument("--zeta", type=float, help=f"damping ratio ({default_text(threshold_map, 'zeta')})")
+    g.add_argument(
+        "--h", type=float, help=f"height of the guide above the block, m ({default_text(threshold_map, 'h')})"
+    )
+    g.add_argument(
+        "--Tm-ratio",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help="coarse log grid of T_m p / (2 pi) at each point "
+        f"(default {THRESHOLD_TM_GRID[0]:g} {THRESHOLD_TM_GRID[1]:g} {THRESHOLD_TM_GRID[2]})",
+    )
+    g.add_argument("--refine", type=int, help=f"refinement points each side ({default_text(threshold_map, 'refine')})")
+    g.add_argument(
+        "--a-max", type=float, help=f"bound of the ground acceleration, in g ({default_text(threshold_map, 'a_max')})"
+    )
+    _add_tol(p)
+    _add_directions(p)
+    _add_solver(p)
+    p.set_defaults(func=_guarded(_cmd_threshold))
 
     p = _study_parser(
         subparsers, "demo", "the default study: map, spectra and optimal damper, on the default grids of each"

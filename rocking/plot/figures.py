@@ -314,7 +314,64 @@ def design_figure(study: Study) -> Figure:
     return fig
 
 
-FIGURES = {"map": map_figure, "spectrum": spectrum_figure, "optimize": optimize_figure, "design": design_figure}
+def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
+    """``Omega*`` of one kind of damper over ``(lambda, p)``: the value where bracketed, else the highest ``Omega``
+    at which it still helps (a lower bound, hatched); each cell also says from which ``Omega`` the block alone
+    no longer overturns within the bound."""
+    a = study.arrays
+    lam, p = a["lam"], a["p"]
+    status = a[f"{kind}_status"]
+    value = np.where(np.isfinite(a[f"{kind}_Omega_star"]), a[f"{kind}_Omega_star"], a[f"{kind}_Omega_star_low"])
+    image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap="viridis", vmin=0, vmax=float(a["Omega"][-1]))
+    for i in range(lam.size):
+        for j in range(p.size):
+            v, st = value[i, j], STATUS_TEXT[status[i, j]]
+            text = "?" if not np.isfinite(v) else f"{st}{v:.3g}"
+            safe = a["safe_from"][i, j]
+            text += f"\nsafe from {safe:.3g}" if np.isfinite(safe) else ""
+            ax.text(p[j], lam[i], text, ha="center", va="center", fontsize=7, color="w")
+    ax.set_xlabel("p (rad/s)")
+    ax.set_ylabel(r"$\lambda = H / B$")
+    ax.set_title(f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns)",
+                 fontsize=9)  # fmt: skip
+    fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound")
+
+
+#: How a cell of the threshold figure writes each status of Omega* (rocking.study.threshold.STATUSES).
+STATUS_TEXT = ("", "<=", ">", "")
+
+
+def threshold_figure(study: Study) -> Figure:
+    """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
+    a = study.arrays
+    fig = Figure(figsize=(16, 4.8), layout="constrained")
+    axes = fig.subplots(1, 3)
+    for ax, kind in zip(axes[:2], ("unlimited", "stops")):
+        _omega_star_panel(fig, ax, study, kind)
+    j = a["p"].size // 2
+    colors = [f"C{i}" for i in range(a["lam"].size)]
+    for i, lam in enumerate(a["lam"]):
+        for kind, style in (("unlimited", "-"), ("stops", "--")):
+            label = rf"$\lambda$ = {lam:.3g}, {kind}"
+            axes[2].plot(a["Omega"], a[f"{kind}_gain"][i, j], style, color=colors[i], marker=".", label=label)
+    axes[2].axhline(study.summary["useless_gain"], color="0.3", lw=0.8, ls=":")
+    axes[2].set_xlabel(r"$\Omega = \omega_g / p$")
+    axes[2].set_ylabel("best gain (envelopes over the directions)")
+    axes[2].set_title(f"best gain at p = {a['p'][j]:.3g} rad/s; ends where the block alone survives "
+                      f"{study.summary['a_max_g']:g} g", fontsize=9)  # fmt: skip
+    axes[2].legend(fontsize=6, ncol=2)
+    fig.suptitle(f"Threshold frequency across geometries (pulses up to {study.summary['a_max_g']:g} g); "
+                 f"{_directions_label(study.config)}")  # fmt: skip
+    return fig
+
+
+FIGURES = {
+    "map": map_figure,
+    "spectrum": spectrum_figure,
+    "optimize": optimize_figure,
+    "design": design_figure,
+    "threshold": threshold_figure,
+}
 
 
 def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:

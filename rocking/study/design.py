@@ -289,11 +289,19 @@ def design(
         config,
         arrays,
         tables={"design": design_table(arrays), "design-candidates": candidates_table(arrays)},
-        summary={**summary, "candidates": len(points), "candidates_on_block": int(on_block.sum()),
-                 "undetermined": unknown, "directions": chosen},  # fmt: skip
-        run={"tiles_computed": sum(s.computed for s in stats), "tiles_reused": sum(s.reused for s in stats),
-             "wall_s": round(sum(s.wall for s in stats), 3),
-             "run_folders": {k: v.name for k, v in folders.items()}},  # fmt: skip
+        summary={
+            **summary,
+            "candidates": len(points),
+            "candidates_on_block": int(on_block.sum()),
+            "undetermined": unknown,
+            "directions": chosen,
+        },  # fmt: skip
+        run={
+            "tiles_computed": sum(s.computed for s in stats),
+            "tiles_reused": sum(s.reused for s in stats),
+            "wall_s": round(sum(s.wall for s in stats), 3),
+            "run_folders": {k: v.name for k, v in folders.items()},
+        },  # fmt: skip
     )
 
 
