@@ -23,6 +23,7 @@ import time
 import warnings
 from collections.abc import Iterator
 from contextlib import contextmanager
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -36,7 +37,7 @@ from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
 from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
-from ..study.spectrum import minimum_overturning_spectrum
+from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
 from ..study.storage import make_folder, save
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
@@ -94,19 +95,20 @@ def _add_solver(p: argparse.ArgumentParser) -> None:
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
 
 
-def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool) -> None:
+def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool, stops: bool = True) -> None:
     """Damper options: one damper (``tuned``: a Tuning) and/or the mass ratios of the optimisation (``searched``)."""
     # The defaults shown are those of the Python call each command makes: Tuning, or optimal_damper.
     source = Tuning if tuned else optimal_damper
     g = p.add_argument_group(
         "damper", "As rocking.Tuning(gamma, omega_ratio, zeta, h, stops)." if tuned else "As rocking.optimal_damper."
     )
-    g.add_argument(
-        "--stops",
-        action="store_const",
-        const=True,
-        help="the guide ends in the stops of rocking.Stops.at_edges (default: the paper's unlimited guide)",
-    )
+    if stops:
+        g.add_argument(
+            "--stops",
+            action="store_const",
+            const=True,
+            help="the guide ends in the stops of rocking.Stops.at_edges (default: the paper's unlimited guide)",
+        )
     if tuned:
         g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(Tuning, 'gamma')})")
         tuning = g.add_mutually_exclusive_group()
@@ -251,9 +253,9 @@ def _tol(args) -> dict:
 # --- commands --------------------------------------------------------------------------
 
 
-def _report(study: Study, out: Path) -> list[Path]:
-    """Save the study's data and figure; print where they are and how it ran."""
-    paths = save(study, out) + draw(study, out)
+def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
+    """Save the study's data and figure as ``name`` (default: its kind); print where they are and how it ran."""
+    paths = save(study, out, name) + draw(study, out, name)
     run = study.run
     print(
         f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
@@ -285,26 +287,40 @@ def _cmd_map(args) -> int:
     inputs, out = _inputs(args)
     study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions",)))
     _report(study, out)
+    _print_map(study)
+    return 0
+
+
+def _print_map(study: Study) -> None:
     s = study.summary
     print(
         f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
         f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge), lost {s['lost']}"
         + (f"; {unknown} without a verdict" if (unknown := s["bare_undetermined"] + s["damper_undetermined"]) else "")
     )
-    return 0
 
 
 def _cmd_spectrum(args) -> int:
     inputs, out = _inputs(args)
     study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)))
     _report(study, out)
+    _print_spectrum(study)
+    return 0
+
+
+def _print_spectrum(study: Study) -> None:
     for part in ("bare", "damper"):
         s = study.summary[part]
         print(
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
         )
-    return 0
+    a = study.arrays
+    both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
+    if both.any():
+        gain = a["damper_beta_min"][both] / a["bare_beta_min"][both]
+        print(f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
+              f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}")  # fmt: skip
 
 
 def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: Grid, **search) -> Study:
@@ -440,30 +456,34 @@ def _print_threshold_map(study: Study) -> None:
 
 
 def _cmd_demo(args) -> int:
-    """The default grids of ``map``, ``spectrum`` and ``optimize``, one after the other."""
-    setting, tuning, execution, out = setting_from(args), tuning_from(args), execution_from(args), out_from(args)
+    """The damper as built: stops at the block's edges beside the paper's unlimited guide (maps and spectra,
+    both directions), the design answer, and ``Omega*`` across geometries; each on its command's default grids."""
+    setting, execution, out = setting_from(args), execution_from(args), out_from(args)
+    tuning = tuning_from(args)
+    dampers = (("", replace(tuning, stops=True)), ("-unlimited", replace(tuning, stops=False, stroke=None)))
     start = time.perf_counter()
     runs = out / "runs"
-    _report(
-        overturning_map(
-            setting, tuning, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA), execution, runs=runs
-        ),
-        out,
-    )
-    spectrum = minimum_overturning_spectrum(
-        setting,
-        tuning,
-        grid_from("Omega", SPECTRUM_OMEGA),
-        grid_from("beta", SPECTRUM_BETA),
-        execution,
-        runs=runs,
-        **_tol(args),
-    )
-    _report(spectrum, out)
-    study = _optimize(args, setting, execution, grid_from("Omega", OPTIMIZE_OMEGA), grid_from("beta", OPTIMIZE_BETA))
+    for suffix, damper in dampers:
+        study = overturning_map(setting, damper, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA),
+                                execution, runs=runs)  # fmt: skip
+        _report(study, out, f"map{suffix}")
+        _print_map(study)
+    for suffix, damper in dampers:
+        Omega, beta = grid_from("Omega", SPECTRUM_OMEGA), grid_from("beta", SPECTRUM_BETA)
+        study = minimum_overturning_spectrum(setting, damper, Omega, beta, execution, runs=runs, **_tol(args))
+        _report(study, out, f"spectrum{suffix}")
+        _print_spectrum(study)
+    study = design(setting, grid_from("Omega", DESIGN_OMEGA), grid_from("beta", DESIGN_BETA), execution,
+                   gamma=tuning.gamma, h=tuning.h, runs=runs, **_tol(args))  # fmt: skip
     _report(study, out)
-    _print_threshold(study)
-    print(f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, spectrum, optimize .png/.pdf)")
+    _print_design(study)
+    grids = [grid_from(name, default) for name, default in (("lam", LAM_GRID), ("p", P_GRID), ("Omega", OMEGA_GRID))]
+    study = threshold_map(*grids, execution, gamma=tuning.gamma, zeta=tuning.zeta, h=tuning.h, rtol=setting.rtol,
+                          t_after=setting.t_after, backend=setting.backend, runs=runs, **_tol(args))  # fmt: skip
+    _report(study, out)
+    _print_threshold_map(study)
+    print(f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
+          "spectrum-unlimited, design, threshold .png/.pdf)")  # fmt: skip
     return 0
 
 
@@ -640,9 +660,11 @@ def add_study_commands(subparsers) -> None:
     p.set_defaults(func=_guarded(_cmd_threshold))
 
     p = _study_parser(
-        subparsers, "demo", "the default study: map, spectra and optimal damper, on the default grids of each"
+        subparsers,
+        "demo",
+        "the damper as built: maps and spectra with stops and unlimited, both directions; design; Omega*",
     )
-    _add_damper(p, tuned=True, searched=True)
+    _add_damper(p, tuned=True, searched=False, stops=False)
     _add_tol(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_demo))

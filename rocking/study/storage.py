@@ -167,7 +167,8 @@ def _why(folder: Path, exc: OSError) -> str:
 
 
 def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
-    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json`` and its CSV tables, each atomically.
+    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json`` and its CSV tables (``<name>.csv``,
+    ``<name>-windows.csv``, ...), each atomically.
 
     The JSON record lists the arrays (:func:`layout`) and their :func:`checksum`,
     which :func:`load` checks.
@@ -187,6 +188,9 @@ def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path
     atomic_write(stem.with_suffix(".npz"), lambda f: np.savez(f, **study.arrays))
     written = [stem.with_suffix(".npz")]
     for table, columns in study.tables.items():
+        # Tables are named after the kind ("spectrum-windows"); a study saved under another name keeps its own.
+        if name and table.startswith(study.kind):
+            table = name + table[len(study.kind) :]
         path = folder / f"{table}.csv"
         write_csv(path, columns)
         written.append(path)
