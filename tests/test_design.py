@@ -122,3 +122,25 @@ def test_cli_design_writes_data_and_prints_the_damper_in_si(tmp_path, capsys):
     for name in ("design.npz", "design.json", "design.csv", "design-candidates.csv", "design.png"):
         assert (tmp_path / name).is_file()
     assert rocking.study.storage.load(tmp_path / "design").summary["worst_gain"] > 0
+
+
+def test_demo_runs_the_damper_as_built_beside_the_unlimited_guide(tmp_path, capsys, monkeypatch):
+    """`rocking demo` on small grids: maps and spectra with stops and unlimited, the design and Omega*, each saved
+    under its own name with its own tables."""
+    import rocking.cli.study as study_cli
+
+    for name, grid in (("MAP_OMEGA", (2.0, 8.0, 3)), ("MAP_BETA", (1.0, 9.0, 3)), ("SPECTRUM_OMEGA", (2.0, 8.0, 3)),
+                       ("SPECTRUM_BETA", (0.5, 15.0, 12)), ("DESIGN_OMEGA", (4.0, 6.0, 2)), ("LAM_GRID", (4.0, 4.0, 1)),
+                       ("P_GRID", (2.0, 2.0, 1)), ("OMEGA_GRID", (4.0, 14.0, 2))):  # fmt: skip
+        monkeypatch.setattr(study_cli, name, grid)
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(["demo", "--workers", "2", "--no-progress", "--out", str(tmp_path)])
+    assert args.func(args) == 0
+    out = capsys.readouterr().out
+    assert "only with the mass past the block's edge" in out and "design: m = 50 kg" in out
+    for stem in ("map", "map-unlimited", "spectrum", "spectrum-unlimited", "design", "threshold"):
+        assert (tmp_path / f"{stem}.png").is_file() and (tmp_path / f"{stem}.json").is_file()
+    assert (tmp_path / "spectrum-unlimited-windows.csv").is_file() and (tmp_path / "map-unlimited.csv").is_file()
+    stopped, unlimited = (rocking.study.storage.load(tmp_path / stem) for stem in ("map", "map-unlimited"))
+    assert stopped.config["damper"]["stops"] and "stops" not in unlimited.config["damper"]
