@@ -11,10 +11,18 @@ and manifest.json hold the same functions in the same order.
 Every model exposes the same functions with the same arguments, so that a
 runtime can drive any model from its manifest alone:
 
-``name(s, <q...>, <dq...>, ag, <params...>)`` in NumPy, and
+``name(s, <q...>, <dq...>, ag, <params...>, stop_on=None)`` in NumPy, and
 ``prefix_name(double s, const double *y, double ag, const double *p[, double *out])``
 in C, with ``y = (q, dq)`` and ``p`` in manifest order. Arguments a function
 does not need are accepted and ignored.
+
+The regime of the end stops (per stop side, 1 while its bumper acts, else 0)
+is an input like the pivot: ``stop_on`` in NumPy, ``on`` of
+``prefix_prepare(s, on, p, cst)`` in C, so that within a regime the equations
+are plain polynomial and rational code and its constants are hoisted with the
+pivot's. Without it (NumPy's ``stop_on=None``, C's unprepared functions) a
+function takes the regime of its state: each side acts where its penetration
+is > 0.
 """
 
 from __future__ import annotations
@@ -36,8 +44,9 @@ from .names import escape_c_comment, escape_markdown, escape_python_doc
 from .spec import BLOCK_PARAMETERS, Parameter
 
 TEMPLATES = Path(__file__).parent / "templates"
-#: Version of the layout of manifest.json; also written into ``rocking.generated`` (see build.py).
-MANIFEST_FORMAT = 2
+#: Version of the layout of manifest.json and of the generated interface; also written into
+#: ``rocking.generated`` (see build.py). 3: the regime of the stops is an input (``stop_on``, ``on``).
+MANIFEST_FORMAT = 3
 
 
 @dataclass(frozen=True)
@@ -237,7 +246,7 @@ def hoist_constants(outputs, varying):
     and ``ag``) becomes a symbol ``cst<i>``, the same symbol wherever it
     recurs; the terms of a sum that differ only by such a factor are gathered
     first, so that ``a x + b x`` costs one constant ``a + b``. A runtime
-    computes the constants once per run and pivot, not at every call, all of
+    computes the constants once per run, pivot and regime of the stops, not at every call, all of
     them: one that only a branch of a ``Piecewise`` uses is computed even where
     that branch is not taken (an inf or NaN there is never read).
 
@@ -289,7 +298,7 @@ class Prepared:
     constants : tuple of str
         Names of the constants ``cst<i>``, in order.
     prepare : Cse
-        The constants, from the pivot and the parameters.
+        The constants, from the pivot, the regime of the stops and the parameters.
     functions : tuple of Cse
         Each function of the table, from the state, ``ag`` and the constants.
     """
@@ -349,6 +358,11 @@ class ModelContext:
         Each function's outputs after common-subexpression elimination.
     prepared : Prepared
         The functions split into the constants of a run and the rest.
+    regime : tuple of str
+        The indicator of each stop side (``System.stops``), in the order of ``stop_gaps``.
+    state_regime : tuple of Expr
+        The regime of a state, each indicator from its penetration: what a function
+        takes when it is given none.
     inputs_sha256 : str
         :func:`input_hash` of the spec and options.
     """
@@ -366,6 +380,8 @@ class ModelContext:
     functions: tuple
     cse: tuple
     prepared: Prepared
+    regime: tuple
+    state_regime: tuple
     inputs_sha256: str
 
 
@@ -391,6 +407,8 @@ def model_context(eq: Equations, spec) -> ModelContext:
         functions=functions,
         cse=tuple(common_subexpressions(f.outputs) for f in functions),
         prepared=prepare_run(list(functions), state),
+        regime=tuple(str(on) for on, *_ in sysm.stops),
+        state_regime=tuple(eq.stop_regime),
         inputs_sha256=input_hash(spec, eq.options),
     )
 
@@ -452,14 +470,28 @@ def _printed(f: Function, cse: Cse, printer) -> dict:
     }
 
 
+def _state_regime(model: ModelContext, printer) -> dict:
+    """The regime of a state (:attr:`ModelContext.state_regime`) printed by ``printer``, with what it reads."""
+    cse = common_subexpressions(model.state_regime)
+    return {
+        "subs": [(str(a), printer.doprint(b)) for a, b in cse.subs],
+        "outs": [printer.doprint(o) for o in cse.outputs],
+        "state": _read(model.state, cse),
+        "params": _read(model.params, cse),
+    }
+
+
 class NumpyGenerator(Generator):
     """A NumPy module whose functions broadcast over states and parameters."""
 
     def files(self):
+        m = self.model
         printer = NumPyPrinter({"fully_qualified_modules": True})
-        funcs = [_printed(f, c, printer) for f, c in zip(self.model.functions, self.model.cse)]
+        funcs = [dict(_printed(f, c, printer), regime=bool(c.uses(m.regime))) for f, c in zip(m.functions, m.cse)]
+        regime = _state_regime(m, printer)
         imports = sorted(set(printer.module_imports) | {"numpy"})
-        return {"model.py": self.render("numpy_model.py.j2", functions=funcs, imports=imports)}
+        fields = {"functions": funcs, "imports": imports, "regime": list(m.regime), "state_regime": regime}
+        return {"model.py": self.render("numpy_model.py.j2", **fields)}
 
 
 class _C99(C99CodePrinter):
@@ -491,7 +523,8 @@ class CGenerator(Generator):
     """C99 source and header: pure functions of doubles, no allocation, no globals.
 
     The constants of a run (:func:`hoist_constants`: every subexpression of
-    the parameters and the pivot alone) come from ``prefix_prepare(s, p, cst)``;
+    the parameters, the pivot and the regime of the stops alone) come from
+    ``prefix_prepare(s, on, p, cst)``;
     ``prefix_<name>_prepared(y, ag, cst[, out])`` is the work left per call,
     what a runtime calls in its inner loop. ``prefix_<name>(s, y, ag, p[, out])``
     prepares and calls it: the interface of every back end.
@@ -503,6 +536,7 @@ class CGenerator(Generator):
         run = m.prepared
         prepare = {
             "uses_s": bool(run.prepare.uses(["s"])),
+            "regime": _read(m.regime, run.prepare),
             "params": _read(m.params, run.prepare),
             "subs": [(str(a), printer.doprint(b)) for a, b in run.prepare.subs],
             "outs": [printer.doprint(o) for o in run.prepare.outputs],
@@ -519,8 +553,9 @@ class CGenerator(Generator):
         fields = {
             "prepare": prepare,
             "functions": funcs,
+            "state_regime": _state_regime(m, printer),
             "n_constants": len(run.constants),
-            "n_stops": next(len(f.outputs) for f in m.functions if f.name == "stop_gaps"),
+            "n_stops": len(m.regime),
             "prefix": m.name,
             "PREFIX": m.name.upper(),
         }
@@ -547,6 +582,7 @@ class LatexGenerator(Generator):
             names[dq] = r"\dot{" + sp.latex(q) + "}"
             names[ddq] = r"\ddot{" + sp.latex(q) + "}"
             names[_after_impact(dq)] = r"\dot{" + sp.latex(q) + "}^{+}"
+        names.update({sp.Symbol(on, real=True): rf"\mathrm{{on}}_{{{i}}}" for i, on in enumerate(self.model.regime)})
 
         def tex(expr):
             return sp.latex(expr, symbol_names=names)
@@ -557,7 +593,11 @@ class LatexGenerator(Generator):
             equations = [(tex(y), tex(shown(o))) for y, o in zip(f.symbols, f.outputs)]
             sections.append({"name": f.name, "doc": f.doc, "equations": equations})
         coordinates = [sp.latex(q) for q, _, _ in self.model.kinematics]
-        return {"EQUATIONS.md": self.render("EQUATIONS.md.j2", functions=sections, coordinates_tex=coordinates)}
+        regime = [
+            (tex(sp.Symbol(on, real=True)), tex(expr)) for on, expr in zip(self.model.regime, self.model.state_regime)
+        ]
+        fields = {"functions": sections, "coordinates_tex": coordinates, "regime": regime}
+        return {"EQUATIONS.md": self.render("EQUATIONS.md.j2", **fields)}
 
 
 class ManifestGenerator(Generator):

@@ -63,6 +63,12 @@ class Equations:
     stop_forces : list of Expr
         Per side of every end stop, the bumper's force on the travel,
         ``k_b delta + c_b ddelta`` while ``delta > 0``, else 0 (positive: pushes back).
+    stop_regime : list of Expr
+        Per side of every end stop, its indicator as the condition on its penetration:
+        1 while ``delta > 0``, else 0. The forcing, accelerations, uplift, energy and
+        power are written with the indicators themselves (``System.stops``), the
+        regime of the stops being an input like the pivot ``s``; this is the
+        regime of a state when no other is given.
     """
 
     system: System
@@ -80,6 +86,7 @@ class Equations:
     uplift_energy: sp.Expr
     stop_gaps: list = ()
     stop_forces: list = ()
+    stop_regime: list = ()
 
 
 def resolve_options(spec: Spec, options: dict | None) -> dict:
@@ -307,7 +314,7 @@ def uplift_energy(sysm: System, energy, uplift):
 
 
 def stop_indicators(sysm: System, vg) -> dict:
-    """Each stop side's indicator symbol -> 1 while its penetration is > 0, else 0."""
+    """Each stop side's indicator symbol -> 1 while its penetration is > 0, else 0: the regime of a state."""
     return {on: sp.Piecewise((1, _to_symbols(delta, sysm, vg) > 0), (0, True)) for on, delta, *_ in sysm.stops}
 
 
@@ -318,7 +325,10 @@ def in_penetrations(expr, sysm: System, vg):
     near the stop, where it matters; in every sum, the terms of a side's
     indicator ``on`` are gathered and divided by its penetration ``delta``
     (when ``delta`` is linear in a coordinate), so that the code computes
-    ``delta`` first.
+    ``delta`` first. The quotient's term and each term of the remainder keep
+    their own factor ``on``: a runtime that holds the regime constant folds
+    ``on`` into the constants of a run, where a remainder term such as
+    ``on c_b dx`` joins the other terms in ``dx``.
     """
     for on, delta, *_ in sysm.stops:
         d = _to_symbols(delta, sysm, vg)
@@ -333,7 +343,10 @@ def in_penetrations(expr, sysm: System, vg):
             if bumper.has(on) or not bumper.is_polynomial(q):
                 return add
             quotient, remainder = sp.div(bumper, d, q)
-            return sp.Add(*others, on * (sp.Mul(quotient, d, evaluate=False) + remainder))
+            terms = [on * term for term in sp.Add.make_args(sp.expand(remainder))]
+            if quotient != 0:
+                terms.append(sp.Mul(on, quotient, d, evaluate=False))
+            return sp.Add(*others, *terms)
 
         expr = expr.replace(lambda e, on=on: e.is_Add and any(t.has(on) for t in e.args), gather)
     return expr
@@ -399,8 +412,8 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
     on = stop_indicators(sysm, vg)
 
     def where(expr):
-        """``expr`` with each stop side's indicator written as the condition on its penetration."""
-        return in_penetrations(expr, sysm, vg).xreplace(on) if on else expr
+        """``expr`` with its bumpers' terms in their penetrations, the indicators kept: the regime is an input."""
+        return in_penetrations(expr, sysm, vg) if on else expr
 
     return Equations(
         uplift_energy=uplift_energy(sysm, energy, uplift),
@@ -417,5 +430,7 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         critical_angle=critical_angle(*weights),
         critical_tangent=critical_tangent(*weights),
         stop_gaps=gaps,
-        stop_forces=[where(force) for force in forces],
+        # Not in the inner loop of a runtime, and read at states of either regime (rule 6): from the state.
+        stop_forces=[where(force).xreplace(on) for force in forces],
+        stop_regime=list(on.values()),
     )

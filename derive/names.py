@@ -71,7 +71,7 @@ C_LIBRARY_NAMES = (
 #: the symbols of the derivation (``t``, ``x_g``, the ground velocity ``vg``, EQUATIONS.md's left-hand sides)
 #: and the expression constants.
 GENERATED_NAMES = frozenset(
-    "s y ag p cst out t theta x_g vg np numpy math scipy sympy "
+    "s on stop_on y ag p cst out t theta x_g vg np numpy math scipy sympy "
     "NAME COORDINATES STATE PARAMETERS ARGUMENTS prepare prepared "
     "mass_matrix forcing rocking_accel contact_accel uplift impact energy power uplift_energy critical_angle "
     "critical_tangent E Edot E_uplift theta_cr u_s pi".split()

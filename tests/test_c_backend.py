@@ -84,7 +84,8 @@ def test_sim_is_model_independent(tmp_path, n_constants):
     scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle", "critical_tangent"]
     args = "double s, const double *y, double ag, const double *p"
     prepared = "const double *y, double ag, const double *cst"
-    lines = ["#ifndef STUB3_H", "#define STUB3_H", "void stub3_prepare(double s, const double *p, double *cst);"]
+    lines = ["#ifndef STUB3_H", "#define STUB3_H"]
+    lines += ["void stub3_prepare(double s, const double *on, const double *p, double *cst);"]
     lines += [f"void stub3_{n}({args}, double *out);" for n in names]
     lines += [f"void stub3_{n}_prepared({prepared}, double *out);" for n in names]
     lines += [f"double stub3_{n}({args});" for n in scalars]

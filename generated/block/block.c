@@ -4,13 +4,15 @@
  * See block.h for the arguments.
  */
 #include <math.h>
+#include <stddef.h>
 
 #include "block.h"
 
-/* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters and the pivot alone. */
-void block_prepare(double s, const double *p, double *cst)
+/* The constants of a run about the pivot s in the regime on of the stops: what
+ * the functions share that depends on the parameters, the pivot and the regime alone. */
+void block_prepare(double s, const double *on, const double *p, double *cst)
 {
+    (void)on;
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
@@ -56,7 +58,7 @@ void block_prepare(double s, const double *p, double *cst)
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -69,12 +71,12 @@ void block_mass_matrix_prepared(const double *y, double ag, const double *cst, d
 void block_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -91,12 +93,12 @@ void block_forcing_prepared(const double *y, double ag, const double *cst, doubl
 void block_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -114,12 +116,12 @@ void block_rocking_accel_prepared(const double *y, double ag, const double *cst,
 void block_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_rocking_accel_prepared(y, ag, cst, out);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -132,12 +134,12 @@ void block_contact_accel_prepared(const double *y, double ag, const double *cst,
 void block_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 double block_uplift_prepared(const double *y, double ag, const double *cst)
 {
     (void)y;
@@ -150,12 +152,12 @@ double block_uplift_prepared(const double *y, double ag, const double *cst)
 double block_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     return block_uplift_prepared(y, ag, cst);
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -169,12 +171,12 @@ void block_impact_prepared(const double *y, double ag, const double *cst, double
 void block_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_impact_prepared(y, ag, cst, out);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 double block_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -190,12 +192,12 @@ double block_energy_prepared(const double *y, double ag, const double *cst)
 double block_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     return block_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 double block_power_prepared(const double *y, double ag, const double *cst)
 {
     const double theta = y[0];
@@ -210,12 +212,12 @@ double block_power_prepared(const double *y, double ag, const double *cst)
 double block_power(double s, const double *y, double ag, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     return block_power_prepared(y, ag, cst);
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 double block_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -228,12 +230,12 @@ double block_uplift_energy_prepared(const double *y, double ag, const double *cs
 double block_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     return block_uplift_energy_prepared(y, ag, cst);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 double block_critical_angle_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -246,12 +248,12 @@ double block_critical_angle_prepared(const double *y, double ag, const double *c
 double block_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     return block_critical_angle_prepared(y, ag, cst);
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -264,12 +266,12 @@ void block_stop_gaps_prepared(const double *y, double ag, const double *cst, dou
 void block_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_stop_gaps_prepared(y, ag, cst, out);
 }
 
 /* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 void block_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -282,12 +284,12 @@ void block_stop_forces_prepared(const double *y, double ag, const double *cst, d
 void block_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     block_stop_forces_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
- * From the constants of block_prepare(s, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst). */
 double block_critical_tangent_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -300,6 +302,6 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 double block_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, p, cst);
+    block_prepare(s, NULL, p, cst);
     return block_critical_tangent_prepared(y, ag, cst);
 }

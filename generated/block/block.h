@@ -9,10 +9,15 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 6 doubles: M, I_G, B, H, e, g
  *   out results (vector functions only)
- * Each function also comes prepared: block_prepare(s, p, cst) fills the
- * BLOCK_NK constants of a run about the pivot s (all that depends on s and p
- * alone), and block_<name>_prepared(y, ag, cst[, out]) does the rest, the
- * cheaper call for a loop over states with the same s and p.
+ * Each function also comes prepared: block_prepare(s, on, p, cst) fills the
+ * BLOCK_NK constants of a run about the pivot s in the regime on of the end
+ * stops (all that depends on s, on and p alone), and
+ * block_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
+ * for a loop over states with the same s, on and p.
+ *   on  regime of the end stops, BLOCK_NSTOPS doubles (NULL if none): per side
+ *       of each stop (the outputs of block_stop_gaps), 1 while its bumper acts,
+ *       else 0. The unprepared functions take the regime of y: a side acts where
+ *       its penetration is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_BLOCK_H
@@ -32,8 +37,8 @@
 #define BLOCK_P_e 4
 #define BLOCK_P_g 5
 
-/* The constants of a run about the pivot s: cst, BLOCK_NK doubles. */
-void block_prepare(double s, const double *p, double *cst);
+/* The constants of a run about the pivot s in the regime on: cst, BLOCK_NK doubles. */
+void block_prepare(double s, const double *on, const double *p, double *cst);
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0] */

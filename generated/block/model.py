@@ -15,6 +15,9 @@ B          base width [m]
 H          height [m]
 e          eccentricity of the centroid G (positive towards A') [m]
 g          gravity [m/s^2]
+stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
+           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
+           where its penetration is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {}, "inertia": "free"}
 """
@@ -37,7 +40,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -62,6 +65,8 @@ def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -73,7 +78,7 @@ def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -98,6 +103,8 @@ def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -116,7 +123,7 @@ def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -141,6 +148,8 @@ def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -161,7 +170,7 @@ def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -186,6 +195,8 @@ def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -196,7 +207,7 @@ def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -221,6 +232,8 @@ def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -231,7 +244,7 @@ def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out[0]
 
 
-def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
 
     Parameters
@@ -256,6 +269,8 @@ def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -270,7 +285,7 @@ def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Mechanical energy in the ground frame while rocking about s; ag is ignored.
 
     Parameters
@@ -295,6 +310,8 @@ def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -311,7 +328,7 @@ def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out[0]
 
 
-def power(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def power(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -336,6 +353,8 @@ def power(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -347,7 +366,7 @@ def power(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out[0]
 
 
-def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
 
     Parameters
@@ -372,6 +391,8 @@ def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -381,7 +402,7 @@ def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out[0]
 
 
-def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -406,6 +427,8 @@ def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -417,7 +440,7 @@ def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out[0]
 
 
-def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -442,6 +465,8 @@ def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -452,7 +477,7 @@ def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
 
     Parameters
@@ -477,6 +502,8 @@ def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -487,7 +514,7 @@ def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g):
     return out
 
 
-def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g):
+def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -512,6 +539,8 @@ def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g):
         eccentricity of the centroid G (positive towards A') [m]
     g : array_like
         gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------

@@ -21,6 +21,9 @@ m          damper mass [kg]
 h          height of the guide above the top side of the block [m]
 k_m        stiffness of the damper spring [N/m]
 c          damping coefficient of the damper dashpot [N s/m]
+stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
+           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
+           where its penetration is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
 """
@@ -44,7 +47,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -81,6 +84,8 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -97,7 +102,7 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out
 
 
-def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -134,6 +139,8 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -162,7 +169,7 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -199,6 +206,8 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c)
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -232,7 +241,7 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c)
     return out
 
 
-def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -269,6 +278,8 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c)
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -279,7 +290,7 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c)
     return out
 
 
-def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -316,6 +327,8 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -332,7 +345,7 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out[0]
 
 
-def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
 
     Parameters
@@ -369,6 +382,8 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -395,7 +410,7 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out
 
 
-def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Mechanical energy in the ground frame while rocking about s; ag is ignored.
 
     Parameters
@@ -432,6 +447,8 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -459,7 +476,7 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out[0]
 
 
-def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -496,6 +513,8 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -514,7 +533,7 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out[0]
 
 
-def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
 
     Parameters
@@ -551,6 +570,8 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c)
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -569,7 +590,7 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c)
     return out[0]
 
 
-def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -606,6 +627,8 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -619,7 +642,7 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     return out[0]
 
 
-def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -656,6 +679,8 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -666,7 +691,7 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out
 
 
-def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
 
     Parameters
@@ -703,6 +728,8 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -713,7 +740,7 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
     return out
 
 
-def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c):
+def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -750,6 +777,8 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
         stiffness of the damper spring [N/m]
     c : array_like
         damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------

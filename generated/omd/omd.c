@@ -4,13 +4,15 @@
  * See omd.h for the arguments.
  */
 #include <math.h>
+#include <stddef.h>
 
 #include "omd.h"
 
-/* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters and the pivot alone. */
-void omd_prepare(double s, const double *p, double *cst)
+/* The constants of a run about the pivot s in the regime on of the stops: what
+ * the functions share that depends on the parameters, the pivot and the regime alone. */
+void omd_prepare(double s, const double *on, const double *p, double *cst)
 {
+    (void)on;
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
@@ -99,7 +101,7 @@ void omd_prepare(double s, const double *p, double *cst)
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -118,12 +120,12 @@ void omd_mass_matrix_prepared(const double *y, double ag, const double *cst, dou
 void omd_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -157,12 +159,12 @@ void omd_forcing_prepared(const double *y, double ag, const double *cst, double 
 void omd_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -202,12 +204,12 @@ void omd_rocking_accel_prepared(const double *y, double ag, const double *cst, d
 void omd_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_rocking_accel_prepared(y, ag, cst, out);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double x = y[1];
@@ -224,12 +226,12 @@ void omd_contact_accel_prepared(const double *y, double ag, const double *cst, d
 void omd_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 double omd_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x = y[1];
@@ -245,12 +247,12 @@ double omd_uplift_prepared(const double *y, double ag, const double *cst)
 double omd_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     return omd_uplift_prepared(y, ag, cst);
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -274,12 +276,12 @@ void omd_impact_prepared(const double *y, double ag, const double *cst, double *
 void omd_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_impact_prepared(y, ag, cst, out);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 double omd_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -305,12 +307,12 @@ double omd_energy_prepared(const double *y, double ag, const double *cst)
 double omd_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     return omd_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 double omd_power_prepared(const double *y, double ag, const double *cst)
 {
     const double theta = y[0];
@@ -331,12 +333,12 @@ double omd_power_prepared(const double *y, double ag, const double *cst)
 double omd_power(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     return omd_power_prepared(y, ag, cst);
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -349,12 +351,12 @@ double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
 double omd_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     return omd_uplift_energy_prepared(y, ag, cst);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 double omd_critical_angle_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -369,12 +371,12 @@ double omd_critical_angle_prepared(const double *y, double ag, const double *cst
 double omd_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     return omd_critical_angle_prepared(y, ag, cst);
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -387,12 +389,12 @@ void omd_stop_gaps_prepared(const double *y, double ag, const double *cst, doubl
 void omd_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_stop_gaps_prepared(y, ag, cst, out);
 }
 
 /* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 void omd_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -405,12 +407,12 @@ void omd_stop_forces_prepared(const double *y, double ag, const double *cst, dou
 void omd_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     omd_stop_forces_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
- * From the constants of omd_prepare(s, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst). */
 double omd_critical_tangent_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -426,6 +428,6 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 double omd_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, p, cst);
+    omd_prepare(s, NULL, p, cst);
     return omd_critical_tangent_prepared(y, ag, cst);
 }

@@ -26,6 +26,9 @@ c1         damping of the top dashpot [N s/m]
 m2         mid-height mass [kg]
 k2         stiffness of the mid-height spring [N/m]
 c2         damping of the mid-height dashpot [N s/m]
+stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
+           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
+           where its penetration is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x1": "momentum", "x2": "momentum"}, "inertia": "free"}
 """
@@ -49,7 +52,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -96,6 +99,8 @@ def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -114,7 +119,7 @@ def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
     return out
 
 
-def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -161,6 +166,8 @@ def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -193,7 +200,7 @@ def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k
     return out
 
 
-def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -240,6 +247,8 @@ def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -280,7 +289,7 @@ def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     return out
 
 
-def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -327,6 +336,8 @@ def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -337,7 +348,7 @@ def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     return out
 
 
-def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -384,6 +395,8 @@ def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -402,7 +415,7 @@ def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     return out[0]
 
 
-def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
 
     Parameters
@@ -449,6 +462,8 @@ def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -480,7 +495,7 @@ def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     return out
 
 
-def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Mechanical energy in the ground frame while rocking about s; ag is ignored.
 
     Parameters
@@ -527,6 +542,8 @@ def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -559,7 +576,7 @@ def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     return out[0]
 
 
-def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -606,6 +623,8 @@ def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1,
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -627,7 +646,7 @@ def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1,
     return out[0]
 
 
-def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
 
     Parameters
@@ -674,6 +693,8 @@ def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -701,7 +722,7 @@ def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     return out[0]
 
 
-def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -748,6 +769,8 @@ def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -762,7 +785,7 @@ def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
     return out[0]
 
 
-def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -809,6 +832,8 @@ def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h,
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -819,7 +844,7 @@ def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h,
     return out
 
 
-def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
 
     Parameters
@@ -866,6 +891,8 @@ def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -876,7 +903,7 @@ def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
     return out
 
 
-def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2):
+def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -923,6 +950,8 @@ def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g,
         stiffness of the mid-height spring [N/m]
     c2 : array_like
         damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------

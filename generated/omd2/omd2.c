@@ -4,13 +4,15 @@
  * See omd2.h for the arguments.
  */
 #include <math.h>
+#include <stddef.h>
 
 #include "omd2.h"
 
-/* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters and the pivot alone. */
-void omd2_prepare(double s, const double *p, double *cst)
+/* The constants of a run about the pivot s in the regime on of the stops: what
+ * the functions share that depends on the parameters, the pivot and the regime alone. */
+void omd2_prepare(double s, const double *on, const double *p, double *cst)
 {
+    (void)on;
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
@@ -140,7 +142,7 @@ void omd2_prepare(double s, const double *p, double *cst)
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -168,12 +170,12 @@ void omd2_mass_matrix_prepared(const double *y, double ag, const double *cst, do
 void omd2_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -220,12 +222,12 @@ void omd2_forcing_prepared(const double *y, double ag, const double *cst, double
 void omd2_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -282,12 +284,12 @@ void omd2_rocking_accel_prepared(const double *y, double ag, const double *cst, 
 void omd2_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_rocking_accel_prepared(y, ag, cst, out);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double x1 = y[1];
@@ -311,12 +313,12 @@ void omd2_contact_accel_prepared(const double *y, double ag, const double *cst, 
 void omd2_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x1 = y[1];
@@ -336,12 +338,12 @@ double omd2_uplift_prepared(const double *y, double ag, const double *cst)
 double omd2_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     return omd2_uplift_prepared(y, ag, cst);
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -374,12 +376,12 @@ void omd2_impact_prepared(const double *y, double ag, const double *cst, double 
 void omd2_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_impact_prepared(y, ag, cst, out);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -413,12 +415,12 @@ double omd2_energy_prepared(const double *y, double ag, const double *cst)
 double omd2_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     return omd2_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_power_prepared(const double *y, double ag, const double *cst)
 {
     const double theta = y[0];
@@ -444,12 +446,12 @@ double omd2_power_prepared(const double *y, double ag, const double *cst)
 double omd2_power(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     return omd2_power_prepared(y, ag, cst);
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -462,12 +464,12 @@ double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst
 double omd2_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     return omd2_uplift_energy_prepared(y, ag, cst);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_critical_angle_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -484,12 +486,12 @@ double omd2_critical_angle_prepared(const double *y, double ag, const double *cs
 double omd2_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     return omd2_critical_angle_prepared(y, ag, cst);
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -502,12 +504,12 @@ void omd2_stop_gaps_prepared(const double *y, double ag, const double *cst, doub
 void omd2_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_stop_gaps_prepared(y, ag, cst, out);
 }
 
 /* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -520,12 +522,12 @@ void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, do
 void omd2_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     omd2_stop_forces_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
- * From the constants of omd2_prepare(s, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_critical_tangent_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -543,6 +545,6 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 double omd2_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, p, cst);
+    omd2_prepare(s, NULL, p, cst);
     return omd2_critical_tangent_prepared(y, ag, cst);
 }

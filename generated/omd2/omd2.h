@@ -9,10 +9,15 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 13 doubles: M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2
  *   out results (vector functions only)
- * Each function also comes prepared: omd2_prepare(s, p, cst) fills the
- * OMD2_NK constants of a run about the pivot s (all that depends on s and p
- * alone), and omd2_<name>_prepared(y, ag, cst[, out]) does the rest, the
- * cheaper call for a loop over states with the same s and p.
+ * Each function also comes prepared: omd2_prepare(s, on, p, cst) fills the
+ * OMD2_NK constants of a run about the pivot s in the regime on of the end
+ * stops (all that depends on s, on and p alone), and
+ * omd2_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
+ * for a loop over states with the same s, on and p.
+ *   on  regime of the end stops, OMD2_NSTOPS doubles (NULL if none): per side
+ *       of each stop (the outputs of omd2_stop_gaps), 1 while its bumper acts,
+ *       else 0. The unprepared functions take the regime of y: a side acts where
+ *       its penetration is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {"x1": "momentum", "x2": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD2_H
@@ -43,8 +48,8 @@
 #define OMD2_P_k2 11
 #define OMD2_P_c2 12
 
-/* The constants of a run about the pivot s: cst, OMD2_NK doubles. */
-void omd2_prepare(double s, const double *p, double *cst);
+/* The constants of a run about the pivot s in the regime on: cst, OMD2_NK doubles. */
+void omd2_prepare(double s, const double *on, const double *p, double *cst);
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[0,2], M[1,0], M[1,1], M[1,2], M[2,0], M[2,1], M[2,2] */

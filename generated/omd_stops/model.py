@@ -24,6 +24,9 @@ c          damping coefficient of the damper dashpot [N s/m]
 L          half-stroke: free travel of the mass from the centre line to either bumper [m]
 k_b        stiffness of each bumper [N/m]
 c_b        damping coefficient of each bumper [N s/m]
+stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
+           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
+           where its penetration is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
 """
@@ -47,7 +50,12 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+    """The regime of the state: each stop side acts (1) where its penetration is > 0, else not (0)."""
+    return (numpy.select([numpy.less(L - x, 0),True], [1,0], default=numpy.nan), numpy.select([numpy.less(L + x, 0),True], [1,0], default=numpy.nan), )
+
+
+def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -90,6 +98,8 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -106,7 +116,7 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
     return out
 
 
-def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -149,12 +159,15 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     tuple of ndarray
         f[theta], f[x]
     """
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = numpy.cos(theta)
     cse1 = ag*cse0
     cse2 = cse1*m
@@ -172,15 +185,13 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_
     cse14 = cse13*m
     cse15 = cse10*cse13
     cse16 = (1/2)*cse14
-    cse17 = dtheta**2
-    cse18 = L + x
-    cse19 = c_b*dx
-    cse20 = L - x
-    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, -c*dx + cse16*cse17 + cse17*cse8 - cse2 - cse5 - k_m*x + (-cse19 + cse20*k_b)*numpy.select([numpy.less(cse20, 0),True], [1,0], default=numpy.nan) + (-cse18*k_b - cse19)*numpy.select([numpy.less(cse18, 0),True], [1,0], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse17 = c_b*dx
+    cse18 = dtheta**2
+    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse18*m*s - _on0*cse17 + _on0*(-k_b)*(-L + x) - _on1*cse17 + _on1*k_b*(-L - x) - c*dx + cse18*m*x - cse2 - cse5 - k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -223,12 +234,15 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     tuple of ndarray
         ddtheta, ddx
     """
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = B*s
     cse1 = M*e
     cse2 = m*x
@@ -249,17 +263,15 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse17 = cse0*cse13
     cse18 = (1/2)*cse16
     cse19 = -H - h
-    cse20 = dtheta**2
-    cse21 = L + x
-    cse22 = c_b*dx
-    cse23 = L - x
-    cse24 = -c*dx - cse10 + cse18*cse20 + cse2*cse20 - cse7 - k_m*x + (-cse22 + cse23*k_b)*numpy.select([numpy.less(cse23, 0),True], [1,0], default=numpy.nan) + (-cse21*k_b - cse22)*numpy.select([numpy.less(cse21, 0),True], [1,0], default=numpy.nan)
-    cse25 = (H*cse10 + H*cse7 + cse1*cse11 - cse1*cse15 + cse10*h + cse11*cse17 + cse11*cse18 + cse11*cse2 - cse12*cse16 - 2*cse12*cse2 + cse14*cse6 + cse14*cse9 - cse15*cse17 - cse15*cse18 - cse15*cse2 - cse19*cse24 + cse7*h)/(H**2*cse4 + I_G + M*e**2 + cse0*cse1 + cse0*cse2 + cse3*cse4 + (1/4)*cse3*m + m*x**2)
-    out = _broadcast((cse25, -cse19*cse25 + cse24/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse20 = c_b*dx
+    cse21 = dtheta**2
+    cse22 = (1/2)*B*cse21*m*s - _on0*cse20 + _on0*(-k_b)*(-L + x) - _on1*cse20 + _on1*k_b*(-L - x) - c*dx - cse10 + cse21*m*x - cse7 - k_m*x
+    cse23 = (H*cse10 + H*cse7 + cse1*cse11 - cse1*cse15 + cse10*h + cse11*cse17 + cse11*cse18 + cse11*cse2 - cse12*cse16 - 2*cse12*cse2 + cse14*cse6 + cse14*cse9 - cse15*cse17 - cse15*cse18 - cse15*cse2 - cse19*cse22 + cse7*h)/(H**2*cse4 + I_G + M*e**2 + cse0*cse1 + cse0*cse2 + cse3*cse4 + (1/4)*cse3*m + m*x**2)
+    out = _broadcast((cse23, -cse19*cse23 + cse22/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -302,20 +314,21 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     tuple of ndarray
         ddtheta, ddx
     """
-    cse0 = L + x
-    cse1 = c_b*dx
-    cse2 = L - x
-    out = _broadcast((0, (-ag*m - c*dx - k_m*x + (-cse1 + cse2*k_b)*numpy.select([numpy.less(cse2, 0),True], [1,0], default=numpy.nan) + (-cse0*k_b - cse1)*numpy.select([numpy.less(cse0, 0),True], [1,0], default=numpy.nan))/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    cse0 = c_b*dx
+    out = _broadcast((0, (-_on0*cse0 + _on0*(-k_b)*(-L + x) - _on1*cse0 + _on1*k_b*(-L - x) - ag*m - c*dx - k_m*x)/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -358,11 +371,14 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     ndarray
     """
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = M*g
     cse1 = (1/2)*B
     cse2 = g*m
@@ -370,17 +386,16 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     cse4 = c*dx
     cse5 = k_m*x
     cse6 = h*s
-    cse7 = L + x
-    cse8 = k_b*s
-    cse9 = H*cse8 + cse8*h
-    cse10 = c_b*dx
-    cse11 = cse10*cse3 + cse10*cse6
-    cse12 = L - x
-    out = _broadcast(((1/2)*H*M*ag*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6 + (-cse11 + cse12*cse9)*numpy.select([numpy.less(cse12, 0),True], [1,0], default=numpy.nan) + (-cse11 - cse7*cse9)*numpy.select([numpy.less(cse7, 0),True], [1,0], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse7 = c_b*dx
+    cse8 = cse3*cse7
+    cse9 = cse6*cse7
+    cse10 = k_b*s
+    cse11 = H*cse10 + cse10*h
+    out = _broadcast(((1/2)*H*M*ag*s - _on0*cse11*(-L + x) - _on0*cse8 - _on0*cse9 + _on1*cse11*(-L - x) - _on1*cse8 - _on1*cse9 - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
 
     Parameters
@@ -423,6 +438,8 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -449,7 +466,7 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     return out
 
 
-def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Mechanical energy in the ground frame while rocking about s; ag is ignored.
 
     Parameters
@@ -492,11 +509,14 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     ndarray
     """
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = dtheta**2
     cse1 = (1/2)*cse0
     cse2 = (1/2)*m
@@ -515,16 +535,14 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     cse15 = H**2
     cse16 = cse1*m
     cse17 = M*cse1
-    cse18 = L + x
-    cse19 = (1/2)*k_b
-    cse20 = L*cse19
-    cse21 = cse19*x
-    cse22 = L - x
-    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 - cse18*(-cse20 - cse21)*numpy.select([numpy.less(cse18, 0),True], [1,0], default=numpy.nan) + cse2*dx**2 - cse22*(-cse20 + cse21)*numpy.select([numpy.less(cse22, 0),True], [1,0], default=numpy.nan) + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse18 = (1/2)*k_b
+    cse19 = L*cse18
+    cse20 = cse18*x
+    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + _on0*(-L + x)*(-cse19 + cse20) + _on1*(-L - x)*(-cse19 - cse20) + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -567,27 +585,30 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b,
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     ndarray
     """
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = dx**2
-    cse1 = numpy.cos(theta)
-    cse2 = ag*m
-    cse3 = cse1*cse2
-    cse4 = cse3*dtheta
-    cse5 = dtheta*numpy.sin(theta)
-    cse6 = M*ag
-    cse7 = cse5*cse6
-    cse8 = cse2*cse5
-    cse9 = (1/2)*B*s
-    cse10 = c_b*cse0
-    out = _broadcast(((1/2)*H*cse1*cse6*dtheta + H*cse4 - c*cse0 - cse10*numpy.select([numpy.less(L - x, 0),True], [1,0], default=numpy.nan) - cse10*numpy.select([numpy.less(L + x, 0),True], [1,0], default=numpy.nan) - cse3*dx + cse4*h + cse7*cse9 + cse7*e + cse8*cse9 + cse8*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse1 = c_b*cse0
+    cse2 = numpy.cos(theta)
+    cse3 = ag*m
+    cse4 = cse2*cse3
+    cse5 = cse4*dtheta
+    cse6 = dtheta*numpy.sin(theta)
+    cse7 = M*ag
+    cse8 = cse6*cse7
+    cse9 = cse3*cse6
+    cse10 = (1/2)*B*s
+    out = _broadcast(((1/2)*H*cse2*cse7*dtheta + H*cse5 - _on0*cse1 - _on1*cse1 - c*cse0 + cse10*cse8 + cse10*cse9 - cse4*dx + cse5*h + cse8*e + cse9*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
 
     Parameters
@@ -630,6 +651,8 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -694,7 +717,7 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     return out[0]
 
 
-def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -737,6 +760,8 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -750,7 +775,7 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     return out[0]
 
 
-def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -793,6 +818,8 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, 
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -803,7 +830,7 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, 
     return out
 
 
-def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
 
     Parameters
@@ -846,6 +873,8 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -859,7 +888,7 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
     return out
 
 
-def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -902,6 +931,8 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
         stiffness of each bumper [N/m]
     c_b : array_like
         damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------

@@ -4,13 +4,16 @@
  * See omd_stops.h for the arguments.
  */
 #include <math.h>
+#include <stddef.h>
 
 #include "omd_stops.h"
 
-/* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters and the pivot alone. */
-void omd_stops_prepare(double s, const double *p, double *cst)
+/* The constants of a run about the pivot s in the regime on of the stops: what
+ * the functions share that depends on the parameters, the pivot and the regime alone. */
+void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
 {
+    const double _on0 = on[0];
+    const double _on1 = on[1];
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
@@ -56,61 +59,64 @@ void omd_stops_prepare(double s, const double *p, double *cst)
     const double cse29 = g*m;
     const double cse30 = (1.0/2.0)*cse29;
     const double cse31 = cse1*cse30 + cse25*g + cse28;
-    const double cse32 = H + h;
-    const double cse33 = k_b*s;
-    const double cse34 = H*cse33;
-    const double cse35 = cse33*h;
-    const double cse36 = cse34 + cse35;
-    const double cse37 = c_b*s;
-    const double cse38 = B*cse22*g + B*cse30 + cse28*s;
-    const double cse39 = c*s;
-    const double cse40 = k_m*s;
-    const double cse41 = (1.0/8.0)*M;
-    const double cse42 = (1.0/2.0)*k_b;
-    const double cse43 = 4*H;
-    const double cse44 = cse43*k_m;
-    const double cse45 = (c*c);
-    const double cse46 = cse45*h;
-    const double cse47 = g*(m*m);
-    const double cse48 = (k_m*k_m);
-    const double cse49 = 4*cse17;
-    const double cse50 = 4*k_m;
-    const double cse51 = cse47*h;
-    const double cse52 = 2*k_m;
-    const double cse53 = cse45*cse52;
-    const double cse54 = 2*cse48;
-    const double cse55 = cse13*cse54 + cse14*cse53 + cse15*cse54 + cse44*cse46 + cse44*cse47 + cse48*cse49 + cse50*cse51 + cse53*cse9 + 2*(g*g)*(m*m*m);
-    const double cse56 = L*cse34;
-    const double cse57 = L*cse35;
-    const double cse58 = (k_b*k_b);
-    const double cse59 = k_b + k_m;
-    const double cse60 = 1.0/cse59;
-    const double cse61 = L*cse60;
-    const double cse62 = cse58*cse61*s;
-    const double cse63 = H*cse62;
-    const double cse64 = cse62*h;
-    const double cse65 = cse60*k_m;
-    const double cse66 = cse56*cse65;
-    const double cse67 = cse29*cse33*cse61;
-    const double cse68 = cse57*cse65;
-    const double cse69 = 2*k_b;
-    const double cse70 = cse69*cse9;
-    const double cse71 = (c_b*c_b);
-    const double cse72 = cse14*cse69;
-    const double cse73 = cse52*cse71;
-    const double cse74 = 2*cse58;
-    const double cse75 = cse43*k_b;
-    const double cse76 = cse71*h;
-    const double cse77 = 4*k_b;
-    const double cse78 = c*c_b;
-    const double cse79 = cse78*cse9;
-    const double cse80 = cse14*cse78;
-    const double cse81 = cse50*k_b;
-    const double cse82 = 8*k_b;
-    const double cse83 = H*cse78*h;
-    const double cse84 = cse59*m/(cse13*cse74 + cse13*cse81 + cse14*cse73 + cse15*cse74 + cse15*cse81 + cse17*cse82*k_m + cse44*cse76 + cse45*cse70 + cse45*cse72 + cse46*cse75 + cse47*cse75 + cse49*cse58 + cse50*cse79 + cse50*cse80 + cse51*cse77 + cse55 + cse70*cse71 + cse71*cse72 + cse73*cse9 + cse75*cse76 + cse77*cse79 + cse77*cse80 + cse82*cse83 + 8*cse83*k_m);
-    const double cse85 = (L*L);
-    const double cse86 = cse42*cse85 - cse58*cse85/(cse52 + cse69);
+    const double cse32 = _on0*c_b;
+    const double cse33 = _on1*c_b;
+    const double cse34 = H + h;
+    const double cse35 = k_b*s;
+    const double cse36 = H*cse35;
+    const double cse37 = cse35*h;
+    const double cse38 = cse36 + cse37;
+    const double cse39 = B*cse22*g + B*cse30 + cse28*s;
+    const double cse40 = c*s;
+    const double cse41 = H*s;
+    const double cse42 = h*s;
+    const double cse43 = k_m*s;
+    const double cse44 = (1.0/8.0)*M;
+    const double cse45 = (1.0/2.0)*k_b;
+    const double cse46 = 4*H;
+    const double cse47 = cse46*k_m;
+    const double cse48 = (c*c);
+    const double cse49 = cse48*h;
+    const double cse50 = g*(m*m);
+    const double cse51 = (k_m*k_m);
+    const double cse52 = 4*cse17;
+    const double cse53 = 4*k_m;
+    const double cse54 = cse50*h;
+    const double cse55 = 2*k_m;
+    const double cse56 = cse48*cse55;
+    const double cse57 = 2*cse51;
+    const double cse58 = cse13*cse57 + cse14*cse56 + cse15*cse57 + cse47*cse49 + cse47*cse50 + cse51*cse52 + cse53*cse54 + cse56*cse9 + 2*(g*g)*(m*m*m);
+    const double cse59 = L*cse36;
+    const double cse60 = L*cse37;
+    const double cse61 = (k_b*k_b);
+    const double cse62 = k_b + k_m;
+    const double cse63 = 1.0/cse62;
+    const double cse64 = L*cse63;
+    const double cse65 = cse61*cse64;
+    const double cse66 = cse41*cse65;
+    const double cse67 = cse42*cse65;
+    const double cse68 = cse63*k_m;
+    const double cse69 = cse59*cse68;
+    const double cse70 = cse29*cse35*cse64;
+    const double cse71 = cse60*cse68;
+    const double cse72 = 2*k_b;
+    const double cse73 = cse72*cse9;
+    const double cse74 = (c_b*c_b);
+    const double cse75 = cse14*cse72;
+    const double cse76 = cse55*cse74;
+    const double cse77 = 2*cse61;
+    const double cse78 = cse46*k_b;
+    const double cse79 = cse74*h;
+    const double cse80 = 4*k_b;
+    const double cse81 = c*c_b;
+    const double cse82 = cse81*cse9;
+    const double cse83 = cse14*cse81;
+    const double cse84 = cse53*k_b;
+    const double cse85 = 8*k_b;
+    const double cse86 = H*cse81*h;
+    const double cse87 = cse62*m/(cse13*cse77 + cse13*cse84 + cse14*cse76 + cse15*cse77 + cse15*cse84 + cse17*cse85*k_m + cse47*cse79 + cse48*cse73 + cse48*cse75 + cse49*cse78 + cse50*cse78 + cse52*cse61 + cse53*cse82 + cse53*cse83 + cse54*cse80 + cse58 + cse73*cse74 + cse74*cse75 + cse76*cse9 + cse78*cse79 + cse80*cse82 + cse80*cse83 + cse85*cse86 + 8*cse86*k_m);
+    const double cse88 = (L*L);
+    const double cse89 = cse45*cse88 - cse61*cse88/(cse55 + cse72);
     cst[0] = cse12 + cse18;
     cst[1] = m;
     cst[2] = cse19;
@@ -122,43 +128,54 @@ void omd_stops_prepare(double s, const double *p, double *cst)
     cst[8] = -cse29;
     cst[9] = -2*m;
     cst[10] = -cse19;
-    cst[11] = k_b;
-    cst[12] = -L;
-    cst[13] = -c_b;
-    cst[14] = L;
-    cst[15] = -k_b;
-    cst[16] = -c;
-    cst[17] = -k_m;
-    cst[18] = -m;
-    cst[19] = cse27;
-    cst[20] = cse12;
-    cst[21] = cse32;
-    cst[22] = 1.0/m;
-    cst[23] = cse36;
-    cst[24] = -H*cse37 - cse37*h;
-    cst[25] = -cse36;
-    cst[26] = -cse38;
-    cst[27] = cse23*s;
-    cst[28] = -H*cse39 - cse39*h;
-    cst[29] = -H*cse40 - cse29*s - cse40*h;
-    cst[30] = cse11 - cse2;
-    cst[31] = cse10 + cse18 - cse5 - cse7;
-    cst[32] = -cse32;
-    cst[33] = (1.0/2.0)*I_G + (1.0/2.0)*cse13 + (1.0/2.0)*cse15 + cse17 + (1.0/2.0)*cse2 + cse3*cse41 + cse41*cse9 + (1.0/8.0)*cse6 + (1.0/2.0)*cse8;
-    cst[34] = (1.0/2.0)*k_m;
-    cst[35] = cse26;
-    cst[36] = cse42;
-    cst[37] = -L*cse42;
-    cst[38] = -cse42;
-    cst[39] = cse31;
-    cst[40] = cse29;
-    cst[41] = fmin(k_m*m*(fmax(0, cse38)*fmax(0, cse38))/cse55, fmin(cse84*(fmax(0, cse38 - cse56 - cse57 + cse63 + cse64 + cse66 + cse67 + cse68)*fmax(0, cse38 - cse56 - cse57 + cse63 + cse64 + cse66 + cse67 + cse68)) + cse86, cse84*(fmax(0, cse38 + cse56 + cse57 - cse63 - cse64 - cse66 - cse67 - cse68)*fmax(0, cse38 + cse56 + cse57 - cse63 - cse64 - cse66 - cse67 - cse68)) + cse86));
-    cst[42] = c_b;
-    cst[43] = 1.0/cse24;
+    cst[11] = -c - cse32 - cse33;
+    cst[12] = -k_m;
+    cst[13] = -_on0*k_b;
+    cst[14] = -L;
+    cst[15] = _on1*k_b;
+    cst[16] = -m;
+    cst[17] = cse27;
+    cst[18] = cse12;
+    cst[19] = cse34;
+    cst[20] = 1.0/m;
+    cst[21] = -_on0*cse38;
+    cst[22] = _on1*cse38;
+    cst[23] = -cse39;
+    cst[24] = cse23*s;
+    cst[25] = -H*cse40 - cse32*cse41 - cse32*cse42 - cse33*cse41 - cse33*cse42 - cse40*h;
+    cst[26] = -H*cse43 - cse29*s - cse43*h;
+    cst[27] = cse11 - cse2;
+    cst[28] = cse10 + cse18 - cse5 - cse7;
+    cst[29] = -cse34;
+    cst[30] = (1.0/2.0)*I_G + (1.0/2.0)*cse13 + (1.0/2.0)*cse15 + cse17 + (1.0/2.0)*cse2 + cse3*cse44 + cse44*cse9 + (1.0/8.0)*cse6 + (1.0/2.0)*cse8;
+    cst[31] = (1.0/2.0)*k_m;
+    cst[32] = cse26;
+    cst[33] = _on0;
+    cst[34] = cse45;
+    cst[35] = -L*cse45;
+    cst[36] = _on1;
+    cst[37] = -cse45;
+    cst[38] = cse31;
+    cst[39] = cse29;
+    cst[40] = fmin(k_m*m*(fmax(0, cse39)*fmax(0, cse39))/cse58, fmin(cse87*(fmax(0, cse39 - cse59 - cse60 + cse66 + cse67 + cse69 + cse70 + cse71)*fmax(0, cse39 - cse59 - cse60 + cse66 + cse67 + cse69 + cse70 + cse71)) + cse89, cse87*(fmax(0, cse39 + cse59 + cse60 - cse66 - cse67 - cse69 - cse70 - cse71)*fmax(0, cse39 + cse59 + cse60 - cse66 - cse67 - cse69 - cse70 - cse71)) + cse89));
+    cst[41] = c_b;
+    cst[42] = k_b;
+    cst[43] = L;
+    cst[44] = -c_b;
+    cst[45] = 1.0/cse24;
+}
+
+/* The regime of the state y: each stop side acts where its penetration is > 0. */
+static void omd_stops_state_regime(const double *y, const double *p, double *on)
+{
+    const double x = y[1];
+    const double L = p[10];
+    on[0] = ((L - x < 0) ? (1) : (0));
+    on[1] = ((L + x < 0) ? (1) : (0));
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -173,16 +190,19 @@ void omd_stops_mass_matrix_prepared(const double *y, double ag, const double *cs
     out[3] = cst1;
 }
 
-/* Mass matrix of the rocking phase about the pivot s, row-major. */
+/* Mass matrix of the rocking phase about the pivot s, row-major.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -204,8 +224,6 @@ void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, d
     const double cst15 = cst[15];
     const double cst16 = cst[16];
     const double cst17 = cst[17];
-    const double cst18 = cst[18];
-    const double cst19 = cst[19];
     const double cse0 = sin(theta);
     const double cse1 = cos(theta);
     const double cse2 = dtheta*dx;
@@ -213,22 +231,23 @@ void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, d
     const double cse4 = ag*cse0;
     const double cse5 = cst1*x;
     const double cse6 = (dtheta*dtheta);
-    const double cse7 = cst13*dx;
-    const double cse8 = -x;
     out[0] = cse0*cst5 + cse1*cst7 + cse1*cst8*x + cse2*cst10 + cse2*cst9*x + cse3*cst4 + cse4*cse5 + cse4*cst6;
-    out[1] = cse0*cst8 + cse3*cst18 + cse5*cse6 + cse6*cst19 + cst16*dx + cst17*x + (cse7 + cst11*(cse8 + cst12))*((cst14 + x < 0) ? (1) : (0)) + (cse7 + cst15*(cst12 + x))*((cse8 + cst14 < 0) ? (1) : (0));
+    out[1] = cse0*cst8 + cse3*cst16 + cse5*cse6 + cse6*cst17 + cst11*dx + cst12*x + cst13*(cst14 + x) + cst15*(cst14 - x);
 }
 
-/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
+/* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -254,8 +273,6 @@ void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *
     const double cst18 = cst[18];
     const double cst19 = cst[19];
     const double cst20 = cst[20];
-    const double cst21 = cst[21];
-    const double cst22 = cst[22];
     const double cse0 = sin(theta);
     const double cse1 = cos(theta);
     const double cse2 = dtheta*dx;
@@ -263,24 +280,25 @@ void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *
     const double cse4 = ag*cse0;
     const double cse5 = cst1*x;
     const double cse6 = (dtheta*dtheta);
-    const double cse7 = cst13*dx;
-    const double cse8 = -x;
-    const double cse9 = cse0*cst8 + cse3*cst18 + cse5*cse6 + cse6*cst19 + cst16*dx + cst17*x + (cse7 + cst11*(cse8 + cst12))*((cst14 + x < 0) ? (1) : (0)) + (cse7 + cst15*(cst12 + x))*((cse8 + cst14 < 0) ? (1) : (0));
-    const double cse10 = (cse0*cst5 + cse1*cst7 + cse1*cst8*x + cse2*cst10 + cse2*cst9*x + cse3*cst4 + cse4*cse5 + cse4*cst6 + cse9*cst21)/(cst1*(x*x) + cst2*x + cst20);
-    out[0] = cse10;
-    out[1] = cse10*cst21 + cse9*cst22;
+    const double cse7 = cse0*cst8 + cse3*cst16 + cse5*cse6 + cse6*cst17 + cst11*dx + cst12*x + cst13*(cst14 + x) + cst15*(cst14 - x);
+    const double cse8 = (cse0*cst5 + cse1*cst7 + cse1*cst8*x + cse2*cst10 + cse2*cst9*x + cse3*cst4 + cse4*cse5 + cse4*cst6 + cse7*cst19)/(cst1*(x*x) + cst18 + cst2*x);
+    out[0] = cse8;
+    out[1] = cse7*cst20 + cse8*cst19;
 }
 
-/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
+/* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_rocking_accel_prepared(y, ag, cst, out);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double x = y[1];
@@ -291,53 +309,51 @@ void omd_stops_contact_accel_prepared(const double *y, double ag, const double *
     const double cst14 = cst[14];
     const double cst15 = cst[15];
     const double cst16 = cst[16];
-    const double cst17 = cst[17];
-    const double cst18 = cst[18];
-    const double cst22 = cst[22];
-    const double cse0 = cst13*dx;
-    const double cse1 = -x;
+    const double cst20 = cst[20];
     out[0] = 0;
-    out[1] = cst22*(ag*cst18 + cst16*dx + cst17*x + (cse0 + cst11*(cse1 + cst12))*((cst14 + x < 0) ? (1) : (0)) + (cse0 + cst15*(cst12 + x))*((cse1 + cst14 < 0) ? (1) : (0)));
+    out[1] = cst20*(ag*cst16 + cst11*dx + cst12*x + cst13*(cst14 + x) + cst15*(cst14 - x));
 }
 
-/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
+/* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x = y[1];
     const double dx = y[3];
-    const double cst12 = cst[12];
     const double cst14 = cst[14];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
     const double cst23 = cst[23];
     const double cst24 = cst[24];
     const double cst25 = cst[25];
     const double cst26 = cst[26];
-    const double cst27 = cst[27];
-    const double cst28 = cst[28];
-    const double cst29 = cst[29];
-    const double cse0 = cst24*dx;
-    const double cse1 = -x;
-    return ag*cst27 + cst26 + cst28*dx + cst29*x + (cse0 + cst23*(cse1 + cst12))*((cst14 + x < 0) ? (1) : (0)) + (cse0 + cst25*(cst12 + x))*((cse1 + cst14 < 0) ? (1) : (0));
+    return ag*cst24 + cst21*(cst14 + x) + cst22*(cst14 - x) + cst23 + cst25*dx + cst26*x;
 }
 
-/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
+/* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 double omd_stops_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     return omd_stops_uplift_prepared(y, ag, cst);
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -347,26 +363,29 @@ void omd_stops_impact_prepared(const double *y, double ag, const double *cst, do
     const double cst1 = cst[1];
     const double cst3 = cst[3];
     const double cst10 = cst[10];
-    const double cst21 = cst[21];
-    const double cst30 = cst[30];
-    const double cst31 = cst[31];
-    const double cst32 = cst[32];
+    const double cst19 = cst[19];
+    const double cst27 = cst[27];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
     const double cse0 = cst1*(x*x);
-    const double cse1 = (cse0*dtheta + cst21*(cst1*dx + cst3*dtheta) + cst3*dx + cst31*dtheta)/(cse0 + cst10*x + cst30);
+    const double cse1 = (cse0*dtheta + cst19*(cst1*dx + cst3*dtheta) + cst28*dtheta + cst3*dx)/(cse0 + cst10*x + cst27);
     out[0] = cse1;
-    out[1] = cse1*cst21 + cst32*dtheta + dx;
+    out[1] = cse1*cst19 + cst29*dtheta + dx;
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_impact_prepared(y, ag, cst, out);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -376,9 +395,11 @@ double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
     const double dx = y[3];
     const double cst3 = cst[3];
     const double cst5 = cst[5];
-    const double cst12 = cst[12];
     const double cst14 = cst[14];
-    const double cst19 = cst[19];
+    const double cst17 = cst[17];
+    const double cst30 = cst[30];
+    const double cst31 = cst[31];
+    const double cst32 = cst[32];
     const double cst33 = cst[33];
     const double cst34 = cst[34];
     const double cst35 = cst[35];
@@ -386,24 +407,25 @@ double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
     const double cst37 = cst[37];
     const double cst38 = cst[38];
     const double cst39 = cst[39];
-    const double cst40 = cst[40];
     const double cse0 = sin(theta);
     const double cse1 = (dtheta*dtheta);
     const double cse2 = (x*x);
-    const double cse3 = -x;
-    return cse0*cst39 + cse0*cst40*x + cse1*cse2*cst35 + cse1*cst19*x + cse1*cst33 + cse2*cst34 + cst3*dtheta*dx + cst35*(dx*dx) + cst5*cos(theta) + (cse3 + cst12)*(cst37 + cst38*x)*((cst14 + x < 0) ? (1) : (0)) + (cst12 + x)*(cst36*x + cst37)*((cse3 + cst14 < 0) ? (1) : (0));
+    return cse0*cst38 + cse0*cst39*x + cse1*cse2*cst32 + cse1*cst17*x + cse1*cst30 + cse2*cst31 + cst3*dtheta*dx + cst32*(dx*dx) + cst33*(cst14 + x)*(cst34*x + cst35) + cst36*(cst14 - x)*(cst35 + cst37*x) + cst5*cos(theta);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
+/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 double omd_stops_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     return omd_stops_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_power_prepared(const double *y, double ag, const double *cst)
 {
     const double theta = y[0];
@@ -413,124 +435,138 @@ double omd_stops_power_prepared(const double *y, double ag, const double *cst)
     const double cst1 = cst[1];
     const double cst4 = cst[4];
     const double cst6 = cst[6];
-    const double cst13 = cst[13];
-    const double cst14 = cst[14];
+    const double cst11 = cst[11];
     const double cst16 = cst[16];
-    const double cst18 = cst[18];
-    const double cse0 = (dx*dx);
-    const double cse1 = ag*cos(theta);
-    const double cse2 = ag*dtheta*sin(theta);
-    const double cse3 = cse0*cst13;
-    return cse0*cst16 + cse1*cst18*dx + cse1*cst4*dtheta + cse2*cst1*x + cse2*cst6 + cse3*((cst14 - x < 0) ? (1) : (0)) + cse3*((cst14 + x < 0) ? (1) : (0));
+    const double cse0 = ag*cos(theta);
+    const double cse1 = ag*dtheta*sin(theta);
+    return cse0*cst16*dx + cse0*cst4*dtheta + cse1*cst1*x + cse1*cst6 + cst11*(dx*dx);
 }
 
-/* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
+/* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 double omd_stops_power(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     return omd_stops_power_prepared(y, ag, cst);
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
     (void)y;
-    const double cst41 = cst[41];
-    return cst41;
+    const double cst40 = cst[40];
+    return cst40;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 double omd_stops_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     return omd_stops_uplift_energy_prepared(y, ag, cst);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_critical_angle_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
     const double x = y[1];
     const double cst5 = cst[5];
+    const double cst38 = cst[38];
     const double cst39 = cst[39];
-    const double cst40 = cst[40];
-    return atan2(cst39 + cst40*x, cst5);
+    return atan2(cst38 + cst39*x, cst5);
 }
 
-/* Static critical angle about the pivot s, the other coordinates held (sign of s). */
+/* Static critical angle about the pivot s, the other coordinates held (sign of s).
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 double omd_stops_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     return omd_stops_critical_angle_prepared(y, ag, cst);
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
     const double x = y[1];
-    const double cst12 = cst[12];
-    out[0] = cst12 + x;
-    out[1] = cst12 - x;
+    const double cst14 = cst[14];
+    out[0] = cst14 + x;
+    out[1] = cst14 - x;
 }
 
-/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
+/* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_stop_gaps_prepared(y, ag, cst, out);
 }
 
 /* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
     const double x = y[1];
     const double dx = y[3];
-    const double cst11 = cst[11];
-    const double cst12 = cst[12];
-    const double cst13 = cst[13];
     const double cst14 = cst[14];
+    const double cst41 = cst[41];
     const double cst42 = cst[42];
+    const double cst43 = cst[43];
+    const double cst44 = cst[44];
     const double cse0 = -x;
-    out[0] = (cst11*(cst12 + x) + cst42*dx)*((cse0 + cst14 < 0) ? (1) : (0));
-    out[1] = (cst11*(cse0 + cst12) + cst13*dx)*((cst14 + x < 0) ? (1) : (0));
+    out[0] = (cst41*dx + cst42*(cst14 + x))*((cse0 + cst43 < 0) ? (1) : (0));
+    out[1] = (cst42*(cse0 + cst14) + cst44*dx)*((cst43 + x < 0) ? (1) : (0));
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 void omd_stops_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     omd_stops_stop_forces_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
- * From the constants of omd_stops_prepare(s, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_critical_tangent_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
     const double x = y[1];
     const double cst5 = cst[5];
+    const double cst38 = cst[38];
     const double cst39 = cst[39];
-    const double cst40 = cst[40];
-    const double cst43 = cst[43];
-    return ((cst5 > 0) ? (cst43*(cst39 + cst40*x)) : (NAN));
+    const double cst45 = cst[45];
+    return ((cst5 > 0) ? (cst45*(cst38 + cst39*x)) : (NAN));
 }
 
-/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
+/* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
 double omd_stops_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    omd_stops_prepare(s, p, cst);
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
     return omd_stops_critical_tangent_prepared(y, ag, cst);
 }

@@ -9,10 +9,15 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 13 doubles: M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b
  *   out results (vector functions only)
- * Each function also comes prepared: omd_stops_prepare(s, p, cst) fills the
- * OMD_STOPS_NK constants of a run about the pivot s (all that depends on s and p
- * alone), and omd_stops_<name>_prepared(y, ag, cst[, out]) does the rest, the
- * cheaper call for a loop over states with the same s and p.
+ * Each function also comes prepared: omd_stops_prepare(s, on, p, cst) fills the
+ * OMD_STOPS_NK constants of a run about the pivot s in the regime on of the end
+ * stops (all that depends on s, on and p alone), and
+ * omd_stops_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
+ * for a loop over states with the same s, on and p.
+ *   on  regime of the end stops, OMD_STOPS_NSTOPS doubles (NULL if none): per side
+ *       of each stop (the outputs of omd_stops_stop_gaps), 1 while its bumper acts,
+ *       else 0. The unprepared functions take the regime of y: a side acts where
+ *       its penetration is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD_STOPS_H
@@ -21,7 +26,7 @@
 #define OMD_STOPS_NQ 2
 #define OMD_STOPS_NY 4
 #define OMD_STOPS_NP 13
-#define OMD_STOPS_NK 44
+#define OMD_STOPS_NK 46
 #define OMD_STOPS_NSTOPS 2
 #define OMD_STOPS_Y_theta 0
 #define OMD_STOPS_Y_x 1
@@ -41,8 +46,8 @@
 #define OMD_STOPS_P_k_b 11
 #define OMD_STOPS_P_c_b 12
 
-/* The constants of a run about the pivot s: cst, OMD_STOPS_NK doubles. */
-void omd_stops_prepare(double s, const double *p, double *cst);
+/* The constants of a run about the pivot s in the regime on: cst, OMD_STOPS_NK doubles. */
+void omd_stops_prepare(double s, const double *on, const double *p, double *cst);
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[1,0], M[1,1] */

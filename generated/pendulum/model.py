@@ -23,6 +23,9 @@ x_p        hinge, horizontal position from the centre of the base [m]
 y_p        hinge, height above the base [m]
 k_phi      rotational spring on phi [N m/rad]
 c_phi      rotational dashpot on phi [N m s/rad]
+stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
+           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
+           where its penetration is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"phi": "momentum"}, "inertia": "free"}
 """
@@ -45,7 +48,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -86,6 +89,8 @@ def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -106,7 +111,7 @@ def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
     return out
 
 
-def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -147,6 +152,8 @@ def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p,
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -176,7 +183,7 @@ def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p,
     return out
 
 
-def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -217,6 +224,8 @@ def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -259,7 +268,7 @@ def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     return out
 
 
-def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -300,6 +309,8 @@ def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -311,7 +322,7 @@ def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     return out
 
 
-def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -352,6 +363,8 @@ def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -374,7 +387,7 @@ def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     return out[0]
 
 
-def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
 
     Parameters
@@ -415,6 +428,8 @@ def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -455,7 +470,7 @@ def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     return out
 
 
-def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Mechanical energy in the ground frame while rocking about s; ag is ignored.
 
     Parameters
@@ -496,6 +511,8 @@ def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -526,7 +543,7 @@ def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     return out[0]
 
 
-def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -567,6 +584,8 @@ def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -588,7 +607,7 @@ def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k
     return out[0]
 
 
-def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
 
     Parameters
@@ -629,6 +648,8 @@ def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -638,7 +659,7 @@ def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     return out[0]
 
 
-def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -679,6 +700,8 @@ def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -693,7 +716,7 @@ def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
     return out[0]
 
 
-def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -734,6 +757,8 @@ def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -744,7 +769,7 @@ def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_
     return out
 
 
-def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
 
     Parameters
@@ -785,6 +810,8 @@ def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------
@@ -795,7 +822,7 @@ def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
     return out
 
 
-def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi):
+def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -836,6 +863,8 @@ def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, 
         rotational spring on phi [N m/rad]
     c_phi : array_like
         rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
 
     Returns
     -------

@@ -4,13 +4,15 @@
  * See pendulum.h for the arguments.
  */
 #include <math.h>
+#include <stddef.h>
 
 #include "pendulum.h"
 
-/* The constants of a run about the pivot s: what the functions share that
- * depends on the parameters and the pivot alone. */
-void pendulum_prepare(double s, const double *p, double *cst)
+/* The constants of a run about the pivot s in the regime on of the stops: what
+ * the functions share that depends on the parameters, the pivot and the regime alone. */
+void pendulum_prepare(double s, const double *on, const double *p, double *cst)
 {
+    (void)on;
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
@@ -133,7 +135,7 @@ void pendulum_prepare(double s, const double *p, double *cst)
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -157,12 +159,12 @@ void pendulum_mass_matrix_prepared(const double *y, double ag, const double *cst
 void pendulum_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -202,12 +204,12 @@ void pendulum_forcing_prepared(const double *y, double ag, const double *cst, do
 void pendulum_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -258,12 +260,12 @@ void pendulum_rocking_accel_prepared(const double *y, double ag, const double *c
 void pendulum_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_rocking_accel_prepared(y, ag, cst, out);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double phi = y[1];
@@ -281,12 +283,12 @@ void pendulum_contact_accel_prepared(const double *y, double ag, const double *c
 void pendulum_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double phi = y[1];
@@ -317,12 +319,12 @@ double pendulum_uplift_prepared(const double *y, double ag, const double *cst)
 double pendulum_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     return pendulum_uplift_prepared(y, ag, cst);
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -361,12 +363,12 @@ void pendulum_impact_prepared(const double *y, double ag, const double *cst, dou
 void pendulum_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_impact_prepared(y, ag, cst, out);
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -399,12 +401,12 @@ double pendulum_energy_prepared(const double *y, double ag, const double *cst)
 double pendulum_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     return pendulum_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_power_prepared(const double *y, double ag, const double *cst)
 {
     const double theta = y[0];
@@ -431,12 +433,12 @@ double pendulum_power_prepared(const double *y, double ag, const double *cst)
 double pendulum_power(double s, const double *y, double ag, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     return pendulum_power_prepared(y, ag, cst);
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -449,12 +451,12 @@ double pendulum_uplift_energy_prepared(const double *y, double ag, const double 
 double pendulum_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     return pendulum_uplift_energy_prepared(y, ag, cst);
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -470,12 +472,12 @@ double pendulum_critical_angle_prepared(const double *y, double ag, const double
 double pendulum_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     return pendulum_critical_angle_prepared(y, ag, cst);
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -488,12 +490,12 @@ void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, 
 void pendulum_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_stop_gaps_prepared(y, ag, cst, out);
 }
 
 /* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
     (void)ag;
@@ -506,12 +508,12 @@ void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst
 void pendulum_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     pendulum_stop_forces_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
- * From the constants of pendulum_prepare(s, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_critical_tangent_prepared(const double *y, double ag, const double *cst)
 {
     (void)ag;
@@ -528,6 +530,6 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
 double pendulum_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, p, cst);
+    pendulum_prepare(s, NULL, p, cst);
     return pendulum_critical_tangent_prepared(y, ag, cst);
 }

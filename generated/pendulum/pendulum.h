@@ -9,10 +9,15 @@
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   p   parameters, 12 doubles: M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi
  *   out results (vector functions only)
- * Each function also comes prepared: pendulum_prepare(s, p, cst) fills the
- * PENDULUM_NK constants of a run about the pivot s (all that depends on s and p
- * alone), and pendulum_<name>_prepared(y, ag, cst[, out]) does the rest, the
- * cheaper call for a loop over states with the same s and p.
+ * Each function also comes prepared: pendulum_prepare(s, on, p, cst) fills the
+ * PENDULUM_NK constants of a run about the pivot s in the regime on of the end
+ * stops (all that depends on s, on and p alone), and
+ * pendulum_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
+ * for a loop over states with the same s, on and p.
+ *   on  regime of the end stops, PENDULUM_NSTOPS doubles (NULL if none): per side
+ *       of each stop (the outputs of pendulum_stop_gaps), 1 while its bumper acts,
+ *       else 0. The unprepared functions take the regime of y: a side acts where
+ *       its penetration is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {"phi": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_PENDULUM_H
@@ -40,8 +45,8 @@
 #define PENDULUM_P_k_phi 10
 #define PENDULUM_P_c_phi 11
 
-/* The constants of a run about the pivot s: cst, PENDULUM_NK doubles. */
-void pendulum_prepare(double s, const double *p, double *cst);
+/* The constants of a run about the pivot s in the regime on: cst, PENDULUM_NK doubles. */
+void pendulum_prepare(double s, const double *on, const double *p, double *cst);
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[1,0], M[1,1] */

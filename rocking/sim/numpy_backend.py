@@ -156,9 +156,10 @@ class _System:
             return None
         return min(a, b) * (1.0 - SAFE_MARGIN)
 
-    def _call(self, name: str, s: float, y: np.ndarray, ag: float):
-        # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic.
-        return getattr(self.functions, name)(s, *y.tolist(), ag, *self.params)
+    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None):
+        # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic. stop_on: the regime
+        # of the stops as 0.0 / 1.0 per side, what sim.c prepares its constants with; None: that of y.
+        return getattr(self.functions, name)(s, *y.tolist(), ag, *self.params, stop_on=stop_on)
 
     def ground(self, pulse_on: bool) -> Callable[[float], float]:
         """Ground acceleration of one segment.
@@ -183,20 +184,25 @@ class _System:
         a_g, omega_g, psi = self.a_g, self.omega_g, self.psi
         return lambda t: a_g * math.sin(omega_g * t + psi)
 
-    def rocking_rhs(self, s: int, ground: Callable[[float], float]) -> StateFunction:
-        """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase)."""
+    def rocking_rhs(self, s: int, ground: Callable[[float], float], stop_on: tuple) -> StateFunction:
+        """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase) in the regime ``stop_on``.
+
+        The regime is that of the segment (rule 6): a gap event ends it, so its
+        steps never see a bumper's force switch on or off.
+        """
         n = self.n
+        regime = _regime(stop_on)
 
         def rhs(t, y):
             dy = np.empty_like(y)
             dy[:n] = y[n:]
-            dy[n:] = self._call("rocking_accel", s, y, ground(t))
+            dy[n:] = self._call("rocking_accel", s, y, ground(t), regime)
             return dy
 
         return rhs
 
-    def contact_rhs(self, ground: Callable[[float], float]) -> StateFunction:
-        """``y' = (dq, c(y, ag))``: full contact.
+    def contact_rhs(self, ground: Callable[[float], float], stop_on: tuple) -> StateFunction:
+        """``y' = (dq, c(y, ag))``: full contact in the regime ``stop_on`` of the segment.
 
         The whole state is integrated, ``theta`` and ``dtheta`` included: the
         generated ``contact_accel`` returns ``ddtheta = 0`` and ``dtheta = 0``,
@@ -204,12 +210,13 @@ class _System:
         components in every phase.
         """
         n = self.n
+        regime = _regime(stop_on)
 
         def rhs(t, y):
             dy = np.empty_like(y)
             dy[:n] = y[n:]
             # contact_accel ignores s; +1 is as good as any.
-            dy[n:] = self._call("contact_accel", 1.0, y, ground(t))
+            dy[n:] = self._call("contact_accel", 1.0, y, ground(t), regime)
             return dy
 
         return rhs
@@ -225,21 +232,22 @@ class _System:
         forces = self.functions.stop_forces(1.0, *np.asarray(states, dtype=float).T, 0.0, *self.params)
         return float(max(np.max(f) for f in forces))
 
-    def uplift(self, s: int, y: np.ndarray, ag: float) -> float:
-        """Uplift function ``u_s``: the block leaves full contact about ``s`` when it turns positive."""
-        return float(self._call("uplift", s, y, ag))
+    def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple) -> float:
+        """Uplift function ``u_s`` in the regime ``stop_on``: the block leaves full contact about ``s`` when it
+        turns positive."""
+        return float(self._call("uplift", s, y, ag, _regime(stop_on)))
 
     def critical_angle(self, s: int, y: np.ndarray, ag: float) -> float:
         """Static critical angle ``theta_cr_s(y)`` (with the sign of ``s``)."""
         return float(self._call("critical_angle", s, y, ag))
 
-    def energy(self, y: np.ndarray, s: int = 1) -> float:
-        """Mechanical energy ``E_s(y)`` (``ag`` does not enter it)."""
-        return float(self._call("energy", s, y, 0.0))
+    def energy(self, y: np.ndarray, s: int = 1, stop_on: tuple | None = None) -> float:
+        """Mechanical energy ``E_s(y)`` in the regime ``stop_on`` (None: that of ``y``; ``ag`` does not enter it)."""
+        return float(self._call("energy", s, y, 0.0, None if stop_on is None else _regime(stop_on)))
 
-    def energy_above_rest(self, y: np.ndarray) -> float:
-        """``E(y) - E(0)`` in full contact."""
-        return self.energy(y) - self.energy_at_rest
+    def energy_above_rest(self, y: np.ndarray, stop_on: tuple) -> float:
+        """``E(y) - E(0)`` in full contact, ``E(y)`` in the regime ``stop_on``."""
+        return self.energy(y, 1, stop_on) - self.energy_at_rest
 
     def mass_matrix(self, s: int, y: np.ndarray):
         """The mass matrix about ``s`` at ``y``, row-major (``n * n`` values)."""
@@ -251,6 +259,11 @@ class _System:
         after[0] = 0.0
         after[self.n :] = self._call("impact", s, after, ag)
         return after
+
+
+def _regime(stop_on: tuple) -> tuple:
+    """The regime of the stops as the generated functions take it: 1.0 where a side's bumper acts, else 0.0."""
+    return tuple(1.0 if on else 0.0 for on in stop_on)
 
 
 # --------------------------------------------------------------------------- #
@@ -305,11 +318,11 @@ class _Event:
         return self.function(t, y)
 
 
-def uplift_event(system: _System, s: int, ground: Callable[[float], float]) -> _Event:
+def uplift_event(system: _System, s: int, ground: Callable[[float], float], stop_on: tuple) -> _Event:
     """Full contact: ``u_s`` turns positive (uplift about ``A`` for ``s = +1``, ``A'`` for ``-1``)."""
     return _Event(
         UPLIFT_A if s == 1 else UPLIFT_A_PRIME,
-        _zero_below(lambda t, y: system.uplift(s, y, ground(t))),
+        _zero_below(lambda t, y: system.uplift(s, y, ground(t), stop_on)),
         terminal=True,
         direction=+1,
     )
@@ -363,15 +376,15 @@ def settled_event(n: int) -> _Event:
     return _Event(SETTLED, lambda t, y: y[n + 1], terminal=True, direction=0)
 
 
-def safe_event(system: _System, safe_energy: float) -> _Event:
+def safe_event(system: _System, safe_energy: float, stop_on: tuple) -> _Event:
     """Full contact after the pulse: ``E(y) - E(0)`` falls below the uplift energy (less the margin)."""
-    below = _zero_above(lambda t, y: system.energy_above_rest(y) - safe_energy)
+    below = _zero_above(lambda t, y: system.energy_above_rest(y, stop_on) - safe_energy)
     return _Event(SAFE, below, terminal=True, direction=-1)
 
 
-def rest_event(system: _System, energy_rest: float) -> _Event:
+def rest_event(system: _System, energy_rest: float, stop_on: tuple) -> _Event:
     """Full contact after the pulse: ``E(y) - E(0)`` falls below ``energy_rest``."""
-    below = _zero_above(lambda t, y: system.energy_above_rest(y) - energy_rest)
+    below = _zero_above(lambda t, y: system.energy_above_rest(y, stop_on) - energy_rest)
     return _Event(REST, below, terminal=True, direction=-1)
 
 
@@ -410,7 +423,8 @@ def watched_events(
     settling : bool
         Full contact once safe: the next extremum of ``q[1]`` ends the run.
     stop_on : tuple of bool
-        Whether each stop side's bumper acts: its gap's opening is watched, else its closing.
+        Whether each stop side's bumper acts (the segment's regime): its gap's opening is watched,
+        else its closing.
 
     Returns
     -------
@@ -422,11 +436,11 @@ def watched_events(
     if phase == CONTACT:
         if settling and system.n > 1:
             damper = [settled_event(system.n)]
-        events = [uplift_event(system, +1, ground), uplift_event(system, -1, ground)] + damper
+        events = [uplift_event(system, +1, ground, stop_on), uplift_event(system, -1, ground, stop_on)] + damper
         if after_pulse:
-            events.append(rest_event(system, energy_rest))
+            events.append(rest_event(system, energy_rest, stop_on))
             if safe_energy is not None and not settling:
-                events.append(safe_event(system, safe_energy))
+                events.append(safe_event(system, safe_energy, stop_on))
         return events + gaps
     s = phase
     events = [impact_event(s), overturn_event(s), extremum_event(system.n, 0)] + damper
@@ -589,7 +603,8 @@ def integrate_segment(
     work : _Work or None
         Counts the evaluations of the right-hand side (rule 5).
     stop_on : tuple of bool
-        Whether each stop side's bumper acts (see :func:`watched_events`).
+        Whether each stop side's bumper acts: the regime of the whole segment, for the right-hand
+        side and the events (see :func:`watched_events`).
 
     Returns
     -------
@@ -603,13 +618,13 @@ def integrate_segment(
     pulse_on = t0 < problem.t_p
     ground = system.ground(pulse_on)
     if phase == CONTACT:
-        rhs = system.contact_rhs(ground)
+        rhs = system.contact_rhs(ground, stop_on)
         # While the pulse acts, the uplift functions move with ag(t) even when the
         # state does not (the bare block: error estimate 0, so the step would grow
         # tenfold per step); a bounded step keeps an uplift from being stepped over.
         max_step = problem.contact_max_step if pulse_on else np.inf
     else:
-        rhs = system.rocking_rhs(phase, ground)
+        rhs = system.rocking_rhs(phase, ground, stop_on)
         max_step = np.inf
     plain_rhs = rhs
     if work is not None:
@@ -870,7 +885,7 @@ def uplift_at_start(run: _Run) -> int:
     """
     ground = run.system.ground(run.pulse_on)
     for s in (+1, -1):
-        if run.system.uplift(s, run.y, ground(run.t)) > 0.0:
+        if run.system.uplift(s, run.y, ground(run.t), run.stop_on) > 0.0:
             return s
     return 0
 
@@ -888,7 +903,7 @@ def rest_at_start(run: _Run) -> bool:
     damper's stroke is left to settle, up to the next extremum of ``q[1]``;
     the run is then marked safe unless that extremum is now.
     """
-    energy = run.system.energy_above_rest(run.y)
+    energy = run.system.energy_above_rest(run.y, run.stop_on)
     # For the bare block E(y) = E(0) in full contact: rest at once.
     if energy < run.problem.energy_rest:
         return True

@@ -43,16 +43,42 @@
 /* 1. The model as an ODE                                                    */
 /* ------------------------------------------------------------------------ */
 
-/* The generated constants of a run (model_prepare), one array per pivot. */
+/* End-stop sides (the outputs of model_stop_gaps) that the events can follow. */
+#define MAX_STOP_SIDES 4
+#if MODEL_NSTOPS > MAX_STOP_SIDES
+#error "the model has more end-stop sides than sim.c follows: raise MAX_STOP_SIDES"
+#endif
+
+/* The generated constants of a run (model_prepare) in the current regime of
+ * the stops, one array per pivot. A gap event ends a segment (rule 6), so the
+ * regime is constant within one: the right-hand side reads it from the
+ * constants, with no condition on the state. */
 #define NK (MODEL_NK > 0 ? MODEL_NK : 1)
 typedef struct constants {
-    double about[2][NK]; /* [0]: s = +1, [1]: s = -1 */
+    double about[2][NK];         /* [0]: s = +1, [1]: s = -1 */
+    int stop_on[MAX_STOP_SIDES]; /* the regime: each stop side's bumper acts */
+    const double *p;             /* the model's parameters */
 } constants;
 
-static void constants_prepare(constants *k, const double *p)
+/* The constants of both pivots in the regime stop_on (MAX_STOP_SIDES flags). */
+static void constants_prepare(constants *k, const double *p, const int *stop_on)
 {
-    model_prepare(1.0, p, k->about[0]);
-    model_prepare(-1.0, p, k->about[1]);
+    double on[MAX_STOP_SIDES];
+    int i;
+    for (i = 0; i < MAX_STOP_SIDES; ++i) {
+        k->stop_on[i] = stop_on[i];
+        on[i] = stop_on[i] ? 1.0 : 0.0;
+    }
+    k->p = p;
+    model_prepare(1.0, on, p, k->about[0]);
+    model_prepare(-1.0, on, p, k->about[1]);
+}
+
+/* The constants in the regime stop_on, prepared again only if it is a new one. */
+static void constants_regime(constants *k, const int *stop_on)
+{
+    if (memcmp(k->stop_on, stop_on, sizeof k->stop_on) != 0)
+        constants_prepare(k, k->p, stop_on);
 }
 
 /* The constants about the pivot s; full contact uses those of s = +1, as
@@ -413,12 +439,6 @@ static void dopri_dense(dopri *d, double t, double *y)
 /* 3. Events                                                                 */
 /* ------------------------------------------------------------------------ */
 
-/* End-stop sides (the outputs of model_stop_gaps) that the events can follow. */
-#define MAX_STOP_SIDES 4
-#if MODEL_NSTOPS > MAX_STOP_SIDES
-#error "the model has more end-stop sides than sim.c follows: raise MAX_STOP_SIDES"
-#endif
-
 enum event_kind {
     EV_UPLIFT_A,       /* contact: u_{+1} turns positive */
     EV_UPLIFT_A_PRIME, /* contact: u_{-1} turns positive */
@@ -477,12 +497,20 @@ static int gap_side(int kind)
     return -1;
 }
 
-/* The penetration of stop side i (it does not depend on the pivot). */
+/* The penetration of stop side i (it depends on neither the pivot nor the regime). */
 static double stop_gap(const constants *k, const double *y, int i)
 {
     double gaps[MAX_STOP_SIDES] = {0.0};
     model_stop_gaps_prepared(y, 0.0, about(k, 1.0), gaps);
     return gaps[i];
+}
+
+/* The regime of the state y: each stop side acts where its penetration is > 0. */
+static void stop_regime(const constants *k, const double *y, int *stop_on)
+{
+    int i;
+    for (i = 0; i < MAX_STOP_SIDES; ++i)
+        stop_on[i] = i < MODEL_NSTOPS && stop_gap(k, y, i) > 0.0;
 }
 
 static int is_before(double phi, int strict)
@@ -729,7 +757,7 @@ typedef struct run {
     double t_start; /* when the current rocking phase started, at theta = 0 */
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
-    int stop_on[MAX_STOP_SIDES]; /* each stop side's bumper acts (its penetration is > 0) */
+    constants *k; /* of the parameters, in the current regime of the stops (r->o.k too) */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
@@ -860,7 +888,7 @@ static void watched_events(const run *r, int *active)
         active[EV_X_PEAK] = NQ > 1;
     /* In every phase, each stop side's gap closing, or opening once its bumper acts (rule 6). */
     for (k = 0; k < MODEL_NSTOPS; ++k)
-        active[(r->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k] = 1;
+        active[(r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k] = 1;
 }
 
 /* What a segment changes in the results and the history before its end:
@@ -1165,7 +1193,10 @@ static void phase_machine(run *r)
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
         if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
-            r->stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
+            int stop_on[MAX_STOP_SIDES];
+            memcpy(stop_on, r->k->stop_on, sizeof stop_on);
+            stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
+            constants_regime(r->k, stop_on);
             r->res->stop_contacts += ended < EV_GAP_OPEN;
             continue;
         }
@@ -1257,7 +1288,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     run r;
     constants k;
     const double zeros[NY] = {0.0};
-    int i;
+    const int clear[MAX_STOP_SIDES] = {0};
+    int stop_on[MAX_STOP_SIDES];
 
     out->status = ROCKING_FAILED;
     out->overturned = 0;
@@ -1271,7 +1303,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.c = c;
     r.tol.rtol = c->rtol;
     r.tol.atol = c->atol;
-    constants_prepare(&k, p);
+    constants_prepare(&k, p, clear);
+    r.k = &k;
     r.o.k = &k;
     r.o.phase = 0;
     r.o.pulse_on = 1;
@@ -1279,7 +1312,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.omega_g = c->omega_g;
     r.o.psi = c->psi;
     r.ec.o = &r.o;
-    /* In full contact the energy does not depend on the pivot: E(0) with s = +1. */
+    /* In full contact the energy does not depend on the pivot: E(0) with s = +1,
+     * in the regime of the rest state. */
+    stop_regime(&k, zeros, stop_on);
+    constants_regime(&k, stop_on);
     r.ec.energy_zero = model_energy_prepared(zeros, 0.0, about(&k, 1.0));
     r.ec.energy_rest = c->energy_rest;
     r.ec.theta_max = &out->theta_max;
@@ -1301,8 +1337,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.next_sample = 0.0;
     if (initial_state(c, r.y, &r.phase) != 0)
         return -1;
-    for (i = 0; i < MAX_STOP_SIDES; ++i)
-        r.stop_on[i] = i < MODEL_NSTOPS && stop_gap(&k, r.y, i) > 0.0;
+    stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
+    constants_regime(&k, stop_on);
     see_state(&r, r.y);
 
     phase_machine(&r);
