@@ -113,7 +113,7 @@ def bench_stops(n_grid: int, pairs: int = 3) -> dict:
 
 
 def _map(n: int, workers: int, runs: str):
-    """A bare + damper overturning map of ``n x n`` on fresh tiles; (study, seconds)."""
+    """A bare + damper overturning map of ``n x n``, both directions, on fresh tiles; (study, seconds)."""
     from rocking.study.config import Grid, Setting, Tuning
     from rocking.study.overturning_map import overturning_map
     from rocking.study.tiles import Execution
@@ -126,7 +126,8 @@ def _map(n: int, workers: int, runs: str):
 
 
 def bench_studies(n_map: int, n_memory: int) -> dict:
-    """Map throughput with 1 and 2 local workers; memory of a large map; the demo's wall time."""
+    """Map throughput with 1 and 2 local workers; memory of a large map; the wall time of the demo and of
+    ``rocking threshold`` on its default grid."""
     import subprocess
     import tempfile
 
@@ -136,9 +137,9 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
         # as a user waits for it (on the C back end the 2 workers are threads: no pool start-up).
         for repeat in range(3):
             for workers in (1, 2):
-                _, seconds = _map(n_map, workers, f"{tmp}/runs{repeat}{workers}")
+                study, seconds = _map(n_map, workers, f"{tmp}/runs{repeat}{workers}")
                 key = f"map_responses_per_s_{workers}_workers"
-                out[key] = max(out.get(key, 0.0), 2 * n_map * n_map / seconds)
+                out[key] = max(out.get(key, 0.0), study.run["responses"] / seconds)
         out["map_speedup_2_vs_1"] = out["map_responses_per_s_2_workers"] / out["map_responses_per_s_1_workers"]
         # Peak memory in a fresh process per size: it must not grow with the grid beyond the result arrays.
         probe = (
@@ -155,10 +156,12 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
             )
             out[f"map_{n}x{n}_peak_rss_mb"] = rss / 2**20
             out[f"map_{n}x{n}_result_arrays_mb"] = size / 2**20
-        start = time.perf_counter()
-        demo = [sys.executable, "-m", "rocking.cli.main", "demo", "--out", f"{tmp}/demo", "--no-progress"]
-        subprocess.run(demo, check=True, capture_output=True)
-        out["demo_seconds"] = time.perf_counter() - start
+        for command in ("demo", "threshold"):  # threshold: its default grid, on 2 local workers
+            start = time.perf_counter()
+            run = [sys.executable, "-m", "rocking.cli.main", command, "--out", f"{tmp}/{command}", "--no-progress"]
+            workers = ["--workers", "2"] if command == "threshold" else []
+            subprocess.run(run + workers, check=True, capture_output=True)
+            out[f"{command}_seconds"] = time.perf_counter() - start
     out["n_map"], out["n_memory"] = n_map, n_memory
     return out
 
@@ -205,6 +208,7 @@ def main(argv=None) -> int:
                 f"result arrays {st[f'map_{side}x{side}_result_arrays_mb']:.1f} MB"
             )
         print(f"  rocking demo  {st['demo_seconds']:10.1f} s")
+        print(f"  rocking threshold {st['threshold_seconds']:6.1f} s (default grid, 2 workers)")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=2)
