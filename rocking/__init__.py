@@ -6,7 +6,8 @@ one subpackage per layer:
 
 - :mod:`rocking.model`: the generated models, the block and its damper, the pulse;
 - :mod:`rocking.sim`: one response, on the C or the NumPy/SciPy back end;
-- :mod:`rocking.study`: overturning maps, spectra and the optimal damper, in tiles;
+- :mod:`rocking.study`: overturning maps, spectra, the optimal damper, the design answer and the threshold
+  frequency across geometries, in tiles, over both directions of the pulse;
 - :mod:`rocking.plot`, :mod:`rocking.cli`: figures and the ``rocking`` command;
 - :mod:`rocking.reference`: the paper's equations typed by hand, and ``rocking verify``.
 
@@ -30,10 +31,12 @@ from .sim.cbuild import CBuildError
 from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
 from .study.config import Grid, Setting, Study, Tuning, Variant
+from .study.design import design
 from .study.optimize import optimal_damper
 from .study.overturning_map import overturning_map
 from .study.spectrum import minimum_overturning_spectrum
 from .study.storage import load, save
+from .study.threshold import threshold_map
 from .study.tiles import Execution, Interrupted, TileWarning
 
 __all__ = [
@@ -57,6 +60,7 @@ __all__ = [
     "Tuning",
     "Variant",
     "available_models",
+    "design",
     "load",
     "load_model",
     "minimum_overturning_spectrum",
@@ -64,5 +68,6 @@ __all__ = [
     "overturning_map",
     "save",
     "simulate",
+    "threshold_map",
 ]
 __version__ = "0.1.0"

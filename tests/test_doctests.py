@@ -19,6 +19,8 @@ MODULES = [
     "rocking.study.overturning_map",
     "rocking.study.spectrum",
     "rocking.study.optimize",
+    "rocking.study.design",
+    "rocking.study.threshold",
 ]
 
 
@@ -29,7 +31,8 @@ def test_examples(name):
 
 
 def test_every_main_entry_point_has_examples():
-    for name in ("simulate", "overturning_map", "minimum_overturning_spectrum", "optimal_damper", "load_model"):
+    for name in ("simulate", "overturning_map", "minimum_overturning_spectrum", "optimal_damper", "design",
+                 "threshold_map", "load_model"):  # fmt: skip
         assert "Examples\n    --------\n" in getattr(rocking, name).__doc__, name
 
 

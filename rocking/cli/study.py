@@ -31,7 +31,6 @@ import numpy as np
 from ..model.params import ParameterError
 from ..plot.figures import draw, redraw
 from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
-from ..study.design import REFINE as DESIGN_REFINE
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
@@ -172,6 +171,22 @@ def _add_directions(p: argparse.ArgumentParser) -> None:
         choices=DIRECTIONS,
         help="signs of the pulses: auto runs both unless the block (e = 0) and its damper are symmetric, "
         f"and reports the envelope ({default_text(overturning_map, 'directions')})",
+    )
+
+
+def _add_search(p, default: tuple, function) -> None:
+    """``--Tm-ratio MIN MAX N`` (the coarse log grid of ``T_m p / (2 pi)``, ``default``) and ``--refine`` of a
+    study that searches the damper period; ``function``: the Python call whose default ``refine`` is shown."""
+    p.add_argument(
+        "--Tm-ratio",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help=f"coarse log grid of damper periods T_m p / (2 pi) (default {default[0]:g} {default[1]:g} {default[2]})",
+    )
+    p.add_argument(
+        "--refine",
+        type=int,
+        help=f"refinement points each side of the best coarse point ({default_text(function, 'refine')})",
     )
 
 
@@ -574,18 +589,7 @@ def add_study_commands(subparsers) -> None:
     _add_damper(p, tuned=False, searched=True)
     _add_grid(p, "Omega", OPTIMIZE_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", OPTIMIZE_BETA, "scan amplitudes of every beta_min")
-    p.add_argument(
-        "--Tm-ratio",
-        nargs=3,
-        metavar=("MIN", "MAX", "N"),
-        help="coarse log grid of damper periods T_m p / (2 pi) "
-        f"(default {TM_GRID[0]:g} {TM_GRID[1]:g} {TM_GRID[2]}, as rocking.optimal_damper)",
-    )
-    p.add_argument(
-        "--refine",
-        type=int,
-        help=f"refinement points each side of the best coarse T_m ({default_text(optimal_damper, 'refine')})",
-    )
+    _add_search(p, TM_GRID, optimal_damper)
     _add_tol(p)
     _add_directions(p)
     _add_solver(p)
@@ -600,21 +604,12 @@ def add_study_commands(subparsers) -> None:
         "--stroke", type=float, help="half-stroke L of the stops, m, in (0, B/2) (default B/2 minus the pads' 20 mm)"
     )
     g.add_argument("--h", type=float, help=f"height of the guide above the block, m ({default_text(design, 'h')})")
-    g.add_argument(
-        "--Tm-ratio",
-        nargs=3,
-        metavar=("MIN", "MAX", "N"),
-        help="coarse log grid of T_m p / (2 pi) "
-        f"(default {DESIGN_TM_GRID[0]:g} {DESIGN_TM_GRID[1]:g} {DESIGN_TM_GRID[2]})",
-    )
+    _add_search(g, DESIGN_TM_GRID, design)
     g.add_argument(
         "--zeta-grid",
         nargs=3,
         metavar=("MIN", "MAX", "N"),
         help=f"coarse log grid of the damping ratio (default {ZETA_GRID[0]:g} {ZETA_GRID[1]:g} {ZETA_GRID[2]})",
-    )
-    g.add_argument(
-        "--refine", type=int, help=f"refinement points each side of the best coarse point (default {DESIGN_REFINE})"
     )
     _add_grid(p, "Omega", DESIGN_OMEGA, "the band of pulse frequency ratios")
     _add_grid(p, "beta", DESIGN_BETA, "scan amplitudes of every beta_min")
@@ -643,14 +638,7 @@ def add_study_commands(subparsers) -> None:
     g.add_argument(
         "--h", type=float, help=f"height of the guide above the block, m ({default_text(threshold_map, 'h')})"
     )
-    g.add_argument(
-        "--Tm-ratio",
-        nargs=3,
-        metavar=("MIN", "MAX", "N"),
-        help="coarse log grid of T_m p / (2 pi) at each point "
-        f"(default {THRESHOLD_TM_GRID[0]:g} {THRESHOLD_TM_GRID[1]:g} {THRESHOLD_TM_GRID[2]})",
-    )
-    g.add_argument("--refine", type=int, help=f"refinement points each side ({default_text(threshold_map, 'refine')})")
+    _add_search(g, THRESHOLD_TM_GRID, threshold_map)
     g.add_argument(
         "--a-max", type=float, help=f"bound of the ground acceleration, in g ({default_text(threshold_map, 'a_max')})"
     )

@@ -184,6 +184,20 @@ def design(
         Naming the parameter and its valid range, before any work.
     rocking.study.tiles.Interrupted
         On Ctrl-C: the finished tiles are kept in ``runs``, and the same call resumes from them.
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> study = rocking.design(
+    ...     rocking.Setting(rocking.Block.reference()), rocking.Grid("Omega", 4.0, 6.0, 2),
+    ...     rocking.Grid("beta", 0.5, 20.0, 27), rocking.Execution(workers=1, progress=False),
+    ...     Tm=rocking.Grid("Tm", 0.5, 4.0, 3, log=True), zeta=rocking.Grid("zeta", 0.02, 0.2, 2, log=True),
+    ...     refine=1, runs=tempfile.mkdtemp())
+    >>> d = study.summary["damper"]
+    >>> round(d["m_kg"]), round(d["k_m_N_per_m"], 1), round(d["c_N_s_per_m"], 1)  # kg, N/m, N s/m
+    (50, 178.4, 3.8)
+    >>> round(study.summary["worst_gain"], 2), study.summary["zeta_at_edge"]  # -1: the smallest zeta tried
+    (1.14, -1)
     """
     Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
     zeta = Grid("zeta", *ZETA_GRID, log=True) if zeta is None else zeta

@@ -218,6 +218,18 @@ def threshold_map(
         ``<kind>_Omega_star``, ``<kind>_Omega_star_low``/``_high`` (the scanned bracket),
         ``<kind>_status`` (index into :data:`STATUSES`), ``<kind>_best_gain`` (over ``Omega``),
         ``safe_from`` (the lowest ``Omega`` above which the block alone does not overturn within the bound).
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> study = rocking.threshold_map(
+    ...     rocking.Grid("lam", 4.0, 4.0, 1), rocking.Grid("p", 2.0, 2.0, 1), rocking.Grid("Omega", 4.0, 14.0, 3),
+    ...     rocking.Execution(workers=1, progress=False), Tm=rocking.Grid("Tm", 0.5, 2.0, 2, log=True), refine=0,
+    ...     runs=tempfile.mkdtemp())
+    >>> study.arrays["stops_gain"].round(2)  # at Omega = 4, 9, 14: none at 14, where the block alone is safe to 4 g
+    array([[[1.14, 1.41,  nan]]])
+    >>> study.arrays["safe_from"], study.arrays["stops_Omega_star_low"]  # Omega* > 9
+    (array([[14.]]), array([[9.]]))
     """
     Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
     check_study(Setting(Block.reference()), execution, runs, lam=lam, p=p, Omega=Omega, Tm=Tm)
