@@ -468,6 +468,13 @@ def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
     assert (a["bare_stop_contacts"] == 0).all() and (a["bare_bumper_force_max"] == 0).all()
     assert np.nanmax(a["damper_x_max"]) <= SETTING.block.B / 2 and stopped.summary["saved_past_edges"] == 0
     assert stopped.summary["saved"] < free.summary["saved"]
+    L = SETTING.block.B / 2 - 0.02  # Stops.at_edges
+    np.testing.assert_allclose(stopped.tables["map"]["damper_stroke_over_L"], np.ravel(a["damper_x_max"]) / L)
+    assert "damper_stroke_over_L" not in free.tables["map"]
+    shorter = overturning_map(SETTING, Tuning(0.05, stops=True, stroke=0.1), *grids, SERIAL, runs=tmp_path / "short")
+    assert np.nanmax(shorter.arrays["damper_x_max"]) < np.nanmax(a["damper_x_max"])
+    np.testing.assert_allclose(shorter.tables["map"]["damper_stroke_over_L"],
+                               np.ravel(shorter.arrays["damper_x_max"]) / 0.1)  # fmt: skip
     assert stopped.config["damper"]["stops"] is True and "stops" not in free.config["damper"]
     argv = ["map", "--stops", "--Omega", "5", "9", "5", "--beta", "4", "12", "9", "--workers", "1", "--no-progress"]
     assert cli([*argv, "--out", str(tmp_path / "cli")]) == 0

@@ -22,7 +22,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.params import ParameterError
+from ..model.params import BUMPER_DEPTH, ParameterError
 from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
@@ -315,16 +315,25 @@ def overturning_map(
         "map",
         config,
         arrays,
-        tables={"map": map_table(arrays, setting.block.B / 2)},
+        tables={"map": map_table(arrays, setting.block.B / 2, half_stroke(setting.block, record))},
         summary={**map_summary(arrays, setting.block.B / 2), "directions": chosen},
         run={**stats.record(), "run_folders": folders, "responses": 2 * len(signs) * Om.size * b.size},
     )
 
 
-def map_table(arrays: dict, half_width: float) -> dict:
+def half_stroke(block, record: dict) -> float | None:
+    """The half-stroke ``L`` (m) of a study's damper (its :meth:`Tuning.record` or :meth:`Variant.record`), or
+    None for a guide without stops."""
+    if record.get("stops"):
+        return record.get("stroke", block.B / 2 - BUMPER_DEPTH)
+    return record.get("params", {}).get("L")
+
+
+def map_table(arrays: dict, half_width: float, L: float | None = None) -> dict:
     """One CSV row per cell: the pulse, both responses (their envelope over the directions, and with two
     directions the outcome in each and the sign of the worse), the damper's stroke over the block's
-    half-width ``B/2`` (above 1: the mass past the block's edge), the damper's effect."""
+    half-width ``B/2`` (above 1: the mass past the block's edge) and, with stops, over their half-stroke
+    ``L`` (above 1: in the bumpers), the damper's effect."""
     Om, b = np.meshgrid(arrays["Omega"], arrays["beta"], indexing="ij")
     table = {"Omega": Om, "beta": b}
     signs = arrays["signs"]
@@ -339,6 +348,8 @@ def map_table(arrays: dict, half_width: float) -> dict:
                 over, impacts = arrays[f"{part}_overturned_by_sign"], arrays[f"{part}_impacts_by_sign"]
                 table[f"{part}_outcome_{SIGN_NAMES[sign]}"] = outcome(over[..., i], impacts[..., i])
     table["damper_stroke_over_half_width"] = arrays["damper_x_max"] / half_width
+    if L is not None:
+        table["damper_stroke_over_L"] = arrays["damper_x_max"] / L
     table["effect"] = arrays["effect"]
     return {k: np.ravel(v) for k, v in table.items()}
 
