@@ -123,3 +123,24 @@ def test_studies_of_an_eccentric_block_report_the_envelope(tmp_path):
     np.testing.assert_allclose(o["bare_beta_min"], s["bare_beta_min"][[1]])  # Omega = 4 is the spectrum's 2nd
     np.testing.assert_allclose(o["gain_opt"][0], s["damper_beta_min"][[1]] / s["bare_beta_min"][[1]])
     assert o["edge_opt"][0, 0] == -1  # a grid of one period: its optimum is at the edge
+
+
+@pytest.mark.parametrize(
+    ("kwargs", "message"),
+    [
+        ({"stroke": 0.1}, r"^stroke is the half-stroke of the stops: give it with stops=True"),
+        ({"stops": True, "stroke": -0.1}, r"^stroke must be in \(0, 1000\] m"),
+        ({"stops": True, "stroke": float("nan")}, r"^stroke"),
+        ({"stops": True, "stroke": "0.1"}, r"^stroke"),
+    ],
+)
+def test_a_stroke_is_refused_without_stops_or_out_of_range(kwargs, message):
+    with pytest.raises(ParameterError, match=message):
+        Tuning(**kwargs)
+
+
+def test_a_stroke_past_the_blocks_edge_is_refused_before_any_work(tmp_path):
+    with pytest.raises(ParameterError, match=r"^stroke must be in \(0, B/2\)"):
+        pulse_cases(ECCENTRIC, [2.0], [2.0], gamma=0.05, stops=True, stroke=0.3)
+    with pytest.raises(ParameterError, match=r"stroke must be in \(0, B/2\)"):
+        overturning_map(Setting(ECCENTRIC), Tuning(stops=True, stroke=0.3), OMEGA, BETA, SERIAL, runs=tmp_path)
