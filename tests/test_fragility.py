@@ -1,0 +1,72 @@
+"""Fragility fitting and incremental dynamic analysis: the statistics, on data of a known distribution."""
+
+from __future__ import annotations
+
+import numpy as np
+import pytest
+
+from rocking.model.params import ParameterError
+from rocking.study.fragility import bootstrap_band, fit_lognormal, fragility_curve, ida_summary
+
+THETA, BETA = 0.5, 0.4  # the true median (e.g. PGA in g) and dispersion
+LEVELS = np.linspace(0.1, 1.5, 15)
+
+
+def _suite(n: int, seed: int) -> np.ndarray:
+    """Motions whose capacities are lognormal(THETA, BETA): each overturns at and above its capacity."""
+    capacity = THETA * np.exp(BETA * np.random.default_rng(seed).standard_normal(n))
+    return LEVELS[None, :] >= capacity[:, None]
+
+
+def test_maximum_likelihood_recovers_a_known_lognormal():
+    """200 motions: the standard error of ln(theta) is about beta / sqrt(n) = 0.03, of beta about 0.02."""
+    fit = fit_lognormal(LEVELS, _suite(200, seed=1))
+    assert fit["status"] == "fitted"
+    assert fit["theta"] == pytest.approx(THETA, rel=0.1)
+    assert fit["beta"] == pytest.approx(BETA, rel=0.2)
+    # The fit is a maximum: moving either parameter lowers the likelihood.
+    from rocking.study.fragility import log_likelihood
+
+    data = _suite(200, seed=1)
+    best = log_likelihood(np.log(fit["theta"]), fit["beta"], LEVELS, data)
+    for dlt, db in ((0.02, 0), (-0.02, 0), (0, 0.02), (0, -0.02)):
+        assert log_likelihood(np.log(fit["theta"]) + dlt, fit["beta"] + db, LEVELS, data) < best
+
+
+def test_bootstrap_band_covers_the_true_curve():
+    x = np.linspace(0.2, 1.2, 11)
+    band = bootstrap_band(LEVELS, _suite(100, seed=2), x, resamples=100, seed=3)
+    true = fragility_curve(x, THETA, BETA)
+    assert np.mean((band["low"] <= true) & (true <= band["high"])) >= 0.8
+    assert band["theta_interval"][0] < THETA < band["theta_interval"][1]
+    assert np.all(band["low"] <= band["high"]) and band["resamples"] + band["dropped"] == 100
+
+
+def test_suites_that_never_or_always_overturn_have_no_finite_fit():
+    assert fit_lognormal(LEVELS, np.zeros((5, LEVELS.size), bool))["status"] == "none overturned"
+    assert fit_lognormal(LEVELS, np.ones((5, LEVELS.size), bool))["theta"] == 0.0
+    with pytest.raises(ParameterError, match="no resample of the suite can be fitted"):
+        bootstrap_band(LEVELS, np.zeros((5, LEVELS.size), bool), [0.5], resamples=5)
+
+
+def test_ida_reports_non_monotone_outcomes_as_they_are():
+    """A motion that overturns at 0.3, survives at 0.4 and 0.5 (a resurrection), and overturns again from 0.6."""
+    levels = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7])
+    overturned = np.array([[0, 0, 1, 0, 0, 1, 1], [0, 0, 0, 0, 0, 0, 0], [1, 1, 1, 1, 1, 1, 1]], bool)
+    s = ida_summary(levels, overturned)
+    np.testing.assert_array_equal(s["first"], [0.3, np.nan, 0.1])
+    np.testing.assert_array_equal(s["last_safe"], [0.5, 0.7, np.nan])
+    np.testing.assert_array_equal(s["reversals"], [1, 0, 0])
+
+
+@pytest.mark.parametrize(
+    ("levels", "data", "message"),
+    [
+        ([0.1, 0.2], np.zeros((3, 3), bool), r"overturned must be \(motions, levels\)"),
+        ([0.0, 0.2], np.zeros((3, 2), bool), r"intensity levels must be > 0"),
+        ([0.2, 0.1], np.zeros((3, 2), bool), r"must increase"),
+    ],
+)
+def test_bad_stripes_are_refused(levels, data, message):
+    with pytest.raises(ParameterError, match=message):
+        ida_summary(levels, data)
