@@ -93,7 +93,7 @@ SHAPES: dict[str, Callable] = {
 def sample_piece(t, dt: float, n: int):
     """Index ``k`` of the sample interval ``[k dt, (k + 1) dt)`` holding ``t``, within ``[0, n - 2]``.
 
-    ``floor(t / dt)`` corrected for the rounding of the ratio (sim.c's ``sample_piece``); a float, or an
+    ``floor(t / dt)`` corrected for the rounding of the ratio (sim.c's ``pulse_piece``); a float, or an
     array of floats for an array ``t``.
     """
     k = np.floor(np.asarray(t, dtype=float) / dt)
@@ -408,17 +408,19 @@ UNIFORM = 1e-6
 def _samples(a: object) -> np.ndarray:
     """``a`` as a 1-D float array of at least 2 finite samples; the error names the first bad index."""
     try:
-        arr = np.array(a, dtype=float).reshape(-1) if np.ndim(a) <= 1 else None
+        arr = np.asarray(a, dtype=float)
     except (TypeError, ValueError):
         raise ParameterError(f"a must be an array of numbers (got {type(a).__name__})") from None
-    if arr is None:
-        raise ParameterError(f"a must be one-dimensional (got shape {np.shape(a)})")
+    if arr.ndim != 1:
+        raise ParameterError(f"a must be one-dimensional (got shape {arr.shape})")
     if arr.size < 2:
         raise ParameterError(f"a must hold at least 2 samples (got {arr.size})")
     bad = np.flatnonzero(~np.isfinite(arr))
     if bad.size:
-        raise ParameterError(f"a must be finite: a[{bad[0]}] = {arr[bad[0]]!r}")
-    arr.setflags(write=False)  # shared by every scaled copy and by the back ends: never changed
+        raise ParameterError(f"a must be finite: a[{bad[0]}] = {float(arr[bad[0]])!r}")
+    if arr.flags.writeable:  # the caller's array, or a new one: a frozen copy; a frozen one is shared as it is
+        arr = arr.copy()
+        arr.setflags(write=False)  # shared by every scaled copy and by the back ends: never changed
     return arr
 
 
@@ -434,15 +436,15 @@ def _spacing(t: object, n: int) -> float:
         raise ParameterError(f"t must be finite: t[{np.flatnonzero(~np.isfinite(t))[0]}] is not")
     dt = (t[-1] - t[0]) / (n - 1)
     if not dt > 0.0:
-        raise ParameterError(f"t must increase (got t[0] = {t[0]!r}, t[-1] = {t[-1]!r})")
+        raise ParameterError(f"t must increase (got t[0] = {float(t[0])!r}, t[-1] = {float(t[-1])!r})")
     if abs(t[0]) > UNIFORM * dt:
-        raise ParameterError(f"t must start at 0 (got t[0] = {t[0]!r})")
+        raise ParameterError(f"t must start at 0 (got t[0] = {float(t[0])!r})")
     off = np.abs(np.diff(t) - dt)
     worst = int(np.argmax(off))
     if off[worst] > UNIFORM * dt:
         raise ParameterError(
             f"t must be uniformly spaced (to {UNIFORM:g} dt): t[{worst + 1}] - t[{worst}] = "
-            f"{t[worst + 1] - t[worst]!r}, dt = {dt!r}"
+            f"{float(t[worst + 1] - t[worst])!r}, dt = {float(dt)!r}"
         )
     return float(dt)
 
@@ -484,8 +486,8 @@ class SampledMotion:
         a = _samples(self.a)
         if (self.dt is None) == (self.t is None):
             raise ParameterError("give exactly one of dt (the sample spacing) or t (the sample times)")
-        dt = _spacing(self.t, a.size) if self.dt is None else check_in_range("dt", self.dt, "dt_samples")
-        check_in_range("dt", dt, "dt_samples")
+        dt = _spacing(self.t, a.size) if self.dt is None else check_in_range("dt", self.dt, "pulse_dt")
+        check_in_range("dt", dt, "pulse_dt")
         scale = check_real("scale", self.scale)
         if scale < 0.0:
             raise ParameterError(f"scale must be >= 0 (got {scale!r})")

@@ -10,7 +10,6 @@ reference, case by case on NumPy/SciPy). The cases of a batch share the arrays o
 
 from __future__ import annotations
 
-import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -155,7 +154,7 @@ class Cases:
                 columns[f.name] = _packed(f.name, self.settings.get(f.name), columns[f.count].astype(np.int64))
         for code in np.unique(columns["motion"]).astype(int):
             at = columns["motion"] == code
-            check_motion(FAMILIES[code], columns["n_samples"][at], columns["dt_samples"][at], columns["n_extrema"][at])
+            check_motion(FAMILIES[code], columns["n_samples"][at], columns["pulse_dt"][at], columns["n_extrema"][at])
         unknown = sorted(set(self.settings) - set(columns))
         if unknown:
             raise ParameterError(f"cases: unknown setting(s) {', '.join(unknown)}")
@@ -291,7 +290,9 @@ def pulse_cases(
     if motion != "sine" and np.any(psi != 0.0):
         raise ParameterError(f"psi is the phase of the one-sine pulse: not of motion {motion!r}")
     if motion == "mp":
-        gamma_mp = check_in_range("gamma_mp", gamma_mp if gamma_mp is not None else math.nan)
+        if gamma_mp is None:
+            raise ParameterError("motion 'mp' needs gamma_mp, its oscillations (> 1)")
+        gamma_mp = check_in_range("gamma_mp", gamma_mp)
         nu = check_in_range("nu", nu, "psi", label="[0, 2 pi)")
     elif gamma_mp is not None or nu != 0.0:
         raise ParameterError(f"gamma_mp and nu shape the Mavroeidis-Papageorgiou pulse: not motion {motion!r}")
@@ -358,7 +359,7 @@ def sampled_cases(
         "omega_g": 0.0,
         "psi": 0.0,
         "t_p": motion.t_p,
-        "dt_samples": motion.dt,
+        "pulse_dt": motion.dt,
         "n_samples": motion.n,
         "samples": motion.a,
     }

@@ -187,7 +187,7 @@ class _System:
         p = self.problem
         a_g = float(p.a_g)
         if self.family == "sampled":
-            samples, dt = p.samples, float(p.dt_samples)
+            samples, dt = p.samples, float(p.pulse_dt)
             k = sample_piece(t0, dt, p.n_samples)
             return lambda t: a_g * float(interpolate(samples, dt, k, t))
         shape, omega_g, phase, t_c, gamma = SHAPES[self.family], float(p.omega_g), float(p.psi), p.t_c, p.shape
@@ -941,7 +941,7 @@ def periodic_extremum(w: float, phase: float, t: float) -> float:
     """The first extremum of a periodic shape after ``t``: ``w t + phase = pi/2 + k pi``.
 
     The one-sine has ``phase = psi``, the one-cosine ``pi / 2``. The same
-    operations as sim.c's ``periodic_extremum``.
+    operations as sim.c's ``next_periodic_extremum``.
     """
     k = (w * t + phase - math.pi / 2) / math.pi
     k = float(math.ceil(k) if w > 0.0 else math.floor(k))
@@ -975,7 +975,7 @@ def next_sample(problem: Problem, t: float) -> float:
     """The first sample time of a sampled motion after ``t`` (``inf`` for an analytic one): a kink of ``ag``."""
     if FAMILIES[problem.motion] != "sampled":
         return math.inf
-    dt = float(problem.dt_samples)
+    dt = float(problem.pulse_dt)
     return (sample_piece(t, dt, problem.n_samples) + 1.0) * dt
 
 

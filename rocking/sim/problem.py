@@ -137,14 +137,14 @@ def _series(name: str, value, count: int) -> np.ndarray | None:
     return a
 
 
-def check_motion(family: str, n_samples, dt_samples, n_extrema) -> None:
+def check_motion(family: str, n_samples, pulse_dt, n_extrema) -> None:
     """What a motion's family needs besides its fields' ranges (broadcasts over a batch's columns).
 
-    A sampled motion needs at least 2 samples and ``dt_samples > 0``; a listed family (Ricker,
+    A sampled motion needs at least 2 samples and ``pulse_dt > 0``; a listed family (Ricker,
     Mavroeidis-Papageorgiou) its extrema.
     """
-    if family == "sampled" and np.any((np.asarray(n_samples) < 2) | ~(np.asarray(dt_samples) > 0)):
-        raise ParameterError("a sampled motion needs n_samples >= 2 samples and dt_samples > 0")
+    if family == "sampled" and np.any((np.asarray(n_samples) < 2) | ~(np.asarray(pulse_dt) > 0)):
+        raise ParameterError("a sampled motion needs n_samples >= 2 samples and pulse_dt > 0")
     if family in ("ricker", "ricker_anti", "mp") and np.any(np.asarray(n_extrema) < 1):
         raise ParameterError(f"a {family} motion needs its extrema (n_extrema >= 1)")
 
@@ -159,7 +159,7 @@ def _problem_post_init(self) -> None:
     for f in CASE:
         if f.kind == SERIES:
             object.__setattr__(self, f.name, _series(f.name, getattr(self, f.name), getattr(self, f.count)))
-    check_motion(FAMILIES[self.motion], self.n_samples, self.dt_samples, self.n_extrema)
+    check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
     p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
     if p.shape != (len(self.model.parameters),):
         raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
@@ -172,7 +172,7 @@ def ground_shape(problem, t):
     """``f(t)`` of the problem's motion (docs/model.md section 12), vectorised, on its whole definition."""
     family = FAMILIES[problem.motion]
     if family == "sampled":
-        dt, samples = problem.dt_samples, problem.samples
+        dt, samples = problem.pulse_dt, problem.samples
         return interpolate(samples, dt, sample_piece(t, dt, problem.n_samples), t)
     return SHAPES[family](t, problem.omega_g, problem.psi, problem.t_c, problem.shape, np)
 
@@ -456,7 +456,7 @@ def motion_settings(motion) -> dict:
         "t_p": motion.t_p,
         "n_extrema": 0 if extrema is None else len(extrema),
         "extrema": extrema,
-        "dt_samples": motion.dt,
+        "pulse_dt": motion.dt,
         "n_samples": 0 if samples is None else len(samples),
         "samples": samples,
     }

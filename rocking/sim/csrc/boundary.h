@@ -45,9 +45,9 @@ typedef struct rocking_case {
     double t_p; /* end of the motion, a breakpoint of the integration [s] */
     int64_t n_extrema; /* number of listed extrema */
     const double *extrema; /* extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou) [rad] */
-    double dt_samples; /* spacing of a sampled motion's samples (0 otherwise) [s] */
+    double pulse_dt; /* spacing of a sampled motion's samples (0 otherwise) [s] */
     int64_t n_samples; /* number of samples of a sampled motion (0 otherwise) */
-    const double *samples; /* samples a_k at k dt_samples: f linear between them [m/s^2] */
+    const double *samples; /* samples a_k at k pulse_dt: f linear between them [m/s^2] */
     double t_max; /* end of the run if nothing ends it first [s] */
     double rtol; /* relative tolerance of the integrator */
     const double *atol; /* absolute tolerance of each state component [state units] */
@@ -77,7 +77,7 @@ typedef struct rocking_result {
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(dt_samples) X(n_samples) X(samples) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
+#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
 
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
 

@@ -90,7 +90,7 @@ static const double *about(const constants *k, double s)
 
 /* f(t) of an analytic motion (docs/model.md section 12), the operations of
  * rocking/model/motion.py's SHAPES, so that both back ends see the same bits. */
-static double analytic_shape(const rocking_case *c, double t)
+static double pulse_shape(const rocking_case *c, double t)
 {
     switch (c->motion) {
     case ROCKING_MOTION_SINE:
@@ -116,9 +116,9 @@ static double analytic_shape(const rocking_case *c, double t)
 
 /* The sample interval [k dt, (k + 1) dt) holding t, k within [0, n - 2]:
  * floor(t / dt) corrected for the rounding of the ratio (motion.py's sample_piece). */
-static double sample_piece(const rocking_case *c, double t)
+static double pulse_piece(const rocking_case *c, double t)
 {
-    const double dt = c->dt_samples;
+    const double dt = c->pulse_dt;
     double k = floor(t / dt);
     if ((k + 1.0) * dt <= t)
         k += 1.0;
@@ -131,18 +131,18 @@ static double sample_piece(const rocking_case *c, double t)
 static double interpolate(const rocking_case *c, double k, double t)
 {
     const int64_t i = (int64_t)k;
-    return c->samples[i] + (c->samples[i + 1] - c->samples[i]) * ((t - k * c->dt_samples) / c->dt_samples);
+    return c->samples[i] + (c->samples[i + 1] - c->samples[i]) * ((t - k * c->pulse_dt) / c->pulse_dt);
 }
 
 /* a_g f(t) on [0, t_p], a sampled motion on the piece holding t (the history,
  * the start of a contact phase). */
-static double motion_at(const rocking_case *c, double t)
+static double pulse_at(const rocking_case *c, double t)
 {
     if (!(t >= 0.0 && t <= c->t_p))
         return 0.0;
     if (c->motion == ROCKING_MOTION_SAMPLED)
-        return c->a_g * interpolate(c, sample_piece(c, t), t);
-    return c->a_g * analytic_shape(c, t);
+        return c->a_g * interpolate(c, pulse_piece(c, t), t);
+    return c->a_g * pulse_shape(c, t);
 }
 
 /* One phase's right-hand side: y' = (dq, accelerations of the phase). */
@@ -164,7 +164,7 @@ static double ode_ag(const ode *o, double t)
         return 0.0;
     if (o->c->motion == ROCKING_MOTION_SAMPLED)
         return o->c->a_g * interpolate(o->c, o->piece, t);
-    return o->c->a_g * analytic_shape(o->c, t);
+    return o->c->a_g * pulse_shape(o->c, t);
 }
 
 static void ode_rhs(const ode *o, double t, const double *y, double *dy)
@@ -851,7 +851,7 @@ static void record(run *r, double t, const double *y, int phase)
         h->t[r->n_rec] = t;
         memcpy(h->y + r->n_rec * NY, y, NY * sizeof *y);
         h->phase[r->n_rec] = phase;
-        h->ag[r->n_rec] = motion_at(r->c, t);
+        h->ag[r->n_rec] = pulse_at(r->c, t);
     }
     ++r->n_rec;
     r->last_t = t;
@@ -1014,7 +1014,7 @@ static int run_segment(run *r, double t_bound)
     r->o.phase = r->phase;
     r->o.pulse_on = r->t < r->c->t_p;
     if (sampled)
-        r->o.piece = sample_piece(r->c, r->t);
+        r->o.piece = pulse_piece(r->c, r->t);
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
@@ -1032,8 +1032,8 @@ static int run_segment(run *r, double t_bound)
     while (r->d.t < t_bound) {
         double step_bound = t_bound;
         if (sampled) {
-            r->o.piece = sample_piece(r->c, r->d.t);
-            step_bound = fmin(t_bound, (r->o.piece + 1.0) * r->c->dt_samples);
+            r->o.piece = pulse_piece(r->c, r->d.t);
+            step_bound = fmin(t_bound, (r->o.piece + 1.0) * r->c->pulse_dt);
         }
         if (dopri_step(&r->d, &r->o, &r->tol, step_bound, max_step) != 0)
             return over_budget(r) ? segment_undone(r, &saved) : SEG_FAILED;
@@ -1078,7 +1078,7 @@ static int run_segment(run *r, double t_bound)
 /* Pivot whose uplift function is already positive when full contact starts, else 0. */
 static int uplift_at_start(const run *r)
 {
-    const double ag = r->t < r->c->t_p ? motion_at(r->c, r->t) : 0.0;
+    const double ag = r->t < r->c->t_p ? pulse_at(r->c, r->t) : 0.0;
     if (model_uplift_prepared(r->y, ag, about(r->o.k, 1.0)) > 0.0)
         return 1;
     if (model_uplift_prepared(r->y, ag, about(r->o.k, -1.0)) > 0.0)
@@ -1191,7 +1191,7 @@ static void impact(run *r)
 /* The first extremum of a periodic shape after t: omega_g t + phase = pi/2 + k pi
  * (the one-sine: phase psi; the one-cosine: phase pi/2). The same operations
  * as numpy_backend.periodic_extremum. */
-static double periodic_extremum(double w, double phase, double t)
+static double next_periodic_extremum(double w, double phase, double t)
 {
     double k;
     int i;
@@ -1219,9 +1219,9 @@ static double next_extremum(const rocking_case *c, double t)
         return INFINITY;
     switch (c->motion) {
     case ROCKING_MOTION_SINE:
-        return periodic_extremum(w, c->psi, t);
+        return next_periodic_extremum(w, c->psi, t);
     case ROCKING_MOTION_COSINE:
-        return periodic_extremum(w, HALF_PI, t);
+        return next_periodic_extremum(w, HALF_PI, t);
     case ROCKING_MOTION_SAMPLED:
         return INFINITY;
     default:
@@ -1376,14 +1376,14 @@ static int initial_state(const rocking_case *c, double *y, int *phase)
 }
 
 /* What the motion's family reads is there (rocking.sim.problem checks it before a call). */
-static int motion_valid(const rocking_case *c)
+static int pulse_valid(const rocking_case *c)
 {
     if (c->motion < ROCKING_MOTION_SINE || c->motion > ROCKING_MOTION_SAMPLED)
         return 0;
     if (c->n_extrema < 0 || (c->n_extrema > 0 && c->extrema == NULL))
         return 0;
     if (c->motion == ROCKING_MOTION_SAMPLED)
-        return c->samples != NULL && c->n_samples >= 2 && c->dt_samples > 0.0;
+        return c->samples != NULL && c->n_samples >= 2 && c->pulse_dt > 0.0;
     return 1;
 }
 
@@ -1439,7 +1439,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.last_t = 0.0;
     r.last_phase = 0;
     r.next_sample = 0.0;
-    if (!motion_valid(c) || initial_state(c, r.y, &r.phase) != 0)
+    if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_regime(&k, stop_on);
