@@ -49,14 +49,30 @@ def build_functions():
 
 def simulate(funcs, params, a_g, omega_g, t_after=15.0, rtol=1e-8, atol=1e-10, rest=1e-4):
     """Overturned or not, and the number of impacts, for one one-sine pulse."""
-    rocking, uplift, impact = funcs
-    M, I_G, B, H, e, g, m, h, k, c = params
     t_p = 2 * np.pi / omega_g
-    t_end = t_p + t_after
 
     def ag(t):
         return a_g * np.sin(omega_g * t) if t <= t_p else 0.0
 
+    return simulate_motion(funcs, params, ag, t_p, t_p / 64, t_after, rtol, atol, rest)
+
+
+def simulate_record(funcs, params, a, dt, scale, t_after=15.0, rtol=1e-8, atol=1e-10, rest=1e-4):
+    """The same for a sampled record ``scale a`` (spacing ``dt``), interpolated with ``np.interp``."""
+    t_rec = np.arange(len(a)) * dt
+
+    def ag(t):
+        return scale * np.interp(t, t_rec, a, right=0.0)
+
+    return simulate_motion(funcs, params, ag, t_rec[-1], dt, t_after, rtol, atol, rest)
+
+
+def simulate_motion(funcs, params, ag, t_p, max_step, t_after=15.0, rtol=1e-8, atol=1e-10, rest=1e-4):
+    """Overturned or not, and the number of impacts, under the ground acceleration ``ag(t)`` that ends at ``t_p``
+    (full contact steps at most ``max_step`` while it acts)."""
+    rocking, uplift, impact = funcs
+    M, I_G, B, H, e, g, m, h, k, c = params
+    t_end = t_p + t_after
     t, y, pivot, impacts = 0.0, np.zeros(4), 0, 0
     while t < t_end - 1e-12:
         if pivot == 0:
@@ -73,7 +89,7 @@ def simulate(funcs, params, a_g, omega_g, t_after=15.0, rtol=1e-8, atol=1e-10, r
             up_a.terminal = up_ap.terminal = True
             up_a.direction = up_ap.direction = 1
             t1 = t_p if t < t_p else t_end
-            sol = solve_ivp(contact, (t, t1), y, events=[up_a, up_ap], rtol=rtol, atol=atol, max_step=t_p / 64)
+            sol = solve_ivp(contact, (t, t1), y, events=[up_a, up_ap], rtol=rtol, atol=atol, max_step=max_step)
             t, y = sol.t[-1], sol.y[:, -1]
             if sol.status == 1:
                 pivot = 1 if sol.t_events[0].size else -1

@@ -6,6 +6,10 @@ rtol = 1e-8, each response followed until overturning, rest, or 15 s after the
 pulse). The C path runs the whole map; the NumPy path and the baseline (SymPy
 lambdify + solve_ivp, bench/baseline.py) run the same random subset of it.
 Figures are ratios measured in this run: the machine is shared and noisy.
+
+The record bench: a 20 s synthetic record sampled at 0.005 s (4,000 intervals: band-passed
+noise from a fixed seed under a trapezoidal envelope, peak 0.3 g) on the same block and damper
+at 50 scales (an incremental dynamic analysis), C against the baseline with ``np.interp``.
 """
 
 from __future__ import annotations
@@ -22,8 +26,8 @@ sys.path.insert(0, os.path.dirname(__file__))
 
 import baseline  # noqa: E402
 
-from rocking import Block  # noqa: E402
-from rocking.sim.cases import pulse_cases, run_cases  # noqa: E402
+from rocking import Block, SampledMotion  # noqa: E402
+from rocking.sim.cases import pulse_cases, run_cases, sampled_cases  # noqa: E402
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
 
@@ -87,6 +91,51 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
         "speedup_c_vs_baseline": base_per / c_per,
         "subset": int(n_subset),
         "verdicts_c_eq_numpy": int(np.sum(c_res["overturned"][pick] == np.array(np_over))),
+        "verdicts_c_eq_baseline": int(np.sum(c_res["overturned"][pick] == np.array(base_over))),
+        "overturned_fraction": float(np.mean(c_res["overturned"])),
+    }
+
+
+def record_motion(seed: int = 2026, duration: float = 20.0, dt: float = 0.005, pga_g: float = 0.3) -> SampledMotion:
+    """The bench record: white noise band-passed to 0.5 - 5 Hz (Butterworth, order 4) under an envelope
+    rising over 2 s, strong for 8 s and decaying to 20 s, scaled to a peak of ``pga_g`` g."""
+    from scipy.signal import butter, sosfilt
+
+    t = np.arange(int(round(duration / dt)) + 1) * dt
+    noise = np.random.default_rng(seed).standard_normal(t.size)
+    band = sosfilt(butter(4, [0.5, 5.0], btype="bandpass", fs=1 / dt, output="sos"), noise)
+    envelope = np.clip(t / 2.0, 0, 1) * np.where(t < 10.0, 1.0, np.exp(-(t - 10.0) / 3.0))
+    return SampledMotion(band * envelope, dt=dt).scaled_to_pga(pga_g * 9.81)
+
+
+def bench_record(n_scales: int, n_baseline: int) -> dict:
+    """An IDA of the bench record: C responses per second per core over ``n_scales`` scales (0.1 - 2.5 of
+    the record), and the baseline on ``n_baseline`` of them."""
+    block = Block.reference()
+    motion = record_motion()
+    scales = np.linspace(0.1, 2.5, n_scales)
+    cases = sampled_cases(block, motion, scales, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS)
+    run_cases(sampled_cases(block, motion, [0.1], gamma=GAMMA, h=H_MASS, t_after=0.1), "c")  # build and load first
+    runs = [cpu_timed(run_cases, cases, "c", 1) for _ in range(3)]
+    c_res, c_time, c_cpu = min(runs, key=lambda r: r[1])
+    funcs = baseline.build_functions()
+    pick = np.linspace(0, n_scales - 1, n_baseline).astype(int)
+    base_over, base_time = [], 0.0
+    for i in pick:
+        (over, _), dt = timed(baseline.simulate_record, funcs, tuple(cases.p[i]), motion.a, motion.dt,
+                              motion.scale * scales[i])  # fmt: skip
+        base_over.append(over)
+        base_time += dt
+    c_per, base_per = c_time / len(cases), base_time / n_baseline
+    return {
+        "record": f"{motion.t_p:g} s at {motion.dt:g} s ({motion.n} samples), peak {motion.pga / 9.81:.2f} g",
+        "responses": len(cases),
+        "c_responses_per_s_per_core": len(cases) / c_time,
+        "c_responses_per_cpu_s": len(cases) / c_cpu,
+        "c_ms_per_response": 1e3 * c_per,
+        "baseline_ms_per_response": 1e3 * base_per,
+        "speedup_c_vs_baseline": base_per / c_per,
+        "baseline_subset": int(n_baseline),
         "verdicts_c_eq_baseline": int(np.sum(c_res["overturned"][pick] == np.array(base_over))),
         "overturned_fraction": float(np.mean(c_res["overturned"])),
     }
@@ -173,6 +222,8 @@ def main(argv=None) -> int:
     parser.add_argument("--seed", type=int, default=0)
     parser.add_argument("--map-grid", type=int, default=200, help="side of the map timed with 1 and 2 workers")
     parser.add_argument("--memory-grid", type=int, default=400, help="side of the map whose peak memory is measured")
+    parser.add_argument("--record-scales", type=int, default=50, help="scales of the record bench (C path)")
+    parser.add_argument("--record-subset", type=int, default=6, help="scales of the record run on the baseline")
     parser.add_argument("--json", help="also write the figures to this file")
     parser.add_argument("--no-studies", action="store_true", help="only the simulator")
     args = parser.parse_args(argv)
@@ -188,6 +239,13 @@ def main(argv=None) -> int:
     print(f"C is {sim['speedup_c_vs_baseline']:.0f}x faster (target >= 300)")
     print(f"  verdicts on {sim['subset']} cases: C = NumPy {sim['verdicts_c_eq_numpy']}, ", end="")
     print(f"C = baseline {sim['verdicts_c_eq_baseline']}")
+    rec = results["record"] = bench_record(args.record_scales, args.record_subset)
+    print(f"record, {rec['record']}, {rec['responses']} scales ({rec['overturned_fraction']:.0%} overturn):")
+    print(f"  C path        {rec['c_responses_per_s_per_core']:10.0f} responses/s/core  ", end="")
+    print(f"({rec['c_ms_per_response']:.2f} ms/response)")
+    print(f"  baseline      {rec['baseline_ms_per_response']:10.2f} ms/response   ", end="")
+    print(f"C is {rec['speedup_c_vs_baseline']:.0f}x faster (target >= 300); ", end="")
+    print(f"verdicts C = baseline on {rec['verdicts_c_eq_baseline']} of {rec['baseline_subset']}")
     stops = results["stops"] = bench_stops(args.grid)
     print(
         f"  stops at the edges: {stops['stops_over_free_time']:.2f}x the time per response of the unlimited damper "

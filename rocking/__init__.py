@@ -4,7 +4,7 @@ The equations come from SymPy (:mod:`rocking.derive`) as generated NumPy and C
 code (:mod:`rocking.generated`); this package is the runtime around them,
 one subpackage per layer:
 
-- :mod:`rocking.model`: the generated models, the block and its damper, the pulse;
+- :mod:`rocking.model`: the generated models, the block and its damper, the ground motions;
 - :mod:`rocking.sim`: one response, on the C or the NumPy/SciPy back end;
 - :mod:`rocking.study`: overturning maps, spectra, the optimal damper, the design answer and the threshold
   frequency across geometries, in tiles, over both directions of the pulse;
@@ -25,6 +25,7 @@ Examples
 """
 
 from .model.loading import Model, ModelError, available_models, load_model
+from .model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion
 from .model.params import Block, Damper, ParameterError, Stops
 from .model.pulse import OneSinePulse
 from .sim.cbuild import CBuildError
@@ -47,11 +48,15 @@ __all__ = [
     "Execution",
     "Grid",
     "Interrupted",
+    "MavroeidisPapageorgiou",
     "Model",
     "ModelError",
+    "OneCosinePulse",
     "OneSinePulse",
     "ParameterError",
     "Response",
+    "RickerWavelet",
+    "SampledMotion",
     "Setting",
     "SimulationError",
     "Stops",

@@ -208,3 +208,45 @@ def test_batch_stops_are_refused_where_the_pads_do_not_fit():
     """pulse_cases(stops=True) on a block narrower than the pads: a one-line error naming L and its range."""
     with pytest.raises(rocking.ParameterError, match=r"gives L = -0.005.*but L must be in \(0, 1000\] m"):
         pulse_cases(Block(H=0.1, B=0.03, M=1.0), [2.0], [2.0], gamma=0.05, stops=True)
+
+
+#: Random cases per family of docs/model.md section 12 beyond the one-sine.
+N_MOTION_CASES = 16
+
+
+def random_motion(rng: np.random.Generator, family: str, block: Block, beta: float, Omega: float):
+    """A motion of ``family`` with amplitude ratio ``beta`` and frequency ratio ``Omega`` (a record: its mean)."""
+    if family == "sampled":
+        dt = 2 * math.pi / (Omega * block.p) / rng.integers(12, 40)
+        a = np.convolve(rng.standard_normal(rng.integers(60, 200)), np.hanning(7), "same")
+        return rocking.SampledMotion(a / np.max(np.abs(a)), dt=dt, scale=beta * block.g * block.tan_alpha)
+    cls, shape = {
+        "cosine": (rocking.OneCosinePulse, {}),
+        "ricker": (rocking.RickerWavelet, {}),
+        "ricker_anti": (rocking.RickerWavelet, {"antisymmetric": True}),
+        "mp": (rocking.MavroeidisPapageorgiou, {"gamma": rng.uniform(1.5, 3.0), "nu": rng.uniform(0, 2 * math.pi)}),
+    }[family]
+    return cls.from_nondim(block, beta=beta, Omega=Omega, sign=int(rng.choice([-1, 1])), **shape)
+
+
+@pytest.mark.parametrize("family", ["cosine", "ricker", "ricker_anti", "mp", "sampled"])
+def test_back_ends_agree_on_random_cases_of_every_motion(family):
+    """C = NumPy on random blocks, dampers and motions of each family: verdict, impacts, theta_max, x_max."""
+    rng = np.random.default_rng(["cosine", "ricker", "ricker_anti", "mp", "sampled"].index(family))
+    # A sampled motion's steps differ between the back ends (C clamps them to the sample times, NumPy restarts
+    # a segment there): they agree to the global error (rtol 1e-8: a few 1e-6 on x_max at overturning).
+    rel = 1e-5 if family == "sampled" else 1e-6
+    same_verdict, compared = 0, 0
+    for i in range(N_MOTION_CASES):
+        block, damper, _, beta, Omega = random_case(rng, i)
+        motion = random_motion(rng, family, block, beta / 2 if family == "sampled" else beta, Omega)
+        problem = make_problem(block, damper, motion, rtol=1e-8, t_after=4.0)
+        c, n = c_backend.simulate(problem), numpy_backend.simulate(problem)
+        same_verdict += c.overturned == n.overturned
+        if c.overturned != n.overturned or c.impacts != n.impacts:
+            continue
+        compared += 1
+        assert c.theta_max == pytest.approx(n.theta_max, rel=rel), (i, family)
+        assert c.x_max == pytest.approx(n.x_max, rel=rel, abs=1e-9), (i, family)
+        assert c.uplifts == n.uplifts, (i, family)
+    assert same_verdict >= N_MOTION_CASES - 1 and compared >= N_MOTION_CASES * 3 // 4, (same_verdict, compared)

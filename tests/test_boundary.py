@@ -19,7 +19,7 @@ import pytest
 from rocking import Block, OneSinePulse, ParameterError
 from rocking.sim import boundary, numpy_backend
 from rocking.sim import c_backend as cb
-from rocking.sim.boundary import CASE, CONSTANTS, FAILED, PHASES, RESULT, STATUSES, STOPPED, Field
+from rocking.sim.boundary import CASE, CONSTANTS, FAILED, MOTIONS, PHASES, RESULT, STATUSES, STOPPED, Field
 from rocking.sim.problem import (
     CONTACT,
     PIVOT_A,
@@ -70,11 +70,14 @@ def test_the_header_declares_the_tables_in_their_order():
     assert _x_macro(header, "ROCKING_CASE_FIELDS") == CASE_NAMES
     assert _x_macro(header, "ROCKING_RESULT_FIELDS") == RESULT_NAMES
     codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, STOPPED, *PHASES)]
+    codes += [f"ROCKING_MOTION_{c.name.upper()}" for c in MOTIONS]
     assert _x_macro(header, "ROCKING_CONSTANTS") == [f"ROCKING_{c.name}" for c in CONSTANTS] + codes
     for c in CONSTANTS:
         assert float(re.search(rf"#define ROCKING_{c.name} (\S+)", header).group(1)) == c.value
     for c in (*STATUSES, FAILED, STOPPED, *PHASES):
         assert int(re.search(rf"ROCKING_{c.name.upper()} = (-?\d+),", header).group(1)) == c.value
+    for c in MOTIONS:
+        assert int(re.search(rf"ROCKING_MOTION_{c.name.upper()} = (-?\d+),", header).group(1)) == c.value
     assert re.search(r"#define ROCKING_SIM_API_VERSION (\d+)", header).group(1) == str(boundary.API_VERSION)
 
 
@@ -107,7 +110,7 @@ def test_codes():
     assert FAILED.value != STOPPED.value
     assert (CONTACT, PIVOT_A, PIVOT_A_PRIME) == (0, 1, -1) == tuple(c.value for c in PHASES)
     assert boundary.constant_values() == tuple(
-        float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES)
+        float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES, *MOTIONS)
     )
     assert len({f.name for f in (*CASE, *RESULT)}) == len(CASE) + len(RESULT)
 
@@ -134,7 +137,8 @@ def test_the_numpy_back_end_s_constants_are_the_table_s():
 # --------------------------------------------------------------------------- #
 
 _CTYPE = {boundary.DOUBLE: ctypes.c_double, boundary.INT64: ctypes.c_int64, boundary.INT32: ctypes.c_int32}
-_NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32, boundary.DOUBLES: np.uintp}
+_NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32, boundary.DOUBLES: np.uintp,
+          boundary.SERIES: np.uintp}
 
 
 @pytest.mark.parametrize(
@@ -147,7 +151,7 @@ def test_ctypes_structures_and_numpy_records_have_the_tables_fields(table, struc
     assert [name for name, _ in structure._fields_] == names
     assert list(record.names) == names
     for f, (_, ctype) in zip(table, structure._fields_):
-        if f.kind == boundary.DOUBLES:
+        if f.kind in (boundary.DOUBLES, boundary.SERIES):
             assert ctype == ctypes.POINTER(ctypes.c_double), f.name
         else:
             assert ctype == _CTYPE[f.kind], f.name

@@ -54,6 +54,23 @@ def test_simulate_sign_is_the_pulses_sign(capsys):
     assert main([*argv, "--sign", "0"]) == 2
 
 
+@pytest.mark.parametrize("pulse, motion", [
+    (["--pulse", "ricker-anti"], lambda b: rocking.RickerWavelet.from_nondim(b, beta=3, Omega=4, antisymmetric=True)),
+    (["--pulse", "mp", "--gamma-mp", "2", "--nu", "0.5", "--sign", "-1"],
+     lambda b: rocking.MavroeidisPapageorgiou.from_nondim(b, beta=3, Omega=4, gamma=2.0, nu=0.5, sign=-1)),
+])  # fmt: skip
+def test_simulate_pulse_is_the_family_of_the_python_api(capsys, pulse, motion):
+    """--pulse FAMILY with its shape options is that family's from_nondim; shape options of another are refused."""
+    assert main(["simulate", "--no-damper", "--beta", "3", "--Omega", "4", *pulse, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    block = Block.reference()
+    expected = rocking.simulate(block, None, motion(block))
+    assert json.dumps(out["responses"]["block alone"], sort_keys=True) == json.dumps(expected.summary(), sort_keys=True)
+    for bad in (["--pulse", "cosine", "--psi", "1"], ["--pulse", "mp"], ["--gamma-mp", "2"]):
+        assert main(["simulate", "--beta", "3", "--Omega", "4", *bad]) == 2
+        assert len(capsys.readouterr().err.strip().splitlines()) == 1
+
+
 def test_simulate_with_only_H_B_M_is_rocking_simulate_of_the_same_block(capsys):
     """e and h not given: the Python defaults (0), not the reference block's (the 344 differing verdicts)."""
     argv = ["simulate", "--H", "1.8", "--B", "0.45", "--M", "300", "--gamma", "0.05", "--omega-ratio", "1"]

@@ -1151,3 +1151,61 @@ def test_a_function_that_only_touches_zero_fires_no_event(backend):
     still = OneSinePulse(a_g=0.0, omega_g=1.0)
     r = simulate(backend, make_problem(block, None, still, t_after=0.5, energy_rest=0.0, early_rest=False))
     assert (r.status, r.t_end) == ("t_max", still.t_p + 0.5)
+
+
+# =========================================================================== #
+# Other ground motions (docs/model.md section 12; rules 1 and 3)               #
+# =========================================================================== #
+
+
+def _record(block: Block) -> rocking.SampledMotion:
+    """A short record: a smoothed random series of 160 samples, 2 pi / p / 40 apart, peak 1.6 g tan(alpha)."""
+    rng = np.random.default_rng(11)
+    a = np.convolve(rng.standard_normal(160), np.hanning(9), "same")
+    return rocking.SampledMotion(a / np.max(np.abs(a)) * 1.6 * block.g * block.tan_alpha, dt=2 * np.pi / block.p / 40)
+
+
+#: One motion of each family beyond the one-sine, on the reference block, strong enough to rock it.
+MOTIONS = {
+    "cosine": lambda b: rocking.OneCosinePulse.from_nondim(b, beta=2.5, Omega=5.0),
+    "ricker": lambda b: rocking.RickerWavelet.from_nondim(b, beta=3.0, Omega=4.0),
+    "ricker_anti": lambda b: rocking.RickerWavelet.from_nondim(b, beta=3.0, Omega=4.0, antisymmetric=True),
+    "mp": lambda b: rocking.MavroeidisPapageorgiou.from_nondim(b, beta=3.0, Omega=4.0, gamma=2.0, nu=0.6),
+    "sampled": _record,
+}
+
+
+@pytest.mark.parametrize("family", list(MOTIONS))
+def test_mirror_symmetry_of_every_motion(backend, family):
+    """docs/model.md 10.6 for every family: (e, x, theta, ag) -> (-e, -x, -theta, -ag) mirrors the response;
+    the history's ag is the motion's (rule 3: its end t_p is a row)."""
+    problem = make_problem(REFERENCE, DAMPER, MOTIONS[family](REFERENCE), t_after=3.0)
+    p = problem.p.copy()
+    p[list(problem.model.parameters).index("e")] *= -1
+    mirror = dataclasses.replace(problem, p=p, a_g=-problem.a_g)
+    a, b = simulate(backend, problem, record=True), simulate(backend, mirror, record=True)
+    assert a.uplifts >= 1 and a.impacts >= 1
+    _assert_mirrored(a, b, problem.model.state)
+    check_history(a, problem)
+
+
+@pytest.mark.parametrize("family", ["ricker", "mp"])
+def test_a_brief_uplift_of_a_wavelet_is_not_stepped_over(backend, family):
+    """Rules 1 and 3: the contact phase stops at the extrema of ag (the listed ones of a Ricker wavelet and of the
+    Mavroeidis-Papageorgiou pulse), so a peak 1e-6 above the uplift threshold of the bare symmetric block
+    (docs/model.md 10.2: |ag| > g tan(alpha)) lifts it, within the short window around that peak."""
+    block = Block(H=2.0, B=0.5, M=1000.0)
+    threshold = block.g * block.tan_alpha
+    unit = (rocking.RickerWavelet(1.0, block.p) if family == "ricker"
+            else rocking.MavroeidisPapageorgiou(1.0, block.p, gamma=2.5, nu=0.3))  # fmt: skip
+    t = np.linspace(0.0, unit.t_p, 400_001)
+    f = unit.acceleration(t)
+    k = int(np.argmax(np.abs(f)))
+    peak, t_peak = abs(f[k]), t[k]
+    motion = dataclasses.replace(unit, a_g=threshold * (1 + 1e-6) / peak)
+    problem = make_problem(block, None, motion, rtol=1e-8, max_events=1)
+    window = 2 * math.sqrt(2e-6 / (abs(np.gradient(np.gradient(f, t), t)[k]) / peak))  # f ~ peak (1 - c (t - t_k)^2)
+    assert window < 0.05 * problem.contact_max_step  # steps of contact_max_step alone would step over it
+    r = simulate(backend, problem)
+    assert (r.status, r.uplifts) == ("max_events", 1)
+    assert abs(r.t_end - t_peak) < window + 2 * (t[1] - t[0])

@@ -15,6 +15,7 @@ import sys
 
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
+from ..model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet
 from ..model.params import Damper, ParameterError
 from ..model.pulse import OneSinePulse
 from ..sim.cbuild import CBuildError
@@ -112,20 +113,53 @@ def _damper(args, block) -> Damper | dict | None:
     return None
 
 
-def _pulse(args, block) -> OneSinePulse:
-    """The pulse of the options: SI (OneSinePulse) or relative to the block (OneSinePulse.from_nondim)."""
-    si, nondim, psi = given(args, ("a_g", "omega_g")), given(args, ("beta", "Omega")), given(args, ("psi", "sign"))
+#: The pulses of ``--pulse``: the family's class and its fixed arguments (docs/model.md section 12).
+PULSES = {
+    "sine": (OneSinePulse, {}),
+    "cosine": (OneCosinePulse, {}),
+    "ricker": (RickerWavelet, {}),
+    "ricker-anti": (RickerWavelet, {"antisymmetric": True}),
+    "mp": (MavroeidisPapageorgiou, {}),
+}
+#: The shape options of each family besides --sign (their dests), and the class's parameter each sets.
+SHAPE_OPTIONS = {"sine": {"psi": "psi"}, "mp": {"gamma_mp": "gamma", "nu": "nu"}}
+
+
+def _pulse(args, block):
+    """The pulse of the options: its family (--pulse), SI (the class) or relative to the block (its from_nondim)."""
+    si, nondim = given(args, ("a_g", "omega_g")), given(args, ("beta", "Omega"))
+    family = args.pulse or "sine"
+    cls, fixed = PULSES[family]
+    own = SHAPE_OPTIONS.get(family, {})
+    foreign = given(args, [k for options in SHAPE_OPTIONS.values() for k in options if k not in own])
+    if foreign:
+        raise ParameterError(f"{flags(foreign)}: not an option of --pulse {family}")
+    if family == "mp" and args.gamma_mp is None:
+        raise ParameterError("--pulse mp needs --gamma-mp too (its oscillations, > 1)")
+    shape = {**fixed, **{own[k]: v for k, v in given(args, own).items()}, **given(args, ("sign",))}
     if si and nondim:
         raise ParameterError("give the pulse as --beta and --Omega, or in SI as --a-g and --omega-g, not both")
     if si:
-        return call_with(OneSinePulse, {**si, **psi}, "a pulse in SI")
+        return call_with(cls, {**si, **shape}, "a pulse in SI")
     if not nondim:
         raise ParameterError("a pulse is needed: --beta and --Omega, or --a-g and --omega-g")
-    return call_with(OneSinePulse.from_nondim, {**nondim, **psi}, "a pulse", block)
+    return call_with(cls.from_nondim, {**nondim, **shape}, "a pulse", block)
+
+
+def _pulse_text(pulse) -> str:
+    """The family of a pulse and its shape parameters, as the summary prints them."""
+    if isinstance(pulse, OneSinePulse):
+        return f"psi={pulse.psi:g}"
+    if isinstance(pulse, MavroeidisPapageorgiou):
+        return f"mp, gamma={pulse.gamma:g}, nu={pulse.nu:g}"
+    return pulse.family.replace("_", "-")
 
 
 def _payload(block, damper, pulse, model, responses) -> dict:
     """What simulate --json prints."""
+    shape = {"psi": pulse.psi} if isinstance(pulse, OneSinePulse) else {"family": pulse.family}
+    if isinstance(pulse, MavroeidisPapageorgiou):
+        shape.update(gamma=pulse.gamma, nu=pulse.nu)
     return {
         "block": block.as_params(),
         "model": model,
@@ -133,7 +167,7 @@ def _payload(block, damper, pulse, model, responses) -> dict:
         "pulse": {
             "a_g": pulse.a_g,
             "omega_g": pulse.omega_g,
-            "psi": pulse.psi,
+            **shape,
             "sign": pulse.sign,
             "beta": pulse.beta(block),
             "Omega": pulse.Omega(block),
@@ -147,7 +181,7 @@ def _print_summary(block, pulse, responses) -> None:
         f"block H={block.H:g} m B={block.B:g} m M={block.M:g} kg e={block.e:g} m "
         f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); "
         f"pulse beta={pulse.beta(block):.4g} Omega={pulse.Omega(block):.4g} (a_g={pulse.a_g:.4g} m/s2, "
-        f"omega_g={pulse.omega_g:.4g} rad/s, psi={pulse.psi:g}, sign={pulse.sign:+d})"
+        f"omega_g={pulse.omega_g:.4g} rad/s, {_pulse_text(pulse)}, sign={pulse.sign:+d})"
     )
     for label, r in responses.items():
         verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
@@ -213,21 +247,27 @@ def _add_simulate(sub) -> None:
     p = add_parser(
         sub,
         "simulate",
-        "response of a block, with or without a damper, to a one-sine pulse",
-        "Response of a block, with or without a damper, to a one-sine pulse, as rocking.simulate. " + block_help(),
+        "response of a block, with or without a damper, to a pulse",
+        "Response of a block, with or without a damper, to a pulse (one-sine by default), as rocking.simulate. "
+        + block_help(),
     )
     add_block_options(p)
     _add_simulate_damper(p)
     g = p.add_argument_group(
         "pulse",
         "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi, sign) or, in SI, "
-        "rocking.OneSinePulse(a_g, omega_g, psi, sign).",
+        "rocking.OneSinePulse(a_g, omega_g, psi, sign); --pulse picks another family (docs/model.md section 12) "
+        "with the same options: OneCosinePulse, RickerWavelet (antisymmetric with ricker-anti), "
+        "MavroeidisPapageorgiou(a_g, omega_g, gamma, nu, sign).",
     )
+    g.add_argument("--pulse", choices=tuple(PULSES), help="family of the pulse (default sine)")
     g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")
     g.add_argument("--Omega", type=float, help="frequency ratio omega_g / p")
     g.add_argument("--a-g", type=float, help="amplitude, m/s2")
     g.add_argument("--omega-g", type=float, help="circular frequency, rad/s")
     g.add_argument("--psi", type=float, help=f"phase at t = 0, rad ({default_text(OneSinePulse, 'psi')})")
+    g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulse mp, > 1")
+    g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
     g.add_argument(
         "--sign",
         type=int,

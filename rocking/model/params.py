@@ -266,6 +266,10 @@ RANGES: dict[str, Range] = {
     "psi": Range(0.0, TWO_PI, "rad", "one sine cycle", open_high=True),
     "beta": Range(0.0, 1e4, "", "amplitude over the uplift threshold, a_g / (g tan alpha)"),
     "Omega": Range(1e-2, 1e3, "", "pulse frequency over the block's, omega_g / p (the studies: 0.5 - 15)"),
+    # --- the other ground motions (rocking.model.motion, docs/model.md section 12)
+    "gamma_mp": Range(1.0, 20.0, "", "oscillations of the Mavroeidis-Papageorgiou pulse (> 1; records: 1.5 - 3)",
+                      open_low=True),
+    "pulse_dt": Range(1e-6, 10.0, "s", "the spacing of a sampled motion, from 1 us to 10 s"),
     # --- a run (make_problem, simulate, pulse_cases): its length bounds its work
     "t_after": Range(0.0, 1e4, "s", "a run follows the block at most 10^4 s after the pulse", open_low=True),
     "t_max": Range(0.0, 1.1e4, "s", "a run lasts at most the longest pulse plus 10^4 s", open_low=True),

@@ -26,15 +26,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model import motion
 from ..model.params import RANGES, ParameterError
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 5
+API_VERSION = 6
 
-DOUBLE, INT64, INT32, DOUBLES = "double", "int64", "int32", "doubles"
+DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "series"
 
-#: C type of each kind of field (``DOUBLES``: a caller-owned array of state values).
-C_TYPES = {DOUBLE: "double", INT64: "int64_t", INT32: "int32_t", DOUBLES: "const double *"}
+#: C type of each kind of field (``DOUBLES``: a caller-owned array of state values; ``SERIES``: a caller-owned
+#: array of as many values as the field's ``count`` says, which the cases of a batch may share).
+C_TYPES = {DOUBLE: "double", INT64: "int64_t", INT32: "int32_t", DOUBLES: "const double *", SERIES: "const double *"}
 
 #: Checks a setting must pass; the text is the valid range of the error message.
 CHECKS = {
@@ -43,8 +45,10 @@ CHECKS = {
     "in [1e-12, 0.01]": lambda v: (v >= 1e-12) & (v <= 0.01),
     ">= 0": lambda v: np.isfinite(v) & (v >= 0),
     ">= 1": lambda v: (v >= 1) & (v == np.floor(v)),
+    "an integer >= 0": lambda v: (v >= 0) & (v == np.floor(v)),
     "0 or 1": lambda v: (v == 0) | (v == 1),
     "-1, 0 or +1": lambda v: (v == -1) | (v == 0) | (v == 1),
+    "a code of MOTIONS": lambda v: np.isin(v, range(len(motion.FAMILIES))),
 }
 
 _REQUIRED = object()
@@ -63,8 +67,9 @@ class Field:
     name : str
         The same in C, in Python and in the documentation.
     kind : str
-        :data:`DOUBLE`, :data:`INT64`, :data:`INT32` or :data:`DOUBLES` (one
-        value per state component, ``model_ny()`` of them).
+        :data:`DOUBLE`, :data:`INT64`, :data:`INT32`, :data:`DOUBLES` (one
+        value per state component, ``model_ny()`` of them) or :data:`SERIES`
+        (``count`` values).
     unit : str
         SI unit, ``""`` for a pure number.
     doc : str
@@ -73,6 +78,8 @@ class Field:
         Key of :data:`CHECKS`, or ``None``: not checked (an array, or a result).
     default : object
         Value of a :class:`~rocking.sim.problem.Problem` that does not give it.
+    count : str or None
+        For a :data:`SERIES`: the :data:`INT64` field holding its length.
     """
 
     name: str
@@ -81,6 +88,7 @@ class Field:
     doc: str
     valid: str | None = None
     default: object = _REQUIRED
+    count: str | None = None
 
     @property
     def required(self) -> bool:
@@ -89,10 +97,20 @@ class Field:
 
 #: What one run is given besides the model's parameters: ``rocking_case`` of sim.h.
 CASE = (
-    Field("a_g", DOUBLE, "m/s^2", "signed pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after", "finite"),
-    Field("omega_g", DOUBLE, "rad/s", "pulse circular frequency", "finite"),
-    Field("psi", DOUBLE, "rad", "pulse phase at t = 0", "finite"),
-    Field("t_p", DOUBLE, "s", "end of the pulse, a breakpoint of the integration", "finite"),
+    Field("motion", INT32, "", "ground-motion family: an index into MOTIONS (docs/model.md section 12)",
+          "a code of MOTIONS", 0),
+    Field("a_g", DOUBLE, "m/s^2", "signed amplitude: ag(t) = a_g f(t) on [0, t_p], 0 after", "finite"),
+    Field("omega_g", DOUBLE, "rad/s", "circular frequency of f (0 for a sampled motion)", "finite"),
+    Field("psi", DOUBLE, "rad", "phase of f: psi of the one-sine, nu of Mavroeidis-Papageorgiou", "finite"),
+    Field("t_c", DOUBLE, "s", "centre of a Ricker or Mavroeidis-Papageorgiou pulse", "finite", 0.0),
+    Field("shape", DOUBLE, "", "gamma of Mavroeidis-Papageorgiou (0 otherwise)", "finite", 0.0),
+    Field("t_p", DOUBLE, "s", "end of the motion, a breakpoint of the integration", "finite"),
+    Field("n_extrema", INT64, "", "number of listed extrema", "an integer >= 0", 0),
+    Field("extrema", SERIES, "rad", "extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou)",
+          None, None, "n_extrema"),
+    Field("pulse_dt", DOUBLE, "s", "spacing of a sampled motion's samples (0 otherwise)", ">= 0", 0.0),
+    Field("n_samples", INT64, "", "number of samples of a sampled motion (0 otherwise)", "an integer >= 0", 0),
+    Field("samples", SERIES, "m/s^2", "samples a_k at k pulse_dt: f linear between them", None, None, "n_samples"),
     Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "> 0"),
     Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "in [1e-12, 0.01]"),
     Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
@@ -152,6 +170,25 @@ FAILED = Code("failed", -1, "the step size underflowed (non-finite right-hand si
 #: Status code of a run stopped by its caller's stop flag (``rocking_control.stop``); never a result.
 STOPPED = Code("stopped", -2, "stopped by the caller's stop flag (Python: KeyboardInterrupt)")
 
+#: Ground-motion families (docs/model.md section 12), the ``motion`` of a case.
+MOTIONS = tuple(
+    Code(name, i, doc)
+    for i, (name, doc) in enumerate(
+        zip(
+            motion.FAMILIES,
+            (
+                "one-sine: f = sin(omega_g t + psi)",
+                "one-cosine: f = cos(omega_g t)",
+                "Ricker wavelet: f = (1 - 2 u^2) exp(-u^2), u = omega_g (t - t_c) / 2",
+                "antisymmetric Ricker wavelet: f = -u (3 - 2 u^2) exp(-u^2) / RICKER_ANTI_PEAK",
+                "Mavroeidis-Papageorgiou: the derivative of its velocity pulse (docs/model.md section 12)",
+                "sampled: the samples, linear between them",
+            ),
+            strict=True,
+        )
+    )
+)
+
 #: Phase codes of a recorded history and of ``phase0``.
 PHASES = (
     Code("contact", 0, "full contact: theta = dtheta = 0"),
@@ -172,13 +209,16 @@ class Constant:
 CONSTANTS = (
     Constant("SAFE_MARGIN", 1e-9, "relative margin below the uplift energy of the early rest (rule 4)"),
     Constant("FIRST_STEP_FRACTION", 0.25, "first step after an impact, as a fraction of the expected half-cycle"),
+    Constant("RICKER_ANTI_PEAK", motion.RICKER_ANTI_PEAK, "peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2"),
 )
 
 STATUS = tuple(code.name for code in STATUSES)
 #: Statuses of a run cut short by a bound on its work: whether the block would overturn is not known.
 UNDETERMINED = ("max_events", "max_steps")
 CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
-SAFE_MARGIN, FIRST_STEP_FRACTION = (constant.value for constant in CONSTANTS)
+SAFE_MARGIN, FIRST_STEP_FRACTION, _ = (constant.value for constant in CONSTANTS)
+#: The code of each ground-motion family by name.
+MOTION = {code.name: code.value for code in MOTIONS}
 
 assert all(code.value == i for i, code in enumerate(STATUSES))
 
@@ -273,11 +313,13 @@ def c_header() -> str:
     lines += [f"#define ROCKING_{c.name} {c.value!r} /* {c.doc} */" for c in CONSTANTS] + [""]
     lines += _c_enum("rocking_status", "ROCKING_", (*STATUSES, FAILED, STOPPED))
     lines += _c_enum("rocking_phase", "ROCKING_", PHASES)
+    lines += _c_enum("rocking_motion", "ROCKING_MOTION_", MOTIONS)
     lines += _c_struct("rocking_case", CASE) + _c_struct("rocking_result", RESULT)
     lines += ["/* The fields in table order, for the layout the library reports (rocking_layout). */"]
     lines += _x_macro("ROCKING_CASE_FIELDS", CASE) + _x_macro("ROCKING_RESULT_FIELDS", RESULT)
     lines += ["/* The constants in table order (rocking_constants). */"]
     codes = [f"ROCKING_{c.name.upper()}" for c in (*STATUSES, FAILED, STOPPED, *PHASES)]
+    codes += [f"ROCKING_MOTION_{c.name.upper()}" for c in MOTIONS]
     values = [f"ROCKING_{c.name}" for c in CONSTANTS] + codes
     lines += ["#define ROCKING_CONSTANTS(X) " + " ".join(f"X({v})" for v in values), ""]
     return "\n".join([*lines, "#endif", ""])
@@ -285,7 +327,7 @@ def c_header() -> str:
 
 def constant_values() -> tuple[float, ...]:
     """What ``rocking_constants`` of the C library must report, in its order."""
-    return tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES))
+    return tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES, *MOTIONS))
 
 
 def _md_rows(fields: tuple[Field, ...], with_valid: bool) -> list[str]:
@@ -322,9 +364,11 @@ def markdown() -> str:
         "",
         "Phases: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in PHASES) + ".",
         "",
+        "Motions: " + "; ".join(f"`{c.name}` ({c.value}): {c.doc}" for c in MOTIONS) + ".",
+        "",
         "Constants: " + "; ".join(f"`{c.name}` = {c.value!r}: {c.doc}" for c in CONSTANTS) + ".",
         "",
-        "Ranges of the public API (`rocking.model.params.RANGES`; `Block`, `Damper`, `OneSinePulse`,",
+        "Ranges of the public API (`rocking.model.params.RANGES`; `Block`, `Damper`, the motions,",
         "their `from_nondim`, `make_problem`, `simulate` and the studies refuse anything outside, with",
         "the reason):",
         "",

@@ -34,7 +34,7 @@ import numpy as np
 
 from ..model.loading import Model, load_model
 from . import boundary, cbuild
-from .boundary import CASE, DOUBLES, RESULT
+from .boundary import CASE, DOUBLES, RESULT, SERIES
 from .cases import Cases
 from .cbuild import CBuildError
 from .problem import RESULT_FIELDS, Problem, Response, SimulationError
@@ -47,8 +47,10 @@ _i32_p = ctypes.POINTER(ctypes.c_int32)
 _i64_p = ctypes.POINTER(ctypes.c_int64)
 
 #: ctypes and NumPy types of each kind of field of the boundary tables.
-_CTYPES = {boundary.DOUBLE: _dbl, boundary.INT64: ctypes.c_int64, boundary.INT32: ctypes.c_int32, DOUBLES: _dbl_p}
-_NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32, DOUBLES: np.uintp}
+_CTYPES = {boundary.DOUBLE: _dbl, boundary.INT64: ctypes.c_int64, boundary.INT32: ctypes.c_int32}
+_CTYPES.update({DOUBLES: _dbl_p, SERIES: _dbl_p})
+_NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32}
+_NUMPY.update({DOUBLES: np.uintp, SERIES: np.uintp})
 
 
 def _structure(name: str, fields) -> type[ctypes.Structure]:
@@ -286,7 +288,7 @@ def _case(problem: Problem) -> _Case:
     values = {}
     for f in CASE:
         value = getattr(problem, f.name)
-        if f.kind == DOUBLES:
+        if f.kind in (DOUBLES, SERIES):
             value = None if value is None else value.ctypes.data_as(_dbl_p)
         values[f.name] = value
     return _Case(**values)
@@ -403,10 +405,13 @@ def _default_threads() -> int:
 
 
 def _records(cases: Cases) -> np.ndarray:
-    """The cases as ``rocking_case`` records; their ``atol`` point into ``cases.settings["atol"]``, ``y0`` is NULL."""
+    """The cases as ``rocking_case`` records; their ``atol`` point into ``cases.settings["atol"]``, their
+    ``samples`` and ``extrema`` into the packed buffers (shared, not copied), ``y0`` is NULL."""
     records = np.zeros(len(cases), dtype=CASE_DTYPE)
     for f in CASE:
-        if f.kind != DOUBLES:
+        if f.kind == SERIES:
+            records[f.name] = cases.settings[f.name].pointers()
+        elif f.kind != DOUBLES:
             records[f.name] = cases.settings[f.name]
     atol = cases.settings["atol"]
     records["atol"] = atol.ctypes.data + atol.strides[0] * np.arange(len(cases), dtype=np.uintp)

@@ -1,9 +1,11 @@
-"""Many responses at once: arrays of one-sine pulses and dampers for one block.
+"""Many responses at once: arrays of ground motions and dampers for one block.
 
-:func:`pulse_cases` builds the per-case arrays with the same rules as
-:func:`rocking.sim.problem.make_problem`, without a Python object per case, and
-:func:`run_cases` runs them on the C batch entry point (or, as the reference,
-case by case on NumPy/SciPy).
+:func:`pulse_cases` (analytic pulses over ``Omega`` and ``beta``) and :func:`sampled_cases`
+(one sampled motion at many scales: an incremental dynamic analysis) build the per-case
+arrays with the same rules as :func:`rocking.sim.problem.make_problem`, without a Python
+object per case, and :func:`run_cases` runs them on the C batch entry point (or, as the
+reference, case by case on NumPy/SciPy). The cases of a batch share the arrays of a motion
+(:class:`Packed`): one buffer of samples for every scale, not a copy per case.
 """
 
 from __future__ import annotations
@@ -13,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..model.loading import Model, ModelError
+from ..model.motion import FAMILIES, SampledMotion, listed_extrema, timing
 from ..model.params import (
     BUMPER_DEPTH,
     RANGES,
@@ -27,8 +30,77 @@ from ..model.params import (
 )
 from ..model.pulse import check_signs
 from . import boundary
-from .boundary import CASE, DOUBLES
-from .problem import RESULT_FIELDS, STATUS, Problem, check_integer, default_settings, own_parameters, resolve_model
+from .boundary import CASE, DOUBLES, MOTION, SERIES
+from .problem import (
+    RESULT_FIELDS,
+    STATUS,
+    Problem,
+    check_integer,
+    check_motion,
+    default_settings,
+    own_parameters,
+    resolve_model,
+)
+
+
+@dataclass(frozen=True)
+class Packed:
+    """The arrays of one :data:`~rocking.sim.boundary.SERIES` setting over a batch, in one buffer.
+
+    Case ``i``'s array starts at ``buffer[offset[i]]`` (its length is the setting's count): cases
+    that share an array point to the same values, none is copied per case.
+
+    Attributes
+    ----------
+    buffer : ndarray
+        The values, 1-D, C-contiguous.
+    offset : ndarray of int64
+        Where each case's array starts.
+    """
+
+    buffer: np.ndarray
+    offset: np.ndarray
+
+    @classmethod
+    def shared(cls, array, n: int) -> Packed:
+        """One array (or ``None``: none) shared by ``n`` cases."""
+        buffer = np.zeros(0) if array is None else np.ascontiguousarray(array, dtype=float).reshape(-1)
+        return cls(buffer, np.zeros(n, dtype=np.int64))
+
+    @classmethod
+    def of(cls, arrays) -> Packed:
+        """The arrays of the cases (``None`` where a case has none), each distinct array object stored once."""
+        start, parts, offset, size = {}, [], [], 0
+        for a in arrays:
+            if a is not None and id(a) not in start:
+                start[id(a)] = size
+                parts.append(np.asarray(a, dtype=float).reshape(-1))
+                size += parts[-1].size
+            offset.append(0 if a is None else start[id(a)])
+        return cls(np.concatenate(parts) if parts else np.zeros(0), np.array(offset, dtype=np.int64))
+
+    def row(self, i: int, count: int) -> np.ndarray | None:
+        """Case ``i``'s array of ``count`` values (a view), ``None`` if it has none."""
+        return self.buffer[self.offset[i] : self.offset[i] + count] if count else None
+
+    def pointers(self) -> np.ndarray:
+        """The address of each case's array (0, C's NULL, for an empty buffer)."""
+        if self.buffer.size == 0:
+            return np.zeros(len(self.offset), dtype=np.uintp)
+        return (self.buffer.ctypes.data + self.buffer.itemsize * self.offset).astype(np.uintp)
+
+
+def _packed(name: str, value, counts: np.ndarray) -> Packed:
+    """A SERIES setting of a batch as :class:`Packed`, checked: every case's array inside the buffer, finite."""
+    n = len(counts)
+    packed = value if isinstance(value, Packed) else Packed.shared(value, n)
+    offset = np.asarray(packed.offset, dtype=np.int64)
+    buffer = np.ascontiguousarray(packed.buffer, dtype=float).reshape(-1)
+    if offset.shape != (n,) or np.any(offset < 0) or np.any(offset + counts > buffer.size):
+        raise ParameterError(f"cases: {name} must hold n_{name} values for every case (buffer of {buffer.size})")
+    if not np.all(np.isfinite(buffer)):
+        raise ParameterError(f"cases: {name} must be finite: {name}[{np.flatnonzero(~np.isfinite(buffer))[0]}] is not")
+    return Packed(buffer, offset)
 
 
 @dataclass(frozen=True)
@@ -43,8 +115,10 @@ class Cases:
         Parameters in the model's order.
     settings : dict of ndarray
         Every field of :data:`rocking.sim.boundary.CASE` but ``y0`` by name:
-        shape ``(n,)``, or ``(n, ny)`` for ``atol``. A field with a default
-        may be left out. Checked on construction against the table's ranges.
+        shape ``(n,)``, or ``(n, ny)`` for ``atol``; a :class:`Packed` (or one
+        array shared by every case, or ``None``) for ``samples`` and ``extrema``.
+        A field with a default may be left out. Checked on construction against
+        the table's ranges.
     """
 
     model: Model
@@ -62,7 +136,7 @@ class Cases:
         n = len(p)
         columns = {}
         for f in CASE:
-            if f.name == "y0":
+            if f.name == "y0" or f.kind == SERIES:
                 continue
             value = self.settings.get(f.name, None if f.required else f.default)
             if value is None:
@@ -75,6 +149,12 @@ class Cases:
                     f"cases: {f.name} must broadcast to shape {shape} (got {np.shape(value)})"
                 ) from None
             columns[f.name] = boundary.check(f.name, column)
+        for f in CASE:
+            if f.kind == SERIES:
+                columns[f.name] = _packed(f.name, self.settings.get(f.name), columns[f.count].astype(np.int64))
+        for code in np.unique(columns["motion"]).astype(int):
+            at = columns["motion"] == code
+            check_motion(FAMILIES[code], columns["n_samples"][at], columns["pulse_dt"][at], columns["n_extrema"][at])
         unknown = sorted(set(self.settings) - set(columns))
         if unknown:
             raise ParameterError(f"cases: unknown setting(s) {', '.join(unknown)}")
@@ -88,7 +168,13 @@ class Cases:
 
     def problem(self, i: int) -> Problem:
         """Case ``i`` as a :class:`Problem` (for the NumPy back end)."""
-        return Problem(model=self.model, p=self.p[i], **{k: v[i] for k, v in self.settings.items()})
+        settings = {}
+        for f in CASE:
+            if f.kind == SERIES:
+                settings[f.name] = self.settings[f.name].row(i, int(self.settings[f.count][i]))
+            elif f.name != "y0":
+                settings[f.name] = self.settings[f.name][i]
+        return Problem(model=self.model, p=self.p[i], **settings)
 
     @classmethod
     def of(cls, problems) -> Cases:
@@ -108,7 +194,13 @@ class Cases:
             raise ParameterError(f"a batch needs one model for all problems (got {sorted(str(f) for f in folders)})")
         if any(pr.y0 is not None for pr in problems):
             raise ParameterError("a batch runs from rest: y0 must be None in every problem")
-        settings = {f.name: np.array([getattr(pr, f.name) for pr in problems]) for f in CASE if f.name != "y0"}
+        settings = {
+            f.name: Packed.of([getattr(pr, f.name) for pr in problems])
+            if f.kind == SERIES
+            else np.array([getattr(pr, f.name) for pr in problems])
+            for f in CASE
+            if f.name != "y0"
+        }
         return cls(problems[0].model, np.array([pr.p for pr in problems]), settings)
 
 
@@ -143,6 +235,10 @@ def _fixed_params(model: Model, block: Block, params) -> dict[str, float]:
     return own_parameters(model, params, block)
 
 
+#: The analytic families of :func:`pulse_cases` (``motion``).
+ANALYTIC = tuple(f for f in FAMILIES if f != "sampled")
+
+
 def pulse_cases(
     block: Block,
     Omega,
@@ -161,9 +257,16 @@ def pulse_cases(
     sign=1,
     stops: bool = False,
     stroke: float | None = None,
+    motion: str = "sine",
+    gamma_mp: float | None = None,
+    nu: float = 0.0,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
+    ``motion`` is the pulse's family (docs/model.md section 12): ``"sine"`` (default; its phase
+    ``psi``), ``"cosine"``, ``"ricker"``, ``"ricker_anti"`` or ``"mp"`` (with ``gamma_mp`` and
+    ``nu``, one shape for the batch: its extrema are located once); ``Omega = omega_g / p`` and
+    ``beta = a_g / (g tan alpha)`` as for :meth:`rocking.OneSinePulse.from_nondim`.
     ``sign`` (+1 or -1, or an array of them) is the direction of each pulse (:class:`rocking.OneSinePulse`).
     ``stops``: the dampers' guides end in the stops of :meth:`rocking.Stops.at_edges`
     (model ``"omd_stops"``); with ``gamma`` only. ``stroke``: their half-stroke ``L``, m, in
@@ -179,25 +282,117 @@ def pulse_cases(
     ``"omd"``); it excludes ``gamma`` (``omega_ratio``, ``zeta`` and ``h``
     are then unused). The values are checked once against the model's ranges.
     """
-    if params is not None and gamma is not None:
+    if motion not in ANALYTIC:
+        raise ParameterError(f"motion must be one of {', '.join(ANALYTIC)} (got {motion!r}); sampled: sampled_cases")
+    check_block(block)
+    sign = check_signs(sign)
+    Omega, beta, psi = _array("Omega", Omega), _array("beta", beta), _array("psi", psi)
+    if motion != "sine" and np.any(psi != 0.0):
+        raise ParameterError(f"psi is the phase of the one-sine pulse: not of motion {motion!r}")
+    if motion == "mp":
+        if gamma_mp is None:
+            raise ParameterError("motion 'mp' needs gamma_mp, its oscillations (> 1)")
+        gamma_mp = check_in_range("gamma_mp", gamma_mp)
+        nu = check_in_range("nu", nu, "psi", label="[0, 2 pi)")
+    elif gamma_mp is not None or nu != 0.0:
+        raise ParameterError(f"gamma_mp and nu shape the Mavroeidis-Papageorgiou pulse: not motion {motion!r}")
+    damper, shape = _damper_arrays(gamma, omega_ratio, zeta, h, Omega, beta, psi, sign)
+    Omega, beta, psi, sign = (np.broadcast_to(a, shape).ravel() for a in (Omega, beta, psi, sign))
+    _derived("omega_g", Omega * block.p, "Omega p")
+    _derived("a_g", beta * block.g * block.tan_alpha, "beta g tan(alpha)")
+    omega_g = Omega * block.p
+    phase = psi if motion == "sine" else np.full(omega_g.shape, nu if motion == "mp" else 0.0)
+    t_c, t_p = timing(motion, omega_g, phase, gamma_mp or 0.0)
+    extrema = listed_extrema(motion, gamma_mp or 0.0, nu)
+    columns = {
+        "motion": MOTION[motion],
+        "a_g": sign * beta * block.g * block.tan_alpha,
+        "omega_g": omega_g,
+        "psi": phase,
+        "t_c": t_c,
+        "shape": gamma_mp or 0.0,
+        "t_p": t_p,
+        "n_extrema": 0 if extrema is None else len(extrema),
+        "extrema": extrema,
+    }
+    return _cases(block, columns, 2 * np.pi / omega_g, damper, rtol, t_after, max_events, model, params, stops, stroke)
+
+
+def sampled_cases(
+    block: Block,
+    motion: SampledMotion,
+    scale=1.0,
+    *,
+    sign=1,
+    gamma=None,
+    omega_ratio=1.0,
+    zeta=0.05,
+    h=0.05,
+    rtol: float = 1e-8,
+    t_after: float = 15.0,
+    max_events: int = 10_000,
+    model: str | Model | None = None,
+    params: dict | None = None,
+    stops: bool = False,
+    stroke: float | None = None,
+) -> Cases:
+    """Cases for one sampled motion at the factors ``scale`` (as ``motion.scaled(scale)``) and dampers.
+
+    Every case shares ``motion``'s samples (one buffer, not a copy per case). ``sign`` (+1 or -1,
+    or an array of them) keeps (+1) or mirrors (-1) the motion's direction. ``scale`` (>= 0),
+    ``sign`` and the damper arrays broadcast together, flattened in C order; the damper, ``model``,
+    ``params``, ``stops`` and ``stroke`` as for :func:`pulse_cases`.
+    """
+    check_block(block)
+    if type(motion) is not SampledMotion:
+        raise ParameterError(f"motion must be a rocking.SampledMotion (got {type(motion).__name__})")
+    sign = check_signs(sign)
+    scale = np.asarray(scale)
+    if scale.dtype.kind not in "iuf" or not np.all(np.isfinite(scale) & (scale >= 0)):
+        raise ParameterError(f"scale must be finite and >= 0, or an array of such (got {scale!r})")
+    damper, shape = _damper_arrays(gamma, omega_ratio, zeta, h, scale.astype(float), sign)
+    scale, sign = (np.broadcast_to(a, shape).ravel() for a in (scale.astype(float), sign))
+    _derived("a_g", scale * motion.pga, f"scale max|a| (max|a| = {motion.pga / motion.scale:g} m/s^2)")
+    columns = {
+        "motion": MOTION["sampled"],
+        "a_g": sign * motion.sign * (motion.scale * scale),
+        "omega_g": 0.0,
+        "psi": 0.0,
+        "t_p": motion.t_p,
+        "pulse_dt": motion.dt,
+        "n_samples": motion.n,
+        "samples": motion.a,
+    }
+    return _cases(block, columns, np.inf, damper, rtol, t_after, max_events, model, params, stops, stroke)
+
+
+def _damper_arrays(gamma, omega_ratio, zeta, h, *motion_arrays):
+    """The damper's arrays, checked and broadcast with the motion's; ``(dict of flat arrays, the shape)``."""
+    gamma = _array("gamma", 0.0 if gamma is None else gamma)
+    named = {"gamma": gamma, "omega_ratio": _array("omega_ratio", omega_ratio), "zeta": _array("zeta", zeta),
+             "h": _array("h", h)}  # fmt: skip
+    try:
+        shape = np.broadcast_shapes(*(a.shape for a in (*named.values(), *motion_arrays)))
+    except ValueError:
+        raise ParameterError(
+            "the motion's arrays (Omega, beta, psi, scale, sign) and gamma, omega_ratio, zeta, h must broadcast "
+            "together"
+        ) from None
+    return {k: np.broadcast_to(a, shape).ravel() for k, a in named.items()}, shape
+
+
+def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params, stops, stroke) -> Cases:
+    """The batch of the motion's ``columns`` on ``block`` with ``damper``'s arrays (the rules of make_problem)."""
+    gamma, omega_ratio, zeta, h = damper["gamma"], damper["omega_ratio"], damper["zeta"], damper["h"]
+    if params is not None and np.any(gamma > 0):
         raise ParameterError(
             "give either gamma (the omd damper relative to its block) or params (a model's own parameters), not both"
         )
-    check_block(block)
-    sign = check_signs(sign)
     if not isinstance(stops, (bool, np.bool_)):
         raise ParameterError(f"stops must be True or False (got {stops!r})")
     rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
     t_after = check_in_range("t_after", t_after)
     max_events = check_integer("max_events", max_events)
-    Omega, beta, gamma = _array("Omega", Omega), _array("beta", beta), _array("gamma", 0.0 if gamma is None else gamma)
-    omega_ratio, zeta = _array("omega_ratio", omega_ratio), _array("zeta", zeta)
-    h, psi = _array("h", h), _array("psi", psi)
-    try:
-        arrays = np.broadcast_arrays(Omega, beta, gamma, omega_ratio, zeta, h, psi, sign)
-    except ValueError:
-        raise ParameterError("Omega, beta, gamma, omega_ratio, zeta, h, psi and sign must broadcast together") from None
-    Omega, beta, gamma, omega_ratio, zeta, h, psi, sign = (a.ravel() for a in arrays)
     bare = params is None and not np.any(gamma > 0)
     if not bare and params is None and np.any(gamma == 0):
         raise ParameterError("gamma must be > 0 in every case of a batch with a damper (use a separate bare batch)")
@@ -213,17 +408,12 @@ def pulse_cases(
         model = resolve_model(model, "block" if bare else "omd_stops" if stops else "omd")
     except ModelError as exc:
         raise ParameterError(str(exc)) from None
-    _derived("omega_g", Omega * block.p, "Omega p")
-    _derived("a_g", beta * block.g * block.tan_alpha, "beta g tan(alpha)")
-
-    omega_g = Omega * block.p
-    psi = psi + 0 * Omega
-    t_p = (2 * np.pi - psi) / omega_g
-    values = {k: np.full(Omega.shape, v) for k, v in block.as_params().items()}
-    T_m = np.full(Omega.shape, np.inf)
+    shape = gamma.shape
+    values = {k: np.full(shape, v) for k, v in block.as_params().items()}
+    T_m = np.full(shape, np.inf)
     if params is not None:
         fixed = _fixed_params(model, block, params)
-        values.update({k: np.full(Omega.shape, v) for k, v in fixed.items()})
+        values.update({k: np.full(shape, v) for k, v in fixed.items()})
     elif not bare:
         m = gamma * block.M
         omega_m = omega_ratio * block.p
@@ -238,15 +428,15 @@ def pulse_cases(
         raise ParameterError(
             f"model {model.name!r} needs parameter(s) {', '.join(missing)} that pulse_cases cannot set"
         )
-    settings = default_settings(block, 2 * np.pi / omega_g, T_m, rtol, model.nq)
+    settings = default_settings(block, T_g, T_m, rtol, model.nq)
+    t_p = np.broadcast_to(columns["t_p"], shape)
     return Cases(
         model,
         np.column_stack([values[k] for k in model.parameters]),
         {
-            "a_g": sign * beta * block.g * block.tan_alpha,
-            "omega_g": omega_g,
-            "psi": psi,
-            "t_p": t_p,
+            **{k: v for k, v in columns.items() if k not in ("extrema", "samples")},
+            "extrema": columns.get("extrema"),
+            "samples": columns.get("samples"),
             "t_max": t_p + t_after,
             "rtol": rtol,
             "atol": settings["atol"],

@@ -56,6 +56,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.integrate import RK45, OdeSolution, solve_ivp
 
+from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from .boundary import CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
 from .problem import Problem, Response, SimulationError
 
@@ -131,9 +132,8 @@ class _System:
         self.n = problem.model.nq
         self.functions = problem.model.functions
         self.params = tuple(float(v) for v in problem.p)
-        self.a_g = float(problem.a_g)
-        self.omega_g = float(problem.omega_g)
-        self.psi = float(problem.psi)
+        self.problem = problem
+        self.family = FAMILIES[problem.motion]
         # Energy of the rest state, the zero of "energy above rest". In full
         # contact (theta = dtheta = 0) the energy does not depend on the pivot.
         self.energy_at_rest = self.energy(np.zeros(2 * self.n))
@@ -161,18 +161,21 @@ class _System:
         # of the stops as 0.0 / 1.0 per side, what sim.c prepares its constants with; None: that of y.
         return getattr(self.functions, name)(s, *y.tolist(), ag, *self.params, stop_on=stop_on)
 
-    def ground(self, pulse_on: bool) -> Callable[[float], float]:
-        """Ground acceleration of one segment.
+    def ground(self, pulse_on: bool, t0: float) -> Callable[[float], float]:
+        """Ground acceleration of the segment that starts at ``t0``.
 
-        A segment never straddles the pulse's end ``t_p`` (a breakpoint), so
-        it sees either the sine or zero, never the kink: the integrator's
+        A segment never straddles the motion's end ``t_p`` (a breakpoint), so
+        it sees either the motion or zero, never the kink: the integrator's
         stages (which may land an ulp beyond ``t_p``) then all see one smooth
-        function.
+        function. A segment of a sampled motion lies within one sample
+        interval (rule 3): it sees that interval's linear piece.
 
         Parameters
         ----------
         pulse_on : bool
             The segment lies in ``[0, t_p]``.
+        t0 : float
+            Its start.
 
         Returns
         -------
@@ -181,8 +184,14 @@ class _System:
         """
         if not pulse_on:
             return lambda t: 0.0
-        a_g, omega_g, psi = self.a_g, self.omega_g, self.psi
-        return lambda t: a_g * math.sin(omega_g * t + psi)
+        p = self.problem
+        a_g = float(p.a_g)
+        if self.family == "sampled":
+            samples, dt = p.samples, float(p.pulse_dt)
+            k = sample_piece(t0, dt, p.n_samples)
+            return lambda t: a_g * float(interpolate(samples, dt, k, t))
+        shape, omega_g, phase, t_c, gamma = SHAPES[self.family], float(p.omega_g), float(p.psi), p.t_c, p.shape
+        return lambda t: a_g * shape(t, omega_g, phase, t_c, gamma, math)
 
     def rocking_rhs(self, s: int, ground: Callable[[float], float], stop_on: tuple) -> StateFunction:
         """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase) in the regime ``stop_on``.
@@ -616,7 +625,7 @@ def integrate_segment(
         When ``work`` passes its bound.
     """
     pulse_on = t0 < problem.t_p
-    ground = system.ground(pulse_on)
+    ground = system.ground(pulse_on, t0)
     if phase == CONTACT:
         rhs = system.contact_rhs(ground, stop_on)
         # While the pulse acts, the uplift functions move with ag(t) even when the
@@ -883,7 +892,7 @@ def uplift_at_start(run: _Run) -> int:
     phase starts above a threshold (a pulse with ``psi > 0``, or a mass that
     is moving when the block comes to rest) the uplift is at that instant.
     """
-    ground = run.system.ground(run.pulse_on)
+    ground = run.system.ground(run.pulse_on, run.t)
     for s in (+1, -1):
         if run.system.uplift(s, run.y, ground(run.t), run.stop_on) > 0.0:
             return s
@@ -928,23 +937,46 @@ def uplift(run: _Run, s: int) -> str | None:
     return "max_events" if events_exhausted(run) else None
 
 
-def next_extremum(problem: Problem, t: float) -> float:
-    """The first extremum of the pulse's sine after ``t``: ``omega_g t + psi = pi/2 + k pi`` (rule 3).
+def periodic_extremum(w: float, phase: float, t: float) -> float:
+    """The first extremum of a periodic shape after ``t``: ``w t + phase = pi/2 + k pi``.
 
-    ``inf`` for a constant ground acceleration. The same operations as
-    sim.c's ``next_extremum``.
+    The one-sine has ``phase = psi``, the one-cosine ``pi / 2``. The same
+    operations as sim.c's ``next_periodic_extremum``.
     """
-    w, psi = float(problem.omega_g), float(problem.psi)
-    if not w != 0.0 or problem.a_g == 0.0:
-        return math.inf
-    k = (w * t + psi - math.pi / 2) / math.pi
+    k = (w * t + phase - math.pi / 2) / math.pi
     k = float(math.ceil(k) if w > 0.0 else math.floor(k))
     for _ in range(4):  # rounding: the first or the second candidate
-        tk = (math.pi / 2 + k * math.pi - psi) / w
+        tk = (math.pi / 2 + k * math.pi - phase) / w
         if tk > t:
             return tk
         k += 1.0 if w > 0.0 else -1.0
     return math.inf  # pragma: no cover - not reached
+
+
+def next_extremum(problem: Problem, t: float) -> float:
+    """The first extremum of ``ag`` after ``t`` (rule 3).
+
+    Closed forms for the one-sine and the one-cosine; the listed extrema
+    (phase units ``omega_g (t - t_c)``) of the Ricker wavelets and the
+    Mavroeidis-Papageorgiou pulse; ``inf`` for a constant ground acceleration
+    and for a sampled motion (its segments end at every sample time). The
+    same operations as sim.c's ``next_extremum``.
+    """
+    w, family = float(problem.omega_g), FAMILIES[problem.motion]
+    if not w != 0.0 or problem.a_g == 0.0 or family == "sampled":
+        return math.inf
+    if family in ("sine", "cosine"):
+        return periodic_extremum(w, float(problem.psi) if family == "sine" else math.pi / 2, t)
+    later = [tk for tk in (problem.t_c + float(phi) / w for phi in problem.extrema[: problem.n_extrema]) if tk > t]
+    return later[0] if later else math.inf
+
+
+def next_sample(problem: Problem, t: float) -> float:
+    """The first sample time of a sampled motion after ``t`` (``inf`` for an analytic one): a kink of ``ag``."""
+    if FAMILIES[problem.motion] != "sampled":
+        return math.inf
+    dt = float(problem.pulse_dt)
+    return (sample_piece(t, dt, problem.n_samples) + 1.0) * dt
 
 
 def rest_snap(run: _Run, pivot: int) -> None:
@@ -996,7 +1028,7 @@ def impact(run: _Run) -> str | None:
     """
     n = run.system.n
     s, dtheta_in = run.phase, run.y[n]
-    run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on)(run.t))
+    run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on, run.t)(run.t))
     run.tally.impacts += 1
     if abs(run.y[n]) < run.problem.dtheta_rest:
         rest_snap(run, -s)
@@ -1136,8 +1168,8 @@ def phase_machine(run: _Run) -> str:
                 return status
             if run.phase != CONTACT:
                 continue  # lifted at this very instant: the new phase starts from here
-        # Rule 3: no segment straddles the pulse's end, nor, in full contact, an extremum of ag.
-        t_bound = min(problem.t_p, problem.t_max) if run.pulse_on else problem.t_max
+        # Rule 3: no segment straddles the motion's end or a sample time, nor, in full contact, an extremum of ag.
+        t_bound = min(problem.t_p, problem.t_max, next_sample(problem, run.t)) if run.pulse_on else problem.t_max
         if run.phase == CONTACT and run.pulse_on:
             t_bound = min(t_bound, next_extremum(problem, run.t))
         try:

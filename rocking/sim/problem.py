@@ -18,6 +18,7 @@ from dataclasses import MISSING, field, make_dataclass
 import numpy as np
 
 from ..model.loading import Model, ModelError, load_model
+from ..model.motion import FAMILIES, SHAPES, describe, interpolate, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
     RANGES,
@@ -30,9 +31,8 @@ from ..model.params import (
     check_in_range,
     check_real,
 )
-from ..model.pulse import OneSinePulse
 from . import boundary
-from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, PIVOT_A, PIVOT_A_PRIME, RESULT, STATUS
+from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, MOTION, PIVOT_A, PIVOT_A_PRIME, RESULT, SERIES, STATUS
 
 __all__ = [
     "CONTACT",
@@ -52,7 +52,7 @@ class SimulationError(RuntimeError):
 
 
 #: Python type of each kind of field.
-_PYTHON = {DOUBLE: float, boundary.INT64: int, boundary.INT32: int, DOUBLES: np.ndarray}
+_PYTHON = {DOUBLE: float, boundary.INT64: int, boundary.INT32: int, DOUBLES: np.ndarray, SERIES: np.ndarray}
 
 #: Fields whose Python value is not their C number: a name of :data:`STATUS`, truth values.
 _NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool}
@@ -124,13 +124,42 @@ def _state_vector(name: str, value, model: Model) -> np.ndarray:
     return a
 
 
+def _series(name: str, value, count: int) -> np.ndarray | None:
+    """A :data:`~rocking.sim.boundary.SERIES` setting: ``None`` (with a count of 0) or at least ``count`` finite
+    values."""
+    if value is None:
+        if count:
+            raise ParameterError(f"{name}: {count} values are counted but none given")
+        return None
+    a = np.ascontiguousarray(value, dtype=float).reshape(-1)
+    if a.size < count or not np.all(np.isfinite(a[:count])):
+        raise ParameterError(f"{name} must hold at least {count} finite values (got {a.size})")
+    return a
+
+
+def check_motion(family: str, n_samples, pulse_dt, n_extrema) -> None:
+    """What a motion's family needs besides its fields' ranges (broadcasts over a batch's columns).
+
+    A sampled motion needs at least 2 samples and ``pulse_dt > 0``; a listed family (Ricker,
+    Mavroeidis-Papageorgiou) its extrema.
+    """
+    if family == "sampled" and np.any((np.asarray(n_samples) < 2) | ~(np.asarray(pulse_dt) > 0)):
+        raise ParameterError("a sampled motion needs n_samples >= 2 samples and pulse_dt > 0")
+    if family in ("ricker", "ricker_anti", "mp") and np.any(np.asarray(n_extrema) < 1):
+        raise ParameterError(f"a {family} motion needs its extrema (n_extrema >= 1)")
+
+
 def _problem_post_init(self) -> None:
     """Check every setting against its range in :data:`~rocking.sim.boundary.CASE` and store it typed."""
     for f in CASE:
         value = getattr(self, f.name)
-        if f.kind != DOUBLES:
+        if f.kind not in (DOUBLES, SERIES):
             boundary.check(f.name, value)
             object.__setattr__(self, f.name, _python(f)(value))
+    for f in CASE:
+        if f.kind == SERIES:
+            object.__setattr__(self, f.name, _series(f.name, getattr(self, f.name), getattr(self, f.count)))
+    check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
     p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
     if p.shape != (len(self.model.parameters),):
         raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
@@ -139,10 +168,19 @@ def _problem_post_init(self) -> None:
     object.__setattr__(self, "y0", _initial_state(self.model, self.y0, self.phase0))
 
 
+def ground_shape(problem, t):
+    """``f(t)`` of the problem's motion (docs/model.md section 12), vectorised, on its whole definition."""
+    family = FAMILIES[problem.motion]
+    if family == "sampled":
+        dt, samples = problem.pulse_dt, problem.samples
+        return interpolate(samples, dt, sample_piece(t, dt, problem.n_samples), t)
+    return SHAPES[family](t, problem.omega_g, problem.psi, problem.t_c, problem.shape, np)
+
+
 def _ground_acceleration(self, t):
-    """``ddx_g(t)``, vectorised."""
+    """``ddx_g(t)``, vectorised: ``a_g f(t)`` on ``[0, t_p]``, 0 outside."""
     t = np.asarray(t, dtype=float)
-    a = np.where((t >= 0) & (t <= self.t_p), self.a_g * np.sin(self.omega_g * t + self.psi), 0.0)
+    a = np.where((t >= 0) & (t <= self.t_p), self.a_g * ground_shape(self, t), 0.0)
     return a if a.ndim else float(a)
 
 
@@ -156,6 +194,7 @@ Problem = make_dataclass(
     [("model", Model), ("p", np.ndarray)]
     + [(f.name, _python(f), field(default=MISSING if f.required else f.default)) for f in CASE],
     frozen=True,
+    kw_only=True,
     namespace={
         "__post_init__": _problem_post_init,
         "ground_acceleration": _ground_acceleration,
@@ -403,10 +442,30 @@ def _run_length(t_max: object, t_after: object, t_p: float) -> float:
     return check_in_range("t_max", t_max)
 
 
+def motion_settings(motion) -> dict:
+    """The fields of :data:`~rocking.sim.boundary.CASE` that describe a ground motion, from its
+    :class:`~rocking.model.motion.Description` (the arrays are shared, not copied)."""
+    extrema, samples = motion.extrema, motion.samples
+    return {
+        "motion": MOTION[motion.family],
+        "a_g": motion.a_g,
+        "omega_g": motion.omega_g,
+        "psi": motion.phase,
+        "t_c": motion.t_c,
+        "shape": motion.shape,
+        "t_p": motion.t_p,
+        "n_extrema": 0 if extrema is None else len(extrema),
+        "extrema": extrema,
+        "pulse_dt": motion.dt,
+        "n_samples": 0 if samples is None else len(samples),
+        "samples": samples,
+    }
+
+
 def make_problem(
     block: Block,
     damper=None,
-    pulse: OneSinePulse | None = None,
+    pulse=None,
     *,
     model: str | Model | None = None,
     rtol: float = 1e-8,
@@ -429,8 +488,9 @@ def make_problem(
     damper : Damper or mapping or None
         Anything with ``as_params()`` (or a mapping) giving the attached
         bodies' parameters by name; ``None`` for the bare block.
-    pulse : OneSinePulse
-        The ground motion.
+    pulse : OneSinePulse, OneCosinePulse, RickerWavelet, MavroeidisPapageorgiou or SampledMotion
+        The ground motion (docs/model.md section 12): exactly one of these types, a subclass is
+        refused (the back ends evaluate the registered families, not a Python ``acceleration``).
     model : str or Model, optional
         Model name or folder; default ``"omd"`` with a damper, ``"block"`` without.
     rtol : float
@@ -465,8 +525,7 @@ def make_problem(
         or ``A'``); the rule is docs/simulation.md, "Initial state".
     """
     check_block(block)
-    if not isinstance(pulse, OneSinePulse):
-        raise ParameterError(f"pulse must be a rocking.OneSinePulse (got {type(pulse).__name__})")
+    motion = describe(pulse)
     rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
     dtheta_rest, energy_rest = _optional_real("dtheta_rest", dtheta_rest), _optional_real("energy_rest", energy_rest)
     max_events, early_rest = check_integer("max_events", max_events), check_flag("early_rest", early_rest)
@@ -490,18 +549,15 @@ def make_problem(
     if model.nq > 1 and values.get("m", 1.0) == 0.0:
         raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
 
-    t_p = pulse.t_p
+    t_p = motion.t_p
     t_max = _run_length(t_max, t_after, t_p)
     # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
     T_m = damper.T_m if isinstance(damper, Damper) and damper.m > 0 and damper.k_m > 0 else np.inf
-    defaults = default_settings(block, pulse.T_g, T_m, rtol, model.nq)
+    defaults = default_settings(block, motion.T_g, T_m, rtol, model.nq)
     return Problem(
         model=model,
         p=p,
-        a_g=pulse.sign * pulse.a_g,
-        omega_g=pulse.omega_g,
-        psi=pulse.psi,
-        t_p=t_p,
+        **motion_settings(motion),
         t_max=t_max,
         rtol=rtol,
         atol=defaults["atol"],
@@ -509,7 +565,7 @@ def make_problem(
         dtheta_rest=defaults["dtheta_rest"] if dtheta_rest is None else _dtheta_rest(dtheta_rest, block),
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
         max_events=max_events,
-        record_dt=_record_dt(record_dt, t_max, min(pulse.T_g, 2 * np.pi / block.p) / 100),
+        record_dt=_record_dt(record_dt, t_max, min(motion.T_g, 2 * np.pi / block.p) / 100),
         early_rest=early_rest,
         y0=y0,
         phase0=int(phase0),

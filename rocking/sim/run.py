@@ -1,4 +1,4 @@
-"""The public call: the response of a block, with or without its damper, to a pulse."""
+"""The public call: the response of a block, with or without its damper, to a ground motion."""
 
 from __future__ import annotations
 
@@ -68,8 +68,8 @@ def simulate(
         The rocking block.
     damper : Damper or None
         The oscillating mass damper; ``None`` for the bare block.
-    pulse : OneSinePulse
-        The ground acceleration.
+    pulse : OneSinePulse, OneCosinePulse, RickerWavelet, MavroeidisPapageorgiou or SampledMotion
+        The ground acceleration (docs/model.md section 12); exactly one of these types.
     backend : {"auto", "c", "numpy"}
         ``"c"``: compiled (fast); ``"numpy"``: SciPy's ``solve_ivp`` (the
         reference); ``"auto"``: C, or NumPy with a warning if C cannot be built.

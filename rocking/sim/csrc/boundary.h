@@ -4,10 +4,11 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 5
+#define ROCKING_SIM_API_VERSION 6
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the uplift energy of the early rest (rule 4) */
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
+#define ROCKING_RICKER_ANTI_PEAK 0.9758915363849756 /* peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2 */
 
 enum rocking_status {
     ROCKING_OVERTURNED = 0, /* |theta| reached pi/2 */
@@ -25,11 +26,28 @@ enum rocking_phase {
     ROCKING_PIVOT_A_PRIME = -1, /* rocking about the corner A' (s = -1, theta < 0) */
 };
 
+enum rocking_motion {
+    ROCKING_MOTION_SINE = 0, /* one-sine: f = sin(omega_g t + psi) */
+    ROCKING_MOTION_COSINE = 1, /* one-cosine: f = cos(omega_g t) */
+    ROCKING_MOTION_RICKER = 2, /* Ricker wavelet: f = (1 - 2 u^2) exp(-u^2), u = omega_g (t - t_c) / 2 */
+    ROCKING_MOTION_RICKER_ANTI = 3, /* antisymmetric Ricker wavelet: f = -u (3 - 2 u^2) exp(-u^2) / RICKER_ANTI_PEAK */
+    ROCKING_MOTION_MP = 4, /* Mavroeidis-Papageorgiou: the derivative of its velocity pulse (docs/model.md section 12) */
+    ROCKING_MOTION_SAMPLED = 5, /* sampled: the samples, linear between them */
+};
+
 typedef struct rocking_case {
-    double a_g; /* signed pulse amplitude: a_g sin(omega_g t + psi) on [0, t_p], 0 after [m/s^2] */
-    double omega_g; /* pulse circular frequency [rad/s] */
-    double psi; /* pulse phase at t = 0 [rad] */
-    double t_p; /* end of the pulse, a breakpoint of the integration [s] */
+    int32_t motion; /* ground-motion family: an index into MOTIONS (docs/model.md section 12) */
+    double a_g; /* signed amplitude: ag(t) = a_g f(t) on [0, t_p], 0 after [m/s^2] */
+    double omega_g; /* circular frequency of f (0 for a sampled motion) [rad/s] */
+    double psi; /* phase of f: psi of the one-sine, nu of Mavroeidis-Papageorgiou [rad] */
+    double t_c; /* centre of a Ricker or Mavroeidis-Papageorgiou pulse [s] */
+    double shape; /* gamma of Mavroeidis-Papageorgiou (0 otherwise) */
+    double t_p; /* end of the motion, a breakpoint of the integration [s] */
+    int64_t n_extrema; /* number of listed extrema */
+    const double *extrema; /* extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou) [rad] */
+    double pulse_dt; /* spacing of a sampled motion's samples (0 otherwise) [s] */
+    int64_t n_samples; /* number of samples of a sampled motion (0 otherwise) */
+    const double *samples; /* samples a_k at k pulse_dt: f linear between them [m/s^2] */
     double t_max; /* end of the run if nothing ends it first [s] */
     double rtol; /* relative tolerance of the integrator */
     const double *atol; /* absolute tolerance of each state component [state units] */
@@ -59,11 +77,11 @@ typedef struct rocking_result {
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(a_g) X(omega_g) X(psi) X(t_p) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
+#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
 
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
 
 #endif

@@ -88,20 +88,83 @@ static const double *about(const constants *k, double s)
     return k->about[s < 0.0];
 }
 
+/* f(t) of an analytic motion (docs/model.md section 12), the operations of
+ * rocking/model/motion.py's SHAPES, so that both back ends see the same bits. */
+static double pulse_shape(const rocking_case *c, double t)
+{
+    switch (c->motion) {
+    case ROCKING_MOTION_SINE:
+        return sin(c->omega_g * t + c->psi);
+    case ROCKING_MOTION_COSINE:
+        return cos(c->omega_g * t);
+    case ROCKING_MOTION_RICKER: {
+        const double u = 0.5 * c->omega_g * (t - c->t_c), u2 = u * u;
+        return (1.0 - 2.0 * u2) * exp(-u2);
+    }
+    case ROCKING_MOTION_RICKER_ANTI: {
+        const double u = 0.5 * c->omega_g * (t - c->t_c), u2 = u * u;
+        return -(u * (3.0 - 2.0 * u2) * exp(-u2)) / ROCKING_RICKER_ANTI_PEAK;
+    }
+    case ROCKING_MOTION_MP: {
+        const double phi = c->omega_g * (t - c->t_c), g = c->shape;
+        return -0.5 * (sin(phi / g) / g * cos(phi + c->psi) + (1.0 + cos(phi / g)) * sin(phi + c->psi));
+    }
+    default:
+        return 0.0; /* not reached: a sampled motion is interpolated */
+    }
+}
+
+/* The sample interval [k dt, (k + 1) dt) holding t, k within [0, n - 2]:
+ * floor(t / dt) corrected for the rounding of the ratio (motion.py's sample_piece). */
+static double pulse_piece(const rocking_case *c, double t)
+{
+    const double dt = c->pulse_dt;
+    double k = floor(t / dt);
+    if ((k + 1.0) * dt <= t)
+        k += 1.0;
+    if (k * dt > t)
+        k -= 1.0;
+    return fmin(fmax(k, 0.0), (double)(c->n_samples - 2));
+}
+
+/* The samples' linear interpolation on the piece k (motion.py's interpolate). */
+static double interpolate(const rocking_case *c, double k, double t)
+{
+    const int64_t i = (int64_t)k;
+    return c->samples[i] + (c->samples[i + 1] - c->samples[i]) * ((t - k * c->pulse_dt) / c->pulse_dt);
+}
+
+/* a_g f(t) on [0, t_p], a sampled motion on the piece holding t (the history,
+ * the start of a contact phase). */
+static double pulse_at(const rocking_case *c, double t)
+{
+    if (!(t >= 0.0 && t <= c->t_p))
+        return 0.0;
+    if (c->motion == ROCKING_MOTION_SAMPLED)
+        return c->a_g * interpolate(c, pulse_piece(c, t), t);
+    return c->a_g * pulse_shape(c, t);
+}
+
 /* One phase's right-hand side: y' = (dq, accelerations of the phase). */
 typedef struct ode {
     const constants *k; /* of the model's parameters */
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
     int pulse_on;    /* the segment lies in [0, t_p] */
-    double a_g, omega_g, psi;
+    const rocking_case *c; /* the ground motion */
+    double piece;    /* a sampled motion: the sample interval of the current step */
 } ode;
 
 /* Ground acceleration inside a segment. A segment never straddles t_p, so it
- * sees either the sine or 0 for all its stages (even one an ulp past t_p):
- * one smooth function per segment, no kink inside a step. */
+ * sees either the motion or 0 for all its stages (even one an ulp past t_p),
+ * and a step of a sampled motion never straddles a sample time, so its stages
+ * see one linear piece: one smooth function per step, no kink inside. */
 static double ode_ag(const ode *o, double t)
 {
-    return o->pulse_on ? o->a_g * sin(o->omega_g * t + o->psi) : 0.0;
+    if (!o->pulse_on)
+        return 0.0;
+    if (o->c->motion == ROCKING_MOTION_SAMPLED)
+        return o->c->a_g * interpolate(o->c, o->piece, t);
+    return o->c->a_g * pulse_shape(o->c, t);
 }
 
 static void ode_rhs(const ode *o, double t, const double *y, double *dy)
@@ -771,12 +834,6 @@ typedef struct run {
     double next_sample; /* index of the next record_dt multiple to sample */
 } run;
 
-/* Ground acceleration of the recorded history: the pulse on [0, t_p]. */
-static double pulse_at(const rocking_case *c, double t)
-{
-    return (t >= 0.0 && t <= c->t_p) ? c->a_g * sin(c->omega_g * t + c->psi) : 0.0;
-}
-
 /* Append a history sample, unless it repeats the last one exactly (a segment
  * restarting where the previous one ended). Counts past the capacity. */
 static void record(run *r, double t, const double *y, int phase)
@@ -944,6 +1001,10 @@ static int run_segment(run *r, double t_bound)
     /* Rocking from theta = 0 (an uplift, an impact): s theta must turn
      * positive, or the impact event (armed by s theta > 0) would never fire. */
     int lifting = r->phase != 0 && r->y[0] == 0.0;
+    /* A sampled motion while it acts: every step ends at the next sample time at
+     * the latest (a kink of ag), inside the segment. ag is continuous there, so
+     * the step's last stage is still the next one's first (FSAL). */
+    const int sampled = r->c->motion == ROCKING_MOTION_SAMPLED && r->t < r->c->t_p;
     int active[N_EVENTS];
     step_events found;
     segment_start saved;
@@ -952,6 +1013,8 @@ static int run_segment(run *r, double t_bound)
     segment_saved(r, &saved);
     r->o.phase = r->phase;
     r->o.pulse_on = r->t < r->c->t_p;
+    if (sampled)
+        r->o.piece = pulse_piece(r->c, r->t);
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
@@ -967,7 +1030,12 @@ static int run_segment(run *r, double t_bound)
     }
 
     while (r->d.t < t_bound) {
-        if (dopri_step(&r->d, &r->o, &r->tol, t_bound, max_step) != 0)
+        double step_bound = t_bound;
+        if (sampled) {
+            r->o.piece = pulse_piece(r->c, r->d.t);
+            step_bound = fmin(t_bound, (r->o.piece + 1.0) * r->c->pulse_dt);
+        }
+        if (dopri_step(&r->d, &r->o, &r->tol, step_bound, max_step) != 0)
             return over_budget(r) ? segment_undone(r, &saved) : SEG_FAILED;
         if (over_budget(r))
             return segment_undone(r, &saved);
@@ -1010,7 +1078,7 @@ static int run_segment(run *r, double t_bound)
 /* Pivot whose uplift function is already positive when full contact starts, else 0. */
 static int uplift_at_start(const run *r)
 {
-    const double ag = r->t < r->c->t_p ? r->c->a_g * sin(r->c->omega_g * r->t + r->c->psi) : 0.0;
+    const double ag = r->t < r->c->t_p ? pulse_at(r->c, r->t) : 0.0;
     if (model_uplift_prepared(r->y, ag, about(r->o.k, 1.0)) > 0.0)
         return 1;
     if (model_uplift_prepared(r->y, ag, about(r->o.k, -1.0)) > 0.0)
@@ -1120,25 +1188,50 @@ static void impact(run *r)
     }
 }
 
-/* The first extremum of the pulse's sine after t: omega_g t + psi = pi/2 + k pi
- * (rule 3); infinity for a constant ground acceleration. The same operations
- * as numpy_backend.next_extremum. */
-static double next_extremum(const rocking_case *c, double t)
+/* The first extremum of a periodic shape after t: omega_g t + phase = pi/2 + k pi
+ * (the one-sine: phase psi; the one-cosine: phase pi/2). The same operations
+ * as numpy_backend.periodic_extremum. */
+static double next_periodic_extremum(double w, double phase, double t)
 {
-    const double w = c->omega_g;
     double k;
     int i;
-    if (!(w != 0.0) || c->a_g == 0.0)
-        return INFINITY;
-    k = (w * t + c->psi - HALF_PI) / PI;
+    k = (w * t + phase - HALF_PI) / PI;
     k = w > 0.0 ? ceil(k) : floor(k);
     for (i = 0; i < 4; ++i) { /* rounding: the first or the second candidate */
-        const double tk = (HALF_PI + k * PI - c->psi) / w;
+        const double tk = (HALF_PI + k * PI - phase) / w;
         if (tk > t)
             return tk;
         k += w > 0.0 ? 1.0 : -1.0;
     }
     return INFINITY; /* not reached */
+}
+
+/* The first extremum of ag after t (rule 3): closed forms for the one-sine and
+ * the one-cosine, the listed extrema (phase units) of the Ricker wavelets and
+ * the Mavroeidis-Papageorgiou pulse; infinity for a constant ground
+ * acceleration, and for a sampled motion, whose every step ends at a sample
+ * time. The same operations as numpy_backend.next_extremum. */
+static double next_extremum(const rocking_case *c, double t)
+{
+    const double w = c->omega_g;
+    int64_t i;
+    if (!(w != 0.0) || c->a_g == 0.0)
+        return INFINITY;
+    switch (c->motion) {
+    case ROCKING_MOTION_SINE:
+        return next_periodic_extremum(w, c->psi, t);
+    case ROCKING_MOTION_COSINE:
+        return next_periodic_extremum(w, HALF_PI, t);
+    case ROCKING_MOTION_SAMPLED:
+        return INFINITY;
+    default:
+        for (i = 0; i < c->n_extrema; ++i) {
+            const double tk = c->t_c + c->extrema[i] / w;
+            if (tk > t)
+                return tk;
+        }
+        return INFINITY;
+    }
 }
 
 /* The whole run: docs/simulation.md, "Phases" and "End". */
@@ -1282,6 +1375,18 @@ static int initial_state(const rocking_case *c, double *y, int *phase)
     return (*phase * y[0] >= 0.0 && !(y[0] == 0.0 && *phase * y[NQ] < 0.0)) ? 0 : -1;
 }
 
+/* What the motion's family reads is there (rocking.sim.problem checks it before a call). */
+static int pulse_valid(const rocking_case *c)
+{
+    if (c->motion < ROCKING_MOTION_SINE || c->motion > ROCKING_MOTION_SAMPLED)
+        return 0;
+    if (c->n_extrema < 0 || (c->n_extrema > 0 && c->extrema == NULL))
+        return 0;
+    if (c->motion == ROCKING_MOTION_SAMPLED)
+        return c->samples != NULL && c->n_samples >= 2 && c->pulse_dt > 0.0;
+    return 1;
+}
+
 static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
                             const rocking_control *control)
 {
@@ -1308,9 +1413,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.k = &k;
     r.o.phase = 0;
     r.o.pulse_on = 1;
-    r.o.a_g = c->a_g;
-    r.o.omega_g = c->omega_g;
-    r.o.psi = c->psi;
+    r.o.c = c;
+    r.o.piece = 0.0;
     r.ec.o = &r.o;
     /* In full contact the energy does not depend on the pivot: E(0) with s = +1,
      * in the regime of the rest state. */
@@ -1335,7 +1439,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.last_t = 0.0;
     r.last_phase = 0;
     r.next_sample = 0.0;
-    if (initial_state(c, r.y, &r.phase) != 0)
+    if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_regime(&k, stop_on);

@@ -1,0 +1,627 @@
+"""Ground motions: the families of ``docs/model.md`` section 12, and one interface to all of them.
+
+Every motion is ``ddx_g(t) = sign a_g f(t)`` on ``[0, t_p]`` and 0 outside: the
+one-sine pulse (:class:`~rocking.model.pulse.OneSinePulse`), the one-cosine pulse
+(:class:`OneCosinePulse`), the Ricker wavelets (:class:`RickerWavelet`), the
+Mavroeidis-Papageorgiou near-fault pulse (:class:`MavroeidisPapageorgiou`) and a
+sampled record (:class:`SampledMotion`). Each has ``acceleration(t)``, ``t_p`` and
+``sign``; :func:`describe` turns one of them (its exact type, nothing else) into the
+numbers both back ends run on.
+
+The shapes are written once, for scalars (``math``) and arrays (``numpy``) alike
+(:data:`SHAPES`): the NumPy back end, ``acceleration(t)`` and the recorded history use
+these functions; ``rocking/sim/csrc/sim.c`` repeats them operation for operation.
+
+Units SI: m/s^2, rad/s, s, rad. Invalid parameters raise
+:class:`~rocking.model.params.ParameterError` naming the parameter.
+"""
+
+from __future__ import annotations
+
+import math
+from collections.abc import Callable
+from dataclasses import dataclass, field, replace
+
+import numpy as np
+from numpy.typing import ArrayLike
+
+from .params import RANGES, Block, ParameterError, check_block, check_in_range, check_real
+from .pulse import OneSinePulse, check_sign
+
+__all__ = [
+    "FAMILIES",
+    "MavroeidisPapageorgiou",
+    "Motion",
+    "OneCosinePulse",
+    "OneSinePulse",
+    "RickerWavelet",
+    "SampledMotion",
+    "describe",
+]
+
+#: The families, in the order of their codes (``rocking.sim.boundary.MOTIONS``).
+FAMILIES = ("sine", "cosine", "ricker", "ricker_anti", "mp", "sampled")
+
+#: The Ricker wavelets are cut at ``|u| = 4`` (``exp(-16)``, 1e-7 of the peak): ``t_c = 8 / omega_g``.
+RICKER_CUT = 4.0
+#: ``u*^2`` of the antisymmetric wavelet's peak, ``(3 - sqrt 6) / 2``.
+_U_STAR2 = (3.0 - math.sqrt(6.0)) / 2.0
+#: The antisymmetric wavelet's peak before normalisation, ``u* (3 - 2 u*^2) exp(-u*^2)``.
+RICKER_ANTI_PEAK = math.sqrt(_U_STAR2) * (3.0 - 2.0 * _U_STAR2) * math.exp(-_U_STAR2)
+
+
+# --------------------------------------------------------------------------- #
+# The shapes f, written once for math (scalars) and numpy (arrays)             #
+# --------------------------------------------------------------------------- #
+
+
+def _sine(t, omega_g, phase, t_c, gamma, m):
+    return m.sin(omega_g * t + phase)
+
+
+def _cosine(t, omega_g, phase, t_c, gamma, m):
+    return m.cos(omega_g * t)
+
+
+def _ricker(t, omega_g, phase, t_c, gamma, m):
+    u = 0.5 * omega_g * (t - t_c)
+    u2 = u * u
+    return (1.0 - 2.0 * u2) * m.exp(-u2)
+
+
+def _ricker_anti(t, omega_g, phase, t_c, gamma, m):
+    u = 0.5 * omega_g * (t - t_c)
+    u2 = u * u
+    return -(u * (3.0 - 2.0 * u2) * m.exp(-u2)) / RICKER_ANTI_PEAK
+
+
+def _mp(t, omega_g, phase, t_c, gamma, m):
+    phi = omega_g * (t - t_c)
+    return -0.5 * (m.sin(phi / gamma) / gamma * m.cos(phi + phase) + (1.0 + m.cos(phi / gamma)) * m.sin(phi + phase))
+
+
+#: ``f(t, omega_g, phase, t_c, gamma, m)`` of each analytic family, ``m`` being ``math`` or ``numpy``.
+SHAPES: dict[str, Callable] = {
+    "sine": _sine,
+    "cosine": _cosine,
+    "ricker": _ricker,
+    "ricker_anti": _ricker_anti,
+    "mp": _mp,
+}
+
+
+def sample_piece(t, dt: float, n: int):
+    """Index ``k`` of the sample interval ``[k dt, (k + 1) dt)`` holding ``t``, within ``[0, n - 2]``.
+
+    ``floor(t / dt)`` corrected for the rounding of the ratio (sim.c's ``pulse_piece``); a float, or an
+    array of floats for an array ``t``.
+    """
+    k = np.floor(np.asarray(t, dtype=float) / dt)
+    k = np.where((k + 1.0) * dt <= t, k + 1.0, k)
+    k = np.where(k * dt > t, k - 1.0, k)
+    k = np.clip(k, 0.0, n - 2.0)
+    return float(k) if k.ndim == 0 else k
+
+
+def interpolate(samples: np.ndarray, dt: float, k, t):
+    """``a(t)`` on the piece ``k``: ``a_k + (a_{k+1} - a_k) (t - k dt) / dt`` (scalars or arrays)."""
+    i = np.asarray(k).astype(np.int64)
+    return samples[i] + (samples[i + 1] - samples[i]) * ((t - k * dt) / dt)
+
+
+def timing(family: str, omega_g, phase=0.0, gamma=0.0):
+    """``(t_c, t_p)`` of an analytic family: its centre and its end, s (docs/model.md section 12).
+
+    Vectorised over its arguments: one formula for a motion and for a batch of them.
+    """
+    omega_g = np.asarray(omega_g, dtype=float)
+    if family == "sine":
+        t_c, t_p = 0.0 * omega_g, (2 * math.pi - phase) / omega_g
+    elif family == "cosine":
+        t_c, t_p = 0.0 * omega_g, 2 * math.pi / omega_g
+    elif family in ("ricker", "ricker_anti"):
+        t_c, t_p = 2.0 * RICKER_CUT / omega_g, 4.0 * RICKER_CUT / omega_g
+    else:
+        t_c, t_p = gamma * math.pi / omega_g, 2.0 * gamma * math.pi / omega_g
+    return (float(t_c), float(t_p)) if omega_g.ndim == 0 else (t_c, t_p)
+
+
+# --------------------------------------------------------------------------- #
+# Extrema of the analytic shapes, in phase units phi = omega_g (t - t_c)       #
+# --------------------------------------------------------------------------- #
+
+
+def _mp_slope(phi, gamma: float, nu: float, m=math):
+    """``df / dphi`` of the Mavroeidis-Papageorgiou shape (``m``: ``math`` or ``numpy``)."""
+    c, s = m.cos(phi / gamma), m.sin(phi / gamma)
+    return -0.5 * ((1.0 / gamma**2 + 1.0 + c) * m.cos(phi + nu) - (2.0 / gamma) * s * m.sin(phi + nu))
+
+
+#: Points per unit of phase where the slope of the MP shape is scanned for sign changes (the shape's
+#: fastest oscillation has period 2 pi: 64 points per radian leave every root in its own bracket).
+MP_SCAN = 64
+
+
+def mp_extrema(gamma: float, nu: float) -> np.ndarray:
+    """The extrema of the Mavroeidis-Papageorgiou shape on ``|phi| < gamma pi``, sorted, in phase units.
+
+    The roots of ``df/dphi``, bracketed on a scan of :data:`MP_SCAN` points per radian and each
+    solved by Brent's method to a few ulps: located once, before any run.
+    """
+    from scipy.optimize import brentq  # here: SciPy is imported by the runs, not by ``import rocking``
+
+    half = gamma * math.pi
+    grid = np.linspace(-half, half, int(math.ceil(2 * half * MP_SCAN)) + 1)
+    slope = _mp_slope(grid, gamma, nu, np)
+    roots = [grid[i] for i in np.flatnonzero(slope[1:-1] == 0.0) + 1]
+    for i in np.flatnonzero(slope[:-1] * slope[1:] < 0.0):
+        root = brentq(_mp_slope, grid[i], grid[i + 1], args=(gamma, nu), xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        roots.append(root)
+    return np.array(sorted(roots), dtype=float)
+
+
+def listed_extrema(family: str, gamma: float = 0.0, nu: float = 0.0) -> np.ndarray | None:
+    """The extrema of a family's shape in phase units (Ricker, MP); ``None`` for the others."""
+    if family in ("ricker", "ricker_anti"):
+        return ricker_extrema(family == "ricker_anti")
+    return mp_extrema(gamma, nu) if family == "mp" else None
+
+
+def ricker_extrema(antisymmetric: bool) -> np.ndarray:
+    """The extrema of a Ricker wavelet in phase units ``phi = 2 u``: ``u = 0, +-sqrt(3/2)``, or
+    ``u^2 = (3 -+ sqrt 6) / 2`` for the antisymmetric one (docs/model.md section 12)."""
+    if antisymmetric:
+        inner, outer = math.sqrt((3.0 - math.sqrt(6.0)) / 2.0), math.sqrt((3.0 + math.sqrt(6.0)) / 2.0)
+        u = [-outer, -inner, inner, outer]
+    else:
+        u = [-math.sqrt(1.5), 0.0, math.sqrt(1.5)]
+    return 2.0 * np.array(u)
+
+
+# --------------------------------------------------------------------------- #
+# The analytic families                                                        #
+# --------------------------------------------------------------------------- #
+
+
+class _Analytic:
+    """What the analytic families share: amplitude, frequency and sign, checked, and ``f`` on ``[0, t_p]``.
+
+    A subclass declares ``family`` and the dataclass fields ``a_g``, ``omega_g``, ``sign``.
+    """
+
+    family: str = ""
+
+    def _check(self) -> None:
+        check_sign(self.sign)
+        a_g = check_in_range("a_g", self.a_g)
+        omega_g = check_in_range("omega_g", self.omega_g, label="[2 pi/1000, 2 pi/0.001]")
+        # Frozen dataclass: the normalised floats can only be stored this way.
+        object.__setattr__(self, "a_g", a_g)
+        object.__setattr__(self, "omega_g", omega_g)
+
+    @property
+    def T_g(self) -> float:
+        """Period ``2 pi / omega_g``, s."""
+        return 2 * math.pi / self.omega_g
+
+    @property
+    def phase(self) -> float:
+        """The phase of the shape (``nu`` of the MP pulse, 0 otherwise), rad."""
+        return 0.0
+
+    @property
+    def shape_parameter(self) -> float:
+        """The shape parameter (``gamma`` of the MP pulse, 0 otherwise)."""
+        return 0.0
+
+    @property
+    def t_c(self) -> float:
+        """Centre of the motion, s (0 for the one-cosine)."""
+        return 0.0
+
+    def acceleration(self, t: ArrayLike) -> float | np.ndarray:
+        """Ground acceleration ``sign a_g f(t)`` on ``[0, t_p]``, 0 outside, m/s^2 (float for a scalar ``t``)."""
+        t = np.asarray(t, dtype=float)
+        f = SHAPES[self.family](t, self.omega_g, self.phase, self.t_c, self.shape_parameter, np)
+        acc = np.where((t >= 0.0) & (t <= self.t_p), self.sign * self.a_g * f, 0.0)
+        return float(acc) if acc.ndim == 0 else acc
+
+    def beta(self, block: Block) -> float:
+        """Amplitude ratio ``beta = a_g / (g tan(alpha))`` for ``block``."""
+        return self.a_g / (block.g * block.tan_alpha)
+
+    def Omega(self, block: Block) -> float:
+        """Frequency ratio ``Omega = omega_g / p`` for ``block``."""
+        return self.omega_g / block.p
+
+    @classmethod
+    def from_nondim(cls, block: Block, *, beta: float, Omega: float, **shape):
+        """The motion scaled to ``block``: ``a_g = beta g tan(alpha)``, ``omega_g = Omega p``.
+
+        Parameters
+        ----------
+        block : Block
+            Block that sets the scales ``g tan(alpha)`` and ``p``.
+        beta : float
+            Amplitude ratio, in [0, 1e4].
+        Omega : float
+            Frequency ratio, in [0.01, 1000].
+        **shape
+            The family's other parameters (``sign``, ``antisymmetric``, ``gamma``, ``nu``).
+
+        Raises
+        ------
+        ParameterError
+            If any value is out of range (naming it).
+        """
+        check_block(block)
+        beta, Omega = check_in_range("beta", beta), check_in_range("Omega", Omega)
+        try:
+            return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, **shape)
+        except ParameterError as exc:
+            if str(exc).startswith(("a_g ", "omega_g ")):  # derived from beta and Omega: say so
+                raise ParameterError(f"beta = {beta!r}, Omega = {Omega!r} on this block give {exc}") from None
+            raise
+
+    @classmethod
+    def from_period(cls, a_g: float, T_g: float, **shape):
+        """The motion of period ``T_g = 2 pi / omega_g`` (s); the other arguments as the constructor's."""
+        T_g = check_real("T_g", T_g)
+        if not T_g > 0.0:
+            raise ParameterError(f"T_g must be > 0 s (got {T_g!r})")
+        return cls(a_g=a_g, omega_g=2 * math.pi / T_g, **shape)
+
+
+@dataclass(frozen=True)
+class OneCosinePulse(_Analytic):
+    """``ddx_g = sign a_g cos(omega_g t)`` on ``[0, 2 pi / omega_g]``: one full cosine cycle, a step at ``t = 0``.
+
+    Parameters
+    ----------
+    a_g : float
+        Amplitude, m/s^2, in [0, 1e5].
+    omega_g : float
+        Circular frequency, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``.
+    sign : {+1, -1}, optional
+        Direction (+1: the ground first accelerates to the right).
+    """
+
+    a_g: float
+    omega_g: float
+    sign: int = 1
+    family = "cosine"
+
+    def __post_init__(self) -> None:
+        self._check()
+
+    @property
+    def t_p(self) -> float:
+        """End of the pulse, ``2 pi / omega_g``, s."""
+        return timing(self.family, self.omega_g)[1]
+
+
+@dataclass(frozen=True)
+class RickerWavelet(_Analytic):
+    """A Ricker wavelet ``sign a_g f(t)``, ``u = omega_g (t - t_c) / 2``, cut at ``|u| = 4`` (docs/model.md 12).
+
+    Symmetric ``f = (1 - 2 u^2) exp(-u^2)``; antisymmetric, its derivative normalised to a peak of 1
+    (first lobe positive). ``omega_g = 2 pi f_p``, ``f_p`` the peak of its Fourier spectrum.
+
+    Parameters
+    ----------
+    a_g : float
+        Peak, m/s^2, in [0, 1e5].
+    omega_g : float
+        ``2 pi f_p``, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``.
+    antisymmetric : bool, optional
+        The antisymmetric wavelet. Default False.
+    sign : {+1, -1}, optional
+        Direction.
+    """
+
+    a_g: float
+    omega_g: float
+    antisymmetric: bool = False
+    sign: int = 1
+
+    def __post_init__(self) -> None:
+        if not isinstance(self.antisymmetric, (bool, np.bool_)):
+            raise ParameterError(f"antisymmetric must be True or False (got {self.antisymmetric!r})")
+        self._check()
+
+    @property
+    def family(self) -> str:
+        return "ricker_anti" if self.antisymmetric else "ricker"
+
+    @property
+    def t_c(self) -> float:
+        """Centre ``2 RICKER_CUT / omega_g = 8 / omega_g``, s."""
+        return timing(self.family, self.omega_g)[0]
+
+    @property
+    def t_p(self) -> float:
+        """End ``16 / omega_g``, s."""
+        return timing(self.family, self.omega_g)[1]
+
+
+@dataclass(frozen=True)
+class MavroeidisPapageorgiou(_Analytic):
+    """The near-fault pulse of Mavroeidis and Papageorgiou (2003), ``omega_g = 2 pi f_p`` (docs/model.md 12).
+
+    Ground velocity ``v = A/2 [1 + cos(phi / gamma)] cos(phi + nu)``, ``phi = omega_g (t - t_c)``,
+    ``|phi| <= gamma pi``; the acceleration is its derivative, ``a_g = A omega_g``. Its peak is
+    below ``a_g`` in general.
+
+    Parameters
+    ----------
+    a_g : float
+        ``A omega_g``, m/s^2, in [0, 1e5].
+    omega_g : float
+        ``2 pi f_p``, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``.
+    gamma : float
+        Oscillations, in (1, 20].
+    nu : float, optional
+        Phase, rad, in ``[0, 2 pi)``. Default 0.
+    sign : {+1, -1}, optional
+        Direction.
+    """
+
+    a_g: float
+    omega_g: float
+    gamma: float
+    nu: float = 0.0
+    sign: int = 1
+    family = "mp"
+
+    def __post_init__(self) -> None:
+        self._check()
+        object.__setattr__(self, "gamma", check_in_range("gamma", self.gamma, "gamma_mp"))
+        object.__setattr__(self, "nu", check_in_range("nu", self.nu, "psi", label="[0, 2 pi)"))
+
+    @property
+    def phase(self) -> float:
+        return self.nu
+
+    @property
+    def shape_parameter(self) -> float:
+        return self.gamma
+
+    @property
+    def t_c(self) -> float:
+        """Centre ``gamma pi / omega_g``, s."""
+        return timing("mp", self.omega_g, gamma=self.gamma)[0]
+
+    @property
+    def t_p(self) -> float:
+        """End ``2 gamma pi / omega_g``, s."""
+        return timing("mp", self.omega_g, gamma=self.gamma)[1]
+
+
+# --------------------------------------------------------------------------- #
+# A sampled record                                                             #
+# --------------------------------------------------------------------------- #
+
+#: Relative spread of the spacing of a ``t`` array that still counts as uniform.
+UNIFORM = 1e-6
+
+
+def _samples(a: object) -> np.ndarray:
+    """``a`` as a 1-D float array of at least 2 finite samples; the error names the first bad index."""
+    try:
+        arr = np.asarray(a, dtype=float)
+    except (TypeError, ValueError):
+        raise ParameterError(f"a must be an array of numbers (got {type(a).__name__})") from None
+    if arr.ndim != 1:
+        raise ParameterError(f"a must be one-dimensional (got shape {arr.shape})")
+    if arr.size < 2:
+        raise ParameterError(f"a must hold at least 2 samples (got {arr.size})")
+    bad = np.flatnonzero(~np.isfinite(arr))
+    if bad.size:
+        raise ParameterError(f"a must be finite: a[{bad[0]}] = {float(arr[bad[0]])!r}")
+    if arr.flags.writeable:  # the caller's array, or a new one: a frozen copy; a frozen one is shared as it is
+        arr = arr.copy()
+        arr.setflags(write=False)  # shared by every scaled copy and by the back ends: never changed
+    return arr
+
+
+def _spacing(t: object, n: int) -> float:
+    """The uniform spacing of the times ``t`` of ``n`` samples, from 0; else the error naming the index."""
+    try:
+        t = np.asarray(t, dtype=float).reshape(-1)
+    except (TypeError, ValueError):
+        raise ParameterError(f"t must be an array of times (got {type(t).__name__})") from None
+    if t.size != n:
+        raise ParameterError(f"t must hold one time per sample ({n}, got {t.size})")
+    if not np.all(np.isfinite(t)):
+        raise ParameterError(f"t must be finite: t[{np.flatnonzero(~np.isfinite(t))[0]}] is not")
+    dt = (t[-1] - t[0]) / (n - 1)
+    if not dt > 0.0:
+        raise ParameterError(f"t must increase (got t[0] = {float(t[0])!r}, t[-1] = {float(t[-1])!r})")
+    if abs(t[0]) > UNIFORM * dt:
+        raise ParameterError(f"t must start at 0 (got t[0] = {float(t[0])!r})")
+    off = np.abs(np.diff(t) - dt)
+    worst = int(np.argmax(off))
+    if off[worst] > UNIFORM * dt:
+        raise ParameterError(
+            f"t must be uniformly spaced (to {UNIFORM:g} dt): t[{worst + 1}] - t[{worst}] = "
+            f"{float(t[worst + 1] - t[worst])!r}, dt = {float(dt)!r}"
+        )
+    return float(dt)
+
+
+@dataclass(frozen=True, eq=False)
+class SampledMotion:
+    """A recorded (or synthetic) ground acceleration: ``ddx_g = sign scale a(t)``, ``a`` linear between samples.
+
+    Samples ``a_k`` at ``t_k = k dt``, ``k = 0 ... n - 1``; ``t_p = (n - 1) dt``, 0 after.
+
+    Parameters
+    ----------
+    a : array_like
+        The samples, m/s^2: at least 2, all finite.
+    dt : float, optional
+        Sample spacing, s, in [1e-6, 10]. Give ``dt`` or ``t``.
+    t : array_like, optional
+        Sample times from 0, uniformly spaced (to :data:`UNIFORM` of the spacing).
+    scale : float, optional
+        Factor on the samples (``>= 0``; it plays ``a_g``). Default 1.
+    sign : {+1, -1}, optional
+        Direction. Default +1.
+
+    Raises
+    ------
+    ParameterError
+        One line naming the parameter: non-finite sample (its index), non-uniform ``t``, a bad
+        ``dt``, fewer than 2 samples, a peak ``scale max|a|`` beyond the range of ``a_g``.
+    """
+
+    a: np.ndarray = field(repr=False)
+    dt: float | None = None
+    t: np.ndarray | None = field(default=None, repr=False)
+    scale: float = 1.0
+    sign: int = 1
+    family = "sampled"
+
+    def __post_init__(self) -> None:
+        a = _samples(self.a)
+        if (self.dt is None) == (self.t is None):
+            raise ParameterError("give exactly one of dt (the sample spacing) or t (the sample times)")
+        dt = _spacing(self.t, a.size) if self.dt is None else check_in_range("dt", self.dt, "pulse_dt")
+        check_in_range("dt", dt, "pulse_dt")
+        scale = check_real("scale", self.scale)
+        if scale < 0.0:
+            raise ParameterError(f"scale must be >= 0 (got {scale!r})")
+        check_sign(self.sign)
+        peak = scale * float(np.max(np.abs(a)))
+        if peak not in RANGES["a_g"]:
+            raise ParameterError(f"scale max|a| = {peak!r} m/s^2 must be {RANGES['a_g'].text()}: {RANGES['a_g'].why}")
+        if (a.size - 1) * dt > RANGES["t_max"].high:
+            raise ParameterError(f"the record lasts {(a.size - 1) * dt:g} s: at most {RANGES['t_max'].high:g} s")
+        for name, value in (("a", a), ("dt", dt), ("t", None), ("scale", scale)):
+            object.__setattr__(self, name, value)
+
+    @property
+    def n(self) -> int:
+        """Number of samples."""
+        return int(self.a.size)
+
+    @property
+    def t_p(self) -> float:
+        """End of the record, ``(n - 1) dt``, s."""
+        return (self.n - 1) * self.dt
+
+    @property
+    def pga(self) -> float:
+        """Peak ground acceleration ``scale max|a|``, m/s^2."""
+        return self.scale * float(np.max(np.abs(self.a)))
+
+    def scaled(self, factor: float) -> SampledMotion:
+        """The same record with its scale multiplied by ``factor`` (``>= 0``); the samples are shared, not copied."""
+        factor = check_real("factor", factor)
+        if factor < 0.0:
+            raise ParameterError(f"factor must be >= 0 (got {factor!r})")
+        return replace(self, scale=self.scale * factor)
+
+    def scaled_to_pga(self, target: float) -> SampledMotion:
+        """The same record scaled so that its peak ground acceleration is ``target`` (m/s^2, ``>= 0``)."""
+        target = check_real("target", target)
+        if target < 0.0:
+            raise ParameterError(f"target must be >= 0 m/s^2 (got {target!r})")
+        peak = float(np.max(np.abs(self.a)))
+        if peak == 0.0:
+            raise ParameterError("scaled_to_pga: every sample is 0, no scale reaches a peak")
+        return replace(self, scale=target / peak)
+
+    def acceleration(self, t: ArrayLike) -> float | np.ndarray:
+        """Ground acceleration ``sign scale a(t)`` on ``[0, t_p]``, 0 outside, m/s^2 (float for a scalar ``t``)."""
+        t = np.asarray(t, dtype=float)
+        k = sample_piece(t, self.dt, self.n)
+        acc = np.where((t >= 0.0) & (t <= self.t_p), self.sign * self.scale * interpolate(self.a, self.dt, k, t), 0.0)
+        return float(acc) if acc.ndim == 0 else acc
+
+
+# --------------------------------------------------------------------------- #
+# One interface: the numbers a run needs                                       #
+# --------------------------------------------------------------------------- #
+
+#: The motions the back ends evaluate, by exact type (a subclass may override ``acceleration``: refused).
+REGISTRY: dict[type, str] = {
+    OneSinePulse: "sine",
+    OneCosinePulse: "cosine",
+    RickerWavelet: "ricker",
+    MavroeidisPapageorgiou: "mp",
+    SampledMotion: "sampled",
+}
+
+#: Any motion of :data:`REGISTRY`.
+Motion = OneSinePulse | OneCosinePulse | RickerWavelet | MavroeidisPapageorgiou | SampledMotion
+
+
+@dataclass(frozen=True)
+class Description:
+    """A motion as numbers: ``ddx_g = a_g f(t)`` on ``[0, t_p]`` (``a_g`` signed), what both back ends run on.
+
+    Attributes
+    ----------
+    family : str
+        One of :data:`FAMILIES`.
+    a_g : float
+        Signed amplitude (``sign scale`` of a sampled motion), m/s^2.
+    omega_g, phase, t_c, shape : float
+        The shape's frequency (rad/s), phase (rad), centre (s) and parameter (0 where unused).
+    t_p : float
+        End of the motion, s.
+    T_g : float
+        Period ``2 pi / omega_g`` (inf for a sampled motion), for the default steps.
+    extrema : ndarray or None
+        Extrema of ``f`` in phase units ``omega_g (t - t_c)`` (Ricker, MP), sorted.
+    samples : ndarray or None
+        The samples (unscaled) of a sampled motion.
+    dt : float
+        Their spacing, s (0 otherwise).
+    """
+
+    family: str
+    a_g: float
+    omega_g: float = 0.0
+    phase: float = 0.0
+    t_c: float = 0.0
+    shape: float = 0.0
+    t_p: float = 0.0
+    T_g: float = math.inf
+    extrema: np.ndarray | None = None
+    samples: np.ndarray | None = None
+    dt: float = 0.0
+
+
+def family_of(motion: object) -> str:
+    """The family of ``motion`` if its exact type is registered, else a one-line :class:`ParameterError`."""
+    family = REGISTRY.get(type(motion))
+    if family is None:
+        names = ", ".join(f"rocking.{cls.__name__}" for cls in REGISTRY)
+        parents = [cls.__name__ for cls in REGISTRY if isinstance(motion, cls)]
+        why = f", a subclass of rocking.{parents[0]}: the back ends run the registered types only" if parents else ""
+        raise ParameterError(f"pulse must be one of {names} (got {type(motion).__name__}{why})")
+    return family
+
+
+def describe(motion: object) -> Description:
+    """The numbers of ``motion`` that both back ends run on (:class:`Description`).
+
+    Raises
+    ------
+    ParameterError
+        ``motion`` is not exactly one of the registered types (:data:`REGISTRY`).
+    """
+    family = family_of(motion)
+    if family == "sampled":
+        return Description("sampled", motion.sign * motion.scale, t_p=motion.t_p, samples=motion.a, dt=motion.dt)
+    common = {"omega_g": motion.omega_g, "t_p": motion.t_p, "T_g": 2 * math.pi / motion.omega_g}
+    if family == "sine":
+        return Description("sine", motion.sign * motion.a_g, phase=motion.psi, **common)
+    extrema = listed_extrema(motion.family, motion.shape_parameter, motion.phase)
+    return Description(
+        motion.family, motion.sign * motion.a_g, phase=motion.phase, t_c=motion.t_c, shape=motion.shape_parameter,
+        extrema=extrema, **common,
+    )  # fmt: skip
+
