@@ -7,13 +7,11 @@ import pytest
 from scipy import integrate
 
 from rocking.model.params import ParameterError
-from rocking.model.stochastic import SiteModel, modulating_function, modulating_parameters, suite
+from rocking.model.stochastic import DEFAULT_SITE, SiteModel, modulating_function, modulating_parameters, suite
 
 G = 9.81
-#: Median parameters of Rezaeian and Der Kiureghian (2010, Earthquake Engng Struct. Dyn. 39), strike-slip
-#: records of the NGA set: I_a = 0.0468 s g, D_5-95 = 17.3 s, t_mid = 12.4 s, f_mid = 5.87 Hz,
-#: f' = -0.089 Hz/s, zeta_f = 0.213.
-SITE = SiteModel(arias=0.0468 * G, d595=17.3, t_mid=12.4, f_mid=5.87, f_slope=-0.089, zeta_f=0.213)
+#: The default site of rocking.model.stochastic (DEFAULT_SITE).
+SITE = DEFAULT_SITE
 
 
 @pytest.fixture(scope="module")

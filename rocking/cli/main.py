@@ -15,9 +15,10 @@ import sys
 
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
-from ..model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet
+from ..model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion
 from ..model.params import Damper, ParameterError
 from ..model.pulse import OneSinePulse
+from ..model.records import UNITS, read_record
 from ..sim.cbuild import CBuildError
 from ..sim.problem import SimulationError
 from ..sim.run import BACKENDS, simulate
@@ -146,6 +147,34 @@ def _pulse(args, block):
     return call_with(cls.from_nondim, {**nondim, **shape}, "a pulse", block)
 
 
+#: Options of a pulse, refused with --motion (a record sets the motion).
+PULSE_OPTIONS = ("pulse", "beta", "Omega", "a_g", "omega_g", "psi", "gamma_mp", "nu")
+
+
+def _motion(args) -> SampledMotion:
+    """The record of ``--motion FILE`` (``--unit`` for text files), times ``--scale`` or scaled to ``--pga``."""
+    foreign = given(args, PULSE_OPTIONS)
+    if foreign:
+        raise ParameterError(f"{flags(foreign)}: options of a pulse; --motion gives a recorded motion")
+    record = read_record(args.motion, args.unit)
+    motion = SampledMotion(record.acceleration, dt=record.dt, **given(args, ("sign",)))
+    if args.scale is not None and args.pga is not None:
+        raise ParameterError("give --scale (a factor) or --pga (a target peak, m/s2), not both")
+    if args.pga is not None:
+        return motion.scaled_to_pga(args.pga)
+    return motion.scaled(args.scale) if args.scale is not None else motion
+
+
+def _motion_text(block, motion) -> str:
+    """What the summary says of the excitation: a pulse's ratios and shape, or a record's length and peak."""
+    if isinstance(motion, SampledMotion):
+        return (f"record of {motion.n} samples at dt={motion.dt:g} s, "
+                f"PGA={motion.pga:.4g} m/s2 ({motion.pga / block.g:.3g} g) at scale {motion.scale:.4g}, "
+                f"sign={motion.sign:+d}")  # fmt: skip
+    return (f"pulse beta={motion.beta(block):.4g} Omega={motion.Omega(block):.4g} (a_g={motion.a_g:.4g} m/s2, "
+            f"omega_g={motion.omega_g:.4g} rad/s, {_pulse_text(motion)}, sign={motion.sign:+d})")  # fmt: skip
+
+
 def _pulse_text(pulse) -> str:
     """The family of a pulse and its shape parameters, as the summary prints them."""
     if isinstance(pulse, OneSinePulse):
@@ -157,21 +186,20 @@ def _pulse_text(pulse) -> str:
 
 def _payload(block, damper, pulse, model, responses) -> dict:
     """What simulate --json prints."""
-    shape = {"psi": pulse.psi} if isinstance(pulse, OneSinePulse) else {"family": pulse.family}
-    if isinstance(pulse, MavroeidisPapageorgiou):
-        shape.update(gamma=pulse.gamma, nu=pulse.nu)
+    if isinstance(pulse, SampledMotion):
+        excitation = {"family": "sampled", "samples": pulse.n, "dt": pulse.dt, "scale": pulse.scale,
+                      "pga": pulse.pga, "sign": pulse.sign}  # fmt: skip
+    else:
+        shape = {"psi": pulse.psi} if isinstance(pulse, OneSinePulse) else {"family": pulse.family}
+        if isinstance(pulse, MavroeidisPapageorgiou):
+            shape.update(gamma=pulse.gamma, nu=pulse.nu)
+        excitation = {"a_g": pulse.a_g, "omega_g": pulse.omega_g, **shape, "sign": pulse.sign,
+                      "beta": pulse.beta(block), "Omega": pulse.Omega(block)}  # fmt: skip
     return {
         "block": block.as_params(),
         "model": model,
         "damper": (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None,
-        "pulse": {
-            "a_g": pulse.a_g,
-            "omega_g": pulse.omega_g,
-            **shape,
-            "sign": pulse.sign,
-            "beta": pulse.beta(block),
-            "Omega": pulse.Omega(block),
-        },
+        "pulse": excitation,
         "responses": {label: r.summary() for label, r in responses.items()},
     }
 
@@ -179,9 +207,7 @@ def _payload(block, damper, pulse, model, responses) -> dict:
 def _print_summary(block, pulse, responses) -> None:
     print(
         f"block H={block.H:g} m B={block.B:g} m M={block.M:g} kg e={block.e:g} m "
-        f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); "
-        f"pulse beta={pulse.beta(block):.4g} Omega={pulse.Omega(block):.4g} (a_g={pulse.a_g:.4g} m/s2, "
-        f"omega_g={pulse.omega_g:.4g} rad/s, {_pulse_text(pulse)}, sign={pulse.sign:+d})"
+        f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); {_motion_text(block, pulse)}"
     )
     for label, r in responses.items():
         verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
@@ -194,7 +220,7 @@ def _print_summary(block, pulse, responses) -> None:
 def _cmd_simulate(args) -> int:
     block = block_from(args)
     damper = _damper(args, block)
-    pulse = _pulse(args, block)
+    pulse = _motion(args) if args.motion else _pulse(args, block)
     cases = {"with damper" if damper else "block alone": damper}
     if args.compare and damper is not None:
         cases["block alone"] = None
@@ -210,9 +236,9 @@ def _cmd_simulate(args) -> int:
     if args.plot:
         from ..plot.response import plot_responses
 
-        path = plot_responses(
-            responses, block.alpha, args.plot, title=f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}"
-        )
+        title = (f"record, PGA = {pulse.pga / block.g:.3g} g" if isinstance(pulse, SampledMotion)
+                 else f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}")  # fmt: skip
+        path = plot_responses(responses, block.alpha, args.plot, title=title)
         print(f"figure written to {path}", file=sys.stderr)
     return 0
 
@@ -273,6 +299,14 @@ def _add_simulate(sub) -> None:
         type=int,
         help=f"direction, +1 or -1: +1 pushes the ground right first ({default_text(OneSinePulse, 'sign')})",
     )
+    g = p.add_argument_group(
+        "recorded motion (instead of a pulse)",
+        "As rocking.SampledMotion(a, dt, scale, sign) from rocking.model.records.read_record(FILE, unit).",
+    )
+    g.add_argument("--motion", metavar="FILE", help="a record: PEER NGA .AT2 (in g), or columns 'time, a' in --unit")
+    g.add_argument("--unit", choices=tuple(UNITS), help="unit of the accelerations of a text or CSV --motion")
+    g.add_argument("--scale", type=float, help="factor on the record (default 1)")
+    g.add_argument("--pga", type=float, help="scale the record to this peak ground acceleration, m/s2")
     g = p.add_argument_group("run and output")
     g.add_argument("--backend", choices=BACKENDS, help=f"back end ({default_text(simulate, 'backend')})")
     g.add_argument(

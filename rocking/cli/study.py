@@ -28,16 +28,22 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.intensity import MEASURES
 from ..model.params import ParameterError
+from ..model.records import UNITS
+from ..model.stochastic import DEFAULT_SITE, SiteModel
 from ..plot.figures import draw, redraw
 from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
+from ..study.fragility import FITTED
+from ..study.ida import incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
 from ..study.storage import make_folder, save
+from ..study.suite import Suite
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
@@ -62,6 +68,11 @@ OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
 #: The band of pulses of ``design`` and its beta scan (reaching above the damped block's beta_min at Omega = 8).
 DESIGN_OMEGA, DESIGN_BETA = (2.0, 8.0, 7), (0.5, 25.0, 50)
+
+#: Default levels of ida (scale factors) and fragility (PGA, m/s^2).
+IDA_SCALES, FRAGILITY_LEVELS = (0.25, 4.0, 16), (0.5, 10.0, 20)
+#: Options of the stochastic site model (rocking.model.stochastic.SiteModel).
+SITE_OPTIONS = ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
 
 #: Options that set the omd damper (a Tuning), refused with a model variant.
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
@@ -470,6 +481,44 @@ def _print_threshold_map(study: Study) -> None:
               f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)")  # fmt: skip
 
 
+def _suite_from(args) -> Suite:
+    """The motions of ``ida``/``fragility``: ``--motions FILES`` or ``--stochastic N --seed S`` (site options)."""
+    site_options = given(args, SITE_OPTIONS)
+    if args.motions and args.stochastic is not None:
+        raise ParameterError("give --motions FILES or --stochastic N, not both")
+    if args.motions:
+        if site_options or args.seed is not None:
+            raise ParameterError(f"{flags({**site_options, **given(args, ('seed',))})}: options of --stochastic")
+        return Suite.from_files(args.motions, args.unit)
+    if args.stochastic is None:
+        raise ParameterError("a suite is needed: --motions FILES... or --stochastic N --seed S")
+    site = SiteModel(**{**DEFAULT_SITE.record(), "duration": None, **site_options})
+    return Suite.stochastic(site, args.stochastic, 0 if args.seed is None else args.seed)
+
+
+def _cmd_ida(args) -> int:
+    measure = "scale" if args.command == "ida" else args.im
+    grid = grid_from("scales" if measure == "scale" else "levels", args.scales if measure == "scale" else args.levels)
+    setting, damper, execution = setting_from(args), damper_from(args), execution_from(args)
+    suite = _suite_from(args)
+    out = out_from(args)
+    study = incremental_dynamic_analysis(setting, damper, suite, grid, execution, measure_name=measure,
+                                         runs=out / "runs", **given(args, ("directions",)))  # fmt: skip
+    _report(study, out)
+    s = study.summary
+    for part in ("bare", "damper"):
+        fit = s[part]
+        unit = s["unit"] or "(scale factor)"
+        text = fit["status"]
+        if fit["status"] in FITTED:
+            (t0, t1), (b0, b1) = fit["theta_interval"], fit["beta_interval"]
+            text = (f"median {fit['theta']:.4g} {unit}, dispersion {fit['beta']:.3g} (90 % intervals {t0:.4g} to "
+                    f"{t1:.4g}, {b0:.3g} to {b1:.3g}), {fit['status']}")  # fmt: skip
+        print(f"{study.kind}, {part}: {text}; {fit['motions_with_resurrections']} of {s['motions']} motions "
+              "overturn the block at a level and not at a higher one")  # fmt: skip
+    return 0
+
+
 def _cmd_demo(args) -> int:
     """The damper as built: stops at the block's edges beside the paper's unlimited guide (maps and spectra,
     both directions), the design answer, and ``Omega*`` across geometries; each on its command's default grids."""
@@ -656,6 +705,30 @@ def add_study_commands(subparsers) -> None:
     _add_tol(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_demo))
+
+    for name, text in (("ida", "incremental dynamic analysis: every record at every scale factor, with and without "
+                               "the damper"),
+                       ("fragility", "fragility curves: the probability of overturning against an intensity measure, "
+                                     "over a suite of records or of stochastic motions")):  # fmt: skip
+        p = _study_parser(subparsers, name, text)
+        _add_damper(p, tuned=True, searched=False)
+        _add_variant(p)
+        g = p.add_argument_group("motions", "As rocking.study.suite.Suite.from_files or Suite.stochastic.")
+        g.add_argument("--motions", nargs="+", metavar="FILE", help="records: PEER NGA .AT2, or 'time, a' columns")
+        g.add_argument("--unit", choices=tuple(UNITS), help="unit of the accelerations of text or CSV records")
+        g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
+        g.add_argument("--seed", type=int, help="seed of the stochastic motions (default 0)")
+        for option in SITE_OPTIONS:
+            g.add_argument(f"--{option.replace('_', '-')}", type=float,
+                           help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})")  # fmt: skip
+        if name == "ida":
+            _add_grid(p, "scales", IDA_SCALES, "scale factors of every record")
+        else:
+            p.add_argument("--im", choices=tuple(MEASURES), default="pga", help="intensity measure (default pga)")
+            _add_grid(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
+        _add_directions(p)
+        _add_solver(p)
+        p.set_defaults(func=_guarded(_cmd_ida))
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
     p.add_argument("paths", nargs="+", help="a saved study (.npz, .json or their stem) or a folder of them")

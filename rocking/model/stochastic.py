@@ -120,6 +120,13 @@ class SiteModel:
                                               "duration")}  # fmt: skip
 
 
+#: A default site: values of the order of the medians Rezaeian and Der Kiureghian (2010, Earthquake Engng Struct.
+#: Dyn. 39, 1155-1180) report for the NGA records (I_a about 0.05 s g, D_5-95 of 10 - 20 s, f_mid about 5 Hz
+#: falling by about 0.1 Hz/s, zeta_f of 0.2 - 0.3); not a fit to any site, and not checked against the paper
+#: here. Give a site's own values for a real study.
+DEFAULT_SITE = SiteModel(arias=0.0468 * 9.81, d595=17.3, t_mid=12.4, f_mid=5.87, f_slope=-0.089, zeta_f=0.213)
+
+
 def modulating_parameters(arias: float, d595: float, t_mid: float, g: float = 9.81) -> tuple[float, float, float]:
     """``(alpha_1, alpha_2, alpha_3)`` of ``q(t) = alpha_1 t^(alpha_2 - 1) exp(-alpha_3 t)`` for the expected
     Arias intensity ``arias`` (m/s), the significant duration ``d595`` and ``t_mid`` (s).
@@ -201,6 +208,11 @@ def synthesize(site: SiteModel, rng: np.random.Generator, g: float = 9.81) -> np
     return high_pass(q * filtered_noise(site, rng.standard_normal(t.size)), site.dt, site.f_c)
 
 
+def record_rng(seed: int, i: int) -> np.random.Generator:
+    """The generator of record ``i`` of the suite of ``seed``: the ``i``-th child of ``SeedSequence(seed)``."""
+    return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(i),)))
+
+
 def suite(site: SiteModel, n: int, seed: int, g: float = 9.81) -> list[np.ndarray]:
     """``n`` records of ``site``, reproducible from ``seed``: record ``i`` is the same in a suite of any size.
 
@@ -213,5 +225,4 @@ def suite(site: SiteModel, n: int, seed: int, g: float = 9.81) -> list[np.ndarra
         raise ParameterError(f"n must be an integer in [1, 100000] (motions in a suite) (got {n!r})")
     if not (isinstance(seed, (int, np.integer)) and not isinstance(seed, bool) and seed >= 0):
         raise ParameterError(f"seed must be an integer >= 0 (got {seed!r})")
-    children = np.random.SeedSequence(int(seed)).spawn(int(n))
-    return [synthesize(site, np.random.default_rng(child), g) for child in children]
+    return [synthesize(site, record_rng(seed, i), g) for i in range(int(n))]

@@ -365,7 +365,48 @@ def threshold_figure(study: Study) -> Figure:
     return fig
 
 
+def ida_figure(study: Study) -> Figure:
+    """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
+    band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
+    resurrections marked."""
+    a, s = study.arrays, study.summary
+    fig = Figure(figsize=(13, 4.8), layout="constrained")
+    ax_f, ax_m = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
+    unit = f" ({s['unit']})" if s["unit"] else ""
+    for part in ("bare", "damper"):
+        style, fit = PART_STYLE[part], s[part]
+        ax_f.plot(a["levels"], a[f"{part}_fraction"], "o", color=style["color"], ms=4,
+                  label=f"{style['label']}: fraction overturned")  # fmt: skip
+        if fit["status"] in ("fitted", "separated"):
+            label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
+            ax_f.plot(a["curve_x"], a[f"{part}_curve"], "-", color=style["color"], label=label)
+            ax_f.fill_between(a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"],
+                              alpha=0.15, lw=0)  # fmt: skip
+    ax_f.set_xlabel(f"{s['measure']}{unit}")
+    ax_f.set_ylabel("probability of overturning")
+    ax_f.set_ylim(-0.02, 1.02)
+    ax_f.set_title(f"{s['motions']} motions; bands: 90 % bootstrap over the motions", fontsize=9)
+    ax_f.legend(fontsize=7, loc="upper left")
+    over = a["damper_overturned"].astype(int)
+    image = np.where(over == 1, 1, 0)
+    ax_m.pcolormesh(_edges(a["levels"]), np.arange(over.shape[0] + 1) - 0.5, image,
+                    cmap=ListedColormap(["#f7f7f7", "#b2182b"]), vmin=0, vmax=1, rasterized=True)  # fmt: skip
+    rows = np.flatnonzero(a["damper_reversals"] > 0)
+    ax_m.plot(np.full(rows.size, a["levels"][-1]), rows, "<", color="tab:blue", ms=5,
+              label="non-monotone: overturns, then survives a higher level")  # fmt: skip
+    ax_m.set_xlabel(f"{s['measure']}{unit}")
+    ax_m.set_ylabel("motion")
+    ax_m.set_title("with the damper: overturned (red) at each level", fontsize=9)
+    if rows.size:
+        ax_m.legend(fontsize=7, loc="lower right")
+    title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
+    fig.suptitle(f"{title}; {_damper_label(study.config)}\n{_directions_label(study.config)}")
+    return fig
+
+
 FIGURES = {
+    "ida": ida_figure,
+    "fragility": ida_figure,
     "map": map_figure,
     "spectrum": spectrum_figure,
     "optimize": optimize_figure,

@@ -17,7 +17,7 @@ Its confidence band is a bootstrap over the motions (the suite is the sample):
 from __future__ import annotations
 
 import numpy as np
-from scipy import optimize, stats
+from scipy import special, stats
 
 from ..model.params import ParameterError
 
@@ -36,11 +36,64 @@ def _stripes(im, overturned) -> tuple[np.ndarray, np.ndarray]:
 def log_likelihood(log_theta: float, beta: float, im, overturned) -> float:
     """Binomial log-likelihood of the lognormal fragility ``(exp(log_theta), beta)`` for the responses
     ``overturned`` (motions, levels) at the levels ``im``."""
-    p = stats.norm.cdf((np.log(im) - log_theta) / beta)
-    p = np.clip(p, 1e-300, 1 - 1e-16)
-    k = overturned.sum(axis=0)
-    n = overturned.shape[0]
-    return float(np.sum(k * np.log(p) + (n - k) * np.log1p(-p)))
+    return -_probit_cost(np.array([-log_theta / beta, 1 / beta]), np.log(im), *_counts(overturned))[0]
+
+
+def _counts(overturned) -> tuple[np.ndarray, np.ndarray]:
+    """Overturned and safe responses per level."""
+    k = overturned.sum(axis=0).astype(float)
+    return k, overturned.shape[0] - k
+
+
+def _probit_cost(params, x, k, safe) -> tuple[float, np.ndarray, np.ndarray]:
+    """Negative log-likelihood of ``P = Phi(a + b x)`` (``x = ln IM``), its gradient and Hessian in ``(a, b)``.
+
+    The lognormal fragility is this probit model with ``b = 1 / beta``, ``a = -ln(theta) / beta``; its cost is
+    convex in ``(a, b)``. Logs of Phi are taken directly (``log_ndtr``), so that levels far in the tails do
+    not round to log(0).
+    """
+    a, b = params
+    z = a + b * x
+    log_p, log_q = special.log_ndtr(z), special.log_ndtr(-z)
+    log_pdf = -0.5 * z * z - 0.5 * np.log(2 * np.pi)
+    up, down = np.exp(log_pdf - log_p), np.exp(log_pdf - log_q)  # the inverse Mills ratios
+    slope = k * up - safe * down
+    weight = k * up * (z + up) + safe * down * (down - z)
+    gradient = -np.array([np.sum(slope), np.sum(slope * x)])
+    hessian = np.array([[np.sum(weight), np.sum(weight * x)], [np.sum(weight * x), np.sum(weight * x * x)]])
+    return -float(np.sum(k * log_p + safe * log_q)), gradient, hessian
+
+
+#: Statuses of a fit that gives a curve.
+FITTED = ("fitted", "separated")
+
+#: Newton iterations of a fit, and the largest slope ``b = 1 / beta`` (a dispersion of 1e-3): levels that
+#: separate the outcomes exactly have no finite maximum, the slope growing without bound.
+NEWTON_STEPS, MAX_SLOPE = 100, 1e3
+
+
+def _newton(start, x, k, safe) -> tuple[np.ndarray, float]:
+    """The minimum of the convex :func:`_probit_cost` by Newton's method with step halving."""
+    params = np.asarray(start, float)
+    cost, gradient, hessian = _probit_cost(params, x, k, safe)
+    for _ in range(NEWTON_STEPS):
+        try:
+            step = -np.linalg.solve(hessian, gradient)
+        except np.linalg.LinAlgError:
+            break
+        for _ in range(40):
+            trial = params + step
+            trial_cost, trial_gradient, trial_hessian = _probit_cost(trial, x, k, safe)
+            if trial_cost <= cost:
+                break
+            step = step / 2
+        else:
+            break
+        params, converged = trial, abs(cost - trial_cost) <= 1e-12 * max(1.0, abs(cost))
+        cost, gradient, hessian = trial_cost, trial_gradient, trial_hessian
+        if converged or abs(params[1]) > MAX_SLOPE:
+            break
+    return params, cost
 
 
 def fit_lognormal(im, overturned) -> dict:
@@ -57,8 +110,10 @@ def fit_lognormal(im, overturned) -> dict:
     -------
     dict
         ``theta`` (the median, in the unit of ``im``), ``beta`` (the dispersion, of ``ln IM``),
-        ``log_likelihood``, and ``status``: ``"fitted"``, or ``"none overturned"`` / ``"all overturned"``
-        (no finite fit: ``theta`` is then beyond the levels, given as ``inf`` or 0, ``beta`` nan).
+        ``log_likelihood``, and ``status``: ``"fitted"``; ``"separated"`` (the levels separate the outcomes
+        exactly: the likelihood grows as ``beta`` falls to 0, given at ``1 / MAX_SLOPE``); ``"none
+        overturned"`` / ``"all overturned"`` (no finite fit: ``theta`` is then given as ``inf`` or 0,
+        ``beta`` nan); or ``"not increasing"`` (the fraction overturned falls with the level).
     """
     im, overturned = _stripes(im, overturned)
     fraction = overturned.mean()
@@ -67,19 +122,14 @@ def fit_lognormal(im, overturned) -> dict:
     if fraction == 1:
         return {"theta": 0.0, "beta": np.nan, "log_likelihood": 0.0, "status": "all overturned"}
     x = np.log(im)
-    start = np.array([np.median(x), max(np.std(x), 0.1)])
-
-    def cost(params):
-        return -log_likelihood(params[0], np.exp(params[1]), im, overturned)
-
-    best = optimize.minimize(cost, [start[0], np.log(start[1])], method="Nelder-Mead",
-                             options={"xatol": 1e-10, "fatol": 1e-12, "maxiter": 5000})  # fmt: skip
-    return {
-        "theta": float(np.exp(best.x[0])),
-        "beta": float(np.exp(best.x[1])),
-        "log_likelihood": float(-best.fun),
-        "status": "fitted",
-    }
+    k, safe = _counts(overturned)
+    spread = max(float(np.std(x)), 0.1)
+    start = np.array([-float(np.median(x)) / spread, 1 / spread])
+    (a, b), cost = _newton(start, x, k, safe)
+    if not b > 0:
+        return {"theta": np.nan, "beta": np.nan, "log_likelihood": -cost, "status": "not increasing"}
+    status = "separated" if b > MAX_SLOPE else "fitted"
+    return {"theta": float(np.exp(-a / b)), "beta": float(1 / b), "log_likelihood": -cost, "status": status}
 
 
 def fragility_curve(x, theta: float, beta: float) -> np.ndarray:
@@ -103,7 +153,7 @@ def bootstrap_band(im, overturned, x, *, resamples: int = 400, level: float = 0.
     for _ in range(resamples):
         sample = overturned[rng.integers(0, overturned.shape[0], overturned.shape[0])]
         fit = fit_lognormal(im, sample)
-        if fit["status"] != "fitted":
+        if fit["status"] not in FITTED:
             dropped += 1
             continue
         curves.append(fragility_curve(x, fit["theta"], fit["beta"]))

@@ -30,7 +30,7 @@ from ..model.params import ParameterError
 from .config import Study, config_hash, versions
 
 #: Kinds of saved studies, and the parts of their JSON record that :func:`load` needs.
-KINDS = ("map", "spectrum", "optimize", "design", "threshold")
+KINDS = ("map", "spectrum", "optimize", "design", "threshold", "ida", "fragility")
 RECORD = {"kind": str, "config": dict, "summary": dict}
 
 #: What reading a damaged or foreign ``.npz`` raises. zipfile and NumPy raise many types for a

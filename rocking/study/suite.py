@@ -1,0 +1,109 @@
+"""A suite of ground motions for incremental dynamic analysis and fragility: record files or the stochastic model.
+
+A suite is a recipe, not the motions: :meth:`Suite.motion` builds motion ``i`` where it is
+used (in a tile, on any worker), so a study of thousands of motions holds one at a time.
+Files are read once when the suite is made, to refuse a bad file at once and to record its
+SHA-256; a file changed afterwards is refused when a tile reads it. A stochastic motion
+is drawn from the ``i``-th child of its seed (:func:`rocking.model.stochastic.record_rng`).
+"""
+
+from __future__ import annotations
+
+import hashlib
+from dataclasses import dataclass
+from pathlib import Path
+
+from ..model.motion import SampledMotion
+from ..model.params import ParameterError
+from ..model.records import UNITS, read_record
+from ..model.stochastic import SiteModel, record_rng, synthesize
+
+#: Largest number of motions in a suite.
+MAX_MOTIONS = 100_000
+
+
+def _sha256(path: Path) -> str:
+    return hashlib.sha256(path.read_bytes()).hexdigest()
+
+
+@dataclass(frozen=True)
+class Suite:
+    """Ground motions for a study, made one at a time by :meth:`motion`.
+
+    Use :meth:`from_files` or :meth:`stochastic`.
+
+    Attributes
+    ----------
+    files : tuple of (str, str)
+        Absolute path and SHA-256 of each record file (empty for a stochastic suite).
+    unit : str or None
+        The unit of the accelerations of column files (``.AT2`` files are in g).
+    site : SiteModel or None
+        The stochastic model (None for files).
+    seed, n : int
+        The seed and the number of motions of a stochastic suite.
+    """
+
+    files: tuple = ()
+    unit: str | None = None
+    site: SiteModel | None = None
+    seed: int = 0
+    n: int = 0
+
+    @classmethod
+    def from_files(cls, paths, unit: str | None = None) -> Suite:
+        """The records of ``paths`` (``.AT2``, or columns of time and acceleration in ``unit``), each read now.
+
+        Raises
+        ------
+        ParameterError
+            Naming the file (and line) of the first one that cannot be read (:mod:`rocking.model.records`).
+        """
+        paths = [Path(p).resolve() for p in paths]
+        if not 1 <= len(paths) <= MAX_MOTIONS:
+            raise ParameterError(f"a suite needs 1 to {MAX_MOTIONS} record files (got {len(paths)})")
+        if unit is not None and unit not in UNITS:
+            raise ParameterError(f"unit must be one of {', '.join(UNITS)} (got {unit!r})")
+        for path in paths:
+            read_record(path, unit)
+        return cls(files=tuple((str(p), _sha256(p)) for p in paths), unit=unit)
+
+    @classmethod
+    def stochastic(cls, site: SiteModel, n: int, seed: int) -> Suite:
+        """``n`` motions of the site model ``site`` drawn from ``seed`` (motion ``i`` is the same for any ``n``)."""
+        if not isinstance(site, SiteModel):
+            raise ParameterError(f"site must be a rocking.model.stochastic.SiteModel (got {type(site).__name__})")
+        if not (isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= MAX_MOTIONS):
+            raise ParameterError(f"n must be an integer in [1, {MAX_MOTIONS}] (motions in a suite) (got {n!r})")
+        if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
+            raise ParameterError(f"seed must be an integer >= 0 (got {seed!r})")
+        return cls(site=site, seed=seed, n=n)
+
+    def __len__(self) -> int:
+        return len(self.files) if self.files else self.n
+
+    def name(self, i: int) -> str:
+        """A label of motion ``i``: its file's name, or ``stochastic-<seed>-<i>``."""
+        return Path(self.files[i][0]).name if self.files else f"stochastic-{self.seed}-{i}"
+
+    def motion(self, i: int) -> SampledMotion:
+        """Motion ``i``, made now.
+
+        Raises
+        ------
+        ParameterError
+            If its file changed since the suite was made.
+        """
+        if self.files:
+            path, digest = self.files[i]
+            if _sha256(Path(path)) != digest:
+                raise ParameterError(f"{path}: changed since the suite was made (its SHA-256 differs)")
+            record = read_record(path, self.unit)
+            return SampledMotion(record.acceleration, dt=record.dt)
+        return SampledMotion(synthesize(self.site, record_rng(self.seed, i)), dt=self.site.dt)
+
+    def record(self) -> dict:
+        """JSON-ready description: the files and their hashes, or the site model, seed and size."""
+        if self.files:
+            return {"files": [{"path": p, "sha256": d} for p, d in self.files], "unit": self.unit}
+        return {"stochastic": self.site.record(), "seed": self.seed, "n": self.n}

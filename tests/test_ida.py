@@ -1,0 +1,144 @@
+"""Incremental dynamic analysis and fragility over suites of records and of stochastic motions."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import pytest
+
+import rocking
+from rocking import Block, Damper, SampledMotion
+from rocking.cli.study import add_study_commands
+from rocking.model.intensity import pga
+from rocking.model.params import ParameterError
+from rocking.model.stochastic import SiteModel
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.ida import incremental_dynamic_analysis
+from rocking.study.suite import Suite
+from rocking.study.tiles import Execution
+
+SERIAL = Execution(workers=1, progress=False)
+BLOCK = Block.reference()
+SETTING = Setting(BLOCK, t_after=5.0)
+SITE = SiteModel(arias=0.46, d595=6.0, t_mid=4.0, f_mid=3.0, f_slope=-0.05, zeta_f=0.25, duration=12.0)
+
+
+def _at2(path, a, dt=0.005):
+    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "test", "ACCELERATION TIME SERIES IN UNITS OF G",
+              f"NPTS= {len(a)}, DT= {dt:.4f} SEC"]  # fmt: skip
+    body = "\n".join("".join(f"{v:15.7E}" for v in a[i : i + 5]) for i in range(0, len(a), 5))
+    path.write_text("\n".join(header) + "\n" + body + "\n")
+    return path
+
+
+@pytest.fixture(scope="module")
+def records(tmp_path_factory):
+    folder = tmp_path_factory.mktemp("records")
+    t = np.arange(1201) * 0.005
+    shapes = [np.sin(2 * np.pi * f * t) * np.exp(-(((t - 3) / 1.5) ** 2)) for f in (1.0, 1.5, 2.0)]
+    return [_at2(folder / f"r{i}.AT2", 0.2 * a) for i, a in enumerate(shapes)]
+
+
+@pytest.fixture(scope="module")
+def ida(records, tmp_path_factory):
+    suite = Suite.from_files(records)
+    return incremental_dynamic_analysis(SETTING, Tuning(0.05, stops=True), suite, Grid("scales", 0.5, 4.0, 8),
+                                        SERIAL, runs=tmp_path_factory.mktemp("runs"))  # fmt: skip
+
+
+def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, records):
+    """Each cell is the envelope over both directions of rocking.simulate of the record at that scale."""
+    a = ida.arrays
+    damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    damper = Damper(m=damper.m, k_m=damper.k_m, c=damper.c, h=0.05, stops=rocking.Stops.at_edges(BLOCK, damper))
+    record = rocking.model.records.read_at2(records[1])
+    for j in (2, 5, 7):
+        runs = [rocking.simulate(BLOCK, damper, SampledMotion(record.acceleration, dt=record.dt, sign=sign)
+                                 .scaled(a["levels"][j]), t_after=5.0) for sign in (1, -1)]  # fmt: skip
+        assert bool(a["damper_overturned"][1, j]) == any(r.overturned for r in runs)
+        assert a["damper_x_max"][1, j] == pytest.approx(max(r.x_max for r in runs), rel=1e-9)
+    assert ida.kind == "ida" and ida.summary["motions"] == 3
+    assert a["bare_overturned"].any() and not a["bare_overturned"].all()
+
+
+def test_ida_summary_and_tables_report_each_motion(ida):
+    a, table = ida.arrays, ida.tables["ida-motions"]
+    assert list(table["name"]) == ["r0.AT2", "r1.AT2", "r2.AT2"]
+    for part in ("bare", "damper"):
+        over = a[f"{part}_overturned"].astype(bool)
+        first = [a["levels"][row.argmax()] if row.any() else np.nan for row in over]
+        np.testing.assert_array_equal(a[f"{part}_first"], first)
+        np.testing.assert_array_equal(a[f"{part}_fraction"], over.mean(axis=0))
+
+
+def test_fragility_scales_each_motion_to_the_level_of_its_measure(tmp_path):
+    suite = Suite.stochastic(SITE, 3, seed=5)
+    study = incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL,
+                                         measure_name="pga", runs=tmp_path)  # fmt: skip
+    for i in range(3):
+        motion = suite.motion(i)
+        assert study.arrays["im"][i] == pytest.approx(pga(motion.a, motion.dt))
+    assert study.kind == "fragility" and study.summary["unit"] == "m/s^2"
+    again = incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL,
+                                         measure_name="pga", runs=tmp_path)  # fmt: skip
+    assert again.run["tiles_computed"] == 0 and again.run["tiles_reused"] == 6
+
+
+def test_a_record_changed_after_the_suite_was_made_is_refused(records, tmp_path):
+    path = tmp_path / "r.AT2"
+    path.write_bytes(records[0].read_bytes())
+    suite = Suite.from_files([path])
+    path.write_text(path.read_text().replace("E-01", "E-02", 1))
+    with pytest.raises(ParameterError, match=r"r.AT2: changed since the suite was made"):
+        suite.motion(0)
+
+
+@pytest.mark.parametrize(
+    ("call", "message"),
+    [
+        (lambda: Suite.from_files([]), r"a suite needs 1 to"),
+        (lambda: Suite.stochastic(SITE, 0, 1), r"^n must be an integer"),
+        (lambda: Suite.stochastic(SITE, 2, -1), r"^seed must be an integer >= 0"),
+        (lambda: incremental_dynamic_analysis(SETTING, Tuning(), Suite.stochastic(SITE, 1, 0), Grid("x", 1.0, 2.0, 2),
+                                              SERIAL, measure_name="pgd"), r"measure must be one of scale, pga"),
+    ],
+)  # fmt: skip
+def test_bad_suites_and_measures_are_refused(call, message):
+    with pytest.raises(ParameterError, match=message):
+        call()
+
+
+def _cli(argv):
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+    args = parser.parse_args(argv)
+    return args.func(args)
+
+
+def test_cli_ida_and_fragility_write_data_and_print_the_fits(records, tmp_path, capsys):
+    base = ["--workers", "1", "--no-progress", "--t-after", "5"]
+    assert _cli(["ida", "--motions", *map(str, records), "--scales", "0.5", "4", "4", "--out", str(tmp_path / "i"),
+                 *base]) == 0  # fmt: skip
+    assert _cli(["fragility", "--stochastic", "2", "--seed", "1", "--duration", "12", "--d595", "6", "--t-mid", "4",
+                 "--levels", "1", "6", "3", "--out", str(tmp_path / "f"), *base]) == 0  # fmt: skip
+    out = capsys.readouterr().out
+    assert "ida, bare:" in out and "fragility, damper:" in out
+    for name in ("i/ida.png", "i/ida-motions.csv", "f/fragility.png", "f/fragility.json"):
+        assert (tmp_path / name).is_file()
+    assert _cli(["fragility", "--motions", str(records[0]), "--stochastic", "2", *base]) == 2
+    assert "not both" in capsys.readouterr().err
+
+
+def test_cli_simulate_a_record_scaled_by_a_factor_or_to_a_pga(records, capsys):
+    from rocking.cli.main import main
+
+    argv = ["simulate", "--motion", str(records[0]), "--scale", "1.5", "--gamma", "0.05", "--omega-ratio", "1"]
+    assert main(argv) == 0
+    out = capsys.readouterr().out
+    peak = 1.5 * np.max(np.abs(rocking.model.records.read_at2(records[0]).acceleration))
+    assert f"PGA={peak:.4g} m/s2" in out and "with damper:" in out
+    assert main(["simulate", "--motion", str(records[0]), "--pga", "3", "--json"]) == 0
+    assert '"pga": 3.0' in capsys.readouterr().out
+    assert main(["simulate", "--motion", str(records[0]), "--beta", "2"]) == 2
+    assert "--beta: options of a pulse; --motion gives a recorded motion" in capsys.readouterr().err
