@@ -174,6 +174,20 @@ def _map(n: int, workers: int, runs: str):
     return timed(overturning_map, setting, tuning, grid_o, grid_b, execution, runs=runs)
 
 
+def _fragility(n: int, runs: str):
+    """A fragility study over ``n`` short stochastic motions (10 s at 0.01 s), 4 PGA levels, both directions."""
+    from rocking.model.stochastic import SiteModel
+    from rocking.study.config import Grid, Setting, Tuning
+    from rocking.study.ida import incremental_dynamic_analysis
+    from rocking.study.suite import Suite
+    from rocking.study.tiles import Execution
+
+    site = SiteModel(arias=0.3, d595=4.0, t_mid=3.0, f_mid=4.0, f_slope=-0.1, zeta_f=0.25, dt=0.01, duration=10.0)
+    return timed(incremental_dynamic_analysis, Setting(Block.reference(), t_after=5.0), Tuning(GAMMA, OMEGA_RATIO,
+                 ZETA, H_MASS), Suite.stochastic(site, n, seed=1), Grid("pga", 1.0, 8.0, 4),
+                 Execution(workers=2, progress=False), measure_name="pga", runs=runs)  # fmt: skip
+
+
 def bench_studies(n_map: int, n_memory: int) -> dict:
     """Map throughput with 1 and 2 local workers; memory of a large map; the wall time of the demo and of
     ``rocking threshold`` on its default grid."""
@@ -205,6 +219,17 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
             )
             out[f"map_{n}x{n}_peak_rss_mb"] = rss / 2**20
             out[f"map_{n}x{n}_result_arrays_mb"] = size / 2**20
+        fragility = probe.replace("run._map({n}, 2, {runs!r})", "run._fragility({n}, {runs!r})")
+        for n in (100, 1000):  # the suite is made in the tiles: memory must not grow with the motions
+            code = fragility.format(here=os.path.dirname(os.path.abspath(__file__)), n=n, runs=f"{tmp}/frag{n}")
+            start = time.perf_counter()
+            rss, size = map(
+                int,
+                subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split(),
+            )
+            out[f"fragility_{n}_seconds"] = time.perf_counter() - start
+            out[f"fragility_{n}_peak_rss_mb"] = rss / 2**20
+            out[f"fragility_{n}_result_arrays_mb"] = size / 2**20
         for command in ("demo", "threshold"):  # threshold: its default grid, on 2 local workers
             start = time.perf_counter()
             run = [sys.executable, "-m", "rocking.cli.main", command, "--out", f"{tmp}/{command}", "--no-progress"]
@@ -264,6 +289,12 @@ def main(argv=None) -> int:
             print(
                 f"  {side}x{side} map: peak memory {st[f'map_{side}x{side}_peak_rss_mb']:.0f} MB, "
                 f"result arrays {st[f'map_{side}x{side}_result_arrays_mb']:.1f} MB"
+            )
+        for n in (100, 1000):
+            rss, size, seconds = (st[f"fragility_{n}_{k}"] for k in ("peak_rss_mb", "result_arrays_mb", "seconds"))
+            print(
+                f"  fragility, {n} stochastic motions x 4 PGA levels x 2 directions x 2 parts: peak memory "
+                f"{rss:.0f} MB, result arrays {size:.1f} MB, {seconds:.0f} s"
             )
         print(f"  rocking demo  {st['demo_seconds']:10.1f} s")
         print(f"  rocking threshold {st['threshold_seconds']:6.1f} s (default grid, 2 workers)")

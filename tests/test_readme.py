@@ -17,3 +17,21 @@ def test_the_readme_examples_run(capsys):
     printed = capsys.readouterr().out.splitlines()
     assert len(printed) == len(blocks)  # each example prints its results
     assert namespace["r"].stop_contacts >= 1  # the end-stop example meets the stops
+
+
+def test_the_readme_commands_parse():
+    """Every `rocking` command line of the README is accepted by the command's parser (not run: some take
+    minutes or name the reader's own files)."""
+    import shlex
+
+    from rocking.cli.main import build_parser
+
+    lines = re.findall(r"^    \.venv/bin/rocking (.*)$", README.read_text(encoding="utf-8"), re.M)
+    assert len(lines) >= 10
+    parser = build_parser()
+    for line in lines:
+        argv = shlex.split(line.split("  #")[0])
+        if argv[0] == "derive":
+            continue  # handed to rocking.derive's own parser
+        args = parser.parse_args(argv)
+        assert callable(args.func), line

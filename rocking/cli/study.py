@@ -33,7 +33,7 @@ from ..model.params import ParameterError
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE, SiteModel
 from ..plot.figures import draw, redraw
-from ..study.config import BACKENDS, Grid, Setting, Study, Tuning, Variant
+from ..study.config import BACKENDS, PULSES, Grid, Setting, Study, Tuning, Variant
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
@@ -176,6 +176,14 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
     )
 
 
+def _add_pulse(p: argparse.ArgumentParser) -> None:
+    g = p.add_argument_group("pulse family", "As rocking.Setting(block, pulse=..., gamma_mp=..., nu=...).")
+    g.add_argument("--pulse", choices=[f.replace("_", "-") for f in PULSES],
+                   help="family of every pulse, docs/model.md section 12 (default sine)")  # fmt: skip
+    g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulse mp, > 1")
+    g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
+
+
 def _add_directions(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--directions",
@@ -224,7 +232,11 @@ def grid_from(name: str, values, *, log: bool = False) -> Grid:
 
 
 def setting_from(args) -> Setting:
-    return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")))
+    """The study's :class:`Setting` from the options given (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
+    pulse = given(args, ("pulse", "gamma_mp", "nu"))
+    if "pulse" in pulse:
+        pulse["pulse"] = pulse["pulse"].replace("-", "_")
+    return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")), **pulse)
 
 
 def tuning_from(args) -> Tuning:
@@ -621,6 +633,7 @@ def add_study_commands(subparsers) -> None:
         "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
     )
     _add_directions(p)
+    _add_pulse(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_map))
 
@@ -631,6 +644,7 @@ def add_study_commands(subparsers) -> None:
     _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
     _add_tol(p)
     _add_directions(p)
+    _add_pulse(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_spectrum))
 
@@ -641,6 +655,7 @@ def add_study_commands(subparsers) -> None:
     _add_search(p, TM_GRID, optimal_damper)
     _add_tol(p)
     _add_directions(p)
+    _add_pulse(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_optimize))
 
@@ -664,6 +679,7 @@ def add_study_commands(subparsers) -> None:
     _add_grid(p, "beta", DESIGN_BETA, "scan amplitudes of every beta_min")
     _add_tol(p)
     _add_directions(p)
+    _add_pulse(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_design))
 

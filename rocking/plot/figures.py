@@ -85,6 +85,18 @@ def _damper_label(config: dict) -> str:
     return rf"damper $\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m{stops}"
 
 
+#: How a figure names each pulse family (rocking.study.config.PULSES).
+PULSE_NAMES = {"sine": "one-sine pulse", "cosine": "one-cosine pulse", "ricker": "symmetric Ricker wavelet",
+               "ricker_anti": "antisymmetric Ricker wavelet", "mp": "Mavroeidis-Papageorgiou pulse"}  # fmt: skip
+
+
+def _pulse_label(config: dict) -> str:
+    """The pulse family of a study for a title (the one-sine when the configuration names none)."""
+    pulse = config.get("pulse", {"motion": "sine"})
+    shape = f" (gamma = {pulse['gamma_mp']:g}, nu = {pulse['nu']:g})" if pulse["motion"] == "mp" else ""
+    return PULSE_NAMES[pulse["motion"]] + shape
+
+
 def _directions_label(config: dict) -> str:
     """The directions of a study's pulses for a title: both (the envelope shown) or one sign."""
     chosen = config.get("directions", {"directions": "positive", "signs": [1]})  # studies before format 4
@@ -130,7 +142,8 @@ def map_figure(study: Study) -> Figure:
         fontsize=9,
     )
     fig.suptitle(
-        f"Overturning map, one-sine pulse; {_damper_label(study.config)}\n{_directions_label(study.config)}"
+        f"Overturning map, {_pulse_label(study.config)}; {_damper_label(study.config)}\n"
+        f"{_directions_label(study.config)}"
     )
     return fig
 
@@ -189,7 +202,8 @@ def spectrum_figure(study: Study) -> Figure:
     ax_gain.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
     ax_gain.set_title("gain of the damper")
     fig.suptitle(
-        f"Minimum overturning spectrum; {_damper_label(study.config)}\n{_directions_label(study.config)}"
+        f"Minimum overturning spectrum, {_pulse_label(study.config)}; {_damper_label(study.config)}\n"
+        f"{_directions_label(study.config)}"
     )
     return fig
 

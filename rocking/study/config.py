@@ -42,6 +42,8 @@ MAX_CELLS = 10_000_000
 
 #: Back ends that :func:`rocking.sim.cases.run_cases` accepts.
 BACKENDS = ("c", "numpy")
+#: Pulse families of the studies (docs/model.md section 12).
+PULSES = ("sine", "cosine", "ricker", "ricker_anti", "mp")
 
 
 def is_number(value) -> bool:
@@ -154,12 +156,20 @@ class Setting:
         Time followed after the pulse ends, s, in (0, 1e4].
     backend : {"c", "numpy"}, optional
         Back end of :func:`rocking.sim.cases.run_cases`.
+    pulse : {"sine", "cosine", "ricker", "ricker_anti", "mp"}, optional
+        The family of every pulse (docs/model.md section 12): ``Omega`` and ``beta`` are its ``omega_g / p``
+        and ``a_g / (g tan alpha)``. Default ``"sine"``, the paper's one-sine pulse.
+    gamma_mp, nu : float, optional
+        The oscillations (> 1) and phase (rad) of the Mavroeidis-Papageorgiou pulse (``pulse="mp"`` only).
     """
 
     block: Block
     rtol: float = 1e-8
     t_after: float = 15.0
     backend: str = "c"
+    pulse: str = "sine"
+    gamma_mp: float | None = None
+    nu: float = 0.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.block, Block):
@@ -168,13 +178,27 @@ class Setting:
         check_in_range("t_after", self.t_after)
         if not isinstance(self.backend, str) or self.backend not in BACKENDS:
             raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {self.backend!r})")
+        if not isinstance(self.pulse, str) or self.pulse not in PULSES:
+            raise ParameterError(f"pulse must be one of {', '.join(PULSES)} (got {self.pulse!r})")
+        if (self.pulse == "mp") != (self.gamma_mp is not None) or (self.nu != 0.0 and self.pulse != "mp"):
+            raise ParameterError("gamma_mp (and nu) shape the Mavroeidis-Papageorgiou pulse: give gamma_mp with "
+                                 "pulse='mp', and neither with another pulse")  # fmt: skip
         # Plain floats: the configuration's JSON, hence its hash, is the same for 15, 15.0 and np.float32(15).
         object.__setattr__(self, "rtol", float(self.rtol))
         object.__setattr__(self, "t_after", float(self.t_after))
+        object.__setattr__(self, "nu", float(check_real("nu", self.nu)))
+
+    def pulse_args(self) -> dict:
+        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for the pulse family."""
+        if self.pulse == "sine":
+            return {}
+        shape = {"gamma_mp": self.gamma_mp, "nu": self.nu} if self.pulse == "mp" else {}
+        return {"motion": self.pulse, **shape}
 
     def record(self) -> dict:
-        """JSON-ready description."""
-        return {"block": self.block.as_params(), "rtol": self.rtol, "t_after": self.t_after, "backend": self.backend}
+        """JSON-ready description (the pulse family only when it is not the paper's one-sine)."""
+        record = {"block": self.block.as_params(), "rtol": self.rtol, "t_after": self.t_after, "backend": self.backend}
+        return {**record, "pulse": self.pulse_args()} if self.pulse != "sine" else record
 
 
 @dataclass(frozen=True)

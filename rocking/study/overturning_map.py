@@ -76,6 +76,7 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None, sign=1) -
         rtol=setting.rtol,
         t_after=setting.t_after,
         sign=sign,
+        **setting.pulse_args(),
         **(damper or {"gamma": 0.0}),
     )
     result = run_cases(cases, backend=setting.backend, threads=1)
