@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import dataclasses
 
 import numpy as np
 import pytest
@@ -14,7 +15,7 @@ from rocking.model.intensity import pga
 from rocking.model.params import ParameterError
 from rocking.model.stochastic import SiteModel
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.ida import incremental_dynamic_analysis
+from rocking.study.ida import incremental_dynamic_analysis, motion_measure
 from rocking.study.suite import Suite
 from rocking.study.tiles import Execution
 
@@ -109,6 +110,85 @@ def test_bad_suites_and_measures_are_refused(call, message):
         call()
 
 
+PULSES = [rocking.OneSinePulse.from_period(4.0, 0.6), rocking.OneCosinePulse.from_period(4.0, 1.1, sign=-1),
+          rocking.RickerWavelet.from_period(4.0, 0.8, antisymmetric=True),
+          rocking.MavroeidisPapageorgiou.from_period(4.0, 1.4, gamma=2.0, nu=1.0)]  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def pulse_fragility(tmp_path_factory):
+    suite, levels = Suite.from_pulses(PULSES), Grid("a", 2.0, 20.0, 7)
+    return incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, levels, SERIAL, measure_name="amplitude",
+                                        runs=tmp_path_factory.mktemp("runs"))  # fmt: skip
+
+
+def test_a_suite_of_pulses_at_an_amplitude_is_each_pulse_of_that_amplitude_in_the_worse_direction(pulse_fragility):
+    """Each cell is the envelope over both directions of rocking.simulate of the pulse with a_g = the level."""
+    a = pulse_fragility.arrays
+    np.testing.assert_array_equal(a["im"], [4.0] * 4)
+    damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    checked = 0
+    for i, pulse in enumerate(PULSES):
+        for j in (1, 3, 6):
+            scaled = [dataclasses.replace(pulse, a_g=a["levels"][j], sign=sign * pulse.sign) for sign in (1, -1)]
+            runs = [rocking.simulate(BLOCK, part, motion, t_after=5.0) for part in (None, damper) for motion in scaled]
+            assert bool(a["bare_overturned"][i, j]) == (runs[0].overturned or runs[1].overturned)
+            assert bool(a["damper_overturned"][i, j]) == (runs[2].overturned or runs[3].overturned)
+            assert a["bare_theta_max"][i, j] == pytest.approx(max(r.theta_max for r in runs[:2]), rel=1e-9)
+            checked += 1
+    assert checked == 12 and a["bare_overturned"].any() and not a["bare_overturned"].all()
+    assert pulse_fragility.summary["unit"] == "m/s^2"
+    assert pulse_fragility.config["suite"]["pulses"][3]["family"] == "mp"
+
+
+@pytest.mark.parametrize(
+    ("pulse", "name", "exact"),
+    [
+        (rocking.OneSinePulse.from_period(3.0, 0.5), "pga", 3.0),
+        (rocking.OneSinePulse.from_period(3.0, 0.5), "pgv", 2 * 3.0 * 0.5 / (2 * np.pi)),  # 2 a_g / omega_g
+        (rocking.OneCosinePulse.from_period(3.0, 0.5, sign=-1), "pgv", 3.0 * 0.5 / (2 * np.pi)),  # a_g / omega_g
+        (rocking.OneCosinePulse.from_period(3.0, 0.5), "arias", np.pi / (2 * 9.80665) * 3.0**2 * 0.5 / 2),  # standard g
+        (rocking.RickerWavelet.from_period(3.0, 0.5), "pga", 3.0),
+        (rocking.MavroeidisPapageorgiou.from_period(3.0, 0.5, gamma=2.0), "pgv", 3.0 * 0.5 / (2 * np.pi)),  # A
+    ],
+)  # fmt: skip
+def test_the_measures_of_a_pulse_are_those_of_its_closed_form(pulse, name, exact):
+    assert motion_measure(pulse, name) == pytest.approx(exact, rel=1e-6)
+
+
+def test_bad_pulse_suites_are_refused(records):
+    with pytest.raises(ParameterError, match=r"pulses\[0\] is a SampledMotion"):
+        Suite.from_pulses([SampledMotion([0.0, 1.0, 0.0], dt=0.01)])
+    with pytest.raises(ParameterError, match=r"measure 'amplitude' is the a_g of a suite of pulses"):
+        incremental_dynamic_analysis(SETTING, Tuning(), Suite.from_files(records), Grid("a", 1.0, 2.0, 2), SERIAL,
+                                     measure_name="amplitude")  # fmt: skip
+
+
+@pytest.mark.parametrize(
+    ("argv", "message"),
+    [
+        (["--pulses", "mp", "--periods", "1"], "--pulses mp needs --gamma-mp too"),
+        (["--pulses", "sine", "--periods", "1", "--nu", "1"], "--gamma-mp and --nu are the shape of --pulses mp"),
+        (["--stochastic", "2", "--periods", "1"], "--periods: options of --pulses FAMILY"),
+        (["--pulses", "sine"], "--pulses sine needs --periods"),
+        (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own motions"),
+    ],
+)  # fmt: skip
+def test_cli_pulse_suites_refuse_bad_options(argv, message, capsys, tmp_path):
+    assert _cli(["fragility", *argv, "--out", str(tmp_path)]) == 2
+    assert message in capsys.readouterr().err
+
+
+def test_cli_fragility_of_pulses_against_their_amplitude(tmp_path, capsys):
+    argv = ["fragility", "--pulses", "ricker", "--periods", "0.5", "1", "--amplitude", "2", "--im", "amplitude",
+            "--levels", "2", "12", "3", "--workers", "1", "--no-progress", "--t-after", "5", "--out", str(tmp_path)]
+    assert _cli(argv) == 0
+    study = rocking.study.storage.load(tmp_path / "fragility.json")
+    assert study.arrays["im"].tolist() == [2.0, 2.0]
+    assert [p["T_g"] for p in study.config["suite"]["pulses"]] == pytest.approx([0.5, 1.0])
+    assert "fragility, bare:" in capsys.readouterr().out
+
+
 def _cli(argv):
     parser = argparse.ArgumentParser(prog="rocking")
     add_study_commands(parser.add_subparsers(dest="command", required=True))
@@ -127,7 +207,7 @@ def test_cli_ida_and_fragility_write_data_and_print_the_fits(records, tmp_path, 
     for name in ("i/ida.png", "i/ida-motions.csv", "f/fragility.png", "f/fragility.json"):
         assert (tmp_path / name).is_file()
     assert _cli(["fragility", "--motions", str(records[0]), "--stochastic", "2", *base]) == 2
-    assert "not both" in capsys.readouterr().err
+    assert "give one of --motions FILES, --stochastic N or --pulses FAMILY" in capsys.readouterr().err
 
 
 def test_cli_simulate_a_record_scaled_by_a_factor_or_to_a_pga(records, capsys):

@@ -15,7 +15,7 @@ import sys
 
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
-from ..model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion
+from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
 from ..model.params import Damper, ParameterError
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
@@ -115,13 +115,7 @@ def _damper(args, block) -> Damper | dict | None:
 
 
 #: The pulses of ``--pulse``: the family's class and its fixed arguments (docs/model.md section 12).
-PULSES = {
-    "sine": (OneSinePulse, {}),
-    "cosine": (OneCosinePulse, {}),
-    "ricker": (RickerWavelet, {}),
-    "ricker-anti": (RickerWavelet, {"antisymmetric": True}),
-    "mp": (MavroeidisPapageorgiou, {}),
-}
+PULSES = {family.replace("_", "-"): made for family, made in PULSE_TYPES.items()}
 #: The shape options of each family besides --sign (their dests), and the class's parameter each sets.
 SHAPE_OPTIONS = {"sine": {"psi": "psi"}, "mp": {"gamma_mp": "gamma", "nu": "nu"}}
 

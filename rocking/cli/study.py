@@ -28,7 +28,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.intensity import MEASURES
+from ..model.motion import PULSE_TYPES
 from ..model.params import ParameterError
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE, SiteModel
@@ -38,7 +38,7 @@ from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
 from ..study.fragility import FITTED
-from ..study.ida import incremental_dynamic_analysis
+from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
@@ -73,6 +73,9 @@ DESIGN_OMEGA, DESIGN_BETA = (2.0, 8.0, 7), (0.5, 25.0, 50)
 IDA_SCALES, FRAGILITY_LEVELS = (0.25, 4.0, 16), (0.5, 10.0, 20)
 #: Options of the stochastic site model (rocking.model.stochastic.SiteModel).
 SITE_OPTIONS = ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
+
+#: The options of a suite of pulses besides ``--pulses``.
+PULSE_SUITE_OPTIONS = ("periods", "amplitude", "gamma_mp", "nu")
 
 #: Options that set the omd damper (a Tuning), refused with a model variant.
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
@@ -233,7 +236,8 @@ def grid_from(name: str, values, *, log: bool = False) -> Grid:
 
 def setting_from(args) -> Setting:
     """The study's :class:`Setting` from the options given (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
-    pulse = given(args, ("pulse", "gamma_mp", "nu"))
+    # ida and fragility have no --pulse: their --gamma-mp and --nu shape the pulses of their suite.
+    pulse = given(args, ("pulse", "gamma_mp", "nu")) if "pulse" in vars(args) else {}
     if "pulse" in pulse:
         pulse["pulse"] = pulse["pulse"].replace("-", "_")
     return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")), **pulse)
@@ -493,11 +497,38 @@ def _print_threshold_map(study: Study) -> None:
               f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)")  # fmt: skip
 
 
+def _pulse_suite(args) -> Suite:
+    """``--pulses FAMILY --periods T...``: one pulse of the family per period, of amplitude ``--amplitude``
+    (default 1 g of the block) and the MP shape ``--gamma-mp``/``--nu``."""
+    if not args.periods:
+        raise ParameterError(f"--pulses {args.pulses} needs --periods T... (s), one pulse per period")
+    family = args.pulses.replace("-", "_")
+    cls, fixed = PULSE_TYPES[family]
+    shape = {k: v for k, v in (("gamma", args.gamma_mp), ("nu", args.nu)) if v is not None}
+    if family != "mp" and shape:
+        raise ParameterError(f"--gamma-mp and --nu are the shape of --pulses mp, not of --pulses {args.pulses}")
+    if family == "mp" and "gamma" not in shape:
+        raise ParameterError("--pulses mp needs --gamma-mp too (its oscillations, > 1)")
+    a_g = block_from(args).g if args.amplitude is None else args.amplitude
+    return Suite.from_pulses([cls.from_period(a_g, T, **fixed, **shape) for T in args.periods])
+
+
 def _suite_from(args) -> Suite:
-    """The motions of ``ida``/``fragility``: ``--motions FILES`` or ``--stochastic N --seed S`` (site options)."""
+    """The motions of ``ida``/``fragility``: ``--motions FILES``, ``--stochastic N --seed S`` (site options)
+    or ``--pulses FAMILY --periods T...``."""
     site_options = given(args, SITE_OPTIONS)
-    if args.motions and args.stochastic is not None:
-        raise ParameterError("give --motions FILES or --stochastic N, not both")
+    sources = [flag for flag, value in (("--motions", args.motions), ("--stochastic", args.stochastic),
+                                        ("--pulses", args.pulses)) if value is not None]  # fmt: skip
+    if len(sources) > 1:
+        raise ParameterError(f"give one of --motions FILES, --stochastic N or --pulses FAMILY "
+                             f"(got {', '.join(sources)})")
+    pulse_options = given(args, PULSE_SUITE_OPTIONS)
+    if args.pulses is None and pulse_options:
+        raise ParameterError(f"{flags(pulse_options)}: options of --pulses FAMILY")
+    if args.pulses is not None:
+        if site_options or args.seed is not None or args.unit is not None:
+            raise ParameterError("--pulses makes its own motions: no --unit, --seed or site options")
+        return _pulse_suite(args)
     if args.motions:
         if site_options or args.seed is not None:
             raise ParameterError(f"{flags({**site_options, **given(args, ('seed',))})}: options of --stochastic")
@@ -729,7 +760,8 @@ def add_study_commands(subparsers) -> None:
         p = _study_parser(subparsers, name, text)
         _add_damper(p, tuned=True, searched=False)
         _add_variant(p)
-        g = p.add_argument_group("motions", "As rocking.study.suite.Suite.from_files or Suite.stochastic.")
+        g = p.add_argument_group("motions", "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
+                                 "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).")  # fmt: skip
         g.add_argument("--motions", nargs="+", metavar="FILE", help="records: PEER NGA .AT2, or 'time, a' columns")
         g.add_argument("--unit", choices=tuple(UNITS), help="unit of the accelerations of text or CSV records")
         g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
@@ -737,10 +769,17 @@ def add_study_commands(subparsers) -> None:
         for option in SITE_OPTIONS:
             g.add_argument(f"--{option.replace('_', '-')}", type=float,
                            help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})")  # fmt: skip
+        g.add_argument("--pulses", choices=[f.replace("_", "-") for f in PULSES],
+                       help="a suite of analytic pulses of this family, one per --periods value")  # fmt: skip
+        g.add_argument("--periods", nargs="+", type=float, metavar="T", help="periods 2 pi / omega_g of --pulses, s")
+        g.add_argument("--amplitude", type=float, help="amplitude a_g of --pulses, m/s2 (default 1 g)")
+        g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulses mp, > 1")
+        g.add_argument("--nu", type=float, help="phase nu of --pulses mp, rad (default 0)")
         if name == "ida":
             _add_grid(p, "scales", IDA_SCALES, "scale factors of every record")
         else:
-            p.add_argument("--im", choices=tuple(MEASURES), default="pga", help="intensity measure (default pga)")
+            p.add_argument("--im", choices=tuple(LEVELS)[1:], default="pga",
+                           help="intensity measure (default pga; amplitude: the a_g of --pulses)")  # fmt: skip
             _add_grid(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
         _add_directions(p)
         _add_solver(p)

@@ -26,7 +26,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from .params import RANGES, Block, ParameterError, check_block, check_in_range, check_real
-from .pulse import OneSinePulse, check_sign
+from .pulse import OneSinePulse, check_sign, from_period
 
 __all__ = [
     "FAMILIES",
@@ -263,13 +263,7 @@ class _Analytic:
                 raise ParameterError(f"beta = {beta!r}, Omega = {Omega!r} on this block give {exc}") from None
             raise
 
-    @classmethod
-    def from_period(cls, a_g: float, T_g: float, **shape):
-        """The motion of period ``T_g = 2 pi / omega_g`` (s); the other arguments as the constructor's."""
-        T_g = check_real("T_g", T_g)
-        if not T_g > 0.0:
-            raise ParameterError(f"T_g must be > 0 s (got {T_g!r})")
-        return cls(a_g=a_g, omega_g=2 * math.pi / T_g, **shape)
+    from_period = classmethod(from_period)
 
 
 @dataclass(frozen=True)
@@ -551,6 +545,15 @@ REGISTRY: dict[type, str] = {
     RickerWavelet: "ricker",
     MavroeidisPapageorgiou: "mp",
     SampledMotion: "sampled",
+}
+
+#: Each analytic family's class and the fixed arguments that select it (docs/model.md section 12).
+PULSE_TYPES: dict[str, tuple[type, dict]] = {
+    "sine": (OneSinePulse, {}),
+    "cosine": (OneCosinePulse, {}),
+    "ricker": (RickerWavelet, {}),
+    "ricker_anti": (RickerWavelet, {"antisymmetric": True}),
+    "mp": (MavroeidisPapageorgiou, {}),
 }
 
 #: Any motion of :data:`REGISTRY`.

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocking.model.params import Block, ParameterError, check_block, check_in_range
+from rocking.model.params import Block, ParameterError, check_block, check_in_range, check_real
 
 __all__ = ["OneSinePulse"]
 
@@ -31,6 +31,17 @@ def check_signs(sign: object) -> np.ndarray:
     if a.dtype.kind not in "iu" or not np.isin(a, (1, -1)).all():
         raise ParameterError(f"sign must be +1 or -1, or an array of them (got {sign!r}): the direction of the pulse")
     return a.astype(np.int64)
+
+
+def from_period(cls, a_g: float, T_g: float, **shape):
+    """The pulse ``cls`` of period ``T_g = 2 pi / omega_g`` (s); the other arguments as the constructor's.
+
+    The ``from_period`` classmethod of every analytic pulse.
+    """
+    T_g = check_real("T_g", T_g)
+    if not T_g > 0.0:
+        raise ParameterError(f"T_g must be > 0 s (got {T_g!r})")
+    return cls(a_g=a_g, omega_g=2 * math.pi / T_g, **shape)
 
 
 @dataclass(frozen=True)
@@ -106,6 +117,8 @@ class OneSinePulse:
         active = (t >= 0.0) & (t <= self.t_p)
         acc = np.where(active, self.sign * self.a_g * np.sin(self.omega_g * t + self.psi), 0.0)
         return float(acc) if acc.ndim == 0 else acc
+
+    from_period = classmethod(from_period)
 
     def beta(self, block: Block) -> float:
         """Amplitude ratio ``beta = a_g / (g tan(alpha))`` for ``block``."""

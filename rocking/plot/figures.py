@@ -97,6 +97,18 @@ def _pulse_label(config: dict) -> str:
     return PULSE_NAMES[pulse["motion"]] + shape
 
 
+def _suite_label(suite: dict) -> str:
+    """The motions of an IDA or fragility study (:meth:`rocking.study.suite.Suite.record`) for a title."""
+    if "files" in suite:
+        return f"{len(suite['files'])} records"
+    if "pulses" in suite:
+        pulses = suite["pulses"]
+        families = sorted({PULSE_NAMES[p["family"]] for p in pulses})
+        periods = [p["T_g"] for p in pulses]
+        return f"{len(pulses)} pulses ({', '.join(families)}), T_g {min(periods):.3g} to {max(periods):.3g} s"
+    return f"{suite['n']} stochastic motions (seed {suite['seed']})"
+
+
 def _directions_label(config: dict) -> str:
     """The directions of a study's pulses for a title: both (the envelope shown) or one sign."""
     chosen = config.get("directions", {"directions": "positive", "signs": [1]})  # studies before format 4
@@ -399,7 +411,7 @@ def ida_figure(study: Study) -> Figure:
     ax_f.set_xlabel(f"{s['measure']}{unit}")
     ax_f.set_ylabel("probability of overturning")
     ax_f.set_ylim(-0.02, 1.02)
-    ax_f.set_title(f"{s['motions']} motions; bands: 90 % bootstrap over the motions", fontsize=9)
+    ax_f.set_title(f"{_suite_label(study.config['suite'])}; bands: 90 % bootstrap over the motions", fontsize=9)
     ax_f.legend(fontsize=7, loc="upper left")
     over = a["damper_overturned"].astype(int)
     image = np.where(over == 1, 1, 0)

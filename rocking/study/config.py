@@ -26,6 +26,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
+from ..model.motion import PULSE_TYPES
 from ..model.params import Block, ParameterError, check_in_range, check_real
 from ..sim import boundary
 
@@ -43,7 +44,7 @@ MAX_CELLS = 10_000_000
 #: Back ends that :func:`rocking.sim.cases.run_cases` accepts.
 BACKENDS = ("c", "numpy")
 #: Pulse families of the studies (docs/model.md section 12).
-PULSES = ("sine", "cosine", "ricker", "ricker_anti", "mp")
+PULSES = tuple(PULSE_TYPES)
 
 
 def is_number(value) -> bool:

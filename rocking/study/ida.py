@@ -3,8 +3,9 @@
 Every motion of a :class:`~rocking.study.suite.Suite` is scaled to every level of a grid,
 either of its scale factor (``measure="scale"``: an incremental dynamic analysis) or of an
 intensity measure (``"pga"``, ``"pgv"``, ``"arias"``, ``"cav"``,
-:mod:`rocking.model.intensity`; each motion scaled so that its measure equals the level:
-linear in the scale, quadratic for the Arias intensity), in both directions
+:mod:`rocking.model.intensity`, or ``"amplitude"``, the ``a_g`` of a suite of pulses; each
+motion scaled so that its measure equals the level: linear in the scale, quadratic for the
+Arias intensity), in both directions
 (:mod:`rocking.study.directions`), for the block alone and with the damper. One tile is one
 motion of one part: the motion is made in the tile (:meth:`Suite.motion`), so memory does
 not grow with the suite.
@@ -24,8 +25,9 @@ from pathlib import Path
 import numpy as np
 
 from ..model.intensity import MEASURES, measure
+from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
-from ..sim.cases import run_cases, sampled_cases
+from ..sim.cases import pulse_cases, run_cases, sampled_cases
 from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .directions import choose, response_envelope
 from .fragility import FITTED, bootstrap_band, fit_lognormal, fragility_curve, ida_summary
@@ -33,8 +35,11 @@ from .overturning_map import FIELDS, check_damper, check_study, preflight, undet
 from .suite import Suite
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
-#: What the levels of a study are: the scale factor itself, or one of the intensity measures.
-LEVELS = {"scale": "", **MEASURES}
+#: What the levels of a study are: the scale factor itself, one of the intensity measures, or the
+#: amplitude ``a_g`` of the pulses of a suite of pulses (the peak, but for the MP pulse's ``A omega_g``).
+LEVELS = {"scale": "", **MEASURES, "amplitude": "m/s^2"}
+#: Samples of an analytic pulse over its duration for its intensity measures (relative error below 1e-7).
+PULSE_SAMPLES = 20_001
 #: Points of the fitted curve and its band, and bootstrap resamples.
 CURVE_POINTS, RESAMPLES = 101, 400
 
@@ -49,18 +54,45 @@ def scales_for(level, value: float, name: str) -> np.ndarray:
     return np.sqrt(level / value) if name == "arias" else level / value
 
 
+def motion_measure(motion, name: str) -> float:
+    """The measure ``name`` of a motion of a suite: 1 for ``"scale"``; the ``a_g`` of a pulse for
+    ``"amplitude"``; otherwise :func:`rocking.model.intensity.measure` of its samples (of a pulse,
+    :data:`PULSE_SAMPLES` of them over its duration)."""
+    if name == "scale":
+        return 1.0
+    if isinstance(motion, SampledMotion):
+        if name == "amplitude":
+            raise ParameterError("measure 'amplitude' is the a_g of a suite of pulses: records have pga")
+        return measure(name, motion.a, motion.dt)
+    if name == "amplitude":
+        return motion.a_g
+    t = np.linspace(0.0, motion.t_p, PULSE_SAMPLES)
+    return measure(name, motion.acceleration(t) * motion.sign, t[1])
+
+
+def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
+    """The cases of ``motion`` (sampled or a pulse) at ``scales`` (rows) in the directions ``signs`` (columns)."""
+    common = {"rtol": setting.rtol, "t_after": setting.t_after, **damper}
+    signs = np.asarray(signs)[None, :]
+    if isinstance(motion, SampledMotion):
+        return sampled_cases(setting.block, motion, scales[:, None], sign=signs, **common)
+    d, block = describe(motion), setting.block
+    shape = {"psi": d.phase} if d.family == "sine" else {"gamma_mp": d.shape, "nu": d.phase} if d.family == "mp" else {}
+    return pulse_cases(block, d.omega_g / block.p, motion.beta(block) * scales[:, None], sign=motion.sign * signs,
+                       motion=d.family, **shape, **common)  # fmt: skip
+
+
 def ida_tile(payload: tuple) -> dict:
     """One motion of one part at every level and direction: arrays ``(levels, signs)`` of the map's
-    :data:`~rocking.study.overturning_map.FIELDS`, and ``im`` (1,): the motion's measure (1 for ``"scale"``).
+    :data:`~rocking.study.overturning_map.FIELDS`, and ``im`` (1,): the motion's measure (:func:`motion_measure`).
 
     ``payload = (setting, damper_or_None, suite, i, levels, name, signs)``.
     """
     setting, damper, suite, i, levels, name, signs = payload
     motion = suite.motion(i)
-    value = 1.0 if name == "scale" else measure(name, motion.a, motion.dt)
+    value = motion_measure(motion, name)
     scales = scales_for(levels, value, name)
-    cases = sampled_cases(setting.block, motion, scales[:, None], sign=np.asarray(signs)[None, :],
-                          rtol=setting.rtol, t_after=setting.t_after, **(damper or {}))  # fmt: skip
+    cases = _cases(setting, motion, scales, signs, damper or {})
     result = run_cases(cases, backend=setting.backend, threads=1)
     shape = (len(levels), len(signs))
     return {**{k: result[k].reshape(shape) for k in FIELDS}, "im": np.array([value])}
@@ -97,8 +129,8 @@ def incremental_dynamic_analysis(
         Scale factors (``measure_name="scale"``) or levels of the intensity measure, SI units.
     execution : Execution
         Where the tiles run.
-    measure_name : {"scale", "pga", "pgv", "arias", "cav"}
-        What the levels are.
+    measure_name : {"scale", "pga", "pgv", "arias", "cav", "amplitude"}
+        What the levels are (``"amplitude"``: suites of pulses only).
     directions : {"auto", "both", "positive", "negative"}
         Signs of the motions (:func:`rocking.study.directions.choose`).
     runs : path
@@ -123,6 +155,9 @@ def incremental_dynamic_analysis(
         raise ParameterError(f"suite must be a rocking.study.suite.Suite (got {type(suite).__name__})")
     if measure_name not in LEVELS:
         raise ParameterError(f"measure must be one of {', '.join(LEVELS)} (got {measure_name!r})")
+    if measure_name == "amplitude" and not suite.pulses:
+        raise ParameterError("measure 'amplitude' is the a_g of a suite of pulses (Suite.from_pulses): "
+                             "records have pga")
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     n, lv = len(suite), levels.values()

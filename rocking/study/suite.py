@@ -1,19 +1,23 @@
-"""A suite of ground motions for incremental dynamic analysis and fragility: record files or the stochastic model.
+"""A suite of ground motions for incremental dynamic analysis and fragility: record files, the stochastic
+model, or analytic pulses.
 
 A suite is a recipe, not the motions: :meth:`Suite.motion` builds motion ``i`` where it is
 used (in a tile, on any worker), so a study of thousands of motions holds one at a time.
 Files are read once when the suite is made, to refuse a bad file at once and to record its
 SHA-256; a file changed afterwards is refused when a tile reads it. A stochastic motion
 is drawn from the ``i``-th child of its seed (:func:`rocking.model.stochastic.record_rng`).
+A suite of pulses holds the pulses themselves (a few numbers each): near-fault motions
+of uncertain period, say, for a fragility against the pulse's amplitude.
 """
 
 from __future__ import annotations
 
+import dataclasses
 import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
-from ..model.motion import SampledMotion
+from ..model.motion import SampledMotion, describe, family_of
 from ..model.params import ParameterError
 from ..model.records import UNITS, read_record
 from ..model.stochastic import SiteModel, record_rng, synthesize
@@ -42,6 +46,8 @@ class Suite:
         The stochastic model (None for files).
     seed, n : int
         The seed and the number of motions of a stochastic suite.
+    pulses : tuple
+        The analytic pulses of a suite of pulses (:meth:`from_pulses`).
     """
 
     files: tuple = ()
@@ -49,6 +55,7 @@ class Suite:
     site: SiteModel | None = None
     seed: int = 0
     n: int = 0
+    pulses: tuple = ()
 
     @classmethod
     def from_files(cls, paths, unit: str | None = None) -> Suite:
@@ -79,15 +86,32 @@ class Suite:
             raise ParameterError(f"seed must be an integer >= 0 (got {seed!r})")
         return cls(site=site, seed=seed, n=n)
 
+    @classmethod
+    def from_pulses(cls, pulses) -> Suite:
+        """The analytic pulses ``pulses`` (:class:`rocking.OneSinePulse`, :class:`rocking.OneCosinePulse`,
+        :class:`rocking.RickerWavelet`, :class:`rocking.MavroeidisPapageorgiou`), each with its amplitude,
+        frequency, shape and sign: the levels of a study scale their amplitudes."""
+        pulses = tuple(pulses)
+        if not 1 <= len(pulses) <= MAX_MOTIONS:
+            raise ParameterError(f"a suite needs 1 to {MAX_MOTIONS} pulses (got {len(pulses)})")
+        for i, pulse in enumerate(pulses):
+            if family_of(pulse) == "sampled":
+                raise ParameterError(f"pulses[{i}] is a SampledMotion: give records with Suite.from_files")
+        return cls(pulses=pulses)
+
     def __len__(self) -> int:
-        return len(self.files) if self.files else self.n
+        return len(self.files) or len(self.pulses) or self.n
 
     def name(self, i: int) -> str:
-        """A label of motion ``i``: its file's name, or ``stochastic-<seed>-<i>``."""
-        return Path(self.files[i][0]).name if self.files else f"stochastic-{self.seed}-{i}"
+        """A label of motion ``i``: its file's name, ``<family>-T<period in s>-<i>``, or ``stochastic-<seed>-<i>``."""
+        if self.files:
+            return Path(self.files[i][0]).name
+        if self.pulses:
+            return f"{describe(self.pulses[i]).family}-T{self.pulses[i].T_g:.4g}-{i}"
+        return f"stochastic-{self.seed}-{i}"
 
-    def motion(self, i: int) -> SampledMotion:
-        """Motion ``i``, made now.
+    def motion(self, i: int):
+        """Motion ``i``, made now: a :class:`SampledMotion`, or the pulse of a suite of pulses.
 
         Raises
         ------
@@ -100,10 +124,15 @@ class Suite:
                 raise ParameterError(f"{path}: changed since the suite was made (its SHA-256 differs)")
             record = read_record(path, self.unit)
             return SampledMotion(record.acceleration, dt=record.dt)
+        if self.pulses:
+            return self.pulses[i]
         return SampledMotion(synthesize(self.site, record_rng(self.seed, i)), dt=self.site.dt)
 
     def record(self) -> dict:
-        """JSON-ready description: the files and their hashes, or the site model, seed and size."""
+        """JSON-ready description: the files and their hashes, the pulses, or the site model, seed and size."""
         if self.files:
             return {"files": [{"path": p, "sha256": d} for p, d in self.files], "unit": self.unit}
+        if self.pulses:
+            return {"pulses": [{"type": type(p).__name__, "family": describe(p).family, "T_g": p.T_g,
+                                **dataclasses.asdict(p)} for p in self.pulses]}  # fmt: skip
         return {"stochastic": self.site.record(), "seed": self.seed, "n": self.n}
