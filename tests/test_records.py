@@ -96,7 +96,8 @@ def test_columns_with_times_or_alone_in_any_unit(tmp_path):
 @pytest.mark.parametrize(
     ("text", "kwargs", "message"),
     [
-        ("0,1\n0.01,2\n0.03,3\n", {"unit": "g"}, r"line 3: times must be uniformly spaced: step 0.02"),
+        ("t,a\n0,1\n0.01,2\n0.02,3\n0.04,4\n0.05,5\n", {"unit": "g"},
+         r"line 5: times must be uniformly spaced: step 0.02 s where the others are 0.01 s"),
         ("0,1\n0.01,nan\n", {"unit": "g"}, r"line 2: the value .* is not finite"),
         ("0,1\n0.01,2,3\n", {"unit": "g"}, r"line 2: expected 2 column\(s\), got 3"),
         ("0,1\n", {"unit": "g"}, r"needs at least 2 samples"),

@@ -399,6 +399,19 @@ class MavroeidisPapageorgiou(_Analytic):
 UNIFORM = 1e-6
 
 
+def irregular_step(t: np.ndarray) -> tuple[float, int | None]:
+    """The mean step ``(t[-1] - t[0]) / (n - 1)`` of the times ``t`` (n >= 2), and the first ``k`` whose step
+    ``t[k + 1] - t[k]`` is off the median step by more than :data:`UNIFORM` of it (None: the times are uniform).
+
+    The median, not the mean, is the reference so that one bad step is named, not every step.
+    """
+    t = np.asarray(t, float)
+    steps = np.diff(t)
+    typical = float(np.median(steps))
+    off = np.abs(steps - typical) > UNIFORM * abs(typical)
+    return float((t[-1] - t[0]) / (t.size - 1)), (int(np.argmax(off)) if off.any() else None)
+
+
 def _samples(a: object) -> np.ndarray:
     """``a`` as a 1-D float array of at least 2 finite samples; the error names the first bad index."""
     try:
@@ -428,19 +441,17 @@ def _spacing(t: object, n: int) -> float:
         raise ParameterError(f"t must hold one time per sample ({n}, got {t.size})")
     if not np.all(np.isfinite(t)):
         raise ParameterError(f"t must be finite: t[{np.flatnonzero(~np.isfinite(t))[0]}] is not")
-    dt = (t[-1] - t[0]) / (n - 1)
+    dt, k = irregular_step(t)
     if not dt > 0.0:
         raise ParameterError(f"t must increase (got t[0] = {float(t[0])!r}, t[-1] = {float(t[-1])!r})")
     if abs(t[0]) > UNIFORM * dt:
         raise ParameterError(f"t must start at 0 (got t[0] = {float(t[0])!r})")
-    off = np.abs(np.diff(t) - dt)
-    worst = int(np.argmax(off))
-    if off[worst] > UNIFORM * dt:
+    if k is not None:
         raise ParameterError(
-            f"t must be uniformly spaced (to {UNIFORM:g} dt): t[{worst + 1}] - t[{worst}] = "
-            f"{float(t[worst + 1] - t[worst])!r}, dt = {float(dt)!r}"
+            f"t must be uniformly spaced (to {UNIFORM:g} dt): t[{k + 1}] - t[{k}] = "
+            f"{float(t[k + 1] - t[k])!r}, dt = {float(dt)!r}"
         )
-    return float(dt)
+    return dt
 
 
 @dataclass(frozen=True, eq=False)

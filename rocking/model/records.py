@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from .motion import irregular_step
 from .params import ParameterError
 
 #: Standard gravity, m/s^2: the ``g`` of records in units of g (PEER NGA).
@@ -31,8 +32,6 @@ STANDARD_GRAVITY = 9.80665
 UNITS = {"g": STANDARD_GRAVITY, "m/s2": 1.0, "cm/s2": 0.01}
 #: Largest file read, bytes (a 200 Hz record of an hour is about 10 MB of text).
 MAX_BYTES = 100_000_000
-#: Relative tolerance of a uniform time step in a column of times.
-STEP_TOLERANCE = 1e-6
 
 #: A number as Fortran and C write it (also run together, "-.12E-01-.34E-01"; D exponents too).
 _NUMBER = re.compile(r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eEdD][-+]?\d+)?")
@@ -226,18 +225,16 @@ def read_columns(path, unit: str, *, dt: float | None = None, time_column: bool 
 
 
 def uniform_step(t, path="times", lines=None) -> float:
-    """The step of uniformly spaced times ``t`` (each step within :data:`STEP_TOLERANCE` of the first), else a
-    one-line error naming the first irregular step (and its line of ``path``)."""
-    steps = np.diff(np.asarray(t, float))
-    dt = float(steps[0])
+    """The step of uniformly spaced times ``t`` (:func:`rocking.model.motion.irregular_step`), else a one-line
+    error naming the first irregular step (and its line of ``path``)."""
+    dt, k = irregular_step(t)
     if not dt > 0:
-        raise _fail(path, f"times must increase (first step {dt!r} s)", None if lines is None else lines[1])
-    off = np.abs(steps - dt) > STEP_TOLERANCE * dt
-    if off.any():
-        k = int(np.argmax(off))
-        line = None if lines is None else lines[k + 1]
-        raise _fail(path, f"times must be uniformly spaced: step {steps[k]:.6g} s where the first is {dt:.6g} s",
-                    line)  # fmt: skip
+        raise _fail(path, f"times must increase (mean step {dt!r} s)", None if lines is None else lines[-1])
+    if k is not None:
+        step = float(t[k + 1] - t[k])
+        raise _fail(path, f"times must be uniformly spaced: step {step:.6g} s where the others are "
+                          f"{float(np.median(np.diff(t))):.6g} s",
+                    None if lines is None else lines[k + 1])  # fmt: skip
     return dt
 
 
