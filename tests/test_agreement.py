@@ -9,6 +9,7 @@ import numpy as np
 import pytest
 
 import rocking
+from rocking.model.motion import OneCosinePulse
 from rocking.model.params import Block, Damper
 from rocking.model.pulse import OneSinePulse
 from rocking.sim import c_backend, numpy_backend
@@ -133,6 +134,44 @@ def test_c_path_overturning_without_impact_boundary(Omega, beta_min):
         mid = 0.5 * (lo + hi)
         lo, hi = (lo, mid) if overturns_without_impact(mid) else (mid, hi)
     assert 0.5 * (lo + hi) == pytest.approx(beta_min, rel=0.01)
+
+
+#: The linearised bare symmetric block under the one-cosine pulse overturns without impact from
+#: beta = (1 + Omega^2) / (1 - exp(-2 pi / Omega)) (beta = a_p / (g alpha)). Derived by hand for this check
+#: (psi = -theta / alpha obeys psi'' - psi = -1 + beta cos(Omega tau); with c = beta / (1 + Omega^2) > 1 there is no
+#: impact during the pulse, and the block escapes when psi - 1 + psi' > 0 at its end), the analogue of
+#: docs/model.md 10.4 for the one-sine; not a published value.
+COSINE_NO_IMPACT = {Omega: (1 + Omega**2) / (1 - math.exp(-2 * math.pi / Omega)) for Omega in (1.0, 2.0, 3.0)}
+
+
+@pytest.mark.parametrize("Omega", sorted(COSINE_NO_IMPACT))
+def test_c_path_one_cosine_overturning_without_impact_boundary(Omega):
+    """The one-cosine analogue of docs/model.md 10.4 (COSINE_NO_IMPACT): slender bare symmetric block, alpha = 0.02."""
+    block = Block.from_nondim(p=2.0, alpha=0.02)
+    beta_ni = COSINE_NO_IMPACT[Omega] * block.alpha / block.tan_alpha  # to a_p / (g tan alpha)
+
+    def overturns_without_impact(beta):
+        pulse = OneCosinePulse.from_nondim(block, beta=beta, Omega=Omega)
+        r = c_backend.simulate(
+            make_problem(block, None, pulse, rtol=1e-9, t_max=pulse.t_p + 20 / block.p, max_events=2)
+        )
+        return r.overturned and r.impacts == 0
+
+    assert not overturns_without_impact(0.99 * beta_ni) and overturns_without_impact(1.01 * beta_ni)
+
+
+def test_c_path_one_cosine_threshold_of_an_outside_simulation():
+    """An outside value (not peer reviewed): the bare symmetric block of p = 2 rad/s and alpha = 15 degrees, under
+    a_g = a_p cos(pi t) on [0, 2 s] (Omega = pi / 2), overturns from a_p = 0.315034034 g: a personal study of the
+    rocking block (GitHub wshwwl/wshwwl.github.com, 2020/02/rock.md, section 4, and its MATLAB code
+    nonlinearrock.m: Housner's equation, restitution 1 - 1.5 sin^2 alpha), in the text "below 0.315 g the block
+    does not overturn; at 0.316 g it overturns". Held here to 1e-4 relative."""
+    block = Block.from_nondim(p=2.0, alpha=math.radians(15.0))
+    outcomes = [
+        rocking.simulate(block, None, OneCosinePulse(a_g=factor * 0.315034034 * block.g, omega_g=math.pi), rtol=1e-10)
+        for factor in (1 - 1e-4, 1 + 1e-4)
+    ]
+    assert [r.overturned for r in outcomes] == [False, True]
 
 
 @pytest.mark.parametrize("psi, pivot", [(0.0, 1), (math.pi, -1)])
