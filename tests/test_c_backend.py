@@ -6,10 +6,11 @@ The rules of docs/simulation.md, on both back ends, are in tests/test_contract.p
 
 from __future__ import annotations
 
-import _thread
 import dataclasses
+import os
 import shlex
 import shutil
+import signal
 import subprocess
 import threading
 import time
@@ -408,16 +409,60 @@ def test_a_call_that_starts_while_halted_stops_at_once_and_later_calls_run():
     assert set(statuses) <= {STATUS.index("rest"), STATUS.index("overturned")}
 
 
-def test_ctrl_c_in_the_main_thread_stops_a_batch():
-    """SIGINT (here _thread.interrupt_main) while the main thread waits for C: stopped, KeyboardInterrupt."""
+def _sigint() -> None:
+    """Ctrl-C as a terminal sends it: SIGINT to the process."""
+    os.kill(os.getpid(), signal.SIGINT)
+
+
+@pytest.mark.parametrize("threads", [1, 2])
+def test_ctrl_c_in_the_main_thread_stops_a_batch(threads):
+    """SIGINT while C runs for the main thread: stopped at once, KeyboardInterrupt, Python's handler back."""
     assert threading.current_thread() is threading.main_thread()
-    timer = _stop_after(0.3, _thread.interrupt_main)
+    handler = signal.getsignal(signal.SIGINT)
+    timer = _stop_after(0.3, _sigint)
     start = time.perf_counter()
     with pytest.raises(KeyboardInterrupt):
-        cb.simulate_cases(_slow_cases(2), threads=1)
+        cb.simulate_cases(_slow_cases(2), threads=threads)
     assert time.perf_counter() - start < 2.0
     timer.join()
     assert not cb._RUNNING  # every flag unregistered
+    assert signal.getsignal(signal.SIGINT) is handler
+
+
+def test_ctrl_c_stops_a_single_run_and_a_program_handler_still_runs():
+    """SIGINT during one rocking.simulate: the program's own SIGINT handler is what runs, once, at once."""
+    slow = _slow_cases(1).problem(0)
+    calls = []
+
+    class Handled(Exception):
+        pass
+
+    def handler(signum, frame):
+        calls.append(signum)
+        raise Handled
+
+    previous = signal.signal(signal.SIGINT, handler)
+    try:
+        timer = _stop_after(0.3, _sigint)
+        start = time.perf_counter()
+        with pytest.raises((Handled, KeyboardInterrupt)):
+            cb.simulate(slow)
+        assert time.perf_counter() - start < 2.0
+        timer.join()
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert calls == [signal.SIGINT]
+
+
+def test_an_ignored_sigint_stays_ignored_during_a_run():
+    problem = make_problem(BLOCK, None, OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0))
+    previous = signal.signal(signal.SIGINT, signal.SIG_IGN)
+    try:
+        ignoring = cb.simulate(problem)
+        assert signal.getsignal(signal.SIGINT) is signal.SIG_IGN
+    finally:
+        signal.signal(signal.SIGINT, previous)
+    assert ignoring.summary() == cb.simulate(problem).summary()
 
 
 def test_the_stop_flag_changes_no_result():

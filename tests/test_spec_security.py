@@ -25,6 +25,7 @@ from rocking.derive.expressions import parse_expression
 from rocking.derive.spec import SpecError, parse_spec, variant_spec
 from rocking.model.loading import ModelError, load_model
 from rocking.sim import cbuild
+from rocking.sim.cbuild import CBuildError
 
 SENTINEL = "SENTINEL"
 
@@ -355,11 +356,20 @@ def test_a_hand_edited_generated_file_is_refused_at_load(omd_copy, tmp_path, edi
     path = omd_copy / edited
     payload = f"\nopen({str(sentinel)!r}, 'w')\n" if edited == "model.py" else "\n/* edited */\n"
     path.write_text(path.read_text() + payload)
+    # Loaded once per process: the copy loaded above keeps the code checked then; a fresh load is refused.
+    fresh = shutil.copytree(omd_copy, tmp_path / "fresh")
     with pytest.raises(
         ModelError, match=rf"{re.escape(edited)}: does not match the SHA-256.*re-derive it: rocking derive"
     ):
-        load_model(omd_copy)
+        load_model(fresh)
     assert not sentinel.exists()
+
+
+def test_a_c_file_edited_after_its_model_was_loaded_is_not_compiled(omd_copy, tmp_path):
+    model = load_model(omd_copy)
+    (omd_copy / "omd.c").write_text((omd_copy / "omd.c").read_text() + "\n/* edited */\n")
+    with pytest.raises(CBuildError, match=r"omd.c: does not match the SHA-256"):
+        cbuild.build(model, cache=tmp_path / "cache")
 
 
 def test_a_manifest_cannot_point_outside_its_folder(omd_copy, tmp_path):
@@ -397,7 +407,8 @@ def test_reserved_names_cover_the_generated_code_and_the_simulator():
     for path in cbuild.CSRC.iterdir():
         text = re.sub(r"//[^\n]*", "", _strip_c_comments(path.read_text()))
         identifiers |= set(re.findall(r"\b[A-Za-z_]\w*\b", re.sub(r'"[^"\n]*"', "", text)))
-    prefixes = {i.split("_")[0].lower() for i in identifiers if "_" in i.strip("_")}
+    # A leading underscore is C's own (_POSIX_C_SOURCE): a spec name cannot start with one.
+    prefixes = {i.split("_")[0].lower() for i in identifiers if "_" in i.strip("_") and not i.startswith("_")}
     assert prefixes <= names.RUNTIME_C_PREFIXES, sorted(prefixes - names.RUNTIME_C_PREFIXES)
     for shipped in ("block", "omd", "omd2", "pendulum"):
         assert names.check_model_name(shipped) == shipped

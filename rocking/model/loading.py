@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import os
 import re
 from collections.abc import Mapping
 from dataclasses import dataclass, field
@@ -122,6 +123,10 @@ def available_models() -> list[str]:
 def load_model(model: str | Path | Model = "omd") -> Model:
     """Load a model by name (installed) or by the folder ``rocking derive`` wrote.
 
+    A model is read and checked against its manifest once per process (its NumPy code runs from
+    the bytes checked then; :mod:`rocking.sim.cbuild` checks its C files again before it compiles
+    them): a folder derived again under the same path is seen by the next process.
+
     Examples
     --------
     >>> import rocking
@@ -133,6 +138,20 @@ def load_model(model: str | Path | Model = "omd") -> Model:
     """
     if isinstance(model, Model):
         return model
+    key = (str(model), os.getcwd())
+    loaded = _LOADED.get(key)
+    if loaded is None:
+        loaded = _LOADED[key] = _load_folder(_folder_of(model))
+    return loaded
+
+
+#: The models loaded in this process, by the argument of :func:`load_model` (and the working directory, against
+#: which a relative folder is read): each is read and checked against its manifest once per process.
+_LOADED: dict[tuple[str, str], Model] = {}
+
+
+def _folder_of(model: str | Path) -> Path:
+    """The folder of a model given by name (installed) or by its folder, resolved."""
     folder = Path(model)
     if not (folder / "manifest.json").is_file():
         folder = GENERATED / str(model)
@@ -142,21 +161,13 @@ def load_model(model: str | Path | Model = "omd") -> Model:
             f"unknown model {str(model)!r}: not an installed model ({', '.join(available_models())}) "
             "nor a folder with a manifest.json"
         )
-    # Studies load the model once per tile: import each generated module once, again
-    # only when the folder is regenerated or one of its checked files changes.
-    folder = folder.resolve()
-    return _load_folder(folder, _mtimes(folder))
+    return folder.resolve()
 
 
 #: The files of ``manifest["files"]`` the runtime executes or compiles; each must match its ``sha256``.
 CHECKED_FILES = ("numpy", "c_source", "c_header")
 #: A file name a manifest may give: no folder, no hidden file.
 _FILE_NAME = re.compile(r"[A-Za-z0-9_][A-Za-z0-9_.-]*")
-
-
-def _mtimes(folder: Path) -> tuple:
-    """Modification times of the manifest and the files next to it: the key of the cache of loaded models."""
-    return tuple((p.name, p.stat().st_mtime_ns, p.stat().st_size) for p in sorted(folder.iterdir()) if p.is_file())
 
 
 def _rederive(folder: Path) -> str:
@@ -200,7 +211,7 @@ def _checked_bytes(folder: Path, manifest: dict) -> dict[str, bytes]:
 
 
 @functools.lru_cache(maxsize=32)
-def _load_folder(folder: Path, mtimes: tuple) -> Model:
+def _load_folder(folder: Path) -> Model:
     manifest_path = folder / "manifest.json"
     try:
         manifest = json.loads(manifest_path.read_text(encoding="utf-8"))

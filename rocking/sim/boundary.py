@@ -38,17 +38,19 @@ DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "
 #: array of as many values as the field's ``count`` says, which the cases of a batch may share).
 C_TYPES = {DOUBLE: "double", INT64: "int64_t", INT32: "int32_t", DOUBLES: "const double *", SERIES: "const double *"}
 
-#: Checks a setting must pass; the text is the valid range of the error message.
+#: Checks a setting must pass; the text is the valid range of the error message. Operators only, so
+#: that each check takes a Python number as it is (a single run, no NumPy) or an array (a batch):
+#: ``v - v == 0`` is false for inf and NaN, ``v % 1 == 0`` for a fraction, inf and NaN.
 CHECKS = {
-    "finite": lambda v: np.isfinite(v),
-    "> 0": lambda v: np.isfinite(v) & (v > 0),
+    "finite": lambda v: v - v == 0,
+    "> 0": lambda v: (v - v == 0) & (v > 0),
     "in [1e-12, 0.01]": lambda v: (v >= 1e-12) & (v <= 0.01),
-    ">= 0": lambda v: np.isfinite(v) & (v >= 0),
-    ">= 1": lambda v: (v >= 1) & (v == np.floor(v)),
-    "an integer >= 0": lambda v: (v >= 0) & (v == np.floor(v)),
+    ">= 0": lambda v: (v - v == 0) & (v >= 0),
+    ">= 1": lambda v: (v >= 1) & (v % 1 == 0),
+    "an integer >= 0": lambda v: (v >= 0) & (v % 1 == 0),
     "0 or 1": lambda v: (v == 0) | (v == 1),
     "-1, 0 or +1": lambda v: (v == -1) | (v == 0) | (v == 1),
-    "a code of MOTIONS": lambda v: np.isin(v, range(len(motion.FAMILIES))),
+    "a code of MOTIONS": lambda v: (v >= 0) & (v < len(motion.FAMILIES)) & (v % 1 == 0),
 }
 
 _REQUIRED = object()
@@ -223,6 +225,10 @@ MOTION = {code.name: code.value for code in MOTIONS}
 assert all(code.value == i for i, code in enumerate(STATUSES))
 
 
+#: The check of each setting by name (None: unchecked), looked up once per process.
+_VALID = {f.name: f.valid for f in CASE}
+
+
 def field_named(table: tuple[Field, ...], name: str) -> Field:
     """The field ``name`` of ``table``."""
     return next(f for f in table if f.name == name)
@@ -241,8 +247,12 @@ def check(name: str, value):
     ParameterError
         Naming the setting, its valid range and the first offending value.
     """
-    valid = field_named(CASE, name).valid
+    valid = _VALID[name] if name in _VALID else field_named(CASE, name).valid
     if valid is None:
+        return value
+    if isinstance(value, (float, int)) and not isinstance(value, bool):  # one number (a single run): as it is
+        if not CHECKS[valid](value):
+            raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(value)})")
         return value
     try:
         a = np.asarray(value, dtype=float)

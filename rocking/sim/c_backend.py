@@ -24,6 +24,7 @@ from __future__ import annotations
 
 import ctypes
 import os
+import signal
 import threading
 from collections.abc import Iterator
 from concurrent.futures import ThreadPoolExecutor
@@ -133,6 +134,10 @@ class _Library:
         lib.rocking_simulate.argtypes = [
             _dbl_p, ctypes.POINTER(_Case), ctypes.POINTER(_Result), ctypes.POINTER(_History), ctypes.POINTER(_Control)
         ]
+        lib.rocking_sigint_catch.restype = ctypes.c_int
+        lib.rocking_sigint_catch.argtypes = [ctypes.POINTER(ctypes.c_int32)]
+        lib.rocking_sigint_release.restype = ctypes.c_int
+        lib.rocking_sigint_release.argtypes = []
         lib.rocking_simulate_batch.restype = None
         lib.rocking_simulate_batch.argtypes = [
             ctypes.c_int64,
@@ -197,8 +202,6 @@ _RUNNING: dict[int, ctypes.c_int32] = {}
 _RUNNING_LOCK = threading.Lock()
 #: Set inside :func:`halted`: calls that start are stopped at once too.
 _HALTED = threading.Event()
-#: How often the main thread wakes up while it waits for a C call [s].
-_WAIT_SLICE = 0.02
 
 
 def request_stop() -> None:
@@ -232,12 +235,13 @@ def halted() -> Iterator[None]:
         _HALTED.clear()
 
 
-def _stoppable(call):
+def _stoppable(call, lib):
     """``call(stop)`` with a fresh stop flag registered for :func:`request_stop`.
 
-    From the main thread the call runs on a worker thread while the main
-    thread waits in short slices: a Ctrl-C there (KeyboardInterrupt) stops
-    the runs, waits for the worker and is raised again.
+    From the main thread, a C handler of SIGINT (``rocking_sigint_catch`` of ``lib``) sets the flag
+    while C runs, since Python runs its own handler only between bytecodes; Python's handler is
+    put back afterwards and the signal raised again, so Ctrl-C stops the runs and raises
+    :exc:`KeyboardInterrupt` (or does what the program's own handler does) at once.
     """
     stop = ctypes.c_int32(0)
     with _RUNNING_LOCK:
@@ -245,37 +249,19 @@ def _stoppable(call):
         stop.value = int(_HALTED.is_set())
     try:
         if threading.current_thread() is not threading.main_thread():
+            return call(stop)
+        catching = lib.rocking_sigint_catch(ctypes.byref(stop))
+        try:
             result = call(stop)
-        else:
-            result = _on_worker(call, stop)
+        finally:
+            caught = catching and lib.rocking_sigint_release()
+        if caught:
+            request_stop()
+            signal.raise_signal(signal.SIGINT)
+        return result
     finally:
         with _RUNNING_LOCK:
             del _RUNNING[id(stop)]
-    return result
-
-
-def _on_worker(call, stop: ctypes.c_int32):
-    outcome: dict = {}
-
-    def work() -> None:
-        try:
-            outcome["result"] = call(stop)
-        except BaseException as exc:  # noqa: BLE001 - handed to the waiting thread
-            outcome["error"] = exc
-
-    worker = threading.Thread(target=work, name="rocking-c", daemon=True)
-    worker.start()
-    try:
-        while worker.is_alive():
-            worker.join(_WAIT_SLICE)
-    except KeyboardInterrupt:
-        stop.value = 1
-        request_stop()
-        worker.join()
-        raise
-    if "error" in outcome:
-        raise outcome["error"]
-    return outcome["result"]
 
 
 # --------------------------------------------------------------------------- #
@@ -351,7 +337,7 @@ def simulate(problem: Problem, record: bool = False) -> Response:
                 ctypes.byref(lib.control(stop)),
             )
 
-        n = _stoppable(call)
+        n = _stoppable(call, lib.lib)
         if result.status == boundary.STOPPED.value:
             raise KeyboardInterrupt("rocking.sim.c_backend.request_stop() stopped the run")
         if n < 0:  # Problem checked the initial state: the two checks disagree
@@ -471,7 +457,7 @@ def simulate_cases(cases: Cases, threads: int | None = None) -> dict[str, np.nda
             for future in [pool.submit(run, lo, hi) for lo, hi in zip(bounds[:-1], bounds[1:]) if hi > lo]:
                 future.result()
 
-    _stoppable(batch)
+    _stoppable(batch, lib.lib)
     if np.any(out["status"] == boundary.STOPPED.value):
         raise KeyboardInterrupt("rocking.sim.c_backend.request_stop() stopped the batch")
     failed = np.flatnonzero(out["status"] == boundary.FAILED.value)

@@ -211,11 +211,16 @@ def _source_key(model, cc_args, csrc: Path) -> str:
     where the package or the cache is.
     """
     parts = []
+    hashes = model.manifest.get("sha256", {})
     for name, path in _sources(model, csrc).items():
         try:
-            parts.append((f"source {name}", path.read_bytes()))
+            data = path.read_bytes()
         except OSError as exc:
             raise CBuildError(f"cannot read C source {path}: {exc.strerror or exc}") from None
+        if path.parent == model.folder and hashes.get(name) != hashlib.sha256(data).hexdigest():
+            # The model was checked when it was loaded: a file edited since is not compiled.
+            raise CBuildError(f"{path}: does not match the SHA-256 its manifest.json records (edited by hand?)")
+        parts.append((f"source {name}", data))
     machine = os.uname().machine if hasattr(os, "uname") else ""
     return _digest(
         *parts,

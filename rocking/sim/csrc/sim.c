@@ -8,15 +8,20 @@
  *      step, location on the dense output (knows nothing about what an event does);
  *   4. the phase machine: segments between events and breakpoints, and what
  *      happens at each event (uplift, impact, rest, overturning);
- *   5. the entry points of sim.h.
+ *   5. the entry points of sim.h;
+ *   6. Ctrl-C: a SIGINT handler that sets the stop flag of the call in progress.
  *
  * Only the generic names of the model header are used, so the same file serves
- * every generated model. No allocation, no global state: the tables below are
- * constants, everything else lives in the caller's stack frame (the stop
- * flag of rocking_control is the caller's).
+ * every generated model. No allocation, no global state but the SIGINT handler's
+ * (section 6): the tables below are constants, everything else lives in the
+ * caller's stack frame (the stop flag of rocking_control is the caller's).
  */
+#if !defined(_WIN32) && !defined(_POSIX_C_SOURCE)
+#define _POSIX_C_SOURCE 200809L /* sigaction under -std=c99 */
+#endif
 #include <float.h>
 #include <math.h>
+#include <signal.h>
 #include <stddef.h>
 #include <string.h>
 
@@ -1499,4 +1504,65 @@ void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *case
         }
         simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control);
     }
+}
+
+/* ------------------------------------------------------------------------- */
+/* 6. Ctrl-C                                                                  */
+/* ------------------------------------------------------------------------- */
+
+static volatile int32_t *volatile sigint_stop = NULL;
+static volatile sig_atomic_t sigint_seen = 0;
+#ifdef _WIN32
+static void (*sigint_saved)(int) = SIG_DFL;
+#else
+static struct sigaction sigint_saved;
+#endif
+
+static void sigint_handler(int signum)
+{
+    (void)signum;
+    sigint_seen = 1;
+    if (sigint_stop != NULL)
+        *sigint_stop = 1;
+}
+
+int rocking_sigint_catch(volatile int32_t *stop)
+{
+    sigint_seen = 0;
+    sigint_stop = stop;
+#ifdef _WIN32
+    sigint_saved = signal(SIGINT, sigint_handler);
+    if (sigint_saved == SIG_ERR || sigint_saved == SIG_IGN) {
+        if (sigint_saved == SIG_IGN)
+            signal(SIGINT, SIG_IGN);
+        sigint_stop = NULL;
+        return 0;
+    }
+    return 1;
+#else
+    struct sigaction act;
+    if (sigaction(SIGINT, NULL, &sigint_saved) != 0 || sigint_saved.sa_handler == SIG_IGN) {
+        sigint_stop = NULL; /* an ignored SIGINT stays ignored */
+        return 0;
+    }
+    memset(&act, 0, sizeof act);
+    act.sa_handler = sigint_handler;
+    sigemptyset(&act.sa_mask);
+    if (sigaction(SIGINT, &act, NULL) != 0) {
+        sigint_stop = NULL;
+        return 0;
+    }
+    return 1;
+#endif
+}
+
+int rocking_sigint_release(void)
+{
+#ifdef _WIN32
+    signal(SIGINT, sigint_saved);
+#else
+    sigaction(SIGINT, &sigint_saved, NULL);
+#endif
+    sigint_stop = NULL;
+    return (int)sigint_seen;
 }

@@ -111,6 +111,16 @@ int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result 
 void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
                             const rocking_control *control);
 
+/* Ctrl-C while the caller's thread is in C. Python runs its SIGINT handler only
+ * between bytecodes, so a call made from its main thread would finish first.
+ * rocking_sigint_catch installs a handler that sets *stop (and notes the signal)
+ * in place of the caller's, unless SIGINT is ignored; it returns 1 if it did.
+ * rocking_sigint_release puts the caller's handler back and returns 1 if a
+ * SIGINT came in between: the caller raises it again. One catch at a time per
+ * library (Python's main thread); the only global state of the library. */
+int rocking_sigint_catch(volatile int32_t *stop);
+int rocking_sigint_release(void);
+
 #ifdef __cplusplus
 }
 #endif
