@@ -240,6 +240,42 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
     return out
 
 
+def bench_overhead(calls: int = 2000, repeats: int = 5) -> dict:
+    """The Python of one ``rocking.simulate`` call around its C run: the reference block, damper and a pulse of
+    beta = 3, Omega = 4; the whole call and the time inside the C entry point, best of ``repeats``."""
+    import rocking
+    from rocking.sim import c_backend
+
+    block = Block.reference()
+    damper = rocking.Damper.from_nondim(block, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS)
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
+    rocking.simulate(block, damper, pulse)
+    lib = c_backend.library("omd").lib
+    entry, inside = lib.rocking_simulate, [0.0]
+
+    def timed(*args):
+        start = time.perf_counter()
+        try:
+            return entry(*args)
+        finally:
+            inside[0] += time.perf_counter() - start
+
+    lib.rocking_simulate = timed
+    try:
+        runs = []
+        for _ in range(repeats):
+            inside[0] = 0.0
+            start = time.perf_counter()
+            for _ in range(calls):
+                rocking.simulate(block, damper, pulse)
+            whole = time.perf_counter() - start
+            runs.append(((whole - inside[0]) / calls * 1e6, inside[0] / calls * 1e6, whole / calls * 1e6))
+    finally:
+        lib.rocking_simulate = entry
+    overhead, c_us, whole_us = min(runs)
+    return {"calls": calls, "overhead_us": overhead, "c_us": c_us, "whole_us": whole_us}
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grid", type=int, default=50)
@@ -271,6 +307,9 @@ def main(argv=None) -> int:
     print(f"  baseline      {rec['baseline_ms_per_response']:10.2f} ms/response   ", end="")
     print(f"C is {rec['speedup_c_vs_baseline']:.0f}x faster (target >= 300); ", end="")
     print(f"verdicts C = baseline on {rec['verdicts_c_eq_baseline']} of {rec['baseline_subset']}")
+    over = results["overhead"] = bench_overhead()
+    print(f"one rocking.simulate call: {over['overhead_us']:.0f} us of Python around {over['c_us']:.0f} us of C "
+          f"(target <= 50 us; best of 5 x {over['calls']})")  # fmt: skip
     stops = results["stops"] = bench_stops(args.grid)
     print(
         f"  stops at the edges: {stops['stops_over_free_time']:.2f}x the time per response of the unlimited damper "

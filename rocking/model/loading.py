@@ -9,6 +9,7 @@ from __future__ import annotations
 import functools
 import hashlib
 import json
+import math
 import os
 import re
 from collections.abc import Mapping
@@ -50,19 +51,19 @@ class Model:
     manifest: dict = field(repr=False)
     functions: ModuleType = field(repr=False)
 
-    @property
+    @functools.cached_property
     def coordinates(self) -> tuple[str, ...]:
         return tuple(self.manifest["coordinates"])
 
-    @property
+    @functools.cached_property
     def state(self) -> tuple[str, ...]:
         return tuple(self.manifest["state"])
 
-    @property
+    @functools.cached_property
     def parameters(self) -> tuple[str, ...]:
         return tuple(p["name"] for p in self.manifest["parameters"])
 
-    @property
+    @functools.cached_property
     def block_parameters(self) -> tuple[str, ...]:
         """The parameters the block sets (``Block.as_params``); the rest are the attached bodies'."""
         return tuple(self.manifest["block_parameters"])
@@ -94,14 +95,14 @@ class Model:
         missing = [p for p in self.parameters if p not in values]
         if missing:
             raise ModelError(f"model {self.name!r} needs parameter(s) {', '.join(missing)}")
-        vector = np.array([float(values[p]) for p in self.parameters])
+        vector = [float(values[p]) for p in self.parameters]
         for (name, valid), value in zip(self.valid_ranges.items(), vector):
-            bad = not np.isfinite(value) or (valid == "> 0" and value <= 0) or (valid == ">= 0" and value < 0)
+            bad = not math.isfinite(value) or (valid == "> 0" and value <= 0) or (valid == ">= 0" and value < 0)
             if bad:
                 raise ModelError(f"model {self.name!r}: {name} must be finite and {valid} (got {value:g})")
-        return vector
+        return np.array(vector)
 
-    @property
+    @functools.cached_property
     def valid_ranges(self) -> dict[str, str]:
         """Valid range of each parameter as the spec states it (``"> 0"``, ``">= 0"``, ``"any"``, ...)."""
         return {p["name"]: p["valid"] for p in self.manifest["parameters"]}

@@ -250,7 +250,7 @@ def check(name: str, value):
     valid = _VALID[name] if name in _VALID else field_named(CASE, name).valid
     if valid is None:
         return value
-    if isinstance(value, (float, int)) and not isinstance(value, bool):  # one number (a single run): as it is
+    if isinstance(value, (float, int, np.integer)):  # one number (a single run; a bool is 0 or 1): as it is
         if not CHECKS[valid](value):
             raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(value)})")
         return value

@@ -49,7 +49,8 @@ _i64_p = ctypes.POINTER(ctypes.c_int64)
 
 #: ctypes and NumPy types of each kind of field of the boundary tables.
 _CTYPES = {boundary.DOUBLE: _dbl, boundary.INT64: ctypes.c_int64, boundary.INT32: ctypes.c_int32}
-_CTYPES.update({DOUBLES: _dbl_p, SERIES: _dbl_p})
+# An address, as in a batch's records (CASE_DTYPE): set from ``ndarray.ctypes.data`` without a ctypes cast.
+_CTYPES.update({DOUBLES: ctypes.c_void_p, SERIES: ctypes.c_void_p})
 _NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32}
 _NUMPY.update({DOUBLES: np.uintp, SERIES: np.uintp})
 
@@ -269,15 +270,17 @@ def _stoppable(call, lib):
 # --------------------------------------------------------------------------- #
 
 
+#: The fields of ``rocking_case`` in order, and whether each is an array (passed by its address).
+_CASE_FIELDS = tuple((f.name, f.kind in (DOUBLES, SERIES)) for f in CASE)
+
+
 def _case(problem: Problem) -> _Case:
     """``problem``'s settings as a ``rocking_case`` (its arrays stay owned by ``problem``)."""
-    values = {}
-    for f in CASE:
-        value = getattr(problem, f.name)
-        if f.kind in (DOUBLES, SERIES):
-            value = None if value is None else value.ctypes.data_as(_dbl_p)
-        values[f.name] = value
-    return _Case(**values)
+    values = []
+    for name, array in _CASE_FIELDS:
+        value = getattr(problem, name)
+        values.append((None if value is None else value.ctypes.data) if array else value)
+    return _Case(*values)
 
 
 def _failed(where: str) -> SimulationError:

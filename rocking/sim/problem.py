@@ -151,14 +151,12 @@ def check_motion(family: str, n_samples, pulse_dt, n_extrema) -> None:
 
 def _problem_post_init(self) -> None:
     """Check every setting against its range in :data:`~rocking.sim.boundary.CASE` and store it typed."""
-    for f in CASE:
-        value = getattr(self, f.name)
-        if f.kind not in (DOUBLES, SERIES):
-            boundary.check(f.name, value)
-            object.__setattr__(self, f.name, _python(f)(value))
-    for f in CASE:
-        if f.kind == SERIES:
-            object.__setattr__(self, f.name, _series(f.name, getattr(self, f.name), getattr(self, f.count)))
+    for name, python in _SCALAR_SETTINGS:
+        value = getattr(self, name)
+        boundary.check(name, value)
+        object.__setattr__(self, name, python(value))
+    for name, count in _SERIES_SETTINGS:
+        object.__setattr__(self, name, _series(name, getattr(self, name), getattr(self, count)))
     check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
     p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
     if p.shape != (len(self.model.parameters),):
@@ -166,6 +164,11 @@ def _problem_post_init(self) -> None:
     object.__setattr__(self, "p", p)
     object.__setattr__(self, "atol", _state_vector("atol", self.atol, self.model))
     object.__setattr__(self, "y0", _initial_state(self.model, self.y0, self.phase0))
+
+
+#: The number settings of a Problem with their Python types, and the series with the field that counts them.
+_SCALAR_SETTINGS = tuple((f.name, _python(f)) for f in CASE if f.kind not in (DOUBLES, SERIES))
+_SERIES_SETTINGS = tuple((f.name, f.count) for f in CASE if f.kind == SERIES)
 
 
 def ground_shape(problem, t):
@@ -275,11 +278,11 @@ def default_settings(block: Block, T_g, T_m, rtol: float, nq: int) -> dict:
     ``T_m`` is ``inf`` without a damper. Returned keys: ``atol`` (shape
     ``(..., 2 nq)``), ``contact_max_step``, ``dtheta_rest``, ``energy_rest``.
     """
-    T_g, T_m = np.asarray(T_g, float), np.asarray(T_m, float)
     shortest = np.minimum(np.minimum(T_g, 2 * np.pi / block.p), T_m)
     scale = np.array([block.alpha] * nq + [block.alpha * block.p] * nq)
+    shape = np.shape(shortest)
     return {
-        "atol": rtol * np.broadcast_to(scale, shortest.shape + scale.shape),
+        "atol": rtol * (np.broadcast_to(scale, shape + scale.shape) if shape else scale),
         "contact_max_step": shortest / CONTACT_STEPS_PER_PERIOD,
         "dtheta_rest": DTHETA_REST * block.alpha * block.p,
         "energy_rest": ENERGY_REST * block.M * block.g * block.B / 2,
