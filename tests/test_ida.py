@@ -172,6 +172,8 @@ def test_bad_pulse_suites_are_refused(records):
         (["--stochastic", "2", "--periods", "1"], "--periods: options of --pulses FAMILY"),
         (["--pulses", "sine"], "--pulses sine needs --periods"),
         (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own motions"),
+        (["--pulses", "cosine", "--periods", "1", "-1"], "T_g must be > 0 s (got -1.0)"),
+        (["--pulses", "cosine", "--periods", "1", "--amplitude", "nan"], "a_g must be finite (got nan)"),
     ],
 )  # fmt: skip
 def test_cli_pulse_suites_refuse_bad_options(argv, message, capsys, tmp_path):
