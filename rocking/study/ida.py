@@ -67,7 +67,7 @@ def motion_measure(motion, name: str) -> float:
     if name == "amplitude":
         return motion.a_g
     t = np.linspace(0.0, motion.t_p, PULSE_SAMPLES)
-    return measure(name, motion.acceleration(t) * motion.sign, t[1])
+    return measure(name, motion.acceleration(t), t[1])  # every measure is blind to the sign
 
 
 def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
