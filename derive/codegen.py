@@ -155,6 +155,20 @@ def model_functions(eq: Equations) -> list[Function]:
             sp.Symbol("E_uplift", real=True),
         ),
         _scalar(
+            "least_potential",
+            "Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers "
+            "left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.",
+            eq.least_potential,
+            sp.Symbol("V_least", real=True),
+        ),
+        _scalar(
+            "least_stroke_potential",
+            "Least potential energy at the tilt theta about s with q[1] held, over the positions of the other "
+            "attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.",
+            eq.least_stroke_potential,
+            sp.Symbol("V_stroke", real=True),
+        ),
+        _scalar(
             "critical_angle",
             "Static critical angle about the pivot s, the other coordinates held (sign of s).",
             eq.critical_angle,

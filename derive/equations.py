@@ -57,6 +57,13 @@ class Equations:
         Least energy above rest, in full contact without ground motion, at
         which the attached bodies can lift the block about ``s``; ``oo`` when
         they cannot, 0 when no bound could be derived.
+    least_potential, least_stroke_potential : Expr
+        Least potential energy at the tilt ``theta`` about ``s`` over every
+        position of the attached bodies (``least_potential``), or over those
+        after ``q[1]`` with ``q[1]`` held (``least_stroke_potential``), the
+        bumpers' energy left out; ``-oo`` where it has no least value, and
+        wherever the energy could grow without ground motion (no early verdict,
+        :func:`least_potentials`).
     stop_gaps : list of Expr
         Per side of every end stop, the penetration ``delta``: its bumper acts
         while it is > 0 (docs/model.md section 11); a runtime stops at its zeros.
@@ -84,6 +91,8 @@ class Equations:
     critical_angle: sp.Expr
     critical_tangent: sp.Expr
     uplift_energy: sp.Expr
+    least_potential: sp.Expr
+    least_stroke_potential: sp.Expr
     stop_gaps: list = ()
     stop_forces: list = ()
     stop_regime: list = ()
@@ -313,6 +322,90 @@ def uplift_energy(sysm: System, energy, uplift):
     return bounds[0] if len(bounds) == 1 else sp.Min(*bounds)
 
 
+def _least_over(V, z):
+    """Least value of ``V`` over ``z``; ``None`` unless ``V`` is quadratic in ``z`` with a Hessian free of ``z``.
+
+    With ``V = V0 + b^T z + z^T Q z / 2`` the least value is
+    ``V0 - b^T adj(Q) b / (2 det Q)`` where ``Q`` is positive definite (its
+    leading minors are positive), ``-oo`` elsewhere (``V`` is unbounded below,
+    or the bound is not derived).
+    """
+    if not z:
+        return V
+    Q = sp.hessian(V, z)
+    at_zero = {v: 0 for v in z}
+    b = sp.Matrix([sp.diff(V, v) for v in z]).subs(at_zero)
+    v0 = V.subs(at_zero)
+    zv = sp.Matrix(z)
+    if any(Q.has(v) for v in z) or _reduce(V - (zv.T * Q * zv)[0] / 2 - (b.T * zv)[0] - v0) != 0:
+        return None
+    definite = sp.And(*[sp.factor(Q[:k, :k].det()) > 0 for k in range(1, len(z) + 1)])
+    least = v0 - (b.T * Q.adjugate() * b)[0] / (2 * sp.factor(Q.det()))
+    return sp.Piecewise((least, definite), (-sp.oo, True))
+
+
+def _nonnegative(expr, spec: Spec) -> bool:
+    """Whether ``expr`` is >= 0 for every parameter in its valid range (a range ``>= 0`` or ``> 0`` is known)."""
+    known = {p.name: p.valid for p in spec.all_parameters}
+    signs = {
+        sym: sp.Dummy(sym.name, positive=True) if known.get(sym.name) == "> 0" else sp.Dummy(sym.name, nonnegative=True)
+        for sym in expr.free_symbols
+        if known.get(sym.name) in ("> 0", ">= 0")
+    }
+    return bool(sp.sympify(expr).xreplace(signs).is_nonnegative)
+
+
+def energy_cannot_grow(spec: Spec, laws: dict) -> bool:
+    """Whether the mechanical energy can only fall once the ground is still.
+
+    Between impacts its rate is ``-2 D``: every dashpot's and bumper's damping
+    must be >= 0. At an impact, the momentum law is a plastic impact at the new
+    pivot, which never adds energy (Carnot's theorem; docs/model.md 10.5); the
+    velocity law can. Bumpers must store energy, not release it: stiffness >= 0.
+    """
+    coefficients = [d.coefficient for d in spec.dashpots]
+    coefficients += [c for stop in spec.stops for c in (stop.damping, stop.stiffness)]
+    return all(law == "momentum" for law in laws.values()) and all(_nonnegative(c, spec) for c in coefficients)
+
+
+def least_potentials(sysm: System, energy, spec: Spec, laws: dict) -> tuple:
+    """``least_potential`` and ``least_stroke_potential`` of :class:`Equations` (docs/simulation.md, rule 4).
+
+    The potential is the energy at rest velocities with every bumper clear:
+    a bumper only adds its ``k_b delta^2 / 2 >= 0``, so the least value is a
+    lower bound for every regime. After the ground has stopped and while the
+    energy cannot grow (:func:`energy_cannot_grow`), a state whose energy is
+    below the least potential at a tilt can never reach that tilt. Both are
+    ``-oo`` (no bound) unless the potential is ``a cos(theta) + b sin(theta)``
+    plus terms free of ``theta``, with ``a`` and ``b`` proportional to ``g``
+    and quadratic in the attached coordinates (so that the runtime can bound
+    it on an arc of tilts, rule 4), and unless every end stop's gap is affine
+    in ``q[1]`` alone (the runtime checks them at the largest stroke).
+    """
+    none = (-sp.oo, -sp.oo)
+    if not energy_cannot_grow(spec, laws):
+        return none
+    theta = sysm.q[0]
+    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    off = {on: 0 for on, *_ in sysm.stops}
+    V = _reduce(energy.xreplace(off).subs({d: 0 for d in sysm.dq}))
+    weights = _reduce(g * V.diff(g))
+    if _reduce(weights.diff(theta, 2) + weights) != 0 or _reduce(V - weights).has(theta, g):
+        return none
+    vg = sp.Symbol("vg", real=True)
+    for _, delta, *_ in sysm.stops:
+        gap = _to_symbols(delta, sysm, vg)
+        stroke = sysm.q[1] if len(sysm.q) > 1 else None
+        others = [q for q in sysm.q if q != stroke]
+        if stroke is None or gap.has(*others) or not (gap.is_polynomial(stroke) and sp.degree(gap, stroke) <= 1):
+            return none
+    least = _least_over(V, list(sysm.q[1:]))
+    stroke = _least_over(V, list(sysm.q[2:]))
+    if least is None or stroke is None:
+        return none
+    return least, stroke
+
+
 def stop_indicators(sysm: System, vg) -> dict:
     """Each stop side's indicator symbol -> 1 while its penetration is > 0, else 0: the regime of a state."""
     return {on: sp.Piecewise((1, _to_symbols(delta, sysm, vg) > 0), (0, True)) for on, delta, *_ in sysm.stops}
@@ -415,8 +508,11 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         """``expr`` with its bumpers' terms in their penetrations, the indicators kept: the regime is an input."""
         return in_penetrations(expr, sysm, vg) if on else expr
 
+    least, stroke = least_potentials(sysm, energy, spec, opts["impact_laws"])
     return Equations(
         uplift_energy=uplift_energy(sysm, energy, uplift),
+        least_potential=least,
+        least_stroke_potential=stroke,
         system=sysm,
         options=opts,
         mass_matrix=Mm,

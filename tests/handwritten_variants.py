@@ -441,6 +441,29 @@ class OMD2(_Weights):
         denom = denom + (eta1 * c1) ** 2 / m1 + (eta2 * c2) ** 2 / m2
         return np.maximum(-u0, 0) ** 2 / (2 * denom)
 
+    @staticmethod
+    def _potential(v, free):
+        """Potential at rest velocities, each mass in ``free`` at its own least (the others where ``v`` puts them).
+
+        A mass's terms ``m g xi sin + k x^2 / 2`` (``xi = s B/2 + x``) are least at
+        ``x = -m g sin / k``, where they fall by ``(m g sin)^2 / (2 k)`` below their value at ``x = 0``.
+        """
+        th, g = v["theta"], v["g"]
+        XG, _, masses = OMD2._velocities(dict(v, dtheta=0 * th, dx1=0 * th, dx2=0 * th))
+        V = v["M"] * g * XG[1]
+        for j, ((m, X, _), (*_, k, _, x, _)) in enumerate(zip(masses, OMD2._masses(v))):
+            at_zero = m * g * (X[1] - x * np.sin(th))
+            V = V + (at_zero - (m * g * np.sin(th)) ** 2 / (2 * k) if j in free else m * g * X[1] + k * x**2 / 2)
+        return V
+
+    @staticmethod
+    def least_potential(v):
+        return OMD2._potential(v, free=(0, 1))
+
+    @staticmethod
+    def least_stroke_potential(v):
+        return OMD2._potential(v, free=(1,))
+
 
 # ----------------------------------------------------------------------------- locked rigid block
 class Rigid:

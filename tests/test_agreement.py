@@ -93,7 +93,7 @@ def test_early_rest_keeps_verdicts_and_maxima_on_random_cases():
     for i in range(N_CASES):
         block, damper, psi, beta, Omega = random_case(rng, 2 * i)  # every case with a damper
         pulse = OneSinePulse.from_nondim(block, beta=beta, Omega=Omega, psi=psi)
-        problem = make_problem(block, damper, pulse, rtol=1e-8, t_after=6.0)
+        problem = make_problem(block, damper, pulse, rtol=1e-8, t_after=6.0, early_verdict=False)
         backends = [c_backend] + ([numpy_backend] if i % 20 == 0 else [])  # NumPy on a few: it is slow
         for backend in backends:
             early = backend.simulate(problem)
@@ -221,7 +221,10 @@ def test_the_least_rest_threshold_still_ends_both_back_ends_alike():
     damper = rocking.Damper.from_nondim(block, gamma=0.19704431117544555, zeta=0.0, omega_ratio=0.99999, h=0.0148766)
     pulse = rocking.OneSinePulse.from_nondim(block, Omega=13.932483677482987, psi=4.860474897626126, beta=11.68481444)
     floor = 1e-9 * block.alpha * block.p
-    c, n = (rocking.simulate(block, damper, pulse, backend=b, rtol=1e-5, dtheta_rest=floor) for b in ("c", "numpy"))
+    c, n = (
+        rocking.simulate(block, damper, pulse, backend=b, rtol=1e-5, dtheta_rest=floor, early_verdict=False)
+        for b in ("c", "numpy")
+    )
     assert (c.status, c.impacts) == (n.status, n.impacts) and c.status == "rest" and c.impacts > 100
     with pytest.raises(rocking.ParameterError, match=r"^dtheta_rest must be >= 1e-9 alpha p"):
         rocking.simulate(block, damper, pulse, dtheta_rest=0.5 * floor)

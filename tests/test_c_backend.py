@@ -83,6 +83,7 @@ def test_sim_is_model_independent(tmp_path, n_constants):
     declarations only."""
     names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact", "stop_gaps", "stop_forces"]
     scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle", "critical_tangent"]
+    scalars += ["least_potential", "least_stroke_potential"]
     args = "double s, const double *y, double ag, const double *p"
     prepared = "const double *y, double ag, const double *cst"
     lines = ["#ifndef STUB3_H", "#define STUB3_H"]
@@ -93,6 +94,7 @@ def test_sim_is_model_independent(tmp_path, n_constants):
     lines += [f"double stub3_{n}_prepared({prepared});" for n in scalars]
     lines += ["#ifdef ROCKING_GENERIC_NAMES", "#define MODEL_NQ 3", "#define MODEL_NY 6", "#define MODEL_NP 7"]
     lines += [f"#define MODEL_NK {n_constants}", "#define MODEL_NSTOPS 2", "#define model_prepare stub3_prepare"]
+    lines += ["#define MODEL_P_GRAVITY 5"]
     lines += [f"#define model_{n} stub3_{n}" for n in names + scalars]
     lines += [f"#define model_{n}_prepared stub3_{n}_prepared" for n in names + scalars]
     lines += ["#endif", "#endif", ""]

@@ -526,7 +526,7 @@ def test_the_damper_lifts_the_block_from_rest_and_again_after_it_came_back_to_re
 
 def test_moderate_pulse_rocks_and_comes_to_rest(backend):
     """Rule 2 impacts (recorded before and after at one instant, theta exactly 0, pivot -s or rest) and rule 4 rest."""
-    problem = reference_problem(1.3, 4.0, rtol=1e-8)
+    problem = reference_problem(1.3, 4.0, rtol=1e-8, early_verdict=False)
     r = simulate(backend, problem, record=True)
     assert r.status == "rest" and r.status in STATUS
     assert not r.overturned and math.isnan(r.t_overturn)
@@ -553,7 +553,9 @@ def test_moderate_pulse_rocks_and_comes_to_rest(backend):
 def test_impacts_follow_housners_restitution(backend):
     """Rule 2 impact map and rest (docs/model.md 10.1: dtheta+ / dtheta- = 1 - 1.5 sin^2 alpha)."""
     block = slender_block(alpha=0.2)  # a stockier block: a restitution visibly below 1
-    problem = make_problem(block, None, no_pulse(block), rtol=1e-10, t_max=30.0, y0=[0.5 * block.alpha, 0.0], phase0=1)
+    problem = make_problem(
+        block, None, no_pulse(block), rtol=1e-10, t_max=30.0, y0=[0.5 * block.alpha, 0.0], phase0=1, early_verdict=False
+    )
     r = simulate(backend, problem, record=True)
     check_history(r, problem)
     h = r.history
@@ -763,7 +765,7 @@ def test_no_impact_and_no_rest_snap_adds_energy(backend):
         )
         problem = reference_problem(
             rng.uniform(1.2, 2.5), rng.uniform(2.0, 8.0), damper, rtol=1e-8, t_after=5.0,
-            dtheta_rest=0.1 * REFERENCE.alpha * REFERENCE.p,
+            dtheta_rest=0.1 * REFERENCE.alpha * REFERENCE.p, early_verdict=False,
         )
         h = simulate(backend, problem, record=True).history
         for i in impact_rows(h):
@@ -848,7 +850,7 @@ def test_t_max_ends_the_run(backend, t_max):
 def test_energy_rest_in_full_contact_after_the_pulse(backend):
     """Rule 4 energy_rest: located as an event, E(y) - E(0) = energy_rest at the end (docs/model.md section 2)."""
     damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, zeta=0.3, h=0.05)
-    problem = reference_problem(1.3, 4.0, damper, rtol=1e-8, early_rest=False)  # energy_rest alone
+    problem = reference_problem(1.3, 4.0, damper, rtol=1e-8, early_rest=False, early_verdict=False)  # energy_rest alone
     r = simulate(backend, problem, record=True)
     assert r.status == "rest" and problem.t_p < r.t_end < problem.t_max
     check_history(r, problem)
@@ -936,7 +938,7 @@ def test_early_rest_after_a_pulse_below_the_thresholds(backend):
 def test_early_rest_after_rocking_keeps_the_verdict_and_the_maxima(backend):
     """Rule 4 early rest: verdict, counts, theta_max and t_critical are final; x_max as the full run's."""
     damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, zeta=0.1, h=0.05)
-    problem = reference_problem(1.3, 4.0, damper, rtol=1e-8, t_after=4.0)
+    problem = reference_problem(1.3, 4.0, damper, rtol=1e-8, t_after=4.0, early_verdict=False)
     early = simulate(backend, problem, record=True)
     full = simulate(backend, dataclasses.replace(problem, early_rest=False))
     check_history(early, problem)

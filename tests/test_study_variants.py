@@ -14,7 +14,7 @@ from rocking.model.params import ParameterError
 from rocking.sim.cases import pulse_cases
 from rocking.study.config import Grid, Setting, Tuning, Variant, config_hash, part_config
 from rocking.study.optimize import optimal_damper
-from rocking.study.overturning_map import overturning_map
+from rocking.study.overturning_map import outcome, overturning_map
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
@@ -88,7 +88,10 @@ def test_vanishing_pendulum_reproduces_bare_map(runs):
     study = overturning_map(SETTING, tiny, OMEGA, BETA, SERIAL, runs=runs, tile=(4, 5))
     a = study.arrays
     np.testing.assert_array_equal(a["damper_overturned_by_sign"], a["bare_overturned_by_sign"])
-    np.testing.assert_array_equal(a["damper_impacts_by_sign"], a["bare_impacts_by_sign"])
+    # The impacts before overturning; the bare block's safe responses end at their early verdict, the pendulum's
+    # (no bound derived for it) at rest, with more impacts.
+    damper, bare = (outcome(a[f"{p}_overturned_by_sign"], a[f"{p}_impacts_by_sign"]) for p in ("damper", "bare"))
+    np.testing.assert_array_equal(damper, bare)
 
 
 def test_changed_variant_parameter_reuses_no_tile(pendulum_map, runs):

@@ -234,6 +234,44 @@ double block_uplift_energy(double s, const double *y, double ag, const double *p
     return block_uplift_energy_prepared(y, ag, cst);
 }
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+ * From the constants of block_prepare(s, on, p, cst). */
+double block_least_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double cst3 = cst[3];
+    const double cst15 = cst[15];
+    return cst15*sin(theta) + cst3*cos(theta);
+}
+
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double block_least_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, NULL, p, cst);
+    return block_least_potential_prepared(y, ag, cst);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+ * From the constants of block_prepare(s, on, p, cst). */
+double block_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double cst3 = cst[3];
+    const double cst15 = cst[15];
+    return cst15*sin(theta) + cst3*cos(theta);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double block_least_stroke_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, NULL, p, cst);
+    return block_least_stroke_potential_prepared(y, ag, cst);
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * From the constants of block_prepare(s, on, p, cst). */
 double block_critical_angle_prepared(const double *y, double ag, const double *cst)

@@ -81,6 +81,14 @@ double block_power_prepared(const double *y, double ag, const double *cst);
 double block_uplift_energy(double s, const double *y, double ag, const double *p);
 double block_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double block_least_potential(double s, const double *y, double ag, const double *p);
+double block_least_potential_prepared(const double *y, double ag, const double *cst);
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double block_least_stroke_potential(double s, const double *y, double ag, const double *p);
+double block_least_stroke_potential_prepared(const double *y, double ag, const double *cst);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double block_critical_angle(double s, const double *y, double ag, const double *p);
 double block_critical_angle_prepared(const double *y, double ag, const double *cst);
@@ -106,6 +114,8 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 #define MODEL_NP BLOCK_NP
 #define MODEL_NK BLOCK_NK
 #define MODEL_NSTOPS BLOCK_NSTOPS
+/* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
+#define MODEL_P_GRAVITY BLOCK_P_g
 #define model_prepare block_prepare
 #define model_mass_matrix block_mass_matrix
 #define model_mass_matrix_prepared block_mass_matrix_prepared
@@ -125,6 +135,10 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 #define model_power_prepared block_power_prepared
 #define model_uplift_energy block_uplift_energy
 #define model_uplift_energy_prepared block_uplift_energy_prepared
+#define model_least_potential block_least_potential
+#define model_least_potential_prepared block_least_potential_prepared
+#define model_least_stroke_potential block_least_stroke_potential
+#define model_least_stroke_potential_prepared block_least_stroke_potential_prepared
 #define model_critical_angle block_critical_angle
 #define model_critical_angle_prepared block_critical_angle_prepared
 #define model_stop_gaps block_stop_gaps

@@ -402,6 +402,82 @@ def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     return out[0]
 
 
+def least_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = M*g
+    cse1 = cse0*numpy.sin(theta)
+    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out[0]
+
+
+def least_stroke_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = M*g
+    cse1 = cse0*numpy.sin(theta)
+    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out[0]
+
+
 def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 

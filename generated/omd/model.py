@@ -590,6 +590,117 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     return out[0]
 
 
+def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = numpy.cos(theta)
+    cse1 = g*m
+    cse2 = cse0*cse1
+    cse3 = numpy.sin(theta)
+    cse4 = M*g
+    cse5 = cse3*cse4
+    cse6 = (1/2)*B*s
+    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    return out[0]
+
+
+def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = numpy.cos(theta)
+    cse1 = g*m
+    cse2 = cse0*cse1
+    cse3 = numpy.sin(theta)
+    cse4 = M*g
+    cse5 = cse3*cse4
+    cse6 = cse1*cse3
+    cse7 = (1/2)*B*s
+    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    return out[0]
+
+
 def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 

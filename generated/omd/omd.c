@@ -60,12 +60,14 @@ void omd_prepare(double s, const double *on, const double *p, double *cst)
     const double cse34 = c*s;
     const double cse35 = k_m*s;
     const double cse36 = (1.0/8.0)*M;
-    const double cse37 = (c*c)*k_m;
-    const double cse38 = 4*H;
-    const double cse39 = g*k_m*(m*m);
-    const double cse40 = (k_m*k_m);
-    const double cse41 = 2*cse37;
-    const double cse42 = 2*cse40;
+    const double cse37 = (g*g);
+    const double cse38 = (c*c)*k_m;
+    const double cse39 = 4*H;
+    const double cse40 = (m*m);
+    const double cse41 = cse40*g*k_m;
+    const double cse42 = (k_m*k_m);
+    const double cse43 = 2*cse38;
+    const double cse44 = 2*cse42;
     cst[0] = cse12 + cse18;
     cst[1] = m;
     cst[2] = cse19;
@@ -96,8 +98,10 @@ void omd_prepare(double s, const double *on, const double *p, double *cst)
     cst[27] = cse26;
     cst[28] = cse31;
     cst[29] = cse29;
-    cst[30] = k_m*m*(fmax(0, cse33)*fmax(0, cse33))/(cse13*cse42 + cse14*cse41 + cse15*cse42 + 4*cse17*cse40 + cse37*cse38*h + cse38*cse39 + 4*cse39*h + cse41*cse9 + 2*(g*g)*(m*m*m));
-    cst[31] = 1.0/cse24;
+    cst[30] = k_m*m*(fmax(0, cse33)*fmax(0, cse33))/(cse13*cse44 + cse14*cse43 + cse15*cse44 + 4*cse17*cse42 + 2*cse37*(m*m*m) + cse38*cse39*h + cse39*cse41 + 4*cse41*h + cse43*cse9);
+    cst[31] = -1.0/2.0*cse37*cse40/k_m;
+    cst[32] = k_m;
+    cst[33] = 1.0/cse24;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -355,6 +359,51 @@ double omd_uplift_energy(double s, const double *y, double ag, const double *p)
     return omd_uplift_energy_prepared(y, ag, cst);
 }
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+ * From the constants of omd_prepare(s, on, p, cst). */
+double omd_least_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double cst5 = cst[5];
+    const double cst28 = cst[28];
+    const double cst31 = cst[31];
+    const double cst32 = cst[32];
+    const double cse0 = sin(theta);
+    return ((cst32 > 0) ? ((cse0*cse0)*cst31 + cse0*cst28 + cst5*cos(theta)) : (-INFINITY));
+}
+
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double omd_least_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, NULL, p, cst);
+    return omd_least_potential_prepared(y, ag, cst);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+ * From the constants of omd_prepare(s, on, p, cst). */
+double omd_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double x = y[1];
+    const double cst5 = cst[5];
+    const double cst26 = cst[26];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    const double cse0 = sin(theta);
+    return cse0*cst28 + cse0*cst29*x + cst26*(x*x) + cst5*cos(theta);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double omd_least_stroke_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, NULL, p, cst);
+    return omd_least_stroke_potential_prepared(y, ag, cst);
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * From the constants of omd_prepare(s, on, p, cst). */
 double omd_critical_angle_prepared(const double *y, double ag, const double *cst)
@@ -420,8 +469,8 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
     const double cst5 = cst[5];
     const double cst28 = cst[28];
     const double cst29 = cst[29];
-    const double cst31 = cst[31];
-    return ((cst5 > 0) ? (cst31*(cst28 + cst29*x)) : (NAN));
+    const double cst33 = cst[33];
+    return ((cst5 > 0) ? (cst33*(cst28 + cst29*x)) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */

@@ -26,7 +26,7 @@
 #define OMD_NQ 2
 #define OMD_NY 4
 #define OMD_NP 10
-#define OMD_NK 32
+#define OMD_NK 34
 #define OMD_NSTOPS 0
 #define OMD_Y_theta 0
 #define OMD_Y_x 1
@@ -87,6 +87,14 @@ double omd_power_prepared(const double *y, double ag, const double *cst);
 double omd_uplift_energy(double s, const double *y, double ag, const double *p);
 double omd_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double omd_least_potential(double s, const double *y, double ag, const double *p);
+double omd_least_potential_prepared(const double *y, double ag, const double *cst);
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double omd_least_stroke_potential(double s, const double *y, double ag, const double *p);
+double omd_least_stroke_potential_prepared(const double *y, double ag, const double *cst);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd_critical_angle(double s, const double *y, double ag, const double *p);
 double omd_critical_angle_prepared(const double *y, double ag, const double *cst);
@@ -112,6 +120,8 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 #define MODEL_NP OMD_NP
 #define MODEL_NK OMD_NK
 #define MODEL_NSTOPS OMD_NSTOPS
+/* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
+#define MODEL_P_GRAVITY OMD_P_g
 #define model_prepare omd_prepare
 #define model_mass_matrix omd_mass_matrix
 #define model_mass_matrix_prepared omd_mass_matrix_prepared
@@ -131,6 +141,10 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 #define model_power_prepared omd_power_prepared
 #define model_uplift_energy omd_uplift_energy
 #define model_uplift_energy_prepared omd_uplift_energy_prepared
+#define model_least_potential omd_least_potential
+#define model_least_potential_prepared omd_least_potential_prepared
+#define model_least_stroke_potential omd_least_stroke_potential
+#define model_least_stroke_potential_prepared omd_least_stroke_potential_prepared
 #define model_critical_angle omd_critical_angle
 #define model_critical_angle_prepared omd_critical_angle_prepared
 #define model_stop_gaps omd_stop_gaps

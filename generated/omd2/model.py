@@ -722,6 +722,143 @@ def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     return out[0]
 
 
+def least_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = numpy.cos(theta)
+    cse1 = g*m1
+    cse2 = cse0*cse1
+    cse3 = numpy.sin(theta)
+    cse4 = M*g
+    cse5 = cse3*cse4
+    cse6 = (1/2)*H*cse0
+    cse7 = g*m2
+    cse8 = (1/2)*B*s
+    cse9 = cse3*cse8
+    cse10 = cse3**2*g**2
+    out = _broadcast((numpy.select([numpy.logical_and.reduce((numpy.greater(k1, 0),numpy.greater(k1*k2, 0))),True], [H*cse2 + cse1*cse9 + cse2*h + cse4*cse6 + cse5*cse8 + cse5*e + cse6*cse7 + cse7*cse9 - 1/2*(cse10*k1*m2**2 + cse10*k2*m1**2)/(k1*k2),-numpy.inf], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out[0]
+
+
+def least_stroke_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = numpy.cos(theta)
+    cse1 = g*m1
+    cse2 = cse0*cse1
+    cse3 = numpy.sin(theta)
+    cse4 = M*g
+    cse5 = cse3*cse4
+    cse6 = cse1*cse3
+    cse7 = (1/2)*H*cse0
+    cse8 = g*m2
+    cse9 = (1/2)*B*s
+    out = _broadcast((numpy.select([numpy.greater(k2, 0),True], [H*cse2 + cse2*h - 1/2*cse3**2*g**2*m2**2/k2 + cse3*cse8*cse9 + cse4*cse7 + cse5*cse9 + cse5*e + cse6*cse9 + cse6*x1 + cse7*cse8 + (1/2)*k1*x1**2,-numpy.inf], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out[0]
+
+
 def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 

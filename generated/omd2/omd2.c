@@ -79,16 +79,19 @@ void omd2_prepare(double s, const double *on, const double *p, double *cst)
     const double cse50 = (1.0/8.0)*cse3;
     const double cse51 = (1.0/2.0)*k1;
     const double cse52 = (g*g);
-    const double cse53 = cse42*k2;
-    const double cse54 = (c1*c1)*k1;
-    const double cse55 = 4*H;
-    const double cse56 = k2*m2;
-    const double cse57 = k1*k2;
-    const double cse58 = cse29*cse57*(m1*m1);
-    const double cse59 = (k1*k1);
-    const double cse60 = cse53*cse54;
-    const double cse61 = cse14*cse51;
-    const double cse62 = cse53*cse59;
+    const double cse53 = cse52*k2;
+    const double cse54 = k1*k2;
+    const double cse55 = (c1*c1)*cse54;
+    const double cse56 = 4*H;
+    const double cse57 = (m2*m2);
+    const double cse58 = (m1*m1);
+    const double cse59 = cse29*cse54*cse58;
+    const double cse60 = (k1*k1)*k2;
+    const double cse61 = cse42*cse55;
+    const double cse62 = cse14*cse51;
+    const double cse63 = cse42*cse60;
+    const double cse64 = (1.0/2.0)/k2;
+    const double cse65 = cse52*cse57;
     cst[0] = cse13 + cse20;
     cst[1] = m1;
     cst[2] = m2;
@@ -137,8 +140,14 @@ void omd2_prepare(double s, const double *on, const double *p, double *cst)
     cst[45] = cse40;
     cst[46] = cse38;
     cst[47] = cse29;
-    cst[48] = cse57*m1*m2*(fmax(0, cse45)*fmax(0, cse45))/((c2*c2)*cse61*k2 + cse10*cse60 + cse14*cse62 + cse15*cse60 + cse16*cse62 + 4*cse19*cse56*cse59 + 2*cse28*cse57*(m2*m2) + cse41*cse52*k1*(m2*m2*m2) + cse52*cse53*(m1*m1*m1) + cse54*cse55*cse56*h + cse55*cse58 + 4*cse58*h + cse61*(k2*k2)*m2);
-    cst[49] = 1.0/cse30;
+    cst[48] = cse54*m1*m2*(fmax(0, cse45)*fmax(0, cse45))/((c2*c2)*cse62*k2 + cse10*cse61 + cse14*cse63 + cse15*cse61 + cse16*cse63 + 4*cse19*cse60*m2 + 2*cse28*cse54*cse57 + cse41*cse52*k1*(m2*m2*m2) + cse42*cse53*(m1*m1*m1) + cse55*cse56*h*m2 + cse56*cse59 + 4*cse59*h + cse62*(k2*k2)*m2);
+    cst[49] = -cse64/k1;
+    cst[50] = cse53*cse58 + cse65*k1;
+    cst[51] = k1;
+    cst[52] = cse54;
+    cst[53] = -cse64*cse65;
+    cst[54] = k2;
+    cst[55] = 1.0/cse30;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -468,6 +477,55 @@ double omd2_uplift_energy(double s, const double *y, double ag, const double *p)
     return omd2_uplift_energy_prepared(y, ag, cst);
 }
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+ * From the constants of omd2_prepare(s, on, p, cst). */
+double omd2_least_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double cst8 = cst[8];
+    const double cst45 = cst[45];
+    const double cst49 = cst[49];
+    const double cst50 = cst[50];
+    const double cst51 = cst[51];
+    const double cst52 = cst[52];
+    const double cse0 = sin(theta);
+    return ((cst51 > 0 && cst52 > 0) ? ((cse0*cse0)*cst49*cst50 + cse0*cst45 + cst8*cos(theta)) : (-INFINITY));
+}
+
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double omd2_least_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, NULL, p, cst);
+    return omd2_least_potential_prepared(y, ag, cst);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+ * From the constants of omd2_prepare(s, on, p, cst). */
+double omd2_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double x1 = y[1];
+    const double cst8 = cst[8];
+    const double cst41 = cst[41];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
+    const double cst53 = cst[53];
+    const double cst54 = cst[54];
+    const double cse0 = sin(theta);
+    return ((cst54 > 0) ? ((cse0*cse0)*cst53 + cse0*cst45 + cse0*cst46*x1 + cst41*(x1*x1) + cst8*cos(theta)) : (-INFINITY));
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double omd2_least_stroke_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, NULL, p, cst);
+    return omd2_least_stroke_potential_prepared(y, ag, cst);
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_critical_angle_prepared(const double *y, double ag, const double *cst)
@@ -537,8 +595,8 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
     const double cst45 = cst[45];
     const double cst46 = cst[46];
     const double cst47 = cst[47];
-    const double cst49 = cst[49];
-    return ((cst8 > 0) ? (cst49*(cst45 + cst46*x1 + cst47*x2)) : (NAN));
+    const double cst55 = cst[55];
+    return ((cst8 > 0) ? (cst55*(cst45 + cst46*x1 + cst47*x2)) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */

@@ -26,7 +26,7 @@
 #define OMD2_NQ 3
 #define OMD2_NY 6
 #define OMD2_NP 13
-#define OMD2_NK 50
+#define OMD2_NK 56
 #define OMD2_NSTOPS 0
 #define OMD2_Y_theta 0
 #define OMD2_Y_x1 1
@@ -92,6 +92,14 @@ double omd2_power_prepared(const double *y, double ag, const double *cst);
 double omd2_uplift_energy(double s, const double *y, double ag, const double *p);
 double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double omd2_least_potential(double s, const double *y, double ag, const double *p);
+double omd2_least_potential_prepared(const double *y, double ag, const double *cst);
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double omd2_least_stroke_potential(double s, const double *y, double ag, const double *p);
+double omd2_least_stroke_potential_prepared(const double *y, double ag, const double *cst);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd2_critical_angle(double s, const double *y, double ag, const double *p);
 double omd2_critical_angle_prepared(const double *y, double ag, const double *cst);
@@ -117,6 +125,8 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 #define MODEL_NP OMD2_NP
 #define MODEL_NK OMD2_NK
 #define MODEL_NSTOPS OMD2_NSTOPS
+/* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
+#define MODEL_P_GRAVITY OMD2_P_g
 #define model_prepare omd2_prepare
 #define model_mass_matrix omd2_mass_matrix
 #define model_mass_matrix_prepared omd2_mass_matrix_prepared
@@ -136,6 +146,10 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 #define model_power_prepared omd2_power_prepared
 #define model_uplift_energy omd2_uplift_energy
 #define model_uplift_energy_prepared omd2_uplift_energy_prepared
+#define model_least_potential omd2_least_potential
+#define model_least_potential_prepared omd2_least_potential_prepared
+#define model_least_stroke_potential omd2_least_stroke_potential
+#define model_least_stroke_potential_prepared omd2_least_stroke_potential_prepared
 #define model_critical_angle omd2_critical_angle
 #define model_critical_angle_prepared omd2_critical_angle_prepared
 #define model_stop_gaps omd2_stop_gaps

@@ -73,50 +73,52 @@ void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
     const double cse43 = k_m*s;
     const double cse44 = (1.0/8.0)*M;
     const double cse45 = (1.0/2.0)*k_b;
-    const double cse46 = 4*H;
-    const double cse47 = cse46*k_m;
-    const double cse48 = (c*c);
-    const double cse49 = cse48*h;
-    const double cse50 = g*(m*m);
-    const double cse51 = (k_m*k_m);
-    const double cse52 = 4*cse17;
-    const double cse53 = 4*k_m;
-    const double cse54 = cse50*h;
-    const double cse55 = 2*k_m;
-    const double cse56 = cse48*cse55;
-    const double cse57 = 2*cse51;
-    const double cse58 = cse13*cse57 + cse14*cse56 + cse15*cse57 + cse47*cse49 + cse47*cse50 + cse51*cse52 + cse53*cse54 + cse56*cse9 + 2*(g*g)*(m*m*m);
-    const double cse59 = L*cse36;
-    const double cse60 = L*cse37;
-    const double cse61 = (k_b*k_b);
-    const double cse62 = k_b + k_m;
-    const double cse63 = 1.0/cse62;
-    const double cse64 = L*cse63;
-    const double cse65 = cse61*cse64;
-    const double cse66 = cse41*cse65;
-    const double cse67 = cse42*cse65;
-    const double cse68 = cse63*k_m;
-    const double cse69 = cse59*cse68;
-    const double cse70 = cse29*cse35*cse64;
-    const double cse71 = cse60*cse68;
-    const double cse72 = 2*k_b;
-    const double cse73 = cse72*cse9;
-    const double cse74 = (c_b*c_b);
-    const double cse75 = cse14*cse72;
-    const double cse76 = cse55*cse74;
-    const double cse77 = 2*cse61;
-    const double cse78 = cse46*k_b;
-    const double cse79 = cse74*h;
-    const double cse80 = 4*k_b;
-    const double cse81 = c*c_b;
-    const double cse82 = cse81*cse9;
-    const double cse83 = cse14*cse81;
-    const double cse84 = cse53*k_b;
-    const double cse85 = 8*k_b;
-    const double cse86 = H*cse81*h;
-    const double cse87 = cse62*m/(cse13*cse77 + cse13*cse84 + cse14*cse76 + cse15*cse77 + cse15*cse84 + cse17*cse85*k_m + cse47*cse79 + cse48*cse73 + cse48*cse75 + cse49*cse78 + cse50*cse78 + cse52*cse61 + cse53*cse82 + cse53*cse83 + cse54*cse80 + cse58 + cse73*cse74 + cse74*cse75 + cse76*cse9 + cse78*cse79 + cse80*cse82 + cse80*cse83 + cse85*cse86 + 8*cse86*k_m);
-    const double cse88 = (L*L);
-    const double cse89 = cse45*cse88 - cse61*cse88/(cse55 + cse72);
+    const double cse46 = (g*g);
+    const double cse47 = 4*H;
+    const double cse48 = cse47*k_m;
+    const double cse49 = (c*c);
+    const double cse50 = cse49*h;
+    const double cse51 = (m*m);
+    const double cse52 = cse51*g;
+    const double cse53 = (k_m*k_m);
+    const double cse54 = 4*cse17;
+    const double cse55 = 4*k_m;
+    const double cse56 = cse52*h;
+    const double cse57 = 2*k_m;
+    const double cse58 = cse49*cse57;
+    const double cse59 = 2*cse53;
+    const double cse60 = cse13*cse59 + cse14*cse58 + cse15*cse59 + 2*cse46*(m*m*m) + cse48*cse50 + cse48*cse52 + cse53*cse54 + cse55*cse56 + cse58*cse9;
+    const double cse61 = L*cse36;
+    const double cse62 = L*cse37;
+    const double cse63 = (k_b*k_b);
+    const double cse64 = k_b + k_m;
+    const double cse65 = 1.0/cse64;
+    const double cse66 = L*cse65;
+    const double cse67 = cse63*cse66;
+    const double cse68 = cse41*cse67;
+    const double cse69 = cse42*cse67;
+    const double cse70 = cse65*k_m;
+    const double cse71 = cse61*cse70;
+    const double cse72 = cse29*cse35*cse66;
+    const double cse73 = cse62*cse70;
+    const double cse74 = 2*k_b;
+    const double cse75 = cse74*cse9;
+    const double cse76 = (c_b*c_b);
+    const double cse77 = cse14*cse74;
+    const double cse78 = cse57*cse76;
+    const double cse79 = 2*cse63;
+    const double cse80 = cse47*k_b;
+    const double cse81 = cse76*h;
+    const double cse82 = 4*k_b;
+    const double cse83 = c*c_b;
+    const double cse84 = cse83*cse9;
+    const double cse85 = cse14*cse83;
+    const double cse86 = cse55*k_b;
+    const double cse87 = 8*k_b;
+    const double cse88 = H*cse83*h;
+    const double cse89 = cse64*m/(cse13*cse79 + cse13*cse86 + cse14*cse78 + cse15*cse79 + cse15*cse86 + cse17*cse87*k_m + cse48*cse81 + cse49*cse75 + cse49*cse77 + cse50*cse80 + cse52*cse80 + cse54*cse63 + cse55*cse84 + cse55*cse85 + cse56*cse82 + cse60 + cse75*cse76 + cse76*cse77 + cse78*cse9 + cse80*cse81 + cse82*cse84 + cse82*cse85 + cse87*cse88 + 8*cse88*k_m);
+    const double cse90 = (L*L);
+    const double cse91 = cse45*cse90 - cse63*cse90/(cse57 + cse74);
     cst[0] = cse12 + cse18;
     cst[1] = m;
     cst[2] = cse19;
@@ -157,12 +159,14 @@ void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
     cst[37] = -cse45;
     cst[38] = cse31;
     cst[39] = cse29;
-    cst[40] = fmin(k_m*m*(fmax(0, cse39)*fmax(0, cse39))/cse58, fmin(cse87*(fmax(0, cse39 - cse59 - cse60 + cse66 + cse67 + cse69 + cse70 + cse71)*fmax(0, cse39 - cse59 - cse60 + cse66 + cse67 + cse69 + cse70 + cse71)) + cse89, cse87*(fmax(0, cse39 + cse59 + cse60 - cse66 - cse67 - cse69 - cse70 - cse71)*fmax(0, cse39 + cse59 + cse60 - cse66 - cse67 - cse69 - cse70 - cse71)) + cse89));
-    cst[41] = c_b;
-    cst[42] = k_b;
-    cst[43] = L;
-    cst[44] = -c_b;
-    cst[45] = 1.0/cse24;
+    cst[40] = fmin(k_m*m*(fmax(0, cse39)*fmax(0, cse39))/cse60, fmin(cse89*(fmax(0, cse39 - cse61 - cse62 + cse68 + cse69 + cse71 + cse72 + cse73)*fmax(0, cse39 - cse61 - cse62 + cse68 + cse69 + cse71 + cse72 + cse73)) + cse91, cse89*(fmax(0, cse39 + cse61 + cse62 - cse68 - cse69 - cse71 - cse72 - cse73)*fmax(0, cse39 + cse61 + cse62 - cse68 - cse69 - cse71 - cse72 - cse73)) + cse91));
+    cst[41] = -1.0/2.0*cse46*cse51/k_m;
+    cst[42] = k_m;
+    cst[43] = c_b;
+    cst[44] = k_b;
+    cst[45] = L;
+    cst[46] = -c_b;
+    cst[47] = 1.0/cse24;
 }
 
 /* The regime of the state y: each stop side acts where its penetration is > 0. */
@@ -474,6 +478,57 @@ double omd_stops_uplift_energy(double s, const double *y, double ag, const doubl
     return omd_stops_uplift_energy_prepared(y, ag, cst);
 }
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+double omd_stops_least_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double cst5 = cst[5];
+    const double cst38 = cst[38];
+    const double cst41 = cst[41];
+    const double cst42 = cst[42];
+    const double cse0 = sin(theta);
+    return ((cst42 > 0) ? ((cse0*cse0)*cst41 + cse0*cst38 + cst5*cos(theta)) : (-INFINITY));
+}
+
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
+double omd_stops_least_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    return omd_stops_least_potential_prepared(y, ag, cst);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+double omd_stops_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    const double theta = y[0];
+    const double x = y[1];
+    const double cst5 = cst[5];
+    const double cst31 = cst[31];
+    const double cst38 = cst[38];
+    const double cst39 = cst[39];
+    const double cse0 = sin(theta);
+    return cse0*cst38 + cse0*cst39*x + cst31*(x*x) + cst5*cos(theta);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
+double omd_stops_least_stroke_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    return omd_stops_least_stroke_potential_prepared(y, ag, cst);
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_critical_angle_prepared(const double *y, double ag, const double *cst)
@@ -527,13 +582,13 @@ void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cs
     const double x = y[1];
     const double dx = y[3];
     const double cst14 = cst[14];
-    const double cst41 = cst[41];
-    const double cst42 = cst[42];
     const double cst43 = cst[43];
     const double cst44 = cst[44];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
     const double cse0 = -x;
-    out[0] = (cst41*dx + cst42*(cst14 + x))*((cse0 + cst43 < 0) ? (1) : (0));
-    out[1] = (cst42*(cse0 + cst14) + cst44*dx)*((cst43 + x < 0) ? (1) : (0));
+    out[0] = (cst43*dx + cst44*(cst14 + x))*((cse0 + cst45 < 0) ? (1) : (0));
+    out[1] = (cst44*(cse0 + cst14) + cst46*dx)*((cst45 + x < 0) ? (1) : (0));
 }
 
 /* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
@@ -556,8 +611,8 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
     const double cst5 = cst[5];
     const double cst38 = cst[38];
     const double cst39 = cst[39];
-    const double cst45 = cst[45];
-    return ((cst5 > 0) ? (cst45*(cst38 + cst39*x)) : (NAN));
+    const double cst47 = cst[47];
+    return ((cst5 > 0) ? (cst47*(cst38 + cst39*x)) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.

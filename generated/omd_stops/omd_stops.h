@@ -26,7 +26,7 @@
 #define OMD_STOPS_NQ 2
 #define OMD_STOPS_NY 4
 #define OMD_STOPS_NP 13
-#define OMD_STOPS_NK 46
+#define OMD_STOPS_NK 48
 #define OMD_STOPS_NSTOPS 2
 #define OMD_STOPS_Y_theta 0
 #define OMD_STOPS_Y_x 1
@@ -90,6 +90,14 @@ double omd_stops_power_prepared(const double *y, double ag, const double *cst);
 double omd_stops_uplift_energy(double s, const double *y, double ag, const double *p);
 double omd_stops_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double omd_stops_least_potential(double s, const double *y, double ag, const double *p);
+double omd_stops_least_potential_prepared(const double *y, double ag, const double *cst);
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double omd_stops_least_stroke_potential(double s, const double *y, double ag, const double *p);
+double omd_stops_least_stroke_potential_prepared(const double *y, double ag, const double *cst);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double omd_stops_critical_angle(double s, const double *y, double ag, const double *p);
 double omd_stops_critical_angle_prepared(const double *y, double ag, const double *cst);
@@ -115,6 +123,8 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
 #define MODEL_NP OMD_STOPS_NP
 #define MODEL_NK OMD_STOPS_NK
 #define MODEL_NSTOPS OMD_STOPS_NSTOPS
+/* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
+#define MODEL_P_GRAVITY OMD_STOPS_P_g
 #define model_prepare omd_stops_prepare
 #define model_mass_matrix omd_stops_mass_matrix
 #define model_mass_matrix_prepared omd_stops_mass_matrix_prepared
@@ -134,6 +144,10 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
 #define model_power_prepared omd_stops_power_prepared
 #define model_uplift_energy omd_stops_uplift_energy
 #define model_uplift_energy_prepared omd_stops_uplift_energy_prepared
+#define model_least_potential omd_stops_least_potential
+#define model_least_potential_prepared omd_stops_least_potential_prepared
+#define model_least_stroke_potential omd_stops_least_stroke_potential
+#define model_least_stroke_potential_prepared omd_stops_least_stroke_potential_prepared
 #define model_critical_angle omd_stops_critical_angle
 #define model_critical_angle_prepared omd_stops_critical_angle_prepared
 #define model_stop_gaps omd_stops_stop_gaps

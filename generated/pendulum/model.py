@@ -659,6 +659,110 @@ def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     return out[0]
 
 
+def least_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    out = _broadcast((-numpy.inf, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out[0]
+
+
+def least_stroke_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    out = _broadcast((-numpy.inf, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out[0]
+
+
 def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 

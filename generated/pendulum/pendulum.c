@@ -455,6 +455,42 @@ double pendulum_uplift_energy(double s, const double *y, double ag, const double
     return pendulum_uplift_energy_prepared(y, ag, cst);
 }
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+ * From the constants of pendulum_prepare(s, on, p, cst). */
+double pendulum_least_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    return -INFINITY;
+}
+
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double pendulum_least_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, NULL, p, cst);
+    return pendulum_least_potential_prepared(y, ag, cst);
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+ * From the constants of pendulum_prepare(s, on, p, cst). */
+double pendulum_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    return -INFINITY;
+}
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double pendulum_least_stroke_potential(double s, const double *y, double ag, const double *p)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, NULL, p, cst);
+    return pendulum_least_stroke_potential_prepared(y, ag, cst);
+}
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst)

@@ -89,6 +89,14 @@ double pendulum_power_prepared(const double *y, double ag, const double *cst);
 double pendulum_uplift_energy(double s, const double *y, double ag, const double *p);
 double pendulum_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
+double pendulum_least_potential(double s, const double *y, double ag, const double *p);
+double pendulum_least_potential_prepared(const double *y, double ag, const double *cst);
+
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
+double pendulum_least_stroke_potential(double s, const double *y, double ag, const double *p);
+double pendulum_least_stroke_potential_prepared(const double *y, double ag, const double *cst);
+
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
 double pendulum_critical_angle(double s, const double *y, double ag, const double *p);
 double pendulum_critical_angle_prepared(const double *y, double ag, const double *cst);
@@ -114,6 +122,8 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
 #define MODEL_NP PENDULUM_NP
 #define MODEL_NK PENDULUM_NK
 #define MODEL_NSTOPS PENDULUM_NSTOPS
+/* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
+#define MODEL_P_GRAVITY PENDULUM_P_g
 #define model_prepare pendulum_prepare
 #define model_mass_matrix pendulum_mass_matrix
 #define model_mass_matrix_prepared pendulum_mass_matrix_prepared
@@ -133,6 +143,10 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
 #define model_power_prepared pendulum_power_prepared
 #define model_uplift_energy pendulum_uplift_energy
 #define model_uplift_energy_prepared pendulum_uplift_energy_prepared
+#define model_least_potential pendulum_least_potential
+#define model_least_potential_prepared pendulum_least_potential_prepared
+#define model_least_stroke_potential pendulum_least_stroke_potential
+#define model_least_stroke_potential_prepared pendulum_least_stroke_potential_prepared
 #define model_critical_angle pendulum_critical_angle
 #define model_critical_angle_prepared pendulum_critical_angle_prepared
 #define model_stop_gaps pendulum_stop_gaps

@@ -136,6 +136,25 @@ def uplift_energy(s, M, B, H, e, g, m, h, k_m, c):
     return u0**2 / (2 * (a_x**2 / k_m + a_v**2 / m))
 
 
+def potential(s, theta, x, M, B, H, e, g, m, h, k_m):
+    """Potential energy ``V`` of section 2 while rocking about ``s``, bumpers' ``V_b`` left out."""
+    d, xi = arms(s, x, B, e)
+    eta = H + h
+    sin, cos = np.sin(theta), np.cos(theta)
+    return M * g * (d * sin + H / 2 * cos) + m * g * (xi * sin + eta * cos) + k_m * x**2 / 2
+
+
+def least_potential(s, theta, M, B, H, e, g, m, h, k_m):
+    """Least :func:`potential` over the stroke ``x`` at the tilt ``theta``: ``-inf`` unless ``k_m > 0``.
+
+    ``dV/dx = m g sin(theta) + k_m x`` vanishes at ``x* = -m g sin(theta) / k_m``, where
+    ``V = V(theta, 0) - (m g sin(theta))^2 / (2 k_m)``.
+    """
+    with np.errstate(divide="ignore", invalid="ignore"):
+        least = potential(s, theta, 0.0, M, B, H, e, g, m, h, k_m) - (m * g * np.sin(theta)) ** 2 / (2 * k_m)
+    return np.where(k_m > 0, least, -np.inf)
+
+
 def stop_regions(s, M, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
     """The least damper energy to lift the block about ``s`` with the mass pressing a bumper (side ``sigma``).
 

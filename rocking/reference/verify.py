@@ -113,7 +113,7 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
     s, th, x, dth, dx, ag = (v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag"))
     M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
     (m11, m12), (m21, m22) = paper.mass_matrix(s, th, x, M, I_G, B, H, e, m, h)
-    zero = 0 * th
+    zero, one = 0 * th, 0 * th + 1
     stops = {k: v[k] for k in ("L", "k_b", "c_b") if k in v}
     L, k_b, c_b = stops.get("L", np.inf), stops.get("k_b", 0.0), stops.get("c_b", 0.0)
     gaps = paper.stop_gaps(x, L) if stops else ()
@@ -132,6 +132,13 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             "critical_angle": (paper.critical_angle(s, x, M, B, H, e, m, h),),
             "critical_tangent": (paper.critical_tangent(s, x, M, B, H, e, m, h),),
             "uplift_energy": (paper.uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, **stops),),
+            # Docs/simulation.md rule 4: the velocity law can add energy at an impact, hence no bound.
+            "least_potential": (
+                paper.least_potential(s, th, M, B, H, e, g, m, h, k_m) if impact_law == "momentum" else -np.inf * one,
+            ),
+            "least_stroke_potential": (
+                paper.potential(s, th, x, M, B, H, e, g, m, h, k_m) if impact_law == "momentum" else -np.inf * one,
+            ),
             "stop_gaps": gaps,
             "stop_forces": forces,
         }
@@ -144,6 +151,8 @@ def _select(model: Model, results: dict) -> dict:
         results = {k: tuple(val[i] for i in keep.get(k, range(len(val)))) for k, val in results.items()}
         # Without attached bodies nothing but the ground can lift the block.
         results["uplift_energy"] = (np.full_like(results["energy"][0], np.inf),)
+        # Nothing to minimise over: the least potential is the block's own.
+        results["least_potential"] = results["least_stroke_potential"]
     return results
 
 

@@ -132,6 +132,14 @@ CASE = (
     Field("y0", DOUBLES, "state units", "initial state (NULL / None: at rest)", None, None),
     Field("phase0", INT32, "", "initial phase: 0 full contact, +1 / -1 rocking about A / A'", "-1, 0 or +1", 0),
     Field("early_rest", INT32, "", "1: below the uplift energy after the pulse, end at the next extremum", "0 or 1", 1),
+    Field(
+        "early_verdict",
+        INT32,
+        "",
+        "1: after the pulse, end once the energy keeps |theta| and |q[1]| below their maxima (rule 4)",
+        "0 or 1",
+        1,
+    ),
 )
 
 #: What one run answers: ``rocking_result`` of sim.h (ordered so that the C structure has no padding).
@@ -166,6 +174,7 @@ STATUSES = (
     Code("t_max", 2, "t_max reached"),
     Code("max_events", 3, "uplifts + impacts reached max_events"),
     Code("max_steps", 4, "the work of the run passed max_steps (rule 5)"),
+    Code("bounded", 5, "after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4)"),
 )
 #: Status code of a run whose step size underflowed (a non-finite right-hand side); never a result.
 FAILED = Code("failed", -1, "the step size underflowed (non-finite right-hand side, ...)")
@@ -209,7 +218,8 @@ class Constant:
 
 
 CONSTANTS = (
-    Constant("SAFE_MARGIN", 1e-9, "relative margin below the uplift energy of the early rest (rule 4)"),
+    Constant("SAFE_MARGIN", 1e-9, "relative margin below the energy bounds of the early rest and verdict (rule 4)"),
+    Constant("ARC_STEP", 0.05, "widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4)"),
     Constant("FIRST_STEP_FRACTION", 0.25, "first step after an impact, as a fraction of the expected half-cycle"),
     Constant("RICKER_ANTI_PEAK", motion.RICKER_ANTI_PEAK, "peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2"),
 )
@@ -218,7 +228,7 @@ STATUS = tuple(code.name for code in STATUSES)
 #: Statuses of a run cut short by a bound on its work: whether the block would overturn is not known.
 UNDETERMINED = ("max_events", "max_steps")
 CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
-SAFE_MARGIN, FIRST_STEP_FRACTION, _ = (constant.value for constant in CONSTANTS)
+SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _ = (constant.value for constant in CONSTANTS)
 #: The code of each ground-motion family by name.
 MOTION = {code.name: code.value for code in MOTIONS}
 

@@ -23,7 +23,9 @@ the same; the state of a run lives in :class:`_Run`, sim.c's ``struct run``:
 - :func:`phase_machine`: ``phase_machine``;
 - :func:`contact_start`: the ``phase == 0`` block at the top of its loop;
 - :func:`uplift_at_start`: ``uplift_at_start``;
-- :func:`rest_at_start`: the ``t >= t_p`` checks of that block;
+- :func:`end_at_start`: the ``t >= t_p`` checks of that block;
+- :func:`verdict_final`: ``verdict_final``; ``_System.verdict_bound``: ``verdict_bound``
+  (with ``least_at_tilt``, ``least_on_arcs`` and ``stops_out_of_reach``);
 - :func:`settled_at_once`: ``settled_at_once``;
 - :func:`run_segment`: ``run_segment``;
 - :func:`integrate_segment`: ``run_segment``'s loop of ``dopri_step`` and
@@ -57,7 +59,7 @@ import numpy as np
 from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
-from .boundary import CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
+from .boundary import ARC_STEP, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
 from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
@@ -142,6 +144,7 @@ class _System:
         laws = problem.model.manifest.get("options", {}).get("impact_laws", {})
         self.impact_laws = tuple(laws.get(name, "momentum") for name in problem.model.coordinates)
         self.n_stops = int(problem.model.manifest["functions"]["stop_gaps"]["outputs"])
+        self.gravity = problem.model.parameters.index("g")
 
     def _safe_energy(self) -> float | None:
         """The least energy above rest at which the attached bodies can lift the block, less the margin.
@@ -156,10 +159,64 @@ class _System:
             return None
         return min(a, b) * (1.0 - SAFE_MARGIN)
 
-    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None):
+    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None, params=None):
         # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic. stop_on: the regime
         # of the stops as 0.0 / 1.0 per side, what sim.c prepares its constants with; None: that of y.
-        return getattr(self.functions, name)(s, *y.tolist(), ag, *self.params, stop_on=stop_on)
+        params = self.params if params is None else params
+        return getattr(self.functions, name)(s, *y.tolist(), ag, *params, stop_on=stop_on)
+
+    def _at(self, theta: float, x: float = 0.0) -> np.ndarray:
+        """The state at rest velocities with ``theta`` and ``q[1] = x``, the other coordinates 0."""
+        y = np.zeros(2 * self.n)
+        y[0] = theta
+        if self.n > 1:
+            y[1] = x
+        return y
+
+    def least_at_tilt(self, theta_m: float) -> float:
+        """The least potential at ``|theta| = theta_m`` about either pivot (generated ``least_potential``)."""
+        a = float(self._call("least_potential", 1.0, self._at(theta_m), 0.0))
+        b = float(self._call("least_potential", -1.0, self._at(-theta_m), 0.0))
+        return _lower(a, b)
+
+    def least_on_arcs(self, theta_m: float, x_m: float) -> float:
+        """The least potential with ``|q[1]| = x_m`` over the tilts ``|theta| <= theta_m`` about either pivot.
+
+        The generated ``least_stroke_potential`` at the corners of the triangle that holds each arc of
+        width at most :data:`ARC_STEP`: the arc's ends, and its middle tilt under gravity ``g / cos(w / 2)``
+        (docs/simulation.md, rule 4).
+        """
+        n = math.ceil(theta_m / ARC_STEP) if theta_m > 0.0 else 1
+        w = theta_m / n
+        outer = list(self.params)
+        outer[self.gravity] /= math.cos(0.5 * w)
+        least = math.inf
+        for s in (1.0, -1.0):
+            for x in (x_m, -x_m):
+                for i in range(n + 1):
+                    least = _lower(least, float(self._call("least_stroke_potential", s, self._at(s * w * i, x), 0.0)))
+                for i in range(n):
+                    y = self._at(s * w * (i + 0.5), x)
+                    least = _lower(least, float(self._call("least_stroke_potential", s, y, 0.0, params=outer)))
+        return least
+
+    def stops_out_of_reach(self, x_m: float) -> bool:
+        """No bumper can act while ``|q[1]| <= x_m``: every gap (affine in ``q[1]`` alone) is <= 0 at both ends."""
+        return all(self.stop_gap(i, self._at(0.0, x)) <= 0.0 for x in (x_m, -x_m) for i in range(self.n_stops))
+
+    def verdict_bound(self, theta_m: float, x_m: float) -> float:
+        """The energy above rest below which ``|theta|`` can no longer reach ``theta_m`` nor ``|q[1]|`` ``x_m``.
+
+        The least potential there less ``E(0)`` and the margin; ``-inf`` when no bound applies (rule 4).
+        """
+        least = self.least_at_tilt(theta_m)
+        if self.n > 1:
+            least = _lower(least, self.least_on_arcs(theta_m, x_m))
+        zero = self.energy_at_rest
+        bound = least - zero - SAFE_MARGIN * (abs(least) + abs(zero))
+        if math.isnan(bound) or not self.stops_out_of_reach(x_m):
+            return -math.inf
+        return bound
 
     def ground(self, pulse_on: bool, t0: float) -> Callable[[float], float]:
         """Ground acceleration of the segment that starts at ``t0``.
@@ -254,9 +311,9 @@ class _System:
         """Mechanical energy ``E_s(y)`` in the regime ``stop_on`` (None: that of ``y``; ``ag`` does not enter it)."""
         return float(self._call("energy", s, y, 0.0, None if stop_on is None else _regime(stop_on)))
 
-    def energy_above_rest(self, y: np.ndarray, stop_on: tuple) -> float:
-        """``E(y) - E(0)`` in full contact, ``E(y)`` in the regime ``stop_on``."""
-        return self.energy(y, 1, stop_on) - self.energy_at_rest
+    def energy_above_rest(self, y: np.ndarray, stop_on: tuple, s: int = 1) -> float:
+        """``E(y) - E(0)``, ``E(y)`` about ``s`` (full contact: either) in the regime ``stop_on``."""
+        return self.energy(y, s, stop_on) - self.energy_at_rest
 
     def mass_matrix(self, s: int, y: np.ndarray):
         """The mass matrix about ``s`` at ``y``, row-major (``n * n`` values)."""
@@ -268,6 +325,11 @@ class _System:
         after[0] = 0.0
         after[self.n :] = self._call("impact", s, after, ag)
         return after
+
+
+def _lower(a: float, b: float) -> float:
+    """The lesser of two values, NaN if either is (sim.c's ``lower``)."""
+    return a if (a < b or math.isnan(a)) else b
 
 
 def _regime(stop_on: tuple) -> tuple:
@@ -852,6 +914,10 @@ class _Run:
         The work so far against ``max_steps`` (rule 5).
     stop_on : list of bool
         Whether each stop side's bumper acts (rule 6).
+    verdict : bool
+        The early verdict of rule 4 applies (``early_verdict``).
+    bound_at, bound : tuple, float
+        The last bound of the early verdict, and the ``(theta_max, x_max)`` it is for.
     side : int
         The stop side whose gap event ended the last segment (-1: none).
     """
@@ -871,6 +937,9 @@ class _Run:
     skip_uplift_check: bool = False
     work: _Work | None = None
     stop_on: list = field(default_factory=list)
+    verdict: bool = False
+    bound_at: tuple = (math.nan, math.nan)
+    bound: float = -math.inf
     side: int = -1
 
 
@@ -905,22 +974,39 @@ def settled_at_once(run: _Run) -> bool:
     return n == 1 or run.y[n + 1] == 0.0
 
 
-def rest_at_start(run: _Run) -> bool:
-    """Rule 4 when full contact starts after the pulse: the run ends here at rest.
+def verdict_final(run: _Run) -> bool:
+    """After the pulse, the energy can no longer carry ``|theta|`` or ``|q[1]|`` to their maxima (rule 4).
 
-    Below the uplift energy the block can never lift again: only the
-    damper's stroke is left to settle, up to the next extremum of ``q[1]``;
-    the run is then marked safe unless that extremum is now.
+    The verdict, the maxima and ``t_critical`` are then final. The bound is kept until a maximum grows.
+    """
+    if not (run.verdict and run.t >= run.problem.t_p):
+        return False
+    at = (run.tally.theta_max, run.tally.x_max)
+    if at != run.bound_at:
+        run.bound_at, run.bound = at, run.system.verdict_bound(*at)
+    s = -1 if run.phase < 0 else 1
+    return run.system.energy_above_rest(run.y, run.stop_on, s) < run.bound
+
+
+def end_at_start(run: _Run) -> str | None:
+    """Rule 4 when full contact starts after the pulse: the status if the run ends here.
+
+    Below ``energy_rest``, at rest; with the early verdict, bounded. Below
+    the uplift energy the block can never lift again: only the damper's
+    stroke is left to settle, up to the next extremum of ``q[1]``; the run
+    is then marked safe unless that extremum is now.
     """
     energy = run.system.energy_above_rest(run.y, run.stop_on)
     # For the bare block E(y) = E(0) in full contact: rest at once.
     if energy < run.problem.energy_rest:
-        return True
+        return "rest"
+    if verdict_final(run):
+        return "bounded"
     if run.safe_energy is not None and (run.safe or energy < run.safe_energy):
         if settled_at_once(run):
-            return True
+            return "rest"
         run.safe = True
-    return False
+    return None
 
 
 def uplift(run: _Run, s: int) -> str | None:
@@ -1024,7 +1110,8 @@ def impact(run: _Run) -> str | None:
     Returns
     -------
     str or None
-        ``"max_events"`` if this impact exhausts ``max_events``, else ``None``.
+        ``"max_events"`` if this impact exhausts ``max_events``; ``"bounded"`` if the block rocks on and
+        the early verdict ends the run (rule 4); else ``None``.
     """
     n = run.system.n
     s, dtheta_in = run.phase, run.y[n]
@@ -1036,14 +1123,16 @@ def impact(run: _Run) -> str | None:
     else:
         run.phase = -s
         run.first_step = _first_step_after_impact(run.t - run.t_start, run.y[n], dtheta_in)
-    return "max_events" if events_exhausted(run) else None
+    if events_exhausted(run):
+        return "max_events"
+    return "bounded" if run.phase != CONTACT and verdict_final(run) else None
 
 
 def contact_start(run: _Run) -> str | None:
     """Rules 1 and 4 as a full-contact phase starts: is it already over?
 
     An uplift at this very instant leaves ``run`` rocking; after the pulse,
-    :func:`rest_at_start` may end the run.
+    :func:`end_at_start` may end the run.
 
     Returns
     -------
@@ -1054,9 +1143,7 @@ def contact_start(run: _Run) -> str | None:
     run.skip_uplift_check = False
     if s:
         return uplift(run, s)
-    if not run.pulse_on and rest_at_start(run):
-        return "rest"
-    return None
+    return None if run.pulse_on else end_at_start(run)
 
 
 def run_segment(run: _Run, t_bound: float) -> str | None:
@@ -1245,6 +1332,7 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         safe_energy=system.safe_energy if problem.early_rest else None,
         work=_Work(int(problem.max_steps)),
         stop_on=[system.stop_gap(i, y) > 0.0 for i in range(system.n_stops)],
+        verdict=bool(problem.early_verdict),
     )
     run.tally.see_state(run.y, system)
     return finish(run, phase_machine(run))

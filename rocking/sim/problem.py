@@ -55,7 +55,7 @@ class SimulationError(RuntimeError):
 _PYTHON = {DOUBLE: float, boundary.INT64: int, boundary.INT32: int, DOUBLES: np.ndarray, SERIES: np.ndarray}
 
 #: Fields whose Python value is not their C number: a name of :data:`STATUS`, truth values.
-_NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool}
+_NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool, "early_verdict": bool}
 
 
 def _python(f) -> type:
@@ -479,6 +479,7 @@ def make_problem(
     max_events: int = 10_000,
     record_dt: float | None = None,
     early_rest: bool = True,
+    early_verdict: bool = True,
     y0=None,
     phase0: int = CONTACT,
 ) -> Problem:
@@ -521,6 +522,11 @@ def make_problem(
         End a run that can no longer uplift at the next extremum of the
         damper's stroke (docs/simulation.md, rule 4); ``False``: follow it to
         ``energy_rest``.
+    early_verdict : bool
+        End a run once, after the pulse, its energy can no longer carry
+        ``|theta|`` or the damper's ``|q[1]|`` past their maxima: verdict and
+        maxima are then final, status ``"bounded"`` (docs/simulation.md,
+        rule 4); ``False``: follow it to rest.
     y0 : array_like, optional
         State at ``t = 0`` in manifest order; default at rest.
     phase0 : int
@@ -532,6 +538,7 @@ def make_problem(
     rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
     dtheta_rest, energy_rest = _optional_real("dtheta_rest", dtheta_rest), _optional_real("energy_rest", energy_rest)
     max_events, early_rest = check_integer("max_events", max_events), check_flag("early_rest", early_rest)
+    early_verdict = check_flag("early_verdict", early_verdict)
     if not isinstance(phase0, numbers.Integral) or isinstance(phase0, (bool, np.bool_)):
         raise ParameterError(f"phase0 must be -1, 0 or +1 (got {phase0!r})")
     own = _damper_mapping(damper)
@@ -570,6 +577,7 @@ def make_problem(
         max_events=max_events,
         record_dt=_record_dt(record_dt, t_max, min(motion.T_g, 2 * np.pi / block.p) / 100),
         early_rest=early_rest,
+        early_verdict=early_verdict,
         y0=y0,
         phase0=int(phase0),
     )

@@ -109,7 +109,7 @@ def simulate(
     >>> bare = rocking.simulate(block, None, pulse)
     >>> with_damper = rocking.simulate(block, damper, pulse)
     >>> bare.overturned, with_damper.overturned, with_damper.status
-    (True, False, 'rest')
+    (True, False, 'bounded')
     >>> round(with_damper.theta_max / block.alpha, 2)  # largest rotation over the slenderness angle
     1.18
     >>> round(with_damper.x_max, 2)  # the damper's stroke [m]: unlimited guide, on a 0.5 m base

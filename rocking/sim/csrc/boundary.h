@@ -6,7 +6,8 @@
 
 #define ROCKING_SIM_API_VERSION 6
 
-#define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the uplift energy of the early rest (rule 4) */
+#define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the energy bounds of the early rest and verdict (rule 4) */
+#define ROCKING_ARC_STEP 0.05 /* widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4) */
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
 #define ROCKING_RICKER_ANTI_PEAK 0.9758915363849756 /* peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2 */
 
@@ -16,6 +17,7 @@ enum rocking_status {
     ROCKING_T_MAX = 2, /* t_max reached */
     ROCKING_MAX_EVENTS = 3, /* uplifts + impacts reached max_events */
     ROCKING_MAX_STEPS = 4, /* the work of the run passed max_steps (rule 5) */
+    ROCKING_BOUNDED = 5, /* after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4) */
     ROCKING_FAILED = -1, /* the step size underflowed (non-finite right-hand side, ...) */
     ROCKING_STOPPED = -2, /* stopped by the caller's stop flag (Python: KeyboardInterrupt) */
 };
@@ -60,6 +62,7 @@ typedef struct rocking_case {
     const double *y0; /* initial state (NULL / None: at rest) [state units] */
     int32_t phase0; /* initial phase: 0 full contact, +1 / -1 rocking about A / A' */
     int32_t early_rest; /* 1: below the uplift energy after the pulse, end at the next extremum */
+    int32_t early_verdict; /* 1: after the pulse, end once the energy keeps |theta| and |q[1]| below their maxima (rule 4) */
 } rocking_case;
 
 typedef struct rocking_result {
@@ -77,11 +80,11 @@ typedef struct rocking_result {
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest)
+#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
 
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
 
 #endif

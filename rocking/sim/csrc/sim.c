@@ -827,6 +827,8 @@ typedef struct run {
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
     constants *k; /* of the parameters, in the current regime of the stops (r->o.k too) */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
+    int verdict; /* the early verdict of rule 4 applies: early_verdict and derived bounds */
+    double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
     const int32_t *velocity_law;   /* NQ flags: 1 for the velocity impact law; NULL: momentum everywhere */
@@ -1093,7 +1095,7 @@ static int uplift_at_start(const run *r)
 
 static double energy_above_rest(const run *r)
 {
-    return model_energy_prepared(r->y, 0.0, about(r->o.k, 1.0)) - r->ec.energy_zero;
+    return model_energy_prepared(r->y, 0.0, about(r->o.k, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero;
 }
 
 /* Settling ends before it starts: nothing to settle without attached bodies,
@@ -1119,6 +1121,112 @@ static double safe_energy(const constants *k)
     if (!(a > 0.0 && b > 0.0))
         return NAN;
     return min2(a, b) * (1.0 - ROCKING_SAFE_MARGIN);
+}
+
+/* The lesser of two values, NaN if either is. */
+static double lower(double a, double b)
+{
+    return (a < b || isnan(a)) ? a : b;
+}
+
+/* The least potential at |theta| = theta_m about either pivot (generated
+ * least_potential; the bumpers' energy left out, a lower bound). */
+static double least_at_tilt(const run *r, double theta_m)
+{
+    double y[NY] = {0.0};
+    double a, b;
+    y[0] = theta_m;
+    a = model_least_potential_prepared(y, 0.0, about(r->k, 1.0));
+    y[0] = -theta_m;
+    b = model_least_potential_prepared(y, 0.0, about(r->k, -1.0));
+    return lower(a, b);
+}
+
+#if NQ > 1
+/* The least potential with |q[1]| = x_m over the tilts |theta| <= theta_m
+ * about either pivot (rule 4). The potential is linear in (cos, sin) of the
+ * tilt with the attached positions held, so its least over them (generated
+ * least_stroke_potential) is concave in that point: on an arc [a, b] of
+ * width w <= ARC_STEP, the least is at a corner of the triangle that holds
+ * the arc: its ends, and the ends' tangents' meeting point (cos, sin) of
+ * (a + b) / 2 times 1 / cos(w / 2). The weights' potential is proportional to
+ * g: that point is the middle tilt under gravity g / cos(w / 2). */
+static double least_on_arcs(const run *r, double theta_m, double x_m)
+{
+    const int n = theta_m > 0.0 ? (int)ceil(theta_m / ROCKING_ARC_STEP) : 1;
+    const double w = theta_m / n;
+    double p[MODEL_NP], y[NY] = {0.0}, least = INFINITY;
+    constants outer;
+    int i, side, pivot;
+    memcpy(p, r->k->p, sizeof p);
+    p[MODEL_P_GRAVITY] /= cos(0.5 * w);
+    constants_prepare(&outer, p, r->k->stop_on);
+    for (pivot = 0; pivot < 2; ++pivot) {
+        const double s = pivot ? -1.0 : 1.0;
+        for (side = 0; side < 2; ++side) {
+            y[1] = side ? -x_m : x_m;
+            for (i = 0; i <= n; ++i) {
+                y[0] = s * w * i;
+                least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, s)));
+            }
+            for (i = 0; i < n; ++i) {
+                y[0] = s * w * (i + 0.5);
+                least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(&outer, s)));
+            }
+        }
+    }
+    return least;
+}
+#endif
+
+/* No bumper can act while |q[1]| <= x_m: every gap (affine in q[1] alone,
+ * derive checks it) is <= 0 at both ends. */
+static int stops_out_of_reach(const run *r, double x_m)
+{
+#if MODEL_NSTOPS > 0
+    double y[NY] = {0.0}, gaps[MODEL_NSTOPS];
+    int i, side;
+    for (side = 0; side < 2; ++side) {
+        y[1] = side ? -x_m : x_m;
+        model_stop_gaps_prepared(y, 0.0, about(r->k, 1.0), gaps);
+        for (i = 0; i < MODEL_NSTOPS; ++i)
+            if (!(gaps[i] <= 0.0))
+                return 0;
+    }
+#else
+    (void)r;
+    (void)x_m;
+#endif
+    return 1;
+}
+
+/* The energy above rest below which |theta| can no longer reach theta_max nor
+ * |q[1]| x_max (rule 4): the least potential there less E(0), less the margin;
+ * -inf when none applies. Kept until a maximum grows. */
+static double verdict_bound(run *r)
+{
+    const double theta_m = r->res->theta_max, x_m = r->res->x_max;
+    const double zero = r->ec.energy_zero;
+    double least;
+    if (theta_m == r->bound_at[0] && x_m == r->bound_at[1])
+        return r->bound;
+    r->bound_at[0] = theta_m;
+    r->bound_at[1] = x_m;
+    least = least_at_tilt(r, theta_m);
+#if NQ > 1
+    least = lower(least, least_on_arcs(r, theta_m, x_m));
+#endif
+    r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
+    if (isnan(r->bound) || !stops_out_of_reach(r, x_m))
+        r->bound = -INFINITY;
+    return r->bound;
+}
+
+/* After the pulse, the energy can no longer carry |theta| or |q[1]| to their
+ * maxima: the verdict, the maxima and t_critical are final (rule 4). */
+static int verdict_final(run *r)
+{
+    return r->verdict && r->t >= r->c->t_p && energy_above_rest(r) < verdict_bound(r);
 }
 
 static int events_exhausted(const run *r)
@@ -1272,6 +1380,10 @@ static void phase_machine(run *r)
                     r->res->status = ROCKING_REST;
                     return;
                 }
+                if (verdict_final(r)) {
+                    r->res->status = ROCKING_BOUNDED;
+                    return;
+                }
                 /* Below the uplift energy the block can never lift again: only
                  * the damper's stroke is left to settle (rule 4). */
                 if (r->early && (r->safe || energy < r->ec.energy_safe)) {
@@ -1336,6 +1448,10 @@ static void phase_machine(run *r)
             impact(r);
             if (events_exhausted(r)) {
                 r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            if (r->phase != 0 && verdict_final(r)) {
+                r->res->status = ROCKING_BOUNDED;
                 return;
             }
             break;
@@ -1432,6 +1548,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.ec.energy_safe = c->early_rest ? safe_energy(&k) : NAN;
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
+    r.verdict = c->early_verdict != 0;
+    r.bound_at[0] = r.bound_at[1] = NAN; /* no bound yet */
+    r.bound = -INFINITY;
     r.t = 0.0;
     r.t_start = r.h_first = 0.0;
     r.res = out;
