@@ -3,6 +3,7 @@ reports as final changes."""
 
 from __future__ import annotations
 
+import json
 import math
 
 import numpy as np
@@ -110,3 +111,17 @@ def test_the_option_is_checked():
     pulse = rocking.OneSinePulse.from_nondim(block, beta=2.0, Omega=4.0)
     with pytest.raises(rocking.ParameterError, match="early_verdict"):
         make_problem(block, None, pulse, early_verdict=2)
+
+
+def test_the_command_line_follows_to_rest_on_request(capsys):
+    from rocking.cli.main import main
+
+    args = ["simulate", "--gamma", "0.05", "--omega-ratio", "1", "--h", "0.05", "--beta", "5", "--Omega", "4", "--json"]
+    runs = []
+    for extra in ([], ["--follow-to-rest"]):
+        assert main(args + extra) == 0
+        (response,) = json.loads(capsys.readouterr().out)["responses"].values()
+        runs.append(response)
+    early, full = runs
+    assert (early["status"], full["status"]) == ("bounded", "rest")
+    assert early["theta_max"] == full["theta_max"] and early["impacts"] < full["impacts"]

@@ -219,6 +219,8 @@ def _cmd_simulate(args) -> int:
     if args.compare and damper is not None:
         cases["block alone"] = None
     run = given(args, ("backend", "rtol", "t_max"))
+    # A figure shows the whole motion: no early verdict (docs/simulation.md, rule 4).
+    run["early_verdict"] = not (args.follow_to_rest or args.plot)
     responses = {}
     for label, d in cases.items():
         model = {"model": args.model} if d is not None and args.model is not None else {}
@@ -308,7 +310,15 @@ def _add_simulate(sub) -> None:
     )
     g.add_argument("--t-max", type=float, help="end time, s (default: 15 s after the pulse)")
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
-    g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
+    g.add_argument(
+        "--follow-to-rest",
+        action="store_true",
+        help="follow the response to rest rather than end it once its verdict and maxima are final (the early "
+        "verdict, docs/simulation.md rule 4; impacts and t_end then count to rest)",
+    )
+    g.add_argument(
+        "--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration (followed to rest)"
+    )
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     p.set_defaults(func=_cmd_simulate)
 
