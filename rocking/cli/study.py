@@ -326,8 +326,10 @@ def _inputs(args) -> tuple[tuple, Path]:
 
 def _cmd_map(args) -> int:
     tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
+    if args.full and args.coarse is not None:
+        raise ParameterError("give --coarse (the step of an adaptive map) or --full (every cell), not both")
     inputs, out = _inputs(args)
-    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions",)))
+    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions", "full", "coarse")))
     _report(study, out)
     _print_map(study)
     return 0
@@ -340,6 +342,13 @@ def _print_map(study: Study) -> None:
         f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge), lost {s['lost']}"
         + (f"; {unknown} without a verdict" if (unknown := s["bare_undetermined"] + s["damper_undetermined"]) else "")
     )
+    refinement, run = study.config["refinement"], study.run
+    if refinement["adaptive"]:
+        print(
+            f"map: adaptive (coarse step {refinement['coarse']}): {run['responses']} of {run['responses_full_grid']} "
+            f"responses computed in {run['levels']} rounds; cells not computed take the outcome around them "
+            f"(--full computes every cell)"
+        )
 
 
 def _cmd_spectrum(args) -> int:
@@ -662,6 +671,17 @@ def add_study_commands(subparsers) -> None:
     tile = python_default(overturning_map, "tile")
     p.add_argument(
         "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
+    )
+    p.add_argument(
+        "--coarse",
+        type=int,
+        metavar="STEP",
+        help="coarse step of the adaptive map, a power of two: every STEP-th cell is computed, then the map is "
+        "refined where neighbouring outcome classes differ; features smaller than STEP cells can be missed "
+        f"({default_text(overturning_map, 'coarse')})",
+    )
+    p.add_argument(
+        "--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)"
     )
     _add_directions(p)
     _add_pulse(p)
