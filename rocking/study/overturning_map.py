@@ -41,7 +41,7 @@ from ..sim.problem import STATUS
 from .adaptive import COARSE, Refinement, check_coarse, response_classes
 from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
 from .directions import SIGN_NAMES, choose, response_envelope
-from .tiles import LOCAL, Execution, Task, TileStats, interleave, run_folder, run_tiles
+from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
 FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contacts", "bumper_force_max")
@@ -423,8 +423,12 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, *, t
             groups.append(part_tasks)
         tasks = interleave(*groups)
         if tasks:
-            stats = run_tiles(tasks, place, execution, backend=setting.backend, desc=f"map, round {level}",
-                              on_tile=on_tile)  # fmt: skip
+            try:
+                stats = run_tiles(tasks, place, execution, backend=setting.backend, desc=f"map, round {level}",
+                                  on_tile=on_tile)  # fmt: skip
+            except Interrupted as exc:  # count the tiles of the rounds before too: all are kept
+                done = total.computed + total.reused
+                raise Interrupted(done + exc.kept, done + exc.total, exc.folder) from exc
             total.computed, total.reused = total.computed + stats.computed, total.reused + stats.reused
         for refinement in refinements.values():
             refinement.update()
