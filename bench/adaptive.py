@@ -53,7 +53,7 @@ def compare(n: int, workers: int, coarse: int) -> dict:
             studies[kind] = overturning_map(setting, tuning, *grids, execution, runs=f"{tmp}/{kind}", **how)
             out[f"{kind}_seconds"] = time.perf_counter() - start
             out[f"{kind}_responses"] = studies[kind].run["responses"]
-    out["rounds"] = studies["adaptive"].run["levels"]
+    out["rounds"] = studies["adaptive"].run["rounds"]
     out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
     out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
     out["misclassified"] = misclassified(studies["adaptive"].arrays, studies["full"].arrays)

@@ -93,8 +93,8 @@ def test_an_interrupted_adaptive_map_resumes_from_its_rounds(tmp_path):
     runs = tmp_path / "runs"
     with pytest.raises(Interrupted) as interrupted:
         overturning_map(BENCH, BENCH_DAMPER, *grids, POOL, runs=runs, coarse=8, tile=(4, 4), on_tile=crash)
-    assert done[-1].startswith("level-") and not done[-1].startswith("level-0-")
-    stored = len(list(runs.rglob("level-*.npz")))
+    assert done[-1].startswith("round-") and not done[-1].startswith("round-0-")
+    stored = len(list(runs.rglob("round-*.npz")))
     assert interrupted.value.kept == stored  # the tiles of the rounds before are counted too
     resumed = overturning_map(BENCH, BENCH_DAMPER, *grids, POOL, runs=runs, coarse=8, tile=(4, 4))
     assert resumed.run["tiles_reused"] == stored >= 10

@@ -346,7 +346,7 @@ def _print_map(study: Study) -> None:
     if refinement["adaptive"]:
         print(
             f"map: adaptive (coarse step {refinement['coarse']}): {run['responses']} of {run['responses_full_grid']} "
-            f"responses computed in {run['levels']} rounds; cells not computed take the outcome around them "
+            f"responses computed in {run['rounds']} rounds; cells not computed take the outcome around them "
             f"(--full computes every cell)"
         )
 

@@ -261,7 +261,7 @@ def overturning_map(
         (``(nOmega, nbeta)``, bool: the cells computed; where not, the fields that do not follow from
         the outcome class are NaN or :data:`NOT_COMPUTED`); and ``effect``, from the envelopes.
         ``config["refinement"]`` records ``adaptive`` and ``coarse``; ``run["responses"]`` counts the
-        responses computed, ``run["responses_full_grid"]`` those of every cell.
+        responses computed, ``run["responses_full_grid"]`` those of every cell, ``run["rounds"]`` the rounds of tiles.
 
     Raises
     ------
@@ -329,8 +329,10 @@ def overturning_map(
         folders[part] = run_folder(runs, config)
 
     preflight(setting, tuning.case_args())
-    run = _full if full else _adaptive
-    stats, levels = run(setting, parts, folders, arrays, execution, tile=tile, coarse=coarse, on_tile=on_tile)
+    if full:
+        stats, rounds = _full(setting, parts, folders, arrays, execution, tile, on_tile)
+    else:
+        stats, rounds = _adaptive(setting, parts, folders, arrays, execution, tile, coarse, on_tile)
     for part in parts:
         by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
         envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
@@ -357,12 +359,12 @@ def overturning_map(
             "run_folders": {part: folder.name for part, folder in folders.items()},
             "responses": len(signs) * computed,
             "responses_full_grid": len(parts) * len(signs) * Om.size * b.size,
-            "levels": levels,
+            "rounds": rounds,
         },
     )
 
 
-def _full(setting, parts: dict, folders: dict, arrays: dict, execution, *, tile, coarse, on_tile):
+def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on_tile):
     """Every cell of the map, a rectangle of ``tile`` cells per tile; ``(TileStats, 1)``."""
     Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
     groups, where = [], {}
@@ -388,7 +390,7 @@ def _full(setting, parts: dict, folders: dict, arrays: dict, execution, *, tile,
     return stats, 1
 
 
-def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, *, tile, coarse, on_tile):
+def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile, coarse, on_tile):
     """The map refined on each part's outcome classes (:mod:`rocking.study.adaptive`); ``(TileStats, rounds)``.
 
     Each round computes the corners its part's refinement asks for, in tiles of a quarter of ``tile``'s cells
@@ -398,7 +400,7 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, *, t
     Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
     chunk = max(1, tile[0] * tile[1] // 4)
     refinements = {part: Refinement((Om.size, b.size, len(signs)), coarse) for part in parts}
-    total, start, level = TileStats(), time.perf_counter(), 0
+    total, start, rounds = TileStats(), time.perf_counter(), 0
     where = {}
 
     def place(task: Task, tile_arrays: dict) -> None:
@@ -417,14 +419,14 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, *, t
                 r, c = rows[first : first + chunk], cols[first : first + chunk]
                 key = hashlib.sha256(np.stack([r, c]).tobytes()).hexdigest()[:16]
                 expect = dict.fromkeys(FIELDS, (r.size, len(signs)))
-                path = folders[part] / f"level-{level}-{key}.npz"
+                path = folders[part] / f"round-{rounds}-{key}.npz"
                 part_tasks.append(Task(path, cells_tile, (setting, damper, Om[r], b[c], signs), expect))
                 where[path] = (part, r, c)
             groups.append(part_tasks)
         tasks = interleave(*groups)
         if tasks:
             try:
-                stats = run_tiles(tasks, place, execution, backend=setting.backend, desc=f"map, round {level}",
+                stats = run_tiles(tasks, place, execution, backend=setting.backend, desc=f"map, round {rounds}",
                                   on_tile=on_tile)  # fmt: skip
             except Interrupted as exc:  # count the tiles of the rounds before too: all are kept
                 done = total.computed + total.reused
@@ -432,11 +434,11 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, *, t
             total.computed, total.reused = total.computed + stats.computed, total.reused + stats.reused
         for refinement in refinements.values():
             refinement.update()
-        level += 1
+        rounds += 1
     for part, refinement in refinements.items():
         _fill(arrays, part, refinement)
     total.wall = time.perf_counter() - start
-    return total, level
+    return total, rounds
 
 
 def _fill(arrays: dict, part: str, refinement: Refinement) -> None:
