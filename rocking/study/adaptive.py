@@ -18,8 +18,9 @@ configuration asks for the same tiles and loads them.
 
 The class of a response is its outcome (:func:`rocking.study.overturning_map.outcome`: safe, or the impacts
 before overturning) or, for a response without a verdict (status ``max_events``, ``max_steps``), a class of
-its own (:func:`response_classes`), so that such responses are never filled in. A cell's class is the
-classes of all the directions of its pulse together: the per-direction outcomes are complete too.
+its own (:func:`rocking.study.overturning_map.response_classes`), so that such responses are never filled
+in. A cell's class is the classes of all the directions of its pulse together: the per-direction outcomes
+are complete too.
 
 What an adaptive map can miss: a feature of another class that falls entirely between the computed cells
 of a leaf, i.e. an island, or a tongue or band narrower than the spacing of the computed cells along the
@@ -36,7 +37,8 @@ import numpy as np
 from ..model.params import ParameterError
 from .config import is_count
 
-#: Default coarse step of an adaptive map, cells (the issue's prototype: 0 of 160,000 cells misclassified).
+#: Default coarse step of an adaptive map, cells: on the 400 x 400 bench map, the full map's classification from
+#: one 15th of its responses (bench/adaptive.py).
 COARSE = 16
 
 #: Largest coarse step: a block of more cells than a grid has values is the whole grid already.
@@ -52,13 +54,6 @@ def check_coarse(coarse) -> int:
     if not ok:
         raise ParameterError(f"coarse must be a power of two (1, 2, 4, ...) in [1, {MAX_COARSE}] (got {coarse!r})")
     return int(coarse)
-
-
-def response_classes(overturned, impacts, status, undetermined) -> np.ndarray:
-    """The class of each response: its outcome (``SAFE`` = -1, or the impacts before overturning), or
-    ``-2 - status`` where ``undetermined`` (a run cut short by a bound on its work: no verdict)."""
-    outcome = np.where(overturned, impacts, -1)
-    return np.where(undetermined, -2 - np.asarray(status), outcome)
 
 
 def _spans(n: int, step: int) -> list[tuple[int, int]]:
@@ -80,11 +75,6 @@ def split(block: Block) -> list[Block]:
     return [(*rows, *cols) for rows, cols in product(_halves(i0, i1), _halves(j0, j1))]
 
 
-def _corners(block: Block) -> set[tuple[int, int]]:
-    i0, i1, j0, j1 = block
-    return {(i, j) for i in (i0, i1) for j in (j0, j1)}
-
-
 class Refinement:
     """The refinement of one part of a map: which cells are computed, their classes, its blocks.
 
@@ -100,7 +90,8 @@ class Refinement:
     computed : ndarray of bool, ``shape[:2]``
         The cells computed so far.
     classes : ndarray of int, ``shape``
-        Their classes (:func:`response_classes`); after :meth:`fill`, every cell's.
+        Their classes (:func:`rocking.study.overturning_map.response_classes`); after :meth:`fill`, every
+        cell's.
     active : list of Block
         Blocks whose corners are computed next (:meth:`pending`), then judged (:meth:`update`).
     leaves : list of Block
@@ -116,9 +107,12 @@ class Refinement:
 
     def pending(self) -> tuple[np.ndarray, np.ndarray]:
         """Rows and columns of the corners of the active blocks not computed yet, in sorted order."""
-        cells = sorted({cell for block in self.active for cell in _corners(block) if not self.computed[cell]})
-        rows, cols = (np.array(axis, np.int64) for axis in zip(*cells)) if cells else (np.zeros(0, np.int64),) * 2
-        return rows, cols
+        blocks = np.array(self.active, np.int64).reshape(-1, 4)
+        rows = np.concatenate([blocks[:, 0], blocks[:, 0], blocks[:, 1], blocks[:, 1]])
+        cols = np.concatenate([blocks[:, 2], blocks[:, 3], blocks[:, 2], blocks[:, 3]])
+        cells = np.unique(np.ravel_multi_index((rows, cols), self.computed.shape))
+        cells = cells[~self.computed.ravel()[cells]]
+        return np.unravel_index(cells, self.computed.shape)
 
     def record(self, rows, cols, classes) -> None:
         """The classes (``(cells, k)``) of the computed cells ``(rows, cols)``."""
@@ -136,9 +130,11 @@ class Refinement:
         blocks, self.active, self.leaves = self.active + self.leaves, [], []
         for block in blocks:
             i0, i1, j0, j1 = block
+            if i1 - i0 <= 1 and j1 - j0 <= 1:
+                continue  # its cells are its corners, all computed: nothing to fill
             if self._uniform(block):
                 self.leaves.append(block)
-            elif i1 - i0 > 1 or j1 - j0 > 1:
+            else:
                 self.active.extend(split(block))
 
     def fill(self) -> np.ndarray:

@@ -38,7 +38,7 @@ from ..model.params import BUMPER_DEPTH, ParameterError
 from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
-from .adaptive import COARSE, Refinement, check_coarse, response_classes
+from .adaptive import COARSE, Refinement, check_coarse
 from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
 from .directions import SIGN_NAMES, choose, response_envelope
 from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
@@ -132,6 +132,12 @@ def outcome(overturned, impacts) -> np.ndarray:
 def undetermined(status) -> np.ndarray:
     """Where a run was cut short by a bound on its work (``max_events``, ``max_steps``): no verdict."""
     return np.isin(status, [STATUS.index(name) for name in UNDETERMINED])
+
+
+def response_classes(overturned, impacts, status) -> np.ndarray:
+    """The class of each response that an adaptive map refines on: its :func:`outcome`, or ``-2 - status`` for a
+    response without a verdict (:func:`undetermined`), which no cell around it can tell."""
+    return np.where(undetermined(status), -2 - np.asarray(status), outcome(overturned, impacts))
 
 
 def effect(bare_overturned, damper_overturned, unknown=False) -> np.ndarray:
@@ -408,7 +414,7 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
         for k in FIELDS:
             arrays[f"{part}_{k}_by_sign"][r, c] = tile_arrays[k]
         over, impacts, status = (tile_arrays[k] for k in ("overturned", "impacts", "status"))
-        refinements[part].record(r, c, response_classes(over, impacts, status, undetermined(status)))
+        refinements[part].record(r, c, response_classes(over, impacts, status))
 
     while any(r.active for r in refinements.values()):
         groups = []
