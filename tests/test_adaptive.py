@@ -133,6 +133,20 @@ def test_what_an_adaptive_map_can_miss():
     np.testing.assert_array_equal(refine(large, 8)[0], large)
 
 
+@pytest.mark.parametrize("shape", [(1, 1), (1, 37), (37, 1), (2, 2), (3, 50), (17, 17), (18, 40)])
+@pytest.mark.parametrize("coarse", [1, 4, 16, 64])
+def test_grids_of_any_size_are_refined_to_their_last_cell(shape, coarse):
+    """One value per axis, fewer cells than the coarse step, sizes that are not 1 + a multiple of it: the
+    blocks are clipped, every cell is computed or filled, and a boundary across the grid is found."""
+    i, j = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+    field = np.where(i + 2 * j > 25, 2, -1)
+    got, refinement = refine(field, coarse)
+    np.testing.assert_array_equal(got, field)
+    corners = [(0, 0), (0, -1), (-1, 0), (-1, -1)]
+    assert all(refinement.computed[c] for c in corners)
+    assert refinement.computed.all() == (coarse == 1 or max(shape) <= 2)
+
+
 @pytest.mark.parametrize("coarse", [0, 3, 12, -16, 2.0, True, "16", 2**18])
 def test_a_bad_coarse_step_is_refused_in_one_line(coarse):
     with pytest.raises(ParameterError, match=r"^coarse must be a power of two \(1, 2, 4, \.\.\.\) in \[1, 131072\]"):
@@ -150,6 +164,8 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
 
     assert cli("--coarse", "8") == 0
     assert "map: adaptive (coarse step 8):" in capsys.readouterr().out
+    table = (tmp_path / "map.csv").read_text()
+    assert ",not_computed," in table and "bare_computed" in table.splitlines()[0]
     for argv, message in (
         (("--coarse", "6"), "coarse must be a power of two"),
         (("--full", "--coarse", "8"), "not both"),
