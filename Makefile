@@ -30,6 +30,7 @@ test: $(STAMP)
 
 bench: $(STAMP)
 	$(PY) bench/run.py
+	$(PY) bench/adaptive.py
 
 fuzz: $(STAMP)
 	$(PY) bench/fuzz.py -n $(FUZZ_N) --json out/fuzz.json

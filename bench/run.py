@@ -162,7 +162,10 @@ def bench_stops(n_grid: int, pairs: int = 3) -> dict:
 
 
 def _map(n: int, workers: int, runs: str):
-    """A bare + damper overturning map of ``n x n``, both directions, on fresh tiles; (study, seconds)."""
+    """A full bare + damper overturning map of ``n x n``, both directions, on fresh tiles; (study, seconds).
+
+    Every cell (``full=True``): the throughput and memory of the tiles, comparable across versions; the adaptive
+    map has its own bench (bench/adaptive.py)."""
     from rocking.study.config import Grid, Setting, Tuning
     from rocking.study.overturning_map import overturning_map
     from rocking.study.tiles import Execution
@@ -171,7 +174,7 @@ def _map(n: int, workers: int, runs: str):
     tuning = Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS)
     grid_o, grid_b = Grid("Omega", 1.0, 10.0, n), Grid("beta", 1.0, 10.0, n)
     execution = Execution(workers=workers, progress=False)
-    return timed(overturning_map, setting, tuning, grid_o, grid_b, execution, runs=runs)
+    return timed(overturning_map, setting, tuning, grid_o, grid_b, execution, runs=runs, full=True)
 
 
 def _fragility(n: int, runs: str):

@@ -50,7 +50,9 @@ def test_map_on_dask_equals_local(cluster, tmp_path):
         runs=tmp_path / "dask",
         tile=(2, 4),
     )
-    assert on_dask.run["tiles_computed"] == local.run["tiles_computed"] == 2 * 3 * 4
+    # The adaptive map: its rounds run on Dask as on local workers, and ask for the same cells.
+    assert on_dask.run["tiles_computed"] == local.run["tiles_computed"] > 0
+    assert on_dask.run["responses"] == local.run["responses"] < local.run["responses_full_grid"]
     assert_same(on_dask.arrays, local.arrays)
 
 
@@ -89,7 +91,8 @@ def test_cli_runs_on_a_scheduler_and_resumes_from_its_tiles(cluster, tmp_path, c
     args = parser.parse_args([*argv, "--scheduler", cluster.scheduler_address])
     assert args.func(args) == 0
     on_dask = load(tmp_path / "map")
+    computed = on_dask.run["tiles_computed"]
     args = parser.parse_args([*argv, "--workers", "2"])  # same configuration: every tile is reused
     assert args.func(args) == 0
-    assert "0 tiles computed, 24 reused" in capsys.readouterr().out
+    assert f"0 tiles computed, {computed} reused" in capsys.readouterr().out
     assert_same(load(tmp_path / "map").arrays, on_dask.arrays)

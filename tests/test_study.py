@@ -53,7 +53,7 @@ def runs(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def ref_map(runs):
-    return overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    return overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5), full=True)
 
 
 # --- physics of the studies --------------------------------------------------------------
@@ -75,7 +75,7 @@ def test_map_agrees_with_spectrum(ref_map, runs):
 
 
 def test_vanishing_damper_reproduces_bare_map(ref_map, runs):
-    light = overturning_map(SETTING, Tuning(1e-6), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    light = overturning_map(SETTING, Tuning(1e-6), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5), full=True)
     assert light.run["tiles_reused"] == light.run["tiles_computed"]  # the bare half is shared with ref_map
     a = light.arrays
     np.testing.assert_array_equal(a["damper_overturned"], ref_map.arrays["bare_overturned"])
@@ -225,7 +225,7 @@ def test_local_workers_are_threads_on_c_and_processes_on_numpy(backend, pool, tm
 
 def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
     monkeypatch.setattr("rocking.study.tiles.ProcessPoolExecutor", None)  # threads only: no process pool can start
-    threaded = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path / "map", tile=(2, 5))
+    threaded = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path / "map", tile=(2, 5), full=True)
     assert threaded.run["tiles_computed"] == 2 * 2 * 3
     for k, v in ref_map.arrays.items():
         np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
@@ -267,14 +267,16 @@ def test_resume_recomputes_nothing_finished(ref_map, tmp_path, interruption):
             raise interruption
 
     with pytest.raises(interruption):
-        overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3), on_tile=crash_after_five)
+        overturning_map(
+            SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3), full=True, on_tile=crash_after_five
+        )
     # The five tiles handed over, and those still in flight, which the interruption waited for.
     stored = len(list(tmp_path.rglob("tile-*.npz")))
     assert 5 <= stored <= 5 + IN_FLIGHT_PER_WORKER * POOL.workers
-    resumed = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3))
+    resumed = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path, tile=(2, 3), full=True)
     total = 2 * 2 * 4  # parts x Omega tiles x beta tiles
     assert (resumed.run["tiles_reused"], resumed.run["tiles_computed"]) == (stored, total - stored)
-    again = overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=tmp_path, tile=(2, 3))
+    again = overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=tmp_path, tile=(2, 3), full=True)
     assert (again.run["tiles_reused"], again.run["tiles_computed"]) == (total, 0)
     assert not list(tmp_path.rglob("*.tmp"))
     for k, v in ref_map.arrays.items():  # other tiling, same cells
@@ -282,12 +284,12 @@ def test_resume_recomputes_nothing_finished(ref_map, tmp_path, interruption):
 
 
 def test_changed_configuration_reuses_no_tile(ref_map, runs):
-    changed = overturning_map(SETTING, Tuning(0.05, zeta=0.1), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    changed = overturning_map(SETTING, Tuning(0.05, zeta=0.1), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5), full=True)
     assert changed.run["run_folders"]["bare"] == ref_map.run["run_folders"]["bare"]
     assert changed.run["run_folders"]["damper"] != ref_map.run["run_folders"]["damper"]
     assert changed.run["tiles_computed"] == changed.run["tiles_reused"] == 6  # 2 x 3 tiles per part
     other = Setting(Block.reference(), rtol=1e-7, backend="c")
-    fresh = overturning_map(other, TUNING, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5))
+    fresh = overturning_map(other, TUNING, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5), full=True)
     assert (fresh.run["tiles_computed"], fresh.run["tiles_reused"]) == (12, 0)
 
 
@@ -441,9 +443,15 @@ def test_library_errors_name_the_parameter():
 
 def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
     """The paper's unlimited guide: cells the damper saves with its mass beyond B/2 are counted apart
-    (issue 12: on the demo map every saved cell needed more than B/2)."""
+    (issue 12: on the demo map every saved cell needed more than B/2). Every cell's stroke: a full map."""
     study = overturning_map(
-        SETTING, TUNING, Grid("Omega", 5.0, 9.0, 5), Grid("beta", 4.0, 12.0, 9), SERIAL, runs=tmp_path / "map"
+        SETTING,
+        TUNING,
+        Grid("Omega", 5.0, 9.0, 5),
+        Grid("beta", 4.0, 12.0, 9),
+        SERIAL,
+        runs=tmp_path / "map",
+        full=True,
     )
     a, half = study.arrays, SETTING.block.B / 2
     saved = a["effect"] > 0
@@ -461,10 +469,11 @@ def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
 
 def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
     """Tuning(stops=True) runs the damper of Stops.at_edges: contacts and bumper forces per cell, no mass past the
-    block's edge, and fewer cells saved than the unlimited guide claims; the command line gives the same arrays."""
+    block's edge, and fewer cells saved than the unlimited guide claims; the command line gives the same arrays.
+    Every cell's contacts and forces: full maps."""
     grids = Grid("Omega", 5.0, 9.0, 5), Grid("beta", 4.0, 12.0, 9)
-    free = overturning_map(SETTING, TUNING, *grids, SERIAL, runs=tmp_path / "free")
-    stopped = overturning_map(SETTING, Tuning(0.05, stops=True), *grids, SERIAL, runs=tmp_path / "stops")
+    free = overturning_map(SETTING, TUNING, *grids, SERIAL, runs=tmp_path / "free", full=True)
+    stopped = overturning_map(SETTING, Tuning(0.05, stops=True), *grids, SERIAL, runs=tmp_path / "stops", full=True)
     a = stopped.arrays
     assert a["damper_stop_contacts"].max() > 0 and np.nanmax(a["damper_bumper_force_max"]) > 0
     assert (a["bare_stop_contacts"] == 0).all() and (a["bare_bumper_force_max"] == 0).all()
@@ -473,12 +482,29 @@ def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
     L = SETTING.block.B / 2 - 0.02  # Stops.at_edges
     np.testing.assert_allclose(stopped.tables["map"]["damper_stroke_over_L"], np.ravel(a["damper_x_max"]) / L)
     assert "damper_stroke_over_L" not in free.tables["map"]
-    shorter = overturning_map(SETTING, Tuning(0.05, stops=True, stroke=0.1), *grids, SERIAL, runs=tmp_path / "short")
+    shorter = overturning_map(
+        SETTING, Tuning(0.05, stops=True, stroke=0.1), *grids, SERIAL, runs=tmp_path / "short", full=True
+    )
     assert np.nanmax(shorter.arrays["damper_x_max"]) < np.nanmax(a["damper_x_max"])
     np.testing.assert_allclose(shorter.tables["map"]["damper_stroke_over_L"],
                                np.ravel(shorter.arrays["damper_x_max"]) / 0.1)  # fmt: skip
     assert stopped.config["damper"]["stops"] is True and "stops" not in free.config["damper"]
-    argv = ["map", "--stops", "--Omega", "5", "9", "5", "--beta", "4", "12", "9", "--workers", "1", "--no-progress"]
+    argv = [
+        "map",
+        "--stops",
+        "--full",
+        "--Omega",
+        "5",
+        "9",
+        "5",
+        "--beta",
+        "4",
+        "12",
+        "9",
+        "--workers",
+        "1",
+        "--no-progress",
+    ]
     assert cli([*argv, "--out", str(tmp_path / "cli")]) == 0
     saved = load(tmp_path / "cli" / "map")
     for k in ("damper_overturned", "damper_stop_contacts", "damper_x_max"):

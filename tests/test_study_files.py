@@ -36,7 +36,7 @@ SERIAL = Execution(workers=1, progress=False)
 OMEGA = Grid("Omega", 1.0, 6.0, 4)
 BETA = Grid("beta", 0.5, 6.0, 12)
 TILE = (2, 5)  # 2 x 3 tiles per part
-GRIDS = ["--Omega", "1", "6", "4", "--beta", "0.5", "6", "12", "--tile", "2", "5"]
+GRIDS = ["--Omega", "1", "6", "4", "--beta", "0.5", "6", "12", "--tile", "2", "5", "--full"]
 ROOT = Path(rocking.__file__).resolve().parent.parent
 
 
@@ -65,7 +65,7 @@ def same_bits(a: dict, b: dict) -> None:
 def reference(tmp_path_factory):
     """The reference map, and its run folder (to copy and damage)."""
     runs = tmp_path_factory.mktemp("reference") / "runs"
-    return overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE), runs
+    return overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE, full=True), runs
 
 
 # --- 1. damaged tiles -----------------------------------------------------------------------------
@@ -119,7 +119,7 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
         damage(path, stored[-1])
         damaged[path] = kind
     with pytest.warns(TileWarning) as caught:
-        study = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE)
+        study = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE, full=True)
     warned = {Path(str(w.message).partition(": damaged tile")[0]) for w in caught}
     assert warned == set(damaged), {str(w.message) for w in caught}
     assert (study.run["tiles_computed"], study.run["tiles_reused"]) == (len(damaged), 12 - len(damaged))
@@ -136,7 +136,7 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
     )
     with warnings.catch_warnings():
         warnings.simplefilter("error", TileWarning)
-        again = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE)
+        again = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE, full=True)
     assert again.run["tiles_reused"] == 12
     same_bits(again.arrays, ref.arrays)
 
@@ -214,7 +214,7 @@ def test_unreadable_studies_give_one_line_errors(broken, reference, tmp_path, ca
 # --- 4. Ctrl-C ------------------------------------------------------------------------------------
 
 #: Four tiles of 50 x 50 long pulses below the uplift threshold, about 3 s each on the C back end.
-SLOW = ["--Omega", "0.01", "0.012", "100", "--beta", "0.3", "0.6", "50", "--tile", "50", "50"]
+SLOW = ["--Omega", "0.01", "0.012", "100", "--beta", "0.3", "0.6", "50", "--tile", "50", "50", "--full"]
 
 
 def test_ctrl_c_ends_a_study_at_once_and_keeps_its_finished_tiles(tmp_path, capsys):

@@ -44,7 +44,9 @@ def runs(tmp_path_factory):
 
 @pytest.fixture(scope="module")
 def pendulum_map(runs):
-    return overturning_map(SETTING, Variant("pendulum", PENDULUM), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 3))
+    return overturning_map(
+        SETTING, Variant("pendulum", PENDULUM), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 3), full=True
+    )
 
 
 def test_pendulum_map_agrees_with_simulate(pendulum_map):
@@ -100,7 +102,7 @@ def test_changed_variant_parameter_reuses_no_tile(pendulum_map, runs):
     after = part_config("map", "damper", SETTING, damper=changed.record())
     assert config_hash(before) != config_hash(after)
     assert Variant("pendulum", PENDULUM).record()["model_sha256"]
-    study = overturning_map(SETTING, changed, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 3))
+    study = overturning_map(SETTING, changed, OMEGA, BETA, SERIAL, runs=runs, tile=(2, 3), full=True)
     assert study.run["run_folders"]["damper"] != pendulum_map.run["run_folders"]["damper"]
     assert study.run["run_folders"]["bare"] == pendulum_map.run["run_folders"]["bare"]
     assert study.run["tiles_computed"] == 4 and study.run["tiles_reused"] == 4  # the bare part only

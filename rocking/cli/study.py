@@ -326,8 +326,10 @@ def _inputs(args) -> tuple[tuple, Path]:
 
 def _cmd_map(args) -> int:
     tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
+    if args.full and args.coarse is not None:
+        raise ParameterError("give --coarse (the step of an adaptive map) or --full (every cell), not both")
     inputs, out = _inputs(args)
-    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions",)))
+    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions", "full", "coarse")))
     _report(study, out)
     _print_map(study)
     return 0
@@ -340,6 +342,13 @@ def _print_map(study: Study) -> None:
         f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge), lost {s['lost']}"
         + (f"; {unknown} without a verdict" if (unknown := s["bare_undetermined"] + s["damper_undetermined"]) else "")
     )
+    refinement, run = study.config["refinement"], study.run
+    if refinement["adaptive"]:
+        print(
+            f"map: adaptive (coarse step {refinement['coarse']}): {run['responses']} of {run['responses_full_grid']} "
+            f"responses computed in {run['rounds']} rounds; cells not computed take the outcome around them "
+            f"(--full computes every cell)"
+        )
 
 
 def _cmd_spectrum(args) -> int:
@@ -563,7 +572,7 @@ def _cmd_ida(args) -> int:
 
 
 def _cmd_demo(args) -> int:
-    """The damper as built: stops at the block's edges beside the paper's unlimited guide (maps and spectra,
+    """The damper as built: stops at the block's edges beside the paper's unlimited guide (full maps and spectra,
     both directions), the design answer, and ``Omega*`` across geometries; each on its command's default grids."""
     setting, execution, out = setting_from(args), execution_from(args), out_from(args)
     tuning = tuning_from(args)
@@ -571,8 +580,9 @@ def _cmd_demo(args) -> int:
     start = time.perf_counter()
     runs = out / "runs"
     for suffix, damper in dampers:
+        # Full maps: the figures tell every saved cell's stroke, which an adaptive map computes at its edges only.
         study = overturning_map(setting, damper, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA),
-                                execution, runs=runs)  # fmt: skip
+                                execution, runs=runs, full=True)  # fmt: skip
         _report(study, out, f"map{suffix}")
         _print_map(study)
     for suffix, damper in dampers:
@@ -662,6 +672,17 @@ def add_study_commands(subparsers) -> None:
     tile = python_default(overturning_map, "tile")
     p.add_argument(
         "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
+    )
+    p.add_argument(
+        "--coarse",
+        type=int,
+        metavar="STEP",
+        help="coarse step of the adaptive map, a power of two: every STEP-th cell is computed, then the map is "
+        "refined where neighbouring outcome classes differ; features smaller than STEP cells can be missed "
+        f"({default_text(overturning_map, 'coarse')})",
+    )
+    p.add_argument(
+        "--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)"
     )
     _add_directions(p)
     _add_pulse(p)

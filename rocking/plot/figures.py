@@ -38,14 +38,16 @@ OUTCOME_CLASSES = (
     ("after 2 impacts", "#fddbc7"),
     ("after 3 or more impacts", "#9970ab"),
 )
-#: Effect classes: bare overturned + 2 x damped overturned, and 4 for cells saved only with the
-#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges).
+#: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
+#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), and 5 for saved
+#: cells whose damped response an adaptive map did not compute (its stroke is not known).
 EFFECT_CLASSES = (
     ("safe either way", "#f7f7f7"),
     ("saved by the damper", "#1a9850"),
     ("lost with the damper", "#d73027"),
     ("overturned either way", "#bdbdbd"),
     ("saved only with the mass past the edge (x_max > B/2)", "#a6d96a"),
+    ("saved, stroke not computed (cell of an adaptive map filled in)", "#d9f0d3"),
 )
 PART_STYLE = {
     "bare": {"color": "black", "label": "block alone"},
@@ -146,18 +148,35 @@ def map_figure(study: Study) -> Figure:
         ax.set_title(title)
     effect = a["bare_overturned"].astype(int) + 2 * a["damper_overturned"].astype(int)
     past = saved_past_edges(a, study.config["block"]["B"] / 2)
-    _classes(axes[2], a["Omega"], a["beta"], np.where(past, 4, effect), EFFECT_CLASSES)
+    computed = a.get("damper_computed", np.ones_like(effect, bool))  # studies saved before adaptive maps
+    unknown = (effect == 1) & ~computed
+    _classes(axes[2], a["Omega"], a["beta"], np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
     s = study.summary
     axes[2].set_title(
-        f"effect of the damper: {s.get('saved', 0)} cells saved ({int(past.sum())} only past the edge), "
-        f"{s.get('lost', 0)} lost",
+        f"effect of the damper: {s.get('saved', 0)} cells saved ({int(past.sum())} only past the edge"
+        + (f", {int(unknown.sum())} of unknown stroke" if unknown.any() else "")
+        + f"), {s.get('lost', 0)} lost",
         fontsize=9,
     )
     fig.suptitle(
         f"Overturning map, {_pulse_label(study.config)}; {_damper_label(study.config)}\n"
-        f"{_directions_label(study.config)}"
+        f"{_directions_label(study.config)}{_refinement_label(study)}"
     )
     return fig
+
+
+def _refinement_label(study: Study) -> str:
+    """How many cells an adaptive map computed, for a title; nothing for a full map."""
+    refinement = study.config.get("refinement", {"adaptive": False})
+    if not refinement["adaptive"]:
+        return ""
+    a = study.arrays
+    cells = a["bare_computed"].size
+    computed = ", ".join(f"{int(a[f'{part}_computed'].sum())}" for part in ("bare", "damper"))
+    return (
+        f"; adaptive, coarse step {refinement['coarse']}: {computed} of {cells} cells computed (alone, damped), "
+        "the others take the outcome around them"
+    )
 
 
 def spectrum_figure(study: Study) -> Figure:

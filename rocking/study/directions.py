@@ -89,8 +89,12 @@ def worst(overturned, impacts, theta_max, unknown) -> np.ndarray:
     before safe (the larger ``theta_max``). Ties go to the first sign.
     """
     overturned, unknown = np.asarray(overturned, bool), np.asarray(unknown, bool)
-    # theta_max of a block that does not overturn is below pi, so the three classes do not overlap.
-    score = np.where(overturned, 20.0 + 1.0 / (1.0 + np.asarray(impacts)), np.where(unknown, 10.0, theta_max))
+    # theta_max of a block that does not overturn is below pi, so the three classes do not overlap; a theta_max
+    # not computed (NaN, a cell an adaptive map filled in) ranks below any, never above an overturned direction.
+    safe = np.nan_to_num(np.asarray(theta_max, float), nan=-1.0)
+    # The impacts of a safe direction do not count (and are NOT_COMPUTED, -1, where not computed).
+    sooner = 1.0 / (1.0 + np.maximum(np.asarray(impacts), 0))
+    score = np.where(overturned, 20.0 + sooner, np.where(unknown, 10.0, safe))
     return np.argmax(score, axis=-1)
 
 

@@ -9,13 +9,25 @@ impacts before overturning (0: overturned without impact). The comparison map
 (*effect*) marks the cells the damper saves (+1: the bare block overturns, the
 damped one does not) and those it loses (-1: the reverse).
 
-The grid is cut into rectangular tiles; each tile is one call of
-:func:`rocking.sim.cases.run_cases` (:func:`map_tile`), run by
-:func:`rocking.study.tiles.run_tiles`.
+By default the map is *adaptive* (:mod:`rocking.study.adaptive`): each part computes a coarse lattice of
+cells (every ``coarse``-th, 16 by default) and refines, down to single cells, only where neighbouring cells
+differ in outcome class; the other cells take the class of the computed cells around them. Outcomes and the
+effect are complete; ``<part>_computed`` says which cells were computed, and the continuous fields of the
+others are not invented: ``theta_max``, ``x_max``, ``bumper_force_max`` are NaN there, and ``impacts`` of a
+safe cell, ``stop_contacts`` and ``status`` are :data:`NOT_COMPUTED` where they do not follow from the class.
+An adaptive map can miss a feature of another class smaller than the coarse step, one that falls entirely
+between the computed cells of a block whose computed cells agree (:mod:`rocking.study.adaptive`);
+``full=True`` computes every cell.
+
+The cells are cut into tiles; each tile is one call of :func:`rocking.sim.cases.run_cases` (a rectangle of
+the grid, :func:`map_tile`, for a full map; a list of cells, :func:`cells_tile`, for each round of an
+adaptive one), run by :func:`rocking.study.tiles.run_tiles`.
 """
 
 from __future__ import annotations
 
+import hashlib
+import time
 import warnings
 from os import PathLike
 from pathlib import Path
@@ -26,15 +38,20 @@ from ..model.params import BUMPER_DEPTH, ParameterError
 from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
+from .adaptive import COARSE, Refinement, check_coarse
 from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
 from .directions import SIGN_NAMES, choose, response_envelope
-from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
+from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
 
 #: Result fields kept per response.
 FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contacts", "bumper_force_max")
 
 #: Outcome of a response that does not overturn.
 SAFE = -1
+
+#: Value of the integer fields (``impacts``, ``stop_contacts``, ``status``) of a cell of an adaptive map that
+#: was not computed, where its class does not give them (the float fields are NaN there).
+NOT_COMPUTED = -1
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
 FIXED = ("model", "params", "stops", "stroke")
@@ -117,6 +134,12 @@ def undetermined(status) -> np.ndarray:
     return np.isin(status, [STATUS.index(name) for name in UNDETERMINED])
 
 
+def response_classes(overturned, impacts, status) -> np.ndarray:
+    """The class of each response that an adaptive map refines on: its :func:`outcome`, or ``-2 - status`` for a
+    response without a verdict (:func:`undetermined`), which no cell around it can tell."""
+    return np.where(undetermined(status), -2 - np.asarray(status), outcome(overturned, impacts))
+
+
 def effect(bare_overturned, damper_overturned, unknown=False) -> np.ndarray:
     """+1 where the damper saves the block, -1 where it makes it overturn, 0 elsewhere and where ``unknown``."""
     change = np.asarray(bare_overturned, int) - np.asarray(damper_overturned, int)
@@ -145,6 +168,13 @@ def map_tile(payload: tuple) -> dict:
     nsigns)``."""
     setting, damper, Omega, beta, signs = payload
     return respond(setting, Omega[:, None, None], beta[None, :, None], damper, np.asarray(signs)[None, None, :])
+
+
+def cells_tile(payload: tuple) -> dict:
+    """Cells of an adaptive map: ``(setting, damper_or_None, Omega_values, beta_values, signs)``, a cell per
+    pair ``(Omega[c], beta[c])`` -> arrays ``(ncells, nsigns)``."""
+    setting, damper, Omega, beta, signs = payload
+    return respond(setting, Omega[:, None], beta[:, None], damper, np.asarray(signs)[None, :])
 
 
 def check_damper(damper) -> None:
@@ -191,6 +221,8 @@ def overturning_map(
     runs: str | Path = "out/runs",
     tile: tuple[int, int] = TILE,
     directions: str = "auto",
+    full: bool = False,
+    coarse: int = COARSE,
     on_tile=None,
 ) -> Study:
     """Outcome over the ``Omega x beta`` grid for the bare block and with the damper ``tuning``, in both
@@ -214,8 +246,15 @@ def overturning_map(
     directions : {"auto", "both", "positive", "negative"}
         Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
         and its damper are symmetric.
+    full : bool, optional
+        Compute every cell. Default False: the map is adaptive (:mod:`rocking.study.adaptive`), refined on
+        each part's outcome classes from a lattice of every ``coarse``-th cell; it can miss a feature of
+        another class smaller than ``coarse`` cells.
+    coarse : int, optional
+        The coarse step of an adaptive map, cells: a power of two in [1,
+        :data:`rocking.study.adaptive.MAX_COARSE`] (1 computes every cell). Default 16.
     on_tile : callable, optional
-        Passed to :func:`rocking.study.tiles.run_tiles`.
+        Passed to :func:`rocking.study.tiles.run_tiles` (each round of an adaptive map is a call).
 
     Returns
     -------
@@ -224,14 +263,18 @@ def overturning_map(
         :data:`FIELDS`, ``<part>_<field>_by_sign`` (shape ``(nOmega, nbeta, nsigns)``) and their
         envelope ``<part>_<field>`` (``(nOmega, nbeta)``,
         :func:`rocking.study.directions.response_envelope`), ``<part>_worst_sign`` (the direction
-        that governs each cell); and ``effect``, from the envelopes.
+        that governs each cell; 0 where it is not known: a safe cell not computed); ``<part>_computed``
+        (``(nOmega, nbeta)``, bool: the cells computed; where not, the fields that do not follow from
+        the outcome class are NaN or :data:`NOT_COMPUTED`); and ``effect``, from the envelopes.
+        ``config["refinement"]`` records ``adaptive`` and ``coarse``; ``run["responses"]`` counts the
+        responses computed, ``run["responses_full_grid"]`` those of every cell, ``run["rounds"]`` the rounds of tiles.
 
     Raises
     ------
     ParameterError
         Naming the parameter and its valid range, before any work: inputs of
-        the wrong type, more than :data:`rocking.study.config.MAX_CELLS`
-        cells, a folder that cannot be written, a back end or a Dask cluster
+        the wrong type, a ``coarse`` that is not a power of two in range, more than
+        :data:`rocking.study.config.MAX_CELLS` cells, a folder that cannot be written, a back end or a Dask cluster
         that cannot be used.
     rocking.study.tiles.Interrupted
         On Ctrl-C (a KeyboardInterrupt): the finished tiles are kept in
@@ -268,22 +311,70 @@ def overturning_map(
     """
     check_study(setting, execution, runs, Omega=Omega, beta=beta)
     tile = _check_tile(tile)
+    check_type("full", full, bool, "True or False")
+    coarse = check_coarse(coarse)
     check_damper(tuning)
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile), "signs": signs}
+    # A full map's tiles keep the configuration (and folders) they had before maps were adaptive.
+    refinement = {"adaptive": False} if full else {"adaptive": True, "coarse": coarse}
+    tiles_of = {} if full else {"refinement": refinement}
     arrays = {"Omega": Om, "beta": b, "signs": np.array(signs)}
     record = tuning.record()
-    groups, where, folders = [], {}, {}
+    parts, folders = {}, {}
     shape = (Om.size, b.size, len(signs))
     for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
+        parts[part] = damper
         for k, dtype in (("overturned", bool), ("impacts", int), ("status", int), ("stop_contacts", int)):
-            arrays[f"{part}_{k}_by_sign"] = np.zeros(shape, np.int64 if dtype is int else dtype)
+            arrays[f"{part}_{k}_by_sign"] = np.full(shape, False if dtype is bool else NOT_COMPUTED, dtype)
         for k in ("theta_max", "x_max", "bumper_force_max"):
             arrays[f"{part}_{k}_by_sign"] = np.full(shape, np.nan)
-        folder = run_folder(runs, part_config("map", part, setting, damper=described, **grids))
-        folders[part] = folder.name
+        config = part_config("map", part, setting, damper=described, **grids, **tiles_of)
+        folders[part] = run_folder(runs, config)
+
+    preflight(setting, tuning.case_args())
+    if full:
+        stats, rounds = _full(setting, parts, folders, arrays, execution, tile, on_tile)
+    else:
+        stats, rounds = _adaptive(setting, parts, folders, arrays, execution, tile, coarse, on_tile)
+    for part in parts:
+        by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
+        envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
+        arrays.update({f"{part}_{k}": envelope[k] for k in FIELDS})
+        worst_sign = arrays["signs"][envelope["worst_sign_index"]]
+        # Which direction governs a safe cell is told by theta_max: not known where it was not computed.
+        unknown = ~arrays[f"{part}_computed"] & ~envelope["overturned"] & ~undetermined(envelope["status"])
+        arrays[f"{part}_worst_sign"] = np.where(unknown, 0, worst_sign)
+    bare_unknown, damper_unknown = undetermined(arrays["bare_status"]), undetermined(arrays["damper_status"])
+    arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"], bare_unknown | damper_unknown)
+    unknown = sum(int(undetermined(arrays[f"{part}_status_by_sign"]).sum()) for part in parts)
+    warn_undetermined("map", unknown)
+    config = {"kind": "map", **setting.record(), "damper": record, **grids, "directions": chosen,
+              "refinement": refinement}  # fmt: skip
+    computed = sum(int(arrays[f"{part}_computed"].sum()) for part in parts)
+    return Study(
+        "map",
+        config,
+        arrays,
+        tables={"map": map_table(arrays, setting.block.B / 2, half_stroke(setting.block, record))},
+        summary={**map_summary(arrays, setting.block.B / 2), "directions": chosen, "refinement": refinement},
+        run={
+            **stats.record(),
+            "run_folders": {part: folder.name for part, folder in folders.items()},
+            "responses": len(signs) * computed,
+            "responses_full_grid": len(parts) * len(signs) * Om.size * b.size,
+            "rounds": rounds,
+        },
+    )
+
+
+def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on_tile):
+    """Every cell of the map, a rectangle of ``tile`` cells per tile; ``(TileStats, 1)``."""
+    Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
+    groups, where = [], {}
+    for part, damper in parts.items():
         part_tasks: list[Task] = []
         groups.append(part_tasks)
         for i in range(0, Om.size, tile[0]):
@@ -291,35 +382,82 @@ def overturning_map(
                 rows, cols = slice(i, i + tile[0]), slice(j, j + tile[1])
                 payload = (setting, damper, Om[rows], b[cols], signs)
                 expect = dict.fromkeys(FIELDS, (Om[rows].size, b[cols].size, len(signs)))
-                task = Task(folder / f"tile-{i}-{j}.npz", map_tile, payload, expect)
+                task = Task(folders[part] / f"tile-{i}-{j}.npz", map_tile, payload, expect)
                 part_tasks.append(task)
                 where[task.path] = (part, rows, cols)
+        arrays[f"{part}_computed"] = np.ones((Om.size, b.size), bool)
 
     def place(task: Task, tile_arrays: dict) -> None:
         part, rows, cols = where[task.path]
         for k in FIELDS:
             arrays[f"{part}_{k}_by_sign"][rows, cols] = tile_arrays[k]
 
-    preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="map", on_tile=on_tile)
-    for part in ("bare", "damper"):
-        by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
-        envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
-        arrays.update({f"{part}_{k}": envelope[k] for k in FIELDS})
-        arrays[f"{part}_worst_sign"] = arrays["signs"][envelope["worst_sign_index"]]
-    bare_unknown, damper_unknown = undetermined(arrays["bare_status"]), undetermined(arrays["damper_status"])
-    arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"], bare_unknown | damper_unknown)
-    unknown = sum(int(undetermined(arrays[f"{part}_status_by_sign"]).sum()) for part in ("bare", "damper"))
-    warn_undetermined("map", unknown)
-    config = {"kind": "map", **setting.record(), "damper": record, **grids, "directions": chosen}
-    return Study(
-        "map",
-        config,
-        arrays,
-        tables={"map": map_table(arrays, setting.block.B / 2, half_stroke(setting.block, record))},
-        summary={**map_summary(arrays, setting.block.B / 2), "directions": chosen},
-        run={**stats.record(), "run_folders": folders, "responses": 2 * len(signs) * Om.size * b.size},
-    )
+    return stats, 1
+
+
+def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile, coarse, on_tile):
+    """The map refined on each part's outcome classes (:mod:`rocking.study.adaptive`); ``(TileStats, rounds)``.
+
+    Each round computes the corners its part's refinement asks for, in tiles of a quarter of ``tile``'s cells
+    (a round of a few thousand cells still spreads over the workers), named by their round and a hash of their
+    cells: a rerun asks for the same cells, and loads them.
+    """
+    Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
+    chunk = max(1, tile[0] * tile[1] // 4)
+    refinements = {part: Refinement((Om.size, b.size, len(signs)), coarse) for part in parts}
+    total, start, rounds = TileStats(), time.perf_counter(), 0
+    where = {}
+
+    def place(task: Task, tile_arrays: dict) -> None:
+        part, r, c = where[task.path]
+        for k in FIELDS:
+            arrays[f"{part}_{k}_by_sign"][r, c] = tile_arrays[k]
+        over, impacts, status = (tile_arrays[k] for k in ("overturned", "impacts", "status"))
+        refinements[part].record(r, c, response_classes(over, impacts, status))
+
+    while any(r.active for r in refinements.values()):
+        groups = []
+        for part, damper in parts.items():
+            rows, cols = refinements[part].pending()
+            part_tasks = []
+            for first in range(0, rows.size, chunk):
+                r, c = rows[first : first + chunk], cols[first : first + chunk]
+                key = hashlib.sha256(np.stack([r, c]).tobytes()).hexdigest()[:16]
+                expect = dict.fromkeys(FIELDS, (r.size, len(signs)))
+                path = folders[part] / f"round-{rounds}-{key}.npz"
+                part_tasks.append(Task(path, cells_tile, (setting, damper, Om[r], b[c], signs), expect))
+                where[path] = (part, r, c)
+            groups.append(part_tasks)
+        tasks = interleave(*groups)
+        if tasks:
+            try:
+                stats = run_tiles(tasks, place, execution, backend=setting.backend, desc=f"map, round {rounds}",
+                                  on_tile=on_tile)  # fmt: skip
+            except Interrupted as exc:  # count the tiles of the rounds before too: all are kept
+                done = total.computed + total.reused
+                raise Interrupted(done + exc.kept, done + exc.total, exc.folder) from exc
+            total.computed, total.reused = total.computed + stats.computed, total.reused + stats.reused
+        for refinement in refinements.values():
+            refinement.update()
+        rounds += 1
+    for part, refinement in refinements.items():
+        _fill(arrays, part, refinement)
+    total.wall = time.perf_counter() - start
+    return total, rounds
+
+
+def _fill(arrays: dict, part: str, refinement: Refinement) -> None:
+    """Give the cells of ``part`` that were not computed what their class tells: overturned or not, the impacts
+    of an overturned cell, the status of an overturned cell or of one without a verdict."""
+    filled = refinement.fill()
+    classes = refinement.classes[filled]  # (cells, signs)
+    overturned = classes >= 0
+    status = np.where(overturned, STATUS.index("overturned"), np.where(classes <= -2, -2 - classes, NOT_COMPUTED))
+    arrays[f"{part}_overturned_by_sign"][filled] = overturned
+    arrays[f"{part}_impacts_by_sign"][filled] = np.where(overturned, classes, NOT_COMPUTED)
+    arrays[f"{part}_status_by_sign"][filled] = status
+    arrays[f"{part}_computed"] = refinement.computed
 
 
 def half_stroke(block, record: dict) -> float | None:
@@ -342,7 +480,9 @@ def map_table(arrays: dict, half_width: float, L: float | None = None) -> dict:
         table[f"{part}_outcome"] = outcome(arrays[f"{part}_overturned"], arrays[f"{part}_impacts"])
         for k in ("impacts", "theta_max", "x_max", "stop_contacts", "bumper_force_max"):
             table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
-        table[f"{part}_status"] = np.asarray(STATUS)[arrays[f"{part}_status"]]
+        status = arrays[f"{part}_status"]
+        table[f"{part}_status"] = np.where(status >= 0, np.asarray(STATUS)[status], "not_computed")
+        table[f"{part}_computed"] = arrays[f"{part}_computed"].astype(np.int8)
         if signs.size > 1:
             table[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
             for i, sign in enumerate(signs):
@@ -366,13 +506,19 @@ def saved_past_edges(arrays: dict, half_width: float) -> np.ndarray:
 
 def map_summary(arrays: dict, half_width: float) -> dict:
     """Cell counts: overturned per part, saved and lost by the damper (saved within the block's half-width
-    ``B/2`` or only past it), runs that hit ``t_max`` or a bound."""
+    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed.
+
+    Counts of what a cell's outcome class does not tell (``t_max``, ``saved_past_edges``) are over the cells
+    computed; ``saved_stroke_not_computed`` counts the saved cells whose damper stroke was not computed.
+    """
     out = {"cells": int(arrays["effect"].size)}
     for part in ("bare", "damper"):
+        out[f"{part}_computed"] = int(arrays[f"{part}_computed"].sum())
         out[f"{part}_overturned"] = int(arrays[f"{part}_overturned"].sum())
         out[f"{part}_t_max"] = int((arrays[f"{part}_status"] == STATUS.index("t_max")).sum())
         out[f"{part}_undetermined"] = int(undetermined(arrays[f"{part}_status"]).sum())
     out["saved"] = int((arrays["effect"] > 0).sum())
     out["saved_past_edges"] = int(saved_past_edges(arrays, half_width).sum())
+    out["saved_stroke_not_computed"] = int(((arrays["effect"] > 0) & ~arrays["damper_computed"]).sum())
     out["lost"] = int((arrays["effect"] < 0).sum())
     return out

@@ -1,0 +1,150 @@
+"""Adaptive maps: a coarse lattice of cells, refined only where the outcome classes of neighbours differ.
+
+An overturning map is made of a few regions of one outcome each (safe, overturned without impact, after one
+impact, ...), and computing every cell spends most of its work inside them. An adaptive map refines like a
+quadtree, on each part's (bare block, damped block) own classes:
+
+1. it computes the corners of blocks of ``coarse x coarse`` cells (``coarse`` a power of two; the last block
+   of each axis is clipped to the grid, so any grid size works);
+2. a block whose computed cells (its corners, and any cell of its edges that a refined neighbour computed)
+   all share one class is a *leaf*; any other block is split in four, and the corners of the halves (its
+   edge midpoints and centre) are computed next. A leaf that later sees a cell of another class on its
+   edges is split too; this goes on down to blocks one cell wide, whose cells are all computed;
+3. at the end, the cells of each leaf that were not computed take its class.
+
+Each round of corners is one batch of tiles for :func:`rocking.study.tiles.run_tiles` (resumable, on local
+workers or Dask): which cells a round computes follows from the classes found before, so a rerun of the same
+configuration asks for the same tiles and loads them.
+
+The class of a response is its outcome (:func:`rocking.study.overturning_map.outcome`: safe, or the impacts
+before overturning) or, for a response without a verdict (status ``max_events``, ``max_steps``), a class of
+its own (:func:`rocking.study.overturning_map.response_classes`), so that such responses are never filled
+in. A cell's class is the classes of all the directions of its pulse together: the per-direction outcomes
+are complete too.
+
+What an adaptive map can miss: a feature of another class that falls entirely between the computed cells
+of a leaf, i.e. an island, or a tongue or band narrower than the spacing of the computed cells along the
+leaf's edges, which is at most the coarse step. Such a feature is smaller than ``coarse`` cells; ``coarse=1``
+(or a full map) computes every cell.
+"""
+
+from __future__ import annotations
+
+from itertools import product
+
+import numpy as np
+
+from ..model.params import ParameterError
+from .config import is_count
+
+#: Default coarse step of an adaptive map, cells: on the 400 x 400 bench map, the full map's classification from
+#: one 15th of its responses (bench/adaptive.py).
+COARSE = 16
+
+#: Largest coarse step: a block of more cells than a grid has values is the whole grid already.
+MAX_COARSE = 2**17
+
+#: A block of cells: the first and last index along Omega, then along beta, all included.
+Block = tuple[int, int, int, int]
+
+
+def check_coarse(coarse) -> int:
+    """``coarse`` as an int, or a ParameterError unless it is a power of two in [1, :data:`MAX_COARSE`]."""
+    ok = is_count(coarse) and 1 <= coarse <= MAX_COARSE and (int(coarse) & (int(coarse) - 1)) == 0
+    if not ok:
+        raise ParameterError(f"coarse must be a power of two (1, 2, 4, ...) in [1, {MAX_COARSE}] (got {coarse!r})")
+    return int(coarse)
+
+
+def _spans(n: int, step: int) -> list[tuple[int, int]]:
+    """First and last index of the blocks of ``step`` cells along an axis of ``n`` values, the last clipped."""
+    return [(start, min(start + step, n - 1)) for start in range(0, max(n - 1, 1), step)]
+
+
+def _halves(first: int, last: int) -> list[tuple[int, int]]:
+    """The two halves of a span, sharing its middle index; a span one step wide or less stays whole."""
+    if last - first <= 1:
+        return [(first, last)]
+    middle = (first + last) // 2
+    return [(first, middle), (middle, last)]
+
+
+def split(block: Block) -> list[Block]:
+    """The (up to) four halves of ``block``."""
+    i0, i1, j0, j1 = block
+    return [(*rows, *cols) for rows, cols in product(_halves(i0, i1), _halves(j0, j1))]
+
+
+class Refinement:
+    """The refinement of one part of a map: which cells are computed, their classes, its blocks.
+
+    Parameters
+    ----------
+    shape : (int, int, int)
+        Omega values, beta values, classes per cell (one per direction of the pulse).
+    coarse : int
+        The coarse step, a power of two (:func:`check_coarse`).
+
+    Attributes
+    ----------
+    computed : ndarray of bool, ``shape[:2]``
+        The cells computed so far.
+    classes : ndarray of int, ``shape``
+        Their classes (:func:`rocking.study.overturning_map.response_classes`); after :meth:`fill`, every
+        cell's.
+    active : list of Block
+        Blocks whose corners are computed next (:meth:`pending`), then judged (:meth:`update`).
+    leaves : list of Block
+        Blocks whose computed cells share one class.
+    """
+
+    def __init__(self, shape: tuple[int, int, int], coarse: int) -> None:
+        n, m, k = shape
+        self.computed = np.zeros((n, m), bool)
+        self.classes = np.zeros((n, m, k), np.int64)
+        self.active: list[Block] = [(*r, *c) for r, c in product(_spans(n, coarse), _spans(m, coarse))]
+        self.leaves: list[Block] = []
+
+    def pending(self) -> tuple[np.ndarray, np.ndarray]:
+        """Rows and columns of the corners of the active blocks not computed yet, in sorted order."""
+        blocks = np.array(self.active, np.int64).reshape(-1, 4)
+        rows = np.concatenate([blocks[:, 0], blocks[:, 0], blocks[:, 1], blocks[:, 1]])
+        cols = np.concatenate([blocks[:, 2], blocks[:, 3], blocks[:, 2], blocks[:, 3]])
+        cells = np.unique(np.ravel_multi_index((rows, cols), self.computed.shape))
+        cells = cells[~self.computed.ravel()[cells]]
+        return np.unravel_index(cells, self.computed.shape)
+
+    def record(self, rows, cols, classes) -> None:
+        """The classes (``(cells, k)``) of the computed cells ``(rows, cols)``."""
+        self.computed[rows, cols] = True
+        self.classes[rows, cols] = classes
+
+    def _uniform(self, block: Block) -> bool:
+        i0, i1, j0, j1 = block
+        known = self.classes[i0 : i1 + 1, j0 : j1 + 1][self.computed[i0 : i1 + 1, j0 : j1 + 1]]
+        return bool((known == known[0]).all())
+
+    def update(self) -> None:
+        """Judge the active blocks and the leaves once their corners are computed: a block whose computed
+        cells share one class is (or stays) a leaf; another is split, unless all its cells are computed."""
+        blocks, self.active, self.leaves = self.active + self.leaves, [], []
+        for block in blocks:
+            i0, i1, j0, j1 = block
+            if i1 - i0 <= 1 and j1 - j0 <= 1:
+                continue  # its cells are its corners, all computed: nothing to fill
+            if self._uniform(block):
+                self.leaves.append(block)
+            else:
+                self.active.extend(split(block))
+
+    def fill(self) -> np.ndarray:
+        """Give the cells of each leaf that were not computed its class; the mask of those cells."""
+        filled = np.zeros_like(self.computed)
+        for i0, i1, j0, j1 in self.leaves:
+            rows, cols = slice(i0, i1 + 1), slice(j0, j1 + 1)
+            new = ~self.computed[rows, cols] & ~filled[rows, cols]
+            self.classes[rows, cols][new] = self.classes[i0, j0]
+            filled[rows, cols] |= new
+        if not (filled | self.computed).all():
+            raise AssertionError("adaptive map: a cell is neither computed nor in a leaf")
+        return filled

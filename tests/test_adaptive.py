@@ -1,0 +1,177 @@
+"""Adaptive maps (rocking.study.adaptive): the full map's classification, from fewer responses, resumable."""
+
+from __future__ import annotations
+
+import argparse
+
+import numpy as np
+import pytest
+
+from rocking import Block
+from rocking.cli.study import add_study_commands
+from rocking.model.params import ParameterError
+from rocking.study.adaptive import Refinement, check_coarse
+from rocking.study.config import Grid, Setting, Tuning, Variant
+from rocking.study.overturning_map import FIELDS, outcome, overturning_map, undetermined
+from rocking.study.tiles import Execution, Interrupted
+
+SERIAL = Execution(workers=1, progress=False)
+POOL = Execution(workers=2, progress=False)
+#: The bench map of `make bench` (bench/run.py, bench/adaptive.py): the reference block and damper, rtol 1e-8.
+BENCH = Setting(Block.reference(), rtol=1e-8)
+BENCH_DAMPER = Tuning(0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+
+
+def adaptive_and_full(tmp_path, setting, damper, Omega, beta, **adaptive):
+    """The adaptive map and the full map of the same cells."""
+    runs = tmp_path / "runs"
+    return (
+        overturning_map(setting, damper, Omega, beta, POOL, runs=runs, **adaptive),
+        overturning_map(setting, damper, Omega, beta, POOL, runs=runs, full=True),
+    )
+
+
+def assert_same_classification(adaptive, full) -> None:
+    """Outcomes (envelope and per direction), the responses without a verdict and the effect are the full
+    map's; the cells computed are the full map's responses, bit for bit; and some cells were not computed."""
+    a, f = adaptive.arrays, full.arrays
+    for part in ("bare", "damper"):
+        for suffix in ("", "_by_sign"):
+            got, want = (outcome(x[f"{part}_overturned{suffix}"], x[f"{part}_impacts{suffix}"]) for x in (a, f))
+            np.testing.assert_array_equal(got, want, err_msg=f"{part}{suffix}")
+            got, want = (undetermined(x[f"{part}_status{suffix}"]) for x in (a, f))
+            np.testing.assert_array_equal(got, want, err_msg=f"{part}{suffix}")
+        computed = a[f"{part}_computed"]
+        assert f[f"{part}_computed"].all() and 0 < computed.sum() < computed.size
+        for k in FIELDS:
+            np.testing.assert_array_equal(a[f"{part}_{k}_by_sign"][computed], f[f"{part}_{k}_by_sign"][computed])
+        assert np.isnan(a[f"{part}_theta_max"][~computed]).all()  # never invented
+    np.testing.assert_array_equal(a["effect"], f["effect"])
+    assert adaptive.run["responses"] < full.run["responses"] == full.run["responses_full_grid"]
+
+
+def test_the_bench_map_adaptive_is_the_full_map(tmp_path):
+    """The bench map (Omega, beta in [1, 10]) at 81 x 81 (five coarse blocks of 16 per axis)."""
+    grids = Grid("Omega", 1.0, 10.0, 81), Grid("beta", 1.0, 10.0, 81)
+    adaptive, full = adaptive_and_full(tmp_path, BENCH, BENCH_DAMPER, *grids)
+    assert_same_classification(adaptive, full)
+    assert adaptive.run["responses"] < 0.5 * full.run["responses"]
+    assert adaptive.config["refinement"] == adaptive.summary["refinement"] == {"adaptive": True, "coarse": 16}
+    assert full.config["refinement"] == {"adaptive": False}
+    assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
+    assert adaptive.arrays["effect"].any()
+
+
+def test_the_bare_block_map_adaptive_is_the_full_map(tmp_path):
+    """The block alone in both parts (the model ``block`` as the damper), on the map command's range of pulses,
+    with grid sizes that are not 1 + a multiple of the coarse step (the last blocks are clipped)."""
+    grids = Grid("Omega", 0.5, 15.0, 40), Grid("beta", 1.0, 15.0, 37)
+    adaptive, full = adaptive_and_full(tmp_path, BENCH, Variant("block", {}), *grids, coarse=8)
+    assert_same_classification(adaptive, full)
+    a = adaptive.arrays
+    np.testing.assert_array_equal(a["bare_computed"], a["damper_computed"])  # the same block refines alike
+
+
+def test_a_second_block_adaptive_is_the_full_map(tmp_path):
+    """A slender, smaller block, eccentric the other way (its safe windows above beta_min, docs/model.md 10.4)."""
+    block = Block.from_nondim(p=2.0, alpha=0.2, e_ratio=-0.04)
+    grids = Grid("Omega", 2.0, 10.0, 49), Grid("beta", 1.0, 12.0, 60)
+    adaptive, full = adaptive_and_full(tmp_path, Setting(block), Tuning(0.05), *grids)
+    assert_same_classification(adaptive, full)
+
+
+def test_an_interrupted_adaptive_map_resumes_from_its_rounds(tmp_path):
+    grids = Grid("Omega", 1.0, 10.0, 17), Grid("beta", 1.0, 10.0, 17)
+    whole = overturning_map(BENCH, BENCH_DAMPER, *grids, SERIAL, runs=tmp_path / "whole", coarse=8, tile=(4, 4))
+    done = []
+
+    def crash(task):
+        done.append(task.path.name)
+        if len(done) == 10:  # round 0 is 2 x 3 tiles of 4 cells: this is inside a later round
+            raise KeyboardInterrupt
+
+    runs = tmp_path / "runs"
+    with pytest.raises(Interrupted) as interrupted:
+        overturning_map(BENCH, BENCH_DAMPER, *grids, POOL, runs=runs, coarse=8, tile=(4, 4), on_tile=crash)
+    assert done[-1].startswith("round-") and not done[-1].startswith("round-0-")
+    stored = len(list(runs.rglob("round-*.npz")))
+    assert interrupted.value.kept == stored  # the tiles of the rounds before are counted too
+    resumed = overturning_map(BENCH, BENCH_DAMPER, *grids, POOL, runs=runs, coarse=8, tile=(4, 4))
+    assert resumed.run["tiles_reused"] == stored >= 10
+    assert resumed.run["tiles_reused"] + resumed.run["tiles_computed"] == whole.run["tiles_computed"]
+    for k, v in whole.arrays.items():
+        np.testing.assert_array_equal(resumed.arrays[k], v, err_msg=k)
+    again = overturning_map(BENCH, BENCH_DAMPER, *grids, SERIAL, runs=runs, coarse=8, tile=(4, 4))
+    assert (again.run["tiles_computed"], again.run["tiles_reused"]) == (0, whole.run["tiles_computed"])
+
+
+def refine(classes: np.ndarray, coarse: int) -> tuple[np.ndarray, Refinement]:
+    """The classes an adaptive map gives to a known field of classes ``(n, m)``, and its refinement."""
+    refinement = Refinement((*classes.shape, 1), coarse)
+    while refinement.active:
+        rows, cols = refinement.pending()
+        refinement.record(rows, cols, classes[rows, cols][:, None])
+        refinement.update()
+    refinement.fill()
+    return refinement.classes[..., 0], refinement
+
+
+def test_what_an_adaptive_map_can_miss():
+    """A straight boundary is found exactly; an island smaller than the coarse step that no computed cell
+    touches is missed; a finer coarse step, or a larger island, finds it."""
+    i, j = np.meshgrid(np.arange(50), np.arange(45), indexing="ij")
+    sloped = np.where(3 * i + 2 * j > 100, 1, -1)
+    got, refinement = refine(sloped, 16)
+    np.testing.assert_array_equal(got, sloped)
+    assert refinement.computed.sum() < sloped.size / 2
+    island = np.full((33, 33), -1)
+    island[5:8, 5:8] = 0  # 3 x 3 cells, between the corners 0 and 16 of a coarse block
+    assert (refine(island, 16)[0] == -1).all()
+    np.testing.assert_array_equal(refine(island, 2)[0], island)
+    large = np.full((33, 33), -1)
+    large[10:30, 3:14] = 0  # holds the lattice points (16, 8) and (24, 8) of the coarse step 8
+    np.testing.assert_array_equal(refine(large, 8)[0], large)
+
+
+@pytest.mark.parametrize("shape", [(1, 1), (1, 37), (37, 1), (2, 2), (3, 50), (17, 17), (18, 40)])
+@pytest.mark.parametrize("coarse", [1, 4, 16, 64])
+def test_grids_of_any_size_are_refined_to_their_last_cell(shape, coarse):
+    """One value per axis, fewer cells than the coarse step, sizes that are not 1 + a multiple of it: the
+    blocks are clipped, every cell is computed or filled, and a boundary across the grid is found."""
+    i, j = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
+    field = np.where(i + 2 * j > 25, 2, -1)
+    got, refinement = refine(field, coarse)
+    np.testing.assert_array_equal(got, field)
+    corners = [(0, 0), (0, -1), (-1, 0), (-1, -1)]
+    assert all(refinement.computed[c] for c in corners)
+    assert refinement.computed.all() == (coarse == 1 or max(shape) <= 2)
+
+
+@pytest.mark.parametrize("coarse", [0, 3, 12, -16, 2.0, True, "16", 2**18])
+def test_a_bad_coarse_step_is_refused_in_one_line(coarse):
+    with pytest.raises(ParameterError, match=r"^coarse must be a power of two \(1, 2, 4, \.\.\.\) in \[1, 131072\]"):
+        check_coarse(coarse)
+
+
+def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
+    parser = argparse.ArgumentParser(prog="rocking")
+    add_study_commands(parser.add_subparsers(dest="command", required=True))
+
+    def cli(*argv: str) -> int:
+        args = parser.parse_args(["map", "--Omega", "1", "10", "17", "--beta", "1", "10", "17", "--workers", "1",
+                                  "--no-progress", "--out", str(tmp_path), *argv])  # fmt: skip
+        return args.func(args)
+
+    assert cli("--coarse", "8") == 0
+    assert "map: adaptive (coarse step 8):" in capsys.readouterr().out
+    table = (tmp_path / "map.csv").read_text()
+    assert ",not_computed," in table and "bare_computed" in table.splitlines()[0]
+    for argv, message in (
+        (("--coarse", "6"), "coarse must be a power of two"),
+        (("--full", "--coarse", "8"), "not both"),
+    ):
+        assert cli(*argv) == 2
+        err = capsys.readouterr().err
+        assert message in err and len(err.splitlines()) == 1
+    assert cli("--full") == 0
+    assert "adaptive" not in capsys.readouterr().out
