@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -413,7 +414,8 @@ class Block:
         """Slenderness ``lambda = H / B``."""
         return self.H / self.B
 
-    @property
+    # Cached: the fields of a frozen block never change, and one simulate call reads alpha and p a dozen times.
+    @cached_property
     def alpha(self) -> float:
         """Slenderness angle ``alpha = atan(B / H)``, rad."""
         return math.atan2(self.B, self.H)
@@ -424,12 +426,12 @@ class Block:
         block in units of ``g``."""
         return self.B / self.H
 
-    @property
+    @cached_property
     def R(self) -> float:
         """Half-diagonal ``R = sqrt(B^2 + H^2) / 2``, m."""
         return math.hypot(self.B, self.H) / 2
 
-    @property
+    @cached_property
     def I_O(self) -> float:
         """``I_O = I_G + M R^2``, kg m^2.
 
@@ -439,7 +441,7 @@ class Block:
         """
         return self.I_G + self.M * self.R**2
 
-    @property
+    @cached_property
     def p(self) -> float:
         """Frequency parameter ``p = sqrt(M g R / I_O)``, rad/s.
 
