@@ -370,19 +370,9 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
     ParameterError
         Naming the parameters set by the block, unknown, missing or out of range.
     """
-    own = [k for k in model.parameters if k not in model.block_parameters]
-    by_block = sorted(str(k) for k in values if k in model.block_parameters)
-    if by_block:
-        raise ParameterError(f"damper: {', '.join(by_block)} set by the block, not by the damper")
-    unknown = sorted(str(k) for k in values if k not in own)
-    if unknown:
-        raise ParameterError(
-            f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; give "
-            f"{', '.join(own) or 'none'} (the block sets {', '.join(model.block_parameters)})"
-        )
-    missing = [k for k in own if k not in values]
-    if missing:
-        raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
+    own = model.own_parameters
+    if values.keys() != set(own):
+        _refuse_names(model, values, own)
     if damper is not None:  # its values were checked when it was built: only against the block now
         damper.check_on(block)
         return {k: values[k] for k in own}
@@ -402,6 +392,21 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
     except ModelError as exc:
         raise ParameterError(str(exc)) from None
     return checked
+
+
+def _refuse_names(model: Model, values: Mapping, own: tuple[str, ...]) -> None:
+    """Raise the error of :func:`own_parameters` for keys of ``values`` other than ``own``."""
+    by_block = sorted(str(k) for k in values if k in model.block_parameters)
+    if by_block:
+        raise ParameterError(f"damper: {', '.join(by_block)} set by the block, not by the damper")
+    unknown = sorted(str(k) for k in values if k not in own)
+    if unknown:
+        raise ParameterError(
+            f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; give "
+            f"{', '.join(own) or 'none'} (the block sets {', '.join(model.block_parameters)})"
+        )
+    missing = [k for k in own if k not in values]
+    raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
 
 
 #: Magnitude of a parameter of another unit than kg or m: far from overflow in any product of two.
@@ -576,7 +581,7 @@ _OPTION_CHECKS = {
 _CASE_OPTIONS = tuple(f.name for f in CASE if f.name in OPTIONS and f.valid is not None)
 
 
-def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndarray, dict]:
+def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndarray | list, dict]:
     """The model, parameter vector and settings (every field of :data:`~rocking.sim.boundary.CASE`) of a run.
 
     What :func:`make_problem` does before it builds the :class:`Problem`, and what
@@ -585,6 +590,14 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndar
     values against its model); of the options (:data:`OPTIONS`), only those in ``given`` are
     checked, the defaults being valid. The arguments are those of :func:`make_problem`, with the
     options in ``given`` (only names of :data:`OPTIONS`).
+
+    Returns
+    -------
+    tuple
+        ``(model, p, settings)``: the :class:`Model`; the parameters in its order (a list of
+        floats for a :class:`Block` and :class:`Damper` on their own model, else an ndarray);
+        every field of ``CASE`` by name (``atol`` a list of floats, the motion's arrays as
+        :func:`motion_settings` gives them).
 
     Raises
     ------
@@ -606,13 +619,17 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndar
     elif model.nq > 1:
         # Zeros for the bodies' parameters would be massless bodies on springs (a degenerate mode), except
         # on omd where m = 0 is refused below with its own message.
-        if {k for k in model.parameters if k not in model.block_parameters} != set(DAMPER_PARAMETERS):
+        if set(model.own_parameters) != set(DAMPER_PARAMETERS):
             raise ParameterError(
                 f"damper=None is the bare block (model 'block'); model {model.name!r} needs its own "
                 f"parameters as a damper mapping ({', '.join(k for k in model.parameters if k not in values)})"
             )
         values.update({name: 0.0 for name in model.parameters if name not in values})
-    p = model.param_vector(values)
+    if given.get("model") is None and (damper is None or is_damper):
+        # The model of the objects, whose values were checked when they were built: no spec check again.
+        p = [values[k] for k in model.parameters]
+    else:
+        p = model.param_vector(values)
     if model.nq > 1 and values.get("m", 1.0) == 0.0:
         raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
 

@@ -5,6 +5,8 @@ from __future__ import annotations
 import warnings
 
 from ..model.params import ParameterError
+from . import c_backend
+from .cbuild import CBuildError
 from .problem import OPTIONS, Problem, Response, check_flag, resolve
 
 BACKENDS = ("auto", "c", "numpy")
@@ -43,9 +45,6 @@ def _run(model, p, settings: dict, backend: str, record: bool, problem: Problem 
     (and so checked again) when not given.
     """
     if backend != "numpy":
-        from . import c_backend
-        from .cbuild import CBuildError
-
         try:
             return c_backend.simulate_settings(model, p, settings, record=record)
         except CBuildError as exc:
