@@ -724,7 +724,9 @@ class Damper:
         if self.k_m == 0.0 and quantity != "omega_m":
             raise ParameterError(f"{quantity} is undefined for k_m = 0 N/m (a free mass between stops)")
 
-    @property
+    # Cached (a frozen damper's fields never change): check_on reads omega_m twice per simulate call; a property
+    # that raises (m = 0) caches nothing.
+    @cached_property
     def omega_m(self) -> float:
         """Natural circular frequency ``omega_m = sqrt(k_m / m)``, rad/s.
 
@@ -748,7 +750,7 @@ class Damper:
         self._require_mass("T_m")
         return 2 * math.pi / self.omega_m
 
-    @property
+    @cached_property
     def zeta(self) -> float:
         """Damping ratio ``zeta = c / (2 m omega_m)``.
 

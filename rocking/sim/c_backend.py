@@ -285,8 +285,9 @@ def _stoppable(call, lib):
 # --------------------------------------------------------------------------- #
 
 
-#: The fields of ``rocking_case`` in order, and whether each is an array (passed by its address).
-_CASE_FIELDS = tuple((f.name, f.kind in (DOUBLES, SERIES)) for f in CASE)
+#: The fields of ``rocking_case`` in order, and the positions of the arrays among them (passed by their address).
+_CASE_NAMES = tuple(f.name for f in CASE)
+_CASE_ARRAYS = tuple(i for i, f in enumerate(CASE) if f.kind in (DOUBLES, SERIES))
 
 
 def _address(values, keep: list) -> int | None:
@@ -310,7 +311,10 @@ def _case(settings: dict, keep: list) -> _Case:
 
     Its arrays stay owned by ``settings`` or by ``keep``, which the caller holds during the run.
     """
-    return _Case(*[_address(settings[name], keep) if array else settings[name] for name, array in _CASE_FIELDS])
+    values = [settings[name] for name in _CASE_NAMES]
+    for i in _CASE_ARRAYS:
+        values[i] = _address(values[i], keep)
+    return _Case(*values)
 
 
 def _failed(where: str) -> SimulationError:

@@ -607,7 +607,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndar
     check_block(block)
     motion = describe(pulse)
     options = dict(OPTIONS)
-    for name, check in _OPTION_CHECKS.items():
+    for name, check in _OPTION_CHECKS.items() if given else ():
         if name in given:
             options[name] = check(given[name])
     own = _damper_mapping(damper)
@@ -653,7 +653,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndar
         phase0=options["phase0"],
         early_rest=options["early_rest"],
     )
-    for name in _CASE_OPTIONS:
+    for name in _CASE_OPTIONS if given else ():
         if name in given:
             boundary.check(name, settings[name])
     if "y0" in given or "phase0" in given:

@@ -131,7 +131,7 @@ def simulate(
     # Checked before the run is resolved: a bad option is refused before any work.
     _check_backend(backend)
     record = check_flag("record", record)
-    if settings.keys() - OPTIONS.keys():
+    if settings and settings.keys() - OPTIONS.keys():
         unknown = sorted(map(str, settings.keys() - OPTIONS.keys()))
         known = ", ".join(name for name in SETTINGS if name not in ("rtol", "t_max"))
         raise ParameterError(f"simulate: unknown option(s) {', '.join(unknown)}; known: {known}")
