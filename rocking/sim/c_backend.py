@@ -294,11 +294,11 @@ def _address(values, keep: list) -> int | None:
     """The address of ``values`` as C doubles (``None``: NULL); a copy it needs is appended to ``keep``.
 
     An array's own values when they are C-contiguous doubles (``__array_interface__`` is cheaper than
-    ``ndarray.ctypes``), else a copy; a list's in a C array.
+    ``ndarray.ctypes``), else a copy; a list's or tuple's in a C array.
     """
     if values is None:
         return None
-    if isinstance(values, list):
+    if isinstance(values, (list, tuple)):
         keep.append((ctypes.c_double * len(values))(*values))
         return ctypes.addressof(keep[-1])
     array = np.ascontiguousarray(values, dtype=np.float64)

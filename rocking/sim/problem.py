@@ -581,7 +581,48 @@ _OPTION_CHECKS = {
 _CASE_OPTIONS = tuple(f.name for f in CASE if f.name in OPTIONS and f.valid is not None)
 
 
-def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndarray | list, dict]:
+def _bodies(block: Block, damper, model: object) -> tuple[Model, tuple | np.ndarray, float]:
+    """The model, parameter vector and damper period (``inf``: none) of ``damper`` on ``block``, checked.
+
+    The last block and :class:`Damper` (or ``None``) of a call without a ``model`` are remembered, by
+    identity: a loop over pulses does not check the same frozen objects against each other again.
+    """
+    global _LAST_BODIES
+    objects = model is None and (damper is None or type(damper) is Damper)
+    if objects:
+        last_block, last_damper, bodies = _LAST_BODIES
+        if last_block is block and last_damper is damper:
+            return bodies
+    own = _damper_mapping(damper)
+    is_damper = isinstance(damper, Damper)
+    model = resolve_model(model, damper.model if is_damper else "omd" if own else "block")
+    values = block.as_params()
+    if own is not None:
+        values.update(own_parameters(model, own, block, damper if is_damper else None))
+    elif model.nq > 1:
+        # Zeros for the bodies' parameters would be massless bodies on springs (a degenerate mode), except
+        # on omd where m = 0 is refused below with its own message.
+        if set(model.own_parameters) != set(DAMPER_PARAMETERS):
+            raise ParameterError(
+                f"damper=None is the bare block (model 'block'); model {model.name!r} needs its own "
+                f"parameters as a damper mapping ({', '.join(k for k in model.parameters if k not in values)})"
+            )
+        values.update({name: 0.0 for name in model.parameters if name not in values})
+    # The objects' own model takes their values, checked when they were built, without the spec's checks again.
+    p = tuple(values[k] for k in model.parameters) if objects else model.param_vector(values)
+    if model.nq > 1 and values.get("m", 1.0) == 0.0:
+        raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
+    # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
+    T_m = damper.T_m if is_damper and damper.m > 0 and damper.k_m > 0 else math.inf
+    if objects:
+        _LAST_BODIES = (block, damper, (model, p, T_m))
+    return model, p, T_m
+
+
+_LAST_BODIES: tuple = (None, None, None)
+
+
+def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple | np.ndarray, dict]:
     """The model, parameter vector and settings (every field of :data:`~rocking.sim.boundary.CASE`) of a run.
 
     What :func:`make_problem` does before it builds the :class:`Problem`, and what
@@ -594,7 +635,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndar
     Returns
     -------
     tuple
-        ``(model, p, settings)``: the :class:`Model`; the parameters in its order (a list of
+        ``(model, p, settings)``: the :class:`Model`; the parameters in its order (a tuple of
         floats for a :class:`Block` and :class:`Damper` on their own model, else an ndarray);
         every field of ``CASE`` by name (``atol`` a list of floats, the motion's arrays as
         :func:`motion_settings` gives them).
@@ -610,32 +651,11 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, np.ndar
     for name, check in _OPTION_CHECKS.items() if given else ():
         if name in given:
             options[name] = check(given[name])
-    own = _damper_mapping(damper)
-    is_damper = isinstance(damper, Damper)
-    model = resolve_model(given.get("model"), damper.model if is_damper else "omd" if own else "block")
-    values = block.as_params()
-    if own is not None:
-        values.update(own_parameters(model, own, block, damper if is_damper else None))
-    elif model.nq > 1:
-        # Zeros for the bodies' parameters would be massless bodies on springs (a degenerate mode), except
-        # on omd where m = 0 is refused below with its own message.
-        if set(model.own_parameters) != set(DAMPER_PARAMETERS):
-            raise ParameterError(
-                f"damper=None is the bare block (model 'block'); model {model.name!r} needs its own "
-                f"parameters as a damper mapping ({', '.join(k for k in model.parameters if k not in values)})"
-            )
-        values.update({name: 0.0 for name in model.parameters if name not in values})
-    if given.get("model") is None and (damper is None or is_damper):
-        # The model of the objects, whose values were checked when they were built: no spec check again.
-        p = [values[k] for k in model.parameters]
+    model, p, T_m = _bodies(block, damper, given.get("model"))
+    if "t_max" in given or "t_after" in given:
+        t_max = _run_length(given.get("t_max"), given.get("t_after", OPTIONS["t_after"]), motion.t_p)
     else:
-        p = model.param_vector(values)
-    if model.nq > 1 and values.get("m", 1.0) == 0.0:
-        raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
-
-    t_max = _run_length(given.get("t_max"), given.get("t_after", OPTIONS["t_after"]), motion.t_p)
-    # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
-    T_m = damper.T_m if is_damper and damper.m > 0 and damper.k_m > 0 else math.inf
+        t_max = motion.t_p + OPTIONS["t_after"]
     defaults = default_settings(block, motion.T_g, T_m, options["rtol"], model.nq)
     dtheta_rest, energy_rest = options["dtheta_rest"], options["energy_rest"]
     settings = motion_settings(motion)
