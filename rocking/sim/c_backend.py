@@ -366,8 +366,8 @@ def simulate_settings(model: Model, p, settings: dict, record: bool = False) -> 
     """Simulate one run given as :func:`rocking.sim.problem.resolve` gives it, without a :class:`Problem`.
 
     The single-call path of :func:`rocking.simulate`: ``model``, ``p`` (the parameter vector)
-    and ``settings`` (every field of :data:`~rocking.sim.boundary.CASE`, the arrays as arrays
-    or lists of floats) must be as checked as a :class:`Problem`'s; they are not checked again.
+    and ``settings`` (every field of :data:`~rocking.sim.boundary.CASE`, the arrays as arrays,
+    lists or tuples of floats) must be as checked as a :class:`Problem`'s; they are not checked again.
     Returns and raises as :func:`simulate`.
     """
     lib = library(model)

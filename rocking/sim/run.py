@@ -53,7 +53,7 @@ def _run(model, p, settings: dict, backend: str, record: bool, problem: Problem 
             warnings.warn(f"C back end unavailable, using NumPy: {exc}", BackendWarning, stacklevel=3)
     from . import numpy_backend
 
-    return numpy_backend.simulate(problem or Problem(model=model, p=p, **settings), record=record)
+    return numpy_backend.simulate(Problem(model=model, p=p, **settings) if problem is None else problem, record=record)
 
 
 def simulate(
