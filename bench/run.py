@@ -343,10 +343,10 @@ def main(argv=None) -> int:
         n, m = st["n_map"], st["n_memory"]
         print(f"studies, {n}x{n} map (block alone + damper):")
         print(f"  1 worker      {st['map_responses_per_s_1_workers']:10.0f} responses/s   "
-              f"({st['map_cpus_1_workers']:.2f} CPUs busy)")  # fmt: skip
+              f"({st['map_cpus_1_workers']:.2f} CPUs used)")  # fmt: skip
         print(
             f"  2 workers     {st['map_responses_per_s_2_workers']:10.0f} responses/s   "
-            f"{st['map_speedup_2_vs_1']:.2f}x (target >= 1.85; {st['map_cpus_2_workers']:.2f} CPUs busy)"
+            f"{st['map_speedup_2_vs_1']:.2f}x (target >= 1.85; {st['map_cpus_2_workers']:.2f} CPUs used)"
         )
         for side in (m // 4, m):
             print(

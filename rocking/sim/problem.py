@@ -609,7 +609,7 @@ def _bodies(block: Block, damper, model: object) -> tuple[Model, tuple | np.ndar
             )
         values.update({name: 0.0 for name in model.parameters if name not in values})
     # The objects' own model takes their values, checked when they were built, without the spec's checks again.
-    p = tuple(values[k] for k in model.parameters) if objects else model.param_vector(values)
+    p = tuple([values[k] for k in model.parameters]) if objects else model.param_vector(values)
     if model.nq > 1 and values.get("m", 1.0) == 0.0:
         raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
     # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
