@@ -20,7 +20,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from rocking import Block, Damper, OneSinePulse, ParameterError, load_model
+from rocking import Block, Damper, OneSinePulse, ParameterError, load_model, simulate
 from rocking.sim import boundary, cbuild
 from rocking.sim import c_backend as cb
 from rocking.sim.cases import Cases, pulse_cases
@@ -213,6 +213,68 @@ def test_history_buffer_too_small_is_retried(monkeypatch):
     assert again.summary() == r.summary()
     assert list(again.history) == list(r.history)
     assert all(same(again.history[k], r.history[k]) for k in r.history)
+
+
+# --------------------------------------------------------------------------- #
+# One call without a Problem                                                   #
+# --------------------------------------------------------------------------- #
+
+PULSE = OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0)
+
+
+@pytest.mark.parametrize(
+    "options",
+    [
+        {"rtol": 0.5},
+        {"rtol": True},
+        {"t_max": -1.0},
+        {"t_max": 1e5},
+        {"t_after": 0.0},
+        {"dtheta_rest": 0.0},
+        {"energy_rest": -1.0},
+        {"energy_rest": float("nan")},
+        {"max_events": 0},
+        {"max_events": 2.0},
+        {"record_dt": 1e-9},
+        {"record_dt": "0.1"},
+        {"early_rest": 1},
+        {"phase0": 2},
+        {"phase0": 1},
+        {"y0": [0.1, 0.0, 0.0, 0.0]},
+        {"y0": [0.0, 0.0, 0.0]},
+        {"model": 3},
+        {"model": "pendulum"},
+    ],
+)
+def test_a_single_call_refuses_what_a_problem_refuses(options):
+    """simulate hands C the settings of the run without a Problem: it refuses what a Problem does, in the same words."""
+    with pytest.raises(ParameterError) as built:
+        make_problem(BLOCK, DAMPER, PULSE, **options)
+    with pytest.raises(ParameterError) as simulated:
+        simulate(BLOCK, DAMPER, PULSE, backend="c", **options)
+    assert str(simulated.value) == str(built.value)
+
+
+@pytest.mark.parametrize(
+    "damper, options",
+    [
+        (DAMPER, {}),
+        (None, {}),
+        (DAMPER.as_params(), {"model": "omd"}),
+        (DAMPER, {"rtol": 1e-6, "t_max": 3.0}),
+        (DAMPER, {"energy_rest": 0.0, "early_rest": False}),
+        (DAMPER, {"dtheta_rest": 0.01, "max_events": 5}),
+        (DAMPER, {"y0": [0.01, 0.0, 0.0, 0.0], "phase0": 1}),
+        (DAMPER, {"record_dt": 0.01}),
+    ],
+)
+def test_a_single_call_runs_the_problem_of_make_problem(damper, options):
+    """The settings simulate hands C are those of make_problem's Problem: the same response, bit for bit."""
+    r = simulate(BLOCK, damper, PULSE, backend="c", record=True, **options)
+    expected = cb.simulate(make_problem(BLOCK, damper, PULSE, **options), record=True)
+    assert r.summary() == expected.summary()
+    assert list(r.history) == list(expected.history)
+    assert all(same(r.history[k], expected.history[k]) for k in r.history)
 
 
 # --------------------------------------------------------------------------- #

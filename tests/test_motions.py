@@ -220,7 +220,8 @@ def test_the_c_library_refuses_a_sampled_case_without_samples():
     """sim.c's own check (Python checks first): a sampled case whose samples are missing fails, it is not read."""
     problem = make_problem(BLOCK, None, SampledMotion([0.0, 1.0, 0.0], dt=0.1))
     lib = c_backend.library(problem.model)
-    case = c_backend._case(problem)
+    keep = []
+    case = c_backend._case(problem.settings(), keep)
     case.samples = None
     result = c_backend._Result()
-    assert lib.lib.rocking_simulate(problem.p.ctypes.data_as(c_backend._dbl_p), case, result, None, None) == -1
+    assert lib.lib.rocking_simulate(problem.p.ctypes.data, case, result, None, None) == -1

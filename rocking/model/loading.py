@@ -103,6 +103,11 @@ class Model:
         return np.array(vector)
 
     @functools.cached_property
+    def own_parameters(self) -> tuple[str, ...]:
+        """The parameters of the attached bodies (a damper's): :attr:`parameters` but :attr:`block_parameters`."""
+        return tuple(k for k in self.parameters if k not in self.block_parameters)
+
+    @functools.cached_property
     def valid_ranges(self) -> dict[str, str]:
         """Valid range of each parameter as the spec states it (``"> 0"``, ``">= 0"``, ``"any"``, ...)."""
         return {p["name"]: p["valid"] for p in self.manifest["parameters"]}

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 import numbers
 from dataclasses import dataclass, replace
+from functools import cached_property
 
 import numpy as np
 
@@ -413,7 +414,8 @@ class Block:
         """Slenderness ``lambda = H / B``."""
         return self.H / self.B
 
-    @property
+    # Cached: the fields of a frozen block never change, and one simulate call reads alpha and p a dozen times.
+    @cached_property
     def alpha(self) -> float:
         """Slenderness angle ``alpha = atan(B / H)``, rad."""
         return math.atan2(self.B, self.H)
@@ -424,12 +426,12 @@ class Block:
         block in units of ``g``."""
         return self.B / self.H
 
-    @property
+    @cached_property
     def R(self) -> float:
         """Half-diagonal ``R = sqrt(B^2 + H^2) / 2``, m."""
         return math.hypot(self.B, self.H) / 2
 
-    @property
+    @cached_property
     def I_O(self) -> float:
         """``I_O = I_G + M R^2``, kg m^2.
 
@@ -439,7 +441,7 @@ class Block:
         """
         return self.I_G + self.M * self.R**2
 
-    @property
+    @cached_property
     def p(self) -> float:
         """Frequency parameter ``p = sqrt(M g R / I_O)``, rad/s.
 
@@ -722,7 +724,9 @@ class Damper:
         if self.k_m == 0.0 and quantity != "omega_m":
             raise ParameterError(f"{quantity} is undefined for k_m = 0 N/m (a free mass between stops)")
 
-    @property
+    # Cached (a frozen damper's fields never change): check_on reads omega_m twice per simulate call; a property
+    # that raises (m = 0) caches nothing.
+    @cached_property
     def omega_m(self) -> float:
         """Natural circular frequency ``omega_m = sqrt(k_m / m)``, rad/s.
 
@@ -746,7 +750,7 @@ class Damper:
         self._require_mass("T_m")
         return 2 * math.pi / self.omega_m
 
-    @property
+    @cached_property
     def zeta(self) -> float:
         """Damping ratio ``zeta = c / (2 m omega_m)``.
 

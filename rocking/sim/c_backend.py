@@ -16,8 +16,8 @@ Every call passes sim.c a stop flag of its own (``rocking_control.stop``),
 which the runs read once per step: :func:`request_stop` sets the flags of all
 the calls running in this process, which then raise :exc:`KeyboardInterrupt`
 within a few milliseconds; calls started later run normally. Called from the
-main thread, :func:`simulate` and :func:`simulate_cases` run the C code on a
-worker thread and wait for it in short slices, so that Ctrl-C stops them too.
+main thread, a C handler of SIGINT sets the flag while C runs, so that Ctrl-C
+stops them too (:func:`_stoppable`).
 """
 
 from __future__ import annotations
@@ -40,7 +40,16 @@ from .cases import Cases
 from .cbuild import CBuildError
 from .problem import RESULT_FIELDS, Problem, Response, SimulationError
 
-__all__ = ["CBuildError", "SimulationError", "available", "library", "request_stop", "simulate", "simulate_cases"]
+__all__ = [
+    "CBuildError",
+    "SimulationError",
+    "available",
+    "library",
+    "request_stop",
+    "simulate",
+    "simulate_cases",
+    "simulate_settings",
+]
 
 _dbl = ctypes.c_double
 _dbl_p = ctypes.POINTER(ctypes.c_double)
@@ -132,8 +141,13 @@ class _Library:
         lib.rocking_constants.argtypes = [_dbl_p]
         _check_library(lib, model, path)
         lib.rocking_simulate.restype = ctypes.c_int64
+        # The parameters by address, as the arrays of a case: an int, not a ctypes pointer built per call.
         lib.rocking_simulate.argtypes = [
-            _dbl_p, ctypes.POINTER(_Case), ctypes.POINTER(_Result), ctypes.POINTER(_History), ctypes.POINTER(_Control)
+            ctypes.c_void_p,
+            ctypes.POINTER(_Case),
+            ctypes.POINTER(_Result),
+            ctypes.POINTER(_History),
+            ctypes.POINTER(_Control),
         ]
         lib.rocking_sigint_catch.restype = ctypes.c_int
         lib.rocking_sigint_catch.argtypes = [ctypes.POINTER(ctypes.c_int32)]
@@ -153,10 +167,11 @@ class _Library:
         self.velocity_law = (ctypes.c_int32 * model.nq)(
             *[int(laws.get(name) == "velocity") for name in model.coordinates]
         )
+        self._velocity_law = ctypes.cast(self.velocity_law, _i32_p)  # cast once: a cast costs microseconds
 
     def control(self, stop: ctypes.c_int32) -> _Control:
         """The ``rocking_control`` of one call with the stop flag ``stop``."""
-        return _Control(ctypes.pointer(stop), ctypes.cast(self.velocity_law, _i32_p))
+        return _Control(ctypes.pointer(stop), self._velocity_law)
 
 
 _LIBRARIES: dict[tuple[Path, str], _Library] = {}
@@ -270,16 +285,35 @@ def _stoppable(call, lib):
 # --------------------------------------------------------------------------- #
 
 
-#: The fields of ``rocking_case`` in order, and whether each is an array (passed by its address).
-_CASE_FIELDS = tuple((f.name, f.kind in (DOUBLES, SERIES)) for f in CASE)
+#: The fields of ``rocking_case`` in order, and the positions of the arrays among them (passed by their address).
+_CASE_NAMES = tuple(f.name for f in CASE)
+_CASE_ARRAYS = tuple(i for i, f in enumerate(CASE) if f.kind in (DOUBLES, SERIES))
 
 
-def _case(problem: Problem) -> _Case:
-    """``problem``'s settings as a ``rocking_case`` (its arrays stay owned by ``problem``)."""
-    values = []
-    for name, array in _CASE_FIELDS:
-        value = getattr(problem, name)
-        values.append((None if value is None else value.ctypes.data) if array else value)
+def _address(values, keep: list) -> int | None:
+    """The address of ``values`` as C doubles (``None``: NULL); a copy it needs is appended to ``keep``.
+
+    An array's own values when they are C-contiguous doubles (``__array_interface__`` is cheaper than
+    ``ndarray.ctypes``), else a copy; a list's or tuple's in a C array.
+    """
+    if values is None:
+        return None
+    if isinstance(values, (list, tuple)):
+        keep.append((ctypes.c_double * len(values))(*values))
+        return ctypes.addressof(keep[-1])
+    array = np.ascontiguousarray(values, dtype=np.float64)
+    keep.append(array)
+    return array.__array_interface__["data"][0]
+
+
+def _case(settings: dict, keep: list) -> _Case:
+    """``settings`` (every field of :data:`~rocking.sim.boundary.CASE` by name) as a ``rocking_case``.
+
+    Its arrays stay owned by ``settings`` or by ``keep``, which the caller holds during the run.
+    """
+    values = [settings[name] for name in _CASE_NAMES]
+    for i in _CASE_ARRAYS:
+        values[i] = _address(values[i], keep)
     return _Case(*values)
 
 
@@ -287,12 +321,13 @@ def _failed(where: str) -> SimulationError:
     return SimulationError(f"the C integrator failed {where}: step size underflow (non-finite state?)")
 
 
-def _history_capacity(problem: Problem) -> int:
+def _history_capacity(settings: dict) -> int:
     """First guess of a history's length: the samples plus room for a few hundred events.
 
     A longer history is not lost: the run is repeated with buffers of the size it reported.
     """
-    samples = problem.t_max / problem.record_dt if problem.record_dt > 0 else 0.0
+    t_max, record_dt = settings["t_max"], settings["record_dt"]
+    samples = t_max / record_dt if record_dt > 0 else 0.0
     return int(min(samples, 1 << 16)) + 512
 
 
@@ -324,16 +359,29 @@ def simulate(problem: Problem, record: bool = False) -> Response:
     KeyboardInterrupt
         If :func:`request_stop` (or Ctrl-C in the main thread) stopped it.
     """
-    lib = library(problem.model)
-    case = _case(problem)
+    return simulate_settings(problem.model, problem.p, problem.settings(), record)
+
+
+def simulate_settings(model: Model, p, settings: dict, record: bool = False) -> Response:
+    """Simulate one run given as :func:`rocking.sim.problem.resolve` gives it, without a :class:`Problem`.
+
+    The single-call path of :func:`rocking.simulate`: ``model``, ``p`` (the parameter vector)
+    and ``settings`` (every field of :data:`~rocking.sim.boundary.CASE`, the arrays as arrays,
+    lists or tuples of floats) must be as checked as a :class:`Problem`'s; they are not checked again.
+    Returns and raises as :func:`simulate`.
+    """
+    lib = library(model)
+    keep: list = []
+    case = _case(settings, keep)
+    params = _address(p, keep)
     result = _Result()
-    capacity = _history_capacity(problem) if record else 0
+    capacity = _history_capacity(settings) if record else 0
     while True:
         buffers = _history_buffers(capacity, lib.ny) if record else None
 
         def call(stop, buffers=buffers):
             return lib.lib.rocking_simulate(
-                problem.p.ctypes.data_as(_dbl_p),
+                params,
                 ctypes.byref(case),
                 ctypes.byref(result),
                 ctypes.byref(_history(buffers)) if record else None,
@@ -343,14 +391,16 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         n = _stoppable(call, lib.lib)
         if result.status == boundary.STOPPED.value:
             raise KeyboardInterrupt("rocking.sim.c_backend.request_stop() stopped the run")
-        if n < 0:  # Problem checked the initial state: the two checks disagree
-            raise SimulationError(f"sim.c refused the initial state y0 = {problem.y0}, phase0 = {problem.phase0}")
+        if n < 0:  # the initial state was checked in Python: the two checks disagree
+            raise SimulationError(
+                f"sim.c refused the initial state y0 = {settings['y0']}, phase0 = {settings['phase0']}"
+            )
         if n <= capacity:
             break
         capacity = int(n)  # the run is deterministic: the same run again, with room for all of it
     if result.status == boundary.FAILED.value:
         raise _failed(f"at t = {result.t_end:.17g}")
-    return Response.from_record(result, _history_arrays(buffers, n, problem.model.state) if record else None)
+    return Response.from_record(result, _history_arrays(buffers, n, model.state) if record else None)
 
 
 def _history_buffers(capacity: int, ny: int) -> dict[str, np.ndarray]:

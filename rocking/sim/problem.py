@@ -10,6 +10,9 @@ rocking angle ``theta`` first.
 
 from __future__ import annotations
 
+import functools
+import inspect
+import math
 import numbers
 import os
 from collections.abc import Mapping
@@ -235,11 +238,14 @@ def _summary(self) -> dict:
     return out
 
 
+#: Each result's name and the function from its C number to its Python value, in the order of RESULT.
+_RESULT_VALUES = tuple((f.name, (lambda code: STATUS[int(code)]) if f.name == "status" else _python(f)) for f in RESULT)
+
+
 def _from_record(cls, record, history: dict | None = None):
     """A response from a C ``rocking_result`` (or a row of a NumPy record array) and a history."""
-    values = {f.name: getattr(record, f.name) if hasattr(record, f.name) else record[f.name] for f in RESULT}
-    values["status"] = STATUS[int(values["status"])]
-    return cls(**{f.name: _python(f)(values[f.name]) for f in RESULT}, history=history)
+    get = record.__getitem__ if isinstance(record, np.void) else record.__getattribute__
+    return cls(*[value(get(name)) for name, value in _RESULT_VALUES], history=history)
 
 
 Response = make_dataclass(
@@ -276,15 +282,20 @@ def default_settings(block: Block, T_g, T_m, rtol: float, nq: int) -> dict:
     """Tolerances, contact step and rest thresholds of a run; broadcasts over ``T_g``, ``T_m``.
 
     ``T_m`` is ``inf`` without a damper. Returned keys: ``atol`` (shape
-    ``(..., 2 nq)``), ``contact_max_step``, ``dtheta_rest``, ``energy_rest``.
+    ``(..., 2 nq)``; a list of floats for one run), ``contact_max_step``, ``dtheta_rest``, ``energy_rest``.
     """
-    shortest = np.minimum(np.minimum(T_g, 2 * np.pi / block.p), T_m)
-    scale = np.array([block.alpha] * nq + [block.alpha * block.p] * nq)
-    shape = np.shape(shortest)
+    alpha, p = block.alpha, block.p
+    scale = [alpha] * nq + [alpha * p] * nq
+    if type(T_g) is float and type(T_m) is float:  # one run: the same numbers without NumPy's cost per call
+        shortest, atol = min(T_g, 2 * math.pi / p, T_m), [rtol * x for x in scale]
+    else:
+        shortest = np.minimum(np.minimum(T_g, 2 * np.pi / p), T_m)
+        shape = np.shape(shortest)
+        atol = rtol * (np.broadcast_to(scale, shape + (len(scale),)) if shape else np.array(scale))
     return {
-        "atol": rtol * (np.broadcast_to(scale, shape + scale.shape) if shape else scale),
+        "atol": atol,
         "contact_max_step": shortest / CONTACT_STEPS_PER_PERIOD,
-        "dtheta_rest": DTHETA_REST * block.alpha * block.p,
+        "dtheta_rest": DTHETA_REST * alpha * p,
         "energy_rest": ENERGY_REST * block.M * block.g * block.B / 2,
     }
 
@@ -349,7 +360,8 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
     the block. The values are real numbers (bool and str refused) within the model's
     ranges; those of the ``omd`` and ``omd_stops`` models (a :class:`Damper`'s, with its
     :class:`Stops`) must also pass :meth:`Damper.check_on` (that of ``damper``, the object
-    ``values`` came from, if given: its stops may allow a guide beyond the block's edges);
+    ``values`` came from, if given: its stops may allow a guide beyond the block's edges, and
+    its values, checked when it was built, are not checked again);
     a mass of another model (unit kg) has the mass ratio range of ``gamma``, a length
     (unit m) the range of ``h`` in absolute value.
 
@@ -358,23 +370,13 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
     ParameterError
         Naming the parameters set by the block, unknown, missing or out of range.
     """
-    own = [k for k in model.parameters if k not in model.block_parameters]
-    by_block = sorted(str(k) for k in values if k in model.block_parameters)
-    if by_block:
-        raise ParameterError(f"damper: {', '.join(by_block)} set by the block, not by the damper")
-    unknown = sorted(str(k) for k in values if k not in own)
-    if unknown:
-        raise ParameterError(
-            f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; give "
-            f"{', '.join(own) or 'none'} (the block sets {', '.join(model.block_parameters)})"
-        )
-    missing = [k for k in own if k not in values]
-    if missing:
-        raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
-    checked = {k: check_real(k, values[k]) for k in own}
-    if damper is not None:
+    own = model.own_parameters
+    if values.keys() != set(own):
+        _refuse_names(model, values, own)
+    if damper is not None:  # its values were checked when it was built: only against the block now
         damper.check_on(block)
-        return checked
+        return {k: values[k] for k in own}
+    checked = {k: check_real(k, values[k]) for k in own}
     if set(own) == set(DAMPER_PARAMETERS):
         Damper(**checked).check_on(block)
         return checked
@@ -390,6 +392,21 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
     except ModelError as exc:
         raise ParameterError(str(exc)) from None
     return checked
+
+
+def _refuse_names(model: Model, values: Mapping, own: tuple[str, ...]) -> None:
+    """Raise the error of :func:`own_parameters` for keys of ``values`` other than ``own``."""
+    by_block = sorted(str(k) for k in values if k in model.block_parameters)
+    if by_block:
+        raise ParameterError(f"damper: {', '.join(by_block)} set by the block, not by the damper")
+    unknown = sorted(str(k) for k in values if k not in own)
+    if unknown:
+        raise ParameterError(
+            f"model {model.name!r} has no parameter(s) {', '.join(unknown)} of its own; give "
+            f"{', '.join(own) or 'none'} (the block sets {', '.join(model.block_parameters)})"
+        )
+    missing = [k for k in own if k not in values]
+    raise ParameterError(f"model {model.name!r} needs parameter(s) {', '.join(missing)}")
 
 
 #: Magnitude of a parameter of another unit than kg or m: far from overflow in any product of two.
@@ -533,51 +550,140 @@ def make_problem(
         Phase at ``t = 0``: 0 (full contact), +1 or -1 (rocking about ``A``
         or ``A'``); the rule is docs/simulation.md, "Initial state".
     """
-    check_block(block)
-    motion = describe(pulse)
-    rtol = float(boundary.check("rtol", check_real("rtol", rtol)))
-    dtheta_rest, energy_rest = _optional_real("dtheta_rest", dtheta_rest), _optional_real("energy_rest", energy_rest)
-    max_events, early_rest = check_integer("max_events", max_events), check_flag("early_rest", early_rest)
-    early_verdict = check_flag("early_verdict", early_verdict)
-    if not isinstance(phase0, numbers.Integral) or isinstance(phase0, (bool, np.bool_)):
-        raise ParameterError(f"phase0 must be -1, 0 or +1 (got {phase0!r})")
+    options = {"model": model, "rtol": rtol, "t_max": t_max, "t_after": t_after, "dtheta_rest": dtheta_rest,
+               "energy_rest": energy_rest, "max_events": max_events, "record_dt": record_dt,
+               "early_rest": early_rest, "early_verdict": early_verdict, "y0": y0, "phase0": phase0}  # fmt: skip
+    model, p, settings = resolve(block, damper, pulse, options)
+    return Problem(model=model, p=p, **settings)
+
+
+def _check_phase0(value: object) -> int:
+    if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)):
+        raise ParameterError(f"phase0 must be -1, 0 or +1 (got {value!r})")
+    return int(value)
+
+
+def _check_rtol(value: object) -> float:
+    return float(boundary.check("rtol", check_real("rtol", value)))
+
+
+#: The options of :func:`make_problem` with their defaults, and the check of each when a caller gives it
+#: (in the order a call checks them; ``model``, ``t_max``, ``t_after``, ``y0`` need the run, see :func:`resolve`).
+OPTIONS = {
+    name: parameter.default
+    for name, parameter in inspect.signature(make_problem).parameters.items()
+    if parameter.kind is inspect.Parameter.KEYWORD_ONLY
+}
+_OPTION_CHECKS = {
+    "rtol": _check_rtol,
+    "dtheta_rest": functools.partial(_optional_real, "dtheta_rest"),
+    "energy_rest": functools.partial(_optional_real, "energy_rest"),
+    "max_events": functools.partial(check_integer, "max_events"),
+    "early_rest": functools.partial(check_flag, "early_rest"),
+    "early_verdict": functools.partial(check_flag, "early_verdict"),
+    "phase0": _check_phase0,
+}
+#: The options that are fields of :data:`~rocking.sim.boundary.CASE`: when given, checked by the table as a
+#: :class:`Problem` checks them (in the table's order); the fields a run derives from checked objects are not.
+_CASE_OPTIONS = tuple(f.name for f in CASE if f.name in OPTIONS and f.valid is not None)
+
+
+def _bodies(block: Block, damper, model: object) -> tuple[Model, tuple | np.ndarray, float]:
+    """The model, parameter vector and damper period (``inf``: none) of ``damper`` on ``block``, checked.
+
+    The last block and :class:`Damper` (or ``None``) of a call without a ``model`` are remembered, by
+    identity: a loop over pulses does not check the same frozen objects against each other again.
+    """
+    global _LAST_BODIES
+    objects = model is None and (damper is None or type(damper) is Damper)
+    if objects:
+        last_block, last_damper, bodies = _LAST_BODIES
+        if last_block is block and last_damper is damper:
+            return bodies
     own = _damper_mapping(damper)
-    model = resolve_model(model, damper.model if isinstance(damper, Damper) else "omd" if own else "block")
-    values = dict(block.as_params())
+    is_damper = isinstance(damper, Damper)
+    model = resolve_model(model, damper.model if is_damper else "omd" if own else "block")
+    values = block.as_params()
     if own is not None:
-        values.update(own_parameters(model, own, block, damper if isinstance(damper, Damper) else None))
+        values.update(own_parameters(model, own, block, damper if is_damper else None))
     elif model.nq > 1:
         # Zeros for the bodies' parameters would be massless bodies on springs (a degenerate mode), except
         # on omd where m = 0 is refused below with its own message.
-        if {k for k in model.parameters if k not in model.block_parameters} != set(DAMPER_PARAMETERS):
+        if set(model.own_parameters) != set(DAMPER_PARAMETERS):
             raise ParameterError(
                 f"damper=None is the bare block (model 'block'); model {model.name!r} needs its own "
                 f"parameters as a damper mapping ({', '.join(k for k in model.parameters if k not in values)})"
             )
         values.update({name: 0.0 for name in model.parameters if name not in values})
-    p = model.param_vector(values)
+    # The objects' own model takes their values, checked when they were built, without the spec's checks again.
+    p = tuple([values[k] for k in model.parameters]) if objects else model.param_vector(values)
     if model.nq > 1 and values.get("m", 1.0) == 0.0:
         raise ParameterError("a damper with m = 0 kg has no dynamics: pass damper=None for the bare block")
-
-    t_p = motion.t_p
-    t_max = _run_length(t_max, t_after, t_p)
     # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
-    T_m = damper.T_m if isinstance(damper, Damper) and damper.m > 0 and damper.k_m > 0 else np.inf
-    defaults = default_settings(block, motion.T_g, T_m, rtol, model.nq)
-    return Problem(
-        model=model,
-        p=p,
-        **motion_settings(motion),
+    T_m = damper.T_m if is_damper and damper.m > 0 and damper.k_m > 0 else math.inf
+    if objects:
+        _LAST_BODIES = (block, damper, (model, p, T_m))
+    return model, p, T_m
+
+
+_LAST_BODIES: tuple = (None, None, None)
+
+
+def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple | np.ndarray, dict]:
+    """The model, parameter vector and settings (every field of :data:`~rocking.sim.boundary.CASE`) of a run.
+
+    What :func:`make_problem` does before it builds the :class:`Problem`, and what
+    :func:`rocking.simulate` hands the C back end directly. ``block``, ``damper`` and ``pulse``
+    were checked when they were built: here only the damper against its block (and a mapping's
+    values against its model); of the options (:data:`OPTIONS`), only those in ``given`` are
+    checked, the defaults being valid. The arguments are those of :func:`make_problem`, with the
+    options in ``given`` (only names of :data:`OPTIONS`).
+
+    Returns
+    -------
+    tuple
+        ``(model, p, settings)``: the :class:`Model`; the parameters in its order (a tuple of
+        floats for a :class:`Block` and :class:`Damper` on their own model, else an ndarray);
+        every field of ``CASE`` by name (``atol`` a list of floats, the motion's arrays as
+        :func:`motion_settings` gives them).
+
+    Raises
+    ------
+    ParameterError
+        The messages of :func:`make_problem`.
+    """
+    check_block(block)
+    motion = describe(pulse)
+    options = dict(OPTIONS)
+    for name, check in _OPTION_CHECKS.items() if given else ():
+        if name in given:
+            options[name] = check(given[name])
+    model, p, T_m = _bodies(block, damper, given.get("model"))
+    if "t_max" in given or "t_after" in given:
+        t_max = _run_length(given.get("t_max"), given.get("t_after", OPTIONS["t_after"]), motion.t_p)
+    else:
+        t_max = motion.t_p + OPTIONS["t_after"]
+    defaults = default_settings(block, motion.T_g, T_m, options["rtol"], model.nq)
+    dtheta_rest, energy_rest = options["dtheta_rest"], options["energy_rest"]
+    settings = motion_settings(motion)
+    settings.update(
         t_max=t_max,
-        rtol=rtol,
+        rtol=options["rtol"],
         atol=defaults["atol"],
-        contact_max_step=float(defaults["contact_max_step"]),
+        contact_max_step=defaults["contact_max_step"],
         dtheta_rest=defaults["dtheta_rest"] if dtheta_rest is None else _dtheta_rest(dtheta_rest, block),
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
-        max_events=max_events,
-        record_dt=_record_dt(record_dt, t_max, min(motion.T_g, 2 * np.pi / block.p) / 100),
-        early_rest=early_rest,
-        early_verdict=early_verdict,
-        y0=y0,
-        phase0=int(phase0),
+        max_events=options["max_events"],
+        max_steps=boundary.MAX_STEPS_DEFAULT,
+        record_dt=_record_dt(given.get("record_dt"), t_max, min(motion.T_g, 2 * math.pi / block.p) / 100),
+        y0=None,
+        phase0=options["phase0"],
+        early_rest=options["early_rest"],
+        early_verdict=options["early_verdict"],
     )
+    for name in _CASE_OPTIONS if given else ():
+        if name in given:
+            boundary.check(name, settings[name])
+    if "y0" in given or "phase0" in given:
+        settings["y0"] = _initial_state(model, given.get("y0"), settings["phase0"])
+    return model, p, settings

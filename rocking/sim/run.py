@@ -2,16 +2,17 @@
 
 from __future__ import annotations
 
-import inspect
 import warnings
 
 from ..model.params import ParameterError
-from .problem import Problem, Response, check_flag, make_problem
+from . import c_backend
+from .cbuild import CBuildError
+from .problem import OPTIONS, Problem, Response, check_flag, resolve
 
 BACKENDS = ("auto", "c", "numpy")
 
 #: The options of :func:`simulate` passed on to :func:`~rocking.sim.problem.make_problem`.
-SETTINGS = tuple(inspect.signature(make_problem).parameters)[3:]
+SETTINGS = tuple(OPTIONS)
 
 
 def _check_backend(backend: object) -> str:
@@ -34,19 +35,25 @@ def run(problem: Problem, backend: str = "auto", record: bool = False) -> Respon
     if not isinstance(problem, Problem):
         raise ParameterError(f"problem must be a rocking.sim.problem.Problem (got {type(problem).__name__})")
     record = check_flag("record", record)
-    if backend != "numpy":
-        from . import c_backend
-        from .cbuild import CBuildError
+    return _run(problem.model, problem.p, problem.settings(), backend, record, problem)
 
+
+def _run(model, p, settings: dict, backend: str, record: bool, problem: Problem | None = None) -> Response:
+    """The run of :func:`~rocking.sim.problem.resolve`'s ``(model, p, settings)`` on ``backend``.
+
+    The C back end takes them as they are; the NumPy back end takes ``problem``, built from them
+    (and so checked again) when not given.
+    """
+    if backend != "numpy":
         try:
-            return c_backend.simulate(problem, record=record)
+            return c_backend.simulate_settings(model, p, settings, record=record)
         except CBuildError as exc:
             if backend == "c":
                 raise
             warnings.warn(f"C back end unavailable, using NumPy: {exc}", BackendWarning, stacklevel=3)
     from . import numpy_backend
 
-    return numpy_backend.simulate(problem, record=record)
+    return numpy_backend.simulate(Problem(model=model, p=p, **settings) if problem is None else problem, record=record)
 
 
 def simulate(
@@ -121,12 +128,20 @@ def simulate(
     >>> abs(r.theta_max - with_damper.theta_max) < 1e-6 * block.alpha
     True
     """
-    # Checked before the problem is built: a bad option is refused before any work.
+    # Checked before the run is resolved: a bad option is refused before any work.
     _check_backend(backend)
     record = check_flag("record", record)
-    unknown = sorted(set(settings) - set(SETTINGS))
-    if unknown:
+    if settings and settings.keys() - OPTIONS.keys():
+        unknown = sorted(map(str, settings.keys() - OPTIONS.keys()))
         known = ", ".join(name for name in SETTINGS if name not in ("rtol", "t_max"))
-        raise ParameterError(f"simulate: unknown option(s) {', '.join(map(str, unknown))}; known: {known}")
-    problem = make_problem(block, damper, pulse, rtol=rtol, t_max=t_max, **settings)
-    return run(problem, backend=backend, record=record)
+        raise ParameterError(f"simulate: unknown option(s) {', '.join(unknown)}; known: {known}")
+    # Only the options given are checked (the defaults are valid): rtol and t_max, named here, when not the defaults.
+    if type(rtol) is not float or rtol != _RTOL:
+        settings["rtol"] = rtol
+    if t_max is not None:
+        settings["t_max"] = t_max
+    model, p, case = resolve(block, damper, pulse, settings)
+    return _run(model, p, case, backend, record)
+
+
+_RTOL = OPTIONS["rtol"]

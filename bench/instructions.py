@@ -1,0 +1,101 @@
+"""Instructions per response of the bench map under callgrind: a figure the machine's load does not change.
+
+The map of `make bench` (bench/run.py ``map_cases``: 50 x 50, Omega and beta in [1, 10], the
+reference block and damper, rtol = 1e-8) runs on the C batch entry point, one thread, under
+``valgrind --tool=callgrind``, which counts the instructions executed inside sim.c's
+``simulate_one`` only (``--collect-atstart=no --toggle-collect=simulate_one``: not Python, not the
+set-up of the cases, not the build). Printed as one line::
+
+    python bench/instructions.py            # the whole map: about a minute
+    python bench/instructions.py -n 20      # a 20 x 20 map
+
+A change to sim.c or to the generated model is judged by the change of this figure on a busy
+machine, where times vary by tens of percent from one run to the next.
+"""
+
+from __future__ import annotations
+
+import argparse
+import os
+import re
+import shutil
+import subprocess
+import sys
+import tempfile
+
+sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
+
+from run import map_cases  # noqa: E402
+
+from rocking.sim.cases import run_cases  # noqa: E402
+
+#: The C function whose instructions are counted (with its callees): sim.c's one run, which the batch entry
+#: point calls per case. callgrind does not see the exported ``rocking_simulate_batch`` entered from libffi.
+ENTRY = "simulate_one"
+
+
+def run_map(n: int) -> int:
+    """Run the ``n x n`` bench map on the C batch, one thread; the number of responses."""
+    cases = map_cases(n)[-1]
+    run_cases(cases, "c", 1)
+    return len(cases)
+
+
+def measure(n: int) -> dict | None:
+    """The instructions per response of the ``n x n`` bench map under callgrind; ``None`` without valgrind.
+
+    Raises
+    ------
+    RuntimeError
+        If valgrind fails or reports no instructions inside :data:`ENTRY` (a build that inlined it).
+    """
+    valgrind = shutil.which("valgrind")
+    if valgrind is None:
+        return None
+    run_cases(map_cases(1)[-1], "c", 1)  # the library built and cached outside valgrind
+    with tempfile.TemporaryDirectory() as tmp:
+        command = [
+            valgrind,
+            "--tool=callgrind",
+            "--collect-atstart=no",
+            f"--toggle-collect={ENTRY}",
+            f"--callgrind-out-file={tmp}/callgrind.out",
+            sys.executable,
+            os.path.abspath(__file__),
+            "--inside",
+            "-n",
+            str(n),
+        ]
+        done = subprocess.run(command, capture_output=True, text=True)
+    collected = re.search(r"Collected : (\d+)", done.stderr)
+    responses = re.search(r"^responses (\d+)$", done.stdout, re.M)
+    if done.returncode != 0 or not (collected and responses) or int(collected.group(1)) == 0:
+        raise RuntimeError(f"callgrind run failed ({done.returncode}): {done.stderr.strip()[-500:]}")
+    count = int(responses.group(1))
+    return {"responses": count, "instructions_per_response": int(collected.group(1)) / count, "entry": ENTRY}
+
+
+def line(result: dict | None) -> str:
+    """The line `make bench` prints."""
+    if result is None:
+        return "bench map: instructions per response skipped (valgrind not found; apt-get install valgrind)"
+    return (
+        f"bench map: {result['instructions_per_response']:,.0f} instructions per response "
+        f"(callgrind, {result['responses']:,} responses, {result['entry']})"
+    )
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("-n", type=int, default=50, help="grid size per axis (default 50, the bench map)")
+    parser.add_argument("--inside", action="store_true", help=argparse.SUPPRESS)  # the run callgrind watches
+    args = parser.parse_args(argv)
+    if args.inside:
+        print(f"responses {run_map(args.n)}")
+        return 0
+    print(line(measure(args.n)))
+    return 0
+
+
+if __name__ == "__main__":
+    raise SystemExit(main())
