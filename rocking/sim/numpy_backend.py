@@ -173,10 +173,16 @@ class _System:
             y[1] = x
         return y
 
+    def _least(self, name: str, s: float, y: np.ndarray, params=None) -> float:
+        """A generated least potential. Both branches of its ``Piecewise`` are evaluated: the one not
+        taken may divide 0 by 0 where a stiffness is 0, and is not read."""
+        with np.errstate(divide="ignore", invalid="ignore"):
+            return float(self._call(name, s, y, 0.0, params=params))
+
     def least_at_tilt(self, theta_m: float) -> float:
         """The least potential at ``|theta| = theta_m`` about either pivot (generated ``least_potential``)."""
-        a = float(self._call("least_potential", 1.0, self._at(theta_m), 0.0))
-        b = float(self._call("least_potential", -1.0, self._at(-theta_m), 0.0))
+        a = self._least("least_potential", 1.0, self._at(theta_m))
+        b = self._least("least_potential", -1.0, self._at(-theta_m))
         return _lower(a, b)
 
     def least_on_arcs(self, theta_m: float, x_m: float) -> float:
@@ -194,10 +200,10 @@ class _System:
         for s in (1.0, -1.0):
             for x in (x_m, -x_m):
                 for i in range(n + 1):
-                    least = _lower(least, float(self._call("least_stroke_potential", s, self._at(s * w * i, x), 0.0)))
+                    least = _lower(least, self._least("least_stroke_potential", s, self._at(s * w * i, x)))
                 for i in range(n):
                     y = self._at(s * w * (i + 0.5), x)
-                    least = _lower(least, float(self._call("least_stroke_potential", s, y, 0.0, params=outer)))
+                    least = _lower(least, self._least("least_stroke_potential", s, y, outer))
         return least
 
     def stops_out_of_reach(self, x_m: float) -> bool:
