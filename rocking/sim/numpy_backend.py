@@ -25,7 +25,7 @@ the same; the state of a run lives in :class:`_Run`, sim.c's ``struct run``:
 - :func:`uplift_at_start`: ``uplift_at_start``;
 - :func:`end_at_start`: the ``t >= t_p`` checks of that block;
 - :func:`verdict_final`: ``verdict_final``; ``_System.verdict_bound``: ``verdict_bound``
-  (with ``least_at_tilt``, ``least_on_arcs`` and ``stops_out_of_reach``);
+  (with ``least_at_tilt``, ``least_on_arcs``, ``stops_out_of_reach`` and ``least_at_bumpers``);
 - :func:`settled_at_once`: ``settled_at_once``;
 - :func:`run_segment`: ``run_segment``;
 - :func:`integrate_segment`: ``run_segment``'s loop of ``dopri_step`` and
@@ -210,19 +210,32 @@ class _System:
         """No bumper can act while ``|q[1]| <= x_m``: every gap (affine in ``q[1]`` alone) is <= 0 at both ends."""
         return all(self.stop_gap(i, self._at(0.0, x)) <= 0.0 for x in (x_m, -x_m) for i in range(self.n_stops))
 
+    def least_at_bumpers(self, theta_m: float) -> float:
+        """The least potential where a stop side's gap closes, over the tilts ``|theta| <= theta_m``.
+
+        A mass inside every gap with less energy can never reach a bumper. Each gap is affine in ``q[1]``
+        alone (derive checks it): its root from its values at ``q[1] = 0`` and 1.
+        """
+        least = math.inf
+        for i in range(self.n_stops):
+            at0, at1 = self.stop_gap(i, self._at(0.0, 0.0)), self.stop_gap(i, self._at(0.0, 1.0))
+            least = _lower(least, self.least_on_arcs(theta_m, abs(at0 / (at0 - at1))))
+        return least
+
     def verdict_bound(self, theta_m: float, x_m: float) -> float:
-        """The energy above rest below which ``|theta|`` can no longer reach ``theta_m`` nor ``|q[1]|`` ``x_m``.
+        """The energy above rest below which ``|theta|`` can no longer reach ``theta_m``, ``|q[1]|`` ``x_m``,
+        nor, where ``x_m`` is past a bumper's gap, the mass that gap.
 
         The least potential there less ``E(0)`` and the margin; ``-inf`` when no bound applies (rule 4).
         """
         least = self.least_at_tilt(theta_m)
         if self.n > 1:
             least = _lower(least, self.least_on_arcs(theta_m, x_m))
+            if not self.stops_out_of_reach(x_m):
+                least = _lower(least, self.least_at_bumpers(theta_m))
         zero = self.energy_at_rest
         bound = least - zero - SAFE_MARGIN * (abs(least) + abs(zero))
-        if math.isnan(bound) or not self.stops_out_of_reach(x_m):
-            return -math.inf
-        return bound
+        return -math.inf if math.isnan(bound) else bound
 
     def ground(self, pulse_on: bool, t0: float) -> Callable[[float], float]:
         """Ground acceleration of the segment that starts at ``t0``.
@@ -983,9 +996,10 @@ def settled_at_once(run: _Run) -> bool:
 def verdict_final(run: _Run) -> bool:
     """After the pulse, the energy can no longer carry ``|theta|`` or ``|q[1]|`` to their maxima (rule 4).
 
-    The verdict, the maxima and ``t_critical`` are then final. The bound is kept until a maximum grows.
+    The verdict, the maxima, ``t_critical`` and the bumpers' results are then final (no bumper may act now).
+    The bound is kept until a maximum grows.
     """
-    if not (run.verdict and run.t >= run.problem.t_p):
+    if not (run.verdict and run.t >= run.problem.t_p and not any(run.stop_on)):
         return False
     at = (run.tally.theta_max, run.tally.x_max)
     if at != run.bound_at:

@@ -1179,6 +1179,7 @@ static double least_on_arcs(const run *r, double theta_m, double x_m)
 }
 #endif
 
+#if NQ > 1
 /* No bumper can act while |q[1]| <= x_m: every gap (affine in q[1] alone,
  * derive checks it) is <= 0 at both ends. */
 static int stops_out_of_reach(const run *r, double x_m)
@@ -1200,9 +1201,32 @@ static int stops_out_of_reach(const run *r, double x_m)
     return 1;
 }
 
-/* The energy above rest below which |theta| can no longer reach theta_max nor
- * |q[1]| x_max (rule 4): the least potential there less E(0), less the margin;
- * -inf when none applies. Kept until a maximum grows. */
+/* The least potential where a stop side's gap closes, over the tilts |theta| <= theta_m: a mass
+ * inside every gap with less energy can never reach a bumper. Each gap is affine in q[1] alone
+ * (derive checks it): its root from its values at q[1] = 0 and 1. */
+static double least_at_bumpers(const run *r, double theta_m)
+{
+    double least = INFINITY;
+#if MODEL_NSTOPS > 0
+    double y[NY] = {0.0}, at0[MODEL_NSTOPS], at1[MODEL_NSTOPS];
+    int i;
+    model_stop_gaps_prepared(y, 0.0, about(r->k, 1.0), at0);
+    y[1] = 1.0;
+    model_stop_gaps_prepared(y, 0.0, about(r->k, 1.0), at1);
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        least = lower(least, least_on_arcs(r, theta_m, fabs(at0[i] / (at0[i] - at1[i]))));
+#else
+    (void)r;
+    (void)theta_m;
+#endif
+    return least;
+}
+#endif
+
+/* The energy above rest below which |theta| can no longer reach theta_max,
+ * |q[1]| x_max, nor, where x_max is past a bumper's gap, the mass that gap
+ * (rule 4): the least potential there less E(0), less the margin; -inf when
+ * none applies. Kept until a maximum grows. */
 static double verdict_bound(run *r)
 {
     const double theta_m = r->res->theta_max, x_m = r->res->x_max;
@@ -1215,18 +1239,30 @@ static double verdict_bound(run *r)
     least = least_at_tilt(r, theta_m);
 #if NQ > 1
     least = lower(least, least_on_arcs(r, theta_m, x_m));
+    if (!stops_out_of_reach(r, x_m))
+        least = lower(least, least_at_bumpers(r, theta_m));
 #endif
     r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
-    if (isnan(r->bound) || !stops_out_of_reach(r, x_m))
+    if (isnan(r->bound))
         r->bound = -INFINITY;
     return r->bound;
+}
+
+/* No bumper acts now: the mass is inside every gap. */
+static int bumpers_clear(const run *r)
+{
+    int i;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        if (r->k->stop_on[i])
+            return 0;
+    return 1;
 }
 
 /* After the pulse, the energy can no longer carry |theta| or |q[1]| to their
  * maxima: the verdict, the maxima and t_critical are final (rule 4). */
 static int verdict_final(run *r)
 {
-    return r->verdict && r->t >= r->c->t_p && energy_above_rest(r) < verdict_bound(r);
+    return r->verdict && r->t >= r->c->t_p && bumpers_clear(r) && energy_above_rest(r) < verdict_bound(r);
 }
 
 static int events_exhausted(const run *r)
