@@ -153,7 +153,7 @@ def map_figure(study: Study) -> Figure:
     _classes(axes[2], a["Omega"], a["beta"], np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
     s = study.summary
     axes[2].set_title(
-        f"effect of the damper: {s.get('saved', 0)} cells saved ({int(past.sum())} only past the edge"
+        f"effect of the damper: {s.get('saved', 0)} cells saved\n({int(past.sum())} only past the edge"
         + (f", {int(unknown.sum())} of unknown stroke" if unknown.any() else "")
         + f"), {s.get('lost', 0)} lost",
         fontsize=9,
