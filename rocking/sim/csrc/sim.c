@@ -1249,7 +1249,7 @@ static double verdict_bound(run *r)
 }
 
 /* No bumper acts now: the mass is inside every gap. */
-static int bumpers_clear(const run *r)
+static int stops_clear(const run *r)
 {
     int i;
     for (i = 0; i < MODEL_NSTOPS; ++i)
@@ -1262,7 +1262,7 @@ static int bumpers_clear(const run *r)
  * maxima: the verdict, the maxima and t_critical are final (rule 4). */
 static int verdict_final(run *r)
 {
-    return r->verdict && r->t >= r->c->t_p && bumpers_clear(r) && energy_above_rest(r) < verdict_bound(r);
+    return r->verdict && r->t >= r->c->t_p && stops_clear(r) && energy_above_rest(r) < verdict_bound(r);
 }
 
 static int events_exhausted(const run *r)
