@@ -538,3 +538,17 @@ def test_the_stop_flag_changes_no_result():
     via = cb.simulate_cases(cases, threads=1)
     for name in RESULT_FIELDS:
         assert same(direct[name].astype(RESULT_FIELDS[name]), via[name])
+
+
+def test_the_remembered_bodies_follow_the_working_directory(tmp_path, monkeypatch):
+    """A model's name is read as a folder of the working directory first: the same objects elsewhere may mean
+    another model."""
+    from rocking.model.loading import GENERATED
+
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    pulse = OneSinePulse.from_nondim(block, beta=2.0, Omega=4.0)
+    installed = make_problem(block, damper, pulse).model
+    shutil.copytree(GENERATED / "omd", tmp_path / "omd")
+    monkeypatch.chdir(tmp_path)
+    assert make_problem(block, damper, pulse).model.folder == (tmp_path / "omd").resolve() != installed.folder
