@@ -108,7 +108,7 @@ def test_an_interrupted_adaptive_map_resumes_from_its_rounds(tmp_path):
 def refine(classes: np.ndarray, coarse: int) -> tuple[np.ndarray, Refinement]:
     """The classes an adaptive map gives to a known field of classes ``(n, m)``, and its refinement."""
     refinement = Refinement((*classes.shape, 1), coarse)
-    while refinement.active:
+    while len(refinement.active):
         rows, cols = refinement.pending()
         refinement.record(rows, cols, classes[rows, cols][:, None])
         refinement.update()

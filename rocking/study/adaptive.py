@@ -44,9 +44,6 @@ COARSE = 16
 #: Largest coarse step: a block of more cells than a grid has values is the whole grid already.
 MAX_COARSE = 2**17
 
-#: A block of cells: the first and last index along Omega, then along beta, all included.
-Block = tuple[int, int, int, int]
-
 
 def check_coarse(coarse) -> int:
     """``coarse`` as an int, or a ParameterError unless it is a power of two in [1, :data:`MAX_COARSE`]."""
@@ -61,18 +58,29 @@ def _spans(n: int, step: int) -> list[tuple[int, int]]:
     return [(start, min(start + step, n - 1)) for start in range(0, max(n - 1, 1), step)]
 
 
-def _halves(first: int, last: int) -> list[tuple[int, int]]:
-    """The two halves of a span, sharing its middle index; a span one step wide or less stays whole."""
-    if last - first <= 1:
-        return [(first, last)]
-    middle = (first + last) // 2
-    return [(first, middle), (middle, last)]
+def split(blocks: np.ndarray) -> np.ndarray:
+    """The halves of each block of ``blocks`` (``(B, 4)``) along each axis where it is more than one step wide:
+    four blocks, or two, or the block itself; the halves share the middle index."""
+    i0, i1, j0, j1 = blocks.T
+    im, jm = (i0 + i1) // 2, (j0 + j1) // 2
+    rows, cols = i1 - i0 > 1, j1 - j0 > 1
+    im, jm = np.where(rows, im, i1), np.where(cols, jm, j1)
+    quarters = [
+        (np.ones_like(rows), (i0, im, j0, jm)),
+        (rows, (im, i1, j0, jm)),
+        (cols, (i0, im, jm, j1)),
+        (rows & cols, (im, i1, jm, j1)),
+    ]
+    return np.concatenate([np.stack(corners, axis=1)[keep] for keep, corners in quarters]).reshape(-1, 4)
 
 
-def split(block: Block) -> list[Block]:
-    """The (up to) four halves of ``block``."""
-    i0, i1, j0, j1 = block
-    return [(*rows, *cols) for rows, cols in product(_halves(i0, i1), _halves(j0, j1))]
+def _box_sums(values: np.ndarray, blocks: np.ndarray) -> np.ndarray:
+    """The sum of ``values`` (``(n, m)``) over each block of ``blocks`` (``(B, 4)``, last indices included)."""
+    table = np.zeros((values.shape[0] + 1, values.shape[1] + 1), np.int64)
+    np.cumsum(values, axis=0, out=table[1:, 1:])
+    np.cumsum(table[1:, 1:], axis=1, out=table[1:, 1:])
+    i0, i1, j0, j1 = blocks.T
+    return table[i1 + 1, j1 + 1] - table[i0, j1 + 1] - table[i1 + 1, j0] + table[i0, j0]
 
 
 class Refinement:
@@ -92,9 +100,10 @@ class Refinement:
     classes : ndarray of int, ``shape``
         Their classes (:func:`rocking.study.overturning_map.response_classes`); after :meth:`fill`, every
         cell's.
-    active : list of Block
-        Blocks whose corners are computed next (:meth:`pending`), then judged (:meth:`update`).
-    leaves : list of Block
+    active : ndarray of int, ``(B, 4)``
+        Blocks of cells (each the first and last index along Omega, then along beta, all included) whose
+        corners are computed next (:meth:`pending`), then judged (:meth:`update`).
+    leaves : ndarray of int, ``(L, 4)``
         Blocks whose computed cells share one class.
     """
 
@@ -102,12 +111,13 @@ class Refinement:
         n, m, k = shape
         self.computed = np.zeros((n, m), bool)
         self.classes = np.zeros((n, m, k), np.int64)
-        self.active: list[Block] = [(*r, *c) for r, c in product(_spans(n, coarse), _spans(m, coarse))]
-        self.leaves: list[Block] = []
+        spans = [(r, c) for r, c in product(_spans(n, coarse), _spans(m, coarse))]
+        self.active = np.array([(*r, *c) for r, c in spans], np.int64).reshape(-1, 4)
+        self.leaves = np.zeros((0, 4), np.int64)
 
     def pending(self) -> tuple[np.ndarray, np.ndarray]:
         """Rows and columns of the corners of the active blocks not computed yet, in sorted order."""
-        blocks = np.array(self.active, np.int64).reshape(-1, 4)
+        blocks = self.active
         rows = np.concatenate([blocks[:, 0], blocks[:, 0], blocks[:, 1], blocks[:, 1]])
         cols = np.concatenate([blocks[:, 2], blocks[:, 3], blocks[:, 2], blocks[:, 3]])
         cells = np.unique(np.ravel_multi_index((rows, cols), self.computed.shape))
@@ -119,32 +129,44 @@ class Refinement:
         self.computed[rows, cols] = True
         self.classes[rows, cols] = classes
 
-    def _uniform(self, block: Block) -> bool:
-        i0, i1, j0, j1 = block
-        known = self.classes[i0 : i1 + 1, j0 : j1 + 1][self.computed[i0 : i1 + 1, j0 : j1 + 1]]
-        return bool((known == known[0]).all())
+    def uniform(self, blocks: np.ndarray) -> np.ndarray:
+        """Whether the computed cells of each block (``(B, 4)``, corners computed) share its first corner's class.
+
+        Exact, in integers: for the ``t`` computed values ``x`` of a block and its corner's ``c``,
+        ``sum((x - c)**2) = sum(x**2) - 2 c sum(x) + t c**2`` is 0 only if every ``x`` is ``c``.
+        """
+        count = _box_sums(self.computed, blocks)
+        same = np.ones(len(blocks), bool)
+        for k in range(self.classes.shape[-1]):
+            x = np.where(self.computed, self.classes[..., k], 0)
+            c = self.classes[blocks[:, 0], blocks[:, 2], k]
+            same &= _box_sums(x * x, blocks) - 2 * c * _box_sums(x, blocks) + count * c * c == 0
+        return same
 
     def update(self) -> None:
         """Judge the active blocks and the leaves once their corners are computed: a block whose computed
         cells share one class is (or stays) a leaf; another is split, unless all its cells are computed."""
-        blocks, self.active, self.leaves = self.active + self.leaves, [], []
-        for block in blocks:
-            i0, i1, j0, j1 = block
-            if i1 - i0 <= 1 and j1 - j0 <= 1:
-                continue  # its cells are its corners, all computed: nothing to fill
-            if self._uniform(block):
-                self.leaves.append(block)
-            else:
-                self.active.extend(split(block))
+        blocks = np.concatenate([self.active, self.leaves])
+        blocks = blocks[(blocks[:, 1] - blocks[:, 0] > 1) | (blocks[:, 3] - blocks[:, 2] > 1)]
+        same = self.uniform(blocks)
+        self.leaves, self.active = blocks[same], split(blocks[~same])
 
     def fill(self) -> np.ndarray:
-        """Give the cells of each leaf that were not computed its class; the mask of those cells."""
+        """Give the cells of each leaf that were not computed its class; the mask of those cells.
+
+        The leaves that hold a cell agree on its class: two leaves share at most a stretch of an edge, and
+        the corners of the smaller one, computed, lie on that stretch.
+        """
+        i0, i1, j0, j1 = self.leaves.T
+        heights, widths = i1 - i0 + 1, j1 - j0 + 1
+        areas = heights * widths
+        leaf = np.repeat(np.arange(len(self.leaves)), areas)
+        local = np.arange(areas.sum()) - np.repeat(np.cumsum(areas) - areas, areas)
+        rows, cols = i0[leaf] + local // widths[leaf], j0[leaf] + local % widths[leaf]
+        new = ~self.computed[rows, cols]
         filled = np.zeros_like(self.computed)
-        for i0, i1, j0, j1 in self.leaves:
-            rows, cols = slice(i0, i1 + 1), slice(j0, j1 + 1)
-            new = ~self.computed[rows, cols] & ~filled[rows, cols]
-            self.classes[rows, cols][new] = self.classes[i0, j0]
-            filled[rows, cols] |= new
+        filled[rows[new], cols[new]] = True
+        self.classes[rows[new], cols[new]] = self.classes[i0, j0][leaf[new]]
         if not (filled | self.computed).all():
             raise AssertionError("adaptive map: a cell is neither computed nor in a leaf")
         return filled

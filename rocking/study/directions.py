@@ -14,6 +14,8 @@ gives the mirrored response (docs/model.md 10.6): one direction is enough, and
 
 from __future__ import annotations
 
+from functools import reduce
+
 import numpy as np
 
 from ..model.params import Block, ParameterError
@@ -103,6 +105,13 @@ def take(values, index) -> np.ndarray:
     return np.take_along_axis(np.asarray(values), np.asarray(index)[..., None], axis=-1)[..., 0]
 
 
+def largest(values) -> np.ndarray:
+    """The largest of ``values`` along the last axis (NaN if any is): a few directions, compared slice by slice,
+    which is many times faster than a reduction along a short last axis."""
+    values = np.asarray(values)
+    return reduce(np.maximum, (values[..., i] for i in range(1, values.shape[-1])), np.array(values[..., 0]))
+
+
 #: Fields of a response taken from the worse direction; the others are the largest over the directions.
 FROM_WORST = ("impacts", "status")
 
@@ -122,7 +131,7 @@ def response_envelope(by_sign: dict, unknown) -> dict:
         if k in FROM_WORST:
             out[k] = take(v, index)
         elif k != "overturned":
-            out[k] = np.max(v, axis=-1)
+            out[k] = largest(v)
     out["worst_sign_index"] = index
     return out
 

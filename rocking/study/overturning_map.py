@@ -399,12 +399,12 @@ def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on
 def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile, coarse, on_tile):
     """The map refined on each part's outcome classes (:mod:`rocking.study.adaptive`); ``(TileStats, rounds)``.
 
-    Each round computes the corners its part's refinement asks for, in tiles of a quarter of ``tile``'s cells
-    (a round of a few thousand cells still spreads over the workers), named by their round and a hash of their
-    cells: a rerun asks for the same cells, and loads them.
+    Each round computes the corners its part's refinement asks for, in tiles of as many cells as ``tile`` holds
+    (the Python around a tile, which holds the GIL, is then a small part of it, and threads scale), named by
+    their round and a hash of their cells: a rerun asks for the same cells, and loads them.
     """
     Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
-    chunk = max(1, tile[0] * tile[1] // 4)
+    chunk = max(1, tile[0] * tile[1])
     refinements = {part: Refinement((Om.size, b.size, len(signs)), coarse) for part in parts}
     total, start, rounds = TileStats(), time.perf_counter(), 0
     where = {}
@@ -416,7 +416,7 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
         over, impacts, status = (tile_arrays[k] for k in ("overturned", "impacts", "status"))
         refinements[part].record(r, c, response_classes(over, impacts, status))
 
-    while any(r.active for r in refinements.values()):
+    while any(len(r.active) for r in refinements.values()):
         groups = []
         for part, damper in parts.items():
             rows, cols = refinements[part].pending()
@@ -480,8 +480,8 @@ def map_table(arrays: dict, half_width: float, L: float | None = None) -> dict:
         table[f"{part}_outcome"] = outcome(arrays[f"{part}_overturned"], arrays[f"{part}_impacts"])
         for k in ("impacts", "theta_max", "x_max", "stop_contacts", "bumper_force_max"):
             table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
-        status = arrays[f"{part}_status"]
-        table[f"{part}_status"] = np.where(status >= 0, np.asarray(STATUS)[status], "not_computed")
+        # NOT_COMPUTED (-1) takes the last name; objects, not a wide string array: a map has many cells.
+        table[f"{part}_status"] = np.array([*STATUS, "not_computed"], object)[arrays[f"{part}_status"]]
         table[f"{part}_computed"] = arrays[f"{part}_computed"].astype(np.int8)
         if signs.size > 1:
             table[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
