@@ -31,11 +31,9 @@ from .model.pulse import OneSinePulse
 from .sim.cbuild import CBuildError
 from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
+from .study.api import minimum_overturning_spectrum, optimal_damper, overturning_map
 from .study.config import Grid, Setting, Study, Tuning, Variant
 from .study.design import design
-from .study.optimize import optimal_damper
-from .study.overturning_map import overturning_map
-from .study.spectrum import minimum_overturning_spectrum
 from .study.storage import load, save
 from .study.threshold import threshold_map
 from .study.tiles import Execution, Interrupted, TileWarning

@@ -12,10 +12,11 @@ import numpy as np
 import pytest
 
 import rocking
-from rocking import Block, Damper, Execution, Grid, OneSinePulse, Setting, Tuning, overturning_map
+from rocking import Block, Damper, Execution, Grid, OneSinePulse, Setting, Tuning
 from rocking.cli.main import build_parser, main
 from rocking.cli.options import block_from
 from rocking.cli.study import setting_from, tuning_from
+from rocking.study.overturning_map import overturning_map
 
 
 def parsers(parser: argparse.ArgumentParser | None = None, name: str = "rocking"):

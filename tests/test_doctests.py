@@ -16,6 +16,7 @@ MODULES = [
     "rocking.model.params",
     "rocking.model.pulse",
     "rocking.sim.run",
+    "rocking.study.api",
     "rocking.study.overturning_map",
     "rocking.study.spectrum",
     "rocking.study.optimize",

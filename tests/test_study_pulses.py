@@ -8,7 +8,8 @@ import pytest
 import rocking
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.spectrum import BRACKETED
+from rocking.study.overturning_map import overturning_map
+from rocking.study.spectrum import BRACKETED, minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
 SERIAL = Execution(workers=1, progress=False)
@@ -24,7 +25,7 @@ INDEPENDENT = {"sine": {2.0: 1.23, 3.0: 1.41, 4.0: 1.79, 6.0: 4.64}, "cosine": {
 def test_bare_beta_min_agrees_with_an_independent_simulation(pulse, tmp_path):
     block = rocking.Block.from_nondim(p=2.0, alpha=0.25, M=1000.0)
     Omega = sorted(INDEPENDENT[pulse])
-    study = rocking.minimum_overturning_spectrum(
+    study = minimum_overturning_spectrum(
         Setting(block, pulse=pulse), Tuning(0.05), Grid("Omega", Omega[0], Omega[-1], int(Omega[-1] - Omega[0]) + 1),
         Grid("beta", 0.5, 8.0, 151), SERIAL, tol=1e-4, runs=tmp_path)  # fmt: skip
     a = study.arrays
@@ -39,7 +40,7 @@ def test_maps_and_spectra_run_every_family_and_record_it(tmp_path):
     outcomes = {}
     for pulse, shape in (("cosine", {}), ("ricker", {}), ("ricker_anti", {}), ("mp", {"gamma_mp": 2.0})):
         setting = Setting(rocking.Block.reference(), pulse=pulse, **shape)
-        study = rocking.overturning_map(setting, Tuning(0.05), Grid("Omega", 2.0, 6.0, 3), Grid("beta", 1.0, 9.0, 3),
+        study = overturning_map(setting, Tuning(0.05), Grid("Omega", 2.0, 6.0, 3), Grid("beta", 1.0, 9.0, 3),
                                         SERIAL, runs=tmp_path)  # fmt: skip
         assert study.config["pulse"]["motion"] == pulse and study.config["directions"]["signs"] == [1, -1]
         outcomes[pulse] = study.arrays["bare_overturned"]

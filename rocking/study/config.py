@@ -101,12 +101,38 @@ class Grid:
     name: str
     low: float
     high: float
-    n: int
+    n: int | None = None
     log: bool = False
     minimum: float = 0.0
+    #: Explicit values (:meth:`of`), or empty: evenly spaced.
+    points: tuple = ()
+
+    @classmethod
+    def of(cls, name: str, values, minimum: float = 0.0) -> Grid:
+        """A grid of the given ``values`` (array_like, increasing, each above ``minimum``).
+
+        Raises
+        ------
+        ParameterError
+            Naming the grid, unless the values are finite numbers in increasing order.
+        """
+        try:
+            points = np.asarray(values, dtype=float).ravel()
+        except (TypeError, ValueError):
+            raise ParameterError(f"{name}: values must be numbers (got {values!r:.60})") from None
+        if points.size == 0 or not np.isfinite(points).all():
+            raise ParameterError(f"{name}: values must be finite numbers, at least one (got {values!r:.60})")
+        if points.size > 1 and not (np.diff(points) > 0).all():
+            raise ParameterError(f"{name}: values must increase (got {values!r:.60})")
+        low, high = float(points[0]), float(points[-1])
+        return cls(name, low, high, points.size, minimum=minimum, points=tuple(points.tolist()))
 
     def __post_init__(self) -> None:
-        check_type("a grid's name", self.name, str, "a string")
+        if not isinstance(self.name, str):
+            raise ParameterError(
+                f"a grid's name must be a string (got {self.name!r}): Grid(name, low, high, n), e.g. "
+                f"Grid('Omega', 0.5, 10, 20), or Grid.of('Omega', values) for given values"
+            )
         if not (is_count(self.n) and 1 <= self.n <= MAX_N):
             raise ParameterError(
                 f"{self.name}: the number of values N must be an integer in [1, {MAX_N}] (got {self.n!r})"
@@ -134,12 +160,16 @@ class Grid:
 
     def values(self) -> np.ndarray:
         """The grid as a float array of length ``n``."""
+        if self.points:
+            return np.array(self.points)
         if self.log:
             return np.geomspace(self.low, self.high, self.n)
         return np.linspace(self.low, self.high, self.n)
 
     def record(self) -> dict:
         """JSON-ready description."""
+        if self.points:
+            return {"low": self.low, "high": self.high, "n": self.n, "values": list(self.points)}
         return {"low": self.low, "high": self.high, "n": self.n, "scale": "log" if self.log else "linear"}
 
 
@@ -355,6 +385,23 @@ class Study:
     tables: dict = field(default_factory=dict)
     summary: dict = field(default_factory=dict)
     run: dict = field(default_factory=dict)
+
+    def to_dataset(self):
+        """The study as a labelled :class:`xarray.Dataset` (:func:`rocking.study.dataset.to_dataset`)."""
+        from .dataset import to_dataset
+
+        return to_dataset(self)
+
+    def to_dataframes(self) -> dict:
+        """Its tables as :class:`pandas.DataFrame`, with units (:func:`rocking.study.dataset.to_dataframes`)."""
+        from .dataset import to_dataframes
+
+        return to_dataframes(self)
+
+    def _repr_html_(self) -> str:
+        from .dataset import html
+
+        return html(self)
 
 
 def config_hash(config: dict) -> str:

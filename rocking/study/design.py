@@ -43,7 +43,7 @@ from .config import Grid, Setting, Study, is_count, part_config
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .optimize import MAX_REFINE, at_edge, refinement
 from .overturning_map import check_study, preflight, respond, warn_undetermined
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
+from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol, flag_words
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
 
 #: Default coarse grids: r = T_m p / (2 pi) and zeta (both log-spaced), and refinement points per side.
@@ -355,7 +355,8 @@ def design_summary(setting: Setting, arrays: dict, damper: dict, L: float, r_edg
 
 def design_table(arrays: dict) -> dict:
     """One CSV row per ``Omega`` of the band: the envelopes, the gain of the design, its stroke use."""
-    table = {"Omega": arrays["Omega"], "bare_beta_min": arrays["bare_beta_min"]}
+    table = {"Omega": arrays["Omega"], "bare_beta_min": arrays["bare_beta_min"],
+             "bare_beta_min_is": flag_words(arrays["bare_flag"])}  # fmt: skip
     for i, sign in enumerate(arrays["signs"]):
         table[f"bare_beta_min_{SIGN_NAMES[sign]}"] = arrays["bare_beta_min_by_sign"][:, i]
         table[f"damper_beta_min_{SIGN_NAMES[sign]}"] = arrays["damper_beta_min_by_sign"][:, i]

@@ -55,7 +55,7 @@ from ..model.params import ParameterError, check_in_range
 from .config import Grid, Setting, Study, Tuning, Variant, is_count, part_config
 from .directions import beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import FIXED, check_study, preflight, warn_undetermined
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
+from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol, flag_words
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: Gain below which a damper is useless (the definition of Omega*).
@@ -299,7 +299,8 @@ def optimal_damper(
     Examples
     --------
     >>> import tempfile, rocking
-    >>> study = rocking.optimal_damper(
+    >>> from rocking.study.optimize import optimal_damper
+    >>> study = optimal_damper(
     ...     rocking.Setting(rocking.Block.reference()), [0.05],
     ...     rocking.Grid("Omega", 4.0, 6.0, 2), rocking.Grid("beta", 0.5, 15.0, 30),
     ...     rocking.Execution(workers=1, progress=False),
@@ -415,6 +416,7 @@ def optimize_table(arrays: dict) -> dict:
         "gamma": G.ravel(),
         "Omega": Om.ravel(),
         "bare_beta_min": np.broadcast_to(arrays["bare_beta_min"], G.shape).ravel(),
+        "bare_beta_min_is": flag_words(np.broadcast_to(arrays["bare_flag"], G.shape).ravel()),
         "Tm_p_over_2pi_opt": arrays["r_opt"].ravel(),
         "Tm_over_Tg_opt": arrays["Tm_over_Tg_opt"].ravel(),
         "gain_opt": arrays["gain_opt"].ravel(),

@@ -289,7 +289,8 @@ def overturning_map(
     --------
     >>> import tempfile, rocking
     >>> setting = rocking.Setting(rocking.Block.reference())
-    >>> study = rocking.overturning_map(
+    >>> from rocking.study.overturning_map import overturning_map
+    >>> study = overturning_map(
     ...     setting, rocking.Tuning(0.05), rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 1.0, 9.0, 3),
     ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
     >>> study.arrays["bare_overturned"].astype(int)  # rows: Omega, columns: beta

@@ -46,6 +46,13 @@ from .overturning_map import (
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 BELOW, BRACKETED, ABOVE = -1, 0, 1
+#: What each flag makes of ``beta_min``, in words: the tables' ``*_beta_min_is`` columns, the datasets' key.
+FLAG_WORDS = {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"}
+
+
+def flag_words(flag) -> np.ndarray:
+    """:data:`FLAG_WORDS` of each flag of ``flag``."""
+    return np.array([FLAG_WORDS[BELOW], FLAG_WORDS[BRACKETED], FLAG_WORDS[ABOVE]], object)[np.asarray(flag) + 1]
 
 #: Default relative tolerance of the bisection on beta.
 TOL = 1e-3
@@ -237,7 +244,8 @@ def minimum_overturning_spectrum(
     Examples
     --------
     >>> import tempfile, rocking
-    >>> study = rocking.minimum_overturning_spectrum(
+    >>> from rocking.study.spectrum import minimum_overturning_spectrum
+    >>> study = minimum_overturning_spectrum(
     ...     rocking.Setting(rocking.Block.reference()), rocking.Tuning(0.05),
     ...     rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 0.5, 15.0, 30),
     ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
@@ -322,6 +330,7 @@ def spectrum_tables(arrays: dict) -> dict:
     for part in ("bare", "damper"):
         for k in COLUMN_FIELDS:
             main[f"{part}_{k}"] = arrays[f"{part}_{k}"]
+        main[f"{part}_beta_min_is"] = flag_words(arrays[f"{part}_flag"])
         if signs.size > 1:
             main[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
             for i, sign in enumerate(signs):

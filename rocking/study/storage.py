@@ -118,7 +118,7 @@ def describe(exc: BaseException) -> str:
 
 def _stem(path: str | Path) -> Path:
     path = Path(path)
-    return path.with_suffix("") if path.suffix in (".npz", ".json", ".csv") else path
+    return path.with_suffix("") if path.suffix in (".npz", ".json", ".csv", ".nc") else path
 
 
 def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
@@ -167,8 +167,9 @@ def _why(folder: Path, exc: OSError) -> str:
 
 
 def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
-    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json`` and its CSV tables (``<name>.csv``,
-    ``<name>-windows.csv``, ...), each atomically.
+    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json``, its CSV tables (``<name>.csv``,
+    ``<name>-windows.csv``, ...) and its labelled :class:`xarray.Dataset` as ``<name>.nc``
+    (:mod:`rocking.study.dataset`), each atomically.
 
     The JSON record lists the arrays (:func:`layout`) and their :func:`checksum`,
     which :func:`load` checks.
@@ -194,11 +195,15 @@ def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path
         path = folder / f"{table}.csv"
         write_csv(path, columns)
         written.append(path)
+    from .dataset import to_dataset, write_netcdf  # the studies' modules, which it reads, store their tiles here
+
+    software = versions()
+    written.append(write_netcdf(to_dataset(study, software), stem.with_suffix(".nc")))
     record = {
         "kind": study.kind,
         "config": study.config,
         "config_sha256": config_hash(study.config),
-        "versions": versions(),
+        "versions": software,
         "summary": study.summary,
         "run": study.run,
         "files": [p.name for p in written],

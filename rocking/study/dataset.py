@@ -1,0 +1,371 @@
+"""Studies as labelled data: an :class:`xarray.Dataset` per study, and its tables as :class:`pandas.DataFrame`.
+
+A study's arrays (:attr:`rocking.study.config.Study.arrays`) are plain NumPy arrays whose axes follow a
+convention of their kind (a map's cells are ``(Omega, beta)``, then the direction of the pulse). Here
+that convention is written down once per kind (:data:`LAYOUTS`): which arrays are coordinates, and the
+dimensions of every other array by its name. :func:`to_dataset` then gives
+
+- dimensions named after the swept quantities (``Omega``, ``beta``, ``sign``, ``gamma``, ``motion``, ...);
+- coordinates in non-dimensional and SI terms (``T_g`` in s and ``a_g`` in m/s^2 beside ``Omega`` and
+  ``beta``, from the study's block: docs/model.md section 9);
+- CF-style ``units`` and ``long_name`` on every variable, the response fields' taken from the simulator's
+  own table (:data:`rocking.sim.boundary.RESULT`); categorical values (statuses, flags, outcomes, the
+  damper's effect) with their key as ``flag_values`` and ``flag_meanings``;
+- the configuration, the software versions and the summary as JSON attributes.
+
+Saved as NetCDF (:func:`write_netcdf`, beside the ``.npz``/``.json`` of :func:`rocking.study.storage.save`),
+it reads back as the same ``Dataset`` (:func:`read_netcdf`).
+"""
+
+from __future__ import annotations
+
+import json
+import math
+import os
+import re
+from pathlib import Path
+
+import numpy as np
+
+from ..model.intensity import MEASURES
+from ..model.params import Block, ParameterError
+from ..sim.boundary import RESULT, STATUSES
+from .config import Study
+from .spectrum import FLAG_WORDS
+
+#: NetCDF attribute conventions followed.
+CONVENTIONS = "CF-1.10"
+
+#: The parts of a study, as prefixes of its arrays' names, and what each is.
+PARTS = {
+    "bare": "block alone",
+    "damper": "block with the damper",
+    "unlimited": "damper on an unlimited guide",
+    "stops": "damper with end stops",
+}
+
+#: Per kind: the coordinate arrays (array name -> dimension), then ``(pattern, dimensions)`` rules for the
+#: other arrays, the first whose pattern matches the whole name winning. ``{part}`` stands for any part.
+LAYOUTS: dict[str, tuple[dict, tuple]] = {
+    "map": (
+        {"Omega": "Omega", "beta": "beta", "signs": "sign"},
+        ((r".*_by_sign", ("Omega", "beta", "sign")), (r".*", ("Omega", "beta"))),
+    ),
+    "spectrum": (
+        {"Omega": "Omega", "beta_scan": "beta_scan", "signs": "sign"},
+        (
+            (r"{part}_scan_outcome_by_sign", ("Omega", "sign", "beta_scan")),
+            (r"{part}_scan_outcome", ("Omega", "beta_scan")),
+            (r"(?P<part>\w+?)_windows", ("{part}_window", "window_field")),
+            (r".*_by_sign", ("Omega", "sign")),
+            (r".*", ("Omega",)),
+        ),
+    ),
+    "optimize": (
+        {"Omega": "Omega", "gamma": "gamma", "signs": "sign", "r_coarse": "r_coarse"},
+        (
+            (r"bare_beta_min_by_sign", ("Omega", "sign")),
+            (r"bare_.*|best_.*", ("Omega",)),
+            (r"(gain|flag)_coarse", ("gamma", "Omega", "r_coarse")),
+            (r"(r|gain)_fine", ("gamma", "Omega", "r_fine_point")),
+            (r"Omega_star.*", ("gamma_or_best",)),
+            (r".*", ("gamma", "Omega")),
+        ),
+    ),
+    "design": (
+        {"Omega": "Omega", "signs": "sign", "r_coarse": "r_coarse", "zeta_coarse": "zeta_coarse"},
+        (
+            (r".*_by_sign", ("Omega", "sign")),
+            (r"candidate_gain", ("candidate", "Omega")),
+            (r"candidate_.*", ("candidate",)),
+            (r".*", ("Omega",)),
+        ),
+    ),
+    "threshold": (
+        {"lam": "lam", "p": "p", "Omega": "Omega", "signs": "sign", "r_coarse": "r_coarse"},
+        (
+            (r"beta_max", ("lam",)),
+            (r"safe_from|{part}_(Omega_star.*|status|best_gain)", ("lam", "p")),
+            (r".*", ("lam", "p", "Omega")),
+        ),
+    ),
+    "ida": (
+        {"levels": "level", "signs": "sign", "curve_x": "curve_x"},
+        (
+            (r"im", ("motion",)),
+            (r".*_by_sign", ("motion", "level", "sign")),
+            (r"{part}_(first|last_safe|reversals)", ("motion",)),
+            (r"{part}_fraction", ("level",)),
+            (r"{part}_(curve|band_low|band_high)", ("curve_x",)),
+            (r".*", ("motion", "level")),
+        ),
+    ),
+}
+LAYOUTS["fragility"] = LAYOUTS["ida"]
+
+_PART = "(?:" + "|".join(PARTS) + ")"
+
+#: Keys of categorical arrays: the meaning of each value (CF ``flag_values`` / ``flag_meanings``).
+STATUS_KEY = {-1: "not_computed", **{s.value: s.name for s in STATUSES}}
+FLAG_KEY = FLAG_WORDS
+EFFECT_KEY = {-1: "lost", 0: "unchanged", 1: "saved"}
+SIGN_KEY = {-1: "negative", 0: "not_known", 1: "positive"}
+THRESHOLD_STATUS_KEY = {0: "bracketed", 1: "undefined", 2: "beyond_grid"}
+
+#: What a field means, by name (without its part's prefix and ``_by_sign``): ``(units, long name[, key])``.
+_RESULTS = {f.name: (f.unit or "1", f.doc) for f in RESULT}
+FIELDS: dict[str, tuple] = {
+    **_RESULTS,
+    "overturned": ("1", "overturned: |theta| reached pi/2"),
+    "status": ("1", "why the run ended", STATUS_KEY),
+    "computed": ("1", "computed (not filled in by the adaptive map from its neighbours)"),
+    "worst_sign": ("1", "direction of the pulse that governs the envelope", SIGN_KEY),
+    "effect": ("1", "effect of the damper on overturning", EFFECT_KEY),
+    "outcome": ("1", "outcome: -1 safe, n >= 0 overturned after n impacts"),
+    "stroke_over_half_width": ("1", "largest damper stroke over the block's half-width B/2"),
+    "stroke_over_L": ("1", "largest damper stroke over the stops' half-stroke L"),
+    "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha)"),
+    "beta_safe": ("1", "largest safe amplitude ratio below beta_min"),
+    "flag": ("1", "how beta_min was found", FLAG_KEY),
+    "undetermined": ("1", "responses without a verdict (max_events or max_steps)"),
+    "scan_outcome": ("1", "outcome at each scan amplitude: -1 safe, n >= 0 overturned after n impacts, "
+                          "<= -2 no verdict (-2 - status)"),  # fmt: skip
+    "windows": ("1", "safe windows above beta_min: Omega, first and last safe scan amplitude"),
+    "gain": ("1", "gain: beta_min with the damper over beta_min of the block alone"),
+    "r": ("1", "damper period ratio T_m p / (2 pi)"),
+    "zeta": ("1", "damping ratio of the damper"),
+    "k_m": ("N/m", "spring stiffness of the damper"),
+    "c": ("N s/m", "dashpot coefficient of the damper"),
+    "Tm_over_Tg": ("1", "damper period over the pulse period T_m / T_g"),
+    "edge": ("1", "the optimum lies on an edge of the searched period range (1) or inside it (0)"),
+    "Omega_star": ("1", "threshold frequency ratio Omega*: above it the damper helps"),
+    "Omega_star_low": ("1", "lower end of the bracket of Omega*"),
+    "Omega_star_high": ("1", "upper end of the bracket of Omega*"),
+    "best_gamma": ("1", "mass ratio m/M of the best damper"),
+    "stroke_use": ("1", "largest damper stroke over the half-stroke L"),
+    "on_block": ("1", "the damper's stroke stays on the block"),
+    "beta_max": ("1", "largest amplitude ratio searched (the acceleration bound a_max)"),
+    "safe_from": ("1", "Omega above which the block alone never overturns within beta_max"),
+    "r_at_edge": ("1", "the optimum period lies on an edge of the searched range"),
+    "first": ("level units", "first level at which the motion overturns the block"),
+    "last_safe": ("level units", "last safe level of the motion"),
+    "reversals": ("1", "levels at which the motion overturns the block and not at the next one"),
+    "fraction": ("1", "fraction of the motions that overturn the block"),
+    "curve": ("1", "fitted lognormal probability of overturning"),
+    "band_low": ("1", "lower end of the bootstrap 90 % band of the fitted probability"),
+    "band_high": ("1", "upper end of the bootstrap 90 % band of the fitted probability"),
+    "im": ("level units", "intensity measure of each motion, unscaled"),
+}
+
+#: Coordinates: ``(units, long name)``.
+COORDINATES = {
+    "Omega": ("1", "pulse frequency ratio omega_g / p"),
+    "beta": ("1", "pulse amplitude ratio a_g / (g tan alpha)"),
+    "beta_scan": ("1", "scanned pulse amplitude ratio a_g / (g tan alpha)"),
+    "sign": ("1", "direction of the pulse (+1: the paper's, -1: mirrored)"),
+    "gamma": ("1", "damper mass ratio m / M"),
+    "r_coarse": ("1", "damper period ratio T_m p / (2 pi) of the coarse search"),
+    "zeta_coarse": ("1", "damping ratio of the coarse search"),
+    "lam": ("1", "slenderness H / B"),
+    "p": ("rad/s", "frequency parameter p = sqrt(3 g / (4 R))"),
+    "level": ("level units", "level of the intensity measure"),
+    "curve_x": ("level units", "level of the fitted fragility curve"),
+}
+
+
+def _strip(name: str) -> str:
+    """A field's name without its part's prefix, ``_by_sign`` and the ``_opt``/``_coarse``/``_fine`` of a search."""
+    name = re.sub(rf"^{_PART}_", "", name)
+    name = re.sub(r"_(by_sign|pos|neg)$", "", name)
+    name = re.sub(r"^candidate_", "", name)
+    name = re.sub(r"^(best|worst)_", "", name) if name not in FIELDS else name
+    return re.sub(r"_(opt|coarse|fine|worst)$", "", name) if name not in FIELDS else name
+
+
+def _part(name: str) -> str | None:
+    match = re.match(rf"^({_PART})_", name)
+    return match.group(1) if match else None
+
+
+def dimensions(kind: str, name: str) -> tuple[str, ...]:
+    """The dimensions of the array ``name`` of a study of ``kind`` (:data:`LAYOUTS`)."""
+    for pattern, dims in LAYOUTS[kind][1]:
+        match = re.fullmatch(pattern.replace("{part}", _PART), name)
+        if match:
+            part = match.groupdict().get("part") or ""
+            return tuple(d.replace("{part}", part) for d in dims)
+    raise KeyError(f"no dimensions for array {name!r} of a {kind} study")
+
+
+def _level_units(config: dict) -> str:
+    measure = config.get("measure", "scale")
+    return {"scale": "1", "amplitude": "m/s^2", **MEASURES}.get(measure, "1")
+
+
+def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
+    """CF-style attributes of the array ``name``: units, long name, the key of a categorical one."""
+    entry = COORDINATES.get(name) if coordinate else FIELDS.get(_strip(name))
+    if entry is None:
+        return {}
+    units, long_name, *key = entry
+    if units == "level units":
+        units = _level_units(config)
+    part = _part(name)
+    attrs = {"units": units, "long_name": f"{long_name} ({PARTS[part]})" if part else long_name}
+    if name.endswith("_by_sign"):
+        attrs["long_name"] += ", per direction"
+    if key:
+        attrs["flag_values"] = np.array(list(key[0]), np.int64)
+        attrs["flag_meanings"] = " ".join(key[0].values())
+    return attrs
+
+
+def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
+    """Dimensional coordinates beside the non-dimensional ones, for a study of one block."""
+    if "block" not in config:
+        return {}
+    block = Block(**config["block"])
+    out = {}
+    if "Omega" in coords:
+        out["T_g"] = ("Omega", 2 * math.pi / (np.asarray(coords["Omega"][1]) * block.p),
+                      {"units": "s", "long_name": "pulse period T_g = 2 pi / omega_g"})  # fmt: skip
+    for beta in ("beta", "beta_scan"):
+        if beta in coords:
+            a_g = np.asarray(coords[beta][1]) * block.g * block.tan_alpha
+            out[f"a_g_{beta}" if beta != "beta" else "a_g"] = (
+                beta, a_g, {"units": "m/s^2", "long_name": "pulse amplitude a_g = beta g tan(alpha)"})
+    if "r_coarse" in coords:
+        out["T_m_coarse"] = ("r_coarse", np.asarray(coords["r_coarse"][1]) * 2 * math.pi / block.p,
+                             {"units": "s", "long_name": "damper period T_m of the coarse search"})  # fmt: skip
+    return out
+
+
+def to_dataset(study: Study, versions: dict | None = None):
+    """The study as an :class:`xarray.Dataset` (see the module's text).
+
+    Parameters
+    ----------
+    study : Study
+    versions : dict, optional
+        The software versions to record (default: those of this process, :func:`rocking.study.config.versions`).
+
+    Returns
+    -------
+    xarray.Dataset
+    """
+    import xarray as xr
+
+    from .config import config_hash
+    from .config import versions as current_versions
+
+    coordinate_arrays, _ = LAYOUTS[study.kind]
+    arrays = study.arrays
+    coords = {}
+    for array, dim in coordinate_arrays.items():
+        if array in arrays:
+            coords[dim] = (dim, np.asarray(arrays[array]), _attrs(dim, study.config, coordinate=True))
+    if study.kind == "optimize" and "gamma" in arrays:
+        labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
+        coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
+    if study.kind in ("spectrum",):
+        coords["window_field"] = ("window_field", np.array(["Omega", "beta_first_safe", "beta_last_safe"]), {})
+    coords.update(_si_coordinates(study.kind, study.config, coords))
+    variables = {}
+    for name, values in arrays.items():
+        if name in coordinate_arrays:
+            continue
+        variables[name] = (dimensions(study.kind, name), np.asarray(values), _attrs(name, study.config))
+    attrs = {
+        "Conventions": CONVENTIONS,
+        "title": f"rocking {study.kind} study",
+        "kind": study.kind,
+        "config": json.dumps(study.config, sort_keys=True),
+        "config_sha256": config_hash(study.config),
+        "summary": json.dumps(study.summary, sort_keys=True, default=_json_default),
+        "versions": json.dumps(versions if versions is not None else current_versions(), sort_keys=True),
+        "units": "SI (m, kg, s, rad, N); ratios are non-dimensional (units 1)",
+    }
+    return xr.Dataset(variables, coords=coords, attrs=attrs)
+
+
+def _json_default(value):
+    """JSON of the NumPy scalars a summary may hold."""
+    if isinstance(value, np.generic):
+        return value.item()
+    raise TypeError(f"not JSON: {type(value).__name__}")
+
+
+def write_netcdf(dataset, path: Path) -> Path:
+    """Write ``dataset`` to ``path`` as NetCDF-4, atomically (a temporary file beside it, then renamed)."""
+    path = Path(path)
+    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
+    try:
+        dataset.to_netcdf(tmp, engine="netcdf4")
+        os.replace(tmp, path)
+    except BaseException:
+        tmp.unlink(missing_ok=True)
+        raise
+    return path
+
+
+def read_netcdf(path: str | Path):
+    """The :class:`xarray.Dataset` of a study saved by :func:`write_netcdf`, read into memory.
+
+    Raises
+    ------
+    ParameterError
+        In one line naming the file, if it is not a NetCDF file of a rocking study.
+    """
+    import xarray as xr
+
+    from .storage import describe
+
+    path = Path(path)
+    try:
+        dataset = xr.load_dataset(path, engine="netcdf4")
+    except (OSError, ValueError) as exc:
+        raise ParameterError(f"{path}: not a readable NetCDF file ({describe(exc)})") from None
+    if dataset.attrs.get("kind") not in LAYOUTS or "config" not in dataset.attrs:
+        raise ParameterError(f"{path}: not a rocking study (no kind and configuration in its attributes)")
+    return dataset
+
+
+def to_dataframes(study: Study) -> dict:
+    """The study's tables (:attr:`Study.tables`) as :class:`pandas.DataFrame`, by name.
+
+    Each frame's ``attrs["units"]`` and ``attrs["long_names"]`` give every column's units and meaning where
+    the column is a field of :data:`FIELDS` (a column whose name states its units, ``k_m_opt_N_per_m``, says
+    so itself); coded columns (the damper's effect, a direction) hold their meanings as categories.
+    """
+    import pandas as pd
+
+    frames = {}
+    for name, columns in study.tables.items():
+        frame = pd.DataFrame({k: np.asarray(v) for k, v in columns.items()})
+        units, long_names = {}, {}
+        for column in frame.columns:
+            attrs = _attrs(column, study.config) or _attrs(column, study.config, coordinate=True)
+            if not attrs:
+                continue
+            units[column], long_names[column] = attrs["units"], attrs["long_name"]
+            if "flag_values" in attrs and frame[column].dtype.kind in "iu":
+                key = dict(zip(attrs["flag_values"].tolist(), attrs["flag_meanings"].split(), strict=True))
+                frame[column] = pd.Categorical(frame[column].map(key), categories=list(key.values()))
+        frame.attrs.update(kind=study.kind, units=units, long_names=long_names)
+        frames[name] = frame
+    return frames
+
+
+def html(study: Study) -> str:
+    """An HTML view of a study for Jupyter: its kind, its summary and its :class:`xarray.Dataset`."""
+    from html import escape
+
+    rows = "".join(
+        f"<tr><td>{escape(str(k))}</td><td>{escape(json.dumps(v, default=_json_default))}</td></tr>"
+        for k, v in study.summary.items()
+        if not isinstance(v, dict | list)
+    )
+    return (
+        f"<div><strong>rocking {escape(study.kind)} study</strong>"
+        f"<table><tr><th>summary</th><th></th></tr>{rows}</table>{to_dataset(study)._repr_html_()}</div>"
+    )

@@ -1,0 +1,129 @@
+"""Studies as labelled data: xarray Datasets with units and keys, NetCDF beside the other files, DataFrames."""
+
+from __future__ import annotations
+
+import json
+
+import numpy as np
+import pytest
+import xarray as xr
+
+import rocking
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.dataset import LAYOUTS, read_netcdf, to_dataset
+from rocking.study.spectrum import ABOVE, BELOW, BRACKETED
+from rocking.study.tiles import Execution
+
+SERIAL = Execution(workers=1, progress=False)
+BLOCK = rocking.Block.reference()
+
+
+@pytest.fixture(scope="module")
+def studies(tmp_path_factory):
+    runs = tmp_path_factory.mktemp("runs")
+    Omega = np.linspace(1.0, 6.0, 4)
+    plain = {"damper": {"gamma": 0.05}, "Omega": Omega, "runs": runs, "workers": 1, "progress": False, "study": True}
+    return {
+        "map": rocking.overturning_map(BLOCK, beta=np.linspace(1.0, 6.0, 5), **plain),
+        "spectrum": rocking.minimum_overturning_spectrum(BLOCK, beta=np.linspace(0.5, 8.0, 8), **plain),
+    }
+
+
+def test_the_plain_interface_gives_the_studys_arrays(studies, tmp_path):
+    """Arrays of values give the arrays of the same study with Grids, and the Dataset by default."""
+    from rocking.study.overturning_map import overturning_map
+
+    grids = Grid("Omega", 1.0, 6.0, 4), Grid("beta", 1.0, 6.0, 5)
+    study = overturning_map(Setting(BLOCK), Tuning(0.05), *grids, SERIAL, runs=tmp_path)
+    for k, v in study.arrays.items():
+        np.testing.assert_array_equal(studies["map"].arrays[k], v, err_msg=k)
+    ds = rocking.overturning_map(BLOCK, Omega=[1.0, 6.0], beta=[2.0], runs=tmp_path, workers=1, progress=False)
+    assert isinstance(ds, xr.Dataset) and dict(ds.sizes) == {"Omega": 2, "beta": 1, "sign": 2}
+    with pytest.raises(rocking.ParameterError, match="Omega: values must increase"):
+        rocking.overturning_map(BLOCK, Omega=[3.0, 1.0], beta=[2.0], runs=tmp_path)
+    with pytest.raises(rocking.ParameterError, match="keywords of rocking.Tuning"):
+        rocking.overturning_map(BLOCK, {"mass": 1.0}, Omega=[1.0], beta=[2.0], runs=tmp_path)
+
+
+def test_map_dataset_is_labelled_in_both_terms(studies):
+    study = studies["map"]
+    ds = study.to_dataset()
+    assert dict(ds.sizes) == {"Omega": 4, "beta": 5, "sign": 2}
+    assert ds["bare_overturned_by_sign"].dims == ("Omega", "beta", "sign")
+    assert ds["effect"].dims == ("Omega", "beta")
+    # SI coordinates from the block (docs/model.md section 9): T_g = 2 pi / (Omega p), a_g = beta g tan(alpha).
+    np.testing.assert_allclose(ds["T_g"], 2 * np.pi / (study.arrays["Omega"] * BLOCK.p))
+    np.testing.assert_allclose(ds["a_g"], study.arrays["beta"] * 9.81 * BLOCK.B / BLOCK.H)
+    assert ds["T_g"].attrs["units"] == "s" and ds["a_g"].attrs["units"] == "m/s^2"
+    assert ds["damper_x_max"].attrs["units"] == "m" and ds["bare_theta_max"].attrs["units"] == "rad"
+    assert ds["damper_bumper_force_max"].attrs["units"] == "N"
+    for name, var in ds.data_vars.items():
+        assert {"units", "long_name"} <= set(var.attrs), name
+    # Categorical values carry their key.
+    status = ds["damper_status"].attrs
+    meanings = dict(zip(status["flag_values"].tolist(), status["flag_meanings"].split(), strict=True))
+    assert meanings[0] == "overturned" and meanings[5] == "bounded" and meanings[-1] == "not_computed"
+    effect = ds["effect"].attrs
+    assert dict(zip(effect["flag_values"].tolist(), effect["flag_meanings"].split(), strict=True)) == {
+        -1: "lost", 0: "unchanged", 1: "saved"}  # fmt: skip
+    assert json.loads(ds.attrs["config"]) == study.config
+    assert json.loads(ds.attrs["versions"])["rocking"] == rocking.__version__
+    assert ds.attrs["Conventions"].startswith("CF-")
+
+
+def test_spectrum_dataset_and_flags_in_words(studies):
+    study = studies["spectrum"]
+    ds = study.to_dataset()
+    assert ds["damper_scan_outcome_by_sign"].dims == ("Omega", "sign", "beta_scan")
+    assert ds["bare_beta_min"].dims == ("Omega",)
+    flag = ds["bare_flag"].attrs
+    words = dict(zip(flag["flag_values"].tolist(), flag["flag_meanings"].split(), strict=True))
+    assert words == {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"}
+    table = study.to_dataframes()["spectrum"]
+    expected = np.array([words[f] for f in study.arrays["bare_flag"]])
+    np.testing.assert_array_equal(table["bare_beta_min_is"].to_numpy(), expected)
+
+
+def test_saved_study_reads_back_as_the_same_dataset(studies, tmp_path):
+    for kind, study in studies.items():
+        files = rocking.save(study, tmp_path / kind)
+        nc = tmp_path / kind / f"{kind}.nc"
+        assert nc in files
+        saved = read_netcdf(nc)
+        xr.testing.assert_identical(saved, rocking.load(nc).to_dataset().assign_attrs(versions=saved.attrs["versions"]))
+        xr.testing.assert_equal(saved, study.to_dataset())
+        assert saved["bare_overturned" if kind == "map" else "bare_beta_min"].dtype == study.arrays[
+            "bare_overturned" if kind == "map" else "bare_beta_min"].dtype  # fmt: skip
+
+
+def test_dataframes_carry_units_and_labels(studies):
+    frame = studies["map"].to_dataframes()["map"]
+    assert len(frame) == 4 * 5
+    assert frame.attrs["units"]["damper_x_max"] == "m"
+    assert set(frame["effect"].cat.categories) == {"lost", "unchanged", "saved"}
+    assert set(frame["damper_status"]) <= {"overturned", "rest", "t_max", "max_events", "max_steps", "bounded",
+                                          "not_computed"}  # fmt: skip
+
+
+def test_every_kind_has_a_layout_and_every_field_units():
+    """Every kind of study that can be saved has a layout of its arrays."""
+    from rocking.study.storage import KINDS
+
+    assert set(KINDS) == set(LAYOUTS)
+
+
+def test_not_a_study_netcdf_is_refused_in_one_line(tmp_path):
+    other = tmp_path / "other.nc"
+    xr.Dataset({"a": ("x", np.arange(3))}).to_netcdf(other, engine="netcdf4")
+    with pytest.raises(rocking.ParameterError, match="not a rocking study"):
+        read_netcdf(other)
+    text = tmp_path / "text.nc"
+    text.write_text("hello")
+    with pytest.raises(rocking.ParameterError, match="not a readable NetCDF file"):
+        read_netcdf(text)
+
+
+def test_study_html_for_notebooks(studies):
+    html = studies["map"]._repr_html_()
+    assert "rocking map study" in html and "xr-wrap" in html  # xarray's own rich view inside
+    assert to_dataset(studies["map"]).attrs["kind"] == "map"
