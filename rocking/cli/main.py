@@ -16,12 +16,14 @@ import sys
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
 from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
-from ..model.params import Damper, ParameterError
+from ..model.params import RANGES, Damper, ParameterError
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
+from ..sim.boundary import RESULT
 from ..sim.cbuild import CBuildError
 from ..sim.problem import SimulationError
 from ..sim.run import BACKENDS, simulate
+from ..study.config import versions
 from .options import (
     add_block_options,
     add_parser,
@@ -33,6 +35,7 @@ from .options import (
     given,
     params_from,
 )
+from .rerun import apply_config
 from .study import add_study_commands
 
 DESCRIPTION = (
@@ -189,13 +192,25 @@ def _payload(block, damper, pulse, model, responses) -> dict:
             shape.update(gamma=pulse.gamma, nu=pulse.nu)
         excitation = {"a_g": pulse.a_g, "omega_g": pulse.omega_g, **shape, "sign": pulse.sign,
                       "beta": pulse.beta(block), "Omega": pulse.Omega(block)}  # fmt: skip
-    return {
+    damper_params = (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None
+    payload = {
         "block": block.as_params(),
-        "model": model,
-        "damper": (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None,
+        "model": model or (damper.model if isinstance(damper, Damper) else "omd" if damper else "block"),
+        "damper": damper_params,
         "pulse": excitation,
         "responses": {label: r.summary() for label, r in responses.items()},
     }
+    return {**payload, "units": _units(payload), "versions": versions()}
+
+
+def _units(payload: dict) -> dict:
+    """The units of the numbers of a ``simulate --json`` payload, by name ("1": a ratio, a count, a flag)."""
+    names = {k for part in ("block", "damper", "pulse") for k in (payload[part] or {})}
+    units = {name: RANGES[name].unit or "1" for name in names if name in RANGES}
+    own = {"I_G": "kg m^2", "dt": "s", "pga": "m/s^2", "scale": "1", "samples": "1", "sign": "1"}
+    units.update({k: v for k, v in own.items() if k in names})
+    units.update({f.name: f.unit or "1" for f in RESULT})
+    return dict(sorted(units.items()))
 
 
 def _print_summary(block, pulse, responses) -> None:
@@ -402,8 +417,11 @@ def main(argv: list[str] | None = None) -> int:
         # argparse cannot pass options it does not know through a subparser (its REMAINDER
         # skips a leading --option): hand them over before parsing.
         return run_derive(argv[1:])
-    args = build_parser().parse_args(argv)
+    parser = build_parser()
+    args = parser.parse_args(argv)
     try:
+        if getattr(args, "config", None):
+            args = apply_config(parser, args, argv)
         return args.func(args)
     except (ParameterError, ModelError) as exc:
         print(f"rocking {args.command}: error: {exc}", file=sys.stderr)

@@ -58,6 +58,7 @@ from .options import (
     params_from,
     python_default,
 )
+from .rerun import CURRENT, check_same, command_record
 
 #: Default grids (MIN, MAX, N) of the commands; docs/model.md section 9 gives the ranges. The beta
 #: scans of spectra start at 0.5, below the uplift threshold (about 0.9 .. 1.1 for the reference
@@ -106,6 +107,11 @@ def _add_solver(p: argparse.ArgumentParser) -> None:
     g.add_argument("--dask-workers", type=int, metavar="N", help="run on a local Dask cluster of N worker processes")
     g.add_argument("--out", default="out", help="output folder (default out); finished tiles are kept in OUT/runs")
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
+    g.add_argument(
+        "--config",
+        metavar="SAVED.json",
+        help="rerun the study saved in SAVED.json with its options (those given here win: --out, --workers, ...)",
+    )
 
 
 def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool, stops: bool = True) -> None:
@@ -297,7 +303,8 @@ def _tol(args) -> dict:
 
 def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
     """Save the study's data and figure as ``name`` (default: its kind); print where they are and how it ran."""
-    paths = save(study, out, name) + draw(study, out, name)
+    current = CURRENT.get() or {}
+    paths = save(study, out, name, command=current.get("command")) + draw(study, out, name)
     run = study.run
     print(
         f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
@@ -306,6 +313,8 @@ def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
     chosen = study.config["directions"]
     signs = " and ".join(f"{s:+d}" for s in chosen["signs"])
     print(f"{study.kind}: pulses of sign {signs}: {chosen['reason']}")
+    if current.get("rerun"):
+        print(check_same(study, *current["rerun"]))
     return paths
 
 
@@ -635,6 +644,8 @@ def _guarded(command):
     """``command(args)`` with bad parameters reported in one line (exit 2) and Ctrl-C as a resumable stop (130)."""
 
     def run(args) -> int:
+        rerun = getattr(args, "rerun", None)
+        token = CURRENT.set({"command": command_record(args), "rerun": rerun})
         try:
             with _warnings_in_one_line(args.command):
                 return command(args)
@@ -651,6 +662,8 @@ def _guarded(command):
         except KeyboardInterrupt:  # outside the tiles (checks, saving): nothing to resume from yet
             print(f"rocking {args.command}: interrupted; run the same command again to resume", file=sys.stderr)
             return 130
+        finally:
+            CURRENT.reset(token)
 
     return run
 

@@ -30,6 +30,9 @@ from ..model.params import ParameterError
 from .config import Study, config_hash, versions
 
 #: Kinds of saved studies, and the parts of their JSON record that :func:`load` needs.
+#: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
+STUDY_FORMAT = 2
+
 KINDS = ("map", "spectrum", "optimize", "design", "threshold", "ida", "fragility")
 RECORD = {"kind": str, "config": dict, "summary": dict}
 
@@ -166,7 +169,7 @@ def _why(folder: Path, exc: OSError) -> str:
     return exc.strerror or describe(exc)
 
 
-def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
+def save(study: Study, folder: str | Path, name: str | None = None, command: dict | None = None) -> list[Path]:
     """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json``, its CSV tables (``<name>.csv``,
     ``<name>-windows.csv``, ...) and its labelled :class:`xarray.Dataset` as ``<name>.nc``
     (:mod:`rocking.study.dataset`), each atomically.
@@ -206,10 +209,13 @@ def save(study: Study, folder: str | Path, name: str | None = None) -> list[Path
         "versions": software,
         "summary": study.summary,
         "run": study.run,
+        "format": STUDY_FORMAT,
         "files": [p.name for p in written],
         "arrays": layout(study.arrays),
         "arrays_sha256": checksum(study.arrays),
     }
+    if command is not None:
+        record["command"] = command
     text = json.dumps(record, indent=2, sort_keys=True) + "\n"
     atomic_write(stem.with_suffix(".json"), lambda f: f.write(text), mode="w")
     return [*written, stem.with_suffix(".json")]
@@ -226,6 +232,12 @@ def _read_record(meta: Path) -> dict:
     for key, kind in RECORD.items():
         if not isinstance(record.get(key), kind):
             raise ParameterError(f"{meta}: not a saved study's JSON (no {kind.__name__} {key!r})")
+    if record.get("format", 1) != STUDY_FORMAT:
+        raise ParameterError(
+            f"{meta}: a study saved in format {record.get('format', 1)} (by rocking "
+            f"{(record.get('versions') or {}).get('rocking', 'of another version')}); this version reads format "
+            f"{STUDY_FORMAT}: recompute it"
+        )
     if record["kind"] not in KINDS:
         raise ParameterError(f"{meta}: unknown kind of study {record['kind']!r} (known: {', '.join(KINDS)})")
     return record
