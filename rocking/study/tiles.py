@@ -51,7 +51,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
-from tqdm import tqdm
+from tqdm.auto import tqdm
 
 from ..model.params import ParameterError
 from .config import config_hash
