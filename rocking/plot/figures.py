@@ -36,6 +36,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize, 
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
+from matplotlib.ticker import FuncFormatter
 
 from ..model.loading import ModelError, load_model
 from ..model.params import Block, ParameterError
@@ -242,12 +243,14 @@ def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
                     color=color, ls="none", capsize=3, elinewidth=1, zorder=5, label=label)  # fmt: skip
 
 
-def _gain_curve(ax, Omega, gain, flag, style: dict, label) -> bool:
+def _gain_curve(ax, Omega, gain, flag, style: dict, label, dodge: float = 0.0) -> bool:
     """A gain curve: measured values joined, lower bounds (the damped block did not overturn in the scan) as open
-    triangles with arrows; True if any bound is drawn."""
+    triangles with arrows, moved ``dodge`` along ``Omega`` (curves of a set bound at the same pulses); True if any
+    bound is drawn."""
     bound = flag == ABOVE
-    ax.plot(Omega, np.where(bound, np.nan, gain), "-", ms=4, mfc="white", label=label, zorder=4, **style)
-    _bounds(ax, Omega[bound], gain[bound], 0.06 * max(np.nanmax(gain, initial=1.0), 1.0), style["color"], up=True)
+    ax.plot(Omega, np.where(bound, np.nan, gain), ms=4, label=label, zorder=4, **{"ls": "-", **style})
+    arrow = 0.06 * max(np.nanmax(gain, initial=1.0), 1.0)
+    _bounds(ax, Omega[bound] + dodge, gain[bound], arrow, style["color"], up=True)
     return bool(np.isfinite(gain[bound]).any())
 
 
@@ -271,9 +274,24 @@ def _gain_colorbar(fig, image, ax, label: str, extension: str) -> None:
     """The colour bar of a gain map: ticks at round ratios, extended where values pass its range."""
     bar = fig.colorbar(image, ax=ax, label=label, extend=extension)
     low, high = image.norm.vmin, image.norm.vmax
-    ticks = [t for t in (0.1, 0.2, 0.5, 0.8, 1.0, 1.25, 2.0, 5.0, 10.0) if low <= t <= high]
+    ticks = []
+    # Coarse ratios first: a finer one only where it does not crowd them (at least 12 % of the bar apart).
+    for t in (1.0, 0.5, 2.0, 0.2, 5.0, 0.1, 10.0, 0.8, 1.25, 0.9, 1.1, 0.95, 1.05):
+        if low <= t <= high and all(abs(np.log(t / u)) >= 0.12 * np.log(high / low) for u in ticks):
+            ticks.append(t)
     bar.set_ticks(ticks, labels=[f"{t:g}" for t in ticks])
     bar.minorticks_off()
+
+
+def _plain_ticks(axis) -> None:
+    """Tick labels of a logarithmic axis as plain numbers (0.5, 2, 10), not powers of ten."""
+    def minor(v, _):  # every one within a decade, 2, 3 and 5 within two, else none
+        low, high = sorted(axis.get_view_interval())
+        mantissa = round(v / 10 ** np.floor(np.log10(v)), 6)
+        return f"{v:g}" if high < 10 * low or (high < 100 * low and mantissa in (2, 3, 5)) else ""
+
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(FuncFormatter(minor))
 
 
 def map_figure(study: Study) -> Figure:
@@ -341,13 +359,13 @@ def spectrum_figure(study: Study) -> Figure:
     arrow = 0.05 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.05 * scan["high"]
     fig = Figure(figsize=(13, 6.4), layout="constrained")
     ax, ax_gain = fig.subplots(1, 2, width_ratios=(2, 1))
-    # The damped block's markers are larger and open, drawn under the bare block's: both stay visible where
-    # the two coincide (below the damper's frequency range they often do).
+    # The damped block's markers are larger, drawn under the bare block's: both stay visible where the two
+    # coincide (below the damper's frequency range they often do).
     for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
         style = PART_STYLE[part]
         flag, bm = a[f"{part}_flag"], a[f"{part}_beta_min"]
         ax.plot(Om, np.where(flag == BRACKETED, bm, np.nan), "-", color=style["color"], marker=style["marker"],
-                ms=4 if part == "bare" else 6.5, mfc=style["color"] if part == "bare" else "white", zorder=z,
+                ms=4 if part == "bare" else 6.5, zorder=z,
                 label=rf"$\beta_{{min}}$, {style['label']}")  # fmt: skip
         for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
@@ -400,30 +418,39 @@ def optimize_figure(study: Study) -> Figure:
     (ax_tg, ax_tp), (ax_g, ax_map) = fig.subplots(2, 2)
     useless = study.summary.get("useless_gain", 1.01)
     bounded = False
+    step = np.ptp(Om) / 100
     for g, gamma in enumerate(gammas):
         label, style = rf"$\gamma$ = {gamma:g}", cycle(g)
         ax_tg.plot(Om, a["Tm_over_Tg_opt"][g], "-", ms=4, label=label, **style)
         ax_tp.plot(Om, a["r_opt"][g], "-", ms=4, label=label, **style)
-        bounded = _gain_curve(ax_g, Om, a["gain_opt"][g], a["flag_opt"][g], style, label) or bounded
+        dodge = (g - (len(gammas) - 1) / 2) * step
+        bounded = _gain_curve(ax_g, Om, a["gain_opt"][g], a["flag_opt"][g], style, label, dodge) or bounded
         threshold = study.summary["Omega_star"][f"{gamma:g}"]
         if threshold["status"] == "bracketed":
             ax_g.axvspan(threshold["low"], threshold["high"], color=style["color"], alpha=0.12)
             ax_g.axvline(threshold["Omega_star"], color=style["color"], ls="--", lw=1)
     if len(gammas) > 1:
-        ax_g.plot(Om, a["best_gain"], ":", color=OKABE_ITO["black"], lw=1.5, label=r"best over $\gamma$")
+        # The best is one of the curves: where that one is only bounded, so is the best (its triangle is drawn).
+        pick = np.argmax(np.nan_to_num(a["gain_opt"], nan=-np.inf), axis=0)
+        bound = a["flag_opt"][pick, np.arange(Om.size)] == ABOVE
+        ax_g.plot(Om, np.where(bound, np.nan, a["best_gain"]), ":", color=OKABE_ITO["black"], lw=1.5,
+                  label=r"best over $\gamma$ (measured)")  # fmt: skip
     who = {key: "best" if key == "best" else rf"$\gamma$ = {key}" for key in study.summary["Omega_star"]}
     text = "\n".join(f"{who[key]}: {_threshold_text(t)}" for key, t in study.summary["Omega_star"].items())
-    ax_g.text(0.5, -0.42, text, transform=ax_g.transAxes, ha="center", va="top", fontsize=7)
     ax_g.axhline(useless, color=GREY, lw=0.8, ls=":")
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     ax_g.set_ylabel(r"best gain $G = \beta_{min}$(damper) / $\beta_{min}$(block)")
-    ax_g.set_title(rf"best gain; $\Omega^*$: above it $G$ < {useless:g}", fontsize=9)
+    ax_g.set_title(rf"best gain; $\Omega^*$: above it $G$ < {useless:g}" + f"\n{text}", fontsize=8)
     ax_tg.set_ylabel(r"optimal $T_m / T_g$")
     ax_tp.set_ylabel(r"optimal $T_m p / 2\pi$")
-    ax_tp.secondary_yaxis("right", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
-                          ).set_ylabel(r"$T_m$ (s)", fontsize=8)  # fmt: skip
     for ax in (ax_tg, ax_tp):
         ax.set_yscale("log")
+    # Made on the logarithmic axis: a secondary axis made before would reset its ticks when it is drawn.
+    period = ax_tp.secondary_yaxis("right", functions=(lambda r: r * 2 * np.pi / block.p,
+                                                        lambda t: t * block.p / (2 * np.pi)))  # fmt: skip
+    period.set_ylabel(r"$T_m$ (s)", fontsize=8)
+    for axis in (ax_tg.yaxis, ax_tp.yaxis, period.yaxis):
+        _plain_ticks(axis)
     for ax in (ax_tg, ax_tp, ax_g):
         _omega_axis(ax)
         _period_axis(ax, block.p)
@@ -437,6 +464,7 @@ def optimize_figure(study: Study) -> Figure:
     image = ax_map.pcolormesh(_edges(Om), np.exp(_edges(np.log(r))), a["gain_coarse"][g].T, cmap=DIVERGING, norm=norm)
     ax_map.plot(Om, a["r_opt"][g], "o", color=OKABE_ITO["black"], mfc="white", ms=5, label="optimum (after refinement)")
     ax_map.set_yscale("log")
+    _plain_ticks(ax_map.yaxis)
     _omega_axis(ax_map)
     _period_axis(ax_map, block.p)
     ax_map.set_ylabel(r"$T_m p / 2\pi$")
@@ -482,8 +510,11 @@ def design_figure(study: Study) -> Figure:
     ax_map.set_xscale("log")
     ax_map.set_yscale("log")
     ax_map.set_xlabel(r"$T_m p / 2\pi$")
-    ax_map.secondary_xaxis("top", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
-                           ).set_xlabel(r"$T_m$ (s)", fontsize=8)  # fmt: skip
+    period = ax_map.secondary_xaxis("top", functions=(lambda r: r * 2 * np.pi / block.p,
+                                                       lambda t: t * block.p / (2 * np.pi)))  # fmt: skip
+    period.set_xlabel(r"$T_m$ (s)", fontsize=8)
+    for axis in (ax_map.xaxis, ax_map.yaxis, period.xaxis):
+        _plain_ticks(axis)
     ax_map.set_ylabel(r"$\zeta$")
     ax_map.set_title("worst gain over the band, coarse search", fontsize=9)
     _legend_below(ax_map)
@@ -539,6 +570,12 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
                 ax.add_patch(Rectangle((x[j], y[i]), x[j + 1] - x[j], y[i + 1] - y[i], facecolor="none",
                                        edgecolor=HATCH_COLOUR, hatch=BOUND_HATCH[st], lw=0, zorder=1))  # fmt: skip
     ax.set_xticks(p, [f"{v:.3g}" for v in p])
+    # The homogeneous block's half-diagonal: p = sqrt(3 g / (4 R)) (docs/model.md section 9).
+    g = Block.__dataclass_fields__["g"].default
+    size = ax.secondary_xaxis("top", functions=(lambda x: 3 * g / (4 * np.maximum(x, 1e-9) ** 2),
+                                                lambda R: np.sqrt(3 * g / (4 * np.maximum(R, 1e-9)))))  # fmt: skip
+    size.set_xticks(3 * g / (4 * p**2), [f"{R:.3g}" for R in 3 * g / (4 * p**2)])
+    size.set_xlabel("R (m), half-diagonal", fontsize=8)
     ax.set_yticks(lam, [f"{v:.3g}" for v in lam])
     ax.set_xlabel("p (rad/s)")
     ax.set_ylabel(r"$\lambda = H / B$")
@@ -590,8 +627,8 @@ def ida_figure(study: Study) -> Figure:
     unit = f" ({s['unit']})" if s["unit"] else ""
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
-        ax_f.plot(a["levels"], a[f"{part}_fraction"], ls="none", color=style["color"], marker=style["marker"], ms=5,
-                  mfc=style["color"] if part == "bare" else "white", zorder=4,
+        ax_f.plot(a["levels"], a[f"{part}_fraction"], ls="none", color=style["color"], marker=style["marker"],
+                  ms=4 if part == "bare" else 6.5, zorder=5 if part == "bare" else 4,
                   label=f"{style['label']}: fraction overturned")  # fmt: skip
         if fit["status"] in ("fitted", "separated"):
             label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
@@ -600,6 +637,10 @@ def ida_figure(study: Study) -> Figure:
             ax_f.fill_between(a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"],
                               alpha=0.15, lw=0)  # fmt: skip
     ax_f.set_xlabel(f"{s['measure']}{unit}")
+    if s["unit"] == "m/s^2":  # an acceleration: in g too, the block's gravity
+        g = _block(study.config).g
+        ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g)).set_xlabel(
+            f"{s['measure']} (g)", fontsize=8)  # fmt: skip
     ax_f.set_ylabel("probability of overturning")
     ax_f.set_ylim(-0.02, 1.02)
     ax_f.set_title(f"{_suite_label(study.config['suite'])}; bands: 90 % bootstrap over the motions", fontsize=9)
