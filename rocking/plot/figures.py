@@ -285,6 +285,7 @@ def _gain_colorbar(fig, image, ax, label: str, extension: str) -> None:
 
 def _plain_ticks(axis) -> None:
     """Tick labels of a logarithmic axis as plain numbers (0.5, 2, 10), not powers of ten."""
+
     def minor(v, _):  # every one within a decade, 2, 3 and 5 within two, else none
         low, high = sorted(axis.get_view_interval())
         mantissa = round(v / 10 ** np.floor(np.log10(v)), 6)

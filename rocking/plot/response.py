@@ -50,7 +50,18 @@ def _damper_text(damper) -> str:
 def plot_responses(
     responses: dict, block: Block, path: str | Path, title: str = "", *, damper=None, model: str | None = None
 ) -> Path:
-    """Draw recorded responses on shared axes and save the figure.
+    """Draw recorded responses (:func:`response_figure`) and save the figure at ``path`` (its suffix picks the
+    format: PNG, PDF, SVG); the path written."""
+    fig = response_figure(responses, block, title, damper=damper, model=model)
+    FigureCanvasAgg(fig)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    return path
+
+
+def response_figure(responses: dict, block: Block, title: str = "", *, damper=None, model: str | None = None) -> Figure:
+    """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
 
     Parameters
     ----------
@@ -59,14 +70,17 @@ def plot_responses(
     block : Block
         The rocking block: ``theta / alpha`` with the lines ``theta = +-alpha``, the block's edge ``B/2`` on a
         stroke, the ground acceleration in g.
-    path : str or Path
-        Output file; its suffix picks the format (PNG, PDF, SVG).
     title : str
         First line of the title (the excitation); the block and the damper follow.
     damper : Damper or dict, optional
         The damper (a ``Damper`` or a variant's parameters in SI): its stops ``+-L`` are marked on its stroke.
     model : str, optional
         The model of the damped responses (default: the ``omd`` family, a stroke ``x`` in m).
+
+    Returns
+    -------
+    Figure
+        Not attached to a canvas (:func:`plot_responses` saves it).
     """
     histories = {}
     for label, r in responses.items():
@@ -121,11 +135,8 @@ def plot_responses(
     fig.suptitle(
         (f"{title}\n" if title else "")
         + rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg, e = {block.e:.3g} m "
-        + rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)" + f"\n{_damper_text(damper)}",
+        + rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
+        + f"\n{_damper_text(damper)}",
         fontsize=9,
     )
-    FigureCanvasAgg(fig)
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    return path
+    return fig
