@@ -249,7 +249,7 @@ def _cmd_simulate(args) -> int:
 
         title = (f"record, PGA = {pulse.pga / block.g:.3g} g" if isinstance(pulse, SampledMotion)
                  else f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}")  # fmt: skip
-        path = plot_responses(responses, block.alpha, args.plot, title=title)
+        path = plot_responses(responses, block, args.plot, title=title, damper=damper, model=args.model)
         print(f"figure written to {path}", file=sys.stderr)
     return 0
 

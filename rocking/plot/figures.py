@@ -5,13 +5,24 @@ Every figure is drawn from a :class:`rocking.study.config.Study` as
 figure from its ``.npz``/``.json`` without recomputing anything. Figures are
 written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
 
+Every title names the block (``H``, ``B``, ``M``, ``e`` in m and kg; ``alpha``, ``p``), the damper and the
+pulses from the study's saved configuration, and the non-dimensional axes carry their dimensional
+counterparts for that block (docs/model.md section 9): ``T_g = 2 pi / (Omega p)`` in s on top of an
+``Omega`` axis, ``a_g / g = beta tan(alpha)`` beside a ``beta`` axis. Colours, hatches and markers are
+those of :mod:`rocking.plot.style`; values the scan only bounds are open markers with an arrow, never
+joined to measured values.
+
 - map: outcome of the bare block and of the damped block over ``(Omega,
   beta)`` (safe / overturned without impact / after n impacts), and the
   damper's effect (cells saved, cells lost);
 - spectrum: ``beta_min(Omega)`` with and without damper, the safe windows
   above it as bars, and the gain ``beta_min`` ratio;
 - optimize: optimal ``T_m / T_g`` and ``T_m p / (2 pi)``, best gain with
-  ``Omega*`` marked, and the gain landscape ``G(Omega, T_m)`` of the coarse scan.
+  ``Omega*`` marked, and the gain landscape ``G(Omega, T_m)`` of the coarse scan;
+- design: the design's gain over the band, the worst gain of the coarse search, the stroke it uses;
+- threshold: ``Omega*`` over ``(lambda, p)`` for both guides, and the best gain against ``Omega``;
+- ida, fragility: the fraction of motions that overturn the block at each level with the fitted
+  lognormal fragility, and the outcome of every motion with the damper.
 """
 
 from __future__ import annotations
@@ -20,39 +31,46 @@ from pathlib import Path
 
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.colors import BoundaryNorm, ListedColormap
+from matplotlib.collections import PolyCollection
+from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize, to_rgb
 from matplotlib.figure import Figure
-from matplotlib.patches import Patch
+from matplotlib.lines import Line2D
+from matplotlib.patches import Patch, Rectangle
+from matplotlib.ticker import FuncFormatter
 
-from ..model.params import ParameterError
+from ..model.loading import ModelError, load_model
+from ..model.params import Block, ParameterError
 from ..study.config import Study
-from ..study.overturning_map import saved_past_edges
+from ..study.overturning_map import half_stroke, saved_past_edges
 from ..study.spectrum import ABOVE, BELOW, BRACKETED
 from ..study.storage import load
+from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, SEQUENTIAL, cycle, extend
 
-#: Outcome classes of a map cell: label and colour; the class is min(outcome + 1, 4).
+#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
 OUTCOME_CLASSES = (
-    ("safe", "#f7f7f7"),
-    ("overturned, no impact", "#b2182b"),
-    ("overturned after 1 impact", "#ef8a62"),
-    ("after 2 impacts", "#fddbc7"),
-    ("after 3 or more impacts", "#9970ab"),
+    ("safe", LIGHT, ""),
+    ("overturned, no impact", OKABE_ITO["vermillion"], ""),
+    ("overturned after 1 impact", OKABE_ITO["orange"], "//"),
+    ("after 2 impacts", OKABE_ITO["yellow"], ".."),
+    ("after 3 or more impacts", OKABE_ITO["reddish purple"], "xx"),
 )
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
 #: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), and 5 for saved
 #: cells whose damped response an adaptive map did not compute (its stroke is not known).
 EFFECT_CLASSES = (
-    ("safe either way", "#f7f7f7"),
-    ("saved by the damper", "#1a9850"),
-    ("lost with the damper", "#d73027"),
-    ("overturned either way", "#bdbdbd"),
-    ("saved only with the mass past the edge (x_max > B/2)", "#a6d96a"),
-    ("saved, stroke not computed (cell of an adaptive map filled in)", "#d9f0d3"),
+    ("safe either way", LIGHT, ""),
+    ("saved by the damper", OKABE_ITO["blue"], ""),
+    ("lost with the damper", OKABE_ITO["vermillion"], "xx"),
+    ("overturned either way", GREY, ""),
+    ("saved only with the mass past the edge (x_max > B/2)", OKABE_ITO["sky blue"], "//"),
+    ("saved, stroke not computed (cell of an adaptive map filled in)", OKABE_ITO["yellow"], ".."),
 )
-PART_STYLE = {
-    "bare": {"color": "black", "label": "block alone"},
-    "damper": {"color": "tab:blue", "label": "with damper"},
-}
+#: Colour of the hatches over the classes' colours.
+HATCH_COLOUR = "#333333"
+#: Legends go below their axes (never over the data), in this font size.
+LEGEND = {"fontsize": 7, "frameon": False}
+#: Colour bars of a gain centre on 1 and span its data, up to this factor either way (beyond: an extension).
+GAIN_SPAN = 10.0
 
 
 def _edges(centres: np.ndarray) -> np.ndarray:
@@ -64,27 +82,64 @@ def _edges(centres: np.ndarray) -> np.ndarray:
     return np.concatenate([[2 * c[0] - mid[0]], mid, [2 * c[-1] - mid[-1]]])
 
 
-def _classes(ax, Omega, beta, classes: np.ndarray, palette) -> None:
-    """Draw integer classes on the (Omega, beta) plane with a categorical palette and legend."""
-    cmap = ListedColormap([c for _, c in palette])
+def _legend_below(ax, handles=None, ncols: int = 2) -> None:
+    """A legend under ``ax`` (below its axis label), so that it covers no data."""
+    kwargs = {} if handles is None else {"handles": handles}
+    ax.legend(**kwargs, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
+
+
+def _classes(ax, Omega, beta, classes: np.ndarray, palette) -> list[Patch]:
+    """Draw integer classes on the (Omega, beta) plane in colour and hatch; the legend's handles of those present."""
+    x, y = _edges(Omega), _edges(beta)
+    cmap = ListedColormap([c for _, c, _ in palette])
     norm = BoundaryNorm(np.arange(len(palette) + 1) - 0.5, cmap.N)
-    ax.pcolormesh(_edges(Omega), _edges(beta), classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
+    ax.pcolormesh(x, y, classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
+    for k, (_, _, hatch) in enumerate(palette):
+        i, j = np.nonzero(classes == k)
+        if hatch and i.size:
+            corners = ((x[i], y[j]), (x[i + 1], y[j]), (x[i + 1], y[j + 1]), (x[i], y[j + 1]))
+            cells = np.stack([np.c_[cx, cy] for cx, cy in corners], axis=1)
+            ax.add_collection(PolyCollection(cells, facecolor="none", edgecolor=HATCH_COLOUR, hatch=hatch, lw=0))
     present = np.unique(classes)
-    handles = [Patch(facecolor=c, edgecolor="0.5", label=label) for i, (label, c) in enumerate(palette) if i in present]
-    ax.legend(handles=handles, loc="upper left", fontsize=7, framealpha=0.9)
-    ax.set_xlabel(r"$\Omega = \omega_g / p$")
-    ax.set_ylabel(r"$\beta = a_g / (g \tan\alpha)$")
+    return [Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label)
+            for k, (label, c, h) in enumerate(palette) if k in present]  # fmt: skip
+
+
+def _block(config: dict) -> Block:
+    """The block of a study's configuration (:meth:`rocking.study.config.Setting.record`)."""
+    return Block(**config["block"])
+
+
+def _block_label(block: Block) -> str:
+    """The block for a title: its dimensions and mass, and the ``alpha`` and ``p`` of the non-dimensional axes."""
+    e = f", e = {block.e:.3g} m" if block.e else ""
+    return (rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg{e} "
+            rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)")  # fmt: skip
+
+
+def _parameter_units(model: str) -> dict:
+    """Unit of each parameter of a generated model by name (none if the model cannot be loaded here)."""
+    try:
+        return {p["name"]: p["unit"] for p in load_model(model).manifest["parameters"]}
+    except ModelError:
+        return {}
+
+
+def _stops_label(block: Block, record: dict) -> str:
+    L = half_stroke(block, record)
+    return "unlimited guide" if L is None else f"stops at L = {L:.3g} m"
 
 
 def _damper_label(config: dict) -> str:
-    """The damper of a study for a title: the omd tuning, or a variant's model name and parameters."""
-    d = config["damper"]
+    """The damper of a study for a title: the omd tuning, or a variant's model name and parameters with units."""
+    d, block = config["damper"], _block(config)
     if "model" in d:
-        params = ", ".join(f"{k} = {v:g}" for k, v in d["params"].items())
-        return f"model {d['model']}" + (f" ({params})" if params else "")
-    period = rf"$T_m p / 2\pi$ = {1 / d['omega_ratio']:.3g}"
-    stops = ", stops at the edges" if d.get("stops") else ""
-    return rf"damper $\gamma$ = {d['gamma']:g}, {period}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m{stops}"
+        units = _parameter_units(d["model"])
+        params = ", ".join(f"{k} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in d["params"].items())
+        return f"damper: model {d['model']}" + (f" ({params})" if params else "")
+    T_m = 2 * np.pi / (d["omega_ratio"] * block.p)
+    return (rf"damper $\gamma$ = {d['gamma']:g}, $\omega_m / p$ = {d['omega_ratio']:.3g} ($T_m$ = {T_m:.3g} s), "
+            rf"$\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, {_stops_label(block, d)}")  # fmt: skip
 
 
 #: How a figure names each pulse family (rocking.study.config.PULSES).
@@ -95,8 +150,23 @@ PULSE_NAMES = {"sine": "one-sine pulse", "cosine": "one-cosine pulse", "ricker":
 def _pulse_label(config: dict) -> str:
     """The pulse family of a study for a title (the one-sine when the configuration names none)."""
     pulse = config.get("pulse", {"motion": "sine"})
-    shape = f" (gamma = {pulse['gamma_mp']:g}, nu = {pulse['nu']:g})" if pulse["motion"] == "mp" else ""
+    shape = rf" ($\gamma$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
     return PULSE_NAMES[pulse["motion"]] + shape
+
+
+def _excitation_label(config: dict) -> str:
+    """The pulses of a study in dimensional terms for its block: amplitude in g, period in s."""
+    block = _block(config)
+    return (rf"{_pulse_label(config)}: $a_g$ = {block.tan_alpha:.3g} $\beta$ g, "
+            rf"$T_g = 2\pi / \omega_g$ = {2 * np.pi / block.p:.3g} s / $\Omega$; "
+            f"{_directions_label(config)}")  # fmt: skip
+
+
+def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = None) -> None:
+    """The figure's title: what it shows, the pulses, the block and the damper of ``config`` (or ``damper``)."""
+    damper = _damper_label(config) if damper is None else damper
+    fig.suptitle(f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}",
+                 fontsize=10)  # fmt: skip
 
 
 def _suite_label(suite: dict) -> str:
@@ -120,37 +190,133 @@ def _directions_label(config: dict) -> str:
     return f"{'positive' if chosen['signs'][0] > 0 else 'negative'} pulses{mirrored}"
 
 
-#: Legend of the open triangles of :func:`_gain_curve`.
+#: Tick values of a period axis: these mantissas in every decade (s).
+PERIOD_TICKS = np.array([m * 10.0**k for k in range(-3, 4) for m in (1, 1.5, 2, 3, 5, 7)])
+
+
+def _period_axis(ax, p: float) -> None:
+    """A top axis of the pulse period ``T_g = 2 pi / (Omega p)``, s, over an ``Omega`` axis (call it once the
+    axis has its limits: its ticks are round periods at least 8 % of the axis apart)."""
+
+    def period(x):  # its own inverse; Omega <= 0 lies off every axis drawn
+        return 2 * np.pi / (p * np.maximum(np.asarray(x, float), 1e-9))
+
+    low, high = sorted(ax.get_xlim())
+    ticks, last = [], -np.inf
+    # From the left: the periods crowd where Omega is small, and the first of them is kept.
+    for T in PERIOD_TICKS[::-1]:
+        where = float(period(T))
+        if low <= where <= high and where - last >= 0.08 * (high - low):
+            ticks.append(T)
+            last = where
+    axis = ax.secondary_xaxis("top", functions=(period, period))
+    axis.set_xticks(ticks, [f"{T:g}" for T in ticks])
+    axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)", fontsize=8)
+
+
+def _acceleration_axis(ax, tan_alpha: float) -> None:
+    """A right axis of the pulse amplitude ``a_g / g = beta tan(alpha)`` over a ``beta`` axis."""
+    axis = ax.secondary_yaxis("right", functions=(lambda b: b * tan_alpha, lambda a: a / tan_alpha))
+    axis.set_ylabel(r"$a_g$ (g)", fontsize=8)
+
+
+def _omega_axis(ax, label: str = r"$\Omega = \omega_g / p$") -> None:
+    ax.set_xlabel(label)
+
+
+def _beta_axis(ax) -> None:
+    ax.set_ylabel(r"$\beta = a_g / (g \tan\alpha)$")
+
+
+#: Legend of the bounds of :func:`_bounds`.
 LOWER_BOUND = r"lower bound (no overturning up to the last $\beta$ scanned)"
+UPPER_BOUND = r"upper bound (overturns at the first $\beta$ scanned)"
 
 
-def _gain_curve(ax, Omega, gain, flag, color, label) -> bool:
-    """A gain curve, open triangles where the damped block did not overturn in the scan; True if any."""
-    ax.plot(Omega, gain, "-", color=color, label=label)
-    exact = flag != ABOVE
-    ax.plot(Omega[exact], gain[exact], "o", ms=3, color=color)
-    ax.plot(Omega[~exact], gain[~exact], "^", ms=5, mfc="none", color=color)
-    return not exact.all()
+def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
+    """Values the scan only bounds: open triangles with an arrow of length ``arrow`` towards the unknown value,
+    not joined to the measured values."""
+    x, y = np.asarray(x, float), np.asarray(y, float)
+    keep = np.isfinite(y)
+    if keep.any():
+        ax.errorbar(x[keep], y[keep], yerr=arrow, lolims=up, uplims=not up, fmt="^" if up else "v", ms=6, mfc="white",
+                    color=color, ls="none", capsize=3, elinewidth=1, zorder=5, label=label)  # fmt: skip
 
 
-def _lower_bound_legend(ax) -> None:
-    ax.plot([], [], "^", ms=5, mfc="none", color="0.3", label=LOWER_BOUND)
+def _gain_curve(ax, Omega, gain, flag, style: dict, label, dodge: float = 0.0) -> bool:
+    """A gain curve: measured values joined, lower bounds (the damped block did not overturn in the scan) as open
+    triangles with arrows, moved ``dodge`` along ``Omega`` (curves of a set bound at the same pulses); True if any
+    bound is drawn."""
+    bound = flag == ABOVE
+    ax.plot(Omega, np.where(bound, np.nan, gain), ms=4, label=label, zorder=4, **{"ls": "-", **style})
+    arrow = 0.06 * max(np.nanmax(gain, initial=1.0), 1.0)
+    _bounds(ax, Omega[bound] + dodge, gain[bound], arrow, style["color"], up=True)
+    return bool(np.isfinite(gain[bound]).any())
+
+
+def _bound_handle(up: bool = True) -> Line2D:
+    """Legend entry of :func:`_bounds` (in grey: it stands for every colour)."""
+    return Line2D([], [], ls="none", marker="^" if up else "v", mfc="white", color="0.3",
+                  label=LOWER_BOUND if up else UPPER_BOUND)  # fmt: skip
+
+
+def _gain_norm(values) -> tuple[LogNorm, str]:
+    """A logarithmic colour scale of a gain centred on 1 that spans the finite ``values`` (at most
+    :data:`GAIN_SPAN` either way), and the colour bar's ``extend`` for values beyond it."""
+    v = np.asarray(values, float)
+    v = v[np.isfinite(v) & (v > 0)]
+    span = float(np.clip(np.abs(np.log(v)).max(), np.log(1.1), np.log(GAIN_SPAN))) if v.size else np.log(GAIN_SPAN)
+    norm = LogNorm(np.exp(-span), np.exp(span))
+    return norm, extend(v, norm.vmin, norm.vmax)
+
+
+def _gain_colorbar(fig, image, ax, label: str, extension: str) -> None:
+    """The colour bar of a gain map: ticks at round ratios, extended where values pass its range."""
+    bar = fig.colorbar(image, ax=ax, label=label, extend=extension)
+    low, high = image.norm.vmin, image.norm.vmax
+    ticks = []
+    # Coarse ratios first: a finer one only where it does not crowd them (at least 12 % of the bar apart).
+    for t in (1.0, 0.5, 2.0, 0.2, 5.0, 0.1, 10.0, 0.8, 1.25, 0.9, 1.1, 0.95, 1.05):
+        if low <= t <= high and all(abs(np.log(t / u)) >= 0.12 * np.log(high / low) for u in ticks):
+            ticks.append(t)
+    bar.set_ticks(ticks, labels=[f"{t:g}" for t in ticks])
+    bar.minorticks_off()
+
+
+def _plain_ticks(axis) -> None:
+    """Tick labels of a logarithmic axis as plain numbers (0.5, 2, 10), not powers of ten."""
+
+    def minor(v, _):  # every one within a decade, 2, 3 and 5 within two, else none
+        low, high = sorted(axis.get_view_interval())
+        mantissa = round(v / 10 ** np.floor(np.log10(v)), 6)
+        return f"{v:g}" if high < 10 * low or (high < 100 * low and mantissa in (2, 3, 5)) else ""
+
+    axis.set_major_formatter(FuncFormatter(lambda v, _: f"{v:g}"))
+    axis.set_minor_formatter(FuncFormatter(minor))
 
 
 def map_figure(study: Study) -> Figure:
     """Outcome maps of the bare and the damped block, and the damper's effect."""
-    a = study.arrays
-    fig = Figure(figsize=(15, 4.8), layout="constrained")
+    a, block = study.arrays, _block(study.config)
+    fig = Figure(figsize=(15, 6.2), layout="constrained")
     axes = fig.subplots(1, 3, sharex=True, sharey=True)
-    for ax, part, title in zip(axes, ("bare", "damper"), ("block alone", "with damper")):
+    for ax, part in zip(axes, ("bare", "damper")):
         cls = np.where(a[f"{part}_overturned"], np.minimum(a[f"{part}_impacts"] + 1, 4), 0)
-        _classes(ax, a["Omega"], a["beta"], cls, OUTCOME_CLASSES)
-        ax.set_title(title)
+        handles = _classes(ax, a["Omega"], a["beta"], cls, OUTCOME_CLASSES)
+        ax.set_title(PART_STYLE[part]["label"])
+    # One legend of the outcomes, as wide as both outcome panels: the same classes, the same colours.
+    present = {h.get_label(): h for h in handles}
+    bare_cls = np.where(a["bare_overturned"], np.minimum(a["bare_impacts"] + 1, 4), 0)
+    for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
+        present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
+    order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
+    fig.legend(handles=[present[label] for label in order], loc="outside lower left", ncols=3, **LEGEND)
     effect = a["bare_overturned"].astype(int) + 2 * a["damper_overturned"].astype(int)
-    past = saved_past_edges(a, study.config["block"]["B"] / 2)
+    past = saved_past_edges(a, block.B / 2)
     computed = a.get("damper_computed", np.ones_like(effect, bool))  # studies saved before adaptive maps
     unknown = (effect == 1) & ~computed
-    _classes(axes[2], a["Omega"], a["beta"], np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
+    handles = _classes(axes[2], a["Omega"], a["beta"], np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
+    fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
         f"effect of the damper: {s.get('saved', 0)} cells saved\n({int(past.sum())} only past the edge"
@@ -158,10 +324,12 @@ def map_figure(study: Study) -> Figure:
         + f"), {s.get('lost', 0)} lost",
         fontsize=9,
     )
-    fig.suptitle(
-        f"Overturning map, {_pulse_label(study.config)}; {_damper_label(study.config)}\n"
-        f"{_directions_label(study.config)}{_refinement_label(study)}"
-    )
+    for ax in axes:
+        _omega_axis(ax)
+        _period_axis(ax, block.p)
+    _beta_axis(axes[0])
+    _acceleration_axis(axes[2], block.tan_alpha)
+    _title(fig, "Overturning map", study.config, _refinement_label(study))
     return fig
 
 
@@ -174,68 +342,60 @@ def _refinement_label(study: Study) -> str:
     cells = a["bare_computed"].size
     computed = ", ".join(f"{int(a[f'{part}_computed'].sum())}" for part in ("bare", "damper"))
     return (
-        f"; adaptive, coarse step {refinement['coarse']}: {computed} of {cells} cells computed (alone, damped), "
+        f"\nadaptive, coarse step {refinement['coarse']}: {computed} of {cells} cells computed (alone, damped), "
         "the others take the outcome around them"
     )
 
 
+#: Hatches of the safe windows of a spectrum, by part.
+WINDOW_HATCH = {"bare": "\\\\\\", "damper": "///"}
+
+
 def spectrum_figure(study: Study) -> Figure:
     """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
-    a = study.arrays
+    a, block = study.arrays, _block(study.config)
     Om = a["Omega"]
     step = np.diff(Om).min() if Om.size > 1 else 1.0
-    fig = Figure(figsize=(12, 4.8), layout="constrained")
+    scan = study.config["beta"]
+    arrow = 0.05 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.05 * scan["high"]
+    fig = Figure(figsize=(13, 6.4), layout="constrained")
     ax, ax_gain = fig.subplots(1, 2, width_ratios=(2, 1))
-    for shift, part in zip((-0.12, 0.12), ("bare", "damper")):
+    # The damped block's markers are larger, drawn under the bare block's: both stay visible where the two
+    # coincide (below the damper's frequency range they often do).
+    for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
         style = PART_STYLE[part]
         flag, bm = a[f"{part}_flag"], a[f"{part}_beta_min"]
-        ax.plot(
-            Om,
-            np.where(flag == BRACKETED, bm, np.nan),
-            "-o",
-            ms=3,
-            color=style["color"],
-            label=rf"$\beta_{{min}}$, {style['label']}",
-        )
-        for code, marker, text in ((BELOW, "v", "at or below"), (ABOVE, "^", "above")):
+        ax.plot(Om, np.where(flag == BRACKETED, bm, np.nan), "-", color=style["color"], marker=style["marker"],
+                ms=4 if part == "bare" else 6.5, zorder=z,
+                label=rf"$\beta_{{min}}$, {style['label']}")  # fmt: skip
+        for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
-            if sel.any():
-                ax.plot(
-                    Om[sel],
-                    bm[sel],
-                    marker,
-                    color=style["color"],
-                    mfc="none",
-                    label=f"{style['label']}: {text} the scan range",
-                )
+            _bounds(ax, Om[sel], bm[sel], arrow, style["color"], up)
         w = a[f"{part}_windows"]
         if len(w):
-            ax.vlines(
-                w[:, 0] + shift * step,
-                w[:, 1],
-                w[:, 2],
-                color=style["color"],
-                alpha=0.45,
-                lw=3,
-                label=f"safe windows, {style['label']}",
-            )
-    ax.set_xlabel(r"$\Omega = \omega_g / p$")
-    ax.set_ylabel(r"$\beta = a_g / (g \tan\alpha)$")
-    ax.set_title("minimum overturning amplitude (bars: safe windows above it)")
-    ax.legend(fontsize=7)
+            ax.bar(w[:, 0] + shift * step, w[:, 2] - w[:, 1], bottom=w[:, 1], width=0.25 * step, color=style["color"],
+                   alpha=0.35, edgecolor=style["color"], hatch=WINDOW_HATCH[part], lw=1, zorder=2,
+                   label="safe window above " + rf"$\beta_{{min}}$, {style['label']}")  # fmt: skip
+    _omega_axis(ax)
+    _beta_axis(ax)
+    _period_axis(ax, block.p)
+    _acceleration_axis(ax, block.tan_alpha)
+    ax.set_title("minimum overturning amplitude", fontsize=9)
+    handles = ax.get_legend_handles_labels()[0]
+    for code, up in ((ABOVE, True), (BELOW, False)):
+        if any((a[f"{part}_flag"] == code).any() for part in ("bare", "damper")):
+            handles.append(_bound_handle(up))
     both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
     gain = np.where(both, a["damper_beta_min"] / a["bare_beta_min"], np.nan)
-    if _gain_curve(ax_gain, Om, gain, a["damper_flag"], PART_STYLE["damper"]["color"], None):
-        _lower_bound_legend(ax_gain)
-        ax_gain.legend(fontsize=7)
-    ax_gain.axhline(1.0, color="0.4", lw=0.8)
-    ax_gain.set_xlabel(r"$\Omega$")
+    style = PART_STYLE["damper"]
+    _gain_curve(ax_gain, Om, gain, a["damper_flag"], {"color": style["color"], "marker": style["marker"]}, None)
+    ax_gain.axhline(1.0, color=GREY, lw=0.8)
+    _omega_axis(ax_gain)
+    _period_axis(ax_gain, block.p)
     ax_gain.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
-    ax_gain.set_title("gain of the damper")
-    fig.suptitle(
-        f"Minimum overturning spectrum, {_pulse_label(study.config)}; {_damper_label(study.config)}\n"
-        f"{_directions_label(study.config)}"
-    )
+    ax_gain.set_title("gain of the damper", fontsize=9)
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
+    _title(fig, "Minimum overturning spectrum", study.config)
     return fig
 
 
@@ -252,111 +412,137 @@ def _threshold_text(t: dict) -> str:
 
 def optimize_figure(study: Study) -> Figure:
     """Optimal period (two normalisations), best gain with ``Omega*``, gain landscape of one ``gamma``."""
-    a = study.arrays
+    a, cfg = study.arrays, study.config
+    block = _block(cfg)
     Om, gammas = a["Omega"], a["gamma"]
-    fig = Figure(figsize=(12, 8.5), layout="constrained")
+    fig = Figure(figsize=(12, 10), layout="constrained")
     (ax_tg, ax_tp), (ax_g, ax_map) = fig.subplots(2, 2)
-    colors = [f"C{i}" for i in range(len(gammas))]
     useless = study.summary.get("useless_gain", 1.01)
     bounded = False
-    for g, (gamma, c) in enumerate(zip(gammas, colors)):
-        label = rf"$\gamma$ = {gamma:g}"
-        ax_tg.plot(Om, a["Tm_over_Tg_opt"][g], "-o", ms=3, color=c, label=label)
-        ax_tp.plot(Om, a["r_opt"][g], "-o", ms=3, color=c, label=label)
-        bounded = _gain_curve(ax_g, Om, a["gain_opt"][g], a["flag_opt"][g], c, label) or bounded
+    step = np.ptp(Om) / 100
+    for g, gamma in enumerate(gammas):
+        label, style = rf"$\gamma$ = {gamma:g}", cycle(g)
+        ax_tg.plot(Om, a["Tm_over_Tg_opt"][g], "-", ms=4, label=label, **style)
+        ax_tp.plot(Om, a["r_opt"][g], "-", ms=4, label=label, **style)
+        dodge = (g - (len(gammas) - 1) / 2) * step
+        bounded = _gain_curve(ax_g, Om, a["gain_opt"][g], a["flag_opt"][g], style, label, dodge) or bounded
         threshold = study.summary["Omega_star"][f"{gamma:g}"]
         if threshold["status"] == "bracketed":
-            ax_g.axvspan(threshold["low"], threshold["high"], color=c, alpha=0.12)
-            ax_g.axvline(threshold["Omega_star"], color=c, ls="--", lw=1)
+            ax_g.axvspan(threshold["low"], threshold["high"], color=style["color"], alpha=0.12)
+            ax_g.axvline(threshold["Omega_star"], color=style["color"], ls="--", lw=1)
     if len(gammas) > 1:
-        ax_g.plot(Om, a["best_gain"], "k:", lw=1.5, label=r"best over $\gamma$")
-    if bounded:
-        _lower_bound_legend(ax_g)
+        # The best is one of the curves: where that one is only bounded, so is the best (its triangle is drawn).
+        pick = np.argmax(np.nan_to_num(a["gain_opt"], nan=-np.inf), axis=0)
+        bound = a["flag_opt"][pick, np.arange(Om.size)] == ABOVE
+        ax_g.plot(Om, np.where(bound, np.nan, a["best_gain"]), ":", color=OKABE_ITO["black"], lw=1.5,
+                  label=r"best over $\gamma$ (measured)")  # fmt: skip
     who = {key: "best" if key == "best" else rf"$\gamma$ = {key}" for key in study.summary["Omega_star"]}
     text = "\n".join(f"{who[key]}: {_threshold_text(t)}" for key, t in study.summary["Omega_star"].items())
-    ax_g.text(
-        0.98,
-        0.97,
-        text,
-        transform=ax_g.transAxes,
-        ha="right",
-        va="top",
-        fontsize=7,
-        bbox={"facecolor": "white", "edgecolor": "0.7", "alpha": 0.9},
-    )
-    ax_g.axhline(useless, color="0.3", lw=0.8, ls=":")
-    ax_g.axhline(1.0, color="0.3", lw=0.8)
+    ax_g.axhline(useless, color=GREY, lw=0.8, ls=":")
+    ax_g.axhline(1.0, color=GREY, lw=0.8)
     ax_g.set_ylabel(r"best gain $G = \beta_{min}$(damper) / $\beta_{min}$(block)")
-    ax_g.set_title(rf"best gain; $\Omega^*$: above it $G$ < {useless:g}")
+    ax_g.set_title(rf"best gain; $\Omega^*$: above it $G$ < {useless:g}" + f"\n{text}", fontsize=8)
     ax_tg.set_ylabel(r"optimal $T_m / T_g$")
     ax_tp.set_ylabel(r"optimal $T_m p / 2\pi$")
     for ax in (ax_tg, ax_tp):
         ax.set_yscale("log")
+    # Made on the logarithmic axis: a secondary axis made before would reset its ticks when it is drawn.
+    period = ax_tp.secondary_yaxis("right", functions=(lambda r: r * 2 * np.pi / block.p,
+                                                        lambda t: t * block.p / (2 * np.pi)))  # fmt: skip
+    period.set_ylabel(r"$T_m$ (s)", fontsize=8)
+    for axis in (ax_tg.yaxis, ax_tp.yaxis, period.yaxis):
+        _plain_ticks(axis)
     for ax in (ax_tg, ax_tp, ax_g):
-        ax.set_xlabel(r"$\Omega = \omega_g / p$")
-        ax.legend(fontsize=7)
+        _omega_axis(ax)
+        _period_axis(ax, block.p)
+    _legend_below(ax_tg, ncols=3)
+    _legend_below(ax_tp, ncols=3)
+    handles = ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else [])
+    _legend_below(ax_g, handles, ncols=2)
     g = len(gammas) // 2
     r = a["r_coarse"]
-    image = ax_map.pcolormesh(
-        _edges(Om), np.exp(_edges(np.log(r))), a["gain_coarse"][g].T, cmap="RdBu", vmin=0.5, vmax=1.5
-    )
-    ax_map.plot(Om, a["r_opt"][g], "k.", ms=4, label="optimum (after refinement)")
+    norm, extension = _gain_norm(a["gain_coarse"][g])
+    image = ax_map.pcolormesh(_edges(Om), np.exp(_edges(np.log(r))), a["gain_coarse"][g].T, cmap=DIVERGING, norm=norm)
+    ax_map.plot(Om, a["r_opt"][g], "o", color=OKABE_ITO["black"], mfc="white", ms=5, label="optimum (after refinement)")
     ax_map.set_yscale("log")
-    ax_map.set_xlabel(r"$\Omega$")
+    _plain_ticks(ax_map.yaxis)
+    _omega_axis(ax_map)
+    _period_axis(ax_map, block.p)
     ax_map.set_ylabel(r"$T_m p / 2\pi$")
-    ax_map.set_title(rf"gain over the coarse scan, $\gamma$ = {gammas[g]:g}")
-    ax_map.legend(fontsize=7, loc="upper right")
-    fig.colorbar(image, ax=ax_map, label="G")
-    cfg = study.config
-    fig.suptitle(rf"Optimal damper ($\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m); {_directions_label(cfg)}")
+    ax_map.set_title(rf"gain over the coarse scan, $\gamma$ = {gammas[g]:g} (blank: no gain defined)", fontsize=9)
+    _legend_below(ax_map)
+    _gain_colorbar(fig, image, ax_map, "G", extension)
+    stops = _stops_label(block, {"stops": True} if cfg.get("stops") else {})
+    damper = (rf"dampers $\gamma$ = {', '.join(f'{x:g}' for x in gammas)} (period optimised at each $\Omega$), "
+              rf"$\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m, {stops}")  # fmt: skip
+    _title(fig, "Optimal damper", cfg, damper=damper)
     return fig
 
 
 def design_figure(study: Study) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
     the coarse search, and the stroke the design uses at the pulses that overturn the block alone."""
-    a, s = study.arrays, study.summary
-    fig = Figure(figsize=(15, 4.6), layout="constrained")
+    a, s, block = study.arrays, study.summary, _block(study.config)
+    fig = Figure(figsize=(15, 6), layout="constrained")
     ax_g, ax_map, ax_x = fig.subplots(1, 3)
     Om = a["Omega"]
     for i, sign in enumerate(a["signs"]):
         ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
-        ax_g.plot(Om, ratio, ":", color="0.5" if sign > 0 else "tab:orange", label=f"pulses of sign {sign:+d} alone")
-    if _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], PART_STYLE["damper"]["color"], "gain (envelopes)"):
-        _lower_bound_legend(ax_g)
-    ax_g.axhline(1.0, color="0.3", lw=0.8)
-    ax_g.set_xlabel(r"$\Omega = \omega_g / p$")
+        ax_g.plot(Om, ratio, ":", ms=3, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1))
+    style = PART_STYLE["damper"]
+    bounded = _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], {"color": style["color"], "marker": style["marker"]},
+                          "gain (envelopes)")  # fmt: skip
+    ax_g.axhline(1.0, color=GREY, lw=0.8)
+    _omega_axis(ax_g)
+    _period_axis(ax_g, block.p)
     ax_g.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
-    ax_g.set_title(f"worst gain over the band: {s['worst_gain']:.3g} at Omega = {s['worst_at_Omega']:.3g}")
-    ax_g.legend(fontsize=7)
+    ax_g.set_title(rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}",
+                   fontsize=9)  # fmt: skip
+    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []))
     r, z = a["r_coarse"], a["zeta_coarse"]
     worst = a["candidate_worst_gain"][: r.size * z.size].reshape(z.size, r.size)
-    image = ax_map.pcolormesh(np.exp(_edges(np.log(r))), np.exp(_edges(np.log(z))), worst, cmap="RdBu", vmin=0.5,
-                              vmax=1.5)  # fmt: skip
+    norm, extension = _gain_norm(worst)
+    image = ax_map.pcolormesh(np.exp(_edges(np.log(r))), np.exp(_edges(np.log(z))), worst, cmap=DIVERGING, norm=norm)
     off = ~a["candidate_on_block"]
-    ax_map.plot(a["candidate_r"][off], a["candidate_zeta"][off], "kx", ms=5, label="mass past the block's edge")
+    ax_map.plot(a["candidate_r"][off], a["candidate_zeta"][off], "x", color=OKABE_ITO["black"], ms=5,
+                label="mass past the block's edge")  # fmt: skip
     d = s["damper"]
-    ax_map.plot([d["Tm_ratio"]], [d["zeta"]], "*", color="gold", mec="k", ms=14, label="design")
+    ax_map.plot([d["Tm_ratio"]], [d["zeta"]], "*", color=OKABE_ITO["yellow"], mec="k", ms=14, label="design")
     ax_map.set_xscale("log")
     ax_map.set_yscale("log")
     ax_map.set_xlabel(r"$T_m p / 2\pi$")
+    period = ax_map.secondary_xaxis("top", functions=(lambda r: r * 2 * np.pi / block.p,
+                                                       lambda t: t * block.p / (2 * np.pi)))  # fmt: skip
+    period.set_xlabel(r"$T_m$ (s)", fontsize=8)
+    for axis in (ax_map.xaxis, ax_map.yaxis, period.xaxis):
+        _plain_ticks(axis)
     ax_map.set_ylabel(r"$\zeta$")
     ax_map.set_title("worst gain over the band, coarse search", fontsize=9)
-    ax_map.legend(fontsize=7, loc="upper right")
-    fig.colorbar(image, ax=ax_map, label="worst G")
-    ax_x.bar(Om, a["stroke_use"], width=0.6 * np.min(np.diff(Om)) if Om.size > 1 else 0.5, color="tab:green")
-    ax_x.axhline(1.0, color="0.3", lw=0.8, label="the stops (|x| = L)")
-    ax_x.axhline(study.config["block"]["B"] / 2 / d["L_m"], color="tab:red", lw=0.8, ls="--", label="block's edge")
-    ax_x.set_xlabel(r"$\Omega$")
+    _legend_below(ax_map)
+    _gain_colorbar(fig, image, ax_map, "worst G", extension)
+    step = np.min(np.diff(Om)) if Om.size > 1 else 1.0
+    ax_x.bar(Om, a["stroke_use"], width=0.6 * step, color=OKABE_ITO["sky blue"], edgecolor=OKABE_ITO["blue"],
+             label=r"$x_{max}$")  # fmt: skip
+    ax_x.axhline(1.0, color=OKABE_ITO["black"], lw=0.8, label="the stops (|x| = L)")
+    ax_x.axhline(block.B / 2 / d["L_m"], color=OKABE_ITO["vermillion"], lw=1, ls="--", label="block's edge (B/2)")
+    _omega_axis(ax_x)
+    _period_axis(ax_x, block.p)
     ax_x.set_ylabel(r"$x_{max} / L$ at $\beta_{min}$ of the block alone")
+    ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])
+                         ).set_ylabel(r"$x_{max}$ (m)", fontsize=8)  # fmt: skip
     ax_x.set_title("stroke used at the pulses that overturn the block alone", fontsize=9)
-    ax_x.legend(fontsize=7)
-    fig.suptitle(
-        f"Damper design: m = {d['m_kg']:.4g} kg, k_m = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
-        f"(T_m = {d['T_m_s']:.3g} s, zeta = {d['zeta']:.3g}), stops at L = {d['L_m']:.3g} m; "
-        f"{_directions_label(study.config)}"
-    )
+    _legend_below(ax_x, ncols=3)
+    damper = (rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
+              rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
+              f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m")  # fmt: skip
+    _title(fig, "Damper design", study.config, damper=damper)
     return fig
+
+
+#: How a cell of the threshold figure writes each status of Omega* (rocking.study.threshold.STATUSES).
+STATUS_TEXT = ("", "<=", ">", "")
+#: Hatch of the threshold cells that hold a bound of Omega*, by its text.
+BOUND_HATCH = {"<=": "\\\\", ">": "//"}
 
 
 def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
@@ -367,46 +553,68 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
     lam, p = a["lam"], a["p"]
     status = a[f"{kind}_status"]
     value = np.where(np.isfinite(a[f"{kind}_Omega_star"]), a[f"{kind}_Omega_star"], a[f"{kind}_Omega_star_low"])
-    image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap="viridis", vmin=0, vmax=float(a["Omega"][-1]))
+    norm = Normalize(0, float(a["Omega"][-1]))
+    image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap=SEQUENTIAL, norm=norm)
+    x, y = _edges(p), _edges(lam)
     for i in range(lam.size):
         for j in range(p.size):
             v, st = value[i, j], STATUS_TEXT[status[i, j]]
             text = "?" if not np.isfinite(v) else f"{st}{v:.3g}"
             safe = a["safe_from"][i, j]
             text += f"\nsafe from {safe:.3g}" if np.isfinite(safe) else ""
-            ax.text(p[j], lam[i], text, ha="center", va="center", fontsize=7, color="w")
+            # Dark text on the light end of the colour map, white on the dark end.
+            shade = image.cmap(norm(v)) if np.isfinite(v) else (1, 1, 1)
+            light = np.dot(to_rgb(shade), (0.299, 0.587, 0.114)) > 0.5
+            ax.text(p[j], lam[i], text, ha="center", va="center", fontsize=8, color="k" if light else "w",
+                    bbox={"facecolor": shade, "edgecolor": "none", "pad": 1})  # fmt: skip
+            if st:
+                ax.add_patch(Rectangle((x[j], y[i]), x[j + 1] - x[j], y[i + 1] - y[i], facecolor="none",
+                                       edgecolor=HATCH_COLOUR, hatch=BOUND_HATCH[st], lw=0, zorder=1))  # fmt: skip
+    ax.set_xticks(p, [f"{v:.3g}" for v in p])
+    # The homogeneous block's half-diagonal: p = sqrt(3 g / (4 R)) (docs/model.md section 9).
+    g = Block.__dataclass_fields__["g"].default
+    size = ax.secondary_xaxis("top", functions=(lambda x: 3 * g / (4 * np.maximum(x, 1e-9) ** 2),
+                                                lambda R: np.sqrt(3 * g / (4 * np.maximum(R, 1e-9)))))  # fmt: skip
+    size.set_xticks(3 * g / (4 * p**2), [f"{R:.3g}" for R in 3 * g / (4 * p**2)])
+    size.set_xlabel("R (m), half-diagonal", fontsize=8)
+    ax.set_yticks(lam, [f"{v:.3g}" for v in lam])
     ax.set_xlabel("p (rad/s)")
     ax.set_ylabel(r"$\lambda = H / B$")
-    ax.set_title(f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns)",
-                 fontsize=9)  # fmt: skip
-    fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound")
-
-
-#: How a cell of the threshold figure writes each status of Omega* (rocking.study.threshold.STATUSES).
-STATUS_TEXT = ("", "<=", ">", "")
+    ax.set_title(f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns;"
+                 + "\nbounds hatched)", fontsize=8)  # fmt: skip
+    fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound", extend=extend(value, norm.vmin, norm.vmax))
 
 
 def threshold_figure(study: Study) -> Figure:
     """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
-    a = study.arrays
-    fig = Figure(figsize=(16, 4.8), layout="constrained")
+    a, cfg = study.arrays, study.config
+    fig = Figure(figsize=(16, 6), layout="constrained")
     axes = fig.subplots(1, 3)
     for ax, kind in zip(axes[:2], ("unlimited", "stops")):
         _omega_star_panel(fig, ax, study, kind)
     j = a["p"].size // 2
-    colors = [f"C{i}" for i in range(a["lam"].size)]
     for i, lam in enumerate(a["lam"]):
-        for kind, style in (("unlimited", "-"), ("stops", "--")):
+        for kind, ls in (("unlimited", "-"), ("stops", "--")):
             label = rf"$\lambda$ = {lam:.3g}, {kind}"
-            axes[2].plot(a["Omega"], a[f"{kind}_gain"][i, j], style, color=colors[i], marker=".", label=label)
-    axes[2].axhline(study.summary["useless_gain"], color="0.3", lw=0.8, ls=":")
-    axes[2].set_xlabel(r"$\Omega = \omega_g / p$")
+            axes[2].plot(a["Omega"], a[f"{kind}_gain"][i, j], ls, ms=4, label=label, **cycle(i))
+    axes[2].axhline(study.summary["useless_gain"], color=GREY, lw=0.8, ls=":")
+    _omega_axis(axes[2])
+    _period_axis(axes[2], float(a["p"][j]))
     axes[2].set_ylabel("best gain (envelopes over the directions)")
     axes[2].set_title(f"best gain at p = {a['p'][j]:.3g} rad/s; ends where the block alone survives "
                       f"{study.summary['a_max_g']:g} g", fontsize=9)  # fmt: skip
-    axes[2].legend(fontsize=6, ncol=2)
-    fig.suptitle(f"Threshold frequency across geometries (pulses up to {study.summary['a_max_g']:g} g); "
-                 f"{_directions_label(study.config)}")  # fmt: skip
+    _legend_below(axes[2], ncols=2)
+    dampers = "; ".join(rf"$\gamma$ = {d['gamma']:g}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, "
+                        + ("stops at B/2 minus the pads" if d.get("stops") else "unlimited guide")
+                        for d in cfg["dampers"])  # fmt: skip
+    grid = ", ".join(f"{name} {cfg[key]['low']:g} to {cfg[key]['high']:g}{unit} ({cfg[key]['n']})"
+                     for key, name, unit in (("lam", r"$\lambda$ = H/B", ""), ("p", "p", " rad/s")))  # fmt: skip
+    fig.suptitle(
+        f"Threshold frequency across geometries: one-sine pulses up to {study.summary['a_max_g']:g} g; "
+        f"{_directions_label(cfg)}\nhomogeneous blocks of M = {cfg['M']:g} kg, e = {cfg['e_ratio']:g} B, {grid}\n"
+        f"dampers (period optimised at each $\\Omega$): {dampers}",
+        fontsize=10,
+    )
     return fig
 
 
@@ -415,37 +623,45 @@ def ida_figure(study: Study) -> Figure:
     band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
     resurrections marked."""
     a, s = study.arrays, study.summary
-    fig = Figure(figsize=(13, 4.8), layout="constrained")
+    fig = Figure(figsize=(13, 6), layout="constrained")
     ax_f, ax_m = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
     unit = f" ({s['unit']})" if s["unit"] else ""
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
-        ax_f.plot(a["levels"], a[f"{part}_fraction"], "o", color=style["color"], ms=4,
+        ax_f.plot(a["levels"], a[f"{part}_fraction"], ls="none", color=style["color"], marker=style["marker"],
+                  ms=4 if part == "bare" else 6.5, zorder=5 if part == "bare" else 4,
                   label=f"{style['label']}: fraction overturned")  # fmt: skip
         if fit["status"] in ("fitted", "separated"):
             label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
-            ax_f.plot(a["curve_x"], a[f"{part}_curve"], "-", color=style["color"], label=label)
+            ax_f.plot(a["curve_x"], a[f"{part}_curve"], "-" if part == "bare" else "--", color=style["color"],
+                      label=label)  # fmt: skip
             ax_f.fill_between(a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"],
                               alpha=0.15, lw=0)  # fmt: skip
     ax_f.set_xlabel(f"{s['measure']}{unit}")
+    if s["unit"] == "m/s^2":  # an acceleration: in g too, the block's gravity
+        g = _block(study.config).g
+        ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g)).set_xlabel(
+            f"{s['measure']} (g)", fontsize=8)  # fmt: skip
     ax_f.set_ylabel("probability of overturning")
     ax_f.set_ylim(-0.02, 1.02)
     ax_f.set_title(f"{_suite_label(study.config['suite'])}; bands: 90 % bootstrap over the motions", fontsize=9)
-    ax_f.legend(fontsize=7, loc="upper left")
+    _legend_below(ax_f)
     over = a["damper_overturned"].astype(int)
-    image = np.where(over == 1, 1, 0)
-    ax_m.pcolormesh(_edges(a["levels"]), np.arange(over.shape[0] + 1) - 0.5, image,
-                    cmap=ListedColormap(["#f7f7f7", "#b2182b"]), vmin=0, vmax=1, rasterized=True)  # fmt: skip
+    classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
+    handles = _classes(ax_m, a["levels"], np.arange(over.shape[0]), (over == 1).astype(int).T, classes)
     rows = np.flatnonzero(a["damper_reversals"] > 0)
-    ax_m.plot(np.full(rows.size, a["levels"][-1]), rows, "<", color="tab:blue", ms=5,
-              label="non-monotone: overturns, then survives a higher level")  # fmt: skip
+    if rows.size:
+        ax_m.plot(np.full(rows.size, a["levels"][-1]), rows, "<", color=OKABE_ITO["blue"], ms=6, ls="none",
+                  label="non-monotone: overturns, then survives a higher level")  # fmt: skip
+        handles += ax_m.get_legend_handles_labels()[0]
     ax_m.set_xlabel(f"{s['measure']}{unit}")
     ax_m.set_ylabel("motion")
-    ax_m.set_title("with the damper: overturned (red) at each level", fontsize=9)
-    if rows.size:
-        ax_m.legend(fontsize=7, loc="lower right")
+    ax_m.set_title("with the damper: outcome of each motion at each level", fontsize=9)
+    _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
-    fig.suptitle(f"{title}; {_damper_label(study.config)}\n{_directions_label(study.config)}")
+    config = study.config
+    fig.suptitle(f"{title}: {_suite_label(config['suite'])}; {_directions_label(config)}\n"
+                 f"{_block_label(_block(config))}\n{_damper_label(config)}", fontsize=10)  # fmt: skip
     return fig
 
 

@@ -1,57 +1,142 @@
-"""Figure of a time history: theta/alpha, the damper's stroke and the ground acceleration."""
+"""Figure of a time history: theta/alpha, every coordinate of the damper and the ground acceleration.
+
+Each coordinate of the model's attached bodies has its own panel, named as the model names it and in its own
+unit: a coordinate that enters a trigonometric function of the generated equations is an angle (rad), any
+other one a displacement (m) (the bodies' positions are lengths). Written with matplotlib's Agg canvas.
+"""
 
 from __future__ import annotations
 
+import re
 from pathlib import Path
 
-import matplotlib
+import numpy as np
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.figure import Figure
 
-matplotlib.use("Agg")
-import matplotlib.pyplot as plt  # noqa: E402
-import numpy as np  # noqa: E402
+from ..model.loading import load_model
+from ..model.params import Block, Damper
+from .style import CYCLE, GREY, OKABE_ITO
+
+#: The history's entries that are not a coordinate (rocking.sim.problem.Response.history).
+NOT_COORDINATES = ("t", "phase", "ag", "theta")
 
 
-def plot_responses(responses: dict, alpha: float, path: str | Path, title: str = "") -> Path:
-    """Draw recorded responses on shared axes and save the figure.
+def coordinate_unit(model, name: str) -> str:
+    """``"rad"`` for a coordinate of ``model`` that appears in a trigonometric function of its generated NumPy
+    code (an angle: the argument of a sine is dimensionless), else ``"m"`` (it then adds to the lengths of
+    the bodies' positions)."""
+    model = load_model(model)
+    source = (model.folder / model.manifest["files"]["numpy"]).read_text()
+    angle = re.search(rf"\b(sin|cos|tan)\([^()]*\b{re.escape(name)}\b", source)
+    return "rad" if angle else "m"
+
+
+def _stroke(damper) -> float | None:
+    """Half-stroke ``L`` of the damper's stops (m), or None for a guide without stops."""
+    if isinstance(damper, Damper):
+        return None if damper.stops is None else damper.stops.L
+    return None if damper is None else damper.get("L")
+
+
+def _damper_text(damper) -> str:
+    """The damper's parameters for the title, SI units."""
+    if damper is None:
+        return "no damper"
+    params = damper.as_params() if isinstance(damper, Damper) else damper
+    return "damper " + ", ".join(f"{k} = {v:.4g}" for k, v in params.items()) + " (SI)"
+
+
+def plot_responses(
+    responses: dict, block: Block, path: str | Path, title: str = "", *, damper=None, model: str | None = None
+) -> Path:
+    """Draw recorded responses (:func:`response_figure`) and save the figure at ``path`` (its suffix picks the
+    format: PNG, PDF, SVG); the path written."""
+    fig = response_figure(responses, block, title, damper=damper, model=model)
+    FigureCanvasAgg(fig)
+    path = Path(path)
+    path.parent.mkdir(parents=True, exist_ok=True)
+    fig.savefig(path, dpi=120)
+    return path
+
+
+def response_figure(responses: dict, block: Block, title: str = "", *, damper=None, model: str | None = None) -> Figure:
+    """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
 
     Parameters
     ----------
     responses : dict of str to Response
         Label to a response run with ``record=True``.
-    alpha : float
-        Slenderness angle of the block [rad], to show ``theta / alpha``.
-    path : str or Path
-        Output file; its suffix picks the format (PNG, PDF, SVG).
+    block : Block
+        The rocking block: ``theta / alpha`` with the lines ``theta = +-alpha``, the block's edge ``B/2`` on a
+        stroke, the ground acceleration in g.
     title : str
-        Figure title.
+        First line of the title (the excitation); the block and the damper follow.
+    damper : Damper or dict, optional
+        The damper (a ``Damper`` or a variant's parameters in SI): its stops ``+-L`` are marked on its stroke.
+    model : str, optional
+        The model of the damped responses (default: the ``omd`` family, a stroke ``x`` in m).
+
+    Returns
+    -------
+    Figure
+        Not attached to a canvas (:func:`plot_responses` saves it).
     """
-    fig, (ax_th, ax_x, ax_g) = plt.subplots(3, 1, sharex=True, figsize=(8, 7), constrained_layout=True)
+    histories = {}
     for label, r in responses.items():
-        h = r.history
-        if h is None:
+        if r.history is None:
             raise ValueError(f"response {label!r} was not recorded (record=True)")
-        (line,) = ax_th.plot(h["t"], h["theta"] / alpha, label=label)
-        if "x" in h:
-            ax_x.plot(h["t"], h["x"], color=line.get_color(), label=label)
-        ax_g.plot(h["t"], h["ag"], color=line.get_color(), label=label)
+        histories[label] = r.history
+    names = list(dict.fromkeys(k for h in histories.values() for k in h if k not in NOT_COORDINATES
+                               and not (k.startswith("d") and k[1:] in h)))  # fmt: skip
+    units = {name: coordinate_unit(model, name) if model else "m" for name in names}
+    fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained")
+    axes = fig.subplots(2 + len(names), 1, sharex=True)
+    ax_th, ax_g = axes[0], axes[-1]
+    colours = dict(zip(histories, CYCLE))
+    for label, r in responses.items():
+        h, colour = histories[label], colours[label]
+        ax_th.plot(h["t"], h["theta"] / block.alpha, color=colour, label=label)
+        ax_g.plot(h["t"], h["ag"], color=colour, label=label)
+        for ax, name in zip(axes[1:-1], names):
+            if name in h:
+                ax.plot(h["t"], h[name], color=colour, label=label)
         if r.overturned:
-            ax_th.axvline(r.t_overturn, color=line.get_color(), ls=":", lw=1)
-    for y in (-1, 1):
-        ax_th.axhline(y, color="0.6", lw=0.8, ls="--")
+            ax_th.axvline(r.t_overturn, color=colour, ls=":", lw=1.2, label=f"overturns ({label})")
+            for ax in axes[1:]:
+                ax.axvline(r.t_overturn, color=colour, ls=":", lw=1.2)
+    ax_th.axhline(1, color=GREY, lw=0.8, ls="--", label=r"$\theta = \pm\alpha$")
+    ax_th.axhline(-1, color=GREY, lw=0.8, ls="--")
     ax_th.set_ylabel(r"$\theta / \alpha$")
-    ax_x.set_ylabel("damper stroke x [m]")
-    ax_g.set_ylabel(r"$\ddot{x}_g$ [m/s$^2$]")
-    ax_g.set_xlabel("t [s]")
-    ax_th.legend(loc="best")
-    if title:
-        fig.suptitle(title)
-    for ax in (ax_th, ax_x, ax_g):
+    # Lying flat (|theta| = pi/2) bounds the axis: an overturned block's angle grows without bound after it.
+    low, high = ax_th.get_ylim()
+    ax_th.set_ylim(max(low, -np.pi / 2 / block.alpha * 1.05), min(high, np.pi / 2 / block.alpha * 1.05))
+    L = _stroke(damper)
+    for ax, name in zip(axes[1:-1], names):
+        ax.set_ylabel(f"{name} ({units[name]})")
+        if units[name] != "m":
+            continue
+        marks = [(block.B / 2, OKABE_ITO["vermillion"], "--", r"block's edge, $\pm B/2$")]
+        marks += [] if L is None else [(L, OKABE_ITO["black"], "-.", r"stops, $\pm L$")]
+        for value, colour, ls, label in marks:
+            ax.axhline(value, color=colour, lw=0.9, ls=ls, label=f"{label} = $\\pm${value:.3g} m")
+            ax.axhline(-value, color=colour, lw=0.9, ls=ls)
+    ax_g.set_ylabel(r"$\ddot{x}_g$ (m/s$^2$)")
+    ax_g.secondary_yaxis("right", functions=(lambda a: a / block.g, lambda a: a * block.g)).set_ylabel(
+        r"$\ddot{x}_g$ (g)")  # fmt: skip
+    ax_g.set_xlabel("t (s)")
+    # One legend of the responses, beside the first panel; the others name only their own lines.
+    for ax in axes:
         ax.grid(True, alpha=0.3)
-    ax_th.set_ylim(
-        max(ax_th.get_ylim()[0], -np.pi / 2 / alpha * 1.05), min(ax_th.get_ylim()[1], np.pi / 2 / alpha * 1.05)
+        handles, labels = ax.get_legend_handles_labels()
+        own = [(h, text) for h, text in zip(handles, labels) if ax is ax_th or text not in responses]
+        if own:
+            ax.legend(*zip(*own), loc="upper left", bbox_to_anchor=(1.1, 1), fontsize=7, frameon=False)
+    fig.suptitle(
+        (f"{title}\n" if title else "")
+        + rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg, e = {block.e:.3g} m "
+        + rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
+        + f"\n{_damper_text(damper)}",
+        fontsize=9,
     )
-    path = Path(path)
-    path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
-    plt.close(fig)
-    return path
+    return fig

@@ -1,0 +1,185 @@
+"""The figures say what they show: the block, the damper and the pulses by their values, dimensional axes,
+a palette that colour-blind readers and grey prints tell apart, bounds apart from measured values."""
+
+from __future__ import annotations
+
+import colorsys
+
+import numpy as np
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.colors import to_hex, to_rgb
+from matplotlib.container import ErrorbarContainer
+
+import rocking
+from rocking import Block, Damper, Stops
+from rocking.plot import figures
+from rocking.plot.figures import EFFECT_CLASSES, OUTCOME_CLASSES, map_figure, spectrum_figure
+from rocking.plot.response import coordinate_unit, response_figure
+from rocking.plot.style import GREY, LIGHT, OKABE_ITO, extend
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.overturning_map import overturning_map
+from rocking.study.spectrum import BRACKETED, minimum_overturning_spectrum
+from rocking.study.storage import load, save
+from rocking.study.tiles import Execution
+
+SERIAL = Execution(workers=1, progress=False)
+CABINET = Block(H=1.2, B=0.4, M=300.0)
+PALETTE = {c.lower() for c in (*OKABE_ITO.values(), LIGHT, GREY)}
+
+
+def _hue(colour) -> tuple[float, float]:
+    h, _, s = colorsys.rgb_to_hls(*to_rgb(colour))
+    return 360 * h, s
+
+
+def _red_green_pair(colours) -> bool:
+    """True if the colours hold a saturated red and a saturated green (the pair deuteranopes confuse)."""
+    hues = [_hue(c) for c in colours]
+    red = any((h < 15 or h > 345) and s > 0.3 for h, s in hues)
+    green = any(75 < h < 160 and s > 0.3 for h, s in hues)
+    return red and green
+
+
+@pytest.fixture(scope="module")
+def cabinet_map(tmp_path_factory):
+    runs = tmp_path_factory.mktemp("map")
+    tuning = Tuning(0.1, omega_ratio=2.0, stops=True)
+    return overturning_map(Setting(CABINET), tuning, Grid("Omega", 1.0, 10.0, 8), Grid("beta", 1.0, 10.0, 8), SERIAL,
+                           runs=runs, full=True)  # fmt: skip
+
+
+def test_the_map_title_names_the_block_the_damper_and_the_pulses_and_a_redrawn_one_the_same(cabinet_map, tmp_path):
+    title = map_figure(cabinet_map)._suptitle.get_text()
+    for text in ("H = 1.2 m", "B = 0.4 m", "M = 300 kg", r"$\alpha$ = 0.322 rad", "p = 3.41 rad/s",
+                 r"$\gamma$ = 0.1", r"$\omega_m / p$ = 2", r"$\zeta$ = 0.05", "h = 0.05 m", "stops at L = 0.18 m",
+                 "one-sine pulse", r"$a_g$ = 0.333 $\beta$ g"):  # fmt: skip
+        assert text in title, text
+    save(cabinet_map, tmp_path, "map")
+    assert map_figure(load(tmp_path / "map"))._suptitle.get_text() == title
+
+
+def test_the_map_has_dimensional_axes_for_its_block(cabinet_map):
+    fig = map_figure(cabinet_map)
+    FigureCanvasAgg(fig).draw()
+    top = fig.axes[0].child_axes[0]
+    assert "T_g" in top.get_xlabel()
+    # Omega = 2 of this block: T_g = 2 pi / (2 p).
+    tick = min(top.get_xticks(), key=lambda T: abs(2 * np.pi / (CABINET.p * T) - 2))
+    right = fig.axes[2].child_axes[-1]
+    assert "a_g" in right.get_ylabel() and "(g)" in right.get_ylabel()
+    assert right._functions[0](np.array([3.0])) == pytest.approx(3.0 * CABINET.tan_alpha)
+    assert tick > 0
+
+
+def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_classes_are_hatched(cabinet_map):
+    fig = map_figure(cabinet_map)
+    used = set()
+    for ax in fig.axes[:3]:
+        mesh = ax.collections[0]
+        used |= {to_hex(c) for c in mesh.cmap(np.arange(mesh.cmap.N))}
+    assert used <= PALETTE
+    assert not _red_green_pair(used)
+    for classes in (OUTCOME_CLASSES, EFFECT_CLASSES):
+        colours = [c for _, c, _ in classes]
+        assert len(set(colours)) == len(colours) and not _red_green_pair(colours)
+    # Saved and lost differ in grey print: by hatch.
+    hatches = {label: hatch for label, _, hatch in EFFECT_CLASSES}
+    assert hatches["lost with the damper"] != hatches["saved by the damper"]
+    legends = [patch for legend in fig.legends for patch in legend.get_patches()]
+    assert {p.get_label() for p in legends if p.get_hatch()} and all(ax.get_legend() is None for ax in fig.axes[:3])
+
+
+def test_the_reference_block_and_the_cabinet_get_different_titles(cabinet_map):
+    a = dict(cabinet_map.config)
+    reference = type(cabinet_map)(cabinet_map.kind, {**a, "block": Block.reference().as_params()}, cabinet_map.arrays,
+                                  summary=cabinet_map.summary)  # fmt: skip
+    assert map_figure(reference)._suptitle.get_text() != map_figure(cabinet_map)._suptitle.get_text()
+
+
+@pytest.fixture(scope="module")
+def spectrum(tmp_path_factory):
+    runs = tmp_path_factory.mktemp("spectrum")
+    return minimum_overturning_spectrum(Setting(Block.reference()), Tuning(0.05), Grid("Omega", 2.0, 12.0, 6),
+                                        Grid("beta", 0.5, 12.0, 24), SERIAL, runs=runs)  # fmt: skip
+
+
+def test_the_spectrum_draws_bounds_apart_from_measured_values_and_its_windows(spectrum):
+    a = spectrum.arrays
+    fig = spectrum_figure(spectrum)
+    ax, ax_gain = fig.axes[:2]
+    assert (a["damper_flag"] != BRACKETED).any(), "a spectrum with bounds"
+    damper = next(line for line in ax.get_lines() if line.get_label().endswith("with damper"))
+    measured = np.isfinite(damper.get_ydata())
+    assert np.array_equal(measured, a["damper_flag"] == BRACKETED)
+    # The bounds: open triangles with arrows (error bars with limits), in the legend once, in grey.
+    bounds = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
+    assert bounds and all(c.has_yerr and c.lines[0].get_markerfacecolor() == "white" for c in bounds)
+    labels = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
+    assert figures.LOWER_BOUND in labels
+    gain_line = ax_gain.get_lines()[0]
+    assert not np.isfinite(gain_line.get_ydata()[a["damper_flag"] != BRACKETED]).any()
+    windows = [p for p in ax.patches if p.get_height() > 0]
+    assert len(windows) == sum(len(a[f"{part}_windows"]) for part in ("bare", "damper"))
+    assert all(p.get_alpha() >= 0.3 and p.get_hatch() for p in windows)
+    assert ax.get_legend() is None and ax_gain.get_legend() is None
+
+
+def test_a_gain_colour_bar_spans_its_data_and_extends_past_its_cap():
+    norm, ext = figures._gain_norm([0.6, 1.0, 3.8, np.nan])
+    assert norm.vmin <= 0.6 and norm.vmax >= 3.8 and ext == "neither"
+    norm, ext = figures._gain_norm([0.01, 1.0, 50.0])
+    assert norm.vmax == pytest.approx(figures.GAIN_SPAN) and ext == "both"
+    assert extend([1, 2], 0, 1.5) == "max" and extend([np.nan, 1.0], 0, 2) == "neither"
+
+
+def test_a_gain_colour_bar_beyond_its_cap_is_extended(monkeypatch):
+    """Gains reach 3.8 on a scale capped at 2: the bar's top is an extension, not a silent clip."""
+    from matplotlib.figure import Figure
+
+    monkeypatch.setattr(figures, "GAIN_SPAN", 2.0)
+    gains = np.array([[0.7, 1.0], [1.5, 3.8]])
+    fig = Figure()
+    ax = fig.subplots()
+    norm, extension = figures._gain_norm(gains)
+    image = ax.pcolormesh(gains, norm=norm)
+    figures._gain_colorbar(fig, image, ax, "G", extension)
+    bar = fig.axes[-1]._colorbar
+    assert bar.extend == "max" and norm.vmax == pytest.approx(2.0)
+    assert 1.0 in bar.get_ticks()
+
+
+def _responses(damper, model=None, **params):
+    block = Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=4.0, Omega=3.0)
+    kwargs = {"model": model} if model else {}
+    return block, {"with damper": rocking.simulate(block, damper, pulse, record=True, early_verdict=False, **kwargs),
+                   "block alone": rocking.simulate(block, None, pulse, record=True, early_verdict=False)}  # fmt: skip
+
+
+def test_the_response_figure_labels_alpha_the_edge_and_the_stops():
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    damper = Damper(damper.m, damper.k_m, damper.c, damper.h, stops=Stops.at_edges(block, damper))
+    block, responses = _responses(damper)
+    fig = response_figure(responses, block, "pulse", damper=damper)
+    ax_th, ax_x = fig.axes[:2]
+    assert any(line.get_label() == r"$\theta = \pm\alpha$" for line in ax_th.get_lines())
+    labels = [line.get_label() for line in ax_x.get_lines()]
+    L = damper.stops.L
+    assert any(label.startswith(r"stops, $\pm L$") and f"{L:.3g} m" in label for label in labels)
+    assert any(label.startswith("block's edge") for label in labels)
+    assert sorted(line.get_ydata()[0] for line in ax_x.get_lines() if line.get_linestyle() == "-.") == [-L, L]
+    assert ax_x.get_ylabel() == "x (m)" and "H = 2 m" in fig._suptitle.get_text()
+
+
+def test_the_pendulum_gets_its_own_panel_in_radians():
+    params = {"m": 50.0, "l": 0.5, "x_p": 0.0, "y_p": 2.0, "k_phi": 100.0, "c_phi": 10.0}
+    block, responses = _responses(params, model="pendulum")
+    fig = response_figure(responses, block, damper=params, model="pendulum")
+    ax_phi = fig.axes[1]
+    assert ax_phi.get_ylabel() == "phi (rad)"
+    data = ax_phi.get_lines()[0].get_ydata()
+    assert data.size > 10 and np.abs(data).max() > 0
+    assert coordinate_unit("pendulum", "phi") == "rad" and coordinate_unit("omd", "x") == "m"
+    assert [coordinate_unit("omd2", name) for name in ("x1", "x2")] == ["m", "m"]
