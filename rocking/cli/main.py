@@ -21,9 +21,9 @@ from ..model.params import Damper, ParameterError
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
 from ..sim.cbuild import CBuildError
-from ..sim.problem import SimulationError
 from ..sim.history import HISTORY_FORMATS
 from ..sim.history import write as write_history
+from ..sim.problem import SimulationError
 from ..sim.run import BACKENDS, simulate
 from .options import (
     add_block_options,

@@ -133,7 +133,8 @@ def _evaluate(function, s, y, ag, p) -> list[np.ndarray]:
 def _affine(outputs: list, ddq: list, quantities: int) -> list[np.ndarray]:
     """The quantities of a generated function affine in ``ddq``: ``out[0] + sum_j out[1 + j] ddq_j`` each."""
     n = len(ddq) + 1
-    return [outputs[i * n] + sum(c * a for c, a in zip(outputs[i * n + 1 : (i + 1) * n], ddq)) for i in range(quantities)]
+    rows = [outputs[i * n : (i + 1) * n] for i in range(quantities)]
+    return [row[0] + sum(c * a for c, a in zip(row[1:], ddq)) for row in rows]
 
 
 def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarray]:
