@@ -39,14 +39,15 @@ from sympy.printing.c import C99CodePrinter
 from sympy.printing.numpy import NumPyPrinter
 
 from .equations import Equations
-from .mechanics import ag, s
+from .mechanics import ag, coordinate_units, s
 from .names import escape_c_comment, escape_markdown, escape_python_doc
 from .spec import BLOCK_PARAMETERS, Parameter
 
 TEMPLATES = Path(__file__).parent / "templates"
 #: Version of the layout of manifest.json and of the generated interface; also written into
 #: ``rocking.generated`` (see build.py). 3: the regime of the stops is an input (``stop_on``, ``on``).
-MANIFEST_FORMAT = 3
+#: 4: the units of the state (``units``); block_accelerations, base_reaction and element_forces.
+MANIFEST_FORMAT = 4
 
 
 @dataclass(frozen=True)
@@ -65,6 +66,10 @@ class Function:
     symbols : tuple of Expr
         What each output is, as a SymPy quantity: EQUATIONS.md writes
         ``symbol = output``.
+    in_run : bool
+        Whether a simulator calls it while it integrates. The others (the loads of a
+        recorded history) come last in the table, and their constants are prepared
+        after and apart from those of a run's functions, which stay as they were.
     """
 
     name: str
@@ -72,6 +77,7 @@ class Function:
     outputs: tuple
     labels: tuple
     symbols: tuple
+    in_run: bool = True
 
     @property
     def scalar(self) -> bool:
@@ -195,7 +201,48 @@ def model_functions(eq: Equations) -> list[Function]:
             eq.critical_tangent,
             sp.tan(theta_cr),
         ),
+        _affine(
+            "block_accelerations",
+            "Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its "
+            "centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.",
+            ("a_top", "a_cm"),
+            eq.block_accelerations,
+            sysm.ddq,
+        ),
+        _affine(
+            "base_reaction",
+            "Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), "
+            "vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment "
+            "about the centre of the base, > 0 counter-clockwise) while rocking about s, each as "
+            "out[0] + sum_j out[1 + j] ddq_j.",
+            ("V_b", "N_b", "M_b"),
+            eq.base_reaction,
+            sysm.ddq,
+        ),
+        Function(
+            "element_forces",
+            "Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the "
+            "block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the "
+            "bare block.",
+            tuple(eq.element_forces),
+            tuple(f"Q[{q}]" for q in names[1:]),
+            tuple(sp.IndexedBase("Q")[q] for q in sysm.q[1:]),
+            in_run=False,
+        ),
     ]
+
+
+def _affine(name: str, doc: str, quantities: tuple, outputs, accelerations) -> Function:
+    """A function of quantities affine in the accelerations, as ``affine_in_accelerations`` lists them."""
+    keys = (sp.Integer(0),) + tuple(accelerations)
+    return Function(
+        name,
+        doc,
+        tuple(outputs),
+        tuple(f"{q}[{k}]" for q in quantities for k in keys),
+        tuple(sp.IndexedBase(q)[k] for q in quantities for k in keys),
+        in_run=False,
+    )
 
 
 def _after_impact(velocity: sp.Symbol) -> sp.Symbol:
@@ -247,9 +294,10 @@ class Cse:
         return [n for n in names if sp.Symbol(n, real=True) in free]
 
 
-def common_subexpressions(outputs) -> Cse:
-    """:class:`Cse` of ``outputs``, its temporaries named so that no model symbol can clash with them."""
-    subs, outs = sp.cse(list(outputs), symbols=sp.numbered_symbols("cse"), order="canonical")
+def common_subexpressions(outputs, start: int = 0) -> Cse:
+    """:class:`Cse` of ``outputs``, its temporaries named so that no model symbol can clash with them
+    (``cse<start>`` first)."""
+    subs, outs = sp.cse(list(outputs), symbols=sp.numbered_symbols("cse", start=start), order="canonical")
     return Cse(tuple(subs), tuple(outs))
 
 
@@ -323,10 +371,22 @@ class Prepared:
 
 
 def prepare_run(functions: list[Function], state: tuple) -> Prepared:
-    """Hoist the constants of a run out of every function of the table at once (shared across functions)."""
+    """Hoist the constants of a run out of every function of the table at once (shared across functions).
+
+    The constants first used by the functions that are not ``in_run`` come last (constants are
+    numbered in order of first use, and those functions last in the table) and get their own
+    common subexpressions, after the others: what a run prepares is computed as before.
+    """
+    if any(f.in_run and not e.in_run for e, f in zip(functions, functions[1:])):
+        raise ValueError("the functions a simulator calls while it integrates come first in the table")
     varying = [sp.Symbol(n, real=True) for n in state] + [ag]
     constants, hoisted = hoist_constants([o for f in functions for o in f.outputs], varying)
-    prepare = common_subexpressions([expr for _, expr in constants])
+    in_run = hoisted[: sum(len(f.outputs) for f in functions if f.in_run)]
+    used = set().union(*(o.free_symbols for o in in_run)) if in_run else set()
+    first = sum(1 for symbol, _ in constants if symbol in used)
+    run = common_subexpressions([expr for _, expr in constants[:first]])
+    rest = common_subexpressions([expr for _, expr in constants[first:]], start=len(run.subs))
+    prepare = Cse(run.subs + rest.subs, run.outputs + rest.outputs)
     split, start = [], 0
     for f in functions:
         split.append(common_subexpressions(hoisted[start : start + len(f.outputs)]))
@@ -358,6 +418,8 @@ class ModelContext:
         Resolved derivation options.
     coordinates, state, params : tuple of str
         Coordinates (``theta`` first), state ``(q, dq)`` and parameters, in argument order.
+    units : dict
+        The unit of each state component by name (``rad``, ``m``, ``rad/s``, ``m/s``).
     kinematics : tuple of (Symbol, Symbol, Symbol)
         Each coordinate with its velocity and acceleration symbols.
     arguments : tuple of Argument
@@ -386,6 +448,7 @@ class ModelContext:
     options: dict
     coordinates: tuple
     state: tuple
+    units: dict
     params: tuple
     kinematics: tuple
     arguments: tuple
@@ -407,12 +470,15 @@ def model_context(eq: Equations, spec) -> ModelContext:
     params = tuple(str(p) for p in sysm.params)
     functions = tuple(model_functions(eq))
     block = {p[0] for p in BLOCK_PARAMETERS}
+    units = coordinate_units(spec)
+    units.update({"d" + q: unit + "/s" for q, unit in units.items()})
     return ModelContext(
         name=spec.name,
         title=spec.title,
         options=eq.options,
         coordinates=coordinates,
         state=state,
+        units={name: units[name] for name in state},
         params=params,
         kinematics=tuple(zip(sysm.q, sysm.dq, sysm.ddq)),
         arguments=tuple(arguments(eq, spec)),
@@ -630,6 +696,7 @@ class ManifestGenerator(Generator):
             "options": m.options,
             "coordinates": list(m.coordinates),
             "state": list(m.state),
+            "units": dict(m.units),
             "parameters": [_parameter_entry(p) for p in m.parameters],
             "block_parameters": list(m.block_parameters),
             "arguments": [a.name for a in m.arguments],

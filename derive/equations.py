@@ -70,6 +70,21 @@ class Equations:
     stop_forces : list of Expr
         Per side of every end stop, the bumper's force on the travel,
         ``k_b delta + c_b ddelta`` while ``delta > 0``, else 0 (positive: pushes back).
+    block_accelerations : list of Expr
+        Absolute horizontal accelerations of the centre of the block's top side and of
+        its centroid ``G``, each affine in the accelerations ``ddq``: the part free of
+        them, then the coefficient of each (:func:`affine_in_accelerations`).
+    base_reaction : list of Expr
+        The base shear ``V_b`` (the ground's horizontal force on the block and its
+        bodies, positive to the right), the ground's vertical force ``N_b`` (positive
+        up) and the overturning moment ``M_b`` (minus the moment of the ground's
+        reaction about the centre of the base, positive counter-clockwise), each
+        affine in ``ddq`` like ``block_accelerations`` (:func:`base_reaction`).
+    element_forces : list of Expr
+        Per attached coordinate, the force (a moment for an angle) of its springs,
+        dashpots and bumpers on the block along it: ``dV_e/dq + dD/ddq`` with ``V_e``
+        the potential but the weights'; for ``omd`` the guide force ``k_m x + c dx``
+        plus the bumpers'.
     stop_regime : list of Expr
         Per side of every end stop, its indicator as the condition on its penetration:
         1 while ``delta > 0``, else 0. The forcing, accelerations, uplift, energy and
@@ -95,6 +110,9 @@ class Equations:
     least_stroke_potential: sp.Expr
     stop_gaps: list = ()
     stop_forces: list = ()
+    block_accelerations: list = ()
+    base_reaction: list = ()
+    element_forces: list = ()
     stop_regime: list = ()
 
 
@@ -456,6 +474,69 @@ def stop_gaps_and_forces(sysm: System, vg) -> tuple[list, list]:
     return gaps, forces
 
 
+def affine_in_accelerations(expr, sysm: System) -> list:
+    """``[expr at ddq = 0, d expr / d ddq_0, ...]``: ``expr`` is affine in the accelerations.
+
+    The generated functions take the state and ``ag``, never the accelerations (those are
+    the runtime's, of the phase it is in): an expression of them is handed over as its
+    coefficients, ``expr = out[0] + sum_j out[1 + j] ddq_j``.
+    """
+    expr = _reduce(expr)
+    free = _reduce(expr.xreplace({a: 0 for a in sysm.ddq}))
+    coefficients = [_reduce(expr.diff(a)) for a in sysm.ddq]
+    if any(c.has(*sysm.ddq) for c in coefficients):
+        raise SpecError("an acceleration of the block or a reaction is not linear in the accelerations")
+    return [free, *coefficients]
+
+
+def _absolute_acceleration(X, sysm: System, vg):
+    """The absolute acceleration of the position ``X`` (a function of time), in the symbols of the state."""
+    t_ = sysm.x_g.args[0]
+    return [_to_symbols(X[i].diff(t_, 2), sysm, vg) for i in range(2)]
+
+
+def block_accelerations(sysm: System, vg) -> list:
+    """Horizontal absolute accelerations of the top's centre and of ``G``, affine in ``ddq`` (top first)."""
+    horizontal = [_absolute_acceleration(X, sysm, vg)[0] for X in (sysm.top, sysm.bodies[0][2])]
+    return [c for a in horizontal for c in affine_in_accelerations(a, sysm)]
+
+
+def base_reaction(sysm: System, vg) -> list:
+    """``V_b``, ``N_b`` and ``M_b`` of :class:`Equations`, each affine in ``ddq``.
+
+    The ground's reaction is the only force on the block and its bodies besides the
+    weights (the forces between them cancel in pairs along common lines of action):
+    its resultant is ``sum m (a + g e_y)`` and its moment about the centre of the
+    base ``O`` (fixed to the ground) is ``sum (X - O) x m (a + g e_y) + I alpha`` (Newton
+    and Euler for each body, summed). ``M_b`` is minus that moment: the moment the
+    block transmits to the ground, which tips it about ``A`` when positive.
+    """
+    t_ = sysm.x_g.args[0]
+    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    shear, normal, moment = sp.Integer(0), sp.Integer(0), sp.Integer(0)
+    for mass, inertia, X, angle in sysm.bodies:
+        a = _absolute_acceleration(X, sysm, vg)
+        force = (mass * a[0], mass * (a[1] + g))
+        r = [_to_symbols(X[0] - sysm.x_g, sysm, vg), _to_symbols(X[1], sysm, vg)]
+        alpha = _to_symbols((sysm.qt[0] + angle).diff(t_, 2), sysm, vg)
+        shear += force[0]
+        normal += force[1]
+        moment += r[0] * force[1] - r[1] * force[0] + inertia * alpha
+    return [c for e in (shear, normal, -moment) for c in affine_in_accelerations(e, sysm)]
+
+
+def element_forces(sysm: System, vg) -> list:
+    """Per attached coordinate, ``dV_e/dq + dD/ddq``: the force of its elements on the block along it."""
+    t_ = sysm.x_g.args[0]
+    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    weights = sum((mass * g * X[1] for mass, _, X, _ in sysm.bodies), sp.Integer(0))
+    elastic = sysm.V - weights
+    out = []
+    for f in sysm.qt[1:]:
+        out.append(_reduce(_to_symbols(elastic.diff(f) + sysm.D.diff(f.diff(t_)), sysm, vg)))
+    return out
+
+
 def derive(spec: Spec, options: dict | None = None) -> Equations:
     """Derive every expression of ``spec`` under ``options``.
 
@@ -528,5 +609,9 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         stop_gaps=gaps,
         # Not in the inner loop of a runtime, and read at states of either regime (rule 6): from the state.
         stop_forces=[where(force).xreplace(on) for force in forces],
+        block_accelerations=block_accelerations(sysm, vg),
+        base_reaction=base_reaction(sysm, vg),
+        # As the bumpers' forces: read at the states of a recorded history, in their own regime.
+        element_forces=[where(force).xreplace(on) for force in element_forces(sysm, vg)],
         stop_regime=list(on.values()),
     )

@@ -44,7 +44,10 @@ class System:
     x_g : Function
         Ground displacement.
     bodies : list of (mass, inertia, position, angle)
-        All bodies including the block, positions relative to the ground.
+        All bodies including the block (first, at its centroid ``G``), positions
+        absolute (with ``x_g``).
+    top : Matrix
+        Absolute position of the centre of the block's top side, block frame ``(0, H)``.
     stops : tuple of (Symbol, Expr, Expr, Expr, int)
         One per side of every end stop: its indicator ``on`` (1 while the
         bumper acts, 0 elsewhere; a symbol while deriving), the penetration
@@ -64,6 +67,7 @@ class System:
     D: sp.Expr
     bodies: tuple
     pivot_point: tuple
+    top: sp.Matrix
     stops: tuple = ()
 
 
@@ -144,4 +148,22 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
         D += on * damping * delta.diff(t) ** 2 / 2
 
     params = tuple(block.values()) + tuple(own.values())
-    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), tuple(corner), stops)
+    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), tuple(corner), place((0, H)), stops)
+
+
+def coordinate_units(spec: Spec) -> dict[str, str]:
+    """Unit of each coordinate, ``theta`` first: ``"rad"`` for an angle, ``"m"`` for a length.
+
+    The positions are lengths, so a coordinate that enters them only through the
+    arguments of trigonometric functions (or enters a body's angle) is an angle;
+    any other enters a length linearly somewhere and is one.
+    """
+    units = {"theta": "rad"}
+    positions = [sp.sympify(c) for b in spec.bodies for c in b.position]
+    angles = [b.angle for b in spec.bodies]
+    for name in spec.coordinates:
+        q = sp.Symbol(name, real=True)
+        trig = {f: sp.Dummy() for p in positions for f in p.atoms(sp.sin, sp.cos, sp.tan) if f.has(q)}
+        outside = any(p.xreplace(trig).has(q) for p in positions)
+        units[name] = "rad" if any(sp.sympify(a).has(q) for a in angles) or (trig and not outside) else "m"
+    return units

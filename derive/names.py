@@ -74,7 +74,8 @@ GENERATED_NAMES = frozenset(
     "s on stop_on y ag p cst out t theta x_g vg np numpy math scipy sympy "
     "NAME COORDINATES STATE PARAMETERS ARGUMENTS prepare prepared "
     "mass_matrix forcing rocking_accel contact_accel uplift impact energy power uplift_energy critical_angle "
-    "critical_tangent E Edot E_uplift theta_cr u_s pi".split()
+    "critical_tangent E Edot E_uplift theta_cr u_s pi "
+    "block_accelerations base_reaction element_forces a_top a_cm V_b N_b M_b Q".split()
 )
 
 #: Model names that would collide with a module or a file: the model's folder holds ``<name>.c``/``<name>.h``,

@@ -114,6 +114,51 @@ def _rigid_moments(v, masses):
     return out
 
 
+def _point_acceleration(v, r, dr, ddr, ddtheta):
+    """Absolute acceleration of a point at the block-frame arm ``r`` from the pivot, moving on the block with the
+    block-frame velocity ``dr`` and acceleration ``ddr``.
+
+    ``X = P_s + R(theta) r + (x_g, 0)``; differentiating twice, with ``R' = dtheta R k x``:
+    ``X'' = R [ddr + 2 dtheta k x dr + ddtheta k x r - dtheta^2 r] + (ag, 0)``.
+    """
+    dth = v["dtheta"]
+    inner = _add(ddr, _scale(2 * dth, _perp(dr)), _scale(ddtheta, _perp(r)), _scale(-(dth**2), r))
+    a = _rot(v["theta"], inner)
+    return a[0] + v["ag"], a[1]
+
+
+def _loads(v, bodies, ddtheta):
+    """``(a_top, a_cm)`` and ``(V_b, N_b, M_b)`` of the block and ``bodies`` ``[(m, r, dr, ddr)]`` (point masses).
+
+    Newton and Euler for each body, summed: the ground's reaction is ``sum m (a + g e_y)``, its moment about
+    the centre of the base ``O`` is ``sum (X - O) x m (a + g e_y) + I_G ddtheta`` with ``X - O = P_s + R r``;
+    ``M_b`` is minus that moment (docs/model.md section 13).
+    """
+    zero = (0 * v["theta"], 0 * v["theta"])
+    s, B, H, g = v["s"], v["B"], v["H"], v["g"]
+    _, _, rG = _block(v)
+    top = _point_acceleration(v, (s * B / 2, H + 0 * s), zero, zero, ddtheta)
+    everything = [(v["M"], rG, zero, zero)] + list(bodies)
+    shear, normal, moment = 0 * s, 0 * s, v["I_G"] * ddtheta
+    for m, r, dr, ddr in everything:
+        a = _point_acceleration(v, r, dr, ddr, ddtheta)
+        F = (m * a[0], m * (a[1] + g))
+        moment = moment + _cross(_add((-s * B / 2, 0 * s), _rot(v["theta"], r)), F)
+        shear, normal = shear + F[0], normal + F[1]
+    centroid = _point_acceleration(v, rG, zero, zero, ddtheta)
+    return (top[0], centroid[0]), (shear, normal, -moment)
+
+
+def _affine(loads, v, accelerations):
+    """The layout of the generated functions affine in the accelerations: per quantity of ``loads(dd)``
+    (``dd`` the accelerations by name), its value at zero accelerations, then its coefficients (exact
+    differences: ``loads`` is affine in them)."""
+    zero = 0 * v["theta"]
+    free = loads({a: zero for a in accelerations})
+    units = [loads({b: zero + (a == b) for b in accelerations}) for a in accelerations]
+    return tuple(c for j, f in enumerate(free) for c in (f, *(u[j] - f for u in units)))
+
+
 class _Weights:
     """The static critical angle from a model's ``weights(v)``: lever arm and height of the weights."""
 
@@ -285,6 +330,29 @@ class Pendulum(_Weights):
         return -v["c_phi"] * v["dphi"] ** 2 - v["ag"] * (v["M"] * VG[0] + v["m"] * Vb[0])
 
     @staticmethod
+    def _loads(v, dd):
+        # The bob moves on the block along the rod's circle: dr = dphi l (cos, sin), and ddr adds the
+        # centripetal dphi^2 l (-sin, cos).
+        rb, drb, _ = Pendulum._bob(v)
+        phi, ell, dphi = v["phi"], v["l"], v["dphi"]
+        along, inward = (np.cos(phi), np.sin(phi)), (-np.sin(phi), np.cos(phi))
+        ddr = _add(_scale(dd["ddphi"] * ell, along), _scale(dphi**2 * ell, inward))
+        return _loads(v, [(v["m"], rb, drb, ddr)], dd["ddtheta"])
+
+    @staticmethod
+    def block_accelerations(v):
+        return _affine(lambda dd: Pendulum._loads(v, dd)[0], v, ("ddtheta", "ddphi"))
+
+    @staticmethod
+    def base_reaction(v):
+        return _affine(lambda dd: Pendulum._loads(v, dd)[1], v, ("ddtheta", "ddphi"))
+
+    @staticmethod
+    def element_forces(v):
+        # The hinge's spring and dashpot: a moment about the hinge, on the block and against the rod.
+        return (v["k_phi"] * v["phi"] + v["c_phi"] * v["dphi"],)
+
+    @staticmethod
     def weights(v):
         """Lever arm and height of the weights about the pivot (over g), phi held relative to the block."""
         _, _, rG = _block(v)
@@ -415,6 +483,28 @@ class OMD2(_Weights):
         for m, _, V in masses:
             P = P - v["ag"] * m * V[0]
         return P
+
+    @staticmethod
+    def _loads(v, dd):
+        # Each mass slides along its guide: dr = (dx, 0), ddr = (ddx, 0).
+        zero = 0 * v["theta"]
+        bodies = [
+            (m, (xi, eta), (dx, zero), (dd[name], zero))
+            for (m, xi, eta, *_, dx), name in zip(OMD2._masses(v), ("ddx1", "ddx2"))
+        ]
+        return _loads(v, bodies, dd["ddtheta"])
+
+    @staticmethod
+    def block_accelerations(v):
+        return _affine(lambda dd: OMD2._loads(v, dd)[0], v, ("ddtheta", "ddx1", "ddx2"))
+
+    @staticmethod
+    def base_reaction(v):
+        return _affine(lambda dd: OMD2._loads(v, dd)[1], v, ("ddtheta", "ddx1", "ddx2"))
+
+    @staticmethod
+    def element_forces(v):
+        return tuple(k * x + c * dx for *_, k, c, x, dx in OMD2._masses(v))
 
     @staticmethod
     def weights(v):

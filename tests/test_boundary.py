@@ -198,7 +198,7 @@ def test_problem_fields_follow_the_case_table():
 
 
 def test_response_fields_follow_the_result_table():
-    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "history"]
+    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "history", "source"]
     assert list(RESULT_FIELDS) == RESULT_NAMES
     assert RESULT_FIELDS["status"] is np.int64 and RESULT_FIELDS["overturned"] is bool
     record = np.zeros(1, dtype=cb.RESULT_DTYPE)[0]

@@ -37,6 +37,14 @@ void block_prepare(double s, const double *on, const double *p, double *cst)
     const double cse15 = cse14 + cse4;
     const double cse16 = 2*cse6;
     const double cse17 = 2*cse8;
+    const double cse18 = B*s;
+    const double cse19 = (1.0/2.0)*cse18;
+    const double cse20 = (1.0/2.0)*H;
+    const double cse21 = M*e;
+    const double cse22 = M*g;
+    const double cse23 = (1.0/4.0)*M;
+    const double cse24 = (B*B)*cse23;
+    const double cse25 = cse19*cse21 + cse24;
     cst[0] = I_G + cse0 + cse3 + (1.0/4.0)*cse4 + (1.0/4.0)*cse5;
     cst[1] = cse1 + cse7;
     cst[2] = cse9;
@@ -55,6 +63,21 @@ void block_prepare(double s, const double *on, const double *p, double *cst)
     cst[15] = cse12;
     cst[16] = atan2(cse12, cse10);
     cst[17] = ((cse8*g > 0) ? (2*cse12/(H*M*g)) : (NAN));
+    cst[18] = H;
+    cst[19] = -cse19;
+    cst[20] = -H;
+    cst[21] = cse20;
+    cst[22] = -cse19 - e;
+    cst[23] = -cse20;
+    cst[24] = M;
+    cst[25] = -M*cse19 - cse21;
+    cst[26] = -M*cse20;
+    cst[27] = cse22;
+    cst[28] = cse19*cse22;
+    cst[29] = -cse25;
+    cst[30] = -H*cse18*cse23;
+    cst[31] = -(H*H)*cse23 - I_G - M*(e*e) - cse18*cse21 - cse24;
+    cst[32] = cse25;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -342,4 +365,95 @@ double block_critical_tangent(double s, const double *y, double ag, const double
     double cst[BLOCK_NK];
     block_prepare(s, NULL, p, cst);
     return block_critical_tangent_prepared(y, ag, cst);
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of block_prepare(s, on, p, cst). */
+void block_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double cst18 = cst[18];
+    const double cst19 = cst[19];
+    const double cst20 = cst[20];
+    const double cst21 = cst[21];
+    const double cst22 = cst[22];
+    const double cst23 = cst[23];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    out[0] = ag + cse2*cst18 + cse4*cst19;
+    out[1] = cse0*cst19 + cse3*cst20;
+    out[2] = ag + cse2*cst21 + cse4*cst22;
+    out[3] = cse0*cst22 + cse3*cst23;
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void block_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, NULL, p, cst);
+    block_block_accelerations_prepared(y, ag, cst, out);
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of block_prepare(s, on, p, cst). */
+void block_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst24 = cst[24];
+    const double cst25 = cst[25];
+    const double cst26 = cst[26];
+    const double cst27 = cst[27];
+    const double cst28 = cst[28];
+    const double cst29 = cst[29];
+    const double cst30 = cst[30];
+    const double cst31 = cst[31];
+    const double cst32 = cst[32];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    const double cse5 = cse0*cst25;
+    const double cse6 = cse3*cst26;
+    out[0] = ag*cst24 + cse2*cst2 + cse4*cst25;
+    out[1] = cse5 + cse6;
+    out[2] = cse1*cse5 + cse1*cse6 + cst27;
+    out[3] = cse0*cst26 + cse3*cst1;
+    out[4] = ag*cse0*cst1 + ag*cse3*cst2 + cse0*cst3 + cse2*cst29 + cse3*cst4 + cse4*cst30 + cst28;
+    out[5] = cse0*cst30 + cse3*cst32 + cst31;
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void block_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, NULL, p, cst);
+    block_base_reaction_prepared(y, ag, cst, out);
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * From the constants of block_prepare(s, on, p, cst). */
+void block_element_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
+void block_element_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, NULL, p, cst);
+    block_element_forces_prepared(y, ag, cst, out);
 }

@@ -26,7 +26,7 @@
 #define BLOCK_NQ 1
 #define BLOCK_NY 2
 #define BLOCK_NP 6
-#define BLOCK_NK 18
+#define BLOCK_NK 33
 #define BLOCK_NSTOPS 0
 #define BLOCK_Y_theta 0
 #define BLOCK_Y_dtheta 1
@@ -107,6 +107,21 @@ void block_stop_forces_prepared(const double *y, double ag, const double *cst, d
 double block_critical_tangent(double s, const double *y, double ag, const double *p);
 double block_critical_tangent_prepared(const double *y, double ag, const double *cst);
 
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * out: a_top[0], a_top[ddtheta], a_cm[0], a_cm[ddtheta] */
+void block_block_accelerations(double s, const double *y, double ag, const double *p, double *out);
+void block_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * out: V_b[0], V_b[ddtheta], N_b[0], N_b[ddtheta], M_b[0], M_b[ddtheta] */
+void block_base_reaction(double s, const double *y, double ag, const double *p, double *out);
+void block_base_reaction_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * out:  */
+void block_element_forces(double s, const double *y, double ag, const double *p, double *out);
+void block_element_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ BLOCK_NQ
@@ -147,6 +162,12 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 #define model_stop_forces_prepared block_stop_forces_prepared
 #define model_critical_tangent block_critical_tangent
 #define model_critical_tangent_prepared block_critical_tangent_prepared
+#define model_block_accelerations block_block_accelerations
+#define model_block_accelerations_prepared block_block_accelerations_prepared
+#define model_base_reaction block_base_reaction
+#define model_base_reaction_prepared block_base_reaction_prepared
+#define model_element_forces block_element_forces
+#define model_element_forces_prepared block_element_forces_prepared
 #endif
 
 #endif

@@ -625,3 +625,142 @@ def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse0 = M*g
     out = _broadcast((numpy.select([numpy.greater(H*cse0, 0),True], [2*((1/2)*B*cse0*s + cse0*e)/(H*M*g),numpy.nan], default=numpy.nan), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
     return out[0]
+
+
+def block_accelerations(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+    """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        a_top[0], a_top[ddtheta], a_cm[0], a_cm[ddtheta]
+    """
+    cse0 = numpy.sin(theta)
+    cse1 = dtheta**2
+    cse2 = numpy.cos(theta)
+    cse3 = cse1*cse2
+    cse4 = (1/2)*B*s
+    cse5 = cse3*cse4
+    cse6 = H*cse2
+    cse7 = cse0*cse4
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out
+
+
+def base_reaction(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+    """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        V_b[0], V_b[ddtheta], N_b[0], N_b[ddtheta], M_b[0], M_b[ddtheta]
+    """
+    cse0 = dtheta**2
+    cse1 = numpy.cos(theta)
+    cse2 = M*e
+    cse3 = cse1*cse2
+    cse4 = numpy.sin(theta)
+    cse5 = (1/2)*M
+    cse6 = B*s
+    cse7 = cse1*cse5*cse6
+    cse8 = cse2*cse4
+    cse9 = H*cse1
+    cse10 = cse5*cse9
+    cse11 = cse4*cse5
+    cse12 = cse11*cse6
+    cse13 = cse0*cse8
+    cse14 = M*cse1*g
+    cse15 = (1/2)*cse6
+    cse16 = B**2
+    cse17 = (1/4)*M
+    cse18 = cse16*cse17
+    cse19 = cse17*cse6
+    out = _broadcast(((1/2)*H*M*cse0*cse4 + M*ag - cse0*cse3 - cse0*cse7, -cse10 - cse12 - cse8, M*g - cse0*cse10 - cse0*cse12 - cse13, -H*cse11 + cse3 + cse7, (1/2)*B*M*ag*cse4*s + (1/2)*B*M*g*s + (1/2)*H*M*ag*cse1 + (1/2)*H*M*cse4*g + M*ag*cse4*e - cse0*cse18*cse4 - cse0*cse19*cse9 - cse13*cse15 - cse14*cse15 - cse14*e, (1/2)*B*M*cse1*e*s - H**2*cse17 - H*cse19*cse4 - I_G + (1/4)*M*cse1*cse16 - M*e**2 - cse18 - cse2*cse6, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out
+
+
+def element_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+    """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    return out

@@ -68,6 +68,21 @@ void omd_prepare(double s, const double *on, const double *p, double *cst)
     const double cse42 = (k_m*k_m);
     const double cse43 = 2*cse38;
     const double cse44 = 2*cse42;
+    const double cse45 = B*s;
+    const double cse46 = (1.0/2.0)*cse45;
+    const double cse47 = (1.0/2.0)*H;
+    const double cse48 = M*e;
+    const double cse49 = cse46*m;
+    const double cse50 = H*m;
+    const double cse51 = h*m;
+    const double cse52 = cse50 + cse51;
+    const double cse53 = M*g;
+    const double cse54 = g*m;
+    const double cse55 = (1.0/4.0)*(B*B);
+    const double cse56 = M*cse55 + cse55*m;
+    const double cse57 = cse46*cse48 + cse56;
+    const double cse58 = (1.0/4.0)*M;
+    const double cse59 = (H*H);
     cst[0] = cse12 + cse18;
     cst[1] = m;
     cst[2] = cse19;
@@ -102,6 +117,25 @@ void omd_prepare(double s, const double *on, const double *p, double *cst)
     cst[31] = -1.0/2.0*cse37*cse40/k_m;
     cst[32] = k_m;
     cst[33] = 1.0/cse24;
+    cst[34] = H;
+    cst[35] = -cse46;
+    cst[36] = -H;
+    cst[37] = cse47;
+    cst[38] = -cse46 - e;
+    cst[39] = -cse47;
+    cst[40] = M + m;
+    cst[41] = -M*cse46 - cse48 - cse49;
+    cst[42] = -M*cse47 - cse52;
+    cst[43] = cse53 + cse54;
+    cst[44] = 2*m;
+    cst[45] = cse46*cse53 + cse46*cse54;
+    cst[46] = -cse57;
+    cst[47] = -H*cse45*cse58 - cse45*cse47*m - cse46*cse51;
+    cst[48] = -cse49;
+    cst[49] = -I_G - M*(e*e) - cse45*cse48 - 2*cse50*h - cse56 - cse58*cse59 - cse59*m - (h*h)*m;
+    cst[50] = cse57;
+    cst[51] = cse52;
+    cst[52] = c;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -479,4 +513,121 @@ double omd_critical_tangent(double s, const double *y, double ag, const double *
     double cst[OMD_NK];
     omd_prepare(s, NULL, p, cst);
     return omd_critical_tangent_prepared(y, ag, cst);
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of omd_prepare(s, on, p, cst). */
+void omd_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double dtheta = y[2];
+    const double cst34 = cst[34];
+    const double cst35 = cst[35];
+    const double cst36 = cst[36];
+    const double cst37 = cst[37];
+    const double cst38 = cst[38];
+    const double cst39 = cst[39];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    out[0] = ag + cse2*cst34 + cse4*cst35;
+    out[1] = cse0*cst35 + cse3*cst36;
+    out[2] = 0;
+    out[3] = ag + cse2*cst37 + cse4*cst38;
+    out[4] = cse0*cst38 + cse3*cst39;
+    out[5] = 0;
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void omd_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, NULL, p, cst);
+    omd_block_accelerations_prepared(y, ag, cst, out);
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of omd_prepare(s, on, p, cst). */
+void omd_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst40 = cst[40];
+    const double cst41 = cst[41];
+    const double cst42 = cst[42];
+    const double cst43 = cst[43];
+    const double cst44 = cst[44];
+    const double cst45 = cst[45];
+    const double cst46 = cst[46];
+    const double cst47 = cst[47];
+    const double cst48 = cst[48];
+    const double cst49 = cst[49];
+    const double cst50 = cst[50];
+    const double cst51 = cst[51];
+    const double cse0 = sin(theta);
+    const double cse1 = dtheta*dx;
+    const double cse2 = cse1*cst9;
+    const double cse3 = (dtheta*dtheta);
+    const double cse4 = cse0*cse3;
+    const double cse5 = cos(theta);
+    const double cse6 = cse3*cse5;
+    const double cse7 = cst13*x;
+    const double cse8 = cse0*cst41;
+    const double cse9 = cse5*cst42;
+    const double cse10 = cse5*cst1;
+    const double cse11 = cse1*cse5;
+    const double cse12 = cse0*cst1;
+    const double cse13 = cse5*x;
+    out[0] = ag*cst40 + cse0*cse2 + cse4*cst4 + cse6*cse7 + cse6*cst41;
+    out[1] = cse0*cse7 + cse8 + cse9;
+    out[2] = cse10;
+    out[3] = cse11*cst44 + cse3*cse8 + cse3*cse9 + cse4*cse7 + cst43;
+    out[4] = cse0*cst42 + cse10*x + cse5*cst6;
+    out[5] = cse12;
+    out[6] = ag*cse0*cst6 + ag*cse12*x + ag*cse5*cst4 + cse0*cst5 + cse1*cst10 + cse11*cst2 + cse13*cst8 + cse2*x + cse4*cst46 + cse4*cst48*x + cse5*cst7 + cse6*cst47 + cst45;
+    out[7] = cse0*cst47 + cse13*cst14 + cse5*cst50 + cst10*x + cst13*(x*x) + cst49;
+    out[8] = cse0*cst14 + cst51;
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void omd_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, NULL, p, cst);
+    omd_base_reaction_prepared(y, ag, cst, out);
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * From the constants of omd_prepare(s, on, p, cst). */
+void omd_element_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x = y[1];
+    const double dx = y[3];
+    const double cst32 = cst[32];
+    const double cst52 = cst[52];
+    out[0] = cst32*x + cst52*dx;
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
+void omd_element_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, NULL, p, cst);
+    omd_element_forces_prepared(y, ag, cst, out);
 }

@@ -26,7 +26,7 @@
 #define OMD_NQ 2
 #define OMD_NY 4
 #define OMD_NP 10
-#define OMD_NK 34
+#define OMD_NK 53
 #define OMD_NSTOPS 0
 #define OMD_Y_theta 0
 #define OMD_Y_x 1
@@ -113,6 +113,21 @@ void omd_stop_forces_prepared(const double *y, double ag, const double *cst, dou
 double omd_critical_tangent(double s, const double *y, double ag, const double *p);
 double omd_critical_tangent_prepared(const double *y, double ag, const double *cst);
 
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * out: a_top[0], a_top[ddtheta], a_top[ddx], a_cm[0], a_cm[ddtheta], a_cm[ddx] */
+void omd_block_accelerations(double s, const double *y, double ag, const double *p, double *out);
+void omd_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * out: V_b[0], V_b[ddtheta], V_b[ddx], N_b[0], N_b[ddtheta], N_b[ddx], M_b[0], M_b[ddtheta], M_b[ddx] */
+void omd_base_reaction(double s, const double *y, double ag, const double *p, double *out);
+void omd_base_reaction_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * out: Q[x] */
+void omd_element_forces(double s, const double *y, double ag, const double *p, double *out);
+void omd_element_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD_NQ
@@ -153,6 +168,12 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 #define model_stop_forces_prepared omd_stop_forces_prepared
 #define model_critical_tangent omd_critical_tangent
 #define model_critical_tangent_prepared omd_critical_tangent_prepared
+#define model_block_accelerations omd_block_accelerations
+#define model_block_accelerations_prepared omd_block_accelerations_prepared
+#define model_base_reaction omd_base_reaction
+#define model_base_reaction_prepared omd_base_reaction_prepared
+#define model_element_forces omd_element_forces
+#define model_element_forces_prepared omd_element_forces_prepared
 #endif
 
 #endif

@@ -1102,3 +1102,241 @@ def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g,
     cse5 = (1/2)*B*s
     out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [(cse0*cse5 + cse0*x1 + cse1*cse5 + cse1*e + cse3*cse5 + cse3*x2)/cse4,numpy.nan], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
+
+
+def block_accelerations(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        a_top[0], a_top[ddtheta], a_top[ddx1], a_top[ddx2], a_cm[0], a_cm[ddtheta], a_cm[ddx1], a_cm[ddx2]
+    """
+    cse0 = numpy.sin(theta)
+    cse1 = dtheta**2
+    cse2 = numpy.cos(theta)
+    cse3 = cse1*cse2
+    cse4 = (1/2)*B*s
+    cse5 = cse3*cse4
+    cse6 = H*cse2
+    cse7 = cse0*cse4
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, 0, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out
+
+
+def base_reaction(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        V_b[0], V_b[ddtheta], V_b[ddx1], V_b[ddx2], N_b[0], N_b[ddtheta], N_b[ddx1], N_b[ddx2], M_b[0], M_b[ddtheta], M_b[ddx1], M_b[ddx2]
+    """
+    cse0 = numpy.sin(theta)
+    cse1 = cse0*m1
+    cse2 = 2*dtheta
+    cse3 = cse2*dx1
+    cse4 = cse0*m2
+    cse5 = cse2*dx2
+    cse6 = dtheta**2
+    cse7 = numpy.cos(theta)
+    cse8 = M*e
+    cse9 = cse7*cse8
+    cse10 = cse7*m1
+    cse11 = cse10*x1
+    cse12 = cse7*m2
+    cse13 = cse12*x2
+    cse14 = B*s
+    cse15 = (1/2)*cse14
+    cse16 = M*cse15
+    cse17 = cse16*cse7
+    cse18 = cse10*cse15
+    cse19 = cse12*cse15
+    cse20 = H*cse10
+    cse21 = cse0*cse8
+    cse22 = cse10*h
+    cse23 = cse1*x1
+    cse24 = cse4*x2
+    cse25 = (1/2)*H
+    cse26 = M*cse25
+    cse27 = cse26*cse7
+    cse28 = cse12*cse25
+    cse29 = cse0*cse16
+    cse30 = cse1*cse15
+    cse31 = cse15*cse4
+    cse32 = cse20*cse6
+    cse33 = cse21*cse6
+    cse34 = cse22*cse6
+    cse35 = cse23*cse6
+    cse36 = cse24*cse6
+    cse37 = H*cse1
+    cse38 = cse1*h
+    cse39 = M*cse7*g
+    cse40 = m1*x1
+    cse41 = m2*x2
+    cse42 = cse14*dtheta
+    cse43 = B**2
+    cse44 = (1/4)*M
+    cse45 = cse43*cse44
+    cse46 = (1/4)*cse43
+    cse47 = cse46*cse6
+    cse48 = H*cse14
+    cse49 = cse44*cse48
+    cse50 = (1/4)*cse48
+    cse51 = H**2
+    cse52 = H*m1
+    out = _broadcast(((1/2)*H*M*cse0*cse6 + H*cse0*cse6*m1 + (1/2)*H*cse0*cse6*m2 + M*ag + ag*m1 + ag*m2 + cse0*cse6*h*m1 - cse1*cse3 - cse11*cse6 - cse13*cse6 - cse17*cse6 - cse18*cse6 - cse19*cse6 - cse4*cse5 - cse6*cse9, -cse20 - cse21 - cse22 - cse23 - cse24 - cse27 - cse28 - cse29 - cse30 - cse31, cse10, cse12, M*g - cse27*cse6 - cse28*cse6 - cse29*cse6 - cse30*cse6 - cse31*cse6 - cse32 - cse33 - cse34 - cse35 - cse36 + 2*cse7*dtheta*dx1*m1 + 2*cse7*dtheta*dx2*m2 + g*m1 + g*m2, -cse0*cse26 + cse11 + cse13 + cse17 + cse18 + cse19 - cse25*cse4 - cse37 - cse38 + cse9, cse1, cse4, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m1*s + (1/2)*B*ag*cse0*m2*s + B*cse7*dtheta*dx1*m1*s + B*cse7*dtheta*dx2*m2*s + (1/2)*B*g*m1*s + (1/2)*B*g*m2*s + (1/2)*H*M*ag*cse7 + (1/2)*H*M*cse0*g + H*ag*cse7*m1 + (1/2)*H*ag*cse7*m2 + H*cse0*g*m1 + (1/2)*H*cse0*g*m2 + M*ag*cse0*e + ag*cse0*m1*x1 + ag*cse0*m2*x2 + ag*cse7*h*m1 - cse0*cse45*cse6 + cse0*g*h*m1 - cse1*cse47 - cse11*g - cse12*cse50*cse6 - cse13*g - cse15*cse32 - cse15*cse33 - cse15*cse34 - cse15*cse35 - cse15*cse36 - cse15*cse39 - cse18*g - cse19*g - cse3*cse40 - cse39*e - cse4*cse47 - cse41*cse5 - cse42*dx1*m1 - cse42*dx2*m2 - cse49*cse6*cse7, (1/2)*B*M*cse7*e*s + (1/2)*B*cse7*m1*s*x1 + (1/2)*B*cse7*m2*s*x2 - I_G + (1/4)*M*cse43*cse7 - M*e**2 - cse0*cse49 - cse14*cse40 - cse14*cse41 - cse14*cse8 - cse15*cse37 - cse15*cse38 - cse4*cse50 + (1/4)*cse43*cse7*m1 + (1/4)*cse43*cse7*m2 - cse44*cse51 - cse45 - cse46*m1 - cse46*m2 - cse51*m1 - 1/4*cse51*m2 - 2*cse52*h - h**2*m1 - m1*x1**2 - m2*x2**2, cse30 + cse52 + h*m1, cse25*m2 + cse31, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out
+
+
+def element_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        Q[x1], Q[x2]
+    """
+    out = _broadcast((c1*dx1 + k1*x1, c2*dx2 + k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out

@@ -92,6 +92,25 @@ void omd2_prepare(double s, const double *on, const double *p, double *cst)
     const double cse63 = cse42*cse60;
     const double cse64 = (1.0/2.0)/k2;
     const double cse65 = cse52*cse57;
+    const double cse66 = B*s;
+    const double cse67 = (1.0/2.0)*cse66;
+    const double cse68 = M*e;
+    const double cse69 = cse67*m1;
+    const double cse70 = cse67*m2;
+    const double cse71 = (1.0/2.0)*H;
+    const double cse72 = cse71*m2;
+    const double cse73 = H*m1;
+    const double cse74 = h*m1;
+    const double cse75 = cse73 + cse74;
+    const double cse76 = M*g;
+    const double cse77 = g*m1;
+    const double cse78 = g*m2;
+    const double cse79 = (1.0/4.0)*(B*B);
+    const double cse80 = M*cse79 + cse79*m1 + cse79*m2;
+    const double cse81 = cse67*cse68 + cse80;
+    const double cse82 = (1.0/4.0)*H*cse66;
+    const double cse83 = (H*H);
+    const double cse84 = (1.0/4.0)*cse83;
     cst[0] = cse13 + cse20;
     cst[1] = m1;
     cst[2] = m2;
@@ -148,6 +167,27 @@ void omd2_prepare(double s, const double *on, const double *p, double *cst)
     cst[53] = -cse64*cse65;
     cst[54] = k2;
     cst[55] = 1.0/cse30;
+    cst[56] = H;
+    cst[57] = -cse67;
+    cst[58] = -H;
+    cst[59] = -cse67 - e;
+    cst[60] = M + m1 + m2;
+    cst[61] = -M*cse67 - cse68 - cse69 - cse70;
+    cst[62] = -M*cse71 - cse72 - cse75;
+    cst[63] = cse76 + cse77 + cse78;
+    cst[64] = 2*m1;
+    cst[65] = 2*m2;
+    cst[66] = cse67*cse76 + cse67*cse77 + cse67*cse78;
+    cst[67] = -cse81;
+    cst[68] = -M*cse82 - cse67*cse73 - cse67*cse74 - cse82*m2;
+    cst[69] = -cse69;
+    cst[70] = -cse70;
+    cst[71] = -I_G - M*cse84 - M*(e*e) - cse66*cse68 - 2*cse73*h - cse80 - cse83*m1 - cse84*m2 - (h*h)*m1;
+    cst[72] = cse81;
+    cst[73] = cse75;
+    cst[74] = cse72;
+    cst[75] = c1;
+    cst[76] = c2;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -605,4 +645,150 @@ double omd2_critical_tangent(double s, const double *y, double ag, const double 
     double cst[OMD2_NK];
     omd2_prepare(s, NULL, p, cst);
     return omd2_critical_tangent_prepared(y, ag, cst);
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of omd2_prepare(s, on, p, cst). */
+void omd2_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double dtheta = y[3];
+    const double cst26 = cst[26];
+    const double cst39 = cst[39];
+    const double cst56 = cst[56];
+    const double cst57 = cst[57];
+    const double cst58 = cst[58];
+    const double cst59 = cst[59];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    out[0] = ag + cse2*cst56 + cse4*cst57;
+    out[1] = cse0*cst57 + cse3*cst58;
+    out[2] = 0;
+    out[3] = 0;
+    out[4] = ag + cse2*cst26 + cse4*cst59;
+    out[5] = cse0*cst59 + cse3*cst39;
+    out[6] = 0;
+    out[7] = 0;
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void omd2_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, NULL, p, cst);
+    omd2_block_accelerations_prepared(y, ag, cst, out);
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of omd2_prepare(s, on, p, cst). */
+void omd2_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dtheta = y[3];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst3 = cst[3];
+    const double cst4 = cst[4];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst15 = cst[15];
+    const double cst16 = cst[16];
+    const double cst19 = cst[19];
+    const double cst20 = cst[20];
+    const double cst23 = cst[23];
+    const double cst24 = cst[24];
+    const double cst60 = cst[60];
+    const double cst61 = cst[61];
+    const double cst62 = cst[62];
+    const double cst63 = cst[63];
+    const double cst64 = cst[64];
+    const double cst65 = cst[65];
+    const double cst66 = cst[66];
+    const double cst67 = cst[67];
+    const double cst68 = cst[68];
+    const double cst69 = cst[69];
+    const double cst70 = cst[70];
+    const double cst71 = cst[71];
+    const double cst72 = cst[72];
+    const double cst73 = cst[73];
+    const double cst74 = cst[74];
+    const double cse0 = sin(theta);
+    const double cse1 = dtheta*dx1;
+    const double cse2 = cse1*cst13;
+    const double cse3 = dtheta*dx2;
+    const double cse4 = cse3*cst14;
+    const double cse5 = cos(theta);
+    const double cse6 = (dtheta*dtheta);
+    const double cse7 = cse5*cse6;
+    const double cse8 = cse0*cse6;
+    const double cse9 = cst19*x1;
+    const double cse10 = cst23*x2;
+    const double cse11 = cse0*cst61;
+    const double cse12 = cse5*cst62;
+    const double cse13 = cse5*cst1;
+    const double cse14 = cse5*cst2;
+    const double cse15 = cse1*cse5;
+    const double cse16 = cse3*cse5;
+    const double cse17 = cse0*cst1;
+    const double cse18 = cse0*cst2;
+    const double cse19 = cse5*x1;
+    const double cse20 = cse5*x2;
+    out[0] = ag*cst60 + cse0*cse2 + cse0*cse4 + cse10*cse7 + cse7*cse9 + cse7*cst61 + cse8*cst7;
+    out[1] = cse0*cse10 + cse0*cse9 + cse11 + cse12;
+    out[2] = cse13;
+    out[3] = cse14;
+    out[4] = cse10*cse8 + cse11*cse6 + cse12*cse6 + cse15*cst64 + cse16*cst65 + cse8*cse9 + cst63;
+    out[5] = cse0*cst62 + cse13*x1 + cse14*x2 + cse5*cst9;
+    out[6] = cse17;
+    out[7] = cse18;
+    out[8] = ag*cse0*cst9 + ag*cse17*x1 + ag*cse18*x2 + ag*cse5*cst7 + cse0*cst8 + cse1*cst15 + cse15*cst3 + cse16*cst4 + cse19*cst11 + cse2*x1 + cse20*cst12 + cse3*cst16 + cse4*x2 + cse5*cst10 + cse7*cst68 + cse8*cst67 + cse8*cst69*x1 + cse8*cst70*x2 + cst66;
+    out[9] = cse0*cst68 + cse19*cst20 + cse20*cst24 + cse5*cst72 + cst15*x1 + cst16*x2 + cst19*(x1*x1) + cst23*(x2*x2) + cst71;
+    out[10] = cse0*cst20 + cst73;
+    out[11] = cse0*cst24 + cst74;
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void omd2_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, NULL, p, cst);
+    omd2_base_reaction_prepared(y, ag, cst, out);
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * From the constants of omd2_prepare(s, on, p, cst). */
+void omd2_element_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x1 = y[1];
+    const double x2 = y[2];
+    const double dx1 = y[4];
+    const double dx2 = y[5];
+    const double cst51 = cst[51];
+    const double cst54 = cst[54];
+    const double cst75 = cst[75];
+    const double cst76 = cst[76];
+    out[0] = cst51*x1 + cst75*dx1;
+    out[1] = cst54*x2 + cst76*dx2;
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
+void omd2_element_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, NULL, p, cst);
+    omd2_element_forces_prepared(y, ag, cst, out);
 }

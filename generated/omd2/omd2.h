@@ -26,7 +26,7 @@
 #define OMD2_NQ 3
 #define OMD2_NY 6
 #define OMD2_NP 13
-#define OMD2_NK 56
+#define OMD2_NK 77
 #define OMD2_NSTOPS 0
 #define OMD2_Y_theta 0
 #define OMD2_Y_x1 1
@@ -118,6 +118,21 @@ void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, do
 double omd2_critical_tangent(double s, const double *y, double ag, const double *p);
 double omd2_critical_tangent_prepared(const double *y, double ag, const double *cst);
 
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * out: a_top[0], a_top[ddtheta], a_top[ddx1], a_top[ddx2], a_cm[0], a_cm[ddtheta], a_cm[ddx1], a_cm[ddx2] */
+void omd2_block_accelerations(double s, const double *y, double ag, const double *p, double *out);
+void omd2_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * out: V_b[0], V_b[ddtheta], V_b[ddx1], V_b[ddx2], N_b[0], N_b[ddtheta], N_b[ddx1], N_b[ddx2], M_b[0], M_b[ddtheta], M_b[ddx1], M_b[ddx2] */
+void omd2_base_reaction(double s, const double *y, double ag, const double *p, double *out);
+void omd2_base_reaction_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * out: Q[x1], Q[x2] */
+void omd2_element_forces(double s, const double *y, double ag, const double *p, double *out);
+void omd2_element_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD2_NQ
@@ -158,6 +173,12 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 #define model_stop_forces_prepared omd2_stop_forces_prepared
 #define model_critical_tangent omd2_critical_tangent
 #define model_critical_tangent_prepared omd2_critical_tangent_prepared
+#define model_block_accelerations omd2_block_accelerations
+#define model_block_accelerations_prepared omd2_block_accelerations_prepared
+#define model_base_reaction omd2_base_reaction
+#define model_base_reaction_prepared omd2_base_reaction_prepared
+#define model_element_forces omd2_element_forces
+#define model_element_forces_prepared omd2_element_forces_prepared
 #endif
 
 #endif

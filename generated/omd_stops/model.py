@@ -1068,3 +1068,221 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
     cse4 = B*s
     out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
+
+
+def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        a_top[0], a_top[ddtheta], a_top[ddx], a_cm[0], a_cm[ddtheta], a_cm[ddx]
+    """
+    cse0 = numpy.sin(theta)
+    cse1 = dtheta**2
+    cse2 = numpy.cos(theta)
+    cse3 = cse1*cse2
+    cse4 = (1/2)*B*s
+    cse5 = cse3*cse4
+    cse6 = H*cse2
+    cse7 = cse0*cse4
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    return out
+
+
+def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        V_b[0], V_b[ddtheta], V_b[ddx], N_b[0], N_b[ddtheta], N_b[ddx], M_b[0], M_b[ddtheta], M_b[ddx]
+    """
+    cse0 = numpy.sin(theta)
+    cse1 = cse0*m
+    cse2 = dtheta*dx
+    cse3 = 2*cse2
+    cse4 = dtheta**2
+    cse5 = numpy.cos(theta)
+    cse6 = M*e
+    cse7 = cse5*cse6
+    cse8 = cse5*m
+    cse9 = cse8*x
+    cse10 = (1/2)*M
+    cse11 = B*s
+    cse12 = cse10*cse11
+    cse13 = cse12*cse5
+    cse14 = (1/2)*cse11
+    cse15 = cse14*cse8
+    cse16 = H*cse8
+    cse17 = cse0*cse6
+    cse18 = cse8*h
+    cse19 = cse1*x
+    cse20 = H*cse5
+    cse21 = cse10*cse20
+    cse22 = cse0*cse12
+    cse23 = cse1*cse14
+    cse24 = cse16*cse4
+    cse25 = cse17*cse4
+    cse26 = cse18*cse4
+    cse27 = cse19*cse4
+    cse28 = H*cse0
+    cse29 = H*cse1
+    cse30 = cse1*h
+    cse31 = M*cse5*g
+    cse32 = m*x
+    cse33 = B**2
+    cse34 = (1/4)*M
+    cse35 = cse33*cse34
+    cse36 = (1/4)*cse33
+    cse37 = cse11*cse34
+    cse38 = H**2
+    cse39 = H*m
+    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    return out
+
+
+def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        Q[x]
+    """
+    cse0 = L + x
+    cse1 = numpy.select([numpy.less(cse0, 0),True], [1,0], default=numpy.nan)
+    cse2 = c_b*dx
+    cse3 = L - x
+    cse4 = numpy.select([numpy.less(cse3, 0),True], [1,0], default=numpy.nan)
+    out = _broadcast((c*dx + cse0*cse1*k_b + cse1*cse2 + cse2*cse4 - cse3*cse4*k_b + k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    return out

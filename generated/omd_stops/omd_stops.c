@@ -119,6 +119,21 @@ void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
     const double cse89 = cse64*m/(cse13*cse79 + cse13*cse86 + cse14*cse78 + cse15*cse79 + cse15*cse86 + cse17*cse87*k_m + cse48*cse81 + cse49*cse75 + cse49*cse77 + cse50*cse80 + cse52*cse80 + cse54*cse63 + cse55*cse84 + cse55*cse85 + cse56*cse82 + cse60 + cse75*cse76 + cse76*cse77 + cse78*cse9 + cse80*cse81 + cse82*cse84 + cse82*cse85 + cse87*cse88 + 8*cse88*k_m);
     const double cse90 = (L*L);
     const double cse91 = cse45*cse90 - cse63*cse90/(cse57 + cse74);
+    const double cse92 = B*s;
+    const double cse93 = (1.0/2.0)*cse92;
+    const double cse94 = (1.0/2.0)*H;
+    const double cse95 = M*e;
+    const double cse96 = cse93*m;
+    const double cse97 = H*m;
+    const double cse98 = h*m;
+    const double cse99 = cse97 + cse98;
+    const double cse100 = M*g;
+    const double cse101 = g*m;
+    const double cse102 = (1.0/4.0)*(B*B);
+    const double cse103 = M*cse102 + cse102*m;
+    const double cse104 = cse103 + cse93*cse95;
+    const double cse105 = (1.0/4.0)*M;
+    const double cse106 = (H*H);
     cst[0] = cse12 + cse18;
     cst[1] = m;
     cst[2] = cse19;
@@ -167,6 +182,26 @@ void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
     cst[45] = L;
     cst[46] = -c_b;
     cst[47] = 1.0/cse24;
+    cst[48] = H;
+    cst[49] = -cse93;
+    cst[50] = -H;
+    cst[51] = cse94;
+    cst[52] = -cse93 - e;
+    cst[53] = -cse94;
+    cst[54] = M + m;
+    cst[55] = -M*cse93 - cse95 - cse96;
+    cst[56] = -M*cse94 - cse99;
+    cst[57] = cse100 + cse101;
+    cst[58] = 2*m;
+    cst[59] = cse100*cse93 + cse101*cse93;
+    cst[60] = -cse104;
+    cst[61] = -H*cse105*cse92 - cse92*cse94*m - cse93*cse98;
+    cst[62] = -cse96;
+    cst[63] = -I_G - M*(e*e) - cse103 - cse105*cse106 - cse106*m - cse92*cse95 - 2*cse97*h - (h*h)*m;
+    cst[64] = cse104;
+    cst[65] = cse99;
+    cst[66] = c;
+    cst[67] = -k_b;
 }
 
 /* The regime of the state y: each stop side acts where its penetration is > 0. */
@@ -624,4 +659,139 @@ double omd_stops_critical_tangent(double s, const double *y, double ag, const do
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_critical_tangent_prepared(y, ag, cst);
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+void omd_stops_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double dtheta = y[2];
+    const double cst48 = cst[48];
+    const double cst49 = cst[49];
+    const double cst50 = cst[50];
+    const double cst51 = cst[51];
+    const double cst52 = cst[52];
+    const double cst53 = cst[53];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    out[0] = ag + cse2*cst48 + cse4*cst49;
+    out[1] = cse0*cst49 + cse3*cst50;
+    out[2] = 0;
+    out[3] = ag + cse2*cst51 + cse4*cst52;
+    out[4] = cse0*cst52 + cse3*cst53;
+    out[5] = 0;
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
+void omd_stops_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    omd_stops_block_accelerations_prepared(y, ag, cst, out);
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+void omd_stops_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double cst1 = cst[1];
+    const double cst2 = cst[2];
+    const double cst4 = cst[4];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst16 = cst[16];
+    const double cst17 = cst[17];
+    const double cst54 = cst[54];
+    const double cst55 = cst[55];
+    const double cst56 = cst[56];
+    const double cst57 = cst[57];
+    const double cst58 = cst[58];
+    const double cst59 = cst[59];
+    const double cst60 = cst[60];
+    const double cst61 = cst[61];
+    const double cst62 = cst[62];
+    const double cst63 = cst[63];
+    const double cst64 = cst[64];
+    const double cst65 = cst[65];
+    const double cse0 = sin(theta);
+    const double cse1 = dtheta*dx;
+    const double cse2 = cse1*cst9;
+    const double cse3 = (dtheta*dtheta);
+    const double cse4 = cse0*cse3;
+    const double cse5 = cos(theta);
+    const double cse6 = cse3*cse5;
+    const double cse7 = cst16*x;
+    const double cse8 = cse0*cst55;
+    const double cse9 = cse5*cst56;
+    const double cse10 = cse5*cst1;
+    const double cse11 = cse1*cse5;
+    const double cse12 = cse0*cst1;
+    const double cse13 = cse5*x;
+    out[0] = ag*cst54 + cse0*cse2 + cse4*cst4 + cse6*cse7 + cse6*cst55;
+    out[1] = cse0*cse7 + cse8 + cse9;
+    out[2] = cse10;
+    out[3] = cse11*cst58 + cse3*cse8 + cse3*cse9 + cse4*cse7 + cst57;
+    out[4] = cse0*cst56 + cse10*x + cse5*cst6;
+    out[5] = cse12;
+    out[6] = ag*cse0*cst6 + ag*cse12*x + ag*cse5*cst4 + cse0*cst5 + cse1*cst10 + cse11*cst2 + cse13*cst8 + cse2*x + cse4*cst60 + cse4*cst62*x + cse5*cst7 + cse6*cst61 + cst59;
+    out[7] = cse0*cst61 + cse13*cst17 + cse5*cst64 + cst10*x + cst16*(x*x) + cst63;
+    out[8] = cse0*cst17 + cst65;
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
+void omd_stops_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    omd_stops_base_reaction_prepared(y, ag, cst, out);
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+void omd_stops_element_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x = y[1];
+    const double dx = y[3];
+    const double cst14 = cst[14];
+    const double cst42 = cst[42];
+    const double cst43 = cst[43];
+    const double cst44 = cst[44];
+    const double cst45 = cst[45];
+    const double cst66 = cst[66];
+    const double cst67 = cst[67];
+    const double cse0 = ((cst45 + x < 0) ? (1) : (0));
+    const double cse1 = cst43*dx;
+    const double cse2 = -x;
+    const double cse3 = ((cse2 + cst45 < 0) ? (1) : (0));
+    out[0] = cse0*cse1 + cse0*cst67*(cse2 + cst14) + cse1*cse3 + cse3*cst44*(cst14 + x) + cst42*x + cst66*dx;
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * In the regime of the state y: each stop side acts where its penetration is > 0. */
+void omd_stops_element_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    omd_stops_element_forces_prepared(y, ag, cst, out);
 }

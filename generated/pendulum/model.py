@@ -982,3 +982,227 @@ def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, 
     cse5 = B*s
     out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [((1/2)*cse0*cse5 + cse0*x_p + cse1*e + cse2*cse5 + cse3*numpy.sin(phi))/cse4,numpy.nan], default=numpy.nan), ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
+
+
+def block_accelerations(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        a_top[0], a_top[ddtheta], a_top[ddphi], a_cm[0], a_cm[ddtheta], a_cm[ddphi]
+    """
+    cse0 = numpy.sin(theta)
+    cse1 = dtheta**2
+    cse2 = numpy.cos(theta)
+    cse3 = cse1*cse2
+    cse4 = (1/2)*B*s
+    cse5 = cse3*cse4
+    cse6 = H*cse2
+    cse7 = cse0*cse4
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out
+
+
+def base_reaction(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        V_b[0], V_b[ddtheta], V_b[ddphi], N_b[0], N_b[ddtheta], N_b[ddphi], M_b[0], M_b[ddtheta], M_b[ddphi]
+    """
+    cse0 = dtheta**2
+    cse1 = numpy.cos(theta)
+    cse2 = M*e
+    cse3 = cse1*cse2
+    cse4 = m*x_p
+    cse5 = cse1*cse4
+    cse6 = numpy.sin(theta)
+    cse7 = (1/2)*M
+    cse8 = B*s
+    cse9 = cse1*cse7*cse8
+    cse10 = (1/2)*cse8
+    cse11 = cse10*m
+    cse12 = cse1*cse11
+    cse13 = dphi**2
+    cse14 = numpy.sin(phi)
+    cse15 = l*m
+    cse16 = cse14*cse15
+    cse17 = cse1*cse16
+    cse18 = numpy.cos(phi)
+    cse19 = cse15*cse18
+    cse20 = cse19*cse6
+    cse21 = dphi*dtheta
+    cse22 = 2*cse21
+    cse23 = cse2*cse6
+    cse24 = cse4*cse6
+    cse25 = m*y_p
+    cse26 = cse1*cse25
+    cse27 = H*cse1
+    cse28 = cse27*cse7
+    cse29 = cse6*cse7
+    cse30 = cse29*cse8
+    cse31 = cse11*cse6
+    cse32 = cse16*cse6
+    cse33 = -cse1*cse18*l*m + cse32
+    cse34 = cse0*cse23
+    cse35 = cse0*cse24
+    cse36 = cse0*cse26
+    cse37 = cse13*cse32
+    cse38 = cse0*cse32
+    cse39 = cse25*cse6
+    cse40 = cse17 + cse20
+    cse41 = M*cse1*g
+    cse42 = g*m
+    cse43 = cse1*cse42
+    cse44 = cse18*l
+    cse45 = cse14*l
+    cse46 = cse4*cse44
+    cse47 = cse25*cse45
+    cse48 = cse21*cse8
+    cse49 = B**2
+    cse50 = (1/4)*M
+    cse51 = cse49*cse50
+    cse52 = cse0*cse6
+    cse53 = (1/4)*cse49*m
+    cse54 = cse50*cse8
+    cse55 = l**2*m
+    cse56 = cse4*cse45
+    out = _broadcast(((1/2)*H*M*cse0*cse6 + M*ag + ag*m - cse0*cse12 - cse0*cse17 - cse0*cse20 - cse0*cse3 - cse0*cse5 + cse0*cse6*m*y_p - cse0*cse9 - cse13*cse17 - cse13*cse20 - cse17*cse22 - cse20*cse22, -cse23 - cse24 - cse26 - cse28 - cse30 - cse31 - cse33, -cse33, M*g + cse0*cse1*cse18*l*m - cse0*cse28 - cse0*cse30 - cse0*cse31 + cse1*cse13*cse18*l*m + 2*cse1*cse18*dphi*dtheta*l*m - cse22*cse32 - cse34 - cse35 - cse36 - cse37 - cse38 + g*m, -H*cse29 + cse12 + cse3 - cse39 + cse40 + cse5 + cse9, cse40, (1/2)*B*M*ag*cse6*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse6*m*s + (1/2)*B*cse0*cse1*cse18*l*m*s + (1/2)*B*cse1*cse13*cse18*l*m*s + B*cse1*cse18*dphi*dtheta*l*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse1 + (1/2)*H*M*cse6*g + M*ag*cse6*e - ag*cse1*cse44*m + ag*cse1*m*y_p + ag*cse14*cse6*l*m + ag*cse6*m*x_p - cse0*cse27*cse54 - cse10*cse13*cse19 - cse10*cse34 - cse10*cse35 - cse10*cse36 - cse10*cse37 - cse10*cse38 - cse10*cse41 - cse10*cse43 - cse13*cse46 - cse13*cse47 - cse19*cse48 - cse22*cse46 - cse22*cse47 - cse32*cse48 - cse41*e - cse42*cse44*cse6 - cse43*cse45 - cse43*x_p - cse51*cse52 - cse52*cse53 + cse6*g*m*y_p, (1/2)*B*M*cse1*e*s + (1/2)*B*cse1*cse14*l*m*s + (1/2)*B*cse1*m*s*x_p + (1/2)*B*cse18*cse6*l*m*s - H**2*cse50 - H*cse54*cse6 - I_G + (1/4)*M*cse1*cse49 - M*e**2 + (1/4)*cse1*cse49*m - cse10*cse39 - cse16*cse8 + 2*cse18*l*m*y_p - cse2*cse8 - cse4*cse8 - cse51 - cse53 - cse55 - 2*cse56 - m*x_p**2 - m*y_p**2, -cse10*cse16 + cse10*cse17 + cse10*cse20 + cse25*cse44 - cse55 - cse56, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out
+
+
+def element_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        Q[phi]
+    """
+    out = _broadcast((c_phi*dphi + k_phi*phi, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out

@@ -79,6 +79,23 @@ void pendulum_prepare(double s, const double *on, const double *p, double *cst)
     const double cse51 = cse43*y_p;
     const double cse52 = (1.0/8.0)*M;
     const double cse53 = (1.0/2.0)*cse18;
+    const double cse54 = B*s;
+    const double cse55 = (1.0/2.0)*cse54;
+    const double cse56 = (1.0/2.0)*H;
+    const double cse57 = M*e;
+    const double cse58 = m*x_p;
+    const double cse59 = l*m;
+    const double cse60 = 2*cse59;
+    const double cse61 = m*y_p;
+    const double cse62 = M*g;
+    const double cse63 = g*m;
+    const double cse64 = (1.0/4.0)*(B*B);
+    const double cse65 = M*cse64 + cse64*m;
+    const double cse66 = cse55*cse57 + cse55*cse58 + cse65;
+    const double cse67 = (1.0/4.0)*M;
+    const double cse68 = cse55*cse59;
+    const double cse69 = cse54*cse59;
+    const double cse70 = (l*l)*m;
     cst[0] = cse15 + cse19 + cse2 + cse5;
     cst[1] = -cse20*cse21;
     cst[2] = cse25;
@@ -132,6 +149,31 @@ void pendulum_prepare(double s, const double *on, const double *p, double *cst)
     cst[50] = cse53;
     cst[51] = cse38;
     cst[52] = cse39;
+    cst[53] = H;
+    cst[54] = -cse55;
+    cst[55] = -H;
+    cst[56] = cse56;
+    cst[57] = -cse55 - e;
+    cst[58] = -cse56;
+    cst[59] = M + m;
+    cst[60] = -M*cse55 - cse55*m - cse57 - cse58;
+    cst[61] = -cse60;
+    cst[62] = -M*cse56 - cse61;
+    cst[63] = cse62 + cse63;
+    cst[64] = cse60;
+    cst[65] = cse55*cse62 + cse55*cse63;
+    cst[66] = -cse66;
+    cst[67] = -H*cse54*cse67 - cse55*cse61;
+    cst[68] = cse68;
+    cst[69] = -cse68;
+    cst[70] = cse69;
+    cst[71] = -cse69;
+    cst[72] = -(H*H)*cse67 - I_G - M*(e*e) - cse54*cse57 - cse54*cse58 - cse65 - cse70 - m*(x_p*x_p) - m*(y_p*y_p);
+    cst[73] = cse66;
+    cst[74] = 2*cse61*l;
+    cst[75] = -cse70;
+    cst[76] = c_phi;
+    cst[77] = k_phi;
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -568,4 +610,143 @@ double pendulum_critical_tangent(double s, const double *y, double ag, const dou
     double cst[PENDULUM_NK];
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_critical_tangent_prepared(y, ag, cst);
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of pendulum_prepare(s, on, p, cst). */
+void pendulum_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double dtheta = y[2];
+    const double cst53 = cst[53];
+    const double cst54 = cst[54];
+    const double cst55 = cst[55];
+    const double cst56 = cst[56];
+    const double cst57 = cst[57];
+    const double cst58 = cst[58];
+    const double cse0 = sin(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = cse1*cse3;
+    out[0] = ag + cse2*cst53 + cse4*cst54;
+    out[1] = cse0*cst54 + cse3*cst55;
+    out[2] = 0;
+    out[3] = ag + cse2*cst56 + cse4*cst57;
+    out[4] = cse0*cst57 + cse3*cst58;
+    out[5] = 0;
+}
+
+/* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void pendulum_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, NULL, p, cst);
+    pendulum_block_accelerations_prepared(y, ag, cst, out);
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
+ * From the constants of pendulum_prepare(s, on, p, cst). */
+void pendulum_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    const double theta = y[0];
+    const double phi = y[1];
+    const double dtheta = y[2];
+    const double dphi = y[3];
+    const double cst1 = cst[1];
+    const double cst5 = cst[5];
+    const double cst6 = cst[6];
+    const double cst7 = cst[7];
+    const double cst8 = cst[8];
+    const double cst9 = cst[9];
+    const double cst10 = cst[10];
+    const double cst11 = cst[11];
+    const double cst12 = cst[12];
+    const double cst13 = cst[13];
+    const double cst14 = cst[14];
+    const double cst17 = cst[17];
+    const double cst59 = cst[59];
+    const double cst60 = cst[60];
+    const double cst61 = cst[61];
+    const double cst62 = cst[62];
+    const double cst63 = cst[63];
+    const double cst64 = cst[64];
+    const double cst65 = cst[65];
+    const double cst66 = cst[66];
+    const double cst67 = cst[67];
+    const double cst68 = cst[68];
+    const double cst69 = cst[69];
+    const double cst70 = cst[70];
+    const double cst71 = cst[71];
+    const double cst72 = cst[72];
+    const double cst73 = cst[73];
+    const double cst74 = cst[74];
+    const double cst75 = cst[75];
+    const double cse0 = cos(theta);
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = cse0*cse1;
+    const double cse3 = sin(theta);
+    const double cse4 = cse1*cse3;
+    const double cse5 = sin(phi);
+    const double cse6 = cse0*cse5;
+    const double cse7 = dphi*dtheta;
+    const double cse8 = cse7*cst61;
+    const double cse9 = cos(phi);
+    const double cse10 = cse3*cse9;
+    const double cse11 = (dphi*dphi);
+    const double cse12 = cse3*cst11;
+    const double cse13 = cse11*cse9;
+    const double cse14 = cse4*cst11;
+    const double cse15 = cse3*cst60;
+    const double cse16 = cse0*cst62;
+    const double cse17 = cse9*cst10;
+    const double cse18 = cse0*cse17;
+    const double cse19 = cse12*cse5;
+    const double cse20 = cse18 + cse19;
+    const double cse21 = cse5*cse7;
+    const double cse22 = cse21*cse3;
+    const double cse23 = cse7*cse9;
+    const double cse24 = cse0*cse23;
+    const double cse25 = cse17*cse3 + cse6*cst10;
+    const double cse26 = ag*cse3;
+    const double cse27 = ag*cse0;
+    const double cse28 = cse11*cse5;
+    const double cse29 = cse10*cst68 + cse6*cst68;
+    out[0] = ag*cst59 + cse10*cse8 + cse11*cse6*cst11 + cse12*cse13 + cse14*cse9 + cse2*cse5*cst11 + cse2*cst60 + cse4*cst7 + cse6*cse8;
+    out[1] = cse15 + cse16 + cse20;
+    out[2] = cse20;
+    out[3] = cse1*cse15 + cse1*cse16 + cse11*cse18 + cse11*cse19 + cse14*cse5 + cse17*cse2 + cse22*cst61 + cse24*cst64 + cst63;
+    out[4] = cse0*cst6 + cse25 + cse3*cst62;
+    out[5] = cse25;
+    out[6] = cse0*cse13*cst68 + cse0*cst9 + cse10*cst12 + cse13*cst13 + cse2*cse9*cst68 + cse2*cst67 + cse21*cst1 + cse22*cst71 + cse23*cst14 + cse24*cst70 + cse26*cse5*cst10 + cse26*cst6 + cse27*cse9*cst11 + cse27*cst7 + cse28*cse3*cst69 + cse28*cst5 + cse3*cst8 + cse4*cse5*cst69 + cse4*cst66 + cse6*cst12 + cst65;
+    out[7] = cse0*cst73 + cse29 + cse3*cst67 + cse5*cst14 + cse9*cst74 + cst72;
+    out[8] = cse29 + cse5*cst13 + cse9*cst17 + cst75;
+}
+
+/* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
+void pendulum_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, NULL, p, cst);
+    pendulum_base_reaction_prepared(y, ag, cst, out);
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
+ * From the constants of pendulum_prepare(s, on, p, cst). */
+void pendulum_element_forces_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double phi = y[1];
+    const double dphi = y[3];
+    const double cst76 = cst[76];
+    const double cst77 = cst[77];
+    out[0] = cst76*dphi + cst77*phi;
+}
+
+/* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
+void pendulum_element_forces(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[PENDULUM_NK];
+    pendulum_prepare(s, NULL, p, cst);
+    pendulum_element_forces_prepared(y, ag, cst, out);
 }

@@ -12,6 +12,7 @@ from __future__ import annotations
 import argparse
 import json
 import sys
+from pathlib import Path
 
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
@@ -21,6 +22,8 @@ from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
 from ..sim.boundary import RESULT
 from ..sim.cbuild import CBuildError
+from ..sim.history import HISTORY_FORMATS
+from ..sim.history import write as write_history
 from ..sim.problem import SimulationError
 from ..sim.run import BACKENDS, simulate
 from ..study.config import versions
@@ -233,13 +236,17 @@ def _cmd_simulate(args) -> int:
     cases = {"with damper" if damper else "block alone": damper}
     if args.compare and damper is not None:
         cases["block alone"] = None
+    histories = _history_files(args.history, list(cases))
     run = given(args, ("backend", "rtol", "t_max"))
-    # A figure shows the whole motion: no early verdict (docs/simulation.md, rule 4).
-    run["early_verdict"] = not (args.follow_to_rest or args.plot)
+    if args.history_dt is not None:
+        run["record_dt"] = args.history_dt
+    # A figure or a history shows the whole motion: no early verdict (docs/simulation.md, rule 4).
+    run["early_verdict"] = not (args.follow_to_rest or args.plot or args.history)
+    record = bool(args.plot or args.history)
     responses = {}
     for label, d in cases.items():
         model = {"model": args.model} if d is not None and args.model is not None else {}
-        responses[label] = simulate(block, d, pulse, record=bool(args.plot), **run, **model)
+        responses[label] = simulate(block, d, pulse, record=record, **run, **model)
     if args.json:
         print(json.dumps(_payload(block, damper, pulse, args.model, responses), indent=2))
     else:
@@ -251,7 +258,21 @@ def _cmd_simulate(args) -> int:
                  else f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}")  # fmt: skip
         path = plot_responses(responses, block, args.plot, title=title, damper=damper, model=args.model)
         print(f"figure written to {path}", file=sys.stderr)
+    for label, path in histories.items():
+        write_history(responses[label], path, args.history_dt)
+        print(f"history of the {label} written to {path}", file=sys.stderr)
     return 0
+
+
+def _history_files(history: str | None, labels: list[str]) -> dict[str, Path]:
+    """The file of each response's history: ``--history`` for the first, ``<stem>-<label><suffix>`` for the others."""
+    if history is None:
+        return {}
+    path = Path(history)
+    if path.suffix.lower() not in HISTORY_FORMATS:
+        raise ParameterError(f"--history must end in {' or '.join(HISTORY_FORMATS)} (got {history!r})")
+    others = {label: path.with_name(f"{path.stem}-{label.replace(' ', '_')}{path.suffix}") for label in labels[1:]}
+    return {labels[0]: path, **others}
 
 
 def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
@@ -335,6 +356,18 @@ def _add_simulate(sub) -> None:
         "--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration (followed to rest)"
     )
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
+    g.add_argument(
+        "--history",
+        metavar="FILE",
+        help="time history on a uniform grid with the loads (followed to rest), as Response.to_dataset: .csv "
+        "(units in the column names) or .nc (NetCDF); with --compare the block alone's goes to FILE-block_alone",
+    )
+    g.add_argument(
+        "--history-dt",
+        type=float,
+        metavar="SECONDS",
+        help="spacing of --history, s (default: a hundredth of the shorter of the pulse's and the block's periods)",
+    )
     p.set_defaults(func=_cmd_simulate)
 
 

@@ -237,3 +237,54 @@ def critical_tangent(s, x, M, B, H, e, m, h):
     lever, height = _weights(s, x, M, B, H, e, m, h)
     with np.errstate(divide="ignore", invalid="ignore"):
         return np.where(height > 0, lever / height, np.nan)
+
+
+def block_point_acceleration(s, theta, dtheta, ddtheta, ag, a, b):
+    """Absolute acceleration ``(horizontal, vertical)`` of the block's point at the arm ``(a, b)`` from the pivot.
+
+    The point is at ``X = -s B/2 + a cos(theta) - b sin(theta)``, ``Y = a sin(theta) + b cos(theta)``
+    from the centre of the base (docs/model.md section 13), and the ground adds ``ag`` to ``X''``.
+    """
+    sin, cos = np.sin(theta), np.cos(theta)
+    along, across = a * sin + b * cos, a * cos - b * sin
+    return ag - along * ddtheta - across * dtheta**2, across * ddtheta - along * dtheta**2
+
+
+def block_accelerations(s, theta, dtheta, ddtheta, ag, B, H, e):
+    """Absolute horizontal accelerations of the centre of the top side ``(0, H)`` and of ``G``: ``(a_top, a_cm)``."""
+    d, _ = arms(s, 0.0, B, e)
+    top = block_point_acceleration(s, theta, dtheta, ddtheta, ag, s * B / 2, H)
+    centroid = block_point_acceleration(s, theta, dtheta, ddtheta, ag, d, H / 2)
+    return top[0], centroid[0]
+
+
+def mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, B, H, h):
+    """Absolute acceleration ``(horizontal, vertical)`` of the damper's mass, at the arm ``(xi_s, eta)``.
+
+    Differentiating ``X = -s B/2 + xi cos(theta) - eta sin(theta)``, ``Y = xi sin(theta) + eta cos(theta)``
+    twice with ``xi' = dx``: the terms of a fixed point plus ``ddx (cos, sin)`` and the Coriolis
+    term ``2 dx dtheta (-sin, cos)``.
+    """
+    _, xi = arms(s, x, B, 0.0)
+    sin, cos = np.sin(theta), np.cos(theta)
+    fixed = block_point_acceleration(s, theta, dtheta, ddtheta, ag, xi, H + h)
+    return fixed[0] + ddx * cos - 2 * dx * dtheta * sin, fixed[1] + ddx * sin + 2 * dx * dtheta * cos
+
+
+def base_reaction(s, theta, x, dtheta, dx, ddtheta, ddx, ag, M, I_G, B, H, e, g, m, h):
+    """Base shear, vertical reaction and overturning moment ``(V_b, N_b, M_b)`` (docs/model.md section 13).
+
+    Newton for the block and the mass: ``V_b = M a_G,x + m a_m,x``, ``N_b = M (a_G,y + g) + m (a_m,y + g)``;
+    the moment of the reaction about the centre of the base ``O`` balances the rate of angular
+    momentum and the weights' moment there, ``sum r x m (a + g e_y) + I_G ddtheta``; ``M_b`` is minus it.
+    """
+    d, xi = arms(s, x, B, e)
+    sin, cos = np.sin(theta), np.cos(theta)
+    aG = block_point_acceleration(s, theta, dtheta, ddtheta, ag, d, H / 2)
+    am = mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, B, H, h)
+    rG = (-s * B / 2 + d * cos - H / 2 * sin, d * sin + H / 2 * cos)
+    rm = (-s * B / 2 + xi * cos - (H + h) * sin, xi * sin + (H + h) * cos)
+    FG = (M * aG[0], M * (aG[1] + g))
+    Fm = (m * am[0], m * (am[1] + g))
+    moment = rG[0] * FG[1] - rG[1] * FG[0] + rm[0] * Fm[1] - rm[1] * Fm[0] + I_G * ddtheta
+    return FG[0] + Fm[0], FG[1] + Fm[1], -moment

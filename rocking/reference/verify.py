@@ -141,13 +141,30 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             ),
             "stop_gaps": gaps,
             "stop_forces": forces,
+            "block_accelerations": _affine(
+                lambda ddth, ddx: paper.block_accelerations(s, th, dth, ddth, ag, B, H, e), zero
+            ),
+            "base_reaction": _affine(
+                lambda ddth, ddx: paper.base_reaction(s, th, x, dth, dx, ddth, ddx, ag, M, I_G, B, H, e, g, m, h), zero
+            ),
+            "element_forces": (paper.guide_force(x, dx, k_m, c, **stops),),
         }
+
+
+def _affine(loads, zero) -> tuple:
+    """The layout of the generated functions affine in ``(ddtheta, ddx)``: per quantity of ``loads(ddtheta, ddx)``,
+    its value at rest accelerations, then its coefficients (exact differences: ``loads`` is affine)."""
+    free = loads(zero, zero)
+    by_theta, by_x = loads(zero + 1, zero), loads(zero, zero + 1)
+    return tuple(c for f, a, b in zip(free, by_theta, by_x) for c in (f, a - f, b - f))
 
 
 def _select(model: Model, results: dict) -> dict:
     """Keep the outputs that exist in ``model``: the bare block has only ``theta``."""
     if model.coordinates == ("theta",):
-        keep = {"mass_matrix": [0], "forcing": [0], "rocking_accel": [0], "contact_accel": [0], "impact": [0]}
+        keep = {"mass_matrix": [0], "forcing": [0], "rocking_accel": [0], "contact_accel": [0], "impact": [0],
+                "block_accelerations": [0, 1, 3, 4], "base_reaction": [0, 1, 3, 4, 6, 7],
+                "element_forces": []}  # fmt: skip
         results = {k: tuple(val[i] for i in keep.get(k, range(len(val)))) for k, val in results.items()}
         # Without attached bodies nothing but the ground can lift the block.
         results["uplift_energy"] = (np.full_like(results["energy"][0], np.inf),)

@@ -248,10 +248,71 @@ def _from_record(cls, record, history: dict | None = None):
     return cls(*[value(get(name)) for name, value in _RESULT_VALUES], history=history)
 
 
+def _to_dataset(self, dt: float | None = None):
+    """The history on the uniform grid ``t = k dt`` as an ``xarray.Dataset``, with the loads of the model.
+
+    Parameters
+    ----------
+    dt : float, optional
+        Spacing [s], at most 1e6 samples over ``t_max``; default the run's ``record_dt``
+        (for a run recorded at its events only, a hundredth of the pulse's period). The values
+        are exact samples of the integrator's dense output: a response not recorded every
+        ``dt`` is run again, recorded so. The events are not rows: see :meth:`events`.
+
+    Returns
+    -------
+    xarray.Dataset
+        Over ``t`` [s]: the coordinates and velocities by the model's names (``theta``, ``x``,
+        ``dtheta``, ``dx``; ``phi`` for the pendulum), their accelerations (``ddtheta``, ...),
+        ``phase``, ``a_g``, ``a_top``, ``a_cm``, ``V_b``, ``N_b``, ``M_b``, the force of each
+        damper coordinate's elements (``F_x``), the bumpers' ``F_b`` (models with end stops),
+        ``E_kinetic``, ``E_potential``, ``E_total``; each with ``units`` and ``long_name``
+        (docs/model.md section 13).
+
+    Raises
+    ------
+    ParameterError
+        A bad ``dt``; a response of a batch (no run to record again).
+    """
+    from .history import to_dataset
+
+    return to_dataset(self, dt)
+
+
+def _to_dataframe(self, dt: float | None = None):
+    """:meth:`to_dataset` as a ``pandas.DataFrame`` indexed by ``t`` [s]; ``attrs`` hold ``units`` and ``long_name``."""
+    from .history import to_dataframe
+
+    return to_dataframe(self, dt)
+
+
+def _events(self):
+    """The events of the run as a ``pandas.DataFrame``: ``t`` [s], ``kind``, ``phase_before``, ``phase_after``.
+
+    Kinds: ``uplift``, ``impact`` (``phase_after`` 0: the block came to rest), ``contact`` (a
+    lift-off that fell back without an impact), ``bumper_contact``, ``bumper_release``,
+    ``pulse_end``, ``overturn``; phases as in :data:`~rocking.sim.boundary.PHASES`.
+    """
+    from .history import events
+
+    return events(self)
+
+
 Response = make_dataclass(
     "Response",
-    [(f.name, _python(f)) for f in RESULT] + [("history", dict, field(default=None, repr=False))],
-    namespace={"summary": _summary, "from_record": classmethod(_from_record), "__module__": __name__},
+    [(f.name, _python(f)) for f in RESULT]
+    + [
+        ("history", dict, field(default=None, repr=False)),
+        ("source", tuple, field(default=None, repr=False, compare=False)),
+    ],
+    namespace={
+        "summary": _summary,
+        "from_record": classmethod(_from_record),
+        "to_dataset": _to_dataset,
+        "to_dataframe": _to_dataframe,
+        "events": _events,
+        "__module__": __name__,
+    },
 )
 Response.__doc__ = f"""The response of the block to one pulse.
 
@@ -263,7 +324,11 @@ Attributes
     history : dict of ndarray, optional
         With ``record=True``: ``t``, every state component by name (``theta``,
         ``x``, ``dtheta``, ``dx``, ...), ``phase`` (:data:`CONTACT`,
-        :data:`PIVOT_A`, :data:`PIVOT_A_PRIME`) and ``ag``.
+        :data:`PIVOT_A`, :data:`PIVOT_A_PRIME`) and ``ag``, the events as extra
+        rows; :meth:`to_dataset` gives it on a uniform grid, :meth:`events` the events.
+    source : tuple, optional
+        ``(model, p, settings, backend)`` of the run, to record it again (``None`` for a
+        batch's rows).
 """
 
 

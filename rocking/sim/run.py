@@ -46,14 +46,18 @@ def _run(model, p, settings: dict, backend: str, record: bool, problem: Problem 
     """
     if backend != "numpy":
         try:
-            return c_backend.simulate_settings(model, p, settings, record=record)
+            response = c_backend.simulate_settings(model, p, settings, record=record)
+            response.source = (model, p, settings, "c")
+            return response
         except CBuildError as exc:
             if backend == "c":
                 raise
             warnings.warn(f"C back end unavailable, using NumPy: {exc}", BackendWarning, stacklevel=3)
     from . import numpy_backend
 
-    return numpy_backend.simulate(Problem(model=model, p=p, **settings) if problem is None else problem, record=record)
+    response = numpy_backend.simulate(Problem(model=model, p=p, **settings) if problem is None else problem, record)
+    response.source = (model, p, settings, "numpy")
+    return response
 
 
 def simulate(

@@ -1,0 +1,287 @@
+"""A response's time history on a uniform grid, with the loads derived from the model, and its events.
+
+:meth:`Response.to_dataset`, :meth:`Response.to_dataframe` and :meth:`Response.events` are
+built here. The grid ``t_k = k dt`` holds exact samples of the integrator's dense output:
+the run is recorded every ``dt`` (again, if it was not), and a back end samples the
+multiples of ``record_dt`` on the dense output of the step that holds them
+(docs/simulation.md, "History"), never across an impact. The events, which a recorded
+history holds as extra rows (twice at an impact, before and after), go to their own table.
+
+The loads come from generated functions (docs/model.md section 13): the accelerations
+``ddq`` of the sample's phase (``contact_accel`` or ``rocking_accel``), then
+``block_accelerations`` and ``base_reaction``, affine in ``ddq``, ``element_forces``,
+``stop_forces`` and ``energy``. Units SI.
+"""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+import numpy as np
+
+from ..model.params import RANGES, ParameterError
+from .boundary import CONTACT
+
+#: Kinds of the rows of :func:`events`.
+EVENT_KINDS = {
+    "uplift": "the block leaves full contact (phase_after: the pivot)",
+    "impact": "theta reaches 0 falling: rocking goes on about the other corner, or rest (phase_after 0)",
+    "contact": "back to full contact without an impact (a lift-off that could not rise)",
+    "bumper_contact": "an end stop's gap closes: its bumper starts to act",
+    "bumper_release": "an end stop's gap opens again",
+    "pulse_end": "the ground motion ends (t_p)",
+    "overturn": "|theta| reaches pi/2: the run ends",
+}
+
+#: What the quantities of every model are: name -> (unit, long name). Coordinates come from the manifest.
+_LOADS = {
+    "a_g": ("m/s^2", "ground acceleration, > 0 to the right"),
+    "a_top": ("m/s^2", "absolute horizontal acceleration of the centre of the block's top side"),
+    "a_cm": ("m/s^2", "absolute horizontal acceleration of the block's centroid G"),
+    "V_b": ("N", "base shear: horizontal force of the ground on the block and its bodies, > 0 to the right"),
+    "N_b": ("N", "vertical force of the ground on the block and its bodies, > 0 up"),
+    "M_b": (
+        "N m",
+        "overturning moment about the centre of the base (minus the ground reaction's moment there), "
+        "> 0 counter-clockwise: it tips the block about A",
+    ),
+    "F_b": ("N", "force of the end stops' bumpers against their penetration (0 while clear)"),
+    "E_kinetic": ("J", "kinetic energy, velocities relative to the ground"),
+    "E_potential": ("J", "potential energy above rest (weights, springs, bumpers)"),
+    "E_total": ("J", "mechanical energy above rest, E_kinetic + E_potential"),
+    "phase": ("1", "phase: 0 full contact, +1 rocking about A, -1 rocking about A'"),
+}
+
+
+def default_dt(settings: dict) -> float:
+    """The run's ``record_dt`` [s]; for a run recorded at events only, a hundredth of the pulse's period
+    (a sampled motion: its spacing), at most ``RANGES["record_samples"]`` samples over ``t_max``."""
+    if settings["record_dt"] > 0.0:
+        return float(settings["record_dt"])
+    period = 2 * math.pi / settings["omega_g"] / 100 if settings["omega_g"] > 0 else settings["pulse_dt"]
+    return max(period, settings["t_max"] / RANGES["record_samples"].high)
+
+
+def check_dt(dt: object, t_max: float) -> float:
+    """``dt`` as a float if it is a real number with at most ``RANGES["record_samples"]`` samples over ``t_max``."""
+    most = RANGES["record_samples"].high
+    if isinstance(dt, (bool, np.bool_)) or not isinstance(dt, (int, float, np.integer, np.floating)):
+        raise ParameterError(f"dt must be a number of seconds > 0 (got {dt!r})")
+    dt = float(dt)
+    if not (math.isfinite(dt) and dt >= t_max / most and dt > 0.0):
+        raise ParameterError(
+            f"dt must be in [t_max / {most:g}, inf) = [{t_max / most:g}, inf) s (got {dt!r}): "
+            f"at most {most:g} samples"
+        )
+    return dt
+
+
+def _source(response):
+    if response.source is None:
+        raise ParameterError(
+            "this response has no run to record (a batch's row): simulate it with rocking.simulate to get its history"
+        )
+    return response.source
+
+
+def recorded(response, dt: float | None) -> tuple[dict, float]:
+    """A history of ``response`` recorded every ``dt`` (its own, or that of the same run recorded again), and ``dt``.
+
+    Raises
+    ------
+    ParameterError
+        A bad ``dt``, or one so small that the recorded run ends otherwise (its samples count as
+        work, docs/simulation.md rule 5).
+    """
+    from .run import _run  # the run module imports this one's caller
+
+    model, p, settings, backend = _source(response)
+    dt = default_dt(settings) if dt is None else check_dt(dt, settings["t_max"])
+    if response.history is not None and settings["record_dt"] == dt:
+        return response.history, dt
+    again = _run(model, p, dict(settings, record_dt=dt), backend, True)
+    if (again.status, again.t_end, again.impacts, again.uplifts) != (
+        response.status,
+        response.t_end,
+        response.impacts,
+        response.uplifts,
+    ):
+        raise ParameterError(
+            f"dt = {dt:g} s: recorded every dt the run ends otherwise ({again.status} at t = {again.t_end:g} s, "
+            f"not {response.status} at {response.t_end:g} s): its samples count as work (max_steps); take a larger dt"
+        )
+    return again.history, dt
+
+
+def _grid_rows(history: dict, dt: float, t_end: float) -> np.ndarray:
+    """Index of the row of ``history`` at each ``k dt <= t_end``: the last one at that instant (after an event)."""
+    grid = np.arange(math.floor(t_end / dt) + 1) * dt
+    grid = grid[grid <= t_end]
+    rows = np.searchsorted(history["t"], grid, side="right") - 1
+    if not np.array_equal(history["t"][rows], grid):
+        raise RuntimeError(f"the history recorded every {dt!r} s lacks samples at some multiples of it")
+    return rows
+
+
+def _evaluate(function, s, y, ag, p) -> list[np.ndarray]:
+    """A generated NumPy function's outputs on the rows, as a list of arrays."""
+    out = function(s, *y, ag, *p)
+    return [np.asarray(o, dtype=float) for o in (out if isinstance(out, tuple) else (out,))]
+
+
+def _affine(outputs: list, ddq: list, quantities: int) -> list[np.ndarray]:
+    """The quantities of a generated function affine in ``ddq``: ``out[0] + sum_j out[1 + j] ddq_j`` each."""
+    n = len(ddq) + 1
+    rows = [outputs[i * n : (i + 1) * n] for i in range(quantities)]
+    return [row[0] + sum(c * a for c, a in zip(row[1:], ddq)) for row in rows]
+
+
+def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarray]:
+    """Every variable of the dataset on ``rows`` of ``history``, by name (``t`` first)."""
+    fn = model.functions
+    n = model.nq
+    phase = history["phase"][rows]
+    y = [history[name][rows] for name in model.state]
+    ag = history["ag"][rows]
+    s = np.where(phase == CONTACT, 1.0, phase.astype(float))  # the functions at theta = 0 hold for either pivot
+    p = [float(v) for v in p]
+    contact = phase == CONTACT
+    ddq = [np.where(contact, c, r) for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, p),
+                                                    _evaluate(fn.rocking_accel, s, y, ag, p))]  # fmt: skip
+    out = {"t": history["t"][rows]}
+    out.update(zip(model.state[:n], y[:n]))
+    out.update(zip(model.state[n:], y[n:]))
+    out.update({"dd" + q: a for q, a in zip(model.coordinates, ddq)})
+    out["phase"] = phase
+    out["a_g"] = ag
+    out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, ag, p), ddq, 2)
+    out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, ag, p), ddq, 3)
+    out.update({"F_" + q: f for q, f in zip(model.coordinates[1:], _evaluate(fn.element_forces, s, y, ag, p))})
+    bumpers = _evaluate(fn.stop_forces, s, y, ag, p)
+    if bumpers:
+        out["F_b"] = sum(bumpers)
+    energy = _evaluate(fn.energy, s, y, ag, p)[0]
+    zero = np.zeros_like(ag)
+    potential = _evaluate(fn.energy, s, y[:n] + [zero] * n, ag, p)[0]
+    rest = _evaluate(fn.energy, 1.0, [zero] * (2 * n), zero, p)[0]
+    out["E_kinetic"] = energy - potential
+    out["E_potential"] = potential - rest
+    out["E_total"] = energy - rest
+    return out
+
+
+def attributes(model) -> dict[str, tuple[str, str]]:
+    """``(units, long_name)`` of every variable :func:`quantities` gives for ``model``, in its order."""
+    units = model.manifest["units"]
+    attrs = {"t": ("s", "time")}
+    for q in model.coordinates:
+        attrs[q] = (units[q], "rocking angle, > 0 tilting about A" if q == "theta" else f"coordinate {q} of the damper")
+    attrs.update({"d" + q: (units["d" + q], f"velocity of {q}") for q in model.coordinates})
+    attrs.update({"dd" + q: (units[q] + "/s^2", f"acceleration of {q}") for q in model.coordinates})
+    attrs["phase"] = _LOADS["phase"]
+    attrs.update({k: _LOADS[k] for k in ("a_g", "a_top", "a_cm", "V_b", "N_b", "M_b")})
+    for q in model.coordinates[1:]:
+        force = "N m" if units[q] == "rad" else "N"
+        attrs["F_" + q] = (force, f"force of the springs, dashpots and bumpers of {q} on the block along {q}, "
+                                  f"minus theirs on the damper (omd: the guide force)")  # fmt: skip
+    if int(model.manifest["functions"]["stop_forces"]["outputs"]):
+        attrs["F_b"] = _LOADS["F_b"]
+    attrs.update({k: _LOADS[k] for k in ("E_kinetic", "E_potential", "E_total")})
+    return attrs
+
+
+def to_dataset(response, dt: float | None = None):
+    """:meth:`Response.to_dataset`: the history every ``dt`` as an ``xarray.Dataset`` over ``t``."""
+    import xarray as xr
+
+    history, dt = recorded(response, dt)
+    model, p, settings, backend = _source(response)
+    values = quantities(model, p, history, _grid_rows(history, dt, response.t_end))
+    attrs = attributes(model)
+    t = values.pop("t")
+    variables = {k: ("t", v, {"units": attrs[k][0], "long_name": attrs[k][1]}) for k, v in values.items()}
+    return xr.Dataset(
+        variables,
+        coords={"t": ("t", t, {"units": "s", "long_name": "time"})},
+        attrs={
+            "model": model.name,
+            "backend": backend,
+            "dt": dt,
+            "status": response.status,
+            "t_end": response.t_end,
+            "conventions": "SI units; docs/model.md sections 1 and 13 (signs, the point of M_b)",
+        },
+    )
+
+
+def to_dataframe(response, dt: float | None = None):
+    """:meth:`Response.to_dataframe`: the dataset of :func:`to_dataset` as a ``pandas.DataFrame`` indexed by ``t``.
+
+    Its ``attrs`` hold ``units`` and ``long_name`` by column.
+    """
+    ds = to_dataset(response, dt)
+    frame = ds.to_dataframe()
+    frame.attrs = {
+        "units": {k: ds[k].attrs["units"] for k in ("t", *frame.columns)},
+        "long_name": {k: ds[k].attrs["long_name"] for k in ("t", *frame.columns)},
+        **ds.attrs,
+    }
+    return frame
+
+
+def events(response):
+    """:meth:`Response.events`: one row per event, in time order (``t``, ``kind``, ``phase_before``, ``phase_after``).
+
+    Read from the recorded history (the response's own, or the run recorded again at
+    its events and the default spacing): the phase codes tell uplifts, impacts and the
+    lift-offs that fall back without one; the stops' gaps (generated ``stop_gaps``) their
+    closings and openings. The kinds are :data:`EVENT_KINDS`.
+    """
+    import pandas as pd
+
+    model, p, settings, _ = _source(response)
+    history = response.history if response.history is not None else recorded(response, None)[0]
+    t, phase, theta, dtheta = (history[k] for k in ("t", "phase", "theta", "dtheta"))
+    rows = []
+    for i in np.flatnonzero(phase[1:] != phase[:-1]) + 1:
+        before, after = int(phase[i - 1]), int(phase[i])
+        if before == CONTACT:
+            kind = "uplift"
+        else:
+            kind = "impact" if theta[i - 1] == 0.0 and before * dtheta[i - 1] < 0.0 else "contact"
+        rows.append((float(t[i]), kind, before, after))
+    gaps = _evaluate(model.functions.stop_gaps, 1.0, [history[k] for k in model.state], history["ag"], list(p))
+    for gap in gaps:
+        for i in np.flatnonzero((gap[1:] > 0.0) != (gap[:-1] > 0.0)) + 1:
+            kind = "bumper_contact" if gap[i] > 0.0 else "bumper_release"
+            rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
+    if settings["t_p"] <= response.t_end:
+        i = min(np.searchsorted(t, settings["t_p"]), len(t) - 1)
+        rows.append((float(settings["t_p"]), "pulse_end", int(phase[i]), int(phase[i])))
+    if response.overturned:
+        rows.append((float(response.t_overturn), "overturn", int(phase[-1]), int(phase[-1])))
+    frame = pd.DataFrame(rows, columns=["t", "kind", "phase_before", "phase_after"])
+    frame = frame.sort_values("t", kind="stable", ignore_index=True)
+    frame.attrs = {"units": {"t": "s", "kind": "", "phase_before": "1", "phase_after": "1"}}
+    return frame
+
+
+#: The files :func:`write` writes, by extension.
+HISTORY_FORMATS = (".csv", ".nc")
+
+
+def write(response, path, dt: float | None = None) -> None:
+    """Write the history of ``response`` every ``dt`` to ``path``: CSV (units in the column names,
+    ``theta [rad]``) or NetCDF (xarray, engine netcdf4), by the extension :data:`HISTORY_FORMATS`."""
+    suffix = Path(path).suffix.lower()
+    if suffix not in HISTORY_FORMATS:
+        raise ParameterError(f"history file must end in {' or '.join(HISTORY_FORMATS)} (got {str(path)!r})")
+    ds = to_dataset(response, dt)
+    if suffix == ".nc":
+        ds.to_netcdf(path, engine="netcdf4")
+        return
+    frame = ds.to_dataframe()
+    frame.index.name = "t [s]"
+    frame.columns = [f"{k} [{ds[k].attrs['units']}]" for k in frame.columns]
+    frame.to_csv(path, float_format="%.17g")
