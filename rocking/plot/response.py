@@ -1,13 +1,12 @@
 """Figure of a time history: theta/alpha, every coordinate of the damper and the ground acceleration.
 
 Each coordinate of the model's attached bodies has its own panel, named as the model names it and in its own
-unit: a coordinate that enters a trigonometric function of the generated equations is an angle (rad), any
-other one a displacement (m) (the bodies' positions are lengths). Written with matplotlib's Agg canvas.
+unit, the one its model's manifest records (rad for an angle, m for a displacement). Written with matplotlib's
+Agg canvas.
 """
 
 from __future__ import annotations
 
-import re
 from pathlib import Path
 
 import numpy as np
@@ -23,13 +22,8 @@ NOT_COORDINATES = ("t", "phase", "ag", "theta")
 
 
 def coordinate_unit(model, name: str) -> str:
-    """``"rad"`` for a coordinate of ``model`` that appears in a trigonometric function of its generated NumPy
-    code (an angle: the argument of a sine is dimensionless), else ``"m"`` (it then adds to the lengths of
-    the bodies' positions)."""
-    model = load_model(model)
-    source = (model.folder / model.manifest["files"]["numpy"]).read_text()
-    angle = re.search(rf"\b(sin|cos|tan)\([^()]*\b{re.escape(name)}\b", source)
-    return "rad" if angle else "m"
+    """The unit of the coordinate ``name`` of ``model``, as its manifest records it (derived: rad for an angle)."""
+    return load_model(model).manifest["units"][name]
 
 
 def _stroke(damper) -> float | None:

@@ -229,6 +229,19 @@ Attributes
 # --------------------------------------------------------------------------- #
 
 
+def _repr_html(self) -> str:
+    """The scalar results as an HTML table for Jupyter: value, unit and meaning of each field."""
+    from html import escape
+
+    rows = "".join(
+        f"<tr><td>{f.name}</td><td>{escape(str(value))}</td><td>{escape(f.unit)}</td><td>{escape(f.doc)}</td></tr>"
+        for f, value in zip(RESULT, _summary(self).values(), strict=True)
+    )
+    recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
+    return (f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
+            f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>")  # fmt: skip
+
+
 def _summary(self) -> dict:
     """The scalar results as a plain dict (JSON-ready; NaN times as ``None``)."""
     out = {}
@@ -311,6 +324,7 @@ Response = make_dataclass(
         "to_dataset": _to_dataset,
         "to_dataframe": _to_dataframe,
         "events": _events,
+        "_repr_html_": _repr_html,
         "__module__": __name__,
     },
 )

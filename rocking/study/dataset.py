@@ -28,6 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.intensity import MEASURES
+from ..model.loading import ModelError, load_model
 from ..model.params import Block, ParameterError
 from ..sim.boundary import RESULT, STATUSES
 from .config import Study
@@ -202,6 +203,20 @@ def _level_units(config: dict) -> str:
     return {"scale": "1", "amplitude": "m/s^2", **MEASURES}.get(measure, "1")
 
 
+def _stroke_units(config: dict) -> str:
+    """The unit of ``x_max``, the largest ``|q[1]|``: the unit of the damper's first coordinate in its model's
+    manifest (rad for the pendulum's angle), m for the paper's damper."""
+    damper = config.get("damper")
+    name = damper.get("model") if isinstance(damper, dict) else None
+    if not name:
+        return "m"
+    try:
+        model = load_model(name)
+        return model.manifest["units"][model.coordinates[1]]
+    except (ModelError, KeyError, IndexError):
+        return "m"
+
+
 def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
     """CF-style attributes of the array ``name``: units, long name, the key of a categorical one."""
     entry = COORDINATES.get(name) if coordinate else FIELDS.get(_strip(name))
@@ -210,6 +225,8 @@ def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
     units, long_name, *key = entry
     if units == "level units":
         units = _level_units(config)
+    if _strip(name) == "x_max":
+        units = _stroke_units(config)
     part = _part(name)
     attrs = {"units": units, "long_name": f"{long_name} ({PARTS[part]})" if part else long_name}
     if name.endswith("_by_sign"):
