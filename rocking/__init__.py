@@ -6,8 +6,9 @@ one subpackage per layer:
 
 - :mod:`rocking.model`: the generated models, the block and its damper, the ground motions;
 - :mod:`rocking.sim`: one response, on the C or the NumPy/SciPy back end;
-- :mod:`rocking.study`: overturning maps, spectra, the optimal damper, the design answer and the threshold
-  frequency across geometries, in tiles, over both directions of the pulse;
+- :mod:`rocking.study`: overturning maps, spectra, the optimal damper, the design answer, the threshold
+  frequency across geometries and IDA/fragility over suites of motions, in tiles, over both directions of
+  the motion; with plain arguments, returning an :class:`xarray.Dataset`, at the top level;
 - :mod:`rocking.plot`, :mod:`rocking.cli`: figures and the ``rocking`` command;
 - :mod:`rocking.reference`: the paper's equations typed by hand, and ``rocking verify``.
 
@@ -31,11 +32,17 @@ from .model.pulse import OneSinePulse
 from .sim.cbuild import CBuildError
 from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
-from .study.api import minimum_overturning_spectrum, optimal_damper, overturning_map
+from .study.api import (
+    design,
+    incremental_dynamic_analysis,
+    minimum_overturning_spectrum,
+    optimal_damper,
+    overturning_map,
+    threshold_map,
+)
 from .study.config import Grid, Setting, Study, Tuning, Variant
-from .study.design import design
 from .study.storage import load, save
-from .study.threshold import threshold_map
+from .study.suite import Suite
 from .study.tiles import Execution, Interrupted, TileWarning
 
 __all__ = [
@@ -59,11 +66,13 @@ __all__ = [
     "SimulationError",
     "Stops",
     "Study",
+    "Suite",
     "TileWarning",
     "Tuning",
     "Variant",
     "available_models",
     "design",
+    "incremental_dynamic_analysis",
     "load",
     "load_model",
     "minimum_overturning_spectrum",

@@ -5,6 +5,7 @@ from __future__ import annotations
 import json
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 
@@ -23,9 +24,20 @@ def studies(tmp_path_factory):
     runs = tmp_path_factory.mktemp("runs")
     Omega = np.linspace(1.0, 6.0, 4)
     plain = {"damper": {"gamma": 0.05}, "Omega": Omega, "runs": runs, "workers": 1, "progress": False, "study": True}
+    pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]
+    few = {k: plain[k] for k in ("runs", "workers", "progress", "study")}
     return {
         "map": rocking.overturning_map(BLOCK, beta=np.linspace(1.0, 6.0, 5), **plain),
         "spectrum": rocking.minimum_overturning_spectrum(BLOCK, beta=np.linspace(0.5, 8.0, 8), **plain),
+        "optimize": rocking.optimal_damper(BLOCK, [0.05], Omega=[4.0], beta=[0.5, 2, 4, 8, 15], Tm_ratio=[0.5, 2.0],
+                                           **few),
+        "design": rocking.design(BLOCK, Omega=[4.0, 6.0], beta=np.linspace(0.5, 20.0, 27), Tm_ratio=[0.5, 1.5, 4.0],
+                                 zeta=[0.02, 0.2], refine=0, **few),
+        "threshold": rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0,
+                                           **few),
+        "ida": rocking.incremental_dynamic_analysis(BLOCK, motions=pulses, levels=[0.5, 1.0, 2.0], t_after=5.0, **few),
+        "fragility": rocking.incremental_dynamic_analysis(BLOCK, {"gamma": 0.05, "stops": True}, motions=pulses,
+                                                          levels=[1.0, 3.0, 9.0], measure="pga", t_after=5.0, **few),
     }
 
 
@@ -92,8 +104,40 @@ def test_saved_study_reads_back_as_the_same_dataset(studies, tmp_path):
         saved = read_netcdf(nc)
         xr.testing.assert_identical(saved, rocking.load(nc).to_dataset().assign_attrs(versions=saved.attrs["versions"]))
         xr.testing.assert_equal(saved, study.to_dataset())
-        assert saved["bare_overturned" if kind == "map" else "bare_beta_min"].dtype == study.arrays[
-            "bare_overturned" if kind == "map" else "bare_beta_min"].dtype  # fmt: skip
+        assert all(saved[k].dtype == v.dtype for k, v in study.arrays.items() if k in saved), kind
+        # Its tables, made again from what was saved, are the finished study's.
+        loaded, made = rocking.load(nc).to_dataframes(), study.to_dataframes()
+        assert loaded.keys() == made.keys() == study.tables.keys() and loaded, kind
+        for name, frame in made.items():
+            pd.testing.assert_frame_equal(loaded[name], frame, obj=f"{kind}: {name}")
+
+
+def test_every_kind_is_in_the_plain_interface(studies):
+    """The top-level functions give every kind of study; an array of values is a Grid of those values."""
+    from rocking.study.storage import KINDS
+
+    assert set(studies) == set(KINDS)
+    assert studies["design"].config["Tm_ratio"]["values"] == [0.5, 1.5, 4.0]
+    assert studies["fragility"].kind == "fragility" and studies["ida"].kind == "ida"
+    ds = studies["threshold"].to_dataset()
+    assert dict(ds.sizes)["lam"] == 1 and ds["stops_Omega_star"].dims == ("lam", "p")
+    # A threshold's status is where Omega* lies, not why a run ended.
+    from rocking.study.threshold import STATUSES
+
+    assert ds["stops_status"].attrs["flag_meanings"].split() == list(STATUSES)
+    assert ds["bare_flag"].attrs["flag_meanings"] == "upper_bound bracketed lower_bound"
+
+
+def test_plain_interface_refuses_bad_motions_in_one_line(tmp_path):
+    pulse = rocking.RickerWavelet.from_period(3.0, 1.0)
+    with pytest.raises(rocking.ParameterError, match="motions must be a rocking.Suite, record files or pulses"):
+        rocking.incremental_dynamic_analysis(BLOCK, motions=3, levels=[1.0], runs=tmp_path)
+    with pytest.raises(rocking.ParameterError, match="unit is the unit of record files"):
+        rocking.incremental_dynamic_analysis(BLOCK, motions=[pulse], levels=[1.0], unit="g", runs=tmp_path)
+    with pytest.raises(rocking.ParameterError, match="levels: values must increase"):
+        rocking.incremental_dynamic_analysis(BLOCK, motions=[pulse], levels=[2.0, 1.0], runs=tmp_path)
+    with pytest.raises(rocking.ParameterError, match="zeta: values must be > 0"):
+        rocking.design(BLOCK, Omega=[4.0], beta=[1.0, 2.0], zeta=[0.0, 0.1], runs=tmp_path)
 
 
 def test_dataframes_carry_units_and_labels(studies):

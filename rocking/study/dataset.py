@@ -33,6 +33,7 @@ from ..model.params import Block, ParameterError
 from ..sim.boundary import RESULT, STATUSES
 from .config import Study
 from .spectrum import FLAG_WORDS
+from .threshold import STATUSES as THRESHOLD_STATUSES
 
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
@@ -111,7 +112,7 @@ STATUS_KEY = {-1: "not_computed", **{s.value: s.name for s in STATUSES}}
 FLAG_KEY = FLAG_WORDS
 EFFECT_KEY = {-1: "lost", 0: "unchanged", 1: "saved"}
 SIGN_KEY = {-1: "negative", 0: "not_known", 1: "positive"}
-THRESHOLD_STATUS_KEY = {0: "bracketed", 1: "undefined", 2: "beyond_grid"}
+THRESHOLD_STATUS_KEY = dict(enumerate(THRESHOLD_STATUSES))
 
 #: What a field means, by name (without its part's prefix and ``_by_sign``): ``(units, long name[, key])``.
 _RESULTS = {f.name: (f.unit or "1", f.doc) for f in RESULT}
@@ -156,6 +157,10 @@ FIELDS: dict[str, tuple] = {
     "band_low": ("1", "lower end of the bootstrap 90 % band of the fitted probability"),
     "band_high": ("1", "upper end of the bootstrap 90 % band of the fitted probability"),
     "im": ("level units", "intensity measure of each motion, unscaled"),
+}
+#: What a field means in one kind of study, where it differs from :data:`FIELDS`.
+KIND_FIELDS = {
+    "threshold": {"status": ("1", "where Omega* lies against the scanned Omega", THRESHOLD_STATUS_KEY)},
 }
 
 #: Coordinates: ``(units, long name)``.
@@ -219,7 +224,8 @@ def _stroke_units(config: dict) -> str:
 
 def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
     """CF-style attributes of the array ``name``: units, long name, the key of a categorical one."""
-    entry = COORDINATES.get(name) if coordinate else FIELDS.get(_strip(name))
+    fields = {**FIELDS, **KIND_FIELDS.get(config.get("kind"), {})}
+    entry = COORDINATES.get(name) if coordinate else fields.get(_strip(name))
     if entry is None:
         return {}
     units, long_name, *key = entry

@@ -41,7 +41,7 @@ import numpy as np
 from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
 from .config import Grid, Setting, Study, is_count, part_config
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
-from .optimize import MAX_REFINE, at_edge, refinement
+from .optimize import MAX_REFINE, at_edge, coarse_values, refinement
 from .overturning_map import check_study, preflight, respond, warn_undetermined
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol, flag_words
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
@@ -109,12 +109,6 @@ def best_candidate(r, zeta, worst, admissible) -> int:
     return int(order[np.argmax(score[order])])
 
 
-def _grid_values(grid: Grid, name: str) -> np.ndarray:
-    if not grid.log:
-        raise ParameterError(f"the coarse {name} grid must be logarithmic (Grid(..., log=True))")
-    return grid.values()
-
-
 def design(
     setting: Setting,
     Omega: Grid,
@@ -152,7 +146,8 @@ def design(
     h : float
         Height of the guide above the top of the block, m.
     Tm, zeta : Grid, optional
-        Coarse log grids of ``r = T_m p / (2 pi)`` and of the damping ratio; defaults :data:`TM_GRID`,
+        Coarse log grids (or given values, :meth:`Grid.of`) of ``r = T_m p / (2 pi)`` and of the damping
+        ratio, refined between their points in log scale; defaults :data:`TM_GRID`,
         :data:`ZETA_GRID`.
     refine : int
         Refinement points each side of the best coarse point, along each parameter (>= 0).
@@ -188,7 +183,8 @@ def design(
     Examples
     --------
     >>> import tempfile, rocking
-    >>> study = rocking.design(
+    >>> from rocking.study.design import design
+    >>> study = design(
     ...     rocking.Setting(rocking.Block.reference()), rocking.Grid("Omega", 4.0, 6.0, 2),
     ...     rocking.Grid("beta", 0.5, 20.0, 27), rocking.Execution(workers=1, progress=False),
     ...     Tm=rocking.Grid("Tm", 0.5, 4.0, 3, log=True), zeta=rocking.Grid("zeta", 0.02, 0.2, 2, log=True),
@@ -202,7 +198,7 @@ def design(
     Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
     zeta = Grid("zeta", *ZETA_GRID, log=True) if zeta is None else zeta
     check_study(setting, execution, runs, Omega=Omega, beta=beta, Tm=Tm, zeta=zeta)
-    r_grid, z_grid = _grid_values(Tm, "T_m"), _grid_values(zeta, "zeta")
+    r_grid, z_grid = coarse_values(Tm, "T_m"), coarse_values(zeta, "zeta")
     for z in z_grid[[0, -1]]:
         check_in_range("zeta", z)
     gamma, h, tol = check_in_range("gamma", gamma, nonzero=True), check_in_range("h", h), check_tol(tol)

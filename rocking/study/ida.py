@@ -32,7 +32,7 @@ from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .directions import choose, response_envelope
 from .fragility import FITTED, bootstrap_band, fit_lognormal, fragility_curve, ida_summary
 from .overturning_map import FIELDS, check_damper, check_study, preflight, undetermined, warn_undetermined
-from .suite import Suite
+from .suite import Suite, motion_names
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
 #: What the levels of a study are: the scale factor itself, one of the intensity measures, or the
@@ -207,7 +207,7 @@ def incremental_dynamic_analysis(
         summary[part]["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
-    return Study(kind, config, arrays, tables=ida_tables(arrays, suite, kind), summary=summary,
+    return Study(kind, config, arrays, tables=ida_tables(arrays, motion_names(grids["suite"]), kind), summary=summary,
                  run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)})  # fmt: skip
 
 
@@ -229,7 +229,7 @@ def _fit(levels, over, arrays: dict, part: str) -> dict:
     return out
 
 
-def ida_tables(arrays: dict, suite: Suite, kind: str) -> dict:
+def ida_tables(arrays: dict, names, kind: str) -> dict:
     """CSV tables: ``<kind>`` (one row per motion and level: the outcome of both parts) and ``<kind>-motions``
     (one row per motion: its measure and IDA summary)."""
     n, m = arrays["bare_overturned"].shape
@@ -238,7 +238,7 @@ def ida_tables(arrays: dict, suite: Suite, kind: str) -> dict:
     for part in ("bare", "damper"):
         for k in ("overturned", "impacts", "theta_max", "x_max"):
             rows[f"{part}_{k}"] = arrays[f"{part}_{k}"].ravel()
-    motions = {"motion": np.arange(n), "name": np.array([suite.name(i) for i in range(n)]), "im": arrays["im"]}
+    motions = {"motion": np.arange(n), "name": np.array(names), "im": arrays["im"]}
     for part in ("bare", "damper"):
         for k in ("first", "last_safe", "reversals"):
             motions[f"{part}_{k}"] = arrays[f"{part}_{k}"]

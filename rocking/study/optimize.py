@@ -67,6 +67,15 @@ REFINE = 3
 MAX_REFINE = 1000
 
 
+def coarse_values(grid: Grid, name: str) -> np.ndarray:
+    """The values of a coarse search grid, refined between its points in log scale (:func:`refinement`):
+    a logarithmic grid, or given values (:meth:`Grid.of`)."""
+    if not (grid.log or grid.points):
+        raise ParameterError(f"the coarse {name} grid must be logarithmic (Grid(..., log=True)) or given values "
+                             f"(Grid.of)")  # fmt: skip
+    return grid.values()
+
+
 def refinement(r_coarse, k: int, refine: int) -> np.ndarray:
     """``refine`` log-spaced points strictly inside each coarse interval next to ``r_coarse[k]``.
 
@@ -254,7 +263,8 @@ def optimal_damper(
     stops : bool
         The guide ends in the stops of :meth:`rocking.Stops.at_edges` (as :class:`Tuning`).
     Tm : Grid, optional
-        Coarse grid of ``r = T_m p / (2 pi)``, log-spaced; default :data:`TM_GRID`.
+        Coarse grid of ``r = T_m p / (2 pi)``, log-spaced or given values (:func:`coarse_values`); default
+        :data:`TM_GRID`.
     refine : int
         Refinement points on each side of the best coarse point (>= 0).
     tol : float
@@ -321,14 +331,13 @@ def optimal_damper(
     if not (is_count(refine) and 0 <= refine <= MAX_REFINE):
         raise ParameterError(f"refine must be an integer in [0, {MAX_REFINE}] (got {refine!r})")
     refine = int(refine)
-    if not Tm.log:
-        raise ParameterError("the coarse T_m grid must be logarithmic (Grid(..., log=True))")
+    r = coarse_values(Tm, "T_m")
     zeta, h = check_in_range("zeta", zeta), check_in_range("h", h)
     if not isinstance(stops, (bool, np.bool_)):
         raise ParameterError(f"stops must be True or False (got {stops!r})")
     chosen = choose(directions, setting.block)
     signs = chosen["signs"]
-    Om, b, r = Omega.values(), beta.values(), Tm.values()
+    Om, b = Omega.values(), beta.values()
     nG, nO, nr = len(gammas), Om.size, r.size
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
     grids["signs"] = signs

@@ -264,7 +264,8 @@ def _read_arrays(npz: Path, record: dict) -> dict:
 
 
 def load(path: str | Path) -> Study:
-    """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem).
+    """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem), with its
+    tables made again from them (:mod:`rocking.study.tables`).
 
     Studies saved before the JSON listed its arrays (``"arrays"``,
     ``"arrays_sha256"``) are read without those checks.
@@ -285,4 +286,10 @@ def load(path: str | Path) -> Study:
     record = _read_record(meta)
     arrays = _read_arrays(npz, record)
     run = record.get("run") if isinstance(record.get("run"), dict) else {}
-    return Study(record["kind"], record["config"], arrays, summary=record["summary"], run=run)
+    from .tables import tables  # the studies' modules, which it reads, store their tiles here
+
+    try:
+        made = tables(record["kind"], arrays, record["config"])
+    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        raise ParameterError(f"{meta}: its configuration and arrays do not make its tables ({describe(exc)})") from None
+    return Study(record["kind"], record["config"], arrays, tables=made, summary=record["summary"], run=run)

@@ -103,12 +103,8 @@ class Suite:
         return len(self.files) or len(self.pulses) or self.n
 
     def name(self, i: int) -> str:
-        """A label of motion ``i``: its file's name, ``<family>-T<period in s>-<i>``, or ``stochastic-<seed>-<i>``."""
-        if self.files:
-            return Path(self.files[i][0]).name
-        if self.pulses:
-            return f"{describe(self.pulses[i]).family}-T{self.pulses[i].T_g:.4g}-{i}"
-        return f"stochastic-{self.seed}-{i}"
+        """A label of motion ``i`` (:func:`motion_names`)."""
+        return motion_names(self.record())[i]
 
     def motion(self, i: int):
         """Motion ``i``, made now: a :class:`SampledMotion`, or the pulse of a suite of pulses.
@@ -136,3 +132,13 @@ class Suite:
             return {"pulses": [{"type": type(p).__name__, "family": describe(p).family, "T_g": p.T_g,
                                 **dataclasses.asdict(p)} for p in self.pulses]}  # fmt: skip
         return {"stochastic": self.site.record(), "seed": self.seed, "n": self.n}
+
+
+def motion_names(record: dict) -> list[str]:
+    """Labels of the motions of a suite from its :meth:`Suite.record`: each file's name,
+    ``<family>-T<period in s>-<i>``, or ``stochastic-<seed>-<i>``."""
+    if "files" in record:
+        return [Path(f["path"]).name for f in record["files"]]
+    if "pulses" in record:
+        return [f"{p['family']}-T{p['T_g']:.4g}-{i}" for i, p in enumerate(record["pulses"])]
+    return [f"stochastic-{record['seed']}-{i}" for i in range(record["n"])]

@@ -39,7 +39,7 @@ import numpy as np
 from ..model.params import Block, ParameterError, check_real
 from .config import Grid, Setting, Study, Tuning, part_config
 from .directions import beta_min_envelope, choose, repeat, sign_column
-from .optimize import USELESS_GAIN, at_edge, refinement, threshold_frequency
+from .optimize import USELESS_GAIN, at_edge, coarse_values, refinement, threshold_frequency
 from .overturning_map import FIXED, check_study, preflight, warn_undetermined
 from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
@@ -193,7 +193,7 @@ def threshold_map(
     gamma, zeta, h : float
         The damper: mass ratio, damping ratio, height of the guide (m).
     Tm : Grid, optional
-        Coarse log grid of ``r = T_m p / (2 pi)`` searched at each point; default :data:`TM_GRID`.
+        Coarse log grid (or given values) of ``r = T_m p / (2 pi)`` searched at each point; default :data:`TM_GRID`.
     refine : int
         Refinement points each side of the best coarse period.
     a_max : float
@@ -222,7 +222,8 @@ def threshold_map(
     Examples
     --------
     >>> import tempfile, rocking
-    >>> study = rocking.threshold_map(
+    >>> from rocking.study.threshold import threshold_map
+    >>> study = threshold_map(
     ...     rocking.Grid("lam", 4.0, 4.0, 1), rocking.Grid("p", 2.0, 2.0, 1), rocking.Grid("Omega", 4.0, 14.0, 3),
     ...     rocking.Execution(workers=1, progress=False), Tm=rocking.Grid("Tm", 0.5, 2.0, 2, log=True), refine=0,
     ...     runs=tempfile.mkdtemp())
@@ -238,7 +239,7 @@ def threshold_map(
         raise ParameterError(f"a_max must be > 0 (a bound of the ground acceleration, in g) (got {a_max!r})")
     if not (isinstance(refine, int) and 0 <= refine <= 100):
         raise ParameterError(f"refine must be an integer in [0, 100] (got {refine!r})")
-    L, P, Om, r = lam.values(), p.values(), Omega.values(), Tm.values()
+    L, P, Om, r = lam.values(), p.values(), Omega.values(), coarse_values(Tm, "T_m")
     tunings = (Tuning(gamma, zeta=zeta, h=h), Tuning(gamma, zeta=zeta, h=h, stops=True))
     blocks = [[Block.from_nondim(p=float(pj), lam=float(li), M=1000.0, e_ratio=e_ratio) for pj in P] for li in L]
     chosen = choose(directions, blocks[0][0], tunings[0])
