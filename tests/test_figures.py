@@ -183,3 +183,37 @@ def test_the_pendulum_gets_its_own_panel_in_radians():
     assert data.size > 10 and np.abs(data).max() > 0
     assert coordinate_unit("pendulum", "phi") == "rad" and coordinate_unit("omd", "x") == "m"
     assert [coordinate_unit("omd2", name) for name in ("x1", "x2")] == ["m", "m"]
+
+
+def test_period_ticks_stay_away_from_an_axis_that_starts_at_omega_zero(cabinet_map):
+    """Towards Omega = 0 the period grows without bound: no tick of thousands of seconds at the axis' end."""
+    fig = spectrum_figure_of(cabinet_map.config, [0.05, 5.0, 10.0])
+    FigureCanvasAgg(fig).draw()
+    ax = fig.axes[0]
+    low, high = ax.get_xlim()
+    ticks = ax.child_axes[0].get_xticks()
+    first = min(2 * np.pi / (CABINET.p * T) for T in ticks)
+    assert first >= low + 0.08 * (high - low)
+
+
+def spectrum_figure_of(config: dict, Omega):
+    """A spectrum figure of made-up values over ``Omega``: only its axes are looked at."""
+    Om = np.asarray(Omega, float)
+    arrays = {"Omega": Om, "beta_scan": np.linspace(0.5, 15, 5), "signs": np.array([1])}
+    for part in ("bare", "damper"):
+        arrays.update({f"{part}_beta_min": 1 + Om, f"{part}_flag": np.full(Om.size, BRACKETED),
+                       f"{part}_windows": np.zeros((0, 3))})  # fmt: skip
+    study = rocking.Study("spectrum", {**config, "directions": {"directions": "positive", "signs": [1]}}, arrays)
+    return spectrum_figure(study)
+
+
+def test_ida_levels_over_decades_in_log_scale_and_the_title_says_motions(tmp_path):
+    from rocking.plot.figures import ida_figure
+
+    pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]
+    study = rocking.incremental_dynamic_analysis(Block.reference(), motions=pulses, levels=[0.5, 2.0, 8.0], t_after=3.0,
+                                                 runs=tmp_path, workers=1, progress=False, study=True)  # fmt: skip
+    fig = ida_figure(study)
+    assert [ax.get_xscale() for ax in fig.axes[:2]] == ["log", "log"]
+    assert fig.axes[0].get_xlabel() == "scale factor"
+    assert "motions of both signs" in fig._suptitle.get_text()

@@ -73,9 +73,11 @@ LEGEND = {"fontsize": 7, "frameon": False}
 GAIN_SPAN = 10.0
 
 
-def _edges(centres: np.ndarray) -> np.ndarray:
-    """Cell edges around grid points (mid-points; half a step beyond the ends)."""
+def _edges(centres: np.ndarray, log: bool = False) -> np.ndarray:
+    """Cell edges around grid points (mid-points; half a step beyond the ends), in log scale if ``log``."""
     c = np.asarray(centres, float)
+    if log:
+        return np.exp(_edges(np.log(c)))
     if c.size == 1:
         return np.array([c[0] - 0.5, c[0] + 0.5])
     mid = 0.5 * (c[1:] + c[:-1])
@@ -88,9 +90,10 @@ def _legend_below(ax, handles=None, ncols: int = 2) -> None:
     ax.legend(**kwargs, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
 
 
-def _classes(ax, Omega, beta, classes: np.ndarray, palette) -> list[Patch]:
-    """Draw integer classes on the (Omega, beta) plane in colour and hatch; the legend's handles of those present."""
-    x, y = _edges(Omega), _edges(beta)
+def _classes(ax, Omega, beta, classes: np.ndarray, palette, xlog: bool = False) -> list[Patch]:
+    """Draw integer classes on the (Omega, beta) plane in colour and hatch (cells centred in log scale along
+    ``Omega`` if ``xlog``); the legend's handles of those present."""
+    x, y = _edges(Omega, xlog), _edges(beta)
     cmap = ListedColormap([c for _, c, _ in palette])
     norm = BoundaryNorm(np.arange(len(palette) + 1) - 0.5, cmap.N)
     ax.pcolormesh(x, y, classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
@@ -181,13 +184,13 @@ def _suite_label(suite: dict) -> str:
     return f"{suite['n']} stochastic motions (seed {suite['seed']})"
 
 
-def _directions_label(config: dict) -> str:
-    """The directions of a study's pulses for a title: both (the envelope shown) or one sign."""
+def _directions_label(config: dict, what: str = "pulses") -> str:
+    """The directions of a study's ``what`` (pulses, motions) for a title: both (the envelope shown) or one sign."""
     chosen = config.get("directions", {"directions": "positive", "signs": [1]})  # studies before format 4
     if len(chosen["signs"]) > 1:
-        return "pulses of both signs, the worse shown"
+        return f"{what} of both signs, the worse shown"
     mirrored = " (symmetric: the other sign mirrors them)" if chosen["directions"] == "auto" else ""
-    return f"{'positive' if chosen['signs'][0] > 0 else 'negative'} pulses{mirrored}"
+    return f"{'positive' if chosen['signs'][0] > 0 else 'negative'} {what}{mirrored}"
 
 
 #: Tick values of a period axis: these mantissas in every decade (s).
@@ -196,14 +199,15 @@ PERIOD_TICKS = np.array([m * 10.0**k for k in range(-3, 4) for m in (1, 1.5, 2, 
 
 def _period_axis(ax, p: float) -> None:
     """A top axis of the pulse period ``T_g = 2 pi / (Omega p)``, s, over an ``Omega`` axis (call it once the
-    axis has its limits: its ticks are round periods at least 8 % of the axis apart)."""
+    axis has its limits: its ticks are round periods at least 8 % of the axis apart and from its left end)."""
 
     def period(x):  # its own inverse; Omega <= 0 lies off every axis drawn
         return 2 * np.pi / (p * np.maximum(np.asarray(x, float), 1e-9))
 
     low, high = sorted(ax.get_xlim())
-    ticks, last = [], -np.inf
-    # From the left: the periods crowd where Omega is small, and the first of them is kept.
+    # From the left, the first tick 8 % in: the periods crowd where Omega is small, and grow without bound
+    # towards an axis that starts at Omega = 0.
+    ticks, last = [], low
     for T in PERIOD_TICKS[::-1]:
         where = float(period(T))
         if low <= where <= high and where - last >= 0.08 * (high - low):
@@ -488,7 +492,8 @@ def design_figure(study: Study) -> Figure:
     Om = a["Omega"]
     for i, sign in enumerate(a["signs"]):
         ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
-        ax_g.plot(Om, ratio, ":", ms=3, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1))
+        # Over the envelope, which one direction governs: drawn under it, that direction's line would vanish.
+        ax_g.plot(Om, ratio, ":", ms=3, zorder=3, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1))
     style = PART_STYLE["damper"]
     bounded = _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], {"color": style["color"], "marker": style["marker"]},
                           "gain (envelopes)")  # fmt: skip
@@ -637,30 +642,43 @@ def ida_figure(study: Study) -> Figure:
                       label=label)  # fmt: skip
             ax_f.fill_between(a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"],
                               alpha=0.15, lw=0)  # fmt: skip
-    ax_f.set_xlabel(f"{s['measure']}{unit}")
+    levels = a["levels"]
+    # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
+    xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
+    measure = "scale factor" if s["measure"] == "scale" else s["measure"]
+    ax_f.set_xlabel(f"{measure}{unit}")
+    if xlog:
+        ax_f.set_xscale("log")
+        _plain_ticks(ax_f.xaxis)
     if s["unit"] == "m/s^2":  # an acceleration: in g too, the block's gravity
         g = _block(study.config).g
-        ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g)).set_xlabel(
-            f"{s['measure']} (g)", fontsize=8)  # fmt: skip
+        in_g = ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g))
+        in_g.set_xlabel(f"{s['measure']} (g)", fontsize=8)
+        if xlog:
+            _plain_ticks(in_g.xaxis)
     ax_f.set_ylabel("probability of overturning")
     ax_f.set_ylim(-0.02, 1.02)
-    ax_f.set_title(f"{_suite_label(study.config['suite'])}; bands: 90 % bootstrap over the motions", fontsize=9)
+    ax_f.set_title("fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions",
+                   fontsize=9)  # fmt: skip
     _legend_below(ax_f)
     over = a["damper_overturned"].astype(int)
     classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
-    handles = _classes(ax_m, a["levels"], np.arange(over.shape[0]), (over == 1).astype(int).T, classes)
+    handles = _classes(ax_m, levels, np.arange(over.shape[0]), (over == 1).astype(int).T, classes, xlog)
+    if xlog:
+        ax_m.set_xscale("log")
+        _plain_ticks(ax_m.xaxis)
     rows = np.flatnonzero(a["damper_reversals"] > 0)
     if rows.size:
         ax_m.plot(np.full(rows.size, a["levels"][-1]), rows, "<", color=OKABE_ITO["blue"], ms=6, ls="none",
                   label="non-monotone: overturns, then survives a higher level")  # fmt: skip
         handles += ax_m.get_legend_handles_labels()[0]
-    ax_m.set_xlabel(f"{s['measure']}{unit}")
+    ax_m.set_xlabel(f"{measure}{unit}")
     ax_m.set_ylabel("motion")
     ax_m.set_title("with the damper: outcome of each motion at each level", fontsize=9)
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
     config = study.config
-    fig.suptitle(f"{title}: {_suite_label(config['suite'])}; {_directions_label(config)}\n"
+    fig.suptitle(f"{title}: {_suite_label(config['suite'])}; {_directions_label(config, 'motions')}\n"
                  f"{_block_label(_block(config))}\n{_damper_label(config)}", fontsize=10)  # fmt: skip
     return fig
 
