@@ -173,12 +173,28 @@ def test_the_response_figure_labels_alpha_the_edge_and_the_stops():
     assert ax_x.get_ylabel() == "x (m)" and "H = 2 m" in fig._suptitle.get_text()
 
 
+def test_the_response_title_names_the_excitation_and_the_damper_with_units():
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    block, responses = _responses(damper)
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=4.0, Omega=3.0)
+    title = response_figure(responses, block, damper=damper, motion=pulse)._suptitle.get_text()
+    a_g, T_g = 4.0 * block.g * block.tan_alpha, 2 * np.pi / (3.0 * block.p)  # docs/model.md section 9
+    for text in ("one-sine pulse", f"{a_g:.3g} m/s$^2$", f"({a_g / block.g:.3g} g)", f"$T_g$ = {T_g:.3g} s",
+                 r"$\beta$ = 4", r"$\Omega$ = 3", "m = 50 kg", f"k_m = {damper.k_m:.4g} N/m", "c = ", " N s/m"):
+        assert text in title, text
+    record = rocking.SampledMotion([0.0, 2.0, -3.0, 0.0], dt=0.1, sign=-1)
+    assert response_figure(responses, block, motion=record)._suptitle.get_text().startswith(
+        "sampled motion: PGA = 3 m/s$^2$ (0.306 g), 0.3 s, sign -1")  # fmt: skip
+
+
 def test_the_pendulum_gets_its_own_panel_in_radians():
     params = {"m": 50.0, "l": 0.5, "x_p": 0.0, "y_p": 2.0, "k_phi": 100.0, "c_phi": 10.0}
     block, responses = _responses(params, model="pendulum")
     fig = response_figure(responses, block, damper=params, model="pendulum")
     ax_phi = fig.axes[1]
     assert ax_phi.get_ylabel() == "phi (rad)"
+    assert "l = 0.5 m" in fig._suptitle.get_text() and "c_phi = 10 N m s/rad" in fig._suptitle.get_text()
     data = ax_phi.get_lines()[0].get_ydata()
     assert data.size > 10 and np.abs(data).max() > 0
     assert coordinate_unit("pendulum", "phi") == "rad" and coordinate_unit("omd", "x") == "m"

@@ -254,9 +254,7 @@ def _cmd_simulate(args) -> int:
     if args.plot:
         from ..plot.response import plot_responses
 
-        title = (f"record, PGA = {pulse.pga / block.g:.3g} g" if isinstance(pulse, SampledMotion)
-                 else f"beta = {pulse.beta(block):.3g}, Omega = {pulse.Omega(block):.3g}")  # fmt: skip
-        path = plot_responses(responses, block, args.plot, title=title, damper=damper, model=args.model)
+        path = plot_responses(responses, block, args.plot, damper=damper, model=args.model, motion=pulse)
         print(f"figure written to {path}", file=sys.stderr)
     for label, path in histories.items():
         write_history(responses[label], path, args.history_dt)

@@ -44,7 +44,7 @@ from ..study.config import Study
 from ..study.overturning_map import half_stroke, saved_past_edges
 from ..study.spectrum import ABOVE, BELOW, BRACKETED
 from ..study.storage import load
-from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, SEQUENTIAL, cycle, extend
+from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
 OUTCOME_CLASSES = (
@@ -143,11 +143,6 @@ def _damper_label(config: dict) -> str:
     T_m = 2 * np.pi / (d["omega_ratio"] * block.p)
     return (rf"damper $\gamma$ = {d['gamma']:g}, $\omega_m / p$ = {d['omega_ratio']:.3g} ($T_m$ = {T_m:.3g} s), "
             rf"$\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, {_stops_label(block, d)}")  # fmt: skip
-
-
-#: How a figure names each pulse family (rocking.study.config.PULSES).
-PULSE_NAMES = {"sine": "one-sine pulse", "cosine": "one-cosine pulse", "ricker": "symmetric Ricker wavelet",
-               "ricker_anti": "antisymmetric Ricker wavelet", "mp": "Mavroeidis-Papageorgiou pulse"}  # fmt: skip
 
 
 def _pulse_label(config: dict) -> str:

@@ -14,8 +14,9 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..model.loading import load_model
-from ..model.params import Block, Damper
-from .style import CYCLE, GREY, OKABE_ITO
+from ..model.motion import describe
+from ..model.params import RANGES, Block, Damper
+from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES
 
 #: The history's entries that are not a coordinate (rocking.sim.problem.Response.history).
 NOT_COORDINATES = ("t", "phase", "ag", "theta")
@@ -33,20 +34,37 @@ def _stroke(damper) -> float | None:
     return None if damper is None else damper.get("L")
 
 
-def _damper_text(damper) -> str:
-    """The damper's parameters for the title, SI units."""
+def _damper_text(damper, model: str | None = None) -> str:
+    """The damper's parameters for the title, each with its unit (:data:`rocking.model.params.RANGES`, or the
+    manifest of a variant's ``model``)."""
     if damper is None:
         return "no damper"
     params = damper.as_params() if isinstance(damper, Damper) else damper
-    return "damper " + ", ".join(f"{k} = {v:.4g}" for k, v in params.items()) + " (SI)"
+    units = {k: r.unit for k, r in RANGES.items()}
+    if model:
+        units.update({p["name"]: p["unit"] for p in load_model(model).manifest["parameters"]})
+    return "damper " + ", ".join(f"{k} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in params.items())
+
+
+def motion_label(motion, block: Block) -> str:
+    """A ground motion for a title: its family, amplitude in m/s^2 and g, and period in s (a pulse; with its
+    ``beta`` and ``Omega`` for ``block``, docs/model.md section 9), or its peak and duration (a record)."""
+    d = describe(motion)
+    a = abs(d.a_g) * (np.abs(d.samples).max() if d.family == "sampled" else 1.0)
+    direction = "" if d.a_g >= 0 else ", sign -1"
+    if d.family == "sampled":
+        return f"sampled motion: PGA = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), {d.t_p:.3g} s{direction}"
+    return (rf"{PULSE_NAMES[d.family]}: $a_g$ = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
+            rf"($\beta$ = {a / (block.g * block.tan_alpha):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}){direction}")
 
 
 def plot_responses(
-    responses: dict, block: Block, path: str | Path, title: str = "", *, damper=None, model: str | None = None
+    responses: dict, block: Block, path: str | Path, title: str = "", *, damper=None, model: str | None = None,
+    motion=None,
 ) -> Path:
     """Draw recorded responses (:func:`response_figure`) and save the figure at ``path`` (its suffix picks the
     format: PNG, PDF, SVG); the path written."""
-    fig = response_figure(responses, block, title, damper=damper, model=model)
+    fig = response_figure(responses, block, title, damper=damper, model=model, motion=motion)
     FigureCanvasAgg(fig)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -54,7 +72,9 @@ def plot_responses(
     return path
 
 
-def response_figure(responses: dict, block: Block, title: str = "", *, damper=None, model: str | None = None) -> Figure:
+def response_figure(
+    responses: dict, block: Block, title: str = "", *, damper=None, model: str | None = None, motion=None
+) -> Figure:
     """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
 
     Parameters
@@ -65,11 +85,14 @@ def response_figure(responses: dict, block: Block, title: str = "", *, damper=No
         The rocking block: ``theta / alpha`` with the lines ``theta = +-alpha``, the block's edge ``B/2`` on a
         stroke, the ground acceleration in g.
     title : str
-        First line of the title (the excitation); the block and the damper follow.
+        First line of the title; default the excitation ``motion`` (:func:`motion_label`). The block and the
+        damper follow.
     damper : Damper or dict, optional
         The damper (a ``Damper`` or a variant's parameters in SI): its stops ``+-L`` are marked on its stroke.
     model : str, optional
         The model of the damped responses (default: the ``omd`` family, a stroke ``x`` in m).
+    motion : optional
+        The ground motion of the responses (a pulse or a :class:`~rocking.model.motion.SampledMotion`).
 
     Returns
     -------
@@ -126,11 +149,12 @@ def response_figure(responses: dict, block: Block, title: str = "", *, damper=No
         own = [(h, text) for h, text in zip(handles, labels) if ax is ax_th or text not in responses]
         if own:
             ax.legend(*zip(*own), loc="upper left", bbox_to_anchor=(1.1, 1), fontsize=7, frameon=False)
+    title = title or ("" if motion is None else motion_label(motion, block))
     fig.suptitle(
         (f"{title}\n" if title else "")
         + rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg, e = {block.e:.3g} m "
         + rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
-        + f"\n{_damper_text(damper)}",
+        + f"\n{_damper_text(damper, model)}",
         fontsize=9,
     )
     return fig

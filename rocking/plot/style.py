@@ -43,6 +43,12 @@ SEQUENTIAL = "viridis"
 DIVERGING = "PuOr"
 
 
+#: How a figure names each family of ground motion (rocking.model.motion.FAMILIES).
+PULSE_NAMES = {"sine": "one-sine pulse", "cosine": "one-cosine pulse", "ricker": "symmetric Ricker wavelet",
+               "ricker_anti": "antisymmetric Ricker wavelet", "mp": "Mavroeidis-Papageorgiou pulse",
+               "sampled": "sampled motion"}  # fmt: skip
+
+
 def cycle(i: int) -> dict:
     """Colour and marker of the ``i``-th curve of a set (they repeat after eight)."""
     return {"color": CYCLE[i % len(CYCLE)], "marker": MARKERS[i % len(MARKERS)]}
