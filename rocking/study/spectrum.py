@@ -38,6 +38,11 @@ safe ones, and every coarse step above 1 misses some of them; the coarse step 4 
 the envelope, and computes 3.6 times fewer scan responses. A finer scan sees more of such bands, and costs
 an adaptive scan little more: with 465 amplitudes (step 0.031) and the coarse step 4 it computes about as
 many responses as the full scan of 117, and every ``beta_min`` of the full scan of 465.
+
+The searches for a damper (:mod:`rocking.study.optimize`, :mod:`rocking.study.design`,
+:mod:`rocking.study.threshold`) scan every amplitude (:func:`beta_min`'s default ``coarse=1``): a missed
+overturning band raises the damped block's ``beta_min``, and so its gain, and a search for the largest gain
+would pick out exactly the dampers whose scans missed one.
 """
 
 from __future__ import annotations
