@@ -9,7 +9,7 @@ bisections), the wall time, the ratios to the full scans', and whether the resul
 column's scan outcomes, beta_min, beta_safe, flag, impacts and responses without a verdict, per direction and
 their envelope, and the safe windows.
 
-    python bench/adaptive_spectrum.py                       # the default coarse step; about a minute on 2 cores
+    python bench/adaptive_spectrum.py                       # the default coarse step; seconds on 2 cores
     python bench/adaptive_spectrum.py --coarse 4 8 16 --json out/adaptive_spectrum.json
 """
 
@@ -72,7 +72,8 @@ def compare(coarse_steps: list[int], workers: int, block: Block, n_beta: int) ->
     beta = (*SPECTRUM_BETA[:2], n_beta)
     grids = Grid("Omega", *SPECTRUM_OMEGA), Grid("beta", *beta)
     execution = Execution(workers=workers, progress=False)
-    out = {"Omega": list(SPECTRUM_OMEGA), "beta": list(beta), "workers": workers, "runs": []}
+    out = {"block": setting.record()["block"], "Omega": list(SPECTRUM_OMEGA), "beta": list(beta), "workers": workers,
+           "runs": []}  # fmt: skip
     studies = {}
     with tempfile.TemporaryDirectory() as tmp:
         for coarse in [1, *coarse_steps]:
@@ -92,9 +93,9 @@ def compare(coarse_steps: list[int], workers: int, block: Block, n_beta: int) ->
     return out
 
 
-def report(result: dict) -> None:
+def report(result: dict, block_name: str) -> None:
     om, be = result["Omega"], result["beta"]
-    print(f"adaptive beta scans, bench spectrum (Omega {om[0]:g}-{om[1]:g} x {om[2]}, beta {be[0]:g}-{be[1]:g} x "
+    print(f"adaptive beta scans, {block_name} (Omega {om[0]:g}-{om[1]:g} x {om[2]}, beta {be[0]:g}-{be[1]:g} x "
           f"{be[2]}; block alone + damper, both directions; {result['workers']} workers):")  # fmt: skip
     for r in result["runs"]:
         name = "full" if r["coarse"] == 1 else f"coarse {r['coarse']}"
@@ -126,7 +127,7 @@ def main(argv=None) -> int:
     args = parser.parse_args(argv)
     block = Block.from_nondim(**SLENDER) if args.slender else Block.reference()
     result = compare(args.coarse, args.workers, block, args.beta)
-    report(result)
+    report(result, "second block" if args.slender else "bench spectrum")
     if args.json:
         with open(args.json, "w") as f:
             json.dump(result, f, indent=2)

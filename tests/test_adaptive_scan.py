@@ -83,7 +83,8 @@ def test_what_an_adaptive_scan_misses_on_the_bench_spectrum():
     full = beta_min(BENCH, [3.0], beta, damper, sign=-1)
     assert narrowest_feature(full["scan_outcome"])[0] == 1
     assert full["beta_min"][0] == pytest.approx(1.857, abs=1e-3) and full["scan_outcome"][0, 11] >= 0
-    missed = beta_min(BENCH, [3.0], beta, damper, sign=-1, coarse=2)  # index 11 is odd: between two safe computed points
+    # Index 11 is odd: between two safe computed points of the step 2.
+    missed = beta_min(BENCH, [3.0], beta, damper, sign=-1, coarse=2)
     assert missed["beta_min"][0] == pytest.approx(3.25, abs=1e-2) and missed["scan_outcome"][0, 11] == -1
     assert missed["responses"][0] < full["responses"][0]
 
