@@ -31,6 +31,7 @@ test: $(STAMP)
 bench: $(STAMP)
 	$(PY) bench/run.py
 	$(PY) bench/adaptive.py
+	$(PY) bench/adaptive_spectrum.py
 
 fuzz: $(STAMP)
 	$(PY) bench/fuzz.py -n $(FUZZ_N) --json out/fuzz.json

@@ -333,12 +333,20 @@ def _inputs(args) -> tuple[tuple, Path]:
     return inputs, out_from(args)
 
 
+def _refinement(args, what: str) -> dict:
+    """``full=`` and ``coarse=`` of a map or a spectrum, as given; refused together. ``what``: what ``--full``
+    computes every one of."""
+    if args.full and args.coarse is not None:
+        raise ParameterError(f"give --coarse (the step of the adaptive refinement) or --full (every {what}), "
+                             "not both")  # fmt: skip
+    return given(args, ("full", "coarse"))
+
+
 def _cmd_map(args) -> int:
     tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
-    if args.full and args.coarse is not None:
-        raise ParameterError("give --coarse (the step of an adaptive map) or --full (every cell), not both")
+    refinement = _refinement(args, "cell")
     inputs, out = _inputs(args)
-    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions", "full", "coarse")))
+    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions",)), **refinement)
     _report(study, out)
     _print_map(study)
     return 0
@@ -361,8 +369,10 @@ def _print_map(study: Study) -> None:
 
 
 def _cmd_spectrum(args) -> int:
+    refinement = _refinement(args, "amplitude")
     inputs, out = _inputs(args)
-    study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)))
+    study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)),
+                                         **refinement)  # fmt: skip
     _report(study, out)
     _print_spectrum(study)
     return 0
@@ -381,6 +391,13 @@ def _print_spectrum(study: Study) -> None:
         gain = a["damper_beta_min"][both] / a["bare_beta_min"][both]
         print(f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
               f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}")  # fmt: skip
+    refinement, run = study.config["refinement"], study.run
+    if refinement["adaptive"]:
+        print(
+            f"spectrum: adaptive scans (coarse step {refinement['coarse']}): {run['scan_responses']} of "
+            f"{run['scan_responses_full']} scan responses computed ({run['responses']} with the bisections); "
+            "amplitudes not computed take the outcome around them (--full computes every amplitude)"
+        )
 
 
 def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: Grid, **search) -> Study:
@@ -708,6 +725,17 @@ def add_study_commands(subparsers) -> None:
     _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
     _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
     _add_tol(p)
+    p.add_argument(
+        "--coarse",
+        type=int,
+        metavar="STEP",
+        help="coarse step of the adaptive beta scans, a power of two: every STEP-th amplitude is computed, then "
+        "bisections where neighbouring outcome classes differ; features narrower than STEP amplitudes can be "
+        f"missed ({default_text(minimum_overturning_spectrum, 'coarse')})",
+    )
+    p.add_argument(
+        "--full", action="store_const", const=True, help="compute every scan amplitude (default: adaptive scans)"
+    )
     _add_directions(p)
     _add_pulse(p)
     _add_solver(p)

@@ -26,6 +26,12 @@ What an adaptive map can miss: a feature of another class that falls entirely be
 of a leaf, i.e. an island, or a tongue or band narrower than the spacing of the computed cells along the
 leaf's edges, which is at most the coarse step. Such a feature is smaller than ``coarse`` cells; ``coarse=1``
 (or a full map) computes every cell.
+
+The ``beta`` scan of a spectrum (:func:`rocking.study.spectrum.beta_min`) is refined alike in one dimension
+(:func:`refine_scan`): every ``coarse``-th amplitude and the last, then the midpoint of each interval whose two
+ends differ in class, down to neighbouring amplitudes; the amplitudes inside an interval whose ends agree take
+their class. It misses what falls entirely inside such an interval: a band of another class (a safe window, an
+overturning band, another count of impacts) narrower than the coarse step, with the same class on both sides.
 """
 
 from __future__ import annotations
@@ -170,3 +176,86 @@ class Refinement:
         if not (filled | self.computed).all():
             raise AssertionError("adaptive map: a cell is neither computed nor in a leaf")
         return filled
+
+
+def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarray, np.ndarray, int]:
+    """The classes of ``shape[0]`` scans of ``shape[1]`` points each, refined where neighbouring classes differ.
+
+    Every ``coarse``-th index and the last is computed first; then, round after round, the midpoint of each
+    interval of computed indices whose two ends differ in class, until its ends are neighbours or agree. An
+    index not computed takes the class of the two computed ends of its interval (they agree).
+
+    Parameters
+    ----------
+    classify : callable
+        ``classify(rows, indices)`` -> the classes (int) of the points ``(rows[i], indices[i])``; called once per
+        round with all the points of that round, for every scan at once.
+    shape : (int, int)
+        Scans, points per scan.
+    coarse : int
+        The coarse step, indices (:func:`check_coarse`; 1 computes every point in one round).
+
+    Returns
+    -------
+    classes : ndarray of int, ``shape``
+        The class of every point.
+    computed : ndarray of bool, ``shape``
+        The points computed.
+    rounds : int
+        Calls of ``classify``.
+
+    Examples
+    --------
+    >>> field = np.array([[-1, -1, -1, 0, 0, 0, 0, 0, 0], [-1, -1, -1, -1, -1, -1, -1, -1, -1]])
+    >>> classes, computed, rounds = refine_scan(lambda r, i: field[r, i], field.shape, 4)
+    >>> bool((classes == field).all()), computed.astype(int), rounds
+    (True, array([[1, 0, 1, 1, 1, 0, 0, 0, 1],
+           [1, 0, 0, 0, 1, 0, 0, 0, 1]]), 3)
+    """
+    n, m = shape
+    classes, computed = np.zeros(shape, np.int64), np.zeros(shape, bool)
+    lattice = np.unique(np.append(np.arange(0, m, coarse), m - 1)) if m else np.zeros(0, np.int64)
+    rows, indices = np.repeat(np.arange(n), lattice.size), np.tile(lattice, n)
+    # Intervals of computed indices: their scan, first and last index.
+    scan = np.repeat(np.arange(n), max(lattice.size - 1, 0))
+    first, last = np.tile(lattice[:-1], n), np.tile(lattice[1:], n)
+    rounds = 0
+    while rows.size:
+        classes[rows, indices] = classify(rows, indices)
+        computed[rows, indices] = True
+        rounds += 1
+        split = (classes[scan, first] != classes[scan, last]) & (last - first > 1)
+        scan, first, last = scan[split], first[split], last[split]
+        middle = (first + last) // 2
+        rows, indices = scan, middle
+        scan, first, last = np.tile(scan, 2), np.concatenate([first, middle]), np.concatenate([middle, last])
+    position = np.broadcast_to(np.arange(m), shape)
+    before = np.maximum.accumulate(np.where(computed, position, 0), axis=1)
+    after = m - 1 - np.maximum.accumulate(np.where(computed, m - 1 - position, 0)[:, ::-1], axis=1)[:, ::-1]
+    row = np.arange(n)[:, None]
+    if not (computed | (classes[row, before] == classes[row, after])).all():
+        raise AssertionError("adaptive scan: a point not computed lies between computed points of two classes")
+    return np.where(computed, classes, classes[row, before]), computed, rounds
+
+
+def narrowest_feature(classes) -> np.ndarray:
+    """Per scan (row of ``classes``), the fewest points of a run of one class that touches neither end of the
+    scan; the scan's length where there is none.
+
+    :func:`refine_scan` of a coarse step no larger than this computes a point of every run, and so gives every
+    class exactly: a run that reaches an end holds a computed point, the end; a run of ``coarse`` points or more
+    holds a multiple of ``coarse``.
+
+    Examples
+    --------
+    >>> narrowest_feature([[-1, -1, 0, 0, 0, -1, -1, -1], [2, 1, 1, 1, 1, 1, 1, 0], [-1, -1, 0, -1, 0, 0, 0, 0]])
+    array([3, 6, 1])
+    """
+    classes = np.atleast_2d(np.asarray(classes))
+    n, m = classes.shape
+    out = np.full(n, m)
+    change = np.diff(classes, axis=1) != 0
+    for row in np.flatnonzero(change.sum(axis=1) >= 2):
+        edges = np.flatnonzero(change[row])  # a run ends after each edge index
+        out[row] = np.diff(edges).min()
+    return out

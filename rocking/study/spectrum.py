@@ -7,8 +7,12 @@ the first overturning amplitude there are windows where the block survives),
 so a bisection from a safe to an overturning amplitude alone could land on
 any of its edges. :func:`beta_min` therefore
 
-1. scans ``beta`` on a grid (one call of :func:`rocking.sim.cases.run_cases` for
-   every column of a tile at once),
+1. scans ``beta`` on a grid, adaptively by default (:func:`rocking.study.adaptive.refine_scan`): the
+   outcome at every ``coarse``-th amplitude and the last, then at the midpoint of each interval whose two
+   ends differ in outcome class (safe, overturned after so many impacts, no verdict), down to neighbouring
+   amplitudes; the amplitudes inside an interval whose ends agree take their class. Each round is one call
+   of :func:`rocking.sim.cases.run_cases` for every column of a tile at once; ``coarse=1`` (``full=True``,
+   ``rocking spectrum --full``) computes every amplitude in one call,
 2. bisects between the last safe scan amplitude below the first overturning
    one and that one, to a relative tolerance ``tol``; ``beta_min`` is the
    smallest amplitude found to overturn (the upper end of the final bracket),
@@ -21,6 +25,24 @@ Each column's ``flag`` says how ``beta_min`` was found: ``BRACKETED`` (0,
 bisected), ``BELOW`` (-1: the first scan amplitude overturns already;
 ``beta_min`` is then that amplitude, an upper bound) or ``ABOVE`` (+1: no
 scan amplitude overturns; ``beta_min`` is then the last one, a lower bound).
+
+What an adaptive scan can miss: a band of another class that lies entirely between two computed amplitudes
+of one class, i.e. narrower than the coarse step (a safe window, an overturning band, a band of another
+count of impacts). Where the full scan has no such band, the adaptive scan gives its outcomes exactly
+(:func:`rocking.study.adaptive.narrowest_feature`), and with them ``beta_min``, the flags, the impacts and
+the windows, from fewer responses. A missed overturning band below the first one found moves ``beta_min`` up
+to that one. The overturning domain has such bands: on the bench spectrum (``rocking spectrum``'s grids,
+117 amplitudes of step 0.125; bench/adaptive_spectrum.py) some columns overturn at a single amplitude amid
+safe ones, and every coarse step above 1 misses some of them; the coarse step 4 moves one direction's
+``beta_min`` in one of the 236 columns (Omega = 3, negative pulses, with the damper: 1.86 to 3.25), not
+the envelope, and computes 3.6 times fewer scan responses. A finer scan sees more of such bands, and costs
+an adaptive scan little more: with 465 amplitudes (step 0.031) and the coarse step 4 it computes about as
+many responses as the full scan of 117, and every ``beta_min`` of the full scan of 465.
+
+The searches for a damper (:mod:`rocking.study.optimize`, :mod:`rocking.study.design`,
+:mod:`rocking.study.threshold`) scan every amplitude (:func:`beta_min`'s default ``coarse=1``): a missed
+overturning band raises the damped block's ``beta_min``, and so its gain, and a search for the largest gain
+would pick out exactly the dampers whose scans missed one.
 """
 
 from __future__ import annotations
@@ -30,16 +52,17 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import ParameterError
-from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
+from .adaptive import check_coarse, refine_scan
+from .config import Grid, Setting, Study, Tuning, Variant, check_type, is_count, is_number, part_config
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
     FIXED,
     SAFE,
     check_damper,
     check_study,
-    outcome,
     preflight,
     respond,
+    response_classes,
     undetermined,
     warn_undetermined,
 )
@@ -62,8 +85,17 @@ TOL = 1e-3
 #: Python around it, which holds the GIL, would stop local worker threads
 #: from running in parallel.
 COLUMNS = 8
-#: What :func:`beta_min` gives per column (each of shape (n,)), besides ``scan_outcome``.
+#: What :func:`beta_min` gives per column (each of shape (n,)), besides ``scan_outcome`` and the counts of
+#: :data:`RESPONSE_COUNTS`.
 COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
+#: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
+RESPONSE_COUNTS = ("responses", "scan_responses")
+
+#: Default coarse step of the beta scan, amplitudes (:func:`scan_refinement`). On the bench spectrum and the
+#: second block (module docstring; bench/adaptive_spectrum.py --coarse 2 4 8 16, --slender) the steps 4 and 8
+#: take about as long (the bisections and the rounds remain), and 8 moves more beta_min of single directions
+#: (2 and 4 columns of 236, against 1 and 1).
+SCAN_COARSE = 4
 
 
 def check_tol(tol) -> float:
@@ -71,6 +103,21 @@ def check_tol(tol) -> float:
     if not (is_number(tol) and 0 < tol <= 0.1):
         raise ParameterError(f"beta_tol must be a relative tolerance in (0, 0.1] (got {tol!r})")
     return float(tol)
+
+
+def scan_refinement(full, coarse) -> dict:
+    """How a study's ``beta`` scans are refined, as its configuration records it: ``{"adaptive": False}`` for
+    every amplitude (``full``, or ``coarse`` 1), else ``{"adaptive": True, "coarse": coarse}``.
+
+    Raises
+    ------
+    ParameterError
+        Unless ``full`` is a bool and ``coarse`` a power of two in range
+        (:func:`rocking.study.adaptive.check_coarse`).
+    """
+    check_type("full", full, bool, "True or False")
+    coarse = check_coarse(coarse)
+    return {"adaptive": False} if full or coarse == 1 else {"adaptive": True, "coarse": coarse}
 
 
 def _column(values, n: int) -> dict | None:
@@ -83,7 +130,9 @@ def _column(values, n: int) -> dict | None:
     return {k: v if k in FIXED else np.broadcast_to(np.asarray(v, float), (n,))[:, None] for k, v in values.items()}
 
 
-def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL, sign=1) -> dict:
+def beta_min(
+    setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL, sign=1, coarse: int = 1
+) -> dict:
     """Minimum overturning amplitude of each column ``(Omega[i], damper[.][i], sign[i])``: scan, then bisection.
 
     Parameters
@@ -103,6 +152,10 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         Relative width of the final bracket, ``(hi - lo) <= tol * hi``.
     sign : int or array_like, shape (n,)
         Direction of the pulses of each column, +1 or -1.
+    coarse : int
+        The coarse step of the scan (:func:`rocking.study.adaptive.refine_scan`: every ``coarse``-th amplitude,
+        then bisections where neighbouring outcome classes differ), a power of two; 1 (the default) computes
+        every amplitude.
 
     Returns
     -------
@@ -111,24 +164,35 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         ``nan`` unless bracketed), ``flag`` (n,), ``impacts`` (n,: impacts
         before overturning at ``beta_min``, -1 if none), ``undetermined``
         (n,: responses of the scan and the bisection that ended without a
-        verdict, :func:`rocking.study.overturning_map.undetermined`; they
+        verdict, :func:`rocking.study.overturning_map.undetermined`, the scan's
+        amplitudes that take such a class without being computed included; they
         count as not overturned), ``scan_outcome`` (n, m:
-        :func:`rocking.study.overturning_map.outcome` along the scan).
+        :func:`rocking.study.overturning_map.outcome` along the scan), ``responses``
+        (n,: responses computed, scan and bisection) and ``scan_responses`` (n,: of them, the scan's).
     """
     Omega = np.atleast_1d(np.asarray(Omega, float))
     beta_scan = np.asarray(beta_scan, float)
     n = Omega.size
     cols = _column(damper, n)
     sign = np.broadcast_to(np.asarray(sign), (n,))
-    scan = respond(setting, Omega[:, None], beta_scan[None, :], cols, sign[:, None])
-    over = scan["overturned"]
+
+    def classify(rows, indices):
+        sub = None if cols is None else {k: v if k in FIXED else v[rows, 0] for k, v in cols.items()}
+        r = respond(setting, Omega[rows], beta_scan[indices], sub, sign[rows])
+        return response_classes(r["overturned"], r["impacts"], r["status"])
+
+    classes, computed, _ = refine_scan(classify, (n, beta_scan.size), check_coarse(coarse))
+    scan_outcome = np.where(classes >= 0, classes, SAFE)  # no verdict (class <= -2): not overturned
+    over = scan_outcome != SAFE
     first = np.argmax(over, axis=1)  # first overturning scan point (0 if none)
     rows = np.arange(n)
     flag = np.where(~over.any(axis=1), ABOVE, np.where(first == 0, BELOW, BRACKETED))
     hi = np.where(flag == ABOVE, beta_scan[-1], beta_scan[first])
     lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
-    impacts = np.where(flag == ABOVE, -1, scan["impacts"][rows, first])
-    unknown = undetermined(scan["status"]).sum(axis=1)
+    impacts = np.where(flag == ABOVE, -1, scan_outcome[rows, first])
+    unknown = (classes <= -2).sum(axis=1)
+    scan_responses = computed.sum(axis=1)
+    responses = scan_responses.copy()
     while True:
         active = np.flatnonzero((flag == BRACKETED) & (hi - lo > tol * hi))
         if active.size == 0:
@@ -140,13 +204,16 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
         lo[active[~up]] = mid[~up]
         unknown[active] += undetermined(r["status"])
+        responses[active] += 1
     return {
         "beta_min": hi,
         "beta_safe": lo,
         "flag": flag,
         "impacts": impacts,
         "undetermined": unknown,
-        "scan_outcome": outcome(over, scan["impacts"]),
+        "scan_outcome": scan_outcome,
+        "responses": responses,
+        "scan_responses": scan_responses,
     }
 
 
@@ -167,10 +234,11 @@ def windows(beta_scan, scan_overturned) -> np.ndarray:
 
 
 def spectrum_tile(payload: tuple) -> dict:
-    """Some columns in every direction: ``(setting, damper_or_None, Omega values, beta_scan, tol, signs)`` ->
-    :func:`beta_min` of them, each array with an axis of the signs after that of ``Omega``."""
-    setting, damper, Omega, beta_scan, tol, signs = payload
-    res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs))
+    """Some columns in every direction: ``(setting, damper_or_None, Omega values, beta_scan, tol, signs,
+    coarse)`` -> :func:`beta_min` of them, each array with an axis of the signs after that of ``Omega``."""
+    setting, damper, Omega, beta_scan, tol, signs, coarse = payload
+    res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs),
+                   coarse=coarse)  # fmt: skip
     return {k: v.reshape(len(Omega), len(signs), *v.shape[1:]) for k, v in res.items()}
 
 
@@ -185,6 +253,8 @@ def minimum_overturning_spectrum(
     runs: str | Path = "out/runs",
     columns: int = COLUMNS,
     directions: str = "auto",
+    full: bool = False,
+    coarse: int = SCAN_COARSE,
     on_tile=None,
 ) -> Study:
     """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, ``columns`` Omega values per tile;
@@ -200,7 +270,8 @@ def minimum_overturning_spectrum(
     Omega : Grid
         Pulse frequency ratios.
     beta : Grid
-        Scan amplitudes; the scan step bounds the width of the windows seen.
+        Scan amplitudes; the scan step bounds the width of the windows seen, and the coarse step that of
+        the features an adaptive scan sees (module docstring).
     execution : Execution
         Where the tiles run.
     tol : float
@@ -212,6 +283,14 @@ def minimum_overturning_spectrum(
     directions : {"auto", "both", "positive", "negative"}
         Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
         and its damper are symmetric.
+    full : bool, optional
+        Compute the outcome at every scan amplitude. Default False: the scan is adaptive
+        (:func:`rocking.study.adaptive.refine_scan`), refined on the outcome classes from every
+        ``coarse``-th amplitude; it can miss a feature of another class narrower than ``coarse`` amplitudes.
+    coarse : int, optional
+        The coarse step of an adaptive scan, amplitudes: a power of two in [1,
+        :data:`rocking.study.adaptive.MAX_COARSE`] (1 computes every amplitude, as ``full``). Default
+        :data:`SCAN_COARSE`.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
 
@@ -223,15 +302,18 @@ def minimum_overturning_spectrum(
         signs after that of ``Omega``), their envelope (``<part>_beta_min`` ...,
         :func:`rocking.study.directions.beta_min_envelope`), ``<part>_worst_sign`` (the direction of
         the smaller ``beta_min``) and ``<part>_windows`` (k, 3): ``Omega``, first and last amplitude
-        safe in every direction.
+        safe in every direction. ``config["refinement"]`` records how the scans were refined
+        (:func:`scan_refinement`); ``run["responses"]`` counts the responses computed (scans and
+        bisections), ``run["scan_responses"]`` those of the scans and ``run["scan_responses_full"]`` those of
+        scans of every amplitude.
 
     Raises
     ------
     ParameterError
         Naming the parameter and its valid range, before any work: inputs of
-        the wrong type, more than :data:`rocking.study.config.MAX_CELLS`
-        cells, a folder that cannot be written, a back end or a Dask cluster
-        that cannot be used.
+        the wrong type, a ``coarse`` that is not a power of two in range, more than
+        :data:`rocking.study.config.MAX_CELLS` cells, a folder that cannot be written, a back end or a Dask
+        cluster that cannot be used.
     rocking.study.tiles.Interrupted
         On Ctrl-C (a KeyboardInterrupt): the finished tiles are kept in
         ``runs``, and the same call resumes from them.
@@ -261,11 +343,14 @@ def minimum_overturning_spectrum(
     if not (is_count(columns) and columns >= 1):
         raise ParameterError(f"columns must be an integer >= 1 (Omega values per tile) (got {columns!r})")
     columns = int(columns)
+    refinement = scan_refinement(full, coarse)
     check_damper(tuning)
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     Om, b = Omega.values(), beta.values()
-    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns, "signs": signs}
+    # The refinement keys every spectrum's tiles, full ones too: they hold the counts of responses since.
+    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns, "signs": signs,
+             "refinement": refinement}  # fmt: skip
     arrays = {"Omega": Om, "beta_scan": b, "signs": np.array(signs)}
     record = tuning.record()
     groups, where, folders = [], {}, {}
@@ -282,16 +367,21 @@ def minimum_overturning_spectrum(
         groups.append(part_tasks)
         for i in range(0, Om.size, columns):
             cols = slice(i, min(i + columns, Om.size))
-            payload, n = (setting, damper, Om[cols], b, tol, signs), cols.stop - cols.start
-            expect = {**dict.fromkeys(COLUMN_FIELDS, (n, ns)), "scan_outcome": (n, ns, b.size)}
+            payload = (setting, damper, Om[cols], b, tol, signs, refinement.get("coarse", 1))
+            n = cols.stop - cols.start
+            expect = {**dict.fromkeys((*COLUMN_FIELDS, *RESPONSE_COUNTS), (n, ns)), "scan_outcome": (n, ns, b.size)}
             task = Task(folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, payload, expect)
             part_tasks.append(task)
             where[task.path] = (part, cols)
+
+    counts = dict.fromkeys(RESPONSE_COUNTS, 0)
 
     def place(task: Task, tile: dict) -> None:
         part, cols = where[task.path]
         for k in (*COLUMN_FIELDS, "scan_outcome"):
             arrays[f"{part}_{k}_by_sign"][cols] = tile[k]
+        for k in RESPONSE_COUNTS:
+            counts[k] += int(tile[k].sum())
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)
@@ -307,8 +397,8 @@ def minimum_overturning_spectrum(
         config,
         arrays,
         tables=spectrum_tables(arrays),
-        summary={**spectrum_summary(arrays), "directions": chosen},
-        run={**stats.record(), "run_folders": folders},
+        summary={**spectrum_summary(arrays), "directions": chosen, "refinement": refinement},
+        run={**stats.record(), "run_folders": folders, **counts, "scan_responses_full": 2 * Om.size * ns * b.size},
     )
 
 
