@@ -3,13 +3,13 @@
 The spectrum of ``rocking spectrum`` on its default grids (Omega 0.5 to 15, 59 values; the beta scan 0.5 to 15,
 117 amplitudes), of the bench block and damper of bench/adaptive.py (the reference block of docs/model.md
 section 9, gamma = 0.05, omega_m = p, zeta = 0.05, h = 0.05 m, rtol = 1e-8), computed with adaptive scans
-(rocking.study.adaptive.refine_scan, each coarse step asked for) and with full ones (--full), each on fresh tiles
+(rocking.study.adaptive.refine_scan, each coarse step asked for) and with full ones (the default), each on fresh tiles
 with the same local workers. Prints, per coarse step, the responses computed (the scans' and in all, with the
 bisections), the wall time, the ratios to the full scans', and whether the results are identical: every
 column's scan outcomes, beta_min, beta_safe, flag, impacts and responses without a verdict, per direction and
 their envelope, and the safe windows.
 
-    python bench/adaptive_spectrum.py                       # the default coarse step; seconds on 2 cores
+    python bench/adaptive_spectrum.py                       # the coarse step 4; seconds on 2 cores
     python bench/adaptive_spectrum.py --coarse 4 8 16 --json out/adaptive_spectrum.json
 """
 
@@ -27,12 +27,14 @@ from rocking import Block
 from rocking.cli.study import SPECTRUM_BETA, SPECTRUM_OMEGA
 from rocking.study.adaptive import narrowest_feature
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.spectrum import COLUMN_FIELDS, SCAN_COARSE, minimum_overturning_spectrum
+from rocking.study.spectrum import COLUMN_FIELDS, minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
 #: The second block of --slender: slender and smaller, eccentric the other way (tests/test_adaptive.py's).
 SLENDER = {"p": 2.0, "alpha": 0.2, "e_ratio": -0.04}
+#: The coarse step measured by default: the one to ask for (rocking.study.spectrum.SCAN_COARSE).
+ASKED = 4
 
 
 def _unequal(a, b) -> np.ndarray:
@@ -77,9 +79,9 @@ def compare(coarse_steps: list[int], workers: int, block: Block, n_beta: int) ->
     studies = {}
     with tempfile.TemporaryDirectory() as tmp:
         for coarse in [1, *coarse_steps]:
-            how = {"full": True} if coarse == 1 else {"coarse": coarse}
             start = time.perf_counter()
-            study = minimum_overturning_spectrum(setting, tuning, *grids, execution, runs=f"{tmp}/{coarse}", **how)
+            study = minimum_overturning_spectrum(setting, tuning, *grids, execution, runs=f"{tmp}/{coarse}",
+                                                 coarse=coarse)  # fmt: skip
             seconds = time.perf_counter() - start
             studies[coarse] = study
             counts = {k: study.run[k] for k in ("responses", "scan_responses", "scan_responses_full")}
@@ -116,8 +118,8 @@ def report(result: dict, block_name: str) -> None:
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--coarse", type=int, nargs="+", default=[SCAN_COARSE],
-                        help=f"coarse steps of the adaptive scans (default {SCAN_COARSE})")  # fmt: skip
+    parser.add_argument("--coarse", type=int, nargs="+", default=[ASKED],
+                        help=f"coarse steps of the adaptive scans (default {ASKED})")  # fmt: skip
     parser.add_argument("--beta", type=int, default=SPECTRUM_BETA[2],
                         help=f"amplitudes of the scan (default {SPECTRUM_BETA[2]}, rocking spectrum's)")  # fmt: skip
     parser.add_argument("--workers", type=int, default=2, help="local workers (default 2)")

@@ -24,11 +24,15 @@ BENCH_DAMPER = Tuning(0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
 GRIDS = Grid("Omega", *SPECTRUM_OMEGA), Grid("beta", *SPECTRUM_BETA)
 
 
-def adaptive_and_full(tmp_path, setting, damper, coarse=SCAN_COARSE):
+#: The coarse step to ask for (rocking.study.spectrum.SCAN_COARSE).
+ASKED = 4
+
+
+def adaptive_and_full(tmp_path, setting, damper, coarse=ASKED):
     runs = tmp_path / "runs"
     return (
         minimum_overturning_spectrum(setting, damper, *GRIDS, POOL, runs=runs, coarse=coarse),
-        minimum_overturning_spectrum(setting, damper, *GRIDS, POOL, runs=runs, full=True),
+        minimum_overturning_spectrum(setting, damper, *GRIDS, POOL, runs=runs),
     )
 
 
@@ -59,7 +63,7 @@ def assert_full_results_but_for_narrow_features(adaptive, full, coarse) -> None:
 
 def test_the_bench_spectrum_adaptive_is_the_full_spectrum_but_for_narrow_features(tmp_path):
     adaptive, full = adaptive_and_full(tmp_path, BENCH, BENCH_DAMPER)
-    assert_full_results_but_for_narrow_features(adaptive, full, SCAN_COARSE)
+    assert_full_results_but_for_narrow_features(adaptive, full, ASKED)
     assert adaptive.config["refinement"] == adaptive.summary["refinement"] == {"adaptive": True, "coarse": 4}
     assert full.config["refinement"] == {"adaptive": False}
     assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
@@ -134,10 +138,10 @@ def test_scans_of_any_length_are_refined_to_their_last_point(m, coarse):
     assert rounds <= 1 + int(np.log2(coarse))
 
 
-def test_full_and_a_coarse_step_of_1_share_their_tiles_and_other_steps_do_not(tmp_path):
+def test_the_default_and_a_coarse_step_of_1_share_their_tiles_and_other_steps_do_not(tmp_path):
     grids = Grid("Omega", 2.0, 6.0, 3), Grid("beta", 0.5, 10.0, 20)
     run = {}
-    for name, how in (("full", {"full": True}), ("1", {"coarse": 1}), ("4", {"coarse": 4}), ("8", {"coarse": 8})):
+    for name, how in (("full", {}), ("1", {"coarse": 1}), ("4", {"coarse": 4}), ("8", {"coarse": 8})):
         run[name] = minimum_overturning_spectrum(BENCH, BENCH_DAMPER, *grids, POOL, runs=tmp_path, **how).run
     assert run["1"]["tiles_reused"] == run["full"]["tiles_computed"] and run["1"]["tiles_computed"] == 0
     assert run["1"]["responses"] == run["full"]["responses"]  # the counts are stored with the tiles
@@ -154,13 +158,12 @@ def test_a_bad_coarse_step_is_refused_in_one_line(coarse, tmp_path):
         beta_min(BENCH, [2.0], [1.0, 2.0], coarse=coarse)
 
 
-def test_full_must_be_a_flag(tmp_path):
-    grids = Grid("Omega", 2.0, 6.0, 3), Grid("beta", 0.5, 10.0, 20)
-    with pytest.raises(ParameterError, match=r"^full must be True or False \(got int 1\)"):
-        minimum_overturning_spectrum(BENCH, BENCH_DAMPER, *grids, POOL, runs=tmp_path, full=1)
+def test_scans_are_full_by_default_because_the_bench_spectrum_has_one_amplitude_bands():
+    """The default is every amplitude: an adaptive step misses bands such as the one pinned below."""
+    assert SCAN_COARSE == 1
 
 
-def test_the_command_line_scans_adaptively_by_default(tmp_path, capsys):
+def test_the_command_line_scans_every_amplitude_unless_asked(tmp_path, capsys):
     parser = argparse.ArgumentParser(prog="rocking")
     add_study_commands(parser.add_subparsers(dest="command", required=True))
 
@@ -170,16 +173,11 @@ def test_the_command_line_scans_adaptively_by_default(tmp_path, capsys):
         return args.func(args)
 
     assert cli() == 0
-    out = capsys.readouterr().out
-    assert f"spectrum: adaptive scans (coarse step {SCAN_COARSE}):" in out and "of 240 scan responses" in out
-    for argv, message in (
-        (("--coarse", "6"), "coarse must be a power of two"),
-        (("--full", "--coarse", "8"), "not both"),
-    ):
+    assert "adaptive" not in capsys.readouterr().out
+    for argv, message in ((("--coarse", "6"), "coarse must be a power of two"),):
         assert cli(*argv) == 2
         err = capsys.readouterr().err
         assert message in err and len(err.splitlines()) == 1
     assert cli("--coarse", "8") == 0
-    assert "(coarse step 8)" in capsys.readouterr().out
-    assert cli("--full") == 0
-    assert "adaptive" not in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert "spectrum: adaptive scans (coarse step 8):" in out and "of 240 scan responses" in out

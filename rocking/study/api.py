@@ -37,7 +37,7 @@ from .ida import incremental_dynamic_analysis as _incremental_dynamic_analysis
 from .optimize import optimal_damper as _optimal_damper
 from .overturning_map import COARSE
 from .overturning_map import overturning_map as _overturning_map
-from .spectrum import TOL
+from .spectrum import SCAN_COARSE, TOL
 from .spectrum import minimum_overturning_spectrum as _minimum_overturning_spectrum
 from .suite import Suite
 from .threshold import A_MAX
@@ -159,6 +159,7 @@ def minimum_overturning_spectrum(
     Omega,
     beta,
     tol: float = TOL,
+    coarse: int = SCAN_COARSE,
     directions: str = "auto",
     rtol: float = 1e-8,
     t_after: float = 15.0,
@@ -172,7 +173,9 @@ def minimum_overturning_spectrum(
     """The minimum overturning amplitude ``beta_min(Omega)`` of ``block`` alone and with ``damper``.
 
     ``beta`` are the scan amplitudes (their step bounds the safe windows seen); ``tol`` the relative
-    tolerance of the bisection. Other parameters as :func:`overturning_map`.
+    tolerance of the bisection; ``coarse`` > 1: adaptive scans of that coarse step, which can miss bands
+    narrower than it (:mod:`rocking.study.spectrum`; default every amplitude). Other parameters as
+    :func:`overturning_map`.
 
     Returns
     -------
@@ -189,7 +192,7 @@ def minimum_overturning_spectrum(
     """
     return _run(_minimum_overturning_spectrum, _setting(block, rtol, t_after, backend, pulse), _tuning(damper),
                 _grid("Omega", Omega), _grid("beta", beta), workers=workers, progress=progress, runs=runs,
-                study=study, tol=tol, directions=directions)  # fmt: skip
+                study=study, tol=tol, coarse=coarse, directions=directions)  # fmt: skip
 
 
 def optimal_damper(

@@ -130,8 +130,8 @@ FIELDS: dict[str, tuple] = {
     "beta_safe": ("1", "largest safe amplitude ratio below beta_min"),
     "flag": ("1", "how beta_min was found", FLAG_KEY),
     "undetermined": ("1", "responses without a verdict (max_events or max_steps)"),
-    "scan_outcome": ("1", "outcome at each scan amplitude: -1 safe, n >= 0 overturned after n impacts, "
-                          "<= -2 no verdict (-2 - status)"),  # fmt: skip
+    "scan_outcome": ("1", "outcome at each scan amplitude: -1 not overturned (safe, or no verdict: counted in "
+                          "undetermined), n >= 0 overturned after n impacts"),  # fmt: skip
     "windows": ("1", "safe windows above beta_min: Omega, first and last safe scan amplitude"),
     "gain": ("1", "gain: beta_min with the damper over beta_min of the block alone"),
     "r": ("1", "damper period ratio T_m p / (2 pi)"),

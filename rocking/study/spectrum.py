@@ -7,12 +7,12 @@ the first overturning amplitude there are windows where the block survives),
 so a bisection from a safe to an overturning amplitude alone could land on
 any of its edges. :func:`beta_min` therefore
 
-1. scans ``beta`` on a grid, adaptively by default (:func:`rocking.study.adaptive.refine_scan`): the
-   outcome at every ``coarse``-th amplitude and the last, then at the midpoint of each interval whose two
-   ends differ in outcome class (safe, overturned after so many impacts, no verdict), down to neighbouring
-   amplitudes; the amplitudes inside an interval whose ends agree take their class. Each round is one call
-   of :func:`rocking.sim.cases.run_cases` for every column of a tile at once; ``coarse=1`` (``full=True``,
-   ``rocking spectrum --full``) computes every amplitude in one call,
+1. scans ``beta`` on a grid: by default every amplitude, in one call of :func:`rocking.sim.cases.run_cases`
+   for every column of a tile at once; with ``coarse`` > 1 (``rocking spectrum --coarse STEP``) adaptively
+   (:func:`rocking.study.adaptive.refine_scan`): the outcome at every ``coarse``-th amplitude and the last,
+   then at the midpoint of each interval whose two ends differ in outcome class (safe, overturned after so
+   many impacts, no verdict), down to neighbouring amplitudes, one call per round; the amplitudes inside an
+   interval whose ends agree take their class,
 2. bisects between the last safe scan amplitude below the first overturning
    one and that one, to a relative tolerance ``tol``; ``beta_min`` is the
    smallest amplitude found to overturn (the upper end of the final bracket),
@@ -35,7 +35,9 @@ to that one. The overturning domain has such bands: on the bench spectrum (``roc
 117 amplitudes of step 0.125; bench/adaptive_spectrum.py) some columns overturn at a single amplitude amid
 safe ones, and every coarse step above 1 misses some of them; the coarse step 4 moves one direction's
 ``beta_min`` in one of the 236 columns (Omega = 3, negative pulses, with the damper: 1.86 to 3.25), not
-the envelope, and computes 3.6 times fewer scan responses. A finer scan sees more of such bands, and costs
+the envelope, and computes 3.6 times fewer scan responses. A study's ``beta_min`` of one direction is a
+result the data carry, and an error of that size is not one a user can see: scans are full by default, and
+an adaptive scan is asked for. A finer scan sees more of such bands, and costs
 an adaptive scan little more: with 465 amplitudes (step 0.031) and the coarse step 4 it computes about as
 many responses as the full scan of 117, and every ``beta_min`` of the full scan of 465.
 
@@ -53,7 +55,7 @@ import numpy as np
 
 from ..model.params import ParameterError
 from .adaptive import check_coarse, refine_scan
-from .config import Grid, Setting, Study, Tuning, Variant, check_type, is_count, is_number, part_config
+from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
     FIXED,
@@ -91,11 +93,12 @@ COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
 #: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
 RESPONSE_COUNTS = ("responses", "scan_responses")
 
-#: Default coarse step of the beta scan, amplitudes (:func:`scan_refinement`). On the bench spectrum and the
-#: second block (module docstring; bench/adaptive_spectrum.py --coarse 2 4 8 16, --slender) the steps 4 and 8
-#: take about as long (the bisections and the rounds remain), and 8 moves more beta_min of single directions
-#: (2 and 4 columns of 236, against 1 and 1).
-SCAN_COARSE = 4
+#: Default coarse step of the beta scan, amplitudes (:func:`scan_refinement`): 1, every amplitude (module
+#: docstring: an adaptive scan misses one-amplitude overturning bands of the bench spectrum). Of the adaptive
+#: steps, 4 is the one to ask for: on the bench spectrum and the second block (bench/adaptive_spectrum.py
+#: --coarse 2 4 8 16, --slender) 4 and 8 take about as long (the bisections and the rounds remain), and 8
+#: moves more beta_min of single directions (2 and 4 columns of 236, against 1 and 1).
+SCAN_COARSE = 1
 
 
 def check_tol(tol) -> float:
@@ -105,19 +108,17 @@ def check_tol(tol) -> float:
     return float(tol)
 
 
-def scan_refinement(full, coarse) -> dict:
+def scan_refinement(coarse) -> dict:
     """How a study's ``beta`` scans are refined, as its configuration records it: ``{"adaptive": False}`` for
-    every amplitude (``full``, or ``coarse`` 1), else ``{"adaptive": True, "coarse": coarse}``.
+    every amplitude (``coarse`` 1), else ``{"adaptive": True, "coarse": coarse}``.
 
     Raises
     ------
     ParameterError
-        Unless ``full`` is a bool and ``coarse`` a power of two in range
-        (:func:`rocking.study.adaptive.check_coarse`).
+        Unless ``coarse`` is a power of two in range (:func:`rocking.study.adaptive.check_coarse`).
     """
-    check_type("full", full, bool, "True or False")
     coarse = check_coarse(coarse)
-    return {"adaptive": False} if full or coarse == 1 else {"adaptive": True, "coarse": coarse}
+    return {"adaptive": False} if coarse == 1 else {"adaptive": True, "coarse": coarse}
 
 
 def _column(values, n: int) -> dict | None:
@@ -253,7 +254,6 @@ def minimum_overturning_spectrum(
     runs: str | Path = "out/runs",
     columns: int = COLUMNS,
     directions: str = "auto",
-    full: bool = False,
     coarse: int = SCAN_COARSE,
     on_tile=None,
 ) -> Study:
@@ -283,14 +283,12 @@ def minimum_overturning_spectrum(
     directions : {"auto", "both", "positive", "negative"}
         Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
         and its damper are symmetric.
-    full : bool, optional
-        Compute the outcome at every scan amplitude. Default False: the scan is adaptive
-        (:func:`rocking.study.adaptive.refine_scan`), refined on the outcome classes from every
-        ``coarse``-th amplitude; it can miss a feature of another class narrower than ``coarse`` amplitudes.
     coarse : int, optional
-        The coarse step of an adaptive scan, amplitudes: a power of two in [1,
-        :data:`rocking.study.adaptive.MAX_COARSE`] (1 computes every amplitude, as ``full``). Default
-        :data:`SCAN_COARSE`.
+        The coarse step of the scans, amplitudes: a power of two in [1,
+        :data:`rocking.study.adaptive.MAX_COARSE`]. Default :data:`SCAN_COARSE`, 1: every amplitude. Above 1
+        the scans are adaptive (:func:`rocking.study.adaptive.refine_scan`), refined on the outcome classes
+        from every ``coarse``-th amplitude; they can miss a feature of another class narrower than ``coarse``
+        amplitudes (module docstring).
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
 
@@ -343,7 +341,7 @@ def minimum_overturning_spectrum(
     if not (is_count(columns) and columns >= 1):
         raise ParameterError(f"columns must be an integer >= 1 (Omega values per tile) (got {columns!r})")
     columns = int(columns)
-    refinement = scan_refinement(full, coarse)
+    refinement = scan_refinement(coarse)
     check_damper(tuning)
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
