@@ -38,7 +38,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 from matplotlib.ticker import FuncFormatter
 
-from ..model.loading import ModelError, load_model
+from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..study.config import Study
 from ..study.overturning_map import half_stroke, saved_past_edges
@@ -123,7 +123,8 @@ def _block_label(block: Block) -> str:
 def _parameter_units(model: str) -> dict:
     """Unit of each parameter of a generated model by name (none if the model cannot be loaded here)."""
     try:
-        return {p["name"]: p["unit"] for p in load_model(model).manifest["parameters"]}
+        found = saved_model(model, "the study's configuration: damper.model")
+        return {p["name"]: p["unit"] for p in found.manifest["parameters"]}
     except ModelError:
         return {}
 

@@ -26,8 +26,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.loading import ModelError, load_model
 from ..model.params import ParameterError
-from .config import Study, config_hash, versions
+from .config import Study, config_hash, tree_hash, versions
 
 #: Kinds of saved studies, and the parts of their JSON record that :func:`load` needs.
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
@@ -263,9 +264,29 @@ def _read_arrays(npz: Path, record: dict) -> dict:
     return arrays
 
 
-def load(path: str | Path) -> Study:
+def _trust(folder: str | Path, record: dict, meta: Path) -> None:
+    """Load the model folder the user named for a saved study, checked to be the one the study was run with."""
+    damper = record["config"].get("damper")
+    saved = damper if isinstance(damper, dict) else {}
+    # Compared before the folder's code is loaded: a folder of another content is not run at all.
+    if not Path(folder).is_dir() or saved.get("model_sha256") != tree_hash(Path(folder).resolve()):
+        raise ParameterError(
+            f"trust_model {folder}: not the model folder {meta} was run with (no such folder, or its SHA-256 "
+            "differs from config.damper.model_sha256)"
+        )
+    try:
+        load_model(Path(folder))
+    except ModelError as exc:
+        raise ParameterError(f"trust_model: {exc}") from None
+
+
+def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem), with its
     tables made again from them (:mod:`rocking.study.tables`).
+
+    A saved file never selects code to run: a study of a model of the user's own names it, but that
+    model is used (for its units) only if the user names its folder again, as ``trust_model``
+    (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
     Studies saved before the JSON listed its arrays (``"arrays"``,
     ``"arrays_sha256"``) are read without those checks.
@@ -276,7 +297,8 @@ def load(path: str | Path) -> Study:
         Naming the file, if either file is missing, the JSON is not a saved
         study's (not JSON, not an object, no ``kind``/``config``/``summary``,
         an unknown kind), the ``.npz`` cannot be read (truncated, damaged, not
-        an archive), or its arrays differ from what the JSON lists.
+        an archive), or its arrays differ from what the JSON lists; or if
+        ``trust_model`` is not the model the study was run with.
     """
     stem = _stem(path)
     npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
@@ -284,6 +306,8 @@ def load(path: str | Path) -> Study:
         if not p.is_file():
             raise ParameterError(f"no saved study at {stem}: {p} is missing (a study writes both .npz and .json)")
     record = _read_record(meta)
+    if trust_model is not None:
+        _trust(trust_model, record, meta)
     arrays = _read_arrays(npz, record)
     run = record.get("run") if isinstance(record.get("run"), dict) else {}
     from .tables import tables  # the studies' modules, which it reads, store their tiles here
