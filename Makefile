@@ -8,7 +8,7 @@ JOBS ?=
 # Inputs per back end of `make fuzz` (bench/fuzz.py).
 FUZZ_N ?= 10000
 
-.PHONY: setup lock derive verify test bench fuzz demo clean
+.PHONY: setup lock derive verify test bench fuzz demo wheel clean
 
 setup: $(STAMP)
 
@@ -41,7 +41,7 @@ verify: $(STAMP)
 	$(VENV)/bin/rocking verify
 
 test: $(STAMP)
-	$(VENV)/bin/ruff check rocking derive tests bench
+	$(VENV)/bin/ruff check rocking derive tests bench setup.py
 	$(PY) -m pytest -q $(if $(JOBS),-n $(JOBS))
 
 bench: $(STAMP)
@@ -55,5 +55,13 @@ fuzz: $(STAMP)
 demo: $(STAMP)
 	$(VENV)/bin/rocking demo --out out
 
+# A platform wheel in dist/ with the C simulator compiled for every built-in model (setup.py).
+wheel: $(STAMP)
+	rm -rf dist build/lib* build/bdist*
+	$(PY) -m pip wheel --quiet --no-deps --wheel-dir dist .
+	@$(PY) -c "import sys, zipfile, glob; names = zipfile.ZipFile(glob.glob('dist/rocking-*.whl')[0]).namelist(); \
+	libs = [n for n in names if n.startswith('rocking/sim/prebuilt/') and n.endswith('.so')]; \
+	print('wheel:', glob.glob('dist/rocking-*.whl')[0], 'ships', len(libs), 'compiled models'); sys.exit(not libs)"
+
 clean:
-	rm -rf $(VENV) out build *.egg-info
+	rm -rf $(VENV) out build dist *.egg-info

@@ -103,6 +103,10 @@ __all__ = [
 #: The package's C sources (package data).
 CSRC = Path(__file__).resolve().parent / "csrc"
 
+#: Libraries of the built-in models compiled into a platform wheel (``make wheel``, setup.py), with their
+#: sidecars: used before the cache, so that an installed wheel needs no compiler. Absent in a checkout.
+PREBUILT = Path(__file__).resolve().parent / "prebuilt"
+
 #: Flags of every build: portable (no -march=native), position independent.
 CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra")
 
@@ -382,6 +386,15 @@ def _any_valid(folder: Path, model, source: str) -> Path | None:
     return None
 
 
+def _prebuilt(model, source: str) -> Path | None:
+    """The wheel's library of ``source`` (:data:`PREBUILT`), if it is there, valid and nobody else can write it."""
+    try:
+        check_private(PREBUILT)
+    except CBuildError:
+        return None
+    return _any_valid(PREBUILT, model, source)
+
+
 def _cache_error(folder: Path, exc: OSError) -> CBuildError:
     return CBuildError(
         f"cannot write the C library cache {folder} ({exc.strerror or exc}): set ROCKING_CACHE_DIR to a writable folder"
@@ -479,7 +492,8 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     Returns
     -------
     Path
-        The library, ``<cache>/<prefix>-<source key>-<compiler key>.so``, checked against its sidecar.
+        The library, ``<cache>/<prefix>-<source key>-<compiler key>.so``, checked against its sidecar; or
+        the one of the same sources a platform wheel ships in :data:`PREBUILT`.
 
     Raises
     ------
@@ -490,13 +504,16 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     """
     csrc = CSRC if csrc is None else Path(csrc)
     folder = cache_dir() if cache is None else Path(cache).expanduser()
+    # $CC is split without running anything: its arguments are known even when its program is not.
+    source = _source_key(model, _cc_arguments(), csrc)
+    shipped = _prebuilt(model, source)
+    if shipped is not None:
+        return shipped
     try:
         folder.mkdir(mode=0o700, parents=True, exist_ok=True)
     except OSError as exc:
         raise _cache_error(folder, exc) from None
     check_private(folder)
-    # $CC is split without running anything: its arguments are known even when its program is not.
-    source = _source_key(model, _cc_arguments(), csrc)
     try:
         cc = compiler()
         tool, _ = _compiler_key(cc)
