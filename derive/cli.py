@@ -9,7 +9,7 @@ python -m rocking.derive --check                 # exit 1 if the generated files
 python -m rocking.derive --spec my.toml --out models/my --stage-limit 600 --verbose
 
 Each model is derived in a child process, stage by stage (energies, equations of
-motion, ..., code); a stage that runs past its time limit (``--stage-limit``,
+motion, ..., LaTeX); a stage that runs past its time limit (``--stage-limit``,
 default 60 s) is stopped with a one-line error naming it and the spec's costliest
 expression. Before that, an expression whose degree, expanded terms or nesting of
 functions is over the bounds of :mod:`rocking.derive.cost` is refused at once.
@@ -29,7 +29,7 @@ from pathlib import Path
 from .build import GENERATED, package_init_is_stale, stale_files, write, write_package_init
 from .cost import LIMITS
 from .spec import SpecError, load_spec, registered_variants, variant_spec
-from .watchdog import STAGE_LIMIT, StageLog, build_bounded
+from .watchdog import STAGE_LIMIT, StageLog, build_bounded, failure
 
 PROG = "python -m rocking.derive"
 EPILOG = (
@@ -167,7 +167,7 @@ def main(argv: list[str] | None = None, prog: str = PROG) -> int:
         return 2
     except (RecursionError, MemoryError, ArithmeticError, ValueError, TypeError, OSError) as exc:
         # A spec that passed every check but still breaks the derivation: one line, never a traceback.
-        print(f"error: the derivation failed ({type(exc).__name__}: {one_line(exc)[:200]})", file=sys.stderr)
+        print(f"error: {one_line(failure(exc))}", file=sys.stderr)
         return 2
     # The package's __init__.py (its MANIFEST_FORMAT) goes with the models of rocking.generated.
     if args.spec is None and args.out is None:

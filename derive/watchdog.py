@@ -66,6 +66,11 @@ class StageLog:
         self._print(f"{stage} ... still running after {seconds:.0f} s{bound}")
 
 
+def failure(exc: BaseException) -> str:
+    """The message of a derivation that broke on a spec that passed every check: one line, no traceback."""
+    return f"the derivation failed ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
+
+
 def _child(spec, options: dict, writer) -> None:
     """Derive ``spec`` and send the parent each stage as it begins, then the result or the error."""
     try:
@@ -74,8 +79,7 @@ def _child(spec, options: dict, writer) -> None:
     except SpecError as exc:
         writer.send(("refused", str(exc)))
     except (RecursionError, MemoryError, ArithmeticError, ValueError, TypeError, OSError) as exc:
-        # A spec that passed every check but still breaks the derivation: reported, not a traceback.
-        writer.send(("failed", f"the derivation failed ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"))
+        writer.send(("failed", failure(exc)))
     finally:
         writer.close()
 
