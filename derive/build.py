@@ -31,10 +31,13 @@ class Built:
     seconds: float
 
 
-def build(spec: Spec, options: dict | None = None) -> Built:
-    """Derive ``spec`` and render every file, without writing anything."""
+def build(spec: Spec, options: dict | None = None, stage=lambda name: None) -> Built:
+    """Derive ``spec`` and render every file, without writing anything.
+
+    ``stage`` is called with the name of each stage as it begins (:func:`rocking.derive.equations.derive`).
+    """
     start = time.perf_counter()
-    files = generate(derive(spec, options), spec)
+    files = generate(derive(spec, options, stage), spec, stage)
     return Built(spec.name, files, time.perf_counter() - start)
 
 

@@ -5,9 +5,9 @@ MANIFEST_FORMAT = 4
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "5c73f2dbe9f0a175667ba3065ece8779271c9d00d333bc4ef93503bc7e89d6b3",
-    "omd": "645f89c5eb1917d633df7f7af2e19222d1a2ebe4ad825f6750451ce9cf6d156c",
-    "omd2": "1ac2a935154b0b5cae56de3c29bf176d457d6a33f203bfd3109a5a6f2d4c8de6",
-    "omd_stops": "d8eb85e483b9c2e096a21523e4363897c96c82aebd1d6f31d2933d7b2db917ac",
-    "pendulum": "39470e71bfe98e5547c42a780d9a56d2e86bd25e02aba027254b2a881d8e9cfe",
+    "block": "e065b67857bb723ee1a5fb3667fdff9a9d13011d72b383cb9d4e3628e28ad37c",
+    "omd": "69c5ca94d56b5ec985056c6d71115510182d7bbdb01998b26366e7598aee0840",
+    "omd2": "b250c1d9df809bab09618b3ab927a27f2f4e8ae03dc406721daadb47e7ede99b",
+    "omd_stops": "142436852fcb750447b6f9213700da28f3a8dd0ff1338a24ef90e9a6a1f25d08",
+    "pendulum": "370259053d6c647aa1558ff9a4703218a89242e213035755db124f6645a9da8a",
 }
