@@ -447,3 +447,15 @@ FUZZ_EXAMPLES = int(os.environ.get("ROCKING_RECORDS_FUZZ", "150"))
 @given(data=FILES)
 def test_fuzz_any_bytes_give_a_record_or_a_parameter_error(tmp_path, data):
     event(check_any_bytes(data, tmp_path))
+
+
+def test_cli_simulate_takes_the_unit_a_header_states_and_refuses_a_contradiction(tmp_path, capsys):
+    from rocking.cli.main import main
+
+    path = tmp_path / "r.csv"
+    path.write_text("time [s], a [cm/s2]\n" + "".join(f"{0.01 * i:.2f}, {50.0 * np.sin(i / 5)}\n" for i in range(64)))
+    assert main(["simulate", "--motion", str(path), "--json"]) == 0
+    assert '"pga": 0.49' in capsys.readouterr().out  # 50 cm/s2 at most
+    assert main(["simulate", "--motion", str(path), "--unit", "m/s2"]) == 2
+    err = capsys.readouterr().err
+    assert f"error: {path}, line 1: the header states accelerations in cm/s2 but the unit given is m/s2" in err

@@ -41,7 +41,7 @@ class Suite:
     files : tuple of (str, str)
         Absolute path and SHA-256 of each record file (empty for a stochastic suite).
     unit : str or None
-        The unit of the accelerations of column files (``.AT2`` files are in g).
+        The unit of the accelerations of column files (``.AT2`` files are in g); None: the one each header states.
     site : SiteModel or None
         The stochastic model (None for files).
     seed, n : int
@@ -59,7 +59,8 @@ class Suite:
 
     @classmethod
     def from_files(cls, paths, unit: str | None = None) -> Suite:
-        """The records of ``paths`` (``.AT2``, or columns of time and acceleration in ``unit``), each read now.
+        """The records of ``paths`` (``.AT2``, or columns of time and acceleration in ``unit`` or the unit their
+        header states), each read now.
 
         Raises
         ------
