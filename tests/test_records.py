@@ -179,6 +179,21 @@ def test_a_named_pipe_is_refused_without_blocking(tmp_path, name):
 
 
 @pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_a_named_pipe_put_in_place_after_the_check_is_refused_without_blocking(tmp_path, monkeypatch):
+    """The race: os.stat saw a regular file, and a pipe is opened. Opened without blocking, it is refused from
+    its fstat."""
+    fifo, regular = tmp_path / "swapped.AT2", tmp_path / "regular.AT2"
+    os.mkfifo(fifo)
+    regular.write_text("x")
+    real_stat = os.stat
+    monkeypatch.setattr(os, "stat", lambda p, *a, **k: real_stat(regular if str(p) == str(fifo) else p, *a, **k))
+    error = _within(10.0, read_at2, fifo).get("error")
+    assert isinstance(error, ParameterError) and str(error) == (
+        f"{fifo}: is a named pipe, not a regular file: only regular files are read"
+    )
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
 def test_cli_simulate_refuses_a_named_pipe_as_motion(tmp_path, capsys):
     from rocking.cli.main import main
 

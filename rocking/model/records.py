@@ -196,7 +196,7 @@ def _opened(path) -> Iterator[io.TextIOWrapper]:
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path
         raise _read_failure(path, exc) from None
     _regular(path, status)
-    try:
+    try:  # without blocking: a named pipe put in the file's place since os.stat must not wait for a writer
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
     except OSError as exc:
         raise _read_failure(path, exc) from None
@@ -237,6 +237,7 @@ def _lines(path, text: io.TextIOWrapper) -> Iterator[tuple[int, str]]:
 
 
 def _read_failure(path, exc: OSError | ValueError) -> ParameterError:
+    """The error of a file that cannot be opened or read, with the system's reason."""
     return _fail(path, f"cannot be read ({getattr(exc, 'strerror', None) or exc})")
 
 
