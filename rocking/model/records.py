@@ -314,6 +314,7 @@ def _checked_length(path, n: int, dt: float, line: int | None) -> None:
 
 
 def _too_many(path, n: object, line: int | None) -> ParameterError:
+    """The error of a record of more than :data:`MAX_SAMPLES` samples (``n``: how many, or what says so)."""
     return _fail(path, f"more than the {MAX_SAMPLES} samples a record may have (MAX_SAMPLES; got {n})", line)
 
 
@@ -345,6 +346,7 @@ def _at2_header(path, lines: list[str]) -> tuple[int, float]:
 
 
 def _match(pattern: re.Pattern, line: str) -> str | None:
+    """The first group of ``pattern`` in ``line``, or None."""
     m = pattern.search(line)
     return m.group(1) if m else None
 
