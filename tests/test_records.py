@@ -2,6 +2,8 @@
 
 from __future__ import annotations
 
+from pathlib import Path
+
 import numpy as np
 import pytest
 
@@ -474,3 +476,20 @@ def test_cli_simulate_takes_the_unit_a_header_states_and_refuses_a_contradiction
     assert main(["simulate", "--motion", str(path), "--unit", "m/s2"]) == 2
     err = capsys.readouterr().err
     assert f"error: {path}, line 1: the header states accelerations in cm/s2 but the unit given is m/s2" in err
+
+
+@pytest.mark.skipif(not hasattr(os, "mkfifo"), reason="named pipes are POSIX")
+def test_a_suites_file_replaced_by_a_pipe_is_refused_without_blocking(tmp_path):
+    """A study's suite hashes its files again when a tile reads them: with the readers' checks, not read_bytes."""
+    import hashlib
+
+    from rocking.study.suite import Suite
+
+    path = Path(_write(tmp_path / "s.AT2", AT2_HEADER, _body(VALUES)))
+    assert records.file_sha256(path) == hashlib.sha256(path.read_bytes()).hexdigest()
+    suite = Suite.from_files([path])
+    path.unlink()
+    os.mkfifo(path)
+    error = _within(10.0, lambda _: suite.motion(0), path).get("error")
+    assert isinstance(error, ParameterError) and str(error).endswith("s.AT2: is a named pipe, not a regular file: "
+                                                                     "only regular files are read")  # fmt: skip

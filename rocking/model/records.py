@@ -51,6 +51,7 @@ one given, and is used when none is given; a stated time unit must be seconds.
 
 from __future__ import annotations
 
+import hashlib
 import io
 import math
 import os
@@ -181,8 +182,8 @@ def _encoding(raw: io.BufferedReader) -> str:
 
 
 @contextmanager
-def _opened(path) -> Iterator[io.TextIOWrapper]:
-    """The text of the regular file ``path``, decoded (:func:`_encoding`); refused if it is not one.
+def _opened_bytes(path) -> Iterator[io.BufferedReader]:
+    """The bytes of the regular file ``path``; refused if it is not one.
 
     The file is checked before it is opened, so that a device is never opened and a pipe never waited on, and
     again once open (without blocking), in case it was replaced meanwhile.
@@ -202,11 +203,40 @@ def _opened(path) -> Iterator[io.TextIOWrapper]:
         raise _read_failure(path, exc) from None
     with open(fd, "rb") as raw:
         _regular(path, os.fstat(fd))
+        yield raw
+
+
+@contextmanager
+def _opened(path) -> Iterator[io.TextIOWrapper]:
+    """The text of the regular file ``path`` (:func:`_opened_bytes`), decoded (:func:`_encoding`)."""
+    with _opened_bytes(path) as raw:
         codec = _encoding(raw)
         # Not UTF-8: kept as escapes, and the line read again as Latin-1 (_decoded); UTF-16/32 errors: U+FFFD.
         errors = "surrogateescape" if codec.startswith("utf-8") else "replace"
         with io.TextIOWrapper(raw, encoding=codec, errors=errors, newline=None) as text:
             yield text
+
+
+def file_sha256(path) -> str:
+    """The SHA-256 of a record file, read as the readers read it: a regular file (else refused, unopened),
+    in chunks, at most :data:`MAX_BYTES` bytes.
+
+    Raises
+    ------
+    ParameterError
+        Naming the file: not a regular file, unreadable, larger than :data:`MAX_BYTES`.
+    """
+    digest, total = hashlib.sha256(), 0
+    try:
+        with _opened_bytes(path) as raw:
+            for chunk in iter(lambda: raw.read(1 << 20), b""):
+                total += len(chunk)
+                if total > MAX_BYTES:  # grown since its size was checked
+                    raise _fail(path, f"more than the {MAX_BYTES} bytes a record file may have (MAX_BYTES)")
+                digest.update(chunk)
+    except OSError as exc:
+        raise _read_failure(path, exc) from None
+    return digest.hexdigest()
 
 
 def _decoded(line: str) -> str:
