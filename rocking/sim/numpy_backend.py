@@ -60,6 +60,7 @@ from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from .boundary import ARC_STEP, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
+from .history import first_sample_after
 from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
@@ -817,15 +818,8 @@ class _History:
         """
         if dt <= 0.0 or not t1 > t0:
             return 0, 0
-        lo = math.floor(t0 / dt) + 1
-        while lo * dt <= t0:  # floor() of a rounded ratio
-            lo += 1
-        hi = max(lo, math.ceil(t1 / dt))
-        while hi > lo and (hi - 1) * dt >= t1:
-            hi -= 1
-        while hi * dt < t1:
-            hi += 1
-        return lo, hi
+        lo = first_sample_after(t0, dt)
+        return lo, max(lo, first_sample_after(t1, dt, strict=False))
 
     def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float) -> None:
         """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``."""
