@@ -59,6 +59,7 @@ import numpy as np
 from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
+from ..model.params import ParameterError
 from .boundary import ARC_STEP, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
 from .history import first_sample_after
 from .problem import Problem, Response, SimulationError
@@ -109,6 +110,65 @@ class _Work:
             return rhs(t, y)
 
         return counted_rhs
+
+
+#: The time of one restart of a segment on this back end, in right-hand-side evaluations: ``solve_ivp``'s
+#: set-up, Hairer's initial step and the events' first values. A sampled motion restarts at every sample
+#: (docs/simulation.md, rule 3): measured 1.2 - 1.8 ms a sample, at 20 - 25 us an evaluation.
+RESTART_WORK = 60
+#: The most planned work (:func:`planned_work`) this back end takes on: about 2.5 s at 25 us an evaluation.
+#: Rule 5's ``max_steps`` bounds the evaluations of both back ends, not this back end's restarts, which
+#: cost ten times as much each: a 20,000-sample record took 21 - 36 s within it.
+PLANNED_WORK_LIMIT = 100_000
+
+
+def planned_work(problem: Problem, record: bool) -> dict[str, int]:
+    """The work ``problem``'s settings plan for this back end, if the block stays in full contact to ``t_max``.
+
+    Each part in right-hand-side evaluations, a run's dynamics aside: the steps of at most
+    ``contact_max_step`` through the motion (6 evaluations each) and, with ``record``, the history's
+    samples, both counted by rule 5 (``max_steps``), and the restarts at the samples of a sampled
+    motion (:data:`RESTART_WORK` each), which rule 5 counts at a few evaluations only.
+    """
+    t_p = min(float(problem.t_p), float(problem.t_max))
+    step = float(problem.contact_max_step)
+    if FAMILIES[problem.motion] == "sampled":
+        pulse_dt = float(problem.pulse_dt)
+        pieces = math.ceil(t_p / pulse_dt)
+        steps, restarts = pieces * math.ceil(pulse_dt / step), pieces
+    else:
+        steps, restarts = math.ceil(t_p / step), 0
+    record_dt = float(problem.record_dt)
+    samples = math.floor(float(problem.t_max) / record_dt) if record and record_dt > 0.0 else 0
+    return {"contact steps": 6 * steps, "recorded samples": samples, "restarts at samples": RESTART_WORK * restarts}
+
+
+def _count(n: int) -> str:
+    return f"{n:,}" if n < 10**9 else f"{n:.3g}"
+
+
+def check_planned_work(problem: Problem, record: bool) -> None:
+    """Refuse, before any step, a run whose :func:`planned_work` passes :data:`PLANNED_WORK_LIMIT`.
+
+    The parts rule 5 counts weigh at most ``max_steps`` (the run ends there on both back ends).
+
+    Raises
+    ------
+    ParameterError
+        One line: the planned work, its parts, the limit, and what to do instead.
+    """
+    parts = planned_work(problem, record)
+    counted = parts["contact steps"] + parts["recorded samples"]
+    total = min(counted, int(problem.max_steps)) + parts["restarts at samples"]
+    if total > PLANNED_WORK_LIMIT:
+        shown = ", ".join(f"{_count(work)} of {part}" for part, work in parts.items() if work)
+        max_steps = int(problem.max_steps)
+        cut = f", the first two cut at max_steps = {_count(max_steps)}" if counted > max_steps else ""
+        raise ParameterError(
+            f"the NumPy back end plans the work of {_count(total)} right-hand-side evaluations for this run "
+            f"({shown}{cut}), at most {PLANNED_WORK_LIMIT:,}: run it on the C back end (backend='c'), or shorten it "
+            "(a shorter motion or t_max, a larger record_dt)"
+        )
 
 
 # --------------------------------------------------------------------------- #
@@ -1330,10 +1390,13 @@ def simulate(problem: Problem, record: bool = False) -> Response:
 
     Raises
     ------
+    ParameterError
+        The run plans more work than this back end takes on (:func:`check_planned_work`).
     SimulationError
         If ``solve_ivp`` fails (step size too small, e.g. on a non-finite
         right-hand side).
     """
+    check_planned_work(problem, record)
     system = _System(problem)
     y = np.zeros(2 * system.n) if problem.y0 is None else np.array(problem.y0, dtype=float)
     run = _Run(
