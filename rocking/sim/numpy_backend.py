@@ -116,19 +116,22 @@ class _Work:
 #: set-up, Hairer's initial step and the events' first values. A sampled motion restarts at every sample
 #: (docs/simulation.md, rule 3): measured 1.2 - 1.8 ms a sample, at 20 - 25 us an evaluation.
 RESTART_WORK = 60
-#: The most planned work (:func:`planned_work`) this back end takes on: about 2.5 s at 25 us an evaluation.
-#: Rule 5's ``max_steps`` bounds the evaluations of both back ends, not this back end's restarts, which
-#: cost ten times as much each: a 20,000-sample record took 21 - 36 s within it.
-PLANNED_WORK_LIMIT = 100_000
+#: The time of one recorded sample on this back end, in evaluations: 2 - 13 us (the dense output, a row).
+SAMPLE_WORK = 0.25
+#: The most planned work (:func:`planned_work`) this back end takes on: 2 - 3 s of CPU at 20 - 40 us an
+#: evaluation (bench/numpy_bound.py). Rule 5's ``max_steps`` bounds the evaluations of both back ends, not
+#: this back end's restarts, which cost ten times as much each: a 20,000-sample record took 21 - 36 s within it.
+PLANNED_WORK_LIMIT = 75_000
 
 
 def planned_work(problem: Problem, record: bool) -> dict[str, int]:
     """The work ``problem``'s settings plan for this back end, if the block stays in full contact to ``t_max``.
 
-    Each part in right-hand-side evaluations, a run's dynamics aside: the steps of at most
-    ``contact_max_step`` through the motion (6 evaluations each) and, with ``record``, the history's
-    samples, both counted by rule 5 (``max_steps``), and the restarts at the samples of a sampled
-    motion (:data:`RESTART_WORK` each), which rule 5 counts at a few evaluations only.
+    Each part in the time of right-hand-side evaluations on this back end, a run's dynamics aside:
+    the steps of at most ``contact_max_step`` through the motion (6 evaluations each) and, with
+    ``record``, the history's samples (:data:`SAMPLE_WORK` each), both within rule 5's ``max_steps``,
+    and the restarts at the samples of a sampled motion (:data:`RESTART_WORK` each), which rule 5
+    counts at a few evaluations only.
     """
     t_p = min(float(problem.t_p), float(problem.t_max))
     step = float(problem.contact_max_step)
@@ -140,7 +143,11 @@ def planned_work(problem: Problem, record: bool) -> dict[str, int]:
         steps, restarts = math.ceil(t_p / step), 0
     record_dt = float(problem.record_dt)
     samples = math.floor(float(problem.t_max) / record_dt) if record and record_dt > 0.0 else 0
-    return {"contact steps": 6 * steps, "recorded samples": samples, "restarts at samples": RESTART_WORK * restarts}
+    return {
+        "contact steps": 6 * steps,
+        "recorded samples": math.ceil(SAMPLE_WORK * samples),
+        "restarts at samples": RESTART_WORK * restarts,
+    }
 
 
 def _count(n: int) -> str:
@@ -150,7 +157,8 @@ def _count(n: int) -> str:
 def check_planned_work(problem: Problem, record: bool) -> None:
     """Refuse, before any step, a run whose :func:`planned_work` passes :data:`PLANNED_WORK_LIMIT`.
 
-    The parts rule 5 counts weigh at most ``max_steps`` (the run ends there on both back ends).
+    The parts within rule 5 weigh at most ``max_steps`` together (the run ends there on both back ends;
+    a sample counts 1 there, :data:`SAMPLE_WORK` here).
 
     Raises
     ------
@@ -158,12 +166,12 @@ def check_planned_work(problem: Problem, record: bool) -> None:
         One line: the planned work, its parts, the limit, and what to do instead.
     """
     parts = planned_work(problem, record)
-    counted = parts["contact steps"] + parts["recorded samples"]
-    total = min(counted, int(problem.max_steps)) + parts["restarts at samples"]
+    within = parts["contact steps"] + parts["recorded samples"]
+    total = min(within, int(problem.max_steps)) + parts["restarts at samples"]
     if total > PLANNED_WORK_LIMIT:
-        shown = ", ".join(f"{_count(work)} of {part}" for part, work in parts.items() if work)
+        shown = ", ".join(f"{_count(work)} for the {part}" for part, work in parts.items() if work)
         max_steps = int(problem.max_steps)
-        cut = f", the first two cut at max_steps = {_count(max_steps)}" if counted > max_steps else ""
+        cut = f", the first two cut at max_steps = {_count(max_steps)}" if within > max_steps else ""
         raise ParameterError(
             f"the NumPy back end plans the work of {_count(total)} right-hand-side evaluations for this run "
             f"({shown}{cut}), at most {PLANNED_WORK_LIMIT:,}: run it on the C back end (backend='c'), or shorten it "
