@@ -129,9 +129,10 @@ def planned_work(problem: Problem, record: bool) -> dict[str, int]:
 
     Each part in the time of right-hand-side evaluations on this back end, a run's dynamics aside:
     the steps of at most ``contact_max_step`` through the motion (6 evaluations each) and, with
-    ``record``, the history's samples (:data:`SAMPLE_WORK` each), both within rule 5's ``max_steps``,
-    and the restarts at the samples of a sampled motion (:data:`RESTART_WORK` each), which rule 5
-    counts at a few evaluations only.
+    ``record``, the history's samples (:data:`SAMPLE_WORK` each), and the restarts at the samples of a
+    sampled motion (:data:`RESTART_WORK` each). Rule 5 ends a run once its evaluations and samples
+    (1 each there) pass ``max_steps``: the steps and samples are cut there, the steps first (the
+    heavier: the most time the run can take).
     """
     t_p = min(float(problem.t_p), float(problem.t_max))
     step = float(problem.contact_max_step)
@@ -143,22 +144,17 @@ def planned_work(problem: Problem, record: bool) -> dict[str, int]:
         steps, restarts = math.ceil(t_p / step), 0
     record_dt = float(problem.record_dt)
     samples = math.floor(float(problem.t_max) / record_dt) if record and record_dt > 0.0 else 0
+    max_steps = int(problem.max_steps)
+    evaluations = min(6 * steps, max_steps)
     return {
-        "contact steps": 6 * steps,
-        "recorded samples": math.ceil(SAMPLE_WORK * samples),
+        "contact steps": evaluations,
+        "recorded samples": math.ceil(SAMPLE_WORK * min(samples, max_steps - evaluations)),
         "restarts at samples": RESTART_WORK * restarts,
     }
 
 
-def _count(n: int) -> str:
-    return f"{n:,}" if n < 10**9 else f"{n:.3g}"
-
-
 def check_planned_work(problem: Problem, record: bool) -> None:
     """Refuse, before any step, a run whose :func:`planned_work` passes :data:`PLANNED_WORK_LIMIT`.
-
-    The parts within rule 5 weigh at most ``max_steps`` together (the run ends there on both back ends;
-    a sample counts 1 there, :data:`SAMPLE_WORK` here).
 
     Raises
     ------
@@ -166,16 +162,13 @@ def check_planned_work(problem: Problem, record: bool) -> None:
         One line: the planned work, its parts, the limit, and what to do instead.
     """
     parts = planned_work(problem, record)
-    within = parts["contact steps"] + parts["recorded samples"]
-    total = min(within, int(problem.max_steps)) + parts["restarts at samples"]
+    total = sum(parts.values())
     if total > PLANNED_WORK_LIMIT:
-        shown = ", ".join(f"{_count(work)} for the {part}" for part, work in parts.items() if work)
-        max_steps = int(problem.max_steps)
-        cut = f", the first two cut at max_steps = {_count(max_steps)}" if within > max_steps else ""
+        shown = ", ".join(f"{work:,} for the {part}" for part, work in parts.items() if work)
         raise ParameterError(
-            f"the NumPy back end plans the work of {_count(total)} right-hand-side evaluations for this run "
-            f"({shown}{cut}), at most {PLANNED_WORK_LIMIT:,}: run it on the C back end (backend='c'), or shorten it "
-            "(a shorter motion or t_max, a larger record_dt)"
+            f"the NumPy back end plans the work of {total:,} right-hand-side evaluations for this run ({shown}), "
+            f"at most {PLANNED_WORK_LIMIT:,}: run it on the C back end (backend='c'), or shorten it (a shorter "
+            "motion or t_max, a larger record_dt)"
         )
 
 
