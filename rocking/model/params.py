@@ -441,13 +441,15 @@ class Block:
         Gravitational acceleration, m/s^2, in [0.1, 1e4] (small planetary bodies to
         a centrifuge at 1000 g). Default 9.81.
 
-    Every range is an entry of :data:`RANGES`; bool and str are not numbers.
-
     Raises
     ------
     ParameterError
         If any parameter is non-numeric, non-finite or out of range (the message
         names it, gives its range and the reason for the range).
+
+    Notes
+    -----
+    Every range is an entry of :data:`RANGES`; bool and str are not numbers.
     """
 
     H: float
@@ -641,15 +643,17 @@ class Stops:
     beyond_edges : bool, optional
         Allow a guide longer than the block is wide (``L > B/2``). Default False.
 
-    On its damper and block (:meth:`check_on`) the bumper's frequency
-    ``omega_b = sqrt(k_b / m)`` must lie in [1e-3 p, 1e4 p] (a stiffer bumper's
-    contacts need more steps than a run's bound on work) and its damping ratio
-    ``zeta_b = c_b / (2 sqrt(k_b m))`` in [0, 10].
-
     Raises
     ------
     ParameterError
         If a parameter is non-numeric, non-finite or out of range.
+
+    Notes
+    -----
+    On its damper and block (:meth:`check_on`) the bumper's frequency
+    ``omega_b = sqrt(k_b / m)`` must lie in [1e-3 p, 1e4 p] (a stiffer bumper's
+    contacts need more steps than a run's bound on work) and its damping ratio
+    ``zeta_b = c_b / (2 sqrt(k_b m))`` in [0, 10].
     """
 
     L: float
@@ -753,17 +757,19 @@ class Damper:
         End stops of the guide (model ``omd_stops``). Default None: the paper's
         unlimited guide (model ``omd``).
 
+    Raises
+    ------
+    ParameterError
+        If any parameter is non-numeric, non-finite or out of range.
+
+    Notes
+    -----
     These absolute bounds only keep ``k_m / m`` and ``c / m`` normal doubles. On its
     block (:meth:`check_on`, which :func:`rocking.simulate` calls) a damper must also
     have a mass ratio ``m / M`` of 0 or in [1e-10, 10], a frequency ratio
     ``omega_m / p`` in [1e-3, 1e4] (a stiffer damper needs more integrator steps
     than a run's bound on work) and a damping ratio ``zeta`` in [0, 10] (above, the
     dashpot is a stiff mode for the explicit integrator).
-
-    Raises
-    ------
-    ParameterError
-        If any parameter is non-numeric, non-finite or out of range.
     """
 
     m: float

@@ -66,13 +66,15 @@ class OneSinePulse:
         Direction: +1 (default) first pushes the ground to the right, ``ddx_g > 0``,
         towards an uplift about ``A``; -1 is the mirrored pulse (docs/model.md 10.6).
 
-    The ranges are entries of :data:`rocking.model.params.RANGES`; bool and str are
-    not numbers.
-
     Raises
     ------
     ParameterError
         If any parameter is non-numeric, non-finite or out of range.
+
+    Notes
+    -----
+    The ranges are entries of :data:`rocking.model.params.RANGES`; bool and str are
+    not numbers.
     """
 
     a_g: float
