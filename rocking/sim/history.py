@@ -120,7 +120,7 @@ def first_sample_after(t: float, dt: float, strict: bool = True) -> int:
     Every sample time is the product ``k dt`` rounded once, never a sum, and is monotone in
     ``k``; ``floor(t / dt)`` rounds the ratio too, and may land one index off either way (on the
     history of issue 23, ``t / dt`` rounded up to 75 exactly where ``75 dt > t``): corrected
-    both ways on the products themselves, as sim.c's ``first_sample_after``.
+    both ways on the products themselves, as sim.c's ``record_first_sample``.
     """
     k = max(math.floor(t / dt) + 1, 0)
     while k > 0 and ((k - 1) * dt > t if strict else (k - 1) * dt >= t):

@@ -871,7 +871,7 @@ static void record(run *r, double t, const double *y, int phase)
  * monotone in k; floor(t / dt) rounds the ratio too and may land one index off
  * either way (t / dt rounded up to k exactly where k dt > t skipped sample k):
  * corrected both ways on the products themselves. */
-static double first_sample_after(double t, double dt)
+static double record_first_sample(double t, double dt)
 {
     double k = fmax(floor(t / dt) + 1.0, 0.0);
     while (k > 0.0 && (k - 1.0) * dt > t)
@@ -1046,7 +1046,7 @@ static int run_segment(run *r, double t_bound)
     watched_events(r, active);
     events_start(&r->events, &r->ec, active, r->t, r->y);
     if (r->hist != NULL && r->c->record_dt > 0.0)
-        r->next_sample = first_sample_after(r->t, r->c->record_dt);
+        r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
     while (r->d.t < t_bound) {
         double step_bound = t_bound;
