@@ -8,7 +8,7 @@ JOBS ?=
 # Inputs per back end of `make fuzz` (bench/fuzz.py).
 FUZZ_N ?= 10000
 
-.PHONY: setup lock derive verify test docs bench fuzz demo wheel clean
+.PHONY: setup lock derive verify test check-portable docs bench fuzz demo wheel clean
 
 setup: $(STAMP)
 
@@ -43,6 +43,16 @@ verify: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/ruff check rocking derive tests bench setup.py
 	$(PY) -m pytest -q $(if $(JOBS),-n $(JOBS))
+
+# The tests of both back ends where the math libraries differ from this machine's: NumPy's SIMD
+# dispatch turned off, then the simulator's libm moved by one ulp (tests/libm_shim.c). No test may
+# hold C's libm and NumPy's functions to bit equality (docs/simulation.md).
+PORTABLE_TESTS := tests/test_contract.py tests/test_agreement.py tests/test_history.py tests/test_early_verdict.py
+check-portable: $(STAMP)
+	NPY_DISABLE_CPU_FEATURES="X86_V3 X86_V4 AVX512_ICL AVX512_SPR" $(PY) -m pytest -q -p no:cacheprovider $(PORTABLE_TESTS)
+	mkdir -p build
+	$${CC:-cc} -O2 -shared -fPIC tests/libm_shim.c -o build/libm_shim.so -ldl
+	LD_PRELOAD=$(CURDIR)/build/libm_shim.so $(PY) -m pytest -q -p no:cacheprovider $(PORTABLE_TESTS)
 
 # The documentation site in docs/_build/html: the model, the rules, the architecture, the API from the
 # docstrings, the tutorial run, the gallery; any warning is an error.
