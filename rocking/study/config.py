@@ -19,6 +19,7 @@ import hashlib
 import json
 import math
 import platform
+import reprlib
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -62,6 +63,26 @@ def check_type(name: str, value, kind: type, text: str) -> None:
     """Refuse ``value`` unless it is a ``kind``; ``text`` says what is expected (``"a rocking.Grid"``)."""
     if not isinstance(value, kind):
         raise ParameterError(f"{name} must be {text} (got {type(value).__name__} {value!r})")
+
+
+#: A value in an error message: at most about 60 characters, however large or nested (a file's content).
+_SHORT = reprlib.Repr()
+_SHORT.maxlevel, _SHORT.maxstring, _SHORT.maxother, _SHORT.maxlong = 3, 40, 40, 40
+_SHORT.maxlist = _SHORT.maxdict = _SHORT.maxtuple = 4
+
+
+def short(value) -> str:
+    """``value`` as a short ``repr`` for a one-line message, with its type (``dict {'a': 1}``)."""
+    return f"{type(value).__name__} {_SHORT.repr(value)}"
+
+
+def check_signs(name: str, value) -> list:
+    """Refuse pulse directions that are not a list of 1 and/or -1, each once; return them."""
+    ok = isinstance(value, list) and 1 <= len(value) <= 2 and len(set(map(repr, value))) == len(value)
+    if not (ok and all(is_count(s) and s in (1, -1) for s in value)):
+        raise ParameterError(f"{name} must be the directions of the pulses: [1], [-1], [1, -1] or [-1, 1] "
+                             f"(got {short(value)})")  # fmt: skip
+    return list(value)
 
 
 def check_cells(*grids: Grid) -> None:
@@ -165,6 +186,30 @@ class Grid:
         if self.log:
             return np.geomspace(self.low, self.high, self.n)
         return np.linspace(self.low, self.high, self.n)
+
+    @classmethod
+    def from_record(cls, name: str, record) -> Grid:
+        """The grid that :meth:`record` described as ``record`` (a saved configuration's), checked as any grid.
+
+        Raises
+        ------
+        ParameterError
+            Naming the grid, for a record that is not one (not an object, another scale, ``low``, ``high``
+            and ``n`` other than its values'), or a grid out of range (:class:`Grid`).
+        """
+        if not isinstance(record, dict):
+            raise ParameterError(f"{name} must be a grid {{low, high, n, scale}} or {{..., values}} "
+                                 f"(got {short(record)})")  # fmt: skip
+        if "values" in record:
+            grid = cls.of(name, record["values"])
+            if [grid.low, grid.high, grid.n] != [record.get(k) for k in ("low", "high", "n")]:
+                raise ParameterError(f"{name}: low, high and n must be those of its values "
+                                     f"({grid.low!r}, {grid.high!r}, {grid.n})")  # fmt: skip
+            return grid
+        scale = record.get("scale")
+        if not (isinstance(scale, str) and scale in ("linear", "log")):
+            raise ParameterError(f"{name}: scale must be linear or log (got {short(scale)})")
+        return cls(name, record.get("low"), record.get("high"), record.get("n"), log=scale == "log")
 
     def record(self) -> dict:
         """JSON-ready description."""
