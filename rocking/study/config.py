@@ -72,8 +72,8 @@ _SHORT.maxlist = _SHORT.maxdict = _SHORT.maxtuple = 4
 
 
 def short(value) -> str:
-    """``value`` as a short ``repr`` for a one-line message, with its type (``dict {'a': 1}``)."""
-    return f"{type(value).__name__} {_SHORT.repr(value)}"
+    """``value`` as a short ``repr`` for a one-line message, however large or nested."""
+    return _SHORT.repr(value)
 
 
 def check_signs(name: str, value) -> list:

@@ -350,9 +350,24 @@ def _data_files(study: Study, name: str, software: dict) -> dict:
         if table.startswith(study.kind):
             table = name + table[len(study.kind) :]
         files[f"{table}.csv"] = lambda path, columns=columns: write_csv(path, columns)
-    # Written by the NetCDF library in place: a full disk is told by the free space left beside the partial file.
-    files[f"{name}.nc"] = lambda path: to_dataset(study, software).to_netcdf(path, engine="netcdf4")
+    files[f"{name}.nc"] = lambda path: write_netcdf(to_dataset(study, software), path)
     return files
+
+
+def write_netcdf(dataset, path: Path) -> None:
+    """Write ``dataset`` as NetCDF-4 into the new file ``path``, made in memory first.
+
+    The NetCDF library that fails to write a file (a full disk) keeps it open and refuses the next file of
+    the process ("NetCDF: HDF error"); in memory it never writes the disk, and a full disk is the OSError of
+    :func:`write_file`. An xarray that writes NetCDF-4 to files only (before 2025) writes the file itself:
+    a full disk is then told by the free space left beside the partial file (:func:`is_full`).
+    """
+    try:
+        data = dataset.to_netcdf(engine="netcdf4")
+    except ValueError:  # "invalid engine for creating bytes": an older xarray
+        dataset.to_netcdf(path, engine="netcdf4")
+        return
+    write_file(path, lambda f: f.write(data))
 
 
 def _record(study: Study, software: dict, files: list[str], command: dict | None) -> dict:
@@ -483,7 +498,8 @@ def read_record(meta: Path) -> dict:
         by = software.get("rocking") if isinstance(software, dict) else None
         raise ParameterError(
             f"{meta}: a study saved in format {short(record.get('format', 1))} (by rocking "
-            f"{short(by) if by else 'of another version'}); this version reads format {STUDY_FORMAT}: recompute it"
+            f"{by[:40] if isinstance(by, str) else 'of another version'}); this version reads format "
+            f"{STUDY_FORMAT}: recompute it"
         )
     for key, kind in RECORD.items():
         if not isinstance(record.get(key), kind):
