@@ -255,7 +255,8 @@ def test_a_full_disk_gives_one_line_keeps_the_tiles_and_a_rerun_completes(stage,
         _full_at(patched, stage)
         assert cli(argv) == 1
     kept = len(list((tmp_path / "runs").rglob("tile-*.npz")))
-    where = r"\S+/runs/map-\w+-\w+/tile-\d+-\d+\.npz" if stage == "tile" else re.escape(str(tmp_path / stage.split(",")[0]))
+    file = re.escape(str(tmp_path / stage.split(",")[0]))
+    where = r"\S+/runs/map-\w+-\w+/tile-\d+-\d+\.npz" if stage == "tile" else file
     assert re.fullmatch(f"rocking map: error: disk full writing {where}: {kept} tiles kept, rerun to resume\n",
                         capsys.readouterr().err)  # fmt: skip
     assert kept == (3 if stage == "tile" else 12)

@@ -15,7 +15,7 @@ from contextvars import ContextVar
 from pathlib import Path
 
 from ..model.params import ParameterError
-from ..study.config import Study, config_hash, short
+from ..study.config import Study, config_hash, short, shown
 from ..study.storage import read_record
 
 #: Options that say where and how a study runs, not what it computes: never saved, never read back.
@@ -135,12 +135,12 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
         )
     if command.get("name") != args.command:
         name = command.get("name")
-        name = name[:40] if isinstance(name, str) else short(name)
+        name = shown(name) if isinstance(name, str) else short(name)
         raise ParameterError(f"--config {path}: a study of 'rocking {name}', not of "
                              f"'rocking {args.command}'")  # fmt: skip
     unknown = sorted(set(command["options"]) - (set(vars(args)) - EXECUTION))
     if unknown:
-        names = ", ".join(name[:40] for name in unknown[:5]) + (", ..." if len(unknown) > 5 else "")
+        names = ", ".join(map(shown, unknown[:5])) + (", ..." if len(unknown) > 5 else "")
         raise ParameterError(f"--config {path}: unknown option(s) {names} for 'rocking {args.command}' "
                              f"(saved by another version?)")  # fmt: skip
     subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))

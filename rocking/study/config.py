@@ -76,6 +76,11 @@ def short(value) -> str:
     return _SHORT.repr(value)
 
 
+def shown(name: str) -> str:
+    """A name read from a file, as it is if short and printable, else as a short ``repr`` (one line)."""
+    return name if name.isprintable() and len(name) <= 40 else short(name)
+
+
 def check_signs(name: str, value) -> list:
     """Refuse pulse directions that are not a list of 1 and/or -1, each once; return them."""
     ok = isinstance(value, list) and 1 <= len(value) <= 2 and len(set(map(repr, value))) == len(value)

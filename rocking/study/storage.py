@@ -45,7 +45,7 @@ import numpy as np
 from numpy.lib import format as npy
 
 from ..model.params import Block, ParameterError
-from .config import MAX_CELLS, Grid, Study, check_signs, config_hash, is_count, is_number, short, versions
+from .config import MAX_CELLS, Grid, Study, check_signs, config_hash, is_count, is_number, short, shown, versions
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
 STUDY_FORMAT = 2
@@ -531,9 +531,9 @@ def _shapes(listed: dict) -> dict:
     for name, entry in listed.items():
         shape, dtype = (entry.get("shape"), entry.get("dtype")) if isinstance(entry, dict) else (None, None)
         if not (isinstance(shape, list) and len(shape) <= 8 and all(is_count(n) and n >= 0 for n in shape)):
-            raise ParameterError(f"{name}: shape must be a list of at most 8 sizes (got {short(shape)})")
+            raise ParameterError(f"{shown(name)}: shape must be a list of at most 8 sizes (got {short(shape)})")
         if not (isinstance(dtype, str) and _DTYPE.fullmatch(dtype)):
-            raise ParameterError(f"{name}: dtype must be a bool, integer or float such as <f8 "
+            raise ParameterError(f"{shown(name)}: dtype must be a bool, integer or float such as <f8 "
                                  f"(got {short(dtype)})")  # fmt: skip
         out[name] = (tuple(shape), np.dtype(dtype))
     return out
@@ -589,12 +589,12 @@ def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
         try:
             dims = (coordinates[name],) if name in coordinates else dimensions(kind, name)
         except KeyError:
-            raise ParameterError(f"{name}: not an array of a {kind} study") from None
+            raise ParameterError(f"{shown(name)}: not an array of a {kind} study") from None
         if len(dims) != len(shape):
-            raise ParameterError(f"{name} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
+            raise ParameterError(f"{shown(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
         for dim, size in zip(dims, shape):
             if sizes.setdefault(dim, size) != size:
-                raise ParameterError(f"{name} has {size} values along {dim}, not {sizes[dim]} "
+                raise ParameterError(f"{shown(name)} has {size} values along {dim}, not {sizes[dim]} "
                                      "(as its configuration or its other arrays)")  # fmt: skip
 
 
@@ -662,11 +662,11 @@ def _read_arrays(npz: Path, record: dict) -> dict:
         raise ParameterError(f"{npz}: not a readable .npz, truncated or damaged ({describe(exc)})") from None
     missing = sorted(set(listed) - set(arrays))
     if missing:
-        raise ParameterError(f"{npz}: array(s) {', '.join(missing)} missing (its JSON lists them)")
+        raise ParameterError(f"{npz}: array(s) {', '.join(map(shown, missing))} missing (its JSON lists them)")
     found = layout(arrays)
     wrong = sorted(k for k in record["arrays"] if found[k] != record["arrays"][k])
     if wrong:
-        raise ParameterError(f"{npz}: array(s) {', '.join(wrong)} differ in shape or type from its JSON")
+        raise ParameterError(f"{npz}: array(s) {', '.join(map(shown, wrong))} differ in shape or type from its JSON")
     if checksum(arrays) != record["arrays_sha256"]:
         raise ParameterError(f"{npz}: its arrays do not match the checksum of its JSON (changed or damaged)")
     return arrays
