@@ -29,6 +29,7 @@ from __future__ import annotations
 
 import errno
 import hashlib
+import inspect
 import json
 import math
 import os
@@ -570,9 +571,14 @@ def _check_parts(config: dict) -> None:
         block = config["block"]
         if not isinstance(block, dict):
             raise ParameterError(f"block must be the record of a rocking.Block (got {short(block)})")
+        fields = inspect.signature(Block).parameters
+        unknown = [key for key in block if key not in fields]
+        if unknown:
+            raise ParameterError(f"block: no field(s) {', '.join(map(shown, unknown[:5]))} in a rocking.Block "
+                                 f"({', '.join(fields)})")  # fmt: skip
         try:
             Block(**block)
-        except TypeError as exc:
+        except TypeError as exc:  # a field missing
             raise ParameterError(f"block: {exc}") from None
     damper = config.get("damper", {})
     if not (isinstance(damper, dict) and isinstance(damper.get("params", {}), dict)):

@@ -20,8 +20,10 @@ them
   (:func:`run_folder`), so a rerun with the same configuration loads the
   finished tiles instead of recomputing them, and a changed configuration
   lands in another folder and never sees stale tiles. A stored tile that does
-  not match its manifest or what its task expects (:func:`load_tile`) is
-  computed again, with a :class:`TileWarning`;
+  not match its manifest or what its task expects (:func:`load_tile`, which
+  reads no more than its arrays' size) is computed again, with a
+  :class:`TileWarning`. A tile that does not fit on the disk ends the run with
+  :class:`~rocking.study.storage.DiskFull`, the tiles stored so far kept;
 - interruptibly: on Ctrl-C the C runs of this process are stopped
   (:func:`rocking.sim.c_backend.request_stop`), worker processes are
   terminated and queued tiles cancelled, so the study ends at once; finished
