@@ -515,6 +515,9 @@ def _environment() -> jinja2.Environment:
 class Generator:
     """One back end: renders files of a model from its context alone."""
 
+    #: The stage of the derivation it is (:func:`generate`).
+    stage = "files"
+
     def __init__(self, model: ModelContext):
         self.model = model
 
@@ -564,6 +567,8 @@ def _state_regime(model: ModelContext, printer) -> dict:
 class NumpyGenerator(Generator):
     """A NumPy module whose functions broadcast over states and parameters."""
 
+    stage = "NumPy code"
+
     def files(self):
         m = self.model
         printer = NumPyPrinter({"fully_qualified_modules": True})
@@ -610,6 +615,8 @@ class CGenerator(Generator):
     prepares and calls it: the interface of every back end.
     """
 
+    stage = "C code"
+
     def files(self):
         m = self.model
         printer = _C99()
@@ -655,6 +662,8 @@ _SHOWN = {
 
 class LatexGenerator(Generator):
     """EQUATIONS.md: every function of the table in LaTeX, to hold against the paper."""
+
+    stage = "LaTeX"
 
     def files(self):
         names = {ag: r"\ddot{x}_g"}
@@ -723,11 +732,17 @@ def _parameter_entry(p: Parameter) -> dict:
 BACKENDS = (NumpyGenerator, CGenerator, LatexGenerator)
 
 
-def generate(eq: Equations, spec) -> dict[str, str]:
-    """All files of a model, keyed by file name: one context, handed to every back end."""
+def generate(eq: Equations, spec, stage=lambda name: None) -> dict[str, str]:
+    """All files of a model, keyed by file name: one context, handed to every back end.
+
+    ``stage`` is called with the name of each stage as it begins, as by
+    :func:`rocking.derive.equations.derive`.
+    """
+    stage("common subexpressions")
     model = model_context(eq, spec)
     out: dict[str, str] = {}
     for backend in BACKENDS:
+        stage(backend.stage)
         out.update(backend(model).files())
     out.update(ManifestGenerator(model, dict(out)).files())
     return out

@@ -15,7 +15,7 @@ from dataclasses import dataclass
 import sympy as sp
 
 from .mechanics import System, ag, build_system, s
-from .spec import IMPACT_LAWS, INERTIA_OPTIONS, Spec, SpecError
+from .spec import IMPACT_LAWS, INERTIA_OPTIONS, Spec, SpecError, nonnegative
 
 DEFAULT_OPTIONS = {"impact": "spec", "inertia": "free"}
 
@@ -362,17 +362,6 @@ def _least_over(V, z):
     return sp.Piecewise((least, definite), (-sp.oo, True))
 
 
-def _nonnegative(expr, spec: Spec) -> bool:
-    """Whether ``expr`` is >= 0 for every parameter in its valid range (a range ``>= 0`` or ``> 0`` is known)."""
-    known = {p.name: p.valid for p in spec.all_parameters}
-    signs = {
-        sym: sp.Dummy(sym.name, positive=True) if known.get(sym.name) == "> 0" else sp.Dummy(sym.name, nonnegative=True)
-        for sym in expr.free_symbols
-        if known.get(sym.name) in ("> 0", ">= 0")
-    }
-    return bool(sp.sympify(expr).xreplace(signs).is_nonnegative)
-
-
 def energy_cannot_grow(spec: Spec, laws: dict) -> bool:
     """Whether the mechanical energy can only fall once the ground is still.
 
@@ -383,7 +372,8 @@ def energy_cannot_grow(spec: Spec, laws: dict) -> bool:
     """
     coefficients = [d.coefficient for d in spec.dashpots]
     coefficients += [c for stop in spec.stops for c in (stop.damping, stop.stiffness)]
-    return all(law == "momentum" for law in laws.values()) and all(_nonnegative(c, spec) for c in coefficients)
+    momentum = all(law == "momentum" for law in laws.values())
+    return momentum and all(nonnegative(c, spec.all_parameters) for c in coefficients)
 
 
 def least_potentials(sysm: System, energy, spec: Spec, laws: dict) -> tuple:
@@ -537,7 +527,55 @@ def element_forces(sysm: System, vg) -> list:
     return out
 
 
-def derive(spec: Spec, options: dict | None = None) -> Equations:
+def _quiet(stage: str) -> None:
+    """The default ``stage`` of :func:`derive`: nothing is told."""
+
+
+def equations_of_motion(sysm: System) -> tuple:
+    """The mass matrix and forcing of the rocking phase, ``M(q) ddq = forcing``, from Lagrange's equations.
+
+    Raises
+    ------
+    SpecError
+        When the equations are not linear in the accelerations.
+    """
+    n = len(sysm.q)
+    E = lagrange(sysm)
+    Mm = sp.Matrix(n, n, lambda i, j: _reduce(sp.diff(E[i], sysm.ddq[j])))
+    f = sp.Matrix([_reduce(-(E[i] - sum(Mm[i, j] * sysm.ddq[j] for j in range(n)))) for i in range(n)])
+    if any(f[i].has(*sysm.ddq) for i in range(n)):
+        raise SpecError("the equations are not linear in the accelerations")
+    return Mm, f
+
+
+def contact_and_uplift(sysm: System, Mm: sp.Matrix, f: sp.Matrix) -> tuple:
+    """The accelerations in full contact (``ddtheta = 0``) and the uplift function about the pivot ``s``."""
+    at_contact = {sysm.q[0]: 0, sysm.dq[0]: 0}
+    D0 = Mm[1:, 1:].subs(at_contact)
+    f0 = f.subs(at_contact)
+    contact = [sp.Integer(0)]
+    if len(sysm.q) > 1:
+        contact += list(D0.LUsolve(f0[1:, 0]).applyfunc(sp.cancel))
+        coupling = D0.LUsolve(Mm[1:, 0].subs(at_contact)).applyfunc(sp.cancel)
+        reaction = (coupling.T * f0[1:, 0])[0] - f0[0]
+    else:
+        reaction = -f0[0]
+    return contact, _reduce(-s * reaction)
+
+
+def energy_and_power(sysm: System, vg) -> tuple:
+    """The mechanical energy in the ground frame and its rate along solutions."""
+    T_rel = _to_symbols(sysm.T.xreplace({sysm.x_g: 0}).doit(), sysm, vg).subs(vg, 0)
+    V = _to_symbols(sysm.V, sysm, vg)
+    energy = _reduce(T_rel + V)
+    momentum_x = sp.Integer(0)
+    for mass, _, X, _ in sysm.bodies:
+        momentum_x += mass * (X[0] - sysm.x_g).diff(sysm.x_g.args[0])
+    D = _to_symbols(sysm.D, sysm, vg)
+    return energy, _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
+
+
+def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
     """Derive every expression of ``spec`` under ``options``.
 
     Parameters
@@ -548,39 +586,23 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         ``impact``: ``"spec"`` (the spec's law per coordinate, default),
         ``"momentum"`` or ``"velocity"`` for all coordinates; ``inertia``:
         ``"free"`` (``I_G`` is a parameter, default) or ``"homogeneous"``.
+    stage : callable, optional
+        Called with the name of each stage of the derivation as it begins
+        (``"energies"``, ``"equations of motion"``, ...): a watchdog's clock
+        (:mod:`rocking.derive.watchdog`).
     """
     opts = resolve_options(spec, options)
+    stage("energies")
     sysm = build_system(spec, opts["inertia"])
-    n = len(sysm.q)
-    E = lagrange(sysm)
-    Mm = sp.Matrix(n, n, lambda i, j: _reduce(sp.diff(E[i], sysm.ddq[j])))
-    f = sp.Matrix([_reduce(-(E[i] - sum(Mm[i, j] * sysm.ddq[j] for j in range(n)))) for i in range(n)])
-    if any(f[i].has(*sysm.ddq) for i in range(n)):
-        raise SpecError("the equations are not linear in the accelerations")
-
+    stage("equations of motion")
+    Mm, f = equations_of_motion(sysm)
+    stage("rocking accelerations")
     rocking = _schur_solve(Mm, f, finite=False)
-
-    at_contact = {sysm.q[0]: 0, sysm.dq[0]: 0}
-    D0 = Mm[1:, 1:].subs(at_contact)
-    f0 = f.subs(at_contact)
-    contact = [sp.Integer(0)]
-    if n > 1:
-        contact += list(D0.LUsolve(f0[1:, 0]).applyfunc(sp.cancel))
-        coupling = D0.LUsolve(Mm[1:, 0].subs(at_contact)).applyfunc(sp.cancel)
-        reaction = (coupling.T * f0[1:, 0])[0] - f0[0]
-    else:
-        reaction = -f0[0]
-    uplift = _reduce(-s * reaction)
-
+    stage("contact and uplift")
+    contact, uplift = contact_and_uplift(sysm, Mm, f)
+    stage("energy and power")
     vg = sp.Symbol("vg", real=True)
-    T_rel = _to_symbols(sysm.T.xreplace({sysm.x_g: 0}).doit(), sysm, vg).subs(vg, 0)
-    V = _to_symbols(sysm.V, sysm, vg)
-    energy = _reduce(T_rel + V)
-    momentum_x = sp.Integer(0)
-    for mass, _, X, _ in sysm.bodies:
-        momentum_x += mass * (X[0] - sysm.x_g).diff(sysm.x_g.args[0])
-    D = _to_symbols(sysm.D, sysm, vg)
-    power = _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
+    energy, power = energy_and_power(sysm, vg)
     weights = _weights_moment(sysm)
     gaps, forces = stop_gaps_and_forces(sysm, vg)
     on = stop_indicators(sysm, vg)
@@ -589,26 +611,37 @@ def derive(spec: Spec, options: dict | None = None) -> Equations:
         """``expr`` with its bumpers' terms in their penetrations, the indicators kept: the regime is an input."""
         return in_penetrations(expr, sysm, vg) if on else expr
 
+    stage("least potentials")
     least, stroke = least_potentials(sysm, energy, spec, opts["impact_laws"])
+    stage("uplift energy")
+    least_uplift = uplift_energy(sysm, energy, uplift)
+    stage("impact map")
+    impact = impact_map(sysm, opts["impact_laws"])
+    stage("stop regimes")
+    # The bumpers' terms of every expression a runtime reads, in their penetrations (in_penetrations).
+    regimes = [f.applyfunc(where), [where(a) for a in rocking], [where(a) for a in contact]]
+    regimes += [where(e) for e in (uplift, energy, power)]
+    # Not in the inner loop of a runtime, and read at states of either regime (rule 6): from the state.
+    stop_forces = [where(force).xreplace(on) for force in forces]
+    stage("reactions")
     return Equations(
-        uplift_energy=uplift_energy(sysm, energy, uplift),
+        uplift_energy=least_uplift,
         least_potential=least,
         least_stroke_potential=stroke,
         system=sysm,
         options=opts,
         mass_matrix=Mm,
-        forcing=f.applyfunc(where),
-        rocking_accel=[where(a) for a in rocking],
-        contact_accel=[where(a) for a in contact],
-        uplift=where(uplift),
-        impact=impact_map(sysm, opts["impact_laws"]),
-        energy=where(energy),
-        power=where(power),
+        forcing=regimes[0],
+        rocking_accel=regimes[1],
+        contact_accel=regimes[2],
+        uplift=regimes[3],
+        impact=impact,
+        energy=regimes[4],
+        power=regimes[5],
         critical_angle=critical_angle(*weights),
         critical_tangent=critical_tangent(*weights),
         stop_gaps=gaps,
-        # Not in the inner loop of a runtime, and read at states of either regime (rule 6): from the state.
-        stop_forces=[where(force).xreplace(on) for force in forces],
+        stop_forces=stop_forces,
         block_accelerations=block_accelerations(sysm, vg),
         base_reaction=base_reaction(sysm, vg),
         # As the bumpers' forces: read at the states of a recorded history, in their own regime.

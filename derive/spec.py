@@ -25,6 +25,7 @@ from pathlib import Path
 
 import sympy as sp
 
+from .cost import check_spec_cost
 from .expressions import parse_expression
 from .names import NAME_PATTERN, SpecError, check_model_name, check_symbol, check_text, quote
 
@@ -439,7 +440,55 @@ def parse_spec(data: dict, source: str = "") -> Spec:
         ),
     )
     _check_coordinates_used(spec)
+    check_spec_cost(spec)  # before any other work on the expressions
+    _check_stops_nonnegative(spec)
     return spec
+
+
+def nonnegative(expr: sp.Expr, parameters) -> bool:
+    """Whether SymPy shows ``expr`` >= 0 for every value of ``parameters`` in their valid ranges.
+
+    Only the ranges ``> 0`` and ``>= 0`` are understood; any other symbol may take any real value.
+    """
+    known = {p.name: p.valid for p in parameters}
+    signs = {
+        sym: sp.Dummy(sym.name, positive=True) if known.get(sym.name) == "> 0" else sp.Dummy(sym.name, nonnegative=True)
+        for sym in expr.free_symbols
+        if known.get(sym.name) in ("> 0", ">= 0")
+    }
+    return bool(sp.sympify(expr).xreplace(signs).is_nonnegative)
+
+
+def _ranges(expr: sp.Expr, parameters) -> str:
+    """The declared valid range of every symbol of ``expr``, for a message (``L > 0, x: a coordinate``)."""
+    valid = {p.name: p.valid for p in parameters}
+    shown = []
+    for name in sorted(str(sym) for sym in expr.free_symbols):
+        rule = valid.get(name, "a coordinate")
+        shown.append(f"{name} {rule}" if rule[:1] in "<>" else f"{name}: {rule}")
+    return ", ".join(shown) or "no symbols"
+
+
+def _check_stops_nonnegative(spec: Spec) -> None:
+    """A stop's gap, stiffness and damping must be >= 0 for every parameter in its declared valid range.
+
+    A negative gap puts the bumper inside the free travel, a negative stiffness or damping makes it
+    release energy: the runtime's bounds (docs/simulation.md, rule 4) assume neither.
+
+    Raises
+    ------
+    SpecError
+        Naming the stop, the field, the expression and the ranges it was read with.
+    """
+    for stop in spec.stops:
+        for field_name in ("gap", "stiffness", "damping"):
+            expr = getattr(stop, field_name)
+            if not nonnegative(expr, spec.all_parameters):
+                raise SpecError(
+                    f"stop {stop.name!r} {field_name}: {quote(str(expr))} is not shown >= 0 for every value in the "
+                    f'declared valid ranges ({_ranges(expr, spec.all_parameters)}); declare valid = "> 0" or '
+                    '">= 0" for its parameters, or write it so that it cannot be negative'
+                )
 
 
 def _check_coordinates_used(spec: Spec) -> None:

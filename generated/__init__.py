@@ -2,3 +2,12 @@
 
 #: Version of the layout of every manifest.json that rocking.derive writes (its key ``format``).
 MANIFEST_FORMAT = 4
+
+#: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
+BUILTIN_MANIFESTS = {
+    "block": "e065b67857bb723ee1a5fb3667fdff9a9d13011d72b383cb9d4e3628e28ad37c",
+    "omd": "69c5ca94d56b5ec985056c6d71115510182d7bbdb01998b26366e7598aee0840",
+    "omd2": "b250c1d9df809bab09618b3ab927a27f2f4e8ae03dc406721daadb47e7ede99b",
+    "omd_stops": "142436852fcb750447b6f9213700da28f3a8dd0ff1338a24ef90e9a6a1f25d08",
+    "pendulum": "370259053d6c647aa1558ff9a4703218a89242e213035755db124f6645a9da8a",
+}

@@ -26,6 +26,7 @@ from rocking.sim import c_backend as cb
 from rocking.sim.cases import Cases, pulse_cases
 from rocking.sim.cbuild import CBuildError
 from rocking.sim.problem import RESULT_FIELDS, STATUS, make_problem
+from tests.planted import plant_model
 
 ROOT = Path(__file__).resolve().parent.parent
 BLOCK = Block.reference()
@@ -540,15 +541,17 @@ def test_the_stop_flag_changes_no_result():
         assert same(direct[name].astype(RESULT_FIELDS[name]), via[name])
 
 
-def test_the_remembered_bodies_follow_the_working_directory(tmp_path, monkeypatch):
-    """A model's name is read as a folder of the working directory first: the same objects elsewhere may mean
-    another model."""
+def test_a_folder_named_like_a_built_in_model_does_not_shadow_it(tmp_path, monkeypatch):
+    """A built-in model's name means the installed model whatever the working directory: a planted ``omd/``
+    there (its manifest updated to vouch for the payload) is never run."""
     from rocking.model.loading import GENERATED
 
     block = Block.reference()
     damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     pulse = OneSinePulse.from_nondim(block, beta=2.0, Omega=4.0)
     installed = make_problem(block, damper, pulse).model
-    shutil.copytree(GENERATED / "omd", tmp_path / "omd")
+    plant_model(GENERATED / "omd", tmp_path / "omd", tmp_path / "PWNED")
     monkeypatch.chdir(tmp_path)
-    assert make_problem(block, damper, pulse).model.folder == (tmp_path / "omd").resolve() != installed.folder
+    assert make_problem(block, damper, pulse).model.folder == installed.folder
+    assert load_model("omd").folder == installed.folder
+    assert not (tmp_path / "PWNED").exists()

@@ -88,6 +88,18 @@ def same(a, b) -> bool:
     return np.array_equal(np.asarray(a), np.asarray(b), equal_nan=True)
 
 
+#: Units in the last place of a pulse's amplitude within which C's libm and NumPy's vectorised sin, cos and exp
+#: agree: which of the two rounds a last bit differently depends on the CPU (seen: 8.9e-16 m/s^2 on an AMD EPYC).
+ULPS = 8
+
+
+def assert_same_pulse(ag, problem, t) -> None:
+    """``ag`` recorded by a back end at ``t`` is the pulse NumPy evaluates, to :data:`ULPS` of its amplitude."""
+    expected = np.asarray(problem.ground_acceleration(t), float)
+    scale = max(float(np.max(np.abs(expected), initial=0.0)), abs(float(problem.a_g)))
+    np.testing.assert_allclose(ag, expected, rtol=0, atol=ULPS * np.spacing(scale))
+
+
 def check_history(response, problem) -> None:
     """What every history must satisfy (docs/simulation.md, "History"; rules 1 to 3)."""
     h = response.history
@@ -105,7 +117,7 @@ def check_history(response, problem) -> None:
     contact = phase == CONTACT
     assert np.all(theta[contact] == 0.0) and np.all(dtheta[contact] == 0.0)  # rule 1: held
     assert np.all(phase[~contact] * theta[~contact] >= -1e-12)  # rule 2: s theta >= 0 about s
-    np.testing.assert_array_equal(h["ag"], problem.ground_acceleration(t))  # ag is the pulse
+    assert_same_pulse(h["ag"], problem, t)  # ag is the pulse
     assert np.max(np.abs(theta)) <= response.theta_max
     if model.nq > 1:
         assert np.max(np.abs(h[model.state[1]])) <= response.x_max
@@ -711,7 +723,7 @@ def test_every_phase_stops_at_the_pulse_end(backend, problem, rocking_at_t_p):
     h = r.history
     (j,) = np.flatnonzero(h["t"] == problem.t_p)
     assert (h["phase"][j] != CONTACT) == rocking_at_t_p
-    assert h["ag"][j] == problem.ground_acceleration(problem.t_p)
+    assert_same_pulse(h["ag"][j], problem, problem.t_p)
     assert np.all(h["ag"][h["t"] > problem.t_p] == 0.0)
 
 

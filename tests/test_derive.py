@@ -199,6 +199,15 @@ def _with(**changes):
         (_with(stops=[dict(STOP, depth="1")]), "stops\\[0\\]: unknown key\\(s\\) depth"),
         (_with(stops=[{k: v for k, v in STOP.items() if k != "stiffness"}]), "missing required key 'stiffness'"),
         (_with(stops="x"), "spec: stops must be a list"),
+        # A bumper inside the free travel, or one that releases energy (issue 23): refused, with the ranges read.
+        (_with(stops=[dict(STOP, gap="-k")]), "stop 'stops0' gap: '-k' is not shown >= 0 .* \\(k >= 0\\)"),
+        (_with(stops=[dict(STOP, stiffness="k - m")]), "stop 'stops0' stiffness: 'k - m' is not shown >= 0"),
+        (_with(stops=[dict(STOP, damping="-m")]), "stop 'stops0' damping: '-m' is not shown >= 0"),
+        (
+            _with(parameters={"m": {}, "k": {"valid": "any"}}, stops=[dict(STOP, gap="k")]),
+            "stop 'stops0' gap: 'k' is not shown >= 0 .* \\(k: any\\)",
+        ),
+        (_with(stops=[dict(STOP, gap="x")]), "stop 'stops0' gap: 'x' is not shown >= 0 .* \\(x: a coordinate\\)"),
     ],
 )
 def test_inconsistent_spec_is_rejected_before_derivation(data, message):
@@ -332,6 +341,37 @@ def test_installed_package_derives_a_spec_from_any_folder(tmp_path):
         assert (out / path.name).read_text() == path.read_text(), path.name
     check = python("-m", "rocking.derive", "--check", "--variant", "block")
     assert check.returncode == 0 and "up to date" in check.stdout, check.stdout + check.stderr
+
+
+def test_a_negative_gap_is_refused_in_one_line_naming_the_stop_the_field_and_the_expression(tmp_path, capsys):
+    """``gap = "-L"`` used to derive and simulate a bumper inside the free travel (issue 23); sound stops parse."""
+    text = (VARIANTS_DIR / "omd_stops.toml").read_text()
+    assert parse_spec(tomllib.loads(text)).stops[0].gap == sympy.Symbol("L", real=True)
+    spec = tmp_path / "bad.toml"
+    spec.write_text(text.replace('gap = "L"', 'gap = "-L"'))
+    out = tmp_path / "out"
+    assert main(["--spec", str(spec), "--out", str(out)]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith("error: stop 'bumpers' gap: '-L' is not shown >= 0") and err.count("\n") == 1, err
+    assert "(L > 0)" in err and not out.exists()
+
+
+def test_progress_goes_to_stderr_stage_by_stage_and_leaves_the_files_as_derived_in_process(tmp_path, capsys):
+    """--verbose prints one line per stage; the files written by the child process are generated/'s, byte for byte."""
+    out = tmp_path / "block"
+    assert main(["--variant", "block", "--out", str(out), "--verbose"]) == 0
+    captured = capsys.readouterr()
+    stages = re.findall(r"^derive block: ([a-zA-Z ]+) \.\.\. \d+\.\d s$", captured.err, re.M)
+    assert len(stages) == captured.err.count("\n"), captured.err
+    assert stages[1:4] == ["energies", "equations of motion", "rocking accelerations"] and stages[-1] == "LaTeX"
+    assert "block: derived in" in captured.out and captured.out.count("\n") == 1
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == {
+        p.name: p.read_bytes() for p in (GENERATED / "block").iterdir() if p.is_file()
+    }
+    for bad in ("-1", "nan", "soon"):
+        with pytest.raises(SystemExit):
+            main(["--variant", "block", "--stage-limit", bad])
+        assert "--stage-limit: must be a number of seconds >= 0" in capsys.readouterr().err
 
 
 def test_one_sided_stops_derive_only_their_side():

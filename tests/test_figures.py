@@ -128,6 +128,9 @@ def test_the_spectrum_draws_bounds_apart_from_measured_values_and_its_windows(sp
 def test_a_gain_colour_bar_spans_its_data_and_extends_past_its_cap():
     norm, ext = figures._gain_norm([0.6, 1.0, 3.8, np.nan])
     assert norm.vmin <= 0.6 and norm.vmax >= 3.8 and ext == "neither"
+    for low in (0.2, 0.3, 1 / 3.8, 0.7 / 3):  # the least gain sets the span: the bar still holds it
+        norm, ext = figures._gain_norm([low, 1.0, 1.5])
+        assert norm.vmin <= low and norm.vmax * low == pytest.approx(1.0) and ext == "neither"
     norm, ext = figures._gain_norm([0.01, 1.0, 50.0])
     assert norm.vmax == pytest.approx(figures.GAIN_SPAN) and ext == "both"
     assert extend([1, 2], 0, 1.5) == "max" and extend([np.nan, 1.0], 0, 2) == "neither"

@@ -14,15 +14,19 @@ import json
 import re
 import shutil
 import subprocess
+import time
 from pathlib import Path
 
 import pytest
+import sympy
 
 from rocking.derive import names
+from rocking.derive import spec as spec_module
 from rocking.derive.build import build, write
 from rocking.derive.cli import main
+from rocking.derive.cost import Cost, expression_cost, spec_entries
 from rocking.derive.expressions import parse_expression
-from rocking.derive.spec import SpecError, parse_spec, variant_spec
+from rocking.derive.spec import SpecError, parse_spec, registered_variants, variant_spec
 from rocking.model.loading import ModelError, load_model
 from rocking.sim import cbuild
 from rocking.sim.cbuild import CBuildError
@@ -42,6 +46,9 @@ BASE = {
     "mass": '"m"',
     "position": '["x", "H"]',
     "stiffness": '"k"',
+    "stretch": '"x"',
+    "damping": '"k"',
+    "rate_of": '"x"',
     "law": '"momentum"',
 }
 TEMPLATE = """\
@@ -59,7 +66,11 @@ mass = {mass}
 position = {position}
 [[springs]]
 stiffness = {stiffness}
-stretch = "x"
+stretch = {stretch}
+acts_on = {body}
+[[dashpots]]
+damping = {damping}
+rate_of = {rate_of}
 acts_on = {body}
 [impact]
 x = {law}
@@ -69,7 +80,7 @@ _TOUCH = f"__import__('os').system('touch {SENTINEL}')"
 
 
 def s(text: str) -> str:
-    """``text`` as a TOML basic string (JSON's escapes are TOML's)."""
+    """``text`` (or a list of texts) as a TOML basic string (or array): JSON's escapes are TOML's."""
     return json.dumps(text, ensure_ascii=False)
 
 
@@ -151,6 +162,67 @@ CORPUS = [
     ("coordinates-not-list", {"coordinates": '"x"'}, "coordinates must be a list"),
 ]
 
+#: Short specs whose derivation would run for minutes or hours (issue 23), each refused at once by the
+#: bounds on an expression's degree, expanded terms and nesting (rocking.derive.cost), or by the
+#: grammar's bound on exponents: (id, changes to BASE, a fragment of the expected message).
+_DEGREE = "its degree in the coordinates and their functions is"
+_NESTING = "its nesting of functions of the coordinates is"
+_TERMS = "its number of terms once expanded is"
+EXPENSIVE = [
+    (
+        "issue-23",
+        {"position": s(["sin(x)**40*cos(x)**40 + x", "H + k*cos(x)**30"])},
+        f"position x: 'x + sin(x)**40*cos(x)**40' is too costly to derive: {_DEGREE} 80",
+    ),
+    (
+        "cos-power-in-height",
+        {"position": s(["x", "H + k*cos(x)**30"])},
+        f"position y: 'H + k*cos(x)**30' is too costly to derive: {_DEGREE} 30",
+    ),
+    ("sin-power", {"position": s(["x + k*sin(x)**64", "H"])}, f"{_DEGREE} 64"),
+    ("tan-power", {"position": s(["x + k*tan(x)**20", "H"])}, f"{_DEGREE} 20"),
+    ("power-in-argument", {"position": s(["x + k*sin(x**40)", "H"])}, f"{_DEGREE} 40"),
+    ("negative-power", {"position": s(["x + k/(1 + x**2)**30", "H"])}, f"{_DEGREE} 60"),
+    (
+        "product-of-sums",
+        {"position": s(["x*(x + 1)*(x + 2)*(x + 3)*(x + 4)*(x + 5)*(x + 6)*(x + 7)", "H"])},
+        f"{_DEGREE} 8",
+    ),
+    (
+        "sqrt-of-long-sum",
+        {"position": s(["x", "H + sqrt(1 + " + " + ".join(f"x**{i}" for i in range(1, 9)) + ")"])},
+        f"{_DEGREE} 8",
+    ),
+    ("multinomial-position", {"position": s(["(x + k + m + H + B + M)**12", "H"])}, f"{_DEGREE} 12"),
+    ("nested-trig", {"position": s(["x + k*sin(cos(sin(x)))", "H"])}, f"{_NESTING} 3"),
+    ("exp-exp-exp", {"position": s(["x + k*exp(exp(exp(x)))", "H"])}, f"{_NESTING} 3"),
+    ("nested-atan", {"position": s(["x + k*atan(atan(atan(atan(x))))", "H"])}, f"{_NESTING} 4"),
+    ("huge-exponent-of-coordinate", {"position": s(["x**(10**6)", "H"])}, "an exponent above 64 in size not allowed"),
+    (
+        "multinomial-mass",
+        {"mass": s("(m + k + H + B + M + g)**16")},
+        f"body 'mass' mass: '(B + H + M + g + k + m)**16' is too costly to derive: {_TERMS} 20349",
+    ),
+    (
+        "power-in-potential",
+        {"stretch": s("x**40")},
+        f"spring 'springs0' stretch: 'x**40' is too costly to derive: {_DEGREE} 40",
+    ),
+    ("trig-power-in-potential", {"stretch": s("x + sin(x)**30")}, f"{_DEGREE} 30"),
+    (
+        "trig-power-in-damping",
+        {"rate_of": s("x + sin(x)**30")},
+        f"dashpot 'dashpots0' rate_of: 'x + sin(x)**30' is too costly to derive: {_DEGREE} 30",
+    ),
+    (
+        "multinomial-damping",
+        {"damping": s("(m + k + H + B + M + g)**16")},
+        f"dashpot 'dashpots0' damping: '(B + H + M + g + k + m)**16' is too costly to derive: {_TERMS} 20349",
+    ),
+]
+#: Seconds within which an expensive spec must be refused (the bounds answer in milliseconds).
+REFUSED_WITHIN = 30.0
+
 
 def _spec_text(changes: dict, sentinel: Path) -> str:
     return TEMPLATE.format(**{**BASE, **changes}).replace(SENTINEL, str(sentinel))
@@ -178,9 +250,16 @@ def _run(capsys, *argv) -> tuple[int, str, str]:
     return code, captured.out, captured.err
 
 
+#: A line of the derivation's progress: a stage that ended, or one still running (rocking.derive.watchdog).
+PROGRESS = re.compile(r"derive \w+: [a-zA-Z ]+ \.\.\. (\d+\.\d s|still running after \d+ s.*)")
+
+
 def _assert_refused(code: int, out: str, err: str, fragment: str) -> None:
+    """Exit code 2 and one line of error, after nothing but lines of progress (a refusal after a derivation)."""
     assert code == 2, (code, out, err)
-    assert err.startswith("error: ") and err.count("\n") == 1, err
+    *progress, error = err.splitlines()
+    assert all(PROGRESS.fullmatch(line) for line in progress), err
+    assert error.startswith("error: ") and err.endswith("\n"), err
     assert fragment in err, err
     assert "derived in" not in out and "Traceback" not in err
 
@@ -208,6 +287,58 @@ def test_the_corpus_is_large_and_its_payloads_are_live(tmp_path, monkeypatch):
     monkeypatch.chdir(tmp_path)
     eval(_TOUCH.replace(SENTINEL, str(tmp_path / "live")))  # noqa: S307 - the control: this payload is real
     assert (tmp_path / "live").exists()
+
+
+@pytest.mark.parametrize("changes, fragment", [c[1:] for c in EXPENSIVE], ids=[c[0] for c in EXPENSIVE])
+def test_expensive_spec_is_refused_at_once_in_one_line(tmp_path, capsys, changes, fragment):
+    """A short spec that would keep SymPy busy for hours is refused in one line, well within the time allowed."""
+    spec = tmp_path / "spec.toml"
+    spec.write_text(_spec_text(changes, tmp_path / "pwned"), encoding="utf-8")
+    out = tmp_path / "out"
+    before = _previous_derivation(out)
+    start = time.perf_counter()
+    refused = _run(capsys, "--spec", spec, "--out", out)
+    assert time.perf_counter() - start < REFUSED_WITHIN
+    _assert_refused(*refused, fragment)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before, "a file was written or deleted"
+
+
+def test_the_expensive_corpus_is_large_and_the_bounds_measure_what_they_say():
+    """At least 10 expensive specs, none already in the hostile corpus; the measures of a few expressions."""
+    assert len(EXPENSIVE) >= 10 and len({c[0] for c in EXPENSIVE} | {c[0] for c in CORPUS}) == len(EXPENSIVE) + len(
+        CORPUS
+    )
+    x, m = (sympy.Symbol(n, real=True) for n in ("x", "m"))
+    varying = frozenset({x})
+    for expr, expected in (
+        (x + sympy.sin(x) ** 40 * sympy.cos(x) ** 40, Cost(80, 2, 1)),
+        ((x + m) ** 3, Cost(3, 4, 0)),
+        (m * sympy.exp(sympy.exp(x)), Cost(1, 1, 2)),
+        (sympy.sqrt(m**2 - x**2), Cost(2, 2, 1)),
+        ((m + 1) ** 5 * sympy.sin(m), Cost(0, 6, 0)),
+    ):
+        assert expression_cost(expr, varying) == expected, expr
+    for name in registered_variants():  # the shipped models are well within the bounds
+        spec = variant_spec(name)
+        varying = frozenset(sympy.Symbol(c, real=True) for c in spec.coordinates)
+        for where, expr in spec_entries(spec):
+            cost = expression_cost(expr, varying)
+            assert cost.degree <= 2 and cost.terms <= 2 and cost.nesting <= 1, (name, where)
+
+
+def test_a_stage_past_its_time_limit_is_stopped_in_one_line(tmp_path, monkeypatch, capsys):
+    """The backstop: with the static bounds lifted, issue 23's spec is stopped at the stage that runs past
+    --stage-limit, in one line naming the stage and the spec's costliest expression, and nothing is written."""
+    monkeypatch.setattr(spec_module, "check_spec_cost", lambda spec: None)
+    spec = tmp_path / "spec.toml"
+    spec.write_text(_spec_text(EXPENSIVE[0][1], tmp_path / "pwned"), encoding="utf-8")
+    out = tmp_path / "out"
+    start = time.perf_counter()
+    refused = _run(capsys, "--spec", spec, "--out", out, "--stage-limit", "2")
+    assert time.perf_counter() - start < REFUSED_WITHIN
+    _assert_refused(*refused, "ran past its limit of 2 s; its costliest expression is body 'mass' position x")
+    assert re.search(r"error: derive probe: stage '[a-z ]+' ran past", refused[2]), refused[2]
+    assert "--stage-limit SECONDS" in refused[2] and not out.exists()
 
 
 @pytest.mark.parametrize(

@@ -14,6 +14,7 @@ import json
 from contextvars import ContextVar
 from pathlib import Path
 
+from ..model.loading import ModelError, saved_model
 from ..model.params import ParameterError
 from ..study.config import Study, config_hash, short, shown
 from ..study.storage import read_record
@@ -145,10 +146,25 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
                              f"(saved by another version?)")  # fmt: skip
     subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     command_parser = subcommands.choices[args.command]
-    command_parser.set_defaults(**checked_options(command_parser, command["options"], path))
+    options = checked_options(command_parser, command["options"], path)
+    _check_model(options.get("model"), args, path)
+    command_parser.set_defaults(**options)
     again = parser.parse_args(argv)
     again.rerun = (record, str(path))
     return again
+
+
+def _check_model(saved: object, args: argparse.Namespace, path: Path) -> None:
+    """Refuse a saved ``model`` option that is not built in, unless ``--model`` is given again on the command line.
+
+    A saved file never selects code to run (:func:`rocking.model.loading.saved_model`).
+    """
+    if saved is None or getattr(args, "model", None) is not None:
+        return
+    try:
+        saved_model(saved, f"--config {path}: option model", "rerun with --model DIR")
+    except ModelError as exc:
+        raise ParameterError(str(exc)) from None
 
 
 def check_same(study: Study, record: dict, path: str) -> str:

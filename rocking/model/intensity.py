@@ -18,7 +18,6 @@ Every measure is exact for the piecewise-linear acceleration the simulator integ
 from __future__ import annotations
 
 import numpy as np
-from scipy import signal
 
 from .params import ParameterError
 from .records import STANDARD_GRAVITY
@@ -104,6 +103,9 @@ def response_spectrum(a, dt, periods, zeta: float = 0.05) -> np.ndarray:
         raise ParameterError(f"periods must be > 0 s (got {periods!r})")
     if not 0 <= zeta < 1:
         raise ParameterError(f"zeta must be in [0, 1) (got {zeta!r})")
+    # Imported here: scipy.signal takes about a second to import, paid only by those who use them.
+    from scipy import signal
+
     out = np.empty(periods.size)
     for i, T in enumerate(periods):
         omega = 2 * np.pi / T

@@ -2,6 +2,21 @@
 
 The runtime knows a model only through ``manifest.json`` and the generated
 files next to it, so any folder written by ``rocking derive`` can be used.
+
+Trust
+-----
+Loading a model runs its generated NumPy code, so what may name a model is decided here:
+
+- a *built-in* model (:func:`available_models`) is named by its name, which always means the
+  installed one (a folder of the same name in the working directory does not shadow it); its
+  ``manifest.json`` must have the SHA-256 that ``rocking.generated.BUILTIN_MANIFESTS`` records in
+  the installed package, and each of its files the SHA-256 its manifest records;
+- a folder of the user's is trusted because the user named it, in Python (:func:`load_model`,
+  ``rocking.Variant``) or on the command line (``--model DIR``); its manifest vouches only for
+  edits by hand, not against a planted folder, which is why it must be named;
+- a model named by a saved file (``--config``, :func:`rocking.load`) is resolved by
+  :func:`saved_model`: a built-in, or a folder the user has named in this process; anything else is
+  refused in one line, saying how to name the folder.
 """
 
 from __future__ import annotations
@@ -123,7 +138,7 @@ class Model:
 
 def available_models() -> list[str]:
     """Names of the models installed in :mod:`rocking.generated`."""
-    return sorted(p.parent.name for p in GENERATED.glob("*/manifest.json"))
+    return sorted(rocking.generated.BUILTIN_MANIFESTS)
 
 
 def load_model(model: str | Path | Model = "omd") -> Model:
@@ -144,25 +159,72 @@ def load_model(model: str | Path | Model = "omd") -> Model:
     """
     if isinstance(model, Model):
         return model
+    if not isinstance(model, (str, os.PathLike)):
+        raise ModelError(f"a model is a name or a folder, not a {type(model).__name__}")
     key = (str(model), os.getcwd())
     loaded = _LOADED.get(key)
     if loaded is None:
-        loaded = _LOADED[key] = _load_folder(_folder_of(model))
+        if _is_builtin(model):
+            loaded = _load_folder(_builtin_folder(str(model)), rocking.generated.BUILTIN_MANIFESTS[model])
+        else:
+            loaded = _load_folder(_user_folder(model))
+            _NAMED[loaded.folder] = loaded
+        _LOADED[key] = loaded
     return loaded
+
+
+def saved_model(name: object, source: str, remedy: str = "pass trust_model=DIR") -> Model:
+    """The model a saved file names: a built-in model, or a folder the user has named in this process.
+
+    Parameters
+    ----------
+    name : object
+        What the file holds: a built-in model's name, a folder, or a model's manifest name.
+    source : str
+        The file and field, for the message (``"--config map.json: option model"``).
+    remedy : str
+        How the user names the folder to trust it, for the message.
+
+    Raises
+    ------
+    ModelError
+        In one line, for anything else: a saved file never selects code to run.
+    """
+    if not isinstance(name, (str, os.PathLike)) or not str(name):
+        raise ModelError(f"{source}: a model is a name or a folder (got {type(name).__name__} {name!r:.60})")
+    if _is_builtin(name):
+        return load_model(str(name))
+    for folder, model in _NAMED.items():
+        if str(name) in (str(folder), model.name):
+            return model
+    raise ModelError(
+        f"{source} names the model {str(name)!r:.200}, which is not built in ({', '.join(available_models())}): "
+        f"a saved file never selects code to run; name its folder yourself to trust it ({remedy})"
+    )
 
 
 #: The models loaded in this process, by the argument of :func:`load_model` (and the working directory, against
 #: which a relative folder is read): each is read and checked against its manifest once per process.
 _LOADED: dict[tuple[str, str], Model] = {}
 
+#: The folders of their own that the user named in this process (:func:`load_model`), by resolved folder.
+_NAMED: dict[Path, Model] = {}
 
-def _folder_of(model: str | Path) -> Path:
-    """The folder of a model given by name (installed) or by its folder, resolved."""
+
+def _is_builtin(model: str | os.PathLike) -> bool:
+    """Whether ``model`` is a built-in model's name (a :class:`~pathlib.Path` is always a folder)."""
+    return isinstance(model, str) and model in rocking.generated.BUILTIN_MANIFESTS
+
+
+def _builtin_folder(name: str) -> Path:
+    """The folder of the built-in model ``name`` (its manifest is checked as it is read, :func:`_load_folder`)."""
+    return (GENERATED / name).resolve()
+
+
+def _user_folder(model: str | os.PathLike) -> Path:
+    """The folder of a model the user named by its folder, resolved."""
     folder = Path(model)
     if not (folder / "manifest.json").is_file():
-        folder = GENERATED / str(model)
-    manifest_path = folder / "manifest.json"
-    if not manifest_path.is_file():
         raise ModelError(
             f"unknown model {str(model)!r}: not an installed model ({', '.join(available_models())}) "
             "nor a folder with a manifest.json"
@@ -217,14 +279,21 @@ def _checked_bytes(folder: Path, manifest: dict) -> dict[str, bytes]:
 
 
 @functools.lru_cache(maxsize=32)
-def _load_folder(folder: Path) -> Model:
+def _load_folder(folder: Path, manifest_sha256: str | None = None) -> Model:
+    """The model of ``folder``; with ``manifest_sha256`` (a built-in's), its manifest must have that SHA-256."""
     manifest_path = folder / "manifest.json"
     try:
-        manifest = json.loads(manifest_path.read_text(encoding="utf-8"))
+        data = manifest_path.read_bytes()
+        manifest = json.loads(data.decode("utf-8"))
     except (OSError, UnicodeDecodeError, ValueError) as exc:
         raise ModelError(
             f"{manifest_path}: not a readable manifest ({type(exc).__name__}); {_rederive(folder)}"
         ) from None
+    if manifest_sha256 is not None and hashlib.sha256(data).hexdigest() != manifest_sha256:
+        raise ModelError(
+            f"{manifest_path}: not the manifest the installed package records for the built-in model "
+            f"{folder.name!r} (rocking.generated.BUILTIN_MANIFESTS); {_rederive(folder)}"
+        )
     if not isinstance(manifest, dict) or manifest.get("format") != MANIFEST_FORMAT:
         found = manifest.get("format") if isinstance(manifest, dict) else None
         raise ModelError(

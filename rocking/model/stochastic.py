@@ -34,7 +34,6 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from scipy import optimize, signal, special, stats
 
 from .params import ParameterError, check_real
 
@@ -140,6 +139,8 @@ def modulating_parameters(arias: float, d595: float, t_mid: float, g: float = 9.
     ParameterError
         If no gamma shape gives the ratio ``d595 / t_mid`` (it must lie within the shapes' range).
     """
+    # Imported here: scipy.stats takes about a second to import, paid only by those who use it.
+    from scipy import optimize, special, stats
 
     def ratio(k: float) -> float:
         return (stats.gamma.ppf(0.95, k) - stats.gamma.ppf(0.05, k)) / stats.gamma.ppf(0.45, k)
@@ -193,6 +194,8 @@ def filtered_noise(site: SiteModel, u) -> np.ndarray:
 def high_pass(a, dt: float, f_c: float) -> np.ndarray:
     """The acceleration of a critically damped oscillator of frequency ``f_c`` driven by ``a`` (linear between
     samples, at rest at ``t = 0``): ``x'' + 2 omega_c x' + omega_c^2 x = a``, returned ``x''``."""
+    from scipy import signal  # imported here, as in modulating_parameters
+
     omega = 2 * np.pi * f_c
     system = signal.StateSpace([[0.0, 1.0], [-(omega**2), -2 * omega]], [[0.0], [1.0]],
                                [[-(omega**2), -2 * omega]], [[1.0]])  # fmt: skip

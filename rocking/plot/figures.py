@@ -38,7 +38,7 @@ from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, Rectangle
 from matplotlib.ticker import FuncFormatter
 
-from ..model.loading import ModelError, load_model
+from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..study.config import Study
 from ..study.overturning_map import half_stroke, saved_past_edges
@@ -123,7 +123,8 @@ def _block_label(block: Block) -> str:
 def _parameter_units(model: str) -> dict:
     """Unit of each parameter of a generated model by name (none if the model cannot be loaded here)."""
     try:
-        return {p["name"]: p["unit"] for p in load_model(model).manifest["parameters"]}
+        found = saved_model(model, "the study's configuration: damper.model")
+        return {p["name"]: p["unit"] for p in found.manifest["parameters"]}
     except ModelError:
         return {}
 
@@ -264,8 +265,11 @@ def _gain_norm(values) -> tuple[LogNorm, str]:
     :data:`GAIN_SPAN` either way), and the colour bar's ``extend`` for values beyond it."""
     v = np.asarray(values, float)
     v = v[np.isfinite(v) & (v > 0)]
-    span = float(np.clip(np.abs(np.log(v)).max(), np.log(1.1), np.log(GAIN_SPAN))) if v.size else np.log(GAIN_SPAN)
-    norm = LogNorm(np.exp(-span), np.exp(span))
+    # The bounds are the data's own extremes where they set the span, not exp(log(.)) round trips, which may
+    # land a last bit inside them (by CPU) and mark the bar as extended past a value it holds.
+    top = float(np.clip(max(v.max(), 1 / v.min()), 1.1, GAIN_SPAN)) if v.size else GAIN_SPAN
+    low = min(1 / top, v.min()) if v.size and v.min() * top >= 1 - 1e-12 else 1 / top
+    norm = LogNorm(low, top)
     return norm, extend(v, norm.vmin, norm.vmax)
 
 

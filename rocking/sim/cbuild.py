@@ -26,6 +26,20 @@ any valid library of the same source key is used, whichever compiler built it:
 the same sources and flags, possibly not bit for bit what the requested compiler
 would have produced.
 
+Trust
+-----
+Loading a library runs its code, so the cache follows the rule of ssh's keys and
+Python's bytecode cache: whoever can write it can already run code as you. The
+cache folder must belong to the user (or to root, who can run anything anyway)
+and not be writable by group or others (:func:`check_private`; it is created
+``0700``): otherwise the C back end is refused in one line, naming the folder and
+the fix, before any library in it is read. A library or sidecar that is a
+symbolic link, belongs to someone else or is writable by group or others is
+built again, never loaded. The sidecar, in the same protected folder, is the
+index that says which sources, flags and compiler a library was built from: a
+library whose sidecar does not carry the key it is looked up by is built again,
+never loaded.
+
 Integrity
 ---------
 Each library has a sidecar, ``<library>.json``, written after a successful compile:
@@ -62,6 +76,7 @@ import json
 import os
 import shlex
 import shutil
+import stat
 import subprocess
 import sys
 import tempfile
@@ -73,10 +88,24 @@ try:  # POSIX only; without it concurrent processes are still safe, only duplica
 except ImportError:  # pragma: no cover - Windows
     fcntl = None
 
-__all__ = ["CFLAGS", "CSRC", "CBuildError", "build", "build_command", "build_key", "cache_dir", "compiler"]
+__all__ = [
+    "CFLAGS",
+    "CSRC",
+    "CBuildError",
+    "build",
+    "build_command",
+    "build_key",
+    "cache_dir",
+    "check_private",
+    "compiler",
+]
 
 #: The package's C sources (package data).
 CSRC = Path(__file__).resolve().parent / "csrc"
+
+#: Libraries of the built-in models compiled into a platform wheel (``make wheel``, setup.py), with their
+#: sidecars: used before the cache, so that an installed wheel needs no compiler. Absent in a checkout.
+PREBUILT = Path(__file__).resolve().parent / "prebuilt"
 
 #: Flags of every build: portable (no -march=native), position independent.
 CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra")
@@ -285,14 +314,53 @@ def _file_digest(path: Path) -> tuple[str, int]:
     return digest.hexdigest(), size
 
 
+def _uid() -> int | None:
+    """The effective user id (``None`` where the platform has none)."""
+    return os.geteuid() if hasattr(os, "geteuid") else None
+
+
+def _private_file(path: Path) -> bool:
+    """Whether ``path`` is a regular file (not a link) of the user's (or root's), writable by no one else."""
+    info = os.lstat(path)
+    mine = _uid() is None or info.st_uid in (_uid(), 0)
+    return stat.S_ISREG(info.st_mode) and mine and not info.st_mode & 0o022
+
+
+def check_private(folder: Path) -> None:
+    """Refuse a cache folder that someone else could write: the user's (or root's), not writable by group or others.
+
+    Raises
+    ------
+    CBuildError
+        In one line, naming the folder, its owner or mode, and the fix.
+    """
+    try:
+        info = os.stat(folder)
+    except OSError as exc:
+        raise _cache_error(folder, exc) from None
+    if _uid() is not None and info.st_uid not in (_uid(), 0):
+        raise CBuildError(
+            f"the C library cache {folder} belongs to uid {info.st_uid}, not to you (uid {_uid()}) or root: a library "
+            "there could run code as you; set ROCKING_CACHE_DIR to a folder of your own"
+        )
+    if info.st_mode & 0o022:
+        raise CBuildError(
+            f"the C library cache {folder} is writable by group or others (mode {stat.S_IMODE(info.st_mode):04o}): "
+            f"a library planted there would run as you; chmod go-w {folder} or set ROCKING_CACHE_DIR"
+        )
+
+
 def _valid(library: Path, source: str) -> bool:
     """Whether ``library`` exists and matches its sidecar, which was written for ``source``.
 
-    Anything short of that (no file, no or a damaged sidecar, another size or hash)
-    is ``False``: the library is built again rather than loaded, since loading a
-    truncated one kills the process.
+    Anything short of that (no file, no or a damaged sidecar, another size or hash,
+    either file a link, someone else's or writable by others) is ``False``: the
+    library is built again rather than loaded, since loading a truncated one kills
+    the process and loading a planted one runs its code.
     """
     try:
+        if not (_private_file(library) and _private_file(_sidecar(library))):
+            return False
         record = json.loads(_sidecar(library).read_text(encoding="utf-8"))
         if record["source_key"] != source or os.stat(library).st_size != record["size"]:
             return False
@@ -316,6 +384,15 @@ def _any_valid(folder: Path, model, source: str) -> Path | None:
         if _valid(folder / name, source):
             return folder / name
     return None
+
+
+def _prebuilt(model, source: str) -> Path | None:
+    """The wheel's library of ``source`` (:data:`PREBUILT`), if it is there, valid and nobody else can write it."""
+    try:
+        check_private(PREBUILT)
+    except CBuildError:
+        return None
+    return _any_valid(PREBUILT, model, source)
 
 
 def _cache_error(folder: Path, exc: OSError) -> CBuildError:
@@ -385,7 +462,7 @@ def _compile_into(model, library: Path, source: str, cc: list[str], version: str
         }
         tmp_sidecar.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
         for tmp in (tmp_library, tmp_sidecar):
-            os.chmod(tmp, 0o644)  # mkstemp made them private; the cache may be shared
+            os.chmod(tmp, 0o644)  # readable, so that a cache lent read-only to another account still serves it
         # The library first: until the sidecar follows, readers see a mismatch and wait for the lock.
         os.replace(tmp_library, library)
         os.replace(tmp_sidecar, _sidecar(library))
@@ -415,7 +492,8 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     Returns
     -------
     Path
-        The library, ``<cache>/<prefix>-<source key>-<compiler key>.so``, checked against its sidecar.
+        The library, ``<cache>/<prefix>-<source key>-<compiler key>.so``, checked against its sidecar; or
+        the one of the same sources a platform wheel ships in :data:`PREBUILT`.
 
     Raises
     ------
@@ -428,6 +506,14 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     folder = cache_dir() if cache is None else Path(cache).expanduser()
     # $CC is split without running anything: its arguments are known even when its program is not.
     source = _source_key(model, _cc_arguments(), csrc)
+    shipped = _prebuilt(model, source)
+    if shipped is not None:
+        return shipped
+    try:
+        folder.mkdir(mode=0o700, parents=True, exist_ok=True)
+    except OSError as exc:
+        raise _cache_error(folder, exc) from None
+    check_private(folder)
     try:
         cc = compiler()
         tool, _ = _compiler_key(cc)
@@ -441,7 +527,6 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     except _CompilerUnavailable as exc:
         return _stand_in(folder, model, source, exc)
     try:
-        folder.mkdir(parents=True, exist_ok=True)
         with _lock(folder / f".{library.name}.lock"):
             if not _valid(library, source):  # another thread or process may have built it while this one waited
                 _compile_into(model, library, source, cc, version, csrc)

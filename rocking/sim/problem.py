@@ -671,15 +671,14 @@ def _bodies(block: Block, damper, model: object) -> tuple[Model, tuple | np.ndar
     """The model, parameter vector and damper period (``inf``: none) of ``damper`` on ``block``, checked.
 
     The last block and :class:`Damper` (or ``None``) of a call without a ``model`` are remembered, by
-    identity: a loop over pulses does not check the same frozen objects against each other again. With
-    the working directory: a model's name is read as a folder there first (:func:`load_model`).
+    identity: a loop over pulses does not check the same frozen objects against each other again. Their
+    models are built in, whatever the working directory (:func:`load_model`).
     """
     global _LAST_BODIES
     objects = model is None and (damper is None or type(damper) is Damper)
     if objects:
-        last_block, last_damper, last_cwd, bodies = _LAST_BODIES
-        cwd = os.getcwd()
-        if last_block is block and last_damper is damper and last_cwd == cwd:
+        last_block, last_damper, bodies = _LAST_BODIES
+        if last_block is block and last_damper is damper:
             return bodies
     own = _damper_mapping(damper)
     is_damper = isinstance(damper, Damper)
@@ -703,11 +702,11 @@ def _bodies(block: Block, damper, model: object) -> tuple[Model, tuple | np.ndar
     # Only a damper that knows its period shortens the contact step (a mapping never did: results unchanged).
     T_m = damper.T_m if is_damper and damper.m > 0 and damper.k_m > 0 else math.inf
     if objects:
-        _LAST_BODIES = (block, damper, cwd, (model, p, T_m))
+        _LAST_BODIES = (block, damper, (model, p, T_m))
     return model, p, T_m
 
 
-_LAST_BODIES: tuple = (None, None, None, None)
+_LAST_BODIES: tuple = (None, None, None)
 
 
 def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple | np.ndarray, dict]:

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model.intensity import MEASURES
-from ..model.loading import ModelError, load_model
+from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..sim.boundary import RESULT, STATUSES
 from .config import Study
@@ -215,7 +215,7 @@ def _stroke_units(config: dict) -> str:
     if not name:
         return "m"
     try:
-        model = load_model(name)
+        model = saved_model(name, "the study's configuration: damper.model")
         return model.manifest["units"][model.coordinates[1]]
     except (ModelError, KeyError, IndexError):
         return "m"

@@ -17,7 +17,6 @@ Its confidence band is a bootstrap over the motions (the suite is the sample):
 from __future__ import annotations
 
 import numpy as np
-from scipy import special, stats
 
 from ..model.params import ParameterError
 
@@ -52,6 +51,9 @@ def _probit_cost(params, x, k, safe) -> tuple[float, np.ndarray, np.ndarray]:
     convex in ``(a, b)``. Logs of Phi are taken directly (``log_ndtr``), so that levels far in the tails do
     not round to log(0).
     """
+    # Imported here: scipy.special takes about half a second to import, paid only by a fragility.
+    from scipy import special
+
     a, b = params
     z = a + b * x
     log_p, log_q = special.log_ndtr(z), special.log_ndtr(-z)
@@ -134,7 +136,9 @@ def fit_lognormal(im, overturned) -> dict:
 
 def fragility_curve(x, theta: float, beta: float) -> np.ndarray:
     """``Phi(ln(x / theta) / beta)`` at the intensities ``x``."""
-    return stats.norm.cdf(np.log(np.asarray(x, float) / theta) / beta)
+    from scipy import special  # imported here, as in _probit_cost
+
+    return special.ndtr(np.log(np.asarray(x, float) / theta) / beta)
 
 
 def bootstrap_band(im, overturned, x, *, resamples: int = 400, level: float = 0.9, seed: int = 0) -> dict:

@@ -45,8 +45,21 @@ from pathlib import Path
 import numpy as np
 from numpy.lib import format as npy
 
+from ..model.loading import ModelError, load_model
 from ..model.params import Block, ParameterError
-from .config import MAX_CELLS, Grid, Study, check_signs, config_hash, is_count, is_number, short, shown, versions
+from .config import (
+    MAX_CELLS,
+    Grid,
+    Study,
+    check_signs,
+    config_hash,
+    is_count,
+    is_number,
+    short,
+    shown,
+    tree_hash,
+    versions,
+)
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
 STUDY_FORMAT = 2
@@ -685,13 +698,33 @@ def _check_coordinates(arrays: dict, expected: dict, meta: Path) -> None:
             raise ParameterError(f"{meta}: config: {field} gives other values than the array {name} holds")
 
 
-def load(path: str | Path) -> Study:
+def _trust(folder: str | Path, record: dict, meta: Path) -> None:
+    """Load the model folder the user named for a saved study, checked to be the one the study was run with."""
+    damper = record["config"].get("damper")
+    saved = damper if isinstance(damper, dict) else {}
+    # Compared before the folder's code is loaded: a folder of another content is not run at all.
+    if not Path(folder).is_dir() or saved.get("model_sha256") != tree_hash(Path(folder).resolve()):
+        raise ParameterError(
+            f"trust_model {folder}: not the model folder {meta} was run with (no such folder, or its SHA-256 "
+            "differs from config.damper.model_sha256)"
+        )
+    try:
+        load_model(Path(folder))
+    except ModelError as exc:
+        raise ParameterError(f"trust_model: {exc}") from None
+
+
+def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem), with its
     tables made again from them (:mod:`rocking.study.tables`).
 
+    A saved file never selects code to run: a study of a model of the user's own names it, but that
+    model is used (for its units) only if the user names its folder again, as ``trust_model``
+    (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
+
     The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
-    study. Its configuration is checked against the arrays it lists (:func:`check_study`) and the archive
-    against that list from the zip's headers, before any array is read.
+    study. Its configuration is checked against the arrays it lists (:func:`check_config`,
+    :func:`check_arrays`) and the archive against that list from the zip's headers, before any array is read.
 
     Raises
     ------
@@ -700,7 +733,8 @@ def load(path: str | Path) -> Study:
         study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``arrays``,
         an unknown kind, another format), its configuration is not valid or contradicts its arrays, the
         ``.npz`` cannot be read (truncated, damaged, not an archive, compressed, larger than its JSON
-        says), or its arrays differ from what the JSON lists.
+        says), or its arrays differ from what the JSON lists; or if ``trust_model`` is not the model the
+        study was run with.
     """
     stem = _stem(path)
     npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
@@ -720,6 +754,8 @@ def load(path: str | Path) -> Study:
         check_arrays(kind, record["arrays"], sizes)
     except ParameterError as exc:
         raise ParameterError(f"{meta}: arrays: {exc}") from None
+    if trust_model is not None:
+        _trust(trust_model, record, meta)
     arrays = _read_arrays(npz, record)
     _check_coordinates(arrays, expected, meta)
     from .tables import tables  # the studies' modules, which it reads, store their tiles here

@@ -1,0 +1,181 @@
+"""What an expression of a spec will cost the derivation, bounded before any of it starts.
+
+A spec's expressions are short (:mod:`rocking.derive.expressions` bounds their
+text), but a short text can still stand for an expansion the derivation never
+finishes: ``sin(x)**40*cos(x)**40`` is 21 characters, and its velocity squared,
+differentiated again and expanded (Lagrange's equations, then the bounds of
+:mod:`rocking.derive.equations`) runs for many minutes. The work grows as a
+power of three measures of each expression, read off its tree without
+expanding it:
+
+``degree``
+    Its total degree as a polynomial in the coordinates and in the functions
+    of them (``sin(x)``, ``sqrt(1 + x**2)``, each a variable of degree 1, or of
+    its argument's degree when higher). Every derivative keeps it, and the
+    kinetic energy squares it.
+``terms``
+    How many terms its expansion has at most (a power of a sum counted as its
+    multinomial expansion, a function as one term of its argument's size).
+``nesting``
+    How deep functions of the coordinates are nested in one another
+    (``exp(exp(x))`` is 2): each level multiplies the terms of every
+    derivative by the chain rule.
+
+:func:`check_spec_cost` refuses an entry of a spec over :data:`LIMITS`, before
+anything is derived; what passes but is still slow is stopped by the time
+limit of each stage (:mod:`rocking.derive.watchdog`).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import sympy as sp
+
+from .names import SpecError, quote
+
+
+@dataclass(frozen=True)
+class Cost:
+    """The three measures of an expression (module docstring)."""
+
+    degree: int
+    terms: int
+    nesting: int
+
+
+#: Largest ``degree``, ``terms`` and ``nesting`` of an entry of a spec. Measured on the omd spec with its
+#: position x changed (docs/variants.md, "Bounded derivations"): ``x + h*sin(x)**k*cos(x)**k`` derives
+#: in 14 s for degree 4, 17 s for 6 and 26 s for 8, and not in 40 s for 12; issue 23's spec (degree 80)
+#: not in 400 s. Within the bounds some expressions still take minutes (``x + h*sin(atan(x))``, and
+#: ``(x + h + m + c)**3`` in its LaTeX): the time limit of each stage stops those.
+LIMITS = Cost(degree=6, terms=16, nesting=2)
+
+#: Why each measure is bounded, in a message.
+_WHAT = {
+    "degree": "degree in the coordinates and their functions",
+    "terms": "number of terms once expanded",
+    "nesting": "nesting of functions of the coordinates",
+}
+
+#: Any count above this is reported as this: a bound, not a number to compute exactly.
+_CAP = 10**9
+
+
+def _monomials(terms: int, power: int) -> int:
+    """Terms of ``(a_1 + ... + a_terms)**power`` expanded: the monomials of degree ``power`` in ``terms`` variables."""
+    if terms <= 1:
+        return 1
+    return min(math.comb(terms + power - 1, power), _CAP)
+
+
+def _power(base: Cost, exponent: Cost, integer: int | None, varies: bool) -> Cost:
+    """Cost of ``base**exponent``: a multinomial for an ``integer`` exponent, a new function of both otherwise."""
+    if integer is not None:
+        n = abs(integer)
+        return Cost(min(base.degree * n, _CAP), _monomials(base.terms, n), base.nesting)
+    if not varies:
+        return Cost(0, 1, 0)
+    # d(b**e)/dt = b**e (e' log(b) + e b'/b): the exponent's terms count only when it moves.
+    terms = base.terms + (exponent.terms if exponent.degree else 0)
+    return Cost(max(1, base.degree, exponent.degree), min(terms, _CAP), 1 + max(base.nesting, exponent.nesting))
+
+
+def expression_cost(expr: sp.Expr, varying: frozenset) -> Cost:
+    """The :class:`Cost` of ``expr``, where ``varying`` are the symbols that move (the coordinates).
+
+    Parameters
+    ----------
+    expr : Expr
+        An expression of a spec, as :func:`rocking.derive.expressions.parse_expression` built it.
+    varying : frozenset of Symbol
+        The coordinates: what time derivatives act on.
+    """
+    varies = bool(expr.free_symbols & varying)
+    if expr.is_Atom:
+        return Cost(int(varies), 1, 0)
+    if expr.is_Pow:
+        integer = int(expr.exp) if expr.exp.is_Integer else None
+        return _power(expression_cost(expr.base, varying), expression_cost(expr.exp, varying), integer, varies)
+    parts = [expression_cost(a, varying) for a in expr.args]
+    if expr.is_Add:
+        return Cost(max(p.degree for p in parts), min(sum(p.terms for p in parts), _CAP), max(p.nesting for p in parts))
+    if expr.is_Mul:
+        return Cost(
+            min(sum(p.degree for p in parts), _CAP),
+            min(math.prod(p.terms for p in parts), _CAP),
+            max(p.nesting for p in parts),
+        )
+    if not varies:  # a function of the parameters alone: one constant of a run
+        return Cost(0, 1, 0)
+    # A function of the coordinates: a new variable, whose derivative brings its argument's along (chain rule).
+    return Cost(
+        max(1, *(p.degree for p in parts)),
+        min(sum(p.terms for p in parts), _CAP),
+        1 + max(p.nesting for p in parts),
+    )
+
+
+def over_limit(cost: Cost, limits: Cost = LIMITS) -> str | None:
+    """The first measure of ``cost`` over ``limits`` (``its <measure> is <value>, at most <limit> allowed``) or None."""
+    for name, what in _WHAT.items():
+        value, limit = getattr(cost, name), getattr(limits, name)
+        if value > limit:
+            shown = f"over {_CAP}" if value >= _CAP else str(value)
+            return f"its {what} is {shown}, at most {limit} allowed"
+    return None
+
+
+def spec_entries(spec) -> list[tuple[str, sp.Expr]]:
+    """Every expression of ``spec`` with where it is, named as the spec's checks name it."""
+    entries = []
+    for b in spec.bodies:
+        fields = {"mass": b.mass, "position x": b.position[0], "position y": b.position[1]}
+        fields.update({"inertia": b.inertia, "angle": b.angle})
+        entries += [(f"body {b.name!r} {key}", expr) for key, expr in fields.items()]
+    for kind, elements, keys in (
+        ("spring", spec.springs, "stiffness stretch"),
+        ("dashpot", spec.dashpots, "damping rate_of"),
+    ):
+        coefficient, measure = keys.split()
+        for el in elements:
+            entries += [(f"{kind} {el.name!r} {coefficient}", el.coefficient)]
+            entries += [(f"{kind} {el.name!r} {measure}", el.measure)]
+    for stop in spec.stops:
+        for key in ("travel", "gap", "stiffness", "damping"):
+            entries.append((f"stop {stop.name!r} {key}", getattr(stop, key)))
+    return entries
+
+
+def _varying(spec) -> frozenset:
+    """The coordinates of ``spec`` as the symbols its expressions hold."""
+    return frozenset(sp.Symbol(c, real=True) for c in spec.coordinates)
+
+
+def check_spec_cost(spec, limits: Cost = LIMITS) -> None:
+    """Refuse ``spec`` if one of its expressions is over ``limits`` (module docstring).
+
+    Raises
+    ------
+    SpecError
+        Naming the entry, quoting the expression, and the measure with its limit.
+    """
+    varying = _varying(spec)
+    for where, expr in spec_entries(spec):
+        excess = over_limit(expression_cost(expr, varying), limits)
+        if excess:
+            raise SpecError(
+                f"{where}: {quote(str(expr))} is too costly to derive: {excess} "
+                "(write it with lower powers, fewer terms and functions of functions)"
+            )
+
+
+def costliest_entry(spec) -> tuple[str, sp.Expr] | None:
+    """The entry of ``spec`` of the highest cost (by degree, nesting, then terms): the likely cause of a slow stage."""
+    varying = _varying(spec)
+    ranked = [(expression_cost(expr, varying), where, expr) for where, expr in spec_entries(spec)]
+    if not ranked:
+        return None
+    cost, where, expr = max(ranked, key=lambda r: (r[0].degree, r[0].nesting, r[0].terms))
+    return where, expr
