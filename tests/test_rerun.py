@@ -187,14 +187,10 @@ CONTRADICTIONS = {
 def test_a_loaded_configuration_must_agree_with_its_arrays(case, saved, tmp_path):
     where, value, message = CONTRADICTIONS[case]
     record = _with(saved[1], ("config", *where), value)
-    record["config_sha256"] = config_hash(record["config"])  # a consistent forgery: the checks must see it
+    record["config_sha256"] = config_hash(record["config"])  # a consistent forgery
     (tmp_path / "map.json").write_text(json.dumps(record))
     (tmp_path / "map.npz").write_bytes((saved[0] / "map.npz").read_bytes())
     with pytest.raises(rocking.ParameterError, match=re.escape(f"{tmp_path / 'map.json'}: {message}")):
-        rocking.load(tmp_path / "map")
-    edited = _with(saved[1], ("config", *where), value)  # edited without its hash
-    (tmp_path / "map.json").write_text(json.dumps(edited))
-    with pytest.raises(rocking.ParameterError, match="config: |changed after the study was saved"):
         rocking.load(tmp_path / "map")
 
 
@@ -267,7 +263,7 @@ def _mutate(record: dict, data, places: list) -> str:
             parent[new_key if new_key is not None and isinstance(parent, dict) else where[-1]] = value
         except (KeyError, IndexError, TypeError):  # the place went with an earlier change
             continue
-    if data.draw(st.booleans()):  # a consistent forgery, so that the checks behind the hash are reached
+    if data.draw(st.booleans()):  # its hash made again: a consistent forgery
         try:
             changed["config_sha256"] = config_hash(changed["config"])
         except (ValueError, TypeError, KeyError):
