@@ -23,6 +23,7 @@ import numpy as np
 import pytest
 
 import rocking
+import rocking.cli.study
 from rocking import Block, ParameterError
 from rocking.cli.study import add_study_commands
 from rocking.study import storage, tiles
@@ -265,6 +266,19 @@ def test_a_full_disk_gives_one_line_keeps_the_tiles_and_a_rerun_completes(stage,
     assert f"{12 - kept} tiles computed, {kept} reused" in capsys.readouterr().out
     assert all((tmp_path / f).is_file() for f in MAP_FILES)
     load(tmp_path / "map")
+
+
+def test_a_full_disk_at_the_figures_keeps_the_published_study(tmp_path, monkeypatch, capsys):
+    argv = ["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]
+    with monkeypatch.context() as patched:
+        patched.setattr("matplotlib.figure.Figure.savefig", _enospc)
+        patched.setattr(rocking.cli.study, "no_space", lambda folder: True)
+        assert cli(argv) == 1
+    assert capsys.readouterr().err == (f"rocking map: error: disk full writing {tmp_path / 'map.png'} and .pdf: "
+                                       "12 tiles kept, rerun to resume\n")  # fmt: skip
+    assert all((tmp_path / f).is_file() for f in MAP_FILES)  # the data are published, whole
+    load(tmp_path / "map")
+    assert cli(argv) == 0 and (tmp_path / "map.pdf").is_file()
 
 
 def _mount_tmpfs(folder: Path, size: str, remount: bool = False) -> bool:

@@ -19,7 +19,7 @@ What is read is bounded before it is read: a JSON record's size and nesting
 (:func:`read_json`), and an archive's arrays from the zip's headers
 (:func:`read_npz`: uncompressed members, each the size its ``.npy`` header
 says, within a limit). A loaded study's configuration is checked against its
-arrays (:func:`check_study`: grids, directions, shapes). Arrays are read with
+arrays (:func:`check_config`, :func:`check_arrays`: grids, directions, shapes). Arrays are read with
 ``allow_pickle=False``: nothing read from a file is executed. The same
 helpers store and check the tiles of a study (:mod:`rocking.study.tiles`):
 :func:`checksum` of the arrays and :func:`layout` (names, shapes, dtypes).
