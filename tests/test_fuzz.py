@@ -4,9 +4,12 @@ A bounded share of ``make fuzz`` (bench/fuzz.py): the first inputs of its fixed 
 back ends, each in a worker process with the fuzzer's time limit.
 """
 
+import dataclasses
 import importlib.util
+import time
 from pathlib import Path
 
+import numpy as np
 import pytest
 
 FUZZ = Path(__file__).resolve().parents[1] / "bench" / "fuzz.py"
@@ -90,3 +93,37 @@ def test_a_mapping_damper_gives_the_result_of_its_damper():
     damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     r = rocking.simulate(BLOCK, damper.as_params(), PULSE, backend="c", t_after=2.0)
     assert r.status in ("rest", "overturned", "t_max")
+
+
+# --- issue 23, item 3: the NumPy back end refuses up front what it cannot run within its bound -------------------
+
+from rocking.sim import numpy_backend  # noqa: E402
+
+LONG = [
+    (rocking.OneCosinePulse.from_period(2.0, 1000.0), True),  # 14.6 s on NumPy within max_steps
+    (rocking.SampledMotion(np.random.default_rng(1).normal(0.0, 1.0, 20_000), dt=0.01), False),  # 21 - 36 s
+]
+
+
+@pytest.mark.parametrize("pulse, record", LONG)
+def test_numpy_refuses_up_front_what_it_would_take_long_over(pulse, record):
+    start = time.perf_counter()
+    with pytest.raises(ParameterError, match=r"^the NumPy back end plans the work of [\d,]+ .* at most 75,000: run "
+                                             r"it on the C back end \(backend='c'\), or shorten it"):  # fmt: skip
+        rocking.simulate(BLOCK, None, pulse, backend="numpy", record=record)
+    assert time.perf_counter() - start < 1.0
+    assert rocking.simulate(BLOCK, None, pulse, backend="c", record=record).status == "rest"
+
+
+def test_the_planned_work_of_a_study_response_is_far_below_the_limit():
+    problem = rocking.sim.problem.make_problem(BLOCK, Damper(**DAMPER), PULSE)
+    parts = numpy_backend.planned_work(problem, record=True)
+    assert 0 < sum(parts.values()) < numpy_backend.PLANNED_WORK_LIMIT / 10 and parts["restarts at samples"] == 0
+
+
+def test_the_parts_rule_5_counts_weigh_at_most_max_steps():
+    """A run that ends at max_steps on both back ends is not refused for the work it would plan beyond."""
+    problem = rocking.sim.problem.make_problem(BLOCK, None, LONG[0][0])
+    numpy_backend.check_planned_work(dataclasses.replace(problem, max_steps=50_000), record=True)
+    with pytest.raises(ParameterError, match=r"\(163,284 for the contact steps\)"):
+        numpy_backend.check_planned_work(problem, record=False)

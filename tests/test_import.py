@@ -25,7 +25,8 @@ def _best(code: str, runs: int = 3) -> float:
 
 def test_import_loads_no_heavy_library():
     code = "import sys, rocking; print(' '.join(sorted({m.split('.')[0] for m in sys.modules})))"
-    loaded = set(subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True).stdout.split())
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    loaded = set(run.stdout.split())
     assert not loaded & set(HEAVY), sorted(loaded & set(HEAVY))
 
 

@@ -131,9 +131,9 @@ def test_block_error_messages_give_range_and_value():
         match=r"^e must be in \(-B/2, B/2\) = \(-0\.25, 0\.25\) m \(got 0\.3\)$",
     ):
         Block(H=2.0, B=0.5, M=1.0, e=0.3)
-    with pytest.raises(ParameterError, match=r"^B must be a real number \(got 'wide'\)$"):
+    with pytest.raises(ParameterError, match=r"^B must be a real number \(got 'wide'\), in \[0\.001, 1000\] m: "):
         Block(H=2.0, B="wide", M=1.0)
-    with pytest.raises(ParameterError, match=r"^M must be finite \(got nan\)$"):
+    with pytest.raises(ParameterError, match=r"^M must be finite \(got nan\), in \[1e-06, 1e\+12\] kg: "):
         Block(H=2.0, B=0.5, M=math.nan)
 
 
@@ -278,7 +278,7 @@ def test_damper_from_nondim_validation(kwargs, name):
         ({"B": 5e-324}, r"^B must be in"),
         ({"H": 200.0, "B": 1.0}, r"^H / B must be in \[0\.01, 100\] \(got 200\.0\): slenderness"),
         ({"M": 1e-300}, r"^M must be in \[1e-06, 1e\+12\] kg"),
-        ({"M": True}, r"^M must be a real number \(got True\)$"),
+        ({"M": True}, r"^M must be a real number \(got True\), in \[1e-06, 1e\+12\] kg: "),
         ({"I_G": 1e300}, r"^I_G must be in \(0, 4 M R\^2\] = \(0, "),
         ({"g": 1e-300}, r"^g must be in \[0\.1, 10000\] m/s\^2"),
         ({"g": "9.81"}, r"^g must be a real number"),

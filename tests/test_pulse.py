@@ -144,7 +144,7 @@ def test_from_nondim_validation(kwargs, name):
         ({"a_g": 1e300, "omega_g": 2.0}, r"^a_g must be in \[0, 100000\] m/s\^2"),
         ({"a_g": 1.0, "omega_g": 1e-300}, r"^omega_g must be in \[2 pi/1000, 2 pi/0\.001\] = \[0\.00628319, 6283"),
         ({"a_g": 1.0, "omega_g": 1e300}, r"^omega_g must be in .*sine periods from 1 ms to 1000 s"),
-        ({"a_g": True, "omega_g": 2.0}, r"^a_g must be a real number \(got True\)$"),
+        ({"a_g": True, "omega_g": 2.0}, r"^a_g must be a real number \(got True\), in \[0, 100000\] m/s\^2: "),
         ({"a_g": 1.0, "omega_g": "2"}, r"^omega_g must be a real number"),
     ],
 )

@@ -152,7 +152,8 @@ PULSE_OPTIONS = ("pulse", "beta", "Omega", "a_g", "omega_g", "psi", "gamma_mp", 
 
 
 def _motion(args) -> SampledMotion:
-    """The record of ``--motion FILE`` (``--unit`` for text files), times ``--scale`` or scaled to ``--pga``."""
+    """The record of ``--motion FILE`` (``--unit`` or its header for text files), times ``--scale`` or scaled to
+    ``--pga``."""
     foreign = given(args, PULSE_OPTIONS)
     if foreign:
         raise ParameterError(f"{flags(foreign)}: options of a pulse; --motion gives a recorded motion")
@@ -333,8 +334,13 @@ def _add_simulate(sub) -> None:
         "recorded motion (instead of a pulse)",
         "As rocking.SampledMotion(a, dt, scale, sign) from rocking.model.records.read_record(FILE, unit).",
     )
-    g.add_argument("--motion", metavar="FILE", help="a record: PEER NGA .AT2 (in g), or columns 'time, a' in --unit")
-    g.add_argument("--unit", choices=tuple(UNITS), help="unit of the accelerations of a text or CSV --motion")
+    g.add_argument("--motion", metavar="FILE", help="a record: PEER NGA .AT2 (in g), or columns 'time, a'")
+    g.add_argument(
+        "--unit",
+        choices=tuple(UNITS),
+        help="unit of the accelerations of a text or CSV --motion (default: the one its header states, "
+        "'time [s], a [g]'; if both, they must agree)",
+    )
     g.add_argument("--scale", type=float, help="factor on the record (default 1)")
     g.add_argument("--pga", type=float, help="scale the record to this peak ground acceleration, m/s2")
     g = p.add_argument_group("run and output")

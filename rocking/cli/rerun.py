@@ -15,8 +15,8 @@ from contextvars import ContextVar
 from pathlib import Path
 
 from ..model.loading import ModelError, saved_model
-from ..model.params import ParameterError
-from ..study.config import Study, config_hash, short, shown
+from ..model.params import ParameterError, shown
+from ..study.config import Study, config_hash, name_text
 from ..study.storage import read_record
 
 #: Options that say where and how a study runs, not what it computes: never saved, never read back.
@@ -110,7 +110,7 @@ def checked_options(parser: argparse.ArgumentParser, options: dict, path: Path) 
         except (TypeError, ValueError, ArithmeticError):
             flag = action.option_strings[-1] if action.option_strings else name
             raise ParameterError(f"--config {path}: option {name} ({flag}) must be {_expected(action)} "
-                                 f"(got {short(value)})") from None  # fmt: skip
+                                 f"(got {shown(value)})") from None  # fmt: skip
     return checked
 
 
@@ -134,12 +134,12 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
         )
     if command.get("name") != args.command:
         name = command.get("name")
-        name = shown(name) if isinstance(name, str) else short(name)
+        name = name_text(name) if isinstance(name, str) else shown(name)
         raise ParameterError(f"--config {path}: a study of 'rocking {name}', not of "
                              f"'rocking {args.command}'")  # fmt: skip
     unknown = sorted(set(command["options"]) - (set(vars(args)) - EXECUTION))
     if unknown:
-        names = ", ".join(map(shown, unknown[:5])) + (", ..." if len(unknown) > 5 else "")
+        names = ", ".join(map(name_text, unknown[:5])) + (", ..." if len(unknown) > 5 else "")
         raise ParameterError(f"--config {path}: unknown option(s) {names} for 'rocking {args.command}' "
                              f"(saved by another version?)")  # fmt: skip
     subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))

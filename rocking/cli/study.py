@@ -838,7 +838,8 @@ def add_study_commands(subparsers) -> None:
         g = p.add_argument_group("motions", "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
                                  "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).")  # fmt: skip
         g.add_argument("--motions", nargs="+", metavar="FILE", help="records: PEER NGA .AT2, or 'time, a' columns")
-        g.add_argument("--unit", choices=tuple(UNITS), help="unit of the accelerations of text or CSV records")
+        g.add_argument("--unit", choices=tuple(UNITS),
+                       help="unit of the accelerations of text or CSV records (default: the one each header states)")
         g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
         g.add_argument("--seed", type=int, help="seed of the stochastic motions (default 0)")
         for option in SITE_OPTIONS:

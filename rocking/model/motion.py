@@ -25,7 +25,7 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from numpy.typing import ArrayLike
 
-from .params import RANGES, Block, ParameterError, check_block, check_in_range, check_real
+from .params import RANGES, Block, ParameterError, as_real, check_block, check_in_range, check_nonnegative, shown
 from .pulse import OneSinePulse, check_sign, from_period
 
 __all__ = [
@@ -320,7 +320,7 @@ class RickerWavelet(_Analytic):
 
     def __post_init__(self) -> None:
         if not isinstance(self.antisymmetric, (bool, np.bool_)):
-            raise ParameterError(f"antisymmetric must be True or False (got {self.antisymmetric!r})")
+            raise ParameterError(f"antisymmetric must be True or False (got {shown(self.antisymmetric)})")
         self._check()
 
     @property
@@ -412,12 +412,33 @@ def irregular_step(t: np.ndarray) -> tuple[float, int | None]:
     return float((t[-1] - t[0]) / (t.size - 1)), (int(np.argmax(off)) if off.any() else None)
 
 
+def real_array(name: str, values: object) -> np.ndarray:
+    """``values`` as a float array if every element is a real number (nan and inf kept for the caller's check).
+
+    A NumPy cast would take strings (``"1"``), booleans and complex numbers (dropping the imaginary
+    part), and overflow on an integer beyond the doubles: each element is checked as a scalar is
+    (:func:`~rocking.model.params.as_real`), an integer beyond the doubles becoming ``+-inf``.
+
+    Raises
+    ------
+    ParameterError
+        Naming ``name`` and the first element that is no real number.
+    """
+    try:
+        raw = np.asarray(values)
+    except (TypeError, ValueError):  # ragged nested sequences
+        raise ParameterError(f"{name} must be an array of real numbers (got {type(values).__name__})") from None
+    if raw.dtype.kind in "iuf":
+        return raw.astype(float, copy=False)
+    if raw.dtype.kind != "O":  # bool, complex, str, bytes, dates
+        raise ParameterError(f"{name} must be an array of real numbers (got dtype {raw.dtype})")
+    flat = [as_real(f"{name}[{i}]", v) for i, v in enumerate(raw.ravel().tolist())]
+    return np.array(flat, dtype=float).reshape(raw.shape)
+
+
 def _samples(a: object) -> np.ndarray:
     """``a`` as a 1-D float array of at least 2 finite samples; the error names the first bad index."""
-    try:
-        arr = np.asarray(a, dtype=float)
-    except (TypeError, ValueError):
-        raise ParameterError(f"a must be an array of numbers (got {type(a).__name__})") from None
+    arr = real_array("a", a)
     if arr.ndim != 1:
         raise ParameterError(f"a must be one-dimensional (got shape {arr.shape})")
     if arr.size < 2:
@@ -433,10 +454,7 @@ def _samples(a: object) -> np.ndarray:
 
 def _spacing(t: object, n: int) -> float:
     """The uniform spacing of the times ``t`` of ``n`` samples, from 0; else the error naming the index."""
-    try:
-        t = np.asarray(t, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ParameterError(f"t must be an array of times (got {type(t).__name__})") from None
+    t = real_array("t", t).reshape(-1)
     if t.size != n:
         raise ParameterError(f"t must hold one time per sample ({n}, got {t.size})")
     if not np.all(np.isfinite(t)):
@@ -493,9 +511,7 @@ class SampledMotion:
             raise ParameterError("give exactly one of dt (the sample spacing) or t (the sample times)")
         dt = _spacing(self.t, a.size) if self.dt is None else check_in_range("dt", self.dt, "pulse_dt")
         check_in_range("dt", dt, "pulse_dt")
-        scale = check_real("scale", self.scale)
-        if scale < 0.0:
-            raise ParameterError(f"scale must be >= 0 (got {scale!r})")
+        scale = check_nonnegative("scale", self.scale)
         check_sign(self.sign)
         peak = scale * float(np.max(np.abs(a)))
         if peak not in RANGES["a_g"]:
@@ -522,16 +538,12 @@ class SampledMotion:
 
     def scaled(self, factor: float) -> SampledMotion:
         """The same record with its scale multiplied by ``factor`` (``>= 0``); the samples are shared, not copied."""
-        factor = check_real("factor", factor)
-        if factor < 0.0:
-            raise ParameterError(f"factor must be >= 0 (got {factor!r})")
+        factor = check_nonnegative("factor", factor)
         return replace(self, scale=self.scale * factor)
 
     def scaled_to_pga(self, target: float) -> SampledMotion:
         """The same record scaled so that its peak ground acceleration is ``target`` (m/s^2, ``>= 0``)."""
-        target = check_real("target", target)
-        if target < 0.0:
-            raise ParameterError(f"target must be >= 0 m/s^2 (got {target!r})")
+        target = check_nonnegative("target", target, "m/s^2")
         peak = float(np.max(np.abs(self.a)))
         if peak == 0.0:
             raise ParameterError("scaled_to_pga: every sample is 0, no scale reaches a peak")

@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 import numbers
+import sys
 from dataclasses import dataclass, replace
 from functools import cached_property
 
@@ -25,11 +26,13 @@ __all__ = [
     "Damper",
     "ParameterError",
     "Range",
+    "as_real",
     "check_in_range",
     "check_interval",
     "check_nonnegative",
     "check_positive",
     "check_real",
+    "shown",
 ]
 
 
@@ -39,6 +42,65 @@ class ParameterError(ValueError):
 
 def _with_unit(text: str, unit: str) -> str:
     return f"{text} {unit}" if unit else text
+
+
+#: Longest ``repr`` of a refused value that a message quotes (a string or an array may be any length).
+SHOWN_CHARS = 60
+
+
+def shown(value: object) -> str:
+    """``value`` as a message quotes it: one line, at most :data:`SHOWN_CHARS` characters.
+
+    An integer beyond the doubles is shown by its magnitude (``1e+400``): its ``repr`` has
+    hundreds of digits, and Python refuses to print one of more than 4300.
+    """
+    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)) and abs(value) > _LARGEST:
+        exponent = math.floor(math.log10(abs(value)))  # log10 takes any int; float() overflows
+        return f"{'-' if value < 0 else ''}{10 ** (math.log10(abs(value)) - exponent):.6g}e+{exponent}"
+    text = " ".join(repr(value).split())  # an array's repr spans lines
+    return text if len(text) <= SHOWN_CHARS else text[: SHOWN_CHARS - 3] + "..."
+
+
+_LARGEST = sys.float_info.max
+
+
+def as_real(name: str, value: object, expected: str = "") -> float:
+    """``value`` as a float if it is a real number, ``+-inf`` beyond the doubles; any other value refused.
+
+    Parameters
+    ----------
+    name : str
+        Parameter name used in the error message.
+    value : object
+        Python or NumPy real scalar (``int``, ``float``, ``numpy.float64``, ``fractions.Fraction``, ...).
+    expected : str, optional
+        The valid values, appended to the message (``"in [0.001, 1000] m: why"``).
+
+    Returns
+    -------
+    float
+        Possibly nan or infinite: the caller's range check refuses those with its own message.
+
+    Raises
+    ------
+    ParameterError
+        ``value`` is not a real number: a bool, str, None, complex, an array, ...
+    """
+    # bool is an Integral, but True as a length is almost surely a caller's mistake. A float is the common case,
+    # checked first: the ABC check costs a microsecond.
+    if type(value) is not float and (not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_))):
+        raise ParameterError(f"{name} must be a real number (got {shown(value)}){', ' + expected if expected else ''}")
+    try:
+        return float(value)
+    except OverflowError:  # an int or a Fraction beyond the doubles: out of every range
+        return math.inf if value > 0 else -math.inf
+
+
+def _finite_or_refuse(name: str, value: object, x: float, expected: str = "") -> float:
+    """``x`` if finite; a nan or infinite ``value`` (a huge int counts) refused, with ``expected`` after it."""
+    if not math.isfinite(x):
+        raise ParameterError(f"{name} must be finite (got {shown(value)}){', ' + expected if expected else ''}")
+    return x
 
 
 def check_real(name: str, value: object) -> float:
@@ -58,16 +120,10 @@ def check_real(name: str, value: object) -> float:
     Raises
     ------
     ParameterError
-        If ``value`` is not a real number (booleans included) or is nan or infinite.
+        If ``value`` is not a real number (booleans included), is nan or infinite, or is an
+        integer beyond the doubles.
     """
-    # bool is an Integral, but True as a length is almost surely a caller's mistake. A float is the common case,
-    # checked first: the ABC check costs a microsecond.
-    if type(value) is not float and (not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_))):
-        raise ParameterError(f"{name} must be a real number (got {value!r})")
-    x = float(value)
-    if not math.isfinite(x):
-        raise ParameterError(f"{name} must be finite (got {x!r})")
-    return x
+    return _finite_or_refuse(name, value, as_real(name, value))
 
 
 def check_positive(name: str, value: object, unit: str = "") -> float:
@@ -91,7 +147,8 @@ def check_positive(name: str, value: object, unit: str = "") -> float:
     ParameterError
         If ``value`` is not a finite real number or is not strictly positive.
     """
-    x = check_real(name, value)
+    expected = f"> {_with_unit('0', unit)}"
+    x = _finite_or_refuse(name, value, as_real(name, value, expected), expected)
     if not x > 0.0:
         raise ParameterError(f"{name} must be > {_with_unit('0', unit)} (got {x!r})")
     return x
@@ -118,7 +175,8 @@ def check_nonnegative(name: str, value: object, unit: str = "") -> float:
     ParameterError
         If ``value`` is not a finite real number or is negative.
     """
-    x = check_real(name, value)
+    expected = f">= {_with_unit('0', unit)}"
+    x = _finite_or_refuse(name, value, as_real(name, value, expected), expected)
     if x < 0.0:
         raise ParameterError(f"{name} must be >= {_with_unit('0', unit)} (got {x!r})")
     return x
@@ -161,12 +219,12 @@ def check_interval(
     ParameterError
         If ``value`` is not a finite real number or lies outside the interval.
     """
-    x = check_real(name, value)
+    numeric = f"{'[' if closed_low else '('}{low:g}, {high:g})"
+    expected = "in " + _with_unit(f"{label} = {numeric}" if label else numeric, unit)
+    x = _finite_or_refuse(name, value, as_real(name, value, expected), expected)
     above_low = x >= low if closed_low else x > low
     if not (above_low and x < high):
-        numeric = f"{'[' if closed_low else '('}{low:g}, {high:g})"
-        interval = f"{label} = {numeric}" if label else numeric
-        raise ParameterError(f"{name} must be in {_with_unit(interval, unit)} (got {x!r})")
+        raise ParameterError(f"{name} must be {expected} (got {x!r})")
     return x
 
 
@@ -312,17 +370,28 @@ def check_in_range(
     ParameterError
         ``"{name} must be in {range} (got {value}): {why}"`` (``0 or in`` where 0 is valid).
     """
-    x = check_real(name, value)
     valid = RANGES[key or name]
-    return _in_range(name, x, replace(valid, zero=False) if nonzero else valid, label)
+    return _in_range(name, value, replace(valid, zero=False) if nonzero else valid, label)
 
 
-def _in_range(name: str, x: float, valid: Range, label: str | None = None, scale: float = 1.0, unit=None) -> float:
-    """``x`` if ``x / scale`` lies in ``valid``; the message shows the bounds times ``scale`` (in ``unit``)."""
+def _in_range(name: str, value: object, valid: Range, label: str | None = None, scale: float = 1.0, unit=None) -> float:
+    """``value`` as a float if it is a real number and ``value / scale`` lies in ``valid``.
+
+    Every message names the range with the bounds times ``scale`` (in ``unit``) and its reason:
+    a value that is no real number, a nan or infinite one, and one outside (an integer beyond the
+    doubles is outside every range).
+    """
+    unit = valid.unit if unit is None else unit
+    bounds = valid if scale == 1.0 and unit == valid.unit else replace(
+        valid, low=valid.low * scale, high=valid.high * scale, unit=unit
+    )
+    expected = f"{bounds.text(label)}: {bounds.why}"
+    x = as_real(name, value, expected)
+    if not math.isfinite(x) and not isinstance(value, numbers.Rational):  # nan or inf itself, not a huge int
+        raise ParameterError(f"{name} must be finite (got {shown(value)}), {expected}")
     if x / scale not in valid:
-        unit = valid.unit if unit is None else unit
-        shown = replace(valid, low=valid.low * scale, high=valid.high * scale, unit=unit)
-        raise ParameterError(f"{name} must be {shown.text(label)} (got {x!r}): {shown.why}")
+        got = repr(x) if math.isfinite(x) else shown(value)  # the float it was read as; a huge int by magnitude
+        raise ParameterError(f"{name} must be {bounds.text(label)} (got {got}): {bounds.why}")
     return x
 
 
@@ -332,7 +401,7 @@ def check_scaled(name: str, value: object, key: str, scale: float, label: str, u
     The message gives the bounds times ``scale`` (in ``unit``, default the range's), after
     ``label`` (``"[1e-10 M, 10 M]"``).
     """
-    return _in_range(name, check_real(name, value), RANGES[key], label, scale, unit)
+    return _in_range(name, value, RANGES[key], label, scale, unit)
 
 
 def check_block(block: object, name: str = "block") -> Block:
@@ -344,7 +413,7 @@ def check_block(block: object, name: str = "block") -> Block:
 
 def _require_one(name_a: str, a: object, name_b: str, b: object) -> None:
     if (a is None) == (b is None):
-        raise ParameterError(f"give exactly one of {name_a} or {name_b} (got {name_a}={a!r}, {name_b}={b!r})")
+        raise ParameterError(f"give exactly one of {name_a} or {name_b} (got {name_a}={shown(a)}, {name_b}={shown(b)})")
 
 
 @dataclass(frozen=True)
@@ -372,13 +441,15 @@ class Block:
         Gravitational acceleration, m/s^2, in [0.1, 1e4] (small planetary bodies to
         a centrifuge at 1000 g). Default 9.81.
 
-    Every range is an entry of :data:`RANGES`; bool and str are not numbers.
-
     Raises
     ------
     ParameterError
         If any parameter is non-numeric, non-finite or out of range (the message
         names it, gives its range and the reason for the range).
+
+    Notes
+    -----
+    Every range is an entry of :data:`RANGES`; bool and str are not numbers.
     """
 
     H: float
@@ -572,15 +643,17 @@ class Stops:
     beyond_edges : bool, optional
         Allow a guide longer than the block is wide (``L > B/2``). Default False.
 
-    On its damper and block (:meth:`check_on`) the bumper's frequency
-    ``omega_b = sqrt(k_b / m)`` must lie in [1e-3 p, 1e4 p] (a stiffer bumper's
-    contacts need more steps than a run's bound on work) and its damping ratio
-    ``zeta_b = c_b / (2 sqrt(k_b m))`` in [0, 10].
-
     Raises
     ------
     ParameterError
         If a parameter is non-numeric, non-finite or out of range.
+
+    Notes
+    -----
+    On its damper and block (:meth:`check_on`) the bumper's frequency
+    ``omega_b = sqrt(k_b / m)`` must lie in [1e-3 p, 1e4 p] (a stiffer bumper's
+    contacts need more steps than a run's bound on work) and its damping ratio
+    ``zeta_b = c_b / (2 sqrt(k_b m))`` in [0, 10].
     """
 
     L: float
@@ -592,7 +665,7 @@ class Stops:
         for field in ("L", "k_b", "c_b"):
             object.__setattr__(self, field, check_in_range(field, getattr(self, field)))
         if not isinstance(self.beyond_edges, (bool, np.bool_)):
-            raise ParameterError(f"beyond_edges must be True or False (got {self.beyond_edges!r})")
+            raise ParameterError(f"beyond_edges must be True or False (got {shown(self.beyond_edges)})")
 
     def check_on(self, block: Block, damper: Damper) -> Stops:
         """These stops if they suit ``damper`` on ``block``: the gap within the block, the bumper's ratios.
@@ -649,8 +722,7 @@ class Stops:
         """
         check_block(block)
         depth = check_interval("depth", depth, 0.0, block.B / 2, "m", label="(0, B/2)")
-        if not check_real("frequency_ratio", frequency_ratio) > 0:
-            raise ParameterError(f"frequency_ratio must be > 0 (got {frequency_ratio!r})")
+        check_positive("frequency_ratio", frequency_ratio)
         zeta_b = check_in_range("zeta_b", zeta_b)
         L, k_b, c_b = edge_stops(block, damper.m, damper.omega_m, depth, frequency_ratio, zeta_b)
         return cls(L=float(L), k_b=float(k_b), c_b=float(c_b)).check_on(block, damper)
@@ -685,17 +757,19 @@ class Damper:
         End stops of the guide (model ``omd_stops``). Default None: the paper's
         unlimited guide (model ``omd``).
 
+    Raises
+    ------
+    ParameterError
+        If any parameter is non-numeric, non-finite or out of range.
+
+    Notes
+    -----
     These absolute bounds only keep ``k_m / m`` and ``c / m`` normal doubles. On its
     block (:meth:`check_on`, which :func:`rocking.simulate` calls) a damper must also
     have a mass ratio ``m / M`` of 0 or in [1e-10, 10], a frequency ratio
     ``omega_m / p`` in [1e-3, 1e4] (a stiffer damper needs more integrator steps
     than a run's bound on work) and a damping ratio ``zeta`` in [0, 10] (above, the
     dashpot is a stiff mode for the explicit integrator).
-
-    Raises
-    ------
-    ParameterError
-        If any parameter is non-numeric, non-finite or out of range.
     """
 
     m: float
@@ -856,7 +930,6 @@ class Damper:
         zeta = check_in_range("zeta", zeta)
         if T_m is not None:
             # omega_ratio = 2 pi / (T_m p): T_m's range is omega_ratio's, inverted.
-            T_m = check_real("T_m", T_m)
             valid = RANGES["omega_ratio"]
             bounds = Range(TWO_PI / (valid.high * block.p), TWO_PI / (valid.low * block.p), "s", valid.why)
             omega_m = TWO_PI / _in_range("T_m", T_m, bounds, "[2 pi/(1e4 p), 2 pi/(1e-3 p)]")

@@ -13,7 +13,7 @@ from dataclasses import dataclass
 import numpy as np
 from numpy.typing import ArrayLike
 
-from rocking.model.params import Block, ParameterError, check_block, check_in_range, check_real
+from rocking.model.params import Block, ParameterError, check_block, check_in_range, check_positive, shown
 
 __all__ = ["OneSinePulse"]
 
@@ -21,7 +21,7 @@ __all__ = ["OneSinePulse"]
 def check_sign(sign: object) -> int:
     """``sign`` if it is the integer +1 or -1 (a direction; bool and float refused)."""
     if not (isinstance(sign, (int, np.integer)) and not isinstance(sign, (bool, np.bool_)) and sign in (1, -1)):
-        raise ParameterError(f"sign must be +1 or -1 (got {sign!r}): the direction of the pulse")
+        raise ParameterError(f"sign must be +1 or -1 (got {shown(sign)}): the direction of the pulse")
     return int(sign)
 
 
@@ -29,7 +29,9 @@ def check_signs(sign: object) -> np.ndarray:
     """``sign`` as an integer array of +1 and -1 (a scalar or an array of directions; bool and float refused)."""
     a = np.asarray(sign)
     if a.dtype.kind not in "iu" or not np.isin(a, (1, -1)).all():
-        raise ParameterError(f"sign must be +1 or -1, or an array of them (got {sign!r}): the direction of the pulse")
+        raise ParameterError(
+            f"sign must be +1 or -1, or an array of them (got {shown(sign)}): the direction of the pulse"
+        )
     return a.astype(np.int64)
 
 
@@ -38,9 +40,7 @@ def from_period(cls, a_g: float, T_g: float, **shape):
 
     The ``from_period`` classmethod of every analytic pulse.
     """
-    T_g = check_real("T_g", T_g)
-    if not T_g > 0.0:
-        raise ParameterError(f"T_g must be > 0 s (got {T_g!r})")
+    T_g = check_positive("T_g", T_g, "s")
     return cls(a_g=a_g, omega_g=2 * math.pi / T_g, **shape)
 
 
@@ -66,13 +66,15 @@ class OneSinePulse:
         Direction: +1 (default) first pushes the ground to the right, ``ddx_g > 0``,
         towards an uplift about ``A``; -1 is the mirrored pulse (docs/model.md 10.6).
 
-    The ranges are entries of :data:`rocking.model.params.RANGES`; bool and str are
-    not numbers.
-
     Raises
     ------
     ParameterError
         If any parameter is non-numeric, non-finite or out of range.
+
+    Notes
+    -----
+    The ranges are entries of :data:`rocking.model.params.RANGES`; bool and str are
+    not numbers.
     """
 
     a_g: float

@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model import motion
-from ..model.params import RANGES, ParameterError
+from ..model.params import RANGES, ParameterError, shown
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
 API_VERSION = 6
@@ -54,6 +54,9 @@ CHECKS = {
 }
 
 _REQUIRED = object()
+
+#: The range of an ``int64_t`` field.
+INT64_MIN, INT64_MAX = -(2**63), 2**63 - 1
 
 #: Default of ``max_steps`` (docs/simulation.md, rule 5): far above what any response
 #: of the bench map needs, and a few seconds of the NumPy back end at most.
@@ -261,7 +264,8 @@ def check(name: str, value):
     if valid is None:
         return value
     if isinstance(value, (float, int, np.integer)):  # one number (a single run; a bool is 0 or 1): as it is
-        if not CHECKS[valid](value):
+        # An int beyond int64 fits no field of the C structure (nor, beyond the doubles, a double).
+        if not (CHECKS[valid](value) and (type(value) is float or INT64_MIN <= value <= INT64_MAX)):
             raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(value)})")
         return value
     try:
@@ -286,6 +290,8 @@ def valid_text(valid: str) -> str:
 
 
 def _shown(value: float) -> str:
+    if isinstance(value, (int, np.integer)):
+        return shown(value)  # exactly, or by its magnitude beyond the doubles
     value = float(value)
     return repr(int(value)) if math.isfinite(value) and value == int(value) else repr(value)
 
@@ -390,7 +396,9 @@ def markdown() -> str:
         "",
         "Ranges of the public API (`rocking.model.params.RANGES`; `Block`, `Damper`, the motions,",
         "their `from_nondim`, `make_problem`, `simulate` and the studies refuse anything outside, with",
-        "the reason):",
+        "the reason, in one line naming the parameter and its range; so is a value that is no real number",
+        "(a string, None, a bool, a complex number, an array), nan or infinite, or an integer beyond the",
+        "doubles, `10**400`, shown by its magnitude):",
         "",
         "| parameter | valid | why |",
         "| --- | --- | --- |",

@@ -114,10 +114,25 @@ def recorded(response, dt: float | None) -> tuple[dict, float]:
     return again.history, dt
 
 
+def first_sample_after(t: float, dt: float, strict: bool = True) -> int:
+    """The least index ``k >= 0`` whose sample time ``k dt`` is ``> t`` (``>= t`` unless ``strict``).
+
+    Every sample time is the product ``k dt`` rounded once, never a sum, and is monotone in
+    ``k``; ``floor(t / dt)`` rounds the ratio too, and may land one index off either way (on the
+    history of issue 23, ``t / dt`` rounded up to 75 exactly where ``75 dt > t``): corrected
+    both ways on the products themselves, as sim.c's ``first_sample_after``.
+    """
+    k = max(math.floor(t / dt) + 1, 0)
+    while k > 0 and ((k - 1) * dt > t if strict else (k - 1) * dt >= t):
+        k -= 1
+    while (k * dt <= t) if strict else (k * dt < t):
+        k += 1
+    return k
+
+
 def _grid_rows(history: dict, dt: float, t_end: float) -> np.ndarray:
     """Index of the row of ``history`` at each ``k dt <= t_end``: the last one at that instant (after an event)."""
-    grid = np.arange(math.floor(t_end / dt) + 1) * dt
-    grid = grid[grid <= t_end]
+    grid = np.arange(first_sample_after(t_end, dt)) * dt  # k dt <= t_end: the back ends' products
     rows = np.searchsorted(history["t"], grid, side="right") - 1
     if not np.array_equal(history["t"][rows], grid):
         raise RuntimeError(f"the history recorded every {dt!r} s lacks samples at some multiples of it")

@@ -59,7 +59,9 @@ import numpy as np
 from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
+from ..model.params import ParameterError
 from .boundary import ARC_STEP, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
+from .history import first_sample_after
 from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
@@ -108,6 +110,66 @@ class _Work:
             return rhs(t, y)
 
         return counted_rhs
+
+
+#: The time of one restart of a segment on this back end, in right-hand-side evaluations: ``solve_ivp``'s
+#: set-up, Hairer's initial step and the events' first values. A sampled motion restarts at every sample
+#: (docs/simulation.md, rule 3): measured 1.2 - 1.8 ms a sample, at 20 - 25 us an evaluation.
+RESTART_WORK = 60
+#: The time of one recorded sample on this back end, in evaluations: 2 - 13 us (the dense output, a row).
+SAMPLE_WORK = 0.25
+#: The most planned work (:func:`planned_work`) this back end takes on: 2 - 3 s of CPU at 20 - 40 us an
+#: evaluation (bench/numpy_bound.py). Rule 5's ``max_steps`` bounds the evaluations of both back ends, not
+#: this back end's restarts, which cost ten times as much each: a 20,000-sample record took 21 - 36 s within it.
+PLANNED_WORK_LIMIT = 75_000
+
+
+def planned_work(problem: Problem, record: bool) -> dict[str, int]:
+    """The work ``problem``'s settings plan for this back end, if the block stays in full contact to ``t_max``.
+
+    Each part in the time of right-hand-side evaluations on this back end, a run's dynamics aside:
+    the steps of at most ``contact_max_step`` through the motion (6 evaluations each) and, with
+    ``record``, the history's samples (:data:`SAMPLE_WORK` each), and the restarts at the samples of a
+    sampled motion (:data:`RESTART_WORK` each). Rule 5 ends a run once its evaluations and samples
+    (1 each there) pass ``max_steps``: the steps and samples are cut there, the steps first (the
+    heavier: the most time the run can take).
+    """
+    t_p = min(float(problem.t_p), float(problem.t_max))
+    step = float(problem.contact_max_step)
+    if FAMILIES[problem.motion] == "sampled":
+        pulse_dt = float(problem.pulse_dt)
+        pieces = math.ceil(t_p / pulse_dt)
+        steps, restarts = pieces * math.ceil(pulse_dt / step), pieces
+    else:
+        steps, restarts = math.ceil(t_p / step), 0
+    record_dt = float(problem.record_dt)
+    samples = math.floor(float(problem.t_max) / record_dt) if record and record_dt > 0.0 else 0
+    max_steps = int(problem.max_steps)
+    evaluations = min(6 * steps, max_steps)
+    return {
+        "contact steps": evaluations,
+        "recorded samples": math.ceil(SAMPLE_WORK * min(samples, max_steps - evaluations)),
+        "restarts at samples": RESTART_WORK * restarts,
+    }
+
+
+def check_planned_work(problem: Problem, record: bool) -> None:
+    """Refuse, before any step, a run whose :func:`planned_work` passes :data:`PLANNED_WORK_LIMIT`.
+
+    Raises
+    ------
+    ParameterError
+        One line: the planned work, its parts, the limit, and what to do instead.
+    """
+    parts = planned_work(problem, record)
+    total = sum(parts.values())
+    if total > PLANNED_WORK_LIMIT:
+        shown = ", ".join(f"{work:,} for the {part}" for part, work in parts.items() if work)
+        raise ParameterError(
+            f"the NumPy back end plans the work of {total:,} right-hand-side evaluations for this run ({shown}), "
+            f"at most {PLANNED_WORK_LIMIT:,}: run it on the C back end (backend='c'), or shorten it (a shorter "
+            "motion or t_max, a larger record_dt)"
+        )
 
 
 # --------------------------------------------------------------------------- #
@@ -817,15 +879,8 @@ class _History:
         """
         if dt <= 0.0 or not t1 > t0:
             return 0, 0
-        lo = math.floor(t0 / dt) + 1
-        while lo * dt <= t0:  # floor() of a rounded ratio
-            lo += 1
-        hi = max(lo, math.ceil(t1 / dt))
-        while hi > lo and (hi - 1) * dt >= t1:
-            hi -= 1
-        while hi * dt < t1:
-            hi += 1
-        return lo, hi
+        lo = first_sample_after(t0, dt)
+        return lo, max(lo, first_sample_after(t1, dt, strict=False))
 
     def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float) -> None:
         """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``."""
@@ -1336,10 +1391,13 @@ def simulate(problem: Problem, record: bool = False) -> Response:
 
     Raises
     ------
+    ParameterError
+        The run plans more work than this back end takes on (:func:`check_planned_work`).
     SimulationError
         If ``solve_ivp`` fails (step size too small, e.g. on a non-finite
         right-hand side).
     """
+    check_planned_work(problem, record)
     system = _System(problem)
     y = np.zeros(2 * system.n) if problem.y0 is None else np.array(problem.y0, dtype=float)
     run = _Run(

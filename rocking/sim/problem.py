@@ -21,7 +21,7 @@ from dataclasses import MISSING, field, make_dataclass
 import numpy as np
 
 from ..model.loading import Model, ModelError, load_model
-from ..model.motion import FAMILIES, SHAPES, describe, interpolate, sample_piece
+from ..model.motion import FAMILIES, SHAPES, describe, interpolate, real_array, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
     RANGES,
@@ -33,6 +33,7 @@ from ..model.params import (
     check_block,
     check_in_range,
     check_real,
+    shown,
 )
 from . import boundary
 from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, MOTION, PIVOT_A, PIVOT_A_PRIME, RESULT, SERIES, STATUS
@@ -96,12 +97,9 @@ def _initial_state(model: Model, y0, phase0: int):
             raise ParameterError(f"phase0 = {phase0:+d} (rocking) needs an initial state y0 with s theta >= 0")
         return None
     n = model.nq
-    try:
-        y = np.array(y0, dtype=float).reshape(-1)
-    except (TypeError, ValueError):
-        raise ParameterError(f"y0 must hold {2 * n} finite numbers {model.state} (got {y0!r})") from None
-    if y.shape != (2 * n,) or not np.all(np.isfinite(y)):
-        raise ParameterError(f"y0 must hold {2 * n} finite numbers {model.state} (got {y0!r})")
+    y = _flat_reals(y0)
+    if y is None or y.shape != (2 * n,) or not np.all(np.isfinite(y)):
+        raise ParameterError(f"y0 must hold {2 * n} finite numbers {model.state} (got {shown(y0)})")
     if phase0 == CONTACT and (y[0] != 0.0 or y[n] != 0.0):
         raise ParameterError(
             f"y0: full contact (phase0 = 0) needs theta = dtheta = 0 "
@@ -119,11 +117,19 @@ def _initial_state(model: Model, y0, phase0: int):
     return y
 
 
+def _flat_reals(value) -> np.ndarray | None:
+    """``value`` as a contiguous 1-D float array, or ``None`` if any element is no real number."""
+    try:
+        return np.ascontiguousarray(real_array("value", value)).reshape(-1)
+    except ParameterError:
+        return None
+
+
 def _state_vector(name: str, value, model: Model) -> np.ndarray:
     ny = 2 * model.nq
-    a = np.ascontiguousarray(value, dtype=float).reshape(-1)
-    if a.shape != (ny,) or not np.all(np.isfinite(a) & (a >= 0)):
-        raise ParameterError(f"{name} must hold {ny} finite numbers >= 0 {model.state} (got {value!r})")
+    a = _flat_reals(value)
+    if a is None or a.shape != (ny,) or not np.all(np.isfinite(a) & (a >= 0)):
+        raise ParameterError(f"{name} must hold {ny} finite numbers >= 0 {model.state} (got {shown(value)})")
     return a
 
 
@@ -134,9 +140,10 @@ def _series(name: str, value, count: int) -> np.ndarray | None:
         if count:
             raise ParameterError(f"{name}: {count} values are counted but none given")
         return None
-    a = np.ascontiguousarray(value, dtype=float).reshape(-1)
-    if a.size < count or not np.all(np.isfinite(a[:count])):
-        raise ParameterError(f"{name} must hold at least {count} finite values (got {a.size})")
+    a = _flat_reals(value)
+    if a is None or a.size < count or not np.all(np.isfinite(a[:count])):
+        got = shown(value) if a is None else a.size
+        raise ParameterError(f"{name} must hold at least {count} finite values (got {got})")
     return a
 
 
@@ -382,14 +389,14 @@ def default_settings(block: Block, T_g, T_m, rtol: float, nq: int) -> dict:
 def check_integer(name: str, value: object) -> int:
     """``value`` as an int within ``RANGES[name]``; bool and float are refused (``max_events=True`` is no count)."""
     if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"{name} must be an integer (got {value!r})")
+        raise ParameterError(f"{name} must be an integer (got {shown(value)})")
     return int(check_in_range(name, int(value)))
 
 
 def check_flag(name: str, value: object) -> bool:
     """``value`` if it is a bool (``"no"`` is a true string, 1 an int: both refused)."""
     if not isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"{name} must be True or False (got {value!r})")
+        raise ParameterError(f"{name} must be True or False (got {shown(value)})")
     return bool(value)
 
 
@@ -638,7 +645,7 @@ def make_problem(
 
 def _check_phase0(value: object) -> int:
     if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)):
-        raise ParameterError(f"phase0 must be -1, 0 or +1 (got {value!r})")
+        raise ParameterError(f"phase0 must be -1, 0 or +1 (got {shown(value)})")
     return int(value)
 
 

@@ -19,7 +19,6 @@ import hashlib
 import json
 import math
 import platform
-import reprlib
 from dataclasses import dataclass, field
 from importlib import metadata
 from pathlib import Path
@@ -28,7 +27,7 @@ import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
 from ..model.motion import PULSE_TYPES
-from ..model.params import Block, ParameterError, check_in_range, check_real
+from ..model.params import Block, ParameterError, check_in_range, check_real, shown
 from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
@@ -65,20 +64,9 @@ def check_type(name: str, value, kind: type, text: str) -> None:
         raise ParameterError(f"{name} must be {text} (got {type(value).__name__} {value!r})")
 
 
-#: A value in an error message: at most about 60 characters, however large or nested (a file's content).
-_SHORT = reprlib.Repr()
-_SHORT.maxlevel, _SHORT.maxstring, _SHORT.maxother, _SHORT.maxlong = 3, 40, 40, 40
-_SHORT.maxlist = _SHORT.maxdict = _SHORT.maxtuple = 4
-
-
-def short(value) -> str:
-    """``value`` as a short ``repr`` for a one-line message, however large or nested."""
-    return _SHORT.repr(value)
-
-
-def shown(name: str) -> str:
-    """A name read from a file, as it is if short and printable, else as a short ``repr`` (one line)."""
-    return name if name.isprintable() and len(name) <= 40 else short(name)
+def name_text(name: str) -> str:
+    """A name read from a file, as it is if short and printable, else as a message quotes a value (one line)."""
+    return name if name.isprintable() and len(name) <= 40 else shown(name)
 
 
 def check_signs(name: str, value) -> list:
@@ -86,7 +74,7 @@ def check_signs(name: str, value) -> list:
     ok = isinstance(value, list) and 1 <= len(value) <= 2 and len(set(map(repr, value))) == len(value)
     if not (ok and all(is_count(s) and s in (1, -1) for s in value)):
         raise ParameterError(f"{name} must be the directions of the pulses: [1], [-1], [1, -1] or [-1, 1] "
-                             f"(got {short(value)})")  # fmt: skip
+                             f"(got {shown(value)})")  # fmt: skip
     return list(value)
 
 
@@ -204,7 +192,7 @@ class Grid:
         """
         if not isinstance(record, dict):
             raise ParameterError(f"{name} must be a grid {{low, high, n, scale}} or {{..., values}} "
-                                 f"(got {short(record)})")  # fmt: skip
+                                 f"(got {shown(record)})")  # fmt: skip
         if "values" in record:
             grid = cls.of(name, record["values"])
             if [grid.low, grid.high, grid.n] != [record.get(k) for k in ("low", "high", "n")]:
@@ -213,7 +201,7 @@ class Grid:
             return grid
         scale = record.get("scale")
         if not (isinstance(scale, str) and scale in ("linear", "log")):
-            raise ParameterError(f"{name}: scale must be linear or log (got {short(scale)})")
+            raise ParameterError(f"{name}: scale must be linear or log (got {shown(scale)})")
         return cls(name, record.get("low"), record.get("high"), record.get("n"), log=scale == "log")
 
     def record(self) -> dict:

@@ -46,7 +46,7 @@ import numpy as np
 from numpy.lib import format as npy
 
 from ..model.loading import ModelError, load_model
-from ..model.params import Block, ParameterError
+from ..model.params import Block, ParameterError, shown
 from .config import (
     MAX_CELLS,
     Grid,
@@ -55,8 +55,7 @@ from .config import (
     config_hash,
     is_count,
     is_number,
-    short,
-    shown,
+    name_text,
     tree_hash,
     versions,
 )
@@ -511,7 +510,7 @@ def read_record(meta: Path) -> dict:
         software = record.get("versions")
         by = software.get("rocking") if isinstance(software, dict) else None
         raise ParameterError(
-            f"{meta}: a study saved in format {short(record.get('format', 1))} (by rocking "
+            f"{meta}: a study saved in format {shown(record.get('format', 1))} (by rocking "
             f"{by[:40] if isinstance(by, str) else 'of another version'}); this version reads format "
             f"{STUDY_FORMAT}: recompute it"
         )
@@ -519,7 +518,7 @@ def read_record(meta: Path) -> dict:
         if not isinstance(record.get(key), kind):
             raise ParameterError(f"{meta}: not a saved study's JSON (no {kind.__name__} {key!r})")
     if record["kind"] not in KINDS:
-        raise ParameterError(f"{meta}: unknown kind of study {short(record['kind'])} (known: {', '.join(KINDS)})")
+        raise ParameterError(f"{meta}: unknown kind of study {shown(record['kind'])} (known: {', '.join(KINDS)})")
     return record
 
 
@@ -545,10 +544,10 @@ def _shapes(listed: dict) -> dict:
     for name, entry in listed.items():
         shape, dtype = (entry.get("shape"), entry.get("dtype")) if isinstance(entry, dict) else (None, None)
         if not (isinstance(shape, list) and len(shape) <= 8 and all(is_count(n) and n >= 0 for n in shape)):
-            raise ParameterError(f"{shown(name)}: shape must be a list of at most 8 sizes (got {short(shape)})")
+            raise ParameterError(f"{name_text(name)}: shape must be a list of at most 8 sizes (got {shown(shape)})")
         if not (isinstance(dtype, str) and _DTYPE.fullmatch(dtype)):
-            raise ParameterError(f"{shown(name)}: dtype must be a bool, integer or float such as <f8 "
-                                 f"(got {short(dtype)})")  # fmt: skip
+            raise ParameterError(f"{name_text(name)}: dtype must be a bool, integer or float such as <f8 "
+                                 f"(got {shown(dtype)})")  # fmt: skip
         out[name] = (tuple(shape), np.dtype(dtype))
     return out
 
@@ -558,11 +557,11 @@ def _motions(suite) -> int:
     from .suite import MAX_MOTIONS
 
     if not isinstance(suite, dict):
-        raise ParameterError(f"suite must be the record of a suite of motions (got {short(suite)})")
+        raise ParameterError(f"suite must be the record of a suite of motions (got {shown(suite)})")
     listed = next((suite[key] for key in ("files", "pulses") if key in suite), None)
     n = len(listed) if isinstance(listed, list) else suite.get("n")
     if not (is_count(n) and 1 <= n <= MAX_MOTIONS):
-        raise ParameterError(f"suite: its motions must number 1 to {MAX_MOTIONS} (got {short(n)})")
+        raise ParameterError(f"suite: its motions must number 1 to {MAX_MOTIONS} (got {shown(n)})")
     return n
 
 
@@ -571,7 +570,7 @@ def _counts(kind: str, config: dict) -> dict:
     if kind == "optimize":
         gammas = config.get("gammas")
         if not (isinstance(gammas, list) and gammas and all(is_number(g) for g in gammas)):
-            raise ParameterError(f"gammas must be a list of mass ratios (got {short(gammas)})")
+            raise ParameterError(f"gammas must be a list of mass ratios (got {shown(gammas)})")
         return {"gamma": len(gammas), "gamma_or_best": len(gammas) + 1}
     if kind in ("ida", "fragility"):
         return {"motion": _motions(config.get("suite"))}
@@ -583,11 +582,11 @@ def _check_parts(config: dict) -> None:
     if "block" in config:
         block = config["block"]
         if not isinstance(block, dict):
-            raise ParameterError(f"block must be the record of a rocking.Block (got {short(block)})")
+            raise ParameterError(f"block must be the record of a rocking.Block (got {shown(block)})")
         fields = inspect.signature(Block).parameters
         unknown = [key for key in block if key not in fields]
         if unknown:
-            raise ParameterError(f"block: no field(s) {', '.join(map(shown, unknown[:5]))} in a rocking.Block "
+            raise ParameterError(f"block: no field(s) {', '.join(map(name_text, unknown[:5]))} in a rocking.Block "
                                  f"({', '.join(fields)})")  # fmt: skip
         try:
             Block(**block)
@@ -595,7 +594,7 @@ def _check_parts(config: dict) -> None:
             raise ParameterError(f"block: {exc}") from None
     damper = config.get("damper", {})
     if not (isinstance(damper, dict) and isinstance(damper.get("params", {}), dict)):
-        raise ParameterError(f"damper must be the record of a damper (got {short(damper)})")
+        raise ParameterError(f"damper must be the record of a damper (got {shown(damper)})")
 
 
 def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
@@ -608,12 +607,12 @@ def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
         try:
             dims = (coordinates[name],) if name in coordinates else dimensions(kind, name)
         except KeyError:
-            raise ParameterError(f"{shown(name)}: not an array of a {kind} study") from None
+            raise ParameterError(f"{name_text(name)}: not an array of a {kind} study") from None
         if len(dims) != len(shape):
-            raise ParameterError(f"{shown(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
+            raise ParameterError(f"{name_text(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
         for dim, size in zip(dims, shape):
             if sizes.setdefault(dim, size) != size:
-                raise ParameterError(f"{shown(name)} has {size} values along {dim}, not {sizes[dim]} "
+                raise ParameterError(f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
                                      "(as its configuration or its other arrays)")  # fmt: skip
 
 
@@ -681,11 +680,12 @@ def _read_arrays(npz: Path, record: dict) -> dict:
         raise ParameterError(f"{npz}: not a readable .npz, truncated or damaged ({describe(exc)})") from None
     missing = sorted(set(listed) - set(arrays))
     if missing:
-        raise ParameterError(f"{npz}: array(s) {', '.join(map(shown, missing))} missing (its JSON lists them)")
+        raise ParameterError(f"{npz}: array(s) {', '.join(map(name_text, missing))} missing (its JSON lists them)")
     found = layout(arrays)
     wrong = sorted(k for k in record["arrays"] if found[k] != record["arrays"][k])
     if wrong:
-        raise ParameterError(f"{npz}: array(s) {', '.join(map(shown, wrong))} differ in shape or type from its JSON")
+        names = ", ".join(map(name_text, wrong))
+        raise ParameterError(f"{npz}: array(s) {names} differ in shape or type from its JSON")
     if checksum(arrays) != record["arrays_sha256"]:
         raise ParameterError(f"{npz}: its arrays do not match the checksum of its JSON (changed or damaged)")
     return arrays

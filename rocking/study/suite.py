@@ -13,21 +13,16 @@ of uncertain period, say, for a fragility against the pulse's amplitude.
 from __future__ import annotations
 
 import dataclasses
-import hashlib
 from dataclasses import dataclass
 from pathlib import Path
 
 from ..model.motion import SampledMotion, describe, family_of
 from ..model.params import ParameterError
-from ..model.records import UNITS, read_record
+from ..model.records import UNITS, file_sha256, read_record
 from ..model.stochastic import SiteModel, record_rng, synthesize
 
 #: Largest number of motions in a suite.
 MAX_MOTIONS = 100_000
-
-
-def _sha256(path: Path) -> str:
-    return hashlib.sha256(path.read_bytes()).hexdigest()
 
 
 @dataclass(frozen=True)
@@ -41,7 +36,7 @@ class Suite:
     files : tuple of (str, str)
         Absolute path and SHA-256 of each record file (empty for a stochastic suite).
     unit : str or None
-        The unit of the accelerations of column files (``.AT2`` files are in g).
+        The unit of the accelerations of column files (``.AT2`` files are in g); None: the one each header states.
     site : SiteModel or None
         The stochastic model (None for files).
     seed, n : int
@@ -59,7 +54,8 @@ class Suite:
 
     @classmethod
     def from_files(cls, paths, unit: str | None = None) -> Suite:
-        """The records of ``paths`` (``.AT2``, or columns of time and acceleration in ``unit``), each read now.
+        """The records of ``paths`` (``.AT2``, or columns of time and acceleration in ``unit`` or the unit their
+        header states), each read now.
 
         Raises
         ------
@@ -73,7 +69,7 @@ class Suite:
             raise ParameterError(f"unit must be one of {', '.join(UNITS)} (got {unit!r})")
         for path in paths:
             read_record(path, unit)
-        return cls(files=tuple((str(p), _sha256(p)) for p in paths), unit=unit)
+        return cls(files=tuple((str(p), file_sha256(p)) for p in paths), unit=unit)
 
     @classmethod
     def stochastic(cls, site: SiteModel, n: int, seed: int) -> Suite:
@@ -116,7 +112,7 @@ class Suite:
         """
         if self.files:
             path, digest = self.files[i]
-            if _sha256(Path(path)) != digest:
+            if file_sha256(Path(path)) != digest:
                 raise ParameterError(f"{path}: changed since the suite was made (its SHA-256 differs)")
             record = read_record(path, self.unit)
             return SampledMotion(record.acceleration, dt=record.dt)

@@ -866,6 +866,21 @@ static void record(run *r, double t, const double *y, int phase)
     r->last_phase = phase;
 }
 
+/* The least index k >= 0 whose sample time k dt is > t (history.py's
+ * first_sample_after). Every sample time is the product k dt rounded once,
+ * monotone in k; floor(t / dt) rounds the ratio too and may land one index off
+ * either way (t / dt rounded up to k exactly where k dt > t skipped sample k):
+ * corrected both ways on the products themselves. */
+static double first_sample_after(double t, double dt)
+{
+    double k = fmax(floor(t / dt) + 1.0, 0.0);
+    while (k > 0.0 && (k - 1.0) * dt > t)
+        k -= 1.0;
+    while (k * dt <= t)
+        k += 1.0;
+    return k;
+}
+
 /* Samples at the multiples of record_dt in [t_old, t_stop), strictly after
  * the segment's start (next_sample was set past it) and strictly before its
  * end (the end is recorded as an event sample). */
@@ -1030,11 +1045,8 @@ static int run_segment(run *r, double t_bound)
         return segment_undone(r, &saved);
     watched_events(r, active);
     events_start(&r->events, &r->ec, active, r->t, r->y);
-    if (r->hist != NULL && r->c->record_dt > 0.0) {
-        r->next_sample = floor(r->t / r->c->record_dt) + 1.0;
-        while (r->next_sample * r->c->record_dt <= r->t) /* floor() of a rounded ratio */
-            r->next_sample += 1.0;
-    }
+    if (r->hist != NULL && r->c->record_dt > 0.0)
+        r->next_sample = first_sample_after(r->t, r->c->record_dt);
 
     while (r->d.t < t_bound) {
         double step_bound = t_bound;
