@@ -98,30 +98,54 @@ def test_simulate_json_names_the_model_versions_and_units(capsys):
 
 
 @pytest.fixture(scope="module")
-def saved(tmp_path_factory):
+def saved(studies):
     """A map saved from the command line: its folder and its JSON record."""
-    folder = tmp_path_factory.mktemp("saved")
-    assert main([*MAP, "--out", str(folder)]) == 0
-    return folder, json.loads((folder / "map.json").read_text())
+    return studies["map"]
+
+
+#: Studies the fuzz tests mutate, each as saved by its command (small grids, a suite of two pulses).
+FUZZED = {
+    "map": MAP[1:],
+    "spectrum": ["--Omega", "2", "6", "2", "--beta", "0.5", "8", "6", "--no-progress", "--workers", "1"],
+    "fragility": ["--pulses", "ricker", "--periods", "0.5", "1", "--amplitude", "2", "--im", "amplitude",
+                  "--levels", "2", "12", "2", "--t-after", "5", "--no-progress", "--workers", "1"],
+}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def studies(tmp_path_factory):
+    """Each study of :data:`FUZZED`, saved from the command line: kind -> (folder, JSON record)."""
+    found = {}
+    for kind, argv in FUZZED.items():
+        folder = tmp_path_factory.mktemp(kind)
+        assert main([kind, *argv, "--out", str(folder)]) == 0
+        found[kind] = folder, json.loads((folder / f"{kind}.json").read_text())
+    return found
 
 
 class Reached(Exception):
     """The study's work would start: every check passed."""
 
 
+#: The study functions the commands call, where their work starts.
+STUDIES = ("overturning_map", "minimum_overturning_spectrum", "incremental_dynamic_analysis")
+
+
 @pytest.fixture
 def no_work(monkeypatch):
     """Studies of the command line stop where their work would start."""
+    for name in STUDIES:
+        real = getattr(rocking.cli.study, name)
 
-    @functools.wraps(rocking.cli.study.overturning_map)  # its signature gives the command line's defaults
-    def stop(*args, **kwargs):
-        raise Reached
+        @functools.wraps(real)  # its signature gives the command line's defaults
+        def stop(*args, **kwargs):
+            raise Reached
 
-    monkeypatch.setattr(rocking.cli.study, "overturning_map", stop)
+        monkeypatch.setattr(rocking.cli.study, name, stop)
 
 
-def _rerun(path: Path, out: Path) -> int:
-    return main(["map", "--config", str(path), "--out", str(out), "--no-progress", "--workers", "1"])
+def _rerun(path: Path, out: Path, command: str = "map") -> int:
+    return main([command, "--config", str(path), "--out", str(out), "--no-progress", "--workers", "1"])
 
 
 def _with(record: dict, where: tuple, value) -> dict:
@@ -224,8 +248,8 @@ def test_a_zip_bomb_is_refused_from_the_zip_headers(saved, tmp_path, compress):
 
 # --- fuzz: --config and rocking.load on mutated saved studies ---------------------------------------
 
-#: Examples per fuzz test (ROCKING_FUZZ_EXAMPLES for a longer run).
-FUZZ_EXAMPLES = int(os.environ.get("ROCKING_FUZZ_EXAMPLES", "60"))
+#: Examples per fuzz test and kind of study (ROCKING_FUZZ_EXAMPLES for a longer run).
+FUZZ_EXAMPLES = int(os.environ.get("ROCKING_FUZZ_EXAMPLES", "30"))
 
 #: Seconds an example may take before it counts as a hang.
 HANG = 20
@@ -305,45 +329,49 @@ FUZZ = settings(max_examples=FUZZ_EXAMPLES, deadline=None, derandomize=True,
                 suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])  # fmt: skip
 
 
+def _count(test: str, outcome: str) -> None:
+    OUTCOMES.setdefault(test, {}).setdefault(outcome, 0)
+    OUTCOMES[test][outcome] += 1
+
+
+@pytest.mark.parametrize("kind", FUZZED)
 @FUZZ
 @given(data=st.data())
-def test_fuzz_config_refuses_in_one_line_or_reaches_the_work(saved, tmp_path, capsys, no_work, data):
-    record = saved[1]
+def test_fuzz_config_refuses_in_one_line_or_reaches_the_work(kind, studies, tmp_path, capsys, no_work, data):
+    record = studies[kind][1]
     places = [p for p in _paths(record) if p[0] in ("command", "config", "format", "kind", "config_sha256")]
     path = tmp_path / "fuzz.json"
     path.write_text(_mutate(record, data, places))
     capsys.readouterr()
     try:
         with _deadline(HANG):
-            code = _rerun(path, tmp_path / "out")
+            code = _rerun(path, tmp_path / "out", kind)
     except Reached:
-        OUTCOMES.setdefault("config", {}).setdefault("reached the work", 0)
-        OUTCOMES["config"]["reached the work"] += 1
+        _count(f"--config, {kind}", "reached the work")
         return
     except SystemExit as exc:  # argparse, in one line
         code = exc.code
     err = capsys.readouterr().err
-    assert code == 2 and err.count("\n") == 1 and err.startswith("rocking map: error: "), (code, err)
-    OUTCOMES.setdefault("config", {}).setdefault("refused", 0)
-    OUTCOMES["config"]["refused"] += 1
+    assert code == 2 and err.count("\n") == 1 and err.startswith(f"rocking {kind}: error: "), (code, err)
+    _count(f"--config, {kind}", "refused")
 
 
+@pytest.mark.parametrize("kind", FUZZED)
 @FUZZ
 @given(data=st.data())
-def test_fuzz_load_refuses_with_a_parameter_error_or_loads(saved, tmp_path, data):
-    record = saved[1]
+def test_fuzz_load_refuses_with_a_parameter_error_or_loads(kind, studies, tmp_path, data):
+    source, record = studies[kind]
     folder = Path(tempfile.mkdtemp(dir=tmp_path))
-    (folder / "map.npz").write_bytes((saved[0] / "map.npz").read_bytes())
-    (folder / "map.json").write_text(_mutate(record, data, _paths(record)))
+    (folder / f"{kind}.npz").write_bytes((source / f"{kind}.npz").read_bytes())
+    (folder / f"{kind}.json").write_text(_mutate(record, data, _paths(record)))
     outcome = "loaded"
     try:
         with _deadline(HANG):
-            rocking.load(folder / "map")
+            rocking.load(folder / kind)
     except rocking.ParameterError as exc:
-        assert "\n" not in str(exc) and str(folder / "map") in str(exc), str(exc)
+        assert "\n" not in str(exc) and str(folder / kind) in str(exc), str(exc)
         outcome = "refused"
-    OUTCOMES.setdefault("load", {}).setdefault(outcome, 0)
-    OUTCOMES["load"][outcome] += 1
+    _count(f"load, {kind}", outcome)
 
 
 def test_fuzz_counts(capsys):
