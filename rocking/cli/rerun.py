@@ -86,9 +86,9 @@ def _option(action: argparse.Action, value):
         return None
     if action.nargs is None and not isinstance(action, argparse._AppendAction):
         return _value(action, value)
-    wanted = action.nargs if isinstance(action.nargs, int) else None
-    if not isinstance(value, list) or (wanted is not None and len(value) != wanted) or (action.nargs == "+"
-                                                                                       and not value):  # fmt: skip
+    if not isinstance(value, list):
+        raise ValueError(value)
+    if (isinstance(action.nargs, int) and len(value) != action.nargs) or (action.nargs == "+" and not value):
         raise ValueError(value)
     return [_value(action, v) for v in value]
 
