@@ -41,7 +41,7 @@ from .study.api import (
     threshold_map,
 )
 from .study.config import Grid, Setting, Study, Tuning, Variant
-from .study.storage import load, save
+from .study.storage import DiskFull, load, save
 from .study.suite import Suite
 from .study.tiles import Execution, Interrupted, TileWarning
 
@@ -50,6 +50,7 @@ __all__ = [
     "Block",
     "CBuildError",
     "Damper",
+    "DiskFull",
     "Execution",
     "Grid",
     "Interrupted",

@@ -1,14 +1,28 @@
-"""Reproducibility: a saved study reruns from its JSON (--config); --json outputs carry model, versions, units."""
+"""Reproducibility: a saved study reruns from its JSON (--config); --json outputs carry model, versions, units.
+Hostile saved studies (issue 23): --config and rocking.load refuse them in one line, before any work."""
 
 from __future__ import annotations
 
+import copy
+import functools
 import json
+import os
+import re
+import signal
+import tempfile
+import zipfile
+from contextlib import contextmanager
+from pathlib import Path
 
 import numpy as np
 import pytest
+from hypothesis import HealthCheck, given, settings
+from hypothesis import strategies as st
 
 import rocking
+import rocking.cli.study
 from rocking.cli.main import main
+from rocking.study.config import config_hash
 
 MAP = ["map", "--Omega", "1", "6", "4", "--beta", "1", "6", "5", "--gamma", "0.04", "--no-progress", "--workers", "1"]
 
@@ -78,3 +92,289 @@ def test_simulate_json_names_the_model_versions_and_units(capsys):
     assert set(out["responses"]["with damper"]) <= set(out["units"])
     assert main(["simulate", "--beta", "3", "--Omega", "4", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["model"] == "block"
+
+
+# --- hostile saved studies (issue 23) --------------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def saved(studies):
+    """A map saved from the command line: its folder and its JSON record."""
+    return studies["map"]
+
+
+#: Studies the fuzz tests mutate, each as saved by its command (small grids, a suite of two pulses).
+FUZZED = {
+    "map": MAP[1:],
+    "spectrum": ["--Omega", "2", "6", "2", "--beta", "0.5", "8", "6", "--no-progress", "--workers", "1"],
+    "fragility": ["--pulses", "ricker", "--periods", "0.5", "1", "--amplitude", "2", "--im", "amplitude",
+                  "--levels", "2", "12", "2", "--t-after", "5", "--no-progress", "--workers", "1"],
+}  # fmt: skip
+
+
+@pytest.fixture(scope="module")
+def studies(tmp_path_factory):
+    """Each study of :data:`FUZZED`, saved from the command line: kind -> (folder, JSON record)."""
+    found = {}
+    for kind, argv in FUZZED.items():
+        folder = tmp_path_factory.mktemp(kind)
+        assert main([kind, *argv, "--out", str(folder)]) == 0
+        found[kind] = folder, json.loads((folder / f"{kind}.json").read_text())
+    return found
+
+
+class Reached(Exception):
+    """The study's work would start: every check passed."""
+
+
+#: The study functions the commands call, where their work starts.
+STUDIES = ("overturning_map", "minimum_overturning_spectrum", "incremental_dynamic_analysis")
+
+
+@pytest.fixture
+def no_work(monkeypatch):
+    """Studies of the command line stop where their work would start."""
+    for name in STUDIES:
+        real = getattr(rocking.cli.study, name)
+
+        @functools.wraps(real)  # its signature gives the command line's defaults
+        def stop(*args, **kwargs):
+            raise Reached
+
+        monkeypatch.setattr(rocking.cli.study, name, stop)
+
+
+def _rerun(path: Path, out: Path, command: str = "map") -> int:
+    return main([command, "--config", str(path), "--out", str(out), "--no-progress", "--workers", "1"])
+
+
+def _with(record: dict, where: tuple, value) -> dict:
+    changed = copy.deepcopy(record)
+    node = changed
+    for key in where[:-1]:
+        node = node[key]
+    node[where[-1]] = value
+    return changed
+
+
+HOSTILE_CONFIGS = {
+    "Omega an object": (("command", "options", "Omega"), {"a": 1}, "option Omega (--Omega) must be a list of 3"),
+    "block a path": (("command", "options", "block"), "/etc/passwd", "option block (--block) must be one of"),
+    "model an object": (("command", "options", "model"), {}, "option model (--model) must be a string, or null"),
+    "format 99": (("format",), 99, "a study saved in format 99"),
+    "gamma a text": (("command", "options", "gamma"), "abc", "option gamma (--gamma) must be a number"),
+    "tile huge": (("command", "options", "tile"), [1e300, 5], "option tile (--tile) must be a list of 2 values"),
+    "grid of two": (("command", "options", "beta"), ["1", "6"], "option beta (--beta) must be a list of 3 values"),
+    "config NaN": (("config", "rtol"), float("nan"), "its config holds NaN or infinity"),
+}
+
+
+@pytest.mark.parametrize("case", HOSTILE_CONFIGS)
+def test_hostile_configs_are_refused_in_one_line_before_any_work(case, saved, tmp_path, capsys, no_work):
+    where, value, message = HOSTILE_CONFIGS[case]
+    path = tmp_path / "hostile.json"
+    path.write_text(json.dumps(_with(saved[1], where, value)))
+    assert _rerun(path, tmp_path / "out") == 2
+    err = _one_line(capsys)
+    assert err.startswith(f"rocking map: error: --config {path}: ") and message in err, err
+    assert not (tmp_path / "out").exists()
+
+
+def test_deep_and_huge_json_is_refused_before_it_is_parsed(tmp_path, capsys):
+    deep = tmp_path / "deep.json"
+    deep.write_text('{"config": ' + "[" * 100_000 + "]" * 100_000 + "}")
+    assert main(["map", "--config", str(deep)]) == 2
+    assert "nested 100001 deep, at most 32" in _one_line(capsys)
+    assert main(["map", "--config", "/dev/zero"]) == 2  # not a regular file: never read to its end
+    assert "not a regular file" in _one_line(capsys)
+    with pytest.raises(rocking.ParameterError, match="nested 100001 deep"):
+        rocking.load(_copy_npz_beside(deep))
+
+
+def _copy_npz_beside(meta: Path) -> Path:
+    meta.with_suffix(".npz").write_bytes(b"PK\x03\x04")
+    return meta
+
+
+CONTRADICTIONS = {
+    "Omega.n 1e9": (("Omega", "n"), 1e9, "config: Omega: the number of values N must be an integer in [1, 100000]"),
+    "Omega.n negative": (("Omega", "n"), -3, "config: Omega: the number of values N must be an integer"),
+    "Omega.n another": (("Omega", "n"), 5, "arrays: Omega has 4 values along Omega, not 5"),
+    "Omega.high": (("Omega", "high"), 7.0, "config: Omega gives other values than the array Omega holds"),
+    "signs 7": (("signs",), [1, -1, 7], "config: signs must be the directions of the pulses"),
+    "one sign": (("signs",), [1], "arrays: bare_bumper_force_max_by_sign has 2 values along sign, not 1"),
+    "block a path": (("block",), "/etc/passwd", "config: block must be the record of a rocking.Block"),
+}
+
+
+@pytest.mark.parametrize("case", CONTRADICTIONS)
+def test_a_loaded_configuration_must_agree_with_its_arrays(case, saved, tmp_path):
+    where, value, message = CONTRADICTIONS[case]
+    record = _with(saved[1], ("config", *where), value)
+    record["config_sha256"] = config_hash(record["config"])  # a consistent forgery
+    (tmp_path / "map.json").write_text(json.dumps(record))
+    (tmp_path / "map.npz").write_bytes((saved[0] / "map.npz").read_bytes())
+    with pytest.raises(rocking.ParameterError, match=re.escape(f"{tmp_path / 'map.json'}: {message}")):
+        rocking.load(tmp_path / "map")
+
+
+def _bomb(path: Path, arrays: dict, name: str, n: int, compress: bool) -> None:
+    """``arrays`` as an .npz whose array ``name`` is ``n`` float zeros (compressed: a zip bomb), or whose header
+    announces ``n`` values it does not hold (stored)."""
+    method = zipfile.ZIP_DEFLATED if compress else zipfile.ZIP_STORED
+    with zipfile.ZipFile(path, "w", method) as zf:
+        for key, value in arrays.items():
+            with zf.open(f"{key}.npy", "w", force_zip64=True) as f:
+                if key != name:
+                    np.lib.format.write_array(f, value)
+                    continue
+                np.lib.format.write_array_header_1_0(f, {"descr": "<f8", "fortran_order": False, "shape": (n,)})
+                if not compress:
+                    f.write(bytes(8))  # one value of the n announced
+                for _ in range(n // (1 << 20) if compress else 0):
+                    f.write(bytes(8 << 20))
+
+
+@pytest.mark.parametrize("compress", [True, False])
+def test_a_zip_bomb_is_refused_from_the_zip_headers(saved, tmp_path, compress):
+    arrays = dict(np.load(saved[0] / "map.npz"))
+    (tmp_path / "map.json").write_text((saved[0] / "map.json").read_text())
+    _bomb(tmp_path / "map.npz", arrays, "effect", 16 << 20, compress)  # 128 MB of zeros, or a header's claim
+    assert (tmp_path / "map.npz").stat().st_size < (1 << 20) if compress else True
+    reason = "more than the" if compress else "its header announces"
+    with pytest.raises(rocking.ParameterError, match=f"map.npz: not a readable .npz.*{reason}"):
+        rocking.load(tmp_path / "map")
+
+
+# --- fuzz: --config and rocking.load on mutated saved studies ---------------------------------------
+
+#: Examples per fuzz test and kind of study (ROCKING_FUZZ_EXAMPLES for a longer run).
+FUZZ_EXAMPLES = int(os.environ.get("ROCKING_FUZZ_EXAMPLES", "30"))
+
+#: Seconds an example may take before it counts as a hang.
+HANG = 20
+
+DEEP = "\x00deep\x00"
+
+scalars = st.one_of(
+    st.none(), st.booleans(), st.integers(-(2**70), 2**70), st.floats(allow_nan=True, allow_infinity=True),
+    st.sampled_from([0, -1, 1e9, 1e308, -1e308, 2**63, "", "/etc/passwd", "1e999", "nan", "-1", "omd", "map",
+                     "reference", "sine", "c", "../..", DEEP]),
+    st.text(max_size=20),
+)  # fmt: skip
+values = st.recursive(scalars, lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8),
+                      inner, max_size=4), max_leaves=8)  # fmt: skip
+
+
+def _paths(node, prefix=()) -> list[tuple]:
+    """Every place in a JSON value: the keys and indices to it."""
+    found = [prefix] if prefix else []
+    items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+    for key, child in items:
+        found += _paths(child, (*prefix, key))
+    return found
+
+
+def _mutate(record: dict, data, places: list) -> str:
+    """The JSON text of ``record`` with a few places replaced by hostile values or new keys."""
+    changed = copy.deepcopy(record)
+    for _ in range(data.draw(st.integers(1, 3))):
+        where = data.draw(st.sampled_from(places))
+        new_key = data.draw(st.text(min_size=1, max_size=8)) if data.draw(st.booleans()) else None
+        value = data.draw(values)
+        try:
+            parent = _node(changed, where[:-1])
+            parent[new_key if new_key is not None and isinstance(parent, dict) else where[-1]] = value
+        except (KeyError, IndexError, TypeError):  # the place went with an earlier change
+            continue
+    if data.draw(st.booleans()):  # its hash made again: a consistent forgery
+        try:
+            changed["config_sha256"] = config_hash(changed["config"])
+        except (ValueError, TypeError, KeyError):
+            pass
+    text = json.dumps(changed)
+    depth = data.draw(st.sampled_from([30, 33, 1000, 100_000]))
+    return text.replace(json.dumps(DEEP), "[" * depth + "]" * depth)
+
+
+def _node(record, where):
+    for key in where:
+        record = record[key]
+    return record
+
+
+
+class Hang(Exception):
+    """An example ran longer than :data:`HANG` seconds."""
+
+
+@contextmanager
+def _deadline(seconds: int):
+    def expired(signum, frame):
+        raise Hang(f"more than {seconds} s")
+
+    previous = signal.signal(signal.SIGALRM, expired)
+    signal.alarm(seconds)
+    try:
+        yield
+    finally:
+        signal.alarm(0)
+        signal.signal(signal.SIGALRM, previous)
+
+
+#: What each fuzz test saw: refused in one line, accepted (the work would start, or a study loaded).
+OUTCOMES: dict = {}
+
+FUZZ = settings(max_examples=FUZZ_EXAMPLES, deadline=None, derandomize=True,
+                suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])  # fmt: skip
+
+
+def _count(test: str, outcome: str) -> None:
+    OUTCOMES.setdefault(test, {}).setdefault(outcome, 0)
+    OUTCOMES[test][outcome] += 1
+
+
+@pytest.mark.parametrize("kind", FUZZED)
+@FUZZ
+@given(data=st.data())
+def test_fuzz_config_refuses_in_one_line_or_reaches_the_work(kind, studies, tmp_path, capsys, no_work, data):
+    record = studies[kind][1]
+    places = [p for p in _paths(record) if p[0] in ("command", "config", "format", "kind", "config_sha256")]
+    path = tmp_path / "fuzz.json"
+    path.write_text(_mutate(record, data, places))
+    capsys.readouterr()
+    try:
+        with _deadline(HANG):
+            code = _rerun(path, tmp_path / "out", kind)
+    except Reached:
+        _count(f"--config, {kind}", "reached the work")
+        return
+    except SystemExit as exc:  # argparse, in one line
+        code = exc.code
+    err = capsys.readouterr().err
+    assert code == 2 and err.count("\n") == 1 and err.startswith(f"rocking {kind}: error: "), (code, err)
+    _count(f"--config, {kind}", "refused")
+
+
+@pytest.mark.parametrize("kind", FUZZED)
+@FUZZ
+@given(data=st.data())
+def test_fuzz_load_refuses_with_a_parameter_error_or_loads(kind, studies, tmp_path, data):
+    source, record = studies[kind]
+    folder = Path(tempfile.mkdtemp(dir=tmp_path))
+    (folder / f"{kind}.npz").write_bytes((source / f"{kind}.npz").read_bytes())
+    (folder / f"{kind}.json").write_text(_mutate(record, data, _paths(record)))
+    outcome = "loaded"
+    try:
+        with _deadline(HANG):
+            rocking.load(folder / kind)
+    except rocking.ParameterError as exc:
+        assert "\n" not in str(exc) and str(folder / kind) in str(exc), str(exc)
+        outcome = "refused"
+    _count(f"load, {kind}", outcome)
+
+
+def test_fuzz_counts(capsys):
+    """Print what the fuzz tests saw (pytest -s): their examples all ended in one of these."""
+    with capsys.disabled():
+        print(f"\nfuzz ({FUZZ_EXAMPLES} examples each): {OUTCOMES}")

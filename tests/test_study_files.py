@@ -5,8 +5,10 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import errno
 import glob
 import json
+import os
 import re
 import shutil
 import signal
@@ -21,6 +23,7 @@ import numpy as np
 import pytest
 
 import rocking
+import rocking.cli.study
 from rocking import Block, ParameterError
 from rocking.cli.study import add_study_commands
 from rocking.study import storage, tiles
@@ -144,31 +147,177 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
 # --- 2. atomic saves ------------------------------------------------------------------------------
 
 
-def test_every_file_of_a_study_is_written_atomically(reference, tmp_path, monkeypatch):
+def _leftovers(folder: Path) -> list[str]:
+    """Temporary files and folders of a save or a tile left in ``folder`` (none should be)."""
+    return sorted(p.name for p in folder.rglob(".*"))
+
+
+def test_a_study_is_published_whole_or_not_at_all(reference, tmp_path, monkeypatch):
     study = dataclasses.replace(reference[0], arrays=dict(reference[0].arrays))
-    replaced = []
-    real_replace = storage.os.replace
-
-    def spy(src, dst):
-        replaced.append(Path(dst))
-        real_replace(src, dst)
-
-    monkeypatch.setattr(storage.os, "replace", spy)
     written = save(study, tmp_path)
-    assert sorted(replaced) == sorted(written)  # each file went through a temporary file in its folder
+    assert [p.suffix for p in written] == [".npz", ".csv", ".nc", ".json"]  # the JSON record last
     before = {p.name: p.read_bytes() for p in written}
-
-    def crash(src, dst):
-        raise KeyboardInterrupt  # Ctrl-C between writing a file and renaming it
-
-    monkeypatch.setattr(storage.os, "replace", crash)
     changed = dataclasses.replace(study, arrays={**study.arrays, "effect": study.arrays["effect"] * 0})
+
+    def crash(*args, **kwargs):
+        raise KeyboardInterrupt  # Ctrl-C while the files are written
+
+    monkeypatch.setattr(storage, "write_csv", crash)
     with pytest.raises(KeyboardInterrupt):
         save(changed, tmp_path)
-    assert {p.name: p.read_bytes() for p in written} == before  # the old files, whole
-    assert sorted(p.name for p in tmp_path.iterdir()) == sorted(before)  # no temporary file left
+    assert {p.name: p.read_bytes() for p in written} == before and not _leftovers(tmp_path)  # the old study, whole
     monkeypatch.undo()
-    same_bits(load(tmp_path / "map").arrays, study.arrays)
+    real_replace = storage.os.replace
+    moved = []
+
+    def crash_after_one(src, dst):
+        if moved:
+            raise KeyboardInterrupt  # Ctrl-C between two renames of the publication
+        moved.append(dst)
+        real_replace(src, dst)
+
+    monkeypatch.setattr(storage.os, "replace", crash_after_one)
+    with pytest.raises(KeyboardInterrupt):
+        save(changed, tmp_path)
+    monkeypatch.undo()
+    assert not (tmp_path / "map.json").exists() and not _leftovers(tmp_path)  # no study, never a mix of two
+    with pytest.raises(ParameterError, match="map.json is missing .* a save cut short leaves no .json"):
+        load(tmp_path / "map")
+    # A save killed outright leaves its temporary folder: the next save of that name removes it.
+    abandoned = tmp_path / f".map.saving-{_dead_pid()}-x"
+    abandoned.mkdir()
+    (abandoned / "map.npz").write_bytes(b"partial")
+    save(changed, tmp_path)
+    assert not _leftovers(tmp_path)
+    same_bits(load(tmp_path / "map").arrays, changed.arrays)
+
+
+def _dead_pid() -> int:
+    """The id of a process that has ended."""
+    process = subprocess.Popen([sys.executable, "-c", "pass"])
+    process.wait()
+    return process.pid
+
+
+@pytest.mark.parametrize("umask", [0o022, 0o027, 0o002])
+def test_new_files_have_the_mode_of_the_umask(reference, tmp_path, umask):
+    old = os.umask(umask)
+    try:
+        written = save(reference[0], tmp_path)
+        tile = tmp_path / "runs" / "tile.npz"
+        tile.parent.mkdir()
+        save_tile(tile, {"a": np.arange(3)})
+    finally:
+        os.umask(old)
+    modes = {p.name: oct(p.stat().st_mode & 0o777) for p in [*written, tile]}
+    assert modes == {p.name: oct(0o666 & ~umask) for p in [*written, tile]}
+
+
+# --- 2b. a full disk ------------------------------------------------------------------------------
+
+MAP_FILES = ("map.npz", "map.csv", "map.nc", "map.json")
+
+
+def _enospc(*args, **kwargs):
+    raise OSError(errno.ENOSPC, "No space left on device")
+
+
+def _full_at(monkeypatch, stage: str) -> None:
+    """Make the writer of ``stage`` (``tile`` after 3 tiles, or a study's file) fail as on a full disk."""
+    if stage == "map.nc, older xarray":  # it writes the file itself; the library's error has no errno
+        monkeypatch.setattr(storage, "no_space", lambda folder: True)
+        error = {None: ValueError("invalid engine for creating bytes with to_netcdf")}
+        monkeypatch.setattr("xarray.Dataset.to_netcdf", lambda self, path=None, **k: _raise(
+            error.get(path, RuntimeError("NetCDF: HDF error"))))  # fmt: skip
+        return
+    real = storage.write_file
+    tiles_written = []
+
+    def write_file(path, write, mode="wb"):
+        if stage == "tile" and ".tile-" in path.name:
+            tiles_written.append(path)
+            if len(tiles_written) > 3:
+                _enospc()
+        if path.name == stage:
+            _enospc()
+        real(path, write, mode)
+
+    monkeypatch.setattr(storage, "write_file", write_file)
+
+
+def _raise(exc: Exception):
+    raise exc
+
+
+@pytest.mark.parametrize("stage", ["tile", *MAP_FILES, "map.nc, older xarray"])
+def test_a_full_disk_gives_one_line_keeps_the_tiles_and_a_rerun_completes(stage, tmp_path, monkeypatch, capsys):
+    argv = ["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]
+    with monkeypatch.context() as patched:
+        _full_at(patched, stage)
+        assert cli(argv) == 1
+    kept = len(list((tmp_path / "runs").rglob("tile-*.npz")))
+    file = re.escape(str(tmp_path / stage.split(",")[0]))
+    where = r"\S+/runs/map-\w+-\w+/tile-\d+-\d+\.npz" if stage == "tile" else file
+    assert re.fullmatch(f"rocking map: error: disk full writing {where}: {kept} tiles kept, rerun to resume\n",
+                        capsys.readouterr().err)  # fmt: skip
+    assert kept == (3 if stage == "tile" else 12)
+    assert not [f for f in MAP_FILES if (tmp_path / f).exists()] and not _leftovers(tmp_path)
+    assert cli(argv) == 0
+    assert f"{12 - kept} tiles computed, {kept} reused" in capsys.readouterr().out
+    assert all((tmp_path / f).is_file() for f in MAP_FILES)
+    load(tmp_path / "map")
+
+
+def test_a_full_disk_at_the_figures_keeps_the_published_study(tmp_path, monkeypatch, capsys):
+    argv = ["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]
+    with monkeypatch.context() as patched:
+        patched.setattr("matplotlib.figure.Figure.savefig", _enospc)
+        patched.setattr(rocking.cli.study, "no_space", lambda folder: True)
+        assert cli(argv) == 1
+    assert capsys.readouterr().err == (f"rocking map: error: disk full writing {tmp_path / 'map.png'} and .pdf: "
+                                       "12 tiles kept, rerun to resume\n")  # fmt: skip
+    assert all((tmp_path / f).is_file() for f in MAP_FILES)  # the data are published, whole
+    load(tmp_path / "map")
+    assert cli(argv) == 0 and (tmp_path / "map.pdf").is_file()
+
+
+def _mount_tmpfs(folder: Path, size: str, remount: bool = False) -> bool:
+    options = f"remount,size={size}" if remount else f"size={size}"
+    mount = subprocess.run(["mount", "-t", "tmpfs", "-o", options, "tmpfs", str(folder)], capture_output=True)
+    return mount.returncode == 0
+
+
+def test_a_real_full_disk_a_tmpfs(tmp_path, capsys):
+    """On a small tmpfs (mounting needs root: skipped otherwise), growing until the study fits: every failure
+    is one line and publishes nothing, and the last run completes with every file."""
+    disk = tmp_path / "disk"
+    disk.mkdir()
+    if shutil.which("mount") is None or not _mount_tmpfs(disk, "64k"):
+        pytest.skip("cannot mount a tmpfs here (mounting needs root)")
+    try:
+        argv = ["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(disk / "out")]
+        failed_at = []
+        for size in range(64, 2048, 32):
+            assert _mount_tmpfs(disk, f"{size}k", remount=True)
+            code = cli(argv)
+            err = capsys.readouterr().err
+            if code == 0:
+                break
+            assert code == 1, err
+            match = re.fullmatch(r"rocking map: error: disk full writing (\S+( and \.pdf)?): (\d+) tiles kept, "
+                                 r"rerun to resume\n", err)  # fmt: skip
+            assert match, err
+            failed_at.append(Path(match.group(1)).name)
+            assert not _leftovers(disk / "out")
+            # No study, or the whole one of an earlier run (published before its figures did not fit).
+            present = [f for f in MAP_FILES if (disk / "out" / f).exists()]
+            assert present in ([], list(MAP_FILES)), (failed_at, present)
+        assert code == 0 and all((disk / "out" / f).is_file() for f in MAP_FILES), failed_at
+        load(disk / "out" / "map")
+        assert any(name.startswith("tile-") for name in failed_at), failed_at
+        assert any(name in MAP_FILES for name in failed_at), failed_at
+    finally:
+        subprocess.run(["umount", str(disk)], check=True)
 
 
 # --- 3. unreadable saved studies ------------------------------------------------------------------

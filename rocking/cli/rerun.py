@@ -15,9 +15,9 @@ from contextvars import ContextVar
 from pathlib import Path
 
 from ..model.loading import ModelError, saved_model
-from ..model.params import ParameterError
-from ..study.config import Study, config_hash
-from ..study.storage import describe
+from ..model.params import ParameterError, shown
+from ..study.config import Study, config_hash, name_text
+from ..study.storage import read_record
 
 #: Options that say where and how a study runs, not what it computes: never saved, never read back.
 EXECUTION = frozenset(
@@ -35,13 +35,83 @@ def command_record(args: argparse.Namespace) -> dict:
 
 
 def _read(path: Path) -> dict:
+    """The saved study's record at ``path`` (:func:`rocking.study.storage.read_record`: bounded in size and
+    depth, of this format), its configuration plain JSON (:func:`check_same` hashes it)."""
     try:
-        record = json.loads(path.read_text(encoding="utf-8"))
-    except (OSError, ValueError) as exc:
-        raise ParameterError(f"--config {path}: not a saved study's JSON ({describe(exc)})") from None
-    if not isinstance(record, dict) or not isinstance(record.get("config"), dict):
-        raise ParameterError(f"--config {path}: not a saved study's JSON (no configuration)")
+        record = read_record(path)
+    except ParameterError as exc:
+        raise ParameterError(f"--config {exc}") from None
+    try:
+        config_hash(record["config"])
+    except ValueError:
+        raise ParameterError(f"--config {path}: its config holds NaN or infinity (not saved by rocking)") from None
     return record
+
+
+def _expected(action: argparse.Action) -> str:
+    """What an option's saved value must be, in words."""
+    if isinstance(action, argparse._StoreConstAction):
+        return f"{json.dumps(action.const)} or {json.dumps(action.default)}"
+    # The grids' MIN MAX N are texts on the command line, numbers in their defaults: either is read.
+    text = "a number" if isinstance(action.nargs, int) else "a string"
+    one = {float: "a number", int: "an integer"}.get(action.type, text)
+    if action.choices is not None:
+        one = f"one of {', '.join(map(str, action.choices))}"
+    if isinstance(action, argparse._AppendAction):
+        return f"a list of values, each {one}"
+    if action.nargs is None:
+        return one if action.default is not None else f"{one}, or null"
+    count = "one or more" if action.nargs == "+" else action.nargs
+    return f"a list of {count} values ({' '.join(action.metavar or ())}), each {one}".replace(" ()", "")
+
+
+def _value(action: argparse.Action, value):
+    """One saved value as the command line gives it: the option's type applied to its text, in its choices."""
+    if isinstance(value, bool) or not isinstance(value, (str, int, float)):
+        raise ValueError(value)
+    text = value if isinstance(value, str) else repr(value)  # repr: the shortest text of the same float
+    converted = action.type(text) if action.type is not None else text
+    if action.choices is not None and converted not in action.choices:
+        raise ValueError(value)
+    return converted
+
+
+def _option(action: argparse.Action, value):
+    """A saved option's value checked and typed as ``action`` parses it (ValueError or TypeError if not)."""
+    if isinstance(action, argparse._StoreConstAction):
+        if not any(value is v for v in (action.const, action.default)):
+            raise ValueError(value)
+        return value
+    if value is None and action.default is None:  # not given
+        return None
+    if action.nargs is None and not isinstance(action, argparse._AppendAction):
+        return _value(action, value)
+    if not isinstance(value, list):
+        raise ValueError(value)
+    if (isinstance(action.nargs, int) and len(value) != action.nargs) or (action.nargs == "+" and not value):
+        raise ValueError(value)
+    return [_value(action, v) for v in value]
+
+
+def checked_options(parser: argparse.ArgumentParser, options: dict, path: Path) -> dict:
+    """The saved ``options`` of a command, each checked and typed as ``parser`` parses it from the command line.
+
+    Raises
+    ------
+    ParameterError
+        In one line naming the file, the option and what it must be.
+    """
+    actions = {action.dest: action for action in parser._actions}
+    checked = {}
+    for name, value in options.items():
+        action = actions[name]
+        try:
+            checked[name] = _option(action, value)
+        except (TypeError, ValueError, ArithmeticError):
+            flag = action.option_strings[-1] if action.option_strings else name
+            raise ParameterError(f"--config {path}: option {name} ({flag}) must be {_expected(action)} "
+                                 f"(got {shown(value)})") from None  # fmt: skip
+    return checked
 
 
 def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv: list[str]):
@@ -63,15 +133,20 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
             "version); rerun it from Python with its configuration"
         )
     if command.get("name") != args.command:
-        raise ParameterError(f"--config {path}: a study of 'rocking {command.get('name')}', not of "
+        name = command.get("name")
+        name = name_text(name) if isinstance(name, str) else shown(name)
+        raise ParameterError(f"--config {path}: a study of 'rocking {name}', not of "
                              f"'rocking {args.command}'")  # fmt: skip
     unknown = sorted(set(command["options"]) - (set(vars(args)) - EXECUTION))
     if unknown:
-        raise ParameterError(f"--config {path}: unknown option(s) {', '.join(unknown)} for 'rocking {args.command}' "
+        names = ", ".join(map(name_text, unknown[:5])) + (", ..." if len(unknown) > 5 else "")
+        raise ParameterError(f"--config {path}: unknown option(s) {names} for 'rocking {args.command}' "
                              f"(saved by another version?)")  # fmt: skip
-    _check_model(command["options"].get("model"), args, path)
     subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    subcommands.choices[args.command].set_defaults(**command["options"])
+    command_parser = subcommands.choices[args.command]
+    options = checked_options(command_parser, command["options"], path)
+    _check_model(options.get("model"), args, path)
+    command_parser.set_defaults(**options)
     again = parser.parse_args(argv)
     again.rerun = (record, str(path))
     return again

@@ -42,7 +42,7 @@ from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
-from ..study.storage import make_folder, save
+from ..study.storage import DiskFull, make_folder, no_space, save
 from ..study.suite import Suite
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
@@ -304,8 +304,20 @@ def _tol(args) -> dict:
 def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
     """Save the study's data and figure as ``name`` (default: its kind); print where they are and how it ran."""
     current = CURRENT.get() or {}
-    paths = save(study, out, name, command=current.get("command")) + draw(study, out, name)
     run = study.run
+    kept = run["tiles_computed"] + run["tiles_reused"]
+    try:
+        paths = save(study, out, name, command=current.get("command"))
+    except DiskFull as exc:
+        raise DiskFull(exc.path, kept=kept) from None
+    try:
+        paths += draw(study, out, name)
+    except Exception:
+        # matplotlib's writers fail on a full disk in their own ways (an OSError, or an AttributeError of the PDF
+        # stream): the free space tells. The data are published; the figures are redrawn by a rerun or redraw.
+        if not no_space(out):
+            raise
+        raise DiskFull(out / f"{name or study.kind}.png and .pdf", kept=kept) from None
     print(
         f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
         f"{run['wall_s']:.1f} s; wrote {', '.join(str(p) for p in paths)}"
@@ -655,7 +667,8 @@ def _warnings_in_one_line(command: str) -> Iterator[None]:
 
 
 def _guarded(command):
-    """``command(args)`` with bad parameters reported in one line (exit 2) and Ctrl-C as a resumable stop (130)."""
+    """``command(args)`` with bad parameters reported in one line (exit 2), a full disk too (exit 1: the finished
+    tiles are kept, nothing partial is published) and Ctrl-C as a resumable stop (130)."""
 
     def run(args) -> int:
         rerun = getattr(args, "rerun", None)
@@ -666,6 +679,11 @@ def _guarded(command):
         except ParameterError as exc:
             print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
             return 2
+        except DiskFull as exc:
+            kept = "finished tiles kept" if exc.kept is None else f"{exc.kept} tiles kept"
+            print(f"rocking {args.command}: error: disk full writing {exc.path}: {kept}, rerun to resume",
+                  file=sys.stderr)  # fmt: skip
+            return 1
         except Interrupted as exc:
             print(
                 f"rocking {args.command}: interrupted: {exc.kept} of {exc.total} tiles kept in {exc.folder}; "

@@ -27,7 +27,7 @@ import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
 from ..model.motion import PULSE_TYPES
-from ..model.params import Block, ParameterError, check_in_range, check_real
+from ..model.params import Block, ParameterError, check_in_range, check_real, shown
 from ..sim import boundary
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
@@ -62,6 +62,20 @@ def check_type(name: str, value, kind: type, text: str) -> None:
     """Refuse ``value`` unless it is a ``kind``; ``text`` says what is expected (``"a rocking.Grid"``)."""
     if not isinstance(value, kind):
         raise ParameterError(f"{name} must be {text} (got {type(value).__name__} {value!r})")
+
+
+def name_text(name: str) -> str:
+    """A name read from a file, as it is if short and printable, else as a message quotes a value (one line)."""
+    return name if name.isprintable() and len(name) <= 40 else shown(name)
+
+
+def check_signs(name: str, value) -> list:
+    """Refuse pulse directions that are not a list of 1 and/or -1, each once; return them."""
+    ok = isinstance(value, list) and 1 <= len(value) <= 2 and len(set(map(repr, value))) == len(value)
+    if not (ok and all(is_count(s) and s in (1, -1) for s in value)):
+        raise ParameterError(f"{name} must be the directions of the pulses: [1], [-1], [1, -1] or [-1, 1] "
+                             f"(got {shown(value)})")  # fmt: skip
+    return list(value)
 
 
 def check_cells(*grids: Grid) -> None:
@@ -165,6 +179,30 @@ class Grid:
         if self.log:
             return np.geomspace(self.low, self.high, self.n)
         return np.linspace(self.low, self.high, self.n)
+
+    @classmethod
+    def from_record(cls, name: str, record) -> Grid:
+        """The grid that :meth:`record` described as ``record`` (a saved configuration's), checked as any grid.
+
+        Raises
+        ------
+        ParameterError
+            Naming the grid, for a record that is not one (not an object, another scale, ``low``, ``high``
+            and ``n`` other than its values'), or a grid out of range (:class:`Grid`).
+        """
+        if not isinstance(record, dict):
+            raise ParameterError(f"{name} must be a grid {{low, high, n, scale}} or {{..., values}} "
+                                 f"(got {shown(record)})")  # fmt: skip
+        if "values" in record:
+            grid = cls.of(name, record["values"])
+            if [grid.low, grid.high, grid.n] != [record.get(k) for k in ("low", "high", "n")]:
+                raise ParameterError(f"{name}: low, high and n must be those of its values "
+                                     f"({grid.low!r}, {grid.high!r}, {grid.n})")  # fmt: skip
+            return grid
+        scale = record.get("scale")
+        if not (isinstance(scale, str) and scale in ("linear", "log")):
+            raise ParameterError(f"{name}: scale must be linear or log (got {shown(scale)})")
+        return cls(name, record.get("low"), record.get("high"), record.get("n"), log=scale == "log")
 
     def record(self) -> dict:
         """JSON-ready description."""

@@ -13,7 +13,7 @@ dimensions of every other array by its name. :func:`to_dataset` then gives
   damper's effect) with their key as ``flag_values`` and ``flag_meanings``;
 - the configuration, the software versions and the summary as JSON attributes.
 
-Saved as NetCDF (:func:`write_netcdf`, beside the ``.npz``/``.json`` of :func:`rocking.study.storage.save`),
+Saved as NetCDF (``<name>.nc``, beside the ``.npz``/``.json`` of :func:`rocking.study.storage.save`),
 it reads back as the same ``Dataset`` (:func:`read_netcdf`).
 """
 
@@ -21,7 +21,6 @@ from __future__ import annotations
 
 import json
 import math
-import os
 import re
 from pathlib import Path
 
@@ -318,21 +317,8 @@ def _json_default(value):
     raise TypeError(f"not JSON: {type(value).__name__}")
 
 
-def write_netcdf(dataset, path: Path) -> Path:
-    """Write ``dataset`` to ``path`` as NetCDF-4, atomically (a temporary file beside it, then renamed)."""
-    path = Path(path)
-    tmp = path.with_name(f".{path.name}.{os.getpid()}.tmp")
-    try:
-        dataset.to_netcdf(tmp, engine="netcdf4")
-        os.replace(tmp, path)
-    except BaseException:
-        tmp.unlink(missing_ok=True)
-        raise
-    return path
-
-
 def read_netcdf(path: str | Path):
-    """The :class:`xarray.Dataset` of a study saved by :func:`write_netcdf`, read into memory.
+    """The :class:`xarray.Dataset` of a study saved by :func:`rocking.study.storage.save`, read into memory.
 
     Raises
     ------

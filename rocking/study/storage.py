@@ -1,14 +1,25 @@
-"""What a study leaves on disk: ``<name>.npz`` (every array), ``<name>*.csv`` (tables), ``<name>.json``.
+"""What a study leaves on disk: ``<name>.npz`` (every array), ``<name>*.csv`` (tables), ``<name>.nc``, ``<name>.json``.
 
 :func:`save` writes a :class:`~rocking.study.config.Study` with its
 configuration, the configuration's hash, software versions, summary and
 timing; :func:`load` reads it back without recomputing anything, and refuses
 with a :class:`~rocking.model.params.ParameterError` naming the file a study
-whose files are damaged, foreign or do not belong together.
+whose files are damaged, foreign, incomplete or do not belong together.
 
-Every file is written atomically (:func:`atomic_write`: a temporary file in
-the same folder, then ``os.replace``): a reader, or a rerun after Ctrl-C or a
-killed process, sees a whole file or none. Arrays are read with
+A study's files are published together: all are written into a temporary
+folder beside them, then renamed into place, the JSON record last (and an
+older record removed first). The JSON is the mark of a complete study:
+:func:`load` needs it, so a save cut short (a full disk, Ctrl-C, a killed
+process) leaves the older study whole or no study, never a mix. A full disk
+raises :class:`DiskFull` naming the file, and nothing partial stays behind.
+Single files (tiles) are written atomically (:func:`atomic_write`). New files
+get the mode of any new file, ``0666`` less the umask.
+
+What is read is bounded before it is read: a JSON record's size and nesting
+(:func:`read_json`), and an archive's arrays from the zip's headers
+(:func:`read_npz`: uncompressed members, each the size its ``.npy`` header
+says, within a limit). A loaded study's configuration is checked against its
+arrays (:func:`check_config`, :func:`check_arrays`: grids, directions, shapes). Arrays are read with
 ``allow_pickle=False``: nothing read from a file is executed. The same
 helpers store and check the tiles of a study (:mod:`rocking.study.tiles`):
 :func:`checksum` of the arrays and :func:`layout` (names, shapes, dtypes).
@@ -16,26 +27,45 @@ helpers store and check the tiles of a study (:mod:`rocking.study.tiles`):
 
 from __future__ import annotations
 
+import errno
 import hashlib
+import inspect
 import json
+import math
 import os
+import re
+import secrets
+import shutil
 import tempfile
-from collections.abc import Callable
-from contextlib import suppress
+import zipfile
+from collections.abc import Callable, Iterator
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 import numpy as np
+from numpy.lib import format as npy
 
 from ..model.loading import ModelError, load_model
-from ..model.params import ParameterError
-from .config import Study, config_hash, tree_hash, versions
+from ..model.params import Block, ParameterError, shown
+from .config import (
+    MAX_CELLS,
+    Grid,
+    Study,
+    check_signs,
+    config_hash,
+    is_count,
+    is_number,
+    name_text,
+    tree_hash,
+    versions,
+)
 
-#: Kinds of saved studies, and the parts of their JSON record that :func:`load` needs.
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
 STUDY_FORMAT = 2
 
+#: Kinds of saved studies, and the parts of their JSON record that :func:`load` needs.
 KINDS = ("map", "spectrum", "optimize", "design", "threshold", "ida", "fragility")
-RECORD = {"kind": str, "config": dict, "summary": dict}
+RECORD = {"kind": str, "config": dict, "summary": dict, "arrays": dict, "arrays_sha256": str}
 
 #: What reading a damaged or foreign ``.npz`` raises. zipfile and NumPy raise many types for a
 #: damaged file: BadZipFile (a bad archive, a CRC), NotImplementedError (a damaged version
@@ -46,6 +76,79 @@ UNREADABLE = (Exception,)
 
 #: The first bytes of a zip archive (an ``.npz``).
 ZIP_MAGIC = b"PK\x03\x04"
+
+#: Largest JSON record read (a configuration of two grids of MAX_N explicit values is 5 MB), and its
+#: deepest nesting (a record is 5 deep): bounds checked before parsing, so that neither memory nor
+#: Python's recursion limit decides.
+MAX_JSON_BYTES = 64 << 20
+MAX_JSON_DEPTH = 32
+
+#: Largest sum of the arrays of a study: a map of MAX_CELLS cells in both directions holds 3.2 GB
+#: (324 bytes per cell).
+MAX_STUDY_BYTES = MAX_CELLS * 400
+
+#: Largest ``.npy`` header of a member (NumPy writes 128 bytes, more for many dimensions).
+MAX_NPY_HEADER = 4096
+
+#: errno values of a full disk: no space left, or the user's quota used up.
+FULL = frozenset({errno.ENOSPC, errno.EDQUOT})
+
+#: Free bytes below which a failed write that carries no errno (the NetCDF library's "HDF error") is
+#: a full disk: a write that does not fit fills the disk to its last blocks before it fails.
+FULL_MARGIN = 1 << 20
+
+#: Mode of a new file before the umask (os.open applies it, as for any file a program creates).
+NEW_FILE_MODE = 0o666
+
+
+class DiskFull(OSError):
+    """No space left on the disk (or quota used up) writing ``path``; nothing partial is left behind.
+
+    Attributes
+    ----------
+    path : Path
+        The file that did not fit (its final name, not a temporary one).
+    kept : int or None
+        Finished tiles of the study kept on disk, when known: a rerun resumes from them.
+    """
+
+    def __init__(self, path: str | Path, kept: int | None = None) -> None:
+        super().__init__(errno.ENOSPC, "No space left on device", str(path))
+        self.path, self.kept = Path(path), kept
+
+    def __str__(self) -> str:
+        kept = f": {self.kept} tiles kept" if self.kept is not None else ""
+        return f"disk full writing {self.path}{kept}"
+
+
+def is_full(exc: BaseException, folder: Path | None = None) -> bool:
+    """True if ``exc`` says the disk is full: its errno, or (``folder`` given) a library's error without one
+    (RuntimeError, OSError) while ``folder``'s disk is full (:func:`no_space`)."""
+    if isinstance(exc, OSError) and exc.errno in FULL:
+        return True
+    if folder is None or not isinstance(exc, (RuntimeError, OSError)) or getattr(exc, "errno", None):
+        return False
+    return no_space(folder)
+
+
+def no_space(folder: Path) -> bool:
+    """True if the disk of ``folder`` has less than :data:`FULL_MARGIN` bytes free (False if it cannot tell)."""
+    try:
+        return shutil.disk_usage(folder).free < FULL_MARGIN
+    except OSError:
+        return False
+
+
+def _new_file(path: Path) -> int:
+    """Create ``path`` (it must not exist), open for writing, with mode 0666 less the umask."""
+    return os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), NEW_FILE_MODE)
+
+
+def write_file(path: Path, write: Callable, mode: str = "wb") -> None:
+    """Create ``path`` and write it through ``write(file)``; ``mode``: ``"wb"``, or ``"w"`` (UTF-8 text)."""
+    text = {"encoding": "utf-8", "newline": ""} if "b" not in mode else {}
+    with os.fdopen(_new_file(path), mode, **text) as f:
+        write(f)
 
 
 def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
@@ -60,23 +163,29 @@ def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
     mode : {"wb", "w"}, optional
         Binary, or text (UTF-8, newlines as written).
 
+    Raises
+    ------
+    DiskFull
+        If the disk is full; the temporary file is removed.
+
     Notes
     -----
     A reader (or a rerun after Ctrl-C or a killed process) sees either the old
-    file, or no file, or the whole new one. No fsync: it would cost as much as
-    a small tile's work, and only a power cut can leave a damaged file, which
-    :func:`load` and :func:`rocking.study.tiles.load_tile` refuse.
+    file, or no file, or the whole new one. The file gets the mode of any new
+    file (0666 less the umask), not a temporary file's 0600. No fsync: it
+    would cost as much as a small tile's work, and only a power cut can leave
+    a damaged file, which :func:`load` and :func:`rocking.study.tiles.load_tile` refuse.
     """
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}.", suffix=".tmp")
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
     try:
-        text = {"encoding": "utf-8", "newline": ""} if "b" not in mode else {}
-        with os.fdopen(fd, mode, **text) as f:
-            write(f)
+        write_file(tmp, write, mode)
         os.replace(tmp, path)
-    except BaseException:
+    except BaseException as exc:
         # Ctrl-C may come just after the rename (the signal is handled when os.replace returns): no tmp then.
         with suppress(FileNotFoundError):
             os.unlink(tmp)
+        if is_full(exc):
+            raise DiskFull(path) from None
         raise
 
 
@@ -95,13 +204,47 @@ def checksum(arrays: dict) -> str:
     return digest.hexdigest()
 
 
-def read_npz(path: Path) -> dict:
-    """Every array of the ``.npz`` at ``path``, read without pickles.
+def _npy_bytes(zf: zipfile.ZipFile, info: zipfile.ZipInfo) -> int:
+    """The bytes a member must hold: its ``.npy`` header and the array that header announces."""
+    with zf.open(info) as f:
+        version = npy.read_magic(f)
+        read_header = {(1, 0): npy.read_array_header_1_0, (2, 0): npy.read_array_header_2_0}.get(version)
+        if read_header is None:
+            raise ValueError(f"member {info.filename}: .npy format {version}, not one NumPy's savez writes")
+        shape, _, dtype = read_header(f, max_header_size=MAX_NPY_HEADER)
+        return f.tell() + math.prod(shape) * dtype.itemsize
+
+
+def check_archive(zf: zipfile.ZipFile, limit: int) -> None:
+    """Refuse an archive from its headers, before any array is read: members that are compressed (the bytes
+    read are then the bytes on disk), more than ``limit`` bytes in all, or whose ``.npy`` header announces
+    another size than the member's.
 
     Raises
     ------
     ValueError
-        If the file is not a zip archive (e.g. a ``.npy``, a text file).
+        With the reason.
+    """
+    infos = zf.infolist()
+    total = sum(info.file_size for info in infos)
+    if total > limit:
+        raise ValueError(f"its members hold {total} bytes, more than the {limit} expected")
+    for info in infos:
+        if info.compress_type != zipfile.ZIP_STORED:
+            raise ValueError(f"member {info.filename} is compressed; arrays are stored as np.savez writes them")
+        announced = _npy_bytes(zf, info)
+        if announced != info.file_size:
+            raise ValueError(f"member {info.filename}: its header announces {announced} bytes, it holds "
+                             f"{info.file_size}")  # fmt: skip
+
+
+def read_npz(path: Path, limit: int = MAX_STUDY_BYTES) -> dict:
+    """Every array of the ``.npz`` at ``path``, read without pickles, after :func:`check_archive` with ``limit``.
+
+    Raises
+    ------
+    ValueError
+        If the file is not a zip archive (e.g. a ``.npy``, a text file), or its headers are refused.
     Exception
         Any of :data:`UNREADABLE` for a truncated or damaged archive.
     """
@@ -110,8 +253,47 @@ def read_npz(path: Path) -> dict:
         if f.read(len(ZIP_MAGIC)) != ZIP_MAGIC:
             raise ValueError("not an .npz archive")
         f.seek(0)
+        with zipfile.ZipFile(f) as zf:
+            check_archive(zf, limit)
+        f.seek(0)
         with np.load(f, allow_pickle=False) as z:
             return {k: z[k] for k in z.files}
+
+
+#: A JSON string, escapes included: brackets inside strings do not nest.
+_JSON_STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"')
+
+
+def json_depth(text: str) -> int:
+    """The deepest nesting of arrays and objects in the JSON ``text``, counted without parsing it."""
+    code = np.frombuffer(_JSON_STRING.sub("", text).encode(), np.uint8)
+    marks = code[np.isin(code, np.frombuffer(b"[]{}", np.uint8))]
+    steps = np.where((marks == ord("[")) | (marks == ord("{")), 1, -1)
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def read_json(path: Path) -> object:
+    """The JSON value in the file at ``path``, its size and nesting checked before it is parsed.
+
+    Raises
+    ------
+    OSError
+        If it cannot be read.
+    ValueError
+        If it is not a regular file (a FIFO would never end), larger than :data:`MAX_JSON_BYTES`, not
+        UTF-8, nested deeper than :data:`MAX_JSON_DEPTH`, or not JSON.
+    """
+    if path.exists() and not path.is_file():
+        raise ValueError("not a regular file")
+    with open(path, "rb") as f:
+        data = f.read(MAX_JSON_BYTES + 1)
+    if len(data) > MAX_JSON_BYTES:
+        raise ValueError(f"larger than {MAX_JSON_BYTES >> 20} MB")
+    text = data.decode("utf-8")
+    depth = json_depth(text)
+    if depth > MAX_JSON_DEPTH:
+        raise ValueError(f"nested {depth} deep, at most {MAX_JSON_DEPTH}")
+    return json.loads(text)
 
 
 def describe(exc: BaseException) -> str:
@@ -126,7 +308,8 @@ def _stem(path: str | Path) -> Path:
 
 
 def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
-    """Write equal-length columns as CSV with a header, atomically; floats as their shortest exact ``repr``.
+    """Write equal-length columns as CSV with a header into the new file ``path`` (:func:`save` writes it in
+    its temporary folder); floats as their shortest exact ``repr``.
 
     Rows are formatted ``chunk`` at a time, so that a big map needs no Python
     object per value of the whole table at once.
@@ -140,7 +323,7 @@ def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
         for start in range(0, len(data[0]) if data else 0, chunk):
             f.writelines(row % values for values in zip(*(d[start : start + chunk].tolist() for d in data)))
 
-    atomic_write(path, write, mode="w")
+    write_file(path, write, mode="w")
 
 
 def make_folder(folder: str | Path, what: str) -> Path:
@@ -170,39 +353,38 @@ def _why(folder: Path, exc: OSError) -> str:
     return exc.strerror or describe(exc)
 
 
-def save(study: Study, folder: str | Path, name: str | None = None, command: dict | None = None) -> list[Path]:
-    """Write ``study`` into ``folder`` as ``<name>.npz``, ``.json``, its CSV tables (``<name>.csv``,
-    ``<name>-windows.csv``, ...) and its labelled :class:`xarray.Dataset` as ``<name>.nc``
-    (:mod:`rocking.study.dataset`), each atomically.
+def _data_files(study: Study, name: str, software: dict) -> dict:
+    """The files of ``study`` saved as ``name`` but its JSON record: file name -> ``write(path)``."""
+    from .dataset import to_dataset  # the studies' modules, which it reads, store their tiles here
 
-    The JSON record lists the arrays (:func:`layout`) and their :func:`checksum`,
-    which :func:`load` checks.
-
-    Returns
-    -------
-    list of Path
-        The files written.
-
-    Raises
-    ------
-    ParameterError
-        If ``folder`` cannot be created or written.
-    """
-    folder = make_folder(folder, "output folder")
-    stem = folder / (name or study.kind)
-    atomic_write(stem.with_suffix(".npz"), lambda f: np.savez(f, **study.arrays))
-    written = [stem.with_suffix(".npz")]
+    files = {f"{name}.npz": lambda path: write_file(path, lambda f: np.savez(f, **study.arrays))}
     for table, columns in study.tables.items():
         # Tables are named after the kind ("spectrum-windows"); a study saved under another name keeps its own.
-        if name and table.startswith(study.kind):
+        if table.startswith(study.kind):
             table = name + table[len(study.kind) :]
-        path = folder / f"{table}.csv"
-        write_csv(path, columns)
-        written.append(path)
-    from .dataset import to_dataset, write_netcdf  # the studies' modules, which it reads, store their tiles here
+        files[f"{table}.csv"] = lambda path, columns=columns: write_csv(path, columns)
+    files[f"{name}.nc"] = lambda path: write_netcdf(to_dataset(study, software), path)
+    return files
 
-    software = versions()
-    written.append(write_netcdf(to_dataset(study, software), stem.with_suffix(".nc")))
+
+def write_netcdf(dataset, path: Path) -> None:
+    """Write ``dataset`` as NetCDF-4 into the new file ``path``, made in memory first.
+
+    The NetCDF library that fails to write a file (a full disk) keeps it open and refuses the next file of
+    the process ("NetCDF: HDF error"); in memory it never writes the disk, and a full disk is the OSError of
+    :func:`write_file`. An xarray that writes NetCDF-4 to files only (before 2025) writes the file itself:
+    a full disk is then told by the free space left beside the partial file (:func:`is_full`).
+    """
+    try:
+        data = dataset.to_netcdf(engine="netcdf4")
+    except ValueError:  # "invalid engine for creating bytes": an older xarray
+        dataset.to_netcdf(path, engine="netcdf4")
+        return
+    write_file(path, lambda f: f.write(data))
+
+
+def _record(study: Study, software: dict, files: list[str], command: dict | None) -> dict:
+    """The JSON record of ``study``: what :func:`load` reads and checks."""
     record = {
         "kind": study.kind,
         "config": study.config,
@@ -211,57 +393,309 @@ def save(study: Study, folder: str | Path, name: str | None = None, command: dic
         "summary": study.summary,
         "run": study.run,
         "format": STUDY_FORMAT,
-        "files": [p.name for p in written],
+        "files": files,
         "arrays": layout(study.arrays),
         "arrays_sha256": checksum(study.arrays),
     }
-    if command is not None:
-        record["command"] = command
-    text = json.dumps(record, indent=2, sort_keys=True) + "\n"
-    atomic_write(stem.with_suffix(".json"), lambda f: f.write(text), mode="w")
-    return [*written, stem.with_suffix(".json")]
+    return {**record, "command": command} if command is not None else record
 
 
-def _read_record(meta: Path) -> dict:
-    """The JSON record of a saved study, checked to be one."""
+def _alive(pid: int) -> bool:
+    """False only if no process ``pid`` runs (this machine's)."""
     try:
-        record = json.loads(meta.read_text(encoding="utf-8"))
+        os.kill(pid, 0)
+    except ProcessLookupError:
+        return False
+    except (OSError, OverflowError):  # another user's process, or no such number: keep its files
+        return True
+    return True
+
+
+def _remove_abandoned(folder: Path, name: str) -> None:
+    """Remove the temporary folders of saves of ``name`` whose process is gone (killed while saving)."""
+    prefix = f".{name}.saving-"
+    for old in folder.iterdir():
+        pid = old.name[len(prefix) :].partition("-")[0]
+        if old.name.startswith(prefix) and pid.isdigit() and not _alive(int(pid)):
+            shutil.rmtree(old, ignore_errors=True)
+
+
+@contextmanager
+def _staging(folder: Path, name: str) -> Iterator[Path]:
+    """A new temporary folder in ``folder`` for the files of the study ``name``, removed on leaving."""
+    _remove_abandoned(folder, name)
+    try:
+        staging = Path(tempfile.mkdtemp(prefix=f".{name}.saving-{os.getpid()}-", dir=folder))
+    except OSError as exc:
+        if is_full(exc):
+            raise DiskFull(folder / f"{name}.npz") from None
+        raise
+    try:
+        yield staging
+    finally:
+        shutil.rmtree(staging, ignore_errors=True)
+
+
+def _write_staged(write: Callable, staged: Path, final: Path) -> None:
+    """``write(staged)``; a full disk is a :class:`DiskFull` naming ``final``, the file the user asked for."""
+    try:
+        write(staged)
+    except Exception as exc:
+        if is_full(exc, staged.parent):
+            raise DiskFull(final) from None
+        raise
+
+
+def _publish(staging: Path, folder: Path, files: list[str]) -> None:
+    """Move ``files`` from ``staging`` into ``folder``: the old JSON record removed first, the new one last.
+
+    A rename in one folder needs no space and does not fail half way; a process killed between the first
+    and the last leaves no record, which :func:`load` reports as no study, never a mix of two.
+    """
+    (folder / files[-1]).unlink(missing_ok=True)
+    for file in files:
+        os.replace(staging / file, folder / file)
+
+
+def save(study: Study, folder: str | Path, name: str | None = None, command: dict | None = None) -> list[Path]:
+    """Write ``study`` into ``folder`` as ``<name>.npz``, its CSV tables (``<name>.csv``,
+    ``<name>-windows.csv``, ...), its labelled :class:`xarray.Dataset` as ``<name>.nc``
+    (:mod:`rocking.study.dataset`) and ``<name>.json``, published together (see the module's text).
+
+    The JSON record lists the arrays (:func:`layout`) and their :func:`checksum`,
+    which :func:`load` checks; files of an earlier save under the same name are replaced.
+
+    Returns
+    -------
+    list of Path
+        The files written, the JSON record last.
+
+    Raises
+    ------
+    ParameterError
+        If ``folder`` cannot be created or written.
+    DiskFull
+        If the disk is full (or the quota used up): nothing is published, an earlier study of that name is
+        kept whole, and the temporary files are removed.
+    """
+    folder = make_folder(folder, "output folder")
+    name = name or study.kind
+    software = versions()
+    files = _data_files(study, name, software)
+    text = json.dumps(_record(study, software, list(files), command), indent=2, sort_keys=True) + "\n"
+    files[f"{name}.json"] = lambda path: write_file(path, lambda f: f.write(text), mode="w")
+    with _staging(folder, name) as staging:
+        for file, write in files.items():
+            _write_staged(write, staging / file, folder / file)
+        _publish(staging, folder, list(files))
+    return [folder / file for file in files]
+
+
+def read_record(meta: Path) -> dict:
+    """The JSON record of a saved study at ``meta``, checked to be one: bounded (:func:`read_json`), an object
+    of this format with a known kind, its configuration, summary, arrays (their layout) and their checksum.
+
+    Raises
+    ------
+    ParameterError
+        Naming the file and what is wrong.
+    """
+    try:
+        record = read_json(meta)
     except (OSError, ValueError) as exc:  # UnicodeDecodeError and JSONDecodeError are ValueErrors
         raise ParameterError(f"{meta}: not a saved study's JSON ({describe(exc)})") from None
     if not isinstance(record, dict):
         raise ParameterError(f"{meta}: not a saved study's JSON (a {type(record).__name__}, not an object)")
+    if record.get("format", 1) != STUDY_FORMAT:
+        software = record.get("versions")
+        by = software.get("rocking") if isinstance(software, dict) else None
+        raise ParameterError(
+            f"{meta}: a study saved in format {shown(record.get('format', 1))} (by rocking "
+            f"{by[:40] if isinstance(by, str) else 'of another version'}); this version reads format "
+            f"{STUDY_FORMAT}: recompute it"
+        )
     for key, kind in RECORD.items():
         if not isinstance(record.get(key), kind):
             raise ParameterError(f"{meta}: not a saved study's JSON (no {kind.__name__} {key!r})")
-    if record.get("format", 1) != STUDY_FORMAT:
-        raise ParameterError(
-            f"{meta}: a study saved in format {record.get('format', 1)} (by rocking "
-            f"{(record.get('versions') or {}).get('rocking', 'of another version')}); this version reads format "
-            f"{STUDY_FORMAT}: recompute it"
-        )
     if record["kind"] not in KINDS:
-        raise ParameterError(f"{meta}: unknown kind of study {record['kind']!r} (known: {', '.join(KINDS)})")
+        raise ParameterError(f"{meta}: unknown kind of study {shown(record['kind'])} (known: {', '.join(KINDS)})")
     return record
 
 
-def _read_arrays(npz: Path, record: dict) -> dict:
-    """The arrays of a saved study, checked against its JSON record (layout and checksum, when recorded)."""
+#: Per kind: the grids of its configuration (:meth:`~rocking.study.config.Grid.record`), each with the
+#: array of its values.
+GRIDS = {
+    "map": {"Omega": "Omega", "beta": "beta"},
+    "spectrum": {"Omega": "Omega", "beta": "beta_scan"},
+    "optimize": {"Omega": "Omega", "Tm_ratio": "r_coarse"},
+    "design": {"Omega": "Omega", "Tm_ratio": "r_coarse", "zeta_grid": "zeta_coarse"},
+    "threshold": {"lam": "lam", "p": "p", "Omega": "Omega", "Tm_ratio": "r_coarse"},
+    "ida": {"levels": "levels"},
+    "fragility": {"levels": "levels"},
+}
+
+#: A saved array's dtype: bool, integer or float of 1 to 8 bytes, in any byte order (``layout``'s ``dtype.str``).
+_DTYPE = re.compile(r"[<>|=][biuf][1248]")
+
+
+def _shapes(listed: dict) -> dict:
+    """Name -> ``(shape, dtype)`` of the arrays a JSON record lists, each checked to be a shape and a plain dtype."""
+    out = {}
+    for name, entry in listed.items():
+        shape, dtype = (entry.get("shape"), entry.get("dtype")) if isinstance(entry, dict) else (None, None)
+        if not (isinstance(shape, list) and len(shape) <= 8 and all(is_count(n) and n >= 0 for n in shape)):
+            raise ParameterError(f"{name_text(name)}: shape must be a list of at most 8 sizes (got {shown(shape)})")
+        if not (isinstance(dtype, str) and _DTYPE.fullmatch(dtype)):
+            raise ParameterError(f"{name_text(name)}: dtype must be a bool, integer or float such as <f8 "
+                                 f"(got {shown(dtype)})")  # fmt: skip
+        out[name] = (tuple(shape), np.dtype(dtype))
+    return out
+
+
+def _motions(suite) -> int:
+    """The number of motions of a suite's record (:meth:`rocking.study.suite.Suite.record`)."""
+    from .suite import MAX_MOTIONS
+
+    if not isinstance(suite, dict):
+        raise ParameterError(f"suite must be the record of a suite of motions (got {shown(suite)})")
+    listed = next((suite[key] for key in ("files", "pulses") if key in suite), None)
+    n = len(listed) if isinstance(listed, list) else suite.get("n")
+    if not (is_count(n) and 1 <= n <= MAX_MOTIONS):
+        raise ParameterError(f"suite: its motions must number 1 to {MAX_MOTIONS} (got {shown(n)})")
+    return n
+
+
+def _counts(kind: str, config: dict) -> dict:
+    """Sizes of dimensions that a configuration gives besides its grids: mass ratios, motions."""
+    if kind == "optimize":
+        gammas = config.get("gammas")
+        if not (isinstance(gammas, list) and gammas and all(is_number(g) for g in gammas)):
+            raise ParameterError(f"gammas must be a list of mass ratios (got {shown(gammas)})")
+        return {"gamma": len(gammas), "gamma_or_best": len(gammas) + 1}
+    if kind in ("ida", "fragility"):
+        return {"motion": _motions(config.get("suite"))}
+    return {}
+
+
+def _check_parts(config: dict) -> None:
+    """The block and the damper of a configuration, where it has them, of the types its tables read."""
+    if "block" in config:
+        block = config["block"]
+        if not isinstance(block, dict):
+            raise ParameterError(f"block must be the record of a rocking.Block (got {shown(block)})")
+        fields = inspect.signature(Block).parameters
+        unknown = [key for key in block if key not in fields]
+        if unknown:
+            raise ParameterError(f"block: no field(s) {', '.join(map(name_text, unknown[:5]))} in a rocking.Block "
+                                 f"({', '.join(fields)})")  # fmt: skip
+        try:
+            Block(**block)
+        except TypeError as exc:  # a field missing
+            raise ParameterError(f"block: {exc}") from None
+    damper = config.get("damper", {})
+    if not (isinstance(damper, dict) and isinstance(damper.get("params", {}), dict)):
+        raise ParameterError(f"damper must be the record of a damper (got {shown(damper)})")
+
+
+def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
+    """Refuse arrays whose dimensions are not those of their kind, or whose sizes differ from ``sizes`` (the
+    configuration's) or from each other's; ``sizes`` is completed with the others."""
+    from .dataset import LAYOUTS, dimensions
+
+    coordinates = LAYOUTS[kind][0]
+    for name, (shape, _) in sorted(shapes.items()):
+        try:
+            dims = (coordinates[name],) if name in coordinates else dimensions(kind, name)
+        except KeyError:
+            raise ParameterError(f"{name_text(name)}: not an array of a {kind} study") from None
+        if len(dims) != len(shape):
+            raise ParameterError(f"{name_text(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
+        for dim, size in zip(dims, shape):
+            if sizes.setdefault(dim, size) != size:
+                raise ParameterError(f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
+                                     "(as its configuration or its other arrays)")  # fmt: skip
+
+
+def check_config(kind: str, config: dict) -> tuple[dict, dict]:
+    """Check a saved study's configuration: what its arrays' coordinates and dimensions must be.
+
+    Its grids (:data:`GRIDS`) and directions must be valid, its block and damper of the types its tables
+    read, and it must be plain JSON (no NaN).
+
+    Returns
+    -------
+    expected : dict
+        Coordinate array -> ``(field, values)``: the values the configuration gives it.
+    sizes : dict
+        Dimension -> size (:data:`rocking.study.dataset.LAYOUTS`), as the configuration gives them.
+
+    Raises
+    ------
+    ParameterError
+        Naming the field and its valid range.
+    """
+    from .dataset import LAYOUTS
+
     try:
-        arrays = read_npz(npz)
+        config_hash(config)
+    except ValueError:
+        raise ParameterError("holds NaN or infinity, which a saved configuration never does") from None
+    _check_parts(config)
+    expected = {}
+    for key, array in GRIDS[kind].items():
+        expected[array] = (key, Grid.from_record(key, config.get(key)).values())
+    expected["signs"] = ("signs", np.array(check_signs("signs", config.get("signs"))))
+    sizes = {LAYOUTS[kind][0][array]: len(values) for array, (_, values) in expected.items()}
+    return expected, {**sizes, **_counts(kind, config)}
+
+
+def check_arrays(kind: str, listed: dict, sizes: dict) -> None:
+    """Check the arrays a saved study's JSON record lists (``listed``) against the sizes of
+    :func:`check_config`, before any is read: every array has its kind's dimensions, of one size each
+    (``sizes`` is completed), the coordinates are there, and all hold at most :data:`MAX_STUDY_BYTES`.
+
+    Raises
+    ------
+    ParameterError
+        Naming the array.
+    """
+    shapes = _shapes(listed)
+    missing = sorted({"signs", *GRIDS[kind].values()} - set(shapes))
+    if missing:
+        raise ParameterError(f"{', '.join(missing)} missing (the coordinates of a {kind} study)")
+    _dimension_sizes(kind, shapes, sizes)
+    total = sum(math.prod(shape) * dtype.itemsize for shape, dtype in shapes.values())
+    if total > MAX_STUDY_BYTES:
+        raise ParameterError(f"{total} bytes in all, at most {MAX_STUDY_BYTES} in a study")
+
+
+def _read_arrays(npz: Path, record: dict) -> dict:
+    """The arrays of a saved study, checked against its JSON record (layout and checksum); the archive is
+    checked from its headers against the layout's size before any array is read."""
+    listed = _shapes(record["arrays"])
+    limit = sum(math.prod(shape) * dtype.itemsize + MAX_NPY_HEADER for shape, dtype in listed.values())
+    try:
+        arrays = read_npz(npz, limit)
     except UNREADABLE as exc:
         raise ParameterError(f"{npz}: not a readable .npz, truncated or damaged ({describe(exc)})") from None
-    expected = record.get("arrays")
-    if isinstance(expected, dict):
-        missing = sorted(set(expected) - set(arrays))
-        if missing:
-            raise ParameterError(f"{npz}: array(s) {', '.join(missing)} missing (its JSON lists them)")
-        found = layout(arrays)
-        wrong = sorted(k for k in expected if found[k] != expected[k])
-        if wrong:
-            raise ParameterError(f"{npz}: array(s) {', '.join(wrong)} differ in shape or type from its JSON")
-    if "arrays_sha256" in record and checksum(arrays) != record["arrays_sha256"]:
+    missing = sorted(set(listed) - set(arrays))
+    if missing:
+        raise ParameterError(f"{npz}: array(s) {', '.join(map(name_text, missing))} missing (its JSON lists them)")
+    found = layout(arrays)
+    wrong = sorted(k for k in record["arrays"] if found[k] != record["arrays"][k])
+    if wrong:
+        names = ", ".join(map(name_text, wrong))
+        raise ParameterError(f"{npz}: array(s) {names} differ in shape or type from its JSON")
+    if checksum(arrays) != record["arrays_sha256"]:
         raise ParameterError(f"{npz}: its arrays do not match the checksum of its JSON (changed or damaged)")
     return arrays
+
+
+def _check_coordinates(arrays: dict, expected: dict, meta: Path) -> None:
+    """Refuse coordinate arrays that are not the values the configuration gives them."""
+    for name, (field, values) in expected.items():
+        if not np.allclose(arrays[name], values, rtol=1e-9, atol=0.0):
+            raise ParameterError(f"{meta}: config: {field} gives other values than the array {name} holds")
 
 
 def _trust(folder: str | Path, record: dict, meta: Path) -> None:
@@ -288,32 +722,45 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     model is used (for its units) only if the user names its folder again, as ``trust_model``
     (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
-    Studies saved before the JSON listed its arrays (``"arrays"``,
-    ``"arrays_sha256"``) are read without those checks.
+    The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
+    study. Its configuration is checked against the arrays it lists (:func:`check_config`,
+    :func:`check_arrays`) and the archive against that list from the zip's headers, before any array is read.
 
     Raises
     ------
     ParameterError
         Naming the file, if either file is missing, the JSON is not a saved
-        study's (not JSON, not an object, no ``kind``/``config``/``summary``,
-        an unknown kind), the ``.npz`` cannot be read (truncated, damaged, not
-        an archive), or its arrays differ from what the JSON lists; or if
-        ``trust_model`` is not the model the study was run with.
+        study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``arrays``,
+        an unknown kind, another format), its configuration is not valid or contradicts its arrays, the
+        ``.npz`` cannot be read (truncated, damaged, not an archive, compressed, larger than its JSON
+        says), or its arrays differ from what the JSON lists; or if ``trust_model`` is not the model the
+        study was run with.
     """
     stem = _stem(path)
     npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
-    for p in (npz, meta):
+    for p in (meta, npz):
         if not p.is_file():
-            raise ParameterError(f"no saved study at {stem}: {p} is missing (a study writes both .npz and .json)")
-    record = _read_record(meta)
+            raise ParameterError(f"no saved study at {stem}: {p} is missing (a study writes its .npz, .csv and .nc, "
+                                 "then its .json; a save cut short leaves no .json: save or run it again)")  # fmt: skip
+    record = read_record(meta)
+    kind, config = record["kind"], record["config"]
+    try:
+        expected, sizes = check_config(kind, config)
+    except ParameterError as exc:
+        raise ParameterError(f"{meta}: config: {exc}") from None
+    try:
+        check_arrays(kind, record["arrays"], sizes)
+    except ParameterError as exc:
+        raise ParameterError(f"{meta}: arrays: {exc}") from None
     if trust_model is not None:
         _trust(trust_model, record, meta)
     arrays = _read_arrays(npz, record)
-    run = record.get("run") if isinstance(record.get("run"), dict) else {}
+    _check_coordinates(arrays, expected, meta)
     from .tables import tables  # the studies' modules, which it reads, store their tiles here
 
     try:
-        made = tables(record["kind"], arrays, record["config"])
-    except (KeyError, TypeError, ValueError, IndexError) as exc:
+        made = tables(kind, arrays, config)
+    except (KeyError, TypeError, ValueError, IndexError, ParameterError) as exc:
         raise ParameterError(f"{meta}: its configuration and arrays do not make its tables ({describe(exc)})") from None
-    return Study(record["kind"], record["config"], arrays, tables=made, summary=record["summary"], run=run)
+    run = record.get("run") if isinstance(record.get("run"), dict) else {}
+    return Study(kind, config, arrays, tables=made, summary=record["summary"], run=run)

@@ -20,8 +20,10 @@ them
   (:func:`run_folder`), so a rerun with the same configuration loads the
   finished tiles instead of recomputing them, and a changed configuration
   lands in another folder and never sees stale tiles. A stored tile that does
-  not match its manifest or what its task expects (:func:`load_tile`) is
-  computed again, with a :class:`TileWarning`;
+  not match its manifest or what its task expects (:func:`load_tile`, which
+  reads no more than its arrays' size) is computed again, with a
+  :class:`TileWarning`. A tile that does not fit on the disk ends the run with
+  :class:`~rocking.study.storage.DiskFull`, the tiles stored so far kept;
 - interruptibly: on Ctrl-C the C runs of this process are stopped
   (:func:`rocking.sim.c_backend.request_stop`), worker processes are
   terminated and queued tiles cancelled, so the study ends at once; finished
@@ -36,6 +38,7 @@ from __future__ import annotations
 
 import json
 import logging
+import math
 import os
 import signal
 import threading
@@ -55,7 +58,18 @@ from tqdm.auto import tqdm
 
 from ..model.params import ParameterError
 from .config import config_hash
-from .storage import UNREADABLE, atomic_write, checksum, describe, layout, make_folder, read_npz
+from .storage import (
+    MAX_NPY_HEADER,
+    MAX_STUDY_BYTES,
+    UNREADABLE,
+    DiskFull,
+    atomic_write,
+    checksum,
+    describe,
+    layout,
+    make_folder,
+    read_npz,
+)
 
 #: Tiles in flight per worker: one running, one queued, so no worker waits.
 IN_FLIGHT_PER_WORKER = 2
@@ -72,6 +86,9 @@ DASK_INSTALL = 'pip install "rocking[dask]"'
 #: Name of the manifest inside a stored tile, and its version.
 MANIFEST = "__tile__"
 TILE_FORMAT = 1
+
+#: Bytes of a stored tile besides its arrays' values: the manifest (names, shapes, checksum) and the headers.
+TILE_OVERHEAD = 1 << 20
 
 
 class TileWarning(UserWarning):
@@ -270,8 +287,10 @@ def load_tile(path: Path, expect: Mapping[str, tuple[int, ...]] | None = None) -
         manifest, written for another place, arrays or content that differ from
         the manifest (checksum), or names and shapes other than ``expect``.
     """
+    # Every array of a tile has at most 8 bytes per value: a tile larger than that is refused from its headers.
+    limit = MAX_STUDY_BYTES if expect is None else sum(8 * math.prod(s) + MAX_NPY_HEADER for s in expect.values())
     try:
-        stored = read_npz(path)
+        stored = read_npz(path, limit + TILE_OVERHEAD)
     except UNREADABLE as exc:
         raise DamagedTile(f"unreadable ({describe(exc)})") from None
     manifest = _manifest(stored)
@@ -599,6 +618,9 @@ def run_tiles(
     Interrupted
         On Ctrl-C (a KeyboardInterrupt), after stopping the workers; the tiles
         finished so far are stored.
+    DiskFull
+        When a tile does not fit on the disk, after the running tiles finished and
+        were stored if they fit; ``kept`` counts the tiles on disk in the run folders.
     """
     start = time.perf_counter()
     stats = TileStats()
@@ -622,8 +644,17 @@ def run_tiles(
                     on_tile(task)
     except KeyboardInterrupt as exc:
         raise Interrupted(stats.reused + stats.computed + stats.salvaged, len(tasks), _root(tasks)) from exc
+    except DiskFull as exc:
+        raise DiskFull(exc.path, kept=_kept(tasks)) from None
     stats.wall = time.perf_counter() - start
     return stats
+
+
+def _kept(tasks: Sequence[Task]) -> int:
+    """The tiles on disk in the run folders of ``tasks``: this call's, and those of earlier calls of the study
+    (the rounds of an adaptive map) that a rerun reuses too."""
+    folders = {task.path.parent for task in tasks}
+    return sum(1 for folder in folders for _ in folder.glob("*.npz"))
 
 
 def _reuse(tasks: Sequence[Task], place: Callable[[Task, dict], None], stats: TileStats) -> list[Task]:
