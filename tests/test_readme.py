@@ -34,3 +34,16 @@ def test_the_readme_commands_parse():
             continue  # handed to rocking.derive's own parser
         args = parser.parse_args(argv)
         assert callable(args.func), line
+
+
+def test_the_readme_counts_are_those_the_code_gives():
+    """Numbers the README quotes are measured here, not typed: the functions `rocking verify` checks, the
+    hostile specs of the security tests."""
+    from rocking import load_model
+    from rocking.reference.verify import verify
+    from tests.test_spec_security import CORPUS, EXPENSIVE
+
+    text = README.read_text(encoding="utf-8")
+    checks = len(verify(load_model("omd"), n=2, seed=1))  # the README shows the report of omd
+    assert f"    {checks} passed, 0 failed (tolerance 1e-12)" in text
+    assert f"runs {len(CORPUS)} hostile specs and {len(EXPENSIVE)} short specs that are costly to derive" in text
