@@ -104,11 +104,18 @@ def test_a_built_in_model_is_checked_against_the_package_not_its_folder(monkeypa
 # --- the C library cache --------------------------------------------------------------------------------------
 
 
+@pytest.fixture(scope="module")
+def built_cache(tmp_path_factory):
+    """A private cache holding the block model's library, built once for the module."""
+    cache = tmp_path_factory.mktemp("built") / "cache"
+    return cache, cbuild.build(load_model("block"), cache=cache).name
+
+
 @pytest.fixture
-def planted_cache(tmp_path):
-    """A private cache holding the block model's library, then replaced by a planted one with an updated sidecar."""
-    cache = tmp_path / "cache"
-    library = cbuild.build(load_model("block"), cache=cache)
+def planted_cache(built_cache, tmp_path):
+    """A copy of the built cache whose library is replaced by a planted one with an updated sidecar."""
+    cache = shutil.copytree(built_cache[0], tmp_path / "cache")
+    library = cache / built_cache[1]
     source_key = json.loads(library.with_name(library.name + ".json").read_text())["source_key"]
     plant_library(library, tmp_path / "PWNED", source_key)
     return cache, library
