@@ -315,7 +315,9 @@ def _add_simulate(sub) -> None:
         "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi, sign) or, in SI, "
         "rocking.OneSinePulse(a_g, omega_g, psi, sign); --pulse picks another family (docs/model.md section 12) "
         "with the same options: OneCosinePulse, RickerWavelet (antisymmetric with ricker-anti), "
-        "MavroeidisPapageorgiou(a_g, omega_g, gamma, nu, sign).",
+        "MavroeidisPapageorgiou(a_g, omega_g, gamma, nu, sign). omega_g is 2 pi over the period of the cycle "
+        "(sine, cosine), of the Fourier peak (both Ricker wavelets, as Vassiliou and Makris 2011) or of the "
+        "carrier (mp).",
     )
     g.add_argument("--pulse", choices=tuple(PULSES), help="family of the pulse (default sine)")
     g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")

@@ -188,7 +188,9 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
 def _add_pulse(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("pulse family", "As rocking.Setting(block, pulse=..., gamma_mp=..., nu=...).")
     g.add_argument("--pulse", choices=[f.replace("_", "-") for f in PULSES],
-                   help="family of every pulse, docs/model.md section 12 (default sine)")  # fmt: skip
+                   help="family of every pulse, docs/model.md section 12 (default sine); Omega = omega_g / p, "
+                   "omega_g 2 pi over the period of the cycle, of the Fourier peak (ricker, ricker-anti) or of "
+                   "the carrier (mp)")  # fmt: skip
     g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulse mp, > 1")
     g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
 
