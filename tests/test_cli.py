@@ -50,6 +50,7 @@ def test_simulate_sign_is_the_pulses_sign(capsys):
     down = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4, sign=-1))
     up = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
     assert out["pulse"]["sign"] == -1
+    assert out["responses"]["with damper"].pop("mass_past_edge") is (down.x_max > block.B / 2)
     assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(down.summary(), sort_keys=True)
     assert (down.overturned, down.impacts) != (up.overturned, up.impacts)
     assert main([*argv, "--sign", "0"]) == 2
@@ -66,6 +67,7 @@ def test_simulate_pulse_is_the_family_of_the_python_api(capsys, pulse, motion):
     out = json.loads(capsys.readouterr().out)
     block = Block.reference()
     expected = rocking.simulate(block, None, motion(block))
+    assert out["responses"]["block alone"].pop("mass_past_edge") is None  # no damper, no mass
     assert json.dumps(out["responses"]["block alone"], sort_keys=True) == json.dumps(expected.summary(), sort_keys=True)
     for bad in (["--pulse", "cosine", "--psi", "1"], ["--pulse", "mp"], ["--gamma-mp", "2"]):
         assert main(["simulate", "--beta", "3", "--Omega", "4", *bad]) == 2
@@ -84,6 +86,7 @@ def test_simulate_with_only_H_B_M_is_rocking_simulate_of_the_same_block(capsys):
     assert out["block"] == block.as_params() and out["block"]["e"] == 0.0
     assert out["damper"] == damper.as_params() and out["damper"]["h"] == 0.0
     # Through JSON on both sides: nan and inf compare as text.
+    assert out["responses"]["with damper"].pop("mass_past_edge") is (response.x_max > block.B / 2)
     assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(response.summary(), sort_keys=True)
 
 
@@ -152,6 +155,7 @@ SYMBOL_FLAGS = {
     "--Omega": (OneSinePulse.from_nondim, "Omega"),
     "--T-m": (Damper.from_nondim, "T_m"),
     "--Tm-ratio": (Tuning, "Tm_ratio"),
+    "--L": (rocking.Stops, "L"),
 }
 
 
