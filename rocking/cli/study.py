@@ -516,10 +516,10 @@ def design_verdict(summary: dict) -> str:
     where = f"at Omega = {summary['worst_at_Omega']:.3g}"
     bound = ", a lower bound: the damped block survived the scan there" if summary["worst_gain_is_lower_bound"] else ""
     if worst > USELESS_GAIN:
-        return f"helps: worst gain {worst:.3g} over the band ({where}{bound})"
+        return f"helps: worst gain {worst:.2f} over the band ({where}{bound})"
     if worst >= 1.0:
-        return f"no useful gain (worst gain {worst:.3g} <= {USELESS_GAIN:g}, {where}{bound})"
-    return (f"makes some pulses worse: worst gain {worst:.3g} < 1 ({where}{bound}); no damper of this budget and "
+        return f"no useful gain (worst gain {worst:.2f} <= {USELESS_GAIN:g}, {where}{bound})"
+    return (f"makes some pulses worse: worst gain {worst:.2f} < 1 ({where}{bound}); no damper of this budget and "
             "stroke helps over the whole band")  # fmt: skip
 
 
