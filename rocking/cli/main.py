@@ -19,7 +19,15 @@ from pathlib import Path
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
 from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
-from ..model.params import BUMPER_DAMPING_RATIO, RANGES, Damper, ParameterError, Stops
+from ..model.params import (
+    BUMPER_DAMPING_RATIO,
+    BUMPER_DEPTH,
+    BUMPER_FREQUENCY_RATIO,
+    RANGES,
+    Damper,
+    ParameterError,
+    Stops,
+)
 from ..model.plausibility import check_mass_ratio, check_pga
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
@@ -385,8 +393,14 @@ def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
         "--L, --k-b, --c-b replace its values (and imply --stops), as rocking.Stops(L, k_b, c_b).",
     )
     g.add_argument("--stops", action="store_true", help="bumper pads at the block's edges (Stops.at_edges)")
-    g.add_argument("--L", type=float, help="half-stroke from the centre to either bumper, m, at most B/2")
-    g.add_argument("--k-b", type=float, help="bumper stiffness, N/m (default: 60 times the damper's frequency)")
+    g.add_argument(
+        "--L", type=float, help=f"half-stroke from the centre to either bumper, m, at most B/2 (default B/2 - "
+        f"{BUMPER_DEPTH:g})",
+    )  # fmt: skip
+    g.add_argument(
+        "--k-b", type=float, help=f"bumper stiffness, N/m (default m ({BUMPER_FREQUENCY_RATIO:g} omega_m)^2: a "
+        f"bumper frequency {BUMPER_FREQUENCY_RATIO:g} times the damper's)",
+    )  # fmt: skip
     g.add_argument(
         "--c-b", type=float, help=f"bumper dashpot, N s/m (default: a damping ratio of {BUMPER_DAMPING_RATIO:g})"
     )
