@@ -111,7 +111,8 @@ FOURIER_PEAKS = [
 ]
 
 
-@pytest.mark.parametrize(("motion", "ratio"), FOURIER_PEAKS, ids=lambda x: getattr(x, "family", ""))
+@pytest.mark.parametrize(("motion", "ratio"), FOURIER_PEAKS,
+                         ids=["sine", "cosine", "ricker", "ricker_anti", "mp1.5", "mp2", "mp3", "mp5"])  # fmt: skip
 def test_fourier_peak_of_each_family(motion, ratio):
     """The period of the spectral peak is the table's multiple of T_g: T_g itself for both Ricker wavelets
     (Vassiliou and Makris 2011's T_p), whatever the family's omega_g means otherwise."""
