@@ -28,6 +28,7 @@ Examples
 from .model.loading import Model, ModelError, available_models, load_model
 from .model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion
 from .model.params import Block, Damper, ParameterError, Stops
+from .model.plausibility import PlausibilityWarning
 from .model.pulse import OneSinePulse
 from .sim.cbuild import CBuildError
 from .sim.problem import Response, SimulationError
@@ -60,6 +61,7 @@ __all__ = [
     "OneCosinePulse",
     "OneSinePulse",
     "ParameterError",
+    "PlausibilityWarning",
     "Response",
     "RickerWavelet",
     "SampledMotion",

@@ -50,6 +50,7 @@ def test_simulate_sign_is_the_pulses_sign(capsys):
     down = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4, sign=-1))
     up = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
     assert out["pulse"]["sign"] == -1
+    assert out["responses"]["with damper"].pop("mass_past_edge") is (down.x_max > block.B / 2)
     assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(down.summary(), sort_keys=True)
     assert (down.overturned, down.impacts) != (up.overturned, up.impacts)
     assert main([*argv, "--sign", "0"]) == 2
@@ -66,6 +67,7 @@ def test_simulate_pulse_is_the_family_of_the_python_api(capsys, pulse, motion):
     out = json.loads(capsys.readouterr().out)
     block = Block.reference()
     expected = rocking.simulate(block, None, motion(block))
+    assert out["responses"]["block alone"].pop("mass_past_edge") is None  # no damper, no mass
     assert json.dumps(out["responses"]["block alone"], sort_keys=True) == json.dumps(expected.summary(), sort_keys=True)
     for bad in (["--pulse", "cosine", "--psi", "1"], ["--pulse", "mp"], ["--gamma-mp", "2"]):
         assert main(["simulate", "--beta", "3", "--Omega", "4", *bad]) == 2
@@ -84,6 +86,7 @@ def test_simulate_with_only_H_B_M_is_rocking_simulate_of_the_same_block(capsys):
     assert out["block"] == block.as_params() and out["block"]["e"] == 0.0
     assert out["damper"] == damper.as_params() and out["damper"]["h"] == 0.0
     # Through JSON on both sides: nan and inf compare as text.
+    assert out["responses"]["with damper"].pop("mass_past_edge") is (response.x_max > block.B / 2)
     assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(response.summary(), sort_keys=True)
 
 
@@ -152,6 +155,7 @@ SYMBOL_FLAGS = {
     "--Omega": (OneSinePulse.from_nondim, "Omega"),
     "--T-m": (Damper.from_nondim, "T_m"),
     "--Tm-ratio": (Tuning, "Tm_ratio"),
+    "--L": (rocking.Stops, "L"),
 }
 
 
@@ -296,3 +300,110 @@ def test_simulate_refuses_bad_input_in_one_line(argv, message, capsys):
     err = capsys.readouterr().err
     assert err.startswith("rocking simulate: error: ") and message in err and "Traceback" not in err
     assert err.count("\n") == 1
+
+
+# --- the whole truth of one response ----------------------------------------------------------------
+
+#: A 0.6 m block whose unlimited damper survives the one-sine pulse only by running its mass 1.3 m out.
+WIDE = ["simulate", "--H", "2", "--B", "0.6", "--M", "1000", "--gamma", "0.05", "--omega-ratio", "1",
+        "--beta", "3", "--Omega", "4"]  # fmt: skip
+
+
+def test_simulate_says_the_mass_went_past_the_edge(capsys):
+    """Text: a warning line naming x_max, B/2 and the way out (--stops); JSON: mass_past_edge true; the block
+    alone has no mass (null)."""
+    assert main([*WIDE, "--compare"]) == 0
+    lines = capsys.readouterr().out.splitlines()
+    warning = [line for line in lines if "past the block's edge" in line]
+    assert len(warning) == 1 and warning[0].startswith("  with damper: WARNING: the damper's mass went past")
+    assert "> B/2 = 0.3 m" in warning[0] and warning[0].endswith("--stops puts end stops at the edges")
+    assert main([*WIDE, "--compare", "--json"]) == 0
+    responses = json.loads(capsys.readouterr().out)["responses"]
+    assert responses["with damper"]["mass_past_edge"] is True and responses["with damper"]["x_max"] > 0.3
+    assert responses["block alone"]["mass_past_edge"] is None
+
+
+def test_simulate_stops_are_stops_at_edges_with_their_contacts(capsys):
+    """--stops is Damper(..., stops=Stops.at_edges(block, damper)); the text and JSON give the stop contacts and
+    the bumpers' largest force; the mass stays on the block."""
+    assert main([*WIDE, "--stops", "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    block = Block(H=2, B=0.6, M=1000)
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1)
+    damper = Damper(damper.m, damper.k_m, damper.c, damper.h, stops=rocking.Stops.at_edges(block, damper))
+    expected = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
+    got = out["responses"]["with damper"]
+    assert out["model"] == "omd_stops" and out["damper"] == damper.as_params()
+    assert got.pop("mass_past_edge") is False
+    assert json.dumps(got, sort_keys=True) == json.dumps(expected.summary(), sort_keys=True)
+    assert got["stop_contacts"] > 0 and got["bumper_force_max"] > 0
+    assert out["units"]["bumper_force_max"] == "N" and out["units"]["mass_past_edge"] == "1"
+    assert main([*WIDE, "--stops"]) == 0
+    text = capsys.readouterr().out
+    assert f"{expected.stop_contacts} stop contact(s), bumper force max {expected.bumper_force_max:.4g} N" in text
+    assert "past the block's edge" not in text
+
+
+def test_simulate_stop_options_replace_the_edges_values(capsys):
+    """--L and --k-b replace at_edges' values (and imply --stops); c_b keeps the pads' damping ratio on k_b."""
+    assert main([*WIDE, "--L", "0.2", "--k-b", "5e4", "--json"]) == 0
+    damper = json.loads(capsys.readouterr().out)["damper"]
+    assert (damper["L"], damper["k_b"]) == (0.2, 5e4)
+    assert damper["c_b"] == pytest.approx(2 * 0.2 * np.sqrt(5e4 * damper["m"]))
+    assert main([*WIDE, "--stops", "--c-b", "0", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["damper"]["c_b"] == 0.0
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--stops", "--no-damper"], "--stops: end stops of the damper's guide: give the damper"),
+    (["--stops", "--model", "omd"], "--stops: end stops run on the model omd_stops (got --model omd)"),
+    (["--L", "0.4"], "L must be in (0, B/2] = (0, 0.3] m"),
+])  # fmt: skip
+def test_simulate_bad_stops_are_refused_in_one_line(capsys, argv, message):
+    assert main([*WIDE, *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err, err
+
+
+def test_simulate_pendulum_stroke_is_an_angle_past_the_edge_does_not_apply(capsys):
+    """The pendulum's stroke is its rod's angle: mass_past_edge is null, and the text says nothing of an edge."""
+    params = [x for p in ("m=50", "l=0.5", "x_p=0", "y_p=2.55", "k_phi=0", "c_phi=5.5") for x in ("--param", p)]
+    argv = ["simulate", "--model", "pendulum", *params, "--beta", "3", "--Omega", "4"]
+    assert main([*argv, "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["responses"]["with damper"]["mass_past_edge"] is None
+    assert main(argv) == 0
+    assert "edge" not in capsys.readouterr().out
+
+
+def _warnings(err: str) -> list[str]:
+    return [line for line in err.splitlines() if line.startswith("rocking simulate: warning: ")]
+
+
+def test_simulate_warns_of_a_damper_heavier_than_half_the_block(capsys):
+    assert main(["simulate", "--gamma", "0.6", "--omega-ratio", "1", "--beta", "3", "--Omega", "4"]) == 0
+    assert _warnings(capsys.readouterr().err) == [
+        "rocking simulate: warning: the damper's mass is 0.6 of the block's (gamma > 0.5): a damper heavier than "
+        "half the block is a second body, not a damper; is m (or --gamma) right?"
+    ]
+    assert main(["simulate", "--gamma", "0.5", "--omega-ratio", "1", "--beta", "3", "--Omega", "4"]) == 0
+    assert _warnings(capsys.readouterr().err) == []
+
+
+@pytest.mark.parametrize("rows, options, expected", [
+    ("0 0\n0.01 2\n0.02 -1\n0.03 0\n", ["--unit", "g"], []),  # 2 g: a strong record, nothing to say
+    ("0 0\n0.01 2\n0.02 -1\n0.03 0\n", ["--unit", "g", "--pga", "50"], ["the motion's PGA is 5.1 g, above the "
+                                                                         "largest ever recorded (4.36 g)"]),
+    ("0 0\n0.01 350\n0.02 -200\n0.03 0\n", ["--unit", "g", "--scale", "0.01"],
+     ["read in g, its PGA is 350 g (> 20 g): its values look like cm/s2"]),
+    ("0 0\n0.1 0.5\n0.2 -0.2\n0.3 0\n", ["--unit", "g"], ["dt = 0.1 s (> 0.05 s): too coarse"]),
+])  # fmt: skip
+def test_simulate_warns_of_an_implausible_record_in_one_line(capsys, tmp_path, rows, options, expected):
+    """PGA past the largest recorded after scaling, a record 'in g' that looks like cm/s2, a dt above 0.05 s:
+    each a warning of one line (the run goes on); a plausible record none."""
+    path = tmp_path / "record.txt"
+    path.write_text(rows)
+    assert main(["simulate", "--no-damper", "--motion", str(path), *options]) == 0
+    warned = _warnings(capsys.readouterr().err)
+    assert len(warned) == len(expected)
+    for line, text in zip(warned, expected, strict=True):
+        assert text in line, line

@@ -236,3 +236,16 @@ def test_ida_levels_over_decades_in_log_scale_and_the_title_says_motions(tmp_pat
     assert [ax.get_xscale() for ax in fig.axes[:2]] == ["log", "log"]
     assert fig.axes[0].get_xlabel() == "scale factor"
     assert "motions of both signs" in fig._suptitle.get_text()
+
+
+def test_the_response_figure_names_a_stroke_past_the_edge():
+    """Unlimited guide on the reference block at beta 4, Omega 3: the mass leaves the block, and its panel says so."""
+    damper = Damper.from_nondim(Block.reference(), gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    block, responses = _responses(damper)
+    assert responses["with damper"].x_max > block.B / 2  # the premise
+    ax_x = response_figure(responses, block, damper=damper).axes[1]
+    assert ax_x.get_title(loc="left").startswith("mass past the block's edge: with damper")
+    stops = Damper(damper.m, damper.k_m, damper.c, damper.h, stops=Stops.at_edges(block, damper))
+    block, held = _responses(stops)
+    assert held["with damper"].x_max <= block.B / 2  # the premise: the pads hold it
+    assert response_figure(held, block, damper=stops).axes[1].get_title(loc="left") == ""

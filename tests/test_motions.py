@@ -41,13 +41,14 @@ def _mp_by_hand(t, gamma, nu):
 def test_each_family_is_its_formula(t):
     """docs/model.md section 12, typed by hand, at a few points inside [0, t_p]; the sign multiplies it all."""
     u = W * (t - 8 / W) / 2
+    v = W * (t - 4 * math.sqrt(6) / W) / math.sqrt(6)  # the antisymmetric wavelet's u
     u_star = math.sqrt((3 - math.sqrt(6)) / 2)
     cases = [
         (OneSinePulse(A_G, W, psi=0.3), math.sin(W * t + 0.3)),
         (OneCosinePulse(A_G, W), math.cos(W * t)),
         (RickerWavelet(A_G, W), (1 - 2 * u**2) * math.exp(-(u**2))),
         (RickerWavelet(A_G, W, antisymmetric=True),
-         -u * (3 - 2 * u**2) * math.exp(-(u**2)) / (u_star * (3 - 2 * u_star**2) * math.exp(-(u_star**2)))),
+         -v * (3 - 2 * v**2) * math.exp(-(v**2)) / (u_star * (3 - 2 * u_star**2) * math.exp(-(u_star**2)))),
         (MavroeidisPapageorgiou(A_G, W, gamma=2.0, nu=0.7), _mp_by_hand(t, 2.0, 0.7)),
     ]  # fmt: skip
     for motion, f in cases:
@@ -57,9 +58,11 @@ def test_each_family_is_its_formula(t):
 
 
 def test_durations_and_zero_outside():
-    """t_p: 2 pi / omega_g (cosine), 16 / omega_g (Ricker), 2 gamma pi / omega_g (MP); 0 outside [0, t_p]."""
+    """t_p: 2 pi / omega_g (cosine), 16 / omega_g (Ricker), 8 sqrt 6 / omega_g (antisymmetric Ricker),
+    2 gamma pi / omega_g (MP); 0 outside [0, t_p]."""
     mp = MavroeidisPapageorgiou(A_G, W, gamma=2.5)
     for motion, t_p in [(OneCosinePulse(A_G, W), 2 * math.pi / W), (RickerWavelet(A_G, W), 16 / W),
+                        (RickerWavelet(A_G, W, antisymmetric=True), 8 * math.sqrt(6) / W),
                         (mp, 2 * 2.5 * math.pi / W)]:  # fmt: skip
         assert motion.t_p == pytest.approx(t_p, rel=1e-15)
         assert motion.acceleration([-1e-9, t_p * (1 + 1e-9), 10 * t_p]).tolist() == [0.0, 0.0, 0.0]
@@ -74,9 +77,46 @@ def test_peak_one_shapes_peak_at_a_g():
         assert np.max(np.abs(motion.acceleration(t))) == pytest.approx(A_G, rel=1e-9), motion
     anti = RickerWavelet(A_G, W, antisymmetric=True)
     t = np.linspace(0, anti.t_p, 20_001)
-    assert anti.acceleration(t)[np.argmax(np.abs(anti.acceleration(t)))] > 0  # first lobe positive
+    # First lobe positive: the peak a_g before the centre (the two main lobes are equal: no argmax of |a|).
+    assert np.max(anti.acceleration(t[t < anti.t_c])) == pytest.approx(A_G, rel=1e-6)
     mp = MavroeidisPapageorgiou(A_G, W, gamma=2.0, nu=1.0)
     assert 0.5 * A_G < np.max(np.abs(mp.acceleration(np.linspace(0, mp.t_p, 20_001)))) <= A_G
+
+
+def fourier_peak_period(motion, n=4096, pad=1024) -> float:
+    """Period (s) of the peak of |FFT| of ``motion`` sampled at ``n`` points on [0, t_p], zero-padded ``pad``-fold.
+
+    The padding sets the frequency step to ``1 / (pad t_p)``; the parabola through the peak bin and its
+    neighbours places the peak between bins.
+    """
+    t = np.linspace(0.0, motion.t_p, n)
+    spectrum = np.abs(np.fft.rfft(motion.acceleration(t), n * pad))
+    k = int(np.argmax(spectrum[1:])) + 1  # bin 0 (the mean) is no period
+    left, mid, right = spectrum[k - 1 : k + 2]
+    shift = 0.5 * (left - right) / (left - 2 * mid + right)
+    dt = motion.t_p / (n - 1)
+    return n * pad * dt / (k + shift)  # bin k is the frequency k / (n pad dt)
+
+
+#: docs/model.md section 12, "Fourier peaks": the period of each family's spectral peak over T_g = 2 pi / omega_g.
+FOURIER_PEAKS = [
+    (OneSinePulse(A_G, W), 1.194),
+    (OneCosinePulse(A_G, W), 0.888),
+    (RickerWavelet(A_G, W), 1.0),
+    (RickerWavelet(A_G, W, antisymmetric=True), 1.0),
+    (MavroeidisPapageorgiou(A_G, W, gamma=1.5), 0.788),
+    (MavroeidisPapageorgiou(A_G, W, gamma=2.0), 0.860),
+    (MavroeidisPapageorgiou(A_G, W, gamma=3.0), 0.927),
+    (MavroeidisPapageorgiou(A_G, W, gamma=5.0), 0.971),
+]
+
+
+@pytest.mark.parametrize(("motion", "ratio"), FOURIER_PEAKS,
+                         ids=["sine", "cosine", "ricker", "ricker_anti", "mp1.5", "mp2", "mp3", "mp5"])  # fmt: skip
+def test_fourier_peak_of_each_family(motion, ratio):
+    """The period of the spectral peak is the table's multiple of T_g: T_g itself for both Ricker wavelets
+    (Vassiliou and Makris 2011's T_p), whatever the family's omega_g means otherwise."""
+    assert fourier_peak_period(motion) / motion.T_g == pytest.approx(ratio, abs=1.5e-3)
 
 
 def test_from_nondim_sets_beta_and_Omega():

@@ -47,3 +47,20 @@ def test_the_readme_counts_are_those_the_code_gives():
     checks = len(verify(load_model("omd"), n=2, seed=1))  # the README shows the report of omd
     assert f"    {checks} passed, 0 failed (tolerance 1e-12)" in text
     assert f"runs {len(CORPUS)} hostile specs and {len(EXPENSIVE)} short specs that are costly to derive" in text
+
+
+def test_the_readme_simulate_output_is_what_simulate_prints(capsys):
+    """The README quotes rocking simulate's text of the reference block under Omega 7.5, beta 10: its words and
+    numbers are those the command prints (the README joins its lines)."""
+    from rocking.cli.main import main
+
+    text = " ".join(README.read_text(encoding="utf-8").split())
+    argv = ["simulate", "--gamma", "0.05", "--omega-ratio", "1", "--h", "0.05", "--beta", "10", "--Omega", "7.5"]
+    assert main(argv) == 0
+    unlimited = capsys.readouterr().out.splitlines()
+    assert "x_max = 1.102 m" in unlimited[1] and unlimited[2].startswith("  with damper: WARNING: ")
+    assert unlimited[2].removeprefix("  with damper: ") in text
+    assert main([*argv, "--stops"]) == 0
+    stops = capsys.readouterr().out
+    for quoted in ("OVERTURNS at t = 2.3569 s;", "2 stop contact(s), bumper force max 9180 N"):
+        assert quoted in stops and quoted in text, quoted

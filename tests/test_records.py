@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -493,3 +494,24 @@ def test_a_suites_file_replaced_by_a_pipe_is_refused_without_blocking(tmp_path):
     error = _within(10.0, lambda _: suite.motion(0), path).get("error")
     assert isinstance(error, ParameterError) and str(error).endswith("s.AT2: is a named pipe, not a regular file: "
                                                                      "only regular files are read")  # fmt: skip
+
+
+def test_implausible_records_warn_and_are_read(tmp_path):
+    """A record read in g whose peak exceeds 20 g (cm/s2 by mistake), a dt above 0.05 s: a PlausibilityWarning
+    each, naming the file; the record is read all the same. In cm/s2 the same numbers are plausible."""
+    from rocking import PlausibilityWarning
+
+    path = tmp_path / "cm.txt"
+    path.write_text("time [s], a [g]\n0, 0\n0.01, 350\n0.02, -120\n")
+    with pytest.warns(PlausibilityWarning, match=r"cm\.txt: read in g, its PGA is 350 g \(> 20 g\)"):
+        record = read_record(path)
+    assert np.max(np.abs(record.acceleration)) == pytest.approx(350 * STANDARD_GRAVITY)
+    coarse = tmp_path / "coarse.txt"
+    coarse.write_text("0 0\n0.1 1\n0.2 0\n")
+    with pytest.warns(PlausibilityWarning, match=r"coarse\.txt: dt = 0\.1 s \(> 0\.05 s\)"):
+        read_columns(coarse, "m/s2")
+    plain = tmp_path / "plain.txt"
+    plain.write_text("0, 0\n0.01, 350\n0.02, -120\n")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", PlausibilityWarning)
+        read_columns(plain, "cm/s2")

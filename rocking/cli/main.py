@@ -11,13 +11,24 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 import sys
+from dataclasses import replace
 from pathlib import Path
 
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
 from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
-from ..model.params import RANGES, Damper, ParameterError
+from ..model.params import (
+    BUMPER_DAMPING_RATIO,
+    BUMPER_DEPTH,
+    BUMPER_FREQUENCY_RATIO,
+    RANGES,
+    Damper,
+    ParameterError,
+    Stops,
+)
+from ..model.plausibility import check_mass_ratio, check_pga
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
 from ..sim.boundary import RESULT
@@ -26,6 +37,7 @@ from ..sim.history import HISTORY_FORMATS
 from ..sim.history import write as write_history
 from ..sim.problem import SimulationError
 from ..sim.run import BACKENDS, simulate
+from ..sim.stroke import mass_past_edge
 from ..study.config import versions
 from .options import (
     add_block_options,
@@ -39,7 +51,7 @@ from .options import (
     params_from,
 )
 from .rerun import apply_config
-from .study import add_study_commands
+from .study import add_study_commands, warnings_in_one_line
 
 DESCRIPTION = (
     "A rigid block rocking on the ground with an oscillating mass damper on its top: "
@@ -120,6 +132,52 @@ def _damper(args, block) -> Damper | dict | None:
     return None
 
 
+#: End-stop options of simulate, rocking.Stops(L, k_b, c_b): each replaces the value of --stops (Stops.at_edges).
+STOP_OPTIONS = ("L", "k_b", "c_b")
+
+
+def _with_stops(args, block, damper):
+    """``damper`` with the end stops of the options (``--stops``, ``--L``, ``--k-b``, ``--c-b``), or as it is."""
+    own = given(args, STOP_OPTIONS)
+    if not (args.stops or own):
+        return damper
+    named = flags([*(["stops"] if args.stops else []), *own])
+    if not isinstance(damper, Damper) or damper.m == 0.0:
+        raise ParameterError(
+            f"{named}: end stops of the damper's guide: give the damper (--gamma or --m); "
+            "a variant (--param) takes L, k_b, c_b as --param NAME=VALUE"
+        )
+    if args.model not in (None, "omd_stops"):
+        raise ParameterError(f"{named}: end stops run on the model omd_stops (got --model {args.model})")
+    return replace(damper, stops=_stops(block, damper, own))
+
+
+def _stops(block, damper: Damper, own: dict) -> Stops:
+    """``Stops.at_edges(block, damper)`` with the ``own`` values of ``L``, ``k_b``, ``c_b`` in place of its; without
+    ``c_b``, the pads' damping ratio on the bumpers' ``k_b``."""
+    values = {**Stops.at_edges(block, damper).as_params(), **own}
+    if "c_b" not in own:
+        values["c_b"] = 2 * BUMPER_DAMPING_RATIO * math.sqrt(values["k_b"] * damper.m)
+    return call_with(Stops, values, "end stops")
+
+
+def _model_of(args, damper) -> str | None:
+    """The model a response with ``damper`` runs on: None for the block alone."""
+    if damper is None:
+        return None
+    return args.model or (damper.model if isinstance(damper, Damper) else "omd")
+
+
+def _damper_mass(damper, model: str | None) -> float:
+    """The damper's moving mass, kg: ``m`` of a Damper, the sum of a variant's parameters in kg."""
+    if isinstance(damper, Damper):
+        return damper.m
+    if not damper:
+        return 0.0
+    kg = {p["name"] for p in load_model(model).manifest["parameters"] if p["unit"] == "kg"} - {"M"}
+    return sum(value for name, value in damper.items() if name in kg)
+
+
 #: The pulses of ``--pulse``: the family's class and its fixed arguments (docs/model.md section 12).
 PULSES = {family.replace("_", "-"): made for family, made in PULSE_TYPES.items()}
 #: The shape options of each family besides --sign (their dests), and the class's parameter each sets.
@@ -185,8 +243,8 @@ def _pulse_text(pulse) -> str:
     return pulse.family.replace("_", "-")
 
 
-def _payload(block, damper, pulse, model, responses) -> dict:
-    """What simulate --json prints."""
+def _payload(block, damper, pulse, model, responses, models) -> dict:
+    """What simulate --json prints; ``models``: each response's model (None: the block alone)."""
     if isinstance(pulse, SampledMotion):
         excitation = {"family": "sampled", "samples": pulse.n, "dt": pulse.dt, "scale": pulse.scale,
                       "pga": pulse.pga, "sign": pulse.sign}  # fmt: skip
@@ -202,7 +260,8 @@ def _payload(block, damper, pulse, model, responses) -> dict:
         "model": model or (damper.model if isinstance(damper, Damper) else "omd" if damper else "block"),
         "damper": damper_params,
         "pulse": excitation,
-        "responses": {label: r.summary() for label, r in responses.items()},
+        "responses": {label: {**r.summary(), "mass_past_edge": mass_past_edge(r, block.B / 2, models[label])}
+                      for label, r in responses.items()},  # fmt: skip
     }
     return {**payload, "units": _units(payload), "versions": versions()}
 
@@ -213,11 +272,12 @@ def _units(payload: dict) -> dict:
     units = {name: RANGES[name].unit or "1" for name in names if name in RANGES}
     own = {"I_G": "kg m^2", "dt": "s", "pga": "m/s^2", "scale": "1", "samples": "1", "sign": "1"}
     units.update({k: v for k, v in own.items() if k in names})
-    units.update({f.name: f.unit or "1" for f in RESULT})
+    units.update({f.name: f.unit or "1" for f in RESULT}, mass_past_edge="1")
     return dict(sorted(units.items()))
 
 
-def _print_summary(block, pulse, responses) -> None:
+def _print_summary(block, pulse, responses, models) -> None:
+    """The text of simulate: the block and the motion, then a line per response (``models``: each one's model)."""
     print(
         f"block H={block.H:g} m B={block.B:g} m M={block.M:g} kg e={block.e:g} m "
         f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); {_motion_text(block, pulse)}"
@@ -226,14 +286,42 @@ def _print_summary(block, pulse, responses) -> None:
         verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
         print(
             f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
-            f"{r.uplifts} uplift(s), {r.impacts} impact(s), ended at t = {r.t_end:.3f} s ({r.status})"
+            f"{r.uplifts} uplift(s), {r.impacts} impact(s){_stops_text(r, models[label])}, "
+            f"ended at t = {r.t_end:.3f} s ({r.status})"
         )
+        if mass_past_edge(r, block.B / 2, models[label]):
+            print(f"  {label}: {_past_edge_text(r, block, models[label])}")
+
+
+def _stops_text(response, model: str | None) -> str:
+    """``, N stop contact(s), bumper force max F N`` for a model with end stops (parameter ``L``), else nothing."""
+    if model is None or "L" not in load_model(model).own_parameters:
+        return ""
+    return f", {response.stop_contacts} stop contact(s), bumper force max {response.bumper_force_max:.4g} N"
+
+
+def _past_edge_text(response, block, model: str) -> str:
+    """The warning of a response whose mass ran past the block's edge, with the way out."""
+    text = (f"WARNING: the damper's mass went past the block's edge (x_max = {response.x_max:.4g} m > "
+            f"B/2 = {block.B / 2:.4g} m): a guide on the block ends there, "
+            "so this response holds on paper only")  # fmt: skip
+    if "L" in load_model(model).own_parameters:
+        return text + " (through its bumpers: stiffer ones, --k-b, or a shorter stroke, --L)"
+    return text + "; --stops puts end stops at the edges"
 
 
 def _cmd_simulate(args) -> int:
+    with warnings_in_one_line(args.command):
+        return _simulate(args)
+
+
+def _simulate(args) -> int:
     block = block_from(args)
-    damper = _damper(args, block)
+    damper = _with_stops(args, block, _damper(args, block))
     pulse = _motion(args) if args.motion else _pulse(args, block)
+    check_mass_ratio(_damper_mass(damper, _model_of(args, damper)) / block.M)
+    if isinstance(pulse, SampledMotion):
+        check_pga(pulse.pga, block.g)
     cases = {"with damper" if damper else "block alone": damper}
     if args.compare and damper is not None:
         cases["block alone"] = None
@@ -245,13 +333,14 @@ def _cmd_simulate(args) -> int:
     run["early_verdict"] = not (args.follow_to_rest or args.plot or args.history)
     record = bool(args.plot or args.history)
     responses = {}
+    models = {label: _model_of(args, d) for label, d in cases.items()}
     for label, d in cases.items():
         model = {"model": args.model} if d is not None and args.model is not None else {}
         responses[label] = simulate(block, d, pulse, record=record, **run, **model)
     if args.json:
-        print(json.dumps(_payload(block, damper, pulse, args.model, responses), indent=2))
+        print(json.dumps(_payload(block, damper, pulse, args.model, responses, models), indent=2))
     else:
-        _print_summary(block, pulse, responses)
+        _print_summary(block, pulse, responses, models)
     if args.plot:
         from ..plot.response import plot_responses
 
@@ -298,6 +387,23 @@ def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--param", action="append", metavar="NAME=VALUE", help="a parameter of the variant's bodies, SI (repeatable)"
     )
+    g = p.add_argument_group(
+        "end stops of the damper's guide (none given: the paper's unlimited guide)",
+        "As rocking.Stops.at_edges(block, damper): 20 mm bumper pads at the block's edges, on the model omd_stops; "
+        "--L, --k-b, --c-b replace its values (and imply --stops), as rocking.Stops(L, k_b, c_b).",
+    )
+    g.add_argument("--stops", action="store_true", help="bumper pads at the block's edges (Stops.at_edges)")
+    g.add_argument(
+        "--L", type=float, help=f"half-stroke from the centre to either bumper, m, at most B/2 (default B/2 - "
+        f"{BUMPER_DEPTH:g})",
+    )  # fmt: skip
+    g.add_argument(
+        "--k-b", type=float, help=f"bumper stiffness, N/m (default m ({BUMPER_FREQUENCY_RATIO:g} omega_m)^2: a "
+        f"bumper frequency {BUMPER_FREQUENCY_RATIO:g} times the damper's)",
+    )  # fmt: skip
+    g.add_argument(
+        "--c-b", type=float, help=f"bumper dashpot, N s/m (default: a damping ratio of {BUMPER_DAMPING_RATIO:g})"
+    )
 
 
 def _add_simulate(sub) -> None:
@@ -315,7 +421,9 @@ def _add_simulate(sub) -> None:
         "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi, sign) or, in SI, "
         "rocking.OneSinePulse(a_g, omega_g, psi, sign); --pulse picks another family (docs/model.md section 12) "
         "with the same options: OneCosinePulse, RickerWavelet (antisymmetric with ricker-anti), "
-        "MavroeidisPapageorgiou(a_g, omega_g, gamma, nu, sign).",
+        "MavroeidisPapageorgiou(a_g, omega_g, gamma, nu, sign). omega_g is 2 pi over the period of the cycle "
+        "(sine, cosine), of the Fourier peak (both Ricker wavelets, as Vassiliou and Makris 2011) or of the "
+        "carrier (mp).",
     )
     g.add_argument("--pulse", choices=tuple(PULSES), help="family of the pulse (default sine)")
     g.add_argument("--beta", type=float, help="amplitude ratio a_g / (g tan alpha)")

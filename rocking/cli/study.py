@@ -30,6 +30,7 @@ import numpy as np
 
 from ..model.motion import PULSE_TYPES
 from ..model.params import ParameterError
+from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE, SiteModel
 from ..plot.figures import draw, redraw
@@ -39,7 +40,7 @@ from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
 from ..study.fragility import FITTED
 from ..study.ida import LEVELS, incremental_dynamic_analysis
-from ..study.optimize import TM_GRID, optimal_damper
+from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
 from ..study.storage import DiskFull, make_folder, no_space, save
@@ -188,7 +189,9 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
 def _add_pulse(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("pulse family", "As rocking.Setting(block, pulse=..., gamma_mp=..., nu=...).")
     g.add_argument("--pulse", choices=[f.replace("_", "-") for f in PULSES],
-                   help="family of every pulse, docs/model.md section 12 (default sine)")  # fmt: skip
+                   help="family of every pulse, docs/model.md section 12 (default sine); Omega = omega_g / p, "
+                   "omega_g 2 pi over the period of the cycle, of the Fourier peak (ricker, ricker-anti) or of "
+                   "the carrier (mp)")  # fmt: skip
     g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulse mp, > 1")
     g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
 
@@ -488,16 +491,9 @@ def _print_design(study: Study) -> None:
         f"zeta = {d['zeta']:.3g}); stops at L = {d['L_m']:.3g} m, k_b = {d['k_b_N_per_m']:.4g} N/m, "
         f"c_b = {d['c_b_N_s_per_m']:.4g} N s/m"
     )
-    bound = " (a lower bound: the damped block did not overturn in the scan)" if s["worst_gain_is_lower_bound"] else ""
-    print(
-        f"design: worst gain over the band {s['worst_gain']:.3g} at Omega = {s['worst_at_Omega']:.3g}{bound}"
-        + ("; no damper of this budget and stroke helps over the whole band" if s["worst_gain"] < 1 else "")
-    )
-    for name, edge, ends in (("T_m", s["Tm_at_edge"], ("shortest", "longest")),
-                             ("zeta", s["zeta_at_edge"], ("smallest", "largest"))):  # fmt: skip
-        if edge:
-            end = ends[0] if edge < 0 else ends[1]
-            print(f"design: warning: the optimal {name} is the {end} of its search range; the best may lie beyond")
+    print(f"design: {design_verdict(s)}")
+    for warning in edge_warnings(s, d):
+        print(f"design: warning: {warning}")
     print(
         f"design: stroke used at the pulses that overturn the block alone: up to {s['stroke_use_max']:.3g} L, "
         f"{s['stop_contacts_max']} stop contacts; {s['candidates_on_block']} of {s['candidates']} dampers tried "
@@ -508,6 +504,35 @@ def _print_design(study: Study) -> None:
             f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
             "within the beta scan there; widen --beta)"
         )
+
+
+def design_verdict(summary: dict) -> str:
+    """What the design achieved, in words: it helps, gains nothing useful (worst gain <= USELESS_GAIN), makes some
+    pulse worse, or has no verdict (the gain is undefined over the whole band)."""
+    worst = summary["worst_gain"]
+    if worst is None:
+        return ("no verdict: the gain is undefined over the whole band (the block alone survives the beta scan; "
+                "widen --beta)")
+    where = f"at Omega = {summary['worst_at_Omega']:.3g}"
+    bound = ", a lower bound: the damped block survived the scan there" if summary["worst_gain_is_lower_bound"] else ""
+    if worst > USELESS_GAIN:
+        return f"helps: worst gain {worst:.2f} over the band ({where}{bound})"
+    if worst >= 1.0:
+        return f"no useful gain (worst gain {worst:.2f} <= {USELESS_GAIN:g}, {where}{bound})"
+    return (f"makes some pulses worse: worst gain {worst:.2f} < 1 ({where}{bound}); no damper of this budget and "
+            "stroke helps over the whole band")  # fmt: skip
+
+
+def edge_warnings(summary: dict, damper: dict) -> list[str]:
+    """One warning per optimal parameter at an end of its search range, with the option that widens it."""
+    out = []
+    for name, value, edge, option in (("T_m p / 2 pi", damper["Tm_ratio"], summary["Tm_at_edge"], "--Tm-ratio"),
+                                      ("zeta", damper["zeta"], summary["zeta_at_edge"], "--zeta-grid")):  # fmt: skip
+        if edge:
+            end, bound = ("smallest", "MIN below") if edge < 0 else ("largest", "MAX above")
+            out.append(f"the optimal {name} = {value:.3g} is the {end} of its search range: the best may lie "
+                       f"beyond; widen it with {option} MIN MAX N, {bound} {value:.3g}")  # fmt: skip
+    return out
 
 
 def _cmd_threshold(args) -> int:
@@ -646,13 +671,13 @@ def _cmd_redraw(args) -> int:
     return 0
 
 
-#: Warnings of a study that the command line shows as one line each, like its errors.
-STUDY_WARNINGS = (TileWarning, UndeterminedWarning)
+#: Warnings of a study, and of implausible inputs, that the command line shows as one line each, like its errors.
+STUDY_WARNINGS = (TileWarning, UndeterminedWarning, PlausibilityWarning)
 
 
 @contextmanager
-def _warnings_in_one_line(command: str) -> Iterator[None]:
-    """Show the studies' warnings (:data:`STUDY_WARNINGS`) as ``rocking COMMAND: warning: ...``, one line each."""
+def warnings_in_one_line(command: str) -> Iterator[None]:
+    """Show the warnings of :data:`STUDY_WARNINGS` as ``rocking COMMAND: warning: ...``, one line each."""
     default = warnings.showwarning
 
     def show(message, category, filename, lineno, file=None, line=None) -> None:
@@ -674,7 +699,7 @@ def _guarded(command):
         rerun = getattr(args, "rerun", None)
         token = CURRENT.set({"command": command_record(args), "rerun": rerun})
         try:
-            with _warnings_in_one_line(args.command):
+            with warnings_in_one_line(args.command):
                 return command(args)
         except ParameterError as exc:
             print(f"rocking {args.command}: error: {exc}", file=sys.stderr)

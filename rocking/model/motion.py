@@ -42,8 +42,12 @@ __all__ = [
 #: The families, in the order of their codes (``rocking.sim.boundary.MOTIONS``).
 FAMILIES = ("sine", "cosine", "ricker", "ricker_anti", "mp", "sampled")
 
-#: The Ricker wavelets are cut at ``|u| = 4`` (``exp(-16)``, 1e-7 of the peak): ``t_c = 8 / omega_g``.
+#: The Ricker wavelets are cut at ``|u| = 4`` (``exp(-16)``, 1e-7 of the peak): ``t_c = 4 RICKER_PHASE / omega_g``.
 RICKER_CUT = 4.0
+#: Phase ``omega_g (t - t_c)`` per unit of ``u`` of each wavelet: 2 for the symmetric one, sqrt 6 for the
+#: antisymmetric one, so that both spectra peak at ``omega_g`` (|F| ~ w^2 exp(-w^2 / (4 c^2)) and w^3 of it,
+#: c = omega_g / RICKER_PHASE): Vassiliou and Makris (2011)'s period ``T_p`` of both wavelets.
+RICKER_PHASE = {"ricker": 2.0, "ricker_anti": math.sqrt(6.0)}
 #: ``u*^2`` of the antisymmetric wavelet's peak, ``(3 - sqrt 6) / 2``.
 _U_STAR2 = (3.0 - math.sqrt(6.0)) / 2.0
 #: The antisymmetric wavelet's peak before normalisation, ``u* (3 - 2 u*^2) exp(-u*^2)``.
@@ -70,7 +74,7 @@ def _ricker(t, omega_g, phase, t_c, gamma, m):
 
 
 def _ricker_anti(t, omega_g, phase, t_c, gamma, m):
-    u = 0.5 * omega_g * (t - t_c)
+    u = omega_g * (t - t_c) / RICKER_PHASE["ricker_anti"]
     u2 = u * u
     return -(u * (3.0 - 2.0 * u2) * m.exp(-u2)) / RICKER_ANTI_PEAK
 
@@ -119,8 +123,9 @@ def timing(family: str, omega_g, phase=0.0, gamma=0.0):
         t_c, t_p = 0.0 * omega_g, (2 * math.pi - phase) / omega_g
     elif family == "cosine":
         t_c, t_p = 0.0 * omega_g, 2 * math.pi / omega_g
-    elif family in ("ricker", "ricker_anti"):
-        t_c, t_p = 2.0 * RICKER_CUT / omega_g, 4.0 * RICKER_CUT / omega_g
+    elif family in RICKER_PHASE:
+        t_c = RICKER_PHASE[family] * RICKER_CUT / omega_g
+        t_p = 2.0 * t_c
     else:
         t_c, t_p = gamma * math.pi / omega_g, 2.0 * gamma * math.pi / omega_g
     return (float(t_c), float(t_p)) if omega_g.ndim == 0 else (t_c, t_p)
@@ -162,20 +167,18 @@ def mp_extrema(gamma: float, nu: float) -> np.ndarray:
 
 def listed_extrema(family: str, gamma: float = 0.0, nu: float = 0.0) -> np.ndarray | None:
     """The extrema of a family's shape in phase units (Ricker, MP); ``None`` for the others."""
-    if family in ("ricker", "ricker_anti"):
+    if family in RICKER_PHASE:
         return ricker_extrema(family == "ricker_anti")
     return mp_extrema(gamma, nu) if family == "mp" else None
 
 
 def ricker_extrema(antisymmetric: bool) -> np.ndarray:
-    """The extrema of a Ricker wavelet in phase units ``phi = 2 u``: ``u = 0, +-sqrt(3/2)``, or
+    """The extrema of a Ricker wavelet in phase units ``phi = RICKER_PHASE u``: ``u = 0, +-sqrt(3/2)``, or
     ``u^2 = (3 -+ sqrt 6) / 2`` for the antisymmetric one (docs/model.md section 12)."""
     if antisymmetric:
         inner, outer = math.sqrt((3.0 - math.sqrt(6.0)) / 2.0), math.sqrt((3.0 + math.sqrt(6.0)) / 2.0)
-        u = [-outer, -inner, inner, outer]
-    else:
-        u = [-math.sqrt(1.5), 0.0, math.sqrt(1.5)]
-    return 2.0 * np.array(u)
+        return RICKER_PHASE["ricker_anti"] * np.array([-outer, -inner, inner, outer])
+    return RICKER_PHASE["ricker"] * np.array([-math.sqrt(1.5), 0.0, math.sqrt(1.5)])
 
 
 # --------------------------------------------------------------------------- #
@@ -296,10 +299,11 @@ class OneCosinePulse(_Analytic):
 
 @dataclass(frozen=True)
 class RickerWavelet(_Analytic):
-    """A Ricker wavelet ``sign a_g f(t)``, ``u = omega_g (t - t_c) / 2``, cut at ``|u| = 4`` (docs/model.md 12).
+    """A Ricker wavelet ``sign a_g f(t)``, cut at ``|u| = 4`` (docs/model.md 12).
 
-    Symmetric ``f = (1 - 2 u^2) exp(-u^2)``; antisymmetric, its derivative normalised to a peak of 1
-    (first lobe positive). ``omega_g = 2 pi f_p``, ``f_p`` the peak of its Fourier spectrum.
+    Symmetric ``f = (1 - 2 u^2) exp(-u^2)``, ``u = omega_g (t - t_c) / 2``; antisymmetric, its derivative
+    normalised to a peak of 1 (first lobe positive), ``u = omega_g (t - t_c) / sqrt 6``. For both,
+    ``omega_g = 2 pi f_p``, ``f_p`` the peak of its Fourier spectrum (Vassiliou and Makris 2011).
 
     Parameters
     ----------
@@ -329,12 +333,12 @@ class RickerWavelet(_Analytic):
 
     @property
     def t_c(self) -> float:
-        """Centre ``2 RICKER_CUT / omega_g = 8 / omega_g``, s."""
+        """Centre ``RICKER_CUT RICKER_PHASE / omega_g``: ``8 / omega_g``, ``4 sqrt 6 / omega_g`` if antisymmetric, s."""
         return timing(self.family, self.omega_g)[0]
 
     @property
     def t_p(self) -> float:
-        """End ``16 / omega_g``, s."""
+        """End ``2 t_c``, s."""
         return timing(self.family, self.omega_g)[1]
 
 

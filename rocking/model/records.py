@@ -67,6 +67,7 @@ import numpy as np
 
 from .motion import irregular_step
 from .params import RANGES, ParameterError, check_in_range
+from .plausibility import check_record
 
 #: Standard gravity, m/s^2: the ``g`` of records in units of g (PEER NGA).
 STANDARD_GRAVITY = 9.80665
@@ -419,7 +420,7 @@ def read_at2(path) -> Record:
             acceleration = _at2_body(path, lines, npts)
     except OSError as exc:
         raise _read_failure(path, exc) from None
-    return Record(acceleration, dt, str(path))
+    return _plausible(Record(acceleration, dt, str(path)), "g")
 
 
 # --------------------------------------------------------------------------- #
@@ -570,7 +571,14 @@ def read_columns(path, unit: str | None = None, *, dt: float | None = None, time
     if time_column:
         dt = _checked_step(path, "the time step", uniform_step(np.frombuffer(times), path, where), where[-1])
     _checked_length(path, len(where), dt, where[-1])
-    return Record(np.frombuffer(accelerations) * UNITS[unit], float(dt), str(path))
+    return _plausible(Record(np.frombuffer(accelerations) * UNITS[unit], float(dt), str(path)), unit)
+
+
+def _plausible(record: Record, unit: str) -> Record:
+    """``record``, read in ``unit``, after the plausibility warnings of its peak and its step."""
+    pga_g = float(np.max(np.abs(record.acceleration))) / STANDARD_GRAVITY
+    check_record(pga_g, record.dt, unit, record.name)
+    return record
 
 
 def uniform_step(t, path="times", lines=None) -> float:

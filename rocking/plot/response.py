@@ -46,6 +46,18 @@ def _damper_text(damper, model: str | None = None) -> str:
     return "damper " + ", ".join(f"{k} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in params.items())
 
 
+def past_edge(histories: dict, name: str, half_width: float) -> list[str]:
+    """The labels of the histories whose coordinate ``name`` (a stroke, m) passes the block's edge ``B/2``."""
+    return [label for label, h in histories.items() if name in h and np.max(np.abs(h[name])) > half_width]
+
+
+def _flag_past_edge(ax, labels: list[str]) -> None:
+    """Say on a stroke's panel which responses ran the mass past the block's edge (held on paper only)."""
+    if labels:
+        ax.set_title(f"mass past the block's edge: {', '.join(labels)} (a guide on the block ends there)",
+                     loc="left", fontsize=8, color=OKABE_ITO["vermillion"])  # fmt: skip
+
+
 def motion_label(motion, block: Block) -> str:
     """A ground motion for a title: its family, amplitude in m/s^2 and g, and period in s (a pulse; with its
     ``beta`` and ``Omega`` for ``block``, docs/model.md section 9), or its peak and duration (a record)."""
@@ -83,7 +95,7 @@ def response_figure(
         Label to a response run with ``record=True``.
     block : Block
         The rocking block: ``theta / alpha`` with the lines ``theta = +-alpha``, the block's edge ``B/2`` on a
-        stroke, the ground acceleration in g.
+        stroke in m (a stroke past it is named above its panel), the ground acceleration in g.
     title : str
         First line of the title; default the excitation ``motion`` (:func:`motion_label`). The block and the
         damper follow.
@@ -138,6 +150,7 @@ def response_figure(
         for value, colour, ls, label in marks:
             ax.axhline(value, color=colour, lw=0.9, ls=ls, label=f"{label} = $\\pm${value:.3g} m")
             ax.axhline(-value, color=colour, lw=0.9, ls=ls)
+        _flag_past_edge(ax, past_edge(histories, name, block.B / 2))
     ax_g.set_ylabel(r"$\ddot{x}_g$ (m/s$^2$)")
     ax_g.secondary_yaxis("right", functions=(lambda a: a / block.g, lambda a: a * block.g)).set_ylabel(
         r"$\ddot{x}_g$ (g)")  # fmt: skip

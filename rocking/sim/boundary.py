@@ -194,7 +194,8 @@ MOTIONS = tuple(
                 "one-sine: f = sin(omega_g t + psi)",
                 "one-cosine: f = cos(omega_g t)",
                 "Ricker wavelet: f = (1 - 2 u^2) exp(-u^2), u = omega_g (t - t_c) / 2",
-                "antisymmetric Ricker wavelet: f = -u (3 - 2 u^2) exp(-u^2) / RICKER_ANTI_PEAK",
+                "antisymmetric Ricker wavelet: f = -u (3 - 2 u^2) exp(-u^2) / RICKER_ANTI_PEAK, "
+                "u = omega_g (t - t_c) / sqrt 6",
                 "Mavroeidis-Papageorgiou: the derivative of its velocity pulse (docs/model.md section 12)",
                 "sampled: the samples, linear between them",
             ),

@@ -32,7 +32,7 @@ enum rocking_motion {
     ROCKING_MOTION_SINE = 0, /* one-sine: f = sin(omega_g t + psi) */
     ROCKING_MOTION_COSINE = 1, /* one-cosine: f = cos(omega_g t) */
     ROCKING_MOTION_RICKER = 2, /* Ricker wavelet: f = (1 - 2 u^2) exp(-u^2), u = omega_g (t - t_c) / 2 */
-    ROCKING_MOTION_RICKER_ANTI = 3, /* antisymmetric Ricker wavelet: f = -u (3 - 2 u^2) exp(-u^2) / RICKER_ANTI_PEAK */
+    ROCKING_MOTION_RICKER_ANTI = 3, /* antisymmetric Ricker wavelet: f = -u (3 - 2 u^2) exp(-u^2) / RICKER_ANTI_PEAK, u = omega_g (t - t_c) / sqrt 6 */
     ROCKING_MOTION_MP = 4, /* Mavroeidis-Papageorgiou: the derivative of its velocity pulse (docs/model.md section 12) */
     ROCKING_MOTION_SAMPLED = 5, /* sampled: the samples, linear between them */
 };

@@ -107,7 +107,7 @@ static double pulse_shape(const rocking_case *c, double t)
         return (1.0 - 2.0 * u2) * exp(-u2);
     }
     case ROCKING_MOTION_RICKER_ANTI: {
-        const double u = 0.5 * c->omega_g * (t - c->t_c), u2 = u * u;
+        const double u = c->omega_g * (t - c->t_c) / sqrt(6.0), u2 = u * u;
         return -(u * (3.0 - 2.0 * u2) * exp(-u2)) / ROCKING_RICKER_ANTI_PEAK;
     }
     case ROCKING_MOTION_MP: {

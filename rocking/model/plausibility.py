@@ -1,0 +1,67 @@
+"""Plausibility checks: inputs that are valid but unlikely to be what the user meant, as warnings.
+
+A valid input is run; one far outside what a building or a record is warns with a
+:class:`PlausibilityWarning` (the command line shows it as one line): a damper heavier than half
+the block, a record scaled past the largest acceleration ever recorded, a record said to be in g
+whose values look like cm/s^2, a record sampled too coarsely for the pulses that overturn blocks.
+
+Units SI: m/s^2, s.
+"""
+
+from __future__ import annotations
+
+import warnings
+
+#: Largest mass ratio m/M that is plausible: a tuned mass damper is a few per cent of its structure;
+#: past half the block the "damper" is a second body, and the model's massless guide a poor idealisation.
+GAMMA_MAX = 0.5
+#: The largest peak ground acceleration recorded, in g (Iwate-Miyagi Nairiku 2008).
+PGA_RECORDED_MAX = 4.36
+#: A record "in g" whose peak exceeds this many g is almost surely in cm/s^2 (980 times too strong).
+PGA_UNIT_SUSPECT = 20.0
+#: Coarsest plausible sample spacing, s: 20 samples per second leave a 0.2 s pulse 4 samples.
+DT_MAX = 0.05
+
+
+class PlausibilityWarning(UserWarning):
+    """A valid input far outside what a building or a record is: probably not what was meant."""
+
+
+def _warn(message: str) -> None:
+    warnings.warn(message, PlausibilityWarning, stacklevel=3)
+
+
+def check_mass_ratio(gamma: float) -> None:
+    """Warn if the damper's mass ratio ``gamma = m / M`` exceeds :data:`GAMMA_MAX`."""
+    if gamma > GAMMA_MAX:
+        _warn(f"the damper's mass is {gamma:.3g} of the block's (gamma > {GAMMA_MAX:g}): a damper heavier than "
+              "half the block is a second body, not a damper; is m (or --gamma) right?")  # fmt: skip
+
+
+def check_pga(pga: float, g: float) -> None:
+    """Warn if a motion's peak ``pga`` (m/s^2) exceeds the largest recorded, :data:`PGA_RECORDED_MAX` g of ``g``."""
+    if pga > PGA_RECORDED_MAX * g:
+        _warn(f"the motion's PGA is {pga / g:.3g} g, above the largest ever recorded ({PGA_RECORDED_MAX:g} g); "
+              "is the scale right?")  # fmt: skip
+
+
+def check_record(pga_g: float, dt: float, unit: str | None, name: str = "the record") -> None:
+    """Warn of a record read in g whose peak exceeds :data:`PGA_UNIT_SUSPECT` g, or sampled above :data:`DT_MAX`.
+
+    Parameters
+    ----------
+    pga_g : float
+        The record's peak, in g.
+    dt : float
+        Its sample spacing, s.
+    unit : str or None
+        The unit the file was read in (``"g"``, ``"m/s2"``, ``"cm/s2"``).
+    name : str
+        The record, as the warning names it.
+    """
+    if unit == "g" and pga_g > PGA_UNIT_SUSPECT:
+        _warn(f"{name}: read in g, its PGA is {pga_g:.4g} g (> {PGA_UNIT_SUSPECT:g} g): its values look like "
+              "cm/s2; give --unit cm/s2 (or state it in the header)")  # fmt: skip
+    if dt > DT_MAX:
+        _warn(f"{name}: dt = {dt:g} s (> {DT_MAX:g} s): too coarse to resolve the short pulses that overturn "
+              "blocks; the motion is linear between samples")  # fmt: skip
