@@ -1,0 +1,103 @@
+"""The tolerance check of ``rocking.simulate`` (issue 25, item 1).
+
+docs/simulation.md, "Sensitivity to the tolerance".
+"""
+
+import numpy as np
+import pytest
+
+import rocking
+from rocking.sim import accuracy, boundary, run
+
+BACKENDS = ["c", "numpy"]
+
+# The issue's case: a bare eccentric block under white noise, 100+ impacts; C at rtol 1e-8 gives a
+# theta_max 4.3 times below those of every other tolerance from 1e-6 to 1e-12.
+BLOCK = rocking.Block(H=3.1597847506851258, B=0.9313975019469038, M=131.3667739110528, e=-0.16218004607891312)
+NOISE = rocking.SampledMotion(
+    np.random.default_rng(36630).normal(0, 2.0, 1000), dt=0.02, scale=1.1631753337122157, sign=-1
+)
+# The rtol at which each back end's answer on NOISE is off: C's at the default, NumPy's at 1e-6
+# (0.0147 rad against 0.0494 at 1e-8).
+OFF = {"c": 1e-8, "numpy": 1e-6}
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_the_issues_case_is_sensitive_and_reports_the_tighter_run(backend):
+    rtol = OFF[backend]
+    loose = rocking.simulate(BLOCK, None, NOISE, backend=backend, rtol=rtol, check="none")
+    tight = rocking.simulate(BLOCK, None, NOISE, backend=backend, rtol=rtol / 100, check="none")
+    r = rocking.simulate(BLOCK, None, NOISE, backend=backend, rtol=rtol)  # checked by default: a sampled motion
+    assert not loose.sensitive and r.sensitive
+    assert abs(loose.theta_max - tight.theta_max) > 0.5 * tight.theta_max  # the case is what the issue says
+    assert r.theta_max == tight.theta_max and r.impacts == tight.impacts  # the same back end: the same run
+    assert r.summary()["sensitive"] is True
+
+
+def test_an_insensitive_response_is_the_run_at_the_tolerance_asked_for():
+    """NumPy at 1e-8 gives 0.0494 rad, 1e-10 0.0510: within 10 %, the response at 1e-8 stands."""
+    loose = rocking.simulate(BLOCK, None, NOISE, backend="numpy", check="none")
+    r = rocking.simulate(BLOCK, None, NOISE, backend="numpy")
+    assert not r.sensitive and r.summary() == loose.summary()
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_pulse_is_not_run_again_by_default(backend, monkeypatch):
+    block = rocking.Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
+    runs = []
+    real = run._run
+    monkeypatch.setattr(
+        run, "_run", lambda model, p, case, *args: runs.append(case["rtol"]) or real(model, p, case, *args)
+    )
+    assert not rocking.simulate(block, None, pulse, backend=backend).sensitive
+    assert runs == [1e-8]
+    rocking.simulate(block, None, pulse, backend=backend, check="tolerance")
+    assert runs == [1e-8, 1e-8, 1e-10]
+    rocking.simulate(BLOCK, None, NOISE, backend=backend, rtol=1e-6)  # a sampled motion: checked by default
+    assert runs[3:] == [1e-6, 1e-8]
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_check_none_turns_it_off(backend):
+    r = rocking.simulate(BLOCK, None, NOISE, backend=backend, rtol=OFF[backend], check="none")
+    assert not r.sensitive
+    again = rocking.simulate(BLOCK, None, NOISE, backend=backend, rtol=OFF[backend], check="none")
+    assert r.summary() == again.summary()  # the run at rtol, bit for bit: the same back end
+
+
+def test_a_pulse_checked_on_demand_is_compared():
+    block = rocking.Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
+    plain = rocking.simulate(block, None, pulse, backend="c")
+    checked = rocking.simulate(block, None, pulse, backend="c", check="tolerance")
+    assert not checked.sensitive and checked.summary() == plain.summary()  # a one-sine pulse's response does not move
+
+
+@pytest.mark.parametrize("check", ["Tolerance", "", 1, True, ["none"]])
+def test_bad_values_of_check_are_refused_in_one_line(check):
+    with pytest.raises(rocking.ParameterError, match=r"^check must be one of none, tolerance \(got .*\)$"):
+        rocking.simulate(BLOCK, None, NOISE, check=check)
+
+
+def test_the_tighter_tolerance_is_floored_at_the_smallest_valid_one():
+    assert accuracy.tighter_rtol(1e-8) == 1e-10
+    assert accuracy.tighter_rtol(1e-11) == accuracy.RTOL_MIN == 1e-12
+    boundary.check("rtol", accuracy.RTOL_MIN)
+    with pytest.raises(rocking.ParameterError, match="rtol must be"):
+        boundary.check("rtol", accuracy.RTOL_MIN * (1 - 1e-15))
+
+
+def test_at_the_smallest_rtol_there_is_nothing_to_compare_with():
+    r = rocking.simulate(BLOCK, None, NOISE, backend="c", rtol=1e-12)
+    assert not r.sensitive
+    assert r.summary() == rocking.simulate(BLOCK, None, NOISE, backend="c", rtol=1e-12, check="none").summary()
+
+
+def test_sensitive_compares_the_verdict_and_the_maxima_elementwise():
+    loose = {"overturned": np.array([0, 1, 0, 0, 0]), "theta_max": np.array([0.1, 1.0, 0.1, 0.1, 0.0]),
+             "x_max": np.array([0.2, 0.2, 0.2, 0.23, 0.0])}  # fmt: skip
+    tight = {"overturned": np.array([0, 0, 0, 0, 0]), "theta_max": np.array([0.105, 1.0, 0.12, 0.1, 0.0]),
+             "x_max": np.array([0.21, 0.2, 0.2, 0.2, 0.0])}  # fmt: skip
+    assert accuracy.sensitive(loose, tight).tolist() == [False, True, True, True, False]
+    assert accuracy.sensitive({k: v[0] for k, v in loose.items()}, {k: v[0] for k, v in tight.items()}) is False
