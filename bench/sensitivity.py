@@ -4,8 +4,9 @@ For a stochastic suite (the default site model, ``N`` motions of one seed) scale
 and 6 times the uplift threshold ``g tan(alpha)``, in both directions, with and without the README's
 damper, on the reference block and on the issue's eccentric one: at each ``rtol``, the fraction of
 responses that the tolerance check marks sensitive (docs/simulation.md, "Sensitivity to the
-tolerance"), and the wall time of the whole set with ``check="none"`` and with ``check="tolerance"`` (one run of each, on the C back end). Then
-the white-noise case of the issue at each tolerance, on both back ends.
+tolerance"), and the wall time of the whole set with ``check="none"`` and with
+``check="tolerance"`` (one run of each, on the C back end). Then the white-noise case of the issue
+at each tolerance, on both back ends.
 
 Usage::
 
