@@ -3,10 +3,13 @@
 docs/simulation.md, "Sensitivity to the tolerance".
 """
 
+import json
+
 import numpy as np
 import pytest
 
 import rocking
+from rocking.cli.main import main
 from rocking.sim import accuracy, boundary, run
 
 BACKENDS = ["c", "numpy"]
@@ -101,3 +104,26 @@ def test_sensitive_compares_the_verdict_and_the_maxima_elementwise():
              "x_max": np.array([0.21, 0.2, 0.2, 0.2, 0.0])}  # fmt: skip
     assert accuracy.sensitive(loose, tight).tolist() == [False, True, True, True, False]
     assert accuracy.sensitive({k: v[0] for k, v in loose.items()}, {k: v[0] for k, v in tight.items()}) is False
+
+
+def _noise_file(tmp_path):
+    """The issue's white noise as a CSV record in m/s2, before its scale and sign (exact: 18 digits)."""
+    path = tmp_path / "noise.csv"
+    t = np.arange(NOISE.n) * NOISE.dt
+    np.savetxt(path, np.column_stack([t, NOISE.a]), delimiter=",", header="time [s], a [m/s2]", comments="")
+    return path
+
+
+def test_rocking_simulate_prints_and_writes_the_flag(tmp_path, capsys):
+    dims = [f"--H={BLOCK.H!r}", f"--B={BLOCK.B!r}", f"--M={BLOCK.M!r}", f"--e={BLOCK.e!r}"]
+    motion = ["--motion", str(_noise_file(tmp_path)), f"--scale={NOISE.scale!r}", "--sign=-1"]
+    argv = ["simulate", *dims, *motion, "--backend", "c"]
+    assert main([*argv, "--json"]) == 0
+    out = json.loads(capsys.readouterr().out)
+    assert out["responses"]["block alone"] == rocking.simulate(BLOCK, None, NOISE, backend="c").summary()
+    assert out["responses"]["block alone"]["sensitive"] is True
+    assert out["units"]["sensitive"] == "1"
+    assert main(argv) == 0
+    assert "block alone: SENSITIVE to the tolerance" in capsys.readouterr().out
+    assert main([*argv, "--check", "none", "--json"]) == 0
+    assert json.loads(capsys.readouterr().out)["responses"]["block alone"]["sensitive"] is False

@@ -20,6 +20,7 @@ from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
 from ..model.params import RANGES, Damper, ParameterError
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
+from ..sim.accuracy import CHECKS, SENSITIVE
 from ..sim.boundary import RESULT
 from ..sim.cbuild import CBuildError
 from ..sim.history import HISTORY_FORMATS
@@ -213,7 +214,7 @@ def _units(payload: dict) -> dict:
     units = {name: RANGES[name].unit or "1" for name in names if name in RANGES}
     own = {"I_G": "kg m^2", "dt": "s", "pga": "m/s^2", "scale": "1", "samples": "1", "sign": "1"}
     units.update({k: v for k, v in own.items() if k in names})
-    units.update({f.name: f.unit or "1" for f in RESULT})
+    units.update({f.name: f.unit or "1" for f in (*RESULT, SENSITIVE)})
     return dict(sorted(units.items()))
 
 
@@ -228,6 +229,9 @@ def _print_summary(block, pulse, responses) -> None:
             f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
             f"{r.uplifts} uplift(s), {r.impacts} impact(s), ended at t = {r.t_end:.3f} s ({r.status})"
         )
+        if r.sensitive:
+            print(f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
+                  "(docs/simulation.md, Sensitivity to the tolerance)")  # fmt: skip
 
 
 def _cmd_simulate(args) -> int:
@@ -238,7 +242,7 @@ def _cmd_simulate(args) -> int:
     if args.compare and damper is not None:
         cases["block alone"] = None
     histories = _history_files(args.history, list(cases))
-    run = given(args, ("backend", "rtol", "t_max"))
+    run = given(args, ("backend", "rtol", "t_max", "check"))
     if args.history_dt is not None:
         run["record_dt"] = args.history_dt
     # A figure or a history shows the whole motion: no early verdict (docs/simulation.md, rule 4).
@@ -349,6 +353,12 @@ def _add_simulate(sub) -> None:
         "--rtol", type=float, help=f"relative tolerance of the integrator ({default_text(simulate, 'rtol')})"
     )
     g.add_argument("--t-max", type=float, help="end time, s (default: 15 s after the pulse)")
+    g.add_argument(
+        "--check",
+        choices=CHECKS,
+        help="'tolerance': run again at rtol / 100 and flag a sensitive response (default for --motion; 'none' "
+        "for a pulse)",
+    )
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
     g.add_argument(
         "--follow-to-rest",
