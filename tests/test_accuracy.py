@@ -11,6 +11,11 @@ import pytest
 import rocking
 from rocking.cli.main import main
 from rocking.sim import accuracy, boundary, run
+from rocking.study import ida as ida_module
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.ida import incremental_dynamic_analysis
+from rocking.study.suite import Suite
+from rocking.study.tiles import Execution
 
 BACKENDS = ["c", "numpy"]
 
@@ -127,3 +132,39 @@ def test_rocking_simulate_prints_and_writes_the_flag(tmp_path, capsys):
     assert "block alone: SENSITIVE to the tolerance" in capsys.readouterr().out
     assert main([*argv, "--check", "none", "--json"]) == 0
     assert json.loads(capsys.readouterr().out)["responses"]["block alone"]["sensitive"] is False
+
+
+def test_ida_reports_the_sensitive_responses_per_level(tmp_path):
+    """The issue's case as a record of an IDA at its own scale: its response in its own direction is
+    the checked rocking.simulate's, marked; the fraction per level is in the Dataset and the table."""
+    path = _noise_file(tmp_path)
+    suite = Suite.from_files([path], unit="m/s2")
+    levels = Grid("scales", NOISE.scale, NOISE.scale, 1)
+    serial = Execution(workers=1, progress=False)
+    study = incremental_dynamic_analysis(Setting(BLOCK), Tuning(0.05), suite, levels, serial, directions="both",
+                                         runs=tmp_path / "runs")  # fmt: skip
+    a = study.arrays
+    j = list(a["signs"]).index(-1)
+    assert a["bare_sensitive_by_sign"][0, 0, j] and a["bare_theta_max_by_sign"][0, 0, j] == pytest.approx(
+        rocking.simulate(BLOCK, None, NOISE, backend="c").theta_max, rel=1e-12
+    )
+    for part in ("bare", "damper"):
+        np.testing.assert_array_equal(a[f"{part}_sensitive_fraction"], a[f"{part}_sensitive_by_sign"].mean(axis=(0, 2)))
+        np.testing.assert_array_equal(study.tables["ida"][f"{part}_sensitive"], a[f"{part}_sensitive"].ravel())
+        assert study.summary[part]["sensitive"] == a[f"{part}_sensitive_by_sign"].sum()
+    ds = study.to_dataset()
+    assert ds["bare_sensitive_fraction"].dims == ("level",) and ds["bare_sensitive_fraction"].attrs["units"] == "1"
+    assert float(ds["bare_sensitive_fraction"][0]) >= 0.5
+
+
+def test_an_ida_of_pulses_runs_each_response_once(tmp_path, monkeypatch):
+    block = rocking.Block.reference()
+    pulses = [rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=Omega) for Omega in (3.0, 5.0)]
+    calls = []
+    real = ida_module.run_cases
+    monkeypatch.setattr(ida_module, "run_cases", lambda cases, **kw: calls.append(len(cases)) or real(cases, **kw))
+    study = incremental_dynamic_analysis(Setting(block), Tuning(0.05), Suite.from_pulses(pulses),
+                                         Grid("scales", 0.5, 2.0, 3), Execution(workers=1, progress=False),
+                                         runs=tmp_path)  # fmt: skip
+    assert len(calls) == 2 * len(pulses)  # one batch a pulse and a part: none again
+    assert not study.arrays["bare_sensitive"].any() and not study.arrays["damper_sensitive_fraction"].any()

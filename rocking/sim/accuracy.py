@@ -93,3 +93,21 @@ def sensitive(loose: Mapping, tight: Mapping):
 def compared(response) -> dict:
     """The results of ``response`` that :func:`sensitive` compares, by name."""
     return {name: getattr(response, name) for name in COMPARED}
+
+
+def merged(loose: Mapping, tight: Mapping) -> dict:
+    """The results of a batch checked against its tighter run: the tighter run's where :func:`sensitive`.
+
+    Parameters
+    ----------
+    loose, tight : mapping of ndarray
+        The same fields (those of :data:`rocking.sim.problem.RESULT_FIELDS`, or any holding
+        :data:`COMPARED`) of the same cases, at the tolerance asked for and at :func:`tighter_rtol`.
+
+    Returns
+    -------
+    dict of ndarray
+        Every field of ``loose``, each case's from the run it reports, and ``sensitive`` (bool).
+    """
+    flag = np.asarray(sensitive(loose, tight), dtype=bool)
+    return {**{k: np.where(flag, tight[k], v) for k, v in loose.items()}, SENSITIVE.name: flag}
