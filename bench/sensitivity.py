@@ -6,7 +6,8 @@ damper, on the reference block and on the issue's eccentric one: at each ``rtol`
 responses that the tolerance check marks sensitive (docs/simulation.md, "Sensitivity to the
 tolerance"), and the wall time of the whole set with ``check="none"`` and with
 ``check="tolerance"`` (one run of each, on the C back end). Then the white-noise case of the issue
-at each tolerance, on both back ends.
+at each tolerance, on both back ends; and a fragility of 20 stochastic motions at 4 PGA levels with
+and without the check.
 
 Usage::
 
@@ -17,13 +18,17 @@ from __future__ import annotations
 
 import dataclasses
 import sys
+import tempfile
 import time
 
 import numpy as np
 
 import rocking
 from rocking.model.stochastic import DEFAULT_SITE
+from rocking.study import ida
+from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.suite import Suite
+from rocking.study.tiles import Execution
 
 PGA_OVER_UPLIFT = (1.5, 3.0, 6.0)
 TOLERANCES = (1e-6, 1e-8, 1e-10)
@@ -80,7 +85,28 @@ def white_noise() -> None:
                   f"{middle - start:.3f} s / {end - middle:.3f} s")  # fmt: skip
 
 
+def fragility_cost(n: int = 20) -> None:
+    """Wall time of a fragility of ``n`` stochastic motions at 4 PGA levels, with the check and without."""
+    block = rocking.Block.reference()
+    uplift = block.g * block.tan_alpha
+    levels = Grid("pga", 1.5 * uplift, 6.0 * uplift, 4)
+    suite = Suite.stochastic(DEFAULT_SITE, n, seed=1)
+    for label in ("with", "without"):
+        if label == "without":
+            # The study has no switch: a tighter tolerance equal to rtol is what skips the second run.
+            ida.tighter_rtol = lambda rtol: rtol
+        with tempfile.TemporaryDirectory() as runs:
+            start = time.perf_counter()
+            study = ida.incremental_dynamic_analysis(Setting(block), Tuning(0.05), suite, levels,
+                                                     Execution(workers=1, progress=False), measure_name="pga",
+                                                     runs=runs)  # fmt: skip
+            elapsed = time.perf_counter() - start
+        counts = {part: study.summary[part]["sensitive"] for part in ("bare", "damper")}
+        print(f"fragility, {study.run['responses']} responses, {label} the check: {elapsed:.2f} s; sensitive {counts}")
+
+
 if __name__ == "__main__":
     for block, name in ((rocking.Block.reference(), "reference"), (ISSUE_BLOCK, "the issue's eccentric")):
         suite_figures(int(sys.argv[1]) if len(sys.argv) > 1 else 30, block, name)
     white_noise()
+    fragility_cost()
