@@ -198,19 +198,19 @@ def test_problem_fields_follow_the_case_table():
 
 
 def test_response_fields_follow_the_result_table():
-    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "history", "source"]
+    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "sensitive", "history", "source"]
     assert list(RESULT_FIELDS) == RESULT_NAMES
     assert RESULT_FIELDS["status"] is np.int64 and RESULT_FIELDS["overturned"] is bool
     record = np.zeros(1, dtype=cb.RESULT_DTYPE)[0]
     record["status"], record["overturned"], record["theta_max"] = 3, 1, 0.5
     response = Response.from_record(record)
     assert (response.status, response.overturned, response.theta_max) == ("max_events", True, 0.5)
-    assert list(response.summary()) == RESULT_NAMES
+    assert list(response.summary()) == [*RESULT_NAMES, "sensitive"]
 
 
 @pytest.mark.parametrize(
     "cls, names",
-    [(Problem, ["model", "p", *CASE_NAMES]), (Response, [*RESULT_NAMES, "history"])],
+    [(Problem, ["model", "p", *CASE_NAMES]), (Response, [*RESULT_NAMES, "sensitive", "history"])],
     ids=["Problem", "Response"],
 )
 def test_the_docstrings_mention_every_field(cls, names):

@@ -31,6 +31,7 @@ from ..model.params import (
 from ..model.plausibility import check_mass_ratio, check_pga
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
+from ..sim.accuracy import CHECKS, SENSITIVE
 from ..sim.boundary import RESULT
 from ..sim.cbuild import CBuildError
 from ..sim.history import HISTORY_FORMATS
@@ -272,7 +273,7 @@ def _units(payload: dict) -> dict:
     units = {name: RANGES[name].unit or "1" for name in names if name in RANGES}
     own = {"I_G": "kg m^2", "dt": "s", "pga": "m/s^2", "scale": "1", "samples": "1", "sign": "1"}
     units.update({k: v for k, v in own.items() if k in names})
-    units.update({f.name: f.unit or "1" for f in RESULT}, mass_past_edge="1")
+    units.update({f.name: f.unit or "1" for f in (*RESULT, SENSITIVE)}, mass_past_edge="1")
     return dict(sorted(units.items()))
 
 
@@ -291,6 +292,9 @@ def _print_summary(block, pulse, responses, models) -> None:
         )
         if mass_past_edge(r, block.B / 2, models[label]):
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
+        if r.sensitive:
+            print(f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
+                  "(docs/simulation.md, Sensitivity to the tolerance)")  # fmt: skip
 
 
 def _stops_text(response, model: str | None) -> str:
@@ -326,7 +330,7 @@ def _simulate(args) -> int:
     if args.compare and damper is not None:
         cases["block alone"] = None
     histories = _history_files(args.history, list(cases))
-    run = given(args, ("backend", "rtol", "t_max"))
+    run = given(args, ("backend", "rtol", "t_max", "check"))
     if args.history_dt is not None:
         run["record_dt"] = args.history_dt
     # A figure or a history shows the whole motion: no early verdict (docs/simulation.md, rule 4).
@@ -457,6 +461,12 @@ def _add_simulate(sub) -> None:
         "--rtol", type=float, help=f"relative tolerance of the integrator ({default_text(simulate, 'rtol')})"
     )
     g.add_argument("--t-max", type=float, help="end time, s (default: 15 s after the pulse)")
+    g.add_argument(
+        "--check",
+        choices=CHECKS,
+        help="'tolerance': run again at rtol / 100 and flag a sensitive response (default for --motion; 'none' "
+        "for a pulse)",
+    )
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
     g.add_argument(
         "--follow-to-rest",

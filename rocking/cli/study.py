@@ -627,7 +627,8 @@ def _cmd_ida(args) -> int:
             text = (f"median {fit['theta']:.4g} {unit}, dispersion {fit['beta']:.3g} (90 % intervals {t0:.4g} to "
                     f"{t1:.4g}, {b0:.3g} to {b1:.3g}), {fit['status']}")  # fmt: skip
         print(f"{study.kind}, {part}: {text}; {fit['motions_with_resurrections']} of {s['motions']} motions "
-              "overturn the block at a level and not at a higher one")  # fmt: skip
+              "overturn the block at a level and not at a higher one; "
+              f"{fit['sensitive']} of {study.run['responses'] // 2} responses sensitive to the tolerance")  # fmt: skip
     return 0
 
 

@@ -36,6 +36,7 @@ from ..model.params import (
     shown,
 )
 from . import boundary
+from .accuracy import SENSITIVE
 from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, MOTION, PIVOT_A, PIVOT_A_PRIME, RESULT, SERIES, STATUS
 
 __all__ = [
@@ -59,7 +60,7 @@ class SimulationError(RuntimeError):
 _PYTHON = {DOUBLE: float, boundary.INT64: int, boundary.INT32: int, DOUBLES: np.ndarray, SERIES: np.ndarray}
 
 #: Fields whose Python value is not their C number: a name of :data:`STATUS`, truth values.
-_NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool, "early_verdict": bool}
+_NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool, "early_verdict": bool, "sensitive": bool}
 
 
 def _python(f) -> type:
@@ -75,6 +76,9 @@ def _result_dtype(f):
 
 #: Scalar results of a run, as arrays of a batch: field -> dtype (``status`` indexes :data:`STATUS`).
 RESULT_FIELDS = {f.name: _result_dtype(f) for f in RESULT}
+
+#: The fields of a :class:`Response`'s summary: the C results, then the tolerance check's.
+_SUMMARY = (*RESULT, SENSITIVE)
 
 
 def _attributes(fields, python) -> str:
@@ -242,7 +246,7 @@ def _repr_html(self) -> str:
 
     rows = "".join(
         f"<tr><td>{f.name}</td><td>{escape(str(value))}</td><td>{escape(f.unit)}</td><td>{escape(f.doc)}</td></tr>"
-        for f, value in zip(RESULT, _summary(self).values(), strict=True)
+        for f, value in zip(_SUMMARY, _summary(self).values(), strict=True)
     )
     recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
     return (f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
@@ -252,7 +256,7 @@ def _repr_html(self) -> str:
 def _summary(self) -> dict:
     """The scalar results as a plain dict (JSON-ready; NaN times as ``None``)."""
     out = {}
-    for f in RESULT:
+    for f in _SUMMARY:
         value = _python(f)(getattr(self, f.name))
         out[f.name] = None if isinstance(value, float) and np.isnan(value) else value
     return out
@@ -322,6 +326,7 @@ Response = make_dataclass(
     "Response",
     [(f.name, _python(f)) for f in RESULT]
     + [
+        (SENSITIVE.name, bool, field(default=False)),
         ("history", dict, field(default=None, repr=False)),
         ("source", tuple, field(default=None, repr=False, compare=False)),
     ],
@@ -337,11 +342,12 @@ Response = make_dataclass(
 )
 Response.__doc__ = f"""The response of the block to one pulse.
 
-Its fields are the table :data:`rocking.sim.boundary.RESULT`.
+Its fields are the table :data:`rocking.sim.boundary.RESULT`, then the tolerance check's
+(:data:`rocking.sim.accuracy.SENSITIVE`; ``False`` when no check ran).
 
 Attributes
 ----------
-{_attributes(RESULT, _python)}
+{_attributes(_SUMMARY, _python)}
     history : dict of ndarray, optional
         With ``record=True``: ``t``, every state component by name (``theta``,
         ``x``, ``dtheta``, ``dx``, ...), ``phase`` (:data:`CONTACT`,

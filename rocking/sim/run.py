@@ -6,6 +6,7 @@ import warnings
 
 from ..model.params import ParameterError
 from . import c_backend
+from .accuracy import check_choice, compared, sensitive, tighter_rtol
 from .cbuild import CBuildError
 from .problem import OPTIONS, Problem, Response, check_flag, resolve
 
@@ -69,6 +70,7 @@ def simulate(
     rtol: float = 1e-8,
     t_max: float | None = None,
     record: bool = False,
+    check: str | None = None,
     **settings,
 ) -> Response:
     """Response of ``block`` (with ``damper``, or ``None``) to ``pulse``.
@@ -90,6 +92,12 @@ def simulate(
         End of the run [s], in (0, 1.1e4]; default ``t_after`` (15 s) after the pulse.
     record : bool
         Keep the time history (``Response.history``); a bool, nothing else.
+    check : {"tolerance", "none"}, optional
+        ``"tolerance"``: run again at ``rtol / 100`` (at least 1e-12) and set
+        ``Response.sensitive`` if the verdict changed or ``theta_max`` or ``x_max``
+        moved by more than 10 %; a sensitive response is the tighter run's
+        (docs/simulation.md, "Sensitivity to the tolerance"). Default: ``"tolerance"``
+        for a :class:`SampledMotion` (records, stochastic motions), ``"none"`` for a pulse.
     **settings
         Further options of :func:`rocking.sim.problem.make_problem` (``model``,
         ``t_after``, ``dtheta_rest``, ``energy_rest``, ``max_events``, ``record_dt``,
@@ -135,6 +143,7 @@ def simulate(
     # Checked before the run is resolved: a bad option is refused before any work.
     _check_backend(backend)
     record = check_flag("record", record)
+    check = check_choice(check, pulse)
     if settings and settings.keys() - OPTIONS.keys():
         unknown = sorted(map(str, settings.keys() - OPTIONS.keys()))
         known = ", ".join(name for name in SETTINGS if name not in ("rtol", "t_max"))
@@ -145,7 +154,22 @@ def simulate(
     if t_max is not None:
         settings["t_max"] = t_max
     model, p, case = resolve(block, damper, pulse, settings)
-    return _run(model, p, case, backend, record)
+    response = _run(model, p, case, backend, record)
+    tight_rtol = tighter_rtol(case["rtol"])
+    # At the smallest valid rtol there is no tighter run to compare with: the response stands as it is.
+    if check == "none" or tight_rtol == case["rtol"]:
+        return response
+    # Resolved again, not patched: the default atol scales with rtol, and the tighter run tightens both.
+    tight = _run(*resolve(block, damper, pulse, {**settings, "rtol": tight_rtol}), backend, record)
+    return _checked(response, tight)
+
+
+def _checked(response: Response, tight: Response) -> Response:
+    """``response`` if the tighter run ``tight`` agrees with it, else ``tight``, marked ``sensitive``."""
+    if not sensitive(compared(response), compared(tight)):
+        return response
+    tight.sensitive = True
+    return tight
 
 
 _RTOL = OPTIONS["rtol"]

@@ -20,6 +20,7 @@ bootstrap band (:mod:`rocking.study.fragility`).
 from __future__ import annotations
 
 import math
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
@@ -27,6 +28,7 @@ import numpy as np
 from ..model.intensity import MEASURES, measure
 from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
+from ..sim.accuracy import SENSITIVE, merged, tighter_rtol
 from ..sim.cases import pulse_cases, run_cases, sampled_cases
 from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .directions import choose, response_envelope
@@ -84,7 +86,12 @@ def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
 
 def ida_tile(payload: tuple) -> dict:
     """One motion of one part at every level and direction: arrays ``(levels, signs)`` of the map's
-    :data:`~rocking.study.overturning_map.FIELDS`, and ``im`` (1,): the motion's measure (:func:`motion_measure`).
+    :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (1,): the motion's measure
+    (:func:`motion_measure`).
+
+    A sampled motion's responses are checked against a run at a tighter tolerance
+    (:mod:`rocking.sim.accuracy`; ``sensitive`` marks those that moved, which hold the tighter run's
+    results); a pulse's are not run again, and none is sensitive.
 
     ``payload = (setting, damper_or_None, suite, i, levels, name, signs)``.
     """
@@ -92,10 +99,16 @@ def ida_tile(payload: tuple) -> dict:
     motion = suite.motion(i)
     value = motion_measure(motion, name)
     scales = scales_for(levels, value, name)
-    cases = _cases(setting, motion, scales, signs, damper or {})
-    result = run_cases(cases, backend=setting.backend, threads=1)
+    result = run_cases(_cases(setting, motion, scales, signs, damper or {}), backend=setting.backend, threads=1)
+    result = {k: result[k] for k in FIELDS}
+    tight_rtol = tighter_rtol(setting.rtol)
+    if isinstance(motion, SampledMotion) and tight_rtol != setting.rtol:
+        tight = _cases(replace(setting, rtol=tight_rtol), motion, scales, signs, damper or {})
+        result = merged(result, run_cases(tight, backend=setting.backend, threads=1))
+    else:
+        result[SENSITIVE.name] = np.zeros(len(levels) * len(signs), dtype=bool)
     shape = (len(levels), len(signs))
-    return {**{k: result[k].reshape(shape) for k in FIELDS}, "im": np.array([value])}
+    return {**{k: v.reshape(shape) for k, v in result.items()}, "im": np.array([value])}
 
 
 def _damper_args(tuning: Tuning | Variant) -> dict:
@@ -145,9 +158,13 @@ def incremental_dynamic_analysis(
         ``signs``, ``im`` (each motion's measure), and per part ``bare``/``damper``: the map's fields per
         motion, level and direction (``<part>_<field>_by_sign``, (n, m, signs)), their envelope
         (``<part>_<field>``, (n, m)), the IDA summary (``<part>_first``, ``<part>_last_safe``,
-        ``<part>_reversals``), the fraction overturned per level, the fitted curve ``<part>_curve`` at
+        ``<part>_reversals``), the fraction overturned per level, ``<part>_sensitive_by_sign`` and
+        ``<part>_sensitive`` (a response, or one of its directions, sensitive to the tolerance: a sampled
+        motion's responses are checked, docs/simulation.md "Sensitivity to the tolerance"), the fraction
+        of the responses sensitive per level (``<part>_sensitive_fraction``), the fitted curve ``<part>_curve`` at
         ``curve_x`` with its band ``<part>_band_low``/``_high``. The summary gives each part's fit
-        (``theta``, ``beta`` and their intervals) and the motions with resurrections.
+        (``theta``, ``beta`` and their intervals), the motions with resurrections and the number of sensitive
+        responses.
     """
     check_study(setting, execution, runs, levels=levels)
     check_damper(tuning)
@@ -169,12 +186,13 @@ def incremental_dynamic_analysis(
         for k in FIELDS:
             arrays[f"{part}_{k}_by_sign"] = np.zeros(shape, float if k in ("theta_max", "x_max", "bumper_force_max")
                                                      else np.int64)  # fmt: skip
+        arrays[f"{part}_sensitive_by_sign"] = np.zeros(shape, bool)
         folder = run_folder(runs, part_config("ida", part, setting, damper=described, **grids))
         folders[part] = folder.name
         tasks = []
         for i in range(n):
             payload = (setting, damper, suite, i, lv, measure_name, signs)
-            expect = {**dict.fromkeys(FIELDS, (lv.size, len(signs))), "im": (1,)}
+            expect = {**dict.fromkeys((*FIELDS, SENSITIVE.name), (lv.size, len(signs))), "im": (1,)}
             task = Task(folder / f"motion-{i}.npz", ida_tile, payload, expect)
             tasks.append(task)
             where[task.path] = (part, i)
@@ -182,7 +200,7 @@ def incremental_dynamic_analysis(
 
     def place(task: Task, tile: dict) -> None:
         part, i = where[task.path]
-        for k in FIELDS:
+        for k in (*FIELDS, SENSITIVE.name):
             arrays[f"{part}_{k}_by_sign"][i] = tile[k]
         arrays["im"][i] = tile["im"][0]
 
@@ -203,8 +221,13 @@ def incremental_dynamic_analysis(
                                                          "reversals": np.zeros(n, int)}  # fmt: skip
         arrays.update({f"{part}_{k}": v for k, v in ida.items()})
         arrays[f"{part}_fraction"] = over.mean(axis=0)
+        sensitive = arrays[f"{part}_sensitive_by_sign"]
+        arrays[f"{part}_sensitive"] = sensitive.any(axis=-1)
+        # Of the responses (motions and directions), not of the envelopes: each is one run that moved.
+        arrays[f"{part}_sensitive_fraction"] = sensitive.mean(axis=(0, 2))
         summary[part] = _fit(lv, over, arrays, part)
         summary[part]["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
+        summary[part]["sensitive"] = int(sensitive.sum())
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
     return Study(kind, config, arrays, tables=ida_tables(arrays, motion_names(grids["suite"]), kind), summary=summary,
@@ -236,8 +259,10 @@ def ida_tables(arrays: dict, names, kind: str) -> dict:
     motion, level = np.meshgrid(np.arange(n), arrays["levels"], indexing="ij")
     rows = {"motion": motion.ravel(), "level": level.ravel()}
     for part in ("bare", "damper"):
-        for k in ("overturned", "impacts", "theta_max", "x_max"):
-            rows[f"{part}_{k}"] = arrays[f"{part}_{k}"].ravel()
+        for k in ("overturned", "impacts", "theta_max", "x_max", "sensitive"):
+            # A study saved before the tolerance check has no sensitive arrays: its table has no such column.
+            if f"{part}_{k}" in arrays:
+                rows[f"{part}_{k}"] = arrays[f"{part}_{k}"].ravel()
     motions = {"motion": np.arange(n), "name": np.array(names), "im": arrays["im"]}
     for part in ("bare", "damper"):
         for k in ("first", "last_safe", "reversals"):
