@@ -4,7 +4,8 @@ VENV ?= .venv
 PY := $(VENV)/bin/python
 STAMP := $(VENV)/.installed
 VARIANT ?=
-JOBS ?=
+# pytest-xdist workers of make test (JOBS=0: one process).
+JOBS ?= 2
 # Inputs per back end of `make fuzz` (bench/fuzz.py).
 FUZZ_N ?= 10000
 
@@ -42,7 +43,7 @@ verify: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check rocking derive tests bench setup.py
-	$(PY) -m pytest -q $(if $(JOBS),-n $(JOBS))
+	$(PY) -m pytest -q -n $(JOBS)
 
 # The tests of both back ends where the math libraries differ from this machine's: NumPy's SIMD
 # dispatch turned off, then the simulator's libm moved by one ulp (tests/libm_shim.c). No test may
