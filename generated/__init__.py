@@ -5,9 +5,9 @@ MANIFEST_FORMAT = 4
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "e065b67857bb723ee1a5fb3667fdff9a9d13011d72b383cb9d4e3628e28ad37c",
-    "omd": "69c5ca94d56b5ec985056c6d71115510182d7bbdb01998b26366e7598aee0840",
-    "omd2": "b250c1d9df809bab09618b3ab927a27f2f4e8ae03dc406721daadb47e7ede99b",
-    "omd_stops": "142436852fcb750447b6f9213700da28f3a8dd0ff1338a24ef90e9a6a1f25d08",
-    "pendulum": "370259053d6c647aa1558ff9a4703218a89242e213035755db124f6645a9da8a",
+    "block": "c68af63e805e40e4f72a26b9b8960366aeb2b3e53505217bf089e809509e7909",
+    "omd": "0046e09f24875ffc97af4a3bb5903eb7f7f7d043f9d2a2eb3e86c505b3500016",
+    "omd2": "b56a6c78a85fab414391c905b131c918188c5c787fb3ddd3c14c523a037b62ec",
+    "omd_stops": "c4a5b6132c2115bdec7648d5953922a7df0430e9f44afaf80e58d6ad8841a402",
+    "pendulum": "2f37e48b1c2ac7af835a1eff2ce665c6060151c5368a874781588d916799dfb2",
 }
