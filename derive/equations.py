@@ -473,7 +473,8 @@ def stop_gaps_and_forces(sysm: System, vg) -> tuple[list, list, list]:
     t_ = sysm.x_g.args[0]
     gaps = [_reduce(_to_symbols(delta, sysm, vg)) for _, delta, *_ in sysm.stops]
     pushes = [
-        k * gap + c * _reduce(_to_symbols(delta.diff(t_), sysm, vg)) for (_, delta, k, c, _), gap in zip(sysm.stops, gaps)
+        k * gap + c * _reduce(_to_symbols(delta.diff(t_), sysm, vg))
+        for (_, delta, k, c, _), gap in zip(sysm.stops, gaps)
     ]
     contacts = [sp.Min(gap, push) for gap, push in zip(gaps, pushes)]
     forces = [on * push for (on, *_), push in zip(sysm.stops, pushes)]
