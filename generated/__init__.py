@@ -5,9 +5,9 @@ MANIFEST_FORMAT = 4
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "c68af63e805e40e4f72a26b9b8960366aeb2b3e53505217bf089e809509e7909",
-    "omd": "0046e09f24875ffc97af4a3bb5903eb7f7f7d043f9d2a2eb3e86c505b3500016",
-    "omd2": "b56a6c78a85fab414391c905b131c918188c5c787fb3ddd3c14c523a037b62ec",
-    "omd_stops": "c4a5b6132c2115bdec7648d5953922a7df0430e9f44afaf80e58d6ad8841a402",
-    "pendulum": "2f37e48b1c2ac7af835a1eff2ce665c6060151c5368a874781588d916799dfb2",
+    "block": "32d255f61a1e0fab6aeb850b627c7f0eefe340ffce60a309fbcc6db325295918",
+    "omd": "2d08d650f87dfc4602994a2d69f219de5d284ee5e60442776c9e37d797b2baf4",
+    "omd2": "d961f4abedfc8b100cf563aa9952f64b6286b1d30a8ac92be0c81a5a4acb8812",
+    "omd_stops": "6d7ee144415828a661a0b8c8ad8f301d2260e3b579264a8fb50801116291b738",
+    "pendulum": "34e1d145e108312ea878bdd7bca7d08be6cf1ab735d80cb0a5e151ef23c4f007",
 }
