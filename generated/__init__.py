@@ -5,9 +5,9 @@ MANIFEST_FORMAT = 4
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "32d255f61a1e0fab6aeb850b627c7f0eefe340ffce60a309fbcc6db325295918",
-    "omd": "2d08d650f87dfc4602994a2d69f219de5d284ee5e60442776c9e37d797b2baf4",
-    "omd2": "d961f4abedfc8b100cf563aa9952f64b6286b1d30a8ac92be0c81a5a4acb8812",
-    "omd_stops": "6d7ee144415828a661a0b8c8ad8f301d2260e3b579264a8fb50801116291b738",
-    "pendulum": "34e1d145e108312ea878bdd7bca7d08be6cf1ab735d80cb0a5e151ef23c4f007",
+    "block": "1033733fa3c62c8751636940fe9b89172e5a330abff99efb1be520e56cb6deb5",
+    "omd": "7e6a6b20986bf800d90afca02e58fea1a90a8b38153c88ec756227094cdcddfc",
+    "omd2": "e2f1543f5b0b95a2525638f8cbec257a3b01e7e04c7bcbf80c5fb38983b4085d",
+    "omd_stops": "47c855d6c2012c9e0287944dbfc1ec9b08db5c467ab897d4394cdb3694a5a8f4",
+    "pendulum": "6229add95048176bbad6526ba6b087edafad5499aa71d58d7e4757b09147fb5b",
 }
