@@ -204,6 +204,29 @@ def test_a_run_that_starts_inside_a_bumper_has_it_acting(backend):
     assert r.bumper_force_max == pytest.approx(1e4 * 0.01, rel=1e-9)
 
 
+def test_a_released_pad_pushes_again_where_its_force_turns_positive(backend):
+    """A pad only pushes (docs/model.md section 11): a mass 1 mm into the upper pad, leaving it faster than the
+    pad recovers (k_b delta + c_b ddelta = -10 N), is released; the ground slows it, and the pad pushes again
+    where the bracket turns positive, the mass still in the pad (rule 6). In full contact the free mass has
+    ddx = -ag = cos(2 pi t): the bracket is 10^4 (1e-3 - 0.02 t + (1 - cos(2 pi t)) / (2 pi)^2)
+    + 10^3 (-0.02 + sin(2 pi t) / (2 pi)), whose root is 0.0116632321939 s (Brent's method)."""
+    params = {**FREE, "k_b": 1e4, "c_b": 1e3}
+    # ag = sin(2 pi t + 3 pi / 2) = -cos(2 pi t): about 1 m/s^2 into the pad, too little to lift the block.
+    toward = OneSinePulse(a_g=1.0, omega_g=2 * math.pi, psi=1.5 * math.pi)
+    problem = make_problem(
+        REFERENCE, params, toward, model="omd_stops", rtol=1e-11, t_max=0.03,
+        y0=np.array([0.0, FREE["L"] + 1e-3, 0.0, -0.02]), energy_rest=0.0, early_rest=False,
+    )  # fmt: skip
+    r = run(problem, backend=backend, record=True)
+    h = r.history
+    push = params["k_b"] * (h["x"] - FREE["L"]) + params["c_b"] * h["dx"]
+    i = np.flatnonzero(push > 0.0)[0]  # the first row where the pad pushes: the event, on the side after its root
+    assert (r.uplifts, r.stop_contacts) == (0, 1) and h["t"][i] == pytest.approx(0.0116632321939, abs=1e-9)
+    assert h["x"][i] > FREE["L"] and push[i] < 1e-6 and np.all(push[:i] <= 0.0)
+    assert 0.0 < r.bumper_force_max and np.all(load_model("omd_stops").functions.stop_forces(
+        1.0, *(h[k] for k in ("theta", "x", "dtheta", "dx")), 0.0, *problem.p)[0] >= 0.0)  # fmt: skip
+
+
 def test_the_contact_counters_of_a_run_cut_by_max_steps_are_those_of_its_last_segment(backend):
     """Rule 5 with stops: the counts and the force maximum of a cut run are at most the full run's."""
     damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
