@@ -21,8 +21,8 @@ is an input like the pivot: ``stop_on`` in NumPy, ``on`` of
 ``prefix_prepare(s, on, p, cst)`` in C, so that within a regime the equations
 are plain polynomial and rational code and its constants are hoisted with the
 pivot's. Without it (NumPy's ``stop_on=None``, C's unprepared functions) a
-function takes the regime of its state: each side acts where its penetration
-is > 0.
+function takes the regime of its state: each side acts where its contact
+(``stop_contact``: beyond the gap, the pad pushing) is > 0.
 """
 
 from __future__ import annotations
@@ -97,7 +97,7 @@ def model_functions(eq: Equations) -> list[Function]:
     n = len(names)
     acc = tuple("dd" + q for q in names)
     M, f = sp.IndexedBase("M"), sp.IndexedBase("f")
-    delta, force = sp.IndexedBase("delta"), sp.IndexedBase("F_b")
+    delta, force, contact = sp.IndexedBase("delta"), sp.IndexedBase("F_b"), sp.IndexedBase("contact")
     theta_cr = sp.Symbol("theta_cr", real=True)
     return [
         Function(
@@ -189,10 +189,19 @@ def model_functions(eq: Equations) -> list[Function]:
         ),
         Function(
             "stop_forces",
-            "Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).",
+            "Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes "
+            "back; a pad only pushes).",
             tuple(eq.stop_forces),
             tuple(f"F_b[{i}]" for i in range(len(eq.stop_forces))),
             tuple(force[i] for i in range(len(eq.stop_forces))),
+        ),
+        Function(
+            "stop_contact",
+            "Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of "
+            "the state); its zeros are the events of the regime.",
+            tuple(eq.stop_contact),
+            tuple(f"contact[{i}]" for i in range(len(eq.stop_contact))),
+            tuple(contact[i] for i in range(len(eq.stop_contact))),
         ),
         _scalar(
             "critical_tangent",
@@ -437,8 +446,8 @@ class ModelContext:
     regime : tuple of str
         The indicator of each stop side (``System.stops``), in the order of ``stop_gaps``.
     state_regime : tuple of Expr
-        The regime of a state, each indicator from its penetration: what a function
-        takes when it is given none.
+        The regime of a state, each indicator from its contact (the bumper pushes):
+        what a function takes when it is given none.
     inputs_sha256 : str
         :func:`input_hash` of the spec and options.
     """

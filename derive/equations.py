@@ -69,7 +69,11 @@ class Equations:
         while it is > 0 (docs/model.md section 11); a runtime stops at its zeros.
     stop_forces : list of Expr
         Per side of every end stop, the bumper's force on the travel,
-        ``k_b delta + c_b ddelta`` while ``delta > 0``, else 0 (positive: pushes back).
+        ``max(0, k_b delta + c_b ddelta)`` while ``delta > 0``, else 0 (positive:
+        pushes back; a pad only pushes).
+    stop_contact : list of Expr
+        Per side of every end stop, ``min(delta, k_b delta + c_b ddelta)``: > 0
+        exactly while its bumper pushes; a runtime stops at its zeros.
     block_accelerations : list of Expr
         Absolute horizontal accelerations of the centre of the block's top side and of
         its centroid ``G``, each affine in the accelerations ``ddq``: the part free of
@@ -86,8 +90,8 @@ class Equations:
         the potential but the weights'; for ``omd`` the guide force ``k_m x + c dx``
         plus the bumpers'.
     stop_regime : list of Expr
-        Per side of every end stop, its indicator as the condition on its penetration:
-        1 while ``delta > 0``, else 0. The forcing, accelerations, uplift, energy and
+        Per side of every end stop, its indicator as the condition on the state:
+        1 while its bumper pushes (``stop_contact > 0``), else 0. The forcing, accelerations, uplift, energy and
         power are written with the indicators themselves (``System.stops``), the
         regime of the stops being an input like the pivot ``s``; this is the
         regime of a state when no other is given.
@@ -110,6 +114,7 @@ class Equations:
     least_stroke_potential: sp.Expr
     stop_gaps: list = ()
     stop_forces: list = ()
+    stop_contact: list = ()
     block_accelerations: list = ()
     base_reaction: list = ()
     element_forces: list = ()
@@ -414,9 +419,13 @@ def least_potentials(sysm: System, energy, spec: Spec, laws: dict) -> tuple:
     return least, stroke
 
 
-def stop_indicators(sysm: System, vg) -> dict:
-    """Each stop side's indicator symbol -> 1 while its penetration is > 0, else 0: the regime of a state."""
-    return {on: sp.Piecewise((1, _to_symbols(delta, sysm, vg) > 0), (0, True)) for on, delta, *_ in sysm.stops}
+def stop_indicators(sysm: System, contacts: list) -> dict:
+    """Each stop side's indicator symbol -> 1 while its bumper pushes (its ``contacts`` > 0), else 0.
+
+    The regime of a state. A pad pushes while the mass is beyond the gap and
+    ``k_b delta + c_b ddelta > 0``: an unbonded pad cannot pull (docs/model.md section 11).
+    """
+    return {on: sp.Piecewise((1, contact > 0), (0, True)) for (on, *_), contact in zip(sysm.stops, contacts)}
 
 
 def in_penetrations(expr, sysm: System, vg):
@@ -453,15 +462,23 @@ def in_penetrations(expr, sysm: System, vg):
     return expr
 
 
-def stop_gaps_and_forces(sysm: System, vg) -> tuple[list, list]:
-    """Per stop side: the penetration and the bumper's force on it (0 while the bumper is clear)."""
+def stop_gaps_and_forces(sysm: System, vg) -> tuple[list, list, list]:
+    """Per stop side: the penetration, the bumper's force on it (0 while it does not push) and its contact.
+
+    The contact ``min(delta, k_b delta + c_b ddelta)`` is > 0 exactly where the
+    pad pushes: beyond the gap, with a compressive Kelvin-Voigt force. Its zeros
+    are the gap closing or opening and the force crossing 0, where the bumper's
+    force has a kink: the events of the regime (docs/simulation.md, rule 6).
+    """
     t_ = sysm.x_g.args[0]
     gaps = [_reduce(_to_symbols(delta, sysm, vg)) for _, delta, *_ in sysm.stops]
-    forces = [
-        on * (k * gap + c * _reduce(_to_symbols(delta.diff(t_), sysm, vg)))
-        for (on, delta, k, c, _), gap in zip(sysm.stops, gaps)
+    pushes = [
+        k * gap + c * _reduce(_to_symbols(delta.diff(t_), sysm, vg))
+        for (_, delta, k, c, _), gap in zip(sysm.stops, gaps)
     ]
-    return gaps, forces
+    contacts = [sp.Min(gap, push) for gap, push in zip(gaps, pushes)]
+    forces = [on * push for (on, *_), push in zip(sysm.stops, pushes)]
+    return gaps, forces, contacts
 
 
 def affine_in_accelerations(expr, sysm: System) -> list:
@@ -604,8 +621,8 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
     vg = sp.Symbol("vg", real=True)
     energy, power = energy_and_power(sysm, vg)
     weights = _weights_moment(sysm)
-    gaps, forces = stop_gaps_and_forces(sysm, vg)
-    on = stop_indicators(sysm, vg)
+    gaps, forces, contacts = stop_gaps_and_forces(sysm, vg)
+    on = stop_indicators(sysm, contacts)
 
     def where(expr):
         """``expr`` with its bumpers' terms in their penetrations, the indicators kept: the regime is an input."""
@@ -642,6 +659,7 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
         critical_tangent=critical_tangent(*weights),
         stop_gaps=gaps,
         stop_forces=stop_forces,
+        stop_contact=contacts,
         block_accelerations=block_accelerations(sysm, vg),
         base_reaction=base_reaction(sysm, vg),
         # As the bumpers' forces: read at the states of a recorded history, in their own regime.

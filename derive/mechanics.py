@@ -139,7 +139,7 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
         for j, stop in enumerate(spec.stops)
         for sigma in stop.sides
     ]
-    # A bumper acts beyond its gap only (docs/model.md section 11). Its potential k delta^2 / 2 has a
+    # A bumper acts beyond its gap only, while it pushes (docs/model.md section 11). Its potential k delta^2 / 2 has a
     # continuous derivative at delta = 0, so Lagrange's equations hold with the indicator "on" held
     # constant: the equations stay polynomial in it, and each region of the guide is a plain model.
     stops = tuple((sp.Symbol(f"_on{i}", real=True), *side) for i, side in enumerate(sides))

@@ -101,8 +101,9 @@ class Stop:
 
     Beyond the gap, the penetration ``delta = sigma travel - gap`` (``sigma = +1``
     for the upper stop, ``-1`` for the lower one) stores ``stiffness delta^2 / 2``
-    and dissipates ``damping ddelta^2 / 2`` (a Kelvin-Voigt bumper); inside the
-    gap the stop does nothing.
+    and dissipates ``damping ddelta^2 / 2`` while the pad pushes (a compression-only
+    Kelvin-Voigt bumper: force ``max(0, stiffness delta + damping ddelta)``); inside
+    the gap the stop does nothing.
     """
 
     name: str

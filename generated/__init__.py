@@ -5,9 +5,9 @@ MANIFEST_FORMAT = 4
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "e065b67857bb723ee1a5fb3667fdff9a9d13011d72b383cb9d4e3628e28ad37c",
-    "omd": "69c5ca94d56b5ec985056c6d71115510182d7bbdb01998b26366e7598aee0840",
-    "omd2": "b250c1d9df809bab09618b3ab927a27f2f4e8ae03dc406721daadb47e7ede99b",
-    "omd_stops": "142436852fcb750447b6f9213700da28f3a8dd0ff1338a24ef90e9a6a1f25d08",
-    "pendulum": "370259053d6c647aa1558ff9a4703218a89242e213035755db124f6645a9da8a",
+    "block": "1033733fa3c62c8751636940fe9b89172e5a330abff99efb1be520e56cb6deb5",
+    "omd": "7e6a6b20986bf800d90afca02e58fea1a90a8b38153c88ec756227094cdcddfc",
+    "omd2": "e2f1543f5b0b95a2525638f8cbec257a3b01e7e04c7bcbf80c5fb38983b4085d",
+    "omd_stops": "47c855d6c2012c9e0287944dbfc1ec9b08db5c467ab897d4394cdb3694a5a8f4",
+    "pendulum": "6229add95048176bbad6526ba6b087edafad5499aa71d58d7e4757b09147fb5b",
 }

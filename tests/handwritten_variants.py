@@ -183,6 +183,10 @@ class _Weights:
     def stop_forces(v):
         return ()
 
+    @staticmethod
+    def stop_contact(v):
+        return ()
+
 
 # ----------------------------------------------------------------------------- pendulum
 class Pendulum(_Weights):

@@ -82,7 +82,8 @@ def test_strict_warnings_compile(tmp_path):
 def test_sim_is_model_independent(tmp_path, n_constants):
     """sim.c compiles strictly against any generic model header: here three coordinates and two stop sides,
     declarations only."""
-    names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact", "stop_gaps", "stop_forces"]
+    names = ["mass_matrix", "forcing", "rocking_accel", "contact_accel", "impact"]
+    names += ["stop_gaps", "stop_forces", "stop_contact"]
     scalars = ["uplift", "energy", "power", "uplift_energy", "critical_angle", "critical_tangent"]
     scalars += ["least_potential", "least_stroke_potential"]
     args = "double s, const double *y, double ag, const double *p"

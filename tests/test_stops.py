@@ -3,10 +3,12 @@
 The outside fact: a mass that meets a linear Kelvin-Voigt bumper (stiffness ``k_b``,
 damping ``c_b = 2 zeta_b sqrt(k_b m)``) with nothing else acting on it moves as a damped
 oscillator from the moment the gap closes: its penetration is
-``delta(t) = v0 / omega_d exp(-zeta_b omega_n t) sin(omega_d t)``, so the gap opens again
-after ``pi / omega_d`` with the velocity ``-e v0``, ``e = exp(-zeta_b pi / sqrt(1 - zeta_b^2))``,
-whatever ``k_b``. A free mass on a block that stays on its base is such a mass: in full
-contact (C1) reads ``m ddx + G(x, dx) = 0`` without ground motion.
+``delta(t) = v0 / omega_d exp(-zeta_b omega_n t) sin(omega_d t)``. A pad only pushes: it
+lets go where ``k_b delta + c_b ddelta`` falls to 0, at
+``omega_d t_r = pi - atan2(2 zeta_b sqrt(1 - zeta_b^2), 1 - 2 zeta_b^2)``, and the mass leaves
+at its velocity there, ``-e v0``, whatever ``k_b`` (without damping, ``t_r = pi / omega_d`` and
+``e = 1``). A free mass on a block that stays on its base is such a mass: in full contact
+(C1) reads ``m ddx + G(x, dx) = 0`` without ground motion.
 """
 
 from __future__ import annotations
@@ -56,10 +58,16 @@ def free_mass(k_b: float, zeta_b: float, t_max: float, rtol: float = 1e-11):
 
 
 def flights(k_b: float, zeta_b: float) -> tuple[float, float, float]:
-    """``(e, tau, t1)``: restitution, contact time and first closing of the free mass (the module's closed form)."""
+    """``(e, tau, t1)``: restitution, time from the gap's closing to its opening, and first closing of the
+    free mass (the module's closed form: the pad lets go at ``t_r``, the mass then leaves it at ``-e v0``)."""
     omega_n = math.sqrt(k_b)
-    omega_d = omega_n * math.sqrt(1 - zeta_b**2)
-    return math.exp(-zeta_b * math.pi / math.sqrt(1 - zeta_b**2)), math.pi / omega_d, FREE["L"] / V0
+    root = math.sqrt(1 - zeta_b**2)
+    omega_d = omega_n * root
+    t_r = (math.pi - math.atan2(2 * zeta_b * root, 1 - 2 * zeta_b**2)) / omega_d
+    decay = math.exp(-zeta_b * omega_n * t_r)
+    delta_r = decay * math.sin(omega_d * t_r) / omega_d  # per unit v0
+    e = -decay * (math.cos(omega_d * t_r) - zeta_b / root * math.sin(omega_d * t_r))
+    return e, t_r + delta_r / e, FREE["L"] / V0
 
 
 def position_after_two_contacts(t: float, k_b: float, zeta_b: float, rigid: bool = False) -> float:
@@ -81,11 +89,16 @@ def test_a_kelvin_voigt_contact_matches_its_closed_form(backend, zeta_b):
     h = r.history
     assert h["x"][-1] == pytest.approx(position_after_two_contacts(t_end, k_b, zeta_b), rel=1e-8)
     assert h["dx"][-1] == pytest.approx(e * e * V0, rel=1e-8)
-    # Rule 6: each closing and opening is a breakpoint, recorded with |x| = L.
+    # Rule 6: each closing and each release is a breakpoint, recorded with |x| = L, or with the pad's
+    # force k_b delta + c_b ddelta at 0 (the gap's opening instead, without damping).
     at_gap = np.flatnonzero(np.isclose(np.abs(h["x"]), FREE["L"], rtol=0.0, atol=1e-12))
-    assert len(at_gap) >= 4
+    delta = np.abs(h["x"]) - FREE["L"]
+    push = k_b * delta + bumper(k_b, zeta_b)["c_b"] * np.sign(h["x"]) * h["dx"]
+    released = np.flatnonzero((delta > 1e-9) & np.isclose(push, 0.0, rtol=0.0, atol=1e-8 * V0 * math.sqrt(k_b)))
+    assert len(at_gap) >= (2 if zeta_b else 4) and len(released) >= (2 if zeta_b else 0)
     # The largest force, at step ends: at most the oscillator's peak, k_b delta + c_b ddelta.
-    assert 0.9 * V0 * math.sqrt(k_b) * e ** (1 / 4) <= r.bumper_force_max <= V0 * math.sqrt(k_b) * 1.0001
+    kelvin_voigt = math.exp(-zeta_b * math.pi / math.sqrt(1 - zeta_b**2))
+    assert 0.9 * V0 * math.sqrt(k_b) * kelvin_voigt ** (1 / 4) <= r.bumper_force_max <= V0 * math.sqrt(k_b) * 1.0001
 
 
 def test_a_stiffer_bumper_tends_to_the_rigid_stop_at_order_one_half(backend):
@@ -103,7 +116,8 @@ def test_a_stiffer_bumper_tends_to_the_rigid_stop_at_order_one_half(backend):
 
 def test_energy_balance_across_stop_contacts(backend):
     """A spring, no dashpots: the energy (the bumpers' potential included) is constant across the contacts;
-    with the bumpers' dashpots it falls by their dissipation, the integral of c_b dx^2 while they act."""
+    with the bumpers' dashpots it falls by their dissipation, the integral of c_b dx^2 while they push, and at
+    each release by the pad's potential k_b delta^2 / 2 there, which leaves with the pad: no event adds energy."""
     model = load_model("omd_stops")
     damper = {"m": 2.0, "h": 0.05, "k_m": 50.0, "c": 0.0, "L": 0.05}
     for c_b in (0.0, 40.0):
@@ -122,13 +136,19 @@ def test_energy_balance_across_stop_contacts(backend):
             # Only the integrator's error is left: 3e-9 J of 0.36 J over the run, at rtol 1e-11.
             assert np.max(np.abs(energy - energy[0])) < 1e-7 * energy[0]
             continue
-        # Trapezoids of c_b dx^2 over the intervals where a bumper acts: the closings and openings are
+        # Trapezoids of c_b dx^2 over the intervals where a bumper pushes: the closings and releases are
         # rows of the history (rule 6), so no interval straddles one, and its midpoint tells.
-        acting = np.abs(h["x"][1:] + h["x"][:-1]) / 2 > damper["L"]
+        x, dx = (h["x"][1:] + h["x"][:-1]) / 2, (h["dx"][1:] + h["dx"][:-1]) / 2
+        delta = np.abs(x) - damper["L"]
+        acting = (delta > 0) & (params["k_b"] * delta + c_b * np.sign(x) * dx > 0)
         power = h["dx"] ** 2
         dissipated = np.concatenate([[0.0], np.cumsum(acting * c_b * np.diff(h["t"]) * (power[1:] + power[:-1]) / 2)])
-        assert energy[-1] < 0.9 * energy[0]
-        assert np.max(np.abs(energy + dissipated - energy[0])) < 1e-4 * energy[0]
+        # Each release is where an interval that pushes meets one that does not, beyond the gap.
+        released = np.flatnonzero(acting[:-1] & ~acting[1:] & (delta[1:] > 0)) + 1
+        lost = np.zeros(len(h["t"]))
+        lost[released] = params["k_b"] * (np.abs(h["x"][released]) - damper["L"]) ** 2 / 2
+        assert len(released) >= 3 and energy[-1] < 0.9 * energy[0]
+        assert np.max(np.abs(energy + dissipated + np.cumsum(lost) - energy[0])) < 1e-4 * energy[0]
 
 
 def test_c_and_numpy_agree_with_stops():
@@ -182,6 +202,29 @@ def test_a_run_that_starts_inside_a_bumper_has_it_acting(backend):
     assert r.stop_contacts == 0  # it was already in contact: the gap never closed
     assert r.history["dx"][-1] == pytest.approx(-math.sqrt(1e4) * 0.01, rel=1e-8)
     assert r.bumper_force_max == pytest.approx(1e4 * 0.01, rel=1e-9)
+
+
+def test_a_released_pad_pushes_again_where_its_force_turns_positive(backend):
+    """A pad only pushes (docs/model.md section 11): a mass 1 mm into the upper pad, leaving it faster than the
+    pad recovers (k_b delta + c_b ddelta = -10 N), is released; the ground slows it, and the pad pushes again
+    where the bracket turns positive, the mass still in the pad (rule 6). In full contact the free mass has
+    ddx = -ag = cos(2 pi t): the bracket is 10^4 (1e-3 - 0.02 t + (1 - cos(2 pi t)) / (2 pi)^2)
+    + 10^3 (-0.02 + sin(2 pi t) / (2 pi)), whose root is 0.0116632321939 s (Brent's method)."""
+    params = {**FREE, "k_b": 1e4, "c_b": 1e3}
+    # ag = sin(2 pi t + 3 pi / 2) = -cos(2 pi t): about 1 m/s^2 into the pad, too little to lift the block.
+    toward = OneSinePulse(a_g=1.0, omega_g=2 * math.pi, psi=1.5 * math.pi)
+    problem = make_problem(
+        REFERENCE, params, toward, model="omd_stops", rtol=1e-11, t_max=0.03,
+        y0=np.array([0.0, FREE["L"] + 1e-3, 0.0, -0.02]), energy_rest=0.0, early_rest=False,
+    )  # fmt: skip
+    r = run(problem, backend=backend, record=True)
+    h = r.history
+    push = params["k_b"] * (h["x"] - FREE["L"]) + params["c_b"] * h["dx"]
+    i = np.flatnonzero(push > 0.0)[0]  # the first row where the pad pushes: the event, on the side after its root
+    assert (r.uplifts, r.stop_contacts) == (0, 1) and h["t"][i] == pytest.approx(0.0116632321939, abs=1e-9)
+    assert h["x"][i] > FREE["L"] and push[i] < 1e-6 and np.all(push[:i] <= 0.0)
+    assert 0.0 < r.bumper_force_max and np.all(load_model("omd_stops").functions.stop_forces(
+        1.0, *(h[k] for k in ("theta", "x", "dtheta", "dx")), 0.0, *problem.p)[0] >= 0.0)  # fmt: skip
 
 
 def test_the_contact_counters_of_a_run_cut_by_max_steps_are_those_of_its_last_segment(backend):

@@ -476,7 +476,7 @@ void omd_stop_gaps(double s, const double *y, double ag, const double *p, double
     omd_stop_gaps_prepared(y, ag, cst, out);
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * From the constants of omd_prepare(s, on, p, cst). */
 void omd_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -486,12 +486,30 @@ void omd_stop_forces_prepared(const double *y, double ag, const double *cst, dou
     (void)out;
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes). */
 void omd_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_NK];
     omd_prepare(s, NULL, p, cst);
     omd_stop_forces_prepared(y, ag, cst, out);
+}
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * From the constants of omd_prepare(s, on, p, cst). */
+void omd_stop_contact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
+void omd_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_NK];
+    omd_prepare(s, NULL, p, cst);
+    omd_stop_contact_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.

@@ -15,9 +15,9 @@
  * omd_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
  *   on  regime of the end stops, OMD_NSTOPS doubles (NULL if none): per side
- *       of each stop (the outputs of omd_stop_gaps), 1 while its bumper acts,
- *       else 0. The unprepared functions take the regime of y: a side acts where
- *       its penetration is > 0.
+ *       of each stop (the outputs of omd_stop_gaps), 1 while its bumper acts
+ *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
+ *       where its contact (omd_stop_contact) is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD_H
@@ -104,10 +104,15 @@ double omd_critical_angle_prepared(const double *y, double ag, const double *cst
 void omd_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
 void omd_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * out:  */
 void omd_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void omd_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * out:  */
+void omd_stop_contact(double s, const double *y, double ag, const double *p, double *out);
+void omd_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double omd_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -166,6 +171,8 @@ void omd_element_forces_prepared(const double *y, double ag, const double *cst, 
 #define model_stop_gaps_prepared omd_stop_gaps_prepared
 #define model_stop_forces omd_stop_forces
 #define model_stop_forces_prepared omd_stop_forces_prepared
+#define model_stop_contact omd_stop_contact
+#define model_stop_contact_prepared omd_stop_contact_prepared
 #define model_critical_tangent omd_critical_tangent
 #define model_critical_tangent_prepared omd_critical_tangent_prepared
 #define model_block_accelerations omd_block_accelerations

@@ -606,7 +606,7 @@ void omd2_stop_gaps(double s, const double *y, double ag, const double *p, doubl
     omd2_stop_gaps_prepared(y, ag, cst, out);
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -616,12 +616,30 @@ void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, do
     (void)out;
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back). */
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes). */
 void omd2_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD2_NK];
     omd2_prepare(s, NULL, p, cst);
     omd2_stop_forces_prepared(y, ag, cst, out);
+}
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * From the constants of omd2_prepare(s, on, p, cst). */
+void omd2_stop_contact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
+void omd2_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD2_NK];
+    omd2_prepare(s, NULL, p, cst);
+    omd2_stop_contact_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.

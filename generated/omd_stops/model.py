@@ -26,7 +26,7 @@ k_b        stiffness of each bumper [N/m]
 c_b        damping coefficient of each bumper [N s/m]
 stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
            its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
-           where its penetration is > 0)
+           where its contact, stop_contact, is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
 """
@@ -51,8 +51,11 @@ def _broadcast(values, args):
 
 
 def _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
-    """The regime of the state: each stop side acts (1) where its penetration is > 0, else not (0)."""
-    return (numpy.select([numpy.less(L - x, 0),True], [1,0], default=numpy.nan), numpy.select([numpy.less(L + x, 0),True], [1,0], default=numpy.nan), )
+    """The regime of the state: each stop side acts (1) where its contact is > 0, else not (0)."""
+    cse0 = -L + x
+    cse1 = c_b*dx
+    cse2 = -L - x
+    return (numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, cse0*k_b + cse1]), 0),True], [1,0], default=numpy.nan), numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse2, -cse1 + cse2*k_b]), 0),True], [1,0], default=numpy.nan), )
 
 
 def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
@@ -954,7 +957,7 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, 
 
 
 def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+    """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
     ----------
@@ -1005,9 +1008,69 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
         F_b[0], F_b[1]
     """
     cse0 = c_b*dx
-    cse1 = L - x
-    cse2 = L + x
-    out = _broadcast(((cse0 - cse1*k_b)*numpy.select([numpy.less(cse1, 0),True], [1,0], default=numpy.nan), (-cse0 - cse2*k_b)*numpy.select([numpy.less(cse2, 0),True], [1,0], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse1 = -L + x
+    cse2 = cse0 + cse1*k_b
+    cse3 = -L - x
+    cse4 = -cse0 + cse3*k_b
+    out = _broadcast((cse2*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse1, cse2]), 0),True], [1,0], default=numpy.nan), cse4*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse3, cse4]), 0),True], [1,0], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    return out
+
+
+def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        contact[0], contact[1]
+    """
+    cse0 = -L + x
+    cse1 = c_b*dx
+    cse2 = -L - x
+    out = _broadcast((functools.reduce(numpy.minimum, [cse0, cse0*k_b + cse1]), functools.reduce(numpy.minimum, [cse2, -cse1 + cse2*k_b]), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
@@ -1279,10 +1342,11 @@ def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     tuple of ndarray
         Q[x]
     """
-    cse0 = L + x
-    cse1 = numpy.select([numpy.less(cse0, 0),True], [1,0], default=numpy.nan)
-    cse2 = c_b*dx
-    cse3 = L - x
-    cse4 = numpy.select([numpy.less(cse3, 0),True], [1,0], default=numpy.nan)
-    out = _broadcast((c*dx + cse0*cse1*k_b + cse1*cse2 + cse2*cse4 - cse3*cse4*k_b + k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse0 = -L + x
+    cse1 = c_b*dx
+    cse2 = cse0*k_b
+    cse3 = numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, cse1 + cse2]), 0),True], [1,0], default=numpy.nan)
+    cse4 = -L - x
+    cse5 = numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse4, -cse1 + cse4*k_b]), 0),True], [1,0], default=numpy.nan)
+    out = _broadcast((c*dx + cse1*cse3 + cse1*cse5 + cse2*cse3 - cse4*cse5*k_b + k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out

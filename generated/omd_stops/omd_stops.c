@@ -179,38 +179,43 @@ void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
     cst[42] = k_m;
     cst[43] = c_b;
     cst[44] = k_b;
-    cst[45] = L;
-    cst[46] = -c_b;
-    cst[47] = 1.0/cse24;
-    cst[48] = H;
-    cst[49] = -cse93;
-    cst[50] = -H;
-    cst[51] = cse94;
-    cst[52] = -cse93 - e;
-    cst[53] = -cse94;
-    cst[54] = M + m;
-    cst[55] = -M*cse93 - cse95 - cse96;
-    cst[56] = -M*cse94 - cse99;
-    cst[57] = cse100 + cse101;
-    cst[58] = 2*m;
-    cst[59] = cse100*cse93 + cse101*cse93;
-    cst[60] = -cse104;
-    cst[61] = -H*cse105*cse92 - cse92*cse94*m - cse93*cse98;
-    cst[62] = -cse96;
-    cst[63] = -I_G - M*(e*e) - cse103 - cse105*cse106 - cse106*m - cse92*cse95 - 2*cse97*h - (h*h)*m;
-    cst[64] = cse104;
-    cst[65] = cse99;
-    cst[66] = c;
-    cst[67] = -k_b;
+    cst[45] = -c_b;
+    cst[46] = 1.0/cse24;
+    cst[47] = H;
+    cst[48] = -cse93;
+    cst[49] = -H;
+    cst[50] = cse94;
+    cst[51] = -cse93 - e;
+    cst[52] = -cse94;
+    cst[53] = M + m;
+    cst[54] = -M*cse93 - cse95 - cse96;
+    cst[55] = -M*cse94 - cse99;
+    cst[56] = cse100 + cse101;
+    cst[57] = 2*m;
+    cst[58] = cse100*cse93 + cse101*cse93;
+    cst[59] = -cse104;
+    cst[60] = -H*cse105*cse92 - cse92*cse94*m - cse93*cse98;
+    cst[61] = -cse96;
+    cst[62] = -I_G - M*(e*e) - cse103 - cse105*cse106 - cse106*m - cse92*cse95 - 2*cse97*h - (h*h)*m;
+    cst[63] = cse104;
+    cst[64] = cse99;
+    cst[65] = c;
+    cst[66] = -k_b;
 }
 
-/* The regime of the state y: each stop side acts where its penetration is > 0. */
+/* The regime of the state y: each stop side acts where its contact is > 0 (it pushes). */
 static void omd_stops_state_regime(const double *y, const double *p, double *on)
 {
     const double x = y[1];
+    const double dx = y[3];
     const double L = p[10];
-    on[0] = ((L - x < 0) ? (1) : (0));
-    on[1] = ((L + x < 0) ? (1) : (0));
+    const double k_b = p[11];
+    const double c_b = p[12];
+    const double cse0 = -L + x;
+    const double cse1 = c_b*dx;
+    const double cse2 = -L - x;
+    on[0] = ((fmin(cse0, cse0*k_b + cse1) > 0) ? (1) : (0));
+    on[1] = ((fmin(cse2, -cse1 + cse2*k_b) > 0) ? (1) : (0));
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
@@ -230,7 +235,7 @@ void omd_stops_mass_matrix_prepared(const double *y, double ag, const double *cs
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -275,7 +280,7 @@ void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -326,7 +331,7 @@ void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -354,7 +359,7 @@ void omd_stops_contact_accel_prepared(const double *y, double ag, const double *
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -381,7 +386,7 @@ double omd_stops_uplift_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -413,7 +418,7 @@ void omd_stops_impact_prepared(const double *y, double ag, const double *cst, do
 }
 
 /* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -453,7 +458,7 @@ double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Mechanical energy in the ground frame while rocking about s; ag is ignored.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -482,7 +487,7 @@ double omd_stops_power_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_power(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -503,7 +508,7 @@ double omd_stops_uplift_energy_prepared(const double *y, double ag, const double
 }
 
 /* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -528,7 +533,7 @@ double omd_stops_least_potential_prepared(const double *y, double ag, const doub
 }
 
 /* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_least_potential(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -554,7 +559,7 @@ double omd_stops_least_stroke_potential_prepared(const double *y, double ag, con
 }
 
 /* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_least_stroke_potential(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -577,7 +582,7 @@ double omd_stops_critical_angle_prepared(const double *y, double ag, const doubl
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -599,7 +604,7 @@ void omd_stops_stop_gaps_prepared(const double *y, double ag, const double *cst,
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -609,7 +614,7 @@ void omd_stops_stop_gaps(double s, const double *y, double ag, const double *p, 
     omd_stops_stop_gaps_prepared(y, ag, cst, out);
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -620,14 +625,16 @@ void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cs
     const double cst43 = cst[43];
     const double cst44 = cst[44];
     const double cst45 = cst[45];
-    const double cst46 = cst[46];
-    const double cse0 = -x;
-    out[0] = (cst43*dx + cst44*(cst14 + x))*((cse0 + cst45 < 0) ? (1) : (0));
-    out[1] = (cst44*(cse0 + cst14) + cst46*dx)*((cst45 + x < 0) ? (1) : (0));
+    const double cse0 = cst14 + x;
+    const double cse1 = cse0*cst44 + cst43*dx;
+    const double cse2 = cst14 - x;
+    const double cse3 = cse2*cst44 + cst45*dx;
+    out[0] = cse1*((fmin(cse0, cse1) > 0) ? (1) : (0));
+    out[1] = cse3*((fmin(cse2, cse3) > 0) ? (1) : (0));
 }
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -635,6 +642,34 @@ void omd_stops_stop_forces(double s, const double *y, double ag, const double *p
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_stop_forces_prepared(y, ag, cst, out);
+}
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+void omd_stops_stop_contact_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    const double x = y[1];
+    const double dx = y[3];
+    const double cst14 = cst[14];
+    const double cst43 = cst[43];
+    const double cst44 = cst[44];
+    const double cst45 = cst[45];
+    const double cse0 = cst14 + x;
+    const double cse1 = cst14 - x;
+    out[0] = fmin(cse0, cse0*cst44 + cst43*dx);
+    out[1] = fmin(cse1, cse1*cst44 + cst45*dx);
+}
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
+void omd_stops_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NSTOPS];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    omd_stops_stop_contact_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
@@ -646,12 +681,12 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
     const double cst5 = cst[5];
     const double cst38 = cst[38];
     const double cst39 = cst[39];
-    const double cst47 = cst[47];
-    return ((cst5 > 0) ? (cst47*(cst38 + cst39*x)) : (NAN));
+    const double cst46 = cst[46];
+    return ((cst5 > 0) ? (cst46*(cst38 + cst39*x)) : (NAN));
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 double omd_stops_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
@@ -667,27 +702,27 @@ void omd_stops_block_accelerations_prepared(const double *y, double ag, const do
 {
     const double theta = y[0];
     const double dtheta = y[2];
+    const double cst47 = cst[47];
     const double cst48 = cst[48];
     const double cst49 = cst[49];
     const double cst50 = cst[50];
     const double cst51 = cst[51];
     const double cst52 = cst[52];
-    const double cst53 = cst[53];
     const double cse0 = sin(theta);
     const double cse1 = (dtheta*dtheta);
     const double cse2 = cse0*cse1;
     const double cse3 = cos(theta);
     const double cse4 = cse1*cse3;
-    out[0] = ag + cse2*cst48 + cse4*cst49;
-    out[1] = cse0*cst49 + cse3*cst50;
+    out[0] = ag + cse2*cst47 + cse4*cst48;
+    out[1] = cse0*cst48 + cse3*cst49;
     out[2] = 0;
-    out[3] = ag + cse2*cst51 + cse4*cst52;
-    out[4] = cse0*cst52 + cse3*cst53;
+    out[3] = ag + cse2*cst50 + cse4*cst51;
+    out[4] = cse0*cst51 + cse3*cst52;
     out[5] = 0;
 }
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -716,6 +751,7 @@ void omd_stops_base_reaction_prepared(const double *y, double ag, const double *
     const double cst10 = cst[10];
     const double cst16 = cst[16];
     const double cst17 = cst[17];
+    const double cst53 = cst[53];
     const double cst54 = cst[54];
     const double cst55 = cst[55];
     const double cst56 = cst[56];
@@ -727,7 +763,6 @@ void omd_stops_base_reaction_prepared(const double *y, double ag, const double *
     const double cst62 = cst[62];
     const double cst63 = cst[63];
     const double cst64 = cst[64];
-    const double cst65 = cst[65];
     const double cse0 = sin(theta);
     const double cse1 = dtheta*dx;
     const double cse2 = cse1*cst9;
@@ -736,25 +771,25 @@ void omd_stops_base_reaction_prepared(const double *y, double ag, const double *
     const double cse5 = cos(theta);
     const double cse6 = cse3*cse5;
     const double cse7 = cst16*x;
-    const double cse8 = cse0*cst55;
-    const double cse9 = cse5*cst56;
+    const double cse8 = cse0*cst54;
+    const double cse9 = cse5*cst55;
     const double cse10 = cse5*cst1;
     const double cse11 = cse1*cse5;
     const double cse12 = cse0*cst1;
     const double cse13 = cse5*x;
-    out[0] = ag*cst54 + cse0*cse2 + cse4*cst4 + cse6*cse7 + cse6*cst55;
+    out[0] = ag*cst53 + cse0*cse2 + cse4*cst4 + cse6*cse7 + cse6*cst54;
     out[1] = cse0*cse7 + cse8 + cse9;
     out[2] = cse10;
-    out[3] = cse11*cst58 + cse3*cse8 + cse3*cse9 + cse4*cse7 + cst57;
-    out[4] = cse0*cst56 + cse10*x + cse5*cst6;
+    out[3] = cse11*cst57 + cse3*cse8 + cse3*cse9 + cse4*cse7 + cst56;
+    out[4] = cse0*cst55 + cse10*x + cse5*cst6;
     out[5] = cse12;
-    out[6] = ag*cse0*cst6 + ag*cse12*x + ag*cse5*cst4 + cse0*cst5 + cse1*cst10 + cse11*cst2 + cse13*cst8 + cse2*x + cse4*cst60 + cse4*cst62*x + cse5*cst7 + cse6*cst61 + cst59;
-    out[7] = cse0*cst61 + cse13*cst17 + cse5*cst64 + cst10*x + cst16*(x*x) + cst63;
-    out[8] = cse0*cst17 + cst65;
+    out[6] = ag*cse0*cst6 + ag*cse12*x + ag*cse5*cst4 + cse0*cst5 + cse1*cst10 + cse11*cst2 + cse13*cst8 + cse2*x + cse4*cst59 + cse4*cst61*x + cse5*cst7 + cse6*cst60 + cst58;
+    out[7] = cse0*cst60 + cse13*cst17 + cse5*cst63 + cst10*x + cst16*(x*x) + cst62;
+    out[8] = cse0*cst17 + cst64;
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_base_reaction(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
@@ -776,17 +811,19 @@ void omd_stops_element_forces_prepared(const double *y, double ag, const double 
     const double cst43 = cst[43];
     const double cst44 = cst[44];
     const double cst45 = cst[45];
+    const double cst65 = cst[65];
     const double cst66 = cst[66];
-    const double cst67 = cst[67];
-    const double cse0 = ((cst45 + x < 0) ? (1) : (0));
+    const double cse0 = cst14 + x;
     const double cse1 = cst43*dx;
-    const double cse2 = -x;
-    const double cse3 = ((cse2 + cst45 < 0) ? (1) : (0));
-    out[0] = cse0*cse1 + cse0*cst67*(cse2 + cst14) + cse1*cse3 + cse3*cst44*(cst14 + x) + cst42*x + cst66*dx;
+    const double cse2 = cse0*cst44;
+    const double cse3 = ((fmin(cse0, cse1 + cse2) > 0) ? (1) : (0));
+    const double cse4 = cst14 - x;
+    const double cse5 = ((fmin(cse4, cse4*cst44 + cst45*dx) > 0) ? (1) : (0));
+    out[0] = cse1*cse3 + cse1*cse5 + cse2*cse3 + cse4*cse5*cst66 + cst42*x + cst65*dx;
 }
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
- * In the regime of the state y: each stop side acts where its penetration is > 0. */
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_element_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];

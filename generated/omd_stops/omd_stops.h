@@ -15,9 +15,9 @@
  * omd_stops_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
  *   on  regime of the end stops, OMD_STOPS_NSTOPS doubles (NULL if none): per side
- *       of each stop (the outputs of omd_stops_stop_gaps), 1 while its bumper acts,
- *       else 0. The unprepared functions take the regime of y: a side acts where
- *       its penetration is > 0.
+ *       of each stop (the outputs of omd_stops_stop_gaps), 1 while its bumper acts
+ *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
+ *       where its contact (omd_stops_stop_contact) is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD_STOPS_H
@@ -26,7 +26,7 @@
 #define OMD_STOPS_NQ 2
 #define OMD_STOPS_NY 4
 #define OMD_STOPS_NP 13
-#define OMD_STOPS_NK 68
+#define OMD_STOPS_NK 67
 #define OMD_STOPS_NSTOPS 2
 #define OMD_STOPS_Y_theta 0
 #define OMD_STOPS_Y_x 1
@@ -107,10 +107,15 @@ double omd_stops_critical_angle_prepared(const double *y, double ag, const doubl
 void omd_stops_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
 void omd_stops_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * out: F_b[0], F_b[1] */
 void omd_stops_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * out: contact[0], contact[1] */
+void omd_stops_stop_contact(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double omd_stops_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -169,6 +174,8 @@ void omd_stops_element_forces_prepared(const double *y, double ag, const double 
 #define model_stop_gaps_prepared omd_stops_stop_gaps_prepared
 #define model_stop_forces omd_stops_stop_forces
 #define model_stop_forces_prepared omd_stops_stop_forces_prepared
+#define model_stop_contact omd_stops_stop_contact
+#define model_stop_contact_prepared omd_stops_stop_contact_prepared
 #define model_critical_tangent omd_stops_critical_tangent
 #define model_critical_tangent_prepared omd_stops_critical_tangent_prepared
 #define model_block_accelerations omd_stops_block_accelerations

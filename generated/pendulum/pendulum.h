@@ -15,9 +15,9 @@
  * pendulum_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
  *   on  regime of the end stops, PENDULUM_NSTOPS doubles (NULL if none): per side
- *       of each stop (the outputs of pendulum_stop_gaps), 1 while its bumper acts,
- *       else 0. The unprepared functions take the regime of y: a side acts where
- *       its penetration is > 0.
+ *       of each stop (the outputs of pendulum_stop_gaps), 1 while its bumper acts
+ *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
+ *       where its contact (pendulum_stop_contact) is > 0.
  * Derivation options: {"impact": "spec", "impact_laws": {"phi": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_PENDULUM_H
@@ -106,10 +106,15 @@ double pendulum_critical_angle_prepared(const double *y, double ag, const double
 void pendulum_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
 void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Force of each bumper on its travel, k_b delta + c_b ddelta while delta > 0, else 0 (> 0: pushes back).
+/* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * out:  */
 void pendulum_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+ * out:  */
+void pendulum_stop_contact(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double pendulum_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -168,6 +173,8 @@ void pendulum_element_forces_prepared(const double *y, double ag, const double *
 #define model_stop_gaps_prepared pendulum_stop_gaps_prepared
 #define model_stop_forces pendulum_stop_forces
 #define model_stop_forces_prepared pendulum_stop_forces_prepared
+#define model_stop_contact pendulum_stop_contact
+#define model_stop_contact_prepared pendulum_stop_contact_prepared
 #define model_critical_tangent pendulum_critical_tangent
 #define model_critical_tangent_prepared pendulum_critical_tangent_prepared
 #define model_block_accelerations pendulum_block_accelerations

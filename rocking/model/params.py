@@ -619,7 +619,8 @@ BUMPER_DEPTH = 0.02
 #: damper's period. On the bench map (bench/stops_map.py) the deepest contact then uses 13 mm of the
 #: 20 mm pad; at 20 the pad bottomed out (the stroke past B/2) in two thirds of the cells.
 BUMPER_FREQUENCY_RATIO = 60.0
-#: Default bumper damping ratio: a restitution of exp(-0.2 pi / sqrt(0.96)) = 0.53, a rubber pad's.
+#: Default bumper damping ratio: a restitution of 0.57 for a pad that only pushes (docs/model.md section 11;
+#: exp(-0.2 pi / sqrt(0.96)) = 0.53 if it could pull), a rubber pad's.
 BUMPER_DAMPING_RATIO = 0.2
 
 
@@ -628,9 +629,10 @@ class Stops:
     """End stops of the damper's guide: a compliant bumper at ``x = +L`` and at ``x = -L`` (docs/model.md section 11).
 
     Beyond the gap each bumper is a linear spring ``k_b`` and dashpot ``c_b`` on the
-    penetration ``|x| - L`` (a Kelvin-Voigt contact: its dashpot acts from the moment the
-    gap closes, so on rebound it can briefly pull the mass back). A damper with stops
-    runs on the model ``omd_stops``.
+    penetration ``delta = |x| - L`` that only pushes: its force is
+    ``max(0, k_b delta + c_b ddelta)``, a compression-only Kelvin-Voigt contact (an unbonded
+    pad cannot pull the mass back on rebound; it lets go where the bracket falls to 0). A
+    damper with stops runs on the model ``omd_stops``.
 
     Parameters
     ----------

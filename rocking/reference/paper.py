@@ -38,10 +38,16 @@ def penetration(x, L):
     return np.abs(x) - L
 
 
-def bumper_force(x, dx, L=np.inf, k_b=0.0, c_b=0.0):
-    """The bumper's part of the guide force: ``[delta > 0] (k_b delta sign(x) + c_b dx)``."""
+def pushes(x, dx, L=np.inf, k_b=0.0, c_b=0.0):
+    """Whether the pad pushes: ``delta > 0`` and ``k_b delta + c_b ddelta > 0`` (an unbonded pad cannot pull)."""
     delta = np.maximum(penetration(x, L), 0.0)  # 0, not -inf, where the guide is unlimited
-    return np.where(delta > 0, k_b * delta * np.sign(x) + c_b * dx, 0.0)
+    return (delta > 0) & (k_b * delta + c_b * np.sign(x) * dx > 0)
+
+
+def bumper_force(x, dx, L=np.inf, k_b=0.0, c_b=0.0):
+    """The bumper's part of the guide force: ``[delta > 0] sign(x) max(0, k_b delta + c_b ddelta)``."""
+    delta = np.maximum(penetration(x, L), 0.0)
+    return np.where(delta > 0, np.sign(x) * np.maximum(0.0, k_b * delta + c_b * np.sign(x) * dx), 0.0)
 
 
 def guide_force(x, dx, k_m, c, L=np.inf, k_b=0.0, c_b=0.0):
@@ -193,31 +199,42 @@ def stop_gaps(x, L):
 
 
 def stop_forces(x, dx, L, k_b, c_b):
-    """Each bumper's force against its penetration (> 0 pushes the mass back), 0 while it is clear."""
+    """Each bumper's force against its penetration, ``max(0, k_b delta + c_b ddelta)`` (it only pushes), 0 while
+    it is clear."""
     upper, lower = stop_gaps(x, L)
-    return np.where(upper > 0, k_b * upper + c_b * dx, 0.0), np.where(lower > 0, k_b * lower - c_b * dx, 0.0)
+    return (
+        np.where(upper > 0, np.maximum(0.0, k_b * upper + c_b * dx), 0.0),
+        np.where(lower > 0, np.maximum(0.0, k_b * lower - c_b * dx), 0.0),
+    )
 
 
-def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, L=np.inf, k_b=0.0):
-    """Mechanical energy ``T + V`` in the ground frame while rocking about ``s``, bumpers' ``V_b`` included."""
+def stop_contact(x, dx, L, k_b, c_b):
+    """Each bumper's ``min(delta, k_b delta + c_b ddelta)``: > 0 exactly while it pushes."""
+    upper, lower = stop_gaps(x, L)
+    return np.minimum(upper, k_b * upper + c_b * dx), np.minimum(lower, k_b * lower - c_b * dx)
+
+
+def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, L=np.inf, k_b=0.0, c_b=0.0):
+    """Mechanical energy ``T + V`` in the ground frame while rocking about ``s``, with ``V_b`` of a pad that pushes
+    (a released pad's potential has left the mass)."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     sin, cos = np.sin(theta), np.cos(theta)
     T = pivot_inertia(s, M, I_G, B, H, e) * dtheta**2 / 2
     T = T + m * (dtheta**2 * (xi**2 + eta**2) + dx**2 - 2 * eta * dtheta * dx) / 2
     V = M * g * (d * sin + H / 2 * cos) + m * g * (xi * sin + eta * cos) + k_m * x**2 / 2
-    delta = np.maximum(penetration(x, L), 0.0)
+    delta = np.where(pushes(x, dx, L, k_b, c_b), penetration(x, L), 0.0)
     return T + V + k_b * delta**2 / 2
 
 
-def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c, L=np.inf, c_b=0.0):
-    """``dE/dt`` between impacts: ``-(c + [delta > 0] c_b) dx^2`` plus the power of ``-(mass) ddx_g``."""
+def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c, L=np.inf, k_b=0.0, c_b=0.0):
+    """``dE/dt`` between impacts: ``-(c + [pad pushes] c_b) dx^2`` plus the power of ``-(mass) ddx_g``."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     sin, cos = np.sin(theta), np.cos(theta)
     vx_G = -dtheta * (d * sin + H / 2 * cos)
     vx_m = -dtheta * (xi * sin + eta * cos) + dx * cos
-    damping = c + np.where(penetration(x, L) > 0, c_b, 0.0)
+    damping = c + np.where(pushes(x, dx, L, k_b, c_b), c_b, 0.0)
     return -damping * dx**2 - ag * (M * vx_G + m * vx_m)
 
 

@@ -118,6 +118,7 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
     L, k_b, c_b = stops.get("L", np.inf), stops.get("k_b", 0.0), stops.get("c_b", 0.0)
     gaps = paper.stop_gaps(x, L) if stops else ()
     forces = paper.stop_forces(x, dx, L, k_b, c_b) if stops else ()
+    contacts = paper.stop_contact(x, dx, L, k_b, c_b) if stops else ()
     # Without a damper (m = 0) the outputs of x are undefined and dropped by _select.
     with np.errstate(divide="ignore", invalid="ignore"):
         return {
@@ -127,8 +128,8 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             "contact_accel": (zero, paper.contact_accel(x, dx, ag, m, k_m, c, **stops)),
             "uplift": (paper.uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops),),
             "impact": paper.impact(s, x, dth, dx, M, I_G, B, H, e, m, h, law=impact_law),
-            "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m, L=L, k_b=k_b),),
-            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c, L=L, c_b=c_b),),
+            "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m, L=L, k_b=k_b, c_b=c_b),),
+            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c, L=L, k_b=k_b, c_b=c_b),),
             "critical_angle": (paper.critical_angle(s, x, M, B, H, e, m, h),),
             "critical_tangent": (paper.critical_tangent(s, x, M, B, H, e, m, h),),
             "uplift_energy": (paper.uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, **stops),),
@@ -141,6 +142,7 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             ),
             "stop_gaps": gaps,
             "stop_forces": forces,
+            "stop_contact": contacts,
             "block_accelerations": _affine(
                 lambda ddth, ddx: paper.block_accelerations(s, th, dth, ddth, ag, B, H, e), zero
             ),

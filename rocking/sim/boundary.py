@@ -156,7 +156,12 @@ RESULT = (
     Field("theta_max", DOUBLE, "rad", "largest |theta|"),
     Field("x_max", DOUBLE, "m", "largest |q[1]|, the damper's stroke (0 without a damper)"),
     Field("t_end", DOUBLE, "s", "when the run ended"),
-    Field("stop_contacts", INT64, "", "closings of an end stop's gap (0 without stops)"),
+    Field(
+        "stop_contacts",
+        INT64,
+        "",
+        "times an end stop's pad starts pushing: its gap closes, or a released pad pushes again (0 without stops)",
+    ),
     Field("bumper_force_max", DOUBLE, "N", "largest force of a bumper against its penetration (rule 6)"),
 )
 

@@ -28,8 +28,8 @@ EVENT_KINDS = {
     "uplift": "the block leaves full contact (phase_after: the pivot)",
     "impact": "theta reaches 0 falling: rocking goes on about the other corner, or rest (phase_after 0)",
     "contact": "back to full contact without an impact (a lift-off that could not rise)",
-    "bumper_contact": "an end stop's gap closes: its bumper starts to act",
-    "bumper_release": "an end stop's gap opens again",
+    "bumper_contact": "an end stop's bumper starts to push (its gap closes, or a released pad pushes again)",
+    "bumper_release": "an end stop's bumper stops pushing (its force falls to 0, or its gap opens)",
     "pulse_end": "the ground motion ends (t_p)",
     "overturn": "|theta| reaches pi/2: the run ends",
 }
@@ -178,7 +178,9 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
         out["F_b"] = sum(bumpers)
     energy = _evaluate(fn.energy, s, y, ag, p)[0]
     zero = np.zeros_like(ag)
-    potential = _evaluate(fn.energy, s, y[:n] + [zero] * n, ag, p)[0]
+    # At rest velocities in the regime of the state: a released pad's potential has left the mass.
+    pushing = [(c > 0.0).astype(float) for c in _evaluate(fn.stop_contact, s, y, ag, p)]
+    potential = np.asarray(fn.energy(s, *y[:n], *[zero] * n, ag, *p, stop_on=pushing or None), dtype=float)
     rest = _evaluate(fn.energy, 1.0, [zero] * (2 * n), zero, p)[0]
     out["E_kinetic"] = energy - potential
     out["E_potential"] = potential - rest
@@ -250,8 +252,8 @@ def events(response):
 
     Read from the recorded history (the response's own, or the run recorded again at
     its events and the default spacing): the phase codes tell uplifts, impacts and the
-    lift-offs that fall back without one; the stops' gaps (generated ``stop_gaps``) their
-    closings and openings. The kinds are :data:`EVENT_KINDS`.
+    lift-offs that fall back without one; the stops' contacts (generated ``stop_contact``)
+    where their bumpers start and stop pushing. The kinds are :data:`EVENT_KINDS`.
     """
     import pandas as pd
 
@@ -266,10 +268,10 @@ def events(response):
         else:
             kind = "impact" if theta[i - 1] == 0.0 and before * dtheta[i - 1] < 0.0 else "contact"
         rows.append((float(t[i]), kind, before, after))
-    gaps = _evaluate(model.functions.stop_gaps, 1.0, [history[k] for k in model.state], history["ag"], list(p))
-    for gap in gaps:
-        for i in np.flatnonzero((gap[1:] > 0.0) != (gap[:-1] > 0.0)) + 1:
-            kind = "bumper_contact" if gap[i] > 0.0 else "bumper_release"
+    contacts = _evaluate(model.functions.stop_contact, 1.0, [history[k] for k in model.state], history["ag"], list(p))
+    for contact in contacts:
+        for i in np.flatnonzero((contact[1:] > 0.0) != (contact[:-1] > 0.0)) + 1:
+            kind = "bumper_contact" if contact[i] > 0.0 else "bumper_release"
             rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
     if settings["t_p"] <= response.t_end:
         i = min(np.searchsorted(t, settings["t_p"]), len(t) - 1)

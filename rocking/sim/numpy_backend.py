@@ -82,7 +82,8 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 #: How a rocking segment from ``theta = 0`` ends when the block cannot rise at all.
 NO_LIFT = "no lift"
 
-#: Terminal events of the end stops (rule 6): a side's gap closes, or opens again.
+#: Terminal events of the end stops (rule 6): a side's bumper starts pushing (its gap closes, or a released
+#: pad's force turns positive again), or stops (its force falls to 0, or the gap opens).
 GAP_CLOSE, GAP_OPEN = "gap closes", "gap opens"
 
 
@@ -369,8 +370,12 @@ class _System:
         return rhs
 
     def stop_gap(self, i: int, y: np.ndarray) -> float:
-        """Penetration of stop side ``i``: its bumper acts while it is > 0 (it does not depend on the pivot)."""
+        """Penetration of stop side ``i``: its bumper can act only while it is > 0 (it does not depend on the pivot)."""
         return float(self._call("stop_gaps", 1.0, y, 0.0)[i])
+
+    def stop_contact(self, i: int, y: np.ndarray) -> float:
+        """Contact of stop side ``i``: its bumper pushes while it is > 0 (neither pivot nor regime enters it)."""
+        return float(self._call("stop_contact", 1.0, y, 0.0)[i])
 
     def largest_bumper_force(self, states: np.ndarray) -> float:
         """The largest force of any bumper against its penetration over ``states`` (rows), 0 without stops."""
@@ -512,11 +517,11 @@ def extremum_event(n: int, coordinate: int) -> _Event:
 
 
 def gap_event(system: _System, side: int, acting: bool) -> _Event:
-    """Stop side ``side``: its penetration turns positive (the gap closes), or, once its bumper acts, falls to 0."""
+    """Stop side ``side``: its contact turns positive (the bumper pushes), or, once it pushes, falls to 0."""
     # Closing: g <= 0 -> g > 0; opening: g > 0 -> g <= 0 (sim.c's rules): an exact 0 is below either way.
     return _Event(
         GAP_OPEN if acting else GAP_CLOSE,
-        _zero_below(lambda t, y: system.stop_gap(side, y)),
+        _zero_below(lambda t, y: system.stop_contact(side, y)),
         terminal=True,
         direction=-1 if acting else +1,
         side=side,
@@ -705,7 +710,7 @@ def after_gap(system: _System, event: _Event, dense: OdeSolution, t: float, y: n
     """
     after = (lambda g: g > 0.0) if event.name == GAP_CLOSE else (lambda g: g <= 0.0)
     for _ in range(64):
-        if after(system.stop_gap(event.side, y)):
+        if after(system.stop_contact(event.side, y)):
             break
         t = float(np.nextafter(t, np.inf))
         y = np.asarray(dense(t), dtype=float)
@@ -1055,6 +1060,9 @@ def verdict_final(run: _Run) -> bool:
     The bound is kept until a maximum grows.
     """
     if not (run.verdict and run.t >= run.problem.t_p and not any(run.stop_on)):
+        return False
+    # A released pad (the mass still beyond its gap) may push again: no bumper must be able to act now.
+    if any(run.system.stop_gap(i, run.y) > 0.0 for i in range(run.system.n_stops)):
         return False
     at = (run.tally.theta_max, run.tally.x_max)
     if at != run.bound_at:
@@ -1409,7 +1417,7 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         history=_History() if record else None,
         safe_energy=system.safe_energy if problem.early_rest else None,
         work=_Work(int(problem.max_steps)),
-        stop_on=[system.stop_gap(i, y) > 0.0 for i in range(system.n_stops)],
+        stop_on=[system.stop_contact(i, y) > 0.0 for i in range(system.n_stops)],
         verdict=bool(problem.early_verdict),
     )
     run.tally.see_state(run.y, system)

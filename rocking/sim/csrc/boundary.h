@@ -75,7 +75,7 @@ typedef struct rocking_result {
     double theta_max; /* largest |theta| [rad] */
     double x_max; /* largest |q[1]|, the damper's stroke (0 without a damper) [m] */
     double t_end; /* when the run ended [s] */
-    int64_t stop_contacts; /* closings of an end stop's gap (0 without stops) */
+    int64_t stop_contacts; /* times an end stop's pad starts pushing: its gap closes, or a released pad pushes again (0 without stops) */
     double bumper_force_max; /* largest force of a bumper against its penetration (rule 6) [N] */
 } rocking_result;
 

@@ -518,8 +518,8 @@ enum event_kind {
     EV_THETA_PEAK,     /* rocking: dtheta changes sign (theta_max) */
     EV_X_PEAK,         /* any phase, with a damper: dq[1] changes sign (x_max) */
     EV_SETTLED,        /* contact once safe: dq[1] changes sign, the last extremum (ends the run) */
-    EV_GAP_CLOSE,      /* any phase: the penetration of a clear stop side turns positive (one kind per side) */
-    EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side in contact falls to 0 */
+    EV_GAP_CLOSE,      /* any phase: the contact of a stop side that does not push turns positive (one kind per side) */
+    EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side that pushes falls to 0 */
     N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
 };
 
@@ -552,7 +552,7 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {0, 1, 0, NQ, 0, 0.0},                  /* EV_THETA_PEAK:     sign change */
     {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_X_PEAK:        sign change */
     {0, 1, 1, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_SETTLED:       sign change */
-    /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's penetration. */
+    /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
     {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
 };
@@ -573,12 +573,21 @@ static double stop_gap(const constants *k, const double *y, int i)
     return gaps[i];
 }
 
-/* The regime of the state y: each stop side acts where its penetration is > 0. */
+/* The contact of stop side i, min(delta, k_b delta + c_b ddelta): its bumper
+ * pushes while it is > 0 (a pad only pushes; neither pivot nor regime enters it). */
+static double stop_contact(const constants *k, const double *y, int i)
+{
+    double contacts[MAX_STOP_SIDES] = {0.0};
+    model_stop_contact_prepared(y, 0.0, about(k, 1.0), contacts);
+    return contacts[i];
+}
+
+/* The regime of the state y: each stop side acts where its contact is > 0. */
 static void stop_regime(const constants *k, const double *y, int *stop_on)
 {
     int i;
     for (i = 0; i < MAX_STOP_SIDES; ++i)
-        stop_on[i] = i < MODEL_NSTOPS && stop_gap(k, y, i) > 0.0;
+        stop_on[i] = i < MODEL_NSTOPS && stop_contact(k, y, i) > 0.0;
 }
 
 static int is_before(double phi, int strict)
@@ -625,7 +634,7 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
         return critical_event(ec, y, ode_ag(ec->o, t));
     default:
         if (gap_side(kind) >= 0)
-            return stop_gap(ec->o->k, y, gap_side(kind));
+            return stop_contact(ec->o->k, y, gap_side(kind));
         return 0.0; /* not reached: the other events read one component */
     }
 }
@@ -1260,12 +1269,12 @@ static double verdict_bound(run *r)
     return r->bound;
 }
 
-/* No bumper acts now: the mass is inside every gap. */
+/* No bumper acts now: the mass is inside every gap (a released pad may push again). */
 static int stops_clear(const run *r)
 {
     int i;
     for (i = 0; i < MODEL_NSTOPS; ++i)
-        if (r->k->stop_on[i])
+        if (r->k->stop_on[i] || stop_gap(r->k, r->y, i) > 0.0)
             return 0;
     return 1;
 }
