@@ -261,7 +261,7 @@ def test_verify_command_reports_agreement(capsys):
     assert main(["verify", "--cases", "200"]) == 0
     out = capsys.readouterr().out
     assert all(f"model {name}:" in out for name in ("omd", "omd_stops", "block"))
-    assert out.count("36 passed, 0 failed") == 3
+    assert len(re.findall(r"^\d+ passed, 0 failed", out, re.M)) == 3
 
 
 def test_derive_is_the_derive_packages_command_line(capsys):
