@@ -3,7 +3,8 @@
 ``pyproject.toml`` holds the project's metadata; this file only adds the compiled libraries to a wheel
 (``rocking/sim/prebuilt``, found there by :mod:`rocking.sim.cbuild` before its cache), so that an installed
 wheel runs the C back end on a machine without a compiler. An editable install builds nothing: a checkout
-compiles at first use. Without a compiler, a wheel is still built, without the libraries, with a warning.
+compiles at first use. Without a compiler, a wheel is still built, without the libraries, with a warning; a
+compiler that rejects the code fails the build.
 """
 
 from __future__ import annotations
@@ -52,11 +53,11 @@ class BuildWithSimulator(build_py):
         try:
             for model in _builtin_models():
                 cbuild.build(model, cache=out)
-        except cbuild.CBuildError as exc:
+        except cbuild._CompilerUnavailable as exc:  # no compiler here: a wheel that compiles at first use
             warnings.warn(f"the wheel ships no compiled simulator: {exc}", stacklevel=1)
-            return
-        for lock in out.glob(".*.lock"):
-            lock.unlink()
+        finally:
+            for lock in out.glob(".*.lock"):
+                lock.unlink()
 
 
 class BinaryDistribution(Distribution):

@@ -46,8 +46,9 @@ from .spec import BLOCK_PARAMETERS, Parameter
 TEMPLATES = Path(__file__).parent / "templates"
 #: Version of the layout of manifest.json and of the generated interface; also written into
 #: ``rocking.generated`` (see build.py). 3: the regime of the stops is an input (``stop_on``, ``on``).
-#: 4: the units of the state (``units``); block_accelerations, base_reaction and element_forces.
-MANIFEST_FORMAT = 4
+#: 4: the units of the state (``units``); block_accelerations, base_reaction and element_forces. 5: stop_contact,
+#: the regime function of pads that only push.
+MANIFEST_FORMAT = 5
 
 
 @dataclass(frozen=True)

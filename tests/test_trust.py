@@ -13,6 +13,7 @@ import os
 import shutil
 import subprocess
 import sys
+from pathlib import Path
 
 import pytest
 
@@ -160,3 +161,21 @@ def test_a_new_cache_folder_is_private(tmp_path):
     cache = tmp_path / "new" / "cache"
     cbuild.build(load_model("block"), cache=cache)
     assert cache.stat().st_mode & 0o777 == 0o700
+
+
+def test_a_header_planted_beside_a_models_sources_is_never_compiled(tmp_path):
+    """The compiler reads copies of the checked sources only: a ``math.h`` in the model's folder, which ``-I``
+    on that folder would have put before the system's, does not reach the library."""
+    mine = shutil.copytree(GENERATED / "block", tmp_path / "mine")
+    (mine / "math.h").write_text('#error "a planted header was compiled"\n')
+    library = cbuild.build(load_model(mine), cache=tmp_path / "cache")
+    assert library.is_file() and not list((tmp_path / "cache").glob(".sources-*"))
+
+
+def test_a_folder_loaded_by_path_never_takes_a_built_in_models_name(tmp_path, monkeypatch):
+    installed = load_model("omd")
+    shutil.copytree(GENERATED / "omd", tmp_path / "omd")
+    monkeypatch.chdir(tmp_path)
+    mine = load_model(Path("omd"))
+    assert mine.folder == (tmp_path / "omd").resolve() != installed.folder
+    assert load_model("omd") is installed and loading.saved_model("omd", "a saved file") is installed

@@ -161,7 +161,8 @@ def load_model(model: str | Path | Model = "omd") -> Model:
         return model
     if not isinstance(model, (str, os.PathLike)):
         raise ModelError(f"a model is a name or a folder, not a {type(model).__name__}")
-    key = (str(model), os.getcwd())
+    # A built-in's name and a folder never share a key: Path("omd") is a folder, "omd" the installed model.
+    key = ("built-in", model) if _is_builtin(model) else ("folder", str(model), os.getcwd())
     loaded = _LOADED.get(key)
     if loaded is None:
         if _is_builtin(model):
@@ -203,9 +204,9 @@ def saved_model(name: object, source: str, remedy: str = "pass trust_model=DIR")
     )
 
 
-#: The models loaded in this process, by the argument of :func:`load_model` (and the working directory, against
+#: The models loaded in this process, by built-in name or by folder as given and the working directory (against
 #: which a relative folder is read): each is read and checked against its manifest once per process.
-_LOADED: dict[tuple[str, str], Model] = {}
+_LOADED: dict[tuple, Model] = {}
 
 #: The folders of their own that the user named in this process (:func:`load_model`), by resolved folder.
 _NAMED: dict[Path, Model] = {}

@@ -82,6 +82,7 @@ import sys
 import tempfile
 import threading
 from pathlib import Path
+from types import SimpleNamespace
 
 try:  # POSIX only; without it concurrent processes are still safe, only duplicated.
     import fcntl
@@ -350,16 +351,17 @@ def check_private(folder: Path) -> None:
         )
 
 
-def _valid(library: Path, source: str) -> bool:
+def _valid(library: Path, source: str, private: bool = True) -> bool:
     """Whether ``library`` exists and matches its sidecar, which was written for ``source``.
 
     Anything short of that (no file, no or a damaged sidecar, another size or hash,
     either file a link, someone else's or writable by others) is ``False``: the
     library is built again rather than loaded, since loading a truncated one kills
-    the process and loading a planted one runs its code.
+    the process and loading a planted one runs its code. ``private=False`` (the wheel's own folder, as trusted
+    as the package's code beside it) leaves out the owner and mode, which the installer's umask decides.
     """
     try:
-        if not (_private_file(library) and _private_file(_sidecar(library))):
+        if private and not (_private_file(library) and _private_file(_sidecar(library))):
             return False
         record = json.loads(_sidecar(library).read_text(encoding="utf-8"))
         if record["source_key"] != source or os.stat(library).st_size != record["size"]:
@@ -369,7 +371,7 @@ def _valid(library: Path, source: str) -> bool:
         return False
 
 
-def _any_valid(folder: Path, model, source: str) -> Path | None:
+def _any_valid(folder: Path, model, source: str, private: bool = True) -> Path | None:
     """The newest valid library of ``source`` in ``folder``, whichever compiler built it, or ``None``."""
     stem = f"{model.c_prefix}-{source[:_SOURCE_DIGITS]}-"
     try:
@@ -381,18 +383,18 @@ def _any_valid(folder: Path, model, source: str) -> Path | None:
         with contextlib.suppress(OSError):
             candidates.append((os.stat(folder / name).st_mtime_ns, name))
     for _, name in sorted(candidates, reverse=True):
-        if _valid(folder / name, source):
+        if _valid(folder / name, source, private):
             return folder / name
     return None
 
 
 def _prebuilt(model, source: str) -> Path | None:
-    """The wheel's library of ``source`` (:data:`PREBUILT`), if it is there, valid and nobody else can write it."""
-    try:
-        check_private(PREBUILT)
-    except CBuildError:
-        return None
-    return _any_valid(PREBUILT, model, source)
+    """The wheel's library of ``source`` (:data:`PREBUILT`), if it is there and matches its sidecar.
+
+    Its folder is part of the installed package: whoever can write it can write this module too, so its
+    owner and mode (0775 under a umask of 002) are not held against it.
+    """
+    return _any_valid(PREBUILT, model, source, private=False)
 
 
 def _cache_error(folder: Path, exc: OSError) -> CBuildError:
@@ -440,6 +442,23 @@ def _temporary(folder: Path, prefix: str) -> Path:
     return Path(tmp)
 
 
+def _staged(model, csrc: Path, folder: Path) -> SimpleNamespace:
+    """Copies of the sources of ``model``'s library in ``folder`` (``csrc/``, ``model/``), and the model as
+    ``build_command`` sees it there.
+
+    The compiler reads these copies, whose key is checked against the one the library is named by, and searches
+    no other folder of the user's for an ``#include``: a file beside the sources (a stray ``math.h``) or
+    changed after they were hashed never reaches the library.
+    """
+    (folder / "csrc").mkdir()
+    (folder / "model").mkdir()
+    for name, path in _sources(model, csrc).items():
+        (folder / ("model" if path.parent == model.folder else "csrc") / name).write_bytes(path.read_bytes())
+    staged = folder / "model"
+    return SimpleNamespace(folder=staged, manifest=model.manifest, c_prefix=model.c_prefix,
+                           c_source=staged / model.c_source.name, c_header=staged / model.c_header.name)  # fmt: skip
+
+
 def _compile_into(model, library: Path, source: str, cc: list[str], version: str, csrc: Path) -> None:
     """Compile ``library`` and its sidecar; the caller holds the lock. OSError: the cache cannot be written."""
     temporaries = []
@@ -448,7 +467,11 @@ def _compile_into(model, library: Path, source: str, cc: list[str], version: str
         temporaries.append(tmp_library)
         tmp_sidecar = _temporary(library.parent, f".{library.name}.json-")
         temporaries.append(tmp_sidecar)
-        _compile(build_command(model, tmp_library, cc=cc, csrc=csrc))
+        with tempfile.TemporaryDirectory(dir=library.parent, prefix=".sources-") as staging:
+            staged = _staged(model, csrc, Path(staging))
+            if _source_key(staged, cc[1:], Path(staging) / "csrc") != source:
+                raise CBuildError(f"the C sources of {model.c_prefix} changed while its library was being built")
+            _compile(build_command(staged, tmp_library, cc=cc, csrc=Path(staging) / "csrc"))
         sha256, size = _file_digest(tmp_library)
         record = {
             "format": _SIDECAR_FORMAT,
@@ -462,7 +485,7 @@ def _compile_into(model, library: Path, source: str, cc: list[str], version: str
         }
         tmp_sidecar.write_text(json.dumps(record, indent=1) + "\n", encoding="utf-8")
         for tmp in (tmp_library, tmp_sidecar):
-            os.chmod(tmp, 0o644)  # readable, so that a cache lent read-only to another account still serves it
+            os.chmod(tmp, 0o644)  # mkstemp made them 0600; read-only for all, as a wheel ships them
         # The library first: until the sidecar follows, readers see a mismatch and wait for the lock.
         os.replace(tmp_library, library)
         os.replace(tmp_sidecar, _sidecar(library))

@@ -703,7 +703,11 @@ def _trust(folder: str | Path, record: dict, meta: Path) -> None:
     damper = record["config"].get("damper")
     saved = damper if isinstance(damper, dict) else {}
     # Compared before the folder's code is loaded: a folder of another content is not run at all.
-    if not Path(folder).is_dir() or saved.get("model_sha256") != tree_hash(Path(folder).resolve()):
+    try:
+        digest = tree_hash(Path(folder).resolve()) if Path(folder).is_dir() else None
+    except OSError as exc:
+        raise ParameterError(f"trust_model {folder}: cannot be read ({describe(exc)})") from None
+    if digest is None or saved.get("model_sha256") != digest:
         raise ParameterError(
             f"trust_model {folder}: not the model folder {meta} was run with (no such folder, or its SHA-256 "
             "differs from config.damper.model_sha256)"
