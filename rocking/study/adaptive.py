@@ -39,6 +39,7 @@ from __future__ import annotations
 from itertools import product
 
 import numpy as np
+from scipy import ndimage
 
 from ..model.params import ParameterError
 from .config import is_count
@@ -57,6 +58,41 @@ def check_coarse(coarse) -> int:
     if not ok:
         raise ParameterError(f"coarse must be a power of two (1, 2, 4, ...) in [1, {MAX_COARSE}] (got {coarse!r})")
     return int(coarse)
+
+
+def check_verify(verify, coarse: int) -> int:
+    """``verify`` as an int, or a ParameterError unless it is 0 (no verification) or a power of two in
+    [1, ``coarse``]: the first step of the verification's offset lattice."""
+    ok = is_count(verify) and (verify == 0 or 1 <= verify <= coarse and (int(verify) & (int(verify) - 1)) == 0)
+    if not ok:
+        raise ParameterError(f"verify must be 0 or a power of two in [1, coarse = {coarse}] (got {verify!r})")
+    return int(verify)
+
+
+def near(shape: tuple[int, int], rows: np.ndarray, cols: np.ndarray, radius: int) -> np.ndarray:
+    """The cells of a ``shape`` grid within ``radius`` cells, along each axis, of any cell ``(rows, cols)``."""
+    hit = np.zeros(shape, bool)
+    hit[rows, cols] = True
+    return ndimage.maximum_filter(hit, size=2 * radius + 1, mode="constant")
+
+
+def offset_lattice(n: int, step: int) -> np.ndarray:
+    """The indices ``step // 2 + a step`` of an axis of ``n`` values, and its two ends: the lattice of the
+    verification, half a step off the corners of the blocks, and along the grid's edges, where no block lies
+    beyond."""
+    return np.unique(np.concatenate([np.arange(step // 2, n, step), [0, n - 1]]))
+
+
+def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of the cells of ``classes`` (``(n, m, k)``) whose class differs from a neighbour's."""
+    differ = np.zeros(classes.shape[:2], bool)
+    rows = (classes[1:] != classes[:-1]).any(axis=-1)
+    cols = (classes[:, 1:] != classes[:, :-1]).any(axis=-1)
+    differ[1:] |= rows
+    differ[:-1] |= rows
+    differ[:, 1:] |= cols
+    differ[:, :-1] |= cols
+    return np.nonzero(differ)
 
 
 def _spans(n: int, step: int) -> list[tuple[int, int]]:
@@ -113,22 +149,52 @@ class Refinement:
         Blocks whose computed cells share one class.
     """
 
-    def __init__(self, shape: tuple[int, int, int], coarse: int) -> None:
+    def __init__(self, shape: tuple[int, int, int], coarse: int, verify: int = 0) -> None:
         n, m, k = shape
         self.computed = np.zeros((n, m), bool)
         self.classes = np.zeros((n, m, k), np.int64)
         spans = [(r, c) for r, c in product(_spans(n, coarse), _spans(m, coarse))]
         self.active = np.array([(*r, *c) for r, c in spans], np.int64).reshape(-1, 4)
         self.leaves = np.zeros((0, 4), np.int64)
+        self.step = check_verify(verify, coarse)
+        self.suspect = np.ones((n, m), bool)
+        self.probes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def done(self) -> bool:
+        """Whether every block is a leaf and the verification is over: nothing left to compute."""
+        return not len(self.active) and self.step < 1
 
     def pending(self) -> tuple[np.ndarray, np.ndarray]:
-        """Rows and columns of the corners of the active blocks not computed yet, in sorted order."""
+        """Rows and columns of the cells to compute next, in sorted order: the corners of the active blocks not
+        computed yet or, once every block is a leaf, the probes of the verification (:meth:`verification`)."""
+        if not len(self.active) and self.step >= 1:
+            return self.verification()
         blocks = self.active
         rows = np.concatenate([blocks[:, 0], blocks[:, 0], blocks[:, 1], blocks[:, 1]])
         cols = np.concatenate([blocks[:, 2], blocks[:, 3], blocks[:, 2], blocks[:, 3]])
-        cells = np.unique(np.ravel_multi_index((rows, cols), self.computed.shape))
+        return self._new(np.ravel_multi_index((rows, cols), self.computed.shape))
+
+    def _new(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The cells (flat indices) not computed yet, once each, sorted, as rows and columns."""
+        cells = np.unique(cells)
         cells = cells[~self.computed.ravel()[cells]]
         return np.unravel_index(cells, self.computed.shape)
+
+    def verification(self) -> tuple[np.ndarray, np.ndarray]:
+        """The probes of one verification round: the cells of the lattice offset by half the step,
+        ``(step // 2 + a step, step // 2 + b step)``, that lie in the suspect region and were not computed.
+
+        Each probe's class, as the leaves would fill it in, is kept: :meth:`update` compares the computed one.
+        """
+        n, m = self.computed.shape
+        rows, cols = np.meshgrid(offset_lattice(n, self.step), offset_lattice(m, self.step), indexing="ij")
+        cells = np.ravel_multi_index((rows.ravel(), cols.ravel()), (n, m))
+        filled = self.leaf_classes()
+        suspect = self.suspect | near(self.computed.shape, *boundary(filled), self.step)
+        rows, cols = self._new(cells[suspect.ravel()[cells]])
+        self.probes = (rows, cols, filled[rows, cols])
+        return rows, cols
 
     def record(self, rows, cols, classes) -> None:
         """The classes (``(cells, k)``) of the computed cells ``(rows, cols)``."""
@@ -150,8 +216,19 @@ class Refinement:
         return same
 
     def update(self) -> None:
-        """Judge the active blocks and the leaves once their corners are computed: a block whose computed
-        cells share one class is (or stays) a leaf; another is split, unless all its cells are computed."""
+        """Judge the active blocks and the leaves once their corners (or probes) are computed: a block whose
+        computed cells share one class is (or stays) a leaf; another is split, unless all its cells are computed.
+
+        After a verification round, probes of a class their leaf did not give are *hits*: the next round, once
+        the blocks split around them are leaves again, verifies the cells within one step of a hit at half the
+        step; a round without a hit (or at step 2, whose half step is no cell) ends the verification.
+        """
+        if self.probes is not None:
+            rows, cols, expected = self.probes
+            hits = (self.classes[rows, cols] != expected).any(axis=1)
+            self.suspect = near(self.computed.shape, rows[hits], cols[hits], self.step)
+            self.step = self.step // 2 if self.step > 1 else 1 if hits.any() else 0
+            self.probes = None
         blocks = np.concatenate([self.active, self.leaves])
         blocks = blocks[(blocks[:, 1] - blocks[:, 0] > 1) | (blocks[:, 3] - blocks[:, 2] > 1)]
         same = self.uniform(blocks)
@@ -163,6 +240,18 @@ class Refinement:
         The leaves that hold a cell agree on its class: two leaves share at most a stretch of an edge, and
         the corners of the smaller one, computed, lie on that stretch.
         """
+        filled = ~self.computed
+        self.classes = self.leaf_classes()
+        return filled
+
+    def leaf_classes(self) -> np.ndarray:
+        """The class of every cell: its own where computed, else its leaf's (a copy of :attr:`classes`).
+
+        Raises
+        ------
+        AssertionError
+            If a cell is neither computed nor in a leaf (every block is a leaf only once :attr:`active` is empty).
+        """
         i0, i1, j0, j1 = self.leaves.T
         heights, widths = i1 - i0 + 1, j1 - j0 + 1
         areas = heights * widths
@@ -170,12 +259,46 @@ class Refinement:
         local = np.arange(areas.sum()) - np.repeat(np.cumsum(areas) - areas, areas)
         rows, cols = i0[leaf] + local // widths[leaf], j0[leaf] + local % widths[leaf]
         new = ~self.computed[rows, cols]
-        filled = np.zeros_like(self.computed)
-        filled[rows[new], cols[new]] = True
-        self.classes[rows[new], cols[new]] = self.classes[i0, j0][leaf[new]]
-        if not (filled | self.computed).all():
+        classes, covered = self.classes.copy(), self.computed.copy()
+        covered[rows, cols] = True
+        classes[rows[new], cols[new]] = self.classes[i0, j0][leaf[new]]
+        if not covered.all():
             raise AssertionError("adaptive map: a cell is neither computed nor in a leaf")
-        return filled
+        return classes
+
+
+def refine(classify, shape: tuple[int, int, int], coarse: int, verify: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
+    """The classes of every cell of a map, computed adaptively (:class:`Refinement`): the whole refinement of
+    one part, for a ``classify`` that computes cells at once (a map runs both parts' rounds as tiles instead).
+
+    Parameters
+    ----------
+    classify : callable
+        ``classify(rows, cols)`` -> the classes (``(cells, shape[2])``, int) of the cells ``(rows[i], cols[i])``;
+        called once per round.
+    shape : (int, int, int)
+        Omega values, beta values, classes per cell.
+    coarse, verify : int
+        The coarse step (:func:`check_coarse`) and the first step of the verification (:func:`check_verify`).
+
+    Returns
+    -------
+    classes : ndarray of int, ``shape``
+        The class of every cell.
+    computed : ndarray of bool, ``shape[:2]``
+        The cells computed.
+    rounds : int
+        Calls of ``classify``.
+    """
+    refinement, rounds = Refinement(shape, coarse, verify), 0
+    while not refinement.done:
+        rows, cols = refinement.pending()
+        if rows.size:
+            refinement.record(rows, cols, classify(rows, cols))
+            rounds += 1
+        refinement.update()
+    refinement.fill()
+    return refinement.classes, refinement.computed, rounds
 
 
 def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarray, np.ndarray, int]:
