@@ -95,6 +95,20 @@ def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.nonzero(differ)
 
 
+def guarantee(refinement: dict, spacing: tuple[float, float]) -> str:
+    """What a map of ``refinement`` (its ``config["refinement"]``) can miss, in cells and in the largest grid
+    ``spacing`` (``(dOmega, dbeta)``): the deterministic bound of :class:`Refinement`, no statistical one."""
+    if not refinement["adaptive"]:
+        return "full map: every cell computed"
+    size = refinement["verify"] or refinement["coarse"]
+    extent = f"{size} x {size} cells ({size * spacing[0]:.3g} in Omega x {size * spacing[1]:.3g} in beta)"
+    if not refinement["verify"]:
+        return (f"unverified: a region of another class that fits in {extent} between the computed cells of a block "
+                "whose computed cells agree can be missed")  # fmt: skip
+    return (f"every region of one class that holds a square of {extent} is found, and every boundary between "
+            "classes lies between computed cells; a smaller region away from the boundaries can be missed")  # fmt: skip
+
+
 def _spans(n: int, step: int) -> list[tuple[int, int]]:
     """First and last index of the blocks of ``step`` cells along an axis of ``n`` values, the last clipped."""
     return [(start, min(start + step, n - 1)) for start in range(0, max(n - 1, 1), step)]
