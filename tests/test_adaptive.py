@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import importlib.util
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -221,3 +224,31 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
         assert message in err and len(err.splitlines()) == 1
     assert cli("--full") == 0
     assert "adaptive" not in capsys.readouterr().out
+
+
+def load_bench():
+    """bench/adaptive.py as a module (bench/ is not a package)."""
+    path = Path(__file__).parent.parent / "bench" / "adaptive.py"
+    spec = importlib.util.spec_from_file_location("bench_adaptive", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_bench_reports_the_cells_that_differ(tmp_path, capsys):
+    """bench/adaptive.py counts a changed outcome, per direction and in the envelope, and the effect; its
+    matrix of pulses and guides prints a row per map and exits 0 only when no cell differs."""
+    bench = load_bench()
+    grids = Grid("Omega", 1.0, 10.0, 17), Grid("beta", 1.0, 10.0, 17)
+    study = overturning_map(BENCH, BENCH_DAMPER, *grids, SERIAL, runs=tmp_path / "runs", full=True)
+    changed = {k: v.copy() for k, v in study.arrays.items()}
+    assert bench.misclassified(changed, study.arrays) == 0
+    changed["damper_overturned_by_sign"][3, 4, 0] = ~changed["damper_overturned_by_sign"][3, 4, 0]
+    changed["effect"][0, 0] += 1
+    assert bench.misclassified(changed, study.arrays) == 2
+    code = bench.main(["-n", "17", "--workers", "1", "--coarse", "8", "--pulses", "ricker", "--stops", "both",
+                       "--json", str(tmp_path / "bench.json")])  # fmt: skip
+    out = capsys.readouterr().out
+    assert code == 0 and out.count("cells differ)") == 2 and "| ricker | stops | 0 |" in out
+    rows = json.loads((tmp_path / "bench.json").read_text())
+    assert [(r["stops"], r["misclassified"], r["verify"]) for r in rows] == [(False, 0, 8), (True, 0, 8)]
