@@ -22,10 +22,24 @@ its own (:func:`rocking.study.overturning_map.response_classes`), so that such r
 in. A cell's class is the classes of all the directions of its pulse together: the per-direction outcomes
 are complete too.
 
-What an adaptive map can miss: a feature of another class that falls entirely between the computed cells
-of a leaf, i.e. an island, or a tongue or band narrower than the spacing of the computed cells along the
-leaf's edges, which is at most the coarse step. Such a feature is smaller than ``coarse`` cells; ``coarse=1``
-(or a full map) computes every cell.
+Without more, an adaptive map misses a feature of another class that falls entirely between the computed
+cells of a leaf: an island, or a tongue or band narrower than the coarse step. So, once every block is a leaf,
+a *verification* (``verify``, a power of two, the coarse step by default; 0: none) samples the leaves:
+
+4. round after round, of step ``s`` = ``verify``, ``verify / 2``, ..., 2, it computes the cells of the lattice
+   offset by half a step from the corners, ``(s/2 + a s, s/2 + b s)``, and of the grid's edges (where no block
+   lies beyond) at ``s/2 + a s``: the first round everywhere, the next ones within ``max(s, HALO)`` cells of a
+   class boundary of the map so far and within twice that of a *hit* (a cell whose class its leaf did not
+   have). A leaf that holds a hit is split and refined as in step 2 before the next round;
+5. then rounds of step 1 compute every cell next to a class boundary, until one finds no hit.
+
+What a verified map guarantees: every region of one class that holds a square of ``verify x verify`` cells
+holds a computed cell (any ``verify`` consecutive indices hold one of the first lattice), hence is found, and
+traced: rounds of step 1 end only when every boundary between classes of the result lies between two computed
+cells, so a region found is found whole. A region smaller than that is found if it lies near a boundary found
+before (within ``max(s, HALO)`` cells, holding an ``s x s`` square); one smaller and farther away can be
+missed. That bound is deterministic, not statistical; how often the rest happens is measured
+(bench/adaptive.py). ``coarse=1`` (or a full map) computes every cell.
 
 The ``beta`` scan of a spectrum (:func:`rocking.study.spectrum.beta_min`) is refined alike in one dimension
 (:func:`refine_scan`): every ``coarse``-th amplitude and the last, then the midpoint of each interval whose two
@@ -74,6 +88,18 @@ def near(shape: tuple[int, int], rows: np.ndarray, cols: np.ndarray, radius: int
     hit = np.zeros(shape, bool)
     hit[rows, cols] = True
     return ndimage.maximum_filter(hit, size=2 * radius + 1, mode="constant")
+
+
+#: Cells around a class boundary that every verification round of a step of 2 or more searches: rocking maps
+#: scatter slivers of other outcomes near their boundaries (a 1 x 4 sliver 3 cells from one on a 400 x 400
+#: map of a cosine pulse with stops, issue 25), farther than the fine steps' own reach.
+HALO = 4
+
+
+def halo(step: int) -> int:
+    """The cells around the class boundaries that a verification round of ``step`` searches: ``max(step,
+    HALO)``, and 1 at step 1, which computes every cell there; twice that around the hits of the round."""
+    return max(step, HALO) if step > 1 else 1
 
 
 def offset_lattice(n: int, step: int) -> np.ndarray:
@@ -205,7 +231,7 @@ class Refinement:
         rows, cols = np.meshgrid(offset_lattice(n, self.step), offset_lattice(m, self.step), indexing="ij")
         cells = np.ravel_multi_index((rows.ravel(), cols.ravel()), (n, m))
         filled = self.leaf_classes()
-        suspect = self.suspect | near(self.computed.shape, *boundary(filled), self.step)
+        suspect = self.suspect | near(self.computed.shape, *boundary(filled), halo(self.step))
         rows, cols = self._new(cells[suspect.ravel()[cells]])
         self.probes = (rows, cols, filled[rows, cols])
         return rows, cols
@@ -234,13 +260,13 @@ class Refinement:
         computed cells share one class is (or stays) a leaf; another is split, unless all its cells are computed.
 
         After a verification round, probes of a class their leaf did not give are *hits*: the next round, once
-        the blocks split around them are leaves again, verifies the cells within one step of a hit at half the
-        step; a round without a hit (or at step 2, whose half step is no cell) ends the verification.
+        the blocks split around them are leaves again, verifies at half the step (:func:`halo`) near the
+        boundaries and the hits; rounds of step 1 repeat until one finds no hit, which ends the verification.
         """
         if self.probes is not None:
             rows, cols, expected = self.probes
             hits = (self.classes[rows, cols] != expected).any(axis=1)
-            self.suspect = near(self.computed.shape, rows[hits], cols[hits], self.step)
+            self.suspect = near(self.computed.shape, rows[hits], cols[hits], 2 * halo(self.step))
             self.step = self.step // 2 if self.step > 1 else 1 if hits.any() else 0
             self.probes = None
         blocks = np.concatenate([self.active, self.leaves])
@@ -396,3 +422,4 @@ def narrowest_feature(classes) -> np.ndarray:
         edges = np.flatnonzero(change[row])  # a run ends after each edge index
         out[row] = np.diff(edges).min()
     return out
+
