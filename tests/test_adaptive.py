@@ -212,7 +212,7 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
         return args.func(args)
 
     assert cli("--coarse", "8") == 0
-    assert "map: adaptive (coarse step 8):" in capsys.readouterr().out
+    assert "map: adaptive (coarse step 8, verified from step 8):" in capsys.readouterr().out
     table = (tmp_path / "map.csv").read_text()
     assert ",not_computed," in table and "bare_computed" in table.splitlines()[0]
     for argv, message in (
