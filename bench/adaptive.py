@@ -12,6 +12,7 @@ verdict and the damper's effect.
     python bench/adaptive.py                 # 400 x 400 one-sine map: a minute or two on 2 cores
     python bench/adaptive.py -n 200 --json out/adaptive.json
     python bench/adaptive.py --pulses sine cosine ricker ricker_anti mp --stops both   # the matrix
+    python bench/adaptive.py --verify 16 0     # verified and not, against the same full map
 """
 
 from __future__ import annotations
@@ -53,28 +54,34 @@ def setting_of(pulse: str) -> Setting:
     return Setting(Block.reference(), rtol=1e-8, pulse=pulse, **({"gamma_mp": GAMMA_MP} if pulse == "mp" else {}))
 
 
-def compare(n: int, workers: int, coarse: int, verify: int | None = None, pulse: str = "sine",
-            stops: bool = False) -> dict:  # fmt: skip
-    """Both maps of ``n x n`` on fresh tiles: responses, seconds, misclassified cells."""
+def compare(n: int, workers: int, coarse: int, verifies=(None,), pulse: str = "sine", stops: bool = False) -> list:
+    """The full map of ``n x n`` and an adaptive one per verification step of ``verifies`` (None: the default),
+    each on fresh tiles: per adaptive map, the responses, seconds and misclassified cells of both."""
     setting, tuning = setting_of(pulse), Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS, stops=stops)
     grids = Grid("Omega", 1.0, 10.0, n), Grid("beta", 1.0, 10.0, n)
     execution = Execution(workers=workers, progress=False)
-    out = {"n": n, "workers": workers, "coarse": coarse, "pulse": pulse, "stops": stops}
-    studies = {}
+
+    def timed(runs: str, **how) -> tuple:
+        start = time.perf_counter()
+        study = overturning_map(setting, tuning, *grids, execution, runs=runs, **how)
+        return study, time.perf_counter() - start
+
     with tempfile.TemporaryDirectory() as tmp:
-        for kind, how in (("adaptive", {"coarse": coarse, "verify": verify}), ("full", {"full": True})):
-            start = time.perf_counter()
-            studies[kind] = overturning_map(setting, tuning, *grids, execution, runs=f"{tmp}/{kind}", **how)
-            out[f"{kind}_seconds"] = time.perf_counter() - start
-            out[f"{kind}_responses"] = studies[kind].run["responses"]
-    out["verify"] = studies["adaptive"].config["refinement"]["verify"]
-    out["rounds"] = studies["adaptive"].run["rounds"]
-    out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
-    out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
-    out["misclassified"] = misclassified(studies["adaptive"].arrays, studies["full"].arrays)
-    out["cells_overturned_bare"] = int(studies["full"].arrays["bare_overturned"].sum())
-    out["cells_saved"] = int((studies["full"].arrays["effect"] > 0).sum())
-    return out
+        full, full_seconds = timed(f"{tmp}/full", full=True)
+        results = []
+        for k, verify in enumerate(verifies):
+            adaptive, seconds = timed(f"{tmp}/adaptive-{k}", coarse=coarse, verify=verify)
+            out = {"n": n, "workers": workers, "coarse": coarse, "pulse": pulse, "stops": stops,
+                   "verify": adaptive.config["refinement"]["verify"], "rounds": adaptive.run["rounds"],
+                   "adaptive_seconds": seconds, "adaptive_responses": adaptive.run["responses"],
+                   "full_seconds": full_seconds, "full_responses": full.run["responses"]}  # fmt: skip
+            out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
+            out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
+            out["misclassified"] = misclassified(adaptive.arrays, full.arrays)
+            out["cells_overturned_bare"] = int(full.arrays["bare_overturned"].sum())
+            out["cells_saved"] = int((full.arrays["effect"] > 0).sum())
+            results.append(out)
+    return results
 
 
 def report(r: dict) -> None:
@@ -91,13 +98,13 @@ def report(r: dict) -> None:
 
 def summary(results: list[dict]) -> None:
     """One line per map, then the totals: the table of the README."""
-    print("\n| pulse | guide | cells differ | responses adaptive / full | wall adaptive / full (s) |")
-    print("|---|---|---|---|---|")
+    print("\n| pulse | guide | verify | cells differ | responses adaptive / full | wall adaptive / full (s) |")
+    print("|---|---|---|---|---|---|")
     for r in results:
         guide = "stops" if r["stops"] else "unlimited"
-        print(f"| {r['pulse']} | {guide} | {r['misclassified']} | {r['adaptive_responses']} / {r['full_responses']} "
-              f"({r['response_ratio']:.1f}x fewer) | {r['adaptive_seconds']:.1f} / {r['full_seconds']:.1f} "
-              f"({r['speedup']:.1f}x) |")  # fmt: skip
+        print(f"| {r['pulse']} | {guide} | {r['verify']} | {r['misclassified']} | "
+              f"{r['adaptive_responses']} / {r['full_responses']} ({r['response_ratio']:.1f}x fewer) | "
+              f"{r['adaptive_seconds']:.1f} / {r['full_seconds']:.1f} ({r['speedup']:.1f}x) |")  # fmt: skip
 
 
 def main(argv=None) -> int:
@@ -105,15 +112,17 @@ def main(argv=None) -> int:
     parser.add_argument("-n", type=int, default=400, help="values of Omega and of beta (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="local workers of both maps (default 2)")
     parser.add_argument("--coarse", type=int, default=COARSE, help=f"coarse step (default {COARSE})")
-    parser.add_argument("--verify", type=int, help="first step of the verification, 0: none (default: coarse)")
+    parser.add_argument("--verify", type=int, nargs="+", default=[None],
+                        help="first steps of the verification, an adaptive map each, 0: none (default: coarse)")
     parser.add_argument("--pulses", nargs="+", default=["sine"], choices=PULSES, help="pulse families (sine)")
     parser.add_argument("--stops", choices=GUIDES, default="no", help="with stops: no (default), yes or both")
     parser.add_argument("--json", help="also write the figures to this file")
     args = parser.parse_args(argv)
     results = []
     for pulse, stops in product(args.pulses, GUIDES[args.stops]):
-        results.append(compare(args.n, args.workers, args.coarse, args.verify, pulse, stops))
-        report(results[-1])
+        for result in compare(args.n, args.workers, args.coarse, args.verify, pulse, stops):
+            report(result)
+            results.append(result)
     if len(results) > 1:
         summary(results)
     if args.json:

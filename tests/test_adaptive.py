@@ -249,6 +249,6 @@ def test_the_bench_reports_the_cells_that_differ(tmp_path, capsys):
     code = bench.main(["-n", "17", "--workers", "1", "--coarse", "8", "--pulses", "ricker", "--stops", "both",
                        "--json", str(tmp_path / "bench.json")])  # fmt: skip
     out = capsys.readouterr().out
-    assert code == 0 and out.count("cells differ)") == 2 and "| ricker | stops | 0 |" in out
+    assert code == 0 and out.count("cells differ)") == 2 and "| ricker | stops | 8 | 0 |" in out
     rows = json.loads((tmp_path / "bench.json").read_text())
     assert [(r["stops"], r["misclassified"], r["verify"]) for r in rows] == [(False, 0, 8), (True, 0, 8)]
