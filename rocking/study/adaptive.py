@@ -44,8 +44,10 @@ missed. That bound is deterministic, not statistical; how often the rest happens
 The ``beta`` scan of a spectrum (:func:`rocking.study.spectrum.beta_min`) is refined alike in one dimension
 (:func:`refine_scan`): every ``coarse``-th amplitude and the last, then the midpoint of each interval whose two
 ends differ in class, down to neighbouring amplitudes; the amplitudes inside an interval whose ends agree take
-their class. It misses what falls entirely inside such an interval: a band of another class (a safe window, an
-overturning band, another count of impacts) narrower than the coarse step, with the same class on both sides.
+their class; a spectrum's scans are then verified from their coarse step, as a map is, in one dimension. A
+band of one class of ``coarse`` amplitudes or more is found; a narrower one with the same class on both sides
+(a safe window, an overturning band, another count of impacts) is found near a class change, and can be
+missed farther away.
 """
 
 from __future__ import annotations
@@ -83,11 +85,12 @@ def check_verify(verify, coarse: int) -> int:
     return int(verify)
 
 
-def near(shape: tuple[int, int], rows: np.ndarray, cols: np.ndarray, radius: int) -> np.ndarray:
-    """The cells of a ``shape`` grid within ``radius`` cells, along each axis, of any cell ``(rows, cols)``."""
+def near(shape: tuple[int, int], rows: np.ndarray, cols: np.ndarray, radius) -> np.ndarray:
+    """The cells of a ``shape`` grid within ``radius`` cells, along each axis, of any cell ``(rows, cols)``;
+    ``radius`` an int, or one per axis."""
     hit = np.zeros(shape, bool)
     hit[rows, cols] = True
-    return ndimage.maximum_filter(hit, size=2 * radius + 1, mode="constant")
+    return ndimage.maximum_filter(hit, size=tuple(2 * np.broadcast_to(radius, 2) + 1), mode="constant")
 
 
 #: Cells around a class boundary that every verification round of a step of 2 or more searches: rocking maps
@@ -341,12 +344,16 @@ def refine(classify, shape: tuple[int, int, int], coarse: int, verify: int = 0) 
     return refinement.classes, refinement.computed, rounds
 
 
-def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarray, np.ndarray, int]:
+def refine_scan(classify, shape: tuple[int, int], coarse: int, verify: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
     """The classes of ``shape[0]`` scans of ``shape[1]`` points each, refined where neighbouring classes differ.
 
     Every ``coarse``-th index and the last is computed first; then, round after round, the midpoint of each
     interval of computed indices whose two ends differ in class, until its ends are neighbours or agree. An
-    index not computed takes the class of the two computed ends of its interval (they agree).
+    index not computed takes the class of the two computed ends of its interval (they agree). With ``verify``,
+    the scans are then verified as a map is (:class:`Refinement`), in one dimension: rounds of step ``s`` =
+    ``verify``, ..., 2 compute the indices ``s/2 + a s``, the first round everywhere, the next within
+    :func:`halo` of a class change and twice that of a hit, each followed by the bisections it calls for; the
+    rounds of step 2 repeat until one finds no hit. A band of one class of ``verify`` points or more is found.
 
     Parameters
     ----------
@@ -357,6 +364,8 @@ def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarr
         Scans, points per scan.
     coarse : int
         The coarse step, indices (:func:`check_coarse`; 1 computes every point in one round).
+    verify : int, optional
+        The first step of the verification (:func:`check_verify`); 0 (default): none.
 
     Returns
     -------
@@ -379,26 +388,57 @@ def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarr
     classes, computed = np.zeros(shape, np.int64), np.zeros(shape, bool)
     lattice = np.unique(np.append(np.arange(0, m, coarse), m - 1)) if m else np.zeros(0, np.int64)
     rows, indices = np.repeat(np.arange(n), lattice.size), np.tile(lattice, n)
-    # Intervals of computed indices: their scan, first and last index.
-    scan = np.repeat(np.arange(n), max(lattice.size - 1, 0))
-    first, last = np.tile(lattice[:-1], n), np.tile(lattice[1:], n)
+    step, suspect, expected = check_verify(verify, coarse), np.ones(shape, bool), None
     rounds = 0
     while rows.size:
         classes[rows, indices] = classify(rows, indices)
         computed[rows, indices] = True
         rounds += 1
-        split = (classes[scan, first] != classes[scan, last]) & (last - first > 1)
-        scan, first, last = scan[split], first[split], last[split]
-        middle = (first + last) // 2
-        rows, indices = scan, middle
-        scan, first, last = np.tile(scan, 2), np.concatenate([first, middle]), np.concatenate([middle, last])
-    position = np.broadcast_to(np.arange(m), shape)
+        if expected is not None:  # a verification round: its hits, and the next step
+            hits = classes[rows, indices] != expected
+            suspect = near(shape, rows[hits], indices[hits], (0, 2 * halo(step)))  # scans apart
+            step = step // 2 if step > 2 else 2 if hits.any() else 0
+        rows, indices = _midpoints(classes, computed)
+        expected = None
+        if not rows.size and step >= 2:
+            filled = _scan_fill(classes, computed)
+            rows, indices = _scan_probes(filled, computed, step, suspect)
+            expected = filled[rows, indices]
+    return _scan_fill(classes, computed), computed, rounds
+
+
+def _midpoints(classes: np.ndarray, computed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Scans and indices of the midpoints of the intervals between neighbouring computed points of a scan whose
+    classes differ and which are not neighbours: the next bisections."""
+    rows, indices = np.nonzero(computed)  # scan by scan, in increasing index
+    split = (rows[1:] == rows[:-1]) & (indices[1:] - indices[:-1] > 1)
+    split &= classes[rows[1:], indices[1:]] != classes[rows[:-1], indices[:-1]]
+    return rows[:-1][split], (indices[:-1][split] + indices[1:][split]) // 2
+
+
+def _scan_fill(classes: np.ndarray, computed: np.ndarray) -> np.ndarray:
+    """Every point's class: its own where computed, else that of the computed point before it (the two computed
+    ends of its interval agree once the bisections are done)."""
+    n, m = classes.shape
+    position = np.broadcast_to(np.arange(m), (n, m))
     before = np.maximum.accumulate(np.where(computed, position, 0), axis=1)
     after = m - 1 - np.maximum.accumulate(np.where(computed, m - 1 - position, 0)[:, ::-1], axis=1)[:, ::-1]
     row = np.arange(n)[:, None]
     if not (computed | (classes[row, before] == classes[row, after])).all():
         raise AssertionError("adaptive scan: a point not computed lies between computed points of two classes")
-    return np.where(computed, classes, classes[row, before]), computed, rounds
+    return np.where(computed, classes, classes[row, before])
+
+
+def _scan_probes(filled: np.ndarray, computed: np.ndarray, step: int, suspect: np.ndarray) -> tuple:
+    """Scans and indices of one verification round of ``step``: the points ``step // 2 + a step`` not computed,
+    in ``suspect`` or within :func:`halo` of a class change of ``filled``."""
+    change = np.zeros(filled.shape, bool)
+    change[:, 1:] |= filled[:, 1:] != filled[:, :-1]
+    change[:, :-1] |= filled[:, 1:] != filled[:, :-1]
+    wanted = suspect | near(filled.shape, *np.nonzero(change), (0, halo(step)))
+    lattice = np.zeros(filled.shape, bool)
+    lattice[:, step // 2 :: step] = True
+    return np.nonzero(lattice & wanted & ~computed)
 
 
 def narrowest_feature(classes) -> np.ndarray:
