@@ -781,9 +781,9 @@ def add_study_commands(subparsers) -> None:
         type=int,
         metavar="STEP",
         help="adaptive beta scans of coarse step STEP, a power of two: every STEP-th amplitude is computed, then "
-        "bisections where neighbouring outcome classes differ; features narrower than STEP amplitudes can be "
-        "missed, and are on the default grids (4 is about 3.4 times fewer responses there; default: every "
-        "amplitude)",
+        "bisections where neighbouring outcome classes differ, and a verification; features narrower than STEP "
+        "amplitudes away from a class change can be missed, and are on the default grids (16 is about 4.6 times "
+        "fewer scan responses there; default: every amplitude)",
     )
     _add_directions(p)
     _add_pulse(p)
