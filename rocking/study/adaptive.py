@@ -177,6 +177,8 @@ class Refinement:
         Omega values, beta values, classes per cell (one per direction of the pulse).
     coarse : int
         The coarse step, a power of two (:func:`check_coarse`).
+    verify : int, optional
+        The first step of the verification (:func:`check_verify`); 0 (default): none.
 
     Attributes
     ----------
@@ -190,6 +192,13 @@ class Refinement:
         corners are computed next (:meth:`pending`), then judged (:meth:`update`).
     leaves : ndarray of int, ``(L, 4)``
         Blocks whose computed cells share one class.
+    step : int
+        The step of the next verification round; 0 once the verification is over.
+    suspect : ndarray of bool, ``shape[:2]``
+        Where the next verification round looks besides the class boundaries: everywhere at first, then
+        around the hits of the round before.
+    probes : (rows, cols, classes) or None
+        The cells of the verification round under way and the classes their leaves gave them.
     """
 
     def __init__(self, shape: tuple[int, int, int], coarse: int, verify: int = 0) -> None:
