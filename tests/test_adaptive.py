@@ -62,7 +62,7 @@ def test_the_bench_map_adaptive_is_the_full_map(tmp_path):
     assert adaptive.run["responses"] < 0.5 * full.run["responses"]
     refinement = {"adaptive": True, "coarse": 16, "verify": 16}
     assert adaptive.config["refinement"] == adaptive.summary["refinement"] == refinement
-    assert adaptive.summary["guarantee"].startswith("every region of one class that holds a square of 16 x 16 cells")
+    assert adaptive.summary["guarantee"].startswith("every region of one class holding 16 x 16 cells (1.8 in Omega")
     assert full.config["refinement"] == {"adaptive": False}
     assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
     assert adaptive.arrays["effect"].any()

@@ -132,10 +132,8 @@ def guarantee(refinement: dict, spacing: tuple[float, float]) -> str:
     size = refinement["verify"] or refinement["coarse"]
     extent = f"{size} x {size} cells ({size * spacing[0]:.3g} in Omega x {size * spacing[1]:.3g} in beta)"
     if not refinement["verify"]:
-        return (f"unverified: a region of another class that fits in {extent} between the computed cells of a block "
-                "whose computed cells agree can be missed")  # fmt: skip
-    return (f"every region of one class that holds a square of {extent} is found, and every boundary between "
-            "classes lies between computed cells; a smaller region away from the boundaries can be missed")  # fmt: skip
+        return f"unverified: a region of another class inside {extent} can be missed"
+    return f"every region of one class holding {extent} is found, whole; smaller ones only near class boundaries"
 
 
 def _spans(n: int, step: int) -> list[tuple[int, int]]:
