@@ -1,14 +1,18 @@
-"""Adaptive against full: the bench map, the block alone and with its damper, both directions, computed both ways.
+"""Adaptive against full: maps of the bench block and damper, both directions, computed both ways.
 
 The map of `make bench` (Omega and beta in [1, 10], the reference block of docs/model.md section 9, a damper
 with gamma = 0.05, omega_m = p, zeta = 0.05, h = 0.05 m, rtol = 1e-8), n x n (default 400), as
-``rocking map`` computes it: adaptive (coarse step 16, rocking.study.adaptive) and with every cell (--full),
-each on fresh tiles with the same local workers. Prints the responses each computed, its wall time, the
-ratios, and whether the classification is identical: the outcome of every cell (the envelope of the
-directions and each direction), the responses without a verdict and the damper's effect.
+``rocking map`` computes it: adaptive (coarse step 16, verified from step 16, rocking.study.adaptive) and with
+every cell (--full), each on fresh tiles with the same local workers; for each pulse family asked for (the
+Mavroeidis-Papageorgiou pulse with gamma_mp = 2), with the paper's unlimited guide and/or with stops. Prints,
+per map, the responses each computed, its wall time, the ratios, and the cells whose classification differs:
+the outcome of every cell (the envelope of the directions and each direction), the responses without a
+verdict and the damper's effect.
 
-    python bench/adaptive.py                 # 400 x 400: some minutes on 2 cores
+    python bench/adaptive.py                 # 400 x 400 one-sine map: a minute or two on 2 cores
     python bench/adaptive.py -n 200 --json out/adaptive.json
+    python bench/adaptive.py --pulses sine cosine ricker ricker_anti mp --stops both   # the matrix
+    python bench/adaptive.py --verify 16 0     # verified and not, against the same full map
 """
 
 from __future__ import annotations
@@ -18,14 +22,19 @@ import json
 import sys
 import tempfile
 import time
+from itertools import product
 
 from rocking import Block
 from rocking.study.adaptive import COARSE
-from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.config import PULSES, Grid, Setting, Tuning
 from rocking.study.overturning_map import outcome, overturning_map, undetermined
 from rocking.study.tiles import Execution
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
+#: The oscillations of the Mavroeidis-Papageorgiou pulse of the matrix.
+GAMMA_MP = 2.0
+#: The guides of --stops: the paper's unlimited one, the stops at the block's edges.
+GUIDES = {"no": (False,), "yes": (True,), "both": (False, True)}
 
 
 def misclassified(adaptive: dict, full: dict) -> int:
@@ -40,37 +49,62 @@ def misclassified(adaptive: dict, full: dict) -> int:
     return wrong
 
 
-def compare(n: int, workers: int, coarse: int) -> dict:
-    """Both maps of ``n x n`` on fresh tiles: responses, seconds, misclassified cells."""
-    setting, tuning = Setting(Block.reference(), rtol=1e-8), Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS)
+def setting_of(pulse: str) -> Setting:
+    """The bench setting with the pulse family ``pulse``."""
+    return Setting(Block.reference(), rtol=1e-8, pulse=pulse, **({"gamma_mp": GAMMA_MP} if pulse == "mp" else {}))
+
+
+def compare(n: int, workers: int, coarse: int, verifies=(None,), pulse: str = "sine", stops: bool = False) -> list:
+    """The full map of ``n x n`` and an adaptive one per verification step of ``verifies`` (None: the default),
+    each on fresh tiles: per adaptive map, the responses, seconds and misclassified cells of both."""
+    setting, tuning = setting_of(pulse), Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS, stops=stops)
     grids = Grid("Omega", 1.0, 10.0, n), Grid("beta", 1.0, 10.0, n)
     execution = Execution(workers=workers, progress=False)
-    out = {"n": n, "workers": workers, "coarse": coarse}
-    studies = {}
+
+    def timed(runs: str, **how) -> tuple:
+        start = time.perf_counter()
+        study = overturning_map(setting, tuning, *grids, execution, runs=runs, **how)
+        return study, time.perf_counter() - start
+
     with tempfile.TemporaryDirectory() as tmp:
-        for kind, how in (("adaptive", {"coarse": coarse}), ("full", {"full": True})):
-            start = time.perf_counter()
-            studies[kind] = overturning_map(setting, tuning, *grids, execution, runs=f"{tmp}/{kind}", **how)
-            out[f"{kind}_seconds"] = time.perf_counter() - start
-            out[f"{kind}_responses"] = studies[kind].run["responses"]
-    out["rounds"] = studies["adaptive"].run["rounds"]
-    out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
-    out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
-    out["misclassified"] = misclassified(studies["adaptive"].arrays, studies["full"].arrays)
-    out["cells_overturned_bare"] = int(studies["full"].arrays["bare_overturned"].sum())
-    out["cells_saved"] = int((studies["full"].arrays["effect"] > 0).sum())
-    return out
+        full, full_seconds = timed(f"{tmp}/full", full=True)
+        results = []
+        for k, verify in enumerate(verifies):
+            adaptive, seconds = timed(f"{tmp}/adaptive-{k}", coarse=coarse, verify=verify)
+            out = {"n": n, "workers": workers, "coarse": coarse, "pulse": pulse, "stops": stops,
+                   "verify": adaptive.config["refinement"]["verify"], "rounds": adaptive.run["rounds"],
+                   "adaptive_seconds": seconds, "adaptive_responses": adaptive.run["responses"],
+                   "full_seconds": full_seconds, "full_responses": full.run["responses"]}  # fmt: skip
+            out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
+            out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
+            out["misclassified"] = misclassified(adaptive.arrays, full.arrays)
+            out["cells_overturned_bare"] = int(full.arrays["bare_overturned"].sum())
+            out["cells_saved"] = int((full.arrays["effect"] > 0).sum())
+            results.append(out)
+    return results
 
 
 def report(r: dict) -> None:
-    n = r["n"]
-    print(f"adaptive map, {n}x{n} bench map (block alone + damper, both directions, {r['workers']} workers):")
+    n, guide = r["n"], "stops" if r["stops"] else "unlimited guide"
+    print(f"adaptive map, {n}x{n}, {r['pulse']} pulse, {guide} (block alone + damper, both directions, "
+          f"{r['workers']} workers):")  # fmt: skip
     print(f"  full          {r['full_responses']:10d} responses  {r['full_seconds']:8.1f} s")
     print(f"  adaptive      {r['adaptive_responses']:10d} responses  {r['adaptive_seconds']:8.1f} s   "
-          f"(coarse step {r['coarse']}, {r['rounds']} rounds)")  # fmt: skip
-    print(f"  {r['response_ratio']:.1f}x fewer responses (target >= 10), {r['speedup']:.1f}x faster (target >= 8); "
+          f"(coarse step {r['coarse']}, verified from step {r['verify']}, {r['rounds']} rounds)")  # fmt: skip
+    print(f"  {r['response_ratio']:.1f}x fewer responses, {r['speedup']:.1f}x faster; "
           f"classification {'identical' if r['misclassified'] == 0 else 'DIFFERENT'} "
-          f"({r['misclassified']} cells differ)")  # fmt: skip
+          f"({r['misclassified']} cells differ)", flush=True)  # fmt: skip
+
+
+def summary(results: list[dict]) -> None:
+    """One line per map, then the totals: the table of the README."""
+    print("\n| pulse | guide | verify | cells differ | responses adaptive / full | wall adaptive / full (s) |")
+    print("|---|---|---|---|---|---|")
+    for r in results:
+        guide = "stops" if r["stops"] else "unlimited"
+        print(f"| {r['pulse']} | {guide} | {r['verify']} | {r['misclassified']} | "
+              f"{r['adaptive_responses']} / {r['full_responses']} ({r['response_ratio']:.1f}x fewer) | "
+              f"{r['adaptive_seconds']:.1f} / {r['full_seconds']:.1f} ({r['speedup']:.1f}x) |")  # fmt: skip
 
 
 def main(argv=None) -> int:
@@ -78,14 +112,23 @@ def main(argv=None) -> int:
     parser.add_argument("-n", type=int, default=400, help="values of Omega and of beta (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="local workers of both maps (default 2)")
     parser.add_argument("--coarse", type=int, default=COARSE, help=f"coarse step (default {COARSE})")
+    parser.add_argument("--verify", type=int, nargs="+", default=[None],
+                        help="first steps of the verification, an adaptive map each, 0: none (default: coarse)")
+    parser.add_argument("--pulses", nargs="+", default=["sine"], choices=PULSES, help="pulse families (sine)")
+    parser.add_argument("--stops", choices=GUIDES, default="no", help="with stops: no (default), yes or both")
     parser.add_argument("--json", help="also write the figures to this file")
     args = parser.parse_args(argv)
-    result = compare(args.n, args.workers, args.coarse)
-    report(result)
+    results = []
+    for pulse, stops in product(args.pulses, GUIDES[args.stops]):
+        for result in compare(args.n, args.workers, args.coarse, args.verify, pulse, stops):
+            report(result)
+            results.append(result)
+    if len(results) > 1:
+        summary(results)
     if args.json:
         with open(args.json, "w") as f:
-            json.dump(result, f, indent=2)
-    return 0 if result["misclassified"] == 0 else 1
+            json.dump(results if len(results) > 1 else results[0], f, indent=2)
+    return 0 if all(r["misclassified"] == 0 for r in results) else 1
 
 
 if __name__ == "__main__":

@@ -3,6 +3,9 @@
 from __future__ import annotations
 
 import argparse
+import importlib.util
+import json
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -10,7 +13,8 @@ import pytest
 from rocking import Block
 from rocking.cli.study import add_study_commands
 from rocking.model.params import ParameterError
-from rocking.study.adaptive import Refinement, check_coarse
+from rocking.study import adaptive
+from rocking.study.adaptive import check_coarse, check_verify
 from rocking.study.config import Grid, Setting, Tuning, Variant
 from rocking.study.overturning_map import FIELDS, outcome, overturning_map, undetermined
 from rocking.study.tiles import Execution, Interrupted
@@ -56,7 +60,9 @@ def test_the_bench_map_adaptive_is_the_full_map(tmp_path):
     adaptive, full = adaptive_and_full(tmp_path, BENCH, BENCH_DAMPER, *grids)
     assert_same_classification(adaptive, full)
     assert adaptive.run["responses"] < 0.5 * full.run["responses"]
-    assert adaptive.config["refinement"] == adaptive.summary["refinement"] == {"adaptive": True, "coarse": 16}
+    refinement = {"adaptive": True, "coarse": 16, "verify": 16}
+    assert adaptive.config["refinement"] == adaptive.summary["refinement"] == refinement
+    assert adaptive.summary["guarantee"].startswith("every region of one class holding 16 x 16 cells (1.8 in Omega")
     assert full.config["refinement"] == {"adaptive": False}
     assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
     assert adaptive.arrays["effect"].any()
@@ -105,25 +111,21 @@ def test_an_interrupted_adaptive_map_resumes_from_its_rounds(tmp_path):
     assert (again.run["tiles_computed"], again.run["tiles_reused"]) == (0, whole.run["tiles_computed"])
 
 
-def refine(classes: np.ndarray, coarse: int) -> tuple[np.ndarray, Refinement]:
-    """The classes an adaptive map gives to a known field of classes ``(n, m)``, and its refinement."""
-    refinement = Refinement((*classes.shape, 1), coarse)
-    while len(refinement.active):
-        rows, cols = refinement.pending()
-        refinement.record(rows, cols, classes[rows, cols][:, None])
-        refinement.update()
-    refinement.fill()
-    return refinement.classes[..., 0], refinement
+def refine(classes: np.ndarray, coarse: int, verify: int = 0) -> tuple[np.ndarray, np.ndarray]:
+    """The classes an adaptive map gives to a known field of classes ``(n, m)`` (the fake evaluator reads it),
+    and the cells it computed."""
+    got, computed, _ = adaptive.refine(lambda r, c: classes[r, c][:, None], (*classes.shape, 1), coarse, verify)
+    return got[..., 0], computed
 
 
-def test_what_an_adaptive_map_can_miss():
+def test_what_an_unverified_adaptive_map_can_miss():
     """A straight boundary is found exactly; an island smaller than the coarse step that no computed cell
-    touches is missed; a finer coarse step, or a larger island, finds it."""
+    touches is missed without the verification; a finer coarse step, or a larger island, finds it."""
     i, j = np.meshgrid(np.arange(50), np.arange(45), indexing="ij")
     sloped = np.where(3 * i + 2 * j > 100, 1, -1)
-    got, refinement = refine(sloped, 16)
+    got, computed = refine(sloped, 16)
     np.testing.assert_array_equal(got, sloped)
-    assert refinement.computed.sum() < sloped.size / 2
+    assert computed.sum() < sloped.size / 2
     island = np.full((33, 33), -1)
     island[5:8, 5:8] = 0  # 3 x 3 cells, between the corners 0 and 16 of a coarse block
     assert (refine(island, 16)[0] == -1).all()
@@ -133,6 +135,45 @@ def test_what_an_adaptive_map_can_miss():
     np.testing.assert_array_equal(refine(large, 8)[0], large)
 
 
+@pytest.mark.parametrize("corner", [(1, 1), (3, 5), (9, 2), (13, 13), (40, 25)])
+def test_the_verification_finds_an_island_of_its_step_inside_a_coarse_block(corner):
+    """An island of 4 x 4 cells anywhere inside a coarse block of 16 holds a point of the offset lattice of
+    step 4: verified from step 4 it is found, cell for cell, and at a fraction of the cells."""
+    field = np.full((49, 45), -1)
+    field[corner[0] : corner[0] + 4, corner[1] : corner[1] + 4] = 2
+    got, computed = refine(field, 16, verify=4)
+    np.testing.assert_array_equal(got, field)
+    assert computed.sum() < field.size / 3
+
+
+def test_the_verification_traces_an_island_near_a_boundary_and_on_the_grid_edge():
+    """Islands of one and two cells within a few cells of a boundary, and one on the grid's edge (the map of
+    issue 25: safe on the edge, 3 cells from an overturned region), are found: the verification refines near
+    every boundary down to the cells next to it, and samples the grid's edges."""
+    i, j = np.meshgrid(np.arange(65), np.arange(65), indexing="ij")
+    field = np.where(j > 40 + i // 4, 0, -1)
+    field[0, 36:38] = 2  # on the edge, 3 cells from the region 0
+    field[30, 44] = -1  # a safe cell in the region 0, 2 cells from its boundary
+    got, computed = refine(field, 16, verify=16)
+    np.testing.assert_array_equal(got, field)
+    assert (refine(field, 16)[0] != field).sum() == 2  # unverified, the edge island is missed
+    assert computed.sum() < field.size / 3
+
+
+def test_every_boundary_of_a_verified_map_lies_between_computed_cells():
+    """The verification ends when the cells next to every boundary of the result are computed and agree."""
+    rng = np.random.default_rng(5)
+    field = np.where(rng.random((40, 40)) < 0.02, 1, -1)  # scattered single cells
+    got, computed = refine(field, 8, verify=8)
+    differ = np.zeros(field.shape, bool)
+    differ[1:] |= got[1:] != got[:-1]
+    differ[:-1] |= got[1:] != got[:-1]
+    differ[:, 1:] |= got[:, 1:] != got[:, :-1]
+    differ[:, :-1] |= got[:, 1:] != got[:, :-1]
+    assert computed[differ].all()
+    np.testing.assert_array_equal(got[computed], field[computed])
+
+
 @pytest.mark.parametrize("shape", [(1, 1), (1, 37), (37, 1), (2, 2), (3, 50), (17, 17), (18, 40)])
 @pytest.mark.parametrize("coarse", [1, 4, 16, 64])
 def test_grids_of_any_size_are_refined_to_their_last_cell(shape, coarse):
@@ -140,17 +181,25 @@ def test_grids_of_any_size_are_refined_to_their_last_cell(shape, coarse):
     blocks are clipped, every cell is computed or filled, and a boundary across the grid is found."""
     i, j = np.meshgrid(np.arange(shape[0]), np.arange(shape[1]), indexing="ij")
     field = np.where(i + 2 * j > 25, 2, -1)
-    got, refinement = refine(field, coarse)
+    got, computed = refine(field, coarse)
     np.testing.assert_array_equal(got, field)
     corners = [(0, 0), (0, -1), (-1, 0), (-1, -1)]
-    assert all(refinement.computed[c] for c in corners)
-    assert refinement.computed.all() == (coarse == 1 or max(shape) <= 2)
+    assert all(computed[c] for c in corners)
+    assert computed.all() == (coarse == 1 or max(shape) <= 2)
+    verified, _ = refine(field, coarse, coarse)
+    np.testing.assert_array_equal(verified, field)
 
 
 @pytest.mark.parametrize("coarse", [0, 3, 12, -16, 2.0, True, "16", 2**18])
 def test_a_bad_coarse_step_is_refused_in_one_line(coarse):
     with pytest.raises(ParameterError, match=r"^coarse must be a power of two \(1, 2, 4, \.\.\.\) in \[1, 131072\]"):
         check_coarse(coarse)
+
+
+@pytest.mark.parametrize("verify", [3, -2, 32, 2.0, "4"])
+def test_a_bad_verification_step_is_refused_in_one_line(verify):
+    with pytest.raises(ParameterError, match=r"^verify must be 0 or a power of two in \[1, coarse = 16\]"):
+        check_verify(verify, 16)
 
 
 def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
@@ -163,7 +212,7 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
         return args.func(args)
 
     assert cli("--coarse", "8") == 0
-    assert "map: adaptive (coarse step 8):" in capsys.readouterr().out
+    assert "map: adaptive (coarse step 8, verified from step 8):" in capsys.readouterr().out
     table = (tmp_path / "map.csv").read_text()
     assert ",not_computed," in table and "bare_computed" in table.splitlines()[0]
     for argv, message in (
@@ -175,3 +224,31 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
         assert message in err and len(err.splitlines()) == 1
     assert cli("--full") == 0
     assert "adaptive" not in capsys.readouterr().out
+
+
+def load_bench():
+    """bench/adaptive.py as a module (bench/ is not a package)."""
+    path = Path(__file__).parent.parent / "bench" / "adaptive.py"
+    spec = importlib.util.spec_from_file_location("bench_adaptive", path)
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
+
+
+def test_the_bench_reports_the_cells_that_differ(tmp_path, capsys):
+    """bench/adaptive.py counts a changed outcome, per direction and in the envelope, and the effect; its
+    matrix of pulses and guides prints a row per map and exits 0 only when no cell differs."""
+    bench = load_bench()
+    grids = Grid("Omega", 1.0, 10.0, 17), Grid("beta", 1.0, 10.0, 17)
+    study = overturning_map(BENCH, BENCH_DAMPER, *grids, SERIAL, runs=tmp_path / "runs", full=True)
+    changed = {k: v.copy() for k, v in study.arrays.items()}
+    assert bench.misclassified(changed, study.arrays) == 0
+    changed["damper_overturned_by_sign"][3, 4, 0] = ~changed["damper_overturned_by_sign"][3, 4, 0]
+    changed["effect"][0, 0] += 1
+    assert bench.misclassified(changed, study.arrays) == 2
+    code = bench.main(["-n", "17", "--workers", "1", "--coarse", "8", "--pulses", "ricker", "--stops", "both",
+                       "--json", str(tmp_path / "bench.json")])  # fmt: skip
+    out = capsys.readouterr().out
+    assert code == 0 and out.count("cells differ)") == 2 and "| ricker | stops | 8 | 0 |" in out
+    rows = json.loads((tmp_path / "bench.json").read_text())
+    assert [(r["stops"], r["misclassified"], r["verify"]) for r in rows] == [(False, 0, 8), (True, 0, 8)]

@@ -58,13 +58,14 @@ def assert_full_results_but_for_narrow_features(adaptive, full, coarse) -> None:
     counts = adaptive.run
     assert counts["scan_responses_full"] == full.run["scan_responses"] == full.run["scan_responses_full"]
     assert counts["scan_responses"] < counts["responses"] < full.run["responses"]
-    assert counts["scan_responses"] < full.run["scan_responses"] / 3
+    assert counts["scan_responses"] < full.run["scan_responses"] / 1.5  # verified from the coarse step
 
 
 def test_the_bench_spectrum_adaptive_is_the_full_spectrum_but_for_narrow_features(tmp_path):
     adaptive, full = adaptive_and_full(tmp_path, BENCH, BENCH_DAMPER)
     assert_full_results_but_for_narrow_features(adaptive, full, ASKED)
-    assert adaptive.config["refinement"] == adaptive.summary["refinement"] == {"adaptive": True, "coarse": 4}
+    refinement = {"adaptive": True, "coarse": 4, "verify": 4}
+    assert adaptive.config["refinement"] == adaptive.summary["refinement"] == refinement
     assert full.config["refinement"] == {"adaptive": False}
     assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
     assert len(full.arrays["damper_windows"]) > 0  # windows are compared, not only their absence
@@ -87,10 +88,14 @@ def test_what_an_adaptive_scan_misses_on_the_bench_spectrum():
     full = beta_min(BENCH, [3.0], beta, damper, sign=-1)
     assert narrowest_feature(full["scan_outcome"])[0] == 1
     assert full["beta_min"][0] == pytest.approx(1.857, abs=1e-3) and full["scan_outcome"][0, 11] >= 0
-    # Index 11 is odd: between two safe computed points of the step 2.
-    missed = beta_min(BENCH, [3.0], beta, damper, sign=-1, coarse=2)
+    # Index 11 is 3 modulo 4: between two safe computed points of the step 4, off the verification's lattice
+    # (2 + 4 a), and farther than its halo from a class change.
+    missed = beta_min(BENCH, [3.0], beta, damper, sign=-1, coarse=4)
     assert missed["beta_min"][0] == pytest.approx(3.25, abs=1e-2) and missed["scan_outcome"][0, 11] == -1
     assert missed["responses"][0] < full["responses"][0]
+    # The step 2 is verified on the odd amplitudes: every amplitude is computed, the band is found.
+    found = beta_min(BENCH, [3.0], beta, damper, sign=-1, coarse=2)
+    assert found["beta_min"][0] == full["beta_min"][0]
 
 
 def refined(field: np.ndarray, coarse: int) -> tuple[np.ndarray, np.ndarray, int, list]:
@@ -181,3 +186,18 @@ def test_the_command_line_scans_every_amplitude_unless_asked(tmp_path, capsys):
     assert cli("--coarse", "8") == 0
     out = capsys.readouterr().out
     assert "spectrum: adaptive scans (coarse step 8):" in out and "of 240 scan responses" in out
+
+
+@pytest.mark.parametrize("start", [1, 5, 18, 27, 50])
+def test_a_verified_scan_finds_every_band_of_its_verification_step(start):
+    """A band of 4 points of another class anywhere in a scan holds a point ``2 + 4 a`` of the verification
+    from step 4: the scan of coarse step 16 verified from 4 finds it; unverified, it is missed where it falls
+    between computed points."""
+    field = np.full((2, 65), -1)
+    field[0, 40:] = 0
+    field[:, start : start + 4] = 3
+    classes, computed, _ = refine_scan(lambda r, i: field[r, i], field.shape, 16, verify=4)
+    np.testing.assert_array_equal(classes, field)
+    assert not computed.all()
+    unverified = refine_scan(lambda r, i: field[r, i], field.shape, 16)[0]
+    assert (unverified == field).all() == (start <= 16 <= start + 3 or start <= 32 <= start + 3)

@@ -50,9 +50,11 @@ def test_map_on_dask_equals_local(cluster, tmp_path):
         runs=tmp_path / "dask",
         tile=(2, 4),
     )
-    # The adaptive map: its rounds run on Dask as on local workers, and ask for the same cells.
+    # The adaptive map: its rounds run on Dask as on local workers, and ask for the same cells (on a grid this
+    # small, the verification's rounds end up computing every cell).
     assert on_dask.run["tiles_computed"] == local.run["tiles_computed"] > 0
-    assert on_dask.run["responses"] == local.run["responses"] < local.run["responses_full_grid"]
+    assert on_dask.run["rounds"] == local.run["rounds"] > 1
+    assert on_dask.run["responses"] == local.run["responses"] <= local.run["responses_full_grid"]
     assert_same(on_dask.arrays, local.arrays)
 
 

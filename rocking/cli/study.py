@@ -349,10 +349,11 @@ def _inputs(args) -> tuple[tuple, Path]:
 
 
 def _refinement(args) -> dict:
-    """``full=`` and ``coarse=`` of a map, as given; refused together."""
-    if args.full and args.coarse is not None:
-        raise ParameterError("give --coarse (the step of the adaptive refinement) or --full (every cell), not both")
-    return given(args, ("full", "coarse"))
+    """``full=``, ``coarse=`` and ``verify=`` of a map, as given; --full refused with the others."""
+    if args.full and (args.coarse is not None or args.verify is not None):
+        raise ParameterError("give --coarse/--verify (the steps of the adaptive refinement) or --full (every cell), "
+                             "not both")  # fmt: skip
+    return given(args, ("full", "coarse", "verify"))
 
 
 def _cmd_map(args) -> int:
@@ -375,9 +376,10 @@ def _print_map(study: Study) -> None:
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
         print(
-            f"map: adaptive (coarse step {refinement['coarse']}): {run['responses']} of {run['responses_full_grid']} "
-            f"responses computed in {run['rounds']} rounds; cells not computed take the outcome around them "
-            f"(--full computes every cell)"
+            f"map: adaptive (coarse step {refinement['coarse']}, verified from step {refinement['verify']}): "
+            f"{run['responses']} of {run['responses_full_grid']} responses computed in {run['rounds']} rounds; "
+            f"cells not computed take the outcome around them (--full computes every cell)\n"
+            f"map: {study.summary['guarantee']}"
         )
 
 
@@ -749,8 +751,16 @@ def add_study_commands(subparsers) -> None:
         type=int,
         metavar="STEP",
         help="coarse step of the adaptive map, a power of two: every STEP-th cell is computed, then the map is "
-        "refined where neighbouring outcome classes differ; features smaller than STEP cells can be missed "
+        "refined where neighbouring outcome classes differ, and verified (--verify) "
         f"({default_text(overturning_map, 'coarse')})",
+    )
+    p.add_argument(
+        "--verify",
+        type=int,
+        metavar="STEP",
+        help="first step of the verification of the adaptive map, a power of two up to --coarse, 0: none: every "
+        "region of one class that holds STEP x STEP cells is found, smaller ones near the class boundaries "
+        "(default: the coarse step)",
     )
     p.add_argument(
         "--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)"
@@ -771,9 +781,9 @@ def add_study_commands(subparsers) -> None:
         type=int,
         metavar="STEP",
         help="adaptive beta scans of coarse step STEP, a power of two: every STEP-th amplitude is computed, then "
-        "bisections where neighbouring outcome classes differ; features narrower than STEP amplitudes can be "
-        "missed, and are on the default grids (4 is about 3.4 times fewer responses there; default: every "
-        "amplitude)",
+        "bisections where neighbouring outcome classes differ, and a verification; features narrower than STEP "
+        "amplitudes away from a class change can be missed, and are on the default grids (16 is about 4.6 times "
+        "fewer scan responses there; default: every amplitude)",
     )
     _add_directions(p)
     _add_pulse(p)

@@ -344,9 +344,10 @@ def _refinement_label(study: Study) -> str:
     a = study.arrays
     cells = a["bare_computed"].size
     computed = ", ".join(f"{int(a[f'{part}_computed'].sum())}" for part in ("bare", "damper"))
+    note = study.summary.get("guarantee", "")
     return (
         f"\nadaptive, coarse step {refinement['coarse']}: {computed} of {cells} cells computed (alone, damped), "
-        "the others take the outcome around them"
+        f"the others take the outcome around them\n{note}"
     )
 
 

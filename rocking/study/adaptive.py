@@ -22,16 +22,32 @@ its own (:func:`rocking.study.overturning_map.response_classes`), so that such r
 in. A cell's class is the classes of all the directions of its pulse together: the per-direction outcomes
 are complete too.
 
-What an adaptive map can miss: a feature of another class that falls entirely between the computed cells
-of a leaf, i.e. an island, or a tongue or band narrower than the spacing of the computed cells along the
-leaf's edges, which is at most the coarse step. Such a feature is smaller than ``coarse`` cells; ``coarse=1``
-(or a full map) computes every cell.
+Without more, an adaptive map misses a feature of another class that falls entirely between the computed
+cells of a leaf: an island, or a tongue or band narrower than the coarse step. So, once every block is a leaf,
+a *verification* (``verify``, a power of two, the coarse step by default; 0: none) samples the leaves:
+
+4. round after round, of step ``s`` = ``verify``, ``verify / 2``, ..., 2, it computes the cells of the lattice
+   offset by half a step from the corners, ``(s/2 + a s, s/2 + b s)``, and of the grid's edges (where no block
+   lies beyond) at ``s/2 + a s``: the first round everywhere, the next ones within ``max(s, HALO)`` cells of a
+   class boundary of the map so far and within twice that of a *hit* (a cell whose class its leaf did not
+   have). A leaf that holds a hit is split and refined as in step 2 before the next round;
+5. then rounds of step 1 compute every cell next to a class boundary, until one finds no hit.
+
+What a verified map guarantees: every region of one class that holds a square of ``verify x verify`` cells
+holds a computed cell (any ``verify`` consecutive indices hold one of the first lattice), hence is found, and
+traced: rounds of step 1 end only when every boundary between classes of the result lies between two computed
+cells, so a region found is found whole. A region smaller than that is found if it lies near a boundary found
+before (within ``max(s, HALO)`` cells, holding an ``s x s`` square); one smaller and farther away can be
+missed. That bound is deterministic, not statistical; how often the rest happens is measured
+(bench/adaptive.py). ``coarse=1`` (or a full map) computes every cell.
 
 The ``beta`` scan of a spectrum (:func:`rocking.study.spectrum.beta_min`) is refined alike in one dimension
 (:func:`refine_scan`): every ``coarse``-th amplitude and the last, then the midpoint of each interval whose two
 ends differ in class, down to neighbouring amplitudes; the amplitudes inside an interval whose ends agree take
-their class. It misses what falls entirely inside such an interval: a band of another class (a safe window, an
-overturning band, another count of impacts) narrower than the coarse step, with the same class on both sides.
+their class; a spectrum's scans are then verified from their coarse step, as a map is, in one dimension. A
+band of one class of ``coarse`` amplitudes or more is found; a narrower one with the same class on both sides
+(a safe window, an overturning band, another count of impacts) is found near a class change, and can be
+missed farther away.
 """
 
 from __future__ import annotations
@@ -39,6 +55,7 @@ from __future__ import annotations
 from itertools import product
 
 import numpy as np
+from scipy import ndimage
 
 from ..model.params import ParameterError
 from .config import is_count
@@ -57,6 +74,66 @@ def check_coarse(coarse) -> int:
     if not ok:
         raise ParameterError(f"coarse must be a power of two (1, 2, 4, ...) in [1, {MAX_COARSE}] (got {coarse!r})")
     return int(coarse)
+
+
+def check_verify(verify, coarse: int) -> int:
+    """``verify`` as an int, or a ParameterError unless it is 0 (no verification) or a power of two in
+    [1, ``coarse``]: the first step of the verification's offset lattice."""
+    ok = is_count(verify) and (verify == 0 or 1 <= verify <= coarse and (int(verify) & (int(verify) - 1)) == 0)
+    if not ok:
+        raise ParameterError(f"verify must be 0 or a power of two in [1, coarse = {coarse}] (got {verify!r})")
+    return int(verify)
+
+
+def near(shape: tuple[int, int], rows: np.ndarray, cols: np.ndarray, radius) -> np.ndarray:
+    """The cells of a ``shape`` grid within ``radius`` cells, along each axis, of any cell ``(rows, cols)``;
+    ``radius`` an int, or one per axis."""
+    hit = np.zeros(shape, bool)
+    hit[rows, cols] = True
+    return ndimage.maximum_filter(hit, size=tuple(2 * np.broadcast_to(radius, 2) + 1), mode="constant")
+
+
+#: Cells around a class boundary that every verification round of a step of 2 or more searches: rocking maps
+#: scatter slivers of other outcomes near their boundaries (a 1 x 4 sliver 3 cells from one on a 400 x 400
+#: map of a cosine pulse with stops, issue 25), farther than the fine steps' own reach.
+HALO = 4
+
+
+def halo(step: int) -> int:
+    """The cells around the class boundaries that a verification round of ``step`` searches: ``max(step,
+    HALO)``, and 1 at step 1, which computes every cell there; twice that around the hits of the round."""
+    return max(step, HALO) if step > 1 else 1
+
+
+def offset_lattice(n: int, step: int) -> np.ndarray:
+    """The indices ``step // 2 + a step`` of an axis of ``n`` values, and its two ends: the lattice of the
+    verification, half a step off the corners of the blocks, and along the grid's edges, where no block lies
+    beyond."""
+    return np.unique(np.concatenate([np.arange(step // 2, n, step), [0, n - 1]]))
+
+
+def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Rows and columns of the cells of ``classes`` (``(n, m, k)``) whose class differs from a neighbour's."""
+    differ = np.zeros(classes.shape[:2], bool)
+    rows = (classes[1:] != classes[:-1]).any(axis=-1)
+    cols = (classes[:, 1:] != classes[:, :-1]).any(axis=-1)
+    differ[1:] |= rows
+    differ[:-1] |= rows
+    differ[:, 1:] |= cols
+    differ[:, :-1] |= cols
+    return np.nonzero(differ)
+
+
+def guarantee(refinement: dict, spacing: tuple[float, float]) -> str:
+    """What a map of ``refinement`` (its ``config["refinement"]``) can miss, in cells and in the largest grid
+    ``spacing`` (``(dOmega, dbeta)``): the deterministic bound of :class:`Refinement`, no statistical one."""
+    if not refinement["adaptive"]:
+        return "full map: every cell computed"
+    size = refinement["verify"] or refinement["coarse"]
+    extent = f"{size} x {size} cells ({size * spacing[0]:.3g} in Omega x {size * spacing[1]:.3g} in beta)"
+    if not refinement["verify"]:
+        return f"unverified: a region of another class inside {extent} can be missed"
+    return f"every region of one class holding {extent} is found, whole; smaller ones only near class boundaries"
 
 
 def _spans(n: int, step: int) -> list[tuple[int, int]]:
@@ -98,6 +175,8 @@ class Refinement:
         Omega values, beta values, classes per cell (one per direction of the pulse).
     coarse : int
         The coarse step, a power of two (:func:`check_coarse`).
+    verify : int, optional
+        The first step of the verification (:func:`check_verify`); 0 (default): none.
 
     Attributes
     ----------
@@ -111,24 +190,61 @@ class Refinement:
         corners are computed next (:meth:`pending`), then judged (:meth:`update`).
     leaves : ndarray of int, ``(L, 4)``
         Blocks whose computed cells share one class.
+    step : int
+        The step of the next verification round; 0 once the verification is over.
+    suspect : ndarray of bool, ``shape[:2]``
+        Where the next verification round looks besides the class boundaries: everywhere at first, then
+        around the hits of the round before.
+    probes : (rows, cols, classes) or None
+        The cells of the verification round under way and the classes their leaves gave them.
     """
 
-    def __init__(self, shape: tuple[int, int, int], coarse: int) -> None:
+    def __init__(self, shape: tuple[int, int, int], coarse: int, verify: int = 0) -> None:
         n, m, k = shape
         self.computed = np.zeros((n, m), bool)
         self.classes = np.zeros((n, m, k), np.int64)
         spans = [(r, c) for r, c in product(_spans(n, coarse), _spans(m, coarse))]
         self.active = np.array([(*r, *c) for r, c in spans], np.int64).reshape(-1, 4)
         self.leaves = np.zeros((0, 4), np.int64)
+        self.step = check_verify(verify, coarse)
+        self.suspect = np.ones((n, m), bool)
+        self.probes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
+
+    @property
+    def done(self) -> bool:
+        """Whether every block is a leaf and the verification is over: nothing left to compute."""
+        return not len(self.active) and self.step < 1
 
     def pending(self) -> tuple[np.ndarray, np.ndarray]:
-        """Rows and columns of the corners of the active blocks not computed yet, in sorted order."""
+        """Rows and columns of the cells to compute next, in sorted order: the corners of the active blocks not
+        computed yet or, once every block is a leaf, the probes of the verification (:meth:`verification`)."""
+        if not len(self.active) and self.step >= 1:
+            return self.verification()
         blocks = self.active
         rows = np.concatenate([blocks[:, 0], blocks[:, 0], blocks[:, 1], blocks[:, 1]])
         cols = np.concatenate([blocks[:, 2], blocks[:, 3], blocks[:, 2], blocks[:, 3]])
-        cells = np.unique(np.ravel_multi_index((rows, cols), self.computed.shape))
+        return self._new(np.ravel_multi_index((rows, cols), self.computed.shape))
+
+    def _new(self, cells: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+        """The cells (flat indices) not computed yet, once each, sorted, as rows and columns."""
+        cells = np.unique(cells)
         cells = cells[~self.computed.ravel()[cells]]
         return np.unravel_index(cells, self.computed.shape)
+
+    def verification(self) -> tuple[np.ndarray, np.ndarray]:
+        """The probes of one verification round: the cells of the lattice offset by half the step,
+        ``(step // 2 + a step, step // 2 + b step)``, that lie in the suspect region and were not computed.
+
+        Each probe's class, as the leaves would fill it in, is kept: :meth:`update` compares the computed one.
+        """
+        n, m = self.computed.shape
+        rows, cols = np.meshgrid(offset_lattice(n, self.step), offset_lattice(m, self.step), indexing="ij")
+        cells = np.ravel_multi_index((rows.ravel(), cols.ravel()), (n, m))
+        filled = self.leaf_classes()
+        suspect = self.suspect | near(self.computed.shape, *boundary(filled), halo(self.step))
+        rows, cols = self._new(cells[suspect.ravel()[cells]])
+        self.probes = (rows, cols, filled[rows, cols])
+        return rows, cols
 
     def record(self, rows, cols, classes) -> None:
         """The classes (``(cells, k)``) of the computed cells ``(rows, cols)``."""
@@ -150,8 +266,19 @@ class Refinement:
         return same
 
     def update(self) -> None:
-        """Judge the active blocks and the leaves once their corners are computed: a block whose computed
-        cells share one class is (or stays) a leaf; another is split, unless all its cells are computed."""
+        """Judge the active blocks and the leaves once their corners (or probes) are computed: a block whose
+        computed cells share one class is (or stays) a leaf; another is split, unless all its cells are computed.
+
+        After a verification round, probes of a class their leaf did not give are *hits*: the next round, once
+        the blocks split around them are leaves again, verifies at half the step (:func:`halo`) near the
+        boundaries and the hits; rounds of step 1 repeat until one finds no hit, which ends the verification.
+        """
+        if self.probes is not None:
+            rows, cols, expected = self.probes
+            hits = (self.classes[rows, cols] != expected).any(axis=1)
+            self.suspect = near(self.computed.shape, rows[hits], cols[hits], 2 * halo(self.step))
+            self.step = self.step // 2 if self.step > 1 else 1 if hits.any() else 0
+            self.probes = None
         blocks = np.concatenate([self.active, self.leaves])
         blocks = blocks[(blocks[:, 1] - blocks[:, 0] > 1) | (blocks[:, 3] - blocks[:, 2] > 1)]
         same = self.uniform(blocks)
@@ -163,6 +290,18 @@ class Refinement:
         The leaves that hold a cell agree on its class: two leaves share at most a stretch of an edge, and
         the corners of the smaller one, computed, lie on that stretch.
         """
+        filled = ~self.computed
+        self.classes = self.leaf_classes()
+        return filled
+
+    def leaf_classes(self) -> np.ndarray:
+        """The class of every cell: its own where computed, else its leaf's (a copy of :attr:`classes`).
+
+        Raises
+        ------
+        AssertionError
+            If a cell is neither computed nor in a leaf (every block is a leaf only once :attr:`active` is empty).
+        """
         i0, i1, j0, j1 = self.leaves.T
         heights, widths = i1 - i0 + 1, j1 - j0 + 1
         areas = heights * widths
@@ -170,20 +309,58 @@ class Refinement:
         local = np.arange(areas.sum()) - np.repeat(np.cumsum(areas) - areas, areas)
         rows, cols = i0[leaf] + local // widths[leaf], j0[leaf] + local % widths[leaf]
         new = ~self.computed[rows, cols]
-        filled = np.zeros_like(self.computed)
-        filled[rows[new], cols[new]] = True
-        self.classes[rows[new], cols[new]] = self.classes[i0, j0][leaf[new]]
-        if not (filled | self.computed).all():
+        classes, covered = self.classes.copy(), self.computed.copy()
+        covered[rows, cols] = True
+        classes[rows[new], cols[new]] = self.classes[i0, j0][leaf[new]]
+        if not covered.all():
             raise AssertionError("adaptive map: a cell is neither computed nor in a leaf")
-        return filled
+        return classes
 
 
-def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarray, np.ndarray, int]:
+def refine(classify, shape: tuple[int, int, int], coarse: int, verify: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
+    """The classes of every cell of a map, computed adaptively (:class:`Refinement`): the whole refinement of
+    one part, for a ``classify`` that computes cells at once (a map runs both parts' rounds as tiles instead).
+
+    Parameters
+    ----------
+    classify : callable
+        ``classify(rows, cols)`` -> the classes (``(cells, shape[2])``, int) of the cells ``(rows[i], cols[i])``;
+        called once per round.
+    shape : (int, int, int)
+        Omega values, beta values, classes per cell.
+    coarse, verify : int
+        The coarse step (:func:`check_coarse`) and the first step of the verification (:func:`check_verify`).
+
+    Returns
+    -------
+    classes : ndarray of int, ``shape``
+        The class of every cell.
+    computed : ndarray of bool, ``shape[:2]``
+        The cells computed.
+    rounds : int
+        Calls of ``classify``.
+    """
+    refinement, rounds = Refinement(shape, coarse, verify), 0
+    while not refinement.done:
+        rows, cols = refinement.pending()
+        if rows.size:
+            refinement.record(rows, cols, classify(rows, cols))
+            rounds += 1
+        refinement.update()
+    refinement.fill()
+    return refinement.classes, refinement.computed, rounds
+
+
+def refine_scan(classify, shape: tuple[int, int], coarse: int, verify: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
     """The classes of ``shape[0]`` scans of ``shape[1]`` points each, refined where neighbouring classes differ.
 
     Every ``coarse``-th index and the last is computed first; then, round after round, the midpoint of each
     interval of computed indices whose two ends differ in class, until its ends are neighbours or agree. An
-    index not computed takes the class of the two computed ends of its interval (they agree).
+    index not computed takes the class of the two computed ends of its interval (they agree). With ``verify``,
+    the scans are then verified as a map is (:class:`Refinement`), in one dimension: rounds of step ``s`` =
+    ``verify``, ..., 2 compute the indices ``s/2 + a s``, the first round everywhere, the next within
+    :func:`halo` of a class change and twice that of a hit, each followed by the bisections it calls for; the
+    rounds of step 2 repeat until one finds no hit. A band of one class of ``verify`` points or more is found.
 
     Parameters
     ----------
@@ -194,6 +371,8 @@ def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarr
         Scans, points per scan.
     coarse : int
         The coarse step, indices (:func:`check_coarse`; 1 computes every point in one round).
+    verify : int, optional
+        The first step of the verification (:func:`check_verify`); 0 (default): none.
 
     Returns
     -------
@@ -216,26 +395,57 @@ def refine_scan(classify, shape: tuple[int, int], coarse: int) -> tuple[np.ndarr
     classes, computed = np.zeros(shape, np.int64), np.zeros(shape, bool)
     lattice = np.unique(np.append(np.arange(0, m, coarse), m - 1)) if m else np.zeros(0, np.int64)
     rows, indices = np.repeat(np.arange(n), lattice.size), np.tile(lattice, n)
-    # Intervals of computed indices: their scan, first and last index.
-    scan = np.repeat(np.arange(n), max(lattice.size - 1, 0))
-    first, last = np.tile(lattice[:-1], n), np.tile(lattice[1:], n)
+    step, suspect, expected = check_verify(verify, coarse), np.ones(shape, bool), None
     rounds = 0
     while rows.size:
         classes[rows, indices] = classify(rows, indices)
         computed[rows, indices] = True
         rounds += 1
-        split = (classes[scan, first] != classes[scan, last]) & (last - first > 1)
-        scan, first, last = scan[split], first[split], last[split]
-        middle = (first + last) // 2
-        rows, indices = scan, middle
-        scan, first, last = np.tile(scan, 2), np.concatenate([first, middle]), np.concatenate([middle, last])
-    position = np.broadcast_to(np.arange(m), shape)
+        if expected is not None:  # a verification round: its hits, and the next step
+            hits = classes[rows, indices] != expected
+            suspect = near(shape, rows[hits], indices[hits], (0, 2 * halo(step)))  # scans apart
+            step = step // 2 if step > 2 else 2 if hits.any() else 0
+        rows, indices = _midpoints(classes, computed)
+        expected = None
+        if not rows.size and step >= 2:
+            filled = _scan_fill(classes, computed)
+            rows, indices = _scan_probes(filled, computed, step, suspect)
+            expected = filled[rows, indices]
+    return _scan_fill(classes, computed), computed, rounds
+
+
+def _midpoints(classes: np.ndarray, computed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
+    """Scans and indices of the midpoints of the intervals between neighbouring computed points of a scan whose
+    classes differ and which are not neighbours: the next bisections."""
+    rows, indices = np.nonzero(computed)  # scan by scan, in increasing index
+    split = (rows[1:] == rows[:-1]) & (indices[1:] - indices[:-1] > 1)
+    split &= classes[rows[1:], indices[1:]] != classes[rows[:-1], indices[:-1]]
+    return rows[:-1][split], (indices[:-1][split] + indices[1:][split]) // 2
+
+
+def _scan_fill(classes: np.ndarray, computed: np.ndarray) -> np.ndarray:
+    """Every point's class: its own where computed, else that of the computed point before it (the two computed
+    ends of its interval agree once the bisections are done)."""
+    n, m = classes.shape
+    position = np.broadcast_to(np.arange(m), (n, m))
     before = np.maximum.accumulate(np.where(computed, position, 0), axis=1)
     after = m - 1 - np.maximum.accumulate(np.where(computed, m - 1 - position, 0)[:, ::-1], axis=1)[:, ::-1]
     row = np.arange(n)[:, None]
     if not (computed | (classes[row, before] == classes[row, after])).all():
         raise AssertionError("adaptive scan: a point not computed lies between computed points of two classes")
-    return np.where(computed, classes, classes[row, before]), computed, rounds
+    return np.where(computed, classes, classes[row, before])
+
+
+def _scan_probes(filled: np.ndarray, computed: np.ndarray, step: int, suspect: np.ndarray) -> tuple:
+    """Scans and indices of one verification round of ``step``: the points ``step // 2 + a step`` not computed,
+    in ``suspect`` or within :func:`halo` of a class change of ``filled``."""
+    change = np.zeros(filled.shape, bool)
+    change[:, 1:] |= filled[:, 1:] != filled[:, :-1]
+    change[:, :-1] |= filled[:, 1:] != filled[:, :-1]
+    wanted = suspect | near(filled.shape, *np.nonzero(change), (0, halo(step)))
+    lattice = np.zeros(filled.shape, bool)
+    lattice[:, step // 2 :: step] = True
+    return np.nonzero(lattice & wanted & ~computed)
 
 
 def narrowest_feature(classes) -> np.ndarray:
@@ -259,3 +469,4 @@ def narrowest_feature(classes) -> np.ndarray:
         edges = np.flatnonzero(change[row])  # a run ends after each edge index
         out[row] = np.diff(edges).min()
     return out
+

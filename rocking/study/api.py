@@ -109,6 +109,7 @@ def overturning_map(
     directions: str = "auto",
     full: bool = False,
     coarse: int = COARSE,
+    verify: int | None = None,
     rtol: float = 1e-8,
     t_after: float = 15.0,
     pulse: str = "sine",
@@ -127,7 +128,7 @@ def overturning_map(
         Default ``Tuning()`` (gamma 0.05, omega_ratio 1, zeta 0.05, h 0.05 m).
     Omega, beta : array_like or Grid
         Pulse frequency ratios ``omega_g / p`` and amplitude ratios ``a_g / (g tan alpha)``, increasing.
-    directions, full, coarse
+    directions, full, coarse, verify
         As :func:`rocking.study.overturning_map.overturning_map`.
     rtol, t_after, pulse, backend, workers, runs, progress, study
         Shared by every study (:mod:`rocking.study.api`).
@@ -149,7 +150,7 @@ def overturning_map(
     """
     return _run(_overturning_map, _setting(block, rtol, t_after, backend, pulse), _tuning(damper),
                 _grid("Omega", Omega), _grid("beta", beta), workers=workers, progress=progress, runs=runs,
-                study=study, directions=directions, full=full, coarse=coarse)  # fmt: skip
+                study=study, directions=directions, full=full, coarse=coarse, verify=verify)  # fmt: skip
 
 
 def minimum_overturning_spectrum(

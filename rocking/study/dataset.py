@@ -309,6 +309,8 @@ def to_dataset(study: Study, versions: dict | None = None):
         "versions": json.dumps(versions if versions is not None else current_versions(), sort_keys=True),
         "units": "SI (m, kg, s, rad, N); ratios are non-dimensional (units 1)",
     }
+    if "guarantee" in study.summary:  # what an adaptive map can miss, in plain words beside the JSON
+        attrs["guarantee"] = study.summary["guarantee"]
     return xr.Dataset(variables, coords=coords, attrs=attrs)
 
 

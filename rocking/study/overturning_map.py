@@ -38,7 +38,7 @@ from ..model.params import BUMPER_DEPTH, ParameterError
 from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
-from .adaptive import COARSE, Refinement, check_coarse
+from .adaptive import COARSE, Refinement, check_coarse, check_verify, guarantee
 from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
 from .directions import SIGN_NAMES, choose, response_envelope
 from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
@@ -223,6 +223,7 @@ def overturning_map(
     directions: str = "auto",
     full: bool = False,
     coarse: int = COARSE,
+    verify: int | None = None,
     on_tile=None,
 ) -> Study:
     """Outcome over the ``Omega x beta`` grid for the bare block and with the damper ``tuning``, in both
@@ -253,6 +254,10 @@ def overturning_map(
     coarse : int, optional
         The coarse step of an adaptive map, cells: a power of two in [1,
         :data:`rocking.study.adaptive.MAX_COARSE`] (1 computes every cell). Default 16.
+    verify : int, optional
+        The first step of the verification of an adaptive map (:class:`rocking.study.adaptive.Refinement`): 0
+        (none) or a power of two in [1, ``coarse``]; every region of a class that holds a square of ``verify x
+        verify`` cells is found. Default ``coarse``.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles` (each round of an adaptive map is a call).
 
@@ -266,7 +271,8 @@ def overturning_map(
         that governs each cell; 0 where it is not known: a safe cell not computed); ``<part>_computed``
         (``(nOmega, nbeta)``, bool: the cells computed; where not, the fields that do not follow from
         the outcome class are NaN or :data:`NOT_COMPUTED`); and ``effect``, from the envelopes.
-        ``config["refinement"]`` records ``adaptive`` and ``coarse``; ``run["responses"]`` counts the
+        ``config["refinement"]`` records ``adaptive``, ``coarse`` and ``verify``, ``summary["guarantee"]`` what
+        an adaptive map can miss (:func:`rocking.study.adaptive.guarantee`); ``run["responses"]`` counts the
         responses computed, ``run["responses_full_grid"]`` those of every cell, ``run["rounds"]`` the rounds of tiles.
 
     Raises
@@ -314,13 +320,14 @@ def overturning_map(
     tile = _check_tile(tile)
     check_type("full", full, bool, "True or False")
     coarse = check_coarse(coarse)
+    verify = check_verify(coarse if verify is None else verify, coarse)
     check_damper(tuning)
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile), "signs": signs}
     # A full map's tiles keep the configuration (and folders) they had before maps were adaptive.
-    refinement = {"adaptive": False} if full else {"adaptive": True, "coarse": coarse}
+    refinement = {"adaptive": False} if full else {"adaptive": True, "coarse": coarse, "verify": verify}
     tiles_of = {} if full else {"refinement": refinement}
     arrays = {"Omega": Om, "beta": b, "signs": np.array(signs)}
     record = tuning.record()
@@ -339,7 +346,7 @@ def overturning_map(
     if full:
         stats, rounds = _full(setting, parts, folders, arrays, execution, tile, on_tile)
     else:
-        stats, rounds = _adaptive(setting, parts, folders, arrays, execution, tile, coarse, on_tile)
+        stats, rounds = _adaptive(setting, parts, folders, arrays, execution, tile, refinement, on_tile)
     for part in parts:
         by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
         envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
@@ -360,7 +367,12 @@ def overturning_map(
         config,
         arrays,
         tables={"map": map_table(arrays, setting.block.B / 2, half_stroke(setting.block, record))},
-        summary={**map_summary(arrays, setting.block.B / 2), "directions": chosen, "refinement": refinement},
+        summary={
+            **map_summary(arrays, setting.block.B / 2),
+            "directions": chosen,
+            "refinement": refinement,
+            "guarantee": guarantee(refinement, (spacing(Om), spacing(b))),
+        },
         run={
             **stats.record(),
             "run_folders": {part: folder.name for part, folder in folders.items()},
@@ -369,6 +381,11 @@ def overturning_map(
             "rounds": rounds,
         },
     )
+
+
+def spacing(values: np.ndarray) -> float:
+    """The widest step between neighbouring values of a grid (0 for one value)."""
+    return float(np.diff(values).max()) if values.size > 1 else 0.0
 
 
 def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on_tile):
@@ -397,7 +414,7 @@ def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on
     return stats, 1
 
 
-def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile, coarse, on_tile):
+def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile, refinement: dict, on_tile):
     """The map refined on each part's outcome classes (:mod:`rocking.study.adaptive`); ``(TileStats, rounds)``.
 
     Each round computes the corners its part's refinement asks for, in tiles of as many cells as ``tile`` holds
@@ -406,7 +423,8 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
     """
     Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
     chunk = max(1, tile[0] * tile[1])
-    refinements = {part: Refinement((Om.size, b.size, len(signs)), coarse) for part in parts}
+    shape, coarse, verify = (Om.size, b.size, len(signs)), refinement["coarse"], refinement["verify"]
+    refinements = {part: Refinement(shape, coarse, verify) for part in parts}
     total, start, rounds = TileStats(), time.perf_counter(), 0
     where = {}
 
@@ -417,7 +435,7 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
         over, impacts, status = (tile_arrays[k] for k in ("overturned", "impacts", "status"))
         refinements[part].record(r, c, response_classes(over, impacts, status))
 
-    while any(len(r.active) for r in refinements.values()):
+    while not all(r.done for r in refinements.values()):
         groups = []
         for part, damper in parts.items():
             rows, cols = refinements[part].pending()
@@ -439,11 +457,11 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
                 done = total.computed + total.reused
                 raise Interrupted(done + exc.kept, done + exc.total, exc.folder) from exc
             total.computed, total.reused = total.computed + stats.computed, total.reused + stats.reused
-        for refinement in refinements.values():
-            refinement.update()
+        for part_refinement in refinements.values():
+            part_refinement.update()
         rounds += 1
-    for part, refinement in refinements.items():
-        _fill(arrays, part, refinement)
+    for part, part_refinement in refinements.items():
+        _fill(arrays, part, part_refinement)
     total.wall = time.perf_counter() - start
     return total, rounds
 

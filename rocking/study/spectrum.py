@@ -26,20 +26,22 @@ bisected), ``BELOW`` (-1: the first scan amplitude overturns already;
 ``beta_min`` is then that amplitude, an upper bound) or ``ABOVE`` (+1: no
 scan amplitude overturns; ``beta_min`` is then the last one, a lower bound).
 
-What an adaptive scan can miss: a band of another class that lies entirely between two computed amplitudes
-of one class, i.e. narrower than the coarse step (a safe window, an overturning band, a band of another
-count of impacts). Where the full scan has no such band, the adaptive scan gives its outcomes exactly
+An adaptive scan is verified from its coarse step (:func:`rocking.study.adaptive.refine_scan`): the amplitudes
+half a step off its lattice, then, at half the step each round, those near a class change, with the
+bisections they call for. What it can miss: a band of another class that lies entirely between two computed
+amplitudes of one class, narrower than the coarse step (a safe window, an overturning band, a band of another
+count of impacts), away from the class changes. Where the full scan has no such band, the adaptive scan
+gives its outcomes exactly
 (:func:`rocking.study.adaptive.narrowest_feature`), and with them ``beta_min``, the flags, the impacts and
 the windows, from fewer responses. A missed overturning band below the first one found moves ``beta_min`` up
 to that one. The overturning domain has such bands: on the bench spectrum (``rocking spectrum``'s grids,
 117 amplitudes of step 0.125; bench/adaptive_spectrum.py) some columns overturn at a single amplitude amid
-safe ones, and every coarse step above 1 misses some of them; the coarse step 4 moves one direction's
+safe ones, and every coarse step above 2 misses some of them; the coarse step 4 moves one direction's
 ``beta_min`` in one of the 236 columns (Omega = 3, negative pulses, with the damper: 1.86 to 3.25), not
-the envelope, and computes 3.6 times fewer scan responses. A study's ``beta_min`` of one direction is a
+the envelope, and computes 1.8 times fewer scan responses (the coarse step 16: 4.6 times fewer, the same
+column; bench/adaptive_spectrum.py --coarse 4 8 16). A study's ``beta_min`` of one direction is a
 result the data carry, and an error of that size is not one a user can see: scans are full by default, and
-an adaptive scan is asked for. A finer scan sees more of such bands, and costs
-an adaptive scan little more: with 465 amplitudes (step 0.031) and the coarse step 4 it computes about as
-many responses as the full scan of 117, and every ``beta_min`` of the full scan of 465.
+an adaptive scan is asked for. A finer scan sees more of such bands.
 
 The searches for a damper (:mod:`rocking.study.optimize`, :mod:`rocking.study.design`,
 :mod:`rocking.study.threshold`) scan every amplitude (:func:`beta_min`'s default ``coarse=1``): a missed
@@ -94,10 +96,10 @@ COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
 RESPONSE_COUNTS = ("responses", "scan_responses")
 
 #: Default coarse step of the beta scan, amplitudes (:func:`scan_refinement`): 1, every amplitude (module
-#: docstring: an adaptive scan misses one-amplitude overturning bands of the bench spectrum). Of the adaptive
-#: steps, 4 is the one to ask for: on the bench spectrum and the second block (bench/adaptive_spectrum.py
-#: --coarse 2 4 8 16, --slender) 4 and 8 take about as long (the bisections and the rounds remain), and 8
-#: moves more beta_min of single directions (2 and 4 columns of 236, against 1 and 1).
+#: docstring: an adaptive scan misses one-amplitude overturning bands of the bench spectrum). Verified, the
+#: adaptive steps 4, 8 and 16 move the same one beta_min of a single direction of the bench spectrum (1 column
+#: of 236) and none of the second block's, from 1.8, 3.1 and 4.6 times fewer scan responses
+#: (bench/adaptive_spectrum.py --coarse 2 4 8 16, --slender): 16 costs least; 2 computes every amplitude.
 SCAN_COARSE = 1
 
 
@@ -110,7 +112,8 @@ def check_tol(tol) -> float:
 
 def scan_refinement(coarse) -> dict:
     """How a study's ``beta`` scans are refined, as its configuration records it: ``{"adaptive": False}`` for
-    every amplitude (``coarse`` 1), else ``{"adaptive": True, "coarse": coarse}``.
+    every amplitude (``coarse`` 1), else ``{"adaptive": True, "coarse": coarse, "verify": coarse}``: adaptive scans
+    are verified from their coarse step (:func:`rocking.study.adaptive.refine_scan`).
 
     Raises
     ------
@@ -118,7 +121,7 @@ def scan_refinement(coarse) -> dict:
         Unless ``coarse`` is a power of two in range (:func:`rocking.study.adaptive.check_coarse`).
     """
     coarse = check_coarse(coarse)
-    return {"adaptive": False} if coarse == 1 else {"adaptive": True, "coarse": coarse}
+    return {"adaptive": False} if coarse == 1 else {"adaptive": True, "coarse": coarse, "verify": coarse}
 
 
 def _column(values, n: int) -> dict | None:
@@ -182,7 +185,8 @@ def beta_min(
         r = respond(setting, Omega[rows], beta_scan[indices], sub, sign[rows])
         return response_classes(r["overturned"], r["impacts"], r["status"])
 
-    classes, computed, _ = refine_scan(classify, (n, beta_scan.size), check_coarse(coarse))
+    coarse = check_coarse(coarse)
+    classes, computed, _ = refine_scan(classify, (n, beta_scan.size), coarse, verify=coarse)
     scan_outcome = np.where(classes >= 0, classes, SAFE)  # no verdict (class <= -2): not overturned
     over = scan_outcome != SAFE
     first = np.argmax(over, axis=1)  # first overturning scan point (0 if none)
