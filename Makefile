@@ -9,7 +9,7 @@ JOBS ?= 2
 # Inputs per back end of `make fuzz` (bench/fuzz.py).
 FUZZ_N ?= 10000
 
-.PHONY: setup lock derive verify test check-portable docs bench fuzz demo wheel clean
+.PHONY: setup lock derive verify test check-portable docs figures bench fuzz demo wheel clean
 
 setup: $(STAMP)
 
@@ -74,6 +74,13 @@ bench: $(STAMP)
 
 fuzz: $(STAMP)
 	$(PY) bench/fuzz.py -n $(FUZZ_N) --json out/fuzz.json
+
+# The figures of the README and the docs site, drawn again by the demo, with a record of the code that drew
+# them (docs/figures/figures.json): a test fails when that code has changed since.
+figures: $(STAMP)
+	rm -rf build/figures
+	$(VENV)/bin/rocking demo --out build/figures --no-progress
+	$(PY) -m rocking.plot.gallery build/figures docs/figures
 
 demo: $(STAMP)
 	$(VENV)/bin/rocking demo --out out
