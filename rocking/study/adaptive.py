@@ -55,7 +55,6 @@ from __future__ import annotations
 from itertools import product
 
 import numpy as np
-from scipy import ndimage
 
 from ..model.params import ParameterError
 from .config import is_count
@@ -88,6 +87,8 @@ def check_verify(verify, coarse: int) -> int:
 def near(shape: tuple[int, int], rows: np.ndarray, cols: np.ndarray, radius) -> np.ndarray:
     """The cells of a ``shape`` grid within ``radius`` cells, along each axis, of any cell ``(rows, cols)``;
     ``radius`` an int, or one per axis."""
+    from scipy import ndimage  # imported here: import rocking loads no SciPy (tests/test_import.py)
+
     hit = np.zeros(shape, bool)
     hit[rows, cols] = True
     return ndimage.maximum_filter(hit, size=tuple(2 * np.broadcast_to(radius, 2) + 1), mode="constant")
