@@ -43,6 +43,7 @@ verify: $(STAMP)
 
 test: $(STAMP)
 	$(VENV)/bin/ruff check rocking derive tests bench setup.py
+	$(VENV)/bin/ruff format --check rocking derive tests bench setup.py docs/conf.py
 	$(PY) -m pytest -q -n $(JOBS)
 
 # The tests of both back ends where the math libraries differ from this machine's: NumPy's SIMD

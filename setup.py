@@ -35,9 +35,15 @@ def _builtin_models() -> list[SimpleNamespace]:
     for path in sorted((ROOT / "generated").glob("*/manifest.json")):
         manifest = json.loads(path.read_text(encoding="utf-8"))
         files = manifest["files"]
-        models.append(SimpleNamespace(folder=path.parent, manifest=manifest, c_prefix=files["c_prefix"],
-                                      c_source=path.parent / files["c_source"],
-                                      c_header=path.parent / files["c_header"]))  # fmt: skip
+        models.append(
+            SimpleNamespace(
+                folder=path.parent,
+                manifest=manifest,
+                c_prefix=files["c_prefix"],
+                c_source=path.parent / files["c_source"],
+                c_header=path.parent / files["c_header"],
+            )
+        )
     return models
 
 

@@ -42,8 +42,9 @@ def misclassified(adaptive: dict, full: dict) -> int:
     wrong = int((adaptive["effect"] != full["effect"]).sum())
     for part in ("bare", "damper"):
         for suffix in ("", "_by_sign"):
-            got, want = (outcome(a[f"{part}_overturned{suffix}"], a[f"{part}_impacts{suffix}"])
-                         for a in (adaptive, full))  # fmt: skip
+            got, want = (
+                outcome(a[f"{part}_overturned{suffix}"], a[f"{part}_impacts{suffix}"]) for a in (adaptive, full)
+            )
             unknown = [undetermined(a[f"{part}_status{suffix}"]) for a in (adaptive, full)]
             wrong += int(((got != want) | (unknown[0] != unknown[1])).sum())
     return wrong
@@ -71,10 +72,19 @@ def compare(n: int, workers: int, coarse: int, verifies=(None,), pulse: str = "s
         results = []
         for k, verify in enumerate(verifies):
             adaptive, seconds = timed(f"{tmp}/adaptive-{k}", coarse=coarse, verify=verify)
-            out = {"n": n, "workers": workers, "coarse": coarse, "pulse": pulse, "stops": stops,
-                   "verify": adaptive.config["refinement"]["verify"], "rounds": adaptive.run["rounds"],
-                   "adaptive_seconds": seconds, "adaptive_responses": adaptive.run["responses"],
-                   "full_seconds": full_seconds, "full_responses": full.run["responses"]}  # fmt: skip
+            out = {
+                "n": n,
+                "workers": workers,
+                "coarse": coarse,
+                "pulse": pulse,
+                "stops": stops,
+                "verify": adaptive.config["refinement"]["verify"],
+                "rounds": adaptive.run["rounds"],
+                "adaptive_seconds": seconds,
+                "adaptive_responses": adaptive.run["responses"],
+                "full_seconds": full_seconds,
+                "full_responses": full.run["responses"],
+            }
             out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
             out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
             out["misclassified"] = misclassified(adaptive.arrays, full.arrays)
@@ -86,14 +96,21 @@ def compare(n: int, workers: int, coarse: int, verifies=(None,), pulse: str = "s
 
 def report(r: dict) -> None:
     n, guide = r["n"], "stops" if r["stops"] else "unlimited guide"
-    print(f"adaptive map, {n}x{n}, {r['pulse']} pulse, {guide} (block alone + damper, both directions, "
-          f"{r['workers']} workers):")  # fmt: skip
+    print(
+        f"adaptive map, {n}x{n}, {r['pulse']} pulse, {guide} (block alone + damper, both directions, "
+        f"{r['workers']} workers):"
+    )
     print(f"  full          {r['full_responses']:10d} responses  {r['full_seconds']:8.1f} s")
-    print(f"  adaptive      {r['adaptive_responses']:10d} responses  {r['adaptive_seconds']:8.1f} s   "
-          f"(coarse step {r['coarse']}, verified from step {r['verify']}, {r['rounds']} rounds)")  # fmt: skip
-    print(f"  {r['response_ratio']:.1f}x fewer responses, {r['speedup']:.1f}x faster; "
-          f"classification {'identical' if r['misclassified'] == 0 else 'DIFFERENT'} "
-          f"({r['misclassified']} cells differ)", flush=True)  # fmt: skip
+    print(
+        f"  adaptive      {r['adaptive_responses']:10d} responses  {r['adaptive_seconds']:8.1f} s   "
+        f"(coarse step {r['coarse']}, verified from step {r['verify']}, {r['rounds']} rounds)"
+    )
+    print(
+        f"  {r['response_ratio']:.1f}x fewer responses, {r['speedup']:.1f}x faster; "
+        f"classification {'identical' if r['misclassified'] == 0 else 'DIFFERENT'} "
+        f"({r['misclassified']} cells differ)",
+        flush=True,
+    )
 
 
 def summary(results: list[dict]) -> None:
@@ -102,9 +119,11 @@ def summary(results: list[dict]) -> None:
     print("|---|---|---|---|---|---|")
     for r in results:
         guide = "stops" if r["stops"] else "unlimited"
-        print(f"| {r['pulse']} | {guide} | {r['verify']} | {r['misclassified']} | "
-              f"{r['adaptive_responses']} / {r['full_responses']} ({r['response_ratio']:.1f}x fewer) | "
-              f"{r['adaptive_seconds']:.1f} / {r['full_seconds']:.1f} ({r['speedup']:.1f}x) |")  # fmt: skip
+        print(
+            f"| {r['pulse']} | {guide} | {r['verify']} | {r['misclassified']} | "
+            f"{r['adaptive_responses']} / {r['full_responses']} ({r['response_ratio']:.1f}x fewer) | "
+            f"{r['adaptive_seconds']:.1f} / {r['full_seconds']:.1f} ({r['speedup']:.1f}x) |"
+        )
 
 
 def main(argv=None) -> int:
@@ -112,8 +131,13 @@ def main(argv=None) -> int:
     parser.add_argument("-n", type=int, default=400, help="values of Omega and of beta (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="local workers of both maps (default 2)")
     parser.add_argument("--coarse", type=int, default=COARSE, help=f"coarse step (default {COARSE})")
-    parser.add_argument("--verify", type=int, nargs="+", default=[None],
-                        help="first steps of the verification, an adaptive map each, 0: none (default: coarse)")
+    parser.add_argument(
+        "--verify",
+        type=int,
+        nargs="+",
+        default=[None],
+        help="first steps of the verification, an adaptive map each, 0: none (default: coarse)",
+    )
     parser.add_argument("--pulses", nargs="+", default=["sine"], choices=PULSES, help="pulse families (sine)")
     parser.add_argument("--stops", choices=GUIDES, default="no", help="with stops: no (default), yes or both")
     parser.add_argument("--json", help="also write the figures to this file")

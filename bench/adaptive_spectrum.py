@@ -49,8 +49,15 @@ def differences(adaptive: dict, full: dict, coarse: int) -> dict:
     (part, Omega, direction) or in Omega values (the envelopes, the windows), and whether every column whose scan
     differs holds a feature narrower than the coarse step (a run of one class touching neither end of the scan,
     :func:`rocking.study.adaptive.narrowest_feature`): the only kind the adaptive scan may miss."""
-    out = {"scan_columns": 0, "beta_min_columns": 0, "other_columns": 0, "envelope_beta_min": 0, "windows": 0,
-           "narrow_columns": 0, "unexplained_columns": 0}  # fmt: skip
+    out = {
+        "scan_columns": 0,
+        "beta_min_columns": 0,
+        "other_columns": 0,
+        "envelope_beta_min": 0,
+        "windows": 0,
+        "narrow_columns": 0,
+        "unexplained_columns": 0,
+    }
     for part in ("bare", "damper"):
         scan_a, scan_f = adaptive[f"{part}_scan_outcome_by_sign"], full[f"{part}_scan_outcome_by_sign"]
         differ = (scan_a != scan_f).any(axis=-1)
@@ -74,14 +81,20 @@ def compare(coarse_steps: list[int], workers: int, block: Block, n_beta: int) ->
     beta = (*SPECTRUM_BETA[:2], n_beta)
     grids = Grid("Omega", *SPECTRUM_OMEGA), Grid("beta", *beta)
     execution = Execution(workers=workers, progress=False)
-    out = {"block": setting.record()["block"], "Omega": list(SPECTRUM_OMEGA), "beta": list(beta), "workers": workers,
-           "runs": []}  # fmt: skip
+    out = {
+        "block": setting.record()["block"],
+        "Omega": list(SPECTRUM_OMEGA),
+        "beta": list(beta),
+        "workers": workers,
+        "runs": [],
+    }
     studies = {}
     with tempfile.TemporaryDirectory() as tmp:
         for coarse in [1, *coarse_steps]:
             start = time.perf_counter()
-            study = minimum_overturning_spectrum(setting, tuning, *grids, execution, runs=f"{tmp}/{coarse}",
-                                                 coarse=coarse)  # fmt: skip
+            study = minimum_overturning_spectrum(
+                setting, tuning, *grids, execution, runs=f"{tmp}/{coarse}", coarse=coarse
+            )
             seconds = time.perf_counter() - start
             studies[coarse] = study
             counts = {k: study.run[k] for k in ("responses", "scan_responses", "scan_responses_full")}
@@ -97,34 +110,53 @@ def compare(coarse_steps: list[int], workers: int, block: Block, n_beta: int) ->
 
 def report(result: dict, block_name: str) -> None:
     om, be = result["Omega"], result["beta"]
-    print(f"adaptive beta scans, {block_name} (Omega {om[0]:g}-{om[1]:g} x {om[2]}, beta {be[0]:g}-{be[1]:g} x "
-          f"{be[2]}; block alone + damper, both directions; {result['workers']} workers):")  # fmt: skip
+    print(
+        f"adaptive beta scans, {block_name} (Omega {om[0]:g}-{om[1]:g} x {om[2]}, beta {be[0]:g}-{be[1]:g} x "
+        f"{be[2]}; block alone + damper, both directions; {result['workers']} workers):"
+    )
     for r in result["runs"]:
         name = "full" if r["coarse"] == 1 else f"coarse {r['coarse']}"
-        print(f"  {name:10s} {r['scan_responses']:7d} scan + {r['responses'] - r['scan_responses']:5d} bisection "
-              f"responses  {r['seconds']:6.1f} s", end="")  # fmt: skip
+        print(
+            f"  {name:10s} {r['scan_responses']:7d} scan + {r['responses'] - r['scan_responses']:5d} bisection "
+            f"responses  {r['seconds']:6.1f} s",
+            end="",
+        )
         if r["coarse"] == 1:
             print()
             continue
         d = r["differences"]
-        verdict = "identical" if d["identical"] else (
-            f"scan outcome differs in {d['scan_columns']} columns (of {d['narrow_columns']} with a feature narrower "
-            f"than the step; {d['unexplained_columns']} others), beta_min in {d['beta_min_columns']} columns "
-            f"(beta_safe, flag, impacts or undetermined in {d['other_columns']}), "
-            f"their envelope at {d['envelope_beta_min']} Omega, {d['windows']} windows")  # fmt: skip
-        print(f"   {r['scan_response_ratio']:.1f}x fewer scan responses, {r['response_ratio']:.1f}x fewer in all, "
-              f"{r['speedup']:.1f}x faster; {verdict}")  # fmt: skip
+        verdict = (
+            "identical"
+            if d["identical"]
+            else (
+                f"scan outcome differs in {d['scan_columns']} columns "
+                f"(of {d['narrow_columns']} with a feature narrower than the step; {d['unexplained_columns']} others), "
+                f"beta_min in {d['beta_min_columns']} columns "
+                f"(beta_safe, flag, impacts or undetermined in {d['other_columns']}), "
+                f"their envelope at {d['envelope_beta_min']} Omega, {d['windows']} windows"
+            )
+        )
+        print(
+            f"   {r['scan_response_ratio']:.1f}x fewer scan responses, {r['response_ratio']:.1f}x fewer in all, "
+            f"{r['speedup']:.1f}x faster; {verdict}"
+        )
 
 
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
-    parser.add_argument("--coarse", type=int, nargs="+", default=[ASKED],
-                        help=f"coarse steps of the adaptive scans (default {ASKED})")  # fmt: skip
-    parser.add_argument("--beta", type=int, default=SPECTRUM_BETA[2],
-                        help=f"amplitudes of the scan (default {SPECTRUM_BETA[2]}, rocking spectrum's)")  # fmt: skip
+    parser.add_argument(
+        "--coarse", type=int, nargs="+", default=[ASKED], help=f"coarse steps of the adaptive scans (default {ASKED})"
+    )
+    parser.add_argument(
+        "--beta",
+        type=int,
+        default=SPECTRUM_BETA[2],
+        help=f"amplitudes of the scan (default {SPECTRUM_BETA[2]}, rocking spectrum's)",
+    )
     parser.add_argument("--workers", type=int, default=2, help="local workers (default 2)")
-    parser.add_argument("--slender", action="store_true",
-                        help=f"a second block instead: Block.from_nondim(**{SLENDER})")
+    parser.add_argument(
+        "--slender", action="store_true", help=f"a second block instead: Block.from_nondim(**{SLENDER})"
+    )
     parser.add_argument("--json", help="also write the figures to this file")
     args = parser.parse_args(argv)
     block = Block.from_nondim(**SLENDER) if args.slender else Block.reference()

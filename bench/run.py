@@ -124,8 +124,9 @@ def bench_record(n_scales: int, n_baseline: int) -> dict:
     pick = np.linspace(0, n_scales - 1, n_baseline).astype(int)
     base_over, base_time = [], 0.0
     for i in pick:
-        (over, _), dt = timed(baseline.simulate_record, funcs, tuple(cases.p[i]), motion.a, motion.dt,
-                              motion.scale * scales[i])  # fmt: skip
+        (over, _), dt = timed(
+            baseline.simulate_record, funcs, tuple(cases.p[i]), motion.a, motion.dt, motion.scale * scales[i]
+        )
         base_over.append(over)
         base_time += dt
     c_per, base_per = c_time / len(cases), base_time / n_baseline
@@ -188,9 +189,16 @@ def _fragility(n: int, runs: str):
     from rocking.study.tiles import Execution
 
     site = SiteModel(arias=0.3, d595=4.0, t_mid=3.0, f_mid=4.0, f_slope=-0.1, zeta_f=0.25, dt=0.01, duration=10.0)
-    return timed(incremental_dynamic_analysis, Setting(Block.reference(), t_after=5.0), Tuning(GAMMA, OMEGA_RATIO,
-                 ZETA, H_MASS), Suite.stochastic(site, n, seed=1), Grid("pga", 1.0, 8.0, 4),
-                 Execution(workers=2, progress=False), measure_name="pga", runs=runs)  # fmt: skip
+    return timed(
+        incremental_dynamic_analysis,
+        Setting(Block.reference(), t_after=5.0),
+        Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS),
+        Suite.stochastic(site, n, seed=1),
+        Grid("pga", 1.0, 8.0, 4),
+        Execution(workers=2, progress=False),
+        measure_name="pga",
+        runs=runs,
+    )
 
 
 def bench_studies(n_map: int, n_memory: int) -> dict:
@@ -260,8 +268,9 @@ def bench_overhead(calls: int = 2000, repeats: int = 5) -> dict:
     from rocking.sim import c_backend
 
     block = Block.reference()
-    dampers = [rocking.Damper.from_nondim(block, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS)
-               for _ in range(2)]  # fmt: skip
+    dampers = [
+        rocking.Damper.from_nondim(block, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS) for _ in range(2)
+    ]
     pulse = rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
     rocking.simulate(block, dampers[0], pulse)
     lib = c_backend.library("omd").lib
@@ -291,8 +300,13 @@ def bench_overhead(calls: int = 2000, repeats: int = 5) -> dict:
         overhead_new_damper = best(dampers)[0]
     finally:
         lib.rocking_simulate = entry
-    return {"calls": calls, "overhead_us": overhead, "c_us": c_us, "whole_us": whole_us,
-            "overhead_another_damper_us": overhead_new_damper}  # fmt: skip
+    return {
+        "calls": calls,
+        "overhead_us": overhead,
+        "c_us": c_us,
+        "whole_us": whole_us,
+        "overhead_another_damper_us": overhead_new_damper,
+    }
 
 
 def main(argv=None) -> int:
@@ -333,9 +347,11 @@ def main(argv=None) -> int:
     print(f"C is {rec['speedup_c_vs_baseline']:.0f}x faster (target >= 300); ", end="")
     print(f"verdicts C = baseline on {rec['verdicts_c_eq_baseline']} of {rec['baseline_subset']}")
     over = results["overhead"] = bench_overhead()
-    print(f"one rocking.simulate call: {over['overhead_us']:.0f} us of Python around {over['c_us']:.0f} us of C "
-          f"(target <= 50 us; best of 5 x {over['calls']}); {over['overhead_another_damper_us']:.0f} us with "
-          "another damper object at every call")  # fmt: skip
+    print(
+        f"one rocking.simulate call: {over['overhead_us']:.0f} us of Python around {over['c_us']:.0f} us of C "
+        f"(target <= 50 us; best of 5 x {over['calls']}); {over['overhead_another_damper_us']:.0f} us with "
+        "another damper object at every call"
+    )
     stops = results["stops"] = bench_stops(args.grid)
     print(
         f"  stops at the edges: {stops['stops_over_free_time']:.2f}x the time per response of the unlimited damper "
@@ -345,8 +361,10 @@ def main(argv=None) -> int:
         st = results["studies"] = bench_studies(args.map_grid, args.memory_grid)
         n, m = st["n_map"], st["n_memory"]
         print(f"studies, {n}x{n} map (block alone + damper):")
-        print(f"  1 worker      {st['map_responses_per_s_1_workers']:10.0f} responses/s   "
-              f"({st['map_cpus_1_workers']:.2f} CPUs used)")  # fmt: skip
+        print(
+            f"  1 worker      {st['map_responses_per_s_1_workers']:10.0f} responses/s   "
+            f"({st['map_cpus_1_workers']:.2f} CPUs used)"
+        )
         print(
             f"  2 workers     {st['map_responses_per_s_2_workers']:10.0f} responses/s   "
             f"{st['map_speedup_2_vs_1']:.2f}x (target >= 1.85; {st['map_cpus_2_workers']:.2f} CPUs used)"

@@ -54,18 +54,22 @@ def suite_figures(n: int, block, name: str) -> None:
     suite = Suite.stochastic(DEFAULT_SITE, n, seed=1)
     uplift = block.g * block.tan_alpha
     motions = [suite.motion(i).scaled_to_pga(k * uplift) for i in range(n) for k in PGA_OVER_UPLIFT]
-    print(f"{n} stochastic motions x {len(PGA_OVER_UPLIFT)} PGAs x 2 signs x (bare, damper) = {4 * len(motions)} "
-          f"responses; {name} block, C back end")  # fmt: skip
+    print(
+        f"{n} stochastic motions x {len(PGA_OVER_UPLIFT)} PGAs x 2 signs x (bare, damper) = {4 * len(motions)} "
+        f"responses; {name} block, C back end"
+    )
     for rtol in TOLERANCES:
         plain, t_plain = responses(motions, block, (None, damper), rtol, "none")
         checked, t_checked = responses(motions, block, (None, damper), rtol, "tolerance")
         sensitive = np.array([r.sensitive for r in checked])
         moved = np.array([a.overturned != b.overturned for a, b in zip(plain, checked, strict=True)])
         impacts = np.array([r.impacts for r in plain])
-        print(f"rtol {rtol:.0e}: sensitive {sensitive.mean():.1%} ({sensitive.sum()}), verdict changed "
-              f"{moved.mean():.1%}; among > 100 impacts {sensitive[impacts > 100].mean():.1%} of "
-              f"{(impacts > 100).sum()}; time {t_plain:.2f} s without the check, {t_checked:.2f} s with "
-              f"(x{t_checked / t_plain:.1f})")  # fmt: skip
+        print(
+            f"rtol {rtol:.0e}: sensitive {sensitive.mean():.1%} ({sensitive.sum()}), verdict changed "
+            f"{moved.mean():.1%}; among > 100 impacts {sensitive[impacts > 100].mean():.1%} of "
+            f"{(impacts > 100).sum()}; time {t_plain:.2f} s without the check, {t_checked:.2f} s with "
+            f"(x{t_checked / t_plain:.1f})"
+        )
 
 
 def white_noise() -> None:
@@ -80,9 +84,11 @@ def white_noise() -> None:
             middle = time.perf_counter()
             checked = rocking.simulate(block, None, motion, backend=backend, rtol=rtol)
             end = time.perf_counter()
-            print(f"white noise, {backend}, rtol {rtol:.0e}: theta_max {plain.theta_max:.4f} rad unchecked, "
-                  f"{checked.theta_max:.4f} checked, sensitive {checked.sensitive}; "
-                  f"{middle - start:.3f} s / {end - middle:.3f} s")  # fmt: skip
+            print(
+                f"white noise, {backend}, rtol {rtol:.0e}: theta_max {plain.theta_max:.4f} rad unchecked, "
+                f"{checked.theta_max:.4f} checked, sensitive {checked.sensitive}; "
+                f"{middle - start:.3f} s / {end - middle:.3f} s"
+            )
 
 
 def fragility_cost(n: int = 20) -> None:
@@ -97,9 +103,15 @@ def fragility_cost(n: int = 20) -> None:
             ida.tighter_rtol = lambda rtol: rtol
         with tempfile.TemporaryDirectory() as runs:
             start = time.perf_counter()
-            study = ida.incremental_dynamic_analysis(Setting(block), Tuning(0.05), suite, levels,
-                                                     Execution(workers=1, progress=False), measure_name="pga",
-                                                     runs=runs)  # fmt: skip
+            study = ida.incremental_dynamic_analysis(
+                Setting(block),
+                Tuning(0.05),
+                suite,
+                levels,
+                Execution(workers=1, progress=False),
+                measure_name="pga",
+                runs=runs,
+            )
             elapsed = time.perf_counter() - start
         counts = {part: study.summary[part]["sensitive"] for part in ("bare", "damper")}
         print(f"fragility, {study.run['responses']} responses, {label} the check: {elapsed:.2f} s; sensitive {counts}")

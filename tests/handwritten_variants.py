@@ -391,9 +391,7 @@ class OMD2(_Weights):
         (m1, xi1, eta1, *_), (m2, xi2, eta2, *_) = OMD2._masses(v)
         z = 0 * I_s
         m11 = I_s + m1 * (xi1**2 + eta1**2) + m2 * (xi2**2 + eta2**2)
-        return (m11, -m1 * eta1 + z, -m2 * eta2 + z,
-                -m1 * eta1 + z, m1 + z, z,
-                -m2 * eta2 + z, z, m2 + z)  # fmt: skip
+        return (m11, -m1 * eta1 + z, -m2 * eta2 + z, -m1 * eta1 + z, m1 + z, z, -m2 * eta2 + z, z, m2 + z)
 
     @staticmethod
     def forcing(v):

@@ -38,6 +38,11 @@ def plant_library(library: Path, sentinel: Path, source_key: str) -> None:
     subprocess.run(["cc", "-shared", "-fPIC", str(c_file), "-o", str(library)], check=True)
     c_file.unlink()
     data = library.read_bytes()
-    sidecar = {"format": 1, "library": library.name, "sha256": hashlib.sha256(data).hexdigest(),
-               "size": len(data), "source_key": source_key}  # fmt: skip
+    sidecar = {
+        "format": 1,
+        "library": library.name,
+        "sha256": hashlib.sha256(data).hexdigest(),
+        "size": len(data),
+        "source_key": source_key,
+    }
     library.with_name(library.name + ".json").write_text(json.dumps(sidecar))

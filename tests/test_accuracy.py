@@ -103,10 +103,16 @@ def test_at_the_smallest_rtol_there_is_nothing_to_compare_with():
 
 
 def test_sensitive_compares_the_verdict_and_the_maxima_elementwise():
-    loose = {"overturned": np.array([0, 1, 0, 0, 0]), "theta_max": np.array([0.1, 1.0, 0.1, 0.1, 0.0]),
-             "x_max": np.array([0.2, 0.2, 0.2, 0.23, 0.0])}  # fmt: skip
-    tight = {"overturned": np.array([0, 0, 0, 0, 0]), "theta_max": np.array([0.105, 1.0, 0.12, 0.1, 0.0]),
-             "x_max": np.array([0.21, 0.2, 0.2, 0.2, 0.0])}  # fmt: skip
+    loose = {
+        "overturned": np.array([0, 1, 0, 0, 0]),
+        "theta_max": np.array([0.1, 1.0, 0.1, 0.1, 0.0]),
+        "x_max": np.array([0.2, 0.2, 0.2, 0.23, 0.0]),
+    }
+    tight = {
+        "overturned": np.array([0, 0, 0, 0, 0]),
+        "theta_max": np.array([0.105, 1.0, 0.12, 0.1, 0.0]),
+        "x_max": np.array([0.21, 0.2, 0.2, 0.2, 0.0]),
+    }
     assert accuracy.sensitive(loose, tight).tolist() == [False, True, True, True, False]
     assert accuracy.sensitive({k: v[0] for k, v in loose.items()}, {k: v[0] for k, v in tight.items()}) is False
 
@@ -142,8 +148,9 @@ def test_ida_reports_the_sensitive_responses_per_level(tmp_path):
     suite = Suite.from_files([path], unit="m/s2")
     levels = Grid("scales", NOISE.scale, NOISE.scale, 1)
     serial = Execution(workers=1, progress=False)
-    study = incremental_dynamic_analysis(Setting(BLOCK), Tuning(0.05), suite, levels, serial, directions="both",
-                                         runs=tmp_path / "runs")  # fmt: skip
+    study = incremental_dynamic_analysis(
+        Setting(BLOCK), Tuning(0.05), suite, levels, serial, directions="both", runs=tmp_path / "runs"
+    )
     a = study.arrays
     j = list(a["signs"]).index(-1)
     assert a["bare_sensitive_by_sign"][0, 0, j] and a["bare_theta_max_by_sign"][0, 0, j] == pytest.approx(
@@ -164,8 +171,13 @@ def test_an_ida_of_pulses_runs_each_response_once(tmp_path, monkeypatch):
     calls = []
     real = ida_module.run_cases
     monkeypatch.setattr(ida_module, "run_cases", lambda cases, **kw: calls.append(len(cases)) or real(cases, **kw))
-    study = incremental_dynamic_analysis(Setting(block), Tuning(0.05), Suite.from_pulses(pulses),
-                                         Grid("scales", 0.5, 2.0, 3), Execution(workers=1, progress=False),
-                                         runs=tmp_path)  # fmt: skip
+    study = incremental_dynamic_analysis(
+        Setting(block),
+        Tuning(0.05),
+        Suite.from_pulses(pulses),
+        Grid("scales", 0.5, 2.0, 3),
+        Execution(workers=1, progress=False),
+        runs=tmp_path,
+    )
     assert len(calls) == 2 * len(pulses)  # one batch a pulse and a part: none again
     assert not study.arrays["bare_sensitive"].any() and not study.arrays["damper_sensitive_fraction"].any()

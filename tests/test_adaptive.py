@@ -207,8 +207,25 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
     add_study_commands(parser.add_subparsers(dest="command", required=True))
 
     def cli(*argv: str) -> int:
-        args = parser.parse_args(["map", "--Omega", "1", "10", "17", "--beta", "1", "10", "17", "--workers", "1",
-                                  "--no-progress", "--out", str(tmp_path), *argv])  # fmt: skip
+        args = parser.parse_args(
+            [
+                "map",
+                "--Omega",
+                "1",
+                "10",
+                "17",
+                "--beta",
+                "1",
+                "10",
+                "17",
+                "--workers",
+                "1",
+                "--no-progress",
+                "--out",
+                str(tmp_path),
+                *argv,
+            ]
+        )
         return args.func(args)
 
     assert cli("--coarse", "8") == 0
@@ -246,8 +263,22 @@ def test_the_bench_reports_the_cells_that_differ(tmp_path, capsys):
     changed["damper_overturned_by_sign"][3, 4, 0] = ~changed["damper_overturned_by_sign"][3, 4, 0]
     changed["effect"][0, 0] += 1
     assert bench.misclassified(changed, study.arrays) == 2
-    code = bench.main(["-n", "17", "--workers", "1", "--coarse", "8", "--pulses", "ricker", "--stops", "both",
-                       "--json", str(tmp_path / "bench.json")])  # fmt: skip
+    code = bench.main(
+        [
+            "-n",
+            "17",
+            "--workers",
+            "1",
+            "--coarse",
+            "8",
+            "--pulses",
+            "ricker",
+            "--stops",
+            "both",
+            "--json",
+            str(tmp_path / "bench.json"),
+        ]
+    )
     out = capsys.readouterr().out
     assert code == 0 and out.count("cells differ)") == 2 and "| ricker | stops | 8 | 0 |" in out
     rows = json.loads((tmp_path / "bench.json").read_text())

@@ -173,8 +173,25 @@ def test_the_command_line_scans_every_amplitude_unless_asked(tmp_path, capsys):
     add_study_commands(parser.add_subparsers(dest="command", required=True))
 
     def cli(*argv: str) -> int:
-        args = parser.parse_args(["spectrum", "--Omega", "2", "6", "3", "--beta", "0.5", "10", "20", "--workers", "1",
-                                  "--no-progress", "--out", str(tmp_path), *argv])  # fmt: skip
+        args = parser.parse_args(
+            [
+                "spectrum",
+                "--Omega",
+                "2",
+                "6",
+                "3",
+                "--beta",
+                "0.5",
+                "10",
+                "20",
+                "--workers",
+                "1",
+                "--no-progress",
+                "--out",
+                str(tmp_path),
+                *argv,
+            ]
+        )
         return args.func(args)
 
     assert cli() == 0

@@ -197,8 +197,14 @@ def test_both_back_ends_count_the_same_work():
     block = Block.reference()
     n = 4
     cases = pulse_cases(
-        block, rng.uniform(1.0, 8.0, n), rng.uniform(1.2, 4.0, n), gamma=rng.uniform(0.02, 0.2, n),
-        omega_ratio=rng.uniform(0.3, 3.0, n), zeta=rng.uniform(0.0, 0.3, n), h=0.05, t_after=4.0,
+        block,
+        rng.uniform(1.0, 8.0, n),
+        rng.uniform(1.2, 4.0, n),
+        gamma=rng.uniform(0.02, 0.2, n),
+        omega_ratio=rng.uniform(0.3, 3.0, n),
+        zeta=rng.uniform(0.0, 0.3, n),
+        h=0.05,
+        t_after=4.0,
     )
     hit = STATUS.index("max_steps")
     low, high = np.zeros(n, dtype=np.int64), np.full(n, 1 << 20, dtype=np.int64)

@@ -137,8 +137,13 @@ def test_the_numpy_back_end_s_constants_are_the_table_s():
 # --------------------------------------------------------------------------- #
 
 _CTYPE = {boundary.DOUBLE: ctypes.c_double, boundary.INT64: ctypes.c_int64, boundary.INT32: ctypes.c_int32}
-_NUMPY = {boundary.DOUBLE: np.float64, boundary.INT64: np.int64, boundary.INT32: np.int32, boundary.DOUBLES: np.uintp,
-          boundary.SERIES: np.uintp}
+_NUMPY = {
+    boundary.DOUBLE: np.float64,
+    boundary.INT64: np.int64,
+    boundary.INT32: np.int32,
+    boundary.DOUBLES: np.uintp,
+    boundary.SERIES: np.uintp,
+}
 
 
 @pytest.mark.parametrize(

@@ -101,9 +101,22 @@ def test_sim_is_model_independent(tmp_path, n_constants):
     lines += [f"#define model_{n}_prepared stub3_{n}_prepared" for n in names + scalars]
     lines += ["#endif", "#endif", ""]
     (tmp_path / "stub3.h").write_text("\n".join(lines))
-    cmd = [*cbuild.compiler(), "-std=c99", "-Wall", "-Wextra", "-Werror", "-pedantic", "-O2", "-c",
-           f"-I{cbuild.CSRC}", f"-I{tmp_path}", '-DROCKING_MODEL_HEADER="stub3.h"', str(cbuild.CSRC / "sim.c"),
-           "-o", str(tmp_path / "sim3.o")]  # fmt: skip
+    cmd = [
+        *cbuild.compiler(),
+        "-std=c99",
+        "-Wall",
+        "-Wextra",
+        "-Werror",
+        "-pedantic",
+        "-O2",
+        "-c",
+        f"-I{cbuild.CSRC}",
+        f"-I{tmp_path}",
+        '-DROCKING_MODEL_HEADER="stub3.h"',
+        str(cbuild.CSRC / "sim.c"),
+        "-o",
+        str(tmp_path / "sim3.o"),
+    ]
     proc = subprocess.run(cmd, capture_output=True, text=True)
     assert proc.returncode == 0, proc.stderr
 

@@ -305,8 +305,23 @@ def test_simulate_refuses_bad_input_in_one_line(argv, message, capsys):
 # --- the whole truth of one response ----------------------------------------------------------------
 
 #: A 0.6 m block whose unlimited damper survives the one-sine pulse only by running its mass 1.3 m out.
-WIDE = ["simulate", "--H", "2", "--B", "0.6", "--M", "1000", "--gamma", "0.05", "--omega-ratio", "1",
-        "--beta", "3", "--Omega", "4"]  # fmt: skip
+WIDE = [
+    "simulate",
+    "--H",
+    "2",
+    "--B",
+    "0.6",
+    "--M",
+    "1000",
+    "--gamma",
+    "0.05",
+    "--omega-ratio",
+    "1",
+    "--beta",
+    "3",
+    "--Omega",
+    "4",
+]
 
 
 def test_simulate_says_the_mass_went_past_the_edge(capsys):

@@ -460,8 +460,11 @@ def test_a_threshold_exceeded_briefly_is_not_stepped_over(backend, beta, Omega, 
     half = math.acos(1 / beta) / pulse.omega_g  # ag beyond the threshold for |t - t_peak| < half
     assert 2 * half < 0.3 * problem.contact_max_step
     r = simulate(backend, problem, record=True)
-    ups = [(float(r.history["t"][j]), int(r.history["phase"][j])) for i, j in transitions(r.history)
-           if r.history["phase"][i] == CONTACT]
+    ups = [
+        (float(r.history["t"][j]), int(r.history["phase"][j]))
+        for i, j in transitions(r.history)
+        if r.history["phase"][i] == CONTACT
+    ]
     assert r.uplifts == 2 and len(ups) == 2
     for (t_up, pivot), peak, expected in zip(ups, (0.25, 0.75), (1, -1)):
         t_peak = peak * pulse.t_p
@@ -772,12 +775,20 @@ def test_no_impact_and_no_rest_snap_adds_energy(backend):
     snaps = impacts = 0
     for _ in range(12):
         damper = Damper.from_nondim(
-            REFERENCE, gamma=rng.uniform(0.01, 0.2), omega_ratio=rng.uniform(0.3, 3.0), zeta=rng.uniform(0.0, 0.3),
+            REFERENCE,
+            gamma=rng.uniform(0.01, 0.2),
+            omega_ratio=rng.uniform(0.3, 3.0),
+            zeta=rng.uniform(0.0, 0.3),
             h=0.05,
         )
         problem = reference_problem(
-            rng.uniform(1.2, 2.5), rng.uniform(2.0, 8.0), damper, rtol=1e-8, t_after=5.0,
-            dtheta_rest=0.1 * REFERENCE.alpha * REFERENCE.p, early_verdict=False,
+            rng.uniform(1.2, 2.5),
+            rng.uniform(2.0, 8.0),
+            damper,
+            rtol=1e-8,
+            t_after=5.0,
+            dtheta_rest=0.1 * REFERENCE.alpha * REFERENCE.p,
+            early_verdict=False,
         )
         h = simulate(backend, problem, record=True).history
         for i in impact_rows(h):
@@ -1001,8 +1012,9 @@ def test_a_pulse_of_the_other_sign_is_the_mirror_image(backend, stops):
     mirrored = dataclasses.replace(REFERENCE, e=-REFERENCE.e)
     pulse = OneSinePulse.from_nondim(REFERENCE, beta=2.5, Omega=5.0)
     a = rocking.simulate(REFERENCE, damper, pulse, backend=backend, record=True, t_after=5.0)
-    b = rocking.simulate(mirrored, damper, dataclasses.replace(pulse, sign=-1), backend=backend, record=True,
-                         t_after=5.0)  # fmt: skip
+    b = rocking.simulate(
+        mirrored, damper, dataclasses.replace(pulse, sign=-1), backend=backend, record=True, t_after=5.0
+    )
     assert a.uplifts >= 1
     _assert_mirrored(a, b, load_model(damper.model).state)
     assert (a.stop_contacts, a.bumper_force_max == pytest.approx(b.bumper_force_max)) == (b.stop_contacts, True)
@@ -1210,8 +1222,11 @@ def test_a_brief_uplift_of_a_wavelet_is_not_stepped_over(backend, family):
     (docs/model.md 10.2: |ag| > g tan(alpha)) lifts it, within the short window around that peak."""
     block = Block(H=2.0, B=0.5, M=1000.0)
     threshold = block.g * block.tan_alpha
-    unit = (rocking.RickerWavelet(1.0, block.p) if family == "ricker"
-            else rocking.MavroeidisPapageorgiou(1.0, block.p, gamma=2.5, nu=0.3))  # fmt: skip
+    unit = (
+        rocking.RickerWavelet(1.0, block.p)
+        if family == "ricker"
+        else rocking.MavroeidisPapageorgiou(1.0, block.p, gamma=2.5, nu=0.3)
+    )
     t = np.linspace(0.0, unit.t_p, 400_001)
     f = unit.acceleration(t)
     k = int(np.argmax(np.abs(f)))

@@ -29,15 +29,29 @@ def studies(tmp_path_factory):
     return {
         "map": rocking.overturning_map(BLOCK, beta=np.linspace(1.0, 6.0, 5), **plain),
         "spectrum": rocking.minimum_overturning_spectrum(BLOCK, beta=np.linspace(0.5, 8.0, 8), **plain),
-        "optimize": rocking.optimal_damper(BLOCK, [0.05], Omega=[4.0], beta=[0.5, 2, 4, 8, 15], Tm_ratio=[0.5, 2.0],
-                                           **few),
-        "design": rocking.design(BLOCK, Omega=[4.0, 6.0], beta=np.linspace(0.5, 20.0, 27), Tm_ratio=[0.5, 1.5, 4.0],
-                                 zeta=[0.02, 0.2], refine=0, **few),
-        "threshold": rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0,
-                                           **few),
+        "optimize": rocking.optimal_damper(
+            BLOCK, [0.05], Omega=[4.0], beta=[0.5, 2, 4, 8, 15], Tm_ratio=[0.5, 2.0], **few
+        ),
+        "design": rocking.design(
+            BLOCK,
+            Omega=[4.0, 6.0],
+            beta=np.linspace(0.5, 20.0, 27),
+            Tm_ratio=[0.5, 1.5, 4.0],
+            zeta=[0.02, 0.2],
+            refine=0,
+            **few,
+        ),
+        "threshold": rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0, **few),
         "ida": rocking.incremental_dynamic_analysis(BLOCK, motions=pulses, levels=[0.5, 1.0, 2.0], t_after=5.0, **few),
-        "fragility": rocking.incremental_dynamic_analysis(BLOCK, {"gamma": 0.05, "stops": True}, motions=pulses,
-                                                          levels=[1.0, 3.0, 9.0], measure="pga", t_after=5.0, **few),
+        "fragility": rocking.incremental_dynamic_analysis(
+            BLOCK,
+            {"gamma": 0.05, "stops": True},
+            motions=pulses,
+            levels=[1.0, 3.0, 9.0],
+            measure="pga",
+            t_after=5.0,
+            **few,
+        ),
     }
 
 
@@ -77,7 +91,10 @@ def test_map_dataset_is_labelled_in_both_terms(studies):
     assert meanings[0] == "overturned" and meanings[5] == "bounded" and meanings[-1] == "not_computed"
     effect = ds["effect"].attrs
     assert dict(zip(effect["flag_values"].tolist(), effect["flag_meanings"].split(), strict=True)) == {
-        -1: "lost", 0: "unchanged", 1: "saved"}  # fmt: skip
+        -1: "lost",
+        0: "unchanged",
+        1: "saved",
+    }
     assert json.loads(ds.attrs["config"]) == study.config
     assert json.loads(ds.attrs["versions"])["rocking"] == rocking.__version__
     assert ds.attrs["Conventions"].startswith("CF-")
@@ -145,8 +162,15 @@ def test_dataframes_carry_units_and_labels(studies):
     assert len(frame) == 4 * 5
     assert frame.attrs["units"]["damper_x_max"] == "m"
     assert set(frame["effect"].cat.categories) == {"lost", "unchanged", "saved"}
-    assert set(frame["damper_status"]) <= {"overturned", "rest", "t_max", "max_events", "max_steps", "bounded",
-                                          "not_computed"}  # fmt: skip
+    assert set(frame["damper_status"]) <= {
+        "overturned",
+        "rest",
+        "t_max",
+        "max_events",
+        "max_steps",
+        "bounded",
+        "not_computed",
+    }
 
 
 def test_every_kind_has_a_layout_and_every_field_units():

@@ -55,8 +55,9 @@ def test_design_is_the_best_damper_that_keeps_its_mass_on_the_block(small):
 def test_design_gain_is_what_the_spectrum_gives_for_that_damper(small, tmp_path):
     """The same damper through minimum_overturning_spectrum (a Tuning with stops and the stroke): the same gain."""
     d = small.summary["damper"]
-    tuning = Tuning(gamma=d["gamma"], omega_ratio=1 / d["Tm_ratio"], zeta=d["zeta"], h=d["h_m"], stops=True,
-                    stroke=d["L_m"])  # fmt: skip
+    tuning = Tuning(
+        gamma=d["gamma"], omega_ratio=1 / d["Tm_ratio"], zeta=d["zeta"], h=d["h_m"], stops=True, stroke=d["L_m"]
+    )
     spectrum = minimum_overturning_spectrum(SETTING, tuning, BAND, BETA, SERIAL, runs=tmp_path)
     s = spectrum.arrays
     np.testing.assert_allclose(small.arrays["gain_opt"], s["damper_beta_min"] / s["bare_beta_min"], rtol=1e-12)
@@ -68,9 +69,12 @@ def test_design_stroke_use_is_that_of_single_runs(small):
     stops = Stops(L=d["L_m"], k_b=d["k_b_N_per_m"], c_b=d["c_b_N_s_per_m"])
     damper = Damper(m=d["m_kg"], k_m=d["k_m_N_per_m"], c=d["c_N_s_per_m"], h=d["h_m"], stops=stops)
     for i, Om in enumerate(a["Omega"]):
-        runs = [rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=a["bare_beta_min"][i], Omega=Om,
-                                                                          sign=sign))
-                for sign in (1, -1)]  # fmt: skip
+        runs = [
+            rocking.simulate(
+                block, damper, OneSinePulse.from_nondim(block, beta=a["bare_beta_min"][i], Omega=Om, sign=sign)
+            )
+            for sign in (1, -1)
+        ]
         assert a["stroke_use"][i] == pytest.approx(max(r.x_max for r in runs) / d["L_m"], rel=1e-9)
         assert a["stop_contacts"][i] == max(r.stop_contacts for r in runs)
 
@@ -83,8 +87,16 @@ def test_design_resumes_from_its_tiles(small, runs):
 
 def test_optimum_at_an_edge_is_flagged(runs):
     """A one-point grid: the optimum is both ends of it."""
-    study = design(SETTING, BAND, BETA, SERIAL, runs=runs, Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
-                   zeta=Grid("zeta", 0.05, 0.05, 1, log=True), refine=0)  # fmt: skip
+    study = design(
+        SETTING,
+        BAND,
+        BETA,
+        SERIAL,
+        runs=runs,
+        Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
+        zeta=Grid("zeta", 0.05, 0.05, 1, log=True),
+        refine=0,
+    )
     assert study.summary["Tm_at_edge"] == -1 and study.summary["zeta_at_edge"] == -1
 
 
@@ -112,9 +124,34 @@ def test_bad_design_input_is_refused_naming_it(kwargs, message, tmp_path):
 def test_cli_design_writes_data_and_prints_the_damper_in_si(tmp_path, capsys):
     parser = argparse.ArgumentParser(prog="rocking")
     add_study_commands(parser.add_subparsers(dest="command", required=True))
-    args = parser.parse_args(["design", "--Omega", "4", "6", "2", "--beta", "0.5", "20", "27", "--Tm-ratio", "0.5",
-                              "4", "3", "--zeta-grid", "0.02", "0.2", "2", "--refine", "1", "--workers", "1",
-                              "--no-progress", "--out", str(tmp_path)])  # fmt: skip
+    args = parser.parse_args(
+        [
+            "design",
+            "--Omega",
+            "4",
+            "6",
+            "2",
+            "--beta",
+            "0.5",
+            "20",
+            "27",
+            "--Tm-ratio",
+            "0.5",
+            "4",
+            "3",
+            "--zeta-grid",
+            "0.02",
+            "0.2",
+            "2",
+            "--refine",
+            "1",
+            "--workers",
+            "1",
+            "--no-progress",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert args.func(args) == 0
     out = capsys.readouterr().out
     assert "design: m = 50 kg (gamma = 0.05), k_m = " in out and "N s/m" in out
@@ -131,9 +168,16 @@ def test_demo_runs_the_damper_as_built_beside_the_unlimited_guide(tmp_path, caps
     under its own name with its own tables."""
     import rocking.cli.study as study_cli
 
-    for name, grid in (("MAP_OMEGA", (2.0, 8.0, 3)), ("MAP_BETA", (1.0, 9.0, 3)), ("SPECTRUM_OMEGA", (2.0, 8.0, 3)),
-                       ("SPECTRUM_BETA", (0.5, 15.0, 12)), ("DESIGN_OMEGA", (4.0, 6.0, 2)), ("LAM_GRID", (4.0, 4.0, 1)),
-                       ("P_GRID", (2.0, 2.0, 1)), ("OMEGA_GRID", (4.0, 14.0, 2))):  # fmt: skip
+    for name, grid in (
+        ("MAP_OMEGA", (2.0, 8.0, 3)),
+        ("MAP_BETA", (1.0, 9.0, 3)),
+        ("SPECTRUM_OMEGA", (2.0, 8.0, 3)),
+        ("SPECTRUM_BETA", (0.5, 15.0, 12)),
+        ("DESIGN_OMEGA", (4.0, 6.0, 2)),
+        ("LAM_GRID", (4.0, 4.0, 1)),
+        ("P_GRID", (2.0, 2.0, 1)),
+        ("OMEGA_GRID", (4.0, 14.0, 2)),
+    ):
         monkeypatch.setattr(study_cli, name, grid)
     parser = argparse.ArgumentParser(prog="rocking")
     add_study_commands(parser.add_subparsers(dest="command", required=True))
@@ -149,8 +193,13 @@ def test_demo_runs_the_damper_as_built_beside_the_unlimited_guide(tmp_path, caps
 
 
 def _summary(worst, lower_bound=False, Tm_edge=0, zeta_edge=0) -> dict:
-    return {"worst_gain": worst, "worst_at_Omega": 2.0, "worst_gain_is_lower_bound": lower_bound,
-            "Tm_at_edge": Tm_edge, "zeta_at_edge": zeta_edge}  # fmt: skip
+    return {
+        "worst_gain": worst,
+        "worst_at_Omega": 2.0,
+        "worst_gain_is_lower_bound": lower_bound,
+        "Tm_at_edge": Tm_edge,
+        "zeta_at_edge": zeta_edge,
+    }
 
 
 @pytest.mark.parametrize("summary, verdict", [

@@ -81,8 +81,9 @@ def test_envelopes_take_the_worse_direction_and_the_largest_maxima():
 
 def test_mirrored_pulse_mirrors_a_symmetric_block(tmp_path):
     """docs/model.md 10.6: with e = 0 the two directions give the same outcomes and maxima."""
-    study = overturning_map(Setting(SYMMETRIC), Tuning(stops=True), OMEGA, BETA, SERIAL, directions="both",
-                            runs=tmp_path)  # fmt: skip
+    study = overturning_map(
+        Setting(SYMMETRIC), Tuning(stops=True), OMEGA, BETA, SERIAL, directions="both", runs=tmp_path
+    )
     a = study.arrays
     for part in ("bare", "damper"):
         pos, neg = (a[f"{part}_overturned_by_sign"][..., i] for i in (0, 1))
@@ -109,16 +110,27 @@ def test_studies_of_an_eccentric_block_report_the_envelope(tmp_path):
     table = study.tables["map"]
     assert {"bare_outcome_pos", "bare_outcome_neg", "damper_worst_sign"} <= set(table)
 
-    spectrum = minimum_overturning_spectrum(setting, Tuning(), OMEGA, Grid("beta", 0.5, 12.0, 24), SERIAL,
-                                            runs=tmp_path)  # fmt: skip
+    spectrum = minimum_overturning_spectrum(
+        setting, Tuning(), OMEGA, Grid("beta", 0.5, 12.0, 24), SERIAL, runs=tmp_path
+    )
     s = spectrum.arrays
     for part in ("bare", "damper"):
         np.testing.assert_array_equal(s[f"{part}_beta_min"], s[f"{part}_beta_min_by_sign"].min(axis=1))
-        np.testing.assert_array_equal(s[f"{part}_worst_sign"], np.where(
-            s[f"{part}_beta_min_by_sign"][:, 0] <= s[f"{part}_beta_min_by_sign"][:, 1], 1, -1))  # fmt: skip
+        np.testing.assert_array_equal(
+            s[f"{part}_worst_sign"],
+            np.where(s[f"{part}_beta_min_by_sign"][:, 0] <= s[f"{part}_beta_min_by_sign"][:, 1], 1, -1),
+        )
 
-    optimum = optimal_damper(setting, [0.05], Grid("Omega", 4.0, 4.0, 1), Grid("beta", 0.5, 12.0, 24), SERIAL,
-                             Tm=Grid("Tm", 1.0, 1.0, 1, log=True), refine=0, runs=tmp_path)  # fmt: skip
+    optimum = optimal_damper(
+        setting,
+        [0.05],
+        Grid("Omega", 4.0, 4.0, 1),
+        Grid("beta", 0.5, 12.0, 24),
+        SERIAL,
+        Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
+        refine=0,
+        runs=tmp_path,
+    )
     o = optimum.arrays
     np.testing.assert_allclose(o["bare_beta_min"], s["bare_beta_min"][[1]])  # Omega = 4 is the spectrum's 2nd
     np.testing.assert_allclose(o["gain_opt"][0], s["damper_beta_min"][[1]] / s["bare_beta_min"][[1]])

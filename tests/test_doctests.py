@@ -32,8 +32,15 @@ def test_examples(name):
 
 
 def test_every_main_entry_point_has_examples():
-    for name in ("simulate", "overturning_map", "minimum_overturning_spectrum", "optimal_damper", "design",
-                 "threshold_map", "load_model"):  # fmt: skip
+    for name in (
+        "simulate",
+        "overturning_map",
+        "minimum_overturning_spectrum",
+        "optimal_damper",
+        "design",
+        "threshold_map",
+        "load_model",
+    ):
         assert "Examples\n    --------\n" in getattr(rocking, name).__doc__, name
 
 

@@ -26,14 +26,27 @@ def _random_cases(rng, n: int, kind: str) -> Cases:
     """Pulses on one random block: bare, with a damper, or with a damper between stops (``kind``)."""
     B = rng.uniform(0.3, 1.0)
     block = Block(H=B * rng.uniform(2.5, 6.0), B=B, M=1000.0, e=B * rng.uniform(-0.2, 0.2))
-    damper = {} if kind == "bare" else dict(
-        gamma=rng.uniform(0.01, 0.2, n), omega_ratio=rng.uniform(0.3, 3.0, n), zeta=rng.uniform(0.0, 0.3, n),
-        h=rng.uniform(0.0, 0.2, n), stops=kind == "stops",
-    )  # fmt: skip
+    damper = (
+        {}
+        if kind == "bare"
+        else dict(
+            gamma=rng.uniform(0.01, 0.2, n),
+            omega_ratio=rng.uniform(0.3, 3.0, n),
+            zeta=rng.uniform(0.0, 0.3, n),
+            h=rng.uniform(0.0, 0.2, n),
+            stops=kind == "stops",
+        )
+    )
     return pulse_cases(
-        block, rng.uniform(0.5, 10.0, n), rng.uniform(1.0, 8.0, n), psi=rng.uniform(0, 2 * math.pi, n),
-        sign=rng.choice([-1, 1], n), rtol=1e-8, t_after=6.0, **damper,
-    )  # fmt: skip
+        block,
+        rng.uniform(0.5, 10.0, n),
+        rng.uniform(1.0, 8.0, n),
+        psi=rng.uniform(0, 2 * math.pi, n),
+        sign=rng.choice([-1, 1], n),
+        rtol=1e-8,
+        t_after=6.0,
+        **damper,
+    )
 
 
 def _without_verdict(cases: Cases) -> Cases:

@@ -45,15 +45,27 @@ def _red_green_pair(colours) -> bool:
 def cabinet_map(tmp_path_factory):
     runs = tmp_path_factory.mktemp("map")
     tuning = Tuning(0.1, omega_ratio=2.0, stops=True)
-    return overturning_map(Setting(CABINET), tuning, Grid("Omega", 1.0, 10.0, 8), Grid("beta", 1.0, 10.0, 8), SERIAL,
-                           runs=runs, full=True)  # fmt: skip
+    return overturning_map(
+        Setting(CABINET), tuning, Grid("Omega", 1.0, 10.0, 8), Grid("beta", 1.0, 10.0, 8), SERIAL, runs=runs, full=True
+    )
 
 
 def test_the_map_title_names_the_block_the_damper_and_the_pulses_and_a_redrawn_one_the_same(cabinet_map, tmp_path):
     title = map_figure(cabinet_map)._suptitle.get_text()
-    for text in ("H = 1.2 m", "B = 0.4 m", "M = 300 kg", r"$\alpha$ = 0.322 rad", "p = 3.41 rad/s",
-                 r"$\gamma$ = 0.1", r"$\omega_m / p$ = 2", r"$\zeta$ = 0.05", "h = 0.05 m", "stops at L = 0.18 m",
-                 "one-sine pulse", r"$a_g$ = 0.333 $\beta$ g"):  # fmt: skip
+    for text in (
+        "H = 1.2 m",
+        "B = 0.4 m",
+        "M = 300 kg",
+        r"$\alpha$ = 0.322 rad",
+        "p = 3.41 rad/s",
+        r"$\gamma$ = 0.1",
+        r"$\omega_m / p$ = 2",
+        r"$\zeta$ = 0.05",
+        "h = 0.05 m",
+        "stops at L = 0.18 m",
+        "one-sine pulse",
+        r"$a_g$ = 0.333 $\beta$ g",
+    ):
         assert text in title, text
     save(cabinet_map, tmp_path, "map")
     assert map_figure(load(tmp_path / "map"))._suptitle.get_text() == title
@@ -92,16 +104,23 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
 
 def test_the_reference_block_and_the_cabinet_get_different_titles(cabinet_map):
     a = dict(cabinet_map.config)
-    reference = type(cabinet_map)(cabinet_map.kind, {**a, "block": Block.reference().as_params()}, cabinet_map.arrays,
-                                  summary=cabinet_map.summary)  # fmt: skip
+    reference = type(cabinet_map)(
+        cabinet_map.kind, {**a, "block": Block.reference().as_params()}, cabinet_map.arrays, summary=cabinet_map.summary
+    )
     assert map_figure(reference)._suptitle.get_text() != map_figure(cabinet_map)._suptitle.get_text()
 
 
 @pytest.fixture(scope="module")
 def spectrum(tmp_path_factory):
     runs = tmp_path_factory.mktemp("spectrum")
-    return minimum_overturning_spectrum(Setting(Block.reference()), Tuning(0.05), Grid("Omega", 2.0, 12.0, 6),
-                                        Grid("beta", 0.5, 12.0, 24), SERIAL, runs=runs)  # fmt: skip
+    return minimum_overturning_spectrum(
+        Setting(Block.reference()),
+        Tuning(0.05),
+        Grid("Omega", 2.0, 12.0, 6),
+        Grid("beta", 0.5, 12.0, 24),
+        SERIAL,
+        runs=runs,
+    )
 
 
 def test_the_spectrum_draws_bounds_apart_from_measured_values_and_its_windows(spectrum):
@@ -156,8 +175,10 @@ def _responses(damper, model=None, **params):
     block = Block.reference()
     pulse = rocking.OneSinePulse.from_nondim(block, beta=4.0, Omega=3.0)
     kwargs = {"model": model} if model else {}
-    return block, {"with damper": rocking.simulate(block, damper, pulse, record=True, early_verdict=False, **kwargs),
-                   "block alone": rocking.simulate(block, None, pulse, record=True, early_verdict=False)}  # fmt: skip
+    return block, {
+        "with damper": rocking.simulate(block, damper, pulse, record=True, early_verdict=False, **kwargs),
+        "block alone": rocking.simulate(block, None, pulse, record=True, early_verdict=False),
+    }
 
 
 def test_the_response_figure_labels_alpha_the_edge_and_the_stops():
@@ -183,12 +204,25 @@ def test_the_response_title_names_the_excitation_and_the_damper_with_units():
     pulse = rocking.OneSinePulse.from_nondim(block, beta=4.0, Omega=3.0)
     title = response_figure(responses, block, damper=damper, motion=pulse)._suptitle.get_text()
     a_g, T_g = 4.0 * block.g * block.tan_alpha, 2 * np.pi / (3.0 * block.p)  # docs/model.md section 9
-    for text in ("one-sine pulse", f"{a_g:.3g} m/s$^2$", f"({a_g / block.g:.3g} g)", f"$T_g$ = {T_g:.3g} s",
-                 r"$\beta$ = 4", r"$\Omega$ = 3", "m = 50 kg", f"k_m = {damper.k_m:.4g} N/m", "c = ", " N s/m"):
+    for text in (
+        "one-sine pulse",
+        f"{a_g:.3g} m/s$^2$",
+        f"({a_g / block.g:.3g} g)",
+        f"$T_g$ = {T_g:.3g} s",
+        r"$\beta$ = 4",
+        r"$\Omega$ = 3",
+        "m = 50 kg",
+        f"k_m = {damper.k_m:.4g} N/m",
+        "c = ",
+        " N s/m",
+    ):
         assert text in title, text
     record = rocking.SampledMotion([0.0, 2.0, -3.0, 0.0], dt=0.1, sign=-1)
-    assert response_figure(responses, block, motion=record)._suptitle.get_text().startswith(
-        "sampled motion: PGA = 3 m/s$^2$ (0.306 g), 0.3 s, sign -1")  # fmt: skip
+    assert (
+        response_figure(responses, block, motion=record)
+        ._suptitle.get_text()
+        .startswith("sampled motion: PGA = 3 m/s$^2$ (0.306 g), 0.3 s, sign -1")
+    )
 
 
 def test_the_pendulum_gets_its_own_panel_in_radians():
@@ -220,8 +254,13 @@ def spectrum_figure_of(config: dict, Omega):
     Om = np.asarray(Omega, float)
     arrays = {"Omega": Om, "beta_scan": np.linspace(0.5, 15, 5), "signs": np.array([1])}
     for part in ("bare", "damper"):
-        arrays.update({f"{part}_beta_min": 1 + Om, f"{part}_flag": np.full(Om.size, BRACKETED),
-                       f"{part}_windows": np.zeros((0, 3))})  # fmt: skip
+        arrays.update(
+            {
+                f"{part}_beta_min": 1 + Om,
+                f"{part}_flag": np.full(Om.size, BRACKETED),
+                f"{part}_windows": np.zeros((0, 3)),
+            }
+        )
     study = rocking.Study("spectrum", {**config, "directions": {"directions": "positive", "signs": [1]}}, arrays)
     return spectrum_figure(study)
 
@@ -230,8 +269,16 @@ def test_ida_levels_over_decades_in_log_scale_and_the_title_says_motions(tmp_pat
     from rocking.plot.figures import ida_figure
 
     pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]
-    study = rocking.incremental_dynamic_analysis(Block.reference(), motions=pulses, levels=[0.5, 2.0, 8.0], t_after=3.0,
-                                                 runs=tmp_path, workers=1, progress=False, study=True)  # fmt: skip
+    study = rocking.incremental_dynamic_analysis(
+        Block.reference(),
+        motions=pulses,
+        levels=[0.5, 2.0, 8.0],
+        t_after=3.0,
+        runs=tmp_path,
+        workers=1,
+        progress=False,
+        study=True,
+    )
     fig = ida_figure(study)
     assert [ax.get_xscale() for ax in fig.axes[:2]] == ["log", "log"]
     assert fig.axes[0].get_xlabel() == "scale factor"

@@ -108,8 +108,11 @@ LONG = [
 @pytest.mark.parametrize("pulse, record", LONG)
 def test_numpy_refuses_up_front_what_it_would_take_long_over(pulse, record):
     start = time.perf_counter()
-    with pytest.raises(ParameterError, match=r"^the NumPy back end plans the work of [\d,]+ .* at most 75,000: run "
-                                             r"it on the C back end \(backend='c'\), or shorten it"):  # fmt: skip
+    with pytest.raises(
+        ParameterError,
+        match=r"^the NumPy back end plans the work of [\d,]+ .* at most 75,000: run "
+        r"it on the C back end \(backend='c'\), or shorten it",
+    ):
         rocking.simulate(BLOCK, None, pulse, backend="numpy", record=record)
     assert time.perf_counter() - start < 1.0
     assert rocking.simulate(BLOCK, None, pulse, backend="c", record=record).status == "rest"

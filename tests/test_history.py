@@ -47,9 +47,25 @@ def test_uniform_grid_without_duplicate_times(runs):
 
 def test_every_variable_has_units_and_a_long_name(runs):
     _, ds = runs["c"]
-    expected = {"theta": "rad", "x": "m", "dtheta": "rad/s", "dx": "m/s", "ddtheta": "rad/s^2", "ddx": "m/s^2",
-                "a_g": "m/s^2", "a_top": "m/s^2", "a_cm": "m/s^2", "V_b": "N", "N_b": "N", "M_b": "N m",
-                "F_x": "N", "E_kinetic": "J", "E_potential": "J", "E_total": "J", "phase": "1"}  # fmt: skip
+    expected = {
+        "theta": "rad",
+        "x": "m",
+        "dtheta": "rad/s",
+        "dx": "m/s",
+        "ddtheta": "rad/s^2",
+        "ddx": "m/s^2",
+        "a_g": "m/s^2",
+        "a_top": "m/s^2",
+        "a_cm": "m/s^2",
+        "V_b": "N",
+        "N_b": "N",
+        "M_b": "N m",
+        "F_x": "N",
+        "E_kinetic": "J",
+        "E_potential": "J",
+        "E_total": "J",
+        "phase": "1",
+    }
     assert {k: ds[k].attrs["units"] for k in ds.data_vars} == expected
     assert ds["t"].attrs["units"] == "s"
     assert all(ds[k].attrs["long_name"] for k in [*ds.data_vars, "t"])
@@ -122,20 +138,35 @@ def test_loads_against_the_hand_typed_equations(runs):
     a_top, a_cm = paper.block_accelerations(s, *kinematics, BLOCK.B, BLOCK.H, BLOCK.e)
     np.testing.assert_allclose(ds["a_top"], a_top, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(ds["a_cm"], a_cm, rtol=1e-12, atol=1e-12)
-    a_m = paper.mass_acceleration(s, v["theta"], v["x"], v["dtheta"], v["dx"], v["ddtheta"], v["ddx"], v["a_g"],
-                                  BLOCK.B, BLOCK.H, h)  # fmt: skip
+    a_m = paper.mass_acceleration(
+        s, v["theta"], v["x"], v["dtheta"], v["dx"], v["ddtheta"], v["ddx"], v["a_g"], BLOCK.B, BLOCK.H, h
+    )
     weight = (M + m) * BLOCK.g
     # Newton: the base shear is the total mass times the acceleration of the centre of mass.
     np.testing.assert_allclose(ds["V_b"], M * a_cm + m * a_m[0], rtol=1e-10, atol=1e-10 * weight)
-    V, N, Mb = paper.base_reaction(s, *(v[k] for k in ("theta", "x", "dtheta", "dx", "ddtheta", "ddx", "a_g")),
-                                   M, BLOCK.I_G, BLOCK.B, BLOCK.H, BLOCK.e, BLOCK.g, m, h)  # fmt: skip
+    V, N, Mb = paper.base_reaction(
+        s,
+        *(v[k] for k in ("theta", "x", "dtheta", "dx", "ddtheta", "ddx", "a_g")),
+        M,
+        BLOCK.I_G,
+        BLOCK.B,
+        BLOCK.H,
+        BLOCK.e,
+        BLOCK.g,
+        m,
+        h,
+    )
     for name, ref in (("V_b", V), ("N_b", N), ("M_b", Mb)):
         np.testing.assert_allclose(ds[name], ref, rtol=1e-10, atol=1e-10 * weight * BLOCK.H, err_msg=name)
     np.testing.assert_allclose(ds["F_x"], paper.guide_force(v["x"], v["dx"], DAMPER.k_m, DAMPER.c), rtol=1e-12)
     # While rocking the whole reaction acts at the pivot: its moment about the base's centre is s N_b B/2.
     rocking_ = phase != 0
-    np.testing.assert_allclose(ds["M_b"].values[rocking_], (s * ds["N_b"].values * BLOCK.B / 2)[rocking_],
-                               rtol=1e-9, atol=1e-9 * weight * BLOCK.B)  # fmt: skip
+    np.testing.assert_allclose(
+        ds["M_b"].values[rocking_],
+        (s * ds["N_b"].values * BLOCK.B / 2)[rocking_],
+        rtol=1e-9,
+        atol=1e-9 * weight * BLOCK.B,
+    )
     # In full contact the reaction stays within the base: |M_b| <= N_b B/2 (docs/model.md section 5).
     assert np.all(np.abs(ds["M_b"].values[~rocking_]) <= ds["N_b"].values[~rocking_] * BLOCK.B / 2 * (1 + 1e-9))
 
@@ -156,8 +187,9 @@ def test_pendulum_names_its_angle_phi():
 
 def test_stops_give_the_bumper_force_and_their_events():
     damper = rocking.Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
-    damper = rocking.Damper(m=damper.m, k_m=damper.k_m, c=damper.c, h=damper.h,
-                            stops=rocking.Stops.at_edges(BLOCK, damper))  # fmt: skip
+    damper = rocking.Damper(
+        m=damper.m, k_m=damper.k_m, c=damper.c, h=damper.h, stops=rocking.Stops.at_edges(BLOCK, damper)
+    )
     r = rocking.simulate(BLOCK, damper, PULSE, record=True)
     assert r.stop_contacts > 0
     events = r.events()
@@ -176,8 +208,26 @@ def test_bad_dt_is_refused_in_one_line(runs):
 
 
 def _cli(*args, cwd):
-    return subprocess.run([sys.executable, "-m", "rocking", "simulate", "--beta", "5", "--Omega", "4", "--gamma",
-                           "0.05", "--omega-ratio", "1", *args], capture_output=True, text=True, cwd=cwd)  # fmt: skip
+    return subprocess.run(
+        [
+            sys.executable,
+            "-m",
+            "rocking",
+            "simulate",
+            "--beta",
+            "5",
+            "--Omega",
+            "4",
+            "--gamma",
+            "0.05",
+            "--omega-ratio",
+            "1",
+            *args,
+        ],
+        capture_output=True,
+        text=True,
+        cwd=cwd,
+    )
 
 
 def test_cli_writes_csv_and_netcdf(tmp_path):

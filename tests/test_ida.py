@@ -26,8 +26,12 @@ SITE = SiteModel(arias=0.46, d595=6.0, t_mid=4.0, f_mid=3.0, f_slope=-0.05, zeta
 
 
 def _at2(path, a, dt=0.005):
-    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "test", "ACCELERATION TIME SERIES IN UNITS OF G",
-              f"NPTS= {len(a)}, DT= {dt:.4f} SEC"]  # fmt: skip
+    header = [
+        "PEER NGA STRONG MOTION DATABASE RECORD",
+        "test",
+        "ACCELERATION TIME SERIES IN UNITS OF G",
+        f"NPTS= {len(a)}, DT= {dt:.4f} SEC",
+    ]
     body = "\n".join("".join(f"{v:15.7E}" for v in a[i : i + 5]) for i in range(0, len(a), 5))
     path.write_text("\n".join(header) + "\n" + body + "\n")
     return path
@@ -44,8 +48,14 @@ def records(tmp_path_factory):
 @pytest.fixture(scope="module")
 def ida(records, tmp_path_factory):
     suite = Suite.from_files(records)
-    return incremental_dynamic_analysis(SETTING, Tuning(0.05, stops=True), suite, Grid("scales", 0.5, 4.0, 8),
-                                        SERIAL, runs=tmp_path_factory.mktemp("runs"))  # fmt: skip
+    return incremental_dynamic_analysis(
+        SETTING,
+        Tuning(0.05, stops=True),
+        suite,
+        Grid("scales", 0.5, 4.0, 8),
+        SERIAL,
+        runs=tmp_path_factory.mktemp("runs"),
+    )
 
 
 def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, records):
@@ -55,8 +65,15 @@ def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, recor
     damper = Damper(m=damper.m, k_m=damper.k_m, c=damper.c, h=0.05, stops=rocking.Stops.at_edges(BLOCK, damper))
     record = rocking.model.records.read_at2(records[1])
     for j in (2, 5, 7):
-        runs = [rocking.simulate(BLOCK, damper, SampledMotion(record.acceleration, dt=record.dt, sign=sign)
-                                 .scaled(a["levels"][j]), t_after=5.0) for sign in (1, -1)]  # fmt: skip
+        runs = [
+            rocking.simulate(
+                BLOCK,
+                damper,
+                SampledMotion(record.acceleration, dt=record.dt, sign=sign).scaled(a["levels"][j]),
+                t_after=5.0,
+            )
+            for sign in (1, -1)
+        ]
         assert bool(a["damper_overturned"][1, j]) == any(r.overturned for r in runs)
         assert a["damper_x_max"][1, j] == pytest.approx(max(r.x_max for r in runs), rel=1e-9)
     assert ida.kind == "ida" and ida.summary["motions"] == 3
@@ -75,14 +92,16 @@ def test_ida_summary_and_tables_report_each_motion(ida):
 
 def test_fragility_scales_each_motion_to_the_level_of_its_measure(tmp_path):
     suite = Suite.stochastic(SITE, 3, seed=5)
-    study = incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL,
-                                         measure_name="pga", runs=tmp_path)  # fmt: skip
+    study = incremental_dynamic_analysis(
+        SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL, measure_name="pga", runs=tmp_path
+    )
     for i in range(3):
         motion = suite.motion(i)
         assert study.arrays["im"][i] == pytest.approx(pga(motion.a, motion.dt))
     assert study.kind == "fragility" and study.summary["unit"] == "m/s^2"
-    again = incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL,
-                                         measure_name="pga", runs=tmp_path)  # fmt: skip
+    again = incremental_dynamic_analysis(
+        SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL, measure_name="pga", runs=tmp_path
+    )
     assert again.run["tiles_computed"] == 0 and again.run["tiles_reused"] == 6
 
 
@@ -110,16 +129,20 @@ def test_bad_suites_and_measures_are_refused(call, message):
         call()
 
 
-PULSES = [rocking.OneSinePulse.from_period(4.0, 0.6), rocking.OneCosinePulse.from_period(4.0, 1.1, sign=-1),
-          rocking.RickerWavelet.from_period(4.0, 0.8, antisymmetric=True),
-          rocking.MavroeidisPapageorgiou.from_period(4.0, 1.4, gamma=2.0, nu=1.0)]  # fmt: skip
+PULSES = [
+    rocking.OneSinePulse.from_period(4.0, 0.6),
+    rocking.OneCosinePulse.from_period(4.0, 1.1, sign=-1),
+    rocking.RickerWavelet.from_period(4.0, 0.8, antisymmetric=True),
+    rocking.MavroeidisPapageorgiou.from_period(4.0, 1.4, gamma=2.0, nu=1.0),
+]
 
 
 @pytest.fixture(scope="module")
 def pulse_fragility(tmp_path_factory):
     suite, levels = Suite.from_pulses(PULSES), Grid("a", 2.0, 20.0, 7)
-    return incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, levels, SERIAL, measure_name="amplitude",
-                                        runs=tmp_path_factory.mktemp("runs"))  # fmt: skip
+    return incremental_dynamic_analysis(
+        SETTING, Tuning(0.05), suite, levels, SERIAL, measure_name="amplitude", runs=tmp_path_factory.mktemp("runs")
+    )
 
 
 def test_a_suite_of_pulses_at_an_amplitude_is_each_pulse_of_that_amplitude_in_the_worse_direction(pulse_fragility):
@@ -160,8 +183,9 @@ def test_bad_pulse_suites_are_refused(records):
     with pytest.raises(ParameterError, match=r"pulses\[0\] is a SampledMotion"):
         Suite.from_pulses([SampledMotion([0.0, 1.0, 0.0], dt=0.01)])
     with pytest.raises(ParameterError, match=r"measure 'amplitude' is the a_g of a suite of pulses"):
-        incremental_dynamic_analysis(SETTING, Tuning(), Suite.from_files(records), Grid("a", 1.0, 2.0, 2), SERIAL,
-                                     measure_name="amplitude")  # fmt: skip
+        incremental_dynamic_analysis(
+            SETTING, Tuning(), Suite.from_files(records), Grid("a", 1.0, 2.0, 2), SERIAL, measure_name="amplitude"
+        )
 
 
 @pytest.mark.parametrize(
@@ -182,8 +206,29 @@ def test_cli_pulse_suites_refuse_bad_options(argv, message, capsys, tmp_path):
 
 
 def test_cli_fragility_of_pulses_against_their_amplitude(tmp_path, capsys):
-    argv = ["fragility", "--pulses", "ricker", "--periods", "0.5", "1", "--amplitude", "2", "--im", "amplitude",
-            "--levels", "2", "12", "3", "--workers", "1", "--no-progress", "--t-after", "5", "--out", str(tmp_path)]
+    argv = [
+        "fragility",
+        "--pulses",
+        "ricker",
+        "--periods",
+        "0.5",
+        "1",
+        "--amplitude",
+        "2",
+        "--im",
+        "amplitude",
+        "--levels",
+        "2",
+        "12",
+        "3",
+        "--workers",
+        "1",
+        "--no-progress",
+        "--t-after",
+        "5",
+        "--out",
+        str(tmp_path),
+    ]
     assert _cli(argv) == 0
     study = rocking.study.storage.load(tmp_path / "fragility.json")
     assert study.arrays["im"].tolist() == [2.0, 2.0]
@@ -200,10 +245,35 @@ def _cli(argv):
 
 def test_cli_ida_and_fragility_write_data_and_print_the_fits(records, tmp_path, capsys):
     base = ["--workers", "1", "--no-progress", "--t-after", "5"]
-    assert _cli(["ida", "--motions", *map(str, records), "--scales", "0.5", "4", "4", "--out", str(tmp_path / "i"),
-                 *base]) == 0  # fmt: skip
-    assert _cli(["fragility", "--stochastic", "2", "--seed", "1", "--duration", "12", "--d595", "6", "--t-mid", "4",
-                 "--levels", "1", "6", "3", "--out", str(tmp_path / "f"), *base]) == 0  # fmt: skip
+    assert (
+        _cli(["ida", "--motions", *map(str, records), "--scales", "0.5", "4", "4", "--out", str(tmp_path / "i"), *base])
+        == 0
+    )
+    assert (
+        _cli(
+            [
+                "fragility",
+                "--stochastic",
+                "2",
+                "--seed",
+                "1",
+                "--duration",
+                "12",
+                "--d595",
+                "6",
+                "--t-mid",
+                "4",
+                "--levels",
+                "1",
+                "6",
+                "3",
+                "--out",
+                str(tmp_path / "f"),
+                *base,
+            ]
+        )
+        == 0
+    )
     out = capsys.readouterr().out
     assert "ida, bare:" in out and "fragility, damper:" in out
     for name in ("i/ida.png", "i/ida-motions.csv", "f/fragility.png", "f/fragility.json"):

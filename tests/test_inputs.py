@@ -62,35 +62,72 @@ def sign() -> st.SearchStrategy:
 
 #: Each public constructor with a strategy for its keyword arguments (every numeric one drawn).
 CONSTRUCTORS = {
-    "Block": (rocking.Block, st.fixed_dictionaries(
-        {"H": value(0.1, 5), "B": value(0.1, 2), "M": value(1, 1e4)},
-        optional={"e": value(-0.05, 0.05), "I_G": value(1, 1e3), "g": value(1, 20)},
-    )),
-    "Block.from_nondim": (rocking.Block.from_nondim, st.fixed_dictionaries(
-        {"p": value(0.5, 10)}, optional={"lam": value(1, 10), "alpha": value(0.05, 1), "M": value(1, 1e4),
-                                          "e_ratio": value(-0.2, 0.2), "g": value(1, 20)},
-    )),
-    "Damper": (rocking.Damper, st.fixed_dictionaries(
-        {"m": value(0, 100), "k_m": value(0, 1e4)}, optional={"c": value(0, 100), "h": value(0, 0.2)},
-    )),
-    "Damper.from_nondim": (lambda **kw: rocking.Damper.from_nondim(BLOCK, **kw), st.fixed_dictionaries(
-        {"gamma": value(0, 0.2)},
-        optional={"T_m": value(0.5, 10), "omega_ratio": value(0.2, 5), "zeta": value(0, 0.3), "h": value(0, 0.2)},
-    )),
-    "Stops": (rocking.Stops, st.fixed_dictionaries({"L": value(0.01, 0.3), "k_b": value(1, 1e6)},
-                                                   optional={"c_b": value(0, 100)})),
-    "Stops.at_edges": (lambda **kw: rocking.Stops.at_edges(BLOCK, DAMPER, **kw), st.fixed_dictionaries(
-        {}, optional={"depth": value(0.001, 0.1), "frequency_ratio": value(1, 100), "zeta_b": value(0, 1)},
-    )),
-    "Tuning": (Tuning, st.fixed_dictionaries(
-        {}, optional={"gamma": value(0, 0.2), "omega_ratio": value(0.2, 5), "zeta": value(0, 0.3), "h": value(0, 0.2)},
-    )),
-    "SampledMotion(dt)": (rocking.SampledMotion, st.fixed_dictionaries(
-        {"a": samples(), "dt": value(1e-3, 0.1)}, optional={"scale": value(0, 10), "sign": sign()},
-    )),
-    "SampledMotion(t)": (rocking.SampledMotion, st.fixed_dictionaries(
-        {"a": st.just([0.0, 1.0, 0.0]), "t": samples()}, optional={"scale": value(0, 10)},
-    )),
+    "Block": (
+        rocking.Block,
+        st.fixed_dictionaries(
+            {"H": value(0.1, 5), "B": value(0.1, 2), "M": value(1, 1e4)},
+            optional={"e": value(-0.05, 0.05), "I_G": value(1, 1e3), "g": value(1, 20)},
+        ),
+    ),
+    "Block.from_nondim": (
+        rocking.Block.from_nondim,
+        st.fixed_dictionaries(
+            {"p": value(0.5, 10)},
+            optional={
+                "lam": value(1, 10),
+                "alpha": value(0.05, 1),
+                "M": value(1, 1e4),
+                "e_ratio": value(-0.2, 0.2),
+                "g": value(1, 20),
+            },
+        ),
+    ),
+    "Damper": (
+        rocking.Damper,
+        st.fixed_dictionaries(
+            {"m": value(0, 100), "k_m": value(0, 1e4)},
+            optional={"c": value(0, 100), "h": value(0, 0.2)},
+        ),
+    ),
+    "Damper.from_nondim": (
+        lambda **kw: rocking.Damper.from_nondim(BLOCK, **kw),
+        st.fixed_dictionaries(
+            {"gamma": value(0, 0.2)},
+            optional={"T_m": value(0.5, 10), "omega_ratio": value(0.2, 5), "zeta": value(0, 0.3), "h": value(0, 0.2)},
+        ),
+    ),
+    "Stops": (
+        rocking.Stops,
+        st.fixed_dictionaries({"L": value(0.01, 0.3), "k_b": value(1, 1e6)}, optional={"c_b": value(0, 100)}),
+    ),
+    "Stops.at_edges": (
+        lambda **kw: rocking.Stops.at_edges(BLOCK, DAMPER, **kw),
+        st.fixed_dictionaries(
+            {},
+            optional={"depth": value(0.001, 0.1), "frequency_ratio": value(1, 100), "zeta_b": value(0, 1)},
+        ),
+    ),
+    "Tuning": (
+        Tuning,
+        st.fixed_dictionaries(
+            {},
+            optional={"gamma": value(0, 0.2), "omega_ratio": value(0.2, 5), "zeta": value(0, 0.3), "h": value(0, 0.2)},
+        ),
+    ),
+    "SampledMotion(dt)": (
+        rocking.SampledMotion,
+        st.fixed_dictionaries(
+            {"a": samples(), "dt": value(1e-3, 0.1)},
+            optional={"scale": value(0, 10), "sign": sign()},
+        ),
+    ),
+    "SampledMotion(t)": (
+        rocking.SampledMotion,
+        st.fixed_dictionaries(
+            {"a": st.just([0.0, 1.0, 0.0]), "t": samples()},
+            optional={"scale": value(0, 10)},
+        ),
+    ),
     "SampledMotion.scaled": (RECORD.scaled, st.fixed_dictionaries({"factor": value(0, 10)})),
     "SampledMotion.scaled_to_pga": (RECORD.scaled_to_pga, st.fixed_dictionaries({"target": value(0, 10)})),
 }
@@ -102,14 +139,18 @@ for _name, _cls, _shape in (
 ):
     _required = {"gamma": _shape["gamma"]} if "gamma" in _shape else {}
     _optional = {**{k: v for k, v in _shape.items() if k != "gamma"}, "sign": sign()}
-    CONSTRUCTORS[_name] = (_cls, st.fixed_dictionaries(
-        {"a_g": value(0, 20), "omega_g": value(1, 40), **_required}, optional=_optional))
+    CONSTRUCTORS[_name] = (
+        _cls,
+        st.fixed_dictionaries({"a_g": value(0, 20), "omega_g": value(1, 40), **_required}, optional=_optional),
+    )
     CONSTRUCTORS[f"{_name}.from_nondim"] = (
         lambda _c=_cls, **kw: _c.from_nondim(BLOCK, **kw),
         st.fixed_dictionaries({"beta": value(0, 15), "Omega": value(0.5, 15), **_required}, optional=_optional),
     )
-    CONSTRUCTORS[f"{_name}.from_period"] = (_cls.from_period, st.fixed_dictionaries(
-        {"a_g": value(0, 20), "T_g": value(0.1, 10), **_required}, optional=_optional))
+    CONSTRUCTORS[f"{_name}.from_period"] = (
+        _cls.from_period,
+        st.fixed_dictionaries({"a_g": value(0, 20), "T_g": value(0.1, 10), **_required}, optional=_optional),
+    )
 
 
 def _numbers_of(obj) -> list:

@@ -61,9 +61,12 @@ def test_durations_and_zero_outside():
     """t_p: 2 pi / omega_g (cosine), 16 / omega_g (Ricker), 8 sqrt 6 / omega_g (antisymmetric Ricker),
     2 gamma pi / omega_g (MP); 0 outside [0, t_p]."""
     mp = MavroeidisPapageorgiou(A_G, W, gamma=2.5)
-    for motion, t_p in [(OneCosinePulse(A_G, W), 2 * math.pi / W), (RickerWavelet(A_G, W), 16 / W),
-                        (RickerWavelet(A_G, W, antisymmetric=True), 8 * math.sqrt(6) / W),
-                        (mp, 2 * 2.5 * math.pi / W)]:  # fmt: skip
+    for motion, t_p in [
+        (OneCosinePulse(A_G, W), 2 * math.pi / W),
+        (RickerWavelet(A_G, W), 16 / W),
+        (RickerWavelet(A_G, W, antisymmetric=True), 8 * math.sqrt(6) / W),
+        (mp, 2 * 2.5 * math.pi / W),
+    ]:
         assert motion.t_p == pytest.approx(t_p, rel=1e-15)
         assert motion.acceleration([-1e-9, t_p * (1 + 1e-9), 10 * t_p]).tolist() == [0.0, 0.0, 0.0]
     assert mp.acceleration(0.0) == pytest.approx(0.0, abs=1e-12) and abs(mp.acceleration(mp.t_p)) < 1e-12
@@ -71,8 +74,12 @@ def test_durations_and_zero_outside():
 
 def test_peak_one_shapes_peak_at_a_g():
     """One-sine, one-cosine and both Ricker wavelets peak at a_g; the MP pulse stays below it."""
-    for motion in (OneSinePulse(A_G, W), OneCosinePulse(A_G, W), RickerWavelet(A_G, W),
-                   RickerWavelet(A_G, W, antisymmetric=True)):  # fmt: skip
+    for motion in (
+        OneSinePulse(A_G, W),
+        OneCosinePulse(A_G, W),
+        RickerWavelet(A_G, W),
+        RickerWavelet(A_G, W, antisymmetric=True),
+    ):
         t = np.linspace(0, motion.t_p, 200_001)
         assert np.max(np.abs(motion.acceleration(t))) == pytest.approx(A_G, rel=1e-9), motion
     anti = RickerWavelet(A_G, W, antisymmetric=True)
@@ -111,8 +118,9 @@ FOURIER_PEAKS = [
 ]
 
 
-@pytest.mark.parametrize(("motion", "ratio"), FOURIER_PEAKS,
-                         ids=["sine", "cosine", "ricker", "ricker_anti", "mp1.5", "mp2", "mp3", "mp5"])  # fmt: skip
+@pytest.mark.parametrize(
+    ("motion", "ratio"), FOURIER_PEAKS, ids=["sine", "cosine", "ricker", "ricker_anti", "mp1.5", "mp2", "mp3", "mp5"]
+)
 def test_fourier_peak_of_each_family(motion, ratio):
     """The period of the spectral peak is the table's multiple of T_g: T_g itself for both Ricker wavelets
     (Vassiliou and Makris 2011's T_p), whatever the family's omega_g means otherwise."""
@@ -120,8 +128,11 @@ def test_fourier_peak_of_each_family(motion, ratio):
 
 
 def test_from_nondim_sets_beta_and_Omega():
-    for cls, shape in [(OneCosinePulse, {}), (RickerWavelet, {"antisymmetric": True}),
-                       (MavroeidisPapageorgiou, {"gamma": 3.0, "nu": 0.5})]:  # fmt: skip
+    for cls, shape in [
+        (OneCosinePulse, {}),
+        (RickerWavelet, {"antisymmetric": True}),
+        (MavroeidisPapageorgiou, {"gamma": 3.0, "nu": 0.5}),
+    ]:
         motion = cls.from_nondim(BLOCK, beta=2.0, Omega=3.0, sign=-1, **shape)
         assert (motion.beta(BLOCK), motion.Omega(BLOCK), motion.sign) == (pytest.approx(2.0), pytest.approx(3.0), -1)
         assert cls.from_period(1.0, 0.5, **shape).omega_g == pytest.approx(4 * math.pi)
@@ -196,9 +207,15 @@ def test_sampled_batch_shares_one_buffer_and_is_the_single_runs():
     assert packed.buffer.ctypes.data == record.a.ctypes.data and len(set(packed.pointers().tolist())) == 1
     batch = run_cases(cases, "c", threads=2)
     for i in range(3):
-        one = rocking.simulate(BLOCK, DAMPER, record.scaled(scales[i]) if signs[i] > 0 else
-                               SampledMotion(record.a, dt=record.dt, scale=scales[i], sign=-1), backend="c",
-                               t_after=3.0)  # fmt: skip
+        one = rocking.simulate(
+            BLOCK,
+            DAMPER,
+            record.scaled(scales[i])
+            if signs[i] > 0
+            else SampledMotion(record.a, dt=record.dt, scale=scales[i], sign=-1),
+            backend="c",
+            t_after=3.0,
+        )
         assert (bool(batch["overturned"][i]), int(batch["impacts"][i])) == (one.overturned, one.impacts)
         assert batch["theta_max"][i] == pytest.approx(one.theta_max, rel=1e-12)
 
@@ -208,12 +225,16 @@ def test_pulse_cases_of_each_family_are_the_single_runs(motion):
     Omega, beta = np.array([2.0, 5.0]), np.array([2.0, 6.0])
     shape = {"gamma_mp": 2.0, "nu": 0.4} if motion == "mp" else {}
     batch = run_cases(pulse_cases(BLOCK, Omega, beta, gamma=0.05, h=0.05, motion=motion, **shape), "c", threads=1)
-    cls, fixed = {"cosine": (OneCosinePulse, {}), "ricker": (RickerWavelet, {}),
-                  "ricker_anti": (RickerWavelet, {"antisymmetric": True}),
-                  "mp": (MavroeidisPapageorgiou, {"gamma": 2.0, "nu": 0.4})}[motion]  # fmt: skip
+    cls, fixed = {
+        "cosine": (OneCosinePulse, {}),
+        "ricker": (RickerWavelet, {}),
+        "ricker_anti": (RickerWavelet, {"antisymmetric": True}),
+        "mp": (MavroeidisPapageorgiou, {"gamma": 2.0, "nu": 0.4}),
+    }[motion]
     for i in range(2):
-        one = rocking.simulate(BLOCK, DAMPER, cls.from_nondim(BLOCK, beta=beta[i], Omega=Omega[i], **fixed),
-                               backend="c")  # fmt: skip
+        one = rocking.simulate(
+            BLOCK, DAMPER, cls.from_nondim(BLOCK, beta=beta[i], Omega=Omega[i], **fixed), backend="c"
+        )
         assert (bool(batch["overturned"][i]), int(batch["impacts"][i])) == (one.overturned, one.impacts)
         assert batch["theta_max"][i] == pytest.approx(one.theta_max, rel=1e-12)
 
@@ -228,8 +249,9 @@ class LouderSine(OneSinePulse):
         return 2 * super().acceleration(t)
 
 
-@pytest.mark.parametrize("pulse", [LouderSine(1.0, 2.0), lambda t: 0.0, "sine", None], ids=["subclass", "function",
-                                                                                            "name", "none"])
+@pytest.mark.parametrize(
+    "pulse", [LouderSine(1.0, 2.0), lambda t: 0.0, "sine", None], ids=["subclass", "function", "name", "none"]
+)
 def test_anything_but_a_registered_motion_is_refused(pulse):
     """A subclass could override acceleration, which neither back end would ever call: refused, never replaced."""
     with pytest.raises(ParameterError, match=r"^pulse must be one of rocking.OneSinePulse, ") as info:

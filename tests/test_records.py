@@ -49,8 +49,9 @@ def test_at2_values_written_without_separators_or_with_fortran_d_exponents(tmp_p
     """Negative values in fixed columns run together ("-.1234E-01-.2345E-01"); some tools write D exponents."""
     body = "-.1234567E-01-.2345678E-01 .5000000E+00\n .1000000D-04-.2500000D+00 .0000000D+00 .1D+00 .2\n"
     record = read_at2(_write(tmp_path / "r.AT2", [*WEST2, "NPTS=8, DT=.005 SEC"], body))
-    np.testing.assert_allclose(record.acceleration / STANDARD_GRAVITY,
-                               [-0.01234567, -0.02345678, 0.5, 1e-5, -0.25, 0.0, 0.1, 0.2])  # fmt: skip
+    np.testing.assert_allclose(
+        record.acceleration / STANDARD_GRAVITY, [-0.01234567, -0.02345678, 0.5, 1e-5, -0.25, 0.0, 0.1, 0.2]
+    )
 
 
 @pytest.mark.parametrize(
@@ -99,8 +100,11 @@ def test_columns_with_times_or_alone_in_any_unit(tmp_path):
 @pytest.mark.parametrize(
     ("text", "kwargs", "message"),
     [
-        ("t,a\n0,1\n0.01,2\n0.02,3\n0.04,4\n0.05,5\n", {"unit": "g"},
-         r"line 5: times must be uniformly spaced: step 0.02 s where the others are 0.01 s"),
+        (
+            "t,a\n0,1\n0.01,2\n0.02,3\n0.04,4\n0.05,5\n",
+            {"unit": "g"},
+            r"line 5: times must be uniformly spaced: step 0.02 s where the others are 0.01 s",
+        ),
         ("0,1\n0.01,nan\n", {"unit": "g"}, r"line 2: not a number: 'nan'"),
         ("0,1\n0.01,2,3\n", {"unit": "g"}, r"line 2: expected 2 column\(s\), got 3"),
         ("0,1\n", {"unit": "g"}, r"needs at least 2 samples"),
@@ -241,8 +245,12 @@ def test_a_line_longer_than_max_line_is_refused_at_that_line(tmp_path, monkeypat
 def test_a_record_of_more_than_max_samples_is_refused_early(tmp_path, monkeypatch):
     monkeypatch.setattr(records, "MAX_SAMPLES", 6)
     path = _write(tmp_path / "many.AT2", AT2_HEADER, _body(VALUES))
-    _refused(read_at2, path, r"many.AT2, line 4: more than the 6 samples a record may have \(MAX_SAMPLES; "
-                             r"got NPTS = 8\)$")  # fmt: skip
+    _refused(
+        read_at2,
+        path,
+        r"many.AT2, line 4: more than the 6 samples a record may have \(MAX_SAMPLES; "
+        r"got NPTS = 8\)$",
+    )
     rows = tmp_path / "many.csv"
     rows.write_text(CSV + "garbage that is never read\n")
     _refused(lambda p: read_columns(p, "g"), rows, r"many.csv, line 8: more than the 6 samples")
@@ -253,8 +261,12 @@ def test_an_at2_file_is_read_no_further_than_its_npts(tmp_path):
     a line that would be refused otherwise, and a line longer than any allowed)."""
     body = _body(VALUES) + _body(VALUES) + "not numbers\n" + "1 " * records.MAX_LINE
     path = _write(tmp_path / "long.AT2", AT2_HEADER, body)
-    _refused(read_at2, path, r"long.AT2, line 7: the header declares NPTS = 8 but the file holds more values "
-                             r"\(13 by this line\)$")  # fmt: skip
+    _refused(
+        read_at2,
+        path,
+        r"long.AT2, line 7: the header declares NPTS = 8 but the file holds more values "
+        r"\(13 by this line\)$",
+    )
 
 
 @pytest.mark.parametrize(
@@ -373,14 +385,25 @@ def test_a_unit_in_the_header_that_disagrees_or_is_unknown_is_refused(tmp_path, 
 def test_every_column_error_names_the_file(tmp_path):
     path = tmp_path / "c.csv"
     path.write_text("0,1\n1e300,2\n")
-    _refused(lambda p: read_columns(p, "g"), path, r"c.csv, line 2: the time step must be in \[1e-06, 10\] s "
-                                                   r"\(got 1e\+300\)")  # fmt: skip
+    _refused(
+        lambda p: read_columns(p, "g"),
+        path,
+        r"c.csv, line 2: the time step must be in \[1e-06, 10\] s "
+        r"\(got 1e\+300\)",
+    )
     path.write_text("".join(f"{10 * i},1\n" for i in range(1201)))
-    _refused(lambda p: read_columns(p, "g"), path, r"c.csv, line 1201: the record lasts 12000 s \(1201 samples at "
-                                                   r"dt = 10 s\): at most 11000 s$")  # fmt: skip
+    _refused(
+        lambda p: read_columns(p, "g"),
+        path,
+        r"c.csv, line 1201: the record lasts 12000 s \(1201 samples at "
+        r"dt = 10 s\): at most 11000 s$",
+    )
     _refused(lambda p: read_columns(p, "g", dt=0.1), path, r"c.csv: give dt \(s\) for a file of accelerations alone")
-    _refused(lambda p: read_columns(p, "g", dt=1e300, time_column=False), path,
-             r"c.csv: dt must be in \[1e-06, 10\] s \(got 1e\+300\)")  # fmt: skip
+    _refused(
+        lambda p: read_columns(p, "g", dt=1e300, time_column=False),
+        path,
+        r"c.csv: dt must be in \[1e-06, 10\] s \(got 1e\+300\)",
+    )
     _refused(lambda p: read_record(p, "g", dt=0.01, time_column=False), path, r"c.csv, line 1: expected 1 column")
 
 
@@ -394,16 +417,22 @@ def test_text_with_a_byte_order_mark_is_decoded(tmp_path, codec):
     path.write_bytes(data)
     np.testing.assert_allclose(read_record(path).acceleration, VALUES * STANDARD_GRAVITY)
     at2 = tmp_path / "e.AT2"
-    at2.write_bytes(("\ufeff" if codec.startswith("utf-16-") else "").encode(codec)
-                    + ("\n".join(AT2_HEADER) + "\n" + _body(VALUES)).encode(codec))  # fmt: skip
+    at2.write_bytes(
+        ("\ufeff" if codec.startswith("utf-16-") else "").encode(codec)
+        + ("\n".join(AT2_HEADER) + "\n" + _body(VALUES)).encode(codec)
+    )
     np.testing.assert_allclose(read_at2(at2).acceleration, VALUES * STANDARD_GRAVITY, rtol=1e-7)
 
 
 def test_utf16_without_a_byte_order_mark_is_refused_with_a_hint(tmp_path):
     path = tmp_path / "w.csv"
     path.write_bytes(CSV.encode("utf-16-le"))
-    _refused(lambda p: read_columns(p, "g"), path, r"w.csv, line 1: holds NUL bytes: not a text file \(UTF-16 "
-                                                   r"without a byte-order mark\? save it as UTF-8\)$")  # fmt: skip
+    _refused(
+        lambda p: read_columns(p, "g"),
+        path,
+        r"w.csv, line 1: holds NUL bytes: not a text file \(UTF-16 "
+        r"without a byte-order mark\? save it as UTF-8\)$",
+    )
 
 
 # --- fuzz: any bytes give a Record or the project's error, never another exception, never a hang -----------
@@ -492,8 +521,9 @@ def test_a_suites_file_replaced_by_a_pipe_is_refused_without_blocking(tmp_path):
     path.unlink()
     os.mkfifo(path)
     error = _within(10.0, lambda _: suite.motion(0), path).get("error")
-    assert isinstance(error, ParameterError) and str(error).endswith("s.AT2: is a named pipe, not a regular file: "
-                                                                     "only regular files are read")  # fmt: skip
+    assert isinstance(error, ParameterError) and str(error).endswith(
+        "s.AT2: is a named pipe, not a regular file: only regular files are read"
+    )
 
 
 def test_implausible_records_warn_and_are_read(tmp_path):

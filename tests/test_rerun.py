@@ -33,8 +33,9 @@ def test_a_saved_study_reruns_exactly_from_its_json(tmp_path, capsys):
     assert saved["command"]["name"] == "map" and saved["command"]["options"]["gamma"] == 0.04
     assert "out" not in saved["command"]["options"] and "workers" not in saved["command"]["options"]
     capsys.readouterr()
-    assert main(["map", "--config", str(tmp_path / "a" / "map.json"), "--out", str(tmp_path / "b"),
-                 "--no-progress"]) == 0  # fmt: skip
+    assert (
+        main(["map", "--config", str(tmp_path / "a" / "map.json"), "--out", str(tmp_path / "b"), "--no-progress"]) == 0
+    )
     assert "rerun exactly" in capsys.readouterr().out
     again = json.loads((tmp_path / "b" / "map.json").read_text())
     assert again["config_sha256"] == saved["config_sha256"]
@@ -42,8 +43,21 @@ def test_a_saved_study_reruns_exactly_from_its_json(tmp_path, capsys):
     for k, v in a.arrays.items():
         np.testing.assert_array_equal(b.arrays[k], v, err_msg=k)
     # An option given on the command line wins, and the changed configuration is said.
-    assert main(["map", "--config", str(tmp_path / "a" / "map.json"), "--out", str(tmp_path / "c"), "--gamma", "0.05",
-                 "--no-progress"]) == 0  # fmt: skip
+    assert (
+        main(
+            [
+                "map",
+                "--config",
+                str(tmp_path / "a" / "map.json"),
+                "--out",
+                str(tmp_path / "c"),
+                "--gamma",
+                "0.05",
+                "--no-progress",
+            ]
+        )
+        == 0
+    )
     assert "rerun of" in capsys.readouterr().out
     assert rocking.load(tmp_path / "c" / "map.json").config["damper"]["gamma"] == 0.05
 
@@ -262,8 +276,11 @@ scalars = st.one_of(
                      "reference", "sine", "c", "../..", DEEP]),
     st.text(max_size=20),
 )  # fmt: skip
-values = st.recursive(scalars, lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8),
-                      inner, max_size=4), max_leaves=8)  # fmt: skip
+values = st.recursive(
+    scalars,
+    lambda inner: st.lists(inner, max_size=4) | st.dictionaries(st.text(max_size=8), inner, max_size=4),
+    max_leaves=8,
+)
 
 
 def _paths(node, prefix=()) -> list[tuple]:
@@ -303,7 +320,6 @@ def _node(record, where):
     return record
 
 
-
 class Hang(Exception):
     """An example ran longer than :data:`HANG` seconds."""
 
@@ -325,8 +341,12 @@ def _deadline(seconds: int):
 #: What each fuzz test saw: refused in one line, accepted (the work would start, or a study loaded).
 OUTCOMES: dict = {}
 
-FUZZ = settings(max_examples=FUZZ_EXAMPLES, deadline=None, derandomize=True,
-                suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow])  # fmt: skip
+FUZZ = settings(
+    max_examples=FUZZ_EXAMPLES,
+    deadline=None,
+    derandomize=True,
+    suppress_health_check=[HealthCheck.function_scoped_fixture, HealthCheck.too_slow],
+)
 
 
 def _count(test: str, outcome: str) -> None:

@@ -123,9 +123,17 @@ def test_energy_balance_across_stop_contacts(backend):
     for c_b in (0.0, 40.0):
         params = {**damper, "k_b": 5e3, "c_b": c_b}
         problem = make_problem(
-            REFERENCE, params, STILL, model="omd_stops", rtol=1e-11, t_max=3.0, record_dt=2e-5,
-            y0=np.array([0.0, 0.0, 0.0, 0.6]), energy_rest=0.0, early_rest=False,
-        )  # fmt: skip
+            REFERENCE,
+            params,
+            STILL,
+            model="omd_stops",
+            rtol=1e-11,
+            t_max=3.0,
+            record_dt=2e-5,
+            y0=np.array([0.0, 0.0, 0.0, 0.6]),
+            energy_rest=0.0,
+            early_rest=False,
+        )
         r = run(problem, backend=backend, record=True)
         assert r.uplifts == 0 and r.stop_contacts >= 3
         h = r.history
@@ -156,9 +164,12 @@ def test_c_and_numpy_agree_with_stops():
     rng = np.random.default_rng(7)
     for _ in range(12):
         damper = Damper.from_nondim(
-            REFERENCE, gamma=rng.uniform(0.02, 0.2), omega_ratio=rng.uniform(0.5, 2.0),
-            zeta=rng.uniform(0.0, 0.2), h=0.05,
-        )  # fmt: skip
+            REFERENCE,
+            gamma=rng.uniform(0.02, 0.2),
+            omega_ratio=rng.uniform(0.5, 2.0),
+            zeta=rng.uniform(0.0, 0.2),
+            h=0.05,
+        )
         k_b = damper.k_m * 10 ** rng.uniform(1, 3)
         params = {**damper.as_params(), "L": rng.uniform(0.05, 0.25), **bumper(k_b, rng.uniform(0, 0.3), damper.m)}
         pulse = OneSinePulse.from_nondim(REFERENCE, beta=rng.uniform(1.2, 8), Omega=rng.uniform(1, 10))
@@ -166,8 +177,12 @@ def test_c_and_numpy_agree_with_stops():
         c, n = (run(problem, backend=b) for b in ("c", "numpy"))
         case = (params, pulse)
         assert (c.status, c.overturned, c.impacts, c.uplifts, c.stop_contacts) == (
-            n.status, n.overturned, n.impacts, n.uplifts, n.stop_contacts,
-        ), case  # fmt: skip
+            n.status,
+            n.overturned,
+            n.impacts,
+            n.uplifts,
+            n.stop_contacts,
+        ), case
         for field in ("theta_max", "x_max", "bumper_force_max"):
             assert getattr(c, field) == pytest.approx(getattr(n, field), rel=1e-6), (field, case)
         # The back ends locate a gap's root to a few ulps each, not the same ulps: their states differ by
@@ -195,9 +210,16 @@ def test_a_run_that_starts_inside_a_bumper_has_it_acting(backend):
     is pushed out at once and leaves it with the oscillator's velocity, omega_n * 1 cm for zeta_b = 0."""
     params = {**FREE, **bumper(1e4, 0.0)}
     problem = make_problem(
-        REFERENCE, params, STILL, model="omd_stops", rtol=1e-11, t_max=0.1,
-        y0=np.array([0.0, 0.11, 0.0, 0.0]), energy_rest=0.0, early_rest=False,
-    )  # fmt: skip
+        REFERENCE,
+        params,
+        STILL,
+        model="omd_stops",
+        rtol=1e-11,
+        t_max=0.1,
+        y0=np.array([0.0, 0.11, 0.0, 0.0]),
+        energy_rest=0.0,
+        early_rest=False,
+    )
     r = run(problem, backend=backend, record=True)
     assert r.stop_contacts == 0  # it was already in contact: the gap never closed
     assert r.history["dx"][-1] == pytest.approx(-math.sqrt(1e4) * 0.01, rel=1e-8)
@@ -214,17 +236,28 @@ def test_a_released_pad_pushes_again_where_its_force_turns_positive(backend):
     # ag = sin(2 pi t + 3 pi / 2) = -cos(2 pi t): about 1 m/s^2 into the pad, too little to lift the block.
     toward = OneSinePulse(a_g=1.0, omega_g=2 * math.pi, psi=1.5 * math.pi)
     problem = make_problem(
-        REFERENCE, params, toward, model="omd_stops", rtol=1e-11, t_max=0.03,
-        y0=np.array([0.0, FREE["L"] + 1e-3, 0.0, -0.02]), energy_rest=0.0, early_rest=False,
-    )  # fmt: skip
+        REFERENCE,
+        params,
+        toward,
+        model="omd_stops",
+        rtol=1e-11,
+        t_max=0.03,
+        y0=np.array([0.0, FREE["L"] + 1e-3, 0.0, -0.02]),
+        energy_rest=0.0,
+        early_rest=False,
+    )
     r = run(problem, backend=backend, record=True)
     h = r.history
     push = params["k_b"] * (h["x"] - FREE["L"]) + params["c_b"] * h["dx"]
     i = np.flatnonzero(push > 0.0)[0]  # the first row where the pad pushes: the event, on the side after its root
     assert (r.uplifts, r.stop_contacts) == (0, 1) and h["t"][i] == pytest.approx(0.0116632321939, abs=1e-9)
     assert h["x"][i] > FREE["L"] and push[i] < 1e-6 and np.all(push[:i] <= 0.0)
-    assert 0.0 < r.bumper_force_max and np.all(load_model("omd_stops").functions.stop_forces(
-        1.0, *(h[k] for k in ("theta", "x", "dtheta", "dx")), 0.0, *problem.p)[0] >= 0.0)  # fmt: skip
+    assert 0.0 < r.bumper_force_max and np.all(
+        load_model("omd_stops").functions.stop_forces(
+            1.0, *(h[k] for k in ("theta", "x", "dtheta", "dx")), 0.0, *problem.p
+        )[0]
+        >= 0.0
+    )
 
 
 def test_the_contact_counters_of_a_run_cut_by_max_steps_are_those_of_its_last_segment(backend):
@@ -263,8 +296,9 @@ def test_a_damper_the_unlimited_guide_saves_overturns_with_stops_at_the_edges(ba
     a 0.5 m base; stopped at the edges, the block overturns."""
     pulse = OneSinePulse.from_nondim(REFERENCE, beta=10.0, Omega=7.5)
     free = public_simulate(REFERENCE, TUNED, pulse, backend=backend)
-    stopped = public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=Stops.at_edges(REFERENCE, TUNED)), pulse,
-                              backend=backend)  # fmt: skip
+    stopped = public_simulate(
+        REFERENCE, dataclasses.replace(TUNED, stops=Stops.at_edges(REFERENCE, TUNED)), pulse, backend=backend
+    )
     assert not free.overturned and free.x_max > 2 * REFERENCE.B
     assert stopped.overturned and stopped.stop_contacts >= 1
     assert REFERENCE.B / 2 - 0.02 < stopped.x_max < REFERENCE.B / 2
@@ -283,10 +317,16 @@ def test_a_damper_the_unlimited_guide_saves_overturns_with_stops_at_the_edges(ba
         (lambda: Stops(L=0.2, k_b=1e20).check_on(REFERENCE, TUNED), r"^omega_b must be in \[1e-3 p, 1e4 p\]"),
         (lambda: Stops(L=0.2, k_b=1e5, c_b=1e6).check_on(REFERENCE, TUNED), r"^zeta_b must be in \[0, 10\]"),
         (lambda: Stops.at_edges(REFERENCE, TUNED, depth=0.25), r"^depth must be in \(0, B/2\)"),
-        (lambda: public_simulate(REFERENCE, {**TUNED.as_params(), "L": 0.3, "k_b": 1e5, "c_b": 0.0}, STILL,
-                                 model="omd_stops"), r"^L must be in \(0, B/2\]"),  # fmt: skip
-        (lambda: public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=Stops(0.2, 1e5)), STILL, model="omd"),
-         r"has no parameter\(s\) L, c_b, k_b of its own"),  # fmt: skip
+        (
+            lambda: public_simulate(
+                REFERENCE, {**TUNED.as_params(), "L": 0.3, "k_b": 1e5, "c_b": 0.0}, STILL, model="omd_stops"
+            ),
+            r"^L must be in \(0, B/2\]",
+        ),
+        (
+            lambda: public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=Stops(0.2, 1e5)), STILL, model="omd"),
+            r"has no parameter\(s\) L, c_b, k_b of its own",
+        ),
     ],
 )
 def test_bad_stops_are_refused_with_the_parameter_and_its_range(make, message):

@@ -486,8 +486,9 @@ def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
         SETTING, Tuning(0.05, stops=True, stroke=0.1), *grids, SERIAL, runs=tmp_path / "short", full=True
     )
     assert np.nanmax(shorter.arrays["damper_x_max"]) < np.nanmax(a["damper_x_max"])
-    np.testing.assert_allclose(shorter.tables["map"]["damper_stroke_over_L"],
-                               np.ravel(shorter.arrays["damper_x_max"]) / 0.1)  # fmt: skip
+    np.testing.assert_allclose(
+        shorter.tables["map"]["damper_stroke_over_L"], np.ravel(shorter.arrays["damper_x_max"]) / 0.1
+    )
     assert stopped.config["damper"]["stops"] is True and "stops" not in free.config["damper"]
     argv = [
         "map",

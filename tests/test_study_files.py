@@ -227,8 +227,10 @@ def _full_at(monkeypatch, stage: str) -> None:
     if stage == "map.nc, older xarray":  # it writes the file itself; the library's error has no errno
         monkeypatch.setattr(storage, "no_space", lambda folder: True)
         error = {None: ValueError("invalid engine for creating bytes with to_netcdf")}
-        monkeypatch.setattr("xarray.Dataset.to_netcdf", lambda self, path=None, **k: _raise(
-            error.get(path, RuntimeError("NetCDF: HDF error"))))  # fmt: skip
+        monkeypatch.setattr(
+            "xarray.Dataset.to_netcdf",
+            lambda self, path=None, **k: _raise(error.get(path, RuntimeError("NetCDF: HDF error"))),
+        )
         return
     real = storage.write_file
     tiles_written = []
@@ -258,8 +260,9 @@ def test_a_full_disk_gives_one_line_keeps_the_tiles_and_a_rerun_completes(stage,
     kept = len(list((tmp_path / "runs").rglob("tile-*.npz")))
     file = re.escape(str(tmp_path / stage.split(",")[0]))
     where = r"\S+/runs/map-\w+-\w+/tile-\d+-\d+\.npz" if stage == "tile" else file
-    assert re.fullmatch(f"rocking map: error: disk full writing {where}: {kept} tiles kept, rerun to resume\n",
-                        capsys.readouterr().err)  # fmt: skip
+    assert re.fullmatch(
+        f"rocking map: error: disk full writing {where}: {kept} tiles kept, rerun to resume\n", capsys.readouterr().err
+    )
     assert kept == (3 if stage == "tile" else 12)
     assert not [f for f in MAP_FILES if (tmp_path / f).exists()] and not _leftovers(tmp_path)
     assert cli(argv) == 0
@@ -274,8 +277,9 @@ def test_a_full_disk_at_the_figures_keeps_the_published_study(tmp_path, monkeypa
         patched.setattr("matplotlib.figure.Figure.savefig", _enospc)
         patched.setattr(rocking.cli.study, "no_space", lambda folder: True)
         assert cli(argv) == 1
-    assert capsys.readouterr().err == (f"rocking map: error: disk full writing {tmp_path / 'map.png'} and .pdf: "
-                                       "12 tiles kept, rerun to resume\n")  # fmt: skip
+    assert capsys.readouterr().err == (
+        f"rocking map: error: disk full writing {tmp_path / 'map.png'} and .pdf: 12 tiles kept, rerun to resume\n"
+    )
     assert all((tmp_path / f).is_file() for f in MAP_FILES)  # the data are published, whole
     load(tmp_path / "map")
     assert cli(argv) == 0 and (tmp_path / "map.pdf").is_file()
@@ -304,8 +308,11 @@ def test_a_real_full_disk_a_tmpfs(tmp_path, capsys):
             if code == 0:
                 break
             assert code == 1, err
-            match = re.fullmatch(r"rocking map: error: disk full writing (\S+( and \.pdf)?): (\d+) tiles kept, "
-                                 r"rerun to resume\n", err)  # fmt: skip
+            match = re.fullmatch(
+                r"rocking map: error: disk full writing (\S+( and \.pdf)?): (\d+) tiles kept, "
+                r"rerun to resume\n",
+                err,
+            )
             assert match, err
             failed_at.append(Path(match.group(1)).name)
             assert not _leftovers(disk / "out")

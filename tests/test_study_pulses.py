@@ -26,8 +26,14 @@ def test_bare_beta_min_agrees_with_an_independent_simulation(pulse, tmp_path):
     block = rocking.Block.from_nondim(p=2.0, alpha=0.25, M=1000.0)
     Omega = sorted(INDEPENDENT[pulse])
     study = minimum_overturning_spectrum(
-        Setting(block, pulse=pulse), Tuning(0.05), Grid("Omega", Omega[0], Omega[-1], int(Omega[-1] - Omega[0]) + 1),
-        Grid("beta", 0.5, 8.0, 151), SERIAL, tol=1e-4, runs=tmp_path)  # fmt: skip
+        Setting(block, pulse=pulse),
+        Tuning(0.05),
+        Grid("Omega", Omega[0], Omega[-1], int(Omega[-1] - Omega[0]) + 1),
+        Grid("beta", 0.5, 8.0, 151),
+        SERIAL,
+        tol=1e-4,
+        runs=tmp_path,
+    )
     a = study.arrays
     for i, Om in enumerate(a["Omega"]):
         if Om in INDEPENDENT[pulse]:
@@ -40,8 +46,9 @@ def test_maps_and_spectra_run_every_family_and_record_it(tmp_path):
     outcomes = {}
     for pulse, shape in (("cosine", {}), ("ricker", {}), ("ricker_anti", {}), ("mp", {"gamma_mp": 2.0})):
         setting = Setting(rocking.Block.reference(), pulse=pulse, **shape)
-        study = overturning_map(setting, Tuning(0.05), Grid("Omega", 2.0, 6.0, 3), Grid("beta", 1.0, 9.0, 3),
-                                        SERIAL, runs=tmp_path)  # fmt: skip
+        study = overturning_map(
+            setting, Tuning(0.05), Grid("Omega", 2.0, 6.0, 3), Grid("beta", 1.0, 9.0, 3), SERIAL, runs=tmp_path
+        )
         assert study.config["pulse"]["motion"] == pulse and study.config["directions"]["signs"] == [1, -1]
         outcomes[pulse] = study.arrays["bare_overturned"]
         assert outcomes[pulse].any()

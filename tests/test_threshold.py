@@ -48,8 +48,14 @@ def test_safe_from_is_the_start_of_the_safe_tail():
 
 @pytest.fixture(scope="module")
 def small(tmp_path_factory):
-    return threshold_map(Grid("lam", 4.0, 4.0, 1), Grid("p", 1.5, 4.0, 2), Grid("Omega", 2.0, 14.0, 4), SERIAL,
-                         Tm=Grid("Tm", 0.3, 3.0, 3, log=True), runs=tmp_path_factory.mktemp("runs"))  # fmt: skip
+    return threshold_map(
+        Grid("lam", 4.0, 4.0, 1),
+        Grid("p", 1.5, 4.0, 2),
+        Grid("Omega", 2.0, 14.0, 4),
+        SERIAL,
+        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
+        runs=tmp_path_factory.mktemp("runs"),
+    )
 
 
 def test_bare_block_is_similar_across_sizes(small):
@@ -85,10 +91,24 @@ def test_threshold_reports_omega_star_or_where_the_block_is_safe(small):
 
 def test_threshold_resumes_from_its_tiles(small, tmp_path_factory):
     runs = tmp_path_factory.getbasetemp() / "again"
-    first = threshold_map(Grid("lam", 3.0, 3.0, 1), Grid("p", 2.0, 2.0, 1), Grid("Omega", 4.0, 6.0, 2), SERIAL,
-                          Tm=Grid("Tm", 1.0, 1.0, 1, log=True), refine=0, runs=runs)  # fmt: skip
-    again = threshold_map(Grid("lam", 3.0, 3.0, 1), Grid("p", 2.0, 2.0, 1), Grid("Omega", 4.0, 6.0, 2), SERIAL,
-                          Tm=Grid("Tm", 1.0, 1.0, 1, log=True), refine=0, runs=runs)  # fmt: skip
+    first = threshold_map(
+        Grid("lam", 3.0, 3.0, 1),
+        Grid("p", 2.0, 2.0, 1),
+        Grid("Omega", 4.0, 6.0, 2),
+        SERIAL,
+        Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
+        refine=0,
+        runs=runs,
+    )
+    again = threshold_map(
+        Grid("lam", 3.0, 3.0, 1),
+        Grid("p", 2.0, 2.0, 1),
+        Grid("Omega", 4.0, 6.0, 2),
+        SERIAL,
+        Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
+        refine=0,
+        runs=runs,
+    )
     assert again.run["tiles_computed"] == 0 and again.run["tiles_reused"] == first.run["tiles_computed"] == 2
     np.testing.assert_array_equal(again.arrays["stops_gain"], first.arrays["stops_gain"])
 
@@ -100,16 +120,47 @@ def test_threshold_resumes_from_its_tiles(small, tmp_path_factory):
 )  # fmt: skip
 def test_bad_threshold_input_is_refused_naming_it(kwargs, message, tmp_path):
     with pytest.raises(ParameterError, match=message):
-        threshold_map(Grid("lam", 4.0, 4.0, 1), Grid("p", 2.0, 2.0, 1), Grid("Omega", 2.0, 4.0, 2), SERIAL,
-                      runs=tmp_path, **kwargs)  # fmt: skip
+        threshold_map(
+            Grid("lam", 4.0, 4.0, 1),
+            Grid("p", 2.0, 2.0, 1),
+            Grid("Omega", 2.0, 4.0, 2),
+            SERIAL,
+            runs=tmp_path,
+            **kwargs,
+        )
 
 
 def test_cli_threshold_prints_omega_star_and_the_safe_frequencies(tmp_path, capsys):
     parser = argparse.ArgumentParser(prog="rocking")
     add_study_commands(parser.add_subparsers(dest="command", required=True))
-    args = parser.parse_args(["threshold", "--lam", "4", "4", "1", "--p", "2", "2", "1", "--Omega", "2", "14", "4",
-                              "--Tm-ratio", "0.5", "2", "2", "--refine", "0", "--workers", "1", "--no-progress",
-                              "--out", str(tmp_path)])  # fmt: skip
+    args = parser.parse_args(
+        [
+            "threshold",
+            "--lam",
+            "4",
+            "4",
+            "1",
+            "--p",
+            "2",
+            "2",
+            "1",
+            "--Omega",
+            "2",
+            "14",
+            "4",
+            "--Tm-ratio",
+            "0.5",
+            "2",
+            "2",
+            "--refine",
+            "0",
+            "--workers",
+            "1",
+            "--no-progress",
+            "--out",
+            str(tmp_path),
+        ]
+    )
     assert args.func(args) == 0
     out = capsys.readouterr().out
     assert "threshold, unlimited guide: Omega* bracketed at" in out

@@ -13,9 +13,11 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
-MAP = ("import rocking; ds = rocking.overturning_map(rocking.Block.reference(), dict(gamma=0.05), Omega=[2.0, 4.0], "
-       "beta=[2.0, 6.0], backend='c', workers=1, progress=False, runs={runs!r}); "
-       "print(ds['damper_theta_max_by_sign'].values.ravel().tolist())")
+MAP = (
+    "import rocking; ds = rocking.overturning_map(rocking.Block.reference(), dict(gamma=0.05), Omega=[2.0, 4.0], "
+    "beta=[2.0, 6.0], backend='c', workers=1, progress=False, runs={runs!r}); "
+    "print(ds['damper_theta_max_by_sign'].values.ravel().tolist())"
+)
 WHERE = "from rocking.sim import cbuild; import rocking; print(cbuild.build(rocking.load_model('omd')))"
 
 
@@ -28,8 +30,12 @@ def wheel_venv(tmp_path_factory):
     (wheel,) = (tmp / "dist").glob("rocking-*.whl")
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(tmp / "venv")], check=True)
     python = tmp / "venv" / "bin" / "python"
-    site = subprocess.run([python, "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
-                          capture_output=True, text=True, check=True).stdout.strip()  # fmt: skip
+    site = subprocess.run(
+        [python, "-c", "import sysconfig; print(sysconfig.get_path('purelib'))"],
+        capture_output=True,
+        text=True,
+        check=True,
+    ).stdout.strip()
     subprocess.run([*pip, "install", "--quiet", "--no-deps", "--target", site, str(wheel)], check=True)
     # numpy, scipy, ... from here: a path line only, so that this environment's editable rocking is not seen.
     (Path(site) / "borrowed.pth").write_text(sysconfig.get_path("purelib") + "\n")
@@ -43,10 +49,16 @@ def test_the_wheel_runs_a_map_on_c_without_a_compiler(wheel_venv):
     where = subprocess.run([python, "-c", WHERE], env=env, capture_output=True, text=True, cwd=tmp)
     assert where.returncode == 0, where.stderr
     assert "/rocking/sim/prebuilt/omd-" in where.stdout and str(tmp / "venv") in where.stdout
-    run = subprocess.run([python, "-W", "error::UserWarning", "-c", MAP.format(runs=str(tmp / "runs"))], env=env,
-                         capture_output=True, text=True, cwd=tmp)  # fmt: skip
+    run = subprocess.run(
+        [python, "-W", "error::UserWarning", "-c", MAP.format(runs=str(tmp / "runs"))],
+        env=env,
+        capture_output=True,
+        text=True,
+        cwd=tmp,
+    )
     assert run.returncode == 0, run.stderr
     assert not list(cache.glob("*.so"))  # nothing compiled: the wheel's library ran
-    here = subprocess.run([sys.executable, "-c", MAP.format(runs=str(tmp / "runs-here"))], capture_output=True,
-                          text=True, check=True)  # fmt: skip
+    here = subprocess.run(
+        [sys.executable, "-c", MAP.format(runs=str(tmp / "runs-here"))], capture_output=True, text=True, check=True
+    )
     np.testing.assert_allclose(json.loads(run.stdout), json.loads(here.stdout), rtol=1e-9)

@@ -228,11 +228,15 @@ def _motion(args) -> SampledMotion:
 def _motion_text(block, motion) -> str:
     """What the summary says of the excitation: a pulse's ratios and shape, or a record's length and peak."""
     if isinstance(motion, SampledMotion):
-        return (f"record of {motion.n} samples at dt={motion.dt:g} s, "
-                f"PGA={motion.pga:.4g} m/s2 ({motion.pga / block.g:.3g} g) at scale {motion.scale:.4g}, "
-                f"sign={motion.sign:+d}")  # fmt: skip
-    return (f"pulse beta={motion.beta(block):.4g} Omega={motion.Omega(block):.4g} (a_g={motion.a_g:.4g} m/s2, "
-            f"omega_g={motion.omega_g:.4g} rad/s, {_pulse_text(motion)}, sign={motion.sign:+d})")  # fmt: skip
+        return (
+            f"record of {motion.n} samples at dt={motion.dt:g} s, "
+            f"PGA={motion.pga:.4g} m/s2 ({motion.pga / block.g:.3g} g) at scale {motion.scale:.4g}, "
+            f"sign={motion.sign:+d}"
+        )
+    return (
+        f"pulse beta={motion.beta(block):.4g} Omega={motion.Omega(block):.4g} (a_g={motion.a_g:.4g} m/s2, "
+        f"omega_g={motion.omega_g:.4g} rad/s, {_pulse_text(motion)}, sign={motion.sign:+d})"
+    )
 
 
 def _pulse_text(pulse) -> str:
@@ -247,22 +251,36 @@ def _pulse_text(pulse) -> str:
 def _payload(block, damper, pulse, model, responses, models) -> dict:
     """What simulate --json prints; ``models``: each response's model (None: the block alone)."""
     if isinstance(pulse, SampledMotion):
-        excitation = {"family": "sampled", "samples": pulse.n, "dt": pulse.dt, "scale": pulse.scale,
-                      "pga": pulse.pga, "sign": pulse.sign}  # fmt: skip
+        excitation = {
+            "family": "sampled",
+            "samples": pulse.n,
+            "dt": pulse.dt,
+            "scale": pulse.scale,
+            "pga": pulse.pga,
+            "sign": pulse.sign,
+        }
     else:
         shape = {"psi": pulse.psi} if isinstance(pulse, OneSinePulse) else {"family": pulse.family}
         if isinstance(pulse, MavroeidisPapageorgiou):
             shape.update(gamma=pulse.gamma, nu=pulse.nu)
-        excitation = {"a_g": pulse.a_g, "omega_g": pulse.omega_g, **shape, "sign": pulse.sign,
-                      "beta": pulse.beta(block), "Omega": pulse.Omega(block)}  # fmt: skip
+        excitation = {
+            "a_g": pulse.a_g,
+            "omega_g": pulse.omega_g,
+            **shape,
+            "sign": pulse.sign,
+            "beta": pulse.beta(block),
+            "Omega": pulse.Omega(block),
+        }
     damper_params = (damper.as_params() if hasattr(damper, "as_params") else damper) if damper else None
     payload = {
         "block": block.as_params(),
         "model": model or (damper.model if isinstance(damper, Damper) else "omd" if damper else "block"),
         "damper": damper_params,
         "pulse": excitation,
-        "responses": {label: {**r.summary(), "mass_past_edge": mass_past_edge(r, block.B / 2, models[label])}
-                      for label, r in responses.items()},  # fmt: skip
+        "responses": {
+            label: {**r.summary(), "mass_past_edge": mass_past_edge(r, block.B / 2, models[label])}
+            for label, r in responses.items()
+        },
     }
     return {**payload, "units": _units(payload), "versions": versions()}
 
@@ -293,8 +311,10 @@ def _print_summary(block, pulse, responses, models) -> None:
         if mass_past_edge(r, block.B / 2, models[label]):
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
         if r.sensitive:
-            print(f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
-                  "(docs/simulation.md, Sensitivity to the tolerance)")  # fmt: skip
+            print(
+                f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
+                "(docs/simulation.md, Sensitivity to the tolerance)"
+            )
 
 
 def _stops_text(response, model: str | None) -> str:
@@ -306,9 +326,11 @@ def _stops_text(response, model: str | None) -> str:
 
 def _past_edge_text(response, block, model: str) -> str:
     """The warning of a response whose mass ran past the block's edge, with the way out."""
-    text = (f"WARNING: the damper's mass went past the block's edge (x_max = {response.x_max:.4g} m > "
-            f"B/2 = {block.B / 2:.4g} m): a guide on the block ends there, "
-            "so this response holds on paper only")  # fmt: skip
+    text = (
+        f"WARNING: the damper's mass went past the block's edge (x_max = {response.x_max:.4g} m > "
+        f"B/2 = {block.B / 2:.4g} m): a guide on the block ends there, "
+        "so this response holds on paper only"
+    )
     if "L" in load_model(model).own_parameters:
         return text + " (through its bumpers: stiffer ones, --k-b, or a shorter stroke, --L)"
     return text + "; --stops puts end stops at the edges"
@@ -398,13 +420,16 @@ def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument("--stops", action="store_true", help="bumper pads at the block's edges (Stops.at_edges)")
     g.add_argument(
-        "--L", type=float, help=f"half-stroke from the centre to either bumper, m, at most B/2 (default B/2 - "
-        f"{BUMPER_DEPTH:g})",
-    )  # fmt: skip
+        "--L",
+        type=float,
+        help=f"half-stroke from the centre to either bumper, m, at most B/2 (default B/2 - {BUMPER_DEPTH:g})",
+    )
     g.add_argument(
-        "--k-b", type=float, help=f"bumper stiffness, N/m (default m ({BUMPER_FREQUENCY_RATIO:g} omega_m)^2: a "
+        "--k-b",
+        type=float,
+        help=f"bumper stiffness, N/m (default m ({BUMPER_FREQUENCY_RATIO:g} omega_m)^2: a "
         f"bumper frequency {BUMPER_FREQUENCY_RATIO:g} times the damper's)",
-    )  # fmt: skip
+    )
     g.add_argument(
         "--c-b", type=float, help=f"bumper dashpot, N s/m (default: a damping ratio of {BUMPER_DAMPING_RATIO:g})"
     )

@@ -109,8 +109,9 @@ def checked_options(parser: argparse.ArgumentParser, options: dict, path: Path) 
             checked[name] = _option(action, value)
         except (TypeError, ValueError, ArithmeticError):
             flag = action.option_strings[-1] if action.option_strings else name
-            raise ParameterError(f"--config {path}: option {name} ({flag}) must be {_expected(action)} "
-                                 f"(got {shown(value)})") from None  # fmt: skip
+            raise ParameterError(
+                f"--config {path}: option {name} ({flag}) must be {_expected(action)} (got {shown(value)})"
+            ) from None
     return checked
 
 
@@ -135,13 +136,13 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
     if command.get("name") != args.command:
         name = command.get("name")
         name = name_text(name) if isinstance(name, str) else shown(name)
-        raise ParameterError(f"--config {path}: a study of 'rocking {name}', not of "
-                             f"'rocking {args.command}'")  # fmt: skip
+        raise ParameterError(f"--config {path}: a study of 'rocking {name}', not of 'rocking {args.command}'")
     unknown = sorted(set(command["options"]) - (set(vars(args)) - EXECUTION))
     if unknown:
         names = ", ".join(map(name_text, unknown[:5])) + (", ..." if len(unknown) > 5 else "")
-        raise ParameterError(f"--config {path}: unknown option(s) {names} for 'rocking {args.command}' "
-                             f"(saved by another version?)")  # fmt: skip
+        raise ParameterError(
+            f"--config {path}: unknown option(s) {names} for 'rocking {args.command}' (saved by another version?)"
+        )
     subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     command_parser = subcommands.choices[args.command]
     options = checked_options(command_parser, command["options"], path)
@@ -169,6 +170,7 @@ def check_same(study: Study, record: dict, path: str) -> str:
     """A line saying whether ``study`` has the configuration of the saved ``record``."""
     if config_hash(study.config) == record.get("config_sha256", config_hash(record["config"])):
         return f"{study.kind}: the configuration of {path}, rerun exactly"
-    changed = sorted(k for k in set(study.config) | set(record["config"])
-                     if study.config.get(k) != record["config"].get(k))  # fmt: skip
+    changed = sorted(
+        k for k in set(study.config) | set(record["config"]) if study.config.get(k) != record["config"].get(k)
+    )
     return f"{study.kind}: rerun of {path} with other {', '.join(changed)} (given on the command line)"

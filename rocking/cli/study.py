@@ -188,10 +188,13 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
 
 def _add_pulse(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("pulse family", "As rocking.Setting(block, pulse=..., gamma_mp=..., nu=...).")
-    g.add_argument("--pulse", choices=[f.replace("_", "-") for f in PULSES],
-                   help="family of every pulse, docs/model.md section 12 (default sine); Omega = omega_g / p, "
-                   "omega_g 2 pi over the period of the cycle, of the Fourier peak (ricker, ricker-anti) or of "
-                   "the carrier (mp)")  # fmt: skip
+    g.add_argument(
+        "--pulse",
+        choices=[f.replace("_", "-") for f in PULSES],
+        help="family of every pulse, docs/model.md section 12 (default sine); Omega = omega_g / p, "
+        "omega_g 2 pi over the period of the cycle, of the Fourier peak (ricker, ricker-anti) or of "
+        "the carrier (mp)",
+    )
     g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulse mp, > 1")
     g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
 
@@ -351,8 +354,9 @@ def _inputs(args) -> tuple[tuple, Path]:
 def _refinement(args) -> dict:
     """``full=``, ``coarse=`` and ``verify=`` of a map, as given; --full refused with the others."""
     if args.full and (args.coarse is not None or args.verify is not None):
-        raise ParameterError("give --coarse/--verify (the steps of the adaptive refinement) or --full (every cell), "
-                             "not both")  # fmt: skip
+        raise ParameterError(
+            "give --coarse/--verify (the steps of the adaptive refinement) or --full (every cell), not both"
+        )
     return given(args, ("full", "coarse", "verify"))
 
 
@@ -385,8 +389,9 @@ def _print_map(study: Study) -> None:
 
 def _cmd_spectrum(args) -> int:
     inputs, out = _inputs(args)
-    study = minimum_overturning_spectrum(*inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)),
-                                         **given(args, ("coarse",)))  # fmt: skip
+    study = minimum_overturning_spectrum(
+        *inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)), **given(args, ("coarse",))
+    )
     _report(study, out)
     _print_spectrum(study)
     return 0
@@ -403,8 +408,10 @@ def _print_spectrum(study: Study) -> None:
     both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
     if both.any():
         gain = a["damper_beta_min"][both] / a["bare_beta_min"][both]
-        print(f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
-              f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}")  # fmt: skip
+        print(
+            f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
+            f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"
+        )
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
         print(
@@ -513,35 +520,44 @@ def design_verdict(summary: dict) -> str:
     pulse worse, or has no verdict (the gain is undefined over the whole band)."""
     worst = summary["worst_gain"]
     if worst is None:
-        return ("no verdict: the gain is undefined over the whole band (the block alone survives the beta scan; "
-                "widen --beta)")
+        return (
+            "no verdict: the gain is undefined over the whole band (the block alone survives the beta scan; "
+            "widen --beta)"
+        )
     where = f"at Omega = {summary['worst_at_Omega']:.3g}"
     bound = ", a lower bound: the damped block survived the scan there" if summary["worst_gain_is_lower_bound"] else ""
     if worst > USELESS_GAIN:
         return f"helps: worst gain {worst:.2f} over the band ({where}{bound})"
     if worst >= 1.0:
         return f"no useful gain (worst gain {worst:.2f} <= {USELESS_GAIN:g}, {where}{bound})"
-    return (f"makes some pulses worse: worst gain {worst:.2f} < 1 ({where}{bound}); no damper of this budget and "
-            "stroke helps over the whole band")  # fmt: skip
+    return (
+        f"makes some pulses worse: worst gain {worst:.2f} < 1 ({where}{bound}); no damper of this budget and "
+        "stroke helps over the whole band"
+    )
 
 
 def edge_warnings(summary: dict, damper: dict) -> list[str]:
     """One warning per optimal parameter at an end of its search range, with the option that widens it."""
     out = []
-    for name, value, edge, option in (("T_m p / 2 pi", damper["Tm_ratio"], summary["Tm_at_edge"], "--Tm-ratio"),
-                                      ("zeta", damper["zeta"], summary["zeta_at_edge"], "--zeta-grid")):  # fmt: skip
+    for name, value, edge, option in (
+        ("T_m p / 2 pi", damper["Tm_ratio"], summary["Tm_at_edge"], "--Tm-ratio"),
+        ("zeta", damper["zeta"], summary["zeta_at_edge"], "--zeta-grid"),
+    ):
         if edge:
             end, bound = ("smallest", "MIN below") if edge < 0 else ("largest", "MAX above")
-            out.append(f"the optimal {name} = {value:.3g} is the {end} of its search range: the best may lie "
-                       f"beyond; widen it with {option} MIN MAX N, {bound} {value:.3g}")  # fmt: skip
+            out.append(
+                f"the optimal {name} = {value:.3g} is the {end} of its search range: the best may lie "
+                f"beyond; widen it with {option} MIN MAX N, {bound} {value:.3g}"
+            )
     return out
 
 
 def _cmd_threshold(args) -> int:
     grids = [grid_from(name, getattr(args, name)) for name in ("lam", "p", "Omega")]
     search = {"Tm": grid_from("Tm-ratio", args.Tm_ratio, log=True)} if args.Tm_ratio is not None else {}
-    options = given(args, ("e_ratio", "gamma", "zeta", "h", "refine", "a_max", "rtol", "t_after", "backend",
-                           "directions"))  # fmt: skip
+    options = given(
+        args, ("e_ratio", "gamma", "zeta", "h", "refine", "a_max", "rtol", "t_after", "backend", "directions")
+    )
     execution, out = execution_from(args), out_from(args)
     study = threshold_map(*grids, execution, runs=out / "runs", **options, **_tol(args), **search)
     _report(study, out)
@@ -552,8 +568,10 @@ def _cmd_threshold(args) -> int:
 def _print_threshold_map(study: Study) -> None:
     a, bound = study.arrays, study.summary["a_max_g"]
     for kind in ("unlimited", "stops"):
-        print(f"threshold, {kind} guide: Omega* bracketed at {study.summary[kind]['bracketed']} of "
-              f"{a['lam'].size * a['p'].size} geometries")  # fmt: skip
+        print(
+            f"threshold, {kind} guide: Omega* bracketed at {study.summary[kind]['bracketed']} of "
+            f"{a['lam'].size * a['p'].size} geometries"
+        )
         for i, lam in enumerate(a["lam"]):
             cells = []
             for j, p in enumerate(a["p"]):
@@ -564,8 +582,10 @@ def _print_threshold_map(study: Study) -> None:
             print(f"  lambda = {lam:g}: " + "; ".join(cells))
     for i, lam in enumerate(a["lam"]):
         safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in a["safe_from"][i])
-        print(f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
-              f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)")  # fmt: skip
+        print(
+            f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
+            f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)"
+        )
 
 
 def _pulse_suite(args) -> Suite:
@@ -588,11 +608,15 @@ def _suite_from(args) -> Suite:
     """The motions of ``ida``/``fragility``: ``--motions FILES``, ``--stochastic N --seed S`` (site options)
     or ``--pulses FAMILY --periods T...``."""
     site_options = given(args, SITE_OPTIONS)
-    sources = [flag for flag, value in (("--motions", args.motions), ("--stochastic", args.stochastic),
-                                        ("--pulses", args.pulses)) if value is not None]  # fmt: skip
+    sources = [
+        flag
+        for flag, value in (("--motions", args.motions), ("--stochastic", args.stochastic), ("--pulses", args.pulses))
+        if value is not None
+    ]
     if len(sources) > 1:
-        raise ParameterError(f"give one of --motions FILES, --stochastic N or --pulses FAMILY "
-                             f"(got {', '.join(sources)})")
+        raise ParameterError(
+            f"give one of --motions FILES, --stochastic N or --pulses FAMILY (got {', '.join(sources)})"
+        )
     pulse_options = given(args, PULSE_SUITE_OPTIONS)
     if args.pulses is None and pulse_options:
         raise ParameterError(f"{flags(pulse_options)}: options of --pulses FAMILY")
@@ -616,8 +640,9 @@ def _cmd_ida(args) -> int:
     setting, damper, execution = setting_from(args), damper_from(args), execution_from(args)
     suite = _suite_from(args)
     out = out_from(args)
-    study = incremental_dynamic_analysis(setting, damper, suite, grid, execution, measure_name=measure,
-                                         runs=out / "runs", **given(args, ("directions",)))  # fmt: skip
+    study = incremental_dynamic_analysis(
+        setting, damper, suite, grid, execution, measure_name=measure, runs=out / "runs", **given(args, ("directions",))
+    )
     _report(study, out)
     s = study.summary
     for part in ("bare", "damper"):
@@ -626,11 +651,15 @@ def _cmd_ida(args) -> int:
         text = fit["status"]
         if fit["status"] in FITTED:
             (t0, t1), (b0, b1) = fit["theta_interval"], fit["beta_interval"]
-            text = (f"median {fit['theta']:.4g} {unit}, dispersion {fit['beta']:.3g} (90 % intervals {t0:.4g} to "
-                    f"{t1:.4g}, {b0:.3g} to {b1:.3g}), {fit['status']}")  # fmt: skip
-        print(f"{study.kind}, {part}: {text}; {fit['motions_with_resurrections']} of {s['motions']} motions "
-              "overturn the block at a level and not at a higher one; "
-              f"{fit['sensitive']} of {study.run['responses'] // 2} responses sensitive to the tolerance")  # fmt: skip
+            text = (
+                f"median {fit['theta']:.4g} {unit}, dispersion {fit['beta']:.3g} (90 % intervals {t0:.4g} to "
+                f"{t1:.4g}, {b0:.3g} to {b1:.3g}), {fit['status']}"
+            )
+        print(
+            f"{study.kind}, {part}: {text}; {fit['motions_with_resurrections']} of {s['motions']} motions "
+            "overturn the block at a level and not at a higher one; "
+            f"{fit['sensitive']} of {study.run['responses'] // 2} responses sensitive to the tolerance"
+        )
     return 0
 
 
@@ -644,8 +673,9 @@ def _cmd_demo(args) -> int:
     runs = out / "runs"
     for suffix, damper in dampers:
         # Full maps: the figures tell every saved cell's stroke, which an adaptive map computes at its edges only.
-        study = overturning_map(setting, damper, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA),
-                                execution, runs=runs, full=True)  # fmt: skip
+        study = overturning_map(
+            setting, damper, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA), execution, runs=runs, full=True
+        )
         _report(study, out, f"map{suffix}")
         _print_map(study)
     for suffix, damper in dampers:
@@ -653,17 +683,37 @@ def _cmd_demo(args) -> int:
         study = minimum_overturning_spectrum(setting, damper, Omega, beta, execution, runs=runs, **_tol(args))
         _report(study, out, f"spectrum{suffix}")
         _print_spectrum(study)
-    study = design(setting, grid_from("Omega", DESIGN_OMEGA), grid_from("beta", DESIGN_BETA), execution,
-                   gamma=tuning.gamma, h=tuning.h, runs=runs, **_tol(args))  # fmt: skip
+    study = design(
+        setting,
+        grid_from("Omega", DESIGN_OMEGA),
+        grid_from("beta", DESIGN_BETA),
+        execution,
+        gamma=tuning.gamma,
+        h=tuning.h,
+        runs=runs,
+        **_tol(args),
+    )
     _report(study, out)
     _print_design(study)
     grids = [grid_from(name, default) for name, default in (("lam", LAM_GRID), ("p", P_GRID), ("Omega", OMEGA_GRID))]
-    study = threshold_map(*grids, execution, gamma=tuning.gamma, zeta=tuning.zeta, h=tuning.h, rtol=setting.rtol,
-                          t_after=setting.t_after, backend=setting.backend, runs=runs, **_tol(args))  # fmt: skip
+    study = threshold_map(
+        *grids,
+        execution,
+        gamma=tuning.gamma,
+        zeta=tuning.zeta,
+        h=tuning.h,
+        rtol=setting.rtol,
+        t_after=setting.t_after,
+        backend=setting.backend,
+        runs=runs,
+        **_tol(args),
+    )
     _report(study, out)
     _print_threshold_map(study)
-    print(f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
-          "spectrum-unlimited, design, threshold .png/.pdf)")  # fmt: skip
+    print(
+        f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
+        "spectrum-unlimited, design, threshold .png/.pdf)"
+    )
     return 0
 
 
@@ -709,8 +759,9 @@ def _guarded(command):
             return 2
         except DiskFull as exc:
             kept = "finished tiles kept" if exc.kept is None else f"{exc.kept} tiles kept"
-            print(f"rocking {args.command}: error: disk full writing {exc.path}: {kept}, rerun to resume",
-                  file=sys.stderr)  # fmt: skip
+            print(
+                f"rocking {args.command}: error: disk full writing {exc.path}: {kept}, rerun to resume", file=sys.stderr
+            )
             return 1
         except Interrupted as exc:
             print(
@@ -762,9 +813,7 @@ def add_study_commands(subparsers) -> None:
         "region of one class that holds STEP x STEP cells is found, smaller ones near the class boundaries "
         "(default: the coarse step)",
     )
-    p.add_argument(
-        "--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)"
-    )
+    p.add_argument("--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)")
     _add_directions(p)
     _add_pulse(p)
     _add_solver(p)
@@ -864,25 +913,41 @@ def add_study_commands(subparsers) -> None:
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_demo))
 
-    for name, text in (("ida", "incremental dynamic analysis: every record at every scale factor, with and without "
-                               "the damper"),
-                       ("fragility", "fragility curves: the probability of overturning against an intensity measure, "
-                                     "over a suite of records or of stochastic motions")):  # fmt: skip
+    for name, text in (
+        ("ida", "incremental dynamic analysis: every record at every scale factor, with and without the damper"),
+        (
+            "fragility",
+            "fragility curves: the probability of overturning against an intensity measure, "
+            "over a suite of records or of stochastic motions",
+        ),
+    ):
         p = _study_parser(subparsers, name, text)
         _add_damper(p, tuned=True, searched=False)
         _add_variant(p)
-        g = p.add_argument_group("motions", "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
-                                 "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).")  # fmt: skip
+        g = p.add_argument_group(
+            "motions",
+            "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
+            "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).",
+        )
         g.add_argument("--motions", nargs="+", metavar="FILE", help="records: PEER NGA .AT2, or 'time, a' columns")
-        g.add_argument("--unit", choices=tuple(UNITS),
-                       help="unit of the accelerations of text or CSV records (default: the one each header states)")
+        g.add_argument(
+            "--unit",
+            choices=tuple(UNITS),
+            help="unit of the accelerations of text or CSV records (default: the one each header states)",
+        )
         g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
         g.add_argument("--seed", type=int, help="seed of the stochastic motions (default 0)")
         for option in SITE_OPTIONS:
-            g.add_argument(f"--{option.replace('_', '-')}", type=float,
-                           help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})")  # fmt: skip
-        g.add_argument("--pulses", choices=[f.replace("_", "-") for f in PULSES],
-                       help="a suite of analytic pulses of this family, one per --periods value")  # fmt: skip
+            g.add_argument(
+                f"--{option.replace('_', '-')}",
+                type=float,
+                help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
+            )
+        g.add_argument(
+            "--pulses",
+            choices=[f.replace("_", "-") for f in PULSES],
+            help="a suite of analytic pulses of this family, one per --periods value",
+        )
         g.add_argument("--periods", nargs="+", type=float, metavar="T", help="periods 2 pi / omega_g of --pulses, s")
         g.add_argument("--amplitude", type=float, help="amplitude a_g of --pulses, m/s2 (default 1 g)")
         g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulses mp, > 1")
@@ -890,8 +955,12 @@ def add_study_commands(subparsers) -> None:
         if name == "ida":
             _add_grid(p, "scales", IDA_SCALES, "scale factors of every record")
         else:
-            p.add_argument("--im", choices=tuple(LEVELS)[1:], default="pga",
-                           help="intensity measure (default pga; amplitude: the a_g of --pulses)")  # fmt: skip
+            p.add_argument(
+                "--im",
+                choices=tuple(LEVELS)[1:],
+                default="pga",
+                help="intensity measure (default pga; amplitude: the a_g of --pulses)",
+            )
             _add_grid(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
         _add_directions(p)
         _add_solver(p)

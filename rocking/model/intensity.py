@@ -109,8 +109,12 @@ def response_spectrum(a, dt, periods, zeta: float = 0.05) -> np.ndarray:
     out = np.empty(periods.size)
     for i, T in enumerate(periods):
         omega = 2 * np.pi / T
-        system = (np.array([[0.0, 1.0], [-(omega**2), -2 * zeta * omega]]), np.array([[0.0], [-1.0]]),
-                  np.array([[1.0, 0.0]]), np.array([[0.0]]))  # fmt: skip
+        system = (
+            np.array([[0.0, 1.0], [-(omega**2), -2 * zeta * omega]]),
+            np.array([[0.0], [-1.0]]),
+            np.array([[1.0, 0.0]]),
+            np.array([[0.0]]),
+        )
         A, B, C, D, _ = signal.cont2discrete(system, dt, method="foh")
         _, u, _ = signal.dlsim((A, B, C, D, dt), a[:, None])
         out[i] = omega**2 * np.max(np.abs(u))

@@ -651,7 +651,11 @@ def describe(motion: object) -> Description:
         return Description("sine", motion.sign * motion.a_g, phase=motion.psi, **common)
     extrema = listed_extrema(motion.family, motion.shape_parameter, motion.phase)
     return Description(
-        motion.family, motion.sign * motion.a_g, phase=motion.phase, t_c=motion.t_c, shape=motion.shape_parameter,
-        extrema=extrema, **common,
-    )  # fmt: skip
-
+        motion.family,
+        motion.sign * motion.a_g,
+        phase=motion.phase,
+        t_c=motion.t_c,
+        shape=motion.shape_parameter,
+        extrema=extrema,
+        **common,
+    )

@@ -332,8 +332,9 @@ RANGES: dict[str, Range] = {
     "beta": Range(0.0, 1e4, "", "amplitude over the uplift threshold, a_g / (g tan alpha)"),
     "Omega": Range(1e-2, 1e3, "", "pulse frequency over the block's, omega_g / p (the studies: 0.5 - 15)"),
     # --- the other ground motions (rocking.model.motion, docs/model.md section 12)
-    "gamma_mp": Range(1.0, 20.0, "", "oscillations of the Mavroeidis-Papageorgiou pulse (> 1; records: 1.5 - 3)",
-                      open_low=True),
+    "gamma_mp": Range(
+        1.0, 20.0, "", "oscillations of the Mavroeidis-Papageorgiou pulse (> 1; records: 1.5 - 3)", open_low=True
+    ),
     "pulse_dt": Range(1e-6, 10.0, "s", "the spacing of a sampled motion, from 1 us to 10 s"),
     # --- a run (make_problem, simulate, pulse_cases): its length bounds its work
     "t_after": Range(0.0, 1e4, "s", "a run follows the block at most 10^4 s after the pulse", open_low=True),
@@ -382,8 +383,10 @@ def _in_range(name: str, value: object, valid: Range, label: str | None = None, 
     doubles is outside every range).
     """
     unit = valid.unit if unit is None else unit
-    bounds = valid if scale == 1.0 and unit == valid.unit else replace(
-        valid, low=valid.low * scale, high=valid.high * scale, unit=unit
+    bounds = (
+        valid
+        if scale == 1.0 and unit == valid.unit
+        else replace(valid, low=valid.low * scale, high=valid.high * scale, unit=unit)
     )
     expected = f"{bounds.text(label)}: {bounds.why}"
     x = as_real(name, value, expected)
@@ -730,8 +733,9 @@ class Stops:
         return cls(L=float(L), k_b=float(k_b), c_b=float(c_b)).check_on(block, damper)
 
 
-def edge_stops(block: Block, m, omega_m, depth=BUMPER_DEPTH, frequency_ratio=BUMPER_FREQUENCY_RATIO,
-               zeta_b=BUMPER_DAMPING_RATIO) -> tuple:  # fmt: skip
+def edge_stops(
+    block: Block, m, omega_m, depth=BUMPER_DEPTH, frequency_ratio=BUMPER_FREQUENCY_RATIO, zeta_b=BUMPER_DAMPING_RATIO
+) -> tuple:
     """``(L, k_b, c_b)`` of :meth:`Stops.at_edges` for dampers of mass ``m`` and frequency ``omega_m`` (broadcasting).
 
     ``L = B/2 - depth``, ``k_b = m (frequency_ratio omega_m)^2``, ``c_b = 2 zeta_b sqrt(k_b m)``; unchecked.

@@ -34,15 +34,19 @@ def _warn(message: str) -> None:
 def check_mass_ratio(gamma: float) -> None:
     """Warn if the damper's mass ratio ``gamma = m / M`` exceeds :data:`GAMMA_MAX`."""
     if gamma > GAMMA_MAX:
-        _warn(f"the damper's mass is {gamma:.3g} of the block's (gamma > {GAMMA_MAX:g}): a damper heavier than "
-              "half the block is a second body, not a damper; is m (or --gamma) right?")  # fmt: skip
+        _warn(
+            f"the damper's mass is {gamma:.3g} of the block's (gamma > {GAMMA_MAX:g}): a damper heavier than "
+            "half the block is a second body, not a damper; is m (or --gamma) right?"
+        )
 
 
 def check_pga(pga: float, g: float) -> None:
     """Warn if a motion's peak ``pga`` (m/s^2) exceeds the largest recorded, :data:`PGA_RECORDED_MAX` g of ``g``."""
     if pga > PGA_RECORDED_MAX * g:
-        _warn(f"the motion's PGA is {pga / g:.3g} g, above the largest ever recorded ({PGA_RECORDED_MAX:g} g); "
-              "is the scale right?")  # fmt: skip
+        _warn(
+            f"the motion's PGA is {pga / g:.3g} g, above the largest ever recorded ({PGA_RECORDED_MAX:g} g); "
+            "is the scale right?"
+        )
 
 
 def check_record(pga_g: float, dt: float, unit: str | None, name: str = "the record") -> None:
@@ -60,8 +64,12 @@ def check_record(pga_g: float, dt: float, unit: str | None, name: str = "the rec
         The record, as the warning names it.
     """
     if unit == "g" and pga_g > PGA_UNIT_SUSPECT:
-        _warn(f"{name}: read in g, its PGA is {pga_g:.4g} g (> {PGA_UNIT_SUSPECT:g} g): its values look like "
-              "cm/s2; give --unit cm/s2 (or state it in the header)")  # fmt: skip
+        _warn(
+            f"{name}: read in g, its PGA is {pga_g:.4g} g (> {PGA_UNIT_SUSPECT:g} g): its values look like "
+            "cm/s2; give --unit cm/s2 (or state it in the header)"
+        )
     if dt > DT_MAX:
-        _warn(f"{name}: dt = {dt:g} s (> {DT_MAX:g} s): too coarse to resolve the short pulses that overturn "
-              "blocks; the motion is linear between samples")  # fmt: skip
+        _warn(
+            f"{name}: dt = {dt:g} s (> {DT_MAX:g} s): too coarse to resolve the short pulses that overturn "
+            "blocks; the motion is linear between samples"
+        )

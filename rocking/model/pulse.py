@@ -131,9 +131,7 @@ class OneSinePulse:
         return self.omega_g / block.p
 
     @classmethod
-    def from_nondim(
-        cls, block: Block, *, beta: float, Omega: float, psi: float = 0.0, sign: int = 1
-    ) -> OneSinePulse:
+    def from_nondim(cls, block: Block, *, beta: float, Omega: float, psi: float = 0.0, sign: int = 1) -> OneSinePulse:
         """Build a pulse scaled to ``block``.
 
         Parameters

@@ -172,8 +172,7 @@ def _regular(path, status: os.stat_result) -> None:
         via = f" ({target})" if target != os.path.abspath(path) else ""
         raise _fail(path, f"is {_kind(status.st_mode)}{via}, not a regular file: only regular files are read")
     if status.st_size > MAX_BYTES:
-        raise _fail(path, f"holds {status.st_size} bytes, more than the {MAX_BYTES} a record file may have "
-                          "(MAX_BYTES)")  # fmt: skip
+        raise _fail(path, f"holds {status.st_size} bytes, more than the {MAX_BYTES} a record file may have (MAX_BYTES)")
 
 
 def _encoding(raw: io.BufferedReader) -> str:
@@ -262,8 +261,9 @@ def _lines(path, text: io.TextIOWrapper) -> Iterator[tuple[int, str]]:
         if total > MAX_BYTES:
             raise _fail(path, f"more than the {MAX_BYTES} bytes a record file may have (MAX_BYTES)", number)
         if "\0" in line:
-            raise _fail(path, "holds NUL bytes: not a text file (UTF-16 without a byte-order mark? "
-                              "save it as UTF-8)", number)  # fmt: skip
+            raise _fail(
+                path, "holds NUL bytes: not a text file (UTF-16 without a byte-order mark? save it as UTF-8)", number
+            )
         yield number, _decoded(line.rstrip("\n"))
 
 
@@ -323,8 +323,12 @@ def _acceleration(path, texts: list[str], values: list[float], scale: float, uni
         return values
     for text, value in zip(texts, values):
         if not abs(value) * scale <= RANGES["a_g"].high:  # also inf: "1e999" is a number that overflows
-            raise _fail(path, f"the acceleration {_shown(text)} {unit} is beyond {RANGES['a_g'].high:g} m/s^2 "
-                              f"in magnitude: {RANGES['a_g'].why}", number)  # fmt: skip
+            raise _fail(
+                path,
+                f"the acceleration {_shown(text)} {unit} is beyond {RANGES['a_g'].high:g} m/s^2 "
+                f"in magnitude: {RANGES['a_g'].why}",
+                number,
+            )
     return values
 
 
@@ -340,8 +344,11 @@ def _checked_step(path, name: str, dt: object, line: int | None) -> float:
 def _checked_length(path, n: int, dt: float, line: int | None) -> None:
     """Refuse a record of ``n`` samples at ``dt`` lasting longer than ``RANGES["t_max"]`` (a run's bound)."""
     if (n - 1) * dt > RANGES["t_max"].high:
-        raise _fail(path, f"the record lasts {(n - 1) * dt:g} s ({n} samples at dt = {dt:g} s): "
-                          f"at most {RANGES['t_max'].high:g} s", line)  # fmt: skip
+        raise _fail(
+            path,
+            f"the record lasts {(n - 1) * dt:g} s ({n} samples at dt = {dt:g} s): at most {RANGES['t_max'].high:g} s",
+            line,
+        )
 
 
 def _too_many(path, n: object, line: int | None) -> ParameterError:
@@ -360,12 +367,12 @@ def _at2_header(path, lines: list[str]) -> tuple[int, float]:
         raise _fail(path, f"an AT2 file has 4 header lines; this one has {len(lines)} line(s)")
     units = lines[2].upper()
     if "UNITS OF G" not in units and not re.search(r"\bIN\s+G\b", units):
-        raise _fail(path, f"line 3 must give the units (\"... IN UNITS OF G\"): got {_shown(lines[2].strip())}", 3)
+        raise _fail(path, f'line 3 must give the units ("... IN UNITS OF G"): got {_shown(lines[2].strip())}', 3)
     old = _OLD.match(lines[3])
     npts, dt = (old.group(1), old.group(2)) if old else (_match(_NPTS, lines[3]), _match(_DT, lines[3]))
     if npts is None or dt is None:
         got = _shown(lines[3].strip())
-        raise _fail(path, f"line 4 must give NPTS and DT (\"NPTS= 4000, DT= .0050 SEC\"): got {got}", 4)
+        raise _fail(path, f'line 4 must give NPTS and DT ("NPTS= 4000, DT= .0050 SEC"): got {got}', 4)
     if len(npts) > len(str(MAX_SAMPLES)) or int(npts) > MAX_SAMPLES:  # int() of thousands of digits is refused
         raise _too_many(path, f"NPTS = {npts[:20]}", 4)
     npts = int(npts)
@@ -388,11 +395,15 @@ def _at2_body(path, lines: Iterator[tuple[int, str]], npts: int) -> np.ndarray:
     for number, line in lines:
         values.extend(_acceleration(path, *_at2_line(path, line, number), STANDARD_GRAVITY, "g", number))
         if len(values) > npts:
-            raise _fail(path, f"the header declares NPTS = {npts} but the file holds more values "
-                              f"({len(values)} by this line)", number)  # fmt: skip
+            raise _fail(
+                path,
+                f"the header declares NPTS = {npts} but the file holds more values ({len(values)} by this line)",
+                number,
+            )
     if len(values) != npts:
-        raise _fail(path, f"the header declares NPTS = {npts} but the file holds {len(values)} values "
-                          "(truncated or damaged?)")  # fmt: skip
+        raise _fail(
+            path, f"the header declares NPTS = {npts} but the file holds {len(values)} values (truncated or damaged?)"
+        )
     return np.frombuffer(values, float) * STANDARD_GRAVITY
 
 
@@ -446,9 +457,12 @@ def _stated_unit(path, line: str, number: int) -> str | None:
     for stated in _STATED_UNIT.findall(line):
         unit = UNIT_SPELLINGS.get(unit_spelling(stated))
         if unit is None:
-            raise _fail(path, f"the header states the unit {_shown(stated.strip())}, which is none of "
-                              f"{', '.join(UNITS)} (accelerations: also m/s^2, cm/s^2, gal) or s (times)",
-                        number)  # fmt: skip
+            raise _fail(
+                path,
+                f"the header states the unit {_shown(stated.strip())}, which is none of "
+                f"{', '.join(UNITS)} (accelerations: also m/s^2, cm/s^2, gal) or s (times)",
+                number,
+            )
         if unit != "s":
             units.add(unit)
     if len(units) > 1:
@@ -459,11 +473,17 @@ def _stated_unit(path, line: str, number: int) -> str | None:
 def _agreed_unit(path, given: str | None, stated: str | None, number: int | None) -> str:
     """The unit of the accelerations: the given one, which the header's must match, or the header's."""
     if given is not None and stated is not None and given != stated:
-        raise _fail(path, f"the header states accelerations in {stated} but the unit given is {given}: "
-                          "correct one of them", number)  # fmt: skip
+        raise _fail(
+            path,
+            f"the header states accelerations in {stated} but the unit given is {given}: correct one of them",
+            number,
+        )
     if given is None and stated is None:
-        raise _fail(path, f"give the unit of the accelerations ({', '.join(UNITS)}): the file does not state it "
-                          "(a header such as 'time [s], a [g]' would)")  # fmt: skip
+        raise _fail(
+            path,
+            f"give the unit of the accelerations ({', '.join(UNITS)}): the file does not state it "
+            "(a header such as 'time [s], a [g]' would)",
+        )
     return given or stated
 
 
@@ -590,9 +610,12 @@ def uniform_step(t, path="times", lines=None) -> float:
         raise _fail(path, f"times must increase (mean step {dt!r} s)", None if lines is None else lines[-1])
     if k is not None:
         step = float(t[k + 1] - t[k])
-        raise _fail(path, f"times must be uniformly spaced: step {step:.6g} s where the others are "
-                          f"{float(np.median(np.diff(t))):.6g} s",
-                    None if lines is None else lines[k + 1])  # fmt: skip
+        raise _fail(
+            path,
+            f"times must be uniformly spaced: step {step:.6g} s where the others are "
+            f"{float(np.median(np.diff(t))):.6g} s",
+            None if lines is None else lines[k + 1],
+        )
     return dt
 
 

@@ -93,8 +93,14 @@ class SiteModel:
     duration: float | None = None
 
     def __post_init__(self) -> None:
-        for name, unit in (("arias", "m/s"), ("d595", "s"), ("t_mid", "s"), ("f_mid", "Hz"), ("f_c", "Hz"),
-                           ("dt", "s")):  # fmt: skip
+        for name, unit in (
+            ("arias", "m/s"),
+            ("d595", "s"),
+            ("t_mid", "s"),
+            ("f_mid", "Hz"),
+            ("f_c", "Hz"),
+            ("dt", "s"),
+        ):
             object.__setattr__(self, name, _positive(name, getattr(self, name), unit))
         object.__setattr__(self, "f_slope", check_real("f_slope", self.f_slope))
         zeta = check_real("zeta_f", self.zeta_f)
@@ -115,8 +121,10 @@ class SiteModel:
 
     def record(self) -> dict:
         """JSON-ready description."""
-        return {k: getattr(self, k) for k in ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt",
-                                              "duration")}  # fmt: skip
+        return {
+            k: getattr(self, k)
+            for k in ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
+        }
 
 
 #: A default site: values of the order of the medians Rezaeian and Der Kiureghian (2010, Earthquake Engng Struct.
@@ -197,8 +205,9 @@ def high_pass(a, dt: float, f_c: float) -> np.ndarray:
     from scipy import signal  # imported here, as in modulating_parameters
 
     omega = 2 * np.pi * f_c
-    system = signal.StateSpace([[0.0, 1.0], [-(omega**2), -2 * omega]], [[0.0], [1.0]],
-                               [[-(omega**2), -2 * omega]], [[1.0]])  # fmt: skip
+    system = signal.StateSpace(
+        [[0.0, 1.0], [-(omega**2), -2 * omega]], [[0.0], [1.0]], [[-(omega**2), -2 * omega]], [[1.0]]
+    )
     t = np.arange(len(a)) * dt
     _, out, _ = signal.lsim(system, np.asarray(a, float), t, interp=True)
     return np.asarray(out, float)

@@ -104,8 +104,11 @@ def _classes(ax, Omega, beta, classes: np.ndarray, palette, xlog: bool = False) 
             cells = np.stack([np.c_[cx, cy] for cx, cy in corners], axis=1)
             ax.add_collection(PolyCollection(cells, facecolor="none", edgecolor=HATCH_COLOUR, hatch=hatch, lw=0))
     present = np.unique(classes)
-    return [Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label)
-            for k, (label, c, h) in enumerate(palette) if k in present]  # fmt: skip
+    return [
+        Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label)
+        for k, (label, c, h) in enumerate(palette)
+        if k in present
+    ]
 
 
 def _block(config: dict) -> Block:
@@ -116,8 +119,10 @@ def _block(config: dict) -> Block:
 def _block_label(block: Block) -> str:
     """The block for a title: its dimensions and mass, and the ``alpha`` and ``p`` of the non-dimensional axes."""
     e = f", e = {block.e:.3g} m" if block.e else ""
-    return (rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg{e} "
-            rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)")  # fmt: skip
+    return (
+        rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg{e} "
+        rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
+    )
 
 
 def _parameter_units(model: str) -> dict:
@@ -142,8 +147,10 @@ def _damper_label(config: dict) -> str:
         params = ", ".join(f"{k} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in d["params"].items())
         return f"damper: model {d['model']}" + (f" ({params})" if params else "")
     T_m = 2 * np.pi / (d["omega_ratio"] * block.p)
-    return (rf"damper $\gamma$ = {d['gamma']:g}, $\omega_m / p$ = {d['omega_ratio']:.3g} ($T_m$ = {T_m:.3g} s), "
-            rf"$\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, {_stops_label(block, d)}")  # fmt: skip
+    return (
+        rf"damper $\gamma$ = {d['gamma']:g}, $\omega_m / p$ = {d['omega_ratio']:.3g} ($T_m$ = {T_m:.3g} s), "
+        rf"$\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, {_stops_label(block, d)}"
+    )
 
 
 def _pulse_label(config: dict) -> str:
@@ -156,16 +163,17 @@ def _pulse_label(config: dict) -> str:
 def _excitation_label(config: dict) -> str:
     """The pulses of a study in dimensional terms for its block: amplitude in g, period in s."""
     block = _block(config)
-    return (rf"{_pulse_label(config)}: $a_g$ = {block.tan_alpha:.3g} $\beta$ g, "
-            rf"$T_g = 2\pi / \omega_g$ = {2 * np.pi / block.p:.3g} s / $\Omega$; "
-            f"{_directions_label(config)}")  # fmt: skip
+    return (
+        rf"{_pulse_label(config)}: $a_g$ = {block.tan_alpha:.3g} $\beta$ g, "
+        rf"$T_g = 2\pi / \omega_g$ = {2 * np.pi / block.p:.3g} s / $\Omega$; "
+        f"{_directions_label(config)}"
+    )
 
 
 def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = None) -> None:
     """The figure's title: what it shows, the pulses, the block and the damper of ``config`` (or ``damper``)."""
     damper = _damper_label(config) if damper is None else damper
-    fig.suptitle(f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}",
-                 fontsize=10)  # fmt: skip
+    fig.suptitle(f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}", fontsize=10)
 
 
 def _suite_label(suite: dict) -> str:
@@ -239,8 +247,22 @@ def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
     x, y = np.asarray(x, float), np.asarray(y, float)
     keep = np.isfinite(y)
     if keep.any():
-        ax.errorbar(x[keep], y[keep], yerr=arrow, lolims=up, uplims=not up, fmt="^" if up else "v", ms=6, mfc="white",
-                    color=color, ls="none", capsize=3, elinewidth=1, zorder=5, label=label)  # fmt: skip
+        ax.errorbar(
+            x[keep],
+            y[keep],
+            yerr=arrow,
+            lolims=up,
+            uplims=not up,
+            fmt="^" if up else "v",
+            ms=6,
+            mfc="white",
+            color=color,
+            ls="none",
+            capsize=3,
+            elinewidth=1,
+            zorder=5,
+            label=label,
+        )
 
 
 def _gain_curve(ax, Omega, gain, flag, style: dict, label, dodge: float = 0.0) -> bool:
@@ -256,8 +278,9 @@ def _gain_curve(ax, Omega, gain, flag, style: dict, label, dodge: float = 0.0) -
 
 def _bound_handle(up: bool = True) -> Line2D:
     """Legend entry of :func:`_bounds` (in grey: it stands for every colour)."""
-    return Line2D([], [], ls="none", marker="^" if up else "v", mfc="white", color="0.3",
-                  label=LOWER_BOUND if up else UPPER_BOUND)  # fmt: skip
+    return Line2D(
+        [], [], ls="none", marker="^" if up else "v", mfc="white", color="0.3", label=LOWER_BOUND if up else UPPER_BOUND
+    )
 
 
 def _gain_norm(values) -> tuple[LogNorm, str]:
@@ -369,17 +392,34 @@ def spectrum_figure(study: Study) -> Figure:
     for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
         style = PART_STYLE[part]
         flag, bm = a[f"{part}_flag"], a[f"{part}_beta_min"]
-        ax.plot(Om, np.where(flag == BRACKETED, bm, np.nan), "-", color=style["color"], marker=style["marker"],
-                ms=4 if part == "bare" else 6.5, zorder=z,
-                label=rf"$\beta_{{min}}$, {style['label']}")  # fmt: skip
+        ax.plot(
+            Om,
+            np.where(flag == BRACKETED, bm, np.nan),
+            "-",
+            color=style["color"],
+            marker=style["marker"],
+            ms=4 if part == "bare" else 6.5,
+            zorder=z,
+            label=rf"$\beta_{{min}}$, {style['label']}",
+        )
         for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
             _bounds(ax, Om[sel], bm[sel], arrow, style["color"], up)
         w = a[f"{part}_windows"]
         if len(w):
-            ax.bar(w[:, 0] + shift * step, w[:, 2] - w[:, 1], bottom=w[:, 1], width=0.25 * step, color=style["color"],
-                   alpha=0.35, edgecolor=style["color"], hatch=WINDOW_HATCH[part], lw=1, zorder=2,
-                   label="safe window above " + rf"$\beta_{{min}}$, {style['label']}")  # fmt: skip
+            ax.bar(
+                w[:, 0] + shift * step,
+                w[:, 2] - w[:, 1],
+                bottom=w[:, 1],
+                width=0.25 * step,
+                color=style["color"],
+                alpha=0.35,
+                edgecolor=style["color"],
+                hatch=WINDOW_HATCH[part],
+                lw=1,
+                zorder=2,
+                label="safe window above " + rf"$\beta_{{min}}$, {style['label']}",
+            )
     _omega_axis(ax)
     _beta_axis(ax)
     _period_axis(ax, block.p)
@@ -438,8 +478,14 @@ def optimize_figure(study: Study) -> Figure:
         # The best is one of the curves: where that one is only bounded, so is the best (its triangle is drawn).
         pick = np.argmax(np.nan_to_num(a["gain_opt"], nan=-np.inf), axis=0)
         bound = a["flag_opt"][pick, np.arange(Om.size)] == ABOVE
-        ax_g.plot(Om, np.where(bound, np.nan, a["best_gain"]), ":", color=OKABE_ITO["black"], lw=1.5,
-                  label=r"best over $\gamma$ (measured)")  # fmt: skip
+        ax_g.plot(
+            Om,
+            np.where(bound, np.nan, a["best_gain"]),
+            ":",
+            color=OKABE_ITO["black"],
+            lw=1.5,
+            label=r"best over $\gamma$ (measured)",
+        )
     who = {key: "best" if key == "best" else rf"$\gamma$ = {key}" for key in study.summary["Omega_star"]}
     text = "\n".join(f"{who[key]}: {_threshold_text(t)}" for key, t in study.summary["Omega_star"].items())
     ax_g.axhline(useless, color=GREY, lw=0.8, ls=":")
@@ -451,8 +497,9 @@ def optimize_figure(study: Study) -> Figure:
     for ax in (ax_tg, ax_tp):
         ax.set_yscale("log")
     # Made on the logarithmic axis: a secondary axis made before would reset its ticks when it is drawn.
-    period = ax_tp.secondary_yaxis("right", functions=(lambda r: r * 2 * np.pi / block.p,
-                                                        lambda t: t * block.p / (2 * np.pi)))  # fmt: skip
+    period = ax_tp.secondary_yaxis(
+        "right", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
+    )
     period.set_ylabel(r"$T_m$ (s)", fontsize=8)
     for axis in (ax_tg.yaxis, ax_tp.yaxis, period.yaxis):
         _plain_ticks(axis)
@@ -477,8 +524,10 @@ def optimize_figure(study: Study) -> Figure:
     _legend_below(ax_map)
     _gain_colorbar(fig, image, ax_map, "G", extension)
     stops = _stops_label(block, {"stops": True} if cfg.get("stops") else {})
-    damper = (rf"dampers $\gamma$ = {', '.join(f'{x:g}' for x in gammas)} (period optimised at each $\Omega$), "
-              rf"$\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m, {stops}")  # fmt: skip
+    damper = (
+        rf"dampers $\gamma$ = {', '.join(f'{x:g}' for x in gammas)} (period optimised at each $\Omega$), "
+        rf"$\zeta$ = {cfg['zeta']:g}, h = {cfg['h']:g} m, {stops}"
+    )
     _title(fig, "Optimal damper", cfg, damper=damper)
     return fig
 
@@ -495,29 +544,38 @@ def design_figure(study: Study) -> Figure:
         # Over the envelope, which one direction governs: drawn under it, that direction's line would vanish.
         ax_g.plot(Om, ratio, ":", ms=3, zorder=3, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1))
     style = PART_STYLE["damper"]
-    bounded = _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], {"color": style["color"], "marker": style["marker"]},
-                          "gain (envelopes)")  # fmt: skip
+    bounded = _gain_curve(
+        ax_g, Om, a["gain_opt"], a["flag_opt"], {"color": style["color"], "marker": style["marker"]}, "gain (envelopes)"
+    )
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
     ax_g.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
-    ax_g.set_title(rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}",
-                   fontsize=9)  # fmt: skip
+    ax_g.set_title(
+        rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}", fontsize=9
+    )
     _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []))
     r, z = a["r_coarse"], a["zeta_coarse"]
     worst = a["candidate_worst_gain"][: r.size * z.size].reshape(z.size, r.size)
     norm, extension = _gain_norm(worst)
     image = ax_map.pcolormesh(np.exp(_edges(np.log(r))), np.exp(_edges(np.log(z))), worst, cmap=DIVERGING, norm=norm)
     off = ~a["candidate_on_block"]
-    ax_map.plot(a["candidate_r"][off], a["candidate_zeta"][off], "x", color=OKABE_ITO["black"], ms=5,
-                label="mass past the block's edge")  # fmt: skip
+    ax_map.plot(
+        a["candidate_r"][off],
+        a["candidate_zeta"][off],
+        "x",
+        color=OKABE_ITO["black"],
+        ms=5,
+        label="mass past the block's edge",
+    )
     d = s["damper"]
     ax_map.plot([d["Tm_ratio"]], [d["zeta"]], "*", color=OKABE_ITO["yellow"], mec="k", ms=14, label="design")
     ax_map.set_xscale("log")
     ax_map.set_yscale("log")
     ax_map.set_xlabel(r"$T_m p / 2\pi$")
-    period = ax_map.secondary_xaxis("top", functions=(lambda r: r * 2 * np.pi / block.p,
-                                                       lambda t: t * block.p / (2 * np.pi)))  # fmt: skip
+    period = ax_map.secondary_xaxis(
+        "top", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
+    )
     period.set_xlabel(r"$T_m$ (s)", fontsize=8)
     for axis in (ax_map.xaxis, ax_map.yaxis, period.xaxis):
         _plain_ticks(axis)
@@ -526,20 +584,29 @@ def design_figure(study: Study) -> Figure:
     _legend_below(ax_map)
     _gain_colorbar(fig, image, ax_map, "worst G", extension)
     step = np.min(np.diff(Om)) if Om.size > 1 else 1.0
-    ax_x.bar(Om, a["stroke_use"], width=0.6 * step, color=OKABE_ITO["sky blue"], edgecolor=OKABE_ITO["blue"],
-             label=r"$x_{max}$")  # fmt: skip
+    ax_x.bar(
+        Om,
+        a["stroke_use"],
+        width=0.6 * step,
+        color=OKABE_ITO["sky blue"],
+        edgecolor=OKABE_ITO["blue"],
+        label=r"$x_{max}$",
+    )
     ax_x.axhline(1.0, color=OKABE_ITO["black"], lw=0.8, label="the stops (|x| = L)")
     ax_x.axhline(block.B / 2 / d["L_m"], color=OKABE_ITO["vermillion"], lw=1, ls="--", label="block's edge (B/2)")
     _omega_axis(ax_x)
     _period_axis(ax_x, block.p)
     ax_x.set_ylabel(r"$x_{max} / L$ at $\beta_{min}$ of the block alone")
-    ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])
-                         ).set_ylabel(r"$x_{max}$ (m)", fontsize=8)  # fmt: skip
+    ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])).set_ylabel(
+        r"$x_{max}$ (m)", fontsize=8
+    )
     ax_x.set_title("stroke used at the pulses that overturn the block alone", fontsize=9)
     _legend_below(ax_x, ncols=3)
-    damper = (rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
-              rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
-              f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m")  # fmt: skip
+    damper = (
+        rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
+        rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
+        f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m"
+    )
     _title(fig, "Damper design", study.config, damper=damper)
     return fig
 
@@ -570,23 +637,48 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
             # Dark text on the light end of the colour map, white on the dark end.
             shade = image.cmap(norm(v)) if np.isfinite(v) else (1, 1, 1)
             light = np.dot(to_rgb(shade), (0.299, 0.587, 0.114)) > 0.5
-            ax.text(p[j], lam[i], text, ha="center", va="center", fontsize=8, color="k" if light else "w",
-                    bbox={"facecolor": shade, "edgecolor": "none", "pad": 1})  # fmt: skip
+            ax.text(
+                p[j],
+                lam[i],
+                text,
+                ha="center",
+                va="center",
+                fontsize=8,
+                color="k" if light else "w",
+                bbox={"facecolor": shade, "edgecolor": "none", "pad": 1},
+            )
             if st:
-                ax.add_patch(Rectangle((x[j], y[i]), x[j + 1] - x[j], y[i + 1] - y[i], facecolor="none",
-                                       edgecolor=HATCH_COLOUR, hatch=BOUND_HATCH[st], lw=0, zorder=1))  # fmt: skip
+                ax.add_patch(
+                    Rectangle(
+                        (x[j], y[i]),
+                        x[j + 1] - x[j],
+                        y[i + 1] - y[i],
+                        facecolor="none",
+                        edgecolor=HATCH_COLOUR,
+                        hatch=BOUND_HATCH[st],
+                        lw=0,
+                        zorder=1,
+                    )
+                )
     ax.set_xticks(p, [f"{v:.3g}" for v in p])
     # The homogeneous block's half-diagonal: p = sqrt(3 g / (4 R)) (docs/model.md section 9).
     g = Block.__dataclass_fields__["g"].default
-    size = ax.secondary_xaxis("top", functions=(lambda x: 3 * g / (4 * np.maximum(x, 1e-9) ** 2),
-                                                lambda R: np.sqrt(3 * g / (4 * np.maximum(R, 1e-9)))))  # fmt: skip
+    size = ax.secondary_xaxis(
+        "top",
+        functions=(
+            lambda x: 3 * g / (4 * np.maximum(x, 1e-9) ** 2),
+            lambda R: np.sqrt(3 * g / (4 * np.maximum(R, 1e-9))),
+        ),
+    )
     size.set_xticks(3 * g / (4 * p**2), [f"{R:.3g}" for R in 3 * g / (4 * p**2)])
     size.set_xlabel("R (m), half-diagonal", fontsize=8)
     ax.set_yticks(lam, [f"{v:.3g}" for v in lam])
     ax.set_xlabel("p (rad/s)")
     ax.set_ylabel(r"$\lambda = H / B$")
-    ax.set_title(f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns;"
-                 + "\nbounds hatched)", fontsize=8)  # fmt: skip
+    ax.set_title(
+        f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns;" + "\nbounds hatched)",
+        fontsize=8,
+    )
     fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound", extend=extend(value, norm.vmin, norm.vmax))
 
 
@@ -606,14 +698,20 @@ def threshold_figure(study: Study) -> Figure:
     _omega_axis(axes[2])
     _period_axis(axes[2], float(a["p"][j]))
     axes[2].set_ylabel("best gain (envelopes over the directions)")
-    axes[2].set_title(f"best gain at p = {a['p'][j]:.3g} rad/s; ends where the block alone survives "
-                      f"{study.summary['a_max_g']:g} g", fontsize=9)  # fmt: skip
+    axes[2].set_title(
+        f"best gain at p = {a['p'][j]:.3g} rad/s; ends where the block alone survives {study.summary['a_max_g']:g} g",
+        fontsize=9,
+    )
     _legend_below(axes[2], ncols=2)
-    dampers = "; ".join(rf"$\gamma$ = {d['gamma']:g}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, "
-                        + ("stops at B/2 minus the pads" if d.get("stops") else "unlimited guide")
-                        for d in cfg["dampers"])  # fmt: skip
-    grid = ", ".join(f"{name} {cfg[key]['low']:g} to {cfg[key]['high']:g}{unit} ({cfg[key]['n']})"
-                     for key, name, unit in (("lam", r"$\lambda$ = H/B", ""), ("p", "p", " rad/s")))  # fmt: skip
+    dampers = "; ".join(
+        rf"$\gamma$ = {d['gamma']:g}, $\zeta$ = {d['zeta']:g}, h = {d['h']:g} m, "
+        + ("stops at B/2 minus the pads" if d.get("stops") else "unlimited guide")
+        for d in cfg["dampers"]
+    )
+    grid = ", ".join(
+        f"{name} {cfg[key]['low']:g} to {cfg[key]['high']:g}{unit} ({cfg[key]['n']})"
+        for key, name, unit in (("lam", r"$\lambda$ = H/B", ""), ("p", "p", " rad/s"))
+    )
     fig.suptitle(
         f"Threshold frequency across geometries: one-sine pulses up to {study.summary['a_max_g']:g} g; "
         f"{_directions_label(cfg)}\nhomogeneous blocks of M = {cfg['M']:g} kg, e = {cfg['e_ratio']:g} B, {grid}\n"
@@ -633,15 +731,24 @@ def ida_figure(study: Study) -> Figure:
     unit = f" ({s['unit']})" if s["unit"] else ""
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
-        ax_f.plot(a["levels"], a[f"{part}_fraction"], ls="none", color=style["color"], marker=style["marker"],
-                  ms=4 if part == "bare" else 6.5, zorder=5 if part == "bare" else 4,
-                  label=f"{style['label']}: fraction overturned")  # fmt: skip
+        ax_f.plot(
+            a["levels"],
+            a[f"{part}_fraction"],
+            ls="none",
+            color=style["color"],
+            marker=style["marker"],
+            ms=4 if part == "bare" else 6.5,
+            zorder=5 if part == "bare" else 4,
+            label=f"{style['label']}: fraction overturned",
+        )
         if fit["status"] in ("fitted", "separated"):
             label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
-            ax_f.plot(a["curve_x"], a[f"{part}_curve"], "-" if part == "bare" else "--", color=style["color"],
-                      label=label)  # fmt: skip
-            ax_f.fill_between(a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"],
-                              alpha=0.15, lw=0)  # fmt: skip
+            ax_f.plot(
+                a["curve_x"], a[f"{part}_curve"], "-" if part == "bare" else "--", color=style["color"], label=label
+            )
+            ax_f.fill_between(
+                a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"], alpha=0.15, lw=0
+            )
     levels = a["levels"]
     # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
     xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
@@ -658,8 +765,9 @@ def ida_figure(study: Study) -> Figure:
             _plain_ticks(in_g.xaxis)
     ax_f.set_ylabel("probability of overturning")
     ax_f.set_ylim(-0.02, 1.02)
-    ax_f.set_title("fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions",
-                   fontsize=9)  # fmt: skip
+    ax_f.set_title(
+        "fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions", fontsize=9
+    )
     _legend_below(ax_f)
     over = a["damper_overturned"].astype(int)
     classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
@@ -669,8 +777,15 @@ def ida_figure(study: Study) -> Figure:
         _plain_ticks(ax_m.xaxis)
     rows = np.flatnonzero(a["damper_reversals"] > 0)
     if rows.size:
-        ax_m.plot(np.full(rows.size, a["levels"][-1]), rows, "<", color=OKABE_ITO["blue"], ms=6, ls="none",
-                  label="non-monotone: overturns, then survives a higher level")  # fmt: skip
+        ax_m.plot(
+            np.full(rows.size, a["levels"][-1]),
+            rows,
+            "<",
+            color=OKABE_ITO["blue"],
+            ms=6,
+            ls="none",
+            label="non-monotone: overturns, then survives a higher level",
+        )
         handles += ax_m.get_legend_handles_labels()[0]
     ax_m.set_xlabel(f"{measure}{unit}")
     ax_m.set_ylabel("motion")
@@ -678,8 +793,11 @@ def ida_figure(study: Study) -> Figure:
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
     config = study.config
-    fig.suptitle(f"{title}: {_suite_label(config['suite'])}; {_directions_label(config, 'motions')}\n"
-                 f"{_block_label(_block(config))}\n{_damper_label(config)}", fontsize=10)  # fmt: skip
+    fig.suptitle(
+        f"{title}: {_suite_label(config['suite'])}; {_directions_label(config, 'motions')}\n"
+        f"{_block_label(_block(config))}\n{_damper_label(config)}",
+        fontsize=10,
+    )
     return fig
 
 

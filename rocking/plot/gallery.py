@@ -51,8 +51,10 @@ def publish(demo: Path, docs: Path) -> dict:
     docs.mkdir(parents=True, exist_ok=True)
     for stem in GALLERY:
         shutil.copyfile(demo / f"{stem}.png", docs / f"{stem}.png")
-    record = {"source_sha256": source_sha256(),
-              "figures": {f"{stem}.png": file_sha256(docs / f"{stem}.png") for stem in GALLERY}}  # fmt: skip
+    record = {
+        "source_sha256": source_sha256(),
+        "figures": {f"{stem}.png": file_sha256(docs / f"{stem}.png") for stem in GALLERY},
+    }
     (docs / RECORD).write_text(json.dumps(record, indent=1, sort_keys=True) + "\n", encoding="utf-8")
     return record
 

@@ -54,8 +54,12 @@ def past_edge(histories: dict, name: str, half_width: float) -> list[str]:
 def _flag_past_edge(ax, labels: list[str]) -> None:
     """Say on a stroke's panel which responses ran the mass past the block's edge (held on paper only)."""
     if labels:
-        ax.set_title(f"mass past the block's edge: {', '.join(labels)} (a guide on the block ends there)",
-                     loc="left", fontsize=8, color=OKABE_ITO["vermillion"])  # fmt: skip
+        ax.set_title(
+            f"mass past the block's edge: {', '.join(labels)} (a guide on the block ends there)",
+            loc="left",
+            fontsize=8,
+            color=OKABE_ITO["vermillion"],
+        )
 
 
 def motion_label(motion, block: Block) -> str:
@@ -66,12 +70,20 @@ def motion_label(motion, block: Block) -> str:
     direction = "" if d.a_g >= 0 else ", sign -1"
     if d.family == "sampled":
         return f"sampled motion: PGA = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), {d.t_p:.3g} s{direction}"
-    return (rf"{PULSE_NAMES[d.family]}: $a_g$ = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
-            rf"($\beta$ = {a / (block.g * block.tan_alpha):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}){direction}")
+    return (
+        rf"{PULSE_NAMES[d.family]}: $a_g$ = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
+        rf"($\beta$ = {a / (block.g * block.tan_alpha):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}){direction}"
+    )
 
 
 def plot_responses(
-    responses: dict, block: Block, path: str | Path, title: str = "", *, damper=None, model: str | None = None,
+    responses: dict,
+    block: Block,
+    path: str | Path,
+    title: str = "",
+    *,
+    damper=None,
+    model: str | None = None,
     motion=None,
 ) -> Path:
     """Draw recorded responses (:func:`response_figure`) and save the figure at ``path`` (its suffix picks the
@@ -116,8 +128,14 @@ def response_figure(
         if r.history is None:
             raise ValueError(f"response {label!r} was not recorded (record=True)")
         histories[label] = r.history
-    names = list(dict.fromkeys(k for h in histories.values() for k in h if k not in NOT_COORDINATES
-                               and not (k.startswith("d") and k[1:] in h)))  # fmt: skip
+    names = list(
+        dict.fromkeys(
+            k
+            for h in histories.values()
+            for k in h
+            if k not in NOT_COORDINATES and not (k.startswith("d") and k[1:] in h)
+        )
+    )
     units = {name: coordinate_unit(model, name) if model else "m" for name in names}
     fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained")
     axes = fig.subplots(2 + len(names), 1, sharex=True)
@@ -153,7 +171,8 @@ def response_figure(
         _flag_past_edge(ax, past_edge(histories, name, block.B / 2))
     ax_g.set_ylabel(r"$\ddot{x}_g$ (m/s$^2$)")
     ax_g.secondary_yaxis("right", functions=(lambda a: a / block.g, lambda a: a * block.g)).set_ylabel(
-        r"$\ddot{x}_g$ (g)")  # fmt: skip
+        r"$\ddot{x}_g$ (g)"
+    )
     ax_g.set_xlabel("t (s)")
     # One legend of the responses, beside the first panel; the others name only their own lines.
     for ax in axes:

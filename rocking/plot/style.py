@@ -27,8 +27,10 @@ LIGHT = "#F7F7F7"
 GREY = "#999999"
 
 #: Colours of curves drawn in turn (the damper sizes of an optimisation, the blocks of a threshold figure).
-CYCLE = tuple(OKABE_ITO[name] for name in ("blue", "orange", "bluish green", "reddish purple", "vermillion",
-                                           "sky blue", "yellow", "black"))  # fmt: skip
+CYCLE = tuple(
+    OKABE_ITO[name]
+    for name in ("blue", "orange", "bluish green", "reddish purple", "vermillion", "sky blue", "yellow", "black")
+)
 #: Markers that go with :data:`CYCLE`, so that curves differ in grey print too.
 MARKERS = ("o", "s", "D", "v", "P", "X", "h", "*")
 
@@ -44,9 +46,14 @@ DIVERGING = "PuOr"
 
 
 #: How a figure names each family of ground motion (rocking.model.motion.FAMILIES).
-PULSE_NAMES = {"sine": "one-sine pulse", "cosine": "one-cosine pulse", "ricker": "symmetric Ricker wavelet",
-               "ricker_anti": "antisymmetric Ricker wavelet", "mp": "Mavroeidis-Papageorgiou pulse",
-               "sampled": "sampled motion"}  # fmt: skip
+PULSE_NAMES = {
+    "sine": "one-sine pulse",
+    "cosine": "one-cosine pulse",
+    "ricker": "symmetric Ricker wavelet",
+    "ricker_anti": "antisymmetric Ricker wavelet",
+    "mp": "Mavroeidis-Papageorgiou pulse",
+    "sampled": "sampled motion",
+}
 
 
 def cycle(i: int) -> dict:

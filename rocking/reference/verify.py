@@ -164,9 +164,16 @@ def _affine(loads, zero) -> tuple:
 def _select(model: Model, results: dict) -> dict:
     """Keep the outputs that exist in ``model``: the bare block has only ``theta``."""
     if model.coordinates == ("theta",):
-        keep = {"mass_matrix": [0], "forcing": [0], "rocking_accel": [0], "contact_accel": [0], "impact": [0],
-                "block_accelerations": [0, 1, 3, 4], "base_reaction": [0, 1, 3, 4, 6, 7],
-                "element_forces": []}  # fmt: skip
+        keep = {
+            "mass_matrix": [0],
+            "forcing": [0],
+            "rocking_accel": [0],
+            "contact_accel": [0],
+            "impact": [0],
+            "block_accelerations": [0, 1, 3, 4],
+            "base_reaction": [0, 1, 3, 4, 6, 7],
+            "element_forces": [],
+        }
         results = {k: tuple(val[i] for i in keep.get(k, range(len(val)))) for k, val in results.items()}
         # Without attached bodies nothing but the ground can lift the block.
         results["uplift_energy"] = (np.full_like(results["energy"][0], np.inf),)

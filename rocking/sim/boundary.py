@@ -102,8 +102,14 @@ class Field:
 
 #: What one run is given besides the model's parameters: ``rocking_case`` of sim.h.
 CASE = (
-    Field("motion", INT32, "", "ground-motion family: an index into MOTIONS (docs/model.md section 12)",
-          "a code of MOTIONS", 0),
+    Field(
+        "motion",
+        INT32,
+        "",
+        "ground-motion family: an index into MOTIONS (docs/model.md section 12)",
+        "a code of MOTIONS",
+        0,
+    ),
     Field("a_g", DOUBLE, "m/s^2", "signed amplitude: ag(t) = a_g f(t) on [0, t_p], 0 after", "finite"),
     Field("omega_g", DOUBLE, "rad/s", "circular frequency of f (0 for a sampled motion)", "finite"),
     Field("psi", DOUBLE, "rad", "phase of f: psi of the one-sine, nu of Mavroeidis-Papageorgiou", "finite"),
@@ -111,8 +117,15 @@ CASE = (
     Field("shape", DOUBLE, "", "gamma of Mavroeidis-Papageorgiou (0 otherwise)", "finite", 0.0),
     Field("t_p", DOUBLE, "s", "end of the motion, a breakpoint of the integration", "finite"),
     Field("n_extrema", INT64, "", "number of listed extrema", "an integer >= 0", 0),
-    Field("extrema", SERIES, "rad", "extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou)",
-          None, None, "n_extrema"),
+    Field(
+        "extrema",
+        SERIES,
+        "rad",
+        "extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou)",
+        None,
+        None,
+        "n_extrema",
+    ),
     Field("pulse_dt", DOUBLE, "s", "spacing of a sampled motion's samples (0 otherwise)", ">= 0", 0.0),
     Field("n_samples", INT64, "", "number of samples of a sampled motion (0 otherwise)", "an integer >= 0", 0),
     Field("samples", SERIES, "m/s^2", "samples a_k at k pulse_dt: f linear between them", None, None, "n_samples"),

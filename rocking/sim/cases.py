@@ -369,8 +369,12 @@ def sampled_cases(
 def _damper_arrays(gamma, omega_ratio, zeta, h, *motion_arrays):
     """The damper's arrays, checked and broadcast with the motion's; ``(dict of flat arrays, the shape)``."""
     gamma = _array("gamma", 0.0 if gamma is None else gamma)
-    named = {"gamma": gamma, "omega_ratio": _array("omega_ratio", omega_ratio), "zeta": _array("zeta", zeta),
-             "h": _array("h", h)}  # fmt: skip
+    named = {
+        "gamma": gamma,
+        "omega_ratio": _array("omega_ratio", omega_ratio),
+        "zeta": _array("zeta", zeta),
+        "h": _array("h", h),
+    }
     try:
         shape = np.broadcast_shapes(*(a.shape for a in (*named.values(), *motion_arrays)))
     except ValueError:
@@ -402,8 +406,10 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
     if stroke is not None:
         depth = block.B / 2 - check_interval("stroke", stroke, 0.0, block.B / 2, "m", label="(0, B/2)")
     if stops and (bare or params is not None):
-        raise ParameterError("stops=True puts the stops of Stops.at_edges on the omd damper of gamma > 0: "
-                             "give the damper by gamma (a model's params set their own stops)")  # fmt: skip
+        raise ParameterError(
+            "stops=True puts the stops of Stops.at_edges on the omd damper of gamma > 0: "
+            "give the damper by gamma (a model's params set their own stops)"
+        )
     try:
         model = resolve_model(model, "block" if bare else "omd_stops" if stops else "omd")
     except ModelError as exc:

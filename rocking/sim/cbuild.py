@@ -455,8 +455,13 @@ def _staged(model, csrc: Path, folder: Path) -> SimpleNamespace:
     for name, path in _sources(model, csrc).items():
         (folder / ("model" if path.parent == model.folder else "csrc") / name).write_bytes(path.read_bytes())
     staged = folder / "model"
-    return SimpleNamespace(folder=staged, manifest=model.manifest, c_prefix=model.c_prefix,
-                           c_source=staged / model.c_source.name, c_header=staged / model.c_header.name)  # fmt: skip
+    return SimpleNamespace(
+        folder=staged,
+        manifest=model.manifest,
+        c_prefix=model.c_prefix,
+        c_source=staged / model.c_source.name,
+        c_header=staged / model.c_header.name,
+    )
 
 
 def _compile_into(model, library: Path, source: str, cc: list[str], version: str, csrc: Path) -> None:

@@ -71,8 +71,7 @@ def check_dt(dt: object, t_max: float) -> float:
     dt = float(dt)
     if not (math.isfinite(dt) and dt >= t_max / most and dt > 0.0):
         raise ParameterError(
-            f"dt must be in [t_max / {most:g}, inf) = [{t_max / most:g}, inf) s (got {dt!r}): "
-            f"at most {most:g} samples"
+            f"dt must be in [t_max / {most:g}, inf) = [{t_max / most:g}, inf) s (got {dt!r}): at most {most:g} samples"
         )
     return dt
 
@@ -162,8 +161,10 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
     s = np.where(phase == CONTACT, 1.0, phase.astype(float))  # the functions at theta = 0 hold for either pivot
     p = [float(v) for v in p]
     contact = phase == CONTACT
-    ddq = [np.where(contact, c, r) for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, p),
-                                                    _evaluate(fn.rocking_accel, s, y, ag, p))]  # fmt: skip
+    ddq = [
+        np.where(contact, c, r)
+        for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, p), _evaluate(fn.rocking_accel, s, y, ag, p))
+    ]
     out = {"t": history["t"][rows]}
     out.update(zip(model.state[:n], y[:n]))
     out.update(zip(model.state[n:], y[n:]))
@@ -200,8 +201,11 @@ def attributes(model) -> dict[str, tuple[str, str]]:
     attrs.update({k: _LOADS[k] for k in ("a_g", "a_top", "a_cm", "V_b", "N_b", "M_b")})
     for q in model.coordinates[1:]:
         force = "N m" if units[q] == "rad" else "N"
-        attrs["F_" + q] = (force, f"force of the springs, dashpots and bumpers of {q} on the block along {q}, "
-                                  f"minus theirs on the damper (omd: the guide force)")  # fmt: skip
+        attrs["F_" + q] = (
+            force,
+            f"force of the springs, dashpots and bumpers of {q} on the block along {q}, "
+            f"minus theirs on the damper (omd: the guide force)",
+        )
     if int(model.manifest["functions"]["stop_forces"]["outputs"]):
         attrs["F_b"] = _LOADS["F_b"]
     attrs.update({k: _LOADS[k] for k in ("E_kinetic", "E_potential", "E_total")})

@@ -52,6 +52,7 @@ __all__ = [
     "make_problem",
 ]
 
+
 class SimulationError(RuntimeError):
     """A back end failed mid-run: its step size underflowed (a non-finite right-hand side, ...)."""
 
@@ -249,8 +250,10 @@ def _repr_html(self) -> str:
         for f, value in zip(_SUMMARY, _summary(self).values(), strict=True)
     )
     recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
-    return (f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
-            f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>")  # fmt: skip
+    return (
+        f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
+        f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>"
+    )
 
 
 def _summary(self) -> dict:
@@ -642,9 +645,20 @@ def make_problem(
         Phase at ``t = 0``: 0 (full contact), +1 or -1 (rocking about ``A``
         or ``A'``); the rule is docs/simulation.md, "Initial state".
     """
-    options = {"model": model, "rtol": rtol, "t_max": t_max, "t_after": t_after, "dtheta_rest": dtheta_rest,
-               "energy_rest": energy_rest, "max_events": max_events, "record_dt": record_dt,
-               "early_rest": early_rest, "early_verdict": early_verdict, "y0": y0, "phase0": phase0}  # fmt: skip
+    options = {
+        "model": model,
+        "rtol": rtol,
+        "t_max": t_max,
+        "t_after": t_after,
+        "dtheta_rest": dtheta_rest,
+        "energy_rest": energy_rest,
+        "max_events": max_events,
+        "record_dt": record_dt,
+        "early_rest": early_rest,
+        "early_verdict": early_verdict,
+        "y0": y0,
+        "phase0": phase0,
+    }
     model, p, settings = resolve(block, damper, pulse, options)
     return Problem(model=model, p=p, **settings)
 

@@ -470,4 +470,3 @@ def narrowest_feature(classes) -> np.ndarray:
         edges = np.flatnonzero(change[row])  # a run ends after each edge index
         out[row] = np.diff(edges).min()
     return out
-

@@ -62,8 +62,9 @@ def _tuning(damper) -> Tuning | Variant:
         try:
             return Tuning(**damper)
         except TypeError as exc:
-            raise ParameterError(f"damper: {exc} (keywords of rocking.Tuning: gamma, omega_ratio, zeta, h, "
-                                 f"stops)") from None  # fmt: skip
+            raise ParameterError(
+                f"damper: {exc} (keywords of rocking.Tuning: gamma, omega_ratio, zeta, h, stops)"
+            ) from None
     raise ParameterError(
         f"damper must be a rocking.Tuning, a rocking.Variant or a mapping such as {{'gamma': 0.05}} "
         f"(got {type(damper).__name__})"
@@ -85,8 +86,9 @@ def _suite(motions, unit: str | None) -> Suite:
     try:
         items = list(motions)
     except TypeError:
-        raise ParameterError(f"motions must be a rocking.Suite, record files or pulses "
-                             f"(got {type(motions).__name__})") from None  # fmt: skip
+        raise ParameterError(
+            f"motions must be a rocking.Suite, record files or pulses (got {type(motions).__name__})"
+        ) from None
     if items and all(isinstance(m, str | os.PathLike) for m in items):
         return Suite.from_files(items, unit)
     if unit is not None:
@@ -148,9 +150,21 @@ def overturning_map(
     >>> int(ds["effect"].sum())  # cells saved by the damper minus cells lost
     0
     """
-    return _run(_overturning_map, _setting(block, rtol, t_after, backend, pulse), _tuning(damper),
-                _grid("Omega", Omega), _grid("beta", beta), workers=workers, progress=progress, runs=runs,
-                study=study, directions=directions, full=full, coarse=coarse, verify=verify)  # fmt: skip
+    return _run(
+        _overturning_map,
+        _setting(block, rtol, t_after, backend, pulse),
+        _tuning(damper),
+        _grid("Omega", Omega),
+        _grid("beta", beta),
+        workers=workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        directions=directions,
+        full=full,
+        coarse=coarse,
+        verify=verify,
+    )
 
 
 def minimum_overturning_spectrum(
@@ -191,9 +205,20 @@ def minimum_overturning_spectrum(
     >>> ds["bare_beta_min"].round(2).values.tolist(), ds["bare_flag"].attrs["flag_meanings"]
     ([1.15, 2.82], 'upper_bound bracketed lower_bound')
     """
-    return _run(_minimum_overturning_spectrum, _setting(block, rtol, t_after, backend, pulse), _tuning(damper),
-                _grid("Omega", Omega), _grid("beta", beta), workers=workers, progress=progress, runs=runs,
-                study=study, tol=tol, coarse=coarse, directions=directions)  # fmt: skip
+    return _run(
+        _minimum_overturning_spectrum,
+        _setting(block, rtol, t_after, backend, pulse),
+        _tuning(damper),
+        _grid("Omega", Omega),
+        _grid("beta", beta),
+        workers=workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        tol=tol,
+        coarse=coarse,
+        directions=directions,
+    )
 
 
 def optimal_damper(
@@ -237,9 +262,23 @@ def optimal_damper(
     >>> ds["k_m_opt"].attrs["units"], bool(ds["gain_opt"].sel(gamma=0.05, Omega=4.0) > 0)
     ('N/m', True)
     """
-    return _run(_optimal_damper, _setting(block, rtol, t_after, backend, pulse), gammas, _grid("Omega", Omega),
-                _grid("beta", beta), workers=workers, progress=progress, runs=runs, study=study, zeta=zeta, h=h,
-                stops=stops, Tm=_grid("Tm_ratio", Tm_ratio), tol=tol, directions=directions)  # fmt: skip
+    return _run(
+        _optimal_damper,
+        _setting(block, rtol, t_after, backend, pulse),
+        gammas,
+        _grid("Omega", Omega),
+        _grid("beta", beta),
+        workers=workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        zeta=zeta,
+        h=h,
+        stops=stops,
+        Tm=_grid("Tm_ratio", Tm_ratio),
+        tol=tol,
+        directions=directions,
+    )
 
 
 def design(
@@ -287,10 +326,24 @@ def design(
     >>> round(damper["m_kg"]), round(damper["k_m_N_per_m"], 1)  # kg, N/m
     (50, 178.4)
     """
-    return _run(_design, _setting(block, rtol, t_after, backend, pulse), _grid("Omega", Omega), _grid("beta", beta),
-                workers=workers, progress=progress, runs=runs, study=study, gamma=gamma, stroke=stroke, h=h,
-                Tm=_grid("Tm_ratio", Tm_ratio), zeta=_grid("zeta", zeta), refine=refine, tol=tol,
-                directions=directions)  # fmt: skip
+    return _run(
+        _design,
+        _setting(block, rtol, t_after, backend, pulse),
+        _grid("Omega", Omega),
+        _grid("beta", beta),
+        workers=workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        gamma=gamma,
+        stroke=stroke,
+        h=h,
+        Tm=_grid("Tm_ratio", Tm_ratio),
+        zeta=_grid("zeta", zeta),
+        refine=refine,
+        tol=tol,
+        directions=directions,
+    )
 
 
 def threshold_map(
@@ -344,10 +397,28 @@ def threshold_map(
     >>> ds["stops_gain"].sel(lam=4.0, p=2.0).round(2).values.tolist()  # none at 14: safe to 4 g alone
     [1.14, 1.41, nan]
     """
-    return _run(_threshold_map, _grid("lam", lam), _grid("p", p), _grid("Omega", Omega), workers=workers,
-                progress=progress, runs=runs, study=study, e_ratio=e_ratio, gamma=gamma, zeta=zeta, h=h,
-                Tm=_grid("Tm_ratio", Tm_ratio), refine=refine, a_max=a_max, tol=tol, rtol=rtol, t_after=t_after,
-                backend=backend, directions=directions)  # fmt: skip
+    return _run(
+        _threshold_map,
+        _grid("lam", lam),
+        _grid("p", p),
+        _grid("Omega", Omega),
+        workers=workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        e_ratio=e_ratio,
+        gamma=gamma,
+        zeta=zeta,
+        h=h,
+        Tm=_grid("Tm_ratio", Tm_ratio),
+        refine=refine,
+        a_max=a_max,
+        tol=tol,
+        rtol=rtol,
+        t_after=t_after,
+        backend=backend,
+        directions=directions,
+    )
 
 
 def incremental_dynamic_analysis(
@@ -399,6 +470,16 @@ def incremental_dynamic_analysis(
     >>> ds["bare_fraction"].dims, ds["level"].attrs["units"]
     (('level',), 'm/s^2')
     """
-    return _run(_incremental_dynamic_analysis, _setting(block, rtol, t_after, backend), _tuning(damper),
-                _suite(motions, unit), _grid("levels", levels), workers=workers, progress=progress, runs=runs,
-                study=study, measure_name=measure, directions=directions)  # fmt: skip
+    return _run(
+        _incremental_dynamic_analysis,
+        _setting(block, rtol, t_after, backend),
+        _tuning(damper),
+        _suite(motions, unit),
+        _grid("levels", levels),
+        workers=workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        measure_name=measure,
+        directions=directions,
+    )

@@ -73,8 +73,9 @@ def check_signs(name: str, value) -> list:
     """Refuse pulse directions that are not a list of 1 and/or -1, each once; return them."""
     ok = isinstance(value, list) and 1 <= len(value) <= 2 and len(set(map(repr, value))) == len(value)
     if not (ok and all(is_count(s) and s in (1, -1) for s in value)):
-        raise ParameterError(f"{name} must be the directions of the pulses: [1], [-1], [1, -1] or [-1, 1] "
-                             f"(got {shown(value)})")  # fmt: skip
+        raise ParameterError(
+            f"{name} must be the directions of the pulses: [1], [-1], [1, -1] or [-1, 1] (got {shown(value)})"
+        )
     return list(value)
 
 
@@ -191,13 +192,15 @@ class Grid:
             and ``n`` other than its values'), or a grid out of range (:class:`Grid`).
         """
         if not isinstance(record, dict):
-            raise ParameterError(f"{name} must be a grid {{low, high, n, scale}} or {{..., values}} "
-                                 f"(got {shown(record)})")  # fmt: skip
+            raise ParameterError(
+                f"{name} must be a grid {{low, high, n, scale}} or {{..., values}} (got {shown(record)})"
+            )
         if "values" in record:
             grid = cls.of(name, record["values"])
             if [grid.low, grid.high, grid.n] != [record.get(k) for k in ("low", "high", "n")]:
-                raise ParameterError(f"{name}: low, high and n must be those of its values "
-                                     f"({grid.low!r}, {grid.high!r}, {grid.n})")  # fmt: skip
+                raise ParameterError(
+                    f"{name}: low, high and n must be those of its values ({grid.low!r}, {grid.high!r}, {grid.n})"
+                )
             return grid
         scale = record.get("scale")
         if not (isinstance(scale, str) and scale in ("linear", "log")):
@@ -250,8 +253,10 @@ class Setting:
         if not isinstance(self.pulse, str) or self.pulse not in PULSES:
             raise ParameterError(f"pulse must be one of {', '.join(PULSES)} (got {self.pulse!r})")
         if (self.pulse == "mp") != (self.gamma_mp is not None) or (self.nu != 0.0 and self.pulse != "mp"):
-            raise ParameterError("gamma_mp (and nu) shape the Mavroeidis-Papageorgiou pulse: give gamma_mp with "
-                                 "pulse='mp', and neither with another pulse")  # fmt: skip
+            raise ParameterError(
+                "gamma_mp (and nu) shape the Mavroeidis-Papageorgiou pulse: give gamma_mp with "
+                "pulse='mp', and neither with another pulse"
+            )
         # Plain floats: the configuration's JSON, hence its hash, is the same for 15, 15.0 and np.float32(15).
         object.__setattr__(self, "rtol", float(self.rtol))
         object.__setattr__(self, "t_after", float(self.t_after))

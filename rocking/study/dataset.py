@@ -129,8 +129,11 @@ FIELDS: dict[str, tuple] = {
     "beta_safe": ("1", "largest safe amplitude ratio below beta_min"),
     "flag": ("1", "how beta_min was found", FLAG_KEY),
     "undetermined": ("1", "responses without a verdict (max_events or max_steps)"),
-    "scan_outcome": ("1", "outcome at each scan amplitude: -1 not overturned (safe, or no verdict: counted in "
-                          "undetermined), n >= 0 overturned after n impacts"),  # fmt: skip
+    "scan_outcome": (
+        "1",
+        "outcome at each scan amplitude: -1 not overturned (safe, or no verdict: counted in "
+        "undetermined), n >= 0 overturned after n impacts",
+    ),
     "windows": ("1", "safe windows above beta_min: Omega, first and last safe scan amplitude"),
     "gain": ("1", "gain: beta_min with the damper over beta_min of the block alone"),
     "r": ("1", "damper period ratio T_m p / (2 pi)"),
@@ -251,16 +254,25 @@ def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
     block = Block(**config["block"])
     out = {}
     if "Omega" in coords:
-        out["T_g"] = ("Omega", 2 * math.pi / (np.asarray(coords["Omega"][1]) * block.p),
-                      {"units": "s", "long_name": "pulse period T_g = 2 pi / omega_g"})  # fmt: skip
+        out["T_g"] = (
+            "Omega",
+            2 * math.pi / (np.asarray(coords["Omega"][1]) * block.p),
+            {"units": "s", "long_name": "pulse period T_g = 2 pi / omega_g"},
+        )
     for beta in ("beta", "beta_scan"):
         if beta in coords:
             a_g = np.asarray(coords[beta][1]) * block.g * block.tan_alpha
             out[f"a_g_{beta}" if beta != "beta" else "a_g"] = (
-                beta, a_g, {"units": "m/s^2", "long_name": "pulse amplitude a_g = beta g tan(alpha)"})
+                beta,
+                a_g,
+                {"units": "m/s^2", "long_name": "pulse amplitude a_g = beta g tan(alpha)"},
+            )
     if "r_coarse" in coords:
-        out["T_m_coarse"] = ("r_coarse", np.asarray(coords["r_coarse"][1]) * 2 * math.pi / block.p,
-                             {"units": "s", "long_name": "damper period T_m of the coarse search"})  # fmt: skip
+        out["T_m_coarse"] = (
+            "r_coarse",
+            np.asarray(coords["r_coarse"][1]) * 2 * math.pi / block.p,
+            {"units": "s", "long_name": "damper period T_m of the coarse search"},
+        )
     return out
 
 

@@ -54,8 +54,7 @@ REFINE = 2
 
 #: Arrays of :func:`band_tile`, each ``(nOmega, nsigns)``: the ``beta_min`` results, and the stroke at the
 #: design pulses.
-BAND_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined", "x_max", "stop_contacts",
-               "bumper_force_max")  # fmt: skip
+BAND_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined", "x_max", "stop_contacts", "bumper_force_max")
 
 
 def band_tile(payload: tuple) -> dict:
@@ -77,8 +76,11 @@ def stroke_at(setting: Setting, damper: dict | None, Omega, beta, signs) -> dict
     """``x_max`` (m), ``stop_contacts`` and ``bumper_force_max`` (N) of the responses to ``(Omega, beta)`` in
     every direction, each ``(nOmega, nsigns)``; nan and 0 where ``beta`` is nan (or for the bare block)."""
     shape = (np.size(Omega), len(signs))
-    out = {"x_max": np.full(shape, np.nan), "stop_contacts": np.zeros(shape, np.int64),
-           "bumper_force_max": np.full(shape, np.nan)}  # fmt: skip
+    out = {
+        "x_max": np.full(shape, np.nan),
+        "stop_contacts": np.zeros(shape, np.int64),
+        "bumper_force_max": np.full(shape, np.nan),
+    }
     ok = np.isfinite(beta)
     if damper is not None and ok.any():
         res = respond(setting, np.asarray(Omega)[ok, None], np.asarray(beta)[ok, None], damper, np.array(signs)[None])
@@ -203,8 +205,11 @@ def design(
         check_in_range("zeta", z)
     gamma, h, tol = check_in_range("gamma", gamma, nonzero=True), check_in_range("h", h), check_tol(tol)
     block = setting.block
-    L = block.B / 2 - BUMPER_DEPTH if stroke is None else check_interval("stroke", stroke, 0.0, block.B / 2, "m",
-                                                                          label="(0, B/2)")  # fmt: skip
+    L = (
+        block.B / 2 - BUMPER_DEPTH
+        if stroke is None
+        else check_interval("stroke", stroke, 0.0, block.B / 2, "m", label="(0, B/2)")
+    )
     if not L > 0:
         raise ParameterError(f"the block (B = {block.B:g} m) is narrower than the pads: give stroke in (0, B/2)")
     if not (is_count(refine) and 0 <= refine <= MAX_REFINE):
@@ -246,8 +251,12 @@ def design(
         raise ParameterError(
             "the block alone does not overturn within the beta scan at any Omega of the band: widen beta"
         )
-    folders["damper"] = run_folder(runs, part_config("design", "damper", setting, damper=fixed, **grids,
-                                                     design_beta=[float(x) for x in bare["beta_min"]]))  # fmt: skip
+    folders["damper"] = run_folder(
+        runs,
+        part_config(
+            "design", "damper", setting, damper=fixed, **grids, design_beta=[float(x) for x in bare["beta_min"]]
+        ),
+    )
 
     def judged(points) -> tuple[np.ndarray, np.ndarray]:
         """The worst gain over the band of each candidate, and whether its mass stays on the block."""
@@ -292,8 +301,16 @@ def design(
     warn_undetermined("design", unknown)
     edges = int(at_edge(best[0], r_grid)), int(at_edge(best[1], z_grid))
     summary = design_summary(setting, arrays, damper, L, *edges)
-    config = {"kind": "design", **setting.record(), "damper": fixed, "Tm_ratio": Tm.record(),
-              "zeta_grid": zeta.record(), "refine": refine, **grids, "directions": chosen}  # fmt: skip
+    config = {
+        "kind": "design",
+        **setting.record(),
+        "damper": fixed,
+        "Tm_ratio": Tm.record(),
+        "zeta_grid": zeta.record(),
+        "refine": refine,
+        **grids,
+        "directions": chosen,
+    }
     return Study(
         "design",
         config,
@@ -305,13 +322,13 @@ def design(
             "candidates_on_block": int(on_block.sum()),
             "undetermined": unknown,
             "directions": chosen,
-        },  # fmt: skip
+        },
         run={
             "tiles_computed": sum(s.computed for s in stats),
             "tiles_reused": sum(s.reused for s in stats),
             "wall_s": round(sum(s.wall for s in stats), 3),
             "run_folders": {k: v.name for k, v in folders.items()},
-        },  # fmt: skip
+        },
     )
 
 
@@ -351,14 +368,20 @@ def design_summary(setting: Setting, arrays: dict, damper: dict, L: float, r_edg
 
 def design_table(arrays: dict) -> dict:
     """One CSV row per ``Omega`` of the band: the envelopes, the gain of the design, its stroke use."""
-    table = {"Omega": arrays["Omega"], "bare_beta_min": arrays["bare_beta_min"],
-             "bare_beta_min_is": flag_words(arrays["bare_flag"])}  # fmt: skip
+    table = {
+        "Omega": arrays["Omega"],
+        "bare_beta_min": arrays["bare_beta_min"],
+        "bare_beta_min_is": flag_words(arrays["bare_flag"]),
+    }
     for i, sign in enumerate(arrays["signs"]):
         table[f"bare_beta_min_{SIGN_NAMES[sign]}"] = arrays["bare_beta_min_by_sign"][:, i]
         table[f"damper_beta_min_{SIGN_NAMES[sign]}"] = arrays["damper_beta_min_by_sign"][:, i]
     table.update(gain=arrays["gain_opt"], gain_lower_bound=arrays["flag_opt"] == ABOVE)
-    table.update(stroke_use=arrays["stroke_use"], stop_contacts=arrays["stop_contacts"],
-                 bumper_force_max_N=arrays["bumper_force_max"])  # fmt: skip
+    table.update(
+        stroke_use=arrays["stroke_use"],
+        stop_contacts=arrays["stop_contacts"],
+        bumper_force_max_N=arrays["bumper_force_max"],
+    )
     return table
 
 

@@ -25,8 +25,10 @@ def _stripes(im, overturned) -> tuple[np.ndarray, np.ndarray]:
     im = np.asarray(im, float)
     overturned = np.asarray(overturned, bool)
     if overturned.ndim != 2 or overturned.shape[1] != im.size:
-        raise ParameterError(f"overturned must be (motions, levels) with one level per IM value (got "
-                             f"{overturned.shape} for {im.size} levels)")  # fmt: skip
+        raise ParameterError(
+            f"overturned must be (motions, levels) with one level per IM value (got "
+            f"{overturned.shape} for {im.size} levels)"
+        )
     if not (np.isfinite(im).all() and (im > 0).all()):
         raise ParameterError(f"the intensity levels must be > 0 (got {im!r})")
     return im, overturned

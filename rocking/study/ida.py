@@ -80,8 +80,15 @@ def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
         return sampled_cases(setting.block, motion, scales[:, None], sign=signs, **common)
     d, block = describe(motion), setting.block
     shape = {"psi": d.phase} if d.family == "sine" else {"gamma_mp": d.shape, "nu": d.phase} if d.family == "mp" else {}
-    return pulse_cases(block, d.omega_g / block.p, motion.beta(block) * scales[:, None], sign=motion.sign * signs,
-                       motion=d.family, **shape, **common)  # fmt: skip
+    return pulse_cases(
+        block,
+        d.omega_g / block.p,
+        motion.beta(block) * scales[:, None],
+        sign=motion.sign * signs,
+        motion=d.family,
+        **shape,
+        **common,
+    )
 
 
 def ida_tile(payload: tuple) -> dict:
@@ -173,8 +180,9 @@ def incremental_dynamic_analysis(
     if measure_name not in LEVELS:
         raise ParameterError(f"measure must be one of {', '.join(LEVELS)} (got {measure_name!r})")
     if measure_name == "amplitude" and not suite.pulses:
-        raise ParameterError("measure 'amplitude' is the a_g of a suite of pulses (Suite.from_pulses): "
-                             "records have pga")
+        raise ParameterError(
+            "measure 'amplitude' is the a_g of a suite of pulses (Suite.from_pulses): records have pga"
+        )
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     n, lv = len(suite), levels.values()
@@ -184,8 +192,9 @@ def incremental_dynamic_analysis(
     shape = (n, lv.size, len(signs))
     for part, damper, described in (("bare", None, None), ("damper", _damper_args(tuning), tuning.record())):
         for k in FIELDS:
-            arrays[f"{part}_{k}_by_sign"] = np.zeros(shape, float if k in ("theta_max", "x_max", "bumper_force_max")
-                                                     else np.int64)  # fmt: skip
+            arrays[f"{part}_{k}_by_sign"] = np.zeros(
+                shape, float if k in ("theta_max", "x_max", "bumper_force_max") else np.int64
+            )
         arrays[f"{part}_sensitive_by_sign"] = np.zeros(shape, bool)
         folder = run_folder(runs, part_config("ida", part, setting, damper=described, **grids))
         folders[part] = folder.name
@@ -210,15 +219,23 @@ def incremental_dynamic_analysis(
     warn_undetermined("ida", unknown)
     positive = lv[lv > 0]
     arrays["curve_x"] = np.geomspace(positive.min(), positive.max(), CURVE_POINTS) if positive.size else lv
-    summary = {"motions": n, "measure": measure_name, "unit": LEVELS[measure_name], "directions": chosen,
-               "undetermined": unknown}  # fmt: skip
+    summary = {
+        "motions": n,
+        "measure": measure_name,
+        "unit": LEVELS[measure_name],
+        "directions": chosen,
+        "undetermined": unknown,
+    }
     for part in ("bare", "damper"):
         by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
         envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
         arrays.update({f"{part}_{k}": envelope[k] for k in FIELDS})
         over = arrays[f"{part}_overturned"].astype(bool)
-        ida = ida_summary(lv, over) if lv.size > 1 else {"first": np.full(n, np.nan), "last_safe": np.full(n, np.nan),
-                                                         "reversals": np.zeros(n, int)}  # fmt: skip
+        ida = (
+            ida_summary(lv, over)
+            if lv.size > 1
+            else {"first": np.full(n, np.nan), "last_safe": np.full(n, np.nan), "reversals": np.zeros(n, int)}
+        )
         arrays.update({f"{part}_{k}": v for k, v in ida.items()})
         arrays[f"{part}_fraction"] = over.mean(axis=0)
         sensitive = arrays[f"{part}_sensitive_by_sign"]
@@ -230,15 +247,24 @@ def incremental_dynamic_analysis(
         summary[part]["sensitive"] = int(sensitive.sum())
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
-    return Study(kind, config, arrays, tables=ida_tables(arrays, motion_names(grids["suite"]), kind), summary=summary,
-                 run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)})  # fmt: skip
+    return Study(
+        kind,
+        config,
+        arrays,
+        tables=ida_tables(arrays, motion_names(grids["suite"]), kind),
+        summary=summary,
+        run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)},
+    )
 
 
 def _fit(levels, over, arrays: dict, part: str) -> dict:
     """The lognormal fit of ``part`` and its band at ``arrays["curve_x"]`` (stored in ``arrays``); the summary."""
     x = arrays["curve_x"]
-    fit = fit_lognormal(levels[levels > 0], over[:, levels > 0]) if (levels > 0).sum() >= 2 else {
-        "theta": np.nan, "beta": np.nan, "log_likelihood": np.nan, "status": "too few levels"}  # fmt: skip
+    fit = (
+        fit_lognormal(levels[levels > 0], over[:, levels > 0])
+        if (levels > 0).sum() >= 2
+        else {"theta": np.nan, "beta": np.nan, "log_likelihood": np.nan, "status": "too few levels"}
+    )
     out = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in fit.items()}
     arrays[f"{part}_curve"] = np.full(x.size, np.nan)
     arrays[f"{part}_band_low"] = np.full(x.size, np.nan)
@@ -247,8 +273,9 @@ def _fit(levels, over, arrays: dict, part: str) -> dict:
         arrays[f"{part}_curve"] = fragility_curve(x, fit["theta"], fit["beta"])
         band = bootstrap_band(levels[levels > 0], over[:, levels > 0], x, resamples=RESAMPLES)
         arrays[f"{part}_band_low"], arrays[f"{part}_band_high"] = band["low"], band["high"]
-        out.update(theta_interval=band["theta_interval"], beta_interval=band["beta_interval"],
-                   resamples=band["resamples"])  # fmt: skip
+        out.update(
+            theta_interval=band["theta_interval"], beta_interval=band["beta_interval"], resamples=band["resamples"]
+        )
     return out
 
 

@@ -71,8 +71,9 @@ def coarse_values(grid: Grid, name: str) -> np.ndarray:
     """The values of a coarse search grid, refined between its points in log scale (:func:`refinement`):
     a logarithmic grid, or given values (:meth:`Grid.of`)."""
     if not (grid.log or grid.points):
-        raise ParameterError(f"the coarse {name} grid must be logarithmic (Grid(..., log=True)) or given values "
-                             f"(Grid.of)")  # fmt: skip
+        raise ParameterError(
+            f"the coarse {name} grid must be logarithmic (Grid(..., log=True)) or given values (Grid.of)"
+        )
     return grid.values()
 
 

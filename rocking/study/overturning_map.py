@@ -359,8 +359,14 @@ def overturning_map(
     arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"], bare_unknown | damper_unknown)
     unknown = sum(int(undetermined(arrays[f"{part}_status_by_sign"]).sum()) for part in parts)
     warn_undetermined("map", unknown)
-    config = {"kind": "map", **setting.record(), "damper": record, **grids, "directions": chosen,
-              "refinement": refinement}  # fmt: skip
+    config = {
+        "kind": "map",
+        **setting.record(),
+        "damper": record,
+        **grids,
+        "directions": chosen,
+        "refinement": refinement,
+    }
     computed = sum(int(arrays[f"{part}_computed"].sum()) for part in parts)
     return Study(
         "map",
@@ -451,8 +457,9 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
         tasks = interleave(*groups)
         if tasks:
             try:
-                stats = run_tiles(tasks, place, execution, backend=setting.backend, desc=f"map, round {rounds}",
-                                  on_tile=on_tile)  # fmt: skip
+                stats = run_tiles(
+                    tasks, place, execution, backend=setting.backend, desc=f"map, round {rounds}", on_tile=on_tile
+                )
             except Interrupted as exc:  # count the tiles of the rounds before too: all are kept
                 done = total.computed + total.reused
                 raise Interrupted(done + exc.kept, done + exc.total, exc.folder) from exc

@@ -81,6 +81,7 @@ def flag_words(flag) -> np.ndarray:
     """:data:`FLAG_WORDS` of each flag of ``flag``."""
     return np.array([FLAG_WORDS[BELOW], FLAG_WORDS[BRACKETED], FLAG_WORDS[ABOVE]], object)[np.asarray(flag) + 1]
 
+
 #: Default relative tolerance of the bisection on beta.
 TOL = 1e-3
 
@@ -242,8 +243,9 @@ def spectrum_tile(payload: tuple) -> dict:
     """Some columns in every direction: ``(setting, damper_or_None, Omega values, beta_scan, tol, signs,
     coarse)`` -> :func:`beta_min` of them, each array with an axis of the signs after that of ``Omega``."""
     setting, damper, Omega, beta_scan, tol, signs, coarse = payload
-    res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs),
-                   coarse=coarse)  # fmt: skip
+    res = beta_min(
+        setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs), coarse=coarse
+    )
     return {k: v.reshape(len(Omega), len(signs), *v.shape[1:]) for k, v in res.items()}
 
 
@@ -351,8 +353,14 @@ def minimum_overturning_spectrum(
     signs = chosen["signs"]
     Om, b = Omega.values(), beta.values()
     # The refinement keys every spectrum's tiles, full ones too: they hold the counts of responses since.
-    grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "columns": columns, "signs": signs,
-             "refinement": refinement}  # fmt: skip
+    grids = {
+        "Omega": Omega.record(),
+        "beta": beta.record(),
+        "beta_tol": tol,
+        "columns": columns,
+        "signs": signs,
+        "refinement": refinement,
+    }
     arrays = {"Omega": Om, "beta_scan": b, "signs": np.array(signs)}
     record = tuning.record()
     groups, where, folders = [], {}, {}

@@ -234,8 +234,9 @@ def check_archive(zf: zipfile.ZipFile, limit: int) -> None:
             raise ValueError(f"member {info.filename} is compressed; arrays are stored as np.savez writes them")
         announced = _npy_bytes(zf, info)
         if announced != info.file_size:
-            raise ValueError(f"member {info.filename}: its header announces {announced} bytes, it holds "
-                             f"{info.file_size}")  # fmt: skip
+            raise ValueError(
+                f"member {info.filename}: its header announces {announced} bytes, it holds {info.file_size}"
+            )
 
 
 def read_npz(path: Path, limit: int = MAX_STUDY_BYTES) -> dict:
@@ -546,8 +547,9 @@ def _shapes(listed: dict) -> dict:
         if not (isinstance(shape, list) and len(shape) <= 8 and all(is_count(n) and n >= 0 for n in shape)):
             raise ParameterError(f"{name_text(name)}: shape must be a list of at most 8 sizes (got {shown(shape)})")
         if not (isinstance(dtype, str) and _DTYPE.fullmatch(dtype)):
-            raise ParameterError(f"{name_text(name)}: dtype must be a bool, integer or float such as <f8 "
-                                 f"(got {shown(dtype)})")  # fmt: skip
+            raise ParameterError(
+                f"{name_text(name)}: dtype must be a bool, integer or float such as <f8 (got {shown(dtype)})"
+            )
         out[name] = (tuple(shape), np.dtype(dtype))
     return out
 
@@ -586,8 +588,9 @@ def _check_parts(config: dict) -> None:
         fields = inspect.signature(Block).parameters
         unknown = [key for key in block if key not in fields]
         if unknown:
-            raise ParameterError(f"block: no field(s) {', '.join(map(name_text, unknown[:5]))} in a rocking.Block "
-                                 f"({', '.join(fields)})")  # fmt: skip
+            raise ParameterError(
+                f"block: no field(s) {', '.join(map(name_text, unknown[:5]))} in a rocking.Block ({', '.join(fields)})"
+            )
         try:
             Block(**block)
         except TypeError as exc:  # a field missing
@@ -612,8 +615,10 @@ def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
             raise ParameterError(f"{name_text(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
         for dim, size in zip(dims, shape):
             if sizes.setdefault(dim, size) != size:
-                raise ParameterError(f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
-                                     "(as its configuration or its other arrays)")  # fmt: skip
+                raise ParameterError(
+                    f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
+                    "(as its configuration or its other arrays)"
+                )
 
 
 def check_config(kind: str, config: dict) -> tuple[dict, dict]:
@@ -744,8 +749,10 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
     for p in (meta, npz):
         if not p.is_file():
-            raise ParameterError(f"no saved study at {stem}: {p} is missing (a study writes its .npz, .csv and .nc, "
-                                 "then its .json; a save cut short leaves no .json: save or run it again)")  # fmt: skip
+            raise ParameterError(
+                f"no saved study at {stem}: {p} is missing (a study writes its .npz, .csv and .nc, "
+                "then its .json; a save cut short leaves no .json: save or run it again)"
+            )
     record = read_record(meta)
     kind, config = record["kind"], record["config"]
     try:

@@ -125,8 +125,12 @@ class Suite:
         if self.files:
             return {"files": [{"path": p, "sha256": d} for p, d in self.files], "unit": self.unit}
         if self.pulses:
-            return {"pulses": [{"type": type(p).__name__, "family": describe(p).family, "T_g": p.T_g,
-                                **dataclasses.asdict(p)} for p in self.pulses]}  # fmt: skip
+            return {
+                "pulses": [
+                    {"type": type(p).__name__, "family": describe(p).family, "T_g": p.T_g, **dataclasses.asdict(p)}
+                    for p in self.pulses
+                ]
+            }
         return {"stochastic": self.site.record(), "seed": self.seed, "n": self.n}
 
 

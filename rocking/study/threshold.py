@@ -80,8 +80,7 @@ def rising_beta_min(setting: Setting, Omega, damper, *, sign, beta_max: float, t
     Omega = np.atleast_1d(np.asarray(Omega, float))
     n = Omega.size
     sign = np.broadcast_to(np.asarray(sign), (n,))
-    columns = None if damper is None else {k: v if k in FIXED else np.broadcast_to(v, (n,)) for k, v in
-                                           damper.items()}  # fmt: skip
+    columns = None if damper is None else {k: v if k in FIXED else np.broadcast_to(v, (n,)) for k, v in damper.items()}
     out = {k: np.full(n, np.nan) for k in ("beta_min", "beta_safe", "top")}
     out.update({k: np.zeros(n, np.int64) for k in ("flag", "impacts", "undetermined")})
     todo, low, high = np.arange(n), BETA_START, min(BETA_TOP, beta_max)
@@ -105,8 +104,9 @@ def _envelope(setting, Omega: float, damper, n: int, signs, beta_max, tol) -> di
     cols = None
     if damper is not None:
         cols = {k: v if k in FIXED else repeat(np.broadcast_to(v, (n,)), signs) for k, v in damper.items()}
-    res = rising_beta_min(setting, np.full(n * len(signs), Omega), cols, sign=sign_column(n, signs),
-                          beta_max=beta_max, tol=tol)  # fmt: skip
+    res = rising_beta_min(
+        setting, np.full(n * len(signs), Omega), cols, sign=sign_column(n, signs), beta_max=beta_max, tol=tol
+    )
     return beta_min_envelope({k: v.reshape(n, len(signs)) for k, v in res.items() if k != "top"})
 
 
@@ -244,16 +244,31 @@ def threshold_map(
     blocks = [[Block.from_nondim(p=float(pj), lam=float(li), M=1000.0, e_ratio=e_ratio) for pj in P] for li in L]
     chosen = choose(directions, blocks[0][0], tunings[0])
     if directions == "auto":
-        chosen["reason"] = (f"the blocks are eccentric (e = {e_ratio:g} B): both directions, the envelope reported"
-                            if e_ratio else chosen["reason"])  # fmt: skip
+        chosen["reason"] = (
+            f"the blocks are eccentric (e = {e_ratio:g} B): both directions, the envelope reported"
+            if e_ratio
+            else chosen["reason"]
+        )
     signs = chosen["signs"]
     shape = (L.size, P.size, Om.size)
-    arrays = {"lam": L, "p": P, "Omega": Om, "signs": np.array(signs), "r_coarse": r,
-              "beta_max": np.array([beta_bound(row[0], a_max) for row in blocks])}  # fmt: skip
+    arrays = {
+        "lam": L,
+        "p": P,
+        "Omega": Om,
+        "signs": np.array(signs),
+        "r_coarse": r,
+        "beta_max": np.array([beta_bound(row[0], a_max) for row in blocks]),
+    }
     for name in tile_shapes():
         arrays[name] = np.full(shape, np.nan) if name.endswith(("gain", "_r", "beta_min")) else np.zeros(shape, int)
-    grids = {"Omega": Omega.record(), "Tm_ratio": Tm.record(), "refine": refine, "beta_tol": tol,
-             "a_max_g": float(a_max), "signs": signs}  # fmt: skip
+    grids = {
+        "Omega": Omega.record(),
+        "Tm_ratio": Tm.record(),
+        "refine": refine,
+        "beta_tol": tol,
+        "a_max_g": float(a_max),
+        "signs": signs,
+    }
     tasks, where = [], {}
     for i, row in enumerate(blocks):
         for j, block in enumerate(row):
@@ -280,8 +295,9 @@ def threshold_map(
     summary = {"directions": chosen, "a_max_g": float(a_max), "useless_gain": USELESS_GAIN}
     arrays["safe_from"] = safe_from(Om, arrays["bare_flag"])
     for kind in KINDS:
-        results = [[threshold_frequency(Om, arrays[f"{kind}_gain"][i, j]) for j in range(P.size)]
-                   for i in range(L.size)]  # fmt: skip
+        results = [
+            [threshold_frequency(Om, arrays[f"{kind}_gain"][i, j]) for j in range(P.size)] for i in range(L.size)
+        ]
         for key in ("Omega_star", "low", "high"):
             name = f"{kind}_Omega_star" + ("" if key == "Omega_star" else f"_{key}")
             arrays[name] = np.array([[np.nan if t[key] is None else t[key] for t in row] for row in results])
@@ -290,11 +306,27 @@ def threshold_map(
         arrays[f"{kind}_best_gain"] = np.where(np.isfinite(gains).any(axis=2), gains.max(axis=2), np.nan)
         arrays[f"{kind}_r_at_edge"] = at_edge(arrays[f"{kind}_r"], r)
         summary[kind] = {status: int((arrays[f"{kind}_status"] == n).sum()) for n, status in enumerate(STATUSES)}
-    config = {"kind": "threshold", "lam": lam.record(), "p": p.record(), "e_ratio": float(e_ratio), "M": 1000.0,
-              "rtol": rtol, "t_after": t_after, "backend": backend, "dampers": [t.record() for t in tunings], **grids,
-              "directions": chosen}  # fmt: skip
-    return Study("threshold", config, arrays, tables={"threshold": threshold_table(arrays)}, summary=summary,
-                 run={**stats.record(), "geometries": L.size * P.size})  # fmt: skip
+    config = {
+        "kind": "threshold",
+        "lam": lam.record(),
+        "p": p.record(),
+        "e_ratio": float(e_ratio),
+        "M": 1000.0,
+        "rtol": rtol,
+        "t_after": t_after,
+        "backend": backend,
+        "dampers": [t.record() for t in tunings],
+        **grids,
+        "directions": chosen,
+    }
+    return Study(
+        "threshold",
+        config,
+        arrays,
+        tables={"threshold": threshold_table(arrays)},
+        summary=summary,
+        run={**stats.record(), "geometries": L.size * P.size},
+    )
 
 
 #: Outcomes of :func:`rocking.study.optimize.threshold_frequency`, in the order of the ``<kind>_status`` arrays.
@@ -314,8 +346,17 @@ def safe_from(Omega, bare_flag) -> np.ndarray:
 def threshold_table(arrays: dict) -> dict:
     """One CSV row per geometry and kind of damper: ``Omega*``, its bracket and status, the best gain."""
     lam, p = np.meshgrid(arrays["lam"], arrays["p"], indexing="ij")
-    table = {"lam": [], "p_rad_s": [], "damper": [], "Omega_star": [], "Omega_star_low": [], "Omega_star_high": [],
-             "status": [], "best_gain": [], "bare_safe_from_Omega": []}  # fmt: skip
+    table = {
+        "lam": [],
+        "p_rad_s": [],
+        "damper": [],
+        "Omega_star": [],
+        "Omega_star_low": [],
+        "Omega_star_high": [],
+        "status": [],
+        "best_gain": [],
+        "bare_safe_from_Omega": [],
+    }
     for kind in KINDS:
         table["lam"] += list(lam.ravel())
         table["p_rad_s"] += list(p.ravel())
