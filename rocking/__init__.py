@@ -41,8 +41,10 @@ from .study.api import (
     overturning_map,
     threshold_map,
 )
-from .study.config import Grid, Setting, Study, Tuning, Variant
-from .study.storage import DiskFull, load, save
+from .study.config import Grid, Setting, Tuning, Variant
+from .study.files import DiskFull
+from .study.result import Study
+from .study.storage import load, save
 from .study.suite import Suite
 from .study.tiles import Execution, Interrupted, TileWarning
 

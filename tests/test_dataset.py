@@ -12,8 +12,8 @@ import xarray as xr
 import rocking
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.dataset import LAYOUTS, read_netcdf, to_dataset
-from rocking.study.spectrum import ABOVE, BELOW, BRACKETED
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 BLOCK = rocking.Block.reference()
@@ -131,7 +131,7 @@ def test_saved_study_reads_back_as_the_same_dataset(studies, tmp_path):
 
 def test_every_kind_is_in_the_plain_interface(studies):
     """The top-level functions give every kind of study; an array of values is a Grid of those values."""
-    from rocking.study.storage import KINDS
+    from rocking.study.kinds import KINDS
 
     assert set(studies) == set(KINDS)
     assert studies["design"].config["Tm_ratio"]["values"] == [0.5, 1.5, 4.0]
@@ -139,7 +139,7 @@ def test_every_kind_is_in_the_plain_interface(studies):
     ds = studies["threshold"].to_dataset()
     assert dict(ds.sizes)["lam"] == 1 and ds["stops_Omega_star"].dims == ("lam", "p")
     # A threshold's status is where Omega* lies, not why a run ended.
-    from rocking.study.threshold import STATUSES
+    from rocking.study.vocabulary import THRESHOLD_STATUSES as STATUSES
 
     assert ds["stops_status"].attrs["flag_meanings"].split() == list(STATUSES)
     assert ds["bare_flag"].attrs["flag_meanings"] == "upper_bound bracketed lower_bound"
@@ -175,7 +175,7 @@ def test_dataframes_carry_units_and_labels(studies):
 
 def test_every_kind_has_a_layout_and_every_field_units():
     """Every kind of study that can be saved has a layout of its arrays."""
-    from rocking.study.storage import KINDS
+    from rocking.study.kinds import KINDS
 
     assert set(KINDS) == set(LAYOUTS)
 

@@ -19,9 +19,10 @@ from rocking.plot.response import coordinate_unit, response_figure
 from rocking.plot.style import GREY, LIGHT, OKABE_ITO, extend
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import BRACKETED, minimum_overturning_spectrum
+from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.storage import load, save
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 CABINET = Block(H=1.2, B=0.4, M=300.0)

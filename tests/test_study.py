@@ -21,10 +21,11 @@ from rocking.sim.problem import STATUS
 from rocking.study import config as study_config
 from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
 from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
-from rocking.study.overturning_map import SAFE, UndeterminedWarning, outcome, overturning_map
-from rocking.study.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
+from rocking.study.overturning_map import UndeterminedWarning, outcome, overturning_map
+from rocking.study.spectrum import beta_min, minimum_overturning_spectrum, windows
 from rocking.study.storage import load
 from rocking.study.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
+from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED, SAFE
 
 SETTING = Setting(Block.reference(), backend="c")
 SERIAL = Execution(workers=1, progress=False)

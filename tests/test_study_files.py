@@ -26,7 +26,7 @@ import rocking
 import rocking.cli.study
 from rocking import Block, ParameterError
 from rocking.cli.study import add_study_commands
-from rocking.study import storage, tiles
+from rocking.study import files, storage, tiles
 from rocking.study.config import MAX_CELLS, MAX_N, Grid, Setting, Tuning, Variant
 from rocking.study.optimize import optimal_damper
 from rocking.study.overturning_map import overturning_map
@@ -225,14 +225,14 @@ def _enospc(*args, **kwargs):
 def _full_at(monkeypatch, stage: str) -> None:
     """Make the writer of ``stage`` (``tile`` after 3 tiles, or a study's file) fail as on a full disk."""
     if stage == "map.nc, older xarray":  # it writes the file itself; the library's error has no errno
-        monkeypatch.setattr(storage, "no_space", lambda folder: True)
+        monkeypatch.setattr(files, "no_space", lambda folder: True)
         error = {None: ValueError("invalid engine for creating bytes with to_netcdf")}
         monkeypatch.setattr(
             "xarray.Dataset.to_netcdf",
             lambda self, path=None, **k: _raise(error.get(path, RuntimeError("NetCDF: HDF error"))),
         )
         return
-    real = storage.write_file
+    real = files.write_file
     tiles_written = []
 
     def write_file(path, write, mode="wb"):
@@ -244,7 +244,8 @@ def _full_at(monkeypatch, stage: str) -> None:
             _enospc()
         real(path, write, mode)
 
-    monkeypatch.setattr(storage, "write_file", write_file)
+    for module in (files, storage):  # the tiles' writer, and the study's
+        monkeypatch.setattr(module, "write_file", write_file)
 
 
 def _raise(exc: Exception):

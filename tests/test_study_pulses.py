@@ -9,8 +9,9 @@ import rocking
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import BRACKETED, minimum_overturning_spectrum
+from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 

@@ -12,7 +12,7 @@ from rocking import Block
 from rocking.cli.study import add_study_commands
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting
-from rocking.study.spectrum import ABOVE, BRACKETED, beta_min
+from rocking.study.spectrum import beta_min
 from rocking.study.threshold import (
     BETA_TOP,
     STATUSES,
@@ -22,6 +22,7 @@ from rocking.study.threshold import (
     threshold_map,
 )
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import ABOVE, BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 REFERENCE = Setting(Block.reference())

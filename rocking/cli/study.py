@@ -34,20 +34,23 @@ from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE, SiteModel
 from ..plot.figures import draw, redraw
-from ..study.config import BACKENDS, PULSES, Grid, Setting, Study, Tuning, Variant
+from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
+from ..study.files import DiskFull, make_folder, no_space
 from ..study.fragility import FITTED
 from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
-from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
-from ..study.storage import DiskFull, make_folder, no_space, save
+from ..study.result import Study
+from ..study.spectrum import minimum_overturning_spectrum
+from ..study.storage import save
 from ..study.suite import Suite
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
+from ..study.vocabulary import BELOW, BRACKETED
 from .options import (
     add_block_options,
     add_parser,

@@ -40,10 +40,11 @@ from matplotlib.ticker import FuncFormatter
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
-from ..study.config import Study
+from ..study.kinds import KINDS
 from ..study.overturning_map import half_stroke, saved_past_edges
-from ..study.spectrum import ABOVE, BELOW, BRACKETED
+from ..study.result import Study
 from ..study.storage import load
+from ..study.vocabulary import ABOVE, BELOW, BRACKETED
 from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
@@ -801,15 +802,8 @@ def ida_figure(study: Study) -> Figure:
     return fig
 
 
-FIGURES = {
-    "ida": ida_figure,
-    "fragility": ida_figure,
-    "map": map_figure,
-    "spectrum": spectrum_figure,
-    "optimize": optimize_figure,
-    "design": design_figure,
-    "threshold": threshold_figure,
-}
+#: The figure of each kind of study, by the name its entry of :data:`rocking.study.kinds.KINDS` gives.
+FIGURES = {name: globals()[kind.figure] for name, kind in KINDS.items()}
 
 
 def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:

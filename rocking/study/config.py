@@ -5,9 +5,7 @@ damper) is described by a :class:`Setting` (the block and the solver), a
 damper :class:`Tuning` (the paper's ``omd``) or a :class:`Variant` (any
 generated model with its parameters given explicitly) and :class:`Grid` s of the non-dimensional pulse
 parameters of ``docs/model.md`` section 9 (``Omega = omega_g / p``,
-``beta = a_g / (g tan(alpha))``). Its result is a :class:`Study`: arrays,
-CSV tables, a JSON-ready configuration and a summary
-(:mod:`rocking.study.storage` writes and reads it).
+``beta = a_g / (g tan(alpha))``). Its result is a :class:`rocking.study.result.Study`.
 
 Units SI (m, kg, s, rad); the study parameters themselves are non-dimensional.
 """
@@ -400,51 +398,6 @@ class Variant:
     def case_args(self) -> dict:
         """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for this damper."""
         return {"model": self.model, "params": dict(self.params)}
-
-
-@dataclass
-class Study:
-    """A finished study.
-
-    Attributes
-    ----------
-    kind : str
-        ``"map"``, ``"spectrum"`` or ``"optimize"``.
-    config : dict
-        Full JSON-ready configuration.
-    arrays : dict of ndarray
-        Every result array (what the figures are drawn from).
-    tables : dict of dict of ndarray
-        CSV tables by file stem, each a dict of equal-length columns.
-    summary : dict
-        JSON-ready key results.
-    run : dict
-        How it ran (tiles computed and reused, wall time); not part of the configuration.
-    """
-
-    kind: str
-    config: dict
-    arrays: dict
-    tables: dict = field(default_factory=dict)
-    summary: dict = field(default_factory=dict)
-    run: dict = field(default_factory=dict)
-
-    def to_dataset(self):
-        """The study as a labelled :class:`xarray.Dataset` (:func:`rocking.study.dataset.to_dataset`)."""
-        from .dataset import to_dataset
-
-        return to_dataset(self)
-
-    def to_dataframes(self) -> dict:
-        """Its tables as :class:`pandas.DataFrame`, with units (:func:`rocking.study.dataset.to_dataframes`)."""
-        from .dataset import to_dataframes
-
-        return to_dataframes(self)
-
-    def _repr_html_(self) -> str:
-        from .dataset import html
-
-        return html(self)
 
 
 def config_hash(config: dict) -> str:

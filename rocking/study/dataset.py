@@ -30,9 +30,10 @@ from ..model.intensity import MEASURES
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..sim.boundary import RESULT, STATUSES
-from .config import Study
-from .spectrum import FLAG_WORDS
-from .threshold import STATUSES as THRESHOLD_STATUSES
+from .config import config_hash
+from .config import versions as current_versions
+from .files import describe
+from .vocabulary import FLAG_WORDS, THRESHOLD_STATUSES
 
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
@@ -276,7 +277,7 @@ def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
     return out
 
 
-def to_dataset(study: Study, versions: dict | None = None):
+def to_dataset(study, versions: dict | None = None):
     """The study as an :class:`xarray.Dataset` (see the module's text).
 
     Parameters
@@ -290,9 +291,6 @@ def to_dataset(study: Study, versions: dict | None = None):
     xarray.Dataset
     """
     import xarray as xr
-
-    from .config import config_hash
-    from .config import versions as current_versions
 
     coordinate_arrays, _ = LAYOUTS[study.kind]
     arrays = study.arrays
@@ -343,8 +341,6 @@ def read_netcdf(path: str | Path):
     """
     import xarray as xr
 
-    from .storage import describe
-
     path = Path(path)
     try:
         dataset = xr.load_dataset(path, engine="netcdf4")
@@ -355,7 +351,7 @@ def read_netcdf(path: str | Path):
     return dataset
 
 
-def to_dataframes(study: Study) -> dict:
+def to_dataframes(study) -> dict:
     """The study's tables (:attr:`Study.tables`) as :class:`pandas.DataFrame`, by name.
 
     Each frame's ``attrs["units"]`` and ``attrs["long_names"]`` give every column's units and meaning where
@@ -381,7 +377,7 @@ def to_dataframes(study: Study) -> dict:
     return frames
 
 
-def html(study: Study) -> str:
+def html(study) -> str:
     """An HTML view of a study for Jupyter: its kind, its summary and its :class:`xarray.Dataset`."""
     from html import escape
 

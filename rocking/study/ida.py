@@ -30,10 +30,11 @@ from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
 from ..sim.accuracy import SENSITIVE, merged, tighter_rtol
 from ..sim.cases import pulse_cases, run_cases, sampled_cases
-from .config import Grid, Setting, Study, Tuning, Variant, part_config
+from .config import Grid, Setting, Tuning, Variant, part_config
 from .directions import choose, response_envelope
 from .fragility import FITTED, bootstrap_band, fit_lognormal, fragility_curve, ida_summary
 from .overturning_map import FIELDS, check_damper, check_study, preflight, undetermined, warn_undetermined
+from .result import Study
 from .suite import Suite, motion_names
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 
@@ -251,7 +252,7 @@ def incremental_dynamic_analysis(
         kind,
         config,
         arrays,
-        tables=ida_tables(arrays, motion_names(grids["suite"]), kind),
+        tabulate=tables,
         summary=summary,
         run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)},
     )
@@ -277,6 +278,11 @@ def _fit(levels, over, arrays: dict, part: str) -> dict:
             theta_interval=band["theta_interval"], beta_interval=band["beta_interval"], resamples=band["resamples"]
         )
     return out
+
+
+def tables(arrays: dict, config: dict) -> dict:
+    """The tables of an IDA or fragility study (:func:`ida_tables`), its motions named by its configuration."""
+    return ida_tables(arrays, motion_names(config["suite"]), config["kind"])
 
 
 def ida_tables(arrays: dict, names, kind: str) -> dict:

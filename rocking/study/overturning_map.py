@@ -34,24 +34,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.params import BUMPER_DEPTH, ParameterError
+from ..model.params import BUMPER_DEPTH, Block, ParameterError
 from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
 from .adaptive import COARSE, Refinement, check_coarse, check_verify, guarantee
-from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
+from .config import Grid, Setting, Tuning, Variant, check_cells, check_type, is_count, part_config
 from .directions import SIGN_NAMES, choose, response_envelope
+from .result import Study
 from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
+from .vocabulary import NOT_COMPUTED, SAFE
 
 #: Result fields kept per response.
 FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contacts", "bumper_force_max")
-
-#: Outcome of a response that does not overturn.
-SAFE = -1
-
-#: Value of the integer fields (``impacts``, ``stop_contacts``, ``status``) of a cell of an adaptive map that
-#: was not computed, where its class does not give them (the float fields are NaN there).
-NOT_COMPUTED = -1
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
 FIXED = ("model", "params", "stops", "stroke")
@@ -372,7 +367,6 @@ def overturning_map(
         "map",
         config,
         arrays,
-        tables={"map": map_table(arrays, setting.block.B / 2, half_stroke(setting.block, record))},
         summary={
             **map_summary(arrays, setting.block.B / 2),
             "directions": chosen,
@@ -386,6 +380,7 @@ def overturning_map(
             "responses_full_grid": len(parts) * len(signs) * Om.size * b.size,
             "rounds": rounds,
         },
+        tabulate=map_tables,
     )
 
 
@@ -492,6 +487,12 @@ def half_stroke(block, record: dict) -> float | None:
     if record.get("stops"):
         return record.get("stroke", block.B / 2 - BUMPER_DEPTH)
     return record.get("params", {}).get("L")
+
+
+def map_tables(arrays: dict, config: dict) -> dict:
+    """The tables of a map (:func:`map_table`), its block and damper read from its configuration."""
+    block = Block(**config["block"])
+    return {"map": map_table(arrays, block.B / 2, half_stroke(block, config["damper"]))}
 
 
 def map_table(arrays: dict, half_width: float, L: float | None = None) -> dict:

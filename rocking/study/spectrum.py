@@ -57,11 +57,10 @@ import numpy as np
 
 from ..model.params import ParameterError
 from .adaptive import check_coarse, refine_scan
-from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
+from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
     FIXED,
-    SAFE,
     check_damper,
     check_study,
     preflight,
@@ -70,17 +69,9 @@ from .overturning_map import (
     undetermined,
     warn_undetermined,
 )
+from .result import Study
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
-
-BELOW, BRACKETED, ABOVE = -1, 0, 1
-#: What each flag makes of ``beta_min``, in words: the tables' ``*_beta_min_is`` columns, the datasets' key.
-FLAG_WORDS = {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"}
-
-
-def flag_words(flag) -> np.ndarray:
-    """:data:`FLAG_WORDS` of each flag of ``flag``."""
-    return np.array([FLAG_WORDS[BELOW], FLAG_WORDS[BRACKETED], FLAG_WORDS[ABOVE]], object)[np.asarray(flag) + 1]
-
+from .vocabulary import ABOVE, BELOW, BRACKETED, SAFE, flag_words
 
 #: Default relative tolerance of the bisection on beta.
 TOL = 1e-3
@@ -406,7 +397,7 @@ def minimum_overturning_spectrum(
         "spectrum",
         config,
         arrays,
-        tables=spectrum_tables(arrays),
+        tabulate=spectrum_tables,
         summary={**spectrum_summary(arrays), "directions": chosen, "refinement": refinement},
         run={**stats.record(), "run_folders": folders, **counts, "scan_responses_full": 2 * Om.size * ns * b.size},
     )
@@ -421,7 +412,7 @@ def _all_windows(Omega, beta_scan, scan_outcome) -> np.ndarray:
     return np.concatenate(rows)
 
 
-def spectrum_tables(arrays: dict) -> dict:
+def spectrum_tables(arrays: dict, config: dict) -> dict:
     """CSV tables: ``spectrum`` (one row per Omega: the envelope and, with two directions, each direction's
     ``beta_min``) and ``spectrum-windows`` (one row per window)."""
     main = {"Omega": arrays["Omega"]}

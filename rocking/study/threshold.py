@@ -37,12 +37,15 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import Block, ParameterError, check_real
-from .config import Grid, Setting, Study, Tuning, part_config
+from .config import Grid, Setting, Tuning, part_config
 from .directions import beta_min_envelope, choose, repeat, sign_column
 from .optimize import USELESS_GAIN, at_edge, coarse_values, refinement, threshold_frequency
 from .overturning_map import FIXED, check_study, preflight, warn_undetermined
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
+from .result import Study
+from .spectrum import TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
+from .vocabulary import ABOVE, BRACKETED
+from .vocabulary import THRESHOLD_STATUSES as STATUSES
 
 #: Default bound of the ground acceleration, in units of g. The largest peak ground acceleration ever
 #: recorded is 4.36 g (vector sum of three components, KiK-net station IWTH25, 2008 Iwate-Miyagi
@@ -323,14 +326,10 @@ def threshold_map(
         "threshold",
         config,
         arrays,
-        tables={"threshold": threshold_table(arrays)},
+        tabulate=threshold_tables,
         summary=summary,
         run={**stats.record(), "geometries": L.size * P.size},
     )
-
-
-#: Outcomes of :func:`rocking.study.optimize.threshold_frequency`, in the order of the ``<kind>_status`` arrays.
-STATUSES = ("bracketed", "below_range", "above_range", "undefined")
 
 
 def safe_from(Omega, bare_flag) -> np.ndarray:
@@ -341,6 +340,11 @@ def safe_from(Omega, bare_flag) -> np.ndarray:
     tail = np.flip(np.logical_and.accumulate(np.flip(above, axis=-1), axis=-1), axis=-1)
     first = np.argmax(tail, axis=-1)
     return np.where(tail.any(axis=-1), np.asarray(Omega)[first], np.nan)
+
+
+def threshold_tables(arrays: dict, config: dict) -> dict:
+    """The table of a threshold map (:func:`threshold_table`)."""
+    return {"threshold": threshold_table(arrays)}
 
 
 def threshold_table(arrays: dict) -> dict:
