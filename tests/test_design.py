@@ -158,7 +158,7 @@ def test_cli_design_writes_data_and_prints_the_damper_in_si(tmp_path, capsys):
     assert "pulses of sign +1 and -1" in out
     summary = rocking.study.storage.load(tmp_path / "design").summary
     assert f"design: {design_verdict(summary)}\n" in out  # the verdict in words, its own line
-    for name in ("design.npz", "design.json", "design.csv", "design-candidates.csv", "design.png"):
+    for name in ("design.nc", "design.json", "design.csv", "design-candidates.csv", "design.png"):
         assert (tmp_path / name).is_file()
     assert rocking.study.storage.load(tmp_path / "design").summary["worst_gain"] > 0
 

@@ -4,6 +4,7 @@ a palette that colour-blind readers and grey prints tell apart, bounds apart fro
 from __future__ import annotations
 
 import colorsys
+import dataclasses
 
 import numpy as np
 import pytest
@@ -19,7 +20,7 @@ from rocking.plot.response import coordinate_unit, response_figure
 from rocking.plot.style import GREY, LIGHT, OKABE_ITO, extend
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import minimum_overturning_spectrum
+from rocking.study.spectrum import minimum_overturning_spectrum, spectrum_tables
 from rocking.study.storage import load, save
 from rocking.study.tiles import Execution
 from rocking.study.vocabulary import BRACKETED
@@ -105,9 +106,7 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
 
 def test_the_reference_block_and_the_cabinet_get_different_titles(cabinet_map):
     a = dict(cabinet_map.config)
-    reference = type(cabinet_map)(
-        cabinet_map.kind, {**a, "block": Block.reference().as_params()}, cabinet_map.arrays, summary=cabinet_map.summary
-    )
+    reference = dataclasses.replace(cabinet_map, config={**a, "block": Block.reference().as_params()})
     assert map_figure(reference)._suptitle.get_text() != map_figure(cabinet_map)._suptitle.get_text()
 
 
@@ -262,7 +261,8 @@ def spectrum_figure_of(config: dict, Omega):
                 f"{part}_windows": np.zeros((0, 3)),
             }
         )
-    study = rocking.Study("spectrum", {**config, "directions": {"directions": "positive", "signs": [1]}}, arrays)
+    config = {**config, "directions": {"directions": "positive", "signs": [1]}}
+    study = rocking.Study.of_arrays("spectrum", config, arrays, spectrum_tables)
     return spectrum_figure(study)
 
 

@@ -369,7 +369,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
     assert "saved" in printed and "Omega*" in printed and str(tmp_path) in printed
     kinds = ("map", "spectrum", "optimize")
     for kind in kinds:
-        for ext in ("npz", "csv", "json", "png", "pdf"):
+        for ext in ("nc", "csv", "json", "png", "pdf"):
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0, (kind, ext)
         record = json.loads((tmp_path / f"{kind}.json").read_text())
         assert record["config"]["kind"] == kind and record["config_sha256"]
@@ -385,7 +385,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
 
     monkeypatch.setattr("rocking.study.overturning_map.run_cases", no_simulation)
     assert cli(["redraw", out]) == 0
-    assert cli(["redraw", str(tmp_path / "spectrum.npz")]) == 0
+    assert cli(["redraw", str(tmp_path / "spectrum.nc")]) == 0
     for kind in kinds:
         for ext in ("png", "pdf"):
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0

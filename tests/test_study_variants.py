@@ -154,13 +154,12 @@ def test_cli_map_of_a_variant(tmp_path, capsys):
     argv += ["--Omega", "1", "4", "4", "--beta", "1", "6", "4", "--out", str(tmp_path)]
     argv += ["--no-progress", "--workers", "1"]
     assert main(argv) == 0
-    for ext in ("npz", "png", "json", "csv"):
+    for ext in ("nc", "png", "json", "csv"):
         assert (tmp_path / f"map.{ext}").stat().st_size > 0
     record = json.loads((tmp_path / "map.json").read_text())
     assert record["config"]["damper"]["model"] == "pendulum"
     assert record["config"]["damper"]["params"] == PENDULUM
-    with np.load(tmp_path / "map.npz") as z:
-        assert z["damper_overturned"].shape == (4, 4)
+    assert rocking.load(tmp_path / "map").data["damper_overturned"].shape == (4, 4)
     capsys.readouterr()
 
 

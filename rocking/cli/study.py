@@ -1,7 +1,7 @@
 """The study subcommands of the ``rocking`` command: ``map``, ``spectrum``, ``optimize``, ``demo``, ``redraw``.
 
 :func:`add_study_commands` adds them to the ``rocking`` parser's subparsers;
-each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.npz``,
+each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.nc``,
 ``.csv``, ``.json``, ``.png`` and ``.pdf``, and keeps its finished tiles in
 ``<out>/runs`` so that an interrupted run resumes where it stopped.
 
@@ -970,5 +970,5 @@ def add_study_commands(subparsers) -> None:
         p.set_defaults(func=_guarded(_cmd_ida))
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
-    p.add_argument("paths", nargs="+", help="a saved study (.npz, .json or their stem) or a folder of them")
+    p.add_argument("paths", nargs="+", help="a saved study (.nc, .json or their stem) or a folder of them")
     p.set_defaults(func=_guarded(_cmd_redraw))

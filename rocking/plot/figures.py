@@ -2,7 +2,7 @@
 
 Every figure is drawn from a :class:`rocking.study.config.Study` as
 :func:`rocking.study.storage.load` reads it back, so :func:`redraw` re-renders a
-figure from its ``.npz``/``.json`` without recomputing anything. Figures are
+figure from its ``.nc``/``.json`` without recomputing anything. Figures are
 written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
 
 Every title names the block (``H``, ``B``, ``M``, ``e`` in m and kg; ``alpha``, ``p``), the damper and the
@@ -838,13 +838,13 @@ def _redraw_one(stem: Path) -> list[Path]:
     except UNFIT as exc:  # the file passed load()'s checks but is not what this version of rocking writes
         text = str(exc).splitlines()[0] if str(exc) else ""
         raise ParameterError(
-            f"{stem}.npz/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
+            f"{stem}.nc/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
             "it lacks data its figure needs (saved by another version of rocking?)"
         ) from exc
 
 
 def redraw(path: str | Path) -> list[Path]:
-    """Redraw figures from saved data: one study (its ``.npz``, ``.json`` or stem) or every study in a folder.
+    """Redraw figures from saved data: one study (its ``.nc``, ``.json`` or stem) or every study in a folder.
 
     The figures are written next to the data, under the same stem.
 
@@ -857,13 +857,13 @@ def redraw(path: str | Path) -> list[Path]:
     """
     path = Path(path)
     stems = (
-        sorted(p.with_suffix("") for p in path.glob("*.json") if p.with_suffix(".npz").is_file())
+        sorted(p.with_suffix("") for p in path.glob("*.json") if p.with_suffix(".nc").is_file())
         if path.is_dir()
         else [path]
     )
     if not stems:
-        raise ParameterError(f"no saved study (<name>.npz with <name>.json) in {path}")
+        raise ParameterError(f"no saved study (<name>.nc with <name>.json) in {path}")
     written = []
     for stem in stems:
-        written += _redraw_one(stem.with_suffix("") if stem.suffix in (".npz", ".json") else stem)
+        written += _redraw_one(stem.with_suffix("") if stem.suffix in (".nc", ".json") else stem)
     return written

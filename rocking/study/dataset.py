@@ -198,6 +198,24 @@ def _part(name: str) -> str | None:
     return match.group(1) if match else None
 
 
+#: The coordinates besides the swept quantities: the SI ones (:func:`si_coordinates`) and the labels.
+COORDINATE_DIMS = {
+    "T_g": ("Omega",),
+    "a_g": ("beta",),
+    "a_g_beta_scan": ("beta_scan",),
+    "T_m_coarse": ("r_coarse",),
+    "gamma_or_best": ("gamma_or_best",),
+    "window_field": ("window_field",),
+}
+
+
+def variable_dims(kind: str, name: str) -> tuple[str, ...]:
+    """The dimensions of the variable ``name`` (coordinates included) of :func:`labelled` data of ``kind``."""
+    if name in LAYOUTS[kind][0].values():
+        return (name,)
+    return COORDINATE_DIMS.get(name) or dimensions(kind, name)
+
+
 def dimensions(kind: str, name: str) -> tuple[str, ...]:
     """The dimensions of the array ``name`` of a study of ``kind`` (:data:`LAYOUTS`)."""
     for pattern, dims in LAYOUTS[kind][1]:
@@ -248,7 +266,7 @@ def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
     return attrs
 
 
-def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
+def si_coordinates(config: dict, coords: dict) -> dict:
     """Dimensional coordinates beside the non-dimensional ones, for a study of one block."""
     if "block" not in config:
         return {}
@@ -277,8 +295,46 @@ def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
     return out
 
 
+def labelled(kind: str, arrays: dict, config: dict):
+    """The arrays of a study of ``kind`` whose module still names its dimensions in its arrays' names, labelled
+    by :data:`LAYOUTS`: an :class:`xarray.Dataset` with units, without the study's own attributes."""
+    import xarray as xr
+
+    coordinate_arrays, _ = LAYOUTS[kind]
+    coords = {}
+    for array, dim in coordinate_arrays.items():
+        if array in arrays:
+            coords[dim] = (dim, np.asarray(arrays[array]), _attrs(dim, config, coordinate=True))
+    if kind == "optimize" and "gamma" in arrays:
+        labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
+        coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
+    if kind in ("spectrum",):
+        coords["window_field"] = ("window_field", np.array(["Omega", "beta_first_safe", "beta_last_safe"]), {})
+    coords.update(si_coordinates(config, coords))
+    variables = {
+        name: (dimensions(kind, name), np.asarray(values), _attrs(name, config))
+        for name, values in arrays.items()
+        if name not in coordinate_arrays
+    }
+    return xr.Dataset(variables, coords=coords)
+
+
+def flat(kind: str, data) -> dict:
+    """The arrays :func:`labelled` labelled, by their names again (its coordinates under their arrays' names)."""
+    coordinate_arrays, _ = LAYOUTS[kind]
+    arrays = {array: data[dim].values for array, dim in coordinate_arrays.items() if dim in data.coords}
+    return {**arrays, **{name: variable.values for name, variable in data.data_vars.items()}}
+
+
+def by_arrays(kind: str, tables):
+    """``tables(arrays, config)`` of a kind that names dimensions in its arrays' names, as a function of the
+    study's data (:func:`flat`)."""
+    return lambda data, config: tables(flat(kind, data), config)
+
+
 def to_dataset(study, versions: dict | None = None):
-    """The study as an :class:`xarray.Dataset` (see the module's text).
+    """The study's data (:attr:`rocking.study.result.Study.data`) with its configuration, summary and the
+    software's versions as attributes (see the module's text).
 
     Parameters
     ----------
@@ -290,25 +346,6 @@ def to_dataset(study, versions: dict | None = None):
     -------
     xarray.Dataset
     """
-    import xarray as xr
-
-    coordinate_arrays, _ = LAYOUTS[study.kind]
-    arrays = study.arrays
-    coords = {}
-    for array, dim in coordinate_arrays.items():
-        if array in arrays:
-            coords[dim] = (dim, np.asarray(arrays[array]), _attrs(dim, study.config, coordinate=True))
-    if study.kind == "optimize" and "gamma" in arrays:
-        labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
-        coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
-    if study.kind in ("spectrum",):
-        coords["window_field"] = ("window_field", np.array(["Omega", "beta_first_safe", "beta_last_safe"]), {})
-    coords.update(_si_coordinates(study.kind, study.config, coords))
-    variables = {}
-    for name, values in arrays.items():
-        if name in coordinate_arrays:
-            continue
-        variables[name] = (dimensions(study.kind, name), np.asarray(values), _attrs(name, study.config))
     attrs = {
         "Conventions": CONVENTIONS,
         "title": f"rocking {study.kind} study",
@@ -321,7 +358,7 @@ def to_dataset(study, versions: dict | None = None):
     }
     if "guarantee" in study.summary:  # what an adaptive map can miss, in plain words beside the JSON
         attrs["guarantee"] = study.summary["guarantee"]
-    return xr.Dataset(variables, coords=coords, attrs=attrs)
+    return study.data.copy().assign_attrs(attrs)
 
 
 def _json_default(value):

@@ -313,11 +313,11 @@ def design(
         **grids,
         "directions": chosen,
     }
-    return Study(
+    return Study.of_arrays(
         "design",
         config,
         arrays,
-        tabulate=design_tables,
+        tables=design_tables,
         summary={
             **summary,
             "candidates": len(points),

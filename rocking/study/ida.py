@@ -248,11 +248,11 @@ def incremental_dynamic_analysis(
         summary[part]["sensitive"] = int(sensitive.sum())
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
-    return Study(
+    return Study.of_arrays(
         kind,
         config,
         arrays,
-        tabulate=tables,
+        tables=tables,
         summary=summary,
         run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)},
     )

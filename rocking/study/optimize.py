@@ -404,11 +404,11 @@ def optimal_damper(
     config["directions"] = chosen
     if stops:
         config["stops"] = True
-    return Study(
+    return Study.of_arrays(
         "optimize",
         config,
         arrays,
-        tabulate=optimize_tables,
+        tables=optimize_tables,
         summary={
             "useless_gain": USELESS_GAIN,
             "Omega_star": thresholds,

@@ -363,7 +363,7 @@ def overturning_map(
         "refinement": refinement,
     }
     computed = sum(int(arrays[f"{part}_computed"].sum()) for part in parts)
-    return Study(
+    return Study.of_arrays(
         "map",
         config,
         arrays,
@@ -380,7 +380,7 @@ def overturning_map(
             "responses_full_grid": len(parts) * len(signs) * Om.size * b.size,
             "rounds": rounds,
         },
-        tabulate=map_tables,
+        tables=map_tables,
     )
 
 

@@ -393,11 +393,11 @@ def minimum_overturning_spectrum(
         arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
     warn_undetermined("spectrum", int(arrays["bare_undetermined"].sum() + arrays["damper_undetermined"].sum()))
     config = {"kind": "spectrum", **setting.record(), "damper": record, **grids, "directions": chosen}
-    return Study(
+    return Study.of_arrays(
         "spectrum",
         config,
         arrays,
-        tabulate=spectrum_tables,
+        tables=spectrum_tables,
         summary={**spectrum_summary(arrays), "directions": chosen, "refinement": refinement},
         run={**stats.record(), "run_folders": folders, **counts, "scan_responses_full": 2 * Om.size * ns * b.size},
     )

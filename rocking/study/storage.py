@@ -1,6 +1,6 @@
-"""What a study leaves on disk: ``<name>.npz`` (every array), ``<name>*.csv`` (tables), ``<name>.nc``, ``<name>.json``.
+"""What a study leaves on disk: ``<name>.nc`` (its data), ``<name>*.csv`` (its tables), ``<name>.json`` (its record).
 
-:func:`save` writes a :class:`~rocking.study.config.Study` with its
+:func:`save` writes a :class:`~rocking.study.result.Study` with its
 configuration, the configuration's hash, software versions, summary and
 timing; :func:`load` reads it back without recomputing anything, and refuses
 with a :class:`~rocking.model.params.ParameterError` naming the file a study
@@ -44,10 +44,9 @@ from .config import (
     tree_hash,
     versions,
 )
+from .dataset import read_netcdf, to_dataset
 from .files import (
-    MAX_NPY_HEADER,
     MAX_STUDY_BYTES,
-    UNREADABLE,
     DiskFull,
     checksum,
     describe,
@@ -55,18 +54,22 @@ from .files import (
     layout,
     make_folder,
     read_json,
-    read_npz,
     write_csv,
     write_file,
 )
 from .kinds import KINDS
 from .result import Study
+from .suite import MAX_MOTIONS
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
-STUDY_FORMAT = 2
+#: 3: its data are its NetCDF file (2: arrays named after their dimensions in an ``.npz``).
+STUDY_FORMAT = 3
 
 #: The parts of a saved study's JSON record that :func:`load` needs.
-RECORD = {"kind": str, "config": dict, "summary": dict, "arrays": dict, "arrays_sha256": str}
+RECORD = {"kind": str, "config": dict, "summary": dict, "variables": dict, "variables_sha256": str}
+
+#: Bytes of a NetCDF file besides its variables' (its header, attributes, HDF5's structures) that are read.
+NETCDF_OVERHEAD = 16 << 20
 
 
 def _stem(path: str | Path) -> Path:
@@ -76,16 +79,24 @@ def _stem(path: str | Path) -> Path:
 
 def _data_files(study: Study, name: str, software: dict) -> dict:
     """The files of ``study`` saved as ``name`` but its JSON record: file name -> ``write(path)``."""
-    from .dataset import to_dataset  # the studies' modules, which it reads, store their tiles here
-
-    files = {f"{name}.npz": lambda path: write_file(path, lambda f: np.savez(f, **study.arrays))}
+    files = {f"{name}.nc": lambda path: write_netcdf(to_dataset(study, software), path)}
     for table, columns in study.tables.items():
         # Tables are named after the kind ("spectrum-windows"); a study saved under another name keeps its own.
         if table.startswith(study.kind):
             table = name + table[len(study.kind) :]
         files[f"{table}.csv"] = lambda path, columns=columns: write_csv(path, columns)
-    files[f"{name}.nc"] = lambda path: write_netcdf(to_dataset(study, software), path)
     return files
+
+
+def variables(data) -> dict:
+    """Every variable of a study's data (coordinates included) by name: what its record lists and checks."""
+    return {name: variable.values for name, variable in data.variables.items()}
+
+
+def data_layout(data) -> dict:
+    """Name -> ``{"dims": [...], "dtype": ..., "shape": [...]}`` of every variable of ``data``, JSON-ready."""
+    shapes = layout(variables(data))
+    return {name: {"dims": list(data[name].dims), **shapes[name]} for name in shapes}
 
 
 def write_netcdf(dataset, path: Path) -> None:
@@ -115,8 +126,8 @@ def _record(study: Study, software: dict, files: list[str], command: dict | None
         "run": study.run,
         "format": STUDY_FORMAT,
         "files": files,
-        "arrays": layout(study.arrays),
-        "arrays_sha256": checksum(study.arrays),
+        "variables": data_layout(study.data),
+        "variables_sha256": checksum(variables(study.data)),
     }
     return {**record, "command": command} if command is not None else record
 
@@ -243,29 +254,32 @@ def read_record(meta: Path) -> dict:
     return record
 
 
-#: A saved array's dtype: bool, integer or float of 1 to 8 bytes, in any byte order (``layout``'s ``dtype.str``).
-_DTYPE = re.compile(r"[<>|=][biuf][1248]")
+#: A saved variable's dtype: bool, integer or float of 1 to 8 bytes, in any byte order, or a short text (a label).
+_DTYPE = re.compile(r"[<>|=]([biuf][1248]|U[1-9][0-9]{0,2})")
 
 
 def _shapes(listed: dict) -> dict:
-    """Name -> ``(shape, dtype)`` of the arrays a JSON record lists, each checked to be a shape and a plain dtype."""
+    """Name -> ``(dims, shape, dtype)`` of the variables a JSON record lists, each checked to be plain."""
     out = {}
     for name, entry in listed.items():
-        shape, dtype = (entry.get("shape"), entry.get("dtype")) if isinstance(entry, dict) else (None, None)
+        dims, shape, dtype = (
+            (entry.get(k) for k in ("dims", "shape", "dtype")) if isinstance(entry, dict) else [None] * 3
+        )
         if not (isinstance(shape, list) and len(shape) <= 8 and all(is_count(n) and n >= 0 for n in shape)):
             raise ParameterError(f"{name_text(name)}: shape must be a list of at most 8 sizes (got {shown(shape)})")
+        if not (isinstance(dims, list) and len(dims) == len(shape) and all(isinstance(d, str) for d in dims)):
+            raise ParameterError(f"{name_text(name)}: dims must name each of its dimensions (got {shown(dims)})")
         if not (isinstance(dtype, str) and _DTYPE.fullmatch(dtype)):
             raise ParameterError(
-                f"{name_text(name)}: dtype must be a bool, integer or float such as <f8 (got {shown(dtype)})"
+                f"{name_text(name)}: dtype must be a bool, integer, float or short text such as <f8 "
+                f"(got {shown(dtype)})"
             )
-        out[name] = (tuple(shape), np.dtype(dtype))
+        out[name] = (tuple(dims), tuple(shape), np.dtype(dtype))
     return out
 
 
 def _motions(suite) -> int:
     """The number of motions of a suite's record (:meth:`rocking.study.suite.Suite.record`)."""
-    from .suite import MAX_MOTIONS
-
     if not isinstance(suite, dict):
         raise ParameterError(f"suite must be the record of a suite of motions (got {shown(suite)})")
     listed = next((suite[key] for key in ("files", "pulses") if key in suite), None)
@@ -308,29 +322,8 @@ def _check_parts(config: dict) -> None:
         raise ParameterError(f"damper must be the record of a damper (got {shown(damper)})")
 
 
-def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
-    """Refuse arrays whose dimensions are not those of their kind, or whose sizes differ from ``sizes`` (the
-    configuration's) or from each other's; ``sizes`` is completed with the others."""
-    from .dataset import LAYOUTS, dimensions
-
-    coordinates = LAYOUTS[kind][0]
-    for name, (shape, _) in sorted(shapes.items()):
-        try:
-            dims = (coordinates[name],) if name in coordinates else dimensions(kind, name)
-        except KeyError:
-            raise ParameterError(f"{name_text(name)}: not an array of a {kind} study") from None
-        if len(dims) != len(shape):
-            raise ParameterError(f"{name_text(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
-        for dim, size in zip(dims, shape):
-            if sizes.setdefault(dim, size) != size:
-                raise ParameterError(
-                    f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
-                    "(as its configuration or its other arrays)"
-                )
-
-
 def check_config(kind: str, config: dict) -> tuple[dict, dict]:
-    """Check a saved study's configuration: what its arrays' coordinates and dimensions must be.
+    """Check a saved study's configuration: what its data's coordinates and dimensions must be.
 
     Its grids (:attr:`rocking.study.kinds.Kind.grids`) and directions must be valid, its block and damper
     of the types its tables read, and it must be plain JSON (no NaN).
@@ -338,77 +331,92 @@ def check_config(kind: str, config: dict) -> tuple[dict, dict]:
     Returns
     -------
     expected : dict
-        Coordinate array -> ``(field, values)``: the values the configuration gives it.
+        Dimension -> ``(field, values)``: the values the configuration gives its coordinate.
     sizes : dict
-        Dimension -> size (:data:`rocking.study.dataset.LAYOUTS`), as the configuration gives them.
+        Dimension -> size, as the configuration gives them.
 
     Raises
     ------
     ParameterError
         Naming the field and its valid range.
     """
-    from .dataset import LAYOUTS
-
     try:
         config_hash(config)
     except ValueError:
         raise ParameterError("holds NaN or infinity, which a saved configuration never does") from None
     _check_parts(config)
     expected = {}
-    for key, array in KINDS[kind].grids.items():
-        expected[array] = (key, Grid.from_record(key, config.get(key)).values())
-    expected["signs"] = ("signs", np.array(check_signs("signs", config.get("signs"))))
-    sizes = {LAYOUTS[kind][0][array]: len(values) for array, (_, values) in expected.items()}
+    for key, dim in KINDS[kind].grids.items():
+        expected[dim] = (key, Grid.from_record(key, config.get(key)).values())
+    expected["sign"] = ("signs", np.array(check_signs("signs", config.get("signs"))))
+    sizes = {dim: len(values) for dim, (_, values) in expected.items()}
     return expected, {**sizes, **_counts(kind, config)}
 
 
-def check_arrays(kind: str, listed: dict, sizes: dict) -> None:
-    """Check the arrays a saved study's JSON record lists (``listed``) against the sizes of
-    :func:`check_config`, before any is read: every array has its kind's dimensions, of one size each
-    (``sizes`` is completed), the coordinates are there, and all hold at most :data:`MAX_STUDY_BYTES`.
+def check_variables(kind: str, listed: dict, sizes: dict) -> None:
+    """Check the variables a saved study's JSON record lists (``listed``) against the sizes of
+    :func:`check_config`, before any is read: every variable has the dimensions of its kind
+    (:attr:`rocking.study.kinds.Kind.dims`), of one size each (``sizes`` is completed), the coordinates are
+    there, and all hold at most :data:`MAX_STUDY_BYTES`.
 
     Raises
     ------
     ParameterError
-        Naming the array.
+        Naming the variable.
     """
     shapes = _shapes(listed)
-    missing = sorted({"signs", *KINDS[kind].grids.values()} - set(shapes))
+    missing = sorted(dim for dim in KINDS[kind].grids.values() if dim not in shapes) + (
+        ["sign"] if "sign" not in shapes else []
+    )
     if missing:
         raise ParameterError(f"{', '.join(missing)} missing (the coordinates of a {kind} study)")
-    _dimension_sizes(kind, shapes, sizes)
-    total = sum(math.prod(shape) * dtype.itemsize for shape, dtype in shapes.values())
+    for name, (dims, shape, _) in sorted(shapes.items()):
+        try:
+            schema = KINDS[kind].dims(name)
+        except KeyError:
+            raise ParameterError(f"{name_text(name)}: not a variable of a {kind} study") from None
+        if dims != schema:
+            raise ParameterError(f"{name_text(name)} has dimensions ({', '.join(dims)}), not ({', '.join(schema)})")
+        for dim, size in zip(dims, shape):
+            if sizes.setdefault(dim, size) != size:
+                raise ParameterError(
+                    f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
+                    "(as its configuration or its other variables)"
+                )
+    total = sum(math.prod(shape) * dtype.itemsize for _, shape, dtype in shapes.values())
     if total > MAX_STUDY_BYTES:
         raise ParameterError(f"{total} bytes in all, at most {MAX_STUDY_BYTES} in a study")
 
 
-def _read_arrays(npz: Path, record: dict) -> dict:
-    """The arrays of a saved study, checked against its JSON record (layout and checksum); the archive is
-    checked from its headers against the layout's size before any array is read."""
-    listed = _shapes(record["arrays"])
-    limit = sum(math.prod(shape) * dtype.itemsize + MAX_NPY_HEADER for shape, dtype in listed.values())
-    try:
-        arrays = read_npz(npz, limit)
-    except UNREADABLE as exc:
-        raise ParameterError(f"{npz}: not a readable .npz, truncated or damaged ({describe(exc)})") from None
-    missing = sorted(set(listed) - set(arrays))
-    if missing:
-        raise ParameterError(f"{npz}: array(s) {', '.join(map(name_text, missing))} missing (its JSON lists them)")
-    found = layout(arrays)
-    wrong = sorted(k for k in record["arrays"] if found[k] != record["arrays"][k])
+def _read_data(nc: Path, record: dict):
+    """The data of a saved study, checked against its JSON record (layout and checksum); the file's size is
+    checked against the layout's before it is read."""
+    listed = _shapes(record["variables"])
+    limit = sum(math.prod(shape) * dtype.itemsize for _, shape, dtype in listed.values()) + NETCDF_OVERHEAD
+    size = nc.stat().st_size
+    if size > limit:
+        raise ParameterError(f"{nc}: {size} bytes, more than the {limit} its JSON allows")
+    data = read_netcdf(nc)
+    found = data_layout(data)
+    if set(found) != set(listed):
+        names = ", ".join(map(name_text, sorted(set(found) ^ set(listed))))
+        raise ParameterError(f"{nc}: variable(s) {names} differ from those its JSON lists")
+    wrong = sorted(k for k in listed if found[k] != record["variables"][k])
     if wrong:
-        names = ", ".join(map(name_text, wrong))
-        raise ParameterError(f"{npz}: array(s) {names} differ in shape or type from its JSON")
-    if checksum(arrays) != record["arrays_sha256"]:
-        raise ParameterError(f"{npz}: its arrays do not match the checksum of its JSON (changed or damaged)")
-    return arrays
+        raise ParameterError(
+            f"{nc}: variable(s) {', '.join(map(name_text, wrong))} differ in shape or type from its JSON"
+        )
+    if checksum(variables(data)) != record["variables_sha256"]:
+        raise ParameterError(f"{nc}: its variables do not match the checksum of its JSON (changed or damaged)")
+    data.attrs.clear()  # the configuration and summary are the record's, checked
+    return data
 
 
-def _check_coordinates(arrays: dict, expected: dict, meta: Path) -> None:
-    """Refuse coordinate arrays that are not the values the configuration gives them."""
-    for name, (field, values) in expected.items():
-        if not np.allclose(arrays[name], values, rtol=1e-9, atol=0.0):
-            raise ParameterError(f"{meta}: config: {field} gives other values than the array {name} holds")
+def _check_coordinates(data, expected: dict, meta: Path) -> None:
+    """Refuse coordinates that are not the values the configuration gives them."""
+    for dim, (field, values) in expected.items():
+        if not np.allclose(data[dim].values, values, rtol=1e-9, atol=0.0):
+            raise ParameterError(f"{meta}: config: {field} gives other values than the coordinate {dim} holds")
 
 
 def _trust(folder: str | Path, record: dict, meta: Path) -> None:
@@ -432,33 +440,33 @@ def _trust(folder: str | Path, record: dict, meta: Path) -> None:
 
 
 def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
-    """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem), with its
-    tables made from them by its kind (:data:`rocking.study.kinds.KINDS`).
+    """Read a saved study back from its ``.nc``/``.json`` pair (either path, or the common stem), its tables
+    made from its data by its kind (:data:`rocking.study.kinds.KINDS`).
 
     A saved file never selects code to run: a study of a model of the user's own names it, but that
     model is used (for its units) only if the user names its folder again, as ``trust_model``
     (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
     The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
-    study. Its configuration is checked against the arrays it lists (:func:`check_config`,
-    :func:`check_arrays`) and the archive against that list from the zip's headers, before any array is read.
+    study. Its configuration is checked against the variables it lists (:func:`check_config`,
+    :func:`check_variables`) and the NetCDF file's size against that list, before the file is read.
 
     Raises
     ------
     ParameterError
         Naming the file, if either file is missing, the JSON is not a saved
-        study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``arrays``,
-        an unknown kind, another format), its configuration is not valid or contradicts its arrays, the
-        ``.npz`` cannot be read (truncated, damaged, not an archive, compressed, larger than its JSON
-        says), or its arrays differ from what the JSON lists; or if ``trust_model`` is not the model the
-        study was run with.
+        study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``variables``,
+        an unknown kind, another format: a study saved by an earlier version is refused in one line), its
+        configuration is not valid or contradicts its variables, the ``.nc`` cannot be read (truncated,
+        damaged, not NetCDF, larger than its JSON says), or its variables differ from what the JSON lists;
+        or if ``trust_model`` is not the model the study was run with.
     """
     stem = _stem(path)
-    npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
-    for p in (meta, npz):
+    nc, meta = stem.with_suffix(".nc"), stem.with_suffix(".json")
+    for p in (meta, nc):
         if not p.is_file():
             raise ParameterError(
-                f"no saved study at {stem}: {p} is missing (a study writes its .npz, .csv and .nc, "
+                f"no saved study at {stem}: {p} is missing (a study writes its .nc and .csv, "
                 "then its .json; a save cut short leaves no .json: save or run it again)"
             )
     record = read_record(meta)
@@ -468,16 +476,16 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     except ParameterError as exc:
         raise ParameterError(f"{meta}: config: {exc}") from None
     try:
-        check_arrays(kind, record["arrays"], sizes)
+        check_variables(kind, record["variables"], sizes)
     except ParameterError as exc:
-        raise ParameterError(f"{meta}: arrays: {exc}") from None
+        raise ParameterError(f"{meta}: variables: {exc}") from None
     if trust_model is not None:
         _trust(trust_model, record, meta)
-    arrays = _read_arrays(npz, record)
-    _check_coordinates(arrays, expected, meta)
-    run = record.get("run") if isinstance(record.get("run"), dict) else {}
+    data = _read_data(nc, record)
+    _check_coordinates(data, expected, meta)
     try:
-        KINDS[kind].tables(arrays, config)  # made here too, so that a loaded study's tables never fail later
+        KINDS[kind].tables(data, config)  # made here too, so that a loaded study's tables never fail later
     except (KeyError, TypeError, ValueError, IndexError, ParameterError) as exc:
-        raise ParameterError(f"{meta}: its configuration and arrays do not make its tables ({describe(exc)})") from None
-    return Study(kind, config, arrays, summary=record["summary"], run=run, tabulate=KINDS[kind].tables)
+        raise ParameterError(f"{meta}: its configuration and data do not make its tables ({describe(exc)})") from None
+    run = record.get("run") if isinstance(record.get("run"), dict) else {}
+    return Study(kind, config, data, summary=record["summary"], run=run, tabulate=KINDS[kind].tables)

@@ -322,11 +322,11 @@ def threshold_map(
         **grids,
         "directions": chosen,
     }
-    return Study(
+    return Study.of_arrays(
         "threshold",
         config,
         arrays,
-        tabulate=threshold_tables,
+        tables=threshold_tables,
         summary=summary,
         run={**stats.record(), "geometries": L.size * P.size},
     )
