@@ -121,7 +121,7 @@ def test_map_gives_the_arrays_of_the_python_study_api(block_options, block, damp
     config = json.loads((tmp_path / "cli" / "map.json").read_text())["config"]
     assert config["block"] == block.as_params() and config["damper"] == tuning.record()
     assert config == study.config
-    assert study.arrays["bare_overturned"].any()  # not a vacuous comparison
+    assert study.data["overturned"].sel(part="bare").any()  # not a vacuous comparison
 
 
 def test_omitted_options_are_the_python_defaults():

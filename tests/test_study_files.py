@@ -59,10 +59,12 @@ def one_line_error(capsys, command: str) -> str:
     return err
 
 
-def same_bits(a: dict, b: dict) -> None:
-    assert a.keys() == b.keys()
-    for k in a:
-        assert a[k].dtype == b[k].dtype and a[k].shape == b[k].shape and a[k].tobytes() == b[k].tobytes(), k
+def same_bits(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Two studies' data hold the same variables (coordinates included), bit for bit."""
+    assert a.variables.keys() == b.variables.keys()
+    for k in a.variables:
+        x, y = a[k].values, b[k].values
+        assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes(), k
 
 
 @pytest.fixture(scope="module")
@@ -127,9 +129,10 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
     warned = {Path(str(w.message).partition(": damaged tile")[0]) for w in caught}
     assert warned == set(damaged), {str(w.message) for w in caught}
     assert (study.run["tiles_computed"], study.run["tiles_reused"]) == (len(damaged), 12 - len(damaged))
-    same_bits(study.arrays, ref.arrays)
+    same_bits(study.data, ref.data)
     for path in damaged:  # recomputed and stored whole: the next run reuses all, silently
-        same_bits(load_tile(path), load_tile(ref_runs / path.relative_to(runs)))
+        tile, ref_tile = load_tile(path), load_tile(ref_runs / path.relative_to(runs))
+        assert tile.keys() == ref_tile.keys() and all(np.array_equal(tile[k], ref_tile[k]) for k in tile)
     # The command line shows the warning in one line, like its errors.
     (stored[0]).write_bytes(b"not a tile")
     assert cli(["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]) == 0
@@ -142,7 +145,7 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
         warnings.simplefilter("error", TileWarning)
         again = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE, full=True)
     assert again.run["tiles_reused"] == 12
-    same_bits(again.arrays, ref.arrays)
+    same_bits(again.data, ref.data)
 
 
 # --- 2. atomic saves ------------------------------------------------------------------------------
@@ -158,7 +161,7 @@ def test_a_study_is_published_whole_or_not_at_all(reference, tmp_path, monkeypat
     written = save(study, tmp_path)
     assert [p.suffix for p in written] == [".nc", ".csv", ".json"]  # the JSON record last
     before = {p.name: p.read_bytes() for p in written}
-    changed = dataclasses.replace(study, data=study.data.assign(effect=study.data["effect"] * 0))
+    changed = dataclasses.replace(study, data=study.data.assign(impacts=study.data["impacts"] * 0))
 
     def crash(*args, **kwargs):
         raise KeyboardInterrupt  # Ctrl-C while the files are written
@@ -190,7 +193,7 @@ def test_a_study_is_published_whole_or_not_at_all(reference, tmp_path, monkeypat
     (abandoned / "map.nc").write_bytes(b"partial")
     save(changed, tmp_path)
     assert not _leftovers(tmp_path)
-    same_bits(load(tmp_path / "map").arrays, changed.arrays)
+    same_bits(load(tmp_path / "map").data, changed.data)
 
 
 def _dead_pid() -> int:
@@ -350,8 +353,8 @@ BROKEN = {
     "truncated nc": ("map.nc", lambda f: (f / "map.nc").write_bytes((f / "map.nc").read_bytes()[:900])),
     "nc of text": ("map.nc", lambda f: (f / "map.nc").write_text("hello")),
     "nc of a .npy": ("map.nc", lambda f: _npy(f / "map.nc")),
-    "changed variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.assign(effect=d["effect"] * 0 + 1))),
-    "missing variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.drop_vars("effect"))),
+    "changed variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.assign(impacts=d["impacts"] * 0 + 1))),
+    "missing variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.drop_vars("computed"))),
     "another study's file": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.isel(beta=slice(1, None)))),
     "format 2": ("map.json", _old_format),
     "corrupt JSON": ("map.json", lambda f: (f / "map.json").write_text('{"kind": "map", ')),

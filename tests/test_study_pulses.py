@@ -51,7 +51,7 @@ def test_maps_and_spectra_run_every_family_and_record_it(tmp_path):
             setting, Tuning(0.05), Grid("Omega", 2.0, 6.0, 3), Grid("beta", 1.0, 9.0, 3), SERIAL, runs=tmp_path
         )
         assert study.config["pulse"]["motion"] == pulse and study.config["directions"]["signs"] == [1, -1]
-        outcomes[pulse] = study.arrays["bare_overturned"]
+        outcomes[pulse] = study.data["overturned"].sel(part="bare").values
         assert outcomes[pulse].any()
     assert not np.array_equal(outcomes["ricker"], outcomes["cosine"])
     assert "pulse" not in Setting(rocking.Block.reference()).record()  # the paper's one-sine keeps its hash

@@ -78,7 +78,7 @@ def test_a_loaded_study_naming_a_planted_model_runs_nothing(saved_map, tmp_path)
     record["config"]["damper"] = {"model": str(evil), "params": {"m": 1.0}, "model_sha256": "0" * 64}
     (tmp_path / "map.json").write_text(json.dumps(record))
     study = rocking.load(tmp_path / "map.json")
-    assert study.to_dataset()["damper_x_max_by_sign"].attrs["units"] == "m"  # the unit is not taken from its manifest
+    assert study.to_dataset()["x_max"].attrs["units"] == "m"  # the unit is not taken from its manifest
     assert "model" in _damper_label(study.config)
     with pytest.raises(rocking.ParameterError, match="trust_model .* not the model folder"):
         rocking.load(tmp_path / "map.json", trust_model=evil)

@@ -41,7 +41,7 @@ from matplotlib.ticker import FuncFormatter
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..study.kinds import KINDS
-from ..study.overturning_map import half_stroke, saved_past_edges
+from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
 from ..study.result import Study
 from ..study.storage import load
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED
@@ -324,25 +324,27 @@ def _plain_ticks(axis) -> None:
 
 def map_figure(study: Study) -> Figure:
     """Outcome maps of the bare and the damped block, and the damper's effect."""
-    a, block = study.arrays, _block(study.config)
+    data, block = study.data, _block(study.config)
+    env = envelope(data)
+    Om, beta = data["Omega"].values, data["beta"].values
+    over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
     fig = Figure(figsize=(15, 6.2), layout="constrained")
     axes = fig.subplots(1, 3, sharex=True, sharey=True)
-    for ax, part in zip(axes, ("bare", "damper")):
-        cls = np.where(a[f"{part}_overturned"], np.minimum(a[f"{part}_impacts"] + 1, 4), 0)
-        handles = _classes(ax, a["Omega"], a["beta"], cls, OUTCOME_CLASSES)
+    for ax, part in zip(axes, PARTS):
+        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), 0)
+        handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
         ax.set_title(PART_STYLE[part]["label"])
     # One legend of the outcomes, as wide as both outcome panels: the same classes, the same colours.
     present = {h.get_label(): h for h in handles}
-    bare_cls = np.where(a["bare_overturned"], np.minimum(a["bare_impacts"] + 1, 4), 0)
+    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), 0)
     for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
         present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
     order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
     fig.legend(handles=[present[label] for label in order], loc="outside lower left", ncols=3, **LEGEND)
-    effect = a["bare_overturned"].astype(int) + 2 * a["damper_overturned"].astype(int)
-    past = saved_past_edges(a, block.B / 2)
-    computed = a.get("damper_computed", np.ones_like(effect, bool))  # studies saved before adaptive maps
-    unknown = (effect == 1) & ~computed
-    handles = _classes(axes[2], a["Omega"], a["beta"], np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
+    effect = over["bare"].astype(int) + 2 * over["damper"].astype(int)
+    past = saved_past_edges(env, block.B / 2)
+    unknown = (effect == 1) & ~data["computed"].sel(part="damper").values
+    handles = _classes(axes[2], Om, beta, np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
     fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
@@ -365,12 +367,12 @@ def _refinement_label(study: Study) -> str:
     refinement = study.config.get("refinement", {"adaptive": False})
     if not refinement["adaptive"]:
         return ""
-    a = study.arrays
-    cells = a["bare_computed"].size
-    computed = ", ".join(f"{int(a[f'{part}_computed'].sum())}" for part in ("bare", "damper"))
+    computed = study.data["computed"]
+    cells = computed.sel(part="bare").size
+    counts = ", ".join(f"{int(computed.sel(part=part).sum())}" for part in PARTS)
     note = study.summary.get("guarantee", "")
     return (
-        f"\nadaptive, coarse step {refinement['coarse']}: {computed} of {cells} cells computed (alone, damped), "
+        f"\nadaptive, coarse step {refinement['coarse']}: {counts} of {cells} cells computed (alone, damped), "
         f"the others take the outcome around them\n{note}"
     )
 

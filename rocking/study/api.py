@@ -138,16 +138,18 @@ def overturning_map(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``Omega``, ``beta``, ``sign``; see :mod:`rocking.study.dataset`.
+        Every response, dimensions ``part`` (``bare``, ``damper``), ``Omega``, ``beta``, ``sign``; their
+        envelope over the directions and the damper's effect: :func:`rocking.study.overturning_map.envelope`.
 
     Examples
     --------
     >>> import tempfile, numpy as np, rocking
     >>> ds = rocking.overturning_map(rocking.Block.reference(), {"gamma": 0.05}, Omega=[2.0, 4.0, 6.0],
     ...                              beta=np.linspace(1, 6, 4), runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["damper_overturned"].dims, ds["a_g"].attrs["units"]
-    (('Omega', 'beta'), 'm/s^2')
-    >>> int(ds["effect"].sum())  # cells saved by the damper minus cells lost
+    >>> ds["overturned"].dims, ds["a_g"].attrs["units"]
+    (('part', 'Omega', 'beta', 'sign'), 'm/s^2')
+    >>> from rocking.study.overturning_map import envelope
+    >>> int(envelope(ds)["effect"].sum())  # cells saved by the damper minus cells lost
     0
     """
     return _run(

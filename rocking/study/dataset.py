@@ -33,26 +33,14 @@ from ..sim.boundary import RESULT, STATUSES
 from .config import config_hash
 from .config import versions as current_versions
 from .files import describe
-from .vocabulary import FLAG_WORDS, THRESHOLD_STATUSES
+from .vocabulary import FLAG_WORDS, PART_NAMES, THRESHOLD_STATUSES
 
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
 
-#: The parts of a study, as prefixes of its arrays' names, and what each is.
-PARTS = {
-    "bare": "block alone",
-    "damper": "block with the damper",
-    "unlimited": "damper on an unlimited guide",
-    "stops": "damper with end stops",
-}
-
 #: Per kind: the coordinate arrays (array name -> dimension), then ``(pattern, dimensions)`` rules for the
 #: other arrays, the first whose pattern matches the whole name winning. ``{part}`` stands for any part.
 LAYOUTS: dict[str, tuple[dict, tuple]] = {
-    "map": (
-        {"Omega": "Omega", "beta": "beta", "signs": "sign"},
-        ((r".*_by_sign", ("Omega", "beta", "sign")), (r".*", ("Omega", "beta"))),
-    ),
     "spectrum": (
         {"Omega": "Omega", "beta_scan": "beta_scan", "signs": "sign"},
         (
@@ -105,7 +93,7 @@ LAYOUTS: dict[str, tuple[dict, tuple]] = {
 }
 LAYOUTS["fragility"] = LAYOUTS["ida"]
 
-_PART = "(?:" + "|".join(PARTS) + ")"
+_PART = "(?:" + "|".join(PART_NAMES) + ")"
 
 #: Keys of categorical arrays: the meaning of each value (CF ``flag_values`` / ``flag_meanings``).
 STATUS_KEY = {-1: "not_computed", **{s.value: s.name for s in STATUSES}}
@@ -245,24 +233,40 @@ def _stroke_units(config: dict) -> str:
         return "m"
 
 
-def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
-    """CF-style attributes of the array ``name``: units, long name, the key of a categorical one."""
-    fields = {**FIELDS, **KIND_FIELDS.get(config.get("kind"), {})}
-    entry = COORDINATES.get(name) if coordinate else fields.get(_strip(name))
+def field_attrs(field: str, config: dict) -> dict:
+    """CF-style attributes of the result ``field`` (a name of :data:`FIELDS`) of a study of ``config``: units,
+    long name, the key of a categorical one."""
+    return _entry_attrs({**FIELDS, **KIND_FIELDS.get(config.get("kind"), {})}.get(field), field, config)
+
+
+def coordinate_attrs(dim: str, config: dict) -> dict:
+    """CF-style attributes of the coordinate ``dim`` (a name of :data:`COORDINATES`)."""
+    return _entry_attrs(COORDINATES.get(dim), dim, config)
+
+
+def _entry_attrs(entry: tuple | None, field: str, config: dict) -> dict:
     if entry is None:
         return {}
     units, long_name, *key = entry
     if units == "level units":
         units = _level_units(config)
-    if _strip(name) == "x_max":
+    if field == "x_max":
         units = _stroke_units(config)
-    part = _part(name)
-    attrs = {"units": units, "long_name": f"{long_name} ({PARTS[part]})" if part else long_name}
-    if name.endswith("_by_sign"):
-        attrs["long_name"] += ", per direction"
+    attrs = {"units": units, "long_name": long_name}
     if key:
         attrs["flag_values"] = np.array(list(key[0]), np.int64)
         attrs["flag_meanings"] = " ".join(key[0].values())
+    return attrs
+
+
+def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
+    """CF-style attributes of the array ``name`` of a kind that names dimensions in its arrays' names."""
+    attrs = coordinate_attrs(name, config) if coordinate else field_attrs(_strip(name), config)
+    part = _part(name)
+    if attrs and part:
+        attrs["long_name"] += f" ({PART_NAMES[part]})"
+    if attrs and name.endswith("_by_sign"):
+        attrs["long_name"] += ", per direction"
     return attrs
 
 
@@ -383,7 +387,7 @@ def read_netcdf(path: str | Path):
         dataset = xr.load_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{path}: not a readable NetCDF file ({describe(exc)})") from None
-    if dataset.attrs.get("kind") not in LAYOUTS or "config" not in dataset.attrs:
+    if not isinstance(dataset.attrs.get("kind"), str) or "config" not in dataset.attrs:
         raise ParameterError(f"{path}: not a rocking study (no kind and configuration in its attributes)")
     return dataset
 

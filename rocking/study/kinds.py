@@ -50,12 +50,12 @@ def _named(kind: str, driver: Callable, grids: dict, tables: Callable, figure: s
 #: Every kind of study, by the name its configuration and its saved files give it. ``grids``: the
 #: configuration's grids, each with the dimension of its values.
 KINDS = {
-    "map": _named(
-        "map",
+    "map": Kind(
         overturning_map.overturning_map,
         {"Omega": "Omega", "beta": "beta"},
         overturning_map.map_tables,
         "map_figure",
+        overturning_map.DIMS.__getitem__,
     ),
     "spectrum": _named(
         "spectrum",

@@ -8,6 +8,14 @@ from __future__ import annotations
 
 import numpy as np
 
+#: The parts of a study (the values of its coordinate ``part``), and what each is.
+PART_NAMES = {
+    "bare": "block alone",
+    "damper": "block with the damper",
+    "unlimited": "damper on an unlimited guide",
+    "stops": "damper with end stops",
+}
+
 #: Outcome of a response that does not overturn (otherwise: the impacts before overturning).
 SAFE = -1
 
