@@ -28,7 +28,6 @@ from ..model.params import (
     ParameterError,
     Stops,
 )
-from ..model.plausibility import check_mass_ratio, check_pga
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
 from ..sim.accuracy import CHECKS, SENSITIVE
@@ -167,16 +166,6 @@ def _model_of(args, damper) -> str | None:
     if damper is None:
         return None
     return args.model or (damper.model if isinstance(damper, Damper) else "omd")
-
-
-def _damper_mass(damper, model: str | None) -> float:
-    """The damper's moving mass, kg: ``m`` of a Damper, the sum of a variant's parameters in kg."""
-    if isinstance(damper, Damper):
-        return damper.m
-    if not damper:
-        return 0.0
-    kg = {p["name"] for p in load_model(model).manifest["parameters"] if p["unit"] == "kg"} - {"M"}
-    return sum(value for name, value in damper.items() if name in kg)
 
 
 #: The pulses of ``--pulse``: the family's class and its fixed arguments (docs/model.md section 12).
@@ -345,9 +334,6 @@ def _simulate(args) -> int:
     block = block_from(args)
     damper = _with_stops(args, block, _damper(args, block))
     pulse = _motion(args) if args.motion else _pulse(args, block)
-    check_mass_ratio(_damper_mass(damper, _model_of(args, damper)) / block.M)
-    if isinstance(pulse, SampledMotion):
-        check_pga(pulse.pga, block.g)
     cases = {"with damper" if damper else "block alone": damper}
     if args.compare and damper is not None:
         cases["block alone"] = None

@@ -5,6 +5,7 @@ from __future__ import annotations
 import warnings
 
 from ..model.params import ParameterError
+from ..model.plausibility import check_run
 from . import c_backend
 from .accuracy import check_choice, compared, sensitive, tighter_rtol
 from .cbuild import CBuildError
@@ -107,6 +108,13 @@ def simulate(
     -------
     Response
 
+    Warns
+    -----
+    PlausibilityWarning
+        A valid input unlikely to be meant (:mod:`rocking.model.plausibility`): a damper heavier
+        than half the block, a sampled motion whose peak, scaled, exceeds the largest recorded
+        (4.36 g); the messages of ``rocking simulate``.
+
     Raises
     ------
     ParameterError
@@ -154,6 +162,7 @@ def simulate(
     if t_max is not None:
         settings["t_max"] = t_max
     model, p, case = resolve(block, damper, pulse, settings)
+    check_run(block, model, p, pulse, stacklevel=2)
     response = _run(model, p, case, backend, record)
     tight_rtol = tighter_rtol(case["rtol"])
     # At the smallest valid rtol there is no tighter run to compare with: the response stands as it is.
