@@ -10,6 +10,7 @@ its valid range, and exit code 2.
 from __future__ import annotations
 
 import argparse
+import difflib
 import json
 import math
 import sys
@@ -564,6 +565,22 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> None:
+    """Exit (2) with the usage of ``command``, not the top level's, naming the closest option to each typo.
+
+    argparse reports an unknown option of a subcommand through the top-level parser, whose usage lists
+    the commands, not the options a user mistyped (``--gama`` for ``--gamma``).
+    """
+    (commands,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    sub = commands.choices[command]
+    options = [s for action in sub._actions for s in action.option_strings]
+    words = []
+    for token in unknown:
+        close = difflib.get_close_matches(token.partition("=")[0], options, n=1) if token.startswith("-") else []
+        words.append(f"{token} (did you mean {close[0]}?)" if close else token)
+    sub.error(f"unrecognized arguments: {', '.join(words)}")
+
+
 def main(argv: list[str] | None = None) -> int:
     """Run ``rocking ARGV``.
 
@@ -584,7 +601,9 @@ def main(argv: list[str] | None = None) -> int:
         # skips a leading --option): hand them over before parsing.
         return run_derive(argv[1:])
     parser = build_parser()
-    args = parser.parse_args(argv)
+    args, unknown = parser.parse_known_args(argv)
+    if unknown:
+        refuse_unknown(parser, args.command, unknown)
     try:
         if getattr(args, "config", None):
             args = apply_config(parser, args, argv)
