@@ -75,7 +75,7 @@ def motion_label(motion, block: Block) -> str:
     if d.family == "sampled":
         return f"sampled motion: PGA = {top:.3g} m/s$^2$ ({top / block.g:.3g} g), {d.t_p:.3g} s{direction}"
     a = abs(d.a_g)
-    scales = rf"$\beta$ = {a / (block.g * block.tan_alpha):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}"
+    scales = rf"$\beta$ = {block.beta(a):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}"
     if d.family == "mp":
         return (
             rf"{PULSE_NAMES[d.family]} ($\gamma_{{MP}}$ = {d.shape:.3g}, $\nu$ = {d.phase:.3g} rad): amplitude "
