@@ -15,7 +15,9 @@ from hypothesis import strategies as st
 import rocking
 from rocking import ParameterError
 from rocking.reference import paper
+from rocking.sim import c_backend
 from rocking.sim.history import first_sample_after
+from rocking.sim.problem import make_problem
 from rocking.sim.run import rerecord
 
 BLOCK = rocking.Block.reference()
@@ -105,6 +107,21 @@ def test_samples_are_the_dense_output_recorded_at_dt(record):
     again = rerecord(other, dt)
     assert again.inputs.settings["record_dt"] == dt and again.summary() == other.summary()
     xr.testing.assert_identical(direct, again.to_dataset(dt=dt))
+
+
+def test_rerecord_refuses_a_dt_whose_samples_end_the_run_otherwise():
+    r = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c", early_verdict=False)  # to rest at 6.8 s
+    dt = r.inputs.settings["t_max"] / 1e6  # 4.4e5 samples to rest: more work than max_steps allows (rule 5)
+    with pytest.raises(ParameterError, match=r"^dt = .* s: recorded every dt the run ends otherwise \(max_steps at"):
+        rerecord(r, dt)
+
+
+def test_a_response_of_a_back_end_called_directly_has_no_inputs():
+    r = c_backend.simulate(make_problem(BLOCK, DAMPER, PULSE), record=True)
+    assert r.inputs is None and r.history is not None
+    for call in (r.to_dataset, r.events, lambda: rerecord(r)):
+        with pytest.raises(ParameterError, match=r"^this response has no inputs \(a batch's row, or a back end"):
+            call()
 
 
 def test_a_response_without_history_has_no_events_until_recorded():
