@@ -102,7 +102,9 @@ def simulate(
     t_max : float, optional
         End of the run [s], in (0, 1.1e4]; default ``t_after`` (15 s) after the pulse.
     record : bool
-        Keep the time history (``Response.history``); a bool, nothing else.
+        Keep the time history (``Response.history``), sampled every ``record_dt`` (a setting below):
+        :meth:`Response.to_dataset` reads it at that spacing, :func:`rerecord` runs it again at
+        another; a bool, nothing else.
     check : {"tolerance", "none"}, optional
         ``"tolerance"``: run again at ``rtol / 100`` (at least 1e-12) and set
         ``Response.sensitive`` if the verdict changed or ``theta_max`` or ``x_max``
