@@ -37,7 +37,7 @@ from ..sim.cbuild import CBuildError
 from ..sim.history import HISTORY_FORMATS
 from ..sim.history import write as write_history
 from ..sim.problem import SimulationError
-from ..sim.run import BACKENDS, simulate
+from ..sim.run import NAMES, simulate
 from ..sim.stroke import mass_past_edge
 from ..study.config import versions
 from .options import (
@@ -468,7 +468,7 @@ def _add_simulate(sub) -> None:
     g.add_argument("--scale", type=float, help="factor on the record (default 1)")
     g.add_argument("--pga", type=float, help="scale the record to this peak ground acceleration, m/s2")
     g = p.add_argument_group("run and output")
-    g.add_argument("--backend", choices=BACKENDS, help=f"back end ({default_text(simulate, 'backend')})")
+    g.add_argument("--backend", choices=NAMES, help=f"back end ({default_text(simulate, 'backend')})")
     g.add_argument(
         "--rtol", type=float, help=f"relative tolerance of the integrator ({default_text(simulate, 'rtol')})"
     )
