@@ -26,6 +26,9 @@ from ..model.loading import Model
 from ..model.params import RANGES, ParameterError
 from .boundary import CONTACT
 
+#: The conventions of the project's NetCDF files (histories and studies): CF 1.10 attributes.
+CONVENTIONS = "CF-1.10"
+
 
 @dataclass(frozen=True)
 class RunInputs:
@@ -244,14 +247,15 @@ def to_dataset(response, dt: float | None = None):
     variables = {k: ("t", v, {"units": attrs[k][0], "long_name": attrs[k][1]}) for k, v in values.items()}
     return xr.Dataset(
         variables,
-        coords={"t": ("t", t, {"units": "s", "long_name": "time"})},
+        coords={"t": ("t", t, {"units": "s", "long_name": "time", "standard_name": "time"})},
         attrs={
             "model": model.name,
             "backend": inputs.backend,
             "dt": dt,
             "status": response.status,
             "t_end": response.t_end,
-            "conventions": "SI units; docs/model.md sections 1 and 13 (signs, the point of M_b)",
+            "Conventions": CONVENTIONS,
+            "comment": "SI units; signs and the point of M_b as docs/model.md sections 1 and 13",
         },
     )
 

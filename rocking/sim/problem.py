@@ -47,6 +47,7 @@ from .boundary import (
     RESULT,
     SERIES,
     STATUS,
+    STATUSES,
     SUMMARY,
     python_type,
 )
@@ -256,11 +257,13 @@ class Response(ResponseFields):
         return out
 
     def _repr_html_(self) -> str:
-        """The scalar results as an HTML table for Jupyter: value, unit and meaning of each field."""
+        """The scalar results as an HTML table for Jupyter: each value rounded, with its unit and meaning in the
+        words of the docs (the status by its name and reason, the damper's coordinate by its model's name)."""
         from html import escape
 
         rows = "".join(
-            f"<tr><td>{f.name}</td><td>{escape(str(value))}</td><td>{escape(f.unit)}</td><td>{escape(f.doc)}</td></tr>"
+            f"<tr><td>{f.name}</td><td>{escape(_shown(value))}</td><td>{escape(f.unit)}</td>"
+            f"<td>{escape(self._meaning(f))}</td></tr>"
             for f, value in zip(SUMMARY, self.summary().values(), strict=True)
         )
         recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
@@ -268,6 +271,43 @@ class Response(ResponseFields):
             f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
             f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>"
         )
+
+    def plot(self, ax=None):
+        """Draw the recorded rotation ``theta / alpha`` over time, as pandas and xarray draw their data.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; default a new ``matplotlib.pyplot`` figure (shown in a notebook).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure of ``ax``.
+
+        Raises
+        ------
+        ParameterError
+            A response without a history (run it with ``record=True``) or without its inputs (a batch's row).
+        """
+        if self.history is None or self.inputs is None:
+            raise ParameterError("plot needs a recorded response: rocking.simulate(..., record=True)")
+        from ..plot.response import rotation_axes
+
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            ax = plt.figure(figsize=(7, 3), layout="constrained").add_subplot()
+        named = dict(zip(self.inputs.model.parameters, self.inputs.p))
+        rotation_axes(ax, self, math.atan2(named["B"], named["H"]))
+        return ax.figure
+
+    def _meaning(self, field) -> str:
+        """A field's meaning for a reader: the status's reason, ``q[1]`` by the name its model gives it."""
+        if field.name == "status":
+            return f"why the run ended: {STATUSES[STATUS.index(self.status)].doc}"
+        names: list[str] = self.inputs.model.manifest["coordinates"] if self.inputs is not None else []
+        return field.doc.replace("q[1]", names[1]) if len(names) > 1 else field.doc
 
     def to_dataset(self, dt: float | None = None):
         """The recorded history on the uniform grid ``t = k dt`` as an ``xarray.Dataset``, with the loads of the model.
@@ -748,3 +788,12 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
     if "y0" in given or "phase0" in given:
         settings["y0"] = _initial_state(model, given.get("y0"), settings["phase0"])
     return model, p, settings
+
+
+def _shown(value) -> str:
+    """A result for a reader: four significant digits, yes/no, a dash for "did not happen" (NaN)."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if value is None:
+        return "-"
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
