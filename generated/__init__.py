@@ -5,9 +5,9 @@ MANIFEST_FORMAT = 5
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "77796c00e42be1e2e4b294fac37c2a68fac962b6f69dfd852cddd3e27bf405fb",
-    "omd": "0576215e853e07bf1a820b29fc9ba11b55ff45b461b07047a5e53460f0cd9a67",
-    "omd2": "4bb146d3c921bff9f848a0c2d644ce16bef54043d9ffd14a0fa0630fd8935858",
-    "omd_stops": "dc16f414d73ab76dd7af45b9442b8d22c1bfc9e5b6dd04da0644527147261140",
-    "pendulum": "28491dadfc06616d2f724513dce3fb9b85d1e441d2819028e38091bd76ae1e24",
+    "block": "1367607ec525c15d6b2b4442b70b345e6ab13be906dc2ef1a67572eb92002ee1",
+    "omd": "8333b0605ef34f744717c3e02bfd261c7d0c324d39de7a33d9943055ca4700fa",
+    "omd2": "eea047e62e8e9cd2e3960d4250a869510b6f276502f6f598b15894c4bb9a5d6d",
+    "omd_stops": "4468da1a6d95f822465b3526bf59ef9b313b307cf639c559d5f6183a69ef59bb",
+    "pendulum": "303e19af26399869489448069a9fd2bd31a6f37081be6e61b52d571fd57b8791",
 }
