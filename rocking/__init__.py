@@ -47,6 +47,7 @@ from .study.result import Study
 from .study.storage import load, save
 from .study.suite import Suite
 from .study.tiles import Execution, Interrupted, TileWarning
+from .version import __version__ as __version__
 
 __all__ = [
     "BackendWarning",
@@ -87,4 +88,3 @@ __all__ = [
     "simulate",
     "threshold_map",
 ]
-__version__ = "0.1.0"

@@ -27,6 +27,7 @@ from ..model.loading import GENERATED, ModelError, load_model
 from ..model.motion import PULSE_TYPES
 from ..model.params import Block, ParameterError, check_in_range, check_real, shown
 from ..sim import boundary
+from ..version import __version__
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
 #: 2: tiles carry a manifest (place, names, shapes, dtypes, checksum of their arrays).
@@ -440,9 +441,7 @@ def versions() -> dict:
     Read from the installed distributions' metadata: nothing is imported (SymPy and
     Dask are heavy and not needed to write a study).
     """
-    import rocking
-
-    out = {"python": platform.python_version(), "rocking": rocking.__version__}
+    out = {"python": platform.python_version(), "rocking": __version__}
     for package in ("numpy", "scipy", "sympy", "matplotlib", "dask", "distributed", "tqdm"):
         try:
             out[package] = metadata.version(package)
@@ -459,11 +458,9 @@ def part_config(kind: str, part: str, setting: Setting, **entries) -> dict:
     block), grids as :meth:`Grid.record`, tolerances. The bare part does not
     name the damper, so studies that differ only in the damper share its tiles.
     """
-    import rocking
-
     return {
         "format": FORMAT,
-        "rocking": rocking.__version__,
+        "rocking": __version__,
         "model_sha256": {name: model_hash(name) for name in ("block", "omd")},
         "solver_sha256": solver_hash(),
         "kind": kind,
