@@ -13,6 +13,7 @@ import rocking
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.dataset import read_netcdf, to_dataset
 from rocking.study.overturning_map import envelope
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.tiles import Execution
 from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED
 
@@ -105,13 +106,14 @@ def test_map_dataset_is_labelled_in_both_terms(studies):
 def test_spectrum_dataset_and_flags_in_words(studies):
     study = studies["spectrum"]
     ds = study.to_dataset()
-    assert ds["damper_scan_outcome_by_sign"].dims == ("Omega", "sign", "beta_scan")
-    assert ds["bare_beta_min"].dims == ("Omega",)
-    flag = ds["bare_flag"].attrs
+    assert ds["scan_outcome"].dims == ("part", "Omega", "sign", "beta_scan")
+    both = spectrum_envelope(ds)  # the envelope over the directions: a reduction over sign
+    assert both["beta_min"].dims == ("part", "Omega") and both["scan_outcome"].dims == ("part", "Omega", "beta_scan")
+    flag = both["flag"].attrs
     words = dict(zip(flag["flag_values"].tolist(), flag["flag_meanings"].split(), strict=True))
     assert words == {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"}
     table = study.to_dataframes()["spectrum"]
-    expected = np.array([words[f] for f in study.arrays["bare_flag"]])
+    expected = np.array([words[f] for f in both["flag"].sel(part="bare").values])
     np.testing.assert_array_equal(table["bare_beta_min_is"].to_numpy(), expected)
 
 

@@ -12,6 +12,7 @@ from rocking.study.config import Grid, Setting, Tuning, Variant
 from rocking.study.directions import beta_min_envelope, choose, response_envelope, worst
 from rocking.study.optimize import optimal_damper
 from rocking.study.overturning_map import envelope, overturning_map
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
@@ -112,12 +113,12 @@ def test_studies_of_an_eccentric_block_report_the_envelope(tmp_path):
     spectrum = minimum_overturning_spectrum(
         setting, Tuning(), OMEGA, Grid("beta", 0.5, 12.0, 24), SERIAL, runs=tmp_path
     )
-    s = spectrum.arrays
+    both = spectrum_envelope(spectrum.data)
     for part in ("bare", "damper"):
-        np.testing.assert_array_equal(s[f"{part}_beta_min"], s[f"{part}_beta_min_by_sign"].min(axis=1))
+        by_sign = spectrum.data["beta_min"].sel(part=part)
+        np.testing.assert_array_equal(both["beta_min"].sel(part=part), by_sign.min("sign"))
         np.testing.assert_array_equal(
-            s[f"{part}_worst_sign"],
-            np.where(s[f"{part}_beta_min_by_sign"][:, 0] <= s[f"{part}_beta_min_by_sign"][:, 1], 1, -1),
+            both["worst_sign"].sel(part=part), np.where(by_sign.sel(sign=1) <= by_sign.sel(sign=-1), 1, -1)
         )
 
     optimum = optimal_damper(
@@ -131,8 +132,9 @@ def test_studies_of_an_eccentric_block_report_the_envelope(tmp_path):
         runs=tmp_path,
     )
     o = optimum.arrays
-    np.testing.assert_allclose(o["bare_beta_min"], s["bare_beta_min"][[1]])  # Omega = 4 is the spectrum's 2nd
-    np.testing.assert_allclose(o["gain_opt"][0], s["damper_beta_min"][[1]] / s["bare_beta_min"][[1]])
+    bare, damper = (both["beta_min"].sel(part=part).values[[1]] for part in ("bare", "damper"))
+    np.testing.assert_allclose(o["bare_beta_min"], bare)  # Omega = 4 is the spectrum's 2nd
+    np.testing.assert_allclose(o["gain_opt"][0], damper / bare)
     assert o["edge_opt"][0, 0] == -1  # a grid of one period: its optimum is at the edge
 
 

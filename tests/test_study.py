@@ -23,7 +23,8 @@ from rocking.study import config as study_config
 from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
 from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
 from rocking.study.overturning_map import UndeterminedWarning, envelope, outcome, overturning_map
-from rocking.study.spectrum import beta_min, minimum_overturning_spectrum, windows
+from rocking.study.spectrum import beta_min, minimum_overturning_spectrum, safe_windows, windows
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.storage import load
 from rocking.study.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
 from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED, SAFE
@@ -71,10 +72,11 @@ def test_map_agrees_with_spectrum(ref_map, runs):
             overturned = both["overturned"].sel(part=part).values[i]
             assert overturned.any() and not overturned[0]
             lowest = beta[np.argmax(overturned)]
-            assert spectrum.arrays[f"{part}_flag"][i] == BRACKETED
-            assert 0 <= lowest - spectrum.arrays[f"{part}_beta_min"][i] <= step
+            column = spectrum_envelope(spectrum.data).sel(part=part).isel(Omega=i)
+            assert column["flag"] == BRACKETED
+            assert 0 <= lowest - column["beta_min"] <= step
             # The scan of the spectrum is the map's column: the same outcomes.
-            np.testing.assert_array_equal(spectrum.arrays[f"{part}_scan_outcome"][i] != SAFE, overturned)
+            np.testing.assert_array_equal(column["scan_outcome"].values != SAFE, overturned)
 
 
 def test_vanishing_damper_reproduces_bare_map(ref_map, runs):
@@ -107,11 +109,12 @@ def test_spectrum_reports_windows_of_a_slender_block(tmp_path):
     study = minimum_overturning_spectrum(
         setting, TUNING, Grid("Omega", 6.0, 6.0, 1), Grid("beta", 3.0, 11.0, 33), SERIAL, runs=tmp_path
     )
-    w = study.arrays["bare_windows"]
+    both = spectrum_envelope(study.data)
+    w = safe_windows(both, "bare")
     assert len(w) >= 1 and study.summary["bare"]["windows"] == len(w)
-    assert np.all(w[:, 1] > study.arrays["bare_beta_min"][0])
+    assert np.all(w[:, 1] > both["beta_min"].sel(part="bare").values[0])
     assert np.any((w[:, 1] < 9.417) & (w[:, 2] > 8.5))
-    assert len(study.tables["spectrum-windows"]["Omega"]) == len(w) + len(study.arrays["damper_windows"])
+    assert len(study.tables["spectrum-windows"]["Omega"]) == len(w) + len(safe_windows(both, "damper"))
 
 
 def test_windows_and_flags():
@@ -185,7 +188,8 @@ def test_responses_without_a_verdict_are_counted_and_change_no_effect(tmp_path):
         spectrum = minimum_overturning_spectrum(
             SETTING, stiff, Grid("Omega", 1.0, 4.0, 2), BETA, SERIAL, runs=tmp_path / "spectrum"
         )
-    assert spectrum.arrays["damper_undetermined"].min() >= BETA.n and spectrum.summary["bare"]["undetermined"] == 0
+    undetermined = spectrum_envelope(spectrum.data)["undetermined"].sel(part="damper")
+    assert undetermined.min() >= BETA.n and spectrum.summary["bare"]["undetermined"] == 0
 
 
 # --- tiles: resuming and configurations -----------------------------------------------------
@@ -240,8 +244,7 @@ def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
         for name, execution, columns in (("serial", SERIAL, 1), ("threads", POOL, 3))
     )
     assert (serial.run["tiles_computed"], threaded.run["tiles_computed"]) == (2 * OMEGA.n, 2 * 2)
-    for k, v in serial.arrays.items():
-        np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
+    xr.testing.assert_identical(threaded.data, serial.data)
 
 
 def test_interrupted_threads_store_their_running_tiles(tmp_path):
@@ -528,8 +531,8 @@ def test_a_spectrum_of_the_damper_with_stops(tmp_path):
     Omega, beta = Grid("Omega", 2.0, 6.0, 3), Grid("beta", 0.5, 10.0, 20)
     free = minimum_overturning_spectrum(SETTING, TUNING, Omega, beta, SERIAL, runs=tmp_path / "free")
     stopped = minimum_overturning_spectrum(SETTING, Tuning(0.05, stops=True), Omega, beta, SERIAL, runs=tmp_path / "s")
-    assert np.array_equal(stopped.arrays["bare_beta_min"], free.arrays["bare_beta_min"])
-    assert not np.array_equal(stopped.arrays["damper_beta_min"], free.arrays["damper_beta_min"])
+    xr.testing.assert_identical(stopped.data.sel(part="bare"), free.data.sel(part="bare"))
+    assert not np.array_equal(stopped.data["beta_min"].sel(part="damper"), free.data["beta_min"].sel(part="damper"))
 
 
 def test_the_optimal_damper_with_stops_at_the_edges(tmp_path):

@@ -9,7 +9,7 @@ import rocking
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import minimum_overturning_spectrum
+from rocking.study.spectrum import envelope, minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 from rocking.study.vocabulary import BRACKETED
 
@@ -35,12 +35,12 @@ def test_bare_beta_min_agrees_with_an_independent_simulation(pulse, tmp_path):
         tol=1e-4,
         runs=tmp_path,
     )
-    a = study.arrays
-    for i, Om in enumerate(a["Omega"]):
+    bare = envelope(study.data).sel(part="bare")
+    for i, Om in enumerate(bare["Omega"].values):
         if Om in INDEPENDENT[pulse]:
-            assert a["bare_flag"][i] == BRACKETED
+            assert bare["flag"].values[i] == BRACKETED
             # The independent value is the first point of its 0.01 grid at or above the threshold.
-            assert INDEPENDENT[pulse][Om] - 0.01 < a["bare_beta_min"][i] <= INDEPENDENT[pulse][Om], Om
+            assert INDEPENDENT[pulse][Om] - 0.01 < bare["beta_min"].values[i] <= INDEPENDENT[pulse][Om], Om
 
 
 def test_maps_and_spectra_run_every_family_and_record_it(tmp_path):

@@ -15,6 +15,7 @@ from rocking.sim.cases import pulse_cases
 from rocking.study.config import Grid, Setting, Tuning, Variant, config_hash, part_config
 from rocking.study.optimize import optimal_damper
 from rocking.study.overturning_map import envelope, outcome, overturning_map
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
@@ -76,13 +77,14 @@ def test_pendulum_spectrum(runs):
         SERIAL,
         runs=runs,
     )
-    a = study.arrays
-    assert a["damper_beta_min"].shape == a["bare_beta_min"].shape == (3,)
-    assert a["damper_scan_outcome"].shape == (3, 12)
-    assert np.isfinite(a["damper_beta_min"]).all()
-    for i, Om in enumerate(a["Omega"]):  # beta_min overturns the pendulum-damped block, in its worse direction
-        sign = int(a["damper_worst_sign"][i])
-        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["damper_beta_min"][i], Omega=Om, sign=sign)
+    both = spectrum_envelope(study.data)
+    assert both["beta_min"].shape == (2, 3)  # part, Omega
+    assert both["scan_outcome"].shape == (2, 3, 12)
+    a = both.sel(part="damper")
+    assert np.isfinite(a["beta_min"]).all()
+    for i, Om in enumerate(a["Omega"].values):  # beta_min overturns the pendulum-damped block, in its worse direction
+        sign = int(a["worst_sign"][i])
+        pulse = OneSinePulse.from_nondim(BLOCK, beta=float(a["beta_min"][i]), Omega=Om, sign=sign)
         assert rocking.simulate(BLOCK, PENDULUM, pulse, model="pendulum", backend="c").overturned
 
 

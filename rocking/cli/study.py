@@ -45,6 +45,7 @@ from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.result import Study
+from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
 from ..study.suite import Suite
@@ -417,10 +418,11 @@ def _print_spectrum(study: Study) -> None:
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
         )
-    a = study.arrays
-    both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
+    env = spectrum_envelope(study.data)
+    flag, beta_min = ({part: env[k].sel(part=part).values for part in ("bare", "damper")} for k in ("flag", "beta_min"))
+    both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
     if both.any():
-        gain = a["damper_beta_min"][both] / a["bare_beta_min"][both]
+        gain = beta_min["damper"][both] / beta_min["bare"][both]
         print(
             f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
             f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"

@@ -43,6 +43,8 @@ from ..model.params import Block, ParameterError
 from ..study.kinds import KINDS
 from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
 from ..study.result import Study
+from ..study.spectrum import envelope as spectrum_envelope
+from ..study.spectrum import safe_windows
 from ..study.storage import load
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED
 from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
@@ -383,8 +385,9 @@ WINDOW_HATCH = {"bare": "\\\\\\", "damper": "///"}
 
 def spectrum_figure(study: Study) -> Figure:
     """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
-    a, block = study.arrays, _block(study.config)
-    Om = a["Omega"]
+    env, block = spectrum_envelope(study.data), _block(study.config)
+    a = {k: {part: env[k].sel(part=part).values for part in PARTS} for k in ("flag", "beta_min")}
+    Om = env["Omega"].values
     step = np.diff(Om).min() if Om.size > 1 else 1.0
     scan = study.config["beta"]
     arrow = 0.05 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.05 * scan["high"]
@@ -394,7 +397,7 @@ def spectrum_figure(study: Study) -> Figure:
     # coincide (below the damper's frequency range they often do).
     for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
         style = PART_STYLE[part]
-        flag, bm = a[f"{part}_flag"], a[f"{part}_beta_min"]
+        flag, bm = a["flag"][part], a["beta_min"][part]
         ax.plot(
             Om,
             np.where(flag == BRACKETED, bm, np.nan),
@@ -408,7 +411,7 @@ def spectrum_figure(study: Study) -> Figure:
         for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
             _bounds(ax, Om[sel], bm[sel], arrow, style["color"], up)
-        w = a[f"{part}_windows"]
+        w = safe_windows(env, part)
         if len(w):
             ax.bar(
                 w[:, 0] + shift * step,
@@ -430,12 +433,12 @@ def spectrum_figure(study: Study) -> Figure:
     ax.set_title("minimum overturning amplitude", fontsize=9)
     handles = ax.get_legend_handles_labels()[0]
     for code, up in ((ABOVE, True), (BELOW, False)):
-        if any((a[f"{part}_flag"] == code).any() for part in ("bare", "damper")):
+        if any((a["flag"][part] == code).any() for part in PARTS):
             handles.append(_bound_handle(up))
-    both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
-    gain = np.where(both, a["damper_beta_min"] / a["bare_beta_min"], np.nan)
+    both = (a["flag"]["bare"] == BRACKETED) & (a["flag"]["damper"] != BELOW)
+    gain = np.where(both, a["beta_min"]["damper"] / a["beta_min"]["bare"], np.nan)
     style = PART_STYLE["damper"]
-    _gain_curve(ax_gain, Om, gain, a["damper_flag"], {"color": style["color"], "marker": style["marker"]}, None)
+    _gain_curve(ax_gain, Om, gain, a["flag"]["damper"], {"color": style["color"], "marker": style["marker"]}, None)
     ax_gain.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_gain)
     _period_axis(ax_gain, block.p)

@@ -197,14 +197,16 @@ def minimum_overturning_spectrum(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``Omega``, ``sign``, ``beta_scan``; ``<part>_flag`` says which ``beta_min`` are bounds.
+        Dimensions ``part`` (``bare``, ``damper``), ``Omega``, ``sign``, ``beta_scan``; ``flag`` says which
+        ``beta_min`` are bounds; their envelope over the directions: :func:`rocking.study.spectrum.envelope`.
 
     Examples
     --------
     >>> import tempfile, rocking
     >>> ds = rocking.minimum_overturning_spectrum(rocking.Block.reference(), None, Omega=[2.0, 6.0],
     ...                                           beta=[0.5, 2, 4, 8, 15], runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["bare_beta_min"].round(2).values.tolist(), ds["bare_flag"].attrs["flag_meanings"]
+    >>> both = rocking.study.spectrum.envelope(ds)
+    >>> both["beta_min"].sel(part="bare").round(2).values.tolist(), both["flag"].attrs["flag_meanings"]
     ([1.15, 2.82], 'upper_bound bracketed lower_bound')
     """
     return _run(

@@ -41,16 +41,6 @@ CONVENTIONS = "CF-1.10"
 #: Per kind: the coordinate arrays (array name -> dimension), then ``(pattern, dimensions)`` rules for the
 #: other arrays, the first whose pattern matches the whole name winning. ``{part}`` stands for any part.
 LAYOUTS: dict[str, tuple[dict, tuple]] = {
-    "spectrum": (
-        {"Omega": "Omega", "beta_scan": "beta_scan", "signs": "sign"},
-        (
-            (r"{part}_scan_outcome_by_sign", ("Omega", "sign", "beta_scan")),
-            (r"{part}_scan_outcome", ("Omega", "beta_scan")),
-            (r"(?P<part>\w+?)_windows", ("{part}_window", "window_field")),
-            (r".*_by_sign", ("Omega", "sign")),
-            (r".*", ("Omega",)),
-        ),
-    ),
     "optimize": (
         {"Omega": "Omega", "gamma": "gamma", "signs": "sign", "r_coarse": "r_coarse"},
         (
@@ -190,10 +180,8 @@ def _part(name: str) -> str | None:
 COORDINATE_DIMS = {
     "T_g": ("Omega",),
     "a_g": ("beta",),
-    "a_g_beta_scan": ("beta_scan",),
     "T_m_coarse": ("r_coarse",),
     "gamma_or_best": ("gamma_or_best",),
-    "window_field": ("window_field",),
 }
 
 
@@ -312,8 +300,6 @@ def labelled(kind: str, arrays: dict, config: dict):
     if kind == "optimize" and "gamma" in arrays:
         labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
         coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
-    if kind in ("spectrum",):
-        coords["window_field"] = ("window_field", np.array(["Omega", "beta_first_safe", "beta_last_safe"]), {})
     coords.update(si_coordinates(config, coords))
     variables = {
         name: (dimensions(kind, name), np.asarray(values), _attrs(name, config))

@@ -93,7 +93,7 @@ def stroke_at(setting: Setting, damper: dict | None, Omega, beta, signs) -> dict
 
 def band_gain(damped: dict, reference) -> tuple[np.ndarray, np.ndarray]:
     """The gain over the band (ratio of the envelopes; nan where the bare ``beta_min`` is not bracketed) and
-    the flag of the damped envelope (:data:`rocking.study.spectrum.ABOVE`: the gain is a lower bound)."""
+    the flag of the damped envelope (:data:`rocking.study.vocabulary.ABOVE`: the gain is a lower bound)."""
     env = beta_min_envelope(damped)
     return env["beta_min"] / reference, env["flag"]
 

@@ -57,12 +57,12 @@ KINDS = {
         "map_figure",
         overturning_map.DIMS.__getitem__,
     ),
-    "spectrum": _named(
-        "spectrum",
+    "spectrum": Kind(
         spectrum.minimum_overturning_spectrum,
         {"Omega": "Omega", "beta": "beta_scan"},
         spectrum.spectrum_tables,
         "spectrum_figure",
+        spectrum.DIMS.__getitem__,
     ),
     "optimize": _named(
         "optimize",

@@ -352,7 +352,9 @@ def overturning_map(
     record = tuning.record()
     parts, folders = dict(zip(PARTS, (None, tuning.case_args()))), {}
     shape = (len(PARTS), Om.size, b.size, len(signs))
-    fields = {k: np.full(shape, False if k == "overturned" else NOT_COMPUTED, dtype) for k, dtype in INTEGERS.items()}
+    fields: dict[str, np.ndarray] = {
+        k: np.full(shape, False if k == "overturned" else NOT_COMPUTED, dtype) for k, dtype in INTEGERS.items()
+    }
     fields.update({k: np.full(shape, np.nan) for k in FIELDS if k not in INTEGERS})
     for part, described in zip(PARTS, (None, record)):
         config = part_config("map", part, setting, damper=described, **grids, **tiles_of)

@@ -8,8 +8,12 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass, field
+from typing import TYPE_CHECKING
 
 from .dataset import by_arrays, flat, html, labelled, to_dataframes, to_dataset
+
+if TYPE_CHECKING:  # xarray is imported where a study is made, not by import rocking
+    import xarray as xr
 
 
 @dataclass
@@ -36,10 +40,10 @@ class Study:
 
     kind: str
     config: dict
-    data: object
+    data: xr.Dataset
     summary: dict = field(default_factory=dict)
     run: dict = field(default_factory=dict)
-    tabulate: Callable[[object, dict], dict] = field(default=lambda data, config: {}, repr=False, compare=False)
+    tabulate: Callable[[xr.Dataset, dict], dict] = field(default=lambda data, config: {}, repr=False, compare=False)
 
     @classmethod
     def of_arrays(cls, kind: str, config: dict, arrays: dict, tables: Callable, **entries) -> Study:

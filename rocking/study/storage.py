@@ -79,7 +79,9 @@ def _stem(path: str | Path) -> Path:
 
 def _data_files(study: Study, name: str, software: dict) -> dict:
     """The files of ``study`` saved as ``name`` but its JSON record: file name -> ``write(path)``."""
-    files = {f"{name}.nc": lambda path: write_netcdf(to_dataset(study, software), path)}
+    files: dict[str, Callable[[Path], None]] = {
+        f"{name}.nc": lambda path: write_netcdf(to_dataset(study, software), path)
+    }
     for table, columns in study.tables.items():
         # Tables are named after the kind ("spectrum-windows"); a study saved under another name keeps its own.
         if table.startswith(study.kind):
