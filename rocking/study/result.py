@@ -10,7 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from .dataset import by_arrays, flat, html, labelled, to_dataframes, to_dataset
+from .dataset import LAYOUTS, by_arrays, flat, html, labelled, to_dataframes, to_dataset
 
 if TYPE_CHECKING:  # xarray is imported where a study is made, not by import rocking
     import xarray as xr
@@ -59,7 +59,15 @@ class Study:
 
     @property
     def arrays(self) -> dict:
-        """Its data as the arrays of a kind that names dimensions in its arrays' names (:func:`flat`)."""
+        """Its data as the arrays of a kind that names dimensions in its arrays' names (:func:`flat`).
+
+        Raises
+        ------
+        AttributeError
+            For a kind labelled where it is made (a map, a spectrum): its results are :attr:`data`.
+        """
+        if self.kind not in LAYOUTS:
+            raise AttributeError(f"a {self.kind} study's results are its labelled data, Study.data (an xarray.Dataset)")
         return flat(self.kind, self.data)
 
     @property
