@@ -500,7 +500,8 @@ def _add_simulate(sub) -> None:
         "--history-dt",
         type=float,
         metavar="SECONDS",
-        help="spacing of --history, s (default: a hundredth of the shorter of the pulse's and the block's periods)",
+        help="spacing of --history and --plot, s (default: a hundredth of the shorter of the pulse's and the block's "
+        "periods, at most a record's dt)",
     )
     p.set_defaults(func=_cmd_simulate)
 
