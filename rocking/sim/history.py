@@ -139,9 +139,9 @@ def first_sample_after(t: float, dt: float, strict: bool = True) -> int:
     """The least index ``k >= 0`` whose sample time ``k dt`` is ``> t`` (``>= t`` unless ``strict``).
 
     Every sample time is the product ``k dt`` rounded once, never a sum, and is monotone in
-    ``k``; ``floor(t / dt)`` rounds the ratio too, and may land one index off either way (on the
-    history of issue 23, ``t / dt`` rounded up to 75 exactly where ``75 dt > t``): corrected
-    both ways on the products themselves, as sim.c's ``record_first_sample``.
+    ``k``; ``floor(t / dt)`` rounds the ratio too, and may land one index off either way (``t / dt``
+    can round up to an integer ``k`` where ``k dt > t``): corrected both ways on the products
+    themselves, as sim.c's ``record_first_sample``.
     """
     k = max(math.floor(t / dt) + 1, 0)
     while k > 0 and ((k - 1) * dt > t if strict else (k - 1) * dt >= t):
