@@ -309,8 +309,8 @@ class Cse:
     def uses(self, names) -> list[str]:
         """Those of ``names`` that the expressions read, in the order of ``names``."""
         exprs = [b for _, b in self.subs] + list(self.outputs)
-        free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
-        return [n for n in names if sp.Symbol(n, real=True) in free]
+        free = {str(a) for e in exprs for a in sp.sympify(e).free_symbols}
+        return [n for n in names if n in free]
 
 
 def common_subexpressions(outputs, start: int = 0) -> Cse:

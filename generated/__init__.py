@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 6
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "b7dad16277c34ea55af4fc0b652cec78b3f736fce900081aa4bb1f4d36e51050",
-    "omd": "9c741eb428fc3ee6649247fadb55e3e126c31f3634bd9e052e87c852fdc6eab8",
-    "omd2": "91acba9dac399f3a9bfecfc214e4aef076522c971305449b9f7a5a7f2d4bcb79",
-    "omd_stops": "641cfb194d8c221665b50c77afb30f21a8756b7866cf90158180442f20f51e31",
-    "omd_stops_hc": "152bab7b145ba8f4e58f986cba96c25b15fc65df4e5962d6df5c140ae0dcdd1c",
-    "pendulum": "7db7b57921b979e1f991a297456586d3a2d1f800b8a5e5a2e7dfbe931e2ce007",
+    "block": "152e7c7b10b62ab25166029725483f5f35c4a833273f69e5ed00a9fa7c549daa",
+    "omd": "24724600611438ee60e188a05f5ececf1fe1c4ce5531d5af1eef985e380091ad",
+    "omd2": "241a7248281da27c4aa8aed57285e03630bda3eb1e8d566bafb555750d66168a",
+    "omd_stops": "4fc8caa446686175e12117f0507907f3ce527d5b2ae99a8796bf8c6fd26ecd0e",
+    "omd_stops_hc": "0ad3bac9d054dc25abb4760c2297d85ad5355dcc3bc9d11efd75a0ab2ce7471a",
+    "pendulum": "832b4d52615c157b786db129570aa23d2b8d7d94c5ac330595e5e53e0bdc4615",
 }

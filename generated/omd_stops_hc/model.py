@@ -986,13 +986,14 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
     e_b : array_like
         coefficient of restitution of each bumper (0 < e_b <= 1) [1]
     stop_on : sequence of array_like, optional
-        Regime of the end stops (ignored); default: that of the state.
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     tuple of ndarray
         F_b[0], F_b[1]
     """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
     cse0 = -L + x
     cse1 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
     cse2 = -L - x
@@ -1046,13 +1047,14 @@ def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, 
     e_b : array_like
         coefficient of restitution of each bumper (0 < e_b <= 1) [1]
     stop_on : sequence of array_like, optional
-        Regime of the end stops (ignored); default: that of the state.
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     tuple of ndarray
         contact[0], contact[1]
     """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
     cse0 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
     out = _broadcast((functools.reduce(numpy.minimum, [_vin0 + cse0, -L + x]), functools.reduce(numpy.minimum, [_vin1 - cse0, -L - x]), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
     return out
@@ -1384,13 +1386,14 @@ def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     e_b : array_like
         coefficient of restitution of each bumper (0 < e_b <= 1) [1]
     stop_on : sequence of array_like, optional
-        Regime of the end stops (ignored); default: that of the state.
+        Regime of the end stops; default: that of the state.
 
     Returns
     -------
     tuple of ndarray
         Q[x]
     """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
     cse0 = -L + x
     cse1 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
     cse2 = k_b*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, _vin0 + cse1]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse0])**n_b

@@ -14,6 +14,8 @@ void omd_stops_hc_prepare(double s, const double *on, const double *p, double *c
 {
     const double _on0 = on[0];
     const double _on1 = on[1];
+    const double _vin0 = on[2];
+    const double _vin1 = on[3];
     const double M = p[0];
     const double I_G = p[1];
     const double B = p[2];
