@@ -103,7 +103,7 @@ static void constants_regime(constants *k, const int *stop_on)
  * floor at least), else a released pad of the same contact pushes again (kept). With start set,
  * every side's v_in is that of a contact starting at y (the run's start). The constants are not
  * prepared again: the caller does. */
-static void memory_record(constants *k, const double *y, int i, int start)
+static void stop_memory_record(constants *k, const double *y, int i, int start)
 {
 #if MODEL_NREGIME > MODEL_NSTOPS
     double rates[MODEL_NSTOPS];
@@ -1495,7 +1495,7 @@ static void phase_machine(run *r)
             memcpy(stop_on, r->k->stop_on, sizeof stop_on);
             stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
             if (ended < EV_GAP_OPEN)
-                memory_record(r->k, r->y, gap_side(ended), 0);
+                stop_memory_record(r->k, r->y, gap_side(ended), 0);
             constants_prepare(r->k, r->k->p, stop_on);
             r->res->stop_contacts += ended < EV_GAP_OPEN;
             continue;
@@ -1621,7 +1621,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.tol.atol = c->atol;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
-    memory_record(&k, zeros, -1, 1); /* E(0) in the regime of the rest state, its memory too */
+    stop_memory_record(&k, zeros, -1, 1); /* E(0) in the regime of the rest state, its memory too */
     constants_prepare(&k, p, clear);
     r.k = &k;
     r.o.k = &k;
@@ -1658,7 +1658,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
-    memory_record(&k, r.y, -1, 1); /* a contact in progress at the start starts there (docs/model.md 11) */
+    stop_memory_record(&k, r.y, -1, 1); /* a contact in progress at the start starts there (docs/model.md 11) */
     constants_prepare(&k, p, clear);
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_prepare(&k, p, stop_on);
