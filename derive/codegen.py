@@ -703,7 +703,11 @@ class LatexGenerator(Generator):
             names[_after_impact(dq)] = r"\dot{" + sp.latex(q) + "}^{+}"
         names.update({sp.Symbol(on, real=True): rf"\mathrm{{on}}_{{{i}}}" for i, on in enumerate(self.model.regime)})
         names.update(
-            {sp.Symbol(v, positive=True): rf"v_{{\mathrm{{in}},{v[4:]}}}" for v in self.model.regime if v.startswith("_vin")}
+            {
+                sp.Symbol(v, positive=True): rf"v_{{\mathrm{{in}},{v[4:]}}}"
+                for v in self.model.regime
+                if v.startswith("_vin")
+            }
         )
 
         def tex(expr):

@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 6
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "152e7c7b10b62ab25166029725483f5f35c4a833273f69e5ed00a9fa7c549daa",
-    "omd": "24724600611438ee60e188a05f5ececf1fe1c4ce5531d5af1eef985e380091ad",
-    "omd2": "241a7248281da27c4aa8aed57285e03630bda3eb1e8d566bafb555750d66168a",
-    "omd_stops": "4fc8caa446686175e12117f0507907f3ce527d5b2ae99a8796bf8c6fd26ecd0e",
-    "omd_stops_hc": "0ad3bac9d054dc25abb4760c2297d85ad5355dcc3bc9d11efd75a0ab2ce7471a",
-    "pendulum": "832b4d52615c157b786db129570aa23d2b8d7d94c5ac330595e5e53e0bdc4615",
+    "block": "db32bc64734f961e68a984739261dec5d203d399a12c6ad1f0be4495ca849969",
+    "omd": "7c3be6ce077b22edb65aa1f75e094ab612fbe0529675815b9cd7a0ab7a3f8bf4",
+    "omd2": "1e1896394b942dbf7b30bd015f176acbe7b30cec9671c8bd395dadd5b7cf5ba8",
+    "omd_stops": "df31d85956103e945f3f514d652d0fb8a6fffa3951e0fe94a92260994aecffe1",
+    "omd_stops_hc": "227284296d08fdb26ffdf7940f5f9e92f6359ce2e61c8031b7e0508d640e5f80",
+    "pendulum": "efd84a1e259303cff5da5bd3d1ee5d763cb3f5074713e0876312e648d73477be",
 }

@@ -166,3 +166,40 @@ def test_at_edges_gives_the_kelvin_voigt_pads_force_at_full_depth():
     assert (hc.law, hc.n, hc.e_b, hc.L) == ("hunt-crossley", 1.5, 0.6, kv.L)
     assert hc.k_b * 0.02**1.5 == pytest.approx(kv.k_b * 0.02, rel=1e-12)
     assert dataclasses.replace(damper, stops=hc).model == "omd_stops_hc"
+
+
+def test_the_law_with_a_memory_matches_model_md_by_hand():
+    """With a regime given (each side's flag and an approach speed v_in of an earlier start, not the state's),
+    the generated forces, contact, accelerations and power are section 11's, typed by hand in
+    rocking.reference.paper, to 1e-12 (rocking verify checks them with the memory of the state)."""
+    from rocking.reference import paper
+    from rocking.reference.verify import random_cases, rel_error
+
+    model = load_model("omd_stops_hc")
+    floor = model.manifest["stops"][0]["approach_floor"]
+    rng = np.random.default_rng(3)
+    for s in (1, -1):
+        v = random_cases(rng, 2000, s, stops=True, hunt_crossley=True)
+        v_in = tuple(10 ** rng.uniform(-3, 0.5, 2000) for _ in range(2))
+        stops = {k: v[k] for k in ("L", "k_b", "n_b", "e_b")} | {"floor": floor, "v_in": v_in}
+        x, dx = v["x"], v["dx"]
+        contact = paper.stop_contact(x, dx, **stops)
+        regime = (*(np.where(c > 0, 1.0, 0.0) for c in contact), *v_in)
+        args = (v["s"], *(v[k] for k in model.state), v["ag"], *(v[k] for k in model.parameters))
+        hand = {
+            "stop_contact": contact,
+            "stop_forces": paper.stop_forces(x, dx, **stops),
+            "contact_accel": (paper.contact_accel(x, dx, v["ag"], v["m"], v["k_m"], v["c"], **stops),),
+            "power": (
+                paper.power(
+                    s, *(v[k] for k in ("theta", "x", "dtheta", "dx", "ag", "M", "B", "H", "e", "m", "h", "c")), **stops
+                ),
+            ),
+        }
+        assert sum(np.count_nonzero(r) for r in regime[:2]) > 200  # pads pushing in many cases
+        for name, expected in hand.items():
+            got = getattr(model.functions, name)(*args, stop_on=regime)
+            got = got if isinstance(got, tuple) else (got,)
+            index = slice(1, None) if name == "contact_accel" else slice(None)
+            for a, b in zip(got[index], expected):
+                assert rel_error(a, b) <= 1e-12, name
