@@ -203,3 +203,36 @@ def test_the_law_with_a_memory_matches_model_md_by_hand():
             index = slice(1, None) if name == "contact_accel" else slice(None)
             for a, b in zip(got[index], expected):
                 assert rel_error(a, b) <= 1e-12, name
+
+
+def test_below_the_floor_a_contact_is_that_of_a_stiffer_restitution(backend):
+    """A contact slower than the floor v_f: the runtime records v_in = v_f, so its law is k_b delta^n (1 + chi
+    ddelta / v_f) = that of a pad of restitution e' = 1 - (1 - e_b) v0 / v_f met at v0 (the rebound of the law
+    does not depend on the speed): the mass leaves at -e(e') v0, with e(e') integrated by hand."""
+    floor = load_model("omd_stops_hc").manifest["stops"][0]["approach_floor"]
+    e_b, n, v0 = 0.5, 1.5, 0.1 * floor
+    stiffer = 1.0 - (1.0 - e_b) * v0 / floor
+    e, _ = rebound_by_hand(stiffer, n)
+    problem = dataclasses.replace(free_mass(e_b, n, 3.0, v0=v0), y0=np.array([0.0, FREE["L"] - 1e-7, 0.0, v0]))
+    r = run(problem, backend=backend, record=True)
+    assert (r.status, r.stop_contacts) == ("t_max", 1)
+    assert -r.history["dx"][-1] / v0 == pytest.approx(e, rel=1e-6)
+    assert abs(e - e_b) > 0.4  # the floor matters: the pad restitutes e(0.95), not e_b = 0.5
+
+
+def test_a_run_that_starts_inside_a_pad_starts_its_contact(backend):
+    """The mass at rest 1 mm into a pad: the contact starts at t = 0 with v_in at the floor, so the pad pushes
+    with k_b delta^n at first, lets go once the mass recedes at v_f / chi, and adds no energy."""
+    model = load_model("omd_stops_hc")
+    floor = model.manifest["stops"][0]["approach_floor"]
+    e_b, n, depth = 0.5, 1.5, 1e-3
+    problem = dataclasses.replace(
+        free_mass(e_b, n, 0.05, record_dt=1e-5), y0=np.array([0.0, FREE["L"] + depth, 0.0, 0.0])
+    )
+    r = run(problem, backend=backend, record=True)
+    assert r.bumper_force_max == pytest.approx(K_B * depth**n, rel=1e-9)
+    leaving = -r.history["dx"][-1]
+    chi = 1.5 * (1 - e_b)
+    # Released where ddelta = -v_f / chi: to 1e-4, the integrator's absolute tolerance on a speed of 1 mm/s.
+    assert leaving == pytest.approx(floor / chi, rel=1e-4)
+    assert 0.5 * FREE["m"] * leaving**2 < K_B * depth ** (n + 1) / (n + 1)
