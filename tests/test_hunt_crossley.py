@@ -13,7 +13,9 @@ elastic, ``k_b delta^(n+1) / (n+1)`` its energy: the total is constant across co
 from __future__ import annotations
 
 import dataclasses
+import json
 import math
+import re
 
 import numpy as np
 import pytest
@@ -236,3 +238,28 @@ def test_a_run_that_starts_inside_a_pad_starts_its_contact(backend):
     # Released where ddelta = -v_f / chi: to 1e-4, the integrator's absolute tolerance on a speed of 1 mm/s.
     assert leaving == pytest.approx(floor / chi, rel=1e-4)
     assert 0.5 * FREE["m"] * leaving**2 < K_B * depth ** (n + 1) / (n + 1)
+
+
+def test_simulate_with_hunt_crossley_pads_is_the_python_api(capsys):
+    """--bumper-law hunt-crossley --e-b 0.8 is Stops.at_edges(..., law="hunt-crossley", e_b=0.8); --e-b implies
+    the law; a Kelvin-Voigt pad's option with it, or a bad value, is refused in one line."""
+    from rocking.cli.main import main
+
+    argv = ["simulate", "--gamma", "0.05", "--omega-ratio", "1", "--h", "0.05", "--beta", "10", "--Omega", "7.5"]
+    damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1, h=0.05)
+    stops = Stops.at_edges(REFERENCE, damper, law="hunt-crossley", e_b=0.8)
+    pulse = OneSinePulse.from_nondim(REFERENCE, beta=10, Omega=7.5)
+    expected = rocking.simulate(REFERENCE, dataclasses.replace(damper, stops=stops), pulse).summary()
+    for options in (["--bumper-law", "hunt-crossley", "--e-b", "0.8"], ["--e-b", "0.8", "--n-b", "1.5"]):
+        assert main([*argv, *options, "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)["responses"]["with damper"]
+        out.pop("mass_past_edge")
+        assert out == json.loads(json.dumps(expected))
+    for options, message in (
+        (["--e-b", "0.8", "--bumper-law", "kelvin-voigt"], "--e-b: parameters of the Hunt-Crossley pads"),
+        (["--bumper-law", "hunt-crossley", "--c-b", "3"], "c_b must be 0 with law='hunt-crossley'"),
+        (["--e-b", "0"], r"e_b must be in \(0, 1\]"),
+    ):
+        assert main([*argv, *options]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and re.search(message, err[0]), err
