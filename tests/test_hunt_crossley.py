@@ -263,3 +263,21 @@ def test_simulate_with_hunt_crossley_pads_is_the_python_api(capsys):
         assert main([*argv, *options]) == 2
         err = capsys.readouterr().err.strip().splitlines()
         assert len(err) == 1 and re.search(message, err[0]), err
+
+
+def test_the_history_finds_each_contacts_approach_speed_again(backend):
+    """Response.to_dataset with Hunt-Crossley pads: F_b and ddx are those of the law with each contact's own v_in
+    (the approach speed at its start), not those of a contact starting at each sample: against the law
+    written here with v_in read off the first sample into each contact, and the mass's m ddx = -F_b."""
+    e_b, n = 0.6, 1.5
+    _, tau = rebound_by_hand(e_b, n)
+    t_end = FREE["L"] / V0 + tau + 0.02
+    r = run(free_mass(e_b, n, t_end, record_dt=1e-4), backend=backend, record=True)
+    ds = r.to_dataset(dt=1e-4)
+    x, dx = ds["x"].values, ds["dx"].values
+    delta = x - FREE["L"]
+    law = K_B * np.maximum(delta, 0.0) ** n * (1.0 + 1.5 * (1.0 - e_b) * dx / V0)  # v_in = V0: no force before
+    inside = (delta > 0.0) & (law > 0.0)
+    assert inside.sum() > 100 and np.any(dx[inside] < -0.3 * V0)  # the pad pushes while the mass leaves too
+    assert np.allclose(ds["F_b"].values, np.where(inside, law, 0.0), rtol=1e-6, atol=1e-9 * law.max())
+    assert np.allclose(FREE["m"] * ds["ddx"].values, -ds["F_b"].values, rtol=1e-9, atol=1e-9 * law.max())
