@@ -158,6 +158,11 @@ def test_stops_refuse_bad_hunt_crossley_parameters():
         Stops(L=0.2, k_b=1e5, law="hertz")
     with pytest.raises(ParameterError, match=r"e_b is a parameter of law='hunt-crossley'"):
         Stops(L=0.2, k_b=1e5, e_b=0.5)
+    # The model's parameters given by name (make_problem, --param) pass the same checks.
+    with pytest.raises(ParameterError, match=r"e_b must be in \(0, 1\]"):
+        free_mass(1.5, 1.5, 1.0)
+    with pytest.raises(ParameterError, match=r"n must be in \[1, 10\]"):
+        free_mass(0.5, 0.8, 1.0)
 
 
 def test_at_edges_gives_the_kelvin_voigt_pads_force_at_full_depth():
