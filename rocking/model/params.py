@@ -824,8 +824,8 @@ class Damper:
     h : float, optional
         Height of the guide above the top side of the block, m, in [0, 1e3]. Default 0.
     stops : Stops, optional
-        End stops of the guide (model ``omd_stops``). Default None: the paper's
-        unlimited guide (model ``omd``).
+        End stops of the guide (model ``omd_stops``; ``omd_stops_hc`` with Hunt-Crossley
+        pads). Default None: the paper's unlimited guide (model ``omd``).
 
     Raises
     ------
@@ -939,7 +939,7 @@ class Damper:
 
     @property
     def model(self) -> str:
-        """The generated model this damper runs on: ``omd``, or ``omd_stops`` with stops."""
+        """The generated model this damper runs on: ``omd``, or that of its stops (``omd_stops``, ``omd_stops_hc``)."""
         return "omd" if self.stops is None else self.stops.model
 
     def as_params(self) -> dict[str, float]:
@@ -948,7 +948,8 @@ class Damper:
         Returns
         -------
         dict
-            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``.
+            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``
+            (Hunt-Crossley: ``"L"``, ``"k_b"``, ``"n_b"``, ``"e_b"``).
         """
         own = dict(zip(DAMPER_PARAMETERS, (self.m, self.k_m, self.c, self.h)))
         return own if self.stops is None else {**own, **self.stops.as_params()}
