@@ -286,3 +286,24 @@ def test_the_history_finds_each_contacts_approach_speed_again(backend):
     assert inside.sum() > 100 and np.any(dx[inside] < -0.3 * V0)  # the pad pushes while the mass leaves too
     assert np.allclose(ds["F_b"].values, np.where(inside, law, 0.0), rtol=1e-6, atol=1e-9 * law.max())
     assert np.allclose(FREE["m"] * ds["ddx"].values, -ds["F_b"].values, rtol=1e-9, atol=1e-9 * law.max())
+
+
+def test_a_spec_states_its_pads_law_as_data():
+    """The [[stops]] keys of each law, checked before any derivation, each error in one line naming the stop."""
+    from rocking.derive.spec import VARIANTS_DIR, SpecError, parse_spec, tomllib  # tomli on Python 3.10
+
+    base = tomllib.loads((VARIANTS_DIR / "omd_stops_hc.toml").read_text())
+    assert parse_spec(base).stops[0].law == "hunt-crossley"
+    stop = base["stops"][0]
+    for change, message in (
+        ({"law": "hertz"}, "unknown law 'hertz'; choose one of kelvin-voigt, hunt-crossley"),
+        ({"damping": "0"}, "damping is not a key of the hunt-crossley law"),
+        ({"approach_floor": 0}, "approach_floor must be a number > 0"),
+        ({"restitution": None}, "missing required key 'restitution'"),
+    ):
+        table = {k: v for k, v in {**stop, **change}.items() if v is not None}
+        with pytest.raises(SpecError, match=re.escape(message)):
+            parse_spec({**base, "stops": [table]})
+    kelvin_voigt = {k: v for k, v in stop.items() if k not in ("law", "exponent", "restitution")}
+    with pytest.raises(SpecError, match=re.escape("exponent is not a key of the kelvin-voigt law")):
+        parse_spec({**base, "stops": [{**kelvin_voigt, "damping": "0", "exponent": "2"}]})
