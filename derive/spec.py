@@ -393,7 +393,9 @@ def _stop(i: int, table: dict, bodies: list[str], coords: tuple, known) -> Stop:
     allowed = set(STOP_LAWS[law]) | ({"approach_floor"} if law == "hunt-crossley" else set())
     extra = sorted((own - allowed) & set(table))
     if extra:
-        raise SpecError(f"{where}: {', '.join(extra)} is not a key of the {law} law; it takes {', '.join(allowed)}")
+        raise SpecError(
+            f"{where}: {', '.join(extra)} is not a key of the {law} law; it takes {', '.join(sorted(allowed))}"
+        )
     fields = {k: _expr(_require(table, k, where), f"{where} {k}", known) for k in ("gap", "stiffness", *STOP_LAWS[law])}
     return Stop(
         name,

@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 6
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "db32bc64734f961e68a984739261dec5d203d399a12c6ad1f0be4495ca849969",
-    "omd": "7c3be6ce077b22edb65aa1f75e094ab612fbe0529675815b9cd7a0ab7a3f8bf4",
-    "omd2": "1e1896394b942dbf7b30bd015f176acbe7b30cec9671c8bd395dadd5b7cf5ba8",
-    "omd_stops": "df31d85956103e945f3f514d652d0fb8a6fffa3951e0fe94a92260994aecffe1",
-    "omd_stops_hc": "227284296d08fdb26ffdf7940f5f9e92f6359ce2e61c8031b7e0508d640e5f80",
-    "pendulum": "efd84a1e259303cff5da5bd3d1ee5d763cb3f5074713e0876312e648d73477be",
+    "block": "d7a1a66c958f44879c78e1fb2d3d30c9aa3c20433f71f312e0e4b026c670ea07",
+    "omd": "71410ef8b3fc0e5edbcc117a40d60f69a66b0a812f49b08fed0516cc8d090853",
+    "omd2": "2ec7fb622376f8d406c6a358e4b94a8fdf12aacfff6e5a6d3e1a1cc98de1915a",
+    "omd_stops": "ca984a9ba2de01c47c20c13f37abb5f23bad986ed0b25ff186800dd592701f3c",
+    "omd_stops_hc": "02b1c20d57cf896be20198a11c8df8da4899ff17a8b838b531638be84d341ed8",
+    "pendulum": "3ae82b195b5e7e7c98235ba60ba2223b5cd0413f8c95efdac7a845c3c664c7de",
 }
