@@ -72,6 +72,7 @@ bench: $(STAMP)
 	$(PY) bench/run.py
 	$(PY) bench/adaptive.py
 	$(PY) bench/adaptive_spectrum.py
+	$(PY) bench/motions.py
 
 fuzz: $(STAMP)
 	$(PY) bench/fuzz.py -n $(FUZZ_N) --json out/fuzz.json

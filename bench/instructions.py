@@ -1,6 +1,6 @@
 """Instructions per response of the bench map under callgrind: a figure the machine's load does not change.
 
-The map of `make bench` (bench/run.py ``map_cases``: 50 x 50, Omega and beta in [1, 10], the
+The map of `make bench` (bench/bench_map.py ``map_cases``: 50 x 50, Omega and beta in [1, 10], the
 reference block and damper, rtol = 1e-8) runs on the C batch entry point, one thread, under
 ``valgrind --tool=callgrind``, which counts the instructions executed inside sim.c's
 ``simulate_one`` only (``--collect-atstart=no --toggle-collect=simulate_one``: not Python, not the
@@ -25,7 +25,7 @@ import tempfile
 
 sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
-from run import map_cases  # noqa: E402
+from bench_map import map_cases  # noqa: E402
 
 from rocking.sim.cases import run_cases  # noqa: E402
 

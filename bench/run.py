@@ -27,18 +27,10 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 
 import baseline  # noqa: E402
+from bench_map import GAMMA, H_MASS, OMEGA_RATIO, ZETA, map_cases  # noqa: E402
 
 from rocking import Block, SampledMotion  # noqa: E402
 from rocking.sim.cases import pulse_cases, run_cases, sampled_cases  # noqa: E402
-
-GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
-
-
-def map_cases(n: int):
-    block = Block.reference()
-    Omega, beta = np.meshgrid(np.linspace(1, 10, n), np.linspace(1, 10, n), indexing="ij")
-    cases = pulse_cases(block, Omega, beta, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS, rtol=1e-8)
-    return block, Omega.ravel(), beta.ravel(), cases
 
 
 def timed(fn, *args, **kw):

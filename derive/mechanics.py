@@ -66,7 +66,6 @@ class System:
     V: sp.Expr
     D: sp.Expr
     bodies: tuple
-    pivot_point: tuple
     top: sp.Matrix
     stops: tuple = ()
 
@@ -234,7 +233,7 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
         D += on * pad.dissipation(stiffness, damping, delta, delta.diff(t))
 
     params = tuple(block.values()) + tuple(own.values())
-    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), tuple(corner), place((0, H)), stops)
+    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), place((0, H)), stops)
 
 
 def coordinate_units(spec: Spec) -> dict[str, str]:

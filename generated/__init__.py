@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 6
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "d7a1a66c958f44879c78e1fb2d3d30c9aa3c20433f71f312e0e4b026c670ea07",
-    "omd": "71410ef8b3fc0e5edbcc117a40d60f69a66b0a812f49b08fed0516cc8d090853",
-    "omd2": "2ec7fb622376f8d406c6a358e4b94a8fdf12aacfff6e5a6d3e1a1cc98de1915a",
-    "omd_stops": "ca984a9ba2de01c47c20c13f37abb5f23bad986ed0b25ff186800dd592701f3c",
-    "omd_stops_hc": "02b1c20d57cf896be20198a11c8df8da4899ff17a8b838b531638be84d341ed8",
-    "pendulum": "3ae82b195b5e7e7c98235ba60ba2223b5cd0413f8c95efdac7a845c3c664c7de",
+    "block": "c822bf5b1d2a443b10509c156a01f88d43055e19a38e9dd1d91e44fa3a3ea861",
+    "omd": "21c9fa0be87e1f4f6e6d52ac19b46513f12414d350eec1e29ca2a410570b7ac5",
+    "omd2": "a9b40b689bf38c1d36139f16c5f984c1181be0bc5c1451cae32f17426c56e78a",
+    "omd_stops": "bdb681747ed54eff7eb73ef12eec93bf4c5c2e6496f48603fe12e9eb3ea55818",
+    "omd_stops_hc": "d1c64b243b44d37372144eedb2ba2bdbd7dce57c94ee1d0b9bd17c4f8ec3bb71",
+    "pendulum": "467446eff94a41dcb65622829d2b0fb1ec88d51c708dd3c2bea8093e89877b0a",
 }

@@ -181,3 +181,62 @@ def test_an_ida_of_pulses_runs_each_response_once(tmp_path, monkeypatch):
     )
     assert len(calls) == 2 * len(pulses)  # one batch a pulse and a part: none again
     assert not study.arrays["bare_sensitive"].any() and not study.arrays["damper_sensitive_fraction"].any()
+
+
+def _counted_runs(monkeypatch) -> list:
+    """The batches the IDA's tiles run, by their number of cases."""
+    calls, real = [], ida_module.run_cases
+    monkeypatch.setattr(ida_module, "run_cases", lambda cases, **kw: calls.append(len(cases)) or real(cases, **kw))
+    return calls
+
+
+def test_ida_check_turns_the_tolerance_check_on_for_pulses_and_off_for_records(tmp_path, monkeypatch):
+    """check="tolerance" runs a pulse's responses again; check="none" runs a record's once, so that the
+    issue's sensitive case is not flagged."""
+    block = rocking.Block.reference()
+    pulses = [rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=Omega) for Omega in (3.0, 5.0)]
+    calls = _counted_runs(monkeypatch)
+    few = {"workers": 1, "progress": False, "backend": "c"}
+    ds = rocking.incremental_dynamic_analysis(
+        block, {"gamma": 0.05}, motions=pulses, levels=[0.5, 2.0], check="tolerance", runs=tmp_path / "p", **few
+    )
+    assert len(calls) == 2 * 2 * len(pulses)  # each pulse and part: its run and the tighter one
+    assert json.loads(ds.attrs["config"])["check"] == "tolerance"
+    calls.clear()
+    path = _noise_file(tmp_path)
+    ds = rocking.incremental_dynamic_analysis(
+        BLOCK, None, motions=[path], unit="m/s2", levels=[NOISE.scale], directions="both", check="none",
+        runs=tmp_path / "r", **few,
+    )  # fmt: skip
+    assert len(calls) == 2 and not ds["bare_sensitive"].any()
+    checked = rocking.incremental_dynamic_analysis(
+        BLOCK, None, motions=[path], unit="m/s2", levels=[NOISE.scale], directions="both", runs=tmp_path / "r", **few
+    )
+    assert checked["bare_sensitive"].any()  # the default for a record: checked
+
+
+def test_ida_refuses_an_unknown_check_before_any_run(tmp_path, monkeypatch):
+    calls = _counted_runs(monkeypatch)
+    pulse = rocking.OneSinePulse.from_nondim(rocking.Block.reference(), beta=3.0, Omega=3.0)
+    with pytest.raises(rocking.ParameterError, match=r"^check must be one of none, tolerance \(got 'fast'\)$"):
+        rocking.incremental_dynamic_analysis(
+            rocking.Block.reference(), motions=[pulse], levels=[1.0], check="fast", runs=tmp_path, progress=False
+        )
+    assert calls == []
+
+
+def test_cli_ida_check(tmp_path, monkeypatch, capsys):
+    """rocking ida --check tolerance checks a suite of pulses; a value not of --check's is refused."""
+    calls = _counted_runs(monkeypatch)
+    argv = ["ida", "--pulses", "sine", "--periods", "0.5", "1", "--scales", "0.5", "2", "2", "--workers", "1"]
+    argv += ["--no-progress", "--t-after", "5", "--out", str(tmp_path)]
+    assert main([*argv, "--check", "tolerance"]) == 0
+    assert len(calls) == 2 * 2 * 2
+    assert rocking.load(tmp_path / "ida.json").config["check"] == "tolerance"
+    assert "responses sensitive to the tolerance" in capsys.readouterr().out
+    calls.clear()
+    assert main([*argv, "--check", "none"]) == 0
+    assert len(calls) == 2 * 2
+    with pytest.raises(SystemExit):
+        main([*argv, "--check", "fast"])
+    assert "--check: invalid choice: 'fast' (choose from" in capsys.readouterr().err

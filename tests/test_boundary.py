@@ -1,6 +1,6 @@
 """The boundary between the back ends, declared once in rocking/sim/boundary.py, and everything built from it.
 
-csrc/boundary.h and the table of docs/simulation.md are fresh; the ctypes
+csrc/boundary.h, rocking/sim/fields.py and the table of docs/simulation.md are fresh; the ctypes
 structures, the NumPy records, Problem and Response have the tables' fields in
 their order; the loaded C library reports the same layout and constants; and a
 field added to the table reaches the header, the documentation and the checks.
@@ -20,6 +20,7 @@ from rocking import Block, OneSinePulse, ParameterError
 from rocking.sim import boundary, numpy_backend
 from rocking.sim import c_backend as cb
 from rocking.sim.boundary import CASE, CONSTANTS, FAILED, MOTIONS, PHASES, RESULT, STATUSES, STOPPED, Field
+from rocking.sim.fields import ProblemFields, ResponseFields
 from rocking.sim.problem import (
     CONTACT,
     PIVOT_A,
@@ -44,6 +45,13 @@ def test_the_c_header_is_fresh():
     """csrc/boundary.h is what `python -m rocking.sim.boundary` writes from the tables."""
     assert boundary.HEADER.read_text(encoding="utf-8") == boundary.c_header(), (
         "csrc/boundary.h is stale: run `python -m rocking.sim.boundary`"
+    )
+
+
+def test_the_python_fields_are_fresh():
+    """fields.py is what `python -m rocking.sim.boundary` writes from the tables."""
+    assert boundary.FIELDS.read_text(encoding="utf-8") == boundary.python_fields(), (
+        "rocking/sim/fields.py is stale: run `python -m rocking.sim.boundary`"
     )
 
 
@@ -93,6 +101,7 @@ def test_a_new_field_reaches_the_header_the_documentation_and_the_checks(monkeyp
         "| `extra_setting` | double | s | finite and > 0 | `1.0` | a setting added for this test |"
         in boundary.markdown()
     )
+    assert "    extra_setting: float = 1.0\n" in boundary.python_fields()
     assert boundary.check("extra_setting", 2.0) == 2.0
     with pytest.raises(ParameterError, match=r"^extra_setting must be finite and > 0 \(got 0\)$"):
         boundary.check("extra_setting", 0.0)
@@ -203,7 +212,7 @@ def test_problem_fields_follow_the_case_table():
 
 
 def test_response_fields_follow_the_result_table():
-    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "sensitive", "history", "source"]
+    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "sensitive", "history", "inputs"]
     assert list(RESULT_FIELDS) == RESULT_NAMES
     assert RESULT_FIELDS["status"] is np.int64 and RESULT_FIELDS["overturned"] is bool
     record = np.zeros(1, dtype=cb.RESULT_DTYPE)[0]
@@ -214,13 +223,30 @@ def test_response_fields_follow_the_result_table():
 
 
 @pytest.mark.parametrize(
-    "cls, names",
-    [(Problem, ["model", "p", *CASE_NAMES]), (Response, [*RESULT_NAMES, "sensitive", "history"])],
-    ids=["Problem", "Response"],
+    "cls, names, table",
+    [
+        (ProblemFields, ["model", "p", *CASE_NAMES], CASE),
+        (ResponseFields, [*RESULT_NAMES, "sensitive"], boundary.SUMMARY),
+        (Response, ["history", "inputs"], ()),
+    ],
+    ids=["Problem", "Response", "Response's own"],
 )
-def test_the_docstrings_mention_every_field(cls, names):
+def test_the_docstrings_mention_every_field(cls, names, table):
     doc = cls.__doc__
     for name in names:
         assert re.search(rf"^\s+{name} : ", doc, re.M), f"{cls.__name__}'s docstring lacks {name}"
-    for f in CASE if cls is Problem else RESULT:
-        assert f.doc[1:] in doc, f.name  # its meaning, from the table
+    for f in table:
+        assert f.doc[1:] in " ".join(doc.split()), f.name  # its meaning, from the table
+
+
+def test_problem_and_response_are_classes_of_their_fields():
+    """Type checkers and editors read the fields from the generated classes that Problem and Response extend."""
+    assert issubclass(Problem, ProblemFields) and issubclass(Response, ResponseFields)
+    annotations = {**ProblemFields.__annotations__, **ResponseFields.__annotations__}
+    assert annotations["a_g"] == "float" and annotations["y0"] == "np.ndarray | None"
+    assert annotations["status"] == "str" and annotations["sensitive"] == "bool"
+    block = Block.reference()
+    problem = make_problem(block, None, OneSinePulse.from_nondim(block, beta=2.0, Omega=3.0))
+    with pytest.raises(ParameterError, match=r"^rtol must be in \[1e-12, 0.01\] \(got 5\)$"):
+        dataclasses.replace(problem, rtol=5.0)  # Problem's own checks run on construction, not only its fields'
+    assert type(dataclasses.replace(problem, phase0=np.int64(0)).phase0) is int

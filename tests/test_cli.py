@@ -422,3 +422,20 @@ def test_simulate_warns_of_an_implausible_record_in_one_line(capsys, tmp_path, r
     assert len(warned) == len(expected)
     for line, text in zip(warned, expected, strict=True):
         assert text in line, line
+
+
+@pytest.mark.parametrize(
+    ("argv", "close"),
+    [
+        (["simulate", "--gama", "0.05"], "--gamma"),
+        (["map", "--Omga", "1", "2", "3"], "--Omega"),
+        (["ida", "--scals"], "--scales"),
+    ],
+)
+def test_a_typo_gets_the_commands_usage_and_the_close_option(argv, close, capsys):
+    with pytest.raises(SystemExit) as stop:
+        main(argv)
+    err = capsys.readouterr().err
+    assert stop.value.code == 2
+    assert err.startswith(f"usage: rocking {argv[0]} ")
+    assert f"{argv[1]} (did you mean {close}?)" in err

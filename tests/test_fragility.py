@@ -70,3 +70,58 @@ def test_ida_reports_non_monotone_outcomes_as_they_are():
 def test_bad_stripes_are_refused(levels, data, message):
     with pytest.raises(ParameterError, match=message):
         ida_summary(levels, data)
+
+
+def _sensitive_at_the_edge(overturned: np.ndarray, every: int) -> np.ndarray:
+    """Sensitive: the first overturning level of every ``every``-th motion, where a verdict is closest to turning."""
+    sensitive = np.zeros_like(overturned)
+    rows = np.flatnonzero(overturned.any(axis=1))[::every]
+    sensitive[rows, np.argmax(overturned[rows], axis=1)] = True
+    return sensitive
+
+
+def test_sensitive_responses_widen_the_bootstrap_band():
+    """Either answer of a sensitive response is covered: the band, and the intervals, contain those of the
+    verdicts as run, and are wider where the sensitive responses count."""
+    x = np.linspace(0.2, 1.2, 11)
+    overturned = _suite(60, seed=4)
+    sensitive = _sensitive_at_the_edge(overturned, every=3)
+    certain = bootstrap_band(LEVELS, overturned, x, resamples=100, seed=5)
+    honest = bootstrap_band(LEVELS, overturned, x, sensitive=sensitive, resamples=100, seed=5)
+    assert honest["sensitive"] == sensitive.sum() > 0 and certain["sensitive"] == 0
+    assert np.all(honest["low"] <= certain["low"]) and np.all(honest["high"] >= certain["high"])
+    assert np.sum(honest["high"] - honest["low"]) > np.sum(certain["high"] - certain["low"]) + 0.05
+    for k in ("theta_interval", "beta_interval"):
+        assert honest[k][0] <= certain[k][0] and honest[k][1] >= certain[k][1]
+
+
+def test_a_band_with_no_sensitive_response_is_the_plain_bootstrap():
+    """No sensitive response: the band of every motion resampled with the seed, as a plain bootstrap draws it."""
+    x = np.linspace(0.2, 1.2, 11)
+    overturned = _suite(40, seed=6)
+    band = bootstrap_band(LEVELS, overturned, x, resamples=50, seed=7)
+    again = bootstrap_band(LEVELS, overturned, x, sensitive=np.zeros_like(overturned), resamples=50, seed=7)
+    rng, curves = np.random.default_rng(7), []
+    for _ in range(50):
+        fit = fit_lognormal(LEVELS, overturned[rng.integers(0, 40, 40)])
+        curves.append(fragility_curve(x, fit["theta"], fit["beta"]))
+    low, high = np.percentile(curves, (100 * (1 - 0.9) / 2, 100 * (1 + 0.9) / 2), axis=0)  # the 90 % band
+    for b in (band, again):
+        np.testing.assert_array_equal(b["low"], low)
+        np.testing.assert_array_equal(b["high"], high)
+    assert band["theta_interval"] == again["theta_interval"] and band["beta_interval"] == again["beta_interval"]
+
+
+def test_the_sensitive_mask_has_the_shape_of_the_verdicts():
+    with pytest.raises(ParameterError, match=r"sensitive must have the shape of overturned, \(5, 15\)"):
+        bootstrap_band(LEVELS, _suite(5, seed=1), [0.5], sensitive=np.zeros((5, 3), bool), resamples=5)
+
+
+def test_a_sensitive_direction_leaves_uncertain_only_the_envelopes_it_can_change():
+    """(motion, level, direction): overturned in a direction that is not sensitive is certain; a sensitive
+    direction makes the envelope uncertain otherwise, overturned or not."""
+    from rocking.study.ida import uncertain_verdicts
+
+    overturned = np.array([[[1, 1], [1, 0], [0, 0], [0, 1]]], bool)
+    sensitive = np.array([[[1, 0], [1, 0], [0, 1], [0, 0]]], bool)
+    np.testing.assert_array_equal(uncertain_verdicts(overturned, sensitive), [[False, True, True, False]])

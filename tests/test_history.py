@@ -6,6 +6,7 @@ import subprocess
 import sys
 
 import numpy as np
+import pandas as pd
 import pytest
 import xarray as xr
 from hypothesis import HealthCheck, given, settings
@@ -14,7 +15,10 @@ from hypothesis import strategies as st
 import rocking
 from rocking import ParameterError
 from rocking.reference import paper
+from rocking.sim import c_backend
 from rocking.sim.history import first_sample_after
+from rocking.sim.problem import make_problem
+from rocking.sim.run import rerecord
 
 BLOCK = rocking.Block.reference()
 DAMPER = rocking.Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
@@ -91,12 +95,41 @@ def test_both_back_ends_agree(runs):
         np.testing.assert_allclose(a, b, rtol=0, atol=1e-5 * scale, err_msg=name)
 
 
-def test_samples_are_the_dense_output_recorded_at_dt():
-    """A response recorded at another spacing is recorded again at dt: the same numbers as one recorded at dt."""
+@pytest.mark.parametrize("record", [False, True])
+def test_samples_are_the_dense_output_recorded_at_dt(record):
+    """A response recorded at another spacing, or not at all, is recorded again at dt by rerecord: the same numbers
+    as one recorded at dt; to_dataset alone refuses it, naming both ways to record it."""
     dt = 0.01
     direct = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c", record=True, record_dt=dt).to_dataset()
-    again = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c").to_dataset(dt=dt)
-    xr.testing.assert_identical(direct, again)
+    other = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c", record=record)
+    with pytest.raises(ParameterError, match=r"^dt = 0.01 s: this response .*record_dt=0.01\), or .*rerecord"):
+        other.to_dataset(dt=dt)
+    again = rerecord(other, dt)
+    assert again.inputs.settings["record_dt"] == dt and again.summary() == other.summary()
+    xr.testing.assert_identical(direct, again.to_dataset(dt=dt))
+
+
+def test_rerecord_refuses_a_dt_whose_samples_end_the_run_otherwise():
+    r = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c", early_verdict=False)  # to rest at 6.8 s
+    dt = r.inputs.settings["t_max"] / 1e6  # 4.4e5 samples to rest: more work than max_steps allows (rule 5)
+    with pytest.raises(ParameterError, match=r"^dt = .* s: recorded every dt the run ends otherwise \(max_steps at"):
+        rerecord(r, dt)
+
+
+def test_a_response_of_a_back_end_called_directly_has_no_inputs():
+    r = c_backend.simulate(make_problem(BLOCK, DAMPER, PULSE), record=True)
+    assert r.inputs is None and r.history is not None
+    for call in (r.to_dataset, r.events, lambda: rerecord(r)):
+        with pytest.raises(ParameterError, match=r"^this response has no inputs \(a batch's row, or a back end"):
+            call()
+
+
+def test_a_response_without_history_has_no_events_until_recorded():
+    r = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c")
+    with pytest.raises(ParameterError, match=r"^this response has no history: .*record=True"):
+        r.events()
+    recorded = rocking.simulate(BLOCK, DAMPER, PULSE, backend="c", record=True)
+    pd.testing.assert_frame_equal(rerecord(r).events(), recorded.events())
 
 
 def _between_events(ds, events, width):
@@ -179,7 +212,7 @@ def test_energies(runs):
 
 def test_pendulum_names_its_angle_phi():
     pendulum = {"m": 50.0, "l": 0.5, "x_p": 0.0, "y_p": 2.0, "k_phi": 100.0, "c_phi": 5.0}
-    ds = rocking.simulate(BLOCK, pendulum, PULSE, model="pendulum", t_after=1.0).to_dataset()
+    ds = rocking.simulate(BLOCK, pendulum, PULSE, model="pendulum", t_after=1.0, record=True).to_dataset()
     assert "phi" in ds and "x" not in ds and "F_x" not in ds
     assert ds["phi"].attrs["units"] == "rad" and ds["dphi"].attrs["units"] == "rad/s"
     assert ds["F_phi"].attrs["units"] == "N m"
@@ -273,14 +306,14 @@ def test_the_history_of_the_issue_has_every_sample():
     both back ends skipped the sample, and to_dataset() raised."""
     block = rocking.Block(H=1.17, B=1.05, M=1000.0)
     for backend in ("c", "numpy"):
-        r = rocking.simulate(block, None, rocking.OneSinePulse.from_period(8.3, 1.186), backend=backend)
+        r = rocking.simulate(block, None, rocking.OneSinePulse.from_period(8.3, 1.186), backend=backend, record=True)
         ds = r.to_dataset()
         t, dt = ds["t"].values, ds.attrs["dt"]
         assert dt == 0.011859999999999999 and len(t) == 101 and np.array_equal(t, np.arange(101) * dt)
 
 
 def _grid(block, pulse, dt, backend):
-    r = rocking.simulate(block, None, pulse, backend=backend, t_after=2.0)
+    r = rocking.simulate(block, None, pulse, backend=backend, t_after=2.0, record=True, record_dt=dt)
     t = r.to_dataset(dt=dt)["t"].values
     # Sample times are the products k dt on both back ends (no libm): exact, and up to t_end.
     # The next sample is the product len(t) dt, past t_end (t[-1] + dt may round onto t_end itself).
@@ -305,3 +338,11 @@ def test_every_multiple_of_dt_is_a_row_on_both_back_ends(H, lam, T_g, beta, fami
     grids = [_grid(block, pulse, dt, backend) for backend in ("c", "numpy")]
     n = min(len(g) for g in grids)
     assert np.array_equal(grids[0][:n], grids[1][:n])
+
+
+def test_a_history_file_follows_cf_conventions():
+    block = rocking.Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=2.0, Omega=3.0)
+    ds = rocking.simulate(block, None, pulse, record=True).to_dataset()
+    assert ds.attrs["Conventions"] == "CF-1.10"
+    assert ds["t"].attrs == {"units": "s", "long_name": "time", "standard_name": "time"}

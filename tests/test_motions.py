@@ -90,6 +90,52 @@ def test_peak_one_shapes_peak_at_a_g():
     assert 0.5 * A_G < np.max(np.abs(mp.acceleration(np.linspace(0, mp.t_p, 20_001)))) <= A_G
 
 
+PEAKED = [
+    OneSinePulse(A_G, W),
+    OneSinePulse(A_G, W, psi=5.5, sign=-1),
+    OneCosinePulse(A_G, W),
+    RickerWavelet(A_G, W, sign=-1),
+    RickerWavelet(A_G, W, antisymmetric=True),
+    *(MavroeidisPapageorgiou(A_G, W, gamma=g, nu=nu) for g, nu in ((1.2, 0.0), (2.0, 1.0), (3.0, 4.0), (5.0, 2.5))),
+    SampledMotion(np.sin(np.linspace(0.0, 7.0, 301)), dt=0.01, scale=3.0, sign=-1),
+]
+
+
+@pytest.mark.parametrize("motion", PEAKED, ids=lambda m: type(m).__name__)
+def test_peak_is_the_largest_acceleration_on_a_fine_grid(motion):
+    """rocking.model.motion.peak against a 2,000,001-point scan of the motion: never below it, and within
+    1e-9 of it (the scan's own error at a smooth maximum is (step)^2 / 2 times the curvature); a sampled
+    motion's peak is at a sample, its scale times the largest |sample|."""
+    from rocking.model.motion import peak
+
+    if isinstance(motion, SampledMotion):
+        assert peak(motion) == 3.0 * np.max(np.abs(np.sin(np.linspace(0.0, 7.0, 301))))
+        return
+    scanned = np.max(np.abs(motion.acceleration(np.linspace(0.0, motion.t_p, 2_000_001))))
+    assert peak(motion) >= scanned * (1 - 1e-12)
+    assert peak(motion) == pytest.approx(scanned, rel=1e-9)
+
+
+@pytest.mark.parametrize(("gamma", "nu"), [(1.2, 0.0), (2.0, 1.0), (3.0, 4.0), (5.0, 2.5), (8.0, 6.0)])
+def test_listed_mp_extrema_are_where_the_shape_turns(gamma, nu):
+    """Each listed extremum of the MP shape is a zero of its slope by central differences of the formula typed
+    here (not the library's slope), and every turn of a fine scan lies next to a listed one."""
+    from rocking.model.motion import mp_extrema
+
+    def shape(phi):
+        return -0.5 * (np.sin(phi / gamma) / gamma * np.cos(phi + nu) + (1 + np.cos(phi / gamma)) * np.sin(phi + nu))
+
+    listed = mp_extrema(gamma, nu)
+    h = 1e-6
+    slope = (shape(listed + h) - shape(listed - h)) / (2 * h)
+    assert np.max(np.abs(slope)) < 1e-8
+    phi = np.linspace(-gamma * np.pi, gamma * np.pi, 400_001)
+    d = np.diff(shape(phi))
+    turns = phi[1:-1][np.sign(d[1:]) != np.sign(d[:-1])]
+    assert len(turns) == len(listed)
+    assert np.max(np.abs(turns - listed)) < 2 * (phi[1] - phi[0])
+
+
 def fourier_peak_period(motion, n=4096, pad=1024) -> float:
     """Period (s) of the peak of |FFT| of ``motion`` sampled at ``n`` points on [0, t_p], zero-padded ``pad``-fold.
 

@@ -5,6 +5,7 @@ import math
 import numpy as np
 import pytest
 
+import rocking
 from rocking.model.params import Block, Damper, ParameterError
 
 G = 9.81
@@ -358,3 +359,26 @@ def test_damper_from_nondim_ranges(kwargs, message):
 def test_from_nondim_needs_a_block(block):
     with pytest.raises(ParameterError, match=r"^block must be a rocking\.Block"):
         Damper.from_nondim(block, gamma=0.05, T_m=1.0)
+
+
+def test_the_amplitude_scaling_is_one_function_both_ways_and_vectorised():
+    """a_g = beta g tan(alpha) (docs/model.md section 9), typed here: the reference block's g tan(alpha) is
+    9.81 x 0.5 / 2."""
+    block = Block.reference()
+    beta = np.array([0.5, 1.0, 7.25])
+    np.testing.assert_allclose(block.a_g(beta), beta * 9.81 * 0.25, rtol=1e-15)
+    np.testing.assert_array_equal(block.beta(block.a_g(beta)), beta)
+    assert (
+        isinstance(block.a_g(2.0), float)
+        and block.a_g(2.0) == rocking.OneSinePulse.from_nondim(block, beta=2.0, Omega=3.0).a_g
+    )
+
+
+def test_the_tuned_damper_is_one_function_for_scalars_and_grids():
+    from rocking.model.params import tuned_damper
+
+    block = Block.reference()
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.3, zeta=0.07, h=0.0)
+    m, k_m, c = tuned_damper(block.M, np.array([0.05, 0.1]), 1.3 * block.p, 0.07)
+    assert (m[0], k_m[0], c[0]) == (damper.m, damper.k_m, damper.c)
+    assert m[1] == 100.0 and k_m[1] == pytest.approx(100.0 * (1.3 * block.p) ** 2, rel=1e-15)

@@ -82,3 +82,37 @@ def test_bad_site_parameters_are_refused_naming_them(kwargs, message):
 def test_bad_suite_size_or_seed_is_refused(n, seed):
     with pytest.raises(ParameterError, match=r"^(n|seed) must be an integer"):
         suite(SITE, n, seed)
+
+
+@pytest.mark.parametrize(("dt", "f_c"), [(0.005, 0.1), (0.001, 0.05), (0.02, 0.2)])
+def test_high_pass_is_the_exact_response_to_a_piecewise_linear_input(dt, f_c):
+    """A ramp a = t drives x'' + 2 w x' + w^2 x = t from rest to x'' = t exp(-w t) (solved by hand); white
+    noise, linear between samples, agrees with scipy.signal.lsim's first-order hold (another algorithm: a
+    state-space loop) to 1e-11 of the peak."""
+    from scipy import signal
+
+    from rocking.model.stochastic import high_pass
+
+    t = np.arange(4001) * dt
+    w = 2 * np.pi * f_c
+    exact = t * np.exp(-w * t)
+    np.testing.assert_allclose(high_pass(t, dt, f_c), exact, rtol=0, atol=1e-11 * exact.max())
+    noise = np.random.default_rng(3).standard_normal(t.size)
+    system = signal.StateSpace([[0.0, 1.0], [-(w**2), -2 * w]], [[0.0], [1.0]], [[-(w**2), -2 * w]], [[1.0]])
+    reference = signal.lsim(system, noise, t, interp=True)[1]
+    np.testing.assert_allclose(high_pass(noise, dt, f_c), reference, rtol=0, atol=1e-11 * np.abs(reference).max())
+
+
+def test_the_kept_kernel_gives_the_bits_of_the_kernel_made_for_each_motion(monkeypatch):
+    """The site's kernel is kept between the motions of a suite when it is small enough; made again for each
+    motion otherwise: the same operations, the same bits."""
+    from rocking.model import stochastic
+
+    site = SiteModel(arias=0.3, d595=6.0, t_mid=4.0, f_mid=4.0, f_slope=-0.1, zeta_f=0.3, dt=0.01)
+    kept = suite(site, 2, seed=11)
+    stochastic._kernel.cache_clear()
+    monkeypatch.setattr(stochastic, "KERNEL_CACHE", 0)
+    assert stochastic._kernel(site)[0] is None
+    for a, b in zip(suite(site, 2, seed=11), kept):
+        np.testing.assert_array_equal(a, b)
+    stochastic._kernel.cache_clear()

@@ -62,3 +62,16 @@ def test_the_wheel_runs_a_map_on_c_without_a_compiler(wheel_venv):
         [sys.executable, "-c", MAP.format(runs=str(tmp / "runs-here"))], capture_output=True, text=True, check=True
     )
     np.testing.assert_allclose(json.loads(run.stdout), json.loads(here.stdout), rtol=1e-9)
+
+
+def test_the_wheel_marks_the_package_typed(wheel_venv):
+    python, tmp = wheel_venv
+    where = subprocess.run(
+        [python, "-c", "import rocking, pathlib; print(pathlib.Path(rocking.__file__).parent / 'py.typed')"],
+        capture_output=True,
+        text=True,
+        cwd=tmp,
+    )
+    assert where.returncode == 0, where.stderr
+    assert Path(where.stdout.strip()).is_file()
+    assert str(tmp / "venv") in where.stdout

@@ -34,6 +34,7 @@ from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE, SiteModel
 from ..plot.figures import draw, redraw
+from ..sim.accuracy import CHECKS
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Study, Tuning, Variant
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
@@ -112,6 +113,15 @@ def _add_solver(p: argparse.ArgumentParser) -> None:
         "--config",
         metavar="SAVED.json",
         help="rerun the study saved in SAVED.json with its options (those given here win: --out, --workers, ...)",
+    )
+
+
+def _add_check(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--check",
+        choices=CHECKS,
+        help="'tolerance': run every response again at rtol / 100 and flag the sensitive ones, as rocking simulate "
+        "--check (default for records and --stochastic; 'none' for --pulses)",
     )
 
 
@@ -641,7 +651,14 @@ def _cmd_ida(args) -> int:
     suite = _suite_from(args)
     out = out_from(args)
     study = incremental_dynamic_analysis(
-        setting, damper, suite, grid, execution, measure_name=measure, runs=out / "runs", **given(args, ("directions",))
+        setting,
+        damper,
+        suite,
+        grid,
+        execution,
+        measure_name=measure,
+        runs=out / "runs",
+        **given(args, ("directions", "check")),
     )
     _report(study, out)
     s = study.summary
@@ -964,6 +981,7 @@ def add_study_commands(subparsers) -> None:
             _add_grid(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
         _add_directions(p)
         _add_solver(p)
+        _add_check(p)
         p.set_defaults(func=_guarded(_cmd_ida))
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")

@@ -139,7 +139,7 @@ def timing(family: str, omega_g, phase=0.0, gamma=0.0):
 def _mp_slope(phi, gamma: float, nu: float, m=math):
     """``df / dphi`` of the Mavroeidis-Papageorgiou shape (``m``: ``math`` or ``numpy``)."""
     c, s = m.cos(phi / gamma), m.sin(phi / gamma)
-    return -0.5 * ((1.0 / gamma**2 + 1.0 + c) * m.cos(phi + nu) - (2.0 / gamma) * s * m.sin(phi + nu))
+    return -0.5 * ((c / gamma**2 + 1.0 + c) * m.cos(phi + nu) - (2.0 / gamma) * s * m.sin(phi + nu))
 
 
 #: Points per unit of phase where the slope of the MP shape is scanned for sign changes (the shape's
@@ -231,7 +231,7 @@ class _Analytic:
 
     def beta(self, block: Block) -> float:
         """Amplitude ratio ``beta = a_g / (g tan(alpha))`` for ``block``."""
-        return self.a_g / (block.g * block.tan_alpha)
+        return block.beta(self.a_g)
 
     def Omega(self, block: Block) -> float:
         """Frequency ratio ``Omega = omega_g / p`` for ``block``."""
@@ -260,7 +260,7 @@ class _Analytic:
         check_block(block)
         beta, Omega = check_in_range("beta", beta), check_in_range("Omega", Omega)
         try:
-            return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, **shape)
+            return cls(a_g=block.a_g(beta), omega_g=Omega * block.p, **shape)
         except ParameterError as exc:
             if str(exc).startswith(("a_g ", "omega_g ")):  # derived from beta and Omega: say so
                 raise ParameterError(f"beta = {beta!r}, Omega = {Omega!r} on this block give {exc}") from None
@@ -659,3 +659,20 @@ def describe(motion: object) -> Description:
         extrema=extrema,
         **common,
     )
+
+
+def peak(motion: Motion) -> float:
+    """The peak ground acceleration ``max |ddx_g(t)|`` of ``motion``, m/s^2.
+
+    A pulse's amplitude parameter is its peak for the sine, cosine and Ricker families, not for the
+    Mavroeidis-Papageorgiou pulse, whose peak depends on ``gamma`` and ``nu``: the peak is the largest
+    ``|ddx_g|`` over the ends of the motion and the extrema of its shape (the listed ones, and for the
+    trigonometric families every quarter period of the phase), so it is exact, not a sampled estimate.
+    """
+    d = describe(motion)
+    if d.samples is not None:
+        return abs(d.a_g) * float(np.max(np.abs(d.samples)))
+    quarters = (np.arange(-8, 9) * math.pi / 2 - d.phase) / d.omega_g
+    listed = () if d.extrema is None else d.t_c + d.extrema / d.omega_g
+    times = np.concatenate(([0.0, d.t_p], quarters, listed))
+    return float(np.max(np.abs(motion.acceleration(times[(times >= 0.0) & (times <= d.t_p)]))))

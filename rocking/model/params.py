@@ -17,6 +17,7 @@ import numbers
 import sys
 from dataclasses import dataclass, replace
 from functools import cached_property
+from typing import overload
 
 import numpy as np
 
@@ -503,6 +504,24 @@ class Block:
         """``tan(alpha) = B / H``, the static uplift acceleration of the bare symmetric
         block in units of ``g``."""
         return self.B / self.H
+
+    @overload
+    def a_g(self, beta: float) -> float: ...
+    @overload
+    def a_g(self, beta: np.ndarray) -> np.ndarray: ...
+    def a_g(self, beta):
+        """The pulse amplitude ``a_g = beta g tan(alpha)``, m/s^2, of the amplitude ratio(s) ``beta``
+        (docs/model.md section 9): the one place this scaling is written."""
+        return beta * self.g * self.tan_alpha
+
+    @overload
+    def beta(self, a_g: float) -> float: ...
+    @overload
+    def beta(self, a_g: np.ndarray) -> np.ndarray: ...
+    def beta(self, a_g):
+        """The amplitude ratio ``beta = a_g / (g tan(alpha))`` of the amplitude(s) ``a_g`` (m/s^2): the
+        inverse of :meth:`a_g`."""
+        return a_g / (self.g * self.tan_alpha)
 
     @cached_property
     def R(self) -> float:
@@ -1006,5 +1025,13 @@ class Damper:
             omega_m = TWO_PI / _in_range("T_m", T_m, bounds, "[2 pi/(1e4 p), 2 pi/(1e-3 p)]")
         else:
             omega_m = check_in_range("omega_ratio", omega_ratio) * block.p
-        m = gamma * block.M
-        return cls(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)
+        m, k_m, c = tuned_damper(block.M, gamma, omega_m, zeta)
+        return cls(m=m, k_m=k_m, c=c, h=h)
+
+
+def tuned_damper(M, gamma, omega_m, zeta) -> tuple:
+    """``(m, k_m, c)`` of a damper of mass ratio ``gamma`` on a block of mass ``M`` (kg), natural frequency
+    ``omega_m`` (rad/s) and damping ratio ``zeta``: ``m = gamma M``, ``k_m = m omega_m^2``,
+    ``c = 2 zeta m omega_m`` (kg, N/m, N s/m); arrays broadcast. The one place these are written."""
+    m = gamma * M
+    return m, m * omega_m**2, 2 * zeta * m * omega_m

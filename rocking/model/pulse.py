@@ -124,7 +124,7 @@ class OneSinePulse:
 
     def beta(self, block: Block) -> float:
         """Amplitude ratio ``beta = a_g / (g tan(alpha))`` for ``block``."""
-        return self.a_g / (block.g * block.tan_alpha)
+        return block.beta(self.a_g)
 
     def Omega(self, block: Block) -> float:
         """Frequency ratio ``Omega = omega_g / p`` for ``block``."""
@@ -166,11 +166,11 @@ class OneSinePulse:
         beta = check_in_range("beta", beta)
         Omega = check_in_range("Omega", Omega)
         try:
-            return cls(a_g=beta * block.g * block.tan_alpha, omega_g=Omega * block.p, psi=psi, sign=sign)
+            return cls(a_g=block.a_g(beta), omega_g=Omega * block.p, psi=psi, sign=sign)
         except ParameterError as exc:
             if str(exc).startswith(("a_g ", "omega_g ")):  # derived from beta and Omega: say so
                 raise ParameterError(
                     f"beta = {beta!r}, Omega = {Omega!r} on this block (g tan(alpha) = "
-                    f"{block.g * block.tan_alpha:g} m/s^2, p = {block.p:g} rad/s) give {exc}"
+                    f"{block.a_g(1.0):g} m/s^2, p = {block.p:g} rad/s) give {exc}"
                 ) from None
             raise

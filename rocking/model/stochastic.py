@@ -32,6 +32,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -41,6 +42,9 @@ from .params import ParameterError, check_real
 KERNEL_DECAYS = 12.0
 #: Lowest filter frequency, Hz: ``omega_f`` falls with time (``omega' < 0``) and is held at this floor.
 F_FLOOR = 0.3
+#: Largest filter kernel kept between the motions of a site, in numbers (64 MB): a suite reuses it for
+#: every motion instead of evaluating ``exp`` and ``sin`` again; a larger one is evaluated for each motion.
+KERNEL_CACHE = 8_000_000
 
 
 def _positive(name: str, value, unit: str) -> float:
@@ -134,6 +138,7 @@ class SiteModel:
 DEFAULT_SITE = SiteModel(arias=0.0468 * 9.81, d595=17.3, t_mid=12.4, f_mid=5.87, f_slope=-0.089, zeta_f=0.213)
 
 
+@lru_cache(maxsize=16)
 def modulating_parameters(arias: float, d595: float, t_mid: float, g: float = 9.81) -> tuple[float, float, float]:
     """``(alpha_1, alpha_2, alpha_3)`` of ``q(t) = alpha_1 t^(alpha_2 - 1) exp(-alpha_3 t)`` for the expected
     Arias intensity ``arias`` (m/s), the significant duration ``d595`` and ``t_mid`` (s).
@@ -180,37 +185,93 @@ def filter_frequency(site: SiteModel, t) -> np.ndarray:
     return 2 * np.pi * np.maximum(site.f_mid + site.f_slope * (np.asarray(t, float) - site.t_mid), F_FLOOR)
 
 
-def filtered_noise(site: SiteModel, u) -> np.ndarray:
-    """The unit-variance filtered noise ``sum_i h(t - t_i; omega_f(t_i)) u_i / sigma_f(t)`` at the sample times.
-
-    The kernel is cut after :data:`KERNEL_DECAYS` decay times of the slowest filter of the record.
-    """
+def _kernel_rows(site: SiteModel, lags: range) -> np.ndarray:
+    """``h(k dt; omega_f(t_i))`` for the lags ``k`` and the sources ``t_i``, row ``k`` over ``i < n - k``
+    (zero beyond): the pulses of ``t_i`` reach ``t_{i+k}``."""
     t = site.times
     n, dt, zeta = t.size, site.dt, site.zeta_f
     omega = filter_frequency(site, t)
-    length = min(n, int(math.ceil(KERNEL_DECAYS / (zeta * omega.min()) / dt)) + 1)
     root = math.sqrt(1 - zeta**2)
-    total, variance = np.zeros(n), np.zeros(n)
-    for k in range(length):  # lag k: the pulses of t_i reach t_{i+k}
-        h = omega[: n - k] / root * np.exp(-zeta * omega[: n - k] * k * dt) * np.sin(omega[: n - k] * root * k * dt)
-        total[k:] += h * u[: n - k]
+    rows = np.zeros((len(lags), n))
+    for row, k in zip(rows, lags):
+        w = omega[: n - k]
+        row[: n - k] = w / root * np.exp(-zeta * w * k * dt) * np.sin(w * root * k * dt)
+    return rows
+
+
+def kernel_length(site: SiteModel) -> int:
+    """Lags of the filter's kernel: :data:`KERNEL_DECAYS` decay times of the slowest filter of the record."""
+    n = site.times.size
+    slowest = float(filter_frequency(site, site.times).min())
+    return min(n, int(math.ceil(KERNEL_DECAYS / (site.zeta_f * slowest) / site.dt)) + 1)
+
+
+@lru_cache(maxsize=2)
+def _kernel(site: SiteModel) -> tuple[np.ndarray | None, np.ndarray]:
+    """The site's kernel rows (None if larger than :data:`KERNEL_CACHE`) and ``sigma_f`` at the sample times."""
+    length, n = kernel_length(site), site.times.size
+    rows = _kernel_rows(site, range(length)) if length * n <= KERNEL_CACHE else None
+    variance = np.zeros(n)
+    for k in range(length):
+        h = rows[k, : n - k] if rows is not None else _kernel_rows(site, range(k, k + 1))[0, : n - k]
         variance[k:] += h * h
+    return rows, np.sqrt(variance)
+
+
+def filtered_noise(site: SiteModel, u) -> np.ndarray:
+    """The unit-variance filtered noise ``sum_i h(t - t_i; omega_f(t_i)) u_i / sigma_f(t)`` at the sample times.
+
+    The kernel is cut after :data:`KERNEL_DECAYS` decay times of the slowest filter of the record; it and
+    ``sigma_f`` depend on the site alone, so they are made once for the motions of a suite.
+    """
+    rows, sigma = _kernel(site)
+    n = sigma.size
+    total = np.zeros(n)
+    for k in range(kernel_length(site)):
+        h = rows[k, : n - k] if rows is not None else _kernel_rows(site, range(k, k + 1))[0, : n - k]
+        total[k:] += h * u[: n - k]
     with np.errstate(divide="ignore", invalid="ignore"):
-        return np.where(variance > 0, total / np.sqrt(variance), 0.0)
+        return np.where(sigma > 0, total / sigma, 0.0)
 
 
 def high_pass(a, dt: float, f_c: float) -> np.ndarray:
     """The acceleration of a critically damped oscillator of frequency ``f_c`` driven by ``a`` (linear between
-    samples, at rest at ``t = 0``): ``x'' + 2 omega_c x' + omega_c^2 x = a``, returned ``x''``."""
+    samples, at rest at ``t = 0``): ``x'' + 2 omega_c x' + omega_c^2 x = a``, returned ``x''``.
+
+    Exact for the piecewise-linear input, and run at C speed: in the coordinates ``xi = (x, x' + omega_c x)``
+    of the double pole's Jordan form, ``xi_2' = -omega_c xi_2 + a`` and ``xi_1' = -omega_c xi_1 + xi_2``, so
+    the exact step (a first-order hold, :func:`_jordan_step`) is two first-order recursions of the pole
+    ``exp(-omega_c dt)``, each a ``scipy.signal.lfilter``. Not the transfer function ``s^2 / (s + omega_c)^2``
+    in ``z``: the double root near 1 of its denominator loses digits as ``1 / (omega_c dt)^2``.
+    """
     from scipy import signal  # imported here, as in modulating_parameters
 
+    u = np.asarray(a, float)
     omega = 2 * np.pi * f_c
-    system = signal.StateSpace(
-        [[0.0, 1.0], [-(omega**2), -2 * omega]], [[0.0], [1.0]], [[-(omega**2), -2 * omega]], [[1.0]]
-    )
-    t = np.arange(len(a)) * dt
-    _, out, _ = signal.lsim(system, np.asarray(a, float), t, interp=True)
-    return np.asarray(out, float)
+    phi, before, after = _jordan_step(float(dt), float(f_c))
+    pole = [1.0, -phi[1, 1]]
+    drive = np.zeros_like(u)
+    drive[1:] = before[1] * u[:-1] + after[1] * u[1:]
+    xi_2 = signal.lfilter([1.0], pole, drive)
+    drive[1:] = phi[0, 1] * xi_2[:-1] + before[0] * u[:-1] + after[0] * u[1:]
+    xi_1 = signal.lfilter([1.0], [1.0, -phi[0, 0]], drive)
+    return omega**2 * xi_1 - 2 * omega * xi_2 + u
+
+
+@lru_cache(maxsize=16)
+def _jordan_step(dt: float, f_c: float) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """The exact step ``xi_k = Phi xi_(k-1) + G_0 a_(k-1) + G_1 a_k`` of :func:`high_pass`'s oscillator in
+    Jordan coordinates for an input linear over the step: ``(Phi, G_0, G_1)``, from the exponential of the
+    system augmented with the input and its slope."""
+    from scipy.linalg import expm
+
+    omega = 2 * np.pi * f_c
+    m = np.zeros((4, 4))
+    m[:2, :2] = np.array([[-omega, 1.0], [0.0, -omega]]) * dt
+    m[1, 2] = dt
+    m[2, 3] = 1.0
+    e = expm(m)
+    return e[:2, :2], e[:2, 2] - e[:2, 3], e[:2, 3]
 
 
 def synthesize(site: SiteModel, rng: np.random.Generator, g: float = 9.81) -> np.ndarray:

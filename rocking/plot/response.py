@@ -14,7 +14,7 @@ from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.figure import Figure
 
 from ..model.loading import load_model
-from ..model.motion import describe
+from ..model.motion import describe, peak
 from ..model.params import RANGES, Block, Damper
 from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES
 
@@ -64,16 +64,64 @@ def _flag_past_edge(ax, labels: list[str]) -> None:
 
 def motion_label(motion, block: Block) -> str:
     """A ground motion for a title: its family, amplitude in m/s^2 and g, and period in s (a pulse; with its
-    ``beta`` and ``Omega`` for ``block``, docs/model.md section 9), or its peak and duration (a record)."""
+    ``beta`` and ``Omega`` for ``block``, docs/model.md section 9), or its peak and duration (a record).
+
+    The amplitude is the pulse's peak where the two agree; a Mavroeidis-Papageorgiou pulse's amplitude
+    parameter is not its peak, so both are given, each named for what it is, with its ``gamma_MP`` and ``nu``.
+    """
     d = describe(motion)
-    a = abs(d.a_g) * (np.abs(d.samples).max() if d.family == "sampled" else 1.0)
+    top = peak(motion)
     direction = "" if d.a_g >= 0 else ", sign -1"
     if d.family == "sampled":
-        return f"sampled motion: PGA = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), {d.t_p:.3g} s{direction}"
+        return f"sampled motion: PGA = {top:.3g} m/s$^2$ ({top / block.g:.3g} g), {d.t_p:.3g} s{direction}"
+    a = abs(d.a_g)
+    scales = rf"$\beta$ = {block.beta(a):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}"
+    if d.family == "mp":
+        return (
+            rf"{PULSE_NAMES[d.family]} ($\gamma_{{MP}}$ = {d.shape:.3g}, $\nu$ = {d.phase:.3g} rad): amplitude "
+            rf"$a_g$ = {a:.3g} m/s$^2$, peak {top:.3g} m/s$^2$ ({top / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
+            rf"({scales}){direction}"
+        )
     return (
-        rf"{PULSE_NAMES[d.family]}: $a_g$ = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
-        rf"($\beta$ = {a / (block.g * block.tan_alpha):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}){direction}"
+        rf"{PULSE_NAMES[d.family]}: peak $a_g$ = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
+        rf"({scales}){direction}"
     )
+
+
+#: How far past the overturning line ``|theta| = alpha`` the rotation axis runs when a response overturns.
+CLIP = 1.25
+
+
+def _clip_overturned(ax, responses: dict, histories: dict, alpha: float, colours: dict) -> None:
+    """Scale the ``theta / alpha`` axis to the responses that stay up, not to one that overturns.
+
+    An overturned block's angle runs on to lying flat (``pi / (2 alpha)``, 6 for a slender block) and would
+    squeeze a damped response of 0.2 into a line: the axis stops :data:`CLIP` past the overturning line, or
+    just past the largest surviving rotation, and a marker where each overturning response leaves it says so.
+    """
+    standing = [np.max(np.abs(histories[k]["theta"])) / alpha for k, r in responses.items() if not r.overturned]
+    if len(standing) == len(responses):
+        return
+    limit = max(CLIP, 1.05 * max(standing, default=0.0))
+    ax.set_ylim(-limit, limit)
+    for label, r in responses.items():
+        if not r.overturned:
+            continue
+        h = histories[label]
+        ratio = h["theta"] / alpha
+        out = np.flatnonzero(np.abs(ratio) > limit)
+        at = out[0] if out.size else int(np.argmax(np.abs(ratio)))
+        side = np.sign(ratio[at]) or 1.0
+        marker = "^" if side > 0 else "v"
+        ax.plot(h["t"][at], side * limit, marker, color=colours[label], ms=8, clip_on=False)
+        ax.annotate(
+            f"overturns ({label})",
+            (h["t"][at], side * limit),
+            xytext=(4, -10 * side),
+            textcoords="offset points",
+            fontsize=7,
+            color=colours[label],
+        )
 
 
 def plot_responses(
@@ -96,8 +144,29 @@ def plot_responses(
     return path
 
 
+def rotation_axes(ax, response, alpha: float, label: str = "") -> None:
+    """Draw one recorded response's ``theta / alpha`` over ``t`` on the axes ``ax``, with the lines
+    ``theta = +-alpha`` and, if it overturns, the time it does (:meth:`rocking.Response.plot`)."""
+    h = response.history
+    ax.plot(h["t"], h["theta"] / alpha, label=label or None)
+    ax.axhline(1, color=GREY, lw=0.8, ls="--")
+    ax.axhline(-1, color=GREY, lw=0.8, ls="--")
+    if response.overturned:
+        ax.axvline(response.t_overturn, color=GREY, ls=":", lw=1.2)
+        ax.set_ylim(-np.pi / 2 / alpha * 1.05, np.pi / 2 / alpha * 1.05)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(r"$\theta / \alpha$")
+
+
 def response_figure(
-    responses: dict, block: Block, title: str = "", *, damper=None, model: str | None = None, motion=None
+    responses: dict,
+    block: Block,
+    title: str = "",
+    *,
+    damper=None,
+    model: str | None = None,
+    motion=None,
+    fig: Figure | None = None,
 ) -> Figure:
     """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
 
@@ -117,11 +186,14 @@ def response_figure(
         The model of the damped responses (default: the ``omd`` family, a stroke ``x`` in m).
     motion : optional
         The ground motion of the responses (a pulse or a :class:`~rocking.model.motion.SampledMotion`).
+    fig : Figure, optional
+        An empty figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a
+        new one.
 
     Returns
     -------
     Figure
-        Not attached to a canvas (:func:`plot_responses` saves it).
+        ``fig``, or a new figure not attached to a canvas (:func:`plot_responses` saves it).
     """
     histories = {}
     for label, r in responses.items():
@@ -137,7 +209,7 @@ def response_figure(
         )
     )
     units = {name: coordinate_unit(model, name) if model else "m" for name in names}
-    fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained")
+    fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained") if fig is None else fig
     axes = fig.subplots(2 + len(names), 1, sharex=True)
     ax_th, ax_g = axes[0], axes[-1]
     colours = dict(zip(histories, CYCLE))
@@ -155,9 +227,7 @@ def response_figure(
     ax_th.axhline(1, color=GREY, lw=0.8, ls="--", label=r"$\theta = \pm\alpha$")
     ax_th.axhline(-1, color=GREY, lw=0.8, ls="--")
     ax_th.set_ylabel(r"$\theta / \alpha$")
-    # Lying flat (|theta| = pi/2) bounds the axis: an overturned block's angle grows without bound after it.
-    low, high = ax_th.get_ylim()
-    ax_th.set_ylim(max(low, -np.pi / 2 / block.alpha * 1.05), min(high, np.pi / 2 / block.alpha * 1.05))
+    _clip_overturned(ax_th, responses, histories, block.alpha, colours)
     L = _stroke(damper)
     for ax, name in zip(axes[1:-1], names):
         ax.set_ylabel(f"{name} ({units[name]})")

@@ -14,7 +14,7 @@ import numpy as np
 
 from ..model.motion import describe
 from ..model.params import ParameterError
-from .boundary import INT32, Field
+from .boundary import SENSITIVE as SENSITIVE  # the result the check adds: declared with the others
 
 #: The values of ``check``: ``"none"`` runs once; ``"tolerance"`` runs again at :func:`tighter_rtol`.
 CHECKS = ("none", "tolerance")
@@ -32,15 +32,6 @@ RTOL_MIN = 1e-12
 #: the spread of answers between tolerances of a sensitive response is far larger (a factor of 4
 #: on the case of docs/simulation.md).
 SENSITIVE_FRACTION = 0.10
-
-#: The result the check adds to a :class:`~rocking.sim.problem.Response`: Python's alone, never in the C boundary.
-SENSITIVE = Field(
-    "sensitive",
-    INT32,
-    "",
-    "the tolerance check's tighter run changed the answer: this response is the tighter run's "
-    "(docs/simulation.md, Sensitivity to the tolerance)",
-)
 
 #: The results the check compares.
 COMPARED = ("overturned", "theta_max", "x_max")

@@ -1,7 +1,7 @@
 """The C back end: ``rocking/sim/csrc/sim.c`` through ctypes.
 
 :func:`simulate` runs one :class:`~rocking.sim.problem.Problem` and
-:func:`simulate_cases` the runs of a :class:`~rocking.sim.cases.Cases`; both
+:func:`simulate_cases` the runs of a :class:`~rocking.sim.batch.Cases`; both
 follow the phase machine of ``docs/simulation.md``, like
 :mod:`rocking.sim.numpy_backend`, with a hand-written Dormand-Prince 5(4) in
 C. The structures that cross the boundary are built from the tables of
@@ -35,8 +35,8 @@ import numpy as np
 
 from ..model.loading import Model, load_model
 from . import boundary, cbuild
+from .batch import Cases
 from .boundary import CASE, DOUBLES, RESULT, SERIES
-from .cases import Cases
 from .cbuild import CBuildError
 from .problem import RESULT_FIELDS, Problem, Response, SimulationError
 

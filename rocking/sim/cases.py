@@ -3,14 +3,12 @@
 :func:`pulse_cases` (analytic pulses over ``Omega`` and ``beta``) and :func:`sampled_cases`
 (one sampled motion at many scales: an incremental dynamic analysis) build the per-case
 arrays with the same rules as :func:`rocking.sim.problem.make_problem`, without a Python
-object per case, and :func:`run_cases` runs them on the C batch entry point (or, as the
-reference, case by case on NumPy/SciPy). The cases of a batch share the arrays of a motion
-(:class:`Packed`): one buffer of samples for every scale, not a copy per case.
+object per case, as :class:`~rocking.sim.batch.Cases`, and :func:`run_cases` runs them on a
+back end of :data:`rocking.sim.backends.BACKENDS`: C's batch entry point, or, as the reference,
+case by case on NumPy/SciPy.
 """
 
 from __future__ import annotations
-
-from dataclasses import dataclass
 
 import numpy as np
 
@@ -30,178 +28,12 @@ from ..model.params import (
 )
 from ..model.pulse import check_signs
 from . import boundary
-from .boundary import CASE, DOUBLES, MOTION, SERIES
-from .problem import (
-    RESULT_FIELDS,
-    STATUS,
-    Problem,
-    check_integer,
-    check_motion,
-    default_settings,
-    own_parameters,
-    resolve_model,
-)
+from .backends import BACKENDS
+from .batch import Cases, Packed
+from .boundary import MOTION
+from .problem import check_integer, default_settings, own_parameters, resolve_model
 
-
-@dataclass(frozen=True)
-class Packed:
-    """The arrays of one :data:`~rocking.sim.boundary.SERIES` setting over a batch, in one buffer.
-
-    Case ``i``'s array starts at ``buffer[offset[i]]`` (its length is the setting's count): cases
-    that share an array point to the same values, none is copied per case.
-
-    Attributes
-    ----------
-    buffer : ndarray
-        The values, 1-D, C-contiguous.
-    offset : ndarray of int64
-        Where each case's array starts.
-    """
-
-    buffer: np.ndarray
-    offset: np.ndarray
-
-    @classmethod
-    def shared(cls, array, n: int) -> Packed:
-        """One array (or ``None``: none) shared by ``n`` cases."""
-        buffer = np.zeros(0) if array is None else np.ascontiguousarray(array, dtype=float).reshape(-1)
-        return cls(buffer, np.zeros(n, dtype=np.int64))
-
-    @classmethod
-    def of(cls, arrays) -> Packed:
-        """The arrays of the cases (``None`` where a case has none), each distinct array object stored once."""
-        start, parts, offset, size = {}, [], [], 0
-        for a in arrays:
-            if a is not None and id(a) not in start:
-                start[id(a)] = size
-                parts.append(np.asarray(a, dtype=float).reshape(-1))
-                size += parts[-1].size
-            offset.append(0 if a is None else start[id(a)])
-        return cls(np.concatenate(parts) if parts else np.zeros(0), np.array(offset, dtype=np.int64))
-
-    def row(self, i: int, count: int) -> np.ndarray | None:
-        """Case ``i``'s array of ``count`` values (a view), ``None`` if it has none."""
-        return self.buffer[self.offset[i] : self.offset[i] + count] if count else None
-
-    def pointers(self) -> np.ndarray:
-        """The address of each case's array (0, C's NULL, for an empty buffer)."""
-        if self.buffer.size == 0:
-            return np.zeros(len(self.offset), dtype=np.uintp)
-        return (self.buffer.ctypes.data + self.buffer.itemsize * self.offset).astype(np.uintp)
-
-
-def _packed(name: str, value, counts: np.ndarray) -> Packed:
-    """A SERIES setting of a batch as :class:`Packed`, checked: every case's array inside the buffer, finite."""
-    n = len(counts)
-    packed = value if isinstance(value, Packed) else Packed.shared(value, n)
-    offset = np.asarray(packed.offset, dtype=np.int64)
-    buffer = np.ascontiguousarray(packed.buffer, dtype=float).reshape(-1)
-    if offset.shape != (n,) or np.any(offset < 0) or np.any(offset + counts > buffer.size):
-        raise ParameterError(f"cases: {name} must hold n_{name} values for every case (buffer of {buffer.size})")
-    if not np.all(np.isfinite(buffer)):
-        raise ParameterError(f"cases: {name} must be finite: {name}[{np.flatnonzero(~np.isfinite(buffer))[0]}] is not")
-    return Packed(buffer, offset)
-
-
-@dataclass(frozen=True)
-class Cases:
-    """Resolved inputs of ``n`` runs of one model, from rest: one row per run.
-
-    Attributes
-    ----------
-    model : Model
-        The generated model.
-    p : ndarray, shape (n, np)
-        Parameters in the model's order.
-    settings : dict of ndarray
-        Every field of :data:`rocking.sim.boundary.CASE` but ``y0`` by name:
-        shape ``(n,)``, or ``(n, ny)`` for ``atol``; a :class:`Packed` (or one
-        array shared by every case, or ``None``) for ``samples`` and ``extrema``.
-        A field with a default may be left out. Checked on construction against
-        the table's ranges.
-    """
-
-    model: Model
-    p: np.ndarray
-    settings: dict
-
-    def __post_init__(self) -> None:
-        p = np.asarray(self.p, dtype=float)
-        width = len(self.model.parameters)
-        if p.ndim != 2 or p.shape[1] != width:
-            raise ParameterError(
-                f"cases: p must have shape (n, {width}), one column per parameter "
-                f"{tuple(self.model.parameters)} (got shape {p.shape})"
-            )
-        n = len(p)
-        columns = {}
-        for f in CASE:
-            if f.name == "y0" or f.kind == SERIES:
-                continue
-            value = self.settings.get(f.name, None if f.required else f.default)
-            if value is None:
-                raise ParameterError(f"cases: the setting {f.name} is missing")
-            shape = (n, len(self.model.state)) if f.kind == DOUBLES else (n,)
-            try:
-                column = np.ascontiguousarray(np.broadcast_to(np.asarray(value, dtype=float), shape))
-            except ValueError:
-                raise ParameterError(
-                    f"cases: {f.name} must broadcast to shape {shape} (got {np.shape(value)})"
-                ) from None
-            columns[f.name] = boundary.check(f.name, column)
-        for f in CASE:
-            if f.kind == SERIES:
-                columns[f.name] = _packed(f.name, self.settings.get(f.name), columns[f.count].astype(np.int64))
-        for code in np.unique(columns["motion"]).astype(int):
-            at = columns["motion"] == code
-            check_motion(FAMILIES[code], columns["n_samples"][at], columns["pulse_dt"][at], columns["n_extrema"][at])
-        unknown = sorted(set(self.settings) - set(columns))
-        if unknown:
-            raise ParameterError(f"cases: unknown setting(s) {', '.join(unknown)}")
-        if np.any(~np.isfinite(columns["atol"]) | (columns["atol"] < 0)):
-            raise ParameterError("atol must be finite and >= 0")
-        object.__setattr__(self, "p", np.ascontiguousarray(p))
-        object.__setattr__(self, "settings", columns)
-
-    def __len__(self) -> int:
-        return len(self.p)
-
-    def problem(self, i: int) -> Problem:
-        """Case ``i`` as a :class:`Problem` (for the NumPy back end)."""
-        settings = {}
-        for f in CASE:
-            if f.kind == SERIES:
-                settings[f.name] = self.settings[f.name].row(i, int(self.settings[f.count][i]))
-            elif f.name != "y0":
-                settings[f.name] = self.settings[f.name][i]
-        return Problem(model=self.model, p=self.p[i], **settings)
-
-    @classmethod
-    def of(cls, problems) -> Cases:
-        """The problems of one model, from rest, as one batch.
-
-        Raises
-        ------
-        ParameterError
-            If the list is empty, the problems differ in model, or one starts
-            elsewhere than at rest.
-        """
-        problems = list(problems)
-        if not problems:
-            raise ParameterError("no problems given")
-        folders = {pr.model.folder for pr in problems}
-        if len(folders) > 1:
-            raise ParameterError(f"a batch needs one model for all problems (got {sorted(str(f) for f in folders)})")
-        if any(pr.y0 is not None for pr in problems):
-            raise ParameterError("a batch runs from rest: y0 must be None in every problem")
-        settings = {
-            f.name: Packed.of([getattr(pr, f.name) for pr in problems])
-            if f.kind == SERIES
-            else np.array([getattr(pr, f.name) for pr in problems])
-            for f in CASE
-            if f.name != "y0"
-        }
-        return cls(problems[0].model, np.array([pr.p for pr in problems]), settings)
+__all__ = ["Cases", "Packed", "pulse_cases", "run_cases", "sampled_cases"]
 
 
 def _array(name: str, value, key: str | None = None) -> np.ndarray:
@@ -456,21 +288,11 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
 
 
 def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, np.ndarray]:
-    """Simulate every case; a dict of arrays keyed by :data:`RESULT_FIELDS`.
+    """Simulate every case on ``backend`` (a name of :data:`rocking.sim.backends.BACKENDS`); a dict of arrays keyed
+    by :data:`rocking.sim.problem.RESULT_FIELDS`.
 
     ``status`` holds indices into :data:`rocking.sim.boundary.STATUS`.
     """
-    if backend == "c":
-        from . import c_backend
-
-        return c_backend.simulate_cases(cases, threads=threads)
-    if backend != "numpy":
-        raise ParameterError(f"backend must be 'c' or 'numpy' (got {backend!r})")
-    from . import numpy_backend
-
-    out = {k: np.zeros(len(cases), dtype=t) for k, t in RESULT_FIELDS.items()}
-    for i in range(len(cases)):
-        r = numpy_backend.simulate(cases.problem(i))
-        for k in RESULT_FIELDS:
-            out[k][i] = STATUS.index(r.status) if k == "status" else getattr(r, k)
-    return out
+    if not isinstance(backend, str) or backend not in BACKENDS:
+        raise ParameterError(f"backend must be {' or '.join(map(repr, BACKENDS))} (got {backend!r})")
+    return BACKENDS[backend].simulate_cases(cases, threads)

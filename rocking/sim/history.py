@@ -1,9 +1,10 @@
 """A response's time history on a uniform grid, with the loads derived from the model, and its events.
 
 :meth:`Response.to_dataset`, :meth:`Response.to_dataframe` and :meth:`Response.events` are
-built here. The grid ``t_k = k dt`` holds exact samples of the integrator's dense output:
-the run is recorded every ``dt`` (again, if it was not), and a back end samples the
-multiples of ``record_dt`` on the dense output of the step that holds them
+built here, from the response's recorded history and its inputs; nothing here runs the
+simulator. The grid ``t_k = k dt`` holds exact samples of the integrator's dense output: the
+run was recorded every ``dt`` (for another spacing, :func:`rocking.sim.run.rerecord` runs it
+again), and a back end samples the multiples of ``record_dt`` on the dense output of the step that holds them
 (docs/simulation.md, "History"), never across an impact. The events, which a recorded
 history holds as extra rows (twice at an impact, before and after), go to their own table.
 
@@ -16,13 +17,41 @@ The loads come from generated functions (docs/model.md section 13): the accelera
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
 
+from ..model.loading import Model
 from ..model.params import RANGES, ParameterError
 from .boundary import CONTACT
 from .pad_memory import WithMemory, memory
+
+#: The conventions of the project's NetCDF files (histories and studies): CF 1.10 attributes.
+CONVENTIONS = "CF-1.10"
+
+
+@dataclass(frozen=True)
+class RunInputs:
+    """What a response was computed from: its loads are derived from them, and it can be run again from them.
+
+    Attributes
+    ----------
+    model : Model
+        The generated model.
+    p : tuple or ndarray
+        Parameters in the model's order.
+    settings : dict
+        Every field of :data:`~rocking.sim.boundary.CASE` by name, as :func:`~rocking.sim.problem.resolve` gives them.
+    backend : str
+        The back end that ran it (``"c"`` or ``"numpy"``).
+    """
+
+    model: Model
+    p: tuple | np.ndarray
+    settings: dict
+    backend: str
+
 
 #: Kinds of the rows of :func:`events`.
 EVENT_KINDS = {
@@ -77,41 +106,34 @@ def check_dt(dt: object, t_max: float) -> float:
     return dt
 
 
-def _source(response):
-    if response.source is None:
+def run_inputs(response) -> RunInputs:
+    """The :class:`~rocking.sim.problem.RunInputs` of ``response``, which its loads and a run again need."""
+    if response.inputs is None:
         raise ParameterError(
-            "this response has no run to record (a batch's row): simulate it with rocking.simulate to get its history"
+            "this response has no inputs (a batch's row, or a back end called directly): "
+            "simulate it with rocking.simulate(..., record=True) to get its history"
         )
-    return response.source
+    return response.inputs
 
 
 def recorded(response, dt: float | None) -> tuple[dict, float]:
-    """A history of ``response`` recorded every ``dt`` (its own, or that of the same run recorded again), and ``dt``.
+    """The history of ``response`` if it was recorded every ``dt`` (default: its ``record_dt``), and ``dt``.
 
     Raises
     ------
     ParameterError
-        A bad ``dt``, or one so small that the recorded run ends otherwise (its samples count as
-        work, docs/simulation.md rule 5).
+        A bad ``dt``; a response not recorded every ``dt``: the message says how to record it (the
+        history is exact samples of the dense output, which only such a run holds).
     """
-    from .run import _run  # the run module imports this one's caller
-
-    model, p, settings, backend = _source(response)
+    settings = run_inputs(response).settings
     dt = default_dt(settings) if dt is None else check_dt(dt, settings["t_max"])
     if response.history is not None and settings["record_dt"] == dt:
         return response.history, dt
-    again = _run(model, p, dict(settings, record_dt=dt), backend, True)
-    if (again.status, again.t_end, again.impacts, again.uplifts) != (
-        response.status,
-        response.t_end,
-        response.impacts,
-        response.uplifts,
-    ):
-        raise ParameterError(
-            f"dt = {dt:g} s: recorded every dt the run ends otherwise ({again.status} at t = {again.t_end:g} s, "
-            f"not {response.status} at {response.t_end:g} s): its samples count as work (max_steps); take a larger dt"
-        )
-    return again.history, dt
+    was = "has no history" if response.history is None else f"was recorded every {settings['record_dt']:g} s"
+    raise ParameterError(
+        f"dt = {dt:g} s: this response {was}; record its run every dt: rocking.simulate(..., record=True, "
+        f"record_dt={dt!r}), or rocking.sim.run.rerecord(response, {dt!r})"
+    )
 
 
 def first_sample_after(t: float, dt: float, strict: bool = True) -> int:
@@ -219,21 +241,23 @@ def to_dataset(response, dt: float | None = None):
     import xarray as xr
 
     history, dt = recorded(response, dt)
-    model, p, settings, backend = _source(response)
-    values = quantities(model, p, history, _grid_rows(history, dt, response.t_end))
+    inputs = run_inputs(response)
+    model = inputs.model
+    values = quantities(model, inputs.p, history, _grid_rows(history, dt, response.t_end))
     attrs = attributes(model)
     t = values.pop("t")
     variables = {k: ("t", v, {"units": attrs[k][0], "long_name": attrs[k][1]}) for k, v in values.items()}
     return xr.Dataset(
         variables,
-        coords={"t": ("t", t, {"units": "s", "long_name": "time"})},
+        coords={"t": ("t", t, {"units": "s", "long_name": "time", "standard_name": "time"})},
         attrs={
             "model": model.name,
-            "backend": backend,
+            "backend": inputs.backend,
             "dt": dt,
             "status": response.status,
             "t_end": response.t_end,
-            "conventions": "SI units; docs/model.md sections 1 and 13 (signs, the point of M_b)",
+            "Conventions": CONVENTIONS,
+            "comment": "SI units; signs and the point of M_b as docs/model.md sections 1 and 13",
         },
     )
 
@@ -263,8 +287,14 @@ def events(response):
     """
     import pandas as pd
 
-    model, p, settings, _ = _source(response)
-    history = response.history if response.history is not None else recorded(response, None)[0]
+    inputs = run_inputs(response)
+    model, p, settings = inputs.model, inputs.p, inputs.settings
+    if response.history is None:
+        raise ParameterError(
+            "this response has no history: simulate it with rocking.simulate(..., record=True), "
+            "or run it again recorded with rocking.sim.run.rerecord(response)"
+        )
+    history = response.history
     t, phase, theta, dtheta = (history[k] for k in ("t", "phase", "theta", "dtheta"))
     rows = []
     for i in np.flatnonzero(phase[1:] != phase[:-1]) + 1:

@@ -16,7 +16,7 @@ import math
 import numbers
 import os
 from collections.abc import Mapping
-from dataclasses import MISSING, field, make_dataclass
+from dataclasses import dataclass, field
 
 import numpy as np
 
@@ -37,8 +37,23 @@ from ..model.params import (
     shown,
 )
 from . import boundary
-from .accuracy import SENSITIVE
-from .boundary import CASE, CONTACT, DOUBLE, DOUBLES, MOTION, PIVOT_A, PIVOT_A_PRIME, RESULT, SERIES, STATUS
+from .boundary import (
+    CASE,
+    CONTACT,
+    DOUBLE,
+    DOUBLES,
+    MOTION,
+    PIVOT_A,
+    PIVOT_A_PRIME,
+    RESULT,
+    SERIES,
+    STATUS,
+    STATUSES,
+    SUMMARY,
+    python_type,
+)
+from .fields import ProblemFields, ResponseFields
+from .history import RunInputs, events, to_dataframe, to_dataset
 
 __all__ = [
     "CONTACT",
@@ -48,6 +63,7 @@ __all__ = [
     "STATUS",
     "Problem",
     "Response",
+    "RunInputs",
     "SimulationError",
     "default_settings",
     "make_problem",
@@ -58,38 +74,14 @@ class SimulationError(RuntimeError):
     """A back end failed mid-run: its step size underflowed (a non-finite right-hand side, ...)."""
 
 
-#: Python type of each kind of field.
-_PYTHON = {DOUBLE: float, boundary.INT64: int, boundary.INT32: int, DOUBLES: np.ndarray, SERIES: np.ndarray}
-
-#: Fields whose Python value is not their C number: a name of :data:`STATUS`, truth values.
-_NAMED_PYTHON = {"status": str, "overturned": bool, "early_rest": bool, "early_verdict": bool, "sensitive": bool}
-
-
-def _python(f) -> type:
-    """The Python type of a field of :data:`~rocking.sim.boundary.CASE` or :data:`~rocking.sim.boundary.RESULT`."""
-    return _NAMED_PYTHON.get(f.name, _PYTHON[f.kind])
-
-
 def _result_dtype(f):
-    if _python(f) is bool:
+    if python_type(f) is bool:
         return bool
     return np.float64 if f.kind == DOUBLE else np.int64
 
 
 #: Scalar results of a run, as arrays of a batch: field -> dtype (``status`` indexes :data:`STATUS`).
 RESULT_FIELDS = {f.name: _result_dtype(f) for f in RESULT}
-
-#: The fields of a :class:`Response`'s summary: the C results, then the tolerance check's.
-_SUMMARY = (*RESULT, SENSITIVE)
-
-
-def _attributes(fields, python) -> str:
-    lines = []
-    for f in fields:
-        unit = f" [{f.unit}]" if f.unit else ""
-        lines += [f"    {f.name} : {python(f).__name__}", f"        {f.doc[0].upper()}{f.doc[1:]}{unit}."]
-    return "\n".join(lines)
-
 
 # --------------------------------------------------------------------------- #
 # Problem: what a run is given                                                 #
@@ -165,29 +157,12 @@ def check_motion(family: str, n_samples, pulse_dt, n_extrema) -> None:
         raise ParameterError(f"a {family} motion needs its extrema (n_extrema >= 1)")
 
 
-def _problem_post_init(self) -> None:
-    """Check every setting against its range in :data:`~rocking.sim.boundary.CASE` and store it typed."""
-    for name, python in _SCALAR_SETTINGS:
-        value = getattr(self, name)
-        boundary.check(name, value)
-        object.__setattr__(self, name, python(value))
-    for name, count in _SERIES_SETTINGS:
-        object.__setattr__(self, name, _series(name, getattr(self, name), getattr(self, count)))
-    check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
-    p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
-    if p.shape != (len(self.model.parameters),):
-        raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
-    object.__setattr__(self, "p", p)
-    object.__setattr__(self, "atol", _state_vector("atol", self.atol, self.model))
-    object.__setattr__(self, "y0", _initial_state(self.model, self.y0, self.phase0))
-
-
 #: The number settings of a Problem with their Python types, and the series with the field that counts them.
-_SCALAR_SETTINGS = tuple((f.name, _python(f)) for f in CASE if f.kind not in (DOUBLES, SERIES))
+_SCALAR_SETTINGS = tuple((f.name, python_type(f)) for f in CASE if f.kind not in (DOUBLES, SERIES))
 _SERIES_SETTINGS = tuple((f.name, f.count) for f in CASE if f.kind == SERIES)
 
 
-def ground_shape(problem, t):
+def ground_shape(problem: Problem, t):
     """``f(t)`` of the problem's motion (docs/model.md section 12), vectorised, on its whole definition."""
     family = FAMILIES[problem.motion]
     if family == "sampled":
@@ -196,45 +171,41 @@ def ground_shape(problem, t):
     return SHAPES[family](t, problem.omega_g, problem.psi, problem.t_c, problem.shape, np)
 
 
-def _ground_acceleration(self, t):
-    """``ddx_g(t)``, vectorised: ``a_g f(t)`` on ``[0, t_p]``, 0 outside."""
-    t = np.asarray(t, dtype=float)
-    a = np.where((t >= 0) & (t <= self.t_p), self.a_g * ground_shape(self, t), 0.0)
-    return a if a.ndim else float(a)
+@dataclass(frozen=True, kw_only=True)
+class Problem(ProblemFields):
+    """A fully resolved simulation: numbers only, nothing left to default but the initial state.
 
+    Built by :func:`make_problem`; its fields, typed and documented in
+    :class:`~rocking.sim.fields.ProblemFields`, are the model, its parameters and the table
+    :data:`rocking.sim.boundary.CASE` (checked on construction: a value out of range raises
+    :class:`~rocking.ParameterError` naming it and its range).
+    """
 
-def _problem_settings(self) -> dict:
-    """The settings by name (every field of :data:`~rocking.sim.boundary.CASE`)."""
-    return {f.name: getattr(self, f.name) for f in CASE}
+    def __post_init__(self) -> None:
+        """Check every setting against its range in :data:`~rocking.sim.boundary.CASE` and store it typed."""
+        for name, python in _SCALAR_SETTINGS:
+            value = getattr(self, name)
+            boundary.check(name, value)
+            object.__setattr__(self, name, python(value))
+        for name, count in _SERIES_SETTINGS:
+            object.__setattr__(self, name, _series(name, getattr(self, name), getattr(self, count)))
+        check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
+        p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
+        if p.shape != (len(self.model.parameters),):
+            raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
+        object.__setattr__(self, "p", p)
+        object.__setattr__(self, "atol", _state_vector("atol", self.atol, self.model))
+        object.__setattr__(self, "y0", _initial_state(self.model, self.y0, self.phase0))
 
+    def ground_acceleration(self, t):
+        """``ddx_g(t)``, vectorised: ``a_g f(t)`` on ``[0, t_p]``, 0 outside."""
+        t = np.asarray(t, dtype=float)
+        a = np.where((t >= 0) & (t <= self.t_p), self.a_g * ground_shape(self, t), 0.0)
+        return a if a.ndim else float(a)
 
-Problem = make_dataclass(
-    "Problem",
-    [("model", Model), ("p", np.ndarray)]
-    + [(f.name, _python(f), field(default=MISSING if f.required else f.default)) for f in CASE],
-    frozen=True,
-    kw_only=True,
-    namespace={
-        "__post_init__": _problem_post_init,
-        "ground_acceleration": _ground_acceleration,
-        "settings": _problem_settings,
-        "__module__": __name__,
-    },
-)
-Problem.__doc__ = f"""A fully resolved simulation: numbers only, nothing left to default but the initial state.
-
-Built by :func:`make_problem`; its fields are the table
-:data:`rocking.sim.boundary.CASE` (checked on construction: a value out of
-range raises :class:`~rocking.ParameterError` naming it and its range).
-
-Attributes
-----------
-    model : Model
-        The generated model.
-    p : ndarray
-        Parameters in the model's order.
-{_attributes(CASE, _python)}
-"""
+    def settings(self) -> dict:
+        """The settings by name (every field of :data:`~rocking.sim.boundary.CASE`)."""
+        return {f.name: getattr(self, f.name) for f in CASE}
 
 
 # --------------------------------------------------------------------------- #
@@ -242,125 +213,148 @@ Attributes
 # --------------------------------------------------------------------------- #
 
 
-def _repr_html(self) -> str:
-    """The scalar results as an HTML table for Jupyter: value, unit and meaning of each field."""
-    from html import escape
-
-    rows = "".join(
-        f"<tr><td>{f.name}</td><td>{escape(str(value))}</td><td>{escape(f.unit)}</td><td>{escape(f.doc)}</td></tr>"
-        for f, value in zip(_SUMMARY, _summary(self).values(), strict=True)
-    )
-    recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
-    return (
-        f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
-        f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>"
-    )
-
-
-def _summary(self) -> dict:
-    """The scalar results as a plain dict (JSON-ready; NaN times as ``None``)."""
-    out = {}
-    for f in _SUMMARY:
-        value = _python(f)(getattr(self, f.name))
-        out[f.name] = None if isinstance(value, float) and np.isnan(value) else value
-    return out
-
-
 #: Each result's name and the function from its C number to its Python value, in the order of RESULT.
-_RESULT_VALUES = tuple((f.name, (lambda code: STATUS[int(code)]) if f.name == "status" else _python(f)) for f in RESULT)
-
-
-def _from_record(cls, record, history: dict | None = None):
-    """A response from a C ``rocking_result`` (or a row of a NumPy record array) and a history."""
-    get = record.__getitem__ if isinstance(record, np.void) else record.__getattribute__
-    return cls(*[value(get(name)) for name, value in _RESULT_VALUES], history=history)
-
-
-def _to_dataset(self, dt: float | None = None):
-    """The history on the uniform grid ``t = k dt`` as an ``xarray.Dataset``, with the loads of the model.
-
-    Parameters
-    ----------
-    dt : float, optional
-        Spacing [s], at most 1e6 samples over ``t_max``; default the run's ``record_dt``
-        (for a run recorded at its events only, a hundredth of the pulse's period). The values
-        are exact samples of the integrator's dense output: a response not recorded every
-        ``dt`` is run again, recorded so. The events are not rows: see :meth:`events`.
-
-    Returns
-    -------
-    xarray.Dataset
-        Over ``t`` [s]: the coordinates and velocities by the model's names (``theta``, ``x``,
-        ``dtheta``, ``dx``; ``phi`` for the pendulum), their accelerations (``ddtheta``, ...),
-        ``phase``, ``a_g``, ``a_top``, ``a_cm``, ``V_b``, ``N_b``, ``M_b``, the force of each
-        damper coordinate's elements (``F_x``), the bumpers' ``F_b`` (models with end stops),
-        ``E_kinetic``, ``E_potential``, ``E_total``; each with ``units`` and ``long_name``
-        (docs/model.md section 13).
-
-    Raises
-    ------
-    ParameterError
-        A bad ``dt``; a response of a batch (no run to record again).
-    """
-    from .history import to_dataset
-
-    return to_dataset(self, dt)
-
-
-def _to_dataframe(self, dt: float | None = None):
-    """:meth:`to_dataset` as a ``pandas.DataFrame`` indexed by ``t`` [s]; ``attrs`` hold ``units`` and ``long_name``."""
-    from .history import to_dataframe
-
-    return to_dataframe(self, dt)
-
-
-def _events(self):
-    """The events of the run as a ``pandas.DataFrame``: ``t`` [s], ``kind``, ``phase_before``, ``phase_after``.
-
-    Kinds: ``uplift``, ``impact`` (``phase_after`` 0: the block came to rest), ``contact`` (a
-    lift-off that fell back without an impact), ``bumper_contact``, ``bumper_release``,
-    ``pulse_end``, ``overturn``; phases as in :data:`~rocking.sim.boundary.PHASES`.
-    """
-    from .history import events
-
-    return events(self)
-
-
-Response = make_dataclass(
-    "Response",
-    [(f.name, _python(f)) for f in RESULT]
-    + [
-        (SENSITIVE.name, bool, field(default=False)),
-        ("history", dict, field(default=None, repr=False)),
-        ("source", tuple, field(default=None, repr=False, compare=False)),
-    ],
-    namespace={
-        "summary": _summary,
-        "from_record": classmethod(_from_record),
-        "to_dataset": _to_dataset,
-        "to_dataframe": _to_dataframe,
-        "events": _events,
-        "_repr_html_": _repr_html,
-        "__module__": __name__,
-    },
+_RESULT_VALUES = tuple(
+    (f.name, (lambda code: STATUS[int(code)]) if f.name == "status" else python_type(f)) for f in RESULT
 )
-Response.__doc__ = f"""The response of the block to one pulse.
 
-Its fields are the table :data:`rocking.sim.boundary.RESULT`, then the tolerance check's
-(:data:`rocking.sim.accuracy.SENSITIVE`; ``False`` when no check ran).
 
-Attributes
-----------
-{_attributes(_SUMMARY, _python)}
+@dataclass
+class Response(ResponseFields):
+    """The response of the block to one pulse.
+
+    Its fields, typed and documented in :class:`~rocking.sim.fields.ResponseFields`, are the table
+    :data:`rocking.sim.boundary.RESULT`, then the tolerance check's
+    (:data:`rocking.sim.boundary.SENSITIVE`; ``False`` when no check ran), then:
+
+    Attributes
+    ----------
     history : dict of ndarray, optional
         With ``record=True``: ``t``, every state component by name (``theta``,
         ``x``, ``dtheta``, ``dx``, ...), ``phase`` (:data:`CONTACT`,
         :data:`PIVOT_A`, :data:`PIVOT_A_PRIME`) and ``ag``, the events as extra
         rows; :meth:`to_dataset` gives it on a uniform grid, :meth:`events` the events.
-    source : tuple, optional
-        ``(model, p, settings, backend)`` of the run, to record it again (``None`` for a
-        batch's rows).
-"""
+    inputs : RunInputs, optional
+        What the run was given and the back end that ran it (``None`` for a batch's rows and
+        for a back end called directly): :meth:`to_dataset` derives the loads from them, and
+        :func:`rocking.sim.run.rerecord` runs it again recorded at another spacing.
+    """
+
+    history: dict[str, np.ndarray] | None = field(default=None, repr=False)
+    inputs: RunInputs | None = field(default=None, repr=False, compare=False)
+
+    @classmethod
+    def from_record(cls, record, history: dict | None = None) -> Response:
+        """A response from a C ``rocking_result`` (or a row of a NumPy record array) and a history."""
+        get = record.__getitem__ if isinstance(record, np.void) else record.__getattribute__
+        return cls(*[value(get(name)) for name, value in _RESULT_VALUES], history=history)
+
+    def summary(self) -> dict:
+        """The scalar results as a plain dict (JSON-ready; NaN times as ``None``)."""
+        out = {}
+        for f in SUMMARY:
+            value = python_type(f)(getattr(self, f.name))
+            out[f.name] = None if isinstance(value, float) and np.isnan(value) else value
+        return out
+
+    def _repr_html_(self) -> str:
+        """The scalar results as an HTML table for Jupyter: each value rounded, with its unit and meaning in the
+        words of the docs (the status by its name and reason, the damper's coordinate by its model's name)."""
+        from html import escape
+
+        rows = "".join(
+            f"<tr><td>{f.name}</td><td>{escape(_shown(value))}</td><td>{escape(f.unit)}</td>"
+            f"<td>{escape(self._meaning(f))}</td></tr>"
+            for f, value in zip(SUMMARY, self.summary().values(), strict=True)
+        )
+        recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
+        return (
+            f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
+            f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>"
+        )
+
+    def plot(self, ax=None):
+        """Draw the recorded rotation ``theta / alpha`` over time, as pandas and xarray draw their data.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; default a new ``matplotlib.pyplot`` figure (shown in a notebook).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure of ``ax``.
+
+        Raises
+        ------
+        ParameterError
+            A response without a history (run it with ``record=True``) or without its inputs (a batch's row).
+        """
+        if self.history is None or self.inputs is None:
+            raise ParameterError("plot needs a recorded response: rocking.simulate(..., record=True)")
+        from ..plot.response import rotation_axes
+
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            ax = plt.figure(figsize=(7, 3), layout="constrained").add_subplot()
+        named = dict(zip(self.inputs.model.parameters, self.inputs.p))
+        rotation_axes(ax, self, math.atan2(named["B"], named["H"]))
+        return ax.figure
+
+    def _meaning(self, field) -> str:
+        """A field's meaning for a reader: the status's reason, ``q[1]`` by the name its model gives it."""
+        if field.name == "status":
+            return f"why the run ended: {STATUSES[STATUS.index(self.status)].doc}"
+        names: list[str] = self.inputs.model.manifest["coordinates"] if self.inputs is not None else []
+        return field.doc.replace("q[1]", names[1]) if len(names) > 1 else field.doc
+
+    def to_dataset(self, dt: float | None = None):
+        """The recorded history on the uniform grid ``t = k dt`` as an ``xarray.Dataset``, with the loads of the model.
+
+        Parameters
+        ----------
+        dt : float, optional
+            Spacing [s]: the run's ``record_dt`` (the default). The values are exact samples of the
+            integrator's dense output, which only a run recorded every ``dt`` holds: for another
+            spacing, simulate with ``record=True, record_dt=dt``, or call
+            :func:`rocking.sim.run.rerecord`. The events are not rows: see :meth:`events`.
+
+        Returns
+        -------
+        xarray.Dataset
+            Over ``t`` [s]: the coordinates and velocities by the model's names (``theta``, ``x``,
+            ``dtheta``, ``dx``; ``phi`` for the pendulum), their accelerations (``ddtheta``, ...),
+            ``phase``, ``a_g``, ``a_top``, ``a_cm``, ``V_b``, ``N_b``, ``M_b``, the force of each
+            damper coordinate's elements (``F_x``), the bumpers' ``F_b`` (models with end stops),
+            ``E_kinetic``, ``E_potential``, ``E_total``; each with ``units`` and ``long_name``
+            (docs/model.md section 13).
+
+        Raises
+        ------
+        ParameterError
+            A bad ``dt``; a response not recorded every ``dt`` (the message says how to record it);
+            a response without its inputs (a batch's row).
+        """
+        return to_dataset(self, dt)
+
+    def to_dataframe(self, dt: float | None = None):
+        """:meth:`to_dataset` as a ``pandas.DataFrame`` indexed by ``t`` [s]; ``attrs`` hold ``units`` and
+        ``long_name``."""
+        return to_dataframe(self, dt)
+
+    def events(self):
+        """The events of the recorded run as a ``pandas.DataFrame``: ``t`` [s], ``kind``, ``phase_before``,
+        ``phase_after``.
+
+        Kinds: ``uplift``, ``impact`` (``phase_after`` 0: the block came to rest), ``contact`` (a
+        lift-off that fell back without an impact), ``bumper_contact``, ``bumper_release``,
+        ``pulse_end``, ``overturn``; phases as in :data:`~rocking.sim.boundary.PHASES`. A response
+        without a history (``record=False``) raises :class:`~rocking.ParameterError`, which says how
+        to record it.
+        """
+        return events(self)
 
 
 #: Default rest criteria, relative to the block (see :func:`make_problem`).
@@ -530,6 +524,15 @@ def _check_by_unit(name: str, value: float, unit: str, block: Block) -> None:
         raise ParameterError(f"{name} must be in [-1e30, 1e30] {unit} (got {value!r}): beyond, products overflow")
 
 
+def default_record_dt(motion, block: Block) -> float:
+    """The default spacing of a history, s, for the :func:`~rocking.model.motion.describe` of a motion: a
+    hundredth of the shorter of the pulse's period and the block's ``2 pi / p``, and at most a record's own
+    spacing, so that a plot shows every peak of the motion (a pulse's within 0.2 %: ``1 - cos(pi / 100)``;
+    a record's exactly, at its samples)."""
+    step = min(motion.T_g, 2 * math.pi / block.p) / 100
+    return min(step, motion.dt) if motion.dt > 0 else step
+
+
 def _record_dt(record_dt: object, t_max: float, default: float) -> float:
     """The spacing of a history: at most ``RANGES["record_samples"]`` samples over ``t_max``."""
     most = RANGES["record_samples"].high
@@ -633,7 +636,7 @@ def make_problem(
     max_events : int
         Bound on uplifts plus impacts.
     record_dt : float, optional
-        History spacing [s]; default ``min(T_g, 2 pi / p) / 100``; ``<= 0``:
+        History spacing [s]; default ``min(T_g, 2 pi / p) / 100``, at most a record's ``dt``; ``<= 0``:
         events only.
     early_rest : bool
         End a run that can no longer uplift at the next extremum of the
@@ -787,7 +790,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
         max_events=options["max_events"],
         max_steps=boundary.MAX_STEPS_DEFAULT,
-        record_dt=_record_dt(given.get("record_dt"), t_max, min(motion.T_g, 2 * math.pi / block.p) / 100),
+        record_dt=_record_dt(given.get("record_dt"), t_max, default_record_dt(motion, block)),
         y0=None,
         phase0=options["phase0"],
         early_rest=options["early_rest"],
@@ -799,3 +802,12 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
     if "y0" in given or "phase0" in given:
         settings["y0"] = _initial_state(model, given.get("y0"), settings["phase0"])
     return model, p, settings
+
+
+def _shown(value) -> str:
+    """A result for a reader: four significant digits, yes/no, a dash for "did not happen" (NaN)."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if value is None:
+        return "-"
+    return f"{value:.4g}" if isinstance(value, float) else str(value)

@@ -2,28 +2,24 @@
 
 from __future__ import annotations
 
-import warnings
-
 from ..model.params import ParameterError
-from . import c_backend
+from ..model.plausibility import check_run
+from . import backends
 from .accuracy import check_choice, compared, sensitive, tighter_rtol
-from .cbuild import CBuildError
+from .backends import NAMES, BackendWarning
+from .history import check_dt, default_dt, run_inputs
 from .problem import OPTIONS, Problem, Response, check_flag, resolve
 
-BACKENDS = ("auto", "c", "numpy")
+__all__ = ["NAMES", "BackendWarning", "rerecord", "run", "simulate"]
 
 #: The options of :func:`simulate` passed on to :func:`~rocking.sim.problem.make_problem`.
 SETTINGS = tuple(OPTIONS)
 
 
 def _check_backend(backend: object) -> str:
-    if not isinstance(backend, str) or backend not in BACKENDS:
-        raise ParameterError(f"backend must be one of {', '.join(BACKENDS)} (got {backend!r})")
+    if not isinstance(backend, str) or backend not in NAMES:
+        raise ParameterError(f"backend must be one of {', '.join(NAMES)} (got {backend!r})")
     return backend
-
-
-class BackendWarning(UserWarning):
-    """The C back end could not be built; the NumPy back end ran instead."""
 
 
 def run(problem: Problem, backend: str = "auto", record: bool = False) -> Response:
@@ -36,29 +32,45 @@ def run(problem: Problem, backend: str = "auto", record: bool = False) -> Respon
     if not isinstance(problem, Problem):
         raise ParameterError(f"problem must be a rocking.sim.problem.Problem (got {type(problem).__name__})")
     record = check_flag("record", record)
-    return _run(problem.model, problem.p, problem.settings(), backend, record, problem)
+    return _run(problem.model, problem.p, problem.settings(), backend, record)
 
 
-def _run(model, p, settings: dict, backend: str, record: bool, problem: Problem | None = None) -> Response:
-    """The run of :func:`~rocking.sim.problem.resolve`'s ``(model, p, settings)`` on ``backend``.
+def _run(model, p, settings: dict, backend: str, record: bool) -> Response:
+    """The run of :func:`~rocking.sim.problem.resolve`'s ``(model, p, settings)`` on ``backend``."""
+    return backends.simulate(backend, model, p, settings, record)
 
-    The C back end takes them as they are; the NumPy back end takes ``problem``, built from them
-    (and so checked again) when not given.
+
+def rerecord(response: Response, dt: float | None = None) -> Response:
+    """``response``'s run again, on the same back end, recorded every ``dt`` [s].
+
+    What :meth:`Response.to_dataset` needs for a spacing the run was not recorded at: the same
+    run (bit for bit on the same back end), with exact samples of the dense output at ``t = k dt``.
+
+    Parameters
+    ----------
+    response : Response
+        A response of :func:`simulate` or :func:`run` (it holds its :class:`~rocking.sim.problem.RunInputs`).
+    dt : float, optional
+        Spacing [s], at most 1e6 samples over ``t_max``; default the run's ``record_dt`` (for a run
+        recorded at its events only, a hundredth of the pulse's period).
+
+    Raises
+    ------
+    ParameterError
+        A bad ``dt``, or one so small that the recorded run ends otherwise (its samples count as
+        work, docs/simulation.md rule 5); a response without its inputs (a batch's row).
     """
-    if backend != "numpy":
-        try:
-            response = c_backend.simulate_settings(model, p, settings, record=record)
-            response.source = (model, p, settings, "c")
-            return response
-        except CBuildError as exc:
-            if backend == "c":
-                raise
-            warnings.warn(f"C back end unavailable, using NumPy: {exc}", BackendWarning, stacklevel=3)
-    from . import numpy_backend
-
-    response = numpy_backend.simulate(Problem(model=model, p=p, **settings) if problem is None else problem, record)
-    response.source = (model, p, settings, "numpy")
-    return response
+    inputs = run_inputs(response)
+    dt = default_dt(inputs.settings) if dt is None else check_dt(dt, inputs.settings["t_max"])
+    again = _run(inputs.model, inputs.p, dict(inputs.settings, record_dt=dt), inputs.backend, True)
+    ends = ("status", "t_end", "impacts", "uplifts")
+    if any(getattr(again, k) != getattr(response, k) for k in ends):
+        raise ParameterError(
+            f"dt = {dt:g} s: recorded every dt the run ends otherwise ({again.status} at t = {again.t_end:g} s, "
+            f"not {response.status} at {response.t_end:g} s): its samples count as work (max_steps); take a larger dt"
+        )
+    again.sensitive = response.sensitive
+    return again
 
 
 def simulate(
@@ -91,7 +103,9 @@ def simulate(
     t_max : float, optional
         End of the run [s], in (0, 1.1e4]; default ``t_after`` (15 s) after the pulse.
     record : bool
-        Keep the time history (``Response.history``); a bool, nothing else.
+        Keep the time history (``Response.history``), sampled every ``record_dt`` (a setting below):
+        :meth:`Response.to_dataset` reads it at that spacing, :func:`rerecord` runs it again at
+        another; a bool, nothing else.
     check : {"tolerance", "none"}, optional
         ``"tolerance"``: run again at ``rtol / 100`` (at least 1e-12) and set
         ``Response.sensitive`` if the verdict changed or ``theta_max`` or ``x_max``
@@ -106,6 +120,13 @@ def simulate(
     Returns
     -------
     Response
+
+    Warns
+    -----
+    PlausibilityWarning
+        A valid input unlikely to be meant (:mod:`rocking.model.plausibility`): a damper heavier
+        than half the block, a sampled motion whose peak, scaled, exceeds the largest recorded
+        (4.36 g); the messages of ``rocking simulate``.
 
     Raises
     ------
@@ -154,6 +175,7 @@ def simulate(
     if t_max is not None:
         settings["t_max"] = t_max
     model, p, case = resolve(block, damper, pulse, settings)
+    check_run(block, model, p, pulse, stacklevel=2)
     response = _run(model, p, case, backend, record)
     tight_rtol = tighter_rtol(case["rtol"])
     # At the smallest valid rtol there is no tighter run to compare with: the response stands as it is.

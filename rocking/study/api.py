@@ -437,6 +437,7 @@ def incremental_dynamic_analysis(
     runs: str | Path = RUNS,
     progress: bool = True,
     study: bool = False,
+    check: str | None = None,
 ):
     """Every motion of ``motions`` at every level of ``levels``, with and without ``damper``; the lognormal
     fragility fitted to the outcomes.
@@ -454,6 +455,10 @@ def incremental_dynamic_analysis(
         ``"scale"`` gives an IDA study, any other a fragility study.
     damper, directions, rtol, t_after, backend, workers, runs, progress, study
         As :func:`overturning_map`.
+    check : {"tolerance", "none"}, optional
+        The tolerance check of every response, as :func:`rocking.simulate`'s (docs/simulation.md,
+        "Sensitivity to the tolerance"): by default ``"tolerance"`` for records and stochastic motions,
+        ``"none"`` for pulses.
 
     Returns
     -------
@@ -482,4 +487,5 @@ def incremental_dynamic_analysis(
         study=study,
         measure_name=measure,
         directions=directions,
+        check=check,
     )

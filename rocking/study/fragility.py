@@ -11,7 +11,8 @@ fitted by maximum likelihood to the counts of every stripe (binomial likelihood,
 analysis", Earthquake Spectra 31(1), 579-599): it uses every response, and needs no
 single "collapse intensity" per motion, which a non-monotone response does not have.
 Its confidence band is a bootstrap over the motions (the suite is the sample):
-:func:`bootstrap_band`.
+:func:`bootstrap_band`, widened to cover either answer of the responses sensitive to the
+integrator's tolerance.
 """
 
 from __future__ import annotations
@@ -143,17 +144,8 @@ def fragility_curve(x, theta: float, beta: float) -> np.ndarray:
     return special.ndtr(np.log(np.asarray(x, float) / theta) / beta)
 
 
-def bootstrap_band(im, overturned, x, *, resamples: int = 400, level: float = 0.9, seed: int = 0) -> dict:
-    """A confidence band of the fitted fragility at ``x``: refits on the suite resampled by motion.
-
-    Returns
-    -------
-    dict
-        ``low``, ``high`` (the band at ``x``), ``theta`` and ``beta`` intervals, and ``resamples`` used
-        (resamples with no overturning or only overturning have no fit and are dropped, counted in
-        ``dropped``).
-    """
-    im, overturned = _stripes(im, overturned)
+def _band(im, overturned, x, resamples: int, level: float, seed: int) -> dict | None:
+    """:func:`bootstrap_band` of verdicts taken as certain; ``None`` if no resample can be fitted."""
     rng = np.random.default_rng(seed)
     curves, thetas, betas, dropped = [], [], [], 0
     for _ in range(resamples):
@@ -166,7 +158,7 @@ def bootstrap_band(im, overturned, x, *, resamples: int = 400, level: float = 0.
         thetas.append(fit["theta"])
         betas.append(fit["beta"])
     if not curves:
-        raise ParameterError("no resample of the suite can be fitted: every motion overturns, or none does")
+        return None
     tails = (100 * (1 - level) / 2, 100 * (1 + level) / 2)
     low, high = np.percentile(np.asarray(curves), tails, axis=0)
     return {
@@ -177,6 +169,65 @@ def bootstrap_band(im, overturned, x, *, resamples: int = 400, level: float = 0.
         "resamples": len(curves),
         "dropped": dropped,
     }
+
+
+def bootstrap_band(
+    im, overturned, x, *, sensitive=None, resamples: int = 400, level: float = 0.9, seed: int = 0
+) -> dict:
+    """A confidence band of the fitted fragility at ``x``: refits on the suite resampled by motion.
+
+    A sensitive response (docs/simulation.md, "Sensitivity to the tolerance") has two answers, one
+    per tolerance, and no reason to prefer either: the band is then the envelope of three bands on
+    the same resamples (the same ``seed``), of the verdicts as run, of every sensitive response
+    counted as overturning, and of every one counted as safe. It is at least as wide as the band of
+    the verdicts as run, and is that band where no response is sensitive.
+
+    Parameters
+    ----------
+    im : array_like, shape (m,)
+        The intensity levels (> 0).
+    overturned : array_like of bool, shape (n, m)
+        The verdicts as run.
+    x : array_like
+        Where the band is given, in the unit of ``im``.
+    sensitive : array_like of bool, shape (n, m), optional
+        The responses whose verdict the tolerance may change; default none.
+    resamples, level, seed
+        Bootstrap resamples, the band's confidence level, the seed of the resampling.
+
+    Returns
+    -------
+    dict
+        ``low``, ``high`` (the band at ``x``), ``theta`` and ``beta`` intervals (the envelopes of
+        the three bands' intervals), ``resamples`` used and ``dropped`` (resamples with no
+        overturning or only overturning have no fit), both of the verdicts as run, and
+        ``sensitive``: the number of sensitive responses.
+
+    Raises
+    ------
+    ParameterError
+        No resample of the verdicts as run can be fitted, or ``sensitive`` is not of the shape of
+        ``overturned``.
+    """
+    im, overturned = _stripes(im, overturned)
+    sensitive = np.zeros_like(overturned) if sensitive is None else np.asarray(sensitive, bool)
+    if sensitive.shape != overturned.shape:
+        raise ParameterError(f"sensitive must have the shape of overturned, {overturned.shape} (got {sensitive.shape})")
+    band = _band(im, overturned, x, resamples, level, seed)
+    if band is None:
+        raise ParameterError("no resample of the suite can be fitted: every motion overturns, or none does")
+    band["sensitive"] = int(sensitive.sum())
+    if not sensitive.any():
+        return band
+    for verdicts in (overturned | sensitive, overturned & ~sensitive):
+        # A variant with no fit (every response now overturning, or none) adds no curve to the envelope.
+        other = _band(im, verdicts, x, resamples, level, seed)
+        if other is None:
+            continue
+        band["low"], band["high"] = np.minimum(band["low"], other["low"]), np.maximum(band["high"], other["high"])
+        for k in ("theta_interval", "beta_interval"):
+            band[k] = [min(band[k][0], other[k][0]), max(band[k][1], other[k][1])]
+    return band
 
 
 def ida_summary(scales, overturned) -> dict:

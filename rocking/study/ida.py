@@ -28,7 +28,7 @@ import numpy as np
 from ..model.intensity import MEASURES, measure
 from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
-from ..sim.accuracy import SENSITIVE, merged, tighter_rtol
+from ..sim.accuracy import SENSITIVE, check_choice, merged, tighter_rtol
 from ..sim.cases import pulse_cases, run_cases, sampled_cases
 from .config import Grid, Setting, Study, Tuning, Variant, part_config
 from .directions import choose, response_envelope
@@ -96,20 +96,20 @@ def ida_tile(payload: tuple) -> dict:
     :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (1,): the motion's measure
     (:func:`motion_measure`).
 
-    A sampled motion's responses are checked against a run at a tighter tolerance
-    (:mod:`rocking.sim.accuracy`; ``sensitive`` marks those that moved, which hold the tighter run's
-    results); a pulse's are not run again, and none is sensitive.
+    The responses are checked against a run at a tighter tolerance as ``check`` says
+    (:func:`rocking.sim.accuracy.check_choice`: by default a sampled motion's, not a pulse's;
+    ``sensitive`` marks those that moved, which hold the tighter run's results).
 
-    ``payload = (setting, damper_or_None, suite, i, levels, name, signs)``.
+    ``payload = (setting, damper_or_None, suite, i, levels, name, signs, check)``.
     """
-    setting, damper, suite, i, levels, name, signs = payload
+    setting, damper, suite, i, levels, name, signs, check = payload
     motion = suite.motion(i)
     value = motion_measure(motion, name)
     scales = scales_for(levels, value, name)
     result = run_cases(_cases(setting, motion, scales, signs, damper or {}), backend=setting.backend, threads=1)
     result = {k: result[k] for k in FIELDS}
     tight_rtol = tighter_rtol(setting.rtol)
-    if isinstance(motion, SampledMotion) and tight_rtol != setting.rtol:
+    if check_choice(check, motion) == "tolerance" and tight_rtol != setting.rtol:
         tight = _cases(replace(setting, rtol=tight_rtol), motion, scales, signs, damper or {})
         result = merged(result, run_cases(tight, backend=setting.backend, threads=1))
     else:
@@ -134,6 +134,7 @@ def incremental_dynamic_analysis(
     directions: str = "auto",
     runs: str | Path = "out/runs",
     on_tile=None,
+    check: str | None = None,
 ) -> Study:
     """Every motion of ``suite`` at every level, with and without the damper; the fragility fitted to it.
 
@@ -157,6 +158,9 @@ def incremental_dynamic_analysis(
         Folder of the run folders.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
+    check : {"tolerance", "none"}, optional
+        The tolerance check of every response, as :func:`rocking.simulate`'s: by default
+        ``"tolerance"`` for a record or a stochastic motion, ``"none"`` for a pulse.
 
     Returns
     -------
@@ -166,10 +170,11 @@ def incremental_dynamic_analysis(
         motion, level and direction (``<part>_<field>_by_sign``, (n, m, signs)), their envelope
         (``<part>_<field>``, (n, m)), the IDA summary (``<part>_first``, ``<part>_last_safe``,
         ``<part>_reversals``), the fraction overturned per level, ``<part>_sensitive_by_sign`` and
-        ``<part>_sensitive`` (a response, or one of its directions, sensitive to the tolerance: a sampled
-        motion's responses are checked, docs/simulation.md "Sensitivity to the tolerance"), the fraction
+        ``<part>_sensitive`` (a response, or one of its directions, sensitive to the tolerance: as ``check``
+        says, docs/simulation.md "Sensitivity to the tolerance"), the fraction
         of the responses sensitive per level (``<part>_sensitive_fraction``), the fitted curve ``<part>_curve`` at
-        ``curve_x`` with its band ``<part>_band_low``/``_high``. The summary gives each part's fit
+        ``curve_x`` with its band ``<part>_band_low``/``_high`` (covering either answer of a sensitive response,
+        :func:`~rocking.study.fragility.bootstrap_band`). The summary gives each part's fit
         (``theta``, ``beta`` and their intervals), the motions with resurrections and the number of sensitive
         responses.
     """
@@ -183,10 +188,18 @@ def incremental_dynamic_analysis(
         raise ParameterError(
             "measure 'amplitude' is the a_g of a suite of pulses (Suite.from_pulses): records have pga"
         )
+    if check is not None:
+        check = check_choice(check, None)  # a value given is checked whatever the motion: refused before any run
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     n, lv = len(suite), levels.values()
-    grids = {"levels": levels.record(), "measure": measure_name, "signs": signs, "suite": suite.record()}
+    grids = {
+        "levels": levels.record(),
+        "measure": measure_name,
+        "signs": signs,
+        "suite": suite.record(),
+        "check": check,
+    }
     arrays = {"levels": lv, "signs": np.array(signs), "im": np.full(n, np.nan)}
     groups, where, folders = [], {}, {}
     shape = (n, lv.size, len(signs))
@@ -200,7 +213,7 @@ def incremental_dynamic_analysis(
         folders[part] = folder.name
         tasks = []
         for i in range(n):
-            payload = (setting, damper, suite, i, lv, measure_name, signs)
+            payload = (setting, damper, suite, i, lv, measure_name, signs, check)
             expect = {**dict.fromkeys((*FIELDS, SENSITIVE.name), (lv.size, len(signs))), "im": (1,)}
             task = Task(folder / f"motion-{i}.npz", ida_tile, payload, expect)
             tasks.append(task)
@@ -242,7 +255,8 @@ def incremental_dynamic_analysis(
         arrays[f"{part}_sensitive"] = sensitive.any(axis=-1)
         # Of the responses (motions and directions), not of the envelopes: each is one run that moved.
         arrays[f"{part}_sensitive_fraction"] = sensitive.mean(axis=(0, 2))
-        summary[part] = _fit(lv, over, arrays, part)
+        uncertain = uncertain_verdicts(arrays[f"{part}_overturned_by_sign"], sensitive)
+        summary[part] = _fit(lv, over, uncertain, arrays, part)
         summary[part]["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
         summary[part]["sensitive"] = int(sensitive.sum())
     kind = "ida" if measure_name == "scale" else "fragility"
@@ -257,8 +271,19 @@ def incremental_dynamic_analysis(
     )
 
 
-def _fit(levels, over, arrays: dict, part: str) -> dict:
-    """The lognormal fit of ``part`` and its band at ``arrays["curve_x"]`` (stored in ``arrays``); the summary."""
+def uncertain_verdicts(overturned_by_sign, sensitive_by_sign) -> np.ndarray:
+    """The envelopes (over the directions, the last axis) whose verdict the tolerance can change.
+
+    An envelope overturns if any direction does: a sensitive direction can change it unless a
+    direction that is not sensitive overturns it for certain.
+    """
+    overturned, sensitive = np.asarray(overturned_by_sign, bool), np.asarray(sensitive_by_sign, bool)
+    return sensitive.any(axis=-1) & ~(overturned & ~sensitive).any(axis=-1)
+
+
+def _fit(levels, over, uncertain, arrays: dict, part: str) -> dict:
+    """The lognormal fit of ``part`` and its band at ``arrays["curve_x"]`` (stored in ``arrays``), the band
+    covering either verdict of the ``uncertain`` cells; the summary."""
     x = arrays["curve_x"]
     fit = (
         fit_lognormal(levels[levels > 0], over[:, levels > 0])
@@ -271,7 +296,8 @@ def _fit(levels, over, arrays: dict, part: str) -> dict:
     arrays[f"{part}_band_high"] = np.full(x.size, np.nan)
     if fit["status"] in FITTED:
         arrays[f"{part}_curve"] = fragility_curve(x, fit["theta"], fit["beta"])
-        band = bootstrap_band(levels[levels > 0], over[:, levels > 0], x, resamples=RESAMPLES)
+        fitted = levels > 0
+        band = bootstrap_band(levels[fitted], over[:, fitted], x, sensitive=uncertain[:, fitted], resamples=RESAMPLES)
         arrays[f"{part}_band_low"], arrays[f"{part}_band_high"] = band["low"], band["high"]
         out.update(
             theta_interval=band["theta_interval"], beta_interval=band["beta_interval"], resamples=band["resamples"]

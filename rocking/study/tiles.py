@@ -382,9 +382,9 @@ def local_pool(backend: str) -> str:
 
 def _stop_c_runs() -> None:
     """Stop every C run of this process now: worker threads cannot be stopped otherwise."""
-    from ..sim import c_backend
+    from ..sim import backends
 
-    c_backend.request_stop()
+    backends.request_stop()
 
 
 def _terminate(pool: ProcessPoolExecutor) -> None:
@@ -443,10 +443,10 @@ class _Workers:
     def interrupt(self) -> None:
         """Ctrl-C: stop the running tiles and cancel the queued ones, at once; store those that finished."""
         if self.kind == "threads":
-            from ..sim import c_backend
+            from ..sim import backends
 
             # A worker thread may take a queued tile after the stop: halted() stops its C call too.
-            with c_backend.halted():
+            with backends.halted():
                 self.drain()
             return
         if self.kind == "processes":

@@ -1,0 +1,22 @@
+"""The bench map of `make bench`: the cases bench/run.py times and bench/instructions.py counts.
+
+Issue 3's 50 x 50 map by default: Omega and beta in [1, 10], the reference block of docs/model.md
+section 9, a damper with gamma = 0.05, omega_m = p, zeta = 0.05, h = 0.05, rtol = 1e-8.
+"""
+
+from __future__ import annotations
+
+import numpy as np
+
+from rocking import Block
+from rocking.sim.cases import pulse_cases
+
+GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
+
+
+def map_cases(n: int):
+    """The ``n x n`` map: the block, the flat ``Omega`` and ``beta`` of its cells, and their cases."""
+    block = Block.reference()
+    Omega, beta = np.meshgrid(np.linspace(1, 10, n), np.linspace(1, 10, n), indexing="ij")
+    cases = pulse_cases(block, Omega, beta, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS, rtol=1e-8)
+    return block, Omega.ravel(), beta.ravel(), cases
