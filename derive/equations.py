@@ -128,8 +128,8 @@ class Equations:
     base_reaction: list = ()
     element_forces: list = ()
     stop_regime: list = ()
-    stop_memory: list = ()
-    stop_approach: list = ()
+    stop_memory: tuple = ()
+    stop_approach: tuple = ()
 
 
 def resolve_options(spec: Spec, options: dict | None) -> dict:
@@ -713,6 +713,6 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
         # As the bumpers' forces: read at the states of a recorded history, in their own regime.
         element_forces=[where(force).xreplace(pushing) for force in element_forces(sysm, vg)],
         stop_regime=[*on.values(), *memory.values()],
-        stop_memory=list(memory),
-        stop_approach=approaches,
+        stop_memory=tuple(memory),
+        stop_approach=tuple(approaches),
     )

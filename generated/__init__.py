@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 6
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "c822bf5b1d2a443b10509c156a01f88d43055e19a38e9dd1d91e44fa3a3ea861",
-    "omd": "21c9fa0be87e1f4f6e6d52ac19b46513f12414d350eec1e29ca2a410570b7ac5",
-    "omd2": "a9b40b689bf38c1d36139f16c5f984c1181be0bc5c1451cae32f17426c56e78a",
-    "omd_stops": "bdb681747ed54eff7eb73ef12eec93bf4c5c2e6496f48603fe12e9eb3ea55818",
-    "omd_stops_hc": "d1c64b243b44d37372144eedb2ba2bdbd7dce57c94ee1d0b9bd17c4f8ec3bb71",
-    "pendulum": "467446eff94a41dcb65622829d2b0fb1ec88d51c708dd3c2bea8093e89877b0a",
+    "block": "c9af98583a3e94918f865d770f593574cefe235f2e49e7ad8577abd7fcc83870",
+    "omd": "8135c725ccc97b872475da48acfd6bc7a64647c142dbf4652d41a1d06753d973",
+    "omd2": "2e729cb5456b0fc278e158503760ee5518bcf1af3707f08e299a853feb791279",
+    "omd_stops": "ea590691e86a891c4a06d2c83daa4e46a7cb361232f2a5431e75874a70fd08aa",
+    "omd_stops_hc": "186b7d694953692518c595e40a68a0a998c153ac689cd651ab4174fe2f672890",
+    "pendulum": "88028655e15e12dc61fc17f5a36e59f9464ce9f34cb927a631fb196adf800f04",
 }

@@ -17,7 +17,7 @@ import numbers
 import sys
 from dataclasses import dataclass, replace
 from functools import cached_property
-from typing import overload
+from typing import cast, overload
 
 import numpy as np
 
@@ -763,7 +763,8 @@ class Stops:
         """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``
         (Hunt-Crossley: ``L``, ``k_b``, ``n_b``, ``e_b``)."""
         if self.law == "hunt-crossley":
-            return dict(zip(HC_STOP_PARAMETERS, (self.L, self.k_b, self.n, self.e_b)))
+            e_b = cast(float, self.e_b)  # a float with this law (__post_init__)
+            return dict(zip(HC_STOP_PARAMETERS, (self.L, self.k_b, self.n, e_b)))
         return dict(zip(STOP_PARAMETERS, (self.L, self.k_b, self.c_b)))
 
     @classmethod

@@ -401,11 +401,12 @@ class _System:
     def record_approach(self, i: int, y: np.ndarray) -> None:
         """Stop side ``i``'s pad starts pushing at ``y``: a new contact if its penetration rises (then its v_in
         is recorded, at its floor at least), else a released pad of the same contact pushes again (kept)."""
-        if self.floors[i] is None:
+        floor = self.floors[i]
+        if floor is None:
             return
         rate = float(self._call("stop_approach", 1.0, y, 0.0)[i])
         if rate >= 0.0:
-            self.memory[sum(f is not None for f in self.floors[:i])] = max(rate, self.floors[i])
+            self.memory[sum(f is not None for f in self.floors[:i])] = max(rate, floor)
 
     def largest_bumper_force(self, states: np.ndarray) -> float:
         """The largest force of any bumper against its penetration over ``states`` (rows), 0 without stops."""

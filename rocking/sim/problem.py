@@ -471,7 +471,7 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         Damper(**checked).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
-        stops = Stops(**{k: checked[k] for k in STOP_PARAMETERS})
+        stops = Stops(checked["L"], checked["k_b"], checked["c_b"])
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + HC_STOP_PARAMETERS):
