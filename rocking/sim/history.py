@@ -25,6 +25,7 @@ import numpy as np
 from ..model.loading import Model
 from ..model.params import RANGES, ParameterError
 from .boundary import CONTACT
+from .pad_memory import WithMemory, memory
 
 #: The conventions of the project's NetCDF files (histories and studies): CF 1.10 attributes.
 CONVENTIONS = "CF-1.10"
@@ -175,13 +176,14 @@ def _affine(outputs: list, ddq: list, quantities: int) -> list[np.ndarray]:
 
 def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarray]:
     """Every variable of the dataset on ``rows`` of ``history``, by name (``t`` first)."""
-    fn = model.functions
     n = model.nq
     phase = history["phase"][rows]
     y = [history[name][rows] for name in model.state]
     ag = history["ag"][rows]
     s = np.where(phase == CONTACT, 1.0, phase.astype(float))  # the functions at theta = 0 hold for either pivot
     p = [float(v) for v in p]
+    # Hunt-Crossley pads: their forces need the approach speed of each contact, found again on the history.
+    fn = WithMemory(model, [v_in[rows] for v_in in memory(model, p, history)])
     contact = phase == CONTACT
     ddq = [
         np.where(contact, c, r)

@@ -24,6 +24,7 @@ from ..model.loading import Model, ModelError, load_model
 from ..model.motion import FAMILIES, SHAPES, describe, interpolate, real_array, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
+    HC_STOP_PARAMETERS,
     RANGES,
     STOP_PARAMETERS,
     Block,
@@ -470,7 +471,11 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         Damper(**checked).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
-        stops = Stops(**{k: checked[k] for k in STOP_PARAMETERS})
+        stops = Stops(checked["L"], checked["k_b"], checked["c_b"])
+        Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
+        return checked
+    if set(own) == set(DAMPER_PARAMETERS + HC_STOP_PARAMETERS):
+        stops = Stops(checked["L"], checked["k_b"], law="hunt-crossley", n=checked["n_b"], e_b=checked["e_b"])
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}
