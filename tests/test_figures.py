@@ -364,3 +364,15 @@ def test_a_response_shows_rounded_values_in_the_words_of_the_docs():
     assert "STATUSES" not in html and "q[1]" not in html and "largest |x|" in html
     assert f"<td>{response.theta_max:.4g}</td>" in html and f"{response.theta_max!r}" not in html
     assert "why the run ended: |theta| reached pi/2" in html
+
+
+def test_a_records_history_and_plot_show_its_peak():
+    """A record at 0.01 s is recorded and drawn at its own samples (the block's 2 pi / p / 100 is 0.0235 s):
+    the ground panel's peak is the record's PGA within 1 % (the issue's 5.58 against 6.87 m/s^2)."""
+    block = Block.reference()
+    record = rocking.SampledMotion(np.random.default_rng(5).normal(0.0, 2.0, 1000), dt=0.01)
+    response = rocking.simulate(block, None, record, record=True)
+    assert np.diff(response.history["t"]).max() <= 0.01 * (1 + 1e-9)
+    ax_g = response_figure({"block alone": response}, block, motion=record).axes[-1]
+    drawn = max(np.max(np.abs(line.get_ydata())) for line in ax_g.get_lines() if len(line.get_xdata()) > 2)
+    assert drawn == pytest.approx(record.pga, rel=0.01)

@@ -24,6 +24,7 @@ from ..model.loading import Model, ModelError, load_model
 from ..model.motion import FAMILIES, SHAPES, describe, interpolate, real_array, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
+    HC_STOP_PARAMETERS,
     RANGES,
     STOP_PARAMETERS,
     Block,
@@ -470,7 +471,11 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         Damper(**checked).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
-        stops = Stops(**{k: checked[k] for k in STOP_PARAMETERS})
+        stops = Stops(checked["L"], checked["k_b"], checked["c_b"])
+        Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
+        return checked
+    if set(own) == set(DAMPER_PARAMETERS + HC_STOP_PARAMETERS):
+        stops = Stops(checked["L"], checked["k_b"], law="hunt-crossley", n=checked["n_b"], e_b=checked["e_b"])
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}
@@ -517,6 +522,15 @@ def _check_by_unit(name: str, value: float, unit: str, block: Block) -> None:
             raise ParameterError(f"{name} must be in [-1000, 1000] m (got {value!r}): a body within 1 km of the block")
     elif abs(value) > LARGEST:
         raise ParameterError(f"{name} must be in [-1e30, 1e30] {unit} (got {value!r}): beyond, products overflow")
+
+
+def default_record_dt(motion, block: Block) -> float:
+    """The default spacing of a history, s, for the :func:`~rocking.model.motion.describe` of a motion: a
+    hundredth of the shorter of the pulse's period and the block's ``2 pi / p``, and at most a record's own
+    spacing, so that a plot shows every peak of the motion (a pulse's within 0.2 %: ``1 - cos(pi / 100)``;
+    a record's exactly, at its samples)."""
+    step = min(motion.T_g, 2 * math.pi / block.p) / 100
+    return min(step, motion.dt) if motion.dt > 0 else step
 
 
 def _record_dt(record_dt: object, t_max: float, default: float) -> float:
@@ -622,7 +636,7 @@ def make_problem(
     max_events : int
         Bound on uplifts plus impacts.
     record_dt : float, optional
-        History spacing [s]; default ``min(T_g, 2 pi / p) / 100``; ``<= 0``:
+        History spacing [s]; default ``min(T_g, 2 pi / p) / 100``, at most a record's ``dt``; ``<= 0``:
         events only.
     early_rest : bool
         End a run that can no longer uplift at the next extremum of the
@@ -776,7 +790,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
         max_events=options["max_events"],
         max_steps=boundary.MAX_STEPS_DEFAULT,
-        record_dt=_record_dt(given.get("record_dt"), t_max, min(motion.T_g, 2 * math.pi / block.p) / 100),
+        record_dt=_record_dt(given.get("record_dt"), t_max, default_record_dt(motion, block)),
         y0=None,
         phase0=options["phase0"],
         early_rest=options["early_rest"],
