@@ -14,6 +14,7 @@ from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.dataset import read_netcdf, to_dataset
 from rocking.study.overturning_map import envelope
 from rocking.study.spectrum import envelope as spectrum_envelope
+from rocking.study.threshold import thresholds
 from rocking.study.tiles import Execution
 from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED
 
@@ -143,12 +144,13 @@ def test_every_kind_is_in_the_plain_interface(studies):
     assert studies["design"].config["Tm_ratio"]["values"] == [0.5, 1.5, 4.0]
     assert studies["fragility"].kind == "fragility" and studies["ida"].kind == "ida"
     ds = studies["threshold"].to_dataset()
-    assert dict(ds.sizes)["lam"] == 1 and ds["stops_Omega_star"].dims == ("lam", "p")
+    found = thresholds(ds)
+    assert dict(ds.sizes)["lam"] == 1 and found["Omega_star"].dims == ("part", "lam", "p")
     # A threshold's status is where Omega* lies, not why a run ended.
     from rocking.study.vocabulary import THRESHOLD_STATUSES as STATUSES
 
-    assert ds["stops_status"].attrs["flag_meanings"].split() == list(STATUSES)
-    assert ds["bare_flag"].attrs["flag_meanings"] == "upper_bound bracketed lower_bound"
+    assert found["status"].attrs["flag_meanings"].split() == list(STATUSES)
+    assert ds["flag"].attrs["flag_meanings"] == "upper_bound bracketed lower_bound"
 
 
 def test_plain_interface_refuses_bad_motions_in_one_line(tmp_path):

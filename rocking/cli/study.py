@@ -49,7 +49,7 @@ from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
 from ..study.suite import Suite
-from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
+from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
 from ..study.vocabulary import BELOW, BRACKETED
@@ -581,25 +581,27 @@ def _cmd_threshold(args) -> int:
 
 
 def _print_threshold_map(study: Study) -> None:
-    a, bound = study.arrays, study.summary["a_max_g"]
+    found, bound = thresholds(study.data), study.summary["a_max_g"]
+    lams, ps = found["lam"].values, found["p"].values
     for kind in ("unlimited", "stops"):
         print(
             f"threshold, {kind} guide: Omega* bracketed at {study.summary[kind]['bracketed']} of "
-            f"{a['lam'].size * a['p'].size} geometries"
+            f"{lams.size * ps.size} geometries"
         )
-        for i, lam in enumerate(a["lam"]):
+        status, star, low, high = (
+            found[k].sel(part=kind).values for k in ("status", "Omega_star", "Omega_star_low", "Omega_star_high")
+        )
+        for i, lam in enumerate(lams):
             cells = []
-            for j, p in enumerate(a["p"]):
-                status = a[f"{kind}_status"][i, j]
-                star, low = a[f"{kind}_Omega_star"][i, j], a[f"{kind}_Omega_star_low"][i, j]
-                text = {0: f"{star:.3g}", 1: f"<= {a[f'{kind}_Omega_star_high'][i, j]:.3g}", 2: f"> {low:.3g}"}
-                cells.append(f"p = {p:g}: Omega* {text.get(int(status), 'undefined')}")
+            for j, p in enumerate(ps):
+                text = {0: f"{star[i, j]:.3g}", 1: f"<= {high[i, j]:.3g}", 2: f"> {low[i, j]:.3g}"}
+                cells.append(f"p = {p:g}: Omega* {text.get(int(status[i, j]), 'undefined')}")
             print(f"  lambda = {lam:g}: " + "; ".join(cells))
-    for i, lam in enumerate(a["lam"]):
-        safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in a["safe_from"][i])
+    for i, lam in enumerate(lams):
+        safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in found["safe_from"].values[i])
         print(
             f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
-            f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)"
+            f"{safe} (p = {', '.join(f'{p:g}' for p in ps)} rad/s)"
         )
 
 

@@ -46,6 +46,7 @@ from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import safe_windows
 from ..study.storage import load
+from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED
 from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
 
@@ -627,18 +628,19 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
     """``Omega*`` of one kind of damper over ``(lambda, p)``: the value where bracketed, else the highest ``Omega``
     at which it still helps (a lower bound, hatched); each cell also says from which ``Omega`` the block alone
     no longer overturns within the bound."""
-    a = study.arrays
-    lam, p = a["lam"], a["p"]
-    status = a[f"{kind}_status"]
-    value = np.where(np.isfinite(a[f"{kind}_Omega_star"]), a[f"{kind}_Omega_star"], a[f"{kind}_Omega_star_low"])
-    norm = Normalize(0, float(a["Omega"][-1]))
+    found = thresholds(study.data)
+    a = found.sel(part=kind)
+    lam, p = found["lam"].values, found["p"].values
+    status, star, low = (a[k].values for k in ("status", "Omega_star", "Omega_star_low"))
+    value = np.where(np.isfinite(star), star, low)
+    norm = Normalize(0, float(found["Omega"][-1]))
     image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap=SEQUENTIAL, norm=norm)
     x, y = _edges(p), _edges(lam)
     for i in range(lam.size):
         for j in range(p.size):
             v, st = value[i, j], STATUS_TEXT[status[i, j]]
             text = "?" if not np.isfinite(v) else f"{st}{v:.3g}"
-            safe = a["safe_from"][i, j]
+            safe = found["safe_from"].values[i, j]
             text += f"\nsafe from {safe:.3g}" if np.isfinite(safe) else ""
             # Dark text on the light end of the colour map, white on the dark end.
             shade = image.cmap(norm(v)) if np.isfinite(v) else (1, 1, 1)
@@ -690,22 +692,23 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
 
 def threshold_figure(study: Study) -> Figure:
     """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
-    a, cfg = study.arrays, study.config
+    data, cfg = study.data, study.config
+    p, Om = data["p"].values, data["Omega"].values
     fig = Figure(figsize=(16, 6), layout="constrained")
     axes = fig.subplots(1, 3)
     for ax, kind in zip(axes[:2], ("unlimited", "stops")):
         _omega_star_panel(fig, ax, study, kind)
-    j = a["p"].size // 2
-    for i, lam in enumerate(a["lam"]):
+    j = p.size // 2
+    for i, lam in enumerate(data["lam"].values):
         for kind, ls in (("unlimited", "-"), ("stops", "--")):
             label = rf"$\lambda$ = {lam:.3g}, {kind}"
-            axes[2].plot(a["Omega"], a[f"{kind}_gain"][i, j], ls, ms=4, label=label, **cycle(i))
+            axes[2].plot(Om, data["gain"].sel(part=kind).values[i, j], ls, ms=4, label=label, **cycle(i))
     axes[2].axhline(study.summary["useless_gain"], color=GREY, lw=0.8, ls=":")
     _omega_axis(axes[2])
-    _period_axis(axes[2], float(a["p"][j]))
+    _period_axis(axes[2], float(p[j]))
     axes[2].set_ylabel("best gain (envelopes over the directions)")
     axes[2].set_title(
-        f"best gain at p = {a['p'][j]:.3g} rad/s; ends where the block alone survives {study.summary['a_max_g']:g} g",
+        f"best gain at p = {p[j]:.3g} rad/s; ends where the block alone survives {study.summary['a_max_g']:g} g",
         fontsize=9,
     )
     _legend_below(axes[2], ncols=2)

@@ -391,14 +391,15 @@ def threshold_map(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``lam``, ``p``, ``Omega``, ...: ``<kind>_Omega_star`` and its status per geometry.
+        Dimensions ``part`` (``unlimited``, ``stops``), ``lam``, ``p``, ``Omega``, ...: the gains; ``Omega*`` and its
+        status per geometry: :func:`rocking.study.threshold.thresholds`.
 
     Examples
     --------
     >>> import tempfile, rocking
     >>> ds = rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 9.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0,
     ...                            runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["stops_gain"].sel(lam=4.0, p=2.0).round(2).values.tolist()  # none at 14: safe to 4 g alone
+    >>> ds["gain"].sel(part="stops", lam=4.0, p=2.0).round(2).values.tolist()  # none at 14: safe to 4 g alone
     [1.14, 1.41, nan]
     """
     return _run(

@@ -61,14 +61,6 @@ LAYOUTS: dict[str, tuple[dict, tuple]] = {
             (r".*", ("Omega",)),
         ),
     ),
-    "threshold": (
-        {"lam": "lam", "p": "p", "Omega": "Omega", "signs": "sign", "r_coarse": "r_coarse"},
-        (
-            (r"beta_max", ("lam",)),
-            (r"safe_from|{part}_(Omega_star.*|status|best_gain)", ("lam", "p")),
-            (r".*", ("lam", "p", "Omega")),
-        ),
-    ),
     "ida": (
         {"levels": "level", "signs": "sign", "curve_x": "curve_x"},
         (
@@ -128,6 +120,7 @@ FIELDS: dict[str, tuple] = {
     "stroke_use": ("1", "largest damper stroke over the half-stroke L"),
     "on_block": ("1", "the damper's stroke stays on the block"),
     "beta_max": ("1", "largest amplitude ratio searched (the acceleration bound a_max)"),
+    "gain_flag": ("1", "how the damped block's beta_min was found: the gain is a bound unless bracketed", FLAG_KEY),
     "safe_from": ("1", "Omega above which the block alone never overturns within beta_max"),
     "r_at_edge": ("1", "the optimum period lies on an edge of the searched range"),
     "first": ("level units", "first level at which the motion overturns the block"),

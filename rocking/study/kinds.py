@@ -78,12 +78,12 @@ KINDS = {
         design.design_tables,
         "design_figure",
     ),
-    "threshold": _named(
-        "threshold",
+    "threshold": Kind(
         threshold.threshold_map,
         {"lam": "lam", "p": "p", "Omega": "Omega", "Tm_ratio": "r_coarse"},
         threshold.threshold_tables,
         "threshold_figure",
+        threshold.DIMS.__getitem__,
     ),
     "ida": _named("ida", ida.incremental_dynamic_analysis, {"levels": "level"}, ida.tables, "ida_figure"),
     "fragility": _named("fragility", ida.incremental_dynamic_analysis, {"levels": "level"}, ida.tables, "ida_figure"),
