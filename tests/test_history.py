@@ -338,3 +338,11 @@ def test_every_multiple_of_dt_is_a_row_on_both_back_ends(H, lam, T_g, beta, fami
     grids = [_grid(block, pulse, dt, backend) for backend in ("c", "numpy")]
     n = min(len(g) for g in grids)
     assert np.array_equal(grids[0][:n], grids[1][:n])
+
+
+def test_a_history_file_follows_cf_conventions():
+    block = rocking.Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=2.0, Omega=3.0)
+    ds = rocking.simulate(block, None, pulse, record=True).to_dataset()
+    assert ds.attrs["Conventions"] == "CF-1.10"
+    assert ds["t"].attrs == {"units": "s", "long_name": "time", "standard_name": "time"}

@@ -347,6 +347,10 @@ RANGES: dict[str, Range] = {
     "c_b": Range(0.0, 1e30, "N s/m", "the dashpot must keep c_b / m a normal double"),
     # A contact lasts pi / omega_b: above 1e4 p the steps it needs pass a run's bound on work, as for omega_m.
     "omega_b_ratio": Range(1e-3, 1e4, "", "bumper frequency sqrt(k_b / m) / p, as the damper's (a run's work)"),
+    # Hertzian contact is 1.5; beyond 10 delta^n underflows in a pad of a few mm.
+    "n_b": Range(1.0, 10.0, "", "exponent of a Hunt-Crossley pad's force k_b delta^n (1: linear, 1.5: Hertzian)"),
+    # A restitution of 0 would be a pad that keeps the mass; above 1 it would add energy.
+    "e_b": Range(0.0, 1.0, "", "coefficient of restitution of a Hunt-Crossley pad", open_low=True),
     # Rubber and elastomer pads restitute 0.3 - 0.7 (zeta_b 0.1 - 0.35); 10 as for the damper's zeta.
     "zeta_b": Range(0.0, 10.0, "", "damping ratio of a bumper, stiff for the explicit integrator above 10"),
     # --- the pulse (OneSinePulse, OneSinePulse.from_nondim)

@@ -16,7 +16,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 from functools import cached_property
-from typing import overload
+from typing import cast, overload
 
 import numpy as np
 
@@ -278,6 +278,10 @@ class Block:
 #: The parameters of the paper's damper (model ``omd``) and of its end stops (model ``omd_stops``), by name.
 DAMPER_PARAMETERS = ("m", "k_m", "c", "h")
 STOP_PARAMETERS = ("L", "k_b", "c_b")
+#: The parameters of Hunt-Crossley end stops (model ``omd_stops_hc``), by name.
+HC_STOP_PARAMETERS = ("L", "k_b", "n_b", "e_b")
+#: The contact laws of a bumper pad (docs/model.md section 11) and the model each runs on.
+BUMPER_LAWS = {"kelvin-voigt": "omd_stops", "hunt-crossley": "omd_stops_hc"}
 
 #: Default depth of a bumper pad at the block's edge, m: a 20 mm elastomer pad (Stops.at_edges).
 BUMPER_DEPTH = 0.02
@@ -285,9 +289,14 @@ BUMPER_DEPTH = 0.02
 #: damper's period. On the bench map (bench/stops_map.py) the deepest contact then uses 13 mm of the
 #: 20 mm pad; at 20 the pad bottomed out (the stroke past B/2) in two thirds of the cells.
 BUMPER_FREQUENCY_RATIO = 60.0
+#: The penetration at which a Hunt-Crossley pad's frequency is held to the range of a bumper's, m: 1 mm,
+#: where its tangent stiffness is n k_b delta^(n-1) (Stops.check_on).
+HC_REFERENCE_PENETRATION = 1e-3
 #: Default bumper damping ratio: a restitution of 0.57 for a pad that only pushes (docs/model.md section 11;
 #: exp(-0.2 pi / sqrt(0.96)) = 0.53 if it could pull), a rubber pad's.
 BUMPER_DAMPING_RATIO = 0.2
+#: Default restitution of a Hunt-Crossley pad (Stops.at_edges): that of the Kelvin-Voigt default pad, 0.57.
+BUMPER_RESTITUTION = 0.57
 
 
 @dataclass(frozen=True)
@@ -298,18 +307,27 @@ class Stops:
     penetration ``delta = |x| - L`` that only pushes: its force is
     ``max(0, k_b delta + c_b ddelta)``, a compression-only Kelvin-Voigt contact (an unbonded
     pad cannot pull the mass back on rebound; it lets go where the bracket falls to 0). A
-    damper with stops runs on the model ``omd_stops``.
+    damper with stops runs on the model ``omd_stops``. With ``law="hunt-crossley"`` the force
+    is ``max(0, k_b delta^n (1 + 3 (1 - e_b) / 2 ddelta / v_in))``, ``v_in`` the approach speed
+    of the contact (Hunt & Crossley 1975; Lankarani & Nikravesh 1990), on the model
+    ``omd_stops_hc``.
 
     Parameters
     ----------
     L : float
         Half-stroke, m, in (0, 1e3]; on a block, at most ``B/2`` unless ``beyond_edges``.
     k_b : float
-        Bumper stiffness, N/m, in (0, 1e30].
+        Bumper stiffness, N/m (Hunt-Crossley: N/m^n), in (0, 1e30].
     c_b : float, optional
-        Bumper dashpot, N s/m, in [0, 1e30]. Default 0.
+        Bumper dashpot, N s/m, in [0, 1e30]. Default 0. Kelvin-Voigt only.
     beyond_edges : bool, optional
         Allow a guide longer than the block is wide (``L > B/2``). Default False.
+    law : {"kelvin-voigt", "hunt-crossley"}, optional
+        The pads' contact law. Default ``"kelvin-voigt"``.
+    n : float, optional
+        Hunt-Crossley exponent, in [1, 10]. Default 1.5 (Hertzian contact).
+    e_b : float, optional
+        Hunt-Crossley coefficient of restitution of a pad, in (0, 1]; required with that law.
 
     Raises
     ------
@@ -328,12 +346,32 @@ class Stops:
     k_b: float
     c_b: float = 0.0
     beyond_edges: bool = False
+    law: str = "kelvin-voigt"
+    n: float = 1.5
+    e_b: float | None = None
 
     def __post_init__(self) -> None:
         for field in ("L", "k_b", "c_b"):
             object.__setattr__(self, field, check_in_range(field, getattr(self, field)))
         if not isinstance(self.beyond_edges, (bool, np.bool_)):
             raise ParameterError(f"beyond_edges must be True or False (got {shown(self.beyond_edges)})")
+        if not isinstance(self.law, str) or self.law not in BUMPER_LAWS:
+            raise ParameterError(f"law must be one of {', '.join(BUMPER_LAWS)} (got {shown(self.law)})")
+        if self.law == "kelvin-voigt":
+            if self.e_b is not None:
+                raise ParameterError("e_b is a parameter of law='hunt-crossley' (a Kelvin-Voigt pad has c_b)")
+            return
+        if self.c_b != 0.0:
+            raise ParameterError("c_b must be 0 with law='hunt-crossley' (its damping comes from e_b)")
+        if self.e_b is None:
+            raise ParameterError("e_b must be given with law='hunt-crossley': the pad's restitution in (0, 1]")
+        object.__setattr__(self, "n", check_in_range("n", self.n, "n_b"))
+        object.__setattr__(self, "e_b", check_in_range("e_b", self.e_b))
+
+    @property
+    def model(self) -> str:
+        """The generated model a damper with these stops runs on: ``omd_stops`` or ``omd_stops_hc``."""
+        return BUMPER_LAWS[self.law]
 
     def check_on(self, block: Block, damper: Damper) -> Stops:
         """These stops if they suit ``damper`` on ``block``: the gap within the block, the bumper's ratios.
@@ -351,13 +389,22 @@ class Stops:
             )
         if damper.m == 0.0:
             raise ParameterError("stops need a damper mass m > 0 kg (a bare block has no guide)")
+        if self.law == "hunt-crossley":
+            # The pad's frequency at 1 mm of penetration, where its stiffness is n k_b delta^(n-1).
+            omega_b = math.sqrt(self.n * self.k_b * HC_REFERENCE_PENETRATION ** (self.n - 1) / damper.m)
+            check_scaled("omega_b", omega_b, "omega_b_ratio", block.p, "[1e-3 p, 1e4 p] at 1 mm", "rad/s")
+            return self
         omega_b = math.sqrt(self.k_b / damper.m)
         check_scaled("omega_b", omega_b, "omega_b_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
         check_in_range("zeta_b", self.c_b / (2 * math.sqrt(self.k_b * damper.m)))
         return self
 
     def as_params(self) -> dict[str, float]:
-        """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``."""
+        """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``
+        (Hunt-Crossley: ``L``, ``k_b``, ``n_b``, ``e_b``)."""
+        if self.law == "hunt-crossley":
+            e_b = cast(float, self.e_b)  # a float with this law (__post_init__)
+            return dict(zip(HC_STOP_PARAMETERS, (self.L, self.k_b, self.n, e_b)))
         return dict(zip(STOP_PARAMETERS, (self.L, self.k_b, self.c_b)))
 
     @classmethod
@@ -369,6 +416,9 @@ class Stops:
         depth: float = BUMPER_DEPTH,
         frequency_ratio: float = BUMPER_FREQUENCY_RATIO,
         zeta_b: float = BUMPER_DAMPING_RATIO,
+        law: str = "kelvin-voigt",
+        e_b: float = BUMPER_RESTITUTION,
+        n: float = 1.5,
     ) -> Stops:
         """Bumper pads of ``depth`` at the block's edges: ``L = B/2 - depth``.
 
@@ -381,19 +431,30 @@ class Stops:
         frequency_ratio : float, optional
             ``sqrt(k_b / m) / omega_m``. Default :data:`BUMPER_FREQUENCY_RATIO` (60).
         zeta_b : float, optional
-            The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2).
+            The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2). Kelvin-Voigt only.
+        law : {"kelvin-voigt", "hunt-crossley"}, optional
+            The pads' contact law. Default ``"kelvin-voigt"``.
+        e_b, n : float, optional
+            The Hunt-Crossley pads' restitution (default :data:`BUMPER_RESTITUTION`, 0.57, that of
+            the Kelvin-Voigt default) and exponent (default 1.5).
 
         Returns
         -------
         Stops
-            With ``k_b = m (frequency_ratio omega_m)^2`` and ``c_b = 2 zeta_b sqrt(k_b m)``.
+            With ``k_b = m (frequency_ratio omega_m)^2`` and ``c_b = 2 zeta_b sqrt(k_b m)``;
+            Hunt-Crossley: ``k_b depth^(1 - n)`` of that ``k_b``, the same elastic force
+            where the pad is crushed to its full depth.
         """
         check_block(block)
         depth = check_interval("depth", depth, 0.0, block.B / 2, "m", label="(0, B/2)")
         check_positive("frequency_ratio", frequency_ratio)
         zeta_b = check_in_range("zeta_b", zeta_b)
         L, k_b, c_b = edge_stops(block, damper.m, damper.omega_m, depth, frequency_ratio, zeta_b)
-        return cls(L=float(L), k_b=float(k_b), c_b=float(c_b)).check_on(block, damper)
+        if law == "hunt-crossley":
+            n = check_in_range("n", n, "n_b")
+            stops = cls(L=float(L), k_b=float(k_b) * depth ** (1.0 - n), law=law, n=n, e_b=e_b)
+            return stops.check_on(block, damper)
+        return cls(L=float(L), k_b=float(k_b), c_b=float(c_b), law=law).check_on(block, damper)
 
 
 def edge_stops(
@@ -423,8 +484,8 @@ class Damper:
     h : float, optional
         Height of the guide above the top side of the block, m, in [0, 1e3]. Default 0.
     stops : Stops, optional
-        End stops of the guide (model ``omd_stops``). Default None: the paper's
-        unlimited guide (model ``omd``).
+        End stops of the guide (model ``omd_stops``; ``omd_stops_hc`` with Hunt-Crossley
+        pads). Default None: the paper's unlimited guide (model ``omd``).
 
     Raises
     ------
@@ -538,8 +599,8 @@ class Damper:
 
     @property
     def model(self) -> str:
-        """The generated model this damper runs on: ``omd``, or ``omd_stops`` with stops."""
-        return "omd" if self.stops is None else "omd_stops"
+        """The generated model this damper runs on: ``omd``, or that of its stops (``omd_stops``, ``omd_stops_hc``)."""
+        return "omd" if self.stops is None else self.stops.model
 
     def as_params(self) -> dict[str, float]:
         """Return the damper parameters under the symbol names of the derivation.
@@ -547,7 +608,8 @@ class Damper:
         Returns
         -------
         dict
-            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``.
+            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``
+            (Hunt-Crossley: ``"L"``, ``"k_b"``, ``"n_b"``, ``"e_b"``).
         """
         own = dict(zip(DAMPER_PARAMETERS, (self.m, self.k_m, self.c, self.h)))
         return own if self.stops is None else {**own, **self.stops.as_params()}

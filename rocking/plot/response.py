@@ -144,8 +144,29 @@ def plot_responses(
     return path
 
 
+def rotation_axes(ax, response, alpha: float, label: str = "") -> None:
+    """Draw one recorded response's ``theta / alpha`` over ``t`` on the axes ``ax``, with the lines
+    ``theta = +-alpha`` and, if it overturns, the time it does (:meth:`rocking.Response.plot`)."""
+    h = response.history
+    ax.plot(h["t"], h["theta"] / alpha, label=label or None)
+    ax.axhline(1, color=GREY, lw=0.8, ls="--")
+    ax.axhline(-1, color=GREY, lw=0.8, ls="--")
+    if response.overturned:
+        ax.axvline(response.t_overturn, color=GREY, ls=":", lw=1.2)
+        ax.set_ylim(-np.pi / 2 / alpha * 1.05, np.pi / 2 / alpha * 1.05)
+    ax.set_xlabel("t (s)")
+    ax.set_ylabel(r"$\theta / \alpha$")
+
+
 def response_figure(
-    responses: dict, block: Block, title: str = "", *, damper=None, model: str | None = None, motion=None
+    responses: dict,
+    block: Block,
+    title: str = "",
+    *,
+    damper=None,
+    model: str | None = None,
+    motion=None,
+    fig: Figure | None = None,
 ) -> Figure:
     """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
 
@@ -165,11 +186,14 @@ def response_figure(
         The model of the damped responses (default: the ``omd`` family, a stroke ``x`` in m).
     motion : optional
         The ground motion of the responses (a pulse or a :class:`~rocking.model.motion.SampledMotion`).
+    fig : Figure, optional
+        An empty figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a
+        new one.
 
     Returns
     -------
     Figure
-        Not attached to a canvas (:func:`plot_responses` saves it).
+        ``fig``, or a new figure not attached to a canvas (:func:`plot_responses` saves it).
     """
     histories = {}
     for label, r in responses.items():
@@ -185,7 +209,7 @@ def response_figure(
         )
     )
     units = {name: coordinate_unit(model, name) if model else "m" for name in names}
-    fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained")
+    fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained") if fig is None else fig
     axes = fig.subplots(2 + len(names), 1, sharex=True)
     ax_th, ax_g = axes[0], axes[-1]
     colours = dict(zip(histories, CYCLE))

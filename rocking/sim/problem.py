@@ -24,6 +24,7 @@ from ..model.loading import Model, ModelError, load_model
 from ..model.motion import FAMILIES, SHAPES, describe, interpolate, real_array, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
+    HC_STOP_PARAMETERS,
     RANGES,
     STOP_PARAMETERS,
     Block,
@@ -47,6 +48,7 @@ from .boundary import (
     RESULT,
     SERIES,
     STATUS,
+    STATUSES,
     SUMMARY,
     python_type,
 )
@@ -256,11 +258,13 @@ class Response(ResponseFields):
         return out
 
     def _repr_html_(self) -> str:
-        """The scalar results as an HTML table for Jupyter: value, unit and meaning of each field."""
+        """The scalar results as an HTML table for Jupyter: each value rounded, with its unit and meaning in the
+        words of the docs (the status by its name and reason, the damper's coordinate by its model's name)."""
         from html import escape
 
         rows = "".join(
-            f"<tr><td>{f.name}</td><td>{escape(str(value))}</td><td>{escape(f.unit)}</td><td>{escape(f.doc)}</td></tr>"
+            f"<tr><td>{f.name}</td><td>{escape(_shown(value))}</td><td>{escape(f.unit)}</td>"
+            f"<td>{escape(self._meaning(f))}</td></tr>"
             for f, value in zip(SUMMARY, self.summary().values(), strict=True)
         )
         recorded = "a history is recorded: to_dataset()" if self.history is not None else "no history recorded"
@@ -268,6 +272,43 @@ class Response(ResponseFields):
             f"<div><strong>rocking Response</strong> ({recorded})<table><tr><th>field</th><th>value</th>"
             f"<th>unit</th><th>meaning</th></tr>{rows}</table></div>"
         )
+
+    def plot(self, ax=None):
+        """Draw the recorded rotation ``theta / alpha`` over time, as pandas and xarray draw their data.
+
+        Parameters
+        ----------
+        ax : matplotlib Axes, optional
+            Where to draw; default a new ``matplotlib.pyplot`` figure (shown in a notebook).
+
+        Returns
+        -------
+        matplotlib.figure.Figure
+            The figure of ``ax``.
+
+        Raises
+        ------
+        ParameterError
+            A response without a history (run it with ``record=True``) or without its inputs (a batch's row).
+        """
+        if self.history is None or self.inputs is None:
+            raise ParameterError("plot needs a recorded response: rocking.simulate(..., record=True)")
+        from ..plot.response import rotation_axes
+
+        if ax is None:
+            import matplotlib.pyplot as plt
+
+            ax = plt.figure(figsize=(7, 3), layout="constrained").add_subplot()
+        named = dict(zip(self.inputs.model.parameters, self.inputs.p))
+        rotation_axes(ax, self, math.atan2(named["B"], named["H"]))
+        return ax.figure
+
+    def _meaning(self, field) -> str:
+        """A field's meaning for a reader: the status's reason, ``q[1]`` by the name its model gives it."""
+        if field.name == "status":
+            return f"why the run ended: {STATUSES[STATUS.index(self.status)].doc}"
+        names: list[str] = self.inputs.model.manifest["coordinates"] if self.inputs is not None else []
+        return field.doc.replace("q[1]", names[1]) if len(names) > 1 else field.doc
 
     def to_dataset(self, dt: float | None = None):
         """The recorded history on the uniform grid ``t = k dt`` as an ``xarray.Dataset``, with the loads of the model.
@@ -430,7 +471,11 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         Damper(**checked).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
-        stops = Stops(**{k: checked[k] for k in STOP_PARAMETERS})
+        stops = Stops(checked["L"], checked["k_b"], checked["c_b"])
+        Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
+        return checked
+    if set(own) == set(DAMPER_PARAMETERS + HC_STOP_PARAMETERS):
+        stops = Stops(checked["L"], checked["k_b"], law="hunt-crossley", n=checked["n_b"], e_b=checked["e_b"])
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}
@@ -477,6 +522,15 @@ def _check_by_unit(name: str, value: float, unit: str, block: Block) -> None:
             raise ParameterError(f"{name} must be in [-1000, 1000] m (got {value!r}): a body within 1 km of the block")
     elif abs(value) > LARGEST:
         raise ParameterError(f"{name} must be in [-1e30, 1e30] {unit} (got {value!r}): beyond, products overflow")
+
+
+def default_record_dt(motion, block: Block) -> float:
+    """The default spacing of a history, s, for the :func:`~rocking.model.motion.describe` of a motion: a
+    hundredth of the shorter of the pulse's period and the block's ``2 pi / p``, and at most a record's own
+    spacing, so that a plot shows every peak of the motion (a pulse's within 0.2 %: ``1 - cos(pi / 100)``;
+    a record's exactly, at its samples)."""
+    step = min(motion.T_g, 2 * math.pi / block.p) / 100
+    return min(step, motion.dt) if motion.dt > 0 else step
 
 
 def _record_dt(record_dt: object, t_max: float, default: float) -> float:
@@ -582,7 +636,7 @@ def make_problem(
     max_events : int
         Bound on uplifts plus impacts.
     record_dt : float, optional
-        History spacing [s]; default ``min(T_g, 2 pi / p) / 100``; ``<= 0``:
+        History spacing [s]; default ``min(T_g, 2 pi / p) / 100``, at most a record's ``dt``; ``<= 0``:
         events only.
     early_rest : bool
         End a run that can no longer uplift at the next extremum of the
@@ -738,7 +792,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
         energy_rest=defaults["energy_rest"] if energy_rest is None else energy_rest,
         max_events=options["max_events"],
         max_steps=boundary.MAX_STEPS_DEFAULT,
-        record_dt=_record_dt(given.get("record_dt"), t_max, min(motion.T_g, 2 * math.pi / block.p) / 100),
+        record_dt=_record_dt(given.get("record_dt"), t_max, default_record_dt(motion, block)),
         y0=None,
         phase0=options["phase0"],
         early_rest=options["early_rest"],
@@ -750,3 +804,12 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
     if "y0" in given or "phase0" in given:
         settings["y0"] = _initial_state(model, given.get("y0"), settings["phase0"])
     return model, p, settings
+
+
+def _shown(value) -> str:
+    """A result for a reader: four significant digits, yes/no, a dash for "did not happen" (NaN)."""
+    if isinstance(value, bool):
+        return "yes" if value else "no"
+    if value is None:
+        return "-"
+    return f"{value:.4g}" if isinstance(value, float) else str(value)
