@@ -64,6 +64,10 @@ def test_the_readme_simulate_output_is_what_simulate_prints(capsys):
     stops = capsys.readouterr().out
     for quoted in ("OVERTURNS at t = 2.3420 s;", "2 stop contact(s), bumper force max 9180 N"):
         assert quoted in stops and quoted in text, quoted
+    assert main([*argv, "--stops", "--bumper-law", "hunt-crossley"]) == 0
+    pads = capsys.readouterr().out
+    for quoted in ("OVERTURNS at t = 2.3033 s;", "2 stop contact(s), bumper force max 9847 N"):
+        assert quoted in pads and quoted in text, quoted
 
 
 def test_the_readme_speed_figures_are_those_of_the_last_bench_run():

@@ -683,6 +683,8 @@ def _check_rtol(value: object) -> float:
 
 #: The options of :func:`make_problem` with their defaults, and the check of each when a caller gives it
 #: (in the order a call checks them; ``model``, ``t_max``, ``t_after``, ``y0`` need the run, see :func:`resolve`).
+#: Each checks the type here; the values lie in the entry of ``RANGES`` of the option's name, or in the range
+#: or code set of its field of :data:`~rocking.sim.boundary.CASE` (tests/test_checks.py): no bound restated.
 OPTIONS = {
     name: parameter.default
     for name, parameter in inspect.signature(make_problem).parameters.items()
