@@ -189,10 +189,14 @@ def ricker_extrema(antisymmetric: bool) -> np.ndarray:
 class _Analytic:
     """What the analytic families share: amplitude, frequency and sign, checked, and ``f`` on ``[0, t_p]``.
 
-    A subclass declares ``family`` and the dataclass fields ``a_g``, ``omega_g``, ``sign``.
+    A subclass declares ``family`` and the dataclass fields ``a_g``, ``omega_g``, ``sign``; its centre and end
+    follow from them (:func:`timing`).
     """
 
     family: str = ""
+    a_g: float
+    omega_g: float
+    sign: int
 
     def _check(self) -> None:
         check_sign(self.sign)
@@ -220,7 +224,12 @@ class _Analytic:
     @property
     def t_c(self) -> float:
         """Centre of the motion, s (0 for the one-cosine)."""
-        return 0.0
+        return timing(self.family, self.omega_g, self.phase, self.shape_parameter)[0]
+
+    @property
+    def t_p(self) -> float:
+        """End of the motion, s."""
+        return timing(self.family, self.omega_g, self.phase, self.shape_parameter)[1]
 
     def acceleration(self, t: ArrayLike) -> float | np.ndarray:
         """Ground acceleration ``sign a_g f(t)`` on ``[0, t_p]``, 0 outside, m/s^2 (float for a scalar ``t``)."""
@@ -291,11 +300,6 @@ class OneCosinePulse(_Analytic):
     def __post_init__(self) -> None:
         self._check()
 
-    @property
-    def t_p(self) -> float:
-        """End of the pulse, ``2 pi / omega_g``, s."""
-        return timing(self.family, self.omega_g)[1]
-
 
 @dataclass(frozen=True)
 class RickerWavelet(_Analytic):
@@ -330,16 +334,6 @@ class RickerWavelet(_Analytic):
     @property
     def family(self) -> str:
         return "ricker_anti" if self.antisymmetric else "ricker"
-
-    @property
-    def t_c(self) -> float:
-        """Centre ``RICKER_CUT RICKER_PHASE / omega_g``: ``8 / omega_g``, ``4 sqrt 6 / omega_g`` if antisymmetric, s."""
-        return timing(self.family, self.omega_g)[0]
-
-    @property
-    def t_p(self) -> float:
-        """End ``2 t_c``, s."""
-        return timing(self.family, self.omega_g)[1]
 
 
 @dataclass(frozen=True)
@@ -383,16 +377,6 @@ class MavroeidisPapageorgiou(_Analytic):
     @property
     def shape_parameter(self) -> float:
         return self.gamma
-
-    @property
-    def t_c(self) -> float:
-        """Centre ``gamma pi / omega_g``, s."""
-        return timing("mp", self.omega_g, gamma=self.gamma)[0]
-
-    @property
-    def t_p(self) -> float:
-        """End ``2 gamma pi / omega_g``, s."""
-        return timing("mp", self.omega_g, gamma=self.gamma)[1]
 
 
 # --------------------------------------------------------------------------- #
@@ -645,11 +629,12 @@ def describe(motion: object) -> Description:
     ParameterError
         ``motion`` is not exactly one of the registered types (:data:`REGISTRY`).
     """
-    family = family_of(motion)
-    if family == "sampled":
+    family_of(motion)
+    if isinstance(motion, SampledMotion):
         return Description("sampled", motion.sign * motion.scale, t_p=motion.t_p, samples=motion.a, dt=motion.dt)
+    assert isinstance(motion, (OneSinePulse, _Analytic))  # family_of admits the registered types only
     common = {"omega_g": motion.omega_g, "t_p": motion.t_p, "T_g": 2 * math.pi / motion.omega_g}
-    if family == "sine":
+    if isinstance(motion, OneSinePulse):
         return Description("sine", motion.sign * motion.a_g, phase=motion.psi, **common)
     extrema = listed_extrema(motion.family, motion.shape_parameter, motion.phase)
     return Description(
