@@ -157,22 +157,29 @@ typedef struct ode {
     int pulse_on;    /* the segment lies in [0, t_p] */
     const rocking_case *c; /* the ground motion */
     double piece;    /* a sampled motion: the sample interval of the current step */
+    /* The last a_g f(t) of an analytic motion and its t: a step's last two stages
+     * and its events all read it at the step's end. */
+    double memo_t, memo_ag;
 } ode;
 
 /* Ground acceleration inside a segment. A segment never straddles t_p, so it
  * sees either the motion or 0 for all its stages (even one an ulp past t_p),
  * and a step of a sampled motion never straddles a sample time, so its stages
  * see one linear piece: one smooth function per step, no kink inside. */
-static double ode_ag(const ode *o, double t)
+static double ode_ag(ode *o, double t)
 {
     if (!o->pulse_on)
         return 0.0;
     if (o->c->motion == ROCKING_MOTION_SAMPLED)
         return o->c->a_g * interpolate(o->c, o->piece, t);
-    return o->c->a_g * pulse_shape(o->c, t);
+    if (t != o->memo_t) {
+        o->memo_t = t;
+        o->memo_ag = o->c->a_g * pulse_shape(o->c, t);
+    }
+    return o->memo_ag;
 }
 
-static void ode_rhs(const ode *o, double t, const double *y, double *dy)
+static void ode_rhs(ode *o, double t, const double *y, double *dy)
 {
     const double ag = ode_ag(o, t);
     /* In full contact contact_accel returns ddtheta = 0 and dtheta is 0, so
@@ -282,7 +289,7 @@ static double rms_ratio(const double *v, const double *scale)
 
 /* Hairer's initial step heuristic (SciPy's select_initial_step): a step whose
  * explicit Euler error estimate would be about 1 % of the tolerance. */
-static double initial_step(const ode *o, const tolerance *tol, double t0, const double *y0, const double *f0,
+static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0,
                            double span)
 {
     double scale[NY], y1[NY], f1[NY], df[NY];
@@ -311,7 +318,7 @@ static double initial_step(const ode *o, const tolerance *tol, double t0, const 
 
 /* Start integrating at (t, y): f and the first step size, h_first if > 0,
  * else by Hairer's heuristic. */
-static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, const double *y, double t_bound,
+static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const double *y, double t_bound,
                         double h_first)
 {
     d->t = t;
@@ -326,39 +333,23 @@ static void dopri_start(dopri *d, const ode *o, const tolerance *tol, double t, 
 }
 
 /* acc = sum_j w[j] k[j] over the first n stages, summed from 0.0 in stage
- * order. Every call has a constant n and w (a row of a table): written out per
- * length, each inlined call folds to one loop over the components with the
- * weights as immediates, the same sums in the same order as a loop over j. */
-#define TERMS1(i) 0.0 + w[0] * k[0][i]
-#define TERMS2(i) TERMS1(i) + w[1] * k[1][i]
-#define TERMS3(i) TERMS2(i) + w[2] * k[2][i]
-#define TERMS4(i) TERMS3(i) + w[3] * k[3][i]
-#define TERMS5(i) TERMS4(i) + w[4] * k[4][i]
-#define TERMS6(i) TERMS5(i) + w[5] * k[5][i]
-#define TERMS7(i) TERMS6(i) + w[6] * k[6][i]
+ * order. Every call has a constant n and w (a row of a table): unrolled over
+ * the stages, each inlined call keeps the components in vector registers, one
+ * weight per stage (not one per stage and component pair, as the components'
+ * loop outside gave), with the same sums in the same order. */
 static inline void combine_stages(const double (*k)[NY], const double *w, int n, double *acc)
 {
-    int i;
-    switch (n) {
-    case 1: for (i = 0; i < NY; ++i) acc[i] = TERMS1(i); break;
-    case 2: for (i = 0; i < NY; ++i) acc[i] = TERMS2(i); break;
-    case 3: for (i = 0; i < NY; ++i) acc[i] = TERMS3(i); break;
-    case 4: for (i = 0; i < NY; ++i) acc[i] = TERMS4(i); break;
-    case 5: for (i = 0; i < NY; ++i) acc[i] = TERMS5(i); break;
-    case 6: for (i = 0; i < NY; ++i) acc[i] = TERMS6(i); break;
-    default: for (i = 0; i < NY; ++i) acc[i] = TERMS7(i); break;
-    }
+    int i, j;
+    for (i = 0; i < NY; ++i)
+        acc[i] = 0.0 + w[0] * k[0][i];
+#pragma GCC unroll 8
+    for (j = 1; j < n; ++j)
+        for (i = 0; i < NY; ++i)
+            acc[i] += w[j] * k[j][i];
 }
-#undef TERMS1
-#undef TERMS2
-#undef TERMS3
-#undef TERMS4
-#undef TERMS5
-#undef TERMS6
-#undef TERMS7
 
 /* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. */
-static inline void dopri_stage(dopri *d, const ode *o, int s, double h, double t_new, double *y)
+static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y)
 {
     double acc[NY];
     int i;
@@ -372,7 +363,7 @@ static inline void dopri_stage(dopri *d, const ode *o, int s, double h, double t
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static void dopri_stages(dopri *d, const ode *o, double h, double t_new, double *y_new)
+static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
 {
     memcpy(d->k[0], d->f, sizeof d->f);
     dopri_stage(d, o, 1, h, t_new, y_new);
@@ -399,7 +390,7 @@ static double dopri_error(const dopri *d, const tolerance *tol, double h, const 
 
 /* One accepted step towards t_bound, at most max_step long. Returns 0, or -1
  * when the error cannot be controlled above the smallest step. */
-static int dopri_step(dopri *d, const ode *o, const tolerance *tol, double t_bound, double max_step)
+static int dopri_step(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
 {
     double y_new[NY];
     double h = min2(d->h_next, max_step);
@@ -597,7 +588,7 @@ static int is_before(double phi, int strict)
 
 /* The events' context: what their functions depend on besides (t, y). */
 typedef struct event_ctx {
-    const ode *o;
+    ode *o;
     double energy_zero; /* E(0), the energy of the rest state */
     double energy_rest; /* the rest threshold on E(y) - E(0) */
     double energy_safe; /* below it the block can never uplift again; NaN: no bound (rule 4) */
@@ -1593,6 +1584,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.pulse_on = 1;
     r.o.c = c;
     r.o.piece = 0.0;
+    r.o.memo_t = NAN;
     r.ec.o = &r.o;
     /* In full contact the energy does not depend on the pivot: E(0) with s = +1,
      * in the regime of the rest state. */
