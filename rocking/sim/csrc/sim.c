@@ -154,6 +154,7 @@ static double pulse_at(const rocking_case *c, double t)
 typedef struct ode {
     const constants *k; /* of the model's parameters */
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
+    const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
     int pulse_on;    /* the segment lies in [0, t_p] */
     const rocking_case *c; /* the ground motion */
     double piece;    /* a sampled motion: the sample interval of the current step */
@@ -188,9 +189,9 @@ static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
      * theta and dtheta stay exactly 0 while the whole state is integrated (the
      * error norm then runs over the same components in every phase). */
     if (o->phase == 0)
-        model_contact_accel_prepared(y, ag, about(o->k, 1.0), dy + NQ);
+        model_contact_accel_prepared(y, ag, o->cst, dy + NQ);
     else
-        model_rocking_accel_prepared(y, ag, about(o->k, (double)o->phase), dy + NQ);
+        model_rocking_accel_prepared(y, ag, o->cst, dy + NQ);
     memcpy(dy, y + NQ, NQ * sizeof *dy);
 }
 
@@ -1061,6 +1062,7 @@ static int run_segment(run *r, double t_bound)
 
     segment_saved(r, &saved);
     r->o.phase = r->phase;
+    r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
