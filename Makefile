@@ -69,7 +69,8 @@ docs: $(DOCS_STAMP)
 	@echo "docs: docs/_build/html/index.html"
 
 bench: $(STAMP)
-	$(PY) bench/run.py
+	$(PY) bench/run.py --json bench/last.json
+	$(PY) bench/readme.py
 	$(PY) bench/adaptive.py
 	$(PY) bench/adaptive_spectrum.py
 	$(PY) bench/motions.py

@@ -17,8 +17,10 @@ at 50 scales (an incremental dynamic analysis), C against the baseline with ``np
 from __future__ import annotations
 
 import argparse
+import datetime
 import json
 import os
+import platform
 import sys
 import time
 
@@ -301,6 +303,21 @@ def bench_overhead(calls: int = 2000, repeats: int = 5) -> dict:
     }
 
 
+def machine() -> dict:
+    """Where and when this run measured: the date (UTC), the CPU, its cores, the load on them, Python."""
+    model = next(
+        (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
+        platform.processor() or platform.machine(),
+    )
+    return {
+        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
+        "cpu": model,
+        "cores": os.cpu_count(),
+        "load_average_1min": os.getloadavg()[0],
+        "python": platform.python_version(),
+    }
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grid", type=int, default=50)
@@ -314,7 +331,7 @@ def main(argv=None) -> int:
     parser.add_argument("--no-studies", action="store_true", help="only the simulator")
     parser.add_argument("--no-instructions", action="store_true", help="skip the callgrind count of the bench map")
     args = parser.parse_args(argv)
-    results = {"simulator": bench_simulator(args.grid, args.subset, args.seed)}
+    results = {"machine": machine(), "simulator": bench_simulator(args.grid, args.subset, args.seed)}
     sim = results["simulator"]
     print(f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, ", end="")
     print(f"{sim['overturned_fraction']:.0%} overturn):")
@@ -374,9 +391,11 @@ def main(argv=None) -> int:
             )
         print(f"  rocking demo  {st['demo_seconds']:10.1f} s")
         print(f"  rocking threshold {st['threshold_seconds']:6.1f} s (default grid, 2 workers)")
+    results["machine"]["load_average_1min_after"] = os.getloadavg()[0]
     if args.json:
         with open(args.json, "w") as f:
             json.dump(results, f, indent=2)
+            f.write("\n")
     return 0
 
 

@@ -47,8 +47,9 @@ TEMPLATES = Path(__file__).parent / "templates"
 #: Version of the layout of manifest.json and of the generated interface; also written into
 #: ``rocking.generated`` (see build.py). 3: the regime of the stops is an input (``stop_on``, ``on``).
 #: 4: the units of the state (``units``); block_accelerations, base_reaction and element_forces. 5: stop_contact,
-#: the regime function of pads that only push.
-MANIFEST_FORMAT = 5
+#: the regime function of pads that only push. 6: the law of each stop side (``stops``), the regime's inputs
+#: (``regime``: the indicators, then the memory v_in of each Hunt-Crossley side), stop_approach.
+MANIFEST_FORMAT = 6
 
 
 @dataclass(frozen=True)
@@ -198,11 +199,19 @@ def model_functions(eq: Equations) -> list[Function]:
         ),
         Function(
             "stop_contact",
-            "Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of "
-            "the state); its zeros are the events of the regime.",
+            "Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi "
+            "ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.",
             tuple(eq.stop_contact),
             tuple(f"contact[{i}]" for i in range(len(eq.stop_contact))),
             tuple(contact[i] for i in range(len(eq.stop_contact))),
+        ),
+        Function(
+            "stop_approach",
+            "Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), "
+            "max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.",
+            tuple(eq.stop_approach),
+            tuple(f"ddelta[{i}]" for i in range(len(eq.stop_approach))),
+            tuple(sp.IndexedBase("ddelta")[i] for i in range(len(eq.stop_approach))),
         ),
         _scalar(
             "critical_tangent",
@@ -300,8 +309,8 @@ class Cse:
     def uses(self, names) -> list[str]:
         """Those of ``names`` that the expressions read, in the order of ``names``."""
         exprs = [b for _, b in self.subs] + list(self.outputs)
-        free = set().union(*(sp.sympify(e).free_symbols for e in exprs)) if exprs else set()
-        return [n for n in names if sp.Symbol(n, real=True) in free]
+        free = {str(a) for e in exprs for a in sp.sympify(e).free_symbols}
+        return [n for n in names if n in free]
 
 
 def common_subexpressions(outputs, start: int = 0) -> Cse:
@@ -445,10 +454,13 @@ class ModelContext:
     prepared : Prepared
         The functions split into the constants of a run and the rest.
     regime : tuple of str
-        The indicator of each stop side (``System.stops``), in the order of ``stop_gaps``.
+        The indicator of each stop side (``System.stops``), in the order of ``stop_gaps``,
+        then the memory ``v_in`` of each Hunt-Crossley side (none without one).
     state_regime : tuple of Expr
-        The regime of a state, each indicator from its contact (the bumper pushes):
-        what a function takes when it is given none.
+        The regime of a state, each indicator from its contact (the bumper pushes), each
+        memory as if a contact started there: what a function takes when it is given none.
+    stops : tuple of dict
+        Per stop side, its ``law`` and ``approach_floor`` (0 for Kelvin-Voigt).
     inputs_sha256 : str
         :func:`input_hash` of the spec and options.
     """
@@ -469,6 +481,7 @@ class ModelContext:
     prepared: Prepared
     regime: tuple
     state_regime: tuple
+    stops: tuple
     inputs_sha256: str
 
 
@@ -497,8 +510,12 @@ def model_context(eq: Equations, spec) -> ModelContext:
         functions=functions,
         cse=tuple(common_subexpressions(f.outputs) for f in functions),
         prepared=prepare_run(list(functions), state),
-        regime=tuple(str(on) for on, *_ in sysm.stops),
+        regime=tuple(str(on) for on, *_ in sysm.stops) + tuple(str(v) for v in eq.stop_memory),
         state_regime=tuple(eq.stop_regime),
+        stops=tuple(
+            {"law": pad.law, "approach_floor": pad.approach_floor if pad.hunt_crossley else 0.0}
+            for *_, pad in sysm.stops
+        ),
         inputs_sha256=input_hash(spec, eq.options),
     )
 
@@ -586,6 +603,7 @@ class NumpyGenerator(Generator):
         regime = _state_regime(m, printer)
         imports = sorted(set(printer.module_imports) | {"numpy"})
         fields = {"functions": funcs, "imports": imports, "regime": list(m.regime), "state_regime": regime}
+        fields["n_stops"] = len(m.stops)
         return {"model.py": self.render("numpy_model.py.j2", **fields)}
 
 
@@ -652,7 +670,9 @@ class CGenerator(Generator):
             "functions": funcs,
             "state_regime": _state_regime(m, printer),
             "n_constants": len(run.constants),
-            "n_stops": len(m.regime),
+            "n_stops": len(m.stops),
+            "n_regime": len(m.regime),
+            "stop_floors": ", ".join(repr(side["approach_floor"]) for side in m.stops),
             "prefix": m.name,
             "PREFIX": m.name.upper(),
         }
@@ -682,6 +702,13 @@ class LatexGenerator(Generator):
             names[ddq] = r"\ddot{" + sp.latex(q) + "}"
             names[_after_impact(dq)] = r"\dot{" + sp.latex(q) + "}^{+}"
         names.update({sp.Symbol(on, real=True): rf"\mathrm{{on}}_{{{i}}}" for i, on in enumerate(self.model.regime)})
+        names.update(
+            {
+                sp.Symbol(v, positive=True): rf"v_{{\mathrm{{in}},{v[4:]}}}"
+                for v in self.model.regime
+                if v.startswith("_vin")
+            }
+        )
 
         def tex(expr):
             return sp.latex(expr, symbol_names=names)
@@ -693,7 +720,8 @@ class LatexGenerator(Generator):
             sections.append({"name": f.name, "doc": f.doc, "equations": equations})
         coordinates = [sp.latex(q) for q, _, _ in self.model.kinematics]
         regime = [
-            (tex(sp.Symbol(on, real=True)), tex(expr)) for on, expr in zip(self.model.regime, self.model.state_regime)
+            (tex(sp.Symbol(on, positive=True) if on.startswith("_vin") else sp.Symbol(on, real=True)), tex(expr))
+            for on, expr in zip(self.model.regime, self.model.state_regime)
         ]
         fields = {"functions": sections, "coordinates_tex": coordinates, "regime": regime}
         return {"EQUATIONS.md": self.render("EQUATIONS.md.j2", **fields)}
@@ -720,6 +748,8 @@ class ManifestGenerator(Generator):
             "block_parameters": list(m.block_parameters),
             "arguments": [a.name for a in m.arguments],
             "functions": {f.name: {"outputs": len(f.outputs), "scalar": f.scalar, "doc": f.doc} for f in m.functions},
+            "regime": list(m.regime),
+            "stops": [dict(side) for side in m.stops],
             "files": {
                 "numpy": "model.py",
                 "c_source": f"{m.name}.c",

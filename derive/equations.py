@@ -14,7 +14,7 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .mechanics import System, ag, build_system, s
+from .mechanics import System, ag, build_system, pad_power, s
 from .spec import IMPACT_LAWS, INERTIA_OPTIONS, Spec, SpecError, nonnegative
 
 DEFAULT_OPTIONS = {"impact": "spec", "inertia": "free"}
@@ -69,11 +69,13 @@ class Equations:
         while it is > 0 (docs/model.md section 11); a runtime stops at its zeros.
     stop_forces : list of Expr
         Per side of every end stop, the bumper's force on the travel,
-        ``max(0, k_b delta + c_b ddelta)`` while ``delta > 0``, else 0 (positive:
-        pushes back; a pad only pushes).
+        ``max(0, k_b delta + c_b ddelta)`` (Hunt-Crossley: ``max(0, k_b delta^n (1 +
+        chi ddelta / v_in))``) while ``delta > 0``, else 0 (positive: pushes back; a
+        pad only pushes).
     stop_contact : list of Expr
-        Per side of every end stop, ``min(delta, k_b delta + c_b ddelta)``: > 0
-        exactly while its bumper pushes; a runtime stops at its zeros.
+        Per side of every end stop, ``min(delta, k_b delta + c_b ddelta)``
+        (Hunt-Crossley: ``min(delta, v_in + chi ddelta)``): > 0 exactly while its
+        bumper pushes; a runtime stops at its zeros.
     block_accelerations : list of Expr
         Absolute horizontal accelerations of the centre of the block's top side and of
         its centroid ``G``, each affine in the accelerations ``ddq``: the part free of
@@ -91,10 +93,17 @@ class Equations:
         plus the bumpers'.
     stop_regime : list of Expr
         Per side of every end stop, its indicator as the condition on the state:
-        1 while its bumper pushes (``stop_contact > 0``), else 0. The forcing, accelerations, uplift, energy and
-        power are written with the indicators themselves (``System.stops``), the
-        regime of the stops being an input like the pivot ``s``; this is the
-        regime of a state when no other is given.
+        1 while its bumper pushes (``stop_contact > 0``), else 0; then, per
+        Hunt-Crossley side, its memory ``v_in`` as ``max(ddelta, floor)``. The forcing,
+        accelerations, uplift, energy and power are written with the indicators and
+        memories themselves (``System.stops``), the regime of the stops being an input
+        like the pivot ``s``; this is the regime of a state when no other is given.
+    stop_memory : list of Symbol
+        The memory ``v_in`` of each Hunt-Crossley side, in side order: the regime's
+        inputs after the indicators.
+    stop_approach : list of Expr
+        Per side of every end stop, the rate of its penetration ``ddelta``: where a
+        contact starts (``ddelta >= 0``), ``max(ddelta, floor)`` is its ``v_in``.
     """
 
     system: System
@@ -119,6 +128,8 @@ class Equations:
     base_reaction: list = ()
     element_forces: list = ()
     stop_regime: list = ()
+    stop_memory: tuple = ()
+    stop_approach: tuple = ()
 
 
 def resolve_options(spec: Spec, options: dict | None) -> dict:
@@ -311,8 +322,8 @@ def _least_uplift_energy(E, u, z):
 def _stop_regions(sysm: System) -> list[dict]:
     """Every assignment of the stops' indicators with at most one side of each stop acting, all off first."""
     regions = [{}]
-    for on, *_, stop in sysm.stops:
-        sides = [o for o, *_, j in sysm.stops if j == stop]
+    for on, _, _, _, stop, _ in sysm.stops:
+        sides = [o for o, _, _, _, j, _ in sysm.stops if j == stop]
         regions = [{**r, on: 0} for r in regions] + [{**r, on: 1} for r in regions if not any(r.get(o) for o in sides)]
     return regions
 
@@ -419,13 +430,30 @@ def least_potentials(sysm: System, energy, spec: Spec, laws: dict) -> tuple:
     return least, stroke
 
 
-def stop_indicators(sysm: System, contacts: list) -> dict:
+def stop_memories(sysm: System, approaches: list) -> dict:
+    """Each Hunt-Crossley side's memory symbol ``v_in`` -> ``max(ddelta, floor)``: its value where a contact starts.
+
+    The memory of a state given no other: its contact taken to start there
+    (docs/model.md section 11, as at the start of a run).
+    """
+    return {
+        pad.approach: sp.Max(rate, sp.Float(pad.approach_floor))
+        for (*_, pad), rate in zip(sysm.stops, approaches)
+        if pad.hunt_crossley
+    }
+
+
+def stop_indicators(sysm: System, contacts: list, memory: dict) -> dict:
     """Each stop side's indicator symbol -> 1 while its bumper pushes (its ``contacts`` > 0), else 0.
 
-    The regime of a state. A pad pushes while the mass is beyond the gap and
-    ``k_b delta + c_b ddelta > 0``: an unbonded pad cannot pull (docs/model.md section 11).
+    The regime of a state (with the memory ``memory`` of :func:`stop_memories`). A pad pushes
+    while the mass is beyond the gap and its force is compressive: an unbonded pad cannot pull
+    (docs/model.md section 11).
     """
-    return {on: sp.Piecewise((1, contact > 0), (0, True)) for (on, *_), contact in zip(sysm.stops, contacts)}
+    return {
+        on: sp.Piecewise((1, contact.xreplace(memory) > 0), (0, True))
+        for (on, *_), contact in zip(sysm.stops, contacts)
+    }
 
 
 def in_penetrations(expr, sysm: System, vg):
@@ -465,20 +493,36 @@ def in_penetrations(expr, sysm: System, vg):
 def stop_gaps_and_forces(sysm: System, vg) -> tuple[list, list, list]:
     """Per stop side: the penetration, the bumper's force on it (0 while it does not push) and its contact.
 
-    The contact ``min(delta, k_b delta + c_b ddelta)`` is > 0 exactly where the
-    pad pushes: beyond the gap, with a compressive Kelvin-Voigt force. Its zeros
+    The contact ``min(delta, bracket)`` is > 0 exactly where the pad pushes:
+    beyond the gap, with a compressive force (:meth:`Pad.push`). Its zeros
     are the gap closing or opening and the force crossing 0, where the bumper's
     force has a kink: the events of the regime (docs/simulation.md, rule 6).
     """
     t_ = sysm.x_g.args[0]
     gaps = [_reduce(_to_symbols(delta, sysm, vg)) for _, delta, *_ in sysm.stops]
-    pushes = [
-        k * gap + c * _reduce(_to_symbols(delta.diff(t_), sysm, vg))
-        for (_, delta, k, c, _), gap in zip(sysm.stops, gaps)
-    ]
-    contacts = [sp.Min(gap, push) for gap, push in zip(gaps, pushes)]
+    brackets, pushes = [], []
+    for (_, delta, k, c, _, pad), gap in zip(sysm.stops, gaps):
+        bracket, push = pad.push(k, c, gap, _reduce(_to_symbols(delta.diff(t_), sysm, vg)))
+        brackets.append(bracket)
+        pushes.append(push)
+    contacts = [sp.Min(gap, bracket) for gap, bracket in zip(gaps, brackets)]
     forces = [on * push for (on, *_), push in zip(sysm.stops, pushes)]
     return gaps, forces, contacts
+
+
+def stop_approaches(sysm: System, vg) -> list:
+    """Per stop side, the rate of its penetration ``ddelta``: at a contact's start, the approach speed ``v_in``."""
+    t_ = sysm.x_g.args[0]
+    return [_reduce(_to_symbols(delta.diff(t_), sysm, vg)) for _, delta, *_ in sysm.stops]
+
+
+def clip_pad_powers(expr):
+    """``expr`` with every Hunt-Crossley power of a penetration written out as ``max(delta, 0)^p``, for the printers.
+
+    Where a side does not act its terms carry the factor ``on = 0``, but ``delta^n`` of a
+    negative ``delta`` is NaN, and ``0 NaN`` is NaN: clipped, the product is 0.
+    """
+    return expr.replace(lambda e: isinstance(e, pad_power), lambda e: sp.Max(e.args[0], 0) ** e.args[1])
 
 
 def affine_in_accelerations(expr, sysm: System) -> list:
@@ -622,11 +666,15 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
     energy, power = energy_and_power(sysm, vg)
     weights = _weights_moment(sysm)
     gaps, forces, contacts = stop_gaps_and_forces(sysm, vg)
-    on = stop_indicators(sysm, contacts)
+    approaches = stop_approaches(sysm, vg)
+    memory = stop_memories(sysm, approaches)
+    on = stop_indicators(sysm, contacts, memory)
+    # Forces read at a state in its own pushing, with the memory of the regime given (a contact's v_in).
+    pushing = stop_indicators(sysm, contacts, {})
 
     def where(expr):
         """``expr`` with its bumpers' terms in their penetrations, the indicators kept: the regime is an input."""
-        return in_penetrations(expr, sysm, vg) if on else expr
+        return clip_pad_powers(in_penetrations(expr, sysm, vg)) if on else expr
 
     stage("least potentials")
     least, stroke = least_potentials(sysm, energy, spec, opts["impact_laws"])
@@ -639,7 +687,7 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
     regimes = [f.applyfunc(where), [where(a) for a in rocking], [where(a) for a in contact]]
     regimes += [where(e) for e in (uplift, energy, power)]
     # Not in the inner loop of a runtime, and read at states of either regime (rule 6): from the state.
-    stop_forces = [where(force).xreplace(on) for force in forces]
+    stop_forces = [where(force).xreplace(pushing) for force in forces]
     stage("reactions")
     return Equations(
         uplift_energy=least_uplift,
@@ -663,6 +711,8 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
         block_accelerations=block_accelerations(sysm, vg),
         base_reaction=base_reaction(sysm, vg),
         # As the bumpers' forces: read at the states of a recorded history, in their own regime.
-        element_forces=[where(force).xreplace(on) for force in element_forces(sysm, vg)],
-        stop_regime=list(on.values()),
+        element_forces=[where(force).xreplace(pushing) for force in element_forces(sysm, vg)],
+        stop_regime=[*on.values(), *memory.values()],
+        stop_memory=tuple(memory),
+        stop_approach=tuple(approaches),
     )

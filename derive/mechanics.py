@@ -48,12 +48,12 @@ class System:
         absolute (with ``x_g``).
     top : Matrix
         Absolute position of the centre of the block's top side, block frame ``(0, H)``.
-    stops : tuple of (Symbol, Expr, Expr, Expr, int)
+    stops : tuple of (Symbol, Expr, Expr, Expr, int, Pad)
         One per side of every end stop: its indicator ``on`` (1 while the
         bumper acts, 0 elsewhere; a symbol while deriving), the penetration
         ``delta`` (written with the time functions ``qt``; the bumper acts
-        while it is > 0), the bumper's stiffness and damping, and the index
-        of its stop in the spec.
+        while it is > 0), the bumper's stiffness and damping, the index
+        of its stop in the spec, and its contact law (:class:`Pad`).
     """
 
     q: tuple
@@ -68,6 +68,81 @@ class System:
     bodies: tuple
     top: sp.Matrix
     stops: tuple = ()
+
+
+class pad_power(sp.Function):  # noqa: N801 - a SymPy function, named as SymPy's are
+    """``max(delta, 0)^p``: a Hunt-Crossley pad's power of its penetration.
+
+    A function of its own, not ``Pow``: SymPy differentiates ``delta^(n+1)`` into
+    ``(n+1) delta^(n+1) / delta``, which is 0/0 at contact; this one's derivative is
+    ``p max(delta, 0)^(p-1)``, and it is written out as ``Max(delta, 0)**p`` only
+    for the printers (:func:`rocking.derive.equations.clip_pad_powers`).
+    """
+
+    nargs = 2
+
+    def fdiff(self, argindex=1):
+        """``d/d delta``; the exponent is a parameter, never differentiated by Lagrange's equations."""
+        delta, p = self.args
+        if argindex != 1:
+            raise sp.ArgumentIndexError(self, argindex)
+        return p * pad_power(delta, p - 1)
+
+
+@dataclass(frozen=True)
+class Pad:
+    """The contact law of one stop side (docs/model.md section 11).
+
+    Attributes
+    ----------
+    law : str
+        ``"kelvin-voigt"`` or ``"hunt-crossley"``.
+    exponent, restitution : Expr
+        The Hunt-Crossley law's ``n`` and ``e_b`` (1 and 1 for Kelvin-Voigt).
+    approach : Symbol
+        The side's memory ``v_in``, the approach speed at the start of the contact,
+        an input like its indicator (``_vin<i>``).
+    approach_floor : float
+        The least ``v_in`` a runtime records.
+    """
+
+    law: str
+    exponent: sp.Expr
+    restitution: sp.Expr
+    approach: sp.Symbol
+    approach_floor: float
+
+    @property
+    def hunt_crossley(self) -> bool:
+        """Whether the pad follows the Hunt-Crossley law."""
+        return self.law == "hunt-crossley"
+
+    @property
+    def chi(self) -> sp.Expr:
+        """``3 (1 - e_b) / 2``, clipped at 0 so that no restitution can make the pad release energy."""
+        return sp.Rational(3, 2) * sp.Max(0, 1 - self.restitution)
+
+    def potential(self, k, delta):
+        """The pad's strain energy at the penetration ``delta`` while it pushes."""
+        n = self.exponent
+        return k * pad_power(delta, n + 1) / (n + 1) if self.hunt_crossley else k * delta**2 / 2
+
+    def dissipation(self, k, c, delta, rate):
+        """Its Rayleigh dissipation at ``delta`` and ``rate = ddelta`` while it pushes."""
+        if self.hunt_crossley:
+            return k * pad_power(delta, self.exponent) * self.chi * rate**2 / (2 * self.approach)
+        return c * rate**2 / 2
+
+    def push(self, k, c, delta, rate):
+        """The bracket whose sign says whether the pad pushes, and the force it pushes with (where ``delta > 0``).
+
+        Kelvin-Voigt: both ``k delta + c ddelta``. Hunt-Crossley: ``v_in + chi ddelta``
+        (a speed, the sign of ``1 + chi ddelta / v_in``) and ``k delta^n (1 + chi ddelta / v_in)``.
+        """
+        if self.hunt_crossley:
+            force = k * pad_power(delta, self.exponent) * (1 + self.chi * rate / self.approach)
+            return self.approach + self.chi * rate, force
+        return k * delta + c * rate, k * delta + c * rate
 
 
 def rotation(angle):
@@ -134,17 +209,28 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
     for el in spec.dashpots:
         D += el.coefficient * el.measure.subs(to_time).diff(t) ** 2 / 2
     sides = [
-        (sigma * stop.travel.subs(to_time) - stop.gap, stop.stiffness, stop.damping, j)
+        (sigma * stop.travel.subs(to_time) - stop.gap, stop.stiffness, stop.damping, j, stop)
         for j, stop in enumerate(spec.stops)
         for sigma in stop.sides
     ]
-    # A bumper acts beyond its gap only, while it pushes (docs/model.md section 11). Its potential k delta^2 / 2 has a
+    # A bumper acts beyond its gap only, while it pushes (docs/model.md section 11). Its potential has a
     # continuous derivative at delta = 0, so Lagrange's equations hold with the indicator "on" held
     # constant: the equations stay polynomial in it, and each region of the guide is a plain model.
-    stops = tuple((sp.Symbol(f"_on{i}", real=True), *side) for i, side in enumerate(sides))
-    for on, delta, stiffness, damping, _ in stops:
-        V += on * stiffness * delta**2 / 2
-        D += on * damping * delta.diff(t) ** 2 / 2
+    # A Hunt-Crossley pad's memory v_in is held constant likewise: it changes only at a contact's start.
+    stops = tuple(
+        (
+            sp.Symbol(f"_on{i}", real=True),
+            delta,
+            k,
+            c,
+            j,
+            Pad(stop.law, stop.exponent, stop.restitution, sp.Symbol(f"_vin{i}", positive=True), stop.approach_floor),
+        )
+        for i, (delta, k, c, j, stop) in enumerate(sides)
+    )
+    for on, delta, stiffness, damping, _, pad in stops:
+        V += on * pad.potential(stiffness, delta)
+        D += on * pad.dissipation(stiffness, damping, delta, delta.diff(t))
 
     params = tuple(block.values()) + tuple(own.values())
     return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), place((0, H)), stops)

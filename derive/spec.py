@@ -93,6 +93,12 @@ class Element:
 
 #: Sides of a stop: ``upper`` acts while ``travel > gap``, ``lower`` while ``travel < -gap``.
 STOP_SIDES = {"both": (1, -1), "upper": (1,), "lower": (-1,)}
+#: Contact laws of a stop's pads (docs/model.md section 11): the keys each needs besides gap and stiffness.
+STOP_LAWS = {"kelvin-voigt": ("damping",), "hunt-crossley": ("exponent", "restitution")}
+#: Least approach speed of a Hunt-Crossley pad, in the travel's unit per second, unless its stop
+#: declares ``approach_floor``: below it the law's damping ``~ 1 / v_in`` would make the
+#: equations as stiff as the contact is slow (docs/model.md section 11).
+HC_APPROACH_FLOOR = 1e-3
 
 
 @dataclass(frozen=True)
@@ -100,10 +106,14 @@ class Stop:
     """End stops on a travel of the attached bodies (docs/model.md section 11): compliant bumpers.
 
     Beyond the gap, the penetration ``delta = sigma travel - gap`` (``sigma = +1``
-    for the upper stop, ``-1`` for the lower one) stores ``stiffness delta^2 / 2``
-    and dissipates ``damping ddelta^2 / 2`` while the pad pushes (a compression-only
-    Kelvin-Voigt bumper: force ``max(0, stiffness delta + damping ddelta)``); inside
-    the gap the stop does nothing.
+    for the upper stop, ``-1`` for the lower one) loads a pad while it pushes; inside
+    the gap the stop does nothing. ``law`` ``"kelvin-voigt"``: the pad stores
+    ``stiffness delta^2 / 2`` and dissipates ``damping ddelta^2 / 2`` (force
+    ``max(0, stiffness delta + damping ddelta)``). ``"hunt-crossley"``: it stores
+    ``stiffness delta^(n+1) / (n+1)`` (``n`` the ``exponent``) and dissipates
+    ``stiffness delta^n chi ddelta^2 / (2 v_in)``, ``chi = 3 (1 - restitution) / 2``,
+    ``v_in`` the approach speed of the contact, at least ``approach_floor`` (force
+    ``max(0, stiffness delta^n (1 + chi ddelta / v_in))``); ``damping`` is then 0.
     """
 
     name: str
@@ -113,6 +123,10 @@ class Stop:
     travel: sp.Expr
     sides: tuple[int, ...]
     acts_on: str
+    law: str = "kelvin-voigt"
+    exponent: sp.Expr = sp.Integer(1)
+    restitution: sp.Expr = sp.Integer(1)
+    approach_floor: float = HC_APPROACH_FLOOR
 
 
 @dataclass(frozen=True)
@@ -358,7 +372,8 @@ def _stop(i: int, table: dict, bodies: list[str], coords: tuple, known) -> Stop:
         travel that moves with no attached coordinate.
     """
     where = f"stops[{i}]"
-    keys = {"name", "gap", "stiffness", "damping", "travel", "sides", "acts_on"}
+    keys = {"name", "gap", "stiffness", "damping", "travel", "sides", "acts_on", "law"}
+    keys |= {"exponent", "restitution", "approach_floor"}
     _check_keys(_table(table, where), keys, where)
     name = check_text(table.get("name", f"stops{i}"), f"{where} name", "label")
     where = f"stop {name!r}"
@@ -371,13 +386,37 @@ def _stop(i: int, table: dict, bodies: list[str], coords: tuple, known) -> Stop:
     travel = _expr(_require(table, "travel", where), f"{where} travel", known)
     if not {str(a) for a in travel.free_symbols} & set(coords):
         raise SpecError(f"{where}: travel {quote(str(travel))} moves with no coordinate of {', '.join(coords)}")
+    law = table.get("law", "kelvin-voigt")
+    if not isinstance(law, str) or law not in STOP_LAWS:
+        raise SpecError(f"{where}: unknown law {quote(law)}; choose one of {', '.join(STOP_LAWS)}")
+    own = {k for laws in STOP_LAWS.values() for k in laws} | {"approach_floor"}
+    allowed = set(STOP_LAWS[law]) | ({"approach_floor"} if law == "hunt-crossley" else set())
+    extra = sorted((own - allowed) & set(table))
+    if extra:
+        raise SpecError(
+            f"{where}: {', '.join(extra)} is not a key of the {law} law; it takes {', '.join(sorted(allowed))}"
+        )
+    fields = {k: _expr(_require(table, k, where), f"{where} {k}", known) for k in ("gap", "stiffness", *STOP_LAWS[law])}
     return Stop(
         name,
-        *(_expr(_require(table, k, where), f"{where} {k}", known) for k in ("gap", "stiffness", "damping")),
+        fields["gap"],
+        fields["stiffness"],
+        fields.get("damping", sp.Integer(0)),
         travel,
         STOP_SIDES[sides],
         acts_on,
+        law,
+        fields.get("exponent", sp.Integer(1)),
+        fields.get("restitution", sp.Integer(1)),
+        _approach_floor(table.get("approach_floor", HC_APPROACH_FLOOR), where),
     )
+
+
+def _approach_floor(value, where: str) -> float:
+    """A Hunt-Crossley stop's least approach speed: a number > 0."""
+    if isinstance(value, bool) or not isinstance(value, (int, float)) or not 0 < value < float("inf"):
+        raise SpecError(f"{where}: approach_floor must be a number > 0 (got {quote(value)})")
+    return float(value)
 
 
 def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
@@ -471,10 +510,11 @@ def _ranges(expr: sp.Expr, parameters) -> str:
 
 
 def _check_stops_nonnegative(spec: Spec) -> None:
-    """A stop's gap, stiffness and damping must be >= 0 for every parameter in its declared valid range.
+    """A stop's gap, stiffness and its law's own fields must be >= 0 for every parameter in its declared valid range.
 
     A negative gap puts the bumper inside the free travel, a negative stiffness or damping makes it
-    release energy: the runtime's bounds (docs/simulation.md, rule 4) assume neither.
+    release energy: the runtime's bounds (docs/simulation.md, rule 4) assume neither. A Hunt-Crossley
+    pad's restitution above 1 would release energy too: its law clips ``1 - restitution`` at 0.
 
     Raises
     ------
@@ -482,7 +522,7 @@ def _check_stops_nonnegative(spec: Spec) -> None:
         Naming the stop, the field, the expression and the ranges it was read with.
     """
     for stop in spec.stops:
-        for field_name in ("gap", "stiffness", "damping"):
+        for field_name in ("gap", "stiffness", *STOP_LAWS[stop.law]):
             expr = getattr(stop, field_name)
             if not nonnegative(expr, spec.all_parameters):
                 raise SpecError(

@@ -187,6 +187,10 @@ class _Weights:
     def stop_contact(v):
         return ()
 
+    @staticmethod
+    def stop_approach(v):
+        return ()
+
 
 # ----------------------------------------------------------------------------- pendulum
 class Pendulum(_Weights):

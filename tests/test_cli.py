@@ -260,8 +260,8 @@ def test_simulate_bad_input_names_the_parameter(argv, message, capsys):
 def test_verify_command_reports_agreement(capsys):
     assert main(["verify", "--cases", "200"]) == 0
     out = capsys.readouterr().out
-    assert all(f"model {name}:" in out for name in ("omd", "omd_stops", "block"))
-    assert len(re.findall(r"^\d+ passed, 0 failed", out, re.M)) == 3
+    assert all(f"model {name}:" in out for name in ("omd", "omd_stops", "omd_stops_hc", "block"))
+    assert len(re.findall(r"^\d+ passed, 0 failed", out, re.M)) == 4
 
 
 def test_derive_is_the_derive_packages_command_line(capsys):

@@ -18,7 +18,7 @@ from rocking.reference.verify import BY_HAND, TOLERANCE, random_cases, verify
 def test_generated_numpy_matches_model_md(name):
     checks = verify(load_model(name), n=1000, seed=1)
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 38 and not bad, bad
+    assert len(checks) == 40 and not bad, bad
 
 
 @pytest.mark.parametrize("name", BY_HAND)
@@ -27,7 +27,7 @@ def test_generated_c_matches_model_md(name, c_model):
     model = load_model(name)
     checks = verify(model, n=1000, seed=2, evaluate=c_model(name))
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 38 and not bad, bad
+    assert len(checks) == 40 and not bad, bad
 
 
 def _reference_params(**over):

@@ -64,3 +64,21 @@ def test_the_readme_simulate_output_is_what_simulate_prints(capsys):
     stops = capsys.readouterr().out
     for quoted in ("OVERTURNS at t = 2.3420 s;", "2 stop contact(s), bumper force max 9180 N"):
         assert quoted in stops and quoted in text, quoted
+    assert main([*argv, "--stops", "--bumper-law", "hunt-crossley"]) == 0
+    pads = capsys.readouterr().out
+    for quoted in ("OVERTURNS at t = 2.3033 s;", "2 stop contact(s), bumper force max 9847 N"):
+        assert quoted in pads and quoted in text, quoted
+
+
+def test_the_readme_speed_figures_are_those_of_the_last_bench_run():
+    """The block of the README's Speed section is bench/readme.py's rendering of bench/last.json, the figures
+    the last `make bench` wrote: a figure typed by hand, or left from an older run, fails here."""
+    import json
+    import sys
+
+    sys.path.insert(0, str(README.parent / "bench"))
+    import readme
+
+    last = json.loads((README.parent / "bench" / "last.json").read_text())
+    assert readme.block(README.read_text(encoding="utf-8")) == readme.render(last)
+    assert last["machine"]["date"] in readme.render(last)

@@ -349,7 +349,7 @@ void block_stop_forces(double s, const double *y, double ag, const double *p, do
     block_stop_forces_prepared(y, ag, cst, out);
 }
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * From the constants of block_prepare(s, on, p, cst). */
 void block_stop_contact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -359,12 +359,30 @@ void block_stop_contact_prepared(const double *y, double ag, const double *cst, 
     (void)out;
 }
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
 void block_stop_contact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[BLOCK_NK];
     block_prepare(s, NULL, p, cst);
     block_stop_contact_prepared(y, ag, cst, out);
+}
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * From the constants of block_prepare(s, on, p, cst). */
+void block_stop_approach_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)y;
+    (void)cst;
+    (void)out;
+}
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in. */
+void block_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[BLOCK_NK];
+    block_prepare(s, NULL, p, cst);
+    block_stop_approach_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.

@@ -14,10 +14,12 @@
  * stops (all that depends on s, on and p alone), and
  * block_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
- *   on  regime of the end stops, BLOCK_NSTOPS doubles (NULL if none): per side
+ *   on  regime of the end stops, BLOCK_NREGIME doubles (NULL if none): per side
  *       of each stop (the outputs of block_stop_gaps), 1 while its bumper acts
- *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
- *       where its contact (block_stop_contact) is > 0.
+ *       (pushes), else 0; then, if BLOCK_NREGIME > BLOCK_NSTOPS, per side the
+ *       memory v_in of a Hunt-Crossley pad (its approach speed, at least its
+ *       BLOCK_STOP_FLOORS). The unprepared functions take the regime of y: a side
+ *       acts where its contact (block_stop_contact) is > 0, a contact taken to start at y.
  * Derivation options: {"impact": "spec", "impact_laws": {}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_BLOCK_H
@@ -28,6 +30,7 @@
 #define BLOCK_NP 6
 #define BLOCK_NK 33
 #define BLOCK_NSTOPS 0
+#define BLOCK_NREGIME 0
 #define BLOCK_Y_theta 0
 #define BLOCK_Y_dtheta 1
 #define BLOCK_P_M 0
@@ -103,10 +106,15 @@ void block_stop_gaps_prepared(const double *y, double ag, const double *cst, dou
 void block_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void block_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * out:  */
 void block_stop_contact(double s, const double *y, double ag, const double *p, double *out);
 void block_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * out:  */
+void block_stop_approach(double s, const double *y, double ag, const double *p, double *out);
+void block_stop_approach_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double block_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -134,6 +142,7 @@ void block_element_forces_prepared(const double *y, double ag, const double *cst
 #define MODEL_NP BLOCK_NP
 #define MODEL_NK BLOCK_NK
 #define MODEL_NSTOPS BLOCK_NSTOPS
+#define MODEL_NREGIME BLOCK_NREGIME
 /* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
 #define MODEL_P_GRAVITY BLOCK_P_g
 #define model_prepare block_prepare
@@ -167,6 +176,8 @@ void block_element_forces_prepared(const double *y, double ag, const double *cst
 #define model_stop_forces_prepared block_stop_forces_prepared
 #define model_stop_contact block_stop_contact
 #define model_stop_contact_prepared block_stop_contact_prepared
+#define model_stop_approach block_stop_approach
+#define model_stop_approach_prepared block_stop_approach_prepared
 #define model_critical_tangent block_critical_tangent
 #define model_critical_tangent_prepared block_critical_tangent_prepared
 #define model_block_accelerations block_block_accelerations

@@ -22,8 +22,9 @@ h          height of the guide above the top side of the block [m]
 k_m        stiffness of the damper spring [N/m]
 c          damping coefficient of the damper dashpot [N s/m]
 stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
-           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
-           where its contact, stop_contact, is > 0)
+           its bumper acts, else 0 (keyword,
+           default None: the regime of the state, each side acting where its contact, stop_contact,
+           is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
 """
@@ -852,7 +853,56 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, s
 
 
 def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
-    """Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+    """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    return out
+
+
+def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
     ----------

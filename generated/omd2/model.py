@@ -27,8 +27,9 @@ m2         mid-height mass [kg]
 k2         stiffness of the mid-height spring [N/m]
 c2         damping of the mid-height dashpot [N s/m]
 stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
-           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
-           where its contact, stop_contact, is > 0)
+           its bumper acts, else 0 (keyword,
+           default None: the regime of the state, each side acting where its contact, stop_contact,
+           is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x1": "momentum", "x2": "momentum"}, "inertia": "free"}
 """
@@ -1041,7 +1042,66 @@ def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
 
 
 def stop_contact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
-    """Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+    """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x1 : array_like
+        coordinate x1 of the attached bodies
+    x2 : array_like
+        coordinate x2 of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx1 : array_like
+        time derivative of x1
+    dx2 : array_like
+        time derivative of x2
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m1 : array_like
+        top mass [kg]
+    h : array_like
+        height of the top guide above the top side of the block [m]
+    k1 : array_like
+        stiffness of the top spring [N/m]
+    c1 : array_like
+        damping of the top dashpot [N s/m]
+    m2 : array_like
+        mid-height mass [kg]
+    k2 : array_like
+        stiffness of the mid-height spring [N/m]
+    c2 : array_like
+        damping of the mid-height dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    return out
+
+
+def stop_approach(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
     ----------

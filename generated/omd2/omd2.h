@@ -14,10 +14,12 @@
  * stops (all that depends on s, on and p alone), and
  * omd2_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
- *   on  regime of the end stops, OMD2_NSTOPS doubles (NULL if none): per side
+ *   on  regime of the end stops, OMD2_NREGIME doubles (NULL if none): per side
  *       of each stop (the outputs of omd2_stop_gaps), 1 while its bumper acts
- *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
- *       where its contact (omd2_stop_contact) is > 0.
+ *       (pushes), else 0; then, if OMD2_NREGIME > OMD2_NSTOPS, per side the
+ *       memory v_in of a Hunt-Crossley pad (its approach speed, at least its
+ *       OMD2_STOP_FLOORS). The unprepared functions take the regime of y: a side
+ *       acts where its contact (omd2_stop_contact) is > 0, a contact taken to start at y.
  * Derivation options: {"impact": "spec", "impact_laws": {"x1": "momentum", "x2": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD2_H
@@ -28,6 +30,7 @@
 #define OMD2_NP 13
 #define OMD2_NK 77
 #define OMD2_NSTOPS 0
+#define OMD2_NREGIME 0
 #define OMD2_Y_theta 0
 #define OMD2_Y_x1 1
 #define OMD2_Y_x2 2
@@ -114,10 +117,15 @@ void omd2_stop_gaps_prepared(const double *y, double ag, const double *cst, doub
 void omd2_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * out:  */
 void omd2_stop_contact(double s, const double *y, double ag, const double *p, double *out);
 void omd2_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * out:  */
+void omd2_stop_approach(double s, const double *y, double ag, const double *p, double *out);
+void omd2_stop_approach_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double omd2_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -145,6 +153,7 @@ void omd2_element_forces_prepared(const double *y, double ag, const double *cst,
 #define MODEL_NP OMD2_NP
 #define MODEL_NK OMD2_NK
 #define MODEL_NSTOPS OMD2_NSTOPS
+#define MODEL_NREGIME OMD2_NREGIME
 /* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
 #define MODEL_P_GRAVITY OMD2_P_g
 #define model_prepare omd2_prepare
@@ -178,6 +187,8 @@ void omd2_element_forces_prepared(const double *y, double ag, const double *cst,
 #define model_stop_forces_prepared omd2_stop_forces_prepared
 #define model_stop_contact omd2_stop_contact
 #define model_stop_contact_prepared omd2_stop_contact_prepared
+#define model_stop_approach omd2_stop_approach
+#define model_stop_approach_prepared omd2_stop_approach_prepared
 #define model_critical_tangent omd2_critical_tangent
 #define model_critical_tangent_prepared omd2_critical_tangent_prepared
 #define model_block_accelerations omd2_block_accelerations

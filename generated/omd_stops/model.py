@@ -25,8 +25,9 @@ L          half-stroke: free travel of the mass from the centre line to either b
 k_b        stiffness of each bumper [N/m]
 c_b        damping coefficient of each bumper [N s/m]
 stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
-           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
-           where its contact, stop_contact, is > 0)
+           its bumper acts, else 0 (keyword,
+           default None: the regime of the state, each side acting where its contact, stop_contact,
+           is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
 """
@@ -1017,7 +1018,7 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
 
 
 def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+    """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
     ----------
@@ -1071,6 +1072,61 @@ def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, 
     cse1 = c_b*dx
     cse2 = -L - x
     out = _broadcast((functools.reduce(numpy.minimum, [cse0, cse0*k_b + cse1]), functools.reduce(numpy.minimum, [cse2, -cse1 + cse2*k_b]), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    return out
+
+
+def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddelta[0], ddelta[1]
+    """
+    out = _broadcast((dx, -dx, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 

@@ -203,7 +203,8 @@ void omd_stops_prepare(double s, const double *on, const double *p, double *cst)
     cst[66] = -k_b;
 }
 
-/* The regime of the state y: each stop side acts where its contact is > 0 (it pushes). */
+/* The regime of the state y: each stop side acts where its contact is > 0 (it pushes), a
+ * Hunt-Crossley pad's contact taken to start at y. */
 static void omd_stops_state_regime(const double *y, const double *p, double *on)
 {
     const double x = y[1];
@@ -239,7 +240,7 @@ void omd_stops_mass_matrix_prepared(const double *y, double ag, const double *cs
 void omd_stops_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_mass_matrix_prepared(y, ag, cst, out);
@@ -284,7 +285,7 @@ void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, d
 void omd_stops_forcing(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_forcing_prepared(y, ag, cst, out);
@@ -335,7 +336,7 @@ void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *
 void omd_stops_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_rocking_accel_prepared(y, ag, cst, out);
@@ -363,7 +364,7 @@ void omd_stops_contact_accel_prepared(const double *y, double ag, const double *
 void omd_stops_contact_accel(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_contact_accel_prepared(y, ag, cst, out);
@@ -390,7 +391,7 @@ double omd_stops_uplift_prepared(const double *y, double ag, const double *cst)
 double omd_stops_uplift(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_uplift_prepared(y, ag, cst);
@@ -422,7 +423,7 @@ void omd_stops_impact_prepared(const double *y, double ag, const double *cst, do
 void omd_stops_impact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_impact_prepared(y, ag, cst, out);
@@ -462,7 +463,7 @@ double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
 double omd_stops_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_energy_prepared(y, ag, cst);
@@ -491,7 +492,7 @@ double omd_stops_power_prepared(const double *y, double ag, const double *cst)
 double omd_stops_power(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_power_prepared(y, ag, cst);
@@ -512,7 +513,7 @@ double omd_stops_uplift_energy_prepared(const double *y, double ag, const double
 double omd_stops_uplift_energy(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_uplift_energy_prepared(y, ag, cst);
@@ -537,7 +538,7 @@ double omd_stops_least_potential_prepared(const double *y, double ag, const doub
 double omd_stops_least_potential(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_least_potential_prepared(y, ag, cst);
@@ -563,7 +564,7 @@ double omd_stops_least_stroke_potential_prepared(const double *y, double ag, con
 double omd_stops_least_stroke_potential(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_least_stroke_potential_prepared(y, ag, cst);
@@ -586,7 +587,7 @@ double omd_stops_critical_angle_prepared(const double *y, double ag, const doubl
 double omd_stops_critical_angle(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_critical_angle_prepared(y, ag, cst);
@@ -608,7 +609,7 @@ void omd_stops_stop_gaps_prepared(const double *y, double ag, const double *cst,
 void omd_stops_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_stop_gaps_prepared(y, ag, cst, out);
@@ -638,13 +639,13 @@ void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cs
 void omd_stops_stop_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_stop_forces_prepared(y, ag, cst, out);
 }
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_stop_contact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -661,15 +662,37 @@ void omd_stops_stop_contact_prepared(const double *y, double ag, const double *c
     out[1] = fmin(cse1, cse1*cst44 + cst45*dx);
 }
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
 void omd_stops_stop_contact(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_stop_contact_prepared(y, ag, cst, out);
+}
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * From the constants of omd_stops_prepare(s, on, p, cst). */
+void omd_stops_stop_approach_prepared(const double *y, double ag, const double *cst, double *out)
+{
+    (void)ag;
+    (void)cst;
+    const double dx = y[3];
+    out[0] = dx;
+    out[1] = -dx;
+}
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * In the regime of the state y: each stop side acts where its contact is > 0. */
+void omd_stops_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+{
+    double cst[OMD_STOPS_NK];
+    double on[OMD_STOPS_NREGIME];
+    omd_stops_state_regime(y, p, on);
+    omd_stops_prepare(s, on, p, cst);
+    omd_stops_stop_approach_prepared(y, ag, cst, out);
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
@@ -690,7 +713,7 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
 double omd_stops_critical_tangent(double s, const double *y, double ag, const double *p)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_critical_tangent_prepared(y, ag, cst);
@@ -726,7 +749,7 @@ void omd_stops_block_accelerations_prepared(const double *y, double ag, const do
 void omd_stops_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_block_accelerations_prepared(y, ag, cst, out);
@@ -793,7 +816,7 @@ void omd_stops_base_reaction_prepared(const double *y, double ag, const double *
 void omd_stops_base_reaction(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_base_reaction_prepared(y, ag, cst, out);
@@ -827,7 +850,7 @@ void omd_stops_element_forces_prepared(const double *y, double ag, const double 
 void omd_stops_element_forces(double s, const double *y, double ag, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
-    double on[OMD_STOPS_NSTOPS];
+    double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_element_forces_prepared(y, ag, cst, out);

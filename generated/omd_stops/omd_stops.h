@@ -14,10 +14,12 @@
  * stops (all that depends on s, on and p alone), and
  * omd_stops_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
- *   on  regime of the end stops, OMD_STOPS_NSTOPS doubles (NULL if none): per side
+ *   on  regime of the end stops, OMD_STOPS_NREGIME doubles (NULL if none): per side
  *       of each stop (the outputs of omd_stops_stop_gaps), 1 while its bumper acts
- *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
- *       where its contact (omd_stops_stop_contact) is > 0.
+ *       (pushes), else 0; then, if OMD_STOPS_NREGIME > OMD_STOPS_NSTOPS, per side the
+ *       memory v_in of a Hunt-Crossley pad (its approach speed, at least its
+ *       OMD_STOPS_STOP_FLOORS). The unprepared functions take the regime of y: a side
+ *       acts where its contact (omd_stops_stop_contact) is > 0, a contact taken to start at y.
  * Derivation options: {"impact": "spec", "impact_laws": {"x": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_OMD_STOPS_H
@@ -28,6 +30,7 @@
 #define OMD_STOPS_NP 13
 #define OMD_STOPS_NK 67
 #define OMD_STOPS_NSTOPS 2
+#define OMD_STOPS_NREGIME 2
 #define OMD_STOPS_Y_theta 0
 #define OMD_STOPS_Y_x 1
 #define OMD_STOPS_Y_dtheta 2
@@ -112,10 +115,15 @@ void omd_stops_stop_gaps_prepared(const double *y, double ag, const double *cst,
 void omd_stops_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * out: contact[0], contact[1] */
 void omd_stops_stop_contact(double s, const double *y, double ag, const double *p, double *out);
 void omd_stops_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * out: ddelta[0], ddelta[1] */
+void omd_stops_stop_approach(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_stop_approach_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double omd_stops_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -143,6 +151,7 @@ void omd_stops_element_forces_prepared(const double *y, double ag, const double 
 #define MODEL_NP OMD_STOPS_NP
 #define MODEL_NK OMD_STOPS_NK
 #define MODEL_NSTOPS OMD_STOPS_NSTOPS
+#define MODEL_NREGIME OMD_STOPS_NREGIME
 /* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
 #define MODEL_P_GRAVITY OMD_STOPS_P_g
 #define model_prepare omd_stops_prepare
@@ -176,6 +185,8 @@ void omd_stops_element_forces_prepared(const double *y, double ag, const double 
 #define model_stop_forces_prepared omd_stops_stop_forces_prepared
 #define model_stop_contact omd_stops_stop_contact
 #define model_stop_contact_prepared omd_stops_stop_contact_prepared
+#define model_stop_approach omd_stops_stop_approach
+#define model_stop_approach_prepared omd_stops_stop_approach_prepared
 #define model_critical_tangent omd_stops_critical_tangent
 #define model_critical_tangent_prepared omd_stops_critical_tangent_prepared
 #define model_block_accelerations omd_stops_block_accelerations

@@ -24,8 +24,9 @@ y_p        hinge, height above the base [m]
 k_phi      rotational spring on phi [N m/rad]
 c_phi      rotational dashpot on phi [N m s/rad]
 stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
-           its bumper acts, else 0 (keyword, default None: the regime of the state, each side acting
-           where its contact, stop_contact, is > 0)
+           its bumper acts, else 0 (keyword,
+           default None: the regime of the state, each side acting where its contact, stop_contact,
+           is > 0)
 
 Derivation options: {"impact": "spec", "impact_laws": {"phi": "momentum"}, "inertia": "free"}
 """
@@ -927,7 +928,60 @@ def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
 
 
 def stop_contact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
-    """Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+    """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    phi : array_like
+        coordinate phi of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dphi : array_like
+        time derivative of phi
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        pendulum mass [kg]
+    l : array_like
+        rod length [m]
+    x_p : array_like
+        hinge, horizontal position from the centre of the base [m]
+    y_p : array_like
+        hinge, height above the base [m]
+    k_phi : array_like
+        rotational spring on phi [N m/rad]
+    c_phi : array_like
+        rotational dashpot on phi [N m s/rad]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        
+    """
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    return out
+
+
+def stop_approach(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
     ----------

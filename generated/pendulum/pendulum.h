@@ -14,10 +14,12 @@
  * stops (all that depends on s, on and p alone), and
  * pendulum_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
  * for a loop over states with the same s, on and p.
- *   on  regime of the end stops, PENDULUM_NSTOPS doubles (NULL if none): per side
+ *   on  regime of the end stops, PENDULUM_NREGIME doubles (NULL if none): per side
  *       of each stop (the outputs of pendulum_stop_gaps), 1 while its bumper acts
- *       (pushes), else 0. The unprepared functions take the regime of y: a side acts
- *       where its contact (pendulum_stop_contact) is > 0.
+ *       (pushes), else 0; then, if PENDULUM_NREGIME > PENDULUM_NSTOPS, per side the
+ *       memory v_in of a Hunt-Crossley pad (its approach speed, at least its
+ *       PENDULUM_STOP_FLOORS). The unprepared functions take the regime of y: a side
+ *       acts where its contact (pendulum_stop_contact) is > 0, a contact taken to start at y.
  * Derivation options: {"impact": "spec", "impact_laws": {"phi": "momentum"}, "inertia": "free"}
  */
 #ifndef ROCKING_MODEL_PENDULUM_H
@@ -28,6 +30,7 @@
 #define PENDULUM_NP 12
 #define PENDULUM_NK 78
 #define PENDULUM_NSTOPS 0
+#define PENDULUM_NREGIME 0
 #define PENDULUM_Y_theta 0
 #define PENDULUM_Y_phi 1
 #define PENDULUM_Y_dtheta 2
@@ -111,10 +114,15 @@ void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, 
 void pendulum_stop_forces(double s, const double *y, double ag, const double *p, double *out);
 void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Contact of each bumper, min(delta, k_b delta + c_b ddelta): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
+/* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * out:  */
 void pendulum_stop_contact(double s, const double *y, double ag, const double *p, double *out);
 void pendulum_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
+
+/* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
+ * out:  */
+void pendulum_stop_approach(double s, const double *y, double ag, const double *p, double *out);
+void pendulum_stop_approach_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
 double pendulum_critical_tangent(double s, const double *y, double ag, const double *p);
@@ -142,6 +150,7 @@ void pendulum_element_forces_prepared(const double *y, double ag, const double *
 #define MODEL_NP PENDULUM_NP
 #define MODEL_NK PENDULUM_NK
 #define MODEL_NSTOPS PENDULUM_NSTOPS
+#define MODEL_NREGIME PENDULUM_NREGIME
 /* Gravity, which scales the weights' potential alone (the early verdict's bound on an arc of tilts). */
 #define MODEL_P_GRAVITY PENDULUM_P_g
 #define model_prepare pendulum_prepare
@@ -175,6 +184,8 @@ void pendulum_element_forces_prepared(const double *y, double ag, const double *
 #define model_stop_forces_prepared pendulum_stop_forces_prepared
 #define model_stop_contact pendulum_stop_contact
 #define model_stop_contact_prepared pendulum_stop_contact_prepared
+#define model_stop_approach pendulum_stop_approach
+#define model_stop_approach_prepared pendulum_stop_approach_prepared
 #define model_critical_tangent pendulum_critical_tangent
 #define model_critical_tangent_prepared pendulum_critical_tangent_prepared
 #define model_block_accelerations pendulum_block_accelerations

@@ -24,6 +24,8 @@ from ..model.params import (
     BUMPER_DAMPING_RATIO,
     BUMPER_DEPTH,
     BUMPER_FREQUENCY_RATIO,
+    BUMPER_LAWS,
+    BUMPER_RESTITUTION,
     RANGES,
     Damper,
     ParameterError,
@@ -135,27 +137,39 @@ def _damper(args, block) -> Damper | dict | None:
 
 #: End-stop options of simulate, rocking.Stops(L, k_b, c_b): each replaces the value of --stops (Stops.at_edges).
 STOP_OPTIONS = ("L", "k_b", "c_b")
+#: Options of the Hunt-Crossley pads (--bumper-law hunt-crossley, which they imply): Stops(n=, e_b=).
+HC_OPTIONS = ("n_b", "e_b")
 
 
 def _with_stops(args, block, damper):
-    """``damper`` with the end stops of the options (``--stops``, ``--L``, ``--k-b``, ``--c-b``), or as it is."""
-    own = given(args, STOP_OPTIONS)
-    if not (args.stops or own):
+    """``damper`` with the end stops of the options (``--stops``, ``--L``, ``--k-b``, ``--c-b``, ``--bumper-law``,
+    ``--n-b``, ``--e-b``), or as it is."""
+    own, hc = given(args, STOP_OPTIONS), given(args, HC_OPTIONS)
+    law = given(args, ("bumper_law",))
+    if not (args.stops or own or hc or law):
         return damper
-    named = flags([*(["stops"] if args.stops else []), *own])
+    named = flags([*(["stops"] if args.stops else []), *own, *law, *hc])
     if not isinstance(damper, Damper) or damper.m == 0.0:
         raise ParameterError(
             f"{named}: end stops of the damper's guide: give the damper (--gamma or --m); "
             "a variant (--param) takes L, k_b, c_b as --param NAME=VALUE"
         )
-    if args.model not in (None, "omd_stops"):
-        raise ParameterError(f"{named}: end stops run on the model omd_stops (got --model {args.model})")
-    return replace(damper, stops=_stops(block, damper, own))
+    law = law.get("bumper_law", "hunt-crossley" if hc else "kelvin-voigt")
+    if hc and law != "hunt-crossley":
+        raise ParameterError(f"{flags(hc)}: parameters of the Hunt-Crossley pads (--bumper-law hunt-crossley)")
+    stops = _stops(block, damper, own, law, {"n" if k == "n_b" else k: v for k, v in hc.items()})
+    if args.model not in (None, stops.model):
+        raise ParameterError(f"{named}: end stops run on the model {stops.model} (got --model {args.model})")
+    return replace(damper, stops=stops)
 
 
-def _stops(block, damper: Damper, own: dict) -> Stops:
-    """``Stops.at_edges(block, damper)`` with the ``own`` values of ``L``, ``k_b``, ``c_b`` in place of its; without
-    ``c_b``, the pads' damping ratio on the bumpers' ``k_b``."""
+def _stops(block, damper: Damper, own: dict, law: str = "kelvin-voigt", hc: dict | None = None) -> Stops:
+    """``Stops.at_edges(block, damper, law=law, **hc)`` with the ``own`` values of ``L``, ``k_b``, ``c_b`` in place
+    of its; without ``c_b``, the Kelvin-Voigt pads' damping ratio on the bumpers' ``k_b``."""
+    if law == "hunt-crossley":
+        edges = call_with(Stops.at_edges, {"law": law, **(hc or {})}, "end stops", block, damper)
+        values = {"L": edges.L, "k_b": edges.k_b, "law": law, "n": edges.n, "e_b": edges.e_b, **own}
+        return call_with(Stops, values, "end stops")
     values = {**Stops.at_edges(block, damper).as_params(), **own}
     if "c_b" not in own:
         values["c_b"] = 2 * BUMPER_DAMPING_RATIO * math.sqrt(values["k_b"] * damper.m)
@@ -419,6 +433,19 @@ def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
     )
     g.add_argument(
         "--c-b", type=float, help=f"bumper dashpot, N s/m (default: a damping ratio of {BUMPER_DAMPING_RATIO:g})"
+    )
+    g.add_argument(
+        "--bumper-law",
+        choices=tuple(BUMPER_LAWS),
+        help="the pads' contact law (default kelvin-voigt: max(0, k_b delta + c_b ddelta); hunt-crossley: "
+        "max(0, k_b delta^n (1 + 3 (1 - e_b) / 2 ddelta / v_in)), on the model omd_stops_hc)",
+    )
+    g.add_argument("--n-b", type=float, help="Hunt-Crossley exponent n, in [1, 10] (default 1.5, Hertzian contact)")
+    g.add_argument(
+        "--e-b",
+        type=float,
+        help=f"Hunt-Crossley restitution of a pad, in (0, 1] (default {BUMPER_RESTITUTION:g}; with --n-b, "
+        "implies --bumper-law hunt-crossley; its default --k-b gives the Kelvin-Voigt pad's force at full depth)",
     )
 
 

@@ -152,7 +152,7 @@ def load_model(model: str | Path | Model = "omd") -> Model:
     --------
     >>> import rocking
     >>> rocking.available_models()
-    ['block', 'omd', 'omd2', 'omd_stops', 'pendulum']
+    ['block', 'omd', 'omd2', 'omd_stops', 'omd_stops_hc', 'pendulum']
     >>> omd = rocking.load_model("omd")
     >>> omd.coordinates, omd.parameters
     (('theta', 'x'), ('M', 'I_G', 'B', 'H', 'e', 'g', 'm', 'h', 'k_m', 'c'))

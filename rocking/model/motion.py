@@ -520,8 +520,10 @@ class SampledMotion:
         peak = scale * float(np.max(np.abs(a)))
         if peak not in RANGES["a_g"]:
             raise ParameterError(f"scale max|a| = {peak!r} m/s^2 must be {RANGES['a_g'].text()}: {RANGES['a_g'].why}")
-        if (a.size - 1) * dt > RANGES["t_max"].high:
-            raise ParameterError(f"the record lasts {(a.size - 1) * dt:g} s: at most {RANGES['t_max'].high:g} s")
+        if (a.size - 1) * dt > RANGES["record_length"].high:
+            raise ParameterError(
+                f"the record lasts {(a.size - 1) * dt:g} s: at most {RANGES['record_length'].high:g} s"
+            )
         for name, value in (("a", a), ("dt", dt), ("t", None), ("scale", scale)):
             object.__setattr__(self, name, value)
 

@@ -7,19 +7,34 @@ accelerations in m/s^2, stiffnesses in N/m and damping coefficients in N s/m.
 Both parameter sets are frozen dataclasses that validate and convert their inputs to
 ``float`` on construction, so an invalid model can never reach the simulator. Every
 validation failure raises :class:`ParameterError`, whose message names the parameter,
-the valid range and the offending value.
+the valid range and the offending value; the ranges and the checks are those of
+:mod:`rocking.model.checks`, re-exported here.
 """
 
 from __future__ import annotations
 
 import math
-import numbers
-import sys
-from dataclasses import dataclass, replace
+from dataclasses import dataclass
 from functools import cached_property
-from typing import overload
+from typing import cast, overload
 
 import numpy as np
+
+from .checks import (
+    RANGES,
+    TWO_PI,
+    ParameterError,
+    Range,
+    _in_range,
+    as_real,
+    check_in_range,
+    check_interval,
+    check_nonnegative,
+    check_positive,
+    check_real,
+    check_scaled,
+    shown,
+)
 
 __all__ = [
     "RANGES",
@@ -35,377 +50,6 @@ __all__ = [
     "check_real",
     "shown",
 ]
-
-
-class ParameterError(ValueError):
-    """A model parameter is missing, non-numeric, non-finite or out of range."""
-
-
-def _with_unit(text: str, unit: str) -> str:
-    return f"{text} {unit}" if unit else text
-
-
-#: Longest ``repr`` of a refused value that a message quotes (a string or an array may be any length).
-SHOWN_CHARS = 60
-
-
-def shown(value: object) -> str:
-    """``value`` as a message quotes it: one line, at most :data:`SHOWN_CHARS` characters.
-
-    An integer beyond the doubles is shown by its magnitude (``1e+400``): its ``repr`` has
-    hundreds of digits, and Python refuses to print one of more than 4300.
-    """
-    if isinstance(value, numbers.Integral) and not isinstance(value, (bool, np.bool_)) and abs(value) > _LARGEST:
-        exponent = math.floor(math.log10(abs(value)))  # log10 takes any int; float() overflows
-        return f"{'-' if value < 0 else ''}{10 ** (math.log10(abs(value)) - exponent):.6g}e+{exponent}"
-    text = " ".join(repr(value).split())  # an array's repr spans lines
-    return text if len(text) <= SHOWN_CHARS else text[: SHOWN_CHARS - 3] + "..."
-
-
-_LARGEST = sys.float_info.max
-
-
-def as_real(name: str, value: object, expected: str = "") -> float:
-    """``value`` as a float if it is a real number, ``+-inf`` beyond the doubles; any other value refused.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        Python or NumPy real scalar (``int``, ``float``, ``numpy.float64``, ``fractions.Fraction``, ...).
-    expected : str, optional
-        The valid values, appended to the message (``"in [0.001, 1000] m: why"``).
-
-    Returns
-    -------
-    float
-        Possibly nan or infinite: the caller's range check refuses those with its own message.
-
-    Raises
-    ------
-    ParameterError
-        ``value`` is not a real number: a bool, str, None, complex, an array, ...
-    """
-    # bool is an Integral, but True as a length is almost surely a caller's mistake. A float is the common case,
-    # checked first: the ABC check costs a microsecond.
-    if type(value) is not float and (not isinstance(value, numbers.Real) or isinstance(value, (bool, np.bool_))):
-        raise ParameterError(f"{name} must be a real number (got {shown(value)}){', ' + expected if expected else ''}")
-    try:
-        return float(value)
-    except OverflowError:  # an int or a Fraction beyond the doubles: out of every range
-        return math.inf if value > 0 else -math.inf
-
-
-def _finite_or_refuse(name: str, value: object, x: float, expected: str = "") -> float:
-    """``x`` if finite; a nan or infinite ``value`` (a huge int counts) refused, with ``expected`` after it."""
-    if not math.isfinite(x):
-        raise ParameterError(f"{name} must be finite (got {shown(value)}){', ' + expected if expected else ''}")
-    return x
-
-
-def check_real(name: str, value: object) -> float:
-    """Return ``value`` as a finite float.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        Python or NumPy real scalar (``int``, ``float``, ``numpy.float64``, ...).
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    ParameterError
-        If ``value`` is not a real number (booleans included), is nan or infinite, or is an
-        integer beyond the doubles.
-    """
-    return _finite_or_refuse(name, value, as_real(name, value))
-
-
-def check_positive(name: str, value: object, unit: str = "") -> float:
-    """Return ``value`` as a finite float, requiring ``value > 0``.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        Real scalar to check.
-    unit : str, optional
-        SI unit shown in the error message.
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    ParameterError
-        If ``value`` is not a finite real number or is not strictly positive.
-    """
-    expected = f"> {_with_unit('0', unit)}"
-    x = _finite_or_refuse(name, value, as_real(name, value, expected), expected)
-    if not x > 0.0:
-        raise ParameterError(f"{name} must be > {_with_unit('0', unit)} (got {x!r})")
-    return x
-
-
-def check_nonnegative(name: str, value: object, unit: str = "") -> float:
-    """Return ``value`` as a finite float, requiring ``value >= 0``.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        Real scalar to check.
-    unit : str, optional
-        SI unit shown in the error message.
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    ParameterError
-        If ``value`` is not a finite real number or is negative.
-    """
-    expected = f">= {_with_unit('0', unit)}"
-    x = _finite_or_refuse(name, value, as_real(name, value, expected), expected)
-    if x < 0.0:
-        raise ParameterError(f"{name} must be >= {_with_unit('0', unit)} (got {x!r})")
-    return x
-
-
-def check_interval(
-    name: str,
-    value: object,
-    low: float,
-    high: float,
-    unit: str = "",
-    *,
-    closed_low: bool = False,
-    label: str | None = None,
-) -> float:
-    """Return ``value`` as a finite float, requiring ``low < value < high``.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        Real scalar to check.
-    low, high : float
-        Interval bounds; ``high`` is always excluded.
-    unit : str, optional
-        SI unit shown in the error message.
-    closed_low : bool, optional
-        Include ``low`` in the interval, i.e. ``[low, high)``.
-    label : str, optional
-        Symbolic form of the interval (e.g. ``"(-B/2, B/2)"``), shown before the
-        numeric bounds so that the message explains where the numbers come from.
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    ParameterError
-        If ``value`` is not a finite real number or lies outside the interval.
-    """
-    numeric = f"{'[' if closed_low else '('}{low:g}, {high:g})"
-    expected = "in " + _with_unit(f"{label} = {numeric}" if label else numeric, unit)
-    x = _finite_or_refuse(name, value, as_real(name, value, expected), expected)
-    above_low = x >= low if closed_low else x > low
-    if not (above_low and x < high):
-        raise ParameterError(f"{name} must be {expected} (got {x!r})")
-    return x
-
-
-@dataclass(frozen=True)
-class Range:
-    """The valid values of one input: a closed interval (0 may be allowed besides), and why.
-
-    Attributes
-    ----------
-    low, high : float
-        Bounds, both included unless ``open_low`` / ``open_high``.
-    unit : str
-        SI unit shown in messages.
-    why : str
-        The reason for the bounds, appended to every message.
-    open_low, open_high : bool
-        Exclude the bound.
-    zero : bool
-        ``0`` is valid too (``m = 0``: no damper).
-    """
-
-    low: float
-    high: float
-    unit: str = ""
-    why: str = ""
-    open_low: bool = False
-    open_high: bool = False
-    zero: bool = False
-
-    def holds(self, x):
-        """Elementwise: ``x`` lies in the range (NaN never does)."""
-        if isinstance(x, (float, int)) and not isinstance(x, bool):  # one number: no NumPy
-            return self._holds(x)
-        x = np.asarray(x, dtype=float)
-        with np.errstate(invalid="ignore"):
-            return self._holds(x)
-
-    def _holds(self, x):
-        above = x > self.low if self.open_low else x >= self.low
-        below = x < self.high if self.open_high else x <= self.high
-        return (above & below) | ((x == 0.0) if self.zero else False)
-
-    def __contains__(self, x: float) -> bool:
-        return bool(self.holds(x))
-
-    def text(self, label: str | None = None) -> str:
-        """``"in [0.001, 1000] m"`` (``label``, a symbolic form of the bounds, before the numbers)."""
-        numeric = f"{'(' if self.open_low else '['}{self.low:g}, {self.high:g}{')' if self.open_high else ']'}"
-        interval = f"{label} = {numeric}" if label else numeric
-        return ("0 or in " if self.zero else "in ") + _with_unit(interval, self.unit)
-
-
-TWO_PI = 2 * math.pi
-
-#: The valid range of every input of the public API, declared once; the messages come from here.
-#: Users are engineers checking cabinets, transformers, statues, machines and laboratory
-#: specimens under ground-motion pulses of 0.1 - 10 s: every bound lies orders of magnitude
-#: beyond them, and excludes what is degenerate in double precision (subnormal masses,
-#: overflowing stiffnesses) or cannot be integrated within a bounded work (a rate of the
-#: system far above the block's, a run of unbounded length).
-RANGES: dict[str, Range] = {
-    # --- the block (Block, Block.from_nondim)
-    "H": Range(1e-3, 1e3, "m", "from a 1 mm laboratory specimen to a 1 km structure"),
-    "B": Range(1e-3, 1e3, "m", "from a 1 mm laboratory specimen to a 1 km structure"),
-    # Beyond, alpha or pi/2 - alpha nears the rounding of the tolerances scaled by alpha.
-    "lam": Range(1e-2, 1e2, "", "slenderness H/B from a flat slab (0.01) to a mast (100)"),
-    "alpha": Range(math.atan(1e-2), math.atan(1e2), "rad", "slenderness H/B in [0.01, 100]"),
-    # Energies and the rest threshold M g B stay normal doubles.
-    "M": Range(1e-6, 1e12, "kg", "from a 1 mg specimen to a 1 Gt structure"),
-    # No mass inside the block's rectangle lies farther than 2 R from G: I_G <= M (2 R)^2.
-    "I_G": Range(0.0, 4.0, "", "a radius of gyration above 2 R (I_G > 4 M R^2) puts mass outside the block", True),
-    "g": Range(0.1, 1e4, "m/s^2", "from small planetary bodies to a geotechnical centrifuge at 1000 g"),
-    # p = sqrt(3 g / (4 R)) of the blocks above spans [0.01, 3300] rad/s.
-    "p": Range(1e-2, 1e4, "rad/s", "the frequency parameter of blocks of 1 mm to 1 km under 0.1 to 1e4 m/s^2"),
-    "e_ratio": Range(-0.5, 0.5, "", "the centroid lies inside the base", True, True),
-    # --- the damper (Damper: absolute bounds; relative to its block: gamma, omega_ratio, zeta)
-    # Absolute bounds only keep k_m / m and c / m normal doubles; the physics is checked against the block.
-    "m": Range(1e-16, 1e13, "kg", "a subnormal or astronomical mass makes k_m / m degenerate", zero=True),
-    "k_m": Range(0.0, 1e30, "N/m", "the stiffness must keep k_m / m a normal double"),
-    "c": Range(0.0, 1e30, "N s/m", "the dashpot must keep c / m a normal double"),
-    "h": Range(0.0, 1e3, "m", "a guide at most 1 km above the block, as the block's own dimensions"),
-    # Tuned mass dampers use 0.01 - 0.2; 1e-10 keeps a vanishing damper (the bare block as a limit)
-    # well above rounding, 10 a damper ten times the block's mass.
-    "gamma": Range(1e-10, 10.0, "", "mass ratio m/M; 0 is the bare block", zero=True),
-    # A damper tuned 1000 times below p is a free mass within any run; 1e4 p is a locked damper (the
-    # rigid limit the tests converge to, at about 1100 p); beyond, a run needs ~1e5 integrator steps
-    # per second of motion, past any bound on its work (the studies: 0.1 - 10).
-    "omega_ratio": Range(1e-3, 1e4, "", "damper frequency omega_m / p between a free mass and a locked damper"),
-    # Dampers use 0 - 0.3, viscous devices a few; beyond 10 the dashpot's rate 2 zeta omega_m is a
-    # stiff mode for the explicit integrator (and the mass hardly moves anyway).
-    "zeta": Range(0.0, 10.0, "", "damping ratio of the damper, stiff for the explicit integrator above 10"),
-    # --- the end stops of the guide (Stops: absolute bounds; on its damper and block, the ratios below)
-    "L": Range(0.0, 1e3, "m", "the half-stroke, from the centre line to either bumper", open_low=True),
-    "k_b": Range(0.0, 1e30, "N/m", "the stiffness must keep k_b / m a normal double", open_low=True),
-    "c_b": Range(0.0, 1e30, "N s/m", "the dashpot must keep c_b / m a normal double"),
-    # A contact lasts pi / omega_b: above 1e4 p the steps it needs pass a run's bound on work, as for omega_m.
-    "omega_b_ratio": Range(1e-3, 1e4, "", "bumper frequency sqrt(k_b / m) / p, as the damper's (a run's work)"),
-    # Rubber and elastomer pads restitute 0.3 - 0.7 (zeta_b 0.1 - 0.35); 10 as for the damper's zeta.
-    "zeta_b": Range(0.0, 10.0, "", "damping ratio of a bumper, stiff for the explicit integrator above 10"),
-    # --- the pulse (OneSinePulse, OneSinePulse.from_nondim)
-    "a_g": Range(0.0, 1e5, "m/s^2", "up to 10,000 g, beyond any ground motion, shake table or centrifuge"),
-    # Ground-motion pulses last 0.1 - 10 s; 1 ms to 1000 s bounds the pulse's share of a run.
-    "omega_g": Range(TWO_PI / 1e3, TWO_PI / 1e-3, "rad/s", "sine periods from 1 ms to 1000 s"),
-    "psi": Range(0.0, TWO_PI, "rad", "one sine cycle", open_high=True),
-    "beta": Range(0.0, 1e4, "", "amplitude over the uplift threshold, a_g / (g tan alpha)"),
-    "Omega": Range(1e-2, 1e3, "", "pulse frequency over the block's, omega_g / p (the studies: 0.5 - 15)"),
-    # --- the other ground motions (rocking.model.motion, docs/model.md section 12)
-    "gamma_mp": Range(
-        1.0, 20.0, "", "oscillations of the Mavroeidis-Papageorgiou pulse (> 1; records: 1.5 - 3)", open_low=True
-    ),
-    "pulse_dt": Range(1e-6, 10.0, "s", "the spacing of a sampled motion, from 1 us to 10 s"),
-    # --- a run (make_problem, simulate, pulse_cases): its length bounds its work
-    "t_after": Range(0.0, 1e4, "s", "a run follows the block at most 10^4 s after the pulse", open_low=True),
-    "t_max": Range(0.0, 1.1e4, "s", "a run lasts at most the longest pulse plus 10^4 s", open_low=True),
-    "max_events": Range(1, 1e8, "", "uplifts plus impacts of one run (default 10,000)"),
-    "record_samples": Range(0.0, 1e6, "", "samples of a recorded history, t_max / record_dt"),
-}
-
-
-def check_in_range(
-    name: str, value: object, key: str | None = None, *, label: str | None = None, nonzero: bool = False
-) -> float:
-    """Return ``value`` as a float if it is a real number within ``RANGES[key or name]``.
-
-    Parameters
-    ----------
-    name : str
-        Parameter name used in the error message.
-    value : object
-        Python or NumPy real scalar; booleans and strings are refused.
-    key : str, optional
-        Entry of :data:`RANGES`, default ``name``.
-    label : str, optional
-        Symbolic form of the bounds for the message (``"(0, 4 M R^2]"``).
-    nonzero : bool, optional
-        Refuse 0 even where the range admits it (the studies' damper is never the bare block).
-
-    Returns
-    -------
-    float
-
-    Raises
-    ------
-    ParameterError
-        ``"{name} must be in {range} (got {value}): {why}"`` (``0 or in`` where 0 is valid).
-    """
-    valid = RANGES[key or name]
-    return _in_range(name, value, replace(valid, zero=False) if nonzero else valid, label)
-
-
-def _in_range(name: str, value: object, valid: Range, label: str | None = None, scale: float = 1.0, unit=None) -> float:
-    """``value`` as a float if it is a real number and ``value / scale`` lies in ``valid``.
-
-    Every message names the range with the bounds times ``scale`` (in ``unit``) and its reason:
-    a value that is no real number, a nan or infinite one, and one outside (an integer beyond the
-    doubles is outside every range).
-    """
-    unit = valid.unit if unit is None else unit
-    bounds = (
-        valid
-        if scale == 1.0 and unit == valid.unit
-        else replace(valid, low=valid.low * scale, high=valid.high * scale, unit=unit)
-    )
-    expected = f"{bounds.text(label)}: {bounds.why}"
-    x = as_real(name, value, expected)
-    if not math.isfinite(x) and not isinstance(value, numbers.Rational):  # nan or inf itself, not a huge int
-        raise ParameterError(f"{name} must be finite (got {shown(value)}), {expected}")
-    if x / scale not in valid:
-        got = repr(x) if math.isfinite(x) else shown(value)  # the float it was read as; a huge int by magnitude
-        raise ParameterError(f"{name} must be {bounds.text(label)} (got {got}): {bounds.why}")
-    return x
-
-
-def check_scaled(name: str, value: object, key: str, scale: float, label: str, unit: str | None = None) -> float:
-    """Return ``value`` as a float if ``value / scale`` lies in ``RANGES[key]`` (a range relative to the block).
-
-    The message gives the bounds times ``scale`` (in ``unit``, default the range's), after
-    ``label`` (``"[1e-10 M, 10 M]"``).
-    """
-    return _in_range(name, value, RANGES[key], label, scale, unit)
 
 
 def check_block(block: object, name: str = "block") -> Block:
@@ -634,6 +278,10 @@ class Block:
 #: The parameters of the paper's damper (model ``omd``) and of its end stops (model ``omd_stops``), by name.
 DAMPER_PARAMETERS = ("m", "k_m", "c", "h")
 STOP_PARAMETERS = ("L", "k_b", "c_b")
+#: The parameters of Hunt-Crossley end stops (model ``omd_stops_hc``), by name.
+HC_STOP_PARAMETERS = ("L", "k_b", "n_b", "e_b")
+#: The contact laws of a bumper pad (docs/model.md section 11) and the model each runs on.
+BUMPER_LAWS = {"kelvin-voigt": "omd_stops", "hunt-crossley": "omd_stops_hc"}
 
 #: Default depth of a bumper pad at the block's edge, m: a 20 mm elastomer pad (Stops.at_edges).
 BUMPER_DEPTH = 0.02
@@ -641,9 +289,14 @@ BUMPER_DEPTH = 0.02
 #: damper's period. On the bench map (bench/stops_map.py) the deepest contact then uses 13 mm of the
 #: 20 mm pad; at 20 the pad bottomed out (the stroke past B/2) in two thirds of the cells.
 BUMPER_FREQUENCY_RATIO = 60.0
+#: The penetration at which a Hunt-Crossley pad's frequency is held to the range of a bumper's, m: 1 mm,
+#: where its tangent stiffness is n k_b delta^(n-1) (Stops.check_on).
+HC_REFERENCE_PENETRATION = 1e-3
 #: Default bumper damping ratio: a restitution of 0.57 for a pad that only pushes (docs/model.md section 11;
 #: exp(-0.2 pi / sqrt(0.96)) = 0.53 if it could pull), a rubber pad's.
 BUMPER_DAMPING_RATIO = 0.2
+#: Default restitution of a Hunt-Crossley pad (Stops.at_edges): that of the Kelvin-Voigt default pad, 0.57.
+BUMPER_RESTITUTION = 0.57
 
 
 @dataclass(frozen=True)
@@ -654,18 +307,27 @@ class Stops:
     penetration ``delta = |x| - L`` that only pushes: its force is
     ``max(0, k_b delta + c_b ddelta)``, a compression-only Kelvin-Voigt contact (an unbonded
     pad cannot pull the mass back on rebound; it lets go where the bracket falls to 0). A
-    damper with stops runs on the model ``omd_stops``.
+    damper with stops runs on the model ``omd_stops``. With ``law="hunt-crossley"`` the force
+    is ``max(0, k_b delta^n (1 + 3 (1 - e_b) / 2 ddelta / v_in))``, ``v_in`` the approach speed
+    of the contact (Hunt & Crossley 1975; Lankarani & Nikravesh 1990), on the model
+    ``omd_stops_hc``.
 
     Parameters
     ----------
     L : float
         Half-stroke, m, in (0, 1e3]; on a block, at most ``B/2`` unless ``beyond_edges``.
     k_b : float
-        Bumper stiffness, N/m, in (0, 1e30].
+        Bumper stiffness, N/m (Hunt-Crossley: N/m^n), in (0, 1e30].
     c_b : float, optional
-        Bumper dashpot, N s/m, in [0, 1e30]. Default 0.
+        Bumper dashpot, N s/m, in [0, 1e30]. Default 0. Kelvin-Voigt only.
     beyond_edges : bool, optional
         Allow a guide longer than the block is wide (``L > B/2``). Default False.
+    law : {"kelvin-voigt", "hunt-crossley"}, optional
+        The pads' contact law. Default ``"kelvin-voigt"``.
+    n : float, optional
+        Hunt-Crossley exponent, in [1, 10]. Default 1.5 (Hertzian contact).
+    e_b : float, optional
+        Hunt-Crossley coefficient of restitution of a pad, in (0, 1]; required with that law.
 
     Raises
     ------
@@ -684,12 +346,32 @@ class Stops:
     k_b: float
     c_b: float = 0.0
     beyond_edges: bool = False
+    law: str = "kelvin-voigt"
+    n: float = 1.5
+    e_b: float | None = None
 
     def __post_init__(self) -> None:
         for field in ("L", "k_b", "c_b"):
             object.__setattr__(self, field, check_in_range(field, getattr(self, field)))
         if not isinstance(self.beyond_edges, (bool, np.bool_)):
             raise ParameterError(f"beyond_edges must be True or False (got {shown(self.beyond_edges)})")
+        if not isinstance(self.law, str) or self.law not in BUMPER_LAWS:
+            raise ParameterError(f"law must be one of {', '.join(BUMPER_LAWS)} (got {shown(self.law)})")
+        if self.law == "kelvin-voigt":
+            if self.e_b is not None:
+                raise ParameterError("e_b is a parameter of law='hunt-crossley' (a Kelvin-Voigt pad has c_b)")
+            return
+        if self.c_b != 0.0:
+            raise ParameterError("c_b must be 0 with law='hunt-crossley' (its damping comes from e_b)")
+        if self.e_b is None:
+            raise ParameterError("e_b must be given with law='hunt-crossley': the pad's restitution in (0, 1]")
+        object.__setattr__(self, "n", check_in_range("n", self.n, "n_b"))
+        object.__setattr__(self, "e_b", check_in_range("e_b", self.e_b))
+
+    @property
+    def model(self) -> str:
+        """The generated model a damper with these stops runs on: ``omd_stops`` or ``omd_stops_hc``."""
+        return BUMPER_LAWS[self.law]
 
     def check_on(self, block: Block, damper: Damper) -> Stops:
         """These stops if they suit ``damper`` on ``block``: the gap within the block, the bumper's ratios.
@@ -707,13 +389,22 @@ class Stops:
             )
         if damper.m == 0.0:
             raise ParameterError("stops need a damper mass m > 0 kg (a bare block has no guide)")
+        if self.law == "hunt-crossley":
+            # The pad's frequency at 1 mm of penetration, where its stiffness is n k_b delta^(n-1).
+            omega_b = math.sqrt(self.n * self.k_b * HC_REFERENCE_PENETRATION ** (self.n - 1) / damper.m)
+            check_scaled("omega_b", omega_b, "omega_b_ratio", block.p, "[1e-3 p, 1e4 p] at 1 mm", "rad/s")
+            return self
         omega_b = math.sqrt(self.k_b / damper.m)
         check_scaled("omega_b", omega_b, "omega_b_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
         check_in_range("zeta_b", self.c_b / (2 * math.sqrt(self.k_b * damper.m)))
         return self
 
     def as_params(self) -> dict[str, float]:
-        """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``."""
+        """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``
+        (Hunt-Crossley: ``L``, ``k_b``, ``n_b``, ``e_b``)."""
+        if self.law == "hunt-crossley":
+            e_b = cast(float, self.e_b)  # a float with this law (__post_init__)
+            return dict(zip(HC_STOP_PARAMETERS, (self.L, self.k_b, self.n, e_b)))
         return dict(zip(STOP_PARAMETERS, (self.L, self.k_b, self.c_b)))
 
     @classmethod
@@ -725,6 +416,9 @@ class Stops:
         depth: float = BUMPER_DEPTH,
         frequency_ratio: float = BUMPER_FREQUENCY_RATIO,
         zeta_b: float = BUMPER_DAMPING_RATIO,
+        law: str = "kelvin-voigt",
+        e_b: float = BUMPER_RESTITUTION,
+        n: float = 1.5,
     ) -> Stops:
         """Bumper pads of ``depth`` at the block's edges: ``L = B/2 - depth``.
 
@@ -737,19 +431,30 @@ class Stops:
         frequency_ratio : float, optional
             ``sqrt(k_b / m) / omega_m``. Default :data:`BUMPER_FREQUENCY_RATIO` (60).
         zeta_b : float, optional
-            The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2).
+            The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2). Kelvin-Voigt only.
+        law : {"kelvin-voigt", "hunt-crossley"}, optional
+            The pads' contact law. Default ``"kelvin-voigt"``.
+        e_b, n : float, optional
+            The Hunt-Crossley pads' restitution (default :data:`BUMPER_RESTITUTION`, 0.57, that of
+            the Kelvin-Voigt default) and exponent (default 1.5).
 
         Returns
         -------
         Stops
-            With ``k_b = m (frequency_ratio omega_m)^2`` and ``c_b = 2 zeta_b sqrt(k_b m)``.
+            With ``k_b = m (frequency_ratio omega_m)^2`` and ``c_b = 2 zeta_b sqrt(k_b m)``;
+            Hunt-Crossley: ``k_b depth^(1 - n)`` of that ``k_b``, the same elastic force
+            where the pad is crushed to its full depth.
         """
         check_block(block)
         depth = check_interval("depth", depth, 0.0, block.B / 2, "m", label="(0, B/2)")
         check_positive("frequency_ratio", frequency_ratio)
         zeta_b = check_in_range("zeta_b", zeta_b)
         L, k_b, c_b = edge_stops(block, damper.m, damper.omega_m, depth, frequency_ratio, zeta_b)
-        return cls(L=float(L), k_b=float(k_b), c_b=float(c_b)).check_on(block, damper)
+        if law == "hunt-crossley":
+            n = check_in_range("n", n, "n_b")
+            stops = cls(L=float(L), k_b=float(k_b) * depth ** (1.0 - n), law=law, n=n, e_b=e_b)
+            return stops.check_on(block, damper)
+        return cls(L=float(L), k_b=float(k_b), c_b=float(c_b), law=law).check_on(block, damper)
 
 
 def edge_stops(
@@ -779,8 +484,8 @@ class Damper:
     h : float, optional
         Height of the guide above the top side of the block, m, in [0, 1e3]. Default 0.
     stops : Stops, optional
-        End stops of the guide (model ``omd_stops``). Default None: the paper's
-        unlimited guide (model ``omd``).
+        End stops of the guide (model ``omd_stops``; ``omd_stops_hc`` with Hunt-Crossley
+        pads). Default None: the paper's unlimited guide (model ``omd``).
 
     Raises
     ------
@@ -894,8 +599,8 @@ class Damper:
 
     @property
     def model(self) -> str:
-        """The generated model this damper runs on: ``omd``, or ``omd_stops`` with stops."""
-        return "omd" if self.stops is None else "omd_stops"
+        """The generated model this damper runs on: ``omd``, or that of its stops (``omd_stops``, ``omd_stops_hc``)."""
+        return "omd" if self.stops is None else self.stops.model
 
     def as_params(self) -> dict[str, float]:
         """Return the damper parameters under the symbol names of the derivation.
@@ -903,7 +608,8 @@ class Damper:
         Returns
         -------
         dict
-            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``.
+            Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``
+            (Hunt-Crossley: ``"L"``, ``"k_b"``, ``"n_b"``, ``"e_b"``).
         """
         own = dict(zip(DAMPER_PARAMETERS, (self.m, self.k_m, self.c, self.h)))
         return own if self.stops is None else {**own, **self.stops.as_params()}

@@ -77,8 +77,8 @@ UNITS = {"g": STANDARD_GRAVITY, "m/s2": 1.0, "cm/s2": 0.01}
 MAX_BYTES = 100_000_000
 #: Longest line read, characters (an AT2 line has 80, a row of columns a few dozen).
 MAX_LINE = 10_000
-#: Most samples in a record: over an hour at 1 kHz, 5 hours at 200 Hz (a run lasts at most
-#: ``RANGES["t_max"]``, 11,000 s); 32 MB of floats.
+#: Most samples in a record: over an hour at 1 kHz, 5 hours at 200 Hz (a record lasts at most
+#: ``RANGES["record_length"]``, 11,000 s); 32 MB of floats.
 MAX_SAMPLES = 4_000_000
 #: The units a header of columns may state, as :func:`unit_spelling` writes them: the unit each is.
 UNIT_SPELLINGS = {
@@ -342,11 +342,12 @@ def _checked_step(path, name: str, dt: object, line: int | None) -> float:
 
 
 def _checked_length(path, n: int, dt: float, line: int | None) -> None:
-    """Refuse a record of ``n`` samples at ``dt`` lasting longer than ``RANGES["t_max"]`` (a run's bound)."""
-    if (n - 1) * dt > RANGES["t_max"].high:
+    """Refuse a record of ``n`` samples at ``dt`` lasting longer than ``RANGES["record_length"]``."""
+    longest = RANGES["record_length"].high
+    if (n - 1) * dt > longest:
         raise _fail(
             path,
-            f"the record lasts {(n - 1) * dt:g} s ({n} samples at dt = {dt:g} s): at most {RANGES['t_max'].high:g} s",
+            f"the record lasts {(n - 1) * dt:g} s ({n} samples at dt = {dt:g} s): at most {longest:g} s",
             line,
         )
 
@@ -421,7 +422,7 @@ def read_at2(path) -> Record:
     ParameterError
         Naming the file (and the line): not a regular file, unreadable, past a bound (:data:`MAX_BYTES`,
         :data:`MAX_LINE`, :data:`MAX_SAMPLES`), a header that is missing or malformed, a DT out of
-        ``RANGES["pulse_dt"]``, a record longer than ``RANGES["t_max"]``, a count of values other than NPTS,
+        ``RANGES["pulse_dt"]``, a record longer than ``RANGES["record_length"]``, a count of values other than NPTS,
         a value that is not a plain finite number (:data:`NUMBER`) or an acceleration beyond ``RANGES["a_g"]``.
     """
     try:
@@ -573,7 +574,7 @@ def read_columns(path, unit: str | None = None, *, dt: float | None = None, time
         :data:`MAX_LINE`, :data:`MAX_SAMPLES`), a unit missing, unknown or contradicting the header, a row of
         the wrong number of columns, a value that is not a plain finite number (:data:`NUMBER`), an
         acceleration beyond ``RANGES["a_g"]``, times that are not uniformly spaced, a step out of
-        ``RANGES["pulse_dt"]``, fewer than 2 rows, a record longer than ``RANGES["t_max"]``.
+        ``RANGES["pulse_dt"]``, fewer than 2 rows, a record longer than ``RANGES["record_length"]``.
     """
     if unit is not None and unit not in UNITS:
         raise _fail(path, f"unit must be one of {', '.join(UNITS)} (got {unit!r})")

@@ -12,7 +12,10 @@ Short-hands (docs/model.md section 1)::
 
 End stops (section 11): a bumper of stiffness ``k_b`` and damping ``c_b`` at
 ``|x| = L`` on either side. Every function that sees the guide force takes
-``L, k_b, c_b`` as keywords, default ``L = inf`` (the paper's unlimited guide).
+``L, k_b, c_b`` as keywords, default ``L = inf`` (the paper's unlimited guide);
+Hunt-Crossley pads take ``n_b, e_b`` and the least approach speed ``floor`` instead of
+``c_b``, and a contact's approach speed ``v_in`` is that of a contact starting at the
+state, ``max(ddelta, floor)`` (:func:`pad`).
 """
 
 from __future__ import annotations
@@ -38,21 +41,47 @@ def penetration(x, L):
     return np.abs(x) - L
 
 
-def pushes(x, dx, L=np.inf, k_b=0.0, c_b=0.0):
-    """Whether the pad pushes: ``delta > 0`` and ``k_b delta + c_b ddelta > 0`` (an unbonded pad cannot pull)."""
-    delta = np.maximum(penetration(x, L), 0.0)  # 0, not -inf, where the guide is unlimited
-    return (delta > 0) & (k_b * delta + c_b * np.sign(x) * dx > 0)
+def pad(x, dx, L=np.inf, k_b=0.0, c_b=0.0, n_b=None, e_b=None, floor=None, v_in=None, side=None):
+    """The pad on the side of the mass: ``(delta, bracket, force, potential, damping)`` of section 11.
+
+    Kelvin-Voigt (``n_b`` None): the bracket and force ``k_b delta + c_b ddelta``, the potential
+    ``k_b delta^2 / 2``, the damping ``c_b``. Hunt-Crossley: with the approach speed of a contact
+    starting at this state, ``v_in = max(ddelta, floor)``, the bracket ``v_in + chi ddelta``, the force
+    ``k_b delta^n (1 + chi ddelta / v_in)``, the potential ``k_b delta^(n+1) / (n+1)``, the damping
+    ``k_b delta^n chi / v_in``, ``chi = 3 (1 - e_b) / 2``. ``ddelta = sign(x) dx``; the pad pushes where
+    ``delta > 0`` and the bracket is ``> 0``. ``side`` (+1 upper, -1 lower): that side's pad, wherever the
+    mass is (default: the side of the mass). ``v_in``: the approach speeds ``(upper, lower)`` of contacts that
+    started earlier, instead of this state's.
+    """
+    sigma = np.sign(x) if side is None else side
+    delta = np.maximum(sigma * x - L, 0.0)  # 0, not -inf, where the guide is unlimited
+    rate = sigma * dx
+    if n_b is None:
+        push = k_b * delta + c_b * rate
+        return delta, push, push, k_b * delta**2 / 2, c_b + 0 * delta
+    chi = 1.5 * (1.0 - e_b)
+    if v_in is None:
+        v_in = np.maximum(rate, floor)
+    else:
+        v_in = np.where(sigma > 0, v_in[0], v_in[1])
+    stiff = k_b * delta**n_b
+    return delta, v_in + chi * rate, stiff * (1 + chi * rate / v_in), stiff * delta / (n_b + 1), stiff * chi / v_in
 
 
-def bumper_force(x, dx, L=np.inf, k_b=0.0, c_b=0.0):
-    """The bumper's part of the guide force: ``[delta > 0] sign(x) max(0, k_b delta + c_b ddelta)``."""
-    delta = np.maximum(penetration(x, L), 0.0)
-    return np.where(delta > 0, np.sign(x) * np.maximum(0.0, k_b * delta + c_b * np.sign(x) * dx), 0.0)
+def pushes(x, dx, **stops):
+    """Whether the pad pushes: ``delta > 0`` and its bracket ``> 0`` (an unbonded pad cannot pull)."""
+    delta, bracket, *_ = pad(x, dx, **stops)
+    return (delta > 0) & (bracket > 0)
 
 
-def guide_force(x, dx, k_m, c, L=np.inf, k_b=0.0, c_b=0.0):
+def bumper_force(x, dx, **stops):
+    """The bumper's part of the guide force: ``sign(x) F_b`` where the pad pushes, else 0."""
+    return np.where(pushes(x, dx, **stops), np.sign(x) * pad(x, dx, **stops)[2], 0.0)
+
+
+def guide_force(x, dx, k_m, c, **stops):
     """``G(x, dx) = k_m x + c dx`` plus :func:`bumper_force`: what the guide exerts on the mass, reversed."""
-    return k_m * x + c * dx + bumper_force(x, dx, L, k_b, c_b)
+    return k_m * x + c * dx + bumper_force(x, dx, **stops)
 
 
 def mass_matrix(s, theta, x, M, I_G, B, H, e, m, h):
@@ -185,9 +214,16 @@ def stop_regions(s, M, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
     return tuple(out)
 
 
-def uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, L=np.inf, k_b=0.0, c_b=0.0):
-    """:func:`uplift_energy` with bumpers: the least over the free guide and each bumper (:func:`stop_regions`)."""
+def uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, L=np.inf, k_b=0.0, c_b=0.0, n_b=None, **hunt_crossley):
+    """:func:`uplift_energy` with bumpers: the least over the free guide and each bumper (:func:`stop_regions`).
+
+    Hunt-Crossley pads (``n_b`` given): 0, no bound. Their energy is not quadratic in ``x`` nor their
+    force affine, so the least energy on ``u >= 0`` has no closed form; 0 is the answer that is never
+    wrong (the runtime then makes no early rest).
+    """
     free = uplift_energy(s, M, B, H, e, g, m, h, k_m, c)
+    if n_b is not None:
+        return 0 * free
     if not np.all(np.isfinite(L)):
         return free
     return np.minimum(free, np.minimum(*stop_regions(s, M, B, H, e, g, m, h, k_m, c, L, k_b, c_b)))
@@ -198,23 +234,35 @@ def stop_gaps(x, L):
     return x - L, -x - L
 
 
-def stop_forces(x, dx, L, k_b, c_b):
-    """Each bumper's force against its penetration, ``max(0, k_b delta + c_b ddelta)`` (it only pushes), 0 while
-    it is clear."""
-    upper, lower = stop_gaps(x, L)
-    return (
-        np.where(upper > 0, np.maximum(0.0, k_b * upper + c_b * dx), 0.0),
-        np.where(lower > 0, np.maximum(0.0, k_b * lower - c_b * dx), 0.0),
-    )
+def stop_forces(x, dx, **stops):
+    """Each bumper's force against its penetration, its law's where it pushes (it only pushes), else 0."""
+    forces = []
+    for side, gap in zip((1, -1), stop_gaps(x, stops["L"])):
+        _, bracket, force, *_ = pad(x, dx, side=side, **stops)
+        forces.append(np.where((gap > 0) & (bracket > 0), force, 0.0))
+    return tuple(forces)
 
 
-def stop_contact(x, dx, L, k_b, c_b):
-    """Each bumper's ``min(delta, k_b delta + c_b ddelta)``: > 0 exactly while it pushes."""
-    upper, lower = stop_gaps(x, L)
-    return np.minimum(upper, k_b * upper + c_b * dx), np.minimum(lower, k_b * lower - c_b * dx)
+def stop_contact(x, dx, L, k_b, c_b=0.0, n_b=None, e_b=None, floor=None, v_in=None):
+    """Each bumper's ``min(delta, bracket)``: > 0 exactly while it pushes (the bracket of :func:`pad`, with
+    the penetration itself where it is < 0)."""
+    out = []
+    for i, (side, gap) in enumerate(zip((1, -1), stop_gaps(x, L))):
+        rate = side * dx
+        if n_b is None:
+            out.append(np.minimum(gap, k_b * gap + c_b * rate))
+        else:
+            approach = np.maximum(rate, floor) if v_in is None else v_in[i]
+            out.append(np.minimum(gap, approach + 1.5 * (1.0 - e_b) * rate))
+    return tuple(out)
 
 
-def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, L=np.inf, k_b=0.0, c_b=0.0):
+def stop_approach(x, dx, L):
+    """Each bumper's rate of penetration ``ddelta``: ``(dx, -dx)``."""
+    return dx + 0 * L, -dx + 0 * L
+
+
+def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, **stops):
     """Mechanical energy ``T + V`` in the ground frame while rocking about ``s``, with ``V_b`` of a pad that pushes
     (a released pad's potential has left the mass)."""
     d, xi = arms(s, x, B, e)
@@ -223,18 +271,18 @@ def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, L=np.inf, k_b
     T = pivot_inertia(s, M, I_G, B, H, e) * dtheta**2 / 2
     T = T + m * (dtheta**2 * (xi**2 + eta**2) + dx**2 - 2 * eta * dtheta * dx) / 2
     V = M * g * (d * sin + H / 2 * cos) + m * g * (xi * sin + eta * cos) + k_m * x**2 / 2
-    delta = np.where(pushes(x, dx, L, k_b, c_b), penetration(x, L), 0.0)
-    return T + V + k_b * delta**2 / 2
+    return T + V + np.where(pushes(x, dx, **stops), pad(x, dx, **stops)[3], 0.0)
 
 
-def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c, L=np.inf, k_b=0.0, c_b=0.0):
-    """``dE/dt`` between impacts: ``-(c + [pad pushes] c_b) dx^2`` plus the power of ``-(mass) ddx_g``."""
+def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c, **stops):
+    """``dE/dt`` between impacts: ``-(c + [pad pushes] c_pad) dx^2`` plus the power of ``-(mass) ddx_g``, ``c_pad``
+    the pad's damping (:func:`pad`)."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     sin, cos = np.sin(theta), np.cos(theta)
     vx_G = -dtheta * (d * sin + H / 2 * cos)
     vx_m = -dtheta * (xi * sin + eta * cos) + dx * cos
-    damping = c + np.where(pushes(x, dx, L, k_b, c_b), c_b, 0.0)
+    damping = c + np.where(pushes(x, dx, **stops), pad(x, dx, **stops)[4], 0.0)
     return -damping * dx**2 - ag * (M * vx_G + m * vx_m)
 
 

@@ -18,7 +18,7 @@ from . import paper
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
 #: The shipped models that :mod:`rocking.reference.paper` writes by hand (docs/model.md sections 3-7 and 11).
-BY_HAND = ("omd", "omd_stops", "block")
+BY_HAND = ("omd", "omd_stops", "omd_stops_hc", "block")
 
 
 @dataclass(frozen=True)
@@ -36,14 +36,15 @@ class Check:
 
 
 def random_cases(
-    rng: np.random.Generator, n: int, s: int, damper: bool = True, stops: bool = False
+    rng: np.random.Generator, n: int, s: int, damper: bool = True, stops: bool = False, hunt_crossley: bool = False
 ) -> dict[str, np.ndarray]:
     """``n`` random states and parameter sets rocking about ``s``, by name.
 
     Blocks from stocky to slender, eccentric, with any inertia; dampers from
     light to heavy, soft to stiff. Without ``damper`` the mass and its state are 0.
     With ``stops``, bumpers at ``|x| = L`` from 5 % to 45 % of ``B``, 1 to 1000 times
-    stiffer than the damper's spring: ``x`` lies inside the gap or beyond it.
+    stiffer than the damper's spring: ``x`` lies inside the gap or beyond it. With ``hunt_crossley``,
+    Hunt-Crossley pads of exponent 1 to 2.5 and restitution 0.2 to 1, as stiff at 10 mm.
     """
     u = rng.uniform
     M = u(50.0, 5000.0, n)
@@ -77,6 +78,10 @@ def random_cases(
     if stops:
         k_b = v["k_m"] * 10 ** u(0.0, 3.0, n)
         v.update(L=B * u(0.05, 0.45, n), k_b=k_b, c_b=2 * np.sqrt(k_b * v["m"]) * u(0.0, 0.5, n))
+    if hunt_crossley:
+        n_b = u(1.0, 2.5, n)
+        v.update(k_b=v.pop("k_b") * 0.01 ** (1.0 - n_b), n_b=n_b, e_b=u(0.2, 1.0, n))
+        del v["c_b"]
     return v
 
 
@@ -108,17 +113,20 @@ def rel_error(got, ref) -> float:
 _STATE_OF = {"contact_accel": "contact", "uplift": "contact", "impact": "impact"}
 
 
-def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
-    """The hand-written value of every generated function, by function name (bumpers if ``v`` has ``L``)."""
+def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict[str, tuple]:
+    """The hand-written value of every generated function, by function name (bumpers if ``v`` has ``L``,
+    Hunt-Crossley pads of least approach speed ``floor`` if it has ``n_b``)."""
     s, th, x, dth, dx, ag = (v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag"))
     M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
     (m11, m12), (m21, m22) = paper.mass_matrix(s, th, x, M, I_G, B, H, e, m, h)
     zero, one = 0 * th, 0 * th + 1
-    stops = {k: v[k] for k in ("L", "k_b", "c_b") if k in v}
-    L, k_b, c_b = stops.get("L", np.inf), stops.get("k_b", 0.0), stops.get("c_b", 0.0)
-    gaps = paper.stop_gaps(x, L) if stops else ()
-    forces = paper.stop_forces(x, dx, L, k_b, c_b) if stops else ()
-    contacts = paper.stop_contact(x, dx, L, k_b, c_b) if stops else ()
+    stops = {k: v[k] for k in ("L", "k_b", "c_b", "n_b", "e_b") if k in v}
+    if "n_b" in stops:
+        stops["floor"] = floor
+    gaps = paper.stop_gaps(x, stops["L"]) if stops else ()
+    forces = paper.stop_forces(x, dx, **stops) if stops else ()
+    contacts = paper.stop_contact(x, dx, **stops) if stops else ()
+    approaches = paper.stop_approach(x, dx, stops["L"]) if stops else ()
     # Without a damper (m = 0) the outputs of x are undefined and dropped by _select.
     with np.errstate(divide="ignore", invalid="ignore"):
         return {
@@ -128,8 +136,8 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             "contact_accel": (zero, paper.contact_accel(x, dx, ag, m, k_m, c, **stops)),
             "uplift": (paper.uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops),),
             "impact": paper.impact(s, x, dth, dx, M, I_G, B, H, e, m, h, law=impact_law),
-            "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m, L=L, k_b=k_b, c_b=c_b),),
-            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c, L=L, k_b=k_b, c_b=c_b),),
+            "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m, **stops),),
+            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c, **stops),),
             "critical_angle": (paper.critical_angle(s, x, M, B, H, e, m, h),),
             "critical_tangent": (paper.critical_tangent(s, x, M, B, H, e, m, h),),
             "uplift_energy": (paper.uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, **stops),),
@@ -143,6 +151,7 @@ def _paper_results(v: dict, impact_law: str) -> dict[str, tuple]:
             "stop_gaps": gaps,
             "stop_forces": forces,
             "stop_contact": contacts,
+            "stop_approach": approaches,
             "block_accelerations": _affine(
                 lambda ddth, ddx: paper.block_accelerations(s, th, dth, ddth, ag, B, H, e), zero
             ),
@@ -214,14 +223,16 @@ def verify(
         implementation of the model (the compiled C); default: the generated NumPy.
     """
     damper = _check_model_kind(model)
-    stops = {"L", "k_b", "c_b"} <= set(model.parameters)
+    stops = {"L", "k_b"} <= set(model.parameters)
+    hunt_crossley = [side["approach_floor"] for side in model.manifest["stops"] if side["law"] == "hunt-crossley"]
+    floor = hunt_crossley[0] if hunt_crossley else None
     law = model.manifest["options"]["impact_laws"].get("x", "momentum")
     rng = np.random.default_rng(seed)
     if evaluate is None:
         evaluate = lambda name, v: _numpy_eval(model, name, v)
     checks = []
     for s in (1, -1):
-        v = random_cases(rng, n, s, damper, stops)
+        v = random_cases(rng, n, s, damper, stops, bool(hunt_crossley))
         zero = np.zeros(n)
         cases = {
             "rocking": v,
@@ -231,7 +242,7 @@ def verify(
         # The hand-written reference runs in extended precision, so that the
         # error measured is the generated code's.
         refs = {
-            kind: _select(model, _paper_results({k: a.astype(np.longdouble) for k, a in vals.items()}, law))
+            kind: _select(model, _paper_results({k: a.astype(np.longdouble) for k, a in vals.items()}, law, floor))
             for kind, vals in cases.items()
         }
         for name in refs["rocking"]:

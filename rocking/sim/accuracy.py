@@ -12,8 +12,8 @@ from collections.abc import Mapping
 
 import numpy as np
 
+from ..model.checks import RANGES, ParameterError
 from ..model.motion import describe
-from ..model.params import ParameterError
 from .boundary import SENSITIVE as SENSITIVE  # the result the check adds: declared with the others
 
 #: The values of ``check``: ``"none"`` runs once; ``"tolerance"`` runs again at :func:`tighter_rtol`.
@@ -23,8 +23,8 @@ CHECKS = ("none", "tolerance")
 #: answers between neighbouring tolerances of a response that is not sensitive.
 TIGHTEN = 100.0
 
-#: The smallest valid ``rtol`` (the range of the ``rtol`` field of ``rocking.sim.boundary.CASE``).
-RTOL_MIN = 1e-12
+#: The smallest valid ``rtol``.
+RTOL_MIN = RANGES["rtol"].low
 
 #: Largest relative difference of ``theta_max`` or ``x_max`` between the two runs of a response that is
 #: not sensitive, against the larger of the two. 10 %: what a design reads off a response (a rotation

@@ -28,7 +28,7 @@ from pathlib import Path
 import numpy as np
 
 from ..model import motion
-from ..model.params import RANGES, ParameterError, shown
+from ..model.checks import RANGES, ParameterError, shown
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
 API_VERSION = 6
@@ -38,21 +38,6 @@ DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "
 #: C type of each kind of field (``DOUBLES``: a caller-owned array of state values; ``SERIES``: a caller-owned
 #: array of as many values as the field's ``count`` says, which the cases of a batch may share).
 C_TYPES = {DOUBLE: "double", INT64: "int64_t", INT32: "int32_t", DOUBLES: "const double *", SERIES: "const double *"}
-
-#: Checks a setting must pass; the text is the valid range of the error message. Operators only, so
-#: that each check takes a Python number as it is (a single run, no NumPy) or an array (a batch):
-#: ``v - v == 0`` is false for inf and NaN, ``v % 1 == 0`` for a fraction, inf and NaN.
-CHECKS = {
-    "finite": lambda v: v - v == 0,
-    "> 0": lambda v: (v - v == 0) & (v > 0),
-    "in [1e-12, 0.01]": lambda v: (v >= 1e-12) & (v <= 0.01),
-    ">= 0": lambda v: (v - v == 0) & (v >= 0),
-    ">= 1": lambda v: (v >= 1) & (v % 1 == 0),
-    "an integer >= 0": lambda v: (v >= 0) & (v % 1 == 0),
-    "0 or 1": lambda v: (v == 0) | (v == 1),
-    "-1, 0 or +1": lambda v: (v == -1) | (v == 0) | (v == 1),
-    "a code of MOTIONS": lambda v: (v >= 0) & (v < len(motion.FAMILIES)) & (v % 1 == 0),
-}
 
 _REQUIRED = object()
 
@@ -81,7 +66,8 @@ class Field:
     doc : str
         What it is, in one line.
     valid : str or None
-        Key of :data:`CHECKS`, or ``None``: not checked (an array, or a result).
+        The check of the setting: an entry of :data:`~rocking.model.checks.RANGES` (its bounds are
+        declared there only), a key of :data:`CODES`, or ``None``: not checked (an array, or a result).
     default : object
         Value of a :class:`~rocking.sim.problem.Problem` that does not give it.
     count : str or None
@@ -111,13 +97,13 @@ CASE = (
         "a code of MOTIONS",
         0,
     ),
-    Field("a_g", DOUBLE, "m/s^2", "signed amplitude: ag(t) = a_g f(t) on [0, t_p], 0 after", "finite"),
-    Field("omega_g", DOUBLE, "rad/s", "circular frequency of f (0 for a sampled motion)", "finite"),
-    Field("psi", DOUBLE, "rad", "phase of f: psi of the one-sine, nu of Mavroeidis-Papageorgiou", "finite"),
-    Field("t_c", DOUBLE, "s", "centre of a Ricker or Mavroeidis-Papageorgiou pulse", "finite", 0.0),
-    Field("shape", DOUBLE, "", "gamma of Mavroeidis-Papageorgiou (0 otherwise)", "finite", 0.0),
-    Field("t_p", DOUBLE, "s", "end of the motion, a breakpoint of the integration", "finite"),
-    Field("n_extrema", INT64, "", "number of listed extrema", "an integer >= 0", 0),
+    Field("a_g", DOUBLE, "m/s^2", "signed amplitude: ag(t) = a_g f(t) on [0, t_p], 0 after", "real"),
+    Field("omega_g", DOUBLE, "rad/s", "circular frequency of f (0 for a sampled motion)", "real"),
+    Field("psi", DOUBLE, "rad", "phase of f: psi of the one-sine, nu of Mavroeidis-Papageorgiou", "real"),
+    Field("t_c", DOUBLE, "s", "centre of a Ricker or Mavroeidis-Papageorgiou pulse", "real", 0.0),
+    Field("shape", DOUBLE, "", "gamma of Mavroeidis-Papageorgiou (0 otherwise)", "real", 0.0),
+    Field("t_p", DOUBLE, "s", "end of the motion, a breakpoint of the integration", "real"),
+    Field("n_extrema", INT64, "", "number of listed extrema", "count", 0),
     Field(
         "extrema",
         SERIES,
@@ -127,25 +113,27 @@ CASE = (
         None,
         "n_extrema",
     ),
-    Field("pulse_dt", DOUBLE, "s", "spacing of a sampled motion's samples (0 otherwise)", ">= 0", 0.0),
-    Field("n_samples", INT64, "", "number of samples of a sampled motion (0 otherwise)", "an integer >= 0", 0),
+    Field("pulse_dt", DOUBLE, "s", "spacing of a sampled motion's samples (0 otherwise)", "nonnegative", 0.0),
+    Field("n_samples", INT64, "", "number of samples of a sampled motion (0 otherwise)", "count", 0),
     Field("samples", SERIES, "m/s^2", "samples a_k at k pulse_dt: f linear between them", None, None, "n_samples"),
-    Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "> 0"),
-    Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "in [1e-12, 0.01]"),
+    Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "t_max"),
+    Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "rtol"),
     Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
-    Field("contact_max_step", DOUBLE, "s", "largest step in full contact while t < t_p", "> 0"),
-    Field("dtheta_rest", DOUBLE, "rad/s", "an impact with outgoing |dtheta| below this ends rocking", ">= 0"),
-    Field("energy_rest", DOUBLE, "J", "full contact after the pulse ends once E(y) - E(0) is below this", ">= 0"),
-    Field("max_events", INT64, "", "the run ends when uplifts + impacts reach this", ">= 1"),
+    Field("contact_max_step", DOUBLE, "s", "largest step in full contact while t < t_p", "positive"),
+    Field("dtheta_rest", DOUBLE, "rad/s", "an impact with outgoing |dtheta| below this ends rocking", "nonnegative"),
+    Field(
+        "energy_rest", DOUBLE, "J", "full contact after the pulse ends once E(y) - E(0) is below this", "nonnegative"
+    ),
+    Field("max_events", INT64, "", "the run ends when uplifts + impacts reach this", "max_events"),
     Field(
         "max_steps",
         INT64,
         "",
         "bound on the work of a run: right-hand-side evaluations plus recorded samples (rule 5)",
-        ">= 1",
+        "max_steps",
         MAX_STEPS_DEFAULT,
     ),
-    Field("record_dt", DOUBLE, "s", "spacing of a recorded history (<= 0: events only)", "finite", 0.0),
+    Field("record_dt", DOUBLE, "s", "spacing of a recorded history (<= 0: events only)", "real", 0.0),
     Field("y0", DOUBLES, "state units", "initial state (NULL / None: at rest)", None, None),
     Field("phase0", INT32, "", "initial phase: 0 full contact, +1 / -1 rocking about A / A'", "-1, 0 or +1", 0),
     Field("early_rest", INT32, "", "1: below the uplift energy after the pulse, end at the next extremum", "0 or 1", 1),
@@ -283,6 +271,13 @@ MOTION = {code.name: code.value for code in MOTIONS}
 
 assert all(code.value == i for i, code in enumerate(STATUSES))
 
+#: The settings that are codes, not numbers in a range: the valid values by the phrase of the message.
+CODES = {
+    "a code of MOTIONS": tuple(code.value for code in MOTIONS),
+    "-1, 0 or +1": tuple(code.value for code in PHASES),
+    "0 or 1": (0, 1),
+}
+
 
 #: The check of each setting by name (None: unchecked), looked up once per process.
 _VALID = {f.name: f.valid for f in CASE}
@@ -311,28 +306,31 @@ def check(name: str, value):
         return value
     if isinstance(value, (float, int, np.integer)):  # one number (a single run; a bool is 0 or 1): as it is
         # An int beyond int64 fits no field of the C structure (nor, beyond the doubles, a double).
-        if not (CHECKS[valid](value) and (type(value) is float or INT64_MIN <= value <= INT64_MAX)):
+        if not (holds(valid, value) and (type(value) is float or INT64_MIN <= value <= INT64_MAX)):
             raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(value)})")
         return value
     try:
         a = np.asarray(value, dtype=float)
     except (TypeError, ValueError):
-        raise ParameterError(f"{name} must be a number {valid} (got {value!r})") from None
-    with np.errstate(invalid="ignore"):
-        ok = CHECKS[valid](a)
+        raise ParameterError(f"{name} must be {valid_text(valid)} (got {shown(value)})") from None
+    ok = holds(valid, a)
     if not np.all(ok):
         bad = a[~ok].ravel()[0] if a.ndim else a
         raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(bad)})")
     return value
 
 
+def holds(valid: str, value):
+    """Elementwise: ``value`` (a number or an array) passes the check ``valid`` of a field."""
+    codes = CODES.get(valid)
+    if codes is None:
+        return RANGES[valid].holds(value)
+    return np.isin(value, codes) if isinstance(value, np.ndarray) else value in codes
+
+
 def valid_text(valid: str) -> str:
-    """The valid range as a phrase: ``"finite and > 0"``, ``"an integer >= 1"``, ..."""
-    if valid == "finite":
-        return "finite"
-    if valid in ("> 0", ">= 0"):
-        return f"finite and {valid}"
-    return f"an integer {valid}" if valid == ">= 1" else valid
+    """The valid values of the check ``valid`` as a phrase: ``"finite and > 0"``, ``"an integer >= 1"``, ..."""
+    return valid if valid in CODES else RANGES[valid].rule()
 
 
 def _shown(value: float) -> str:
@@ -518,7 +516,8 @@ def markdown() -> str:
         "",
         "Constants: " + "; ".join(f"`{c.name}` = {c.value!r}: {c.doc}" for c in CONSTANTS) + ".",
         "",
-        "Ranges of the public API (`rocking.model.params.RANGES`; `Block`, `Damper`, the motions,",
+        "Ranges of the public API and of the settings above (`rocking.model.checks.RANGES`, the one table",
+        "of bounds, each setting's check an entry of it; `Block`, `Damper`, the motions,",
         "their `from_nondim`, `make_problem`, `simulate` and the studies refuse anything outside, with",
         "the reason, in one line naming the parameter and its range; so is a value that is no real number",
         "(a string, None, a bool, a complex number, an array), nan or infinite, or an integer beyond the",

@@ -25,6 +25,7 @@ from ..model.params import (
     check_interval,
     check_real,
     edge_stops,
+    tuned_damper,
 )
 from ..model.pulse import check_signs
 from . import boundary
@@ -131,14 +132,14 @@ def pulse_cases(
     damper, shape = _damper_arrays(gamma, omega_ratio, zeta, h, Omega, beta, psi, sign)
     Omega, beta, psi, sign = (np.broadcast_to(a, shape).ravel() for a in (Omega, beta, psi, sign))
     _derived("omega_g", Omega * block.p, "Omega p")
-    _derived("a_g", beta * block.g * block.tan_alpha, "beta g tan(alpha)")
+    _derived("a_g", block.a_g(beta), "beta g tan(alpha)")
     omega_g = Omega * block.p
     phase = psi if motion == "sine" else np.full(omega_g.shape, nu if motion == "mp" else 0.0)
     t_c, t_p = timing(motion, omega_g, phase, gamma_mp or 0.0)
     extrema = listed_extrema(motion, gamma_mp or 0.0, nu)
     columns = {
         "motion": MOTION[motion],
-        "a_g": sign * beta * block.g * block.tan_alpha,
+        "a_g": sign * block.a_g(beta),
         "omega_g": omega_g,
         "psi": phase,
         "t_c": t_c,
@@ -253,9 +254,9 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
         fixed = _fixed_params(model, block, params)
         values.update({k: np.full(shape, v) for k, v in fixed.items()})
     elif not bare:
-        m = gamma * block.M
         omega_m = omega_ratio * block.p
-        values.update(m=m, k_m=m * omega_m**2, c=2 * zeta * m * omega_m, h=h)
+        m, k_m, c = tuned_damper(block.M, gamma, omega_m, zeta)
+        values.update(m=m, k_m=k_m, c=c, h=h)
         T_m = 2 * np.pi / omega_m
         if stops:
             values.update(zip(STOP_PARAMETERS, edge_stops(block, m, omega_m, depth)))

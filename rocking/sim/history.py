@@ -25,6 +25,7 @@ import numpy as np
 from ..model.loading import Model
 from ..model.params import RANGES, ParameterError
 from .boundary import CONTACT
+from .pad_memory import WithMemory, memory
 
 #: The conventions of the project's NetCDF files (histories and studies): CF 1.10 attributes.
 CONVENTIONS = "CF-1.10"
@@ -139,9 +140,9 @@ def first_sample_after(t: float, dt: float, strict: bool = True) -> int:
     """The least index ``k >= 0`` whose sample time ``k dt`` is ``> t`` (``>= t`` unless ``strict``).
 
     Every sample time is the product ``k dt`` rounded once, never a sum, and is monotone in
-    ``k``; ``floor(t / dt)`` rounds the ratio too, and may land one index off either way (on the
-    history of issue 23, ``t / dt`` rounded up to 75 exactly where ``75 dt > t``): corrected
-    both ways on the products themselves, as sim.c's ``record_first_sample``.
+    ``k``; ``floor(t / dt)`` rounds the ratio too, and may land one index off either way (``t / dt``
+    can round up to an integer ``k`` where ``k dt > t``): corrected both ways on the products
+    themselves, as sim.c's ``record_first_sample``.
     """
     k = max(math.floor(t / dt) + 1, 0)
     while k > 0 and ((k - 1) * dt > t if strict else (k - 1) * dt >= t):
@@ -175,13 +176,14 @@ def _affine(outputs: list, ddq: list, quantities: int) -> list[np.ndarray]:
 
 def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarray]:
     """Every variable of the dataset on ``rows`` of ``history``, by name (``t`` first)."""
-    fn = model.functions
     n = model.nq
     phase = history["phase"][rows]
     y = [history[name][rows] for name in model.state]
     ag = history["ag"][rows]
     s = np.where(phase == CONTACT, 1.0, phase.astype(float))  # the functions at theta = 0 hold for either pivot
     p = [float(v) for v in p]
+    # Hunt-Crossley pads: their forces need the approach speed of each contact, found again on the history.
+    fn = WithMemory(model, [v_in[rows] for v_in in memory(model, p, history)])
     contact = phase == CONTACT
     ddq = [
         np.where(contact, c, r)

@@ -208,6 +208,11 @@ class _System:
         self.impact_laws = tuple(laws.get(name, "momentum") for name in problem.model.coordinates)
         self.n_stops = int(problem.model.manifest["functions"]["stop_gaps"]["outputs"])
         self.gravity = problem.model.parameters.index("g")
+        # Per stop side, the least approach speed of a Hunt-Crossley pad (None: no memory, Kelvin-Voigt).
+        sides = problem.model.manifest.get("stops", [])
+        self.floors = [side["approach_floor"] if side["law"] == "hunt-crossley" else None for side in sides]
+        # The memory v_in of each Hunt-Crossley side: the approach speed of its contact (docs/model.md section 11).
+        self.memory = [floor for floor in self.floors if floor is not None]
 
     def _safe_energy(self) -> float | None:
         """The least energy above rest at which the attached bodies can lift the block, less the margin.
@@ -339,7 +344,7 @@ class _System:
         steps never see a bumper's force switch on or off.
         """
         n = self.n
-        regime = _regime(stop_on)
+        regime = self.regime(stop_on)
 
         def rhs(t, y):
             dy = np.empty_like(y)
@@ -358,7 +363,7 @@ class _System:
         components in every phase.
         """
         n = self.n
-        regime = _regime(stop_on)
+        regime = self.regime(stop_on)
 
         def rhs(t, y):
             dy = np.empty_like(y)
@@ -374,20 +379,47 @@ class _System:
         return float(self._call("stop_gaps", 1.0, y, 0.0)[i])
 
     def stop_contact(self, i: int, y: np.ndarray) -> float:
-        """Contact of stop side ``i``: its bumper pushes while it is > 0 (neither pivot nor regime enters it)."""
-        return float(self._call("stop_contact", 1.0, y, 0.0)[i])
+        """Contact of stop side ``i``: its bumper pushes while it is > 0 (neither pivot nor indicators enter it,
+        a Hunt-Crossley pad's memory does)."""
+        return float(self._call("stop_contact", 1.0, y, 0.0, self._memory_regime())[i])
+
+    def _memory_regime(self) -> tuple | None:
+        """A regime that carries the memory of the run, for the functions that read only it (None: no memory)."""
+        return self.regime((False,) * self.n_stops) if self.memory else None
+
+    def regime(self, stop_on) -> tuple:
+        """The regime of the stops as the generated functions take it: 1.0 where a side's bumper acts, else 0.0,
+        then the memory ``v_in`` of each Hunt-Crossley side."""
+        return tuple(1.0 if on else 0.0 for on in stop_on) + tuple(self.memory)
+
+    def start_memory(self, y: np.ndarray) -> None:
+        """The memory at the run's start: a contact in progress there is taken to start there (v_in at its floor
+        at least)."""
+        rates = self._call("stop_approach", 1.0, y, 0.0) if self.memory else ()
+        self.memory = [max(float(v), f) for v, f in zip(rates, self.floors) if f is not None]
+
+    def record_approach(self, i: int, y: np.ndarray) -> None:
+        """Stop side ``i``'s pad starts pushing at ``y``: a new contact if its penetration rises (then its v_in
+        is recorded, at its floor at least), else a released pad of the same contact pushes again (kept)."""
+        floor = self.floors[i]
+        if floor is None:
+            return
+        rate = float(self._call("stop_approach", 1.0, y, 0.0)[i])
+        if rate >= 0.0:
+            self.memory[sum(f is not None for f in self.floors[:i])] = max(rate, floor)
 
     def largest_bumper_force(self, states: np.ndarray) -> float:
         """The largest force of any bumper against its penetration over ``states`` (rows), 0 without stops."""
         if self.n_stops == 0 or len(states) == 0:
             return 0.0
-        forces = self.functions.stop_forces(1.0, *np.asarray(states, dtype=float).T, 0.0, *self.params)
+        states = np.asarray(states, dtype=float).T
+        forces = self.functions.stop_forces(1.0, *states, 0.0, *self.params, stop_on=self._memory_regime())
         return float(max(np.max(f) for f in forces))
 
     def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple) -> float:
         """Uplift function ``u_s`` in the regime ``stop_on``: the block leaves full contact about ``s`` when it
         turns positive."""
-        return float(self._call("uplift", s, y, ag, _regime(stop_on)))
+        return float(self._call("uplift", s, y, ag, self.regime(stop_on)))
 
     def critical_angle(self, s: int, y: np.ndarray, ag: float) -> float:
         """Static critical angle ``theta_cr_s(y)`` (with the sign of ``s``)."""
@@ -395,7 +427,7 @@ class _System:
 
     def energy(self, y: np.ndarray, s: int = 1, stop_on: tuple | None = None) -> float:
         """Mechanical energy ``E_s(y)`` in the regime ``stop_on`` (None: that of ``y``; ``ag`` does not enter it)."""
-        return float(self._call("energy", s, y, 0.0, None if stop_on is None else _regime(stop_on)))
+        return float(self._call("energy", s, y, 0.0, None if stop_on is None else self.regime(stop_on)))
 
     def energy_above_rest(self, y: np.ndarray, stop_on: tuple, s: int = 1) -> float:
         """``E(y) - E(0)``, ``E(y)`` about ``s`` (full contact: either) in the regime ``stop_on``."""
@@ -416,11 +448,6 @@ class _System:
 def _lower(a: float, b: float) -> float:
     """The lesser of two values, NaN if either is (sim.c's ``lower``)."""
     return a if (a < b or math.isnan(a)) else b
-
-
-def _regime(stop_on: tuple) -> tuple:
-    """The regime of the stops as the generated functions take it: 1.0 where a side's bumper acts, else 0.0."""
-    return tuple(1.0 if on else 0.0 for on in stop_on)
 
 
 # --------------------------------------------------------------------------- #
@@ -1307,6 +1334,8 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
     elif event in (GAP_CLOSE, GAP_OPEN):
         # A breakpoint: the same phase restarts from here with the side's bumper on or off (rule 6).
         run.stop_on[run.side] = event == GAP_CLOSE
+        if event == GAP_CLOSE:
+            run.system.record_approach(run.side, run.y)
         run.tally.stop_contacts += event == GAP_CLOSE
     else:  # pragma: no cover - every terminal event is handled above
         raise AssertionError(f"unhandled event {event!r}")
@@ -1408,6 +1437,7 @@ def simulate(problem: Problem, record: bool = False) -> Response:
     check_planned_work(problem, record)
     system = _System(problem)
     y = np.zeros(2 * system.n) if problem.y0 is None else np.array(problem.y0, dtype=float)
+    system.start_memory(y)
     run = _Run(
         problem=problem,
         system=system,

@@ -24,6 +24,7 @@ from ..model.loading import Model, ModelError, load_model
 from ..model.motion import FAMILIES, SHAPES, describe, interpolate, real_array, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
+    HC_STOP_PARAMETERS,
     RANGES,
     STOP_PARAMETERS,
     Block,
@@ -470,7 +471,11 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         Damper(**checked).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
-        stops = Stops(**{k: checked[k] for k in STOP_PARAMETERS})
+        stops = Stops(checked["L"], checked["k_b"], checked["c_b"])
+        Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
+        return checked
+    if set(own) == set(DAMPER_PARAMETERS + HC_STOP_PARAMETERS):
+        stops = Stops(checked["L"], checked["k_b"], law="hunt-crossley", n=checked["n_b"], e_b=checked["e_b"])
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}
@@ -678,6 +683,8 @@ def _check_rtol(value: object) -> float:
 
 #: The options of :func:`make_problem` with their defaults, and the check of each when a caller gives it
 #: (in the order a call checks them; ``model``, ``t_max``, ``t_after``, ``y0`` need the run, see :func:`resolve`).
+#: Each checks the type here; the values lie in the entry of ``RANGES`` of the option's name, or in the range
+#: or code set of its field of :data:`~rocking.sim.boundary.CASE` (tests/test_checks.py): no bound restated.
 OPTIONS = {
     name: parameter.default
     for name, parameter in inspect.signature(make_problem).parameters.items()

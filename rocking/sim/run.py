@@ -101,7 +101,7 @@ def simulate(
     rtol : float
         Relative tolerance of the integrator, in [1e-12, 0.01].
     t_max : float, optional
-        End of the run [s], in (0, 1.1e4]; default ``t_after`` (15 s) after the pulse.
+        End of the run [s], in (0, 3e4]; default ``t_after`` (15 s) after the pulse.
     record : bool
         Keep the time history (``Response.history``), sampled every ``record_dt`` (a setting below):
         :meth:`Response.to_dataset` reads it at that spacing, :func:`rerecord` runs it again at

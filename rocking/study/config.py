@@ -29,6 +29,7 @@ from ..model.loading import GENERATED, ModelError, load_model
 from ..model.motion import PULSE_TYPES
 from ..model.params import Block, ParameterError, check_in_range, check_real, shown
 from ..sim import boundary
+from ..sim.problem import OPTIONS
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
 #: 2: tiles carry a manifest (place, names, shapes, dtypes, checksum of their arrays).
@@ -236,8 +237,8 @@ class Setting:
     """
 
     block: Block
-    rtol: float = 1e-8
-    t_after: float = 15.0
+    rtol: float = OPTIONS["rtol"]
+    t_after: float = OPTIONS["t_after"]
     backend: str = "c"
     pulse: str = "sine"
     gamma_mp: float | None = None

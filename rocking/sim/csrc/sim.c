@@ -62,18 +62,31 @@
 typedef struct constants {
     double about[2][NK];         /* [0]: s = +1, [1]: s = -1 */
     int stop_on[MAX_STOP_SIDES]; /* the regime: each stop side's bumper acts */
+    double memory[MAX_STOP_SIDES]; /* the regime's memory: a Hunt-Crossley side's v_in (0: none) */
     const double *p;             /* the model's parameters */
 } constants;
 
-/* The constants of both pivots in the regime stop_on (MAX_STOP_SIDES flags). */
+#if MODEL_NREGIME > MODEL_NSTOPS
+/* Per stop side, the least v_in of a Hunt-Crossley pad, 0 for a side without memory. */
+static const double STOP_FLOORS[MODEL_NSTOPS] = MODEL_STOP_FLOORS;
+#endif
+
+/* The constants of both pivots in the regime stop_on (MAX_STOP_SIDES flags) with the memory
+ * k->memory: the indicators first, then the v_in of each side with memory (model.h). */
 static void constants_prepare(constants *k, const double *p, const int *stop_on)
 {
-    double on[MAX_STOP_SIDES];
-    int i;
+    double on[2 * MAX_STOP_SIDES];
+    int i, j = MODEL_NSTOPS;
     for (i = 0; i < MAX_STOP_SIDES; ++i) {
         k->stop_on[i] = stop_on[i];
         on[i] = stop_on[i] ? 1.0 : 0.0;
     }
+#if MODEL_NREGIME > MODEL_NSTOPS
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        if (STOP_FLOORS[i] > 0.0)
+            on[j++] = k->memory[i];
+#endif
+    (void)j;
     k->p = p;
     model_prepare(1.0, on, p, k->about[0]);
     model_prepare(-1.0, on, p, k->about[1]);
@@ -84,6 +97,24 @@ static void constants_regime(constants *k, const int *stop_on)
 {
     if (memcmp(k->stop_on, stop_on, sizeof k->stop_on) != 0)
         constants_prepare(k, k->p, stop_on);
+}
+
+/* Side i's pad starts pushing at y: a new contact if its penetration rises (its v_in recorded, at its
+ * floor at least), else a released pad of the same contact pushes again (kept). With start set,
+ * every side's v_in is that of a contact starting at y (the run's start). The constants are not
+ * prepared again: the caller does. */
+static void stop_memory_record(constants *k, const double *y, int i, int start)
+{
+#if MODEL_NREGIME > MODEL_NSTOPS
+    double rates[MODEL_NSTOPS];
+    int j;
+    model_stop_approach_prepared(y, 0.0, k->about[0], rates);
+    for (j = 0; j < MODEL_NSTOPS; ++j)
+        if (STOP_FLOORS[j] > 0.0 && (start || (j == i && rates[j] >= 0.0)))
+            k->memory[j] = fmax(rates[j], STOP_FLOORS[j]);
+#else
+    (void)k, (void)y, (void)i, (void)start;
+#endif
 }
 
 /* The constants about the pivot s; full contact uses those of s = +1, as
@@ -1483,7 +1514,9 @@ static void phase_machine(run *r)
             int stop_on[MAX_STOP_SIDES];
             memcpy(stop_on, r->k->stop_on, sizeof stop_on);
             stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
-            constants_regime(r->k, stop_on);
+            if (ended < EV_GAP_OPEN)
+                stop_memory_record(r->k, r->y, gap_side(ended), 0);
+            constants_prepare(r->k, r->k->p, stop_on);
             r->res->stop_contacts += ended < EV_GAP_OPEN;
             continue;
         }
@@ -1606,6 +1639,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.c = c;
     r.tol.rtol = c->rtol;
     r.tol.atol = c->atol;
+    memset(k.memory, 0, sizeof k.memory);
+    constants_prepare(&k, p, clear);
+    stop_memory_record(&k, zeros, -1, 1); /* E(0) in the regime of the rest state, its memory too */
     constants_prepare(&k, p, clear);
     r.k = &k;
     r.o.k = &k;
@@ -1643,8 +1679,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
+    stop_memory_record(&k, r.y, -1, 1); /* a contact in progress at the start starts there (docs/model.md 11) */
+    constants_prepare(&k, p, clear);
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
-    constants_regime(&k, stop_on);
+    constants_prepare(&k, p, stop_on);
     see_state(&r, r.y);
 
     phase_machine(&r);

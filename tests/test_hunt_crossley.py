@@ -1,0 +1,309 @@
+"""Hunt-Crossley end stops (docs/model.md section 11), on both back ends.
+
+The outside facts: a mass that meets a fixed Hunt-Crossley pad, ``F = k_b delta^n (1 + 3 (1 - e_b) / 2
+ddelta / v_in)``, with nothing else acting on it, leaves with a coefficient of restitution close to
+``e_b``: Lankarani & Nikravesh (1990) chose the factor 3 (1 - e_b) / 2 so that the energy the
+damping takes over a contact is that of a restitution ``e_b``, to first order in ``1 - e_b`` (they
+take the approach speed for the speed of the whole contact); the restitution is therefore ``e_b``
+within ``(1 - e_b)^2``. The rebound of the same law integrated here by hand, with SciPy, must
+agree with the runtime's to the integrators' tolerance. Without damping (``e_b = 1``) the pad is
+elastic, ``k_b delta^(n+1) / (n+1)`` its energy: the total is constant across contacts.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import json
+import math
+import re
+
+import numpy as np
+import pytest
+from scipy.integrate import solve_ivp
+
+import rocking
+from rocking import Block, Damper, OneSinePulse, ParameterError, Stops, load_model
+from rocking.sim.problem import make_problem
+from rocking.sim.run import run
+
+BACKENDS = ("numpy", "c")
+REFERENCE = Block.reference()
+STILL = OneSinePulse(a_g=0.0, omega_g=2 * math.pi)
+#: A free 1 kg mass (no spring, no dashpot) 0.1 m from either pad, moving at V0.
+FREE = {"m": 1.0, "h": 0.05, "k_m": 0.0, "c": 0.0, "L": 0.1}
+V0 = 0.5
+K_B = 1e4
+
+
+@pytest.fixture(params=BACKENDS)
+def backend(request) -> str:
+    return request.param
+
+
+def free_mass(e_b: float, n: float, t_max: float, k_m: float = 0.0, v0: float = V0, record_dt=None):
+    """The free mass at x = 0 moving at ``v0`` towards the upper pad, the block on its base, no ground motion."""
+    return make_problem(
+        REFERENCE,
+        {**FREE, "k_m": k_m, "k_b": K_B, "n_b": n, "e_b": e_b},
+        STILL,
+        model="omd_stops_hc",
+        rtol=1e-11,
+        t_max=t_max,
+        record_dt=record_dt,
+        y0=np.array([0.0, 0.0, 0.0, v0]),
+        energy_rest=0.0,
+        early_rest=False,
+    )
+
+
+def rebound_by_hand(e_b: float, n: float) -> tuple[float, float]:
+    """``(e, tau)``: the restitution and duration of one contact of the free mass, the law integrated here."""
+    chi = 1.5 * (1.0 - e_b)
+
+    def law(t, y):
+        delta, rate = y
+        return [rate, -max(0.0, K_B * max(delta, 0.0) ** n * (1.0 + chi * rate / V0)) / FREE["m"]]
+
+    def leaves(t, y):
+        return y[0] if t > 0.0 else 1.0
+
+    def lets_go(t, y):
+        return 1.0 + chi * y[1] / V0
+
+    leaves.terminal = lets_go.terminal = True
+    leaves.direction = lets_go.direction = -1
+    sol = solve_ivp(law, (0.0, 10.0), [0.0, V0], rtol=1e-12, atol=1e-15, events=[leaves, lets_go], max_step=1e-3)
+    return -sol.y[1, -1] / V0, sol.t[-1]
+
+
+@pytest.mark.parametrize("e_b", [0.9, 0.95, 0.99])
+@pytest.mark.parametrize("n", [1.0, 1.5])
+def test_a_mass_rebounds_from_a_pad_with_its_restitution(backend, e_b, n):
+    """One contact: the mass leaves at -e V0 with e the law's (by hand, 1e-7) and e_b within (1 - e_b)^2."""
+    e, tau = rebound_by_hand(e_b, n)
+    t_end = FREE["L"] / V0 + tau + 0.05  # the mass is 0.05 e V0 past the pad's release, far from the other pad
+    r = run(free_mass(e_b, n, t_end), backend=backend, record=True)
+    assert (r.status, r.uplifts, r.stop_contacts) == ("t_max", 0, 1)
+    rebound = -r.history["dx"][-1] / V0
+    assert rebound == pytest.approx(e, rel=1e-7)
+    assert abs(rebound - e_b) <= (1.0 - e_b) ** 2
+    assert r.history["x"][-1] == pytest.approx(FREE["L"] - e * V0 * (t_end - FREE["L"] / V0 - tau), rel=1e-6)
+
+
+def test_the_force_has_no_jump_at_contact_and_pushes_only(backend):
+    """The recorded F_b starts from 0 at the gap's closing, never pulls, and its peak is the law's."""
+    e_b, n = 0.6, 1.5
+    e, tau = rebound_by_hand(e_b, n)
+    r = run(free_mass(e_b, n, FREE["L"] / V0 + tau + 0.01, record_dt=1e-5), backend=backend, record=True)
+    h = r.history
+    delta = h["x"] - FREE["L"]
+    forces = K_B * np.maximum(delta, 0.0) ** n * (1.0 + 1.5 * (1.0 - e_b) * h["dx"] / V0)
+    assert forces.min() >= -1e-9 * forces.max()
+    assert r.bumper_force_max == pytest.approx(forces.max(), rel=1e-3)
+    first = np.flatnonzero(delta > 0.0)[0]
+    assert forces[first] <= K_B * (V0 * 1e-5) ** n * 3  # one sample into the contact: delta ~ V0 dt
+
+
+def test_elastic_pads_keep_the_energy_and_damped_pads_only_take_it(backend):
+    """A spring and Hunt-Crossley pads, no dashpot: with e_b = 1 the energy, k_b delta^(n+1)/(n+1) included, is
+    constant over contacts (1e-8); with e_b = 0.5 it never rises (events add none) and falls at each contact.
+    The energy is evaluated here at the recorded states, not by the runtime."""
+    model = load_model("omd_stops_hc")
+    for e_b in (1.0, 0.5):
+        r = run(free_mass(e_b, 1.5, 3.0, k_m=50.0, v0=0.8, record_dt=2e-4), backend=backend, record=True)
+        assert r.uplifts == 0 and r.stop_contacts >= 3
+        h = r.history
+        state = [h[k] for k in model.state]
+        params = {**REFERENCE.as_params(), **FREE, "k_m": 50.0, "k_b": K_B, "n_b": 1.5, "e_b": e_b}
+        # Both pads counted wherever delta > 0: with e_b >= 1/2 a pad never lets go before delta = 0 (its release
+        # needs a receding speed of v_in / chi >= v_in), and the energy does not depend on v_in.
+        pushing = (1.0, 1.0, V0, V0)
+        energy = model.functions.energy(1.0, *state, 0.0, *model.param_vector(params), stop_on=pushing)
+        scale = 0.5 * FREE["m"] * 0.8**2
+        if e_b == 1.0:
+            assert np.ptp(energy) <= 1e-8 * scale
+        else:
+            assert np.all(np.diff(energy) <= 1e-9 * scale)
+            # Each contact takes (1 - e^2) of the kinetic energy it starts with; the spring keeps k_m L^2 / 2.
+            assert energy[0] - energy[-1] > 0.1 * scale
+
+
+def test_both_back_ends_agree_on_blocks_with_hunt_crossley_stops():
+    """Random dampers with the stops of Stops.at_edges(law="hunt-crossley") under one-sine pulses: the same
+    verdict, impacts and contacts, theta_max and x_max within 1e-6 (the integrators' global error at rtol 1e-10)."""
+    rng = np.random.default_rng(25)
+    for _ in range(6):
+        damper = Damper.from_nondim(REFERENCE, gamma=rng.uniform(0.02, 0.1), omega_ratio=rng.uniform(0.5, 2), h=0.05)
+        stops = Stops.at_edges(REFERENCE, damper, law="hunt-crossley", e_b=rng.uniform(0.3, 0.9))
+        pulse = OneSinePulse.from_nondim(REFERENCE, beta=rng.uniform(3, 12), Omega=rng.uniform(3, 10))
+        damper = dataclasses.replace(damper, stops=stops)
+        a, b = (rocking.simulate(REFERENCE, damper, pulse, backend=be, rtol=1e-10) for be in BACKENDS)
+        assert (a.overturned, a.impacts, a.stop_contacts) == (b.overturned, b.impacts, b.stop_contacts)
+        assert a.theta_max == pytest.approx(b.theta_max, rel=1e-6)
+        assert a.x_max == pytest.approx(b.x_max, rel=1e-6)
+        assert a.bumper_force_max == pytest.approx(b.bumper_force_max, rel=1e-5)
+
+
+def test_stops_refuse_bad_hunt_crossley_parameters():
+    """Each bad value is refused in one line naming the parameter and its range."""
+    with pytest.raises(ParameterError, match=r"e_b must be given with law='hunt-crossley'"):
+        Stops(L=0.2, k_b=1e5, law="hunt-crossley")
+    with pytest.raises(ParameterError, match=r"e_b .*\(0, 1\]"):
+        Stops(L=0.2, k_b=1e5, law="hunt-crossley", e_b=1.2)
+    with pytest.raises(ParameterError, match=r"n .*\[1, 10\]"):
+        Stops(L=0.2, k_b=1e5, law="hunt-crossley", e_b=0.5, n=0.5)
+    with pytest.raises(ParameterError, match=r"c_b must be 0 with law='hunt-crossley'"):
+        Stops(L=0.2, k_b=1e5, c_b=10.0, law="hunt-crossley", e_b=0.5)
+    with pytest.raises(ParameterError, match=r"law must be one of kelvin-voigt, hunt-crossley"):
+        Stops(L=0.2, k_b=1e5, law="hertz")
+    with pytest.raises(ParameterError, match=r"e_b is a parameter of law='hunt-crossley'"):
+        Stops(L=0.2, k_b=1e5, e_b=0.5)
+    # The model's parameters given by name (make_problem, --param) pass the same checks.
+    with pytest.raises(ParameterError, match=r"e_b must be in \(0, 1\]"):
+        free_mass(1.5, 1.5, 1.0)
+    with pytest.raises(ParameterError, match=r"n must be in \[1, 10\]"):
+        free_mass(0.5, 0.8, 1.0)
+
+
+def test_at_edges_gives_the_kelvin_voigt_pads_force_at_full_depth():
+    """k_b of the Hunt-Crossley pads: k_b depth^n equals the Kelvin-Voigt pads' k_b depth."""
+    damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, h=0.05)
+    kv = Stops.at_edges(REFERENCE, damper)
+    hc = Stops.at_edges(REFERENCE, damper, law="hunt-crossley", e_b=0.6, n=1.5)
+    assert (hc.law, hc.n, hc.e_b, hc.L) == ("hunt-crossley", 1.5, 0.6, kv.L)
+    assert hc.k_b * 0.02**1.5 == pytest.approx(kv.k_b * 0.02, rel=1e-12)
+    assert dataclasses.replace(damper, stops=hc).model == "omd_stops_hc"
+
+
+def test_the_law_with_a_memory_matches_model_md_by_hand():
+    """With a regime given (each side's flag and an approach speed v_in of an earlier start, not the state's),
+    the generated forces, contact, accelerations and power are section 11's, typed by hand in
+    rocking.reference.paper, to 1e-12 (rocking verify checks them with the memory of the state)."""
+    from rocking.reference import paper
+    from rocking.reference.verify import random_cases, rel_error
+
+    model = load_model("omd_stops_hc")
+    floor = model.manifest["stops"][0]["approach_floor"]
+    rng = np.random.default_rng(3)
+    for s in (1, -1):
+        v = random_cases(rng, 2000, s, stops=True, hunt_crossley=True)
+        v_in = tuple(10 ** rng.uniform(-3, 0.5, 2000) for _ in range(2))
+        stops = {k: v[k] for k in ("L", "k_b", "n_b", "e_b")} | {"floor": floor, "v_in": v_in}
+        x, dx = v["x"], v["dx"]
+        contact = paper.stop_contact(x, dx, **stops)
+        regime = (*(np.where(c > 0, 1.0, 0.0) for c in contact), *v_in)
+        args = (v["s"], *(v[k] for k in model.state), v["ag"], *(v[k] for k in model.parameters))
+        hand = {
+            "stop_contact": contact,
+            "stop_forces": paper.stop_forces(x, dx, **stops),
+            "contact_accel": (paper.contact_accel(x, dx, v["ag"], v["m"], v["k_m"], v["c"], **stops),),
+            "power": (
+                paper.power(
+                    s, *(v[k] for k in ("theta", "x", "dtheta", "dx", "ag", "M", "B", "H", "e", "m", "h", "c")), **stops
+                ),
+            ),
+        }
+        assert sum(np.count_nonzero(r) for r in regime[:2]) > 200  # pads pushing in many cases
+        for name, expected in hand.items():
+            got = getattr(model.functions, name)(*args, stop_on=regime)
+            got = got if isinstance(got, tuple) else (got,)
+            index = slice(1, None) if name == "contact_accel" else slice(None)
+            for a, b in zip(got[index], expected):
+                assert rel_error(a, b) <= 1e-12, name
+
+
+def test_below_the_floor_a_contact_is_that_of_a_stiffer_restitution(backend):
+    """A contact slower than the floor v_f: the runtime records v_in = v_f, so its law is k_b delta^n (1 + chi
+    ddelta / v_f) = that of a pad of restitution e' = 1 - (1 - e_b) v0 / v_f met at v0 (the rebound of the law
+    does not depend on the speed): the mass leaves at -e(e') v0, with e(e') integrated by hand."""
+    floor = load_model("omd_stops_hc").manifest["stops"][0]["approach_floor"]
+    e_b, n, v0 = 0.5, 1.5, 0.1 * floor
+    stiffer = 1.0 - (1.0 - e_b) * v0 / floor
+    e, _ = rebound_by_hand(stiffer, n)
+    problem = dataclasses.replace(free_mass(e_b, n, 3.0, v0=v0), y0=np.array([0.0, FREE["L"] - 1e-7, 0.0, v0]))
+    r = run(problem, backend=backend, record=True)
+    assert (r.status, r.stop_contacts) == ("t_max", 1)
+    assert -r.history["dx"][-1] / v0 == pytest.approx(e, rel=1e-6)
+    assert abs(e - e_b) > 0.4  # the floor matters: the pad restitutes e(0.95), not e_b = 0.5
+
+
+def test_a_run_that_starts_inside_a_pad_starts_its_contact(backend):
+    """The mass at rest 1 mm into a pad: the contact starts at t = 0 with v_in at the floor, so the pad pushes
+    with k_b delta^n at first, lets go once the mass recedes at v_f / chi, and adds no energy."""
+    model = load_model("omd_stops_hc")
+    floor = model.manifest["stops"][0]["approach_floor"]
+    e_b, n, depth = 0.5, 1.5, 1e-3
+    problem = dataclasses.replace(
+        free_mass(e_b, n, 0.05, record_dt=1e-5), y0=np.array([0.0, FREE["L"] + depth, 0.0, 0.0])
+    )
+    r = run(problem, backend=backend, record=True)
+    assert r.bumper_force_max == pytest.approx(K_B * depth**n, rel=1e-9)
+    leaving = -r.history["dx"][-1]
+    chi = 1.5 * (1 - e_b)
+    # Released where ddelta = -v_f / chi: to 1e-4, the integrator's absolute tolerance on a speed of 1 mm/s.
+    assert leaving == pytest.approx(floor / chi, rel=1e-4)
+    assert 0.5 * FREE["m"] * leaving**2 < K_B * depth ** (n + 1) / (n + 1)
+
+
+def test_simulate_with_hunt_crossley_pads_is_the_python_api(capsys):
+    """--bumper-law hunt-crossley --e-b 0.8 is Stops.at_edges(..., law="hunt-crossley", e_b=0.8); --e-b implies
+    the law; a Kelvin-Voigt pad's option with it, or a bad value, is refused in one line."""
+    from rocking.cli.main import main
+
+    argv = ["simulate", "--gamma", "0.05", "--omega-ratio", "1", "--h", "0.05", "--beta", "10", "--Omega", "7.5"]
+    damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1, h=0.05)
+    stops = Stops.at_edges(REFERENCE, damper, law="hunt-crossley", e_b=0.8)
+    pulse = OneSinePulse.from_nondim(REFERENCE, beta=10, Omega=7.5)
+    expected = rocking.simulate(REFERENCE, dataclasses.replace(damper, stops=stops), pulse).summary()
+    for options in (["--bumper-law", "hunt-crossley", "--e-b", "0.8"], ["--e-b", "0.8", "--n-b", "1.5"]):
+        assert main([*argv, *options, "--json"]) == 0
+        out = json.loads(capsys.readouterr().out)["responses"]["with damper"]
+        out.pop("mass_past_edge")
+        assert out == json.loads(json.dumps(expected))
+    for options, message in (
+        (["--e-b", "0.8", "--bumper-law", "kelvin-voigt"], "--e-b: parameters of the Hunt-Crossley pads"),
+        (["--bumper-law", "hunt-crossley", "--c-b", "3"], "c_b must be 0 with law='hunt-crossley'"),
+        (["--e-b", "0"], r"e_b must be in \(0, 1\]"),
+    ):
+        assert main([*argv, *options]) == 2
+        err = capsys.readouterr().err.strip().splitlines()
+        assert len(err) == 1 and re.search(message, err[0]), err
+
+
+def test_the_history_finds_each_contacts_approach_speed_again(backend):
+    """Response.to_dataset with Hunt-Crossley pads: F_b and ddx are those of the law with each contact's own v_in
+    (the approach speed at its start), not those of a contact starting at each sample: against the law
+    written here with v_in read off the first sample into each contact, and the mass's m ddx = -F_b."""
+    e_b, n = 0.6, 1.5
+    _, tau = rebound_by_hand(e_b, n)
+    t_end = FREE["L"] / V0 + tau + 0.02
+    r = run(free_mass(e_b, n, t_end, record_dt=1e-4), backend=backend, record=True)
+    ds = r.to_dataset(dt=1e-4)
+    x, dx = ds["x"].values, ds["dx"].values
+    delta = x - FREE["L"]
+    law = K_B * np.maximum(delta, 0.0) ** n * (1.0 + 1.5 * (1.0 - e_b) * dx / V0)  # v_in = V0: no force before
+    inside = (delta > 0.0) & (law > 0.0)
+    assert inside.sum() > 100 and np.any(dx[inside] < -0.3 * V0)  # the pad pushes while the mass leaves too
+    assert np.allclose(ds["F_b"].values, np.where(inside, law, 0.0), rtol=1e-6, atol=1e-9 * law.max())
+    assert np.allclose(FREE["m"] * ds["ddx"].values, -ds["F_b"].values, rtol=1e-9, atol=1e-9 * law.max())
+
+
+def test_a_spec_states_its_pads_law_as_data():
+    """The [[stops]] keys of each law, checked before any derivation, each error in one line naming the stop."""
+    from rocking.derive.spec import VARIANTS_DIR, SpecError, parse_spec, tomllib  # tomli on Python 3.10
+
+    base = tomllib.loads((VARIANTS_DIR / "omd_stops_hc.toml").read_text())
+    assert parse_spec(base).stops[0].law == "hunt-crossley"
+    stop = base["stops"][0]
+    for change, message in (
+        ({"law": "hertz"}, "unknown law 'hertz'; choose one of kelvin-voigt, hunt-crossley"),
+        ({"damping": "0"}, "damping is not a key of the hunt-crossley law"),
+        ({"approach_floor": 0}, "approach_floor must be a number > 0"),
+        ({"restitution": None}, "missing required key 'restitution'"),
+    ):
+        table = {k: v for k, v in {**stop, **change}.items() if v is not None}
+        with pytest.raises(SpecError, match=re.escape(message)):
+            parse_spec({**base, "stops": [table]})
+    kelvin_voigt = {k: v for k, v in stop.items() if k not in ("law", "exponent", "restitution")}
+    with pytest.raises(SpecError, match=re.escape("exponent is not a key of the kelvin-voigt law")):
+        parse_spec({**base, "stops": [{**kelvin_voigt, "damping": "0", "exponent": "2"}]})
