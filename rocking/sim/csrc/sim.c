@@ -368,9 +368,9 @@ static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const 
 
 /* acc = sum_j w[j] k[j] over the first n stages, summed from 0.0 in stage
  * order. Every call has a constant n and w (a row of a table): unrolled over
- * the stages, each inlined call keeps the components in vector registers, one
- * weight per stage (not one per stage and component pair, as the components'
- * loop outside gave), with the same sums in the same order. */
+ * the stages, each inlined call keeps the components in vector registers and
+ * loads each weight once (with the stages inside the components' loop, gcc
+ * loaded them again for every pair of components). */
 static inline void combine_stages(const double (*k)[NY], const double *w, int n, double *acc)
 {
     int i, j;
