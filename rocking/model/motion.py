@@ -189,10 +189,14 @@ def ricker_extrema(antisymmetric: bool) -> np.ndarray:
 class _Analytic:
     """What the analytic families share: amplitude, frequency and sign, checked, and ``f`` on ``[0, t_p]``.
 
-    A subclass declares ``family`` and the dataclass fields ``a_g``, ``omega_g``, ``sign``.
+    A subclass declares ``family`` and the dataclass fields ``a_g``, ``omega_g``, ``sign``; its centre and end
+    follow from them (:func:`timing`).
     """
 
     family: str = ""
+    a_g: float
+    omega_g: float
+    sign: int
 
     def _check(self) -> None:
         check_sign(self.sign)
@@ -214,13 +218,18 @@ class _Analytic:
 
     @property
     def shape_parameter(self) -> float:
-        """The shape parameter (``gamma`` of the MP pulse, 0 otherwise)."""
+        """The shape parameter (``gamma_mp`` of the MP pulse, 0 otherwise)."""
         return 0.0
 
     @property
     def t_c(self) -> float:
         """Centre of the motion, s (0 for the one-cosine)."""
-        return 0.0
+        return timing(self.family, self.omega_g, self.phase, self.shape_parameter)[0]
+
+    @property
+    def t_p(self) -> float:
+        """End of the motion, s."""
+        return timing(self.family, self.omega_g, self.phase, self.shape_parameter)[1]
 
     def acceleration(self, t: ArrayLike) -> float | np.ndarray:
         """Ground acceleration ``sign a_g f(t)`` on ``[0, t_p]``, 0 outside, m/s^2 (float for a scalar ``t``)."""
@@ -250,7 +259,7 @@ class _Analytic:
         Omega : float
             Frequency ratio, in [0.01, 1000].
         **shape
-            The family's other parameters (``sign``, ``antisymmetric``, ``gamma``, ``nu``).
+            The family's other parameters (``sign``, ``antisymmetric``, ``gamma_mp``, ``nu``).
 
         Raises
         ------
@@ -291,11 +300,6 @@ class OneCosinePulse(_Analytic):
     def __post_init__(self) -> None:
         self._check()
 
-    @property
-    def t_p(self) -> float:
-        """End of the pulse, ``2 pi / omega_g``, s."""
-        return timing(self.family, self.omega_g)[1]
-
 
 @dataclass(frozen=True)
 class RickerWavelet(_Analytic):
@@ -331,23 +335,13 @@ class RickerWavelet(_Analytic):
     def family(self) -> str:
         return "ricker_anti" if self.antisymmetric else "ricker"
 
-    @property
-    def t_c(self) -> float:
-        """Centre ``RICKER_CUT RICKER_PHASE / omega_g``: ``8 / omega_g``, ``4 sqrt 6 / omega_g`` if antisymmetric, s."""
-        return timing(self.family, self.omega_g)[0]
-
-    @property
-    def t_p(self) -> float:
-        """End ``2 t_c``, s."""
-        return timing(self.family, self.omega_g)[1]
-
 
 @dataclass(frozen=True)
 class MavroeidisPapageorgiou(_Analytic):
     """The near-fault pulse of Mavroeidis and Papageorgiou (2003), ``omega_g = 2 pi f_p`` (docs/model.md 12).
 
-    Ground velocity ``v = A/2 [1 + cos(phi / gamma)] cos(phi + nu)``, ``phi = omega_g (t - t_c)``,
-    ``|phi| <= gamma pi``; the acceleration is its derivative, ``a_g = A omega_g``. Its peak is
+    Ground velocity ``v = A/2 [1 + cos(phi / gamma_mp)] cos(phi + nu)``, ``phi = omega_g (t - t_c)``,
+    ``|phi| <= gamma_mp pi``; the acceleration is its derivative, ``a_g = A omega_g``. Its peak is
     below ``a_g`` in general.
 
     Parameters
@@ -356,8 +350,9 @@ class MavroeidisPapageorgiou(_Analytic):
         ``A omega_g``, m/s^2, in [0, 1e5].
     omega_g : float
         ``2 pi f_p``, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``.
-    gamma : float
-        Oscillations, in (1, 20].
+    gamma_mp : float
+        Oscillations (Mavroeidis and Papageorgiou's gamma, named apart from the damper's mass ratio), in
+        (1, 20].
     nu : float, optional
         Phase, rad, in ``[0, 2 pi)``. Default 0.
     sign : {+1, -1}, optional
@@ -366,14 +361,14 @@ class MavroeidisPapageorgiou(_Analytic):
 
     a_g: float
     omega_g: float
-    gamma: float
+    gamma_mp: float
     nu: float = 0.0
     sign: int = 1
     family = "mp"
 
     def __post_init__(self) -> None:
         self._check()
-        object.__setattr__(self, "gamma", check_in_range("gamma", self.gamma, "gamma_mp"))
+        object.__setattr__(self, "gamma_mp", check_in_range("gamma_mp", self.gamma_mp))
         object.__setattr__(self, "nu", check_in_range("nu", self.nu, "psi", label="[0, 2 pi)"))
 
     @property
@@ -382,17 +377,7 @@ class MavroeidisPapageorgiou(_Analytic):
 
     @property
     def shape_parameter(self) -> float:
-        return self.gamma
-
-    @property
-    def t_c(self) -> float:
-        """Centre ``gamma pi / omega_g``, s."""
-        return timing("mp", self.omega_g, gamma=self.gamma)[0]
-
-    @property
-    def t_p(self) -> float:
-        """End ``2 gamma pi / omega_g``, s."""
-        return timing("mp", self.omega_g, gamma=self.gamma)[1]
+        return self.gamma_mp
 
 
 # --------------------------------------------------------------------------- #
@@ -645,11 +630,12 @@ def describe(motion: object) -> Description:
     ParameterError
         ``motion`` is not exactly one of the registered types (:data:`REGISTRY`).
     """
-    family = family_of(motion)
-    if family == "sampled":
+    family_of(motion)
+    if isinstance(motion, SampledMotion):
         return Description("sampled", motion.sign * motion.scale, t_p=motion.t_p, samples=motion.a, dt=motion.dt)
+    assert isinstance(motion, (OneSinePulse, _Analytic))  # family_of admits the registered types only
     common = {"omega_g": motion.omega_g, "t_p": motion.t_p, "T_g": 2 * math.pi / motion.omega_g}
-    if family == "sine":
+    if isinstance(motion, OneSinePulse):
         return Description("sine", motion.sign * motion.a_g, phase=motion.psi, **common)
     extrema = listed_extrema(motion.family, motion.shape_parameter, motion.phase)
     return Description(
