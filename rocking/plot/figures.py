@@ -40,6 +40,7 @@ from matplotlib.ticker import FuncFormatter
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
+from ..study.ida import envelope as ida_envelope
 from ..study.kinds import KINDS
 from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
 from ..study.result import Study
@@ -734,15 +735,17 @@ def ida_figure(study: Study) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
     band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
     resurrections marked."""
-    a, s = study.arrays, study.summary
+    data, s = study.data, study.summary
+    levels, curve_x = data["level"].values, data["curve_x"].values
     fig = Figure(figsize=(13, 6), layout="constrained")
     ax_f, ax_m = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
     unit = f" ({s['unit']})" if s["unit"] else ""
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
+        a = data.sel(part=part)
         ax_f.plot(
-            a["levels"],
-            a[f"{part}_fraction"],
+            levels,
+            a["fraction"].values,
             ls="none",
             color=style["color"],
             marker=style["marker"],
@@ -752,13 +755,10 @@ def ida_figure(study: Study) -> Figure:
         )
         if fit["status"] in ("fitted", "separated"):
             label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
-            ax_f.plot(
-                a["curve_x"], a[f"{part}_curve"], "-" if part == "bare" else "--", color=style["color"], label=label
-            )
+            ax_f.plot(curve_x, a["curve"].values, "-" if part == "bare" else "--", color=style["color"], label=label)
             ax_f.fill_between(
-                a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"], alpha=0.15, lw=0
+                curve_x, a["band_low"].values, a["band_high"].values, color=style["color"], alpha=0.15, lw=0
             )
-    levels = a["levels"]
     # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
     xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
     measure = "scale factor" if s["measure"] == "scale" else s["measure"]
@@ -778,16 +778,16 @@ def ida_figure(study: Study) -> Figure:
         "fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions", fontsize=9
     )
     _legend_below(ax_f)
-    over = a["damper_overturned"].astype(int)
+    over = ida_envelope(data)["overturned"].sel(part="damper").values.astype(int)
     classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
     handles = _classes(ax_m, levels, np.arange(over.shape[0]), (over == 1).astype(int).T, classes, xlog)
     if xlog:
         ax_m.set_xscale("log")
         _plain_ticks(ax_m.xaxis)
-    rows = np.flatnonzero(a["damper_reversals"] > 0)
+    rows = np.flatnonzero(data["reversals"].sel(part="damper").values > 0)
     if rows.size:
         ax_m.plot(
-            np.full(rows.size, a["levels"][-1]),
+            np.full(rows.size, levels[-1]),
             rows,
             "<",
             color=OKABE_ITO["blue"],

@@ -468,7 +468,8 @@ def incremental_dynamic_analysis(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``motion``, ``level``, ``sign``; the fitted curves at ``curve_x``.
+        Dimensions ``part`` (``bare``, ``damper``), ``motion``, ``level``, ``sign``; the fitted curves at
+        ``curve_x``; the envelope over the directions: :func:`rocking.study.ida.envelope`.
 
     Examples
     --------
@@ -477,8 +478,8 @@ def incremental_dynamic_analysis(
     >>> pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]  # a_g 3 m/s^2, T_g in s
     >>> ds = rocking.incremental_dynamic_analysis(block, {"gamma": 0.05}, motions=pulses, levels=[1.0, 2.0, 4.0],
     ...                                           measure="amplitude", runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["bare_fraction"].dims, ds["level"].attrs["units"]
-    (('level',), 'm/s^2')
+    >>> ds["fraction"].dims, ds["level"].attrs["units"]
+    (('part', 'level'), 'm/s^2')
     """
     return _run(
         _incremental_dynamic_analysis,

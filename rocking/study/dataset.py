@@ -1,20 +1,21 @@
-"""Studies as labelled data: an :class:`xarray.Dataset` per study, and its tables as :class:`pandas.DataFrame`.
+"""The labels of the studies' data: units and meanings of every field and coordinate, SI coordinates, NetCDF.
 
-A study's arrays (:attr:`rocking.study.config.Study.arrays`) are plain NumPy arrays whose axes follow a
-convention of their kind (a map's cells are ``(Omega, beta)``, then the direction of the pulse). Here
-that convention is written down once per kind (:data:`LAYOUTS`): which arrays are coordinates, and the
-dimensions of every other array by its name. :func:`to_dataset` then gives
+A study builds its :class:`xarray.Dataset` where it allocates its arrays (:attr:`rocking.study.result.Study.data`),
+with
 
-- dimensions named after the swept quantities (``Omega``, ``beta``, ``sign``, ``gamma``, ``motion``, ...);
+- dimensions named after the swept quantities and the study's own (``part``, ``sign``, ``Omega``, ``beta``,
+  ``motion``, ``level``, ...);
 - coordinates in non-dimensional and SI terms (``T_g`` in s and ``a_g`` in m/s^2 beside ``Omega`` and
-  ``beta``, from the study's block: docs/model.md section 9);
-- CF-style ``units`` and ``long_name`` on every variable, the response fields' taken from the simulator's
-  own table (:data:`rocking.sim.boundary.RESULT`); categorical values (statuses, flags, outcomes, the
-  damper's effect) with their key as ``flag_values`` and ``flag_meanings``;
-- the configuration, the software versions and the summary as JSON attributes.
+  ``beta``, from the study's block, :func:`si_coordinates`: docs/model.md section 9);
+- CF-style ``units`` and ``long_name`` on every variable (:func:`field_attrs`, :func:`coordinate_attrs`), the
+  response fields' taken from the simulator's own table (:data:`rocking.sim.boundary.RESULT`); categorical
+  values (statuses, flags, outcomes, the damper's effect) with their key as ``flag_values`` and
+  ``flag_meanings``.
 
-Saved as NetCDF (``<name>.nc``, beside the ``.npz``/``.json`` of :func:`rocking.study.storage.save`),
-it reads back as the same ``Dataset`` (:func:`read_netcdf`).
+:func:`to_dataset` adds the configuration, the software versions and the summary as JSON attributes; saved as
+NetCDF (``<name>.nc``, :func:`rocking.study.storage.save`), it reads back as the same ``Dataset``
+(:func:`read_netcdf`). The optimum and the design still name dimensions in their arrays' names: their arrays
+are labelled on the way (:data:`LAYOUTS`, :func:`labelled`) until they are built labelled too.
 """
 
 from __future__ import annotations
@@ -61,19 +62,7 @@ LAYOUTS: dict[str, tuple[dict, tuple]] = {
             (r".*", ("Omega",)),
         ),
     ),
-    "ida": (
-        {"levels": "level", "signs": "sign", "curve_x": "curve_x"},
-        (
-            (r"im", ("motion",)),
-            (r".*_by_sign", ("motion", "level", "sign")),
-            (r"{part}_(first|last_safe|reversals)", ("motion",)),
-            (r"{part}_(sensitive_)?fraction", ("level",)),
-            (r"{part}_(curve|band_low|band_high)", ("curve_x",)),
-            (r".*", ("motion", "level")),
-        ),
-    ),
 }
-LAYOUTS["fragility"] = LAYOUTS["ida"]
 
 _PART = "(?:" + "|".join(PART_NAMES) + ")"
 

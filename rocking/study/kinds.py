@@ -85,6 +85,8 @@ KINDS = {
         "threshold_figure",
         threshold.DIMS.__getitem__,
     ),
-    "ida": _named("ida", ida.incremental_dynamic_analysis, {"levels": "level"}, ida.tables, "ida_figure"),
-    "fragility": _named("fragility", ida.incremental_dynamic_analysis, {"levels": "level"}, ida.tables, "ida_figure"),
+    "ida": Kind(ida.incremental_dynamic_analysis, {"levels": "level"}, ida.tables, "ida_figure", ida.DIMS.__getitem__),
+    "fragility": Kind(
+        ida.incremental_dynamic_analysis, {"levels": "level"}, ida.tables, "ida_figure", ida.DIMS.__getitem__
+    ),
 }
