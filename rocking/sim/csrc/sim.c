@@ -92,6 +92,42 @@ static void constants_prepare(constants *k, const double *p, const int *stop_on)
     model_prepare(-1.0, on, p, k->about[1]);
 }
 
+/* Regimes a run keeps the constants of: every combination of the stop sides' flags when the
+ * regime is the flags alone; a Hunt-Crossley memory makes the regimes a continuum (none kept). */
+#if MODEL_NSTOPS > 0 && MODEL_NREGIME == MODEL_NSTOPS
+#define KEPT_REGIMES (1 << MODEL_NSTOPS)
+#else
+#define KEPT_REGIMES 0
+#endif
+
+/* The constants of the regimes a run has prepared: a mass that bounces on a pad switches between
+ * the same two regimes at every contact, and preparing costs far more than a copy. */
+typedef struct regime_store {
+    int ready[KEPT_REGIMES > 0 ? KEPT_REGIMES : 1];
+    double about[KEPT_REGIMES > 0 ? KEPT_REGIMES : 1][2][NK];
+} regime_store;
+
+/* k in the regime stop_on: the kept constants of that regime, or prepared (and kept). */
+static void constants_switch(constants *k, regime_store *store, const int *stop_on)
+{
+#if KEPT_REGIMES > 0
+    int i, key = 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        key |= (stop_on[i] != 0) << i;
+    if (store->ready[key]) {
+        memcpy(k->stop_on, stop_on, sizeof k->stop_on);
+        memcpy(k->about, store->about[key], sizeof k->about);
+        return;
+    }
+    constants_prepare(k, k->p, stop_on);
+    memcpy(store->about[key], k->about, sizeof k->about);
+    store->ready[key] = 1;
+#else
+    (void)store;
+    constants_prepare(k, k->p, stop_on);
+#endif
+}
+
 /* The constants in the regime stop_on, prepared again only if it is a new one. */
 static void constants_regime(constants *k, const int *stop_on)
 {
@@ -598,12 +634,21 @@ static double stop_gap(const constants *k, const double *y, int i)
     return gaps[i];
 }
 
-/* The contact of stop side i, min(delta, k_b delta + c_b ddelta): its bumper
+/* The contact of every stop side, min(delta, k_b delta + c_b ddelta): a side's bumper
  * pushes while it is > 0 (a pad only pushes; neither pivot nor regime enters it). */
+static void stop_contacts_at(const constants *k, const double *y, double *contacts)
+{
+    int i;
+    for (i = MODEL_NSTOPS; i < MAX_STOP_SIDES; ++i)
+        contacts[i] = 0.0;
+    model_stop_contact_prepared(y, 0.0, about(k, 1.0), contacts);
+}
+
+/* The contact of stop side i (stop_contacts_at). */
 static double stop_contact(const constants *k, const double *y, int i)
 {
-    double contacts[MAX_STOP_SIDES] = {0.0};
-    model_stop_contact_prepared(y, 0.0, about(k, 1.0), contacts);
+    double contacts[MAX_STOP_SIDES];
+    stop_contacts_at(k, y, contacts);
     return contacts[i];
 }
 
@@ -832,6 +877,9 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 {
     int fired[N_EVENTS];
     int i, n_fired = 0;
+    /* The generated stop_contact gives every side at once: one call per step end. */
+    double contacts[MAX_STOP_SIDES];
+    int have_contacts = 0;
     out->terminal = -1;
     out->t_stop = d->t;
     out->n_passed = 0;
@@ -840,10 +888,19 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
     for (i = 0; i < es->n; ++i) {
         const watched *w = &es->w[i];
         const int k = w->kind;
-        double g_old = es->g[i];
-        const double g_new = w->component >= 0 ? component_event(w->factor, w->offset, d->y[w->component])
-                                               : event_value(ec, k, d->t, d->y);
-        const int sense = event_sense(w->sense, g_old);
+        double g_old = es->g[i], g_new;
+        int sense;
+        if (w->component >= 0) {
+            g_new = component_event(w->factor, w->offset, d->y[w->component]);
+        } else if (gap_side(k) >= 0) {
+            if (!have_contacts)
+                stop_contacts_at(ec->o->k, d->y, contacts);
+            have_contacts = 1;
+            g_new = contacts[gap_side(k)];
+        } else {
+            g_new = event_value(ec, k, d->t, d->y);
+        }
+        sense = event_sense(w->sense, g_old);
         es->g[i] = g_new;
         if (!is_before(sense * g_old, w->strict) || is_before(sense * g_new, w->strict) ||
             (SHORTCUTS && peak_below_max(ec, d, k)))
@@ -885,6 +942,7 @@ typedef struct run {
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
     constants *k; /* of the parameters, in the current regime of the stops (r->o.k too) */
+    regime_store regimes; /* the constants of the regimes met in the run (constants_switch) */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     int verdict; /* the early verdict of rule 4 applies: early_verdict and derived bounds */
     double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
@@ -1215,6 +1273,24 @@ static double least_at_tilt(const run *r, double theta_m)
 }
 
 #if NQ > 1
+/* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
+ * corners: prepared once per bound, for every stroke it is taken at. */
+typedef struct arcs {
+    int n;
+    double w;
+    constants outer;
+} arcs;
+
+static void arcs_prepare(const run *r, double theta_m, arcs *a)
+{
+    double p[MODEL_NP];
+    a->n = theta_m > 0.0 ? (int)ceil(theta_m / ROCKING_ARC_STEP) : 1;
+    a->w = theta_m / a->n;
+    memcpy(p, r->k->p, sizeof p);
+    p[MODEL_P_GRAVITY] /= cos(0.5 * a->w);
+    constants_prepare(&a->outer, p, r->k->stop_on);
+}
+
 /* The least potential with |q[1]| = x_m over the tilts |theta| <= theta_m
  * about either pivot (rule 4). The potential is linear in (cos, sin) of the
  * tilt with the attached positions held, so its least over them (generated
@@ -1223,27 +1299,21 @@ static double least_at_tilt(const run *r, double theta_m)
  * the arc: its ends, and the ends' tangents' meeting point (cos, sin) of
  * (a + b) / 2 times 1 / cos(w / 2). The weights' potential is proportional to
  * g: that point is the middle tilt under gravity g / cos(w / 2). */
-static double least_on_arcs(const run *r, double theta_m, double x_m)
+static double least_on_arcs(const run *r, const arcs *a, double x_m)
 {
-    const int n = theta_m > 0.0 ? (int)ceil(theta_m / ROCKING_ARC_STEP) : 1;
-    const double w = theta_m / n;
-    double p[MODEL_NP], y[NY] = {0.0}, least = INFINITY;
-    constants outer;
+    double y[NY] = {0.0}, least = INFINITY;
     int i, side, pivot;
-    memcpy(p, r->k->p, sizeof p);
-    p[MODEL_P_GRAVITY] /= cos(0.5 * w);
-    constants_prepare(&outer, p, r->k->stop_on);
     for (pivot = 0; pivot < 2; ++pivot) {
         const double s = pivot ? -1.0 : 1.0;
         for (side = 0; side < 2; ++side) {
             y[1] = side ? -x_m : x_m;
-            for (i = 0; i <= n; ++i) {
-                y[0] = s * w * i;
+            for (i = 0; i <= a->n; ++i) {
+                y[0] = s * a->w * i;
                 least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, s)));
             }
-            for (i = 0; i < n; ++i) {
-                y[0] = s * w * (i + 0.5);
-                least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(&outer, s)));
+            for (i = 0; i < a->n; ++i) {
+                y[0] = s * a->w * (i + 0.5);
+                least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(&a->outer, s)));
             }
         }
     }
@@ -1273,10 +1343,10 @@ static int stops_out_of_reach(const run *r, double x_m)
     return 1;
 }
 
-/* The least potential where a stop side's gap closes, over the tilts |theta| <= theta_m: a mass
+/* The least potential where a stop side's gap closes, over the tilts of the arcs a: a mass
  * inside every gap with less energy can never reach a bumper. Each gap is affine in q[1] alone
  * (derive checks it): its root from its values at q[1] = 0 and 1. */
-static double least_at_bumpers(const run *r, double theta_m)
+static double least_at_bumpers(const run *r, const arcs *a)
 {
     double least = INFINITY;
 #if MODEL_NSTOPS > 0
@@ -1286,10 +1356,10 @@ static double least_at_bumpers(const run *r, double theta_m)
     y[1] = 1.0;
     model_stop_gaps_prepared(y, 0.0, about(r->k, 1.0), at1);
     for (i = 0; i < MODEL_NSTOPS; ++i)
-        least = lower(least, least_on_arcs(r, theta_m, fabs(at0[i] / (at0[i] - at1[i]))));
+        least = lower(least, least_on_arcs(r, a, fabs(at0[i] / (at0[i] - at1[i]))));
 #else
     (void)r;
-    (void)theta_m;
+    (void)a;
 #endif
     return least;
 }
@@ -1310,9 +1380,13 @@ static double verdict_bound(run *r)
     r->bound_at[1] = x_m;
     least = least_at_tilt(r, theta_m);
 #if NQ > 1
-    least = lower(least, least_on_arcs(r, theta_m, x_m));
-    if (!stops_out_of_reach(r, x_m))
-        least = lower(least, least_at_bumpers(r, theta_m));
+    {
+        arcs a;
+        arcs_prepare(r, theta_m, &a);
+        least = lower(least, least_on_arcs(r, &a, x_m));
+        if (!stops_out_of_reach(r, x_m))
+            least = lower(least, least_at_bumpers(r, &a));
+    }
 #endif
     r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
     if (isnan(r->bound))
@@ -1516,7 +1590,7 @@ static void phase_machine(run *r)
             stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
             if (ended < EV_GAP_OPEN)
                 stop_memory_record(r->k, r->y, gap_side(ended), 0);
-            constants_prepare(r->k, r->k->p, stop_on);
+            constants_switch(r->k, &r->regimes, stop_on);
             r->res->stop_contacts += ended < EV_GAP_OPEN;
             continue;
         }
@@ -1645,6 +1719,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_prepare(&k, p, clear);
     r.k = &k;
     r.o.k = &k;
+    memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
     r.o.pulse_on = 1;
     r.o.c = c;
