@@ -531,17 +531,22 @@ static void dopri_prepare_dense(dopri *d)
     d->dense_ready = 1;
 }
 
+/* Component i of the prepared dense output at th = (t - t_old) / h, th1 = 1 - th. */
+static inline double dense_at(const dopri *d, double th, double th1, int i)
+{
+    return d->dense[0][i] +
+           th * (d->dense[1][i] + th1 * (d->dense[2][i] + th * (d->dense[3][i] + th1 * d->dense[4][i])));
+}
+
 /* Component i of the dense output at t in [t_old, t]. */
 static double dopri_dense1(dopri *d, double t, int i)
 {
-    double th, th1;
+    double th;
     if (t == d->t)
         return d->y[i];
     dopri_prepare_dense(d);
     th = (t - d->t_old) / d->h;
-    th1 = 1.0 - th;
-    return d->dense[0][i] +
-           th * (d->dense[1][i] + th1 * (d->dense[2][i] + th * (d->dense[3][i] + th1 * d->dense[4][i])));
+    return dense_at(d, th, 1.0 - th, i);
 }
 
 /* An upper bound of |component i| of the dense output over the whole last
@@ -557,11 +562,19 @@ static double dopri_dense_bound(dopri *d, int i)
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
+/* The whole state on the dense output: dopri_dense1 of every component, its set-up once. */
 static void dopri_dense(dopri *d, double t, double *y)
 {
+    double th;
     int i;
+    if (t == d->t) {
+        memcpy(y, d->y, sizeof d->y);
+        return;
+    }
+    dopri_prepare_dense(d);
+    th = (t - d->t_old) / d->h;
     for (i = 0; i < NY; ++i)
-        y[i] = dopri_dense1(d, t, i);
+        y[i] = dense_at(d, th, 1.0 - th, i);
 }
 
 /* ------------------------------------------------------------------------ */
