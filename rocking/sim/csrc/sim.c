@@ -778,18 +778,25 @@ static int event_sense(int sense, double g_old)
  * least half the tolerance away from both ends: once one end has converged,
  * the next trial lands just across the root and closes the bracket (plain
  * regula falsi would creep towards it from one side). Bisection only as a
- * safety net. Returns the end of the final bracket on the "after" side, so
- * that the event has happened at the returned time; |dt| <= 4 eps t. */
+ * safety net, and for the stops' events after a trial that kept more than half
+ * the bracket: their contact min(delta, bracket) has a kink near its root,
+ * between slopes up to k_b / c_b times apart, where the halving takes dozens of
+ * trials to balance the ends. Returns the end of the final bracket on the
+ * "after" side, so that the event has happened at the returned time;
+ * |dt| <= 4 eps t. */
 static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, double ta, double phi_a, double tb,
                            double phi_b)
 {
     const int strict = EVENT_RULES[kind].strict;
     const double tol = 4.0 * DBL_EPSILON * max2(fabs(ta), fabs(tb));
+    const int kinked = gap_side(kind) >= 0;
     int kept = 0; /* +1: ta moved last time (tb kept), -1: tb moved */
+    int bisect = 0;
     int iter;
     for (iter = 0; iter < 200 && tb - ta > tol; ++iter) {
+        const double width = tb - ta;
         double tc, phi_c;
-        if (iter < 40 && phi_b != phi_a) {
+        if (!bisect && iter < 40 && phi_b != phi_a) {
             tc = tb - phi_b * ((tb - ta) / (phi_b - phi_a));
             tc = min2(max2(tc, ta + 0.5 * tol), tb - 0.5 * tol); /* a NaN becomes the lower limit */
         } else {
@@ -813,6 +820,7 @@ static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, d
                 phi_a *= 0.5;
             kept = -1;
         }
+        bisect = kinked && !bisect && tb - ta > 0.5 * width;
     }
     return tb;
 }
