@@ -838,6 +838,8 @@ typedef struct event_set {
     int n;
     watched w[N_EVENTS]; /* in enum order (ties go to the first) */
     double g[N_EVENTS];  /* g of w[i] */
+    int have_contacts;   /* contacts holds every stop side's contact at the last step end */
+    double contacts[MAX_STOP_SIDES];
 } event_set;
 
 /* What the events of one accepted step found. */
@@ -898,12 +900,10 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 {
     int fired[N_EVENTS];
     int i, n_fired = 0;
-    /* The generated stop_contact gives every side at once: one call per step end. */
-    double contacts[MAX_STOP_SIDES];
-    int have_contacts = 0;
     out->terminal = -1;
     out->t_stop = d->t;
     out->n_passed = 0;
+    es->have_contacts = 0;
     /* The values at the step's end become those at the next step's start; after
      * a terminal event the segment ends, and they are read no more. */
     for (i = 0; i < es->n; ++i) {
@@ -914,10 +914,11 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
         if (w->component >= 0) {
             g_new = component_event(w->factor, w->offset, d->y[w->component]);
         } else if (gap_side(k) >= 0) {
-            if (!have_contacts)
-                stop_contacts_at(ec->o->k, d->y, contacts);
-            have_contacts = 1;
-            g_new = contacts[gap_side(k)];
+            /* The generated stop_contact gives every side at once: one call per step end. */
+            if (!es->have_contacts)
+                stop_contacts_at(ec->o->k, d->y, es->contacts);
+            es->have_contacts = 1;
+            g_new = es->contacts[gap_side(k)];
         } else {
             g_new = event_value(ec, k, d->t, d->y);
         }
@@ -1045,20 +1046,38 @@ static void record_samples(run *r, double t_stop)
     }
 }
 
-static void see_state(run *r, const double *y)
+#if MODEL_NSTOPS > 0
+/* No stop side pushes at the last step's end (its contact <= 0, read by events_scan): every
+ * bumper force there is 0, and bumper_force_max stays. */
+static int pads_apart(const event_set *es)
+{
+    int i;
+    if (!es->have_contacts)
+        return 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        if (es->contacts[i] > 0.0)
+            return 0;
+    return 1;
+}
+#endif
+
+/* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
+static void see_state(run *r, const double *y, int at_step_end)
 {
     r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
 #if NQ > 1
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
 #if MODEL_NSTOPS > 0
-    {
+    if (!(at_step_end && pads_apart(&r->events))) {
         double forces[MODEL_NSTOPS];
         int i;
         model_stop_forces_prepared(y, 0.0, about(r->o.k, 1.0), forces);
         for (i = 0; i < MODEL_NSTOPS; ++i)
             r->res->bumper_force_max = max2(r->res->bumper_force_max, forces[i]);
     }
+#else
+    (void)at_step_end;
 #endif
 }
 
@@ -1221,12 +1240,12 @@ static int run_segment(run *r, double t_bound)
         if (found.terminal >= 0) {
             r->t = found.t_stop;
             dopri_dense(&r->d, r->t, r->y);
-            see_state(r, r->y);
+            see_state(r, r->y, 0);
             if (found.terminal == EV_IMPACT)
                 r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
             return found.terminal;
         }
-        see_state(r, r->d.y);
+        see_state(r, r->d.y, 1);
     }
     r->t = t_bound;
     memcpy(r->y, r->d.y, sizeof r->y);
@@ -1779,7 +1798,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_prepare(&k, p, clear);
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_prepare(&k, p, stop_on);
-    see_state(&r, r.y);
+    see_state(&r, r.y, 0);
 
     phase_machine(&r);
     out->t_end = r.t;
