@@ -272,7 +272,7 @@ def random_motion(rng: np.random.Generator, family: str, block: Block, beta: flo
         "cosine": (rocking.OneCosinePulse, {}),
         "ricker": (rocking.RickerWavelet, {}),
         "ricker_anti": (rocking.RickerWavelet, {"antisymmetric": True}),
-        "mp": (rocking.MavroeidisPapageorgiou, {"gamma": rng.uniform(1.5, 3.0), "nu": rng.uniform(0, 2 * math.pi)}),
+        "mp": (rocking.MavroeidisPapageorgiou, {"gamma_mp": rng.uniform(1.5, 3.0), "nu": rng.uniform(0, 2 * math.pi)}),
     }[family]
     return cls.from_nondim(block, beta=beta, Omega=Omega, sign=int(rng.choice([-1, 1])), **shape)
 

@@ -92,6 +92,42 @@ static void constants_prepare(constants *k, const double *p, const int *stop_on)
     model_prepare(-1.0, on, p, k->about[1]);
 }
 
+/* Regimes a run keeps the constants of: every combination of the stop sides' flags when the
+ * regime is the flags alone; a Hunt-Crossley memory makes the regimes a continuum (none kept). */
+#if MODEL_NSTOPS > 0 && MODEL_NREGIME == MODEL_NSTOPS
+#define KEPT_REGIMES (1 << MODEL_NSTOPS)
+#else
+#define KEPT_REGIMES 0
+#endif
+
+/* The constants of the regimes a run has prepared: a mass that bounces on a pad switches between
+ * the same two regimes at every contact, and preparing costs far more than a copy. */
+typedef struct regime_store {
+    int ready[KEPT_REGIMES > 0 ? KEPT_REGIMES : 1];
+    double about[KEPT_REGIMES > 0 ? KEPT_REGIMES : 1][2][NK];
+} regime_store;
+
+/* k in the regime stop_on: the kept constants of that regime, or prepared (and kept). */
+static void constants_switch(constants *k, regime_store *store, const int *stop_on)
+{
+#if KEPT_REGIMES > 0
+    int i, key = 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        key |= (stop_on[i] != 0) << i;
+    if (store->ready[key]) {
+        memcpy(k->stop_on, stop_on, sizeof k->stop_on);
+        memcpy(k->about, store->about[key], sizeof k->about);
+        return;
+    }
+    constants_prepare(k, k->p, stop_on);
+    memcpy(store->about[key], k->about, sizeof k->about);
+    store->ready[key] = 1;
+#else
+    (void)store;
+    constants_prepare(k, k->p, stop_on);
+#endif
+}
+
 /* The constants in the regime stop_on, prepared again only if it is a new one. */
 static void constants_regime(constants *k, const int *stop_on)
 {
@@ -495,17 +531,22 @@ static void dopri_prepare_dense(dopri *d)
     d->dense_ready = 1;
 }
 
+/* Component i of the prepared dense output at th = (t - t_old) / h, th1 = 1 - th. */
+static inline double dense_at(const dopri *d, double th, double th1, int i)
+{
+    return d->dense[0][i] +
+           th * (d->dense[1][i] + th1 * (d->dense[2][i] + th * (d->dense[3][i] + th1 * d->dense[4][i])));
+}
+
 /* Component i of the dense output at t in [t_old, t]. */
 static double dopri_dense1(dopri *d, double t, int i)
 {
-    double th, th1;
+    double th;
     if (t == d->t)
         return d->y[i];
     dopri_prepare_dense(d);
     th = (t - d->t_old) / d->h;
-    th1 = 1.0 - th;
-    return d->dense[0][i] +
-           th * (d->dense[1][i] + th1 * (d->dense[2][i] + th * (d->dense[3][i] + th1 * d->dense[4][i])));
+    return dense_at(d, th, 1.0 - th, i);
 }
 
 /* An upper bound of |component i| of the dense output over the whole last
@@ -521,11 +562,19 @@ static double dopri_dense_bound(dopri *d, int i)
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
+/* The whole state on the dense output: dopri_dense1 of every component, its set-up once. */
 static void dopri_dense(dopri *d, double t, double *y)
 {
+    double th;
     int i;
+    if (t == d->t) {
+        memcpy(y, d->y, sizeof d->y);
+        return;
+    }
+    dopri_prepare_dense(d);
+    th = (t - d->t_old) / d->h;
     for (i = 0; i < NY; ++i)
-        y[i] = dopri_dense1(d, t, i);
+        y[i] = dense_at(d, th, 1.0 - th, i);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -598,12 +647,21 @@ static double stop_gap(const constants *k, const double *y, int i)
     return gaps[i];
 }
 
-/* The contact of stop side i, min(delta, k_b delta + c_b ddelta): its bumper
+/* The contact of every stop side, min(delta, k_b delta + c_b ddelta): a side's bumper
  * pushes while it is > 0 (a pad only pushes; neither pivot nor regime enters it). */
+static void stop_contacts_at(const constants *k, const double *y, double *contacts)
+{
+    int i;
+    for (i = MODEL_NSTOPS; i < MAX_STOP_SIDES; ++i)
+        contacts[i] = 0.0;
+    model_stop_contact_prepared(y, 0.0, about(k, 1.0), contacts);
+}
+
+/* The contact of stop side i (stop_contacts_at). */
 static double stop_contact(const constants *k, const double *y, int i)
 {
-    double contacts[MAX_STOP_SIDES] = {0.0};
-    model_stop_contact_prepared(y, 0.0, about(k, 1.0), contacts);
+    double contacts[MAX_STOP_SIDES];
+    stop_contacts_at(k, y, contacts);
     return contacts[i];
 }
 
@@ -720,18 +778,25 @@ static int event_sense(int sense, double g_old)
  * least half the tolerance away from both ends: once one end has converged,
  * the next trial lands just across the root and closes the bracket (plain
  * regula falsi would creep towards it from one side). Bisection only as a
- * safety net. Returns the end of the final bracket on the "after" side, so
- * that the event has happened at the returned time; |dt| <= 4 eps t. */
+ * safety net, and for the stops' events after a trial that kept more than half
+ * the bracket: their contact min(delta, bracket) has a kink near its root,
+ * between slopes up to k_b / c_b times apart, where the halving takes dozens of
+ * trials to balance the ends. Returns the end of the final bracket on the
+ * "after" side, so that the event has happened at the returned time;
+ * |dt| <= 4 eps t. */
 static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, double ta, double phi_a, double tb,
                            double phi_b)
 {
     const int strict = EVENT_RULES[kind].strict;
     const double tol = 4.0 * DBL_EPSILON * max2(fabs(ta), fabs(tb));
+    const int kinked = gap_side(kind) >= 0;
     int kept = 0; /* +1: ta moved last time (tb kept), -1: tb moved */
+    int bisect = 0;
     int iter;
     for (iter = 0; iter < 200 && tb - ta > tol; ++iter) {
+        const double width = tb - ta;
         double tc, phi_c;
-        if (iter < 40 && phi_b != phi_a) {
+        if (!bisect && iter < 40 && phi_b != phi_a) {
             tc = tb - phi_b * ((tb - ta) / (phi_b - phi_a));
             tc = min2(max2(tc, ta + 0.5 * tol), tb - 0.5 * tol); /* a NaN becomes the lower limit */
         } else {
@@ -755,6 +820,7 @@ static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, d
                 phi_a *= 0.5;
             kept = -1;
         }
+        bisect = kinked && !bisect && tb - ta > 0.5 * width;
     }
     return tb;
 }
@@ -772,6 +838,8 @@ typedef struct event_set {
     int n;
     watched w[N_EVENTS]; /* in enum order (ties go to the first) */
     double g[N_EVENTS];  /* g of w[i] */
+    int have_contacts;   /* contacts holds every stop side's contact at the last step end */
+    double contacts[MAX_STOP_SIDES];
 } event_set;
 
 /* What the events of one accepted step found. */
@@ -835,15 +903,26 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
     out->terminal = -1;
     out->t_stop = d->t;
     out->n_passed = 0;
+    es->have_contacts = 0;
     /* The values at the step's end become those at the next step's start; after
      * a terminal event the segment ends, and they are read no more. */
     for (i = 0; i < es->n; ++i) {
         const watched *w = &es->w[i];
         const int k = w->kind;
-        double g_old = es->g[i];
-        const double g_new = w->component >= 0 ? component_event(w->factor, w->offset, d->y[w->component])
-                                               : event_value(ec, k, d->t, d->y);
-        const int sense = event_sense(w->sense, g_old);
+        double g_old = es->g[i], g_new;
+        int sense;
+        if (w->component >= 0) {
+            g_new = component_event(w->factor, w->offset, d->y[w->component]);
+        } else if (gap_side(k) >= 0) {
+            /* The generated stop_contact gives every side at once: one call per step end. */
+            if (!es->have_contacts)
+                stop_contacts_at(ec->o->k, d->y, es->contacts);
+            es->have_contacts = 1;
+            g_new = es->contacts[gap_side(k)];
+        } else {
+            g_new = event_value(ec, k, d->t, d->y);
+        }
+        sense = event_sense(w->sense, g_old);
         es->g[i] = g_new;
         if (!is_before(sense * g_old, w->strict) || is_before(sense * g_new, w->strict) ||
             (SHORTCUTS && peak_below_max(ec, d, k)))
@@ -885,6 +964,7 @@ typedef struct run {
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
     constants *k; /* of the parameters, in the current regime of the stops (r->o.k too) */
+    regime_store regimes; /* the constants of the regimes met in the run (constants_switch) */
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     int verdict; /* the early verdict of rule 4 applies: early_verdict and derived bounds */
     double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
@@ -966,20 +1046,38 @@ static void record_samples(run *r, double t_stop)
     }
 }
 
-static void see_state(run *r, const double *y)
+#if MODEL_NSTOPS > 0
+/* No stop side pushes at the last step's end (its contact <= 0, read by events_scan): every
+ * bumper force there is 0, and bumper_force_max stays. */
+static int pads_apart(const event_set *es)
+{
+    int i;
+    if (!es->have_contacts)
+        return 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        if (es->contacts[i] > 0.0)
+            return 0;
+    return 1;
+}
+#endif
+
+/* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
+static void see_state(run *r, const double *y, int at_step_end)
 {
     r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
 #if NQ > 1
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
 #if MODEL_NSTOPS > 0
-    {
+    if (!(at_step_end && pads_apart(&r->events))) {
         double forces[MODEL_NSTOPS];
         int i;
         model_stop_forces_prepared(y, 0.0, about(r->o.k, 1.0), forces);
         for (i = 0; i < MODEL_NSTOPS; ++i)
             r->res->bumper_force_max = max2(r->res->bumper_force_max, forces[i]);
     }
+#else
+    (void)at_step_end;
 #endif
 }
 
@@ -1142,12 +1240,12 @@ static int run_segment(run *r, double t_bound)
         if (found.terminal >= 0) {
             r->t = found.t_stop;
             dopri_dense(&r->d, r->t, r->y);
-            see_state(r, r->y);
+            see_state(r, r->y, 0);
             if (found.terminal == EV_IMPACT)
                 r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
             return found.terminal;
         }
-        see_state(r, r->d.y);
+        see_state(r, r->d.y, 1);
     }
     r->t = t_bound;
     memcpy(r->y, r->d.y, sizeof r->y);
@@ -1215,6 +1313,24 @@ static double least_at_tilt(const run *r, double theta_m)
 }
 
 #if NQ > 1
+/* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
+ * corners: prepared once per bound, for every stroke it is taken at. */
+typedef struct arcs {
+    int n;
+    double w;
+    constants outer;
+} arcs;
+
+static void arcs_prepare(const run *r, double theta_m, arcs *a)
+{
+    double p[MODEL_NP];
+    a->n = theta_m > 0.0 ? (int)ceil(theta_m / ROCKING_ARC_STEP) : 1;
+    a->w = theta_m / a->n;
+    memcpy(p, r->k->p, sizeof p);
+    p[MODEL_P_GRAVITY] /= cos(0.5 * a->w);
+    constants_prepare(&a->outer, p, r->k->stop_on);
+}
+
 /* The least potential with |q[1]| = x_m over the tilts |theta| <= theta_m
  * about either pivot (rule 4). The potential is linear in (cos, sin) of the
  * tilt with the attached positions held, so its least over them (generated
@@ -1223,27 +1339,21 @@ static double least_at_tilt(const run *r, double theta_m)
  * the arc: its ends, and the ends' tangents' meeting point (cos, sin) of
  * (a + b) / 2 times 1 / cos(w / 2). The weights' potential is proportional to
  * g: that point is the middle tilt under gravity g / cos(w / 2). */
-static double least_on_arcs(const run *r, double theta_m, double x_m)
+static double least_on_arcs(const run *r, const arcs *a, double x_m)
 {
-    const int n = theta_m > 0.0 ? (int)ceil(theta_m / ROCKING_ARC_STEP) : 1;
-    const double w = theta_m / n;
-    double p[MODEL_NP], y[NY] = {0.0}, least = INFINITY;
-    constants outer;
+    double y[NY] = {0.0}, least = INFINITY;
     int i, side, pivot;
-    memcpy(p, r->k->p, sizeof p);
-    p[MODEL_P_GRAVITY] /= cos(0.5 * w);
-    constants_prepare(&outer, p, r->k->stop_on);
     for (pivot = 0; pivot < 2; ++pivot) {
         const double s = pivot ? -1.0 : 1.0;
         for (side = 0; side < 2; ++side) {
             y[1] = side ? -x_m : x_m;
-            for (i = 0; i <= n; ++i) {
-                y[0] = s * w * i;
+            for (i = 0; i <= a->n; ++i) {
+                y[0] = s * a->w * i;
                 least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, s)));
             }
-            for (i = 0; i < n; ++i) {
-                y[0] = s * w * (i + 0.5);
-                least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(&outer, s)));
+            for (i = 0; i < a->n; ++i) {
+                y[0] = s * a->w * (i + 0.5);
+                least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(&a->outer, s)));
             }
         }
     }
@@ -1273,10 +1383,10 @@ static int stops_out_of_reach(const run *r, double x_m)
     return 1;
 }
 
-/* The least potential where a stop side's gap closes, over the tilts |theta| <= theta_m: a mass
+/* The least potential where a stop side's gap closes, over the tilts of the arcs a: a mass
  * inside every gap with less energy can never reach a bumper. Each gap is affine in q[1] alone
  * (derive checks it): its root from its values at q[1] = 0 and 1. */
-static double least_at_bumpers(const run *r, double theta_m)
+static double least_at_bumpers(const run *r, const arcs *a)
 {
     double least = INFINITY;
 #if MODEL_NSTOPS > 0
@@ -1286,10 +1396,10 @@ static double least_at_bumpers(const run *r, double theta_m)
     y[1] = 1.0;
     model_stop_gaps_prepared(y, 0.0, about(r->k, 1.0), at1);
     for (i = 0; i < MODEL_NSTOPS; ++i)
-        least = lower(least, least_on_arcs(r, theta_m, fabs(at0[i] / (at0[i] - at1[i]))));
+        least = lower(least, least_on_arcs(r, a, fabs(at0[i] / (at0[i] - at1[i]))));
 #else
     (void)r;
-    (void)theta_m;
+    (void)a;
 #endif
     return least;
 }
@@ -1310,9 +1420,13 @@ static double verdict_bound(run *r)
     r->bound_at[1] = x_m;
     least = least_at_tilt(r, theta_m);
 #if NQ > 1
-    least = lower(least, least_on_arcs(r, theta_m, x_m));
-    if (!stops_out_of_reach(r, x_m))
-        least = lower(least, least_at_bumpers(r, theta_m));
+    {
+        arcs a;
+        arcs_prepare(r, theta_m, &a);
+        least = lower(least, least_on_arcs(r, &a, x_m));
+        if (!stops_out_of_reach(r, x_m))
+            least = lower(least, least_at_bumpers(r, &a));
+    }
 #endif
     r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
     if (isnan(r->bound))
@@ -1516,7 +1630,7 @@ static void phase_machine(run *r)
             stop_on[gap_side(ended)] = ended < EV_GAP_OPEN;
             if (ended < EV_GAP_OPEN)
                 stop_memory_record(r->k, r->y, gap_side(ended), 0);
-            constants_prepare(r->k, r->k->p, stop_on);
+            constants_switch(r->k, &r->regimes, stop_on);
             r->res->stop_contacts += ended < EV_GAP_OPEN;
             continue;
         }
@@ -1645,6 +1759,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_prepare(&k, p, clear);
     r.k = &k;
     r.o.k = &k;
+    memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
     r.o.pulse_on = 1;
     r.o.c = c;
@@ -1683,7 +1798,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_prepare(&k, p, clear);
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_prepare(&k, p, stop_on);
-    see_state(&r, r.y);
+    see_state(&r, r.y, 0);
 
     phase_machine(&r);
     out->t_end = r.t;
