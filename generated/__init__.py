@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 6
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "c9af98583a3e94918f865d770f593574cefe235f2e49e7ad8577abd7fcc83870",
-    "omd": "8135c725ccc97b872475da48acfd6bc7a64647c142dbf4652d41a1d06753d973",
-    "omd2": "2e729cb5456b0fc278e158503760ee5518bcf1af3707f08e299a853feb791279",
-    "omd_stops": "ea590691e86a891c4a06d2c83daa4e46a7cb361232f2a5431e75874a70fd08aa",
-    "omd_stops_hc": "186b7d694953692518c595e40a68a0a998c153ac689cd651ab4174fe2f672890",
-    "pendulum": "88028655e15e12dc61fc17f5a36e59f9464ce9f34cb927a631fb196adf800f04",
+    "block": "2adeaae8a8aca2cf8ab8919399605b2d723caf83143124b870cd904d05dea737",
+    "omd": "78b6773890fa4fa11e1d33bcd1c494f3990b4e65167935e21b0c9a0880bcc2c9",
+    "omd2": "01996005fb3c7aee4582dcb33b3499ea6b36f06be828c0eca0448db2d24f1680",
+    "omd_stops": "0a95231b0f0789cb5c99c30cad5f85489924e7e0761ada1c31ff022467ece148",
+    "omd_stops_hc": "8e46ecb7ef04972edf768b6769067664e50e526e9426647cdaef53062056a393",
+    "pendulum": "a5a708492f22217df54418300012501bc0b0014ddea01db73bead7999e540cee",
 }
