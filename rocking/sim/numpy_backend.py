@@ -227,11 +227,11 @@ class _System:
             return None
         return min(a, b) * (1.0 - SAFE_MARGIN)
 
-    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None, params=None):
+    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None, params=None, agy=0.0):
         # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic. stop_on: the regime
         # of the stops as 0.0 / 1.0 per side, what sim.c prepares its constants with; None: that of y.
         params = self.params if params is None else params
-        return getattr(self.functions, name)(s, *y.tolist(), ag, *params, stop_on=stop_on)
+        return getattr(self.functions, name)(s, *y.tolist(), ag, agy, *params, stop_on=stop_on)
 
     def _at(self, theta: float, x: float = 0.0) -> np.ndarray:
         """The state at rest velocities with ``theta`` and ``q[1] = x``, the other coordinates 0."""
@@ -413,7 +413,7 @@ class _System:
         if self.n_stops == 0 or len(states) == 0:
             return 0.0
         states = np.asarray(states, dtype=float).T
-        forces = self.functions.stop_forces(1.0, *states, 0.0, *self.params, stop_on=self._memory_regime())
+        forces = self.functions.stop_forces(1.0, *states, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
         return float(max(np.max(f) for f in forces))
 
     def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple) -> float:
