@@ -124,7 +124,7 @@ def test_t_max_has_one_range_that_every_motion_and_t_after_fit():
     pulse of 20 cycles of 1000 s (20,000 s long) derived a longer one: two ranges for one setting.
     """
     assert _checked_fields()["t_max"] == "t_max"
-    longest = MavroeidisPapageorgiou(a_g=1.0, omega_g=RANGES["omega_g"].low, gamma=RANGES["gamma_mp"].high)
+    longest = MavroeidisPapageorgiou(a_g=1.0, omega_g=RANGES["omega_g"].low, gamma_mp=RANGES["gamma_mp"].high)
     assert longest.t_p >= RANGES["record_length"].high  # a sampled motion is no longer
     derived = make_problem(BLOCK, None, longest, t_after=RANGES["t_after"].high).t_max
     assert derived in RANGES["t_max"]

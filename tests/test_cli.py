@@ -59,7 +59,7 @@ def test_simulate_sign_is_the_pulses_sign(capsys):
 @pytest.mark.parametrize("pulse, motion", [
     (["--pulse", "ricker-anti"], lambda b: rocking.RickerWavelet.from_nondim(b, beta=3, Omega=4, antisymmetric=True)),
     (["--pulse", "mp", "--gamma-mp", "2", "--nu", "0.5", "--sign", "-1"],
-     lambda b: rocking.MavroeidisPapageorgiou.from_nondim(b, beta=3, Omega=4, gamma=2.0, nu=0.5, sign=-1)),
+     lambda b: rocking.MavroeidisPapageorgiou.from_nondim(b, beta=3, Omega=4, gamma_mp=2.0, nu=0.5, sign=-1)),
 ])  # fmt: skip
 def test_simulate_pulse_is_the_family_of_the_python_api(capsys, pulse, motion):
     """--pulse FAMILY with its shape options is that family's from_nondim; shape options of another are refused."""

@@ -1196,7 +1196,7 @@ MOTIONS = {
     "cosine": lambda b: rocking.OneCosinePulse.from_nondim(b, beta=2.5, Omega=5.0),
     "ricker": lambda b: rocking.RickerWavelet.from_nondim(b, beta=3.0, Omega=4.0),
     "ricker_anti": lambda b: rocking.RickerWavelet.from_nondim(b, beta=3.0, Omega=4.0, antisymmetric=True),
-    "mp": lambda b: rocking.MavroeidisPapageorgiou.from_nondim(b, beta=3.0, Omega=4.0, gamma=2.0, nu=0.6),
+    "mp": lambda b: rocking.MavroeidisPapageorgiou.from_nondim(b, beta=3.0, Omega=4.0, gamma_mp=2.0, nu=0.6),
     "sampled": _record,
 }
 
@@ -1225,7 +1225,7 @@ def test_a_brief_uplift_of_a_wavelet_is_not_stepped_over(backend, family):
     unit = (
         rocking.RickerWavelet(1.0, block.p)
         if family == "ricker"
-        else rocking.MavroeidisPapageorgiou(1.0, block.p, gamma=2.5, nu=0.3)
+        else rocking.MavroeidisPapageorgiou(1.0, block.p, gamma_mp=2.5, nu=0.3)
     )
     t = np.linspace(0.0, unit.t_p, 400_001)
     f = unit.acceleration(t)

@@ -321,7 +321,7 @@ def test_an_mp_title_names_its_amplitude_parameter_and_gives_its_peak():
     the peak equal to the largest |ddx_g| of a 200,001-point scan within 1 %, and gamma_MP by that name."""
     block = Block.reference()
     damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
-    pulse = rocking.MavroeidisPapageorgiou(5.0, 4.0, gamma=2.0, nu=0.5)
+    pulse = rocking.MavroeidisPapageorgiou(5.0, 4.0, gamma_mp=2.0, nu=0.5)
     responses = {"with damper": rocking.simulate(block, damper, pulse, record=True)}
     title = response_figure(responses, block, damper=damper, motion=pulse)._suptitle.get_text()
     scanned = np.max(np.abs(pulse.acceleration(np.linspace(0.0, pulse.t_p, 200_001))))

@@ -133,7 +133,7 @@ PULSES = [
     rocking.OneSinePulse.from_period(4.0, 0.6),
     rocking.OneCosinePulse.from_period(4.0, 1.1, sign=-1),
     rocking.RickerWavelet.from_period(4.0, 0.8, antisymmetric=True),
-    rocking.MavroeidisPapageorgiou.from_period(4.0, 1.4, gamma=2.0, nu=1.0),
+    rocking.MavroeidisPapageorgiou.from_period(4.0, 1.4, gamma_mp=2.0, nu=1.0),
 ]
 
 
@@ -172,7 +172,7 @@ def test_a_suite_of_pulses_at_an_amplitude_is_each_pulse_of_that_amplitude_in_th
         (rocking.OneCosinePulse.from_period(3.0, 0.5, sign=-1), "pgv", 3.0 * 0.5 / (2 * np.pi)),  # a_g / omega_g
         (rocking.OneCosinePulse.from_period(3.0, 0.5), "arias", np.pi / (2 * 9.80665) * 3.0**2 * 0.5 / 2),  # standard g
         (rocking.RickerWavelet.from_period(3.0, 0.5), "pga", 3.0),
-        (rocking.MavroeidisPapageorgiou.from_period(3.0, 0.5, gamma=2.0), "pgv", 3.0 * 0.5 / (2 * np.pi)),  # A
+        (rocking.MavroeidisPapageorgiou.from_period(3.0, 0.5, gamma_mp=2.0), "pgv", 3.0 * 0.5 / (2 * np.pi)),  # A
     ],
 )  # fmt: skip
 def test_the_measures_of_a_pulse_are_those_of_its_closed_form(pulse, name, exact):

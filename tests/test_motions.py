@@ -49,7 +49,7 @@ def test_each_family_is_its_formula(t):
         (RickerWavelet(A_G, W), (1 - 2 * u**2) * math.exp(-(u**2))),
         (RickerWavelet(A_G, W, antisymmetric=True),
          -v * (3 - 2 * v**2) * math.exp(-(v**2)) / (u_star * (3 - 2 * u_star**2) * math.exp(-(u_star**2)))),
-        (MavroeidisPapageorgiou(A_G, W, gamma=2.0, nu=0.7), _mp_by_hand(t, 2.0, 0.7)),
+        (MavroeidisPapageorgiou(A_G, W, gamma_mp=2.0, nu=0.7), _mp_by_hand(t, 2.0, 0.7)),
     ]  # fmt: skip
     for motion, f in cases:
         assert motion.acceleration(t) == pytest.approx(A_G * f, rel=1e-12, abs=1e-15), motion
@@ -60,7 +60,7 @@ def test_each_family_is_its_formula(t):
 def test_durations_and_zero_outside():
     """t_p: 2 pi / omega_g (cosine), 16 / omega_g (Ricker), 8 sqrt 6 / omega_g (antisymmetric Ricker),
     2 gamma pi / omega_g (MP); 0 outside [0, t_p]."""
-    mp = MavroeidisPapageorgiou(A_G, W, gamma=2.5)
+    mp = MavroeidisPapageorgiou(A_G, W, gamma_mp=2.5)
     for motion, t_p in [
         (OneCosinePulse(A_G, W), 2 * math.pi / W),
         (RickerWavelet(A_G, W), 16 / W),
@@ -86,7 +86,7 @@ def test_peak_one_shapes_peak_at_a_g():
     t = np.linspace(0, anti.t_p, 20_001)
     # First lobe positive: the peak a_g before the centre (the two main lobes are equal: no argmax of |a|).
     assert np.max(anti.acceleration(t[t < anti.t_c])) == pytest.approx(A_G, rel=1e-6)
-    mp = MavroeidisPapageorgiou(A_G, W, gamma=2.0, nu=1.0)
+    mp = MavroeidisPapageorgiou(A_G, W, gamma_mp=2.0, nu=1.0)
     assert 0.5 * A_G < np.max(np.abs(mp.acceleration(np.linspace(0, mp.t_p, 20_001)))) <= A_G
 
 
@@ -96,7 +96,7 @@ PEAKED = [
     OneCosinePulse(A_G, W),
     RickerWavelet(A_G, W, sign=-1),
     RickerWavelet(A_G, W, antisymmetric=True),
-    *(MavroeidisPapageorgiou(A_G, W, gamma=g, nu=nu) for g, nu in ((1.2, 0.0), (2.0, 1.0), (3.0, 4.0), (5.0, 2.5))),
+    *(MavroeidisPapageorgiou(A_G, W, gamma_mp=g, nu=nu) for g, nu in ((1.2, 0.0), (2.0, 1.0), (3.0, 4.0), (5.0, 2.5))),
     SampledMotion(np.sin(np.linspace(0.0, 7.0, 301)), dt=0.01, scale=3.0, sign=-1),
 ]
 
@@ -157,10 +157,10 @@ FOURIER_PEAKS = [
     (OneCosinePulse(A_G, W), 0.888),
     (RickerWavelet(A_G, W), 1.0),
     (RickerWavelet(A_G, W, antisymmetric=True), 1.0),
-    (MavroeidisPapageorgiou(A_G, W, gamma=1.5), 0.788),
-    (MavroeidisPapageorgiou(A_G, W, gamma=2.0), 0.860),
-    (MavroeidisPapageorgiou(A_G, W, gamma=3.0), 0.927),
-    (MavroeidisPapageorgiou(A_G, W, gamma=5.0), 0.971),
+    (MavroeidisPapageorgiou(A_G, W, gamma_mp=1.5), 0.788),
+    (MavroeidisPapageorgiou(A_G, W, gamma_mp=2.0), 0.860),
+    (MavroeidisPapageorgiou(A_G, W, gamma_mp=3.0), 0.927),
+    (MavroeidisPapageorgiou(A_G, W, gamma_mp=5.0), 0.971),
 ]
 
 
@@ -177,7 +177,7 @@ def test_from_nondim_sets_beta_and_Omega():
     for cls, shape in [
         (OneCosinePulse, {}),
         (RickerWavelet, {"antisymmetric": True}),
-        (MavroeidisPapageorgiou, {"gamma": 3.0, "nu": 0.5}),
+        (MavroeidisPapageorgiou, {"gamma_mp": 3.0, "nu": 0.5}),
     ]:
         motion = cls.from_nondim(BLOCK, beta=2.0, Omega=3.0, sign=-1, **shape)
         assert (motion.beta(BLOCK), motion.Omega(BLOCK), motion.sign) == (pytest.approx(2.0), pytest.approx(3.0), -1)
@@ -275,7 +275,7 @@ def test_pulse_cases_of_each_family_are_the_single_runs(motion):
         "cosine": (OneCosinePulse, {}),
         "ricker": (RickerWavelet, {}),
         "ricker_anti": (RickerWavelet, {"antisymmetric": True}),
-        "mp": (MavroeidisPapageorgiou, {"gamma": 2.0, "nu": 0.4}),
+        "mp": (MavroeidisPapageorgiou, {"gamma_mp": 2.0, "nu": 0.4}),
     }[motion]
     for i in range(2):
         one = rocking.simulate(
@@ -318,8 +318,8 @@ def test_unknown_family_and_shape_options_are_refused():
         pulse_cases(BLOCK, [2.0], [2.0], motion="mp")
     with pytest.raises(ParameterError, match=r"^gamma_mp must be in \(1, 20\]"):
         pulse_cases(BLOCK, [2.0], [2.0], motion="mp", gamma_mp=0.5)
-    with pytest.raises(ParameterError, match=r"^gamma must be in \(1, 20\]"):
-        MavroeidisPapageorgiou(1.0, 2.0, gamma=1.0)
+    with pytest.raises(ParameterError, match=r"^gamma_mp must be in \(1, 20\]"):
+        MavroeidisPapageorgiou(1.0, 2.0, gamma_mp=1.0)
     with pytest.raises(ParameterError, match=r"^antisymmetric must be True or False"):
         RickerWavelet(1.0, 2.0, antisymmetric="yes")
 

@@ -186,7 +186,7 @@ def _model_of(args, damper) -> str | None:
 #: The pulses of ``--pulse``: the family's class and its fixed arguments (docs/model.md section 12).
 PULSES = {family.replace("_", "-"): made for family, made in PULSE_TYPES.items()}
 #: The shape options of each family besides --sign (their dests), and the class's parameter each sets.
-SHAPE_OPTIONS = {"sine": {"psi": "psi"}, "mp": {"gamma_mp": "gamma", "nu": "nu"}}
+SHAPE_OPTIONS = {"sine": {"psi": "psi"}, "mp": {"gamma_mp": "gamma_mp", "nu": "nu"}}
 
 
 def _pulse(args, block):
@@ -248,7 +248,7 @@ def _pulse_text(pulse) -> str:
     if isinstance(pulse, OneSinePulse):
         return f"psi={pulse.psi:g}"
     if isinstance(pulse, MavroeidisPapageorgiou):
-        return f"mp, gamma={pulse.gamma:g}, nu={pulse.nu:g}"
+        return f"mp, gamma_mp={pulse.gamma_mp:g}, nu={pulse.nu:g}"
     return pulse.family.replace("_", "-")
 
 
@@ -266,7 +266,7 @@ def _payload(block, damper, pulse, model, responses, models) -> dict:
     else:
         shape = {"psi": pulse.psi} if isinstance(pulse, OneSinePulse) else {"family": pulse.family}
         if isinstance(pulse, MavroeidisPapageorgiou):
-            shape.update(gamma=pulse.gamma, nu=pulse.nu)
+            shape.update(gamma_mp=pulse.gamma_mp, nu=pulse.nu)
         excitation = {
             "a_g": pulse.a_g,
             "omega_g": pulse.omega_g,
@@ -464,7 +464,7 @@ def _add_simulate(sub) -> None:
         "As rocking.OneSinePulse.from_nondim(block, beta, Omega, psi, sign) or, in SI, "
         "rocking.OneSinePulse(a_g, omega_g, psi, sign); --pulse picks another family (docs/model.md section 12) "
         "with the same options: OneCosinePulse, RickerWavelet (antisymmetric with ricker-anti), "
-        "MavroeidisPapageorgiou(a_g, omega_g, gamma, nu, sign). omega_g is 2 pi over the period of the cycle "
+        "MavroeidisPapageorgiou(a_g, omega_g, gamma_mp, nu, sign). omega_g is 2 pi over the period of the cycle "
         "(sine, cosine), of the Fourier peak (both Ricker wavelets, as Vassiliou and Makris 2011) or of the "
         "carrier (mp).",
     )

@@ -605,10 +605,10 @@ def _pulse_suite(args) -> Suite:
         raise ParameterError(f"--pulses {args.pulses} needs --periods T... (s), one pulse per period")
     family = args.pulses.replace("-", "_")
     cls, fixed = PULSE_TYPES[family]
-    shape = {k: v for k, v in (("gamma", args.gamma_mp), ("nu", args.nu)) if v is not None}
+    shape = {k: v for k, v in (("gamma_mp", args.gamma_mp), ("nu", args.nu)) if v is not None}
     if family != "mp" and shape:
         raise ParameterError(f"--gamma-mp and --nu are the shape of --pulses mp, not of --pulses {args.pulses}")
-    if family == "mp" and "gamma" not in shape:
+    if family == "mp" and "gamma_mp" not in shape:
         raise ParameterError("--pulses mp needs --gamma-mp too (its oscillations, > 1)")
     a_g = block_from(args).g if args.amplitude is None else args.amplitude
     return Suite.from_pulses([cls.from_period(a_g, T, **fixed, **shape) for T in args.periods])

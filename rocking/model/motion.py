@@ -218,7 +218,7 @@ class _Analytic:
 
     @property
     def shape_parameter(self) -> float:
-        """The shape parameter (``gamma`` of the MP pulse, 0 otherwise)."""
+        """The shape parameter (``gamma_mp`` of the MP pulse, 0 otherwise)."""
         return 0.0
 
     @property
@@ -259,7 +259,7 @@ class _Analytic:
         Omega : float
             Frequency ratio, in [0.01, 1000].
         **shape
-            The family's other parameters (``sign``, ``antisymmetric``, ``gamma``, ``nu``).
+            The family's other parameters (``sign``, ``antisymmetric``, ``gamma_mp``, ``nu``).
 
         Raises
         ------
@@ -340,8 +340,8 @@ class RickerWavelet(_Analytic):
 class MavroeidisPapageorgiou(_Analytic):
     """The near-fault pulse of Mavroeidis and Papageorgiou (2003), ``omega_g = 2 pi f_p`` (docs/model.md 12).
 
-    Ground velocity ``v = A/2 [1 + cos(phi / gamma)] cos(phi + nu)``, ``phi = omega_g (t - t_c)``,
-    ``|phi| <= gamma pi``; the acceleration is its derivative, ``a_g = A omega_g``. Its peak is
+    Ground velocity ``v = A/2 [1 + cos(phi / gamma_mp)] cos(phi + nu)``, ``phi = omega_g (t - t_c)``,
+    ``|phi| <= gamma_mp pi``; the acceleration is its derivative, ``a_g = A omega_g``. Its peak is
     below ``a_g`` in general.
 
     Parameters
@@ -350,8 +350,9 @@ class MavroeidisPapageorgiou(_Analytic):
         ``A omega_g``, m/s^2, in [0, 1e5].
     omega_g : float
         ``2 pi f_p``, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``.
-    gamma : float
-        Oscillations, in (1, 20].
+    gamma_mp : float
+        Oscillations (Mavroeidis and Papageorgiou's gamma, named apart from the damper's mass ratio), in
+        (1, 20].
     nu : float, optional
         Phase, rad, in ``[0, 2 pi)``. Default 0.
     sign : {+1, -1}, optional
@@ -360,14 +361,14 @@ class MavroeidisPapageorgiou(_Analytic):
 
     a_g: float
     omega_g: float
-    gamma: float
+    gamma_mp: float
     nu: float = 0.0
     sign: int = 1
     family = "mp"
 
     def __post_init__(self) -> None:
         self._check()
-        object.__setattr__(self, "gamma", check_in_range("gamma", self.gamma, "gamma_mp"))
+        object.__setattr__(self, "gamma_mp", check_in_range("gamma_mp", self.gamma_mp))
         object.__setattr__(self, "nu", check_in_range("nu", self.nu, "psi", label="[0, 2 pi)"))
 
     @property
@@ -376,7 +377,7 @@ class MavroeidisPapageorgiou(_Analytic):
 
     @property
     def shape_parameter(self) -> float:
-        return self.gamma
+        return self.gamma_mp
 
 
 # --------------------------------------------------------------------------- #
