@@ -550,6 +550,11 @@ def test_a_user_spec_is_built_and_simulated_from_its_folder(tmp_path):
         assert (c.impacts, c.uplifts) == (n.impacts, n.uplifts) and c.impacts > 0
         assert c.theta_max == pytest.approx(n.theta_max, rel=1e-6)
 
+    # Its preload holds g beside the weights: vertical ground motion is refused, not run wrong.
+    shaken = rocking.OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0, vertical=rocking.Vertical(0.5))
+    with pytest.raises(rocking.ParameterError, match="takes no vertical ground motion"):
+        rocking.simulate(BLOCK, damper, shaken, model=str(folder))
+
 
 def _numpy_model(model):
     def evaluate(function, v):
