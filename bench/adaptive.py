@@ -27,7 +27,7 @@ from itertools import product
 from rocking import Block
 from rocking.study.adaptive import COARSE
 from rocking.study.config import PULSES, Grid, Setting, Tuning
-from rocking.study.overturning_map import outcome, overturning_map, undetermined
+from rocking.study.overturning_map import envelope, outcome, overturning_map, undetermined
 from rocking.study.tiles import Execution
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
@@ -37,16 +37,14 @@ GAMMA_MP = 2.0
 GUIDES = {"no": (False,), "yes": (True,), "both": (False, True)}
 
 
-def misclassified(adaptive: dict, full: dict) -> int:
-    """Cells (per part and direction, and of the effect) whose class differs between two maps' arrays."""
-    wrong = int((adaptive["effect"] != full["effect"]).sum())
-    for part in ("bare", "damper"):
-        for suffix in ("", "_by_sign"):
-            got, want = (
-                outcome(a[f"{part}_overturned{suffix}"], a[f"{part}_impacts{suffix}"]) for a in (adaptive, full)
-            )
-            unknown = [undetermined(a[f"{part}_status{suffix}"]) for a in (adaptive, full)]
-            wrong += int(((got != want) | (unknown[0] != unknown[1])).sum())
+def misclassified(adaptive, full) -> int:
+    """Cells (per part and direction, and of the effect) whose class differs between two maps' data."""
+    envelopes = [envelope(data) for data in (adaptive, full)]
+    wrong = int((envelopes[0]["effect"] != envelopes[1]["effect"]).sum())
+    for pair in ((adaptive, full), envelopes):
+        got, want = (outcome(data["overturned"].values, data["impacts"].values) for data in pair)
+        unknown = [undetermined(data["status"].values) for data in pair]
+        wrong += int(((got != want) | (unknown[0] != unknown[1])).sum())
     return wrong
 
 
@@ -87,9 +85,10 @@ def compare(n: int, workers: int, coarse: int, verifies=(None,), pulse: str = "s
             }
             out["response_ratio"] = out["full_responses"] / out["adaptive_responses"]
             out["speedup"] = out["full_seconds"] / out["adaptive_seconds"]
-            out["misclassified"] = misclassified(adaptive.arrays, full.arrays)
-            out["cells_overturned_bare"] = int(full.arrays["bare_overturned"].sum())
-            out["cells_saved"] = int((full.arrays["effect"] > 0).sum())
+            out["misclassified"] = misclassified(adaptive.data, full.data)
+            both = envelope(full.data)
+            out["cells_overturned_bare"] = int(both["overturned"].sel(part="bare").sum())
+            out["cells_saved"] = int((both["effect"] > 0).sum())
             results.append(out)
     return results
 

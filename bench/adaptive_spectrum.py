@@ -27,7 +27,7 @@ from rocking import Block
 from rocking.cli.study import SPECTRUM_BETA, SPECTRUM_OMEGA
 from rocking.study.adaptive import narrowest_feature
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.spectrum import COLUMN_FIELDS, minimum_overturning_spectrum
+from rocking.study.spectrum import COLUMN_FIELDS, envelope, minimum_overturning_spectrum, safe_windows
 from rocking.study.tiles import Execution
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
@@ -44,8 +44,8 @@ def _unequal(a, b) -> np.ndarray:
     return (a != b) & ~both_nan
 
 
-def differences(adaptive: dict, full: dict, coarse: int) -> dict:
-    """What differs between a spectrum of adaptive scans and one of full scans (their arrays), counted in columns
+def differences(adaptive, full, coarse: int) -> dict:
+    """What differs between a spectrum of adaptive scans and one of full scans (their data), counted in columns
     (part, Omega, direction) or in Omega values (the envelopes, the windows), and whether every column whose scan
     differs holds a feature narrower than the coarse step (a run of one class touching neither end of the scan,
     :func:`rocking.study.adaptive.narrowest_feature`): the only kind the adaptive scan may miss."""
@@ -58,18 +58,21 @@ def differences(adaptive: dict, full: dict, coarse: int) -> dict:
         "narrow_columns": 0,
         "unexplained_columns": 0,
     }
+    envelopes = [envelope(data) for data in (adaptive, full)]
     for part in ("bare", "damper"):
-        scan_a, scan_f = adaptive[f"{part}_scan_outcome_by_sign"], full[f"{part}_scan_outcome_by_sign"]
+        a, f = (data.sel(part=part) for data in (adaptive, full))
+        scan_a, scan_f = a["scan_outcome"].values, f["scan_outcome"].values
         differ = (scan_a != scan_f).any(axis=-1)
         narrow = (narrowest_feature(scan_f.reshape(-1, scan_f.shape[-1])) < coarse).reshape(differ.shape)
         out["scan_columns"] += int(differ.sum())
         out["narrow_columns"] += int(narrow.sum())
         out["unexplained_columns"] += int((differ & ~narrow).sum())
-        unequal = {k: _unequal(adaptive[f"{part}_{k}_by_sign"], full[f"{part}_{k}_by_sign"]) for k in COLUMN_FIELDS}
+        unequal = {k: _unequal(a[k].values, f[k].values) for k in COLUMN_FIELDS}
         out["beta_min_columns"] += int(unequal.pop("beta_min").sum())
         out["other_columns"] += int(np.logical_or.reduce(list(unequal.values())).sum())
-        out["envelope_beta_min"] += int((adaptive[f"{part}_beta_min"] != full[f"{part}_beta_min"]).sum())
-        windows = [{tuple(w) for w in x[f"{part}_windows"]} for x in (adaptive, full)]
+        beta_min = [e["beta_min"].sel(part=part).values for e in envelopes]
+        out["envelope_beta_min"] += int((beta_min[0] != beta_min[1]).sum())
+        windows = [{tuple(w) for w in safe_windows(e, part)} for e in envelopes]
         out["windows"] += len(windows[0] ^ windows[1])
     out["identical"] = not any(v for k, v in out.items() if k != "narrow_columns")
     return out
@@ -104,7 +107,7 @@ def compare(coarse_steps: list[int], workers: int, block: Block, n_beta: int) ->
         r["response_ratio"] = full["responses"] / r["responses"]
         r["scan_response_ratio"] = full["scan_responses"] / r["scan_responses"]
         r["speedup"] = full["seconds"] / r["seconds"]
-        r["differences"] = differences(studies[r["coarse"]].arrays, studies[1].arrays, r["coarse"])
+        r["differences"] = differences(studies[r["coarse"]].data, studies[1].data, r["coarse"])
     return out
 
 

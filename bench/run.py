@@ -219,7 +219,7 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
         probe = (
             "import resource, sys; sys.path.insert(0, {here!r}); import run; "
             "study, _ = run._map({n}, 2, {runs!r}); "
-            "size = sum(a.nbytes for a in study.arrays.values()); "
+            "size = study.data.nbytes; "
             "print(resource.getrusage(resource.RUSAGE_SELF).ru_maxrss * 1024, size)"
         )
         for n in (n_memory // 4, n_memory):

@@ -42,10 +42,13 @@ from .study.api import (
     overturning_map,
     threshold_map,
 )
-from .study.config import Grid, Setting, Study, Tuning, Variant
-from .study.storage import DiskFull, load, save
+from .study.config import Grid, Setting, Tuning, Variant
+from .study.files import DiskFull
+from .study.result import Study
+from .study.storage import load, save
 from .study.suite import Suite
 from .study.tiles import Execution, Interrupted, TileWarning
+from .version import __version__ as __version__
 
 __all__ = [
     "BackendWarning",
@@ -87,4 +90,3 @@ __all__ = [
     "simulate",
     "threshold_map",
 ]
-__version__ = "0.1.0"

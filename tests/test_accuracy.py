@@ -13,7 +13,7 @@ from rocking.cli.main import main
 from rocking.sim import accuracy, boundary, run
 from rocking.study import ida as ida_module
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.ida import incremental_dynamic_analysis
+from rocking.study.ida import envelope, incremental_dynamic_analysis
 from rocking.study.suite import Suite
 from rocking.study.tiles import Execution
 
@@ -151,18 +151,22 @@ def test_ida_reports_the_sensitive_responses_per_level(tmp_path):
     study = incremental_dynamic_analysis(
         Setting(BLOCK), Tuning(0.05), suite, levels, serial, directions="both", runs=tmp_path / "runs"
     )
-    a = study.arrays
-    j = list(a["signs"]).index(-1)
-    assert a["bare_sensitive_by_sign"][0, 0, j] and a["bare_theta_max_by_sign"][0, 0, j] == pytest.approx(
+    bare = study.data.sel(part="bare", sign=-1)
+    assert bare["sensitive"].values[0, 0] and bare["theta_max"].values[0, 0] == pytest.approx(
         rocking.simulate(BLOCK, None, NOISE, backend="c").theta_max, rel=1e-12
     )
+    both = envelope(study.data)
     for part in ("bare", "damper"):
-        np.testing.assert_array_equal(a[f"{part}_sensitive_fraction"], a[f"{part}_sensitive_by_sign"].mean(axis=(0, 2)))
-        np.testing.assert_array_equal(study.tables["ida"][f"{part}_sensitive"], a[f"{part}_sensitive"].ravel())
-        assert study.summary[part]["sensitive"] == a[f"{part}_sensitive_by_sign"].sum()
+        sensitive = study.data["sensitive"].sel(part=part).values
+        np.testing.assert_array_equal(study.data["sensitive_fraction"].sel(part=part), sensitive.mean(axis=(0, 2)))
+        np.testing.assert_array_equal(
+            study.tables["ida"][f"{part}_sensitive"], both["sensitive"].sel(part=part).values.ravel()
+        )
+        assert study.summary[part]["sensitive"] == sensitive.sum()
     ds = study.to_dataset()
-    assert ds["bare_sensitive_fraction"].dims == ("level",) and ds["bare_sensitive_fraction"].attrs["units"] == "1"
-    assert float(ds["bare_sensitive_fraction"][0]) >= 0.5
+    fraction = ds["sensitive_fraction"]
+    assert fraction.dims == ("part", "level") and fraction.attrs["units"] == "1"
+    assert float(fraction.sel(part="bare")[0]) >= 0.5
 
 
 def test_an_ida_of_pulses_runs_each_response_once(tmp_path, monkeypatch):
@@ -180,7 +184,7 @@ def test_an_ida_of_pulses_runs_each_response_once(tmp_path, monkeypatch):
         runs=tmp_path,
     )
     assert len(calls) == 2 * len(pulses)  # one batch a pulse and a part: none again
-    assert not study.arrays["bare_sensitive"].any() and not study.arrays["damper_sensitive_fraction"].any()
+    assert not study.data["sensitive"].any() and not study.data["sensitive_fraction"].any()
 
 
 def _counted_runs(monkeypatch) -> list:
@@ -208,11 +212,11 @@ def test_ida_check_turns_the_tolerance_check_on_for_pulses_and_off_for_records(t
         BLOCK, None, motions=[path], unit="m/s2", levels=[NOISE.scale], directions="both", check="none",
         runs=tmp_path / "r", **few,
     )  # fmt: skip
-    assert len(calls) == 2 and not ds["bare_sensitive"].any()
+    assert len(calls) == 2 and not ds["sensitive"].sel(part="bare").any()
     checked = rocking.incremental_dynamic_analysis(
         BLOCK, None, motions=[path], unit="m/s2", levels=[NOISE.scale], directions="both", runs=tmp_path / "r", **few
     )
-    assert checked["bare_sensitive"].any()  # the default for a record: checked
+    assert checked["sensitive"].sel(part="bare").any()  # the default for a record: checked
 
 
 def test_ida_refuses_an_unknown_check_before_any_run(tmp_path, monkeypatch):

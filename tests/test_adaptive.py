@@ -9,6 +9,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from rocking import Block
 from rocking.cli.study import add_study_commands
@@ -16,7 +17,7 @@ from rocking.model.params import ParameterError
 from rocking.study import adaptive
 from rocking.study.adaptive import check_coarse, check_verify
 from rocking.study.config import Grid, Setting, Tuning, Variant
-from rocking.study.overturning_map import FIELDS, outcome, overturning_map, undetermined
+from rocking.study.overturning_map import FIELDS, envelope, outcome, overturning_map, undetermined
 from rocking.study.tiles import Execution, Interrupted
 
 SERIAL = Execution(workers=1, progress=False)
@@ -38,19 +39,17 @@ def adaptive_and_full(tmp_path, setting, damper, Omega, beta, **adaptive):
 def assert_same_classification(adaptive, full) -> None:
     """Outcomes (envelope and per direction), the responses without a verdict and the effect are the full
     map's; the cells computed are the full map's responses, bit for bit; and some cells were not computed."""
-    a, f = adaptive.arrays, full.arrays
+    a, f = adaptive.data, full.data
+    for what, (got, want) in {"per direction": (a, f), "envelope": (envelope(a), envelope(f))}.items():
+        np.testing.assert_array_equal(*(outcome(x["overturned"], x["impacts"]) for x in (got, want)), err_msg=what)
+        np.testing.assert_array_equal(*(undetermined(x["status"]) for x in (got, want)), err_msg=what)
     for part in ("bare", "damper"):
-        for suffix in ("", "_by_sign"):
-            got, want = (outcome(x[f"{part}_overturned{suffix}"], x[f"{part}_impacts{suffix}"]) for x in (a, f))
-            np.testing.assert_array_equal(got, want, err_msg=f"{part}{suffix}")
-            got, want = (undetermined(x[f"{part}_status{suffix}"]) for x in (a, f))
-            np.testing.assert_array_equal(got, want, err_msg=f"{part}{suffix}")
-        computed = a[f"{part}_computed"]
-        assert f[f"{part}_computed"].all() and 0 < computed.sum() < computed.size
+        computed = a["computed"].sel(part=part).values
+        assert f["computed"].sel(part=part).all() and 0 < computed.sum() < computed.size
         for k in FIELDS:
-            np.testing.assert_array_equal(a[f"{part}_{k}_by_sign"][computed], f[f"{part}_{k}_by_sign"][computed])
-        assert np.isnan(a[f"{part}_theta_max"][~computed]).all()  # never invented
-    np.testing.assert_array_equal(a["effect"], f["effect"])
+            np.testing.assert_array_equal(a[k].sel(part=part).values[computed], f[k].sel(part=part).values[computed])
+        assert np.isnan(envelope(a)["theta_max"].sel(part=part).values[~computed]).all()  # never invented
+    np.testing.assert_array_equal(envelope(a)["effect"], envelope(f)["effect"])
     assert adaptive.run["responses"] < full.run["responses"] == full.run["responses_full_grid"]
 
 
@@ -65,7 +64,7 @@ def test_the_bench_map_adaptive_is_the_full_map(tmp_path):
     assert adaptive.summary["guarantee"].startswith("every region of one class holding 16 x 16 cells (1.8 in Omega")
     assert full.config["refinement"] == {"adaptive": False}
     assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
-    assert adaptive.arrays["effect"].any()
+    assert envelope(adaptive.data)["effect"].any()
 
 
 def test_the_bare_block_map_adaptive_is_the_full_map(tmp_path):
@@ -74,8 +73,10 @@ def test_the_bare_block_map_adaptive_is_the_full_map(tmp_path):
     grids = Grid("Omega", 0.5, 15.0, 40), Grid("beta", 1.0, 15.0, 37)
     adaptive, full = adaptive_and_full(tmp_path, BENCH, Variant("block", {}), *grids, coarse=8)
     assert_same_classification(adaptive, full)
-    a = adaptive.arrays
-    np.testing.assert_array_equal(a["bare_computed"], a["damper_computed"])  # the same block refines alike
+    computed = adaptive.data["computed"]
+    np.testing.assert_array_equal(
+        computed.sel(part="bare"), computed.sel(part="damper")
+    )  # the same block refines alike
 
 
 def test_a_second_block_adaptive_is_the_full_map(tmp_path):
@@ -105,8 +106,7 @@ def test_an_interrupted_adaptive_map_resumes_from_its_rounds(tmp_path):
     resumed = overturning_map(BENCH, BENCH_DAMPER, *grids, POOL, runs=runs, coarse=8, tile=(4, 4))
     assert resumed.run["tiles_reused"] == stored >= 10
     assert resumed.run["tiles_reused"] + resumed.run["tiles_computed"] == whole.run["tiles_computed"]
-    for k, v in whole.arrays.items():
-        np.testing.assert_array_equal(resumed.arrays[k], v, err_msg=k)
+    xr.testing.assert_identical(resumed.data, whole.data)
     again = overturning_map(BENCH, BENCH_DAMPER, *grids, SERIAL, runs=runs, coarse=8, tile=(4, 4))
     assert (again.run["tiles_computed"], again.run["tiles_reused"]) == (0, whole.run["tiles_computed"])
 
@@ -258,11 +258,16 @@ def test_the_bench_reports_the_cells_that_differ(tmp_path, capsys):
     bench = load_bench()
     grids = Grid("Omega", 1.0, 10.0, 17), Grid("beta", 1.0, 10.0, 17)
     study = overturning_map(BENCH, BENCH_DAMPER, *grids, SERIAL, runs=tmp_path / "runs", full=True)
-    changed = {k: v.copy() for k, v in study.arrays.items()}
-    assert bench.misclassified(changed, study.arrays) == 0
-    changed["damper_overturned_by_sign"][3, 4, 0] = ~changed["damper_overturned_by_sign"][3, 4, 0]
-    changed["effect"][0, 0] += 1
-    assert bench.misclassified(changed, study.arrays) == 2
+    changed = study.data.copy(deep=True)
+    assert bench.misclassified(changed, study.data) == 0
+    changed["overturned"].values[1, 3, 4, 0] = ~changed["overturned"].values[1, 3, 4, 0]  # the damper's, sign +1
+    # One cell of one direction, and what follows in the envelope and the effect, each counted once.
+    before, after = envelope(study.data), envelope(changed)
+    follows = [
+        (outcome(x["overturned"].values, x["impacts"].values)[1, 3, 4], x["effect"].values[3, 4])
+        for x in (before, after)
+    ]
+    assert bench.misclassified(changed, study.data) == 1 + sum(b != a for b, a in zip(*follows))
     code = bench.main(
         [
             "-n",

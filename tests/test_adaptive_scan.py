@@ -13,7 +13,14 @@ from rocking.cli.study import SPECTRUM_BETA, SPECTRUM_OMEGA, add_study_commands
 from rocking.model.params import ParameterError
 from rocking.study.adaptive import narrowest_feature, refine_scan
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.spectrum import COLUMN_FIELDS, SCAN_COARSE, beta_min, minimum_overturning_spectrum
+from rocking.study.spectrum import (
+    COLUMN_FIELDS,
+    SCAN_COARSE,
+    beta_min,
+    envelope,
+    minimum_overturning_spectrum,
+    safe_windows,
+)
 from rocking.study.tiles import Execution
 
 POOL = Execution(workers=2, progress=False)
@@ -41,19 +48,22 @@ def assert_full_results_but_for_narrow_features(adaptive, full, coarse) -> None:
     one class touching neither end of the scan) has the full scan's outcomes, beta_min, beta_safe, flag, impacts
     and responses without a verdict; every column that differs has such a feature; at every Omega where both
     directions agree, the envelope and the windows are the full spectrum's. Fewer responses, counted."""
-    a, f = adaptive.arrays, full.arrays
+    envelopes = [envelope(x.data) for x in (adaptive, full)]
+    Omega = full.data["Omega"].values
     for part in ("bare", "damper"):
-        scan_f = f[f"{part}_scan_outcome_by_sign"]
+        a, f = (x.data.sel(part=part) for x in (adaptive, full))
+        scan_f = f["scan_outcome"].values
         wide = narrowest_feature(scan_f.reshape(-1, scan_f.shape[-1])).reshape(scan_f.shape[:-1]) >= coarse
-        same = (a[f"{part}_scan_outcome_by_sign"] == scan_f).all(axis=-1)
+        same = (a["scan_outcome"].values == scan_f).all(axis=-1)
         assert same[wide].all(), part
         assert wide.sum() > 0.6 * wide.size, part  # most columns are exact by this rule alone
         for k in COLUMN_FIELDS:
-            np.testing.assert_array_equal(a[f"{part}_{k}_by_sign"][same], f[f"{part}_{k}_by_sign"][same], err_msg=k)
+            np.testing.assert_array_equal(a[k].values[same], f[k].values[same], err_msg=k)
         agree = same.all(axis=1)
         for k in (*COLUMN_FIELDS, "scan_outcome"):
-            np.testing.assert_array_equal(a[f"{part}_{k}"][agree], f[f"{part}_{k}"][agree], err_msg=k)
-        windows = [{tuple(w) for w in x[f"{part}_windows"] if w[0] in a["Omega"][agree]} for x in (a, f)]
+            got, want = (e[k].sel(part=part).values[agree] for e in envelopes)
+            np.testing.assert_array_equal(got, want, err_msg=k)
+        windows = [{tuple(w) for w in safe_windows(e, part) if w[0] in Omega[agree]} for e in envelopes]
         assert windows[0] == windows[1]
     counts = adaptive.run
     assert counts["scan_responses_full"] == full.run["scan_responses"] == full.run["scan_responses_full"]
@@ -68,7 +78,7 @@ def test_the_bench_spectrum_adaptive_is_the_full_spectrum_but_for_narrow_feature
     assert adaptive.config["refinement"] == adaptive.summary["refinement"] == refinement
     assert full.config["refinement"] == {"adaptive": False}
     assert adaptive.run["run_folders"]["bare"] != full.run["run_folders"]["bare"]  # tiles of their own
-    assert len(full.arrays["damper_windows"]) > 0  # windows are compared, not only their absence
+    assert len(safe_windows(envelope(full.data), "damper")) > 0  # windows are compared, not only their absence
 
 
 def test_a_second_block_adaptive_is_the_full_spectrum_but_for_narrow_features(tmp_path):

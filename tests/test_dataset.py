@@ -11,9 +11,12 @@ import xarray as xr
 
 import rocking
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.dataset import LAYOUTS, read_netcdf, to_dataset
-from rocking.study.spectrum import ABOVE, BELOW, BRACKETED
+from rocking.study.dataset import read_netcdf, to_dataset
+from rocking.study.overturning_map import envelope
+from rocking.study.spectrum import envelope as spectrum_envelope
+from rocking.study.threshold import thresholds
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 BLOCK = rocking.Block.reference()
@@ -61,10 +64,9 @@ def test_the_plain_interface_gives_the_studys_arrays(studies, tmp_path):
 
     grids = Grid("Omega", 1.0, 6.0, 4), Grid("beta", 1.0, 6.0, 5)
     study = overturning_map(Setting(BLOCK), Tuning(0.05), *grids, SERIAL, runs=tmp_path)
-    for k, v in study.arrays.items():
-        np.testing.assert_array_equal(studies["map"].arrays[k], v, err_msg=k)
+    xr.testing.assert_identical(studies["map"].data, study.data)
     ds = rocking.overturning_map(BLOCK, Omega=[1.0, 6.0], beta=[2.0], runs=tmp_path, workers=1, progress=False)
-    assert isinstance(ds, xr.Dataset) and dict(ds.sizes) == {"Omega": 2, "beta": 1, "sign": 2}
+    assert isinstance(ds, xr.Dataset) and dict(ds.sizes) == {"part": 2, "Omega": 2, "beta": 1, "sign": 2}
     with pytest.raises(rocking.ParameterError, match="Omega: values must increase"):
         rocking.overturning_map(BLOCK, Omega=[3.0, 1.0], beta=[2.0], runs=tmp_path)
     with pytest.raises(rocking.ParameterError, match="keywords of rocking.Tuning"):
@@ -74,22 +76,26 @@ def test_the_plain_interface_gives_the_studys_arrays(studies, tmp_path):
 def test_map_dataset_is_labelled_in_both_terms(studies):
     study = studies["map"]
     ds = study.to_dataset()
-    assert dict(ds.sizes) == {"Omega": 4, "beta": 5, "sign": 2}
-    assert ds["bare_overturned_by_sign"].dims == ("Omega", "beta", "sign")
-    assert ds["effect"].dims == ("Omega", "beta")
+    assert dict(ds.sizes) == {"part": 2, "Omega": 4, "beta": 5, "sign": 2}
+    assert ds["overturned"].dims == ("part", "Omega", "beta", "sign")
+    assert list(ds["part"].values) == ["bare", "damper"] and list(ds["sign"].values) == [1, -1]
+    with pytest.raises(AttributeError, match=r"results are its labelled data, Study.data"):
+        study.arrays  # noqa: B018 - a map has no arrays named after their dimensions
+    both = envelope(ds)  # the envelope over the directions: a reduction over sign
+    assert both["overturned"].dims == ("part", "Omega", "beta") and both["effect"].dims == ("Omega", "beta")
     # SI coordinates from the block (docs/model.md section 9): T_g = 2 pi / (Omega p), a_g = beta g tan(alpha).
-    np.testing.assert_allclose(ds["T_g"], 2 * np.pi / (study.arrays["Omega"] * BLOCK.p))
-    np.testing.assert_allclose(ds["a_g"], study.arrays["beta"] * 9.81 * BLOCK.B / BLOCK.H)
+    np.testing.assert_allclose(ds["T_g"], 2 * np.pi / (ds["Omega"] * BLOCK.p))
+    np.testing.assert_allclose(ds["a_g"], ds["beta"] * 9.81 * BLOCK.B / BLOCK.H)
     assert ds["T_g"].attrs["units"] == "s" and ds["a_g"].attrs["units"] == "m/s^2"
-    assert ds["damper_x_max"].attrs["units"] == "m" and ds["bare_theta_max"].attrs["units"] == "rad"
-    assert ds["damper_bumper_force_max"].attrs["units"] == "N"
+    assert ds["x_max"].attrs["units"] == "m" and ds["theta_max"].attrs["units"] == "rad"
+    assert ds["bumper_force_max"].attrs["units"] == "N" and both["x_max"].attrs["units"] == "m"
     for name, var in ds.data_vars.items():
         assert {"units", "long_name"} <= set(var.attrs), name
     # Categorical values carry their key.
-    status = ds["damper_status"].attrs
+    status = ds["status"].attrs
     meanings = dict(zip(status["flag_values"].tolist(), status["flag_meanings"].split(), strict=True))
     assert meanings[0] == "overturned" and meanings[5] == "bounded" and meanings[-1] == "not_computed"
-    effect = ds["effect"].attrs
+    effect = both["effect"].attrs
     assert dict(zip(effect["flag_values"].tolist(), effect["flag_meanings"].split(), strict=True)) == {
         -1: "lost",
         0: "unchanged",
@@ -103,13 +109,14 @@ def test_map_dataset_is_labelled_in_both_terms(studies):
 def test_spectrum_dataset_and_flags_in_words(studies):
     study = studies["spectrum"]
     ds = study.to_dataset()
-    assert ds["damper_scan_outcome_by_sign"].dims == ("Omega", "sign", "beta_scan")
-    assert ds["bare_beta_min"].dims == ("Omega",)
-    flag = ds["bare_flag"].attrs
+    assert ds["scan_outcome"].dims == ("part", "Omega", "sign", "beta_scan")
+    both = spectrum_envelope(ds)  # the envelope over the directions: a reduction over sign
+    assert both["beta_min"].dims == ("part", "Omega") and both["scan_outcome"].dims == ("part", "Omega", "beta_scan")
+    flag = both["flag"].attrs
     words = dict(zip(flag["flag_values"].tolist(), flag["flag_meanings"].split(), strict=True))
     assert words == {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"}
     table = study.to_dataframes()["spectrum"]
-    expected = np.array([words[f] for f in study.arrays["bare_flag"]])
+    expected = np.array([words[f] for f in both["flag"].sel(part="bare").values])
     np.testing.assert_array_equal(table["bare_beta_min_is"].to_numpy(), expected)
 
 
@@ -121,7 +128,7 @@ def test_saved_study_reads_back_as_the_same_dataset(studies, tmp_path):
         saved = read_netcdf(nc)
         xr.testing.assert_identical(saved, rocking.load(nc).to_dataset().assign_attrs(versions=saved.attrs["versions"]))
         xr.testing.assert_equal(saved, study.to_dataset())
-        assert all(saved[k].dtype == v.dtype for k, v in study.arrays.items() if k in saved), kind
+        assert all(saved[k].dtype == v.dtype for k, v in study.data.variables.items()), kind
         # Its tables, made again from what was saved, are the finished study's.
         loaded, made = rocking.load(nc).to_dataframes(), study.to_dataframes()
         assert loaded.keys() == made.keys() == study.tables.keys() and loaded, kind
@@ -131,18 +138,19 @@ def test_saved_study_reads_back_as_the_same_dataset(studies, tmp_path):
 
 def test_every_kind_is_in_the_plain_interface(studies):
     """The top-level functions give every kind of study; an array of values is a Grid of those values."""
-    from rocking.study.storage import KINDS
+    from rocking.study.kinds import KINDS
 
     assert set(studies) == set(KINDS)
     assert studies["design"].config["Tm_ratio"]["values"] == [0.5, 1.5, 4.0]
     assert studies["fragility"].kind == "fragility" and studies["ida"].kind == "ida"
     ds = studies["threshold"].to_dataset()
-    assert dict(ds.sizes)["lam"] == 1 and ds["stops_Omega_star"].dims == ("lam", "p")
+    found = thresholds(ds)
+    assert dict(ds.sizes)["lam"] == 1 and found["Omega_star"].dims == ("part", "lam", "p")
     # A threshold's status is where Omega* lies, not why a run ended.
-    from rocking.study.threshold import STATUSES
+    from rocking.study.vocabulary import THRESHOLD_STATUSES as STATUSES
 
-    assert ds["stops_status"].attrs["flag_meanings"].split() == list(STATUSES)
-    assert ds["bare_flag"].attrs["flag_meanings"] == "upper_bound bracketed lower_bound"
+    assert found["status"].attrs["flag_meanings"].split() == list(STATUSES)
+    assert ds["flag"].attrs["flag_meanings"] == "upper_bound bracketed lower_bound"
 
 
 def test_plain_interface_refuses_bad_motions_in_one_line(tmp_path):
@@ -173,11 +181,14 @@ def test_dataframes_carry_units_and_labels(studies):
     }
 
 
-def test_every_kind_has_a_layout_and_every_field_units():
-    """Every kind of study that can be saved has a layout of its arrays."""
-    from rocking.study.storage import KINDS
+def test_every_kind_describes_the_dimensions_of_its_data(studies):
+    """The registry of kinds gives the dimensions of every variable of a study's data, which a load checks."""
+    from rocking.study.kinds import KINDS
 
-    assert set(KINDS) == set(LAYOUTS)
+    assert set(studies) == set(KINDS)
+    for kind, study in studies.items():
+        for name, variable in study.data.variables.items():
+            assert variable.dims == KINDS[kind].dims(name), (kind, name)
 
 
 def test_not_a_study_netcdf_is_refused_in_one_line(tmp_path):

@@ -13,6 +13,7 @@ from rocking.cli.study import add_study_commands, design_verdict, edge_warnings
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.design import best_candidate, design
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
@@ -59,8 +60,9 @@ def test_design_gain_is_what_the_spectrum_gives_for_that_damper(small, tmp_path)
         gamma=d["gamma"], omega_ratio=1 / d["Tm_ratio"], zeta=d["zeta"], h=d["h_m"], stops=True, stroke=d["L_m"]
     )
     spectrum = minimum_overturning_spectrum(SETTING, tuning, BAND, BETA, SERIAL, runs=tmp_path)
-    s = spectrum.arrays
-    np.testing.assert_allclose(small.arrays["gain_opt"], s["damper_beta_min"] / s["bare_beta_min"], rtol=1e-12)
+    beta_min = spectrum_envelope(spectrum.data)["beta_min"]
+    gain = beta_min.sel(part="damper") / beta_min.sel(part="bare")
+    np.testing.assert_allclose(small.arrays["gain_opt"], gain, rtol=1e-12)
 
 
 def test_design_stroke_use_is_that_of_single_runs(small):
@@ -158,7 +160,7 @@ def test_cli_design_writes_data_and_prints_the_damper_in_si(tmp_path, capsys):
     assert "pulses of sign +1 and -1" in out
     summary = rocking.study.storage.load(tmp_path / "design").summary
     assert f"design: {design_verdict(summary)}\n" in out  # the verdict in words, its own line
-    for name in ("design.npz", "design.json", "design.csv", "design-candidates.csv", "design.png"):
+    for name in ("design.nc", "design.json", "design.csv", "design-candidates.csv", "design.png"):
         assert (tmp_path / name).is_file()
     assert rocking.study.storage.load(tmp_path / "design").summary["worst_gain"] > 0
 

@@ -11,7 +11,8 @@ from rocking.sim.cases import pulse_cases, run_cases
 from rocking.study.config import Grid, Setting, Tuning, Variant
 from rocking.study.directions import beta_min_envelope, choose, response_envelope, worst
 from rocking.study.optimize import optimal_damper
-from rocking.study.overturning_map import overturning_map
+from rocking.study.overturning_map import envelope, overturning_map
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
@@ -84,13 +85,12 @@ def test_mirrored_pulse_mirrors_a_symmetric_block(tmp_path):
     study = overturning_map(
         Setting(SYMMETRIC), Tuning(stops=True), OMEGA, BETA, SERIAL, directions="both", runs=tmp_path
     )
-    a = study.arrays
     for part in ("bare", "damper"):
-        pos, neg = (a[f"{part}_overturned_by_sign"][..., i] for i in (0, 1))
+        a = study.data.sel(part=part)
+        pos, neg = (a["overturned"].sel(sign=sign).values for sign in (1, -1))
         np.testing.assert_array_equal(pos, neg)
-        np.testing.assert_array_equal(a[f"{part}_impacts_by_sign"][..., 0], a[f"{part}_impacts_by_sign"][..., 1])
-        theta = a[f"{part}_theta_max_by_sign"]
-        np.testing.assert_allclose(theta[..., 0], theta[..., 1], rtol=1e-6)
+        np.testing.assert_array_equal(a["impacts"].sel(sign=1), a["impacts"].sel(sign=-1))
+        np.testing.assert_allclose(a["theta_max"].sel(sign=1), a["theta_max"].sel(sign=-1), rtol=1e-6)
         assert pos.any()
 
 
@@ -99,26 +99,26 @@ def test_studies_of_an_eccentric_block_report_the_envelope(tmp_path):
     worse; the gain is the ratio of the envelopes."""
     setting = Setting(ECCENTRIC)
     study = overturning_map(setting, Tuning(), OMEGA, BETA, SERIAL, runs=tmp_path)
-    a = study.arrays
+    both = envelope(study.data)
     assert study.summary["directions"]["signs"] == [1, -1]
     for part in ("bare", "damper"):
-        by_sign = a[f"{part}_overturned_by_sign"]
-        np.testing.assert_array_equal(a[f"{part}_overturned"], by_sign.any(axis=-1))
-        assert (by_sign[..., 0] != by_sign[..., 1]).any()  # the directions differ: one sign would not do
-    saved = a["bare_overturned"] & ~a["damper_overturned"]
-    np.testing.assert_array_equal(a["effect"] == 1, saved)
+        by_sign = study.data["overturned"].sel(part=part)
+        np.testing.assert_array_equal(both["overturned"].sel(part=part), by_sign.any("sign"))
+        assert (by_sign.sel(sign=1) != by_sign.sel(sign=-1)).any()  # the directions differ: one sign would not do
+    saved = both["overturned"].sel(part="bare") & ~both["overturned"].sel(part="damper")
+    np.testing.assert_array_equal(both["effect"] == 1, saved)
     table = study.tables["map"]
     assert {"bare_outcome_pos", "bare_outcome_neg", "damper_worst_sign"} <= set(table)
 
     spectrum = minimum_overturning_spectrum(
         setting, Tuning(), OMEGA, Grid("beta", 0.5, 12.0, 24), SERIAL, runs=tmp_path
     )
-    s = spectrum.arrays
+    both = spectrum_envelope(spectrum.data)
     for part in ("bare", "damper"):
-        np.testing.assert_array_equal(s[f"{part}_beta_min"], s[f"{part}_beta_min_by_sign"].min(axis=1))
+        by_sign = spectrum.data["beta_min"].sel(part=part)
+        np.testing.assert_array_equal(both["beta_min"].sel(part=part), by_sign.min("sign"))
         np.testing.assert_array_equal(
-            s[f"{part}_worst_sign"],
-            np.where(s[f"{part}_beta_min_by_sign"][:, 0] <= s[f"{part}_beta_min_by_sign"][:, 1], 1, -1),
+            both["worst_sign"].sel(part=part), np.where(by_sign.sel(sign=1) <= by_sign.sel(sign=-1), 1, -1)
         )
 
     optimum = optimal_damper(
@@ -132,8 +132,9 @@ def test_studies_of_an_eccentric_block_report_the_envelope(tmp_path):
         runs=tmp_path,
     )
     o = optimum.arrays
-    np.testing.assert_allclose(o["bare_beta_min"], s["bare_beta_min"][[1]])  # Omega = 4 is the spectrum's 2nd
-    np.testing.assert_allclose(o["gain_opt"][0], s["damper_beta_min"][[1]] / s["bare_beta_min"][[1]])
+    bare, damper = (both["beta_min"].sel(part=part).values[[1]] for part in ("bare", "damper"))
+    np.testing.assert_allclose(o["bare_beta_min"], bare)  # Omega = 4 is the spectrum's 2nd
+    np.testing.assert_allclose(o["gain_opt"][0], damper / bare)
     assert o["edge_opt"][0, 0] == -1  # a grid of one period: its optimum is at the edge
 
 

@@ -4,6 +4,7 @@ a palette that colour-blind readers and grey prints tell apart, bounds apart fro
 from __future__ import annotations
 
 import colorsys
+import dataclasses
 
 import numpy as np
 import pytest
@@ -20,9 +21,11 @@ from rocking.plot.response import coordinate_unit, response_figure
 from rocking.plot.style import GREY, LIGHT, OKABE_ITO, extend
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import BRACKETED, minimum_overturning_spectrum
+from rocking.study.spectrum import envelope as spectrum_envelope
+from rocking.study.spectrum import minimum_overturning_spectrum, safe_windows, spectrum_data, spectrum_tables
 from rocking.study.storage import load, save
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 CABINET = Block(H=1.2, B=0.4, M=300.0)
@@ -105,9 +108,7 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
 
 def test_the_reference_block_and_the_cabinet_get_different_titles(cabinet_map):
     a = dict(cabinet_map.config)
-    reference = type(cabinet_map)(
-        cabinet_map.kind, {**a, "block": Block.reference().as_params()}, cabinet_map.arrays, summary=cabinet_map.summary
-    )
+    reference = dataclasses.replace(cabinet_map, config={**a, "block": Block.reference().as_params()})
     assert map_figure(reference)._suptitle.get_text() != map_figure(cabinet_map)._suptitle.get_text()
 
 
@@ -125,22 +126,23 @@ def spectrum(tmp_path_factory):
 
 
 def test_the_spectrum_draws_bounds_apart_from_measured_values_and_its_windows(spectrum):
-    a = spectrum.arrays
+    both = spectrum_envelope(spectrum.data)
+    flag = both["flag"].sel(part="damper").values
     fig = spectrum_figure(spectrum)
     ax, ax_gain = fig.axes[:2]
-    assert (a["damper_flag"] != BRACKETED).any(), "a spectrum with bounds"
+    assert (flag != BRACKETED).any(), "a spectrum with bounds"
     damper = next(line for line in ax.get_lines() if line.get_label().endswith("with damper"))
     measured = np.isfinite(damper.get_ydata())
-    assert np.array_equal(measured, a["damper_flag"] == BRACKETED)
+    assert np.array_equal(measured, flag == BRACKETED)
     # The bounds: open triangles with arrows (error bars with limits), in the legend once, in grey.
     bounds = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
     assert bounds and all(c.has_yerr and c.lines[0].get_markerfacecolor() == "white" for c in bounds)
     labels = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
     assert figures.LOWER_BOUND in labels
     gain_line = ax_gain.get_lines()[0]
-    assert not np.isfinite(gain_line.get_ydata()[a["damper_flag"] != BRACKETED]).any()
+    assert not np.isfinite(gain_line.get_ydata()[flag != BRACKETED]).any()
     windows = [p for p in ax.patches if p.get_height() > 0]
-    assert len(windows) == sum(len(a[f"{part}_windows"]) for part in ("bare", "damper"))
+    assert len(windows) == sum(len(safe_windows(both, part)) for part in ("bare", "damper"))
     assert all(p.get_alpha() >= 0.3 and p.get_hatch() for p in windows)
     assert ax.get_legend() is None and ax_gain.get_legend() is None
 
@@ -251,19 +253,18 @@ def test_period_ticks_stay_away_from_an_axis_that_starts_at_omega_zero(cabinet_m
 
 
 def spectrum_figure_of(config: dict, Omega):
-    """A spectrum figure of made-up values over ``Omega``: only its axes are looked at."""
+    """A spectrum figure of made-up values over ``Omega``, one direction, no window: only its axes are looked at."""
     Om = np.asarray(Omega, float)
-    arrays = {"Omega": Om, "beta_scan": np.linspace(0.5, 15, 5), "signs": np.array([1])}
-    for part in ("bare", "damper"):
-        arrays.update(
-            {
-                f"{part}_beta_min": 1 + Om,
-                f"{part}_flag": np.full(Om.size, BRACKETED),
-                f"{part}_windows": np.zeros((0, 3)),
-            }
-        )
-    study = rocking.Study("spectrum", {**config, "directions": {"directions": "positive", "signs": [1]}}, arrays)
-    return spectrum_figure(study)
+    shape = (2, Om.size, 1)  # part, Omega, sign
+    fields = {
+        "beta_min": np.broadcast_to(1 + Om[None, :, None], shape).copy(),
+        "beta_safe": np.full(shape, np.nan),
+        **{k: np.full(shape, BRACKETED if k == "flag" else 0) for k in ("flag", "impacts", "undetermined")},
+        "scan_outcome": np.full((*shape, 5), -1),
+    }
+    config = {**config, "directions": {"directions": "positive", "signs": [1]}}
+    data = spectrum_data(config, Om, np.linspace(0.5, 15, 5), [1], fields)
+    return spectrum_figure(rocking.Study("spectrum", config, data, tabulate=spectrum_tables))
 
 
 def test_ida_levels_over_decades_in_log_scale_and_the_title_says_motions(tmp_path):

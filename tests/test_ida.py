@@ -15,7 +15,7 @@ from rocking.model.intensity import pga
 from rocking.model.params import ParameterError
 from rocking.model.stochastic import SiteModel
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.ida import incremental_dynamic_analysis, motion_measure
+from rocking.study.ida import envelope, incremental_dynamic_analysis, motion_measure
 from rocking.study.suite import Suite
 from rocking.study.tiles import Execution
 
@@ -60,7 +60,8 @@ def ida(records, tmp_path_factory):
 
 def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, records):
     """Each cell is the envelope over both directions of rocking.simulate of the record at that scale."""
-    a = ida.arrays
+    both, levels = envelope(ida.data), ida.data["level"].values
+    a = both.sel(part="damper")
     damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     damper = Damper(m=damper.m, k_m=damper.k_m, c=damper.c, h=0.05, stops=rocking.Stops.at_edges(BLOCK, damper))
     record = rocking.model.records.read_at2(records[1])
@@ -69,25 +70,26 @@ def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, recor
             rocking.simulate(
                 BLOCK,
                 damper,
-                SampledMotion(record.acceleration, dt=record.dt, sign=sign).scaled(a["levels"][j]),
+                SampledMotion(record.acceleration, dt=record.dt, sign=sign).scaled(levels[j]),
                 t_after=5.0,
             )
             for sign in (1, -1)
         ]
-        assert bool(a["damper_overturned"][1, j]) == any(r.overturned for r in runs)
-        assert a["damper_x_max"][1, j] == pytest.approx(max(r.x_max for r in runs), rel=1e-9)
+        assert bool(a["overturned"].values[1, j]) == any(r.overturned for r in runs)
+        assert a["x_max"].values[1, j] == pytest.approx(max(r.x_max for r in runs), rel=1e-9)
     assert ida.kind == "ida" and ida.summary["motions"] == 3
-    assert a["bare_overturned"].any() and not a["bare_overturned"].all()
+    bare = both["overturned"].sel(part="bare")
+    assert bare.any() and not bare.all()
 
 
 def test_ida_summary_and_tables_report_each_motion(ida):
-    a, table = ida.arrays, ida.tables["ida-motions"]
+    both, table, levels = envelope(ida.data), ida.tables["ida-motions"], ida.data["level"].values
     assert list(table["name"]) == ["r0.AT2", "r1.AT2", "r2.AT2"]
     for part in ("bare", "damper"):
-        over = a[f"{part}_overturned"].astype(bool)
-        first = [a["levels"][row.argmax()] if row.any() else np.nan for row in over]
-        np.testing.assert_array_equal(a[f"{part}_first"], first)
-        np.testing.assert_array_equal(a[f"{part}_fraction"], over.mean(axis=0))
+        over = both["overturned"].sel(part=part).values.astype(bool)
+        first = [levels[row.argmax()] if row.any() else np.nan for row in over]
+        np.testing.assert_array_equal(ida.data["first"].sel(part=part), first)
+        np.testing.assert_array_equal(ida.data["fraction"].sel(part=part), over.mean(axis=0))
 
 
 def test_fragility_scales_each_motion_to_the_level_of_its_measure(tmp_path):
@@ -97,7 +99,7 @@ def test_fragility_scales_each_motion_to_the_level_of_its_measure(tmp_path):
     )
     for i in range(3):
         motion = suite.motion(i)
-        assert study.arrays["im"][i] == pytest.approx(pga(motion.a, motion.dt))
+        assert study.data["im"].values[i] == pytest.approx(pga(motion.a, motion.dt))
     assert study.kind == "fragility" and study.summary["unit"] == "m/s^2"
     again = incremental_dynamic_analysis(
         SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL, measure_name="pga", runs=tmp_path
@@ -147,19 +149,21 @@ def pulse_fragility(tmp_path_factory):
 
 def test_a_suite_of_pulses_at_an_amplitude_is_each_pulse_of_that_amplitude_in_the_worse_direction(pulse_fragility):
     """Each cell is the envelope over both directions of rocking.simulate of the pulse with a_g = the level."""
-    a = pulse_fragility.arrays
-    np.testing.assert_array_equal(a["im"], [4.0] * 4)
+    data, both = pulse_fragility.data, envelope(pulse_fragility.data)
+    np.testing.assert_array_equal(data["im"], [4.0] * 4)
+    bare, damped = both.sel(part="bare"), both.sel(part="damper")
     damper = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     checked = 0
     for i, pulse in enumerate(PULSES):
         for j in (1, 3, 6):
-            scaled = [dataclasses.replace(pulse, a_g=a["levels"][j], sign=sign * pulse.sign) for sign in (1, -1)]
+            a_g = float(data["level"][j])
+            scaled = [dataclasses.replace(pulse, a_g=a_g, sign=sign * pulse.sign) for sign in (1, -1)]
             runs = [rocking.simulate(BLOCK, part, motion, t_after=5.0) for part in (None, damper) for motion in scaled]
-            assert bool(a["bare_overturned"][i, j]) == (runs[0].overturned or runs[1].overturned)
-            assert bool(a["damper_overturned"][i, j]) == (runs[2].overturned or runs[3].overturned)
-            assert a["bare_theta_max"][i, j] == pytest.approx(max(r.theta_max for r in runs[:2]), rel=1e-9)
+            assert bool(bare["overturned"][i, j]) == (runs[0].overturned or runs[1].overturned)
+            assert bool(damped["overturned"][i, j]) == (runs[2].overturned or runs[3].overturned)
+            assert bare["theta_max"].values[i, j] == pytest.approx(max(r.theta_max for r in runs[:2]), rel=1e-9)
             checked += 1
-    assert checked == 12 and a["bare_overturned"].any() and not a["bare_overturned"].all()
+    assert checked == 12 and bare["overturned"].any() and not bare["overturned"].all()
     assert pulse_fragility.summary["unit"] == "m/s^2"
     assert pulse_fragility.config["suite"]["pulses"][3]["family"] == "mp"
 
@@ -231,7 +235,7 @@ def test_cli_fragility_of_pulses_against_their_amplitude(tmp_path, capsys):
     ]
     assert _cli(argv) == 0
     study = rocking.study.storage.load(tmp_path / "fragility.json")
-    assert study.arrays["im"].tolist() == [2.0, 2.0]
+    assert study.data["im"].values.tolist() == [2.0, 2.0]
     assert [p["T_g"] for p in study.config["suite"]["pulses"]] == pytest.approx([0.5, 1.0])
     assert "fragility, bare:" in capsys.readouterr().out
 

@@ -135,10 +135,10 @@ for _name, _cls, _shape in (
     ("OneSinePulse", rocking.OneSinePulse, {"psi": value(0, 6)}),
     ("OneCosinePulse", rocking.OneCosinePulse, {}),
     ("RickerWavelet", rocking.RickerWavelet, {}),
-    ("MavroeidisPapageorgiou", rocking.MavroeidisPapageorgiou, {"gamma": value(1.1, 5), "nu": value(0, 6)}),
+    ("MavroeidisPapageorgiou", rocking.MavroeidisPapageorgiou, {"gamma_mp": value(1.1, 5), "nu": value(0, 6)}),
 ):
-    _required = {"gamma": _shape["gamma"]} if "gamma" in _shape else {}
-    _optional = {**{k: v for k, v in _shape.items() if k != "gamma"}, "sign": sign()}
+    _required = {"gamma_mp": _shape["gamma_mp"]} if "gamma_mp" in _shape else {}
+    _optional = {**{k: v for k, v in _shape.items() if k != "gamma_mp"}, "sign": sign()}
     CONSTRUCTORS[_name] = (
         _cls,
         st.fixed_dictionaries({"a_g": value(0, 20), "omega_g": value(1, 40), **_required}, optional=_optional),

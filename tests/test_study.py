@@ -12,6 +12,7 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import rocking
 from rocking import Block, load_model
@@ -21,10 +22,12 @@ from rocking.sim.problem import STATUS
 from rocking.study import config as study_config
 from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
 from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
-from rocking.study.overturning_map import SAFE, UndeterminedWarning, outcome, overturning_map
-from rocking.study.spectrum import ABOVE, BELOW, BRACKETED, beta_min, minimum_overturning_spectrum, windows
+from rocking.study.overturning_map import UndeterminedWarning, envelope, outcome, overturning_map
+from rocking.study.spectrum import beta_min, minimum_overturning_spectrum, safe_windows, windows
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.storage import load
 from rocking.study.tiles import IN_FLIGHT_PER_WORKER, Execution, Task, local_pool, run_tiles
+from rocking.study.vocabulary import ABOVE, BELOW, BRACKETED, SAFE
 
 SETTING = Setting(Block.reference(), backend="c")
 SERIAL = Execution(workers=1, progress=False)
@@ -61,30 +64,34 @@ def ref_map(runs):
 
 def test_map_agrees_with_spectrum(ref_map, runs):
     spectrum = minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, POOL, runs=runs)
-    beta = ref_map.arrays["beta"]
+    beta = ref_map.data["beta"].values
     step = beta[1] - beta[0]
+    both = envelope(ref_map.data)
     for part in ("bare", "damper"):
         for i in range(OMEGA.n):
-            overturned = ref_map.arrays[f"{part}_overturned"][i]
+            overturned = both["overturned"].sel(part=part).values[i]
             assert overturned.any() and not overturned[0]
             lowest = beta[np.argmax(overturned)]
-            assert spectrum.arrays[f"{part}_flag"][i] == BRACKETED
-            assert 0 <= lowest - spectrum.arrays[f"{part}_beta_min"][i] <= step
+            column = spectrum_envelope(spectrum.data).sel(part=part).isel(Omega=i)
+            assert column["flag"] == BRACKETED
+            assert 0 <= lowest - column["beta_min"] <= step
             # The scan of the spectrum is the map's column: the same outcomes.
-            np.testing.assert_array_equal(spectrum.arrays[f"{part}_scan_outcome"][i] != SAFE, overturned)
+            np.testing.assert_array_equal(column["scan_outcome"].values != SAFE, overturned)
 
 
 def test_vanishing_damper_reproduces_bare_map(ref_map, runs):
     light = overturning_map(SETTING, Tuning(1e-6), OMEGA, BETA, SERIAL, runs=runs, tile=(2, 5), full=True)
     assert light.run["tiles_reused"] == light.run["tiles_computed"]  # the bare half is shared with ref_map
-    a = light.arrays
-    np.testing.assert_array_equal(a["damper_overturned"], ref_map.arrays["bare_overturned"])
+    a = light.data
+    np.testing.assert_array_equal(
+        envelope(a)["overturned"].sel(part="damper"), envelope(ref_map.data)["overturned"].sel(part="bare")
+    )
     # Per direction: where both directions barely uplift, their theta_max tie and the envelope may pick either.
     # A mass of 1e-6 M shifts each impact slightly, and dozens of impacts add up: theta_max to 1e-3.
     # The impacts before overturning; a safe response counts its impacts up to its early verdict (rule 4).
-    damper, bare = (outcome(a[f"{p}_overturned_by_sign"], a[f"{p}_impacts_by_sign"]) for p in ("damper", "bare"))
+    damper, bare = (outcome(a["overturned"].sel(part=p), a["impacts"].sel(part=p)) for p in ("damper", "bare"))
     np.testing.assert_array_equal(damper, bare)
-    np.testing.assert_allclose(a["damper_theta_max_by_sign"], a["bare_theta_max_by_sign"], rtol=1e-3)
+    np.testing.assert_allclose(a["theta_max"].sel(part="damper"), a["theta_max"].sel(part="bare"), rtol=1e-3)
     assert light.summary["saved"] == light.summary["lost"] == 0
 
 
@@ -92,7 +99,7 @@ def test_damper_changes_outcomes(ref_map):
     """The reference damper saves cells: the comparison map is not trivially empty."""
     s = ref_map.summary
     assert s["saved"] > 0
-    assert s["saved"] == int((ref_map.arrays["effect"] == 1).sum())
+    assert s["saved"] == int((envelope(ref_map.data)["effect"] == 1).sum())
     assert s["cells"] == OMEGA.n * BETA.n
 
 
@@ -102,11 +109,12 @@ def test_spectrum_reports_windows_of_a_slender_block(tmp_path):
     study = minimum_overturning_spectrum(
         setting, TUNING, Grid("Omega", 6.0, 6.0, 1), Grid("beta", 3.0, 11.0, 33), SERIAL, runs=tmp_path
     )
-    w = study.arrays["bare_windows"]
+    both = spectrum_envelope(study.data)
+    w = safe_windows(both, "bare")
     assert len(w) >= 1 and study.summary["bare"]["windows"] == len(w)
-    assert np.all(w[:, 1] > study.arrays["bare_beta_min"][0])
+    assert np.all(w[:, 1] > both["beta_min"].sel(part="bare").values[0])
     assert np.any((w[:, 1] < 9.417) & (w[:, 2] > 8.5))
-    assert len(study.tables["spectrum-windows"]["Omega"]) == len(w) + len(study.arrays["damper_windows"])
+    assert len(study.tables["spectrum-windows"]["Omega"]) == len(w) + len(safe_windows(both, "damper"))
 
 
 def test_windows_and_flags():
@@ -172,14 +180,16 @@ def test_responses_without_a_verdict_are_counted_and_change_no_effect(tmp_path):
         study = overturning_map(
             SETTING, stiff, Grid("Omega", 1.0, 4.0, 2), Grid("beta", 1.2, 3.0, 2), SERIAL, runs=tmp_path / "map"
         )
-    assert (study.arrays["damper_status"] == STATUS.index("max_steps")).all()
-    assert study.arrays["bare_overturned"].any() and not study.arrays["effect"].any()
+    both = envelope(study.data)
+    assert (both["status"].sel(part="damper") == STATUS.index("max_steps")).all()
+    assert both["overturned"].sel(part="bare").any() and not both["effect"].any()
     assert (study.summary["bare_undetermined"], study.summary["damper_undetermined"]) == (0, 4)
     with pytest.warns(UndeterminedWarning, match="spectrum"):
         spectrum = minimum_overturning_spectrum(
             SETTING, stiff, Grid("Omega", 1.0, 4.0, 2), BETA, SERIAL, runs=tmp_path / "spectrum"
         )
-    assert spectrum.arrays["damper_undetermined"].min() >= BETA.n and spectrum.summary["bare"]["undetermined"] == 0
+    undetermined = spectrum_envelope(spectrum.data)["undetermined"].sel(part="damper")
+    assert undetermined.min() >= BETA.n and spectrum.summary["bare"]["undetermined"] == 0
 
 
 # --- tiles: resuming and configurations -----------------------------------------------------
@@ -227,16 +237,14 @@ def test_threads_give_the_serial_arrays(ref_map, tmp_path, monkeypatch):
     monkeypatch.setattr("rocking.study.tiles.ProcessPoolExecutor", None)  # threads only: no process pool can start
     threaded = overturning_map(SETTING, TUNING, OMEGA, BETA, POOL, runs=tmp_path / "map", tile=(2, 5), full=True)
     assert threaded.run["tiles_computed"] == 2 * 2 * 3
-    for k, v in ref_map.arrays.items():
-        np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
+    xr.testing.assert_identical(threaded.data, ref_map.data)
     # Columns bisect independently: how they are grouped into tiles changes nothing either.
     serial, threaded = (
         minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, execution, runs=tmp_path / name, columns=columns)
         for name, execution, columns in (("serial", SERIAL, 1), ("threads", POOL, 3))
     )
     assert (serial.run["tiles_computed"], threaded.run["tiles_computed"]) == (2 * OMEGA.n, 2 * 2)
-    for k, v in serial.arrays.items():
-        np.testing.assert_array_equal(threaded.arrays[k], v, err_msg=k)
+    xr.testing.assert_identical(threaded.data, serial.data)
 
 
 def test_interrupted_threads_store_their_running_tiles(tmp_path):
@@ -279,8 +287,7 @@ def test_resume_recomputes_nothing_finished(ref_map, tmp_path, interruption):
     again = overturning_map(SETTING, TUNING, OMEGA, BETA, SERIAL, runs=tmp_path, tile=(2, 3), full=True)
     assert (again.run["tiles_reused"], again.run["tiles_computed"]) == (total, 0)
     assert not list(tmp_path.rglob("*.tmp"))
-    for k, v in ref_map.arrays.items():  # other tiling, same cells
-        np.testing.assert_array_equal(resumed.arrays[k], v, err_msg=k)
+    xr.testing.assert_identical(resumed.data, ref_map.data)  # other tiling, same cells
 
 
 def test_changed_configuration_reuses_no_tile(ref_map, runs):
@@ -368,12 +375,12 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
     assert "saved" in printed and "Omega*" in printed and str(tmp_path) in printed
     kinds = ("map", "spectrum", "optimize")
     for kind in kinds:
-        for ext in ("npz", "csv", "json", "png", "pdf"):
+        for ext in ("nc", "csv", "json", "png", "pdf"):
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0, (kind, ext)
         record = json.loads((tmp_path / f"{kind}.json").read_text())
         assert record["config"]["kind"] == kind and record["config_sha256"]
         assert {"python", "numpy", "scipy", "sympy", "rocking", "model_sha256"} <= set(record["versions"])
-    assert load(tmp_path / "map").arrays["bare_overturned"].shape == (3, 6)
+    assert load(tmp_path / "map").data["overturned"].shape == (2, 3, 6, 2)  # part, Omega, beta, sign
 
     for kind in kinds:
         (tmp_path / f"{kind}.png").unlink()
@@ -384,7 +391,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
 
     monkeypatch.setattr("rocking.study.overturning_map.run_cases", no_simulation)
     assert cli(["redraw", out]) == 0
-    assert cli(["redraw", str(tmp_path / "spectrum.npz")]) == 0
+    assert cli(["redraw", str(tmp_path / "spectrum.nc")]) == 0
     for kind in kinds:
         for ext in ("png", "pdf"):
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0
@@ -453,14 +460,14 @@ def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
         runs=tmp_path / "map",
         full=True,
     )
-    a, half = study.arrays, SETTING.block.B / 2
-    saved = a["effect"] > 0
+    both, half = envelope(study.data), SETTING.block.B / 2
+    saved, x_max = both["effect"].values > 0, both["x_max"].sel(part="damper").values
     assert study.summary["saved"] == saved.sum() > 0
-    assert study.summary["saved_past_edges"] == int((saved & (a["damper_x_max"] > half)).sum())
+    assert study.summary["saved_past_edges"] == int((saved & (x_max > half)).sum())
     assert 0 < study.summary["saved_past_edges"] <= study.summary["saved"]
     stroke = study.tables["map"]["damper_stroke_over_half_width"]
-    assert np.array_equal(stroke, np.ravel(a["damper_x_max"]) / half)
-    assert int(np.sum((stroke > 1) & (np.ravel(a["effect"]) > 0))) == study.summary["saved_past_edges"]
+    assert np.array_equal(stroke, np.ravel(x_max) / half)
+    assert int(np.sum((stroke > 1) & np.ravel(saved))) == study.summary["saved_past_edges"]
     from rocking.plot.figures import map_figure
 
     title = map_figure(study).axes[2].get_title()
@@ -474,21 +481,22 @@ def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
     grids = Grid("Omega", 5.0, 9.0, 5), Grid("beta", 4.0, 12.0, 9)
     free = overturning_map(SETTING, TUNING, *grids, SERIAL, runs=tmp_path / "free", full=True)
     stopped = overturning_map(SETTING, Tuning(0.05, stops=True), *grids, SERIAL, runs=tmp_path / "stops", full=True)
-    a = stopped.arrays
-    assert a["damper_stop_contacts"].max() > 0 and np.nanmax(a["damper_bumper_force_max"]) > 0
-    assert (a["bare_stop_contacts"] == 0).all() and (a["bare_bumper_force_max"] == 0).all()
-    assert np.nanmax(a["damper_x_max"]) <= SETTING.block.B / 2 and stopped.summary["saved_past_edges"] == 0
+    a = stopped.data
+    damper, bare = a.sel(part="damper"), a.sel(part="bare")
+    assert damper["stop_contacts"].max() > 0 and np.nanmax(damper["bumper_force_max"]) > 0
+    assert (bare["stop_contacts"] == 0).all() and (bare["bumper_force_max"] == 0).all()
+    x_max = envelope(a)["x_max"].sel(part="damper").values
+    assert np.nanmax(x_max) <= SETTING.block.B / 2 and stopped.summary["saved_past_edges"] == 0
     assert stopped.summary["saved"] < free.summary["saved"]
     L = SETTING.block.B / 2 - 0.02  # Stops.at_edges
-    np.testing.assert_allclose(stopped.tables["map"]["damper_stroke_over_L"], np.ravel(a["damper_x_max"]) / L)
+    np.testing.assert_allclose(stopped.tables["map"]["damper_stroke_over_L"], np.ravel(x_max) / L)
     assert "damper_stroke_over_L" not in free.tables["map"]
     shorter = overturning_map(
         SETTING, Tuning(0.05, stops=True, stroke=0.1), *grids, SERIAL, runs=tmp_path / "short", full=True
     )
-    assert np.nanmax(shorter.arrays["damper_x_max"]) < np.nanmax(a["damper_x_max"])
-    np.testing.assert_allclose(
-        shorter.tables["map"]["damper_stroke_over_L"], np.ravel(shorter.arrays["damper_x_max"]) / 0.1
-    )
+    shorter_x_max = envelope(shorter.data)["x_max"].sel(part="damper").values
+    assert np.nanmax(shorter_x_max) < np.nanmax(x_max)
+    np.testing.assert_allclose(shorter.tables["map"]["damper_stroke_over_L"], np.ravel(shorter_x_max) / 0.1)
     assert stopped.config["damper"]["stops"] is True and "stops" not in free.config["damper"]
     argv = [
         "map",
@@ -508,8 +516,8 @@ def test_a_map_of_the_damper_with_stops_at_the_edges(tmp_path, capsys):
     ]
     assert cli([*argv, "--out", str(tmp_path / "cli")]) == 0
     saved = load(tmp_path / "cli" / "map")
-    for k in ("damper_overturned", "damper_stop_contacts", "damper_x_max"):
-        assert np.array_equal(saved.arrays[k], a[k], equal_nan=True), k
+    for k in ("overturned", "stop_contacts", "x_max"):
+        assert np.array_equal(saved.data[k], a[k], equal_nan=True), k
 
 
 def test_stops_of_a_tuning_must_be_a_flag():
@@ -523,8 +531,8 @@ def test_a_spectrum_of_the_damper_with_stops(tmp_path):
     Omega, beta = Grid("Omega", 2.0, 6.0, 3), Grid("beta", 0.5, 10.0, 20)
     free = minimum_overturning_spectrum(SETTING, TUNING, Omega, beta, SERIAL, runs=tmp_path / "free")
     stopped = minimum_overturning_spectrum(SETTING, Tuning(0.05, stops=True), Omega, beta, SERIAL, runs=tmp_path / "s")
-    assert np.array_equal(stopped.arrays["bare_beta_min"], free.arrays["bare_beta_min"])
-    assert not np.array_equal(stopped.arrays["damper_beta_min"], free.arrays["damper_beta_min"])
+    xr.testing.assert_identical(stopped.data.sel(part="bare"), free.data.sel(part="bare"))
+    assert not np.array_equal(stopped.data["beta_min"].sel(part="damper"), free.data["beta_min"].sel(part="damper"))
 
 
 def test_the_optimal_damper_with_stops_at_the_edges(tmp_path):

@@ -21,12 +21,13 @@ from pathlib import Path
 
 import numpy as np
 import pytest
+import xarray as xr
 
 import rocking
 import rocking.cli.study
 from rocking import Block, ParameterError
 from rocking.cli.study import add_study_commands
-from rocking.study import storage, tiles
+from rocking.study import files, storage, tiles
 from rocking.study.config import MAX_CELLS, MAX_N, Grid, Setting, Tuning, Variant
 from rocking.study.optimize import optimal_damper
 from rocking.study.overturning_map import overturning_map
@@ -58,10 +59,12 @@ def one_line_error(capsys, command: str) -> str:
     return err
 
 
-def same_bits(a: dict, b: dict) -> None:
-    assert a.keys() == b.keys()
-    for k in a:
-        assert a[k].dtype == b[k].dtype and a[k].shape == b[k].shape and a[k].tobytes() == b[k].tobytes(), k
+def same_bits(a: xr.Dataset, b: xr.Dataset) -> None:
+    """Two studies' data hold the same variables (coordinates included), bit for bit."""
+    assert a.variables.keys() == b.variables.keys()
+    for k in a.variables:
+        x, y = a[k].values, b[k].values
+        assert x.dtype == y.dtype and x.shape == y.shape and x.tobytes() == y.tobytes(), k
 
 
 @pytest.fixture(scope="module")
@@ -126,9 +129,10 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
     warned = {Path(str(w.message).partition(": damaged tile")[0]) for w in caught}
     assert warned == set(damaged), {str(w.message) for w in caught}
     assert (study.run["tiles_computed"], study.run["tiles_reused"]) == (len(damaged), 12 - len(damaged))
-    same_bits(study.arrays, ref.arrays)
+    same_bits(study.data, ref.data)
     for path in damaged:  # recomputed and stored whole: the next run reuses all, silently
-        same_bits(load_tile(path), load_tile(ref_runs / path.relative_to(runs)))
+        tile, ref_tile = load_tile(path), load_tile(ref_runs / path.relative_to(runs))
+        assert tile.keys() == ref_tile.keys() and all(np.array_equal(tile[k], ref_tile[k]) for k in tile)
     # The command line shows the warning in one line, like its errors.
     (stored[0]).write_bytes(b"not a tile")
     assert cli(["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]) == 0
@@ -141,7 +145,7 @@ def test_damaged_tiles_are_recomputed_with_a_warning_never_reused(reference, tmp
         warnings.simplefilter("error", TileWarning)
         again = overturning_map(SETTING, Tuning(), OMEGA, BETA, SERIAL, runs=runs, tile=TILE, full=True)
     assert again.run["tiles_reused"] == 12
-    same_bits(again.arrays, ref.arrays)
+    same_bits(again.data, ref.data)
 
 
 # --- 2. atomic saves ------------------------------------------------------------------------------
@@ -153,11 +157,11 @@ def _leftovers(folder: Path) -> list[str]:
 
 
 def test_a_study_is_published_whole_or_not_at_all(reference, tmp_path, monkeypatch):
-    study = dataclasses.replace(reference[0], arrays=dict(reference[0].arrays))
+    study = reference[0]
     written = save(study, tmp_path)
-    assert [p.suffix for p in written] == [".npz", ".csv", ".nc", ".json"]  # the JSON record last
+    assert [p.suffix for p in written] == [".nc", ".csv", ".json"]  # the JSON record last
     before = {p.name: p.read_bytes() for p in written}
-    changed = dataclasses.replace(study, arrays={**study.arrays, "effect": study.arrays["effect"] * 0})
+    changed = dataclasses.replace(study, data=study.data.assign(impacts=study.data["impacts"] * 0))
 
     def crash(*args, **kwargs):
         raise KeyboardInterrupt  # Ctrl-C while the files are written
@@ -186,10 +190,10 @@ def test_a_study_is_published_whole_or_not_at_all(reference, tmp_path, monkeypat
     # A save killed outright leaves its temporary folder: the next save of that name removes it.
     abandoned = tmp_path / f".map.saving-{_dead_pid()}-x"
     abandoned.mkdir()
-    (abandoned / "map.npz").write_bytes(b"partial")
+    (abandoned / "map.nc").write_bytes(b"partial")
     save(changed, tmp_path)
     assert not _leftovers(tmp_path)
-    same_bits(load(tmp_path / "map").arrays, changed.arrays)
+    same_bits(load(tmp_path / "map").data, changed.data)
 
 
 def _dead_pid() -> int:
@@ -215,7 +219,7 @@ def test_new_files_have_the_mode_of_the_umask(reference, tmp_path, umask):
 
 # --- 2b. a full disk ------------------------------------------------------------------------------
 
-MAP_FILES = ("map.npz", "map.csv", "map.nc", "map.json")
+MAP_FILES = ("map.nc", "map.csv", "map.json")
 
 
 def _enospc(*args, **kwargs):
@@ -225,14 +229,14 @@ def _enospc(*args, **kwargs):
 def _full_at(monkeypatch, stage: str) -> None:
     """Make the writer of ``stage`` (``tile`` after 3 tiles, or a study's file) fail as on a full disk."""
     if stage == "map.nc, older xarray":  # it writes the file itself; the library's error has no errno
-        monkeypatch.setattr(storage, "no_space", lambda folder: True)
+        monkeypatch.setattr(files, "no_space", lambda folder: True)
         error = {None: ValueError("invalid engine for creating bytes with to_netcdf")}
         monkeypatch.setattr(
             "xarray.Dataset.to_netcdf",
             lambda self, path=None, **k: _raise(error.get(path, RuntimeError("NetCDF: HDF error"))),
         )
         return
-    real = storage.write_file
+    real = files.write_file
     tiles_written = []
 
     def write_file(path, write, mode="wb"):
@@ -244,7 +248,8 @@ def _full_at(monkeypatch, stage: str) -> None:
             _enospc()
         real(path, write, mode)
 
-    monkeypatch.setattr(storage, "write_file", write_file)
+    for module in (files, storage):  # the tiles' writer, and the study's
+        monkeypatch.setattr(module, "write_file", write_file)
 
 
 def _raise(exc: Exception):
@@ -330,23 +335,28 @@ def test_a_real_full_disk_a_tmpfs(tmp_path, capsys):
 # --- 3. unreadable saved studies ------------------------------------------------------------------
 
 
-def _drop_array(folder: Path, name: str, *, listed: bool) -> None:
-    arrays = dict(np.load(folder / "map.npz"))
-    arrays.pop(name)
-    np.savez(folder / "map.npz", **arrays)
-    if not listed:  # as saved before the JSON listed the arrays
-        record = json.loads((folder / "map.json").read_text())
-        del record["arrays"], record["arrays_sha256"]
-        (folder / "map.json").write_text(json.dumps(record))
+def _rewrite_nc(folder: Path, change) -> None:
+    """Write the study's NetCDF file again with its data changed by ``change(dataset)``."""
+    data = xr.load_dataset(folder / "map.nc", engine="netcdf4")
+    (folder / "map.nc").unlink()
+    change(data).to_netcdf(folder / "map.nc", engine="netcdf4")
+
+
+def _old_format(folder: Path) -> None:
+    """The record of a study saved in format 2, by an earlier version (an .npz of arrays named by dimension)."""
+    record = json.loads((folder / "map.json").read_text())
+    record["format"] = 2
+    (folder / "map.json").write_text(json.dumps(record))
 
 
 BROKEN = {
-    "truncated npz": ("map.npz", lambda f: (f / "map.npz").write_bytes((f / "map.npz").read_bytes()[:900])),
-    "npz of text": ("map.npz", lambda f: (f / "map.npz").write_text("hello")),
-    "npz of a .npy": ("map.npz", lambda f: _npy(f / "map.npz")),
-    "changed array": ("map.npz", lambda f: np.savez(f / "map.npz", **{**load(f / "map").arrays, "effect": 0})),
-    "missing array": ("map.npz", lambda f: _drop_array(f, "effect", listed=True)),
-    "missing array, old JSON": ("map", lambda f: _drop_array(f, "bare_overturned", listed=False)),
+    "truncated nc": ("map.nc", lambda f: (f / "map.nc").write_bytes((f / "map.nc").read_bytes()[:900])),
+    "nc of text": ("map.nc", lambda f: (f / "map.nc").write_text("hello")),
+    "nc of a .npy": ("map.nc", lambda f: _npy(f / "map.nc")),
+    "changed variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.assign(impacts=d["impacts"] * 0 + 1))),
+    "missing variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.drop_vars("computed"))),
+    "another study's file": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.isel(beta=slice(1, None)))),
+    "format 2": ("map.json", _old_format),
     "corrupt JSON": ("map.json", lambda f: (f / "map.json").write_text('{"kind": "map", ')),
     "binary JSON": ("map.json", lambda f: (f / "map.json").write_bytes(b"\xff\xfe\x00")),
     "foreign JSON": ("map.json", lambda f: (f / "map.json").write_text('{"name": "something else"}')),
@@ -360,11 +370,10 @@ def test_unreadable_studies_give_one_line_errors(broken, reference, tmp_path, ca
     culprit, damage = BROKEN[broken]
     save(reference[0], tmp_path)
     damage(tmp_path)
-    assert cli(["redraw", str(tmp_path / "map.npz")]) == 2
+    assert cli(["redraw", str(tmp_path / "map.nc")]) == 2
     assert str(tmp_path / culprit) in one_line_error(capsys, "redraw")
-    if broken != "missing array, old JSON":  # load() cannot know what an old JSON did not list
-        with pytest.raises(ParameterError, match=str(tmp_path / culprit)):
-            rocking.load(tmp_path / "map")
+    with pytest.raises(ParameterError, match=str(tmp_path / culprit)):
+        rocking.load(tmp_path / "map")
 
 
 # --- 4. Ctrl-C ------------------------------------------------------------------------------------

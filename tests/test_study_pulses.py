@@ -9,8 +9,9 @@ import rocking
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.overturning_map import overturning_map
-from rocking.study.spectrum import BRACKETED, minimum_overturning_spectrum
+from rocking.study.spectrum import envelope, minimum_overturning_spectrum
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 
@@ -34,12 +35,12 @@ def test_bare_beta_min_agrees_with_an_independent_simulation(pulse, tmp_path):
         tol=1e-4,
         runs=tmp_path,
     )
-    a = study.arrays
-    for i, Om in enumerate(a["Omega"]):
+    bare = envelope(study.data).sel(part="bare")
+    for i, Om in enumerate(bare["Omega"].values):
         if Om in INDEPENDENT[pulse]:
-            assert a["bare_flag"][i] == BRACKETED
+            assert bare["flag"].values[i] == BRACKETED
             # The independent value is the first point of its 0.01 grid at or above the threshold.
-            assert INDEPENDENT[pulse][Om] - 0.01 < a["bare_beta_min"][i] <= INDEPENDENT[pulse][Om], Om
+            assert INDEPENDENT[pulse][Om] - 0.01 < bare["beta_min"].values[i] <= INDEPENDENT[pulse][Om], Om
 
 
 def test_maps_and_spectra_run_every_family_and_record_it(tmp_path):
@@ -50,7 +51,7 @@ def test_maps_and_spectra_run_every_family_and_record_it(tmp_path):
             setting, Tuning(0.05), Grid("Omega", 2.0, 6.0, 3), Grid("beta", 1.0, 9.0, 3), SERIAL, runs=tmp_path
         )
         assert study.config["pulse"]["motion"] == pulse and study.config["directions"]["signs"] == [1, -1]
-        outcomes[pulse] = study.arrays["bare_overturned"]
+        outcomes[pulse] = study.data["overturned"].sel(part="bare").values
         assert outcomes[pulse].any()
     assert not np.array_equal(outcomes["ricker"], outcomes["cosine"])
     assert "pulse" not in Setting(rocking.Block.reference()).record()  # the paper's one-sine keeps its hash

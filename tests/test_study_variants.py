@@ -14,7 +14,8 @@ from rocking.model.params import ParameterError
 from rocking.sim.cases import pulse_cases
 from rocking.study.config import Grid, Setting, Tuning, Variant, config_hash, part_config
 from rocking.study.optimize import optimal_damper
-from rocking.study.overturning_map import outcome, overturning_map
+from rocking.study.overturning_map import envelope, outcome, overturning_map
+from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 
@@ -50,20 +51,21 @@ def pendulum_map(runs):
 
 
 def test_pendulum_map_agrees_with_simulate(pendulum_map):
-    a = pendulum_map.arrays
-    for part in ("bare", "damper"):
-        for k in ("overturned", "impacts", "theta_max", "x_max", "status"):
-            assert a[f"{part}_{k}"].shape == (OMEGA.n, BETA.n)
+    both = envelope(pendulum_map.data)
+    for k in ("overturned", "impacts", "theta_max", "x_max", "status"):
+        assert both[k].shape == (2, OMEGA.n, BETA.n)  # part, Omega, beta
     assert pendulum_map.config["damper"]["model"] == "pendulum"
-    assert a["damper_overturned"].any() and not a["damper_overturned"].all()
+    a = both.sel(part="damper")
+    assert a["overturned"].any() and not a["overturned"].all()
     assert pendulum_map.config["directions"]["signs"] == [1, -1]  # a Variant may not be symmetric
     for i, j in [(0, 0), (1, 2), (2, 3), (3, 4), (3, 1)]:  # the envelope is the response of the worse direction
-        sign = int(a["damper_worst_sign"][i, j])
-        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["beta"][j], Omega=a["Omega"][i], sign=sign)
+        sign = int(a["worst_sign"][i, j])
+        pulse = OneSinePulse.from_nondim(BLOCK, beta=float(a["beta"][j]), Omega=float(a["Omega"][i]), sign=sign)
         r = rocking.simulate(BLOCK, PENDULUM, pulse, model="pendulum", backend="c")
-        assert a["damper_overturned"][i, j] == r.overturned, (i, j)
-        assert a["damper_impacts"][i, j] == r.impacts, (i, j)
-        assert a["damper_theta_max_by_sign"][i, j].max() == pytest.approx(r.theta_max, rel=1e-12)
+        assert a["overturned"][i, j] == r.overturned, (i, j)
+        assert a["impacts"][i, j] == r.impacts, (i, j)
+        theta = pendulum_map.data["theta_max"].sel(part="damper").values[i, j]
+        assert theta.max() == pytest.approx(r.theta_max, rel=1e-12)
 
 
 def test_pendulum_spectrum(runs):
@@ -75,24 +77,25 @@ def test_pendulum_spectrum(runs):
         SERIAL,
         runs=runs,
     )
-    a = study.arrays
-    assert a["damper_beta_min"].shape == a["bare_beta_min"].shape == (3,)
-    assert a["damper_scan_outcome"].shape == (3, 12)
-    assert np.isfinite(a["damper_beta_min"]).all()
-    for i, Om in enumerate(a["Omega"]):  # beta_min overturns the pendulum-damped block, in its worse direction
-        sign = int(a["damper_worst_sign"][i])
-        pulse = OneSinePulse.from_nondim(BLOCK, beta=a["damper_beta_min"][i], Omega=Om, sign=sign)
+    both = spectrum_envelope(study.data)
+    assert both["beta_min"].shape == (2, 3)  # part, Omega
+    assert both["scan_outcome"].shape == (2, 3, 12)
+    a = both.sel(part="damper")
+    assert np.isfinite(a["beta_min"]).all()
+    for i, Om in enumerate(a["Omega"].values):  # beta_min overturns the pendulum-damped block, in its worse direction
+        sign = int(a["worst_sign"][i])
+        pulse = OneSinePulse.from_nondim(BLOCK, beta=float(a["beta_min"][i]), Omega=Om, sign=sign)
         assert rocking.simulate(BLOCK, PENDULUM, pulse, model="pendulum", backend="c").overturned
 
 
 def test_vanishing_pendulum_reproduces_bare_map(runs):
     tiny = Variant("pendulum", {**PENDULUM, "m": 1e-6, "c_phi": 1e-6, "k_phi": 0.0})
     study = overturning_map(SETTING, tiny, OMEGA, BETA, SERIAL, runs=runs, tile=(4, 5))
-    a = study.arrays
-    np.testing.assert_array_equal(a["damper_overturned_by_sign"], a["bare_overturned_by_sign"])
+    a = study.data
+    np.testing.assert_array_equal(a["overturned"].sel(part="damper"), a["overturned"].sel(part="bare"))
     # The impacts before overturning; the bare block's safe responses end at their early verdict, the pendulum's
     # (no bound derived for it) at rest, with more impacts.
-    damper, bare = (outcome(a[f"{p}_overturned_by_sign"], a[f"{p}_impacts_by_sign"]) for p in ("damper", "bare"))
+    damper, bare = (outcome(a["overturned"].sel(part=p), a["impacts"].sel(part=p)) for p in ("damper", "bare"))
     np.testing.assert_array_equal(damper, bare)
 
 
@@ -154,13 +157,12 @@ def test_cli_map_of_a_variant(tmp_path, capsys):
     argv += ["--Omega", "1", "4", "4", "--beta", "1", "6", "4", "--out", str(tmp_path)]
     argv += ["--no-progress", "--workers", "1"]
     assert main(argv) == 0
-    for ext in ("npz", "png", "json", "csv"):
+    for ext in ("nc", "png", "json", "csv"):
         assert (tmp_path / f"map.{ext}").stat().st_size > 0
     record = json.loads((tmp_path / "map.json").read_text())
     assert record["config"]["damper"]["model"] == "pendulum"
     assert record["config"]["damper"]["params"] == PENDULUM
-    with np.load(tmp_path / "map.npz") as z:
-        assert z["damper_overturned"].shape == (4, 4)
+    assert rocking.load(tmp_path / "map").data["overturned"].sel(part="damper").shape == (4, 4, 2)  # and sign
     capsys.readouterr()
 
 

@@ -7,12 +7,13 @@ import argparse
 
 import numpy as np
 import pytest
+import xarray as xr
 
 from rocking import Block
 from rocking.cli.study import add_study_commands
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting
-from rocking.study.spectrum import ABOVE, BRACKETED, beta_min
+from rocking.study.spectrum import beta_min
 from rocking.study.threshold import (
     BETA_TOP,
     STATUSES,
@@ -20,8 +21,10 @@ from rocking.study.threshold import (
     rising_beta_min,
     safe_from,
     threshold_map,
+    thresholds,
 )
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import ABOVE, BRACKETED
 
 SERIAL = Execution(workers=1, progress=False)
 REFERENCE = Setting(Block.reference())
@@ -63,28 +66,30 @@ def test_bare_block_is_similar_across_sizes(small):
     analysis of docs/model.md (R1)-(I): in the time p t, with beta and Omega, p drops out; Dimitrakopoulos and
     DeJong 2012, Proc. R. Soc. A 468, similarity laws of the rocking block). Only the absolute 15 s followed
     after the pulse could tell the sizes apart."""
-    a = small.arrays
-    np.testing.assert_allclose(a["bare_beta_min"][0, 0], a["bare_beta_min"][0, 1], rtol=2e-3)
-    np.testing.assert_array_equal(a["bare_flag"][0, 0], a["bare_flag"][0, 1])
+    a = small.data
+    np.testing.assert_allclose(a["beta_min"].values[0, 0], a["beta_min"].values[0, 1], rtol=2e-3)
+    np.testing.assert_array_equal(a["flag"].values[0, 0], a["flag"].values[0, 1])
 
 
 def test_threshold_reports_omega_star_or_where_the_block_is_safe(small):
-    a = small.arrays
+    a, found = small.data, thresholds(small.data)
+    Omega = a["Omega"].values
     assert small.summary["directions"]["signs"] == [1, -1]
-    assert a["beta_max"][0] == pytest.approx(16.0)  # 4 g on a block of lambda = 4
+    assert a["beta_max"].values[0] == pytest.approx(16.0)  # 4 g on a block of lambda = 4
     # At Omega = 14 the block alone survives every pulse up to 4 g: no gain there, and safe from 14 on.
-    assert (a["bare_flag"][0, :, -1] == ABOVE).all() and np.isnan(a["unlimited_gain"][0, :, -1]).all()
-    np.testing.assert_array_equal(a["safe_from"][0], [14.0, 14.0])
+    assert (a["flag"].values[0, :, -1] == ABOVE).all()
+    assert np.isnan(a["gain"].sel(part="unlimited").values[0, :, -1]).all()
+    np.testing.assert_array_equal(found["safe_from"].values[0], [14.0, 14.0])
     for kind in ("unlimited", "stops"):
-        gains = a[f"{kind}_gain"][0]
+        gains, t = a["gain"].sel(part=kind).values[0], found.sel(part=kind)
         assert np.isfinite(gains[:, :3]).all() and (gains[:, :3] > 0).all()
         for j in range(2):
-            status = STATUSES[a[f"{kind}_status"][0, j]]
+            status = STATUSES[t["status"].values[0, j]]
             useful = np.flatnonzero(gains[j] >= 1.01)
             if status == "above_range":  # useful at the last Omega where the block alone overturns
-                assert a[f"{kind}_Omega_star_low"][0, j] == a["Omega"][useful[-1]] == 10.0
+                assert t["Omega_star_low"].values[0, j] == Omega[useful[-1]] == 10.0
             elif status == "bracketed":
-                assert a[f"{kind}_Omega_star_low"][0, j] <= a[f"{kind}_Omega_star"][0, j]
+                assert t["Omega_star_low"].values[0, j] <= t["Omega_star"].values[0, j]
     table = small.tables["threshold"]
     assert len(table["lam"]) == 4 and set(table["damper"]) == {"unlimited", "stops"}
 
@@ -110,7 +115,7 @@ def test_threshold_resumes_from_its_tiles(small, tmp_path_factory):
         runs=runs,
     )
     assert again.run["tiles_computed"] == 0 and again.run["tiles_reused"] == first.run["tiles_computed"] == 2
-    np.testing.assert_array_equal(again.arrays["stops_gain"], first.arrays["stops_gain"])
+    xr.testing.assert_identical(again.data, first.data)
 
 
 @pytest.mark.parametrize(

@@ -73,12 +73,12 @@ def test_a_saved_study_names_a_built_in_model_whatever_the_working_directory(sav
 
 def test_a_loaded_study_naming_a_planted_model_runs_nothing(saved_map, tmp_path):
     evil = plant_model(GENERATED / "pendulum", tmp_path / "evil", tmp_path / "PWNED")
-    shutil.copy(saved_map.with_suffix(".npz"), tmp_path / "map.npz")
+    shutil.copy(saved_map.with_suffix(".nc"), tmp_path / "map.nc")
     record = json.loads(saved_map.read_text())
     record["config"]["damper"] = {"model": str(evil), "params": {"m": 1.0}, "model_sha256": "0" * 64}
     (tmp_path / "map.json").write_text(json.dumps(record))
     study = rocking.load(tmp_path / "map.json")
-    assert study.to_dataset()["damper_x_max_by_sign"].attrs["units"] == "m"  # the unit is not taken from its manifest
+    assert study.to_dataset()["x_max"].attrs["units"] == "m"  # the unit is not taken from its manifest
     assert "model" in _damper_label(study.config)
     with pytest.raises(rocking.ParameterError, match="trust_model .* not the model folder"):
         rocking.load(tmp_path / "map.json", trust_model=evil)

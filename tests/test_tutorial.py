@@ -17,7 +17,8 @@ def test_the_tutorial_runs(tmp_path):
     outputs = [o for cell in notebook.cells if cell.cell_type == "code" for o in cell.outputs]
     assert not [o for o in outputs if o.output_type == "error"]
     text = "".join(o.get("text", "") for o in outputs if o.output_type == "stream")
-    assert "block alone overturns: True" in text and "cells saved" in text
+    assert "cabinet alone: overturned True" in text and "with damper: overturned False" in text
+    assert "cells saved" in text
     html = [o["data"]["text/html"] for o in outputs if o.output_type == "execute_result" and "text/html" in o["data"]]
     assert any("xr-wrap" in h for h in html)  # the map's Dataset, shown as xarray shows it
     assert (tmp_path / "out" / "tutorial" / "map.nc").is_file()

@@ -16,7 +16,7 @@ ROOT = Path(__file__).resolve().parent.parent
 MAP = (
     "import rocking; ds = rocking.overturning_map(rocking.Block.reference(), dict(gamma=0.05), Omega=[2.0, 4.0], "
     "beta=[2.0, 6.0], backend='c', workers=1, progress=False, runs={runs!r}); "
-    "print(ds['damper_theta_max_by_sign'].values.ravel().tolist())"
+    "print(ds['theta_max'].sel(part='damper').values.ravel().tolist())"
 )
 WHERE = "from rocking.sim import cbuild; import rocking; print(cbuild.build(rocking.load_model('omd')))"
 

@@ -16,7 +16,8 @@ from pathlib import Path
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import ParameterError, shown
-from ..study.config import Study, config_hash, name_text
+from ..study.config import config_hash, name_text
+from ..study.result import Study
 from ..study.storage import read_record
 
 #: Options that say where and how a study runs, not what it computes: never saved, never read back.

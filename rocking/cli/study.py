@@ -1,7 +1,7 @@
 """The study subcommands of the ``rocking`` command: ``map``, ``spectrum``, ``optimize``, ``demo``, ``redraw``.
 
 :func:`add_study_commands` adds them to the ``rocking`` parser's subparsers;
-each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.npz``,
+each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.nc``,
 ``.csv``, ``.json``, ``.png`` and ``.pdf``, and keeps its finished tiles in
 ``<out>/runs`` so that an interrupted run resumes where it stopped.
 
@@ -35,20 +35,24 @@ from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE, SiteModel
 from ..plot.figures import draw, redraw
 from ..sim.accuracy import CHECKS
-from ..study.config import BACKENDS, PULSES, Grid, Setting, Study, Tuning, Variant
+from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
+from ..study.files import DiskFull, make_folder, no_space
 from ..study.fragility import FITTED
 from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
-from ..study.spectrum import BELOW, BRACKETED, minimum_overturning_spectrum
-from ..study.storage import DiskFull, make_folder, no_space, save
+from ..study.result import Study
+from ..study.spectrum import envelope as spectrum_envelope
+from ..study.spectrum import minimum_overturning_spectrum
+from ..study.storage import save
 from ..study.suite import Suite
-from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map
+from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
+from ..study.vocabulary import BELOW, BRACKETED
 from .options import (
     add_block_options,
     add_parser,
@@ -414,10 +418,11 @@ def _print_spectrum(study: Study) -> None:
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
         )
-    a = study.arrays
-    both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
+    env = spectrum_envelope(study.data)
+    flag, beta_min = ({part: env[k].sel(part=part).values for part in ("bare", "damper")} for k in ("flag", "beta_min"))
+    both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
     if both.any():
-        gain = a["damper_beta_min"][both] / a["bare_beta_min"][both]
+        gain = beta_min["damper"][both] / beta_min["bare"][both]
         print(
             f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
             f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"
@@ -576,25 +581,27 @@ def _cmd_threshold(args) -> int:
 
 
 def _print_threshold_map(study: Study) -> None:
-    a, bound = study.arrays, study.summary["a_max_g"]
+    found, bound = thresholds(study.data), study.summary["a_max_g"]
+    lams, ps = found["lam"].values, found["p"].values
     for kind in ("unlimited", "stops"):
         print(
             f"threshold, {kind} guide: Omega* bracketed at {study.summary[kind]['bracketed']} of "
-            f"{a['lam'].size * a['p'].size} geometries"
+            f"{lams.size * ps.size} geometries"
         )
-        for i, lam in enumerate(a["lam"]):
+        status, star, low, high = (
+            found[k].sel(part=kind).values for k in ("status", "Omega_star", "Omega_star_low", "Omega_star_high")
+        )
+        for i, lam in enumerate(lams):
             cells = []
-            for j, p in enumerate(a["p"]):
-                status = a[f"{kind}_status"][i, j]
-                star, low = a[f"{kind}_Omega_star"][i, j], a[f"{kind}_Omega_star_low"][i, j]
-                text = {0: f"{star:.3g}", 1: f"<= {a[f'{kind}_Omega_star_high'][i, j]:.3g}", 2: f"> {low:.3g}"}
-                cells.append(f"p = {p:g}: Omega* {text.get(int(status), 'undefined')}")
+            for j, p in enumerate(ps):
+                text = {0: f"{star[i, j]:.3g}", 1: f"<= {high[i, j]:.3g}", 2: f"> {low[i, j]:.3g}"}
+                cells.append(f"p = {p:g}: Omega* {text.get(int(status[i, j]), 'undefined')}")
             print(f"  lambda = {lam:g}: " + "; ".join(cells))
-    for i, lam in enumerate(a["lam"]):
-        safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in a["safe_from"][i])
+    for i, lam in enumerate(lams):
+        safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in found["safe_from"].values[i])
         print(
             f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
-            f"{safe} (p = {', '.join(f'{p:g}' for p in a['p'])} rad/s)"
+            f"{safe} (p = {', '.join(f'{p:g}' for p in ps)} rad/s)"
         )
 
 
@@ -985,5 +992,5 @@ def add_study_commands(subparsers) -> None:
         p.set_defaults(func=_guarded(_cmd_ida))
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
-    p.add_argument("paths", nargs="+", help="a saved study (.npz, .json or their stem) or a folder of them")
+    p.add_argument("paths", nargs="+", help="a saved study (.nc, .json or their stem) or a folder of them")
     p.set_defaults(func=_guarded(_cmd_redraw))

@@ -2,7 +2,7 @@
 
 Every figure is drawn from a :class:`rocking.study.config.Study` as
 :func:`rocking.study.storage.load` reads it back, so :func:`redraw` re-renders a
-figure from its ``.npz``/``.json`` without recomputing anything. Figures are
+figure from its ``.nc``/``.json`` without recomputing anything. Figures are
 written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
 
 Every title names the block (``H``, ``B``, ``M``, ``e`` in m and kg; ``alpha``, ``p``), the damper and the
@@ -40,10 +40,15 @@ from matplotlib.ticker import FuncFormatter
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
-from ..study.config import Study
-from ..study.overturning_map import half_stroke, saved_past_edges
-from ..study.spectrum import ABOVE, BELOW, BRACKETED
+from ..study.ida import envelope as ida_envelope
+from ..study.kinds import KINDS
+from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
+from ..study.result import Study
+from ..study.spectrum import envelope as spectrum_envelope
+from ..study.spectrum import safe_windows
 from ..study.storage import load
+from ..study.threshold import thresholds
+from ..study.vocabulary import ABOVE, BELOW, BRACKETED
 from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
@@ -323,25 +328,27 @@ def _plain_ticks(axis) -> None:
 
 def map_figure(study: Study) -> Figure:
     """Outcome maps of the bare and the damped block, and the damper's effect."""
-    a, block = study.arrays, _block(study.config)
+    data, block = study.data, _block(study.config)
+    env = envelope(data)
+    Om, beta = data["Omega"].values, data["beta"].values
+    over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
     fig = Figure(figsize=(15, 6.2), layout="constrained")
     axes = fig.subplots(1, 3, sharex=True, sharey=True)
-    for ax, part in zip(axes, ("bare", "damper")):
-        cls = np.where(a[f"{part}_overturned"], np.minimum(a[f"{part}_impacts"] + 1, 4), 0)
-        handles = _classes(ax, a["Omega"], a["beta"], cls, OUTCOME_CLASSES)
+    for ax, part in zip(axes, PARTS):
+        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), 0)
+        handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
         ax.set_title(PART_STYLE[part]["label"])
     # One legend of the outcomes, as wide as both outcome panels: the same classes, the same colours.
     present = {h.get_label(): h for h in handles}
-    bare_cls = np.where(a["bare_overturned"], np.minimum(a["bare_impacts"] + 1, 4), 0)
+    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), 0)
     for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
         present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
     order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
     fig.legend(handles=[present[label] for label in order], loc="outside lower left", ncols=3, **LEGEND)
-    effect = a["bare_overturned"].astype(int) + 2 * a["damper_overturned"].astype(int)
-    past = saved_past_edges(a, block.B / 2)
-    computed = a.get("damper_computed", np.ones_like(effect, bool))  # studies saved before adaptive maps
-    unknown = (effect == 1) & ~computed
-    handles = _classes(axes[2], a["Omega"], a["beta"], np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
+    effect = over["bare"].astype(int) + 2 * over["damper"].astype(int)
+    past = saved_past_edges(env, block.B / 2)
+    unknown = (effect == 1) & ~data["computed"].sel(part="damper").values
+    handles = _classes(axes[2], Om, beta, np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
     fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
@@ -364,12 +371,12 @@ def _refinement_label(study: Study) -> str:
     refinement = study.config.get("refinement", {"adaptive": False})
     if not refinement["adaptive"]:
         return ""
-    a = study.arrays
-    cells = a["bare_computed"].size
-    computed = ", ".join(f"{int(a[f'{part}_computed'].sum())}" for part in ("bare", "damper"))
+    computed = study.data["computed"]
+    cells = computed.sel(part="bare").size
+    counts = ", ".join(f"{int(computed.sel(part=part).sum())}" for part in PARTS)
     note = study.summary.get("guarantee", "")
     return (
-        f"\nadaptive, coarse step {refinement['coarse']}: {computed} of {cells} cells computed (alone, damped), "
+        f"\nadaptive, coarse step {refinement['coarse']}: {counts} of {cells} cells computed (alone, damped), "
         f"the others take the outcome around them\n{note}"
     )
 
@@ -380,8 +387,9 @@ WINDOW_HATCH = {"bare": "\\\\\\", "damper": "///"}
 
 def spectrum_figure(study: Study) -> Figure:
     """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
-    a, block = study.arrays, _block(study.config)
-    Om = a["Omega"]
+    env, block = spectrum_envelope(study.data), _block(study.config)
+    a = {k: {part: env[k].sel(part=part).values for part in PARTS} for k in ("flag", "beta_min")}
+    Om = env["Omega"].values
     step = np.diff(Om).min() if Om.size > 1 else 1.0
     scan = study.config["beta"]
     arrow = 0.05 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.05 * scan["high"]
@@ -391,7 +399,7 @@ def spectrum_figure(study: Study) -> Figure:
     # coincide (below the damper's frequency range they often do).
     for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
         style = PART_STYLE[part]
-        flag, bm = a[f"{part}_flag"], a[f"{part}_beta_min"]
+        flag, bm = a["flag"][part], a["beta_min"][part]
         ax.plot(
             Om,
             np.where(flag == BRACKETED, bm, np.nan),
@@ -405,7 +413,7 @@ def spectrum_figure(study: Study) -> Figure:
         for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
             _bounds(ax, Om[sel], bm[sel], arrow, style["color"], up)
-        w = a[f"{part}_windows"]
+        w = safe_windows(env, part)
         if len(w):
             ax.bar(
                 w[:, 0] + shift * step,
@@ -427,12 +435,12 @@ def spectrum_figure(study: Study) -> Figure:
     ax.set_title("minimum overturning amplitude", fontsize=9)
     handles = ax.get_legend_handles_labels()[0]
     for code, up in ((ABOVE, True), (BELOW, False)):
-        if any((a[f"{part}_flag"] == code).any() for part in ("bare", "damper")):
+        if any((a["flag"][part] == code).any() for part in PARTS):
             handles.append(_bound_handle(up))
-    both = (a["bare_flag"] == BRACKETED) & (a["damper_flag"] != BELOW)
-    gain = np.where(both, a["damper_beta_min"] / a["bare_beta_min"], np.nan)
+    both = (a["flag"]["bare"] == BRACKETED) & (a["flag"]["damper"] != BELOW)
+    gain = np.where(both, a["beta_min"]["damper"] / a["beta_min"]["bare"], np.nan)
     style = PART_STYLE["damper"]
-    _gain_curve(ax_gain, Om, gain, a["damper_flag"], {"color": style["color"], "marker": style["marker"]}, None)
+    _gain_curve(ax_gain, Om, gain, a["flag"]["damper"], {"color": style["color"], "marker": style["marker"]}, None)
     ax_gain.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_gain)
     _period_axis(ax_gain, block.p)
@@ -621,18 +629,19 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
     """``Omega*`` of one kind of damper over ``(lambda, p)``: the value where bracketed, else the highest ``Omega``
     at which it still helps (a lower bound, hatched); each cell also says from which ``Omega`` the block alone
     no longer overturns within the bound."""
-    a = study.arrays
-    lam, p = a["lam"], a["p"]
-    status = a[f"{kind}_status"]
-    value = np.where(np.isfinite(a[f"{kind}_Omega_star"]), a[f"{kind}_Omega_star"], a[f"{kind}_Omega_star_low"])
-    norm = Normalize(0, float(a["Omega"][-1]))
+    found = thresholds(study.data)
+    a = found.sel(part=kind)
+    lam, p = found["lam"].values, found["p"].values
+    status, star, low = (a[k].values for k in ("status", "Omega_star", "Omega_star_low"))
+    value = np.where(np.isfinite(star), star, low)
+    norm = Normalize(0, float(found["Omega"][-1]))
     image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap=SEQUENTIAL, norm=norm)
     x, y = _edges(p), _edges(lam)
     for i in range(lam.size):
         for j in range(p.size):
             v, st = value[i, j], STATUS_TEXT[status[i, j]]
             text = "?" if not np.isfinite(v) else f"{st}{v:.3g}"
-            safe = a["safe_from"][i, j]
+            safe = found["safe_from"].values[i, j]
             text += f"\nsafe from {safe:.3g}" if np.isfinite(safe) else ""
             # Dark text on the light end of the colour map, white on the dark end.
             shade = image.cmap(norm(v)) if np.isfinite(v) else (1, 1, 1)
@@ -684,22 +693,23 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
 
 def threshold_figure(study: Study) -> Figure:
     """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
-    a, cfg = study.arrays, study.config
+    data, cfg = study.data, study.config
+    p, Om = data["p"].values, data["Omega"].values
     fig = Figure(figsize=(16, 6), layout="constrained")
     axes = fig.subplots(1, 3)
     for ax, kind in zip(axes[:2], ("unlimited", "stops")):
         _omega_star_panel(fig, ax, study, kind)
-    j = a["p"].size // 2
-    for i, lam in enumerate(a["lam"]):
+    j = p.size // 2
+    for i, lam in enumerate(data["lam"].values):
         for kind, ls in (("unlimited", "-"), ("stops", "--")):
             label = rf"$\lambda$ = {lam:.3g}, {kind}"
-            axes[2].plot(a["Omega"], a[f"{kind}_gain"][i, j], ls, ms=4, label=label, **cycle(i))
+            axes[2].plot(Om, data["gain"].sel(part=kind).values[i, j], ls, ms=4, label=label, **cycle(i))
     axes[2].axhline(study.summary["useless_gain"], color=GREY, lw=0.8, ls=":")
     _omega_axis(axes[2])
-    _period_axis(axes[2], float(a["p"][j]))
+    _period_axis(axes[2], float(p[j]))
     axes[2].set_ylabel("best gain (envelopes over the directions)")
     axes[2].set_title(
-        f"best gain at p = {a['p'][j]:.3g} rad/s; ends where the block alone survives {study.summary['a_max_g']:g} g",
+        f"best gain at p = {p[j]:.3g} rad/s; ends where the block alone survives {study.summary['a_max_g']:g} g",
         fontsize=9,
     )
     _legend_below(axes[2], ncols=2)
@@ -725,15 +735,17 @@ def ida_figure(study: Study) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
     band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
     resurrections marked."""
-    a, s = study.arrays, study.summary
+    data, s = study.data, study.summary
+    levels, curve_x = data["level"].values, data["curve_x"].values
     fig = Figure(figsize=(13, 6), layout="constrained")
     ax_f, ax_m = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
     unit = f" ({s['unit']})" if s["unit"] else ""
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
+        a = data.sel(part=part)
         ax_f.plot(
-            a["levels"],
-            a[f"{part}_fraction"],
+            levels,
+            a["fraction"].values,
             ls="none",
             color=style["color"],
             marker=style["marker"],
@@ -743,13 +755,10 @@ def ida_figure(study: Study) -> Figure:
         )
         if fit["status"] in ("fitted", "separated"):
             label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
-            ax_f.plot(
-                a["curve_x"], a[f"{part}_curve"], "-" if part == "bare" else "--", color=style["color"], label=label
-            )
+            ax_f.plot(curve_x, a["curve"].values, "-" if part == "bare" else "--", color=style["color"], label=label)
             ax_f.fill_between(
-                a["curve_x"], a[f"{part}_band_low"], a[f"{part}_band_high"], color=style["color"], alpha=0.15, lw=0
+                curve_x, a["band_low"].values, a["band_high"].values, color=style["color"], alpha=0.15, lw=0
             )
-    levels = a["levels"]
     # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
     xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
     measure = "scale factor" if s["measure"] == "scale" else s["measure"]
@@ -769,16 +778,16 @@ def ida_figure(study: Study) -> Figure:
         "fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions", fontsize=9
     )
     _legend_below(ax_f)
-    over = a["damper_overturned"].astype(int)
+    over = ida_envelope(data)["overturned"].sel(part="damper").values.astype(int)
     classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
     handles = _classes(ax_m, levels, np.arange(over.shape[0]), (over == 1).astype(int).T, classes, xlog)
     if xlog:
         ax_m.set_xscale("log")
         _plain_ticks(ax_m.xaxis)
-    rows = np.flatnonzero(a["damper_reversals"] > 0)
+    rows = np.flatnonzero(data["reversals"].sel(part="damper").values > 0)
     if rows.size:
         ax_m.plot(
-            np.full(rows.size, a["levels"][-1]),
+            np.full(rows.size, levels[-1]),
             rows,
             "<",
             color=OKABE_ITO["blue"],
@@ -801,15 +810,8 @@ def ida_figure(study: Study) -> Figure:
     return fig
 
 
-FIGURES = {
-    "ida": ida_figure,
-    "fragility": ida_figure,
-    "map": map_figure,
-    "spectrum": spectrum_figure,
-    "optimize": optimize_figure,
-    "design": design_figure,
-    "threshold": threshold_figure,
-}
+#: The figure of each kind of study, by the name its entry of :data:`rocking.study.kinds.KINDS` gives.
+FIGURES = {name: globals()[kind.figure] for name, kind in KINDS.items()}
 
 
 def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
@@ -844,13 +846,13 @@ def _redraw_one(stem: Path) -> list[Path]:
     except UNFIT as exc:  # the file passed load()'s checks but is not what this version of rocking writes
         text = str(exc).splitlines()[0] if str(exc) else ""
         raise ParameterError(
-            f"{stem}.npz/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
+            f"{stem}.nc/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
             "it lacks data its figure needs (saved by another version of rocking?)"
         ) from exc
 
 
 def redraw(path: str | Path) -> list[Path]:
-    """Redraw figures from saved data: one study (its ``.npz``, ``.json`` or stem) or every study in a folder.
+    """Redraw figures from saved data: one study (its ``.nc``, ``.json`` or stem) or every study in a folder.
 
     The figures are written next to the data, under the same stem.
 
@@ -863,13 +865,13 @@ def redraw(path: str | Path) -> list[Path]:
     """
     path = Path(path)
     stems = (
-        sorted(p.with_suffix("") for p in path.glob("*.json") if p.with_suffix(".npz").is_file())
+        sorted(p.with_suffix("") for p in path.glob("*.json") if p.with_suffix(".nc").is_file())
         if path.is_dir()
         else [path]
     )
     if not stems:
-        raise ParameterError(f"no saved study (<name>.npz with <name>.json) in {path}")
+        raise ParameterError(f"no saved study (<name>.nc with <name>.json) in {path}")
     written = []
     for stem in stems:
-        written += _redraw_one(stem.with_suffix("") if stem.suffix in (".npz", ".json") else stem)
+        written += _redraw_one(stem.with_suffix("") if stem.suffix in (".nc", ".json") else stem)
     return written

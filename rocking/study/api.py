@@ -138,16 +138,18 @@ def overturning_map(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``Omega``, ``beta``, ``sign``; see :mod:`rocking.study.dataset`.
+        Every response, dimensions ``part`` (``bare``, ``damper``), ``Omega``, ``beta``, ``sign``; their
+        envelope over the directions and the damper's effect: :func:`rocking.study.overturning_map.envelope`.
 
     Examples
     --------
     >>> import tempfile, numpy as np, rocking
     >>> ds = rocking.overturning_map(rocking.Block.reference(), {"gamma": 0.05}, Omega=[2.0, 4.0, 6.0],
     ...                              beta=np.linspace(1, 6, 4), runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["damper_overturned"].dims, ds["a_g"].attrs["units"]
-    (('Omega', 'beta'), 'm/s^2')
-    >>> int(ds["effect"].sum())  # cells saved by the damper minus cells lost
+    >>> ds["overturned"].dims, ds["a_g"].attrs["units"]
+    (('part', 'Omega', 'beta', 'sign'), 'm/s^2')
+    >>> from rocking.study.overturning_map import envelope
+    >>> int(envelope(ds)["effect"].sum())  # cells saved by the damper minus cells lost
     0
     """
     return _run(
@@ -195,14 +197,16 @@ def minimum_overturning_spectrum(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``Omega``, ``sign``, ``beta_scan``; ``<part>_flag`` says which ``beta_min`` are bounds.
+        Dimensions ``part`` (``bare``, ``damper``), ``Omega``, ``sign``, ``beta_scan``; ``flag`` says which
+        ``beta_min`` are bounds; their envelope over the directions: :func:`rocking.study.spectrum.envelope`.
 
     Examples
     --------
     >>> import tempfile, rocking
     >>> ds = rocking.minimum_overturning_spectrum(rocking.Block.reference(), None, Omega=[2.0, 6.0],
     ...                                           beta=[0.5, 2, 4, 8, 15], runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["bare_beta_min"].round(2).values.tolist(), ds["bare_flag"].attrs["flag_meanings"]
+    >>> both = rocking.study.spectrum.envelope(ds)
+    >>> both["beta_min"].sel(part="bare").round(2).values.tolist(), both["flag"].attrs["flag_meanings"]
     ([1.15, 2.82], 'upper_bound bracketed lower_bound')
     """
     return _run(
@@ -387,14 +391,15 @@ def threshold_map(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``lam``, ``p``, ``Omega``, ...: ``<kind>_Omega_star`` and its status per geometry.
+        Dimensions ``part`` (``unlimited``, ``stops``), ``lam``, ``p``, ``Omega``, ...: the gains; ``Omega*`` and its
+        status per geometry: :func:`rocking.study.threshold.thresholds`.
 
     Examples
     --------
     >>> import tempfile, rocking
     >>> ds = rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 9.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0,
     ...                            runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["stops_gain"].sel(lam=4.0, p=2.0).round(2).values.tolist()  # none at 14: safe to 4 g alone
+    >>> ds["gain"].sel(part="stops", lam=4.0, p=2.0).round(2).values.tolist()  # none at 14: safe to 4 g alone
     [1.14, 1.41, nan]
     """
     return _run(
@@ -463,7 +468,8 @@ def incremental_dynamic_analysis(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``motion``, ``level``, ``sign``; the fitted curves at ``curve_x``.
+        Dimensions ``part`` (``bare``, ``damper``), ``motion``, ``level``, ``sign``; the fitted curves at
+        ``curve_x``; the envelope over the directions: :func:`rocking.study.ida.envelope`.
 
     Examples
     --------
@@ -472,8 +478,8 @@ def incremental_dynamic_analysis(
     >>> pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]  # a_g 3 m/s^2, T_g in s
     >>> ds = rocking.incremental_dynamic_analysis(block, {"gamma": 0.05}, motions=pulses, levels=[1.0, 2.0, 4.0],
     ...                                           measure="amplitude", runs=tempfile.mkdtemp(), progress=False)
-    >>> ds["bare_fraction"].dims, ds["level"].attrs["units"]
-    (('level',), 'm/s^2')
+    >>> ds["fraction"].dims, ds["level"].attrs["units"]
+    (('part', 'level'), 'm/s^2')
     """
     return _run(
         _incremental_dynamic_analysis,

@@ -5,9 +5,7 @@ damper) is described by a :class:`Setting` (the block and the solver), a
 damper :class:`Tuning` (the paper's ``omd``) or a :class:`Variant` (any
 generated model with its parameters given explicitly) and :class:`Grid` s of the non-dimensional pulse
 parameters of ``docs/model.md`` section 9 (``Omega = omega_g / p``,
-``beta = a_g / (g tan(alpha))``). Its result is a :class:`Study`: arrays,
-CSV tables, a JSON-ready configuration and a summary
-(:mod:`rocking.study.storage` writes and reads it).
+``beta = a_g / (g tan(alpha))``). Its result is a :class:`rocking.study.result.Study`.
 
 Units SI (m, kg, s, rad); the study parameters themselves are non-dimensional.
 """
@@ -30,6 +28,7 @@ from ..model.motion import PULSE_TYPES
 from ..model.params import Block, ParameterError, check_in_range, check_real, shown
 from ..sim import boundary
 from ..sim.problem import OPTIONS
+from ..version import __version__
 
 #: Version of the layout of study data and tiles; part of every configuration hash.
 #: 2: tiles carry a manifest (place, names, shapes, dtypes, checksum of their arrays).
@@ -403,51 +402,6 @@ class Variant:
         return {"model": self.model, "params": dict(self.params)}
 
 
-@dataclass
-class Study:
-    """A finished study.
-
-    Attributes
-    ----------
-    kind : str
-        ``"map"``, ``"spectrum"`` or ``"optimize"``.
-    config : dict
-        Full JSON-ready configuration.
-    arrays : dict of ndarray
-        Every result array (what the figures are drawn from).
-    tables : dict of dict of ndarray
-        CSV tables by file stem, each a dict of equal-length columns.
-    summary : dict
-        JSON-ready key results.
-    run : dict
-        How it ran (tiles computed and reused, wall time); not part of the configuration.
-    """
-
-    kind: str
-    config: dict
-    arrays: dict
-    tables: dict = field(default_factory=dict)
-    summary: dict = field(default_factory=dict)
-    run: dict = field(default_factory=dict)
-
-    def to_dataset(self):
-        """The study as a labelled :class:`xarray.Dataset` (:func:`rocking.study.dataset.to_dataset`)."""
-        from .dataset import to_dataset
-
-        return to_dataset(self)
-
-    def to_dataframes(self) -> dict:
-        """Its tables as :class:`pandas.DataFrame`, with units (:func:`rocking.study.dataset.to_dataframes`)."""
-        from .dataset import to_dataframes
-
-        return to_dataframes(self)
-
-    def _repr_html_(self) -> str:
-        from .dataset import html
-
-        return html(self)
-
-
 def config_hash(config: dict) -> str:
     """SHA-256 of the canonical JSON of ``config`` (sorted keys, exact float repr)."""
     text = json.dumps(config, sort_keys=True, separators=(",", ":"), allow_nan=False)
@@ -488,9 +442,7 @@ def versions() -> dict:
     Read from the installed distributions' metadata: nothing is imported (SymPy and
     Dask are heavy and not needed to write a study).
     """
-    import rocking
-
-    out = {"python": platform.python_version(), "rocking": rocking.__version__}
+    out = {"python": platform.python_version(), "rocking": __version__}
     for package in ("numpy", "scipy", "sympy", "matplotlib", "dask", "distributed", "tqdm"):
         try:
             out[package] = metadata.version(package)
@@ -507,11 +459,9 @@ def part_config(kind: str, part: str, setting: Setting, **entries) -> dict:
     block), grids as :meth:`Grid.record`, tolerances. The bare part does not
     name the damper, so studies that differ only in the damper share its tiles.
     """
-    import rocking
-
     return {
         "format": FORMAT,
-        "rocking": rocking.__version__,
+        "rocking": __version__,
         "model_sha256": {name: model_hash(name) for name in ("block", "omd")},
         "solver_sha256": solver_hash(),
         "kind": kind,

@@ -1,20 +1,21 @@
-"""Studies as labelled data: an :class:`xarray.Dataset` per study, and its tables as :class:`pandas.DataFrame`.
+"""The labels of the studies' data: units and meanings of every field and coordinate, SI coordinates, NetCDF.
 
-A study's arrays (:attr:`rocking.study.config.Study.arrays`) are plain NumPy arrays whose axes follow a
-convention of their kind (a map's cells are ``(Omega, beta)``, then the direction of the pulse). Here
-that convention is written down once per kind (:data:`LAYOUTS`): which arrays are coordinates, and the
-dimensions of every other array by its name. :func:`to_dataset` then gives
+A study builds its :class:`xarray.Dataset` where it allocates its arrays (:attr:`rocking.study.result.Study.data`),
+with
 
-- dimensions named after the swept quantities (``Omega``, ``beta``, ``sign``, ``gamma``, ``motion``, ...);
+- dimensions named after the swept quantities and the study's own (``part``, ``sign``, ``Omega``, ``beta``,
+  ``motion``, ``level``, ...);
 - coordinates in non-dimensional and SI terms (``T_g`` in s and ``a_g`` in m/s^2 beside ``Omega`` and
-  ``beta``, from the study's block: docs/model.md section 9);
-- CF-style ``units`` and ``long_name`` on every variable, the response fields' taken from the simulator's
-  own table (:data:`rocking.sim.boundary.RESULT`); categorical values (statuses, flags, outcomes, the
-  damper's effect) with their key as ``flag_values`` and ``flag_meanings``;
-- the configuration, the software versions and the summary as JSON attributes.
+  ``beta``, from the study's block, :func:`si_coordinates`: docs/model.md section 9);
+- CF-style ``units`` and ``long_name`` on every variable (:func:`field_attrs`, :func:`coordinate_attrs`), the
+  response fields' taken from the simulator's own table (:data:`rocking.sim.boundary.RESULT`); categorical
+  values (statuses, flags, outcomes, the damper's effect) with their key as ``flag_values`` and
+  ``flag_meanings``.
 
-Saved as NetCDF (``<name>.nc``, beside the ``.npz``/``.json`` of :func:`rocking.study.storage.save`),
-it reads back as the same ``Dataset`` (:func:`read_netcdf`).
+:func:`to_dataset` adds the configuration, the software versions and the summary as JSON attributes; saved as
+NetCDF (``<name>.nc``, :func:`rocking.study.storage.save`), it reads back as the same ``Dataset``
+(:func:`read_netcdf`). The optimum and the design still name dimensions in their arrays' names: their arrays
+are labelled on the way (:data:`LAYOUTS`, :func:`labelled`) until they are built labelled too.
 """
 
 from __future__ import annotations
@@ -30,38 +31,17 @@ from ..model.intensity import MEASURES
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..sim.boundary import RESULT, STATUSES
-from .config import Study
-from .spectrum import FLAG_WORDS
-from .threshold import STATUSES as THRESHOLD_STATUSES
+from .config import config_hash
+from .config import versions as current_versions
+from .files import describe
+from .vocabulary import FLAG_WORDS, PART_NAMES, THRESHOLD_STATUSES
 
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
 
-#: The parts of a study, as prefixes of its arrays' names, and what each is.
-PARTS = {
-    "bare": "block alone",
-    "damper": "block with the damper",
-    "unlimited": "damper on an unlimited guide",
-    "stops": "damper with end stops",
-}
-
 #: Per kind: the coordinate arrays (array name -> dimension), then ``(pattern, dimensions)`` rules for the
 #: other arrays, the first whose pattern matches the whole name winning. ``{part}`` stands for any part.
 LAYOUTS: dict[str, tuple[dict, tuple]] = {
-    "map": (
-        {"Omega": "Omega", "beta": "beta", "signs": "sign"},
-        ((r".*_by_sign", ("Omega", "beta", "sign")), (r".*", ("Omega", "beta"))),
-    ),
-    "spectrum": (
-        {"Omega": "Omega", "beta_scan": "beta_scan", "signs": "sign"},
-        (
-            (r"{part}_scan_outcome_by_sign", ("Omega", "sign", "beta_scan")),
-            (r"{part}_scan_outcome", ("Omega", "beta_scan")),
-            (r"(?P<part>\w+?)_windows", ("{part}_window", "window_field")),
-            (r".*_by_sign", ("Omega", "sign")),
-            (r".*", ("Omega",)),
-        ),
-    ),
     "optimize": (
         {"Omega": "Omega", "gamma": "gamma", "signs": "sign", "r_coarse": "r_coarse"},
         (
@@ -82,29 +62,9 @@ LAYOUTS: dict[str, tuple[dict, tuple]] = {
             (r".*", ("Omega",)),
         ),
     ),
-    "threshold": (
-        {"lam": "lam", "p": "p", "Omega": "Omega", "signs": "sign", "r_coarse": "r_coarse"},
-        (
-            (r"beta_max", ("lam",)),
-            (r"safe_from|{part}_(Omega_star.*|status|best_gain)", ("lam", "p")),
-            (r".*", ("lam", "p", "Omega")),
-        ),
-    ),
-    "ida": (
-        {"levels": "level", "signs": "sign", "curve_x": "curve_x"},
-        (
-            (r"im", ("motion",)),
-            (r".*_by_sign", ("motion", "level", "sign")),
-            (r"{part}_(first|last_safe|reversals)", ("motion",)),
-            (r"{part}_(sensitive_)?fraction", ("level",)),
-            (r"{part}_(curve|band_low|band_high)", ("curve_x",)),
-            (r".*", ("motion", "level")),
-        ),
-    ),
 }
-LAYOUTS["fragility"] = LAYOUTS["ida"]
 
-_PART = "(?:" + "|".join(PARTS) + ")"
+_PART = "(?:" + "|".join(PART_NAMES) + ")"
 
 #: Keys of categorical arrays: the meaning of each value (CF ``flag_values`` / ``flag_meanings``).
 STATUS_KEY = {-1: "not_computed", **{s.value: s.name for s in STATUSES}}
@@ -149,6 +109,7 @@ FIELDS: dict[str, tuple] = {
     "stroke_use": ("1", "largest damper stroke over the half-stroke L"),
     "on_block": ("1", "the damper's stroke stays on the block"),
     "beta_max": ("1", "largest amplitude ratio searched (the acceleration bound a_max)"),
+    "gain_flag": ("1", "how the damped block's beta_min was found: the gain is a bound unless bracketed", FLAG_KEY),
     "safe_from": ("1", "Omega above which the block alone never overturns within beta_max"),
     "r_at_edge": ("1", "the optimum period lies on an edge of the searched range"),
     "first": ("level units", "first level at which the motion overturns the block"),
@@ -197,6 +158,22 @@ def _part(name: str) -> str | None:
     return match.group(1) if match else None
 
 
+#: The coordinates besides the swept quantities: the SI ones (:func:`si_coordinates`) and the labels.
+COORDINATE_DIMS = {
+    "T_g": ("Omega",),
+    "a_g": ("beta",),
+    "T_m_coarse": ("r_coarse",),
+    "gamma_or_best": ("gamma_or_best",),
+}
+
+
+def variable_dims(kind: str, name: str) -> tuple[str, ...]:
+    """The dimensions of the variable ``name`` (coordinates included) of :func:`labelled` data of ``kind``."""
+    if name in LAYOUTS[kind][0].values():
+        return (name,)
+    return COORDINATE_DIMS.get(name) or dimensions(kind, name)
+
+
 def dimensions(kind: str, name: str) -> tuple[str, ...]:
     """The dimensions of the array ``name`` of a study of ``kind`` (:data:`LAYOUTS`)."""
     for pattern, dims in LAYOUTS[kind][1]:
@@ -226,28 +203,44 @@ def _stroke_units(config: dict) -> str:
         return "m"
 
 
-def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
-    """CF-style attributes of the array ``name``: units, long name, the key of a categorical one."""
-    fields = {**FIELDS, **KIND_FIELDS.get(config.get("kind"), {})}
-    entry = COORDINATES.get(name) if coordinate else fields.get(_strip(name))
+def field_attrs(field: str, config: dict) -> dict:
+    """CF-style attributes of the result ``field`` (a name of :data:`FIELDS`) of a study of ``config``: units,
+    long name, the key of a categorical one."""
+    return _entry_attrs({**FIELDS, **KIND_FIELDS.get(config.get("kind"), {})}.get(field), field, config)
+
+
+def coordinate_attrs(dim: str, config: dict) -> dict:
+    """CF-style attributes of the coordinate ``dim`` (a name of :data:`COORDINATES`)."""
+    return _entry_attrs(COORDINATES.get(dim), dim, config)
+
+
+def _entry_attrs(entry: tuple | None, field: str, config: dict) -> dict:
     if entry is None:
         return {}
     units, long_name, *key = entry
     if units == "level units":
         units = _level_units(config)
-    if _strip(name) == "x_max":
+    if field == "x_max":
         units = _stroke_units(config)
-    part = _part(name)
-    attrs = {"units": units, "long_name": f"{long_name} ({PARTS[part]})" if part else long_name}
-    if name.endswith("_by_sign"):
-        attrs["long_name"] += ", per direction"
+    attrs = {"units": units, "long_name": long_name}
     if key:
         attrs["flag_values"] = np.array(list(key[0]), np.int64)
         attrs["flag_meanings"] = " ".join(key[0].values())
     return attrs
 
 
-def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
+def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
+    """CF-style attributes of the array ``name`` of a kind that names dimensions in its arrays' names."""
+    attrs = coordinate_attrs(name, config) if coordinate else field_attrs(_strip(name), config)
+    part = _part(name)
+    if attrs and part:
+        attrs["long_name"] += f" ({PART_NAMES[part]})"
+    if attrs and name.endswith("_by_sign"):
+        attrs["long_name"] += ", per direction"
+    return attrs
+
+
+def si_coordinates(config: dict, coords: dict) -> dict:
     """Dimensional coordinates beside the non-dimensional ones, for a study of one block."""
     if "block" not in config:
         return {}
@@ -276,8 +269,44 @@ def _si_coordinates(kind: str, config: dict, coords: dict) -> dict:
     return out
 
 
-def to_dataset(study: Study, versions: dict | None = None):
-    """The study as an :class:`xarray.Dataset` (see the module's text).
+def labelled(kind: str, arrays: dict, config: dict):
+    """The arrays of a study of ``kind`` whose module still names its dimensions in its arrays' names, labelled
+    by :data:`LAYOUTS`: an :class:`xarray.Dataset` with units, without the study's own attributes."""
+    import xarray as xr
+
+    coordinate_arrays, _ = LAYOUTS[kind]
+    coords = {}
+    for array, dim in coordinate_arrays.items():
+        if array in arrays:
+            coords[dim] = (dim, np.asarray(arrays[array]), _attrs(dim, config, coordinate=True))
+    if kind == "optimize" and "gamma" in arrays:
+        labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
+        coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
+    coords.update(si_coordinates(config, coords))
+    variables = {
+        name: (dimensions(kind, name), np.asarray(values), _attrs(name, config))
+        for name, values in arrays.items()
+        if name not in coordinate_arrays
+    }
+    return xr.Dataset(variables, coords=coords)
+
+
+def flat(kind: str, data) -> dict:
+    """The arrays :func:`labelled` labelled, by their names again (its coordinates under their arrays' names)."""
+    coordinate_arrays, _ = LAYOUTS[kind]
+    arrays = {array: data[dim].values for array, dim in coordinate_arrays.items() if dim in data.coords}
+    return {**arrays, **{name: variable.values for name, variable in data.data_vars.items()}}
+
+
+def by_arrays(kind: str, tables):
+    """``tables(arrays, config)`` of a kind that names dimensions in its arrays' names, as a function of the
+    study's data (:func:`flat`)."""
+    return lambda data, config: tables(flat(kind, data), config)
+
+
+def to_dataset(study, versions: dict | None = None):
+    """The study's data (:attr:`rocking.study.result.Study.data`) with its configuration, summary and the
+    software's versions as attributes (see the module's text).
 
     Parameters
     ----------
@@ -289,28 +318,6 @@ def to_dataset(study: Study, versions: dict | None = None):
     -------
     xarray.Dataset
     """
-    import xarray as xr
-
-    from .config import config_hash
-    from .config import versions as current_versions
-
-    coordinate_arrays, _ = LAYOUTS[study.kind]
-    arrays = study.arrays
-    coords = {}
-    for array, dim in coordinate_arrays.items():
-        if array in arrays:
-            coords[dim] = (dim, np.asarray(arrays[array]), _attrs(dim, study.config, coordinate=True))
-    if study.kind == "optimize" and "gamma" in arrays:
-        labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
-        coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
-    if study.kind in ("spectrum",):
-        coords["window_field"] = ("window_field", np.array(["Omega", "beta_first_safe", "beta_last_safe"]), {})
-    coords.update(_si_coordinates(study.kind, study.config, coords))
-    variables = {}
-    for name, values in arrays.items():
-        if name in coordinate_arrays:
-            continue
-        variables[name] = (dimensions(study.kind, name), np.asarray(values), _attrs(name, study.config))
     attrs = {
         "Conventions": CONVENTIONS,
         "title": f"rocking {study.kind} study",
@@ -323,7 +330,7 @@ def to_dataset(study: Study, versions: dict | None = None):
     }
     if "guarantee" in study.summary:  # what an adaptive map can miss, in plain words beside the JSON
         attrs["guarantee"] = study.summary["guarantee"]
-    return xr.Dataset(variables, coords=coords, attrs=attrs)
+    return study.data.copy().assign_attrs(attrs)
 
 
 def _json_default(value):
@@ -343,19 +350,17 @@ def read_netcdf(path: str | Path):
     """
     import xarray as xr
 
-    from .storage import describe
-
     path = Path(path)
     try:
         dataset = xr.load_dataset(path, engine="netcdf4")
     except (OSError, ValueError) as exc:
         raise ParameterError(f"{path}: not a readable NetCDF file ({describe(exc)})") from None
-    if dataset.attrs.get("kind") not in LAYOUTS or "config" not in dataset.attrs:
+    if not isinstance(dataset.attrs.get("kind"), str) or "config" not in dataset.attrs:
         raise ParameterError(f"{path}: not a rocking study (no kind and configuration in its attributes)")
     return dataset
 
 
-def to_dataframes(study: Study) -> dict:
+def to_dataframes(study) -> dict:
     """The study's tables (:attr:`Study.tables`) as :class:`pandas.DataFrame`, by name.
 
     Each frame's ``attrs["units"]`` and ``attrs["long_names"]`` give every column's units and meaning where
@@ -381,7 +386,7 @@ def to_dataframes(study: Study) -> dict:
     return frames
 
 
-def html(study: Study) -> str:
+def html(study) -> str:
     """An HTML view of a study for Jupyter: its kind, its summary and its :class:`xarray.Dataset`."""
     from html import escape
 

@@ -39,12 +39,14 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
-from .config import Grid, Setting, Study, is_count, part_config
+from .config import Grid, Setting, is_count, part_config
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .optimize import MAX_REFINE, at_edge, coarse_values, refinement
 from .overturning_map import check_study, preflight, respond, warn_undetermined
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol, flag_words
+from .result import Study
+from .spectrum import TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
+from .vocabulary import ABOVE, BRACKETED, flag_words
 
 #: Default coarse grids: r = T_m p / (2 pi) and zeta (both log-spaced), and refinement points per side.
 TM_GRID = (0.1, 10.0, 13)
@@ -91,7 +93,7 @@ def stroke_at(setting: Setting, damper: dict | None, Omega, beta, signs) -> dict
 
 def band_gain(damped: dict, reference) -> tuple[np.ndarray, np.ndarray]:
     """The gain over the band (ratio of the envelopes; nan where the bare ``beta_min`` is not bracketed) and
-    the flag of the damped envelope (:data:`rocking.study.spectrum.ABOVE`: the gain is a lower bound)."""
+    the flag of the damped envelope (:data:`rocking.study.vocabulary.ABOVE`: the gain is a lower bound)."""
     env = beta_min_envelope(damped)
     return env["beta_min"] / reference, env["flag"]
 
@@ -311,11 +313,11 @@ def design(
         **grids,
         "directions": chosen,
     }
-    return Study(
+    return Study.of_arrays(
         "design",
         config,
         arrays,
-        tables={"design": design_table(arrays), "design-candidates": candidates_table(arrays)},
+        tables=design_tables,
         summary={
             **summary,
             "candidates": len(points),
@@ -364,6 +366,12 @@ def design_summary(setting: Setting, arrays: dict, damper: dict, L: float, r_edg
         "stroke_use_max": float(np.nanmax(arrays["stroke_use"], initial=0.0)),
         "stop_contacts_max": int(arrays["stop_contacts"].max()),
     }
+
+
+def design_tables(arrays: dict, config: dict) -> dict:
+    """The tables of a design: the answer over the band (:func:`design_table`), its candidates
+    (:func:`candidates_table`)."""
+    return {"design": design_table(arrays), "design-candidates": candidates_table(arrays)}
 
 
 def design_table(arrays: dict) -> dict:

@@ -20,6 +20,7 @@ import numpy as np
 
 from ..model.params import Block, ParameterError
 from .config import Tuning
+from .dataset import field_attrs
 
 #: The choices of a study's ``directions``, and the signs of the pulses each runs (``"auto"``: see
 #: :func:`choose`).
@@ -133,6 +134,29 @@ def response_envelope(by_sign: dict, unknown) -> dict:
         elif k != "overturned":
             out[k] = largest(v)
     out["worst_sign_index"] = index
+    return out
+
+
+def envelope(data, unknown):
+    """The envelope of labelled responses over the directions: ``data`` (an :class:`xarray.Dataset` of the
+    fields of :func:`response_envelope`) reduced over its dimension ``sign``.
+
+    ``unknown``: where a response has no verdict (an :class:`xarray.DataArray` of the same dimensions).
+    Returns the fields without ``sign``, their attributes kept, and ``worst_sign``: the sign of the direction
+    that governs each cell.
+    """
+    import xarray as xr
+
+    by_sign = data.transpose(..., "sign")
+    dims = by_sign["overturned"].dims[:-1]
+    reduced = response_envelope(
+        {k: v.values for k, v in by_sign.data_vars.items()}, unknown.transpose(*dims, "sign").values
+    )
+    index = reduced.pop("worst_sign_index")
+    out = xr.Dataset(
+        {k: (dims, v, by_sign[k].attrs) for k, v in reduced.items()}, coords=by_sign.drop_dims("sign").coords
+    )
+    out["worst_sign"] = (dims, by_sign["sign"].values[index], field_attrs("worst_sign", {}))
     return out
 
 

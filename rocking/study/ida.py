@@ -30,12 +30,16 @@ from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
 from ..sim.accuracy import SENSITIVE, check_choice, merged, tighter_rtol
 from ..sim.cases import pulse_cases, run_cases, sampled_cases
-from .config import Grid, Setting, Study, Tuning, Variant, part_config
+from . import directions
+from .config import Grid, Setting, Tuning, Variant, part_config
+from .dataset import coordinate_attrs, field_attrs
 from .directions import choose, response_envelope
 from .fragility import FITTED, bootstrap_band, fit_lognormal, fragility_curve, ida_summary
-from .overturning_map import FIELDS, check_damper, check_study, preflight, undetermined, warn_undetermined
+from .overturning_map import FIELDS, PARTS, check_damper, check_study, preflight, undetermined, warn_undetermined
+from .result import Study
 from .suite import Suite, motion_names
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
+from .vocabulary import PART_NAMES
 
 #: What the levels of a study are: the scale factor itself, one of the intensity measures, or the
 #: amplitude ``a_g`` of the pulses of a suite of pulses (the peak, but for the MP pulse's ``A omega_g``).
@@ -44,6 +48,19 @@ LEVELS = {"scale": "", **MEASURES, "amplitude": "m/s^2"}
 PULSE_SAMPLES = 20_001
 #: Points of the fitted curve and its band, and bootstrap resamples.
 CURVE_POINTS, RESAMPLES = 101, 400
+
+#: What the envelopes of an IDA give per part, besides the responses: per motion, per level, along the fitted curve.
+RESULTS = ("first", "last_safe", "reversals", "fraction", "sensitive_fraction", "curve", "band_low", "band_high")
+
+#: The dimensions of every variable of an IDA's or a fragility's data (:func:`ida_data`), coordinates included.
+DIMS = {
+    **{dim: (dim,) for dim in ("part", "motion", "level", "sign", "curve_x")},
+    "im": ("motion",),
+    **dict.fromkeys((*FIELDS, SENSITIVE.name), ("part", "motion", "level", "sign")),
+    **dict.fromkeys(("first", "last_safe", "reversals"), ("part", "motion")),
+    **dict.fromkeys(("fraction", "sensitive_fraction"), ("part", "level")),
+    **dict.fromkeys(("curve", "band_low", "band_high"), ("part", "curve_x")),
+}
 
 
 def scales_for(level, value: float, name: str) -> np.ndarray:
@@ -200,15 +217,14 @@ def incremental_dynamic_analysis(
         "suite": suite.record(),
         "check": check,
     }
-    arrays = {"levels": lv, "signs": np.array(signs), "im": np.full(n, np.nan)}
+    im = np.full(n, np.nan)
     groups, where, folders = [], {}, {}
-    shape = (n, lv.size, len(signs))
-    for part, damper, described in (("bare", None, None), ("damper", _damper_args(tuning), tuning.record())):
-        for k in FIELDS:
-            arrays[f"{part}_{k}_by_sign"] = np.zeros(
-                shape, float if k in ("theta_max", "x_max", "bumper_force_max") else np.int64
-            )
-        arrays[f"{part}_sensitive_by_sign"] = np.zeros(shape, bool)
+    shape = (len(PARTS), n, lv.size, len(signs))
+    fields = {
+        k: np.zeros(shape, float if k in ("theta_max", "x_max", "bumper_force_max") else np.int64) for k in FIELDS
+    }
+    fields[SENSITIVE.name] = np.zeros(shape, bool)
+    for part, damper, described in zip(PARTS, (None, _damper_args(tuning)), (None, tuning.record())):
         folder = run_folder(runs, part_config("ida", part, setting, damper=described, **grids))
         folders[part] = folder.name
         tasks = []
@@ -223,15 +239,15 @@ def incremental_dynamic_analysis(
     def place(task: Task, tile: dict) -> None:
         part, i = where[task.path]
         for k in (*FIELDS, SENSITIVE.name):
-            arrays[f"{part}_{k}_by_sign"][i] = tile[k]
-        arrays["im"][i] = tile["im"][0]
+            fields[k][PARTS.index(part), i] = tile[k]
+        im[i] = tile["im"][0]
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="ida", on_tile=on_tile)
-    unknown = sum(int(undetermined(arrays[f"{p}_status_by_sign"]).sum()) for p in ("bare", "damper"))
+    unknown = int(undetermined(fields["status"]).sum())
     warn_undetermined("ida", unknown)
     positive = lv[lv > 0]
-    arrays["curve_x"] = np.geomspace(positive.min(), positive.max(), CURVE_POINTS) if positive.size else lv
+    curve_x = np.geomspace(positive.min(), positive.max(), CURVE_POINTS) if positive.size else lv
     summary = {
         "motions": n,
         "measure": measure_name,
@@ -239,36 +255,66 @@ def incremental_dynamic_analysis(
         "directions": chosen,
         "undetermined": unknown,
     }
-    for part in ("bare", "damper"):
-        by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
-        envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
-        arrays.update({f"{part}_{k}": envelope[k] for k in FIELDS})
-        over = arrays[f"{part}_overturned"].astype(bool)
+    both = response_envelope({k: fields[k] for k in FIELDS}, undetermined(fields["status"]))
+    results: dict[str, list] = {k: [] for k in RESULTS}
+    for index, part in enumerate(PARTS):
+        over = both["overturned"][index].astype(bool)
         ida = (
             ida_summary(lv, over)
             if lv.size > 1
             else {"first": np.full(n, np.nan), "last_safe": np.full(n, np.nan), "reversals": np.zeros(n, int)}
         )
-        arrays.update({f"{part}_{k}": v for k, v in ida.items()})
-        arrays[f"{part}_fraction"] = over.mean(axis=0)
-        sensitive = arrays[f"{part}_sensitive_by_sign"]
-        arrays[f"{part}_sensitive"] = sensitive.any(axis=-1)
+        for k, v in ida.items():
+            results[k].append(v)
+        results["fraction"].append(over.mean(axis=0))
+        sensitive = fields[SENSITIVE.name][index]
         # Of the responses (motions and directions), not of the envelopes: each is one run that moved.
-        arrays[f"{part}_sensitive_fraction"] = sensitive.mean(axis=(0, 2))
-        uncertain = uncertain_verdicts(arrays[f"{part}_overturned_by_sign"], sensitive)
-        summary[part] = _fit(lv, over, uncertain, arrays, part)
+        results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)))
+        uncertain = uncertain_verdicts(fields["overturned"][index], sensitive)
+        summary[part], curves = _fit(lv, over, uncertain, curve_x)
+        for k, v in curves.items():
+            results[k].append(v)
         summary[part]["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
         summary[part]["sensitive"] = int(sensitive.sum())
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
+    fields.update({k: np.stack(v) for k, v in results.items()})
     return Study(
         kind,
         config,
-        arrays,
-        tables=ida_tables(arrays, motion_names(grids["suite"]), kind),
+        ida_data(config, lv, signs, curve_x, im, fields),
         summary=summary,
         run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)},
+        tabulate=tables,
     )
+
+
+def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
+    """An IDA's or a fragility's results as labelled data: the responses (:data:`FIELDS` and ``sensitive``) of
+    each part, motion, level and direction, each motion's unscaled ``im``, and what the envelopes give per part:
+    ``first``, ``last_safe``, ``reversals`` per motion, ``fraction`` and ``sensitive_fraction`` per level, the
+    fitted ``curve`` and its band at ``curve_x``."""
+    import xarray as xr
+
+    coords = {
+        "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
+        "motion": ("motion", np.arange(len(im)), {"long_name": "index of the motion in the suite"}),
+        "level": ("level", levels, coordinate_attrs("level", config)),
+        "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
+        "curve_x": ("curve_x", curve_x, coordinate_attrs("curve_x", config)),
+    }
+    variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
+    variables["im"] = (DIMS["im"], im, field_attrs("im", config))
+    return xr.Dataset(variables, coords=coords)
+
+
+def envelope(data):
+    """An IDA's responses reduced over ``sign`` (:func:`rocking.study.directions.envelope`), with ``sensitive``
+    where either direction is."""
+    status = data["status"]
+    out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
+    out[SENSITIVE.name] = data[SENSITIVE.name].any("sign", keep_attrs=True)
+    return out
 
 
 def uncertain_verdicts(overturned_by_sign, sensitive_by_sign) -> np.ndarray:
@@ -281,43 +327,39 @@ def uncertain_verdicts(overturned_by_sign, sensitive_by_sign) -> np.ndarray:
     return sensitive.any(axis=-1) & ~(overturned & ~sensitive).any(axis=-1)
 
 
-def _fit(levels, over, uncertain, arrays: dict, part: str) -> dict:
-    """The lognormal fit of ``part`` and its band at ``arrays["curve_x"]`` (stored in ``arrays``), the band
-    covering either verdict of the ``uncertain`` cells; the summary."""
-    x = arrays["curve_x"]
+def _fit(levels, over, uncertain, x) -> tuple[dict, dict]:
+    """The lognormal fit of one part and its band at ``x``, the band covering either verdict of the
+    ``uncertain`` cells: the summary, and ``curve``, ``band_low``, ``band_high``."""
     fit = (
         fit_lognormal(levels[levels > 0], over[:, levels > 0])
         if (levels > 0).sum() >= 2
         else {"theta": np.nan, "beta": np.nan, "log_likelihood": np.nan, "status": "too few levels"}
     )
     out = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in fit.items()}
-    arrays[f"{part}_curve"] = np.full(x.size, np.nan)
-    arrays[f"{part}_band_low"] = np.full(x.size, np.nan)
-    arrays[f"{part}_band_high"] = np.full(x.size, np.nan)
+    curves = {k: np.full(x.size, np.nan) for k in ("curve", "band_low", "band_high")}
     if fit["status"] in FITTED:
-        arrays[f"{part}_curve"] = fragility_curve(x, fit["theta"], fit["beta"])
+        curves["curve"] = fragility_curve(x, fit["theta"], fit["beta"])
         fitted = levels > 0
         band = bootstrap_band(levels[fitted], over[:, fitted], x, sensitive=uncertain[:, fitted], resamples=RESAMPLES)
-        arrays[f"{part}_band_low"], arrays[f"{part}_band_high"] = band["low"], band["high"]
+        curves["band_low"], curves["band_high"] = band["low"], band["high"]
         out.update(
             theta_interval=band["theta_interval"], beta_interval=band["beta_interval"], resamples=band["resamples"]
         )
-    return out
+    return out, curves
 
 
-def ida_tables(arrays: dict, names, kind: str) -> dict:
-    """CSV tables: ``<kind>`` (one row per motion and level: the outcome of both parts) and ``<kind>-motions``
-    (one row per motion: its measure and IDA summary)."""
-    n, m = arrays["bare_overturned"].shape
-    motion, level = np.meshgrid(np.arange(n), arrays["levels"], indexing="ij")
+def tables(data, config: dict) -> dict:
+    """CSV tables: ``<kind>`` (one row per motion and level: the envelope of both parts) and ``<kind>-motions``
+    (one row per motion: its name, its measure and IDA summary)."""
+    kind, env = config["kind"], envelope(data)
+    n = data.sizes["motion"]
+    motion, level = np.meshgrid(np.arange(n), data["level"].values, indexing="ij")
     rows = {"motion": motion.ravel(), "level": level.ravel()}
-    for part in ("bare", "damper"):
-        for k in ("overturned", "impacts", "theta_max", "x_max", "sensitive"):
-            # A study saved before the tolerance check has no sensitive arrays: its table has no such column.
-            if f"{part}_{k}" in arrays:
-                rows[f"{part}_{k}"] = arrays[f"{part}_{k}"].ravel()
-    motions = {"motion": np.arange(n), "name": np.array(names), "im": arrays["im"]}
-    for part in ("bare", "damper"):
+    for part in PARTS:
+        for k in ("overturned", "impacts", "theta_max", "x_max", SENSITIVE.name):
+            rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
+    motions = {"motion": np.arange(n), "name": np.array(motion_names(config["suite"])), "im": data["im"].values}
+    for part in PARTS:
         for k in ("first", "last_safe", "reversals"):
-            motions[f"{part}_{k}"] = arrays[f"{part}_{k}"]
+            motions[f"{part}_{k}"] = data[k].sel(part=part).values
     return {kind: rows, f"{kind}-motions": motions}

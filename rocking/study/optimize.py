@@ -52,11 +52,13 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import ParameterError, check_in_range
-from .config import Grid, Setting, Study, Tuning, Variant, is_count, part_config
+from .config import Grid, Setting, Tuning, Variant, is_count, part_config
 from .directions import beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import FIXED, check_study, preflight, warn_undetermined
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol, flag_words
+from .result import Study
+from .spectrum import TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
+from .vocabulary import ABOVE, BRACKETED, flag_words
 
 #: Gain below which a damper is useless (the definition of Omega*).
 USELESS_GAIN = 1.01
@@ -402,11 +404,11 @@ def optimal_damper(
     config["directions"] = chosen
     if stops:
         config["stops"] = True
-    return Study(
+    return Study.of_arrays(
         "optimize",
         config,
         arrays,
-        tables={"optimize": optimize_table(arrays)},
+        tables=optimize_tables,
         summary={
             "useless_gain": USELESS_GAIN,
             "Omega_star": thresholds,
@@ -416,6 +418,11 @@ def optimal_damper(
         },
         run={**stats.record(), "run_folders": folders},
     )
+
+
+def optimize_tables(arrays: dict, config: dict) -> dict:
+    """The table of an optimisation (:func:`optimize_table`)."""
+    return {"optimize": optimize_table(arrays)}
 
 
 def optimize_table(arrays: dict) -> dict:

@@ -12,7 +12,7 @@ damped one does not) and those it loses (-1: the reverse).
 By default the map is *adaptive* (:mod:`rocking.study.adaptive`): each part computes a coarse lattice of
 cells (every ``coarse``-th, 16 by default) and refines, down to single cells, only where neighbouring cells
 differ in outcome class; the other cells take the class of the computed cells around them. Outcomes and the
-effect are complete; ``<part>_computed`` says which cells were computed, and the continuous fields of the
+effect are complete; ``computed`` says which cells of each part were computed, and the continuous fields of the
 others are not invented: ``theta_max``, ``x_max``, ``bumper_force_max`` are NaN there, and ``impacts`` of a
 safe cell, ``stop_contacts`` and ``status`` are :data:`NOT_COMPUTED` where they do not follow from the class.
 An adaptive map can miss a feature of another class smaller than the coarse step, one that falls entirely
@@ -29,29 +29,46 @@ from __future__ import annotations
 import hashlib
 import time
 import warnings
+from functools import partial
 from os import PathLike
 from pathlib import Path
 
 import numpy as np
 
-from ..model.params import BUMPER_DEPTH, ParameterError
+from ..model.params import BUMPER_DEPTH, Block, ParameterError
 from ..sim.boundary import UNDETERMINED
 from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
+from . import directions
 from .adaptive import COARSE, Refinement, check_coarse, check_verify, guarantee
-from .config import Grid, Setting, Study, Tuning, Variant, check_cells, check_type, is_count, part_config
-from .directions import SIGN_NAMES, choose, response_envelope
+from .config import Grid, Setting, Tuning, Variant, check_cells, check_type, is_count, part_config
+from .dataset import coordinate_attrs, field_attrs, si_coordinates
+from .directions import SIGN_NAMES, choose
+from .result import Study
 from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
+from .vocabulary import NOT_COMPUTED, PART_NAMES, SAFE
 
 #: Result fields kept per response.
 FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contacts", "bumper_force_max")
 
-#: Outcome of a response that does not overturn.
-SAFE = -1
+#: The parts of a map: the block alone, and with its damper (the coordinate ``part`` of its data).
+PARTS = ("bare", "damper")
 
-#: Value of the integer fields (``impacts``, ``stop_contacts``, ``status``) of a cell of an adaptive map that
-#: was not computed, where its class does not give them (the float fields are NaN there).
-NOT_COMPUTED = -1
+#: The dimensions of every variable of a map's data (:func:`map_data`), coordinates included.
+DIMS = {
+    "part": ("part",),
+    "Omega": ("Omega",),
+    "beta": ("beta",),
+    "sign": ("sign",),
+    "T_g": ("Omega",),
+    "a_g": ("beta",),
+    **dict.fromkeys(FIELDS, ("part", "Omega", "beta", "sign")),
+    "computed": ("part", "Omega", "beta"),
+}
+
+#: The integer fields of :data:`FIELDS` (and ``overturned``), with their types: :data:`NOT_COMPUTED` where a
+#: cell of an adaptive map was not computed and its class does not give them.
+INTEGERS = {"overturned": bool, "impacts": int, "status": int, "stop_contacts": int}
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
 FIXED = ("model", "params", "stops", "stroke")
@@ -264,13 +281,11 @@ def overturning_map(
     Returns
     -------
     Study
-        Arrays ``Omega``, ``beta``, ``signs``; for the parts ``bare`` and ``damper`` and the
-        :data:`FIELDS`, ``<part>_<field>_by_sign`` (shape ``(nOmega, nbeta, nsigns)``) and their
-        envelope ``<part>_<field>`` (``(nOmega, nbeta)``,
-        :func:`rocking.study.directions.response_envelope`), ``<part>_worst_sign`` (the direction
-        that governs each cell; 0 where it is not known: a safe cell not computed); ``<part>_computed``
-        (``(nOmega, nbeta)``, bool: the cells computed; where not, the fields that do not follow from
-        the outcome class are NaN or :data:`NOT_COMPUTED`); and ``effect``, from the envelopes.
+        Its data (:func:`map_data`): the :data:`FIELDS` of every response, dimensions ``(part, Omega, beta,
+        sign)`` (``part``: ``bare`` and ``damper``), and ``computed`` (``(part, Omega, beta)``, bool: the cells
+        computed; where not, the fields that do not follow from the outcome class are NaN or
+        :data:`NOT_COMPUTED`). Their envelope over the directions, the direction that governs each cell and
+        the damper's ``effect`` are a reduction over ``sign`` (:func:`envelope`).
         ``config["refinement"]`` records ``adaptive``, ``coarse`` and ``verify``, ``summary["guarantee"]`` what
         an adaptive map can miss (:func:`rocking.study.adaptive.guarantee`); ``run["responses"]`` counts the
         responses computed, ``run["responses_full_grid"]`` those of every cell, ``run["rounds"]`` the rounds of tiles.
@@ -299,17 +314,22 @@ def overturning_map(
     >>> study = overturning_map(
     ...     setting, rocking.Tuning(0.05), rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 1.0, 9.0, 3),
     ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
-    >>> study.arrays["bare_overturned"].astype(int)  # rows: Omega, columns: beta
+    >>> study.data["overturned"].dims
+    ('part', 'Omega', 'beta', 'sign')
+    >>> from rocking.study.overturning_map import envelope
+    >>> both = envelope(study.data)  # the worse of the two directions of each pulse
+    >>> both["overturned"].sel(part="bare").values.astype(int)  # rows: Omega, columns: beta
     array([[0, 1, 1],
            [0, 1, 1],
            [0, 1, 1]])
     >>> study.config["directions"]["signs"]  # the reference block is eccentric (e > 0): both directions
     [1, -1]
-    >>> study.arrays["effect"]  # +1: the damper saves the block (in both directions), -1: it loses it
+    >>> both["effect"].values  # +1: the damper saves the block (in both directions), -1: it loses it
     array([[0, 0, 0],
            [0, 0, 0],
            [0, 0, 0]])
-    >>> (study.arrays["bare_overturned_by_sign"] & ~study.arrays["damper_overturned_by_sign"]).astype(int)[..., 0]
+    >>> positive = study.data["overturned"].sel(sign=1)
+    >>> (positive.sel(part="bare") & ~positive.sel(part="damper")).values.astype(int)
     array([[0, 0, 0],
            [0, 1, 0],
            [0, 0, 1]])
@@ -329,36 +349,20 @@ def overturning_map(
     # A full map's tiles keep the configuration (and folders) they had before maps were adaptive.
     refinement = {"adaptive": False} if full else {"adaptive": True, "coarse": coarse, "verify": verify}
     tiles_of = {} if full else {"refinement": refinement}
-    arrays = {"Omega": Om, "beta": b, "signs": np.array(signs)}
     record = tuning.record()
-    parts, folders = {}, {}
-    shape = (Om.size, b.size, len(signs))
-    for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
-        parts[part] = damper
-        for k, dtype in (("overturned", bool), ("impacts", int), ("status", int), ("stop_contacts", int)):
-            arrays[f"{part}_{k}_by_sign"] = np.full(shape, False if dtype is bool else NOT_COMPUTED, dtype)
-        for k in ("theta_max", "x_max", "bumper_force_max"):
-            arrays[f"{part}_{k}_by_sign"] = np.full(shape, np.nan)
+    parts, folders = dict(zip(PARTS, (None, tuning.case_args()))), {}
+    shape = (len(PARTS), Om.size, b.size, len(signs))
+    fields: dict[str, np.ndarray] = {
+        k: np.full(shape, False if k == "overturned" else NOT_COMPUTED, dtype) for k, dtype in INTEGERS.items()
+    }
+    fields.update({k: np.full(shape, np.nan) for k in FIELDS if k not in INTEGERS})
+    for part, described in zip(PARTS, (None, record)):
         config = part_config("map", part, setting, damper=described, **grids, **tiles_of)
         folders[part] = run_folder(runs, config)
 
     preflight(setting, tuning.case_args())
-    if full:
-        stats, rounds = _full(setting, parts, folders, arrays, execution, tile, on_tile)
-    else:
-        stats, rounds = _adaptive(setting, parts, folders, arrays, execution, tile, refinement, on_tile)
-    for part in parts:
-        by_sign = {k: arrays[f"{part}_{k}_by_sign"] for k in FIELDS}
-        envelope = response_envelope(by_sign, undetermined(by_sign["status"]))
-        arrays.update({f"{part}_{k}": envelope[k] for k in FIELDS})
-        worst_sign = arrays["signs"][envelope["worst_sign_index"]]
-        # Which direction governs a safe cell is told by theta_max: not known where it was not computed.
-        unknown = ~arrays[f"{part}_computed"] & ~envelope["overturned"] & ~undetermined(envelope["status"])
-        arrays[f"{part}_worst_sign"] = np.where(unknown, 0, worst_sign)
-    bare_unknown, damper_unknown = undetermined(arrays["bare_status"]), undetermined(arrays["damper_status"])
-    arrays["effect"] = effect(arrays["bare_overturned"], arrays["damper_overturned"], bare_unknown | damper_unknown)
-    unknown = sum(int(undetermined(arrays[f"{part}_status_by_sign"]).sum()) for part in parts)
-    warn_undetermined("map", unknown)
+    run_map = _full if full else partial(_adaptive, refinement=refinement)
+    stats, rounds, computed = run_map(setting, parts, folders, (Om, b, signs), fields, execution, tile, on_tile)
     config = {
         "kind": "map",
         **setting.record(),
@@ -367,14 +371,14 @@ def overturning_map(
         "directions": chosen,
         "refinement": refinement,
     }
-    computed = sum(int(arrays[f"{part}_computed"].sum()) for part in parts)
+    data = map_data(config, Om, b, signs, fields, computed)
+    warn_undetermined("map", int(undetermined(fields["status"]).sum()))
     return Study(
         "map",
         config,
-        arrays,
-        tables={"map": map_table(arrays, setting.block.B / 2, half_stroke(setting.block, record))},
+        data,
         summary={
-            **map_summary(arrays, setting.block.B / 2),
+            **map_summary(data, setting.block.B / 2),
             "directions": chosen,
             "refinement": refinement,
             "guarantee": guarantee(refinement, (spacing(Om), spacing(b))),
@@ -382,11 +386,51 @@ def overturning_map(
         run={
             **stats.record(),
             "run_folders": {part: folder.name for part, folder in folders.items()},
-            "responses": len(signs) * computed,
+            "responses": len(signs) * int(computed.sum()),
             "responses_full_grid": len(parts) * len(signs) * Om.size * b.size,
             "rounds": rounds,
         },
+        tabulate=map_tables,
     )
+
+
+def map_data(config: dict, Omega, beta, signs, fields: dict, computed):
+    """A map's results as labelled data: the :data:`FIELDS` of every response, ``(part, Omega, beta, sign)``, and
+    ``computed`` (``(part, Omega, beta)``), with the coordinates in non-dimensional and SI terms and units."""
+    import xarray as xr
+
+    coords = {
+        "part": (
+            "part",
+            np.array(PARTS),
+            {"long_name": "part of the study: " + ", ".join(PART_NAMES[p] for p in PARTS)},
+        ),
+        **{dim: (dim, values, coordinate_attrs(dim, config)) for dim, values in (("Omega", Omega), ("beta", beta))},
+        "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
+    }
+    coords.update(si_coordinates(config, coords))
+    variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
+    variables["computed"] = (DIMS["computed"], computed, field_attrs("computed", config))
+    return xr.Dataset(variables, coords=coords)
+
+
+def envelope(data):
+    """A map's responses reduced over ``sign``: the envelope of both directions of each pulse
+    (:func:`rocking.study.directions.envelope`), and the damper's ``effect`` on it (``(Omega, beta)``).
+
+    ``worst_sign`` is 0 where the direction that governs is not known: a safe cell not computed (which direction
+    governs a safe cell is told by ``theta_max``).
+    """
+    status = data["status"]
+    out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
+    computed = data["computed"].transpose(*out["overturned"].dims).values
+    not_known = ~computed & ~out["overturned"].values & ~undetermined(out["status"].values)
+    out["worst_sign"] = out["worst_sign"].copy(data=np.where(not_known, 0, out["worst_sign"].values))
+    bare, damper = (out.sel(part=part) for part in PARTS)
+    unknown = undetermined(bare["status"].values) | undetermined(damper["status"].values)
+    change = effect(bare["overturned"].values, damper["overturned"].values, unknown)
+    out["effect"] = (("Omega", "beta"), change, field_attrs("effect", {}))
+    return out
 
 
 def spacing(values: np.ndarray) -> float:
@@ -394,11 +438,11 @@ def spacing(values: np.ndarray) -> float:
     return float(np.diff(values).max()) if values.size > 1 else 0.0
 
 
-def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on_tile):
-    """Every cell of the map, a rectangle of ``tile`` cells per tile; ``(TileStats, 1)``."""
-    Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
+def _full(setting, parts: dict, folders: dict, grid: tuple, fields: dict, execution, tile, on_tile):
+    """Every cell of the map, a rectangle of ``tile`` cells per tile, into ``fields``; ``(TileStats, 1, computed)``."""
+    Om, b, signs = grid
     groups, where = [], {}
-    for part, damper in parts.items():
+    for index, (part, damper) in enumerate(parts.items()):
         part_tasks: list[Task] = []
         groups.append(part_tasks)
         for i in range(0, Om.size, tile[0]):
@@ -408,26 +452,26 @@ def _full(setting, parts: dict, folders: dict, arrays: dict, execution, tile, on
                 expect = dict.fromkeys(FIELDS, (Om[rows].size, b[cols].size, len(signs)))
                 task = Task(folders[part] / f"tile-{i}-{j}.npz", map_tile, payload, expect)
                 part_tasks.append(task)
-                where[task.path] = (part, rows, cols)
-        arrays[f"{part}_computed"] = np.ones((Om.size, b.size), bool)
+                where[task.path] = (index, rows, cols)
 
     def place(task: Task, tile_arrays: dict) -> None:
-        part, rows, cols = where[task.path]
+        index, rows, cols = where[task.path]
         for k in FIELDS:
-            arrays[f"{part}_{k}_by_sign"][rows, cols] = tile_arrays[k]
+            fields[k][index, rows, cols] = tile_arrays[k]
 
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="map", on_tile=on_tile)
-    return stats, 1
+    return stats, 1, np.ones((len(parts), Om.size, b.size), bool)
 
 
-def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile, refinement: dict, on_tile):
-    """The map refined on each part's outcome classes (:mod:`rocking.study.adaptive`); ``(TileStats, rounds)``.
+def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, execution, tile, on_tile, refinement):
+    """The map refined on each part's outcome classes (:mod:`rocking.study.adaptive`), into ``fields``;
+    ``(TileStats, rounds, computed)``.
 
     Each round computes the corners its part's refinement asks for, in tiles of as many cells as ``tile`` holds
     (the Python around a tile, which holds the GIL, is then a small part of it, and threads scale), named by
     their round and a hash of their cells: a rerun asks for the same cells, and loads them.
     """
-    Om, b, signs = arrays["Omega"], arrays["beta"], arrays["signs"].tolist()
+    Om, b, signs = grid
     chunk = max(1, tile[0] * tile[1])
     shape, coarse, verify = (Om.size, b.size, len(signs)), refinement["coarse"], refinement["verify"]
     refinements = {part: Refinement(shape, coarse, verify) for part in parts}
@@ -437,7 +481,7 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
     def place(task: Task, tile_arrays: dict) -> None:
         part, r, c = where[task.path]
         for k in FIELDS:
-            arrays[f"{part}_{k}_by_sign"][r, c] = tile_arrays[k]
+            fields[k][PARTS.index(part), r, c] = tile_arrays[k]
         over, impacts, status = (tile_arrays[k] for k in ("overturned", "impacts", "status"))
         refinements[part].record(r, c, response_classes(over, impacts, status))
 
@@ -467,23 +511,23 @@ def _adaptive(setting, parts: dict, folders: dict, arrays: dict, execution, tile
         for part_refinement in refinements.values():
             part_refinement.update()
         rounds += 1
-    for part, part_refinement in refinements.items():
-        _fill(arrays, part, part_refinement)
+    for index, part_refinement in enumerate(refinements.values()):
+        _fill({k: v[index] for k, v in fields.items()}, part_refinement)
     total.wall = time.perf_counter() - start
-    return total, rounds
+    return total, rounds, np.stack([r.computed for r in refinements.values()])
 
 
-def _fill(arrays: dict, part: str, refinement: Refinement) -> None:
-    """Give the cells of ``part`` that were not computed what their class tells: overturned or not, the impacts
-    of an overturned cell, the status of an overturned cell or of one without a verdict."""
+def _fill(fields: dict, refinement: Refinement) -> None:
+    """Give the cells of one part (``fields``: its arrays ``(Omega, beta, sign)``) that were not computed what
+    their class tells: overturned or not, the impacts of an overturned cell, the status of an overturned cell or
+    of one without a verdict."""
     filled = refinement.fill()
     classes = refinement.classes[filled]  # (cells, signs)
     overturned = classes >= 0
     status = np.where(overturned, STATUS.index("overturned"), np.where(classes <= -2, -2 - classes, NOT_COMPUTED))
-    arrays[f"{part}_overturned_by_sign"][filled] = overturned
-    arrays[f"{part}_impacts_by_sign"][filled] = np.where(overturned, classes, NOT_COMPUTED)
-    arrays[f"{part}_status_by_sign"][filled] = status
-    arrays[f"{part}_computed"] = refinement.computed
+    fields["overturned"][filled] = overturned
+    fields["impacts"][filled] = np.where(overturned, classes, NOT_COMPUTED)
+    fields["status"][filled] = status
 
 
 def half_stroke(block, record: dict) -> float | None:
@@ -494,57 +538,70 @@ def half_stroke(block, record: dict) -> float | None:
     return record.get("params", {}).get("L")
 
 
-def map_table(arrays: dict, half_width: float, L: float | None = None) -> dict:
+def map_tables(data, config: dict) -> dict:
+    """The tables of a map (:func:`map_table`), its block and damper read from its configuration."""
+    block = Block(**config["block"])
+    return {"map": map_table(data, block.B / 2, half_stroke(block, config["damper"]))}
+
+
+def map_table(data, half_width: float, L: float | None = None) -> dict:
     """One CSV row per cell: the pulse, both responses (their envelope over the directions, and with two
     directions the outcome in each and the sign of the worse), the damper's stroke over the block's
     half-width ``B/2`` (above 1: the mass past the block's edge) and, with stops, over their half-stroke
     ``L`` (above 1: in the bumpers), the damper's effect."""
-    Om, b = np.meshgrid(arrays["Omega"], arrays["beta"], indexing="ij")
+    env = envelope(data)
+    Om, b = np.meshgrid(data["Omega"].values, data["beta"].values, indexing="ij")
     table = {"Omega": Om, "beta": b}
-    signs = arrays["signs"]
-    for part in ("bare", "damper"):
-        table[f"{part}_outcome"] = outcome(arrays[f"{part}_overturned"], arrays[f"{part}_impacts"])
+    signs = data["sign"].values
+    for part in PARTS:
+        a, by_sign = env.sel(part=part), data.sel(part=part)
+        table[f"{part}_outcome"] = outcome(a["overturned"].values, a["impacts"].values)
         for k in ("impacts", "theta_max", "x_max", "stop_contacts", "bumper_force_max"):
-            table[f"{part}_{k}"] = arrays[f"{part}_{k}"]
+            table[f"{part}_{k}"] = a[k].values
         # NOT_COMPUTED (-1) takes the last name; objects, not a wide string array: a map has many cells.
-        table[f"{part}_status"] = np.array([*STATUS, "not_computed"], object)[arrays[f"{part}_status"]]
-        table[f"{part}_computed"] = arrays[f"{part}_computed"].astype(np.int8)
+        table[f"{part}_status"] = np.array([*STATUS, "not_computed"], object)[a["status"].values]
+        table[f"{part}_computed"] = by_sign["computed"].values.astype(np.int8)
         if signs.size > 1:
-            table[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
+            table[f"{part}_worst_sign"] = a["worst_sign"].values
+            over, impacts = by_sign["overturned"].values, by_sign["impacts"].values
             for i, sign in enumerate(signs):
-                over, impacts = arrays[f"{part}_overturned_by_sign"], arrays[f"{part}_impacts_by_sign"]
                 table[f"{part}_outcome_{SIGN_NAMES[sign]}"] = outcome(over[..., i], impacts[..., i])
-    table["damper_stroke_over_half_width"] = arrays["damper_x_max"] / half_width
+    stroke = env["x_max"].sel(part="damper").values
+    table["damper_stroke_over_half_width"] = stroke / half_width
     if L is not None:
-        table["damper_stroke_over_L"] = arrays["damper_x_max"] / L
-    table["effect"] = arrays["effect"]
+        table["damper_stroke_over_L"] = stroke / L
+    table["effect"] = env["effect"].values
     return {k: np.ravel(v) for k, v in table.items()}
 
 
-def saved_past_edges(arrays: dict, half_width: float) -> np.ndarray:
-    """Cells the damper saves only by running its mass past the block's edge: ``x_max > B/2``.
+def saved_past_edges(env, half_width: float) -> np.ndarray:
+    """Cells the damper saves only by running its mass past the block's edge: ``x_max > B/2`` (``env``: a map's
+    :func:`envelope`).
 
     An unlimited guide (the paper's) lets the mass travel anywhere; a real one ends at the
     block's edges (docs/model.md section 11), so these cells are saved on paper only.
     """
-    return (np.asarray(arrays["effect"]) > 0) & (np.asarray(arrays["damper_x_max"]) > half_width)
+    return (env["effect"].values > 0) & (env["x_max"].sel(part="damper").values > half_width)
 
 
-def map_summary(arrays: dict, half_width: float) -> dict:
+def map_summary(data, half_width: float) -> dict:
     """Cell counts: overturned per part, saved and lost by the damper (saved within the block's half-width
     ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed.
 
     Counts of what a cell's outcome class does not tell (``t_max``, ``saved_past_edges``) are over the cells
     computed; ``saved_stroke_not_computed`` counts the saved cells whose damper stroke was not computed.
     """
-    out = {"cells": int(arrays["effect"].size)}
-    for part in ("bare", "damper"):
-        out[f"{part}_computed"] = int(arrays[f"{part}_computed"].sum())
-        out[f"{part}_overturned"] = int(arrays[f"{part}_overturned"].sum())
-        out[f"{part}_t_max"] = int((arrays[f"{part}_status"] == STATUS.index("t_max")).sum())
-        out[f"{part}_undetermined"] = int(undetermined(arrays[f"{part}_status"]).sum())
-    out["saved"] = int((arrays["effect"] > 0).sum())
-    out["saved_past_edges"] = int(saved_past_edges(arrays, half_width).sum())
-    out["saved_stroke_not_computed"] = int(((arrays["effect"] > 0) & ~arrays["damper_computed"]).sum())
-    out["lost"] = int((arrays["effect"] < 0).sum())
+    env = envelope(data)
+    effect = env["effect"].values
+    out = {"cells": int(effect.size)}
+    for part in PARTS:
+        a, status = env.sel(part=part), env["status"].sel(part=part).values
+        out[f"{part}_computed"] = int(data["computed"].sel(part=part).values.sum())
+        out[f"{part}_overturned"] = int(a["overturned"].values.sum())
+        out[f"{part}_t_max"] = int((status == STATUS.index("t_max")).sum())
+        out[f"{part}_undetermined"] = int(undetermined(status).sum())
+    out["saved"] = int((effect > 0).sum())
+    out["saved_past_edges"] = int(saved_past_edges(env, half_width).sum())
+    out["saved_stroke_not_computed"] = int(((effect > 0) & ~data["computed"].sel(part="damper").values).sum())
+    out["lost"] = int((effect < 0).sum())
     return out

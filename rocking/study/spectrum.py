@@ -57,11 +57,12 @@ import numpy as np
 
 from ..model.params import ParameterError
 from .adaptive import check_coarse, refine_scan
-from .config import Grid, Setting, Study, Tuning, Variant, is_count, is_number, part_config
+from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config
+from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
     FIXED,
-    SAFE,
+    PARTS,
     check_damper,
     check_study,
     preflight,
@@ -70,17 +71,9 @@ from .overturning_map import (
     undetermined,
     warn_undetermined,
 )
+from .result import Study
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
-
-BELOW, BRACKETED, ABOVE = -1, 0, 1
-#: What each flag makes of ``beta_min``, in words: the tables' ``*_beta_min_is`` columns, the datasets' key.
-FLAG_WORDS = {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"}
-
-
-def flag_words(flag) -> np.ndarray:
-    """:data:`FLAG_WORDS` of each flag of ``flag``."""
-    return np.array([FLAG_WORDS[BELOW], FLAG_WORDS[BRACKETED], FLAG_WORDS[ABOVE]], object)[np.asarray(flag) + 1]
-
+from .vocabulary import ABOVE, BELOW, BRACKETED, PART_NAMES, SAFE, flag_words
 
 #: Default relative tolerance of the bisection on beta.
 TOL = 1e-3
@@ -93,6 +86,18 @@ COLUMNS = 8
 #: What :func:`beta_min` gives per column (each of shape (n,)), besides ``scan_outcome`` and the counts of
 #: :data:`RESPONSE_COUNTS`.
 COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
+
+#: The dimensions of every variable of a spectrum's data (:func:`spectrum_data`), coordinates included.
+DIMS = {
+    "part": ("part",),
+    "Omega": ("Omega",),
+    "beta_scan": ("beta_scan",),
+    "sign": ("sign",),
+    "T_g": ("Omega",),
+    "a_g_beta_scan": ("beta_scan",),
+    **dict.fromkeys(COLUMN_FIELDS, ("part", "Omega", "sign")),
+    "scan_outcome": ("part", "Omega", "sign", "beta_scan"),
+}
 #: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
 RESPONSE_COUNTS = ("responses", "scan_responses")
 
@@ -301,12 +306,11 @@ def minimum_overturning_spectrum(
     Returns
     -------
     Study
-        Arrays ``Omega``, ``beta_scan``, ``signs`` and, per part ``bare``/``damper``,
-        the :func:`beta_min` results per direction (``<part>_beta_min_by_sign`` ..., an axis of the
-        signs after that of ``Omega``), their envelope (``<part>_beta_min`` ...,
-        :func:`rocking.study.directions.beta_min_envelope`), ``<part>_worst_sign`` (the direction of
-        the smaller ``beta_min``) and ``<part>_windows`` (k, 3): ``Omega``, first and last amplitude
-        safe in every direction. ``config["refinement"]`` records how the scans were refined
+        Its data (:func:`spectrum_data`): the :func:`beta_min` results of each direction, dimensions
+        ``(part, Omega, sign)`` (``part``: ``bare`` and ``damper``), ``scan_outcome`` also along ``beta_scan``.
+        Their envelope over the directions (the smaller ``beta_min``, the direction that gives it) is a
+        reduction over ``sign`` (:func:`envelope`), and the safe windows above it are read from its scan
+        (:func:`safe_windows`). ``config["refinement"]`` records how the scans were refined
         (:func:`scan_refinement`); ``run["responses"]`` counts the responses computed (scans and
         bisections), ``run["scan_responses"]`` those of the scans and ``run["scan_responses_full"]`` those of
         scans of every amplitude.
@@ -335,12 +339,14 @@ def minimum_overturning_spectrum(
     ...     rocking.Setting(rocking.Block.reference()), rocking.Tuning(0.05),
     ...     rocking.Grid("Omega", 2.0, 6.0, 3), rocking.Grid("beta", 0.5, 15.0, 30),
     ...     rocking.Execution(workers=1, progress=False), runs=tempfile.mkdtemp())
-    >>> study.arrays["bare_beta_min_by_sign"].round(2)  # columns: sign +1, -1 (the block is eccentric)
+    >>> study.data["beta_min"].sel(part="bare").values.round(2)  # columns: sign +1, -1 (the block is eccentric)
     array([[1.28, 1.15],
            [1.6 , 1.91],
            [2.82, 8.66]])
-    >>> study.arrays["bare_beta_min"].round(2), study.arrays["damper_beta_min"].round(2)  # the envelopes
-    (array([1.15, 1.6 , 2.82]), array([1.25, 1.79, 3.97]))
+    >>> from rocking.study.spectrum import envelope
+    >>> envelope(study.data)["beta_min"].values.round(2)  # the envelopes: rows bare, damper
+    array([[1.15, 1.6 , 2.82],
+           [1.25, 1.79, 3.97]])
     """
     check_study(setting, execution, runs, Omega=Omega, beta=beta)
     tol = check_tol(tol)
@@ -361,16 +367,15 @@ def minimum_overturning_spectrum(
         "signs": signs,
         "refinement": refinement,
     }
-    arrays = {"Omega": Om, "beta_scan": b, "signs": np.array(signs)}
     record = tuning.record()
     groups, where, folders = [], {}, {}
     ns = len(signs)
-    for part, damper, described in (("bare", None, None), ("damper", tuning.case_args(), record)):
-        arrays[f"{part}_beta_min_by_sign"] = np.full((Om.size, ns), np.nan)
-        arrays[f"{part}_beta_safe_by_sign"] = np.full((Om.size, ns), np.nan)
-        for k in ("flag", "impacts", "undetermined"):
-            arrays[f"{part}_{k}_by_sign"] = np.zeros((Om.size, ns), np.int64)
-        arrays[f"{part}_scan_outcome_by_sign"] = np.zeros((Om.size, ns, b.size), np.int64)
+    fields = {
+        **{k: np.full((len(PARTS), Om.size, ns), np.nan) for k in ("beta_min", "beta_safe")},
+        **{k: np.zeros((len(PARTS), Om.size, ns), np.int64) for k in ("flag", "impacts", "undetermined")},
+        "scan_outcome": np.zeros((len(PARTS), Om.size, ns, b.size), np.int64),
+    }
+    for part, damper, described in zip(PARTS, (None, tuning.case_args()), (None, record)):
         folder = run_folder(runs, part_config("spectrum", part, setting, damper=described, **grids))
         folders[part] = folder.name
         part_tasks: list[Task] = []
@@ -389,27 +394,61 @@ def minimum_overturning_spectrum(
     def place(task: Task, tile: dict) -> None:
         part, cols = where[task.path]
         for k in (*COLUMN_FIELDS, "scan_outcome"):
-            arrays[f"{part}_{k}_by_sign"][cols] = tile[k]
+            fields[k][PARTS.index(part), cols] = tile[k]
         for k in RESPONSE_COUNTS:
             counts[k] += int(tile[k].sum())
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)
-    for part in ("bare", "damper"):
-        envelope = beta_min_envelope({k: arrays[f"{part}_{k}_by_sign"] for k in (*COLUMN_FIELDS, "scan_outcome")})
-        arrays.update({f"{part}_{k}": envelope[k] for k in (*COLUMN_FIELDS, "scan_outcome")})
-        arrays[f"{part}_worst_sign"] = arrays["signs"][envelope["worst_sign_index"]]
-        arrays[f"{part}_windows"] = _all_windows(Om, b, arrays[f"{part}_scan_outcome"])
-    warn_undetermined("spectrum", int(arrays["bare_undetermined"].sum() + arrays["damper_undetermined"].sum()))
+    warn_undetermined("spectrum", int(fields["undetermined"].sum()))
     config = {"kind": "spectrum", **setting.record(), "damper": record, **grids, "directions": chosen}
+    data = spectrum_data(config, Om, b, signs, fields)
     return Study(
         "spectrum",
         config,
-        arrays,
-        tables=spectrum_tables(arrays),
-        summary={**spectrum_summary(arrays), "directions": chosen, "refinement": refinement},
+        data,
+        summary={**spectrum_summary(data), "directions": chosen, "refinement": refinement},
         run={**stats.record(), "run_folders": folders, **counts, "scan_responses_full": 2 * Om.size * ns * b.size},
+        tabulate=spectrum_tables,
     )
+
+
+def spectrum_data(config: dict, Omega, beta_scan, signs, fields: dict):
+    """A spectrum's results as labelled data: the :data:`COLUMN_FIELDS` of each part, Omega and direction, and
+    ``scan_outcome`` along ``beta_scan`` too, with the coordinates in non-dimensional and SI terms and units."""
+    import xarray as xr
+
+    coords = {
+        "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
+        "Omega": ("Omega", Omega, coordinate_attrs("Omega", config)),
+        "beta_scan": ("beta_scan", beta_scan, coordinate_attrs("beta_scan", config)),
+        "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
+    }
+    coords.update(si_coordinates(config, coords))
+    return xr.Dataset({k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}, coords=coords)
+
+
+def envelope(data):
+    """A spectrum's results reduced over ``sign`` (:func:`rocking.study.directions.beta_min_envelope`): the
+    smaller ``beta_min`` of the directions of each part and Omega, its ``beta_safe``, ``flag`` and
+    ``impacts``, the responses without a verdict summed, the worse ``scan_outcome`` at each scan amplitude,
+    and ``worst_sign``."""
+    import xarray as xr
+
+    reduced = beta_min_envelope({k: data[k].values for k in (*COLUMN_FIELDS, "scan_outcome")})
+    index = reduced.pop("worst_sign_index")
+    out = xr.Dataset(
+        {k: (tuple(d for d in DIMS[k] if d != "sign"), v, data[k].attrs) for k, v in reduced.items()},
+        coords=data.drop_dims("sign").coords,
+    )
+    out["worst_sign"] = (("part", "Omega"), data["sign"].values[index], field_attrs("worst_sign", {}))
+    return out
+
+
+def safe_windows(env, part: str) -> np.ndarray:
+    """The safe windows above ``beta_min`` of ``part`` in a spectrum's :func:`envelope`: rows ``(Omega, first
+    safe, last safe)`` (:func:`windows`)."""
+    return _all_windows(env["Omega"].values, env["beta_scan"].values, env["scan_outcome"].sel(part=part).values)
 
 
 def _all_windows(Omega, beta_scan, scan_outcome) -> np.ndarray:
@@ -421,23 +460,25 @@ def _all_windows(Omega, beta_scan, scan_outcome) -> np.ndarray:
     return np.concatenate(rows)
 
 
-def spectrum_tables(arrays: dict) -> dict:
+def spectrum_tables(data, config: dict) -> dict:
     """CSV tables: ``spectrum`` (one row per Omega: the envelope and, with two directions, each direction's
     ``beta_min``) and ``spectrum-windows`` (one row per window)."""
-    main = {"Omega": arrays["Omega"]}
-    windows_table = {"part": [], "Omega": [], "beta_first_safe": [], "beta_last_safe": []}
-    signs = arrays["signs"]
-    for part in ("bare", "damper"):
+    env = envelope(data)
+    main = {"Omega": data["Omega"].values}
+    windows_table: dict[str, list] = {"part": [], "Omega": [], "beta_first_safe": [], "beta_last_safe": []}
+    signs = data["sign"].values
+    for part in PARTS:
+        a, by_sign = env.sel(part=part), data.sel(part=part)
         for k in COLUMN_FIELDS:
-            main[f"{part}_{k}"] = arrays[f"{part}_{k}"]
-        main[f"{part}_beta_min_is"] = flag_words(arrays[f"{part}_flag"])
+            main[f"{part}_{k}"] = a[k].values
+        main[f"{part}_beta_min_is"] = flag_words(a["flag"].values)
         if signs.size > 1:
-            main[f"{part}_worst_sign"] = arrays[f"{part}_worst_sign"]
+            main[f"{part}_worst_sign"] = a["worst_sign"].values
             for i, sign in enumerate(signs):
-                main[f"{part}_beta_min_{SIGN_NAMES[sign]}"] = arrays[f"{part}_beta_min_by_sign"][:, i]
-                main[f"{part}_flag_{SIGN_NAMES[sign]}"] = arrays[f"{part}_flag_by_sign"][:, i]
-        w = arrays[f"{part}_windows"]
-        main[f"{part}_windows"] = np.array([np.sum(w[:, 0] == Om) for Om in arrays["Omega"]])
+                main[f"{part}_beta_min_{SIGN_NAMES[sign]}"] = by_sign["beta_min"].values[:, i]
+                main[f"{part}_flag_{SIGN_NAMES[sign]}"] = by_sign["flag"].values[:, i]
+        w = safe_windows(env, part)
+        main[f"{part}_windows"] = np.array([np.sum(w[:, 0] == Om) for Om in main["Omega"]])
         windows_table["part"] += [part] * len(w)
         windows_table["Omega"] += list(w[:, 0])
         windows_table["beta_first_safe"] += list(w[:, 1])
@@ -445,16 +486,17 @@ def spectrum_tables(arrays: dict) -> dict:
     return {"spectrum": main, "spectrum-windows": {k: np.asarray(v) for k, v in windows_table.items()}}
 
 
-def spectrum_summary(arrays: dict) -> dict:
+def spectrum_summary(data) -> dict:
     """Columns bracketed / out of the scan range, and windows found, per part."""
+    env = envelope(data)
     out = {}
-    for part in ("bare", "damper"):
-        flag = arrays[f"{part}_flag"]
+    for part in PARTS:
+        flag = env["flag"].sel(part=part).values
         out[part] = {
             "bracketed": int((flag == BRACKETED).sum()),
             "overturned_at_first_scan_point": int((flag == BELOW).sum()),
             "not_overturned_in_scan": int((flag == ABOVE).sum()),
-            "windows": int(len(arrays[f"{part}_windows"])),
-            "undetermined": int(arrays[f"{part}_undetermined"].sum()),
+            "windows": int(len(safe_windows(env, part))),
+            "undetermined": int(env["undetermined"].sel(part=part).values.sum()),
         }
     return out

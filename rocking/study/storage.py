@@ -1,6 +1,6 @@
-"""What a study leaves on disk: ``<name>.npz`` (every array), ``<name>*.csv`` (tables), ``<name>.nc``, ``<name>.json``.
+"""What a study leaves on disk: ``<name>.nc`` (its data), ``<name>*.csv`` (its tables), ``<name>.json`` (its record).
 
-:func:`save` writes a :class:`~rocking.study.config.Study` with its
+:func:`save` writes a :class:`~rocking.study.result.Study` with its
 configuration, the configuration's hash, software versions, summary and
 timing; :func:`load` reads it back without recomputing anything, and refuses
 with a :class:`~rocking.model.params.ParameterError` naming the file a study
@@ -11,46 +11,31 @@ folder beside them, then renamed into place, the JSON record last (and an
 older record removed first). The JSON is the mark of a complete study:
 :func:`load` needs it, so a save cut short (a full disk, Ctrl-C, a killed
 process) leaves the older study whole or no study, never a mix. A full disk
-raises :class:`DiskFull` naming the file, and nothing partial stays behind.
-Single files (tiles) are written atomically (:func:`atomic_write`). New files
-get the mode of any new file, ``0666`` less the umask.
+raises :class:`~rocking.study.files.DiskFull` naming the file, and nothing partial stays behind.
 
-What is read is bounded before it is read: a JSON record's size and nesting
-(:func:`read_json`), and an archive's arrays from the zip's headers
-(:func:`read_npz`: uncompressed members, each the size its ``.npy`` header
-says, within a limit). A loaded study's configuration is checked against its
-arrays (:func:`check_config`, :func:`check_arrays`: grids, directions, shapes). Arrays are read with
-``allow_pickle=False``: nothing read from a file is executed. The same
-helpers store and check the tiles of a study (:mod:`rocking.study.tiles`):
-:func:`checksum` of the arrays and :func:`layout` (names, shapes, dtypes).
+What is read is bounded before it is read (:mod:`rocking.study.files`). A loaded study's configuration is
+checked against its arrays (:func:`check_config`, :func:`check_arrays`: grids, directions, shapes).
 """
 
 from __future__ import annotations
 
-import errno
-import hashlib
 import inspect
 import json
 import math
 import os
 import re
-import secrets
 import shutil
 import tempfile
-import zipfile
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager, suppress
+from contextlib import contextmanager
 from pathlib import Path
 
 import numpy as np
-from numpy.lib import format as npy
 
 from ..model.loading import ModelError, load_model
 from ..model.params import Block, ParameterError, shown
 from .config import (
-    MAX_CELLS,
     Grid,
-    Study,
     check_signs,
     config_hash,
     is_count,
@@ -59,248 +44,32 @@ from .config import (
     tree_hash,
     versions,
 )
+from .dataset import read_netcdf, to_dataset
+from .files import (
+    MAX_STUDY_BYTES,
+    DiskFull,
+    checksum,
+    describe,
+    is_full,
+    layout,
+    make_folder,
+    read_json,
+    write_csv,
+    write_file,
+)
+from .kinds import KINDS
+from .result import Study
+from .suite import MAX_MOTIONS
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
-STUDY_FORMAT = 2
+#: 3: its data are its NetCDF file (2: arrays named after their dimensions in an ``.npz``).
+STUDY_FORMAT = 3
 
-#: Kinds of saved studies, and the parts of their JSON record that :func:`load` needs.
-KINDS = ("map", "spectrum", "optimize", "design", "threshold", "ida", "fragility")
-RECORD = {"kind": str, "config": dict, "summary": dict, "arrays": dict, "arrays_sha256": str}
+#: The parts of a saved study's JSON record that :func:`load` needs.
+RECORD = {"kind": str, "config": dict, "summary": dict, "variables": dict, "variables_sha256": str}
 
-#: What reading a damaged or foreign ``.npz`` raises. zipfile and NumPy raise many types for a
-#: damaged file: BadZipFile (a bad archive, a CRC), NotImplementedError (a damaged version
-#: field), ValueError and SyntaxError (a member's header), EOFError and OSError (truncated
-#: data), KeyError, zlib.error, MemoryError (a header asking for a huge array), ... Any of
-#: them means the same (the file cannot be used), and nothing read is executed (no pickles).
-UNREADABLE = (Exception,)
-
-#: The first bytes of a zip archive (an ``.npz``).
-ZIP_MAGIC = b"PK\x03\x04"
-
-#: Largest JSON record read (a configuration of two grids of MAX_N explicit values is 5 MB), and its
-#: deepest nesting (a record is 5 deep): bounds checked before parsing, so that neither memory nor
-#: Python's recursion limit decides.
-MAX_JSON_BYTES = 64 << 20
-MAX_JSON_DEPTH = 32
-
-#: Largest sum of the arrays of a study: a map of MAX_CELLS cells in both directions holds 3.2 GB
-#: (324 bytes per cell).
-MAX_STUDY_BYTES = MAX_CELLS * 400
-
-#: Largest ``.npy`` header of a member (NumPy writes 128 bytes, more for many dimensions).
-MAX_NPY_HEADER = 4096
-
-#: errno values of a full disk: no space left, or the user's quota used up.
-FULL = frozenset({errno.ENOSPC, errno.EDQUOT})
-
-#: Free bytes below which a failed write that carries no errno (the NetCDF library's "HDF error") is
-#: a full disk: a write that does not fit fills the disk to its last blocks before it fails.
-FULL_MARGIN = 1 << 20
-
-#: Mode of a new file before the umask (os.open applies it, as for any file a program creates).
-NEW_FILE_MODE = 0o666
-
-
-class DiskFull(OSError):
-    """No space left on the disk (or quota used up) writing ``path``; nothing partial is left behind.
-
-    Attributes
-    ----------
-    path : Path
-        The file that did not fit (its final name, not a temporary one).
-    kept : int or None
-        Finished tiles of the study kept on disk, when known: a rerun resumes from them.
-    """
-
-    def __init__(self, path: str | Path, kept: int | None = None) -> None:
-        super().__init__(errno.ENOSPC, "No space left on device", str(path))
-        self.path, self.kept = Path(path), kept
-
-    def __str__(self) -> str:
-        kept = f": {self.kept} tiles kept" if self.kept is not None else ""
-        return f"disk full writing {self.path}{kept}"
-
-
-def is_full(exc: BaseException, folder: Path | None = None) -> bool:
-    """True if ``exc`` says the disk is full: its errno, or (``folder`` given) a library's error without one
-    (RuntimeError, OSError) while ``folder``'s disk is full (:func:`no_space`)."""
-    if isinstance(exc, OSError) and exc.errno in FULL:
-        return True
-    if folder is None or not isinstance(exc, (RuntimeError, OSError)) or getattr(exc, "errno", None):
-        return False
-    return no_space(folder)
-
-
-def no_space(folder: Path) -> bool:
-    """True if the disk of ``folder`` has less than :data:`FULL_MARGIN` bytes free (False if it cannot tell)."""
-    try:
-        return shutil.disk_usage(folder).free < FULL_MARGIN
-    except OSError:
-        return False
-
-
-def _new_file(path: Path) -> int:
-    """Create ``path`` (it must not exist), open for writing, with mode 0666 less the umask."""
-    return os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), NEW_FILE_MODE)
-
-
-def write_file(path: Path, write: Callable, mode: str = "wb") -> None:
-    """Create ``path`` and write it through ``write(file)``; ``mode``: ``"wb"``, or ``"w"`` (UTF-8 text)."""
-    text = {"encoding": "utf-8", "newline": ""} if "b" not in mode else {}
-    with os.fdopen(_new_file(path), mode, **text) as f:
-        write(f)
-
-
-def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
-    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``.
-
-    Parameters
-    ----------
-    path : Path
-        The file to write; its folder must exist.
-    write : callable
-        ``write(file)``, given the open temporary file.
-    mode : {"wb", "w"}, optional
-        Binary, or text (UTF-8, newlines as written).
-
-    Raises
-    ------
-    DiskFull
-        If the disk is full; the temporary file is removed.
-
-    Notes
-    -----
-    A reader (or a rerun after Ctrl-C or a killed process) sees either the old
-    file, or no file, or the whole new one. The file gets the mode of any new
-    file (0666 less the umask), not a temporary file's 0600. No fsync: it
-    would cost as much as a small tile's work, and only a power cut can leave
-    a damaged file, which :func:`load` and :func:`rocking.study.tiles.load_tile` refuse.
-    """
-    tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
-    try:
-        write_file(tmp, write, mode)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        # Ctrl-C may come just after the rename (the signal is handled when os.replace returns): no tmp then.
-        with suppress(FileNotFoundError):
-            os.unlink(tmp)
-        if is_full(exc):
-            raise DiskFull(path) from None
-        raise
-
-
-def layout(arrays: dict) -> dict:
-    """Name -> ``{"dtype": ..., "shape": [...]}`` of ``arrays``, JSON-ready."""
-    return {k: {"dtype": np.asarray(v).dtype.str, "shape": list(np.shape(v))} for k, v in sorted(arrays.items())}
-
-
-def checksum(arrays: dict) -> str:
-    """SHA-256 of the content of ``arrays``: each name, dtype, shape and bytes, in sorted order of names."""
-    digest = hashlib.sha256()
-    for name in sorted(arrays):
-        a = np.ascontiguousarray(arrays[name])
-        digest.update(f"{name}\0{a.dtype.str}\0{a.shape}\0".encode())
-        digest.update(a.tobytes())
-    return digest.hexdigest()
-
-
-def _npy_bytes(zf: zipfile.ZipFile, info: zipfile.ZipInfo) -> int:
-    """The bytes a member must hold: its ``.npy`` header and the array that header announces."""
-    with zf.open(info) as f:
-        version = npy.read_magic(f)
-        read_header = {(1, 0): npy.read_array_header_1_0, (2, 0): npy.read_array_header_2_0}.get(version)
-        if read_header is None:
-            raise ValueError(f"member {info.filename}: .npy format {version}, not one NumPy's savez writes")
-        shape, _, dtype = read_header(f, max_header_size=MAX_NPY_HEADER)
-        return f.tell() + math.prod(shape) * dtype.itemsize
-
-
-def check_archive(zf: zipfile.ZipFile, limit: int) -> None:
-    """Refuse an archive from its headers, before any array is read: members that are compressed (the bytes
-    read are then the bytes on disk), more than ``limit`` bytes in all, or whose ``.npy`` header announces
-    another size than the member's.
-
-    Raises
-    ------
-    ValueError
-        With the reason.
-    """
-    infos = zf.infolist()
-    total = sum(info.file_size for info in infos)
-    if total > limit:
-        raise ValueError(f"its members hold {total} bytes, more than the {limit} expected")
-    for info in infos:
-        if info.compress_type != zipfile.ZIP_STORED:
-            raise ValueError(f"member {info.filename} is compressed; arrays are stored as np.savez writes them")
-        announced = _npy_bytes(zf, info)
-        if announced != info.file_size:
-            raise ValueError(
-                f"member {info.filename}: its header announces {announced} bytes, it holds {info.file_size}"
-            )
-
-
-def read_npz(path: Path, limit: int = MAX_STUDY_BYTES) -> dict:
-    """Every array of the ``.npz`` at ``path``, read without pickles, after :func:`check_archive` with ``limit``.
-
-    Raises
-    ------
-    ValueError
-        If the file is not a zip archive (e.g. a ``.npy``, a text file), or its headers are refused.
-    Exception
-        Any of :data:`UNREADABLE` for a truncated or damaged archive.
-    """
-    # Our own file object: np.load leaves the file it opened open when the archive is damaged.
-    with open(path, "rb") as f:
-        if f.read(len(ZIP_MAGIC)) != ZIP_MAGIC:
-            raise ValueError("not an .npz archive")
-        f.seek(0)
-        with zipfile.ZipFile(f) as zf:
-            check_archive(zf, limit)
-        f.seek(0)
-        with np.load(f, allow_pickle=False) as z:
-            return {k: z[k] for k in z.files}
-
-
-#: A JSON string, escapes included: brackets inside strings do not nest.
-_JSON_STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"')
-
-
-def json_depth(text: str) -> int:
-    """The deepest nesting of arrays and objects in the JSON ``text``, counted without parsing it."""
-    code = np.frombuffer(_JSON_STRING.sub("", text).encode(), np.uint8)
-    marks = code[np.isin(code, np.frombuffer(b"[]{}", np.uint8))]
-    steps = np.where((marks == ord("[")) | (marks == ord("{")), 1, -1)
-    return int(np.cumsum(steps).max(initial=0))
-
-
-def read_json(path: Path) -> object:
-    """The JSON value in the file at ``path``, its size and nesting checked before it is parsed.
-
-    Raises
-    ------
-    OSError
-        If it cannot be read.
-    ValueError
-        If it is not a regular file (a FIFO would never end), larger than :data:`MAX_JSON_BYTES`, not
-        UTF-8, nested deeper than :data:`MAX_JSON_DEPTH`, or not JSON.
-    """
-    if path.exists() and not path.is_file():
-        raise ValueError("not a regular file")
-    with open(path, "rb") as f:
-        data = f.read(MAX_JSON_BYTES + 1)
-    if len(data) > MAX_JSON_BYTES:
-        raise ValueError(f"larger than {MAX_JSON_BYTES >> 20} MB")
-    text = data.decode("utf-8")
-    depth = json_depth(text)
-    if depth > MAX_JSON_DEPTH:
-        raise ValueError(f"nested {depth} deep, at most {MAX_JSON_DEPTH}")
-    return json.loads(text)
-
-
-def describe(exc: BaseException) -> str:
-    """An exception as a short reason for a one-line message."""
-    text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
-    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+#: Bytes of a NetCDF file besides its variables' (its header, attributes, HDF5's structures) that are read.
+NETCDF_OVERHEAD = 16 << 20
 
 
 def _stem(path: str | Path) -> Path:
@@ -308,64 +77,28 @@ def _stem(path: str | Path) -> Path:
     return path.with_suffix("") if path.suffix in (".npz", ".json", ".csv", ".nc") else path
 
 
-def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
-    """Write equal-length columns as CSV with a header into the new file ``path`` (:func:`save` writes it in
-    its temporary folder); floats as their shortest exact ``repr``.
-
-    Rows are formatted ``chunk`` at a time, so that a big map needs no Python
-    object per value of the whole table at once.
-    """
-    names = list(columns)
-    data = [np.asarray(columns[k]).ravel() for k in names]
-    row = ",".join("%r" if d.dtype.kind == "f" else "%s" for d in data) + "\n"
-
-    def write(f) -> None:
-        f.write(",".join(names) + "\n")
-        for start in range(0, len(data[0]) if data else 0, chunk):
-            f.writelines(row % values for values in zip(*(d[start : start + chunk].tolist() for d in data)))
-
-    write_file(path, write, mode="w")
-
-
-def make_folder(folder: str | Path, what: str) -> Path:
-    """``folder``, created if needed and checked to be writable; ``what`` names it in the error.
-
-    Raises
-    ------
-    ParameterError
-        If it cannot be created (a part of the path is a file) or written (permissions).
-    """
-    folder = Path(folder)
-    try:
-        folder.mkdir(parents=True, exist_ok=True)
-        # A probe file: permissions, read-only mounts and ACLs all answer the same way (os.access does not).
-        with tempfile.TemporaryFile(dir=folder):
-            pass
-    except OSError as exc:
-        raise ParameterError(f"{what} {folder}: cannot write there ({_why(folder, exc)})") from None
-    return folder
-
-
-def _why(folder: Path, exc: OSError) -> str:
-    """Why ``folder`` cannot be written, in words: the file in its way, or the system's reason."""
-    for part in (folder, *folder.parents):
-        if part.exists() and not part.is_dir():
-            return f"{part} is a file, not a folder" if part != folder else "it is a file, not a folder"
-    return exc.strerror or describe(exc)
-
-
 def _data_files(study: Study, name: str, software: dict) -> dict:
     """The files of ``study`` saved as ``name`` but its JSON record: file name -> ``write(path)``."""
-    from .dataset import to_dataset  # the studies' modules, which it reads, store their tiles here
-
-    files = {f"{name}.npz": lambda path: write_file(path, lambda f: np.savez(f, **study.arrays))}
+    files: dict[str, Callable[[Path], None]] = {
+        f"{name}.nc": lambda path: write_netcdf(to_dataset(study, software), path)
+    }
     for table, columns in study.tables.items():
         # Tables are named after the kind ("spectrum-windows"); a study saved under another name keeps its own.
         if table.startswith(study.kind):
             table = name + table[len(study.kind) :]
         files[f"{table}.csv"] = lambda path, columns=columns: write_csv(path, columns)
-    files[f"{name}.nc"] = lambda path: write_netcdf(to_dataset(study, software), path)
     return files
+
+
+def variables(data) -> dict:
+    """Every variable of a study's data (coordinates included) by name: what its record lists and checks."""
+    return {name: variable.values for name, variable in data.variables.items()}
+
+
+def data_layout(data) -> dict:
+    """Name -> ``{"dims": [...], "dtype": ..., "shape": [...]}`` of every variable of ``data``, JSON-ready."""
+    shapes = layout(variables(data))
+    return {name: {"dims": list(data[name].dims), **shapes[name]} for name in shapes}
 
 
 def write_netcdf(dataset, path: Path) -> None:
@@ -395,8 +128,8 @@ def _record(study: Study, software: dict, files: list[str], command: dict | None
         "run": study.run,
         "format": STUDY_FORMAT,
         "files": files,
-        "arrays": layout(study.arrays),
-        "arrays_sha256": checksum(study.arrays),
+        "variables": data_layout(study.data),
+        "variables_sha256": checksum(variables(study.data)),
     }
     return {**record, "command": command} if command is not None else record
 
@@ -523,41 +256,32 @@ def read_record(meta: Path) -> dict:
     return record
 
 
-#: Per kind: the grids of its configuration (:meth:`~rocking.study.config.Grid.record`), each with the
-#: array of its values.
-GRIDS = {
-    "map": {"Omega": "Omega", "beta": "beta"},
-    "spectrum": {"Omega": "Omega", "beta": "beta_scan"},
-    "optimize": {"Omega": "Omega", "Tm_ratio": "r_coarse"},
-    "design": {"Omega": "Omega", "Tm_ratio": "r_coarse", "zeta_grid": "zeta_coarse"},
-    "threshold": {"lam": "lam", "p": "p", "Omega": "Omega", "Tm_ratio": "r_coarse"},
-    "ida": {"levels": "levels"},
-    "fragility": {"levels": "levels"},
-}
-
-#: A saved array's dtype: bool, integer or float of 1 to 8 bytes, in any byte order (``layout``'s ``dtype.str``).
-_DTYPE = re.compile(r"[<>|=][biuf][1248]")
+#: A saved variable's dtype: bool, integer or float of 1 to 8 bytes, in any byte order, or a short text (a label).
+_DTYPE = re.compile(r"[<>|=]([biuf][1248]|U[1-9][0-9]{0,2})")
 
 
 def _shapes(listed: dict) -> dict:
-    """Name -> ``(shape, dtype)`` of the arrays a JSON record lists, each checked to be a shape and a plain dtype."""
+    """Name -> ``(dims, shape, dtype)`` of the variables a JSON record lists, each checked to be plain."""
     out = {}
     for name, entry in listed.items():
-        shape, dtype = (entry.get("shape"), entry.get("dtype")) if isinstance(entry, dict) else (None, None)
+        dims, shape, dtype = (
+            (entry.get(k) for k in ("dims", "shape", "dtype")) if isinstance(entry, dict) else [None] * 3
+        )
         if not (isinstance(shape, list) and len(shape) <= 8 and all(is_count(n) and n >= 0 for n in shape)):
             raise ParameterError(f"{name_text(name)}: shape must be a list of at most 8 sizes (got {shown(shape)})")
+        if not (isinstance(dims, list) and len(dims) == len(shape) and all(isinstance(d, str) for d in dims)):
+            raise ParameterError(f"{name_text(name)}: dims must name each of its dimensions (got {shown(dims)})")
         if not (isinstance(dtype, str) and _DTYPE.fullmatch(dtype)):
             raise ParameterError(
-                f"{name_text(name)}: dtype must be a bool, integer or float such as <f8 (got {shown(dtype)})"
+                f"{name_text(name)}: dtype must be a bool, integer, float or short text such as <f8 "
+                f"(got {shown(dtype)})"
             )
-        out[name] = (tuple(shape), np.dtype(dtype))
+        out[name] = (tuple(dims), tuple(shape), np.dtype(dtype))
     return out
 
 
 def _motions(suite) -> int:
     """The number of motions of a suite's record (:meth:`rocking.study.suite.Suite.record`)."""
-    from .suite import MAX_MOTIONS
-
     if not isinstance(suite, dict):
         raise ParameterError(f"suite must be the record of a suite of motions (got {shown(suite)})")
     listed = next((suite[key] for key in ("files", "pulses") if key in suite), None)
@@ -600,107 +324,101 @@ def _check_parts(config: dict) -> None:
         raise ParameterError(f"damper must be the record of a damper (got {shown(damper)})")
 
 
-def _dimension_sizes(kind: str, shapes: dict, sizes: dict) -> None:
-    """Refuse arrays whose dimensions are not those of their kind, or whose sizes differ from ``sizes`` (the
-    configuration's) or from each other's; ``sizes`` is completed with the others."""
-    from .dataset import LAYOUTS, dimensions
-
-    coordinates = LAYOUTS[kind][0]
-    for name, (shape, _) in sorted(shapes.items()):
-        try:
-            dims = (coordinates[name],) if name in coordinates else dimensions(kind, name)
-        except KeyError:
-            raise ParameterError(f"{name_text(name)}: not an array of a {kind} study") from None
-        if len(dims) != len(shape):
-            raise ParameterError(f"{name_text(name)} has {len(shape)} dimensions, not {len(dims)} ({', '.join(dims)})")
-        for dim, size in zip(dims, shape):
-            if sizes.setdefault(dim, size) != size:
-                raise ParameterError(
-                    f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
-                    "(as its configuration or its other arrays)"
-                )
-
-
 def check_config(kind: str, config: dict) -> tuple[dict, dict]:
-    """Check a saved study's configuration: what its arrays' coordinates and dimensions must be.
+    """Check a saved study's configuration: what its data's coordinates and dimensions must be.
 
-    Its grids (:data:`GRIDS`) and directions must be valid, its block and damper of the types its tables
-    read, and it must be plain JSON (no NaN).
+    Its grids (:attr:`rocking.study.kinds.Kind.grids`) and directions must be valid, its block and damper
+    of the types its tables read, and it must be plain JSON (no NaN).
 
     Returns
     -------
     expected : dict
-        Coordinate array -> ``(field, values)``: the values the configuration gives it.
+        Dimension -> ``(field, values)``: the values the configuration gives its coordinate.
     sizes : dict
-        Dimension -> size (:data:`rocking.study.dataset.LAYOUTS`), as the configuration gives them.
+        Dimension -> size, as the configuration gives them.
 
     Raises
     ------
     ParameterError
         Naming the field and its valid range.
     """
-    from .dataset import LAYOUTS
-
     try:
         config_hash(config)
     except ValueError:
         raise ParameterError("holds NaN or infinity, which a saved configuration never does") from None
     _check_parts(config)
     expected = {}
-    for key, array in GRIDS[kind].items():
-        expected[array] = (key, Grid.from_record(key, config.get(key)).values())
-    expected["signs"] = ("signs", np.array(check_signs("signs", config.get("signs"))))
-    sizes = {LAYOUTS[kind][0][array]: len(values) for array, (_, values) in expected.items()}
+    for key, dim in KINDS[kind].grids.items():
+        expected[dim] = (key, Grid.from_record(key, config.get(key)).values())
+    expected["sign"] = ("signs", np.array(check_signs("signs", config.get("signs"))))
+    sizes = {dim: len(values) for dim, (_, values) in expected.items()}
     return expected, {**sizes, **_counts(kind, config)}
 
 
-def check_arrays(kind: str, listed: dict, sizes: dict) -> None:
-    """Check the arrays a saved study's JSON record lists (``listed``) against the sizes of
-    :func:`check_config`, before any is read: every array has its kind's dimensions, of one size each
-    (``sizes`` is completed), the coordinates are there, and all hold at most :data:`MAX_STUDY_BYTES`.
+def check_variables(kind: str, listed: dict, sizes: dict) -> None:
+    """Check the variables a saved study's JSON record lists (``listed``) against the sizes of
+    :func:`check_config`, before any is read: every variable has the dimensions of its kind
+    (:attr:`rocking.study.kinds.Kind.dims`), of one size each (``sizes`` is completed), the coordinates are
+    there, and all hold at most :data:`MAX_STUDY_BYTES`.
 
     Raises
     ------
     ParameterError
-        Naming the array.
+        Naming the variable.
     """
     shapes = _shapes(listed)
-    missing = sorted({"signs", *GRIDS[kind].values()} - set(shapes))
+    missing = sorted(dim for dim in KINDS[kind].grids.values() if dim not in shapes) + (
+        ["sign"] if "sign" not in shapes else []
+    )
     if missing:
         raise ParameterError(f"{', '.join(missing)} missing (the coordinates of a {kind} study)")
-    _dimension_sizes(kind, shapes, sizes)
-    total = sum(math.prod(shape) * dtype.itemsize for shape, dtype in shapes.values())
+    for name, (dims, shape, _) in sorted(shapes.items()):
+        try:
+            schema = KINDS[kind].dims(name)
+        except KeyError:
+            raise ParameterError(f"{name_text(name)}: not a variable of a {kind} study") from None
+        if dims != schema:
+            raise ParameterError(f"{name_text(name)} has dimensions ({', '.join(dims)}), not ({', '.join(schema)})")
+        for dim, size in zip(dims, shape):
+            if sizes.setdefault(dim, size) != size:
+                raise ParameterError(
+                    f"{name_text(name)} has {size} values along {dim}, not {sizes[dim]} "
+                    "(as its configuration or its other variables)"
+                )
+    total = sum(math.prod(shape) * dtype.itemsize for _, shape, dtype in shapes.values())
     if total > MAX_STUDY_BYTES:
         raise ParameterError(f"{total} bytes in all, at most {MAX_STUDY_BYTES} in a study")
 
 
-def _read_arrays(npz: Path, record: dict) -> dict:
-    """The arrays of a saved study, checked against its JSON record (layout and checksum); the archive is
-    checked from its headers against the layout's size before any array is read."""
-    listed = _shapes(record["arrays"])
-    limit = sum(math.prod(shape) * dtype.itemsize + MAX_NPY_HEADER for shape, dtype in listed.values())
-    try:
-        arrays = read_npz(npz, limit)
-    except UNREADABLE as exc:
-        raise ParameterError(f"{npz}: not a readable .npz, truncated or damaged ({describe(exc)})") from None
-    missing = sorted(set(listed) - set(arrays))
-    if missing:
-        raise ParameterError(f"{npz}: array(s) {', '.join(map(name_text, missing))} missing (its JSON lists them)")
-    found = layout(arrays)
-    wrong = sorted(k for k in record["arrays"] if found[k] != record["arrays"][k])
+def _read_data(nc: Path, record: dict):
+    """The data of a saved study, checked against its JSON record (layout and checksum); the file's size is
+    checked against the layout's before it is read."""
+    listed = _shapes(record["variables"])
+    limit = sum(math.prod(shape) * dtype.itemsize for _, shape, dtype in listed.values()) + NETCDF_OVERHEAD
+    size = nc.stat().st_size
+    if size > limit:
+        raise ParameterError(f"{nc}: {size} bytes, more than the {limit} its JSON allows")
+    data = read_netcdf(nc)
+    found = data_layout(data)
+    if set(found) != set(listed):
+        names = ", ".join(map(name_text, sorted(set(found) ^ set(listed))))
+        raise ParameterError(f"{nc}: variable(s) {names} differ from those its JSON lists")
+    wrong = sorted(k for k in listed if found[k] != record["variables"][k])
     if wrong:
-        names = ", ".join(map(name_text, wrong))
-        raise ParameterError(f"{npz}: array(s) {names} differ in shape or type from its JSON")
-    if checksum(arrays) != record["arrays_sha256"]:
-        raise ParameterError(f"{npz}: its arrays do not match the checksum of its JSON (changed or damaged)")
-    return arrays
+        raise ParameterError(
+            f"{nc}: variable(s) {', '.join(map(name_text, wrong))} differ in shape or type from its JSON"
+        )
+    if checksum(variables(data)) != record["variables_sha256"]:
+        raise ParameterError(f"{nc}: its variables do not match the checksum of its JSON (changed or damaged)")
+    data.attrs.clear()  # the configuration and summary are the record's, checked
+    return data
 
 
-def _check_coordinates(arrays: dict, expected: dict, meta: Path) -> None:
-    """Refuse coordinate arrays that are not the values the configuration gives them."""
-    for name, (field, values) in expected.items():
-        if not np.allclose(arrays[name], values, rtol=1e-9, atol=0.0):
-            raise ParameterError(f"{meta}: config: {field} gives other values than the array {name} holds")
+def _check_coordinates(data, expected: dict, meta: Path) -> None:
+    """Refuse coordinates that are not the values the configuration gives them."""
+    for dim, (field, values) in expected.items():
+        if not np.allclose(data[dim].values, values, rtol=1e-9, atol=0.0):
+            raise ParameterError(f"{meta}: config: {field} gives other values than the coordinate {dim} holds")
 
 
 def _trust(folder: str | Path, record: dict, meta: Path) -> None:
@@ -724,33 +442,33 @@ def _trust(folder: str | Path, record: dict, meta: Path) -> None:
 
 
 def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
-    """Read a saved study back from its ``.npz``/``.json`` pair (either path, or the common stem), with its
-    tables made again from them (:mod:`rocking.study.tables`).
+    """Read a saved study back from its ``.nc``/``.json`` pair (either path, or the common stem), its tables
+    made from its data by its kind (:data:`rocking.study.kinds.KINDS`).
 
     A saved file never selects code to run: a study of a model of the user's own names it, but that
     model is used (for its units) only if the user names its folder again, as ``trust_model``
     (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
     The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
-    study. Its configuration is checked against the arrays it lists (:func:`check_config`,
-    :func:`check_arrays`) and the archive against that list from the zip's headers, before any array is read.
+    study. Its configuration is checked against the variables it lists (:func:`check_config`,
+    :func:`check_variables`) and the NetCDF file's size against that list, before the file is read.
 
     Raises
     ------
     ParameterError
         Naming the file, if either file is missing, the JSON is not a saved
-        study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``arrays``,
-        an unknown kind, another format), its configuration is not valid or contradicts its arrays, the
-        ``.npz`` cannot be read (truncated, damaged, not an archive, compressed, larger than its JSON
-        says), or its arrays differ from what the JSON lists; or if ``trust_model`` is not the model the
-        study was run with.
+        study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``variables``,
+        an unknown kind, another format: a study saved by an earlier version is refused in one line), its
+        configuration is not valid or contradicts its variables, the ``.nc`` cannot be read (truncated,
+        damaged, not NetCDF, larger than its JSON says), or its variables differ from what the JSON lists;
+        or if ``trust_model`` is not the model the study was run with.
     """
     stem = _stem(path)
-    npz, meta = stem.with_suffix(".npz"), stem.with_suffix(".json")
-    for p in (meta, npz):
+    nc, meta = stem.with_suffix(".nc"), stem.with_suffix(".json")
+    for p in (meta, nc):
         if not p.is_file():
             raise ParameterError(
-                f"no saved study at {stem}: {p} is missing (a study writes its .npz, .csv and .nc, "
+                f"no saved study at {stem}: {p} is missing (a study writes its .nc and .csv, "
                 "then its .json; a save cut short leaves no .json: save or run it again)"
             )
     record = read_record(meta)
@@ -760,18 +478,16 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     except ParameterError as exc:
         raise ParameterError(f"{meta}: config: {exc}") from None
     try:
-        check_arrays(kind, record["arrays"], sizes)
+        check_variables(kind, record["variables"], sizes)
     except ParameterError as exc:
-        raise ParameterError(f"{meta}: arrays: {exc}") from None
+        raise ParameterError(f"{meta}: variables: {exc}") from None
     if trust_model is not None:
         _trust(trust_model, record, meta)
-    arrays = _read_arrays(npz, record)
-    _check_coordinates(arrays, expected, meta)
-    from .tables import tables  # the studies' modules, which it reads, store their tiles here
-
+    data = _read_data(nc, record)
+    _check_coordinates(data, expected, meta)
     try:
-        made = tables(kind, arrays, config)
+        KINDS[kind].tables(data, config)  # made here too, so that a loaded study's tables never fail later
     except (KeyError, TypeError, ValueError, IndexError, ParameterError) as exc:
-        raise ParameterError(f"{meta}: its configuration and arrays do not make its tables ({describe(exc)})") from None
+        raise ParameterError(f"{meta}: its configuration and data do not make its tables ({describe(exc)})") from None
     run = record.get("run") if isinstance(record.get("run"), dict) else {}
-    return Study(kind, config, arrays, tables=made, summary=record["summary"], run=run)
+    return Study(kind, config, data, summary=record["summary"], run=run, tabulate=KINDS[kind].tables)

@@ -37,12 +37,16 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import Block, ParameterError, check_real
-from .config import Grid, Setting, Study, Tuning, part_config
+from .config import Grid, Setting, Tuning, part_config
+from .dataset import coordinate_attrs, field_attrs
 from .directions import beta_min_envelope, choose, repeat, sign_column
 from .optimize import USELESS_GAIN, at_edge, coarse_values, refinement, threshold_frequency
 from .overturning_map import FIXED, check_study, preflight, warn_undetermined
-from .spectrum import ABOVE, BRACKETED, TOL, beta_min, check_tol
+from .result import Study
+from .spectrum import TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
+from .vocabulary import ABOVE, BRACKETED, PART_NAMES
+from .vocabulary import THRESHOLD_STATUSES as STATUSES
 
 #: Default bound of the ground acceleration, in units of g. The largest peak ground acceleration ever
 #: recorded is 4.36 g (vector sum of three components, KiK-net station IWTH25, 2008 Iwate-Miyagi
@@ -151,6 +155,28 @@ def threshold_tile(payload: tuple) -> dict:
     return out
 
 
+#: Each array of a tile (:func:`threshold_tile`): the field of a threshold map's data it goes to, and the index
+#: of its part there (none for the block alone's).
+TILE_FIELDS = {
+    "bare_beta_min": ("beta_min", ()),
+    "bare_flag": ("flag", ()),
+    "undetermined": ("undetermined", ()),
+    **{
+        f"{kind}_{f}": ("gain_flag" if f == "flag" else f, (i,))
+        for i, kind in enumerate(KINDS)
+        for f in ("gain", "r", "flag")
+    },
+}
+
+#: The dimensions of every variable of a threshold map's data (:func:`threshold_data`), coordinates included.
+DIMS = {
+    **{dim: (dim,) for dim in ("part", "lam", "p", "Omega", "sign", "r_coarse")},
+    "beta_max": ("lam",),
+    **dict.fromkeys(("beta_min", "flag", "undetermined"), ("lam", "p", "Omega")),
+    **dict.fromkeys(("gain", "r", "gain_flag"), ("part", "lam", "p", "Omega")),
+}
+
+
 def tile_shapes() -> dict:
     """Name -> shape of the arrays of :func:`threshold_tile`."""
     names = ("bare_beta_min", "bare_flag", "undetermined", *(f"{k}_{f}" for k in KINDS for f in ("gain", "r", "flag")))
@@ -212,12 +238,11 @@ def threshold_map(
     Returns
     -------
     Study
-        ``kind = "threshold"``. Arrays ``lam``, ``p``, ``Omega``, ``beta_max`` (per ``lam``); per
-        ``(lam, p, Omega)``: ``bare_beta_min``, ``bare_flag`` (``ABOVE``: safe up to ``a_max``), and per
-        kind of damper ``<kind>_gain``, ``<kind>_r``, ``<kind>_flag``; per ``(lam, p)``:
-        ``<kind>_Omega_star``, ``<kind>_Omega_star_low``/``_high`` (the scanned bracket),
-        ``<kind>_status`` (index into :data:`STATUSES`), ``<kind>_best_gain`` (over ``Omega``),
-        ``safe_from`` (the lowest ``Omega`` above which the block alone does not overturn within the bound).
+        ``kind = "threshold"``; its data (:func:`threshold_data`): ``beta_max`` (per ``lam``); per
+        ``(lam, p, Omega)``: the block alone's ``beta_min``, ``flag`` (``ABOVE``: safe up to ``a_max``) and
+        ``undetermined``; per ``(part, lam, p, Omega)`` (``part``: the dampers of :data:`KINDS`): ``gain``,
+        ``r``, ``gain_flag``. ``Omega*`` and its bracket and status, the best gain and ``safe_from`` are read
+        from them (:func:`thresholds`).
 
     Examples
     --------
@@ -227,9 +252,11 @@ def threshold_map(
     ...     rocking.Grid("lam", 4.0, 4.0, 1), rocking.Grid("p", 2.0, 2.0, 1), rocking.Grid("Omega", 4.0, 14.0, 3),
     ...     rocking.Execution(workers=1, progress=False), Tm=rocking.Grid("Tm", 0.5, 2.0, 2, log=True), refine=0,
     ...     runs=tempfile.mkdtemp())
-    >>> study.arrays["stops_gain"].round(2)  # at Omega = 4, 9, 14: none at 14, where the block alone is safe to 4 g
+    >>> study.data["gain"].sel(part="stops").values.round(2)  # Omega = 4, 9, 14: none at 14, safe alone to 4 g
     array([[[1.14, 1.41,  nan]]])
-    >>> study.arrays["safe_from"], study.arrays["stops_Omega_star_low"]  # Omega* > 9
+    >>> from rocking.study.threshold import thresholds
+    >>> found = thresholds(study.data)
+    >>> found["safe_from"].values, found["Omega_star_low"].sel(part="stops").values  # Omega* > 9
     (array([[14.]]), array([[9.]]))
     """
     Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
@@ -251,16 +278,13 @@ def threshold_map(
         )
     signs = chosen["signs"]
     shape = (L.size, P.size, Om.size)
-    arrays = {
-        "lam": L,
-        "p": P,
-        "Omega": Om,
-        "signs": np.array(signs),
-        "r_coarse": r,
-        "beta_max": np.array([beta_bound(row[0], a_max) for row in blocks]),
+    fields = {
+        "beta_min": np.full(shape, np.nan),
+        "flag": np.zeros(shape, int),
+        "undetermined": np.zeros(shape, int),
+        **{k: np.full((len(KINDS), *shape), np.nan) for k in ("gain", "r")},
+        "gain_flag": np.zeros((len(KINDS), *shape), int),
     }
-    for name in tile_shapes():
-        arrays[name] = np.full(shape, np.nan) if name.endswith(("gain", "_r", "beta_min")) else np.zeros(shape, int)
     grids = {
         "Omega": Omega.record(),
         "Tm_ratio": Tm.record(),
@@ -286,26 +310,13 @@ def threshold_map(
     def place(task: Task, tile: dict) -> None:
         i, j, k = where[task.path]
         for name, value in tile.items():
-            arrays[name][i, j, k] = value[0]
+            field, index = TILE_FIELDS[name]
+            fields[field][(*index, i, j, k)] = value[0]
 
     # Interleave the geometries: the tiles of one differ in cost along Omega, and the progress bar stays steady.
     order = sorted(tasks, key=lambda task: (where[task.path][2], where[task.path][:2]))
     stats = run_tiles(order, place, execution, backend=backend, desc="threshold", on_tile=on_tile)
-    warn_undetermined("threshold", int(arrays["undetermined"].sum()))
-    summary = {"directions": chosen, "a_max_g": float(a_max), "useless_gain": USELESS_GAIN}
-    arrays["safe_from"] = safe_from(Om, arrays["bare_flag"])
-    for kind in KINDS:
-        results = [
-            [threshold_frequency(Om, arrays[f"{kind}_gain"][i, j]) for j in range(P.size)] for i in range(L.size)
-        ]
-        for key in ("Omega_star", "low", "high"):
-            name = f"{kind}_Omega_star" + ("" if key == "Omega_star" else f"_{key}")
-            arrays[name] = np.array([[np.nan if t[key] is None else t[key] for t in row] for row in results])
-        arrays[f"{kind}_status"] = np.array([[STATUSES.index(t["status"]) for t in row] for row in results])
-        gains = np.nan_to_num(arrays[f"{kind}_gain"], nan=-np.inf)
-        arrays[f"{kind}_best_gain"] = np.where(np.isfinite(gains).any(axis=2), gains.max(axis=2), np.nan)
-        arrays[f"{kind}_r_at_edge"] = at_edge(arrays[f"{kind}_r"], r)
-        summary[kind] = {status: int((arrays[f"{kind}_status"] == n).sum()) for n, status in enumerate(STATUSES)}
+    warn_undetermined("threshold", int(fields["undetermined"].sum()))
     config = {
         "kind": "threshold",
         "lam": lam.record(),
@@ -319,18 +330,64 @@ def threshold_map(
         **grids,
         "directions": chosen,
     }
+    data = threshold_data(config, L, P, Om, signs, r, [beta_bound(row[0], a_max) for row in blocks], fields)
+    found = thresholds(data)
+    summary = {"directions": chosen, "a_max_g": float(a_max), "useless_gain": USELESS_GAIN}
+    for index, kind in enumerate(KINDS):
+        status = found["status"].values[index]
+        summary[kind] = {name: int((status == n).sum()) for n, name in enumerate(STATUSES)}
     return Study(
         "threshold",
         config,
-        arrays,
-        tables={"threshold": threshold_table(arrays)},
+        data,
         summary=summary,
         run={**stats.record(), "geometries": L.size * P.size},
+        tabulate=threshold_tables,
     )
 
 
-#: Outcomes of :func:`rocking.study.optimize.threshold_frequency`, in the order of the ``<kind>_status`` arrays.
-STATUSES = ("bracketed", "below_range", "above_range", "undefined")
+def threshold_data(config: dict, lam, p, Omega, signs, r_coarse, beta_max, fields: dict):
+    """A threshold map's results as labelled data: per geometry and ``Omega``, the block alone's ``beta_min``,
+    ``flag`` and the responses without a verdict, and per damper (``part``: :data:`KINDS`) the best ``gain``, its
+    period ``r`` and ``gain_flag``; ``beta_max`` per ``lam``."""
+    import xarray as xr
+
+    coords = {
+        "part": ("part", np.array(KINDS), {"long_name": "; ".join(f"{k}: {PART_NAMES[k]}" for k in KINDS)}),
+        "lam": ("lam", lam, coordinate_attrs("lam", config)),
+        "p": ("p", p, coordinate_attrs("p", config)),
+        "Omega": ("Omega", Omega, coordinate_attrs("Omega", config)),
+        "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
+        "r_coarse": ("r_coarse", r_coarse, coordinate_attrs("r_coarse", config)),
+    }
+    variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
+    variables["beta_max"] = (DIMS["beta_max"], np.array(beta_max), field_attrs("beta_max", config))
+    return xr.Dataset(variables, coords=coords)
+
+
+def thresholds(data):
+    """What a threshold map's gains give per damper and geometry (``(part, lam, p)``): ``Omega_star`` and its
+    bracket ``Omega_star_low``, ``Omega_star_high`` (:func:`rocking.study.optimize.threshold_frequency`), its
+    ``status`` (index into :data:`STATUSES`), the ``best_gain`` over ``Omega``; ``r_at_edge``
+    (``(part, lam, p, Omega)``); and ``safe_from`` (``(lam, p)``: the lowest ``Omega`` above which the block
+    alone does not overturn within the bound)."""
+    import xarray as xr
+
+    Om, gain = data["Omega"].values, data["gain"].values
+    out = {}
+    results = [[[threshold_frequency(Om, row) for row in plane] for plane in part] for part in gain]
+    for key, name in (("Omega_star", "Omega_star"), ("low", "Omega_star_low"), ("high", "Omega_star_high")):
+        values = [[[np.nan if t[key] is None else t[key] for t in row] for row in part] for part in results]
+        out[name] = (("part", "lam", "p"), np.array(values), field_attrs(name, {}))
+    status = [[[STATUSES.index(t["status"]) for t in row] for row in part] for part in results]
+    out["status"] = (("part", "lam", "p"), np.array(status), field_attrs("status", {"kind": "threshold"}))
+    gains = np.nan_to_num(gain, nan=-np.inf)
+    best = np.where(np.isfinite(gains).any(axis=-1), gains.max(axis=-1), np.nan)
+    out["best_gain"] = (("part", "lam", "p"), best, field_attrs("gain", {}))
+    edge = at_edge(data["r"].values, data["r_coarse"].values)
+    out["r_at_edge"] = (("part", "lam", "p", "Omega"), edge, field_attrs("r_at_edge", {}))
+    out["safe_from"] = (("lam", "p"), safe_from(Om, data["flag"].values), field_attrs("safe_from", {}))
+    return xr.Dataset(out, coords=data.drop_dims(["sign", "r_coarse"]).coords)
 
 
 def safe_from(Omega, bare_flag) -> np.ndarray:
@@ -343,28 +400,20 @@ def safe_from(Omega, bare_flag) -> np.ndarray:
     return np.where(tail.any(axis=-1), np.asarray(Omega)[first], np.nan)
 
 
-def threshold_table(arrays: dict) -> dict:
+def threshold_tables(data, config: dict) -> dict:
     """One CSV row per geometry and kind of damper: ``Omega*``, its bracket and status, the best gain."""
-    lam, p = np.meshgrid(arrays["lam"], arrays["p"], indexing="ij")
-    table = {
-        "lam": [],
-        "p_rad_s": [],
-        "damper": [],
-        "Omega_star": [],
-        "Omega_star_low": [],
-        "Omega_star_high": [],
-        "status": [],
-        "best_gain": [],
-        "bare_safe_from_Omega": [],
-    }
+    found = thresholds(data)
+    lam, p = np.meshgrid(data["lam"].values, data["p"].values, indexing="ij")
+    names = ("Omega_star", "Omega_star_low", "Omega_star_high", "status", "best_gain")
+    table: dict[str, list] = {"lam": [], "p_rad_s": [], "damper": [], **{n: [] for n in names}}
+    table["bare_safe_from_Omega"] = []
     for kind in KINDS:
+        a = found.sel(part=kind)
         table["lam"] += list(lam.ravel())
         table["p_rad_s"] += list(p.ravel())
         table["damper"] += [kind] * lam.size
-        table["Omega_star"] += list(arrays[f"{kind}_Omega_star"].ravel())
-        table["Omega_star_low"] += list(arrays[f"{kind}_Omega_star_low"].ravel())
-        table["Omega_star_high"] += list(arrays[f"{kind}_Omega_star_high"].ravel())
-        table["status"] += [STATUSES[s] for s in arrays[f"{kind}_status"].ravel()]
-        table["best_gain"] += list(arrays[f"{kind}_best_gain"].ravel())
-        table["bare_safe_from_Omega"] += list(arrays["safe_from"].ravel())
-    return {k: np.asarray(v) for k, v in table.items()}
+        for name in ("Omega_star", "Omega_star_low", "Omega_star_high", "best_gain"):
+            table[name] += list(a[name].values.ravel())
+        table["status"] += [STATUSES[s] for s in a["status"].values.ravel()]
+        table["bare_safe_from_Omega"] += list(found["safe_from"].values.ravel())
+    return {"threshold": {k: np.asarray(v) for k, v in table.items()}}

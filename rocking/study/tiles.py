@@ -58,7 +58,7 @@ from tqdm.auto import tqdm
 
 from ..model.params import ParameterError
 from .config import config_hash
-from .storage import (
+from .files import (
     MAX_NPY_HEADER,
     MAX_STUDY_BYTES,
     UNREADABLE,

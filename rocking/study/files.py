@@ -1,0 +1,313 @@
+"""Files of the studies, written whole and read within bounds: the primitives under saved studies and tiles.
+
+A file is written atomically (:func:`atomic_write`: a temporary file renamed over it) or created anew
+(:func:`write_file`), with the mode of any new file, ``0666`` less the umask; a full disk raises
+:class:`DiskFull` naming the file, and nothing partial stays behind. What is read is bounded before it is
+read: a JSON record's size and nesting (:func:`read_json`), and an archive's arrays from the zip's headers
+(:func:`read_npz`: uncompressed members, each the size its ``.npy`` header says, within a limit); arrays are
+read with ``allow_pickle=False``: nothing read from a file is executed. :func:`checksum` and :func:`layout`
+describe arrays (names, shapes, dtypes, content) for the records that check them.
+"""
+
+from __future__ import annotations
+
+import errno
+import hashlib
+import json
+import math
+import os
+import re
+import secrets
+import shutil
+import tempfile
+import zipfile
+from collections.abc import Callable
+from contextlib import suppress
+from pathlib import Path
+
+import numpy as np
+from numpy.lib import format as npy
+
+from ..model.params import ParameterError
+from .config import MAX_CELLS
+
+#: What reading a damaged or foreign ``.npz`` raises. zipfile and NumPy raise many types for a
+#: damaged file: BadZipFile (a bad archive, a CRC), NotImplementedError (a damaged version
+#: field), ValueError and SyntaxError (a member's header), EOFError and OSError (truncated
+#: data), KeyError, zlib.error, MemoryError (a header asking for a huge array), ... Any of
+#: them means the same (the file cannot be used), and nothing read is executed (no pickles).
+UNREADABLE = (Exception,)
+
+#: The first bytes of a zip archive (an ``.npz``).
+ZIP_MAGIC = b"PK\x03\x04"
+
+#: Largest JSON record read (a configuration of two grids of MAX_N explicit values is 5 MB), and its
+#: deepest nesting (a record is 5 deep): bounds checked before parsing, so that neither memory nor
+#: Python's recursion limit decides.
+MAX_JSON_BYTES = 64 << 20
+MAX_JSON_DEPTH = 32
+
+#: Largest sum of the arrays of a study: a map of MAX_CELLS cells in both directions holds 3.2 GB
+#: (324 bytes per cell).
+MAX_STUDY_BYTES = MAX_CELLS * 400
+
+#: Largest ``.npy`` header of a member (NumPy writes 128 bytes, more for many dimensions).
+MAX_NPY_HEADER = 4096
+
+#: errno values of a full disk: no space left, or the user's quota used up.
+FULL = frozenset({errno.ENOSPC, errno.EDQUOT})
+
+#: Free bytes below which a failed write that carries no errno (the NetCDF library's "HDF error") is
+#: a full disk: a write that does not fit fills the disk to its last blocks before it fails.
+FULL_MARGIN = 1 << 20
+
+#: Mode of a new file before the umask (os.open applies it, as for any file a program creates).
+NEW_FILE_MODE = 0o666
+
+
+class DiskFull(OSError):
+    """No space left on the disk (or quota used up) writing ``path``; nothing partial is left behind.
+
+    Attributes
+    ----------
+    path : Path
+        The file that did not fit (its final name, not a temporary one).
+    kept : int or None
+        Finished tiles of the study kept on disk, when known: a rerun resumes from them.
+    """
+
+    def __init__(self, path: str | Path, kept: int | None = None) -> None:
+        super().__init__(errno.ENOSPC, "No space left on device", str(path))
+        self.path, self.kept = Path(path), kept
+
+    def __str__(self) -> str:
+        kept = f": {self.kept} tiles kept" if self.kept is not None else ""
+        return f"disk full writing {self.path}{kept}"
+
+
+def is_full(exc: BaseException, folder: Path | None = None) -> bool:
+    """True if ``exc`` says the disk is full: its errno, or (``folder`` given) a library's error without one
+    (RuntimeError, OSError) while ``folder``'s disk is full (:func:`no_space`)."""
+    if isinstance(exc, OSError) and exc.errno in FULL:
+        return True
+    if folder is None or not isinstance(exc, (RuntimeError, OSError)) or getattr(exc, "errno", None):
+        return False
+    return no_space(folder)
+
+
+def no_space(folder: Path) -> bool:
+    """True if the disk of ``folder`` has less than :data:`FULL_MARGIN` bytes free (False if it cannot tell)."""
+    try:
+        return shutil.disk_usage(folder).free < FULL_MARGIN
+    except OSError:
+        return False
+
+
+def _new_file(path: Path) -> int:
+    """Create ``path`` (it must not exist), open for writing, with mode 0666 less the umask."""
+    return os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), NEW_FILE_MODE)
+
+
+def write_file(path: Path, write: Callable, mode: str = "wb") -> None:
+    """Create ``path`` and write it through ``write(file)``; ``mode``: ``"wb"``, or ``"w"`` (UTF-8 text)."""
+    text = {"encoding": "utf-8", "newline": ""} if "b" not in mode else {}
+    with os.fdopen(_new_file(path), mode, **text) as f:
+        write(f)
+
+
+def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
+    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``.
+
+    Parameters
+    ----------
+    path : Path
+        The file to write; its folder must exist.
+    write : callable
+        ``write(file)``, given the open temporary file.
+    mode : {"wb", "w"}, optional
+        Binary, or text (UTF-8, newlines as written).
+
+    Raises
+    ------
+    DiskFull
+        If the disk is full; the temporary file is removed.
+
+    Notes
+    -----
+    A reader (or a rerun after Ctrl-C or a killed process) sees either the old
+    file, or no file, or the whole new one. The file gets the mode of any new
+    file (0666 less the umask), not a temporary file's 0600. No fsync: it
+    would cost as much as a small tile's work, and only a power cut can leave
+    a damaged file, which :func:`load` and :func:`rocking.study.tiles.load_tile` refuse.
+    """
+    tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
+    try:
+        write_file(tmp, write, mode)
+        os.replace(tmp, path)
+    except BaseException as exc:
+        # Ctrl-C may come just after the rename (the signal is handled when os.replace returns): no tmp then.
+        with suppress(FileNotFoundError):
+            os.unlink(tmp)
+        if is_full(exc):
+            raise DiskFull(path) from None
+        raise
+
+
+def layout(arrays: dict) -> dict:
+    """Name -> ``{"dtype": ..., "shape": [...]}`` of ``arrays``, JSON-ready."""
+    return {k: {"dtype": np.asarray(v).dtype.str, "shape": list(np.shape(v))} for k, v in sorted(arrays.items())}
+
+
+def checksum(arrays: dict) -> str:
+    """SHA-256 of the content of ``arrays``: each name, dtype, shape and bytes, in sorted order of names."""
+    digest = hashlib.sha256()
+    for name in sorted(arrays):
+        a = np.ascontiguousarray(arrays[name])
+        digest.update(f"{name}\0{a.dtype.str}\0{a.shape}\0".encode())
+        digest.update(a.tobytes())
+    return digest.hexdigest()
+
+
+def _npy_bytes(zf: zipfile.ZipFile, info: zipfile.ZipInfo) -> int:
+    """The bytes a member must hold: its ``.npy`` header and the array that header announces."""
+    with zf.open(info) as f:
+        version = npy.read_magic(f)
+        read_header = {(1, 0): npy.read_array_header_1_0, (2, 0): npy.read_array_header_2_0}.get(version)
+        if read_header is None:
+            raise ValueError(f"member {info.filename}: .npy format {version}, not one NumPy's savez writes")
+        shape, _, dtype = read_header(f, max_header_size=MAX_NPY_HEADER)
+        return f.tell() + math.prod(shape) * dtype.itemsize
+
+
+def check_archive(zf: zipfile.ZipFile, limit: int) -> None:
+    """Refuse an archive from its headers, before any array is read: members that are compressed (the bytes
+    read are then the bytes on disk), more than ``limit`` bytes in all, or whose ``.npy`` header announces
+    another size than the member's.
+
+    Raises
+    ------
+    ValueError
+        With the reason.
+    """
+    infos = zf.infolist()
+    total = sum(info.file_size for info in infos)
+    if total > limit:
+        raise ValueError(f"its members hold {total} bytes, more than the {limit} expected")
+    for info in infos:
+        if info.compress_type != zipfile.ZIP_STORED:
+            raise ValueError(f"member {info.filename} is compressed; arrays are stored as np.savez writes them")
+        announced = _npy_bytes(zf, info)
+        if announced != info.file_size:
+            raise ValueError(
+                f"member {info.filename}: its header announces {announced} bytes, it holds {info.file_size}"
+            )
+
+
+def read_npz(path: Path, limit: int = MAX_STUDY_BYTES) -> dict:
+    """Every array of the ``.npz`` at ``path``, read without pickles, after :func:`check_archive` with ``limit``.
+
+    Raises
+    ------
+    ValueError
+        If the file is not a zip archive (e.g. a ``.npy``, a text file), or its headers are refused.
+    Exception
+        Any of :data:`UNREADABLE` for a truncated or damaged archive.
+    """
+    # Our own file object: np.load leaves the file it opened open when the archive is damaged.
+    with open(path, "rb") as f:
+        if f.read(len(ZIP_MAGIC)) != ZIP_MAGIC:
+            raise ValueError("not an .npz archive")
+        f.seek(0)
+        with zipfile.ZipFile(f) as zf:
+            check_archive(zf, limit)
+        f.seek(0)
+        with np.load(f, allow_pickle=False) as z:
+            return {k: z[k] for k in z.files}
+
+
+#: A JSON string, escapes included: brackets inside strings do not nest.
+_JSON_STRING = re.compile(r'"[^"\\]*(?:\\.[^"\\]*)*"')
+
+
+def json_depth(text: str) -> int:
+    """The deepest nesting of arrays and objects in the JSON ``text``, counted without parsing it."""
+    code = np.frombuffer(_JSON_STRING.sub("", text).encode(), np.uint8)
+    marks = code[np.isin(code, np.frombuffer(b"[]{}", np.uint8))]
+    steps = np.where((marks == ord("[")) | (marks == ord("{")), 1, -1)
+    return int(np.cumsum(steps).max(initial=0))
+
+
+def read_json(path: Path) -> object:
+    """The JSON value in the file at ``path``, its size and nesting checked before it is parsed.
+
+    Raises
+    ------
+    OSError
+        If it cannot be read.
+    ValueError
+        If it is not a regular file (a FIFO would never end), larger than :data:`MAX_JSON_BYTES`, not
+        UTF-8, nested deeper than :data:`MAX_JSON_DEPTH`, or not JSON.
+    """
+    if path.exists() and not path.is_file():
+        raise ValueError("not a regular file")
+    with open(path, "rb") as f:
+        data = f.read(MAX_JSON_BYTES + 1)
+    if len(data) > MAX_JSON_BYTES:
+        raise ValueError(f"larger than {MAX_JSON_BYTES >> 20} MB")
+    text = data.decode("utf-8")
+    depth = json_depth(text)
+    if depth > MAX_JSON_DEPTH:
+        raise ValueError(f"nested {depth} deep, at most {MAX_JSON_DEPTH}")
+    return json.loads(text)
+
+
+def describe(exc: BaseException) -> str:
+    """An exception as a short reason for a one-line message."""
+    text = str(exc).strip().splitlines()[0] if str(exc).strip() else ""
+    return f"{type(exc).__name__}: {text}" if text else type(exc).__name__
+
+
+def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
+    """Write equal-length columns as CSV with a header into the new file ``path`` (:func:`save` writes it in
+    its temporary folder); floats as their shortest exact ``repr``.
+
+    Rows are formatted ``chunk`` at a time, so that a big map needs no Python
+    object per value of the whole table at once.
+    """
+    names = list(columns)
+    data = [np.asarray(columns[k]).ravel() for k in names]
+    row = ",".join("%r" if d.dtype.kind == "f" else "%s" for d in data) + "\n"
+
+    def write(f) -> None:
+        f.write(",".join(names) + "\n")
+        for start in range(0, len(data[0]) if data else 0, chunk):
+            f.writelines(row % values for values in zip(*(d[start : start + chunk].tolist() for d in data)))
+
+    write_file(path, write, mode="w")
+
+
+def make_folder(folder: str | Path, what: str) -> Path:
+    """``folder``, created if needed and checked to be writable; ``what`` names it in the error.
+
+    Raises
+    ------
+    ParameterError
+        If it cannot be created (a part of the path is a file) or written (permissions).
+    """
+    folder = Path(folder)
+    try:
+        folder.mkdir(parents=True, exist_ok=True)
+        # A probe file: permissions, read-only mounts and ACLs all answer the same way (os.access does not).
+        with tempfile.TemporaryFile(dir=folder):
+            pass
+    except OSError as exc:
+        raise ParameterError(f"{what} {folder}: cannot write there ({_why(folder, exc)})") from None
+    return folder
+
+
+def _why(folder: Path, exc: OSError) -> str:
+    """Why ``folder`` cannot be written, in words: the file in its way, or the system's reason."""
+    for part in (folder, *folder.parents):
+        if part.exists() and not part.is_dir():
+            return f"{part} is a file, not a folder" if part != folder else "it is a file, not a folder"
+    return exc.strerror or describe(exc)
