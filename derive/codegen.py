@@ -11,10 +11,19 @@ and manifest.json hold the same functions in the same order.
 Every model exposes the same functions with the same arguments, so that a
 runtime can drive any model from its manifest alone:
 
-``name(s, <q...>, <dq...>, ag, <params...>, stop_on=None)`` in NumPy, and
-``prefix_name(double s, const double *y, double ag, const double *p[, double *out])``
-in C, with ``y = (q, dq)`` and ``p`` in manifest order. Arguments a function
-does not need are accepted and ignored.
+``name(s, <q...>, <dq...>, ag, agy, <params...>, stop_on=None)`` in NumPy, and
+``prefix_name(double s, const double *y, double ag, double agy, const double *p[, double *out])``
+in C, with ``y = (q, dq)``, ``ag`` and ``agy`` the horizontal and vertical ground
+acceleration and ``p`` in manifest order. Arguments a function does not need are
+accepted and ignored.
+
+The functions whose equations hold the vertical ground acceleration only as the
+effective gravity ``g + agy`` (:func:`rocking.derive.equations.vertical_as_gravity`)
+are written with ``g`` standing for it: they read ``g + agy`` where the parameter
+``g`` goes, and their prepared C forms take the constants of a run prepared at that
+gravity. A runtime without vertical motion computes exactly what it did before. A
+model whose energies use ``g`` elsewhere is written at ``agy = 0`` (its manifest's
+``vertical`` is false, and a runtime refuses vertical motion for it).
 
 The regime of the end stops (per stop side, 1 while its bumper acts, else 0)
 is an input like the pivot: ``stop_on`` in NumPy, ``on`` of
@@ -27,6 +36,7 @@ function takes the regime of its state: each side acts where its contact
 
 from __future__ import annotations
 
+import dataclasses
 import functools
 import hashlib
 import json
@@ -38,8 +48,8 @@ import sympy as sp
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.numpy import NumPyPrinter
 
-from .equations import Equations
-from .mechanics import ag, coordinate_units, s
+from .equations import EFFECTIVE_GRAVITY, Equations
+from .mechanics import ag, agy, coordinate_units, s
 from .names import escape_c_comment, escape_markdown, escape_python_doc
 from .spec import BLOCK_PARAMETERS, Parameter
 
@@ -48,8 +58,9 @@ TEMPLATES = Path(__file__).parent / "templates"
 #: ``rocking.generated`` (see build.py). 3: the regime of the stops is an input (``stop_on``, ``on``).
 #: 4: the units of the state (``units``); block_accelerations, base_reaction and element_forces. 5: stop_contact,
 #: the regime function of pads that only push. 6: the law of each stop side (``stops``), the regime's inputs
-#: (``regime``: the indicators, then the memory v_in of each Hunt-Crossley side), stop_approach.
-MANIFEST_FORMAT = 6
+#: (``regime``: the indicators, then the memory v_in of each Hunt-Crossley side), stop_approach. 7: the vertical
+#: ground acceleration ``agy`` after ``ag``; the functions that hold it as gravity read ``g + agy``.
+MANIFEST_FORMAT = 7
 
 
 @dataclass(frozen=True)
@@ -72,6 +83,9 @@ class Function:
         Whether a simulator calls it while it integrates. The others (the loads of a
         recorded history) come last in the table, and their constants are prepared
         after and apart from those of a run's functions, which stay as they were.
+    effective_gravity : bool
+        Whether its outputs are written with ``g`` standing for ``g + agy``
+        (:class:`~rocking.derive.equations.Equations`).
     """
 
     name: str
@@ -80,6 +94,7 @@ class Function:
     labels: tuple
     symbols: tuple
     in_run: bool = True
+    effective_gravity: bool = False
 
     @property
     def scalar(self) -> bool:
@@ -101,7 +116,7 @@ def model_functions(eq: Equations) -> list[Function]:
     M, f = sp.IndexedBase("M"), sp.IndexedBase("f")
     delta, force, contact = sp.IndexedBase("delta"), sp.IndexedBase("F_b"), sp.IndexedBase("contact")
     theta_cr = sp.Symbol("theta_cr", real=True)
-    return [
+    table = [
         Function(
             "mass_matrix",
             "Mass matrix of the rocking phase about the pivot s, row-major.",
@@ -138,14 +153,14 @@ def model_functions(eq: Equations) -> list[Function]:
         ),
         Function(
             "impact",
-            "Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.",
+            "Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.",
             tuple(eq.impact),
             tuple("d" + q + "_plus" for q in names),
             tuple(_after_impact(d) for d in sysm.dq),
         ),
         _scalar(
             "energy",
-            "Mechanical energy in the ground frame while rocking about s; ag is ignored.",
+            "Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.",
             eq.energy,
             sp.Symbol("E", real=True),
         ),
@@ -158,21 +173,21 @@ def model_functions(eq: Equations) -> list[Function]:
         _scalar(
             "uplift_energy",
             "Least energy above rest at which the attached bodies can lift the block about s in full contact "
-            "without ground motion (inf: never; 0: no bound derived); y and ag are ignored.",
+            "without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.",
             eq.uplift_energy,
             sp.Symbol("E_uplift", real=True),
         ),
         _scalar(
             "least_potential",
             "Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers "
-            "left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.",
+            "left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.",
             eq.least_potential,
             sp.Symbol("V_least", real=True),
         ),
         _scalar(
             "least_stroke_potential",
             "Least potential energy at the tilt theta about s with q[1] held, over the positions of the other "
-            "attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.",
+            "attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.",
             eq.least_stroke_potential,
             sp.Symbol("V_stroke", real=True),
         ),
@@ -249,6 +264,13 @@ def model_functions(eq: Equations) -> list[Function]:
             in_run=False,
         ),
     ]
+    gravity = sp.Symbol("g", real=True)
+    return [
+        dataclasses.replace(f, effective_gravity=any(o.has(gravity) for o in f.outputs))
+        if eq.vertical and f.name in EFFECTIVE_GRAVITY
+        else f
+        for f in table
+    ]
 
 
 def _affine(name: str, doc: str, quantities: tuple, outputs, accelerations) -> Function:
@@ -286,6 +308,10 @@ def arguments(eq: Equations, spec) -> list[Argument]:
     args += [Argument(str(q), coord_doc[str(q)]) for q in sysm.q]
     args += [Argument(str(d), f"time derivative of {q}") for q, d in zip(sysm.q, sysm.dq)]
     args.append(Argument("ag", "ground acceleration ddx_g [m/s^2], positive to the right"))
+    if eq.vertical:
+        args.append(Argument("agy", "vertical ground acceleration ddy_g [m/s^2], positive up"))
+    else:
+        args.append(Argument("agy", "vertical ground acceleration ddy_g [m/s^2]: ignored, the model takes none"))
     pdoc = {p.name: f"{p.doc} [{p.unit}]" for p in spec.all_parameters}
     args += [Argument(str(p), pdoc[str(p)]) for p in sysm.params]
     return args
@@ -324,7 +350,7 @@ def hoist_constants(outputs, varying):
     """Split expressions into constants of the parameters and what varies along a run.
 
     Every largest subexpression that depends on none of ``varying`` (the state
-    and ``ag``) becomes a symbol ``cst<i>``, the same symbol wherever it
+    and the ground accelerations) becomes a symbol ``cst<i>``, the same symbol wherever it
     recurs; the terms of a sum that differ only by such a factor are gathered
     first, so that ``a x + b x`` costs one constant ``a + b``. A runtime
     computes the constants once per run, pivot and regime of the stops, not at every call, all of
@@ -381,7 +407,7 @@ class Prepared:
     prepare : Cse
         The constants, from the pivot, the regime of the stops and the parameters.
     functions : tuple of Cse
-        Each function of the table, from the state, ``ag`` and the constants.
+        Each function of the table, from the state, ``ag`` (``agy`` for the power) and the constants.
     """
 
     constants: tuple
@@ -394,18 +420,27 @@ def prepare_run(functions: list[Function], state: tuple) -> Prepared:
 
     The constants first used by the functions that are not ``in_run`` come last (constants are
     numbered in order of first use, and those functions last in the table) and get their own
-    common subexpressions, after the others: what a run prepares is computed as before.
+    common subexpressions, after the others: what a run prepares is computed as before. The
+    terms in ``agy`` (the power's) are hoisted after all the rest, and their constants come
+    last with common subexpressions of their own, for the same reason.
     """
     if any(f.in_run and not e.in_run for e, f in zip(functions, functions[1:])):
         raise ValueError("the functions a simulator calls while it integrates come first in the table")
-    varying = [sp.Symbol(n, real=True) for n in state] + [ag]
-    constants, hoisted = hoist_constants([o for f in functions for o in f.outputs], varying)
+    varying = [sp.Symbol(n, real=True) for n in state] + [ag, agy]
+    outputs = [sp.sympify(o) for f in functions for o in f.outputs]
+    still = [o.xreplace({agy: 0}) for o in outputs]
+    known = len(hoist_constants(still, varying)[0])
+    moving = [sp.expand(o - w) if o.has(agy) else sp.Integer(0) for o, w in zip(outputs, still)]
+    constants, hoisted = hoist_constants(still + moving, varying)
+    hoisted = [w + v for w, v in zip(hoisted[: len(outputs)], hoisted[len(outputs) :])]
     in_run = hoisted[: sum(len(f.outputs) for f in functions if f.in_run)]
     used = set().union(*(o.free_symbols for o in in_run)) if in_run else set()
-    first = sum(1 for symbol, _ in constants if symbol in used)
-    run = common_subexpressions([expr for _, expr in constants[:first]])
-    rest = common_subexpressions([expr for _, expr in constants[first:]], start=len(run.subs))
-    prepare = Cse(run.subs + rest.subs, run.outputs + rest.outputs)
+    first = sum(1 for symbol, _ in constants[:known] if symbol in used)
+    groups, start = [], 0
+    for block in (constants[:first], constants[first:known], constants[known:]):
+        groups.append(common_subexpressions([expr for _, expr in block], start=start))
+        start += len(groups[-1].subs)
+    prepare = Cse(sum((c.subs for c in groups), ()), sum((c.outputs for c in groups), ()))
     split, start = [], 0
     for f in functions:
         split.append(common_subexpressions(hoisted[start : start + len(f.outputs)]))
@@ -461,6 +496,8 @@ class ModelContext:
         memory as if a contact started there: what a function takes when it is given none.
     stops : tuple of dict
         Per stop side, its ``law`` and ``approach_floor`` (0 for Kelvin-Voigt).
+    vertical : bool
+        Whether the model takes vertical ground motion (``Equations.vertical``).
     inputs_sha256 : str
         :func:`input_hash` of the spec and options.
     """
@@ -482,6 +519,7 @@ class ModelContext:
     regime: tuple
     state_regime: tuple
     stops: tuple
+    vertical: bool
     inputs_sha256: str
 
 
@@ -516,6 +554,7 @@ def model_context(eq: Equations, spec) -> ModelContext:
             {"law": pad.law, "approach_floor": pad.approach_floor if pad.hunt_crossley else 0.0}
             for *_, pad in sysm.stops
         ),
+        vertical=eq.vertical,
         inputs_sha256=input_hash(spec, eq.options),
     )
 
@@ -599,7 +638,10 @@ class NumpyGenerator(Generator):
     def files(self):
         m = self.model
         printer = NumPyPrinter({"fully_qualified_modules": True})
-        funcs = [dict(_printed(f, c, printer), regime=bool(c.uses(m.regime))) for f, c in zip(m.functions, m.cse)]
+        funcs = [
+            dict(_printed(f, c, printer), regime=bool(c.uses(m.regime)), effective_gravity=f.effective_gravity)
+            for f, c in zip(m.functions, m.cse)
+        ]
         regime = _state_regime(m, printer)
         imports = sorted(set(printer.module_imports) | {"numpy"})
         fields = {"functions": funcs, "imports": imports, "regime": list(m.regime), "state_regime": regime}
@@ -639,8 +681,10 @@ class CGenerator(Generator):
     the parameters, the pivot and the regime of the stops alone) come from
     ``prefix_prepare(s, on, p, cst)``;
     ``prefix_<name>_prepared(y, ag, cst[, out])`` is the work left per call,
-    what a runtime calls in its inner loop. ``prefix_<name>(s, y, ag, p[, out])``
-    prepares and calls it: the interface of every back end.
+    what a runtime calls in its inner loop (``prefix_power_prepared`` also takes
+    ``agy``, which enters it otherwise than with gravity). ``prefix_<name>(s, y,
+    ag, agy, p[, out])`` prepares, at the effective gravity ``g + agy`` for the
+    functions that read it so, and calls it: the interface of every back end.
     """
 
     stage = "C code"
@@ -660,6 +704,8 @@ class CGenerator(Generator):
             dict(
                 _printed(f, c, printer),
                 uses_ag=bool(c.uses(["ag"])),
+                reads_agy=bool(c.uses(["agy"])),
+                effective_gravity=f.effective_gravity,
                 state=_read(m.state, c),
                 constants=_read(run.constants, c),
             )
@@ -696,7 +742,7 @@ class LatexGenerator(Generator):
     stage = "LaTeX"
 
     def files(self):
-        names = {ag: r"\ddot{x}_g"}
+        names = {ag: r"\ddot{x}_g", agy: r"\ddot{y}_g"}
         for q, dq, ddq in self.model.kinematics:
             names[dq] = r"\dot{" + sp.latex(q) + "}"
             names[ddq] = r"\ddot{" + sp.latex(q) + "}"
@@ -713,10 +759,12 @@ class LatexGenerator(Generator):
         def tex(expr):
             return sp.latex(expr, symbol_names=names)
 
+        gravity = sp.Symbol("g", real=True)
         sections = []
         for f in self.model.functions:
             shown = _SHOWN.get(f.name, lambda e: e)
-            equations = [(tex(y), tex(shown(o))) for y, o in zip(f.symbols, f.outputs)]
+            outputs = [o.xreplace({gravity: gravity + agy}) if f.effective_gravity else o for o in f.outputs]
+            equations = [(tex(y), tex(shown(o))) for y, o in zip(f.symbols, outputs)]
             sections.append({"name": f.name, "doc": f.doc, "equations": equations})
         coordinates = [sp.latex(q) for q, _, _ in self.model.kinematics]
         regime = [
@@ -749,6 +797,7 @@ class ManifestGenerator(Generator):
             "arguments": [a.name for a in m.arguments],
             "functions": {f.name: {"outputs": len(f.outputs), "scalar": f.scalar, "doc": f.doc} for f in m.functions},
             "regime": list(m.regime),
+            "vertical": m.vertical,
             "stops": [dict(side) for side in m.stops],
             "files": {
                 "numpy": "model.py",

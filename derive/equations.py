@@ -1,11 +1,21 @@
 """Lagrange's equations and everything a time integrator needs, from the energies.
 
 The results are SymPy expressions in the symbols of :class:`~rocking.derive.mechanics.System`
-(``s``, coordinates, velocities, the ground acceleration ``ag`` and the
-parameters). Each is derived, never typed: the rocking equations as mass matrix
-and forcing, the full-contact accelerations, the uplift functions as the
-reaction that keeps ``theta = 0``, the impact map from conservation laws, the
-mechanical energy and its rate, and the static critical angle.
+(``s``, coordinates, velocities, the ground acceleration ``ag``, its vertical
+component ``agy`` and the parameters). Each is derived, never typed: the rocking
+equations as mass matrix and forcing, the full-contact accelerations, the uplift
+functions as the reaction that keeps ``theta = 0``, the impact map from
+conservation laws, the mechanical energy and its rate, and the static critical
+angle.
+
+The vertical ground acceleration ``ddy_g`` enters the equations of motion and the
+reactions of a model whose energies hold ``g`` in the weights alone only with
+gravity, as ``g + ddy_g`` (:func:`vertical_as_gravity` checks it on every model):
+those are kept at ``ddy_g = 0`` with ``g`` standing for the effective gravity, so
+that a runtime without vertical motion computes what it did before, and a runtime
+with it passes ``g + ddy_g(t)`` where ``g`` goes. A model that uses ``g`` elsewhere
+(a spring preloaded by a weight) is derived at ``ddy_g = 0`` and takes no vertical
+motion (``Equations.vertical``).
 """
 
 from __future__ import annotations
@@ -14,10 +24,13 @@ from dataclasses import dataclass
 
 import sympy as sp
 
-from .mechanics import System, ag, build_system, pad_power, s
+from .mechanics import System, ag, agy, build_system, pad_power, s
 from .spec import IMPACT_LAWS, INERTIA_OPTIONS, Spec, SpecError, nonnegative
 
 DEFAULT_OPTIONS = {"impact": "spec", "inertia": "free"}
+#: The expressions of :class:`Equations` written at ``ddy_g = 0`` with ``g`` standing for the
+#: effective gravity ``g + ddy_g`` when ``Equations.vertical`` (:func:`vertical_as_gravity`).
+EFFECTIVE_GRAVITY = ("forcing", "rocking_accel", "contact_accel", "uplift", "base_reaction")
 
 
 @dataclass(frozen=True)
@@ -31,7 +44,10 @@ class Equations:
     options : dict
         Resolved derivation options (per-coordinate impact laws included).
     mass_matrix : Matrix
-        ``M(q)`` of the rocking phase, ``M ddq = forcing``.
+        ``M(q)`` of the rocking phase, ``M ddq = forcing``. The forcing, the
+        accelerations, the uplift function and the base reaction are written at
+        ``ddy_g = 0``, their ``g`` standing for the effective gravity ``g + ddy_g``
+        (:data:`EFFECTIVE_GRAVITY`) when ``vertical``.
     forcing : Matrix
         Right-hand side of the rocking phase.
     rocking_accel : list of Expr
@@ -45,8 +61,9 @@ class Equations:
         Velocities after an impact at ``theta = 0`` that ends rocking about
         ``s`` (the new pivot is ``-s``); coordinates are continuous.
     energy, power : Expr
-        Mechanical energy in the ground frame and its rate along solutions
-        (dissipation plus the work of the inertial ground force).
+        Mechanical energy in the ground frame (with the true ``g``) and its rate
+        along solutions (dissipation plus the work of the inertial ground force,
+        both components).
     critical_angle : Expr
         Static critical angle about the pivot ``s`` (sign of ``s``).
     critical_tangent : Expr
@@ -104,6 +121,10 @@ class Equations:
     stop_approach : list of Expr
         Per side of every end stop, the rate of its penetration ``ddelta``: where a
         contact starts (``ddelta >= 0``), ``max(ddelta, floor)`` is its ``v_in``.
+    vertical : bool
+        Whether the vertical ground acceleration enters the equations and reactions
+        only with gravity (:func:`vertical_as_gravity`): then a runtime takes vertical
+        motion, else it refuses it.
     """
 
     system: System
@@ -130,6 +151,7 @@ class Equations:
     stop_regime: list = ()
     stop_memory: tuple = ()
     stop_approach: tuple = ()
+    vertical: bool = True
 
 
 def resolve_options(spec: Spec, options: dict | None) -> dict:
@@ -166,14 +188,50 @@ def _reduce(expr):
 
 
 def _to_symbols(expr, sysm: System, vg):
-    """Replace the time functions and their derivatives by plain symbols."""
+    """Replace the time functions and their derivatives by plain symbols.
+
+    Both ground velocities become ``vg``: no equation may depend on either.
+    """
     t_ = sysm.x_g.args[0]
-    rep = {sysm.x_g.diff(t_, 2): ag, sysm.x_g.diff(t_): vg}
+    rep = {sysm.x_g.diff(t_, 2): ag, sysm.x_g.diff(t_): vg, sysm.y_g.diff(t_, 2): agy, sysm.y_g.diff(t_): vg}
     for f, _q, dq, ddq in zip(sysm.qt, sysm.q, sysm.dq, sysm.ddq):
         rep[f.diff(f.args[0], 2)] = ddq
         rep[f.diff(f.args[0])] = dq
     expr = expr.xreplace(rep)
     return expr.xreplace(dict(zip(sysm.qt, sysm.q)))
+
+
+def _relative(X, sysm: System):
+    """The position ``X`` relative to the ground (its displacement taken out)."""
+    return X - sp.Matrix([sysm.x_g, sysm.y_g])
+
+
+def _at_rest_ground(expr, sysm: System):
+    """``expr`` with the ground's displacement at 0: positions relative to the ground."""
+    return expr.xreplace({sysm.x_g: 0, sysm.y_g: 0}).doit()
+
+
+def _gravity(sysm: System):
+    """The symbol of gravity among the parameters."""
+    return sysm.params[[p.name for p in sysm.params].index("g")]
+
+
+def vertical_as_gravity(exprs, sysm: System) -> bool:
+    """Whether ``ddy_g`` enters ``exprs`` only with gravity, as ``g + ddy_g``.
+
+    In the frame that moves with the ground, its vertical acceleration is an
+    inertial force ``-m ddy_g`` on every body, parallel to its weight ``-m g``:
+    each body feels the effective gravity ``g + ddy_g``, and Lagrange's equations
+    on the absolute positions say so, unless ``g`` enters the energies elsewhere
+    (a spring preloaded by a weight keeps its preload when the ground moves).
+    """
+    g = _gravity(sysm)
+    return all(_reduce(e - e.xreplace({agy: 0}).xreplace({g: g + agy})) == 0 for e in exprs)
+
+
+def still(exprs) -> list:
+    """``exprs`` at ``ddy_g = 0``."""
+    return [e.xreplace({agy: 0}) for e in exprs]
 
 
 def lagrange(sysm: System):
@@ -185,7 +243,7 @@ def lagrange(sysm: System):
         v = f.diff(t_)
         r = sysm.T.diff(v).diff(t_) - sysm.T.diff(f) + sysm.V.diff(f) + sysm.D.diff(v)
         r = _reduce(_to_symbols(r, sysm, vg))
-        if r.has(vg) or r.has(sysm.x_g):
+        if r.has(vg) or r.has(sysm.x_g) or r.has(sysm.y_g):
             raise SpecError("the equations depend on the ground velocity or position: the model is inconsistent")
         out.append(r)
     return out
@@ -223,7 +281,7 @@ def _angular_momentum(sysm: System, pivot_sign, velocities):
     vg = sp.Symbol("vg", real=True)
     total = sp.Integer(0)
     for mass, inertia, X, angle in sysm.bodies:
-        Xr = X - sp.Matrix([sysm.x_g, 0])
+        Xr = _relative(X, sysm)
         V = Xr.diff(t_)
         omega = (sysm.qt[0] + angle).diff(t_)
         r = Xr - point
@@ -241,7 +299,7 @@ def impact_map(sysm: System, laws: dict):
     """
     plus = tuple(sp.Symbol(d.name + "_plus", real=True) for d in sysm.dq)
     vg = sp.Symbol("vg", real=True)
-    T_rel = _to_symbols(sysm.T.xreplace({sysm.x_g: 0}).doit(), sysm, vg).subs(vg, 0)
+    T_rel = _to_symbols(_at_rest_ground(sysm.T, sysm), sysm, vg).subs(vg, 0)
     names = [str(q) for q in sysm.q]
     eqs = [_angular_momentum(sysm, -s, plus) - _angular_momentum(sysm, s, sysm.dq)]
     unknowns = [plus[0]]
@@ -270,10 +328,10 @@ def _weights_moment(sysm: System):
     vanishes at ``atan2(b, a)``, the other coordinates held.
     """
     vg = sp.Symbol("vg", real=True)
-    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    g = _gravity(sysm)
     Vg = sp.Integer(0)
     for mass, _, X, _ in sysm.bodies:
-        Vg += mass * g * X[1]
+        Vg += mass * g * _relative(X, sysm)[1]
     Vg = _to_symbols(Vg, sysm, vg)
     theta = sysm.q[0]
     if sp.simplify(Vg.diff(theta, 2) + Vg) != 0:
@@ -410,7 +468,7 @@ def least_potentials(sysm: System, energy, spec: Spec, laws: dict) -> tuple:
     if not energy_cannot_grow(spec, laws):
         return none
     theta = sysm.q[0]
-    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    g = _gravity(sysm)
     off = {on: 0 for on, *_ in sysm.stops}
     V = _reduce(energy.xreplace(off).subs({d: 0 for d in sysm.dq}))
     weights = _reduce(g * V.diff(g))
@@ -563,23 +621,23 @@ def base_reaction(sysm: System, vg) -> list:
     block transmits to the ground, which tips it about ``A`` when positive.
     """
     t_ = sysm.x_g.args[0]
-    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    g = _gravity(sysm)
     shear, normal, moment = sp.Integer(0), sp.Integer(0), sp.Integer(0)
     for mass, inertia, X, angle in sysm.bodies:
         a = _absolute_acceleration(X, sysm, vg)
         force = (mass * a[0], mass * (a[1] + g))
-        r = [_to_symbols(X[0] - sysm.x_g, sysm, vg), _to_symbols(X[1], sysm, vg)]
+        r = [_to_symbols(c, sysm, vg) for c in _relative(X, sysm)]
         alpha = _to_symbols((sysm.qt[0] + angle).diff(t_, 2), sysm, vg)
         shear += force[0]
         normal += force[1]
         moment += r[0] * force[1] - r[1] * force[0] + inertia * alpha
-    return [c for e in (shear, normal, -moment) for c in affine_in_accelerations(e, sysm)]
+    return [c for e in still([shear, normal, -moment]) for c in affine_in_accelerations(e, sysm)]
 
 
 def element_forces(sysm: System, vg) -> list:
     """Per attached coordinate, ``dV_e/dq + dD/ddq``: the force of its elements on the block along it."""
     t_ = sysm.x_g.args[0]
-    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    g = _gravity(sysm)
     weights = sum((mass * g * X[1] for mass, _, X, _ in sysm.bodies), sp.Integer(0))
     elastic = sysm.V - weights
     out = []
@@ -592,8 +650,9 @@ def _quiet(stage: str) -> None:
     """The default ``stage`` of :func:`derive`: nothing is told."""
 
 
-def equations_of_motion(sysm: System) -> tuple:
-    """The mass matrix and forcing of the rocking phase, ``M(q) ddq = forcing``, from Lagrange's equations.
+def equations_of_motion(sysm: System, E: list) -> tuple:
+    """The mass matrix and forcing of the rocking phase, ``M(q) ddq = forcing``, from the residuals ``E`` of
+    Lagrange's equations (:func:`lagrange`).
 
     Raises
     ------
@@ -601,7 +660,6 @@ def equations_of_motion(sysm: System) -> tuple:
         When the equations are not linear in the accelerations.
     """
     n = len(sysm.q)
-    E = lagrange(sysm)
     Mm = sp.Matrix(n, n, lambda i, j: _reduce(sp.diff(E[i], sysm.ddq[j])))
     f = sp.Matrix([_reduce(-(E[i] - sum(Mm[i, j] * sysm.ddq[j] for j in range(n)))) for i in range(n)])
     if any(f[i].has(*sysm.ddq) for i in range(n)):
@@ -625,15 +683,20 @@ def contact_and_uplift(sysm: System, Mm: sp.Matrix, f: sp.Matrix) -> tuple:
 
 
 def energy_and_power(sysm: System, vg) -> tuple:
-    """The mechanical energy in the ground frame and its rate along solutions."""
-    T_rel = _to_symbols(sysm.T.xreplace({sysm.x_g: 0}).doit(), sysm, vg).subs(vg, 0)
-    V = _to_symbols(sysm.V, sysm, vg)
+    """The mechanical energy in the ground frame and its rate along solutions.
+
+    The rate is the dissipation plus the power of the inertial ground force
+    ``-(mass) (ddx_g, ddy_g)`` on the velocities relative to the ground.
+    """
+    T_rel = _to_symbols(_at_rest_ground(sysm.T, sysm), sysm, vg).subs(vg, 0)
+    V = _to_symbols(_at_rest_ground(sysm.V, sysm), sysm, vg)
     energy = _reduce(T_rel + V)
-    momentum_x = sp.Integer(0)
+    momentum = sp.zeros(2, 1)
     for mass, _, X, _ in sysm.bodies:
-        momentum_x += mass * (X[0] - sysm.x_g).diff(sysm.x_g.args[0])
+        momentum += mass * _relative(X, sysm).diff(sysm.x_g.args[0])
+    momentum = [_to_symbols(p, sysm, vg) for p in momentum]
     D = _to_symbols(sysm.D, sysm, vg)
-    return energy, _reduce(-2 * D - ag * _to_symbols(momentum_x, sysm, vg))
+    return energy, _reduce(-2 * D - ag * momentum[0] - agy * momentum[1])
 
 
 def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
@@ -656,7 +719,8 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
     stage("energies")
     sysm = build_system(spec, opts["inertia"])
     stage("equations of motion")
-    Mm, f = equations_of_motion(sysm)
+    residuals = lagrange(sysm)
+    Mm, f = equations_of_motion(sysm, still(residuals))
     stage("rocking accelerations")
     rocking = _schur_solve(Mm, f, finite=False)
     stage("contact and uplift")
@@ -715,4 +779,5 @@ def derive(spec: Spec, options: dict | None = None, stage=_quiet) -> Equations:
         stop_regime=[*on.values(), *memory.values()],
         stop_memory=tuple(memory),
         stop_approach=tuple(approaches),
+        vertical=vertical_as_gravity(residuals, sysm),
     )

@@ -7,8 +7,8 @@ Lagrange's equations to them.
 
 The pivot is the symbol ``s``: ``+1`` rotates about the left corner ``A``,
 ``-1`` about the right corner ``A'`` (docs/model.md section 1). Positions are
-absolute: the ground displacement ``x_g(t)`` is added to every point, so the
-ground acceleration enters through Lagrange's equations, not by hand.
+absolute: the ground displacement ``(x_g(t), y_g(t))`` is added to every point, so
+the ground acceleration enters through Lagrange's equations, not by hand.
 """
 
 from __future__ import annotations
@@ -23,6 +23,8 @@ t = sp.Symbol("t", real=True)
 s = sp.Symbol("s", real=True)
 #: Ground acceleration ``ddx_g`` once the derivation is done.
 ag = sp.Symbol("ag", real=True)
+#: Vertical ground acceleration ``ddy_g`` (> 0 up) once the derivation is done.
+agy = sp.Symbol("agy", real=True)
 
 
 @dataclass(frozen=True)
@@ -41,11 +43,11 @@ class System:
         time functions ``qt``.
     qt : tuple of Function
         The coordinates as functions of time, used by Lagrange's equations.
-    x_g : Function
-        Ground displacement.
+    x_g, y_g : Function
+        Ground displacement, horizontal and vertical (> 0 up).
     bodies : list of (mass, inertia, position, angle)
         All bodies including the block (first, at its centroid ``G``), positions
-        absolute (with ``x_g``).
+        absolute (with ``x_g`` and ``y_g``).
     top : Matrix
         Absolute position of the centre of the block's top side, block frame ``(0, H)``.
     stops : tuple of (Symbol, Expr, Expr, Expr, int, Pad)
@@ -62,6 +64,7 @@ class System:
     params: tuple
     qt: tuple
     x_g: sp.Expr
+    y_g: sp.Expr
     T: sp.Expr
     V: sp.Expr
     D: sp.Expr
@@ -180,6 +183,7 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
     ddq = tuple(sp.Symbol("dd" + n, real=True) for n in names)
     qt = tuple(sp.Function(n, real=True)(t) for n in names)
     x_g = sp.Function("x_g", real=True)(t)
+    y_g = sp.Function("y_g", real=True)(t)
     to_time = dict(zip(q, qt))
 
     M, B, H, e, g = (block[k] for k in ("M", "B", "H", "e", "g"))
@@ -189,7 +193,7 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
 
     def place(r):
         """Ground-frame position of a block-frame point while rocking about ``s``."""
-        return corner + rot * (sp.Matrix(r) - corner) + sp.Matrix([x_g, 0])
+        return corner + rot * (sp.Matrix(r) - corner) + sp.Matrix([x_g, y_g])
 
     bodies = [(M, I_G, place((e, H / 2)), sp.Integer(0))]
     for b in spec.bodies:
@@ -233,7 +237,7 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
         D += on * pad.dissipation(stiffness, damping, delta, delta.diff(t))
 
     params = tuple(block.values()) + tuple(own.values())
-    return System(q, dq, ddq, params, qt, x_g, T, V, D, tuple(bodies), place((0, H)), stops)
+    return System(q, dq, ddq, params, qt, x_g, y_g, T, V, D, tuple(bodies), place((0, H)), stops)
 
 
 def coordinate_units(spec: Spec) -> dict[str, str]:

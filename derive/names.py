@@ -67,11 +67,11 @@ C_LIBRARY_NAMES = (
 )
 
 #: Names the generated code and the derivation use themselves (derive/templates, rocking/sim/csrc/sim.c):
-#: the C arguments ``s y ag p cst out``, the NumPy module's imports and globals, the generated functions,
-#: the symbols of the derivation (``t``, ``x_g``, the ground velocity ``vg``, EQUATIONS.md's left-hand sides)
+#: the C arguments ``s y ag agy p cst out``, the NumPy module's imports and globals, the generated functions,
+#: the symbols of the derivation (``t``, ``x_g``, ``y_g``, the ground velocity ``vg``, EQUATIONS.md's left-hand sides)
 #: and the expression constants.
 GENERATED_NAMES = frozenset(
-    "s on stop_on y ag p cst out t theta x_g vg np numpy math scipy sympy "
+    "s on stop_on y ag agy pg p cst out t theta x_g y_g vg np numpy math scipy sympy "
     "NAME COORDINATES STATE PARAMETERS ARGUMENTS prepare prepared "
     "mass_matrix forcing rocking_accel contact_accel uplift impact energy power uplift_energy critical_angle "
     "critical_tangent E Edot E_uplift theta_cr u_s pi "

@@ -46,7 +46,7 @@ BLOCK_PARAMETERS = (
 
 IMPACT_LAWS = ("momentum", "velocity")
 INERTIA_OPTIONS = ("free", "homogeneous")
-_RESERVED = {"theta", "s", "t", "ag", "x_g"} | {p[0] for p in BLOCK_PARAMETERS}
+_RESERVED = {"theta", "s", "t", "ag", "agy", "x_g", "y_g"} | {p[0] for p in BLOCK_PARAMETERS}
 #: Largest spec file read, in bytes: a spec is a few dozen lines.
 MAX_SPEC_BYTES = 64 * 1024
 #: Most coordinates, parameters, bodies and elements of each kind a spec may declare.

@@ -30,6 +30,7 @@ from .model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet,
 from .model.params import Block, Damper, ParameterError, Stops
 from .model.plausibility import PlausibilityWarning
 from .model.pulse import OneSinePulse
+from .model.vertical import Vertical
 from .sim.cbuild import CBuildError
 from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
@@ -76,6 +77,7 @@ __all__ = [
     "TileWarning",
     "Tuning",
     "Variant",
+    "Vertical",
     "available_models",
     "design",
     "incremental_dynamic_analysis",

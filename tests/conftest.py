@@ -33,7 +33,7 @@ class CModel:
         for name, info in model.manifest["functions"].items():
             fn = getattr(self.lib, f"{model.c_prefix}_{name}")
             fn.restype = dbl if info["scalar"] else None
-            fn.argtypes = [dbl, ptr, dbl, ptr] + ([] if info["scalar"] else [ptr])
+            fn.argtypes = [dbl, ptr, dbl, dbl, ptr] + ([] if info["scalar"] else [ptr])
 
     def __call__(self, name: str, values: dict):
         """Evaluate ``name`` case by case on arrays of values keyed by argument name."""
@@ -42,16 +42,17 @@ class CModel:
         p = np.stack(np.broadcast_arrays(*(np.asarray(values[k], float) for k in self.model.parameters)), axis=-1)
         s = np.broadcast_to(np.asarray(values["s"], float), y.shape[:-1])
         ag = np.broadcast_to(np.asarray(values["ag"], float), y.shape[:-1])
+        agy = np.broadcast_to(np.asarray(values.get("agy", 0.0), float), y.shape[:-1])
         fn = getattr(self.lib, f"{self.model.c_prefix}_{name}")
         out = np.zeros(y.shape[:-1] + (info["outputs"],))
         as_ptr = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
         for i in np.ndindex(y.shape[:-1]):
             yi, pi = np.ascontiguousarray(y[i]), np.ascontiguousarray(p[i])
             if info["scalar"]:
-                out[i][0] = fn(s[i], as_ptr(yi), ag[i], as_ptr(pi))
+                out[i][0] = fn(s[i], as_ptr(yi), ag[i], agy[i], as_ptr(pi))
             else:
                 oi = np.zeros(info["outputs"])
-                fn(s[i], as_ptr(yi), ag[i], as_ptr(pi), as_ptr(oi))
+                fn(s[i], as_ptr(yi), ag[i], agy[i], as_ptr(pi), as_ptr(oi))
                 out[i][:] = oi
         return out[..., 0] if info["scalar"] else tuple(np.moveaxis(out, -1, 0))
 

@@ -3,7 +3,7 @@
 Like :mod:`rocking.reference.paper` for ``omd``, this module is a yardstick: it is derived
 by hand (the steps are in the comments), uses plain NumPy, and never imports
 SymPy or ``derive/``. Every function takes a mapping ``v`` of arrays keyed by
-argument name (``s``, the state names, ``ag`` and the parameter names of the
+argument name (``s``, the state names, ``ag``, ``agy`` and the parameter names of the
 variant's manifest) and returns the outputs in the order of the generated
 function of the same name. The functions broadcast and keep the dtype of their
 inputs, so a reference can be computed in ``np.longdouble``.
@@ -11,8 +11,8 @@ inputs, so a reference can be computed in ``np.longdouble``.
 Conventions (docs/model.md sections 1-2): block frame with its origin at the centre of
 the base, ``y`` up; pivot ``P_s = (-s B/2, 0)``; a point ``r`` of the block frame,
 measured from the pivot, is at ``P_s + R(theta) r`` in the frame translating with
-the ground. The ground acceleration enters as the inertial force ``-(mass) ag``
-on every body, i.e. as the potential ``ag * (mass) * X``.
+the ground. The ground acceleration enters as the inertial force ``-(mass) (ag, agy)``
+on every body, i.e. as the potential ``(mass) (ag X + agy Y)``: ``agy`` beside every ``g``.
 """
 
 from __future__ import annotations
@@ -104,13 +104,13 @@ def _rigid_moments(v, masses):
     (``r`` from the pivot in the block frame), and the sum ``sum m r`` of their arms.
 
     A weight ``(0, -m g)`` at ``X = R r`` has the moment ``X x F = -m g X_x``; the
-    inertial force ``(-m ag, 0)`` has ``-X_y (-m ag) = m ag X_y``.
+    inertial force ``(-m ag, -m agy)`` has ``-X_y (-m ag) + X_x (-m agy) = m ag X_y - m agy X_x``.
     """
-    th, g, ag = v["theta"], v["g"], v["ag"]
+    th, g, ag, agy = v["theta"], v["g"], v["ag"], v["agy"]
     out = 0 * th
     for m, r in masses:
         X = _rot(th, r)
-        out = out - m * g * X[0] + m * ag * X[1]
+        out = out - m * g * X[0] + m * ag * X[1] - m * agy * X[0]
     return out
 
 
@@ -118,13 +118,13 @@ def _point_acceleration(v, r, dr, ddr, ddtheta):
     """Absolute acceleration of a point at the block-frame arm ``r`` from the pivot, moving on the block with the
     block-frame velocity ``dr`` and acceleration ``ddr``.
 
-    ``X = P_s + R(theta) r + (x_g, 0)``; differentiating twice, with ``R' = dtheta R k x``:
-    ``X'' = R [ddr + 2 dtheta k x dr + ddtheta k x r - dtheta^2 r] + (ag, 0)``.
+    ``X = P_s + R(theta) r + (x_g, y_g)``; differentiating twice, with ``R' = dtheta R k x``:
+    ``X'' = R [ddr + 2 dtheta k x dr + ddtheta k x r - dtheta^2 r] + (ag, agy)``.
     """
     dth = v["dtheta"]
     inner = _add(ddr, _scale(2 * dth, _perp(dr)), _scale(ddtheta, _perp(r)), _scale(-(dth**2), r))
     a = _rot(v["theta"], inner)
-    return a[0] + v["ag"], a[1]
+    return a[0] + v["ag"], a[1] + v["agy"]
 
 
 def _loads(v, bodies, ddtheta):
@@ -234,9 +234,10 @@ class Pendulum(_Weights):
     @staticmethod
     def forcing(v):
         """Lagrange: ``Mq'' = -C - dV/dq - dD/dq'`` with the effective potential
-        ``V = g (M Y_G + m Y_bob) + ag (M X_G + m X_bob) + k_phi phi^2 / 2``."""
+        ``V = (g + agy) (M Y_G + m Y_bob) + ag (M X_G + m X_bob) + k_phi phi^2 / 2``."""
         th, phi, dth, dphi = v["theta"], v["phi"], v["dtheta"], v["dphi"]
-        M, g, ag, m, ell, k, c = (v[key] for key in ("M", "g", "ag", "m", "l", "k_phi", "c_phi"))
+        M, ag, m, ell, k, c = (v[key] for key in ("M", "ag", "m", "l", "k_phi", "c_phi"))
+        g = v["g"] + v["agy"]
         H = v["H"]
         d, _, _ = _block(v)
         a, b, _, dk = Pendulum._arms(v)
@@ -335,7 +336,8 @@ class Pendulum(_Weights):
     @staticmethod
     def power(v):
         _, VG, _, Vb = Pendulum._velocities(v)
-        return -v["c_phi"] * v["dphi"] ** 2 - v["ag"] * (v["M"] * VG[0] + v["m"] * Vb[0])
+        inertial = v["ag"] * (v["M"] * VG[0] + v["m"] * Vb[0]) + v["agy"] * (v["M"] * VG[1] + v["m"] * Vb[1])
+        return -v["c_phi"] * v["dphi"] ** 2 - inertial
 
     @staticmethod
     def _loads(v, dd):
@@ -399,7 +401,8 @@ class OMD2(_Weights):
 
     @staticmethod
     def forcing(v):
-        th, dth, g, ag, M, H = (v[k] for k in ("theta", "dtheta", "g", "ag", "M", "H"))
+        th, dth, ag, M, H = (v[k] for k in ("theta", "dtheta", "ag", "M", "H"))
+        g = v["g"] + v["agy"]  # the weights and the vertical inertial forces
         d, _, _ = _block(v)
         sin, cos = np.sin(th), np.cos(th)
         # M11 depends on x_i through m_i xi_i^2: C_theta = sum 2 m xi dtheta dx,
@@ -485,9 +488,9 @@ class OMD2(_Weights):
     @staticmethod
     def power(v):
         _, VG, masses = OMD2._velocities(v)
-        P = -v["c1"] * v["dx1"] ** 2 - v["c2"] * v["dx2"] ** 2 - v["ag"] * v["M"] * VG[0]
+        P = -v["c1"] * v["dx1"] ** 2 - v["c2"] * v["dx2"] ** 2 - v["M"] * (v["ag"] * VG[0] + v["agy"] * VG[1])
         for m, _, V in masses:
-            P = P - v["ag"] * m * V[0]
+            P = P - m * (v["ag"] * V[0] + v["agy"] * V[1])
         return P
 
     @staticmethod
@@ -582,14 +585,14 @@ class Rigid:
     @staticmethod
     def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, m, x_m, y_m):
         # One rigid body about a fixed corner: I ddtheta = sum of moments about it.
-        v = {"theta": theta, "g": g, "ag": ag}
+        v = {"theta": theta, "g": g, "ag": ag, "agy": 0.0}
         moment = _rigid_moments(v, Rigid._pts(s, M, B, H, e, m, x_m, y_m))
         return moment / Rigid.inertia(s, M, I_G, B, H, e, m, x_m, y_m)
 
     @staticmethod
     def uplift(s, ag, M, B, H, e, g, m, x_m, y_m):
         # Moment about the pivot at theta = 0 that the ground would have to supply, times -s.
-        return s * _rigid_moments({"theta": 0.0, "g": g, "ag": ag}, Rigid._pts(s, M, B, H, e, m, x_m, y_m))
+        return s * _rigid_moments({"theta": 0.0, "g": g, "ag": ag, "agy": 0.0}, Rigid._pts(s, M, B, H, e, m, x_m, y_m))
 
     @staticmethod
     def impact(s, dtheta, M, I_G, B, H, e, m, x_m, y_m):

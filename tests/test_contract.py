@@ -1045,7 +1045,7 @@ def _free_rocking_reference(p: tuple, theta0: float):
     functions = load_model("block").functions
 
     def rhs(t, y):
-        return [y[1], functions.rocking_accel(1.0, y[0], y[1], 0.0, *p)[0]]
+        return [y[1], functions.rocking_accel(1.0, y[0], y[1], 0.0, 0.0, *p)[0]]
 
     def impact(t, y):
         return y[0]

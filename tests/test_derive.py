@@ -102,7 +102,7 @@ def test_impact_option_velocity_matches_hand_derivation():
     for s in (1, -1):
         v = random_cases(rng, 500, s)
         args = [v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c")]
-        got = mod.impact(v["s"], 0 * v["x"], v["x"], v["dtheta"], v["dx"], v["ag"], *args)
+        got = mod.impact(v["s"], 0 * v["x"], v["x"], v["dtheta"], v["dx"], v["ag"], v["agy"], *args)
         ref = paper.impact(
             s, v["x"], v["dtheta"], v["dx"], v["M"], v["I_G"], v["B"], v["H"], v["e"], v["m"], v["h"], law="velocity"
         )
@@ -117,8 +117,8 @@ def test_homogeneous_inertia_option_drops_I_G():
     M, B, H, e, g, m, h, k, c = 800.0, 0.5, 2.0, 0.02, 9.81, 40.0, 0.05, 500.0, 10.0
     I_G = M * (B**2 + H**2) / 12
     state = (0.1, 0.02, -0.3, 0.4)
-    a = mod.rocking_accel(1.0, *state, 3.0, M, B, H, e, g, m, h, k, c)
-    b = free.rocking_accel(1.0, *state, 3.0, M, I_G, B, H, e, g, m, h, k, c)
+    a = mod.rocking_accel(1.0, *state, 3.0, 0.0, M, B, H, e, g, m, h, k, c)
+    b = free.rocking_accel(1.0, *state, 3.0, 0.0, M, I_G, B, H, e, g, m, h, k, c)
     np.testing.assert_allclose(a, b, rtol=1e-14)
 
 
@@ -386,3 +386,22 @@ def test_one_sided_stops_derive_only_their_side():
         bumper = 0.0 if inside else 50.0 * (value - 1.0) ** 2 / 2
         stored = float((eq.energy - eq.energy.subs(k_b, 0)).xreplace(regime).subs(at))
         assert stored == pytest.approx(bumper, abs=1e-12)
+
+
+def test_vertical_ground_acceleration_enters_as_gravity_and_not_the_impact():
+    """docs/model.md section 14: Lagrange's equations on the absolute positions hold ``ddy_g`` beside ``g`` alone
+    (the equivalence of a vertical ground acceleration and gravity), the impact map not at all (finite ground
+    accelerations give no impulse), and every built-in variant takes vertical motion."""
+    from rocking.derive.equations import lagrange, still, vertical_as_gravity
+    from rocking.derive.mechanics import ag, agy, build_system
+
+    sysm = build_system(variant_spec("omd"))
+    residuals = lagrange(sysm)
+    assert all(r.has(agy) for r in residuals) and vertical_as_gravity(residuals, sysm)
+    g = sysm.params[[p.name for p in sysm.params].index("g")]
+    assert all(sympy.expand(r - w.xreplace({g: g + agy})) == 0 for r, w in zip(residuals, still(residuals)))
+    eq = derive(variant_spec("omd"))
+    assert not any(v.has(agy) or v.has(ag) for v in eq.impact)
+    assert eq.power.has(agy) and not eq.energy.has(agy)
+    for name in registered_variants():
+        assert json.loads((GENERATED / name / "manifest.json").read_text())["vertical"], name

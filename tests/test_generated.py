@@ -38,8 +38,8 @@ def _reference_params(**over):
     return p
 
 
-def _call(model, fn, s, state, ag, params):
-    return getattr(model.functions, fn)(s, *state, ag, *(params[k] for k in model.parameters))
+def _call(model, fn, s, state, ag, params, agy=0.0):
+    return getattr(model.functions, fn)(s, *state, ag, agy, *(params[k] for k in model.parameters))
 
 
 @pytest.mark.parametrize("H, B", [(2.0, 0.5), (1.0, 1.0), (3.0, 0.3)])
@@ -85,7 +85,11 @@ def test_mirror_symmetry():
 
         def f(name, vals):
             return getattr(model.functions, name)(
-                vals["s"], *(vals[k] for k in model.state), vals["ag"], *(vals[k] for k in model.parameters)
+                vals["s"],
+                *(vals[k] for k in model.state),
+                vals["ag"],
+                vals["agy"],
+                *(vals[k] for k in model.parameters),
             )
 
         for name, sign in (("rocking_accel", -1), ("impact", -1), ("contact_accel", -1)):
@@ -99,11 +103,11 @@ def _energy_drift(model, params, y0, s, t_end, ag=lambda t: 0.0):
     n = model.nq
 
     def rhs(t, y):
-        acc = model.functions.rocking_accel(s, *y, ag(t), *p)
+        acc = model.functions.rocking_accel(s, *y, ag(t), 0.0, *p)
         return np.concatenate([y[n:], np.asarray(acc, float)])
 
     def power(t, y):
-        return model.functions.power(s, *y, ag(t), *p)
+        return model.functions.power(s, *y, ag(t), 0.0, *p)
 
     def rhs_with_work(t, y):
         return np.append(rhs(t, y[:-1]), power(t, y[:-1]))
@@ -113,7 +117,7 @@ def _energy_drift(model, params, y0, s, t_end, ag=lambda t: 0.0):
     )
     ts = np.linspace(0, t_end, 200)
     ys = sol.sol(ts)
-    E = np.array([model.functions.energy(s, *ys[:-1, i], 0.0, *p) for i in range(ts.size)])
+    E = np.array([model.functions.energy(s, *ys[:-1, i], 0.0, 0.0, *p) for i in range(ts.size)])
     return E, ys[-1, -1]
 
 
@@ -188,10 +192,10 @@ def _energy_gain(s, slender, e_ratio, inertia, gamma, h, x_ratio, dtheta, dx, la
     )
     p = [params[k] for k in mod.PARAMETERS]
     x = x_ratio * B
-    before = mod.energy(s, 0.0, x, dtheta, dx, 0.0, *p)
-    dth_plus, dx_plus = mod.impact(s, 0.0, x, dtheta, dx, 0.0, *p)
-    after = mod.energy(-s, 0.0, x, dth_plus, dx_plus, 0.0, *p)
-    kinetic = before - mod.energy(s, 0.0, x, 0.0, 0.0, 0.0, *p)
+    before = mod.energy(s, 0.0, x, dtheta, dx, 0.0, 0.0, *p)
+    dth_plus, dx_plus = mod.impact(s, 0.0, x, dtheta, dx, 0.0, 0.0, *p)
+    after = mod.energy(-s, 0.0, x, dth_plus, dx_plus, 0.0, 0.0, *p)
+    kinetic = before - mod.energy(s, 0.0, x, 0.0, 0.0, 0.0, 0.0, *p)
     scale = max(kinetic, 1.0)
     return (after - before) / scale, 8 * np.finfo(float).eps * abs(before) / scale
 

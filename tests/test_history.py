@@ -171,8 +171,9 @@ def test_loads_against_the_hand_typed_equations(runs):
     a_top, a_cm = paper.block_accelerations(s, *kinematics, BLOCK.B, BLOCK.H, BLOCK.e)
     np.testing.assert_allclose(ds["a_top"], a_top, rtol=1e-12, atol=1e-12)
     np.testing.assert_allclose(ds["a_cm"], a_cm, rtol=1e-12, atol=1e-12)
+    still = 0 * v["a_g"]  # no vertical ground motion
     a_m = paper.mass_acceleration(
-        s, v["theta"], v["x"], v["dtheta"], v["dx"], v["ddtheta"], v["ddx"], v["a_g"], BLOCK.B, BLOCK.H, h
+        s, v["theta"], v["x"], v["dtheta"], v["dx"], v["ddtheta"], v["ddx"], v["a_g"], still, BLOCK.B, BLOCK.H, h
     )
     weight = (M + m) * BLOCK.g
     # Newton: the base shear is the total mass times the acceleration of the centre of mass.
@@ -180,6 +181,7 @@ def test_loads_against_the_hand_typed_equations(runs):
     V, N, Mb = paper.base_reaction(
         s,
         *(v[k] for k in ("theta", "x", "dtheta", "dx", "ddtheta", "ddx", "a_g")),
+        still,
         M,
         BLOCK.I_G,
         BLOCK.B,

@@ -118,7 +118,7 @@ def test_elastic_pads_keep_the_energy_and_damped_pads_only_take_it(backend):
         # Both pads counted wherever delta > 0: with e_b >= 1/2 a pad never lets go before delta = 0 (its release
         # needs a receding speed of v_in / chi >= v_in), and the energy does not depend on v_in.
         pushing = (1.0, 1.0, V0, V0)
-        energy = model.functions.energy(1.0, *state, 0.0, *model.param_vector(params), stop_on=pushing)
+        energy = model.functions.energy(1.0, *state, 0.0, 0.0, *model.param_vector(params), stop_on=pushing)
         scale = 0.5 * FREE["m"] * 0.8**2
         if e_b == 1.0:
             assert np.ptp(energy) <= 1e-8 * scale
@@ -192,14 +192,16 @@ def test_the_law_with_a_memory_matches_model_md_by_hand():
         x, dx = v["x"], v["dx"]
         contact = paper.stop_contact(x, dx, **stops)
         regime = (*(np.where(c > 0, 1.0, 0.0) for c in contact), *v_in)
-        args = (v["s"], *(v[k] for k in model.state), v["ag"], *(v[k] for k in model.parameters))
+        args = (v["s"], *(v[k] for k in model.state), v["ag"], v["agy"], *(v[k] for k in model.parameters))
         hand = {
             "stop_contact": contact,
             "stop_forces": paper.stop_forces(x, dx, **stops),
             "contact_accel": (paper.contact_accel(x, dx, v["ag"], v["m"], v["k_m"], v["c"], **stops),),
             "power": (
                 paper.power(
-                    s, *(v[k] for k in ("theta", "x", "dtheta", "dx", "ag", "M", "B", "H", "e", "m", "h", "c")), **stops
+                    s,
+                    *(v[k] for k in ("theta", "x", "dtheta", "dx", "ag", "agy", "M", "B", "H", "e", "m", "h", "c")),
+                    **stops,
                 ),
             ),
         }

@@ -138,8 +138,8 @@ def test_energy_balance_across_stop_contacts(backend):
         assert r.uplifts == 0 and r.stop_contacts >= 3
         h = r.history
         state = [h[k] for k in model.state]
-        at_rest = model.functions.energy(1.0, *np.zeros(len(state)), 0.0, *problem.p)
-        energy = model.functions.energy(1.0, *state, 0.0, *problem.p) - at_rest  # the damper's, about 0.36 J
+        at_rest = model.functions.energy(1.0, *np.zeros(len(state)), 0.0, 0.0, *problem.p)
+        energy = model.functions.energy(1.0, *state, 0.0, 0.0, *problem.p) - at_rest  # the damper's, about 0.36 J
         if c_b == 0.0:
             # Only the integrator's error is left: 3e-9 J of 0.36 J over the run, at rtol 1e-11.
             assert np.max(np.abs(energy - energy[0])) < 1e-7 * energy[0]
@@ -254,7 +254,7 @@ def test_a_released_pad_pushes_again_where_its_force_turns_positive(backend):
     assert h["x"][i] > FREE["L"] and push[i] < 1e-6 and np.all(push[:i] <= 0.0)
     assert 0.0 < r.bumper_force_max and np.all(
         load_model("omd_stops").functions.stop_forces(
-            1.0, *(h[k] for k in ("theta", "x", "dtheta", "dx")), 0.0, *problem.p
+            1.0, *(h[k] for k in ("theta", "x", "dtheta", "dx")), 0.0, 0.0, *problem.p
         )[0]
         >= 0.0
     )

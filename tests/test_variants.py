@@ -90,7 +90,7 @@ def _numpy(name: str):
 
     def evaluate(function, v):
         fn = getattr(model.functions, function)
-        return fn(v["s"], *(v[k] for k in model.state), v["ag"], *(v[k] for k in model.parameters))
+        return fn(v["s"], *(v[k] for k in model.state), v["ag"], v["agy"], *(v[k] for k in model.parameters))
 
     return evaluate
 
@@ -315,7 +315,7 @@ def test_rigid_reference_is_the_omd_equations_with_the_mass_held():
         M, I_G, B, H, e, g, m, h = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h"))
         x0 = np.zeros_like(M)
         (m11, _), _ = paper.mass_matrix(s, v["theta"], x0, M, I_G, B, H, e, m, h)
-        f1, _ = paper.forcing(s, v["theta"], x0, v["dtheta"], x0, v["ag"], M, B, H, e, g, m, h, x0, x0)
+        f1, _ = paper.forcing(s, v["theta"], x0, v["dtheta"], x0, v["ag"], x0, M, B, H, e, g, m, h, x0, x0)
         got = Rigid.rocking_accel(s, v["theta"], v["dtheta"], v["ag"], M, I_G, B, H, e, g, m, x0, H + h)
         assert rel_error(got, f1 / m11) < 1e-13
         ref = paper.impact(s, x0, v["dtheta"], x0, M, I_G, B, H, e, m, h, law="velocity")[0]
@@ -324,7 +324,7 @@ def test_rigid_reference_is_the_omd_equations_with_the_mass_held():
         assert rel_error(Rigid.critical_angle(s, M, B, H, e, m, x0, H + h), ref) < 1e-13
         # Uplift: -s times the moment the ground must add to hold theta = 0, the mass held
         # (omd's own uplift differs: there the mass slides in full contact).
-        f1, _ = paper.forcing(s, x0, x0, x0, x0, v["ag"], M, B, H, e, g, m, h, x0, x0)
+        f1, _ = paper.forcing(s, x0, x0, x0, x0, v["ag"], x0, M, B, H, e, g, m, h, x0, x0)
         assert rel_error(Rigid.uplift(s, v["ag"], M, B, H, e, g, m, x0, H + h), s * f1) < 1e-13
 
 
@@ -516,15 +516,17 @@ def test_a_user_spec_is_built_and_simulated_from_its_folder(tmp_path):
     rng = np.random.default_rng(8)
     for s in (1, -1):
         v = random_cases(rng, 300, s)
-        v.update(u=v["x"], du=v["dx"], k=v["k_m"], incl=np.zeros(300), h=-v["H"] / 2)
+        # Its preload holds g beside the weights: the model takes no vertical ground motion.
+        assert not model.manifest["vertical"]
+        v.update(u=v["x"], du=v["dx"], k=v["k_m"], incl=np.zeros(300), h=-v["H"] / 2, agy=np.zeros(300))
         L = {key: np.asarray(a, np.longdouble) for key, a in v.items()}
         args = (L["M"], L["I_G"], L["B"], L["H"], L["e"], L["g"], L["m"], L["h"], L["k_m"], L["c"])
-        x, dth, dx, ag, th = L["x"], L["dtheta"], L["dx"], L["ag"], L["theta"]
+        x, dth, dx, ag, agy, th = L["x"], L["dtheta"], L["dx"], L["ag"], L["agy"], L["theta"]
         M, I_G, B, H, e, g, m, h, k, c = args
         refs = {
-            "rocking_accel": paper.rocking_accel(s, th, x, dth, dx, ag, *args),
+            "rocking_accel": paper.rocking_accel(s, th, x, dth, dx, ag, agy, *args),
             "impact": paper.impact(s, x, dth, dx, M, I_G, B, H, e, m, h),
-            "uplift": (paper.uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k, c),),
+            "uplift": (paper.uplift_margin(s, x, dx, ag, agy, M, B, H, e, g, m, h, k, c),),
         }
         f = _numpy_model(model)
         for function, ref in refs.items():
@@ -548,11 +550,16 @@ def test_a_user_spec_is_built_and_simulated_from_its_folder(tmp_path):
         assert (c.impacts, c.uplifts) == (n.impacts, n.uplifts) and c.impacts > 0
         assert c.theta_max == pytest.approx(n.theta_max, rel=1e-6)
 
+    # Its preload holds g beside the weights: vertical ground motion is refused, not run wrong.
+    shaken = rocking.OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0, vertical=rocking.Vertical(0.5))
+    with pytest.raises(rocking.ParameterError, match="takes no vertical ground motion"):
+        rocking.simulate(BLOCK, damper, shaken, model=str(folder))
+
 
 def _numpy_model(model):
     def evaluate(function, v):
         return getattr(model.functions, function)(
-            v["s"], *(v[k] for k in model.state), v["ag"], *(v[k] for k in model.parameters)
+            v["s"], *(v[k] for k in model.state), v["ag"], v["agy"], *(v[k] for k in model.parameters)
         )
 
     return evaluate

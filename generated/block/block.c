@@ -91,15 +91,16 @@ void block_mass_matrix_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major. */
-void block_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+void block_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of block_prepare(s, on, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void block_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -113,15 +114,20 @@ void block_forcing_prepared(const double *y, double ag, const double *cst, doubl
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
-void block_forcing(double s, const double *y, double ag, const double *p, double *out)
+void block_forcing(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[BLOCK_NP];
+    for (int i = 0; i < BLOCK_NP; i++)
+        pg[i] = p[i];
+    pg[BLOCK_P_g] = p[BLOCK_P_g] + agy;
+    block_prepare(s, NULL, pg, cst);
     block_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of block_prepare(s, on, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void block_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -136,10 +142,15 @@ void block_rocking_accel_prepared(const double *y, double ag, const double *cst,
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
-void block_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+void block_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[BLOCK_NP];
+    for (int i = 0; i < BLOCK_NP; i++)
+        pg[i] = p[i];
+    pg[BLOCK_P_g] = p[BLOCK_P_g] + agy;
+    block_prepare(s, NULL, pg, cst);
     block_rocking_accel_prepared(y, ag, cst, out);
 }
 
@@ -154,15 +165,16 @@ void block_contact_accel_prepared(const double *y, double ag, const double *cst,
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
-void block_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+void block_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of block_prepare(s, on, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 double block_uplift_prepared(const double *y, double ag, const double *cst)
 {
     (void)y;
@@ -172,14 +184,19 @@ double block_uplift_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
-double block_uplift(double s, const double *y, double ag, const double *p)
+double block_uplift(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[BLOCK_NP];
+    for (int i = 0; i < BLOCK_NP; i++)
+        pg[i] = p[i];
+    pg[BLOCK_P_g] = p[BLOCK_P_g] + agy;
+    block_prepare(s, NULL, pg, cst);
     return block_uplift_prepared(y, ag, cst);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * From the constants of block_prepare(s, on, p, cst). */
 void block_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -190,15 +207,16 @@ void block_impact_prepared(const double *y, double ag, const double *cst, double
     out[0] = cst12*cst13*dtheta;
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
-void block_impact(double s, const double *y, double ag, const double *p, double *out)
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored. */
+void block_impact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_impact_prepared(y, ag, cst, out);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * From the constants of block_prepare(s, on, p, cst). */
 double block_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -211,35 +229,40 @@ double block_energy_prepared(const double *y, double ag, const double *cst)
     return cst14*(dtheta*dtheta) + cst15*sin(theta) + cst3*cos(theta);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
-double block_energy(double s, const double *y, double ag, const double *p)
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored. */
+double block_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     return block_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * From the constants of block_prepare(s, on, p, cst). */
-double block_power_prepared(const double *y, double ag, const double *cst)
+double block_power_prepared(const double *y, double ag, double agy, const double *cst)
 {
     const double theta = y[0];
     const double dtheta = y[1];
     const double cst1 = cst[1];
     const double cst2 = cst[2];
-    const double cse0 = ag*dtheta;
-    return cse0*cst1*sin(theta) + cse0*cst2*cos(theta);
+    const double cst25 = cst[25];
+    const double cse0 = sin(theta);
+    const double cse1 = ag*dtheta;
+    const double cse2 = cos(theta);
+    const double cse3 = agy*dtheta;
+    return cse0*cse1*cst1 + cse0*cse3*cst2 + cse1*cse2*cst2 + cse2*cse3*cst25;
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
-double block_power(double s, const double *y, double ag, const double *p)
+double block_power(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
     block_prepare(s, NULL, p, cst);
-    return block_power_prepared(y, ag, cst);
+    return block_power_prepared(y, ag, agy, cst);
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * From the constants of block_prepare(s, on, p, cst). */
 double block_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -249,15 +272,16 @@ double block_uplift_energy_prepared(const double *y, double ag, const double *cs
     return INFINITY;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
-double block_uplift_energy(double s, const double *y, double ag, const double *p)
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored. */
+double block_uplift_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     return block_uplift_energy_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * From the constants of block_prepare(s, on, p, cst). */
 double block_least_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -268,15 +292,16 @@ double block_least_potential_prepared(const double *y, double ag, const double *
     return cst15*sin(theta) + cst3*cos(theta);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
-double block_least_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored. */
+double block_least_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     return block_least_potential_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * From the constants of block_prepare(s, on, p, cst). */
 double block_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -287,10 +312,11 @@ double block_least_stroke_potential_prepared(const double *y, double ag, const d
     return cst15*sin(theta) + cst3*cos(theta);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
-double block_least_stroke_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored. */
+double block_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     return block_least_stroke_potential_prepared(y, ag, cst);
 }
@@ -306,9 +332,10 @@ double block_critical_angle_prepared(const double *y, double ag, const double *c
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
-double block_critical_angle(double s, const double *y, double ag, const double *p)
+double block_critical_angle(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     return block_critical_angle_prepared(y, ag, cst);
 }
@@ -324,9 +351,10 @@ void block_stop_gaps_prepared(const double *y, double ag, const double *cst, dou
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
-void block_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+void block_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_stop_gaps_prepared(y, ag, cst, out);
 }
@@ -342,9 +370,10 @@ void block_stop_forces_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes). */
-void block_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+void block_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_stop_forces_prepared(y, ag, cst, out);
 }
@@ -360,9 +389,10 @@ void block_stop_contact_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
-void block_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+void block_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_stop_contact_prepared(y, ag, cst, out);
 }
@@ -378,9 +408,10 @@ void block_stop_approach_prepared(const double *y, double ag, const double *cst,
 }
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in. */
-void block_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+void block_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_stop_approach_prepared(y, ag, cst, out);
 }
@@ -396,9 +427,10 @@ double block_critical_tangent_prepared(const double *y, double ag, const double 
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
-double block_critical_tangent(double s, const double *y, double ag, const double *p)
+double block_critical_tangent(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     return block_critical_tangent_prepared(y, ag, cst);
 }
@@ -427,15 +459,16 @@ void block_block_accelerations_prepared(const double *y, double ag, const double
 }
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void block_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+void block_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_block_accelerations_prepared(y, ag, cst, out);
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * From the constants of block_prepare(s, on, p, cst). */
+ * From the constants of block_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void block_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -469,10 +502,15 @@ void block_base_reaction_prepared(const double *y, double ag, const double *cst,
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void block_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+void block_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
-    block_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[BLOCK_NP];
+    for (int i = 0; i < BLOCK_NP; i++)
+        pg[i] = p[i];
+    pg[BLOCK_P_g] = p[BLOCK_P_g] + agy;
+    block_prepare(s, NULL, pg, cst);
     block_base_reaction_prepared(y, ag, cst, out);
 }
 
@@ -487,9 +525,10 @@ void block_element_forces_prepared(const double *y, double ag, const double *cst
 }
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
-void block_element_forces(double s, const double *y, double ag, const double *p, double *out)
+void block_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[BLOCK_NK];
+    (void)agy;
     block_prepare(s, NULL, p, cst);
     block_element_forces_prepared(y, ag, cst, out);
 }

@@ -9,6 +9,7 @@ s          pivot: +1 rocking about A (left corner), -1 about A' (right corner)
 theta      rocking angle [rad]
 dtheta     time derivative of theta
 ag         ground acceleration ddx_g [m/s^2], positive to the right
+agy        vertical ground acceleration ddy_g [m/s^2], positive up
 M          block mass [kg]
 I_G        centroidal moment of inertia of the block [kg m^2]
 B          base width [m]
@@ -29,7 +30,7 @@ NAME = "block"
 COORDINATES = ("theta", )
 STATE = ("theta", "dtheta", )
 PARAMETERS = ("M", "I_G", "B", "H", "e", "g", )
-ARGUMENTS = ("s", "theta", "dtheta", "ag", "M", "I_G", "B", "H", "e", "g", )
+ARGUMENTS = ("s", "theta", "dtheta", "ag", "agy", "M", "I_G", "B", "H", "e", "g", )
 
 
 def _broadcast(values, args):
@@ -41,7 +42,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def mass_matrix(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -54,6 +55,8 @@ def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -75,11 +78,11 @@ def mass_matrix(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         M[0,0]
     """
     cse0 = (1/4)*M
-    out = _broadcast((B**2*cse0 + B*M*e*s + H**2*cse0 + I_G + M*e**2, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((B**2*cse0 + B*M*e*s + H**2*cse0 + I_G + M*e**2, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def forcing(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -92,6 +95,8 @@ def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -112,6 +117,8 @@ def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         f[theta]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = M*e
     cse1 = numpy.sin(theta)
     cse2 = ag*cse1
@@ -120,11 +127,11 @@ def forcing(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse5 = H*cse4
     cse6 = cse3*g
     cse7 = B*cse4*s
-    out = _broadcast((ag*cse3*cse5 + cse0*cse2 - cse0*cse6 + cse1*cse5*g + cse2*cse7 - cse6*cse7, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((ag*cse3*cse5 + cse0*cse2 - cse0*cse6 + cse1*cse5*g + cse2*cse7 - cse6*cse7, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def rocking_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -137,6 +144,8 @@ def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -157,6 +166,8 @@ def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         ddtheta
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = 4*M
     cse1 = cse0*e
     cse2 = B*s
@@ -167,11 +178,11 @@ def rocking_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse7 = ag*cse6
     cse8 = cse3*g
     cse9 = cse2*cse4
-    out = _broadcast(((ag*cse3*cse5 + cse1*cse7 - cse1*cse8 + cse5*cse6*g + cse7*cse9 - cse8*cse9)/(B**2*M + H**2*M + 4*I_G + cse0*e**2 + cse1*cse2), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast(((ag*cse3*cse5 + cse1*cse7 - cse1*cse8 + cse5*cse6*g + cse7*cse9 - cse8*cse9)/(B**2*M + H**2*M + 4*I_G + cse0*e**2 + cse1*cse2), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def contact_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -184,6 +195,8 @@ def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -204,11 +217,11 @@ def contact_accel(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         ddtheta
     """
-    out = _broadcast((0, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((0, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def uplift(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -221,6 +234,8 @@ def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -240,13 +255,15 @@ def uplift(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     -------
     ndarray
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = M*g
-    out = _broadcast((-1/2*B*cse0 + (1/2)*H*M*ag*s - cse0*e*s, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((-1/2*B*cse0 + (1/2)*H*M*ag*s - cse0*e*s, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
-    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+def impact(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
 
     Parameters
     ----------
@@ -258,6 +275,8 @@ def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -282,12 +301,12 @@ def impact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse1 = H**2*M
     cse2 = B**2
     cse3 = 4*M*e**2
-    out = _broadcast(((M*cse2*dtheta - cse0*dtheta - cse1*dtheta - cse3*dtheta)/(4*B*M*e*s - M*cse2 - cse0 - cse1 - cse3), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast(((M*cse2*dtheta - cse0*dtheta - cse1*dtheta - cse3*dtheta)/(4*B*M*e*s - M*cse2 - cse0 - cse1 - cse3), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
-    """Mechanical energy in the ground frame while rocking about s; ag is ignored.
+def energy(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
 
     Parameters
     ----------
@@ -299,6 +318,8 @@ def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -325,11 +346,11 @@ def energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse4 = B*s
     cse5 = (1/8)*M*cse0
     cse6 = M*cse1
-    out = _broadcast((B**2*cse5 + H**2*cse5 + (1/2)*H*cse2*numpy.cos(theta) + I_G*cse1 + (1/2)*cse3*cse4 + cse3*e + cse4*cse6*e + cse6*e**2, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((B**2*cse5 + H**2*cse5 + (1/2)*H*cse2*numpy.cos(theta) + I_G*cse1 + (1/2)*cse3*cse4 + cse3*e + cse4*cse6*e + cse6*e**2, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def power(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def power(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -342,6 +363,8 @@ def power(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -361,14 +384,21 @@ def power(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     -------
     ndarray
     """
-    cse0 = M*ag*dtheta
-    cse1 = cse0*numpy.sin(theta)
-    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    cse0 = M*dtheta
+    cse1 = cse0*e
+    cse2 = numpy.sin(theta)
+    cse3 = ag*cse2
+    cse4 = numpy.cos(theta)
+    cse5 = (1/2)*cse0
+    cse6 = H*cse5
+    cse7 = agy*cse4
+    cse8 = B*cse5*s
+    out = _broadcast((ag*cse4*cse6 + agy*cse2*cse6 + cse1*cse3 - cse1*cse7 + cse3*cse8 - cse7*cse8, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
-    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+def uplift_energy(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
 
     Parameters
     ----------
@@ -380,6 +410,8 @@ def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -399,12 +431,12 @@ def uplift_energy(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     -------
     ndarray
     """
-    out = _broadcast((numpy.inf, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((numpy.inf, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def least_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
-    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+def least_potential(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -416,6 +448,8 @@ def least_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -437,12 +471,12 @@ def least_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """
     cse0 = M*g
     cse1 = cse0*numpy.sin(theta)
-    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def least_stroke_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
-    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+def least_stroke_potential(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -454,6 +488,8 @@ def least_stroke_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=Non
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -475,11 +511,11 @@ def least_stroke_potential(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=Non
     """
     cse0 = M*g
     cse1 = cse0*numpy.sin(theta)
-    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast(((1/2)*B*cse1*s + (1/2)*H*cse0*numpy.cos(theta) + cse1*e, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def critical_angle(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -492,6 +528,8 @@ def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -513,11 +551,11 @@ def critical_angle(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     """
     cse0 = M*g
     cse1 = (1/2)*cse0
-    out = _broadcast((numpy.arctan2(B*cse1*s + cse0*e, H*cse1), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((numpy.arctan2(B*cse1*s + cse0*e, H*cse1), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def stop_gaps(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -530,6 +568,8 @@ def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -550,11 +590,11 @@ def stop_gaps(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def stop_forces(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
@@ -567,6 +607,8 @@ def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -587,11 +629,11 @@ def stop_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def stop_contact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def stop_contact(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
@@ -604,6 +646,8 @@ def stop_contact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -624,11 +668,11 @@ def stop_contact(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def stop_approach(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def stop_approach(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
@@ -641,6 +685,8 @@ def stop_approach(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -661,11 +707,11 @@ def stop_approach(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def critical_tangent(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -678,6 +724,8 @@ def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -698,11 +746,11 @@ def critical_tangent(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     ndarray
     """
     cse0 = M*g
-    out = _broadcast((numpy.select([numpy.greater(H*cse0, 0),True], [2*((1/2)*B*cse0*s + cse0*e)/(H*M*g),numpy.nan], default=numpy.nan), ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((numpy.select([numpy.greater(H*cse0, 0),True], [2*((1/2)*B*cse0*s + cse0*e)/(H*M*g),numpy.nan], default=numpy.nan), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out[0]
 
 
-def block_accelerations(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def block_accelerations(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -715,6 +763,8 @@ def block_accelerations(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -743,11 +793,11 @@ def block_accelerations(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse5 = cse3*cse4
     cse6 = H*cse2
     cse7 = cse0*cse4
-    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def base_reaction(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def base_reaction(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -760,6 +810,8 @@ def base_reaction(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -780,6 +832,8 @@ def base_reaction(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         V_b[0], V_b[ddtheta], N_b[0], N_b[ddtheta], M_b[0], M_b[ddtheta]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = dtheta**2
     cse1 = numpy.cos(theta)
     cse2 = M*e
@@ -800,11 +854,11 @@ def base_reaction(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     cse17 = (1/4)*M
     cse18 = cse16*cse17
     cse19 = cse17*cse6
-    out = _broadcast(((1/2)*H*M*cse0*cse4 + M*ag - cse0*cse3 - cse0*cse7, -cse10 - cse12 - cse8, M*g - cse0*cse10 - cse0*cse12 - cse13, -H*cse11 + cse3 + cse7, (1/2)*B*M*ag*cse4*s + (1/2)*B*M*g*s + (1/2)*H*M*ag*cse1 + (1/2)*H*M*cse4*g + M*ag*cse4*e - cse0*cse18*cse4 - cse0*cse19*cse9 - cse13*cse15 - cse14*cse15 - cse14*e, (1/2)*B*M*cse1*e*s - H**2*cse17 - H*cse19*cse4 - I_G + (1/4)*M*cse1*cse16 - M*e**2 - cse18 - cse2*cse6, ), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast(((1/2)*H*M*cse0*cse4 + M*ag - cse0*cse3 - cse0*cse7, -cse10 - cse12 - cse8, M*g - cse0*cse10 - cse0*cse12 - cse13, -H*cse11 + cse3 + cse7, (1/2)*B*M*ag*cse4*s + (1/2)*B*M*g*s + (1/2)*H*M*ag*cse1 + (1/2)*H*M*cse4*g + M*ag*cse4*e - cse0*cse18*cse4 - cse0*cse19*cse9 - cse13*cse15 - cse14*cse15 - cse14*e, (1/2)*B*M*cse1*e*s - H**2*cse17 - H*cse19*cse4 - I_G + (1/4)*M*cse1*cse16 - M*e**2 - cse18 - cse2*cse6, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
 
 
-def element_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
+def element_forces(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
 
     Parameters
@@ -817,6 +871,8 @@ def element_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
         time derivative of theta
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -837,5 +893,5 @@ def element_forces(s, theta, dtheta, ag, M, I_G, B, H, e, g, stop_on=None):
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, dtheta, ag, M, I_G, B, H, e, g))
+    out = _broadcast((), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out

@@ -11,6 +11,7 @@ x          coordinate x of the attached bodies
 dtheta     time derivative of theta
 dx         time derivative of x
 ag         ground acceleration ddx_g [m/s^2], positive to the right
+agy        vertical ground acceleration ddy_g [m/s^2], positive up
 M          block mass [kg]
 I_G        centroidal moment of inertia of the block [kg m^2]
 B          base width [m]
@@ -36,7 +37,7 @@ NAME = "omd"
 COORDINATES = ("theta", "x", )
 STATE = ("theta", "x", "dtheta", "dx", )
 PARAMETERS = ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", )
-ARGUMENTS = ("s", "theta", "x", "dtheta", "dx", "ag", "M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", )
+ARGUMENTS = ("s", "theta", "x", "dtheta", "dx", "ag", "agy", "M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", )
 
 
 def _broadcast(values, args):
@@ -48,7 +49,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def mass_matrix(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -65,6 +66,8 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, s
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -99,11 +102,11 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, s
     cse3 = B**2
     cse4 = (1/4)*M
     cse5 = -cse1 - h*m
-    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1/4)*cse3*m + h**2*m + m*x**2, cse5, cse5, m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1/4)*cse3*m + h**2*m + m*x**2, cse5, cse5, m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -120,6 +123,8 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -148,6 +153,8 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_
     tuple of ndarray
         f[theta], f[x]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.cos(theta)
     cse1 = ag*cse0
     cse2 = cse1*m
@@ -166,11 +173,11 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_
     cse15 = cse10*cse13
     cse16 = (1/2)*cse14
     cse17 = dtheta**2
-    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse17*m*s - c*dx + cse17*m*x - cse2 - cse5 - k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse17*m*s - c*dx + cse17*m*x - cse2 - cse5 - k_m*x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -187,6 +194,8 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -215,6 +224,8 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         ddtheta, ddx
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = B*s
     cse1 = M*e
     cse2 = m*x
@@ -238,11 +249,11 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse20 = dtheta**2
     cse21 = (1/2)*B*cse20*m*s - c*dx - cse10 + cse20*m*x - cse7 - k_m*x
     cse22 = (H*cse10 + H*cse7 + cse1*cse11 - cse1*cse15 + cse10*h + cse11*cse17 + cse11*cse18 + cse11*cse2 - cse12*cse16 - 2*cse12*cse2 + cse14*cse6 + cse14*cse9 - cse15*cse17 - cse15*cse18 - cse15*cse2 - cse19*cse21 + cse7*h)/(H**2*cse4 + I_G + M*e**2 + cse0*cse1 + cse0*cse2 + cse3*cse4 + (1/4)*cse3*m + m*x**2)
-    out = _broadcast((cse22, -cse19*cse22 + cse21/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((cse22, -cse19*cse22 + cse21/m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def contact_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -259,6 +270,8 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -287,11 +300,11 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         ddtheta, ddx
     """
-    out = _broadcast((0, (-ag*m - c*dx - k_m*x)/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((0, (-ag*m - c*dx - k_m*x)/m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -308,6 +321,8 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -335,6 +350,8 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
     -------
     ndarray
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = M*g
     cse1 = (1/2)*B
     cse2 = g*m
@@ -342,12 +359,12 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
     cse4 = c*dx
     cse5 = k_m*x
     cse6 = h*s
-    out = _broadcast(((1/2)*H*M*ag*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast(((1/2)*H*M*ag*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
-    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+def impact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
 
     Parameters
     ----------
@@ -363,6 +380,8 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -407,12 +426,12 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
     cse13 = -H - h
     cse14 = dtheta*h
     cse15 = (-H*cse9 + I_G*dtheta + cse0*dtheta + cse1*dtheta + cse10*cse6 + cse10*h**2 + 2*cse12*h - cse13*(-cse12 - cse14*m + dx*m) - cse4*dtheta - cse5*dtheta + cse7*dtheta - cse9*h)/(I_G - M*cse8*e + cse0 + cse1 + cse4 + cse5 + cse7 - cse8*m*x)
-    out = _broadcast((cse15, -cse11 - cse13*cse15 - cse14 + dx, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((cse15, -cse11 - cse13*cse15 - cse14 + dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
-    """Mechanical energy in the ground frame while rocking about s; ag is ignored.
+def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
 
     Parameters
     ----------
@@ -428,6 +447,8 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -473,11 +494,11 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_o
     cse15 = H**2
     cse16 = cse1*m
     cse17 = M*cse1
-    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -494,6 +515,8 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -521,21 +544,31 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on
     -------
     ndarray
     """
-    cse0 = numpy.cos(theta)
-    cse1 = ag*m
-    cse2 = cse0*cse1
-    cse3 = cse2*dtheta
-    cse4 = dtheta*numpy.sin(theta)
-    cse5 = M*ag
-    cse6 = cse4*cse5
-    cse7 = cse1*cse4
-    cse8 = (1/2)*B*s
-    out = _broadcast(((1/2)*H*cse0*cse5*dtheta + H*cse3 - c*dx**2 - cse2*dx + cse3*h + cse6*cse8 + cse6*e + cse7*cse8 + cse7*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    cse0 = dx*m
+    cse1 = numpy.cos(theta)
+    cse2 = ag*cse1
+    cse3 = numpy.sin(theta)
+    cse4 = agy*cse3
+    cse5 = dtheta*m
+    cse6 = H*cse5
+    cse7 = ag*cse3
+    cse8 = M*dtheta
+    cse9 = cse8*e
+    cse10 = cse5*h
+    cse11 = cse5*x
+    cse12 = (1/2)*cse8
+    cse13 = H*cse12
+    cse14 = agy*cse1
+    cse15 = B*s
+    cse16 = cse15*cse7
+    cse17 = cse14*cse15
+    cse18 = (1/2)*cse5
+    out = _broadcast((-c*dx**2 - cse0*cse2 - cse0*cse4 + cse10*cse2 + cse10*cse4 - cse11*cse14 + cse11*cse7 + cse12*cse16 - cse12*cse17 + cse13*cse2 + cse13*cse4 - cse14*cse9 + cse16*cse18 - cse17*cse18 + cse2*cse6 + cse4*cse6 + cse7*cse9, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
-    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+def uplift_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
 
     Parameters
     ----------
@@ -551,6 +584,8 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -587,12 +622,12 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse6 = k_m**2*m
     cse7 = 2*H**2
     cse8 = 2*h**2
-    out = _broadcast((k_m*m*functools.reduce(numpy.maximum, [0, cse0*cse1 + cse0*e*s + cse1*g*m])**2/(cse2*cse4 + cse2*cse7 + cse2*cse8 + cse3*cse5 + cse4*cse6 + 4*cse5*h + cse6*cse7 + cse6*cse8 + 2*g**2*m**3), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((k_m*m*functools.reduce(numpy.maximum, [0, cse0*cse1 + cse0*e*s + cse1*g*m])**2/(cse2*cse4 + cse2*cse7 + cse2*cse8 + cse3*cse5 + cse4*cse6 + 4*cse5*h + cse6*cse7 + cse6*cse8 + 2*g**2*m**3), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
-    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+def least_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -608,6 +643,8 @@ def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, 
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -642,12 +679,12 @@ def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, 
     cse4 = M*g
     cse5 = cse3*cse4
     cse6 = (1/2)*B*s
-    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
-    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+def least_stroke_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -663,6 +700,8 @@ def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -698,11 +737,11 @@ def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h
     cse5 = cse3*cse4
     cse6 = cse1*cse3
     cse7 = (1/2)*B*s
-    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def critical_angle(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -719,6 +758,8 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -750,11 +791,11 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     cse1 = g*m
     cse2 = (1/2)*cse0
     cse3 = B*s
-    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def stop_gaps(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -771,6 +812,8 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, sto
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -799,11 +842,11 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, sto
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def stop_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
@@ -820,6 +863,8 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, s
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -848,11 +893,11 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, s
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def stop_contact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
@@ -869,6 +914,8 @@ def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, 
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -897,11 +944,11 @@ def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, 
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def stop_approach(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
@@ -918,6 +965,8 @@ def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -946,11 +995,11 @@ def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def critical_tangent(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -967,6 +1016,8 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -999,11 +1050,11 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
     cse2 = (1/2)*cse1
     cse3 = H*cse0 + H*cse2 + cse0*h
     cse4 = B*s
-    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out[0]
 
 
-def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def block_accelerations(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1020,6 +1071,8 @@ def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1056,11 +1109,11 @@ def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k
     cse5 = cse3*cse4
     cse6 = H*cse2
     cse7 = cse0*cse4
-    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def base_reaction(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1077,6 +1130,8 @@ def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1105,6 +1160,8 @@ def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         V_b[0], V_b[ddtheta], V_b[ddx], N_b[0], N_b[ddtheta], N_b[ddx], M_b[0], M_b[ddtheta], M_b[ddx]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.sin(theta)
     cse1 = cse0*m
     cse2 = dtheta*dx
@@ -1145,11 +1202,11 @@ def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse37 = cse11*cse34
     cse38 = H**2
     cse39 = H*m
-    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out
 
 
-def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
     """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
 
     Parameters
@@ -1166,6 +1223,8 @@ def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1194,5 +1253,5 @@ def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     tuple of ndarray
         Q[x]
     """
-    out = _broadcast((c*dx + k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c))
+    out = _broadcast((c*dx + k_m*x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
     return out

@@ -155,15 +155,16 @@ void omd_mass_matrix_prepared(const double *y, double ag, const double *cst, dou
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major. */
-void omd_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+void omd_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd_prepare(s, on, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -194,15 +195,20 @@ void omd_forcing_prepared(const double *y, double ag, const double *cst, double 
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
-void omd_forcing(double s, const double *y, double ag, const double *p, double *out)
+void omd_forcing(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_NP];
+    for (int i = 0; i < OMD_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_P_g] = p[OMD_P_g] + agy;
+    omd_prepare(s, NULL, pg, cst);
     omd_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd_prepare(s, on, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -239,10 +245,15 @@ void omd_rocking_accel_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
-void omd_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_NP];
+    for (int i = 0; i < OMD_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_P_g] = p[OMD_P_g] + agy;
+    omd_prepare(s, NULL, pg, cst);
     omd_rocking_accel_prepared(y, ag, cst, out);
 }
 
@@ -261,15 +272,16 @@ void omd_contact_accel_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
-void omd_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd_prepare(s, on, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 double omd_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x = y[1];
@@ -282,14 +294,19 @@ double omd_uplift_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
-double omd_uplift(double s, const double *y, double ag, const double *p)
+double omd_uplift(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
-    omd_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_NP];
+    for (int i = 0; i < OMD_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_P_g] = p[OMD_P_g] + agy;
+    omd_prepare(s, NULL, pg, cst);
     return omd_uplift_prepared(y, ag, cst);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * From the constants of omd_prepare(s, on, p, cst). */
 void omd_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -310,15 +327,16 @@ void omd_impact_prepared(const double *y, double ag, const double *cst, double *
     out[1] = cse1*cst16 + cst24*dtheta + dx;
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
-void omd_impact(double s, const double *y, double ag, const double *p, double *out)
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored. */
+void omd_impact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_impact_prepared(y, ag, cst, out);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * From the constants of omd_prepare(s, on, p, cst). */
 double omd_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -341,17 +359,18 @@ double omd_energy_prepared(const double *y, double ag, const double *cst)
     return cse0*cst28 + cse0*cst29*x + cse1*cse2*cst27 + cse1*cst14*x + cse1*cst25 + cse2*cst26 + cst27*(dx*dx) + cst3*dtheta*dx + cst5*cos(theta);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
-double omd_energy(double s, const double *y, double ag, const double *p)
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored. */
+double omd_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     return omd_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * From the constants of omd_prepare(s, on, p, cst). */
-double omd_power_prepared(const double *y, double ag, const double *cst)
+double omd_power_prepared(const double *y, double ag, double agy, const double *cst)
 {
     const double theta = y[0];
     const double x = y[1];
@@ -362,20 +381,27 @@ double omd_power_prepared(const double *y, double ag, const double *cst)
     const double cst6 = cst[6];
     const double cst11 = cst[11];
     const double cst13 = cst[13];
-    const double cse0 = ag*cos(theta);
-    const double cse1 = ag*dtheta*sin(theta);
-    return cse0*cst13*dx + cse0*cst4*dtheta + cse1*cst1*x + cse1*cst6 + cst11*(dx*dx);
+    const double cst41 = cst[41];
+    const double cse0 = cos(theta);
+    const double cse1 = ag*cse0;
+    const double cse2 = cst13*dx;
+    const double cse3 = cst4*dtheta;
+    const double cse4 = sin(theta);
+    const double cse5 = ag*cse4*dtheta;
+    const double cse6 = agy*cse4;
+    const double cse7 = agy*cse0*dtheta;
+    return cse1*cse2 + cse1*cse3 + cse2*cse6 + cse3*cse6 + cse5*cst1*x + cse5*cst6 + cse7*cst13*x + cse7*cst41 + cst11*(dx*dx);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
-double omd_power(double s, const double *y, double ag, const double *p)
+double omd_power(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
     omd_prepare(s, NULL, p, cst);
-    return omd_power_prepared(y, ag, cst);
+    return omd_power_prepared(y, ag, agy, cst);
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * From the constants of omd_prepare(s, on, p, cst). */
 double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -385,15 +411,16 @@ double omd_uplift_energy_prepared(const double *y, double ag, const double *cst)
     return cst30;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
-double omd_uplift_energy(double s, const double *y, double ag, const double *p)
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored. */
+double omd_uplift_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     return omd_uplift_energy_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * From the constants of omd_prepare(s, on, p, cst). */
 double omd_least_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -407,15 +434,16 @@ double omd_least_potential_prepared(const double *y, double ag, const double *cs
     return ((cst32 > 0) ? ((cse0*cse0)*cst31 + cse0*cst28 + cst5*cos(theta)) : (-INFINITY));
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
-double omd_least_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored. */
+double omd_least_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     return omd_least_potential_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * From the constants of omd_prepare(s, on, p, cst). */
 double omd_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -430,10 +458,11 @@ double omd_least_stroke_potential_prepared(const double *y, double ag, const dou
     return cse0*cst28 + cse0*cst29*x + cst26*(x*x) + cst5*cos(theta);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
-double omd_least_stroke_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored. */
+double omd_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     return omd_least_stroke_potential_prepared(y, ag, cst);
 }
@@ -451,9 +480,10 @@ double omd_critical_angle_prepared(const double *y, double ag, const double *cst
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
-double omd_critical_angle(double s, const double *y, double ag, const double *p)
+double omd_critical_angle(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     return omd_critical_angle_prepared(y, ag, cst);
 }
@@ -469,9 +499,10 @@ void omd_stop_gaps_prepared(const double *y, double ag, const double *cst, doubl
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
-void omd_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+void omd_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_stop_gaps_prepared(y, ag, cst, out);
 }
@@ -487,9 +518,10 @@ void omd_stop_forces_prepared(const double *y, double ag, const double *cst, dou
 }
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes). */
-void omd_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_stop_forces_prepared(y, ag, cst, out);
 }
@@ -505,9 +537,10 @@ void omd_stop_contact_prepared(const double *y, double ag, const double *cst, do
 }
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
-void omd_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+void omd_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_stop_contact_prepared(y, ag, cst, out);
 }
@@ -523,9 +556,10 @@ void omd_stop_approach_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in. */
-void omd_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+void omd_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_stop_approach_prepared(y, ag, cst, out);
 }
@@ -544,9 +578,10 @@ double omd_critical_tangent_prepared(const double *y, double ag, const double *c
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
-double omd_critical_tangent(double s, const double *y, double ag, const double *p)
+double omd_critical_tangent(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     return omd_critical_tangent_prepared(y, ag, cst);
 }
@@ -577,15 +612,16 @@ void omd_block_accelerations_prepared(const double *y, double ag, const double *
 }
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void omd_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+void omd_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_block_accelerations_prepared(y, ag, cst, out);
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * From the constants of omd_prepare(s, on, p, cst). */
+ * From the constants of omd_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -641,10 +677,15 @@ void omd_base_reaction_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void omd_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+void omd_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
-    omd_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_NP];
+    for (int i = 0; i < OMD_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_P_g] = p[OMD_P_g] + agy;
+    omd_prepare(s, NULL, pg, cst);
     omd_base_reaction_prepared(y, ag, cst, out);
 }
 
@@ -661,9 +702,10 @@ void omd_element_forces_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
-void omd_element_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_NK];
+    (void)agy;
     omd_prepare(s, NULL, p, cst);
     omd_element_forces_prepared(y, ag, cst, out);
 }

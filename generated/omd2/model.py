@@ -13,6 +13,7 @@ dtheta     time derivative of theta
 dx1        time derivative of x1
 dx2        time derivative of x2
 ag         ground acceleration ddx_g [m/s^2], positive to the right
+agy        vertical ground acceleration ddy_g [m/s^2], positive up
 M          block mass [kg]
 I_G        centroidal moment of inertia of the block [kg m^2]
 B          base width [m]
@@ -41,7 +42,7 @@ NAME = "omd2"
 COORDINATES = ("theta", "x1", "x2", )
 STATE = ("theta", "x1", "x2", "dtheta", "dx1", "dx2", )
 PARAMETERS = ("M", "I_G", "B", "H", "e", "g", "m1", "h", "k1", "c1", "m2", "k2", "c2", )
-ARGUMENTS = ("s", "theta", "x1", "x2", "dtheta", "dx1", "dx2", "ag", "M", "I_G", "B", "H", "e", "g", "m1", "h", "k1", "c1", "m2", "k2", "c2", )
+ARGUMENTS = ("s", "theta", "x1", "x2", "dtheta", "dx1", "dx2", "ag", "agy", "M", "I_G", "B", "H", "e", "g", "m1", "h", "k1", "c1", "m2", "k2", "c2", )
 
 
 def _broadcast(values, args):
@@ -53,7 +54,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -74,6 +75,8 @@ def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -116,11 +119,11 @@ def mass_matrix(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
     cse5 = (1/4)*cse3
     cse6 = -cse1 - h*m1
     cse7 = -1/2*H*m2
-    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m1 + (1/4)*cse0*m2 + 2*cse1*h + cse2*m1*x1 + cse2*m2*x2 + cse3*cse4 + cse5*m1 + cse5*m2 + h**2*m1 + m1*x1**2 + m2*x2**2, cse6, cse7, cse6, m1, 0, cse7, 0, m2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m1 + (1/4)*cse0*m2 + 2*cse1*h + cse2*m1*x1 + cse2*m2*x2 + cse3*cse4 + cse5*m1 + cse5*m2 + h**2*m1 + m1*x1**2 + m2*x2**2, cse6, cse7, cse6, m1, 0, cse7, 0, m2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -141,6 +144,8 @@ def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -175,6 +180,8 @@ def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k
     tuple of ndarray
         f[theta], f[x1], f[x2]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.cos(theta)
     cse1 = ag*cse0
     cse2 = cse1*m1
@@ -197,11 +204,11 @@ def forcing(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k
     cse19 = cse18*cse6
     cse20 = cse15*cse18
     cse21 = dtheta**2
-    out = _broadcast((H*cse2 + H*cse5 + M*cse19 - M*cse20 + cse1*cse12 - cse10*cse8*dx1 - cse10*cse9*dx2 + cse11*cse13 + cse11*cse14 + cse12*cse4 - cse15*cse7 - cse15*cse8 - cse15*cse9 - cse17*dx1*m1 - cse17*dx2*m2 + cse19*m1 + cse19*m2 + cse2*h - cse20*m1 - cse20*m2 + cse5*h + cse6*cse7 + cse6*cse8 + cse6*cse9, (1/2)*B*cse21*m1*s - c1*dx1 - cse2 + cse21*m1*x1 - cse5 - k1*x1, (1/2)*B*cse21*m2*s - c2*dx2 - cse13 - cse14 + cse21*m2*x2 - k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((H*cse2 + H*cse5 + M*cse19 - M*cse20 + cse1*cse12 - cse10*cse8*dx1 - cse10*cse9*dx2 + cse11*cse13 + cse11*cse14 + cse12*cse4 - cse15*cse7 - cse15*cse8 - cse15*cse9 - cse17*dx1*m1 - cse17*dx2*m2 + cse19*m1 + cse19*m2 + cse2*h - cse20*m1 - cse20*m2 + cse5*h + cse6*cse7 + cse6*cse8 + cse6*cse9, (1/2)*B*cse21*m1*s - c1*dx1 - cse2 + cse21*m1*x1 - cse5 - k1*x1, (1/2)*B*cse21*m2*s - c2*dx2 - cse13 - cse14 + cse21*m2*x2 - k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -222,6 +229,8 @@ def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -256,6 +265,8 @@ def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     tuple of ndarray
         ddtheta, ddx1, ddx2
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = B*s
     cse1 = M*e
     cse2 = m1*x1
@@ -286,11 +297,11 @@ def rocking_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     cse27 = -H - h
     cse28 = (1/2)*B*cse25*m1*s - c1*dx1 - cse12 + cse25*m1*x1 - cse9 - k1*x1
     cse29 = (H*cse12 + H*cse9 + cse1*cse13 - cse1*cse19 + cse11*cse16 + cse12*h + cse13*cse2 + cse13*cse3 - cse14*cse2*dx1 - cse14*cse3*dx2 + cse15*cse17 + cse15*cse18 + cse15*cse26 + cse16*cse8 - cse19*cse2 - cse19*cse3 + cse20*cse22 - cse20*cse24 - cse20*dtheta*dx1 + cse21*cse22 - cse21*cse24 - cse21*dtheta*dx2 + cse22*cse23 - cse23*cse24 - cse27*cse28 + cse9*h)/(H**2*cse5 + I_G + M*e**2 + cse0*cse1 + cse0*cse2 + cse0*cse3 + cse4*cse5 + cse6*m1 + cse6*m2 + m1*x1**2 + m2*x2**2)
-    out = _broadcast((cse29, -cse27*cse29 + cse28/m1, cse15*cse29 + cse26/m2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((cse29, -cse27*cse29 + cse28/m1, cse15*cse29 + cse26/m2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -311,6 +322,8 @@ def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -345,11 +358,11 @@ def contact_accel(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     tuple of ndarray
         ddtheta, ddx1, ddx2
     """
-    out = _broadcast((0, (-ag*m1 - c1*dx1 - k1*x1)/m1, (-ag*m2 - c2*dx2 - k2*x2)/m2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((0, (-ag*m1 - c1*dx1 - k1*x1)/m1, (-ag*m2 - c2*dx2 - k2*x2)/m2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -370,6 +383,8 @@ def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -403,6 +418,8 @@ def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     -------
     ndarray
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = M*g
     cse1 = (1/2)*B
     cse2 = cse1*g
@@ -412,12 +429,12 @@ def uplift(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     cse6 = h*s
     cse7 = g*s
     cse8 = (1/2)*cse3
-    out = _broadcast(((1/2)*H*M*ag*s - c2*cse8*dx2 - cse0*cse1 - cse0*e*s - cse2*m1 - cse2*m2 - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6 - cse7*m1*x1 - cse7*m2*x2 - cse8*k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast(((1/2)*H*M*ag*s - c2*cse8*dx2 - cse0*cse1 - cse0*e*s - cse2*m1 - cse2*m2 - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6 - cse7*m1*x1 - cse7*m2*x2 - cse8*k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
-    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
 
     Parameters
     ----------
@@ -437,6 +454,8 @@ def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -492,12 +511,12 @@ def impact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     cse18 = -H - h
     cse19 = dtheta*h
     cse20 = (-H*cse12 + I_G*dtheta + cse0*dtheta + cse1*dtheta + cse10*dtheta - cse12*h - cse13*dx2*m2 + cse13*(-cse17*m2 + dx2*m2) + cse14*cse9 + cse14*h**2 + 2*cse16*h - cse18*(-cse16 - cse19*m1 + dx1*m1) + cse2*dtheta - cse5*dtheta - cse7*dtheta - cse8*dtheta + (1/4)*cse9*dtheta*m2)/(I_G - M*cse11*e + cse0 + cse1 + cse10 - cse11*m1*x1 - cse11*m2*x2 + cse2 + cse5 + cse7 + cse8)
-    out = _broadcast((cse20, -cse15 - cse18*cse20 - cse19 + dx1, cse13*cse20 - cse17 + dx2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((cse20, -cse15 - cse18*cse20 - cse19 + dx1, cse13*cse20 - cse17 + dx2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
-    """Mechanical energy in the ground frame while rocking about s; ag is ignored.
+def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
 
     Parameters
     ----------
@@ -517,6 +536,8 @@ def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -573,11 +594,11 @@ def energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1
     cse20 = cse1*m1
     cse21 = M*cse1
     cse22 = cse1*m2
-    out = _broadcast((-H*cse3*dtheta*dx2 + I_G*cse1 + (1/2)*M*cse12 + cse0*cse6*h + (1/2)*cse10*cse13 + cse10*e - cse11*cse7 + cse11*cse8 + cse12*cse3 + cse13*cse20*x1 + cse13*cse21*e + cse13*cse22*x2 + cse14*cse2 + cse14*cse3 + cse15*cse17 + cse16*cse19*m2 + cse17*cse19 + cse18*m1 + cse18*m2 + cse19*cse20 + cse2*dx1**2 + cse20*cse4 + cse20*h**2 + cse21*e**2 + cse22*cse5 + cse3*dx2**2 + (1/2)*cse4*k1 + (1/2)*cse5*k2 - cse6*cse7 + cse6*cse8 + cse9*m1*x1 + cse9*m2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((-H*cse3*dtheta*dx2 + I_G*cse1 + (1/2)*M*cse12 + cse0*cse6*h + (1/2)*cse10*cse13 + cse10*e - cse11*cse7 + cse11*cse8 + cse12*cse3 + cse13*cse20*x1 + cse13*cse21*e + cse13*cse22*x2 + cse14*cse2 + cse14*cse3 + cse15*cse17 + cse16*cse19*m2 + cse17*cse19 + cse18*m1 + cse18*m2 + cse19*cse20 + cse2*dx1**2 + cse20*cse4 + cse20*h**2 + cse21*e**2 + cse22*cse5 + cse3*dx2**2 + (1/2)*cse4*k1 + (1/2)*cse5*k2 - cse6*cse7 + cse6*cse8 + cse9*m1*x1 + cse9*m2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -598,6 +619,8 @@ def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1,
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -631,24 +654,34 @@ def power(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1,
     -------
     ndarray
     """
-    cse0 = ag*numpy.cos(theta)
-    cse1 = cse0*m1
-    cse2 = cse0*m2
-    cse3 = cse1*dtheta
-    cse4 = M*dtheta
-    cse5 = ag*numpy.sin(theta)
-    cse6 = cse4*cse5
-    cse7 = cse5*dtheta
-    cse8 = cse7*m1
-    cse9 = cse7*m2
-    cse10 = (1/2)*H
-    cse11 = (1/2)*B*s
-    out = _broadcast((H*cse3 - c1*dx1**2 - c2*dx2**2 + cse0*cse10*cse4 - cse1*dx1 + cse10*cse2*dtheta + cse11*cse6 + cse11*cse8 + cse11*cse9 - cse2*dx2 + cse3*h + cse6*e + cse8*x1 + cse9*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    cse0 = numpy.cos(theta)
+    cse1 = ag*cse0
+    cse2 = dx1*m1
+    cse3 = dx2*m2
+    cse4 = numpy.sin(theta)
+    cse5 = agy*cse4
+    cse6 = dtheta*m1
+    cse7 = H*cse6
+    cse8 = ag*cse4
+    cse9 = M*dtheta
+    cse10 = cse9*e
+    cse11 = cse6*h
+    cse12 = cse6*x1
+    cse13 = dtheta*m2
+    cse14 = cse13*x2
+    cse15 = (1/2)*H
+    cse16 = cse15*cse9
+    cse17 = cse13*cse15
+    cse18 = agy*cse0
+    cse19 = (1/2)*B*s
+    cse20 = cse19*cse8
+    cse21 = cse18*cse19
+    out = _broadcast((-c1*dx1**2 - c2*dx2**2 + cse1*cse11 + cse1*cse16 + cse1*cse17 - cse1*cse2 - cse1*cse3 + cse1*cse7 - cse10*cse18 + cse10*cse8 + cse11*cse5 - cse12*cse18 + cse12*cse8 + cse13*cse20 - cse13*cse21 - cse14*cse18 + cse14*cse8 + cse16*cse5 + cse17*cse5 - cse2*cse5 + cse20*cse6 + cse20*cse9 - cse21*cse6 - cse21*cse9 - cse3*cse5 + cse5*cse7, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
-    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
 
     Parameters
     ----------
@@ -668,6 +701,8 @@ def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -719,12 +754,12 @@ def uplift_energy(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     cse15 = M*g
     cse16 = (1/2)*B
     cse17 = cse16*g
-    out = _broadcast((cse1*cse2*functools.reduce(numpy.maximum, [0, cse15*cse16 + cse15*e*s + cse17*m1 + cse17*m2])**2/(c2**2*cse13*cse6 + cse0*cse1*m2**3 + cse0*cse2*m1**3 + cse1*cse13*k2**2*m2 + cse12*cse3 + cse12*cse9 + cse14*cse3 + cse14*cse9 + cse3*cse5 + cse5*cse9 + 2*cse6*cse7*m2**2 + cse7*cse8 + cse8*g*h), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((cse1*cse2*functools.reduce(numpy.maximum, [0, cse15*cse16 + cse15*e*s + cse17*m1 + cse17*m2])**2/(c2**2*cse13*cse6 + cse0*cse1*m2**3 + cse0*cse2*m1**3 + cse1*cse13*k2**2*m2 + cse12*cse3 + cse12*cse9 + cse14*cse3 + cse14*cse9 + cse3*cse5 + cse5*cse9 + 2*cse6*cse7*m2**2 + cse7*cse8 + cse8*g*h), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def least_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
-    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+def least_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -744,6 +779,8 @@ def least_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, 
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -788,12 +825,12 @@ def least_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, 
     cse8 = (1/2)*B*s
     cse9 = cse3*cse8
     cse10 = cse3**2*g**2
-    out = _broadcast((numpy.select([numpy.logical_and.reduce((numpy.greater(k1, 0),numpy.greater(k1*k2, 0))),True], [H*cse2 + cse1*cse9 + cse2*h + cse4*cse6 + cse5*cse8 + cse5*e + cse6*cse7 + cse7*cse9 - 1/2*(cse10*k1*m2**2 + cse10*k2*m1**2)/(k1*k2),-numpy.inf], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((numpy.select([numpy.logical_and.reduce((numpy.greater(k1, 0),numpy.greater(k1*k2, 0))),True], [H*cse2 + cse1*cse9 + cse2*h + cse4*cse6 + cse5*cse8 + cse5*e + cse6*cse7 + cse7*cse9 - 1/2*(cse10*k1*m2**2 + cse10*k2*m1**2)/(k1*k2),-numpy.inf], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def least_stroke_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
-    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+def least_stroke_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -813,6 +850,8 @@ def least_stroke_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H,
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -856,11 +895,11 @@ def least_stroke_potential(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H,
     cse7 = (1/2)*H*cse0
     cse8 = g*m2
     cse9 = (1/2)*B*s
-    out = _broadcast((numpy.select([numpy.greater(k2, 0),True], [H*cse2 + cse2*h - 1/2*cse3**2*g**2*m2**2/k2 + cse3*cse8*cse9 + cse4*cse7 + cse5*cse9 + cse5*e + cse6*cse9 + cse6*x1 + cse7*cse8 + (1/2)*k1*x1**2,-numpy.inf], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((numpy.select([numpy.greater(k2, 0),True], [H*cse2 + cse2*h - 1/2*cse3**2*g**2*m2**2/k2 + cse3*cse8*cse9 + cse4*cse7 + cse5*cse9 + cse5*e + cse6*cse9 + cse6*x1 + cse7*cse8 + (1/2)*k1*x1**2,-numpy.inf], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -881,6 +920,8 @@ def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -919,11 +960,11 @@ def critical_angle(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
     cse2 = g*m2
     cse3 = (1/2)*B*s
     cse4 = (1/2)*H
-    out = _broadcast((numpy.arctan2(cse0*cse3 + cse0*e + cse1*cse3 + cse1*x1 + cse2*cse3 + cse2*x2, H*cse1 + cse0*cse4 + cse1*h + cse2*cse4), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((numpy.arctan2(cse0*cse3 + cse0*e + cse1*cse3 + cse1*x1 + cse2*cse3 + cse2*x2, H*cse1 + cse0*cse4 + cse1*h + cse2*cse4), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -944,6 +985,8 @@ def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h,
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -978,11 +1021,11 @@ def stop_gaps(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h,
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
@@ -1003,6 +1046,8 @@ def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1037,11 +1082,11 @@ def stop_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, 
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def stop_contact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def stop_contact(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
@@ -1062,6 +1107,8 @@ def stop_contact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1,
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1096,11 +1143,11 @@ def stop_contact(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1,
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def stop_approach(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def stop_approach(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
@@ -1121,6 +1168,8 @@ def stop_approach(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1155,11 +1204,11 @@ def stop_approach(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -1180,6 +1229,8 @@ def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g,
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1219,11 +1270,11 @@ def critical_tangent(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g,
     cse3 = g*m2
     cse4 = H*cse0 + cse0*h + cse1*cse2 + cse2*cse3
     cse5 = (1/2)*B*s
-    out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [(cse0*cse5 + cse0*x1 + cse1*cse5 + cse1*e + cse3*cse5 + cse3*x2)/cse4,numpy.nan], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [(cse0*cse5 + cse0*x1 + cse1*cse5 + cse1*e + cse3*cse5 + cse3*x2)/cse4,numpy.nan], default=numpy.nan), ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out[0]
 
 
-def block_accelerations(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def block_accelerations(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1244,6 +1295,8 @@ def block_accelerations(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e,
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1286,11 +1339,11 @@ def block_accelerations(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e,
     cse5 = cse3*cse4
     cse6 = H*cse2
     cse7 = cse0*cse4
-    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, 0, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, 0, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def base_reaction(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def base_reaction(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1311,6 +1364,8 @@ def base_reaction(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1345,6 +1400,8 @@ def base_reaction(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     tuple of ndarray
         V_b[0], V_b[ddtheta], V_b[ddx1], V_b[ddx2], N_b[0], N_b[ddtheta], N_b[ddx1], N_b[ddx2], M_b[0], M_b[ddtheta], M_b[ddx1], M_b[ddx2]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.sin(theta)
     cse1 = cse0*m1
     cse2 = 2*dtheta
@@ -1398,11 +1455,11 @@ def base_reaction(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1
     cse50 = (1/4)*cse48
     cse51 = H**2
     cse52 = H*m1
-    out = _broadcast(((1/2)*H*M*cse0*cse6 + H*cse0*cse6*m1 + (1/2)*H*cse0*cse6*m2 + M*ag + ag*m1 + ag*m2 + cse0*cse6*h*m1 - cse1*cse3 - cse11*cse6 - cse13*cse6 - cse17*cse6 - cse18*cse6 - cse19*cse6 - cse4*cse5 - cse6*cse9, -cse20 - cse21 - cse22 - cse23 - cse24 - cse27 - cse28 - cse29 - cse30 - cse31, cse10, cse12, M*g - cse27*cse6 - cse28*cse6 - cse29*cse6 - cse30*cse6 - cse31*cse6 - cse32 - cse33 - cse34 - cse35 - cse36 + 2*cse7*dtheta*dx1*m1 + 2*cse7*dtheta*dx2*m2 + g*m1 + g*m2, -cse0*cse26 + cse11 + cse13 + cse17 + cse18 + cse19 - cse25*cse4 - cse37 - cse38 + cse9, cse1, cse4, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m1*s + (1/2)*B*ag*cse0*m2*s + B*cse7*dtheta*dx1*m1*s + B*cse7*dtheta*dx2*m2*s + (1/2)*B*g*m1*s + (1/2)*B*g*m2*s + (1/2)*H*M*ag*cse7 + (1/2)*H*M*cse0*g + H*ag*cse7*m1 + (1/2)*H*ag*cse7*m2 + H*cse0*g*m1 + (1/2)*H*cse0*g*m2 + M*ag*cse0*e + ag*cse0*m1*x1 + ag*cse0*m2*x2 + ag*cse7*h*m1 - cse0*cse45*cse6 + cse0*g*h*m1 - cse1*cse47 - cse11*g - cse12*cse50*cse6 - cse13*g - cse15*cse32 - cse15*cse33 - cse15*cse34 - cse15*cse35 - cse15*cse36 - cse15*cse39 - cse18*g - cse19*g - cse3*cse40 - cse39*e - cse4*cse47 - cse41*cse5 - cse42*dx1*m1 - cse42*dx2*m2 - cse49*cse6*cse7, (1/2)*B*M*cse7*e*s + (1/2)*B*cse7*m1*s*x1 + (1/2)*B*cse7*m2*s*x2 - I_G + (1/4)*M*cse43*cse7 - M*e**2 - cse0*cse49 - cse14*cse40 - cse14*cse41 - cse14*cse8 - cse15*cse37 - cse15*cse38 - cse4*cse50 + (1/4)*cse43*cse7*m1 + (1/4)*cse43*cse7*m2 - cse44*cse51 - cse45 - cse46*m1 - cse46*m2 - cse51*m1 - 1/4*cse51*m2 - 2*cse52*h - h**2*m1 - m1*x1**2 - m2*x2**2, cse30 + cse52 + h*m1, cse25*m2 + cse31, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast(((1/2)*H*M*cse0*cse6 + H*cse0*cse6*m1 + (1/2)*H*cse0*cse6*m2 + M*ag + ag*m1 + ag*m2 + cse0*cse6*h*m1 - cse1*cse3 - cse11*cse6 - cse13*cse6 - cse17*cse6 - cse18*cse6 - cse19*cse6 - cse4*cse5 - cse6*cse9, -cse20 - cse21 - cse22 - cse23 - cse24 - cse27 - cse28 - cse29 - cse30 - cse31, cse10, cse12, M*g - cse27*cse6 - cse28*cse6 - cse29*cse6 - cse30*cse6 - cse31*cse6 - cse32 - cse33 - cse34 - cse35 - cse36 + 2*cse7*dtheta*dx1*m1 + 2*cse7*dtheta*dx2*m2 + g*m1 + g*m2, -cse0*cse26 + cse11 + cse13 + cse17 + cse18 + cse19 - cse25*cse4 - cse37 - cse38 + cse9, cse1, cse4, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m1*s + (1/2)*B*ag*cse0*m2*s + B*cse7*dtheta*dx1*m1*s + B*cse7*dtheta*dx2*m2*s + (1/2)*B*g*m1*s + (1/2)*B*g*m2*s + (1/2)*H*M*ag*cse7 + (1/2)*H*M*cse0*g + H*ag*cse7*m1 + (1/2)*H*ag*cse7*m2 + H*cse0*g*m1 + (1/2)*H*cse0*g*m2 + M*ag*cse0*e + ag*cse0*m1*x1 + ag*cse0*m2*x2 + ag*cse7*h*m1 - cse0*cse45*cse6 + cse0*g*h*m1 - cse1*cse47 - cse11*g - cse12*cse50*cse6 - cse13*g - cse15*cse32 - cse15*cse33 - cse15*cse34 - cse15*cse35 - cse15*cse36 - cse15*cse39 - cse18*g - cse19*g - cse3*cse40 - cse39*e - cse4*cse47 - cse41*cse5 - cse42*dx1*m1 - cse42*dx2*m2 - cse49*cse6*cse7, (1/2)*B*M*cse7*e*s + (1/2)*B*cse7*m1*s*x1 + (1/2)*B*cse7*m2*s*x2 - I_G + (1/4)*M*cse43*cse7 - M*e**2 - cse0*cse49 - cse14*cse40 - cse14*cse41 - cse14*cse8 - cse15*cse37 - cse15*cse38 - cse4*cse50 + (1/4)*cse43*cse7*m1 + (1/4)*cse43*cse7*m2 - cse44*cse51 - cse45 - cse46*m1 - cse46*m2 - cse51*m1 - 1/4*cse51*m2 - 2*cse52*h - h**2*m1 - m1*x1**2 - m2*x2**2, cse30 + cse52 + h*m1, cse25*m2 + cse31, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out
 
 
-def element_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
+def element_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2, stop_on=None):
     """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
 
     Parameters
@@ -1423,6 +1480,8 @@ def element_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
         time derivative of x2
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1457,5 +1516,5 @@ def element_forces(s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m
     tuple of ndarray
         Q[x1], Q[x2]
     """
-    out = _broadcast((c1*dx1 + k1*x1, c2*dx2 + k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
+    out = _broadcast((c1*dx1 + k1*x1, c2*dx2 + k2*x2, ), (s, theta, x1, x2, dtheta, dx1, dx2, ag, agy, M, I_G, B, H, e, g, m1, h, k1, c1, m2, k2, c2))
     return out

@@ -216,15 +216,16 @@ void omd2_mass_matrix_prepared(const double *y, double ag, const double *cst, do
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major. */
-void omd2_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+void omd2_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd2_prepare(s, on, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd2_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -268,15 +269,20 @@ void omd2_forcing_prepared(const double *y, double ag, const double *cst, double
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
-void omd2_forcing(double s, const double *y, double ag, const double *p, double *out)
+void omd2_forcing(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD2_NP];
+    for (int i = 0; i < OMD2_NP; i++)
+        pg[i] = p[i];
+    pg[OMD2_P_g] = p[OMD2_P_g] + agy;
+    omd2_prepare(s, NULL, pg, cst);
     omd2_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd2_prepare(s, on, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd2_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -330,10 +336,15 @@ void omd2_rocking_accel_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
-void omd2_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd2_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD2_NP];
+    for (int i = 0; i < OMD2_NP; i++)
+        pg[i] = p[i];
+    pg[OMD2_P_g] = p[OMD2_P_g] + agy;
+    omd2_prepare(s, NULL, pg, cst);
     omd2_rocking_accel_prepared(y, ag, cst, out);
 }
 
@@ -359,15 +370,16 @@ void omd2_contact_accel_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
-void omd2_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd2_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd2_prepare(s, on, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 double omd2_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x1 = y[1];
@@ -384,14 +396,19 @@ double omd2_uplift_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
-double omd2_uplift(double s, const double *y, double ag, const double *p)
+double omd2_uplift(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD2_NP];
+    for (int i = 0; i < OMD2_NP; i++)
+        pg[i] = p[i];
+    pg[OMD2_P_g] = p[OMD2_P_g] + agy;
+    omd2_prepare(s, NULL, pg, cst);
     return omd2_uplift_prepared(y, ag, cst);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * From the constants of omd2_prepare(s, on, p, cst). */
 void omd2_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -421,15 +438,16 @@ void omd2_impact_prepared(const double *y, double ag, const double *cst, double 
     out[2] = cse2*cst26 + cst39*dtheta + dx2;
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
-void omd2_impact(double s, const double *y, double ag, const double *p, double *out)
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored. */
+void omd2_impact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_impact_prepared(y, ag, cst, out);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -460,17 +478,18 @@ double omd2_energy_prepared(const double *y, double ag, const double *cst)
     return cse0*cst45 + cse0*cst46*x1 + cse0*cst47*x2 + cse1*cse2*cst43 + cse1*cse3*cst44 + cse1*cst20*x1 + cse1*cst24*x2 + cse1*cst40 + cse2*cst41 + cse3*cst42 + cst43*(dx1*dx1) + cst44*(dx2*dx2) + cst5*dtheta*dx1 + cst6*dtheta*dx2 + cst8*cos(theta);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
-double omd2_energy(double s, const double *y, double ag, const double *p)
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored. */
+double omd2_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     return omd2_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * From the constants of omd2_prepare(s, on, p, cst). */
-double omd2_power_prepared(const double *y, double ag, const double *cst)
+double omd2_power_prepared(const double *y, double ag, double agy, const double *cst)
 {
     const double theta = y[0];
     const double x1 = y[1];
@@ -486,20 +505,28 @@ double omd2_power_prepared(const double *y, double ag, const double *cst)
     const double cst19 = cst[19];
     const double cst21 = cst[21];
     const double cst23 = cst[23];
-    const double cse0 = ag*cos(theta);
-    const double cse1 = ag*dtheta*sin(theta);
-    return cse0*cst19*dx1 + cse0*cst23*dx2 + cse0*cst7*dtheta + cse1*cst1*x1 + cse1*cst2*x2 + cse1*cst9 + cst17*(dx1*dx1) + cst21*(dx2*dx2);
+    const double cst61 = cst[61];
+    const double cse0 = cos(theta);
+    const double cse1 = ag*cse0;
+    const double cse2 = cst19*dx1;
+    const double cse3 = cst23*dx2;
+    const double cse4 = cst7*dtheta;
+    const double cse5 = sin(theta);
+    const double cse6 = ag*cse5*dtheta;
+    const double cse7 = agy*cse5;
+    const double cse8 = agy*cse0*dtheta;
+    return cse1*cse2 + cse1*cse3 + cse1*cse4 + cse2*cse7 + cse3*cse7 + cse4*cse7 + cse6*cst1*x1 + cse6*cst2*x2 + cse6*cst9 + cse8*cst19*x1 + cse8*cst23*x2 + cse8*cst61 + cst17*(dx1*dx1) + cst21*(dx2*dx2);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
-double omd2_power(double s, const double *y, double ag, const double *p)
+double omd2_power(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
     omd2_prepare(s, NULL, p, cst);
-    return omd2_power_prepared(y, ag, cst);
+    return omd2_power_prepared(y, ag, agy, cst);
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -509,15 +536,16 @@ double omd2_uplift_energy_prepared(const double *y, double ag, const double *cst
     return cst48;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
-double omd2_uplift_energy(double s, const double *y, double ag, const double *p)
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored. */
+double omd2_uplift_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     return omd2_uplift_energy_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_least_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -533,15 +561,16 @@ double omd2_least_potential_prepared(const double *y, double ag, const double *c
     return ((cst51 > 0 && cst52 > 0) ? ((cse0*cse0)*cst49*cst50 + cse0*cst45 + cst8*cos(theta)) : (-INFINITY));
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
-double omd2_least_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored. */
+double omd2_least_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     return omd2_least_potential_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * From the constants of omd2_prepare(s, on, p, cst). */
 double omd2_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -558,10 +587,11 @@ double omd2_least_stroke_potential_prepared(const double *y, double ag, const do
     return ((cst54 > 0) ? ((cse0*cse0)*cst53 + cse0*cst45 + cse0*cst46*x1 + cst41*(x1*x1) + cst8*cos(theta)) : (-INFINITY));
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
-double omd2_least_stroke_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored. */
+double omd2_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     return omd2_least_stroke_potential_prepared(y, ag, cst);
 }
@@ -581,9 +611,10 @@ double omd2_critical_angle_prepared(const double *y, double ag, const double *cs
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
-double omd2_critical_angle(double s, const double *y, double ag, const double *p)
+double omd2_critical_angle(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     return omd2_critical_angle_prepared(y, ag, cst);
 }
@@ -599,9 +630,10 @@ void omd2_stop_gaps_prepared(const double *y, double ag, const double *cst, doub
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
-void omd2_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+void omd2_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_stop_gaps_prepared(y, ag, cst, out);
 }
@@ -617,9 +649,10 @@ void omd2_stop_forces_prepared(const double *y, double ag, const double *cst, do
 }
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes). */
-void omd2_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd2_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_stop_forces_prepared(y, ag, cst, out);
 }
@@ -635,9 +668,10 @@ void omd2_stop_contact_prepared(const double *y, double ag, const double *cst, d
 }
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
-void omd2_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+void omd2_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_stop_contact_prepared(y, ag, cst, out);
 }
@@ -653,9 +687,10 @@ void omd2_stop_approach_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in. */
-void omd2_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+void omd2_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_stop_approach_prepared(y, ag, cst, out);
 }
@@ -676,9 +711,10 @@ double omd2_critical_tangent_prepared(const double *y, double ag, const double *
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
-double omd2_critical_tangent(double s, const double *y, double ag, const double *p)
+double omd2_critical_tangent(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     return omd2_critical_tangent_prepared(y, ag, cst);
 }
@@ -711,15 +747,16 @@ void omd2_block_accelerations_prepared(const double *y, double ag, const double 
 }
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void omd2_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+void omd2_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_block_accelerations_prepared(y, ag, cst, out);
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * From the constants of omd2_prepare(s, on, p, cst). */
+ * From the constants of omd2_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd2_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -797,10 +834,15 @@ void omd2_base_reaction_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void omd2_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+void omd2_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
-    omd2_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD2_NP];
+    for (int i = 0; i < OMD2_NP; i++)
+        pg[i] = p[i];
+    pg[OMD2_P_g] = p[OMD2_P_g] + agy;
+    omd2_prepare(s, NULL, pg, cst);
     omd2_base_reaction_prepared(y, ag, cst, out);
 }
 
@@ -822,9 +864,10 @@ void omd2_element_forces_prepared(const double *y, double ag, const double *cst,
 }
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
-void omd2_element_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd2_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD2_NK];
+    (void)agy;
     omd2_prepare(s, NULL, p, cst);
     omd2_element_forces_prepared(y, ag, cst, out);
 }

@@ -11,6 +11,7 @@ x          coordinate x of the attached bodies
 dtheta     time derivative of theta
 dx         time derivative of x
 ag         ground acceleration ddx_g [m/s^2], positive to the right
+agy        vertical ground acceleration ddy_g [m/s^2], positive up
 M          block mass [kg]
 I_G        centroidal moment of inertia of the block [kg m^2]
 B          base width [m]
@@ -39,7 +40,7 @@ NAME = "omd_stops"
 COORDINATES = ("theta", "x", )
 STATE = ("theta", "x", "dtheta", "dx", )
 PARAMETERS = ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "c_b", )
-ARGUMENTS = ("s", "theta", "x", "dtheta", "dx", "ag", "M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "c_b", )
+ARGUMENTS = ("s", "theta", "x", "dtheta", "dx", "ag", "agy", "M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "c_b", )
 
 
 def _broadcast(values, args):
@@ -51,7 +52,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
+def _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b):
     """The regime of the state: each stop side acts (1) where its contact is > 0, else not (0)."""
     cse0 = -L + x
     cse1 = c_b*dx
@@ -59,7 +60,7 @@ def _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     return (numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, cse0*k_b + cse1]), 0),True], [1,0], default=numpy.nan), numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse2, -cse1 + cse2*k_b]), 0),True], [1,0], default=numpy.nan), )
 
 
-def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def mass_matrix(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -76,6 +77,8 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -116,11 +119,11 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
     cse3 = B**2
     cse4 = (1/4)*M
     cse5 = -cse1 - h*m
-    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1/4)*cse3*m + h**2*m + m*x**2, cse5, cse5, m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1/4)*cse3*m + h**2*m + m*x**2, cse5, cse5, m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -137,6 +140,8 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -171,7 +176,9 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_
     tuple of ndarray
         f[theta], f[x]
     """
-    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.cos(theta)
     cse1 = ag*cse0
     cse2 = cse1*m
@@ -191,11 +198,11 @@ def forcing(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_
     cse16 = (1/2)*cse14
     cse17 = c_b*dx
     cse18 = dtheta**2
-    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse18*m*s - _on0*cse17 + _on0*(-k_b)*(-L + x) - _on1*cse17 + _on1*k_b*(-L - x) - c*dx + cse18*m*x - cse2 - cse5 - k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse18*m*s - _on0*cse17 + _on0*(-k_b)*(-L + x) - _on1*cse17 + _on1*k_b*(-L - x) - c*dx + cse18*m*x - cse2 - cse5 - k_m*x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -212,6 +219,8 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -246,7 +255,9 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         ddtheta, ddx
     """
-    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = B*s
     cse1 = M*e
     cse2 = m*x
@@ -271,11 +282,11 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse21 = dtheta**2
     cse22 = (1/2)*B*cse21*m*s - _on0*cse20 + _on0*(-k_b)*(-L + x) - _on1*cse20 + _on1*k_b*(-L - x) - c*dx - cse10 + cse21*m*x - cse7 - k_m*x
     cse23 = (H*cse10 + H*cse7 + cse1*cse11 - cse1*cse15 + cse10*h + cse11*cse17 + cse11*cse18 + cse11*cse2 - cse12*cse16 - 2*cse12*cse2 + cse14*cse6 + cse14*cse9 - cse15*cse17 - cse15*cse18 - cse15*cse2 - cse19*cse22 + cse7*h)/(H**2*cse4 + I_G + M*e**2 + cse0*cse1 + cse0*cse2 + cse3*cse4 + (1/4)*cse3*m + m*x**2)
-    out = _broadcast((cse23, -cse19*cse23 + cse22/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((cse23, -cse19*cse23 + cse22/m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def contact_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -292,6 +303,8 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -326,13 +339,13 @@ def contact_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         ddtheta, ddx
     """
-    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = c_b*dx
-    out = _broadcast((0, (-_on0*cse0 + _on0*(-k_b)*(-L + x) - _on1*cse0 + _on1*k_b*(-L - x) - ag*m - c*dx - k_m*x)/m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((0, (-_on0*cse0 + _on0*(-k_b)*(-L + x) - _on1*cse0 + _on1*k_b*(-L - x) - ag*m - c*dx - k_m*x)/m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -349,6 +362,8 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -382,7 +397,9 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     -------
     ndarray
     """
-    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = M*g
     cse1 = (1/2)*B
     cse2 = g*m
@@ -395,12 +412,12 @@ def uplift(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     cse9 = cse6*cse7
     cse10 = k_b*s
     cse11 = H*cse10 + cse10*h
-    out = _broadcast(((1/2)*H*M*ag*s - _on0*cse11*(-L + x) - _on0*cse8 - _on0*cse9 + _on1*cse11*(-L - x) - _on1*cse8 - _on1*cse9 - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast(((1/2)*H*M*ag*s - _on0*cse11*(-L + x) - _on0*cse8 - _on0*cse9 + _on1*cse11*(-L - x) - _on1*cse8 - _on1*cse9 - cse0*cse1 - cse0*e*s - cse1*cse2 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+def impact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
 
     Parameters
     ----------
@@ -416,6 +433,8 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -466,12 +485,12 @@ def impact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     cse13 = -H - h
     cse14 = dtheta*h
     cse15 = (-H*cse9 + I_G*dtheta + cse0*dtheta + cse1*dtheta + cse10*cse6 + cse10*h**2 + 2*cse12*h - cse13*(-cse12 - cse14*m + dx*m) - cse4*dtheta - cse5*dtheta + cse7*dtheta - cse9*h)/(I_G - M*cse8*e + cse0 + cse1 + cse4 + cse5 + cse7 - cse8*m*x)
-    out = _broadcast((cse15, -cse11 - cse13*cse15 - cse14 + dx, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((cse15, -cse11 - cse13*cse15 - cse14 + dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Mechanical energy in the ground frame while rocking about s; ag is ignored.
+def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
 
     Parameters
     ----------
@@ -487,6 +506,8 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -520,7 +541,7 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     -------
     ndarray
     """
-    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = dtheta**2
     cse1 = (1/2)*cse0
     cse2 = (1/2)*m
@@ -542,11 +563,11 @@ def energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b
     cse18 = (1/2)*k_b
     cse19 = L*cse18
     cse20 = cse18*x
-    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + _on0*(-L + x)*(-cse19 + cse20) + _on1*(-L - x)*(-cse19 - cse20) + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + _on0*(-L + x)*(-cse19 + cse20) + _on1*(-L - x)*(-cse19 - cse20) + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -563,6 +584,8 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -596,24 +619,34 @@ def power(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b,
     -------
     ndarray
     """
-    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
+    _on0, _on1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b)
     cse0 = dx**2
     cse1 = c_b*cse0
-    cse2 = numpy.cos(theta)
-    cse3 = ag*m
-    cse4 = cse2*cse3
-    cse5 = cse4*dtheta
-    cse6 = dtheta*numpy.sin(theta)
-    cse7 = M*ag
-    cse8 = cse6*cse7
-    cse9 = cse3*cse6
-    cse10 = (1/2)*B*s
-    out = _broadcast(((1/2)*H*cse2*cse7*dtheta + H*cse5 - _on0*cse1 - _on1*cse1 - c*cse0 + cse10*cse8 + cse10*cse9 - cse4*dx + cse5*h + cse8*e + cse9*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    cse2 = dx*m
+    cse3 = numpy.cos(theta)
+    cse4 = ag*cse3
+    cse5 = numpy.sin(theta)
+    cse6 = agy*cse5
+    cse7 = dtheta*m
+    cse8 = H*cse7
+    cse9 = ag*cse5
+    cse10 = M*dtheta
+    cse11 = cse10*e
+    cse12 = cse7*h
+    cse13 = cse7*x
+    cse14 = (1/2)*cse10
+    cse15 = H*cse14
+    cse16 = agy*cse3
+    cse17 = B*s
+    cse18 = cse17*cse9
+    cse19 = cse16*cse17
+    cse20 = (1/2)*cse7
+    out = _broadcast((-_on0*cse1 - _on1*cse1 - c*cse0 - cse11*cse16 + cse11*cse9 + cse12*cse4 + cse12*cse6 - cse13*cse16 + cse13*cse9 + cse14*cse18 - cse14*cse19 + cse15*cse4 + cse15*cse6 + cse18*cse20 - cse19*cse20 - cse2*cse4 - cse2*cse6 + cse4*cse8 + cse6*cse8, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+def uplift_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
 
     Parameters
     ----------
@@ -629,6 +662,8 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -717,12 +752,12 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse52 = cse27*m/(H*cse50*cse8 + cse1*cse44 + cse14*cse20*cse46 + cse14*cse41 + cse14*cse42 + cse15 + cse2*cse38 + cse2*cse40 + cse20*cse47 + 8*cse20*cse51 + cse21*cse7 + cse24*cse7 + cse26*cse6 + cse3*cse43 + cse38*cse39 + cse39*cse40 + cse41*cse9 + cse42*cse9 + cse43*cse44 + cse45*cse47 + cse45*cse49*cse9 + cse46*cse48 + cse48*cse49 + cse50*cse51)
     cse53 = L**2
     cse54 = -cse26*cse53/(cse10 + cse37) + (1/2)*cse53*k_b
-    out = _broadcast((functools.reduce(numpy.minimum, [cse20*functools.reduce(numpy.maximum, [0, cse19])**2/cse15, cse52*functools.reduce(numpy.maximum, [0, cse19 - cse23 - cse25 + cse31 + cse32 + cse34 + cse35 + cse36])**2 + cse54, cse52*functools.reduce(numpy.maximum, [0, cse19 + cse23 + cse25 - cse31 - cse32 - cse34 - cse35 - cse36])**2 + cse54]), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((functools.reduce(numpy.minimum, [cse20*functools.reduce(numpy.maximum, [0, cse19])**2/cse15, cse52*functools.reduce(numpy.maximum, [0, cse19 - cse23 - cse25 + cse31 + cse32 + cse34 + cse35 + cse36])**2 + cse54, cse52*functools.reduce(numpy.maximum, [0, cse19 + cse23 + cse25 - cse31 - cse32 - cse34 - cse35 - cse36])**2 + cse54]), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+def least_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -738,6 +773,8 @@ def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, 
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -778,12 +815,12 @@ def least_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, 
     cse4 = M*g
     cse5 = cse3*cse4
     cse6 = (1/2)*B*s
-    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
-    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+def least_stroke_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -799,6 +836,8 @@ def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -840,11 +879,11 @@ def least_stroke_potential(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h
     cse5 = cse3*cse4
     cse6 = cse1*cse3
     cse7 = (1/2)*B*s
-    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def critical_angle(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -861,6 +900,8 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -898,11 +939,11 @@ def critical_angle(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     cse1 = g*m
     cse2 = (1/2)*cse0
     cse3 = B*s
-    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def stop_gaps(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -919,6 +960,8 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, 
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -953,11 +996,11 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, 
     tuple of ndarray
         delta[0], delta[1]
     """
-    out = _broadcast((-L + x, -L - x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((-L + x, -L - x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def stop_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
@@ -974,6 +1017,8 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1013,11 +1058,11 @@ def stop_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L
     cse2 = cse0 + cse1*k_b
     cse3 = -L - x
     cse4 = -cse0 + cse3*k_b
-    out = _broadcast((cse2*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse1, cse2]), 0),True], [1,0], default=numpy.nan), cse4*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse3, cse4]), 0),True], [1,0], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((cse2*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse1, cse2]), 0),True], [1,0], default=numpy.nan), cse4*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse3, cse4]), 0),True], [1,0], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def stop_contact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
@@ -1034,6 +1079,8 @@ def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, 
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1071,11 +1118,11 @@ def stop_contact(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, 
     cse0 = -L + x
     cse1 = c_b*dx
     cse2 = -L - x
-    out = _broadcast((functools.reduce(numpy.minimum, [cse0, cse0*k_b + cse1]), functools.reduce(numpy.minimum, [cse2, -cse1 + cse2*k_b]), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((functools.reduce(numpy.minimum, [cse0, cse0*k_b + cse1]), functools.reduce(numpy.minimum, [cse2, -cse1 + cse2*k_b]), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def stop_approach(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
@@ -1092,6 +1139,8 @@ def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1126,11 +1175,11 @@ def stop_approach(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         ddelta[0], ddelta[1]
     """
-    out = _broadcast((dx, -dx, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((dx, -dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def critical_tangent(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -1147,6 +1196,8 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1185,11 +1236,11 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m,
     cse2 = (1/2)*cse1
     cse3 = H*cse0 + H*cse2 + cse0*h
     cse4 = B*s
-    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out[0]
 
 
-def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def block_accelerations(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1206,6 +1257,8 @@ def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1248,11 +1301,11 @@ def block_accelerations(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k
     cse5 = cse3*cse4
     cse6 = H*cse2
     cse7 = cse0*cse4
-    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def base_reaction(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1269,6 +1322,8 @@ def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1303,6 +1358,8 @@ def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     tuple of ndarray
         V_b[0], V_b[ddtheta], V_b[ddx], N_b[0], N_b[ddtheta], N_b[ddx], M_b[0], M_b[ddtheta], M_b[ddx]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.sin(theta)
     cse1 = cse0*m
     cse2 = dtheta*dx
@@ -1343,11 +1400,11 @@ def base_reaction(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c,
     cse37 = cse11*cse34
     cse38 = H**2
     cse39 = H*m
-    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out
 
 
-def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
+def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, stop_on=None):
     """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
 
     Parameters
@@ -1364,6 +1421,8 @@ def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
         time derivative of x
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1404,5 +1463,5 @@ def element_forces(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c
     cse3 = numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, cse1 + cse2]), 0),True], [1,0], default=numpy.nan)
     cse4 = -L - x
     cse5 = numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse4, -cse1 + cse4*k_b]), 0),True], [1,0], default=numpy.nan)
-    out = _broadcast((c*dx + cse1*cse3 + cse1*cse5 + cse2*cse3 - cse4*cse5*k_b + k_m*x, ), (s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
+    out = _broadcast((c*dx + cse1*cse3 + cse1*cse5 + cse2*cse3 - cse4*cse5*k_b + k_m*x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b))
     return out

@@ -237,9 +237,10 @@ void omd_stops_mass_matrix_prepared(const double *y, double ag, const double *cs
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -247,7 +248,7 @@ void omd_stops_mass_matrix(double s, const double *y, double ag, const double *p
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd_stops_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -282,17 +283,22 @@ void omd_stops_forcing_prepared(const double *y, double ag, const double *cst, d
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_forcing(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_forcing(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_NP];
+    for (int i = 0; i < OMD_STOPS_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_P_g] = p[OMD_STOPS_P_g] + agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
-    omd_stops_prepare(s, on, p, cst);
+    omd_stops_prepare(s, on, pg, cst);
     omd_stops_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd_stops_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -333,12 +339,17 @@ void omd_stops_rocking_accel_prepared(const double *y, double ag, const double *
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_NP];
+    for (int i = 0; i < OMD_STOPS_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_P_g] = p[OMD_STOPS_P_g] + agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
-    omd_stops_prepare(s, on, p, cst);
+    omd_stops_prepare(s, on, pg, cst);
     omd_stops_rocking_accel_prepared(y, ag, cst, out);
 }
 
@@ -361,9 +372,10 @@ void omd_stops_contact_accel_prepared(const double *y, double ag, const double *
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -371,7 +383,7 @@ void omd_stops_contact_accel(double s, const double *y, double ag, const double 
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd_stops_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 double omd_stops_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x = y[1];
@@ -388,16 +400,21 @@ double omd_stops_uplift_prepared(const double *y, double ag, const double *cst)
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_uplift(double s, const double *y, double ag, const double *p)
+double omd_stops_uplift(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_NP];
+    for (int i = 0; i < OMD_STOPS_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_P_g] = p[OMD_STOPS_P_g] + agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
-    omd_stops_prepare(s, on, p, cst);
+    omd_stops_prepare(s, on, pg, cst);
     return omd_stops_uplift_prepared(y, ag, cst);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 void omd_stops_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -418,18 +435,19 @@ void omd_stops_impact_prepared(const double *y, double ag, const double *cst, do
     out[1] = cse1*cst19 + cst29*dtheta + dx;
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_impact(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_impact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     omd_stops_impact_prepared(y, ag, cst, out);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -458,11 +476,12 @@ double omd_stops_energy_prepared(const double *y, double ag, const double *cst)
     return cse0*cst38 + cse0*cst39*x + cse1*cse2*cst32 + cse1*cst17*x + cse1*cst30 + cse2*cst31 + cst3*dtheta*dx + cst32*(dx*dx) + cst33*(cst14 + x)*(cst34*x + cst35) + cst36*(cst14 - x)*(cst35 + cst37*x) + cst5*cos(theta);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_energy(double s, const double *y, double ag, const double *p)
+double omd_stops_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -471,7 +490,7 @@ double omd_stops_energy(double s, const double *y, double ag, const double *p)
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
-double omd_stops_power_prepared(const double *y, double ag, const double *cst)
+double omd_stops_power_prepared(const double *y, double ag, double agy, const double *cst)
 {
     const double theta = y[0];
     const double x = y[1];
@@ -482,23 +501,30 @@ double omd_stops_power_prepared(const double *y, double ag, const double *cst)
     const double cst6 = cst[6];
     const double cst11 = cst[11];
     const double cst16 = cst[16];
-    const double cse0 = ag*cos(theta);
-    const double cse1 = ag*dtheta*sin(theta);
-    return cse0*cst16*dx + cse0*cst4*dtheta + cse1*cst1*x + cse1*cst6 + cst11*(dx*dx);
+    const double cst54 = cst[54];
+    const double cse0 = cos(theta);
+    const double cse1 = ag*cse0;
+    const double cse2 = cst16*dx;
+    const double cse3 = cst4*dtheta;
+    const double cse4 = sin(theta);
+    const double cse5 = ag*cse4*dtheta;
+    const double cse6 = agy*cse4;
+    const double cse7 = agy*cse0*dtheta;
+    return cse1*cse2 + cse1*cse3 + cse2*cse6 + cse3*cse6 + cse5*cst1*x + cse5*cst6 + cse7*cst16*x + cse7*cst54 + cst11*(dx*dx);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_power(double s, const double *y, double ag, const double *p)
+double omd_stops_power(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
-    return omd_stops_power_prepared(y, ag, cst);
+    return omd_stops_power_prepared(y, ag, agy, cst);
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -508,18 +534,19 @@ double omd_stops_uplift_energy_prepared(const double *y, double ag, const double
     return cst40;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_uplift_energy(double s, const double *y, double ag, const double *p)
+double omd_stops_uplift_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_uplift_energy_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_least_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -533,18 +560,19 @@ double omd_stops_least_potential_prepared(const double *y, double ag, const doub
     return ((cst42 > 0) ? ((cse0*cse0)*cst41 + cse0*cst38 + cst5*cos(theta)) : (-INFINITY));
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_least_potential(double s, const double *y, double ag, const double *p)
+double omd_stops_least_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
     return omd_stops_least_potential_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * From the constants of omd_stops_prepare(s, on, p, cst). */
 double omd_stops_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -559,11 +587,12 @@ double omd_stops_least_stroke_potential_prepared(const double *y, double ag, con
     return cse0*cst38 + cse0*cst39*x + cst31*(x*x) + cst5*cos(theta);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_least_stroke_potential(double s, const double *y, double ag, const double *p)
+double omd_stops_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -584,9 +613,10 @@ double omd_stops_critical_angle_prepared(const double *y, double ag, const doubl
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_critical_angle(double s, const double *y, double ag, const double *p)
+double omd_stops_critical_angle(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -606,9 +636,10 @@ void omd_stops_stop_gaps_prepared(const double *y, double ag, const double *cst,
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -636,9 +667,10 @@ void omd_stops_stop_forces_prepared(const double *y, double ag, const double *cs
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -664,9 +696,10 @@ void omd_stops_stop_contact_prepared(const double *y, double ag, const double *c
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -686,9 +719,10 @@ void omd_stops_stop_approach_prepared(const double *y, double ag, const double *
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -710,9 +744,10 @@ double omd_stops_critical_tangent_prepared(const double *y, double ag, const dou
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_critical_tangent(double s, const double *y, double ag, const double *p)
+double omd_stops_critical_tangent(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -746,9 +781,10 @@ void omd_stops_block_accelerations_prepared(const double *y, double ag, const do
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);
@@ -756,7 +792,7 @@ void omd_stops_block_accelerations(double s, const double *y, double ag, const d
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * From the constants of omd_stops_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_stops_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -813,12 +849,17 @@ void omd_stops_base_reaction_prepared(const double *y, double ag, const double *
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_NP];
+    for (int i = 0; i < OMD_STOPS_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_P_g] = p[OMD_STOPS_P_g] + agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
-    omd_stops_prepare(s, on, p, cst);
+    omd_stops_prepare(s, on, pg, cst);
     omd_stops_base_reaction_prepared(y, ag, cst, out);
 }
 
@@ -847,9 +888,10 @@ void omd_stops_element_forces_prepared(const double *y, double ag, const double 
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_element_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_NK];
+    (void)agy;
     double on[OMD_STOPS_NREGIME];
     omd_stops_state_regime(y, p, on);
     omd_stops_prepare(s, on, p, cst);

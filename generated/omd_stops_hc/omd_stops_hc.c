@@ -222,9 +222,10 @@ void omd_stops_hc_mass_matrix_prepared(const double *y, double ag, const double 
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -232,7 +233,7 @@ void omd_stops_hc_mass_matrix(double s, const double *y, double ag, const double
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_hc_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_stops_hc_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -272,17 +273,22 @@ void omd_stops_hc_forcing_prepared(const double *y, double ag, const double *cst
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_forcing(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_forcing(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_HC_NP];
+    for (int i = 0; i < OMD_STOPS_HC_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_HC_P_g] = p[OMD_STOPS_HC_P_g] + agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
-    omd_stops_hc_prepare(s, on, p, cst);
+    omd_stops_hc_prepare(s, on, pg, cst);
     omd_stops_hc_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_hc_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_stops_hc_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -328,12 +334,17 @@ void omd_stops_hc_rocking_accel_prepared(const double *y, double ag, const doubl
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_HC_NP];
+    for (int i = 0; i < OMD_STOPS_HC_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_HC_P_g] = p[OMD_STOPS_HC_P_g] + agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
-    omd_stops_hc_prepare(s, on, p, cst);
+    omd_stops_hc_prepare(s, on, pg, cst);
     omd_stops_hc_rocking_accel_prepared(y, ag, cst, out);
 }
 
@@ -361,9 +372,10 @@ void omd_stops_hc_contact_accel_prepared(const double *y, double ag, const doubl
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -371,7 +383,7 @@ void omd_stops_hc_contact_accel(double s, const double *y, double ag, const doub
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_hc_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 double omd_stops_hc_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double x = y[1];
@@ -393,16 +405,21 @@ double omd_stops_hc_uplift_prepared(const double *y, double ag, const double *cs
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_uplift(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_uplift(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_HC_NP];
+    for (int i = 0; i < OMD_STOPS_HC_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_HC_P_g] = p[OMD_STOPS_HC_P_g] + agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
-    omd_stops_hc_prepare(s, on, p, cst);
+    omd_stops_hc_prepare(s, on, pg, cst);
     return omd_stops_hc_uplift_prepared(y, ag, cst);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
 void omd_stops_hc_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -423,18 +440,19 @@ void omd_stops_hc_impact_prepared(const double *y, double ag, const double *cst,
     out[1] = cse1*cst22 + cst42*dtheta + dx;
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_impact(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_impact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
     omd_stops_hc_impact_prepared(y, ag, cst, out);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
 double omd_stops_hc_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -461,11 +479,12 @@ double omd_stops_hc_energy_prepared(const double *y, double ag, const double *cs
     return cse0*cst46 + cse0*cst50*x + cse1*cse2*cst45 + cse1*cst18*x + cse1*cst43 + cse2*cst44 + cst3*dtheta*dx + cst45*(dx*dx) + cst47*pow(fmax(0, cst14 + x), cst48) + cst49*pow(fmax(0, cst14 - x), cst48) + cst5*cos(theta);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_energy(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -474,7 +493,7 @@ double omd_stops_hc_energy(double s, const double *y, double ag, const double *p
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
-double omd_stops_hc_power_prepared(const double *y, double ag, const double *cst)
+double omd_stops_hc_power_prepared(const double *y, double ag, double agy, const double *cst)
 {
     const double theta = y[0];
     const double x = y[1];
@@ -489,24 +508,31 @@ double omd_stops_hc_power_prepared(const double *y, double ag, const double *cst
     const double cst17 = cst[17];
     const double cst19 = cst[19];
     const double cst20 = cst[20];
+    const double cst68 = cst[68];
     const double cse0 = (dx*dx);
-    const double cse1 = ag*cos(theta);
-    const double cse2 = ag*dtheta*sin(theta);
-    return cse0*cst11 + cse0*cst19*pow(fmax(0, cst14 + x), cst15) + cse0*cst20*pow(fmax(0, cst14 - x), cst15) + cse1*cst17*dx + cse1*cst4*dtheta + cse2*cst1*x + cse2*cst6;
+    const double cse1 = cos(theta);
+    const double cse2 = ag*cse1;
+    const double cse3 = cst17*dx;
+    const double cse4 = cst4*dtheta;
+    const double cse5 = sin(theta);
+    const double cse6 = ag*cse5*dtheta;
+    const double cse7 = agy*cse5;
+    const double cse8 = agy*cse1*dtheta;
+    return cse0*cst11 + cse0*cst19*pow(fmax(0, cst14 + x), cst15) + cse0*cst20*pow(fmax(0, cst14 - x), cst15) + cse2*cse3 + cse2*cse4 + cse3*cse7 + cse4*cse7 + cse6*cst1*x + cse6*cst6 + cse8*cst17*x + cse8*cst68;
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_power(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_power(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
-    return omd_stops_hc_power_prepared(y, ag, cst);
+    return omd_stops_hc_power_prepared(y, ag, agy, cst);
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
 double omd_stops_hc_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -516,18 +542,19 @@ double omd_stops_hc_uplift_energy_prepared(const double *y, double ag, const dou
     return 0;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_uplift_energy(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_uplift_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
     return omd_stops_hc_uplift_energy_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
 double omd_stops_hc_least_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -541,18 +568,19 @@ double omd_stops_hc_least_potential_prepared(const double *y, double ag, const d
     return ((cst52 > 0) ? ((cse0*cse0)*cst51 + cse0*cst46 + cst5*cos(theta)) : (-INFINITY));
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_least_potential(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_least_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
     return omd_stops_hc_least_potential_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
 double omd_stops_hc_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -567,11 +595,12 @@ double omd_stops_hc_least_stroke_potential_prepared(const double *y, double ag, 
     return cse0*cst46 + cse0*cst50*x + cst44*(x*x) + cst5*cos(theta);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_least_stroke_potential(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -592,9 +621,10 @@ double omd_stops_hc_critical_angle_prepared(const double *y, double ag, const do
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s).
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_critical_angle(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_critical_angle(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -614,9 +644,10 @@ void omd_stops_hc_stop_gaps_prepared(const double *y, double ag, const double *c
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -647,9 +678,10 @@ void omd_stops_hc_stop_forces_prepared(const double *y, double ag, const double 
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -674,9 +706,10 @@ void omd_stops_hc_stop_contact_prepared(const double *y, double ag, const double
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -696,9 +729,10 @@ void omd_stops_hc_stop_approach_prepared(const double *y, double ag, const doubl
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -720,9 +754,10 @@ double omd_stops_hc_critical_tangent_prepared(const double *y, double ag, const 
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-double omd_stops_hc_critical_tangent(double s, const double *y, double ag, const double *p)
+double omd_stops_hc_critical_tangent(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -756,9 +791,10 @@ void omd_stops_hc_block_accelerations_prepared(const double *y, double ag, const
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);
@@ -766,7 +802,7 @@ void omd_stops_hc_block_accelerations(double s, const double *y, double ag, cons
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * From the constants of omd_stops_hc_prepare(s, on, p, cst). */
+ * From the constants of omd_stops_hc_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void omd_stops_hc_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -823,12 +859,17 @@ void omd_stops_hc_base_reaction_prepared(const double *y, double ag, const doubl
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[OMD_STOPS_HC_NP];
+    for (int i = 0; i < OMD_STOPS_HC_NP; i++)
+        pg[i] = p[i];
+    pg[OMD_STOPS_HC_P_g] = p[OMD_STOPS_HC_P_g] + agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
-    omd_stops_hc_prepare(s, on, p, cst);
+    omd_stops_hc_prepare(s, on, pg, cst);
     omd_stops_hc_base_reaction_prepared(y, ag, cst, out);
 }
 
@@ -860,9 +901,10 @@ void omd_stops_hc_element_forces_prepared(const double *y, double ag, const doub
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
  * In the regime of the state y: each stop side acts where its contact is > 0. */
-void omd_stops_hc_element_forces(double s, const double *y, double ag, const double *p, double *out)
+void omd_stops_hc_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[OMD_STOPS_HC_NK];
+    (void)agy;
     double on[OMD_STOPS_HC_NREGIME];
     omd_stops_hc_state_regime(y, p, on);
     omd_stops_hc_prepare(s, on, p, cst);

@@ -7,13 +7,18 @@
  *   s   pivot: +1 rocking about A (left corner), -1 about A' (right corner)
  *   y   state, 4 doubles: theta, x, dtheta, dx
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
+ *   agy vertical ground acceleration ddy_g [m/s^2], positive up
  *   p   parameters, 14 doubles: M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b
  *   out results (vector functions only)
  * Each function also comes prepared: omd_stops_hc_prepare(s, on, p, cst) fills the
  * OMD_STOPS_HC_NK constants of a run about the pivot s in the regime on of the end
  * stops (all that depends on s, on and p alone), and
  * omd_stops_hc_<name>_prepared(y, ag, cst[, out]) does the rest, the cheaper call
- * for a loop over states with the same s, on and p.
+ * for a loop over states with the same s, on and p. The vertical ground acceleration
+ * enters the forcing, the accelerations, the uplift function and the base reaction
+ * only with gravity, as g + agy (derived): their prepared forms take the constants
+ * prepared with p's g the effective gravity g + agy. The power, where it enters
+ * otherwise, takes agy: omd_stops_hc_power_prepared(y, ag, agy, cst).
  *   on  regime of the end stops, OMD_STOPS_HC_NREGIME doubles (NULL if none): per side
  *       of each stop (the outputs of omd_stops_hc_stop_gaps), 1 while its bumper acts
  *       (pushes), else 0; then, if OMD_STOPS_HC_NREGIME > OMD_STOPS_HC_NSTOPS, per side the
@@ -57,94 +62,94 @@ void omd_stops_hc_prepare(double s, const double *on, const double *p, double *c
 
 /* Mass matrix of the rocking phase about the pivot s, row-major.
  * out: M[0,0], M[0,1], M[1,0], M[1,1] */
-void omd_stops_hc_mass_matrix(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_mass_matrix_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
  * out: f[theta], f[x] */
-void omd_stops_hc_forcing(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_forcing(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_forcing_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
  * out: ddtheta, ddx */
-void omd_stops_hc_rocking_accel(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
  * out: ddtheta, ddx */
-void omd_stops_hc_contact_accel(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_contact_accel_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
-double omd_stops_hc_uplift(double s, const double *y, double ag, const double *p);
+double omd_stops_hc_uplift(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_uplift_prepared(const double *y, double ag, const double *cst);
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * out: dtheta_plus, dx_plus */
-void omd_stops_hc_impact(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_impact(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_impact_prepared(const double *y, double ag, const double *cst, double *out);
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
-double omd_stops_hc_energy(double s, const double *y, double ag, const double *p);
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored. */
+double omd_stops_hc_energy(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_energy_prepared(const double *y, double ag, const double *cst);
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
-double omd_stops_hc_power(double s, const double *y, double ag, const double *p);
-double omd_stops_hc_power_prepared(const double *y, double ag, const double *cst);
+double omd_stops_hc_power(double s, const double *y, double ag, double agy, const double *p);
+double omd_stops_hc_power_prepared(const double *y, double ag, double agy, const double *cst);
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
-double omd_stops_hc_uplift_energy(double s, const double *y, double ag, const double *p);
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored. */
+double omd_stops_hc_uplift_energy(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_uplift_energy_prepared(const double *y, double ag, const double *cst);
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
-double omd_stops_hc_least_potential(double s, const double *y, double ag, const double *p);
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored. */
+double omd_stops_hc_least_potential(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_least_potential_prepared(const double *y, double ag, const double *cst);
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
-double omd_stops_hc_least_stroke_potential(double s, const double *y, double ag, const double *p);
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored. */
+double omd_stops_hc_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_least_stroke_potential_prepared(const double *y, double ag, const double *cst);
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
-double omd_stops_hc_critical_angle(double s, const double *y, double ag, const double *p);
+double omd_stops_hc_critical_angle(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_critical_angle_prepared(const double *y, double ag, const double *cst);
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
  * out: delta[0], delta[1] */
-void omd_stops_hc_stop_gaps(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_stop_gaps_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
  * out: F_b[0], F_b[1] */
-void omd_stops_hc_stop_forces(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_stop_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
  * out: contact[0], contact[1] */
-void omd_stops_hc_stop_contact(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_stop_contact_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
  * out: ddelta[0], ddelta[1] */
-void omd_stops_hc_stop_approach(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_stop_approach_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
-double omd_stops_hc_critical_tangent(double s, const double *y, double ag, const double *p);
+double omd_stops_hc_critical_tangent(double s, const double *y, double ag, double agy, const double *p);
 double omd_stops_hc_critical_tangent_prepared(const double *y, double ag, const double *cst);
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
  * out: a_top[0], a_top[ddtheta], a_top[ddx], a_cm[0], a_cm[ddtheta], a_cm[ddx] */
-void omd_stops_hc_block_accelerations(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_block_accelerations_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
  * out: V_b[0], V_b[ddtheta], V_b[ddx], N_b[0], N_b[ddtheta], N_b[ddx], M_b[0], M_b[ddtheta], M_b[ddx] */
-void omd_stops_hc_base_reaction(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_base_reaction_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
  * out: Q[x] */
-void omd_stops_hc_element_forces(double s, const double *y, double ag, const double *p, double *out);
+void omd_stops_hc_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_stops_hc_element_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
 /* Model-independent names, for a runtime compiled against one model. */

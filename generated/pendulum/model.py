@@ -11,6 +11,7 @@ phi        coordinate phi of the attached bodies
 dtheta     time derivative of theta
 dphi       time derivative of phi
 ag         ground acceleration ddx_g [m/s^2], positive to the right
+agy        vertical ground acceleration ddy_g [m/s^2], positive up
 M          block mass [kg]
 I_G        centroidal moment of inertia of the block [kg m^2]
 B          base width [m]
@@ -37,7 +38,7 @@ NAME = "pendulum"
 COORDINATES = ("theta", "phi", )
 STATE = ("theta", "phi", "dtheta", "dphi", )
 PARAMETERS = ("M", "I_G", "B", "H", "e", "g", "m", "l", "x_p", "y_p", "k_phi", "c_phi", )
-ARGUMENTS = ("s", "theta", "phi", "dtheta", "dphi", "ag", "M", "I_G", "B", "H", "e", "g", "m", "l", "x_p", "y_p", "k_phi", "c_phi", )
+ARGUMENTS = ("s", "theta", "phi", "dtheta", "dphi", "ag", "agy", "M", "I_G", "B", "H", "e", "g", "m", "l", "x_p", "y_p", "k_phi", "c_phi", )
 
 
 def _broadcast(values, args):
@@ -49,7 +50,7 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def mass_matrix(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -66,6 +67,8 @@ def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -108,11 +111,11 @@ def mass_matrix(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
     cse7 = l*m*y_p*numpy.cos(phi)
     cse8 = cse1*cse5*m
     cse9 = cse0 + cse6 - cse7 + (1/2)*cse8
-    out = _broadcast((H**2*cse4 + I_G + M*cse1*e + M*e**2 + cse0 + cse1*cse2 + cse3*cse4 + (1/4)*cse3*m + 2*cse6 - 2*cse7 + cse8 + m*x_p**2 + m*y_p**2, cse9, cse9, cse0, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((H**2*cse4 + I_G + M*cse1*e + M*e**2 + cse0 + cse1*cse2 + cse3*cse4 + (1/4)*cse3*m + 2*cse6 - 2*cse7 + cse8 + m*x_p**2 + m*y_p**2, cse9, cse9, cse0, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def forcing(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -129,6 +132,8 @@ def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p,
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -161,6 +166,8 @@ def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p,
     tuple of ndarray
         f[theta], f[phi]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = numpy.cos(theta)
     cse1 = cse0*g
     cse2 = m*x_p
@@ -180,11 +187,11 @@ def forcing(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p,
     cse16 = 2*cse15*l
     cse17 = ag*cse0*cse13 - ag*cse3*cse8*l*m + cse1*cse12*cse8 + cse13*cse3*g
     cse18 = dtheta**2
-    out = _broadcast(((1/2)*B*M*ag*cse3*s + (1/2)*B*ag*cse3*m*s + (1/2)*H*M*ag*cse0 + (1/2)*H*M*cse3*g + M*ag*cse3*e - M*cse1*e - 1/2*M*cse11 + ag*cse0*m*y_p + ag*cse3*m*x_p - cse1*cse2 - 1/2*cse11*m - cse14*cse15 - 1/2*cse14*cse4 - cse16*cse7 - cse16*cse9 - cse17 + cse3*g*m*y_p - cse5*cse7 - cse5*cse9, (1/2)*B*cse18*cse6*l*m*s - c_phi*dphi - cse17 + cse18*cse6*l*m*x_p + cse18*cse8*l*m*y_p - k_phi*phi, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast(((1/2)*B*M*ag*cse3*s + (1/2)*B*ag*cse3*m*s + (1/2)*H*M*ag*cse0 + (1/2)*H*M*cse3*g + M*ag*cse3*e - M*cse1*e - 1/2*M*cse11 + ag*cse0*m*y_p + ag*cse3*m*x_p - cse1*cse2 - 1/2*cse11*m - cse14*cse15 - 1/2*cse14*cse4 - cse16*cse7 - cse16*cse9 - cse17 + cse3*g*m*y_p - cse5*cse7 - cse5*cse9, (1/2)*B*cse18*cse6*l*m*s - c_phi*dphi - cse17 + cse18*cse6*l*m*x_p + cse18*cse8*l*m*y_p - k_phi*phi, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def rocking_accel(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -201,6 +208,8 @@ def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -233,6 +242,8 @@ def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     tuple of ndarray
         ddtheta, ddphi
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = m*y_p**2
     cse1 = B*s
     cse2 = M*e
@@ -265,11 +276,11 @@ def rocking_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     cse29 = dphi*dtheta
     cse30 = cse23*cse29
     cse31 = ((1/2)*B*M*ag*cse17*s + (1/2)*B*ag*cse17*m*s + (1/2)*H*M*ag*cse14 + (1/2)*H*M*cse17*g + M*ag*cse17*e - 1/2*M*cse1*cse19 + ag*cse14*m*y_p + ag*cse17*m*x_p - cse1*cse16*cse29 - cse10*cse27*cse30 - cse15*cse25*cse26 - cse16*cse26*cse28 + cse17*g*m*y_p - cse18*cse26*cse27 - cse19*cse2 - cse19*cse25 - cse20*cse28 - cse21 - cse22*cse24 - cse25*cse30*cse5)/(H**2*cse4 + I_G + M*e**2 - cse0*cse6 + cse0 + cse1*cse2 + cse1*cse7*x_p + cse11*cse9*m + cse12*cse8*m + cse3*cse4 + (1/4)*cse3*cse7 + cse7*x_p**2)
-    out = _broadcast((cse31, cse22/(l**2*m) - cse24*cse31, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((cse31, cse22/(l**2*m) - cse24*cse31, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def contact_accel(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -286,6 +297,8 @@ def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -318,12 +331,14 @@ def contact_accel(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     tuple of ndarray
         ddtheta, ddphi
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = l*m
-    out = _broadcast((0, (-ag*cse0*numpy.cos(phi) - c_phi*dphi - cse0*g*numpy.sin(phi) - k_phi*phi)/(l**2*m), ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((0, (-ag*cse0*numpy.cos(phi) - c_phi*dphi - cse0*g*numpy.sin(phi) - k_phi*phi)/(l**2*m), ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def uplift(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -340,6 +355,8 @@ def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -371,6 +388,8 @@ def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     -------
     ndarray
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = M*g
     cse1 = (1/2)*B
     cse2 = cse1*m
@@ -384,12 +403,12 @@ def uplift(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     cse10 = l**(-1.0)
     cse11 = dphi**2*l
     cse12 = cse10*cse3*y_p
-    out = _broadcast(((1/2)*B*ag*cse3*cse6*m + (1/2)*B*c_phi*cse10*cse6*dphi + (1/2)*B*cse10*cse6*k_phi*phi + (1/2)*H*M*ag*s + ag*cse3*cse6*m*s*x_p - ag*cse4*m*s*y_p + ag*m*s*y_p + c_phi*cse10*cse6*dphi*s*x_p - c_phi*cse12*dphi*s + c_phi*dphi*s - cse0*cse1 - cse0*e*s + cse10*cse6*k_phi*phi*s*x_p - cse11*cse2*cse3 - cse11*cse3*cse8 - cse11*cse6*cse9 - cse12*k_phi*phi*s - cse2*cse5 - cse3*cse6*cse9*g - cse5*cse8 + k_phi*phi*s, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast(((1/2)*B*ag*cse3*cse6*m + (1/2)*B*c_phi*cse10*cse6*dphi + (1/2)*B*cse10*cse6*k_phi*phi + (1/2)*H*M*ag*s + ag*cse3*cse6*m*s*x_p - ag*cse4*m*s*y_p + ag*m*s*y_p + c_phi*cse10*cse6*dphi*s*x_p - c_phi*cse12*dphi*s + c_phi*dphi*s - cse0*cse1 - cse0*e*s + cse10*cse6*k_phi*phi*s*x_p - cse11*cse2*cse3 - cse11*cse3*cse8 - cse11*cse6*cse9 - cse12*k_phi*phi*s - cse2*cse5 - cse3*cse6*cse9*g - cse5*cse8 + k_phi*phi*s, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
-    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+def impact(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
 
     Parameters
     ----------
@@ -405,6 +424,8 @@ def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -467,12 +488,12 @@ def impact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     cse27 = 2*l
     cse28 = cse27*dtheta
     cse29 = (I_G*dtheta + cse0*dtheta + cse1*dtheta + cse14*cse26 + cse14*cse28 - cse16*cse19 - cse18*cse26 - cse18*cse28 - cse21*cse26*m + cse23 - cse25*(-cse10*cse20 + cse13*cse20 + cse20*cse21 + cse23) - cse4*dtheta + cse5*dtheta + cse9*dtheta)/(I_G - M*cse6*e + cse0 - cse1*cse8 + cse1 + cse11*cse14 + cse15*cse16 - cse15*cse6*x_p - cse17*cse18 + cse4 + cse5 + cse8*cse9)
-    out = _broadcast((cse29, (1/2)*cse24*(-cse11*dtheta + 2*cse13*dtheta + cse17*dtheta + cse27*dphi + cse28) - cse25*cse29, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((cse29, (1/2)*cse24*(-cse11*dtheta + 2*cse13*dtheta + cse17*dtheta + cse27*dphi + cse28) - cse25*cse29, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
-    """Mechanical energy in the ground frame while rocking about s; ag is ignored.
+def energy(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
 
     Parameters
     ----------
@@ -488,6 +509,8 @@ def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -540,11 +563,11 @@ def energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, 
     cse18 = cse1*m
     cse19 = cse18*cse9
     cse20 = l*numpy.cos(phi)
-    out = _broadcast((H**2*cse15 + (1/2)*H*M*cse5 + I_G*cse1 + cse1*cse7 + cse10*cse11*cse13 + cse10*cse3 + cse10*cse4 + cse11*cse19 + cse11*cse4 + cse12*cse13 + cse12*cse16 + cse14*cse15 + (1/8)*cse14*cse16 - cse16*cse20*y_p + cse17*cse9*e + cse17*e**2 + cse18*x_p**2 + cse18*y_p**2 + cse19*x_p - cse20*cse5*m - cse20*cse6*cse8 + cse3*e + cse4*x_p + cse5*cse6 + cse7*cse8 + (1/2)*cse7*dphi**2 + (1/2)*k_phi*phi**2, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((H**2*cse15 + (1/2)*H*M*cse5 + I_G*cse1 + cse1*cse7 + cse10*cse11*cse13 + cse10*cse3 + cse10*cse4 + cse11*cse19 + cse11*cse4 + cse12*cse13 + cse12*cse16 + cse14*cse15 + (1/8)*cse14*cse16 - cse16*cse20*y_p + cse17*cse9*e + cse17*e**2 + cse18*x_p**2 + cse18*y_p**2 + cse19*x_p - cse20*cse5*m - cse20*cse6*cse8 + cse3*e + cse4*x_p + cse5*cse6 + cse7*cse8 + (1/2)*cse7*dphi**2 + (1/2)*k_phi*phi**2, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def power(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -561,6 +584,8 @@ def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -592,24 +617,22 @@ def power(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k
     -------
     ndarray
     """
-    cse0 = numpy.sin(theta)
-    cse1 = ag*dtheta
+    cse0 = numpy.cos(theta)
+    cse1 = agy*dtheta
     cse2 = cse0*cse1
-    cse3 = M*cse2
-    cse4 = cse2*m
-    cse5 = numpy.cos(theta)
-    cse6 = cse1*cse5
-    cse7 = cse6*m
-    cse8 = (1/2)*B*s
-    cse9 = l*numpy.sin(phi)
-    cse10 = ag*dphi*m
-    cse11 = l*numpy.cos(phi)
-    out = _broadcast(((1/2)*H*M*cse6 - c_phi*dphi**2 + cse0*cse10*cse9 - cse10*cse11*cse5 - cse11*cse7 + cse3*cse8 + cse3*e + cse4*cse8 + cse4*cse9 + cse4*x_p + cse7*y_p, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    cse3 = numpy.sin(theta)
+    cse4 = B*cse2*s
+    cse5 = l*m
+    cse6 = cse5*numpy.cos(phi)
+    cse7 = numpy.sin(phi)
+    cse8 = cse5*cse7
+    cse9 = agy*dphi
+    out = _broadcast(((1/2)*B*M*ag*cse3*dtheta*s + (1/2)*B*ag*cse3*dtheta*m*s + (1/2)*H*M*ag*cse0*dtheta + (1/2)*H*M*agy*cse3*dtheta + M*ag*cse3*dtheta*e - M*cse2*e - 1/2*M*cse4 - ag*cse0*cse6*dphi - ag*cse0*cse6*dtheta + ag*cse0*dtheta*m*y_p + ag*cse3*cse7*dphi*l*m + ag*cse3*cse7*dtheta*l*m + ag*cse3*dtheta*m*x_p + agy*cse3*dtheta*m*y_p - c_phi*dphi**2 - cse0*cse8*cse9 - cse1*cse3*cse6 - cse2*cse8 - cse2*m*x_p - cse3*cse6*cse9 - 1/2*cse4*m, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
-    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+def uplift_energy(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
 
     Parameters
     ----------
@@ -625,6 +648,8 @@ def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -656,12 +681,12 @@ def uplift_energy(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     -------
     ndarray
     """
-    out = _broadcast((0, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((0, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def least_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
-    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+def least_potential(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -677,6 +702,8 @@ def least_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -708,12 +735,12 @@ def least_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x
     -------
     ndarray
     """
-    out = _broadcast((-numpy.inf, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((-numpy.inf, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def least_stroke_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
-    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+def least_stroke_potential(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+    """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
 
     Parameters
     ----------
@@ -729,6 +756,8 @@ def least_stroke_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -760,11 +789,11 @@ def least_stroke_potential(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, 
     -------
     ndarray
     """
-    out = _broadcast((-numpy.inf, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((-numpy.inf, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def critical_angle(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -781,6 +810,8 @@ def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -817,11 +848,11 @@ def critical_angle(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
     cse2 = (1/2)*cse0
     cse3 = B*s
     cse4 = cse1*l
-    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x_p + cse2*cse3 + cse4*numpy.sin(phi), H*cse2 + cse1*y_p - cse4*numpy.cos(phi)), ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x_p + cse2*cse3 + cse4*numpy.sin(phi), H*cse2 + cse1*y_p - cse4*numpy.cos(phi)), ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def stop_gaps(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -838,6 +869,8 @@ def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -870,11 +903,11 @@ def stop_gaps(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def stop_forces(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
@@ -891,6 +924,8 @@ def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -923,11 +958,11 @@ def stop_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, 
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def stop_contact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def stop_contact(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
@@ -944,6 +979,8 @@ def stop_contact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p,
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -976,11 +1013,11 @@ def stop_contact(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p,
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def stop_approach(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def stop_approach(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
@@ -997,6 +1034,8 @@ def stop_approach(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1029,11 +1068,11 @@ def stop_approach(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     tuple of ndarray
         
     """
-    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def critical_tangent(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -1050,6 +1089,8 @@ def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1087,11 +1128,11 @@ def critical_tangent(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, 
     cse3 = cse0*l
     cse4 = H*cse2 + cse0*y_p - cse3*numpy.cos(phi)
     cse5 = B*s
-    out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [((1/2)*cse0*cse5 + cse0*x_p + cse1*e + cse2*cse5 + cse3*numpy.sin(phi))/cse4,numpy.nan], default=numpy.nan), ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((numpy.select([numpy.greater(cse4, 0),True], [((1/2)*cse0*cse5 + cse0*x_p + cse1*e + cse2*cse5 + cse3*numpy.sin(phi))/cse4,numpy.nan], default=numpy.nan), ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out[0]
 
 
-def block_accelerations(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def block_accelerations(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1108,6 +1149,8 @@ def block_accelerations(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, 
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1148,11 +1191,11 @@ def block_accelerations(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, 
     cse5 = cse3*cse4
     cse6 = H*cse2
     cse7 = cse0*cse4
-    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def base_reaction(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def base_reaction(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1169,6 +1212,8 @@ def base_reaction(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1201,6 +1246,8 @@ def base_reaction(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     tuple of ndarray
         V_b[0], V_b[ddtheta], V_b[ddphi], N_b[0], N_b[ddtheta], N_b[ddphi], M_b[0], M_b[ddtheta], M_b[ddphi]
     """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
     cse0 = dtheta**2
     cse1 = numpy.cos(theta)
     cse2 = M*e
@@ -1258,11 +1305,11 @@ def base_reaction(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p
     cse54 = cse50*cse8
     cse55 = l**2*m
     cse56 = cse4*cse45
-    out = _broadcast(((1/2)*H*M*cse0*cse6 + M*ag + ag*m - cse0*cse12 - cse0*cse17 - cse0*cse20 - cse0*cse3 - cse0*cse5 + cse0*cse6*m*y_p - cse0*cse9 - cse13*cse17 - cse13*cse20 - cse17*cse22 - cse20*cse22, -cse23 - cse24 - cse26 - cse28 - cse30 - cse31 - cse33, -cse33, M*g + cse0*cse1*cse18*l*m - cse0*cse28 - cse0*cse30 - cse0*cse31 + cse1*cse13*cse18*l*m + 2*cse1*cse18*dphi*dtheta*l*m - cse22*cse32 - cse34 - cse35 - cse36 - cse37 - cse38 + g*m, -H*cse29 + cse12 + cse3 - cse39 + cse40 + cse5 + cse9, cse40, (1/2)*B*M*ag*cse6*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse6*m*s + (1/2)*B*cse0*cse1*cse18*l*m*s + (1/2)*B*cse1*cse13*cse18*l*m*s + B*cse1*cse18*dphi*dtheta*l*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse1 + (1/2)*H*M*cse6*g + M*ag*cse6*e - ag*cse1*cse44*m + ag*cse1*m*y_p + ag*cse14*cse6*l*m + ag*cse6*m*x_p - cse0*cse27*cse54 - cse10*cse13*cse19 - cse10*cse34 - cse10*cse35 - cse10*cse36 - cse10*cse37 - cse10*cse38 - cse10*cse41 - cse10*cse43 - cse13*cse46 - cse13*cse47 - cse19*cse48 - cse22*cse46 - cse22*cse47 - cse32*cse48 - cse41*e - cse42*cse44*cse6 - cse43*cse45 - cse43*x_p - cse51*cse52 - cse52*cse53 + cse6*g*m*y_p, (1/2)*B*M*cse1*e*s + (1/2)*B*cse1*cse14*l*m*s + (1/2)*B*cse1*m*s*x_p + (1/2)*B*cse18*cse6*l*m*s - H**2*cse50 - H*cse54*cse6 - I_G + (1/4)*M*cse1*cse49 - M*e**2 + (1/4)*cse1*cse49*m - cse10*cse39 - cse16*cse8 + 2*cse18*l*m*y_p - cse2*cse8 - cse4*cse8 - cse51 - cse53 - cse55 - 2*cse56 - m*x_p**2 - m*y_p**2, -cse10*cse16 + cse10*cse17 + cse10*cse20 + cse25*cse44 - cse55 - cse56, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast(((1/2)*H*M*cse0*cse6 + M*ag + ag*m - cse0*cse12 - cse0*cse17 - cse0*cse20 - cse0*cse3 - cse0*cse5 + cse0*cse6*m*y_p - cse0*cse9 - cse13*cse17 - cse13*cse20 - cse17*cse22 - cse20*cse22, -cse23 - cse24 - cse26 - cse28 - cse30 - cse31 - cse33, -cse33, M*g + cse0*cse1*cse18*l*m - cse0*cse28 - cse0*cse30 - cse0*cse31 + cse1*cse13*cse18*l*m + 2*cse1*cse18*dphi*dtheta*l*m - cse22*cse32 - cse34 - cse35 - cse36 - cse37 - cse38 + g*m, -H*cse29 + cse12 + cse3 - cse39 + cse40 + cse5 + cse9, cse40, (1/2)*B*M*ag*cse6*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse6*m*s + (1/2)*B*cse0*cse1*cse18*l*m*s + (1/2)*B*cse1*cse13*cse18*l*m*s + B*cse1*cse18*dphi*dtheta*l*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse1 + (1/2)*H*M*cse6*g + M*ag*cse6*e - ag*cse1*cse44*m + ag*cse1*m*y_p + ag*cse14*cse6*l*m + ag*cse6*m*x_p - cse0*cse27*cse54 - cse10*cse13*cse19 - cse10*cse34 - cse10*cse35 - cse10*cse36 - cse10*cse37 - cse10*cse38 - cse10*cse41 - cse10*cse43 - cse13*cse46 - cse13*cse47 - cse19*cse48 - cse22*cse46 - cse22*cse47 - cse32*cse48 - cse41*e - cse42*cse44*cse6 - cse43*cse45 - cse43*x_p - cse51*cse52 - cse52*cse53 + cse6*g*m*y_p, (1/2)*B*M*cse1*e*s + (1/2)*B*cse1*cse14*l*m*s + (1/2)*B*cse1*m*s*x_p + (1/2)*B*cse18*cse6*l*m*s - H**2*cse50 - H*cse54*cse6 - I_G + (1/4)*M*cse1*cse49 - M*e**2 + (1/4)*cse1*cse49*m - cse10*cse39 - cse16*cse8 + 2*cse18*l*m*y_p - cse2*cse8 - cse4*cse8 - cse51 - cse53 - cse55 - 2*cse56 - m*x_p**2 - m*y_p**2, -cse10*cse16 + cse10*cse17 + cse10*cse20 + cse25*cse44 - cse55 - cse56, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out
 
 
-def element_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
+def element_forces(s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi, stop_on=None):
     """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
 
     Parameters
@@ -1279,6 +1326,8 @@ def element_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
         time derivative of phi
     ag : array_like
         ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
     M : array_like
         block mass [kg]
     I_G : array_like
@@ -1311,5 +1360,5 @@ def element_forces(s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_
     tuple of ndarray
         Q[phi]
     """
-    out = _broadcast((c_phi*dphi + k_phi*phi, ), (s, theta, phi, dtheta, dphi, ag, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
+    out = _broadcast((c_phi*dphi + k_phi*phi, ), (s, theta, phi, dtheta, dphi, ag, agy, M, I_G, B, H, e, g, m, l, x_p, y_p, k_phi, c_phi))
     return out

@@ -198,15 +198,16 @@ void pendulum_mass_matrix_prepared(const double *y, double ag, const double *cst
 }
 
 /* Mass matrix of the rocking phase about the pivot s, row-major. */
-void pendulum_mass_matrix(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_mass_matrix(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_mass_matrix_prepared(y, ag, cst, out);
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
- * From the constants of pendulum_prepare(s, on, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void pendulum_forcing_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -243,15 +244,20 @@ void pendulum_forcing_prepared(const double *y, double ag, const double *cst, do
 }
 
 /* Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing. */
-void pendulum_forcing(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_forcing(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[PENDULUM_NP];
+    for (int i = 0; i < PENDULUM_NP; i++)
+        pg[i] = p[i];
+    pg[PENDULUM_P_g] = p[PENDULUM_P_g] + agy;
+    pendulum_prepare(s, NULL, pg, cst);
     pendulum_forcing_prepared(y, ag, cst, out);
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
- * From the constants of pendulum_prepare(s, on, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void pendulum_rocking_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -299,15 +305,20 @@ void pendulum_rocking_accel_prepared(const double *y, double ag, const double *c
 }
 
 /* Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish). */
-void pendulum_rocking_accel(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_rocking_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[PENDULUM_NP];
+    for (int i = 0; i < PENDULUM_NP; i++)
+        pg[i] = p[i];
+    pg[PENDULUM_P_g] = p[PENDULUM_P_g] + agy;
+    pendulum_prepare(s, NULL, pg, cst);
     pendulum_rocking_accel_prepared(y, ag, cst, out);
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
- * From the constants of pendulum_prepare(s, on, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void pendulum_contact_accel_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double phi = y[1];
@@ -322,15 +333,20 @@ void pendulum_contact_accel_prepared(const double *y, double ag, const double *c
 }
 
 /* Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored. */
-void pendulum_contact_accel(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_contact_accel(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[PENDULUM_NP];
+    for (int i = 0; i < PENDULUM_NP; i++)
+        pg[i] = p[i];
+    pg[PENDULUM_P_g] = p[PENDULUM_P_g] + agy;
+    pendulum_prepare(s, NULL, pg, cst);
     pendulum_contact_accel_prepared(y, ag, cst, out);
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
- * From the constants of pendulum_prepare(s, on, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 double pendulum_uplift_prepared(const double *y, double ag, const double *cst)
 {
     const double phi = y[1];
@@ -358,14 +374,19 @@ double pendulum_uplift_prepared(const double *y, double ag, const double *cst)
 }
 
 /* Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive. */
-double pendulum_uplift(double s, const double *y, double ag, const double *p)
+double pendulum_uplift(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[PENDULUM_NP];
+    for (int i = 0; i < PENDULUM_NP; i++)
+        pg[i] = p[i];
+    pg[PENDULUM_P_g] = p[PENDULUM_P_g] + agy;
+    pendulum_prepare(s, NULL, pg, cst);
     return pendulum_uplift_prepared(y, ag, cst);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored.
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
  * From the constants of pendulum_prepare(s, on, p, cst). */
 void pendulum_impact_prepared(const double *y, double ag, const double *cst, double *out)
 {
@@ -401,15 +422,16 @@ void pendulum_impact_prepared(const double *y, double ag, const double *cst, dou
     out[1] = cse6*cse7 + cst47*(cse4*cst24 + cse5*dtheta + cst22*dphi + cst22*dtheta);
 }
 
-/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag is ignored. */
-void pendulum_impact(double s, const double *y, double ag, const double *p, double *out)
+/* Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored. */
+void pendulum_impact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_impact_prepared(y, ag, cst, out);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored.
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
  * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -439,17 +461,18 @@ double pendulum_energy_prepared(const double *y, double ag, const double *cst)
     return cse0*cse5*cst52 + cse0*cst51 + cse1*cse4*cst12 + cse1*cst8 + cse2*cse6 + cse2*cse7 + cse2*cst3 + cse3*cse6 + cse3*cse7 + cse3*cst48 + cst49*(phi*phi) + cst50*(dphi*dphi);
 }
 
-/* Mechanical energy in the ground frame while rocking about s; ag is ignored. */
-double pendulum_energy(double s, const double *y, double ag, const double *p)
+/* Mechanical energy in the ground frame while rocking about s; ag and agy are ignored. */
+double pendulum_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_energy_prepared(y, ag, cst);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
  * From the constants of pendulum_prepare(s, on, p, cst). */
-double pendulum_power_prepared(const double *y, double ag, const double *cst)
+double pendulum_power_prepared(const double *y, double ag, double agy, const double *cst)
 {
     const double theta = y[0];
     const double phi = y[1];
@@ -460,26 +483,33 @@ double pendulum_power_prepared(const double *y, double ag, const double *cst)
     const double cst10 = cst[10];
     const double cst11 = cst[11];
     const double cst15 = cst[15];
+    const double cst60 = cst[60];
     const double cse0 = sin(theta);
     const double cse1 = ag*dtheta;
     const double cse2 = cse0*cse1;
     const double cse3 = cos(theta);
     const double cse4 = cse1*cse3;
-    const double cse5 = cst10*sin(phi);
-    const double cse6 = ag*dphi;
-    const double cse7 = cst11*cos(phi);
-    return cse0*cse5*cse6 + cse2*cse5 + cse2*cst6 + cse3*cse6*cse7 + cse4*cse7 + cse4*cst7 + cst15*(dphi*dphi);
+    const double cse5 = agy*dtheta;
+    const double cse6 = cse3*cse5;
+    const double cse7 = cse0*cse5;
+    const double cse8 = sin(phi);
+    const double cse9 = cse8*cst10;
+    const double cse10 = ag*dphi;
+    const double cse11 = cst11*cos(phi);
+    const double cse12 = agy*dphi;
+    const double cse13 = cse8*cst11;
+    return cse0*cse10*cse9 + cse0*cse11*cse12 + cse10*cse11*cse3 + cse11*cse4 + cse11*cse7 + cse12*cse13*cse3 + cse13*cse6 + cse2*cse9 + cse2*cst6 + cse4*cst7 + cse6*cst60 + cse7*cst7 + cst15*(dphi*dphi);
 }
 
 /* Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force. */
-double pendulum_power(double s, const double *y, double ag, const double *p)
+double pendulum_power(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
     pendulum_prepare(s, NULL, p, cst);
-    return pendulum_power_prepared(y, ag, cst);
+    return pendulum_power_prepared(y, ag, agy, cst);
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored.
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
  * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_uplift_energy_prepared(const double *y, double ag, const double *cst)
 {
@@ -489,15 +519,16 @@ double pendulum_uplift_energy_prepared(const double *y, double ag, const double 
     return 0;
 }
 
-/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y and ag are ignored. */
-double pendulum_uplift_energy(double s, const double *y, double ag, const double *p)
+/* Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored. */
+double pendulum_uplift_energy(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_uplift_energy_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
  * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_least_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -507,15 +538,16 @@ double pendulum_least_potential_prepared(const double *y, double ag, const doubl
     return -INFINITY;
 }
 
-/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities and ag are ignored. */
-double pendulum_least_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored. */
+double pendulum_least_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_least_potential_prepared(y, ag, cst);
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored.
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
  * From the constants of pendulum_prepare(s, on, p, cst). */
 double pendulum_least_stroke_potential_prepared(const double *y, double ag, const double *cst)
 {
@@ -525,10 +557,11 @@ double pendulum_least_stroke_potential_prepared(const double *y, double ag, cons
     return -INFINITY;
 }
 
-/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities and ag are ignored. */
-double pendulum_least_stroke_potential(double s, const double *y, double ag, const double *p)
+/* Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored. */
+double pendulum_least_stroke_potential(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_least_stroke_potential_prepared(y, ag, cst);
 }
@@ -547,9 +580,10 @@ double pendulum_critical_angle_prepared(const double *y, double ag, const double
 }
 
 /* Static critical angle about the pivot s, the other coordinates held (sign of s). */
-double pendulum_critical_angle(double s, const double *y, double ag, const double *p)
+double pendulum_critical_angle(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_critical_angle_prepared(y, ag, cst);
 }
@@ -565,9 +599,10 @@ void pendulum_stop_gaps_prepared(const double *y, double ag, const double *cst, 
 }
 
 /* Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops. */
-void pendulum_stop_gaps(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_stop_gaps(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_stop_gaps_prepared(y, ag, cst, out);
 }
@@ -583,9 +618,10 @@ void pendulum_stop_forces_prepared(const double *y, double ag, const double *cst
 }
 
 /* Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes). */
-void pendulum_stop_forces(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_stop_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_stop_forces_prepared(y, ag, cst, out);
 }
@@ -601,9 +637,10 @@ void pendulum_stop_contact_prepared(const double *y, double ag, const double *cs
 }
 
 /* Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime. */
-void pendulum_stop_contact(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_stop_contact(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_stop_contact_prepared(y, ag, cst, out);
 }
@@ -619,9 +656,10 @@ void pendulum_stop_approach_prepared(const double *y, double ag, const double *c
 }
 
 /* Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in. */
-void pendulum_stop_approach(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_stop_approach(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_stop_approach_prepared(y, ag, cst, out);
 }
@@ -641,9 +679,10 @@ double pendulum_critical_tangent_prepared(const double *y, double ag, const doub
 }
 
 /* Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere. */
-double pendulum_critical_tangent(double s, const double *y, double ag, const double *p)
+double pendulum_critical_tangent(double s, const double *y, double ag, double agy, const double *p)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     return pendulum_critical_tangent_prepared(y, ag, cst);
 }
@@ -674,15 +713,16 @@ void pendulum_block_accelerations_prepared(const double *y, double ag, const dou
 }
 
 /* Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void pendulum_block_accelerations(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_block_accelerations(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_block_accelerations_prepared(y, ag, cst, out);
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
- * From the constants of pendulum_prepare(s, on, p, cst). */
+ * From the constants of pendulum_prepare(s, on, p, cst), p's g the effective gravity g + agy. */
 void pendulum_base_reaction_prepared(const double *y, double ag, const double *cst, double *out)
 {
     const double theta = y[0];
@@ -760,10 +800,15 @@ void pendulum_base_reaction_prepared(const double *y, double ag, const double *c
 }
 
 /* Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j. */
-void pendulum_base_reaction(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_base_reaction(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
-    pendulum_prepare(s, NULL, p, cst);
+    /* The vertical ground acceleration enters these equations only with gravity (derived). */
+    double pg[PENDULUM_NP];
+    for (int i = 0; i < PENDULUM_NP; i++)
+        pg[i] = p[i];
+    pg[PENDULUM_P_g] = p[PENDULUM_P_g] + agy;
+    pendulum_prepare(s, NULL, pg, cst);
     pendulum_base_reaction_prepared(y, ag, cst, out);
 }
 
@@ -780,9 +825,10 @@ void pendulum_element_forces_prepared(const double *y, double ag, const double *
 }
 
 /* Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block. */
-void pendulum_element_forces(double s, const double *y, double ag, const double *p, double *out)
+void pendulum_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out)
 {
     double cst[PENDULUM_NK];
+    (void)agy;
     pendulum_prepare(s, NULL, p, cst);
     pendulum_element_forces_prepared(y, ag, cst, out);
 }

@@ -17,6 +17,8 @@ import sys
 from dataclasses import replace
 from pathlib import Path
 
+import numpy as np
+
 from .. import __version__
 from ..model.loading import ModelError, available_models, load_model
 from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
@@ -33,6 +35,7 @@ from ..model.params import (
 )
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, read_record
+from ..model.vertical import Vertical
 from ..sim.accuracy import CHECKS, SENSITIVE
 from ..sim.boundary import RESULT
 from ..sim.cbuild import CBuildError
@@ -192,6 +195,8 @@ SHAPE_OPTIONS = {"sine": {"psi": "psi"}, "mp": {"gamma_mp": "gamma_mp", "nu": "n
 def _pulse(args, block):
     """The pulse of the options: its family (--pulse), SI (the class) or relative to the block (its from_nondim)."""
     si, nondim = given(args, ("a_g", "omega_g")), given(args, ("beta", "Omega"))
+    if args.vertical is not None:
+        raise ParameterError("--vertical FILE is a record's vertical component: it goes with --motion")
     family = args.pulse or "sine"
     cls, fixed = PULSES[family]
     own = SHAPE_OPTIONS.get(family, {})
@@ -201,6 +206,10 @@ def _pulse(args, block):
     if family == "mp" and args.gamma_mp is None:
         raise ParameterError("--pulse mp needs --gamma-mp too (its oscillations, > 1)")
     shape = {**fixed, **{own[k]: v for k, v in given(args, own).items()}, **given(args, ("sign",))}
+    if args.vertical_ratio is not None:
+        shape["vertical"] = call_with(Vertical, _vertical_options(args), "a vertical component")
+    elif args.vertical_phase is not None:
+        raise ParameterError("--vertical-phase needs --vertical-ratio (the vertical amplitude over the horizontal)")
     if si and nondim:
         raise ParameterError("give the pulse as --beta and --Omega, or in SI as --a-g and --omega-g, not both")
     if si:
@@ -210,8 +219,25 @@ def _pulse(args, block):
     return call_with(cls.from_nondim, {**nondim, **shape}, "a pulse", block)
 
 
+def _vertical_options(args) -> dict:
+    """``Vertical``'s arguments from ``--vertical-ratio`` and ``--vertical-phase``."""
+    phase = {} if args.vertical_phase is None else {"phase": args.vertical_phase}
+    return {"ratio": args.vertical_ratio, **phase}
+
+
 #: Options of a pulse, refused with --motion (a record sets the motion).
-PULSE_OPTIONS = ("pulse", "beta", "Omega", "a_g", "omega_g", "psi", "gamma_mp", "nu")
+PULSE_OPTIONS = (
+    "pulse",
+    "beta",
+    "Omega",
+    "a_g",
+    "omega_g",
+    "psi",
+    "gamma_mp",
+    "nu",
+    "vertical_ratio",
+    "vertical_phase",
+)
 
 
 def _motion(args) -> SampledMotion:
@@ -221,12 +247,26 @@ def _motion(args) -> SampledMotion:
     if foreign:
         raise ParameterError(f"{flags(foreign)}: options of a pulse; --motion gives a recorded motion")
     record = read_record(args.motion, args.unit)
-    motion = SampledMotion(record.acceleration, dt=record.dt, **given(args, ("sign",)))
+    a_v = None if args.vertical is None else _vertical_record(args, record)
+    motion = SampledMotion(record.acceleration, dt=record.dt, a_v=a_v, **given(args, ("sign",)))
     if args.scale is not None and args.pga is not None:
         raise ParameterError("give --scale (a factor) or --pga (a target peak, m/s2), not both")
     if args.pga is not None:
         return motion.scaled_to_pga(args.pga)
     return motion.scaled(args.scale) if args.scale is not None else motion
+
+
+def _vertical_record(args, record) -> np.ndarray:
+    """The samples of ``--vertical FILE`` at the horizontal record's times: the same dt is required; a shorter
+    record is taken as 0 after its end, a longer one is cut at the horizontal record's."""
+    vertical = read_record(args.vertical, args.unit)
+    if not math.isclose(vertical.dt, record.dt, rel_tol=1e-9):
+        raise ParameterError(
+            f"--vertical {args.vertical}: dt = {vertical.dt:g} s, the horizontal record's is {record.dt:g} s; "
+            "the pair must share its dt"
+        )
+    n = record.acceleration.size
+    return np.concatenate((vertical.acceleration[:n], np.zeros(max(0, n - vertical.acceleration.size))))
 
 
 def _motion_text(block, motion) -> str:
@@ -235,12 +275,18 @@ def _motion_text(block, motion) -> str:
         return (
             f"record of {motion.n} samples at dt={motion.dt:g} s, "
             f"PGA={motion.pga:.4g} m/s2 ({motion.pga / block.g:.3g} g) at scale {motion.scale:.4g}, "
-            f"sign={motion.sign:+d}"
+            f"sign={motion.sign:+d}{'' if motion.a_v is None else ', with a vertical record'}"
         )
     return (
         f"pulse beta={motion.beta(block):.4g} Omega={motion.Omega(block):.4g} (a_g={motion.a_g:.4g} m/s2, "
-        f"omega_g={motion.omega_g:.4g} rad/s, {_pulse_text(motion)}, sign={motion.sign:+d})"
+        f"omega_g={motion.omega_g:.4g} rad/s, {_pulse_text(motion)}, sign={motion.sign:+d}{_vertical_text(motion)})"
     )
+
+
+def _vertical_text(pulse) -> str:
+    """What the summary says of a pulse's vertical component (nothing without one)."""
+    v = pulse.vertical
+    return "" if v is None else f", vertical ratio={v.ratio:g} phase={v.phase:g} rad (> 0 up)"
 
 
 def _pulse_text(pulse) -> str:
@@ -307,11 +353,18 @@ def _print_summary(block, pulse, responses, models) -> None:
     )
     for label, r in responses.items():
         verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
+        if r.status == "flight":
+            verdict = "no verdict (flight)"
         print(
             f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
             f"{r.uplifts} uplift(s), {r.impacts} impact(s){_stops_text(r, models[label])}, "
             f"ended at t = {r.t_end:.3f} s ({r.status})"
         )
+        if r.status == "flight":
+            print(
+                f"  {label}: FLIGHT: g + ddy_g reached 0 at t = {r.t_end:.4f} s, the base may leave the ground; "
+                "free flight is out of the model's scope (docs/model.md section 14), the results stop there"
+            )
         if mass_past_edge(r, block.B / 2, models[label]):
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
         if r.sensitive:
@@ -481,6 +534,15 @@ def _add_simulate(sub) -> None:
         type=int,
         help=f"direction, +1 or -1: +1 pushes the ground right first ({default_text(OneSinePulse, 'sign')})",
     )
+    g.add_argument(
+        "--vertical-ratio",
+        type=float,
+        help="vertical component, rocking.Vertical(ratio, phase): ddy_g = ratio a_g f(t + phase / omega_g), > 0 "
+        "up, the pulse's own shape and period, unsigned by --sign (docs/model.md section 14; default none)",
+    )
+    g.add_argument(
+        "--vertical-phase", type=float, help="lead of the vertical shape, rad, in [0, 2 pi) (default 0, in phase)"
+    )
     g = p.add_argument_group(
         "recorded motion (instead of a pulse)",
         "As rocking.SampledMotion(a, dt, scale, sign) from rocking.model.records.read_record(FILE, unit).",
@@ -491,6 +553,12 @@ def _add_simulate(sub) -> None:
         choices=tuple(UNITS),
         help="unit of the accelerations of a text or CSV --motion (default: the one its header states, "
         "'time [s], a [g]'; if both, they must agree)",
+    )
+    g.add_argument(
+        "--vertical",
+        metavar="FILE",
+        help="the record's vertical component, > 0 up, in the same format and unit and at the same dt (0 after "
+        "its end; cut at the horizontal record's): SampledMotion(a_v=...), docs/model.md section 14",
     )
     g.add_argument("--scale", type=float, help="factor on the record (default 1)")
     g.add_argument("--pga", type=float, help="scale the record to this peak ground acceleration, m/s2")

@@ -358,6 +358,8 @@ RANGES: dict[str, Range] = {
     # Ground-motion pulses last 0.1 - 10 s; 1 ms to 1000 s bounds the pulse's share of a run.
     "omega_g": Range(TWO_PI / 1e3, TWO_PI / 1e-3, "rad/s", "sine periods from 1 ms to 1000 s"),
     "psi": Range(0.0, TWO_PI, "rad", "one sine cycle", open_high=True),
+    # Near-fault records reach vertical-to-horizontal ratios of 1 - 2 (Bozorgnia and Campbell 2004).
+    "vertical_ratio": Range(0.0, 10.0, "", "vertical amplitude over the horizontal, docs/model.md section 14"),
     "beta": Range(0.0, 1e4, "", "amplitude over the uplift threshold, a_g / (g tan alpha)"),
     "Omega": Range(1e-2, 1e3, "", "pulse frequency over the block's, omega_g / p (the studies: 0.5 - 15)"),
     # --- the other ground motions (rocking.model.motion, docs/model.md section 12)

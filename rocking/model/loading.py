@@ -127,13 +127,14 @@ class Model:
         """Valid range of each parameter as the spec states it (``"> 0"``, ``">= 0"``, ``"any"``, ...)."""
         return {p["name"]: p["valid"] for p in self.manifest["parameters"]}
 
-    def call(self, function: str, s, y, ag, p):
+    def call(self, function: str, s, y, ag, p, agy=0.0):
         """Call a generated NumPy function with a state vector ``y`` and parameter vector ``p``.
 
-        ``y`` has the state on its first axis, ``p`` the parameters on its first axis.
+        ``y`` has the state on its first axis, ``p`` the parameters on its first axis; ``ag`` and
+        ``agy`` are the horizontal and vertical ground accelerations.
         """
         fn = getattr(self.functions, function)
-        return fn(s, *y, ag, *p)
+        return fn(s, *y, ag, agy, *p)
 
 
 def available_models() -> list[str]:

@@ -27,6 +27,7 @@ from numpy.typing import ArrayLike
 
 from .params import RANGES, Block, ParameterError, as_real, check_block, check_in_range, check_nonnegative, shown
 from .pulse import OneSinePulse, check_sign, from_period
+from .vertical import Vertical, check_vertical
 
 __all__ = [
     "FAMILIES",
@@ -36,6 +37,7 @@ __all__ = [
     "OneSinePulse",
     "RickerWavelet",
     "SampledMotion",
+    "Vertical",
     "describe",
 ]
 
@@ -197,9 +199,11 @@ class _Analytic:
     a_g: float
     omega_g: float
     sign: int
+    vertical: Vertical | None
 
     def _check(self) -> None:
         check_sign(self.sign)
+        check_vertical(self.vertical)
         a_g = check_in_range("a_g", self.a_g)
         omega_g = check_in_range("omega_g", self.omega_g, label="[2 pi/1000, 2 pi/0.001]")
         # Frozen dataclass: the normalised floats can only be stored this way.
@@ -290,11 +294,14 @@ class OneCosinePulse(_Analytic):
         Circular frequency, rad/s, in ``[2 pi / 1000, 2 pi / 0.001]``.
     sign : {+1, -1}, optional
         Direction (+1: the ground first accelerates to the right).
+    vertical : Vertical, optional
+        Vertical component (docs/model.md section 14), unsigned by ``sign``; default None.
     """
 
     a_g: float
     omega_g: float
     sign: int = 1
+    vertical: Vertical | None = None
     family = "cosine"
 
     def __post_init__(self) -> None:
@@ -319,12 +326,15 @@ class RickerWavelet(_Analytic):
         The antisymmetric wavelet. Default False.
     sign : {+1, -1}, optional
         Direction.
+    vertical : Vertical, optional
+        Vertical component (docs/model.md section 14), unsigned by ``sign``; default None.
     """
 
     a_g: float
     omega_g: float
     antisymmetric: bool = False
     sign: int = 1
+    vertical: Vertical | None = None
 
     def __post_init__(self) -> None:
         if not isinstance(self.antisymmetric, (bool, np.bool_)):
@@ -357,6 +367,8 @@ class MavroeidisPapageorgiou(_Analytic):
         Phase, rad, in ``[0, 2 pi)``. Default 0.
     sign : {+1, -1}, optional
         Direction.
+    vertical : Vertical, optional
+        Vertical component (docs/model.md section 14), unsigned by ``sign``; default None.
     """
 
     a_g: float
@@ -364,6 +376,7 @@ class MavroeidisPapageorgiou(_Analytic):
     gamma_mp: float
     nu: float = 0.0
     sign: int = 1
+    vertical: Vertical | None = None
     family = "mp"
 
     def __post_init__(self) -> None:
@@ -425,16 +438,16 @@ def real_array(name: str, values: object) -> np.ndarray:
     return np.array(flat, dtype=float).reshape(raw.shape)
 
 
-def _samples(a: object) -> np.ndarray:
-    """``a`` as a 1-D float array of at least 2 finite samples; the error names the first bad index."""
-    arr = real_array("a", a)
+def _samples(a: object, name: str = "a") -> np.ndarray:
+    """``a`` as a 1-D float array of at least 2 finite samples; the error names ``name`` and the first bad index."""
+    arr = real_array(name, a)
     if arr.ndim != 1:
-        raise ParameterError(f"a must be one-dimensional (got shape {arr.shape})")
+        raise ParameterError(f"{name} must be one-dimensional (got shape {arr.shape})")
     if arr.size < 2:
-        raise ParameterError(f"a must hold at least 2 samples (got {arr.size})")
+        raise ParameterError(f"{name} must hold at least 2 samples (got {arr.size})")
     bad = np.flatnonzero(~np.isfinite(arr))
     if bad.size:
-        raise ParameterError(f"a must be finite: a[{bad[0]}] = {float(arr[bad[0]])!r}")
+        raise ParameterError(f"{name} must be finite: {name}[{bad[0]}] = {float(arr[bad[0]])!r}")
     if arr.flags.writeable:  # the caller's array, or a new one: a frozen copy; a frozen one is shared as it is
         arr = arr.copy()
         arr.setflags(write=False)  # shared by every scaled copy and by the back ends: never changed
@@ -479,12 +492,16 @@ class SampledMotion:
         Factor on the samples (``>= 0``; it plays ``a_g``). Default 1.
     sign : {+1, -1}, optional
         Direction. Default +1.
+    a_v : array_like, optional
+        Vertical samples at the same times, m/s^2, > 0 up (docs/model.md section 14): one per
+        sample of ``a``, all finite, scaled by ``scale`` and unsigned by ``sign``. Default None: none.
 
     Raises
     ------
     ParameterError
         One line naming the parameter: non-finite sample (its index), non-uniform ``t``, a bad
-        ``dt``, fewer than 2 samples, a peak ``scale max|a|`` beyond the range of ``a_g``.
+        ``dt``, fewer than 2 samples, a peak ``scale max|a|`` beyond the range of ``a_g``, vertical
+        samples of another count.
     """
 
     a: np.ndarray = field(repr=False)
@@ -492,6 +509,7 @@ class SampledMotion:
     t: np.ndarray | None = field(default=None, repr=False)
     scale: float = 1.0
     sign: int = 1
+    a_v: np.ndarray | None = field(default=None, repr=False)
     family = "sampled"
 
     def __post_init__(self) -> None:
@@ -509,7 +527,12 @@ class SampledMotion:
             raise ParameterError(
                 f"the record lasts {(a.size - 1) * dt:g} s: at most {RANGES['record_length'].high:g} s"
             )
-        for name, value in (("a", a), ("dt", dt), ("t", None), ("scale", scale)):
+        a_v = None if self.a_v is None else _samples(self.a_v, "a_v")
+        if a_v is not None and a_v.size != a.size:
+            raise ParameterError(
+                f"a_v must hold one vertical sample per sample of a, at the same dt ({a.size}, got {a_v.size})"
+            )
+        for name, value in (("a", a), ("dt", dt), ("t", None), ("scale", scale), ("a_v", a_v)):
             object.__setattr__(self, name, value)
 
     @property
@@ -596,6 +619,13 @@ class Description:
         The samples (unscaled) of a sampled motion.
     dt : float
         Their spacing, s (0 otherwise).
+    a_v : float
+        Vertical amplitude, m/s^2, > 0 up: ``ddy_g = a_v f_v(t)`` on ``[0, t_p]`` (0: none;
+        docs/model.md section 14).
+    phase_v : float
+        Lead of the vertical shape: ``f_v(t) = f(t + phase_v / omega_g)`` (analytic motions).
+    v_samples : ndarray or None
+        A sampled motion's vertical samples (unscaled): ``f_v`` their interpolation.
     """
 
     family: str
@@ -609,6 +639,9 @@ class Description:
     extrema: np.ndarray | None = None
     samples: np.ndarray | None = None
     dt: float = 0.0
+    a_v: float = 0.0
+    phase_v: float = 0.0
+    v_samples: np.ndarray | None = None
 
 
 def family_of(motion: object) -> str:
@@ -632,9 +665,19 @@ def describe(motion: object) -> Description:
     """
     family_of(motion)
     if isinstance(motion, SampledMotion):
-        return Description("sampled", motion.sign * motion.scale, t_p=motion.t_p, samples=motion.a, dt=motion.dt)
+        return Description(
+            "sampled",
+            motion.sign * motion.scale,
+            t_p=motion.t_p,
+            samples=motion.a,
+            dt=motion.dt,
+            a_v=0.0 if motion.a_v is None else motion.scale,
+            v_samples=motion.a_v,
+        )
     assert isinstance(motion, (OneSinePulse, _Analytic))  # family_of admits the registered types only
     common = {"omega_g": motion.omega_g, "t_p": motion.t_p, "T_g": 2 * math.pi / motion.omega_g}
+    if motion.vertical is not None:  # unsigned by the direction (docs/model.md section 14)
+        common.update(a_v=motion.vertical.ratio * motion.a_g, phase_v=motion.vertical.phase)
     if isinstance(motion, OneSinePulse):
         return Description("sine", motion.sign * motion.a_g, phase=motion.psi, **common)
     extrema = listed_extrema(motion.family, motion.shape_parameter, motion.phase)

@@ -14,6 +14,7 @@ import numpy as np
 from numpy.typing import ArrayLike
 
 from rocking.model.params import Block, ParameterError, check_block, check_in_range, check_positive, shown
+from rocking.model.vertical import Vertical, check_vertical
 
 __all__ = ["OneSinePulse"]
 
@@ -65,6 +66,9 @@ class OneSinePulse:
     sign : {+1, -1}, optional
         Direction: +1 (default) first pushes the ground to the right, ``ddx_g > 0``,
         towards an uplift about ``A``; -1 is the mirrored pulse (docs/model.md 10.6).
+    vertical : Vertical, optional
+        Vertical component, ``ddy_g = ratio a_g f(t + phase / omega_g)`` on ``[0, t_p]``, > 0 up,
+        unsigned by ``sign`` (docs/model.md section 14). Default None: none.
 
     Raises
     ------
@@ -81,9 +85,11 @@ class OneSinePulse:
     omega_g: float
     psi: float = 0.0
     sign: int = 1
+    vertical: Vertical | None = None
 
     def __post_init__(self) -> None:
         check_sign(self.sign)
+        check_vertical(self.vertical)
         a_g = check_in_range("a_g", self.a_g)
         omega_g = check_in_range("omega_g", self.omega_g, label="[2 pi/1000, 2 pi/0.001]")
         psi = check_in_range("psi", self.psi, label="[0, 2 pi)")
@@ -131,7 +137,16 @@ class OneSinePulse:
         return self.omega_g / block.p
 
     @classmethod
-    def from_nondim(cls, block: Block, *, beta: float, Omega: float, psi: float = 0.0, sign: int = 1) -> OneSinePulse:
+    def from_nondim(
+        cls,
+        block: Block,
+        *,
+        beta: float,
+        Omega: float,
+        psi: float = 0.0,
+        sign: int = 1,
+        vertical: Vertical | None = None,
+    ) -> OneSinePulse:
         """Build a pulse scaled to ``block``.
 
         Parameters
@@ -150,6 +165,8 @@ class OneSinePulse:
             Phase at ``t = 0``, rad, in ``[0, 2 pi)``. Default 0.
         sign : {+1, -1}, optional
             Direction of the pulse (see :class:`OneSinePulse`). Default +1.
+        vertical : Vertical, optional
+            Vertical component (see :class:`OneSinePulse`). Default None.
 
         Returns
         -------
@@ -166,7 +183,7 @@ class OneSinePulse:
         beta = check_in_range("beta", beta)
         Omega = check_in_range("Omega", Omega)
         try:
-            return cls(a_g=block.a_g(beta), omega_g=Omega * block.p, psi=psi, sign=sign)
+            return cls(a_g=block.a_g(beta), omega_g=Omega * block.p, psi=psi, sign=sign, vertical=vertical)
         except ParameterError as exc:
             if str(exc).startswith(("a_g ", "omega_g ")):  # derived from beta and Omega: say so
                 raise ParameterError(

@@ -5,6 +5,10 @@ yardstick the generated code is held against (``rocking verify``). Every
 function broadcasts over NumPy arrays. Units SI; ``s = +1`` is the pivot ``A``
 (left corner), ``s = -1`` the pivot ``A'``.
 
+The ground acceleration is ``(ag, agy)``: ``ddx_g`` (> 0 right) and ``ddy_g`` (> 0 up,
+docs/model.md section 14). In the frame that moves with the ground, ``ddy_g`` is the
+inertial force ``-(mass) ddy_g`` on every body, written here beside each weight.
+
 Short-hands (docs/model.md section 1)::
 
     d_s  = s B/2 + e        xi_s = s B/2 + x        eta = H + h
@@ -93,22 +97,25 @@ def mass_matrix(s, theta, x, M, I_G, B, H, e, m, h):
     return (m11, m12), (m12, m + 0 * theta)
 
 
-def forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops):
-    """Right-hand sides of (R1) and (R2) once the acceleration terms are moved left."""
+def forcing(s, theta, x, dtheta, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **stops):
+    """Right-hand sides of (R1) and (R2) once the acceleration terms are moved left (section 14: the weights
+    with the vertical inertial forces)."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     cos, sin = np.cos(theta), np.sin(theta)
     lever = M * d + m * xi
     height = M * H / 2 + m * eta
-    f1 = ag * (height * cos + lever * sin) - g * (lever * cos - height * sin) - 2 * m * xi * dtheta * dx
-    f2 = -m * ag * cos - guide_force(x, dx, k_m, c, **stops) + m * xi * dtheta**2 - m * g * sin
+    weights = -g * (lever * cos - height * sin)
+    vertical = -agy * (lever * cos - height * sin)
+    f1 = ag * (height * cos + lever * sin) + weights + vertical - 2 * m * xi * dtheta * dx
+    f2 = -m * ag * cos - guide_force(x, dx, k_m, c, **stops) + m * xi * dtheta**2 - m * g * sin - m * agy * sin
     return f1, f2
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
+def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
     """``(ddtheta, ddx)`` from (R1), (R2) by solving the 2x2 system numerically."""
     (a, b), (_, d) = mass_matrix(s, theta, x, M, I_G, B, H, e, m, h)
-    f1, f2 = forcing(s, theta, x, dtheta, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops)
+    f1, f2 = forcing(s, theta, x, dtheta, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **stops)
     det = a * d - b * b
     return (d * f1 - b * f2) / det, (a * f2 - b * f1) / det
 
@@ -123,14 +130,14 @@ def overturning_moment(x, dx, ag, M, H, h, k_m, c, **stops):
     return M * H / 2 * ag - (H + h) * guide_force(x, dx, k_m, c, **stops)
 
 
-def uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops):
+def uplift_margin(s, x, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **stops):
     """How far (U1) (``s = +1``) or (U2) (``s = -1``) is from holding; positive: uplift.
 
-    ``s = +1``: ``Mo - g [M (B/2 + e) + m (B/2 + x)]``;
-    ``s = -1``: ``-Mo - g [M (B/2 - e) + m (B/2 - x)]``.
+    ``s = +1``: ``Mo - (g + ddy_g) [M (B/2 + e) + m (B/2 + x)]``;
+    ``s = -1``: ``-Mo - (g + ddy_g) [M (B/2 - e) + m (B/2 - x)]`` (section 14).
     """
     Mo = overturning_moment(x, dx, ag, M, H, h, k_m, c, **stops)
-    return s * Mo - g * (M * (B / 2 + s * e) + m * (B / 2 + s * x))
+    return s * Mo - (g + agy) * (M * (B / 2 + s * e) + m * (B / 2 + s * x))
 
 
 def impact(s, x, dtheta, dx, M, I_G, B, H, e, m, h, law="momentum"):
@@ -274,16 +281,18 @@ def energy(s, theta, x, dtheta, dx, M, I_G, B, H, e, g, m, h, k_m, **stops):
     return T + V + np.where(pushes(x, dx, **stops), pad(x, dx, **stops)[3], 0.0)
 
 
-def power(s, theta, x, dtheta, dx, ag, M, B, H, e, m, h, c, **stops):
-    """``dE/dt`` between impacts: ``-(c + [pad pushes] c_pad) dx^2`` plus the power of ``-(mass) ddx_g``, ``c_pad``
-    the pad's damping (:func:`pad`)."""
+def power(s, theta, x, dtheta, dx, ag, agy, M, B, H, e, m, h, c, **stops):
+    """``dE/dt`` between impacts: ``-(c + [pad pushes] c_pad) dx^2`` plus the power of ``-(mass) (ddx_g, ddy_g)``
+    on the velocities relative to the ground, ``c_pad`` the pad's damping (:func:`pad`)."""
     d, xi = arms(s, x, B, e)
     eta = H + h
     sin, cos = np.sin(theta), np.cos(theta)
     vx_G = -dtheta * (d * sin + H / 2 * cos)
     vx_m = -dtheta * (xi * sin + eta * cos) + dx * cos
+    vy_G = dtheta * (d * cos - H / 2 * sin)
+    vy_m = dtheta * (xi * cos - eta * sin) + dx * sin
     damping = c + np.where(pushes(x, dx, **stops), pad(x, dx, **stops)[4], 0.0)
-    return -damping * dx**2 - ag * (M * vx_G + m * vx_m)
+    return -damping * dx**2 - ag * (M * vx_G + m * vx_m) - agy * (M * vy_G + m * vy_m)
 
 
 def _weights(s, x, M, B, H, e, m, h):
@@ -304,26 +313,27 @@ def critical_tangent(s, x, M, B, H, e, m, h):
         return np.where(height > 0, lever / height, np.nan)
 
 
-def block_point_acceleration(s, theta, dtheta, ddtheta, ag, a, b):
+def block_point_acceleration(s, theta, dtheta, ddtheta, ag, agy, a, b):
     """Absolute acceleration ``(horizontal, vertical)`` of the block's point at the arm ``(a, b)`` from the pivot.
 
     The point is at ``X = -s B/2 + a cos(theta) - b sin(theta)``, ``Y = a sin(theta) + b cos(theta)``
-    from the centre of the base (docs/model.md section 13), and the ground adds ``ag`` to ``X''``.
+    from the centre of the base (docs/model.md section 13), and the ground adds ``ag`` to ``X''``
+    and ``agy`` to ``Y''``.
     """
     sin, cos = np.sin(theta), np.cos(theta)
     along, across = a * sin + b * cos, a * cos - b * sin
-    return ag - along * ddtheta - across * dtheta**2, across * ddtheta - along * dtheta**2
+    return ag - along * ddtheta - across * dtheta**2, agy + across * ddtheta - along * dtheta**2
 
 
 def block_accelerations(s, theta, dtheta, ddtheta, ag, B, H, e):
     """Absolute horizontal accelerations of the centre of the top side ``(0, H)`` and of ``G``: ``(a_top, a_cm)``."""
     d, _ = arms(s, 0.0, B, e)
-    top = block_point_acceleration(s, theta, dtheta, ddtheta, ag, s * B / 2, H)
-    centroid = block_point_acceleration(s, theta, dtheta, ddtheta, ag, d, H / 2)
+    top = block_point_acceleration(s, theta, dtheta, ddtheta, ag, 0.0, s * B / 2, H)
+    centroid = block_point_acceleration(s, theta, dtheta, ddtheta, ag, 0.0, d, H / 2)
     return top[0], centroid[0]
 
 
-def mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, B, H, h):
+def mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, agy, B, H, h):
     """Absolute acceleration ``(horizontal, vertical)`` of the damper's mass, at the arm ``(xi_s, eta)``.
 
     Differentiating ``X = -s B/2 + xi cos(theta) - eta sin(theta)``, ``Y = xi sin(theta) + eta cos(theta)``
@@ -332,11 +342,11 @@ def mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, B, H, h):
     """
     _, xi = arms(s, x, B, 0.0)
     sin, cos = np.sin(theta), np.cos(theta)
-    fixed = block_point_acceleration(s, theta, dtheta, ddtheta, ag, xi, H + h)
+    fixed = block_point_acceleration(s, theta, dtheta, ddtheta, ag, agy, xi, H + h)
     return fixed[0] + ddx * cos - 2 * dx * dtheta * sin, fixed[1] + ddx * sin + 2 * dx * dtheta * cos
 
 
-def base_reaction(s, theta, x, dtheta, dx, ddtheta, ddx, ag, M, I_G, B, H, e, g, m, h):
+def base_reaction(s, theta, x, dtheta, dx, ddtheta, ddx, ag, agy, M, I_G, B, H, e, g, m, h):
     """Base shear, vertical reaction and overturning moment ``(V_b, N_b, M_b)`` (docs/model.md section 13).
 
     Newton for the block and the mass: ``V_b = M a_G,x + m a_m,x``, ``N_b = M (a_G,y + g) + m (a_m,y + g)``;
@@ -345,8 +355,8 @@ def base_reaction(s, theta, x, dtheta, dx, ddtheta, ddx, ag, M, I_G, B, H, e, g,
     """
     d, xi = arms(s, x, B, e)
     sin, cos = np.sin(theta), np.cos(theta)
-    aG = block_point_acceleration(s, theta, dtheta, ddtheta, ag, d, H / 2)
-    am = mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, B, H, h)
+    aG = block_point_acceleration(s, theta, dtheta, ddtheta, ag, agy, d, H / 2)
+    am = mass_acceleration(s, theta, x, dtheta, dx, ddtheta, ddx, ag, agy, B, H, h)
     rG = (-s * B / 2 + d * cos - H / 2 * sin, d * sin + H / 2 * cos)
     rm = (-s * B / 2 + xi * cos - (H + h) * sin, xi * sin + (H + h) * cos)
     FG = (M * aG[0], M * (aG[1] + g))

@@ -61,6 +61,7 @@ def random_cases(
         "theta": s * u(-0.1, 1.5, n),
         "dtheta": u(-3.0, 3.0, n),
         "ag": u(-20.0, 20.0, n),
+        "agy": u(-8.0, 8.0, n),
     }
     if damper:
         m = M * u(0.001, 0.3, n)
@@ -116,7 +117,7 @@ _STATE_OF = {"contact_accel": "contact", "uplift": "contact", "impact": "impact"
 def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict[str, tuple]:
     """The hand-written value of every generated function, by function name (bumpers if ``v`` has ``L``,
     Hunt-Crossley pads of least approach speed ``floor`` if it has ``n_b``)."""
-    s, th, x, dth, dx, ag = (v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag"))
+    s, th, x, dth, dx, ag, agy = (v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag", "agy"))
     M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
     (m11, m12), (m21, m22) = paper.mass_matrix(s, th, x, M, I_G, B, H, e, m, h)
     zero, one = 0 * th, 0 * th + 1
@@ -131,13 +132,13 @@ def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict
     with np.errstate(divide="ignore", invalid="ignore"):
         return {
             "mass_matrix": (m11, m12, m21, m22),
-            "forcing": paper.forcing(s, th, x, dth, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops),
-            "rocking_accel": paper.rocking_accel(s, th, x, dth, dx, ag, M, I_G, B, H, e, g, m, h, k_m, c, **stops),
+            "forcing": paper.forcing(s, th, x, dth, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **stops),
+            "rocking_accel": paper.rocking_accel(s, th, x, dth, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops),
             "contact_accel": (zero, paper.contact_accel(x, dx, ag, m, k_m, c, **stops)),
-            "uplift": (paper.uplift_margin(s, x, dx, ag, M, B, H, e, g, m, h, k_m, c, **stops),),
+            "uplift": (paper.uplift_margin(s, x, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **stops),),
             "impact": paper.impact(s, x, dth, dx, M, I_G, B, H, e, m, h, law=impact_law),
             "energy": (paper.energy(s, th, x, dth, dx, M, I_G, B, H, e, g, m, h, k_m, **stops),),
-            "power": (paper.power(s, th, x, dth, dx, ag, M, B, H, e, m, h, c, **stops),),
+            "power": (paper.power(s, th, x, dth, dx, ag, agy, M, B, H, e, m, h, c, **stops),),
             "critical_angle": (paper.critical_angle(s, x, M, B, H, e, m, h),),
             "critical_tangent": (paper.critical_tangent(s, x, M, B, H, e, m, h),),
             "uplift_energy": (paper.uplift_energy_with_stops(s, M, B, H, e, g, m, h, k_m, c, **stops),),
@@ -156,7 +157,8 @@ def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict
                 lambda ddth, ddx: paper.block_accelerations(s, th, dth, ddth, ag, B, H, e), zero
             ),
             "base_reaction": _affine(
-                lambda ddth, ddx: paper.base_reaction(s, th, x, dth, dx, ddth, ddx, ag, M, I_G, B, H, e, g, m, h), zero
+                lambda ddth, ddx: paper.base_reaction(s, th, x, dth, dx, ddth, ddx, ag, agy, M, I_G, B, H, e, g, m, h),
+                zero,
             ),
             "element_forces": (paper.guide_force(x, dx, k_m, c, **stops),),
         }
@@ -256,7 +258,7 @@ def verify(
 
 def _numpy_eval(model: Model, name: str, v: dict):
     fn = getattr(model.functions, name)
-    return fn(v["s"], *(v[k] for k in model.state), v["ag"], *(v[k] for k in model.parameters))
+    return fn(v["s"], *(v[k] for k in model.state), v["ag"], v["agy"], *(v[k] for k in model.parameters))
 
 
 def report(model: Model, checks: list[Check]) -> str:

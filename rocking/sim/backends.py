@@ -20,7 +20,7 @@ from . import c_backend
 from .batch import Cases
 from .boundary import STATUS
 from .cbuild import CBuildError
-from .problem import RESULT_FIELDS, Problem, Response, RunInputs
+from .problem import RESULT_FIELDS, Problem, Response, RunInputs, vertical_of
 
 
 class BackendWarning(UserWarning):
@@ -114,6 +114,9 @@ def simulate(name: str, model: Model, p, settings: dict, record: bool = False) -
 
 def _with_inputs(response: Response, model: Model, p, settings: dict, name: str) -> Response:
     response.inputs = RunInputs(model, p, settings, name)
+    if response.history is not None and settings.get("a_v", 0.0) != 0.0:
+        # The vertical ground acceleration at the recorded samples: the loads of the history read it.
+        response.history["agy"] = vertical_of(settings, response.history["t"])
     return response
 
 

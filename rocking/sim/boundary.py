@@ -31,7 +31,7 @@ from ..model import motion
 from ..model.checks import RANGES, ParameterError, shown
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 6
+API_VERSION = 7
 
 DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "series"
 
@@ -116,6 +116,33 @@ CASE = (
     Field("pulse_dt", DOUBLE, "s", "spacing of a sampled motion's samples (0 otherwise)", "nonnegative", 0.0),
     Field("n_samples", INT64, "", "number of samples of a sampled motion (0 otherwise)", "count", 0),
     Field("samples", SERIES, "m/s^2", "samples a_k at k pulse_dt: f linear between them", None, None, "n_samples"),
+    Field(
+        "a_v",
+        DOUBLE,
+        "m/s^2",
+        "vertical amplitude, > 0 up: agy(t) = a_v f_v(t) on [0, t_p], 0 after (docs/model.md section 14); 0: none",
+        "real",
+        0.0,
+    ),
+    Field("psi_v", DOUBLE, "rad", "lead of the vertical shape: f_v(t) = f(t + psi_v / omega_g)", "real", 0.0),
+    Field("n_v_samples", INT64, "", "number of vertical samples of a sampled motion (0: none)", "count", 0),
+    Field(
+        "v_samples",
+        SERIES,
+        "m/s^2",
+        "a sampled motion's vertical samples at k pulse_dt: f_v linear between them",
+        None,
+        None,
+        "n_v_samples",
+    ),
+    Field(
+        "t_flight",
+        DOUBLE,
+        "s",
+        "first time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never)",
+        None,
+        math.inf,
+    ),
     Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "t_max"),
     Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "rtol"),
     Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
@@ -211,6 +238,7 @@ STATUSES = (
     Code("max_events", 3, "uplifts + impacts reached max_events"),
     Code("max_steps", 4, "the work of the run passed max_steps (rule 5)"),
     Code("bounded", 5, "after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4)"),
+    Code("flight", 6, "g + agy(t) <= 0 in contact or rocking: the base may leave the ground, out of scope"),
 )
 #: Status code of a run whose step size underflowed (a non-finite right-hand side); never a result.
 FAILED = Code("failed", -1, "the step size underflowed (non-finite right-hand side, ...)")
@@ -406,7 +434,8 @@ def _python_field(f: Field) -> str:
     if f.required:
         return f"    {f.name}: {_annotation(f)}"
     default = None if f.default is None else python_type(f)(f.default)
-    return f"    {f.name}: {_annotation(f)} = {default!r}"
+    shown_default = "math.inf" if default == math.inf else repr(default)
+    return f"    {f.name}: {_annotation(f)} = {shown_default}"
 
 
 def _python_attributes(fields: tuple[Field, ...]) -> list[str]:
@@ -433,6 +462,7 @@ def python_fields() -> str:
             "",
             "from __future__ import annotations",
             "",
+            "import math",
             "from dataclasses import dataclass",
             "",
             "import numpy as np",

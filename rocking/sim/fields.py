@@ -8,6 +8,7 @@ the classes of :mod:`rocking.sim.problem` add their checks and methods.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 
 import numpy as np
@@ -49,6 +50,17 @@ class ProblemFields:
         Number of samples of a sampled motion (0 otherwise).
     samples : np.ndarray | None
         Samples a_k at k pulse_dt: f linear between them [m/s^2].
+    a_v : float
+        Vertical amplitude, > 0 up: agy(t) = a_v f_v(t) on [0, t_p], 0 after (docs/model.md section 14); 0: none
+        [m/s^2].
+    psi_v : float
+        Lead of the vertical shape: f_v(t) = f(t + psi_v / omega_g) [rad].
+    n_v_samples : int
+        Number of vertical samples of a sampled motion (0: none).
+    v_samples : np.ndarray | None
+        A sampled motion's vertical samples at k pulse_dt: f_v linear between them [m/s^2].
+    t_flight : float
+        First time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s].
     t_max : float
         End of the run if nothing ends it first [s].
     rtol : float
@@ -91,6 +103,11 @@ class ProblemFields:
     pulse_dt: float = 0.0
     n_samples: int = 0
     samples: np.ndarray | None = None
+    a_v: float = 0.0
+    psi_v: float = 0.0
+    n_v_samples: int = 0
+    v_samples: np.ndarray | None = None
+    t_flight: float = math.inf
     t_max: float
     rtol: float
     atol: np.ndarray

@@ -161,9 +161,14 @@ def _grid_rows(history: dict, dt: float, t_end: float) -> np.ndarray:
     return rows
 
 
-def _evaluate(function, s, y, ag, p) -> list[np.ndarray]:
+def vertical(history: dict) -> np.ndarray:
+    """The vertical ground acceleration of a recorded history (0 where the motion has none)."""
+    return history["agy"] if "agy" in history else np.zeros_like(history["ag"])
+
+
+def _evaluate(function, s, y, ag, agy, p) -> list[np.ndarray]:
     """A generated NumPy function's outputs on the rows, as a list of arrays."""
-    out = function(s, *y, ag, *p)
+    out = function(s, *y, ag, agy, *p)
     return [np.asarray(o, dtype=float) for o in (out if isinstance(out, tuple) else (out,))]
 
 
@@ -180,6 +185,7 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
     phase = history["phase"][rows]
     y = [history[name][rows] for name in model.state]
     ag = history["ag"][rows]
+    agy = vertical(history)[rows]
     s = np.where(phase == CONTACT, 1.0, phase.astype(float))  # the functions at theta = 0 hold for either pivot
     p = [float(v) for v in p]
     # Hunt-Crossley pads: their forces need the approach speed of each contact, found again on the history.
@@ -187,7 +193,7 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
     contact = phase == CONTACT
     ddq = [
         np.where(contact, c, r)
-        for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, p), _evaluate(fn.rocking_accel, s, y, ag, p))
+        for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, agy, p), _evaluate(fn.rocking_accel, s, y, ag, agy, p))
     ]
     out = {"t": history["t"][rows]}
     out.update(zip(model.state[:n], y[:n]))
@@ -195,18 +201,18 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
     out.update({"dd" + q: a for q, a in zip(model.coordinates, ddq)})
     out["phase"] = phase
     out["a_g"] = ag
-    out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, ag, p), ddq, 2)
-    out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, ag, p), ddq, 3)
-    out.update({"F_" + q: f for q, f in zip(model.coordinates[1:], _evaluate(fn.element_forces, s, y, ag, p))})
-    bumpers = _evaluate(fn.stop_forces, s, y, ag, p)
+    out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, ag, agy, p), ddq, 2)
+    out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, ag, agy, p), ddq, 3)
+    out.update({"F_" + q: f for q, f in zip(model.coordinates[1:], _evaluate(fn.element_forces, s, y, ag, agy, p))})
+    bumpers = _evaluate(fn.stop_forces, s, y, ag, agy, p)
     if bumpers:
         out["F_b"] = sum(bumpers)
-    energy = _evaluate(fn.energy, s, y, ag, p)[0]
+    energy = _evaluate(fn.energy, s, y, ag, agy, p)[0]
     zero = np.zeros_like(ag)
     # At rest velocities in the regime of the state: a released pad's potential has left the mass.
-    pushing = [(c > 0.0).astype(float) for c in _evaluate(fn.stop_contact, s, y, ag, p)]
-    potential = np.asarray(fn.energy(s, *y[:n], *[zero] * n, ag, *p, stop_on=pushing or None), dtype=float)
-    rest = _evaluate(fn.energy, 1.0, [zero] * (2 * n), zero, p)[0]
+    pushing = [(c > 0.0).astype(float) for c in _evaluate(fn.stop_contact, s, y, ag, agy, p)]
+    potential = np.asarray(fn.energy(s, *y[:n], *[zero] * n, ag, agy, *p, stop_on=pushing or None), dtype=float)
+    rest = _evaluate(fn.energy, 1.0, [zero] * (2 * n), zero, zero, p)[0]
     out["E_kinetic"] = energy - potential
     out["E_potential"] = potential - rest
     out["E_total"] = energy - rest
@@ -304,7 +310,8 @@ def events(response):
         else:
             kind = "impact" if theta[i - 1] == 0.0 and before * dtheta[i - 1] < 0.0 else "contact"
         rows.append((float(t[i]), kind, before, after))
-    contacts = _evaluate(model.functions.stop_contact, 1.0, [history[k] for k in model.state], history["ag"], list(p))
+    state = [history[k] for k in model.state]
+    contacts = _evaluate(model.functions.stop_contact, 1.0, state, history["ag"], vertical(history), list(p))
     for contact in contacts:
         for i in np.flatnonzero((contact[1:] > 0.0) != (contact[:-1] > 0.0)) + 1:
             kind = "bumper_contact" if contact[i] > 0.0 else "bumper_release"

@@ -227,11 +227,11 @@ class _System:
             return None
         return min(a, b) * (1.0 - SAFE_MARGIN)
 
-    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None, params=None):
+    def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None, params=None, agy=0.0):
         # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic. stop_on: the regime
         # of the stops as 0.0 / 1.0 per side, what sim.c prepares its constants with; None: that of y.
         params = self.params if params is None else params
-        return getattr(self.functions, name)(s, *y.tolist(), ag, *params, stop_on=stop_on)
+        return getattr(self.functions, name)(s, *y.tolist(), ag, agy, *params, stop_on=stop_on)
 
     def _at(self, theta: float, x: float = 0.0) -> np.ndarray:
         """The state at rest velocities with ``theta`` and ``q[1] = x``, the other coordinates 0."""
@@ -337,7 +337,22 @@ class _System:
         shape, omega_g, phase, t_c, gamma = SHAPES[self.family], float(p.omega_g), float(p.psi), p.t_c, p.shape
         return lambda t: a_g * shape(t, omega_g, phase, t_c, gamma, math)
 
-    def rocking_rhs(self, s: int, ground: Callable[[float], float], stop_on: tuple) -> StateFunction:
+    def vertical(self, pulse_on: bool, t0: float) -> Callable[[float], float]:
+        """Vertical ground acceleration ``agy(t)`` of the segment that starts at ``t0``, as :meth:`ground`
+        (docs/model.md section 14: the shape ``psi_v / omega_g`` ahead, or the vertical samples)."""
+        p = self.problem
+        a_v = float(p.a_v)
+        if not pulse_on or a_v == 0.0:
+            return lambda t: 0.0
+        if p.v_samples is not None:  # a sampled motion's vertical samples
+            samples, dt = p.v_samples, float(p.pulse_dt)
+            k = sample_piece(t0, dt, p.n_samples)
+            return lambda t: a_v * float(interpolate(samples, dt, k, t))
+        shape, omega_g, phase, t_c, gamma = SHAPES[self.family], float(p.omega_g), float(p.psi), p.t_c, p.shape
+        lead = float(p.psi_v) / omega_g
+        return lambda t: a_v * shape(t + lead, omega_g, phase, t_c, gamma, math)
+
+    def rocking_rhs(self, s: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
         """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase) in the regime ``stop_on``.
 
         The regime is that of the segment (rule 6): a gap event ends it, so its
@@ -349,12 +364,12 @@ class _System:
         def rhs(t, y):
             dy = np.empty_like(y)
             dy[:n] = y[n:]
-            dy[n:] = self._call("rocking_accel", s, y, ground(t), regime)
+            dy[n:] = self._call("rocking_accel", s, y, ground(t), regime, agy=vertical(t))
             return dy
 
         return rhs
 
-    def contact_rhs(self, ground: Callable[[float], float], stop_on: tuple) -> StateFunction:
+    def contact_rhs(self, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
         """``y' = (dq, c(y, ag))``: full contact in the regime ``stop_on`` of the segment.
 
         The whole state is integrated, ``theta`` and ``dtheta`` included: the
@@ -369,7 +384,7 @@ class _System:
             dy = np.empty_like(y)
             dy[:n] = y[n:]
             # contact_accel ignores s; +1 is as good as any.
-            dy[n:] = self._call("contact_accel", 1.0, y, ground(t), regime)
+            dy[n:] = self._call("contact_accel", 1.0, y, ground(t), regime, agy=vertical(t))
             return dy
 
         return rhs
@@ -413,13 +428,13 @@ class _System:
         if self.n_stops == 0 or len(states) == 0:
             return 0.0
         states = np.asarray(states, dtype=float).T
-        forces = self.functions.stop_forces(1.0, *states, 0.0, *self.params, stop_on=self._memory_regime())
+        forces = self.functions.stop_forces(1.0, *states, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
         return float(max(np.max(f) for f in forces))
 
-    def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple) -> float:
+    def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float = 0.0) -> float:
         """Uplift function ``u_s`` in the regime ``stop_on``: the block leaves full contact about ``s`` when it
-        turns positive."""
-        return float(self._call("uplift", s, y, ag, self.regime(stop_on)))
+        turns positive (``agy``: the vertical ground acceleration)."""
+        return float(self._call("uplift", s, y, ag, self.regime(stop_on), agy=agy))
 
     def critical_angle(self, s: int, y: np.ndarray, ag: float) -> float:
         """Static critical angle ``theta_cr_s(y)`` (with the sign of ``s``)."""
@@ -502,11 +517,11 @@ class _Event:
         return self.function(t, y)
 
 
-def uplift_event(system: _System, s: int, ground: Callable[[float], float], stop_on: tuple) -> _Event:
+def uplift_event(system: _System, s: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> _Event:
     """Full contact: ``u_s`` turns positive (uplift about ``A`` for ``s = +1``, ``A'`` for ``-1``)."""
     return _Event(
         UPLIFT_A if s == 1 else UPLIFT_A_PRIME,
-        _zero_below(lambda t, y: system.uplift(s, y, ground(t), stop_on)),
+        _zero_below(lambda t, y: system.uplift(s, y, ground(t), stop_on, vertical(t))),
         terminal=True,
         direction=+1,
     )
@@ -583,6 +598,7 @@ def watched_events(
     safe_energy: float | None = None,
     settling: bool = False,
     stop_on: tuple = (),
+    vertical=lambda t: 0.0,
 ):
     """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases", "End" and rule 6).
 
@@ -609,6 +625,8 @@ def watched_events(
     stop_on : tuple of bool
         Whether each stop side's bumper acts (the segment's regime): its gap's opening is watched,
         else its closing.
+    vertical : callable
+        The segment's ``agy(t)``.
 
     Returns
     -------
@@ -620,7 +638,7 @@ def watched_events(
     if phase == CONTACT:
         if settling and system.n > 1:
             damper = [settled_event(system.n)]
-        events = [uplift_event(system, +1, ground, stop_on), uplift_event(system, -1, ground, stop_on)] + damper
+        events = [uplift_event(system, s, ground, stop_on, vertical) for s in (+1, -1)] + damper
         if after_pulse:
             events.append(rest_event(system, energy_rest, stop_on))
             if safe_energy is not None and not settling:
@@ -800,15 +818,15 @@ def integrate_segment(
         When ``work`` passes its bound.
     """
     pulse_on = t0 < problem.t_p
-    ground = system.ground(pulse_on, t0)
+    ground, vertical = system.ground(pulse_on, t0), system.vertical(pulse_on, t0)
     if phase == CONTACT:
-        rhs = system.contact_rhs(ground, stop_on)
+        rhs = system.contact_rhs(ground, stop_on, vertical)
         # While the pulse acts, the uplift functions move with ag(t) even when the
         # state does not (the bare block: error estimate 0, so the step would grow
         # tenfold per step); a bounded step keeps an uplift from being stepped over.
         max_step = problem.contact_max_step if pulse_on else np.inf
     else:
-        rhs = system.rocking_rhs(phase, ground, stop_on)
+        rhs = system.rocking_rhs(phase, ground, stop_on, vertical)
         max_step = np.inf
     plain_rhs = rhs
     if work is not None:
@@ -823,6 +841,7 @@ def integrate_segment(
         safe_energy=safe_energy,
         settling=settling,
         stop_on=stop_on,
+        vertical=vertical,
     )
     options = {"rtol": problem.rtol, "atol": problem.atol, "max_step": max_step}
 
@@ -1067,9 +1086,9 @@ def uplift_at_start(run: _Run) -> int:
     phase starts above a threshold (a pulse with ``psi > 0``, or a mass that
     is moving when the block comes to rest) the uplift is at that instant.
     """
-    ground = run.system.ground(run.pulse_on, run.t)
+    ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     for s in (+1, -1):
-        if run.system.uplift(s, run.y, ground(run.t), run.stop_on) > 0.0:
+        if run.system.uplift(s, run.y, ground(run.t), run.stop_on, vertical(run.t)) > 0.0:
             return s
     return 0
 
@@ -1358,6 +1377,8 @@ def phase_machine(run: _Run) -> str:
     problem = run.problem
     while True:
         record(run)
+        if run.t >= problem.t_flight:  # the base may leave the ground: out of scope (docs/model.md section 14)
+            return "flight"
         if run.t >= problem.t_max:
             return "t_max"
         run.pulse_on = run.t < problem.t_p
@@ -1368,7 +1389,11 @@ def phase_machine(run: _Run) -> str:
             if run.phase != CONTACT:
                 continue  # lifted at this very instant: the new phase starts from here
         # Rule 3: no segment straddles the motion's end or a sample time, nor, in full contact, an extremum of ag.
-        t_bound = min(problem.t_p, problem.t_max, next_sample(problem, run.t)) if run.pulse_on else problem.t_max
+        t_bound = (
+            min(problem.t_p, problem.t_max, next_sample(problem, run.t), problem.t_flight)
+            if run.pulse_on
+            else problem.t_max
+        )
         if run.phase == CONTACT and run.pulse_on:
             t_bound = min(t_bound, next_extremum(problem, run.t))
         try:

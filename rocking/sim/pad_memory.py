@@ -38,8 +38,8 @@ def memory(model, p, history: dict) -> list[np.ndarray]:
     y = [np.asarray(history[name], dtype=float) for name in model.state]
     ones = np.ones_like(y[0])
     sides = model.manifest.get("stops", [])
-    gaps = model.functions.stop_gaps(ones, *y, 0 * ones, *p)
-    rates = model.functions.stop_approach(ones, *y, 0 * ones, *p)
+    gaps = model.functions.stop_gaps(ones, *y, 0 * ones, 0 * ones, *p)
+    rates = model.functions.stop_approach(ones, *y, 0 * ones, 0 * ones, *p)
     out = []
     for side, gap, rate in zip(sides, gaps, rates):
         if side["law"] != "hunt-crossley":

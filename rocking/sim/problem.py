@@ -36,6 +36,7 @@ from ..model.params import (
     check_real,
     shown,
 )
+from ..model.vertical import flight_time
 from . import boundary
 from .boundary import (
     CASE,
@@ -169,6 +170,21 @@ def ground_shape(problem: Problem, t):
         dt, samples = problem.pulse_dt, problem.samples
         return interpolate(samples, dt, sample_piece(t, dt, problem.n_samples), t)
     return SHAPES[family](t, problem.omega_g, problem.psi, problem.t_c, problem.shape, np)
+
+
+def vertical_of(settings: Mapping, t) -> np.ndarray:
+    """``ddy_g(t)`` of a run's settings (docs/model.md section 14), vectorised: ``a_v f_v(t)`` on ``[0, t_p]``."""
+    t = np.asarray(t, dtype=float)
+    family = FAMILIES[settings["motion"]]
+    if settings["a_v"] == 0.0:
+        f = 0.0 * t
+    elif family == "sampled":
+        dt, samples = settings["pulse_dt"], settings["v_samples"]
+        f = interpolate(samples, dt, sample_piece(t, dt, len(samples)), t)
+    else:
+        lead = settings["psi_v"] / settings["omega_g"]
+        f = SHAPES[family](t + lead, settings["omega_g"], settings["psi"], settings["t_c"], settings["shape"], np)
+    return np.where((t >= 0) & (t <= settings["t_p"]), settings["a_v"] * f, 0.0)
 
 
 @dataclass(frozen=True, kw_only=True)
@@ -568,7 +584,7 @@ def _run_length(t_max: object, t_after: object, t_p: float) -> float:
 def motion_settings(motion) -> dict:
     """The fields of :data:`~rocking.sim.boundary.CASE` that describe a ground motion, from its
     :class:`~rocking.model.motion.Description` (the arrays are shared, not copied)."""
-    extrema, samples = motion.extrema, motion.samples
+    extrema, samples, v_samples = motion.extrema, motion.samples, motion.v_samples
     return {
         "motion": MOTION[motion.family],
         "a_g": motion.a_g,
@@ -582,7 +598,22 @@ def motion_settings(motion) -> dict:
         "pulse_dt": motion.dt,
         "n_samples": 0 if samples is None else len(samples),
         "samples": samples,
+        "a_v": motion.a_v,
+        "psi_v": motion.phase_v,
+        "n_v_samples": 0 if v_samples is None else len(v_samples),
+        "v_samples": v_samples,
     }
+
+
+def flight_settings(settings: Mapping, block: Block) -> dict:
+    """``t_flight`` of :data:`~rocking.sim.boundary.CASE` for the motion of ``settings``: where ``g + ddy_g``
+    first reaches 0 (docs/model.md section 14), ``inf`` without a vertical component."""
+    if settings["a_v"] == 0.0:
+        return {"t_flight": math.inf}
+    t = flight_time(
+        lambda t: vertical_of(settings, t), block.g, settings["t_p"], settings["omega_g"], settings["pulse_dt"]
+    )
+    return {"t_flight": t}
 
 
 def make_problem(
@@ -782,7 +813,13 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
         t_max = motion.t_p + OPTIONS["t_after"]
     defaults = default_settings(block, motion.T_g, T_m, options["rtol"], model.nq)
     dtheta_rest, energy_rest = options["dtheta_rest"], options["energy_rest"]
+    if motion.a_v != 0.0 and not model.manifest.get("vertical", False):
+        raise ParameterError(
+            f"model {model.name!r} takes no vertical ground motion: its energies hold g beside the weights "
+            "(docs/model.md section 14); give the motion no vertical component"
+        )
     settings = motion_settings(motion)
+    settings.update(flight_settings(settings, block))
     settings.update(
         t_max=t_max,
         rtol=options["rtol"],

@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 6
+#define ROCKING_SIM_API_VERSION 7
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the energy bounds of the early rest and verdict (rule 4) */
 #define ROCKING_ARC_STEP 0.05 /* widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4) */
@@ -18,6 +18,7 @@ enum rocking_status {
     ROCKING_MAX_EVENTS = 3, /* uplifts + impacts reached max_events */
     ROCKING_MAX_STEPS = 4, /* the work of the run passed max_steps (rule 5) */
     ROCKING_BOUNDED = 5, /* after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4) */
+    ROCKING_FLIGHT = 6, /* g + agy(t) <= 0 in contact or rocking: the base may leave the ground, out of scope */
     ROCKING_FAILED = -1, /* the step size underflowed (non-finite right-hand side, ...) */
     ROCKING_STOPPED = -2, /* stopped by the caller's stop flag (Python: KeyboardInterrupt) */
 };
@@ -50,6 +51,11 @@ typedef struct rocking_case {
     double pulse_dt; /* spacing of a sampled motion's samples (0 otherwise) [s] */
     int64_t n_samples; /* number of samples of a sampled motion (0 otherwise) */
     const double *samples; /* samples a_k at k pulse_dt: f linear between them [m/s^2] */
+    double a_v; /* vertical amplitude, > 0 up: agy(t) = a_v f_v(t) on [0, t_p], 0 after (docs/model.md section 14); 0: none [m/s^2] */
+    double psi_v; /* lead of the vertical shape: f_v(t) = f(t + psi_v / omega_g) [rad] */
+    int64_t n_v_samples; /* number of vertical samples of a sampled motion (0: none) */
+    const double *v_samples; /* a sampled motion's vertical samples at k pulse_dt: f_v linear between them [m/s^2] */
+    double t_flight; /* first time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s] */
     double t_max; /* end of the run if nothing ends it first [s] */
     double rtol; /* relative tolerance of the integrator */
     const double *atol; /* absolute tolerance of each state component [state units] */
@@ -80,11 +86,11 @@ typedef struct rocking_result {
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
+#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(a_v) X(psi_v) X(n_v_samples) X(v_samples) X(t_flight) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
 
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
 
 #endif

@@ -71,22 +71,27 @@ typedef struct constants {
 static const double STOP_FLOORS[MODEL_NSTOPS] = MODEL_STOP_FLOORS;
 #endif
 
-/* The constants of both pivots in the regime stop_on (MAX_STOP_SIDES flags) with the memory
- * k->memory: the indicators first, then the v_in of each side with memory (model.h). */
-static void constants_prepare(constants *k, const double *p, const int *stop_on)
+/* The regime's inputs of model_prepare from k->stop_on and k->memory: the indicators
+ * first, then the v_in of each side with memory (model.h). */
+static void regime_inputs(const constants *k, double *on)
 {
-    double on[2 * MAX_STOP_SIDES];
     int i, j = MODEL_NSTOPS;
-    for (i = 0; i < MAX_STOP_SIDES; ++i) {
-        k->stop_on[i] = stop_on[i];
-        on[i] = stop_on[i] ? 1.0 : 0.0;
-    }
+    for (i = 0; i < MAX_STOP_SIDES; ++i)
+        on[i] = k->stop_on[i] ? 1.0 : 0.0;
 #if MODEL_NREGIME > MODEL_NSTOPS
     for (i = 0; i < MODEL_NSTOPS; ++i)
         if (STOP_FLOORS[i] > 0.0)
             on[j++] = k->memory[i];
 #endif
     (void)j;
+}
+
+/* The constants of both pivots in the regime stop_on (MAX_STOP_SIDES flags) with the memory k->memory. */
+static void constants_prepare(constants *k, const double *p, const int *stop_on)
+{
+    double on[2 * MAX_STOP_SIDES];
+    memcpy(k->stop_on, stop_on, sizeof k->stop_on);
+    regime_inputs(k, on);
     k->p = p;
     model_prepare(1.0, on, p, k->about[0]);
     model_prepare(-1.0, on, p, k->about[1]);
@@ -126,6 +131,18 @@ static void constants_switch(constants *k, regime_store *store, const int *stop_
     (void)store;
     constants_prepare(k, k->p, stop_on);
 #endif
+}
+
+/* The constants about the pivot s at the effective gravity g + agy: the vertical ground
+ * acceleration enters the equations only with gravity (docs/model.md section 14), so the
+ * model's functions read it from constants prepared with p's g moved by agy. */
+static void constants_at_gravity(const constants *k, double s, double agy, double *cst)
+{
+    double on[2 * MAX_STOP_SIDES], p[MODEL_NP];
+    memcpy(p, k->p, sizeof p);
+    p[MODEL_P_GRAVITY] += agy;
+    regime_inputs(k, on);
+    model_prepare(s, on, p, cst);
 }
 
 /* The constants in the regime stop_on, prepared again only if it is a new one. */
@@ -199,11 +216,21 @@ static double pulse_piece(const rocking_case *c, double t)
     return fmin(fmax(k, 0.0), (double)(c->n_samples - 2));
 }
 
-/* The samples' linear interpolation on the piece k (motion.py's interpolate). */
-static double interpolate(const rocking_case *c, double k, double t)
+/* The linear interpolation of samples a at c's spacing on the piece k (motion.py's interpolate). */
+static double interpolate(const rocking_case *c, const double *a, double k, double t)
 {
     const int64_t i = (int64_t)k;
-    return c->samples[i] + (c->samples[i + 1] - c->samples[i]) * ((t - k * c->pulse_dt) / c->pulse_dt);
+    return a[i] + (a[i + 1] - a[i]) * ((t - k * c->pulse_dt) / c->pulse_dt);
+}
+
+/* The vertical ground acceleration a_v f_v(t) inside [0, t_p] on the piece k of a sampled
+ * motion (docs/model.md section 14): the horizontal shape psi_v / omega_g ahead, or the
+ * vertical samples. */
+static double vertical_in(const rocking_case *c, double k, double t)
+{
+    if (c->motion == ROCKING_MOTION_SAMPLED)
+        return c->a_v * interpolate(c, c->v_samples, k, t);
+    return c->a_v * pulse_shape(c, t + c->psi_v / c->omega_g);
 }
 
 /* a_g f(t) on [0, t_p], a sampled motion on the piece holding t (the history,
@@ -213,8 +240,16 @@ static double pulse_at(const rocking_case *c, double t)
     if (!(t >= 0.0 && t <= c->t_p))
         return 0.0;
     if (c->motion == ROCKING_MOTION_SAMPLED)
-        return c->a_g * interpolate(c, pulse_piece(c, t), t);
+        return c->a_g * interpolate(c, c->samples, pulse_piece(c, t), t);
     return c->a_g * pulse_shape(c, t);
+}
+
+/* The vertical ground acceleration at t (0 outside [0, t_p] or without one). */
+static double vertical_at(const rocking_case *c, double t)
+{
+    if (c->a_v == 0.0 || !(t >= 0.0 && t <= c->t_p))
+        return 0.0;
+    return vertical_in(c, c->motion == ROCKING_MOTION_SAMPLED ? pulse_piece(c, t) : 0.0, t);
 }
 
 /* One phase's right-hand side: y' = (dq, accelerations of the phase). */
@@ -223,6 +258,7 @@ typedef struct ode {
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
     int pulse_on;    /* the segment lies in [0, t_p] */
+    int vertical;    /* pulse_on and the motion has a vertical component */
     const rocking_case *c; /* the ground motion */
     double piece;    /* a sampled motion: the sample interval of the current step */
     /* The last a_g f(t) of an analytic motion and its t: a step's last two stages
@@ -239,7 +275,7 @@ static double ode_ag(ode *o, double t)
     if (!o->pulse_on)
         return 0.0;
     if (o->c->motion == ROCKING_MOTION_SAMPLED)
-        return o->c->a_g * interpolate(o->c, o->piece, t);
+        return o->c->a_g * interpolate(o->c, o->c->samples, o->piece, t);
     if (t != o->memo_t) {
         o->memo_t = t;
         o->memo_ag = o->c->a_g * pulse_shape(o->c, t);
@@ -247,18 +283,30 @@ static double ode_ag(ode *o, double t)
     return o->memo_ag;
 }
 
+/* The constants about s at t: the phase's, or with a vertical component those at the
+ * effective gravity g + agy(t), written into at_gravity. */
+static const double *gravity_constants(const ode *o, double s, double t, double *at_gravity)
+{
+    if (!o->vertical)
+        return about(o->k, s);
+    constants_at_gravity(o->k, s, vertical_in(o->c, o->piece, t), at_gravity);
+    return at_gravity;
+}
+
 /* Inline in every stage: the call around it was 4 % of a run's instructions
  * (callgrind on the bench map; ode_ag inline too was more, not less). */
 static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
 {
     const double ag = ode_ag(o, t);
+    double at_gravity[NK];
+    const double *cst = o->vertical ? gravity_constants(o, o->phase < 0 ? -1.0 : 1.0, t, at_gravity) : o->cst;
     /* In full contact contact_accel returns ddtheta = 0 and dtheta is 0, so
      * theta and dtheta stay exactly 0 while the whole state is integrated (the
      * error norm then runs over the same components in every phase). */
     if (o->phase == 0)
-        model_contact_accel_prepared(y, ag, o->cst, dy + NQ);
+        model_contact_accel_prepared(y, ag, cst, dy + NQ);
     else
-        model_rocking_accel_prepared(y, ag, o->cst, dy + NQ);
+        model_rocking_accel_prepared(y, ag, cst, dy + NQ);
     memcpy(dy, y + NQ, NQ * sizeof *dy);
 }
 
@@ -709,11 +757,12 @@ static double critical_event(const event_ctx *ec, const double *y, double ag)
 /* g of an event that is a function of the model. */
 static double model_event(const event_ctx *ec, int kind, double t, const double *y)
 {
+    double at_gravity[NK];
     switch (kind) {
     case EV_UPLIFT_A:
-        return model_uplift_prepared(y, ode_ag(ec->o, t), about(ec->o->k, 1.0));
+        return model_uplift_prepared(y, ode_ag(ec->o, t), gravity_constants(ec->o, 1.0, t, at_gravity));
     case EV_UPLIFT_A_PRIME:
-        return model_uplift_prepared(y, ode_ag(ec->o, t), about(ec->o->k, -1.0));
+        return model_uplift_prepared(y, ode_ag(ec->o, t), gravity_constants(ec->o, -1.0, t, at_gravity));
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
         return (model_energy_prepared(y, 0.0, about(ec->o->k, 1.0)) - ec->energy_zero) - ec->energy_rest;
@@ -1193,6 +1242,7 @@ static int run_segment(run *r, double t_bound)
     r->o.phase = r->phase;
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
+    r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
@@ -1256,9 +1306,17 @@ static int run_segment(run *r, double t_bound)
 static int uplift_at_start(const run *r)
 {
     const double ag = r->t < r->c->t_p ? pulse_at(r->c, r->t) : 0.0;
-    if (model_uplift_prepared(r->y, ag, about(r->o.k, 1.0)) > 0.0)
+    const double agy = r->t < r->c->t_p ? vertical_at(r->c, r->t) : 0.0;
+    double at_gravity[2][NK];
+    const double *a = about(r->o.k, 1.0), *b = about(r->o.k, -1.0);
+    if (agy != 0.0) {
+        constants_at_gravity(r->o.k, 1.0, agy, at_gravity[0]);
+        constants_at_gravity(r->o.k, -1.0, agy, at_gravity[1]);
+        a = at_gravity[0], b = at_gravity[1];
+    }
+    if (model_uplift_prepared(r->y, ag, a) > 0.0)
         return 1;
-    if (model_uplift_prepared(r->y, ag, about(r->o.k, -1.0)) > 0.0)
+    if (model_uplift_prepared(r->y, ag, b) > 0.0)
         return -1;
     return 0;
 }
@@ -1578,6 +1636,10 @@ static void phase_machine(run *r)
         double t_bound;
         int ended;
         record(r, r->t, r->y, r->phase);
+        if (r->t >= c->t_flight) { /* the base may leave the ground: out of scope (docs/model.md section 14) */
+            r->res->status = ROCKING_FLIGHT;
+            return;
+        }
         if (r->t >= c->t_max) {
             r->res->status = ROCKING_T_MAX;
             return;
@@ -1618,7 +1680,7 @@ static void phase_machine(run *r)
             }
         }
         /* Every segment stops at the pulse's end: no step straddles its kink. */
-        t_bound = r->t < c->t_p ? fmin(c->t_p, c->t_max) : c->t_max;
+        t_bound = r->t < c->t_p ? fmin(fmin(c->t_p, c->t_max), c->t_flight) : c->t_max;
         /* In full contact also at the extrema of ag: no uplift is stepped over (rule 3). */
         if (r->phase == 0 && r->t < c->t_p)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
@@ -1762,6 +1824,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
     r.o.pulse_on = 1;
+    r.o.vertical = 0;
     r.o.c = c;
     r.o.piece = 0.0;
     r.o.memo_t = NAN;

@@ -1,0 +1,140 @@
+"""Vertical ground motion (docs/model.md section 14): outside facts on both back ends."""
+
+from __future__ import annotations
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+from scipy.optimize import brentq
+
+import rocking
+from rocking import Block, Damper, OneSinePulse, SampledMotion, Vertical
+from rocking.model.loading import load_model
+from rocking.sim.problem import resolve, vertical_of
+
+BLOCK = Block.reference()
+DAMPER = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+
+
+@pytest.fixture(params=["c", "numpy"])
+def backend(request) -> str:
+    return request.param
+
+
+#: Settings that do not follow from g, so that a block under another gravity runs with the same ones.
+SAME = {"dtheta_rest": 1e-4, "energy_rest": 1e-6, "rtol": 1e-10}
+
+
+def _one_sine_samples(beta: float, Omega: float, dt: float) -> tuple[np.ndarray, float]:
+    """A one-sine sampled at ``dt``: the horizontal motion of the constant-vertical runs, and its length."""
+    pulse = OneSinePulse.from_nondim(BLOCK, beta=beta, Omega=Omega)
+    t = np.arange(0.0, pulse.t_p + dt / 2, dt)
+    return pulse.acceleration(t), float(t[-1])
+
+
+@pytest.mark.parametrize("damper", [None, DAMPER], ids=["bare", "damper"])
+@pytest.mark.parametrize("a_v", [-2.5, 3.0])
+def test_a_constant_vertical_acceleration_is_another_gravity(backend, damper, a_v):
+    """A constant ``a_v`` over the whole run is the same block under gravity ``g + a_v``."""
+    a, t_p = _one_sine_samples(3.0, 4.0, 0.002)
+    shaken = SampledMotion(a, dt=0.002, a_v=np.full(a.size, a_v))
+    heavier = dataclasses.replace(BLOCK, g=BLOCK.g + a_v)
+    runs = [
+        rocking.simulate(block, damper, motion, backend=backend, t_max=t_p, **SAME)
+        for block, motion in ((BLOCK, shaken), (heavier, SampledMotion(a, dt=0.002)))
+    ]
+    assert runs[0].status == runs[1].status and runs[0].impacts == runs[1].impacts
+    assert runs[0].uplifts == runs[1].uplifts > 0
+    for name in ("theta_max", "x_max", "t_end"):
+        assert getattr(runs[0], name) == pytest.approx(getattr(runs[1], name), rel=1e-7, abs=1e-12), name
+
+
+@pytest.mark.parametrize(("ratio", "phase"), [(0.5, 0.0), (1.0, 0.0), (0.5, math.pi)])
+def test_the_bare_block_uplifts_where_the_ground_overcomes_the_effective_gravity(backend, ratio, phase):
+    """Bare symmetric block in full contact: uplift at the first ``|ddx_g| = (g + ddy_g) tan(alpha)``, here for a
+    one-sine with a synchronous vertical pulse, in phase (the ground rising: later) or opposed (earlier)."""
+    block = Block(H=2.0, B=0.5, M=1000.0)
+    pulse = OneSinePulse.from_nondim(block, beta=1.5, Omega=3.0, vertical=Vertical(ratio, phase))
+    settings = resolve(block, None, pulse, {})[2]
+
+    def margin(t):
+        return abs(pulse.acceleration(t)) - (block.g + vertical_of(settings, t)) * math.tan(block.alpha)
+
+    grid = np.linspace(0.0, pulse.t_p, 2001)
+    first = int(np.flatnonzero([margin(t) >= 0.0 for t in grid])[0])
+    expected = brentq(margin, grid[first - 1], grid[first], xtol=1e-14)
+    r = rocking.simulate(block, None, pulse, backend=backend, record=True, record_dt=0.01)
+    events = r.events()
+    uplift = float(events["t"][list(events["kind"]).index("uplift")])
+    assert uplift == pytest.approx(expected, abs=1e-9)
+    plain = math.asin(1 / 1.5) / pulse.omega_g  # without the vertical pulse
+    assert (uplift > plain) == (phase == 0.0)
+
+
+def test_no_vertical_component_is_bit_identical_on_the_c_path():
+    """``Vertical(0)`` runs the C code path of a motion without one: the same bits."""
+    for beta, Omega in ((3.0, 4.0), (1.5, 8.0)):
+        runs = [
+            rocking.simulate(BLOCK, DAMPER, OneSinePulse.from_nondim(BLOCK, beta=beta, Omega=Omega, vertical=v))
+            for v in (None, Vertical(0.0))
+        ]
+        assert runs[0].summary() == runs[1].summary()
+
+
+def test_the_energy_balances_with_the_work_of_the_vertical_ground(backend):
+    """While rocking, ``E(t1) - E(t0)`` is the integral of the generated power, the work of the ground
+    including ``-M ddy_g dy_G`` (docs/model.md section 2)."""
+    pulse = OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0, vertical=Vertical(0.8, phase=1.0))
+    r = rocking.simulate(BLOCK, DAMPER, pulse, backend=backend, record=True, record_dt=2e-5, rtol=1e-11, t_max=0.6)
+    h = r.history
+    model = load_model("omd")
+    rocking_ = np.flatnonzero(h["phase"] == 1)
+    rows = rocking_[: np.argmax(np.diff(rocking_) > 1)] if np.any(np.diff(rocking_) > 1) else rocking_
+    rows = rows[2:-2]  # inside the first rocking phase, clear of uplift and impact
+    t = h["t"][rows]
+    y = [h[k][rows] for k in model.state]
+    p = r.inputs.p
+    agy = h["agy"][rows]
+    np.testing.assert_array_equal(agy, vertical_of(r.inputs.settings, t))
+    assert np.max(np.abs(agy)) > 1.0
+    energy = model.functions.energy(1.0, *y, h["ag"][rows], agy, *p)
+    power = model.functions.power(1.0, *y, h["ag"][rows], agy, *p)
+    work = np.concatenate(([0.0], np.cumsum(np.diff(t) * (power[1:] + power[:-1]) / 2)))
+    assert np.max(np.abs(energy - energy[0] - work)) < 1e-6 * np.max(np.abs(energy - energy[0]))
+
+
+def test_where_the_ground_falls_faster_than_gravity_the_run_ends_in_flight(backend):
+    """``g + ddy_g <= 0`` while the block stands or rocks: status ``flight`` at that instant, never an answer."""
+    pulse = OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0, vertical=Vertical(3.0))
+    r = rocking.simulate(BLOCK, DAMPER, pulse, backend=backend)
+    t, settings = r.t_end, r.inputs.settings
+    assert r.status == "flight" and not r.overturned
+    assert BLOCK.g + vertical_of(settings, t) == pytest.approx(0.0, abs=1e-9)
+    assert BLOCK.g + vertical_of(settings, 0.999 * t) > 0.0
+
+
+def test_vertical_inputs_are_checked_in_one_line():
+    with pytest.raises(rocking.ParameterError, match=r"ratio must be in \[0, 10\]"):
+        Vertical(-1.0)
+    with pytest.raises(rocking.ParameterError, match="a_v must hold one vertical sample per sample of a"):
+        SampledMotion(np.zeros(10), dt=0.01, a_v=np.zeros(9))
+    with pytest.raises(rocking.ParameterError, match="vertical must be a rocking.Vertical"):
+        OneSinePulse(a_g=1.0, omega_g=10.0, vertical=0.5)
+
+
+def test_the_command_line_takes_a_vertical_ratio_and_a_record_pair(tmp_path, capsys):
+    """``--vertical-ratio`` is ``Vertical`` of the pulse; ``--vertical FILE`` pairs records of one dt, else one line."""
+    from rocking.cli.main import main
+
+    assert main(["simulate", "--no-damper", "--beta", "3", "--Omega", "4", "--vertical-ratio", "3"]) == 0
+    assert "FLIGHT: g + ddy_g reached 0" in capsys.readouterr().out
+    t = np.arange(0.0, 1.0, 0.01)
+    np.savetxt(tmp_path / "h.csv", np.column_stack((t, 3.0 * np.sin(2 * np.pi * t))), header="t [s], a [m/s2]")
+    np.savetxt(tmp_path / "v.csv", np.column_stack((t, -2.0 * np.ones_like(t))), header="t [s], a [m/s2]")
+    np.savetxt(tmp_path / "w.csv", np.column_stack((t / 2, np.ones_like(t))), header="t [s], a [m/s2]")
+    pair = ["simulate", "--no-damper", "--motion", str(tmp_path / "h.csv"), "--unit", "m/s2", "--json", "--t-max", "2"]
+    assert main([*pair, "--vertical", str(tmp_path / "v.csv")]) == 0
+    assert main([*pair, "--vertical", str(tmp_path / "w.csv")]) == 2
+    assert "the pair must share its dt" in capsys.readouterr().err
