@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "b2b0b6ba0115a56d52f7efc557925abd08f51404b7f6ae2fe34b3db0399edb3d",
-    "omd": "baf3297c5e99d72b0883bd3392f77cd2a891621ec6a7bfd3ccb905e30e42c827",
-    "omd2": "426627dc6e493ee3c581fdbc067f935a8fbcd05c975c62b149fd102b11959124",
-    "omd_stops": "0f74fc6bf590c27c8b87358c05fee58e80d44909e2a2c2ed634eb5e7e0ddc45b",
-    "omd_stops_hc": "aa4fa7ae52df6ac37ec18621e6a6a104a3f0d6a928a80b6053b8ef117ec2dbf7",
-    "pendulum": "d8651c9b9a46e0f0ccbbf77c4dac959a62e890d0d725453558895f5d8026549a",
+    "block": "f1d26b3e4153f8065961288a045dde5e71e0ec5519ff23494cd740693f8b28e4",
+    "omd": "c86bae57a11a98d3d8beb7b4ad05f78cb9262eed1f0037bd16baca2edafd27c5",
+    "omd2": "75a75c1878fb94bf4f484007c143320cdaea86c05be469d4cea68097481711d6",
+    "omd_stops": "f70bab81f1ff4f283b31e074cacb2198354dc347f090509202c7ecce8e35ae78",
+    "omd_stops_hc": "56befccdbbde72432b542d3810554600b4d809a7e791e35f190750743b47a99b",
+    "pendulum": "63fc6c97e53c15f1b5053f8d4f9a08d1609c60c5ee4fecac0f2c9dbd9e6f6170",
 }
