@@ -17,7 +17,7 @@ def _call(name, stop_on=None, **over):
     model = load_model("omd_stops")
     params = {**PARAMS, **over}
     out = getattr(model.functions, name)(
-        1.0, *(STATE[k] for k in model.state), 2.0, *(params[k] for k in model.parameters), stop_on=stop_on
+        1.0, *(STATE[k] for k in model.state), 2.0, 0.0, *(params[k] for k in model.parameters), stop_on=stop_on
     )
     return out if isinstance(out, tuple) else (out,)
 
