@@ -92,8 +92,8 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
     fig = map_figure(cabinet_map)
     used = set()
     for ax in fig.axes[:3]:
-        mesh = ax.collections[0]
-        used |= {to_hex(c) for c in mesh.cmap(np.arange(mesh.cmap.N))}
+        (image,) = ax.images
+        used |= {to_hex(c) for c in image.cmap(np.arange(image.cmap.N))}
     assert used <= PALETTE
     assert not _red_green_pair(used)
     for classes in (OUTCOME_CLASSES, EFFECT_CLASSES):
@@ -376,3 +376,49 @@ def test_a_records_history_and_plot_show_its_peak():
     ax_g = response_figure({"block alone": response}, block, motion=record).axes[-1]
     drawn = max(np.max(np.abs(line.get_ydata())) for line in ax_g.get_lines() if len(line.get_xdata()) > 2)
     assert drawn == pytest.approx(record.pga, rel=0.01)
+
+
+def test_a_class_region_is_few_rectangles_that_tile_exactly_its_cells():
+    """The rectangles of figures._runs cover every cell of the mask once and no other; a band of 1,000 cells a
+    row wide and 40 rows deep is one rectangle, a checkerboard one per cell."""
+    rng = np.random.default_rng(3)
+    for mask in (rng.random((37, 23)) < 0.4, np.ones((1000, 40), bool), np.indices((6, 5)).sum(0) % 2 == 0):
+        covered = np.zeros(mask.shape, int)
+        for i0, i1, j0, j1 in figures._runs(mask):
+            covered[i0:i1, j0:j1] += 1
+        np.testing.assert_array_equal(covered, mask.astype(int))
+    assert len(figures._runs(np.ones((1000, 40), bool))) == 1
+    assert len(figures._runs(np.indices((6, 5)).sum(0) % 2 == 0)) == 15
+
+
+@pytest.mark.parametrize("n", [8, 300])
+def test_a_map_draws_one_image_and_one_region_per_hatch_whatever_its_size(cabinet_map, n):
+    """Issue 28 target 0: the artists of a class map do not grow with its cells (a 300 x 300 map of noisy
+    classes, 90,000 cells, has the 8 x 8 map's artists), and the hatched regions are rasterized."""
+    study = _resampled_map(cabinet_map, n)
+    fig = map_figure(study)
+    for ax in fig.axes[:3]:
+        assert len(ax.images) == 1 and not ax.collections
+        regions = [p for p in ax.artists + ax.patches if p.get_hatch()]
+        assert len(regions) <= 3 and all(r.get_rasterized() for r in regions)
+
+
+def _resampled_map(study, n: int):
+    """``study`` with random outcomes on an ``n x n`` grid over the same ranges (the registry's schema)."""
+    from rocking.study.overturning_map import map_data, map_summary
+
+    rng = np.random.default_rng(n)
+    Om, beta = np.linspace(1.0, 10.0, n), np.linspace(1.0, 10.0, n)
+    shape = (2, n, n, 1)
+    over = rng.random(shape) < 0.6
+    fields = {
+        "overturned": over,
+        "impacts": np.where(over, rng.integers(0, 5, shape), 0),
+        "theta_max": np.where(over, np.pi / 2, 0.1),
+        "x_max": np.full(shape, 0.1),
+        **{k: np.zeros(shape, int) for k in ("status", "stop_contacts")},
+        "bumper_force_max": np.zeros(shape),
+    }
+    config = {**study.config, **{k: {**study.config[k], "n": n} for k in ("Omega", "beta")}}
+    data = map_data(config, Om, beta, [1], fields, np.ones((2, n, n), bool))
+    return dataclasses.replace(study, config=config, data=data, summary=map_summary(data, CABINET.B / 2))

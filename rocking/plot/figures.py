@@ -29,13 +29,13 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import matplotlib.path as mpath
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import PolyCollection
 from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize, to_rgb
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch, Rectangle
+from matplotlib.patches import Patch, PathPatch, Rectangle
 from matplotlib.ticker import FuncFormatter
 
 from ..model.loading import ModelError, saved_model
@@ -95,20 +95,55 @@ def _legend_below(ax, handles=None, ncols: int = 2) -> None:
     ax.legend(**kwargs, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
 
 
+def _runs(mask: np.ndarray) -> np.ndarray:
+    """The cells of a boolean ``(x, y)`` grid as few rectangles of cell indices ``(i0, i1, j0, j1)`` (ends
+    exclusive): runs along ``x`` in each row, joined along ``y`` where consecutive rows hold the same run."""
+    padded = np.pad(mask.T.astype(np.int8), ((0, 0), (1, 1)))
+    step = np.diff(padded, axis=1)
+    j, i0 = np.nonzero(step == 1)
+    i1 = np.nonzero(step == -1)[1]  # row by row, each end follows its start
+    order = np.lexsort((j, i1, i0))
+    j, i0, i1 = j[order], i0[order], i1[order]
+    # A new rectangle wherever the run changes or its row does not follow the one before.
+    new = np.ones(j.size, bool)
+    new[1:] = (i0[1:] != i0[:-1]) | (i1[1:] != i1[:-1]) | (j[1:] != j[:-1] + 1)
+    first = np.flatnonzero(new)
+    last = np.append(first[1:], j.size) - 1
+    return np.c_[i0[first], i1[first], j[first], j[last] + 1]
+
+
+def _region(x: np.ndarray, y: np.ndarray, mask: np.ndarray) -> mpath.Path:
+    """One compound path of the cells of ``mask`` on the cell edges ``x``, ``y``: a class's region, drawn (and
+    hatched) as one artist however many cells it holds."""
+    i0, i1, j0, j1 = _runs(mask).T
+    corners = np.stack([np.c_[x[i0], y[j0]], np.c_[x[i1], y[j0]], np.c_[x[i1], y[j1]], np.c_[x[i0], y[j1]]], 1)
+    vertices = np.concatenate([corners, corners[:, :1]], axis=1).reshape(-1, 2)
+    codes = np.tile([mpath.Path.MOVETO] + 3 * [mpath.Path.LINETO] + [mpath.Path.CLOSEPOLY], i0.size)
+    return mpath.Path(vertices, codes)
+
+
 def _classes(ax, Omega, beta, classes: np.ndarray, palette, xlog: bool = False) -> list[Patch]:
     """Draw integer classes on the (Omega, beta) plane in colour and hatch (cells centred in log scale along
-    ``Omega`` if ``xlog``); the legend's handles of those present."""
+    ``Omega`` if ``xlog``); the legend's handles of the classes present, in the palette's order.
+
+    The colours are one raster mesh and each hatch one region path, both rasterized: the cost of drawing, and the
+    size of a PDF, do not grow with the number of cells (the axes and the text stay vector).
+    """
     x, y = _edges(Omega, xlog), _edges(beta)
     cmap = ListedColormap([c for _, c, _ in palette])
     norm = BoundaryNorm(np.arange(len(palette) + 1) - 0.5, cmap.N)
-    ax.pcolormesh(x, y, classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
-    for k, (_, _, hatch) in enumerate(palette):
-        i, j = np.nonzero(classes == k)
-        if hatch and i.size:
-            corners = ((x[i], y[j]), (x[i + 1], y[j]), (x[i + 1], y[j + 1]), (x[i], y[j + 1]))
-            cells = np.stack([np.c_[cx, cy] for cx, cy in corners], axis=1)
-            ax.add_collection(PolyCollection(cells, facecolor="none", edgecolor=HATCH_COLOUR, hatch=hatch, lw=0))
+    if xlog:  # an image is resampled evenly in data terms: on a log axis, a mesh (IDA's levels, a few)
+        ax.pcolormesh(x, y, classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
+    else:
+        ax.pcolorfast(x, y, classes.T, cmap=cmap, norm=norm)
     present = np.unique(classes)
+    for k, (_, _, hatch) in enumerate(palette):
+        if hatch and k in present:
+            region = PathPatch(_region(x, y, classes == k), facecolor="none", edgecolor=HATCH_COLOUR, hatch=hatch, lw=0)
+            region.set_rasterized(True)
+            # As an artist, not a patch: the image already sets the limits, and a patch's would be found
+            # by walking every one of its segments.
+            ax.add_artist(region)
     return [
         Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label)
         for k, (label, c, h) in enumerate(palette)
