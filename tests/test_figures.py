@@ -422,3 +422,21 @@ def _resampled_map(study, n: int):
     config = {**study.config, **{k: {**study.config[k], "n": n} for k in ("Omega", "beta")}}
     data = map_data(config, Om, beta, [1], fields, np.ones((2, n, n), bool))
     return dataclasses.replace(study, config=config, data=data, summary=map_summary(data, CABINET.B / 2))
+
+
+def test_every_figure_function_draws_in_a_figure_or_axes_it_is_given(cabinet_map, spectrum):
+    """As pandas and xarray do: ``fig=`` draws in that figure, ``ax=`` in those axes (one per panel), and the
+    figure drawn in is returned; each function's docstring says so."""
+    for name in ("map_figure", "spectrum_figure", "optimize_figure", "design_figure", "threshold_figure", "ida_figure"):
+        doc = getattr(figures, name).__doc__
+        assert "fig : Figure, optional" in doc and "ax : sequence of Axes, optional" in doc, name
+    given = Figure()
+    assert map_figure(cabinet_map, fig=given) is given and len(given.axes) >= 3
+    outer = Figure()
+    left, right = outer.subfigures(1, 2)
+    assert spectrum_figure(spectrum, fig=right) is right and not left.axes and len(right.axes) >= 2
+    host = Figure()
+    axes = host.subplots(1, 3)
+    assert map_figure(cabinet_map, ax=axes) is host and all(ax.images for ax in axes)
+    with pytest.raises(rocking.ParameterError, match="needs 2 axes"):
+        spectrum_figure(spectrum, ax=axes)

@@ -361,14 +361,59 @@ def _plain_ticks(axis) -> None:
     axis.set_minor_formatter(FuncFormatter(minor))
 
 
-def map_figure(study: Study) -> Figure:
+def _panels(size: tuple, shape: tuple, fig=None, ax=None, **grid) -> tuple:
+    """The figure and the ``shape`` panels a figure function draws in: the axes ``ax`` given (as many as its
+    panels, in reading order), or new ones in the figure ``fig`` given, or in a new figure of ``size`` (inches).
+
+    Raises
+    ------
+    ParameterError
+        ``ax`` and ``fig`` both given, or ``ax`` not one axes per panel.
+    """
+    if ax is not None:
+        if fig is not None:
+            raise ParameterError("give ax= or fig=, not both (ax= draws in the figure of its axes)")
+        axes = np.asarray(ax, dtype=object).ravel()
+        if axes.size != np.prod(shape):
+            raise ParameterError(f"ax= needs {np.prod(shape)} axes for this figure's panels, got {axes.size}")
+        return axes[0].get_figure(), axes.reshape(shape)
+    fig = Figure(figsize=size, layout="constrained") if fig is None else fig
+    return fig, np.asarray(fig.subplots(*shape, squeeze=False, **grid), dtype=object).reshape(shape)
+
+
+#: The parameters and the result of every figure function, in its docstring (:func:`_figure_function`).
+PARAMETERS = """
+
+    Parameters
+    ----------
+    study : Study
+        The study, as it ran or as :func:`rocking.study.storage.load` reads it back.
+    fig : Figure, optional
+        A figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a new one.
+    ax : sequence of Axes, optional
+        Axes to draw in instead, one per panel in reading order (their figure takes the title and legends).
+
+    Returns
+    -------
+    Figure
+        The figure drawn in (a new one is not attached to a canvas: :func:`draw` saves it).
+"""
+
+
+def _figure_function(function):
+    """A figure function with its parameters (:data:`PARAMETERS`) in its docstring."""
+    function.__doc__ = function.__doc__.rstrip() + PARAMETERS
+    return function
+
+
+@_figure_function
+def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """Outcome maps of the bare and the damped block, and the damper's effect."""
     data, block = study.data, _block(study.config)
     env = envelope(data)
     Om, beta = data["Omega"].values, data["beta"].values
     over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
-    fig = Figure(figsize=(15, 6.2), layout="constrained")
-    axes = fig.subplots(1, 3, sharex=True, sharey=True)
+    fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
     for ax, part in zip(axes, PARTS):
         cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), 0)
         handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
@@ -420,7 +465,8 @@ def _refinement_label(study: Study) -> str:
 WINDOW_HATCH = {"bare": "\\\\\\", "damper": "///"}
 
 
-def spectrum_figure(study: Study) -> Figure:
+@_figure_function
+def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
     env, block = spectrum_envelope(study.data), _block(study.config)
     a = {k: {part: env[k].sel(part=part).values for part in PARTS} for k in ("flag", "beta_min")}
@@ -428,8 +474,7 @@ def spectrum_figure(study: Study) -> Figure:
     step = np.diff(Om).min() if Om.size > 1 else 1.0
     scan = study.config["beta"]
     arrow = 0.05 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.05 * scan["high"]
-    fig = Figure(figsize=(13, 6.4), layout="constrained")
-    ax, ax_gain = fig.subplots(1, 2, width_ratios=(2, 1))
+    fig, ((ax, ax_gain),) = _panels((13, 6.4), (1, 2), fig, ax, width_ratios=(2, 1))
     # The damped block's markers are larger, drawn under the bare block's: both stay visible where the two
     # coincide (below the damper's frequency range they often do).
     for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
@@ -497,13 +542,13 @@ def _threshold_text(t: dict) -> str:
     return r"$\Omega^*$ unknown (no gain defined)"
 
 
-def optimize_figure(study: Study) -> Figure:
+@_figure_function
+def optimize_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """Optimal period (two normalisations), best gain with ``Omega*``, gain landscape of one ``gamma``."""
     a, cfg = study.arrays, study.config
     block = _block(cfg)
     Om, gammas = a["Omega"], a["gamma"]
-    fig = Figure(figsize=(12, 10), layout="constrained")
-    (ax_tg, ax_tp), (ax_g, ax_map) = fig.subplots(2, 2)
+    fig, ((ax_tg, ax_tp), (ax_g, ax_map)) = _panels((12, 10), (2, 2), fig, ax)
     useless = study.summary.get("useless_gain", 1.01)
     bounded = False
     step = np.ptp(Om) / 100
@@ -575,12 +620,12 @@ def optimize_figure(study: Study) -> Figure:
     return fig
 
 
-def design_figure(study: Study) -> Figure:
+@_figure_function
+def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
     the coarse search, and the stroke the design uses at the pulses that overturn the block alone."""
     a, s, block = study.arrays, study.summary, _block(study.config)
-    fig = Figure(figsize=(15, 6), layout="constrained")
-    ax_g, ax_map, ax_x = fig.subplots(1, 3)
+    fig, ((ax_g, ax_map, ax_x),) = _panels((15, 6), (1, 3), fig, ax)
     Om = a["Omega"]
     for i, sign in enumerate(a["signs"]):
         ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
@@ -726,12 +771,12 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
     fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound", extend=extend(value, norm.vmin, norm.vmax))
 
 
-def threshold_figure(study: Study) -> Figure:
+@_figure_function
+def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
     data, cfg = study.data, study.config
     p, Om = data["p"].values, data["Omega"].values
-    fig = Figure(figsize=(16, 6), layout="constrained")
-    axes = fig.subplots(1, 3)
+    fig, (axes,) = _panels((16, 6), (1, 3), fig, ax)
     for ax, kind in zip(axes[:2], ("unlimited", "stops")):
         _omega_star_panel(fig, ax, study, kind)
     j = p.size // 2
@@ -766,14 +811,14 @@ def threshold_figure(study: Study) -> Figure:
     return fig
 
 
-def ida_figure(study: Study) -> Figure:
+@_figure_function
+def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
     band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
     resurrections marked."""
     data, s = study.data, study.summary
     levels, curve_x = data["level"].values, data["curve_x"].values
-    fig = Figure(figsize=(13, 6), layout="constrained")
-    ax_f, ax_m = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
+    fig, ((ax_f, ax_m),) = _panels((13, 6), (1, 2), fig, ax, width_ratios=(1.2, 1))
     unit = f" ({s['unit']})" if s["unit"] else ""
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
