@@ -440,3 +440,66 @@ def test_every_figure_function_draws_in_a_figure_or_axes_it_is_given(cabinet_map
     assert map_figure(cabinet_map, ax=axes) is host and all(ax.images for ax in axes)
     with pytest.raises(rocking.ParameterError, match="needs 2 axes"):
         spectrum_figure(spectrum, ax=axes)
+
+
+def test_ida_names_its_motions_and_writes_its_measure_with_its_unit(tmp_path):
+    """Two pulses scaled to a PGA: one tick per motion at 0 and 1 with the suite's names (not -0.5 ... 1.5),
+    "PGA (m/s$^2$)" on the level axes, the fit's median without a power of ten."""
+    from rocking.plot.figures import ida_figure
+    from rocking.study.suite import motion_names
+
+    pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0)]
+    study = rocking.incremental_dynamic_analysis(
+        Block.reference(),
+        motions=pulses,
+        levels=[1.0, 3.0, 9.0, 27.0],
+        measure="pga",
+        t_after=3.0,
+        runs=tmp_path,
+        workers=1,
+        progress=False,
+        study=True,
+    )
+    fig = ida_figure(study)
+    FigureCanvasAgg(fig).draw()
+    ax_f, ax_m = fig.axes[:2]
+    names = motion_names(study.config["suite"])
+    assert names[0].startswith("ricker") and len(names) == 2
+    assert list(ax_m.get_yticks()) == [0, 1] and [t.get_text() for t in ax_m.get_yticklabels()] == names
+    assert ax_m.get_ylim() == (-0.5, 1.5)
+    assert ax_f.get_xlabel() == ax_m.get_xlabel() == "PGA (m/s$^2$)"
+    texts = [t.get_text() for t in ax_f.get_legend().get_texts()] + [fig._suptitle.get_text()]
+    assert not any("e+" in t or "e-0" in t for t in texts)
+
+
+def test_readable_numbers_have_no_power_of_ten():
+    assert [figures._readable(v) for v in (407123.0, 0.0021345, 2.5, 1.0)] == ["407000", "0.00213", "2.5", "1"]
+
+
+def test_map_axes_start_at_zero_and_say_one_cell_in_the_singular(cabinet_map):
+    """A 4 x 4 map from Omega = 0.5, beta = 0.5 in steps of 1 would reach -0.0 and 0 half a step out: its axes
+    stop at 0; the effect's title counts "1 cell saved", not "1 cells"."""
+    study = _resampled_map(cabinet_map, 4)
+    data = study.data.assign_coords(Omega=[0.3, 1.3, 2.3, 3.3], beta=[0.2, 1.2, 2.2, 3.2])
+    one = dataclasses.replace(study, data=data, summary={**study.summary, "saved": 1})
+    fig = map_figure(one)
+    for ax in fig.axes[:3]:
+        assert ax.get_xlim()[0] == 0.0 and ax.get_ylim()[0] == 0.0
+    assert "1 cell saved" in fig.axes[2].get_title()
+    assert figures._cells(2) == "2 cells"
+
+
+def test_the_map_legend_lists_the_classes_that_occur_and_its_secondary_axes_read_as_its_own(cabinet_map):
+    """Classes 'after 2 impacts' and 'after 3 or more impacts' absent from both panels: not in the legend; the
+    a_g (g) and T_g (s) labels as large as the beta and Omega labels."""
+    study = _resampled_map(cabinet_map, 6)
+    impacts = np.minimum(study.data["impacts"].values, 1)
+    study = dataclasses.replace(study, data=study.data.assign(impacts=study.data["impacts"].copy(data=impacts)))
+    fig = map_figure(study)
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "after 2 impacts" not in labels and "after 3 or more impacts" not in labels
+    assert "overturned after 1 impact" in labels and "safe" in labels
+    ax = fig.axes[0]
+    right, top = fig.axes[2].child_axes[-1], ax.child_axes[0]
+    assert right.yaxis.label.get_size() == ax.yaxis.label.get_size()
+    assert top.xaxis.label.get_size() == ax.xaxis.label.get_size()

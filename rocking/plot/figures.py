@@ -36,7 +36,7 @@ from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize, 
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
 from matplotlib.patches import Patch, PathPatch, Rectangle
-from matplotlib.ticker import FuncFormatter
+from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
@@ -47,9 +47,22 @@ from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import safe_windows
 from ..study.storage import load
+from ..study.suite import motion_names
 from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED
-from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
+from .style import (
+    DIVERGING,
+    GREY,
+    LIGHT,
+    MEASURE_NAMES,
+    OKABE_ITO,
+    PART_STYLE,
+    PULSE_NAMES,
+    SEQUENTIAL,
+    UNIT_TEXT,
+    cycle,
+    extend,
+)
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
 OUTCOME_CLASSES = (
@@ -86,7 +99,9 @@ def _edges(centres: np.ndarray, log: bool = False) -> np.ndarray:
     if c.size == 1:
         return np.array([c[0] - 0.5, c[0] + 0.5])
     mid = 0.5 * (c[1:] + c[:-1])
-    return np.concatenate([[2 * c[0] - mid[0]], mid, [2 * c[-1] - mid[-1]]])
+    # A grid of positive values (Omega, beta: a pulse's frequency and amplitude) ends at 0, not half a step past.
+    first = max(2 * c[0] - mid[0], 0.0) if c[0] > 0 else 2 * c[0] - mid[0]
+    return np.concatenate([[first], mid, [2 * c[-1] - mid[-1]]])
 
 
 def _legend_below(ax, handles=None, ncols: int = 2) -> None:
@@ -196,7 +211,9 @@ def _damper_label(config: dict) -> str:
 def _pulse_label(config: dict) -> str:
     """The pulse family of a study for a title (the one-sine when the configuration names none)."""
     pulse = config.get("pulse", {"motion": "sine"})
-    shape = rf" ($\gamma$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
+    shape = (
+        rf" ($\gamma_{{MP}}$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
+    )
     return PULSE_NAMES[pulse["motion"]] + shape
 
 
@@ -259,13 +276,13 @@ def _period_axis(ax, p: float) -> None:
             last = where
     axis = ax.secondary_xaxis("top", functions=(period, period))
     axis.set_xticks(ticks, [f"{T:g}" for T in ticks])
-    axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)", fontsize=8)
+    axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)")
 
 
 def _acceleration_axis(ax, tan_alpha: float) -> None:
     """A right axis of the pulse amplitude ``a_g / g = beta tan(alpha)`` over a ``beta`` axis."""
     axis = ax.secondary_yaxis("right", functions=(lambda b: b * tan_alpha, lambda a: a / tan_alpha))
-    axis.set_ylabel(r"$a_g$ (g)", fontsize=8)
+    axis.set_ylabel(r"$a_g$ (g)")
 
 
 def _omega_axis(ax, label: str = r"$\Omega = \omega_g / p$") -> None:
@@ -432,7 +449,7 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
-        f"effect of the damper: {s.get('saved', 0)} cells saved\n({int(past.sum())} only past the edge"
+        f"effect of the damper: {_cells(s.get('saved', 0))} saved\n({int(past.sum())} only past the edge"
         + (f", {int(unknown.sum())} of unknown stroke" if unknown.any() else "")
         + f"), {s.get('lost', 0)} lost",
         fontsize=9,
@@ -444,6 +461,11 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     _acceleration_axis(axes[2], block.tan_alpha)
     _title(fig, "Overturning map", study.config, _refinement_label(study))
     return fig
+
+
+def _cells(n: int) -> str:
+    """A count of map cells in words: "1 cell", "12 cells"."""
+    return f"{n} cell" if n == 1 else f"{n} cells"
 
 
 def _refinement_label(study: Study) -> str:
@@ -588,7 +610,7 @@ def optimize_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     period = ax_tp.secondary_yaxis(
         "right", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
     )
-    period.set_ylabel(r"$T_m$ (s)", fontsize=8)
+    period.set_ylabel(r"$T_m$ (s)")
     for axis in (ax_tg.yaxis, ax_tp.yaxis, period.yaxis):
         _plain_ticks(axis)
     for ax in (ax_tg, ax_tp, ax_g):
@@ -664,7 +686,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     period = ax_map.secondary_xaxis(
         "top", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
     )
-    period.set_xlabel(r"$T_m$ (s)", fontsize=8)
+    period.set_xlabel(r"$T_m$ (s)")
     for axis in (ax_map.xaxis, ax_map.yaxis, period.xaxis):
         _plain_ticks(axis)
     ax_map.set_ylabel(r"$\zeta$")
@@ -686,7 +708,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     _period_axis(ax_x, block.p)
     ax_x.set_ylabel(r"$x_{max} / L$ at $\beta_{min}$ of the block alone")
     ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])).set_ylabel(
-        r"$x_{max}$ (m)", fontsize=8
+        r"$x_{max}$ (m)"
     )
     ax_x.set_title("stroke used at the pulses that overturn the block alone", fontsize=9)
     _legend_below(ax_x, ncols=3)
@@ -760,7 +782,7 @@ def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
         ),
     )
     size.set_xticks(3 * g / (4 * p**2), [f"{R:.3g}" for R in 3 * g / (4 * p**2)])
-    size.set_xlabel("R (m), half-diagonal", fontsize=8)
+    size.set_xlabel("R (m), half-diagonal")
     ax.set_yticks(lam, [f"{v:.3g}" for v in lam])
     ax.set_xlabel("p (rad/s)")
     ax.set_ylabel(r"$\lambda = H / B$")
@@ -811,6 +833,26 @@ def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Fig
     return fig
 
 
+#: A motion axis names its motions up to this many; beyond, its ticks are motion numbers.
+NAMED_MOTIONS = 30
+
+
+def _motion_axis(ax, names: list[str]) -> None:
+    """The motions of an IDA along ``ax``'s y axis: a tick at each, with its name (when they are few)."""
+    ax.set_ylim(-0.5, len(names) - 0.5)
+    if len(names) <= NAMED_MOTIONS:
+        ax.set_yticks(np.arange(len(names)), names, fontsize=7 if len(names) > 10 else None)
+        ax.set_ylabel("motion")
+    else:
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+        ax.set_ylabel("motion (number in the suite)")
+
+
+def _readable(value: float) -> str:
+    """A number for a title or a legend: three significant digits, without a power of ten (407000, 0.00213)."""
+    return np.format_float_positional(value, precision=3, unique=False, fractional=False, trim="-")
+
+
 @_figure_function
 def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
@@ -819,7 +861,8 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     data, s = study.data, study.summary
     levels, curve_x = data["level"].values, data["curve_x"].values
     fig, ((ax_f, ax_m),) = _panels((13, 6), (1, 2), fig, ax, width_ratios=(1.2, 1))
-    unit = f" ({s['unit']})" if s["unit"] else ""
+    unit = UNIT_TEXT[s["unit"]]
+    measure = MEASURE_NAMES[s["measure"]] + (f" ({unit})" if unit else "")
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
         a = data.sel(part=part)
@@ -834,22 +877,22 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
             label=f"{style['label']}: fraction overturned",
         )
         if fit["status"] in ("fitted", "separated"):
-            label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
+            median = f"{_readable(fit['theta'])} {unit}".rstrip()
+            label = f"lognormal fit: median {median}, dispersion {fit['beta']:.2f}"
             ax_f.plot(curve_x, a["curve"].values, "-" if part == "bare" else "--", color=style["color"], label=label)
             ax_f.fill_between(
                 curve_x, a["band_low"].values, a["band_high"].values, color=style["color"], alpha=0.15, lw=0
             )
     # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
     xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
-    measure = "scale factor" if s["measure"] == "scale" else s["measure"]
-    ax_f.set_xlabel(f"{measure}{unit}")
+    ax_f.set_xlabel(measure)
     if xlog:
         ax_f.set_xscale("log")
         _plain_ticks(ax_f.xaxis)
     if s["unit"] == "m/s^2":  # an acceleration: in g too, the block's gravity
         g = _block(study.config).g
         in_g = ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g))
-        in_g.set_xlabel(f"{s['measure']} (g)", fontsize=8)
+        in_g.set_xlabel(f"{MEASURE_NAMES[s['measure']]} (g)")
         if xlog:
             _plain_ticks(in_g.xaxis)
     ax_f.set_ylabel("probability of overturning")
@@ -876,8 +919,8 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
             label="non-monotone: overturns, then survives a higher level",
         )
         handles += ax_m.get_legend_handles_labels()[0]
-    ax_m.set_xlabel(f"{measure}{unit}")
-    ax_m.set_ylabel("motion")
+    ax_m.set_xlabel(measure)
+    _motion_axis(ax_m, motion_names(study.config["suite"]))
     ax_m.set_title("with the damper: outcome of each motion at each level", fontsize=9)
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
