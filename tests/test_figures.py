@@ -252,8 +252,11 @@ def test_period_ticks_stay_away_from_an_axis_that_starts_at_omega_zero(cabinet_m
     assert first >= low + 0.08 * (high - low)
 
 
-def spectrum_figure_of(config: dict, Omega):
-    """A spectrum figure of made-up values over ``Omega``, one direction, no window: only its axes are looked at."""
+def spectrum_figure_of(config: dict, Omega, above=()):
+    """A spectrum figure of made-up values over ``Omega``, one direction, no window; at the indices ``above``
+    neither part overturns in the scan (0.5 to 15): its ``beta_min`` is 15, a lower bound."""
+    from rocking.study.vocabulary import ABOVE
+
     Om = np.asarray(Omega, float)
     shape = (2, Om.size, 1)  # part, Omega, sign
     fields = {
@@ -262,6 +265,8 @@ def spectrum_figure_of(config: dict, Omega):
         **{k: np.full(shape, BRACKETED if k == "flag" else 0) for k in ("flag", "impacts", "undetermined")},
         "scan_outcome": np.full((*shape, 5), -1),
     }
+    fields["flag"][:, list(above)] = ABOVE
+    fields["beta_min"][:, list(above)] = 15.0
     config = {**config, "directions": {"directions": "positive", "signs": [1]}}
     data = spectrum_data(config, Om, np.linspace(0.5, 15, 5), [1], fields)
     return spectrum_figure(rocking.Study("spectrum", config, data, tabulate=spectrum_tables))
@@ -503,3 +508,26 @@ def test_the_map_legend_lists_the_classes_that_occur_and_its_secondary_axes_read
     right, top = fig.axes[2].child_axes[-1], ax.child_axes[0]
     assert right.yaxis.label.get_size() == ax.yaxis.label.get_size()
     assert top.xaxis.label.get_size() == ax.xaxis.label.get_size()
+
+
+def test_the_block_alones_bounds_show_beside_the_dampers_and_period_ticks_do_not_crowd(cabinet_map):
+    """Where neither block overturns within the scan (beta_min = the last beta scanned, flag ABOVE), both get a
+    lower-bound marker at that beta, side by side; the period ticks are at least 0.4 inch apart on a drawn figure
+    (0.05 to 30 in Omega: periods from 37 s to 0.06 s)."""
+    from rocking.plot.style import PART_STYLE
+
+    Om = np.linspace(0.05, 30.0, 25)
+    fig = spectrum_figure_of(cabinet_map.config, Om, above=[20, 21, 22])
+    FigureCanvasAgg(fig).draw()
+    ax = fig.axes[0]
+    bounds = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
+    colours = {to_hex(c.lines[0].get_color()): c.lines[0] for c in bounds}
+    bare, damper = (colours[to_hex(PART_STYLE[part]["color"])] for part in ("bare", "damper"))
+    for line in (bare, damper):
+        np.testing.assert_allclose(line.get_xdata(), Om[20:23], atol=0.5 * (Om[1] - Om[0]))
+        np.testing.assert_allclose(line.get_ydata(), 15.0)
+    assert (bare.get_xdata() < damper.get_xdata()).all()
+    top = ax.child_axes[0]
+    ticks = np.sort(2 * np.pi / (CABINET.p * np.asarray(top.get_xticks())))
+    inches = np.diff(ax.transData.transform(np.c_[ticks, np.zeros_like(ticks)])[:, 0]) / fig.dpi
+    assert ticks.size >= 3 and inches.min() >= 0.4

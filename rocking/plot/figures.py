@@ -254,26 +254,31 @@ def _directions_label(config: dict, what: str = "pulses") -> str:
     return f"{'positive' if chosen['signs'][0] > 0 else 'negative'} {what}{mirrored}"
 
 
-#: Tick values of a period axis: these mantissas in every decade (s).
-PERIOD_TICKS = np.array([m * 10.0**k for k in range(-3, 4) for m in (1, 1.5, 2, 3, 5, 7)])
+#: Tick values of a period axis (s): these mantissas in every decade, the roundest first (a tick is kept only
+#: where it does not crowd those before it).
+PERIOD_TICKS = np.array([m * 10.0**k for m in (1, 2, 5, 3, 1.5, 7) for k in range(-3, 4)])
+#: Least distance between two period ticks, and from the axis' left end: inches, and a share of the axis.
+TICK_GAP = (0.45, 0.08)
 
 
 def _period_axis(ax, p: float) -> None:
     """A top axis of the pulse period ``T_g = 2 pi / (Omega p)``, s, over an ``Omega`` axis (call it once the
-    axis has its limits: its ticks are round periods at least 8 % of the axis apart and from its left end)."""
+    axis has its limits: its ticks are round periods :data:`TICK_GAP` apart and from its left end)."""
 
     def period(x):  # its own inverse; Omega <= 0 lies off every axis drawn
         return 2 * np.pi / (p * np.maximum(np.asarray(x, float), 1e-9))
 
     low, high = sorted(ax.get_xlim())
-    # From the left, the first tick 8 % in: the periods crowd where Omega is small, and grow without bound
-    # towards an axis that starts at Omega = 0.
-    ticks, last = [], low
-    for T in PERIOD_TICKS[::-1]:
+    inches = ax.get_position().width * ax.get_figure(root=True).get_figwidth()
+    gap = (high - low) * max(TICK_GAP[0] / inches, TICK_GAP[1])
+    # The periods crowd where Omega is small, and grow without bound towards an axis that starts at Omega = 0:
+    # the left end counts as a tick.
+    kept = {low: None}
+    for T in PERIOD_TICKS:
         where = float(period(T))
-        if low <= where <= high and where - last >= 0.08 * (high - low):
-            ticks.append(T)
-            last = where
+        if low <= where <= high and all(abs(where - w) >= gap for w in kept):
+            kept[where] = float(T)
+    ticks = sorted(T for T in kept.values() if T is not None)
     axis = ax.secondary_xaxis("top", functions=(period, period))
     axis.set_xticks(ticks, [f"{T:g}" for T in ticks])
     axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)")
@@ -514,7 +519,8 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
         )
         for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
-            _bounds(ax, Om[sel], bm[sel], arrow, style["color"], up)
+            # Both parts are bounded by the same scan's ends: side by side, neither hides the other.
+            _bounds(ax, Om[sel] + 1.5 * shift * step, bm[sel], arrow, style["color"], up)
         w = safe_windows(env, part)
         if len(w):
             ax.bar(
