@@ -531,3 +531,53 @@ def test_the_block_alones_bounds_show_beside_the_dampers_and_period_ticks_do_not
     ticks = np.sort(2 * np.pi / (CABINET.p * np.asarray(top.get_xticks())))
     inches = np.diff(ax.transData.transform(np.c_[ticks, np.zeros_like(ticks)])[:, 0]) / fig.dpi
     assert ticks.size >= 3 and inches.min() >= 0.4
+
+
+@pytest.fixture(scope="module")
+def small_design(tmp_path_factory):
+    from rocking.study.design import design
+
+    return design(
+        Setting(Block.reference()),
+        Grid("Omega", 4.0, 6.0, 2),
+        Grid("beta", 0.5, 20.0, 27),
+        SERIAL,
+        runs=tmp_path_factory.mktemp("design"),
+        Tm=Grid("Tm", 0.5, 4.0, 3, log=True),
+        zeta=Grid("zeta", 0.02, 0.2, 2, log=True),
+        refine=1,
+    )
+
+
+def test_the_design_figure_keeps_each_direction_visible_and_says_what_the_stroke_does(small_design):
+    """The reference block is eccentric: both directions. Each direction's gain (beta_min with the damper over
+    beta_min alone, of that sign) is drawn over the envelope's, which the legend explains; the stroke panel's
+    title gives the largest x_max / L and the stops' contacts."""
+    from rocking.plot.figures import ENVELOPE_GAIN, design_figure
+
+    a = small_design.arrays
+    fig = design_figure(small_design)
+    ax_g, ax_x = fig.axes[0], fig.axes[2]
+    lines = {line.get_label(): line for line in ax_g.get_lines()}
+    envelope = lines[ENVELOPE_GAIN]
+    for i, sign in enumerate(a["signs"]):
+        line = lines[f"pulses of sign {sign:+d} alone"]
+        ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
+        np.testing.assert_allclose(line.get_ydata(), ratio)
+        assert line.get_zorder() > envelope.get_zorder() and line.get_linewidth() < envelope.get_linewidth()
+    use = a["stroke_use"]
+    title = ax_x.get_title()
+    assert f"stroke up to {np.nanmax(use):.2f} L" in title
+    assert ("on the stops at" in title) == bool((a["stop_contacts"] > 0).any())
+
+
+def test_an_mp_study_title_writes_gamma_mp_and_the_dampers_gamma():
+    config = {
+        "block": Block.reference().as_params(),
+        "pulse": {"motion": "mp", "gamma_mp": 2.0, "nu": 0.5},
+        "damper": {"gamma": 0.05, "omega_ratio": 1.0, "zeta": 0.05, "h": 0.05},
+    }
+    fig = Figure()
+    figures._title(fig, "Map", config)
+    title = fig._suptitle.get_text()
+    assert r"$\gamma_{MP}$ = 2" in title and r"damper $\gamma$ = 0.05" in title

@@ -648,6 +648,26 @@ def optimize_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     return fig
 
 
+#: The legend of a design's gain of the envelopes, against the gains of each direction.
+ENVELOPE_GAIN = (
+    "gain of the envelopes: the worse direction with the damper over the worse alone\n"
+    "(the gain of one direction where it governs both; between the two where they differ)"
+)
+
+
+def _stroke_text(Omega, use, contacts, L: float, half_width: float) -> str:
+    """What the stroke panel of a design shows, in words: the largest stroke (``use`` in units of the stops'
+    ``L``, m), where it is, and whether the mass reaches the stops (``contacts`` per ``Omega``) or the block's edge."""
+    use = np.asarray(use, float)
+    if not np.isfinite(use).any():
+        return "stroke: no pulse of the band overturns the block alone"
+    i = int(np.nanargmax(use))
+    on_stops = int((np.asarray(contacts) > 0).sum())
+    text = f"stroke up to {use[i]:.2f} L = {use[i] * L:.3g} m (at $\\Omega$ = {Omega[i]:.3g});\n"
+    text += f"on the stops at {on_stops} of {use.size} $\\Omega$" if on_stops else "never on the stops"
+    return text + (", past the block's edge" if use[i] * L > half_width else ", on the block")
+
+
 @_figure_function
 def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
@@ -657,12 +677,12 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     Om = a["Omega"]
     for i, sign in enumerate(a["signs"]):
         ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
-        # Over the envelope, which one direction governs: drawn under it, that direction's line would vanish.
-        ax_g.plot(Om, ratio, ":", ms=3, zorder=3, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1))
-    style = PART_STYLE["damper"]
-    bounded = _gain_curve(
-        ax_g, Om, a["gain_opt"], a["flag_opt"], {"color": style["color"], "marker": style["marker"]}, "gain (envelopes)"
-    )
+        # On top of the envelope: where one direction governs both blocks its gain is the envelope's.
+        ax_g.plot(
+            Om, ratio, ("--", ":")[i % 2], ms=4, zorder=5, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1)
+        )
+    envelope_style = {"color": PART_STYLE["damper"]["color"], "lw": 6, "alpha": 0.3, "solid_capstyle": "round"}
+    bounded = _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], envelope_style, ENVELOPE_GAIN)
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
@@ -670,7 +690,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_g.set_title(
         rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}", fontsize=9
     )
-    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []))
+    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
     r, z = a["r_coarse"], a["zeta_coarse"]
     worst = a["candidate_worst_gain"][: r.size * z.size].reshape(z.size, r.size)
     norm, extension = _gain_norm(worst)
@@ -716,7 +736,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])).set_ylabel(
         r"$x_{max}$ (m)"
     )
-    ax_x.set_title("stroke used at the pulses that overturn the block alone", fontsize=9)
+    ax_x.set_title(_stroke_text(Om, a["stroke_use"], a["stop_contacts"], d["L_m"], block.B / 2), fontsize=9)
     _legend_below(ax_x, ncols=3)
     damper = (
         rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
