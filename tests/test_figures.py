@@ -581,3 +581,49 @@ def test_an_mp_study_title_writes_gamma_mp_and_the_dampers_gamma():
     figures._title(fig, "Map", config)
     title = fig._suptitle.get_text()
     assert r"$\gamma_{MP}$ = 2" in title and r"damper $\gamma$ = 0.05" in title
+
+
+@pytest.fixture(scope="module")
+def small_threshold(tmp_path_factory):
+    from rocking.study.threshold import threshold_map
+
+    return threshold_map(
+        Grid("lam", 3.0, 4.0, 2),
+        Grid("p", 1.5, 4.0, 2),
+        Grid("Omega", 2.0, 14.0, 4),
+        SERIAL,
+        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
+        runs=tmp_path_factory.mktemp("threshold"),
+    )
+
+
+def test_the_threshold_figure_shows_what_the_study_found_per_geometry(small_threshold):
+    """No heat map: per (lambda, p) the best gain of each damper (filled: unlimited, open: stops), the Omega from
+    which the block alone survives, and Omega* as a star where bracketed, else an open triangle at its bound;
+    the values drawn are those of rocking.study.threshold.thresholds."""
+    from rocking.study.threshold import thresholds
+    from rocking.study.vocabulary import THRESHOLD_STATUSES
+
+    found = thresholds(small_threshold.data)
+    fig = figures.threshold_figure(small_threshold)
+    ax_gain, ax_omega = fig.axes[:2]
+    assert not ax_gain.images + ax_omega.images and not ax_gain.collections
+    lines = {line.get_label(): line for line in ax_gain.get_lines()}
+    for i, lam in enumerate(found["lam"].values):
+        for kind in ("unlimited", "stops"):
+            line = lines[rf"$\lambda$ = {lam:.3g}, {kind}"]
+            np.testing.assert_allclose(line.get_ydata(), found["best_gain"].sel(part=kind).values[i])
+            assert (line.get_markerfacecolor() == "white") == (kind == "stops")
+        safe = next(ln for ln in ax_omega.get_lines() if ln.get_label() == rf"$\lambda$ = {lam:.3g}")
+        np.testing.assert_allclose(safe.get_ydata(), found["safe_from"].values[i])
+    status = found["status"].values
+    stars = [ln for ln in ax_omega.get_lines() if ln.get_marker() == "*"]
+    drawn = np.concatenate([ln.get_ydata() for ln in stars])
+    assert np.isfinite(drawn).sum() == (status == THRESHOLD_STATUSES.index("bracketed")).sum()
+    bounds = [c for c in ax_omega.containers if isinstance(c, ErrorbarContainer)]
+    above = found["Omega_star_low"].values[status == THRESHOLD_STATUSES.index("above_range")]
+    below = found["Omega_star_high"].values[status == THRESHOLD_STATUSES.index("below_range")]
+    drawn = np.concatenate([c.lines[0].get_ydata() for c in bounds]) if bounds else []
+    np.testing.assert_allclose(np.sort(drawn), np.sort(np.concatenate([above, below])))
+    bracketed = (status == THRESHOLD_STATUSES.index("bracketed")).sum()
+    assert f"in {bracketed} of {status.size} cases" in ax_omega.get_title()

@@ -32,10 +32,10 @@ from pathlib import Path
 import matplotlib.path as mpath
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize, to_rgb
+from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch, PathPatch, Rectangle
+from matplotlib.patches import Patch, PathPatch
 from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
@@ -50,6 +50,7 @@ from ..study.storage import load
 from ..study.suite import motion_names
 from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED
+from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
 from .style import (
     DIVERGING,
     GREY,
@@ -58,7 +59,6 @@ from .style import (
     OKABE_ITO,
     PART_STYLE,
     PULSE_NAMES,
-    SEQUENTIAL,
     UNIT_TEXT,
     cycle,
     extend,
@@ -747,86 +747,95 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     return fig
 
 
-#: How a cell of the threshold figure writes each status of Omega* (rocking.study.threshold.STATUSES).
-STATUS_TEXT = ("", "<=", ">", "")
-#: Hatch of the threshold cells that hold a bound of Omega*, by its text.
-BOUND_HATCH = {"<=": "\\\\", ">": "//"}
+#: The two dampers of a threshold map: line style and marker face (filled: unlimited guide, open: stops).
+GUIDES = {"unlimited": ("-", None), "stops": ("--", "white")}
 
 
-def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
-    """``Omega*`` of one kind of damper over ``(lambda, p)``: the value where bracketed, else the highest ``Omega``
-    at which it still helps (a lower bound, hatched); each cell also says from which ``Omega`` the block alone
-    no longer overturns within the bound."""
-    found = thresholds(study.data)
-    a = found.sel(part=kind)
-    lam, p = found["lam"].values, found["p"].values
-    status, star, low = (a[k].values for k in ("status", "Omega_star", "Omega_star_low"))
-    value = np.where(np.isfinite(star), star, low)
-    norm = Normalize(0, float(found["Omega"][-1]))
-    image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap=SEQUENTIAL, norm=norm)
-    x, y = _edges(p), _edges(lam)
-    for i in range(lam.size):
-        for j in range(p.size):
-            v, st = value[i, j], STATUS_TEXT[status[i, j]]
-            text = "?" if not np.isfinite(v) else f"{st}{v:.3g}"
-            safe = found["safe_from"].values[i, j]
-            text += f"\nsafe from {safe:.3g}" if np.isfinite(safe) else ""
-            # Dark text on the light end of the colour map, white on the dark end.
-            shade = image.cmap(norm(v)) if np.isfinite(v) else (1, 1, 1)
-            light = np.dot(to_rgb(shade), (0.299, 0.587, 0.114)) > 0.5
-            ax.text(
-                p[j],
-                lam[i],
-                text,
-                ha="center",
-                va="center",
-                fontsize=8,
-                color="k" if light else "w",
-                bbox={"facecolor": shade, "edgecolor": "none", "pad": 1},
-            )
-            if st:
-                ax.add_patch(
-                    Rectangle(
-                        (x[j], y[i]),
-                        x[j + 1] - x[j],
-                        y[i + 1] - y[i],
-                        facecolor="none",
-                        edgecolor=HATCH_COLOUR,
-                        hatch=BOUND_HATCH[st],
-                        lw=0,
-                        zorder=1,
-                    )
-                )
-    ax.set_xticks(p, [f"{v:.3g}" for v in p])
-    # The homogeneous block's half-diagonal: p = sqrt(3 g / (4 R)) (docs/model.md section 9).
+def _size_axis(ax, p) -> None:
+    """A top axis of the homogeneous block's half-diagonal ``R = 3 g / (4 p^2)``, m, over a ``p`` axis
+    (docs/model.md section 9), its ticks at the grid's ``p`` (rad/s), which the bottom axis also marks."""
     g = Block.__dataclass_fields__["g"].default
-    size = ax.secondary_xaxis(
-        "top",
-        functions=(
-            lambda x: 3 * g / (4 * np.maximum(x, 1e-9) ** 2),
-            lambda R: np.sqrt(3 * g / (4 * np.maximum(R, 1e-9))),
-        ),
-    )
-    size.set_xticks(3 * g / (4 * p**2), [f"{R:.3g}" for R in 3 * g / (4 * p**2)])
-    size.set_xlabel("R (m), half-diagonal")
-    ax.set_yticks(lam, [f"{v:.3g}" for v in lam])
+
+    def size(x):
+        return 3 * g / (4 * np.maximum(np.asarray(x, float), 1e-9) ** 2)
+
+    def frequency(R):
+        return np.sqrt(3 * g / (4 * np.maximum(np.asarray(R, float), 1e-9)))
+
+    axis = ax.secondary_xaxis("top", functions=(size, frequency))
+    axis.set_xticks(size(p), [f"{R:.3g}" for R in size(p)])
+    axis.set_xlabel("R (m), half-diagonal")
+    ax.set_xticks(p, [f"{v:.3g}" for v in p])
+
+
+def _best_gain_panel(ax, found) -> None:
+    """The best gain over ``Omega`` of each damper against ``p``, one colour per slenderness."""
+    p = found["p"].values
+    for i, lam in enumerate(found["lam"].values):
+        for kind, (ls, face) in GUIDES.items():
+            style = cycle(i)
+            gain = found["best_gain"].sel(part=kind).values[i]
+            ax.plot(p, gain, ls, ms=6, mfc=face or style["color"], label=rf"$\lambda$ = {lam:.3g}, {kind}", **style)
+    ax.axhline(1.0, color=GREY, lw=0.8)
     ax.set_xlabel("p (rad/s)")
-    ax.set_ylabel(r"$\lambda = H / B$")
+    ax.set_ylabel(r"best gain over $\Omega$ ($\beta_{min}$ damped / alone)")
+    ax.set_title("the most the damper gives, per geometry (filled: unlimited guide; open: stops)", fontsize=9)
+    _size_axis(ax, found["p"].values)
+    _legend_below(ax, ncols=2)
+
+
+def _frequency_panel(ax, found) -> None:
+    """Per geometry, against ``p``: from which ``Omega`` the block alone survives (``safe_from``) and ``Omega*``
+    of each damper, measured where bracketed, else a bound (an arrow towards the unknown value)."""
+    p, lams = found["p"].values, found["lam"].values
+    dodge = 0.02 * (np.ptp(p) or 1.0)
+    for i, lam in enumerate(lams):
+        style = cycle(i)
+        safe = found["safe_from"].values[i]
+        ax.plot(p, safe, ":", color=style["color"], marker="_", ms=14, mew=2, label=rf"$\lambda$ = {lam:.3g}")
+        for k, (kind, (_, face)) in enumerate(GUIDES.items()):
+            a = found.sel(part=kind).isel(lam=i)
+            x = p + (k - 0.5) * dodge
+            status = a["status"].values
+            star = np.where(status == STATUSES.index("bracketed"), a["Omega_star"].values, np.nan)
+            ax.plot(x, star, "*", ms=10, color=style["color"], mfc=face or style["color"], ls="none")
+            for name, up, bound in (("above_range", True, "Omega_star_low"), ("below_range", False, "Omega_star_high")):
+                where = status == STATUSES.index(name)
+                _bounds(ax, x[where], a[bound].values[where], 0.04 * float(found["Omega"][-1]), style["color"], up)
+    ax.set_xlabel("p (rad/s)")
+    ax.set_ylabel(r"$\Omega = \omega_g / p$")
+    ax.set_ylim(0, float(found["Omega"][-1]) * 1.08)
+    _size_axis(ax, found["p"].values)
+    handles = ax.get_legend_handles_labels()[0] + [
+        Line2D([], [], ls=":", marker="_", ms=14, mew=2, color="0.3", label="block alone safe from this $\\Omega$ on"),
+        Line2D([], [], ls="none", marker="*", ms=10, color="0.3", label=r"$\Omega^*$ (filled: unlimited; open: stops)"),
+    ]
+    if (found["status"].values == STATUSES.index("above_range")).any():
+        handles.append(
+            Line2D(
+                [], [], ls="none", marker="^", mfc="white", color="0.3", label=r"$\Omega^*$ above: still useful here"
+            )
+        )
+    _legend_below(ax, handles, ncols=2)
+    counts = {name: int((found["status"].values == n).sum()) for n, name in enumerate(STATUSES)}
     ax.set_title(
-        f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns;" + "\nbounds hatched)",
-        fontsize=8,
+        rf"$\Omega^*$ (the damper's gain falls below useful): bracketed in {counts['bracketed']} of "
+        f"{found['status'].size} cases;\nabove the scan (useful wherever the block alone overturns) in "
+        f"{counts['above_range']}",
+        fontsize=9,
     )
-    fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound", extend=extend(value, norm.vmin, norm.vmax))
 
 
 @_figure_function
 def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
-    """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
+    """What a threshold map found per geometry ``(lambda, p)``: the best gain of each damper, from which ``Omega``
+    the block alone survives and ``Omega*`` (or its bound); and the best gain against ``Omega`` at one ``p``."""
     data, cfg = study.data, study.config
     p, Om = data["p"].values, data["Omega"].values
-    fig, (axes,) = _panels((16, 6), (1, 3), fig, ax)
-    for ax, kind in zip(axes[:2], ("unlimited", "stops")):
-        _omega_star_panel(fig, ax, study, kind)
+    fig, (axes,) = _panels((16, 6.5), (1, 3), fig, ax)
+    found = thresholds(data)
+    _best_gain_panel(axes[0], found)
+    _frequency_panel(axes[1], found)
     j = p.size // 2
     for i, lam in enumerate(data["lam"].values):
         for kind, ls in (("unlimited", "-"), ("stops", "--")):
