@@ -241,7 +241,7 @@ def _suite_label(suite: dict) -> str:
         pulses = suite["pulses"]
         families = sorted({PULSE_NAMES[p["family"]] for p in pulses})
         periods = [p["T_g"] for p in pulses]
-        return f"{len(pulses)} pulses ({', '.join(families)}), T_g {min(periods):.3g} to {max(periods):.3g} s"
+        return f"{len(pulses)} pulses ({', '.join(families)}), $T_g$ {min(periods):.3g} to {max(periods):.3g} s"
     return f"{suite['n']} stochastic motions (seed {suite['seed']})"
 
 
