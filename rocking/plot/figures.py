@@ -983,7 +983,10 @@ def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path
     paths = [folder / f"{name or study.kind}.{ext}" for ext in ("png", "pdf")]
     for path in paths:
         try:
-            fig.savefig(path, dpi=150)
+            # Opened here, closed however the writer fails (a full disk fails the PDF writer with its rasterized
+            # parts in a state that keeps its file open until garbage collection).
+            with open(path, "wb") as file:
+                fig.savefig(file, format=path.suffix[1:], dpi=150)
         except OSError as exc:
             raise ParameterError(f"cannot write the figure {path} ({exc.strerror or exc})") from None
     return paths
