@@ -627,3 +627,13 @@ def test_the_threshold_figure_shows_what_the_study_found_per_geometry(small_thre
     np.testing.assert_allclose(np.sort(drawn), np.sort(np.concatenate([above, below])))
     bracketed = (status == THRESHOLD_STATUSES.index("bracketed")).sum()
     assert f"in {bracketed} of {status.size} cases" in ax_omega.get_title()
+
+
+def test_a_maps_pdf_holds_its_cells_as_images_not_paths(cabinet_map, tmp_path):
+    """90,000 noisy cells (each a hatched vector path before) make a PDF under 2 MB: the cells and their hatches
+    are images, the axes and text stay vector."""
+    from rocking.plot.figures import draw
+
+    (png, pdf) = draw(_resampled_map(cabinet_map, 300), tmp_path, "map")
+    assert png.stat().st_size > 0 and pdf.stat().st_size < 2_000_000
+    assert pdf.read_bytes().count(b"/Subtype /Image") >= 3
