@@ -3,7 +3,10 @@
 Every figure is drawn from a :class:`rocking.study.config.Study` as
 :func:`rocking.study.storage.load` reads it back, so :func:`redraw` re-renders a
 figure from its ``.nc``/``.json`` without recomputing anything. Figures are
-written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
+written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display); each figure function also
+draws in a figure (``fig=``) or axes (``ax=``) it is given, and returns the figure, as pandas and xarray do.
+A map's cells are an image (on a log axis, a rasterized mesh) and its hatches one region path per class,
+rasterized: drawing a million cells costs about what 2,500 do, and a PDF is vector only in its axes and text.
 
 Every title names the block (``H``, ``B``, ``M``, ``e`` in m and kg; ``alpha``, ``p``), the damper and the
 pulses from the study's saved configuration, and the non-dimensional axes carry their dimensional
@@ -20,7 +23,8 @@ joined to measured values.
 - optimize: optimal ``T_m / T_g`` and ``T_m p / (2 pi)``, best gain with
   ``Omega*`` marked, and the gain landscape ``G(Omega, T_m)`` of the coarse scan;
 - design: the design's gain over the band, the worst gain of the coarse search, the stroke it uses;
-- threshold: ``Omega*`` over ``(lambda, p)`` for both guides, and the best gain against ``Omega``;
+- threshold: per geometry ``(lambda, p)``, the best gain of each guide, from which ``Omega`` the block alone
+  survives and ``Omega*`` (or its bound); and the best gain against ``Omega``;
 - ida, fragility: the fraction of motions that overturn the block at each level with the fitted
   lognormal fragility, and the outcome of every motion with the damper.
 """
