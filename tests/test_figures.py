@@ -92,8 +92,8 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
     fig = map_figure(cabinet_map)
     used = set()
     for ax in fig.axes[:3]:
-        mesh = ax.collections[0]
-        used |= {to_hex(c) for c in mesh.cmap(np.arange(mesh.cmap.N))}
+        (image,) = ax.images
+        used |= {to_hex(c) for c in image.cmap(np.arange(image.cmap.N))}
     assert used <= PALETTE
     assert not _red_green_pair(used)
     for classes in (OUTCOME_CLASSES, EFFECT_CLASSES):
@@ -252,8 +252,11 @@ def test_period_ticks_stay_away_from_an_axis_that_starts_at_omega_zero(cabinet_m
     assert first >= low + 0.08 * (high - low)
 
 
-def spectrum_figure_of(config: dict, Omega):
-    """A spectrum figure of made-up values over ``Omega``, one direction, no window: only its axes are looked at."""
+def spectrum_figure_of(config: dict, Omega, above=()):
+    """A spectrum figure of made-up values over ``Omega``, one direction, no window; at the indices ``above``
+    neither part overturns in the scan (0.5 to 15): its ``beta_min`` is 15, a lower bound."""
+    from rocking.study.vocabulary import ABOVE
+
     Om = np.asarray(Omega, float)
     shape = (2, Om.size, 1)  # part, Omega, sign
     fields = {
@@ -262,6 +265,8 @@ def spectrum_figure_of(config: dict, Omega):
         **{k: np.full(shape, BRACKETED if k == "flag" else 0) for k in ("flag", "impacts", "undetermined")},
         "scan_outcome": np.full((*shape, 5), -1),
     }
+    fields["flag"][:, list(above)] = ABOVE
+    fields["beta_min"][:, list(above)] = 15.0
     config = {**config, "directions": {"directions": "positive", "signs": [1]}}
     data = spectrum_data(config, Om, np.linspace(0.5, 15, 5), [1], fields)
     return spectrum_figure(rocking.Study("spectrum", config, data, tabulate=spectrum_tables))
@@ -376,3 +381,259 @@ def test_a_records_history_and_plot_show_its_peak():
     ax_g = response_figure({"block alone": response}, block, motion=record).axes[-1]
     drawn = max(np.max(np.abs(line.get_ydata())) for line in ax_g.get_lines() if len(line.get_xdata()) > 2)
     assert drawn == pytest.approx(record.pga, rel=0.01)
+
+
+def test_a_class_region_is_few_rectangles_that_tile_exactly_its_cells():
+    """The rectangles of figures._runs cover every cell of the mask once and no other; a band of 1,000 cells a
+    row wide and 40 rows deep is one rectangle, a checkerboard one per cell."""
+    rng = np.random.default_rng(3)
+    for mask in (rng.random((37, 23)) < 0.4, np.ones((1000, 40), bool), np.indices((6, 5)).sum(0) % 2 == 0):
+        covered = np.zeros(mask.shape, int)
+        for i0, i1, j0, j1 in figures._runs(mask):
+            covered[i0:i1, j0:j1] += 1
+        np.testing.assert_array_equal(covered, mask.astype(int))
+    assert len(figures._runs(np.ones((1000, 40), bool))) == 1
+    assert len(figures._runs(np.indices((6, 5)).sum(0) % 2 == 0)) == 15
+
+
+@pytest.mark.parametrize("n", [8, 300])
+def test_a_map_draws_one_image_and_one_region_per_hatch_whatever_its_size(cabinet_map, n):
+    """Issue 28 target 0: the artists of a class map do not grow with its cells (a 300 x 300 map of noisy
+    classes, 90,000 cells, has the 8 x 8 map's artists), and the hatched regions are rasterized."""
+    study = _resampled_map(cabinet_map, n)
+    fig = map_figure(study)
+    for ax in fig.axes[:3]:
+        assert len(ax.images) == 1 and not ax.collections
+        regions = [p for p in ax.artists + ax.patches if p.get_hatch()]
+        assert len(regions) <= 3 and all(r.get_rasterized() for r in regions)
+
+
+def _resampled_map(study, n: int):
+    """``study`` with random outcomes on an ``n x n`` grid over the same ranges (the registry's schema)."""
+    from rocking.study.overturning_map import map_data, map_summary
+
+    rng = np.random.default_rng(n)
+    Om, beta = np.linspace(1.0, 10.0, n), np.linspace(1.0, 10.0, n)
+    shape = (2, n, n, 1)
+    over = rng.random(shape) < 0.6
+    fields = {
+        "overturned": over,
+        "impacts": np.where(over, rng.integers(0, 5, shape), 0),
+        "theta_max": np.where(over, np.pi / 2, 0.1),
+        "x_max": np.full(shape, 0.1),
+        **{k: np.zeros(shape, int) for k in ("status", "stop_contacts")},
+        "bumper_force_max": np.zeros(shape),
+    }
+    config = {**study.config, **{k: {**study.config[k], "n": n} for k in ("Omega", "beta")}}
+    data = map_data(config, Om, beta, [1], fields, np.ones((2, n, n), bool))
+    return dataclasses.replace(study, config=config, data=data, summary=map_summary(data, CABINET.B / 2))
+
+
+def test_every_figure_function_draws_in_a_figure_or_axes_it_is_given(cabinet_map, spectrum):
+    """As pandas and xarray do: ``fig=`` draws in that figure, ``ax=`` in those axes (one per panel), and the
+    figure drawn in is returned; each function's docstring says so."""
+    for name in ("map_figure", "spectrum_figure", "optimize_figure", "design_figure", "threshold_figure", "ida_figure"):
+        doc = getattr(figures, name).__doc__
+        assert "fig : Figure, optional" in doc and "ax : sequence of Axes, optional" in doc, name
+    given = Figure()
+    assert map_figure(cabinet_map, fig=given) is given and len(given.axes) >= 3
+    outer = Figure()
+    left, right = outer.subfigures(1, 2)
+    assert spectrum_figure(spectrum, fig=right) is right and not left.axes and len(right.axes) >= 2
+    host = Figure()
+    axes = host.subplots(1, 3)
+    assert map_figure(cabinet_map, ax=axes) is host and all(ax.images for ax in axes)
+    with pytest.raises(rocking.ParameterError, match="needs 2 axes"):
+        spectrum_figure(spectrum, ax=axes)
+
+
+def test_ida_names_its_motions_and_writes_its_measure_with_its_unit(tmp_path):
+    """Two pulses scaled to a PGA: one tick per motion at 0 and 1 with the suite's names (not -0.5 ... 1.5),
+    "PGA (m/s$^2$)" on the level axes, the fit's median without a power of ten."""
+    from rocking.plot.figures import ida_figure
+    from rocking.study.suite import motion_names
+
+    pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0)]
+    study = rocking.incremental_dynamic_analysis(
+        Block.reference(),
+        motions=pulses,
+        levels=[1.0, 3.0, 9.0, 27.0],
+        measure="pga",
+        t_after=3.0,
+        runs=tmp_path,
+        workers=1,
+        progress=False,
+        study=True,
+    )
+    fig = ida_figure(study)
+    FigureCanvasAgg(fig).draw()
+    ax_f, ax_m = fig.axes[:2]
+    names = motion_names(study.config["suite"])
+    assert names[0].startswith("ricker") and len(names) == 2
+    assert list(ax_m.get_yticks()) == [0, 1] and [t.get_text() for t in ax_m.get_yticklabels()] == names
+    assert ax_m.get_ylim() == (-0.5, 1.5)
+    assert ax_f.get_xlabel() == ax_m.get_xlabel() == "PGA (m/s$^2$)"
+    texts = [t.get_text() for t in ax_f.get_legend().get_texts()] + [fig._suptitle.get_text()]
+    assert not any("e+" in t or "e-0" in t for t in texts)
+
+
+def test_readable_numbers_have_no_power_of_ten():
+    assert [figures._readable(v) for v in (407123.0, 0.0021345, 2.5, 1.0)] == ["407000", "0.00213", "2.5", "1"]
+
+
+def test_map_axes_start_at_zero_and_say_one_cell_in_the_singular(cabinet_map):
+    """A 4 x 4 map from Omega = 0.5, beta = 0.5 in steps of 1 would reach -0.0 and 0 half a step out: its axes
+    stop at 0; the effect's title counts "1 cell saved", not "1 cells"."""
+    study = _resampled_map(cabinet_map, 4)
+    data = study.data.assign_coords(Omega=[0.3, 1.3, 2.3, 3.3], beta=[0.2, 1.2, 2.2, 3.2])
+    one = dataclasses.replace(study, data=data, summary={**study.summary, "saved": 1})
+    fig = map_figure(one)
+    for ax in fig.axes[:3]:
+        assert ax.get_xlim()[0] == 0.0 and ax.get_ylim()[0] == 0.0
+    assert "1 cell saved" in fig.axes[2].get_title()
+    assert figures._cells(2) == "2 cells"
+
+
+def test_the_map_legend_lists_the_classes_that_occur_and_its_secondary_axes_read_as_its_own(cabinet_map):
+    """Classes 'after 2 impacts' and 'after 3 or more impacts' absent from both panels: not in the legend; the
+    a_g (g) and T_g (s) labels as large as the beta and Omega labels."""
+    study = _resampled_map(cabinet_map, 6)
+    impacts = np.minimum(study.data["impacts"].values, 1)
+    study = dataclasses.replace(study, data=study.data.assign(impacts=study.data["impacts"].copy(data=impacts)))
+    fig = map_figure(study)
+    labels = [t.get_text() for t in fig.legends[0].get_texts()]
+    assert "after 2 impacts" not in labels and "after 3 or more impacts" not in labels
+    assert "overturned after 1 impact" in labels and "safe" in labels
+    ax = fig.axes[0]
+    right, top = fig.axes[2].child_axes[-1], ax.child_axes[0]
+    assert right.yaxis.label.get_size() == ax.yaxis.label.get_size()
+    assert top.xaxis.label.get_size() == ax.xaxis.label.get_size()
+
+
+def test_the_block_alones_bounds_show_beside_the_dampers_and_period_ticks_do_not_crowd(cabinet_map):
+    """Where neither block overturns within the scan (beta_min = the last beta scanned, flag ABOVE), both get a
+    lower-bound marker at that beta, side by side; the period ticks are at least 0.4 inch apart on a drawn figure
+    (0.05 to 30 in Omega: periods from 37 s to 0.06 s)."""
+    from rocking.plot.style import PART_STYLE
+
+    Om = np.linspace(0.05, 30.0, 25)
+    fig = spectrum_figure_of(cabinet_map.config, Om, above=[20, 21, 22])
+    FigureCanvasAgg(fig).draw()
+    ax = fig.axes[0]
+    bounds = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
+    colours = {to_hex(c.lines[0].get_color()): c.lines[0] for c in bounds}
+    bare, damper = (colours[to_hex(PART_STYLE[part]["color"])] for part in ("bare", "damper"))
+    for line in (bare, damper):
+        np.testing.assert_allclose(line.get_xdata(), Om[20:23], atol=0.5 * (Om[1] - Om[0]))
+        np.testing.assert_allclose(line.get_ydata(), 15.0)
+    assert (bare.get_xdata() < damper.get_xdata()).all()
+    top = ax.child_axes[0]
+    ticks = np.sort(2 * np.pi / (CABINET.p * np.asarray(top.get_xticks())))
+    inches = np.diff(ax.transData.transform(np.c_[ticks, np.zeros_like(ticks)])[:, 0]) / fig.dpi
+    assert ticks.size >= 3 and inches.min() >= 0.4
+
+
+@pytest.fixture(scope="module")
+def small_design(tmp_path_factory):
+    from rocking.study.design import design
+
+    return design(
+        Setting(Block.reference()),
+        Grid("Omega", 4.0, 6.0, 2),
+        Grid("beta", 0.5, 20.0, 27),
+        SERIAL,
+        runs=tmp_path_factory.mktemp("design"),
+        Tm=Grid("Tm", 0.5, 4.0, 3, log=True),
+        zeta=Grid("zeta", 0.02, 0.2, 2, log=True),
+        refine=1,
+    )
+
+
+def test_the_design_figure_keeps_each_direction_visible_and_says_what_the_stroke_does(small_design):
+    """The reference block is eccentric: both directions. Each direction's gain (beta_min with the damper over
+    beta_min alone, of that sign) is drawn over the envelope's, which the legend explains; the stroke panel's
+    title gives the largest x_max / L and the stops' contacts."""
+    from rocking.plot.figures import ENVELOPE_GAIN, design_figure
+
+    a = small_design.arrays
+    fig = design_figure(small_design)
+    ax_g, ax_x = fig.axes[0], fig.axes[2]
+    lines = {line.get_label(): line for line in ax_g.get_lines()}
+    envelope = lines[ENVELOPE_GAIN]
+    for i, sign in enumerate(a["signs"]):
+        line = lines[f"pulses of sign {sign:+d} alone"]
+        ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
+        np.testing.assert_allclose(line.get_ydata(), ratio)
+        assert line.get_zorder() > envelope.get_zorder() and line.get_linewidth() < envelope.get_linewidth()
+    use = a["stroke_use"]
+    title = ax_x.get_title()
+    assert f"stroke up to {np.nanmax(use):.2f} L" in title
+    assert ("on the stops at" in title) == bool((a["stop_contacts"] > 0).any())
+
+
+def test_an_mp_study_title_writes_gamma_mp_and_the_dampers_gamma():
+    config = {
+        "block": Block.reference().as_params(),
+        "pulse": {"motion": "mp", "gamma_mp": 2.0, "nu": 0.5},
+        "damper": {"gamma": 0.05, "omega_ratio": 1.0, "zeta": 0.05, "h": 0.05},
+    }
+    fig = Figure()
+    figures._title(fig, "Map", config)
+    title = fig._suptitle.get_text()
+    assert r"$\gamma_{MP}$ = 2" in title and r"damper $\gamma$ = 0.05" in title
+
+
+@pytest.fixture(scope="module")
+def small_threshold(tmp_path_factory):
+    from rocking.study.threshold import threshold_map
+
+    return threshold_map(
+        Grid("lam", 3.0, 4.0, 2),
+        Grid("p", 1.5, 4.0, 2),
+        Grid("Omega", 2.0, 14.0, 4),
+        SERIAL,
+        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
+        runs=tmp_path_factory.mktemp("threshold"),
+    )
+
+
+def test_the_threshold_figure_shows_what_the_study_found_per_geometry(small_threshold):
+    """No heat map: per (lambda, p) the best gain of each damper (filled: unlimited, open: stops), the Omega from
+    which the block alone survives, and Omega* as a star where bracketed, else an open triangle at its bound;
+    the values drawn are those of rocking.study.threshold.thresholds."""
+    from rocking.study.threshold import thresholds
+    from rocking.study.vocabulary import THRESHOLD_STATUSES
+
+    found = thresholds(small_threshold.data)
+    fig = figures.threshold_figure(small_threshold)
+    ax_gain, ax_omega = fig.axes[:2]
+    assert not ax_gain.images + ax_omega.images and not ax_gain.collections
+    lines = {line.get_label(): line for line in ax_gain.get_lines()}
+    for i, lam in enumerate(found["lam"].values):
+        for kind in ("unlimited", "stops"):
+            line = lines[rf"$\lambda$ = {lam:.3g}, {kind}"]
+            np.testing.assert_allclose(line.get_ydata(), found["best_gain"].sel(part=kind).values[i])
+            assert (line.get_markerfacecolor() == "white") == (kind == "stops")
+        safe = next(ln for ln in ax_omega.get_lines() if ln.get_label() == rf"$\lambda$ = {lam:.3g}")
+        np.testing.assert_allclose(safe.get_ydata(), found["safe_from"].values[i])
+    status = found["status"].values
+    stars = [ln for ln in ax_omega.get_lines() if ln.get_marker() == "*"]
+    drawn = np.concatenate([ln.get_ydata() for ln in stars])
+    assert np.isfinite(drawn).sum() == (status == THRESHOLD_STATUSES.index("bracketed")).sum()
+    bounds = [c for c in ax_omega.containers if isinstance(c, ErrorbarContainer)]
+    above = found["Omega_star_low"].values[status == THRESHOLD_STATUSES.index("above_range")]
+    below = found["Omega_star_high"].values[status == THRESHOLD_STATUSES.index("below_range")]
+    drawn = np.concatenate([c.lines[0].get_ydata() for c in bounds]) if bounds else []
+    np.testing.assert_allclose(np.sort(drawn), np.sort(np.concatenate([above, below])))
+    bracketed = (status == THRESHOLD_STATUSES.index("bracketed")).sum()
+    assert f"in {bracketed} of {status.size} cases" in ax_omega.get_title()
+
+
+def test_a_maps_pdf_holds_its_cells_as_images_not_paths(cabinet_map, tmp_path):
+    """90,000 noisy cells (each a hatched vector path before) make a PDF under 2 MB: the cells and their hatches
+    are images, the axes and text stay vector."""
+    from rocking.plot.figures import draw
+
+    (png, pdf) = draw(_resampled_map(cabinet_map, 300), tmp_path, "map")
+    assert png.stat().st_size > 0 and pdf.stat().st_size < 2_000_000
+    assert pdf.read_bytes().count(b"/Subtype /Image") >= 3

@@ -3,7 +3,10 @@
 Every figure is drawn from a :class:`rocking.study.config.Study` as
 :func:`rocking.study.storage.load` reads it back, so :func:`redraw` re-renders a
 figure from its ``.nc``/``.json`` without recomputing anything. Figures are
-written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display).
+written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display); each figure function also
+draws in a figure (``fig=``) or axes (``ax=``) it is given, and returns the figure, as pandas and xarray do.
+A map's cells are an image (on a log axis, a rasterized mesh) and its hatches one region path per class,
+rasterized: drawing a million cells costs about what 2,500 do, and a PDF is vector only in its axes and text.
 
 Every title names the block (``H``, ``B``, ``M``, ``e`` in m and kg; ``alpha``, ``p``), the damper and the
 pulses from the study's saved configuration, and the non-dimensional axes carry their dimensional
@@ -20,7 +23,8 @@ joined to measured values.
 - optimize: optimal ``T_m / T_g`` and ``T_m p / (2 pi)``, best gain with
   ``Omega*`` marked, and the gain landscape ``G(Omega, T_m)`` of the coarse scan;
 - design: the design's gain over the band, the worst gain of the coarse search, the stroke it uses;
-- threshold: ``Omega*`` over ``(lambda, p)`` for both guides, and the best gain against ``Omega``;
+- threshold: per geometry ``(lambda, p)``, the best gain of each guide, from which ``Omega`` the block alone
+  survives and ``Omega*`` (or its bound); and the best gain against ``Omega``;
 - ida, fragility: the fraction of motions that overturn the block at each level with the fitted
   lognormal fragility, and the outcome of every motion with the damper.
 """
@@ -29,14 +33,14 @@ from __future__ import annotations
 
 from pathlib import Path
 
+import matplotlib.path as mpath
 import numpy as np
 from matplotlib.backends.backend_agg import FigureCanvasAgg
-from matplotlib.collections import PolyCollection
-from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm, Normalize, to_rgb
+from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 from matplotlib.figure import Figure
 from matplotlib.lines import Line2D
-from matplotlib.patches import Patch, Rectangle
-from matplotlib.ticker import FuncFormatter
+from matplotlib.patches import Patch, PathPatch
+from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
@@ -47,9 +51,22 @@ from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import safe_windows
 from ..study.storage import load
+from ..study.suite import motion_names
 from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED
-from .style import DIVERGING, GREY, LIGHT, OKABE_ITO, PART_STYLE, PULSE_NAMES, SEQUENTIAL, cycle, extend
+from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
+from .style import (
+    DIVERGING,
+    GREY,
+    LIGHT,
+    MEASURE_NAMES,
+    OKABE_ITO,
+    PART_STYLE,
+    PULSE_NAMES,
+    UNIT_TEXT,
+    cycle,
+    extend,
+)
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
 OUTCOME_CLASSES = (
@@ -86,7 +103,9 @@ def _edges(centres: np.ndarray, log: bool = False) -> np.ndarray:
     if c.size == 1:
         return np.array([c[0] - 0.5, c[0] + 0.5])
     mid = 0.5 * (c[1:] + c[:-1])
-    return np.concatenate([[2 * c[0] - mid[0]], mid, [2 * c[-1] - mid[-1]]])
+    # A grid of positive values (Omega, beta: a pulse's frequency and amplitude) ends at 0, not half a step past.
+    first = max(2 * c[0] - mid[0], 0.0) if c[0] > 0 else 2 * c[0] - mid[0]
+    return np.concatenate([[first], mid, [2 * c[-1] - mid[-1]]])
 
 
 def _legend_below(ax, handles=None, ncols: int = 2) -> None:
@@ -95,20 +114,55 @@ def _legend_below(ax, handles=None, ncols: int = 2) -> None:
     ax.legend(**kwargs, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
 
 
+def _runs(mask: np.ndarray) -> np.ndarray:
+    """The cells of a boolean ``(x, y)`` grid as few rectangles of cell indices ``(i0, i1, j0, j1)`` (ends
+    exclusive): runs along ``x`` in each row, joined along ``y`` where consecutive rows hold the same run."""
+    padded = np.pad(mask.T.astype(np.int8), ((0, 0), (1, 1)))
+    step = np.diff(padded, axis=1)
+    j, i0 = np.nonzero(step == 1)
+    i1 = np.nonzero(step == -1)[1]  # row by row, each end follows its start
+    order = np.lexsort((j, i1, i0))
+    j, i0, i1 = j[order], i0[order], i1[order]
+    # A new rectangle wherever the run changes or its row does not follow the one before.
+    new = np.ones(j.size, bool)
+    new[1:] = (i0[1:] != i0[:-1]) | (i1[1:] != i1[:-1]) | (j[1:] != j[:-1] + 1)
+    first = np.flatnonzero(new)
+    last = np.append(first[1:], j.size) - 1
+    return np.c_[i0[first], i1[first], j[first], j[last] + 1]
+
+
+def _region(x: np.ndarray, y: np.ndarray, mask: np.ndarray) -> mpath.Path:
+    """One compound path of the cells of ``mask`` on the cell edges ``x``, ``y``: a class's region, drawn (and
+    hatched) as one artist however many cells it holds."""
+    i0, i1, j0, j1 = _runs(mask).T
+    corners = np.stack([np.c_[x[i0], y[j0]], np.c_[x[i1], y[j0]], np.c_[x[i1], y[j1]], np.c_[x[i0], y[j1]]], 1)
+    vertices = np.concatenate([corners, corners[:, :1]], axis=1).reshape(-1, 2)
+    codes = np.tile([mpath.Path.MOVETO] + 3 * [mpath.Path.LINETO] + [mpath.Path.CLOSEPOLY], i0.size)
+    return mpath.Path(vertices, codes)
+
+
 def _classes(ax, Omega, beta, classes: np.ndarray, palette, xlog: bool = False) -> list[Patch]:
     """Draw integer classes on the (Omega, beta) plane in colour and hatch (cells centred in log scale along
-    ``Omega`` if ``xlog``); the legend's handles of those present."""
+    ``Omega`` if ``xlog``); the legend's handles of the classes present, in the palette's order.
+
+    The colours are one raster mesh and each hatch one region path, both rasterized: the cost of drawing, and the
+    size of a PDF, do not grow with the number of cells (the axes and the text stay vector).
+    """
     x, y = _edges(Omega, xlog), _edges(beta)
     cmap = ListedColormap([c for _, c, _ in palette])
     norm = BoundaryNorm(np.arange(len(palette) + 1) - 0.5, cmap.N)
-    ax.pcolormesh(x, y, classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
-    for k, (_, _, hatch) in enumerate(palette):
-        i, j = np.nonzero(classes == k)
-        if hatch and i.size:
-            corners = ((x[i], y[j]), (x[i + 1], y[j]), (x[i + 1], y[j + 1]), (x[i], y[j + 1]))
-            cells = np.stack([np.c_[cx, cy] for cx, cy in corners], axis=1)
-            ax.add_collection(PolyCollection(cells, facecolor="none", edgecolor=HATCH_COLOUR, hatch=hatch, lw=0))
+    if xlog:  # an image is resampled evenly in data terms: on a log axis, a mesh (IDA's levels, a few)
+        ax.pcolormesh(x, y, classes.T, cmap=cmap, norm=norm, shading="flat", rasterized=True)
+    else:
+        ax.pcolorfast(x, y, classes.T, cmap=cmap, norm=norm)
     present = np.unique(classes)
+    for k, (_, _, hatch) in enumerate(palette):
+        if hatch and k in present:
+            region = PathPatch(_region(x, y, classes == k), facecolor="none", edgecolor=HATCH_COLOUR, hatch=hatch, lw=0)
+            region.set_rasterized(True)
+            # As an artist, not a patch: the image already sets the limits, and a patch's would be found
+            # by walking every one of its segments.
+            ax.add_artist(region)
     return [
         Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label)
         for k, (label, c, h) in enumerate(palette)
@@ -161,7 +215,9 @@ def _damper_label(config: dict) -> str:
 def _pulse_label(config: dict) -> str:
     """The pulse family of a study for a title (the one-sine when the configuration names none)."""
     pulse = config.get("pulse", {"motion": "sine"})
-    shape = rf" ($\gamma$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
+    shape = (
+        rf" ($\gamma_{{MP}}$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
+    )
     return PULSE_NAMES[pulse["motion"]] + shape
 
 
@@ -189,7 +245,7 @@ def _suite_label(suite: dict) -> str:
         pulses = suite["pulses"]
         families = sorted({PULSE_NAMES[p["family"]] for p in pulses})
         periods = [p["T_g"] for p in pulses]
-        return f"{len(pulses)} pulses ({', '.join(families)}), T_g {min(periods):.3g} to {max(periods):.3g} s"
+        return f"{len(pulses)} pulses ({', '.join(families)}), $T_g$ {min(periods):.3g} to {max(periods):.3g} s"
     return f"{suite['n']} stochastic motions (seed {suite['seed']})"
 
 
@@ -202,35 +258,40 @@ def _directions_label(config: dict, what: str = "pulses") -> str:
     return f"{'positive' if chosen['signs'][0] > 0 else 'negative'} {what}{mirrored}"
 
 
-#: Tick values of a period axis: these mantissas in every decade (s).
-PERIOD_TICKS = np.array([m * 10.0**k for k in range(-3, 4) for m in (1, 1.5, 2, 3, 5, 7)])
+#: Tick values of a period axis (s): these mantissas in every decade, the roundest first (a tick is kept only
+#: where it does not crowd those before it).
+PERIOD_TICKS = np.array([m * 10.0**k for m in (1, 2, 5, 3, 1.5, 7) for k in range(-3, 4)])
+#: Least distance between two period ticks, and from the axis' left end: inches, and a share of the axis.
+TICK_GAP = (0.45, 0.08)
 
 
 def _period_axis(ax, p: float) -> None:
     """A top axis of the pulse period ``T_g = 2 pi / (Omega p)``, s, over an ``Omega`` axis (call it once the
-    axis has its limits: its ticks are round periods at least 8 % of the axis apart and from its left end)."""
+    axis has its limits: its ticks are round periods :data:`TICK_GAP` apart and from its left end)."""
 
     def period(x):  # its own inverse; Omega <= 0 lies off every axis drawn
         return 2 * np.pi / (p * np.maximum(np.asarray(x, float), 1e-9))
 
     low, high = sorted(ax.get_xlim())
-    # From the left, the first tick 8 % in: the periods crowd where Omega is small, and grow without bound
-    # towards an axis that starts at Omega = 0.
-    ticks, last = [], low
-    for T in PERIOD_TICKS[::-1]:
+    inches = ax.get_position().width * ax.get_figure(root=True).get_figwidth()
+    gap = (high - low) * max(TICK_GAP[0] / inches, TICK_GAP[1])
+    # The periods crowd where Omega is small, and grow without bound towards an axis that starts at Omega = 0:
+    # the left end counts as a tick.
+    kept = {low: None}
+    for T in PERIOD_TICKS:
         where = float(period(T))
-        if low <= where <= high and where - last >= 0.08 * (high - low):
-            ticks.append(T)
-            last = where
+        if low <= where <= high and all(abs(where - w) >= gap for w in kept):
+            kept[where] = float(T)
+    ticks = sorted(T for T in kept.values() if T is not None)
     axis = ax.secondary_xaxis("top", functions=(period, period))
     axis.set_xticks(ticks, [f"{T:g}" for T in ticks])
-    axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)", fontsize=8)
+    axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)")
 
 
 def _acceleration_axis(ax, tan_alpha: float) -> None:
     """A right axis of the pulse amplitude ``a_g / g = beta tan(alpha)`` over a ``beta`` axis."""
     axis = ax.secondary_yaxis("right", functions=(lambda b: b * tan_alpha, lambda a: a / tan_alpha))
-    axis.set_ylabel(r"$a_g$ (g)", fontsize=8)
+    axis.set_ylabel(r"$a_g$ (g)")
 
 
 def _omega_axis(ax, label: str = r"$\Omega = \omega_g / p$") -> None:
@@ -326,14 +387,59 @@ def _plain_ticks(axis) -> None:
     axis.set_minor_formatter(FuncFormatter(minor))
 
 
-def map_figure(study: Study) -> Figure:
+def _panels(size: tuple, shape: tuple, fig=None, ax=None, **grid) -> tuple:
+    """The figure and the ``shape`` panels a figure function draws in: the axes ``ax`` given (as many as its
+    panels, in reading order), or new ones in the figure ``fig`` given, or in a new figure of ``size`` (inches).
+
+    Raises
+    ------
+    ParameterError
+        ``ax`` and ``fig`` both given, or ``ax`` not one axes per panel.
+    """
+    if ax is not None:
+        if fig is not None:
+            raise ParameterError("give ax= or fig=, not both (ax= draws in the figure of its axes)")
+        axes = np.asarray(ax, dtype=object).ravel()
+        if axes.size != np.prod(shape):
+            raise ParameterError(f"ax= needs {np.prod(shape)} axes for this figure's panels, got {axes.size}")
+        return axes[0].get_figure(), axes.reshape(shape)
+    fig = Figure(figsize=size, layout="constrained") if fig is None else fig
+    return fig, np.asarray(fig.subplots(*shape, squeeze=False, **grid), dtype=object).reshape(shape)
+
+
+#: The parameters and the result of every figure function, in its docstring (:func:`_figure_function`).
+PARAMETERS = """
+
+    Parameters
+    ----------
+    study : Study
+        The study, as it ran or as :func:`rocking.study.storage.load` reads it back.
+    fig : Figure, optional
+        A figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a new one.
+    ax : sequence of Axes, optional
+        Axes to draw in instead, one per panel in reading order (their figure takes the title and legends).
+
+    Returns
+    -------
+    Figure
+        The figure drawn in (a new one is not attached to a canvas: :func:`draw` saves it).
+"""
+
+
+def _figure_function(function):
+    """A figure function with its parameters (:data:`PARAMETERS`) in its docstring."""
+    function.__doc__ = function.__doc__.rstrip() + PARAMETERS
+    return function
+
+
+@_figure_function
+def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """Outcome maps of the bare and the damped block, and the damper's effect."""
     data, block = study.data, _block(study.config)
     env = envelope(data)
     Om, beta = data["Omega"].values, data["beta"].values
     over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
-    fig = Figure(figsize=(15, 6.2), layout="constrained")
-    axes = fig.subplots(1, 3, sharex=True, sharey=True)
+    fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
     for ax, part in zip(axes, PARTS):
         cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), 0)
         handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
@@ -352,7 +458,7 @@ def map_figure(study: Study) -> Figure:
     fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
-        f"effect of the damper: {s.get('saved', 0)} cells saved\n({int(past.sum())} only past the edge"
+        f"effect of the damper: {_cells(s.get('saved', 0))} saved\n({int(past.sum())} only past the edge"
         + (f", {int(unknown.sum())} of unknown stroke" if unknown.any() else "")
         + f"), {s.get('lost', 0)} lost",
         fontsize=9,
@@ -364,6 +470,11 @@ def map_figure(study: Study) -> Figure:
     _acceleration_axis(axes[2], block.tan_alpha)
     _title(fig, "Overturning map", study.config, _refinement_label(study))
     return fig
+
+
+def _cells(n: int) -> str:
+    """A count of map cells in words: "1 cell", "12 cells"."""
+    return f"{n} cell" if n == 1 else f"{n} cells"
 
 
 def _refinement_label(study: Study) -> str:
@@ -385,7 +496,8 @@ def _refinement_label(study: Study) -> str:
 WINDOW_HATCH = {"bare": "\\\\\\", "damper": "///"}
 
 
-def spectrum_figure(study: Study) -> Figure:
+@_figure_function
+def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
     env, block = spectrum_envelope(study.data), _block(study.config)
     a = {k: {part: env[k].sel(part=part).values for part in PARTS} for k in ("flag", "beta_min")}
@@ -393,8 +505,7 @@ def spectrum_figure(study: Study) -> Figure:
     step = np.diff(Om).min() if Om.size > 1 else 1.0
     scan = study.config["beta"]
     arrow = 0.05 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.05 * scan["high"]
-    fig = Figure(figsize=(13, 6.4), layout="constrained")
-    ax, ax_gain = fig.subplots(1, 2, width_ratios=(2, 1))
+    fig, ((ax, ax_gain),) = _panels((13, 6.4), (1, 2), fig, ax, width_ratios=(2, 1))
     # The damped block's markers are larger, drawn under the bare block's: both stay visible where the two
     # coincide (below the damper's frequency range they often do).
     for shift, part, z in zip((-0.15, 0.15), ("bare", "damper"), (4, 3)):
@@ -412,7 +523,8 @@ def spectrum_figure(study: Study) -> Figure:
         )
         for code, up in ((ABOVE, True), (BELOW, False)):
             sel = flag == code
-            _bounds(ax, Om[sel], bm[sel], arrow, style["color"], up)
+            # Both parts are bounded by the same scan's ends: side by side, neither hides the other.
+            _bounds(ax, Om[sel] + 1.5 * shift * step, bm[sel], arrow, style["color"], up)
         w = safe_windows(env, part)
         if len(w):
             ax.bar(
@@ -462,13 +574,13 @@ def _threshold_text(t: dict) -> str:
     return r"$\Omega^*$ unknown (no gain defined)"
 
 
-def optimize_figure(study: Study) -> Figure:
+@_figure_function
+def optimize_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """Optimal period (two normalisations), best gain with ``Omega*``, gain landscape of one ``gamma``."""
     a, cfg = study.arrays, study.config
     block = _block(cfg)
     Om, gammas = a["Omega"], a["gamma"]
-    fig = Figure(figsize=(12, 10), layout="constrained")
-    (ax_tg, ax_tp), (ax_g, ax_map) = fig.subplots(2, 2)
+    fig, ((ax_tg, ax_tp), (ax_g, ax_map)) = _panels((12, 10), (2, 2), fig, ax)
     useless = study.summary.get("useless_gain", 1.01)
     bounded = False
     step = np.ptp(Om) / 100
@@ -508,7 +620,7 @@ def optimize_figure(study: Study) -> Figure:
     period = ax_tp.secondary_yaxis(
         "right", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
     )
-    period.set_ylabel(r"$T_m$ (s)", fontsize=8)
+    period.set_ylabel(r"$T_m$ (s)")
     for axis in (ax_tg.yaxis, ax_tp.yaxis, period.yaxis):
         _plain_ticks(axis)
     for ax in (ax_tg, ax_tp, ax_g):
@@ -540,21 +652,41 @@ def optimize_figure(study: Study) -> Figure:
     return fig
 
 
-def design_figure(study: Study) -> Figure:
+#: The legend of a design's gain of the envelopes, against the gains of each direction.
+ENVELOPE_GAIN = (
+    "gain of the envelopes: the worse direction with the damper over the worse alone\n"
+    "(the gain of one direction where it governs both; between the two where they differ)"
+)
+
+
+def _stroke_text(Omega, use, contacts, L: float, half_width: float) -> str:
+    """What the stroke panel of a design shows, in words: the largest stroke (``use`` in units of the stops'
+    ``L``, m), where it is, and whether the mass reaches the stops (``contacts`` per ``Omega``) or the block's edge."""
+    use = np.asarray(use, float)
+    if not np.isfinite(use).any():
+        return "stroke: no pulse of the band overturns the block alone"
+    i = int(np.nanargmax(use))
+    on_stops = int((np.asarray(contacts) > 0).sum())
+    text = f"stroke up to {use[i]:.2f} L = {use[i] * L:.3g} m (at $\\Omega$ = {Omega[i]:.3g});\n"
+    text += f"on the stops at {on_stops} of {use.size} $\\Omega$" if on_stops else "never on the stops"
+    return text + (", past the block's edge" if use[i] * L > half_width else ", on the block")
+
+
+@_figure_function
+def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
     the coarse search, and the stroke the design uses at the pulses that overturn the block alone."""
     a, s, block = study.arrays, study.summary, _block(study.config)
-    fig = Figure(figsize=(15, 6), layout="constrained")
-    ax_g, ax_map, ax_x = fig.subplots(1, 3)
+    fig, ((ax_g, ax_map, ax_x),) = _panels((15, 6), (1, 3), fig, ax)
     Om = a["Omega"]
     for i, sign in enumerate(a["signs"]):
         ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
-        # Over the envelope, which one direction governs: drawn under it, that direction's line would vanish.
-        ax_g.plot(Om, ratio, ":", ms=3, zorder=3, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1))
-    style = PART_STYLE["damper"]
-    bounded = _gain_curve(
-        ax_g, Om, a["gain_opt"], a["flag_opt"], {"color": style["color"], "marker": style["marker"]}, "gain (envelopes)"
-    )
+        # On top of the envelope: where one direction governs both blocks its gain is the envelope's.
+        ax_g.plot(
+            Om, ratio, ("--", ":")[i % 2], ms=4, zorder=5, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1)
+        )
+    envelope_style = {"color": PART_STYLE["damper"]["color"], "lw": 6, "alpha": 0.3, "solid_capstyle": "round"}
+    bounded = _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], envelope_style, ENVELOPE_GAIN)
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
@@ -562,7 +694,7 @@ def design_figure(study: Study) -> Figure:
     ax_g.set_title(
         rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}", fontsize=9
     )
-    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []))
+    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
     r, z = a["r_coarse"], a["zeta_coarse"]
     worst = a["candidate_worst_gain"][: r.size * z.size].reshape(z.size, r.size)
     norm, extension = _gain_norm(worst)
@@ -584,7 +716,7 @@ def design_figure(study: Study) -> Figure:
     period = ax_map.secondary_xaxis(
         "top", functions=(lambda r: r * 2 * np.pi / block.p, lambda t: t * block.p / (2 * np.pi))
     )
-    period.set_xlabel(r"$T_m$ (s)", fontsize=8)
+    period.set_xlabel(r"$T_m$ (s)")
     for axis in (ax_map.xaxis, ax_map.yaxis, period.xaxis):
         _plain_ticks(axis)
     ax_map.set_ylabel(r"$\zeta$")
@@ -606,9 +738,9 @@ def design_figure(study: Study) -> Figure:
     _period_axis(ax_x, block.p)
     ax_x.set_ylabel(r"$x_{max} / L$ at $\beta_{min}$ of the block alone")
     ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])).set_ylabel(
-        r"$x_{max}$ (m)", fontsize=8
+        r"$x_{max}$ (m)"
     )
-    ax_x.set_title("stroke used at the pulses that overturn the block alone", fontsize=9)
+    ax_x.set_title(_stroke_text(Om, a["stroke_use"], a["stop_contacts"], d["L_m"], block.B / 2), fontsize=9)
     _legend_below(ax_x, ncols=3)
     damper = (
         rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
@@ -619,86 +751,95 @@ def design_figure(study: Study) -> Figure:
     return fig
 
 
-#: How a cell of the threshold figure writes each status of Omega* (rocking.study.threshold.STATUSES).
-STATUS_TEXT = ("", "<=", ">", "")
-#: Hatch of the threshold cells that hold a bound of Omega*, by its text.
-BOUND_HATCH = {"<=": "\\\\", ">": "//"}
+#: The two dampers of a threshold map: line style and marker face (filled: unlimited guide, open: stops).
+GUIDES = {"unlimited": ("-", None), "stops": ("--", "white")}
 
 
-def _omega_star_panel(fig, ax, study: Study, kind: str) -> None:
-    """``Omega*`` of one kind of damper over ``(lambda, p)``: the value where bracketed, else the highest ``Omega``
-    at which it still helps (a lower bound, hatched); each cell also says from which ``Omega`` the block alone
-    no longer overturns within the bound."""
-    found = thresholds(study.data)
-    a = found.sel(part=kind)
-    lam, p = found["lam"].values, found["p"].values
-    status, star, low = (a[k].values for k in ("status", "Omega_star", "Omega_star_low"))
-    value = np.where(np.isfinite(star), star, low)
-    norm = Normalize(0, float(found["Omega"][-1]))
-    image = ax.pcolormesh(_edges(p), _edges(lam), value, cmap=SEQUENTIAL, norm=norm)
-    x, y = _edges(p), _edges(lam)
-    for i in range(lam.size):
-        for j in range(p.size):
-            v, st = value[i, j], STATUS_TEXT[status[i, j]]
-            text = "?" if not np.isfinite(v) else f"{st}{v:.3g}"
-            safe = found["safe_from"].values[i, j]
-            text += f"\nsafe from {safe:.3g}" if np.isfinite(safe) else ""
-            # Dark text on the light end of the colour map, white on the dark end.
-            shade = image.cmap(norm(v)) if np.isfinite(v) else (1, 1, 1)
-            light = np.dot(to_rgb(shade), (0.299, 0.587, 0.114)) > 0.5
-            ax.text(
-                p[j],
-                lam[i],
-                text,
-                ha="center",
-                va="center",
-                fontsize=8,
-                color="k" if light else "w",
-                bbox={"facecolor": shade, "edgecolor": "none", "pad": 1},
-            )
-            if st:
-                ax.add_patch(
-                    Rectangle(
-                        (x[j], y[i]),
-                        x[j + 1] - x[j],
-                        y[i + 1] - y[i],
-                        facecolor="none",
-                        edgecolor=HATCH_COLOUR,
-                        hatch=BOUND_HATCH[st],
-                        lw=0,
-                        zorder=1,
-                    )
-                )
-    ax.set_xticks(p, [f"{v:.3g}" for v in p])
-    # The homogeneous block's half-diagonal: p = sqrt(3 g / (4 R)) (docs/model.md section 9).
+def _size_axis(ax, p) -> None:
+    """A top axis of the homogeneous block's half-diagonal ``R = 3 g / (4 p^2)``, m, over a ``p`` axis
+    (docs/model.md section 9), its ticks at the grid's ``p`` (rad/s), which the bottom axis also marks."""
     g = Block.__dataclass_fields__["g"].default
-    size = ax.secondary_xaxis(
-        "top",
-        functions=(
-            lambda x: 3 * g / (4 * np.maximum(x, 1e-9) ** 2),
-            lambda R: np.sqrt(3 * g / (4 * np.maximum(R, 1e-9))),
-        ),
-    )
-    size.set_xticks(3 * g / (4 * p**2), [f"{R:.3g}" for R in 3 * g / (4 * p**2)])
-    size.set_xlabel("R (m), half-diagonal", fontsize=8)
-    ax.set_yticks(lam, [f"{v:.3g}" for v in lam])
+
+    def size(x):
+        return 3 * g / (4 * np.maximum(np.asarray(x, float), 1e-9) ** 2)
+
+    def frequency(R):
+        return np.sqrt(3 * g / (4 * np.maximum(np.asarray(R, float), 1e-9)))
+
+    axis = ax.secondary_xaxis("top", functions=(size, frequency))
+    axis.set_xticks(size(p), [f"{R:.3g}" for R in size(p)])
+    axis.set_xlabel("R (m), half-diagonal")
+    ax.set_xticks(p, [f"{v:.3g}" for v in p])
+
+
+def _best_gain_panel(ax, found) -> None:
+    """The best gain over ``Omega`` of each damper against ``p``, one colour per slenderness."""
+    p = found["p"].values
+    for i, lam in enumerate(found["lam"].values):
+        for kind, (ls, face) in GUIDES.items():
+            style = cycle(i)
+            gain = found["best_gain"].sel(part=kind).values[i]
+            ax.plot(p, gain, ls, ms=6, mfc=face or style["color"], label=rf"$\lambda$ = {lam:.3g}, {kind}", **style)
+    ax.axhline(1.0, color=GREY, lw=0.8)
     ax.set_xlabel("p (rad/s)")
-    ax.set_ylabel(r"$\lambda = H / B$")
+    ax.set_ylabel(r"best gain over $\Omega$ ($\beta_{min}$ damped / alone)")
+    ax.set_title("the most the damper gives, per geometry (filled: unlimited guide; open: stops)", fontsize=9)
+    _size_axis(ax, found["p"].values)
+    _legend_below(ax, ncols=2)
+
+
+def _frequency_panel(ax, found) -> None:
+    """Per geometry, against ``p``: from which ``Omega`` the block alone survives (``safe_from``) and ``Omega*``
+    of each damper, measured where bracketed, else a bound (an arrow towards the unknown value)."""
+    p, lams = found["p"].values, found["lam"].values
+    dodge = 0.02 * (np.ptp(p) or 1.0)
+    for i, lam in enumerate(lams):
+        style = cycle(i)
+        safe = found["safe_from"].values[i]
+        ax.plot(p, safe, ":", color=style["color"], marker="_", ms=14, mew=2, label=rf"$\lambda$ = {lam:.3g}")
+        for k, (kind, (_, face)) in enumerate(GUIDES.items()):
+            a = found.sel(part=kind).isel(lam=i)
+            x = p + (k - 0.5) * dodge
+            status = a["status"].values
+            star = np.where(status == STATUSES.index("bracketed"), a["Omega_star"].values, np.nan)
+            ax.plot(x, star, "*", ms=10, color=style["color"], mfc=face or style["color"], ls="none")
+            for name, up, bound in (("above_range", True, "Omega_star_low"), ("below_range", False, "Omega_star_high")):
+                where = status == STATUSES.index(name)
+                _bounds(ax, x[where], a[bound].values[where], 0.04 * float(found["Omega"][-1]), style["color"], up)
+    ax.set_xlabel("p (rad/s)")
+    ax.set_ylabel(r"$\Omega = \omega_g / p$")
+    ax.set_ylim(0, float(found["Omega"][-1]) * 1.08)
+    _size_axis(ax, found["p"].values)
+    handles = ax.get_legend_handles_labels()[0] + [
+        Line2D([], [], ls=":", marker="_", ms=14, mew=2, color="0.3", label="block alone safe from this $\\Omega$ on"),
+        Line2D([], [], ls="none", marker="*", ms=10, color="0.3", label=r"$\Omega^*$ (filled: unlimited; open: stops)"),
+    ]
+    if (found["status"].values == STATUSES.index("above_range")).any():
+        handles.append(
+            Line2D(
+                [], [], ls="none", marker="^", mfc="white", color="0.3", label=r"$\Omega^*$ above: still useful here"
+            )
+        )
+    _legend_below(ax, handles, ncols=2)
+    counts = {name: int((found["status"].values == n).sum()) for n, name in enumerate(STATUSES)}
     ax.set_title(
-        f"{kind} guide: " + r"$\Omega^*$ ('>': still useful at the last $\Omega$ that overturns;" + "\nbounds hatched)",
-        fontsize=8,
+        rf"$\Omega^*$ (the damper's gain falls below useful): bracketed in {counts['bracketed']} of "
+        f"{found['status'].size} cases;\nabove the scan (useful wherever the block alone overturns) in "
+        f"{counts['above_range']}",
+        fontsize=9,
     )
-    fig.colorbar(image, ax=ax, label=r"$\Omega^*$ or its lower bound", extend=extend(value, norm.vmin, norm.vmax))
 
 
-def threshold_figure(study: Study) -> Figure:
-    """``Omega*(lambda, p)`` for the unlimited guide and the stops, and the best gain against ``Omega``."""
+@_figure_function
+def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
+    """What a threshold map found per geometry ``(lambda, p)``: the best gain of each damper, from which ``Omega``
+    the block alone survives and ``Omega*`` (or its bound); and the best gain against ``Omega`` at one ``p``."""
     data, cfg = study.data, study.config
     p, Om = data["p"].values, data["Omega"].values
-    fig = Figure(figsize=(16, 6), layout="constrained")
-    axes = fig.subplots(1, 3)
-    for ax, kind in zip(axes[:2], ("unlimited", "stops")):
-        _omega_star_panel(fig, ax, study, kind)
+    fig, (axes,) = _panels((16, 6.5), (1, 3), fig, ax)
+    found = thresholds(data)
+    _best_gain_panel(axes[0], found)
+    _frequency_panel(axes[1], found)
     j = p.size // 2
     for i, lam in enumerate(data["lam"].values):
         for kind, ls in (("unlimited", "-"), ("stops", "--")):
@@ -731,15 +872,36 @@ def threshold_figure(study: Study) -> Figure:
     return fig
 
 
-def ida_figure(study: Study) -> Figure:
+#: A motion axis names its motions up to this many; beyond, its ticks are motion numbers.
+NAMED_MOTIONS = 30
+
+
+def _motion_axis(ax, names: list[str]) -> None:
+    """The motions of an IDA along ``ax``'s y axis: a tick at each, with its name (when they are few)."""
+    ax.set_ylim(-0.5, len(names) - 0.5)
+    if len(names) <= NAMED_MOTIONS:
+        ax.set_yticks(np.arange(len(names)), names, fontsize=7 if len(names) > 10 else None)
+        ax.set_ylabel("motion")
+    else:
+        ax.yaxis.set_major_locator(MaxNLocator(integer=True))
+        ax.set_ylabel("motion (number in the suite)")
+
+
+def _readable(value: float) -> str:
+    """A number for a title or a legend: three significant digits, without a power of ten (407000, 0.00213)."""
+    return np.format_float_positional(value, precision=3, unique=False, fractional=False, trim="-")
+
+
+@_figure_function
+def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
     band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
     resurrections marked."""
     data, s = study.data, study.summary
     levels, curve_x = data["level"].values, data["curve_x"].values
-    fig = Figure(figsize=(13, 6), layout="constrained")
-    ax_f, ax_m = fig.subplots(1, 2, gridspec_kw={"width_ratios": [1.2, 1]})
-    unit = f" ({s['unit']})" if s["unit"] else ""
+    fig, ((ax_f, ax_m),) = _panels((13, 6), (1, 2), fig, ax, width_ratios=(1.2, 1))
+    unit = UNIT_TEXT[s["unit"]]
+    measure = MEASURE_NAMES[s["measure"]] + (f" ({unit})" if unit else "")
     for part in ("bare", "damper"):
         style, fit = PART_STYLE[part], s[part]
         a = data.sel(part=part)
@@ -754,22 +916,22 @@ def ida_figure(study: Study) -> Figure:
             label=f"{style['label']}: fraction overturned",
         )
         if fit["status"] in ("fitted", "separated"):
-            label = rf"lognormal fit, $\theta$ = {fit['theta']:.3g}, $\beta$ = {fit['beta']:.2f}"
+            median = f"{_readable(fit['theta'])} {unit}".rstrip()
+            label = f"lognormal fit: median {median}, dispersion {fit['beta']:.2f}"
             ax_f.plot(curve_x, a["curve"].values, "-" if part == "bare" else "--", color=style["color"], label=label)
             ax_f.fill_between(
                 curve_x, a["band_low"].values, a["band_high"].values, color=style["color"], alpha=0.15, lw=0
             )
     # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
     xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
-    measure = "scale factor" if s["measure"] == "scale" else s["measure"]
-    ax_f.set_xlabel(f"{measure}{unit}")
+    ax_f.set_xlabel(measure)
     if xlog:
         ax_f.set_xscale("log")
         _plain_ticks(ax_f.xaxis)
     if s["unit"] == "m/s^2":  # an acceleration: in g too, the block's gravity
         g = _block(study.config).g
         in_g = ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g))
-        in_g.set_xlabel(f"{s['measure']} (g)", fontsize=8)
+        in_g.set_xlabel(f"{MEASURE_NAMES[s['measure']]} (g)")
         if xlog:
             _plain_ticks(in_g.xaxis)
     ax_f.set_ylabel("probability of overturning")
@@ -796,8 +958,8 @@ def ida_figure(study: Study) -> Figure:
             label="non-monotone: overturns, then survives a higher level",
         )
         handles += ax_m.get_legend_handles_labels()[0]
-    ax_m.set_xlabel(f"{measure}{unit}")
-    ax_m.set_ylabel("motion")
+    ax_m.set_xlabel(measure)
+    _motion_axis(ax_m, motion_names(study.config["suite"]))
     ax_m.set_title("with the damper: outcome of each motion at each level", fontsize=9)
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
@@ -825,7 +987,10 @@ def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path
     paths = [folder / f"{name or study.kind}.{ext}" for ext in ("png", "pdf")]
     for path in paths:
         try:
-            fig.savefig(path, dpi=150)
+            # Opened here, closed however the writer fails (a full disk fails the PDF writer with its rasterized
+            # parts in a state that keeps its file open until garbage collection).
+            with open(path, "wb") as file:
+                fig.savefig(file, format=path.suffix[1:], dpi=150)
         except OSError as exc:
             raise ParameterError(f"cannot write the figure {path} ({exc.strerror or exc})") from None
     return paths

@@ -55,6 +55,18 @@ PULSE_NAMES = {
     "sampled": "sampled motion",
 }
 
+#: How a figure names each measure of the levels of an IDA (rocking.study.ida.LEVELS).
+MEASURE_NAMES = {
+    "scale": "scale factor",
+    "amplitude": "amplitude $a_g$",
+    "pga": "PGA",
+    "pgv": "PGV",
+    "arias": "Arias intensity",
+    "cav": "CAV",
+}
+#: How a figure writes each unit of those measures (mathtext).
+UNIT_TEXT = {"": "", "m/s^2": "m/s$^2$", "m/s": "m/s"}
+
 
 def cycle(i: int) -> dict:
     """Colour and marker of the ``i``-th curve of a set (they repeat after eight)."""
