@@ -35,6 +35,7 @@ from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
 from .study.api import (
     design,
+    fragility,
     incremental_dynamic_analysis,
     minimum_overturning_spectrum,
     optimal_damper,
@@ -78,6 +79,7 @@ __all__ = [
     "Variant",
     "available_models",
     "design",
+    "fragility",
     "incremental_dynamic_analysis",
     "load",
     "load_model",

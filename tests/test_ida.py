@@ -199,7 +199,7 @@ def test_bad_pulse_suites_are_refused(records):
         (["--pulses", "sine", "--periods", "1", "--nu", "1"], "--gamma-mp and --nu are the shape of --pulses mp"),
         (["--stochastic", "2", "--periods", "1"], "--periods: options of --pulses FAMILY"),
         (["--pulses", "sine"], "--pulses sine needs --periods"),
-        (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own motions"),
+        (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own suite: no --seed"),
         (["--pulses", "cosine", "--periods", "1", "-1"], "T_g must be > 0 s (got -1.0)"),
         (["--pulses", "cosine", "--periods", "1", "--amplitude", "nan"], "a_g must be finite (got nan)"),
     ],

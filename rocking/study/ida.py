@@ -298,7 +298,11 @@ def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
 
     coords = {
         "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
-        "motion": ("motion", np.arange(len(im)), {"long_name": "index of the motion in the suite"}),
+        "motion": (
+            "motion",
+            np.array(motion_names(config["suite"])),
+            {"long_name": "the motion: its file's name, <family>-T<period in s>-<i> or stochastic-<seed>-<i>"},
+        ),
         "level": ("level", levels, coordinate_attrs("level", config)),
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
         "curve_x": ("curve_x", curve_x, coordinate_attrs("curve_x", config)),
