@@ -17,6 +17,7 @@ import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
 from ..model.motion import PULSE_TYPES, SampledMotion, describe, family_of
 from ..model.params import ParameterError
@@ -184,7 +185,8 @@ def of_pulses(pulses: str, periods, amplitude: float, gamma_mp: float | None = N
         raise ParameterError(f"pulses must be one of {', '.join(PULSE_TYPES)} (got {pulses!r})")
     if not periods:
         raise ParameterError(f"pulses {pulses} needs periods T... (s), one pulse per period")
-    cls, fixed = PULSE_TYPES[family]
+    cls: Any = PULSE_TYPES[family][0]  # each family's class has its from_period
+    fixed = PULSE_TYPES[family][1]
     shape = {k: v for k, v in (("gamma_mp", gamma_mp), ("nu", nu)) if v is not None}
     if family != "mp" and shape:
         raise ParameterError(f"gamma_mp and nu are the shape of pulses mp, not of pulses {pulses}")
