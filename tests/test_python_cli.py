@@ -153,3 +153,20 @@ def test_the_command_line_gives_a_file_its_unit_and_log_levels(tmp_path):
     assert np.allclose(data["level"].values, [0.5, 2.0, 8.0])
     assert data["im"].values[0] == pytest.approx(data["im"].values[1], rel=1e-8)
     assert np.array_equal(data["overturned"][:, 0].values, data["overturned"][:, 1].values)
+
+
+def test_a_lognormal_of_few_motions_or_no_dispersion_is_warned(tmp_path, capsys):
+    from rocking.study.fragility import MIN_DISPERSION, MIN_MOTIONS, fit_warnings
+
+    assert fit_warnings(MIN_MOTIONS, {"status": "fitted", "beta": 0.3}) == []
+    assert fit_warnings(MIN_MOTIONS, {"status": "none overturned", "beta": float("nan")}) == []
+    (few,) = fit_warnings(2, {"status": "fitted", "beta": 0.3})
+    assert few.startswith("the lognormal is fitted to 2 motions, fewer than 10: its dispersion is uncertain by about")
+    (flat,) = fit_warnings(MIN_MOTIONS, {"status": "fitted", "beta": MIN_DISPERSION / 2})
+    assert flat.startswith("the fitted dispersion 0.025 is below 0.05")
+    in_g, in_gal = _records(tmp_path)  # the same record twice, as the user did
+    argv = ["fragility", "--motions", f"{in_g}:g", f"{in_gal}:cm/s2", "--levels", "1", "4", "7", "--check", "none"]
+    assert main([*argv, "--workers", "1", "--no-progress", "--out", str(tmp_path / "c")]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert "rocking fragility: warning: block alone: the lognormal is fitted to 2 motions, fewer than 10" in err[0]
+    assert any("the fitted dispersion" in line and "below 0.05" in line for line in err)

@@ -41,7 +41,7 @@ from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
 from ..study.files import DiskFull, make_folder, no_space
-from ..study.fragility import FITTED
+from ..study.fragility import FITTED, FitWarning
 from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
@@ -740,7 +740,7 @@ def _cmd_redraw(args) -> int:
 
 
 #: Warnings of a study, and of implausible inputs, that the command line shows as one line each, like its errors.
-STUDY_WARNINGS = (TileWarning, UndeterminedWarning, PlausibilityWarning)
+STUDY_WARNINGS = (TileWarning, UndeterminedWarning, PlausibilityWarning, FitWarning)
 
 
 @contextmanager

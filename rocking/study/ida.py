@@ -20,6 +20,7 @@ bootstrap band (:mod:`rocking.study.fragility`).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
@@ -34,7 +35,7 @@ from . import directions
 from .config import Grid, Setting, Tuning, Variant, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import choose, response_envelope
-from .fragility import FITTED, bootstrap_band, fit_lognormal, fragility_curve, ida_summary
+from .fragility import FITTED, FitWarning, bootstrap_band, fit_lognormal, fit_warnings, fragility_curve, ida_summary
 from .overturning_map import FIELDS, PARTS, check_damper, check_study, preflight, undetermined, warn_undetermined
 from .result import Study
 from .suite import Suite, motion_names
@@ -272,6 +273,8 @@ def incremental_dynamic_analysis(
         results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)))
         uncertain = uncertain_verdicts(fields["overturned"][index], sensitive)
         summary[part], curves = _fit(lv, over, uncertain, curve_x)
+        for message in fit_warnings(n, summary[part]):
+            warnings.warn(f"{PART_NAMES[part]}: {message}", FitWarning, stacklevel=2)
         for k, v in curves.items():
             results[k].append(v)
         summary[part]["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
