@@ -170,3 +170,23 @@ def test_a_lognormal_of_few_motions_or_no_dispersion_is_warned(tmp_path, capsys)
     err = capsys.readouterr().err.splitlines()
     assert "rocking fragility: warning: block alone: the lognormal is fitted to 2 motions, fewer than 10" in err[0]
     assert any("the fitted dispersion" in line and "below 0.05" in line for line in err)
+
+
+def test_the_fit_is_data_named_median_and_dispersion_and_the_motions_by_name(tmp_path):
+    block = rocking.Block.reference()
+    pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]
+    study = rocking.fragility(
+        block, {"gamma": 0.05}, motions=pulses, levels=[1.0, 2.0, 4.0, 8.0], im="amplitude", runs=tmp_path,
+        workers=1, progress=False, study=True,
+    )  # fmt: skip
+    data, fit = study.data, study.summary["bare"]
+    assert data["motion"].values.tolist() == ["ricker-T0.5-0", "ricker-T1-1", "ricker-T2-2"]
+    assert data["median"].attrs["units"] == "m/s^2" and data["dispersion"].attrs["units"] == "1"
+    assert float(data["median"].sel(part="bare")) == pytest.approx(fit["theta"])
+    assert float(data["dispersion"].sel(part="bare")) == pytest.approx(fit["beta"])
+    assert (
+        data["median_low"].sel(part="bare") <= data["median"].sel(part="bare") <= data["median_high"].sel(part="bare")
+    )
+    rocking.save(study, tmp_path / "out")
+    table = (tmp_path / "out" / "fragility-fit.csv").read_text().splitlines()
+    assert table[0].startswith("part,median") and table[1].startswith("bare,")
