@@ -190,3 +190,24 @@ def test_the_fit_is_data_named_median_and_dispersion_and_the_motions_by_name(tmp
     rocking.save(study, tmp_path / "out")
     table = (tmp_path / "out" / "fragility-fit.csv").read_text().splitlines()
     assert table[0].startswith("part,median") and table[1].startswith("bare,")
+
+
+def test_study_csv_headers_carry_units_and_codes_their_words(tmp_path):
+    study = rocking.minimum_overturning_spectrum(
+        rocking.Block.reference(), None, Omega=[2.0, 6.0], beta=[0.5, 2, 4, 8, 15], runs=tmp_path / "r",
+        workers=1, progress=False, study=True,
+    )  # fmt: skip
+    rocking.save(study, tmp_path / "o")
+    header, first = ((tmp_path / "o" / "spectrum.csv").read_text().splitlines()[i].split(",") for i in (0, 1))
+    assert header[:3] == ["Omega [1]", "bare_beta_min [1]", "bare_beta_safe [1]"]
+    flag, text = header.index("bare_flag [1]"), header.index("bare_flag_text")
+    assert text == flag + 1
+    meanings = study.data["flag"].attrs["flag_meanings"].split()
+    assert first[text] == meanings[list(study.data["flag"].attrs["flag_values"]).index(int(first[flag]))]
+    study = rocking.overturning_map(
+        rocking.Block.reference(), None, Omega=[4.0], beta=[3.0], runs=tmp_path / "r", workers=1, progress=False,
+        study=True,
+    )  # fmt: skip
+    rocking.save(study, tmp_path / "o")
+    header = (tmp_path / "o" / "map.csv").read_text().splitlines()[0].split(",")
+    assert {"bare_theta_max [rad]", "damper_x_max [m]", "damper_bumper_force_max [N]"} <= set(header)
