@@ -84,7 +84,7 @@ def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, recor
 
 def test_ida_summary_and_tables_report_each_motion(ida):
     both, table, levels = envelope(ida.data), ida.tables["ida-motions"], ida.data["level"].values
-    assert list(table["name"]) == ["r0.AT2", "r1.AT2", "r2.AT2"]
+    assert list(table["motion"]) == ["r0.AT2", "r1.AT2", "r2.AT2"]
     for part in ("bare", "damper"):
         over = both["overturned"].sel(part=part).values.astype(bool)
         first = [levels[row.argmax()] if row.any() else np.nan for row in over]

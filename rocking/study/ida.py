@@ -374,13 +374,13 @@ def tables(data, config: dict) -> dict:
     (one row per motion: its name, its measure and IDA summary) and ``<kind>-fit`` (one row per part: the fitted
     lognormal's median and dispersion, and their 90 % intervals)."""
     kind, env = config["kind"], envelope(data)
-    n = data.sizes["motion"]
-    motion, level = np.meshgrid(np.arange(n), data["level"].values, indexing="ij")
-    rows = {"motion": motion.ravel(), "level": level.ravel()}
+    names = data["motion"].values
+    motion, level = np.meshgrid(np.arange(names.size), data["level"].values, indexing="ij")
+    rows = {"motion": names[motion.ravel()], "level": level.ravel()}
     for part in PARTS:
         for k in ("overturned", "impacts", "theta_max", "x_max", SENSITIVE.name):
             rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
-    motions = {"motion": np.arange(n), "name": np.array(motion_names(config["suite"])), "im": data["im"].values}
+    motions = {"motion": names, "im": data["im"].values}
     for part in PARTS:
         for k in ("first", "last_safe", "reversals"):
             motions[f"{part}_{k}"] = data[k].sel(part=part).values
