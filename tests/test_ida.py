@@ -197,7 +197,7 @@ def test_bad_pulse_suites_are_refused(records):
     [
         (["--pulses", "mp", "--periods", "1"], "--pulses mp needs --gamma-mp too"),
         (["--pulses", "sine", "--periods", "1", "--nu", "1"], "--gamma-mp and --nu are the shape of --pulses mp"),
-        (["--stochastic", "2", "--periods", "1"], "--periods: options of --pulses FAMILY"),
+        (["--stochastic", "2", "--periods", "1"], "--periods: only with --pulses FAMILY"),
         (["--pulses", "sine"], "--pulses sine needs --periods"),
         (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own suite: no --seed"),
         (["--pulses", "cosine", "--periods", "1", "-1"], "T_g must be > 0 s (got -1.0)"),

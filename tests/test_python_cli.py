@@ -211,3 +211,20 @@ def test_study_csv_headers_carry_units_and_codes_their_words(tmp_path):
     rocking.save(study, tmp_path / "o")
     header = (tmp_path / "o" / "map.csv").read_text().splitlines()[0].split(",")
     assert {"bare_theta_max [rad]", "damper_x_max [m]", "damper_bumper_force_max [N]"} <= set(header)
+
+
+def test_the_suite_keywords_make_the_command_lines_suite():
+    from rocking.cli.study import _suite_from
+    from rocking.study.suite import suite_of
+
+    (commands,) = (a for a in build_parser()._actions if isinstance(a, argparse._SubParsersAction))
+    parse = commands.choices["fragility"].parse_args
+    args = parse(["--stochastic", "3", "--seed", "4", "--d595", "5", "--duration", "30"])
+    assert _suite_from(args) == suite_of(stochastic=3, seed=4, site={"d595": 5.0, "duration": 30.0})
+    args = parse(["--pulses", "mp", "--periods", "0.5", "1", "--gamma-mp", "2", "--nu", "0.3", "--amplitude", "2"])
+    assert _suite_from(args) == suite_of(pulses="mp", periods=[0.5, 1.0], gamma_mp=2.0, nu=0.3, amplitude=2.0)
+    block = rocking.Block.reference()
+    with pytest.raises(rocking.ParameterError, match=r"^periods: only with pulses FAMILY$"):
+        rocking.fragility(block, stochastic=2, periods=[1.0], levels=[1.0], progress=False)
+    with pytest.raises(rocking.ParameterError, match=r"^im must be one of pga, pgv, .*, amplitude \(got 'sa'\)$"):
+        rocking.fragility(block, stochastic=2, im="sa", levels=[1.0], progress=False)

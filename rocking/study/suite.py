@@ -242,7 +242,7 @@ def suite_of(
         raise ParameterError(f"pulses makes its own suite: no {', '.join(foreign)}")
     if foreign:
         owners = [SOURCES[source] for source, names in OPTIONS_OF.items() if set(foreign) & set(names)]
-        raise ParameterError(f"{', '.join(foreign)}: options of {' or '.join(owners)}")
+        raise ParameterError(f"{', '.join(foreign)}: only with {' or '.join(owners)}")
     if pulses is not None:
         return of_pulses(pulses, periods, g if amplitude is None else amplitude, gamma_mp, nu)
     if stochastic is not None:
