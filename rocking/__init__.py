@@ -44,6 +44,7 @@ from .study.api import (
 )
 from .study.config import Grid, Setting, Tuning, Variant
 from .study.files import DiskFull
+from .study.fragility import FitWarning
 from .study.result import Study
 from .study.storage import load, save
 from .study.suite import Suite
@@ -57,6 +58,7 @@ __all__ = [
     "Damper",
     "DiskFull",
     "Execution",
+    "FitWarning",
     "Grid",
     "Interrupted",
     "MavroeidisPapageorgiou",

@@ -655,7 +655,14 @@ def fragility(
     Returns
     -------
     xarray.Dataset
-        As :func:`incremental_dynamic_analysis`'s, ``level`` in the unit of ``im``.
+        As :func:`incremental_dynamic_analysis`'s, ``level`` in the unit of ``im``; the fit's ``median`` (in the
+        unit of ``im``) and ``dispersion`` per part.
+
+    Warns
+    -----
+    FitWarning
+        A lognormal fitted to fewer than 10 motions, or of a dispersion below 0.05
+        (:func:`rocking.study.fragility.fit_warnings`, which says why).
 
     Examples
     --------
