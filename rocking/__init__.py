@@ -36,6 +36,7 @@ from .sim.problem import Response, SimulationError
 from .sim.run import BackendWarning, simulate
 from .study.api import (
     design,
+    fragility,
     incremental_dynamic_analysis,
     minimum_overturning_spectrum,
     optimal_damper,
@@ -44,6 +45,7 @@ from .study.api import (
 )
 from .study.config import Grid, Setting, Tuning, Variant
 from .study.files import DiskFull
+from .study.fragility import FitWarning
 from .study.result import Study
 from .study.storage import load, save
 from .study.suite import Suite
@@ -57,6 +59,7 @@ __all__ = [
     "Damper",
     "DiskFull",
     "Execution",
+    "FitWarning",
     "Grid",
     "Interrupted",
     "MavroeidisPapageorgiou",
@@ -80,6 +83,7 @@ __all__ = [
     "Vertical",
     "available_models",
     "design",
+    "fragility",
     "incremental_dynamic_analysis",
     "load",
     "load_model",

@@ -202,19 +202,19 @@ def test_ida_check_turns_the_tolerance_check_on_for_pulses_and_off_for_records(t
     calls = _counted_runs(monkeypatch)
     few = {"workers": 1, "progress": False, "backend": "c"}
     ds = rocking.incremental_dynamic_analysis(
-        block, {"gamma": 0.05}, motions=pulses, levels=[0.5, 2.0], check="tolerance", runs=tmp_path / "p", **few
+        block, {"gamma": 0.05}, motions=pulses, scales=[0.5, 2.0], check="tolerance", runs=tmp_path / "p", **few
     )
     assert len(calls) == 2 * 2 * len(pulses)  # each pulse and part: its run and the tighter one
     assert json.loads(ds.attrs["config"])["check"] == "tolerance"
     calls.clear()
     path = _noise_file(tmp_path)
     ds = rocking.incremental_dynamic_analysis(
-        BLOCK, None, motions=[path], unit="m/s2", levels=[NOISE.scale], directions="both", check="none",
+        BLOCK, None, motions=[path], unit="m/s2", scales=[NOISE.scale], directions="both", check="none",
         runs=tmp_path / "r", **few,
     )  # fmt: skip
     assert len(calls) == 2 and not ds["sensitive"].sel(part="bare").any()
     checked = rocking.incremental_dynamic_analysis(
-        BLOCK, None, motions=[path], unit="m/s2", levels=[NOISE.scale], directions="both", runs=tmp_path / "r", **few
+        BLOCK, None, motions=[path], unit="m/s2", scales=[NOISE.scale], directions="both", runs=tmp_path / "r", **few
     )
     assert checked["sensitive"].sel(part="bare").any()  # the default for a record: checked
 
@@ -224,7 +224,7 @@ def test_ida_refuses_an_unknown_check_before_any_run(tmp_path, monkeypatch):
     pulse = rocking.OneSinePulse.from_nondim(rocking.Block.reference(), beta=3.0, Omega=3.0)
     with pytest.raises(rocking.ParameterError, match=r"^check must be one of none, tolerance \(got 'fast'\)$"):
         rocking.incremental_dynamic_analysis(
-            rocking.Block.reference(), motions=[pulse], levels=[1.0], check="fast", runs=tmp_path, progress=False
+            rocking.Block.reference(), motions=[pulse], scales=[1.0], check="fast", runs=tmp_path, progress=False
         )
     assert calls == []
 

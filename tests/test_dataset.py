@@ -40,18 +40,18 @@ def studies(tmp_path_factory):
             Omega=[4.0, 6.0],
             beta=np.linspace(0.5, 20.0, 27),
             Tm_ratio=[0.5, 1.5, 4.0],
-            zeta=[0.02, 0.2],
+            zeta_grid=[0.02, 0.2],
             refine=0,
             **few,
         ),
         "threshold": rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0, **few),
-        "ida": rocking.incremental_dynamic_analysis(BLOCK, motions=pulses, levels=[0.5, 1.0, 2.0], t_after=5.0, **few),
-        "fragility": rocking.incremental_dynamic_analysis(
+        "ida": rocking.incremental_dynamic_analysis(BLOCK, motions=pulses, scales=[0.5, 1.0, 2.0], t_after=5.0, **few),
+        "fragility": rocking.fragility(
             BLOCK,
             {"gamma": 0.05, "stops": True},
             motions=pulses,
             levels=[1.0, 3.0, 9.0],
-            measure="pga",
+            im="pga",
             t_after=5.0,
             **few,
         ),
@@ -156,13 +156,13 @@ def test_every_kind_is_in_the_plain_interface(studies):
 def test_plain_interface_refuses_bad_motions_in_one_line(tmp_path):
     pulse = rocking.RickerWavelet.from_period(3.0, 1.0)
     with pytest.raises(rocking.ParameterError, match="motions must be a rocking.Suite, record files or pulses"):
-        rocking.incremental_dynamic_analysis(BLOCK, motions=3, levels=[1.0], runs=tmp_path)
+        rocking.incremental_dynamic_analysis(BLOCK, motions=3, scales=[1.0], runs=tmp_path)
     with pytest.raises(rocking.ParameterError, match="unit is the unit of record files"):
-        rocking.incremental_dynamic_analysis(BLOCK, motions=[pulse], levels=[1.0], unit="g", runs=tmp_path)
+        rocking.incremental_dynamic_analysis(BLOCK, motions=[pulse], scales=[1.0], unit="g", runs=tmp_path)
     with pytest.raises(rocking.ParameterError, match="levels: values must increase"):
-        rocking.incremental_dynamic_analysis(BLOCK, motions=[pulse], levels=[2.0, 1.0], runs=tmp_path)
+        rocking.incremental_dynamic_analysis(BLOCK, motions=[pulse], scales=[2.0, 1.0], runs=tmp_path)
     with pytest.raises(rocking.ParameterError, match="zeta: values must be > 0"):
-        rocking.design(BLOCK, Omega=[4.0], beta=[1.0, 2.0], zeta=[0.0, 0.1], runs=tmp_path)
+        rocking.design(BLOCK, Omega=[4.0], beta=[1.0, 2.0], zeta_grid=[0.0, 0.1], runs=tmp_path)
 
 
 def test_dataframes_carry_units_and_labels(studies):

@@ -279,7 +279,7 @@ def test_ida_levels_over_decades_in_log_scale_and_the_title_says_motions(tmp_pat
     study = rocking.incremental_dynamic_analysis(
         Block.reference(),
         motions=pulses,
-        levels=[0.5, 2.0, 8.0],
+        scales=[0.5, 2.0, 8.0],
         t_after=3.0,
         runs=tmp_path,
         workers=1,

@@ -84,7 +84,7 @@ def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, recor
 
 def test_ida_summary_and_tables_report_each_motion(ida):
     both, table, levels = envelope(ida.data), ida.tables["ida-motions"], ida.data["level"].values
-    assert list(table["name"]) == ["r0.AT2", "r1.AT2", "r2.AT2"]
+    assert list(table["motion"]) == ["r0.AT2", "r1.AT2", "r2.AT2"]
     for part in ("bare", "damper"):
         over = both["overturned"].sel(part=part).values.astype(bool)
         first = [levels[row.argmax()] if row.any() else np.nan for row in over]
@@ -197,9 +197,9 @@ def test_bad_pulse_suites_are_refused(records):
     [
         (["--pulses", "mp", "--periods", "1"], "--pulses mp needs --gamma-mp too"),
         (["--pulses", "sine", "--periods", "1", "--nu", "1"], "--gamma-mp and --nu are the shape of --pulses mp"),
-        (["--stochastic", "2", "--periods", "1"], "--periods: options of --pulses FAMILY"),
+        (["--stochastic", "2", "--periods", "1"], "--periods: only with --pulses FAMILY"),
         (["--pulses", "sine"], "--pulses sine needs --periods"),
-        (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own motions"),
+        (["--pulses", "sine", "--periods", "1", "--seed", "2"], "--pulses makes its own suite: no --seed"),
         (["--pulses", "cosine", "--periods", "1", "-1"], "T_g must be > 0 s (got -1.0)"),
         (["--pulses", "cosine", "--periods", "1", "--amplitude", "nan"], "a_g must be finite (got nan)"),
     ],

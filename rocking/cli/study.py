@@ -18,6 +18,7 @@ range and exit code 2 (argparse's own errors, e.g. an unknown option, too).
 from __future__ import annotations
 
 import argparse
+import re
 import sys
 import time
 import warnings
@@ -28,19 +29,19 @@ from pathlib import Path
 
 import numpy as np
 
-from ..model.motion import PULSE_TYPES
 from ..model.params import ParameterError
 from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
-from ..model.stochastic import DEFAULT_SITE, SiteModel
+from ..model.stochastic import DEFAULT_SITE
 from ..plot.figures import draw, redraw
 from ..sim.accuracy import CHECKS
+from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
 from ..study.design import TM_GRID as DESIGN_TM_GRID
 from ..study.design import ZETA_GRID, design
 from ..study.directions import DIRECTIONS
 from ..study.files import DiskFull, make_folder, no_space
-from ..study.fragility import FITTED
+from ..study.fragility import FITTED, FitWarning
 from ..study.ida import LEVELS, incremental_dynamic_analysis
 from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
 from ..study.overturning_map import UndeterminedWarning, overturning_map
@@ -48,7 +49,7 @@ from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
-from ..study.suite import Suite
+from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
@@ -59,6 +60,7 @@ from .options import (
     block_from,
     block_help,
     default_text,
+    flag,
     flags,
     given,
     params_from,
@@ -200,6 +202,18 @@ def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) 
     )
 
 
+def _add_levels(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
+    """``--NAME MIN MAX N`` (evenly spaced, ``default``) or ``--NAME-log MIN MAX N`` (evenly spaced logarithms)."""
+    g = p.add_mutually_exclusive_group()
+    _add_grid(g, name, default, f"{text}, evenly spaced")
+    g.add_argument(
+        f"--{name}-log",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help=f"{text}, evenly spaced in logarithm (MIN > 0), as rocking.Grid(..., log=True)",
+    )
+
+
 def _add_pulse(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group("pulse family", "As rocking.Setting(block, pulse=..., gamma_mp=..., nu=...).")
     g.add_argument(
@@ -271,13 +285,10 @@ def setting_from(args) -> Setting:
 
 def tuning_from(args) -> Tuning:
     """The omd damper of the options, as ``rocking.Tuning`` with the options given (``--Tm-ratio``: 1 / omega_ratio)."""
-    values = given(args, ("gamma", "omega_ratio", "zeta", "h", "stops"))
-    Tm_ratio = getattr(args, "Tm_ratio", None)
-    if Tm_ratio is not None:
-        if not Tm_ratio > 0:
-            raise ParameterError(f"--Tm-ratio must be > 0 (got {Tm_ratio!r})")
-        values["omega_ratio"] = 1.0 / Tm_ratio
-    return Tuning(**values)
+    try:
+        return Tuning(**with_omega_ratio(given(args, ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops"))))
+    except ParameterError as exc:
+        raise ParameterError(str(exc).replace("Tm_ratio", "--Tm-ratio")) from None
 
 
 def damper_from(args) -> Tuning | Variant:
@@ -605,55 +616,35 @@ def _print_threshold_map(study: Study) -> None:
         )
 
 
-def _pulse_suite(args) -> Suite:
-    """``--pulses FAMILY --periods T...``: one pulse of the family per period, of amplitude ``--amplitude``
-    (default 1 g of the block) and the MP shape ``--gamma-mp``/``--nu``."""
-    if not args.periods:
-        raise ParameterError(f"--pulses {args.pulses} needs --periods T... (s), one pulse per period")
-    family = args.pulses.replace("-", "_")
-    cls, fixed = PULSE_TYPES[family]
-    shape = {k: v for k, v in (("gamma_mp", args.gamma_mp), ("nu", args.nu)) if v is not None}
-    if family != "mp" and shape:
-        raise ParameterError(f"--gamma-mp and --nu are the shape of --pulses mp, not of --pulses {args.pulses}")
-    if family == "mp" and "gamma_mp" not in shape:
-        raise ParameterError("--pulses mp needs --gamma-mp too (its oscillations, > 1)")
-    a_g = block_from(args).g if args.amplitude is None else args.amplitude
-    return Suite.from_pulses([cls.from_period(a_g, T, **fixed, **shape) for T in args.periods])
-
-
 def _suite_from(args) -> Suite:
-    """The motions of ``ida``/``fragility``: ``--motions FILES``, ``--stochastic N --seed S`` (site options)
-    or ``--pulses FAMILY --periods T...``."""
-    site_options = given(args, SITE_OPTIONS)
-    sources = [
-        flag
-        for flag, value in (("--motions", args.motions), ("--stochastic", args.stochastic), ("--pulses", args.pulses))
-        if value is not None
-    ]
-    if len(sources) > 1:
-        raise ParameterError(
-            f"give one of --motions FILES, --stochastic N or --pulses FAMILY (got {', '.join(sources)})"
+    """The motions of ``ida``/``fragility``: ``--motions FILE[:UNIT]...``, ``--stochastic N --seed S`` (site
+    options) or ``--pulses FAMILY --periods T...``, as :func:`rocking.study.suite.suite_of` makes them."""
+    site = given(args, SITE_OPTIONS)
+    motions = None if args.motions is None else [split_unit(m) for m in args.motions]
+    try:
+        return suite_of(
+            motions,
+            **given(args, ("unit", "stochastic", "seed", "pulses", *PULSE_SUITE_OPTIONS)),
+            site=site or None,
+            g=block_from(args).g,
         )
-    pulse_options = given(args, PULSE_SUITE_OPTIONS)
-    if args.pulses is None and pulse_options:
-        raise ParameterError(f"{flags(pulse_options)}: options of --pulses FAMILY")
-    if args.pulses is not None:
-        if site_options or args.seed is not None or args.unit is not None:
-            raise ParameterError("--pulses makes its own motions: no --unit, --seed or site options")
-        return _pulse_suite(args)
-    if args.motions:
-        if site_options or args.seed is not None:
-            raise ParameterError(f"{flags({**site_options, **given(args, ('seed',))})}: options of --stochastic")
-        return Suite.from_files(args.motions, args.unit)
-    if args.stochastic is None:
-        raise ParameterError("a suite is needed: --motions FILES... or --stochastic N --seed S")
-    site = SiteModel(**{**DEFAULT_SITE.record(), "duration": None, **site_options})
-    return Suite.stochastic(site, args.stochastic, 0 if args.seed is None else args.seed)
+    except ParameterError as exc:
+        raise ParameterError(_as_flags(str(exc))) from None
+
+
+def _as_flags(message: str) -> str:
+    """A message of :func:`suite_of` naming the Python keywords of the options, with the command line's flags."""
+    message = re.sub(r"\bsite\b(?!\.)", "site options (" + flags(SITE_OPTIONS[:2]) + ", ...)", message)
+    for word in ("motions", "unit", "stochastic", "seed", "pulses", *PULSE_SUITE_OPTIONS):
+        message = re.sub(rf"\b{word}\b(?!\.)", flag(word), message)
+    return message
 
 
 def _cmd_ida(args) -> int:
     measure = "scale" if args.command == "ida" else args.im
-    grid = grid_from("scales" if measure == "scale" else "levels", args.scales if measure == "scale" else args.levels)
+    name = "scales" if measure == "scale" else "levels"
+    log = getattr(args, f"{name}_log")
+    grid = grid_from(name, getattr(args, name)) if log is None else grid_from(f"{name}-log", log, log=True)
     setting, damper, execution = setting_from(args), damper_from(args), execution_from(args)
     suite = _suite_from(args)
     out = out_from(args)
@@ -749,7 +740,7 @@ def _cmd_redraw(args) -> int:
 
 
 #: Warnings of a study, and of implausible inputs, that the command line shows as one line each, like its errors.
-STUDY_WARNINGS = (TileWarning, UndeterminedWarning, PlausibilityWarning)
+STUDY_WARNINGS = (TileWarning, UndeterminedWarning, PlausibilityWarning, FitWarning)
 
 
 @contextmanager
@@ -953,11 +944,18 @@ def add_study_commands(subparsers) -> None:
             "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
             "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).",
         )
-        g.add_argument("--motions", nargs="+", metavar="FILE", help="records: PEER NGA .AT2, or 'time, a' columns")
+        g.add_argument(
+            "--motions",
+            nargs="+",
+            metavar="FILE[:UNIT]",
+            help="records: PEER NGA .AT2, or 'time, a' columns; FILE:UNIT gives a file its own unit of "
+            f"acceleration ({', '.join(UNITS)}), e.g. a.AT2 b.txt:cm/s2",
+        )
         g.add_argument(
             "--unit",
             choices=tuple(UNITS),
-            help="unit of the accelerations of text or CSV records (default: the one each header states)",
+            help="unit of the accelerations of the text or CSV records given without their own "
+            "(default: the one each header states)",
         )
         g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
         g.add_argument("--seed", type=int, help="seed of the stochastic motions (default 0)")
@@ -977,7 +975,7 @@ def add_study_commands(subparsers) -> None:
         g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulses mp, > 1")
         g.add_argument("--nu", type=float, help="phase nu of --pulses mp, rad (default 0)")
         if name == "ida":
-            _add_grid(p, "scales", IDA_SCALES, "scale factors of every record")
+            _add_levels(p, "scales", IDA_SCALES, "scale factors of every record")
         else:
             p.add_argument(
                 "--im",
@@ -985,7 +983,7 @@ def add_study_commands(subparsers) -> None:
                 default="pga",
                 help="intensity measure (default pga; amplitude: the a_g of --pulses)",
             )
-            _add_grid(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
+            _add_levels(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
         _add_directions(p)
         _add_solver(p)
         _add_check(p)

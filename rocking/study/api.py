@@ -13,43 +13,66 @@ The keywords every function shares:
 rtol, t_after, backend
     Relative tolerance of the integrator, time followed after the excitation (s), ``"c"`` or
     ``"numpy"`` (:class:`~rocking.study.config.Setting`).
-pulse
-    The pulse family of the pulse studies: ``"sine"`` (the paper's), ``"cosine"``, ``"ricker"``, ...
-workers, progress
-    Local workers (default: all cores) and a progress bar (:class:`~rocking.study.tiles.Execution`).
+pulse, gamma_mp, nu
+    The pulse family of the pulse studies: ``"sine"`` (the paper's), ``"cosine"``, ``"ricker"``, ...,
+    ``"mp"`` with its oscillations ``gamma_mp`` (> 1) and phase ``nu`` (rad).
+workers, scheduler, dask_workers, progress
+    Local workers (default: all cores), a Dask scheduler's address or a local Dask cluster of that many
+    workers, and a progress bar (:class:`~rocking.study.tiles.Execution`).
 runs
-    Folder of the finished tiles (default ``out/runs``, as the command line's).
+    Folder of the finished tiles; default :func:`runs_folder`, a per-user cache (the command line's is
+    ``OUT/runs``, under its ``--out``). The progress bar names it.
 study
     Return the :class:`~rocking.study.config.Study`, not its ``Dataset``.
+
+Each option of a study command of the command line is a keyword of its function here, by the same
+name (``--gamma-mp`` is ``gamma_mp=``, ``--beta-tol`` is ``beta_tol=``); the options that build one
+object are given as that object or a mapping of its keywords: the block's (``--H``, ``--p``, ...) as
+``block``, the damper's (``--gamma``, ``--Tm-ratio``, ...) as ``damper``, the stochastic site model's
+(``--arias``, ...) as ``site``. Only ``--out``, ``--no-progress`` (``progress=False``) and
+``--config`` (a rerun of a saved study) are the command line's own.
 """
 
 from __future__ import annotations
 
-import os
+import sys
 from collections.abc import Mapping
 from pathlib import Path
+
+import platformdirs
 
 from ..model.params import Block, ParameterError, check_block
 from .config import Grid, Setting, Tuning, Variant
 from .design import REFINE
 from .design import design as _design
+from .ida import LEVELS
 from .ida import incremental_dynamic_analysis as _incremental_dynamic_analysis
+from .optimize import REFINE as OPTIMIZE_REFINE
 from .optimize import optimal_damper as _optimal_damper
-from .overturning_map import COARSE
+from .overturning_map import COARSE, TILE
 from .overturning_map import overturning_map as _overturning_map
 from .spectrum import SCAN_COARSE, TOL
 from .spectrum import minimum_overturning_spectrum as _minimum_overturning_spectrum
-from .suite import Suite
+from .suite import suite_of
 from .threshold import A_MAX
 from .threshold import threshold_map as _threshold_map
 from .tiles import Execution
 
-#: Where the tiles of a study called from Python are kept, unless ``runs`` says otherwise.
-RUNS = "out/runs"
+#: The application's name of :func:`runs_folder`'s per-user cache.
+APP = "rocking"
 
 
-def _setting(block, rtol: float, t_after: float, backend: str, pulse: str = "sine") -> Setting:
-    return Setting(check_block(block), rtol=rtol, t_after=t_after, backend=backend, pulse=pulse)
+def runs_folder() -> Path:
+    """Where the tiles of a study called from Python are kept unless ``runs=`` says otherwise: the user's cache of
+    the platform (``~/.cache/rocking/runs`` on Linux, ``~/Library/Caches/rocking/runs`` on macOS,
+    ``%LOCALAPPDATA%\\rocking\\Cache\\runs`` on Windows; ``platformdirs.user_cache_dir``), not the current folder,
+    which a notebook would fill unasked. Deleting it costs only recomputation."""
+    return Path(platformdirs.user_cache_dir(APP, appauthor=False)) / "runs"
+
+
+def _setting(block, rtol: float, t_after: float, backend: str, pulse: str = "sine", gamma_mp=None, nu=None) -> Setting:
+    shape = {"gamma_mp": gamma_mp} | ({} if nu is None else {"nu": nu})
+    return Setting(check_block(block), rtol=rtol, t_after=t_after, backend=backend, pulse=pulse, **shape)
 
 
 def _tuning(damper) -> Tuning | Variant:
@@ -60,15 +83,29 @@ def _tuning(damper) -> Tuning | Variant:
         return damper
     if isinstance(damper, Mapping):
         try:
-            return Tuning(**damper)
+            return Tuning(**with_omega_ratio(damper))
         except TypeError as exc:
             raise ParameterError(
-                f"damper: {exc} (keywords of rocking.Tuning: gamma, omega_ratio, zeta, h, stops)"
+                f"damper: {exc} (keywords of rocking.Tuning: gamma, omega_ratio or Tm_ratio, zeta, h, stops)"
             ) from None
     raise ParameterError(
         f"damper must be a rocking.Tuning, a rocking.Variant or a mapping such as {{'gamma': 0.05}} "
         f"(got {type(damper).__name__})"
     )
+
+
+def with_omega_ratio(values: Mapping) -> dict:
+    """Keywords of :class:`Tuning` with ``Tm_ratio`` (the damper's period ``T_m p / (2 pi)``, the command line's
+    ``--Tm-ratio``) given as its ``omega_ratio = 1 / Tm_ratio``."""
+    values = dict(values)
+    if "Tm_ratio" not in values:
+        return values
+    if "omega_ratio" in values:
+        raise ParameterError("give the damper's Tm_ratio or its omega_ratio = 1 / Tm_ratio, not both")
+    Tm_ratio = values.pop("Tm_ratio")
+    if not (isinstance(Tm_ratio, int | float) and Tm_ratio > 0):
+        raise ParameterError(f"Tm_ratio must be > 0 (got {Tm_ratio!r})")
+    return {**values, "omega_ratio": 1.0 / Tm_ratio}
 
 
 def _grid(name: str, values) -> Grid | None:
@@ -77,28 +114,14 @@ def _grid(name: str, values) -> Grid | None:
     return Grid.of(name, values)
 
 
-def _suite(motions, unit: str | None) -> Suite:
-    """A suite from a Suite, record files (paths) or pulses (:mod:`rocking.model.motion`)."""
-    if isinstance(motions, Suite):
-        return motions
-    if isinstance(motions, str | os.PathLike):
-        motions = [motions]
-    try:
-        items = list(motions)
-    except TypeError:
-        raise ParameterError(
-            f"motions must be a rocking.Suite, record files or pulses (got {type(motions).__name__})"
-        ) from None
-    if items and all(isinstance(m, str | os.PathLike) for m in items):
-        return Suite.from_files(items, unit)
-    if unit is not None:
-        raise ParameterError("unit is the unit of record files: give it with paths of records, not with pulses")
-    return Suite.from_pulses(items)
-
-
-def _run(study_function, *args, workers, progress: bool, runs, study: bool, **keywords):
+def _run(study_function, *args, workers, scheduler, dask_workers, progress: bool, runs, study: bool, **keywords):
     """``study_function(*args, execution, runs=runs, **keywords)``; its Study if ``study``, else its Dataset."""
-    result = study_function(*args, Execution(workers=workers, progress=progress), runs=runs, **keywords)
+    execution = Execution(workers=workers, scheduler=scheduler, dask_workers=dask_workers, progress=progress)
+    runs = runs_folder() if runs is None else Path(runs)
+    if progress:
+        # Beside the progress bar, on stderr: a study called from a notebook says where its tiles go.
+        print(f"rocking.{study_function.__name__}: tiles kept in {runs} (runs= to choose)", file=sys.stderr)
+    result = study_function(*args, execution, runs=runs, **keywords)
     return result if study else result.to_dataset()
 
 
@@ -112,12 +135,17 @@ def overturning_map(
     full: bool = False,
     coarse: int = COARSE,
     verify: int | None = None,
+    tile: tuple[int, int] = TILE,
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
     pulse: str = "sine",
+    gamma_mp: float | None = None,
+    nu: float | None = None,
     backend: str = "c",
     workers: int | None = None,
-    runs: str | Path = RUNS,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
     progress: bool = True,
     study: bool = False,
 ):
@@ -130,9 +158,9 @@ def overturning_map(
         Default ``Tuning()`` (gamma 0.05, omega_ratio 1, zeta 0.05, h 0.05 m).
     Omega, beta : array_like or Grid
         Pulse frequency ratios ``omega_g / p`` and amplitude ratios ``a_g / (g tan alpha)``, increasing.
-    directions, full, coarse, verify
+    directions, full, coarse, verify, tile
         As :func:`rocking.study.overturning_map.overturning_map`.
-    rtol, t_after, pulse, backend, workers, runs, progress, study
+    rtol, t_after, pulse, gamma_mp, nu, backend, workers, scheduler, dask_workers, runs, progress, study
         Shared by every study (:mod:`rocking.study.api`).
 
     Returns
@@ -154,11 +182,13 @@ def overturning_map(
     """
     return _run(
         _overturning_map,
-        _setting(block, rtol, t_after, backend, pulse),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
         _tuning(damper),
         _grid("Omega", Omega),
         _grid("beta", beta),
         workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
         progress=progress,
         runs=runs,
         study=study,
@@ -166,6 +196,7 @@ def overturning_map(
         full=full,
         coarse=coarse,
         verify=verify,
+        tile=tuple(tile),
     )
 
 
@@ -175,21 +206,25 @@ def minimum_overturning_spectrum(
     *,
     Omega,
     beta,
-    tol: float = TOL,
+    beta_tol: float = TOL,
     coarse: int = SCAN_COARSE,
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
     pulse: str = "sine",
+    gamma_mp: float | None = None,
+    nu: float | None = None,
     backend: str = "c",
     workers: int | None = None,
-    runs: str | Path = RUNS,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
     progress: bool = True,
     study: bool = False,
 ):
     """The minimum overturning amplitude ``beta_min(Omega)`` of ``block`` alone and with ``damper``.
 
-    ``beta`` are the scan amplitudes (their step bounds the safe windows seen); ``tol`` the relative
+    ``beta`` are the scan amplitudes (their step bounds the safe windows seen); ``beta_tol`` the relative
     tolerance of the bisection; ``coarse`` > 1: adaptive scans of that coarse step, which can miss bands
     narrower than it (:mod:`rocking.study.spectrum`; default every amplitude). Other parameters as
     :func:`overturning_map`.
@@ -211,15 +246,17 @@ def minimum_overturning_spectrum(
     """
     return _run(
         _minimum_overturning_spectrum,
-        _setting(block, rtol, t_after, backend, pulse),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
         _tuning(damper),
         _grid("Omega", Omega),
         _grid("beta", beta),
         workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
         progress=progress,
         runs=runs,
         study=study,
-        tol=tol,
+        tol=beta_tol,
         coarse=coarse,
         directions=directions,
     )
@@ -235,22 +272,27 @@ def optimal_damper(
     h: float = Tuning.h,
     stops: bool = False,
     Tm_ratio=None,
-    tol: float = TOL,
+    refine: int = OPTIMIZE_REFINE,
+    beta_tol: float = TOL,
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
     pulse: str = "sine",
+    gamma_mp: float | None = None,
+    nu: float | None = None,
     backend: str = "c",
     workers: int | None = None,
-    runs: str | Path = RUNS,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
     progress: bool = True,
     study: bool = False,
 ):
     """The damper period that most raises ``beta_min``, for each mass ratio of ``gammas``, against ``Omega``.
 
     ``Tm_ratio``: the coarse damper periods ``T_m p / (2 pi)`` searched, values > 0 or a logarithmic :class:`Grid`
-    (default that of :func:`rocking.study.optimize.optimal_damper`). Other parameters as
-    :func:`minimum_overturning_spectrum`.
+    (default that of :func:`rocking.study.optimize.optimal_damper`), ``refine`` points each side of the best.
+    Other parameters as :func:`minimum_overturning_spectrum`.
 
     Returns
     -------
@@ -268,11 +310,13 @@ def optimal_damper(
     """
     return _run(
         _optimal_damper,
-        _setting(block, rtol, t_after, backend, pulse),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
         gammas,
         _grid("Omega", Omega),
         _grid("beta", beta),
         workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
         progress=progress,
         runs=runs,
         study=study,
@@ -280,7 +324,8 @@ def optimal_damper(
         h=h,
         stops=stops,
         Tm=_grid("Tm_ratio", Tm_ratio),
-        tol=tol,
+        refine=refine,
+        tol=beta_tol,
         directions=directions,
     )
 
@@ -294,23 +339,27 @@ def design(
     stroke: float | None = None,
     h: float = Tuning.h,
     Tm_ratio=None,
-    zeta=None,
+    zeta_grid=None,
     refine: int = REFINE,
-    tol: float = TOL,
+    beta_tol: float = TOL,
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
     pulse: str = "sine",
+    gamma_mp: float | None = None,
+    nu: float | None = None,
     backend: str = "c",
     workers: int | None = None,
-    runs: str | Path = RUNS,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
     progress: bool = True,
     study: bool = False,
 ):
     """The damper with stops, of mass ``gamma M`` and half-stroke ``stroke`` (m), that most raises the worst
     ``beta_min`` over the band ``Omega`` in both directions.
 
-    ``Tm_ratio`` and ``zeta``: the coarse damper periods ``T_m p / (2 pi)`` and damping ratios searched
+    ``Tm_ratio`` and ``zeta_grid``: the coarse damper periods ``T_m p / (2 pi)`` and damping ratios searched
     (arrays of values > 0 or log :class:`Grid`; defaults those of :func:`rocking.study.design.design`),
     ``refine`` points each side of the best. Other parameters as :func:`minimum_overturning_spectrum`.
 
@@ -324,18 +373,20 @@ def design(
     --------
     >>> import json, tempfile, numpy as np, rocking
     >>> ds = rocking.design(rocking.Block.reference(), Omega=[4.0, 6.0], beta=np.linspace(0.5, 20.0, 27),
-    ...                     Tm_ratio=np.geomspace(0.5, 4.0, 3), zeta=[0.02, 0.2], refine=1, runs=tempfile.mkdtemp(),
-    ...                     progress=False)
+    ...                     Tm_ratio=np.geomspace(0.5, 4.0, 3), zeta_grid=[0.02, 0.2], refine=1,
+    ...                     runs=tempfile.mkdtemp(), progress=False)
     >>> damper = json.loads(ds.attrs["summary"])["damper"]
     >>> round(damper["m_kg"]), round(damper["k_m_N_per_m"], 1)  # kg, N/m
     (50, 178.4)
     """
     return _run(
         _design,
-        _setting(block, rtol, t_after, backend, pulse),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
         _grid("Omega", Omega),
         _grid("beta", beta),
         workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
         progress=progress,
         runs=runs,
         study=study,
@@ -343,9 +394,9 @@ def design(
         stroke=stroke,
         h=h,
         Tm=_grid("Tm_ratio", Tm_ratio),
-        zeta=_grid("zeta", zeta),
+        zeta=_grid("zeta", zeta_grid),
         refine=refine,
-        tol=tol,
+        tol=beta_tol,
         directions=directions,
     )
 
@@ -362,13 +413,15 @@ def threshold_map(
     Tm_ratio=None,
     refine: int = 1,
     a_max: float = A_MAX,
-    tol: float = TOL,
+    beta_tol: float = TOL,
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
     backend: str = "c",
     workers: int | None = None,
-    runs: str | Path = RUNS,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
     progress: bool = True,
     study: bool = False,
 ):
@@ -385,7 +438,7 @@ def threshold_map(
         (m); its periods ``T_m p / (2 pi)`` searched (arrays of values > 0 or a log Grid) and refined.
     a_max : float
         Bound of the ground acceleration, in g.
-    tol, directions, rtol, t_after, backend, workers, runs, progress, study
+    beta_tol, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`minimum_overturning_spectrum`.
 
     Returns
@@ -408,6 +461,8 @@ def threshold_map(
         _grid("p", p),
         _grid("Omega", Omega),
         workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
         progress=progress,
         runs=runs,
         study=study,
@@ -418,7 +473,7 @@ def threshold_map(
         Tm=_grid("Tm_ratio", Tm_ratio),
         refine=refine,
         a_max=a_max,
-        tol=tol,
+        tol=beta_tol,
         rtol=rtol,
         t_after=t_after,
         backend=backend,
@@ -426,39 +481,91 @@ def threshold_map(
     )
 
 
+def _ida(
+    measure: str,
+    block: Block,
+    damper,
+    levels,
+    suite: dict,
+    *,
+    directions: str,
+    rtol: float,
+    t_after: float,
+    backend: str,
+    workers,
+    scheduler,
+    dask_workers,
+    runs,
+    progress: bool,
+    study: bool,
+    check: str | None,
+):
+    """The study of :func:`incremental_dynamic_analysis` (``measure="scale"``) or of :func:`fragility`."""
+    setting = _setting(block, rtol, t_after, backend)
+    return _run(
+        _incremental_dynamic_analysis,
+        setting,
+        _tuning(damper),
+        suite_of(**suite, g=setting.block.g),
+        _grid("levels", levels),
+        workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        measure_name=measure,
+        directions=directions,
+        check=check,
+    )
+
+
 def incremental_dynamic_analysis(
     block: Block,
     damper=None,
     *,
-    motions,
-    levels,
-    measure: str = "scale",
+    scales,
+    motions=None,
     unit: str | None = None,
+    stochastic: int | None = None,
+    seed: int | None = None,
+    site=None,
+    pulses: str | None = None,
+    periods=None,
+    amplitude: float | None = None,
+    gamma_mp: float | None = None,
+    nu: float | None = None,
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
     backend: str = "c",
     workers: int | None = None,
-    runs: str | Path = RUNS,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
     progress: bool = True,
     study: bool = False,
     check: str | None = None,
 ):
-    """Every motion of ``motions`` at every level of ``levels``, with and without ``damper``; the lognormal
-    fragility fitted to the outcomes.
+    """Every motion of a suite at every scale factor of ``scales``, with and without ``damper``; the lognormal
+    fitted to the outcomes against the scale factor.
 
     Parameters
     ----------
-    motions : Suite, paths of records, or pulses
-        Record files (PEER ``.AT2``, two-column text, ...; ``unit`` as :meth:`rocking.study.suite.Suite.from_files`),
-        pulses (:class:`rocking.OneSinePulse`, :class:`rocking.RickerWavelet`, ...) or a :class:`rocking.Suite`
-        (e.g. :meth:`~rocking.study.suite.Suite.stochastic`).
-    levels : array_like or Grid
-        Scale factors (``measure="scale"``), or levels of the intensity measure in its SI unit: ``"pga"``
-        (m/s^2), ``"pgv"`` (m/s), ``"arias"`` (m/s), ``"cav"`` (m/s), ``"amplitude"`` (m/s^2, pulses only).
-    measure : {"scale", "pga", "pgv", "arias", "cav", "amplitude"}
-        ``"scale"`` gives an IDA study, any other a fragility study.
-    damper, directions, rtol, t_after, backend, workers, runs, progress, study
+    scales : array_like or Grid
+        Scale factors of every motion, increasing.
+    motions : Suite, record files, or pulses
+        Record files (PEER ``.AT2``, two-column text, ...): paths, or ``(path, unit)`` pairs for a file's own unit
+        (``"g"``, ``"m/s2"``, ``"cm/s2"``); ``unit``: that of the others (default: the one each header states);
+        pulses (:class:`rocking.OneSinePulse`, :class:`rocking.RickerWavelet`, ...) or a :class:`rocking.Suite`.
+    stochastic, seed, site
+        Instead: ``stochastic`` motions of the site model ``site`` (a
+        :class:`~rocking.model.stochastic.SiteModel` or a mapping of its keywords, ``arias``, ``d595``, ...,
+        over the defaults) from ``seed`` (default 0).
+    pulses, periods, amplitude, gamma_mp, nu
+        Instead: a family of pulses (``"sine"``, ``"ricker"``, ``"mp"``, ...), one per period (s), of
+        amplitude ``amplitude`` (m/s^2, default 1 g) and the MP shape (:func:`rocking.study.suite.of_pulses`).
+    damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
     check : {"tolerance", "none"}, optional
         The tolerance check of every response, as :func:`rocking.simulate`'s (docs/simulation.md,
@@ -468,30 +575,124 @@ def incremental_dynamic_analysis(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``part`` (``bare``, ``damper``), ``motion``, ``level``, ``sign``; the fitted curves at
-        ``curve_x``; the envelope over the directions: :func:`rocking.study.ida.envelope`.
+        Dimensions ``part`` (``bare``, ``damper``), ``motion`` (the motions' names), ``level``, ``sign``; the
+        fitted curves at ``curve_x``; the envelope over the directions: :func:`rocking.study.ida.envelope`.
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> ds = rocking.incremental_dynamic_analysis(rocking.Block.reference(), {"gamma": 0.05}, pulses="ricker",
+    ...                                           periods=[0.5, 1.0], amplitude=3.0, scales=[1.0, 2.0],
+    ...                                           runs=tempfile.mkdtemp(), progress=False)
+    >>> ds["motion"].values.tolist(), ds["level"].attrs["units"]
+    (['ricker-T0.5-0', 'ricker-T1-1'], '1')
+    """
+    suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
+    return _ida(
+        "scale",
+        block,
+        damper,
+        scales,
+        suite,
+        directions=directions,
+        rtol=rtol,
+        t_after=t_after,
+        backend=backend,
+        workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
+        runs=runs,
+        progress=progress,
+        study=study,
+        check=check,
+    )
+
+
+def fragility(
+    block: Block,
+    damper=None,
+    *,
+    levels,
+    im: str = "pga",
+    motions=None,
+    unit: str | None = None,
+    stochastic: int | None = None,
+    seed: int | None = None,
+    site=None,
+    pulses: str | None = None,
+    periods=None,
+    amplitude: float | None = None,
+    gamma_mp: float | None = None,
+    nu: float | None = None,
+    directions: str = "auto",
+    rtol: float = Setting.rtol,
+    t_after: float = Setting.t_after,
+    backend: str = "c",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
+    progress: bool = True,
+    study: bool = False,
+    check: str | None = None,
+):
+    """The fragility of ``block`` alone and with ``damper``: every motion of a suite scaled to every level of the
+    intensity measure ``im``, and the lognormal fitted to the outcomes (median and dispersion).
+
+    Parameters
+    ----------
+    levels : array_like or Grid
+        Levels of the intensity measure in its SI unit, increasing.
+    im : {"pga", "pgv", "arias", "cav", "amplitude"}
+        The intensity measure: PGA (m/s^2), PGV (m/s), Arias intensity (m/s), CAV (m/s), or the amplitude
+        ``a_g`` of a suite of pulses (m/s^2).
+    motions, unit, stochastic, seed, site, pulses, periods, amplitude, gamma_mp, nu, check
+        The suite, as :func:`incremental_dynamic_analysis`.
+    damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
+        As :func:`overturning_map`.
+
+    Returns
+    -------
+    xarray.Dataset
+        As :func:`incremental_dynamic_analysis`'s, ``level`` in the unit of ``im``; the fit's ``median`` (in the
+        unit of ``im``) and ``dispersion`` per part.
+
+    Warns
+    -----
+    FitWarning
+        A lognormal fitted to fewer than 10 motions, or of a dispersion below 0.05
+        (:func:`rocking.study.fragility.fit_warnings`, which says why).
 
     Examples
     --------
     >>> import tempfile, rocking
     >>> block = rocking.Block.reference()
     >>> pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]  # a_g 3 m/s^2, T_g in s
-    >>> ds = rocking.incremental_dynamic_analysis(block, {"gamma": 0.05}, motions=pulses, levels=[1.0, 2.0, 4.0],
-    ...                                           measure="amplitude", runs=tempfile.mkdtemp(), progress=False)
+    >>> ds = rocking.fragility(block, {"gamma": 0.05}, motions=pulses, levels=[1.0, 2.0, 4.0], im="amplitude",
+    ...                       runs=tempfile.mkdtemp(), progress=False)
     >>> ds["fraction"].dims, ds["level"].attrs["units"]
     (('part', 'level'), 'm/s^2')
     """
-    return _run(
-        _incremental_dynamic_analysis,
-        _setting(block, rtol, t_after, backend),
-        _tuning(damper),
-        _suite(motions, unit),
-        _grid("levels", levels),
-        workers=workers,
-        progress=progress,
-        runs=runs,
-        study=study,
-        measure_name=measure,
+    if im not in tuple(LEVELS)[1:]:
+        raise ParameterError(f"im must be one of {', '.join(tuple(LEVELS)[1:])} (got {im!r})")
+    suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
+    return _ida(
+        im,
+        block,
+        damper,
+        levels,
+        suite,
         directions=directions,
+        rtol=rtol,
+        t_after=t_after,
+        backend=backend,
+        workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
+        runs=runs,
+        progress=progress,
+        study=study,
         check=check,
     )

@@ -122,6 +122,15 @@ FIELDS: dict[str, tuple] = {
     "band_low": ("1", "lower end of the bootstrap 90 % band of the fitted probability"),
     "band_high": ("1", "upper end of the bootstrap 90 % band of the fitted probability"),
     "im": ("level units", "intensity measure of each motion, unscaled"),
+    "median": ("level units", "median of the fitted lognormal fragility (theta of Baker 2015)"),
+    "dispersion": (
+        "1",
+        "dispersion of the fitted lognormal fragility: standard deviation of ln IM (beta of Baker 2015)",
+    ),
+    "median_low": ("level units", "lower end of the bootstrap 90 % interval of the median"),
+    "median_high": ("level units", "upper end of the bootstrap 90 % interval of the median"),
+    "dispersion_low": ("1", "lower end of the bootstrap 90 % interval of the dispersion"),
+    "dispersion_high": ("1", "upper end of the bootstrap 90 % interval of the dispersion"),
 }
 #: What a field means in one kind of study, where it differs from :data:`FIELDS`.
 KIND_FIELDS = {

@@ -72,6 +72,46 @@ def _probit_cost(params, x, k, safe) -> tuple[float, np.ndarray, np.ndarray]:
 #: Statuses of a fit that gives a curve.
 FITTED = ("fitted", "separated")
 
+#: Fewest motions a lognormal is fitted to without a :class:`FitWarning`. The dispersion of a lognormal fitted to
+#: ``n`` motions has a standard error of about ``beta / sqrt(2 n)`` (each motion one sample of its log capacity):
+#: below 10 motions more than a fifth of the dispersion itself.
+MIN_MOTIONS = 10
+#: Smallest dispersion fitted without a :class:`FitWarning`. Record-to-record dispersions of overturning are of
+#: order 0.2 to 0.6; below 0.05 the motions overturn the block at one level to within 5 %: copies of one record,
+#: or levels too coarse to tell the motions apart, and the fit then describes the levels, not the suite.
+MIN_DISPERSION = 0.05
+
+
+class FitWarning(UserWarning):
+    """A lognormal fitted to too few motions, or of a degenerate dispersion (:func:`fit_warnings`)."""
+
+
+def fit_warnings(motions: int, fit) -> list[str]:
+    """Why the fit ``fit`` of :func:`fit_lognormal` to ``motions`` motions is not to be trusted, if it is not.
+
+    Returns
+    -------
+    list of str
+        A sentence for fewer than :data:`MIN_MOTIONS` motions, one for a dispersion below :data:`MIN_DISPERSION`
+        (or outcomes the levels separate exactly); empty for a fit without a curve, which its status tells.
+    """
+    if fit["status"] not in FITTED:
+        return []
+    out = []
+    if motions < MIN_MOTIONS:
+        out.append(
+            f"the lognormal is fitted to {motions} motions, fewer than {MIN_MOTIONS}: its dispersion is uncertain "
+            f"by about {1 / np.sqrt(2 * motions):.0%} of itself; use more motions"
+        )
+    if fit["status"] == "separated" or fit["beta"] < MIN_DISPERSION:
+        out.append(
+            f"the fitted dispersion {fit['beta']:.3g} is below {MIN_DISPERSION:g}: the motions overturn the block at "
+            "one level (copies of one record, or levels too coarse to tell them apart); the curve describes the "
+            "levels, not the suite"
+        )
+    return out
+
+
 #: Newton iterations of a fit, and the largest slope ``b = 1 / beta`` (a dispersion of 1e-3): levels that
 #: separate the outcomes exactly have no finite maximum, the slope growing without bound.
 NEWTON_STEPS, MAX_SLOPE = 100, 1e3

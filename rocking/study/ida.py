@@ -20,6 +20,7 @@ bootstrap band (:mod:`rocking.study.fragility`).
 from __future__ import annotations
 
 import math
+import warnings
 from dataclasses import replace
 from pathlib import Path
 
@@ -34,7 +35,7 @@ from . import directions
 from .config import Grid, Setting, Tuning, Variant, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import choose, response_envelope
-from .fragility import FITTED, bootstrap_band, fit_lognormal, fragility_curve, ida_summary
+from .fragility import FITTED, FitWarning, bootstrap_band, fit_lognormal, fit_warnings, fragility_curve, ida_summary
 from .overturning_map import FIELDS, PARTS, check_damper, check_study, preflight, undetermined, warn_undetermined
 from .result import Study
 from .suite import Suite, motion_names
@@ -51,6 +52,15 @@ CURVE_POINTS, RESAMPLES = 101, 400
 
 #: What the envelopes of an IDA give per part, besides the responses: per motion, per level, along the fitted curve.
 RESULTS = ("first", "last_safe", "reversals", "fraction", "sensitive_fraction", "curve", "band_low", "band_high")
+#: The fitted lognormal of each part (NaN where there is none), and the summary's keys they come from.
+FIT = {
+    "median": ("theta", None),
+    "dispersion": ("beta", None),
+    "median_low": ("theta_interval", 0),
+    "median_high": ("theta_interval", 1),
+    "dispersion_low": ("beta_interval", 0),
+    "dispersion_high": ("beta_interval", 1),
+}
 
 #: The dimensions of every variable of an IDA's or a fragility's data (:func:`ida_data`), coordinates included.
 DIMS = {
@@ -59,6 +69,7 @@ DIMS = {
     **dict.fromkeys((*FIELDS, SENSITIVE.name), ("part", "motion", "level", "sign")),
     **dict.fromkeys(("first", "last_safe", "reversals"), ("part", "motion")),
     **dict.fromkeys(("fraction", "sensitive_fraction"), ("part", "level")),
+    **dict.fromkeys(FIT, ("part",)),
     **dict.fromkeys(("curve", "band_low", "band_high"), ("part", "curve_x")),
 }
 
@@ -256,7 +267,7 @@ def incremental_dynamic_analysis(
         "undetermined": unknown,
     }
     both = response_envelope({k: fields[k] for k in FIELDS}, undetermined(fields["status"]))
-    results: dict[str, list] = {k: [] for k in RESULTS}
+    results: dict[str, list] = {k: [] for k in (*RESULTS, *FIT)}
     for index, part in enumerate(PARTS):
         over = both["overturned"][index].astype(bool)
         ida = (
@@ -271,11 +282,17 @@ def incremental_dynamic_analysis(
         # Of the responses (motions and directions), not of the envelopes: each is one run that moved.
         results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)))
         uncertain = uncertain_verdicts(fields["overturned"][index], sensitive)
-        summary[part], curves = _fit(lv, over, uncertain, curve_x)
+        fit, curves = _fit(lv, over, uncertain, curve_x)
+        for message in fit_warnings(n, fit):
+            warnings.warn(f"{PART_NAMES[part]}: {message}", FitWarning, stacklevel=2)
         for k, v in curves.items():
             results[k].append(v)
-        summary[part]["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
-        summary[part]["sensitive"] = int(sensitive.sum())
+        for k, (key, end) in FIT.items():
+            value = fit.get(key)
+            results[k].append(np.nan if value is None else float(value if end is None else value[end]))
+        fit["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
+        fit["sensitive"] = int(sensitive.sum())
+        summary[part] = fit
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
     fields.update({k: np.stack(v) for k, v in results.items()})
@@ -298,7 +315,11 @@ def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
 
     coords = {
         "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
-        "motion": ("motion", np.arange(len(im)), {"long_name": "index of the motion in the suite"}),
+        "motion": (
+            "motion",
+            np.array(motion_names(config["suite"])),
+            {"long_name": "the motion: its file's name, <family>-T<period in s>-<i> or stochastic-<seed>-<i>"},
+        ),
         "level": ("level", levels, coordinate_attrs("level", config)),
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
         "curve_x": ("curve_x", curve_x, coordinate_attrs("curve_x", config)),
@@ -349,17 +370,19 @@ def _fit(levels, over, uncertain, x) -> tuple[dict, dict]:
 
 
 def tables(data, config: dict) -> dict:
-    """CSV tables: ``<kind>`` (one row per motion and level: the envelope of both parts) and ``<kind>-motions``
-    (one row per motion: its name, its measure and IDA summary)."""
+    """CSV tables: ``<kind>`` (one row per motion and level: the envelope of both parts), ``<kind>-motions``
+    (one row per motion: its name, its measure and IDA summary) and ``<kind>-fit`` (one row per part: the fitted
+    lognormal's median and dispersion, and their 90 % intervals)."""
     kind, env = config["kind"], envelope(data)
-    n = data.sizes["motion"]
-    motion, level = np.meshgrid(np.arange(n), data["level"].values, indexing="ij")
-    rows = {"motion": motion.ravel(), "level": level.ravel()}
+    names = data["motion"].values
+    motion, level = np.meshgrid(np.arange(names.size), data["level"].values, indexing="ij")
+    rows = {"motion": names[motion.ravel()], "level": level.ravel()}
     for part in PARTS:
         for k in ("overturned", "impacts", "theta_max", "x_max", SENSITIVE.name):
             rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
-    motions = {"motion": np.arange(n), "name": np.array(motion_names(config["suite"])), "im": data["im"].values}
+    motions = {"motion": names, "im": data["im"].values}
     for part in PARTS:
         for k in ("first", "last_safe", "reversals"):
             motions[f"{part}_{k}"] = data[k].sel(part=part).values
-    return {kind: rows, f"{kind}-motions": motions}
+    fits = {"part": np.array(PARTS), **{k: data[k].values for k in FIT}}
+    return {kind: rows, f"{kind}-motions": motions, f"{kind}-fit": fits}

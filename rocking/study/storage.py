@@ -86,8 +86,33 @@ def _data_files(study: Study, name: str, software: dict) -> dict:
         # Tables are named after the kind ("spectrum-windows"); a study saved under another name keeps its own.
         if table.startswith(study.kind):
             table = name + table[len(study.kind) :]
-        files[f"{table}.csv"] = lambda path, columns=columns: write_csv(path, columns)
+        files[f"{table}.csv"] = lambda path, columns=columns: write_csv(path, headed(columns, study.data))
     return files
+
+
+def headed(columns: dict, data) -> dict:
+    """A table's columns as its CSV shows them: each name with its unit (``theta_max [rad]``, as a history's CSV),
+    read from the variable of ``data`` it comes from (its own name, or ``<part>_<name>``); a coded column
+    (``flag_values``) followed by ``<name>_text``, the words of its codes."""
+    out = {}
+    for name, values in columns.items():
+        source = _source(name, data)
+        codes = np.asarray(values)
+        units = None if source is None or codes.dtype.kind not in "biuf" else source.attrs.get("units")
+        out[f"{name} [{units}]" if units else name] = values
+        if source is not None and "flag_values" in source.attrs and codes.dtype.kind in "iu":
+            words = dict(zip(source.attrs["flag_values"].tolist(), source.attrs["flag_meanings"].split()))
+            out[f"{name}_text"] = np.array([words.get(c, "") for c in codes.ravel().tolist()], object)
+    return out
+
+
+def _source(column: str, data):
+    """The variable of ``data`` a table's column shows: its own name, or ``<part>_<name>[_pos|_neg]`` (one part,
+    one direction), or None."""
+    parts = [str(p) for p in data["part"].values] if "part" in data.coords else []
+    names = [column, *(column[len(p) + 1 :] for p in parts if column.startswith(f"{p}_"))]
+    names += [n.removesuffix(end) for n in names for end in ("_pos", "_neg") if n.endswith(end)]
+    return next((data.variables[n] for n in names if n in data.variables), None)
 
 
 def variables(data) -> dict:

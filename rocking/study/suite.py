@@ -13,16 +13,28 @@ of uncertain period, say, for a fragility against the pulse's amplitude.
 from __future__ import annotations
 
 import dataclasses
+import os
+from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
+from typing import Any
 
-from ..model.motion import SampledMotion, describe, family_of
+from ..model.motion import PULSE_TYPES, SampledMotion, describe, family_of
 from ..model.params import ParameterError
 from ..model.records import UNITS, file_sha256, read_record
-from ..model.stochastic import SiteModel, record_rng, synthesize
+from ..model.stochastic import DEFAULT_SITE, SiteModel, record_rng, synthesize
 
 #: Largest number of motions in a suite.
 MAX_MOTIONS = 100_000
+
+#: The sources of a suite (:func:`suite_of`), as their messages name them.
+SOURCES = {"motions": "motions FILES", "stochastic": "stochastic N", "pulses": "pulses FAMILY"}
+#: The options of each source of a suite.
+OPTIONS_OF = {
+    "motions": ("unit",),
+    "stochastic": ("seed", "site"),
+    "pulses": ("periods", "amplitude", "gamma_mp", "nu"),
+}
 
 
 @dataclass(frozen=True)
@@ -33,10 +45,9 @@ class Suite:
 
     Attributes
     ----------
-    files : tuple of (str, str)
-        Absolute path and SHA-256 of each record file (empty for a stochastic suite).
-    unit : str or None
-        The unit of the accelerations of column files (``.AT2`` files are in g); None: the one each header states.
+    files : tuple of (str, str, str or None)
+        Absolute path, SHA-256 and unit of the accelerations of each record file (empty for a stochastic suite);
+        a unit of None: the one its header states (``.AT2`` files are in g).
     site : SiteModel or None
         The stochastic model (None for files).
     seed, n : int
@@ -46,7 +57,6 @@ class Suite:
     """
 
     files: tuple = ()
-    unit: str | None = None
     site: SiteModel | None = None
     seed: int = 0
     n: int = 0
@@ -54,22 +64,27 @@ class Suite:
 
     @classmethod
     def from_files(cls, paths, unit: str | None = None) -> Suite:
-        """The records of ``paths`` (``.AT2``, or columns of time and acceleration in ``unit`` or the unit their
-        header states), each read now.
+        """The records of ``paths``, each read now: ``.AT2``, or columns of time and acceleration.
+
+        Parameters
+        ----------
+        paths : iterable of path or (path, unit)
+            Record files; a pair gives its file's own unit of acceleration (``"g"``, ``"m/s2"``, ``"cm/s2"``, ...).
+        unit : str, optional
+            The unit of the files given without one; default: the one each header states.
 
         Raises
         ------
         ParameterError
-            Naming the file (and line) of the first one that cannot be read (:mod:`rocking.model.records`).
+            A unit not known, or naming the file (and line) of the first one that cannot be read
+            (:mod:`rocking.model.records`).
         """
-        paths = [Path(p).resolve() for p in paths]
-        if not 1 <= len(paths) <= MAX_MOTIONS:
-            raise ParameterError(f"a suite needs 1 to {MAX_MOTIONS} record files (got {len(paths)})")
-        if unit is not None and unit not in UNITS:
-            raise ParameterError(f"unit must be one of {', '.join(UNITS)} (got {unit!r})")
-        for path in paths:
-            read_record(path, unit)
-        return cls(files=tuple((str(p), file_sha256(p)) for p in paths), unit=unit)
+        items = [_path_and_unit(p, unit) for p in paths]
+        if not 1 <= len(items) <= MAX_MOTIONS:
+            raise ParameterError(f"a suite needs 1 to {MAX_MOTIONS} record files (got {len(items)})")
+        for path, own in items:
+            read_record(path, own)
+        return cls(files=tuple((str(p), file_sha256(p), own) for p, own in items))
 
     @classmethod
     def stochastic(cls, site: SiteModel, n: int, seed: int) -> Suite:
@@ -111,10 +126,10 @@ class Suite:
             If its file changed since the suite was made.
         """
         if self.files:
-            path, digest = self.files[i]
+            path, digest, unit = self.files[i]
             if file_sha256(Path(path)) != digest:
                 raise ParameterError(f"{path}: changed since the suite was made (its SHA-256 differs)")
-            record = read_record(path, self.unit)
+            record = read_record(path, unit)
             return SampledMotion(record.acceleration, dt=record.dt)
         if self.pulses:
             return self.pulses[i]
@@ -123,7 +138,7 @@ class Suite:
     def record(self) -> dict:
         """JSON-ready description: the files and their hashes, the pulses, or the site model, seed and size."""
         if self.files:
-            return {"files": [{"path": p, "sha256": d} for p, d in self.files], "unit": self.unit}
+            return {"files": [{"path": p, "sha256": d, "unit": u} for p, d, u in self.files]}
         if self.pulses:
             return {
                 "pulses": [
@@ -142,3 +157,123 @@ def motion_names(record: dict) -> list[str]:
     if "pulses" in record:
         return [f"{p['family']}-T{p['T_g']:.4g}-{i}" for i, p in enumerate(record["pulses"])]
     return [f"stochastic-{record['seed']}-{i}" for i in range(record["n"])]
+
+
+def _path_and_unit(item, unit: str | None) -> tuple[Path, str | None]:
+    """``(absolute path, unit)`` of a path or a ``(path, unit)`` pair of :meth:`Suite.from_files`."""
+    path, own = (item, unit) if isinstance(item, str | os.PathLike) else tuple(item)
+    if own is not None and own not in UNITS:
+        raise ParameterError(f"unit of {path} must be one of {', '.join(UNITS)} (got {own!r})")
+    return Path(path).resolve(), own
+
+
+def split_unit(text: str) -> tuple[str, str | None]:
+    """``"b.txt:cm/s2"`` as ``("b.txt", "cm/s2")``: a record file of the command line and its own unit.
+
+    Only a known unit (:data:`rocking.model.records.UNITS`) after the last ``:`` is one, so that a path holding a
+    colon (``C:\\records\\a.AT2``) stays whole; ``("a.AT2", None)`` without one.
+    """
+    path, sep, unit = text.rpartition(":")
+    return (path, unit) if sep and path and unit in UNITS else (text, None)
+
+
+def of_pulses(pulses: str, periods, amplitude: float, gamma_mp: float | None = None, nu: float | None = None) -> Suite:
+    """One pulse of the family ``pulses`` per period of ``periods`` (s), of amplitude ``amplitude`` (m/s^2), the
+    MP pulses of oscillations ``gamma_mp`` (> 1) and phase ``nu`` (rad): each its class's ``from_period``."""
+    family = pulses.replace("-", "_")
+    if family not in PULSE_TYPES:
+        raise ParameterError(f"pulses must be one of {', '.join(PULSE_TYPES)} (got {pulses!r})")
+    if not periods:
+        raise ParameterError(f"pulses {pulses} needs periods T... (s), one pulse per period")
+    cls: Any = PULSE_TYPES[family][0]  # each family's class has its from_period
+    fixed = PULSE_TYPES[family][1]
+    shape = {k: v for k, v in (("gamma_mp", gamma_mp), ("nu", nu)) if v is not None}
+    if family != "mp" and shape:
+        raise ParameterError(f"gamma_mp and nu are the shape of pulses mp, not of pulses {pulses}")
+    if family == "mp" and "gamma_mp" not in shape:
+        raise ParameterError("pulses mp needs gamma_mp too (its oscillations, > 1)")
+    return Suite.from_pulses([cls.from_period(amplitude, T, **fixed, **shape) for T in periods])
+
+
+def suite_of(
+    motions=None,
+    *,
+    unit: str | None = None,
+    stochastic: int | None = None,
+    seed: int | None = None,
+    site=None,
+    pulses: str | None = None,
+    periods=None,
+    amplitude: float | None = None,
+    gamma_mp: float | None = None,
+    nu: float | None = None,
+    g: float = 9.81,
+) -> Suite:
+    """The suite of a study from exactly one source, by the names of the command line's options.
+
+    Parameters
+    ----------
+    motions : Suite, paths or (path, unit) pairs of records, or pulses, optional
+        The motions themselves (:meth:`Suite.from_files`, :meth:`Suite.from_pulses`).
+    unit : str, optional
+        The unit of the record files given without their own.
+    stochastic, seed, site : optional
+        ``stochastic`` motions of the site model ``site`` (a :class:`~rocking.model.stochastic.SiteModel` or a
+        mapping of its keywords over the defaults), from ``seed`` (default 0): :meth:`Suite.stochastic`.
+    pulses, periods, amplitude, gamma_mp, nu : optional
+        A family of pulses (:func:`of_pulses`); ``amplitude`` default 1 g.
+    g : float
+        Gravity, m/s^2: the default amplitude of the pulses.
+
+    Raises
+    ------
+    ParameterError
+        None or several sources, or an option of another source.
+    """
+    sources = [k for k, v in (("motions", motions), ("stochastic", stochastic), ("pulses", pulses)) if v is not None]
+    if not sources:
+        raise ParameterError("a suite is needed: motions FILES..., stochastic N or pulses FAMILY")
+    if len(sources) > 1:
+        raise ParameterError(f"give one of motions FILES, stochastic N or pulses FAMILY (got {', '.join(sources)})")
+    options = {"unit": unit, "seed": seed, "site": site, "periods": periods, "amplitude": amplitude}
+    options |= {"gamma_mp": gamma_mp, "nu": nu}
+    foreign = [k for k, v in options.items() if v is not None and k not in OPTIONS_OF[sources[0]]]
+    if foreign and sources[0] == "pulses":
+        raise ParameterError(f"pulses makes its own suite: no {', '.join(foreign)}")
+    if foreign:
+        owners = [SOURCES[source] for source, names in OPTIONS_OF.items() if set(foreign) & set(names)]
+        raise ParameterError(f"{', '.join(foreign)}: only with {' or '.join(owners)}")
+    if pulses is not None:
+        return of_pulses(pulses, periods, g if amplitude is None else amplitude, gamma_mp, nu)
+    if stochastic is not None:
+        return Suite.stochastic(_site(site), stochastic, 0 if seed is None else seed)
+    return _motions(motions, unit)
+
+
+def _site(site) -> SiteModel:
+    """A site model from None (the default), a SiteModel or a mapping of its keywords over the default's."""
+    if site is None or isinstance(site, Mapping):
+        try:
+            return SiteModel(**{**DEFAULT_SITE.record(), "duration": None, **(site or {})})
+        except TypeError as exc:
+            raise ParameterError(f"site: {exc} (keywords of rocking.model.stochastic.SiteModel)") from None
+    return site
+
+
+def _motions(motions, unit: str | None) -> Suite:
+    """A suite from a Suite, record files (paths or (path, unit) pairs) or pulses (:mod:`rocking.model.motion`)."""
+    if isinstance(motions, Suite):
+        return motions
+    if isinstance(motions, str | os.PathLike):
+        motions = [motions]
+    try:
+        items = list(motions)
+    except TypeError:
+        raise ParameterError(
+            f"motions must be a rocking.Suite, record files or pulses (got {type(motions).__name__})"
+        ) from None
+    if items and all(isinstance(m, str | os.PathLike | tuple | list) for m in items):
+        return Suite.from_files(items, unit)
+    if unit is not None:
+        raise ParameterError("unit is the unit of record files: give it with paths of records, not with pulses")
+    return Suite.from_pulses(items)
