@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "f1d26b3e4153f8065961288a045dde5e71e0ec5519ff23494cd740693f8b28e4",
-    "omd": "c86bae57a11a98d3d8beb7b4ad05f78cb9262eed1f0037bd16baca2edafd27c5",
-    "omd2": "75a75c1878fb94bf4f484007c143320cdaea86c05be469d4cea68097481711d6",
-    "omd_stops": "f70bab81f1ff4f283b31e074cacb2198354dc347f090509202c7ecce8e35ae78",
-    "omd_stops_hc": "56befccdbbde72432b542d3810554600b4d809a7e791e35f190750743b47a99b",
-    "pendulum": "63fc6c97e53c15f1b5053f8d4f9a08d1609c60c5ee4fecac0f2c9dbd9e6f6170",
+    "block": "f13892eb2b24b3d94e46bc75d6a4028d289d2a913804f9a3976b0c08d484a035",
+    "omd": "29e86844c386cf7e1524c28e8ef6d43e66bb193682863c311797f5173f42b8ae",
+    "omd2": "c10099da4f5e89528173c5366a87c5cccf61f4c96ac059ea84f4f7c2724bdd22",
+    "omd_stops": "48942d00f73e0a109a50a958686ad12d9a5b920ea0af1db2141e4132e73797ea",
+    "omd_stops_hc": "fa5b287ae67ac776b560d07d1853e931a91381be651ebad7bab2ed9367e4a5af",
+    "pendulum": "53fd251a03555511fdf744bd84db3604134e1a5b9deca3cdc685ea81e06bc0bb",
 }
