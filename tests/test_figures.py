@@ -454,11 +454,11 @@ def test_ida_names_its_motions_and_writes_its_measure_with_its_unit(tmp_path):
     from rocking.study.suite import motion_names
 
     pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0)]
-    study = rocking.incremental_dynamic_analysis(
+    study = rocking.fragility(
         Block.reference(),
         motions=pulses,
         levels=[1.0, 3.0, 9.0, 27.0],
-        measure="pga",
+        im="pga",
         t_after=3.0,
         runs=tmp_path,
         workers=1,
