@@ -227,6 +227,29 @@ def _add_pulse(p: argparse.ArgumentParser) -> None:
     g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
 
 
+def _add_vertical(p: argparse.ArgumentParser) -> None:
+    """``--vertical-ratio`` and ``--vertical-phase`` of the maps and spectra: every pulse's vertical component."""
+    g = p.add_argument_group(
+        "vertical component",
+        "As rocking.Setting(block, vertical_ratio=..., vertical_phase=...): every pulse with "
+        "rocking.Vertical(ratio, phase), ddy_g > 0 up, unsigned by the direction (docs/model.md section 14).",
+    )
+    g.add_argument(
+        "--vertical-ratio",
+        type=float,
+        metavar="R",
+        help="vertical amplitude over the horizontal a_g, in [0, 10]: ddy_g = R a_g f(t + PHI / omega_g) on the "
+        "pulse; where g + ddy_g reaches 0 a run ends with status flight, no verdict "
+        f"({default_text(Setting, 'vertical_ratio')})",
+    )
+    g.add_argument(
+        "--vertical-phase",
+        type=float,
+        metavar="PHI",
+        help=f"lead PHI of the vertical shape, rad, in [0, 2 pi) ({default_text(Setting, 'vertical_phase')})",
+    )
+
+
 def _add_directions(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--directions",
@@ -278,6 +301,9 @@ def setting_from(args) -> Setting:
     """The study's :class:`Setting` from the options given (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
     # ida and fragility have no --pulse: their --gamma-mp and --nu shape the pulses of their suite.
     pulse = given(args, ("pulse", "gamma_mp", "nu")) if "pulse" in vars(args) else {}
+    # map and spectrum: their pulses' vertical component (ida's and fragility's --vertical-ratio is their suite's).
+    if "pulse" in vars(args):
+        pulse.update(given(args, ("vertical_ratio", "vertical_phase")))
     if "pulse" in pulse:
         pulse["pulse"] = pulse["pulse"].replace("-", "_")
     return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")), **pulse)
@@ -831,6 +857,7 @@ def add_study_commands(subparsers) -> None:
     p.add_argument("--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)")
     _add_directions(p)
     _add_pulse(p)
+    _add_vertical(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_map))
 
@@ -851,6 +878,7 @@ def add_study_commands(subparsers) -> None:
     )
     _add_directions(p)
     _add_pulse(p)
+    _add_vertical(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_spectrum))
 

@@ -44,6 +44,7 @@ from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
+from ..study.config import flight_beta
 from ..study.ida import envelope as ida_envelope
 from ..study.kinds import KINDS
 from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
@@ -218,7 +219,26 @@ def _pulse_label(config: dict) -> str:
     shape = (
         rf" ($\gamma_{{MP}}$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
     )
-    return PULSE_NAMES[pulse["motion"]] + shape
+    return PULSE_NAMES[pulse["motion"]] + shape + _vertical_label(config)
+
+
+def _vertical_label(config: dict) -> str:
+    """The pulses' vertical component for a title (docs/model.md section 14); nothing without one."""
+    vertical = config.get("vertical", {})
+    if not vertical:
+        return ""
+    lead = rf" + {vertical['phase']:.3g}/\omega_g" if vertical["phase"] else ""
+    return rf", vertical $\ddot y_g$ = {vertical['ratio']:g} $a_g f(t{lead})$ (> 0 up, either direction)"
+
+
+def _flight_line(ax, config: dict, beta_high: float) -> list[Line2D]:
+    """The amplitude above which ``g + ddy_g`` reaches 0 (runs end with the status flight, no verdict), as a dashed
+    line when it lies below ``beta_high``; its legend handle, or none."""
+    beta_f = flight_beta(_block(config), config)
+    if not beta_f < beta_high:
+        return []
+    label = rf"$\beta$ = {beta_f:.3g}: above, g + $\ddot y_g$ reaches 0 (flight, no verdict)"
+    return [ax.axhline(beta_f, color=GREY, ls="--", lw=1.2, zorder=5, label=label)]
 
 
 def _excitation_label(config: dict) -> str:
@@ -450,7 +470,8 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
         present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
     order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
-    fig.legend(handles=[present[label] for label in order], loc="outside lower left", ncols=3, **LEGEND)
+    flight = [line for ax in axes for line in _flight_line(ax, study.config, float(beta[-1]))][:1]
+    fig.legend(handles=[present[label] for label in order] + flight, loc="outside lower left", ncols=3, **LEGEND)
     effect = over["bare"].astype(int) + 2 * over["damper"].astype(int)
     past = saved_past_edges(env, block.B / 2)
     unknown = (effect == 1) & ~data["computed"].sel(part="damper").values
@@ -545,7 +566,7 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     _period_axis(ax, block.p)
     _acceleration_axis(ax, block.tan_alpha)
     ax.set_title("minimum overturning amplitude", fontsize=9)
-    handles = ax.get_legend_handles_labels()[0]
+    handles = ax.get_legend_handles_labels()[0] + _flight_line(ax, study.config, scan["high"])
     for code, up in ((ABOVE, True), (BELOW, False)):
         if any((a["flag"][part] == code).any() for part in PARTS):
             handles.append(_bound_handle(up))

@@ -57,7 +57,7 @@ import numpy as np
 
 from ..model.params import ParameterError
 from .adaptive import check_coarse, refine_scan
-from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config
+from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
@@ -425,7 +425,8 @@ def spectrum_data(config: dict, Omega, beta_scan, signs, fields: dict):
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
     }
     coords.update(si_coordinates(config, coords))
-    return xr.Dataset({k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}, coords=coords)
+    variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
+    return xr.Dataset(variables, coords=coords, attrs=vertical_attrs(config))
 
 
 def envelope(data):

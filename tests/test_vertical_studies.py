@@ -1,0 +1,90 @@
+"""Maps and spectra with a vertical component (docs/model.md section 14): every cell is a single run of the same
+pulse with the same :class:`rocking.Vertical`, ratio 0 is the study without, and the Dataset and the figures say so."""
+
+import math
+
+import numpy as np
+import pytest
+
+import rocking
+from rocking.cli.main import main
+from rocking.study.config import Setting, flight_beta
+from rocking.study.overturning_map import UndeterminedWarning
+from rocking.study.vocabulary import ABOVE
+
+BLOCK = rocking.Block.reference()
+OMEGA, BETA = [2.0, 4.0, 8.0], [1.0, 2.5, 4.5]
+
+
+def _map(tmp_path, **vertical):
+    return rocking.overturning_map(
+        BLOCK, {"gamma": 0.05}, Omega=OMEGA, beta=BETA, full=True, runs=tmp_path, workers=1, progress=False,
+        study=True, **vertical,
+    )  # fmt: skip
+
+
+def test_each_cell_of_a_map_with_a_vertical_component_is_a_single_run_with_it(tmp_path):
+    plain, study = _map(tmp_path), _map(tmp_path, vertical_ratio=0.8, vertical_phase=0.5)
+    data = study.data
+    assert not np.array_equal(plain.data["theta_max"].values, data["theta_max"].values)
+    vertical = rocking.Vertical(0.8, 0.5)
+    damper = rocking.Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    for Omega in OMEGA:
+        for beta in BETA:
+            for sign in data["sign"].values.tolist():
+                pulse = rocking.OneSinePulse.from_nondim(BLOCK, beta=beta, Omega=Omega, sign=sign, vertical=vertical)
+                for part, run in (("bare", None), ("damper", damper)):
+                    r = rocking.simulate(BLOCK, run, pulse)
+                    cell = data.sel(part=part, Omega=Omega, beta=beta, sign=sign)
+                    assert cell["theta_max"].item() == r.theta_max and cell["impacts"].item() == r.impacts
+    assert data.attrs["vertical_ratio"] == 0.8 and data.attrs["vertical_phase"] == 0.5
+    assert "> 0 up" in data.attrs["vertical_component"] and plain.data.attrs["vertical_ratio"] == 0.0
+    assert study.config["vertical"] == {"ratio": 0.8, "phase": 0.5} and "vertical" not in plain.config
+
+
+def test_ratio_zero_is_the_study_without_a_vertical_component(tmp_path):
+    plain, zero = _map(tmp_path / "a"), _map(tmp_path / "b", vertical_ratio=0.0)
+    assert plain.config == zero.config
+    for name in ("theta_max", "status", "impacts", "x_max"):
+        assert np.array_equal(plain.data[name].values, zero.data[name].values, equal_nan=True)
+
+
+def test_a_spectrum_knows_where_the_ground_pulls_past_gravity(tmp_path):
+    beta = rocking.Grid("beta", 0.5, 8.0, 16)
+    with pytest.warns(UndeterminedWarning, match="status flight"):
+        study = rocking.minimum_overturning_spectrum(
+            BLOCK, None, Omega=[10.0], beta=beta, vertical_ratio=1.0, runs=tmp_path, workers=1, progress=False,
+            study=True,
+        )  # fmt: skip
+    # A one-sine in phase: g + ddy_g <= 0 once ratio beta tan(alpha) >= 1, beta >= 4 on the reference block.
+    assert flight_beta(BLOCK, study.config) == pytest.approx(1.0 / BLOCK.tan_alpha, rel=1e-9)
+    assert flight_beta(BLOCK, {}) == math.inf
+    data = study.data
+    # At Omega = 10 the block survives up to beta = 4: past it every run of the scan (4.5 .. 8) ends with status
+    # flight, without a verdict, and beta_min is not reached in the scan.
+    assert (data["flag"] == ABOVE).all()
+    assert (data["undetermined"] == np.count_nonzero(beta.values() > 4.0)).all()
+
+
+@pytest.mark.parametrize(
+    ("vertical", "message"),
+    [
+        ({"vertical_ratio": -0.5}, r"^vertical_ratio must be in \[0, 10\] \(got -0.5\)"),
+        ({"vertical_ratio": math.inf}, r"^vertical_ratio must be finite \(got inf\)"),
+        ({"vertical_ratio": 1.0, "vertical_phase": 7.0}, r"^vertical_phase must be in \[0, 2 pi\) = .* \(got 7.0\)"),
+        ({"vertical_phase": 1.0}, r"^vertical_phase is the lead of the vertical component: give it with"),
+    ],
+)
+def test_a_bad_vertical_component_is_refused_naming_it(vertical, message):
+    with pytest.raises(rocking.ParameterError, match=message):
+        Setting(BLOCK, **vertical)
+
+
+def test_the_command_line_map_takes_the_vertical_component(tmp_path, capsys):
+    argv = ["map", "--Omega", "4", "4", "1", "--beta", "2", "3", "2", "--full", "--workers", "1", "--no-progress"]
+    assert main([*argv, "--vertical-ratio", "0.5", "--vertical-phase", "1", "--out", str(tmp_path)]) == 0
+    saved = rocking.load(tmp_path / "map.nc")
+    assert saved.config["vertical"] == {"ratio": 0.5, "phase": 1.0}
+    assert saved.data.attrs["vertical_ratio"] == 0.5
+    assert main([*argv, "--vertical-ratio", "-1", "--out", str(tmp_path / "bad")]) == 2
+    assert "rocking map: error: vertical_ratio must be in [0, 10]" in capsys.readouterr().err
