@@ -33,7 +33,7 @@ from ..model.params import ParameterError
 from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE
-from ..plot.figures import draw, redraw
+from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
@@ -75,6 +75,9 @@ MAP_OMEGA, MAP_BETA = (0.5, 15.0, 146), (1.0, 15.0, 141)
 SPECTRUM_OMEGA, SPECTRUM_BETA = (0.5, 15.0, 59), (0.5, 15.0, 117)
 OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
+#: The demo's spectra under a vertical component: its ratios and modest grids (about 20 s on 2 cores).
+VERTICAL_RATIOS = (0.0, 0.5, 1.0)
+VERTICAL_OMEGA, VERTICAL_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 #: The band of pulses of ``design`` and its beta scan (reaching above the damped block's beta_min at Omega = 8).
 DESIGN_OMEGA, DESIGN_BETA = (2.0, 8.0, 7), (0.5, 25.0, 50)
 
@@ -724,6 +727,7 @@ def _cmd_demo(args) -> int:
         study = minimum_overturning_spectrum(setting, damper, Omega, beta, execution, runs=runs, **_tol(args))
         _report(study, out, f"spectrum{suffix}")
         _print_spectrum(study)
+    _vertical_spectra(setting, replace(tuning, stops=True), execution, out, runs, **_tol(args))
     study = design(
         setting,
         grid_from("Omega", DESIGN_OMEGA),
@@ -753,9 +757,29 @@ def _cmd_demo(args) -> int:
     _print_threshold_map(study)
     print(
         f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
-        "spectrum-unlimited, design, threshold .png/.pdf)"
+        "spectrum-unlimited, spectrum-vertical, design, threshold .png/.pdf)"
     )
     return 0
+
+
+def _vertical_spectra(setting: Setting, damper: Tuning, execution: Execution, out: Path, runs: Path, **tol) -> None:
+    """The demo's spectra of the block alone and with ``damper`` under pulses with the vertical ratios
+    :data:`VERTICAL_RATIOS` (in phase), both directions, saved as ``spectrum-vertical-<ratio>`` (``0p5`` for 0.5)
+    and drawn together as ``spectrum-vertical.png``."""
+    studies = []
+    for ratio in VERTICAL_RATIOS:
+        Omega, beta = grid_from("Omega", VERTICAL_OMEGA), grid_from("beta", VERTICAL_BETA)
+        vertical = replace(setting, vertical_ratio=ratio, vertical_phase=0.0)
+        study = minimum_overturning_spectrum(
+            vertical, damper, Omega, beta, execution, runs=runs, directions="both", **tol
+        )
+        # No dot in a stem: rocking redraw and load read "spectrum-vertical-0.5" as the stem of a ".5" file.
+        save(study, out, f"spectrum-vertical-{ratio:g}".replace(".", "p"))
+        studies.append(study)
+    paths = draw_vertical_spectra(studies, out)
+    print(
+        f"spectrum, vertical ratios {', '.join(f'{r:g}' for r in VERTICAL_RATIOS)}: wrote {', '.join(map(str, paths))}"
+    )
 
 
 def _cmd_redraw(args) -> int:

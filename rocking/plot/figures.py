@@ -584,6 +584,68 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     return fig
 
 
+def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> Figure:
+    """``beta_min(Omega)`` of spectra that differ only in their pulses' vertical ratio (docs/model.md section 14),
+    one panel per direction: the block alone dashed, with its damper solid, a colour per ratio; each ratio's
+    ``beta_f`` (above it the ground pulls past gravity: flight, no verdict) dotted in its colour.
+
+    Only the bracketed ``beta_min`` are drawn: a gap is a frequency where the scan found no overturning (past
+    ``beta_f`` a run ends in flight), or overturning at its first amplitude.
+    """
+    studies = sorted(studies, key=lambda st: st.config.get("vertical", {}).get("ratio", 0.0))
+    config = studies[0].config
+    signs = studies[0].data["sign"].values.tolist()
+    fig, (axes,) = _panels((13, 6.4), (1, len(signs)), fig, ax, sharex=True, sharey=True)
+    handles = []
+    for i, study in enumerate(studies):
+        ratio = study.config.get("vertical", {}).get("ratio", 0.0)
+        colour = cycle(i)["color"]
+        data = study.data
+        for panel, sign in zip(axes, signs):
+            for part, line in (("bare", "--"), ("damper", "-")):
+                cell = data.sel(part=part, sign=sign)
+                bracketed = np.where(cell["flag"].values == BRACKETED, cell["beta_min"].values, np.nan)
+                label = f"r = {ratio:g}, {PART_STYLE[part]['label']}"
+                marker = PART_STYLE[part]["marker"]
+                drawn = panel.plot(
+                    data["Omega"].values, bracketed, line, color=colour, marker=marker, ms=3.5, label=label
+                )
+                if panel is axes[0]:
+                    handles += drawn
+            beta_f = flight_beta(_block(study.config), study.config)
+            if beta_f < study.config["beta"]["high"]:
+                flight = panel.axhline(beta_f, color=colour, ls=":", lw=1.5)
+                if panel is axes[0]:
+                    flight.set_label(rf"r = {ratio:g}: $\beta_f$ = {beta_f:.3g}, g + $\ddot y_g$ reaches 0 above")
+                    handles.append(flight)
+    block = _block(config)
+    for panel, sign in zip(axes, signs):
+        panel.set_title(f"pulses of sign {sign:+d}", fontsize=9)
+        _omega_axis(panel)
+        _period_axis(panel, block.p)
+    _beta_axis(axes[0])
+    _acceleration_axis(axes[-1], block.tan_alpha)
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
+    pulse = PULSE_NAMES[config.get("pulse", {"motion": "sine"})["motion"]]
+    fig.suptitle(
+        f"Minimum overturning spectrum under a vertical component: {pulse} with "
+        rf"$\ddot y_g$ = r $a_g f(t)$ (> 0 up, in phase, the same for both signs)"
+        f"\n{_block_label(block)}\n{_damper_label(config)}",
+        fontsize=10,
+    )
+    return fig
+
+
+def draw_vertical_spectra(studies, folder: str | Path, name: str = "spectrum-vertical") -> list[Path]:
+    """Draw :func:`vertical_spectra_figure` of ``studies`` as ``<folder>/<name>.png`` and ``.pdf``."""
+    fig = vertical_spectra_figure(studies)
+    FigureCanvasAgg(fig)
+    paths = [Path(folder) / f"{name}.{ext}" for ext in ("png", "pdf")]
+    for path in paths:
+        fig.savefig(path, dpi=150)
+    return paths
+
+
 def _threshold_text(t: dict) -> str:
     """``Omega*`` as :func:`rocking.study.optimize.threshold_frequency` found it, for a figure."""
     if t["status"] == "bracketed":
