@@ -88,3 +88,20 @@ def test_the_command_line_map_takes_the_vertical_component(tmp_path, capsys):
     assert saved.data.attrs["vertical_ratio"] == 0.5
     assert main([*argv, "--vertical-ratio", "-1", "--out", str(tmp_path / "bad")]) == 2
     assert "rocking map: error: vertical_ratio must be in [0, 10]" in capsys.readouterr().err
+
+
+def test_a_history_records_the_vertical_ground_acceleration_beside_the_horizontal(tmp_path):
+    vertical = rocking.Vertical(0.6, 1.0)
+    pulse = rocking.OneSinePulse.from_nondim(BLOCK, beta=1.5, Omega=3.0, sign=-1, vertical=vertical)
+    ds = rocking.simulate(BLOCK, None, pulse, record=True).to_dataset()
+    t = ds["t"].values
+    on = t <= pulse.t_p
+    # ddy_g = ratio a_g sin(omega_g t + phase) of the sine at psi = 0, unsigned by the pulse's direction.
+    expected = vertical.ratio * pulse.a_g * np.sin(pulse.omega_g * t[on] + vertical.phase)
+    assert np.allclose(ds["a_gy"].values[on], expected, rtol=0, atol=1e-12 * pulse.a_g)
+    assert np.all(ds["a_gy"].values[~on] == 0.0) and np.allclose(ds["a_g"].values[on], pulse.acceleration(t[on]))
+    assert ds["a_gy"].attrs["units"] == "m/s^2" and "> 0 up" in ds["a_gy"].attrs["long_name"]
+    plain = rocking.simulate(BLOCK, None, rocking.OneSinePulse.from_nondim(BLOCK, beta=1.5, Omega=3.0), record=True)
+    assert not plain.to_dataset()["a_gy"].values.any()
+    rocking.sim.history.write(plain, tmp_path / "h.csv")
+    assert "a_gy [m/s^2]" in (tmp_path / "h.csv").read_text().splitlines()[0]
