@@ -105,3 +105,63 @@ def test_a_history_records_the_vertical_ground_acceleration_beside_the_horizonta
     assert not plain.to_dataset()["a_gy"].values.any()
     rocking.sim.history.write(plain, tmp_path / "h.csv")
     assert "a_gy [m/s^2]" in (tmp_path / "h.csv").read_text().splitlines()[0]
+
+
+def test_a_stochastic_suite_takes_a_vertical_component_of_its_own_noise():
+    site = rocking.model.stochastic.SiteModel(arias=0.5, d595=4.0, t_mid=3.0, f_mid=4.0, f_slope=-0.1, zeta_f=0.2)
+    plain, with_vertical = (
+        rocking.study.suite.suite_of(stochastic=3, seed=7, site=site, **v) for v in ({}, {"vertical_ratio": 0.7})
+    )
+    assert "vertical" not in plain.record() and with_vertical.record()["vertical"]["ratio"] == 0.7
+    for i in range(3):
+        h, m = plain.motion(i), with_vertical.motion(i)
+        assert np.array_equal(h.a, m.a) and m.a_v.shape == m.a.shape  # the horizontal motion is unchanged
+        own = rocking.model.stochastic.synthesize(site, rocking.model.stochastic.vertical_rng(7, i))
+        assert np.array_equal(m.a_v, 0.7 * own) and not np.allclose(m.a_v, 0.7 * m.a)
+    higher = rocking.study.suite.suite_of(stochastic=1, site=site, vertical_ratio=1.0, vertical_site={"f_mid": 8.0})
+    assert higher.vertical_site.f_mid == 8.0 and higher.vertical_site.duration == site.duration
+    with pytest.raises(rocking.ParameterError, match=r"^vertical_ratio must be in \[0, 10\] \(got -1.0\)"):
+        rocking.study.suite.suite_of(stochastic=2, vertical_ratio=-1.0)
+    with pytest.raises(rocking.ParameterError, match=r"^vertical_site must have the horizontal site's dt"):
+        rocking.study.suite.suite_of(stochastic=2, site=site, vertical_ratio=0.5, vertical_site={"dt": 0.01})
+    with pytest.raises(rocking.ParameterError, match=r"^pulses makes its own suite: no vertical_ratio$"):
+        rocking.study.suite.suite_of(pulses="sine", periods=[1.0], vertical_ratio=0.5)
+
+
+def test_the_runs_of_a_sampled_motion_carry_its_vertical_component():
+    t = np.arange(0.0, 3.0, 0.01)
+    motion = rocking.SampledMotion(3.0 * np.sin(2 * np.pi * t), dt=0.01, a_v=4.0 * np.sin(3 * np.pi * t + 0.3))
+    cases = rocking.sim.cases.sampled_cases(BLOCK, motion, [0.5, 2.0, 3.0], sign=-1, gamma=0.05)
+    result = rocking.sim.cases.run_cases(cases, "c")
+    damper = rocking.Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    for k, scale in enumerate((0.5, 2.0, 3.0)):
+        one = rocking.simulate(
+            BLOCK, damper, rocking.SampledMotion(motion.a, 0.01, a_v=motion.a_v, scale=scale, sign=-1)
+        )
+        assert (
+            result["theta_max"][k] == one.theta_max and rocking.sim.boundary.STATUS[result["status"][k]] == one.status
+        )
+    assert rocking.sim.boundary.STATUS[result["status"][2]] == "flight"  # 3 x 4 m/s^2 > g
+
+
+def test_the_command_line_suite_takes_a_vertical_ratio(tmp_path, capsys):
+    argv = [
+        "fragility",
+        "--stochastic",
+        "2",
+        "--duration",
+        "6",
+        "--t-mid",
+        "2",
+        "--d595",
+        "3",
+        "--levels",
+        "1",
+        "3",
+        "2",
+    ]
+    argv += ["--check", "none", "--workers", "1", "--no-progress"]
+    assert main([*argv, "--vertical-ratio", "0.5", "--out", str(tmp_path)]) == 0
+    assert rocking.load(tmp_path / "fragility.nc").config["suite"]["vertical"]["ratio"] == 0.5
+    assert main([*argv, "--vertical-ratio", "20", "--out", str(tmp_path / "bad")]) == 2
+    assert "error: --vertical-ratio must be in [0, 10]" in capsys.readouterr().err

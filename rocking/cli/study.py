@@ -653,7 +653,7 @@ def _suite_from(args) -> Suite:
     try:
         return suite_of(
             motions,
-            **given(args, ("unit", "stochastic", "seed", "pulses", *PULSE_SUITE_OPTIONS)),
+            **given(args, ("unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS)),
             site=site or None,
             g=block_from(args).g,
         )
@@ -664,7 +664,7 @@ def _suite_from(args) -> Suite:
 def _as_flags(message: str) -> str:
     """A message of :func:`suite_of` naming the Python keywords of the options, with the command line's flags."""
     message = re.sub(r"\bsite\b(?!\.)", "site options (" + flags(SITE_OPTIONS[:2]) + ", ...)", message)
-    for word in ("motions", "unit", "stochastic", "seed", "pulses", *PULSE_SUITE_OPTIONS):
+    for word in ("motions", "unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS):
         message = re.sub(rf"\b{word}\b(?!\.)", flag(word), message)
     return message
 
@@ -1017,6 +1017,13 @@ def add_study_commands(subparsers) -> None:
                 type=float,
                 help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
             )
+        g.add_argument(
+            "--vertical-ratio",
+            type=float,
+            metavar="R",
+            help="a vertical component of the --stochastic motions, > 0 up: R times a record of the same site "
+            "model from its own noise, in [0, 10] (docs/model.md section 14; default none)",
+        )
         g.add_argument(
             "--pulses",
             choices=[f.replace("_", "-") for f in PULSES],

@@ -195,7 +195,9 @@ def sampled_cases(
     """Cases for one sampled motion at the factors ``scale`` (as ``motion.scaled(scale)``) and dampers.
 
     Every case shares ``motion``'s samples (one buffer, not a copy per case). ``sign`` (+1 or -1,
-    or an array of them) keeps (+1) or mirrors (-1) the motion's direction. ``scale`` (>= 0),
+    or an array of them) keeps (+1) or mirrors (-1) the motion's direction; a vertical component
+    (``SampledMotion(a_v=...)``) is scaled with the horizontal one and unsigned (docs/model.md
+    section 14), and a case where ``g + ddy_g`` reaches 0 ends there with the status ``flight``. ``scale`` (>= 0),
     ``sign`` and the damper arrays broadcast together, flattened in C order; the damper, ``model``,
     ``params``, ``stops`` and ``stroke`` as for :func:`pulse_cases`.
     """
@@ -219,7 +221,27 @@ def sampled_cases(
         "n_samples": motion.n,
         "samples": motion.a,
     }
+    if motion.a_v is not None:
+        columns.update(_vertical_samples(block, motion, motion.scale * scale))
     return _cases(block, columns, np.inf, damper, rtol, t_after, max_events, model, params, stops, stroke)
+
+
+def _vertical_samples(block: Block, motion: SampledMotion, a_v: np.ndarray) -> dict:
+    """``a_v``, the vertical samples and ``t_flight`` of the cases of a sampled motion at the vertical scales ``a_v``
+    (the motion's samples times its scale, unsigned: docs/model.md section 14).
+
+    ``g + a_v v(t) <= 0`` first between the two samples where it changes sign (linear there), at the least scale
+    ``a_v >= g / max(-v)`` only: the flight time of each distinct scale is found once.
+    """
+    t_flight = np.full(a_v.shape, np.inf)
+    lowest = -float(np.min(motion.a_v))
+    if lowest > 0.0:
+        settings = {"motion": MOTION["sampled"], "a_v": 0.0, "pulse_dt": motion.dt, "v_samples": motion.a_v}
+        settings.update(t_p=motion.t_p, omega_g=0.0, psi=0.0, t_c=0.0, shape=0.0)
+        flying = a_v * lowest >= block.g
+        for scale in np.unique(a_v[flying]):
+            t_flight[a_v == scale] = flight_settings({**settings, "a_v": scale}, block)["t_flight"]
+    return {"a_v": a_v, "n_v_samples": motion.n, "v_samples": motion.a_v, "t_flight": t_flight}
 
 
 def _damper_arrays(gamma, omega_ratio, zeta, h, *motion_arrays):

@@ -561,6 +561,8 @@ def incremental_dynamic_analysis(
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
+    vertical_ratio: float | None = None,
+    vertical_site=None,
     pulses: str | None = None,
     periods=None,
     amplitude: float | None = None,
@@ -593,6 +595,10 @@ def incremental_dynamic_analysis(
         Instead: ``stochastic`` motions of the site model ``site`` (a
         :class:`~rocking.model.stochastic.SiteModel` or a mapping of its keywords, ``arias``, ``d595``, ...,
         over the defaults) from ``seed`` (default 0).
+    vertical_ratio, vertical_site
+        With ``stochastic``: each motion's vertical component, ``vertical_ratio`` (in [0, 10]) times a record of
+        ``vertical_site`` (a SiteModel or a mapping of its keywords over ``site``'s; default ``site``) of its own
+        noise, > 0 up (:meth:`rocking.study.suite.Suite.stochastic`, docs/model.md section 14).
     pulses, periods, amplitude, gamma_mp, nu
         Instead: a family of pulses (``"sine"``, ``"ricker"``, ``"mp"``, ...), one per period (s), of
         amplitude ``amplitude`` (m/s^2, default 1 g) and the MP shape (:func:`rocking.study.suite.of_pulses`).
@@ -619,6 +625,7 @@ def incremental_dynamic_analysis(
     (['ricker-T0.5-0', 'ricker-T1-1'], '1')
     """
     suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
     return _ida(
         "scale",
@@ -651,6 +658,8 @@ def fragility(
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
+    vertical_ratio: float | None = None,
+    vertical_site=None,
     pulses: str | None = None,
     periods=None,
     amplitude: float | None = None,
@@ -678,8 +687,8 @@ def fragility(
     im : {"pga", "pgv", "arias", "cav", "amplitude"}
         The intensity measure: PGA (m/s^2), PGV (m/s), Arias intensity (m/s), CAV (m/s), or the amplitude
         ``a_g`` of a suite of pulses (m/s^2).
-    motions, unit, stochastic, seed, site, pulses, periods, amplitude, gamma_mp, nu, check
-        The suite, as :func:`incremental_dynamic_analysis`.
+    motions, unit, stochastic, seed, site, vertical_ratio, vertical_site, pulses, periods, amplitude, gamma_mp, nu
+        The suite, as :func:`incremental_dynamic_analysis`; ``check`` too.
     damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
 
@@ -708,6 +717,7 @@ def fragility(
     if im not in tuple(LEVELS)[1:]:
         raise ParameterError(f"im must be one of {', '.join(tuple(LEVELS)[1:])} (got {im!r})")
     suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
     return _ida(
         im,
