@@ -94,7 +94,7 @@ def pulse_cases(
     motion: str = "sine",
     gamma_mp: float | None = None,
     nu: float = 0.0,
-    vertical: Vertical | None = None,
+    vertical: object = None,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
@@ -106,7 +106,8 @@ def pulse_cases(
     ``stops``: the dampers' guides end in the stops of :meth:`rocking.Stops.at_edges`
     (model ``"omd_stops"``); with ``gamma`` only. ``stroke``: their half-stroke ``L``, m, in
     ``(0, B/2)`` (default ``B/2`` minus the pads' depth, :data:`rocking.model.params.BUMPER_DEPTH`).
-    ``vertical``: every pulse's vertical component, a :class:`rocking.Vertical` (docs/model.md section 14):
+    ``vertical``: every pulse's vertical component, a :class:`rocking.Vertical` or None, checked (docs/model.md
+    section 14):
     ``ddy_g = ratio a_g f(t + phase / omega_g)``, > 0 up, unsigned by ``sign``; a case where ``g + ddy_g``
     reaches 0 ends there with the status ``flight``. Default None: none (``ratio = 0`` is the same).
 
@@ -153,9 +154,9 @@ def pulse_cases(
         "n_extrema": 0 if extrema is None else len(extrema),
         "extrema": extrema,
     }
-    vertical = check_vertical(vertical)
-    if vertical is not None and vertical.ratio > 0.0:
-        columns.update(_vertical_columns(block, columns, vertical, block.a_g(beta)))
+    checked = check_vertical(vertical)
+    if checked is not None and checked.ratio > 0.0:
+        columns.update(_vertical_columns(block, columns, checked, block.a_g(beta)))
     return _cases(block, columns, 2 * np.pi / omega_g, damper, rtol, t_after, max_events, model, params, stops, stroke)
 
 
@@ -222,26 +223,26 @@ def sampled_cases(
         "samples": motion.a,
     }
     if motion.a_v is not None:
-        columns.update(_vertical_samples(block, motion, motion.scale * scale))
+        columns.update(_vertical_samples(block, motion, motion.a_v, motion.scale * scale))
     return _cases(block, columns, np.inf, damper, rtol, t_after, max_events, model, params, stops, stroke)
 
 
-def _vertical_samples(block: Block, motion: SampledMotion, a_v: np.ndarray) -> dict:
-    """``a_v``, the vertical samples and ``t_flight`` of the cases of a sampled motion at the vertical scales ``a_v``
-    (the motion's samples times its scale, unsigned: docs/model.md section 14).
+def _vertical_samples(block: Block, motion: SampledMotion, samples: np.ndarray, a_v: np.ndarray) -> dict:
+    """``a_v``, the vertical ``samples`` of ``motion`` and ``t_flight`` of its cases at the vertical scales ``a_v``
+    (the motion's scale times the case's, unsigned: docs/model.md section 14).
 
     ``g + a_v v(t) <= 0`` first between the two samples where it changes sign (linear there), at the least scale
     ``a_v >= g / max(-v)`` only: the flight time of each distinct scale is found once.
     """
     t_flight = np.full(a_v.shape, np.inf)
-    lowest = -float(np.min(motion.a_v))
+    lowest = -float(np.min(samples))
     if lowest > 0.0:
-        settings = {"motion": MOTION["sampled"], "a_v": 0.0, "pulse_dt": motion.dt, "v_samples": motion.a_v}
+        settings = {"motion": MOTION["sampled"], "a_v": 0.0, "pulse_dt": motion.dt, "v_samples": samples}
         settings.update(t_p=motion.t_p, omega_g=0.0, psi=0.0, t_c=0.0, shape=0.0)
         flying = a_v * lowest >= block.g
         for scale in np.unique(a_v[flying]):
             t_flight[a_v == scale] = flight_settings({**settings, "a_v": scale}, block)["t_flight"]
-    return {"a_v": a_v, "n_v_samples": motion.n, "v_samples": motion.a_v, "t_flight": t_flight}
+    return {"a_v": a_v, "n_v_samples": samples.size, "v_samples": samples, "t_flight": t_flight}
 
 
 def _damper_arrays(gamma, omega_ratio, zeta, h, *motion_arrays):

@@ -158,11 +158,13 @@ class Suite:
             return SampledMotion(record.acceleration, dt=record.dt)
         if self.pulses:
             return self.pulses[i]
-        a = synthesize(self.site, record_rng(self.seed, i))
+        site = self.site
+        assert site is not None  # neither files nor pulses: a stochastic suite
+        a = synthesize(site, record_rng(self.seed, i))
         if self.vertical_ratio == 0.0:
-            return SampledMotion(a, dt=self.site.dt)
-        a_v = self.vertical_ratio * synthesize(self.vertical_site or self.site, vertical_rng(self.seed, i))
-        return SampledMotion(a, dt=self.site.dt, a_v=a_v)
+            return SampledMotion(a, dt=site.dt)
+        a_v = self.vertical_ratio * synthesize(self.vertical_site or site, vertical_rng(self.seed, i))
+        return SampledMotion(a, dt=site.dt, a_v=a_v)
 
     def record(self) -> dict:
         """JSON-ready description: the files and their hashes, the pulses, or the site model, seed and size."""
@@ -175,10 +177,12 @@ class Suite:
                     for p in self.pulses
                 ]
             }
-        record = {"stochastic": self.site.record(), "seed": self.seed, "n": self.n}
+        site = self.site
+        assert site is not None  # neither files nor pulses: a stochastic suite
+        record: dict[str, Any] = {"stochastic": site.record(), "seed": self.seed, "n": self.n}
         if self.vertical_ratio > 0.0:  # only then: the record, and the tiles, of a suite without stay as they were
-            site = (self.vertical_site or self.site).record()
-            record["vertical"] = {"ratio": self.vertical_ratio, "site": site, "convention": "ddy_g > 0 up"}
+            vertical = (self.vertical_site or site).record()
+            record["vertical"] = {"ratio": self.vertical_ratio, "site": vertical, "convention": "ddy_g > 0 up"}
         return record
 
 
@@ -285,7 +289,7 @@ def suite_of(
         return of_pulses(pulses, periods, g if amplitude is None else amplitude, gamma_mp, nu)
     if stochastic is not None:
         horizontal = _site(site)
-        vertical = {"vertical_ratio": vertical_ratio} if vertical_ratio is not None else {}
+        vertical: dict[str, Any] = {"vertical_ratio": vertical_ratio} if vertical_ratio is not None else {}
         if vertical_site is not None:
             vertical["vertical_site"] = _site(vertical_site, horizontal)
         return Suite.stochastic(horizontal, stochastic, 0 if seed is None else seed, **vertical)
