@@ -24,6 +24,7 @@ import sys
 import warnings
 from dataclasses import replace
 from pathlib import Path
+from types import FrameType
 
 import numpy as np
 
@@ -70,7 +71,7 @@ FIT = ("median", "dispersion", "median_low", "median_high", "dispersion_low", "d
 #: responses without a verdict.
 COUNTS = ("fit_status", "log_likelihood", "resamples", "undetermined")
 #: Units, meaning and key of the variables of an IDA that :data:`rocking.study.dataset.FIELDS` does not label.
-OWN_FIELDS = {
+OWN_FIELDS: dict[str, tuple] = {
     "fit_status": ("1", "outcome of the lognormal fit", dict(enumerate(FIT_STATUSES))),
     "log_likelihood": ("1", "binomial log-likelihood of the fitted lognormal, from the counts of every level"),
     "resamples": ("1", "bootstrap resamples of the motions fitted for the band and the intervals"),
@@ -334,10 +335,11 @@ def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
 def _own_attrs(name: str) -> dict:
     """CF-style attributes of a variable of :data:`OWN_FIELDS`: units, long name, the key of a code."""
     units, long_name, *key = OWN_FIELDS[name]
-    attrs = {"units": units, "long_name": long_name}
+    attrs: dict[str, object] = {"units": units, "long_name": long_name}
     if key:
-        attrs["flag_values"] = np.array(list(key[0]), np.int64)
-        attrs["flag_meanings"] = " ".join(key[0].values())
+        codes: dict[int, str] = key[0]
+        attrs["flag_values"] = np.array(list(codes), np.int64)
+        attrs["flag_meanings"] = " ".join(codes.values())
     return attrs
 
 
@@ -365,7 +367,8 @@ def _user_stacklevel() -> int:
     the package: the user's call, through however many of the package's functions it came (the Python API's,
     the command line's)."""
     package = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
-    frame, level = sys._getframe(1), 1
+    frame: FrameType | None = sys._getframe(1)
+    level = 1
     while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(package):
         frame, level = frame.f_back, level + 1
     return level
@@ -376,7 +379,7 @@ def _fit(levels, over, uncertain, x) -> tuple[dict, dict]:
     ``uncertain`` cells: the fit (:func:`~rocking.study.fragility.fit_lognormal`'s, with the intervals and the
     resamples of its band, NaN and 0 without a curve), and ``curve``, ``band_low``, ``band_high``."""
     fitted = levels > 0
-    fit = (
+    fit: dict = (
         fit_lognormal(levels[fitted], over[:, fitted])
         if fitted.sum() >= 2
         else {"median": np.nan, "dispersion": np.nan, "log_likelihood": np.nan, "status": "too_few_levels"}
