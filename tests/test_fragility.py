@@ -130,3 +130,24 @@ def test_a_sensitive_direction_leaves_uncertain_only_the_envelopes_it_can_change
     overturned = np.array([[[1, 1], [1, 0], [0, 0], [0, 1]]], bool)
     sensitive = np.array([[[1, 0], [1, 0], [0, 1], [0, 0]]], bool)
     np.testing.assert_array_equal(uncertain_verdicts(overturned, sensitive), [[False, True, True, False]])
+
+
+@pytest.mark.parametrize(
+    ("levels", "overturned", "status"),
+    [
+        (LEVELS, np.zeros((4, LEVELS.size), bool), "none_overturned"),
+        (LEVELS, np.ones((4, LEVELS.size), bool), "all_overturned"),
+        (np.array([0.0, 0.5]), np.array([[False, True]] * 4), "too_few_levels"),
+    ],
+)
+def test_a_part_without_a_curve_has_its_status_and_no_median(levels, overturned, status):
+    """No curve: the variables of the part hold its status's code and NaN, not the median of ``inf`` or 0."""
+    from rocking.study.ida import _fit, fit_variables
+    from rocking.study.vocabulary import FIT_STATUSES
+
+    x = np.linspace(0.2, 1.2, 5)
+    fit, curves = _fit(levels, overturned, np.zeros_like(overturned), x)
+    values = fit_variables(fit)
+    assert values["fit_status"] == FIT_STATUSES.index(status) and values["resamples"] == 0
+    assert all(np.isnan(values[k]) for k in ("median", "dispersion", "median_low", "dispersion_high"))
+    assert all(np.isnan(v).all() for v in curves.values())
