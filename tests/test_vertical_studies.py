@@ -10,7 +10,8 @@ import rocking
 from rocking.cli.main import main
 from rocking.study.config import Setting, flight_beta
 from rocking.study.overturning_map import UndeterminedWarning
-from rocking.study.vocabulary import ABOVE
+from rocking.study.spectrum import envelope, safe_windows
+from rocking.study.vocabulary import ABOVE, FLIGHT
 
 BLOCK = rocking.Block.reference()
 OMEGA, BETA = [2.0, 4.0, 8.0], [1.0, 2.5, 4.5]
@@ -64,6 +65,10 @@ def test_a_spectrum_knows_where_the_ground_pulls_past_gravity(tmp_path):
     # flight, without a verdict, and beta_min is not reached in the scan.
     assert (data["flag"] == ABOVE).all()
     assert (data["undetermined"] == np.count_nonzero(beta.values() > 4.0)).all()
+    # The lower bound is the last amplitude with a verdict, below the flights, which are no safe window.
+    assert (data["beta_min"] == 4.0).all()
+    assert (data["scan_outcome"].sel(beta_scan=slice(4.5, None)) == FLIGHT).all()
+    assert len(safe_windows(envelope(data), "bare")) == 0
 
 
 @pytest.mark.parametrize(

@@ -44,6 +44,7 @@ from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
+from ..sim.problem import STATUS
 from ..study.config import flight_beta
 from ..study.fragility import FITTED
 from ..study.ida import LEVELS
@@ -78,6 +79,7 @@ OUTCOME_CLASSES = (
     ("overturned after 1 impact", OKABE_ITO["orange"], "//"),
     ("after 2 impacts", OKABE_ITO["yellow"], ".."),
     ("after 3 or more impacts", OKABE_ITO["reddish purple"], "xx"),
+    ("no verdict: g + ddy_g reached 0 (flight)", GREY, "\\\\"),
 )
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
 #: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), and 5 for saved
@@ -89,6 +91,7 @@ EFFECT_CLASSES = (
     ("overturned either way", GREY, ""),
     ("saved only with the mass past the edge (x_max > B/2)", OKABE_ITO["sky blue"], "//"),
     ("saved, stroke not computed (cell of an adaptive map filled in)", OKABE_ITO["yellow"], ".."),
+    ("no verdict either way: a run ended in flight", LIGHT, "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
 HATCH_COLOUR = "#333333"
@@ -461,14 +464,19 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     env = envelope(data)
     Om, beta = data["Omega"].values, data["beta"].values
     over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
+    # Cells that did not overturn in either direction but flew in one: no verdict (docs/model.md section 14).
+    flew = {
+        part: (data["status"].sel(part=part) == STATUS.index("flight")).any("sign").values & ~over[part]
+        for part in PARTS
+    }
     fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
     for ax, part in zip(axes, PARTS):
-        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), 0)
+        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), np.where(flew[part], 5, 0))
         handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
         ax.set_title(PART_STYLE[part]["label"])
     # One legend of the outcomes, as wide as both outcome panels: the same classes, the same colours.
     present = {h.get_label(): h for h in handles}
-    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), 0)
+    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), np.where(flew["bare"], 5, 0))
     for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
         present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
     order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
@@ -477,7 +485,8 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     effect = over["bare"].astype(int) + 2 * over["damper"].astype(int)
     past = saved_past_edges(env, block.B / 2)
     unknown = (effect == 1) & ~data["computed"].sel(part="damper").values
-    handles = _classes(axes[2], Om, beta, np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
+    no_verdict = flew["bare"] | flew["damper"]
+    handles = _classes(axes[2], Om, beta, np.select([past, unknown, no_verdict], [4, 5, 6], effect), EFFECT_CLASSES)
     fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
