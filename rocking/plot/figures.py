@@ -72,7 +72,8 @@ from .style import (
     extend,
 )
 
-#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
+#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
+#: not overturn and a run flew.
 OUTCOME_CLASSES = (
     ("safe", LIGHT, ""),
     ("overturned, no impact", OKABE_ITO["vermillion"], ""),
@@ -82,8 +83,9 @@ OUTCOME_CLASSES = (
     ("no verdict: g + ddy_g reached 0 (flight)", GREY, "\\\\"),
 )
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
-#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), and 5 for saved
-#: cells whose damped response an adaptive map did not compute (its stroke is not known).
+#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), 5 for saved
+#: cells whose damped response an adaptive map did not compute (its stroke is not known), and 6 for cells
+#: where a part that did not overturn flew (a vertical component: no verdict, docs/model.md section 14).
 EFFECT_CLASSES = (
     ("safe either way", LIGHT, ""),
     ("saved by the damper", OKABE_ITO["blue"], ""),
@@ -91,7 +93,7 @@ EFFECT_CLASSES = (
     ("overturned either way", GREY, ""),
     ("saved only with the mass past the edge (x_max > B/2)", OKABE_ITO["sky blue"], "//"),
     ("saved, stroke not computed (cell of an adaptive map filled in)", OKABE_ITO["yellow"], ".."),
-    ("no verdict either way: a run ended in flight", LIGHT, "\\\\"),
+    ("no verdict: a run ended in flight", OKABE_ITO["reddish purple"], "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
 HATCH_COLOUR = "#333333"
