@@ -79,8 +79,6 @@ def test_map_dataset_is_labelled_in_both_terms(studies):
     assert dict(ds.sizes) == {"part": 2, "Omega": 4, "beta": 5, "sign": 2}
     assert ds["overturned"].dims == ("part", "Omega", "beta", "sign")
     assert list(ds["part"].values) == ["bare", "damper"] and list(ds["sign"].values) == [1, -1]
-    with pytest.raises(AttributeError, match=r"results are its labelled data, Study.data"):
-        study.arrays  # noqa: B018 - a map has no arrays named after their dimensions
     both = envelope(ds)  # the envelope over the directions: a reduction over sign
     assert both["overturned"].dims == ("part", "Omega", "beta") and both["effect"].dims == ("Omega", "beta")
     # SI coordinates from the block (docs/model.md section 9): T_g = 2 pi / (Omega p), a_g = beta g tan(alpha).
