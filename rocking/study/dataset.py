@@ -47,7 +47,7 @@ EFFECT_KEY = {-1: "lost", 0: "unchanged", 1: "saved"}
 SIGN_KEY = {-1: "negative", 0: "not_known", 1: "positive"}
 THRESHOLD_STATUS_KEY = dict(enumerate(THRESHOLD_STATUSES))
 
-#: What a field means, by name (without its part's prefix and ``_by_sign``): ``(units, long name[, key])``.
+#: What a field means, by name: ``(units, long name[, key])``.
 _RESULTS = {f.name: (f.unit or "1", f.doc) for f in RESULT}
 FIELDS: dict[str, tuple] = {
     **_RESULTS,
