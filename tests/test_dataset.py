@@ -189,6 +189,29 @@ def test_every_kind_describes_the_dimensions_of_its_data(studies):
             assert variable.dims == KINDS[kind].dims(name), (kind, name)
 
 
+@pytest.mark.parametrize(
+    ("kind", "old", "message"),
+    [
+        ("optimize", {"bare_beta_min": ["Omega"]}, r"bare_beta_min: not a variable of a optimize study"),
+        ("design", {"bare_beta_min_by_sign": ["Omega", "sign"]}, r"bare_beta_min_by_sign: not a variable"),
+        ("design", {"stroke_use": ["Omega"]}, r"stroke_use has dimensions \(Omega\), not \(Omega, sign\)"),
+    ],
+)
+def test_an_optimum_or_a_design_of_the_earlier_layout_is_refused_not_misread(studies, kind, old, message):
+    """Their variables named their dimensions (``bare_beta_min_by_sign``) or had fewer (``stroke_use`` per Omega):
+    a file of that layout, still format 3, is refused by the schema of its kind before it is read."""
+    from rocking.study.storage import check_config, check_variables, data_layout
+
+    study = studies[kind]
+    listed = data_layout(study.data)
+    for name, dims in old.items():
+        sizes = [dict(study.data.sizes)[d] for d in dims]
+        listed[name] = {"dims": dims, "dtype": "<f8", "shape": sizes}
+    with pytest.raises(rocking.ParameterError, match=message):
+        check_variables(kind, listed, check_config(kind, study.config)[1])
+    check_variables(kind, data_layout(study.data), check_config(kind, study.config)[1])  # its own layout passes
+
+
 def test_not_a_study_netcdf_is_refused_in_one_line(tmp_path):
     other = tmp_path / "other.nc"
     xr.Dataset({"a": ("x", np.arange(3))}).to_netcdf(other, engine="netcdf4")
