@@ -376,7 +376,9 @@ def envelope(data):
 
     reduced = beta_min_envelope({k: data[k].transpose(..., "sign").values for k in COLUMN_FIELDS})
     reduced.pop("worst_sign_index")
-    return xr.Dataset({k: (("part", "Omega"), v, data[k].attrs) for k, v in reduced.items()}, coords=data.coords)
+    return xr.Dataset(
+        {k: (("part", "Omega"), v, data[k].attrs) for k, v in reduced.items()}, coords=data.drop_dims("sign").coords
+    )
 
 
 def stroke_use(data):

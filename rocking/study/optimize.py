@@ -393,7 +393,8 @@ def optimal_damper(
 
     def place(task: Task, res: dict) -> None:
         g, i = where[task.path]
-        # The envelope of the block alone is the tile's too: only its flag is kept, its beta_min is a reduction.
+        # A tile gives the block alone's beta_min per direction but only its envelope's flag: the envelope's
+        # beta_min is a reduction over sign (bare_beta_min).
         fields["beta_min"][i], fields["flag"][i] = res["bare_beta_min_by_sign"], res["bare_flag"][0]
         for k in ("gain_coarse", "flag_coarse", "r_fine", "gain_fine"):
             fields[k][g, i] = res[k]
