@@ -113,7 +113,7 @@ def fragility_cost(n: int = 20) -> None:
                 runs=runs,
             )
             elapsed = time.perf_counter() - start
-        counts = {part: study.summary[part]["sensitive"] for part in ("bare", "damper")}
+        counts = {part: int(study.data["sensitive_responses"].sel(part=part).sum()) for part in ("bare", "damper")}
         print(f"fragility, {study.run['responses']} responses, {label} the check: {elapsed:.2f} s; sensitive {counts}")
 
 

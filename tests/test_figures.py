@@ -475,6 +475,11 @@ def test_ida_names_its_motions_and_writes_its_measure_with_its_unit(tmp_path):
     assert ax_f.get_xlabel() == ax_m.get_xlabel() == "PGA (m/s$^2$)"
     texts = [t.get_text() for t in ax_f.get_legend().get_texts()] + [fig._suptitle.get_text()]
     assert not any("e+" in t or "e-0" in t for t in texts)
+    fitted = study.data["median"].dropna("part")  # a curve, and its legend, only where the fit gives one
+    assert fitted.size > 0
+    for part in fitted["part"].values:
+        dispersion = float(study.data["dispersion"].sel(part=part))
+        assert sum("lognormal fit: median" in t and f"dispersion {dispersion:.2f}" in t for t in texts) >= 1
 
 
 def test_readable_numbers_have_no_power_of_ten():

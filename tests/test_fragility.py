@@ -8,43 +8,47 @@ import pytest
 from rocking.model.params import ParameterError
 from rocking.study.fragility import bootstrap_band, fit_lognormal, fragility_curve, ida_summary
 
-THETA, BETA = 0.5, 0.4  # the true median (e.g. PGA in g) and dispersion
+MEDIAN, DISPERSION = 0.5, 0.4  # the true median (e.g. PGA in g) and dispersion
 LEVELS = np.linspace(0.1, 1.5, 15)
 
 
 def _suite(n: int, seed: int) -> np.ndarray:
-    """Motions whose capacities are lognormal(THETA, BETA): each overturns at and above its capacity."""
-    capacity = THETA * np.exp(BETA * np.random.default_rng(seed).standard_normal(n))
+    """Motions whose capacities are lognormal(MEDIAN, DISPERSION): each overturns at and above its capacity."""
+    capacity = MEDIAN * np.exp(DISPERSION * np.random.default_rng(seed).standard_normal(n))
     return LEVELS[None, :] >= capacity[:, None]
 
 
 def test_maximum_likelihood_recovers_a_known_lognormal():
-    """200 motions: the standard error of ln(theta) is about beta / sqrt(n) = 0.03, of beta about 0.02."""
+    """200 motions: the standard error of the log median is about dispersion / sqrt(n) = 0.03, of the dispersion
+    about 0.02."""
     fit = fit_lognormal(LEVELS, _suite(200, seed=1))
     assert fit["status"] == "fitted"
-    assert fit["theta"] == pytest.approx(THETA, rel=0.1)
-    assert fit["beta"] == pytest.approx(BETA, rel=0.2)
+    assert fit["median"] == pytest.approx(MEDIAN, rel=0.1)
+    assert fit["dispersion"] == pytest.approx(DISPERSION, rel=0.2)
     # The fit is a maximum: moving either parameter lowers the likelihood.
     from rocking.study.fragility import log_likelihood
 
     data = _suite(200, seed=1)
-    best = log_likelihood(np.log(fit["theta"]), fit["beta"], LEVELS, data)
-    for dlt, db in ((0.02, 0), (-0.02, 0), (0, 0.02), (0, -0.02)):
-        assert log_likelihood(np.log(fit["theta"]) + dlt, fit["beta"] + db, LEVELS, data) < best
+    best = log_likelihood(np.log(fit["median"]), fit["dispersion"], LEVELS, data)
+    for dlm, dd in ((0.02, 0), (-0.02, 0), (0, 0.02), (0, -0.02)):
+        assert log_likelihood(np.log(fit["median"]) + dlm, fit["dispersion"] + dd, LEVELS, data) < best
+    assert fit["log_likelihood"] == pytest.approx(best)
 
 
 def test_bootstrap_band_covers_the_true_curve():
     x = np.linspace(0.2, 1.2, 11)
     band = bootstrap_band(LEVELS, _suite(100, seed=2), x, resamples=100, seed=3)
-    true = fragility_curve(x, THETA, BETA)
+    true = fragility_curve(x, MEDIAN, DISPERSION)
     assert np.mean((band["low"] <= true) & (true <= band["high"])) >= 0.8
-    assert band["theta_interval"][0] < THETA < band["theta_interval"][1]
+    assert band["median_interval"][0] < MEDIAN < band["median_interval"][1]
+    assert band["dispersion_interval"][0] < DISPERSION < band["dispersion_interval"][1]
     assert np.all(band["low"] <= band["high"]) and band["resamples"] + band["dropped"] == 100
 
 
 def test_suites_that_never_or_always_overturn_have_no_finite_fit():
-    assert fit_lognormal(LEVELS, np.zeros((5, LEVELS.size), bool))["status"] == "none overturned"
-    assert fit_lognormal(LEVELS, np.ones((5, LEVELS.size), bool))["theta"] == 0.0
+    assert fit_lognormal(LEVELS, np.zeros((5, LEVELS.size), bool))["status"] == "none_overturned"
+    every = fit_lognormal(LEVELS, np.ones((5, LEVELS.size), bool))
+    assert every["status"] == "all_overturned" and every["median"] == 0.0 and np.isnan(every["dispersion"])
     with pytest.raises(ParameterError, match="no resample of the suite can be fitted"):
         bootstrap_band(LEVELS, np.zeros((5, LEVELS.size), bool), [0.5], resamples=5)
 
@@ -91,7 +95,7 @@ def test_sensitive_responses_widen_the_bootstrap_band():
     assert honest["sensitive"] == sensitive.sum() > 0 and certain["sensitive"] == 0
     assert np.all(honest["low"] <= certain["low"]) and np.all(honest["high"] >= certain["high"])
     assert np.sum(honest["high"] - honest["low"]) > np.sum(certain["high"] - certain["low"]) + 0.05
-    for k in ("theta_interval", "beta_interval"):
+    for k in ("median_interval", "dispersion_interval"):
         assert honest[k][0] <= certain[k][0] and honest[k][1] >= certain[k][1]
 
 
@@ -104,12 +108,13 @@ def test_a_band_with_no_sensitive_response_is_the_plain_bootstrap():
     rng, curves = np.random.default_rng(7), []
     for _ in range(50):
         fit = fit_lognormal(LEVELS, overturned[rng.integers(0, 40, 40)])
-        curves.append(fragility_curve(x, fit["theta"], fit["beta"]))
+        curves.append(fragility_curve(x, fit["median"], fit["dispersion"]))
     low, high = np.percentile(curves, (100 * (1 - 0.9) / 2, 100 * (1 + 0.9) / 2), axis=0)  # the 90 % band
     for b in (band, again):
         np.testing.assert_array_equal(b["low"], low)
         np.testing.assert_array_equal(b["high"], high)
-    assert band["theta_interval"] == again["theta_interval"] and band["beta_interval"] == again["beta_interval"]
+    for k in ("median_interval", "dispersion_interval"):
+        assert band[k] == again[k]
 
 
 def test_the_sensitive_mask_has_the_shape_of_the_verdicts():
@@ -125,3 +130,24 @@ def test_a_sensitive_direction_leaves_uncertain_only_the_envelopes_it_can_change
     overturned = np.array([[[1, 1], [1, 0], [0, 0], [0, 1]]], bool)
     sensitive = np.array([[[1, 0], [1, 0], [0, 1], [0, 0]]], bool)
     np.testing.assert_array_equal(uncertain_verdicts(overturned, sensitive), [[False, True, True, False]])
+
+
+@pytest.mark.parametrize(
+    ("levels", "overturned", "status"),
+    [
+        (LEVELS, np.zeros((4, LEVELS.size), bool), "none_overturned"),
+        (LEVELS, np.ones((4, LEVELS.size), bool), "all_overturned"),
+        (np.array([0.0, 0.5]), np.array([[False, True]] * 4), "too_few_levels"),
+    ],
+)
+def test_a_part_without_a_curve_has_its_status_and_no_median(levels, overturned, status):
+    """No curve: the variables of the part hold its status's code and NaN, not the median of ``inf`` or 0."""
+    from rocking.study.ida import _fit, fit_variables
+    from rocking.study.vocabulary import FIT_STATUSES
+
+    x = np.linspace(0.2, 1.2, 5)
+    fit, curves = _fit(levels, overturned, np.zeros_like(overturned), x)
+    values = fit_variables(fit)
+    assert values["fit_status"] == FIT_STATUSES.index(status) and values["resamples"] == 0
+    assert all(np.isnan(values[k]) for k in ("median", "dispersion", "median_low", "dispersion_high"))
+    assert all(np.isnan(v).all() for v in curves.values())

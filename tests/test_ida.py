@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import argparse
 import dataclasses
+import warnings
 
 import numpy as np
 import pytest
@@ -15,9 +16,11 @@ from rocking.model.intensity import pga
 from rocking.model.params import ParameterError
 from rocking.model.stochastic import SiteModel
 from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.fragility import FITTED
 from rocking.study.ida import envelope, incremental_dynamic_analysis, motion_measure
 from rocking.study.suite import Suite
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import FIT_STATUSES
 
 SERIAL = Execution(workers=1, progress=False)
 BLOCK = Block.reference()
@@ -77,7 +80,7 @@ def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, recor
         ]
         assert bool(a["overturned"].values[1, j]) == any(r.overturned for r in runs)
         assert a["x_max"].values[1, j] == pytest.approx(max(r.x_max for r in runs), rel=1e-9)
-    assert ida.kind == "ida" and ida.summary["motions"] == 3
+    assert ida.kind == "ida" and ida.data.sizes["motion"] == 3 and ida.summary == {}
     bare = both["overturned"].sel(part="bare")
     assert bare.any() and not bare.all()
 
@@ -90,17 +93,32 @@ def test_ida_summary_and_tables_report_each_motion(ida):
         first = [levels[row.argmax()] if row.any() else np.nan for row in over]
         np.testing.assert_array_equal(ida.data["first"].sel(part=part), first)
         np.testing.assert_array_equal(ida.data["fraction"].sel(part=part), over.mean(axis=0))
+        np.testing.assert_array_equal(table[f"{part}_first"], first)
+        reversals = (over[:, :-1] & ~over[:, 1:]).sum(axis=1)
+        np.testing.assert_array_equal(table[f"{part}_reversals"], reversals)
+        sensitive = ida.data["sensitive"].sel(part=part).values.sum(axis=(1, 2))
+        np.testing.assert_array_equal(table[f"{part}_sensitive_responses"], sensitive)
+    fits = ida.tables["ida-fit"]
+    assert list(fits["part"]) == ["bare", "damper"]
+    np.testing.assert_array_equal(fits["fit_status"], ida.data["fit_status"].values)
+    np.testing.assert_array_equal(fits["median"], ida.data["median"].values)
 
 
 def test_fragility_scales_each_motion_to_the_level_of_its_measure(tmp_path):
     suite = Suite.stochastic(SITE, 3, seed=5)
-    study = incremental_dynamic_analysis(
-        SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL, measure_name="pga", runs=tmp_path
-    )
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        study = incremental_dynamic_analysis(
+            SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL, measure_name="pga", runs=tmp_path
+        )
+    fit_warned = [w for w in caught if issubclass(w.category, rocking.FitWarning)]
+    fitted = [FIT_STATUSES[code] in FITTED for code in study.data["fit_status"].values]
+    assert any(fitted) and len(fit_warned) >= sum(fitted)  # three motions: every fitted part is warned, here
+    assert {w.filename for w in fit_warned} <= {__file__}
     for i in range(3):
         motion = suite.motion(i)
         assert study.data["im"].values[i] == pytest.approx(pga(motion.a, motion.dt))
-    assert study.kind == "fragility" and study.summary["unit"] == "m/s^2"
+    assert study.kind == "fragility" and study.data["median"].attrs["units"] == "m/s^2"
     again = incremental_dynamic_analysis(
         SETTING, Tuning(0.05), suite, Grid("pga", 1.0, 6.0, 6), SERIAL, measure_name="pga", runs=tmp_path
     )
@@ -164,7 +182,7 @@ def test_a_suite_of_pulses_at_an_amplitude_is_each_pulse_of_that_amplitude_in_th
             assert bare["theta_max"].values[i, j] == pytest.approx(max(r.theta_max for r in runs[:2]), rel=1e-9)
             checked += 1
     assert checked == 12 and bare["overturned"].any() and not bare["overturned"].all()
-    assert pulse_fragility.summary["unit"] == "m/s^2"
+    assert pulse_fragility.data["level"].attrs["units"] == "m/s^2"
     assert pulse_fragility.config["suite"]["pulses"][3]["family"] == "mp"
 
 

@@ -2,6 +2,7 @@
 
 import argparse
 import inspect
+import warnings
 
 import numpy as np
 import pytest
@@ -158,11 +159,11 @@ def test_the_command_line_gives_a_file_its_unit_and_log_levels(tmp_path):
 def test_a_lognormal_of_few_motions_or_no_dispersion_is_warned(tmp_path, capsys):
     from rocking.study.fragility import MIN_DISPERSION, MIN_MOTIONS, fit_warnings
 
-    assert fit_warnings(MIN_MOTIONS, {"status": "fitted", "beta": 0.3}) == []
-    assert fit_warnings(MIN_MOTIONS, {"status": "none overturned", "beta": float("nan")}) == []
-    (few,) = fit_warnings(2, {"status": "fitted", "beta": 0.3})
+    assert fit_warnings(MIN_MOTIONS, {"status": "fitted", "dispersion": 0.3}) == []
+    assert fit_warnings(MIN_MOTIONS, {"status": "none_overturned", "dispersion": float("nan")}) == []
+    (few,) = fit_warnings(2, {"status": "fitted", "dispersion": 0.3})
     assert few.startswith("the lognormal is fitted to 2 motions, fewer than 10: its dispersion is uncertain by about")
-    (flat,) = fit_warnings(MIN_MOTIONS, {"status": "fitted", "beta": MIN_DISPERSION / 2})
+    (flat,) = fit_warnings(MIN_MOTIONS, {"status": "fitted", "dispersion": MIN_DISPERSION / 2})
     assert flat.startswith("the fitted dispersion 0.025 is below 0.05")
     in_g, in_gal = _records(tmp_path)  # the same record twice, as the issue's user did
     argv = ["fragility", "--motions", f"{in_g}:g", f"{in_gal}:cm/s2", "--levels", "1", "4", "7", "--check", "none"]
@@ -173,23 +174,42 @@ def test_a_lognormal_of_few_motions_or_no_dispersion_is_warned(tmp_path, capsys)
 
 
 def test_the_fit_is_data_named_median_and_dispersion_and_the_motions_by_name(tmp_path):
+    """The fit and the counts of each part are variables (the summary is empty), saved and read back; the
+    FitWarning of three motions points at this call."""
+    from rocking.study.fragility import fit_lognormal
+    from rocking.study.ida import envelope
+
     block = rocking.Block.reference()
     pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.5, 1.0, 2.0)]
-    study = rocking.fragility(
-        block, {"gamma": 0.05}, motions=pulses, levels=[1.0, 2.0, 4.0, 8.0], im="amplitude", runs=tmp_path,
-        workers=1, progress=False, study=True,
-    )  # fmt: skip
-    data, fit = study.data, study.summary["bare"]
+    levels = [1.0, 2.0, 4.0, 8.0]
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        study = rocking.fragility(
+            block, {"gamma": 0.05}, motions=pulses, levels=levels, im="amplitude", runs=tmp_path,
+            workers=1, progress=False, study=True,
+        )  # fmt: skip
+    fit_warned = [w for w in caught if issubclass(w.category, rocking.FitWarning)]
+    assert fit_warned and {w.filename for w in fit_warned} == {__file__}
+    data = study.data
+    fit = fit_lognormal(levels, envelope(data)["overturned"].sel(part="bare").values.astype(bool))
+    assert fit["status"] == "fitted" and study.summary == {}
     assert data["motion"].values.tolist() == ["ricker-T0.5-0", "ricker-T1-1", "ricker-T2-2"]
     assert data["median"].attrs["units"] == "m/s^2" and data["dispersion"].attrs["units"] == "1"
-    assert float(data["median"].sel(part="bare")) == pytest.approx(fit["theta"])
-    assert float(data["dispersion"].sel(part="bare")) == pytest.approx(fit["beta"])
-    assert (
-        data["median_low"].sel(part="bare") <= data["median"].sel(part="bare") <= data["median_high"].sel(part="bare")
-    )
+    bare = data.sel(part="bare")
+    assert float(bare["median"]) == pytest.approx(fit["median"])
+    assert float(bare["dispersion"]) == pytest.approx(fit["dispersion"])
+    assert float(bare["log_likelihood"]) == pytest.approx(fit["log_likelihood"])
+    assert bare["median_low"] <= bare["median"] <= bare["median_high"]
+    assert bare["dispersion_low"] <= bare["dispersion"] <= bare["dispersion_high"]
+    status = data["fit_status"].attrs
+    assert status["flag_meanings"].split()[int(bare["fit_status"])] == "fitted" and int(bare["resamples"]) > 0
     rocking.save(study, tmp_path / "out")
+    again = rocking.load(tmp_path / "out" / "fragility.nc").data
+    for k in ("median", "dispersion", "fit_status", "resamples", "undetermined", "sensitive_responses", "reversals"):
+        np.testing.assert_array_equal(again[k].values, data[k].values)
     table = (tmp_path / "out" / "fragility-fit.csv").read_text().splitlines()
-    assert table[0].startswith("part,median") and table[1].startswith("bare,")
+    assert table[0].startswith("part,median [m/s^2],dispersion [1],") and table[1].startswith("bare,")
+    assert "fit_status [1],fit_status_text," in table[0] and ",fitted," in table[1]
 
 
 def test_study_csv_headers_carry_units_and_codes_their_words(tmp_path):

@@ -342,10 +342,11 @@ def _rewrite_nc(folder: Path, change) -> None:
     change(data).to_netcdf(folder / "map.nc", engine="netcdf4")
 
 
-def _old_format(folder: Path) -> None:
-    """The record of a study saved in format 2, by an earlier version (an .npz of arrays named by dimension)."""
+def _old_format(folder: Path, version: int) -> None:
+    """The record of a study saved in format ``version`` by an earlier version: 2, an .npz of arrays named by
+    dimension; 3, an IDA's fit in its JSON summary."""
     record = json.loads((folder / "map.json").read_text())
-    record["format"] = 2
+    record["format"] = version
     (folder / "map.json").write_text(json.dumps(record))
 
 
@@ -356,7 +357,8 @@ BROKEN = {
     "changed variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.assign(impacts=d["impacts"] * 0 + 1))),
     "missing variable": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.drop_vars("computed"))),
     "another study's file": ("map.nc", lambda f: _rewrite_nc(f, lambda d: d.isel(beta=slice(1, None)))),
-    "format 2": ("map.json", _old_format),
+    "format 2": ("map.json", lambda f: _old_format(f, 2)),
+    "format 3": ("map.json", lambda f: _old_format(f, 3)),
     "corrupt JSON": ("map.json", lambda f: (f / "map.json").write_text('{"kind": "map", ')),
     "binary JSON": ("map.json", lambda f: (f / "map.json").write_bytes(b"\xff\xfe\x00")),
     "foreign JSON": ("map.json", lambda f: (f / "map.json").write_text('{"name": "something else"}')),

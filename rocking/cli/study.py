@@ -53,7 +53,7 @@ from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
-from ..study.vocabulary import BELOW, BRACKETED
+from ..study.vocabulary import BELOW, BRACKETED, FIT_STATUSES
 from .options import (
     add_block_options,
     add_parser,
@@ -659,23 +659,35 @@ def _cmd_ida(args) -> int:
         **given(args, ("directions", "check")),
     )
     _report(study, out)
-    s = study.summary
-    for part in ("bare", "damper"):
-        fit = s[part]
-        unit = s["unit"] or "(scale factor)"
-        text = fit["status"]
-        if fit["status"] in FITTED:
-            (t0, t1), (b0, b1) = fit["theta_interval"], fit["beta_interval"]
-            text = (
-                f"median {fit['theta']:.4g} {unit}, dispersion {fit['beta']:.3g} (90 % intervals {t0:.4g} to "
-                f"{t1:.4g}, {b0:.3g} to {b1:.3g}), {fit['status']}"
-            )
-        print(
-            f"{study.kind}, {part}: {text}; {fit['motions_with_resurrections']} of {s['motions']} motions "
-            "overturn the block at a level and not at a higher one; "
-            f"{fit['sensitive']} of {study.run['responses'] // 2} responses sensitive to the tolerance"
-        )
+    for line in fit_lines(study):
+        print(line)
     return 0
+
+
+def fit_lines(study: Study) -> list[str]:
+    """What an IDA or a fragility says of each part, one line each: the fitted lognormal (its status where it
+    gives no curve), the motions with resurrections, the responses sensitive to the tolerance."""
+    data = study.data
+    unit = LEVELS[study.config["measure"]] or "(scale factor)"
+    motions, responses = data.sizes["motion"], data.sizes["motion"] * data.sizes["level"] * data.sizes["sign"]
+    lines = []
+    for part in ("bare", "damper"):
+        a = data.sel(part=part)
+        status = FIT_STATUSES[int(a["fit_status"])]
+        text = status.replace("_", " ")
+        if status in FITTED:
+            median, low, high = (float(a[k]) for k in ("median", "median_low", "median_high"))
+            dispersion, d_low, d_high = (float(a[k]) for k in ("dispersion", "dispersion_low", "dispersion_high"))
+            text = (
+                f"median {median:.4g} {unit}, dispersion {dispersion:.3g} (90 % intervals {low:.4g} to "
+                f"{high:.4g}, {d_low:.3g} to {d_high:.3g}), {text}"
+            )
+        lines.append(
+            f"{study.kind}, {part}: {text}; {int((a['reversals'] > 0).sum())} of {motions} motions "
+            "overturn the block at a level and not at a higher one; "
+            f"{int(a['sensitive_responses'].sum())} of {responses} responses sensitive to the tolerance"
+        )
+    return lines
 
 
 def _cmd_demo(args) -> int:

@@ -45,6 +45,8 @@ from matplotlib.ticker import FuncFormatter, MaxNLocator
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..study.design import stroke_use
+from ..study.fragility import FITTED
+from ..study.ida import LEVELS
 from ..study.ida import envelope as ida_envelope
 from ..study.kinds import KINDS
 from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
@@ -54,7 +56,7 @@ from ..study.spectrum import safe_windows
 from ..study.storage import load
 from ..study.suite import motion_names
 from ..study.threshold import thresholds
-from ..study.vocabulary import ABOVE, BELOW, BRACKETED
+from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES
 from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
 from .style import (
     DIVERGING,
@@ -909,14 +911,13 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
     band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
     resurrections marked."""
-    data, s = study.data, study.summary
+    data, measure_name = study.data, study.config["measure"]
     levels, curve_x = data["level"].values, data["curve_x"].values
     fig, ((ax_f, ax_m),) = _panels((13, 6), (1, 2), fig, ax, width_ratios=(1.2, 1))
-    unit = UNIT_TEXT[s["unit"]]
-    measure = MEASURE_NAMES[s["measure"]] + (f" ({unit})" if unit else "")
+    unit = UNIT_TEXT[LEVELS[measure_name]]
+    measure = MEASURE_NAMES[measure_name] + (f" ({unit})" if unit else "")
     for part in ("bare", "damper"):
-        style, fit = PART_STYLE[part], s[part]
-        a = data.sel(part=part)
+        style, a = PART_STYLE[part], data.sel(part=part)
         ax_f.plot(
             levels,
             a["fraction"].values,
@@ -927,9 +928,9 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
             zorder=5 if part == "bare" else 4,
             label=f"{style['label']}: fraction overturned",
         )
-        if fit["status"] in ("fitted", "separated"):
-            median = f"{_readable(fit['theta'])} {unit}".rstrip()
-            label = f"lognormal fit: median {median}, dispersion {fit['beta']:.2f}"
+        if FIT_STATUSES[int(a["fit_status"])] in FITTED:
+            median = f"{_readable(float(a['median']))} {unit}".rstrip()
+            label = f"lognormal fit: median {median}, dispersion {float(a['dispersion']):.2f}"
             ax_f.plot(curve_x, a["curve"].values, "-" if part == "bare" else "--", color=style["color"], label=label)
             ax_f.fill_between(
                 curve_x, a["band_low"].values, a["band_high"].values, color=style["color"], alpha=0.15, lw=0
@@ -940,10 +941,10 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     if xlog:
         ax_f.set_xscale("log")
         _plain_ticks(ax_f.xaxis)
-    if s["unit"] == "m/s^2":  # an acceleration: in g too, the block's gravity
+    if LEVELS[measure_name] == "m/s^2":  # an acceleration: in g too, the block's gravity
         g = _block(study.config).g
         in_g = ax_f.secondary_xaxis("top", functions=(lambda x: x / g, lambda x: x * g))
-        in_g.set_xlabel(f"{MEASURE_NAMES[s['measure']]} (g)")
+        in_g.set_xlabel(f"{MEASURE_NAMES[measure_name]} (g)")
         if xlog:
             _plain_ticks(in_g.xaxis)
     ax_f.set_ylabel("probability of overturning")

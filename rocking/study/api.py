@@ -576,7 +576,10 @@ def incremental_dynamic_analysis(
     -------
     xarray.Dataset
         Dimensions ``part`` (``bare``, ``damper``), ``motion`` (the motions' names), ``level``, ``sign``; the
-        fitted curves at ``curve_x``; the envelope over the directions: :func:`rocking.study.ida.envelope`.
+        fitted curves at ``curve_x``; per part the fit (``median``, ``dispersion``, their ``_low``/``_high``
+        90 % intervals, ``fit_status``) and per part and motion what each motion shows (``first``, ``last_safe``,
+        ``reversals``, ``sensitive_responses``): :func:`rocking.study.ida.incremental_dynamic_analysis`; the
+        envelope over the directions: :func:`rocking.study.ida.envelope`.
 
     Examples
     --------

@@ -4,7 +4,7 @@ The data are stripes: every motion of a suite scaled to each of several levels o
 intensity measure ``IM`` (incremental dynamic analysis, :func:`ida_summary`), each
 response overturning or not. The fragility curve is the lognormal distribution
 
-    P(overturn | IM = x) = Phi( ln(x / theta) / beta )
+    P(overturn | IM = x) = Phi( ln(x / median) / dispersion )
 
 fitted by maximum likelihood to the counts of every stripe (binomial likelihood, Baker
 2015, "Efficient analytical fragility function fitting using dynamic structural
@@ -20,6 +20,7 @@ from __future__ import annotations
 import numpy as np
 
 from ..model.params import ParameterError
+from .vocabulary import FIT_STATUSES
 
 
 def _stripes(im, overturned) -> tuple[np.ndarray, np.ndarray]:
@@ -35,10 +36,10 @@ def _stripes(im, overturned) -> tuple[np.ndarray, np.ndarray]:
     return im, overturned
 
 
-def log_likelihood(log_theta: float, beta: float, im, overturned) -> float:
-    """Binomial log-likelihood of the lognormal fragility ``(exp(log_theta), beta)`` for the responses
-    ``overturned`` (motions, levels) at the levels ``im``."""
-    return -_probit_cost(np.array([-log_theta / beta, 1 / beta]), np.log(im), *_counts(overturned))[0]
+def log_likelihood(log_median: float, dispersion: float, im, overturned) -> float:
+    """Binomial log-likelihood of the lognormal fragility of median ``exp(log_median)`` and ``dispersion`` for
+    the responses ``overturned`` (motions, levels) at the levels ``im``."""
+    return -_probit_cost(np.array([-log_median / dispersion, 1 / dispersion]), np.log(im), *_counts(overturned))[0]
 
 
 def _counts(overturned) -> tuple[np.ndarray, np.ndarray]:
@@ -50,9 +51,9 @@ def _counts(overturned) -> tuple[np.ndarray, np.ndarray]:
 def _probit_cost(params, x, k, safe) -> tuple[float, np.ndarray, np.ndarray]:
     """Negative log-likelihood of ``P = Phi(a + b x)`` (``x = ln IM``), its gradient and Hessian in ``(a, b)``.
 
-    The lognormal fragility is this probit model with ``b = 1 / beta``, ``a = -ln(theta) / beta``; its cost is
-    convex in ``(a, b)``. Logs of Phi are taken directly (``log_ndtr``), so that levels far in the tails do
-    not round to log(0).
+    The lognormal fragility is this probit model with ``b = 1 / dispersion``, ``a = -ln(median) / dispersion``;
+    its cost is convex in ``(a, b)``. Logs of Phi are taken directly (``log_ndtr``), so that levels far in the
+    tails do not round to log(0).
     """
     # Imported here: scipy.special takes about half a second to import, paid only by a fragility.
     from scipy import special
@@ -70,10 +71,10 @@ def _probit_cost(params, x, k, safe) -> tuple[float, np.ndarray, np.ndarray]:
 
 
 #: Statuses of a fit that gives a curve.
-FITTED = ("fitted", "separated")
+FITTED = FIT_STATUSES[:2]
 
 #: Fewest motions a lognormal is fitted to without a :class:`FitWarning`. The dispersion of a lognormal fitted to
-#: ``n`` motions has a standard error of about ``beta / sqrt(2 n)`` (each motion one sample of its log capacity):
+#: ``n`` motions has a standard error of about ``dispersion / sqrt(2 n)`` (each motion one sample of its log capacity):
 #: below 10 motions more than a fifth of the dispersion itself.
 MIN_MOTIONS = 10
 #: Smallest dispersion fitted without a :class:`FitWarning`. Record-to-record dispersions of overturning are of
@@ -103,16 +104,16 @@ def fit_warnings(motions: int, fit) -> list[str]:
             f"the lognormal is fitted to {motions} motions, fewer than {MIN_MOTIONS}: its dispersion is uncertain "
             f"by about {1 / np.sqrt(2 * motions):.0%} of itself; use more motions"
         )
-    if fit["status"] == "separated" or fit["beta"] < MIN_DISPERSION:
+    if fit["status"] == "separated" or fit["dispersion"] < MIN_DISPERSION:
         out.append(
-            f"the fitted dispersion {fit['beta']:.3g} is below {MIN_DISPERSION:g}: the motions overturn the block at "
-            "one level (copies of one record, or levels too coarse to tell them apart); the curve describes the "
-            "levels, not the suite"
+            f"the fitted dispersion {fit['dispersion']:.3g} is below {MIN_DISPERSION:g}: the motions overturn the "
+            "block at one level (copies of one record, or levels too coarse to tell them apart); the curve "
+            "describes the levels, not the suite"
         )
     return out
 
 
-#: Newton iterations of a fit, and the largest slope ``b = 1 / beta`` (a dispersion of 1e-3): levels that
+#: Newton iterations of a fit, and the largest slope ``b = 1 / dispersion`` (a dispersion of 1e-3): levels that
 #: separate the outcomes exactly have no finite maximum, the slope growing without bound.
 NEWTON_STEPS, MAX_SLOPE = 100, 1e3
 
@@ -154,49 +155,50 @@ def fit_lognormal(im, overturned) -> dict:
     Returns
     -------
     dict
-        ``theta`` (the median, in the unit of ``im``), ``beta`` (the dispersion, of ``ln IM``),
-        ``log_likelihood``, and ``status``: ``"fitted"``; ``"separated"`` (the levels separate the outcomes
-        exactly: the likelihood grows as ``beta`` falls to 0, given at ``1 / MAX_SLOPE``); ``"none
-        overturned"`` / ``"all overturned"`` (no finite fit: ``theta`` is then given as ``inf`` or 0,
-        ``beta`` nan); or ``"not increasing"`` (the fraction overturned falls with the level).
+        ``median`` (in the unit of ``im``), ``dispersion`` (the standard deviation of ``ln IM``),
+        ``log_likelihood``, and ``status`` (one of :data:`~rocking.study.vocabulary.FIT_STATUSES`):
+        ``"fitted"``; ``"separated"`` (the levels separate the outcomes exactly: the likelihood grows as the
+        dispersion falls to 0, given at ``1 / MAX_SLOPE``); ``"none_overturned"`` / ``"all_overturned"`` (no
+        finite fit: the median is then given as ``inf`` or 0, the dispersion nan); or ``"not_increasing"`` (the
+        fraction overturned falls with the level).
     """
     im, overturned = _stripes(im, overturned)
     fraction = overturned.mean()
     if fraction == 0:
-        return {"theta": np.inf, "beta": np.nan, "log_likelihood": 0.0, "status": "none overturned"}
+        return {"median": np.inf, "dispersion": np.nan, "log_likelihood": 0.0, "status": "none_overturned"}
     if fraction == 1:
-        return {"theta": 0.0, "beta": np.nan, "log_likelihood": 0.0, "status": "all overturned"}
+        return {"median": 0.0, "dispersion": np.nan, "log_likelihood": 0.0, "status": "all_overturned"}
     x = np.log(im)
     k, safe = _counts(overturned)
     spread = max(float(np.std(x)), 0.1)
     start = np.array([-float(np.median(x)) / spread, 1 / spread])
     (a, b), cost = _newton(start, x, k, safe)
     if not b > 0:
-        return {"theta": np.nan, "beta": np.nan, "log_likelihood": -cost, "status": "not increasing"}
+        return {"median": np.nan, "dispersion": np.nan, "log_likelihood": -cost, "status": "not_increasing"}
     status = "separated" if b > MAX_SLOPE else "fitted"
-    return {"theta": float(np.exp(-a / b)), "beta": float(1 / b), "log_likelihood": -cost, "status": status}
+    return {"median": float(np.exp(-a / b)), "dispersion": float(1 / b), "log_likelihood": -cost, "status": status}
 
 
-def fragility_curve(x, theta: float, beta: float) -> np.ndarray:
-    """``Phi(ln(x / theta) / beta)`` at the intensities ``x``."""
+def fragility_curve(x, median: float, dispersion: float) -> np.ndarray:
+    """``Phi(ln(x / median) / dispersion)`` at the intensities ``x``."""
     from scipy import special  # imported here, as in _probit_cost
 
-    return special.ndtr(np.log(np.asarray(x, float) / theta) / beta)
+    return special.ndtr(np.log(np.asarray(x, float) / median) / dispersion)
 
 
 def _band(im, overturned, x, resamples: int, level: float, seed: int) -> dict | None:
     """:func:`bootstrap_band` of verdicts taken as certain; ``None`` if no resample can be fitted."""
     rng = np.random.default_rng(seed)
-    curves, thetas, betas, dropped = [], [], [], 0
+    curves, medians, dispersions, dropped = [], [], [], 0
     for _ in range(resamples):
         sample = overturned[rng.integers(0, overturned.shape[0], overturned.shape[0])]
         fit = fit_lognormal(im, sample)
         if fit["status"] not in FITTED:
             dropped += 1
             continue
-        curves.append(fragility_curve(x, fit["theta"], fit["beta"]))
-        thetas.append(fit["theta"])
-        betas.append(fit["beta"])
+        curves.append(fragility_curve(x, fit["median"], fit["dispersion"]))
+        medians.append(fit["median"])
+        dispersions.append(fit["dispersion"])
     if not curves:
         return None
     tails = (100 * (1 - level) / 2, 100 * (1 + level) / 2)
@@ -204,8 +206,8 @@ def _band(im, overturned, x, resamples: int, level: float, seed: int) -> dict | 
     return {
         "low": low,
         "high": high,
-        "theta_interval": [float(v) for v in np.percentile(thetas, tails)],
-        "beta_interval": [float(v) for v in np.percentile(betas, tails)],
+        "median_interval": [float(v) for v in np.percentile(medians, tails)],
+        "dispersion_interval": [float(v) for v in np.percentile(dispersions, tails)],
         "resamples": len(curves),
         "dropped": dropped,
     }
@@ -238,8 +240,8 @@ def bootstrap_band(
     Returns
     -------
     dict
-        ``low``, ``high`` (the band at ``x``), ``theta`` and ``beta`` intervals (the envelopes of
-        the three bands' intervals), ``resamples`` used and ``dropped`` (resamples with no
+        ``low``, ``high`` (the band at ``x``), ``median_interval`` and ``dispersion_interval`` (the
+        envelopes of the three bands' intervals), ``resamples`` used and ``dropped`` (resamples with no
         overturning or only overturning have no fit), both of the verdicts as run, and
         ``sensitive``: the number of sensitive responses.
 
@@ -265,7 +267,7 @@ def bootstrap_band(
         if other is None:
             continue
         band["low"], band["high"] = np.minimum(band["low"], other["low"]), np.maximum(band["high"], other["high"])
-        for k in ("theta_interval", "beta_interval"):
+        for k in ("median_interval", "dispersion_interval"):
             band[k] = [min(band[k][0], other[k][0]), max(band[k][1], other[k][1])]
     return band
 

@@ -19,10 +19,12 @@ bootstrap band (:mod:`rocking.study.fragility`).
 
 from __future__ import annotations
 
-import math
+import os
+import sys
 import warnings
 from dataclasses import replace
 from pathlib import Path
+from types import FrameType
 
 import numpy as np
 
@@ -40,7 +42,7 @@ from .overturning_map import FIELDS, PARTS, check_damper, check_study, preflight
 from .result import Study
 from .suite import Suite, motion_names
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
-from .vocabulary import PART_NAMES
+from .vocabulary import FIT_STATUSES, PART_NAMES
 
 #: What the levels of a study are: the scale factor itself, one of the intensity measures, or the
 #: amplitude ``a_g`` of the pulses of a suite of pulses (the peak, but for the MP pulse's ``A omega_g``).
@@ -51,15 +53,29 @@ PULSE_SAMPLES = 20_001
 CURVE_POINTS, RESAMPLES = 101, 400
 
 #: What the envelopes of an IDA give per part, besides the responses: per motion, per level, along the fitted curve.
-RESULTS = ("first", "last_safe", "reversals", "fraction", "sensitive_fraction", "curve", "band_low", "band_high")
-#: The fitted lognormal of each part (NaN where there is none), and the summary's keys they come from.
-FIT = {
-    "median": ("theta", None),
-    "dispersion": ("beta", None),
-    "median_low": ("theta_interval", 0),
-    "median_high": ("theta_interval", 1),
-    "dispersion_low": ("beta_interval", 0),
-    "dispersion_high": ("beta_interval", 1),
+RESULTS = (
+    "first",
+    "last_safe",
+    "reversals",
+    "sensitive_responses",
+    "fraction",
+    "sensitive_fraction",
+    "curve",
+    "band_low",
+    "band_high",
+)
+#: The fitted lognormal of each part (NaN where the fit gives no curve) and the ends of its 90 % intervals.
+FIT = ("median", "dispersion", "median_low", "median_high", "dispersion_low", "dispersion_high")
+#: What else each part's fit and runs give, one value per part: the fit's outcome (a code of
+#: :data:`~rocking.study.vocabulary.FIT_STATUSES`), its log-likelihood, its bootstrap's resamples, and the
+#: responses without a verdict.
+COUNTS = ("fit_status", "log_likelihood", "resamples", "undetermined")
+#: Units, meaning and key of the variables of an IDA that :data:`rocking.study.dataset.FIELDS` does not label.
+OWN_FIELDS: dict[str, tuple] = {
+    "fit_status": ("1", "outcome of the lognormal fit", dict(enumerate(FIT_STATUSES))),
+    "log_likelihood": ("1", "binomial log-likelihood of the fitted lognormal, from the counts of every level"),
+    "resamples": ("1", "bootstrap resamples of the motions fitted for the band and the intervals"),
+    "sensitive_responses": ("1", "responses of the motion (levels and directions) sensitive to the tolerance"),
 }
 
 #: The dimensions of every variable of an IDA's or a fragility's data (:func:`ida_data`), coordinates included.
@@ -67,9 +83,9 @@ DIMS = {
     **{dim: (dim,) for dim in ("part", "motion", "level", "sign", "curve_x")},
     "im": ("motion",),
     **dict.fromkeys((*FIELDS, SENSITIVE.name), ("part", "motion", "level", "sign")),
-    **dict.fromkeys(("first", "last_safe", "reversals"), ("part", "motion")),
+    **dict.fromkeys(("first", "last_safe", "reversals", "sensitive_responses"), ("part", "motion")),
     **dict.fromkeys(("fraction", "sensitive_fraction"), ("part", "level")),
-    **dict.fromkeys(FIT, ("part",)),
+    **dict.fromkeys((*FIT, *COUNTS), ("part",)),
     **dict.fromkeys(("curve", "band_low", "band_high"), ("part", "curve_x")),
 }
 
@@ -193,18 +209,16 @@ def incremental_dynamic_analysis(
     Returns
     -------
     Study
-        ``kind = "ida"`` (scale factors) or ``"fragility"`` (an intensity measure). Arrays ``levels``,
-        ``signs``, ``im`` (each motion's measure), and per part ``bare``/``damper``: the map's fields per
-        motion, level and direction (``<part>_<field>_by_sign``, (n, m, signs)), their envelope
-        (``<part>_<field>``, (n, m)), the IDA summary (``<part>_first``, ``<part>_last_safe``,
-        ``<part>_reversals``), the fraction overturned per level, ``<part>_sensitive_by_sign`` and
-        ``<part>_sensitive`` (a response, or one of its directions, sensitive to the tolerance: as ``check``
-        says, docs/simulation.md "Sensitivity to the tolerance"), the fraction
-        of the responses sensitive per level (``<part>_sensitive_fraction``), the fitted curve ``<part>_curve`` at
-        ``curve_x`` with its band ``<part>_band_low``/``_high`` (covering either answer of a sensitive response,
-        :func:`~rocking.study.fragility.bootstrap_band`). The summary gives each part's fit
-        (``theta``, ``beta`` and their intervals), the motions with resurrections and the number of sensitive
-        responses.
+        ``kind = "ida"`` (scale factors) or ``"fragility"`` (an intensity measure); no summary: its data
+        (:func:`ida_data`) hold it. Dimensions ``part`` (``bare``, ``damper``), ``motion``, ``level``, ``sign``,
+        ``curve_x``: the map's fields and ``sensitive`` (a response sensitive to the tolerance, as ``check``
+        says, docs/simulation.md "Sensitivity to the tolerance") per part, motion, level and direction; ``im``
+        (each motion's measure); per part and motion ``first``, ``last_safe``, ``reversals`` (a resurrection
+        where it is above 0) and ``sensitive_responses``; per part and level ``fraction`` (overturned) and
+        ``sensitive_fraction``; the fitted curve ``curve`` at ``curve_x`` with its band ``band_low``/``_high``
+        (covering either answer of a sensitive response, :func:`~rocking.study.fragility.bootstrap_band`); per
+        part the fit (:data:`FIT`: ``median``, ``dispersion`` and their intervals) and :data:`COUNTS`
+        (``fit_status``, a code whose words are its ``flag_meanings``, ...).
     """
     check_study(setting, execution, runs, levels=levels)
     check_damper(tuning)
@@ -255,19 +269,12 @@ def incremental_dynamic_analysis(
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="ida", on_tile=on_tile)
-    unknown = int(undetermined(fields["status"]).sum())
-    warn_undetermined("ida", unknown)
+    unknown = undetermined(fields["status"])
+    warn_undetermined("ida", int(unknown.sum()))
     positive = lv[lv > 0]
     curve_x = np.geomspace(positive.min(), positive.max(), CURVE_POINTS) if positive.size else lv
-    summary = {
-        "motions": n,
-        "measure": measure_name,
-        "unit": LEVELS[measure_name],
-        "directions": chosen,
-        "undetermined": unknown,
-    }
-    both = response_envelope({k: fields[k] for k in FIELDS}, undetermined(fields["status"]))
-    results: dict[str, list] = {k: [] for k in (*RESULTS, *FIT)}
+    both = response_envelope({k: fields[k] for k in FIELDS}, unknown)
+    results: dict[str, list] = {k: [] for k in (*RESULTS, *FIT, *COUNTS)}
     for index, part in enumerate(PARTS):
         over = both["overturned"][index].astype(bool)
         ida = (
@@ -281,18 +288,14 @@ def incremental_dynamic_analysis(
         sensitive = fields[SENSITIVE.name][index]
         # Of the responses (motions and directions), not of the envelopes: each is one run that moved.
         results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)))
+        results["sensitive_responses"].append(sensitive.sum(axis=(1, 2)))
+        results["undetermined"].append(unknown[index].sum())
         uncertain = uncertain_verdicts(fields["overturned"][index], sensitive)
         fit, curves = _fit(lv, over, uncertain, curve_x)
         for message in fit_warnings(n, fit):
-            warnings.warn(f"{PART_NAMES[part]}: {message}", FitWarning, stacklevel=2)
-        for k, v in curves.items():
+            warnings.warn(f"{PART_NAMES[part]}: {message}", FitWarning, stacklevel=_user_stacklevel())
+        for k, v in {**curves, **fit_variables(fit)}.items():
             results[k].append(v)
-        for k, (key, end) in FIT.items():
-            value = fit.get(key)
-            results[k].append(np.nan if value is None else float(value if end is None else value[end]))
-        fit["motions_with_resurrections"] = int((ida["reversals"] > 0).sum())
-        fit["sensitive"] = int(sensitive.sum())
-        summary[part] = fit
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
     fields.update({k: np.stack(v) for k, v in results.items()})
@@ -300,7 +303,6 @@ def incremental_dynamic_analysis(
         kind,
         config,
         ida_data(config, lv, signs, curve_x, im, fields),
-        summary=summary,
         run={**stats.record(), "run_folders": folders, "responses": 2 * n * lv.size * len(signs)},
         tabulate=tables,
     )
@@ -309,8 +311,9 @@ def incremental_dynamic_analysis(
 def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
     """An IDA's or a fragility's results as labelled data: the responses (:data:`FIELDS` and ``sensitive``) of
     each part, motion, level and direction, each motion's unscaled ``im``, and what the envelopes give per part:
-    ``first``, ``last_safe``, ``reversals`` per motion, ``fraction`` and ``sensitive_fraction`` per level, the
-    fitted ``curve`` and its band at ``curve_x``."""
+    ``first``, ``last_safe``, ``reversals``, ``sensitive_responses`` per motion, ``fraction`` and
+    ``sensitive_fraction`` per level, the fitted ``curve`` and its band at ``curve_x``, the fit (:data:`FIT`) and
+    :data:`COUNTS`."""
     import xarray as xr
 
     coords = {
@@ -324,9 +327,20 @@ def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
         "curve_x": ("curve_x", curve_x, coordinate_attrs("curve_x", config)),
     }
-    variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
+    variables = {k: (DIMS[k], v, field_attrs(k, config) or _own_attrs(k)) for k, v in fields.items()}
     variables["im"] = (DIMS["im"], im, field_attrs("im", config))
     return xr.Dataset(variables, coords=coords)
+
+
+def _own_attrs(name: str) -> dict:
+    """CF-style attributes of a variable of :data:`OWN_FIELDS`: units, long name, the key of a code."""
+    units, long_name, *key = OWN_FIELDS[name]
+    attrs: dict[str, object] = {"units": units, "long_name": long_name}
+    if key:
+        codes: dict[int, str] = key[0]
+        attrs["flag_values"] = np.array(list(codes), np.int64)
+        attrs["flag_meanings"] = " ".join(codes.values())
+    return attrs
 
 
 def envelope(data):
@@ -348,31 +362,55 @@ def uncertain_verdicts(overturned_by_sign, sensitive_by_sign) -> np.ndarray:
     return sensitive.any(axis=-1) & ~(overturned & ~sensitive).any(axis=-1)
 
 
+def _user_stacklevel() -> int:
+    """The ``stacklevel`` that attributes a warning of the function calling this one to the first frame outside
+    the package: the user's call, through however many of the package's functions it came (the Python API's,
+    the command line's)."""
+    package = os.path.dirname(os.path.dirname(os.path.abspath(__file__))) + os.sep
+    frame: FrameType | None = sys._getframe(1)
+    level = 1
+    while frame is not None and os.path.abspath(frame.f_code.co_filename).startswith(package):
+        frame, level = frame.f_back, level + 1
+    return level
+
+
 def _fit(levels, over, uncertain, x) -> tuple[dict, dict]:
     """The lognormal fit of one part and its band at ``x``, the band covering either verdict of the
-    ``uncertain`` cells: the summary, and ``curve``, ``band_low``, ``band_high``."""
-    fit = (
-        fit_lognormal(levels[levels > 0], over[:, levels > 0])
-        if (levels > 0).sum() >= 2
-        else {"theta": np.nan, "beta": np.nan, "log_likelihood": np.nan, "status": "too few levels"}
+    ``uncertain`` cells: the fit (:func:`~rocking.study.fragility.fit_lognormal`'s, with the intervals and the
+    resamples of its band, NaN and 0 without a curve), and ``curve``, ``band_low``, ``band_high``."""
+    fitted = levels > 0
+    fit: dict = (
+        fit_lognormal(levels[fitted], over[:, fitted])
+        if fitted.sum() >= 2
+        else {"median": np.nan, "dispersion": np.nan, "log_likelihood": np.nan, "status": "too_few_levels"}
     )
-    out = {k: (None if isinstance(v, float) and not math.isfinite(v) else v) for k, v in fit.items()}
+    fit.update(median_interval=[np.nan, np.nan], dispersion_interval=[np.nan, np.nan], resamples=0)
     curves = {k: np.full(x.size, np.nan) for k in ("curve", "band_low", "band_high")}
     if fit["status"] in FITTED:
-        curves["curve"] = fragility_curve(x, fit["theta"], fit["beta"])
-        fitted = levels > 0
+        curves["curve"] = fragility_curve(x, fit["median"], fit["dispersion"])
         band = bootstrap_band(levels[fitted], over[:, fitted], x, sensitive=uncertain[:, fitted], resamples=RESAMPLES)
         curves["band_low"], curves["band_high"] = band["low"], band["high"]
-        out.update(
-            theta_interval=band["theta_interval"], beta_interval=band["beta_interval"], resamples=band["resamples"]
-        )
-    return out, curves
+        fit.update({k: band[k] for k in ("median_interval", "dispersion_interval", "resamples")})
+    return fit, curves
+
+
+def fit_variables(fit: dict) -> dict:
+    """One part's values of :data:`FIT` and :data:`COUNTS` but ``undetermined`` from its fit (:func:`_fit`): the
+    median and the dispersion only where the fit gives a curve (a median of ``inf`` where nothing overturns
+    is no median), the status as its code."""
+    curve = fit["status"] in FITTED
+    out = {k: float(fit[k]) if curve else np.nan for k in ("median", "dispersion")}
+    for k in ("median", "dispersion"):
+        out[f"{k}_low"], out[f"{k}_high"] = fit[f"{k}_interval"]
+    status = FIT_STATUSES.index(fit["status"])
+    return {**out, "fit_status": status, "log_likelihood": float(fit["log_likelihood"]), "resamples": fit["resamples"]}
 
 
 def tables(data, config: dict) -> dict:
     """CSV tables: ``<kind>`` (one row per motion and level: the envelope of both parts), ``<kind>-motions``
-    (one row per motion: its name, its measure and IDA summary) and ``<kind>-fit`` (one row per part: the fitted
-    lognormal's median and dispersion, and their 90 % intervals)."""
+    (one row per motion: its name, its measure, its first overturning and last safe levels, its resurrections
+    and sensitive responses) and ``<kind>-fit`` (one row per part: the fitted lognormal's median and dispersion,
+    their 90 % intervals, and :data:`COUNTS`, the fit's status as its code and its words)."""
     kind, env = config["kind"], envelope(data)
     names = data["motion"].values
     motion, level = np.meshgrid(np.arange(names.size), data["level"].values, indexing="ij")
@@ -382,7 +420,7 @@ def tables(data, config: dict) -> dict:
             rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
     motions = {"motion": names, "im": data["im"].values}
     for part in PARTS:
-        for k in ("first", "last_safe", "reversals"):
+        for k in ("first", "last_safe", "reversals", "sensitive_responses"):
             motions[f"{part}_{k}"] = data[k].sel(part=part).values
-    fits = {"part": np.array(PARTS), **{k: data[k].values for k in FIT}}
+    fits = {"part": np.array(PARTS), **{k: data[k].values for k in (*FIT, *COUNTS)}}
     return {kind: rows, f"{kind}-motions": motions, f"{kind}-fit": fits}

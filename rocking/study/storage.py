@@ -63,8 +63,10 @@ from .suite import MAX_MOTIONS
 from .vocabulary import PART_NAMES
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
-#: 3: its data are its NetCDF file (2: arrays named after their dimensions in an ``.npz``).
-STUDY_FORMAT = 3
+#: 4: an IDA's and a fragility's fit and counts are variables of its data, its summary empty (3: JSON in its
+#: summary, keyed ``theta``/``beta``); 3: its data are its NetCDF file (2: arrays named after their dimensions in
+#: an ``.npz``).
+STUDY_FORMAT = 4
 
 #: The parts of a saved study's JSON record that :func:`load` needs.
 RECORD = {"kind": str, "config": dict, "summary": dict, "variables": dict, "variables_sha256": str}

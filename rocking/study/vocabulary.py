@@ -32,6 +32,10 @@ FLAG_WORDS = {BELOW: "upper_bound", BRACKETED: "bracketed", ABOVE: "lower_bound"
 #: Outcomes of :func:`rocking.study.optimize.threshold_frequency`, in the order of the ``<kind>_status`` arrays.
 THRESHOLD_STATUSES = ("bracketed", "below_range", "above_range", "undefined")
 
+#: Outcomes of a lognormal fit (:func:`rocking.study.fragility.fit_lognormal`), in the order of the codes of an
+#: IDA's ``fit_status``; the first two give a curve.
+FIT_STATUSES = ("fitted", "separated", "none_overturned", "all_overturned", "not_increasing", "too_few_levels")
+
 
 def flag_words(flag) -> np.ndarray:
     """:data:`FLAG_WORDS` of each flag of ``flag``."""
