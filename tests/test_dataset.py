@@ -227,3 +227,7 @@ def test_study_html_for_notebooks(studies):
     html = studies["map"]._repr_html_()
     assert "rocking map study" in html and "xr-wrap" in html  # xarray's own rich view inside
     assert to_dataset(studies["map"]).attrs["kind"] == "map"
+    assert "<th>summary</th>" in html
+    # An IDA's fit is in its variables, its summary empty: no empty summary table above them.
+    ida = studies["ida"]._repr_html_()
+    assert "rocking ida study" in ida and "<th>summary</th>" not in ida and "dispersion" in ida

@@ -316,7 +316,6 @@ def html(study) -> str:
         for k, v in study.summary.items()
         if not isinstance(v, dict | list)
     )
-    return (
-        f"<div><strong>rocking {escape(study.kind)} study</strong>"
-        f"<table><tr><th>summary</th><th></th></tr>{rows}</table>{to_dataset(study)._repr_html_()}</div>"
-    )
+    # An IDA's summary is in its Dataset's variables: no empty table above them.
+    table = f"<table><tr><th>summary</th><th></th></tr>{rows}</table>" if rows else ""
+    return f"<div><strong>rocking {escape(study.kind)} study</strong>{table}{to_dataset(study)._repr_html_()}</div>"
