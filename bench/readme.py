@@ -50,6 +50,15 @@ def render(results: dict) -> str:
         f"takes {st['threshold_seconds']:.1f} s on 2 workers; a fragility of 1,000 stochastic motions x 4 levels x "
         f"2 directions x 2 parts {st['fragility_1000_seconds']:.0f} s.",
     ]
+    if "split_map" in st:
+        sm, sf = st["split_map"], st["split_fragility"]
+        lines.append(
+            f"On one worker (bench/split.py, imports excluded), the {st['n_map']} x {st['n_map']} map spends "
+            f"{100 * sm['c_s'] / sm['cpu_s']:.0f} % of its CPU in C and {100 * sm['other_fraction']:.0f} % in the "
+            f"Python around it; a fragility of {sf['n']} stochastic motions {100 * sf['c_s'] / sf['cpu_s']:.0f} % in "
+            f"C, {100 * sf['motions_s'] / sf['cpu_s']:.0f} % drawing its motions and "
+            f"{100 * sf['other_fraction']:.0f} % in Python (tiles, the lognormal fits and their bootstrap)."
+        )
     return "\n".join(lines)
 
 
