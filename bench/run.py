@@ -17,10 +17,8 @@ at 50 scales (an incremental dynamic analysis), C against the baseline with ``np
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
 import os
-import platform
 import sys
 import time
 
@@ -31,6 +29,7 @@ sys.path.insert(0, os.path.dirname(__file__))
 import baseline  # noqa: E402
 import split  # noqa: E402
 from bench_map import GAMMA, H_MASS, OMEGA_RATIO, ZETA, map_cases  # noqa: E402
+from machine import machine  # noqa: E402
 
 from rocking import Block, SampledMotion  # noqa: E402
 from rocking.sim.cases import pulse_cases, run_cases, sampled_cases  # noqa: E402
@@ -307,21 +306,6 @@ def bench_overhead(calls: int = 2000, repeats: int = 5) -> dict:
         "c_us": c_us,
         "whole_us": whole_us,
         "overhead_another_damper_us": overhead_new_damper,
-    }
-
-
-def machine() -> dict:
-    """Where and when this run measured: the date (UTC), the CPU, its cores, the load on them, Python."""
-    model = next(
-        (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
-        platform.processor() or platform.machine(),
-    )
-    return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "cpu": model,
-        "cores": os.cpu_count(),
-        "load_average_1min": os.getloadavg()[0],
-        "python": platform.python_version(),
     }
 
 
