@@ -44,7 +44,7 @@ verify: $(STAMP)
 test: $(STAMP)
 	$(VENV)/bin/ruff check rocking derive tests bench setup.py
 	$(VENV)/bin/ruff format --check rocking derive tests bench setup.py docs/conf.py
-	$(PY) -m pytest -q -n $(JOBS)
+	$(PY) -m pytest -q -n $(JOBS) --dist loadgroup
 
 # The tests of both back ends where the math libraries differ from this machine's: NumPy's SIMD
 # dispatch turned off, then the simulator's libm moved by one ulp (tests/libm_shim.c). No test may
@@ -70,10 +70,10 @@ docs: $(DOCS_STAMP)
 
 bench: $(STAMP)
 	$(PY) bench/run.py --json bench/last.json
-	$(PY) bench/readme.py
 	$(PY) bench/adaptive.py
-	$(PY) bench/adaptive_spectrum.py
+	$(PY) bench/adaptive_spectrum.py --coarse 2 4 8 16 --json bench/adaptive-spectrum.json
 	$(PY) bench/motions.py
+	$(PY) bench/readme.py
 
 fuzz: $(STAMP)
 	$(PY) bench/fuzz.py -n $(FUZZ_N) --json out/fuzz.json

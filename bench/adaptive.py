@@ -24,6 +24,8 @@ import tempfile
 import time
 from itertools import product
 
+from machine import command_line, ended, machine
+
 from rocking import Block
 from rocking.study.adaptive import COARSE
 from rocking.study.config import PULSES, Grid, Setting, Tuning
@@ -112,17 +114,20 @@ def report(r: dict) -> None:
     )
 
 
-def summary(results: list[dict]) -> None:
-    """One line per map, then the totals: the table of the README."""
-    print("\n| pulse | guide | verify | cells differ | responses adaptive / full | wall adaptive / full (s) |")
-    print("|---|---|---|---|---|---|")
+def table(results: list[dict]) -> str:
+    """One row per map, as a Markdown table: the README's (bench/readme.py)."""
+    rows = [
+        "| pulse | guide | verify | cells differ | responses adaptive / full | wall adaptive / full (s) |",
+        "|---|---|---|---|---|---|",
+    ]
     for r in results:
         guide = "stops" if r["stops"] else "unlimited"
-        print(
+        rows.append(
             f"| {r['pulse']} | {guide} | {r['verify']} | {r['misclassified']} | "
-            f"{r['adaptive_responses']} / {r['full_responses']} ({r['response_ratio']:.1f}x fewer) | "
+            f"{r['adaptive_responses']:,} / {r['full_responses']:,} ({r['response_ratio']:.1f}x fewer) | "
             f"{r['adaptive_seconds']:.1f} / {r['full_seconds']:.1f} ({r['speedup']:.1f}x) |"
         )
+    return "\n".join(rows)
 
 
 def main(argv=None) -> int:
@@ -141,16 +146,19 @@ def main(argv=None) -> int:
     parser.add_argument("--stops", choices=GUIDES, default="no", help="with stops: no (default), yes or both")
     parser.add_argument("--json", help="also write the figures to this file")
     args = parser.parse_args(argv)
+    started = machine()
     results = []
     for pulse, stops in product(args.pulses, GUIDES[args.stops]):
         for result in compare(args.n, args.workers, args.coarse, args.verify, pulse, stops):
             report(result)
             results.append(result)
     if len(results) > 1:
-        summary(results)
+        print(f"\n{table(results)}")
     if args.json:
+        command = command_line("adaptive.py", argv)
         with open(args.json, "w") as f:
-            json.dump(results if len(results) > 1 else results[0], f, indent=2)
+            json.dump({"command": command, "machine": started | ended(), "maps": results}, f, indent=2)
+            f.write("\n")
     return 0 if all(r["misclassified"] == 0 for r in results) else 1
 
 

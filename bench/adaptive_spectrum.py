@@ -22,6 +22,7 @@ import tempfile
 import time
 
 import numpy as np
+from machine import command_line, ended, machine
 
 from rocking import Block
 from rocking.cli.study import SPECTRUM_BETA, SPECTRUM_OMEGA
@@ -145,6 +146,29 @@ def report(result: dict, block_name: str) -> None:
         )
 
 
+def table(result: dict) -> str:
+    """One row per coarse step, as a Markdown table: the README's (bench/readme.py)."""
+    rows = [
+        "| coarse step | scan responses | fewer | with the bisections | wall (s) | envelope beta_min and windows | "
+        "one direction's beta_min |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    columns = 2 * result["Omega"][2] * 2  # both parts, both directions
+    for r in result["runs"]:
+        d = r["differences"]
+        same = (
+            "identical"
+            if not (d["envelope_beta_min"] or d["windows"])
+            else (f"differ at {d['envelope_beta_min']} Omega, {d['windows']} windows")
+        )
+        rows.append(
+            f"| {'every amplitude' if r['coarse'] == 1 else r['coarse']} | {r['scan_responses']:,} | "
+            f"{r['scan_response_ratio']:.1f}x | {r['responses']:,} | {r['seconds']:.1f} | {same} | "
+            f"differs in {d['beta_min_columns']} of {columns} columns |"
+        )
+    return "\n".join(rows)
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument(
@@ -162,12 +186,16 @@ def main(argv=None) -> int:
     )
     parser.add_argument("--json", help="also write the figures to this file")
     args = parser.parse_args(argv)
+    started = machine()
     block = Block.from_nondim(**SLENDER) if args.slender else Block.reference()
     result = compare(args.coarse, args.workers, block, args.beta)
     report(result, "second block" if args.slender else "bench spectrum")
     if args.json:
+        result["command"] = command_line("adaptive_spectrum.py", argv)
+        result["machine"] = started | ended()
         with open(args.json, "w") as f:
             json.dump(result, f, indent=2)
+            f.write("\n")
     # Only a difference that no feature narrower than the coarse step explains is a failure.
     return 0 if not any(r["differences"]["unexplained_columns"] for r in result["runs"]) else 1
 

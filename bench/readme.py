@@ -1,8 +1,10 @@
-"""The README's speed figures, written from the last `make bench` (bench/last.json), never typed.
+"""The README's measured figures, written from the files the bench commands wrote, never typed.
 
-``python bench/readme.py`` rewrites the part of README.md between the markers :data:`START` and
-:data:`END` from bench/last.json; tests/test_readme.py fails when the two differ, so a figure in
-the README is always the one the last bench run measured, with its date, machine and load.
+``python bench/readme.py`` rewrites each block of README.md between its markers (:func:`markers`) from its
+file (:data:`BLOCKS`): the speed figures of the last `make bench` (bench/last.json), the adaptive maps
+against full ones (bench/adaptive-400.json, bench/adaptive-1000.json, written by the commands they name).
+tests/test_readme.py fails when a block and its file differ, so a figure in the README is always the one a
+run measured, with its date, machine and load.
 """
 
 from __future__ import annotations
@@ -11,11 +13,11 @@ import json
 import sys
 from pathlib import Path
 
+from adaptive import table
+from adaptive_spectrum import table as spectrum_table
+
 ROOT = Path(__file__).resolve().parent.parent
-LAST = ROOT / "bench" / "last.json"
 README = ROOT / "README.md"
-START = "<!-- speed: written by bench/readme.py from bench/last.json -->"
-END = "<!-- /speed -->"
 
 
 def render(results: dict) -> str:
@@ -50,20 +52,78 @@ def render(results: dict) -> str:
         f"takes {st['threshold_seconds']:.1f} s on 2 workers; a fragility of 1,000 stochastic motions x 4 levels x "
         f"2 directions x 2 parts {st['fragility_1000_seconds']:.0f} s.",
     ]
+    if "split_map" in st:
+        sm, sf = st["split_map"], st["split_fragility"]
+        lines.append(
+            f"On one worker (bench/split.py, imports excluded), the {st['n_map']} x {st['n_map']} map spends "
+            f"{100 * sm['c_s'] / sm['cpu_s']:.0f} % of its CPU in C and {100 * sm['other_fraction']:.0f} % in the "
+            f"Python around it; a fragility of {sf['n']} stochastic motions {100 * sf['c_s'] / sf['cpu_s']:.0f} % in "
+            f"C, {100 * sf['motions_s'] / sf['cpu_s']:.0f} % drawing its motions and "
+            f"{100 * sf['other_fraction']:.0f} % in Python (tiles, the lognormal fits and their bootstrap)."
+        )
     return "\n".join(lines)
 
 
-def block(text: str) -> str:
-    """The part of ``text`` between the markers, without them."""
-    return text.split(START, 1)[1].split(END, 1)[0].strip("\n")
+def measured_by(results: dict) -> str:
+    """The sentence that says which command measured a table, when and where."""
+    m = results["machine"]
+    # Files without the load at the end recorded the load once, when they were written.
+    load = (
+        f"{m['load_average_1min']:.1f} at its start and {m['load_average_1min_after']:.1f} at its end"
+        if "load_average_1min_after" in m
+        else f"{m['load_average_1min']:.1f}"
+    )
+    return (
+        f"Measured by `{results['command']}` ({m['date']}, {m['cpu']}, {m['cores']} cores, load average "
+        f"{load}; a shared machine, so the wall times vary by 2x from run to run, the responses and the classes "
+        "do not):"
+    )
+
+
+def render_adaptive(results: dict) -> str:
+    """The table of adaptive maps against full ones, and the command and machine that measured it."""
+    return f"{measured_by(results)}\n\n{table(results['maps'])}"
+
+
+def render_adaptive_spectrum(result: dict) -> str:
+    """The table of adaptive beta scans against full ones, and the command and machine that measured it."""
+    return f"{measured_by(result)}\n\n{spectrum_table(result)}"
+
+
+#: Each block of the README written here: its name, its file, and how it is rendered.
+BLOCKS = {
+    "speed": ("bench/last.json", render),
+    "adaptive-400": ("bench/adaptive-400.json", render_adaptive),
+    "adaptive-1000": ("bench/adaptive-1000.json", render_adaptive),
+    "adaptive-spectrum": ("bench/adaptive-spectrum.json", render_adaptive_spectrum),
+}
+
+
+def markers(name: str) -> tuple[str, str]:
+    """The comments around the block ``name`` in the README."""
+    return f"<!-- {name}: written by bench/readme.py from {BLOCKS[name][0]} -->", f"<!-- /{name} -->"
+
+
+def block(text: str, name: str = "speed") -> str:
+    """The part of ``text`` between the markers of block ``name``, without them."""
+    start, end = markers(name)
+    return text.split(start, 1)[1].split(end, 1)[0].strip("\n")
+
+
+def fresh(name: str) -> str:
+    """The block ``name`` rendered from its file."""
+    path, rendering = BLOCKS[name]
+    return rendering(json.loads((ROOT / path).read_text()))
 
 
 def main() -> int:
     text = README.read_text()
-    fresh = render(json.loads(LAST.read_text()))
-    head, rest = text.split(START, 1)
-    README.write_text(f"{head}{START}\n{fresh}\n{END}{rest.split(END, 1)[1]}")
-    print(f"README.md: the speed figures of {LAST.relative_to(ROOT)}")
+    for name, (path, _) in BLOCKS.items():
+        start, end = markers(name)
+        head, rest = text.split(start, 1)
+        text = f"{head}{start}\n{fresh(name)}\n{end}{rest.split(end, 1)[1]}"
+        print(f"README.md: the figures of {path}")
+    README.write_text(text)
     return 0
 
 

@@ -17,10 +17,8 @@ at 50 scales (an incremental dynamic analysis), C against the baseline with ``np
 from __future__ import annotations
 
 import argparse
-import datetime
 import json
 import os
-import platform
 import sys
 import time
 
@@ -29,10 +27,15 @@ import numpy as np
 sys.path.insert(0, os.path.dirname(__file__))
 
 import baseline  # noqa: E402
+import split  # noqa: E402
 from bench_map import GAMMA, H_MASS, OMEGA_RATIO, ZETA, map_cases  # noqa: E402
+from machine import machine  # noqa: E402
 
 from rocking import Block, SampledMotion  # noqa: E402
 from rocking.sim.cases import pulse_cases, run_cases, sampled_cases  # noqa: E402
+
+#: Stochastic motions of the fragility whose CPU is split (bench/split.py).
+SPLIT_MOTIONS = 200
 
 
 def timed(fn, *args, **kw):
@@ -215,6 +218,9 @@ def bench_studies(n_map: int, n_memory: int) -> dict:
                     # CPU seconds per second of the best run: below the workers, the machine's other load took cores.
                     out[f"map_cpus_{workers}_workers"] = (time.process_time() - cpu) / seconds
         out["map_speedup_2_vs_1"] = out["map_responses_per_s_2_workers"] / out["map_responses_per_s_1_workers"]
+        # Where a study's CPU goes on one worker: in C, drawing motions, or in the Python around them.
+        out["split_map"] = split.map_split(n_map)
+        out["split_fragility"] = split.fragility_split(SPLIT_MOTIONS)
         # Peak memory in a fresh process per size: it must not grow with the grid beyond the result arrays.
         probe = (
             "import resource, sys; sys.path.insert(0, {here!r}); import run; "
@@ -303,21 +309,6 @@ def bench_overhead(calls: int = 2000, repeats: int = 5) -> dict:
     }
 
 
-def machine() -> dict:
-    """Where and when this run measured: the date (UTC), the CPU, its cores, the load on them, Python."""
-    model = next(
-        (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
-        platform.processor() or platform.machine(),
-    )
-    return {
-        "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
-        "cpu": model,
-        "cores": os.cpu_count(),
-        "load_average_1min": os.getloadavg()[0],
-        "python": platform.python_version(),
-    }
-
-
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("--grid", type=int, default=50)
@@ -389,6 +380,8 @@ def main(argv=None) -> int:
                 f"  fragility, {n} stochastic motions x 4 PGA levels x 2 directions x 2 parts: peak memory "
                 f"{rss:.0f} MB, result arrays {size:.1f} MB, {seconds:.0f} s"
             )
+        print(f"  {split.describe(f'{n}x{n} map, 1 worker', st['split_map'])}")
+        print(f"  {split.describe(f'fragility of {SPLIT_MOTIONS} motions, 1 worker', st['split_fragility'])}")
         print(f"  rocking demo  {st['demo_seconds']:10.1f} s")
         print(f"  rocking threshold {st['threshold_seconds']:6.1f} s (default grid, 2 workers)")
     results["machine"]["load_average_1min_after"] = os.getloadavg()[0]

@@ -79,8 +79,6 @@ def test_map_dataset_is_labelled_in_both_terms(studies):
     assert dict(ds.sizes) == {"part": 2, "Omega": 4, "beta": 5, "sign": 2}
     assert ds["overturned"].dims == ("part", "Omega", "beta", "sign")
     assert list(ds["part"].values) == ["bare", "damper"] and list(ds["sign"].values) == [1, -1]
-    with pytest.raises(AttributeError, match=r"results are its labelled data, Study.data"):
-        study.arrays  # noqa: B018 - a map has no arrays named after their dimensions
     both = envelope(ds)  # the envelope over the directions: a reduction over sign
     assert both["overturned"].dims == ("part", "Omega", "beta") and both["effect"].dims == ("Omega", "beta")
     # SI coordinates from the block (docs/model.md section 9): T_g = 2 pi / (Omega p), a_g = beta g tan(alpha).
@@ -191,6 +189,29 @@ def test_every_kind_describes_the_dimensions_of_its_data(studies):
             assert variable.dims == KINDS[kind].dims(name), (kind, name)
 
 
+@pytest.mark.parametrize(
+    ("kind", "old", "message"),
+    [
+        ("optimize", {"bare_beta_min": ["Omega"]}, r"bare_beta_min: not a variable of a optimize study"),
+        ("design", {"bare_beta_min_by_sign": ["Omega", "sign"]}, r"bare_beta_min_by_sign: not a variable"),
+        ("design", {"stroke_use": ["Omega"]}, r"stroke_use has dimensions \(Omega\), not \(Omega, sign\)"),
+    ],
+)
+def test_an_optimum_or_a_design_of_the_earlier_layout_is_refused_not_misread(studies, kind, old, message):
+    """Their variables named their dimensions (``bare_beta_min_by_sign``) or had fewer (``stroke_use`` per Omega):
+    a file of that layout, still format 3, is refused by the schema of its kind before it is read."""
+    from rocking.study.storage import check_config, check_variables, data_layout
+
+    study = studies[kind]
+    listed = data_layout(study.data)
+    for name, dims in old.items():
+        sizes = [dict(study.data.sizes)[d] for d in dims]
+        listed[name] = {"dims": dims, "dtype": "<f8", "shape": sizes}
+    with pytest.raises(rocking.ParameterError, match=message):
+        check_variables(kind, listed, check_config(kind, study.config)[1])
+    check_variables(kind, data_layout(study.data), check_config(kind, study.config)[1])  # its own layout passes
+
+
 def test_not_a_study_netcdf_is_refused_in_one_line(tmp_path):
     other = tmp_path / "other.nc"
     xr.Dataset({"a": ("x", np.arange(3))}).to_netcdf(other, engine="netcdf4")
@@ -206,3 +227,7 @@ def test_study_html_for_notebooks(studies):
     html = studies["map"]._repr_html_()
     assert "rocking map study" in html and "xr-wrap" in html  # xarray's own rich view inside
     assert to_dataset(studies["map"]).attrs["kind"] == "map"
+    assert "<th>summary</th>" in html
+    # An IDA's fit is in its variables, its summary empty: no empty summary table above them.
+    ida = studies["ida"]._repr_html_()
+    assert "rocking ida study" in ida and "<th>summary</th>" not in ida and "dispersion" in ida

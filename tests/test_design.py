@@ -12,7 +12,7 @@ from rocking import Block, Damper, OneSinePulse, Stops
 from rocking.cli.study import add_study_commands, design_verdict, edge_warnings
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.design import best_candidate, design
+from rocking.study.design import best_candidate, design, envelope, stroke_use
 from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
@@ -34,17 +34,18 @@ def small(runs):
 
 
 def test_design_is_the_best_damper_that_keeps_its_mass_on_the_block(small):
-    a, s = small.arrays, small.summary
+    a, s = small.data, small.summary
     assert s["directions"]["signs"] == [1, -1]
-    worst = np.nanmin(a["candidate_gain"], axis=1)
-    np.testing.assert_array_equal(a["candidate_worst_gain"], worst)
-    on = a["candidate_on_block"]
+    worst = np.nanmin(a["candidate_gain"].values, axis=1)
+    np.testing.assert_array_equal(a["candidate_worst_gain"].values, worst)
+    on = a["candidate_on_block"].values
     assert on.any()
     assert s["worst_gain"] == pytest.approx(worst[on].max())
-    assert s["worst_gain"] == pytest.approx(np.nanmin(a["gain_opt"]))
-    # The gain is the ratio of the envelopes over the directions.
-    envelope = a["damper_beta_min_by_sign"].min(axis=1) / a["bare_beta_min_by_sign"].min(axis=1)
-    np.testing.assert_allclose(a["gain_opt"], envelope)
+    assert s["worst_gain"] == pytest.approx(np.nanmin(a["gain_opt"].values))
+    # The gain is the ratio of the envelopes over the directions: the reduction over sign.
+    beta_min = envelope(a)["beta_min"]
+    np.testing.assert_allclose(a["gain_opt"], beta_min.sel(part="damper") / beta_min.sel(part="bare"))
+    np.testing.assert_array_equal(beta_min, a["beta_min"].min("sign"))
     assert a["candidate_r"].size == s["candidates"] == 3 * 2 + 2 + 1  # coarse, 2 along T_m, 1 along zeta
     d = s["damper"]
     m, omega_m = d["gamma"] * SETTING.block.M, 2 * np.pi / d["T_m_s"]
@@ -62,23 +63,25 @@ def test_design_gain_is_what_the_spectrum_gives_for_that_damper(small, tmp_path)
     spectrum = minimum_overturning_spectrum(SETTING, tuning, BAND, BETA, SERIAL, runs=tmp_path)
     beta_min = spectrum_envelope(spectrum.data)["beta_min"]
     gain = beta_min.sel(part="damper") / beta_min.sel(part="bare")
-    np.testing.assert_allclose(small.arrays["gain_opt"], gain, rtol=1e-12)
+    np.testing.assert_allclose(small.data["gain_opt"], gain, rtol=1e-12)
 
 
 def test_design_stroke_use_is_that_of_single_runs(small):
     """x_max / L at the bare block's beta_min, both directions, through rocking.simulate and a Damper with Stops."""
-    block, d, a = SETTING.block, small.summary["damper"], small.arrays
+    block, d, data = SETTING.block, small.summary["damper"], small.data
     stops = Stops(L=d["L_m"], k_b=d["k_b_N_per_m"], c_b=d["c_b_N_s_per_m"])
     damper = Damper(m=d["m_kg"], k_m=d["k_m_N_per_m"], c=d["c_N_s_per_m"], h=d["h_m"], stops=stops)
-    for i, Om in enumerate(a["Omega"]):
-        runs = [
-            rocking.simulate(
-                block, damper, OneSinePulse.from_nondim(block, beta=a["bare_beta_min"][i], Omega=Om, sign=sign)
-            )
+    bare = envelope(data)["beta_min"].sel(part="bare").values
+    for i, Om in enumerate(data["Omega"].values):
+        runs = {
+            sign: rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=bare[i], Omega=Om, sign=sign))
             for sign in (1, -1)
-        ]
-        assert a["stroke_use"][i] == pytest.approx(max(r.x_max for r in runs) / d["L_m"], rel=1e-9)
-        assert a["stop_contacts"][i] == max(r.stop_contacts for r in runs)
+        }
+        for sign, run in runs.items():
+            at = {"Omega": Om, "sign": sign}
+            assert data["stroke_use"].sel(at).item() == pytest.approx(run.x_max / d["L_m"], rel=1e-9)
+            assert data["stop_contacts"].sel(at).item() == run.stop_contacts
+        assert stroke_use(data)[i] == pytest.approx(max(r.x_max for r in runs.values()) / d["L_m"], rel=1e-9)
 
 
 def test_design_resumes_from_its_tiles(small, runs):

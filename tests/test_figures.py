@@ -560,20 +560,19 @@ def test_the_design_figure_keeps_each_direction_visible_and_says_what_the_stroke
     title gives the largest x_max / L and the stops' contacts."""
     from rocking.plot.figures import ENVELOPE_GAIN, design_figure
 
-    a = small_design.arrays
+    data = small_design.data
     fig = design_figure(small_design)
     ax_g, ax_x = fig.axes[0], fig.axes[2]
     lines = {line.get_label(): line for line in ax_g.get_lines()}
     envelope = lines[ENVELOPE_GAIN]
-    for i, sign in enumerate(a["signs"]):
+    for sign in data["sign"].values:
         line = lines[f"pulses of sign {sign:+d} alone"]
-        ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
-        np.testing.assert_allclose(line.get_ydata(), ratio)
+        beta_min = data["beta_min"].sel(sign=sign)
+        np.testing.assert_allclose(line.get_ydata(), beta_min.sel(part="damper") / beta_min.sel(part="bare"))
         assert line.get_zorder() > envelope.get_zorder() and line.get_linewidth() < envelope.get_linewidth()
-    use = a["stroke_use"]
     title = ax_x.get_title()
-    assert f"stroke up to {np.nanmax(use):.2f} L" in title
-    assert ("on the stops at" in title) == bool((a["stop_contacts"] > 0).any())
+    assert f"stroke up to {np.nanmax(data['stroke_use']):.2f} L" in title
+    assert ("on the stops at" in title) == bool((data["stop_contacts"] > 0).any())
 
 
 def test_an_mp_study_title_writes_gamma_mp_and_the_dampers_gamma():

@@ -70,15 +70,18 @@ def test_the_readme_simulate_output_is_what_simulate_prints(capsys):
         assert quoted in pads and quoted in text, quoted
 
 
-def test_the_readme_speed_figures_are_those_of_the_last_bench_run():
-    """The block of the README's Speed section is bench/readme.py's rendering of bench/last.json, the figures
-    the last `make bench` wrote: a figure typed by hand, or left from an older run, fails here."""
+def test_the_readme_measured_figures_are_those_of_the_bench_files():
+    """Each measured block of the README (the speed figures of the last `make bench`, the adaptive maps and
+    spectra against full ones) is bench/readme.py's rendering of the file its command wrote: a figure typed
+    by hand, or left from an older run, fails here."""
     import json
     import sys
 
     sys.path.insert(0, str(README.parent / "bench"))
     import readme
 
-    last = json.loads((README.parent / "bench" / "last.json").read_text())
-    assert readme.block(README.read_text(encoding="utf-8")) == readme.render(last)
-    assert last["machine"]["date"] in readme.render(last)
+    text = README.read_text(encoding="utf-8")
+    for name, (path, _) in readme.BLOCKS.items():
+        results = json.loads((README.parent / path).read_text())
+        assert readme.block(text, name) == readme.fresh(name), name
+        assert results["machine"]["date"] in readme.fresh(name), name

@@ -21,7 +21,7 @@ from rocking.model.params import ParameterError
 from rocking.sim.problem import STATUS
 from rocking.study import config as study_config
 from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
-from rocking.study.optimize import optimal_damper, refinement, threshold_frequency
+from rocking.study.optimize import bare_beta_min, optimal_damper, refinement, threshold_frequency
 from rocking.study.overturning_map import UndeterminedWarning, envelope, outcome, overturning_map
 from rocking.study.spectrum import beta_min, minimum_overturning_spectrum, safe_windows, windows
 from rocking.study.spectrum import envelope as spectrum_envelope
@@ -137,7 +137,8 @@ def test_optimal_damper(tmp_path):
         refine=1,
         runs=tmp_path,
     )
-    a = study.arrays
+    a = {name: variable.values for name, variable in study.data.variables.items()}
+    assert study.data["gain_opt"].dims == ("gamma", "Omega") and study.data["beta_min"].dims == ("Omega", "sign")
     assert a["gain_opt"].shape == (1, 2) and np.all(np.isfinite(a["gain_opt"]))
     assert np.all(a["gain_opt"] >= np.nanmax(a["gain_coarse"], axis=2))
     np.testing.assert_allclose(a["Tm_over_Tg_opt"], a["r_opt"] * a["Omega"])
@@ -146,7 +147,7 @@ def test_optimal_damper(tmp_path):
     direct = beta_min(
         SETTING, [Omega], BETA.values(), {"gamma": 0.05, "omega_ratio": 1 / r_opt, "zeta": 0.05, "h": 0.05}
     )
-    assert direct["beta_min"][0] / a["bare_beta_min"][1] == a["gain_opt"][0, 1]
+    assert direct["beta_min"][0] / bare_beta_min(study.data).values[1] == a["gain_opt"][0, 1]
     assert set(study.summary["Omega_star"]) == {"0.05", "best"}
 
 
@@ -542,7 +543,7 @@ def test_the_optimal_damper_with_stops_at_the_edges(tmp_path):
     free = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "free", **search)
     stopped = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "stops", stops=True, **search)
     assert stopped.config["stops"] is True and "stops" not in free.config
-    assert np.array_equal(stopped.arrays["bare_beta_min"], free.arrays["bare_beta_min"])
-    assert not np.array_equal(stopped.arrays["gain_coarse"], free.arrays["gain_coarse"], equal_nan=True)
+    assert np.array_equal(stopped.data["beta_min"], free.data["beta_min"])
+    assert not np.array_equal(stopped.data["gain_coarse"], free.data["gain_coarse"], equal_nan=True)
     with pytest.raises(ParameterError, match=r"^stops must be True or False"):
         optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "x", stops=1)

@@ -13,6 +13,10 @@ import numpy as np
 import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
+
+# One pytest-xdist worker for the module (make test: --dist loadgroup): its fixture builds the wheel in the
+# source tree's build/, which two workers building at once corrupt.
+pytestmark = pytest.mark.xdist_group("wheel")
 MAP = (
     "import rocking; ds = rocking.overturning_map(rocking.Block.reference(), dict(gamma=0.05), Omega=[2.0, 4.0], "
     "beta=[2.0, 6.0], backend='c', workers=1, progress=False, runs={runs!r}); "

@@ -492,7 +492,7 @@ def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: G
 
 
 def _print_threshold(study: Study) -> None:
-    Omega_max = float(study.arrays["Omega"][-1])
+    Omega_max = float(study.data["Omega"].values[-1])
     for key, t in study.summary["Omega_star"].items():
         who = "best over gamma" if key == "best" else f"gamma = {key}"
         if t["status"] == "bracketed":

@@ -429,7 +429,7 @@ class Stops:
         depth : float, optional
             The pads' depth, m, in (0, B/2). Default :data:`BUMPER_DEPTH` (20 mm).
         frequency_ratio : float, optional
-            ``sqrt(k_b / m) / omega_m``. Default :data:`BUMPER_FREQUENCY_RATIO` (60).
+            ``sqrt(k_b / m) / omega_m``, in [1e-7, 1e7]. Default :data:`BUMPER_FREQUENCY_RATIO` (60).
         zeta_b : float, optional
             The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2). Kelvin-Voigt only.
         law : {"kelvin-voigt", "hunt-crossley"}, optional
@@ -447,7 +447,7 @@ class Stops:
         """
         check_block(block)
         depth = check_interval("depth", depth, 0.0, block.B / 2, "m", label="(0, B/2)")
-        check_positive("frequency_ratio", frequency_ratio)
+        frequency_ratio = check_in_range("frequency_ratio", frequency_ratio)
         zeta_b = check_in_range("zeta_b", zeta_b)
         L, k_b, c_b = edge_stops(block, damper.m, damper.omega_m, depth, frequency_ratio, zeta_b)
         if law == "hunt-crossley":

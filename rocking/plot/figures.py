@@ -46,6 +46,7 @@ from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from ..study.config import flight_beta
+from ..study.design import stroke_use
 from ..study.fragility import FITTED
 from ..study.ida import LEVELS
 from ..study.ida import envelope as ida_envelope
@@ -673,30 +674,31 @@ def _threshold_text(t: dict) -> str:
 @_figure_function
 def optimize_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """Optimal period (two normalisations), best gain with ``Omega*``, gain landscape of one ``gamma``."""
-    a, cfg = study.arrays, study.config
+    data, cfg = study.data, study.config
     block = _block(cfg)
-    Om, gammas = a["Omega"], a["gamma"]
+    Om, gammas = data["Omega"].values, data["gamma"].values
+    gain, flag = data["gain_opt"].values, data["flag_opt"].values
     fig, ((ax_tg, ax_tp), (ax_g, ax_map)) = _panels((12, 10), (2, 2), fig, ax)
     useless = study.summary.get("useless_gain", 1.01)
     bounded = False
     step = np.ptp(Om) / 100
     for g, gamma in enumerate(gammas):
         label, style = rf"$\gamma$ = {gamma:g}", cycle(g)
-        ax_tg.plot(Om, a["Tm_over_Tg_opt"][g], "-", ms=4, label=label, **style)
-        ax_tp.plot(Om, a["r_opt"][g], "-", ms=4, label=label, **style)
+        ax_tg.plot(Om, data["Tm_over_Tg_opt"].values[g], "-", ms=4, label=label, **style)
+        ax_tp.plot(Om, data["r_opt"].values[g], "-", ms=4, label=label, **style)
         dodge = (g - (len(gammas) - 1) / 2) * step
-        bounded = _gain_curve(ax_g, Om, a["gain_opt"][g], a["flag_opt"][g], style, label, dodge) or bounded
+        bounded = _gain_curve(ax_g, Om, gain[g], flag[g], style, label, dodge) or bounded
         threshold = study.summary["Omega_star"][f"{gamma:g}"]
         if threshold["status"] == "bracketed":
             ax_g.axvspan(threshold["low"], threshold["high"], color=style["color"], alpha=0.12)
             ax_g.axvline(threshold["Omega_star"], color=style["color"], ls="--", lw=1)
     if len(gammas) > 1:
         # The best is one of the curves: where that one is only bounded, so is the best (its triangle is drawn).
-        pick = np.argmax(np.nan_to_num(a["gain_opt"], nan=-np.inf), axis=0)
-        bound = a["flag_opt"][pick, np.arange(Om.size)] == ABOVE
+        pick = np.argmax(np.nan_to_num(gain, nan=-np.inf), axis=0)
+        bound = flag[pick, np.arange(Om.size)] == ABOVE
         ax_g.plot(
             Om,
-            np.where(bound, np.nan, a["best_gain"]),
+            np.where(bound, np.nan, data["best_gain"].values),
             ":",
             color=OKABE_ITO["black"],
             lw=1.5,
@@ -727,10 +729,18 @@ def optimize_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     handles = ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else [])
     _legend_below(ax_g, handles, ncols=2)
     g = len(gammas) // 2
-    r = a["r_coarse"]
-    norm, extension = _gain_norm(a["gain_coarse"][g])
-    image = ax_map.pcolormesh(_edges(Om), np.exp(_edges(np.log(r))), a["gain_coarse"][g].T, cmap=DIVERGING, norm=norm)
-    ax_map.plot(Om, a["r_opt"][g], "o", color=OKABE_ITO["black"], mfc="white", ms=5, label="optimum (after refinement)")
+    r, coarse = data["r_coarse"].values, data["gain_coarse"].values[g]
+    norm, extension = _gain_norm(coarse)
+    image = ax_map.pcolormesh(_edges(Om), np.exp(_edges(np.log(r))), coarse.T, cmap=DIVERGING, norm=norm)
+    ax_map.plot(
+        Om,
+        data["r_opt"].values[g],
+        "o",
+        color=OKABE_ITO["black"],
+        mfc="white",
+        ms=5,
+        label="optimum (after refinement)",
+    )
     ax_map.set_yscale("log")
     _plain_ticks(ax_map.yaxis)
     _omega_axis(ax_map)
@@ -772,17 +782,18 @@ def _stroke_text(Omega, use, contacts, L: float, half_width: float) -> str:
 def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
     the coarse search, and the stroke the design uses at the pulses that overturn the block alone."""
-    a, s, block = study.arrays, study.summary, _block(study.config)
+    data, s, block = study.data, study.summary, _block(study.config)
     fig, ((ax_g, ax_map, ax_x),) = _panels((15, 6), (1, 3), fig, ax)
-    Om = a["Omega"]
-    for i, sign in enumerate(a["signs"]):
-        ratio = a["damper_beta_min_by_sign"][:, i] / a["bare_beta_min_by_sign"][:, i]
+    Om = data["Omega"].values
+    beta_min = data["beta_min"].transpose("part", "Omega", "sign")
+    for i, sign in enumerate(data["sign"].values):
+        ratio = beta_min.sel(part="damper").values[:, i] / beta_min.sel(part="bare").values[:, i]
         # On top of the envelope: where one direction governs both blocks its gain is the envelope's.
         ax_g.plot(
             Om, ratio, ("--", ":")[i % 2], ms=4, zorder=5, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1)
         )
     envelope_style = {"color": PART_STYLE["damper"]["color"], "lw": 6, "alpha": 0.3, "solid_capstyle": "round"}
-    bounded = _gain_curve(ax_g, Om, a["gain_opt"], a["flag_opt"], envelope_style, ENVELOPE_GAIN)
+    bounded = _gain_curve(ax_g, Om, data["gain_opt"].values, data["flag_opt"].values, envelope_style, ENVELOPE_GAIN)
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
@@ -791,14 +802,14 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
         rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}", fontsize=9
     )
     _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
-    r, z = a["r_coarse"], a["zeta_coarse"]
-    worst = a["candidate_worst_gain"][: r.size * z.size].reshape(z.size, r.size)
+    r, z = data["r_coarse"].values, data["zeta_coarse"].values
+    worst = data["candidate_worst_gain"].values[: r.size * z.size].reshape(z.size, r.size)
     norm, extension = _gain_norm(worst)
     image = ax_map.pcolormesh(np.exp(_edges(np.log(r))), np.exp(_edges(np.log(z))), worst, cmap=DIVERGING, norm=norm)
-    off = ~a["candidate_on_block"]
+    off = ~data["candidate_on_block"].values
     ax_map.plot(
-        a["candidate_r"][off],
-        a["candidate_zeta"][off],
+        data["candidate_r"].values[off],
+        data["candidate_zeta"].values[off],
         "x",
         color=OKABE_ITO["black"],
         ms=5,
@@ -820,9 +831,10 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     _legend_below(ax_map)
     _gain_colorbar(fig, image, ax_map, "worst G", extension)
     step = np.min(np.diff(Om)) if Om.size > 1 else 1.0
+    use = stroke_use(data)
     ax_x.bar(
         Om,
-        a["stroke_use"],
+        use,
         width=0.6 * step,
         color=OKABE_ITO["sky blue"],
         edgecolor=OKABE_ITO["blue"],
@@ -836,7 +848,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_x.secondary_yaxis("right", functions=(lambda u: u * d["L_m"], lambda x: x / d["L_m"])).set_ylabel(
         r"$x_{max}$ (m)"
     )
-    ax_x.set_title(_stroke_text(Om, a["stroke_use"], a["stop_contacts"], d["L_m"], block.B / 2), fontsize=9)
+    ax_x.set_title(_stroke_text(Om, use, data["stop_contacts"].max("sign").values, d["L_m"], block.B / 2), fontsize=9)
     _legend_below(ax_x, ncols=3)
     damper = (
         rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "

@@ -397,7 +397,7 @@ def design(
     Returns
     -------
     xarray.Dataset
-        Dimensions ``Omega``, ``sign``, ``candidate``, ...; the damper in SI units in the attribute
+        Dimensions ``part``, ``Omega``, ``sign``, ``candidate``, ...; the damper in SI units in the attribute
         ``summary`` (JSON) and in the variables ``gain_opt``, ``stroke_use``, ``bumper_force_max`` (N).
 
     Examples

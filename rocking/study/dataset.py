@@ -14,8 +14,7 @@ with
 
 :func:`to_dataset` adds the configuration, the software versions and the summary as JSON attributes; saved as
 NetCDF (``<name>.nc``, :func:`rocking.study.storage.save`), it reads back as the same ``Dataset``
-(:func:`read_netcdf`). The optimum and the design still name dimensions in their arrays' names: their arrays
-are labelled on the way (:data:`LAYOUTS`, :func:`labelled`) until they are built labelled too.
+(:func:`read_netcdf`).
 """
 
 from __future__ import annotations
@@ -39,31 +38,6 @@ from .vocabulary import FLAG_WORDS, PART_NAMES, THRESHOLD_STATUSES
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
 
-#: Per kind: the coordinate arrays (array name -> dimension), then ``(pattern, dimensions)`` rules for the
-#: other arrays, the first whose pattern matches the whole name winning. ``{part}`` stands for any part.
-LAYOUTS: dict[str, tuple[dict, tuple]] = {
-    "optimize": (
-        {"Omega": "Omega", "gamma": "gamma", "signs": "sign", "r_coarse": "r_coarse"},
-        (
-            (r"bare_beta_min_by_sign", ("Omega", "sign")),
-            (r"bare_.*|best_.*", ("Omega",)),
-            (r"(gain|flag)_coarse", ("gamma", "Omega", "r_coarse")),
-            (r"(r|gain)_fine", ("gamma", "Omega", "r_fine_point")),
-            (r"Omega_star.*", ("gamma_or_best",)),
-            (r".*", ("gamma", "Omega")),
-        ),
-    ),
-    "design": (
-        {"Omega": "Omega", "signs": "sign", "r_coarse": "r_coarse", "zeta_coarse": "zeta_coarse"},
-        (
-            (r".*_by_sign", ("Omega", "sign")),
-            (r"candidate_gain", ("candidate", "Omega")),
-            (r"candidate_.*", ("candidate",)),
-            (r".*", ("Omega",)),
-        ),
-    ),
-}
-
 _PART = "(?:" + "|".join(PART_NAMES) + ")"
 
 #: Keys of categorical arrays: the meaning of each value (CF ``flag_values`` / ``flag_meanings``).
@@ -73,7 +47,7 @@ EFFECT_KEY = {-1: "lost", 0: "unchanged", 1: "saved"}
 SIGN_KEY = {-1: "negative", 0: "not_known", 1: "positive"}
 THRESHOLD_STATUS_KEY = dict(enumerate(THRESHOLD_STATUSES))
 
-#: What a field means, by name (without its part's prefix and ``_by_sign``): ``(units, long name[, key])``.
+#: What a field means, by name: ``(units, long name[, key])``.
 _RESULTS = {f.name: (f.unit or "1", f.doc) for f in RESULT}
 FIELDS: dict[str, tuple] = {
     **_RESULTS,
@@ -96,6 +70,7 @@ FIELDS: dict[str, tuple] = {
     ),
     "windows": ("1", "safe windows above beta_min: Omega, first and last safe scan amplitude"),
     "gain": ("1", "gain: beta_min with the damper over beta_min of the block alone"),
+    "worst_gain": ("1", "worst gain over the band: the smallest gain over its Omega"),
     "r": ("1", "damper period ratio T_m p / (2 pi)"),
     "zeta": ("1", "damping ratio of the damper"),
     "k_m": ("N/m", "spring stiffness of the damper"),
@@ -154,43 +129,17 @@ COORDINATES = {
 
 
 def _strip(name: str) -> str:
-    """A field's name without its part's prefix, ``_by_sign`` and the ``_opt``/``_coarse``/``_fine`` of a search."""
+    """A table's column's field: its name without its part's prefix, its direction's suffix, the ``best_`` of the
+    best over a search and the ``_opt`` of an optimum."""
     name = re.sub(rf"^{_PART}_", "", name)
-    name = re.sub(r"_(by_sign|pos|neg)$", "", name)
-    name = re.sub(r"^candidate_", "", name)
+    name = re.sub(r"_(pos|neg)$", "", name)
     name = re.sub(r"^(best|worst)_", "", name) if name not in FIELDS else name
-    return re.sub(r"_(opt|coarse|fine|worst)$", "", name) if name not in FIELDS else name
+    return re.sub(r"_opt$", "", name) if name not in FIELDS else name
 
 
 def _part(name: str) -> str | None:
     match = re.match(rf"^({_PART})_", name)
     return match.group(1) if match else None
-
-
-#: The coordinates besides the swept quantities: the SI ones (:func:`si_coordinates`) and the labels.
-COORDINATE_DIMS = {
-    "T_g": ("Omega",),
-    "a_g": ("beta",),
-    "T_m_coarse": ("r_coarse",),
-    "gamma_or_best": ("gamma_or_best",),
-}
-
-
-def variable_dims(kind: str, name: str) -> tuple[str, ...]:
-    """The dimensions of the variable ``name`` (coordinates included) of :func:`labelled` data of ``kind``."""
-    if name in LAYOUTS[kind][0].values():
-        return (name,)
-    return COORDINATE_DIMS.get(name) or dimensions(kind, name)
-
-
-def dimensions(kind: str, name: str) -> tuple[str, ...]:
-    """The dimensions of the array ``name`` of a study of ``kind`` (:data:`LAYOUTS`)."""
-    for pattern, dims in LAYOUTS[kind][1]:
-        match = re.fullmatch(pattern.replace("{part}", _PART), name)
-        if match:
-            part = match.groupdict().get("part") or ""
-            return tuple(d.replace("{part}", part) for d in dims)
-    raise KeyError(f"no dimensions for array {name!r} of a {kind} study")
 
 
 def _level_units(config: dict) -> str:
@@ -239,13 +188,11 @@ def _entry_attrs(entry: tuple | None, field: str, config: dict) -> dict:
 
 
 def _attrs(name: str, config: dict, coordinate: bool = False) -> dict:
-    """CF-style attributes of the array ``name`` of a kind that names dimensions in its arrays' names."""
+    """CF-style attributes of a table's column ``name``, which may name its part and direction (:func:`_strip`)."""
     attrs = coordinate_attrs(name, config) if coordinate else field_attrs(_strip(name), config)
     part = _part(name)
     if attrs and part:
         attrs["long_name"] += f" ({PART_NAMES[part]})"
-    if attrs and name.endswith("_by_sign"):
-        attrs["long_name"] += ", per direction"
     return attrs
 
 
@@ -276,41 +223,6 @@ def si_coordinates(config: dict, coords: dict) -> dict:
             {"units": "s", "long_name": "damper period T_m of the coarse search"},
         )
     return out
-
-
-def labelled(kind: str, arrays: dict, config: dict):
-    """The arrays of a study of ``kind`` whose module still names its dimensions in its arrays' names, labelled
-    by :data:`LAYOUTS`: an :class:`xarray.Dataset` with units, without the study's own attributes."""
-    import xarray as xr
-
-    coordinate_arrays, _ = LAYOUTS[kind]
-    coords = {}
-    for array, dim in coordinate_arrays.items():
-        if array in arrays:
-            coords[dim] = (dim, np.asarray(arrays[array]), _attrs(dim, config, coordinate=True))
-    if kind == "optimize" and "gamma" in arrays:
-        labels = [f"{g:g}" for g in arrays["gamma"]] + ["best"]
-        coords["gamma_or_best"] = ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"})
-    coords.update(si_coordinates(config, coords))
-    variables = {
-        name: (dimensions(kind, name), np.asarray(values), _attrs(name, config))
-        for name, values in arrays.items()
-        if name not in coordinate_arrays
-    }
-    return xr.Dataset(variables, coords=coords)
-
-
-def flat(kind: str, data) -> dict:
-    """The arrays :func:`labelled` labelled, by their names again (its coordinates under their arrays' names)."""
-    coordinate_arrays, _ = LAYOUTS[kind]
-    arrays = {array: data[dim].values for array, dim in coordinate_arrays.items() if dim in data.coords}
-    return {**arrays, **{name: variable.values for name, variable in data.data_vars.items()}}
-
-
-def by_arrays(kind: str, tables):
-    """``tables(arrays, config)`` of a kind that names dimensions in its arrays' names, as a function of the
-    study's data (:func:`flat`)."""
-    return lambda data, config: tables(flat(kind, data), config)
 
 
 def to_dataset(study, versions: dict | None = None):
@@ -404,7 +316,6 @@ def html(study) -> str:
         for k, v in study.summary.items()
         if not isinstance(v, dict | list)
     )
-    return (
-        f"<div><strong>rocking {escape(study.kind)} study</strong>"
-        f"<table><tr><th>summary</th><th></th></tr>{rows}</table>{to_dataset(study)._repr_html_()}</div>"
-    )
+    # An IDA's summary is in its Dataset's variables: no empty table above them.
+    table = f"<table><tr><th>summary</th><th></th></tr>{rows}</table>" if rows else ""
+    return f"<div><strong>rocking {escape(study.kind)} study</strong>{table}{to_dataset(study)._repr_html_()}</div>"

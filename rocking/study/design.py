@@ -40,13 +40,14 @@ import numpy as np
 
 from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
 from .config import Grid, Setting, is_count, part_config
+from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .optimize import MAX_REFINE, at_edge, coarse_values, refinement
-from .overturning_map import check_study, preflight, respond, warn_undetermined
+from .overturning_map import PARTS, check_study, preflight, respond, warn_undetermined
 from .result import Study
-from .spectrum import TOL, beta_min, check_tol
+from .spectrum import COLUMN_FIELDS, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
-from .vocabulary import ABOVE, BRACKETED, flag_words
+from .vocabulary import ABOVE, BRACKETED, PART_NAMES, flag_words
 
 #: Default coarse grids: r = T_m p / (2 pi) and zeta (both log-spaced), and refinement points per side.
 TM_GRID = (0.1, 10.0, 13)
@@ -57,6 +58,26 @@ REFINE = 2
 #: Arrays of :func:`band_tile`, each ``(nOmega, nsigns)``: the ``beta_min`` results, and the stroke at the
 #: design pulses.
 BAND_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined", "x_max", "stop_contacts", "bumper_force_max")
+
+#: The dimensions of every variable of a design's data (:func:`design_data`), coordinates included.
+DIMS = {
+    **{dim: (dim,) for dim in ("part", "Omega", "sign", "r_coarse", "zeta_coarse")},
+    "T_g": ("Omega",),
+    "T_m_coarse": ("r_coarse",),
+    **dict.fromkeys(COLUMN_FIELDS, ("part", "Omega", "sign")),
+    **dict.fromkeys(("stroke_use", "stop_contacts", "bumper_force_max"), ("Omega", "sign")),
+    **dict.fromkeys(("gain_opt", "flag_opt"), ("Omega",)),
+    **dict.fromkeys(("candidate_r", "candidate_zeta", "candidate_worst_gain", "candidate_on_block"), ("candidate",)),
+    "candidate_gain": ("candidate", "Omega"),
+}
+#: What the long names of the design's own variables add to their field's.
+NOTES = {
+    **dict.fromkeys(
+        ("stroke_use", "stop_contacts", "bumper_force_max"),
+        ", of the design at the pulses that overturn the block alone (its beta_min), per direction",
+    ),
+    **dict.fromkeys(("gain_opt", "flag_opt"), ", of the design, over the band"),
+}
 
 
 def band_tile(payload: tuple) -> dict:
@@ -167,12 +188,13 @@ def design(
     Returns
     -------
     Study
-        ``kind = "design"``. Arrays: ``Omega``, ``signs``, ``r_coarse``, ``zeta_coarse``;
-        ``bare_beta_min`` (the envelope) and ``bare_beta_min_by_sign``; every candidate evaluated
-        (coarse first): ``candidate_r``, ``candidate_zeta``, ``candidate_gain`` (over the band),
-        ``candidate_worst_gain``; the optimum: ``gain_opt`` and ``flag_opt`` (over the band),
-        ``damper_beta_min_by_sign``, and its stroke use at the bare block's ``beta_min``:
-        ``stroke_use`` (largest ``|x| / L`` over the directions), ``stop_contacts``,
+        ``kind = "design"``; its data (:func:`design_data`, dimensions :data:`DIMS`): per ``(part, Omega,
+        sign)`` (``part``: the block alone and with the design) the ``beta_min`` results (their envelope over
+        the directions: :func:`envelope`); every candidate evaluated (coarse first): ``candidate_r``,
+        ``candidate_zeta``, ``candidate_gain`` (over the band), ``candidate_worst_gain``, ``candidate_on_block``;
+        the design: ``gain_opt`` and ``flag_opt`` (over the band), and per ``(Omega, sign)`` at the block
+        alone's ``beta_min`` (the design pulses): ``stroke_use`` (largest ``|x| / L``; over the directions:
+        :func:`stroke_use`), ``stop_contacts``,
         ``bumper_force_max`` (N). The summary gives the damper in SI units (``m``, ``k_m``, ``c``,
         ``T_m``, ``L``, ``k_b``, ``c_b``) and non-dimensionally (``gamma``, ``Tm_ratio``, ``zeta``),
         the worst gain and where, and the edge flags.
@@ -277,32 +299,18 @@ def design(
     worst, on_block = judged(points)
     r_all, z_all = np.array(points).T
     best = points[best_candidate(r_all, z_all, worst, on_block)]
-    gain_opt, flag_opt = band_gain(tiles[best], reference)
-    arrays = {
-        "Omega": Om,
-        "signs": np.array(signs),
-        "r_coarse": r_grid,
-        "zeta_coarse": z_grid,
-        "bare_beta_min": bare["beta_min"],
-        "bare_flag": bare["flag"],
-        "bare_beta_min_by_sign": tiles[None]["beta_min"],
-        "candidate_r": r_all,
-        "candidate_zeta": z_all,
-        "candidate_gain": np.array([band_gain(tiles[p], reference)[0] for p in points]),
-        "candidate_worst_gain": worst,
-        "candidate_on_block": on_block,
-        "gain_opt": gain_opt,
-        "flag_opt": flag_opt,
-        "damper_beta_min_by_sign": tiles[best]["beta_min"],
-        "stroke_use": np.nanmax(tiles[best]["x_max"], axis=1) / L,
-        "stop_contacts": tiles[best]["stop_contacts"].max(axis=1),
-        "bumper_force_max": np.nanmax(tiles[best]["bumper_force_max"], axis=1),
-    }
+    fields = {k: np.stack([tiles[None][k], tiles[best][k]]) for k in COLUMN_FIELDS}
+    # The stroke at the design pulses, of the design only (the block alone has none).
+    fields["stroke_use"] = tiles[best]["x_max"] / L
+    fields.update({k: tiles[best][k] for k in ("stop_contacts", "bumper_force_max")})
+    fields["gain_opt"], fields["flag_opt"] = band_gain(tiles[best], reference)
+    fields["candidate_r"], fields["candidate_zeta"] = r_all, z_all
+    fields["candidate_gain"] = np.array([band_gain(tiles[p], reference)[0] for p in points])
+    fields["candidate_worst_gain"], fields["candidate_on_block"] = worst, on_block
     damper = {**fixed, "omega_ratio": 1.0 / best[0], "zeta": best[1]}
     unknown = sum(int(np.sum(t["undetermined"])) for t in tiles.values())
     warn_undetermined("design", unknown)
     edges = int(at_edge(best[0], r_grid)), int(at_edge(best[1], z_grid))
-    summary = design_summary(setting, arrays, damper, L, *edges)
     config = {
         "kind": "design",
         **setting.record(),
@@ -313,13 +321,13 @@ def design(
         **grids,
         "directions": chosen,
     }
-    return Study.of_arrays(
+    data = design_data(config, Om, signs, r_grid, z_grid, fields)
+    return Study(
         "design",
         config,
-        arrays,
-        tables=design_tables,
+        data,
         summary={
-            **summary,
+            **design_summary(setting, data, damper, L, *edges),
             "candidates": len(points),
             "candidates_on_block": int(on_block.sum()),
             "undetermined": unknown,
@@ -331,16 +339,60 @@ def design(
             "wall_s": round(sum(s.wall for s in stats), 3),
             "run_folders": {k: v.name for k, v in folders.items()},
         },
+        tabulate=design_tables,
     )
 
 
-def design_summary(setting: Setting, arrays: dict, damper: dict, L: float, r_edge: int, zeta_edge: int) -> dict:
+def design_data(config: dict, Omega, signs, r_coarse, zeta_coarse, fields: dict):
+    """A design's results as labelled data (:data:`DIMS`), with the coordinates in non-dimensional and SI terms
+    and units."""
+    import xarray as xr
+
+    coords = {
+        "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
+        "Omega": ("Omega", Omega, coordinate_attrs("Omega", config)),
+        "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
+        "r_coarse": ("r_coarse", r_coarse, coordinate_attrs("r_coarse", config)),
+        "zeta_coarse": ("zeta_coarse", zeta_coarse, coordinate_attrs("zeta_coarse", config)),
+    }
+    coords.update(si_coordinates(config, coords))
+    return xr.Dataset({k: (DIMS[k], v, _attrs(k, config)) for k, v in fields.items()}, coords=coords)
+
+
+def _attrs(name: str, config: dict) -> dict:
+    """Units and meaning of the variable ``name`` of a design's data: those of its field (``candidate_r``:
+    ``r``), said of the design (:data:`NOTES`) or of every damper evaluated."""
+    field = "gain_flag" if name == "flag_opt" else name.removeprefix("candidate_").removesuffix("_opt")
+    attrs = field_attrs(field, config)
+    attrs["long_name"] += NOTES.get(name, ", of each damper evaluated" if name.startswith("candidate_") else "")
+    return attrs
+
+
+def envelope(data):
+    """A design's ``beta_min`` reduced over ``sign`` (:func:`rocking.study.directions.beta_min_envelope`): the
+    smaller ``beta_min`` of the directions of each part and Omega, with its ``beta_safe``, ``flag`` and
+    ``impacts``, and the responses without a verdict summed."""
+    import xarray as xr
+
+    reduced = beta_min_envelope({k: data[k].transpose(..., "sign").values for k in COLUMN_FIELDS})
+    reduced.pop("worst_sign_index")
+    return xr.Dataset(
+        {k: (("part", "Omega"), v, data[k].attrs) for k, v in reduced.items()}, coords=data.drop_dims("sign").coords
+    )
+
+
+def stroke_use(data):
+    """The design's largest stroke over its half-stroke ``L`` at each ``Omega`` of the band, over the directions."""
+    return np.nanmax(data["stroke_use"].transpose(..., "sign").values, axis=-1)
+
+
+def design_summary(setting: Setting, data, damper: dict, L: float, r_edge: int, zeta_edge: int) -> dict:
     """The damper in SI and non-dimensional terms, its worst gain over the band and where, and the flags."""
     block = setting.block
     m = damper["gamma"] * block.M
     omega_m = damper["omega_ratio"] * block.p
     _, k_b, c_b = (float(v) for v in edge_stops(block, m, omega_m, block.B / 2 - L))
-    gain = arrays["gain_opt"]
+    gain, Omega = data["gain_opt"].values, data["Omega"].values
     defined = np.isfinite(gain)
     i = int(np.nanargmin(gain)) if defined.any() else None
     return {
@@ -358,46 +410,48 @@ def design_summary(setting: Setting, arrays: dict, damper: dict, L: float, r_edg
             "zeta": damper["zeta"],
         },
         "worst_gain": None if i is None else float(gain[i]),
-        "worst_at_Omega": None if i is None else float(arrays["Omega"][i]),
-        "worst_gain_is_lower_bound": None if i is None else bool(arrays["flag_opt"][i] == ABOVE),
-        "gain_undefined_at": [float(x) for x in arrays["Omega"][~defined]],
+        "worst_at_Omega": None if i is None else float(Omega[i]),
+        "worst_gain_is_lower_bound": None if i is None else bool(data["flag_opt"].values[i] == ABOVE),
+        "gain_undefined_at": [float(x) for x in Omega[~defined]],
         "Tm_at_edge": r_edge,
         "zeta_at_edge": zeta_edge,
-        "stroke_use_max": float(np.nanmax(arrays["stroke_use"], initial=0.0)),
-        "stop_contacts_max": int(arrays["stop_contacts"].max()),
+        "stroke_use_max": float(np.nanmax(stroke_use(data), initial=0.0)),
+        "stop_contacts_max": int(data["stop_contacts"].values.max()),
     }
 
 
-def design_tables(arrays: dict, config: dict) -> dict:
+def design_tables(data, config: dict) -> dict:
     """The tables of a design: the answer over the band (:func:`design_table`), its candidates
     (:func:`candidates_table`)."""
-    return {"design": design_table(arrays), "design-candidates": candidates_table(arrays)}
+    return {"design": design_table(data), "design-candidates": candidates_table(data)}
 
 
-def design_table(arrays: dict) -> dict:
+def design_table(data) -> dict:
     """One CSV row per ``Omega`` of the band: the envelopes, the gain of the design, its stroke use."""
+    bare = envelope(data).sel(part="bare")
     table = {
-        "Omega": arrays["Omega"],
-        "bare_beta_min": arrays["bare_beta_min"],
-        "bare_beta_min_is": flag_words(arrays["bare_flag"]),
+        "Omega": data["Omega"].values,
+        "bare_beta_min": bare["beta_min"].values,
+        "bare_beta_min_is": flag_words(bare["flag"].values),
     }
-    for i, sign in enumerate(arrays["signs"]):
-        table[f"bare_beta_min_{SIGN_NAMES[sign]}"] = arrays["bare_beta_min_by_sign"][:, i]
-        table[f"damper_beta_min_{SIGN_NAMES[sign]}"] = arrays["damper_beta_min_by_sign"][:, i]
-    table.update(gain=arrays["gain_opt"], gain_lower_bound=arrays["flag_opt"] == ABOVE)
+    beta = data["beta_min"].transpose("part", "Omega", "sign")
+    for i, sign in enumerate(data["sign"].values):
+        table[f"bare_beta_min_{SIGN_NAMES[sign]}"] = beta.sel(part="bare").values[:, i]
+        table[f"damper_beta_min_{SIGN_NAMES[sign]}"] = beta.sel(part="damper").values[:, i]
+    table.update(gain=data["gain_opt"].values, gain_lower_bound=data["flag_opt"].values == ABOVE)
     table.update(
-        stroke_use=arrays["stroke_use"],
-        stop_contacts=arrays["stop_contacts"],
-        bumper_force_max_N=arrays["bumper_force_max"],
+        stroke_use=stroke_use(data),
+        stop_contacts=data["stop_contacts"].max("sign").values,
+        bumper_force_max_N=np.nanmax(data["bumper_force_max"].transpose(..., "sign").values, axis=-1),
     )
     return table
 
 
-def candidates_table(arrays: dict) -> dict:
+def candidates_table(data) -> dict:
     """One CSV row per damper evaluated: ``T_m p / (2 pi)``, ``zeta`` and the worst gain over the band."""
     return {
-        "Tm_p_over_2pi": arrays["candidate_r"],
-        "zeta": arrays["candidate_zeta"],
-        "worst_gain": arrays["candidate_worst_gain"],
-        "mass_stays_on_block": arrays["candidate_on_block"],
+        "Tm_p_over_2pi": data["candidate_r"].values,
+        "zeta": data["candidate_zeta"].values,
+        "worst_gain": data["candidate_worst_gain"].values,
+        "mass_stays_on_block": data["candidate_on_block"].values,
     }

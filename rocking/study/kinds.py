@@ -9,10 +9,8 @@ from __future__ import annotations
 
 from collections.abc import Callable
 from dataclasses import dataclass
-from functools import partial
 
 from . import design, ida, optimize, overturning_map, spectrum, threshold
-from .dataset import by_arrays, variable_dims
 
 
 @dataclass(frozen=True)
@@ -42,11 +40,6 @@ class Kind:
     dims: Callable[[str], tuple]
 
 
-def _named(kind: str, driver: Callable, grids: dict, tables: Callable, figure: str) -> Kind:
-    """A kind whose module still names the dimensions in its arrays' names (:func:`by_arrays`)."""
-    return Kind(driver, grids, by_arrays(kind, tables), figure, partial(variable_dims, kind))
-
-
 #: Every kind of study, by the name its configuration and its saved files give it. ``grids``: the
 #: configuration's grids, each with the dimension of its values.
 KINDS = {
@@ -64,19 +57,19 @@ KINDS = {
         "spectrum_figure",
         spectrum.DIMS.__getitem__,
     ),
-    "optimize": _named(
-        "optimize",
+    "optimize": Kind(
         optimize.optimal_damper,
         {"Omega": "Omega", "Tm_ratio": "r_coarse"},
         optimize.optimize_tables,
         "optimize_figure",
+        optimize.DIMS.__getitem__,
     ),
-    "design": _named(
-        "design",
+    "design": Kind(
         design.design,
         {"Omega": "Omega", "Tm_ratio": "r_coarse", "zeta_grid": "zeta_coarse"},
         design.design_tables,
         "design_figure",
+        design.DIMS.__getitem__,
     ),
     "threshold": Kind(
         threshold.threshold_map,

@@ -53,6 +53,7 @@ import numpy as np
 
 from ..model.params import ParameterError, check_in_range
 from .config import Grid, Setting, Tuning, Variant, is_count, part_config
+from .dataset import FIELDS, coordinate_attrs, field_attrs, si_coordinates
 from .directions import beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import FIXED, check_study, preflight, warn_undetermined
 from .result import Study
@@ -67,6 +68,27 @@ USELESS_GAIN = 1.01
 TM_GRID = (0.1, 10.0, 17)
 REFINE = 3
 MAX_REFINE = 1000
+
+#: The dimensions of every variable of an optimisation's data (:func:`optimize_data`), coordinates included.
+DIMS = {
+    **{dim: (dim,) for dim in ("gamma", "Omega", "sign", "r_coarse", "gamma_or_best")},
+    "T_g": ("Omega",),
+    "T_m_coarse": ("r_coarse",),
+    "beta_min": ("Omega", "sign"),
+    "flag": ("Omega",),
+    **dict.fromkeys(("gain_coarse", "flag_coarse"), ("gamma", "Omega", "r_coarse")),
+    **dict.fromkeys(("r_fine", "gain_fine"), ("gamma", "Omega", "r_fine_point")),
+    **dict.fromkeys(
+        ("r_opt", "gain_opt", "flag_opt", "undetermined", "Tm_over_Tg_opt", "edge_opt", "k_m_opt", "c_opt"),
+        ("gamma", "Omega"),
+    ),
+    **dict.fromkeys(("best_gain", "best_gamma", "best_r"), ("Omega",)),
+    **dict.fromkeys(("Omega_star", "Omega_star_low", "Omega_star_high"), ("gamma_or_best",)),
+}
+#: The stages of the search a variable's name ends with, as its long name says them.
+STAGES = {"coarse": "at the coarse periods", "fine": "at the refinement's periods", "opt": "at the optimal period"}
+#: What the long names of the block alone's variables add: the envelope's flag is the tile's, not a reduction.
+BLOCK_ALONE = {"beta_min": " (block alone)", "flag": " (block alone, of the envelope over the directions)"}
 
 
 def coarse_values(grid: Grid, name: str) -> np.ndarray:
@@ -283,15 +305,15 @@ def optimal_damper(
     Returns
     -------
     Study
-        Arrays ``Omega``, ``gamma``, ``signs``, ``r_coarse``, ``bare_beta_min`` (the envelope) and
-        ``bare_beta_min_by_sign``, and per
-        ``(gamma, Omega)``: ``r_opt``, ``Tm_over_Tg_opt`` (``T_m / T_g``,
-        ``T_g = 2 pi / omega_g``), ``gain_opt``, ``flag_opt``, ``edge_opt`` (:func:`at_edge`),
-        ``k_m_opt`` and ``c_opt`` (the damper's spring, N/m, and dashpot, N s/m), ``undetermined`` (responses
-        without a verdict, counted as not overturned); per
-        ``(gamma, Omega, r)``: ``gain_coarse``, ``r_fine``, ``gain_fine``;
-        the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
-        ``Omega_star`` (per gamma, then over all, ``nan`` if not bracketed).
+        ``kind = "optimize"``; its data (:func:`optimize_data`, dimensions :data:`DIMS`): the block alone's
+        ``beta_min`` per ``(Omega, sign)`` (its envelope: :func:`bare_beta_min`) and the ``flag`` of that envelope;
+        per ``(gamma, Omega)``: ``r_opt``, ``Tm_over_Tg_opt`` (``T_m / T_g``, ``T_g = 2 pi / omega_g``),
+        ``gain_opt``, ``flag_opt``, ``edge_opt`` (:func:`at_edge`), ``k_m_opt`` and ``c_opt`` (the damper's
+        spring, N/m, and dashpot, N s/m), ``undetermined`` (responses without a verdict, counted as not
+        overturned); per ``(gamma, Omega, r_coarse)``: ``gain_coarse``, ``flag_coarse``; the refinement's
+        ``r_fine``, ``gain_fine``; the best over ``gamma``: ``best_gain``, ``best_gamma``, ``best_r``;
+        ``Omega_star`` and its bracket per ``gamma_or_best`` (each ``gamma``, then the best; ``nan`` if not
+        bracketed).
 
     Raises
     ------
@@ -318,7 +340,7 @@ def optimal_damper(
     ...     rocking.Grid("Omega", 4.0, 6.0, 2), rocking.Grid("beta", 0.5, 15.0, 30),
     ...     rocking.Execution(workers=1, progress=False),
     ...     Tm=rocking.Grid("Tm", 0.5, 2.0, 3, log=True), refine=1, runs=tempfile.mkdtemp())
-    >>> study.arrays["r_opt"].round(3), study.arrays["best_gain"].round(2)  # T_m p / 2 pi, and its gain
+    >>> study.data["r_opt"].values.round(3), study.data["best_gain"].values.round(2)  # T_m p / 2 pi, and its gain
     (array([[1.414, 1.414]]), array([1.12, 1.41]))
     """
     if isinstance(gammas, (Tuning, Variant)) or any(isinstance(g, (Tuning, Variant)) for g in _iterable(gammas)):
@@ -344,14 +366,9 @@ def optimal_damper(
     nG, nO, nr = len(gammas), Om.size, r.size
     grids = {"Omega": Omega.record(), "beta": beta.record(), "beta_tol": tol, "Tm_ratio": Tm.record(), "refine": refine}
     grids["signs"] = signs
-    arrays = {
-        "Omega": Om,
-        "gamma": np.array(gammas),
-        "signs": np.array(signs),
-        "r_coarse": r,
-        "bare_beta_min": np.full(nO, np.nan),
-        "bare_beta_min_by_sign": np.full((nO, len(signs)), np.nan),
-        "bare_flag": np.zeros(nO, np.int64),
+    fields = {
+        "beta_min": np.full((nO, len(signs)), np.nan),
+        "flag": np.zeros(nO, np.int64),
         "gain_coarse": np.full((nG, nO, nr), np.nan),
         "flag_coarse": np.zeros((nG, nO, nr), np.int64),
         "r_fine": np.full((nG, nO, 2 * refine), np.nan),
@@ -376,69 +393,109 @@ def optimal_damper(
 
     def place(task: Task, res: dict) -> None:
         g, i = where[task.path]
-        arrays["bare_beta_min"][i], arrays["bare_flag"][i] = res["bare_beta_min"][0], res["bare_flag"][0]
-        arrays["bare_beta_min_by_sign"][i] = res["bare_beta_min_by_sign"]
+        # A tile gives the block alone's beta_min per direction but only its envelope's flag: the envelope's
+        # beta_min is a reduction over sign (bare_beta_min).
+        fields["beta_min"][i], fields["flag"][i] = res["bare_beta_min_by_sign"], res["bare_flag"][0]
         for k in ("gain_coarse", "flag_coarse", "r_fine", "gain_fine"):
-            arrays[k][g, i] = res[k]
+            fields[k][g, i] = res[k]
         for k in ("r_opt", "gain_opt", "flag_opt", "undetermined"):
-            arrays[k][g, i] = res[k][0]
+            fields[k][g, i] = res[k][0]
 
     preflight(setting)
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="optimize", on_tile=on_tile)
-    warn_undetermined("optimize", int(arrays["undetermined"].sum()))
-    arrays["Tm_over_Tg_opt"] = arrays["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
-    arrays["edge_opt"] = at_edge(arrays["r_opt"], r)
-    m = arrays["gamma"][:, None] * setting.block.M
-    omega_m = setting.block.p / arrays["r_opt"]
-    arrays["k_m_opt"], arrays["c_opt"] = m * omega_m**2, 2 * zeta * m * omega_m
-    best = np.argmax(np.nan_to_num(arrays["gain_opt"], nan=-np.inf), axis=0)
+    warn_undetermined("optimize", int(fields["undetermined"].sum()))
+    fields["Tm_over_Tg_opt"] = fields["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
+    fields["edge_opt"] = at_edge(fields["r_opt"], r)
+    m = np.array(gammas)[:, None] * setting.block.M
+    omega_m = setting.block.p / fields["r_opt"]
+    fields["k_m_opt"], fields["c_opt"] = m * omega_m**2, 2 * zeta * m * omega_m
+    best = np.argmax(np.nan_to_num(fields["gain_opt"], nan=-np.inf), axis=0)
     cols = np.arange(nO)
-    arrays["best_gain"] = arrays["gain_opt"][best, cols]
-    arrays["best_gamma"] = np.where(np.isfinite(arrays["best_gain"]), arrays["gamma"][best], np.nan)
-    arrays["best_r"] = arrays["r_opt"][best, cols]
-    thresholds = {f"{gamma:g}": threshold_frequency(Om, arrays["gain_opt"][g]) for g, gamma in enumerate(gammas)}
-    thresholds["best"] = threshold_frequency(Om, arrays["best_gain"])
+    fields["best_gain"] = fields["gain_opt"][best, cols]
+    fields["best_gamma"] = np.where(np.isfinite(fields["best_gain"]), np.array(gammas)[best], np.nan)
+    fields["best_r"] = fields["r_opt"][best, cols]
+    thresholds = {f"{gamma:g}": threshold_frequency(Om, fields["gain_opt"][g]) for g, gamma in enumerate(gammas)}
+    thresholds["best"] = threshold_frequency(Om, fields["best_gain"])
     for key, name in (("Omega_star", "Omega_star"), ("low", "Omega_star_low"), ("high", "Omega_star_high")):
-        arrays[name] = np.array([np.nan if t[key] is None else t[key] for t in thresholds.values()])
+        fields[name] = np.array([np.nan if t[key] is None else t[key] for t in thresholds.values()])
     config = {"kind": "optimize", **setting.record(), "gammas": list(gammas), "zeta": zeta, "h": h, **grids}
     config["directions"] = chosen
     if stops:
         config["stops"] = True
-    return Study.of_arrays(
+    return Study(
         "optimize",
         config,
-        arrays,
-        tables=optimize_tables,
+        optimize_data(config, Om, gammas, signs, r, fields),
         summary={
             "useless_gain": USELESS_GAIN,
             "Omega_star": thresholds,
-            "undetermined": int(arrays["undetermined"].sum()),
-            "optima_at_edge": int((arrays["edge_opt"] != 0).sum()),
+            "undetermined": int(fields["undetermined"].sum()),
+            "optima_at_edge": int((fields["edge_opt"] != 0).sum()),
             "directions": chosen,
         },
         run={**stats.record(), "run_folders": folders},
+        tabulate=optimize_tables,
     )
 
 
-def optimize_tables(arrays: dict, config: dict) -> dict:
+def optimize_data(config: dict, Omega, gammas, signs, r_coarse, fields: dict):
+    """An optimisation's results as labelled data (:data:`DIMS`), with the coordinates in non-dimensional and SI
+    terms and units; ``gamma_or_best`` labels the thresholds of each mass ratio and of the best over them."""
+    import xarray as xr
+
+    labels = [f"{g:g}" for g in gammas] + ["best"]
+    coords = {
+        "gamma": ("gamma", np.array(gammas), coordinate_attrs("gamma", config)),
+        "Omega": ("Omega", Omega, coordinate_attrs("Omega", config)),
+        "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
+        "r_coarse": ("r_coarse", r_coarse, coordinate_attrs("r_coarse", config)),
+        "gamma_or_best": ("gamma_or_best", np.array(labels), {"long_name": "mass ratio m / M, or the best"}),
+    }
+    coords.update(si_coordinates(config, coords))
+    return xr.Dataset({k: (DIMS[k], v, _attrs(k, config)) for k, v in fields.items()}, coords=coords)
+
+
+def _attrs(name: str, config: dict) -> dict:
+    """Units and meaning of the variable ``name`` of an optimisation's data: those of its field (``gain_opt``:
+    ``gain``), said of the block alone, of a stage of the search (:data:`STAGES`) or of the best mass ratio."""
+    base, _, stage = name.rpartition("_")
+    if name in FIELDS or stage not in STAGES:
+        field = name if name in FIELDS else name.removeprefix("best_")
+        attrs = field_attrs(field, config)
+        note = ", of the best mass ratio" if field != name else BLOCK_ALONE.get(name, "")
+    else:
+        attrs = field_attrs("gain_flag" if base == "flag" else base, config)
+        note = f", {STAGES[stage]}"
+    attrs["long_name"] += note
+    return attrs
+
+
+def bare_beta_min(data):
+    """The block alone's ``beta_min`` at each ``Omega`` in an optimisation's data: the envelope over the
+    directions, their smaller one (:func:`rocking.study.directions.beta_min_envelope`)."""
+    return data["beta_min"].min("sign", skipna=False)
+
+
+def optimize_tables(data, config: dict) -> dict:
     """The table of an optimisation (:func:`optimize_table`)."""
-    return {"optimize": optimize_table(arrays)}
+    return {"optimize": optimize_table(data)}
 
 
-def optimize_table(arrays: dict) -> dict:
+def optimize_table(data) -> dict:
     """One CSV row per ``(gamma, Omega)``: the optimal period (both ways of writing it, and whether it is
     an edge of the search range: -1 the shortest, +1 the longest), the damper in SI units, and the gain."""
-    G, Om = np.meshgrid(arrays["gamma"], arrays["Omega"], indexing="ij")
+    G, Om = np.meshgrid(data["gamma"].values, data["Omega"].values, indexing="ij")
+    a = {k: data[k].values for k in ("r_opt", "Tm_over_Tg_opt", "gain_opt", "flag_opt", "edge_opt", "k_m_opt", "c_opt")}
     return {
         "gamma": G.ravel(),
         "Omega": Om.ravel(),
-        "bare_beta_min": np.broadcast_to(arrays["bare_beta_min"], G.shape).ravel(),
-        "bare_beta_min_is": flag_words(np.broadcast_to(arrays["bare_flag"], G.shape).ravel()),
-        "Tm_p_over_2pi_opt": arrays["r_opt"].ravel(),
-        "Tm_over_Tg_opt": arrays["Tm_over_Tg_opt"].ravel(),
-        "gain_opt": arrays["gain_opt"].ravel(),
-        "gain_lower_bound": (arrays["flag_opt"] == ABOVE).ravel(),
-        "Tm_at_edge": arrays["edge_opt"].ravel(),
-        "k_m_opt_N_per_m": arrays["k_m_opt"].ravel(),
-        "c_opt_N_s_per_m": arrays["c_opt"].ravel(),
+        "bare_beta_min": np.broadcast_to(bare_beta_min(data).values, G.shape).ravel(),
+        "bare_beta_min_is": flag_words(np.broadcast_to(data["flag"].values, G.shape).ravel()),
+        "Tm_p_over_2pi_opt": a["r_opt"].ravel(),
+        "Tm_over_Tg_opt": a["Tm_over_Tg_opt"].ravel(),
+        "gain_opt": a["gain_opt"].ravel(),
+        "gain_lower_bound": (a["flag_opt"] == ABOVE).ravel(),
+        "Tm_at_edge": a["edge_opt"].ravel(),
+        "k_m_opt_N_per_m": a["k_m_opt"].ravel(),
+        "c_opt_N_s_per_m": a["c_opt"].ravel(),
     }

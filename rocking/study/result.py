@@ -10,7 +10,7 @@ from collections.abc import Callable
 from dataclasses import dataclass, field
 from typing import TYPE_CHECKING
 
-from .dataset import LAYOUTS, by_arrays, flat, html, labelled, to_dataframes, to_dataset
+from .dataset import html, to_dataframes, to_dataset
 
 if TYPE_CHECKING:  # xarray is imported where a study is made, not by import rocking
     import xarray as xr
@@ -44,31 +44,6 @@ class Study:
     summary: dict = field(default_factory=dict)
     run: dict = field(default_factory=dict)
     tabulate: Callable[[xr.Dataset, dict], dict] = field(default=lambda data, config: {}, repr=False, compare=False)
-
-    @classmethod
-    def of_arrays(cls, kind: str, config: dict, arrays: dict, tables: Callable, **entries) -> Study:
-        """A study of a kind whose module names the dimensions in its arrays' names (:func:`labelled`);
-        ``tables(arrays, config)`` its tables."""
-        return cls(
-            kind,
-            config,
-            labelled(kind, arrays, config),
-            tabulate=by_arrays(kind, tables),
-            **entries,
-        )
-
-    @property
-    def arrays(self) -> dict:
-        """Its data as the arrays of a kind that names dimensions in its arrays' names (:func:`flat`).
-
-        Raises
-        ------
-        AttributeError
-            For a kind labelled where it is made (a map, a spectrum): its results are :attr:`data`.
-        """
-        if self.kind not in LAYOUTS:
-            raise AttributeError(f"a {self.kind} study's results are its labelled data, Study.data (an xarray.Dataset)")
-        return flat(self.kind, self.data)
 
     @property
     def tables(self) -> dict:

@@ -61,6 +61,7 @@ from .files import (
 from .kinds import KINDS
 from .result import Study
 from .suite import MAX_MOTIONS
+from .vocabulary import PART_NAMES
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
 #: 4: an IDA's and a fragility's fit and counts are variables of its data, its summary empty (3: JSON in its
@@ -111,8 +112,9 @@ def headed(columns: dict, data) -> dict:
 
 def _source(column: str, data):
     """The variable of ``data`` a table's column shows: its own name, or ``<part>_<name>[_pos|_neg]`` (one part,
-    one direction), or None."""
-    parts = [str(p) for p in data["part"].values] if "part" in data.coords else []
+    one direction), or None. Data without parts may still hold one part's variables (an optimisation's
+    ``beta_min``, of the block alone): their columns name it too."""
+    parts = [str(p) for p in data["part"].values] if "part" in data.coords else list(PART_NAMES)
     names = [column, *(column[len(p) + 1 :] for p in parts if column.startswith(f"{p}_"))]
     names += [n.removesuffix(end) for n in names for end in ("_pos", "_neg") if n.endswith(end)]
     return next((data.variables[n] for n in names if n in data.variables), None)
