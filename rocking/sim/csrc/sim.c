@@ -293,21 +293,42 @@ static const double *gravity_constants(const ode *o, double s, double t, double 
     return at_gravity;
 }
 
-/* Inline in every stage: the call around it was 4 % of a run's instructions
- * (callgrind on the bench map; ode_ag inline too was more, not less). */
-static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
+/* The right-hand side without a vertical component: inline in every stage (the call around it
+ * was 4 % of a run's instructions on the bench map; ode_ag inline too was more, not less). */
+static inline void ode_rhs_level(ode *o, double t, const double *y, double *dy)
 {
     const double ag = ode_ag(o, t);
-    double at_gravity[NK];
-    const double *cst = o->vertical ? gravity_constants(o, o->phase < 0 ? -1.0 : 1.0, t, at_gravity) : o->cst;
     /* In full contact contact_accel returns ddtheta = 0 and dtheta is 0, so
      * theta and dtheta stay exactly 0 while the whole state is integrated (the
      * error norm then runs over the same components in every phase). */
+    if (o->phase == 0)
+        model_contact_accel_prepared(y, ag, o->cst, dy + NQ);
+    else
+        model_rocking_accel_prepared(y, ag, o->cst, dy + NQ);
+    memcpy(dy, y + NQ, NQ * sizeof *dy);
+}
+
+/* The right-hand side with a vertical component: the constants at the effective gravity of t.
+ * Out of line, so that the stages of the level case keep their right-hand side inline. */
+static void ode_rhs_vertical(ode *o, double t, const double *y, double *dy)
+{
+    const double ag = ode_ag(o, t);
+    double at_gravity[NK];
+    const double *cst = gravity_constants(o, o->phase < 0 ? -1.0 : 1.0, t, at_gravity);
     if (o->phase == 0)
         model_contact_accel_prepared(y, ag, cst, dy + NQ);
     else
         model_rocking_accel_prepared(y, ag, cst, dy + NQ);
     memcpy(dy, y + NQ, NQ * sizeof *dy);
+}
+
+/* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
+static void ode_rhs(ode *o, double t, const double *y, double *dy)
+{
+    if (o->vertical)
+        ode_rhs_vertical(o, t, y, dy);
+    else
+        ode_rhs_level(o, t, y, dy);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -466,31 +487,43 @@ static inline void combine_stages(const double (*k)[NY], const double *w, int n,
             acc[i] += w[j] * k[j][i];
 }
 
-/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. */
-static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y)
+/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. vertical is a
+ * constant of each inlined copy: the stages of a step test for a vertical component once. */
+static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int vertical)
 {
     double acc[NY];
+    const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
     int i;
     combine_stages((const double(*)[NY])d->k, RK_A[s], s, acc);
     for (i = 0; i < NY; ++i)
         y[i] = d->y[i] + h * acc[i];
-    /* The last stages sit at t_new itself, which may be a breakpoint. */
-    ode_rhs(o, RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h, y, d->k[s]);
+    if (vertical)
+        ode_rhs_vertical(o, t, y, d->k[s]);
+    else
+        ode_rhs_level(o, t, y, d->k[s]);
 }
 
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
+static inline void stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int vertical)
 {
     memcpy(d->k[0], d->f, sizeof d->f);
-    dopri_stage(d, o, 1, h, t_new, y_new);
-    dopri_stage(d, o, 2, h, t_new, y_new);
-    dopri_stage(d, o, 3, h, t_new, y_new);
-    dopri_stage(d, o, 4, h, t_new, y_new);
-    dopri_stage(d, o, 5, h, t_new, y_new);
-    dopri_stage(d, o, 6, h, t_new, y_new);
+    dopri_stage(d, o, 1, h, t_new, y_new, vertical);
+    dopri_stage(d, o, 2, h, t_new, y_new, vertical);
+    dopri_stage(d, o, 3, h, t_new, y_new, vertical);
+    dopri_stage(d, o, 4, h, t_new, y_new, vertical);
+    dopri_stage(d, o, 5, h, t_new, y_new, vertical);
+    dopri_stage(d, o, 6, h, t_new, y_new, vertical);
     /* The last stage was evaluated at the 5th-order solution: y_new holds it. */
+}
+
+static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
+{
+    if (o->vertical)
+        stages_of(d, o, h, t_new, y_new, 1);
+    else
+        stages_of(d, o, h, t_new, y_new, 0);
 }
 
 static double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new)
