@@ -170,6 +170,18 @@ static void stop_memory_record(constants *k, const double *y, int i, int start)
 #endif
 }
 
+/* Every side's v_in that of a contact starting at y (the run's start), the constants prepared
+ * again for it in the regime clear; without a pad's memory nothing changes, nor is prepared. */
+static void stop_memory_start(constants *k, const double *y, const int *clear)
+{
+#if MODEL_NREGIME > MODEL_NSTOPS
+    stop_memory_record(k, y, -1, 1);
+    constants_prepare(k, k->p, clear);
+#else
+    (void)k, (void)y, (void)clear;
+#endif
+}
+
 /* The constants about the pivot s; full contact uses those of s = +1, as
  * the functions evaluated there do not depend on the pivot. */
 static const double *about(const constants *k, double s)
@@ -1850,8 +1862,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.tol.atol = c->atol;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
-    stop_memory_record(&k, zeros, -1, 1); /* E(0) in the regime of the rest state, its memory too */
-    constants_prepare(&k, p, clear);
+    stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
     r.k = &k;
     r.o.k = &k;
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
@@ -1890,10 +1901,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
-    stop_memory_record(&k, r.y, -1, 1); /* a contact in progress at the start starts there (docs/model.md 11) */
-    constants_prepare(&k, p, clear);
+    stop_memory_start(&k, r.y, clear); /* a contact in progress at the start starts there (docs/model.md 11) */
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
-    constants_prepare(&k, p, stop_on);
+    constants_regime(&k, stop_on);
     see_state(&r, r.y, 0);
 
     phase_machine(&r);
