@@ -1045,6 +1045,16 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 /* How a segment ended, besides an event (enum event_kind). */
 enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3, SEG_MAX_STEPS = -4, SEG_STOPPED = -5 };
 
+#if NQ > 1
+/* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
+ * corners: prepared once per theta_m, for every stroke a bound is taken at. */
+typedef struct arcs {
+    int n;
+    double w;
+    constants outer;
+} arcs;
+#endif
+
 typedef struct run {
     const rocking_case *c;
     tolerance tol;
@@ -1062,6 +1072,11 @@ typedef struct run {
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     int verdict; /* the early verdict of rule 4 applies: early_verdict and derived bounds */
     double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
+    /* The parts of that bound set by theta_max alone, kept while only x_max grows: least_at_tilt, the arcs. */
+    double tilt_least;
+#if NQ > 1
+    arcs tilts;
+#endif
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
     const int32_t *velocity_law;   /* NQ flags: 1 for the velocity impact law; NULL: momentum everywhere */
@@ -1416,13 +1431,6 @@ static double least_at_tilt(const run *r, double theta_m)
 }
 
 #if NQ > 1
-/* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
- * corners: prepared once per bound, for every stroke it is taken at. */
-typedef struct arcs {
-    int n;
-    double w;
-    constants outer;
-} arcs;
 
 static void arcs_prepare(const run *r, double theta_m, arcs *a)
 {
@@ -1519,17 +1527,19 @@ static double verdict_bound(run *r)
     double least;
     if (theta_m == r->bound_at[0] && x_m == r->bound_at[1])
         return r->bound;
+    if (!(theta_m == r->bound_at[0])) {
+        r->tilt_least = least_at_tilt(r, theta_m);
+#if NQ > 1
+        arcs_prepare(r, theta_m, &r->tilts);
+#endif
+    }
     r->bound_at[0] = theta_m;
     r->bound_at[1] = x_m;
-    least = least_at_tilt(r, theta_m);
+    least = r->tilt_least;
 #if NQ > 1
-    {
-        arcs a;
-        arcs_prepare(r, theta_m, &a);
-        least = lower(least, least_on_arcs(r, &a, x_m));
-        if (!stops_out_of_reach(r, x_m))
-            least = lower(least, least_at_bumpers(r, &a));
-    }
+    least = lower(least, least_on_arcs(r, &r->tilts, x_m));
+    if (!stops_out_of_reach(r, x_m))
+        least = lower(least, least_at_bumpers(r, &r->tilts));
 #endif
     r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
     if (isnan(r->bound))
