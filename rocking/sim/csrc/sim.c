@@ -271,6 +271,7 @@ typedef struct ode {
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
     int pulse_on;    /* the segment lies in [0, t_p] */
     int vertical;    /* pulse_on and the motion has a vertical component */
+    int rhs;         /* rhs_kind of the above, set with them */
     const rocking_case *c; /* the ground motion */
     double piece;    /* a sampled motion: the sample interval of the current step */
     /* The last a_g f(t) of an analytic motion and its t: a step's last two stages
@@ -306,14 +307,15 @@ static const double *gravity_constants(const ode *o, double s, double t, double 
 }
 
 /* The right-hand side without a vertical component: inline in every stage (the call around it
- * was 4 % of a run's instructions on the bench map; ode_ag inline too was more, not less). */
-static inline void ode_rhs_level(ode *o, double t, const double *y, double *dy)
+ * was 4 % of a run's instructions on the bench map; ode_ag inline too was more, not less).
+ * pulse_on and contact are o->pulse_on and o->phase == 0, constants of each inlined copy. */
+static inline void ode_rhs_level(ode *o, double t, const double *y, double *dy, int pulse_on, int contact)
 {
-    const double ag = ode_ag(o, t);
+    const double ag = pulse_on ? ode_ag(o, t) : 0.0;
     /* In full contact contact_accel returns ddtheta = 0 and dtheta is 0, so
      * theta and dtheta stay exactly 0 while the whole state is integrated (the
      * error norm then runs over the same components in every phase). */
-    if (o->phase == 0)
+    if (contact)
         model_contact_accel_prepared(y, ag, o->cst, dy + NQ);
     else
         model_rocking_accel_prepared(y, ag, o->cst, dy + NQ);
@@ -340,7 +342,7 @@ static void ode_rhs(ode *o, double t, const double *y, double *dy)
     if (o->vertical)
         ode_rhs_vertical(o, t, y, dy);
     else
-        ode_rhs_level(o, t, y, dy);
+        ode_rhs_level(o, t, y, dy, o->pulse_on, o->phase == 0);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -499,9 +501,23 @@ static inline void combine_stages(const double (*k)[NY], const double *w, int n,
             acc[i] += w[j] * k[j][i];
 }
 
-/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. vertical is a
- * constant of each inlined copy: the stages of a step test for a vertical component once. */
-static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int vertical)
+/* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the ground
+ * moves vertically, else whether the pulse acts and whether in full contact. */
+enum { RHS_VERTICAL, RHS_PULSE_CONTACT, RHS_PULSE_ROCKING, RHS_FREE_CONTACT, RHS_FREE_ROCKING };
+
+/* The right-hand side of the ode o's segment (enum above). */
+static int rhs_kind(const ode *o)
+{
+    if (o->vertical)
+        return RHS_VERTICAL;
+    if (o->pulse_on)
+        return o->phase == 0 ? RHS_PULSE_CONTACT : RHS_PULSE_ROCKING;
+    return o->phase == 0 ? RHS_FREE_CONTACT : RHS_FREE_ROCKING;
+}
+
+/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. rhs (rhs_kind) is
+ * a constant of each inlined copy: the stages of a step test the segment's kind once. */
+static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
     double acc[NY];
     const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
@@ -509,33 +525,47 @@ static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, 
     combine_stages((const double(*)[NY])d->k, RK_A[s], s, acc);
     for (i = 0; i < NY; ++i)
         y[i] = d->y[i] + h * acc[i];
-    if (vertical)
+    if (rhs == RHS_VERTICAL)
         ode_rhs_vertical(o, t, y, d->k[s]);
     else
-        ode_rhs_level(o, t, y, d->k[s]);
+        ode_rhs_level(o, t, y, d->k[s], rhs == RHS_PULSE_CONTACT || rhs == RHS_PULSE_ROCKING,
+                      rhs == RHS_PULSE_CONTACT || rhs == RHS_FREE_CONTACT);
 }
 
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static inline void stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int vertical)
+static inline void stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
     memcpy(d->k[0], d->f, sizeof d->f);
-    dopri_stage(d, o, 1, h, t_new, y_new, vertical);
-    dopri_stage(d, o, 2, h, t_new, y_new, vertical);
-    dopri_stage(d, o, 3, h, t_new, y_new, vertical);
-    dopri_stage(d, o, 4, h, t_new, y_new, vertical);
-    dopri_stage(d, o, 5, h, t_new, y_new, vertical);
-    dopri_stage(d, o, 6, h, t_new, y_new, vertical);
+    dopri_stage(d, o, 1, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 2, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 3, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 4, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 5, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 6, h, t_new, y_new, rhs);
     /* The last stage was evaluated at the 5th-order solution: y_new holds it. */
 }
 
 static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
 {
-    if (o->vertical)
-        stages_of(d, o, h, t_new, y_new, 1);
-    else
-        stages_of(d, o, h, t_new, y_new, 0);
+    switch (o->rhs) {
+    case RHS_VERTICAL:
+        stages_of(d, o, h, t_new, y_new, RHS_VERTICAL);
+        break;
+    case RHS_PULSE_CONTACT:
+        stages_of(d, o, h, t_new, y_new, RHS_PULSE_CONTACT);
+        break;
+    case RHS_PULSE_ROCKING:
+        stages_of(d, o, h, t_new, y_new, RHS_PULSE_ROCKING);
+        break;
+    case RHS_FREE_CONTACT:
+        stages_of(d, o, h, t_new, y_new, RHS_FREE_CONTACT);
+        break;
+    default:
+        stages_of(d, o, h, t_new, y_new, RHS_FREE_ROCKING);
+        break;
+    }
 }
 
 static double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new)
@@ -1303,6 +1333,7 @@ static int run_segment(run *r, double t_bound)
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
+    r->o.rhs = rhs_kind(&r->o);
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
@@ -1879,6 +1910,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.phase = 0;
     r.o.pulse_on = 1;
     r.o.vertical = 0;
+    r.o.rhs = rhs_kind(&r.o);
     r.o.c = c;
     r.o.piece = 0.0;
     r.o.memo_t = NAN;
