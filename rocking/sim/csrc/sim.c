@@ -1102,9 +1102,11 @@ typedef struct run {
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     int verdict; /* the early verdict of rule 4 applies: early_verdict and derived bounds */
     double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
-    /* The parts of that bound set by theta_max alone, kept while only x_max grows: least_at_tilt, the arcs. */
-    double tilt_least;
+    /* The parts of that bound set by theta_max alone, kept while only x_max grows, and the theta_max
+     * each is for: least_at_tilt, the arcs. */
+    double tilt_at, tilt_least;
 #if NQ > 1
+    double arcs_at;
     arcs tilts;
 #endif
     rocking_result *res;
@@ -1547,6 +1549,22 @@ static double least_at_bumpers(const run *r, const arcs *a)
 }
 #endif
 
+/* least_at_tilt of theta_m, evaluated again only when theta_max grows. */
+static double tilt_least(run *r, double theta_m)
+{
+    if (!(theta_m == r->tilt_at)) {
+        r->tilt_at = theta_m;
+        r->tilt_least = least_at_tilt(r, theta_m);
+    }
+    return r->tilt_least;
+}
+
+/* The bound of the energy above rest for the least potential `least` (rule 4's margin). */
+static double below_least(double least, double zero)
+{
+    return least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
+}
+
 /* The energy above rest below which |theta| can no longer reach theta_max,
  * |q[1]| x_max, nor, where x_max is past a bumper's gap, the mass that gap
  * (rule 4): the least potential there less E(0), less the margin; -inf when
@@ -1554,28 +1572,47 @@ static double least_at_bumpers(const run *r, const arcs *a)
 static double verdict_bound(run *r)
 {
     const double theta_m = r->res->theta_max, x_m = r->res->x_max;
-    const double zero = r->ec.energy_zero;
     double least;
     if (theta_m == r->bound_at[0] && x_m == r->bound_at[1])
         return r->bound;
-    if (!(theta_m == r->bound_at[0])) {
-        r->tilt_least = least_at_tilt(r, theta_m);
-#if NQ > 1
-        arcs_prepare(r, theta_m, &r->tilts);
-#endif
-    }
     r->bound_at[0] = theta_m;
     r->bound_at[1] = x_m;
-    least = r->tilt_least;
+    least = tilt_least(r, theta_m);
 #if NQ > 1
+    if (!(theta_m == r->arcs_at)) {
+        r->arcs_at = theta_m;
+        arcs_prepare(r, theta_m, &r->tilts);
+    }
     least = lower(least, least_on_arcs(r, &r->tilts, x_m));
     if (!stops_out_of_reach(r, x_m))
         least = lower(least, least_at_bumpers(r, &r->tilts));
 #endif
-    r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
+    r->bound = below_least(least, r->ec.energy_zero);
     if (isnan(r->bound))
         r->bound = -INFINITY;
     return r->bound;
+}
+
+/* energy is at least verdict_bound, found from a few of the potentials whose least the bound
+ * takes: at |theta| = theta_max, and at the stroke x_max upright (the first corners of
+ * least_on_arcs). Their least is >= the bound's; below_least is increasing but for its rounding,
+ * a few ulps of |least| + |E(0)|, which the 8 eps of that sum cover. Most impacts after the
+ * pulse are not final: they need not take the bound over every arc. */
+static int above_verdict_bound(run *r, double energy)
+{
+    const double zero = r->ec.energy_zero;
+    double least;
+    least = tilt_least(r, r->res->theta_max);
+#if NQ > 1
+    {
+        double y[NY] = {0.0};
+        y[1] = r->res->x_max;
+        least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
+        y[1] = -r->res->x_max;
+        least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
+    }
+#endif
+    return energy >= below_least(least, zero) + 8.0 * DBL_EPSILON * (fabs(least) + fabs(zero));
 }
 
 /* No bumper acts now: the mass is inside every gap (a released pad may push again). */
@@ -1592,7 +1629,11 @@ static int stops_clear(const run *r)
  * maxima: the verdict, the maxima and t_critical are final (rule 4). */
 static int verdict_final(run *r)
 {
-    return r->verdict && r->t >= r->c->t_p && stops_clear(r) && energy_above_rest(r) < verdict_bound(r);
+    double energy;
+    if (!(r->verdict && r->t >= r->c->t_p && stops_clear(r)))
+        return 0;
+    energy = energy_above_rest(r);
+    return !(SHORTCUTS && above_verdict_bound(r, energy)) && energy < verdict_bound(r);
 }
 
 static int events_exhausted(const run *r)
@@ -1927,7 +1968,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.verdict = c->early_verdict != 0;
-    r.bound_at[0] = r.bound_at[1] = NAN; /* no bound yet */
+    r.bound_at[0] = r.bound_at[1] = r.tilt_at = NAN; /* no bound yet */
+#if NQ > 1
+    r.arcs_at = NAN;
+#endif
     r.bound = -INFINITY;
     r.t = 0.0;
     r.t_start = r.h_first = 0.0;
