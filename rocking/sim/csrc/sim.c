@@ -654,6 +654,22 @@ static void dopri_prepare_dense(dopri *d)
     d->dense_ready = 1;
 }
 
+/* The coefficients of component i of the continuous extension, the operations of
+ * dopri_prepare_dense for that component alone: the bound of a peak (peak_below_max) mostly
+ * finds the step needs no location, and then no other component. */
+static void dense_component(const dopri *d, int i, double *c)
+{
+    double sum = 0.0 + RK_D[0] * d->k[0][i];
+    int j;
+    for (j = 1; j < STAGES; ++j)
+        sum += RK_D[j] * d->k[j][i];
+    c[0] = d->y_old[i];
+    c[1] = d->y[i] - d->y_old[i];
+    c[2] = d->h * d->k[0][i] - c[1];
+    c[3] = c[1] - d->h * d->k[STAGES - 1][i] - c[2];
+    c[4] = d->h * sum;
+}
+
 /* Component i of the prepared dense output at th = (t - t_old) / h, th1 = 1 - th. */
 static inline double dense_at(const dopri *d, double th, double th1, int i)
 {
@@ -676,12 +692,17 @@ static double dopri_dense1(dopri *d, double t, int i)
  * step, term by term: with u in [0, 1], u <= 1, u (1 - u) <= 1/4,
  * u^2 (1 - u) <= 4/27 and u^2 (1 - u)^2 <= 1/16; widened by 16 eps for the
  * rounding of any evaluation inside. */
-static double dopri_dense_bound(dopri *d, int i)
+static double dopri_dense_bound(const dopri *d, int i)
 {
-    double b;
-    dopri_prepare_dense(d);
-    b = fabs(d->dense[0][i]) + fabs(d->dense[1][i]) + 0.25 * fabs(d->dense[2][i]) +
-        (4.0 / 27.0) * fabs(d->dense[3][i]) + 0.0625 * fabs(d->dense[4][i]);
+    double c[5], b;
+    int j;
+    if (d->dense_ready) {
+        for (j = 0; j < 5; ++j)
+            c[j] = d->dense[j][i];
+    } else {
+        dense_component(d, i, c);
+    }
+    b = fabs(c[0]) + fabs(c[1]) + 0.25 * fabs(c[2]) + (4.0 / 27.0) * fabs(c[3]) + 0.0625 * fabs(c[4]);
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
@@ -1008,7 +1029,7 @@ static void events_drop(event_set *es, int kind)
 /* An extremum of theta or x inside the last step that cannot raise the
  * largest |theta| or |x| so far: not worth locating (the bound holds for the
  * whole step), and not reported. */
-static int peak_below_max(const event_ctx *ec, dopri *d, int kind)
+static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 {
     if (kind == EV_THETA_PEAK)
         return dopri_dense_bound(d, 0) <= *ec->theta_max;
