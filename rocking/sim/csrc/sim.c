@@ -271,7 +271,7 @@ typedef struct ode {
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
     int pulse_on;    /* the segment lies in [0, t_p] */
     int vertical;    /* pulse_on and the motion has a vertical component */
-    int rhs;         /* rhs_kind of the above, set with them */
+    int rhs;         /* ode_rhs_kind of the above, set with them */
     const rocking_case *c; /* the ground motion */
     double piece;    /* a sampled motion: the sample interval of the current step */
     /* The last a_g f(t) of an analytic motion and its t: a step's last two stages
@@ -503,19 +503,19 @@ static inline void combine_stages(const double (*k)[NY], const double *w, int n,
 
 /* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the ground
  * moves vertically, else whether the pulse acts and whether in full contact. */
-enum { RHS_VERTICAL, RHS_PULSE_CONTACT, RHS_PULSE_ROCKING, RHS_FREE_CONTACT, RHS_FREE_ROCKING };
+enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING };
 
 /* The right-hand side of the ode o's segment (enum above). */
-static int rhs_kind(const ode *o)
+static int ode_rhs_kind(const ode *o)
 {
     if (o->vertical)
-        return RHS_VERTICAL;
+        return ODE_VERTICAL;
     if (o->pulse_on)
-        return o->phase == 0 ? RHS_PULSE_CONTACT : RHS_PULSE_ROCKING;
-    return o->phase == 0 ? RHS_FREE_CONTACT : RHS_FREE_ROCKING;
+        return o->phase == 0 ? ODE_PULSE_CONTACT : ODE_PULSE_ROCKING;
+    return o->phase == 0 ? ODE_FREE_CONTACT : ODE_FREE_ROCKING;
 }
 
-/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. rhs (rhs_kind) is
+/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. rhs (ode_rhs_kind) is
  * a constant of each inlined copy: the stages of a step test the segment's kind once. */
 static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
@@ -525,17 +525,17 @@ static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, 
     combine_stages((const double(*)[NY])d->k, RK_A[s], s, acc);
     for (i = 0; i < NY; ++i)
         y[i] = d->y[i] + h * acc[i];
-    if (rhs == RHS_VERTICAL)
+    if (rhs == ODE_VERTICAL)
         ode_rhs_vertical(o, t, y, d->k[s]);
     else
-        ode_rhs_level(o, t, y, d->k[s], rhs == RHS_PULSE_CONTACT || rhs == RHS_PULSE_ROCKING,
-                      rhs == RHS_PULSE_CONTACT || rhs == RHS_FREE_CONTACT);
+        ode_rhs_level(o, t, y, d->k[s], rhs == ODE_PULSE_CONTACT || rhs == ODE_PULSE_ROCKING,
+                      rhs == ODE_PULSE_CONTACT || rhs == ODE_FREE_CONTACT);
 }
 
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static inline void stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
+static inline void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
     memcpy(d->k[0], d->f, sizeof d->f);
     dopri_stage(d, o, 1, h, t_new, y_new, rhs);
@@ -550,20 +550,20 @@ static inline void stages_of(dopri *d, ode *o, double h, double t_new, double *y
 static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
 {
     switch (o->rhs) {
-    case RHS_VERTICAL:
-        stages_of(d, o, h, t_new, y_new, RHS_VERTICAL);
+    case ODE_VERTICAL:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_VERTICAL);
         break;
-    case RHS_PULSE_CONTACT:
-        stages_of(d, o, h, t_new, y_new, RHS_PULSE_CONTACT);
+    case ODE_PULSE_CONTACT:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_PULSE_CONTACT);
         break;
-    case RHS_PULSE_ROCKING:
-        stages_of(d, o, h, t_new, y_new, RHS_PULSE_ROCKING);
+    case ODE_PULSE_ROCKING:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_PULSE_ROCKING);
         break;
-    case RHS_FREE_CONTACT:
-        stages_of(d, o, h, t_new, y_new, RHS_FREE_CONTACT);
+    case ODE_FREE_CONTACT:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_FREE_CONTACT);
         break;
     default:
-        stages_of(d, o, h, t_new, y_new, RHS_FREE_ROCKING);
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_FREE_ROCKING);
         break;
     }
 }
@@ -1125,7 +1125,7 @@ typedef struct run {
     double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
     /* The parts of that bound set by theta_max alone, kept while only x_max grows, and the theta_max
      * each is for: least_at_tilt, the arcs. */
-    double tilt_at, tilt_least;
+    double least_tilt_at, least_tilt;
 #if NQ > 1
     double arcs_at;
     arcs tilts;
@@ -1356,7 +1356,7 @@ static int run_segment(run *r, double t_bound)
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
-    r->o.rhs = rhs_kind(&r->o);
+    r->o.rhs = ode_rhs_kind(&r->o);
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
@@ -1571,13 +1571,13 @@ static double least_at_bumpers(const run *r, const arcs *a)
 #endif
 
 /* least_at_tilt of theta_m, evaluated again only when theta_max grows. */
-static double tilt_least(run *r, double theta_m)
+static double least_at_tilt_kept(run *r, double theta_m)
 {
-    if (!(theta_m == r->tilt_at)) {
-        r->tilt_at = theta_m;
-        r->tilt_least = least_at_tilt(r, theta_m);
+    if (!(theta_m == r->least_tilt_at)) {
+        r->least_tilt_at = theta_m;
+        r->least_tilt = least_at_tilt(r, theta_m);
     }
-    return r->tilt_least;
+    return r->least_tilt;
 }
 
 /* The bound of the energy above rest for the least potential `least` (rule 4's margin). */
@@ -1598,7 +1598,7 @@ static double verdict_bound(run *r)
         return r->bound;
     r->bound_at[0] = theta_m;
     r->bound_at[1] = x_m;
-    least = tilt_least(r, theta_m);
+    least = least_at_tilt_kept(r, theta_m);
 #if NQ > 1
     if (!(theta_m == r->arcs_at)) {
         r->arcs_at = theta_m;
@@ -1619,11 +1619,11 @@ static double verdict_bound(run *r)
  * least_on_arcs). Their least is >= the bound's; below_least is increasing but for its rounding,
  * a few ulps of |least| + |E(0)|, which the 8 eps of that sum cover. Most impacts after the
  * pulse are not final: they need not take the bound over every arc. */
-static int above_verdict_bound(run *r, double energy)
+static int verdict_refuted(run *r, double energy)
 {
     const double zero = r->ec.energy_zero;
     double least;
-    least = tilt_least(r, r->res->theta_max);
+    least = least_at_tilt_kept(r, r->res->theta_max);
 #if NQ > 1
     {
         double y[NY] = {0.0};
@@ -1654,7 +1654,7 @@ static int verdict_final(run *r)
     if (!(r->verdict && r->t >= r->c->t_p && stops_clear(r)))
         return 0;
     energy = energy_above_rest(r);
-    return !(SHORTCUTS && above_verdict_bound(r, energy)) && energy < verdict_bound(r);
+    return !(SHORTCUTS && verdict_refuted(r, energy)) && energy < verdict_bound(r);
 }
 
 static int events_exhausted(const run *r)
@@ -1972,7 +1972,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.phase = 0;
     r.o.pulse_on = 1;
     r.o.vertical = 0;
-    r.o.rhs = rhs_kind(&r.o);
+    r.o.rhs = ode_rhs_kind(&r.o);
     r.o.c = c;
     r.o.piece = 0.0;
     r.o.memo_t = NAN;
@@ -1989,7 +1989,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.verdict = c->early_verdict != 0;
-    r.bound_at[0] = r.bound_at[1] = r.tilt_at = NAN; /* no bound yet */
+    r.bound_at[0] = r.bound_at[1] = r.least_tilt_at = NAN; /* no bound yet */
 #if NQ > 1
     r.arcs_at = NAN;
 #endif
