@@ -380,7 +380,8 @@ def main(argv=None) -> int:
                 f"  fragility, {n} stochastic motions x 4 PGA levels x 2 directions x 2 parts: peak memory "
                 f"{rss:.0f} MB, result arrays {size:.1f} MB, {seconds:.0f} s"
             )
-        print(f"  {split.describe(f'{n}x{n} map, 1 worker', st['split_map'])}")
+        side = st["split_map"]["n"]
+        print(f"  {split.describe(f'{side}x{side} map, 1 worker', st['split_map'])}")
         print(f"  {split.describe(f'fragility of {SPLIT_MOTIONS} motions, 1 worker', st['split_fragility'])}")
         print(f"  rocking demo  {st['demo_seconds']:10.1f} s")
         print(f"  rocking threshold {st['threshold_seconds']:6.1f} s (default grid, 2 workers)")

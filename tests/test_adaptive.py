@@ -5,6 +5,7 @@ from __future__ import annotations
 import argparse
 import importlib.util
 import json
+import sys
 from pathlib import Path
 
 import numpy as np
@@ -244,8 +245,11 @@ def test_the_command_line_maps_adaptive_by_default(tmp_path, capsys):
 
 
 def load_bench():
-    """bench/adaptive.py as a module (bench/ is not a package)."""
+    """bench/adaptive.py as a module (bench/ is not a package: its scripts import each other from their folder,
+    as they do when run)."""
     path = Path(__file__).parent.parent / "bench" / "adaptive.py"
+    if str(path.parent) not in sys.path:
+        sys.path.insert(0, str(path.parent))
     spec = importlib.util.spec_from_file_location("bench_adaptive", path)
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
@@ -286,5 +290,7 @@ def test_the_bench_reports_the_cells_that_differ(tmp_path, capsys):
     )
     out = capsys.readouterr().out
     assert code == 0 and out.count("cells differ)") == 2 and "| ricker | stops | 8 | 0 |" in out
-    rows = json.loads((tmp_path / "bench.json").read_text())
+    written = json.loads((tmp_path / "bench.json").read_text())
+    assert written["command"].startswith("python bench/adaptive.py -n 17 ") and "date" in written["machine"]
+    rows = written["maps"]
     assert [(r["stops"], r["misclassified"], r["verify"]) for r in rows] == [(False, 0, 8), (True, 0, 8)]
