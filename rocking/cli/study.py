@@ -286,9 +286,7 @@ def grid_from(name: str, values, *, log: bool = False) -> Grid:
 def setting_from(args) -> Setting:
     """The study's :class:`Setting` from the options given (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
     # ida and fragility have no --pulse: their --gamma-mp and --nu shape the pulses of their suite.
-    pulse = given(args, ("pulse", "gamma_mp", "nu")) if "pulse" in vars(args) else {}
-    if "pulse" in pulse:
-        pulse["pulse"] = pulse["pulse"].replace("-", "_")
+    pulse = _pulse(args, {}) if "pulse" in vars(args) else {}
     return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")), **pulse)
 
 

@@ -93,11 +93,11 @@ def _grid(name: str, default: tuple, text: str) -> tuple:
 
 
 #: The options every pulse study ends with, after its own.
-_PULSE_STUDY = (("directions", {}), ("pulse", {}), ("solver", {}))
+_PULSE_STUDY: tuple[tuple[str, dict], ...] = (("directions", {}), ("pulse", {}), ("solver", {}))
 #: The options of the motions of ida and fragility, before their levels.
-_MOTIONS = (("block", {}), ("damper", {"tuned": True}), ("variant", {}), ("motions", {}))
+_MOTIONS: tuple[tuple[str, dict], ...] = (("block", {}), ("damper", {"tuned": True}), ("variant", {}), ("motions", {}))
 #: The options of ida and fragility, after their levels.
-_MOTIONS_END = (("directions", {}), ("solver", {}), ("check", {}))
+_MOTIONS_END: tuple[tuple[str, dict], ...] = (("directions", {}), ("solver", {}), ("check", {}))
 #: The positional arguments of the drivers of the studies of one damper, or of a model variant.
 _ONE_DAMPER = ("setting", "damper", "Omega", "beta", "execution")
 _MOTION_STUDY = ("setting", "damper", "suite", "levels", "execution")
