@@ -13,6 +13,7 @@ from rocking.study.config import Grid, Setting
 from rocking.study.kinds import KINDS, Command, Kind
 from rocking.study.result import Study
 from rocking.study.tiles import Execution
+from tests.test_python_cli import FUNCTIONS
 
 
 def _commands(parser: argparse.ArgumentParser) -> dict:
@@ -31,8 +32,8 @@ def test_every_kind_has_its_command_built_from_its_entry(name):
     parser = build_parser()
     assert _helps(parser)[name] == command.help
     assert {group for group, _ in command.options} <= set(GROUPS)
-    # Its Python function exists and takes its inputs by the options' names (tests/test_python_cli.py: all).
-    assert callable(getattr(api, command.function)) and callable(getattr(rocking.cli.study, command.describe))
+    # Its Python function is the one whose keywords are its options (tests/test_python_cli.py).
+    assert getattr(api, command.function) is FUNCTIONS[name] and callable(getattr(rocking.cli.study, command.describe))
     args = _commands(parser)[name].parse_args([])
     for group, params in command.options:
         if group in ("grid", "levels"):
