@@ -182,6 +182,8 @@ def test_demo_runs_the_damper_as_built_beside_the_unlimited_guide(tmp_path, caps
         ("LAM_GRID", (4.0, 4.0, 1)),
         ("P_GRID", (2.0, 2.0, 1)),
         ("OMEGA_GRID", (4.0, 14.0, 2)),
+        ("VERTICAL_OMEGA", (2.0, 8.0, 2)),
+        ("VERTICAL_BETA", (0.5, 9.0, 6)),
     ):
         monkeypatch.setattr(study_cli, name, grid)
     parser = argparse.ArgumentParser(prog="rocking")
@@ -192,6 +194,8 @@ def test_demo_runs_the_damper_as_built_beside_the_unlimited_guide(tmp_path, caps
     assert "only with the mass past the block's edge" in out and "design: m = 50 kg" in out
     for stem in ("map", "map-unlimited", "spectrum", "spectrum-unlimited", "design", "threshold"):
         assert (tmp_path / f"{stem}.png").is_file() and (tmp_path / f"{stem}.json").is_file()
+    assert (tmp_path / "spectrum-vertical.png").is_file() and (tmp_path / "spectrum-vertical-1.json").is_file()
+    assert rocking.study.storage.load(tmp_path / "spectrum-vertical-0p5").config["vertical"]["ratio"] == 0.5
     assert (tmp_path / "spectrum-unlimited-windows.csv").is_file() and (tmp_path / "map-unlimited.csv").is_file()
     stopped, unlimited = (rocking.study.storage.load(tmp_path / stem) for stem in ("map", "map-unlimited"))
     assert stopped.config["damper"]["stops"] and "stops" not in unlimited.config["damper"]

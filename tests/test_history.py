@@ -59,6 +59,7 @@ def test_every_variable_has_units_and_a_long_name(runs):
         "ddtheta": "rad/s^2",
         "ddx": "m/s^2",
         "a_g": "m/s^2",
+        "a_gy": "m/s^2",
         "a_top": "m/s^2",
         "a_cm": "m/s^2",
         "V_b": "N",

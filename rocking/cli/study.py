@@ -40,7 +40,7 @@ from ..model.params import ParameterError
 from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE
-from ..plot.figures import draw, redraw
+from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
@@ -85,6 +85,10 @@ from .options import (
 )
 from .rerun import CURRENT, check_same, command_record
 
+#: The demo's spectra under a vertical component: its ratios and modest grids (about 20 s on 2 cores).
+VERTICAL_RATIOS = (0.0, 0.5, 1.0)
+VERTICAL_OMEGA, VERTICAL_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
+
 #: Options of the stochastic site model (rocking.model.stochastic.SiteModel).
 SITE_OPTIONS = ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
 
@@ -95,7 +99,7 @@ PULSE_SUITE_OPTIONS = ("periods", "amplitude", "gamma_mp", "nu")
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
 
 #: Values of the option groups that make the study's Setting with the block, when its driver takes one.
-SETTING = ("rtol", "t_after", "backend", "pulse", "gamma_mp", "nu")
+SETTING = ("rtol", "t_after", "backend", "pulse", "gamma_mp", "nu", "vertical_ratio", "vertical_phase")
 
 
 # --- options -------------------------------------------------------------------------
@@ -236,6 +240,29 @@ def _add_pulse(p: argparse.ArgumentParser) -> None:
     g.add_argument("--nu", type=float, help="phase nu of --pulse mp, rad (default 0)")
 
 
+def _add_vertical(p: argparse.ArgumentParser) -> None:
+    """``--vertical-ratio`` and ``--vertical-phase`` of the maps and spectra: every pulse's vertical component."""
+    g = p.add_argument_group(
+        "vertical component",
+        "As rocking.Setting(block, vertical_ratio=..., vertical_phase=...): every pulse with "
+        "rocking.Vertical(ratio, phase), ddy_g > 0 up, unsigned by the direction (docs/model.md section 14).",
+    )
+    g.add_argument(
+        "--vertical-ratio",
+        type=float,
+        metavar="R",
+        help="vertical amplitude over the horizontal a_g, in [0, 10]: ddy_g = R a_g f(t + PHI / omega_g) on the "
+        "pulse; where g + ddy_g reaches 0 a run ends with status flight, no verdict "
+        f"({default_text(Setting, 'vertical_ratio')})",
+    )
+    g.add_argument(
+        "--vertical-phase",
+        type=float,
+        metavar="PHI",
+        help=f"lead PHI of the vertical shape, rad, in [0, 2 pi) ({default_text(Setting, 'vertical_phase')})",
+    )
+
+
 def _add_directions(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--directions",
@@ -286,7 +313,8 @@ def grid_from(name: str, values, *, log: bool = False) -> Grid:
 def setting_from(args) -> Setting:
     """The study's :class:`Setting` from the options given (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
     # ida and fragility have no --pulse: their --gamma-mp and --nu shape the pulses of their suite.
-    pulse = _pulse(args, {}) if "pulse" in vars(args) else {}
+    # map and spectrum: their pulses' vertical component (ida's and fragility's --vertical-ratio is their suite's).
+    pulse = _pulse(args, {}) | given(args, ("vertical_ratio", "vertical_phase")) if "pulse" in vars(args) else {}
     return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")), **pulse)
 
 
@@ -344,7 +372,7 @@ def _suite_from(args) -> Suite:
     try:
         return suite_of(
             motions,
-            **given(args, ("unit", "stochastic", "seed", "pulses", *PULSE_SUITE_OPTIONS)),
+            **given(args, ("unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS)),
             site=site or None,
             g=block_from(args).g,
         )
@@ -355,7 +383,7 @@ def _suite_from(args) -> Suite:
 def _as_flags(message: str) -> str:
     """A message of :func:`suite_of` naming the Python keywords of the options, with the command line's flags."""
     message = re.sub(r"\bsite\b(?!\.)", "site options (" + flags(SITE_OPTIONS[:2]) + ", ...)", message)
-    for word in ("motions", "unit", "stochastic", "seed", "pulses", *PULSE_SUITE_OPTIONS):
+    for word in ("motions", "unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS):
         message = re.sub(rf"\b{word}\b(?!\.)", flag(word), message)
     return message
 
@@ -490,6 +518,13 @@ def _add_motions(p: argparse.ArgumentParser) -> None:
             help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
         )
     g.add_argument(
+        "--vertical-ratio",
+        type=float,
+        metavar="R",
+        help="a vertical component of the --stochastic motions, > 0 up: R times a record of the same site "
+        "model from its own noise, in [0, 10] (docs/model.md section 14; default none)",
+    )
+    g.add_argument(
         "--pulses",
         choices=[f.replace("_", "-") for f in PULSES],
         help="a suite of analytic pulses of this family, one per --periods value",
@@ -589,6 +624,7 @@ GROUPS = {
     "tol": Group(lambda p, params, kind: _add_tol(p), lambda args, params: _tol(args)),
     "directions": Group(lambda p, params, kind: _add_directions(p), _given("directions")),
     "pulse": Group(lambda p, params, kind: _add_pulse(p), _pulse),
+    "vertical": Group(lambda p, params, kind: _add_vertical(p), _given("vertical_ratio", "vertical_phase")),
     "motions": Group(lambda p, params, kind: _add_motions(p), lambda args, params: {"suite": _suite_from(args)}),
     "im": Group(lambda p, params, kind: _add_im(p), lambda args, params: {"measure_name": args.im}),
     "solver": Group(
@@ -877,6 +913,7 @@ def _cmd_demo(args) -> int:
         study = minimum_overturning_spectrum(setting, damper, Omega, beta, execution, runs=runs, **_tol(args))
         _report(study, out, f"spectrum{suffix}")
         _print(spectrum_lines(study))
+    _vertical_spectra(setting, replace(tuning, stops=True), execution, out, runs, **_tol(args))
     study = design(
         setting,
         grid_from("Omega", DESIGN_OMEGA),
@@ -906,9 +943,29 @@ def _cmd_demo(args) -> int:
     _print(threshold_map_lines(study))
     print(
         f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
-        "spectrum-unlimited, design, threshold .png/.pdf)"
+        "spectrum-unlimited, spectrum-vertical, design, threshold .png/.pdf)"
     )
     return 0
+
+
+def _vertical_spectra(setting: Setting, damper: Tuning, execution: Execution, out: Path, runs: Path, **tol) -> None:
+    """The demo's spectra of the block alone and with ``damper`` under pulses with the vertical ratios
+    :data:`VERTICAL_RATIOS` (in phase), both directions, saved as ``spectrum-vertical-<ratio>`` (``0p5`` for 0.5)
+    and drawn together as ``spectrum-vertical.png``."""
+    studies = []
+    for ratio in VERTICAL_RATIOS:
+        Omega, beta = grid_from("Omega", VERTICAL_OMEGA), grid_from("beta", VERTICAL_BETA)
+        vertical = replace(setting, vertical_ratio=ratio, vertical_phase=0.0)
+        study = minimum_overturning_spectrum(
+            vertical, damper, Omega, beta, execution, runs=runs, directions="both", **tol
+        )
+        # No dot in a stem: rocking redraw and load read "spectrum-vertical-0.5" as the stem of a ".5" file.
+        save(study, out, f"spectrum-vertical-{ratio:g}".replace(".", "p"))
+        studies.append(study)
+    paths = draw_vertical_spectra(studies, out)
+    print(
+        f"spectrum, vertical ratios {', '.join(f'{r:g}' for r in VERTICAL_RATIOS)}: wrote {', '.join(map(str, paths))}"
+    )
 
 
 def _cmd_redraw(args) -> int:

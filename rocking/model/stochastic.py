@@ -25,6 +25,18 @@ separable temporal and spectral nonstationarities", Earthquake Engng Struct. Dyn
 A suite is reproducible from a seed: motion ``i`` draws its noise from the ``i``-th child of
 ``numpy.random.SeedSequence(seed)``, so it is the same in a suite of any size.
 
+**Vertical component** (docs/model.md sections 12 and 14): a simple model, not a fit. The vertical
+acceleration of motion ``i`` is ``ratio`` times a record of the same model with its own site
+parameters (default: the horizontal site's), drawn from its own noise
+(:func:`vertical_rng`: independent of the horizontal one, which stays what it was without a vertical
+component), at the same sample times:
+
+    ddy_g(t) = ratio * a_v(t),   a_v: a record of the vertical site
+
+so with the default site the vertical has the horizontal's spectral and temporal shape and the expected Arias
+intensity ``ratio^2`` times the horizontal's. Near-fault vertical components are richer in high
+frequencies (Bozorgnia and Campbell 2004): give the vertical site a higher ``f_mid`` for them.
+
 Units SI: m/s^2, s, Hz for the site's frequencies.
 """
 
@@ -284,6 +296,27 @@ def synthesize(site: SiteModel, rng: np.random.Generator, g: float = 9.81) -> np
 def record_rng(seed: int, i: int) -> np.random.Generator:
     """The generator of record ``i`` of the suite of ``seed``: the ``i``-th child of ``SeedSequence(seed)``."""
     return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(i),)))
+
+
+def vertical_rng(seed: int, i: int) -> np.random.Generator:
+    """The generator of the vertical component of record ``i`` of the suite of ``seed``: ``SeedSequence(seed)``'s
+    child ``(i, 1)``, a stream of its own beside the horizontal one's (:func:`record_rng`)."""
+    return np.random.default_rng(np.random.SeedSequence(int(seed), spawn_key=(int(i), 1)))
+
+
+def check_vertical_site(site: SiteModel, vertical: SiteModel) -> SiteModel:
+    """``vertical`` if it is a :class:`SiteModel` with the sample times of ``site`` (the vertical and horizontal
+    samples of a motion pair up one to one), else a one-line :class:`ParameterError`."""
+    if not isinstance(vertical, SiteModel):
+        raise ParameterError(
+            f"vertical_site must be a rocking.model.stochastic.SiteModel (got {type(vertical).__name__})"
+        )
+    if (vertical.dt, vertical.duration) != (site.dt, site.duration):
+        raise ParameterError(
+            f"vertical_site must have the horizontal site's dt = {site.dt:g} s and duration = {site.duration:g} s "
+            f"(got {vertical.dt:g} s and {vertical.duration:g} s): one vertical sample per horizontal one"
+        )
+    return vertical
 
 
 def suite(site: SiteModel, n: int, seed: int, g: float = 9.81) -> list[np.ndarray]:

@@ -44,6 +44,8 @@ from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
+from ..sim.problem import STATUS
+from ..study.config import flight_beta
 from ..study.design import stroke_use
 from ..study.fragility import FITTED
 from ..study.ida import LEVELS
@@ -71,17 +73,20 @@ from .style import (
     extend,
 )
 
-#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4).
+#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
+#: not overturn and a run flew.
 OUTCOME_CLASSES = (
     ("safe", LIGHT, ""),
     ("overturned, no impact", OKABE_ITO["vermillion"], ""),
     ("overturned after 1 impact", OKABE_ITO["orange"], "//"),
     ("after 2 impacts", OKABE_ITO["yellow"], ".."),
     ("after 3 or more impacts", OKABE_ITO["reddish purple"], "xx"),
+    ("no verdict: g + ddy_g reached 0 (flight)", GREY, "\\\\"),
 )
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
-#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), and 5 for saved
-#: cells whose damped response an adaptive map did not compute (its stroke is not known).
+#: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), 5 for saved
+#: cells whose damped response an adaptive map did not compute (its stroke is not known), and 6 for cells
+#: where a part that did not overturn flew (a vertical component: no verdict, docs/model.md section 14).
 EFFECT_CLASSES = (
     ("safe either way", LIGHT, ""),
     ("saved by the damper", OKABE_ITO["blue"], ""),
@@ -89,6 +94,7 @@ EFFECT_CLASSES = (
     ("overturned either way", GREY, ""),
     ("saved only with the mass past the edge (x_max > B/2)", OKABE_ITO["sky blue"], "//"),
     ("saved, stroke not computed (cell of an adaptive map filled in)", OKABE_ITO["yellow"], ".."),
+    ("no verdict: a run ended in flight", OKABE_ITO["reddish purple"], "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
 HATCH_COLOUR = "#333333"
@@ -221,7 +227,26 @@ def _pulse_label(config: dict) -> str:
     shape = (
         rf" ($\gamma_{{MP}}$ = {pulse['gamma_mp']:g}, $\nu$ = {pulse['nu']:g} rad)" if pulse["motion"] == "mp" else ""
     )
-    return PULSE_NAMES[pulse["motion"]] + shape
+    return PULSE_NAMES[pulse["motion"]] + shape + _vertical_label(config)
+
+
+def _vertical_label(config: dict) -> str:
+    """The pulses' vertical component for a title (docs/model.md section 14); nothing without one."""
+    vertical = config.get("vertical", {})
+    if not vertical:
+        return ""
+    lead = rf" + {vertical['phase']:.3g}/\omega_g" if vertical["phase"] else ""
+    return rf", vertical $\ddot y_g$ = {vertical['ratio']:g} $a_g f(t{lead})$ (> 0 up, either direction)"
+
+
+def _flight_line(ax, config: dict, beta_high: float) -> list[Line2D]:
+    """The amplitude above which ``g + ddy_g`` reaches 0 (runs end with the status flight, no verdict), as a dashed
+    line when it lies below ``beta_high``; its legend handle, or none."""
+    beta_f = flight_beta(_block(config), config)
+    if not beta_f < beta_high:
+        return []
+    label = rf"$\beta$ = {beta_f:.3g}: above, g + $\ddot y_g$ reaches 0 (flight, no verdict)"
+    return [ax.axhline(beta_f, color=GREY, ls="--", lw=1.2, zorder=5, label=label)]
 
 
 def _excitation_label(config: dict) -> str:
@@ -442,22 +467,29 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     env = envelope(data)
     Om, beta = data["Omega"].values, data["beta"].values
     over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
+    # Cells that did not overturn in either direction but flew in one: no verdict (docs/model.md section 14).
+    flew = {
+        part: (data["status"].sel(part=part) == STATUS.index("flight")).any("sign").values & ~over[part]
+        for part in PARTS
+    }
     fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
     for ax, part in zip(axes, PARTS):
-        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), 0)
+        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), np.where(flew[part], 5, 0))
         handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
         ax.set_title(PART_STYLE[part]["label"])
     # One legend of the outcomes, as wide as both outcome panels: the same classes, the same colours.
     present = {h.get_label(): h for h in handles}
-    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), 0)
+    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), np.where(flew["bare"], 5, 0))
     for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
         present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
     order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
-    fig.legend(handles=[present[label] for label in order], loc="outside lower left", ncols=3, **LEGEND)
+    flight = [line for ax in axes for line in _flight_line(ax, study.config, float(beta[-1]))][:1]
+    fig.legend(handles=[present[label] for label in order] + flight, loc="outside lower left", ncols=3, **LEGEND)
     effect = over["bare"].astype(int) + 2 * over["damper"].astype(int)
     past = saved_past_edges(env, block.B / 2)
     unknown = (effect == 1) & ~data["computed"].sel(part="damper").values
-    handles = _classes(axes[2], Om, beta, np.select([past, unknown], [4, 5], effect), EFFECT_CLASSES)
+    no_verdict = flew["bare"] | flew["damper"]
+    handles = _classes(axes[2], Om, beta, np.select([past, unknown, no_verdict], [4, 5, 6], effect), EFFECT_CLASSES)
     fig.legend(handles=handles, loc="outside lower right", ncols=2, **LEGEND)
     s = study.summary
     axes[2].set_title(
@@ -548,7 +580,7 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     _period_axis(ax, block.p)
     _acceleration_axis(ax, block.tan_alpha)
     ax.set_title("minimum overturning amplitude", fontsize=9)
-    handles = ax.get_legend_handles_labels()[0]
+    handles = ax.get_legend_handles_labels()[0] + _flight_line(ax, study.config, scan["high"])
     for code, up in ((ABOVE, True), (BELOW, False)):
         if any((a["flag"][part] == code).any() for part in PARTS):
             handles.append(_bound_handle(up))
@@ -564,6 +596,68 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
     _title(fig, "Minimum overturning spectrum", study.config)
     return fig
+
+
+def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> Figure:
+    """``beta_min(Omega)`` of spectra that differ only in their pulses' vertical ratio (docs/model.md section 14),
+    one panel per direction: the block alone dashed, with its damper solid, a colour per ratio; each ratio's
+    ``beta_f`` (above it the ground pulls past gravity: flight, no verdict) dotted in its colour.
+
+    Only the bracketed ``beta_min`` are drawn: a gap is a frequency where the scan found no overturning (past
+    ``beta_f`` a run ends in flight), or overturning at its first amplitude.
+    """
+    studies = sorted(studies, key=lambda st: st.config.get("vertical", {}).get("ratio", 0.0))
+    config = studies[0].config
+    signs = studies[0].data["sign"].values.tolist()
+    fig, (axes,) = _panels((13, 6.4), (1, len(signs)), fig, ax, sharex=True, sharey=True)
+    handles = []
+    for i, study in enumerate(studies):
+        ratio = study.config.get("vertical", {}).get("ratio", 0.0)
+        colour = cycle(i)["color"]
+        data = study.data
+        for panel, sign in zip(axes, signs):
+            for part, line in (("bare", "--"), ("damper", "-")):
+                cell = data.sel(part=part, sign=sign)
+                bracketed = np.where(cell["flag"].values == BRACKETED, cell["beta_min"].values, np.nan)
+                label = f"r = {ratio:g}, {PART_STYLE[part]['label']}"
+                marker = PART_STYLE[part]["marker"]
+                drawn = panel.plot(
+                    data["Omega"].values, bracketed, line, color=colour, marker=marker, ms=3.5, label=label
+                )
+                if panel is axes[0]:
+                    handles += drawn
+            beta_f = flight_beta(_block(study.config), study.config)
+            if beta_f < study.config["beta"]["high"]:
+                flight = panel.axhline(beta_f, color=colour, ls=":", lw=1.5)
+                if panel is axes[0]:
+                    flight.set_label(rf"r = {ratio:g}: $\beta_f$ = {beta_f:.3g}, g + $\ddot y_g$ reaches 0 above")
+                    handles.append(flight)
+    block = _block(config)
+    for panel, sign in zip(axes, signs):
+        panel.set_title(f"pulses of sign {sign:+d}", fontsize=9)
+        _omega_axis(panel)
+        _period_axis(panel, block.p)
+    _beta_axis(axes[0])
+    _acceleration_axis(axes[-1], block.tan_alpha)
+    fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
+    pulse = PULSE_NAMES[config.get("pulse", {"motion": "sine"})["motion"]]
+    fig.suptitle(
+        f"Minimum overturning spectrum under a vertical component: {pulse} with "
+        rf"$\ddot y_g$ = r $a_g f(t)$ (> 0 up, in phase, the same for both signs)"
+        f"\n{_block_label(block)}\n{_damper_label(config)}",
+        fontsize=10,
+    )
+    return fig
+
+
+def draw_vertical_spectra(studies, folder: str | Path, name: str = "spectrum-vertical") -> list[Path]:
+    """Draw :func:`vertical_spectra_figure` of ``studies`` as ``<folder>/<name>.png`` and ``.pdf``."""
+    fig = vertical_spectra_figure(studies)
+    FigureCanvasAgg(fig)
+    paths = [Path(folder) / f"{name}.{ext}" for ext in ("png", "pdf")]
+    for path in paths:
+        fig.savefig(path, dpi=150)
+    return paths
 
 
 def _threshold_text(t: dict) -> str:

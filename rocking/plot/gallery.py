@@ -23,7 +23,7 @@ import rocking.generated
 from ..study.config import tree_hash
 
 #: The demo's figures the documentation shows (README, docs/gallery.md).
-GALLERY = ("map", "map-unlimited", "spectrum", "design", "threshold")
+GALLERY = ("map", "map-unlimited", "spectrum", "spectrum-vertical", "design", "threshold")
 
 #: The record beside the figures.
 RECORD = "figures.json"

@@ -28,11 +28,12 @@ from ..model.params import (
     tuned_damper,
 )
 from ..model.pulse import check_signs
+from ..model.vertical import Vertical, check_vertical
 from . import boundary
 from .backends import BACKENDS
 from .batch import Cases, Packed
 from .boundary import MOTION
-from .problem import check_integer, default_settings, own_parameters, resolve_model
+from .problem import check_integer, default_settings, flight_settings, own_parameters, resolve_model
 
 __all__ = ["Cases", "Packed", "pulse_cases", "run_cases", "sampled_cases"]
 
@@ -93,6 +94,7 @@ def pulse_cases(
     motion: str = "sine",
     gamma_mp: float | None = None,
     nu: float = 0.0,
+    vertical: object = None,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
@@ -104,6 +106,10 @@ def pulse_cases(
     ``stops``: the dampers' guides end in the stops of :meth:`rocking.Stops.at_edges`
     (model ``"omd_stops"``); with ``gamma`` only. ``stroke``: their half-stroke ``L``, m, in
     ``(0, B/2)`` (default ``B/2`` minus the pads' depth, :data:`rocking.model.params.BUMPER_DEPTH`).
+    ``vertical``: every pulse's vertical component, a :class:`rocking.Vertical` or None, checked (docs/model.md
+    section 14):
+    ``ddy_g = ratio a_g f(t + phase / omega_g)``, > 0 up, unsigned by ``sign``; a case where ``g + ddy_g``
+    reaches 0 ends there with the status ``flight``. Default None: none (``ratio = 0`` is the same).
 
     All array arguments broadcast together (docs/model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
@@ -137,7 +143,7 @@ def pulse_cases(
     phase = psi if motion == "sine" else np.full(omega_g.shape, nu if motion == "mp" else 0.0)
     t_c, t_p = timing(motion, omega_g, phase, gamma_mp or 0.0)
     extrema = listed_extrema(motion, gamma_mp or 0.0, nu)
-    columns = {
+    columns: dict = {
         "motion": MOTION[motion],
         "a_g": sign * block.a_g(beta),
         "omega_g": omega_g,
@@ -148,7 +154,25 @@ def pulse_cases(
         "n_extrema": 0 if extrema is None else len(extrema),
         "extrema": extrema,
     }
+    checked = check_vertical(vertical)
+    if checked is not None and checked.ratio > 0.0:
+        columns.update(_vertical_columns(block, columns, checked, block.a_g(beta)))
     return _cases(block, columns, 2 * np.pi / omega_g, damper, rtol, t_after, max_events, model, params, stops, stroke)
+
+
+def _vertical_columns(block: Block, columns: dict, vertical: Vertical, a_g: np.ndarray) -> dict:
+    """``a_v``, ``psi_v`` and ``t_flight`` of the pulses of ``columns`` (flat arrays) with ``vertical``.
+
+    ``a_v = ratio a_g`` is unsigned by the direction (docs/model.md section 14). Every shape has ``|f| <= 1``, so
+    ``g + ddy_g >= g - a_v > 0`` where ``a_v < g``: only the other cases are scanned for their flight time.
+    """
+    a_v = vertical.ratio * a_g
+    t_flight = np.full(a_v.shape, np.inf)
+    for i in np.flatnonzero(a_v >= block.g):
+        case = {k: v if np.ndim(v) == 0 or k == "extrema" else v[i] for k, v in columns.items()}
+        case.update(a_v=a_v[i], psi_v=vertical.phase, pulse_dt=0.0)
+        t_flight[i] = flight_settings(case, block)["t_flight"]
+    return {"a_v": a_v, "psi_v": vertical.phase, "t_flight": t_flight}
 
 
 def sampled_cases(
@@ -172,7 +196,9 @@ def sampled_cases(
     """Cases for one sampled motion at the factors ``scale`` (as ``motion.scaled(scale)``) and dampers.
 
     Every case shares ``motion``'s samples (one buffer, not a copy per case). ``sign`` (+1 or -1,
-    or an array of them) keeps (+1) or mirrors (-1) the motion's direction. ``scale`` (>= 0),
+    or an array of them) keeps (+1) or mirrors (-1) the motion's direction; a vertical component
+    (``SampledMotion(a_v=...)``) is scaled with the horizontal one and unsigned (docs/model.md
+    section 14), and a case where ``g + ddy_g`` reaches 0 ends there with the status ``flight``. ``scale`` (>= 0),
     ``sign`` and the damper arrays broadcast together, flattened in C order; the damper, ``model``,
     ``params``, ``stops`` and ``stroke`` as for :func:`pulse_cases`.
     """
@@ -196,7 +222,27 @@ def sampled_cases(
         "n_samples": motion.n,
         "samples": motion.a,
     }
+    if motion.a_v is not None:
+        columns.update(_vertical_samples(block, motion, motion.a_v, motion.scale * scale))
     return _cases(block, columns, np.inf, damper, rtol, t_after, max_events, model, params, stops, stroke)
+
+
+def _vertical_samples(block: Block, motion: SampledMotion, samples: np.ndarray, a_v: np.ndarray) -> dict:
+    """``a_v``, the vertical ``samples`` of ``motion`` and ``t_flight`` of its cases at the vertical scales ``a_v``
+    (the motion's scale times the case's, unsigned: docs/model.md section 14).
+
+    ``g + a_v v(t) <= 0`` first between the two samples where it changes sign (linear there), at the least scale
+    ``a_v >= g / max(-v)`` only: the flight time of each distinct scale is found once.
+    """
+    t_flight = np.full(a_v.shape, np.inf)
+    lowest = -float(np.min(samples))
+    if lowest > 0.0:
+        settings = {"motion": MOTION["sampled"], "a_v": 0.0, "pulse_dt": motion.dt, "v_samples": samples}
+        settings.update(t_p=motion.t_p, omega_g=0.0, psi=0.0, t_c=0.0, shape=0.0)
+        flying = a_v * lowest >= block.g
+        for scale in np.unique(a_v[flying]):
+            t_flight[a_v == scale] = flight_settings({**settings, "a_v": scale}, block)["t_flight"]
+    return {"a_v": a_v, "n_v_samples": samples.size, "v_samples": samples, "t_flight": t_flight}
 
 
 def _damper_arrays(gamma, omega_ratio, zeta, h, *motion_arrays):
@@ -247,6 +293,11 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
         model = resolve_model(model, "block" if bare else "omd_stops" if stops else "omd")
     except ModelError as exc:
         raise ParameterError(str(exc)) from None
+    if np.any(columns.get("a_v", 0.0) != 0.0) and not model.manifest.get("vertical", False):
+        raise ParameterError(
+            f"model {model.name!r} takes no vertical ground motion: its energies hold g beside the weights "
+            "(docs/model.md section 14); give the pulses no vertical component"
+        )
     shape = gamma.shape
     values = {k: np.full(shape, v) for k, v in block.as_params().items()}
     T_m = np.full(shape, np.inf)

@@ -67,6 +67,11 @@ EVENT_KINDS = {
 #: What the quantities of every model are: name -> (unit, long name). Coordinates come from the manifest.
 _LOADS = {
     "a_g": ("m/s^2", "ground acceleration, > 0 to the right"),
+    "a_gy": (
+        "m/s^2",
+        "vertical ground acceleration ddy_g, > 0 up: the block feels gravity g + a_gy; unsigned by the motion's "
+        "direction, 0 without a vertical component (docs/model.md section 14)",
+    ),
     "a_top": ("m/s^2", "absolute horizontal acceleration of the centre of the block's top side"),
     "a_cm": ("m/s^2", "absolute horizontal acceleration of the block's centroid G"),
     "V_b": ("N", "base shear: horizontal force of the ground on the block and its bodies, > 0 to the right"),
@@ -201,6 +206,7 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
     out.update({"dd" + q: a for q, a in zip(model.coordinates, ddq)})
     out["phase"] = phase
     out["a_g"] = ag
+    out["a_gy"] = agy
     out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, ag, agy, p), ddq, 2)
     out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, ag, agy, p), ddq, 3)
     out.update({"F_" + q: f for q, f in zip(model.coordinates[1:], _evaluate(fn.element_forces, s, y, ag, agy, p))})
@@ -228,7 +234,7 @@ def attributes(model) -> dict[str, tuple[str, str]]:
     attrs.update({"d" + q: (units["d" + q], f"velocity of {q}") for q in model.coordinates})
     attrs.update({"dd" + q: (units[q] + "/s^2", f"acceleration of {q}") for q in model.coordinates})
     attrs["phase"] = _LOADS["phase"]
-    attrs.update({k: _LOADS[k] for k in ("a_g", "a_top", "a_cm", "V_b", "N_b", "M_b")})
+    attrs.update({k: _LOADS[k] for k in ("a_g", "a_gy", "a_top", "a_cm", "V_b", "N_b", "M_b")})
     for q in model.coordinates[1:]:
         force = "N m" if units[q] == "rad" else "N"
         attrs["F_" + q] = (

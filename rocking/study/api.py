@@ -16,6 +16,10 @@ rtol, t_after, backend
 pulse, gamma_mp, nu
     The pulse family of the pulse studies: ``"sine"`` (the paper's), ``"cosine"``, ``"ricker"``, ...,
     ``"mp"`` with its oscillations ``gamma_mp`` (> 1) and phase ``nu`` (rad).
+vertical_ratio, vertical_phase
+    The maps' and spectra's vertical component of every pulse, ``rocking.Vertical(vertical_ratio,
+    vertical_phase)`` (:class:`~rocking.study.config.Setting`, docs/model.md section 14): ratio in [0, 10]
+    (default 0: none), lead in [0, 2 pi) rad.
 workers, scheduler, dask_workers, progress
     Local workers (default: all cores), a Dask scheduler's address or a local Dask cluster of that many
     workers, and a progress bar (:class:`~rocking.study.tiles.Execution`).
@@ -70,9 +74,10 @@ def runs_folder() -> Path:
     return Path(platformdirs.user_cache_dir(APP, appauthor=False)) / "runs"
 
 
-def _setting(block, rtol: float, t_after: float, backend: str, pulse: str = "sine", gamma_mp=None, nu=None) -> Setting:
+def _setting(block, rtol: float, t_after: float, backend: str, pulse: str = "sine", gamma_mp=None, nu=None, **vertical):
+    """The study's :class:`Setting`; ``vertical``: ``vertical_ratio`` and ``vertical_phase`` of the maps and spectra."""
     shape = {"gamma_mp": gamma_mp} | ({} if nu is None else {"nu": nu})
-    return Setting(check_block(block), rtol=rtol, t_after=t_after, backend=backend, pulse=pulse, **shape)
+    return Setting(check_block(block), rtol=rtol, t_after=t_after, backend=backend, pulse=pulse, **shape, **vertical)
 
 
 def _tuning(damper) -> Tuning | Variant:
@@ -141,6 +146,8 @@ def overturning_map(
     pulse: str = "sine",
     gamma_mp: float | None = None,
     nu: float | None = None,
+    vertical_ratio: float = Setting.vertical_ratio,
+    vertical_phase: float = Setting.vertical_phase,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -162,6 +169,8 @@ def overturning_map(
         As :func:`rocking.study.overturning_map.overturning_map`.
     rtol, t_after, pulse, gamma_mp, nu, backend, workers, scheduler, dask_workers, runs, progress, study
         Shared by every study (:mod:`rocking.study.api`).
+    vertical_ratio, vertical_phase : float, optional
+        The vertical component of every pulse (:mod:`rocking.study.api`); default none.
 
     Returns
     -------
@@ -182,7 +191,17 @@ def overturning_map(
     """
     return _run(
         _overturning_map,
-        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
+        _setting(
+            block,
+            rtol,
+            t_after,
+            backend,
+            pulse,
+            gamma_mp,
+            nu,
+            vertical_ratio=vertical_ratio,
+            vertical_phase=vertical_phase,
+        ),
         _tuning(damper),
         _grid("Omega", Omega),
         _grid("beta", beta),
@@ -214,6 +233,8 @@ def minimum_overturning_spectrum(
     pulse: str = "sine",
     gamma_mp: float | None = None,
     nu: float | None = None,
+    vertical_ratio: float = Setting.vertical_ratio,
+    vertical_phase: float = Setting.vertical_phase,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -246,7 +267,17 @@ def minimum_overturning_spectrum(
     """
     return _run(
         _minimum_overturning_spectrum,
-        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
+        _setting(
+            block,
+            rtol,
+            t_after,
+            backend,
+            pulse,
+            gamma_mp,
+            nu,
+            vertical_ratio=vertical_ratio,
+            vertical_phase=vertical_phase,
+        ),
         _tuning(damper),
         _grid("Omega", Omega),
         _grid("beta", beta),
@@ -530,6 +561,8 @@ def incremental_dynamic_analysis(
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
+    vertical_ratio: float | None = None,
+    vertical_site=None,
     pulses: str | None = None,
     periods=None,
     amplitude: float | None = None,
@@ -562,6 +595,10 @@ def incremental_dynamic_analysis(
         Instead: ``stochastic`` motions of the site model ``site`` (a
         :class:`~rocking.model.stochastic.SiteModel` or a mapping of its keywords, ``arias``, ``d595``, ...,
         over the defaults) from ``seed`` (default 0).
+    vertical_ratio, vertical_site
+        With ``stochastic``: each motion's vertical component, ``vertical_ratio`` (in [0, 10]) times a record of
+        ``vertical_site`` (a SiteModel or a mapping of its keywords over ``site``'s; default ``site``) of its own
+        noise, > 0 up (:meth:`rocking.study.suite.Suite.stochastic`, docs/model.md section 14).
     pulses, periods, amplitude, gamma_mp, nu
         Instead: a family of pulses (``"sine"``, ``"ricker"``, ``"mp"``, ...), one per period (s), of
         amplitude ``amplitude`` (m/s^2, default 1 g) and the MP shape (:func:`rocking.study.suite.of_pulses`).
@@ -591,6 +628,7 @@ def incremental_dynamic_analysis(
     (['ricker-T0.5-0', 'ricker-T1-1'], '1')
     """
     suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
     return _ida(
         "scale",
@@ -623,6 +661,8 @@ def fragility(
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
+    vertical_ratio: float | None = None,
+    vertical_site=None,
     pulses: str | None = None,
     periods=None,
     amplitude: float | None = None,
@@ -650,8 +690,8 @@ def fragility(
     im : {"pga", "pgv", "arias", "cav", "amplitude"}
         The intensity measure: PGA (m/s^2), PGV (m/s), Arias intensity (m/s), CAV (m/s), or the amplitude
         ``a_g`` of a suite of pulses (m/s^2).
-    motions, unit, stochastic, seed, site, pulses, periods, amplitude, gamma_mp, nu, check
-        The suite, as :func:`incremental_dynamic_analysis`.
+    motions, unit, stochastic, seed, site, vertical_ratio, vertical_site, pulses, periods, amplitude, gamma_mp, nu
+        The suite, as :func:`incremental_dynamic_analysis`; ``check`` too.
     damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
 
@@ -680,6 +720,7 @@ def fragility(
     if im not in tuple(LEVELS)[1:]:
         raise ParameterError(f"im must be one of {', '.join(tuple(LEVELS)[1:])} (got {im!r})")
     suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
     return _ida(
         im,

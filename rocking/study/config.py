@@ -24,8 +24,9 @@ from pathlib import Path
 import numpy as np
 
 from ..model.loading import GENERATED, ModelError, load_model
-from ..model.motion import PULSE_TYPES
+from ..model.motion import PULSE_TYPES, SHAPES, timing
 from ..model.params import Block, ParameterError, check_in_range, check_real, shown
+from ..model.vertical import Vertical
 from ..sim import boundary
 from ..sim.problem import OPTIONS
 from ..version import __version__
@@ -233,6 +234,10 @@ class Setting:
         and ``a_g / (g tan alpha)``. Default ``"sine"``, the paper's one-sine pulse.
     gamma_mp, nu : float, optional
         The oscillations (> 1) and phase (rad) of the Mavroeidis-Papageorgiou pulse (``pulse="mp"`` only).
+    vertical_ratio, vertical_phase : float, optional
+        The vertical component of every pulse, :class:`rocking.Vertical` ``(vertical_ratio, vertical_phase)``
+        (docs/model.md section 14): ``ddy_g = vertical_ratio a_g f(t + vertical_phase / omega_g)``, > 0 up,
+        unsigned by the pulse's direction; the ratio in [0, 10], the lead in [0, 2 pi) rad. Default 0, 0: none.
     """
 
     block: Block
@@ -242,6 +247,8 @@ class Setting:
     pulse: str = "sine"
     gamma_mp: float | None = None
     nu: float = 0.0
+    vertical_ratio: float = 0.0
+    vertical_phase: float = 0.0
 
     def __post_init__(self) -> None:
         if not isinstance(self.block, Block):
@@ -261,18 +268,81 @@ class Setting:
         object.__setattr__(self, "rtol", float(self.rtol))
         object.__setattr__(self, "t_after", float(self.t_after))
         object.__setattr__(self, "nu", float(check_real("nu", self.nu)))
+        object.__setattr__(self, "vertical_ratio", check_in_range("vertical_ratio", self.vertical_ratio))
+        phase = check_in_range("vertical_phase", self.vertical_phase, "psi", label="[0, 2 pi)")
+        if phase != 0.0 and self.vertical_ratio == 0.0:
+            raise ParameterError(
+                "vertical_phase is the lead of the vertical component: give it with vertical_ratio > 0"
+            )
+        object.__setattr__(self, "vertical_phase", phase)
+
+    @property
+    def vertical(self) -> Vertical | None:
+        """The pulses' vertical component, ``None`` for ``vertical_ratio = 0``."""
+        return Vertical(self.vertical_ratio, self.vertical_phase) if self.vertical_ratio > 0.0 else None
 
     def pulse_args(self) -> dict:
-        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for the pulse family."""
+        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for the pulse family and its vertical
+        component."""
+        vertical = {"vertical": self.vertical} if self.vertical is not None else {}
         if self.pulse == "sine":
-            return {}
+            return vertical
         shape = {"gamma_mp": self.gamma_mp, "nu": self.nu} if self.pulse == "mp" else {}
-        return {"motion": self.pulse, **shape}
+        return {"motion": self.pulse, **shape, **vertical}
+
+    def vertical_record(self) -> dict:
+        """The vertical component, JSON-ready: ``{"ratio": ..., "phase": ...}``, empty for none."""
+        return {"ratio": self.vertical_ratio, "phase": self.vertical_phase} if self.vertical is not None else {}
 
     def record(self) -> dict:
-        """JSON-ready description (the pulse family only when it is not the paper's one-sine)."""
+        """JSON-ready description: the pulse family only when it is not the paper's one-sine, the vertical component
+        only when there is one (so the records, and the hashes of the tiles, of the studies without are unchanged)."""
         record = {"block": self.block.as_params(), "rtol": self.rtol, "t_after": self.t_after, "backend": self.backend}
-        return {**record, "pulse": self.pulse_args()} if self.pulse != "sine" else record
+        if self.pulse != "sine":
+            shape = {"gamma_mp": self.gamma_mp, "nu": self.nu} if self.pulse == "mp" else {}
+            record["pulse"] = {"motion": self.pulse, **shape}
+        if self.vertical is not None:
+            record["vertical"] = self.vertical_record()
+        return record
+
+
+def vertical_attrs(config: dict) -> dict:
+    """Attributes of a map's or spectrum's Dataset naming its pulses' vertical component (``config["vertical"]``,
+    :meth:`Setting.vertical_record`; none when absent): ratio, lead (rad) and the convention, in words."""
+    vertical = config.get("vertical", {})
+    if not vertical:
+        return {"vertical_ratio": 0.0, "vertical_component": "none: ddy_g = 0 (horizontal pulses only)"}
+    ratio, phase = vertical["ratio"], vertical["phase"]
+    return {
+        "vertical_ratio": ratio,
+        "vertical_phase": phase,
+        "vertical_component": (
+            f"ddy_g(t) = {ratio:g} a_g f(t + {phase:g} rad / omega_g) on the pulse's [0, t_p], m/s^2, > 0 up (it adds "
+            "to gravity), unsigned by the pulse's direction (docs/model.md section 14); a run where g + ddy_g "
+            "reaches 0 ends with status flight, without a verdict"
+        ),
+    }
+
+
+def flight_beta(block: Block, config: dict) -> float:
+    """The amplitude ratio ``beta`` from which the pulses of a study's ``config`` lift the ground's pull past
+    gravity: ``g + ddy_g(t) <= 0`` somewhere on the pulse, so the runs that do not overturn first end with the status
+    ``flight`` (docs/model.md section 14); ``inf`` without a vertical component.
+
+    The shape scales with ``omega_g``, so the bound is the same at every ``Omega``:
+    ``beta_f = 1 / (ratio tan(alpha) max(-f_v))``, ``f_v`` the vertical shape over the pulse (scanned at 1e-4 of a
+    radian of phase, the shapes being smooth there).
+    """
+    vertical = config.get("vertical", {})
+    pulse = config.get("pulse", {"motion": "sine"})
+    if not vertical:
+        return math.inf
+    family, gamma = pulse["motion"], pulse.get("gamma_mp", 0.0)
+    phase = pulse.get("nu", 0.0)
+    t_c, t_p = (float(v) for v in timing(family, 1.0, phase, gamma))
+    t = np.linspace(0.0, t_p, int(t_p * 1e4) + 2)
+    lowest = -float(np.min(SHAPES[family](t + vertical["phase"], 1.0, phase, t_c, gamma, np)))
+    return 1.0 / (vertical["ratio"] * block.tan_alpha * lowest) if lowest > 0.0 else math.inf
 
 
 @dataclass(frozen=True)

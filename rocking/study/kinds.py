@@ -94,6 +94,8 @@ def _grid(name: str, default: tuple, text: str) -> tuple:
 
 #: The options every pulse study ends with, after its own.
 _PULSE_STUDY: tuple[tuple[str, dict], ...] = (("directions", {}), ("pulse", {}), ("solver", {}))
+#: Those of the maps and spectra, whose pulses may have a vertical component.
+_VERTICAL_STUDY: tuple[tuple[str, dict], ...] = (("directions", {}), ("pulse", {}), ("vertical", {}), ("solver", {}))
 #: The options of the motions of ida and fragility, before their levels.
 _MOTIONS: tuple[tuple[str, dict], ...] = (("block", {}), ("damper", {"tuned": True}), ("variant", {}), ("motions", {}))
 #: The options of ida and fragility, after their levels.
@@ -121,7 +123,7 @@ KINDS = {
                 _grid("beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)"),
                 ("tile", {}),
                 ("refinement", {}),
-                *_PULSE_STUDY,
+                *_VERTICAL_STUDY,
             ),
             _ONE_DAMPER,
             "overturning_map",
@@ -144,7 +146,7 @@ KINDS = {
                 _grid("beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)"),
                 ("tol", {}),
                 ("scan", {}),
-                *_PULSE_STUDY,
+                *_VERTICAL_STUDY,
             ),
             _ONE_DAMPER,
             "minimum_overturning_spectrum",

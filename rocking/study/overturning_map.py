@@ -41,7 +41,7 @@ from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
 from . import directions
 from .adaptive import COARSE, Refinement, check_coarse, check_verify, guarantee
-from .config import Grid, Setting, Tuning, Variant, check_cells, check_type, is_count, part_config
+from .config import Grid, Setting, Tuning, Variant, check_cells, check_type, is_count, part_config, vertical_attrs
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, choose
 from .result import Study
@@ -146,9 +146,15 @@ def outcome(overturned, impacts) -> np.ndarray:
     return np.where(overturned, impacts, SAFE)
 
 
+#: The statuses without a verdict: a bound on the run's work, or the ground's pull past gravity (``flight``: the base
+#: may leave the ground, out of the model's scope, docs/model.md section 14; only with a vertical component).
+NO_VERDICT = (*UNDETERMINED, "flight")
+
+
 def undetermined(status) -> np.ndarray:
-    """Where a run was cut short by a bound on its work (``max_events``, ``max_steps``): no verdict."""
-    return np.isin(status, [STATUS.index(name) for name in UNDETERMINED])
+    """Where a run ended without a verdict (:data:`NO_VERDICT`): cut short by a bound on its work (``max_events``,
+    ``max_steps``), or where ``g + ddy_g`` reached 0 (``flight``)."""
+    return np.isin(status, [STATUS.index(name) for name in NO_VERDICT])
 
 
 def response_classes(overturned, impacts, status) -> np.ndarray:
@@ -168,16 +174,17 @@ def warn_undetermined(study: str, count: int) -> None:
     if count:
         warnings.warn(
             f"{study}: {count} response(s) ended at a bound on their work (status {' or '.join(UNDETERMINED)}) "
-            "before overturning or coming to rest; they count as not overturned (a map leaves the damper's "
-            "effect there at 0). A damper far stiffer than the block (omega_ratio >> 10) with little damping "
-            "needs many steps: docs/simulation.md, rule 5",
+            "or, with a vertical component, where g + ddy_g reached 0 (status flight, out of the model's scope: "
+            "docs/model.md section 14) before overturning or coming to rest; they count as not overturned (a map "
+            "leaves the damper's effect there at 0). A damper far stiffer than the block (omega_ratio >> 10) with "
+            "little damping needs many steps: docs/simulation.md, rule 5",
             UndeterminedWarning,
             stacklevel=3,
         )
 
 
 class UndeterminedWarning(UserWarning):
-    """Some responses of a study ended without a verdict (status ``max_events`` or ``max_steps``)."""
+    """Some responses of a study ended without a verdict (status ``max_events``, ``max_steps`` or ``flight``)."""
 
 
 def map_tile(payload: tuple) -> dict:
@@ -411,7 +418,7 @@ def map_data(config: dict, Omega, beta, signs, fields: dict, computed):
     coords.update(si_coordinates(config, coords))
     variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
     variables["computed"] = (DIMS["computed"], computed, field_attrs("computed", config))
-    return xr.Dataset(variables, coords=coords)
+    return xr.Dataset(variables, coords=coords, attrs=vertical_attrs(config))
 
 
 def envelope(data):

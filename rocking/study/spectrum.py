@@ -56,8 +56,9 @@ from pathlib import Path
 import numpy as np
 
 from ..model.params import ParameterError
+from ..sim.problem import STATUS
 from .adaptive import check_coarse, refine_scan
-from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config
+from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .overturning_map import (
@@ -73,7 +74,7 @@ from .overturning_map import (
 )
 from .result import Study
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
-from .vocabulary import ABOVE, BELOW, BRACKETED, PART_NAMES, SAFE, flag_words
+from .vocabulary import ABOVE, BELOW, BRACKETED, FLIGHT, PART_NAMES, SAFE, flag_words
 
 #: Default relative tolerance of the bisection on beta.
 TOL = 1e-3
@@ -177,7 +178,8 @@ def beta_min(
         verdict, :func:`rocking.study.overturning_map.undetermined`, the scan's
         amplitudes that take such a class without being computed included; they
         count as not overturned), ``scan_outcome`` (n, m:
-        :func:`rocking.study.overturning_map.outcome` along the scan), ``responses``
+        :func:`rocking.study.overturning_map.outcome` along the scan, :data:`~rocking.study.vocabulary.FLIGHT`
+        where a run ended in flight: a column is read below its first flight only), ``responses``
         (n,: responses computed, scan and bisection) and ``scan_responses`` (n,: of them, the scan's).
     """
     Omega = np.atleast_1d(np.asarray(Omega, float))
@@ -194,11 +196,18 @@ def beta_min(
     coarse = check_coarse(coarse)
     classes, computed, _ = refine_scan(classify, (n, beta_scan.size), coarse, verify=coarse)
     scan_outcome = np.where(classes >= 0, classes, SAFE)  # no verdict (class <= -2): not overturned
-    over = scan_outcome != SAFE
+    # A run that ended in flight has no verdict, nor has the scan above it (every run there flies unless it
+    # overturns first, docs/model.md section 14): a column is read up to its first flight, the lower bound of a
+    # beta_min not reached is the amplitude before it, and the flights keep their own outcome (no safe window).
+    flight = classes == -2 - STATUS.index("flight")
+    flown = np.cumsum(flight, axis=1) > 0
+    scan_outcome = np.where(flight, FLIGHT, scan_outcome)
+    over = (scan_outcome >= 0) & ~flown
     first = np.argmax(over, axis=1)  # first overturning scan point (0 if none)
     rows = np.arange(n)
     flag = np.where(~over.any(axis=1), ABOVE, np.where(first == 0, BELOW, BRACKETED))
-    hi = np.where(flag == ABOVE, beta_scan[-1], beta_scan[first])
+    top = np.where(flown.any(axis=1), np.maximum(np.argmax(flown, axis=1) - 1, 0), beta_scan.size - 1)
+    hi = np.where(flag == ABOVE, beta_scan[top], beta_scan[first])
     lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
     impacts = np.where(flag == ABOVE, -1, scan_outcome[rows, first])
     unknown = (classes <= -2).sum(axis=1)
@@ -425,7 +434,8 @@ def spectrum_data(config: dict, Omega, beta_scan, signs, fields: dict):
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
     }
     coords.update(si_coordinates(config, coords))
-    return xr.Dataset({k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}, coords=coords)
+    variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
+    return xr.Dataset(variables, coords=coords, attrs=vertical_attrs(config))
 
 
 def envelope(data):

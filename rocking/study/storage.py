@@ -43,6 +43,7 @@ from .config import (
     name_text,
     tree_hash,
     versions,
+    vertical_attrs,
 )
 from .dataset import read_netcdf, to_dataset
 from .files import (
@@ -440,6 +441,8 @@ def _read_data(nc: Path, record: dict):
     if checksum(variables(data)) != record["variables_sha256"]:
         raise ParameterError(f"{nc}: its variables do not match the checksum of its JSON (changed or damaged)")
     data.attrs.clear()  # the configuration and summary are the record's, checked
+    if record["kind"] in ("map", "spectrum"):  # their pulses' vertical component, as the study made them
+        data.attrs.update(vertical_attrs(record["config"]))
     return data
 
 

@@ -20,9 +20,9 @@ from pathlib import Path
 from typing import Any
 
 from ..model.motion import PULSE_TYPES, SampledMotion, describe, family_of
-from ..model.params import ParameterError
+from ..model.params import ParameterError, check_in_range
 from ..model.records import UNITS, file_sha256, read_record
-from ..model.stochastic import DEFAULT_SITE, SiteModel, record_rng, synthesize
+from ..model.stochastic import DEFAULT_SITE, SiteModel, check_vertical_site, record_rng, synthesize, vertical_rng
 
 #: Largest number of motions in a suite.
 MAX_MOTIONS = 100_000
@@ -32,7 +32,7 @@ SOURCES = {"motions": "motions FILES", "stochastic": "stochastic N", "pulses": "
 #: The options of each source of a suite.
 OPTIONS_OF = {
     "motions": ("unit",),
-    "stochastic": ("seed", "site"),
+    "stochastic": ("seed", "site", "vertical_ratio", "vertical_site"),
     "pulses": ("periods", "amplitude", "gamma_mp", "nu"),
 }
 
@@ -54,6 +54,11 @@ class Suite:
         The seed and the number of motions of a stochastic suite.
     pulses : tuple
         The analytic pulses of a suite of pulses (:meth:`from_pulses`).
+    vertical_ratio : float
+        A stochastic suite's vertical component: ``ddy_g = vertical_ratio a_v(t)``, ``a_v`` a record of
+        ``vertical_site`` (:mod:`rocking.model.stochastic`); 0: none.
+    vertical_site : SiteModel or None
+        The vertical component's site model; None: the horizontal ``site``.
     """
 
     files: tuple = ()
@@ -61,6 +66,8 @@ class Suite:
     seed: int = 0
     n: int = 0
     pulses: tuple = ()
+    vertical_ratio: float = 0.0
+    vertical_site: SiteModel | None = None
 
     @classmethod
     def from_files(cls, paths, unit: str | None = None) -> Suite:
@@ -87,15 +94,33 @@ class Suite:
         return cls(files=tuple((str(p), file_sha256(p), own) for p, own in items))
 
     @classmethod
-    def stochastic(cls, site: SiteModel, n: int, seed: int) -> Suite:
-        """``n`` motions of the site model ``site`` drawn from ``seed`` (motion ``i`` is the same for any ``n``)."""
+    def stochastic(
+        cls, site: SiteModel, n: int, seed: int, vertical_ratio: float = 0.0, vertical_site: SiteModel | None = None
+    ) -> Suite:
+        """``n`` motions of the site model ``site`` drawn from ``seed`` (motion ``i`` is the same for any ``n``).
+
+        ``vertical_ratio`` (in [0, 10]; default 0: none) gives each motion a vertical component, ``vertical_ratio``
+        times a record of ``vertical_site`` (default: ``site``) of its own noise, > 0 up (docs/model.md section 14,
+        :mod:`rocking.model.stochastic`); the horizontal motions are those without it.
+
+        Raises
+        ------
+        ParameterError
+            Naming the parameter: a site that is not a SiteModel, ``n`` or ``seed`` out of range, a ratio out of
+            [0, 10], a vertical site without a ratio or of other sample times than ``site``'s.
+        """
         if not isinstance(site, SiteModel):
             raise ParameterError(f"site must be a rocking.model.stochastic.SiteModel (got {type(site).__name__})")
         if not (isinstance(n, int) and not isinstance(n, bool) and 1 <= n <= MAX_MOTIONS):
             raise ParameterError(f"n must be an integer in [1, {MAX_MOTIONS}] (motions in a suite) (got {n!r})")
         if not (isinstance(seed, int) and not isinstance(seed, bool) and seed >= 0):
             raise ParameterError(f"seed must be an integer >= 0 (got {seed!r})")
-        return cls(site=site, seed=seed, n=n)
+        ratio = check_in_range("vertical_ratio", vertical_ratio)
+        if vertical_site is not None:
+            if ratio == 0.0:
+                raise ParameterError("vertical_site shapes the vertical component: give it with vertical_ratio > 0")
+            check_vertical_site(site, vertical_site)
+        return cls(site=site, seed=seed, n=n, vertical_ratio=ratio, vertical_site=vertical_site)
 
     @classmethod
     def from_pulses(cls, pulses) -> Suite:
@@ -133,7 +158,13 @@ class Suite:
             return SampledMotion(record.acceleration, dt=record.dt)
         if self.pulses:
             return self.pulses[i]
-        return SampledMotion(synthesize(self.site, record_rng(self.seed, i)), dt=self.site.dt)
+        site = self.site
+        assert site is not None  # neither files nor pulses: a stochastic suite
+        a = synthesize(site, record_rng(self.seed, i))
+        if self.vertical_ratio == 0.0:
+            return SampledMotion(a, dt=site.dt)
+        a_v = self.vertical_ratio * synthesize(self.vertical_site or site, vertical_rng(self.seed, i))
+        return SampledMotion(a, dt=site.dt, a_v=a_v)
 
     def record(self) -> dict:
         """JSON-ready description: the files and their hashes, the pulses, or the site model, seed and size."""
@@ -146,7 +177,13 @@ class Suite:
                     for p in self.pulses
                 ]
             }
-        return {"stochastic": self.site.record(), "seed": self.seed, "n": self.n}
+        site = self.site
+        assert site is not None  # neither files nor pulses: a stochastic suite
+        record: dict[str, Any] = {"stochastic": site.record(), "seed": self.seed, "n": self.n}
+        if self.vertical_ratio > 0.0:  # only then: the record, and the tiles, of a suite without stay as they were
+            vertical = (self.vertical_site or site).record()
+            record["vertical"] = {"ratio": self.vertical_ratio, "site": vertical, "convention": "ddy_g > 0 up"}
+        return record
 
 
 def motion_names(record: dict) -> list[str]:
@@ -207,6 +244,8 @@ def suite_of(
     amplitude: float | None = None,
     gamma_mp: float | None = None,
     nu: float | None = None,
+    vertical_ratio: float | None = None,
+    vertical_site=None,
     g: float = 9.81,
 ) -> Suite:
     """The suite of a study from exactly one source, by the names of the command line's options.
@@ -220,6 +259,9 @@ def suite_of(
     stochastic, seed, site : optional
         ``stochastic`` motions of the site model ``site`` (a :class:`~rocking.model.stochastic.SiteModel` or a
         mapping of its keywords over the defaults), from ``seed`` (default 0): :meth:`Suite.stochastic`.
+    vertical_ratio, vertical_site : optional
+        The stochastic motions' vertical component (:meth:`Suite.stochastic`); ``vertical_site`` a
+        :class:`~rocking.model.stochastic.SiteModel` or a mapping of its keywords over the horizontal site's.
     pulses, periods, amplitude, gamma_mp, nu : optional
         A family of pulses (:func:`of_pulses`); ``amplitude`` default 1 g.
     g : float
@@ -236,7 +278,7 @@ def suite_of(
     if len(sources) > 1:
         raise ParameterError(f"give one of motions FILES, stochastic N or pulses FAMILY (got {', '.join(sources)})")
     options = {"unit": unit, "seed": seed, "site": site, "periods": periods, "amplitude": amplitude}
-    options |= {"gamma_mp": gamma_mp, "nu": nu}
+    options |= {"gamma_mp": gamma_mp, "nu": nu, "vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     foreign = [k for k, v in options.items() if v is not None and k not in OPTIONS_OF[sources[0]]]
     if foreign and sources[0] == "pulses":
         raise ParameterError(f"pulses makes its own suite: no {', '.join(foreign)}")
@@ -246,15 +288,21 @@ def suite_of(
     if pulses is not None:
         return of_pulses(pulses, periods, g if amplitude is None else amplitude, gamma_mp, nu)
     if stochastic is not None:
-        return Suite.stochastic(_site(site), stochastic, 0 if seed is None else seed)
+        horizontal = _site(site)
+        vertical: dict[str, Any] = {"vertical_ratio": vertical_ratio} if vertical_ratio is not None else {}
+        if vertical_site is not None:
+            vertical["vertical_site"] = _site(vertical_site, horizontal)
+        return Suite.stochastic(horizontal, stochastic, 0 if seed is None else seed, **vertical)
     return _motions(motions, unit)
 
 
-def _site(site) -> SiteModel:
-    """A site model from None (the default), a SiteModel or a mapping of its keywords over the default's."""
+def _site(site, base: SiteModel | None = None) -> SiteModel:
+    """A site model from None (the default), a SiteModel or a mapping of its keywords over the default's; over
+    ``base``'s, its duration included, if given (a vertical site over the horizontal one)."""
     if site is None or isinstance(site, Mapping):
+        over = {**DEFAULT_SITE.record(), "duration": None} if base is None else base.record()
         try:
-            return SiteModel(**{**DEFAULT_SITE.record(), "duration": None, **(site or {})})
+            return SiteModel(**{**over, **(site or {})})
         except TypeError as exc:
             raise ParameterError(f"site: {exc} (keywords of rocking.model.stochastic.SiteModel)") from None
     return site

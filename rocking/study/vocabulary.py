@@ -18,6 +18,9 @@ PART_NAMES = {
 
 #: Outcome of a response that does not overturn (otherwise: the impacts before overturning).
 SAFE = -1
+#: A spectrum's scan outcome where the run ended in flight (``g + ddy_g`` reached 0 with a vertical component,
+#: docs/model.md section 14): no verdict, and none at the amplitudes above it.
+FLIGHT = -2
 
 #: Value of the integer fields (``impacts``, ``stop_contacts``, ``status``) of a cell of an adaptive map that
 #: was not computed, where its class does not give them (the float fields are NaN there).

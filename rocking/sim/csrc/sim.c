@@ -170,6 +170,18 @@ static void stop_memory_record(constants *k, const double *y, int i, int start)
 #endif
 }
 
+/* Every side's v_in that of a contact starting at y (the run's start), the constants prepared
+ * again for it in the regime clear; without a pad's memory nothing changes, nor is prepared. */
+static void stop_memory_start(constants *k, const double *y, const int *clear)
+{
+#if MODEL_NREGIME > MODEL_NSTOPS
+    stop_memory_record(k, y, -1, 1);
+    constants_prepare(k, k->p, clear);
+#else
+    (void)k, (void)y, (void)clear;
+#endif
+}
+
 /* The constants about the pivot s; full contact uses those of s = +1, as
  * the functions evaluated there do not depend on the pivot. */
 static const double *about(const constants *k, double s)
@@ -259,6 +271,7 @@ typedef struct ode {
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
     int pulse_on;    /* the segment lies in [0, t_p] */
     int vertical;    /* pulse_on and the motion has a vertical component */
+    int rhs;         /* ode_rhs_kind of the above, set with them */
     const rocking_case *c; /* the ground motion */
     double piece;    /* a sampled motion: the sample interval of the current step */
     /* The last a_g f(t) of an analytic motion and its t: a step's last two stages
@@ -278,7 +291,11 @@ static double ode_ag(ode *o, double t)
         return o->c->a_g * interpolate(o->c, o->c->samples, o->piece, t);
     if (t != o->memo_t) {
         o->memo_t = t;
-        o->memo_ag = o->c->a_g * pulse_shape(o->c, t);
+        /* The one-sine, the common pulse, without pulse_shape's call and switch (the same operations). */
+        if (o->c->motion == ROCKING_MOTION_SINE)
+            o->memo_ag = o->c->a_g * sin(o->c->omega_g * t + o->c->psi);
+        else
+            o->memo_ag = o->c->a_g * pulse_shape(o->c, t);
     }
     return o->memo_ag;
 }
@@ -293,21 +310,43 @@ static const double *gravity_constants(const ode *o, double s, double t, double 
     return at_gravity;
 }
 
-/* Inline in every stage: the call around it was 4 % of a run's instructions
- * (callgrind on the bench map; ode_ag inline too was more, not less). */
-static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
+/* The right-hand side without a vertical component: inline in every stage (the call around it
+ * was 4 % of a run's instructions on the bench map; ode_ag inline too was more, not less).
+ * pulse_on and contact are o->pulse_on and o->phase == 0, constants of each inlined copy. */
+static inline void ode_rhs_level(ode *o, double t, const double *y, double *dy, int pulse_on, int contact)
 {
-    const double ag = ode_ag(o, t);
-    double at_gravity[NK];
-    const double *cst = o->vertical ? gravity_constants(o, o->phase < 0 ? -1.0 : 1.0, t, at_gravity) : o->cst;
+    const double ag = pulse_on ? ode_ag(o, t) : 0.0;
     /* In full contact contact_accel returns ddtheta = 0 and dtheta is 0, so
      * theta and dtheta stay exactly 0 while the whole state is integrated (the
      * error norm then runs over the same components in every phase). */
+    if (contact)
+        model_contact_accel_prepared(y, ag, o->cst, dy + NQ);
+    else
+        model_rocking_accel_prepared(y, ag, o->cst, dy + NQ);
+    memcpy(dy, y + NQ, NQ * sizeof *dy);
+}
+
+/* The right-hand side with a vertical component: the constants at the effective gravity of t.
+ * Out of line, so that the stages of the level case keep their right-hand side inline. */
+static void ode_rhs_vertical(ode *o, double t, const double *y, double *dy)
+{
+    const double ag = ode_ag(o, t);
+    double at_gravity[NK];
+    const double *cst = gravity_constants(o, o->phase < 0 ? -1.0 : 1.0, t, at_gravity);
     if (o->phase == 0)
         model_contact_accel_prepared(y, ag, cst, dy + NQ);
     else
         model_rocking_accel_prepared(y, ag, cst, dy + NQ);
     memcpy(dy, y + NQ, NQ * sizeof *dy);
+}
+
+/* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
+static void ode_rhs(ode *o, double t, const double *y, double *dy)
+{
+    if (o->vertical)
+        ode_rhs_vertical(o, t, y, dy);
+    else
+        ode_rhs_level(o, t, y, dy, o->pulse_on, o->phase == 0);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -466,31 +505,71 @@ static inline void combine_stages(const double (*k)[NY], const double *w, int n,
             acc[i] += w[j] * k[j][i];
 }
 
-/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. */
-static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y)
+/* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the ground
+ * moves vertically, else whether the pulse acts and whether in full contact. */
+enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING };
+
+/* The right-hand side of the ode o's segment (enum above). */
+static int ode_rhs_kind(const ode *o)
+{
+    if (o->vertical)
+        return ODE_VERTICAL;
+    if (o->pulse_on)
+        return o->phase == 0 ? ODE_PULSE_CONTACT : ODE_PULSE_ROCKING;
+    return o->phase == 0 ? ODE_FREE_CONTACT : ODE_FREE_ROCKING;
+}
+
+/* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. rhs (ode_rhs_kind) is
+ * a constant of each inlined copy: the stages of a step test the segment's kind once. */
+static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
     double acc[NY];
+    const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
     int i;
     combine_stages((const double(*)[NY])d->k, RK_A[s], s, acc);
     for (i = 0; i < NY; ++i)
         y[i] = d->y[i] + h * acc[i];
-    /* The last stages sit at t_new itself, which may be a breakpoint. */
-    ode_rhs(o, RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h, y, d->k[s]);
+    if (rhs == ODE_VERTICAL)
+        ode_rhs_vertical(o, t, y, d->k[s]);
+    else
+        ode_rhs_level(o, t, y, d->k[s], rhs == ODE_PULSE_CONTACT || rhs == ODE_PULSE_ROCKING,
+                      rhs == ODE_PULSE_CONTACT || rhs == ODE_FREE_CONTACT);
 }
 
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
+static inline void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
     memcpy(d->k[0], d->f, sizeof d->f);
-    dopri_stage(d, o, 1, h, t_new, y_new);
-    dopri_stage(d, o, 2, h, t_new, y_new);
-    dopri_stage(d, o, 3, h, t_new, y_new);
-    dopri_stage(d, o, 4, h, t_new, y_new);
-    dopri_stage(d, o, 5, h, t_new, y_new);
-    dopri_stage(d, o, 6, h, t_new, y_new);
+    dopri_stage(d, o, 1, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 2, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 3, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 4, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 5, h, t_new, y_new, rhs);
+    dopri_stage(d, o, 6, h, t_new, y_new, rhs);
     /* The last stage was evaluated at the 5th-order solution: y_new holds it. */
+}
+
+static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
+{
+    switch (o->rhs) {
+    case ODE_VERTICAL:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_VERTICAL);
+        break;
+    case ODE_PULSE_CONTACT:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_PULSE_CONTACT);
+        break;
+    case ODE_PULSE_ROCKING:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_PULSE_ROCKING);
+        break;
+    case ODE_FREE_CONTACT:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_FREE_CONTACT);
+        break;
+    default:
+        dopri_stages_of(d, o, h, t_new, y_new, ODE_FREE_ROCKING);
+        break;
+    }
 }
 
 static double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new)
@@ -579,6 +658,22 @@ static void dopri_prepare_dense(dopri *d)
     d->dense_ready = 1;
 }
 
+/* The coefficients of component i of the continuous extension, the operations of
+ * dopri_prepare_dense for that component alone: the bound of a peak (peak_below_max) mostly
+ * finds the step needs no location, and then no other component. */
+static void dense_component(const dopri *d, int i, double *c)
+{
+    double sum = 0.0 + RK_D[0] * d->k[0][i];
+    int j;
+    for (j = 1; j < STAGES; ++j)
+        sum += RK_D[j] * d->k[j][i];
+    c[0] = d->y_old[i];
+    c[1] = d->y[i] - d->y_old[i];
+    c[2] = d->h * d->k[0][i] - c[1];
+    c[3] = c[1] - d->h * d->k[STAGES - 1][i] - c[2];
+    c[4] = d->h * sum;
+}
+
 /* Component i of the prepared dense output at th = (t - t_old) / h, th1 = 1 - th. */
 static inline double dense_at(const dopri *d, double th, double th1, int i)
 {
@@ -601,12 +696,17 @@ static double dopri_dense1(dopri *d, double t, int i)
  * step, term by term: with u in [0, 1], u <= 1, u (1 - u) <= 1/4,
  * u^2 (1 - u) <= 4/27 and u^2 (1 - u)^2 <= 1/16; widened by 16 eps for the
  * rounding of any evaluation inside. */
-static double dopri_dense_bound(dopri *d, int i)
+static double dopri_dense_bound(const dopri *d, int i)
 {
-    double b;
-    dopri_prepare_dense(d);
-    b = fabs(d->dense[0][i]) + fabs(d->dense[1][i]) + 0.25 * fabs(d->dense[2][i]) +
-        (4.0 / 27.0) * fabs(d->dense[3][i]) + 0.0625 * fabs(d->dense[4][i]);
+    double c[5], b;
+    int j;
+    if (d->dense_ready) {
+        for (j = 0; j < 5; ++j)
+            c[j] = d->dense[j][i];
+    } else {
+        dense_component(d, i, c);
+    }
+    b = fabs(c[0]) + fabs(c[1]) + 0.25 * fabs(c[2]) + (4.0 / 27.0) * fabs(c[3]) + 0.0625 * fabs(c[4]);
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
@@ -933,7 +1033,7 @@ static void events_drop(event_set *es, int kind)
 /* An extremum of theta or x inside the last step that cannot raise the
  * largest |theta| or |x| so far: not worth locating (the bound holds for the
  * whole step), and not reported. */
-static int peak_below_max(const event_ctx *ec, dopri *d, int kind)
+static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 {
     if (kind == EV_THETA_PEAK)
         return dopri_dense_bound(d, 0) <= *ec->theta_max;
@@ -1000,6 +1100,16 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 /* How a segment ended, besides an event (enum event_kind). */
 enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3, SEG_MAX_STEPS = -4, SEG_STOPPED = -5 };
 
+#if NQ > 1
+/* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
+ * corners: prepared once per theta_m, for every stroke a bound is taken at. */
+typedef struct arcs {
+    int n;
+    double w;
+    constants outer;
+} arcs;
+#endif
+
 typedef struct run {
     const rocking_case *c;
     tolerance tol;
@@ -1017,6 +1127,13 @@ typedef struct run {
     int safe;   /* in full contact after the pulse below the uplift energy: settling */
     int verdict; /* the early verdict of rule 4 applies: early_verdict and derived bounds */
     double bound_at[2], bound;     /* the last bound of the early verdict, and the (theta_max, x_max) it is for */
+    /* The parts of that bound set by theta_max alone, kept while only x_max grows, and the theta_max
+     * each is for: least_at_tilt, the arcs. */
+    double least_tilt_at, least_tilt;
+#if NQ > 1
+    double arcs_at;
+    arcs tilts;
+#endif
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
     const int32_t *velocity_law;   /* NQ flags: 1 for the velocity impact law; NULL: momentum everywhere */
@@ -1243,6 +1360,7 @@ static int run_segment(run *r, double t_bound)
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
+    r->o.rhs = ode_rhs_kind(&r->o);
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
@@ -1371,13 +1489,6 @@ static double least_at_tilt(const run *r, double theta_m)
 }
 
 #if NQ > 1
-/* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
- * corners: prepared once per bound, for every stroke it is taken at. */
-typedef struct arcs {
-    int n;
-    double w;
-    constants outer;
-} arcs;
 
 static void arcs_prepare(const run *r, double theta_m, arcs *a)
 {
@@ -1463,6 +1574,22 @@ static double least_at_bumpers(const run *r, const arcs *a)
 }
 #endif
 
+/* least_at_tilt of theta_m, evaluated again only when theta_max grows. */
+static double least_at_tilt_kept(run *r, double theta_m)
+{
+    if (!(theta_m == r->least_tilt_at)) {
+        r->least_tilt_at = theta_m;
+        r->least_tilt = least_at_tilt(r, theta_m);
+    }
+    return r->least_tilt;
+}
+
+/* The bound of the energy above rest for the least potential `least` (rule 4's margin). */
+static double below_least(double least, double zero)
+{
+    return least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
+}
+
 /* The energy above rest below which |theta| can no longer reach theta_max,
  * |q[1]| x_max, nor, where x_max is past a bumper's gap, the mass that gap
  * (rule 4): the least potential there less E(0), less the margin; -inf when
@@ -1470,26 +1597,47 @@ static double least_at_bumpers(const run *r, const arcs *a)
 static double verdict_bound(run *r)
 {
     const double theta_m = r->res->theta_max, x_m = r->res->x_max;
-    const double zero = r->ec.energy_zero;
     double least;
     if (theta_m == r->bound_at[0] && x_m == r->bound_at[1])
         return r->bound;
     r->bound_at[0] = theta_m;
     r->bound_at[1] = x_m;
-    least = least_at_tilt(r, theta_m);
+    least = least_at_tilt_kept(r, theta_m);
 #if NQ > 1
-    {
-        arcs a;
-        arcs_prepare(r, theta_m, &a);
-        least = lower(least, least_on_arcs(r, &a, x_m));
-        if (!stops_out_of_reach(r, x_m))
-            least = lower(least, least_at_bumpers(r, &a));
+    if (!(theta_m == r->arcs_at)) {
+        r->arcs_at = theta_m;
+        arcs_prepare(r, theta_m, &r->tilts);
     }
+    least = lower(least, least_on_arcs(r, &r->tilts, x_m));
+    if (!stops_out_of_reach(r, x_m))
+        least = lower(least, least_at_bumpers(r, &r->tilts));
 #endif
-    r->bound = least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
+    r->bound = below_least(least, r->ec.energy_zero);
     if (isnan(r->bound))
         r->bound = -INFINITY;
     return r->bound;
+}
+
+/* energy is at least verdict_bound, found from a few of the potentials whose least the bound
+ * takes: at |theta| = theta_max, and at the stroke x_max upright (the first corners of
+ * least_on_arcs). Their least is >= the bound's; below_least is increasing but for its rounding,
+ * a few ulps of |least| + |E(0)|, which the 8 eps of that sum cover. Most impacts after the
+ * pulse are not final: they need not take the bound over every arc. */
+static int verdict_refuted(run *r, double energy)
+{
+    const double zero = r->ec.energy_zero;
+    double least;
+    least = least_at_tilt_kept(r, r->res->theta_max);
+#if NQ > 1
+    {
+        double y[NY] = {0.0};
+        y[1] = r->res->x_max;
+        least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
+        y[1] = -r->res->x_max;
+        least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
+    }
+#endif
+    return energy >= below_least(least, zero) + 8.0 * DBL_EPSILON * (fabs(least) + fabs(zero));
 }
 
 /* No bumper acts now: the mass is inside every gap (a released pad may push again). */
@@ -1506,7 +1654,11 @@ static int stops_clear(const run *r)
  * maxima: the verdict, the maxima and t_critical are final (rule 4). */
 static int verdict_final(run *r)
 {
-    return r->verdict && r->t >= r->c->t_p && stops_clear(r) && energy_above_rest(r) < verdict_bound(r);
+    double energy;
+    if (!(r->verdict && r->t >= r->c->t_p && stops_clear(r)))
+        return 0;
+    energy = energy_above_rest(r);
+    return !(SHORTCUTS && verdict_refuted(r, energy)) && energy < verdict_bound(r);
 }
 
 static int events_exhausted(const run *r)
@@ -1817,14 +1969,14 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.tol.atol = c->atol;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
-    stop_memory_record(&k, zeros, -1, 1); /* E(0) in the regime of the rest state, its memory too */
-    constants_prepare(&k, p, clear);
+    stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
     r.k = &k;
     r.o.k = &k;
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
     r.o.pulse_on = 1;
     r.o.vertical = 0;
+    r.o.rhs = ode_rhs_kind(&r.o);
     r.o.c = c;
     r.o.piece = 0.0;
     r.o.memo_t = NAN;
@@ -1841,7 +1993,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.verdict = c->early_verdict != 0;
-    r.bound_at[0] = r.bound_at[1] = NAN; /* no bound yet */
+    r.bound_at[0] = r.bound_at[1] = r.least_tilt_at = NAN; /* no bound yet */
+#if NQ > 1
+    r.arcs_at = NAN;
+#endif
     r.bound = -INFINITY;
     r.t = 0.0;
     r.t_start = r.h_first = 0.0;
@@ -1857,10 +2012,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
-    stop_memory_record(&k, r.y, -1, 1); /* a contact in progress at the start starts there (docs/model.md 11) */
-    constants_prepare(&k, p, clear);
+    stop_memory_start(&k, r.y, clear); /* a contact in progress at the start starts there (docs/model.md 11) */
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
-    constants_prepare(&k, p, stop_on);
+    constants_regime(&k, stop_on);
     see_state(&r, r.y, 0);
 
     phase_machine(&r);
