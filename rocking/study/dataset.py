@@ -33,7 +33,7 @@ from ..sim.boundary import RESULT, STATUSES
 from .config import config_hash
 from .config import versions as current_versions
 from .files import describe
-from .vocabulary import FLAG_WORDS, PART_NAMES, THRESHOLD_STATUSES
+from .vocabulary import FLAG_WORDS, FLIGHT, PART_NAMES, SAFE, THRESHOLD_STATUSES
 
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
@@ -62,11 +62,12 @@ FIELDS: dict[str, tuple] = {
     "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha)"),
     "beta_safe": ("1", "largest safe amplitude ratio below beta_min"),
     "flag": ("1", "how beta_min was found", FLAG_KEY),
-    "undetermined": ("1", "responses without a verdict (max_events or max_steps)"),
+    "undetermined": ("1", "responses without a verdict (max_events, max_steps, or flight)"),
     "scan_outcome": (
         "1",
-        "outcome at each scan amplitude: -1 not overturned (safe, or no verdict: counted in "
-        "undetermined), n >= 0 overturned after n impacts",
+        f"outcome at each scan amplitude: {SAFE} not overturned (safe, or no verdict: counted in "
+        f"undetermined), {FLIGHT} flight (g + ddy_g reached 0: no verdict here nor above), n >= 0 overturned "
+        "after n impacts",
     ),
     "windows": ("1", "safe windows above beta_min: Omega, first and last safe scan amplitude"),
     "gain": ("1", "gain: beta_min with the damper over beta_min of the block alone"),
