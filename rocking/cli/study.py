@@ -1,15 +1,21 @@
-"""The study subcommands of the ``rocking`` command: ``map``, ``spectrum``, ``optimize``, ``demo``, ``redraw``.
+"""The study subcommands of ``rocking``: one per kind of :data:`rocking.study.kinds.KINDS`, ``demo``, ``redraw``.
 
 :func:`add_study_commands` adds them to the ``rocking`` parser's subparsers;
 each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.nc``,
 ``.csv``, ``.json``, ``.png`` and ``.pdf``, and keeps its finished tiles in
 ``<out>/runs`` so that an interrupted run resumes where it stopped.
 
-Each command calls the Python study API with the options given and nothing
+A kind's command is data of its registry entry (:class:`rocking.study.kinds.Command`): its help, its option
+groups by name, the positional arguments of its driver and its summary lines. The option groups are the
+table :data:`GROUPS` here: each adds its options to the parser and turns the options given into the driver's
+arguments; :func:`run_study` runs any kind with them, and prints its summary lines (``map_lines``,
+``spectrum_lines``, ...: each ``describe(study) -> list[str]``, the command line's words, named by the entry).
+
+Each command computes what the Python study API computes with the options given and nothing
 else (:mod:`.options`): ``rocking map ...`` computes what
 ``rocking.overturning_map(Setting(block, ...), Tuning(...), Grid(...), Grid(...))``
 computes, with the same defaults. The grids (and the mass ratios of
-``optimize``) have no default in Python; the command line's are below.
+``optimize``) have no default in Python; the command line's are the registry's.
 
 Bad parameters end with a one-line message naming the parameter and its valid
 range and exit code 2 (argparse's own errors, e.g. an unknown option, too).
@@ -22,9 +28,10 @@ import re
 import sys
 import time
 import warnings
-from collections.abc import Iterator
+from collections.abc import Callable, Iterator
 from contextlib import contextmanager
-from dataclasses import replace
+from dataclasses import dataclass, replace
+from functools import partial
 from pathlib import Path
 
 import numpy as np
@@ -37,13 +44,24 @@ from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
-from ..study.design import TM_GRID as DESIGN_TM_GRID
-from ..study.design import ZETA_GRID, design
+from ..study.design import design
 from ..study.directions import DIRECTIONS
 from ..study.files import DiskFull, make_folder, no_space
 from ..study.fragility import FITTED, FitWarning
-from ..study.ida import LEVELS, incremental_dynamic_analysis
-from ..study.optimize import TM_GRID, USELESS_GAIN, optimal_damper
+
+# The drivers of the kinds are looked up in this module when a command runs (_driver): imported here by name.
+from ..study.ida import LEVELS, incremental_dynamic_analysis  # noqa: F401
+from ..study.kinds import (
+    DESIGN_BETA,
+    DESIGN_OMEGA,
+    KINDS,
+    MAP_BETA,
+    MAP_OMEGA,
+    SPECTRUM_BETA,
+    SPECTRUM_OMEGA,
+    Kind,
+)
+from ..study.optimize import USELESS_GAIN
 from ..study.overturning_map import UndeterminedWarning, overturning_map
 from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
@@ -51,7 +69,6 @@ from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
-from ..study.threshold import TM_GRID as THRESHOLD_TM_GRID
 from ..study.tiles import Execution, Interrupted, TileWarning
 from ..study.vocabulary import BELOW, BRACKETED, FIT_STATUSES
 from .options import (
@@ -68,21 +85,10 @@ from .options import (
 )
 from .rerun import CURRENT, check_same, command_record
 
-#: Default grids (MIN, MAX, N) of the commands; docs/model.md section 9 gives the ranges. The beta
-#: scans of spectra start at 0.5, below the uplift threshold (about 0.9 .. 1.1 for the reference
-#: block), so that beta_min is bracketed also for long, quasi-static pulses.
-MAP_OMEGA, MAP_BETA = (0.5, 15.0, 146), (1.0, 15.0, 141)
-SPECTRUM_OMEGA, SPECTRUM_BETA = (0.5, 15.0, 59), (0.5, 15.0, 117)
-OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
-OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
 #: The demo's spectra under a vertical component: its ratios and modest grids (about 20 s on 2 cores).
 VERTICAL_RATIOS = (0.0, 0.5, 1.0)
 VERTICAL_OMEGA, VERTICAL_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
-#: The band of pulses of ``design`` and its beta scan (reaching above the damped block's beta_min at Omega = 8).
-DESIGN_OMEGA, DESIGN_BETA = (2.0, 8.0, 7), (0.5, 25.0, 50)
 
-#: Default levels of ida (scale factors) and fragility (PGA, m/s^2).
-IDA_SCALES, FRAGILITY_LEVELS = (0.25, 4.0, 16), (0.5, 10.0, 20)
 #: Options of the stochastic site model (rocking.model.stochastic.SiteModel).
 SITE_OPTIONS = ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
 
@@ -91,6 +97,9 @@ PULSE_SUITE_OPTIONS = ("periods", "amplitude", "gamma_mp", "nu")
 
 #: Options that set the omd damper (a Tuning), refused with a model variant.
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
+
+#: Values of the option groups that make the study's Setting with the block, when its driver takes one.
+SETTING = ("rtol", "t_after", "backend", "pulse", "gamma_mp", "nu", "vertical_ratio", "vertical_phase")
 
 
 # --- options -------------------------------------------------------------------------
@@ -134,10 +143,11 @@ def _add_check(p: argparse.ArgumentParser) -> None:
     )
 
 
-def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool, stops: bool = True) -> None:
-    """Damper options: one damper (``tuned``: a Tuning) and/or the mass ratios of the optimisation (``searched``)."""
-    # The defaults shown are those of the Python call each command makes: Tuning, or optimal_damper.
-    source = Tuning if tuned else optimal_damper
+def _add_damper(
+    p: argparse.ArgumentParser, *, tuned: bool, searched: bool, stops: bool = True, gammas: tuple = (), source=Tuning
+) -> None:
+    """Damper options: one damper (``tuned``: a Tuning) and/or the mass ratios of the optimisation (``searched``,
+    ``gammas`` by default); ``source``: the Python call whose defaults of ``zeta`` and ``h`` the help shows."""
     g = p.add_argument_group(
         "damper", "As rocking.Tuning(gamma, omega_ratio, zeta, h, stops)." if tuned else "As rocking.optimal_damper."
     )
@@ -166,8 +176,8 @@ def _add_damper(p: argparse.ArgumentParser, *, tuned: bool, searched: bool, stop
             "--gammas",
             type=float,
             nargs="+",
-            default=list(OPTIMIZE_GAMMAS),
-            help=f"mass ratios of the optimal damper (default {' '.join(map(str, OPTIMIZE_GAMMAS))}); "
+            default=list(gammas),
+            help=f"mass ratios of the optimal damper (default {' '.join(map(str, gammas))}); "
             "the best over them is reported too",
         )
     g.add_argument("--zeta", type=float, help=f"damping ratio ({default_text(source, 'zeta')})")
@@ -303,12 +313,8 @@ def grid_from(name: str, values, *, log: bool = False) -> Grid:
 def setting_from(args) -> Setting:
     """The study's :class:`Setting` from the options given (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
     # ida and fragility have no --pulse: their --gamma-mp and --nu shape the pulses of their suite.
-    pulse = given(args, ("pulse", "gamma_mp", "nu")) if "pulse" in vars(args) else {}
     # map and spectrum: their pulses' vertical component (ida's and fragility's --vertical-ratio is their suite's).
-    if "pulse" in vars(args):
-        pulse.update(given(args, ("vertical_ratio", "vertical_phase")))
-    if "pulse" in pulse:
-        pulse["pulse"] = pulse["pulse"].replace("-", "_")
+    pulse = _pulse(args, {}) | given(args, ("vertical_ratio", "vertical_phase")) if "pulse" in vars(args) else {}
     return Setting(block_from(args), **given(args, ("rtol", "t_after", "backend")), **pulse)
 
 
@@ -358,6 +364,277 @@ def _tol(args) -> dict:
     return {"tol": args.beta_tol} if args.beta_tol is not None else {}
 
 
+def _suite_from(args) -> Suite:
+    """The motions of ``ida``/``fragility``: ``--motions FILE[:UNIT]...``, ``--stochastic N --seed S`` (site
+    options) or ``--pulses FAMILY --periods T...``, as :func:`rocking.study.suite.suite_of` makes them."""
+    site = given(args, SITE_OPTIONS)
+    motions = None if args.motions is None else [split_unit(m) for m in args.motions]
+    try:
+        return suite_of(
+            motions,
+            **given(args, ("unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS)),
+            site=site or None,
+            g=block_from(args).g,
+        )
+    except ParameterError as exc:
+        raise ParameterError(_as_flags(str(exc))) from None
+
+
+def _as_flags(message: str) -> str:
+    """A message of :func:`suite_of` naming the Python keywords of the options, with the command line's flags."""
+    message = re.sub(r"\bsite\b(?!\.)", "site options (" + flags(SITE_OPTIONS[:2]) + ", ...)", message)
+    for word in ("motions", "unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS):
+        message = re.sub(rf"\b{word}\b(?!\.)", flag(word), message)
+    return message
+
+
+# --- commands --------------------------------------------------------------------------
+
+
+# --- the option groups of the study commands ------------------------------------------------
+
+
+def _add_tile(p: argparse.ArgumentParser) -> None:
+    tile = python_default(overturning_map, "tile")
+    p.add_argument(
+        "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
+    )
+
+
+def _add_refinement(p: argparse.ArgumentParser) -> None:
+    """``--coarse``, ``--verify`` and ``--full`` of the adaptive map."""
+    p.add_argument(
+        "--coarse",
+        type=int,
+        metavar="STEP",
+        help="coarse step of the adaptive map, a power of two: every STEP-th cell is computed, then the map is "
+        "refined where neighbouring outcome classes differ, and verified (--verify) "
+        f"({default_text(overturning_map, 'coarse')})",
+    )
+    p.add_argument(
+        "--verify",
+        type=int,
+        metavar="STEP",
+        help="first step of the verification of the adaptive map, a power of two up to --coarse, 0: none: every "
+        "region of one class that holds STEP x STEP cells is found, smaller ones near the class boundaries "
+        "(default: the coarse step)",
+    )
+    p.add_argument("--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)")
+
+
+def _refinement(args, params: dict) -> dict:
+    """``full=``, ``coarse=`` and ``verify=`` of a map, as given; --full refused with the others."""
+    # argparse cannot say it: --coarse and --verify go together, and neither goes with --full.
+    if args.full and (args.coarse is not None or args.verify is not None):
+        raise ParameterError(
+            "give --coarse/--verify (the steps of the adaptive refinement) or --full (every cell), not both"
+        )
+    return given(args, ("full", "coarse", "verify"))
+
+
+def _add_scan(p: argparse.ArgumentParser) -> None:
+    """``--coarse`` of the adaptive beta scans of a spectrum."""
+    p.add_argument(
+        "--coarse",
+        type=int,
+        metavar="STEP",
+        help="adaptive beta scans of coarse step STEP, a power of two: every STEP-th amplitude is computed, then "
+        "bisections where neighbouring outcome classes differ, and a verification; features narrower than STEP "
+        "amplitudes away from a class change can be missed, and are on the default grids (16 is about 4.6 times "
+        "fewer scan responses there; default: every amplitude)",
+    )
+
+
+def _add_design_damper(p: argparse.ArgumentParser, params: dict, kind: Kind) -> None:
+    """The damper of ``design``: its mass budget and stroke; the ranges of its period and damping searched."""
+    g = p.add_argument_group("damper", "As rocking.design: the mass budget and the stroke; the search ranges.")
+    g.add_argument("--gamma", type=float, help=f"mass budget m/M ({default_text(kind.driver, 'gamma')})")
+    g.add_argument(
+        "--stroke", type=float, help="half-stroke L of the stops, m, in (0, B/2) (default B/2 minus the pads' 20 mm)"
+    )
+    g.add_argument("--h", type=float, help=f"height of the guide above the block, m ({default_text(kind.driver, 'h')})")
+    _add_search(g, params["default"], kind.driver)
+    zeta = params["zeta_grid"]
+    g.add_argument(
+        "--zeta-grid",
+        nargs=3,
+        metavar=("MIN", "MAX", "N"),
+        help=f"coarse log grid of the damping ratio (default {zeta[0]:g} {zeta[1]:g} {zeta[2]})",
+    )
+
+
+def _add_threshold_damper(p: argparse.ArgumentParser, params: dict, kind: Kind) -> None:
+    """The blocks' eccentricity and the damper of ``threshold``, and the bound of its scans."""
+    g = p.add_argument_group("blocks and damper", "As rocking.study.threshold.threshold_map.")
+    g.add_argument(
+        "--e-ratio", type=float, help=f"eccentricity e/B of every block ({default_text(kind.driver, 'e_ratio')})"
+    )
+    g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(kind.driver, 'gamma')})")
+    g.add_argument("--zeta", type=float, help=f"damping ratio ({default_text(kind.driver, 'zeta')})")
+    g.add_argument("--h", type=float, help=f"height of the guide above the block, m ({default_text(kind.driver, 'h')})")
+    _add_search(g, params["default"], kind.driver)
+    g.add_argument(
+        "--a-max", type=float, help=f"bound of the ground acceleration, in g ({default_text(kind.driver, 'a_max')})"
+    )
+
+
+def _search(args) -> dict:
+    """``Tm=`` (the log grid of ``--Tm-ratio``) and ``refine=`` of a study that searches the damper period."""
+    Tm = {"Tm": grid_from("Tm-ratio", args.Tm_ratio, log=True)} if args.Tm_ratio is not None else {}
+    return given(args, ("refine",)) | Tm
+
+
+def _design_damper(args, params: dict) -> dict:
+    zeta = {"zeta": grid_from("zeta", args.zeta_grid, log=True)} if args.zeta_grid is not None else {}
+    return given(args, ("gamma", "stroke", "h")) | _search(args) | zeta
+
+
+def _add_motions(p: argparse.ArgumentParser) -> None:
+    """The suite of motions of ``ida`` and ``fragility``: records, stochastic motions or pulses."""
+    g = p.add_argument_group(
+        "motions",
+        "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
+        "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).",
+    )
+    g.add_argument(
+        "--motions",
+        nargs="+",
+        metavar="FILE[:UNIT]",
+        help="records: PEER NGA .AT2, or 'time, a' columns; FILE:UNIT gives a file its own unit of "
+        f"acceleration ({', '.join(UNITS)}), e.g. a.AT2 b.txt:cm/s2",
+    )
+    g.add_argument(
+        "--unit",
+        choices=tuple(UNITS),
+        help="unit of the accelerations of the text or CSV records given without their own "
+        "(default: the one each header states)",
+    )
+    g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
+    g.add_argument("--seed", type=int, help="seed of the stochastic motions (default 0)")
+    for option in SITE_OPTIONS:
+        g.add_argument(
+            f"--{option.replace('_', '-')}",
+            type=float,
+            help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
+        )
+    g.add_argument(
+        "--vertical-ratio",
+        type=float,
+        metavar="R",
+        help="a vertical component of the --stochastic motions, > 0 up: R times a record of the same site "
+        "model from its own noise, in [0, 10] (docs/model.md section 14; default none)",
+    )
+    g.add_argument(
+        "--pulses",
+        choices=[f.replace("_", "-") for f in PULSES],
+        help="a suite of analytic pulses of this family, one per --periods value",
+    )
+    g.add_argument("--periods", nargs="+", type=float, metavar="T", help="periods 2 pi / omega_g of --pulses, s")
+    g.add_argument("--amplitude", type=float, help="amplitude a_g of --pulses, m/s2 (default 1 g)")
+    g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulses mp, > 1")
+    g.add_argument("--nu", type=float, help="phase nu of --pulses mp, rad (default 0)")
+
+
+def _add_im(p: argparse.ArgumentParser) -> None:
+    p.add_argument(
+        "--im",
+        choices=tuple(LEVELS)[1:],
+        default="pga",
+        help="intensity measure (default pga; amplitude: the a_g of --pulses)",
+    )
+
+
+def _levels(args, params: dict) -> dict:
+    """``levels=`` from ``--NAME MIN MAX N`` or ``--NAME-log MIN MAX N``, and the measure of the levels if fixed."""
+    name = params["name"]
+    log = getattr(args, f"{name}_log")
+    grid = grid_from(name, getattr(args, name)) if log is None else grid_from(f"{name}-log", log, log=True)
+    return {"levels": grid} | ({"measure_name": params["measure"]} if "measure" in params else {})
+
+
+def _pulse(args, params: dict) -> dict:
+    """The pulse family of the Setting (``--pulse ricker-anti`` is ``pulse="ricker_anti"``)."""
+    pulse = given(args, ("pulse", "gamma_mp", "nu"))
+    if "pulse" in pulse:
+        pulse["pulse"] = pulse["pulse"].replace("-", "_")
+    return pulse
+
+
+def _given(*names: str) -> Callable[[argparse.Namespace, dict], dict]:
+    """The driver's keywords ``names``, those given, by the same names as the options."""
+    return lambda args, params: given(args, names)
+
+
+@dataclass(frozen=True)
+class Group:
+    """An option group of the study commands, named by the kinds' :class:`~rocking.study.kinds.Command`.
+
+    Attributes
+    ----------
+    add : callable
+        ``add(parser, params, kind)``: adds its options (``params``: what the kind's entry gives the group).
+    collect : callable
+        ``collect(args, params) -> dict``: the driver's arguments from the options given, by name (a
+        ParameterError naming the flag for a bad one); ``"setting"`` is made from ``block``, the pulse and the
+        solver's values (:data:`SETTING`) when the driver takes one.
+    """
+
+    add: Callable[[argparse.ArgumentParser, dict, Kind], None]
+    collect: Callable[[argparse.Namespace, dict], dict]
+
+
+#: The option groups of the study commands, by the names :data:`rocking.study.kinds.KINDS` gives them.
+GROUPS = {
+    "block": Group(lambda p, params, kind: add_block_options(p), lambda args, params: {"block": block_from(args)}),
+    "damper": Group(
+        lambda p, params, kind: _add_damper(
+            p,
+            tuned=params.get("tuned", False),
+            searched=params.get("searched", False),
+            gammas=params.get("gammas", ()),
+            source=Tuning if params.get("tuned") else kind.driver,
+        ),
+        lambda args, params: (
+            {"damper": damper_from(args)}
+            if params.get("tuned")
+            else {"gammas": args.gammas, **given(args, ("zeta", "h", "stops"))}
+        ),
+    ),
+    # --model and --param make the damper: damper_from reads them.
+    "variant": Group(lambda p, params, kind: _add_variant(p), lambda args, params: {}),
+    "design damper": Group(_add_design_damper, _design_damper),
+    "threshold damper": Group(
+        _add_threshold_damper,
+        lambda args, params: given(args, ("e_ratio", "gamma", "zeta", "h", "a_max")) | _search(args),
+    ),
+    "search": Group(
+        lambda p, params, kind: _add_search(p, params["default"], kind.driver), lambda a, params: _search(a)
+    ),
+    "grid": Group(
+        lambda p, params, kind: _add_grid(p, params["name"], params["default"], params["help"]),
+        lambda args, params: {params["name"]: grid_from(params["name"], getattr(args, params["name"]))},
+    ),
+    "levels": Group(lambda p, params, kind: _add_levels(p, params["name"], params["default"], params["help"]), _levels),
+    "tile": Group(
+        lambda p, params, kind: _add_tile(p),
+        lambda args, params: {"tile": tuple(args.tile)} if args.tile is not None else {},
+    ),
+    "refinement": Group(lambda p, params, kind: _add_refinement(p), _refinement),
+    "scan": Group(lambda p, params, kind: _add_scan(p), _given("coarse")),
+    "tol": Group(lambda p, params, kind: _add_tol(p), lambda args, params: _tol(args)),
+    "directions": Group(lambda p, params, kind: _add_directions(p), _given("directions")),
+    "pulse": Group(lambda p, params, kind: _add_pulse(p), _pulse),
+    "vertical": Group(lambda p, params, kind: _add_vertical(p), _given("vertical_ratio", "vertical_phase")),
+    "motions": Group(lambda p, params, kind: _add_motions(p), lambda args, params: {"suite": _suite_from(args)}),
+    "im": Group(lambda p, params, kind: _add_im(p), lambda args, params: {"measure_name": args.im}),
+    "solver": Group(
+        lambda p, params, kind: _add_solver(p),
+        lambda args, params: given(args, ("rtol", "t_after", "backend")) | {"execution": execution_from(args)},
+    ),
+    "check": Group(lambda p, params, kind: _add_check(p), _given("check")),
+}
+
+
 # --- commands --------------------------------------------------------------------------
 
 
@@ -390,71 +667,64 @@ def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
     return paths
 
 
-def _inputs(args) -> tuple[tuple, Path]:
-    """``(setting, damper, Omega, beta, execution)`` of ``map``/``spectrum``, then the output folder.
-
-    In this order: bad parameters are refused before the folder is created.
-    """
-    inputs = (
-        setting_from(args),
-        damper_from(args),
-        grid_from("Omega", args.Omega),
-        grid_from("beta", args.beta),
-        execution_from(args),
-    )
-    return inputs, out_from(args)
+def _driver(kind: Kind) -> Callable:
+    """The kind's driver; those this module imports are looked up here, by name, when the command runs: a
+    command's work starts at this one call (tests/test_rerun.py stops it there)."""
+    return globals().get(kind.driver.__name__, kind.driver)
 
 
-def _refinement(args) -> dict:
-    """``full=``, ``coarse=`` and ``verify=`` of a map, as given; --full refused with the others."""
-    if args.full and (args.coarse is not None or args.verify is not None):
-        raise ParameterError(
-            "give --coarse/--verify (the steps of the adaptive refinement) or --full (every cell), not both"
-        )
-    return given(args, ("full", "coarse", "verify"))
-
-
-def _cmd_map(args) -> int:
-    tile = {"tile": tuple(args.tile)} if args.tile is not None else {}
-    refinement = _refinement(args)
-    inputs, out = _inputs(args)
-    study = overturning_map(*inputs, runs=out / "runs", **tile, **given(args, ("directions",)), **refinement)
+def run_study(name: str, args) -> int:
+    """``rocking NAME``: the driver of the kind ``name`` called with the arguments its option groups make of the
+    options given (:data:`GROUPS`), its study saved and drawn in ``--out`` and its summary lines printed."""
+    kind = KINDS[name]
+    values: dict = {}
+    for group, params in kind.command.options:
+        values |= GROUPS[group].collect(args, params)
+    if "setting" in kind.command.inputs:
+        values["setting"] = Setting(values.pop("block"), **{k: values.pop(k) for k in SETTING if k in values})
+    out = out_from(args)  # after every option is checked: bad parameters are refused before the folder is made
+    inputs = [values.pop(k) for k in kind.command.inputs]
+    study = _driver(kind)(*inputs, runs=out / "runs", **values)
     _report(study, out)
-    _print_map(study)
+    _print(globals()[kind.command.describe](study))
     return 0
 
 
-def _print_map(study: Study) -> None:
+def _print(lines: list[str]) -> None:
+    for line in lines:
+        print(line)
+
+
+# --- the summary lines of each kind (Command.describe) -------------------------------------
+
+
+def map_lines(study: Study) -> list[str]:
+    """What a map shows: the cells overturned, saved and lost; how an adaptive map was computed."""
     s = study.summary
-    print(
+    unknown = s["bare_undetermined"] + s["damper_undetermined"]
+    lines = [
         f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
         f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge), lost {s['lost']}"
-        + (f"; {unknown} without a verdict" if (unknown := s["bare_undetermined"] + s["damper_undetermined"]) else "")
-    )
+        + (f"; {unknown} without a verdict" if unknown else "")
+    ]
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
-        print(
+        lines += [
             f"map: adaptive (coarse step {refinement['coarse']}, verified from step {refinement['verify']}): "
             f"{run['responses']} of {run['responses_full_grid']} responses computed in {run['rounds']} rounds; "
-            f"cells not computed take the outcome around them (--full computes every cell)\n"
-            f"map: {study.summary['guarantee']}"
-        )
+            f"cells not computed take the outcome around them (--full computes every cell)",
+            f"map: {s['guarantee']}",
+        ]
+    return lines
 
 
-def _cmd_spectrum(args) -> int:
-    inputs, out = _inputs(args)
-    study = minimum_overturning_spectrum(
-        *inputs, runs=out / "runs", **_tol(args), **given(args, ("directions",)), **given(args, ("coarse",))
-    )
-    _report(study, out)
-    _print_spectrum(study)
-    return 0
-
-
-def _print_spectrum(study: Study) -> None:
+def spectrum_lines(study: Study) -> list[str]:
+    """What a spectrum shows: the beta_min bracketed and the safe windows of each part, the damper's gain; how
+    adaptive scans were computed."""
+    lines = []
     for part in ("bare", "damper"):
         s = study.summary[part]
-        print(
+        lines.append(
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
         )
@@ -463,111 +733,70 @@ def _print_spectrum(study: Study) -> None:
     both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
     if both.any():
         gain = beta_min["damper"][both] / beta_min["bare"][both]
-        print(
+        lines.append(
             f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
             f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"
         )
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
-        print(
+        lines.append(
             f"spectrum: adaptive scans (coarse step {refinement['coarse']}): {run['scan_responses']} of "
             f"{run['scan_responses_full']} scan responses computed ({run['responses']} with the bisections); "
             "amplitudes not computed take the outcome around them (without --coarse every amplitude is computed)"
         )
+    return lines
 
 
-def _optimize(args, setting: Setting, execution: Execution, Omega: Grid, beta: Grid, **search) -> Study:
-    """``optimal_damper`` with the options given (zeta, h, tolerance) and ``search`` (Tm, refine) if any."""
-    return optimal_damper(
-        setting,
-        args.gammas,
-        Omega,
-        beta,
-        execution,
-        runs=Path(args.out) / "runs",
-        **given(args, ("zeta", "h", "stops", "directions")),
-        **_tol(args),
-        **search,
-    )
-
-
-def _print_threshold(study: Study) -> None:
+def threshold_lines(study: Study) -> list[str]:
+    """The threshold frequency Omega* of an optimisation, for each mass ratio and the best over them."""
     Omega_max = float(study.data["Omega"].values[-1])
+    lines = []
     for key, t in study.summary["Omega_star"].items():
         who = "best over gamma" if key == "best" else f"gamma = {key}"
         if t["status"] == "bracketed":
-            print(f"Omega* ({who}) = {t['Omega_star']:.3g}, between the scanned {t['low']:.3g} and {t['high']:.3g}")
+            lines.append(
+                f"Omega* ({who}) = {t['Omega_star']:.3g}, between the scanned {t['low']:.3g} and {t['high']:.3g}"
+            )
         elif t["status"] == "above_range":
-            print(f"Omega* ({who}) > {t['low']:.3g}: the damper still helps at the highest frequency with a gain")
+            lines.append(
+                f"Omega* ({who}) > {t['low']:.3g}: the damper still helps at the highest frequency with a gain"
+            )
         elif t["status"] == "below_range":
-            print(f"Omega* ({who}) <= {t['high']:.3g}: the damper does not help at any frequency scanned")
+            lines.append(f"Omega* ({who}) <= {t['high']:.3g}: the damper does not help at any frequency scanned")
         else:
-            print(f"Omega* ({who}) unknown: no gain is defined (the bare block's beta_min is outside the beta scan)")
+            lines.append(
+                f"Omega* ({who}) unknown: no gain is defined (the bare block's beta_min is outside the beta scan)"
+            )
         if t["defined_up_to"] is not None and t["defined_up_to"] < Omega_max:
-            print(
+            lines.append(
                 f"  (gain undefined above Omega = {t['defined_up_to']:.3g}: the bare block does not overturn "
                 "within the beta scan there; widen --beta to see further)"
             )
+    return lines
 
 
-def _cmd_optimize(args) -> int:
-    search = given(args, ("refine",))
-    if args.Tm_ratio is not None:
-        search["Tm"] = grid_from("Tm-ratio", args.Tm_ratio, log=True)
-    setting, execution = setting_from(args), execution_from(args)
-    Omega, beta = grid_from("Omega", args.Omega), grid_from("beta", args.beta)
-    out = out_from(args)
-    study = _optimize(args, setting, execution, Omega, beta, **search)
-    _report(study, out)
-    _print_threshold(study)
-    return 0
-
-
-def _cmd_design(args) -> int:
-    setting, execution = setting_from(args), execution_from(args)
-    Omega, beta = grid_from("Omega", args.Omega), grid_from("beta", args.beta)
-    search = {}
-    if args.Tm_ratio is not None:
-        search["Tm"] = grid_from("Tm-ratio", args.Tm_ratio, log=True)
-    if args.zeta_grid is not None:
-        search["zeta"] = grid_from("zeta", args.zeta_grid, log=True)
-    out = out_from(args)
-    study = design(
-        setting,
-        Omega,
-        beta,
-        execution,
-        runs=out / "runs",
-        **given(args, ("gamma", "stroke", "h", "refine", "directions")),
-        **_tol(args),
-        **search,
-    )
-    _report(study, out)
-    _print_design(study)
-    return 0
-
-
-def _print_design(study: Study) -> None:
+def design_lines(study: Study) -> list[str]:
+    """The damper designed, in SI units; the verdict in words; the warnings; how the stroke was used."""
     s, d = study.summary, study.summary["damper"]
-    print(
+    lines = [
         f"design: m = {d['m_kg']:.4g} kg (gamma = {d['gamma']:g}), k_m = {d['k_m_N_per_m']:.4g} N/m, "
         f"c = {d['c_N_s_per_m']:.4g} N s/m (T_m = {d['T_m_s']:.4g} s, T_m p / 2 pi = {d['Tm_ratio']:.3g}, "
         f"zeta = {d['zeta']:.3g}); stops at L = {d['L_m']:.3g} m, k_b = {d['k_b_N_per_m']:.4g} N/m, "
-        f"c_b = {d['c_b_N_s_per_m']:.4g} N s/m"
-    )
-    print(f"design: {design_verdict(s)}")
-    for warning in edge_warnings(s, d):
-        print(f"design: warning: {warning}")
-    print(
+        f"c_b = {d['c_b_N_s_per_m']:.4g} N s/m",
+        f"design: {design_verdict(s)}",
+    ]
+    lines += [f"design: warning: {warning}" for warning in edge_warnings(s, d)]
+    lines.append(
         f"design: stroke used at the pulses that overturn the block alone: up to {s['stroke_use_max']:.3g} L, "
         f"{s['stop_contacts_max']} stop contacts; {s['candidates_on_block']} of {s['candidates']} dampers tried "
         "keep their mass on the block"
     )
     if s["gain_undefined_at"]:
-        print(
+        lines.append(
             f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
             "within the beta scan there; widen --beta)"
         )
+    return lines
 
 
 def design_verdict(summary: dict) -> str:
@@ -607,24 +836,13 @@ def edge_warnings(summary: dict, damper: dict) -> list[str]:
     return out
 
 
-def _cmd_threshold(args) -> int:
-    grids = [grid_from(name, getattr(args, name)) for name in ("lam", "p", "Omega")]
-    search = {"Tm": grid_from("Tm-ratio", args.Tm_ratio, log=True)} if args.Tm_ratio is not None else {}
-    options = given(
-        args, ("e_ratio", "gamma", "zeta", "h", "refine", "a_max", "rtol", "t_after", "backend", "directions")
-    )
-    execution, out = execution_from(args), out_from(args)
-    study = threshold_map(*grids, execution, runs=out / "runs", **options, **_tol(args), **search)
-    _report(study, out)
-    _print_threshold_map(study)
-    return 0
-
-
-def _print_threshold_map(study: Study) -> None:
+def threshold_map_lines(study: Study) -> list[str]:
+    """Omega* of every geometry, for the unlimited guide and the stops; where the block alone is safe."""
+    lines = []
     found, bound = thresholds(study.data), study.summary["a_max_g"]
     lams, ps = found["lam"].values, found["p"].values
     for kind in ("unlimited", "stops"):
-        print(
+        lines.append(
             f"threshold, {kind} guide: Omega* bracketed at {study.summary[kind]['bracketed']} of "
             f"{lams.size * ps.size} geometries"
         )
@@ -636,61 +854,14 @@ def _print_threshold_map(study: Study) -> None:
             for j, p in enumerate(ps):
                 text = {0: f"{star[i, j]:.3g}", 1: f"<= {high[i, j]:.3g}", 2: f"> {low[i, j]:.3g}"}
                 cells.append(f"p = {p:g}: Omega* {text.get(int(status[i, j]), 'undefined')}")
-            print(f"  lambda = {lam:g}: " + "; ".join(cells))
+            lines.append(f"  lambda = {lam:g}: " + "; ".join(cells))
     for i, lam in enumerate(lams):
         safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in found["safe_from"].values[i])
-        print(
+        lines.append(
             f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
             f"{safe} (p = {', '.join(f'{p:g}' for p in ps)} rad/s)"
         )
-
-
-def _suite_from(args) -> Suite:
-    """The motions of ``ida``/``fragility``: ``--motions FILE[:UNIT]...``, ``--stochastic N --seed S`` (site
-    options) or ``--pulses FAMILY --periods T...``, as :func:`rocking.study.suite.suite_of` makes them."""
-    site = given(args, SITE_OPTIONS)
-    motions = None if args.motions is None else [split_unit(m) for m in args.motions]
-    try:
-        return suite_of(
-            motions,
-            **given(args, ("unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS)),
-            site=site or None,
-            g=block_from(args).g,
-        )
-    except ParameterError as exc:
-        raise ParameterError(_as_flags(str(exc))) from None
-
-
-def _as_flags(message: str) -> str:
-    """A message of :func:`suite_of` naming the Python keywords of the options, with the command line's flags."""
-    message = re.sub(r"\bsite\b(?!\.)", "site options (" + flags(SITE_OPTIONS[:2]) + ", ...)", message)
-    for word in ("motions", "unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS):
-        message = re.sub(rf"\b{word}\b(?!\.)", flag(word), message)
-    return message
-
-
-def _cmd_ida(args) -> int:
-    measure = "scale" if args.command == "ida" else args.im
-    name = "scales" if measure == "scale" else "levels"
-    log = getattr(args, f"{name}_log")
-    grid = grid_from(name, getattr(args, name)) if log is None else grid_from(f"{name}-log", log, log=True)
-    setting, damper, execution = setting_from(args), damper_from(args), execution_from(args)
-    suite = _suite_from(args)
-    out = out_from(args)
-    study = incremental_dynamic_analysis(
-        setting,
-        damper,
-        suite,
-        grid,
-        execution,
-        measure_name=measure,
-        runs=out / "runs",
-        **given(args, ("directions", "check")),
-    )
-    _report(study, out)
-    for line in fit_lines(study):
-        print(line)
-    return 0
+    return lines
 
 
 def fit_lines(study: Study) -> list[str]:
@@ -719,6 +890,9 @@ def fit_lines(study: Study) -> list[str]:
     return lines
 
 
+# --- demo and redraw, the command line's own; running a command ---------------------------
+
+
 def _cmd_demo(args) -> int:
     """The damper as built: stops at the block's edges beside the paper's unlimited guide (full maps and spectra,
     both directions), the design answer, and ``Omega*`` across geometries; each on its command's default grids."""
@@ -733,12 +907,12 @@ def _cmd_demo(args) -> int:
             setting, damper, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA), execution, runs=runs, full=True
         )
         _report(study, out, f"map{suffix}")
-        _print_map(study)
+        _print(map_lines(study))
     for suffix, damper in dampers:
         Omega, beta = grid_from("Omega", SPECTRUM_OMEGA), grid_from("beta", SPECTRUM_BETA)
         study = minimum_overturning_spectrum(setting, damper, Omega, beta, execution, runs=runs, **_tol(args))
         _report(study, out, f"spectrum{suffix}")
-        _print_spectrum(study)
+        _print(spectrum_lines(study))
     _vertical_spectra(setting, replace(tuning, stops=True), execution, out, runs, **_tol(args))
     study = design(
         setting,
@@ -751,7 +925,7 @@ def _cmd_demo(args) -> int:
         **_tol(args),
     )
     _report(study, out)
-    _print_design(study)
+    _print(design_lines(study))
     grids = [grid_from(name, default) for name, default in (("lam", LAM_GRID), ("p", P_GRID), ("Omega", OMEGA_GRID))]
     study = threshold_map(
         *grids,
@@ -766,7 +940,7 @@ def _cmd_demo(args) -> int:
         **_tol(args),
     )
     _report(study, out)
-    _print_threshold_map(study)
+    _print(threshold_map_lines(study))
     print(
         f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
         "spectrum-unlimited, spectrum-vertical, design, threshold .png/.pdf)"
@@ -856,131 +1030,30 @@ def _guarded(command):
     return run
 
 
+def _described(text: str) -> str:
+    """The description of a study command with the block options: its help, and where its block comes from."""
+    return f"{text[:1].upper()}{text[1:]}. {block_help()}"
+
+
 def _study_parser(subparsers, name: str, text: str) -> argparse.ArgumentParser:
     """A study's parser, its description saying which block it uses; the block options first."""
-    p = add_parser(subparsers, name, text, f"{text[:1].upper()}{text[1:]}. {block_help()}")
+    p = add_parser(subparsers, name, text, _described(text))
     add_block_options(p)
     return p
 
 
 def add_study_commands(subparsers) -> None:
-    """Add ``map``, ``spectrum``, ``optimize``, ``demo`` and ``redraw`` to the ``rocking`` subparsers."""
-    p = _study_parser(subparsers, "map", "overturning map over (Omega, beta), block alone and with a damper")
-    _add_damper(p, tuned=True, searched=False)
-    _add_variant(p)
-    _add_grid(p, "Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p")
-    _add_grid(p, "beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)")
-    tile = python_default(overturning_map, "tile")
-    p.add_argument(
-        "--tile", type=int, nargs=2, metavar=("NOMEGA", "NBETA"), help=f"cells per tile (default {tile[0]} {tile[1]})"
-    )
-    p.add_argument(
-        "--coarse",
-        type=int,
-        metavar="STEP",
-        help="coarse step of the adaptive map, a power of two: every STEP-th cell is computed, then the map is "
-        "refined where neighbouring outcome classes differ, and verified (--verify) "
-        f"({default_text(overturning_map, 'coarse')})",
-    )
-    p.add_argument(
-        "--verify",
-        type=int,
-        metavar="STEP",
-        help="first step of the verification of the adaptive map, a power of two up to --coarse, 0: none: every "
-        "region of one class that holds STEP x STEP cells is found, smaller ones near the class boundaries "
-        "(default: the coarse step)",
-    )
-    p.add_argument("--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)")
-    _add_directions(p)
-    _add_pulse(p)
-    _add_vertical(p)
-    _add_solver(p)
-    p.set_defaults(func=_guarded(_cmd_map))
-
-    p = _study_parser(subparsers, "spectrum", "minimum overturning amplitude beta_min(Omega), with safe windows")
-    _add_damper(p, tuned=True, searched=False)
-    _add_variant(p)
-    _add_grid(p, "Omega", SPECTRUM_OMEGA, "pulse frequency ratios")
-    _add_grid(p, "beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)")
-    _add_tol(p)
-    p.add_argument(
-        "--coarse",
-        type=int,
-        metavar="STEP",
-        help="adaptive beta scans of coarse step STEP, a power of two: every STEP-th amplitude is computed, then "
-        "bisections where neighbouring outcome classes differ, and a verification; features narrower than STEP "
-        "amplitudes away from a class change can be missed, and are on the default grids (16 is about 4.6 times "
-        "fewer scan responses there; default: every amplitude)",
-    )
-    _add_directions(p)
-    _add_pulse(p)
-    _add_vertical(p)
-    _add_solver(p)
-    p.set_defaults(func=_guarded(_cmd_spectrum))
-
-    p = _study_parser(subparsers, "optimize", "optimal damper period and best gain against Omega; threshold Omega*")
-    _add_damper(p, tuned=False, searched=True)
-    _add_grid(p, "Omega", OPTIMIZE_OMEGA, "pulse frequency ratios")
-    _add_grid(p, "beta", OPTIMIZE_BETA, "scan amplitudes of every beta_min")
-    _add_search(p, TM_GRID, optimal_damper)
-    _add_tol(p)
-    _add_directions(p)
-    _add_pulse(p)
-    _add_solver(p)
-    p.set_defaults(func=_guarded(_cmd_optimize))
-
-    p = _study_parser(
-        subparsers, "design", "one damper with stops for a band of pulses: the best worst gain, in SI units"
-    )
-    g = p.add_argument_group("damper", "As rocking.design: the mass budget and the stroke; the search ranges.")
-    g.add_argument("--gamma", type=float, help=f"mass budget m/M ({default_text(design, 'gamma')})")
-    g.add_argument(
-        "--stroke", type=float, help="half-stroke L of the stops, m, in (0, B/2) (default B/2 minus the pads' 20 mm)"
-    )
-    g.add_argument("--h", type=float, help=f"height of the guide above the block, m ({default_text(design, 'h')})")
-    _add_search(g, DESIGN_TM_GRID, design)
-    g.add_argument(
-        "--zeta-grid",
-        nargs=3,
-        metavar=("MIN", "MAX", "N"),
-        help=f"coarse log grid of the damping ratio (default {ZETA_GRID[0]:g} {ZETA_GRID[1]:g} {ZETA_GRID[2]})",
-    )
-    _add_grid(p, "Omega", DESIGN_OMEGA, "the band of pulse frequency ratios")
-    _add_grid(p, "beta", DESIGN_BETA, "scan amplitudes of every beta_min")
-    _add_tol(p)
-    _add_directions(p)
-    _add_pulse(p)
-    _add_solver(p)
-    p.set_defaults(func=_guarded(_cmd_design))
-
-    p = add_parser(
-        subparsers,
-        "threshold",
-        "threshold frequency Omega* over block geometries, unlimited guide and stops",
-        "The threshold frequency Omega* (above it the best damper gains less than 1 %) over a grid of "
-        "slenderness lambda = H/B and size p, for the unlimited guide and the stops at the block's edges, both "
-        "directions; the beta scan rises until the block overturns or the pulse passes --a-max g.",
-    )
-    _add_grid(p, "lam", LAM_GRID, "slenderness H/B of the blocks")
-    _add_grid(p, "p", P_GRID, "size p = sqrt(3 g / 4 R) of the blocks, rad/s")
-    _add_grid(p, "Omega", OMEGA_GRID, "pulse frequency ratios scanned at each geometry")
-    g = p.add_argument_group("blocks and damper", "As rocking.study.threshold.threshold_map.")
-    g.add_argument(
-        "--e-ratio", type=float, help=f"eccentricity e/B of every block ({default_text(threshold_map, 'e_ratio')})"
-    )
-    g.add_argument("--gamma", type=float, help=f"mass ratio m/M ({default_text(threshold_map, 'gamma')})")
-    g.add_argument("--zeta", type=float, help=f"damping ratio ({default_text(threshold_map, 'zeta')})")
-    g.add_argument(
-        "--h", type=float, help=f"height of the guide above the block, m ({default_text(threshold_map, 'h')})"
-    )
-    _add_search(g, THRESHOLD_TM_GRID, threshold_map)
-    g.add_argument(
-        "--a-max", type=float, help=f"bound of the ground acceleration, in g ({default_text(threshold_map, 'a_max')})"
-    )
-    _add_tol(p)
-    _add_directions(p)
-    _add_solver(p)
-    p.set_defaults(func=_guarded(_cmd_threshold))
+    """Add one command per kind of :data:`rocking.study.kinds.KINDS`, built from its entry, then ``demo`` and
+    ``redraw`` (the command line's own) to the ``rocking`` subparsers."""
+    for name, kind in KINDS.items():
+        command = kind.command
+        blocks = any(group == "block" for group, _ in command.options)
+        # A command with the block options says in its description where its block comes from.
+        description = command.description or (_described(command.help) if blocks else None)
+        p = add_parser(subparsers, name, command.help, description)
+        for group, params in command.options:
+            GROUPS[group].add(p, params, kind)
+        p.set_defaults(func=_guarded(partial(run_study, name)))
 
     p = _study_parser(
         subparsers,
@@ -991,74 +1064,6 @@ def add_study_commands(subparsers) -> None:
     _add_tol(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_demo))
-
-    for name, text in (
-        ("ida", "incremental dynamic analysis: every record at every scale factor, with and without the damper"),
-        (
-            "fragility",
-            "fragility curves: the probability of overturning against an intensity measure, "
-            "over a suite of records or of stochastic motions",
-        ),
-    ):
-        p = _study_parser(subparsers, name, text)
-        _add_damper(p, tuned=True, searched=False)
-        _add_variant(p)
-        g = p.add_argument_group(
-            "motions",
-            "As rocking.study.suite.Suite.from_files, Suite.stochastic or "
-            "Suite.from_pulses (each pulse its class's from_period(a_g, T_g, ...)).",
-        )
-        g.add_argument(
-            "--motions",
-            nargs="+",
-            metavar="FILE[:UNIT]",
-            help="records: PEER NGA .AT2, or 'time, a' columns; FILE:UNIT gives a file its own unit of "
-            f"acceleration ({', '.join(UNITS)}), e.g. a.AT2 b.txt:cm/s2",
-        )
-        g.add_argument(
-            "--unit",
-            choices=tuple(UNITS),
-            help="unit of the accelerations of the text or CSV records given without their own "
-            "(default: the one each header states)",
-        )
-        g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")
-        g.add_argument("--seed", type=int, help="seed of the stochastic motions (default 0)")
-        for option in SITE_OPTIONS:
-            g.add_argument(
-                f"--{option.replace('_', '-')}",
-                type=float,
-                help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
-            )
-        g.add_argument(
-            "--vertical-ratio",
-            type=float,
-            metavar="R",
-            help="a vertical component of the --stochastic motions, > 0 up: R times a record of the same site "
-            "model from its own noise, in [0, 10] (docs/model.md section 14; default none)",
-        )
-        g.add_argument(
-            "--pulses",
-            choices=[f.replace("_", "-") for f in PULSES],
-            help="a suite of analytic pulses of this family, one per --periods value",
-        )
-        g.add_argument("--periods", nargs="+", type=float, metavar="T", help="periods 2 pi / omega_g of --pulses, s")
-        g.add_argument("--amplitude", type=float, help="amplitude a_g of --pulses, m/s2 (default 1 g)")
-        g.add_argument("--gamma-mp", type=float, help="oscillations gamma of --pulses mp, > 1")
-        g.add_argument("--nu", type=float, help="phase nu of --pulses mp, rad (default 0)")
-        if name == "ida":
-            _add_levels(p, "scales", IDA_SCALES, "scale factors of every record")
-        else:
-            p.add_argument(
-                "--im",
-                choices=tuple(LEVELS)[1:],
-                default="pga",
-                help="intensity measure (default pga; amplitude: the a_g of --pulses)",
-            )
-            _add_levels(p, "levels", FRAGILITY_LEVELS, "levels of the intensity measure, SI units (m/s2 for pga)")
-        _add_directions(p)
-        _add_solver(p)
-        _add_check(p)
-        p.set_defaults(func=_guarded(_cmd_ida))
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
     p.add_argument("paths", nargs="+", help="a saved study (.nc, .json or their stem) or a folder of them")
