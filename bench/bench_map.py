@@ -8,15 +8,19 @@ from __future__ import annotations
 
 import numpy as np
 
-from rocking import Block
+from rocking import Block, Vertical
 from rocking.sim.cases import pulse_cases
 
 GAMMA, OMEGA_RATIO, ZETA, H_MASS = 0.05, 1.0, 0.05, 0.05
 
 
-def map_cases(n: int):
-    """The ``n x n`` map: the block, the flat ``Omega`` and ``beta`` of its cells, and their cases."""
+def map_cases(n: int, vertical_ratio: float = 0.0):
+    """The ``n x n`` map: the block, the flat ``Omega`` and ``beta`` of its cells, and their cases; with
+    ``vertical_ratio`` > 0, every pulse with an in-phase vertical component of that ratio (rocking.Vertical)."""
     block = Block.reference()
     Omega, beta = np.meshgrid(np.linspace(1, 10, n), np.linspace(1, 10, n), indexing="ij")
-    cases = pulse_cases(block, Omega, beta, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS, rtol=1e-8)
+    vertical = Vertical(vertical_ratio) if vertical_ratio > 0 else None
+    cases = pulse_cases(
+        block, Omega, beta, gamma=GAMMA, omega_ratio=OMEGA_RATIO, zeta=ZETA, h=H_MASS, rtol=1e-8, vertical=vertical
+    )
     return block, Omega.ravel(), beta.ravel(), cases

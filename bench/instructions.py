@@ -8,6 +8,7 @@ set-up of the cases, not the build). Printed as one line::
 
     python bench/instructions.py            # the whole map: about a minute
     python bench/instructions.py -n 20      # a 20 x 20 map
+    python bench/instructions.py --vertical-ratio 0.5   # every pulse with an in-phase vertical component
 
 A change to sim.c or to the generated model is judged by the change of this figure on a busy
 machine, where times vary by tens of percent from one run to the next.
@@ -34,14 +35,14 @@ from rocking.sim.cases import run_cases  # noqa: E402
 ENTRY = "simulate_one"
 
 
-def run_map(n: int) -> int:
+def run_map(n: int, vertical_ratio: float = 0.0) -> int:
     """Run the ``n x n`` bench map on the C batch, one thread; the number of responses."""
-    cases = map_cases(n)[-1]
+    cases = map_cases(n, vertical_ratio)[-1]
     run_cases(cases, "c", 1)
     return len(cases)
 
 
-def measure(n: int) -> dict | None:
+def measure(n: int, vertical_ratio: float = 0.0) -> dict | None:
     """The instructions per response of the ``n x n`` bench map under callgrind; ``None`` without valgrind.
 
     Raises
@@ -65,6 +66,8 @@ def measure(n: int) -> dict | None:
             "--inside",
             "-n",
             str(n),
+            "--vertical-ratio",
+            repr(vertical_ratio),
         ]
         done = subprocess.run(command, capture_output=True, text=True)
     collected = re.search(r"Collected : (\d+)", done.stderr)
@@ -72,15 +75,21 @@ def measure(n: int) -> dict | None:
     if done.returncode != 0 or not (collected and responses) or int(collected.group(1)) == 0:
         raise RuntimeError(f"callgrind run failed ({done.returncode}): {done.stderr.strip()[-500:]}")
     count = int(responses.group(1))
-    return {"responses": count, "instructions_per_response": int(collected.group(1)) / count, "entry": ENTRY}
+    return {
+        "responses": count,
+        "instructions_per_response": int(collected.group(1)) / count,
+        "entry": ENTRY,
+        "vertical_ratio": vertical_ratio,
+    }
 
 
 def line(result: dict | None) -> str:
     """The line `make bench` prints."""
     if result is None:
         return "bench map: instructions per response skipped (valgrind not found; apt-get install valgrind)"
+    vertical = f", in-phase vertical ratio {result['vertical_ratio']:g}" if result.get("vertical_ratio") else ""
     return (
-        f"bench map: {result['instructions_per_response']:,.0f} instructions per response "
+        f"bench map{vertical}: {result['instructions_per_response']:,.0f} instructions per response "
         f"(callgrind, {result['responses']:,} responses, {result['entry']})"
     )
 
@@ -88,12 +97,15 @@ def line(result: dict | None) -> str:
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("-n", type=int, default=50, help="grid size per axis (default 50, the bench map)")
+    parser.add_argument(
+        "--vertical-ratio", type=float, default=0.0, help="in-phase vertical component of every pulse (default 0)"
+    )
     parser.add_argument("--inside", action="store_true", help=argparse.SUPPRESS)  # the run callgrind watches
     args = parser.parse_args(argv)
     if args.inside:
-        print(f"responses {run_map(args.n)}")
+        print(f"responses {run_map(args.n, args.vertical_ratio)}")
         return 0
-    print(line(measure(args.n)))
+    print(line(measure(args.n, args.vertical_ratio)))
     return 0
 
 
