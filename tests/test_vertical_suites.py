@@ -11,6 +11,7 @@ import rocking
 from rocking.cli.main import main
 from rocking.model.intensity import pga
 from rocking.model.records import read_record
+from rocking.plot.figures import _suite_label
 from rocking.study.ida import envelope
 from rocking.study.overturning_map import FIELDS
 from rocking.study.suite import Suite, suite_of
@@ -79,6 +80,9 @@ def test_a_vertical_record_of_zeros_is_no_vertical_record(tmp_path, pair):
     assert "vertical" not in plain.config["suite"] and zero.config["suite"]["vertical"]["files"][0]["path"] == str(
         zeros.resolve()
     )
+    # The figure's title says the records carry vertical ones.
+    assert _suite_label(zero.config["suite"]) == "1 records with their vertical records"
+    assert _suite_label(plain.config["suite"]) == "1 records"
 
 
 def test_a_fragility_of_pairs_scales_to_the_measure_of_the_horizontal_record(tmp_path, pair):
