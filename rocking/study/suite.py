@@ -192,8 +192,8 @@ class Suite:
         if self.files:
             files: dict[str, Any] = {"files": [{"path": p, "sha256": d, "unit": u} for p, d, u in self.files]}
             if self.vertical_files:  # only then: the record, and the tiles, of a suite without stay as they were
-                vertical = [{"path": p, "sha256": d, "unit": u} for p, d, u in self.vertical_files]
-                files["vertical"] = {"files": vertical, "convention": "ddy_g > 0 up"}
+                paired = [{"path": p, "sha256": d, "unit": u} for p, d, u in self.vertical_files]
+                files["vertical"] = {"files": paired, "convention": "ddy_g > 0 up"}
             return files
         if self.pulses:
             return {
