@@ -168,7 +168,7 @@ class Suite:
         Raises
         ------
         ParameterError
-            If its file changed since the suite was made.
+            If its file, or its vertical record's, changed since the suite was made.
         """
         if self.files:
             record = _unchanged(*self.files[i])
