@@ -45,6 +45,7 @@ from ..sim.problem import SimulationError
 from ..sim.run import NAMES, simulate
 from ..sim.stroke import mass_past_edge
 from ..study.config import versions
+from ..study.suite import paired_vertical
 from .options import (
     add_block_options,
     add_parser,
@@ -257,16 +258,10 @@ def _motion(args) -> SampledMotion:
 
 
 def _vertical_record(args, record) -> np.ndarray:
-    """The samples of ``--vertical FILE`` at the horizontal record's times: the same dt is required; a shorter
-    record is taken as 0 after its end, a longer one is cut at the horizontal record's."""
-    vertical = read_record(args.vertical, args.unit)
-    if not math.isclose(vertical.dt, record.dt, rel_tol=1e-9):
-        raise ParameterError(
-            f"--vertical {args.vertical}: dt = {vertical.dt:g} s, the horizontal record's is {record.dt:g} s; "
-            "the pair must share its dt"
-        )
-    n = record.acceleration.size
-    return np.concatenate((vertical.acceleration[:n], np.zeros(max(0, n - vertical.acceleration.size))))
+    """The samples of ``--vertical FILE`` at the horizontal record's times, as a suite pairs them
+    (:func:`rocking.study.suite.paired_vertical`: the same dt, 0 after a shorter record's end, cut at the
+    horizontal record's)."""
+    return paired_vertical(record, read_record(args.vertical, args.unit), f"--vertical {args.vertical}")
 
 
 def _motion_text(block, motion) -> str:

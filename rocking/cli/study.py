@@ -365,13 +365,16 @@ def _tol(args) -> dict:
 
 
 def _suite_from(args) -> Suite:
-    """The motions of ``ida``/``fragility``: ``--motions FILE[:UNIT]...``, ``--stochastic N --seed S`` (site
-    options) or ``--pulses FAMILY --periods T...``, as :func:`rocking.study.suite.suite_of` makes them."""
+    """The motions of ``ida``/``fragility``: ``--motions FILE[:UNIT]...`` (with ``--vertical-motions
+    FILE[:UNIT]...``), ``--stochastic N --seed S`` (site options) or ``--pulses FAMILY --periods T...``, as
+    :func:`rocking.study.suite.suite_of` makes them."""
     site = given(args, SITE_OPTIONS)
     motions = None if args.motions is None else [split_unit(m) for m in args.motions]
+    vertical = None if args.vertical_motions is None else [split_unit(v) for v in args.vertical_motions]
     try:
         return suite_of(
             motions,
+            vertical_motions=vertical,
             **given(args, ("unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS)),
             site=site or None,
             g=block_from(args).g,
@@ -383,7 +386,9 @@ def _suite_from(args) -> Suite:
 def _as_flags(message: str) -> str:
     """A message of :func:`suite_of` naming the Python keywords of the options, with the command line's flags."""
     message = re.sub(r"\bsite\b(?!\.)", "site options (" + flags(SITE_OPTIONS[:2]) + ", ...)", message)
-    for word in ("motions", "unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS):
+    # vertical_motions last: in its flag, --vertical-motions, the word motions follows a hyphen and would be flagged.
+    words = ("motions", "unit", "stochastic", "seed", "vertical_ratio", "pulses", *PULSE_SUITE_OPTIONS)
+    for word in (*words, "vertical_motions"):
         message = re.sub(rf"\b{word}\b(?!\.)", flag(word), message)
     return message
 
@@ -504,9 +509,17 @@ def _add_motions(p: argparse.ArgumentParser) -> None:
         f"acceleration ({', '.join(UNITS)}), e.g. a.AT2 b.txt:cm/s2",
     )
     g.add_argument(
+        "--vertical-motions",
+        nargs="+",
+        metavar="FILE[:UNIT]",
+        help="the vertical record (> 0 up) of each of --motions, in their order: of its record's dt, taken as 0 "
+        "after its end and cut at the record's, as rocking simulate --vertical; a scale factor scales both "
+        "components, the intensity measure of a level is the horizontal record's (docs/model.md section 14)",
+    )
+    g.add_argument(
         "--unit",
         choices=tuple(UNITS),
-        help="unit of the accelerations of the text or CSV records given without their own "
+        help="unit of the accelerations of the text or CSV records (and --vertical-motions) given without their own "
         "(default: the one each header states)",
     )
     g.add_argument("--stochastic", type=int, metavar="N", help="N motions of the stochastic site model")

@@ -268,7 +268,8 @@ def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = N
 def _suite_label(suite: dict) -> str:
     """The motions of an IDA or fragility study (:meth:`rocking.study.suite.Suite.record`) for a title."""
     if "files" in suite:
-        return f"{len(suite['files'])} records"
+        paired = " with their vertical records" if "vertical" in suite else ""
+        return f"{len(suite['files'])} records{paired}"
     if "pulses" in suite:
         pulses = suite["pulses"]
         families = sorted({PULSE_NAMES[p["family"]] for p in pulses})

@@ -558,6 +558,7 @@ def incremental_dynamic_analysis(
     scales,
     motions=None,
     unit: str | None = None,
+    vertical_motions=None,
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
@@ -591,6 +592,12 @@ def incremental_dynamic_analysis(
         Record files (PEER ``.AT2``, two-column text, ...): paths, or ``(path, unit)`` pairs for a file's own unit
         (``"g"``, ``"m/s2"``, ``"cm/s2"``); ``unit``: that of the others (default: the one each header states);
         pulses (:class:`rocking.OneSinePulse`, :class:`rocking.RickerWavelet`, ...) or a :class:`rocking.Suite`.
+    vertical_motions : record files, optional
+        With record files: the vertical record of each, in the same order (paths, or ``(path, unit)`` pairs;
+        ``unit`` for the others), > 0 up, of its horizontal record's dt, taken as 0 after its end and cut at the
+        horizontal record's end, as ``rocking simulate --motion H --vertical V``; hashed like the horizontal
+        files. A scale factor scales both components (:meth:`rocking.study.suite.Suite.from_files`,
+        docs/model.md section 14).
     stochastic, seed, site
         Instead: ``stochastic`` motions of the site model ``site`` (a
         :class:`~rocking.model.stochastic.SiteModel` or a mapping of its keywords, ``arias``, ``d595``, ...,
@@ -627,7 +634,8 @@ def incremental_dynamic_analysis(
     >>> ds["motion"].values.tolist(), ds["level"].attrs["units"]
     (['ricker-T0.5-0', 'ricker-T1-1'], '1')
     """
-    suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite = {"motions": motions, "unit": unit, "vertical_motions": vertical_motions, "stochastic": stochastic}
+    suite |= {"seed": seed, "site": site}
     suite |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
     return _ida(
@@ -658,6 +666,7 @@ def fragility(
     im: str = "pga",
     motions=None,
     unit: str | None = None,
+    vertical_motions=None,
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
@@ -690,8 +699,12 @@ def fragility(
     im : {"pga", "pgv", "arias", "cav", "amplitude"}
         The intensity measure: PGA (m/s^2), PGV (m/s), Arias intensity (m/s), CAV (m/s), or the amplitude
         ``a_g`` of a suite of pulses (m/s^2).
-    motions, unit, stochastic, seed, site, vertical_ratio, vertical_site, pulses, periods, amplitude, gamma_mp, nu
-        The suite, as :func:`incremental_dynamic_analysis`; ``check`` too.
+    motions, unit, vertical_motions, stochastic, seed, site, vertical_ratio, vertical_site
+        The suite, as :func:`incremental_dynamic_analysis`. A level scales a motion with a vertical component, both
+        components by the same factor, to the level of the measure of its horizontal component: the measures are
+        the horizontal record's.
+    pulses, periods, amplitude, gamma_mp, nu, check
+        As :func:`incremental_dynamic_analysis`.
     damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
 
@@ -719,7 +732,8 @@ def fragility(
     """
     if im not in tuple(LEVELS)[1:]:
         raise ParameterError(f"im must be one of {', '.join(tuple(LEVELS)[1:])} (got {im!r})")
-    suite = {"motions": motions, "unit": unit, "stochastic": stochastic, "seed": seed, "site": site}
+    suite = {"motions": motions, "unit": unit, "vertical_motions": vertical_motions, "stochastic": stochastic}
+    suite |= {"seed": seed, "site": site}
     suite |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     suite |= {"pulses": pulses, "periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
     return _ida(

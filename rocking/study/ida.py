@@ -40,7 +40,7 @@ from .directions import choose, response_envelope
 from .fragility import FITTED, FitWarning, bootstrap_band, fit_lognormal, fit_warnings, fragility_curve, ida_summary
 from .overturning_map import FIELDS, PARTS, check_damper, check_study, preflight, undetermined, warn_undetermined
 from .result import Study
-from .suite import Suite, motion_names
+from .suite import Suite, motion_names, vertical_names
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 from .vocabulary import FIT_STATUSES, PART_NAMES
 
@@ -82,6 +82,7 @@ OWN_FIELDS: dict[str, tuple] = {
 DIMS = {
     **{dim: (dim,) for dim in ("part", "motion", "level", "sign", "curve_x")},
     "im": ("motion",),
+    "vertical_motion": ("motion",),
     **dict.fromkeys((*FIELDS, SENSITIVE.name), ("part", "motion", "level", "sign")),
     **dict.fromkeys(("first", "last_safe", "reversals", "sensitive_responses"), ("part", "motion")),
     **dict.fromkeys(("fraction", "sensitive_fraction"), ("part", "level")),
@@ -323,6 +324,7 @@ def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
             np.array(motion_names(config["suite"])),
             {"long_name": "the motion: its file's name, <family>-T<period in s>-<i> or stochastic-<seed>-<i>"},
         ),
+        **_vertical_coordinate(config["suite"]),
         "level": ("level", levels, coordinate_attrs("level", config)),
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
         "curve_x": ("curve_x", curve_x, coordinate_attrs("curve_x", config)),
@@ -330,6 +332,16 @@ def ida_data(config: dict, levels, signs, curve_x, im, fields: dict):
     variables = {k: (DIMS[k], v, field_attrs(k, config) or _own_attrs(k)) for k, v in fields.items()}
     variables["im"] = (DIMS["im"], im, field_attrs("im", config))
     return xr.Dataset(variables, coords=coords)
+
+
+def _vertical_coordinate(suite: dict) -> dict:
+    """The coordinate ``vertical_motion`` of a suite of records paired with vertical ones: the vertical file of
+    each motion, beside its name; none for a suite without."""
+    names = vertical_names(suite)
+    if names is None:
+        return {}
+    text = "the vertical record of the motion, > 0 up, scaled with it: its file's name (docs/model.md section 14)"
+    return {"vertical_motion": ("motion", np.array(names), {"long_name": text})}
 
 
 def _own_attrs(name: str) -> dict:

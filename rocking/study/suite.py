@@ -4,7 +4,8 @@ model, or analytic pulses.
 A suite is a recipe, not the motions: :meth:`Suite.motion` builds motion ``i`` where it is
 used (in a tile, on any worker), so a study of thousands of motions holds one at a time.
 Files are read once when the suite is made, to refuse a bad file at once and to record its
-SHA-256; a file changed afterwards is refused when a tile reads it. A stochastic motion
+SHA-256; a file changed afterwards is refused when a tile reads it. A record file may carry a vertical record
+(:meth:`Suite.from_files`, ``vertical_motions``), hashed, checked and read the same way. A stochastic motion
 is drawn from the ``i``-th child of its seed (:func:`rocking.model.stochastic.record_rng`).
 A suite of pulses holds the pulses themselves (a few numbers each): near-fault motions
 of uncertain period, say, for a fragility against the pulse's amplitude.
@@ -13,15 +14,18 @@ of uncertain period, say, for a fragility against the pulse's amplitude.
 from __future__ import annotations
 
 import dataclasses
+import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
+import numpy as np
+
 from ..model.motion import PULSE_TYPES, SampledMotion, describe, family_of
 from ..model.params import ParameterError, check_in_range
-from ..model.records import UNITS, file_sha256, read_record
+from ..model.records import UNITS, Record, file_sha256, read_record
 from ..model.stochastic import DEFAULT_SITE, SiteModel, check_vertical_site, record_rng, synthesize, vertical_rng
 
 #: Largest number of motions in a suite.
@@ -31,7 +35,7 @@ MAX_MOTIONS = 100_000
 SOURCES = {"motions": "motions FILES", "stochastic": "stochastic N", "pulses": "pulses FAMILY"}
 #: The options of each source of a suite.
 OPTIONS_OF = {
-    "motions": ("unit",),
+    "motions": ("unit", "vertical_motions"),
     "stochastic": ("seed", "site", "vertical_ratio", "vertical_site"),
     "pulses": ("periods", "amplitude", "gamma_mp", "nu"),
 }
@@ -59,6 +63,9 @@ class Suite:
         ``vertical_site`` (:mod:`rocking.model.stochastic`); 0: none.
     vertical_site : SiteModel or None
         The vertical component's site model; None: the horizontal ``site``.
+    vertical_files : tuple of (str, str, str or None)
+        Absolute path, SHA-256 and unit of the vertical record paired with each of ``files``, > 0 up (docs/model.md
+        section 14), or empty: none; its samples at the horizontal record's times (:func:`paired_vertical`).
     """
 
     files: tuple = ()
@@ -68,9 +75,10 @@ class Suite:
     pulses: tuple = ()
     vertical_ratio: float = 0.0
     vertical_site: SiteModel | None = None
+    vertical_files: tuple = ()
 
     @classmethod
-    def from_files(cls, paths, unit: str | None = None) -> Suite:
+    def from_files(cls, paths, unit: str | None = None, vertical_motions=None) -> Suite:
         """The records of ``paths``, each read now: ``.AT2``, or columns of time and acceleration.
 
         Parameters
@@ -78,20 +86,32 @@ class Suite:
         paths : iterable of path or (path, unit)
             Record files; a pair gives its file's own unit of acceleration (``"g"``, ``"m/s2"``, ``"cm/s2"``, ...).
         unit : str, optional
-            The unit of the files given without one; default: the one each header states.
+            The unit of the files given without one (the vertical ones too); default: the one each header states.
+        vertical_motions : iterable of path or (path, unit), optional
+            The vertical record of each of ``paths``, in the same order, > 0 up: of the same dt, taken as 0 after
+            its end and cut at the horizontal record's, as ``rocking simulate --motion H --vertical V``
+            (:func:`paired_vertical`). A level of a study scales both components by the same factor; the
+            intensity measures stay the horizontal record's (docs/model.md section 14). Default: none.
 
         Raises
         ------
         ParameterError
             A unit not known, or naming the file (and line) of the first one that cannot be read
-            (:mod:`rocking.model.records`).
+            (:mod:`rocking.model.records`); vertical records not one per record, or of another dt than their
+            horizontal record's, naming ``vertical_motions``.
         """
         items = [_path_and_unit(p, unit) for p in paths]
         if not 1 <= len(items) <= MAX_MOTIONS:
             raise ParameterError(f"a suite needs 1 to {MAX_MOTIONS} record files (got {len(items)})")
-        for path, own in items:
-            read_record(path, own)
-        return cls(files=tuple((str(p), file_sha256(p), own) for p, own in items))
+        verticals = _vertical_items(vertical_motions, unit, len(items))
+        for k, (path, own) in enumerate(items):
+            record = read_record(path, own)
+            if verticals:
+                paired_vertical(record, _read_vertical(*verticals[k]), _vertical_label(verticals[k][0]))
+        return cls(
+            files=tuple((str(p), file_sha256(p), own) for p, own in items),
+            vertical_files=tuple((str(p), file_sha256(p), own) for p, own in verticals),
+        )
 
     @classmethod
     def stochastic(
@@ -148,14 +168,15 @@ class Suite:
         Raises
         ------
         ParameterError
-            If its file changed since the suite was made.
+            If its file, or its vertical record's, changed since the suite was made.
         """
         if self.files:
-            path, digest, unit = self.files[i]
-            if file_sha256(Path(path)) != digest:
-                raise ParameterError(f"{path}: changed since the suite was made (its SHA-256 differs)")
-            record = read_record(path, unit)
-            return SampledMotion(record.acceleration, dt=record.dt)
+            record = _unchanged(*self.files[i])
+            if not self.vertical_files:
+                return SampledMotion(record.acceleration, dt=record.dt)
+            path = self.vertical_files[i][0]
+            a_v = paired_vertical(record, _unchanged(*self.vertical_files[i]), _vertical_label(path))
+            return SampledMotion(record.acceleration, dt=record.dt, a_v=a_v)
         if self.pulses:
             return self.pulses[i]
         site = self.site
@@ -169,7 +190,11 @@ class Suite:
     def record(self) -> dict:
         """JSON-ready description: the files and their hashes, the pulses, or the site model, seed and size."""
         if self.files:
-            return {"files": [{"path": p, "sha256": d, "unit": u} for p, d, u in self.files]}
+            files: dict[str, Any] = {"files": [{"path": p, "sha256": d, "unit": u} for p, d, u in self.files]}
+            if self.vertical_files:  # only then: the record, and the tiles, of a suite without stay as they were
+                paired = [{"path": p, "sha256": d, "unit": u} for p, d, u in self.vertical_files]
+                files["vertical"] = {"files": paired, "convention": "ddy_g > 0 up"}
+            return files
         if self.pulses:
             return {
                 "pulses": [
@@ -196,11 +221,72 @@ def motion_names(record: dict) -> list[str]:
     return [f"stochastic-{record['seed']}-{i}" for i in range(record["n"])]
 
 
-def _path_and_unit(item, unit: str | None) -> tuple[Path, str | None]:
-    """``(absolute path, unit)`` of a path or a ``(path, unit)`` pair of :meth:`Suite.from_files`."""
+def vertical_names(record: dict) -> list[str] | None:
+    """The names of the vertical record files of a suite from its :meth:`Suite.record`, one per motion; None
+    for a suite without them."""
+    files = record.get("vertical", {}).get("files")
+    return None if files is None else [Path(f["path"]).name for f in files]
+
+
+def paired_vertical(record: Record, vertical: Record, label: str) -> np.ndarray:
+    """The samples of the ``vertical`` record at the times of the horizontal ``record``: the same dt is required;
+    a shorter vertical record is taken as 0 after its end, a longer one is cut at the horizontal record's.
+
+    Raises
+    ------
+    ParameterError
+        ``label`` (the option and the vertical file) first, if the two records' dt differ.
+    """
+    if not math.isclose(vertical.dt, record.dt, rel_tol=1e-9):
+        raise ParameterError(
+            f"{label}: dt = {vertical.dt:g} s, the horizontal record's is {record.dt:g} s; the pair must share its dt"
+        )
+    n = record.acceleration.size
+    return np.concatenate((vertical.acceleration[:n], np.zeros(max(0, n - vertical.acceleration.size))))
+
+
+def _vertical_label(path) -> str:
+    """How a message names a vertical record of a suite: by its option, ``vertical_motions``, and its file."""
+    return f"vertical_motions {path}"
+
+
+def _vertical_items(vertical_motions, unit: str | None, n: int) -> list[tuple[Path, str | None]]:
+    """``(absolute path, unit)`` of each vertical record of :meth:`Suite.from_files`, one per record (none if
+    ``vertical_motions`` is None)."""
+    if vertical_motions is None:
+        return []
+    if isinstance(vertical_motions, str | os.PathLike):
+        vertical_motions = [vertical_motions]
+    items = [_path_and_unit(v, unit, "vertical_motions: ") for v in vertical_motions]
+    if len(items) != n:
+        raise ParameterError(
+            f"vertical_motions must give one vertical record per record of motions, in their order "
+            f"(got {len(items)} for {n})"
+        )
+    return items
+
+
+def _read_vertical(path: Path, unit: str | None) -> Record:
+    """The vertical record ``path``, a file that cannot be read refused naming ``vertical_motions``."""
+    try:
+        return read_record(path, unit)
+    except ParameterError as exc:
+        raise ParameterError(f"vertical_motions: {exc}") from None
+
+
+def _unchanged(path: str, digest: str, unit: str | None) -> Record:
+    """The record of a suite's file, refused if the file changed since the suite was made."""
+    if file_sha256(Path(path)) != digest:
+        raise ParameterError(f"{path}: changed since the suite was made (its SHA-256 differs)")
+    return read_record(path, unit)
+
+
+def _path_and_unit(item, unit: str | None, option: str = "") -> tuple[Path, str | None]:
+    """``(absolute path, unit)`` of a path or a ``(path, unit)`` pair of :meth:`Suite.from_files`; ``option``
+    begins the message of a unit not known."""
     path, own = (item, unit) if isinstance(item, str | os.PathLike) else tuple(item)
     if own is not None and own not in UNITS:
-        raise ParameterError(f"unit of {path} must be one of {', '.join(UNITS)} (got {own!r})")
+        raise ParameterError(f"{option}unit of {path} must be one of {', '.join(UNITS)} (got {own!r})")
     return Path(path).resolve(), own
 
 
@@ -236,6 +322,7 @@ def suite_of(
     motions=None,
     *,
     unit: str | None = None,
+    vertical_motions=None,
     stochastic: int | None = None,
     seed: int | None = None,
     site=None,
@@ -256,6 +343,8 @@ def suite_of(
         The motions themselves (:meth:`Suite.from_files`, :meth:`Suite.from_pulses`).
     unit : str, optional
         The unit of the record files given without their own.
+    vertical_motions : paths or (path, unit) pairs of records, optional
+        The vertical record of each record file of ``motions``, in their order (:meth:`Suite.from_files`).
     stochastic, seed, site : optional
         ``stochastic`` motions of the site model ``site`` (a :class:`~rocking.model.stochastic.SiteModel` or a
         mapping of its keywords over the defaults), from ``seed`` (default 0): :meth:`Suite.stochastic`.
@@ -277,8 +366,9 @@ def suite_of(
         raise ParameterError("a suite is needed: motions FILES..., stochastic N or pulses FAMILY")
     if len(sources) > 1:
         raise ParameterError(f"give one of motions FILES, stochastic N or pulses FAMILY (got {', '.join(sources)})")
-    options = {"unit": unit, "seed": seed, "site": site, "periods": periods, "amplitude": amplitude}
-    options |= {"gamma_mp": gamma_mp, "nu": nu, "vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
+    options = {"unit": unit, "vertical_motions": vertical_motions, "seed": seed, "site": site}
+    options |= {"periods": periods, "amplitude": amplitude, "gamma_mp": gamma_mp, "nu": nu}
+    options |= {"vertical_ratio": vertical_ratio, "vertical_site": vertical_site}
     foreign = [k for k, v in options.items() if v is not None and k not in OPTIONS_OF[sources[0]]]
     if foreign and sources[0] == "pulses":
         raise ParameterError(f"pulses makes its own suite: no {', '.join(foreign)}")
@@ -293,7 +383,7 @@ def suite_of(
         if vertical_site is not None:
             vertical["vertical_site"] = _site(vertical_site, horizontal)
         return Suite.stochastic(horizontal, stochastic, 0 if seed is None else seed, **vertical)
-    return _motions(motions, unit)
+    return _motions(motions, unit, vertical_motions)
 
 
 def _site(site, base: SiteModel | None = None) -> SiteModel:
@@ -308,9 +398,14 @@ def _site(site, base: SiteModel | None = None) -> SiteModel:
     return site
 
 
-def _motions(motions, unit: str | None) -> Suite:
-    """A suite from a Suite, record files (paths or (path, unit) pairs) or pulses (:mod:`rocking.model.motion`)."""
+def _motions(motions, unit: str | None, vertical_motions=None) -> Suite:
+    """A suite from a Suite, record files (paths or (path, unit) pairs, with their vertical records) or pulses
+    (:mod:`rocking.model.motion`)."""
     if isinstance(motions, Suite):
+        if vertical_motions is not None:
+            raise ParameterError(
+                "vertical_motions pairs record files: give them to Suite.from_files(..., vertical_motions=...)"
+            )
         return motions
     if isinstance(motions, str | os.PathLike):
         motions = [motions]
@@ -321,7 +416,9 @@ def _motions(motions, unit: str | None) -> Suite:
             f"motions must be a rocking.Suite, record files or pulses (got {type(motions).__name__})"
         ) from None
     if items and all(isinstance(m, str | os.PathLike | tuple | list) for m in items):
-        return Suite.from_files(items, unit)
+        return Suite.from_files(items, unit, vertical_motions)
+    if vertical_motions is not None:
+        raise ParameterError("vertical_motions pairs a vertical record with each record file: not with pulses")
     if unit is not None:
         raise ParameterError("unit is the unit of record files: give it with paths of records, not with pulses")
     return Suite.from_pulses(items)
