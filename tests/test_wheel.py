@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import json
 import os
+import shutil
 import subprocess
 import sys
 import sysconfig
@@ -14,8 +15,7 @@ import pytest
 
 ROOT = Path(__file__).resolve().parent.parent
 
-# One pytest-xdist worker for the module (make test: --dist loadgroup): its fixture builds the wheel in the
-# source tree's build/, which two workers building at once corrupt.
+# One pytest-xdist worker for the module (make test: --dist loadgroup): its fixture builds the wheel once.
 pytestmark = pytest.mark.xdist_group("wheel")
 MAP = (
     "import rocking; ds = rocking.overturning_map(rocking.Block.reference(), dict(gamma=0.05), Omega=[2.0, 4.0], "
@@ -29,8 +29,16 @@ WHERE = "from rocking.sim import cbuild; import rocking; print(cbuild.build(rock
 def wheel_venv(tmp_path_factory):
     """A fresh venv with the wheel installed, borrowing this environment's dependencies (not its rocking)."""
     tmp = tmp_path_factory.mktemp("wheel")
+    # Built from a copy: setuptools works in the source's build/, where an earlier build cut short leaves files
+    # that fail the next one ("dist-info already exists").
+    source = tmp / "source"
+    shutil.copytree(
+        ROOT,
+        source,
+        ignore=shutil.ignore_patterns(".git", ".venv", "build", "out", "*.egg-info", "__pycache__", "*.so", "_build"),
+    )
     pip = [sys.executable, "-m", "pip", "--disable-pip-version-check"]
-    subprocess.run([*pip, "wheel", "--quiet", "--no-deps", "--wheel-dir", str(tmp / "dist"), str(ROOT)], check=True)
+    subprocess.run([*pip, "wheel", "--quiet", "--no-deps", "--wheel-dir", str(tmp / "dist"), str(source)], check=True)
     (wheel,) = (tmp / "dist").glob("rocking-*.whl")
     subprocess.run([sys.executable, "-m", "venv", "--without-pip", str(tmp / "venv")], check=True)
     python = tmp / "venv" / "bin" / "python"
