@@ -12,6 +12,7 @@ from scipy.optimize import brentq, minimize_scalar
 import rocking
 from rocking import Block, Damper, OneSinePulse, RickerWavelet, SampledMotion, Vertical
 from rocking.model.loading import load_model
+from rocking.model.motion import RICKER_CUT, RICKER_PHASE, SHAPES, margin_extrema
 from rocking.sim.cases import pulse_cases, run_cases
 from rocking.sim.problem import resolve, vertical_of
 
@@ -121,6 +122,26 @@ def test_a_brief_uplift_between_two_extrema_of_the_ground_is_not_stepped_over(
     cases = pulse_cases(block, Omega, beta, motion=motion, vertical=Vertical(ratio, lead))
     assert np.array_equal(cases.settings["extrema"].buffer, resolve(block, None, pulse, {})[2]["extrema"])
     assert run_cases(cases, backend)["uplifts"][0] == r.uplifts
+
+
+@pytest.mark.parametrize(
+    ("family", "gamma", "nu"), [("ricker", 0.0, 0.0), ("ricker_anti", 0.0, 0.0), ("mp", 2.0, 0.5), ("mp", 3.0, 2.0)]
+)
+@pytest.mark.parametrize(("ratio", "lead"), [(0.5, 1.0), (2.0, 4.0)])
+def test_every_positive_peak_of_an_uplift_margin_is_listed(family, gamma, nu, ratio, lead):
+    """Each local maximum of ``d s f(phi) - ratio tan_d f(phi + lead)`` above 0 (where an amplitude can lift the
+    block) on a grid of 1e-4 rad is within a grid step of a listed extremum (an eccentric block's two tangents)."""
+    tans = (0.2, 0.3)
+    listed = margin_extrema(family, gamma, nu, ratio, lead, tans)
+    half = gamma * math.pi if family == "mp" else RICKER_PHASE[family] * RICKER_CUT
+    phi = np.arange(-half, half, 1e-4)
+    f = SHAPES[family]
+    for tan in tans:
+        for ds in (1.0, -1.0):
+            F = ds * f(phi, 1.0, nu, 0.0, gamma, np) - ratio * tan * f(phi + lead, 1.0, nu, 0.0, gamma, np)
+            peaks = phi[1:-1][(F[1:-1] > F[:-2]) & (F[1:-1] >= F[2:]) & (F[1:-1] > 0.0)]
+            assert peaks.size > 0
+            assert max(np.min(abs(listed - p)) for p in peaks) < 1e-4
 
 
 def test_no_vertical_component_is_bit_identical_on_the_c_path():
