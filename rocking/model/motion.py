@@ -217,7 +217,7 @@ def margin_extrema(family: str, gamma: float, nu: float, ratio: float, lead: flo
         return _distinct(np.append(offsets, math.pi / 2))
     from scipy.optimize import brentq  # here: SciPy is imported by the runs, not by ``import rocking``
 
-    own = listed_extrema(family, gamma, nu)
+    own = ricker_extrema(family == "ricker_anti") if family in RICKER_PHASE else mp_extrema(gamma, nu)
     half = gamma * math.pi if family == "mp" else RICKER_PHASE[family] * RICKER_CUT
     grid = np.linspace(-half, half, int(math.ceil(2 * half * MP_SCAN)) + 1)
     slope = _slope(family, grid, gamma, nu)[None, :] - c[:, None] * _slope(family, grid + lead, gamma, nu)[None, :]
