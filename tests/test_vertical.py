@@ -7,11 +7,13 @@ import math
 
 import numpy as np
 import pytest
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 import rocking
-from rocking import Block, Damper, OneSinePulse, SampledMotion, Vertical
+from rocking import Block, Damper, OneSinePulse, RickerWavelet, SampledMotion, Vertical
 from rocking.model.loading import load_model
+from rocking.model.motion import RICKER_CUT, RICKER_PHASE, SHAPES, margin_extrema
+from rocking.sim.cases import pulse_cases, run_cases
 from rocking.sim.problem import resolve, vertical_of
 
 BLOCK = Block.reference()
@@ -71,6 +73,75 @@ def test_the_bare_block_uplifts_where_the_ground_overcomes_the_effective_gravity
     assert uplift == pytest.approx(expected, abs=1e-9)
     plain = math.asin(1 / 1.5) / pulse.omega_g  # without the vertical pulse
     assert (uplift > plain) == (phase == 0.0)
+
+
+#: A vertical lead whose uplift margin peaks between two extrema of ``ddx_g``: ``(motion, family, ratio, lead,
+#: Omega)``, ``motion`` the name :func:`pulse_cases` takes.
+BRIEF = [("sine", OneSinePulse, 1.0, 2.0, 3.0), ("ricker", RickerWavelet, 1.0, 2.0, 3.0)]
+
+
+@pytest.mark.parametrize(("motion", "family", "ratio", "lead", "Omega"), BRIEF, ids=["sine", "ricker"])
+def test_a_brief_uplift_between_two_extrema_of_the_ground_is_not_stepped_over(
+    backend, motion, family, ratio, lead, Omega
+):
+    """With a vertical lead the margin ``ddx_g - (g + ddy_g) tan(alpha)`` peaks where no extremum of ``ddx_g``
+    is: scaled to peak 1e-6 above 0 there, it is positive for about 1e-3 rad of phase only, and the bare block
+    uplifts at its first root (docs/model.md section 14), found here by Brent's method on the motion itself."""
+    block = Block(H=2.0, B=0.5, M=1000.0)
+    tan = math.tan(block.alpha)
+    unit = family.from_nondim(block, beta=1.0, Omega=Omega)
+    w = unit.omega_g
+
+    def shape_margin(t):  # per unit of a_g: ddx_g - ddy_g tan(alpha), the vertical leading by lead / omega_g
+        return (unit.acceleration(t) - ratio * tan * unit.acceleration(t + lead / w)) / unit.a_g
+
+    # The pulse's largest shape margin (its highest peak on a grid of 1e-3 rad, then polished), away from its end.
+    grid = np.linspace(0.0, unit.t_p - lead / w, 20001)
+    top = grid[int(np.argmax(shape_margin(grid)))]
+    peak = minimize_scalar(
+        lambda t: -shape_margin(t), bounds=(top - 1e-3 / w, top + 1e-3 / w), method="bounded", options={"xatol": 1e-14}
+    )
+    beta = (1.0 + 1e-6) / float(shape_margin(peak.x))
+    pulse = family.from_nondim(block, beta=beta, Omega=Omega, vertical=Vertical(ratio, lead))
+    assert pulse.a_g * ratio < block.g  # the base stays on the ground
+
+    def margin(t, direction=1.0):
+        return direction * pulse.acceleration(t) - (block.g + ratio * pulse.acceleration(t + lead / w)) * tan
+
+    ground = pulse.acceleration(grid)
+    before = grid[int(np.argmax(ground[grid < peak.x]))]  # the last maximum of ddx_g before the peak
+    assert margin(before) < 0.0 < margin(peak.x) and w * (peak.x - before) > 0.01
+    # Nothing lifts the block earlier: the margins of both directions are negative until then.
+    assert max(margin(grid[grid <= before])) < 0.0 and max(margin(grid[grid < peak.x], -1.0)) < 0.0
+    expected = brentq(margin, before, peak.x, xtol=1e-15)
+    r = rocking.simulate(block, None, pulse, backend=backend, record=True, record_dt=0.01)
+    events = r.events()
+    assert list(events["kind"][:1]) == ["uplift"]
+    assert float(events["t"][0]) == pytest.approx(expected, abs=1e-11)
+    # A batch lists the same extrema: its case is the single run, uplift included.
+    cases = pulse_cases(block, Omega, beta, motion=motion, vertical=Vertical(ratio, lead))
+    assert np.array_equal(cases.settings["extrema"].buffer, resolve(block, None, pulse, {})[2]["extrema"])
+    assert run_cases(cases, backend)["uplifts"][0] == r.uplifts
+
+
+@pytest.mark.parametrize(
+    ("family", "gamma", "nu"), [("ricker", 0.0, 0.0), ("ricker_anti", 0.0, 0.0), ("mp", 2.0, 0.5), ("mp", 3.0, 2.0)]
+)
+@pytest.mark.parametrize(("ratio", "lead"), [(0.5, 1.0), (2.0, 4.0)])
+def test_every_positive_peak_of_an_uplift_margin_is_listed(family, gamma, nu, ratio, lead):
+    """Each local maximum of ``d s f(phi) - ratio tan_d f(phi + lead)`` above 0 (where an amplitude can lift the
+    block) on a grid of 1e-4 rad is within a grid step of a listed extremum (an eccentric block's two tangents)."""
+    tans = (0.2, 0.3)
+    listed = margin_extrema(family, gamma, nu, ratio, lead, tans)
+    half = gamma * math.pi if family == "mp" else RICKER_PHASE[family] * RICKER_CUT
+    phi = np.arange(-half, half, 1e-4)
+    f = SHAPES[family]
+    for tan in tans:
+        for ds in (1.0, -1.0):
+            F = ds * f(phi, 1.0, nu, 0.0, gamma, np) - ratio * tan * f(phi + lead, 1.0, nu, 0.0, gamma, np)
+            peaks = phi[1:-1][(F[1:-1] > F[:-2]) & (F[1:-1] >= F[2:]) & (F[1:-1] > 0.0)]
+            assert peaks.size > 0
+            assert max(np.min(abs(listed - p)) for p in peaks) < 1e-4
 
 
 def test_no_vertical_component_is_bit_identical_on_the_c_path():

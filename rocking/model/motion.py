@@ -183,6 +183,74 @@ def ricker_extrema(antisymmetric: bool) -> np.ndarray:
     return RICKER_PHASE["ricker"] * np.array([-math.sqrt(1.5), 0.0, math.sqrt(1.5)])
 
 
+def _slope(family: str, phi, gamma: float, nu: float, m=np):
+    """``df / dphi`` of an aperiodic family's shape in phase units ``phi = omega_g (t - t_c)`` (``m``: ``math``
+    or ``numpy``)."""
+    if family == "mp":
+        return _mp_slope(phi, gamma, nu, m)
+    x = phi / RICKER_PHASE[family]
+    if family == "ricker":
+        return (4.0 * x**3 - 6.0 * x) * m.exp(-x * x) / RICKER_PHASE[family]
+    return -(3.0 - 12.0 * x**2 + 4.0 * x**4) * m.exp(-x * x) / (RICKER_ANTI_PEAK * RICKER_PHASE[family])
+
+
+def margin_extrema(family: str, gamma: float, nu: float, ratio: float, lead: float, tans) -> np.ndarray | None:
+    """The extrema of the uplift margins of a pulse with a vertical lead, with those of its shape (docs/model.md
+    section 14); ``None`` where they are the shape's own (no lead, or no vertical component).
+
+    Every direction ``d`` and sign ``s`` has the margin ``d s a_g f(phi) - (g + ratio a_g f(phi + lead)) tan_d``
+    (``tans``: the ``tan(alpha_d)`` of both pivots): its extrema, the roots of ``f'(phi) = c f'(phi + lead)`` with
+    ``c = d s ratio tan_d``, depend neither on ``a_g`` nor on ``omega_g``, so one list serves a whole batch and
+    both directions. The one-sine and the one-cosine (``f = sin v``, ``v`` the sine's argument) have them in
+    closed form, one offset in ``[0, pi)`` per ``c`` (``v = offset + k pi``), listed instead of phase units; the
+    others are bracketed on a scan of :data:`MP_SCAN` points per radian over the pulse and solved by Brent's
+    method, those that may lift the block kept (below), merged with the shape's extrema, sorted, without
+    duplicates.
+    """
+    if ratio == 0.0 or lead == 0.0:
+        return None
+    c = np.unique([d * ratio * tan for tan in tans for d in (1.0, -1.0)])
+    if family in ("sine", "cosine"):
+        # cos v - c cos(v + lead) = (1 - c cos lead) cos v + c sin lead sin v: zero at one v mod pi.
+        a, b = 1.0 - c * math.cos(lead), c * math.sin(lead)
+        offsets = np.mod(np.arctan2(-a, b)[(a != 0.0) | (b != 0.0)], math.pi)
+        return _distinct(np.append(offsets, math.pi / 2))
+    from scipy.optimize import brentq  # here: SciPy is imported by the runs, not by ``import rocking``
+
+    own = ricker_extrema(family == "ricker_anti") if family in RICKER_PHASE else mp_extrema(gamma, nu)
+    half = gamma * math.pi if family == "mp" else RICKER_PHASE[family] * RICKER_CUT
+    grid = np.linspace(-half, half, int(math.ceil(2 * half * MP_SCAN)) + 1)
+    slope = _slope(family, grid, gamma, nu)[None, :] - c[:, None] * _slope(family, grid + lead, gamma, nu)[None, :]
+    roots = list(own) + [grid[j + 1] for _, j in zip(*np.nonzero(slope[:, 1:-1] == 0.0))]
+    shape = SHAPES[family]
+    # The margin of c is a_g F - g tan, F = sign(c) f(phi) - |c| f(phi + lead), and its slope a_g sign(c) times
+    # that of c: only its maxima where F > 0 can be above 0 at some amplitude, and only they are listed (a
+    # margin below 0 at both ends of a monotone stretch, or at a maximum, is below 0 between).
+    rising = np.sign(c)[:, None] * slope[:, :-1] > 0.0
+    for k, j in zip(*np.nonzero(rising & (slope[:, :-1] * slope[:, 1:] < 0.0))):
+
+        def h(phi, ck=float(c[k])):
+            return _slope(family, phi, gamma, nu, math) - ck * _slope(family, phi + lead, gamma, nu, math)
+
+        root = brentq(h, grid[j], grid[j + 1], xtol=1e-15, rtol=4 * np.finfo(float).eps)
+        if math.copysign(1.0, c[k]) * shape(root, 1.0, nu, 0.0, gamma, math) > abs(c[k]) * shape(
+            root + lead, 1.0, nu, 0.0, gamma, math
+        ):
+            roots.append(root)
+    return _distinct(np.array(roots, dtype=float))
+
+
+def _distinct(phi: np.ndarray) -> np.ndarray:
+    """``phi`` sorted, without the values within ``MERGED`` of the one before (one extremum found twice)."""
+    phi = np.sort(phi)
+    return phi[np.concatenate(([True], np.diff(phi) > MERGED))]
+
+
+#: Phase units within which two listed extrema are one (found twice, by two roots differing in rounding only):
+#: a segment between them would last a few ulps.
+MERGED = 1e-12
+
+
 # --------------------------------------------------------------------------- #
 # The analytic families                                                        #
 # --------------------------------------------------------------------------- #

@@ -108,7 +108,8 @@ CASE = (
         "extrema",
         SERIES,
         "rad",
-        "extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou)",
+        "extrema of f (and of the uplift margins with a vertical lead) in omega_g (t - t_c), sorted, "
+        "for the sine and cosine pulses the margins' extrema in the sine's argument, mod pi",
         None,
         None,
         "n_extrema",

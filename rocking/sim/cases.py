@@ -33,7 +33,14 @@ from . import boundary
 from .backends import BACKENDS
 from .batch import Cases, Packed
 from .boundary import MOTION
-from .problem import check_integer, default_settings, flight_settings, own_parameters, resolve_model
+from .problem import (
+    check_integer,
+    default_settings,
+    flight_settings,
+    margin_settings,
+    own_parameters,
+    resolve_model,
+)
 
 __all__ = ["Cases", "Packed", "pulse_cases", "run_cases", "sampled_cases"]
 
@@ -157,6 +164,7 @@ def pulse_cases(
     checked = check_vertical(vertical)
     if checked is not None and checked.ratio > 0.0:
         columns.update(_vertical_columns(block, columns, checked, block.a_g(beta)))
+        columns.update(margin_settings(motion, gamma_mp or 0.0, nu, checked, block))
     return _cases(block, columns, 2 * np.pi / omega_g, damper, rtol, t_after, max_events, model, params, stops, stroke)
 
 

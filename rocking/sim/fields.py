@@ -43,7 +43,8 @@ class ProblemFields:
     n_extrema : int
         Number of listed extrema.
     extrema : np.ndarray | None
-        Extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou) [rad].
+        Extrema of f (and of the uplift margins with a vertical lead) in omega_g (t - t_c), sorted, for the sine
+        and cosine pulses the margins' extrema in the sine's argument, mod pi [rad].
     pulse_dt : float
         Spacing of a sampled motion's samples (0 otherwise) [s].
     n_samples : int

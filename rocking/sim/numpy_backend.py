@@ -1171,7 +1171,8 @@ def periodic_extremum(w: float, phase: float, t: float) -> float:
 def next_extremum(problem: Problem, t: float) -> float:
     """The first extremum of ``ag`` after ``t`` (rule 3).
 
-    Closed forms for the one-sine and the one-cosine; the listed extrema
+    Closed forms for the one-sine and the one-cosine (and with a vertical lead those of the listed
+    offsets: docs/model.md section 14); the listed extrema
     (phase units ``omega_g (t - t_c)``) of the Ricker wavelets and the
     Mavroeidis-Papageorgiou pulse; ``inf`` for a constant ground acceleration
     and for a sampled motion (its segments end at every sample time). The
@@ -1181,7 +1182,12 @@ def next_extremum(problem: Problem, t: float) -> float:
     if not w != 0.0 or problem.a_g == 0.0 or family == "sampled":
         return math.inf
     if family in ("sine", "cosine"):
-        return periodic_extremum(w, float(problem.psi) if family == "sine" else math.pi / 2, t)
+        phase = float(problem.psi) if family == "sine" else math.pi / 2
+        # A vertical lead lists the uplift margins' extrema as offsets of the sine's argument, mod pi.
+        offsets = () if problem.extrema is None else problem.extrema[: problem.n_extrema]
+        return min(
+            [periodic_extremum(w, phase, t)] + [periodic_extremum(w, phase + math.pi / 2 - d, t) for d in offsets]
+        )
     later = [tk for tk in (problem.t_c + float(phi) / w for phi in problem.extrema[: problem.n_extrema]) if tk > t]
     return later[0] if later else math.inf
 

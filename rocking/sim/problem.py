@@ -21,7 +21,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..model.loading import Model, ModelError, load_model
-from ..model.motion import FAMILIES, SHAPES, describe, interpolate, real_array, sample_piece
+from ..model.motion import FAMILIES, SHAPES, describe, interpolate, margin_extrema, real_array, sample_piece
 from ..model.params import (
     DAMPER_PARAMETERS,
     HC_STOP_PARAMETERS,
@@ -616,6 +616,18 @@ def flight_settings(settings: Mapping, block: Block) -> dict:
     return {"t_flight": t}
 
 
+def margin_settings(family: str, gamma: float, nu: float, vertical, block: Block) -> dict:
+    """``extrema`` and ``n_extrema`` of :data:`~rocking.sim.boundary.CASE` for a pulse whose vertical component
+    leads (``vertical``: a :class:`~rocking.model.vertical.Vertical` or ``None``): the extrema of its shape and of
+    both uplift margins, where full contact's segments end (docs/model.md section 14); empty otherwise, the
+    shape's own extrema kept. ``tan(alpha)`` of each pivot is the bare block's, ``(B -+ e) / H``."""
+    if vertical is None:
+        return {}
+    tans = ((block.B - block.e) / block.H, (block.B + block.e) / block.H)
+    extrema = margin_extrema(family, gamma, nu, vertical.ratio, vertical.phase, tans)
+    return {} if extrema is None else {"extrema": extrema, "n_extrema": len(extrema)}
+
+
 def make_problem(
     block: Block,
     damper=None,
@@ -820,6 +832,8 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
         )
     settings = motion_settings(motion)
     settings.update(flight_settings(settings, block))
+    if motion.family != "sampled":
+        settings.update(margin_settings(motion.family, motion.shape, motion.phase, pulse.vertical, block))
     settings.update(
         t_max=t_max,
         rtol=options["rtol"],

@@ -47,7 +47,7 @@ typedef struct rocking_case {
     double shape; /* gamma of Mavroeidis-Papageorgiou (0 otherwise) */
     double t_p; /* end of the motion, a breakpoint of the integration [s] */
     int64_t n_extrema; /* number of listed extrema */
-    const double *extrema; /* extrema of f in omega_g (t - t_c), sorted (Ricker, Mavroeidis-Papageorgiou) [rad] */
+    const double *extrema; /* extrema of f (and of the uplift margins with a vertical lead) in omega_g (t - t_c), sorted, for the sine and cosine pulses the margins' extrema in the sine's argument, mod pi [rad] */
     double pulse_dt; /* spacing of a sampled motion's samples (0 otherwise) [s] */
     int64_t n_samples; /* number of samples of a sampled motion (0 otherwise) */
     const double *samples; /* samples a_k at k pulse_dt: f linear between them [m/s^2] */

@@ -1752,8 +1752,10 @@ static double next_periodic_extremum(double w, double phase, double t)
 }
 
 /* The first extremum of ag after t (rule 3): closed forms for the one-sine and
- * the one-cosine, the listed extrema (phase units) of the Ricker wavelets and
- * the Mavroeidis-Papageorgiou pulse; infinity for a constant ground
+ * the one-cosine (with a vertical lead, also at the listed offsets of the
+ * uplift margins' extrema, docs/model.md section 14), the listed extrema
+ * (phase units) of the Ricker wavelets and the Mavroeidis-Papageorgiou pulse
+ * (with a vertical lead, those of the margins too); infinity for a constant ground
  * acceleration, and for a sampled motion, whose every step ends at a sample
  * time. The same operations as numpy_backend.next_extremum. */
 static double next_extremum(const rocking_case *c, double t)
@@ -1764,9 +1766,14 @@ static double next_extremum(const rocking_case *c, double t)
         return INFINITY;
     switch (c->motion) {
     case ROCKING_MOTION_SINE:
-        return next_periodic_extremum(w, c->psi, t);
-    case ROCKING_MOTION_COSINE:
-        return next_periodic_extremum(w, HALF_PI, t);
+    case ROCKING_MOTION_COSINE: {
+        /* A vertical lead lists the uplift margins' extrema as offsets of the sine's argument, mod pi. */
+        const double phase = c->motion == ROCKING_MOTION_SINE ? c->psi : HALF_PI;
+        double tk = next_periodic_extremum(w, phase, t);
+        for (i = 0; i < c->n_extrema; ++i)
+            tk = fmin(tk, next_periodic_extremum(w, phase + HALF_PI - c->extrema[i], t));
+        return tk;
+    }
     case ROCKING_MOTION_SAMPLED:
         return INFINITY;
     default:
