@@ -5,9 +5,11 @@ import math
 
 import numpy as np
 import pytest
+from matplotlib.container import ErrorbarContainer
 
 import rocking
 from rocking.cli.main import main
+from rocking.plot.figures import vertical_spectra_figure
 from rocking.study.config import Setting, flight_beta
 from rocking.study.overturning_map import UndeterminedWarning
 from rocking.study.spectrum import envelope, safe_windows
@@ -69,6 +71,12 @@ def test_a_spectrum_knows_where_the_ground_pulls_past_gravity(tmp_path):
     assert (data["beta_min"] == 4.0).all()
     assert (data["scan_outcome"].sel(beta_scan=slice(4.5, None)) == FLIGHT).all()
     assert len(safe_windows(envelope(data), "bare")) == 0
+    # Its figure draws that lower bound, an open triangle at beta = 4, with its legend entry.
+    fig = vertical_spectra_figure([study])
+    bounds = [c for ax in fig.axes for c in ax.containers if isinstance(c, ErrorbarContainer)]
+    assert bounds and all(c.lines[0].get_ydata().tolist() == [4.0] for c in bounds)
+    labels = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
+    assert any(label.startswith("lower bound") and "beta_f" in label for label in labels)
 
 
 @pytest.mark.parametrize(

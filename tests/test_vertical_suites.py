@@ -81,8 +81,8 @@ def test_a_vertical_record_of_zeros_is_no_vertical_record(tmp_path, pair):
         zeros.resolve()
     )
     # The figure's title says the records carry vertical ones.
-    assert _suite_label(zero.config["suite"]) == "1 records with their vertical records"
-    assert _suite_label(plain.config["suite"]) == "1 records"
+    assert _suite_label(zero.config["suite"]) == "1 record with its vertical record"
+    assert _suite_label(plain.config["suite"]) == "1 record"
 
 
 def test_a_fragility_of_pairs_scales_to_the_measure_of_the_horizontal_record(tmp_path, pair):
@@ -136,6 +136,8 @@ def test_the_command_line_pairs_the_records_and_records_the_pair(tmp_path, pair,
     (vertical,) = saved.config["suite"]["vertical"]["files"]
     assert vertical == {"path": str(v.resolve()), "sha256": rocking.model.records.file_sha256(v), "unit": "g"}
     assert saved.data["vertical_motion"].values.tolist() == ["v.AT2"]
+    header, row = (tmp_path / "c" / "ida-motions.csv").read_text().splitlines()[:2]
+    assert header.split(",")[:2] == ["motion", "vertical_motion"] and row.split(",")[:2] == ["h.AT2", "v.AT2"]
     python = _ida(tmp_path, [h], scales=rocking.Grid("scales", 0.5, 3.0, 3), vertical_motions=[v])
     assert np.array_equal(saved.data["theta_max"].values, python.data["theta_max"].values)
     record = json.loads((tmp_path / "c" / "ida.json").read_text())

@@ -45,6 +45,7 @@ from ..sim.problem import SimulationError
 from ..sim.run import NAMES, simulate
 from ..sim.stroke import mass_past_edge
 from ..study.config import versions
+from ..study.kinds import KINDS
 from ..study.suite import paired_vertical
 from .options import (
     add_block_options,
@@ -62,7 +63,7 @@ from .study import add_study_commands, warnings_in_one_line
 
 DESCRIPTION = (
     "A rigid block rocking on the ground with an oscillating mass damper on its top: "
-    "one response (simulate), the studies (map, spectrum, optimize, demo, redraw), "
+    f"one response (simulate), the studies ({', '.join(KINDS)}; demo runs several, redraw draws them again), "
     "the generated code against the paper (verify) and its derivation (derive). "
     "Units SI; rocking COMMAND --help for a command's options."
 )

@@ -268,8 +268,10 @@ def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = N
 def _suite_label(suite: dict) -> str:
     """The motions of an IDA or fragility study (:meth:`rocking.study.suite.Suite.record`) for a title."""
     if "files" in suite:
-        paired = " with their vertical records" if "vertical" in suite else ""
-        return f"{len(suite['files'])} records{paired}"
+        n = len(suite["files"])
+        if "vertical" in suite:
+            return "1 record with its vertical record" if n == 1 else f"{n} records with their vertical records"
+        return "1 record" if n == 1 else f"{n} records"
     if "pulses" in suite:
         pulses = suite["pulses"]
         families = sorted({PULSE_NAMES[p["family"]] for p in pulses})
@@ -604,14 +606,17 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     one panel per direction: the block alone dashed, with its damper solid, a colour per ratio; each ratio's
     ``beta_f`` (above it the ground pulls past gravity: flight, no verdict) dotted in its colour.
 
-    Only the bracketed ``beta_min`` are drawn: a gap is a frequency where the scan found no overturning (past
-    ``beta_f`` a run ends in flight), or overturning at its first amplitude.
+    The bracketed ``beta_min`` are joined; where the scan found no overturning up to its last amplitude, or up
+    to the one before its first flight (past ``beta_f`` a run ends in flight), that amplitude is an open
+    triangle pointing up (a lower bound), and where it overturned at its first amplitude, one pointing down.
     """
     studies = sorted(studies, key=lambda st: st.config.get("vertical", {}).get("ratio", 0.0))
     config = studies[0].config
     signs = studies[0].data["sign"].values.tolist()
     fig, (axes,) = _panels((13, 6.4), (1, len(signs)), fig, ax, sharex=True, sharey=True)
-    handles = []
+    scan = config["beta"]
+    arrow = 0.03 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.03 * scan["high"]
+    handles, bounded = [], set()
     for i, study in enumerate(studies):
         ratio = study.config.get("vertical", {}).get("ratio", 0.0)
         colour = cycle(i)["color"]
@@ -627,6 +632,11 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                 )
                 if panel is axes[0]:
                     handles += drawn
+                for code, up in ((ABOVE, True), (BELOW, False)):
+                    sel = cell["flag"].values == code
+                    if sel.any():
+                        _bounds(panel, data["Omega"].values[sel], cell["beta_min"].values[sel], arrow, colour, up)
+                        bounded.add(up)
             beta_f = flight_beta(_block(study.config), study.config)
             if beta_f < study.config["beta"]["high"]:
                 flight = panel.axhline(beta_f, color=colour, ls=":", lw=1.5)
@@ -640,6 +650,11 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
         _period_axis(panel, block.p)
     _beta_axis(axes[0])
     _acceleration_axis(axes[-1], block.tan_alpha)
+    for up in sorted(bounded, reverse=True):
+        handle = _bound_handle(up)
+        if up:
+            handle.set_label(r"lower bound (no overturning up to the last $\beta$ scanned or below $\beta_f$)")
+        handles.append(handle)
     fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
     pulse = PULSE_NAMES[config.get("pulse", {"motion": "sine"})["motion"]]
     fig.suptitle(

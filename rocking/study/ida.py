@@ -420,9 +420,10 @@ def fit_variables(fit: dict) -> dict:
 
 def tables(data, config: dict) -> dict:
     """CSV tables: ``<kind>`` (one row per motion and level: the envelope of both parts), ``<kind>-motions``
-    (one row per motion: its name, its measure, its first overturning and last safe levels, its resurrections
-    and sensitive responses) and ``<kind>-fit`` (one row per part: the fitted lognormal's median and dispersion,
-    their 90 % intervals, and :data:`COUNTS`, the fit's status as its code and its words)."""
+    (one row per motion: its name, its vertical record's where it has one, its measure, its first overturning and
+    last safe levels, its resurrections and sensitive responses) and ``<kind>-fit`` (one row per part: the fitted
+    lognormal's median and dispersion, their 90 % intervals, and :data:`COUNTS`, the fit's status as its code and its
+    words)."""
     kind, env = config["kind"], envelope(data)
     names = data["motion"].values
     motion, level = np.meshgrid(np.arange(names.size), data["level"].values, indexing="ij")
@@ -430,7 +431,10 @@ def tables(data, config: dict) -> dict:
     for part in PARTS:
         for k in ("overturned", "impacts", "theta_max", "x_max", SENSITIVE.name):
             rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
-    motions = {"motion": names, "im": data["im"].values}
+    motions = {"motion": names}
+    if "vertical_motion" in data.coords:
+        motions["vertical_motion"] = data["vertical_motion"].values
+    motions["im"] = data["im"].values
     for part in PARTS:
         for k in ("first", "last_safe", "reversals", "sensitive_responses"):
             motions[f"{part}_{k}"] = data[k].sel(part=part).values
