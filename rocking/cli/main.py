@@ -34,7 +34,7 @@ from ..model.params import (
     Stops,
 )
 from ..model.pulse import OneSinePulse
-from ..model.records import UNITS, read_record
+from ..model.records import UNITS, paired_vertical, read_record
 from ..model.vertical import Vertical
 from ..sim.accuracy import CHECKS, SENSITIVE
 from ..sim.boundary import RESULT
@@ -46,7 +46,6 @@ from ..sim.run import NAMES, simulate
 from ..sim.stroke import mass_past_edge
 from ..study.config import versions
 from ..study.kinds import KINDS
-from ..study.suite import paired_vertical
 from .options import (
     add_block_options,
     add_parser,
@@ -260,7 +259,7 @@ def _motion(args) -> SampledMotion:
 
 def _vertical_record(args, record) -> np.ndarray:
     """The samples of ``--vertical FILE`` at the horizontal record's times, as a suite pairs them
-    (:func:`rocking.study.suite.paired_vertical`: the same dt, 0 after a shorter record's end, cut at the
+    (:func:`rocking.model.records.paired_vertical`: the same dt, 0 after a shorter record's end, cut at the
     horizontal record's)."""
     return paired_vertical(record, read_record(args.vertical, args.unit), f"--vertical {args.vertical}")
 

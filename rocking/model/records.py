@@ -631,3 +631,20 @@ def read_record(path, unit: str | None = None, **kwargs) -> Record:
             raise _fail(path, f"an AT2 file is in g; unit {unit!r} does not apply")
         return read_at2(path)
     return read_columns(path, unit, **kwargs)
+
+
+def paired_vertical(record: Record, vertical: Record, label: str) -> np.ndarray:
+    """The samples of the ``vertical`` record at the times of the horizontal ``record``: the same dt is required;
+    a shorter vertical record is taken as 0 after its end, a longer one is cut at the horizontal record's.
+
+    Raises
+    ------
+    ParameterError
+        ``label`` (the option and the vertical file) first, if the two records' dt differ.
+    """
+    if not math.isclose(vertical.dt, record.dt, rel_tol=1e-9):
+        raise ParameterError(
+            f"{label}: dt = {vertical.dt:g} s, the horizontal record's is {record.dt:g} s; the pair must share its dt"
+        )
+    n = record.acceleration.size
+    return np.concatenate((vertical.acceleration[:n], np.zeros(max(0, n - vertical.acceleration.size))))

@@ -14,18 +14,15 @@ of uncertain period, say, for a fragility against the pulse's amplitude.
 from __future__ import annotations
 
 import dataclasses
-import math
 import os
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
 from typing import Any
 
-import numpy as np
-
 from ..model.motion import PULSE_TYPES, SampledMotion, describe, family_of
 from ..model.params import ParameterError, check_in_range
-from ..model.records import UNITS, Record, file_sha256, read_record
+from ..model.records import UNITS, Record, file_sha256, paired_vertical, read_record
 from ..model.stochastic import DEFAULT_SITE, SiteModel, check_vertical_site, record_rng, synthesize, vertical_rng
 
 #: Largest number of motions in a suite.
@@ -65,7 +62,8 @@ class Suite:
         The vertical component's site model; None: the horizontal ``site``.
     vertical_files : tuple of (str, str, str or None)
         Absolute path, SHA-256 and unit of the vertical record paired with each of ``files``, > 0 up (docs/model.md
-        section 14), or empty: none; its samples at the horizontal record's times (:func:`paired_vertical`).
+        section 14), or empty: none; its samples at the horizontal record's times
+        (:func:`~rocking.model.records.paired_vertical`).
     """
 
     files: tuple = ()
@@ -90,8 +88,8 @@ class Suite:
         vertical_motions : iterable of path or (path, unit), optional
             The vertical record of each of ``paths``, in the same order, > 0 up: of the same dt, taken as 0 after
             its end and cut at the horizontal record's, as ``rocking simulate --motion H --vertical V``
-            (:func:`paired_vertical`). A level of a study scales both components by the same factor; the
-            intensity measures stay the horizontal record's (docs/model.md section 14). Default: none.
+            (:func:`~rocking.model.records.paired_vertical`). A level of a study scales both components by the same
+            factor; the intensity measures stay the horizontal record's (docs/model.md section 14). Default: none.
 
         Raises
         ------
@@ -226,23 +224,6 @@ def vertical_names(record: dict) -> list[str] | None:
     for a suite without them."""
     files = record.get("vertical", {}).get("files")
     return None if files is None else [Path(f["path"]).name for f in files]
-
-
-def paired_vertical(record: Record, vertical: Record, label: str) -> np.ndarray:
-    """The samples of the ``vertical`` record at the times of the horizontal ``record``: the same dt is required;
-    a shorter vertical record is taken as 0 after its end, a longer one is cut at the horizontal record's.
-
-    Raises
-    ------
-    ParameterError
-        ``label`` (the option and the vertical file) first, if the two records' dt differ.
-    """
-    if not math.isclose(vertical.dt, record.dt, rel_tol=1e-9):
-        raise ParameterError(
-            f"{label}: dt = {vertical.dt:g} s, the horizontal record's is {record.dt:g} s; the pair must share its dt"
-        )
-    n = record.acceleration.size
-    return np.concatenate((vertical.acceleration[:n], np.zeros(max(0, n - vertical.acceleration.size))))
 
 
 def _vertical_label(path) -> str:
