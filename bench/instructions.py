@@ -70,17 +70,55 @@ def measure(n: int, vertical_ratio: float = 0.0) -> dict | None:
             repr(vertical_ratio),
         ]
         done = subprocess.run(command, capture_output=True, text=True)
-    collected = re.search(r"Collected : (\d+)", done.stderr)
-    responses = re.search(r"^responses (\d+)$", done.stdout, re.M)
-    if done.returncode != 0 or not (collected and responses) or int(collected.group(1)) == 0:
-        raise RuntimeError(f"callgrind run failed ({done.returncode}): {done.stderr.strip()[-500:]}")
-    count = int(responses.group(1))
+        collected = re.search(r"Collected : (\d+)", done.stderr)
+        responses = re.search(r"^responses (\d+)$", done.stdout, re.M)
+        if done.returncode != 0 or not (collected and responses) or int(collected.group(1)) == 0:
+            raise RuntimeError(f"callgrind run failed ({done.returncode}): {done.stderr.strip()[-500:]}")
+        count = int(responses.group(1))
+        split = by_part(f"{tmp}/callgrind.out", count)
     return {
         "responses": count,
         "instructions_per_response": int(collected.group(1)) / count,
         "entry": ENTRY,
         "vertical_ratio": vertical_ratio,
+        "by_part": split,
     }
+
+
+#: One line of ``callgrind_annotate --inclusive=no``: the instructions, the share, ``file:function [object]``.
+_ANNOTATED = re.compile(r"^\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(.*):([^:\s]+)(?: \[(.*)\])?$")
+
+#: The parts of :func:`by_part`, in the order printed.
+PARTS = ("libm sin and cos", "libm pow", "libm other", "generated model", "integrator (sim.c)")
+
+
+def part_of(function: str, where: str, model_prefix: str) -> str:
+    """Which of :data:`PARTS` a function's instructions count for: libm's by name, the generated model's by its
+    prefix (``omd_...``), the rest sim.c's (its static functions, inlined or not, have no prefix)."""
+    if "libm" in where or "sysdeps" in where:
+        if "sin" in function or "cos" in function:
+            return "libm sin and cos"
+        return "libm pow" if "pow" in function else "libm other"
+    return "generated model" if function.startswith(model_prefix + "_") else "integrator (sim.c)"
+
+
+def by_part(profile: str, responses: int) -> dict | None:
+    """The instructions per response of each of :data:`PARTS` (self cost, from ``callgrind_annotate``): the
+    libm calls and the generated functions are what a bit-identical change of sim.c cannot remove (the same
+    calls at the same arguments, the same generated arithmetic); ``None`` without ``callgrind_annotate``."""
+    annotate = shutil.which("callgrind_annotate")
+    if annotate is None:
+        return None
+    text = subprocess.run(
+        [annotate, "--inclusive=no", "--threshold=100", profile], capture_output=True, text=True, check=True
+    ).stdout
+    lines = [m.groups() for m in map(_ANNOTATED.match, text.splitlines()) if m]
+    library = next((os.path.basename(obj) for *_, obj in lines if obj and obj.endswith(".so") and "libm" not in obj))
+    prefix = library.split("-")[0]
+    split = dict.fromkeys(PARTS, 0.0)
+    for count, where, function, obj in lines:
+        split[part_of(function, f"{where} {obj or ''}", prefix)] += int(count.replace(",", "")) / responses
+    return split
 
 
 def line(result: dict | None) -> str:
@@ -88,10 +126,13 @@ def line(result: dict | None) -> str:
     if result is None:
         return "bench map: instructions per response skipped (valgrind not found; apt-get install valgrind)"
     vertical = f", in-phase vertical ratio {result['vertical_ratio']:g}" if result.get("vertical_ratio") else ""
-    return (
+    text = (
         f"bench map{vertical}: {result['instructions_per_response']:,.0f} instructions per response "
         f"(callgrind, {result['responses']:,} responses, {result['entry']})"
     )
+    if result.get("by_part"):
+        text += ": " + ", ".join(f"{part} {count:,.0f}" for part, count in result["by_part"].items())
+    return text
 
 
 def main(argv=None) -> int:

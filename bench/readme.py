@@ -41,10 +41,21 @@ def render(results: dict) -> str:
         "",
     ]
     if "instructions" in results:
-        lines.append(
+        counted = results["instructions"]
+        text = (
             f"Instructions per response of the C path on the bench map under callgrind: "
-            f"{results['instructions']['instructions_per_response']:,.0f}."
+            f"{counted['instructions_per_response']:,.0f}"
         )
+        part = counted.get("by_part")
+        if part:
+            fixed = sum(v for k, v in part.items() if k.startswith("libm")) + part["generated model"]
+            text += (
+                f": libm's sin and cos {part['libm sin and cos']:,.0f}, its pow {part['libm pow']:,.0f}, the "
+                f"generated model's functions {part['generated model']:,.0f} (together, with libm's other calls, "
+                f"{fixed:,.0f}: what no change of sim.c that keeps every result bit for bit can remove), the "
+                f"integrator (sim.c) {part['integrator (sim.c)']:,.0f}"
+            )
+        lines.append(text + ".")
     lines += [
         f"End stops at the block's edges (`Stops.at_edges`) cost {stops['stops_over_free_time']:.2f}x the time "
         f"per response of the unlimited damper on the same map (median of 3 paired runs), with "
