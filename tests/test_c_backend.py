@@ -423,6 +423,24 @@ def test_cases_errors():
         cb.simulate_cases(cases, threads=0)
 
 
+def test_one_value_for_every_case_is_checked_as_its_column():
+    """A setting given as one number is checked once per process, remembered when it passes: it is refused, each
+    time, as the column of that number is, with the same message, and passes as the column does."""
+    cases = Cases.of(_map(2, 2))
+
+    def refusal(value) -> str:
+        with pytest.raises(ParameterError) as refused:
+            Cases(cases.model, cases.p, {**cases.settings, "max_events": value})
+        return str(refused.value)
+
+    for value in (0, 2.5, -1.0, np.nan, 1e9):
+        assert refusal(value) == refusal(value) == refusal(np.full(len(cases), value))
+    for _ in range(2):
+        batch = Cases(cases.model, cases.p, {**cases.settings, "max_events": 500, "rtol": 1e-7})
+        np.testing.assert_array_equal(batch.settings["max_events"], np.full(len(cases), 500.0))
+        assert batch.settings["rtol"].flags.c_contiguous and np.all(batch.settings["rtol"] == 1e-7)
+
+
 def test_cases_refuse_parameters_of_the_wrong_length():
     """p must hold one value per model parameter in every row: sim.c reads model_np() of them per case."""
     cases = Cases.of(_map(2, 2))

@@ -9,6 +9,7 @@ The batch counterpart of :class:`~rocking.sim.problem.Problem`, checked against 
 from __future__ import annotations
 
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -80,6 +81,27 @@ def _packed(name: str, value, counts: np.ndarray) -> Packed:
     return Packed(buffer, offset)
 
 
+@lru_cache(maxsize=1024)
+def _check_one(name: str, value: float) -> None:
+    """:func:`~rocking.sim.boundary.check` of the setting ``name`` holding ``value`` in every case, remembered when
+    it passes (an exception is not cached: a value out of range raises each time)."""
+    boundary.check(name, np.array([value]))
+
+
+def _checked(name: str, array: np.ndarray, column: np.ndarray) -> np.ndarray:
+    """``column``, the setting ``name`` broadcast from ``array`` to every case, if it passes its check.
+
+    Most settings of a batch are one number for every case, the same from one batch to the next: a study builds
+    thousands of small batches, and checking each of their columns anew cost about as much as building them. One
+    number is checked once per process (the check is elementwise: one value passes as a column of it does, and
+    fails with the same message); an empty column has nothing to check.
+    """
+    if array.ndim == 0 and column.size:
+        _check_one(name, float(array))
+        return column
+    return boundary.check(name, column)
+
+
 @dataclass(frozen=True)
 class Cases:
     """Resolved inputs of ``n`` runs of one model, from rest: one row per run.
@@ -111,7 +133,7 @@ class Cases:
                 f"{tuple(self.model.parameters)} (got shape {p.shape})"
             )
         n = len(p)
-        columns = {}
+        columns: dict = {}  # the checked columns, then the Packed series
         for f in CASE:
             if f.name == "y0" or f.kind == SERIES:
                 continue
@@ -120,12 +142,13 @@ class Cases:
                 raise ParameterError(f"cases: the setting {f.name} is missing")
             shape = (n, len(self.model.state)) if f.kind == DOUBLES else (n,)
             try:
-                column = np.ascontiguousarray(np.broadcast_to(np.asarray(value, dtype=float), shape))
+                array = np.asarray(value, dtype=float)
+                column = np.ascontiguousarray(np.broadcast_to(array, shape))
             except ValueError:
                 raise ParameterError(
                     f"cases: {f.name} must broadcast to shape {shape} (got {np.shape(value)})"
                 ) from None
-            columns[f.name] = boundary.check(f.name, column)
+            columns[f.name] = _checked(f.name, array, column)
         for f in CASE:
             if f.kind == SERIES:
                 columns[f.name] = _packed(f.name, self.settings.get(f.name), columns[f.count].astype(np.int64))

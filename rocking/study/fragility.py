@@ -39,7 +39,9 @@ def _stripes(im, overturned) -> tuple[np.ndarray, np.ndarray]:
 def log_likelihood(log_median: float, dispersion: float, im, overturned) -> float:
     """Binomial log-likelihood of the lognormal fragility of median ``exp(log_median)`` and ``dispersion`` for
     the responses ``overturned`` (motions, levels) at the levels ``im``."""
-    return -_probit_cost(np.array([-log_median / dispersion, 1 / dispersion]), np.log(im), *_counts(overturned))[0]
+    k, safe = _counts(overturned)
+    params = np.array([[-log_median / dispersion, 1 / dispersion]])
+    return -float(_probit_cost(params, np.log(im), k[None], safe[None])[0][0])
 
 
 def _counts(overturned) -> tuple[np.ndarray, np.ndarray]:
@@ -48,26 +50,43 @@ def _counts(overturned) -> tuple[np.ndarray, np.ndarray]:
     return k, overturned.shape[0] - k
 
 
-def _probit_cost(params, x, k, safe) -> tuple[float, np.ndarray, np.ndarray]:
-    """Negative log-likelihood of ``P = Phi(a + b x)`` (``x = ln IM``), its gradient and Hessian in ``(a, b)``.
+def _probit_cost(params, x, k, safe) -> tuple[np.ndarray, np.ndarray, np.ndarray]:
+    """Negative log-likelihoods of ``P = Phi(a + b x)`` (``x = ln IM``), their gradients and Hessians in ``(a, b)``,
+    of several suites at once.
 
     The lognormal fragility is this probit model with ``b = 1 / dispersion``, ``a = -ln(median) / dispersion``;
     its cost is convex in ``(a, b)``. Logs of Phi are taken directly (``log_ndtr``), so that levels far in the
     tails do not round to log(0).
+
+    Parameters
+    ----------
+    params : ndarray, shape (r, 2)
+        ``(a, b)`` of each of ``r`` suites.
+    x : ndarray, shape (m,)
+        The log levels, shared by the suites.
+    k, safe : ndarray, shape (r, m)
+        Each suite's overturned and safe responses per level.
+
+    Returns
+    -------
+    cost : ndarray, shape (r,)
+    gradient : ndarray, shape (r, 2)
+    hessian : ndarray, shape (r, 2, 2)
     """
     # Imported here: scipy.special takes about half a second to import, paid only by a fragility.
     from scipy import special
 
-    a, b = params
-    z = a + b * x
+    z = params[:, :1] + params[:, 1:] * x
     log_p, log_q = special.log_ndtr(z), special.log_ndtr(-z)
     log_pdf = -0.5 * z * z - 0.5 * np.log(2 * np.pi)
     up, down = np.exp(log_pdf - log_p), np.exp(log_pdf - log_q)  # the inverse Mills ratios
     slope = k * up - safe * down
     weight = k * up * (z + up) + safe * down * (down - z)
-    gradient = -np.array([np.sum(slope), np.sum(slope * x)])
-    hessian = np.array([[np.sum(weight), np.sum(weight * x)], [np.sum(weight * x), np.sum(weight * x * x)]])
-    return -float(np.sum(k * log_p + safe * log_q)), gradient, hessian
+    # Sums along the levels, each suite's as np.sum of its own row: a suite's fit does not depend on the others.
+    gradient = -np.stack([np.sum(slope, axis=1), np.sum(slope * x, axis=1)], axis=1)
+    cross = np.sum(weight * x, axis=1)
+    hessian = np.stack([np.sum(weight, axis=1), cross, cross, np.sum(weight * x * x, axis=1)], axis=1).reshape(-1, 2, 2)
+    return -np.sum(k * log_p + safe * log_q, axis=1), gradient, hessian
 
 
 #: Statuses of a fit that gives a curve.
@@ -118,28 +137,143 @@ def fit_warnings(motions: int, fit) -> list[str]:
 NEWTON_STEPS, MAX_SLOPE = 100, 1e3
 
 
-def _newton(start, x, k, safe) -> tuple[np.ndarray, float]:
-    """The minimum of the convex :func:`_probit_cost` by Newton's method with step halving."""
-    params = np.asarray(start, float)
-    cost, gradient, hessian = _probit_cost(params, x, k, safe)
+def _newton_steps(hessian, gradient) -> tuple[np.ndarray, np.ndarray]:
+    """Newton's steps ``-hessian^-1 gradient`` of several suites, and which suites have one.
+
+    Parameters
+    ----------
+    hessian : ndarray, shape (r, 2, 2)
+    gradient : ndarray, shape (r, 2)
+
+    Returns
+    -------
+    step : ndarray, shape (r, 2)
+    solvable : ndarray of bool, shape (r,)
+        False where the Hessian is singular: that suite's Newton iterations stop.
+    """
+    try:
+        return -np.linalg.solve(hessian, gradient[..., None])[..., 0], np.ones(len(gradient), bool)
+    except np.linalg.LinAlgError:
+        # A stacked solve fails as a whole if any Hessian is singular (rare: levels that are all equal, or whose
+        # weights all but one underflow); solving the suites one by one tells which.
+        step, solvable = np.zeros_like(gradient), np.ones(len(gradient), bool)
+        for i in range(len(gradient)):
+            try:
+                step[i] = -np.linalg.solve(hessian[i], gradient[i])
+            except np.linalg.LinAlgError:
+                solvable[i] = False
+        return step, solvable
+
+
+#: Tries of a Newton step, halved after each that raises the cost, before the fit gives up.
+STEP_TRIES = 40
+
+
+def _halved_steps(params, step, cost, x, k, safe) -> tuple[np.ndarray, tuple[np.ndarray, ...]]:
+    """Each suite's Newton step from ``params``, halved until the cost there is no higher than ``cost``.
+
+    Parameters
+    ----------
+    params, step : ndarray, shape (r, 2)
+    cost : ndarray, shape (r,)
+    x, k, safe
+        As :func:`_probit_cost`'s.
+
+    Returns
+    -------
+    moved : ndarray of bool, shape (r,)
+        Whether one of the :data:`STEP_TRIES` steps made the cost no higher.
+    trial : tuple of ndarray
+        The params of the suites that moved, and :func:`_probit_cost` there.
+    """
+    moved = np.zeros(len(params), bool)
+    trial = [params.copy(), cost.copy(), np.zeros_like(params), np.zeros((len(params), 2, 2))]
+    pending, step = np.arange(len(params)), step.copy()
+    for _ in range(STEP_TRIES):
+        if not pending.size:
+            break
+        there = params[pending] + step[pending]
+        values = (there, *_probit_cost(there, x, k[pending], safe[pending]))
+        lower = values[1] <= cost[pending]
+        for kept, value in zip(trial, values, strict=True):
+            kept[pending[lower]] = value[lower]
+        moved[pending[lower]] = True
+        pending = pending[~lower]
+        step[pending] = step[pending] / 2
+    return moved, tuple(trial)
+
+
+def _newton(start, x, k, safe) -> tuple[np.ndarray, np.ndarray]:
+    """The minima of the convex :func:`_probit_cost` of several suites by Newton's method with step halving.
+
+    Each suite iterates on its own, the suites only computed together: it stops when its cost changes by less
+    than 1e-12 of itself, its slope ``b`` passes :data:`MAX_SLOPE`, its Hessian is singular, its step halved
+    :data:`STEP_TRIES` times still raises its cost, or after :data:`NEWTON_STEPS` steps.
+
+    Parameters
+    ----------
+    start : array_like, shape (2,)
+        ``(a, b)`` every suite starts from.
+    x, k, safe
+        As :func:`_probit_cost`'s.
+
+    Returns
+    -------
+    params : ndarray, shape (r, 2)
+    cost : ndarray, shape (r,)
+    """
+    params = np.tile(np.asarray(start, float), (len(k), 1))
+    state = [params, *_probit_cost(params, x, k, safe)]  # params, cost, gradient, Hessian of every suite
+    params, cost, gradient, hessian = state
+    active = np.arange(len(k))
     for _ in range(NEWTON_STEPS):
-        try:
-            step = -np.linalg.solve(hessian, gradient)
-        except np.linalg.LinAlgError:
+        if not active.size:
             break
-        for _ in range(40):
-            trial = params + step
-            trial_cost, trial_gradient, trial_hessian = _probit_cost(trial, x, k, safe)
-            if trial_cost <= cost:
-                break
-            step = step / 2
-        else:
-            break
-        params, converged = trial, abs(cost - trial_cost) <= 1e-12 * max(1.0, abs(cost))
-        cost, gradient, hessian = trial_cost, trial_gradient, trial_hessian
-        if converged or abs(params[1]) > MAX_SLOPE:
-            break
+        step, solvable = _newton_steps(hessian[active], gradient[active])
+        active, step = active[solvable], step[solvable]
+        moved, trial = _halved_steps(params[active], step, cost[active], x, k[active], safe[active])
+        active, before = active[moved], cost[active[moved]]
+        for kept, value in zip(state, trial, strict=True):
+            kept[active] = value[moved]
+        converged = np.abs(before - cost[active]) <= 1e-12 * np.maximum(1.0, np.abs(before))
+        active = active[~(converged | (np.abs(params[active, 1]) > MAX_SLOPE))]
     return params, cost
+
+
+def _fits(x, k, safe) -> dict:
+    """:func:`fit_lognormal` of several suites at the same levels, from their counts.
+
+    Parameters
+    ----------
+    x : ndarray, shape (m,)
+        The log levels.
+    k, safe : ndarray, shape (r, m)
+        Each suite's overturned and safe responses per level.
+
+    Returns
+    -------
+    dict of ndarray, each (r,)
+        ``median``, ``dispersion``, ``log_likelihood`` as :func:`fit_lognormal`'s, and ``status``: the index of
+        each fit's status in :data:`~rocking.study.vocabulary.FIT_STATUSES`.
+    """
+    r = len(k)
+    median, dispersion, log_likelihood = np.full(r, np.nan), np.full(r, np.nan), np.zeros(r)
+    status = np.full(r, FIT_STATUSES.index("fitted"))
+    none, every = k.sum(axis=1) == 0, safe.sum(axis=1) == 0
+    median[none], status[none] = np.inf, FIT_STATUSES.index("none_overturned")
+    median[every], status[every] = 0.0, FIT_STATUSES.index("all_overturned")
+    mixed = np.flatnonzero(~(none | every))
+    spread = max(float(np.std(x)), 0.1)
+    start = np.array([-float(np.median(x)) / spread, 1 / spread])
+    params, cost = _newton(start, x, k[mixed], safe[mixed])
+    a, b = params.T
+    log_likelihood[mixed] = -cost
+    increasing = b > 0  # False for a NaN slope too: no curve
+    status[mixed[~increasing]] = FIT_STATUSES.index("not_increasing")
+    status[mixed[b > MAX_SLOPE]] = FIT_STATUSES.index("separated")
+    a, b, mixed = a[increasing], b[increasing], mixed[increasing]
+    median[mixed], dispersion[mixed] = np.exp(-a / b), 1 / b
+    return {"median": median, "dispersion": dispersion, "log_likelihood": log_likelihood, "status": status}
 
 
 def fit_lognormal(im, overturned) -> dict:
@@ -163,53 +297,58 @@ def fit_lognormal(im, overturned) -> dict:
         fraction overturned falls with the level).
     """
     im, overturned = _stripes(im, overturned)
-    fraction = overturned.mean()
-    if fraction == 0:
-        return {"median": np.inf, "dispersion": np.nan, "log_likelihood": 0.0, "status": "none_overturned"}
-    if fraction == 1:
-        return {"median": 0.0, "dispersion": np.nan, "log_likelihood": 0.0, "status": "all_overturned"}
-    x = np.log(im)
     k, safe = _counts(overturned)
-    spread = max(float(np.std(x)), 0.1)
-    start = np.array([-float(np.median(x)) / spread, 1 / spread])
-    (a, b), cost = _newton(start, x, k, safe)
-    if not b > 0:
-        return {"median": np.nan, "dispersion": np.nan, "log_likelihood": -cost, "status": "not_increasing"}
-    status = "separated" if b > MAX_SLOPE else "fitted"
-    return {"median": float(np.exp(-a / b)), "dispersion": float(1 / b), "log_likelihood": -cost, "status": status}
+    fit = _fits(np.log(im), k[None], safe[None])
+    return {
+        **{key: float(fit[key][0]) for key in ("median", "dispersion", "log_likelihood")},
+        "status": FIT_STATUSES[fit["status"][0]],
+    }
 
 
-def fragility_curve(x, median: float, dispersion: float) -> np.ndarray:
-    """``Phi(ln(x / median) / dispersion)`` at the intensities ``x``."""
+def fragility_curve(x, median, dispersion) -> np.ndarray:
+    """``Phi(ln(x / median) / dispersion)`` at the intensities ``x`` (broadcast against ``median`` and
+    ``dispersion``)."""
     from scipy import special  # imported here, as in _probit_cost
 
     return special.ndtr(np.log(np.asarray(x, float) / median) / dispersion)
 
 
+def _resampled_counts(overturned, resamples: int, rng) -> tuple[np.ndarray, np.ndarray]:
+    """:func:`_counts` of ``resamples`` suites resampled by motion, with replacement.
+
+    The draws are those of ``rng.integers(0, n, n)`` called once per resample, in order: one call of all of them
+    continues the generator's stream as the calls one after the other would.
+
+    Returns
+    -------
+    k, safe : ndarray, shape (resamples, m)
+    """
+    n = overturned.shape[0]
+    draws = rng.integers(0, n, (resamples, n))
+    times = np.bincount((n * np.arange(resamples)[:, None] + draws).ravel(), minlength=resamples * n)
+    # Counts of at most n * n responses, exact in floating point: the product is done by BLAS.
+    k = times.reshape(resamples, n).astype(float) @ overturned.astype(float)
+    return k, n - k
+
+
 def _band(im, overturned, x, resamples: int, level: float, seed: int) -> dict | None:
     """:func:`bootstrap_band` of verdicts taken as certain; ``None`` if no resample can be fitted."""
-    rng = np.random.default_rng(seed)
-    curves, medians, dispersions, dropped = [], [], [], 0
-    for _ in range(resamples):
-        sample = overturned[rng.integers(0, overturned.shape[0], overturned.shape[0])]
-        fit = fit_lognormal(im, sample)
-        if fit["status"] not in FITTED:
-            dropped += 1
-            continue
-        curves.append(fragility_curve(x, fit["median"], fit["dispersion"]))
-        medians.append(fit["median"])
-        dispersions.append(fit["dispersion"])
-    if not curves:
+    fit = _fits(np.log(im), *_resampled_counts(overturned, resamples, np.random.default_rng(seed)))
+    curve = np.isin(fit["status"], [FIT_STATUSES.index(status) for status in FITTED])
+    if not curve.any():
         return None
+    medians, dispersions = fit["median"][curve], fit["dispersion"][curve]
+    per_resample = (-1,) + (1,) * np.ndim(x)  # a curve at x for each resample
+    curves = fragility_curve(x, medians.reshape(per_resample), dispersions.reshape(per_resample))
     tails = (100 * (1 - level) / 2, 100 * (1 + level) / 2)
-    low, high = np.percentile(np.asarray(curves), tails, axis=0)
+    low, high = np.percentile(curves, tails, axis=0)
     return {
         "low": low,
         "high": high,
         "median_interval": [float(v) for v in np.percentile(medians, tails)],
         "dispersion_interval": [float(v) for v in np.percentile(dispersions, tails)],
-        "resamples": len(curves),
-        "dropped": dropped,
+        "resamples": int(curve.sum()),
+        "dropped": int(resamples - curve.sum()),
     }
 
 
