@@ -668,12 +668,7 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
 
 def draw_vertical_spectra(studies, folder: str | Path, name: str = "spectrum-vertical") -> list[Path]:
     """Draw :func:`vertical_spectra_figure` of ``studies`` as ``<folder>/<name>.png`` and ``.pdf``."""
-    fig = vertical_spectra_figure(studies)
-    FigureCanvasAgg(fig)
-    paths = [Path(folder) / f"{name}.{ext}" for ext in ("png", "pdf")]
-    for path in paths:
-        fig.savefig(path, dpi=150)
-    return paths
+    return write_figure(vertical_spectra_figure(studies), Path(folder), name)
 
 
 def _threshold_text(t: dict) -> str:
@@ -1103,11 +1098,15 @@ def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path
     """Draw the figure of ``study`` as ``<folder>/<name>.png`` and ``.pdf`` (name: the study's kind)."""
     if study.kind not in FIGURES:
         raise ParameterError(f"no figure for a study of kind {study.kind!r} (known: {', '.join(FIGURES)})")
-    fig = FIGURES[study.kind](study)
+    return write_figure(FIGURES[study.kind](study), Path(folder), name or study.kind)
+
+
+def write_figure(fig: Figure, folder: Path, name: str) -> list[Path]:
+    """Write ``fig`` as ``<folder>/<name>.png`` and ``.pdf``: laid out once, for the PNG, the PDF with the same
+    layout (a second constrained layout costs as much as the PDF's drawing and moves nothing that shows)."""
     FigureCanvasAgg(fig)
-    folder = Path(folder)
     folder.mkdir(parents=True, exist_ok=True)
-    paths = [folder / f"{name or study.kind}.{ext}" for ext in ("png", "pdf")]
+    paths = [folder / f"{name}.{ext}" for ext in ("png", "pdf")]
     for path in paths:
         try:
             # Opened here, closed however the writer fails (a full disk fails the PDF writer with its rasterized
@@ -1116,6 +1115,7 @@ def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path
                 fig.savefig(file, format=path.suffix[1:], dpi=150)
         except OSError as exc:
             raise ParameterError(f"cannot write the figure {path} ({exc.strerror or exc})") from None
+        fig.set_layout_engine("none")
     return paths
 
 
