@@ -2,7 +2,8 @@
 
 ``python bench/readme.py`` rewrites each block of README.md between its markers (:func:`markers`) from its
 file (:data:`BLOCKS`): the speed figures of the last `make bench` (bench/last.json), the adaptive maps
-against full ones (bench/adaptive-400.json, bench/adaptive-1000.json, written by the commands they name).
+against full ones (bench/adaptive-400.json, bench/adaptive-1000.json), the 400 x 400 map from the command line
+(bench/cli-400.json), each written by the command it names.
 tests/test_readme.py fails when a block and its file differ, so a figure in the README is always the one a
 run measured, with its date, machine and load.
 """
@@ -15,6 +16,8 @@ from pathlib import Path
 
 from adaptive import table
 from adaptive_spectrum import table as spectrum_table
+from cli_map import files_line, targets_line
+from cli_map import table as cli_table
 
 ROOT = Path(__file__).resolve().parent.parent
 README = ROOT / "README.md"
@@ -101,11 +104,18 @@ def render_adaptive_spectrum(result: dict) -> str:
     return f"{measured_by(result)}\n\n{spectrum_table(result)}"
 
 
+def render_cli(results: dict) -> str:
+    """The command line's maps against their simulations, each file's time and the targets, and the command and
+    machine that measured them."""
+    return f"{measured_by(results)}\n\n{cli_table(results)}\n\n{files_line(results)}\n\n{targets_line(results)}"
+
+
 #: Each block of the README written here: its name, its file, and how it is rendered.
 BLOCKS = {
     "speed": ("bench/last.json", render),
     "adaptive-400": ("bench/adaptive-400.json", render_adaptive),
     "adaptive-1000": ("bench/adaptive-1000.json", render_adaptive),
+    "cli-400": ("bench/cli-400.json", render_cli),
     "adaptive-spectrum": ("bench/adaptive-spectrum.json", render_adaptive_spectrum),
 }
 

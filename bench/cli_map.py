@@ -1,0 +1,250 @@
+"""A 400 x 400 ``rocking map`` from the command line, everything included, against its simulation alone.
+
+Runs ``rocking map --Omega 1 10 N --beta 1 10 N --workers W --no-progress`` as a subprocess, adaptive (the
+default) and with ``--full``, each with a fresh output folder (its tiles in ``OUT/runs``, so no tile is
+reused): the wall time and the children's CPU time of each run. The command's defaults are the bench's
+(bench/adaptive.py): the reference block of docs/model.md section 9, a sine pulse, a damper with gamma = 0.05,
+omega_m = p, zeta = 0.05, h = 0.05 m, rtol = 1e-8, both directions (the block is eccentric), coarse step 16
+verified from step 16. Alternating with the commands, in each run: the same maps in this process, the
+computation only (``overturning_map`` on fresh tiles, as bench/adaptive.py times it), and the whole command on
+a 2 x 2 map (its fixed cost). Then each file the command writes, written here from the adaptive map by the
+functions it calls (rocking.study.storage.save's writers, the figure of rocking.plot.figures.draw), and the
+start of the command (``rocking --version``: its imports and its parser). Every time is the best of the runs
+(the commands' and simulations' medians are recorded too); a file's is then written by libraries already
+loaded, whose loading is part of the fixed cost.
+
+    python bench/cli_map.py                            # 5 runs of each: about 4 minutes on 2 cores
+    python bench/cli_map.py -n 200 --runs 1 --json out/cli-200.json
+"""
+
+from __future__ import annotations
+
+import argparse
+import json
+import resource
+import statistics
+import subprocess
+import sys
+import tempfile
+import time
+from pathlib import Path
+
+from adaptive import GAMMA, H_MASS, OMEGA_RATIO, ZETA, setting_of
+from machine import command_line, ended, machine
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+from rocking.plot.figures import FIGURES
+from rocking.study.config import Grid, Tuning, versions
+from rocking.study.overturning_map import overturning_map
+from rocking.study.storage import _data_files, save
+from rocking.study.tiles import Execution
+
+#: The installed command, beside this Python.
+ROCKING = str(Path(sys.executable).parent / "rocking")
+#: The side of the map whose command (with --full: 4 cells) measures the command's fixed cost: its start, the
+#: first use of its libraries, its figure and files, with next to no simulation.
+FIXED = 2
+#: The targets of the speed issue: the command at most this many times its simulation ...
+COMMAND_OVER_SIMULATION = 3.0
+#: ... and adaptive at least this many times faster than --full from the command line.
+SPEEDUP = 8.0
+
+
+def command(n: int, workers: int, full: bool, out: str) -> list[str]:
+    """The ``rocking map`` command line of an ``n x n`` map into the folder ``out``."""
+    grids = ["--Omega", "1", "10", str(n), "--beta", "1", "10", str(n)]
+    return [ROCKING, "map", *grids, "--workers", str(workers), "--no-progress", "--out", out] + ["--full"] * full
+
+
+def cpu(who: int) -> float:
+    """The CPU time (user + system) so far of this process (its threads too) or of its finished children."""
+    usage = resource.getrusage(who)
+    return usage.ru_utime + usage.ru_stime
+
+
+def timed_command(argv: list[str]) -> dict:
+    """Run ``argv``: its wall time and the CPU time of the process and its children."""
+    before, start = cpu(resource.RUSAGE_CHILDREN), time.perf_counter()
+    subprocess.run(argv, check=True, stdout=subprocess.DEVNULL)
+    return {"wall_s": time.perf_counter() - start, "cpu_s": cpu(resource.RUSAGE_CHILDREN) - before}
+
+
+def simulation(n: int, workers: int, full: bool, runs: str):
+    """The map of the command computed in this process on fresh tiles ``runs``: the study, and its wall and CPU
+    times (of every thread of this process, its workers')."""
+    grids = Grid("Omega", 1.0, 10.0, n), Grid("beta", 1.0, 10.0, n)
+    before, start = cpu(resource.RUSAGE_SELF), time.perf_counter()
+    study = overturning_map(
+        setting_of("sine"),
+        Tuning(GAMMA, OMEGA_RATIO, ZETA, H_MASS),
+        *grids,
+        Execution(workers=workers, progress=False),
+        runs=runs,
+        full=full,
+    )
+    return study, {"wall_s": time.perf_counter() - start, "cpu_s": cpu(resource.RUSAGE_SELF) - before}
+
+
+def seconds(write, *args, **options) -> float:
+    """Seconds of ``write(*args, **options)``."""
+    start = time.perf_counter()
+    write(*args, **options)
+    return time.perf_counter() - start
+
+
+def outputs(study, folder: Path) -> dict:
+    """Seconds to write each file the command writes of ``study`` into ``folder``, one writer at a time, and
+    the whole of the command's two steps (the data files and their JSON record; the figures)."""
+    times = {}
+    # The writers save() calls in turn, file by file (its JSON record aside, timed with them below).
+    for file, write in _data_files(study, "map", versions()).items():
+        times[file] = seconds(write, folder / file)
+    times["save (NetCDF, CSV, JSON)"] = seconds(save, study, folder / "saved")
+    start = time.perf_counter()
+    figure = FIGURES["map"](study)
+    FigureCanvasAgg(figure)
+    times["figure (built)"] = time.perf_counter() - start
+    for ext in ("png", "pdf"):
+        # As draw(): the one figure written in both formats (each laid out and rendered in full).
+        times[f"map.{ext}"] = seconds(figure.savefig, folder / f"map.{ext}", dpi=150)
+    return times
+
+
+def rows(path: Path) -> int:
+    """The rows of the CSV file ``path``, its header aside."""
+    with open(path) as f:
+        return sum(1 for _ in f) - 1
+
+
+def start_up(runs: int) -> float:
+    """The best wall time of ``rocking --version``: the command's imports, its parser, the interpreter."""
+    return min(timed_command([ROCKING, "--version"])["wall_s"] for _ in range(runs))
+
+
+def measure(n: int, workers: int, runs: int) -> dict:
+    """Every figure of the bench: each command and simulation ``runs`` times, alternating, and the best of each
+    (the shortest: on a shared machine, the other loads only add to a time); their medians too."""
+    samples: dict = {key: [] for key in ("adaptive", "full", "adaptive_simulation", "full_simulation", "fixed")}
+    for _ in range(runs):
+        with tempfile.TemporaryDirectory() as out:
+            samples["fixed"].append(timed_command(command(FIXED, workers, True, out)))
+        for full, name in ((False, "adaptive"), (True, "full")):
+            with tempfile.TemporaryDirectory() as out:
+                samples[name].append(timed_command(command(n, workers, full, out)))
+            with tempfile.TemporaryDirectory() as tmp:
+                study, times = simulation(n, workers, full, tmp)
+                samples[f"{name}_simulation"].append(times | {"responses": study.run["responses"]})
+    with tempfile.TemporaryDirectory() as tmp:
+        study, _ = simulation(n, workers, False, f"{tmp}/runs")
+        # Each round into a new folder: the writers refuse to replace a file (storage.save publishes by renames).
+        each = [outputs(study, Path(tempfile.mkdtemp(dir=tmp))) for _ in range(runs)]
+        written = {file: min(times[file] for times in each) for file in each[0]}
+        csv_rows = rows(next(Path(tmp).glob("*/map.csv")))
+    result = {"n": n, "workers": workers, "runs": runs, "samples": samples, "outputs": written, "csv_rows": csv_rows}
+    for name, values in samples.items():
+        result[name] = {key: min(v[key] for v in values) for key in values[0]}
+        result[f"{name}_median"] = {key: statistics.median(v[key] for v in values) for key in values[0]}
+    result["start_up_s"] = start_up(max(runs, 3))
+    return result | ratios(result)
+
+
+def ratios(result: dict) -> dict:
+    """The ratios of the best times of ``result``, of the wall times and of the CPU's: each command over its
+    simulation, full over adaptive; what the command adds to the adaptive map and may add for the target."""
+    out = {}
+    for time_s in ("wall_s", "cpu_s"):
+        ratio = time_s.replace("_s", "")  # the wall time's ratios, then the CPU's
+        for name in ("adaptive", "full"):
+            out[f"{name}_over_simulation_{ratio}"] = result[name][time_s] / result[f"{name}_simulation"][time_s]
+        for name in ("", "_simulation"):
+            out[f"speedup{name}_{ratio}"] = result[f"full{name}"][time_s] / result[f"adaptive{name}"][time_s]
+    # What the command adds to the adaptive map's simulation (start, figures, files), and what it may add at
+    # most for the speed-up target: the adaptive command within the full one's time over SPEEDUP.
+    out["adaptive_added_s"] = result["adaptive"]["wall_s"] - result["adaptive_simulation"]["wall_s"]
+    out["added_for_target_s"] = result["full"]["wall_s"] / SPEEDUP - result["adaptive_simulation"]["wall_s"]
+    return out
+
+
+def table(r: dict) -> str:
+    """The command lines against their simulations, as a Markdown table: the README's (bench/readme.py)."""
+    rows = [
+        f"| map (best of {r['runs']} runs, {r['workers']} workers) | command line, wall / CPU (s) | "
+        "simulation only, wall / CPU (s) | command / simulation, wall / CPU |",
+        "|---|---|---|---|",
+    ]
+    for name in ("adaptive", "full"):
+        cli, sim = r[name], r[f"{name}_simulation"]
+        rows.append(
+            f"| {name} ({sim['responses']:,.0f} responses) | {cli['wall_s']:.1f} / {cli['cpu_s']:.1f} | "
+            f"{sim['wall_s']:.1f} / {sim['cpu_s']:.1f} | {r[f'{name}_over_simulation_wall']:.2f}x / "
+            f"{r[f'{name}_over_simulation_cpu']:.2f}x |"
+        )
+    rows.append(
+        f"| adaptive over full | {r['speedup_wall']:.1f}x / {r['speedup_cpu']:.1f}x | "
+        f"{r['speedup_simulation_wall']:.1f}x / {r['speedup_simulation_cpu']:.1f}x | |"
+    )
+    return "\n".join(rows)
+
+
+def files_line(r: dict) -> str:
+    """The seconds of each file the command writes, and of its start, as one sentence."""
+    o = r["outputs"]
+    return (
+        f"Each file the command writes of the adaptive map, written in-process by the functions it calls, their "
+        f"libraries loaded: the "
+        f"figure built {o['figure (built)']:.2f} s, then map.png {o['map.png']:.2f} s and map.pdf "
+        f"{o['map.pdf']:.2f} s; map.nc {o['map.nc']:.2f} s, map.csv ({r['csv_rows']:,} rows) {o['map.csv']:.2f} s; "
+        f"the three with the JSON record {o['save (NetCDF, CSV, JSON)']:.2f} s. The command's start "
+        f"(`rocking --version`: the interpreter, the imports, the parser) {r['start_up_s']:.2f} s; the whole "
+        f"command on a {FIXED} x {FIXED} map (its fixed cost: the start, the libraries' first use, the figure and "
+        f"files) {r['fixed']['wall_s']:.2f} s, {r['fixed']['cpu_s']:.2f} s of CPU."
+    )
+
+
+def targets_line(r: dict) -> str:
+    """The two targets of the speed issue against the figures measured, as one sentence."""
+    added, room, within = r["adaptive_added_s"], r["added_for_target_s"], r["full"]["wall_s"] / SPEEDUP
+    room_text = (
+        f"{room:.1f} s beyond its simulation for the {added:.1f} s the command adds"
+        if room >= 0
+        else f"less than its simulation alone, before the {added:.1f} s the command adds"
+    )
+    return (
+        f"Targets: the adaptive command takes {r['adaptive_over_simulation_wall']:.2f}x its simulation's wall time "
+        f"(at most {COMMAND_OVER_SIMULATION:g}x); adaptive is {r['speedup_wall']:.1f}x faster than `--full` from the "
+        f"command line (at least {SPEEDUP:g}x), which needs the adaptive command within {within:.1f} s: {room_text} "
+        f"(its start, figures and files; the command takes {r['fixed']['wall_s']:.1f} s on a {FIXED} x {FIXED} map)."
+    )
+
+
+def report(r: dict) -> None:
+    print(f"rocking map, {r['n']} x {r['n']}, {r['workers']} workers, best of {r['runs']} runs:")
+    print(table(r))
+    print(files_line(r))
+    print(targets_line(r))
+
+
+def main(argv=None) -> int:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("-n", type=int, default=400, help="values of Omega and of beta (default 400)")
+    parser.add_argument("--workers", type=int, default=2, help="local workers of every map (default 2)")
+    parser.add_argument("--runs", type=int, default=5, help="runs of each command and simulation (default 5)")
+    parser.add_argument("--json", help="also write the figures to this file")
+    args = parser.parse_args(argv)
+    started = machine()
+    result = measure(args.n, args.workers, args.runs)
+    report(result)
+    if args.json:
+        commands = {
+            name: " ".join(["rocking", *command(args.n, args.workers, full, "FRESH_FOLDER")[1:]])
+            for full, name in ((False, "adaptive"), (True, "full"))
+        }
+        record = {"command": command_line("cli_map.py", argv), "commands": commands, "machine": started | ended()}
+        with open(args.json, "w") as f:
+            json.dump(record | result, f, indent=2)
+            f.write("\n")
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())
