@@ -206,3 +206,17 @@ def test_a_huge_integer_is_shown_by_its_magnitude():
     """Python prints no int of more than 4300 digits: the message must not try."""
     with pytest.raises(ParameterError, match=r"got 1e\+10000\)"):
         rocking.Block(H=10**10000, B=0.5, M=1.0)
+
+
+@pytest.mark.parametrize("gamma", [1e-3, 0.013, 0.05, 0.31, 2.7])
+@pytest.mark.parametrize("omega_ratio", [1e-3, 0.37, 1.0, 3.3, 1e4])
+def test_a_damper_made_at_the_bounds_of_its_ranges_is_accepted_where_it_is_used(gamma, omega_ratio):
+    # zeta = c / (2 m omega_m) of a damper made from zeta = 10 comes back a few ulps off (10.000000000000002):
+    # rounding, not a value outside [0, 10]; a value given beyond it is still refused.
+    damper = rocking.Damper.from_nondim(BLOCK, gamma=gamma, omega_ratio=omega_ratio, zeta=10.0)
+    assert damper.check_on(BLOCK) is damper
+    if omega_ratio <= 100:  # the pads' frequency, 60 omega_m by default, within its range of [1e-3 p, 1e4 p]
+        stops = rocking.Stops.at_edges(BLOCK, damper, zeta_b=10.0)
+        assert stops.check_on(BLOCK, damper) is stops
+    with pytest.raises(rocking.ParameterError, match=r"^zeta must be in \[0, 10\] \(got 10\.001\)"):
+        rocking.Damper.from_nondim(BLOCK, gamma=gamma, omega_ratio=omega_ratio, zeta=10.001)

@@ -350,6 +350,13 @@ def _old_format(folder: Path, version: int) -> None:
     (folder / "map.json").write_text(json.dumps(record))
 
 
+def _edited(folder: Path, change) -> None:
+    """The record edited by hand: ``change(record)``, its checksums left as saved."""
+    record = json.loads((folder / "map.json").read_text())
+    change(record)
+    (folder / "map.json").write_text(json.dumps(record))
+
+
 BROKEN = {
     "truncated nc": ("map.nc", lambda f: (f / "map.nc").write_bytes((f / "map.nc").read_bytes()[:900])),
     "nc of text": ("map.nc", lambda f: (f / "map.nc").write_text("hello")),
@@ -363,6 +370,9 @@ BROKEN = {
     "binary JSON": ("map.json", lambda f: (f / "map.json").write_bytes(b"\xff\xfe\x00")),
     "foreign JSON": ("map.json", lambda f: (f / "map.json").write_text('{"name": "something else"}')),
     "JSON list": ("map.json", lambda f: (f / "map.json").write_text("[1, 2]")),
+    "edited geometry": ("map.json", lambda f: _edited(f, lambda r: r["config"]["block"].update(e=0.1))),
+    "edited damper": ("map.json", lambda f: _edited(f, lambda r: r["config"].update(damper={"gamma": "abc"}))),
+    "edited summary": ("map.json", lambda f: _edited(f, lambda r: r["summary"].update(saved=999))),
     "unknown kind": ("map.json", lambda f: (f / "map.json").write_text('{"kind": "x", "config": {}, "summary": {}}')),
 }
 

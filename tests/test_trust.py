@@ -24,6 +24,7 @@ from rocking.model.loading import GENERATED, ModelError, load_model
 from rocking.plot.figures import _damper_label
 from rocking.sim import cbuild
 from rocking.sim.cbuild import CBuildError
+from rocking.study.config import config_hash
 from tests.planted import plant_library, plant_model
 
 MAP = ["map", "--Omega", "1", "6", "4", "--beta", "1", "6", "5", "--gamma", "0.04", "--no-progress", "--workers", "1"]
@@ -76,6 +77,10 @@ def test_a_loaded_study_naming_a_planted_model_runs_nothing(saved_map, tmp_path)
     shutil.copy(saved_map.with_suffix(".nc"), tmp_path / "map.nc")
     record = json.loads(saved_map.read_text())
     record["config"]["damper"] = {"model": str(evil), "params": {"m": 1.0}, "model_sha256": "0" * 64}
+    (tmp_path / "map.json").write_text(json.dumps(record))
+    with pytest.raises(rocking.ParameterError, match=r"map\.json: config: not the configuration its results were"):
+        rocking.load(tmp_path / "map.json")  # an edit by hand is told by the configuration's checksum
+    record["config_sha256"] = config_hash(record["config"])  # one who also forges it still runs nothing
     (tmp_path / "map.json").write_text(json.dumps(record))
     study = rocking.load(tmp_path / "map.json")
     assert study.to_dataset()["x_max"].attrs["units"] == "m"  # the unit is not taken from its manifest

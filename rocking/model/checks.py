@@ -389,7 +389,13 @@ RANGES: dict[str, Range] = {
 
 
 def check_in_range(
-    name: str, value: object, key: str | None = None, *, label: str | None = None, nonzero: bool = False
+    name: str,
+    value: object,
+    key: str | None = None,
+    *,
+    label: str | None = None,
+    nonzero: bool = False,
+    derived: bool = False,
 ) -> float:
     """Return ``value`` as a float if it is a real number within ``RANGES[key or name]``.
 
@@ -405,6 +411,9 @@ def check_in_range(
         Symbolic form of the bounds for the message (``"(0, 4 M R^2]"``).
     nonzero : bool, optional
         Refuse 0 even where the range admits it (the studies' damper is never the bare block).
+    derived : bool, optional
+        ``value`` is computed from other inputs: passing a closed bound by rounding alone is no error
+        (:func:`at_bound`).
 
     Returns
     -------
@@ -416,11 +425,27 @@ def check_in_range(
         ``"{name} must be in {range} (got {value}): {why}"`` (``0 or in`` where 0 is valid).
     """
     valid = RANGES[key or name]
-    return _in_range(name, value, replace(valid, zero=False) if nonzero else valid, label)
+    return _in_range(name, value, replace(valid, zero=False) if nonzero else valid, label, derived=derived)
 
 
-def _in_range(name: str, value: object, valid: Range, label: str | None = None, scale: float = 1.0, unit=None) -> float:
-    """``value`` as a float if it is a real number and ``value / scale`` lies in ``valid``.
+#: A value computed from others (``zeta = c / (2 m omega_m)`` of a damper made from ``zeta``) may pass a bound it
+#: was made at by this many units in the last place: rounding, not a value outside.
+DERIVED_ULPS = 8
+
+
+def at_bound(x: float, valid: Range) -> float:
+    """``x``, or the closed bound of ``valid`` that ``x`` passes by at most :data:`DERIVED_ULPS` (rounding)."""
+    for bound, is_open in ((valid.low, valid.open_low), (valid.high, valid.open_high)):
+        if not is_open and math.isfinite(bound) and abs(x - bound) <= DERIVED_ULPS * math.ulp(bound):
+            return bound
+    return x
+
+
+def _in_range(
+    name: str, value: object, valid: Range, label: str | None = None, scale: float = 1.0, unit=None, derived=False
+) -> float:
+    """``value`` as a float if it is a real number and ``value / scale`` lies in ``valid``; if ``derived`` (a
+    value computed from others), also one that passes a closed bound by rounding alone (:func:`at_bound`).
 
     Every message names the range with the bounds times ``scale`` (in ``unit``) and its reason:
     a value that is no real number, a nan or infinite one, and one outside (an integer beyond the
@@ -436,16 +461,17 @@ def _in_range(name: str, value: object, valid: Range, label: str | None = None, 
     x = as_real(name, value, expected)
     if not math.isfinite(x) and not isinstance(value, numbers.Rational):  # nan or inf itself, not a huge int
         raise ParameterError(f"{name} must be finite (got {shown(value)}), {expected}")
-    if x / scale not in valid:
+    if (at_bound(x / scale, valid) if derived else x / scale) not in valid:
         got = repr(x) if math.isfinite(x) else shown(value)  # the float it was read as; a huge int by magnitude
         raise ParameterError(f"{name} must be {bounds.text(label)} (got {got}): {bounds.why}")
     return x
 
 
 def check_scaled(name: str, value: object, key: str, scale: float, label: str, unit: str | None = None) -> float:
-    """Return ``value`` as a float if ``value / scale`` lies in ``RANGES[key]`` (a range relative to the block).
+    """Return ``value`` as a float if ``value / scale`` lies in ``RANGES[key]`` (a range relative to the block),
+    or passes a closed bound by rounding alone (:func:`at_bound`: ``m = gamma M`` made at ``gamma = 10``).
 
     The message gives the bounds times ``scale`` (in ``unit``, default the range's), after
     ``label`` (``"[1e-10 M, 10 M]"``).
     """
-    return _in_range(name, value, RANGES[key], label, scale, unit)
+    return _in_range(name, value, RANGES[key], label, scale, unit, derived=True)

@@ -396,7 +396,7 @@ class Stops:
             return self
         omega_b = math.sqrt(self.k_b / damper.m)
         check_scaled("omega_b", omega_b, "omega_b_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
-        check_in_range("zeta_b", self.c_b / (2 * math.sqrt(self.k_b * damper.m)))
+        check_in_range("zeta_b", self.c_b / (2 * math.sqrt(self.k_b * damper.m)), derived=True)
         return self
 
     def as_params(self) -> dict[str, float]:
@@ -592,7 +592,7 @@ class Damper:
         check_scaled("m", self.m, "gamma", block.M, "[1e-10 M, 10 M]", "kg")
         if self.k_m > 0.0:  # k_m = 0 only for a free mass between stops: no frequency, no damping ratio
             check_scaled("omega_m", self.omega_m, "omega_ratio", block.p, "[1e-3 p, 1e4 p]", "rad/s")
-            check_in_range("zeta", self.zeta)
+            check_in_range("zeta", self.zeta, derived=True)
         if self.stops is not None:
             self.stops.check_on(block, self)
         return self

@@ -19,6 +19,7 @@ checked against its arrays (:func:`check_config`, :func:`check_arrays`: grids, d
 
 from __future__ import annotations
 
+import hashlib
 import inspect
 import json
 import math
@@ -155,6 +156,7 @@ def _record(study: Study, software: dict, files: list[str], command: dict | None
         "config_sha256": config_hash(study.config),
         "versions": software,
         "summary": study.summary,
+        "summary_sha256": summary_hash(study.summary),
         "run": study.run,
         "format": STUDY_FORMAT,
         "files": files,
@@ -162,6 +164,34 @@ def _record(study: Study, software: dict, files: list[str], command: dict | None
         "variables_sha256": checksum(variables(study.data)),
     }
     return {**record, "command": command} if command is not None else record
+
+
+def summary_hash(summary: dict) -> str:
+    """SHA-256 of the canonical JSON of a study's ``summary`` (sorted keys, exact float repr; NaN as the record
+    writes it)."""
+    text = json.dumps(summary, sort_keys=True, separators=(",", ":"))
+    return hashlib.sha256(text.encode()).hexdigest()
+
+
+def _check_unchanged(record: dict, meta: Path) -> None:
+    """Refuse a record whose configuration or summary is not the one saved with its results: the checksums
+    written beside them (``config_sha256``; ``summary_sha256`` in files saved since it was added) differ, as
+    after an edit by hand, which would describe the results by inputs they were not computed from."""
+    try:
+        config_same = record.get("config_sha256") == config_hash(record["config"])
+    except (TypeError, ValueError):  # not JSON of finite numbers: not what save wrote
+        config_same = False
+    if not config_same:
+        raise ParameterError(
+            f"{meta}: config: not the configuration its results were computed from (its SHA-256 is not the "
+            "config_sha256 saved with it: edited or damaged); to run a changed configuration, give it to the "
+            "study's command as --config"
+        )
+    if "summary_sha256" in record and record["summary_sha256"] != summary_hash(record["summary"]):
+        raise ParameterError(
+            f"{meta}: summary: not the summary saved with its results (its SHA-256 is not summary_sha256: edited "
+            "or damaged)"
+        )
 
 
 def _alive(pid: int) -> bool:
@@ -482,7 +512,8 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
     The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
-    study. Its configuration is checked against the variables it lists (:func:`check_config`,
+    study. Its configuration and summary are checked to be those saved with its results (their SHA-256s), its
+    configuration against the variables it lists (:func:`check_config`,
     :func:`check_variables`) and the NetCDF file's size against that list, before the file is read.
 
     Raises
@@ -491,7 +522,8 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
         Naming the file, if either file is missing, the JSON is not a saved
         study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``variables``,
         an unknown kind, another format: a study saved by an earlier version is refused in one line), its
-        configuration is not valid or contradicts its variables, the ``.nc`` cannot be read (truncated,
+        configuration or summary was changed after it was saved, its configuration is not valid or contradicts
+        its variables, the ``.nc`` cannot be read (truncated,
         damaged, not NetCDF, larger than its JSON says), or its variables differ from what the JSON lists;
         or if ``trust_model`` is not the model the study was run with.
     """
@@ -505,6 +537,7 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
             )
     record = read_record(meta)
     kind, config = record["kind"], record["config"]
+    _check_unchanged(record, meta)
     try:
         expected, sizes = check_config(kind, config)
     except ParameterError as exc:
