@@ -396,6 +396,9 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
     for kind in kinds:
         for ext in ("png", "pdf"):
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0
+    # Any of a study's files names it, its CSV table too: the figures keep the study's stem.
+    assert cli(["redraw", str(tmp_path / "map.csv")]) == 0
+    assert not list(tmp_path.glob("map.csv.*"))
 
 
 @pytest.mark.parametrize(

@@ -55,7 +55,7 @@ from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edg
 from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import safe_windows
-from ..study.storage import load
+from ..study.storage import load, study_stem
 from ..study.suite import motion_names
 from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES
@@ -1161,5 +1161,5 @@ def redraw(path: str | Path) -> list[Path]:
         raise ParameterError(f"no saved study (<name>.nc with <name>.json) in {path}")
     written = []
     for stem in stems:
-        written += _redraw_one(stem.with_suffix("") if stem.suffix in (".nc", ".json") else stem)
+        written += _redraw_one(study_stem(stem))
     return written

@@ -77,7 +77,9 @@ RECORD = {"kind": str, "config": dict, "summary": dict, "variables": dict, "vari
 NETCDF_OVERHEAD = 16 << 20
 
 
-def _stem(path: str | Path) -> Path:
+def study_stem(path: str | Path) -> Path:
+    """The common stem of a saved study's files from any of them (``map.nc``, ``map.json``, ``map.csv``) or
+    the stem itself."""
     path = Path(path)
     return path.with_suffix("") if path.suffix in (".npz", ".json", ".csv", ".nc") else path
 
@@ -222,7 +224,7 @@ def _staging(folder: Path, name: str) -> Iterator[Path]:
         staging = Path(tempfile.mkdtemp(prefix=f".{name}.saving-{os.getpid()}-", dir=folder))
     except OSError as exc:
         if is_full(exc):
-            raise DiskFull(folder / f"{name}.npz") from None
+            raise DiskFull(folder / f"{name}.nc") from None
         raise
     try:
         yield staging
@@ -252,9 +254,9 @@ def _publish(staging: Path, folder: Path, files: list[str]) -> None:
 
 
 def save(study: Study, folder: str | Path, name: str | None = None, command: dict | None = None) -> list[Path]:
-    """Write ``study`` into ``folder`` as ``<name>.npz``, its CSV tables (``<name>.csv``,
-    ``<name>-windows.csv``, ...), its labelled :class:`xarray.Dataset` as ``<name>.nc``
-    (:mod:`rocking.study.dataset`) and ``<name>.json``, published together (see the module's text).
+    """Write ``study`` into ``folder``: its labelled :class:`xarray.Dataset` as ``<name>.nc``
+    (:mod:`rocking.study.dataset`), its CSV tables (``<name>.csv``, ``<name>-windows.csv``, ...) and its record
+    ``<name>.json``, published together (see the module's text).
 
     The JSON record lists the arrays (:func:`layout`) and their :func:`checksum`,
     which :func:`load` checks; files of an earlier save under the same name are replaced.
@@ -527,7 +529,7 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
         damaged, not NetCDF, larger than its JSON says), or its variables differ from what the JSON lists;
         or if ``trust_model`` is not the model the study was run with.
     """
-    stem = _stem(path)
+    stem = study_stem(path)
     nc, meta = stem.with_suffix(".nc"), stem.with_suffix(".json")
     for p in (meta, nc):
         if not p.is_file():
