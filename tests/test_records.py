@@ -123,6 +123,12 @@ def test_bad_column_files_are_refused_in_one_line(tmp_path, text, kwargs, messag
 
 def test_uniform_step_names_the_first_irregular_step():
     assert uniform_step([0.0, 0.005, 0.01, 0.015]) == pytest.approx(0.005)
+    # Times written in single precision (0.00499999989, ..., 39.9949989) are a uniform record; a missing sample
+    # among them is not.
+    single = np.arange(8000, dtype=np.float32) * np.float32(0.005)
+    assert uniform_step(single.astype(float)) == pytest.approx(0.005, rel=1e-6)
+    with pytest.raises(ParameterError, match="uniformly spaced"):
+        uniform_step(np.delete(single, 4000).astype(float))
     with pytest.raises(ParameterError, match=r"^times: times must increase"):
         uniform_step([0.0, 0.0, 0.0])
 

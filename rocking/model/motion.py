@@ -468,17 +468,23 @@ class MavroeidisPapageorgiou(_Analytic):
 #: Relative spread of the spacing of a ``t`` array that still counts as uniform.
 UNIFORM = 1e-6
 
+#: The rounding of a time written in single precision, relative to the time: a record's times saved as float32
+#: (``0.00499999989``, ``10.0050001``) are off their uniform grid by up to this much of themselves.
+SINGLE = float(np.finfo(np.float32).eps)
+
 
 def irregular_step(t: np.ndarray) -> tuple[float, int | None]:
     """The mean step ``(t[-1] - t[0]) / (n - 1)`` of the times ``t`` (n >= 2), and the first ``k`` whose step
-    ``t[k + 1] - t[k]`` is off the median step by more than :data:`UNIFORM` of it (None: the times are uniform).
+    ``t[k + 1] - t[k]`` is off the median step by more than :data:`UNIFORM` of it plus the single-precision
+    rounding of a step and of the median (:data:`SINGLE` of the largest time each; None: the times are uniform).
 
-    The median, not the mean, is the reference so that one bad step is named, not every step.
+    The median, not the mean, is the reference so that one bad step is named, not every step. A missing or
+    doubled sample is off by a whole step, far beyond either.
     """
     t = np.asarray(t, float)
     steps = np.diff(t)
     typical = float(np.median(steps))
-    off = np.abs(steps - typical) > UNIFORM * abs(typical)
+    off = np.abs(steps - typical) > UNIFORM * abs(typical) + 2 * SINGLE * float(np.max(np.abs(t)))
     return float((t[-1] - t[0]) / (t.size - 1)), (int(np.argmax(off)) if off.any() else None)
 
 
