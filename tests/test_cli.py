@@ -14,7 +14,7 @@ import xarray as xr
 
 import rocking
 from rocking import Block, Damper, Execution, Grid, OneSinePulse, Setting, Tuning
-from rocking.cli.main import build_parser, main
+from rocking.cli.main import _print_summary, build_parser, main
 from rocking.cli.options import block_from
 from rocking.cli.study import setting_from, tuning_from
 from rocking.study.overturning_map import overturning_map
@@ -232,6 +232,34 @@ def test_simulate_summary_and_plot(tmp_path, capsys):
     text = capsys.readouterr().out
     assert "with damper:" in text and "block alone:" in text
     assert fig.stat().st_size > 10_000
+
+
+def test_simulate_run_cut_at_t_max_has_no_verdict(capsys):
+    """The pulse that overturns the block at 1.87 s, cut at t_max = 1 s: no "survives", the bound and the way on
+    (docs/simulation.md rule 4); the JSON keeps its data."""
+    argv = ["simulate", "--beta", "3", "--Omega", "4", "--t-max", "1"]
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "survives" not in "\n".join(lines) and lines[1].startswith("  block alone: no verdict (t_max); ")
+    assert lines[2] == (
+        "  block alone: NO VERDICT: the run reached t_max = 1 s before overturning, rest or a final bound "
+        "(docs/simulation.md rule 4); overturning later is not excluded: follow it longer (a larger --t-max)"
+    )
+    assert main([*argv, "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["responses"]["block alone"]
+    assert (got["status"], got["overturned"]) == ("t_max", False)
+
+
+def test_simulate_run_cut_at_max_events_has_no_verdict(capsys):
+    """A run cut by its bound on events (the Python API's max_events) is not called a survivor either."""
+    block = Block.reference()
+    pulse = OneSinePulse.from_nondim(block, beta=2, Omega=6)
+    response = rocking.simulate(block, None, pulse, max_events=2)
+    assert response.status == "max_events" and not response.overturned
+    _print_summary(block, pulse, {"block alone": response}, {"block alone": None})
+    out = capsys.readouterr().out
+    assert "survives" not in out and "no verdict (max_events)" in out
+    assert "NO VERDICT: the run reached max_events = 2 uplifts and impacts before overturning" in out
 
 
 @pytest.mark.parametrize(

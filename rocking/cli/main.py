@@ -347,11 +347,8 @@ def _print_summary(block, pulse, responses, models) -> None:
         f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); {_motion_text(block, pulse)}"
     )
     for label, r in responses.items():
-        verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
-        if r.status == "flight":
-            verdict = "no verdict (flight)"
         print(
-            f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
+            f"  {label}: {_verdict(r)}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
             f"{r.uplifts} uplift(s), {r.impacts} impact(s){_stops_text(r, models[label])}, "
             f"ended at t = {r.t_end:.3f} s ({r.status})"
         )
@@ -360,6 +357,8 @@ def _print_summary(block, pulse, responses, models) -> None:
                 f"  {label}: FLIGHT: g + ddy_g reached 0 at t = {r.t_end:.4f} s, the base may leave the ground; "
                 "free flight is out of the model's scope (docs/model.md section 14), the results stop there"
             )
+        if r.status in NO_VERDICT:
+            print(f"  {label}: NO VERDICT: {_no_verdict_text(r)}")
         if mass_past_edge(r, block.B / 2, models[label]):
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
         if r.sensitive:
@@ -367,6 +366,45 @@ def _print_summary(block, pulse, responses, models) -> None:
                 f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
                 "(docs/simulation.md, Sensitivity to the tolerance)"
             )
+
+
+#: Statuses of a run that ended with its verdict: overturned, at rest, or bounded for good (docs/simulation.md
+#: rule 4). Any other run was cut short (or left the model's scope, flight): it has no verdict.
+VERDICT_STATUSES = ("overturned", "rest", "bounded")
+
+#: Why a run cut short has no verdict, by status: the bound it reached (formatted with the run's settings and
+#: its end, ``t_end``) and the way to a verdict.
+NO_VERDICT = {
+    "t_max": ("the run reached t_max = {t_max:g} s", "follow it longer (a larger --t-max)"),
+    "max_events": (
+        "the run reached max_events = {max_events} uplifts and impacts",
+        "follow it further in Python (rocking.simulate(..., max_events=N))",
+    ),
+    "max_steps": (
+        "the run's work passed max_steps = {max_steps} (docs/simulation.md rule 5)",
+        "a larger --rtol takes fewer steps",
+    ),
+    "failed": ("the integrator failed at t = {t_end:g} s (step size underflow)", "check the inputs"),
+}
+
+
+def _verdict(response) -> str:
+    """The verdict word of the summary: ``OVERTURNS at t = ...``, ``survives`` only for a run that ended with its
+    verdict, else ``no verdict (STATUS)``."""
+    if response.overturned:
+        return f"OVERTURNS at t = {response.t_overturn:.4f} s"
+    if response.status in VERDICT_STATUSES:
+        return "survives"
+    return f"no verdict ({response.status})"
+
+
+def _no_verdict_text(response) -> str:
+    """Why a run cut short by a bound (or a failure) says nothing of overturning, and how to get a verdict."""
+    reason, way = NO_VERDICT[response.status]
+    return (
+        f"{reason.format(**response.inputs.settings, t_end=response.t_end)} before overturning, rest or a final "
+        f"bound (docs/simulation.md rule 4); overturning later is not excluded: {way}"
+    )
 
 
 def _stops_text(response, model: str | None) -> str:
