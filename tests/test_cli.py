@@ -399,6 +399,10 @@ def test_simulate_stop_options_replace_the_edges_values(capsys):
     (["--stops", "--no-damper"], "--stops: end stops of the damper's guide: give the damper"),
     (["--stops", "--model", "omd"], "--stops: end stops run on the model omd_stops (got --model omd)"),
     (["--L", "0.4"], "L must be in (0, B/2] = (0, 0.3] m"),
+    # Checked before the default c_b takes its square root (was a "math domain error" traceback).
+    (["--stops", "--k-b", "-1"], "error: --k-b must be in (0, 1e+30] N/m (got -1.0)"),
+    (["--L", "-1", "--c-b", "0"], "error: --L must be in (0, 1000] m (got -1.0)"),
+    (["--n-b", "0.5"], "error: --n-b must be in [1, 10] (got 0.5)"),
 ])  # fmt: skip
 def test_simulate_bad_stops_are_refused_in_one_line(capsys, argv, message):
     assert main([*WIDE, *argv]) == 2

@@ -32,6 +32,7 @@ from ..model.params import (
     Damper,
     ParameterError,
     Stops,
+    check_in_range,
 )
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, paired_vertical, read_record
@@ -53,6 +54,7 @@ from .options import (
     block_help,
     call_with,
     default_text,
+    flag,
     flags,
     given,
     params_from,
@@ -158,6 +160,7 @@ def _with_stops(args, block, damper):
             f"{named}: end stops of the damper's guide: give the damper (--gamma or --m); "
             "a variant (--param) takes L, k_b, c_b as --param NAME=VALUE"
         )
+    _check_stop_options({**own, **hc})
     law = law.get("bumper_law", "hunt-crossley" if hc else "kelvin-voigt")
     if hc and law != "hunt-crossley":
         raise ParameterError(f"{flags(hc)}: parameters of the Hunt-Crossley pads (--bumper-law hunt-crossley)")
@@ -165,6 +168,13 @@ def _with_stops(args, block, damper):
     if args.model not in (None, stops.model):
         raise ParameterError(f"{named}: end stops run on the model {stops.model} (got --model {args.model})")
     return replace(damper, stops=stops)
+
+
+def _check_stop_options(values: dict) -> None:
+    """Refuse, by their flags, end-stop values out of their ranges (``RANGES``), before any is used: a negative
+    ``--k-b`` would otherwise reach the square root of the default ``c_b``."""
+    for name, value in values.items():
+        check_in_range(flag(name), value, name)
 
 
 def _stops(block, damper: Damper, own: dict, law: str = "kelvin-voigt", hc: dict | None = None) -> Stops:
