@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import re
 import subprocess
@@ -326,6 +327,46 @@ def test_simulate_refuses_bad_input_in_one_line(argv, message, capsys):
     err = capsys.readouterr().err
     assert err.startswith("rocking simulate: error: ") and message in err and "Traceback" not in err
     assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--history", "nodir/h.csv"], r"--history nodir/h\.csv: cannot write \(No such file or directory\)"),
+    (["--history", "nodir/h.nc"], r"--history nodir/h\.nc: cannot write \(No such file or directory\)"),
+    (["--plot", "afile/x.png"], r"--plot afile/x\.png: cannot write \(Not a directory\)"),
+    (["--plot", "h.xyz"], r"--plot must end in one of \.\w+(, \.\w+)* \(got 'h\.xyz'\)"),
+])  # fmt: skip
+def test_simulate_refuses_an_output_it_cannot_write_before_the_run(argv, message, capsys, tmp_path, monkeypatch):
+    """A missing or unwritable folder, or a figure format matplotlib lacks: one line before any run (was a
+    traceback of pandas, netCDF4 or matplotlib after it)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "afile").touch()
+    # The same signature (the help reads its defaults), but no run.
+    monkeypatch.setattr(
+        "rocking.cli.main.simulate", functools.wraps(rocking.simulate)(lambda *a, **k: pytest.fail("ran"))
+    )
+    assert main(["simulate", "--beta", "3", "--Omega", "4", *argv]) == 2
+    err = capsys.readouterr().err
+    assert re.fullmatch(f"rocking simulate: error: {message}\n", err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
+def test_simulate_a_write_that_fails_after_the_run_is_one_line(capsys, tmp_path, monkeypatch):
+    """The folder is writable but the file cannot be written (a folder of that name): one line naming the flag."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "h.csv").mkdir()
+    assert main(["simulate", "--beta", "3", "--Omega", "4", "--history", "h.csv"]) == 2
+    err = capsys.readouterr().err
+    assert err == "rocking simulate: error: --history h.csv: cannot write (Is a directory)\n"
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly():
+    """rocking simulate --json | head -c 10: exit 1 without a BrokenPipeError traceback (the reader closes the
+    pipe before the run prints)."""
+    command = [sys.executable, "-m", "rocking", "simulate", "--beta", "3", "--Omega", "4", "--json"]
+    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
+        proc.stdout.close()
+        err = proc.stderr.read()
+    assert proc.returncode == 1 and err == ""
 
 
 # --- the whole truth of one response ----------------------------------------------------------------

@@ -13,7 +13,11 @@ import argparse
 import difflib
 import json
 import math
+import os
 import sys
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
 
@@ -449,6 +453,7 @@ def _simulate(args) -> int:
     if args.compare and damper is not None:
         cases["block alone"] = None
     histories = _history_files(args.history, list(cases))
+    _check_outputs(args.plot, histories)
     run = given(args, ("backend", "rtol", "t_max", "check"))
     if args.history_dt is not None:
         run["record_dt"] = args.history_dt
@@ -467,12 +472,52 @@ def _simulate(args) -> int:
     if args.plot:
         from ..plot.response import plot_responses
 
-        path = plot_responses(responses, block, args.plot, damper=damper, model=args.model, motion=pulse)
+        with _writing("--plot", args.plot):
+            path = plot_responses(responses, block, args.plot, damper=damper, model=args.model, motion=pulse)
         print(f"figure written to {path}", file=sys.stderr)
     for label, path in histories.items():
-        write_history(responses[label], path, args.history_dt)
+        with _writing("--history", path):
+            write_history(responses[label], path, args.history_dt)
         print(f"history of the {label} written to {path}", file=sys.stderr)
     return 0
+
+
+@contextmanager
+def _writing(option: str, path: str | Path) -> Iterator[None]:
+    """Turn an ``OSError`` of writing ``path`` into a one-line error naming ``option`` and the path."""
+    try:
+        yield
+    except OSError as exc:
+        raise ParameterError(f"{option} {path}: cannot write ({exc.strerror or exc})") from None
+
+
+def _check_outputs(plot: str | None, histories: dict[str, Path]) -> None:
+    """Refuse now, not after the run, a figure of a format matplotlib does not write and an output file whose
+    folder cannot be written (the figure's, :func:`~rocking.plot.response.plot_responses` creates)."""
+    for path in histories.values():
+        _check_folder("--history", path)
+    if plot is None:
+        return
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = FigureCanvasBase.get_supported_filetypes()
+    suffix = Path(plot).suffix
+    # No suffix: matplotlib writes its default format (PNG) under the name given.
+    if suffix and suffix[1:].lower() not in formats:
+        raise ParameterError(f"--plot must end in one of {', '.join('.' + f for f in formats)} (got {plot!r})")
+    _check_folder("--plot", Path(plot), created=True)
+
+
+def _check_folder(option: str, path: Path, created: bool = False) -> None:
+    """Refuse ``path`` if its folder cannot be written, or does not exist unless the writer creates it
+    (``created``: then the first existing folder above it must be writable)."""
+    folder = path.parent
+    while created and not folder.exists():  # ends at "." or "/"
+        folder = folder.parent
+    with _writing(option, path):
+        # A probe file: permissions, read-only mounts and pseudo file systems all answer the same way.
+        with tempfile.TemporaryFile(dir=folder):
+            pass
 
 
 def _history_files(history: str | None, labels: list[str]) -> dict[str, Path]:
@@ -732,8 +777,22 @@ def main(argv: list[str] | None = None) -> int:
     -------
     int
         Exit code: 0 on success, 2 for bad parameters, 1 for a run or a C build that
-        failed (one line on stderr in both cases).
+        failed (one line on stderr in both cases), 1 without a word when the reader of
+        stdout went away (``rocking simulate --json | head``).
     """
+    try:
+        code = _run(argv)
+        # Flushed here, so that a reader gone away is seen now and not as an exception at exit.
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        # The Python docs' "Note on SIGPIPE": Python's exit flushes stdout again, so point it at devnull first.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _run(argv: list[str] | None) -> int:
+    """:func:`main` but for a closed stdout."""
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["derive"]:
         # argparse cannot pass options it does not know through a subparser (its REMAINDER
