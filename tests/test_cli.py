@@ -18,6 +18,8 @@ from rocking import Block, Damper, Execution, Grid, OneSinePulse, Setting, Tunin
 from rocking.cli.main import _print_summary, build_parser, main
 from rocking.cli.options import block_from
 from rocking.cli.study import setting_from, tuning_from
+from rocking.model.loading import load_model
+from rocking.reference.verify import verify
 from rocking.study.overturning_map import overturning_map
 
 
@@ -289,6 +291,29 @@ def test_verify_command_reports_agreement(capsys):
     out = capsys.readouterr().out
     assert all(f"model {name}:" in out for name in ("omd", "omd_stops", "omd_stops_hc", "block"))
     assert len(re.findall(r"^\d+ passed, 0 failed", out, re.M)) == 4
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--cases", "0"], "--cases must be an integer in [1, 100000] (got 0)"),  # was "40 passed" having checked nothing
+    (["--cases", "-5"], "--cases must be an integer in [1, 100000] (got -5)"),
+    (["--cases", "100000000"], "--cases must be an integer in [1, 100000] (got 100000000)"),  # was out of memory
+    (["--seed", "-1"], "--seed must be an integer >= 0 (got -1)"),
+])  # fmt: skip
+def test_verify_refuses_cases_and_seed_out_of_range_before_any_work(argv, message, capsys, monkeypatch):
+    monkeypatch.setattr("rocking.cli.main.load_model", lambda name: pytest.fail("loaded a model"))
+    assert main(["verify", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"rocking verify: error: {message}: ") and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("keywords, message", [
+    ({"n": 0}, r"^n must be an integer in \[1, 100000\] \(got 0\)"),
+    ({"n": 10.0}, r"^n must be an integer in \[1, 100000\] \(got 10.0\)"),
+    ({"seed": -1}, r"^seed must be an integer >= 0 \(got -1\)"),
+])  # fmt: skip
+def test_verify_function_names_its_keywords(keywords, message):
+    with pytest.raises(rocking.ParameterError, match=message):
+        verify(load_model("block"), **keywords)
 
 
 def test_derive_is_the_derive_packages_command_line(capsys):

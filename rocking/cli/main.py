@@ -20,6 +20,7 @@ from collections.abc import Iterator
 from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -86,11 +87,12 @@ DERIVE_INSTALL = 'pip install "rocking[derive]"'
 
 
 def _cmd_verify(args) -> int:
-    from ..reference.verify import BY_HAND, report, verify
+    from ..reference.verify import BY_HAND, CASES, SEEDS, check_count, report, verify
 
+    # Checked by their flags before any model loads (verify() would name its keywords n and seed).
+    options: dict[str, Any] = {"n": check_count("--cases", args.cases, CASES)} if args.cases is not None else {}
+    options.update({"seed": check_count("--seed", args.seed, SEEDS)} if args.seed is not None else {})
     ok = True
-    options = {"n": args.cases} if args.cases is not None else {}
-    options.update(given(args, ("seed",)))
     for name in args.model or BY_HAND:
         model = load_model(name)
         checks = verify(model, **options)
@@ -100,7 +102,7 @@ def _cmd_verify(args) -> int:
 
 
 def _add_verify(sub) -> None:
-    from ..reference.verify import BY_HAND, verify
+    from ..reference.verify import BY_HAND, CASES, SEEDS, verify
 
     p = add_parser(sub, "verify", "compare the generated code with the hand-written equations of docs/model.md")
     p.add_argument(
@@ -109,8 +111,14 @@ def _add_verify(sub) -> None:
         help=f"model name or folder, repeatable (default: {', '.join(BY_HAND)}; "
         f"installed: {', '.join(available_models())})",
     )
-    p.add_argument("--cases", type=int, help=f"random cases per pivot ({default_text(verify, 'n')})")
-    p.add_argument("--seed", type=int, help=f"seed of the random cases ({default_text(verify, 'seed')})")
+    p.add_argument(
+        "--cases",
+        type=int,
+        help=f"random cases per pivot, {CASES.rule()} ({default_text(verify, 'n')})",
+    )
+    p.add_argument(
+        "--seed", type=int, help=f"seed of the random cases, {SEEDS.rule()} ({default_text(verify, 'seed')})"
+    )
     p.set_defaults(func=_cmd_verify)
 
 
