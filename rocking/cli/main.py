@@ -404,7 +404,7 @@ NO_VERDICT = {
     ),
     "max_steps": (
         "the run's work passed max_steps = {max_steps} (docs/simulation.md rule 5)",
-        "a larger --rtol takes fewer steps",
+        "a larger --rtol (or --history-dt) takes less work",
     ),
     "failed": ("the integrator failed at t = {t_end:g} s (step size underflow)", "check the inputs"),
 }
@@ -520,7 +520,7 @@ def _check_folder(option: str, path: Path, created: bool = False) -> None:
     """Refuse ``path`` if its folder cannot be written, or does not exist unless the writer creates it
     (``created``: then the first existing folder above it must be writable)."""
     folder = path.parent
-    while created and not folder.exists():  # ends at "." or "/"
+    while created and not folder.exists() and folder != folder.parent:  # up to "/" or "." (a deleted cwd)
         folder = folder.parent
     with _writing(option, path):
         # A probe file: permissions, read-only mounts and pseudo file systems all answer the same way.
