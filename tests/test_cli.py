@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import argparse
+import functools
 import json
 import re
 import subprocess
@@ -14,9 +15,11 @@ import xarray as xr
 
 import rocking
 from rocking import Block, Damper, Execution, Grid, OneSinePulse, Setting, Tuning
-from rocking.cli.main import build_parser, main
+from rocking.cli.main import _print_summary, build_parser, main
 from rocking.cli.options import block_from
 from rocking.cli.study import setting_from, tuning_from
+from rocking.model.loading import load_model
+from rocking.reference.verify import verify
 from rocking.study.overturning_map import overturning_map
 
 
@@ -234,6 +237,34 @@ def test_simulate_summary_and_plot(tmp_path, capsys):
     assert fig.stat().st_size > 10_000
 
 
+def test_simulate_run_cut_at_t_max_has_no_verdict(capsys):
+    """The pulse that overturns the block at 1.87 s, cut at t_max = 1 s: no "survives", the bound and the way on
+    (docs/simulation.md rule 4); the JSON keeps its data."""
+    argv = ["simulate", "--beta", "3", "--Omega", "4", "--t-max", "1"]
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert "survives" not in "\n".join(lines) and lines[1].startswith("  block alone: no verdict (t_max); ")
+    assert lines[2] == (
+        "  block alone: NO VERDICT: the run reached t_max = 1 s before overturning, rest or a final bound "
+        "(docs/simulation.md rule 4); overturning later is not excluded: follow it longer (a larger --t-max)"
+    )
+    assert main([*argv, "--json"]) == 0
+    got = json.loads(capsys.readouterr().out)["responses"]["block alone"]
+    assert (got["status"], got["overturned"]) == ("t_max", False)
+
+
+def test_simulate_run_cut_at_max_events_has_no_verdict(capsys):
+    """A run cut by its bound on events (the Python API's max_events) is not called a survivor either."""
+    block = Block.reference()
+    pulse = OneSinePulse.from_nondim(block, beta=2, Omega=6)
+    response = rocking.simulate(block, None, pulse, max_events=2)
+    assert response.status == "max_events" and not response.overturned
+    _print_summary(block, pulse, {"block alone": response}, {"block alone": None})
+    out = capsys.readouterr().out
+    assert "survives" not in out and "no verdict (max_events)" in out
+    assert "NO VERDICT: the run reached max_events = 2 uplifts and impacts before overturning" in out
+
+
 @pytest.mark.parametrize(
     "argv, message",
     [
@@ -260,6 +291,29 @@ def test_verify_command_reports_agreement(capsys):
     out = capsys.readouterr().out
     assert all(f"model {name}:" in out for name in ("omd", "omd_stops", "omd_stops_hc", "block"))
     assert len(re.findall(r"^\d+ passed, 0 failed", out, re.M)) == 4
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--cases", "0"], "--cases must be an integer in [1, 100000] (got 0)"),  # was "40 passed" having checked nothing
+    (["--cases", "-5"], "--cases must be an integer in [1, 100000] (got -5)"),
+    (["--cases", "100000000"], "--cases must be an integer in [1, 100000] (got 100000000)"),  # was out of memory
+    (["--seed", "-1"], "--seed must be an integer >= 0 (got -1)"),
+])  # fmt: skip
+def test_verify_refuses_cases_and_seed_out_of_range_before_any_work(argv, message, capsys, monkeypatch):
+    monkeypatch.setattr("rocking.cli.main.load_model", lambda name: pytest.fail("loaded a model"))
+    assert main(["verify", *argv]) == 2
+    err = capsys.readouterr().err
+    assert err.startswith(f"rocking verify: error: {message}: ") and err.count("\n") == 1, err
+
+
+@pytest.mark.parametrize("keywords, message", [
+    ({"n": 0}, r"^n must be an integer in \[1, 100000\] \(got 0\)"),
+    ({"n": 10.0}, r"^n must be an integer in \[1, 100000\] \(got 10.0\)"),
+    ({"seed": -1}, r"^seed must be an integer >= 0 \(got -1\)"),
+])  # fmt: skip
+def test_verify_function_names_its_keywords(keywords, message):
+    with pytest.raises(rocking.ParameterError, match=message):
+        verify(load_model("block"), **keywords)
 
 
 def test_derive_is_the_derive_packages_command_line(capsys):
@@ -298,6 +352,46 @@ def test_simulate_refuses_bad_input_in_one_line(argv, message, capsys):
     err = capsys.readouterr().err
     assert err.startswith("rocking simulate: error: ") and message in err and "Traceback" not in err
     assert err.count("\n") == 1
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--history", "nodir/h.csv"], r"--history nodir/h\.csv: cannot write \(No such file or directory\)"),
+    (["--history", "nodir/h.nc"], r"--history nodir/h\.nc: cannot write \(No such file or directory\)"),
+    (["--plot", "afile/x.png"], r"--plot afile/x\.png: cannot write \(Not a directory\)"),
+    (["--plot", "h.xyz"], r"--plot must end in one of \.\w+(, \.\w+)* \(got 'h\.xyz'\)"),
+])  # fmt: skip
+def test_simulate_refuses_an_output_it_cannot_write_before_the_run(argv, message, capsys, tmp_path, monkeypatch):
+    """A missing or unwritable folder, or a figure format matplotlib lacks: one line before any run (was a
+    traceback of pandas, netCDF4 or matplotlib after it)."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "afile").touch()
+    # The same signature (the help reads its defaults), but no run.
+    monkeypatch.setattr(
+        "rocking.cli.main.simulate", functools.wraps(rocking.simulate)(lambda *a, **k: pytest.fail("ran"))
+    )
+    assert main(["simulate", "--beta", "3", "--Omega", "4", *argv]) == 2
+    err = capsys.readouterr().err
+    assert re.fullmatch(f"rocking simulate: error: {message}\n", err), err
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["afile"]
+
+
+def test_simulate_a_write_that_fails_after_the_run_is_one_line(capsys, tmp_path, monkeypatch):
+    """The folder is writable but the file cannot be written (a folder of that name): one line naming the flag."""
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "h.csv").mkdir()
+    assert main(["simulate", "--beta", "3", "--Omega", "4", "--history", "h.csv"]) == 2
+    err = capsys.readouterr().err
+    assert err == "rocking simulate: error: --history h.csv: cannot write (Is a directory)\n"
+
+
+def test_a_reader_that_goes_away_ends_the_command_quietly():
+    """rocking simulate --json | head -c 10: exit 1 without a BrokenPipeError traceback (the reader closes the
+    pipe before the run prints)."""
+    command = [sys.executable, "-m", "rocking", "simulate", "--beta", "3", "--Omega", "4", "--json"]
+    with subprocess.Popen(command, stdout=subprocess.PIPE, stderr=subprocess.PIPE, text=True) as proc:
+        proc.stdout.close()
+        err = proc.stderr.read()
+    assert proc.returncode == 1 and err == ""
 
 
 # --- the whole truth of one response ----------------------------------------------------------------
@@ -371,6 +465,10 @@ def test_simulate_stop_options_replace_the_edges_values(capsys):
     (["--stops", "--no-damper"], "--stops: end stops of the damper's guide: give the damper"),
     (["--stops", "--model", "omd"], "--stops: end stops run on the model omd_stops (got --model omd)"),
     (["--L", "0.4"], "L must be in (0, B/2] = (0, 0.3] m"),
+    # Checked before the default c_b takes its square root (was a "math domain error" traceback).
+    (["--stops", "--k-b", "-1"], "error: --k-b must be in (0, 1e+30] N/m (got -1.0)"),
+    (["--L", "-1", "--c-b", "0"], "error: --L must be in (0, 1000] m (got -1.0)"),
+    (["--n-b", "0.5"], "error: --n-b must be in [1, 10] (got 0.5)"),
 ])  # fmt: skip
 def test_simulate_bad_stops_are_refused_in_one_line(capsys, argv, message):
     assert main([*WIDE, *argv]) == 2

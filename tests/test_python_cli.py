@@ -156,6 +156,32 @@ def test_the_command_line_gives_a_file_its_unit_and_log_levels(tmp_path):
     assert np.array_equal(data["overturned"][:, 0].values, data["overturned"][:, 1].values)
 
 
+@pytest.mark.parametrize("motions, option", [
+    (["--motions", "in_g.txt:ft"], "--motions"),
+    (["--motions", "in_g.txt:g", "--vertical-motions", "in_g.txt:ft"], "--vertical-motions"),
+])  # fmt: skip
+def test_a_mistyped_unit_after_a_record_is_named_as_a_unit(tmp_path, monkeypatch, capsys, motions, option):
+    """FILE:ft with FILE a record: refused as a unit, by its option (was: "/abs/in_g.txt:ft: cannot be read")."""
+    _records(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    assert main(["ida", *motions, "--scales", "0.25", "4", "2", "--no-progress", "--out", "c"]) == 2
+    assert capsys.readouterr().err == (
+        f"rocking ida: error: {option} in_g.txt:ft: 'ft' is none of the units g, m/s2, cm/s2 (and in_g.txt:ft is "
+        "no file)\n"
+    )
+
+
+def test_a_record_whose_name_holds_a_colon_still_reads(tmp_path, monkeypatch):
+    """The Python API names the keyword; a file that exists is read whatever its name."""
+    in_g, _ = _records(tmp_path)
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(rocking.ParameterError, match=r"^motions in_g\.txt:ft: 'ft' is none of the units g, "):
+        rocking.Suite.from_files(["in_g.txt:ft"])
+    (tmp_path / "in_g.txt:ft").write_bytes(in_g.read_bytes())
+    suite = rocking.Suite.from_files(["in_g.txt:ft"], unit="g")
+    assert suite.files[0][0] == str(tmp_path / "in_g.txt:ft")
+
+
 def test_a_lognormal_of_few_motions_or_no_dispersion_is_warned(tmp_path, capsys):
     from rocking.study.fragility import MIN_DISPERSION, MIN_MOTIONS, fit_warnings
 

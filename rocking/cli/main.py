@@ -13,9 +13,14 @@ import argparse
 import difflib
 import json
 import math
+import os
 import sys
+import tempfile
+from collections.abc import Iterator
+from contextlib import contextmanager
 from dataclasses import replace
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -32,6 +37,7 @@ from ..model.params import (
     Damper,
     ParameterError,
     Stops,
+    check_in_range,
 )
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, paired_vertical, read_record
@@ -53,6 +59,7 @@ from .options import (
     block_help,
     call_with,
     default_text,
+    flag,
     flags,
     given,
     params_from,
@@ -80,11 +87,12 @@ DERIVE_INSTALL = 'pip install "rocking[derive]"'
 
 
 def _cmd_verify(args) -> int:
-    from ..reference.verify import BY_HAND, report, verify
+    from ..reference.verify import BY_HAND, CASES, SEEDS, check_count, report, verify
 
+    # Checked by their flags before any model loads (verify() would name its keywords n and seed).
+    options: dict[str, Any] = {"n": check_count("--cases", args.cases, CASES)} if args.cases is not None else {}
+    options.update({"seed": check_count("--seed", args.seed, SEEDS)} if args.seed is not None else {})
     ok = True
-    options = {"n": args.cases} if args.cases is not None else {}
-    options.update(given(args, ("seed",)))
     for name in args.model or BY_HAND:
         model = load_model(name)
         checks = verify(model, **options)
@@ -94,7 +102,7 @@ def _cmd_verify(args) -> int:
 
 
 def _add_verify(sub) -> None:
-    from ..reference.verify import BY_HAND, verify
+    from ..reference.verify import BY_HAND, CASES, SEEDS, verify
 
     p = add_parser(sub, "verify", "compare the generated code with the hand-written equations of docs/model.md")
     p.add_argument(
@@ -103,8 +111,14 @@ def _add_verify(sub) -> None:
         help=f"model name or folder, repeatable (default: {', '.join(BY_HAND)}; "
         f"installed: {', '.join(available_models())})",
     )
-    p.add_argument("--cases", type=int, help=f"random cases per pivot ({default_text(verify, 'n')})")
-    p.add_argument("--seed", type=int, help=f"seed of the random cases ({default_text(verify, 'seed')})")
+    p.add_argument(
+        "--cases",
+        type=int,
+        help=f"random cases per pivot, {CASES.rule()} ({default_text(verify, 'n')})",
+    )
+    p.add_argument(
+        "--seed", type=int, help=f"seed of the random cases, {SEEDS.rule()} ({default_text(verify, 'seed')})"
+    )
     p.set_defaults(func=_cmd_verify)
 
 
@@ -158,6 +172,7 @@ def _with_stops(args, block, damper):
             f"{named}: end stops of the damper's guide: give the damper (--gamma or --m); "
             "a variant (--param) takes L, k_b, c_b as --param NAME=VALUE"
         )
+    _check_stop_options({**own, **hc})
     law = law.get("bumper_law", "hunt-crossley" if hc else "kelvin-voigt")
     if hc and law != "hunt-crossley":
         raise ParameterError(f"{flags(hc)}: parameters of the Hunt-Crossley pads (--bumper-law hunt-crossley)")
@@ -165,6 +180,13 @@ def _with_stops(args, block, damper):
     if args.model not in (None, stops.model):
         raise ParameterError(f"{named}: end stops run on the model {stops.model} (got --model {args.model})")
     return replace(damper, stops=stops)
+
+
+def _check_stop_options(values: dict) -> None:
+    """Refuse, by their flags, end-stop values out of their ranges (``RANGES``), before any is used: a negative
+    ``--k-b`` would otherwise reach the square root of the default ``c_b``."""
+    for name, value in values.items():
+        check_in_range(flag(name), value, name)
 
 
 def _stops(block, damper: Damper, own: dict, law: str = "kelvin-voigt", hc: dict | None = None) -> Stops:
@@ -347,11 +369,8 @@ def _print_summary(block, pulse, responses, models) -> None:
         f"(alpha={block.alpha:.4f} rad, p={block.p:.4f} rad/s); {_motion_text(block, pulse)}"
     )
     for label, r in responses.items():
-        verdict = f"OVERTURNS at t = {r.t_overturn:.4f} s" if r.overturned else "survives"
-        if r.status == "flight":
-            verdict = "no verdict (flight)"
         print(
-            f"  {label}: {verdict}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
+            f"  {label}: {_verdict(r)}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
             f"{r.uplifts} uplift(s), {r.impacts} impact(s){_stops_text(r, models[label])}, "
             f"ended at t = {r.t_end:.3f} s ({r.status})"
         )
@@ -360,6 +379,8 @@ def _print_summary(block, pulse, responses, models) -> None:
                 f"  {label}: FLIGHT: g + ddy_g reached 0 at t = {r.t_end:.4f} s, the base may leave the ground; "
                 "free flight is out of the model's scope (docs/model.md section 14), the results stop there"
             )
+        if r.status in NO_VERDICT:
+            print(f"  {label}: NO VERDICT: {_no_verdict_text(r)}")
         if mass_past_edge(r, block.B / 2, models[label]):
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
         if r.sensitive:
@@ -367,6 +388,45 @@ def _print_summary(block, pulse, responses, models) -> None:
                 f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
                 "(docs/simulation.md, Sensitivity to the tolerance)"
             )
+
+
+#: Statuses of a run that ended with its verdict: overturned, at rest, or bounded for good (docs/simulation.md
+#: rule 4). Any other run was cut short (or left the model's scope, flight): it has no verdict.
+VERDICT_STATUSES = ("overturned", "rest", "bounded")
+
+#: Why a run cut short has no verdict, by status: the bound it reached (formatted with the run's settings and
+#: its end, ``t_end``) and the way to a verdict.
+NO_VERDICT = {
+    "t_max": ("the run reached t_max = {t_max:g} s", "follow it longer (a larger --t-max)"),
+    "max_events": (
+        "the run reached max_events = {max_events} uplifts and impacts",
+        "follow it further in Python (rocking.simulate(..., max_events=N))",
+    ),
+    "max_steps": (
+        "the run's work passed max_steps = {max_steps} (docs/simulation.md rule 5)",
+        "a larger --rtol (or --history-dt) takes less work",
+    ),
+    "failed": ("the integrator failed at t = {t_end:g} s (step size underflow)", "check the inputs"),
+}
+
+
+def _verdict(response) -> str:
+    """The verdict word of the summary: ``OVERTURNS at t = ...``, ``survives`` only for a run that ended with its
+    verdict, else ``no verdict (STATUS)``."""
+    if response.overturned:
+        return f"OVERTURNS at t = {response.t_overturn:.4f} s"
+    if response.status in VERDICT_STATUSES:
+        return "survives"
+    return f"no verdict ({response.status})"
+
+
+def _no_verdict_text(response) -> str:
+    """Why a run cut short by a bound (or a failure) says nothing of overturning, and how to get a verdict."""
+    reason, way = NO_VERDICT[response.status]
+    return (
+        f"{reason.format(**response.inputs.settings, t_end=response.t_end)} before overturning, rest or a final "
+        f"bound (docs/simulation.md rule 4); overturning later is not excluded: {way}"
+    )
 
 
 def _stops_text(response, model: str | None) -> str:
@@ -401,6 +461,7 @@ def _simulate(args) -> int:
     if args.compare and damper is not None:
         cases["block alone"] = None
     histories = _history_files(args.history, list(cases))
+    _check_outputs(args.plot, histories)
     run = given(args, ("backend", "rtol", "t_max", "check"))
     if args.history_dt is not None:
         run["record_dt"] = args.history_dt
@@ -419,12 +480,52 @@ def _simulate(args) -> int:
     if args.plot:
         from ..plot.response import plot_responses
 
-        path = plot_responses(responses, block, args.plot, damper=damper, model=args.model, motion=pulse)
+        with _writing("--plot", args.plot):
+            path = plot_responses(responses, block, args.plot, damper=damper, model=args.model, motion=pulse)
         print(f"figure written to {path}", file=sys.stderr)
     for label, path in histories.items():
-        write_history(responses[label], path, args.history_dt)
+        with _writing("--history", path):
+            write_history(responses[label], path, args.history_dt)
         print(f"history of the {label} written to {path}", file=sys.stderr)
     return 0
+
+
+@contextmanager
+def _writing(option: str, path: str | Path) -> Iterator[None]:
+    """Turn an ``OSError`` of writing ``path`` into a one-line error naming ``option`` and the path."""
+    try:
+        yield
+    except OSError as exc:
+        raise ParameterError(f"{option} {path}: cannot write ({exc.strerror or exc})") from None
+
+
+def _check_outputs(plot: str | None, histories: dict[str, Path]) -> None:
+    """Refuse now, not after the run, a figure of a format matplotlib does not write and an output file whose
+    folder cannot be written (the figure's, :func:`~rocking.plot.response.plot_responses` creates)."""
+    for path in histories.values():
+        _check_folder("--history", path)
+    if plot is None:
+        return
+    from matplotlib.backend_bases import FigureCanvasBase
+
+    formats = FigureCanvasBase.get_supported_filetypes()
+    suffix = Path(plot).suffix
+    # No suffix: matplotlib writes its default format (PNG) under the name given.
+    if suffix and suffix[1:].lower() not in formats:
+        raise ParameterError(f"--plot must end in one of {', '.join('.' + f for f in formats)} (got {plot!r})")
+    _check_folder("--plot", Path(plot), created=True)
+
+
+def _check_folder(option: str, path: Path, created: bool = False) -> None:
+    """Refuse ``path`` if its folder cannot be written, or does not exist unless the writer creates it
+    (``created``: then the first existing folder above it must be writable)."""
+    folder = path.parent
+    while created and not folder.exists() and folder != folder.parent:  # up to "/" or "." (a deleted cwd)
+        folder = folder.parent
+    with _writing(option, path):
+        # A probe file: permissions, read-only mounts and pseudo file systems all answer the same way.
+        with tempfile.TemporaryFile(dir=folder):
+            pass
 
 
 def _history_files(history: str | None, labels: list[str]) -> dict[str, Path]:
@@ -684,8 +785,22 @@ def main(argv: list[str] | None = None) -> int:
     -------
     int
         Exit code: 0 on success, 2 for bad parameters, 1 for a run or a C build that
-        failed (one line on stderr in both cases).
+        failed (one line on stderr in both cases), 1 without a word when the reader of
+        stdout went away (``rocking simulate --json | head``).
     """
+    try:
+        code = _run(argv)
+        # Flushed here, so that a reader gone away is seen now and not as an exception at exit.
+        sys.stdout.flush()
+        return code
+    except BrokenPipeError:
+        # The Python docs' "Note on SIGPIPE": Python's exit flushes stdout again, so point it at devnull first.
+        os.dup2(os.open(os.devnull, os.O_WRONLY), sys.stdout.fileno())
+        return 1
+
+
+def _run(argv: list[str] | None) -> int:
+    """:func:`main` but for a closed stdout."""
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["derive"]:
         # argparse cannot pass options it does not know through a subparser (its REMAINDER

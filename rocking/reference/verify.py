@@ -7,16 +7,24 @@ every generated function.
 
 from __future__ import annotations
 
+import math
+import numbers
 from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
 
+from ..model.checks import ParameterError, Range, shown
 from ..model.loading import Model, ModelError
 from . import paper
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
+#: Random cases per pivot: a case's arrays take about 5 kB at the peak (``rocking verify --cases 100000``, the
+#: four models: 0.6 GB and 26 s, measured), so the bound keeps a check within a laptop's memory and a minute.
+CASES = Range(1, 100_000, "", "a case takes about 5 kB: 0.6 GB at the bound", integer=True)
+#: Seeds of the random cases: those of numpy.random.default_rng.
+SEEDS = Range(0, math.inf, "", "the seeds of numpy.random.default_rng", integer=True)
 #: The shipped models that :mod:`rocking.reference.paper` writes by hand (docs/model.md sections 3-7 and 11).
 BY_HAND = ("omd", "omd_stops", "omd_stops_hc", "block")
 
@@ -204,6 +212,32 @@ def _check_model_kind(model: Model) -> bool:
     )
 
 
+def check_count(name: str, value: object, valid: Range) -> int:
+    """``value`` as an int within ``valid`` (:data:`CASES`, :data:`SEEDS`).
+
+    Parameters
+    ----------
+    name : str
+        What the message calls it: the keyword of :func:`verify`, or the command's flag.
+    value : object
+        An integer; bool and float are refused.
+    valid : Range
+        Its valid values.
+
+    Returns
+    -------
+    int
+
+    Raises
+    ------
+    ParameterError
+        ``"{name} must be an integer in [1, 100000] (got 0): ..."``.
+    """
+    if not isinstance(value, numbers.Integral) or isinstance(value, (bool, np.bool_)) or int(value) not in valid:
+        raise ParameterError(f"{name} must be {valid.rule()} (got {shown(value)}): {valid.why}")
+    return int(value)
+
+
 def verify(
     model: Model,
     n: int = 1000,
@@ -217,13 +251,19 @@ def verify(
     model : Model
         An ``omd``-like model (coordinates theta, x) or the bare block.
     n : int
-        Random cases per pivot.
+        Random cases per pivot, in [1, 100000] (:data:`CASES`).
     seed : int
-        Seed of the random cases.
+        Seed of the random cases, >= 0.
     evaluate : callable, optional
         ``evaluate(function_name, values) -> tuple of arrays`` to check another
         implementation of the model (the compiled C); default: the generated NumPy.
+
+    Raises
+    ------
+    ParameterError
+        ``n`` or ``seed`` out of its range, named.
     """
+    n, seed = check_count("n", n, CASES), check_count("seed", seed, SEEDS)
     damper = _check_model_kind(model)
     stops = {"L", "k_b"} <= set(model.parameters)
     hunt_crossley = [side["approach_floor"] for side in model.manifest["stops"] if side["law"] == "hunt-crossley"]

@@ -238,7 +238,7 @@ def _vertical_items(vertical_motions, unit: str | None, n: int) -> list[tuple[Pa
         return []
     if isinstance(vertical_motions, str | os.PathLike):
         vertical_motions = [vertical_motions]
-    items = [_path_and_unit(v, unit, "vertical_motions: ") for v in vertical_motions]
+    items = [_path_and_unit(v, unit, "vertical_motions: ", "vertical_motions") for v in vertical_motions]
     if len(items) != n:
         raise ParameterError(
             f"vertical_motions must give one vertical record per record of motions, in their order "
@@ -262,13 +262,23 @@ def _unchanged(path: str, digest: str, unit: str | None) -> Record:
     return read_record(path, unit)
 
 
-def _path_and_unit(item, unit: str | None, option: str = "") -> tuple[Path, str | None]:
+def _path_and_unit(item, unit: str | None, option: str = "", name: str = "motions") -> tuple[Path, str | None]:
     """``(absolute path, unit)`` of a path or a ``(path, unit)`` pair of :meth:`Suite.from_files`; ``option``
-    begins the message of a unit not known."""
+    begins the message of a unit not known, ``name`` (the keyword of the records) that of a ``FILE:UNIT``."""
     path, own = (item, unit) if isinstance(item, str | os.PathLike) else tuple(item)
     if own is not None and own not in UNITS:
         raise ParameterError(f"{option}unit of {path} must be one of {', '.join(UNITS)} (got {own!r})")
+    _refuse_unknown_suffix(os.fspath(path), name)
     return Path(path).resolve(), own
+
+
+def _refuse_unknown_suffix(path: str, name: str) -> None:
+    """Refuse ``FILE:WORD``, no file, where ``FILE`` is one and ``WORD`` no unit: a unit mistyped, which
+    :func:`split_unit` left in the path (a file whose name holds a colon exists, and passes)."""
+    head, sep, word = path.rpartition(":")
+    if sep and head and word not in UNITS and not Path(path).exists() and Path(head).is_file():
+        # The message avoids the bare word "unit": the command line reads it as its --unit flag.
+        raise ParameterError(f"{name} {path}: {word!r} is none of the units {', '.join(UNITS)} (and {path} is no file)")
 
 
 def split_unit(text: str) -> tuple[str, str | None]:
