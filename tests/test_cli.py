@@ -535,3 +535,20 @@ def test_a_typo_gets_the_commands_usage_and_the_close_option(argv, close, capsys
     assert stop.value.code == 2
     assert err.startswith(f"usage: rocking {argv[0]} ")
     assert f"{argv[1]} (did you mean {close}?)" in err
+
+
+@pytest.mark.parametrize("argv, message", [
+    (["--pga", "-1"], "error: --pga must be >= 0 m/s^2 (got -1.0)"),
+    (["--scale", "nan"], "error: --scale must be finite (got nan)"),
+    (["--beta", "3", "--Omega", "4", "--vertical-ratio", "-1"], "--vertical-ratio must be in [0, 10] (got -1.0)"),
+    (["--beta", "3", "--Omega", "4", "--vertical-ratio", "1", "--vertical-phase", "9"], "error: --vertical-phase must"),
+    (["--beta", "3", "--Omega", "4", "--gamma", "0.05"], "error: give exactly one of --T-m or --omega-ratio"),
+    (["--beta", "3", "--Omega", "4", "--history-dt", "1e-9", "--history", "h.csv"], "error: --history-dt must be"),
+])  # fmt: skip
+def test_simulate_names_the_flag_the_user_typed(tmp_path, monkeypatch, capsys, argv, message):
+    monkeypatch.chdir(tmp_path)
+    (tmp_path / "r.csv").write_text("t,a\n0,0\n0.01,0.1\n0.02,0\n")
+    motion = [] if "--beta" in argv else ["--motion", "r.csv", "--unit", "g"]
+    assert main(["simulate", *motion, *argv]) == 2
+    err = capsys.readouterr().err.strip()
+    assert len(err.splitlines()) == 1 and message in err, err

@@ -14,6 +14,7 @@ import difflib
 import json
 import math
 import os
+import re
 import sys
 import tempfile
 from collections.abc import Iterator
@@ -448,9 +449,33 @@ def _past_edge_text(response, block, model: str) -> str:
     return text + "; --stops puts end stops at the edges"
 
 
+#: Keywords of the functions ``rocking simulate`` calls, as the messages of their checks name them (first word),
+#: and the flags that give them: a user is told the option typed, not a name inside the package.
+SIMULATE_FLAGS = {
+    "target": "--pga",
+    "factor": "--scale",
+    "ratio": "--vertical-ratio",
+    "phase": "--vertical-phase",
+    "record_dt": "--history-dt",
+    "dt must be in [t_max": "--history-dt must be in [t_max",
+}
+
+
+def simulate_flags(message: str) -> str:
+    """``message`` of a check ``rocking simulate`` runs, its keywords written as the command's flags."""
+    for word, option in SIMULATE_FLAGS.items():
+        if message.startswith(word if " " in word else word + " "):
+            message = option + message[len(word) :]
+            break
+    return re.sub(r"\b(T_m|omega_ratio)(?= or |=| \(|\))", lambda m: "--" + m.group(1).replace("_", "-"), message)
+
+
 def _cmd_simulate(args) -> int:
     with warnings_in_one_line(args.command):
-        return _simulate(args)
+        try:
+            return _simulate(args)
+        except ParameterError as exc:
+            raise ParameterError(simulate_flags(str(exc))) from None
 
 
 def _simulate(args) -> int:
