@@ -273,7 +273,7 @@ def test_simulate_run_cut_at_max_events_has_no_verdict(capsys):
         (["simulate", "--H", "2", "--B", "0.5", "--beta", "2", "--Omega", "2"], "needs --M"),
         (["simulate", "--block", "reference", "--e", "0", "--beta", "2", "--Omega", "2"], "not both"),
         (["simulate", "--beta", "2", "--Omega", "0"], "Omega"),
-        (["simulate", "--gamma", "0.05", "--beta", "2", "--Omega", "2"], "T_m"),
+        (["simulate", "--gamma", "0.05", "--beta", "2", "--Omega", "2"], "--T-m"),
         (["simulate", "--m", "5", "--beta", "2", "--Omega", "2"], "needs --k-m"),
         (["simulate", "--m", "5", "--k-m", "9", "--gamma", "0.1", "--beta", "2", "--Omega", "2"], "not both"),
         (["simulate", "--h", "0.05", "--beta", "2", "--Omega", "2"], "--h is the damper's guide height"),
