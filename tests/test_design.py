@@ -13,6 +13,7 @@ from rocking.cli.study import add_study_commands, design_verdict, edge_warnings
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.design import best_candidate, design, envelope, stroke_use
+from rocking.study.overturning_map import TMaxWarning
 from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
@@ -103,6 +104,14 @@ def test_optimum_at_an_edge_is_flagged(runs):
         refine=0,
     )
     assert study.summary["Tm_at_edge"] == -1 and study.summary["zeta_at_edge"] == -1
+
+
+def test_design_warns_of_responses_cut_at_t_max(tmp_path):
+    """A t_after of 0.01 s cuts the runs at t_max: the design warns with their count."""
+    short = Setting(Block.reference(), t_after=0.01)
+    search = {"Tm": Grid("Tm", 0.5, 4.0, 2, log=True), "zeta": Grid("zeta", 0.02, 0.2, 2, log=True), "refine": 0}
+    with pytest.warns(TMaxWarning, match=r"^design: \d+ response\(s\) reached t_max \(t_after = 0.01 s"):
+        design(short, Grid("Omega", 4.0, 4.0, 1), BETA, SERIAL, runs=tmp_path, **search)
 
 
 def test_best_candidate_prefers_dampers_on_the_block_then_shorter_periods():

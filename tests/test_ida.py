@@ -18,6 +18,7 @@ from rocking.model.stochastic import SiteModel
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.fragility import FITTED
 from rocking.study.ida import envelope, incremental_dynamic_analysis, motion_measure
+from rocking.study.overturning_map import TMaxWarning
 from rocking.study.suite import Suite
 from rocking.study.tiles import Execution
 from rocking.study.vocabulary import FIT_STATUSES
@@ -59,6 +60,16 @@ def ida(records, tmp_path_factory):
         SERIAL,
         runs=tmp_path_factory.mktemp("runs"),
     )
+
+
+def test_ida_warns_of_responses_cut_at_t_max(records, tmp_path):
+    """A t_after of 0.01 s after a record cuts its safe runs at t_max: the IDA warns with their count."""
+    short = Setting(BLOCK, t_after=0.01)
+    with pytest.warns(TMaxWarning, match=r"^ida: \d+ response\(s\) reached t_max \(t_after = 0.01 s"):
+        study = incremental_dynamic_analysis(
+            short, Tuning(0.05), Suite.from_files(records[:1]), Grid("scales", 0.5, 1.0, 2), SERIAL, runs=tmp_path
+        )
+    assert (study.data["status"] == rocking.sim.problem.STATUS.index("t_max")).any()
 
 
 def test_ida_outcomes_are_those_of_single_runs_in_the_worse_direction(ida, records):

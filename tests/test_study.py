@@ -8,6 +8,7 @@ import os
 import shutil
 import signal
 import threading
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -16,13 +17,14 @@ import xarray as xr
 
 import rocking
 from rocking import Block, load_model
-from rocking.cli.study import add_study_commands
+from rocking.cli.study import add_study_commands, map_lines, spectrum_lines
 from rocking.model.params import ParameterError
 from rocking.sim.problem import STATUS
 from rocking.study import config as study_config
 from rocking.study.config import Grid, Setting, Tuning, config_hash, part_config
-from rocking.study.optimize import bare_beta_min, optimal_damper, refinement, threshold_frequency
-from rocking.study.overturning_map import UndeterminedWarning, envelope, outcome, overturning_map
+from rocking.study.optimize import EdgeWarning, bare_beta_min, optimal_damper, refinement, threshold_frequency
+from rocking.study.overturning_map import TMaxWarning, UndeterminedWarning, envelope, outcome, overturning_map
+from rocking.study.result import Study
 from rocking.study.spectrum import beta_min, minimum_overturning_spectrum, safe_windows, windows
 from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.storage import load
@@ -191,6 +193,65 @@ def test_responses_without_a_verdict_are_counted_and_change_no_effect(tmp_path):
         )
     undetermined = spectrum_envelope(spectrum.data)["undetermined"].sel(part="damper")
     assert undetermined.min() >= BETA.n and spectrum.summary["bare"]["undetermined"] == 0
+
+
+def test_responses_cut_at_t_max_are_counted_and_warned(tmp_path):
+    """A t_after of 0.01 s cuts most runs at t_max: they still count as not overturned, but the map, the spectrum
+    and the optimisation warn with their count and the printed lines say it; the default t_after does not warn."""
+    short = Setting(Block.reference(), t_after=0.01)
+    grids = Grid("Omega", 1.0, 10.0, 3), Grid("beta", 1.0, 10.0, 3)
+    with pytest.warns(TMaxWarning, match=r"t_after = 0.01 s after the pulse\) before overturning") as caught:
+        study = overturning_map(short, TUNING, *grids, SERIAL, runs=tmp_path / "map", full=True)
+    count = int((study.data["status"] == STATUS.index("t_max")).sum())
+    assert count > 0 and [str(w.message).split(" reached")[0] for w in caught] == [f"map: {count} response(s)"]
+    s = study.summary
+    line = map_lines(study)[0]
+    assert f"; {s['bare_t_max']} cells alone and {s['damper_t_max']} with the damper reached t_max" in line
+    with pytest.warns(TMaxWarning, match=r"^spectrum: \d+ response\(s\) reached t_max"):
+        spectrum = minimum_overturning_spectrum(short, TUNING, grids[0], BETA, SERIAL, runs=tmp_path / "spectrum")
+    assert spectrum.summary["t_max"]["bare"] > 0
+    assert any("with the damper reached t_max" in line for line in spectrum_lines(spectrum))
+    with pytest.warns(TMaxWarning, match=r"^optimize: \d+ response\(s\) reached t_max"):
+        optimal_damper(short, [0.05], Grid("Omega", 4.0, 4.0, 1), BETA, SERIAL, runs=tmp_path / "optimize")
+    with warnings.catch_warnings():
+        warnings.simplefilter("error", TMaxWarning)
+        default = overturning_map(SETTING, TUNING, *grids, SERIAL, runs=tmp_path / "default", full=True)
+    assert "t_max" not in map_lines(default)[0]
+
+
+def _map_study(summary: dict, refinement: dict) -> Study:
+    """A map's Study with only what its printed lines read."""
+    return Study("map", {"refinement": refinement}, None, summary=summary)
+
+
+def test_map_line_counts_the_saved_cells_of_unknown_stroke():
+    """An adaptive map fills in saved cells without their stroke: the saved line says how many."""
+    summary = {
+        "cells": 400,
+        "bare_overturned": 235,
+        "damper_overturned": 163,
+        "saved": 72,
+        "saved_past_edges": 57,
+        "saved_stroke_not_computed": 15,
+        "lost": 0,
+        **dict.fromkeys(("bare_undetermined", "damper_undetermined", "bare_t_max", "damper_t_max"), 0),
+    }
+    line = map_lines(_map_study(summary, {"adaptive": False}))[0]
+    assert line.endswith(
+        "saved 72 (57 only with the mass past the block's edge, 15 of unknown stroke: cells filled in by the "
+        "adaptive map; --full computes them), lost 0"
+    )
+    full = map_lines(_map_study({**summary, "saved_stroke_not_computed": 0}, {"adaptive": False}))[0]
+    assert full.endswith("saved 72 (57 only with the mass past the block's edge), lost 0")
+
+
+@pytest.mark.parametrize("Omega", [Grid("Omega", 4.0, 4.0, 1), Grid("Omega", 2.0, 6.0, 3)])
+def test_an_adaptive_map_that_computed_every_cell_says_so(Omega, tmp_path):
+    """On a grid smaller than the coarse step every cell is computed: the guarantee says that, not a bound in
+    regions larger than the grid."""
+    study = overturning_map(SETTING, TUNING, Omega, Grid("beta", 3.0, 3.0, 1), SERIAL, runs=tmp_path)
+    assert study.data["computed"].all()
+    assert study.summary["guarantee"] == "every cell computed (the refinement covered the whole grid): nothing missed"
 
 
 # --- tiles: resuming and configurations -----------------------------------------------------
@@ -412,6 +473,7 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
         (["map", "--rtol=-1e-8"], "rtol must be in [1e-12, 0.01]"),
         (["spectrum", "--beta-tol", "0"], "beta_tol must be a relative tolerance in (0, 0.1]"),
         (["optimize", "--gammas", "0.05", "-1"], "gamma must be in [1e-10, 10] (got -1.0)"),
+        (["optimize", "--gammas", "0.05", "0.05"], "--gammas must list distinct mass ratios m/M"),
         (["optimize", "--Tm-ratio", "10", "0.1", "5"], "Tm-ratio: the range MIN MAX must have MIN < MAX"),
         (["optimize", "--refine", "-1"], "refine must be an integer in [0, 1000]"),
         (["map", "--gamma", "0"], "gamma must be in [1e-10, 10] (got 0.0)"),
@@ -450,6 +512,20 @@ def test_library_errors_name_the_parameter():
         optimal_damper(SETTING, [0.05], OMEGA, BETA, SERIAL, Tm=Grid("Tm", 0.1, 10.0, 3))
     with pytest.raises(ParameterError, match="columns must be an integer >= 1"):
         minimum_overturning_spectrum(SETTING, TUNING, OMEGA, BETA, SERIAL, columns=0)
+
+
+def test_repeated_mass_ratios_are_refused_before_any_simulation(monkeypatch):
+    """Each mass ratio labels its results: a repeated one would fail only after all the work."""
+
+    def no_simulation(*args, **kwargs):
+        raise AssertionError("refused inputs must not simulate")
+
+    monkeypatch.setattr("rocking.study.overturning_map.run_cases", no_simulation)
+    message = r"^gammas must list distinct mass ratios m/M, to 6 significant digits \(got 0.05 more than once\)$"
+    with pytest.raises(ParameterError, match=message):
+        optimal_damper(SETTING, [0.05, 0.1, 0.05], OMEGA, BETA, SERIAL)
+    with pytest.raises(ParameterError, match=message):
+        rocking.optimal_damper(Block.reference(), [0.05, 0.0500000001], Omega=[4.0], beta=[0.5, 2.0, 4.0])
 
 
 def test_a_map_tells_the_cells_saved_only_past_the_blocks_edge(tmp_path):
@@ -544,7 +620,9 @@ def test_the_optimal_damper_with_stops_at_the_edges(tmp_path):
     grids = Grid("Omega", 2.0, 4.0, 2), Grid("beta", 0.5, 8.0, 16)
     search = {"Tm": Grid("Tm-ratio", 0.5, 2.0, 4, log=True), "refine": 1}
     free = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "free", **search)
-    stopped = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "stops", stops=True, **search)
+    with pytest.warns(EdgeWarning, match=r"at 1 of 2 \(gamma, Omega\) points \(0 at the smallest, 0.5; 1 at the"):
+        stopped = optimal_damper(SETTING, [0.05], *grids, SERIAL, runs=tmp_path / "stops", stops=True, **search)
+    assert int(np.abs(stopped.data["edge_opt"]).sum()) == 1
     assert stopped.config["stops"] is True and "stops" not in free.config
     assert np.array_equal(stopped.data["beta_min"], free.data["beta_min"])
     assert not np.array_equal(stopped.data["gain_coarse"], free.data["gain_coarse"], equal_nan=True)

@@ -10,9 +10,10 @@ import pytest
 import xarray as xr
 
 from rocking import Block
-from rocking.cli.study import add_study_commands
+from rocking.cli.study import add_study_commands, safe_from_words
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting
+from rocking.study.overturning_map import TMaxWarning
 from rocking.study.spectrum import beta_min
 from rocking.study.threshold import (
     BETA_TOP,
@@ -47,6 +48,24 @@ def test_rising_scan_extends_past_its_first_top_and_stops_at_the_bound():
 def test_safe_from_is_the_start_of_the_safe_tail():
     flags = np.array([[0, 1, 0, 1, 1], [0, 0, 0, 0, 0], [1, 1, 1, 1, 1]])
     np.testing.assert_array_equal(safe_from([1.0, 2.0, 3.0, 4.0, 5.0], flags), [4.0, np.nan, 1.0])
+
+
+def test_safe_from_in_words_says_when_no_safe_tail_was_found():
+    """Where the block alone still overturns at the highest Omega (safe_from nan) the line says so, not "-"."""
+    assert safe_from_words(14.0, 14.0) == "from Omega = 14"
+    assert safe_from_words(np.nan, 14.0) == "from no Omega on: it still overturns at the highest scanned, Omega = 14"
+
+
+def one_geometry(runs, **keywords):
+    """A threshold map of one geometry (lambda = 3, p = 2 rad/s), two frequencies and one damper period."""
+    grids = Grid("lam", 3.0, 3.0, 1), Grid("p", 2.0, 2.0, 1), Grid("Omega", 4.0, 6.0, 2)
+    return threshold_map(*grids, SERIAL, Tm=Grid("Tm", 1.0, 1.0, 1, log=True), refine=0, runs=runs, **keywords)
+
+
+def test_threshold_warns_of_responses_cut_at_t_max(tmp_path):
+    """A t_after of 0.01 s cuts the runs at t_max: the threshold map warns with their count."""
+    with pytest.warns(TMaxWarning, match=r"^threshold: \d+ response\(s\) reached t_max \(t_after = 0.01 s"):
+        one_geometry(tmp_path, t_after=0.01)
 
 
 @pytest.fixture(scope="module")
@@ -96,24 +115,7 @@ def test_threshold_reports_omega_star_or_where_the_block_is_safe(small):
 
 def test_threshold_resumes_from_its_tiles(small, tmp_path_factory):
     runs = tmp_path_factory.getbasetemp() / "again"
-    first = threshold_map(
-        Grid("lam", 3.0, 3.0, 1),
-        Grid("p", 2.0, 2.0, 1),
-        Grid("Omega", 4.0, 6.0, 2),
-        SERIAL,
-        Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
-        refine=0,
-        runs=runs,
-    )
-    again = threshold_map(
-        Grid("lam", 3.0, 3.0, 1),
-        Grid("p", 2.0, 2.0, 1),
-        Grid("Omega", 4.0, 6.0, 2),
-        SERIAL,
-        Tm=Grid("Tm", 1.0, 1.0, 1, log=True),
-        refine=0,
-        runs=runs,
-    )
+    first, again = one_geometry(runs), one_geometry(runs)
     assert again.run["tiles_computed"] == 0 and again.run["tiles_reused"] == first.run["tiles_computed"] == 2
     xr.testing.assert_identical(again.data, first.data)
 

@@ -61,8 +61,8 @@ from ..study.kinds import (
     SPECTRUM_OMEGA,
     Kind,
 )
-from ..study.optimize import USELESS_GAIN
-from ..study.overturning_map import UndeterminedWarning, overturning_map
+from ..study.optimize import USELESS_GAIN, EdgeWarning, check_gammas
+from ..study.overturning_map import TMaxWarning, UndeterminedWarning, overturning_map
 from ..study.result import Study
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.spectrum import minimum_overturning_spectrum
@@ -610,7 +610,7 @@ GROUPS = {
         lambda args, params: (
             {"damper": damper_from(args)}
             if params.get("tuned")
-            else {"gammas": args.gammas, **given(args, ("zeta", "h", "stops"))}
+            else {"gammas": check_gammas(args.gammas, "--gammas"), **given(args, ("zeta", "h", "stops"))}
         ),
     ),
     # --model and --param make the damper: damper_from reads them.
@@ -715,10 +715,19 @@ def map_lines(study: Study) -> list[str]:
     """What a map shows: the cells overturned, saved and lost; how an adaptive map was computed."""
     s = study.summary
     unknown = s["bare_undetermined"] + s["damper_undetermined"]
+    # An adaptive map fills in saved cells without computing the damper's stroke there: say how many.
+    unknown_stroke = s.get("saved_stroke_not_computed", 0)
     lines = [
         f"map: {s['cells']} cells; overturned {s['bare_overturned']} alone, {s['damper_overturned']} with the damper; "
-        f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge), lost {s['lost']}"
+        f"saved {s['saved']} ({s['saved_past_edges']} only with the mass past the block's edge"
+        + (
+            f", {unknown_stroke} of unknown stroke: cells filled in by the adaptive map; --full computes them"
+            if unknown_stroke
+            else ""
+        )
+        + f"), lost {s['lost']}"
         + (f"; {unknown} without a verdict" if unknown else "")
+        + _t_max_words(s["bare_t_max"], s["damper_t_max"], "cells")
     ]
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
@@ -731,6 +740,14 @@ def map_lines(study: Study) -> list[str]:
     return lines
 
 
+def _t_max_words(bare: int, damper: int, what: str) -> str:
+    """``"; N WHAT alone and M with the damper reached t_max"``, or nothing if none did: they count as not
+    overturned (a short ``--t-after`` can make them)."""
+    if not bare + damper:
+        return ""
+    return f"; {bare} {what} alone and {damper} with the damper reached t_max (counted as not overturned)"
+
+
 def spectrum_lines(study: Study) -> list[str]:
     """What a spectrum shows: the beta_min bracketed and the safe windows of each part, the damper's gain; how
     adaptive scans were computed."""
@@ -741,6 +758,9 @@ def spectrum_lines(study: Study) -> list[str]:
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
         )
+    t_max = study.summary.get("t_max", {})
+    if any(t_max.values()):
+        lines.append("spectrum: " + _t_max_words(t_max["bare"], t_max["damper"], "responses")[2:])
     env = spectrum_envelope(study.data)
     flag, beta_min = ({part: env[k].sel(part=part).values for part in ("bare", "damper")} for k in ("flag", "beta_min"))
     both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
@@ -772,7 +792,8 @@ def threshold_lines(study: Study) -> list[str]:
             )
         elif t["status"] == "above_range":
             lines.append(
-                f"Omega* ({who}) > {t['low']:.3g}: the damper still helps at the highest frequency with a gain"
+                f"Omega* ({who}) > {t['low']:.3g}: the damper still helps (gain >= {USELESS_GAIN:g}) at "
+                f"Omega = {t['low']:.3g}, the highest frequency with a defined gain"
             )
         elif t["status"] == "below_range":
             lines.append(f"Omega* ({who}) <= {t['high']:.3g}: the damper does not help at any frequency scanned")
@@ -868,13 +889,21 @@ def threshold_map_lines(study: Study) -> list[str]:
                 text = {0: f"{star[i, j]:.3g}", 1: f"<= {high[i, j]:.3g}", 2: f"> {low[i, j]:.3g}"}
                 cells.append(f"p = {p:g}: Omega* {text.get(int(status[i, j]), 'undefined')}")
             lines.append(f"  lambda = {lam:g}: " + "; ".join(cells))
+    Omega_max = float(found["Omega"].values[-1])
     for i, lam in enumerate(lams):
-        safe = ", ".join(f"{x:.3g}" if np.isfinite(x) else "-" for x in found["safe_from"].values[i])
-        lines.append(
-            f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g from Omega = "
-            f"{safe} (p = {', '.join(f'{p:g}' for p in ps)} rad/s)"
+        clauses = "; ".join(
+            safe_from_words(x, Omega_max) + f" (p = {p:g} rad/s)" for x, p in zip(found["safe_from"].values[i], ps)
         )
+        lines.append(f"threshold: lambda = {lam:g}: the block alone survives every pulse up to {bound:g} g {clauses}")
     return lines
+
+
+def safe_from_words(safe_from: float, Omega_max: float) -> str:
+    """From which ``Omega`` on the block alone is safe, in words; nan (it overturns at the highest ``Omega``
+    scanned) says so, not a number."""
+    if np.isfinite(safe_from):
+        return f"from Omega = {safe_from:.3g}"
+    return f"from no Omega on: it still overturns at the highest scanned, Omega = {Omega_max:.3g}"
 
 
 def fit_lines(study: Study) -> list[str]:
@@ -989,7 +1018,7 @@ def _cmd_redraw(args) -> int:
 
 
 #: Warnings of a study, and of implausible inputs, that the command line shows as one line each, like its errors.
-STUDY_WARNINGS = (TileWarning, UndeterminedWarning, PlausibilityWarning, FitWarning)
+STUDY_WARNINGS = (TileWarning, UndeterminedWarning, TMaxWarning, EdgeWarning, PlausibilityWarning, FitWarning)
 
 
 @contextmanager

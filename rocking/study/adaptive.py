@@ -125,11 +125,17 @@ def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     return np.nonzero(differ)
 
 
-def guarantee(refinement: dict, spacing: tuple[float, float]) -> str:
+def guarantee(refinement: dict, spacing: tuple[float, float], every_cell: bool = False) -> str:
     """What a map of ``refinement`` (its ``config["refinement"]``) can miss, in cells and in the largest grid
-    ``spacing`` (``(dOmega, dbeta)``): the deterministic bound of :class:`Refinement`, no statistical one."""
+    ``spacing`` (``(dOmega, dbeta)``): the deterministic bound of :class:`Refinement`, no statistical one.
+
+    ``every_cell``: whether the adaptive map computed every cell (a grid its refinement covered whole); its
+    bound in cells would then speak of regions larger than the grid, so the text says that nothing was missed.
+    """
     if not refinement["adaptive"]:
         return "full map: every cell computed"
+    if every_cell:
+        return "every cell computed (the refinement covered the whole grid): nothing missed"
     size = refinement["verify"] or refinement["coarse"]
     extent = f"{size} x {size} cells ({size * spacing[0]:.3g} in Omega x {size * spacing[1]:.3g} in beta)"
     if not refinement["verify"]:

@@ -43,7 +43,7 @@ from .config import Grid, Setting, is_count, part_config
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
 from .optimize import MAX_REFINE, at_edge, coarse_values, refinement
-from .overturning_map import PARTS, check_study, preflight, respond, warn_undetermined
+from .overturning_map import PARTS, check_study, preflight, respond, warn_t_max, warn_undetermined
 from .result import Study
 from .spectrum import COLUMN_FIELDS, TOL, beta_min, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
@@ -57,7 +57,10 @@ REFINE = 2
 
 #: Arrays of :func:`band_tile`, each ``(nOmega, nsigns)``: the ``beta_min`` results, and the stroke at the
 #: design pulses.
-BAND_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined", "x_max", "stop_contacts", "bumper_force_max")
+BAND_FIELDS = (
+    *("beta_min", "beta_safe", "flag", "impacts", "undetermined", "t_max"),
+    *("x_max", "stop_contacts", "bumper_force_max"),
+)
 
 #: The dimensions of every variable of a design's data (:func:`design_data`), coordinates included.
 DIMS = {
@@ -90,7 +93,7 @@ def band_tile(payload: tuple) -> dict:
     setting, damper, Omega, beta_scan, tol, signs, design_beta = payload
     n, ns = len(Omega), len(signs)
     res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(n, signs))
-    out = {k: res[k].reshape(n, ns) for k in BAND_FIELDS[:5]}
+    out = {k: res[k].reshape(n, ns) for k in BAND_FIELDS[:6]}
     out.update(stroke_at(setting, damper, Omega, design_beta, signs))
     return out
 
@@ -310,6 +313,7 @@ def design(
     damper = {**fixed, "omega_ratio": 1.0 / best[0], "zeta": best[1]}
     unknown = sum(int(np.sum(t["undetermined"])) for t in tiles.values())
     warn_undetermined("design", unknown)
+    warn_t_max("design", sum(int(np.sum(t["t_max"])) for t in tiles.values()), setting.t_after)
     edges = int(at_edge(best[0], r_grid)), int(at_edge(best[1], z_grid))
     config = {
         "kind": "design",

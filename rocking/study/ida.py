@@ -38,7 +38,17 @@ from .config import Grid, Setting, Tuning, Variant, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import choose, response_envelope
 from .fragility import FITTED, FitWarning, bootstrap_band, fit_lognormal, fit_warnings, fragility_curve, ida_summary
-from .overturning_map import FIELDS, PARTS, check_damper, check_study, preflight, undetermined, warn_undetermined
+from .overturning_map import (
+    FIELDS,
+    PARTS,
+    check_damper,
+    check_study,
+    preflight,
+    reached_t_max,
+    undetermined,
+    warn_t_max,
+    warn_undetermined,
+)
 from .result import Study
 from .suite import Suite, motion_names, vertical_names
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
@@ -272,6 +282,7 @@ def incremental_dynamic_analysis(
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="ida", on_tile=on_tile)
     unknown = undetermined(fields["status"])
     warn_undetermined("ida", int(unknown.sum()))
+    warn_t_max("ida", int(reached_t_max(fields["status"]).sum()), setting.t_after)
     positive = lv[lv > 0]
     curve_x = np.geomspace(positive.min(), positive.max(), CURVE_POINTS) if positive.size else lv
     both = response_envelope({k: fields[k] for k in FIELDS}, unknown)

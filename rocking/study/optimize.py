@@ -47,6 +47,7 @@ there.
 
 from __future__ import annotations
 
+import warnings
 from pathlib import Path
 
 import numpy as np
@@ -55,9 +56,9 @@ from ..model.params import ParameterError, check_in_range
 from .config import Grid, Setting, Tuning, Variant, is_count, part_config
 from .dataset import FIELDS, coordinate_attrs, field_attrs, si_coordinates
 from .directions import beta_min_envelope, choose, repeat, sign_column
-from .overturning_map import FIXED, check_study, preflight, warn_undetermined
+from .overturning_map import FIXED, check_study, preflight, warn_t_max, warn_undetermined
 from .result import Study
-from .spectrum import TOL, beta_min, check_tol
+from .spectrum import TOL, UNFINISHED, beta_min, check_tol, unfinished
 from .tiles import LOCAL, Execution, Task, interleave, run_folder, run_tiles
 from .vocabulary import ABOVE, BRACKETED, flag_words
 
@@ -122,20 +123,21 @@ def _envelope_beta_min(setting, Omega, beta_scan, damper, tol, signs) -> dict:
         cols = {k: v if k in FIXED else repeat(np.broadcast_to(v, (n,)), signs) for k, v in damper.items()}
     res = beta_min(setting, repeat(Omega, signs), beta_scan, cols, tol=tol, sign=sign_column(n, signs))
     by_sign = {k: v.reshape(n, len(signs)) for k, v in res.items() if k != "scan_outcome"}
-    return {**beta_min_envelope(by_sign), "beta_min_by_sign": by_sign["beta_min"]}
+    return {**beta_min_envelope(by_sign), "beta_min_by_sign": by_sign["beta_min"], "t_max": by_sign["t_max"].sum(-1)}
 
 
 def _gains(r, setting, Omega, damper, beta_scan, tol, reference, signs):
     """Gain (the ratio of the envelopes over ``signs``) and flag of the damped block for the periods ``r`` (nan
-    where ``r`` or ``reference`` is nan), and the number of responses that ended without a verdict."""
+    where ``r`` or ``reference`` is nan), and the counts :data:`~rocking.study.spectrum.UNFINISHED` of its
+    responses."""
     ok = np.isfinite(r) & np.isfinite(reference)
     gain, flag = np.full(r.shape, np.nan), np.zeros(r.shape, np.int64)
     if not ok.any():
-        return gain, flag, 0
+        return gain, flag, np.zeros(len(UNFINISHED), np.int64)
     columns = {**damper, "omega_ratio": 1.0 / r[ok]}
     env = _envelope_beta_min(setting, np.full(ok.sum(), Omega), beta_scan, columns, tol, signs)
     gain[ok], flag[ok] = env["beta_min"] / reference, env["flag"]
-    return gain, flag, int(env["undetermined"].sum())
+    return gain, flag, unfinished(env)
 
 
 def optimize_tile(payload: tuple) -> dict:
@@ -171,14 +173,14 @@ def optimize_tile(payload: tuple) -> dict:
         "r_opt": np.array([r_all[best] if found else np.nan]),
         "gain_opt": np.array([gain_all[best]]),
         "flag_opt": np.array([flag_all[best]]),
-        "undetermined": np.array([bare["undetermined"][0] + unknown_coarse + unknown_fine]),
+        **{k: np.array([n]) for k, n in zip(UNFINISHED, unfinished(bare) + unknown_coarse + unknown_fine)},
     }
 
 
 def tile_arrays(n_coarse: int, refine: int, n_signs: int) -> dict:
     """Name -> shape of the arrays of :func:`optimize_tile` (``n_coarse`` coarse periods, ``n_signs``
     directions)."""
-    shapes = dict.fromkeys(("bare_beta_min", "bare_flag", "r_opt", "gain_opt", "flag_opt", "undetermined"), (1,))
+    shapes = dict.fromkeys(("bare_beta_min", "bare_flag", "r_opt", "gain_opt", "flag_opt", *UNFINISHED), (1,))
     shapes["bare_beta_min_by_sign"] = (n_signs,)
     shapes.update(dict.fromkeys(("gain_coarse", "flag_coarse"), (n_coarse,)))
     shapes.update(dict.fromkeys(("r_fine", "gain_fine"), (2 * refine,)))
@@ -190,6 +192,24 @@ def at_edge(r_opt, r_coarse) -> np.ndarray:
     an optimum at an edge may lie beyond it (widen ``Tm``)."""
     r_opt = np.asarray(r_opt, float)
     return np.where(r_opt == r_coarse[0], -1, np.where(r_opt == r_coarse[-1], 1, 0))
+
+
+def warn_at_edge(edge, r_coarse) -> None:
+    """Warn where the optimal period (``edge``: :func:`at_edge` of each optimum) is an end of its search range
+    ``r_coarse``: the best may lie beyond it."""
+    low, high = int((edge < 0).sum()), int((edge > 0).sum())
+    if low + high:
+        warnings.warn(
+            f"optimize: the optimal T_m p / 2 pi is an end of its search range at {low + high} of {edge.size} "
+            f"(gamma, Omega) points ({low} at the smallest, {r_coarse[0]:.3g}; {high} at the largest, "
+            f"{r_coarse[-1]:.3g}): the best may lie beyond; widen the range (Tm_ratio / --Tm-ratio MIN MAX N)",
+            EdgeWarning,
+            stacklevel=3,
+        )
+
+
+class EdgeWarning(UserWarning):
+    """An optimum of a search is an end of its search range: the best may lie beyond."""
 
 
 def threshold_frequency(Omega, gain, level: float = USELESS_GAIN) -> dict:
@@ -243,12 +263,23 @@ def _iterable(values) -> tuple:
         return ()
 
 
-def check_gammas(gammas) -> tuple[float, ...]:
-    """Mass ratios, validated: a non-empty list of numbers in the range of :class:`Tuning`'s ``gamma``."""
+def check_gammas(gammas, name: str = "gammas") -> tuple[float, ...]:
+    """Mass ratios, validated: a non-empty list of distinct numbers in the range of :class:`Tuning`'s ``gamma``.
+
+    ``name``: the parameter as the user gave it (``--gammas`` on the command line). A repeated value is refused
+    here: each mass ratio labels its results (``f"{gamma:g}"``), and the study would fail only after all its work.
+    """
     gammas = _iterable(gammas)
     if not gammas:
-        raise ParameterError("gammas must list at least one mass ratio m/M")
-    return tuple(check_in_range("gamma", g, nonzero=True) for g in gammas)
+        raise ParameterError(f"{name} must list at least one mass ratio m/M")
+    checked = tuple(check_in_range("gamma", g, nonzero=True) for g in gammas)
+    labels = [f"{g:g}" for g in checked]
+    repeated = [label for i, label in enumerate(labels) if label in labels[:i]]
+    if repeated:
+        raise ParameterError(
+            f"{name} must list distinct mass ratios m/M, to 6 significant digits (got {repeated[0]} more than once)"
+        )
+    return checked
 
 
 def optimal_damper(
@@ -330,6 +361,13 @@ def optimal_damper(
     -----
     rocking.study.tiles.TileWarning
         For a stored tile that is damaged or foreign: it is computed again.
+    rocking.study.overturning_map.UndeterminedWarning
+        For responses that ended without a verdict (:func:`rocking.study.overturning_map.warn_undetermined`).
+    rocking.study.overturning_map.TMaxWarning
+        For responses that reached ``t_max``: they count as not overturned
+        (:func:`rocking.study.overturning_map.warn_t_max`).
+    EdgeWarning
+        For optimal periods at an end of their search range (:func:`warn_at_edge`).
 
     Examples
     --------
@@ -391,8 +429,11 @@ def optimal_damper(
             part_tasks.append(task)
             where[task.path] = (g, i)
 
+    t_max = [0]  # not a field of the data: a run cut at t_max counts as not overturned
+
     def place(task: Task, res: dict) -> None:
         g, i = where[task.path]
+        t_max[0] += int(res["t_max"][0])
         # A tile gives the block alone's beta_min per direction but only its envelope's flag: the envelope's
         # beta_min is a reduction over sign (bare_beta_min).
         fields["beta_min"][i], fields["flag"][i] = res["bare_beta_min_by_sign"], res["bare_flag"][0]
@@ -404,8 +445,10 @@ def optimal_damper(
     preflight(setting)
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="optimize", on_tile=on_tile)
     warn_undetermined("optimize", int(fields["undetermined"].sum()))
+    warn_t_max("optimize", t_max[0], setting.t_after)
     fields["Tm_over_Tg_opt"] = fields["r_opt"] * Om  # T_m / T_g = (T_m p / 2 pi) (omega_g / p)
     fields["edge_opt"] = at_edge(fields["r_opt"], r)
+    warn_at_edge(fields["edge_opt"], r)
     m = np.array(gammas)[:, None] * setting.block.M
     omega_m = setting.block.p / fields["r_opt"]
     fields["k_m_opt"], fields["c_opt"] = m * omega_m**2, 2 * zeta * m * omega_m

@@ -187,6 +187,29 @@ class UndeterminedWarning(UserWarning):
     """Some responses of a study ended without a verdict (status ``max_events``, ``max_steps`` or ``flight``)."""
 
 
+def reached_t_max(status) -> np.ndarray:
+    """Where a run reached ``t_max`` (``t_after`` past the pulse) before overturning, rest or a final bound: it
+    counts as not overturned, but may overturn later."""
+    return np.asarray(status) == STATUS.index("t_max")
+
+
+def warn_t_max(study: str, count: int, t_after: float) -> None:
+    """Warn that ``count`` responses of ``study`` reached ``t_max`` (:func:`reached_t_max`): a short ``t_after``
+    turns runs that would overturn later into safe ones, silently but for this."""
+    if count:
+        warnings.warn(
+            f"{study}: {count} response(s) reached t_max (t_after = {t_after:g} s after the pulse) before "
+            "overturning, rest or a final bound; they count as not overturned, and some may overturn later: "
+            "follow them longer (t_after / --t-after)",
+            TMaxWarning,
+            stacklevel=3,
+        )
+
+
+class TMaxWarning(UserWarning):
+    """Some responses of a study reached ``t_max`` before a verdict: they count as not overturned."""
+
+
 def map_tile(payload: tuple) -> dict:
     """One tile: ``(setting, damper_or_None, Omega_values, beta_values, signs)`` -> arrays ``(nOmega, nbeta,
     nsigns)``."""
@@ -312,6 +335,11 @@ def overturning_map(
     -----
     rocking.study.tiles.TileWarning
         For a stored tile that is damaged or foreign: it is computed again.
+    rocking.study.overturning_map.UndeterminedWarning
+        For responses that ended without a verdict (:func:`rocking.study.overturning_map.warn_undetermined`).
+    rocking.study.overturning_map.TMaxWarning
+        For responses that reached ``t_max``: they count as not overturned
+        (:func:`rocking.study.overturning_map.warn_t_max`).
 
     Examples
     --------
@@ -380,6 +408,7 @@ def overturning_map(
     }
     data = map_data(config, Om, b, signs, fields, computed)
     warn_undetermined("map", int(undetermined(fields["status"]).sum()))
+    warn_t_max("map", int(reached_t_max(fields["status"]).sum()), setting.t_after)
     return Study(
         "map",
         config,
@@ -388,7 +417,7 @@ def overturning_map(
             **map_summary(data, setting.block.B / 2),
             "directions": chosen,
             "refinement": refinement,
-            "guarantee": guarantee(refinement, (spacing(Om), spacing(b))),
+            "guarantee": guarantee(refinement, (spacing(Om), spacing(b)), every_cell=bool(computed.all())),
         },
         run={
             **stats.record(),

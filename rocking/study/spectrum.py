@@ -67,9 +67,11 @@ from .overturning_map import (
     check_damper,
     check_study,
     preflight,
+    reached_t_max,
     respond,
     response_classes,
     undetermined,
+    warn_t_max,
     warn_undetermined,
 )
 from .result import Study
@@ -101,6 +103,8 @@ DIMS = {
 }
 #: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
 RESPONSE_COUNTS = ("responses", "scan_responses")
+#: The counts per column of :func:`beta_min`'s responses that ended without a verdict, and that reached ``t_max``.
+UNFINISHED = ("undetermined", "t_max")
 
 #: Default coarse step of the beta scan, amplitudes (:func:`scan_refinement`): 1, every amplitude (module
 #: docstring: an adaptive scan misses one-amplitude overturning bands of the bench spectrum). Verified, the
@@ -177,7 +181,8 @@ def beta_min(
         (n,: responses of the scan and the bisection that ended without a
         verdict, :func:`rocking.study.overturning_map.undetermined`, the scan's
         amplitudes that take such a class without being computed included; they
-        count as not overturned), ``scan_outcome`` (n, m:
+        count as not overturned), ``t_max`` (n,: responses computed that reached ``t_max``,
+        :func:`rocking.study.overturning_map.reached_t_max`), ``scan_outcome`` (n, m:
         :func:`rocking.study.overturning_map.outcome` along the scan, :data:`~rocking.study.vocabulary.FLIGHT`
         where a run ended in flight: a column is read below its first flight only), ``responses``
         (n,: responses computed, scan and bisection) and ``scan_responses`` (n,: of them, the scan's).
@@ -187,10 +192,12 @@ def beta_min(
     n = Omega.size
     cols = _column(damper, n)
     sign = np.broadcast_to(np.asarray(sign), (n,))
+    t_max = np.zeros(n, np.int64)
 
     def classify(rows, indices):
         sub = None if cols is None else {k: v if k in FIXED else v[rows, 0] for k, v in cols.items()}
         r = respond(setting, Omega[rows], beta_scan[indices], sub, sign[rows])
+        np.add.at(t_max, rows, reached_t_max(r["status"]))
         return response_classes(r["overturned"], r["impacts"], r["status"])
 
     coarse = check_coarse(coarse)
@@ -224,6 +231,7 @@ def beta_min(
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
         lo[active[~up]] = mid[~up]
         unknown[active] += undetermined(r["status"])
+        t_max[active] += reached_t_max(r["status"])
         responses[active] += 1
     return {
         "beta_min": hi,
@@ -231,10 +239,17 @@ def beta_min(
         "flag": flag,
         "impacts": impacts,
         "undetermined": unknown,
+        "t_max": t_max,
         "scan_outcome": scan_outcome,
         "responses": responses,
         "scan_responses": scan_responses,
     }
+
+
+def unfinished(counts: dict) -> np.ndarray:
+    """The totals of the counts :data:`UNFINISHED` of ``counts`` (results of :func:`beta_min` or of an envelope
+    of them that keeps both)."""
+    return np.array([int(np.sum(counts[k])) for k in UNFINISHED])
 
 
 def windows(beta_scan, scan_overturned) -> np.ndarray:
@@ -322,7 +337,7 @@ def minimum_overturning_spectrum(
         (:func:`safe_windows`). ``config["refinement"]`` records how the scans were refined
         (:func:`scan_refinement`); ``run["responses"]`` counts the responses computed (scans and
         bisections), ``run["scan_responses"]`` those of the scans and ``run["scan_responses_full"]`` those of
-        scans of every amplitude.
+        scans of every amplitude. ``summary["t_max"]`` counts, per part, the responses that reached ``t_max``.
 
     Raises
     ------
@@ -339,6 +354,11 @@ def minimum_overturning_spectrum(
     -----
     rocking.study.tiles.TileWarning
         For a stored tile that is damaged or foreign: it is computed again.
+    rocking.study.overturning_map.UndeterminedWarning
+        For responses that ended without a verdict (:func:`rocking.study.overturning_map.warn_undetermined`).
+    rocking.study.overturning_map.TMaxWarning
+        For responses that reached ``t_max``: they count as not overturned
+        (:func:`rocking.study.overturning_map.warn_t_max`).
 
     Examples
     --------
@@ -393,12 +413,16 @@ def minimum_overturning_spectrum(
             cols = slice(i, min(i + columns, Om.size))
             payload = (setting, damper, Om[cols], b, tol, signs, refinement.get("coarse", 1))
             n = cols.stop - cols.start
-            expect = {**dict.fromkeys((*COLUMN_FIELDS, *RESPONSE_COUNTS), (n, ns)), "scan_outcome": (n, ns, b.size)}
+            expect = {
+                **dict.fromkeys((*COLUMN_FIELDS, *RESPONSE_COUNTS, "t_max"), (n, ns)),
+                "scan_outcome": (n, ns, b.size),
+            }
             task = Task(folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, payload, expect)
             part_tasks.append(task)
             where[task.path] = (part, cols)
 
     counts = dict.fromkeys(RESPONSE_COUNTS, 0)
+    t_max = dict.fromkeys(PARTS, 0)
 
     def place(task: Task, tile: dict) -> None:
         part, cols = where[task.path]
@@ -406,17 +430,19 @@ def minimum_overturning_spectrum(
             fields[k][PARTS.index(part), cols] = tile[k]
         for k in RESPONSE_COUNTS:
             counts[k] += int(tile[k].sum())
+        t_max[part] += int(tile["t_max"].sum())
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="spectrum", on_tile=on_tile)
     warn_undetermined("spectrum", int(fields["undetermined"].sum()))
+    warn_t_max("spectrum", sum(t_max.values()), setting.t_after)
     config = {"kind": "spectrum", **setting.record(), "damper": record, **grids, "directions": chosen}
     data = spectrum_data(config, Om, b, signs, fields)
     return Study(
         "spectrum",
         config,
         data,
-        summary={**spectrum_summary(data), "directions": chosen, "refinement": refinement},
+        summary={**spectrum_summary(data), "t_max": t_max, "directions": chosen, "refinement": refinement},
         run={**stats.record(), "run_folders": folders, **counts, "scan_responses_full": 2 * Om.size * ns * b.size},
         tabulate=spectrum_tables,
     )

@@ -41,9 +41,9 @@ from .config import Grid, Setting, Tuning, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import beta_min_envelope, choose, repeat, sign_column
 from .optimize import USELESS_GAIN, at_edge, coarse_values, refinement, threshold_frequency
-from .overturning_map import FIXED, check_study, preflight, warn_undetermined
+from .overturning_map import FIXED, check_study, preflight, warn_t_max, warn_undetermined
 from .result import Study
-from .spectrum import TOL, beta_min, check_tol
+from .spectrum import TOL, UNFINISHED, beta_min, check_tol, unfinished
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
 from .vocabulary import ABOVE, BRACKETED, PART_NAMES
 from .vocabulary import THRESHOLD_STATUSES as STATUSES
@@ -86,14 +86,15 @@ def rising_beta_min(setting: Setting, Omega, damper, *, sign, beta_max: float, t
     sign = np.broadcast_to(np.asarray(sign), (n,))
     columns = None if damper is None else {k: v if k in FIXED else np.broadcast_to(v, (n,)) for k, v in damper.items()}
     out = {k: np.full(n, np.nan) for k in ("beta_min", "beta_safe", "top")}
-    out.update({k: np.zeros(n, np.int64) for k in ("flag", "impacts", "undetermined")})
+    out.update({k: np.zeros(n, np.int64) for k in ("flag", "impacts", *UNFINISHED)})
     todo, low, high = np.arange(n), BETA_START, min(BETA_TOP, beta_max)
     while todo.size:
         sub = None if columns is None else {k: v if k in FIXED else v[todo] for k, v in columns.items()}
         res = beta_min(setting, Omega[todo], np.linspace(low, high, SCAN_POINTS), sub, tol=tol, sign=sign[todo])
         for k in ("beta_min", "beta_safe", "flag", "impacts"):
             out[k][todo] = res[k]
-        out["undetermined"][todo] += res["undetermined"]
+        for k in UNFINISHED:
+            out[k][todo] += res[k]
         out["top"][todo] = high
         if high >= beta_max:
             break
@@ -111,14 +112,16 @@ def _envelope(setting, Omega: float, damper, n: int, signs, beta_max, tol) -> di
     res = rising_beta_min(
         setting, np.full(n * len(signs), Omega), cols, sign=sign_column(n, signs), beta_max=beta_max, tol=tol
     )
-    return beta_min_envelope({k: v.reshape(n, len(signs)) for k, v in res.items() if k != "top"})
+    by_sign = {k: v.reshape(n, len(signs)) for k, v in res.items() if k != "top"}
+    return {**beta_min_envelope(by_sign), "t_max": by_sign["t_max"].sum(axis=-1)}
 
 
 def best_gain(setting, Omega: float, tuning: Tuning, r_coarse, refine: int, reference: float, signs, beta_max, tol):
     """Best gain over the damper period at ``Omega``: coarse ``r`` grid, then ``refine`` points each side of the
-    best. Returns ``(gain, r, flag, undetermined)`` of the best point (ties to the shorter period)."""
+    best. Returns ``(gain, r, flag)`` of the best point (ties to the shorter period) and the counts
+    :data:`UNFINISHED` of the search."""
     base = {k: v for k, v in tuning.case_args().items() if k != "omega_ratio"}
-    r_all, gains, flags, unknown = [], [], [], 0
+    r_all, gains, flags, unknown = [], [], [], np.zeros(len(UNFINISHED), np.int64)
     for stage in ("coarse", "fine"):
         if stage == "coarse":
             r = np.asarray(r_coarse, float)
@@ -130,7 +133,7 @@ def best_gain(setting, Omega: float, tuning: Tuning, r_coarse, refine: int, refe
             r_all.append(r)
             gains.append(env["beta_min"] / reference)
             flags.append(env["flag"])
-            unknown += int(env["undetermined"].sum())
+            unknown += unfinished(env)
     r_all, gains, flags = (np.concatenate(x) for x in (r_all, gains, flags))
     order = np.argsort(r_all)
     best = order[np.argmax(np.nan_to_num(gains[order], nan=-np.inf))]
@@ -143,7 +146,7 @@ def threshold_tile(payload: tuple) -> dict:
     setting, tunings, Omega, r_coarse, refine, signs, beta_max, tol = payload
     bare = _envelope(setting, Omega, None, 1, signs, beta_max, tol)
     out = {"bare_beta_min": bare["beta_min"], "bare_flag": bare["flag"]}
-    unknown = int(bare["undetermined"].sum())
+    unknown = unfinished(bare)
     reference = bare["beta_min"][0] if bare["flag"][0] == BRACKETED else np.nan
     for kind, tuning in zip(KINDS, tunings):
         gain, r, flag = np.nan, np.nan, 0
@@ -151,7 +154,7 @@ def threshold_tile(payload: tuple) -> dict:
             gain, r, flag, more = best_gain(setting, Omega, tuning, r_coarse, refine, reference, signs, beta_max, tol)
             unknown += more
         out.update({f"{kind}_gain": np.array([gain]), f"{kind}_r": np.array([r]), f"{kind}_flag": np.array([flag])})
-    out["undetermined"] = np.array([unknown])
+    out.update({k: np.array([count]) for k, count in zip(UNFINISHED, unknown)})
     return out
 
 
@@ -179,7 +182,7 @@ DIMS = {
 
 def tile_shapes() -> dict:
     """Name -> shape of the arrays of :func:`threshold_tile`."""
-    names = ("bare_beta_min", "bare_flag", "undetermined", *(f"{k}_{f}" for k in KINDS for f in ("gain", "r", "flag")))
+    names = ("bare_beta_min", "bare_flag", *UNFINISHED, *(f"{k}_{f}" for k in KINDS for f in ("gain", "r", "flag")))
     return dict.fromkeys(names, (1,))
 
 
@@ -307,16 +310,19 @@ def threshold_map(
                 tasks.append(task)
                 where[task.path] = (i, j, k)
 
+    t_max = [0]  # not a field of the data: a run cut at t_max counts as not overturned
+
     def place(task: Task, tile: dict) -> None:
         i, j, k = where[task.path]
-        for name, value in tile.items():
-            field, index = TILE_FIELDS[name]
-            fields[field][(*index, i, j, k)] = value[0]
+        for name, (field, index) in TILE_FIELDS.items():
+            fields[field][(*index, i, j, k)] = tile[name][0]
+        t_max[0] += int(tile["t_max"][0])
 
     # Interleave the geometries: the tiles of one differ in cost along Omega, and the progress bar stays steady.
     order = sorted(tasks, key=lambda task: (where[task.path][2], where[task.path][:2]))
     stats = run_tiles(order, place, execution, backend=backend, desc="threshold", on_tile=on_tile)
     warn_undetermined("threshold", int(fields["undetermined"].sum()))
+    warn_t_max("threshold", t_max[0], t_after)
     config = {
         "kind": "threshold",
         "lam": lam.record(),
