@@ -132,6 +132,7 @@ def test_the_command_line_pairs_the_records_and_records_the_pair(tmp_path, pair,
     argv = ["ida", "--motions", str(h), "--scales", "0.5", "3", "3", "--directions", "both", "--check", "none"]
     argv += ["--t-after", "5", "--workers", "1", "--no-progress"]
     assert main([*argv, "--vertical-motions", f"{v}:g", "--out", str(tmp_path / "c")]) == 0
+    assert "ida: motions of sign +1 and -1" in capsys.readouterr().out  # records, not pulses
     saved = rocking.load(tmp_path / "c" / "ida.nc")
     (vertical,) = saved.config["suite"]["vertical"]["files"]
     assert vertical == {"path": str(v.resolve()), "sha256": rocking.model.records.file_sha256(v), "unit": "g"}

@@ -674,7 +674,8 @@ def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
     )
     chosen = study.config["directions"]
     signs = " and ".join(f"{s:+d}" for s in chosen["signs"])
-    print(f"{study.kind}: pulses of sign {signs}: {chosen['reason']}")
+    motions = "motions" if "suite" in study.config else "pulses"  # an IDA's or fragility's suite, else pulses
+    print(f"{study.kind}: {motions} of sign {signs}: {chosen['reason']}")
     if current.get("rerun"):
         print(check_same(study, *current["rerun"]))
     return paths
