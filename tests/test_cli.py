@@ -341,7 +341,7 @@ def test_derive_without_sympy_says_how_to_install_it():
         (["--m", "1e-300", "--k-m", "200"], "m must be 0 or in [1e-16, 1e+13] kg (got 1e-300)"),
         (["--m", "50", "--k-m", "1e12", "--beta", "3", "--Omega", "4"], "omega_m must be in [1e-3 p, 1e4 p]"),
         (["--beta", "0.5", "--Omega", "5e-324"], "Omega must be in [0.01, 1000]"),
-        (["--beta", "3", "--Omega", "4", "--t-max", "nan"], "t_max must be finite"),
+        (["--beta", "3", "--Omega", "4", "--t-max", "nan"], "--t-max must be finite"),
         (["--beta", "3", "--Omega", "4", "--rtol", "1"], "rtol must be in [1e-12, 0.01]"),
         (["--param", "m=50", "--param", "e=10", "--beta", "3", "--Omega", "4"], "e set by the block"),
         (["--H", "1e300", "--B", "0.5", "--M", "100", "--beta", "3", "--Omega", "4"], "H must be in [0.001, 1000] m"),

@@ -100,7 +100,7 @@ def test_the_command_line_map_takes_the_vertical_component(tmp_path, capsys):
     assert saved.config["vertical"] == {"ratio": 0.5, "phase": 1.0}
     assert saved.data.attrs["vertical_ratio"] == 0.5
     assert main([*argv, "--vertical-ratio", "-1", "--out", str(tmp_path / "bad")]) == 2
-    assert "rocking map: error: vertical_ratio must be in [0, 10]" in capsys.readouterr().err
+    assert "rocking map: error: --vertical-ratio must be in [0, 10]" in capsys.readouterr().err
 
 
 def test_a_history_records_the_vertical_ground_acceleration_beside_the_horizontal(tmp_path):
@@ -178,3 +178,13 @@ def test_the_command_line_suite_takes_a_vertical_ratio(tmp_path, capsys):
     assert rocking.load(tmp_path / "fragility.nc").config["suite"]["vertical"]["ratio"] == 0.5
     assert main([*argv, "--vertical-ratio", "20", "--out", str(tmp_path / "bad")]) == 2
     assert "error: --vertical-ratio must be in [0, 10]" in capsys.readouterr().err
+
+
+def test_the_map_line_counts_the_cells_without_a_verdict_per_part(tmp_path, capsys):
+    # beta_f = 4 at ratio 1: the cells at beta 5 and 6 fly unless they overturn first, in each part.
+    argv = ["map", "--Omega", "10", "10", "1", "--beta", "2", "6", "3", "--full", "--workers", "1", "--no-progress"]
+    assert main([*argv, "--vertical-ratio", "1", "--out", str(tmp_path)]) == 0
+    s = rocking.load(tmp_path / "map.nc").summary
+    assert s["bare_undetermined"] > 0 and s["bare_undetermined"] <= s["cells"]
+    words = f"{s['bare_undetermined']} cells alone and {s['damper_undetermined']} with the damper without a verdict"
+    assert words in capsys.readouterr().out

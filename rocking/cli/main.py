@@ -62,7 +62,9 @@ from .options import (
     default_text,
     flag,
     flags,
+    flags_of,
     given,
+    named_as_flag,
     params_from,
 )
 from .rerun import apply_config
@@ -782,14 +784,19 @@ def build_parser() -> argparse.ArgumentParser:
     return parser
 
 
+def _subcommand(parser: argparse.ArgumentParser, command: str) -> argparse.ArgumentParser:
+    """The parser of ``command``."""
+    (commands,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
+    return commands.choices[command]
+
+
 def refuse_unknown(parser: argparse.ArgumentParser, command: str, unknown: list[str]) -> None:
     """Exit (2) with the usage of ``command``, not the top level's, naming the closest option to each typo.
 
     argparse reports an unknown option of a subcommand through the top-level parser, whose usage lists
     the commands, not the options a user mistyped (``--gama`` for ``--gamma``).
     """
-    (commands,) = (a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
-    sub = commands.choices[command]
+    sub = _subcommand(parser, command)
     options = [s for action in sub._actions for s in action.option_strings]
     words = []
     for token in unknown:
@@ -840,7 +847,8 @@ def _run(argv: list[str] | None) -> int:
             args = apply_config(parser, args, argv)
         return args.func(args)
     except (ParameterError, ModelError) as exc:
-        print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
+        flags = flags_of(_subcommand(parser, args.command))
+        print(f"rocking {args.command}: error: {named_as_flag(flags, str(exc))}", file=sys.stderr)
         return 2
     except (SimulationError, CBuildError) as exc:  # valid input, but the run or the build failed: no traceback
         print(f"rocking {args.command}: error: {type(exc).__name__}: {exc}", file=sys.stderr)

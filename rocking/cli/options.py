@@ -249,3 +249,24 @@ def params_from(items: Iterable[str] | None) -> dict:
         except ValueError:
             raise ParameterError(f"--param {name} must be a number (got {value!r})") from None
     return params
+
+
+def flags_of(parser: argparse.ArgumentParser) -> dict[str, str]:
+    """The long flag of each option of ``parser`` by its keyword (``vertical_ratio`` -> ``--vertical-ratio``)."""
+    flags = {}
+    for action in parser._actions:
+        long = [s for s in action.option_strings if s.startswith("--")]
+        if long:
+            flags[action.dest] = long[0]
+    return flags
+
+
+def named_as_flag(flags: dict[str, str], message: str) -> str:
+    """``message`` of a check, its first word written as the flag that gives it where that word is an option's
+    keyword (``vertical_ratio must be ...`` -> ``--vertical-ratio must be ...``): a user is told the option typed,
+    not a name inside the package."""
+    word, sep, rest = message.partition(" ")
+    keyword = word.rstrip(":")
+    if sep and keyword in flags:
+        return flags[keyword] + word[len(keyword) :] + sep + rest
+    return message

@@ -79,7 +79,9 @@ from .options import (
     default_text,
     flag,
     flags,
+    flags_of,
     given,
+    named_as_flag,
     params_from,
     python_default,
 )
@@ -715,7 +717,6 @@ def _print(lines: list[str]) -> None:
 def map_lines(study: Study) -> list[str]:
     """What a map shows: the cells overturned, saved and lost; how an adaptive map was computed."""
     s = study.summary
-    unknown = s["bare_undetermined"] + s["damper_undetermined"]
     # An adaptive map fills in saved cells without computing the damper's stroke there: say how many.
     unknown_stroke = s.get("saved_stroke_not_computed", 0)
     lines = [
@@ -727,7 +728,7 @@ def map_lines(study: Study) -> list[str]:
             else ""
         )
         + f"), lost {s['lost']}"
-        + (f"; {unknown} without a verdict" if unknown else "")
+        + _per_part_words(s["bare_undetermined"], s["damper_undetermined"], "cells", "without a verdict")
         + _t_max_words(s["bare_t_max"], s["damper_t_max"], "cells")
     ]
     refinement, run = study.config["refinement"], study.run
@@ -744,9 +745,14 @@ def map_lines(study: Study) -> list[str]:
 def _t_max_words(bare: int, damper: int, what: str) -> str:
     """``"; N WHAT alone and M with the damper reached t_max"``, or nothing if none did: they count as not
     overturned (a short ``--t-after`` can make them)."""
+    return _per_part_words(bare, damper, what, "reached t_max (counted as not overturned)")
+
+
+def _per_part_words(bare: int, damper: int, what: str, happened: str) -> str:
+    """``"; N WHAT alone and M with the damper HAPPENED"``, or nothing if neither count is above 0."""
     if not bare + damper:
         return ""
-    return f"; {bare} {what} alone and {damper} with the damper reached t_max (counted as not overturned)"
+    return f"; {bare} {what} alone and {damper} with the damper {happened}"
 
 
 def spectrum_lines(study: Study) -> list[str]:
@@ -1038,6 +1044,10 @@ def warnings_in_one_line(command: str) -> Iterator[None]:
         yield
 
 
+#: The long flag of each option of each study command (and demo, redraw) by its keyword: their errors name it.
+FLAGS: dict[str, dict[str, str]] = {}
+
+
 def _guarded(command):
     """``command(args)`` with bad parameters reported in one line (exit 2), a full disk too (exit 1: the finished
     tiles are kept, nothing partial is published) and Ctrl-C as a resumable stop (130)."""
@@ -1049,7 +1059,7 @@ def _guarded(command):
             with warnings_in_one_line(args.command):
                 return command(args)
         except ParameterError as exc:
-            print(f"rocking {args.command}: error: {exc}", file=sys.stderr)
+            print(f"rocking {args.command}: error: {named_as_flag(FLAGS[args.command], str(exc))}", file=sys.stderr)
             return 2
         except DiskFull as exc:
             kept = "finished tiles kept" if exc.kept is None else f"{exc.kept} tiles kept"
@@ -1097,6 +1107,7 @@ def add_study_commands(subparsers) -> None:
         for group, params in command.options:
             GROUPS[group].add(p, params, kind)
         p.set_defaults(func=_guarded(partial(run_study, name)))
+        FLAGS[name] = flags_of(p)
 
     p = _study_parser(
         subparsers,
@@ -1107,7 +1118,9 @@ def add_study_commands(subparsers) -> None:
     _add_tol(p)
     _add_solver(p)
     p.set_defaults(func=_guarded(_cmd_demo))
+    FLAGS["demo"] = flags_of(p)
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
     p.add_argument("paths", nargs="+", help="a saved study (.nc, .json or their stem) or a folder of them")
     p.set_defaults(func=_guarded(_cmd_redraw))
+    FLAGS["redraw"] = flags_of(p)
