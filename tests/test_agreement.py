@@ -110,7 +110,7 @@ def test_early_rest_keeps_verdicts_and_maxima_on_random_cases():
             assert early.x_max == pytest.approx(full.x_max, rel=1e-9), case
             assert early.t_end <= full.t_end, case
             if early.status != full.status:
-                assert early.status == "rest" and full.status in ("t_max", "rest"), case
+                assert early.status == "rest" and full.status in ("t_max", "below_barrier", "rest"), case
             shortened += backend is c_backend and early.t_end < full.t_end
             numpy_checked += backend is numpy_backend
     assert shortened >= N_CASES // 10 and numpy_checked >= 10

@@ -382,7 +382,7 @@ def test_contact_phase_damper_is_the_exact_oscillator(backend):
     # Below both uplift thresholds (docs/model.md 10.2); early_rest=False: followed to t_max.
     problem = reference_problem(0.5, 3.0, DAMPER, psi=0.4, rtol=1e-9, t_after=4.0, early_rest=False)
     r = simulate(backend, problem, record=True)
-    assert (r.uplifts, r.impacts, r.status, r.theta_max) == (0, 0, "t_max", 0.0)
+    assert (r.uplifts, r.impacts, r.status, r.theta_max) == (0, 0, "below_barrier", 0.0)
     check_history(r, problem)
     h = r.history
     assert np.all(h["phase"] == CONTACT) and np.all(h["theta"] == 0) and np.all(h["dtheta"] == 0)
@@ -861,11 +861,12 @@ def test_max_steps_ends_the_run_at_the_start_of_a_segment(backend, max_steps):
 
 @pytest.mark.parametrize("t_max", [2.0, None], ids=["while rocking", "after the pulse"])
 def test_t_max_ends_the_run(backend, t_max):
-    """Rule 4: at t_max, status "t_max", t_end exactly t_max (an undamped damper never rests)."""
+    """Rule 4: at t_max, t_end exactly t_max (an undamped damper never rests); after the pulse, with far too
+    little energy to overturn, status "below_barrier"."""
     damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, zeta=0.0, h=0.05)
     problem = reference_problem(1.3, 4.0, damper, rtol=1e-8, t_max=t_max, t_after=3.0, early_rest=False)
     r = simulate(backend, problem, record=True)
-    assert r.status == "t_max" and r.t_end == problem.t_max
+    assert r.status == "below_barrier" and r.t_end == problem.t_max
     assert r.x_max > 0 and r.x_max >= np.max(np.abs(r.history["x"]))
     check_history(r, problem)
 
@@ -909,7 +910,7 @@ def test_early_rest_at_the_pulse_end_settles_the_damper_to_its_next_extremum(bac
     assert h["phase"][-1] == CONTACT and abs(h["dx"][-1]) < 1e-9 * damper.omega_m * early.x_max
     assert abs(h["x"][-1]) == pytest.approx(early.x_max, rel=1e-12)
     full = simulate(backend, dataclasses.replace(problem, early_rest=False))
-    assert (full.status, full.uplifts) == ("t_max", 0)
+    assert (full.status, full.uplifts) == ("below_barrier", 0)
     assert early.x_max == pytest.approx(full.x_max, rel=1e-9)
 
 
@@ -936,7 +937,7 @@ def test_early_rest_located_during_a_contact_phase(backend):
     assert r.t_end == pytest.approx(t_second, abs=1e-8)
     assert r.x_max == pytest.approx(abs(motion(t_first)[0]), rel=1e-8)  # the first peak is the largest
     full = simulate(backend, dataclasses.replace(problem, early_rest=False))
-    assert (full.status, full.uplifts) == ("t_max", 0)  # it could indeed never lift again
+    assert (full.status, full.uplifts) == ("below_barrier", 0)  # it could indeed never lift again
     assert r.x_max == pytest.approx(full.x_max, rel=1e-9)
 
 
@@ -945,7 +946,7 @@ def test_early_rest_after_a_pulse_below_the_thresholds(backend):
     problem = reference_problem(0.5, 3.0, DAMPER, rtol=1e-9, t_after=4.0)  # below both uplift thresholds
     early = simulate(backend, problem, record=True)
     full = simulate(backend, dataclasses.replace(problem, early_rest=False))
-    assert (early.status, full.status) == ("rest", "t_max")
+    assert (early.status, full.status) == ("rest", "below_barrier")
     wd = DAMPER.omega_m * math.sqrt(1 - DAMPER.zeta**2)
     assert problem.t_p < early.t_end < problem.t_p + math.pi / wd
     # ... at an extremum of x, which here is the largest |x| of the whole run (settling matters).
@@ -1089,7 +1090,7 @@ def test_history_layout(backend):
     h = r.history
     n = len(h["t"])
     assert n > problem.t_max / problem.record_dt
-    assert r.impacts > 0 and r.status == "t_max"
+    assert r.impacts > 0 and r.status == "below_barrier"
     assert len(impact_rows(h)) == r.impacts  # impacts: before and after at one instant
     assert len(np.flatnonzero(np.diff(h["t"]) == 0)) >= r.impacts + r.uplifts
     k = h["t"] / problem.record_dt
@@ -1176,7 +1177,7 @@ def test_a_function_that_only_touches_zero_fires_no_event(backend):
     block = Block.from_nondim(alpha=0.1054658490165491, p=0.5)
     still = OneSinePulse(a_g=0.0, omega_g=1.0)
     r = simulate(backend, make_problem(block, None, still, t_after=0.5, energy_rest=0.0, early_rest=False))
-    assert (r.status, r.t_end) == ("t_max", still.t_p + 0.5)
+    assert (r.status, r.t_end) == ("below_barrier", still.t_p + 0.5)
 
 
 # =========================================================================== #

@@ -65,7 +65,9 @@ def test_the_verdict_and_the_maxima_are_those_of_the_run_followed_to_rest(kind):
         assert _same(early[name], full[name]).all(), name
     bounded = early["status"] == STATUS.index("bounded")
     assert np.array_equal(early["status"][~bounded], full["status"][~bounded])
-    assert np.all(np.isin(full["status"][bounded], [STATUS.index("rest"), STATUS.index("t_max")]))
+    # Followed to rest, they came to rest or reached t_max (with too little energy to overturn, or not).
+    ends = [STATUS.index(status) for status in ("rest", "t_max", "below_barrier")]
+    assert np.all(np.isin(full["status"][bounded], ends))
     assert np.all(early["impacts"] <= full["impacts"]) and np.all(early["t_end"] <= full["t_end"])
     # Most safe responses end early (with stops, only those whose mass never reached a bumper).
     safe = ~early["overturned"]
@@ -138,3 +140,44 @@ def test_the_command_line_follows_to_rest_on_request(capsys):
     early, full = runs
     assert (early["status"], full["status"]) == ("bounded", "rest")
     assert early["theta_max"] == full["theta_max"] and early["impacts"] < full["impacts"]
+
+
+# --- a run that reaches t_max: its energy against the least potential on the way to overturning -----------
+
+#: A large slender block (lambda = 8, p = 1 rad/s, R = 7.4 m) and its damper: its small rocking and the damper's
+#: slow decay (zeta = 0.05 at omega_m = p) outlast the default 15 s after the pulse.
+BIG = Block.from_nondim(lam=8.0, p=1.0)
+BIG_DAMPER = Damper.from_nondim(BIG, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+
+
+def test_a_run_at_t_max_with_too_little_energy_to_overturn_is_safe_on_both_back_ends():
+    pulse = rocking.OneSinePulse.from_nondim(BIG, beta=2.0, Omega=7.0)
+    c, py = (rocking.simulate(BIG, BIG_DAMPER, pulse, backend=b) for b in ("c", "numpy"))
+    assert c.status == py.status == "below_barrier" and not c.overturned
+    assert py.theta_max == pytest.approx(c.theta_max, rel=1e-6)
+    # Followed far longer, it ends with the early verdict, never overturning, at the same maximum.
+    longer = rocking.simulate(BIG, BIG_DAMPER, pulse, t_after=200.0)
+    assert longer.status == "bounded" and longer.theta_max == c.theta_max
+
+
+def test_runs_below_the_barrier_never_overturn_when_followed_longer():
+    Omega, beta = np.meshgrid(np.linspace(2.0, 12.0, 6), np.linspace(1.0, 8.0, 6), indexing="ij")
+    short = run_cases(pulse_cases(BIG, Omega, beta, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05), "c", 1)
+    status = np.asarray(short["status"])
+    safe = status == STATUS.index("below_barrier")
+    assert safe.sum() >= 3  # the check below is not empty
+    longer = run_cases(
+        pulse_cases(BIG, Omega.ravel()[safe], beta.ravel()[safe], gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05,
+                    t_after=300.0),
+        "c",
+        1,
+    )  # fmt: skip
+    assert not np.any(longer["overturned"])
+    assert np.all(np.asarray(longer["theta_max"]) >= np.asarray(short["theta_max"])[safe])
+
+
+def test_a_run_cut_with_the_energy_to_overturn_has_no_verdict():
+    block = Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=3.0, Omega=4.0)
+    cut = rocking.simulate(block, None, pulse, t_max=1.0)
+    assert cut.status == "t_max" and rocking.simulate(block, None, pulse).overturned

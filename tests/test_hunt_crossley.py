@@ -264,7 +264,7 @@ def test_simulate_with_hunt_crossley_pads_is_the_python_api(capsys):
         assert out == json.loads(json.dumps(expected))
     for options, message in (
         (["--e-b", "0.8", "--bumper-law", "kelvin-voigt"], "--e-b: parameters of the Hunt-Crossley pads"),
-        (["--bumper-law", "hunt-crossley", "--c-b", "3"], "c_b must be 0 with law='hunt-crossley'"),
+        (["--bumper-law", "hunt-crossley", "--c-b", "3"], "--c-b must be 0 with law='hunt-crossley'"),
         (["--e-b", "0"], r"--e-b must be in \(0, 1\]"),
     ):
         assert main([*argv, *options]) == 2

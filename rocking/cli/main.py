@@ -393,9 +393,9 @@ def _print_summary(block, pulse, responses, models) -> None:
             )
 
 
-#: Statuses of a run that ended with its verdict: overturned, at rest, or bounded for good (docs/simulation.md
-#: rule 4). Any other run was cut short (or left the model's scope, flight): it has no verdict.
-VERDICT_STATUSES = ("overturned", "rest", "bounded")
+#: Statuses of a run that ended with its verdict: overturned, at rest, bounded for good or below the barrier
+#: (docs/simulation.md rule 4). Any other run was cut short (or left the model's scope, flight): it has no verdict.
+VERDICT_STATUSES = ("overturned", "rest", "bounded", "below_barrier")
 
 #: Why a run cut short has no verdict, by status: the bound it reached (formatted with the run's settings and
 #: its end, ``t_end``) and the way to a verdict.

@@ -31,7 +31,7 @@ from ..model import motion
 from ..model.checks import RANGES, ParameterError, shown
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 7
+API_VERSION = 8
 
 DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "series"
 
@@ -240,6 +240,12 @@ STATUSES = (
     Code("max_steps", 4, "the work of the run passed max_steps (rule 5)"),
     Code("bounded", 5, "after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4)"),
     Code("flight", 6, "g + agy(t) <= 0 in contact or rocking: the base may leave the ground, out of scope"),
+    Code(
+        "below_barrier",
+        7,
+        "t_max reached after the pulse, the energy below the least potential on the way to overturning: safe, its "
+        "maxima those until t_max (rule 4)",
+    ),
 )
 #: Status code of a run whose step size underflowed (a non-finite right-hand side); never a result.
 FAILED = Code("failed", -1, "the step size underflowed (non-finite right-hand side, ...)")
@@ -288,13 +294,15 @@ CONSTANTS = (
     Constant("ARC_STEP", 0.05, "widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4)"),
     Constant("FIRST_STEP_FRACTION", 0.25, "first step after an impact, as a fraction of the expected half-cycle"),
     Constant("RICKER_ANTI_PEAK", motion.RICKER_ANTI_PEAK, "peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2"),
+    Constant("BARRIER_TILTS", 64, "a run at t_max is bounded at the tilts k pi / (2 BARRIER_TILTS), 0 < k < it"),
 )
 
 STATUS = tuple(code.name for code in STATUSES)
 #: Statuses of a run cut short by a bound on its work: whether the block would overturn is not known.
 UNDETERMINED = ("max_events", "max_steps")
 CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
-SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _ = (constant.value for constant in CONSTANTS)
+SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _, _TILTS = (constant.value for constant in CONSTANTS)
+BARRIER_TILTS = int(_TILTS)
 #: The code of each ground-motion family by name.
 MOTION = {code.name: code.value for code in MOTIONS}
 

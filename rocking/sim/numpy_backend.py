@@ -25,6 +25,7 @@ the same; the state of a run lives in :class:`_Run`, sim.c's ``struct run``:
 - :func:`uplift_at_start`: ``uplift_at_start``;
 - :func:`end_at_start`: the ``t >= t_p`` checks of that block;
 - :func:`verdict_final`: ``verdict_final``; ``_System.verdict_bound``: ``verdict_bound``
+  (:func:`status_at_t_max` and ``_System.barrier_bound``: ``safe_at_t_max``)
   (with ``least_at_tilt``, ``least_on_arcs``, ``stops_out_of_reach`` and ``least_at_bumpers``);
 - :func:`settled_at_once`: ``settled_at_once``;
 - :func:`run_segment`: ``run_segment``;
@@ -60,7 +61,7 @@ from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from ..model.params import ParameterError
-from .boundary import ARC_STEP, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
+from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
 from .history import first_sample_after
 from .problem import Problem, Response, SimulationError
 
@@ -289,6 +290,19 @@ class _System:
             at0, at1 = self.stop_gap(i, self._at(0.0, 0.0)), self.stop_gap(i, self._at(0.0, 1.0))
             least = _lower(least, self.least_on_arcs(theta_m, abs(at0 / (at0 - at1))))
         return least
+
+    def barrier_bound(self) -> float:
+        """The energy above rest below which the block can never overturn: the greatest least potential at
+        :data:`BARRIER_TILTS` tilts below ``pi/2`` about either pivot (every run that overturns passes them all),
+        less ``E(0)`` and the margin; ``-inf`` when no bound applies (rule 4)."""
+        least = -math.inf
+        for i in range(1, BARRIER_TILTS):
+            at = self.least_at_tilt(0.5 * math.pi * i / BARRIER_TILTS)
+            if at > least:  # a NaN is no bound
+                least = at
+        zero = self.energy_at_rest
+        bound = least - zero - SAFE_MARGIN * (abs(least) + abs(zero))
+        return -math.inf if math.isnan(bound) else bound
 
     def verdict_bound(self, theta_m: float, x_m: float) -> float:
         """The energy above rest below which ``|theta|`` can no longer reach ``theta_m``, ``|q[1]|`` ``x_m``,
@@ -1099,6 +1113,17 @@ def settled_at_once(run: _Run) -> bool:
     return n == 1 or run.y[n + 1] == 0.0
 
 
+def status_at_t_max(run: _Run) -> str:
+    """Why a run that reached ``t_max`` ended: ``"below_barrier"`` after the pulse with an energy that can never
+    carry the block to overturning (:meth:`_System.barrier_bound`: safe, its maxima those until ``t_max``), else
+    ``"t_max"`` (no verdict)."""
+    if run.t >= run.problem.t_p:
+        s = -1 if run.phase < 0 else 1
+        if run.system.energy_above_rest(run.y, tuple(run.stop_on), s) < run.system.barrier_bound():
+            return "below_barrier"
+    return "t_max"
+
+
 def verdict_final(run: _Run) -> bool:
     """After the pulse, the energy can no longer carry ``|theta|`` or ``|q[1]|`` to their maxima (rule 4).
 
@@ -1338,7 +1363,7 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
     """
     if event is None:
         if t_bound == run.problem.t_max:
-            return "t_max"
+            return status_at_t_max(run)
         run.t = t_bound  # exactly the breakpoint (rule 3); the same phase restarts from here
     elif event in (UPLIFT_A, UPLIFT_A_PRIME):
         # theta and dtheta are exactly 0 in full contact: the state carries over.
@@ -1386,7 +1411,7 @@ def phase_machine(run: _Run) -> str:
         if run.t >= problem.t_flight:  # the base may leave the ground: out of scope (docs/model.md section 14)
             return "flight"
         if run.t >= problem.t_max:
-            return "t_max"
+            return status_at_t_max(run)
         run.pulse_on = run.t < problem.t_p
         if run.phase == CONTACT:
             status = contact_start(run)

@@ -4,12 +4,13 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 7
+#define ROCKING_SIM_API_VERSION 8
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the energy bounds of the early rest and verdict (rule 4) */
 #define ROCKING_ARC_STEP 0.05 /* widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4) */
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
 #define ROCKING_RICKER_ANTI_PEAK 0.9758915363849756 /* peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2 */
+#define ROCKING_BARRIER_TILTS 64 /* a run at t_max is bounded at the tilts k pi / (2 BARRIER_TILTS), 0 < k < it */
 
 enum rocking_status {
     ROCKING_OVERTURNED = 0, /* |theta| reached pi/2 */
@@ -19,6 +20,7 @@ enum rocking_status {
     ROCKING_MAX_STEPS = 4, /* the work of the run passed max_steps (rule 5) */
     ROCKING_BOUNDED = 5, /* after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4) */
     ROCKING_FLIGHT = 6, /* g + agy(t) <= 0 in contact or rocking: the base may leave the ground, out of scope */
+    ROCKING_BELOW_BARRIER = 7, /* t_max reached after the pulse, the energy below the least potential on the way to overturning: safe, its maxima those until t_max (rule 4) */
     ROCKING_FAILED = -1, /* the step size underflowed (non-finite right-hand side, ...) */
     ROCKING_STOPPED = -2, /* stopped by the caller's stop flag (Python: KeyboardInterrupt) */
 };
@@ -91,6 +93,6 @@ typedef struct rocking_result {
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_BARRIER_TILTS) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_BELOW_BARRIER) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
 
 #endif

@@ -1590,6 +1590,24 @@ static double below_least(double least, double zero)
     return least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
 }
 
+/* t_max reached: after the pulse, an energy below the least potential at some tilt |theta| < pi/2 about either
+ * pivot (least_at_tilt) can never carry the block past that tilt, which every run that overturns passes: the
+ * run is safe, its maxima those until t_max (rule 4); otherwise it has no verdict. Models whose energy may grow
+ * get -inf from least_potential, hence no bound. */
+static int safe_at_t_max(const run *r)
+{
+    double least = -INFINITY;
+    int i;
+    if (!(r->t >= r->c->t_p))
+        return ROCKING_T_MAX;
+    for (i = 1; i < ROCKING_BARRIER_TILTS; ++i) {
+        const double at = least_at_tilt(r, HALF_PI * i / ROCKING_BARRIER_TILTS);
+        if (at > least) /* a NaN is no bound */
+            least = at;
+    }
+    return energy_above_rest(r) < below_least(least, r->ec.energy_zero) ? ROCKING_BELOW_BARRIER : ROCKING_T_MAX;
+}
+
 /* The energy above rest below which |theta| can no longer reach theta_max,
  * |q[1]| x_max, nor, where x_max is past a bumper's gap, the mass that gap
  * (rule 4): the least potential there less E(0), less the margin; -inf when
@@ -1800,7 +1818,7 @@ static void phase_machine(run *r)
             return;
         }
         if (r->t >= c->t_max) {
-            r->res->status = ROCKING_T_MAX;
+            r->res->status = safe_at_t_max(r);
             return;
         }
         if (r->phase == 0) {
@@ -1858,7 +1876,7 @@ static void phase_machine(run *r)
         switch (ended) {
         case SEG_BOUND:
             if (t_bound == c->t_max) {
-                r->res->status = ROCKING_T_MAX;
+                r->res->status = safe_at_t_max(r);
                 return;
             }
             break; /* a breakpoint: the same phase restarts from there */
