@@ -552,3 +552,14 @@ def test_simulate_names_the_flag_the_user_typed(tmp_path, monkeypatch, capsys, a
     assert main(["simulate", *motion, *argv]) == 2
     err = capsys.readouterr().err.strip()
     assert len(err.splitlines()) == 1 and message in err, err
+
+
+def test_simulate_says_why_a_run_at_t_max_below_the_barrier_is_safe(capsys):
+    """A large slender block whose damper's slow decay outlasts t_max: safe, proven by its energy (status
+    below_barrier)."""
+    argv = ["simulate", "--lam", "8", "--p", "1", "--beta", "2", "--Omega", "7", "--gamma", "0.05"]
+    argv += ["--omega-ratio", "1"]
+    assert main(argv) == 0
+    lines = capsys.readouterr().out.splitlines()
+    assert lines[1].startswith("  with damper: survives; ") and lines[1].endswith("(below_barrier)")
+    assert lines[2].startswith("  with damper: safe at t_max = ") and "least on the way to overturning" in lines[2]

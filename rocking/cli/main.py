@@ -384,6 +384,11 @@ def _print_summary(block, pulse, responses, models) -> None:
             )
         if r.status in NO_VERDICT:
             print(f"  {label}: NO VERDICT: {_no_verdict_text(r)}")
+        if r.status == "below_barrier":
+            print(
+                f"  {label}: safe at t_max = {r.t_end:g} s: the energy left is below the least on the way to "
+                "overturning (docs/simulation.md rule 5); theta_max and x_max are those until then"
+            )
         if mass_past_edge(r, block.B / 2, models[label]):
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
         if r.sensitive:
