@@ -6,7 +6,8 @@ Independent of both back ends and of the generated code: the equations are those
 from the state, ``max(0, k_b delta + c_b ddelta)`` (Hunt-Crossley: ``k_b delta^n (1 + chi ddelta / v_in)``,
 ``> 0`` only) where ``delta > 0``, so a pad's state can never be carried over a jump of ``dx``. The zeros of
 each pad's contact ``min(delta, bracket)`` end an integration (the force has a kink or, Kelvin-Voigt, a jump
-there), which restarts ``RESTART`` seconds later on the dense output. The only memory is a Hunt-Crossley
+there), which restarts ``RESTART`` seconds later on the dense output (at the end of the step that found
+it, if sooner: its stages past the zero saw the force change). The only memory is a Hunt-Crossley
 pad's approach speed ``v_in`` (docs/simulation.md, rule 6): ``max(ddelta, v_f)`` where a gap closes and at
 the start, and ``max(v_in, ddelta)`` after an impact that changes ``ddelta`` with the mass in the pad.
 
@@ -246,9 +247,10 @@ def plain_run(problem, t_end: float, floor: float | None = None, rtol: float = 1
             t = bound
             continue
         kind = fired[0]
-        if kind < 2:  # a pad's zero: restart just after it, on the dense output
+        if kind < 2:  # a pad's zero: restart just after it, on the dense output, within the step that found it
             before = sol.sol(t - RESTART)
-            t = t + RESTART
+            end = float(sol.sol.interpolants[-1].t)
+            t = min(t + RESTART, end) if end > t else t + RESTART
             y = np.array(sol.sol(t))
             _close_memory(plain, before, y)
             _count(result, plain.pushing(before), plain.pushing(y))
@@ -281,3 +283,45 @@ def plain_run(problem, t_end: float, floor: float | None = None, rtol: float = 1
         result.rows.append((t, *y, phase))
     result.t_end = t
     return result
+
+
+def applied_force(problem, history: dict, floor: float | None = None) -> tuple[np.ndarray, np.ndarray]:
+    """The pads' force a recorded run applied, and the law's at the same rows.
+
+    The applied force is read off the recorded motion: the accelerations by central differences of the
+    recorded velocities on three consecutive rows equally spaced in one phase (samples with no event between
+    them), less those of the free guide (``rocking.reference.paper`` without stops), give the generalised
+    force on ``x``, ``-sign(x) F_b``. The law's is :func:`rocking.reference.paper.stop_forces` at the state,
+    a Hunt-Crossley pad with the memory the history gives (``rocking.sim.pad_memory``).
+
+    Returns
+    -------
+    applied, law : ndarray
+        At each such row [N].
+    """
+    from rocking.sim.pad_memory import memory
+
+    p = dict(zip(problem.model.parameters, (float(v) for v in problem.p)))
+    b = {k: p[k] for k in BODY}
+    t, phase, ag = history["t"], history["phase"], history["ag"]
+    theta, x, dtheta, dx = (history[k] for k in ("theta", "x", "dtheta", "dx"))
+    k = np.arange(1, len(t) - 1)
+    before, after = t[k] - t[k - 1], t[k + 1] - t[k]
+    even = (before > 0) & (np.abs(after - before) <= 1e-6 * before)
+    k = k[even & (phase[k - 1] == phase[k]) & (phase[k + 1] == phase[k])]
+    span = t[k + 1] - t[k - 1]
+    ddtheta, ddx = (dtheta[k + 1] - dtheta[k - 1]) / span, (dx[k + 1] - dx[k - 1]) / span
+    s = np.where(phase[k] == 0, 1.0, phase[k].astype(float))
+    keys = ("M", "I_G", "B", "H", "e", "m", "h")
+    (_, _), (m21, m22) = paper.mass_matrix(s, theta[k], x[k], *(b[n] for n in keys))
+    rest = ("M", "B", "H", "e", "g", "m", "h", "k_m", "c")
+    _, f2 = paper.forcing(s, theta[k], x[k], dtheta[k], dx[k], ag[k], 0.0, *(b[n] for n in rest))
+    rocking_q = m21 * ddtheta + m22 * ddx - f2
+    contact_q = b["m"] * ddx - b["m"] * paper.contact_accel(x[k], dx[k], ag[k], b["m"], b["k_m"], b["c"])
+    applied = -np.sign(x[k]) * np.where(phase[k] == 0, contact_q, rocking_q)
+    if "e_b" in p:
+        v_in = tuple(v[k] for v in memory(problem.model, list(problem.p), history))
+        law = {"L": p["L"], "k_b": p["k_b"], "n_b": p["n_b"], "e_b": p["e_b"], "floor": floor, "v_in": v_in}
+    else:
+        law = {"L": p["L"], "k_b": p["k_b"], "c_b": p["c_b"]}
+    return applied, np.max(paper.stop_forces(x[k], dx[k], **law), axis=0)
