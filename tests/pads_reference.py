@@ -28,6 +28,7 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from scipy.optimize import minimize_scalar
 
+import rocking
 from rocking.reference import paper
 
 #: The restart after a pad's zero: far below any time scale of the runs here, far above the located root's error.
@@ -35,6 +36,8 @@ RESTART = 1e-10
 #: Points of the dense output per step where the pads' force is looked at before its maxima are polished.
 GRID = 8
 BODY = ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c")
+#: The pulse families of :func:`random_case`.
+FAMILIES = ("sine", "cosine", "ricker", "ricker_anti", "mp")
 
 
 @dataclass
@@ -325,3 +328,29 @@ def applied_force(problem, history: dict, floor: float | None = None) -> tuple[n
     else:
         law = {"L": p["L"], "k_b": p["k_b"], "c_b": p["c_b"]}
     return applied, np.max(paper.stop_forces(x[k], dx[k], **law), axis=0)
+
+
+def pulse(rng, family: str, threshold: float):
+    """A pulse of ``family`` of 1.2-3 times the uplift threshold, ``omega_g`` 4-12 rad/s, either sign."""
+    a_g, omega_g, sign = threshold * rng.uniform(1.2, 3.0), rng.uniform(4.0, 12.0), int(rng.choice([-1, 1]))
+    if family == "sine":
+        return rocking.OneSinePulse(a_g=a_g, omega_g=omega_g, sign=sign)
+    if family == "cosine":
+        return rocking.OneCosinePulse(a_g=a_g, omega_g=omega_g, sign=sign)
+    if family == "mp":
+        return rocking.MavroeidisPapageorgiou(a_g=a_g, omega_g=omega_g, gamma_mp=2.5, sign=sign)
+    return rocking.RickerWavelet(a_g=a_g, omega_g=omega_g, antisymmetric=family == "ricker_anti", sign=sign)
+
+
+def random_case(rng, law: str, family: str):
+    """A random block, damper with pads of ``law``, and pulse of ``family`` (the ranges of ``bench/pads.py``)."""
+    H, B = rng.uniform(1.5, 3.0), rng.uniform(0.4, 0.8)
+    block = rocking.Block(H=H, B=B, M=1000.0, e=rng.uniform(-0.02, 0.02))
+    m, w_m = 100.0, rng.uniform(1.5, 3.0)
+    L, k_b = rng.uniform(0.08, 0.2), 10 ** rng.uniform(5.0, 6.5)
+    if law == "kelvin-voigt":
+        stops = rocking.Stops(L=L, k_b=k_b, c_b=2 * rng.uniform(0.05, 0.4) * np.sqrt(k_b * m))
+    else:
+        stops = rocking.Stops(L=L, k_b=k_b, law=law, n=float(rng.choice([1.0, 1.5])), e_b=rng.uniform(0.3, 0.95))
+    damper = rocking.Damper(m=m, k_m=m * w_m**2, c=2 * rng.uniform(0.0, 0.2) * m * w_m, h=0.08, stops=stops)
+    return block, damper, pulse(rng, family, block.g * B / H)

@@ -473,7 +473,7 @@ class _System:
         """The largest bumper force over a segment whose pads push, ``best`` the largest before it (rule 6).
 
         Each step's dense output at the quarters of the step; where the largest of those and of the step's
-        ends passes ``best``, :func:`step_peak` finds the step's maximum.
+        ends reaches ``best``, :func:`step_peak` finds the step's maximum.
         """
         t = sol.t
         h = np.diff(t)
@@ -486,7 +486,8 @@ class _System:
         samples = np.column_stack([ends[:-1], inner, ends[1:]])
         for j in range(len(h)):
             row = samples[j]
-            if row.max() > best:
+            # At the maximum so far too: a step that starts at it (the last one's end) may climb past it.
+            if row.max() >= best and row.max() > 0.0:
                 best = step_peak(lambda x, j=j: self.bumper_force(sol.sol(t[j] + x * h[j])), row)
         return best
 

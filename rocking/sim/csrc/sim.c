@@ -1278,7 +1278,7 @@ static double bumper_force_in_step(run *r, double t_end, double x)
 #define PEAK_WIDTH 1e-5
 
 /* While a pad pushes, the peak of the bumpers' force over the last step up to t_end (rule 6): the dense
- * output at the quarters of the step; where the largest of those passes bumper_force_max, the step's
+ * output at the quarters of the step; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
  * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
  * neighbours. The same operations as numpy_backend.step_peak. */
@@ -1296,7 +1296,8 @@ static void step_peak(run *r, double t_end, const double *y_end)
         if (f[i] > f[k])
             k = i;
     best = f[k];
-    if (!(best > r->res->bumper_force_max))
+    /* At the maximum so far too: a step that starts at it (the last one's end) may climb past it. */
+    if (!(best >= r->res->bumper_force_max && best > 0.0))
         return;
     r->res->bumper_force_max = best;
     if (k == n && 3.0 * f[n] - 4.0 * f[n - 1] + f[n - 2] > 0.0)
