@@ -472,8 +472,8 @@ class _System:
     def bumper_peak(self, sol, best: float) -> float:
         """The largest bumper force over a segment whose pads push, ``best`` the largest before it (rule 6).
 
-        Each step's dense output at the quarters of the step; where the largest of those and of the step's
-        ends reaches ``best``, :func:`step_peak` finds the step's maximum.
+        Each step's dense output at its middle; where the largest of that and of the step's ends
+        reaches ``best``, :func:`step_peak` finds the step's maximum.
         """
         t = sol.t
         h = np.diff(t)
@@ -529,7 +529,7 @@ class _System:
 
 
 #: Where a step's dense output is looked at for the peak of a bumper's force, in fractions of the step (rule 6).
-PEAK_SAMPLES = np.linspace(0.0, 1.0, 5)
+PEAK_SAMPLES = np.linspace(0.0, 1.0, 3)
 #: The golden-section search for that peak stops at this width, in fractions of the step.
 PEAK_WIDTH = 1e-5
 

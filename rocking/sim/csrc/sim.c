@@ -1272,13 +1272,13 @@ static double bumper_force_in_step(run *r, double t_end, double x)
     return bumper_force(r, y);
 }
 
-/* Where a step's dense output is looked at for the peak of a bumper's force, in quarters of the step;
+/* Where a step's dense output is looked at for the peak of a bumper's force: its ends and middle;
  * the golden-section search for it stops at PEAK_WIDTH of the step (numpy_backend.step_peak). */
-#define PEAK_POINTS 5
+#define PEAK_POINTS 3
 #define PEAK_WIDTH 1e-5
 
 /* While a pad pushes, the peak of the bumpers' force over the last step up to t_end (rule 6): the dense
- * output at the quarters of the step; where the largest of those reaches bumper_force_max, the step's
+ * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
  * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
  * neighbours. The same operations as numpy_backend.step_peak. */
