@@ -488,7 +488,12 @@ class _System:
             row = samples[j]
             # At the maximum so far too: a step that starts at it (the last one's end) may climb past it.
             if row.max() >= best and row.max() > 0.0:
-                best = step_peak(lambda x, j=j: self.bumper_force(sol.sol(t[j] + x * h[j])), row)
+                t0, step = float(t[j]), float(h[j])
+
+                def force(x: float, t0: float = t0, step: float = step) -> float:
+                    return self.bumper_force(sol.sol(t0 + x * step))
+
+                best = step_peak(force, row)
         return best
 
     def largest_bumper_force(self, states: np.ndarray) -> float:

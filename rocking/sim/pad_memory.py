@@ -57,7 +57,7 @@ def memory(model, p, history: dict) -> list[np.ndarray]:
         changed = jump & inside[i] & np.concatenate(([False], rates[i][1:] != rates[i][:-1]))
         candidates |= entered | turned | changed
     start = 0
-    for row in np.flatnonzero(candidates):
+    for row in np.flatnonzero(candidates).tolist():
         for j in range(len(memories)):
             out[j][start:row] = memories[j]
         memories = _next_memory(model, p, y, floors, gaps, rates, jump, row, memories)
