@@ -63,8 +63,8 @@ def landing(request):
 
 @pytest.mark.parametrize("backend", BACKENDS)
 def test_a_landing_inside_a_pad_follows_the_documented_law(landing, backend):
-    """Counts and maxima of the run are those of the law integrated plainly, to the integrators' tolerance, and
-    the run does land with the mass inside a pad, whose force changes there."""
+    """Counts and maxima of the run are those of the law integrated plainly, to the integrators' tolerance, the
+    run does land with the mass inside a pad, whose force changes there, and its events count its contacts."""
     problem, responses, reference = landing
     r = responses[backend]
     assert (r.stop_contacts, r.impacts, r.overturned) == (reference.stop_contacts, reference.impacts, False)
@@ -78,6 +78,8 @@ def test_a_landing_inside_a_pad_follows_the_documented_law(landing, backend):
     assert inside.size > 0
     forces = quantities(problem.model, problem.p, h, np.arange(len(h["t"])))["F_b"]
     assert np.any(forces[inside] != forces[inside - 1])
+    # The history's events read each pad's regime (and memory) as the run did.
+    assert (r.events()["kind"] == "bumper_contact").sum() == r.stop_contacts
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
