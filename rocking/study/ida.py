@@ -508,5 +508,6 @@ def tables(data, config: dict) -> dict:
     for part in PARTS:
         for k in ("first", "last_safe", "reversals", "sensitive_responses"):
             motions[f"{part}_{k}"] = data[k].sel(part=part).values
-    fits = {"part": np.array(PARTS), **{k: data[k].values for k in (*FIT, *COUNTS)}}
+    # A study saved before median_extrapolated was kept (its format is the same) still loads, without that column.
+    fits = {"part": np.array(PARTS), **{k: data[k].values for k in (*FIT, *COUNTS) if k in data}}
     return {kind: rows, f"{kind}-motions": motions, f"{kind}-fit": fits}
