@@ -9,6 +9,6 @@ BUILTIN_MANIFESTS = {
     "omd": "29e86844c386cf7e1524c28e8ef6d43e66bb193682863c311797f5173f42b8ae",
     "omd2": "c10099da4f5e89528173c5366a87c5cccf61f4c96ac059ea84f4f7c2724bdd22",
     "omd_stops": "48942d00f73e0a109a50a958686ad12d9a5b920ea0af1db2141e4132e73797ea",
-    "omd_stops_hc": "d7a7a8952d0e9720af093296d6595de3a658db82ce2861260150cf86a78e771e",
+    "omd_stops_hc": "59f0536877cf65e9a3cedebdea206c5fa63cbcf8d158a2a6f117b92af1ee425f",
     "pendulum": "53fd251a03555511fdf744bd84db3604134e1a5b9deca3cdc685ea81e06bc0bb",
 }
