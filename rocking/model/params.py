@@ -304,6 +304,11 @@ BUMPER_RESTITUTION = 0.57
 _GAP_SERIES_TERMS = 24
 
 
+def _alternating_gap(e: float, k: int) -> float:
+    """``(-1)^k - e^k``; for even ``k`` as ``(1 - e) (1 + e + ... + e^(k-1))``, exact as ``e -> 1``."""
+    return (1.0 - e) * math.fsum(e**j for j in range(k)) if k % 2 == 0 else -1.0 - e**k
+
+
 def _restitution_gap(chi: float, e: float) -> float:
     """``(chi (1 + e) - ln((1 + chi) / (1 - chi e))) / chi^2``: > 0 where a Hunt-Crossley pad of damping factor
     ``chi`` restitutes more than ``e``, < 0 where less, 0 where exactly ``e`` (docs/model.md section 11).
@@ -313,10 +318,10 @@ def _restitution_gap(chi: float, e: float) -> float:
     (``w`` from 1 to 0) and rebound (0 to ``-e``) span the same ``s``, which is the root of this gap. Divided by
     ``chi^2`` it keeps its sign as ``chi -> 0`` (the root ``chi = 0`` of the numerator is no pad's); below
     ``chi = 0.05`` it is summed as its series ``sum_k>=2 chi^(k-2) ((-1)^k - e^k) / k``, which the direct form
-    would lose to cancellation.
+    would lose to cancellation (and so would ``1 - e^2`` computed as it reads, as ``e -> 1``).
     """
     if chi < 0.05:
-        return math.fsum(chi ** (k - 2) * ((-1) ** k - e**k) / k for k in range(2, 2 + _GAP_SERIES_TERMS))
+        return math.fsum(chi ** (k - 2) * _alternating_gap(e, k) / k for k in range(2, 2 + _GAP_SERIES_TERMS))
     if chi * e >= 1.0:  # the pad would let go before the mass leaves at e: it restitutes less
         return -math.inf
     return (chi * (1.0 + e) - math.log1p(chi) + math.log1p(-chi * e)) / chi**2
