@@ -296,8 +296,22 @@ HC_REFERENCE_PENETRATION = 1e-3
 #: Default bumper damping ratio: a restitution of 0.57 for a pad that only pushes (docs/model.md section 11;
 #: exp(-0.2 pi / sqrt(0.96)) = 0.53 if it could pull), a rubber pad's.
 BUMPER_DAMPING_RATIO = 0.2
-#: Default restitution of a Hunt-Crossley pad (Stops.at_edges): that of the Kelvin-Voigt default pad, 0.57.
-BUMPER_RESTITUTION = 0.57
+
+
+def kelvin_voigt_restitution(zeta_b: float) -> float:
+    """The restitution of one impact of a mass on a Kelvin-Voigt pad that only pushes, of damping ratio ``zeta_b``
+    in ``[0, 1)`` (docs/model.md section 11): the pad lets go where ``k_b delta + c_b ddelta`` falls to 0, at
+    ``omega_d t_r = pi - atan2(2 zeta_b sqrt(1 - zeta_b^2), 1 - 2 zeta_b^2)``, and the mass leaves at
+    ``exp(-zeta_b omega_n t_r) (zeta_b / sqrt(1 - zeta_b^2) sin(omega_d t_r) - cos(omega_d t_r))`` of its
+    approach speed (a pad that could pull would give ``exp(-zeta_b pi / sqrt(1 - zeta_b^2))``)."""
+    root = math.sqrt(1.0 - zeta_b**2)
+    phase = math.pi - math.atan2(2.0 * zeta_b * root, 1.0 - 2.0 * zeta_b**2)  # omega_d t_r
+    return math.exp(-zeta_b * phase / root) * (zeta_b / root * math.sin(phase) - math.cos(phase))
+
+
+#: Default restitution of a Hunt-Crossley pad (Stops.at_edges): that of the Kelvin-Voigt default pad, 0.5717, so
+#: that the two laws' default pads restitute alike (bench/stops_laws.py).
+BUMPER_RESTITUTION = kelvin_voigt_restitution(BUMPER_DAMPING_RATIO)
 
 
 #: Terms of the series of :func:`_restitution_gap` below ``chi`` = 0.05: the 24th is below 1e-29 of the first.
@@ -530,8 +544,8 @@ class Stops:
         law : {"kelvin-voigt", "hunt-crossley"}, optional
             The pads' contact law. Default ``"kelvin-voigt"``.
         e_b, n : float, optional
-            The Hunt-Crossley pads' restitution (default :data:`BUMPER_RESTITUTION`, 0.57, that of
-            the Kelvin-Voigt default) and exponent (default 1.5).
+            The Hunt-Crossley pads' restitution (default :data:`BUMPER_RESTITUTION`, 0.5717, that of
+            the Kelvin-Voigt default pad) and exponent (default 1.5).
 
         Returns
         -------
