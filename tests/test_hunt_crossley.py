@@ -252,6 +252,31 @@ def test_at_edges_gives_the_kelvin_voigt_pads_force_at_full_depth():
     assert dataclasses.replace(damper, stops=hc).model == "omd_stops_hc"
 
 
+def test_the_default_pads_of_both_laws_restitute_alike():
+    """Stops.at_edges' Kelvin-Voigt pad (zeta_b = 0.2, only pushes: it lets go where k_b delta + c_b ddelta falls
+    to 0) and its Hunt-Crossley pad restitute the same, one impact on each integrated by hand (1e-6)."""
+    from rocking.model.params import BUMPER_DAMPING_RATIO, BUMPER_RESTITUTION
+
+    damper = Damper.from_nondim(REFERENCE, gamma=0.05, omega_ratio=1.0, h=0.05)
+    kv = Stops.at_edges(REFERENCE, damper)
+    zeta = kv.c_b / (2 * math.sqrt(kv.k_b * damper.m))
+    assert zeta == pytest.approx(BUMPER_DAMPING_RATIO, rel=1e-12)
+
+    def law(t, y):
+        return [y[1], -max(0.0, kv.k_b * max(y[0], 0.0) + kv.c_b * y[1]) / damper.m]
+
+    def lets_go(t, y):  # the mass leaves (delta = 0) or the pad lets go, whichever first
+        return min(y[0], kv.k_b * y[0] + kv.c_b * y[1]) if t > 0.0 else 1.0
+
+    lets_go.terminal, lets_go.direction = True, -1
+    sol = solve_ivp(law, (0.0, 1.0), [0.0, V0], "DOP853", rtol=1e-11, atol=1e-15, events=[lets_go])
+    restitution = -sol.y[1, -1] / V0
+    assert restitution == pytest.approx(BUMPER_RESTITUTION, abs=1e-8)
+    hc = Stops.at_edges(REFERENCE, damper, law="hunt-crossley")
+    assert hc.e_b == BUMPER_RESTITUTION
+    assert rebound_by_hand(hc.as_params()["chi_b"], hc.n)[0] == pytest.approx(restitution, abs=1e-6)
+
+
 def test_the_law_with_a_memory_matches_model_md_by_hand():
     """With a regime given (each side's flag and an approach speed v_in of an earlier start, not the state's),
     the generated forces, contact, accelerations and power are section 11's, typed by hand in

@@ -350,8 +350,8 @@ RANGES: dict[str, Range] = {
     # Hertzian contact is 1.5; beyond 10 delta^n underflows in a pad of a few mm.
     "n_b": Range(1.0, 10.0, "", "exponent of a Hunt-Crossley pad's force k_b delta^n (1: linear, 1.5: Hertzian)"),
     # Above 1 a pad would add energy; towards 0 it keeps the mass, and its damping factor chi_b ~ 1 / e_b makes a
-    # contact a stiff mode: at e_b = 1e-3 a run on the NumPy back end takes 2.4 times the time of e_b = 0.1, 32
-    # times at 1e-6 (bench/hc_restitution.py).
+    # contact a stiff mode: a run takes longer as e_b falls (bench/hc_restitution.py: at 1e-3 about 4 times as
+    # long as at 0.57 on the NumPy back end), without bound as e_b -> 0.
     "e_b": Range(1e-3, 1.0, "", "restitution of a Hunt-Crossley pad, its damping a stiff mode below 1e-3"),
     # The damping factor chi(e_b) of those pads (Stops.as_params, model omd_stops_hc): 0 at e_b = 1, 1 / e_b to
     # the last bit for e_b <= 1e-2 (1 - chi e_b ~ e^(-1 / e_b)), so [0, 1e3] is the range of e_b.
