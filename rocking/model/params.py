@@ -418,7 +418,7 @@ class Stops:
     is ``max(0, k_b delta^n (1 + chi_b ddelta / v_in))``, ``v_in`` the approach speed of the
     contact (Hunt & Crossley 1975), on the model ``omd_stops_hc``: ``e_b`` is the restitution of
     one impact on the pad, and ``chi_b = hunt_crossley_damping(e_b)`` the damping factor that
-    gives it exactly (:attr:`chi_b`, what the model takes).
+    gives it exactly, which :meth:`as_params` gives the model.
 
     Parameters
     ----------
