@@ -8,8 +8,9 @@ over ``v0``. Hunt-Crossley pads ``k delta^n (1 + chi ddelta / v0)``: the damping
 ``chi = rocking.model.params.hunt_crossley_damping(e_b)`` (new), Lankarani & Nikravesh's
 ``3 (1 - e_b) / 2`` (the old one) and Flores et al.'s (2011) closed form ``8 (1 - e_b) / (5 e_b)``;
 Kelvin-Voigt pads of damping ratio ``zeta_b`` that only push (the project's) and that pull too.
-Then the cost of a run as ``e_b`` falls (the NumPy back end, the README's response with
-``--stops --bumper-law hunt-crossley --e-b E``). Prints three tables::
+Then the same impacts through the project's simulator (both back ends), and the cost of a run as
+``e_b`` falls (the NumPy back end, the README's response with
+``--stops --bumper-law hunt-crossley --e-b E``). Prints each::
 
     .venv/bin/python bench/hc_restitution.py
 """
@@ -39,6 +40,11 @@ LADDER = (0.57, 0.1, 0.01, 1e-3)
 def one_impact(force, v0: float = 1.0, m: float = 1.0, scale: float = 1.0) -> float:
     """The restitution of one impact at ``v0`` of a mass ``m`` on a pad of force ``force(delta, rate) >= 0``
     (``scale``: the contact's time scale, s)."""
+    return impact(force, v0, m, scale)[0]
+
+
+def impact(force, v0: float = 1.0, m: float = 1.0, scale: float = 1.0) -> tuple[float, float]:
+    """``(restitution, duration)`` of the impact of :func:`one_impact`."""
 
     def law(t, y):
         return [y[1], -max(0.0, force(max(y[0], 0.0), y[1])) / m]
@@ -53,12 +59,17 @@ def one_impact(force, v0: float = 1.0, m: float = 1.0, scale: float = 1.0) -> fl
     leaves.direction = lets_go.direction = -1
     sol = solve_ivp(law, (0.0, 1e3 * scale), [0.0, v0], "DOP853", rtol=1e-11, atol=1e-15, events=[leaves, lets_go])
     assert sol.status == 1, sol.message  # ended by an event: the mass left the pad
-    return -sol.y[1, -1] / v0
+    return -sol.y[1, -1] / v0, sol.t[-1]
+
+
+def hunt_crossley_force(chi: float, n: float = 1.5, k: float = 1.0, v0: float = 1.0):
+    """The force ``k delta^n (1 + chi ddelta / v0)`` of a Hunt-Crossley pad met at ``v0``."""
+    return lambda d, r: k * d**n * (1.0 + chi * r / v0)
 
 
 def hunt_crossley(chi: float, n: float = 1.5, k: float = 1.0, v0: float = 1.0) -> float:
     """The measured restitution of a Hunt-Crossley pad of damping factor ``chi``."""
-    return one_impact(lambda d, r: k * d**n * (1.0 + chi * r / v0), v0)
+    return one_impact(hunt_crossley_force(chi, n, k, v0), v0)
 
 
 def kelvin_voigt(zeta: float, pulls: bool = False) -> float:
@@ -98,6 +109,33 @@ def restitution_table() -> None:
     print(f"old: the least restitution of any e_b in [1e-3, 1]: {least:.4f}")
 
 
+def simulator_table() -> None:
+    """The same impacts through the project's simulator: a free 1 kg mass on the guide (no spring, no dashpot)
+    of the reference block at rest strikes a pad of ``Stops(e_b=...)`` at 0.5 m/s, rtol 1e-11."""
+    from rocking.sim.problem import make_problem
+    from rocking.sim.run import run
+
+    block, v0 = rocking.Block.reference(), 0.5
+    print("\nThe simulator's rebound (free mass on the guide, block at rest, rtol 1e-11):")
+    print("| e_b | numpy | c |\n|---|---|---|")
+    for e_b in TABLE:
+        stops = rocking.Stops(L=0.1, k_b=1e4, law="hunt-crossley", n=1.5, e_b=e_b)
+        damper = rocking.Damper(m=1.0, k_m=0.0, c=0.0, h=0.05, stops=stops)
+        still = rocking.OneSinePulse(a_g=0.0, omega_g=2 * math.pi)
+        chi = stops.as_params()["chi_b"]
+        _, tau = impact(hunt_crossley_force(chi, 1.5, 1e4, v0), v0)  # the contact's duration, by hand
+        t_end = 0.1 / v0 + tau + 0.05
+        y0 = np.array([0.0, 0.0, 0.0, v0])
+        # No rest by energy: the mass must be followed until it coasts, one contact behind it.
+        problem = make_problem(block, damper, still, rtol=1e-11, t_max=t_end, y0=y0, energy_rest=0.0, early_rest=False)
+        rebounds = []
+        for backend in ("numpy", "c"):
+            r = run(problem, backend=backend, record=True)
+            assert (r.status, r.uplifts, r.stop_contacts) == ("t_max", 0, 1), (r.status, r.uplifts, r.stop_contacts)
+            rebounds.append(-r.history["dx"][-1] / v0)
+        print(f"| {e_b:g} | {rebounds[0]:.8f} | {rebounds[1]:.8f} |")
+
+
 def kelvin_voigt_table() -> None:
     z = BUMPER_DAMPING_RATIO
     print(f"\nKelvin-Voigt pad, zeta_b = {z:g} (Stops.at_edges):")
@@ -135,5 +173,6 @@ def cost_ladder() -> None:
 
 if __name__ == "__main__":
     restitution_table()
+    simulator_table()
     kelvin_voigt_table()
     cost_ladder()
