@@ -328,8 +328,9 @@ def _restitution_gap(chi: float, e: float) -> float:
     ``chi`` restitutes more than ``e``, < 0 where less, 0 where exactly ``e`` (docs/model.md section 11).
 
     One impact of a mass on the pad, ``m ddelta = -k delta^n (1 + chi ddelta / v0)``, in ``w = ddelta / v0`` and
-    ``s ~ delta^(n+1) / (n+1)`` is ``w dw/ds = -(1 + chi w)`` whatever ``n``, ``m``, ``k``, ``v0``: compression
-    (``w`` from 1 to 0) and rebound (0 to ``-e``) span the same ``s``, which is the root of this gap. Divided by
+    ``s ~ delta^(n+1) / (n+1)`` is ``w dw/ds = -(1 + chi w)`` whatever ``n``, ``m``, ``k``, ``v0``; the
+    restitution is the ``e`` at which the rebound (``w`` from 0 to ``-e``) spans the same ``s`` as the
+    compression (``w`` from 1 to 0): the root of this gap. Divided by
     ``chi^2`` it keeps its sign as ``chi -> 0`` (the root ``chi = 0`` of the numerator is no pad's); below
     ``chi = 0.05`` it is summed as its series ``sum_k>=2 chi^(k-2) ((-1)^k - e^k) / k``, which the direct form
     would lose to cancellation (and so would ``1 - e^2`` computed as it reads, as ``e -> 1``).
