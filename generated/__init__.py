@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "f13892eb2b24b3d94e46bc75d6a4028d289d2a913804f9a3976b0c08d484a035",
-    "omd": "29e86844c386cf7e1524c28e8ef6d43e66bb193682863c311797f5173f42b8ae",
-    "omd2": "c10099da4f5e89528173c5366a87c5cccf61f4c96ac059ea84f4f7c2724bdd22",
-    "omd_stops": "48942d00f73e0a109a50a958686ad12d9a5b920ea0af1db2141e4132e73797ea",
-    "omd_stops_hc": "fa5b287ae67ac776b560d07d1853e931a91381be651ebad7bab2ed9367e4a5af",
-    "pendulum": "53fd251a03555511fdf744bd84db3604134e1a5b9deca3cdc685ea81e06bc0bb",
+    "block": "840f1176bf03c6c086b61f2140f0ce0ae1d6401d07a3c7562d95e5061c6b2346",
+    "omd": "071c7deb4b93bd598a14ac0c6e5ef0ca42e77184ff5cc52866821ad41cf6f535",
+    "omd2": "b08715128d04fcfebc2cb5c109ee912c1f93ab8e55a86059f30b2ce5213a5dd2",
+    "omd_stops": "d8f7f7de6f78a9bada8f038463642ce596636947992d9c4ce59810c42dfeda4c",
+    "omd_stops_hc": "59f0536877cf65e9a3cedebdea206c5fa63cbcf8d158a2a6f117b92af1ee425f",
+    "pendulum": "92a84d0e15e610137ed8d4d3eb97222795a3ee1abef7c9fe0e85228c398b94fe",
 }
