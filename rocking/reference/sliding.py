@@ -1,0 +1,154 @@
+"""Pure sliding of a rigid block on a floor with Coulomb friction, in closed form (docs/model.md section 15).
+
+A block that never lifts, standing on a floor with friction coefficients ``mu_s >= mu_k``, under the
+one-sine pulse ``ddx_g(t) = sign a_g sin(omega_g t)`` on ``[0, 2 pi / omega_g]`` (0 after). Its slip
+``u`` (the base's displacement relative to the ground, m) sticks while the friction needed,
+``|ddx_g|`` per unit mass, is within ``mu_s g``, and slides with
+
+    ddu = -ddx_g - mu_k g sign(du)
+
+otherwise (model.md section 15, fact (b)). Within an episode that starts at ``t0`` with ``du = 0``
+in the direction ``d``, both the slip speed and the slip are closed forms:
+
+    du(t) = -(a/omega) (cos(omega t0) - cos(omega t)) - mu_k g d (t - t0)
+    u(t)  = u(t0) - (a/omega) cos(omega t0) (t - t0) + (a/omega^2) (sin(omega t) - sin(omega t0))
+            - mu_k g d (t - t0)^2 / 2
+
+(``a = sign a_g``), and after the pulse the slip speed falls linearly to 0. The only numerical step
+is the instant an episode ends, a root of ``du`` (Brent's method, to 1e-15 s). This module is
+independent of SymPy and of the simulator: the yardstick a sliding model is held against, and an
+outside fact of its own (an independent sliding-only model gives 31.45 mm peak and 1.57 mm residual
+slip for ``a_g = 0.4 g``, ``T = 0.5 s``, ``mu = 0.2``: issue 37).
+"""
+
+from __future__ import annotations
+
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..model.checks import ParameterError
+
+#: Points per pulse of the scan that brackets the end of an episode before Brent's method refines it.
+SCAN_POINTS = 4096
+
+
+@dataclass(frozen=True)
+class Sliding:
+    """A pure-sliding response.
+
+    Attributes
+    ----------
+    t_start : float
+        First instant of slip, s (``nan`` if the block never slides).
+    u_max : float
+        Peak slip ``max |u|``, m.
+    u_end : float
+        Residual slip once the block sticks for good, m.
+    slides : int
+        Slip episodes (a reversal of the slip starts a new one).
+    t_end : float
+        Instant the block sticks for good, s.
+    """
+
+    t_start: float
+    u_max: float
+    u_end: float
+    slides: int
+    t_end: float
+
+
+def _check(name: str, value: float, low: float, high: float) -> float:
+    """``value`` as a float if it is finite and in ``[low, high]``, else a one-line ParameterError."""
+    v = float(value)
+    if not (np.isfinite(v) and low <= v <= high):
+        raise ParameterError(f"{name} must be in [{low:g}, {high:g}] (got {value!r})")
+    return v
+
+
+def first_slip(a_g: float, omega_g: float, mu_s: float, g: float, t: float) -> float | None:
+    """The first instant ``>= t`` within the pulse at which ``|a_g sin(omega_g t)|`` exceeds ``mu_s g``.
+
+    ``None`` when it never does before the pulse ends.
+    """
+    ratio = mu_s * g / abs(a_g)
+    if ratio >= 1.0:
+        return None
+    if abs(a_g * np.sin(omega_g * t)) > mu_s * g:
+        return t
+    # |sin| = ratio on its way up at k pi + asin(ratio): the start time asin(mu_s g / a_g) / omega_g first.
+    rising = (k * np.pi + np.arcsin(ratio) for k in range(2))
+    later = [phase / omega_g for phase in rising if t <= phase / omega_g <= 2.0 * np.pi / omega_g]
+    return min(later) if later else None
+
+
+def one_sine_sliding(
+    a_g: float, omega_g: float, mu_s: float, mu_k: float | None = None, g: float = 9.81, sign: int = 1
+) -> Sliding:
+    """Pure sliding of a block at rest under the one-sine pulse, in closed form.
+
+    Parameters
+    ----------
+    a_g : float
+        Pulse amplitude, m/s^2, in (0, 1e3].
+    omega_g : float
+        Pulse circular frequency, rad/s, in (0, 1e4].
+    mu_s, mu_k : float
+        Static and kinetic friction coefficients, ``0 < mu_k <= mu_s <= 10``; ``mu_k`` defaults to ``mu_s``.
+    g : float
+        Gravity, m/s^2.
+    sign : {1, -1}
+        Direction of the pulse's first half.
+
+    Returns
+    -------
+    Sliding
+    """
+    a_g = _check("a_g", a_g, 1e-12, 1e3)
+    omega_g = _check("omega_g", omega_g, 1e-6, 1e4)
+    mu_s = _check("mu_s", mu_s, 1e-9, 10.0)
+    mu_k = mu_s if mu_k is None else _check("mu_k", mu_k, 1e-9, mu_s)
+    if sign not in (1, -1):
+        raise ParameterError(f"sign must be 1 or -1 (got {sign!r})")
+    a, w, T = sign * a_g, omega_g, 2.0 * np.pi / omega_g
+    t, u, u_max, slides, t_start = 0.0, 0.0, 0.0, 0, np.nan
+    while (t0 := first_slip(a, w, mu_s, g, t)) is not None:
+        d = -np.sign(a * np.sin(w * t0))  # the block lags the ground
+        slides += 1
+        t_start = t0 if slides == 1 else t_start
+        t, u = _episode(a, w, mu_k * g, d, t0, u, T)
+        u_max = max(u_max, abs(u))
+        if t >= T:
+            break
+    return Sliding(t_start=t_start, u_max=u_max, u_end=u, slides=slides, t_end=t)
+
+
+def _episode(a: float, w: float, friction: float, d: float, t0: float, u0: float, T: float) -> tuple[float, float]:
+    """The end of a slip episode that starts at ``t0`` in the direction ``d``: its instant and the slip then.
+
+    ``friction`` is ``mu_k g``. The slip speed is a closed form (module docstring); its root is bracketed on
+    a scan of :data:`SCAN_POINTS` points per pulse and refined by Brent's method.
+    """
+
+    def speed(t: float) -> float:
+        return -(a / w) * (np.cos(w * t0) - np.cos(w * t)) - friction * d * (t - t0)
+
+    def slip(t: float) -> float:
+        return (
+            u0
+            - (a / w) * np.cos(w * t0) * (t - t0)
+            + (a / w**2) * (np.sin(w * t) - np.sin(w * t0))
+            - friction * d * (t - t0) ** 2 / 2
+        )
+
+    grid = np.linspace(t0, T, max(2, int(SCAN_POINTS * (T - t0) / T) + 1))[1:]
+    ahead = d * np.array([speed(t) for t in grid])
+    stopped = np.flatnonzero(ahead <= 0.0)
+    if stopped.size:
+        i = stopped[0]
+        t1 = brentq(lambda t: d * speed(t), grid[i - 1] if i else t0 + 1e-15, grid[i], xtol=1e-15, rtol=1e-15)
+        return t1, slip(t1)
+    v = speed(T)  # still sliding at the pulse's end: the friction alone stops it
+    t1 = T + abs(v) / friction
+    return t1, slip(T) + v * (t1 - T) - friction * d * (t1 - T) ** 2 / 2
