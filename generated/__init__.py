@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "f13892eb2b24b3d94e46bc75d6a4028d289d2a913804f9a3976b0c08d484a035",
-    "omd": "29e86844c386cf7e1524c28e8ef6d43e66bb193682863c311797f5173f42b8ae",
-    "omd2": "c10099da4f5e89528173c5366a87c5cccf61f4c96ac059ea84f4f7c2724bdd22",
-    "omd_stops": "48942d00f73e0a109a50a958686ad12d9a5b920ea0af1db2141e4132e73797ea",
-    "omd_stops_hc": "fa5b287ae67ac776b560d07d1853e931a91381be651ebad7bab2ed9367e4a5af",
-    "pendulum": "53fd251a03555511fdf744bd84db3604134e1a5b9deca3cdc685ea81e06bc0bb",
+    "block": "04e78bce806be39b3307ce690f8777b286f738fef786c67b2c6a8be0c845d593",
+    "omd": "6b122145d05b9dbbc4c2a0b9ffbd72f5cf70d48d08591aabc25b5cae11e6e26b",
+    "omd2": "5854ad59d16ac3e3beb5b94cc0968117512043c4b63e2ad20f3370e919302b2a",
+    "omd_stops": "85977484456711497096f67b03a888b25a53277a8f0bc8fca7e5a79228a87ecb",
+    "omd_stops_hc": "cbd41a44645fefb7dda0db6b13e80c38eed404e805b8f83c9da4596e08d72bad",
+    "pendulum": "79112a27c2aa3adb2aae850c7b5c875e749cc7ea370bd1c51b6206d2b6005515",
 }

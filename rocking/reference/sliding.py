@@ -152,3 +152,31 @@ def _episode(a: float, w: float, friction: float, d: float, t0: float, u0: float
     v = speed(T)  # still sliding at the pulse's end: the friction alone stops it
     t1 = T + abs(v) / friction
     return t1, slip(T) + v * (t1 - T) - friction * d * (t1 - T) ** 2 / 2
+
+
+def slide_rock_frame_accel(s, theta, dtheta, ag, mu_slip, M, I_G, B, H, e, g):
+    """The bare block rocking about ``s`` while its pivot slides: ``ddx_g + ddu``, typed by hand.
+
+    docs/model.md section 15: with ``P = H/2 cos(theta) + d_s sin(theta)``, ``Q = d_s cos(theta) - H/2 sin(theta)``
+    and ``a = ddx_g + ddu`` (the pivot's absolute acceleration), Housner's equation
+    ``I_s ddtheta = M a P - M g Q``, the shear ``V_b = M (a - P ddtheta - Q dtheta^2)``, the normal force
+    ``N_b = M (g + Q ddtheta - P dtheta^2)`` and Coulomb's ``V_b = -mu_slip N_b`` give
+
+        a = [(Q + mu_slip P) dtheta^2 - mu_slip g + (mu_slip Q - P) M g Q / I_s] / [1 + (mu_slip Q - P) M P / I_s].
+    """
+    d = s * B / 2 + e
+    I_s = I_G + M * (d**2 + H**2 / 4)
+    P = H / 2 * np.cos(theta) + d * np.sin(theta)
+    Q = d * np.cos(theta) - H / 2 * np.sin(theta)
+    top = (Q + mu_slip * P) * dtheta**2 - mu_slip * g + (mu_slip * Q - P) * M * g * Q / I_s
+    return top / (1 + (mu_slip * Q - P) * M * P / I_s)
+
+
+def contact_slide_frame_accel(x, dx, mu_slip, M, g, m, k_m, c):
+    """The block with its damper in full contact while its base slides: ``ddx_g + ddu``, typed by hand.
+
+    docs/model.md section 15: the mass follows (C1) in the sliding frame, ``m (a + ddx) = -(k_m x + c dx)``, so
+    the shear is ``V_b = M a - (k_m x + c dx)``; with ``N_b = (M + m) g`` Coulomb's ``V_b = -mu_slip N_b`` gives
+    ``a = (k_m x + c dx - mu_slip (M + m) g) / M``.
+    """
+    return (k_m * x + c * dx - mu_slip * (M + m) * g) / M
