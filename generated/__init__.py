@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "04e78bce806be39b3307ce690f8777b286f738fef786c67b2c6a8be0c845d593",
-    "omd": "6b122145d05b9dbbc4c2a0b9ffbd72f5cf70d48d08591aabc25b5cae11e6e26b",
-    "omd2": "5854ad59d16ac3e3beb5b94cc0968117512043c4b63e2ad20f3370e919302b2a",
-    "omd_stops": "85977484456711497096f67b03a888b25a53277a8f0bc8fca7e5a79228a87ecb",
-    "omd_stops_hc": "cbd41a44645fefb7dda0db6b13e80c38eed404e805b8f83c9da4596e08d72bad",
-    "pendulum": "79112a27c2aa3adb2aae850c7b5c875e749cc7ea370bd1c51b6206d2b6005515",
+    "block": "65bc0491315a55805cf7cb7eb6e4d558a17d4816807f60bdab2f00b76043df60",
+    "omd": "c1b7d84efbe1a60261e3ba8b06568885af55f855707f70c63317b1678737cca3",
+    "omd2": "b41b3c6518616e73a5256a813ad866f746c0d4e9b42b08ed70c9563bbea3f1a7",
+    "omd_stops": "d39bc24360d9dc406ec14a9903269a46b49827f1e254e9c2880e72d3f0ea5f67",
+    "omd_stops_hc": "4a753a057b3b550cba491fb8e9c522cd30763fcf83a69331aaf80b2564dd6b21",
+    "pendulum": "069f5cd23c651237583ae2139fd37eeac82fc0d607fd92693b1900086643290a",
 }

@@ -5,10 +5,10 @@ import pytest
 import sympy as sp
 
 from rocking.derive.equations import derive
-from rocking.derive.friction import mu_slip, sliding
+from rocking.derive.friction import du_before, friction_impact, mu_slip, sliding
 from rocking.derive.spec import variant_spec
 from rocking.reference import paper
-from rocking.reference.sliding import contact_slide_frame_accel, slide_rock_frame_accel
+from rocking.reference.sliding import contact_slide_frame_accel, corner_impact, slide_rock_frame_accel
 from rocking.reference.verify import random_cases, rel_error
 
 
@@ -118,3 +118,51 @@ def test_no_friction_frees_the_centre_of_mass_and_the_stick_friction_holds_the_p
     V, N = shear_normal(ag, M * (ag * P - g * Q) / I_s)  # the stick phase: Housner's equation, ddu = 0
     ddtheta, ddu = f(1, th, dth, ag, 0 * ag, M, I_G, B, H, e, g, -V / N)
     assert np.max(np.abs(ddu) / (np.abs(ag) + g)) < 1e-11
+
+
+@pytest.fixture(scope="module")
+def block_impact(block):
+    eq, _ = block
+    return eq, friction_impact(eq)
+
+
+@pytest.mark.parametrize("s", [1, -1])
+@pytest.mark.parametrize("stick", [True, False])
+def test_bare_block_impact_with_friction_matches_newton_euler_impulses(block_impact, s, stick):
+    eq, fi = block_impact
+    sysm = eq.system
+    f = sp.lambdify(
+        [sp.Symbol("s", real=True), *sysm.dq, du_before, *sysm.params, mu_slip], fi.stick if stick else fi.slide
+    )
+    rng = np.random.default_rng(9)
+    for _ in range(50):
+        M, H = rng.uniform(10, 1e4), rng.uniform(0.2, 5)
+        B = H * rng.uniform(0.05, 1.5)
+        e, I_G = rng.uniform(-0.4, 0.4) * B, M * (B**2 + H**2) / 12 * rng.uniform(0.5, 2)
+        dtheta, du, mu = rng.normal(0, 1), rng.normal(0, 0.5), rng.uniform(-0.9, 0.9)
+        got = f(s, dtheta, du, M, I_G, B, H, e, 9.81, mu)
+        ref = corner_impact(s, dtheta, du, mu, M, I_G, B, H, e, stick=stick)
+        scale = [
+            abs(dtheta) + abs(du),
+            abs(dtheta) * B + abs(du),
+            M * (abs(dtheta) * B + abs(du)),
+            M * (abs(dtheta) * B + abs(du)),
+        ]
+        assert all(abs(g - r) <= 1e-12 * c for g, r, c in zip(got, ref, scale))
+
+
+@pytest.mark.parametrize("s", [1, -1])
+def test_a_sticking_impact_from_rest_is_section_6s_with_the_damper(omd, s):
+    """du = 0 before and the corner sticking: (I1)-(I2) (paper.impact, by hand), with no slip after and a normal
+    impulse that pushes (P_n > 0 for an impact that ends a rocking phase)."""
+    eq, _ = omd
+    fi = friction_impact(eq)
+    sysm = eq.system
+    f = sp.lambdify([sp.Symbol("s", real=True), *sysm.q, *sysm.dq, du_before, *sysm.params], fi.stick)
+    v = random_cases(np.random.default_rng(10), 300, s)
+    args = [v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c")]
+    dth = -s * np.abs(v["dtheta"])  # s theta falls to 0: an impact
+    dtheta, dx, du, P_t, P_n = f(s, 0 * v["x"], v["x"], dth, v["dx"], 0 * v["x"], *args)
+    ref = paper.impact(s, v["x"], dth, v["dx"], v["M"], v["I_G"], v["B"], v["H"], v["e"], v["m"], v["h"])
+    assert rel_error(dtheta, ref[0]) < 1e-12 and rel_error(dx, ref[1]) < 1e-12
+    assert np.all(du == 0) and np.all(P_n > 0)

@@ -180,3 +180,32 @@ def contact_slide_frame_accel(x, dx, mu_slip, M, g, m, k_m, c):
     ``a = (k_m x + c dx - mu_slip (M + m) g) / M``.
     """
     return (k_m * x + c * dx - mu_slip * (M + m) * g) / M
+
+
+def corner_impact(s, dtheta, du, mu_slip, M, I_G, B, H, e, stick=True):
+    """The bare block's impact of the corner ``-s`` at ``theta = 0`` on a floor with friction, typed by hand.
+
+    docs/model.md section 15, Newton and Euler with impulses: ``G`` is at ``(d_s, H/2)`` from the old pivot, which
+    moves at ``(du, 0)``; the new corner is at ``(s B - d_s, -H/2)`` from ``G``. Unknowns ``vG+``, ``omega+`` and
+    the floor's impulse ``(P_t, P_n)`` on the corner: ``M (vG+ - vG-) = P``,
+    ``I_G (omega+ - omega-) = (s B - d_s) P_n + H/2 P_t``, the corner's normal velocity after is 0 and either its
+    slip is 0 (``stick``) or ``P_t = -mu_slip P_n``. Returns ``(omega+, du+, P_t, P_n)``, ``du+`` the corner's
+    slip speed after.
+    """
+    d = s * B / 2 + e
+    rx, ry = s * B - d, -H / 2
+    vGx, vGy = du - dtheta * H / 2, dtheta * d
+    # Rows: momentum x, y, angular momentum about G, normal velocity, closure. Unknowns: vGx+, vGy+, w+, P_t, P_n.
+    A = np.array(
+        [
+            [M, 0, 0, -1, 0],
+            [0, M, 0, 0, -1],
+            [0, 0, I_G, ry, -rx],
+            [0, 1, rx, 0, 0],
+            [1, 0, -ry, 0, 0] if stick else [0, 0, 0, 1, mu_slip],
+        ],
+        dtype=float,
+    )
+    b = np.array([M * vGx, M * vGy, I_G * dtheta, 0.0, 0.0])
+    vx, _, w, P_t, P_n = np.linalg.solve(A, b)
+    return w, vx - w * ry, P_t, P_n
