@@ -9,7 +9,8 @@ writes (``--json``):
 1. the engine's restitution of a rocking impact against Housner's ``1 - 3/2 sin^2 alpha`` (docs/model.md 10.5);
 2. the table of issue 37: under the one-sine pulse ``a_g = 0.4 g``, ``T = 0.5 s``, for each ``mu``, the
    engine's peak and residual slip of the contact point and its ``theta_max / alpha``, beside the project's
-   no-slip response (``rocking.simulate``) and the closed form of pure sliding (``rocking.reference.sliding``);
+   no-slip response (``rocking.simulate``), the closed form of pure sliding and the hand-typed slide-rock
+   reference of docs/model.md section 15 (``rocking.reference.sliding``: ``one_sine_sliding``, ``slide_rock``);
 3. the engine's own convergence: the same at half the step and half the contact time constant.
 
 Run: ``.venv/bin/python bench/outside_floor.py --json bench/outside-floor.json`` (about a minute).
@@ -25,7 +26,7 @@ import time
 import numpy as np
 
 import rocking
-from rocking.reference.sliding import one_sine_sliding
+from rocking.reference.sliding import one_sine_sliding, slide_rock
 
 G = 9.81
 H, B, M = 2.0, 0.5, 1000.0
@@ -144,11 +145,21 @@ def main() -> None:
     )
     no_slip = project_no_slip()
     rows = []
-    heads = ("engine u_max mm", "u_end mm", "theta_max/alpha", "project (no slip)", "closed-form slide u_max mm")
+    heads = (
+        "engine u_max mm",
+        "u_end mm",
+        "theta_max/alpha",
+        "reference u_max mm",
+        "u_end mm",
+        "theta_max/alpha",
+        "project (no slip)",
+        "pure sliding u_max mm",
+    )
     print(f"{'mu':>5} " + " ".join(f"{h:>{len(h) + 1}}" for h in heads))
     for mu in MUS:
         e = engine_response(mu)
         slide = one_sine_sliding(A_G, OMEGA_G, mu)
+        ref = slide_rock(M, M * (B**2 + H**2) / 12, B, H, 0.0, G, A_G, OMEGA_G, mu, t_after=2.0)
         rows.append(
             {
                 "mu": mu,
@@ -156,10 +167,20 @@ def main() -> None:
                 "project_no_slip_theta_max_over_alpha": no_slip,
                 "pure_sliding_u_max": slide.u_max,
                 "pure_sliding_u_end": slide.u_end,
+                "reference": {"u_max": ref.u_max, "u_end": ref.u_end, "theta_max_over_alpha": ref.theta_max / alpha},
             }
         )
-        values = (e["u_max"] * 1e3, e["u_end"] * 1e3, e["theta_max_over_alpha"], no_slip, slide.u_max * 1e3)
-        print(f"{mu:5.2f} " + " ".join(f"{v:>{len(h) + 1}.4g}" for h, v in zip(heads, values)))
+        values = (
+            e["u_max"] * 1e3,
+            e["u_end"] * 1e3,
+            e["theta_max_over_alpha"],
+            ref.u_max * 1e3,
+            ref.u_end * 1e3,
+            ref.theta_max / alpha,
+            no_slip,
+            slide.u_max * 1e3,
+        )
+        print(f"{mu:5.2f} " + " ".join(f"{v:>{len(h) + 1}.4f}" for h, v in zip(heads, values)))
     converged = {str(mu): engine_response(mu, DT / 2, TC / 2) for mu in (0.2, 0.3)}
     for mu, e in converged.items():
         print(

@@ -4,8 +4,9 @@ import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
 
+import rocking
 from rocking.model.checks import ParameterError
-from rocking.reference.sliding import one_sine_sliding
+from rocking.reference.sliding import one_sine_sliding, slide_rock
 
 G = 9.81
 
@@ -91,3 +92,39 @@ def test_bad_input_is_one_line(kwargs, word):
     args = {"a_g": 3.0, "omega_g": 10.0, "mu_s": 0.2, **kwargs}
     with pytest.raises(ParameterError, match=rf"^{word} must be"):
         one_sine_sliding(**args)
+
+
+def _block(mu, **kw):
+    M, B, H = 1000.0, 0.5, 2.0
+    return slide_rock(M, M * (B**2 + H**2) / 12, B, H, 0.0, G, 0.4 * G, 4 * np.pi, mu, **kw)
+
+
+def test_slide_rock_reference_slides_alone_as_the_closed_form():
+    r, closed = _block(0.2), one_sine_sliding(0.4 * G, 4 * np.pi, 0.2)
+    assert (r.uplifts, r.status, r.slides) == (0, "rest", closed.slides)
+    assert r.u_max == pytest.approx(closed.u_max, rel=1e-8)
+    assert r.u_end == pytest.approx(closed.u_end, rel=1e-8)
+
+
+def test_slide_rock_reference_rocks_as_the_project_where_the_floor_holds():
+    """mu = 0.7 never slips (issue 37's table: rocking from mu = 0.3): the project's response (mu = inf)."""
+    r = _block(0.7, t_after=3.0)
+    block = rocking.Block(H=2.0, B=0.5, M=1000.0)
+    p = rocking.simulate(block, None, rocking.OneSinePulse(a_g=0.4 * G, omega_g=4 * np.pi), rtol=1e-11, t_max=0.5 + 3.0)
+    assert (r.slides, r.u_max, r.uplifts) == (0, 0.0, p.uplifts)
+    assert r.theta_max == pytest.approx(p.theta_max, rel=1e-7)
+
+
+def test_slide_rock_reference_slides_and_rocks_near_b_over_h():
+    """Issue 37's table: at mu = 0.26 (just above B/H = 0.25) the block lifts and its pivot slips."""
+    r = _block(0.26)
+    assert r.uplifts >= 1 and r.slides >= 1 and r.u_max > 1e-3 and 0.1 < r.theta_max / np.arctan(0.25) < 0.36
+
+
+@pytest.mark.parametrize(("mu", "first"), [(0.2, "slides"), (0.24, "slides"), (0.26, "rocks"), (0.4, "rocks")])
+def test_shenton_initiation_from_rest_under_a_slow_ramp(mu, first):
+    """Shenton 1996: a symmetric bare block slides first if mu_s < B/H, rocks first if mu_s > B/H (B/H = 0.25);
+    a slow one-sine (T = 20 s) is a ramp at its start."""
+    M, B, H = 1000.0, 0.5, 2.0
+    r = slide_rock(M, M * (B**2 + H**2) / 12, B, H, 0.0, G, 0.3 * G, 2 * np.pi / 20, mu, t_after=0.0)
+    assert r.first == first

@@ -23,6 +23,7 @@ slip for ``a_g = 0.4 g``, ``T = 0.5 s``, ``mu = 0.2``: issue 37).
 
 from __future__ import annotations
 
+from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
@@ -209,3 +210,229 @@ def corner_impact(s, dtheta, du, mu_slip, M, I_G, B, H, e, stick=True):
     b = np.array([M * vGx, M * vGy, I_G * dtheta, 0.0, 0.0])
     vx, _, w, P_t, P_n = np.linalg.solve(A, b)
     return w, vx - w * ry, P_t, P_n
+
+
+@dataclass(frozen=True)
+class SlideRock:
+    """A response of the bare block on a floor with friction (:func:`slide_rock`).
+
+    Attributes
+    ----------
+    theta_max : float
+        Peak ``|theta|``, rad.
+    u_max, u_end : float
+        Peak and final ``|u|`` and ``u`` of the contact's slip, m.
+    slides, uplifts, impacts : int
+        Slip episodes, uplifts from full contact, impacts.
+    status : str
+        ``"rest"`` (full contact, sticking, after the motion), ``"overturned"``, ``"flight"`` (the normal force
+        reached 0: out of this model) or ``"t_max"``.
+    t_end : float
+        Instant the run ended, s.
+    first : str
+        How the block first left rest: ``"slides"``, ``"rocks"`` or ``"none"``.
+    """
+
+    theta_max: float
+    u_max: float
+    u_end: float
+    slides: int
+    uplifts: int
+    impacts: int
+    status: str
+    t_end: float
+    first: str = "none"
+
+
+@dataclass(frozen=True)
+class _Block:
+    """The bare block's numbers and the motion: ``ddx_g = a sin(w t)`` on ``[0, T]``, followed to ``T + t_after``."""
+
+    M: float
+    I_G: float
+    B: float
+    H: float
+    e: float
+    g: float
+    a: float
+    w: float
+    mu_s: float
+    mu_k: float
+    t_after: float
+
+    @property
+    def T(self) -> float:
+        return 2 * np.pi / self.w
+
+    @property
+    def t_max(self) -> float:
+        return self.T + self.t_after
+
+    def ag(self, t: float) -> float:
+        return self.a * np.sin(self.w * t) if t < self.T else 0.0
+
+    def arms(self, s: int, theta: float) -> tuple[float, float, float]:
+        """``(P, Q, I_s)`` of the rocking phase about ``s`` (docs/model.md section 15)."""
+        d = s * self.B / 2 + self.e
+        P = self.H / 2 * np.cos(theta) + d * np.sin(theta)
+        Q = d * np.cos(theta) - self.H / 2 * np.sin(theta)
+        return P, Q, self.I_G + self.M * (d**2 + self.H**2 / 4)
+
+    def rocking(self, s: int, theta: float, dtheta: float, a: float) -> tuple[float, float, float]:
+        """``ddtheta`` about ``s`` with the pivot accelerated by ``a``, and the floor's ``(V_b, N_b)``."""
+        P, Q, I_s = self.arms(s, theta)
+        ddtheta = self.M * (a * P - self.g * Q) / I_s
+        return ddtheta, self.M * (a - P * ddtheta - Q * dtheta**2), self.M * (self.g + Q * ddtheta - P * dtheta**2)
+
+    def pivot_accel(self, s: int, sigma: int, t: float, theta: float, dtheta: float) -> float:
+        """The pivot's absolute acceleration: the ground's while it sticks (``sigma = 0``), else Coulomb's."""
+        if sigma == 0:
+            return self.ag(t)
+        if s == 0:
+            return -sigma * self.mu_k * self.g
+        return slide_rock_frame_accel(
+            s, theta, dtheta, self.ag(t), sigma * self.mu_k, self.M, self.I_G, self.B, self.H, self.e, self.g
+        )
+
+    def uplift(self, s: int, a: float) -> float:
+        """Section 5's margin about ``s`` of the bare block in full contact, the base accelerated by ``a``."""
+        return s * self.M * self.H / 2 * a - self.M * self.g * (self.B / 2 + s * self.e)
+
+
+def _rhs(blk: _Block, s: int, sigma: int):
+    """``y' `` of ``y = (theta, dtheta, u, du)`` in the phase ``(s, sigma)``: pivot ``s`` (0: full contact),
+    slip ``sigma`` (0: stick, else the slip's direction)."""
+
+    def f(t, y):
+        a = blk.pivot_accel(s, sigma, t, y[0], y[1])
+        ddtheta = blk.rocking(s, y[0], y[1], a)[0] if s else 0.0
+        return [y[1], ddtheta, y[3], a - blk.ag(t)]
+
+    return f
+
+
+def _events(blk: _Block, s: int, sigma: int) -> dict:
+    """The phase's exits, each a function of ``(t, y)`` that turns positive (or reaches 0) where the phase ends."""
+    out: dict[str, Callable[..., float]] = {}
+    if s == 0:
+        for side in (1, -1):
+            out[f"uplift{side:+d}"] = lambda t, y, side=side: blk.uplift(side, blk.pivot_accel(0, sigma, t, 0.0, 0.0))
+    else:
+        out["impact"] = lambda t, y: -s * y[0]
+        out["overturn"] = lambda t, y: abs(y[0]) - np.pi / 2
+        out["flight"] = lambda t, y: -blk.rocking(s, y[0], y[1], blk.pivot_accel(s, sigma, t, y[0], y[1]))[2]
+    if sigma == 0:
+
+        def slip(t, y):
+            _, V, N = blk.rocking(s, y[0], y[1], blk.ag(t)) if s else (0.0, blk.M * blk.ag(t), blk.M * blk.g)
+            return abs(V) - blk.mu_s * N
+
+        out["slip"] = slip
+    else:
+        out["stop"] = lambda t, y: -sigma * y[3]  # rises to 0 where the slip stops
+    return out
+
+
+def _peak(t, y):
+    """``dtheta``: its zeros are the tilt's extrema (recorded, the phase goes on)."""
+    return y[1]
+
+
+def _stick_or_reverse(blk: _Block, s: int, t: float, y) -> int:
+    """The slip's state where the slip speed is 0: 0 if the floor can hold the contact, else the new direction."""
+    _, V, N = blk.rocking(s, y[0], y[1], blk.ag(t)) if s else (0.0, blk.M * blk.ag(t), blk.M * blk.g)
+    return 0 if abs(V) <= blk.mu_s * N else int(-np.sign(V))
+
+
+def _after_impact(blk: _Block, s: int, y) -> tuple[float, float]:
+    """``(dtheta, du)`` after the impact of the corner ``-s``: sticking if the floor holds it, else sliding."""
+    w, du, P_t, P_n = corner_impact(s, y[1], y[3], 0.0, blk.M, blk.I_G, blk.B, blk.H, blk.e, stick=True)
+    if abs(P_t) <= blk.mu_s * P_n:
+        return w, 0.0
+    for sigma in (1, -1):
+        w, du, P_t, P_n = corner_impact(s, y[1], y[3], sigma * blk.mu_k, blk.M, blk.I_G, blk.B, blk.H, blk.e, False)
+        if sigma * du >= 0:
+            return w, du
+    raise RuntimeError("no consistent sliding impact")
+
+
+def _segment(blk: _Block, s: int, sigma: int, t: float, y, rtol: float):
+    """One phase from ``t`` to its first exit (or to the motion's end, or ``t_max``): ``(sol, names)``."""
+    from scipy.integrate import solve_ivp
+
+    events = _events(blk, s, sigma)
+    for fn in events.values():
+        fn.terminal, fn.direction = True, 1
+    end = blk.T if t < blk.T else blk.t_max
+    # The exits move with the motion even where the state does not (a block at rest): steps of 1/256 of it.
+    sol = solve_ivp(
+        _rhs(blk, s, sigma),
+        (t, end),
+        y,
+        "DOP853",
+        events=[*events.values(), _peak],
+        rtol=rtol,
+        atol=1e-13,
+        max_step=blk.T / 256,
+    )
+    return sol, list(events)
+
+
+def _transition(blk: _Block, name: str, s: int, sigma: int, t: float, y) -> tuple[int, int, str]:
+    """The phase ``(s, sigma)`` after the exit ``name`` at ``(t, y)`` (``y`` set to the state after it), and what
+    it counts: ``"uplift"``, ``"slide"``, ``"impact"``, ``"impact slide"`` or ``""``."""
+    if name.startswith("uplift"):
+        return int(name[-2:]), sigma, "uplift"
+    if name == "slip":
+        return s, -int(np.sign(blk.rocking(s, y[0], y[1], blk.ag(t))[1] if s else blk.ag(t))), "slide"
+    if name == "stop":
+        y[3] = 0.0
+        new = _stick_or_reverse(blk, s, t, y)
+        return s, new, "slide" if new else ""
+    y[0] = 0.0
+    y[1], y[3] = _after_impact(blk, s, y)
+    slip = int(np.sign(y[3]))
+    if abs(y[1]) < 1e-6 * np.sqrt(blk.g / blk.H):  # at rest on its base
+        y[1], s = 0.0, 0
+    return -s, slip, "impact slide" if slip not in (0, sigma) else "impact"
+
+
+def slide_rock(M, I_G, B, H, e, g, a_g, omega_g, mu_s, mu_k=None, sign=1, t_after=3.0, rtol=1e-10) -> SlideRock:
+    """The bare block under the one-sine pulse on a floor with Coulomb friction: an independent reference.
+
+    The phases of docs/model.md section 15, each integrated by SciPy's DOP853 with its exits as events: full
+    contact sticking or sliding, rocking about either corner sticking or sliding; an impact sticks when the floor
+    holds the corner (:func:`corner_impact`) and slides through otherwise; the rest snap below
+    ``1e-6 sqrt(g / H)`` rad/s. The equations are typed by hand in this module, independent of ``derive/``.
+    """
+    blk = _Block(M, I_G, B, H, e, g, sign * a_g, omega_g, mu_s, mu_s if mu_k is None else mu_k, t_after)
+    t, y, s, sigma = 0.0, np.zeros(4), 0, 0
+    theta_max = u_max = 0.0
+    counts = {"uplift": 0, "slide": 0, "impact": 0}
+    status, first, stalled = "t_max", "none", 0
+    while t < blk.t_max - 1e-12 and status == "t_max":
+        sol, names = _segment(blk, s, sigma, t, y, rtol)
+        peaks = np.concatenate([sol.y, *(ye.T for ye in sol.y_events if ye.size)], axis=1)
+        theta_max = max(theta_max, float(np.max(np.abs(peaks[0]))))
+        u_max = max(u_max, float(np.max(np.abs(peaks[2]))))
+        hit = [(te[0], k) for k, te in enumerate(sol.t_events[:-1]) if te.size]
+        if hit:
+            t_hit, k = min(hit)
+            stalled = stalled + 1 if t_hit == t else 0
+            if stalled > 8:
+                raise RuntimeError(f"the phases switch without end at t = {t}")
+            t, y, name = float(t_hit), sol.y_events[k][0].copy(), names[k]
+            if name in ("overturn", "flight"):
+                status = "overturned" if name == "overturn" else "flight"
+                break
+            first = ("rocks" if name.startswith("uplift") else "slides") if first == "none" else first
+            s, sigma, counted = _transition(blk, name, s, sigma, t, y)
+            for word in counted.split():
+                counts[word] += 1
+        else:
+            t, y = float(sol.t[-1]), sol.y[:, -1].copy()
+        if s == 0 and sigma == 0 and t >= blk.T:
+            status = "rest"
+    return SlideRock(
+        theta_max, u_max, float(y[2]), counts["slide"], counts["uplift"], counts["impact"], status, t, first
+    )
