@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "840f1176bf03c6c086b61f2140f0ce0ae1d6401d07a3c7562d95e5061c6b2346",
-    "omd": "071c7deb4b93bd598a14ac0c6e5ef0ca42e77184ff5cc52866821ad41cf6f535",
-    "omd2": "b08715128d04fcfebc2cb5c109ee912c1f93ab8e55a86059f30b2ce5213a5dd2",
-    "omd_stops": "d8f7f7de6f78a9bada8f038463642ce596636947992d9c4ce59810c42dfeda4c",
-    "omd_stops_hc": "59f0536877cf65e9a3cedebdea206c5fa63cbcf8d158a2a6f117b92af1ee425f",
-    "pendulum": "92a84d0e15e610137ed8d4d3eb97222795a3ee1abef7c9fe0e85228c398b94fe",
+    "block": "0c60aee471c988800edca02c5c24b31334c4fda8c1e44790c946ced251b07f30",
+    "omd": "a98d231fcbf65b65534c6c8abf3a9b5803bdbcbc4322f7d05c29ec095fdf0c48",
+    "omd2": "fcbc8763ac5c93cac43a9671cbc5186a94b69ee84ebc211fc26536a81984fbb8",
+    "omd_stops": "c555f0cbff6a942aa828f9e408a67983a39c33d29ff3c67a20958e14f5d0f51f",
+    "omd_stops_hc": "3c6f0a909518965994c31e3d1718a03b68358ec0fa45b257f262a114d56da9df",
+    "pendulum": "6223154da1e82d3bd50d9ee0cb6d6158ba8b860b942b646216567adc43254928",
 }
