@@ -55,18 +55,21 @@ class Result:
     rows: list = field(default_factory=list)  # (t, theta, x, dtheta, dx, phase) at every event
 
 
+def pad_law(p: dict, floor: float | None) -> dict:
+    """The pads' keywords of :mod:`rocking.reference.paper` from the model's parameters by name: Kelvin-Voigt
+    ``L, k_b, c_b``; Hunt-Crossley ``L, k_b, n_b`` and its damping (the model's own parameter) with ``floor``."""
+    law = {k: p[k] for k in ("L", "k_b", "c_b", "n_b", "e_b", "chi_b") if k in p}
+    return {**law, "floor": floor} if "n_b" in p else law
+
+
 class _Plain:
     def __init__(self, problem, floor: float | None):
         p = dict(zip(problem.model.parameters, (float(v) for v in problem.p)))
         self.body = {k: p[k] for k in BODY}
         self.problem = problem
-        self.hunt_crossley = "e_b" in p
-        if self.hunt_crossley:
-            self.law = {"L": p["L"], "k_b": p["k_b"], "n_b": p["n_b"], "e_b": p["e_b"], "floor": floor}
-            self.v_in = [floor, floor]
-        else:
-            self.law = {"L": p["L"], "k_b": p["k_b"], "c_b": p["c_b"]}
-            self.v_in = None
+        self.hunt_crossley = "n_b" in p
+        self.law = pad_law(p, floor)
+        self.v_in = [floor, floor] if self.hunt_crossley else None
 
     def stops(self) -> dict:
         return {**self.law, "v_in": tuple(self.v_in)} if self.hunt_crossley else self.law
@@ -322,11 +325,9 @@ def applied_force(problem, history: dict, floor: float | None = None) -> tuple[n
     rocking_q = m21 * ddtheta + m22 * ddx - f2
     contact_q = b["m"] * ddx - b["m"] * paper.contact_accel(x[k], dx[k], ag[k], b["m"], b["k_m"], b["c"])
     applied = -np.sign(x[k]) * np.where(phase[k] == 0, contact_q, rocking_q)
-    if "e_b" in p:
-        v_in = tuple(v[k] for v in memory(problem.model, list(problem.p), history))
-        law = {"L": p["L"], "k_b": p["k_b"], "n_b": p["n_b"], "e_b": p["e_b"], "floor": floor, "v_in": v_in}
-    else:
-        law = {"L": p["L"], "k_b": p["k_b"], "c_b": p["c_b"]}
+    law = pad_law(p, floor)
+    if "n_b" in p:
+        law["v_in"] = tuple(v[k] for v in memory(problem.model, list(problem.p), history))
     return applied, np.max(paper.stop_forces(x[k], dx[k], **law), axis=0)
 
 

@@ -19,6 +19,7 @@ from scipy.optimize import minimize_scalar
 
 import rocking
 from rocking.sim.history import quantities
+from rocking.sim.pad_memory import memory
 from rocking.sim.problem import make_problem
 from rocking.sim.run import run
 from tests.pads_reference import FAMILIES, applied_force, plain_run, random_case
@@ -37,8 +38,8 @@ def issue_35() -> tuple:
 
 
 def harder_strike() -> tuple:
-    """Hunt-Crossley pads (e_b 0.86): the block lands at t = 1.98 s with the mass in the upper pad, which it then
-    strikes at 0.165 m/s, faster than the contact's approach speed, 0.156 m/s (found by a random search)."""
+    """Hunt-Crossley pads (e_b 0.86): the block lands at t = 1.99 s with the mass in the upper pad, which it then
+    strikes faster than the contact's approach speed (found by a random search)."""
     block = rocking.Block(H=2.947142713313032, B=0.4906504253436547, M=1000.0, e=0.007561085485942733)
     stops = rocking.Stops(L=0.08504141468824233, k_b=278115.37572207337, law="hunt-crossley", e_b=0.8563001612409546)
     w_m = 2.3326450183467977
@@ -80,6 +81,8 @@ def test_a_landing_inside_a_pad_follows_the_documented_law(landing, backend):
     assert np.any(forces[inside] != forces[inside - 1])
     # The history's events read each pad's regime (and memory) as the run did.
     assert (r.events()["kind"] == "bumper_contact").sum() == r.stop_contacts
+    for v_in in memory(problem.model, list(problem.p), h):  # Hunt-Crossley: a harder strike raises v_in
+        assert np.any(v_in[inside] > v_in[inside - 1])
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -160,12 +163,13 @@ def test_below_barrier_counts_a_released_pads_energy(backend):
     above the barrier (243 J), so the run has no verdict (before issue 35: below_barrier); 1 cm short of the pad,
     the same run is below the barrier."""
     block = rocking.Block.reference()
-    params = {"m": 1.0, "h": 0.05, "k_m": 1.0, "c": 0.0, "L": 0.1, "k_b": 1e10, "n_b": 1.5, "e_b": 0.5}
+    stops = rocking.Stops(L=0.1, k_b=1e10, law="hunt-crossley", e_b=0.5, n=1.5)
+    damper = rocking.Damper(m=1.0, k_m=1.0, c=0.0, h=0.05, stops=stops)
     still = rocking.OneSinePulse(a_g=0.0, omega_g=2 * math.pi * 1000)  # t_p = 1 ms: t_max after it
     statuses = []
     for x0 in (0.11, 0.09):
         y0 = np.array([0.0, x0, 0.0, -0.01])
-        problem = make_problem(block, params, still, model="omd_stops_hc", t_max=2e-3, y0=y0, energy_rest=0.0)
+        problem = make_problem(block, damper, still, t_max=2e-3, y0=y0, energy_rest=0.0)
         r = run(problem, backend=backend)
         assert (r.bumper_force_max, r.stop_contacts) == (0.0, 0)  # released from the start
         statuses.append(r.status)
