@@ -98,14 +98,11 @@ def check_output_folder(built: Built, folder: Path) -> set[str]:
     return previous & entries
 
 
-def _stage(folder: Path, built: Built) -> Path:
-    """A new temporary folder beside ``folder`` holding every file of ``built`` (mode 0644: generated code is
-    meant to be read)."""
-    staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.derive-"))
+def _stage(staging: Path, built: Built) -> None:
+    """Write every file of ``built`` into the folder ``staging`` (mode 0644: generated code is meant to be read)."""
     for name, text in built.files.items():
         (staging / name).write_text(text, encoding="utf-8")
         os.chmod(staging / name, 0o644)
-    return staging
 
 
 def write(built: Built, folder: Path) -> None:
@@ -124,8 +121,9 @@ def write(built: Built, folder: Path) -> None:
     previous = check_output_folder(built, folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        staging = _stage(folder, built)
+        staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.derive-"))
         try:
+            _stage(staging, built)
             # Every file written: renames alone from here, which need no space.
             for name in sorted(previous - set(built.files)):
                 path = folder / name
