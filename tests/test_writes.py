@@ -4,9 +4,12 @@ turns under a lock on the name, so that the figures beside the data are always t
 
 from __future__ import annotations
 
+import builtins
 import hashlib
+import io
 import json
 import multiprocessing
+import os
 import threading
 from pathlib import Path
 
@@ -203,3 +206,66 @@ def test_the_lock_of_a_name_is_held_across_threads_and_reentrant(tmp_path):
         order.append("released")
     waiter.join(timeout=10)
     assert order == ["held", "released", "got"] and not list(tmp_path.iterdir())
+
+
+# --- inputs: files of the kernel and devices, huge records (issue 36, item 5) -----------------------------------
+
+#: Regular files of the kernel: /proc/kmsg waits for the kernel's messages (and, read by root, consumes them).
+KERNEL_FILES = [p for p in ("/proc/kmsg", "/proc/self/status", "/sys/kernel/notes") if os.path.isfile(p)]
+
+
+def _readers(tmp_path: Path) -> dict:
+    """Every reader of an input file, each given a path: a record, a saved study (its .json or its .nc), a spec."""
+    from rocking.derive.spec import SpecError, load_spec
+    from rocking.model.records import read_record
+    from rocking.study.storage import load
+
+    def study_nc(path: str) -> None:  # a saved study whose .nc is a link to the file
+        (tmp_path / "s.json").write_text("{}")
+        (tmp_path / "s.nc").unlink(missing_ok=True)
+        (tmp_path / "s.nc").symlink_to(path)
+        load(tmp_path / "s.json")
+
+    return {
+        "record": (lambda path: read_record(path, "g"), ParameterError),
+        "study json": (lambda path: files.read_json(Path(path)), ValueError),
+        "study nc": (study_nc, ParameterError),
+        "spec": (load_spec, SpecError),
+    }
+
+
+@pytest.mark.parametrize("reader", ["record", "study json", "study nc", "spec"])
+def test_a_file_of_the_kernel_is_never_read_as_an_input(tmp_path, monkeypatch, reader):
+    read, error = _readers(tmp_path)[reader]
+    opened = []
+    for module in (os, io, builtins):  # every way a file is opened: none of them may open the kernel's
+        real = module.open
+
+        def spy(path, *args, real=real, **kwargs):
+            opened.append(str(path))
+            return real(path, *args, **kwargs)
+
+        monkeypatch.setattr(module, "open", spy)
+    assert KERNEL_FILES
+    for path in KERNEL_FILES:
+        link = tmp_path / "innocent.csv"
+        link.unlink(missing_ok=True)
+        link.symlink_to(path)
+        for given in (path, str(link)):
+            with pytest.raises(error, match=r"is a file of the kernel or a device.* under /(proc|sys): not an input"):
+                read(given)
+    assert not [p for p in opened if p.startswith(("/proc", "/sys")) or "innocent" in p]
+
+
+def test_a_csv_of_too_many_rows_is_refused_before_any_row_is_parsed(tmp_path, monkeypatch):
+    """A file of columns of more rows than MAX_SAMPLES (here lowered to 50,000: 60,000 rows, 1 MB) is refused
+    from a count of its lines, before any row is parsed (was: 4.1 million rows parsed for ~50 s)."""
+    from rocking.model import records
+
+    monkeypatch.setattr(records, "MAX_SAMPLES", 50_000)
+    monkeypatch.setattr(records, "_row", lambda *a: pytest.fail("a row was parsed"))
+    path = tmp_path / "long.csv"
+    path.write_text("# a comment\ntime [s], a [g]\n" + "".join(f"{0.01 * i:.2f},0.001\n" for i in range(60_000)))
+    with pytest.raises(ParameterError, match=r"long.csv: more than the 50000 samples .* got 60001 lines") as info:
+        records.read_columns(path)
+    assert "\n" not in str(info.value)
