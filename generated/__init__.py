@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "f13892eb2b24b3d94e46bc75d6a4028d289d2a913804f9a3976b0c08d484a035",
-    "omd": "29e86844c386cf7e1524c28e8ef6d43e66bb193682863c311797f5173f42b8ae",
-    "omd2": "c10099da4f5e89528173c5366a87c5cccf61f4c96ac059ea84f4f7c2724bdd22",
-    "omd_stops": "48942d00f73e0a109a50a958686ad12d9a5b920ea0af1db2141e4132e73797ea",
-    "omd_stops_hc": "fa5b287ae67ac776b560d07d1853e931a91381be651ebad7bab2ed9367e4a5af",
-    "pendulum": "53fd251a03555511fdf744bd84db3604134e1a5b9deca3cdc685ea81e06bc0bb",
+    "block": "e5df817d7d0be34fe856815bd1ac8ae0fb25d3cc3a36b67b17fa1bf99e835341",
+    "omd": "75e239c07859c4df66c3950ffd99492f279667ad5699eb557ecc868fb74fe52e",
+    "omd2": "4754dfa75ee7a701172e26ae25a2526341cbc1d589eb80a03fe5819306bd44ff",
+    "omd_stops": "ac53319c6c7bcac1dd2effc51a0956254dc5227ca6005d82f19b9c06c584a21c",
+    "omd_stops_hc": "ab6e3fb6ff5cc85d3f97491a7c5382937bd10ac1c7ca2d880029cdb47bdef11f",
+    "pendulum": "7787fd74b50ada05071660a1d7515f67d82dff66cadc9cc98fc4b06d8de57f39",
 }
