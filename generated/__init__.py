@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "e5df817d7d0be34fe856815bd1ac8ae0fb25d3cc3a36b67b17fa1bf99e835341",
-    "omd": "75e239c07859c4df66c3950ffd99492f279667ad5699eb557ecc868fb74fe52e",
-    "omd2": "4754dfa75ee7a701172e26ae25a2526341cbc1d589eb80a03fe5819306bd44ff",
-    "omd_stops": "ac53319c6c7bcac1dd2effc51a0956254dc5227ca6005d82f19b9c06c584a21c",
-    "omd_stops_hc": "ab6e3fb6ff5cc85d3f97491a7c5382937bd10ac1c7ca2d880029cdb47bdef11f",
-    "pendulum": "7787fd74b50ada05071660a1d7515f67d82dff66cadc9cc98fc4b06d8de57f39",
+    "block": "68a981803ecb49ed7e93d09b2694d35229a94de6770625a2be7ddc5eea66103d",
+    "omd": "c5e983cca03bd53e75bdf849c709166a832d2425ad4878a3f94aa731a402994b",
+    "omd2": "4efbcc61481c1a290219c597b8451da255670f5365ed2a004f5d2d79217bc85e",
+    "omd_stops": "ff42b35bc2e605c420f34acb47ae8673b589d0a7f4f3c38e6512042d49d99dfa",
+    "omd_stops_hc": "5ca588f04b739b4aecdb040e05a313e6d251f5a7f6991b464b229cbe21eae4dd",
+    "pendulum": "ec817c98b31a2f16c618d3c7f5505cbfcc96870831aa1154b813f4c26d76e8f6",
 }
