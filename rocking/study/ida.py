@@ -31,7 +31,7 @@ import numpy as np
 from ..model.intensity import MEASURES, measure
 from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
-from ..sim.accuracy import SENSITIVE, check_choice, merged, tighter_rtol
+from ..sim.accuracy import SENSITIVE, check_choice, checked_fields, tighter_rtol
 from ..sim.cases import pulse_cases, run_cases, sampled_cases
 from . import directions
 from .config import Grid, Setting, Tuning, Variant, part_config
@@ -151,9 +151,10 @@ def ida_tile(payload: tuple) -> dict:
     :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (1,): the motion's measure
     (:func:`motion_measure`).
 
-    The responses are checked against a run at a tighter tolerance as ``check`` says
+    The responses are checked down the ladder of tolerances as ``check`` says
     (:func:`rocking.sim.accuracy.check_choice`: by default a sampled motion's, not a pulse's;
-    ``sensitive`` marks those that moved, which hold the tighter run's results).
+    :func:`rocking.sim.accuracy.tolerance_check`; ``sensitive`` marks those whose runs disagree,
+    which hold their tightest run's results).
 
     ``payload = (setting, damper_or_None, suite, i, levels, name, signs, check)``.
     """
@@ -161,13 +162,17 @@ def ida_tile(payload: tuple) -> dict:
     motion = suite.motion(i)
     value = motion_measure(motion, name)
     scales = scales_for(levels, value, name)
-    result = run_cases(_cases(setting, motion, scales, signs, damper or {}), backend=setting.backend, threads=1)
-    result = {k: result[k] for k in FIELDS}
-    tight_rtol = tighter_rtol(setting.rtol)
-    if check_choice(check, motion) == "tolerance" and tight_rtol != setting.rtol:
-        tight = _cases(replace(setting, rtol=tight_rtol), motion, scales, signs, damper or {})
-        result = merged(result, run_cases(tight, backend=setting.backend, threads=1))
+
+    def run_at(rtol: float, factor: float) -> dict:
+        cases = _cases(replace(setting, rtol=rtol), motion, scales * factor, signs, damper or {})
+        result = run_cases(cases, backend=setting.backend, threads=1)
+        return {k: result[k] for k in FIELDS}
+
+    if check_choice(check, motion) == "tolerance" and tighter_rtol(setting.rtol) != setting.rtol:
+        result = checked_fields(run_at, setting.rtol)
+        result = {k: result[k] for k in (*FIELDS, SENSITIVE.name)}
     else:
+        result = run_at(setting.rtol, 1.0)
         result[SENSITIVE.name] = np.zeros(len(levels) * len(signs), dtype=bool)
     shape = (len(levels), len(signs))
     return {**{k: v.reshape(shape) for k, v in result.items()}, "im": np.array([value])}
