@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..model.params import ParameterError
 from ..model.plausibility import check_run
 from . import backends
-from .accuracy import CHECKED, COMPARED, TRAJECTORY, check_choice, ladder, tolerance_check
+from .accuracy import CHECKED, READ, check_choice, ladder, tolerance_check
 from .backends import NAMES, BackendWarning
 from .history import check_dt, default_dt, run_inputs
 from .problem import OPTIONS, Problem, Response, check_flag, resolve
@@ -181,13 +181,14 @@ def simulate(
     if check == "none" or len(ladder(case["rtol"])) == 1:
         return _run(model, p, case, backend, record)
     resolved = {case["rtol"]: (model, p, case)}
-    # Resolved again at each rung, not patched: the default atol scales with rtol.
-    return _checked(
-        lambda rtol: resolved.get(rtol) or resolve(block, damper, pulse, {**settings, "rtol": rtol}),
-        case["rtol"],
-        backend,
-        record,
-    )
+
+    def resolved_at(rtol: float) -> tuple:
+        # Resolved again at each rung, not patched: the default atol scales with rtol.
+        if rtol not in resolved:
+            resolved[rtol] = resolve(block, damper, pulse, {**settings, "rtol": rtol})
+        return resolved[rtol]
+
+    return _checked(resolved_at, case["rtol"], backend, record)
 
 
 def _checked(resolved_at, rtol: float, backend: str, record: bool) -> Response:
@@ -200,7 +201,7 @@ def _checked(resolved_at, rtol: float, backend: str, record: bool) -> Response:
         model, p, case = resolved_at(rung)
         # The amplitude of the horizontal motion alone: any motion's, sampled or a pulse.
         responses.append(_run(model, p, {**case, "a_g": case["a_g"] * factor}, backend, record))
-        return {name: getattr(responses[-1], name) for name in (*COMPARED, *TRAJECTORY)}
+        return {name: getattr(responses[-1], name) for name in READ}
 
     done = tolerance_check(run_at, rtol)
     response = responses[int(done.reported)]

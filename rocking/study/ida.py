@@ -165,15 +165,13 @@ def ida_tile(payload: tuple) -> dict:
 
     def run_at(rtol: float, factor: float) -> dict:
         cases = _cases(replace(setting, rtol=rtol), motion, scales * factor, signs, damper or {})
-        result = run_cases(cases, backend=setting.backend, threads=1)
-        return {k: result[k] for k in FIELDS}
+        return run_cases(cases, backend=setting.backend, threads=1)
 
     if check_choice(check, motion) == "tolerance" and tighter_rtol(setting.rtol) != setting.rtol:
         result = checked_fields(run_at, setting.rtol)
-        result = {k: result[k] for k in (*FIELDS, SENSITIVE.name)}
     else:
-        result = run_at(setting.rtol, 1.0)
-        result[SENSITIVE.name] = np.zeros(len(levels) * len(signs), dtype=bool)
+        result = {**run_at(setting.rtol, 1.0), SENSITIVE.name: np.zeros(len(levels) * len(signs), dtype=bool)}
+    result = {k: result[k] for k in (*FIELDS, SENSITIVE.name)}
     shape = (len(levels), len(signs))
     return {**{k: v.reshape(shape) for k, v in result.items()}, "im": np.array([value])}
 
