@@ -24,9 +24,13 @@ Usage::
 
     python bench/sensitivity.py [N] [FIRST] [OUT]
 
+    python bench/sensitivity.py fragility [OUT]
+
 Responses ``FIRST`` to ``FIRST + N - 1`` of the suite (default 3000 from 3000: the constants of
 :mod:`rocking.sim.accuracy` were chosen on responses 0 to 2999, these are held out), with 2 worker
-processes; the summary goes to ``OUT`` (default ``bench/sensitivity.json``).
+processes; the summary goes to ``OUT`` (default ``bench/sensitivity.json``). ``fragility``: the time of a
+fragility of 20 stochastic motions at 4 PGA levels (320 responses, the reference block, one worker) with the
+check and without, to ``OUT`` (default ``bench/sensitivity-fragility.json``).
 """
 
 from __future__ import annotations
@@ -35,6 +39,7 @@ import dataclasses
 import json
 import platform
 import sys
+import tempfile
 import time
 from multiprocessing import Pool
 from pathlib import Path
@@ -44,6 +49,10 @@ import numpy as np
 import rocking
 from rocking.model.stochastic import DEFAULT_SITE, record_rng, synthesize
 from rocking.sim import accuracy
+from rocking.study import ida
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.suite import Suite
+from rocking.study.tiles import Execution
 
 BLOCKS = {
     "reference": rocking.Block.reference(),
@@ -217,7 +226,31 @@ def main(n: int, first: int, out: Path) -> None:
     print(json.dumps(result, indent=1))
 
 
+def fragility_cost(out: Path, n: int = 20) -> None:
+    """Wall and CPU time of a fragility of ``n`` stochastic motions at 4 PGA levels, with the check and without."""
+    block = rocking.Block.reference()
+    uplift = block.g * block.tan_alpha
+    levels = Grid("pga", 1.5 * uplift, 6.0 * uplift, 4)
+    suite = Suite.stochastic(DEFAULT_SITE, n, seed=1)
+    result = {"command": f"python bench/sensitivity.py fragility {out}", "motions": n}
+    for check in ("tolerance", "none"):
+        with tempfile.TemporaryDirectory() as runs:
+            wall, cpu = time.perf_counter(), time.process_time()
+            study = ida.incremental_dynamic_analysis(
+                Setting(block), Tuning(0.05), suite, levels, Execution(workers=1, progress=False),
+                measure_name="pga", runs=runs, check=check,
+            )  # fmt: skip
+            wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        sensitive = {part: int(study.data["sensitive_responses"].sel(part=part).sum()) for part in ("bare", "damper")}
+        result[check] = {"responses": study.run["responses"], "wall_s": wall, "cpu_s": cpu, "sensitive": sensitive}
+    out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(json.dumps(result, indent=1))
+
+
 if __name__ == "__main__":
     args = sys.argv[1:]
+    if args[:1] == ["fragility"]:
+        fragility_cost(Path(args[1] if len(args) > 1 else "bench/sensitivity-fragility.json"))
+        raise SystemExit
     n, first = (int(args[k]) if len(args) > k else 3000 for k in (0, 1))
     main(n, first, Path(args[2] if len(args) > 2 else OUT))

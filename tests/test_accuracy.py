@@ -111,7 +111,7 @@ def test_a_pulse_is_not_run_again_by_default(backend, monkeypatch):
     rocking.simulate(block, None, pulse, backend=backend, check="tolerance")
     assert [rtol for rtol, _ in runs] == [1e-8, 1e-8, 1e-10, 1e-10]
     rocking.simulate(block, None, _sampled_sine(1.5), backend=backend, rtol=1e-6)  # sampled: checked by default
-    assert [rtol for rtol, _ in runs[4:]] == [1e-6, 1e-8, 1e-8]
+    assert [rtol for rtol, _ in runs[4:]] == [1e-6, 1e-10, 1e-10]  # the first rung: at most 1e-10
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
@@ -150,9 +150,10 @@ def test_the_tighter_tolerance_is_floored_at_the_smallest_valid_one():
         boundary.check("rtol", accuracy.RTOL_MIN * (1 - 1e-15))
 
 
-def test_the_ladder_goes_down_by_two_decades_to_the_smallest_rtol():
+def test_the_ladder_goes_down_by_two_decades_from_at_most_1e_10_to_the_smallest_rtol():
     assert accuracy.ladder(1e-8) == (1e-8, 1e-10, 1e-12)
-    assert accuracy.ladder(1e-6) == (1e-6, 1e-8, 1e-10, 1e-12)
+    assert accuracy.ladder(1e-6) == (1e-6, 1e-10, 1e-12) and accuracy.ladder(0.01) == (0.01, 1e-10, 1e-12)
+    assert accuracy.ladder(1e-9) == pytest.approx((1e-9, 1e-11, 1e-12), rel=1e-15)
     assert accuracy.ladder(3e-12) == (3e-12, 1e-12) and accuracy.ladder(1e-12) == (1e-12,)
 
 

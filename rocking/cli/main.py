@@ -701,8 +701,8 @@ def _add_simulate(sub) -> None:
     g.add_argument(
         "--check",
         choices=CHECKS,
-        help="'tolerance': run again down a ladder of tolerances (rtol / 100, ... 1e-12) and flag a sensitive "
-        "response (default for --motion; 'none' for a pulse)",
+        help="'tolerance': run again down a ladder of tolerances (rtol / 100, at most 1e-10, ... 1e-12) and flag "
+        "a sensitive response (default for --motion; 'none' for a pulse)",
     )
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
     g.add_argument(
