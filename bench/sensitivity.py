@@ -12,7 +12,8 @@ below uplift to overturning. For each response, on the C back end:
   ``theta_max`` and ``x_max``); where they do not, the response is *chaotic* and counted apart;
 - the reference with the motion scaled by ``1 - 1e-9`` and ``1 - 2e-9`` (factors the check never
   runs): where either moves the answer by more than 10 %, the response is chaotic at its input, and
-  flagging it is right whatever its answer;
+  flagging it is right whatever its answer; of a chaotic response, whether the check's spread of
+  ``theta_max`` covers these two runs and the one at 1e-11 (runs it does not make);
 - the run at ``RTOL / 100``: what the check of issue 25 (one rerun there) would have said.
 
 Counted per ``RTOL``: the answers not flagged that are farther than 10 % from the converged reference
@@ -118,7 +119,8 @@ def measure(i: int) -> dict:
                                  rtol=1e-12, check="none"))
         for f in REFERENCE_FACTORS
     ]  # fmt: skip
-    out = {**described, "reference": fine, "converged": not _apart(fine, coarse, CONVERGED)}
+    out = {**described, "reference": fine, "coarse": coarse, "perturbed": perturbed}
+    out["converged"] = not _apart(fine, coarse, CONVERGED)
     out["input_chaotic"] = any(_apart(fine, p, FAR) for p in perturbed)
     for rtol in TOLERANCES:
         plain, t_plain = _timed(block, damper, motion, rtol=rtol, check="none")
@@ -158,7 +160,12 @@ def summary(rows: list[dict], rtol: float) -> dict:
     missed = [r["i"] for r in conv if not r[key]["sensitive"] and wrong(r)]
     ratio = np.array([r[key]["cpu_checked"] / r[key]["cpu_plain"] for r in rows])
     runs = np.array([r[key]["check_runs"] for r in rows])
-    covered = [r for r in chaotic if r[key]["low"] <= r["reference"]["theta_max"] <= r[key]["high"]]
+    # The runs of the reference that the check does not make: does its spread cover them?
+    covered = [
+        r
+        for r in chaotic
+        if all(r[key]["low"] <= a["theta_max"] <= r[key]["high"] for a in (r["coarse"], *r["perturbed"]))
+    ]
     return {
         "rtol": rtol,
         "responses": len(rows),
@@ -174,7 +181,7 @@ def summary(rows: list[dict], rtol: float) -> dict:
         "false_positives": sum(r[key]["sensitive"] and not wrong(r, "plain") and not r["input_chaotic"] for r in conv),
         "chaotic_flagged": sum(r[key]["sensitive"] for r in chaotic),
         "chaotic_unflagged_far": sum(not r[key]["sensitive"] and wrong(r) for r in chaotic),
-        "chaotic_spread_covers_reference": len(covered),
+        "chaotic_spread_covers_other_runs": len(covered),
         "old_check_unflagged_far": sum(not r[key]["old_sensitive"] and wrong(r, "plain") for r in conv),
         "old_check_flagged": sum(r[key]["old_sensitive"] for r in rows),
         "cpu_ratio_mean": float(ratio.mean()),
@@ -233,7 +240,9 @@ def fragility_cost(out: Path, n: int = 20) -> None:
     levels = Grid("pga", 1.5 * uplift, 6.0 * uplift, 4)
     suite = Suite.stochastic(DEFAULT_SITE, n, seed=1)
     result = {"command": f"python bench/sensitivity.py fragility {out}", "motions": n}
-    for check in ("tolerance", "none"):
+    for i in range(n):
+        suite.motion(i)  # the synthesis's kernel is cached in the process: paid here, by neither of the two
+    for check in ("none", "tolerance"):
         with tempfile.TemporaryDirectory() as runs:
             wall, cpu = time.perf_counter(), time.process_time()
             study = ida.incremental_dynamic_analysis(

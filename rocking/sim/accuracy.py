@@ -33,7 +33,8 @@ TIGHTEN = 100.0
 #: The first rung below ``rtol`` is at most this. A record's steps are bounded by its sample spacing:
 #: at looser tolerances the error control may never bind, so that runs at 1e-6, 1e-7 and 1e-8 take
 #: the same steps and share one error (2 of 2,543 held-out responses of ``bench/sensitivity.py`` at
-#: rtol 1e-6, first rung 1e-8: the answer moved only from 1e-9 on); the ladder would not see it.
+#: rtol 1e-6, first rung 1e-8: the answer moved only from 1e-9 on); the ladder would not see it
+#: (docs/simulation.md, "Sensitivity to the tolerance").
 FIRST_RUNG = 1e-10
 
 #: The smallest valid ``rtol``: the ladder's last rung.

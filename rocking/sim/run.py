@@ -108,9 +108,13 @@ def simulate(
         :meth:`Response.to_dataset` reads it at that spacing, :func:`rerecord` runs it again at
         another; a bool, nothing else.
     check : {"tolerance", "none"}, optional
-        ``"tolerance"``: run again at ``rtol / 100`` (at least 1e-12) and set
-        ``Response.sensitive`` if the verdict changed or ``theta_max`` or ``x_max``
-        moved by more than 10 %; a sensitive response is the tighter run's
+        ``"tolerance"``: run again down a ladder of tolerances (``rtol / 100``, at most
+        1e-10, then by 100 to 1e-12), each rung as given and with the motion scaled by
+        ``1 + 1e-9``, until a rung follows the trajectory above it
+        (:func:`rocking.sim.accuracy.tolerance_check`); set ``Response.sensitive`` if a
+        run's verdict differs or its ``theta_max`` or ``x_max`` by more than 10 %; a
+        sensitive response is the tightest run's; ``theta_max_low``, ``theta_max_high``,
+        ``overturned_fraction`` and ``check_runs`` give the spread of the runs
         (docs/simulation.md, "Sensitivity to the tolerance"). Default: ``"tolerance"``
         for a :class:`SampledMotion` (records, stochastic motions), ``"none"`` for a pulse.
     **settings
