@@ -58,6 +58,10 @@ SAME_FRACTION = 1e-4
 #: record's precision, so that a response which moves with it is chaotic, not mistaken.
 PERTURBATION = 1e-9
 
+#: Runs added at the last rung, the motion scaled by ``1 + k PERTURBATION`` for ``k = 2, 3, ...``, where its two
+#: runs disagree: the response is chaotic, and its spread is all there is to say of it.
+SPREAD_RUNS = 6
+
 #: What two runs of one trajectory share exactly: the verdict, how the run ended and its count of impacts.
 TRAJECTORY = ("overturned", "status", "impacts")
 
@@ -175,6 +179,8 @@ def tolerance_check(run_at: Callable[[float, float], Mapping], rtol: float) -> L
     closed where both follow the trajectory of its tightest run so far (:func:`same_trajectory`),
     and stays open to the last rung otherwise. Two runs that agree by chance (both overturned, or
     the same ``theta_max`` by other paths) do not close it: their events or their maxima differ.
+    Where the last rung's two runs disagree (:func:`sensitive`), :data:`SPREAD_RUNS` more runs there
+    sample the spread of a chaotic response.
 
     Parameters
     ----------
@@ -205,6 +211,12 @@ def tolerance_check(run_at: Callable[[float, float], Mapping], rtol: float) -> L
         closed = same_trajectory(above, pair[0]) & same_trajectory(above, pair[1])
         above = {k: np.where(open_, pair[0][k], v) for k, v in above.items()}
         open_ = open_ & ~closed
+    if len(runs) > 1 and open_.any():
+        # Down to the floor, and its own two runs disagree: chaotic. More samples of its input's neighbourhood.
+        chaotic = open_ & np.asarray(sensitive(runs[-2], runs[-1]), bool)
+        for k in range(2, 2 + SPREAD_RUNS) if chaotic.any() else ():
+            runs.append(run_at(ladder(rtol)[-1], 1.0 + k * PERTURBATION))
+            counted.append(chaotic)
     mask = np.stack(counted)
     theta = np.stack([np.broadcast_to(np.asarray(r["theta_max"], float), shape) for r in runs])
     over = np.stack([np.broadcast_to(np.asarray(r["overturned"], bool), shape) for r in runs])
