@@ -1,10 +1,13 @@
-"""Kelvin-Voigt against Hunt-Crossley pads: the same damper and pulses, the two laws of Stops.at_edges.
+"""Kelvin-Voigt against Hunt-Crossley pads of equal restitution: the same damper and pulses, the two laws of
+Stops.at_edges.
 
 The reference block, gamma = 0.05, omega_m = p, zeta = 0.05, h = 0.05 m, one-sine pulses on a
 12 x 12 grid (beta in [2, 12], Omega in [2, 10]), C back end, default tolerances. The pads:
-``Stops.at_edges(block, damper)`` (zeta_b = 0.2, restitution 0.57) and
-``Stops.at_edges(block, damper, law="hunt-crossley")`` (e_b = 0.57, n = 1.5, the same force at full
-depth). Prints the time of each pass and how the outcomes differ::
+``Stops.at_edges(block, damper)`` (zeta_b = 0.2, a pad that only pushes) and
+``Stops.at_edges(block, damper, law="hunt-crossley")`` (n = 1.5, the same force at full depth, and
+e_b = BUMPER_RESTITUTION, the Kelvin-Voigt pad's restitution). Both restitutions are measured first, one
+impact of a mass on each pad integrated by bench/hc_restitution.py's SciPy integration. Prints them, the
+time of each pass and how the outcomes differ::
 
     .venv/bin/python bench/stops_laws.py
 """
@@ -15,6 +18,7 @@ import dataclasses
 import time
 
 import numpy as np
+from hc_restitution import hunt_crossley, kelvin_voigt
 
 import rocking
 
@@ -23,6 +27,13 @@ def main() -> None:
     block = rocking.Block.reference()
     damper = rocking.Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     laws = ("kelvin-voigt", "hunt-crossley")
+    kv, hc = (rocking.Stops.at_edges(block, damper, law=law) for law in laws)
+    zeta_b = kv.c_b / (2 * (kv.k_b * damper.m) ** 0.5)
+    print(
+        f"restitution of one impact, measured: Kelvin-Voigt pad (zeta_b = {zeta_b:g}) {kelvin_voigt(zeta_b):.6f}, "
+        f"Hunt-Crossley pad (e_b = {hc.e_b:.6f}, chi_b = {hc.as_params()['chi_b']:.6f}) "
+        f"{hunt_crossley(hc.as_params()['chi_b']):.6f}"
+    )
     results = {}
     for law in laws:
         with_stops = dataclasses.replace(damper, stops=rocking.Stops.at_edges(block, damper, law=law))

@@ -143,7 +143,7 @@ def spec_entries(spec) -> list[tuple[str, sp.Expr]]:
             entries += [(f"{kind} {el.name!r} {coefficient}", el.coefficient)]
             entries += [(f"{kind} {el.name!r} {measure}", el.measure)]
     for stop in spec.stops:
-        for key in ("travel", "gap", "stiffness", "damping", "exponent", "restitution"):
+        for key in ("travel", "gap", "stiffness", "damping", "exponent", "damping_factor"):
             entries.append((f"stop {stop.name!r} {key}", getattr(stop, key)))
     return entries
 

@@ -100,8 +100,10 @@ class Pad:
     ----------
     law : str
         ``"kelvin-voigt"`` or ``"hunt-crossley"``.
-    exponent, restitution : Expr
-        The Hunt-Crossley law's ``n`` and ``e_b`` (1 and 1 for Kelvin-Voigt).
+    exponent, damping_factor : Expr
+        The Hunt-Crossley law's ``n`` and ``chi`` (1 and 0 for Kelvin-Voigt): ``chi`` is the
+        damping factor of a restitution ``e_b``, ``chi(e_b)``, which the runtime solves for
+        (:func:`rocking.model.params.hunt_crossley_damping`; no closed form to derive).
     approach : Symbol
         The side's memory ``v_in``, the approach speed at the start of the contact,
         an input like its indicator (``_vin<i>``).
@@ -111,7 +113,7 @@ class Pad:
 
     law: str
     exponent: sp.Expr
-    restitution: sp.Expr
+    damping_factor: sp.Expr
     approach: sp.Symbol
     approach_floor: float
 
@@ -119,11 +121,6 @@ class Pad:
     def hunt_crossley(self) -> bool:
         """Whether the pad follows the Hunt-Crossley law."""
         return self.law == "hunt-crossley"
-
-    @property
-    def chi(self) -> sp.Expr:
-        """``3 (1 - e_b) / 2``, clipped at 0 so that no restitution can make the pad release energy."""
-        return sp.Rational(3, 2) * sp.Max(0, 1 - self.restitution)
 
     def potential(self, k, delta):
         """The pad's strain energy at the penetration ``delta`` while it pushes."""
@@ -133,7 +130,7 @@ class Pad:
     def dissipation(self, k, c, delta, rate):
         """Its Rayleigh dissipation at ``delta`` and ``rate = ddelta`` while it pushes."""
         if self.hunt_crossley:
-            return k * pad_power(delta, self.exponent) * self.chi * rate**2 / (2 * self.approach)
+            return k * pad_power(delta, self.exponent) * self.damping_factor * rate**2 / (2 * self.approach)
         return c * rate**2 / 2
 
     def push(self, k, c, delta, rate):
@@ -143,8 +140,8 @@ class Pad:
         (a speed, the sign of ``1 + chi ddelta / v_in``) and ``k delta^n (1 + chi ddelta / v_in)``.
         """
         if self.hunt_crossley:
-            force = k * pad_power(delta, self.exponent) * (1 + self.chi * rate / self.approach)
-            return self.approach + self.chi * rate, force
+            force = k * pad_power(delta, self.exponent) * (1 + self.damping_factor * rate / self.approach)
+            return self.approach + self.damping_factor * rate, force
         return k * delta + c * rate, k * delta + c * rate
 
 
@@ -228,7 +225,9 @@ def build_system(spec: Spec, inertia: str = "free") -> System:
             k,
             c,
             j,
-            Pad(stop.law, stop.exponent, stop.restitution, sp.Symbol(f"_vin{i}", positive=True), stop.approach_floor),
+            Pad(
+                stop.law, stop.exponent, stop.damping_factor, sp.Symbol(f"_vin{i}", positive=True), stop.approach_floor
+            ),
         )
         for i, (delta, k, c, j, stop) in enumerate(sides)
     )

@@ -94,7 +94,7 @@ class Element:
 #: Sides of a stop: ``upper`` acts while ``travel > gap``, ``lower`` while ``travel < -gap``.
 STOP_SIDES = {"both": (1, -1), "upper": (1,), "lower": (-1,)}
 #: Contact laws of a stop's pads (docs/model.md section 11): the keys each needs besides gap and stiffness.
-STOP_LAWS = {"kelvin-voigt": ("damping",), "hunt-crossley": ("exponent", "restitution")}
+STOP_LAWS = {"kelvin-voigt": ("damping",), "hunt-crossley": ("exponent", "damping_factor")}
 #: Least approach speed of a Hunt-Crossley pad, in the travel's unit per second, unless its stop
 #: declares ``approach_floor``: below it the law's damping ``~ 1 / v_in`` would make the
 #: equations as stiff as the contact is slow (docs/model.md section 11).
@@ -111,7 +111,8 @@ class Stop:
     ``stiffness delta^2 / 2`` and dissipates ``damping ddelta^2 / 2`` (force
     ``max(0, stiffness delta + damping ddelta)``). ``"hunt-crossley"``: it stores
     ``stiffness delta^(n+1) / (n+1)`` (``n`` the ``exponent``) and dissipates
-    ``stiffness delta^n chi ddelta^2 / (2 v_in)``, ``chi = 3 (1 - restitution) / 2``,
+    ``stiffness delta^n chi ddelta^2 / (2 v_in)``, ``chi`` the ``damping_factor`` (that of a
+    restitution ``e_b`` is the root of ``chi (1 + e_b) = ln((1 + chi) / (1 - chi e_b))``),
     ``v_in`` the approach speed of the contact, at least ``approach_floor`` (force
     ``max(0, stiffness delta^n (1 + chi ddelta / v_in))``); ``damping`` is then 0.
     """
@@ -125,7 +126,7 @@ class Stop:
     acts_on: str
     law: str = "kelvin-voigt"
     exponent: sp.Expr = sp.Integer(1)
-    restitution: sp.Expr = sp.Integer(1)
+    damping_factor: sp.Expr = sp.Integer(0)
     approach_floor: float = HC_APPROACH_FLOOR
 
 
@@ -373,7 +374,7 @@ def _stop(i: int, table: dict, bodies: list[str], coords: tuple, known) -> Stop:
     """
     where = f"stops[{i}]"
     keys = {"name", "gap", "stiffness", "damping", "travel", "sides", "acts_on", "law"}
-    keys |= {"exponent", "restitution", "approach_floor"}
+    keys |= {"exponent", "damping_factor", "approach_floor"}
     _check_keys(_table(table, where), keys, where)
     name = check_text(table.get("name", f"stops{i}"), f"{where} name", "label")
     where = f"stop {name!r}"
@@ -407,7 +408,7 @@ def _stop(i: int, table: dict, bodies: list[str], coords: tuple, known) -> Stop:
         acts_on,
         law,
         fields.get("exponent", sp.Integer(1)),
-        fields.get("restitution", sp.Integer(1)),
+        fields.get("damping_factor", sp.Integer(0)),
         _approach_floor(table.get("approach_floor", HC_APPROACH_FLOOR), where),
     )
 
@@ -513,8 +514,8 @@ def _check_stops_nonnegative(spec: Spec) -> None:
     """A stop's gap, stiffness and its law's own fields must be >= 0 for every parameter in its declared valid range.
 
     A negative gap puts the bumper inside the free travel, a negative stiffness or damping makes it
-    release energy: the runtime's bounds (docs/simulation.md, rule 4) assume neither. A Hunt-Crossley
-    pad's restitution above 1 would release energy too: its law clips ``1 - restitution`` at 0.
+    release energy: the runtime's bounds (docs/simulation.md, rule 4) assume neither; nor does a
+    Hunt-Crossley pad's negative damping factor.
 
     Raises
     ------

@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "f13892eb2b24b3d94e46bc75d6a4028d289d2a913804f9a3976b0c08d484a035",
-    "omd": "29e86844c386cf7e1524c28e8ef6d43e66bb193682863c311797f5173f42b8ae",
-    "omd2": "c10099da4f5e89528173c5366a87c5cccf61f4c96ac059ea84f4f7c2724bdd22",
-    "omd_stops": "48942d00f73e0a109a50a958686ad12d9a5b920ea0af1db2141e4132e73797ea",
-    "omd_stops_hc": "fa5b287ae67ac776b560d07d1853e931a91381be651ebad7bab2ed9367e4a5af",
-    "pendulum": "53fd251a03555511fdf744bd84db3604134e1a5b9deca3cdc685ea81e06bc0bb",
+    "block": "0c60aee471c988800edca02c5c24b31334c4fda8c1e44790c946ced251b07f30",
+    "omd": "a98d231fcbf65b65534c6c8abf3a9b5803bdbcbc4322f7d05c29ec095fdf0c48",
+    "omd2": "fcbc8763ac5c93cac43a9671cbc5186a94b69ee84ebc211fc26536a81984fbb8",
+    "omd_stops": "c555f0cbff6a942aa828f9e408a67983a39c33d29ff3c67a20958e14f5d0f51f",
+    "omd_stops_hc": "3c6f0a909518965994c31e3d1718a03b68358ec0fa45b257f262a114d56da9df",
+    "pendulum": "6223154da1e82d3bd50d9ee0cb6d6158ba8b860b942b646216567adc43254928",
 }

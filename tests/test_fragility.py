@@ -204,3 +204,44 @@ def test_a_part_without_a_curve_has_its_status_and_no_median(levels, overturned,
     assert values["fit_status"] == FIT_STATUSES.index(status) and values["resamples"] == 0
     assert all(np.isnan(values[k]) for k in ("median", "dispersion", "median_low", "dispersion_high"))
     assert all(np.isnan(v).all() for v in curves.values())
+
+
+def test_a_median_beyond_the_levels_is_placed_and_said_with_the_level_nearest_it():
+    """Capacities of median 0.5: levels from 0.1 to 0.4 put the fitted median above the highest, levels from 0.6
+    to 1.5 below the lowest; the levels of the suite hold it. The words name the median, that level and the fraction
+    overturned there."""
+    from rocking.study.fragility import median_place, median_words
+
+    overturned = _suite(200, seed=11)
+    for levels, place, side in (
+        (LEVELS[:4], "above_levels", "above the highest level tested, 0.4 g,"),
+        (LEVELS[5:], "below_levels", "below the lowest level tested, 0.6 g,"),
+        (LEVELS, "within_levels", None),
+    ):
+        columns = np.isin(LEVELS, levels)
+        fit = fit_lognormal(levels, overturned[:, columns])
+        assert median_place(levels, fit) == place
+        fraction = overturned[:, columns].mean(axis=0)
+        words = median_words(place, fit["median"], levels, fraction, "g")
+        if side is None:
+            assert words == "" and levels.min() <= fit["median"] <= levels.max()
+            continue
+        end = -1 if place == "above_levels" else 0
+        assert (fit["median"] > levels[end]) == (place == "above_levels")
+        assert words == (
+            f"the fitted median {fit['median']:.4g} g lies {side} at which "
+            f"{100 * fraction[end]:.0f} % of the motions overturn the block: the median is extrapolated, not measured"
+        )
+    assert median_place(LEVELS, fit_lognormal(LEVELS, np.zeros((5, LEVELS.size), bool))) == "no_median"
+
+
+def test_a_median_at_a_level_to_the_rounding_of_the_fit_is_within_the_levels():
+    """Half the motions overturning at the highest level, none below: the fitted median is that level to rounding,
+    measured there, not extrapolated."""
+    from rocking.study.fragility import median_place
+
+    levels = np.array([1.0, 2.0, 3.0])
+    overturned = np.array([[0, 0, 1], [0, 0, 0]] * 2, bool)
+    fit = fit_lognormal(levels, overturned)
+    assert fit["median"] == pytest.approx(3.0, rel=1e-6)
+    assert median_place(levels, fit) == "within_levels"

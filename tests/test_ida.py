@@ -327,3 +327,73 @@ def test_cli_simulate_a_record_scaled_by_a_factor_or_to_a_pga(records, capsys):
     assert '"pga": 3.0' in capsys.readouterr().out
     assert main(["simulate", "--motion", str(records[0]), "--beta", "2"]) == 2
     assert "--beta: options of a pulse; --motion gives a recorded motion" in capsys.readouterr().err
+
+
+def _extrapolation_warnings(caught) -> list:
+    return [w for w in caught if issubclass(w.category, rocking.FitWarning) and "extrapolated" in str(w.message)]
+
+
+def test_a_median_above_the_levels_tested_warns_and_is_marked_and_an_unchecked_suite_says_so(tmp_path):
+    """Three Ricker pulses at 1 to 3 m/s^2: with the damper one of three overturns the block at 3 m/s^2 and the fitted
+    median lies above it: a FitWarning naming the median, the level and the fraction, the Dataset's and the tables'
+    ``median_extrapolated``, the printed line and the figure say it; the block alone's median lies within the levels:
+    no such warning. Pulses are not checked against the tolerance: no ``sensitive``, NaN counts, "not checked"."""
+    from rocking.cli.study import fit_lines
+    from rocking.plot.figures import ida_figure
+    from rocking.study.fragility import MEDIAN_PLACES
+
+    with warnings.catch_warnings(record=True) as caught:
+        warnings.simplefilter("always")
+        study = rocking.fragility(
+            BLOCK, {"gamma": 0.05}, pulses="ricker", periods=[1.0, 2.0, 4.0], amplitude=3.0, levels=[1.0, 2.0, 3.0],
+            im="amplitude", t_after=5.0, runs=tmp_path, workers=1, progress=False, study=True,
+        )  # fmt: skip
+    data = study.data
+    places = [MEDIAN_PLACES[code] for code in data["median_extrapolated"].values]
+    assert places == ["within_levels", "above_levels"]
+    bare, damper = (float(data["median"].sel(part=p)) for p in ("bare", "damper"))
+    assert 1.0 <= bare <= 3.0 < damper
+    fraction = float(data["fraction"].sel(part="damper", level=3.0))
+    assert 0 < fraction < 0.5
+    extrapolated = _extrapolation_warnings(caught)
+    assert [str(w.message) for w in extrapolated] == [
+        f"block with the damper: the fitted median {damper:.4g} m/s^2 lies above the highest level tested, 3 m/s^2, "
+        f"at which {100 * fraction:.0f} % of the motions overturn the block: the median is extrapolated, not measured; "
+        "test higher levels"
+    ]
+    assert extrapolated[0].filename == __file__
+    fits = study.tables["fragility-fit"]
+    np.testing.assert_array_equal(fits["median_extrapolated"], data["median_extrapolated"].values)
+    lines = fit_lines(study)
+    assert "extrapolated" not in lines[0] and f"the fitted median {damper:.4g} m/s^2 lies above" in lines[1]
+    # Not checked: nothing is marked sensitive or not, the counts are NaN and the words say so.
+    assert "sensitive" not in data and not any(k.endswith("_sensitive") for k in study.tables["fragility"])
+    assert np.isnan(data["sensitive_responses"]).all() and np.isnan(data["sensitive_fraction"]).all()
+    assert np.isnan(study.tables["fragility-motions"]["damper_sensitive_responses"]).all()
+    unchecked = "sensitivity to the tolerance not checked (pulses are checked only with --check tolerance)"
+    assert all(line.endswith(unchecked) for line in lines)
+    legend = [t.get_text() for t in ida_figure(study).axes[0].get_legend().get_texts()]
+    assert "with damper: median above the highest level tested: extrapolated" in legend
+    assert any(t.startswith("lognormal fit: median") and "(extrapolated)" in t for t in legend)
+
+
+def test_a_suite_checked_against_the_tolerance_counts_its_sensitive_responses_and_one_not_checked_does_not(
+    records, tmp_path
+):
+    """A record at three scales: checked by default, ``sensitive`` and its counts are there (0 or more, never NaN);
+    with ``check="none"`` they are not: NaN, and the words say "not checked"."""
+    from rocking.cli.study import fit_lines
+
+    suite, scales = Suite.from_files(records[:1]), Grid("scales", 0.5, 2.0, 3)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", rocking.FitWarning)
+        runs = [
+            incremental_dynamic_analysis(SETTING, Tuning(0.05), suite, scales, SERIAL, runs=tmp_path, check=check)
+            for check in (None, "none")
+        ]
+    checked, unchecked = (study.data for study in runs)
+    assert checked["sensitive"].dtype == bool and not np.isnan(checked["sensitive_responses"]).any()
+    assert "sensitive" not in unchecked and np.isnan(unchecked["sensitive_responses"]).all()
+    assert "bare_sensitive" in runs[0].tables["ida"] and "bare_sensitive" not in runs[1].tables["ida"]
+    assert all("responses sensitive to the tolerance" in line for line in fit_lines(runs[0]))
+    assert all(line.endswith("not checked (--check none)") for line in fit_lines(runs[1]))

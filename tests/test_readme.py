@@ -66,7 +66,7 @@ def test_the_readme_simulate_output_is_what_simulate_prints(capsys):
         assert quoted in stops and quoted in text, quoted
     assert main([*argv, "--stops", "--bumper-law", "hunt-crossley"]) == 0
     pads = capsys.readouterr().out
-    for quoted in ("OVERTURNS at t = 2.3033 s;", "2 stop contact(s), bumper force max 9847 N"):
+    for quoted in ("OVERTURNS at t = 2.3389 s;", "2 stop contact(s), bumper force max 9929 N"):
         assert quoted in pads and quoted in text, quoted
 
 

@@ -25,7 +25,7 @@ c          damping coefficient of the damper dashpot [N s/m]
 L          half-stroke: free travel of the mass from the centre line to either bumper [m]
 k_b        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
 n_b        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-e_b        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+chi_b      damping factor of each bumper, chi(e_b) for its restitution e_b [1]
 stop_on    regime of the end stops: per side of each stop (the outputs of stop_gaps), 1 while
            its bumper acts, else 0, then per side the memory v_in of its Hunt-Crossley pad (keyword,
            default None: the regime of the state, each side acting where its contact, stop_contact,
@@ -40,8 +40,8 @@ import numpy
 NAME = "omd_stops_hc"
 COORDINATES = ("theta", "x", )
 STATE = ("theta", "x", "dtheta", "dx", )
-PARAMETERS = ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "n_b", "e_b", )
-ARGUMENTS = ("s", "theta", "x", "dtheta", "dx", "ag", "agy", "M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "n_b", "e_b", )
+PARAMETERS = ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "n_b", "chi_b", )
+ARGUMENTS = ("s", "theta", "x", "dtheta", "dx", "ag", "agy", "M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c", "L", "k_b", "n_b", "chi_b", )
 
 
 def _broadcast(values, args):
@@ -53,15 +53,15 @@ def _broadcast(values, args):
     return tuple(numpy.broadcast_to(numpy.asarray(v, dtype=float), shape) for v in values)
 
 
-def _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b):
+def _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b):
     """The regime of the state: each stop side acts (1) where its contact is > 0, else not (0)."""
     cse0 = functools.reduce(numpy.maximum, [0.001, dx])
-    cse1 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
+    cse1 = chi_b*dx
     cse2 = functools.reduce(numpy.maximum, [0.001, -dx])
     return (numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0 + cse1, -L + x]), 0),True], [1,0], default=numpy.nan), numpy.select([numpy.greater(functools.reduce(numpy.minimum, [-cse1 + cse2, -L - x]), 0),True], [1,0], default=numpy.nan), cse0, cse2, )
 
 
-def mass_matrix(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def mass_matrix(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Mass matrix of the rocking phase about the pivot s, row-major.
 
     Parameters
@@ -106,8 +106,8 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m,
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -122,11 +122,11 @@ def mass_matrix(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m,
     cse3 = B**2
     cse4 = (1/4)*M
     cse5 = -cse1 - h*m
-    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1/4)*cse3*m + h**2*m + m*x**2, cse5, cse5, m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((I_G + M*cse2*e + M*e**2 + cse0*cse4 + cse0*m + 2*cse1*h + cse2*m*x + cse3*cse4 + (1/4)*cse3*m + h**2*m + m*x**2, cse5, cse5, m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Forcing of the rocking phase about the pivot s: mass_matrix @ ddq = forcing.
 
     Parameters
@@ -171,8 +171,8 @@ def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, 
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -181,7 +181,7 @@ def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, 
     tuple of ndarray
         f[theta], f[x]
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
     # The vertical ground acceleration enters these equations only with gravity (derived).
     g = g + agy
     cse0 = numpy.cos(theta)
@@ -204,12 +204,12 @@ def forcing(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, 
     cse17 = dtheta**2
     cse18 = _on0*k_b*functools.reduce(numpy.maximum, [0, -L + x])**n_b
     cse19 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
-    cse20 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
-    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse17*m*s + _on1*cse19*k_b - _on1*cse19*cse20*k_b/_vin1 - c*dx + cse17*m*x - cse18 - cse2 - cse5 - k_m*x - cse18*cse20/_vin0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    cse20 = chi_b*dx
+    out = _broadcast((H*cse2 + H*cse5 + cse1*cse11 + cse11*cse4 - cse12*cse15 - cse12*cse16 - cse12*cse7 - cse12*cse8 - cse14*cse9 + cse15*cse6 + cse16*cse6 + cse2*h + cse5*h + cse6*cse7 + cse6*cse8 - 2*cse8*cse9, (1/2)*B*cse17*m*s + _on1*cse19*k_b - _on1*cse19*cse20*k_b/_vin1 - c*dx + cse17*m*x - cse18 - cse2 - cse5 - k_m*x - cse18*cse20/_vin0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Accelerations while rocking about the pivot s (finite ddtheta as the attached masses vanish).
 
     Parameters
@@ -254,8 +254,8 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -264,7 +264,7 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     tuple of ndarray
         ddtheta, ddx
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
     # The vertical ground acceleration enters these equations only with gravity (derived).
     g = g + agy
     cse0 = B*s
@@ -290,14 +290,14 @@ def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     cse20 = dtheta**2
     cse21 = _on0*k_b*functools.reduce(numpy.maximum, [0, -L + x])**n_b
     cse22 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
-    cse23 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
+    cse23 = chi_b*dx
     cse24 = (1/2)*B*cse20*m*s + _on1*cse22*k_b - _on1*cse22*cse23*k_b/_vin1 - c*dx - cse10 + cse20*m*x - cse21 - cse7 - k_m*x - cse21*cse23/_vin0
     cse25 = (H*cse10 + H*cse7 + cse1*cse11 - cse1*cse15 + cse10*h + cse11*cse17 + cse11*cse18 + cse11*cse2 - cse12*cse16 - 2*cse12*cse2 + cse14*cse6 + cse14*cse9 - cse15*cse17 - cse15*cse18 - cse15*cse2 - cse19*cse24 + cse7*h)/(H**2*cse4 + I_G + M*e**2 + cse0*cse1 + cse0*cse2 + cse3*cse4 + (1/4)*cse3*m + m*x**2)
-    out = _broadcast((cse25, -cse19*cse25 + cse24/m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((cse25, -cse19*cse25 + cse24/m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def contact_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def contact_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Accelerations in full contact (theta = dtheta = 0); ddtheta is 0 and s is ignored.
 
     Parameters
@@ -342,8 +342,8 @@ def contact_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -352,16 +352,16 @@ def contact_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     tuple of ndarray
         ddtheta, ddx
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
-    cse0 = 2*_vin0*_vin1
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    cse0 = _vin0*_vin1
     cse1 = _on0*functools.reduce(numpy.maximum, [0, -L + x])**n_b
-    cse2 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
-    cse3 = 3*dx*k_b*functools.reduce(numpy.maximum, [0, 1 - e_b])
-    out = _broadcast((0, (1/2)*(2*_on1*_vin0*_vin1*cse2*k_b - _on1*_vin0*cse2*cse3 - _vin1*cse1*cse3 - ag*cse0*m - c*cse0*dx - cse0*cse1*k_b - cse0*k_m*x)/(_vin0*_vin1*m), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    cse2 = chi_b*dx*k_b
+    cse3 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
+    out = _broadcast((0, (_on1*_vin0*_vin1*cse3*k_b - _on1*_vin0*cse2*cse3 - _vin1*cse1*cse2 - ag*cse0*m - c*cse0*dx - cse0*cse1*k_b - cse0*k_m*x)/(_vin0*_vin1*m), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Uplift function about the pivot s in full contact: the block leaves the ground when it turns positive.
 
     Parameters
@@ -406,8 +406,8 @@ def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -415,7 +415,7 @@ def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
     -------
     ndarray
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
     # The vertical ground acceleration enters these equations only with gravity (derived).
     g = g + agy
     cse0 = M*g
@@ -431,15 +431,15 @@ def uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
     cse10 = cse6*k_b
     cse11 = cse10*cse8
     cse12 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
-    cse13 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
+    cse13 = chi_b*dx
     cse14 = cse13/_vin0
     cse15 = _on1*cse12
     cse16 = cse13/_vin1
-    out = _broadcast(((1/2)*H*M*ag*s + H*_on1*cse12*k_b*s + _on1*cse12*h*k_b*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse10*cse15*cse16 - cse11*cse14 - cse11 - cse14*cse9 - cse15*cse16*cse7 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6 - cse9, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast(((1/2)*H*M*ag*s + H*_on1*cse12*k_b*s + _on1*cse12*h*k_b*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse10*cse15*cse16 - cse11*cse14 - cse11 - cse14*cse9 - cse15*cse16*cse7 - cse2*s*x - cse3*cse4 - cse3*cse5 - cse4*cse6 - cse5*cse6 - cse9, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def impact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def impact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Velocities after an impact at theta = 0 that ends rocking about s (new pivot -s); ag and agy are ignored.
 
     Parameters
@@ -484,8 +484,8 @@ def impact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -510,11 +510,11 @@ def impact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
     cse13 = -H - h
     cse14 = dtheta*h
     cse15 = (-H*cse9 + I_G*dtheta + cse0*dtheta + cse1*dtheta + cse10*cse6 + cse10*h**2 + 2*cse12*h - cse13*(-cse12 - cse14*m + dx*m) - cse4*dtheta - cse5*dtheta + cse7*dtheta - cse9*h)/(I_G - M*cse8*e + cse0 + cse1 + cse4 + cse5 + cse7 - cse8*m*x)
-    out = _broadcast((cse15, -cse11 - cse13*cse15 - cse14 + dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((cse15, -cse11 - cse13*cse15 - cse14 + dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Mechanical energy in the ground frame while rocking about s; ag and agy are ignored.
 
     Parameters
@@ -559,8 +559,8 @@ def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -568,7 +568,7 @@ def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
     -------
     ndarray
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
     cse0 = dtheta**2
     cse1 = (1/2)*cse0
     cse2 = (1/2)*m
@@ -589,11 +589,11 @@ def energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L
     cse17 = M*cse1
     cse18 = n_b + 1
     cse19 = k_b/cse18
-    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + _on0*cse19*functools.reduce(numpy.maximum, [0, -L + x])**cse18 + _on1*cse19*functools.reduce(numpy.maximum, [0, -L - x])**cse18 + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((H*cse11*h - H*cse4 + (1/2)*H*cse5*cse9 + H*cse7 + I_G*cse1 + _on0*cse19*functools.reduce(numpy.maximum, [0, -L + x])**cse18 + _on1*cse19*functools.reduce(numpy.maximum, [0, -L - x])**cse18 + (1/2)*cse10*cse12 + cse10*e + (1/8)*cse11*cse13 + cse12*cse16*x + cse12*cse17*e + cse12*cse2*cse8*g + cse13*cse14 + cse14*cse15 + cse15*cse16 + cse16*cse3 + cse16*h**2 + cse17*e**2 + cse2*dx**2 + (1/2)*cse3*k_m - cse4*h + cse6*cse8*x + cse7*h, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Rate of the mechanical energy along solutions: dissipation plus the work of the inertial ground force.
 
     Parameters
@@ -638,8 +638,8 @@ def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L,
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -647,7 +647,7 @@ def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L,
     -------
     ndarray
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
     cse0 = dx**2
     cse1 = dx*m
     cse2 = numpy.cos(theta)
@@ -668,12 +668,12 @@ def power(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L,
     cse17 = cse16*cse8
     cse18 = cse15*cse16
     cse19 = (1/2)*cse6
-    cse20 = (3/2)*cse0*k_b*functools.reduce(numpy.maximum, [0, 1 - e_b])
-    out = _broadcast((-_on0*cse20*functools.reduce(numpy.maximum, [0, -L + x])**n_b/_vin0 - _on1*cse20*functools.reduce(numpy.maximum, [0, -L - x])**n_b/_vin1 - c*cse0 - cse1*cse3 - cse1*cse5 - cse10*cse15 + cse10*cse8 + cse11*cse3 + cse11*cse5 - cse12*cse15 + cse12*cse8 + cse13*cse17 - cse13*cse18 + cse14*cse3 + cse14*cse5 + cse17*cse19 - cse18*cse19 + cse3*cse7 + cse5*cse7, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    cse20 = chi_b*cse0*k_b
+    out = _broadcast((-_on0*cse20*functools.reduce(numpy.maximum, [0, -L + x])**n_b/_vin0 - _on1*cse20*functools.reduce(numpy.maximum, [0, -L - x])**n_b/_vin1 - c*cse0 - cse1*cse3 - cse1*cse5 - cse10*cse15 + cse10*cse8 + cse11*cse3 + cse11*cse5 - cse12*cse15 + cse12*cse8 + cse13*cse17 - cse13*cse18 + cse14*cse3 + cse14*cse5 + cse17*cse19 - cse18*cse19 + cse3*cse7 + cse5*cse7, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def uplift_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def uplift_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Least energy above rest at which the attached bodies can lift the block about s in full contact without ground motion (inf: never; 0: no bound derived); y, ag and agy are ignored.
 
     Parameters
@@ -718,8 +718,8 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -727,11 +727,11 @@ def uplift_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     -------
     ndarray
     """
-    out = _broadcast((0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def least_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def least_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Least potential energy at the tilt theta about s over every position of the attached bodies, bumpers left out (-inf: no bound); the other coordinates, the velocities, ag and agy are ignored.
 
     Parameters
@@ -776,8 +776,8 @@ def least_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, 
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -792,11 +792,11 @@ def least_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, 
     cse4 = M*g
     cse5 = cse3*cse4
     cse6 = (1/2)*B*s
-    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((numpy.select([numpy.greater(k_m, 0),True], [(1/2)*H*cse0*cse4 + H*cse2 + cse1*cse3*cse6 + cse2*h - 1/2*cse3**2*g**2*m**2/k_m + cse5*cse6 + cse5*e,-numpy.inf], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def least_stroke_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def least_stroke_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Least potential energy at the tilt theta about s with q[1] held, over the positions of the other attached bodies, bumpers left out (-inf: no bound); the velocities, ag and agy are ignored.
 
     Parameters
@@ -841,8 +841,8 @@ def least_stroke_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g,
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -858,11 +858,11 @@ def least_stroke_potential(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g,
     cse5 = cse3*cse4
     cse6 = cse1*cse3
     cse7 = (1/2)*B*s
-    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast(((1/2)*H*cse0*cse4 + H*cse2 + cse2*h + cse5*cse7 + cse5*e + cse6*cse7 + cse6*x + (1/2)*k_m*x**2, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def critical_angle(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def critical_angle(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Static critical angle about the pivot s, the other coordinates held (sign of s).
 
     Parameters
@@ -907,8 +907,8 @@ def critical_angle(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -920,11 +920,11 @@ def critical_angle(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k
     cse1 = g*m
     cse2 = (1/2)*cse0
     cse3 = B*s
-    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((numpy.arctan2(cse0*e + (1/2)*cse1*cse3 + cse1*x + cse2*cse3, H*cse1 + H*cse2 + cse1*h), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def stop_gaps(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def stop_gaps(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Penetration delta of each side of each end stop (its bumper acts while delta > 0); none without stops.
 
     Parameters
@@ -969,8 +969,8 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -979,11 +979,11 @@ def stop_gaps(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c
     tuple of ndarray
         delta[0], delta[1]
     """
-    out = _broadcast((-L + x, -L - x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((-L + x, -L - x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def stop_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def stop_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Force of each bumper on its travel, max(0, k_b delta + c_b ddelta) while delta > 0, else 0 (> 0: pushes back; a pad only pushes).
 
     Parameters
@@ -1028,8 +1028,8 @@ def stop_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m,
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -1038,15 +1038,15 @@ def stop_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m,
     tuple of ndarray
         F_b[0], F_b[1]
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
-    cse0 = -L + x
-    cse1 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    cse0 = chi_b*dx
+    cse1 = -L + x
     cse2 = -L - x
-    out = _broadcast((k_b*(1 + cse1/_vin0)*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, _vin0 + cse1]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse0])**n_b, k_b*(1 - cse1/_vin1)*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse2, _vin1 - cse1]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse2])**n_b, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((k_b*(1 + cse0/_vin0)*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse1, _vin0 + cse0]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse1])**n_b, k_b*(1 - cse0/_vin1)*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse2, _vin1 - cse0]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse2])**n_b, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def stop_contact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def stop_contact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Contact of each bumper, min(delta, k_b delta + c_b ddelta) (Hunt-Crossley: min(delta, v_in + chi ddelta)): > 0 exactly while it pushes (the regime of the state); its zeros are the events of the regime.
 
     Parameters
@@ -1091,8 +1091,8 @@ def stop_contact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -1101,13 +1101,13 @@ def stop_contact(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m
     tuple of ndarray
         contact[0], contact[1]
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
-    cse0 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
-    out = _broadcast((functools.reduce(numpy.minimum, [_vin0 + cse0, -L + x]), functools.reduce(numpy.minimum, [_vin1 - cse0, -L - x]), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    cse0 = chi_b*dx
+    out = _broadcast((functools.reduce(numpy.minimum, [_vin0 + cse0, -L + x]), functools.reduce(numpy.minimum, [_vin1 - cse0, -L - x]), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def stop_approach(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def stop_approach(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Rate of the penetration ddelta of each side of each end stop: where a contact starts (ddelta >= 0), max(ddelta, approach_floor) is a Hunt-Crossley pad's memory v_in.
 
     Parameters
@@ -1152,8 +1152,8 @@ def stop_approach(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -1162,11 +1162,11 @@ def stop_approach(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     tuple of ndarray
         ddelta[0], ddelta[1]
     """
-    out = _broadcast((dx, -dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((dx, -dx, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def critical_tangent(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def critical_tangent(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Tangent of the static critical angle about the pivot s where the weights' centre is above the ground (the angle is then its atan), NaN elsewhere.
 
     Parameters
@@ -1211,8 +1211,8 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h,
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -1225,11 +1225,11 @@ def critical_tangent(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h,
     cse2 = (1/2)*cse1
     cse3 = H*cse0 + H*cse2 + cse0*h
     cse4 = B*s
-    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((numpy.select([numpy.greater(cse3, 0),True], [((1/2)*cse0*cse4 + cse0*x + cse1*e + cse2*cse4)/cse3,numpy.nan], default=numpy.nan), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out[0]
 
 
-def block_accelerations(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def block_accelerations(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Absolute horizontal accelerations [m/s^2] of the centre of the block's top side (a_top) and of its centroid (a_cm) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1274,8 +1274,8 @@ def block_accelerations(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m,
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -1292,11 +1292,11 @@ def block_accelerations(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m,
     cse5 = cse3*cse4
     cse6 = H*cse2
     cse7 = cse0*cse4
-    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((H*cse0*cse1 + ag - cse5, -cse6 - cse7, 0, (1/2)*H*cse0*cse1 + ag - cse3*e - cse5, -cse0*e - 1/2*cse6 - cse7, 0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def base_reaction(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def base_reaction(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Base shear V_b [N] (the ground's horizontal force on the block and its bodies, > 0 to the right), vertical reaction N_b [N] (> 0 up) and overturning moment M_b [N m] (minus the reaction's moment about the centre of the base, > 0 counter-clockwise) while rocking about s, each as out[0] + sum_j out[1 + j] ddq_j.
 
     Parameters
@@ -1341,8 +1341,8 @@ def base_reaction(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops (ignored); default: that of the state.
 
@@ -1393,11 +1393,11 @@ def base_reaction(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     cse37 = cse11*cse34
     cse38 = H**2
     cse39 = H*m
-    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast(((1/2)*H*M*cse0*cse4 + H*cse0*cse4*m + M*ag + ag*m + cse0*cse4*h*m - cse1*cse3 - cse13*cse4 - cse15*cse4 - cse4*cse7 - cse4*cse9, -cse16 - cse17 - cse18 - cse19 - cse21 - cse22 - cse23, cse8, M*g - cse21*cse4 - cse22*cse4 - cse23*cse4 - cse24 - cse25 - cse26 - cse27 + 2*cse5*dtheta*dx*m + g*m, -cse10*cse28 + cse13 + cse15 - cse29 - cse30 + cse7 + cse9, cse1, (1/2)*B*M*ag*cse0*s + (1/2)*B*M*g*s + (1/2)*B*ag*cse0*m*s + B*cse5*dtheta*dx*m*s + (1/2)*B*g*m*s + (1/2)*H*M*ag*cse5 + (1/2)*H*M*cse0*g + H*ag*cse5*m + H*cse0*g*m + M*ag*cse0*e + ag*cse0*m*x + ag*cse5*h*m - cse0*cse35*cse4 + cse0*g*h*m - cse1*cse36*cse4 - cse11*cse2*m - cse14*cse24 - cse14*cse25 - cse14*cse26 - cse14*cse27 - cse14*cse31 - cse15*g - cse20*cse37*cse4 - cse3*cse32 - cse31*e - cse9*g, (1/2)*B*M*cse5*e*s + (1/2)*B*cse5*m*s*x - I_G + (1/4)*M*cse33*cse5 - M*e**2 - cse11*cse32 - cse11*cse6 - cse14*cse29 - cse14*cse30 - cse28*cse37 + (1/4)*cse33*cse5*m - cse34*cse38 - cse35 - cse36*m - cse38*m - 2*cse39*h - h**2*m - m*x**2, cse23 + cse39 + h*m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
 
 
-def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b, stop_on=None):
+def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
     """Force (moment, for an angle) of the springs, dashpots and bumpers of each attached coordinate on the block along it, dV_e/dq + dD/ddq (omd: the guide force k_m x + c dx plus the bumpers'); none for the bare block.
 
     Parameters
@@ -1442,8 +1442,8 @@ def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k
         stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
     n_b : array_like
         exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
-    e_b : array_like
-        coefficient of restitution of each bumper (0 < e_b <= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
     stop_on : sequence of array_like, optional
         Regime of the end stops; default: that of the state.
 
@@ -1452,11 +1452,11 @@ def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k
     tuple of ndarray
         Q[x]
     """
-    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b)
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
     cse0 = -L + x
-    cse1 = (3/2)*dx*functools.reduce(numpy.maximum, [0, 1 - e_b])
+    cse1 = chi_b*dx
     cse2 = k_b*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse0, _vin0 + cse1]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse0])**n_b
     cse3 = -L - x
     cse4 = k_b*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse3, _vin1 - cse1]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse3])**n_b
-    out = _broadcast((c*dx + cse2 - cse4 + k_m*x + cse1*cse4/_vin1 + cse1*cse2/_vin0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b))
+    out = _broadcast((c*dx + cse2 - cse4 + k_m*x + cse1*cse4/_vin1 + cse1*cse2/_vin0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out

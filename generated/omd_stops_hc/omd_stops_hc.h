@@ -8,7 +8,7 @@
  *   y   state, 4 doubles: theta, x, dtheta, dx
  *   ag  ground acceleration ddx_g [m/s^2], positive to the right
  *   agy vertical ground acceleration ddy_g [m/s^2], positive up
- *   p   parameters, 14 doubles: M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, e_b
+ *   p   parameters, 14 doubles: M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b
  *   out results (vector functions only)
  * Each function also comes prepared: omd_stops_hc_prepare(s, on, p, cst) fills the
  * OMD_STOPS_HC_NK constants of a run about the pivot s in the regime on of the end
@@ -55,7 +55,7 @@
 #define OMD_STOPS_HC_P_L 10
 #define OMD_STOPS_HC_P_k_b 11
 #define OMD_STOPS_HC_P_n_b 12
-#define OMD_STOPS_HC_P_e_b 13
+#define OMD_STOPS_HC_P_chi_b 13
 
 /* The constants of a run about the pivot s in the regime on: cst, OMD_STOPS_HC_NK doubles. */
 void omd_stops_hc_prepare(double s, const double *on, const double *p, double *cst);

@@ -621,13 +621,14 @@ def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
         "--bumper-law",
         choices=tuple(BUMPER_LAWS),
         help="the pads' contact law (default kelvin-voigt: max(0, k_b delta + c_b ddelta); hunt-crossley: "
-        "max(0, k_b delta^n (1 + 3 (1 - e_b) / 2 ddelta / v_in)), on the model omd_stops_hc)",
+        "max(0, k_b delta^n (1 + chi(e_b) ddelta / v_in)), on the model omd_stops_hc)",
     )
     g.add_argument("--n-b", type=float, help="Hunt-Crossley exponent n, in [1, 10] (default 1.5, Hertzian contact)")
     g.add_argument(
         "--e-b",
         type=float,
-        help=f"Hunt-Crossley restitution of a pad, in (0, 1] (default {BUMPER_RESTITUTION:g}; with --n-b, "
+        help=f"Hunt-Crossley restitution of one impact on a pad, {RANGES['e_b'].text()} "
+        f"(default {BUMPER_RESTITUTION:.4f}, the Kelvin-Voigt pad's; with --n-b, "
         "implies --bumper-law hunt-crossley; its default --k-b gives the Kelvin-Voigt pad's force at full depth)",
     )
 

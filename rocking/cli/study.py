@@ -47,7 +47,7 @@ from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
 from ..study.design import design
 from ..study.directions import DIRECTIONS
 from ..study.files import DiskFull, make_folder, no_space
-from ..study.fragility import FITTED, FitWarning
+from ..study.fragility import FITTED, MEDIAN_PLACES, FitWarning, median_words
 
 # The drivers of the kinds are looked up in this module when a command runs (_driver): imported here by name.
 from ..study.ida import LEVELS, incremental_dynamic_analysis  # noqa: F401
@@ -140,8 +140,8 @@ def _add_check(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--check",
         choices=CHECKS,
-        help="'tolerance': run every response again at rtol / 100 and flag the sensitive ones, as rocking simulate "
-        "--check (default for records and --stochastic; 'none' for --pulses)",
+        help="'tolerance': run every response again down a ladder of tolerances and flag the sensitive ones, as "
+        "rocking simulate --check (default for records and --stochastic; 'none' for --pulses)",
     )
 
 
@@ -915,7 +915,8 @@ def safe_from_words(safe_from: float, Omega_max: float) -> str:
 
 def fit_lines(study: Study) -> list[str]:
     """What an IDA or a fragility says of each part, one line each: the fitted lognormal (its status where it
-    gives no curve), the motions with resurrections, the responses sensitive to the tolerance."""
+    gives no curve), its median where it lies outside the levels tested, the motions with resurrections, the
+    responses sensitive to the tolerance (or that they were not checked)."""
     data = study.data
     unit = LEVELS[study.config["measure"]] or "(scale factor)"
     motions, responses = data.sizes["motion"], data.sizes["motion"] * data.sizes["level"] * data.sizes["sign"]
@@ -931,12 +932,38 @@ def fit_lines(study: Study) -> list[str]:
                 f"median {median:.4g} {unit}, dispersion {dispersion:.3g} (90 % intervals {low:.4g} to "
                 f"{high:.4g}, {d_low:.3g} to {d_high:.3g}), {text}"
             )
+            text += _extrapolated(study, a)
         lines.append(
             f"{study.kind}, {part}: {text}; {int((a['reversals'] > 0).sum())} of {motions} motions "
-            "overturn the block at a level and not at a higher one; "
-            f"{int(a['sensitive_responses'].sum())} of {responses} responses sensitive to the tolerance"
+            f"overturn the block at a level and not at a higher one; {_sensitive_words(study, a, responses)}"
         )
     return lines
+
+
+def _extrapolated(study: Study, a) -> str:
+    """``"; "`` and :func:`~rocking.study.fragility.median_words` of one part ``a`` of an IDA's data whose median
+    lies outside the levels tested, else empty (a study saved without ``median_extrapolated`` too)."""
+    if "median_extrapolated" not in a:
+        return ""
+    levels = a["level"].values
+    fitted = levels > 0  # the levels the fit uses (rocking.study.ida._fit)
+    place = MEDIAN_PLACES[int(a["median_extrapolated"])]
+    words = median_words(
+        place, float(a["median"]), levels[fitted], a["fraction"].values[fitted], LEVELS[study.config["measure"]]
+    )
+    return f"; {words}" if words else ""
+
+
+def _sensitive_words(study: Study, a, responses: int) -> str:
+    """How many of the ``responses`` of one part ``a`` of an IDA's data are sensitive to the tolerance, or that
+    none was checked (the data then have no ``sensitive``) and why."""
+    if "sensitive" not in study.data:
+        check = study.config.get("check")
+        why = {"none": "--check none", None: "pulses are checked only with --check tolerance"}.get(
+            check, f"rtol {study.config['rtol']:g} has no tighter tolerance"
+        )
+        return f"sensitivity to the tolerance not checked ({why})"
+    return f"{int(a['sensitive_responses'].sum())} of {responses} responses sensitive to the tolerance"
 
 
 # --- demo and redraw, the command line's own; running a command ---------------------------

@@ -278,8 +278,9 @@ class Block:
 #: The parameters of the paper's damper (model ``omd``) and of its end stops (model ``omd_stops``), by name.
 DAMPER_PARAMETERS = ("m", "k_m", "c", "h")
 STOP_PARAMETERS = ("L", "k_b", "c_b")
-#: The parameters of Hunt-Crossley end stops (model ``omd_stops_hc``), by name.
-HC_STOP_PARAMETERS = ("L", "k_b", "n_b", "e_b")
+#: The parameters of Hunt-Crossley end stops (model ``omd_stops_hc``), by name: the model takes the pads' damping
+#: factor ``chi_b``, :class:`Stops` their restitution ``e_b`` (:func:`hunt_crossley_damping`).
+HC_STOP_PARAMETERS = ("L", "k_b", "n_b", "chi_b")
 #: The contact laws of a bumper pad (docs/model.md section 11) and the model each runs on.
 BUMPER_LAWS = {"kelvin-voigt": "omd_stops", "hunt-crossley": "omd_stops_hc"}
 
@@ -295,8 +296,115 @@ HC_REFERENCE_PENETRATION = 1e-3
 #: Default bumper damping ratio: a restitution of 0.57 for a pad that only pushes (docs/model.md section 11;
 #: exp(-0.2 pi / sqrt(0.96)) = 0.53 if it could pull), a rubber pad's.
 BUMPER_DAMPING_RATIO = 0.2
-#: Default restitution of a Hunt-Crossley pad (Stops.at_edges): that of the Kelvin-Voigt default pad, 0.57.
-BUMPER_RESTITUTION = 0.57
+
+
+def kelvin_voigt_restitution(zeta_b: float) -> float:
+    """The restitution of one impact of a mass on a Kelvin-Voigt pad that only pushes, of damping ratio ``zeta_b``
+    in ``[0, 1)`` (docs/model.md section 11): the pad lets go where ``k_b delta + c_b ddelta`` falls to 0, at
+    ``omega_d t_r = pi - atan2(2 zeta_b sqrt(1 - zeta_b^2), 1 - 2 zeta_b^2)``, and the mass leaves at
+    ``exp(-zeta_b omega_n t_r) (zeta_b / sqrt(1 - zeta_b^2) sin(omega_d t_r) - cos(omega_d t_r))`` of its
+    approach speed (a pad that could pull would give ``exp(-zeta_b pi / sqrt(1 - zeta_b^2))``)."""
+    root = math.sqrt(1.0 - zeta_b**2)
+    phase = math.pi - math.atan2(2.0 * zeta_b * root, 1.0 - 2.0 * zeta_b**2)  # omega_d t_r
+    return math.exp(-zeta_b * phase / root) * (zeta_b / root * math.sin(phase) - math.cos(phase))
+
+
+#: Default restitution of a Hunt-Crossley pad (Stops.at_edges): that of the Kelvin-Voigt default pad, 0.5717, so
+#: that the two laws' default pads restitute alike (bench/stops_laws.py).
+BUMPER_RESTITUTION = kelvin_voigt_restitution(BUMPER_DAMPING_RATIO)
+
+
+#: Terms of the series of :func:`_restitution_gap` below ``chi`` = 0.05: the 24th is below 1e-29 of the first.
+_GAP_SERIES_TERMS = 24
+
+
+def _alternating_gap(e: float, k: int) -> float:
+    """``(-1)^k - e^k``; for even ``k`` as ``(1 - e) (1 + e + ... + e^(k-1))``, exact as ``e -> 1``."""
+    return (1.0 - e) * math.fsum(e**j for j in range(k)) if k % 2 == 0 else -1.0 - e**k
+
+
+def _restitution_gap(chi: float, e: float) -> float:
+    """``(chi (1 + e) - ln((1 + chi) / (1 - chi e))) / chi^2``: > 0 where a Hunt-Crossley pad of damping factor
+    ``chi`` restitutes more than ``e``, < 0 where less, 0 where exactly ``e`` (docs/model.md section 11).
+
+    One impact of a mass on the pad, ``m ddelta = -k delta^n (1 + chi ddelta / v0)``, in ``w = ddelta / v0`` and
+    ``s ~ delta^(n+1) / (n+1)`` is ``w dw/ds = -(1 + chi w)`` whatever ``n``, ``m``, ``k``, ``v0``; the
+    restitution is the ``e`` at which the rebound (``w`` from 0 to ``-e``) spans the same ``s`` as the
+    compression (``w`` from 1 to 0): the root of this gap. Divided by
+    ``chi^2`` it keeps its sign as ``chi -> 0`` (the root ``chi = 0`` of the numerator is no pad's); below
+    ``chi = 0.05`` it is summed as its series ``sum_k>=2 chi^(k-2) ((-1)^k - e^k) / k``, which the direct form
+    would lose to cancellation (and so would ``1 - e^2`` computed as it reads, as ``e -> 1``).
+    """
+    if chi < 0.05:
+        return math.fsum(chi ** (k - 2) * _alternating_gap(e, k) / k for k in range(2, 2 + _GAP_SERIES_TERMS))
+    if chi * e >= 1.0:  # the pad would let go before the mass leaves at e: it restitutes less
+        return -math.inf
+    return (chi * (1.0 + e) - math.log1p(chi) + math.log1p(-chi * e)) / chi**2
+
+
+def _bisect(gap, a: float, b: float) -> float:
+    """The point between ``a`` (``gap > 0``) and ``b`` (``gap <= 0``) where ``gap`` changes sign, to the last bit."""
+    while min(a, b) < (mid := 0.5 * (a + b)) < max(a, b):
+        a, b = (mid, b) if gap(mid) > 0 else (a, mid)
+    return b
+
+
+def hunt_crossley_damping(e_b: float) -> float:
+    """The damping factor ``chi_b`` of a Hunt-Crossley pad whose single-impact restitution is ``e_b``.
+
+    The pad's force ``k_b delta^n (1 + chi_b ddelta / v_in)`` returns a mass that strikes it at ``v_in``
+    with the speed ``e_b v_in``, where ``chi_b`` is the root in ``(0, 1 / e_b)`` of
+
+        chi_b (1 + e_b) = ln((1 + chi_b) / (1 - chi_b e_b))
+
+    (docs/model.md section 11; the same for every ``n``, ``k_b``, mass and ``v_in``). It has no closed
+    form: found by bisection, to the last bit. ``e_b = 1`` gives 0; ``chi_b`` grows as ``1 / e_b`` as
+    ``e_b -> 0``. (Lankarani & Nikravesh's ``3 (1 - e_b) / 2`` is its first order in ``1 - e_b``.)
+
+    Parameters
+    ----------
+    e_b : float
+        The pad's coefficient of restitution, in ``RANGES["e_b"]``.
+
+    Returns
+    -------
+    float
+        ``chi_b >= 0``.
+
+    Raises
+    ------
+    ParameterError
+        If ``e_b`` is not a real number in its range.
+    """
+    e_b = check_in_range("e_b", e_b)
+    if e_b == 1.0:
+        return 0.0
+    return _bisect(lambda chi: _restitution_gap(chi, e_b), 0.0, 1.0 / e_b)
+
+
+def hunt_crossley_restitution(chi_b: float) -> float:
+    """The single-impact restitution of a Hunt-Crossley pad of damping factor ``chi_b``: the inverse of
+    :func:`hunt_crossley_damping`, the root ``e`` in ``(0, min(1, 1 / chi_b))`` of the same equation.
+
+    Parameters
+    ----------
+    chi_b : float
+        The damping factor, in ``RANGES["chi_b"]``.
+
+    Returns
+    -------
+    float
+        The restitution, in ``(0, 1]`` (1 for ``chi_b = 0``).
+
+    Raises
+    ------
+    ParameterError
+        If ``chi_b`` is not a real number in its range.
+    """
+    chi_b = check_in_range("chi_b", chi_b)
+    if chi_b == 0.0:
+        return 1.0
+    return _bisect(lambda e: _restitution_gap(chi_b, e), 0.0, min(1.0, 1.0 / chi_b))
 
 
 @dataclass(frozen=True)
@@ -308,9 +416,10 @@ class Stops:
     ``max(0, k_b delta + c_b ddelta)``, a compression-only Kelvin-Voigt contact (an unbonded
     pad cannot pull the mass back on rebound; it lets go where the bracket falls to 0). A
     damper with stops runs on the model ``omd_stops``. With ``law="hunt-crossley"`` the force
-    is ``max(0, k_b delta^n (1 + 3 (1 - e_b) / 2 ddelta / v_in))``, ``v_in`` the approach speed
-    of the contact (Hunt & Crossley 1975; Lankarani & Nikravesh 1990), on the model
-    ``omd_stops_hc``.
+    is ``max(0, k_b delta^n (1 + chi_b ddelta / v_in))``, ``v_in`` the approach speed of the
+    contact (Hunt & Crossley 1975), on the model ``omd_stops_hc``: ``e_b`` is the restitution of
+    one impact on the pad, and ``chi_b = hunt_crossley_damping(e_b)`` the damping factor that
+    gives it exactly, which :meth:`as_params` gives the model.
 
     Parameters
     ----------
@@ -327,7 +436,8 @@ class Stops:
     n : float, optional
         Hunt-Crossley exponent, in [1, 10]. Default 1.5 (Hertzian contact).
     e_b : float, optional
-        Hunt-Crossley coefficient of restitution of a pad, in (0, 1]; required with that law.
+        Hunt-Crossley: the restitution of one impact of a mass on a pad (what a drop on the pad
+        measures), in [1e-3, 1]; required with that law.
 
     Raises
     ------
@@ -401,10 +511,10 @@ class Stops:
 
     def as_params(self) -> dict[str, float]:
         """The stops' parameters under the symbol names of the derivation: ``L``, ``k_b``, ``c_b``
-        (Hunt-Crossley: ``L``, ``k_b``, ``n_b``, ``e_b``)."""
+        (Hunt-Crossley: ``L``, ``k_b``, ``n_b``, ``chi_b``, the damping factor of the restitution ``e_b``)."""
         if self.law == "hunt-crossley":
             e_b = cast(float, self.e_b)  # a float with this law (__post_init__)
-            return dict(zip(HC_STOP_PARAMETERS, (self.L, self.k_b, self.n, e_b)))
+            return dict(zip(HC_STOP_PARAMETERS, (self.L, self.k_b, self.n, hunt_crossley_damping(e_b))))
         return dict(zip(STOP_PARAMETERS, (self.L, self.k_b, self.c_b)))
 
     @classmethod
@@ -435,8 +545,8 @@ class Stops:
         law : {"kelvin-voigt", "hunt-crossley"}, optional
             The pads' contact law. Default ``"kelvin-voigt"``.
         e_b, n : float, optional
-            The Hunt-Crossley pads' restitution (default :data:`BUMPER_RESTITUTION`, 0.57, that of
-            the Kelvin-Voigt default) and exponent (default 1.5).
+            The Hunt-Crossley pads' restitution (default :data:`BUMPER_RESTITUTION`, 0.5717, that of
+            the Kelvin-Voigt default pad) and exponent (default 1.5).
 
         Returns
         -------
@@ -609,7 +719,7 @@ class Damper:
         -------
         dict
             Keys ``"m"``, ``"k_m"``, ``"c"``, ``"h"``, and with stops ``"L"``, ``"k_b"``, ``"c_b"``
-            (Hunt-Crossley: ``"L"``, ``"k_b"``, ``"n_b"``, ``"e_b"``).
+            (Hunt-Crossley: ``"L"``, ``"k_b"``, ``"n_b"``, ``"chi_b"``: :meth:`Stops.as_params`).
         """
         own = dict(zip(DAMPER_PARAMETERS, (self.m, self.k_m, self.c, self.h)))
         return own if self.stops is None else {**own, **self.stops.as_params()}

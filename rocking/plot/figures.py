@@ -47,7 +47,7 @@ from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from ..study.config import flight_beta
 from ..study.design import stroke_use
-from ..study.fragility import FITTED
+from ..study.fragility import FITTED, MEDIAN_PLACES
 from ..study.ida import LEVELS
 from ..study.ida import envelope as ida_envelope
 from ..study.kinds import KINDS
@@ -1011,6 +1011,34 @@ def _readable(value: float) -> str:
     return np.format_float_positional(value, precision=3, unique=False, fractional=False, trim="-")
 
 
+#: Step between the arrowheads of the parts' extrapolated medians outside the axes, in axes widths: side by side.
+MEDIAN_ARROW_STEP = 0.035
+
+
+def _median_outside(ax, place: str, style: dict, index: int) -> None:
+    """An open arrowhead at half probability on the edge of the axes beyond which a part's median lies
+    (:data:`~rocking.study.fragility.MEDIAN_PLACES`), pointing out of the levels tested, the ``index``-th part's
+    :data:`MEDIAN_ARROW_STEP` further out; nothing for a median within them."""
+    if place not in ("above_levels", "below_levels"):
+        return
+    above = place == "above_levels"
+    side = "above the highest" if above else "below the lowest"
+    ax.plot(
+        1.0 + MEDIAN_ARROW_STEP * index if above else -MEDIAN_ARROW_STEP * index,
+        0.5,
+        ">" if above else "<",
+        transform=ax.get_yaxis_transform(),  # x across the axes, y the probability
+        ms=9,
+        mfc="none",
+        mew=1.5,
+        color=style["color"],
+        ls="none",
+        clip_on=False,
+        zorder=6,
+        label=f"{style['label']}: median {side} level tested: extrapolated",
+    )
+
+
 @_figure_function
 def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
@@ -1021,7 +1049,7 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     fig, ((ax_f, ax_m),) = _panels((13, 6), (1, 2), fig, ax, width_ratios=(1.2, 1))
     unit = UNIT_TEXT[LEVELS[measure_name]]
     measure = MEASURE_NAMES[measure_name] + (f" ({unit})" if unit else "")
-    for part in ("bare", "damper"):
+    for index, part in enumerate(("bare", "damper")):
         style, a = PART_STYLE[part], data.sel(part=part)
         ax_f.plot(
             levels,
@@ -1035,11 +1063,14 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
         )
         if FIT_STATUSES[int(a["fit_status"])] in FITTED:
             median = f"{_readable(float(a['median']))} {unit}".rstrip()
-            label = f"lognormal fit: median {median}, dispersion {float(a['dispersion']):.2f}"
+            place = MEDIAN_PLACES[int(a["median_extrapolated"])] if "median_extrapolated" in a else "within_levels"
+            outside = " (extrapolated)" if place in ("above_levels", "below_levels") else ""
+            label = f"lognormal fit: median {median}{outside}, dispersion {float(a['dispersion']):.2f}"
             ax_f.plot(curve_x, a["curve"].values, "-" if part == "bare" else "--", color=style["color"], label=label)
             ax_f.fill_between(
                 curve_x, a["band_low"].values, a["band_high"].values, color=style["color"], alpha=0.15, lw=0
             )
+            _median_outside(ax_f, place, style, index)
     # Levels over a decade or more (scale factors, say) read best in log scale, as IDA curves are drawn.
     xlog = bool(levels.min() > 0 and levels.max() >= 10 * levels.min())
     ax_f.set_xlabel(measure)

@@ -17,7 +17,7 @@ Short-hands (docs/model.md section 1)::
 End stops (section 11): a bumper of stiffness ``k_b`` and damping ``c_b`` at
 ``|x| = L`` on either side. Every function that sees the guide force takes
 ``L, k_b, c_b`` as keywords, default ``L = inf`` (the paper's unlimited guide);
-Hunt-Crossley pads take ``n_b, e_b`` and the least approach speed ``floor`` instead of
+Hunt-Crossley pads take ``n_b, chi_b`` and the least approach speed ``floor`` instead of
 ``c_b``, and a contact's approach speed ``v_in`` is that of a contact starting at the
 state, ``max(ddelta, floor)`` (:func:`pad`).
 """
@@ -45,14 +45,14 @@ def penetration(x, L):
     return np.abs(x) - L
 
 
-def pad(x, dx, L=np.inf, k_b=0.0, c_b=0.0, n_b=None, e_b=None, floor=None, v_in=None, side=None):
+def pad(x, dx, L=np.inf, k_b=0.0, c_b=0.0, n_b=None, chi_b=None, floor=None, v_in=None, side=None):
     """The pad on the side of the mass: ``(delta, bracket, force, potential, damping)`` of section 11.
 
     Kelvin-Voigt (``n_b`` None): the bracket and force ``k_b delta + c_b ddelta``, the potential
     ``k_b delta^2 / 2``, the damping ``c_b``. Hunt-Crossley: with the approach speed of a contact
     starting at this state, ``v_in = max(ddelta, floor)``, the bracket ``v_in + chi ddelta``, the force
     ``k_b delta^n (1 + chi ddelta / v_in)``, the potential ``k_b delta^(n+1) / (n+1)``, the damping
-    ``k_b delta^n chi / v_in``, ``chi = 3 (1 - e_b) / 2``. ``ddelta = sign(x) dx``; the pad pushes where
+    ``k_b delta^n chi / v_in``, ``chi = chi_b`` (the damping factor). ``ddelta = sign(x) dx``; the pad pushes where
     ``delta > 0`` and the bracket is ``> 0``. ``side`` (+1 upper, -1 lower): that side's pad, wherever the
     mass is (default: the side of the mass). ``v_in``: the approach speeds ``(upper, lower)`` of contacts that
     started earlier, instead of this state's.
@@ -63,7 +63,7 @@ def pad(x, dx, L=np.inf, k_b=0.0, c_b=0.0, n_b=None, e_b=None, floor=None, v_in=
     if n_b is None:
         push = k_b * delta + c_b * rate
         return delta, push, push, k_b * delta**2 / 2, c_b + 0 * delta
-    chi = 1.5 * (1.0 - e_b)
+    chi = chi_b
     if v_in is None:
         v_in = np.maximum(rate, floor)
     else:
@@ -250,7 +250,7 @@ def stop_forces(x, dx, **stops):
     return tuple(forces)
 
 
-def stop_contact(x, dx, L, k_b, c_b=0.0, n_b=None, e_b=None, floor=None, v_in=None):
+def stop_contact(x, dx, L, k_b, c_b=0.0, n_b=None, chi_b=None, floor=None, v_in=None):
     """Each bumper's ``min(delta, bracket)``: > 0 exactly while it pushes (the bracket of :func:`pad`, with
     the penetration itself where it is < 0)."""
     out = []
@@ -260,7 +260,7 @@ def stop_contact(x, dx, L, k_b, c_b=0.0, n_b=None, e_b=None, floor=None, v_in=No
             out.append(np.minimum(gap, k_b * gap + c_b * rate))
         else:
             approach = np.maximum(rate, floor) if v_in is None else v_in[i]
-            out.append(np.minimum(gap, approach + 1.5 * (1.0 - e_b) * rate))
+            out.append(np.minimum(gap, approach + chi_b * rate))
     return tuple(out)
 
 

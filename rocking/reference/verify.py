@@ -52,7 +52,7 @@ def random_cases(
     light to heavy, soft to stiff. Without ``damper`` the mass and its state are 0.
     With ``stops``, bumpers at ``|x| = L`` from 5 % to 45 % of ``B``, 1 to 1000 times
     stiffer than the damper's spring: ``x`` lies inside the gap or beyond it. With ``hunt_crossley``,
-    Hunt-Crossley pads of exponent 1 to 2.5 and restitution 0.2 to 1, as stiff at 10 mm.
+    Hunt-Crossley pads of exponent 1 to 2.5 and damping factor 0 to 4 (restitution 1 to 0.24), as stiff at 10 mm.
     """
     u = rng.uniform
     M = u(50.0, 5000.0, n)
@@ -89,7 +89,7 @@ def random_cases(
         v.update(L=B * u(0.05, 0.45, n), k_b=k_b, c_b=2 * np.sqrt(k_b * v["m"]) * u(0.0, 0.5, n))
     if hunt_crossley:
         n_b = u(1.0, 2.5, n)
-        v.update(k_b=v.pop("k_b") * 0.01 ** (1.0 - n_b), n_b=n_b, e_b=u(0.2, 1.0, n))
+        v.update(k_b=v.pop("k_b") * 0.01 ** (1.0 - n_b), n_b=n_b, chi_b=u(0.0, 4.0, n))
         del v["c_b"]
     return v
 
@@ -129,7 +129,7 @@ def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict
     M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
     (m11, m12), (m21, m22) = paper.mass_matrix(s, th, x, M, I_G, B, H, e, m, h)
     zero, one = 0 * th, 0 * th + 1
-    stops = {k: v[k] for k in ("L", "k_b", "c_b", "n_b", "e_b") if k in v}
+    stops = {k: v[k] for k in ("L", "k_b", "c_b", "n_b", "chi_b") if k in v}
     if "n_b" in stops:
         stops["floor"] = floor
     gaps = paper.stop_gaps(x, stops["L"]) if stops else ()

@@ -34,6 +34,7 @@ from ..model.params import (
     check_block,
     check_in_range,
     check_real,
+    hunt_crossley_restitution,
     shown,
 )
 from ..model.vertical import flight_time
@@ -491,7 +492,8 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + HC_STOP_PARAMETERS):
-        stops = Stops(checked["L"], checked["k_b"], law="hunt-crossley", n=checked["n_b"], e_b=checked["e_b"])
+        e_b = hunt_crossley_restitution(checked["chi_b"])  # the pads' restitution, which Stops checks
+        stops = Stops(checked["L"], checked["k_b"], law="hunt-crossley", n=checked["n_b"], e_b=e_b)
         Damper(**{k: checked[k] for k in DAMPER_PARAMETERS}, stops=stops).check_on(block)
         return checked
     units = {p["name"]: p.get("unit", "") for p in model.manifest["parameters"]}

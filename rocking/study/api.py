@@ -718,7 +718,9 @@ def fragility(
     -----
     FitWarning
         A lognormal fitted to fewer than 10 motions, or of a dispersion below 0.05
-        (:func:`rocking.study.fragility.fit_warnings`, which says why).
+        (:func:`rocking.study.fragility.fit_warnings`, which says why); or whose median lies above the highest
+        level tested or below the lowest (extrapolated: the median, that level and the fraction overturned there;
+        ``median_extrapolated`` per part marks it, :func:`rocking.study.fragility.median_words`).
 
     Examples
     --------

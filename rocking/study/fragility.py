@@ -103,7 +103,8 @@ MIN_DISPERSION = 0.05
 
 
 class FitWarning(UserWarning):
-    """A lognormal fitted to too few motions, or of a degenerate dispersion (:func:`fit_warnings`)."""
+    """A lognormal fitted to too few motions, or of a degenerate dispersion (:func:`fit_warnings`); a median
+    outside the levels tested (:func:`median_words`)."""
 
 
 def fit_warnings(motions: int, fit) -> list[str]:
@@ -130,6 +131,56 @@ def fit_warnings(motions: int, fit) -> list[str]:
             "describes the levels, not the suite"
         )
     return out
+
+
+#: Where a fitted median lies against the levels it was fitted to (the codes of an IDA's ``median_extrapolated``):
+#: within them (measured), above the highest or below the lowest (extrapolated by the lognormal's shape, which
+#: nothing tested there supports), or nowhere (the fit gives no curve).
+MEDIAN_PLACES = ("within_levels", "above_levels", "below_levels", "no_median")
+#: A median within this fraction of the highest or lowest level is at that level: half the motions overturning the
+#: block at a level puts the fitted median there, to the rounding of the fit (3 * (1 + 1.5e-16) measured), and no
+#: level is given to a millionth.
+MEDIAN_RTOL = 1e-6
+
+
+def median_place(levels, fit) -> str:
+    """Where the median of ``fit`` (:func:`fit_lognormal`'s) lies against the ``levels`` it was fitted to: one of
+    :data:`MEDIAN_PLACES`, to within :data:`MEDIAN_RTOL`."""
+    if fit["status"] not in FITTED:
+        return "no_median"
+    levels = np.asarray(levels, float)
+    if fit["median"] > levels.max() * (1 + MEDIAN_RTOL):
+        return "above_levels"
+    if fit["median"] < levels.min() * (1 - MEDIAN_RTOL):
+        return "below_levels"
+    return "within_levels"
+
+
+def median_words(place: str, median: float, levels, fraction, unit: str = "") -> str:
+    """An extrapolated median in words: the median, the level tested nearest to it and the fraction of the motions
+    that overturn the block there; empty for a median within the levels or none.
+
+    Parameters
+    ----------
+    place : str
+        :func:`median_place` of the fit.
+    median : float
+        The fitted median, in the unit of the levels.
+    levels, fraction : array_like, shape (m,)
+        The levels fitted and the fraction of the motions overturning the block at each.
+    unit : str
+        The unit of the levels, for the words ("" for a scale factor).
+    """
+    if place not in ("above_levels", "below_levels"):
+        return ""
+    levels, fraction = np.asarray(levels, float), np.asarray(fraction, float)
+    end = int(np.argmax(levels) if place == "above_levels" else np.argmin(levels))
+    side = "above the highest" if place == "above_levels" else "below the lowest"
+    space = f" {unit}" if unit else ""
+    return (
+        f"the fitted median {median:.4g}{space} lies {side} level tested, {levels[end]:.4g}{space}, at which "
+        f"{100 * fraction[end]:.0f} % of the motions overturn the block: the median is extrapolated, not measured"
+    )
 
 
 #: Newton iterations of a fit, and the largest slope ``b = 1 / dispersion`` (a dispersion of 1e-3): levels that

@@ -37,7 +37,18 @@ from . import directions
 from .config import Grid, Setting, Tuning, Variant, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import choose, response_envelope
-from .fragility import FITTED, FitWarning, bootstrap_band, fit_lognormal, fit_warnings, fragility_curve, ida_summary
+from .fragility import (
+    FITTED,
+    MEDIAN_PLACES,
+    FitWarning,
+    bootstrap_band,
+    fit_lognormal,
+    fit_warnings,
+    fragility_curve,
+    ida_summary,
+    median_place,
+    median_words,
+)
 from .overturning_map import (
     FIELDS,
     PARTS,
@@ -77,15 +88,25 @@ RESULTS = (
 #: The fitted lognormal of each part (NaN where the fit gives no curve) and the ends of its 90 % intervals.
 FIT = ("median", "dispersion", "median_low", "median_high", "dispersion_low", "dispersion_high")
 #: What else each part's fit and runs give, one value per part: the fit's outcome (a code of
-#: :data:`~rocking.study.vocabulary.FIT_STATUSES`), its log-likelihood, its bootstrap's resamples, and the
+#: :data:`~rocking.study.vocabulary.FIT_STATUSES`), where its median lies against the levels (a code of
+#: :data:`~rocking.study.fragility.MEDIAN_PLACES`), its log-likelihood, its bootstrap's resamples, and the
 #: responses without a verdict.
-COUNTS = ("fit_status", "log_likelihood", "resamples", "undetermined")
+COUNTS = ("fit_status", "median_extrapolated", "log_likelihood", "resamples", "undetermined")
 #: Units, meaning and key of the variables of an IDA that :data:`rocking.study.dataset.FIELDS` does not label.
 OWN_FIELDS: dict[str, tuple] = {
     "fit_status": ("1", "outcome of the lognormal fit", dict(enumerate(FIT_STATUSES))),
+    "median_extrapolated": (
+        "1",
+        "where the fitted median lies against the levels tested: within them, or extrapolated above the highest "
+        "or below the lowest",
+        dict(enumerate(MEDIAN_PLACES)),
+    ),
     "log_likelihood": ("1", "binomial log-likelihood of the fitted lognormal, from the counts of every level"),
     "resamples": ("1", "bootstrap resamples of the motions fitted for the band and the intervals"),
-    "sensitive_responses": ("1", "responses of the motion (levels and directions) sensitive to the tolerance"),
+    "sensitive_responses": (
+        "1",
+        "responses of the motion (levels and directions) sensitive to the tolerance; NaN: not checked",
+    ),
 }
 
 #: The dimensions of every variable of an IDA's or a fragility's data (:func:`ida_data`), coordinates included.
@@ -146,15 +167,22 @@ def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
     )
 
 
+def tolerance_checked(check: str | None, motion, rtol: float) -> bool:
+    """Whether the responses to ``motion`` are run again at a tighter tolerance: ``check`` (or its default for the
+    motion, :func:`rocking.sim.accuracy.check_choice`) is ``"tolerance"``, and a tighter tolerance than ``rtol``
+    exists."""
+    return check_choice(check, motion) == "tolerance" and tighter_rtol(rtol) != rtol
+
+
 def ida_tile(payload: tuple) -> dict:
     """One motion of one part at every level and direction: arrays ``(levels, signs)`` of the map's
     :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (1,): the motion's measure
     (:func:`motion_measure`).
 
     The responses are checked down the ladder of tolerances as ``check`` says
-    (:func:`rocking.sim.accuracy.check_choice`: by default a sampled motion's, not a pulse's;
-    :func:`rocking.sim.accuracy.tolerance_check`; ``sensitive`` marks those whose runs disagree,
-    which hold their tightest run's results).
+    (:func:`tolerance_checked`: by default a sampled motion's, not a pulse's;
+    :func:`rocking.sim.accuracy.tolerance_check`; ``sensitive`` marks those whose runs disagree, which hold
+    their tightest run's results; all False where no check ran, which the study then drops).
 
     ``payload = (setting, damper_or_None, suite, i, levels, name, signs, check)``.
     """
@@ -167,7 +195,7 @@ def ida_tile(payload: tuple) -> dict:
         cases = _cases(replace(setting, rtol=rtol), motion, scales * factor, signs, damper or {})
         return run_cases(cases, backend=setting.backend, threads=1)
 
-    if check_choice(check, motion) == "tolerance" and tighter_rtol(setting.rtol) != setting.rtol:
+    if tolerance_checked(check, motion, setting.rtol):
         result = checked_fields(run_at, setting.rtol)
     else:
         result = {**run_at(setting.rtol, 1.0), SENSITIVE.name: np.zeros(len(levels) * len(signs), dtype=bool)}
@@ -232,7 +260,17 @@ def incremental_dynamic_analysis(
         ``sensitive_fraction``; the fitted curve ``curve`` at ``curve_x`` with its band ``band_low``/``_high``
         (covering either answer of a sensitive response, :func:`~rocking.study.fragility.bootstrap_band`); per
         part the fit (:data:`FIT`: ``median``, ``dispersion`` and their intervals) and :data:`COUNTS`
-        (``fit_status``, a code whose words are its ``flag_meanings``, ...).
+        (``fit_status`` and ``median_extrapolated``, codes whose words are their ``flag_meanings``, ...).
+        Where no check ran (:func:`tolerance_checked`), there is no ``sensitive`` and ``sensitive_responses`` and
+        ``sensitive_fraction`` are NaN: not checked.
+
+    Warns
+    -----
+    FitWarning
+        A part's lognormal fitted to too few motions or of a degenerate dispersion
+        (:func:`~rocking.study.fragility.fit_warnings`), or whose median lies outside the levels tested: the
+        median, the level nearest to it and the fraction of the motions overturning the block there
+        (:func:`~rocking.study.fragility.median_words`).
     """
     check_study(setting, execution, runs, levels=levels)
     check_damper(tuning)
@@ -263,6 +301,8 @@ def incremental_dynamic_analysis(
         k: np.zeros(shape, float if k in ("theta_max", "x_max", "bumper_force_max") else np.int64) for k in FIELDS
     }
     fields[SENSITIVE.name] = np.zeros(shape, bool)
+    # One answer for the whole suite: its motions are all records and stochastic motions, or all pulses.
+    is_checked = tolerance_checked(check, suite.motion(0), setting.rtol)
     for part, damper, described in zip(PARTS, (None, _damper_args(tuning)), (None, tuning.record())):
         folder = run_folder(runs, part_config("ida", part, setting, damper=described, **grids))
         folders[part] = folder.name
@@ -301,19 +341,22 @@ def incremental_dynamic_analysis(
             results[k].append(v)
         results["fraction"].append(over.mean(axis=0))
         sensitive = fields[SENSITIVE.name][index]
-        # Of the responses (motions and directions), not of the envelopes: each is one run that moved.
-        results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)))
-        results["sensitive_responses"].append(sensitive.sum(axis=(1, 2)))
+        # Of the responses (motions and directions), not of the envelopes: each is one run that moved. Without a
+        # check nothing is known of the tolerance: NaN, not "0 sensitive".
+        results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)) if is_checked else np.full(lv.size, np.nan))
+        results["sensitive_responses"].append(sensitive.sum(axis=(1, 2)) if is_checked else np.full(n, np.nan))
         results["undetermined"].append(unknown[index].sum())
         uncertain = uncertain_verdicts(fields["overturned"][index], sensitive)
         fit, curves = _fit(lv, over, uncertain, curve_x)
-        for message in fit_warnings(n, fit):
+        for message in _fit_messages(n, lv, results["fraction"][-1], fit, LEVELS[measure_name]):
             warnings.warn(f"{PART_NAMES[part]}: {message}", FitWarning, stacklevel=_user_stacklevel())
         for k, v in {**curves, **fit_variables(fit)}.items():
             results[k].append(v)
     kind = "ida" if measure_name == "scale" else "fragility"
     config = {"kind": kind, **setting.record(), "damper": tuning.record(), **grids, "directions": chosen}
     fields.update({k: np.stack(v) for k, v in results.items()})
+    if not is_checked:
+        del fields[SENSITIVE.name]  # no response was checked: none is marked either way
     return Study(
         kind,
         config,
@@ -371,10 +414,11 @@ def _own_attrs(name: str) -> dict:
 
 def envelope(data):
     """An IDA's responses reduced over ``sign`` (:func:`rocking.study.directions.envelope`), with ``sensitive``
-    where either direction is."""
+    where either direction is (where the responses were checked: an IDA without the check has no ``sensitive``)."""
     status = data["status"]
     out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
-    out[SENSITIVE.name] = data[SENSITIVE.name].any("sign", keep_attrs=True)
+    if SENSITIVE.name in data:
+        out[SENSITIVE.name] = data[SENSITIVE.name].any("sign", keep_attrs=True)
     return out
 
 
@@ -410,6 +454,7 @@ def _fit(levels, over, uncertain, x) -> tuple[dict, dict]:
         if fitted.sum() >= 2
         else {"median": np.nan, "dispersion": np.nan, "log_likelihood": np.nan, "status": "too_few_levels"}
     )
+    fit["median_place"] = median_place(levels[fitted], fit)
     fit.update(median_interval=[np.nan, np.nan], dispersion_interval=[np.nan, np.nan], resamples=0)
     curves = {k: np.full(x.size, np.nan) for k in ("curve", "band_low", "band_high")}
     if fit["status"] in FITTED:
@@ -420,6 +465,18 @@ def _fit(levels, over, uncertain, x) -> tuple[dict, dict]:
     return fit, curves
 
 
+def _fit_messages(motions: int, levels, fraction, fit: dict, unit: str) -> list[str]:
+    """Why one part's fit (:func:`_fit`) to ``motions`` motions is not to be trusted, if it is not: those of
+    :func:`~rocking.study.fragility.fit_warnings`, and a median outside the ``levels`` (where ``fraction`` of the
+    motions overturn the block) said with :func:`~rocking.study.fragility.median_words`."""
+    out = fit_warnings(motions, fit)
+    fitted = levels > 0
+    words = median_words(fit["median_place"], fit["median"], levels[fitted], fraction[fitted], unit)
+    if words:
+        out.append(f"{words}; test {'higher' if fit['median_place'] == 'above_levels' else 'lower'} levels")
+    return out
+
+
 def fit_variables(fit: dict) -> dict:
     """One part's values of :data:`FIT` and :data:`COUNTS` but ``undetermined`` from its fit (:func:`_fit`): the
     median and the dispersion only where the fit gives a curve (a median of ``inf`` where nothing overturns
@@ -428,23 +485,26 @@ def fit_variables(fit: dict) -> dict:
     out = {k: float(fit[k]) if curve else np.nan for k in ("median", "dispersion")}
     for k in ("median", "dispersion"):
         out[f"{k}_low"], out[f"{k}_high"] = fit[f"{k}_interval"]
-    status = FIT_STATUSES.index(fit["status"])
-    return {**out, "fit_status": status, "log_likelihood": float(fit["log_likelihood"]), "resamples": fit["resamples"]}
+    out["fit_status"] = FIT_STATUSES.index(fit["status"])
+    out["median_extrapolated"] = MEDIAN_PLACES.index(fit["median_place"])
+    return {**out, "log_likelihood": float(fit["log_likelihood"]), "resamples": fit["resamples"]}
 
 
 def tables(data, config: dict) -> dict:
     """CSV tables: ``<kind>`` (one row per motion and level: the envelope of both parts), ``<kind>-motions``
     (one row per motion: its name, its vertical record's where it has one, its measure, its first overturning and
-    last safe levels, its resurrections and sensitive responses) and ``<kind>-fit`` (one row per part: the fitted
-    lognormal's median and dispersion, their 90 % intervals, and :data:`COUNTS`, the fit's status as its code and its
-    words)."""
+    last safe levels, its resurrections and sensitive responses, NaN where not checked) and ``<kind>-fit`` (one row
+    per part: the fitted lognormal's median and dispersion, their 90 % intervals, and :data:`COUNTS`, the fit's status
+    and where its median lies as codes and words). The first has its columns ``*_sensitive`` only where the
+    responses were checked."""
     kind, env = config["kind"], envelope(data)
     names = data["motion"].values
     motion, level = np.meshgrid(np.arange(names.size), data["level"].values, indexing="ij")
     rows = {"motion": names[motion.ravel()], "level": level.ravel()}
     for part in PARTS:
         for k in ("overturned", "impacts", "theta_max", "x_max", SENSITIVE.name):
-            rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
+            if k in env:  # no column of sensitive responses where none was checked
+                rows[f"{part}_{k}"] = env[k].sel(part=part).values.ravel()
     motions = {"motion": names}
     if "vertical_motion" in data.coords:
         motions["vertical_motion"] = data["vertical_motion"].values
@@ -452,5 +512,6 @@ def tables(data, config: dict) -> dict:
     for part in PARTS:
         for k in ("first", "last_safe", "reversals", "sensitive_responses"):
             motions[f"{part}_{k}"] = data[k].sel(part=part).values
-    fits = {"part": np.array(PARTS), **{k: data[k].values for k in (*FIT, *COUNTS)}}
+    # A study saved before median_extrapolated was kept (its format is the same) still loads, without that column.
+    fits = {"part": np.array(PARTS), **{k: data[k].values for k in (*FIT, *COUNTS) if k in data}}
     return {kind: rows, f"{kind}-motions": motions, f"{kind}-fit": fits}
