@@ -140,8 +140,8 @@ def _add_check(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--check",
         choices=CHECKS,
-        help="'tolerance': run every response again at rtol / 100 and flag the sensitive ones, as rocking simulate "
-        "--check (default for records and --stochastic; 'none' for --pulses)",
+        help="'tolerance': run every response again down a ladder of tolerances and flag the sensitive ones, as "
+        "rocking simulate --check (default for records and --stochastic; 'none' for --pulses)",
     )
 
 
