@@ -1,124 +1,265 @@
-"""How many responses to records depend on the tolerance, and what the check costs (issue 25, item 1).
+"""How often the tolerance check is fooled, and what it costs (issue 35, item 4).
 
-For a stochastic suite (the default site model, ``N`` motions of one seed) scaled to PGAs of 1.5, 3
-and 6 times the uplift threshold ``g tan(alpha)``, in both directions, with and without the README's
-damper, on the reference block and on the issue's eccentric one: at each ``rtol``, the fraction of
-responses that the tolerance check marks sensitive (docs/simulation.md, "Sensitivity to the
-tolerance"), and the wall time of the whole set with ``check="none"`` and with
-``check="tolerance"`` (one run of each, on the C back end). Then the white-noise case of the issue
-at each tolerance, on both back ends; and a fragility of 20 stochastic motions at 4 PGA levels with
-and without the check.
+A suite of responses to white noise and to stochastic records (:mod:`rocking.model.stochastic`,
+the default site), on three blocks (the reference block, the eccentric block of issue 25 and a
+slender one), in both directions, a third of them with the README's damper, at intensities from
+below uplift to overturning. For each response, on the C back end:
+
+- the checked answer, ``rocking.simulate(..., rtol=RTOL)`` (``check="tolerance"``, the default for a
+  sampled motion: docs/simulation.md, "Sensitivity to the tolerance"), and its CPU time;
+- the run at ``RTOL`` alone (``check="none"``) and its CPU time: the cost of the check is the ratio;
+- the converged reference: runs at 1e-12 and 1e-11 (``check="none"``) that agree to 1 % (the verdict,
+  ``theta_max`` and ``x_max``); where they do not, the response is *chaotic* and counted apart;
+- the reference with the motion scaled by ``1 - 1e-9`` and ``1 - 2e-9`` (factors the check never
+  runs): where either moves the answer by more than 10 %, the response is chaotic at its input, and
+  flagging it is right whatever its answer; of a chaotic response, whether the check's spread of
+  ``theta_max`` covers these two runs and the one at 1e-11 (runs it does not make);
+- the run at ``RTOL / 100``: what the check of issue 25 (one rerun there) would have said.
+
+Counted per ``RTOL``: the answers not flagged that are farther than 10 % from the converged reference
+(or of another verdict; the target: 0), the answers flagged, the false positives (flagged, the answer
+at ``RTOL`` within 10 % of a converged reference that no input perturbation moves), and the CPU time
+of the checked call over that of one run (mean of the ratios, median, and total over total).
 
 Usage::
 
-    python bench/sensitivity.py [N]
+    python bench/sensitivity.py [N] [FIRST] [OUT]
+
+    python bench/sensitivity.py fragility [OUT]
+
+Responses ``FIRST`` to ``FIRST + N - 1`` of the suite (default 3000 from 3000: the constants of
+:mod:`rocking.sim.accuracy` were chosen on responses 0 to 2999, these are held out), with 2 worker
+processes; the summary goes to ``OUT`` (default ``bench/sensitivity.json``). ``fragility``: the time of a
+fragility of 20 stochastic motions at 4 PGA levels (320 responses, the reference block, one worker) with the
+check and without, to ``OUT`` (default ``bench/sensitivity-fragility.json``).
 """
 
 from __future__ import annotations
 
 import dataclasses
+import json
+import platform
 import sys
 import tempfile
 import time
+from multiprocessing import Pool
+from pathlib import Path
 
 import numpy as np
 
 import rocking
-from rocking.model.stochastic import DEFAULT_SITE
+from rocking.model.stochastic import DEFAULT_SITE, record_rng, synthesize
+from rocking.sim import accuracy
 from rocking.study import ida
 from rocking.study.config import Grid, Setting, Tuning
 from rocking.study.suite import Suite
 from rocking.study.tiles import Execution
 
-PGA_OVER_UPLIFT = (1.5, 3.0, 6.0)
-TOLERANCES = (1e-6, 1e-8, 1e-10)
-#: The eccentric block of the issue's white-noise case.
-ISSUE_BLOCK = rocking.Block(H=3.1597847506851258, B=0.9313975019469038, M=131.3667739110528, e=-0.16218004607891312)
+BLOCKS = {
+    "reference": rocking.Block.reference(),
+    # The eccentric block of issue 25's and issue 35's white-noise cases.
+    "eccentric": rocking.Block(H=3.1597847506851258, B=0.9313975019469038, M=131.3667739110528, e=-0.16218004607891312),
+    "slender": rocking.Block(H=1.0, B=0.15, M=200.0),
+}
+#: The tolerances checked: the default for records, and a looser one (a longer ladder).
+TOLERANCES = (1e-8, 1e-6)
+#: Agreement of the two reference runs [-]: the issue's definition of a converged reference.
+CONVERGED = 0.01
+#: Farther than this from the reference is a wrong answer (the check's own fraction).
+FAR = accuracy.SENSITIVE_FRACTION
+#: Input perturbations of the reference that the check never runs.
+REFERENCE_FACTORS = (1 - 1e-9, 1 - 2e-9)
+#: White noise: samples and spacing (20 s), and its standard deviation over g tan(alpha), log-uniform.
+NOISE_SAMPLES, NOISE_DT, NOISE_LEVELS = 1000, 0.02, (0.4, 1.5)
+#: Stochastic records (47 s of the default site): PGA over g tan(alpha), log-uniform.
+RECORD_LEVELS = (1.0, 6.0)
+#: Where the summary goes.
+OUT = "bench/sensitivity.json"
 
 
-def responses(motions, block, dampers, rtol: float, check: str) -> tuple[list, float]:
-    """Every response of ``motions`` (both signs) with every damper, and the wall time they took."""
-    start = time.perf_counter()
-    out = [
-        rocking.simulate(block, damper, dataclasses.replace(motion, sign=sign), backend="c", rtol=rtol, check=check)
-        for motion in motions
-        for sign in (1, -1)
-        for damper in dampers
-    ]
-    return out, time.perf_counter() - start
-
-
-def suite_figures(n: int, block, name: str) -> None:
-    """The fraction sensitive and the cost of the check on ``n`` stochastic motions, at each tolerance."""
-    damper = rocking.Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
-    suite = Suite.stochastic(DEFAULT_SITE, n, seed=1)
+def case(i: int):
+    """Response ``i`` of the suite: its description, block, damper (or None) and motion."""
+    rng = np.random.default_rng(1000 + i)
+    name = list(BLOCKS)[i % 3]
+    block = BLOCKS[name]
+    kind = "noise" if (i // 3) % 2 == 0 else "stochastic"
+    sign = 1 if (i // 6) % 2 == 0 else -1
+    damped = (i // 12) % 3 == 2
     uplift = block.g * block.tan_alpha
-    motions = [suite.motion(i).scaled_to_pga(k * uplift) for i in range(n) for k in PGA_OVER_UPLIFT]
-    print(
-        f"{n} stochastic motions x {len(PGA_OVER_UPLIFT)} PGAs x 2 signs x (bare, damper) = {4 * len(motions)} "
-        f"responses; {name} block, C back end"
-    )
+    if kind == "noise":
+        a = rng.normal(0.0, 1.0, NOISE_SAMPLES)
+        level = float(np.exp(rng.uniform(*np.log(NOISE_LEVELS))))
+        motion = rocking.SampledMotion(a, dt=NOISE_DT, scale=level * uplift, sign=sign)
+    else:
+        a = synthesize(DEFAULT_SITE, record_rng(7, i))
+        level = float(np.exp(rng.uniform(*np.log(RECORD_LEVELS))))
+        motion = rocking.SampledMotion(a, dt=DEFAULT_SITE.dt, scale=level * uplift / np.abs(a).max(), sign=sign)
+    damper = rocking.Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05) if damped else None
+    described = {"i": i, "block": name, "kind": kind, "sign": sign, "damper": damped, "level": level}
+    return described, block, damper, motion
+
+
+def _answer(r) -> dict:
+    return {"overturned": bool(r.overturned), "theta_max": float(r.theta_max), "x_max": float(r.x_max)}
+
+
+def _timed(*args, **kwargs):
+    start = time.process_time_ns()
+    r = rocking.simulate(*args, backend="c", **kwargs)
+    return r, (time.process_time_ns() - start) * 1e-9
+
+
+def measure(i: int) -> dict:
+    """Every run of response ``i``: the reference and, per tolerance, the checked and the plain answers."""
+    described, block, damper, motion = case(i)
+    fine = _answer(rocking.simulate(block, damper, motion, backend="c", rtol=1e-12, check="none"))
+    coarse = _answer(rocking.simulate(block, damper, motion, backend="c", rtol=1e-11, check="none"))
+    perturbed = [
+        _answer(rocking.simulate(block, damper, dataclasses.replace(motion, scale=motion.scale * f), backend="c",
+                                 rtol=1e-12, check="none"))
+        for f in REFERENCE_FACTORS
+    ]  # fmt: skip
+    out = {**described, "reference": fine, "coarse": coarse, "perturbed": perturbed}
+    out["converged"] = not _apart(fine, coarse, CONVERGED)
+    out["input_chaotic"] = any(_apart(fine, p, FAR) for p in perturbed)
     for rtol in TOLERANCES:
-        plain, t_plain = responses(motions, block, (None, damper), rtol, "none")
-        checked, t_checked = responses(motions, block, (None, damper), rtol, "tolerance")
-        sensitive = np.array([r.sensitive for r in checked])
-        moved = np.array([a.overturned != b.overturned for a, b in zip(plain, checked, strict=True)])
-        impacts = np.array([r.impacts for r in plain])
-        print(
-            f"rtol {rtol:.0e}: sensitive {sensitive.mean():.1%} ({sensitive.sum()}), verdict changed "
-            f"{moved.mean():.1%}; among > 100 impacts {sensitive[impacts > 100].mean():.1%} of "
-            f"{(impacts > 100).sum()}; time {t_plain:.2f} s without the check, {t_checked:.2f} s with "
-            f"(x{t_checked / t_plain:.1f})"
-        )
+        plain, t_plain = _timed(block, damper, motion, rtol=rtol, check="none")
+        checked, t_checked = _timed(block, damper, motion, rtol=rtol, check="tolerance")
+        once = rocking.simulate(block, damper, motion, backend="c", rtol=rtol / 100, check="none")
+        out[f"{rtol:g}"] = {
+            "plain": _answer(plain),
+            "checked": _answer(checked),
+            "sensitive": bool(checked.sensitive),
+            "low": checked.theta_max_low,
+            "high": checked.theta_max_high,
+            "overturned_fraction": checked.overturned_fraction,
+            "check_runs": int(checked.check_runs),
+            "old_sensitive": bool(accuracy.sensitive(_answer(plain), _answer(once))),
+            "cpu_plain": t_plain,
+            "cpu_checked": t_checked,
+        }
+    return out
 
 
-def white_noise() -> None:
-    """The issue's case at each tolerance, on both back ends: theta_max [rad], sensitive, time [s]."""
-    block = ISSUE_BLOCK
-    rng = np.random.default_rng(36630)
-    motion = rocking.SampledMotion(rng.normal(0, 2.0, 1000), dt=0.02, scale=1.1631753337122157, sign=-1)
-    for backend in ("c", "numpy"):
-        for rtol in (1e-6, 1e-7, 1e-8, 1e-9, 1e-10):
-            start = time.perf_counter()
-            plain = rocking.simulate(block, None, motion, backend=backend, rtol=rtol, check="none")
-            middle = time.perf_counter()
-            checked = rocking.simulate(block, None, motion, backend=backend, rtol=rtol)
-            end = time.perf_counter()
-            print(
-                f"white noise, {backend}, rtol {rtol:.0e}: theta_max {plain.theta_max:.4f} rad unchecked, "
-                f"{checked.theta_max:.4f} checked, sensitive {checked.sensitive}; "
-                f"{middle - start:.3f} s / {end - middle:.3f} s"
-            )
+def _apart(a: dict, b: dict, fraction: float) -> bool:
+    """Another verdict, or theta_max or x_max farther apart than ``fraction`` of the larger."""
+    if a["overturned"] != b["overturned"]:
+        return True
+    return any(abs(a[k] - b[k]) > fraction * max(abs(a[k]), abs(b[k])) for k in ("theta_max", "x_max"))
 
 
-def fragility_cost(n: int = 20) -> None:
-    """Wall time of a fragility of ``n`` stochastic motions at 4 PGA levels, with the check and without."""
+def summary(rows: list[dict], rtol: float) -> dict:
+    """The counts of the docstring at ``rtol``."""
+    key = f"{rtol:g}"
+    conv = [r for r in rows if r["converged"]]
+    chaotic = [r for r in rows if not r["converged"]]
+
+    def wrong(r, which="checked"):
+        return _apart(r[key][which], r["reference"], FAR)
+
+    missed = [r["i"] for r in conv if not r[key]["sensitive"] and wrong(r)]
+    ratio = np.array([r[key]["cpu_checked"] / r[key]["cpu_plain"] for r in rows])
+    runs = np.array([r[key]["check_runs"] for r in rows])
+    # The runs of the reference that the check does not make: does its spread cover them?
+    covered = [
+        r
+        for r in chaotic
+        if all(r[key]["low"] <= a["theta_max"] <= r[key]["high"] for a in (r["coarse"], *r["perturbed"]))
+    ]
+    return {
+        "rtol": rtol,
+        "responses": len(rows),
+        "converged": len(conv),
+        "chaotic": len(chaotic),
+        "input_chaotic": sum(r["input_chaotic"] for r in rows),
+        "answer_at_rtol_far_from_reference": sum(wrong(r, "plain") for r in conv),
+        "unflagged_far_from_reference": len(missed),
+        "unflagged_far_cases": missed,
+        "flagged": sum(r[key]["sensitive"] for r in rows),
+        "flagged_converged": sum(r[key]["sensitive"] for r in conv),
+        "flagged_answer_far_from_reference": sum(r[key]["sensitive"] and wrong(r) for r in conv),
+        "false_positives": sum(r[key]["sensitive"] and not wrong(r, "plain") and not r["input_chaotic"] for r in conv),
+        "chaotic_flagged": sum(r[key]["sensitive"] for r in chaotic),
+        "chaotic_unflagged_far": sum(not r[key]["sensitive"] and wrong(r) for r in chaotic),
+        "chaotic_spread_covers_other_runs": len(covered),
+        "old_check_unflagged_far": sum(not r[key]["old_sensitive"] and wrong(r, "plain") for r in conv),
+        "old_check_flagged": sum(r[key]["old_sensitive"] for r in rows),
+        "cpu_ratio_mean": float(ratio.mean()),
+        "cpu_ratio_median": float(np.median(ratio)),
+        "cpu_ratio_total": float(sum(r[key]["cpu_checked"] for r in rows) / sum(r[key]["cpu_plain"] for r in rows)),
+        "cpu_ratio_median_by_kind": {
+            kind: float(np.median(ratio[[r["kind"] == kind for r in rows]])) for kind in ("noise", "stochastic")
+        },
+        "cpu_plain_median_s_by_kind": {
+            kind: float(np.median([r[key]["cpu_plain"] for r in rows if r["kind"] == kind]))
+            for kind in ("noise", "stochastic")
+        },
+        "check_runs_mean": float(runs.mean()),
+        "stopped_at_first_rung": int((runs == 3).sum()),
+    }
+
+
+def main(n: int, first: int, out: Path) -> None:
+    start = time.perf_counter()
+    with Pool(2) as pool:
+        rows = pool.map(measure, range(first, first + n), chunksize=16)
+    wall = time.perf_counter() - start
+    result = {
+        "command": f"python bench/sensitivity.py {n} {first} {out}",
+        "responses": [first, first + n - 1],
+        "machine": platform.processor() or platform.machine(),
+        "workers": 2,
+        "wall_s": round(wall, 1),
+        "suite": {
+            "blocks": {k: dataclasses.asdict(b) for k, b in BLOCKS.items()},
+            "noise": {"samples": NOISE_SAMPLES, "dt": NOISE_DT, "std_over_uplift": NOISE_LEVELS},
+            "stochastic": {"site": DEFAULT_SITE.record(), "pga_over_uplift": RECORD_LEVELS, "seed": 7},
+            "damper": {"gamma": 0.05, "omega_ratio": 1.0, "zeta": 0.05, "h": 0.05, "every": "third dozen"},
+            "kinds": {k: sum(r["kind"] == k for r in rows) for k in ("noise", "stochastic")},
+            "overturned_reference": sum(r["reference"]["overturned"] for r in rows),
+        },
+        "rule": {
+            "ladder_step": accuracy.TIGHTEN,
+            "floor": accuracy.RTOL_MIN,
+            "perturbation": accuracy.PERTURBATION,
+            "same_fraction": accuracy.SAME_FRACTION,
+            "trajectory": accuracy.TRAJECTORY,
+            "close": accuracy.CLOSE,
+            "sensitive_fraction": accuracy.SENSITIVE_FRACTION,
+        },
+        "tolerances": [summary(rows, rtol) for rtol in TOLERANCES],
+    }
+    out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(json.dumps(result, indent=1))
+
+
+def fragility_cost(out: Path, n: int = 20) -> None:
+    """Wall and CPU time of a fragility of ``n`` stochastic motions at 4 PGA levels, with the check and without."""
     block = rocking.Block.reference()
     uplift = block.g * block.tan_alpha
     levels = Grid("pga", 1.5 * uplift, 6.0 * uplift, 4)
     suite = Suite.stochastic(DEFAULT_SITE, n, seed=1)
-    for label in ("with", "without"):
-        if label == "without":
-            # The study has no switch: a tighter tolerance equal to rtol is what skips the second run.
-            ida.tighter_rtol = lambda rtol: rtol
+    result = {"command": f"python bench/sensitivity.py fragility {out}", "motions": n}
+    for i in range(n):
+        suite.motion(i)  # the synthesis's kernel is cached in the process: paid here, by neither of the two
+    for check in ("none", "tolerance"):
         with tempfile.TemporaryDirectory() as runs:
-            start = time.perf_counter()
+            wall, cpu = time.perf_counter(), time.process_time()
             study = ida.incremental_dynamic_analysis(
-                Setting(block),
-                Tuning(0.05),
-                suite,
-                levels,
-                Execution(workers=1, progress=False),
-                measure_name="pga",
-                runs=runs,
-            )
-            elapsed = time.perf_counter() - start
-        counts = {part: int(study.data["sensitive_responses"].sel(part=part).sum()) for part in ("bare", "damper")}
-        print(f"fragility, {study.run['responses']} responses, {label} the check: {elapsed:.2f} s; sensitive {counts}")
+                Setting(block), Tuning(0.05), suite, levels, Execution(workers=1, progress=False),
+                measure_name="pga", runs=runs, check=check,
+            )  # fmt: skip
+            wall, cpu = time.perf_counter() - wall, time.process_time() - cpu
+        sensitive = {part: int(study.data["sensitive_responses"].sel(part=part).sum()) for part in ("bare", "damper")}
+        result[check] = {"responses": study.run["responses"], "wall_s": wall, "cpu_s": cpu, "sensitive": sensitive}
+    out.write_text(json.dumps(result, indent=1) + "\n", encoding="utf-8")
+    print(json.dumps(result, indent=1))
 
 
 if __name__ == "__main__":
-    for block, name in ((rocking.Block.reference(), "reference"), (ISSUE_BLOCK, "the issue's eccentric")):
-        suite_figures(int(sys.argv[1]) if len(sys.argv) > 1 else 30, block, name)
-    white_noise()
-    fragility_cost()
+    args = sys.argv[1:]
+    if args[:1] == ["fragility"]:
+        fragility_cost(Path(args[1] if len(args) > 1 else "bench/sensitivity-fragility.json"))
+        raise SystemExit
+    n, first = (int(args[k]) if len(args) > k else 3000 for k in (0, 1))
+    main(n, first, Path(args[2] if len(args) > 2 else OUT))

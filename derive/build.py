@@ -2,11 +2,11 @@
 
 from __future__ import annotations
 
-import contextlib
 import hashlib
 import json
 import os
 import re
+import shutil
 import tempfile
 import time
 from dataclasses import dataclass
@@ -98,21 +98,20 @@ def check_output_folder(built: Built, folder: Path) -> set[str]:
     return previous & entries
 
 
-def _replace(path: Path, text: str) -> None:
-    """Write ``text`` to ``path`` through a new file: a symbolic link at ``path`` is replaced, never followed."""
-    fd, tmp = tempfile.mkstemp(dir=path.parent, prefix=f".{path.name}-", suffix=".tmp")
-    try:
-        with os.fdopen(fd, "w", encoding="utf-8") as handle:
-            handle.write(text)
-        os.chmod(tmp, 0o644)  # mkstemp made it private; generated code is meant to be read
-        os.replace(tmp, path)
-    finally:
-        with contextlib.suppress(FileNotFoundError):
-            os.unlink(tmp)
+def _stage(staging: Path, built: Built) -> None:
+    """Write every file of ``built`` into the folder ``staging`` (mode 0644: generated code is meant to be read)."""
+    for name, text in built.files.items():
+        (staging / name).write_text(text, encoding="utf-8")
+        os.chmod(staging / name, 0o644)
 
 
 def write(built: Built, folder: Path) -> None:
     """Write the files into ``folder``, removing only files of the previous derivation the model no longer has.
+
+    Every file is written first into a temporary folder beside ``folder``, then renamed into place: a derivation
+    stopped before its last stage writes nothing (the files are written only once all are derived), and a write
+    that fails (a full disk) leaves the previous files as they were. A renamed file replaces a symbolic link at
+    its name, never follows it.
 
     Raises
     ------
@@ -122,14 +121,20 @@ def write(built: Built, folder: Path) -> None:
     previous = check_output_folder(built, folder)
     try:
         folder.mkdir(parents=True, exist_ok=True)
-        for name in sorted(previous - set(built.files)):
-            path = folder / name
-            if path.is_file() or path.is_symlink():
-                path.unlink()
-        for name, text in built.files.items():
-            path = folder / name
-            if path.is_symlink() or not path.is_file() or path.read_text(encoding="utf-8") != text:
-                _replace(path, text)
+        staging = Path(tempfile.mkdtemp(dir=folder.parent, prefix=f".{folder.name}.derive-"))
+        try:
+            _stage(staging, built)
+            # Every file written: renames alone from here, which need no space.
+            for name in sorted(previous - set(built.files)):
+                path = folder / name
+                if path.is_file() or path.is_symlink():
+                    path.unlink()
+            for name, text in built.files.items():
+                path = folder / name
+                if path.is_symlink() or not path.is_file() or path.read_text(encoding="utf-8") != text:
+                    os.replace(staging / name, path)
+        finally:
+            shutil.rmtree(staging, ignore_errors=True)
     except OSError as exc:
         raise SpecError(f"cannot write {folder}: {exc.strerror or exc}") from None
 

@@ -9,7 +9,7 @@ python -m rocking.derive --check                 # exit 1 if the generated files
 python -m rocking.derive --spec my.toml --out models/my --stage-limit 600 --verbose
 
 Each model is derived in a child process, stage by stage (energies, equations of
-motion, ..., LaTeX); a stage that runs past its time limit (``--stage-limit``,
+motion, ..., LaTeX); a stage that runs past its limit of CPU time (``--stage-limit``,
 default 60 s) is stopped with a one-line error naming it and the spec's costliest
 expression. Before that, an expression whose degree, expanded terms or nesting of
 functions is over the bounds of :mod:`rocking.derive.cost` is refused at once.
@@ -77,8 +77,8 @@ def make_parser(prog: str = PROG) -> argparse.ArgumentParser:
         type=_seconds,
         default=STAGE_LIMIT,
         metavar="SECONDS",
-        help=f"time limit of each stage of a derivation, 0 for none (default: {STAGE_LIMIT:g}); before any stage, an "
-        f"expression is refused over degree {LIMITS.degree} in the coordinates and their functions, "
+        help=f"limit of CPU time of each stage of a derivation, in s, 0 for none (default: {STAGE_LIMIT:g}); before "
+        "any stage, an expression is refused over degree {LIMITS.degree} in the coordinates and their functions, "
         f"{LIMITS.terms} terms expanded or {LIMITS.nesting} nested functions (docs/variants.md)",
     )
     parser.add_argument(

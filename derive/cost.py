@@ -20,10 +20,17 @@ expanding it:
     How deep functions of the coordinates are nested in one another
     (``exp(exp(x))`` is 2): each level multiplies the terms of every
     derivative by the chain rule.
+``argument``
+    The highest degree of what a function of the coordinates, or a fractional
+    power, is taken of (``sin(x)`` 1, ``sqrt(1 + x**2)`` 2): the derivatives
+    of ``1/sqrt(1 + x**2)`` bring powers of its argument into every
+    denominator, which the later stages (the common subexpressions, the LaTeX
+    printer) are slow to get through. SymPy writes ``sin(atan(x))`` so
+    (``x/sqrt(x**2 + 1)``), before it is measured.
 
 :func:`check_spec_cost` refuses an entry of a spec over :data:`LIMITS`, before
-anything is derived; what passes but is still slow is stopped by the time
-limit of each stage (:mod:`rocking.derive.watchdog`).
+anything is derived; what passes but is still slow is stopped by the limit of
+CPU time of each stage (:mod:`rocking.derive.watchdog`).
 """
 
 from __future__ import annotations
@@ -43,20 +50,24 @@ class Cost:
     degree: int
     terms: int
     nesting: int
+    argument: int = 0
 
 
-#: Largest ``degree``, ``terms`` and ``nesting`` of an entry of a spec. Measured on the omd spec with its
-#: position x changed (docs/variants.md, "Bounded derivations"): ``x + h*sin(x)**k*cos(x)**k`` derives
-#: in 14 s for degree 4, 17 s for 6 and 26 s for 8, and not in 40 s for 12; issue 23's spec (degree 80)
-#: not in 400 s. Within the bounds some expressions still take minutes (``x + h*sin(atan(x))``, and
-#: ``(x + h + m + c)**3`` in its LaTeX): the time limit of each stage stops those.
-LIMITS = Cost(degree=6, terms=16, nesting=2)
+#: Largest ``degree``, ``terms``, ``nesting`` and ``argument`` of an entry of a spec; every shipped model is
+#: within degree 2, 2 terms, nesting 1 and argument 1. Measured on the omd spec with its position x changed, in
+#: CPU time (``python bench/derive_cost.py``; docs/variants.md, "Bounded derivations"): ``x + h*sin(x)**2*cos(x)**2``
+#: (degree 4) derives in 6.1 s, ``x + h*(sin(x) + cos(x))**4`` (degree 4, 6 terms) in 14.6 s; of degree 6,
+#: ``x + h*(sin(x) + cos(x))**6`` takes 35.2 s, and ``x + h*sin(atan(x))`` (argument 2) 90.9 s, most of it in its
+#: LaTeX stage; issue 23's spec (degree 80) did not derive in 400 s of the clock. What passes but is still slow is
+#: stopped by the limit of CPU time of each stage.
+LIMITS = Cost(degree=4, terms=16, nesting=1, argument=1)
 
 #: Why each measure is bounded, in a message.
 _WHAT = {
     "degree": "degree in the coordinates and their functions",
     "terms": "number of terms once expanded",
     "nesting": "nesting of functions of the coordinates",
+    "argument": "degree of what a function or a fractional power of the coordinates is taken of",
 }
 
 #: Any count above this is reported as this: a bound, not a number to compute exactly.
@@ -74,12 +85,17 @@ def _power(base: Cost, exponent: Cost, integer: int | None, varies: bool) -> Cos
     """Cost of ``base**exponent``: a multinomial for an ``integer`` exponent, a new function of both otherwise."""
     if integer is not None:
         n = abs(integer)
-        return Cost(min(base.degree * n, _CAP), _monomials(base.terms, n), base.nesting)
+        return Cost(min(base.degree * n, _CAP), _monomials(base.terms, n), base.nesting, base.argument)
     if not varies:
         return Cost(0, 1, 0)
     # d(b**e)/dt = b**e (e' log(b) + e b'/b): the exponent's terms count only when it moves.
     terms = base.terms + (exponent.terms if exponent.degree else 0)
-    return Cost(max(1, base.degree, exponent.degree), min(terms, _CAP), 1 + max(base.nesting, exponent.nesting))
+    return Cost(
+        max(1, base.degree, exponent.degree),
+        min(terms, _CAP),
+        1 + max(base.nesting, exponent.nesting),
+        max(base.argument, exponent.argument, base.degree, exponent.degree),
+    )
 
 
 def expression_cost(expr: sp.Expr, varying: frozenset) -> Cost:
@@ -99,13 +115,20 @@ def expression_cost(expr: sp.Expr, varying: frozenset) -> Cost:
         integer = int(expr.exp) if expr.exp.is_Integer else None
         return _power(expression_cost(expr.base, varying), expression_cost(expr.exp, varying), integer, varies)
     parts = [expression_cost(a, varying) for a in expr.args]
+    argument = max(p.argument for p in parts)
     if expr.is_Add:
-        return Cost(max(p.degree for p in parts), min(sum(p.terms for p in parts), _CAP), max(p.nesting for p in parts))
+        return Cost(
+            max(p.degree for p in parts),
+            min(sum(p.terms for p in parts), _CAP),
+            max(p.nesting for p in parts),
+            argument,
+        )
     if expr.is_Mul:
         return Cost(
             min(sum(p.degree for p in parts), _CAP),
             min(math.prod(p.terms for p in parts), _CAP),
             max(p.nesting for p in parts),
+            argument,
         )
     if not varies:  # a function of the parameters alone: one constant of a run
         return Cost(0, 1, 0)
@@ -114,6 +137,7 @@ def expression_cost(expr: sp.Expr, varying: frozenset) -> Cost:
         max(1, *(p.degree for p in parts)),
         min(sum(p.terms for p in parts), _CAP),
         1 + max(p.nesting for p in parts),
+        max(argument, *(p.degree for p in parts)),
     )
 
 
@@ -172,10 +196,11 @@ def check_spec_cost(spec, limits: Cost = LIMITS) -> None:
 
 
 def costliest_entry(spec) -> tuple[str, sp.Expr] | None:
-    """The entry of ``spec`` of the highest cost (by degree, nesting, then terms): the likely cause of a slow stage."""
+    """The entry of ``spec`` of the highest cost (by degree, nesting, argument, then terms): the likely cause of a
+    slow stage."""
     varying = _varying(spec)
     ranked = [(expression_cost(expr, varying), where, expr) for where, expr in spec_entries(spec)]
     if not ranked:
         return None
-    cost, where, expr = max(ranked, key=lambda r: (r[0].degree, r[0].nesting, r[0].terms))
+    cost, where, expr = max(ranked, key=lambda r: (r[0].degree, r[0].nesting, r[0].argument, r[0].terms))
     return where, expr

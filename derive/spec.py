@@ -548,9 +548,14 @@ def _check_coordinates_used(spec: Spec) -> None:
 
 def load_spec(path: str | Path) -> Spec:
     """Read and check a spec file."""
+    from rocking.model.records import input_refusal  # the one check of every input file of rocking
+
     path = Path(path)
     if not path.is_file():
         raise SpecError(f"spec file not found: {path}")
+    refused = input_refusal(path)
+    if refused:
+        raise SpecError(f"{path}: {refused}")
     try:
         raw = path.read_bytes()
         if len(raw) > MAX_SPEC_BYTES:

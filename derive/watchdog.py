@@ -1,21 +1,37 @@
-"""A derivation in a child process, stage by stage, each under a time limit.
+"""A derivation in a child process, stage by stage, each under a limit of CPU time.
 
 The static bounds of a spec (:mod:`rocking.derive.cost`) refuse most
 expressions that would keep SymPy busy for hours, but not every one: the work
 of a stage depends on how the entries combine. The derivation therefore runs
 in a child process that tells its parent when each stage begins
-(:func:`rocking.derive.build.build`'s ``stage``); the parent prints the
-stages' times and kills the child when a stage runs past its limit. The child
-hands back the generated files as text: what is written does not depend on
-where it was derived.
+(:func:`rocking.derive.build.build`'s ``stage``), with the CPU time it has used;
+the parent prints the stages' times. A stage's limit is CPU time, not the
+clock's: a machine under load (a parallel test run, other users) slows the
+clock's stages four times and more, never their CPU time, so a spec that
+derives on a quiet machine derives under load too. The child enforces it on
+itself (``RLIMIT_CPU``, set again as each stage begins: the kernel signals it
+when the stage's CPU time is spent, and it exits with :data:`CPU_EXIT`); the
+parent keeps a clock only as a backstop, :data:`WALL_FACTOR` times the limit,
+for a child that waits without using the CPU. Where there is no
+``RLIMIT_CPU`` (Windows) the limit is the clock's. The child hands back the
+generated files as text: what is written does not depend on where it was
+derived.
 """
 
 from __future__ import annotations
 
+import math
 import multiprocessing
+import os
+import signal
 import sys
 import time
 from dataclasses import dataclass
+
+try:  # POSIX only; without it the limit is the clock's
+    import resource
+except ImportError:  # pragma: no cover - Windows
+    resource = None  # type: ignore[assignment]
 
 from .build import Built, build
 from .cost import costliest_entry
@@ -28,6 +44,11 @@ STAGE_LIMIT = 60.0
 SLOW_STAGE = 1.0
 #: Seconds between the lines that say a stage is still running.
 HEARTBEAT = 10.0
+#: The clock's backstop of a stage, in multiples of its CPU limit: a child that waits (not computing) this long
+#: is stopped too. Wide: two cores shared by seven processes slow a stage's clock some four times.
+WALL_FACTOR = 10.0
+#: Exit code of a child whose stage ran past its CPU time (its handler of SIGXCPU).
+CPU_EXIT = 152
 
 
 class DerivationFailed(SpecError):
@@ -56,13 +77,13 @@ class StageLog:
         print(f"derive {self.model}: {text}", file=self.stream or sys.stderr, flush=True)
 
     def finished(self, stage: str, seconds: float) -> None:
-        """A stage ended after ``seconds``."""
+        """A stage ended after ``seconds`` of CPU time."""
         if self.verbose or seconds >= SLOW_STAGE:
             self._print(f"{stage} ... {seconds:.1f} s")
 
     def running(self, stage: str, seconds: float, limit: float | None) -> None:
-        """A stage has been running for ``seconds``."""
-        bound = f" (limit {limit:g} s)" if limit else ""
+        """A stage has been running for ``seconds`` of the clock (its limit: ``limit`` s of CPU time)."""
+        bound = f" (limit {limit:g} s of CPU time)" if limit else ""
         self._print(f"{stage} ... still running after {seconds:.0f} s{bound}")
 
 
@@ -71,11 +92,33 @@ def failure(exc: BaseException) -> str:
     return f"the derivation failed ({type(exc).__name__}: {' '.join(str(exc).split())[:200]})"
 
 
-def _child(spec, options: dict, writer) -> None:
-    """Derive ``spec`` and send the parent each stage as it begins, then the result or the error."""
+def cpu_limited() -> bool:
+    """Whether a stage's limit is CPU time here (``RLIMIT_CPU`` and ``SIGXCPU`` exist), else the clock's."""
+    return resource is not None and hasattr(signal, "SIGXCPU")
+
+
+def _limit_cpu(limit: float | None) -> None:
+    """Let the process use ``limit`` more seconds of CPU (``RLIMIT_CPU``, whole seconds up), then SIGXCPU."""
+    if not limit or not cpu_limited():
+        return
+    soft, hard = math.ceil(time.process_time() + limit), resource.getrlimit(resource.RLIMIT_CPU)[1]
+    resource.setrlimit(resource.RLIMIT_CPU, (soft if hard == resource.RLIM_INFINITY else min(soft, hard), hard))
+
+
+def _child(spec, options: dict, writer, limit: float | None = None) -> None:
+    """Derive ``spec`` and send the parent each stage as it begins (its name and the CPU time used so far), then
+    the result or the error; each stage under ``limit`` seconds of CPU time (:func:`_limit_cpu`)."""
+    if limit and cpu_limited():
+        # Not the default action (a core dump): an exit the parent reads as the stage's limit.
+        signal.signal(signal.SIGXCPU, lambda signum, frame: os._exit(CPU_EXIT))
+
+    def stage(name: str) -> None:
+        _limit_cpu(limit)
+        writer.send(("stage", name, time.process_time()))
+
     try:
-        built = build(spec, options, lambda name: writer.send(("stage", name)))
-        writer.send(("done", built))
+        built = build(spec, options, stage)
+        writer.send(("done", built, time.process_time()))
     except SpecError as exc:
         writer.send(("refused", str(exc)))
     except Exception as exc:  # noqa: BLE001 - whatever SymPy raises on a spec past every check: one line in the parent
@@ -90,54 +133,60 @@ def _context():
     return multiprocessing.get_context("fork" if "fork" in methods else "spawn")
 
 
-def timeout_message(spec, stage: str, limit: float) -> str:
-    """The one-line error of a stage that ran past ``limit``: the stage, and the spec's costliest expression."""
+def timeout_message(spec, stage: str, limit: float, clock: str = "CPU time") -> str:
+    """The one-line error of a stage that ran past ``limit`` seconds of ``clock``: the stage, and the spec's
+    costliest expression."""
     entry = costliest_entry(spec)
     suspect = f"; its costliest expression is {entry[0]} {quote(str(entry[1]))}" if entry else ""
     return (
-        f"derive {spec.name}: stage {stage!r} ran past its limit of {limit:g} s{suspect}; "
+        f"derive {spec.name}: stage {stage!r} ran past its limit of {limit:g} s of {clock}{suspect}; "
         "simplify the spec, or allow more time with --stage-limit SECONDS"
     )
 
 
-def _receive(reader, child, spec, stage: str):
-    """The child's next message; a child that ended without one failed."""
+def _receive(reader, child, spec, stage: str, limit: float | None):
+    """The child's next message; a child that ended without one failed, or ran past its CPU limit."""
     try:
         return reader.recv()
     except EOFError:
         child.join()
+        if limit and child.exitcode in (CPU_EXIT, -getattr(signal, "SIGXCPU", 0)):
+            raise DerivationFailed(timeout_message(spec, stage, limit)) from None
         raise DerivationFailed(
             f"derive {spec.name}: the derivation process ended in stage {stage!r} (exit code {child.exitcode})"
         ) from None
 
 
 def _watch(reader, child, spec, limit: float | None, log: StageLog) -> Built:
-    """Follow the child's stages, printing them, until it sends its result; kill it at a stage's limit."""
-    stage, began, heartbeat = "start", time.monotonic(), HEARTBEAT
+    """Follow the child's stages, printing them with their CPU time, until it sends its result; a stage past its
+    CPU limit ends the child itself, and the clock's backstop (:data:`WALL_FACTOR`) kills it."""
+    wall, clock = (limit * WALL_FACTOR, "wall-clock time") if cpu_limited() else (limit, "time")
+    stage, began, heartbeat, cpu = "start", time.monotonic(), HEARTBEAT, 0.0
     while True:
         elapsed = time.monotonic() - began
-        if limit and elapsed >= limit:
-            raise DerivationFailed(timeout_message(spec, stage, limit))
+        if wall and elapsed >= wall:
+            raise DerivationFailed(timeout_message(spec, stage, wall, clock))
         if elapsed >= heartbeat:
             log.running(stage, elapsed, limit)
             heartbeat += HEARTBEAT
-        wake = min(heartbeat, limit) if limit else heartbeat
+        wake = min(heartbeat, wall) if wall else heartbeat
         if not reader.poll(max(wake - elapsed, 0.0)):
             continue
-        kind, value = _receive(reader, child, spec, stage)
-        now = time.monotonic()
-        log.finished(stage, now - began)
+        kind, value, *used = _receive(reader, child, spec, stage, limit)
+        if kind in ("stage", "done"):
+            log.finished(stage, used[0] - cpu)
+            cpu = used[0]
         if kind == "done":
             return value
         if kind == "refused":
             raise SpecError(value)
         if kind == "failed":
             raise DerivationFailed(value)
-        stage, began, heartbeat = value, now, HEARTBEAT
+        stage, began, heartbeat = value, time.monotonic(), HEARTBEAT
 
 
 def build_bounded(spec, options: dict | None = None, limit: float | None = STAGE_LIMIT, log: StageLog | None = None):
-    """:func:`rocking.derive.build.build` in a child process, each stage under ``limit`` seconds.
+    """:func:`rocking.derive.build.build` in a child process, each stage under ``limit`` seconds of CPU time.
 
     Parameters
     ----------
@@ -146,7 +195,8 @@ def build_bounded(spec, options: dict | None = None, limit: float | None = STAGE
     options : dict, optional
         Derivation options.
     limit : float or None
-        Seconds a stage may take; None or 0: no limit.
+        Seconds of CPU time a stage may take (of the clock where there is no ``RLIMIT_CPU``; the clock's backstop:
+        :data:`WALL_FACTOR` times more); None or 0: no limit.
     log : StageLog, optional
         Where the stages are printed (default: slow stages, to stderr).
 
@@ -163,7 +213,7 @@ def build_bounded(spec, options: dict | None = None, limit: float | None = STAGE
     """
     context = _context()
     reader, writer = context.Pipe(duplex=False)
-    child = context.Process(target=_child, args=(spec, options, writer), daemon=True)
+    child = context.Process(target=_child, args=(spec, options, writer, limit), daemon=True)
     child.start()
     writer.close()  # the child holds the only writer: its end is the reader's end of file
     try:

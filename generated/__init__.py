@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "0c60aee471c988800edca02c5c24b31334c4fda8c1e44790c946ced251b07f30",
-    "omd": "a98d231fcbf65b65534c6c8abf3a9b5803bdbcbc4322f7d05c29ec095fdf0c48",
-    "omd2": "fcbc8763ac5c93cac43a9671cbc5186a94b69ee84ebc211fc26536a81984fbb8",
-    "omd_stops": "c555f0cbff6a942aa828f9e408a67983a39c33d29ff3c67a20958e14f5d0f51f",
-    "omd_stops_hc": "3c6f0a909518965994c31e3d1718a03b68358ec0fa45b257f262a114d56da9df",
-    "pendulum": "6223154da1e82d3bd50d9ee0cb6d6158ba8b860b942b646216567adc43254928",
+    "block": "41c476b78d63fd811c25da0e954ad601b8a3f7bd5ac616de2e845a96372a8728",
+    "omd": "466f03c6a8ab0d746a4705110d3d3b9db2caf97cf2eb27577cbe517d9b115531",
+    "omd2": "53c58ac670017270e1f63d8598e4dd85366b233cbd256a465c6fa36aa2c69c27",
+    "omd_stops": "3db39f9ee54d9475f055ddda6df5737785eab9c6ac44d1ebae5e4eb3952c15df",
+    "omd_stops_hc": "c4e6bbc5b21b6139b994d0fa0507457a42f95cd0b5d72fd94940a6203a6da13b",
+    "pendulum": "0e7371c4f40a06bce271bdea1d3d505b1a7beca93d1d70e25948bfe58ee43009",
 }

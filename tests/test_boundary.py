@@ -35,6 +35,8 @@ from rocking.sim.problem import (
 
 CASE_NAMES = [f.name for f in CASE]
 RESULT_NAMES = [f.name for f in RESULT]
+#: The results the tolerance check adds (rocking.sim.accuracy), after those of C.
+CHECKED_NAMES = [f.name for f in boundary.CHECKED]
 
 
 # --------------------------------------------------------------------------- #
@@ -213,21 +215,21 @@ def test_problem_fields_follow_the_case_table():
 
 
 def test_response_fields_follow_the_result_table():
-    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, "sensitive", "history", "inputs"]
+    assert [f.name for f in dataclasses.fields(Response)] == [*RESULT_NAMES, *CHECKED_NAMES, "history", "inputs"]
     assert list(RESULT_FIELDS) == RESULT_NAMES
     assert RESULT_FIELDS["status"] is np.int64 and RESULT_FIELDS["overturned"] is bool
     record = np.zeros(1, dtype=cb.RESULT_DTYPE)[0]
     record["status"], record["overturned"], record["theta_max"] = 3, 1, 0.5
     response = Response.from_record(record)
     assert (response.status, response.overturned, response.theta_max) == ("max_events", True, 0.5)
-    assert list(response.summary()) == [*RESULT_NAMES, "sensitive"]
+    assert list(response.summary()) == [*RESULT_NAMES, *CHECKED_NAMES]
 
 
 @pytest.mark.parametrize(
     "cls, names, table",
     [
         (ProblemFields, ["model", "p", *CASE_NAMES], CASE),
-        (ResponseFields, [*RESULT_NAMES, "sensitive"], boundary.SUMMARY),
+        (ResponseFields, [*RESULT_NAMES, *CHECKED_NAMES], boundary.SUMMARY),
         (Response, ["history", "inputs"], ()),
     ],
     ids=["Problem", "Response", "Response's own"],

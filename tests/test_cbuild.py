@@ -7,6 +7,7 @@ the process (SIGBUS), so the test that loads one runs it in a subprocess.
 
 from __future__ import annotations
 
+import ctypes
 import json
 import os
 import shlex
@@ -531,3 +532,107 @@ def test_compiler_failure_carries_its_message(tmp_path):
     assert "C compiler failed" in message and "sim.c" in message and "error" in message
     left = [path.name for path in (tmp_path / "cache").iterdir() if not path.name.endswith(".lock")]
     assert not left, left
+
+
+# --------------------------------------------------------------------------- #
+# The wheel's prebuilt libraries (issue 36, item 4)                            #
+# --------------------------------------------------------------------------- #
+
+from tests.planted import plant_library  # noqa: E402
+
+
+@pytest.fixture
+def package(warm, tmp_path, monkeypatch) -> Path:
+    """A package's code (``sim/``, 0755, its ``cbuild.py`` 0644) with a ``prebuilt`` folder beside it holding a
+    genuine library of MODEL, as a wheel installs it; cbuild looks there. Returns the prebuilt folder."""
+    code = tmp_path / "site" / "rocking" / "sim"
+    code.mkdir(parents=True)
+    (code / "cbuild.py").write_text("# the package's code\n")
+    (code / "cbuild.py").chmod(0o644)
+    code.chmod(0o755)
+    prebuilt = code / "prebuilt"
+    prebuilt.mkdir(mode=0o755)
+    library = library_of(warm)
+    for path in (library, library.with_name(library.name + ".json")):
+        shutil.copy(path, prebuilt / path.name)
+        (prebuilt / path.name).chmod(0o644)
+    monkeypatch.setattr(cbuild, "CODE", (code, code / "cbuild.py"))
+    monkeypatch.setattr(cbuild, "PREBUILT", prebuilt)
+    return prebuilt
+
+
+def _planted(folder: Path, sentinel: Path) -> Path:
+    """The prebuilt library of MODEL in ``folder`` replaced by one whose constructor creates ``sentinel``, its
+    sidecar updated to match (hash, size, the source key it is looked up by)."""
+    library = library_of(folder)
+    plant_library(library, sentinel, sidecar(library)["source_key"])
+    return library
+
+
+def test_a_genuine_prebuilt_library_is_used_without_the_cache(package, tmp_path, monkeypatch):
+    no_compiler_runs(monkeypatch)
+    assert cbuild.prebuilt_refusal(package) is None
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")  # no PrebuiltWarning
+        assert cbuild.build(load_model(MODEL), cache=tmp_path / "cache") == library_of(package)
+    assert not (tmp_path / "cache").exists()
+
+
+def test_the_control_a_planted_library_in_a_trusted_folder_would_run(package, tmp_path):
+    """The attack is live: a planted library with a matching sidecar, in a folder as trusted as the code, is
+    returned, and loading it runs its constructor. What refuses it below is its folder alone."""
+    planted = _planted(package, tmp_path / "PWNED")
+    assert cbuild.build(load_model(MODEL), cache=tmp_path / "cache") == planted
+    ctypes.CDLL(str(planted))
+    assert (tmp_path / "PWNED").exists()
+
+
+PREBUILT_ATTACKS = ["world-writable", "group-writable", "foreign owner", "symlink to a world-writable /tmp folder",
+                    "writable library"]  # fmt: skip
+
+
+@pytest.mark.parametrize("attack", PREBUILT_ATTACKS)
+def test_a_planted_prebuilt_library_is_refused_before_it_is_loaded(
+    package, warm, tmp_path, monkeypatch, unloaded, attack
+):
+    """Issue 36: the wheel's folder held to the trust of the package's code; a planted library there with a
+    matching sidecar is never loaded (its constructor never runs): one warning line, and the cache's library runs.
+    """
+    sentinel = tmp_path / "PWNED"
+    folder = package
+    if attack == "symlink to a world-writable /tmp folder":
+        folder = Path(tempfile.mkdtemp(prefix="prebuilt-", dir="/tmp"))
+        shutil.copytree(package, folder, dirs_exist_ok=True)
+        folder.chmod(0o777)
+        shutil.rmtree(package)
+        package.symlink_to(folder)
+        monkeypatch.setattr(cbuild, "PREBUILT", package)
+    planted = _planted(folder, sentinel)
+    if attack == "world-writable":
+        folder.chmod(0o777)
+    elif attack == "group-writable":
+        folder.chmod(0o775)
+    elif attack == "foreign owner":
+        if os.geteuid() != 0:
+            pytest.skip("changing a folder's owner needs root")
+        os.chown(folder, 65534, 65534)
+    elif attack == "writable library":
+        planted.chmod(0o666)
+    why = {
+        "world-writable": r"is writable by others \(mode 0777\)",
+        "group-writable": r"is writable by group \d+ \(mode 0775\), which cannot write the package's code",
+        "foreign owner": r"belongs to uid 65534, not to the owner of the package's code",
+        "symlink to a world-writable /tmp folder": r"is a symbolic link to /tmp/prebuilt-\w+, out of the package",
+        "writable library": r"\.so is writable by others \(mode 0666\)",
+    }[attack]
+    cache = Path(shutil.copytree(warm, tmp_path / "cache"))
+    monkeypatch.setenv("ROCKING_CACHE_DIR", str(cache))
+    with pytest.warns(cbuild.PrebuiltWarning, match=f"^the C libraries shipped in .* are not used: .*{why}") as record:
+        response = rocking.simulate(BLOCK, None, PULSE, backend="c")
+    assert len(record) == 1 and "\n" not in str(record[0].message)
+    assert response.status and not sentinel.exists(), "the planted library's constructor ran"
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", cbuild.PrebuiltWarning)
+        assert cbuild.build(load_model(MODEL)) == library_of(cache)
+    if attack == "symlink to a world-writable /tmp folder":
+        shutil.rmtree(folder)

@@ -20,7 +20,7 @@ from pathlib import Path
 import pytest
 import sympy
 
-from rocking.derive import names
+from rocking.derive import names, watchdog
 from rocking.derive import spec as spec_module
 from rocking.derive.build import build, write
 from rocking.derive.cli import main
@@ -168,6 +168,7 @@ CORPUS = [
 _DEGREE = "its degree in the coordinates and their functions is"
 _NESTING = "its nesting of functions of the coordinates is"
 _TERMS = "its number of terms once expanded is"
+_ARGUMENT = "its degree of what a function or a fractional power of the coordinates is taken of is"
 EXPENSIVE = [
     (
         "issue-23",
@@ -198,6 +199,19 @@ EXPENSIVE = [
     ("exp-exp-exp", {"position": s(["x + k*exp(exp(exp(x)))", "H"])}, f"{_NESTING} 3"),
     ("nested-atan", {"position": s(["x + k*atan(atan(atan(atan(x))))", "H"])}, f"{_NESTING} 4"),
     ("huge-exponent-of-coordinate", {"position": s(["x**(10**6)", "H"])}, "an exponent above 64 in size not allowed"),
+    # Issue 36: shapes within the bounds of issue 23 whose derivation ran past a minute (CPU time, the omd spec).
+    (
+        "sin-of-atan",
+        {"position": s(["x + k*sin(atan(x))", "H"])},
+        f"position x: 'k*x/sqrt(x**2 + 1) + x' is too costly to derive: {_ARGUMENT} 2",
+    ),
+    ("cos-of-atan", {"position": s(["x + k*cos(atan(x))", "H"])}, f"{_ARGUMENT} 2"),
+    ("sqrt-of-square", {"position": s(["x", "H + k*sqrt(1 + x**2)"])}, f"{_ARGUMENT} 2"),
+    ("trig-sum-degree-6", {"position": s(["x + k*(sin(x) + cos(x))**6", "H"])}, f"{_DEGREE} 6"),
+    ("trig-product-degree-6", {"position": s(["x + k*sin(x)**3*cos(x)**3", "H"])}, f"{_DEGREE} 6"),
+    ("trig-power-degree-6", {"position": s(["x + k*sin(x)**6", "H"])}, f"{_DEGREE} 6"),
+    ("trig-of-trig", {"position": s(["x + k*sin(cos(x))", "H"])}, f"{_NESTING} 2"),
+    ("exp-of-sin", {"position": s(["x", "H + k*exp(sin(x))"])}, f"{_NESTING} 2"),
     (
         "multinomial-mass",
         {"mass": s("(m + k + H + B + M + g)**16")},
@@ -311,11 +325,13 @@ def test_the_expensive_corpus_is_large_and_the_bounds_measure_what_they_say():
     x, m = (sympy.Symbol(n, real=True) for n in ("x", "m"))
     varying = frozenset({x})
     for expr, expected in (
-        (x + sympy.sin(x) ** 40 * sympy.cos(x) ** 40, Cost(80, 2, 1)),
-        ((x + m) ** 3, Cost(3, 4, 0)),
-        (m * sympy.exp(sympy.exp(x)), Cost(1, 1, 2)),
-        (sympy.sqrt(m**2 - x**2), Cost(2, 2, 1)),
-        ((m + 1) ** 5 * sympy.sin(m), Cost(0, 6, 0)),
+        (x + sympy.sin(x) ** 40 * sympy.cos(x) ** 40, Cost(80, 2, 1, 1)),
+        ((x + m) ** 3, Cost(3, 4, 0, 0)),
+        (m * sympy.exp(sympy.exp(x)), Cost(1, 1, 2, 1)),
+        (sympy.sqrt(m**2 - x**2), Cost(2, 2, 1, 2)),
+        ((m + 1) ** 5 * sympy.sin(m), Cost(0, 6, 0, 0)),
+        (x + m * sympy.sin(sympy.atan(x)), Cost(3, 3, 1, 2)),  # SymPy's x/sqrt(x**2 + 1)
+        (m * sympy.sin(x) ** 3 * sympy.cos(x) ** 3, Cost(6, 1, 1, 1)),
     ):
         assert expression_cost(expr, varying) == expected, expr
     for name in registered_variants():  # the shipped models are well within the bounds
@@ -323,7 +339,7 @@ def test_the_expensive_corpus_is_large_and_the_bounds_measure_what_they_say():
         varying = frozenset(sympy.Symbol(c, real=True) for c in spec.coordinates)
         for where, expr in spec_entries(spec):
             cost = expression_cost(expr, varying)
-            assert cost.degree <= 2 and cost.terms <= 2 and cost.nesting <= 1, (name, where)
+            assert cost.degree <= 2 and cost.terms <= 2 and cost.nesting <= 1 and cost.argument <= 1, (name, where)
 
 
 def test_a_stage_past_its_time_limit_is_stopped_in_one_line(tmp_path, monkeypatch, capsys):
@@ -336,9 +352,72 @@ def test_a_stage_past_its_time_limit_is_stopped_in_one_line(tmp_path, monkeypatc
     start = time.perf_counter()
     refused = _run(capsys, "--spec", spec, "--out", out, "--stage-limit", "2")
     assert time.perf_counter() - start < REFUSED_WITHIN
-    _assert_refused(*refused, "ran past its limit of 2 s; its costliest expression is body 'mass' position x")
+    _assert_refused(
+        *refused, "ran past its limit of 2 s of CPU time; its costliest expression is body 'mass' position x"
+    )
     assert re.search(r"error: derive probe: stage '[a-z ]+' ran past", refused[2]), refused[2]
     assert "--stage-limit SECONDS" in refused[2] and not out.exists()
+
+
+def _probe(tmp_path: Path):
+    spec = tmp_path / "spec.toml"
+    spec.write_text(_spec_text({}, tmp_path / "pwned"), encoding="utf-8")
+    return spec_module.load_spec(spec)
+
+
+def _stages(*work):
+    """A stand-in for derive's build: each of ``work`` one stage, then no files."""
+
+    def build(spec, options, stage):
+        for i, step in enumerate(work):
+            stage(f"stage {'abcdefgh'[i]}")
+            step()
+        return watchdog.Built(spec.name, {}, 0.0)
+
+    return build
+
+
+def _spin(seconds: float = 60.0) -> None:
+    end = time.process_time() + seconds
+    while time.process_time() < end:
+        pass
+
+
+@pytest.mark.skipif(not watchdog.cpu_limited(), reason="the limit is the clock's where there is no RLIMIT_CPU")
+def test_a_stage_limit_is_cpu_time_not_the_clocks(tmp_path, monkeypatch):
+    """Issue 36: a stage that waits (a loaded machine's clock runs on, the CPU time does not) is not stopped at
+    its limit's seconds of the clock; one that computes is stopped once it has used its limit of CPU time, by
+    the child itself, in one line naming the stage."""
+    spec = _probe(tmp_path)
+    monkeypatch.setattr(watchdog, "build", _stages(lambda: time.sleep(2.5), lambda: time.sleep(0.1)))
+    assert watchdog.build_bounded(spec, None, limit=1.0).files == {}
+    monkeypatch.setattr(watchdog, "build", _stages(lambda: time.sleep(0.1), _spin))
+    start = time.perf_counter()
+    with pytest.raises(watchdog.DerivationFailed, match=r"stage 'stage b' ran past its limit of 1 s of CPU time;"):
+        watchdog.build_bounded(spec, None, limit=1.0)
+    assert time.perf_counter() - start < REFUSED_WITHIN
+
+
+def test_a_failed_write_leaves_the_previous_derivation_whole(tmp_path, monkeypatch):
+    """Issue 36: the files are written into a temporary folder, then renamed into place: a disk that fills on
+    the third file leaves the previous model's files as they were, and no temporary folder."""
+    out = tmp_path / "out"
+    before = _previous_derivation(out)
+    built = dataclasses.replace(build(variant_spec("block")), name="old")
+    written = []
+    real = Path.write_text
+
+    def fill(path, text, *args, **kwargs):
+        written.append(path)
+        if len(written) == 3:
+            raise OSError(28, "No space left on device")
+        return real(path, text, *args, **kwargs)
+
+    monkeypatch.setattr(Path, "write_text", fill)
+    with pytest.raises(SpecError, match=f"cannot write {out}: No space left on device"):
+        write(built, out)
+    assert {p.name: p.read_bytes() for p in out.iterdir()} == before
+    assert sorted(p.name for p in tmp_path.iterdir()) == ["out"]
 
 
 @pytest.mark.parametrize(

@@ -43,8 +43,8 @@ from ..model.params import (
 from ..model.pulse import OneSinePulse
 from ..model.records import UNITS, paired_vertical, read_record
 from ..model.vertical import Vertical
-from ..sim.accuracy import CHECKS, SENSITIVE
-from ..sim.boundary import RESULT
+from ..sim.accuracy import CHECKS
+from ..sim.boundary import SUMMARY
 from ..sim.cbuild import CBuildError
 from ..sim.history import HISTORY_FORMATS
 from ..sim.history import write as write_history
@@ -361,7 +361,7 @@ def _units(payload: dict) -> dict:
     units = {name: RANGES[name].unit or "1" for name in names if name in RANGES}
     own = {"I_G": "kg m^2", "dt": "s", "pga": "m/s^2", "scale": "1", "samples": "1", "sign": "1"}
     units.update({k: v for k, v in own.items() if k in names})
-    units.update({f.name: f.unit or "1" for f in (*RESULT, SENSITIVE)}, mass_past_edge="1")
+    units.update({f.name: f.unit or "1" for f in SUMMARY}, mass_past_edge="1")
     return dict(sorted(units.items()))
 
 
@@ -393,8 +393,10 @@ def _print_summary(block, pulse, responses, models) -> None:
             print(f"  {label}: {_past_edge_text(r, block, models[label])}")
         if r.sensitive:
             print(
-                f"  {label}: SENSITIVE to the tolerance: rtol / 100 changed the answer; this is the tighter run's "
-                "(docs/simulation.md, Sensitivity to the tolerance)"
+                f"  {label}: SENSITIVE to the tolerance: the check's {r.check_runs} runs disagree "
+                f"(theta_max/alpha {r.theta_max_low / block.alpha:.4f} to {r.theta_max_high / block.alpha:.4f}, "
+                f"{r.overturned_fraction:.0%} overturned); this is the tightest run's (docs/simulation.md, "
+                "Sensitivity to the tolerance)"
             )
 
 
@@ -700,8 +702,8 @@ def _add_simulate(sub) -> None:
     g.add_argument(
         "--check",
         choices=CHECKS,
-        help="'tolerance': run again at rtol / 100 and flag a sensitive response (default for --motion; 'none' "
-        "for a pulse)",
+        help="'tolerance': run again down a ladder of tolerances (rtol / 100, at most 1e-10, ... 1e-12) and flag "
+        "a sensitive response (default for --motion; 'none' for a pulse)",
     )
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
     g.add_argument(

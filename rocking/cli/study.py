@@ -46,7 +46,7 @@ from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
 from ..study.design import design
 from ..study.directions import DIRECTIONS
-from ..study.files import DiskFull, make_folder, no_space
+from ..study.files import DiskFull, make_folder, name_lock, no_space
 from ..study.fragility import FITTED, MEDIAN_PLACES, FitWarning, median_words
 
 # The drivers of the kinds are looked up in this module when a command runs (_driver): imported here by name.
@@ -140,8 +140,8 @@ def _add_check(p: argparse.ArgumentParser) -> None:
     p.add_argument(
         "--check",
         choices=CHECKS,
-        help="'tolerance': run every response again at rtol / 100 and flag the sensitive ones, as rocking simulate "
-        "--check (default for records and --stochastic; 'none' for --pulses)",
+        help="'tolerance': run every response again down a ladder of tolerances and flag the sensitive ones, as "
+        "rocking simulate --check (default for records and --stochastic; 'none' for --pulses)",
     )
 
 
@@ -658,18 +658,20 @@ def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
     current = CURRENT.get() or {}
     run = study.run
     kept = run["tiles_computed"] + run["tiles_reused"]
-    try:
-        paths = save(study, out, name, command=current.get("command"))
-    except DiskFull as exc:
-        raise DiskFull(exc.path, kept=kept) from None
-    try:
-        paths += draw(study, out, name)
-    except Exception:
-        # matplotlib's writers fail on a full disk in their own ways (an OSError, or an AttributeError of the PDF
-        # stream): the free space tells. The data are published; the figures are redrawn by a rerun or redraw.
-        if not no_space(out):
-            raise
-        raise DiskFull(out / f"{name or study.kind}.png and .pdf", kept=kept) from None
+    # Data and figures under one lock on the name: another save of it into this folder waits, never mixes them.
+    with name_lock(make_folder(out, "--out"), name or study.kind):
+        try:
+            paths = save(study, out, name, command=current.get("command"))
+        except DiskFull as exc:
+            raise DiskFull(exc.path, kept=kept) from None
+        try:
+            paths += draw(study, out, name)
+        except Exception:
+            # matplotlib's writers fail on a full disk in their own ways (an OSError, or an AttributeError of the PDF
+            # stream): the free space tells. The data are published; the figures are redrawn by a rerun or redraw.
+            if not no_space(out):
+                raise
+            raise DiskFull(out / f"{name or study.kind}.png and .pdf", kept=kept) from None
     print(
         f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
         f"{run['wall_s']:.1f} s; wrote {', '.join(str(p) for p in paths)}"

@@ -14,13 +14,20 @@ Bounds
 Only a regular file is read: a symbolic link is followed to its target, and a named pipe,
 a device (``/dev/zero``, ``/dev/urandom``), a directory or a socket is refused before it is
 opened (and opened without blocking, so a pipe put in its place meanwhile cannot block
-either). The file is read line by line, and reading stops at the first bound passed:
+either). A file of the kernel or of a device, under /proc, /sys or /dev once its links are
+resolved, is refused too, even where it is a regular file (``/proc/kmsg`` waits for the
+kernel's messages and, read by root, consumes them): :func:`input_refusal`, which every
+input file of rocking passes (records, saved studies, specs). The file is read line by line,
+and reading stops at the first bound passed:
 
 - :data:`MAX_BYTES` bytes in the file (refused from its size before reading);
 - :data:`MAX_LINE` characters in one line (a file without line breaks is not read whole);
 - :data:`MAX_SAMPLES` samples in a record (an AT2 header that declares more is refused at
   line 4), and in an AT2 file no more values than its header's ``NPTS``: reading stops at
-  the first value beyond them.
+  the first value beyond them. A file of columns large enough to hold more rows (two bytes
+  a row at least) has its rows counted before any is parsed (:func:`_count_rows`, a pass
+  in C over its text): more than :data:`MAX_SAMPLES` are refused at once, not after parsing
+  four million of them.
 
 The memory of a read is that of the samples kept, 8 bytes each.
 
@@ -113,6 +120,8 @@ _BOMS = (
     (b"\xff\xfe\x00\x00", "utf-32"), (b"\x00\x00\xfe\xff", "utf-32"),
     (b"\xff\xfe", "utf-16"), (b"\xfe\xff", "utf-16"), (b"\xef\xbb\xbf", "utf-8-sig"),
 )  # fmt: skip
+#: Folders of the kernel's and the devices' files: nothing under them (links resolved) is an input file.
+SYSTEM_FOLDERS = ("/proc", "/sys", "/dev")
 _FILE_KINDS = (
     (stat.S_ISFIFO, "a named pipe"), (stat.S_ISCHR, "a character device"), (stat.S_ISBLK, "a block device"),
     (stat.S_ISDIR, "a directory"), (stat.S_ISSOCK, "a socket"),
@@ -160,6 +169,24 @@ def _fail(path, text: str, line: int | None = None) -> ParameterError:
 # --------------------------------------------------------------------------- #
 
 
+def input_refusal(path) -> str | None:
+    """Why ``path`` is not read as an input file, or None: it lies under one of :data:`SYSTEM_FOLDERS` once its
+    symbolic links are resolved. The one check of every input file (records, saved studies, specs), each
+    reader raising its own error with this text."""
+    try:
+        real = os.path.realpath(path)
+    except (OSError, ValueError, TypeError):  # a NUL in the path, a loop: the reader's own error says so
+        return None
+    folder = next((f for f in SYSTEM_FOLDERS if real == f or real.startswith(f + os.sep)), None)
+    if folder is None:
+        return None
+    via = f" ({real})" if real != os.path.abspath(path) else ""
+    return (
+        f"is a file of the kernel or a device{via}, under {folder}: not an input file "
+        f"(nothing under {', '.join(SYSTEM_FOLDERS)} is read)"
+    )
+
+
 def _kind(mode: int) -> str:
     """What a file of ``mode`` is, for the message refusing it."""
     return next((kind for test, kind in _FILE_KINDS if test(mode)), "not a regular file")
@@ -197,6 +224,9 @@ def _opened_bytes(path) -> Iterator[io.BufferedReader]:
     except (OSError, ValueError) as exc:  # ValueError: a NUL in the path
         raise _read_failure(path, exc) from None
     _regular(path, status)
+    refused = input_refusal(path)
+    if refused:
+        raise _fail(path, refused)
     try:  # without blocking: a named pipe put in the file's place since os.stat must not wait for a writer
         fd = os.open(path, os.O_RDONLY | getattr(os, "O_NONBLOCK", 0) | getattr(os, "O_BINARY", 0))
     except OSError as exc:
@@ -541,6 +571,38 @@ def _column_rows(path, lines, unit: str | None, time_column: bool) -> tuple[arra
     return times, accelerations, where, unit
 
 
+#: The start of a line that may be a row (or the header): neither blank nor a comment.
+_ROW_START = re.compile(r"^[^\S\n]*[^\s#]", re.MULTILINE)
+#: Fewest bytes of a row (a value and its line break): a smaller file cannot hold too many rows.
+MIN_ROW_BYTES = 2
+
+
+def _count_rows(path, text: io.TextIOWrapper, chunk: int = 1 << 22) -> int:
+    """The lines of ``text`` that are neither blank nor comments (the rows, and a header line), counted by a
+    regular expression over chunks of the text, without parsing any: what a file's size allows is checked before
+    the rows are read, as an AT2 header's NPTS is."""
+    count, carried = 0, ""
+    for block in iter(lambda: text.read(chunk), ""):
+        block = carried + block
+        cut = block.rfind("\n") + 1  # the last line may go on in the next chunk
+        count += len(_ROW_START.findall(block, 0, cut))
+        carried = block[cut:]
+        if len(carried) > MAX_LINE:
+            raise _fail(path, f"holds a line longer than the {MAX_LINE} characters a line may have (MAX_LINE)")
+    return count + len(_ROW_START.findall(carried))
+
+
+def _check_row_count(path, size: int) -> None:
+    """Refuse a file of columns of more than :data:`MAX_SAMPLES` rows (and a header) before parsing any: counted
+    (:func:`_count_rows`) if its ``size`` in bytes could hold that many."""
+    if size <= MIN_ROW_BYTES * (MAX_SAMPLES + 1):
+        return
+    with _opened(path) as text:
+        rows = _count_rows(path, text)
+    if rows > MAX_SAMPLES + 1:
+        raise _too_many(path, f"{rows} lines neither blank nor comments, counted before any was parsed", None)
+
+
 def _finite_time(path, text: str, value: float, number: int) -> float:
     """``value``, the time written ``text``, if it is finite (``1e999`` is a number that overflows)."""
     if not math.isfinite(value):
@@ -583,6 +645,8 @@ def read_columns(path, unit: str | None = None, *, dt: float | None = None, time
     if dt is not None:
         dt = _checked_step(path, "dt", dt, None)
     try:
+        with _opened(path) as text:
+            _check_row_count(path, os.fstat(text.fileno()).st_size)
         with _opened(path) as text:
             times, accelerations, where, unit = _column_rows(path, _lines(path, text), unit, time_column)
     except OSError as exc:

@@ -47,6 +47,7 @@ from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from ..study.config import flight_beta
 from ..study.design import stroke_use
+from ..study.files import DiskFull, atomic_write, name_lock
 from ..study.fragility import FITTED, MEDIAN_PLACES
 from ..study.ida import LEVELS
 from ..study.ida import envelope as ida_envelope
@@ -1134,20 +1135,41 @@ def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path
 
 def write_figure(fig: Figure, folder: Path, name: str) -> list[Path]:
     """Write ``fig`` as ``<folder>/<name>.png`` and ``.pdf``: laid out once, for the PNG, the PDF with the same
-    layout (a second constrained layout costs as much as the PDF's drawing and moves nothing that shows)."""
+    layout (a second constrained layout costs as much as the PDF's drawing and moves nothing that shows).
+
+    Each file is written as a study's data are (:func:`rocking.study.files.atomic_write`: a temporary file renamed
+    over it, a symbolic link in its place replaced, not followed), under the lock on ``name`` in ``folder``
+    (:func:`rocking.study.files.name_lock`): a reader sees the old figure or the new one, never a part, and
+    two saves of one name do not leave one's picture beside the other's data.
+    """
     FigureCanvasAgg(fig)
     folder.mkdir(parents=True, exist_ok=True)
     paths = [folder / f"{name}.{ext}" for ext in ("png", "pdf")]
-    for path in paths:
-        try:
-            # Opened here, closed however the writer fails (a full disk fails the PDF writer with its rasterized
-            # parts in a state that keeps its file open until garbage collection).
-            with open(path, "wb") as file:
-                fig.savefig(file, format=path.suffix[1:], dpi=150)
-        except OSError as exc:
-            raise ParameterError(f"cannot write the figure {path} ({exc.strerror or exc})") from None
-        fig.set_layout_engine("none")
+    with name_lock(folder, name):
+        for path in paths:
+            save_figure(fig, path, dpi=150)
+            fig.set_layout_engine("none")
     return paths
+
+
+def save_figure(fig: Figure, path: Path, dpi: float) -> None:
+    """Write ``fig`` at ``path`` in the format of its suffix (:func:`rocking.study.files.atomic_write`).
+
+    Raises
+    ------
+    DiskFull
+        If the disk is full.
+    ParameterError
+        If it cannot be written otherwise, naming it.
+    """
+    try:
+        # A file object of atomic_write's, closed however the writer fails (a full disk fails the PDF writer with its
+        # rasterized parts in a state that keeps its file open until garbage collection).
+        atomic_write(path, lambda file: fig.savefig(file, format=path.suffix[1:].lower() or None, dpi=dpi))
+    except DiskFull:
+        raise
+    except OSError as exc:
+        raise ParameterError(f"cannot write the figure {path} ({exc.strerror or exc})") from None
 
 
 #: What drawing a saved study whose data do not fit its figure raises: a missing array or
@@ -1156,18 +1178,20 @@ UNFIT = (KeyError, IndexError, TypeError, ValueError, AttributeError)
 
 
 def _redraw_one(stem: Path) -> list[Path]:
-    """Draw the study saved at ``stem`` next to it; a ParameterError naming it if its data do not fit."""
-    study = load(stem)
-    try:
-        return draw(study, stem.parent, stem.name)
-    except ParameterError:
-        raise
-    except UNFIT as exc:  # the file passed load()'s checks but is not what this version of rocking writes
-        text = str(exc).splitlines()[0] if str(exc) else ""
-        raise ParameterError(
-            f"{stem}.nc/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
-            "it lacks data its figure needs (saved by another version of rocking?)"
-        ) from exc
+    """Draw the study saved at ``stem`` next to it, under the lock on its name (a save of it waits: the figures are
+    those of the data read); a ParameterError naming it if its data do not fit."""
+    with name_lock(stem.parent, stem.name):
+        study = load(stem)
+        try:
+            return draw(study, stem.parent, stem.name)
+        except ParameterError:
+            raise
+        except UNFIT as exc:  # the file passed load()'s checks but is not what this version of rocking writes
+            text = str(exc).splitlines()[0] if str(exc) else ""
+            raise ParameterError(
+                f"{stem}.nc/.json: the saved {study.kind} cannot be drawn ({type(exc).__name__}: {text}); "
+                "it lacks data its figure needs (saved by another version of rocking?)"
+            ) from exc
 
 
 def redraw(path: str | Path) -> list[Path]:

@@ -16,6 +16,7 @@ from matplotlib.figure import Figure
 from ..model.loading import load_model
 from ..model.motion import describe, peak
 from ..model.params import RANGES, Block, Damper
+from ..study.files import atomic_write
 from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES
 
 #: The history's entries that are not a coordinate (rocking.sim.problem.Response.history).
@@ -135,12 +136,13 @@ def plot_responses(
     motion=None,
 ) -> Path:
     """Draw recorded responses (:func:`response_figure`) and save the figure at ``path`` (its suffix picks the
-    format: PNG, PDF, SVG); the path written."""
+    format: PNG, PDF, SVG); the path written. Written as every output is (:func:`rocking.study.files.atomic_write`:
+    a temporary file renamed over ``path``, a symbolic link there replaced, not followed)."""
     fig = response_figure(responses, block, title, damper=damper, model=model, motion=motion)
     FigureCanvasAgg(fig)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
-    fig.savefig(path, dpi=120)
+    atomic_write(path, lambda file: fig.savefig(file, format=path.suffix[1:].lower() or None, dpi=120))
     return path
 
 

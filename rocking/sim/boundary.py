@@ -202,20 +202,49 @@ RESULT = (
 )
 
 
-#: The result the tolerance check (:mod:`rocking.sim.accuracy`) adds to a :class:`~rocking.sim.problem.Response`:
-#: Python's alone, never in the C boundary.
-SENSITIVE = Field(
-    "sensitive",
-    INT32,
-    "",
-    "the tolerance check's tighter run changed the answer: this response is the tighter run's "
-    "(docs/simulation.md, Sensitivity to the tolerance)",
-    None,
-    0,
+#: The results the tolerance check (:mod:`rocking.sim.accuracy`) adds to a :class:`~rocking.sim.problem.Response`:
+#: Python's alone, never in the C boundary; their defaults are those of a response that no check ran on.
+CHECKED = (
+    Field(
+        "sensitive",
+        INT32,
+        "",
+        "the tolerance check's runs disagree (the verdict, or theta_max or x_max by more than 10 %): this response is "
+        "its tightest run's (docs/simulation.md, Sensitivity to the tolerance)",
+        None,
+        0,
+    ),
+    Field(
+        "theta_max_low",
+        DOUBLE,
+        "rad",
+        "smallest theta_max of the tolerance check's runs (NaN: not checked)",
+        None,
+        math.nan,
+    ),
+    Field(
+        "theta_max_high",
+        DOUBLE,
+        "rad",
+        "largest theta_max of the tolerance check's runs (NaN: not checked)",
+        None,
+        math.nan,
+    ),
+    Field(
+        "overturned_fraction",
+        DOUBLE,
+        "",
+        "fraction of the tolerance check's runs that overturned (NaN: not checked)",
+        None,
+        math.nan,
+    ),
+    Field("check_runs", INT64, "", "runs behind this response: 1 without the tolerance check", None, 1),
 )
+#: The result that marks a response whose tolerance check's runs disagree.
+SENSITIVE = CHECKED[0]
 
 #: The fields of a :class:`~rocking.sim.problem.Response`: the C results, then the tolerance check's.
-SUMMARY = (*RESULT, SENSITIVE)
+SUMMARY = (*RESULT, *CHECKED)
 
 #: Python type of each kind of field.
 PYTHON_TYPES = {DOUBLE: float, INT64: int, INT32: int, DOUBLES: np.ndarray, SERIES: np.ndarray}
@@ -449,7 +478,7 @@ def _python_field(f: Field) -> str:
     if f.required:
         return f"    {f.name}: {_annotation(f)}"
     default = None if f.default is None else python_type(f)(f.default)
-    shown_default = "math.inf" if default == math.inf else repr(default)
+    shown_default = "math.inf" if default == math.inf else "math.nan" if default != default else repr(default)
     return f"    {f.name}: {_annotation(f)} = {shown_default}"
 
 

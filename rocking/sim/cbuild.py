@@ -81,6 +81,7 @@ import subprocess
 import sys
 import tempfile
 import threading
+import warnings
 from pathlib import Path
 from types import SimpleNamespace
 
@@ -93,12 +94,15 @@ __all__ = [
     "CFLAGS",
     "CSRC",
     "CBuildError",
+    "PrebuiltWarning",
     "build",
     "build_command",
     "build_key",
     "cache_dir",
     "check_private",
     "compiler",
+    "lock",
+    "prebuilt_refusal",
 ]
 
 #: The package's C sources (package data).
@@ -107,6 +111,10 @@ CSRC = Path(__file__).resolve().parent / "csrc"
 #: Libraries of the built-in models compiled into a platform wheel (``make wheel``, setup.py), with their
 #: sidecars: used before the cache, so that an installed wheel needs no compiler. Absent in a checkout.
 PREBUILT = Path(__file__).resolve().parent / "prebuilt"
+
+#: The package's own code beside :data:`PREBUILT`: this module and its folder. Whoever can write them runs code
+#: as the package's users already; the wheel's libraries are trusted only as far as they are.
+CODE = (Path(__file__).resolve().parent, Path(__file__).resolve())
 
 #: Flags of every build: portable (no -march=native), position independent.
 CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra")
@@ -389,12 +397,78 @@ def _any_valid(folder: Path, model, source: str, private: bool = True) -> Path |
 
 
 def _prebuilt(model, source: str) -> Path | None:
-    """The wheel's library of ``source`` (:data:`PREBUILT`), if it is there and matches its sidecar.
+    """The wheel's library of ``source`` (:data:`PREBUILT`), if its folder is as trusted as the package's code
+    (:func:`prebuilt_refusal`; else a :class:`PrebuiltWarning` and ``None``) and the library matches its sidecar.
 
-    Its folder is part of the installed package: whoever can write it can write this module too, so its
-    owner and mode (0775 under a umask of 002) are not held against it.
+    Held to the rule of the cache, measured against the package's code rather than the user: the folder, the
+    library and its sidecar writable by no one who cannot write :data:`CODE` (the installer's umask may leave
+    them group-writable only where the code is), not links, the library's key and hash checked before it is loaded.
     """
+    if not os.path.lexists(PREBUILT):
+        return None
+    refused = prebuilt_refusal(PREBUILT)
+    if refused:
+        warnings.warn(f"the C libraries shipped in {PREBUILT} are not used: {refused}", PrebuiltWarning, stacklevel=3)
+        return None
     return _any_valid(PREBUILT, model, source, private=False)
+
+
+class PrebuiltWarning(UserWarning):
+    """The wheel's C libraries are not loaded: their folder is not as trusted as the package's code (why is said);
+    the cache builds them instead."""
+
+
+def _writers(info: os.stat_result) -> set[tuple]:
+    """Who may write a file or folder with the status ``info``: its owner, its group if it is group-writable,
+    anyone if it is writable by others."""
+    who: set[tuple] = {("uid", info.st_uid)}
+    if info.st_mode & 0o020:
+        who.add(("gid", info.st_gid))
+    if info.st_mode & 0o002:
+        who.add(("others",))
+    return who
+
+
+def _trusted_writers() -> set[tuple]:
+    """Who may write the package's :data:`CODE` (and root, who can run anything anyway)."""
+    allowed = {("uid", 0)}
+    for path in CODE:
+        allowed |= _writers(os.stat(path))
+    return allowed
+
+
+def _untrusted(path: Path, allowed: set[tuple]) -> str | None:
+    """What lets someone outside ``allowed`` write ``path`` (its owner, group or others), or None."""
+    info = os.stat(path)
+    extra = _writers(info) - allowed
+    if ("others",) in extra:
+        return f"{path} is writable by others (mode {stat.S_IMODE(info.st_mode):04o})"
+    if any(kind == "uid" for kind, *_ in extra):
+        return f"{path} belongs to uid {info.st_uid}, not to the owner of the package's code (or root)"
+    if extra:
+        mode = stat.S_IMODE(info.st_mode)
+        return f"{path} is writable by group {info.st_gid} (mode {mode:04o}), which cannot write the package's code"
+    return None
+
+
+def prebuilt_refusal(folder: Path) -> str | None:
+    """Why the wheel's folder ``folder`` and its files are not trusted to be loaded, or None: a link out of the
+    package, or someone who cannot write the package's code (:data:`CODE`) can write it or a file in it."""
+    try:
+        real = Path(os.path.realpath(folder))
+        package = Path(os.path.realpath(CODE[0])).parent
+        if os.path.islink(folder) and package not in real.parents:
+            return f"{folder} is a symbolic link to {real}, out of the package {package}"
+        allowed = _trusted_writers()
+        for path in (real, *sorted(real.iterdir())):
+            if path.is_symlink():
+                return f"{path} is a symbolic link"
+            why = _untrusted(path, allowed)
+            if why:
+                return why
+    except OSError as exc:
+        return f"{folder} cannot be read ({exc.strerror or exc})"
+    return None
 
 
 def _cache_error(folder: Path, exc: OSError) -> CBuildError:
@@ -405,27 +479,64 @@ def _cache_error(folder: Path, exc: OSError) -> CBuildError:
 
 _THREAD_LOCKS: dict[str, threading.Lock] = {}
 _THREAD_LOCKS_GUARD = threading.Lock()
+#: The paths whose lock the current thread holds: taken again, a lock is already held (a caller's).
+_HELD = threading.local()
 
 
 @contextlib.contextmanager
-def _lock(path: Path):
+def lock(path: Path):
     """An exclusive lock on ``path``, across the threads of this process and, where fcntl exists, across processes.
 
     flock alone would do between threads on a local file system (each call opens its
     own file description), but not where it is emulated with per-process locks (NFS).
+    The lock is reentrant within a thread (a save that draws its figures under its caller's lock). The lock file
+    is opened read-only and never through a symbolic link: a link planted in its place (at a user's file) is an
+    OSError, and no file is written or created through it. It is removed when the lock is released.
     """
+    key = os.path.abspath(path)
+    held = _HELD.__dict__.setdefault("paths", set())
+    if key in held:
+        yield
+        return
     with _THREAD_LOCKS_GUARD:
-        thread_lock = _THREAD_LOCKS.setdefault(str(path), threading.Lock())
+        thread_lock = _THREAD_LOCKS.setdefault(key, threading.Lock())
     with thread_lock:
         if fcntl is None:  # pragma: no cover - Windows
-            yield
-            return
-        with open(path, "a+b") as handle:
-            fcntl.flock(handle, fcntl.LOCK_EX)
+            held.add(key)
             try:
                 yield
             finally:
-                fcntl.flock(handle, fcntl.LOCK_UN)
+                held.discard(key)
+            return
+        handle = _locked(path)
+        try:
+            held.add(key)
+            yield
+        finally:
+            held.discard(key)
+            # Removed while held: a waiter holding the old file finds it gone once it gets it, and opens anew.
+            with contextlib.suppress(OSError):
+                os.unlink(path)
+            os.close(handle)  # releases the flock
+
+
+def _locked(path: Path) -> int:
+    """A descriptor of the lock file ``path`` (created if needed, never through a link), flocked exclusively: the
+    file that is at ``path`` once the lock is held (a holder removes it when done)."""
+    flags = os.O_RDONLY | os.O_CREAT | os.O_NOFOLLOW | os.O_CLOEXEC
+    while True:
+        handle = os.open(path, flags, 0o666)
+        try:
+            fcntl.flock(handle, fcntl.LOCK_EX)
+            there = os.stat(path, follow_symlinks=False)
+            if os.path.samestat(there, os.fstat(handle)):
+                return handle
+        except FileNotFoundError:
+            pass
+        except BaseException:
+            os.close(handle)
+            raise
+        os.close(handle)
 
 
 def _compile(cmd: list[str]) -> None:
@@ -555,7 +666,7 @@ def build(model, *, cache: Path | str | None = None, csrc: Path | str | None = N
     except _CompilerUnavailable as exc:
         return _stand_in(folder, model, source, exc)
     try:
-        with _lock(folder / f".{library.name}.lock"):
+        with lock(folder / f".{library.name}.lock"):
             if not _valid(library, source):  # another thread or process may have built it while this one waited
                 _compile_into(model, library, source, cc, version, csrc)
     except OSError as exc:

@@ -154,8 +154,16 @@ class ResponseFields:
     bumper_force_max : float
         Largest force of a bumper against its penetration, the peak of the dense output (rule 6) [N].
     sensitive : bool
-        The tolerance check's tighter run changed the answer: this response is the tighter run's
-        (docs/simulation.md, Sensitivity to the tolerance).
+        The tolerance check's runs disagree (the verdict, or theta_max or x_max by more than 10 %): this
+        response is its tightest run's (docs/simulation.md, Sensitivity to the tolerance).
+    theta_max_low : float
+        Smallest theta_max of the tolerance check's runs (NaN: not checked) [rad].
+    theta_max_high : float
+        Largest theta_max of the tolerance check's runs (NaN: not checked) [rad].
+    overturned_fraction : float
+        Fraction of the tolerance check's runs that overturned (NaN: not checked).
+    check_runs : int
+        Runs behind this response: 1 without the tolerance check.
     """
 
     status: str
@@ -170,3 +178,7 @@ class ResponseFields:
     stop_contacts: int
     bumper_force_max: float
     sensitive: bool = False
+    theta_max_low: float = math.nan
+    theta_max_high: float = math.nan
+    overturned_fraction: float = math.nan
+    check_runs: int = 1

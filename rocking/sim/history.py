@@ -345,11 +345,14 @@ def write(response, path, dt: float | None = None) -> None:
     suffix = Path(path).suffix.lower()
     if suffix not in HISTORY_FORMATS:
         raise ParameterError(f"history file must end in {' or '.join(HISTORY_FORMATS)} (got {str(path)!r})")
+    from ..study.files import atomic_write, replace_file  # as every output: a temporary file renamed over it
+    from ..study.storage import write_netcdf
+
     ds = to_dataset(response, dt)
     if suffix == ".nc":
-        ds.to_netcdf(path, engine="netcdf4")
+        replace_file(Path(path), lambda tmp: write_netcdf(ds, tmp))
         return
     frame = ds.to_dataframe()
     frame.index.name = "t [s]"
     frame.columns = [f"{k} [{ds[k].attrs['units']}]" for k in frame.columns]
-    frame.to_csv(path, float_format="%.17g")
+    atomic_write(Path(path), lambda file: frame.to_csv(file, float_format="%.17g"), mode="w")

@@ -5,7 +5,7 @@ from __future__ import annotations
 from ..model.params import ParameterError
 from ..model.plausibility import check_run
 from . import backends
-from .accuracy import check_choice, compared, sensitive, tighter_rtol
+from .accuracy import CHECKED, READ, check_choice, ladder, tolerance_check
 from .backends import NAMES, BackendWarning
 from .history import check_dt, default_dt, run_inputs
 from .problem import OPTIONS, Problem, Response, check_flag, resolve
@@ -69,7 +69,8 @@ def rerecord(response: Response, dt: float | None = None) -> Response:
             f"dt = {dt:g} s: recorded every dt the run ends otherwise ({again.status} at t = {again.t_end:g} s, "
             f"not {response.status} at {response.t_end:g} s): its samples count as work (max_steps); take a larger dt"
         )
-    again.sensitive = response.sensitive
+    for f in CHECKED:
+        setattr(again, f.name, getattr(response, f.name))
     return again
 
 
@@ -107,9 +108,13 @@ def simulate(
         :meth:`Response.to_dataset` reads it at that spacing, :func:`rerecord` runs it again at
         another; a bool, nothing else.
     check : {"tolerance", "none"}, optional
-        ``"tolerance"``: run again at ``rtol / 100`` (at least 1e-12) and set
-        ``Response.sensitive`` if the verdict changed or ``theta_max`` or ``x_max``
-        moved by more than 10 %; a sensitive response is the tighter run's
+        ``"tolerance"``: run again down a ladder of tolerances (``rtol / 100``, at most
+        1e-10, then by 100 to 1e-12), each rung as given and with the motion scaled by
+        ``1 + 1e-9``, until a rung follows the trajectory above it
+        (:func:`rocking.sim.accuracy.tolerance_check`); set ``Response.sensitive`` if a
+        run's verdict differs or its ``theta_max`` or ``x_max`` by more than 10 %; a
+        sensitive response is the tightest run's; ``theta_max_low``, ``theta_max_high``,
+        ``overturned_fraction`` and ``check_runs`` give the spread of the runs
         (docs/simulation.md, "Sensitivity to the tolerance"). Default: ``"tolerance"``
         for a :class:`SampledMotion` (records, stochastic motions), ``"none"`` for a pulse.
     **settings
@@ -176,22 +181,37 @@ def simulate(
         settings["t_max"] = t_max
     model, p, case = resolve(block, damper, pulse, settings)
     check_run(block, model, p, pulse, stacklevel=2)
-    response = _run(model, p, case, backend, record)
-    tight_rtol = tighter_rtol(case["rtol"])
     # At the smallest valid rtol there is no tighter run to compare with: the response stands as it is.
-    if check == "none" or tight_rtol == case["rtol"]:
-        return response
-    # Resolved again, not patched: the default atol scales with rtol, and the tighter run tightens both.
-    tight = _run(*resolve(block, damper, pulse, {**settings, "rtol": tight_rtol}), backend, record)
-    return _checked(response, tight)
+    if check == "none" or len(ladder(case["rtol"])) == 1:
+        return _run(model, p, case, backend, record)
+    resolved = {case["rtol"]: (model, p, case)}
+
+    def resolved_at(rtol: float) -> tuple:
+        # Resolved again at each rung, not patched: the default atol scales with rtol.
+        if rtol not in resolved:
+            resolved[rtol] = resolve(block, damper, pulse, {**settings, "rtol": rtol})
+        return resolved[rtol]
+
+    return _checked(resolved_at, case["rtol"], backend, record)
 
 
-def _checked(response: Response, tight: Response) -> Response:
-    """``response`` if the tighter run ``tight`` agrees with it, else ``tight``, marked ``sensitive``."""
-    if not sensitive(compared(response), compared(tight)):
-        return response
-    tight.sensitive = True
-    return tight
+def _checked(resolved_at, rtol: float, backend: str, record: bool) -> Response:
+    """The response of :func:`rocking.sim.accuracy.tolerance_check` from ``rtol``: the run at ``rtol`` where it
+    is not sensitive, else the tightest run as given; with the check's results. ``resolved_at(rtol)`` gives
+    ``(model, p, case)`` at a rung's ``rtol``."""
+    responses = []
+
+    def run_at(rung: float, factor: float) -> dict:
+        model, p, case = resolved_at(rung)
+        # The amplitude of the horizontal motion alone: any motion's, sampled or a pulse.
+        responses.append(_run(model, p, {**case, "a_g": case["a_g"] * factor}, backend, record))
+        return {name: getattr(responses[-1], name) for name in READ}
+
+    done = tolerance_check(run_at, rtol)
+    response = responses[int(done.reported)]
+    for f in CHECKED:
+        setattr(response, f.name, done.results[f.name].item())
+    return response
 
 
 _RTOL = OPTIONS["rtol"]

@@ -92,7 +92,7 @@ FIELDS: dict[str, tuple] = {
     "last_safe": ("level units", "last safe level of the motion"),
     "reversals": ("1", "levels at which the motion overturns the block and not at the next one"),
     "fraction": ("1", "fraction of the motions that overturn the block"),
-    "sensitive": ("1", "sensitive to the tolerance: a run at rtol / 100 changed the answer (in either direction)"),
+    "sensitive": ("1", "sensitive to the tolerance: the tolerance check's runs disagree (in either direction)"),
     "sensitive_fraction": (
         "1",
         "fraction of the responses (motions and directions) sensitive to the tolerance; NaN: not checked",

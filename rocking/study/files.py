@@ -1,12 +1,17 @@
 """Files of the studies, written whole and read within bounds: the primitives under saved studies and tiles.
 
-A file is written atomically (:func:`atomic_write`: a temporary file renamed over it) or created anew
-(:func:`write_file`), with the mode of any new file, ``0666`` less the umask; a full disk raises
-:class:`DiskFull` naming the file, and nothing partial stays behind. What is read is bounded before it is
-read: a JSON record's size and nesting (:func:`read_json`), and an archive's arrays from the zip's headers
-(:func:`read_npz`: uncompressed members, each the size its ``.npy`` header says, within a limit); arrays are
-read with ``allow_pickle=False``: nothing read from a file is executed. :func:`checksum` and :func:`layout`
-describe arrays (names, shapes, dtypes, content) for the records that check them.
+A file is written atomically (:func:`atomic_write`: a temporary file in its folder renamed over it; a symbolic
+link in its place is replaced, never followed) or created anew (:func:`write_file`), with the mode of any new
+file, ``0666`` less the umask; a full disk raises :class:`DiskFull` naming the file, and nothing partial stays
+behind. Every output of rocking goes through them: a study's data, its figures, a response's figure and history.
+Two writers of one study's files into one folder are serialised by a lock on its name (:func:`name_lock`).
+
+What is read is bounded before it is read: a JSON record's size and nesting (:func:`read_json`), and an
+archive's arrays from the zip's headers (:func:`read_npz`: uncompressed members, each the size its ``.npy``
+header says, within a limit); arrays are read with ``allow_pickle=False``: nothing read from a file is
+executed; a file of the kernel or a device (under /proc, /sys, /dev) is never read
+(:func:`rocking.model.records.input_refusal`). :func:`checksum` and :func:`layout` describe arrays (names,
+shapes, dtypes, content) for the records that check them.
 """
 
 from __future__ import annotations
@@ -21,14 +26,16 @@ import secrets
 import shutil
 import tempfile
 import zipfile
-from collections.abc import Callable
-from contextlib import suppress
+from collections.abc import Callable, Iterator
+from contextlib import ExitStack, contextmanager, suppress
 from pathlib import Path
 
 import numpy as np
 from numpy.lib import format as npy
 
 from ..model.params import ParameterError
+from ..model.records import input_refusal
+from ..sim.cbuild import lock
 from .config import MAX_CELLS
 
 #: What reading a damaged or foreign ``.npz`` raises. zipfile and NumPy raise many types for a
@@ -116,7 +123,8 @@ def write_file(path: Path, write: Callable, mode: str = "wb") -> None:
 
 
 def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
-    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``.
+    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``
+    (:func:`replace_file`).
 
     Parameters
     ----------
@@ -131,18 +139,33 @@ def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
     ------
     DiskFull
         If the disk is full; the temporary file is removed.
+    """
+    replace_file(path, lambda tmp: write_file(tmp, write, mode))
+
+
+def replace_file(path: Path, make: Callable[[Path], None]) -> None:
+    """``make(tmp)`` creates the new file at a temporary name next to ``path``; it is then renamed over ``path``.
+
+    The one way rocking writes an output file (a study's files are made so in a temporary folder, then renamed).
+
+    Raises
+    ------
+    DiskFull
+        If the disk is full; the temporary file is removed.
 
     Notes
     -----
     A reader (or a rerun after Ctrl-C or a killed process) sees either the old
-    file, or no file, or the whole new one. The file gets the mode of any new
-    file (0666 less the umask), not a temporary file's 0600. No fsync: it
-    would cost as much as a small tile's work, and only a power cut can leave
-    a damaged file, which :func:`load` and :func:`rocking.study.tiles.load_tile` refuse.
+    file, or no file, or the whole new one. A symbolic link at ``path`` is
+    replaced by the new file: the file it points at is never written. The file
+    gets the mode of any new file (0666 less the umask; :func:`write_file`), not
+    a temporary file's 0600. No fsync: it would cost as much as a small tile's
+    work, and only a power cut can leave a damaged file, which :func:`load` and
+    :func:`rocking.study.tiles.load_tile` refuse.
     """
     tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
     try:
-        write_file(tmp, write, mode)
+        make(tmp)
         os.replace(tmp, path)
     except BaseException as exc:
         # Ctrl-C may come just after the rename (the signal is handled when os.replace returns): no tmp then.
@@ -151,6 +174,29 @@ def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
         if is_full(exc):
             raise DiskFull(path) from None
         raise
+
+
+@contextmanager
+def name_lock(folder: Path, name: str) -> Iterator[None]:
+    """Hold the lock on the files of the study ``name`` in ``folder`` (``.<name>.lock``, the C cache's lock).
+
+    Two commands saving one study name into one folder take turns: each publishes its data and draws its
+    figures as a whole, so that the figures beside the data are always those of that data. Reentrant: a save
+    under its caller's lock takes it again at no cost.
+
+    Raises
+    ------
+    ParameterError
+        If the lock cannot be taken (its file cannot be created, or is a symbolic link): one line naming it.
+    """
+    path = Path(folder) / f".{name}.lock"
+    stack = ExitStack()
+    try:
+        stack.enter_context(lock(path))
+    except OSError as exc:  # ELOOP: a symbolic link planted in its place
+        raise ParameterError(f"cannot lock {path} against another save of {name} ({describe(exc)})") from None
+    with stack:
+        yield
 
 
 def layout(arrays: dict) -> dict:
@@ -213,6 +259,9 @@ def read_npz(path: Path, limit: int = MAX_STUDY_BYTES) -> dict:
     Exception
         Any of :data:`UNREADABLE` for a truncated or damaged archive.
     """
+    refused = input_refusal(path)
+    if refused:
+        raise ValueError(refused)
     # Our own file object: np.load leaves the file it opened open when the archive is damaged.
     with open(path, "rb") as f:
         if f.read(len(ZIP_MAGIC)) != ZIP_MAGIC:
@@ -245,9 +294,13 @@ def read_json(path: Path) -> object:
     OSError
         If it cannot be read.
     ValueError
-        If it is not a regular file (a FIFO would never end), larger than :data:`MAX_JSON_BYTES`, not
-        UTF-8, nested deeper than :data:`MAX_JSON_DEPTH`, or not JSON.
+        If it is not a regular file (a FIFO would never end), a file of the kernel or a device (under /proc,
+        /sys, /dev: ``/proc/kmsg`` is a regular file that waits for the kernel's messages), larger than
+        :data:`MAX_JSON_BYTES`, not UTF-8, nested deeper than :data:`MAX_JSON_DEPTH`, or not JSON.
     """
+    refused = input_refusal(path)
+    if refused:
+        raise ValueError(refused)
     if path.exists() and not path.is_file():
         raise ValueError("not a regular file")
     with open(path, "rb") as f:

@@ -31,7 +31,7 @@ import numpy as np
 from ..model.intensity import MEASURES, measure
 from ..model.motion import SampledMotion, describe
 from ..model.params import ParameterError
-from ..sim.accuracy import SENSITIVE, check_choice, merged, tighter_rtol
+from ..sim.accuracy import SENSITIVE, check_choice, checked_fields, tighter_rtol
 from ..sim.cases import pulse_cases, run_cases, sampled_cases
 from . import directions
 from .config import Grid, Setting, Tuning, Variant, part_config
@@ -179,9 +179,10 @@ def ida_tile(payload: tuple) -> dict:
     :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (1,): the motion's measure
     (:func:`motion_measure`).
 
-    The responses are checked against a run at a tighter tolerance as ``check`` says
-    (:func:`tolerance_checked`: by default a sampled motion's, not a pulse's; ``sensitive`` marks those that
-    moved, which hold the tighter run's results; all False where no check ran, which the study then drops).
+    The responses are checked down the ladder of tolerances as ``check`` says
+    (:func:`tolerance_checked`: by default a sampled motion's, not a pulse's;
+    :func:`rocking.sim.accuracy.tolerance_check`; ``sensitive`` marks those whose runs disagree, which hold
+    their tightest run's results; all False where no check ran, which the study then drops).
 
     ``payload = (setting, damper_or_None, suite, i, levels, name, signs, check)``.
     """
@@ -189,13 +190,16 @@ def ida_tile(payload: tuple) -> dict:
     motion = suite.motion(i)
     value = motion_measure(motion, name)
     scales = scales_for(levels, value, name)
-    result = run_cases(_cases(setting, motion, scales, signs, damper or {}), backend=setting.backend, threads=1)
-    result = {k: result[k] for k in FIELDS}
+
+    def run_at(rtol: float, factor: float) -> dict:
+        cases = _cases(replace(setting, rtol=rtol), motion, scales * factor, signs, damper or {})
+        return run_cases(cases, backend=setting.backend, threads=1)
+
     if tolerance_checked(check, motion, setting.rtol):
-        tight = _cases(replace(setting, rtol=tighter_rtol(setting.rtol)), motion, scales, signs, damper or {})
-        result = merged(result, run_cases(tight, backend=setting.backend, threads=1))
+        result = checked_fields(run_at, setting.rtol)
     else:
-        result[SENSITIVE.name] = np.zeros(len(levels) * len(signs), dtype=bool)
+        result = {**run_at(setting.rtol, 1.0), SENSITIVE.name: np.zeros(len(levels) * len(signs), dtype=bool)}
+    result = {k: result[k] for k in (*FIELDS, SENSITIVE.name)}
     shape = (len(levels), len(signs))
     return {**{k: v.reshape(shape) for k, v in result.items()}, "im": np.array([value])}
 

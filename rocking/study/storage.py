@@ -35,6 +35,7 @@ import numpy as np
 
 from ..model.loading import ModelError, load_model
 from ..model.params import Block, ParameterError, shown
+from ..model.records import input_refusal
 from .config import (
     Grid,
     check_signs,
@@ -55,6 +56,7 @@ from .files import (
     is_full,
     layout,
     make_folder,
+    name_lock,
     read_json,
     write_csv,
     write_file,
@@ -280,7 +282,7 @@ def save(study: Study, folder: str | Path, name: str | None = None, command: dic
     files = _data_files(study, name, software)
     text = json.dumps(_record(study, software, list(files), command), indent=2, sort_keys=True) + "\n"
     files[f"{name}.json"] = lambda path: write_file(path, lambda f: f.write(text), mode="w")
-    with _staging(folder, name) as staging:
+    with name_lock(folder, name), _staging(folder, name) as staging:
         for file, write in files.items():
             _write_staged(write, staging / file, folder / file)
         _publish(staging, folder, list(files))
@@ -537,6 +539,9 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
                 f"no saved study at {stem}: {p} is missing (a study writes its .nc and .csv, "
                 "then its .json; a save cut short leaves no .json: save or run it again)"
             )
+        refused = input_refusal(p)
+        if refused:
+            raise ParameterError(f"{p}: {refused}")
     record = read_record(meta)
     kind, config = record["kind"], record["config"]
     _check_unchanged(record, meta)
