@@ -190,9 +190,15 @@ RESULT = (
         "stop_contacts",
         INT64,
         "",
-        "times an end stop's pad starts pushing: its gap closes, or a released pad pushes again (0 without stops)",
+        "times an end stop's pad starts pushing: its gap closes, a released pad pushes again, or an impact makes it"
+        " push (0 without stops); final at rest and bounded (rules 4, 6)",
     ),
-    Field("bumper_force_max", DOUBLE, "N", "largest force of a bumper against its penetration (rule 6)"),
+    Field(
+        "bumper_force_max",
+        DOUBLE,
+        "N",
+        "largest force of a bumper against its penetration, the peak of the dense output (rule 6)",
+    ),
 )
 
 

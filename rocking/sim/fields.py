@@ -149,10 +149,10 @@ class ResponseFields:
     t_end : float
         When the run ended [s].
     stop_contacts : int
-        Times an end stop's pad starts pushing: its gap closes, or a released pad pushes again (0 without
-        stops).
+        Times an end stop's pad starts pushing: its gap closes, a released pad pushes again, or an impact makes
+        it push (0 without stops); final at rest and bounded (rules 4, 6).
     bumper_force_max : float
-        Largest force of a bumper against its penetration (rule 6) [N].
+        Largest force of a bumper against its penetration, the peak of the dense output (rule 6) [N].
     sensitive : bool
         The tolerance check's runs disagree (the verdict, or theta_max or x_max by more than 10 %): this
         response is its tightest run's (docs/simulation.md, Sensitivity to the tolerance).

@@ -317,7 +317,9 @@ def events(response):
             kind = "impact" if theta[i - 1] == 0.0 and before * dtheta[i - 1] < 0.0 else "contact"
         rows.append((float(t[i]), kind, before, after))
     state = [history[k] for k in model.state]
-    contacts = _evaluate(model.functions.stop_contact, 1.0, state, history["ag"], vertical(history), list(p))
+    # A Hunt-Crossley pad pushes by the approach speed of its contact, found again on the history.
+    fn = WithMemory(model, memory(model, [float(v) for v in p], history))
+    contacts = _evaluate(fn.stop_contact, 1.0, state, history["ag"], vertical(history), list(p))
     for contact in contacts:
         for i in np.flatnonzero((contact[1:] > 0.0) != (contact[:-1] > 0.0)) + 1:
             kind = "bumper_contact" if contact[i] > 0.0 else "bumper_release"

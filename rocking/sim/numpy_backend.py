@@ -200,10 +200,6 @@ class _System:
         self.params = tuple(float(v) for v in problem.p)
         self.problem = problem
         self.family = FAMILIES[problem.motion]
-        # Energy of the rest state, the zero of "energy above rest". In full
-        # contact (theta = dtheta = 0) the energy does not depend on the pivot.
-        self.energy_at_rest = self.energy(np.zeros(2 * self.n))
-        self.safe_energy = self._safe_energy()
         # Each coordinate's impact law (docs/model.md section 6; "momentum" unless the manifest says otherwise).
         laws = problem.model.manifest.get("options", {}).get("impact_laws", {})
         self.impact_laws = tuple(laws.get(name, "momentum") for name in problem.model.coordinates)
@@ -214,19 +210,35 @@ class _System:
         self.floors = [side["approach_floor"] if side["law"] == "hunt-crossley" else None for side in sides]
         # The memory v_in of each Hunt-Crossley side: the approach speed of its contact (docs/model.md section 11).
         self.memory = [floor for floor in self.floors if floor is not None]
+        # Energy of the rest state, the zero of "energy above rest". In full
+        # contact (theta = dtheta = 0) the energy does not depend on the pivot.
+        self.energy_at_rest = self.energy(np.zeros(2 * self.n))
+        # With stops, the energy above rest below which the mass, upright, can no longer reach a pad (rule 4).
+        self.pad_reach = self._pad_reach() if self.n_stops else math.inf
+        self.safe_energy = self._safe_energy()
+        # Rest (rule 4) with stops also needs the mass out of every pad's reach (NaN: no bound, energy_rest alone).
+        reach = problem.energy_rest if math.isnan(self.pad_reach) else self.pad_reach
+        self.rest_energy = min(problem.energy_rest, reach)
 
     def _safe_energy(self) -> float | None:
-        """The least energy above rest at which the attached bodies can lift the block, less the margin.
+        """The early rest's bound: the least energy above rest at which the attached bodies can lift the block,
+        less the margin, and with stops at most :attr:`pad_reach` (rule 4).
 
         ``min(U_{+1}, U_{-1}) (1 - SAFE_MARGIN)`` of the generated
         ``uplift_energy`` (constant per run); ``None`` when no bound applies
-        (0 or NaN about either pivot). ``inf`` for the bare block.
+        (0 or NaN about either pivot, or no room below the pads). ``inf`` for the bare block.
         """
         zeros = np.zeros(2 * self.n)
         a, b = (float(self._call("uplift_energy", s, zeros, 0.0)) for s in (1.0, -1.0))
-        if not (a > 0.0 and b > 0.0):
+        if not (a > 0.0 and b > 0.0 and self.pad_reach > 0.0):
             return None
-        return min(a, b) * (1.0 - SAFE_MARGIN)
+        return min(min(a, b) * (1.0 - SAFE_MARGIN), self.pad_reach)
+
+    def _pad_reach(self) -> float:
+        """The energy above rest below which the mass of the upright block, inside every gap, can never reach a
+        pad: the least potential where a gap closes at ``theta = 0`` less ``E(0)`` and the margin (NaN: no bound)."""
+        least, zero = self.least_at_bumpers(0.0), self.energy_at_rest
+        return least - zero - SAFE_MARGIN * (abs(least) + abs(zero))
 
     def _call(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple | None = None, params=None, agy=0.0):
         # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic. stop_on: the regime
@@ -437,6 +449,53 @@ class _System:
         if rate >= 0.0:
             self.memory[sum(f is not None for f in self.floors[:i])] = max(rate, floor)
 
+    def jump_memory(self, before: np.ndarray, after: np.ndarray) -> None:
+        """A jump of the velocities (an impact and its rest snap) with the mass in a Hunt-Crossley pad: where its
+        ``ddelta`` changed, the contact goes on at ``v_in = max(v_in, ddelta)`` (rule 6)."""
+        if not self.memory:
+            return
+        gaps = self._call("stop_gaps", 1.0, after, 0.0)
+        rates = zip(self._call("stop_approach", 1.0, before, 0.0), self._call("stop_approach", 1.0, after, 0.0))
+        j = 0
+        for gap, (old, new), floor in zip(gaps, rates, self.floors):
+            if floor is None:
+                continue
+            if gap > 0.0 and new != old:
+                self.memory[j] = max(self.memory[j], float(new))
+            j += 1
+
+    def bumper_force(self, y: np.ndarray) -> float:
+        """The largest force of any bumper at the state ``y`` (a pad's force from its state and memory)."""
+        forces = self._call("stop_forces", 1.0, y, 0.0, self._memory_regime())
+        return float(max(forces))
+
+    def bumper_peak(self, sol, best: float) -> float:
+        """The largest bumper force over a segment whose pads push, ``best`` the largest before it (rule 6).
+
+        Each step's dense output at its middle; where the largest of that and of the step's ends
+        reaches ``best``, :func:`step_peak` finds the step's maximum.
+        """
+        t = sol.t
+        h = np.diff(t)
+        inner = (t[:-1, None] + h[:, None] * PEAK_SAMPLES[None, 1:-1]).ravel()
+        states = np.asarray(sol.sol(inner), dtype=float)
+        forces = self.functions.stop_forces(1.0, *states, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
+        inner = np.max(np.asarray(forces, dtype=float), axis=0).reshape(len(h), -1)
+        forces = self.functions.stop_forces(1.0, *sol.y, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
+        ends = np.max(np.asarray(forces, dtype=float), axis=0)
+        samples = np.column_stack([ends[:-1], inner, ends[1:]])
+        for j in range(len(h)):
+            row = samples[j]
+            # At the maximum so far too: a step that starts at it (the last one's end) may climb past it.
+            if row.max() >= best and row.max() > 0.0:
+                t0, step = float(t[j]), float(h[j])
+
+                def force(x: float, t0: float = t0, step: float = step) -> float:
+                    return self.bumper_force(sol.sol(t0 + x * step))
+
+                best = step_peak(force, row)
+        return best
+
     def largest_bumper_force(self, states: np.ndarray) -> float:
         """The largest force of any bumper against its penetration over ``states`` (rows), 0 without stops."""
         if self.n_stops == 0 or len(states) == 0:
@@ -472,6 +531,42 @@ class _System:
         after[0] = 0.0
         after[self.n :] = self._call("impact", s, after, ag)
         return after
+
+
+#: Where a step's dense output is looked at for the peak of a bumper's force, in fractions of the step (rule 6).
+PEAK_SAMPLES = np.linspace(0.0, 1.0, 3)
+#: The golden-section search for that peak stops at this width, in fractions of the step.
+PEAK_WIDTH = 1e-5
+
+
+def step_peak(force: Callable[[float], float], samples: np.ndarray) -> float:
+    """The largest ``force(x)`` over a step, ``x`` in ``[0, 1]``, from its values at :data:`PEAK_SAMPLES`.
+
+    The largest sample, or at an end of the step the end itself where the parabola through it and its two
+    neighbours still climbs there; otherwise the golden-section search between the largest sample's
+    neighbours (sim.c's ``step_peak``, the same operations).
+    """
+    k = int(np.argmax(samples))
+    n = len(samples) - 1
+    best = float(samples[k])
+    if k == n and 3.0 * samples[n] - 4.0 * samples[n - 1] + samples[n - 2] > 0.0:
+        return best
+    if k == 0 and -3.0 * samples[0] + 4.0 * samples[1] - samples[2] < 0.0:
+        return best
+    a, b = float(PEAK_SAMPLES[max(k - 1, 0)]), float(PEAK_SAMPLES[min(k + 1, n)])
+    g = 0.5 * (math.sqrt(5.0) - 1.0)
+    c, d = b - g * (b - a), a + g * (b - a)
+    fc, fd = force(c), force(d)
+    while b - a > PEAK_WIDTH:
+        if fc > fd:
+            b, d, fd = d, c, fc
+            c = b - g * (b - a)
+            fc = force(c)
+        else:
+            a, c, fc = c, d, fd
+            d = a + g * (b - a)
+            fd = force(d)
+    return max(best, fc, fd)
 
 
 def _lower(a: float, b: float) -> float:
@@ -690,7 +785,7 @@ class _Segment:
     side : int
         The stop side of a gap event (-1 otherwise).
     bumper_force : float
-        The largest bumper force at the step ends and the terminal event (sim.c's ``see_state``).
+        The largest bumper force of the segment (rule 6; sim.c's ``see_state`` and ``step_peak``).
     """
 
     t: float
@@ -770,10 +865,19 @@ def after_gap(system: _System, event: _Event, dense: OdeSolution, t: float, y: n
     after = (lambda g: g > 0.0) if event.name == GAP_CLOSE else (lambda g: g <= 0.0)
     for _ in range(64):
         if after(system.stop_contact(event.side, y)):
-            break
+            return t, y
         t = float(np.nextafter(t, np.inf))
         y = np.asarray(dense(t), dtype=float)
-    return t, y
+    # A slow mass: the contact stays at its root over more ulps of t than those. The step's end is on the side
+    # after it (solve_ivp saw the sign change there): halved down to the first float after the root, as sim.c.
+    lo, hi = t, float(dense.interpolants[-1].t)
+    while np.nextafter(lo, np.inf) < hi:
+        mid = lo + 0.5 * (hi - lo)
+        if after(system.stop_contact(event.side, np.asarray(dense(mid), dtype=float))):
+            hi = mid
+        else:
+            lo = mid
+    return hi, np.asarray(dense(hi), dtype=float)
 
 
 def integrate_segment(
@@ -791,6 +895,7 @@ def integrate_segment(
     first_step: float | None = None,
     work: _Work | None = None,
     stop_on: tuple = (),
+    bumper_best: float = 0.0,
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -821,6 +926,8 @@ def integrate_segment(
     stop_on : tuple of bool
         Whether each stop side's bumper acts: the regime of the whole segment, for the right-hand
         side and the events (see :func:`watched_events`).
+    bumper_best : float
+        The largest bumper force before the segment (the steps that cannot pass it are not searched).
 
     Returns
     -------
@@ -851,7 +958,7 @@ def integrate_segment(
         ground,
         after_pulse=not pulse_on,
         want_critical=want_critical,
-        energy_rest=problem.energy_rest,
+        energy_rest=system.rest_energy,
         safe_energy=safe_energy,
         settling=settling,
         stop_on=stop_on,
@@ -903,6 +1010,12 @@ def integrate_segment(
     # Step ends (first and last included) and every located event point.
     points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
     peaks = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
+    bumper = 0.0
+    if system.n_stops:
+        # The start, the step ends and the terminal event; while a pad pushes, each step's peak (rule 6).
+        bumper = system.largest_bumper_force(sol.y.T)
+        if any(stop_on):
+            bumper = max(bumper, system.bumper_peak(sol, bumper_best))
     return _Segment(
         t=t_end,
         y=y_end,
@@ -911,8 +1024,7 @@ def integrate_segment(
         peaks=peaks,
         dense=sol.sol,
         side=fired[0].side if fired else -1,
-        # Step ends and the terminal event (the last point), not the start: what sim.c's see_state sees.
-        bumper_force=system.largest_bumper_force(sol.y.T[1:]),
+        bumper_force=bumper,
     )
 
 
@@ -1119,9 +1231,25 @@ def status_at_t_max(run: _Run) -> str:
     ``"t_max"`` (no verdict)."""
     if run.t >= run.problem.t_p:
         s = -1 if run.phase < 0 else 1
-        if run.system.energy_above_rest(run.y, tuple(run.stop_on), s) < run.system.barrier_bound():
+        # A released pad may push again: its elastic energy counts wherever the mass is in it (rule 4).
+        loaded = tuple(run.system.stop_gap(i, run.y) > 0.0 for i in range(run.system.n_stops))
+        if run.system.energy_above_rest(run.y, loaded, s) < run.system.barrier_bound():
             return "below_barrier"
     return "t_max"
+
+
+def stops_clear(run: _Run) -> bool:
+    """No bumper acts now and the mass is inside every gap (a released pad may push again)."""
+    return not any(run.stop_on) and all(run.system.stop_gap(i, run.y) <= 0.0 for i in range(run.system.n_stops))
+
+
+def read_regime(run: _Run) -> None:
+    """Each stop side's regime read again from the state (rule 6), after a jump of the velocities and where a
+    segment starts: never carried over. A side that starts pushing there is a contact."""
+    for i in range(run.system.n_stops):
+        on = run.system.stop_contact(i, run.y) > 0.0
+        run.tally.stop_contacts += on and not run.stop_on[i]
+        run.stop_on[i] = on
 
 
 def verdict_final(run: _Run) -> bool:
@@ -1130,10 +1258,7 @@ def verdict_final(run: _Run) -> bool:
     The verdict, the maxima, ``t_critical`` and the bumpers' results are then final (no bumper may act now).
     The bound is kept until a maximum grows.
     """
-    if not (run.verdict and run.t >= run.problem.t_p and not any(run.stop_on)):
-        return False
-    # A released pad (the mass still beyond its gap) may push again: no bumper must be able to act now.
-    if any(run.system.stop_gap(i, run.y) > 0.0 for i in range(run.system.n_stops)):
+    if not (run.verdict and run.t >= run.problem.t_p and stops_clear(run)):
         return False
     at = (run.tally.theta_max, run.tally.x_max)
     if at != run.bound_at:
@@ -1152,11 +1277,11 @@ def end_at_start(run: _Run) -> str | None:
     """
     energy = run.system.energy_above_rest(run.y, run.stop_on)
     # For the bare block E(y) = E(0) in full contact: rest at once.
-    if energy < run.problem.energy_rest:
+    if energy < run.system.rest_energy:
         return "rest"
     if verdict_final(run):
         return "bounded"
-    if run.safe_energy is not None and (run.safe or energy < run.safe_energy):
+    if run.safe_energy is not None and (run.safe or (energy < run.safe_energy and stops_clear(run))):
         if settled_at_once(run):
             return "rest"
         run.safe = True
@@ -1274,7 +1399,7 @@ def impact(run: _Run) -> str | None:
         the early verdict ends the run (rule 4); else ``None``.
     """
     n = run.system.n
-    s, dtheta_in = run.phase, run.y[n]
+    s, dtheta_in, before = run.phase, run.y[n], run.y
     run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on, run.t)(run.t))
     run.tally.impacts += 1
     if abs(run.y[n]) < run.problem.dtheta_rest:
@@ -1283,6 +1408,10 @@ def impact(run: _Run) -> str | None:
     else:
         run.phase = -s
         run.first_step = _first_step_after_impact(run.t - run.t_start, run.y[n], dtheta_in)
+    if run.system.n_stops:
+        # The velocities jumped: the pads' memory and regime follow the state (rule 6).
+        run.system.jump_memory(before, run.y)
+        read_regime(run)
     if events_exhausted(run):
         return "max_events"
     return "bounded" if run.phase != CONTACT and verdict_final(run) else None
@@ -1339,6 +1468,7 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         first_step=run.first_step,
         work=run.work,
         stop_on=tuple(run.stop_on),
+        bumper_best=run.tally.bumper_force_max,
     )
     run.first_step = None
     run.side = segment.side
@@ -1380,7 +1510,7 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
     elif event in (REST, SETTLED):
         return "rest"
     elif event == SAFE:
-        run.safe = True  # the next contact phase settles (not rechecked: E is at the bound)
+        run.safe = stops_clear(run)  # the next contact phase settles (not rechecked: E is at the bound)
     elif event in (GAP_CLOSE, GAP_OPEN):
         # A breakpoint: the same phase restarts from here with the side's bumper on or off (rule 6).
         run.stop_on[run.side] = event == GAP_CLOSE
@@ -1413,6 +1543,7 @@ def phase_machine(run: _Run) -> str:
         if run.t >= problem.t_max:
             return status_at_t_max(run)
         run.pulse_on = run.t < problem.t_p
+        read_regime(run)
         if run.phase == CONTACT:
             status = contact_start(run)
             if status is not None:

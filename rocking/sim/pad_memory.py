@@ -3,11 +3,13 @@
 A Hunt-Crossley pad's force depends on ``v_in``, the approach speed of its contact,
 which the simulators hold in the regime of the stops (docs/simulation.md, rule 6) and
 do not record. A history holds what it takes to find it again: its rows are in time
-order with the events included, so the row of a new contact is the first row with the
-side's penetration > 0 after one without, the state on the side after the gap's
-closing where the simulator recorded it. From there to the next such row the side's
-memory is ``max(ddelta, floor)`` of that row; before any contact, that of the first
-row (the run's start).
+order with the events included (every change of a pad's regime ends a segment, and both
+sides of a jump of the velocities are rows at the same instant). A side's memory is
+``max(ddelta, floor)`` of the first row (the run's start) and of the row where a contact
+starts: the first row with the side's penetration > 0 after one without, or the row where
+a released pad pushes again with ``ddelta >= 0`` (the mass left the pad between two rows
+and came back: a new contact). After a jump that changes ``ddelta`` with the mass in the
+pad it is ``max(v_in, ddelta)``: a harder strike of the same contact is met at its own speed.
 """
 
 from __future__ import annotations
@@ -32,23 +34,62 @@ def memory(model, p, history: dict) -> list[np.ndarray]:
     list of ndarray
         One array per Hunt-Crossley side; none for a model without.
     """
-    floors = [side["approach_floor"] for side in model.manifest.get("stops", []) if side["law"] == "hunt-crossley"]
-    if not floors:
+    sides = model.manifest.get("stops", [])
+    floors = [side["approach_floor"] if side["law"] == "hunt-crossley" else None for side in sides]
+    if not any(f is not None for f in floors):
         return []
     y = [np.asarray(history[name], dtype=float) for name in model.state]
+    t = np.asarray(history["t"], dtype=float)
     ones = np.ones_like(y[0])
-    sides = model.manifest.get("stops", [])
-    gaps = model.functions.stop_gaps(ones, *y, 0 * ones, 0 * ones, *p)
-    rates = model.functions.stop_approach(ones, *y, 0 * ones, 0 * ones, *p)
-    out = []
-    for side, gap, rate in zip(sides, gaps, rates):
-        if side["law"] != "hunt-crossley":
+    gaps = [np.asarray(g) for g in model.functions.stop_gaps(ones, *y, 0 * ones, 0 * ones, *p)]
+    rates = [np.asarray(r, dtype=float) for r in model.functions.stop_approach(ones, *y, 0 * ones, 0 * ones, *p)]
+    jump = np.concatenate(([False], t[1:] == t[:-1]))
+    memories = [max(float(rates[i][0]), f) for i, f in enumerate(floors) if f is not None]
+    out = [np.empty_like(t) for _ in memories]
+    # The rows where a memory may change; the others keep it (rule 6).
+    inside = [g > 0.0 for g in gaps]
+    candidates = np.zeros(len(t), dtype=bool)
+    for i, f in enumerate(floors):
+        if f is None:
             continue
-        inside = np.asarray(gap) > 0.0
-        starts = np.concatenate(([True], inside[1:] & ~inside[:-1]))
-        last = np.maximum.accumulate(np.where(starts, np.arange(len(starts)), 0))
-        out.append(np.maximum(np.asarray(rate, dtype=float), side["approach_floor"])[last])
+        entered = np.concatenate(([False], inside[i][1:] & ~inside[i][:-1]))
+        turned = np.concatenate(([False], (rates[i][1:] >= 0.0) & (rates[i][:-1] < 0.0))) & inside[i]
+        changed = jump & inside[i] & np.concatenate(([False], rates[i][1:] != rates[i][:-1]))
+        candidates |= entered | turned | changed
+    start = 0
+    for row in np.flatnonzero(candidates).tolist():
+        for j in range(len(memories)):
+            out[j][start:row] = memories[j]
+        memories = _next_memory(model, p, y, floors, gaps, rates, jump, row, memories)
+        start = row
+    for j in range(len(memories)):
+        out[j][start:] = memories[j]
     return out
+
+
+def _next_memory(model, p, y, floors, gaps, rates, jump, row: int, memories: list[float]) -> list[float]:
+    """The memories from ``row`` on, given those before it (:func:`memory`'s rules)."""
+    pushing = [_contacts(model, p, y, row - 1, floors, memories), _contacts(model, p, y, row, floors, memories)]
+    out, j = list(memories), 0
+    for i, floor in enumerate(floors):
+        if floor is None:
+            continue
+        rate, inside = float(rates[i][row]), gaps[i][row] > 0.0
+        if jump[row]:
+            if inside and rate != rates[i][row - 1]:
+                out[j] = max(out[j], rate)
+        elif inside and (gaps[i][row - 1] <= 0.0 or (rate >= 0.0 and not pushing[0][i] and pushing[1][i])):
+            out[j] = max(rate, floor)
+        j += 1
+    return out
+
+
+def _contacts(model, p, y, row: int, floors, memories: list[float]) -> list[bool]:
+    """Whether each side pushes at ``row`` with the given memories (its contact, generated ``stop_contact``, > 0)."""
+    flags = tuple(0.0 for _ in floors)
+    state = [float(v[row]) for v in y]
+    contacts = model.functions.stop_contact(1.0, *state, 0.0, 0.0, *p, stop_on=flags + tuple(memories))
+    return [float(c) > 0.0 for c in contacts]
 
 
 class WithMemory:

@@ -83,8 +83,8 @@ typedef struct rocking_result {
     double theta_max; /* largest |theta| [rad] */
     double x_max; /* largest |q[1]|, the damper's stroke (0 without a damper) [m] */
     double t_end; /* when the run ended [s] */
-    int64_t stop_contacts; /* times an end stop's pad starts pushing: its gap closes, or a released pad pushes again (0 without stops) */
-    double bumper_force_max; /* largest force of a bumper against its penetration (rule 6) [N] */
+    int64_t stop_contacts; /* times an end stop's pad starts pushing: its gap closes, a released pad pushes again, or an impact makes it push (0 without stops); final at rest and bounded (rules 4, 6) */
+    double bumper_force_max; /* largest force of a bumper against its penetration, the peak of the dense output (rule 6) [N] */
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */

@@ -182,6 +182,31 @@ static void stop_memory_start(constants *k, const double *y, const int *clear)
 #endif
 }
 
+#if MODEL_NSTOPS > 0
+/* A jump of the velocities (an impact and its rest snap) from before to after with the mass in a
+ * Hunt-Crossley pad: where its ddelta changed, the contact goes on at v_in = max(v_in, ddelta)
+ * (rule 6); the constants are prepared again where a v_in grew. */
+static void stop_memory_jump(constants *k, const double *before, const double *after)
+{
+#if MODEL_NREGIME > MODEL_NSTOPS
+    double old[MODEL_NSTOPS], now[MODEL_NSTOPS], gaps[MODEL_NSTOPS];
+    int j, grew = 0;
+    model_stop_approach_prepared(before, 0.0, k->about[0], old);
+    model_stop_approach_prepared(after, 0.0, k->about[0], now);
+    model_stop_gaps_prepared(after, 0.0, k->about[0], gaps);
+    for (j = 0; j < MODEL_NSTOPS; ++j)
+        if (STOP_FLOORS[j] > 0.0 && gaps[j] > 0.0 && now[j] != old[j] && now[j] > k->memory[j]) {
+            k->memory[j] = now[j];
+            grew = 1;
+        }
+    if (grew)
+        constants_prepare(k, k->p, k->stop_on);
+#else
+    (void)k, (void)before, (void)after;
+#endif
+}
+#endif
+
 /* The constants about the pivot s; full contact uses those of s = +1, as
  * the functions evaluated there do not depend on the pivot. */
 static const double *about(const constants *k, double s)
@@ -1227,6 +1252,79 @@ static int pads_apart(const event_set *es)
 }
 #endif
 
+#if MODEL_NSTOPS > 0
+/* The largest force of any bumper at the state y (a pad's force from its state and memory). */
+static double bumper_force(const run *r, const double *y)
+{
+    double forces[MODEL_NSTOPS], f = 0.0;
+    int i;
+    model_stop_forces_prepared(y, 0.0, about(r->o.k, 1.0), forces);
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        f = max2(f, forces[i]);
+    return f;
+}
+
+/* bumper_force on the last step's dense output at t_old + x (t_end - t_old). */
+static double bumper_force_in_step(run *r, double t_end, double x)
+{
+    double y[NY];
+    dopri_dense(&r->d, r->d.t_old + x * (t_end - r->d.t_old), y);
+    return bumper_force(r, y);
+}
+
+/* Where a step's dense output is looked at for the peak of a bumper's force: its ends and middle;
+ * the golden-section search for it stops at PEAK_WIDTH of the step (numpy_backend.step_peak). */
+#define PEAK_POINTS 3
+#define PEAK_WIDTH 1e-5
+
+/* While a pad pushes, the peak of the bumpers' force over the last step up to t_end (rule 6): the dense
+ * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
+ * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
+ * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
+ * neighbours. The same operations as numpy_backend.step_peak. */
+static void step_peak(run *r, double t_end, const double *y_end)
+{
+    const int n = PEAK_POINTS - 1;
+    const double g = 0.5 * (sqrt(5.0) - 1.0);
+    double f[PEAK_POINTS], a, b, c, d, fc, fd, best;
+    int i, k = 0;
+    f[0] = bumper_force(r, r->d.y_old);
+    for (i = 1; i < n; ++i)
+        f[i] = bumper_force_in_step(r, t_end, (double)i / n);
+    f[n] = bumper_force(r, y_end);
+    for (i = 1; i < PEAK_POINTS; ++i)
+        if (f[i] > f[k])
+            k = i;
+    best = f[k];
+    /* At the maximum so far too: a step that starts at it (the last one's end) may climb past it. */
+    if (!(best >= r->res->bumper_force_max && best > 0.0))
+        return;
+    r->res->bumper_force_max = best;
+    if (k == n && 3.0 * f[n] - 4.0 * f[n - 1] + f[n - 2] > 0.0)
+        return;
+    if (k == 0 && -3.0 * f[0] + 4.0 * f[1] - f[2] < 0.0)
+        return;
+    a = (double)(k > 0 ? k - 1 : 0) / n;
+    b = (double)(k < n ? k + 1 : n) / n;
+    c = b - g * (b - a);
+    d = a + g * (b - a);
+    fc = bumper_force_in_step(r, t_end, c);
+    fd = bumper_force_in_step(r, t_end, d);
+    while (b - a > PEAK_WIDTH) {
+        if (fc > fd) {
+            b = d, d = c, fd = fc;
+            c = b - g * (b - a);
+            fc = bumper_force_in_step(r, t_end, c);
+        } else {
+            a = c, c = d, fc = fd;
+            d = a + g * (b - a);
+            fd = bumper_force_in_step(r, t_end, d);
+        }
+    }
+    r->res->bumper_force_max = max2(r->res->bumper_force_max, max2(fc, fd));
+}
+#endif
+
 /* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
 static void see_state(run *r, const double *y, int at_step_end)
 {
@@ -1235,13 +1333,8 @@ static void see_state(run *r, const double *y, int at_step_end)
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
 #if MODEL_NSTOPS > 0
-    if (!(at_step_end && pads_apart(&r->events))) {
-        double forces[MODEL_NSTOPS];
-        int i;
-        model_stop_forces_prepared(y, 0.0, about(r->o.k, 1.0), forces);
-        for (i = 0; i < MODEL_NSTOPS; ++i)
-            r->res->bumper_force_max = max2(r->res->bumper_force_max, forces[i]);
-    }
+    if (!(at_step_end && pads_apart(&r->events)))
+        r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, y));
 #else
     (void)at_step_end;
 #endif
@@ -1354,6 +1447,11 @@ static int run_segment(run *r, double t_bound)
     step_events found;
     segment_start saved;
     int k;
+#if MODEL_NSTOPS > 0
+    int pushing = 0; /* a pad pushes in this segment (its regime is constant) */
+    for (k = 0; k < MODEL_NSTOPS; ++k)
+        pushing |= r->k->stop_on[k];
+#endif
 
     segment_saved(r, &saved);
     r->o.phase = r->phase;
@@ -1369,6 +1467,10 @@ static int run_segment(run *r, double t_bound)
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
+#if MODEL_NSTOPS > 0
+    /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
+    r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
+#endif
     watched_events(r, active);
     events_start(&r->events, &r->ec, active, r->t, r->y);
     if (r->hist != NULL && r->c->record_dt > 0.0)
@@ -1408,11 +1510,19 @@ static int run_segment(run *r, double t_bound)
         if (found.terminal >= 0) {
             r->t = found.t_stop;
             dopri_dense(&r->d, r->t, r->y);
+#if MODEL_NSTOPS > 0
+            if (pushing)
+                step_peak(r, r->t, r->y);
+#endif
             see_state(r, r->y, 0);
             if (found.terminal == EV_IMPACT)
                 r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
             return found.terminal;
         }
+#if MODEL_NSTOPS > 0
+        if (pushing)
+            step_peak(r, r->d.t, r->d.y);
+#endif
         see_state(r, r->d.y, 1);
     }
     r->t = t_bound;
@@ -1459,14 +1569,22 @@ static int settled_at_once(const run *r)
 /* The least energy above rest at which the attached bodies can lift the block,
  * with the safety margin of rule 4; NaN when no bound applies (a bound of 0
  * about either pivot, or NaN). */
-static double safe_energy(const constants *k)
+static double safe_energy(const constants *k, double reach)
 {
     const double zeros[NY] = {0.0};
     const double a = model_uplift_energy_prepared(zeros, 0.0, about(k, 1.0));
     const double b = model_uplift_energy_prepared(zeros, 0.0, about(k, -1.0));
+#if MODEL_NSTOPS > 0
+    /* With stops, also out of every pad's reach (pad_reach). */
+    if (!(a > 0.0 && b > 0.0 && reach > 0.0))
+        return NAN;
+    return min2(min2(a, b) * (1.0 - ROCKING_SAFE_MARGIN), reach);
+#else
+    (void)reach;
     if (!(a > 0.0 && b > 0.0))
         return NAN;
     return min2(a, b) * (1.0 - ROCKING_SAFE_MARGIN);
+#endif
 }
 
 /* The lesser of two values, NaN if either is. */
@@ -1590,6 +1708,36 @@ static double below_least(double least, double zero)
     return least - zero - ROCKING_SAFE_MARGIN * (fabs(least) + fabs(zero));
 }
 
+#if NQ > 1 && MODEL_NSTOPS > 0
+/* The energy above rest below which the mass of the upright block, inside every gap, can never reach a
+ * pad: the least potential where a gap closes at theta = 0, less E(0) and the margin (NaN: no bound). */
+static double pad_reach(const run *r)
+{
+    arcs upright;
+    arcs_prepare(r, 0.0, &upright);
+    return below_least(least_at_bumpers(r, &upright), r->ec.energy_zero);
+}
+#endif
+
+/* energy_above_rest with the elastic energy of every pad the mass is in, pushing or released: a released
+ * pad may push again (rule 4). */
+static double loaded_energy_above_rest(const run *r)
+{
+#if MODEL_NSTOPS > 0
+    constants loaded = *r->k;
+    int stop_on[MAX_STOP_SIDES] = {0}, i, other = 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i) {
+        stop_on[i] = stop_gap(r->k, r->y, i) > 0.0;
+        other |= stop_on[i] != r->k->stop_on[i];
+    }
+    if (other) {
+        constants_prepare(&loaded, r->k->p, stop_on);
+        return model_energy_prepared(r->y, 0.0, about(&loaded, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero;
+    }
+#endif
+    return energy_above_rest(r);
+}
+
 /* t_max reached: after the pulse, an energy below the least potential at some tilt |theta| < pi/2 about either
  * pivot (least_at_tilt) can never carry the block past that tilt, which every run that overturns passes: the
  * run is safe, its maxima those until t_max (rule 4); otherwise it has no verdict. Models whose energy may grow
@@ -1605,7 +1753,7 @@ static int safe_at_t_max(const run *r)
         if (at > least) /* a NaN is no bound */
             least = at;
     }
-    return energy_above_rest(r) < below_least(least, r->ec.energy_zero) ? ROCKING_BELOW_BARRIER : ROCKING_T_MAX;
+    return loaded_energy_above_rest(r) < below_least(least, r->ec.energy_zero) ? ROCKING_BELOW_BARRIER : ROCKING_T_MAX;
 }
 
 /* The energy above rest below which |theta| can no longer reach theta_max,
@@ -1667,6 +1815,26 @@ static int stops_clear(const run *r)
             return 0;
     return 1;
 }
+
+#if MODEL_NSTOPS > 0
+/* Each stop side's regime read again from the state (rule 6), after a jump of the velocities and
+ * where a segment starts: never carried over. A side that starts pushing there is a contact. */
+static void stops_read(run *r)
+{
+    double contacts[MAX_STOP_SIDES];
+    int stop_on[MAX_STOP_SIDES], i, changed = 0;
+    stop_contacts_at(r->k, r->y, contacts);
+    memcpy(stop_on, r->k->stop_on, sizeof stop_on);
+    for (i = 0; i < MODEL_NSTOPS; ++i) {
+        const int on = contacts[i] > 0.0;
+        r->res->stop_contacts += on && !stop_on[i];
+        changed |= on != stop_on[i];
+        stop_on[i] = on;
+    }
+    if (changed)
+        constants_switch(r->k, &r->regimes, stop_on);
+}
+#endif
 
 /* After the pulse, the energy can no longer carry |theta| or |q[1]| to their
  * maxima: the verdict, the maxima and t_critical are final (rule 4). */
@@ -1735,6 +1903,10 @@ static void impact(run *r)
     double dq[NQ];
     const double s = (double)r->phase;
     const double dtheta_in = r->y[NQ];
+#if MODEL_NSTOPS > 0
+    double before[NY];
+    memcpy(before, r->y, sizeof before);
+#endif
     model_impact_prepared(r->y, ode_ag(&r->o, r->t), about(r->o.k, s), dq);
     memcpy(r->y + NQ, dq, sizeof dq);
     r->res->impacts += 1;
@@ -1749,6 +1921,11 @@ static void impact(run *r)
         r->phase = -r->phase;
         r->h_first = isfinite(h) ? h : 0.0;
     }
+#if MODEL_NSTOPS > 0
+    /* The velocities jumped: the pads' memory and regime follow the state (rule 6). */
+    stop_memory_jump(r->k, before, r->y);
+    stops_read(r);
+#endif
 }
 
 /* The first extremum of a periodic shape after t: omega_g t + phase = pi/2 + k pi
@@ -1821,6 +1998,9 @@ static void phase_machine(run *r)
             r->res->status = safe_at_t_max(r);
             return;
         }
+#if MODEL_NSTOPS > 0
+        stops_read(r);
+#endif
         if (r->phase == 0) {
             const int s = skip_uplift_check ? 0 : uplift_at_start(r);
             skip_uplift_check = 0;
@@ -1847,7 +2027,7 @@ static void phase_machine(run *r)
                 }
                 /* Below the uplift energy the block can never lift again: only
                  * the damper's stroke is left to settle (rule 4). */
-                if (r->early && (r->safe || energy < r->ec.energy_safe)) {
+                if (r->early && (r->safe || (energy < r->ec.energy_safe && stops_clear(r)))) {
                     if (settled_at_once(r)) {
                         r->res->status = ROCKING_REST;
                         return;
@@ -1928,7 +2108,7 @@ static void phase_machine(run *r)
             r->res->status = ROCKING_REST;
             return;
         case EV_SAFE:
-            r->safe = 1; /* the next contact phase settles (not rechecked: E is at the bound) */
+            r->safe = stops_clear(r); /* the next contact phase settles (not rechecked: E is at the bound) */
             break;
         default:
             r->res->status = ROCKING_FAILED; /* not reached: every terminal event is handled */
@@ -1979,6 +2159,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     const double zeros[NY] = {0.0};
     const int clear[MAX_STOP_SIDES] = {0};
     int stop_on[MAX_STOP_SIDES];
+    double reach = INFINITY; /* pad_reach; no stops: no bound */
 
     out->status = ROCKING_FAILED;
     out->overturned = 0;
@@ -2014,7 +2195,13 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.ec.energy_rest = c->energy_rest;
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
-    r.ec.energy_safe = c->early_rest ? safe_energy(&k) : NAN;
+#if NQ > 1 && MODEL_NSTOPS > 0
+    /* With stops, rest (rule 4) also needs the mass out of every pad's reach (NaN: no bound, energy_rest alone). */
+    reach = pad_reach(&r);
+    if (!isnan(reach))
+        r.ec.energy_rest = fmin(c->energy_rest, reach);
+#endif
+    r.ec.energy_safe = c->early_rest ? safe_energy(&k, reach) : NAN;
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
     r.verdict = c->early_verdict != 0;
