@@ -100,7 +100,8 @@ def render_adaptive(results: dict) -> str:
 
 
 def render_adaptive_spectrum(result: dict) -> str:
-    """The table of adaptive beta scans against full ones, and the command and machine that measured it."""
+    """The table of what an exact beta scan must compute against the full scans, and the command and machine that
+    measured it."""
     return f"{measured_by(result)}\n\n{spectrum_table(result)}"
 
 

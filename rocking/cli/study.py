@@ -64,8 +64,8 @@ from ..study.kinds import (
 from ..study.optimize import USELESS_GAIN, EdgeWarning, check_gammas
 from ..study.overturning_map import TMaxWarning, UndeterminedWarning, overturning_map
 from ..study.result import Study
+from ..study.spectrum import adaptive_scans, minimum_overturning_spectrum
 from ..study.spectrum import envelope as spectrum_envelope
-from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
@@ -439,19 +439,6 @@ def _refinement(args, params: dict) -> dict:
     return given(args, ("full", "coarse", "verify"))
 
 
-def _add_scan(p: argparse.ArgumentParser) -> None:
-    """``--coarse`` of the adaptive beta scans of a spectrum."""
-    p.add_argument(
-        "--coarse",
-        type=int,
-        metavar="STEP",
-        help="adaptive beta scans of coarse step STEP, a power of two: every STEP-th amplitude is computed, then "
-        "bisections where neighbouring outcome classes differ, and a verification; features narrower than STEP "
-        "amplitudes away from a class change can be missed, and are on the default grids (16 is about 4.6 times "
-        "fewer scan responses there; default: every amplitude)",
-    )
-
-
 def _add_design_damper(p: argparse.ArgumentParser, params: dict, kind: Kind) -> None:
     """The damper of ``design``: its mass budget and stroke; the ranges of its period and damping searched."""
     g = p.add_argument_group("damper", "As rocking.design: the mass budget and the stroke; the search ranges.")
@@ -635,7 +622,6 @@ GROUPS = {
         lambda args, params: {"tile": tuple(args.tile)} if args.tile is not None else {},
     ),
     "refinement": Group(lambda p, params, kind: _add_refinement(p), _refinement),
-    "scan": Group(lambda p, params, kind: _add_scan(p), _given("coarse")),
     "tol": Group(lambda p, params, kind: _add_tol(p), lambda args, params: _tol(args)),
     "directions": Group(lambda p, params, kind: _add_directions(p), _given("directions")),
     "pulse": Group(lambda p, params, kind: _add_pulse(p), _pulse),
@@ -756,8 +742,8 @@ def _per_part_words(bare: int, damper: int, what: str, happened: str) -> str:
 
 
 def spectrum_lines(study: Study) -> list[str]:
-    """What a spectrum shows: the beta_min bracketed and the safe windows of each part, the damper's gain; how
-    adaptive scans were computed."""
+    """What a spectrum shows: the beta_min bracketed and the safe windows of each part, the damper's gain; that a
+    spectrum saved by an earlier version was scanned adaptively."""
     lines = []
     for part in ("bare", "damper"):
         s = study.summary[part]
@@ -777,12 +763,12 @@ def spectrum_lines(study: Study) -> list[str]:
             f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
             f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"
         )
-    refinement, run = study.config["refinement"], study.run
-    if refinement["adaptive"]:
+    coarse = adaptive_scans(study.config)
+    if coarse:
         lines.append(
-            f"spectrum: adaptive scans (coarse step {refinement['coarse']}): {run['scan_responses']} of "
-            f"{run['scan_responses_full']} scan responses computed ({run['responses']} with the bisections); "
-            "amplitudes not computed take the outcome around them (without --coarse every amplitude is computed)"
+            f"spectrum: saved by an earlier version with adaptive scans (coarse step {coarse}): amplitudes not "
+            "computed took the outcome around them: a band of overturning amplitudes between them may have been "
+            "missed, and beta_min be too high; run it again to scan every amplitude"
         )
     return lines
 
