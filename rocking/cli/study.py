@@ -724,8 +724,24 @@ def map_lines(study: Study) -> list[str]:
             f"{run['responses']} of {run['responses_full_grid']} responses computed in {run['rounds']} rounds; "
             f"cells not computed take the outcome around them (--full computes every cell)",
             f"map: {s['guarantee']}",
+            *_inferred_words(s),
         ]
     return lines
+
+
+def _inferred_words(s: dict) -> list[str]:
+    """What of an adaptive map's counts (its summary ``s``) rests on cells inferred, not computed, and how many
+    more saved and lost cells those could hold: one line, or none where every cell was computed (or the map was
+    saved by a version that did not count them)."""
+    if not s.get("bare_inferred", 0) + s.get("damper_inferred", 0):
+        return []
+    return [
+        f"map: inferred, not computed: {s['bare_inferred']} cells alone ({s['bare_overturned_inferred']} counted "
+        f"overturned), {s['damper_inferred']} with the damper ({s['damper_overturned_inferred']} counted "
+        f"overturned); saved {s['saved']}: {s['saved'] - s['saved_inferred']} computed, up to "
+        f"{s['saved_possible']} more among the inferred cells; lost {s['lost']}: {s['lost'] - s['lost_inferred']} "
+        f"computed, up to {s['lost_possible']} more among the inferred cells"
+    ]
 
 
 def _t_max_words(bare: int, damper: int, what: str) -> str:

@@ -105,6 +105,17 @@ def offset_lattice(n: int, step: int) -> np.ndarray:
     return np.unique(np.concatenate([np.arange(step // 2, n, step), [0, n - 1]]))
 
 
+def line_mask(shape: tuple[int, int], step: int) -> np.ndarray:
+    """The cells of a ``shape`` grid on the lines of every ``step``-th index of either axis and on its last
+    (the edges of the blocks of ``step`` cells): a region that extends over ``step`` cells or more along an axis
+    holds one (its indices along that axis are consecutive, and ``step`` of them hold a multiple of ``step``)."""
+    mask = np.zeros(shape, bool)
+    for axis, n in enumerate(shape):
+        lines = np.unique(np.append(np.arange(0, n, step), n - 1))
+        mask[(slice(None),) * axis + (lines,)] = True
+    return mask
+
+
 def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rows and columns of the cells of ``classes`` (``(n, m, k)``) whose class differs from a neighbour's."""
     differ = np.zeros(classes.shape[:2], bool)
@@ -207,6 +218,7 @@ class Refinement:
         self.leaves = np.zeros((0, 4), np.int64)
         self.step = check_verify(verify, coarse)
         self.suspect = np.ones((n, m), bool)
+        self.lines = coarse if self.step >= 1 else 0
         self.probes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     @property
@@ -241,7 +253,11 @@ class Refinement:
         cells = np.ravel_multi_index((rows.ravel(), cols.ravel()), (n, m))
         filled = self.leaf_classes()
         suspect = self.suspect | near(self.computed.shape, *boundary(filled), halo(self.step))
-        rows, cols = self._new(cells[suspect.ravel()[cells]])
+        cells = cells[suspect.ravel()[cells]]
+        if self.lines:  # the first round: the edges of the coarse blocks too
+            cells = np.concatenate([cells, np.flatnonzero(line_mask((n, m), self.lines))])
+            self.lines = 0
+        rows, cols = self._new(cells)
         self.probes = (rows, cols, filled[rows, cols])
         return rows, cols
 

@@ -622,10 +622,13 @@ def saved_past_edges(env, half_width: float) -> np.ndarray:
 
 def map_summary(data, half_width: float) -> dict:
     """Cell counts: overturned per part, saved and lost by the damper (saved within the block's half-width
-    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed.
+    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed, and what of them is inferred.
 
     Counts of what a cell's outcome class does not tell (``t_max``, ``saved_past_edges``) are over the cells
     computed; ``saved_stroke_not_computed`` counts the saved cells whose damper stroke was not computed.
+    The cells an adaptive map did not compute took the class around them (:mod:`rocking.study.adaptive`), which
+    a region thinner than its guarantee can belie: :func:`inferred_counts` says how much of each count rests
+    on them, and how much more they could hold.
     """
     env = envelope(data)
     effect = env["effect"].values
@@ -640,4 +643,37 @@ def map_summary(data, half_width: float) -> dict:
     out["saved_past_edges"] = int(saved_past_edges(env, half_width).sum())
     out["saved_stroke_not_computed"] = int(((effect > 0) & ~data["computed"].sel(part="damper").values).sum())
     out["lost"] = int((effect < 0).sum())
+    return {**out, **inferred_counts(data, env)}
+
+
+def inferred_counts(data, env) -> dict:
+    """How much of a map's counts rests on cells not computed (``data["computed"]``; ``env`` its
+    :func:`envelope`), and how much more those cells could hold were their classes other than inferred.
+
+    Returns
+    -------
+    dict of int
+        ``{part}_inferred``: the cells of each part not computed; ``{part}_overturned_inferred``: of them, those
+        counted overturned; ``saved_inferred``, ``lost_inferred``: the cells counted saved (lost) of which a part
+        was not computed; ``saved_possible``, ``lost_possible``: the cells not counted saved (lost) that would
+        be, were the class of their parts not computed another (an upper bound: every such cell). All 0 for a
+        map that computed every cell.
+    """
+    computed = {p: data["computed"].sel(part=p).transpose("Omega", "beta").values for p in PARTS}
+    over = {p: env["overturned"].sel(part=p).values for p in PARTS}
+    effect = env["effect"].values
+    inferred = ~computed["bare"] | ~computed["damper"]
+    out = {}
+    for part in PARTS:
+        out[f"{part}_inferred"] = int((~computed[part]).sum())
+        out[f"{part}_overturned_inferred"] = int((over[part] & ~computed[part]).sum())
+    # Whether each part could be overturned, or safe, given what was computed.
+    could_over = {p: over[p] | ~computed[p] for p in PARTS}
+    could_safe = {p: ~over[p] | ~computed[p] for p in PARTS}
+    for name, counted, possible in (
+        ("saved", effect > 0, could_over["bare"] & could_safe["damper"]),
+        ("lost", effect < 0, could_safe["bare"] & could_over["damper"]),
+    ):
+        out[f"{name}_inferred"] = int((counted & inferred).sum())
+        out[f"{name}_possible"] = int((~counted & inferred & possible).sum())
     return out
