@@ -740,7 +740,8 @@ def _inferred_words(s: dict) -> list[str]:
         f"overturned), {s['damper_inferred']} with the damper ({s['damper_overturned_inferred']} counted "
         f"overturned); saved {s['saved']}: {s['saved'] - s['saved_inferred']} computed, up to "
         f"{s['saved_possible']} more among the inferred cells; lost {s['lost']}: {s['lost'] - s['lost_inferred']} "
-        f"computed, up to {s['lost_possible']} more among the inferred cells"
+        f"computed, up to {s['lost_possible']} more among the inferred cells (where the guarantee above does not "
+        "reach; --full computes every cell)"
     ]
 
 

@@ -28,18 +28,23 @@ a *verification* (``verify``, a power of two, the coarse step by default; 0: non
 
 4. round after round, of step ``s`` = ``verify``, ``verify / 2``, ..., 2, it computes the cells of the lattice
    offset by half a step from the corners, ``(s/2 + a s, s/2 + b s)``, and of the grid's edges (where no block
-   lies beyond) at ``s/2 + a s``: the first round everywhere, the next ones within ``max(s, HALO)`` cells of a
-   class boundary of the map so far and within twice that of a *hit* (a cell whose class its leaf did not
-   have). A leaf that holds a hit is split and refined as in step 2 before the next round;
+   lies beyond) at ``s/2 + a s``: the first round everywhere, with every cell of the edges of the coarse blocks
+   (the rows and columns of every ``coarse``-th index, :func:`line_mask`), the next ones within ``max(s, HALO)``
+   cells of a class boundary of the map so far and within twice that of a *hit* (a cell whose class its leaf
+   did not have). A leaf that holds a hit is split and refined as in step 2 before the next round;
 5. then rounds of step 1 compute every cell next to a class boundary, until one finds no hit.
 
-What a verified map guarantees: every region of one class that holds a square of ``verify x verify`` cells
-holds a computed cell (any ``verify`` consecutive indices hold one of the first lattice), hence is found, and
-traced: rounds of step 1 end only when every boundary between classes of the result lies between two computed
-cells, so a region found is found whole. A region smaller than that is found if it lies near a boundary found
-before (within ``max(s, HALO)`` cells, holding an ``s x s`` square); one smaller and farther away can be
-missed. That bound is deterministic, not statistical; how often the rest happens is measured
-(bench/adaptive.py). ``coarse=1`` (or a full map) computes every cell.
+What a verified map guarantees: every region of one class that extends over ``coarse`` cells or more along
+``Omega`` or ``beta`` holds a computed cell (its indices along that axis are consecutive, and any ``coarse`` of
+them hold an edge of the blocks), and so does every region that holds a square of ``verify x verify`` cells
+(any ``verify`` consecutive indices hold one of the first lattice); such a region is found, and traced: rounds
+of step 1 end only when every boundary between classes of the result lies between two computed cells, so a
+region found is found whole, however thin (a filament one cell wide and many long, issue 35). A region
+smaller than that, inside one coarse block, is found if it lies near a boundary found before (within ``max(s,
+HALO)`` cells, holding an ``s x s`` square); one smaller and farther away can be missed: the summary counts the
+cells of each class that were inferred, not computed (:func:`rocking.study.overturning_map.inferred_counts`).
+That bound is deterministic, not statistical; how often the rest happens is measured (bench/adaptive.py).
+The edges cost ``2 / coarse`` of the grid. ``coarse=1`` (or a full map) computes every cell.
 """
 
 from __future__ import annotations
@@ -131,6 +136,8 @@ def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def guarantee(refinement: dict, spacing: tuple[float, float], every_cell: bool = False) -> str:
     """What a map of ``refinement`` (its ``config["refinement"]``) can miss, in cells and in the largest grid
     ``spacing`` (``(dOmega, dbeta)``): the deterministic bound of :class:`Refinement`, no statistical one.
+    ``refinement["edges"]``: whether the verification computed the edges of the coarse blocks (maps of
+    earlier versions did not).
 
     ``every_cell``: whether the adaptive map computed every cell (a grid its refinement covered whole); its
     bound in cells would then speak of regions larger than the grid, so the text says that nothing was missed.
@@ -139,11 +146,18 @@ def guarantee(refinement: dict, spacing: tuple[float, float], every_cell: bool =
         return "full map: every cell computed"
     if every_cell:
         return "every cell computed (the refinement covered the whole grid): nothing missed"
-    size = refinement["verify"] or refinement["coarse"]
+    size, coarse = refinement["verify"] or refinement["coarse"], refinement["coarse"]
     extent = f"{size} x {size} cells ({size * spacing[0]:.3g} in Omega x {size * spacing[1]:.3g} in beta)"
     if not refinement["verify"]:
         return f"unverified: a region of another class inside {extent} can be missed"
-    return f"every region of one class holding {extent} is found, whole; smaller ones only near class boundaries"
+    smaller = "is found, whole; smaller ones only near class boundaries"
+    if not refinement.get("edges"):  # a map of an earlier version: a verification of points only
+        return f"every region of one class holding {extent} {smaller}"
+    reach = (
+        f"{coarse} cells along Omega or beta ({coarse * spacing[0]:.3g} in Omega, {coarse * spacing[1]:.3g} in beta)"
+    )
+    held = "" if size == coarse else f", or holding {extent},"
+    return f"every region of one class extending over {reach}{held} {smaller}"
 
 
 def _spans(n: int, step: int) -> list[tuple[int, int]]:

@@ -15,9 +15,10 @@ differ in outcome class; the other cells take the class of the computed cells ar
 effect are complete; ``computed`` says which cells of each part were computed, and the continuous fields of the
 others are not invented: ``theta_max``, ``x_max``, ``bumper_force_max`` are NaN there, and ``impacts`` of a
 safe cell, ``stop_contacts`` and ``status`` are :data:`NOT_COMPUTED` where they do not follow from the class.
-An adaptive map can miss a feature of another class smaller than the coarse step, one that falls entirely
-between the computed cells of a block whose computed cells agree (:mod:`rocking.study.adaptive`);
-``full=True`` computes every cell.
+An adaptive map can miss a feature of another class smaller than the coarse step along both axes, one that
+falls entirely between the computed cells of a block whose computed cells agree (:mod:`rocking.study.adaptive`);
+its summary counts how many cells of each class were inferred, not computed, and how many more saved and lost
+cells they could hold (:func:`inferred_counts`); ``full=True`` computes every cell.
 
 The cells are cut into tiles; each tile is one call of :func:`rocking.sim.cases.run_cases` (a rectangle of
 the grid, :func:`map_tile`, for a full map; a list of cells, :func:`cells_tile`, for each round of an
@@ -297,14 +298,14 @@ def overturning_map(
     full : bool, optional
         Compute every cell. Default False: the map is adaptive (:mod:`rocking.study.adaptive`), refined on
         each part's outcome classes from a lattice of every ``coarse``-th cell; it can miss a feature of
-        another class smaller than ``coarse`` cells.
+        another class smaller than ``coarse`` cells along both axes.
     coarse : int, optional
         The coarse step of an adaptive map, cells: a power of two in [1,
         :data:`rocking.study.adaptive.MAX_COARSE`] (1 computes every cell). Default 16.
     verify : int, optional
         The first step of the verification of an adaptive map (:class:`rocking.study.adaptive.Refinement`): 0
         (none) or a power of two in [1, ``coarse``]; every region of a class that holds a square of ``verify x
-        verify`` cells is found. Default ``coarse``.
+        verify`` cells, or extends over ``coarse`` cells along an axis, is found. Default ``coarse``.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles` (each round of an adaptive map is a call).
 
@@ -316,8 +317,10 @@ def overturning_map(
         computed; where not, the fields that do not follow from the outcome class are NaN or
         :data:`NOT_COMPUTED`). Their envelope over the directions, the direction that governs each cell and
         the damper's ``effect`` are a reduction over ``sign`` (:func:`envelope`).
-        ``config["refinement"]`` records ``adaptive``, ``coarse`` and ``verify``, ``summary["guarantee"]`` what
-        an adaptive map can miss (:func:`rocking.study.adaptive.guarantee`); ``run["responses"]`` counts the
+        ``config["refinement"]`` records ``adaptive``, ``coarse``, ``verify`` and ``edges`` (the verification
+        computed the edges of the coarse blocks), ``summary["guarantee"]`` what an adaptive map can miss
+        (:func:`rocking.study.adaptive.guarantee`) and the counts of :func:`inferred_counts` what rests on
+        cells not computed; ``run["responses"]`` counts the
         responses computed, ``run["responses_full_grid"]`` those of every cell, ``run["rounds"]`` the rounds of tiles.
 
     Raises
@@ -382,7 +385,9 @@ def overturning_map(
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile), "signs": signs}
     # A full map's tiles keep the configuration (and folders) they had before maps were adaptive.
-    refinement = {"adaptive": False} if full else {"adaptive": True, "coarse": coarse, "verify": verify}
+    refinement = (
+        {"adaptive": False} if full else {"adaptive": True, "coarse": coarse, "verify": verify, "edges": verify > 0}
+    )
     tiles_of = {} if full else {"refinement": refinement}
     record = tuning.record()
     parts, folders = dict(zip(PARTS, (None, tuning.case_args()))), {}
