@@ -4,9 +4,10 @@
 (docs/model.md section 9) alone and with the default damper of ``rocking map`` (gamma = 0.05, omega_m = p, zeta =
 0.05, h = 0.05 m, the paper's unlimited guide), rtol = 1e-8, under Mavroeidis-Papageorgiou pulses of negative sign;
 computed in process on the C back end, adaptive (the defaults of rocking.study.overturning_map) and with every
-cell, each on fresh tiles with the same local workers. Prints the responses and wall time of each, the cells
-whose outcome class differs per part and per class of the full map, the summary counts of both (overturned,
-saved, lost) and, where the map says them, the counts of cells inferred rather than computed.
+cell, each on fresh tiles with the same local workers. Prints the responses, wall and CPU time (the process's,
+worker threads included) of each, the cells whose outcome class differs per part and per class of the full map,
+the summary counts of both (overturned, saved, lost) and, where the map says them, the counts of cells inferred
+rather than computed.
 
 The figures are read from the maps' data only (``computed``, the outcomes), so the same script measures
 an earlier version's adaptive map when run from its checkout.
@@ -64,11 +65,12 @@ def compare(n: int, workers: int) -> dict:
     maps, out = {}, {"n": n, "workers": workers}
     with tempfile.TemporaryDirectory() as tmp:
         for name, how in (("adaptive", {}), ("full", {"full": True})):
-            start = time.perf_counter()
+            start, cpu = time.perf_counter(), time.process_time()
             study = overturning_map(setting, tuning, *grids, execution, runs=f"{tmp}/{name}", directions=SIGN, **how)
             maps[name] = study
             out[name] = {
                 "seconds": time.perf_counter() - start,
+                "cpu": time.process_time() - cpu,
                 "responses": study.run["responses"],
                 "rounds": study.run["rounds"],
                 **{k: study.summary[k] for k in COUNTS},
@@ -83,11 +85,36 @@ def report(r: dict) -> None:
     for name in ("full", "adaptive"):
         m = r[name]
         counts = ", ".join(f"{k} {m[k]}" for k in COUNTS)
-        print(f"  {name:8s} {m['responses']:8d} responses {m['seconds']:7.1f} s {m['rounds']:3d} rounds; {counts}")
+        print(
+            f"  {name:8s} {m['responses']:8d} responses {m['seconds']:7.1f} s ({m['cpu']:.1f} s CPU) "
+            f"{m['rounds']:3d} rounds; {counts}"
+        )
     if r["adaptive"]["inferred"]:
         print(f"  adaptive, inferred: {r['adaptive']['inferred']}")
     d = r["differences"]
     print(f"  cells whose class differs: bare {d['bare']}, damper {d['damper']}; effect differs at {d['effect']}")
+
+
+def table(result: dict) -> str:
+    """The adaptive and the full map, one row each, and the cells whose class differs, as a Markdown table: the
+    README's (bench/readme.py)."""
+    rows = [
+        "| map | responses | wall / CPU (s) | overturned alone / with the damper | saved | lost | cells differ |",
+        "|---|---|---|---|---|---|---|",
+    ]
+    d = result["differences"]
+    differ = sum(sum(d[p].values()) for p in PARTS)
+    for name in ("adaptive", "full"):
+        m = result[name]
+        inferred = m["inferred"]
+        lost = f"{m['lost']:,}"
+        if name == "adaptive" and inferred:
+            lost += f" ({m['lost'] - inferred['lost_inferred']:,} computed, up to {inferred['lost_possible']:,} more)"
+        rows.append(
+            f"| {name} | {m['responses']:,} | {m['seconds']:.1f} / {m['cpu']:.1f} | {m['bare_overturned']:,} / "
+            f"{m['damper_overturned']:,} | {m['saved']:,} | {lost} | {differ if name == 'adaptive' else ''} |"
+        )
+    return "\n".join(rows)
 
 
 def main(argv=None) -> int:

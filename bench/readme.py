@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 from adaptive import table
+from adaptive_filament import table as filament_table
 from adaptive_spectrum import table as spectrum_table
 from cli_map import files_line, targets_line
 from cli_map import table as cli_table
@@ -105,6 +106,11 @@ def render_adaptive_spectrum(result: dict) -> str:
     return f"{measured_by(result)}\n\n{spectrum_table(result)}"
 
 
+def render_adaptive_filament(result: dict) -> str:
+    """The map of issue 35, adaptive against full, and the command and machine that measured it."""
+    return f"{measured_by(result)}\n\n{filament_table(result)}"
+
+
 def render_cli(results: dict) -> str:
     """The command line's maps against their simulations, each file's time and the targets, and the command and
     machine that measured them."""
@@ -118,6 +124,7 @@ BLOCKS = {
     "adaptive-1000": ("bench/adaptive-1000.json", render_adaptive),
     "cli-400": ("bench/cli-400.json", render_cli),
     "adaptive-spectrum": ("bench/adaptive-spectrum.json", render_adaptive_spectrum),
+    "adaptive-filament": ("bench/adaptive-filament.json", render_adaptive_filament),
 }
 
 
