@@ -56,8 +56,8 @@ import numpy as np
 from ..model.params import ParameterError
 from .config import is_count
 
-#: Default coarse step of an adaptive map, cells: on the 400 x 400 bench map, the full map's classification from
-#: one 15th of its responses (bench/adaptive.py).
+#: Default coarse step of an adaptive map, cells: on the 400 x 400 bench maps, the full map's classification from
+#: about a fifth of its responses, the edges of the blocks verified (bench/adaptive.py).
 COARSE = 16
 
 #: Largest coarse step: a block of more cells than a grid has values is the whole grid already.
