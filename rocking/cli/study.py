@@ -423,7 +423,8 @@ def _add_refinement(p: argparse.ArgumentParser) -> None:
         type=int,
         metavar="STEP",
         help="first step of the verification of the adaptive map, a power of two up to --coarse, 0: none: every "
-        "region of one class that holds STEP x STEP cells is found, smaller ones near the class boundaries "
+        "region of one class that extends over --coarse cells along an axis (the verification computes the edges "
+        "of the coarse blocks) or holds STEP x STEP cells is found, smaller ones near the class boundaries "
         "(default: the coarse step)",
     )
     p.add_argument("--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)")
