@@ -71,7 +71,7 @@ docs: $(DOCS_STAMP)
 bench: $(STAMP)
 	$(PY) bench/run.py --json bench/last.json
 	$(PY) bench/adaptive.py
-	$(PY) bench/adaptive_spectrum.py --coarse 2 4 8 16 --json bench/adaptive-spectrum.json
+	$(PY) bench/adaptive_spectrum.py --json bench/adaptive-spectrum.json
 	$(PY) bench/cli_map.py --json bench/cli-400.json
 	$(PY) bench/motions.py
 	$(PY) bench/readme.py

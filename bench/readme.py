@@ -15,6 +15,7 @@ import sys
 from pathlib import Path
 
 from adaptive import table
+from adaptive_filament import table as filament_table
 from adaptive_spectrum import table as spectrum_table
 from cli_map import files_line, targets_line
 from cli_map import table as cli_table
@@ -100,8 +101,14 @@ def render_adaptive(results: dict) -> str:
 
 
 def render_adaptive_spectrum(result: dict) -> str:
-    """The table of adaptive beta scans against full ones, and the command and machine that measured it."""
+    """The table of what an exact beta scan must compute against the full scans, and the command and machine that
+    measured it."""
     return f"{measured_by(result)}\n\n{spectrum_table(result)}"
+
+
+def render_adaptive_filament(result: dict) -> str:
+    """The map of issue 35, adaptive against full, and the command and machine that measured it."""
+    return f"{measured_by(result)}\n\n{filament_table(result)}"
 
 
 def render_cli(results: dict) -> str:
@@ -117,6 +124,7 @@ BLOCKS = {
     "adaptive-1000": ("bench/adaptive-1000.json", render_adaptive),
     "cli-400": ("bench/cli-400.json", render_cli),
     "adaptive-spectrum": ("bench/adaptive-spectrum.json", render_adaptive_spectrum),
+    "adaptive-filament": ("bench/adaptive-filament.json", render_adaptive_filament),
 }
 
 

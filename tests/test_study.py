@@ -245,6 +245,35 @@ def test_map_line_counts_the_saved_cells_of_unknown_stroke():
     assert full.endswith("saved 72 (57 only with the mass past the block's edge), lost 0")
 
 
+def test_the_lines_of_an_adaptive_map_say_what_rests_on_cells_inferred():
+    """The counts of an adaptive map: how many cells of each part were inferred, not computed, how many of its
+    saved and lost cells rest on them, and how many more they could hold (issue 35: lost 668, 709 with --full)."""
+    summary = {
+        "cells": 160000,
+        "bare_overturned": 45777,
+        "damper_overturned": 41450,
+        "saved": 4995,
+        "saved_past_edges": 0,
+        "lost": 668,
+        "guarantee": "every region of one class extending over 16 cells along Omega or beta (...) is found, whole",
+        **dict.fromkeys(("bare_undetermined", "damper_undetermined", "bare_t_max", "damper_t_max"), 0),
+        **{"bare_inferred": 126419, "bare_overturned_inferred": 29877, "damper_inferred": 127490},
+        **{"damper_overturned_inferred": 26977, "saved_inferred": 3285, "saved_possible": 123385},
+        **{"lost_inferred": 134, "lost_possible": 127105},
+    }
+    refinement = {"adaptive": True, "coarse": 16, "verify": 16, "edges": True}
+    run = {"responses": 66091, "responses_full_grid": 320000, "rounds": 21}
+    lines = map_lines(Study("map", {"refinement": refinement}, None, summary=summary, run=run))
+    assert lines[-1] == (
+        "map: inferred, not computed: 126419 cells alone (29877 counted overturned), 127490 with the damper (26977 "
+        "counted overturned); saved 4995: 1710 computed, up to 123385 more among the inferred cells; lost 668: 534 "
+        "computed, up to 127105 more among the inferred cells (where the guarantee above does not reach; --full "
+        "computes every cell)"
+    )
+    every = {**summary, **dict.fromkeys(("bare_inferred", "damper_inferred"), 0)}
+    assert "inferred" not in map_lines(Study("map", {"refinement": refinement}, None, summary=every, run=run))[-1]
+
+
 @pytest.mark.parametrize("Omega", [Grid("Omega", 4.0, 4.0, 1), Grid("Omega", 2.0, 6.0, 3)])
 def test_an_adaptive_map_that_computed_every_cell_says_so(Omega, tmp_path):
     """On a grid smaller than the coarse step every cell is computed: the guarantee says that, not a bound in

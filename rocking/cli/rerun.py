@@ -25,6 +25,13 @@ EXECUTION = frozenset(
     {"command", "func", "config", "rerun", "out", "workers", "scheduler", "dask_workers", "no_progress"}
 )
 
+#: Options of earlier versions that are gone, by command, and why. A saved study that did not give one (its saved
+#: value null, or 1, the step that computes every amplitude) reruns as before; one that did is refused in one line.
+REMOVED = {
+    ("spectrum", "coarse"): "adaptive beta scans, which could miss bands of overturning amplitudes and report a "
+    "beta_min too high (issue 35); spectra now scan every amplitude: run rocking spectrum again without it",
+}
+
 #: The command being run and its options, for the record its study saves.
 CURRENT: ContextVar[dict | None] = ContextVar("rocking_command", default=None)
 
@@ -138,7 +145,8 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
         name = command.get("name")
         name = name_text(name) if isinstance(name, str) else shown(name)
         raise ParameterError(f"--config {path}: a study of 'rocking {name}', not of 'rocking {args.command}'")
-    unknown = sorted(set(command["options"]) - (set(vars(args)) - EXECUTION))
+    saved = _without_removed(args.command, command["options"], path)
+    unknown = sorted(set(saved) - (set(vars(args)) - EXECUTION))
     if unknown:
         names = ", ".join(map(name_text, unknown[:5])) + (", ..." if len(unknown) > 5 else "")
         raise ParameterError(
@@ -146,12 +154,28 @@ def apply_config(parser: argparse.ArgumentParser, args: argparse.Namespace, argv
         )
     subcommands = next(a for a in parser._actions if isinstance(a, argparse._SubParsersAction))
     command_parser = subcommands.choices[args.command]
-    options = checked_options(command_parser, command["options"], path)
+    options = checked_options(command_parser, saved, path)
     _check_model(options.get("model"), args, path)
     command_parser.set_defaults(**options)
     again = parser.parse_args(argv)
     again.rerun = (record, str(path))
     return again
+
+
+def _without_removed(name: str, options: dict, path: Path) -> dict:
+    """The saved ``options`` of command ``name`` without those of :data:`REMOVED` that were not given.
+
+    Raises
+    ------
+    ParameterError
+        In one line naming the file, if one of them was given.
+    """
+    kept = dict(options)
+    for (command, option), why in REMOVED.items():
+        value = kept.pop(option, None) if command == name else None
+        if value is not None and value != 1:
+            raise ParameterError(f"--config {path}: option {option} = {shown(value)} was removed: {why}")
+    return kept
 
 
 def _check_model(saved: object, args: argparse.Namespace, path: Path) -> None:

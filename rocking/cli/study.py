@@ -64,8 +64,8 @@ from ..study.kinds import (
 from ..study.optimize import USELESS_GAIN, EdgeWarning, check_gammas
 from ..study.overturning_map import TMaxWarning, UndeterminedWarning, overturning_map
 from ..study.result import Study
+from ..study.spectrum import adaptive_scans, minimum_overturning_spectrum
 from ..study.spectrum import envelope as spectrum_envelope
-from ..study.spectrum import minimum_overturning_spectrum
 from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
@@ -423,7 +423,8 @@ def _add_refinement(p: argparse.ArgumentParser) -> None:
         type=int,
         metavar="STEP",
         help="first step of the verification of the adaptive map, a power of two up to --coarse, 0: none: every "
-        "region of one class that holds STEP x STEP cells is found, smaller ones near the class boundaries "
+        "region of one class that extends over --coarse cells along an axis (the verification computes the edges "
+        "of the coarse blocks) or holds STEP x STEP cells is found, smaller ones near the class boundaries "
         "(default: the coarse step)",
     )
     p.add_argument("--full", action="store_const", const=True, help="compute every cell (default: the adaptive map)")
@@ -437,19 +438,6 @@ def _refinement(args, params: dict) -> dict:
             "give --coarse/--verify (the steps of the adaptive refinement) or --full (every cell), not both"
         )
     return given(args, ("full", "coarse", "verify"))
-
-
-def _add_scan(p: argparse.ArgumentParser) -> None:
-    """``--coarse`` of the adaptive beta scans of a spectrum."""
-    p.add_argument(
-        "--coarse",
-        type=int,
-        metavar="STEP",
-        help="adaptive beta scans of coarse step STEP, a power of two: every STEP-th amplitude is computed, then "
-        "bisections where neighbouring outcome classes differ, and a verification; features narrower than STEP "
-        "amplitudes away from a class change can be missed, and are on the default grids (16 is about 4.6 times "
-        "fewer scan responses there; default: every amplitude)",
-    )
 
 
 def _add_design_damper(p: argparse.ArgumentParser, params: dict, kind: Kind) -> None:
@@ -635,7 +623,6 @@ GROUPS = {
         lambda args, params: {"tile": tuple(args.tile)} if args.tile is not None else {},
     ),
     "refinement": Group(lambda p, params, kind: _add_refinement(p), _refinement),
-    "scan": Group(lambda p, params, kind: _add_scan(p), _given("coarse")),
     "tol": Group(lambda p, params, kind: _add_tol(p), lambda args, params: _tol(args)),
     "directions": Group(lambda p, params, kind: _add_directions(p), _given("directions")),
     "pulse": Group(lambda p, params, kind: _add_pulse(p), _pulse),
@@ -740,8 +727,25 @@ def map_lines(study: Study) -> list[str]:
             f"{run['responses']} of {run['responses_full_grid']} responses computed in {run['rounds']} rounds; "
             f"cells not computed take the outcome around them (--full computes every cell)",
             f"map: {s['guarantee']}",
+            *_inferred_words(s),
         ]
     return lines
+
+
+def _inferred_words(s: dict) -> list[str]:
+    """What of an adaptive map's counts (its summary ``s``) rests on cells inferred, not computed, and how many
+    more saved and lost cells those could hold: one line, or none where every cell was computed (or the map was
+    saved by a version that did not count them)."""
+    if not s.get("bare_inferred", 0) + s.get("damper_inferred", 0):
+        return []
+    return [
+        f"map: inferred, not computed: {s['bare_inferred']} cells alone ({s['bare_overturned_inferred']} counted "
+        f"overturned), {s['damper_inferred']} with the damper ({s['damper_overturned_inferred']} counted "
+        f"overturned); saved {s['saved']}: {s['saved'] - s['saved_inferred']} computed, up to "
+        f"{s['saved_possible']} more among the inferred cells; lost {s['lost']}: {s['lost'] - s['lost_inferred']} "
+        f"computed, up to {s['lost_possible']} more among the inferred cells (where the guarantee above does not "
+        "reach; --full computes every cell)"
+    ]
 
 
 def _t_max_words(bare: int, damper: int, what: str) -> str:
@@ -758,8 +762,8 @@ def _per_part_words(bare: int, damper: int, what: str, happened: str) -> str:
 
 
 def spectrum_lines(study: Study) -> list[str]:
-    """What a spectrum shows: the beta_min bracketed and the safe windows of each part, the damper's gain; how
-    adaptive scans were computed."""
+    """What a spectrum shows: the beta_min bracketed and the safe windows of each part, the damper's gain; that a
+    spectrum saved by an earlier version was scanned adaptively."""
     lines = []
     for part in ("bare", "damper"):
         s = study.summary[part]
@@ -779,12 +783,12 @@ def spectrum_lines(study: Study) -> list[str]:
             f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
             f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"
         )
-    refinement, run = study.config["refinement"], study.run
-    if refinement["adaptive"]:
+    coarse = adaptive_scans(study.config)
+    if coarse:
         lines.append(
-            f"spectrum: adaptive scans (coarse step {refinement['coarse']}): {run['scan_responses']} of "
-            f"{run['scan_responses_full']} scan responses computed ({run['responses']} with the bisections); "
-            "amplitudes not computed take the outcome around them (without --coarse every amplitude is computed)"
+            f"spectrum: saved by an earlier version with adaptive scans (coarse step {coarse}): amplitudes not "
+            "computed took the outcome around them: a band of overturning amplitudes between them may have been "
+            "missed, and beta_min be too high; run it again to scan every amplitude"
         )
     return lines
 

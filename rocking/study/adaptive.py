@@ -28,26 +28,23 @@ a *verification* (``verify``, a power of two, the coarse step by default; 0: non
 
 4. round after round, of step ``s`` = ``verify``, ``verify / 2``, ..., 2, it computes the cells of the lattice
    offset by half a step from the corners, ``(s/2 + a s, s/2 + b s)``, and of the grid's edges (where no block
-   lies beyond) at ``s/2 + a s``: the first round everywhere, the next ones within ``max(s, HALO)`` cells of a
-   class boundary of the map so far and within twice that of a *hit* (a cell whose class its leaf did not
-   have). A leaf that holds a hit is split and refined as in step 2 before the next round;
+   lies beyond) at ``s/2 + a s``: the first round everywhere, with every cell of the edges of the coarse blocks
+   (the rows and columns of every ``coarse``-th index, :func:`line_mask`), the next ones within ``max(s, HALO)``
+   cells of a class boundary of the map so far and within twice that of a *hit* (a cell whose class its leaf
+   did not have). A leaf that holds a hit is split and refined as in step 2 before the next round;
 5. then rounds of step 1 compute every cell next to a class boundary, until one finds no hit.
 
-What a verified map guarantees: every region of one class that holds a square of ``verify x verify`` cells
-holds a computed cell (any ``verify`` consecutive indices hold one of the first lattice), hence is found, and
-traced: rounds of step 1 end only when every boundary between classes of the result lies between two computed
-cells, so a region found is found whole. A region smaller than that is found if it lies near a boundary found
-before (within ``max(s, HALO)`` cells, holding an ``s x s`` square); one smaller and farther away can be
-missed. That bound is deterministic, not statistical; how often the rest happens is measured
-(bench/adaptive.py). ``coarse=1`` (or a full map) computes every cell.
-
-The ``beta`` scan of a spectrum (:func:`rocking.study.spectrum.beta_min`) is refined alike in one dimension
-(:func:`refine_scan`): every ``coarse``-th amplitude and the last, then the midpoint of each interval whose two
-ends differ in class, down to neighbouring amplitudes; the amplitudes inside an interval whose ends agree take
-their class; a spectrum's scans are then verified from their coarse step, as a map is, in one dimension. A
-band of one class of ``coarse`` amplitudes or more is found; a narrower one with the same class on both sides
-(a safe window, an overturning band, another count of impacts) is found near a class change, and can be
-missed farther away.
+What a verified map guarantees: every region of one class that extends over ``coarse`` cells or more along
+``Omega`` or ``beta`` holds a computed cell (its indices along that axis are consecutive, and any ``coarse`` of
+them hold an edge of the blocks), and so does every region that holds a square of ``verify x verify`` cells
+(any ``verify`` consecutive indices hold one of the first lattice); such a region is found, and traced: rounds
+of step 1 end only when every boundary between classes of the result lies between two computed cells, so a
+region found is found whole, however thin (a filament one cell wide and many long, issue 35). A region
+smaller than that, inside one coarse block, is found if it lies near a boundary found before (within ``max(s,
+HALO)`` cells, holding an ``s x s`` square); one smaller and farther away can be missed: the summary counts the
+cells of each class that were inferred, not computed (:func:`rocking.study.overturning_map.inferred_counts`).
+That bound is deterministic, not statistical; how often the rest happens is measured (bench/adaptive.py).
+The edges cost ``2 / coarse`` of the grid. ``coarse=1`` (or a full map) computes every cell.
 """
 
 from __future__ import annotations
@@ -59,8 +56,8 @@ import numpy as np
 from ..model.params import ParameterError
 from .config import is_count
 
-#: Default coarse step of an adaptive map, cells: on the 400 x 400 bench map, the full map's classification from
-#: one 15th of its responses (bench/adaptive.py).
+#: Default coarse step of an adaptive map, cells: on the 400 x 400 bench maps, the full map's classification from
+#: about a fifth of its responses, the edges of the blocks verified (bench/adaptive.py).
 COARSE = 16
 
 #: Largest coarse step: a block of more cells than a grid has values is the whole grid already.
@@ -113,6 +110,17 @@ def offset_lattice(n: int, step: int) -> np.ndarray:
     return np.unique(np.concatenate([np.arange(step // 2, n, step), [0, n - 1]]))
 
 
+def line_mask(shape: tuple[int, int], step: int) -> np.ndarray:
+    """The cells of a ``shape`` grid on the lines of every ``step``-th index of either axis and on its last
+    (the edges of the blocks of ``step`` cells): a region that extends over ``step`` cells or more along an axis
+    holds one (its indices along that axis are consecutive, and ``step`` of them hold a multiple of ``step``)."""
+    mask = np.zeros(shape, bool)
+    for axis, n in enumerate(shape):
+        lines = np.unique(np.append(np.arange(0, n, step), n - 1))
+        mask[(slice(None),) * axis + (lines,)] = True
+    return mask
+
+
 def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
     """Rows and columns of the cells of ``classes`` (``(n, m, k)``) whose class differs from a neighbour's."""
     differ = np.zeros(classes.shape[:2], bool)
@@ -128,6 +136,8 @@ def boundary(classes: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
 def guarantee(refinement: dict, spacing: tuple[float, float], every_cell: bool = False) -> str:
     """What a map of ``refinement`` (its ``config["refinement"]``) can miss, in cells and in the largest grid
     ``spacing`` (``(dOmega, dbeta)``): the deterministic bound of :class:`Refinement`, no statistical one.
+    ``refinement["edges"]``: whether the verification computed the edges of the coarse blocks (maps of
+    earlier versions did not).
 
     ``every_cell``: whether the adaptive map computed every cell (a grid its refinement covered whole); its
     bound in cells would then speak of regions larger than the grid, so the text says that nothing was missed.
@@ -136,11 +146,18 @@ def guarantee(refinement: dict, spacing: tuple[float, float], every_cell: bool =
         return "full map: every cell computed"
     if every_cell:
         return "every cell computed (the refinement covered the whole grid): nothing missed"
-    size = refinement["verify"] or refinement["coarse"]
+    size, coarse = refinement["verify"] or refinement["coarse"], refinement["coarse"]
     extent = f"{size} x {size} cells ({size * spacing[0]:.3g} in Omega x {size * spacing[1]:.3g} in beta)"
     if not refinement["verify"]:
         return f"unverified: a region of another class inside {extent} can be missed"
-    return f"every region of one class holding {extent} is found, whole; smaller ones only near class boundaries"
+    smaller = "is found, whole; smaller ones only near class boundaries"
+    if not refinement.get("edges"):  # a map of an earlier version: a verification of points only
+        return f"every region of one class holding {extent} {smaller}"
+    reach = (
+        f"{coarse} cells along Omega or beta ({coarse * spacing[0]:.3g} in Omega, {coarse * spacing[1]:.3g} in beta)"
+    )
+    held = "" if size == coarse else f", or holding {extent},"
+    return f"every region of one class extending over {reach}{held} {smaller}"
 
 
 def _spans(n: int, step: int) -> list[tuple[int, int]]:
@@ -215,6 +232,7 @@ class Refinement:
         self.leaves = np.zeros((0, 4), np.int64)
         self.step = check_verify(verify, coarse)
         self.suspect = np.ones((n, m), bool)
+        self.lines = coarse if self.step >= 1 else 0
         self.probes: tuple[np.ndarray, np.ndarray, np.ndarray] | None = None
 
     @property
@@ -249,7 +267,11 @@ class Refinement:
         cells = np.ravel_multi_index((rows.ravel(), cols.ravel()), (n, m))
         filled = self.leaf_classes()
         suspect = self.suspect | near(self.computed.shape, *boundary(filled), halo(self.step))
-        rows, cols = self._new(cells[suspect.ravel()[cells]])
+        cells = cells[suspect.ravel()[cells]]
+        if self.lines:  # the first round: the edges of the coarse blocks too
+            cells = np.concatenate([cells, np.flatnonzero(line_mask((n, m), self.lines))])
+            self.lines = 0
+        rows, cols = self._new(cells)
         self.probes = (rows, cols, filled[rows, cols])
         return rows, cols
 
@@ -356,123 +378,3 @@ def refine(classify, shape: tuple[int, int, int], coarse: int, verify: int = 0) 
         refinement.update()
     refinement.fill()
     return refinement.classes, refinement.computed, rounds
-
-
-def refine_scan(classify, shape: tuple[int, int], coarse: int, verify: int = 0) -> tuple[np.ndarray, np.ndarray, int]:
-    """The classes of ``shape[0]`` scans of ``shape[1]`` points each, refined where neighbouring classes differ.
-
-    Every ``coarse``-th index and the last is computed first; then, round after round, the midpoint of each
-    interval of computed indices whose two ends differ in class, until its ends are neighbours or agree. An
-    index not computed takes the class of the two computed ends of its interval (they agree). With ``verify``,
-    the scans are then verified as a map is (:class:`Refinement`), in one dimension: rounds of step ``s`` =
-    ``verify``, ..., 2 compute the indices ``s/2 + a s``, the first round everywhere, the next within
-    :func:`halo` of a class change and twice that of a hit, each followed by the bisections it calls for; the
-    rounds of step 2 repeat until one finds no hit. A band of one class of ``verify`` points or more is found.
-
-    Parameters
-    ----------
-    classify : callable
-        ``classify(rows, indices)`` -> the classes (int) of the points ``(rows[i], indices[i])``; called once per
-        round with all the points of that round, for every scan at once.
-    shape : (int, int)
-        Scans, points per scan.
-    coarse : int
-        The coarse step, indices (:func:`check_coarse`; 1 computes every point in one round).
-    verify : int, optional
-        The first step of the verification (:func:`check_verify`); 0 (default): none.
-
-    Returns
-    -------
-    classes : ndarray of int, ``shape``
-        The class of every point.
-    computed : ndarray of bool, ``shape``
-        The points computed.
-    rounds : int
-        Calls of ``classify``.
-
-    Examples
-    --------
-    >>> field = np.array([[-1, -1, -1, 0, 0, 0, 0, 0, 0], [-1, -1, -1, -1, -1, -1, -1, -1, -1]])
-    >>> classes, computed, rounds = refine_scan(lambda r, i: field[r, i], field.shape, 4)
-    >>> bool((classes == field).all()), computed.astype(int), rounds
-    (True, array([[1, 0, 1, 1, 1, 0, 0, 0, 1],
-           [1, 0, 0, 0, 1, 0, 0, 0, 1]]), 3)
-    """
-    n, m = shape
-    classes, computed = np.zeros(shape, np.int64), np.zeros(shape, bool)
-    lattice = np.unique(np.append(np.arange(0, m, coarse), m - 1)) if m else np.zeros(0, np.int64)
-    rows, indices = np.repeat(np.arange(n), lattice.size), np.tile(lattice, n)
-    step, suspect, expected = check_verify(verify, coarse), np.ones(shape, bool), None
-    rounds = 0
-    while rows.size:
-        classes[rows, indices] = classify(rows, indices)
-        computed[rows, indices] = True
-        rounds += 1
-        if expected is not None:  # a verification round: its hits, and the next step
-            hits = classes[rows, indices] != expected
-            suspect = near(shape, rows[hits], indices[hits], (0, 2 * halo(step)))  # scans apart
-            step = step // 2 if step > 2 else 2 if hits.any() else 0
-        rows, indices = _midpoints(classes, computed)
-        expected = None
-        if not rows.size and step >= 2:
-            filled = _scan_fill(classes, computed)
-            rows, indices = _scan_probes(filled, computed, step, suspect)
-            expected = filled[rows, indices]
-    return _scan_fill(classes, computed), computed, rounds
-
-
-def _midpoints(classes: np.ndarray, computed: np.ndarray) -> tuple[np.ndarray, np.ndarray]:
-    """Scans and indices of the midpoints of the intervals between neighbouring computed points of a scan whose
-    classes differ and which are not neighbours: the next bisections."""
-    rows, indices = np.nonzero(computed)  # scan by scan, in increasing index
-    split = (rows[1:] == rows[:-1]) & (indices[1:] - indices[:-1] > 1)
-    split &= classes[rows[1:], indices[1:]] != classes[rows[:-1], indices[:-1]]
-    return rows[:-1][split], (indices[:-1][split] + indices[1:][split]) // 2
-
-
-def _scan_fill(classes: np.ndarray, computed: np.ndarray) -> np.ndarray:
-    """Every point's class: its own where computed, else that of the computed point before it (the two computed
-    ends of its interval agree once the bisections are done)."""
-    n, m = classes.shape
-    position = np.broadcast_to(np.arange(m), (n, m))
-    before = np.maximum.accumulate(np.where(computed, position, 0), axis=1)
-    after = m - 1 - np.maximum.accumulate(np.where(computed, m - 1 - position, 0)[:, ::-1], axis=1)[:, ::-1]
-    row = np.arange(n)[:, None]
-    if not (computed | (classes[row, before] == classes[row, after])).all():
-        raise AssertionError("adaptive scan: a point not computed lies between computed points of two classes")
-    return np.where(computed, classes, classes[row, before])
-
-
-def _scan_probes(filled: np.ndarray, computed: np.ndarray, step: int, suspect: np.ndarray) -> tuple:
-    """Scans and indices of one verification round of ``step``: the points ``step // 2 + a step`` not computed,
-    in ``suspect`` or within :func:`halo` of a class change of ``filled``."""
-    change = np.zeros(filled.shape, bool)
-    change[:, 1:] |= filled[:, 1:] != filled[:, :-1]
-    change[:, :-1] |= filled[:, 1:] != filled[:, :-1]
-    wanted = suspect | near(filled.shape, *np.nonzero(change), (0, halo(step)))
-    lattice = np.zeros(filled.shape, bool)
-    lattice[:, step // 2 :: step] = True
-    return np.nonzero(lattice & wanted & ~computed)
-
-
-def narrowest_feature(classes) -> np.ndarray:
-    """Per scan (row of ``classes``), the fewest points of a run of one class that touches neither end of the
-    scan; the scan's length where there is none.
-
-    :func:`refine_scan` of a coarse step no larger than this computes a point of every run, and so gives every
-    class exactly: a run that reaches an end holds a computed point, the end; a run of ``coarse`` points or more
-    holds a multiple of ``coarse``.
-
-    Examples
-    --------
-    >>> narrowest_feature([[-1, -1, 0, 0, 0, -1, -1, -1], [2, 1, 1, 1, 1, 1, 1, 0], [-1, -1, 0, -1, 0, 0, 0, 0]])
-    array([3, 6, 1])
-    """
-    classes = np.atleast_2d(np.asarray(classes))
-    n, m = classes.shape
-    out = np.full(n, m)
-    change = np.diff(classes, axis=1) != 0
-    for row in np.flatnonzero(change.sum(axis=1) >= 2):
-        edges = np.flatnonzero(change[row])  # a run ends after each edge index
-        out[row] = np.diff(edges).min()
-    return out

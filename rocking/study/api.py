@@ -55,7 +55,7 @@ from .optimize import REFINE as OPTIMIZE_REFINE
 from .optimize import optimal_damper as _optimal_damper
 from .overturning_map import COARSE, TILE
 from .overturning_map import overturning_map as _overturning_map
-from .spectrum import SCAN_COARSE, TOL
+from .spectrum import TOL
 from .spectrum import minimum_overturning_spectrum as _minimum_overturning_spectrum
 from .suite import suite_of
 from .threshold import A_MAX
@@ -226,7 +226,6 @@ def minimum_overturning_spectrum(
     Omega,
     beta,
     beta_tol: float = TOL,
-    coarse: int = SCAN_COARSE,
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
@@ -245,10 +244,9 @@ def minimum_overturning_spectrum(
 ):
     """The minimum overturning amplitude ``beta_min(Omega)`` of ``block`` alone and with ``damper``.
 
-    ``beta`` are the scan amplitudes (their step bounds the safe windows seen); ``beta_tol`` the relative
-    tolerance of the bisection; ``coarse`` > 1: adaptive scans of that coarse step, which can miss bands
-    narrower than it (:mod:`rocking.study.spectrum`; default every amplitude). Other parameters as
-    :func:`overturning_map`.
+    ``beta`` are the scan amplitudes, every one computed (their step bounds the safe windows and the overturning
+    bands seen, :mod:`rocking.study.spectrum`); ``beta_tol`` the relative tolerance of the bisection. Other
+    parameters as :func:`overturning_map`.
 
     Returns
     -------
@@ -288,7 +286,6 @@ def minimum_overturning_spectrum(
         runs=runs,
         study=study,
         tol=beta_tol,
-        coarse=coarse,
         directions=directions,
     )
 

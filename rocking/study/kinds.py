@@ -145,7 +145,6 @@ KINDS = {
                 _grid("Omega", SPECTRUM_OMEGA, "pulse frequency ratios"),
                 _grid("beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)"),
                 ("tol", {}),
-                ("scan", {}),
                 *_VERTICAL_STUDY,
             ),
             _ONE_DAMPER,

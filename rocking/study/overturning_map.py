@@ -15,9 +15,10 @@ differ in outcome class; the other cells take the class of the computed cells ar
 effect are complete; ``computed`` says which cells of each part were computed, and the continuous fields of the
 others are not invented: ``theta_max``, ``x_max``, ``bumper_force_max`` are NaN there, and ``impacts`` of a
 safe cell, ``stop_contacts`` and ``status`` are :data:`NOT_COMPUTED` where they do not follow from the class.
-An adaptive map can miss a feature of another class smaller than the coarse step, one that falls entirely
-between the computed cells of a block whose computed cells agree (:mod:`rocking.study.adaptive`);
-``full=True`` computes every cell.
+An adaptive map can miss a feature of another class smaller than the coarse step along both axes, one that
+falls entirely between the computed cells of a block whose computed cells agree (:mod:`rocking.study.adaptive`);
+its summary counts how many cells of each class were inferred, not computed, and how many more saved and lost
+cells they could hold (:func:`inferred_counts`); ``full=True`` computes every cell.
 
 The cells are cut into tiles; each tile is one call of :func:`rocking.sim.cases.run_cases` (a rectangle of
 the grid, :func:`map_tile`, for a full map; a list of cells, :func:`cells_tile`, for each round of an
@@ -297,14 +298,14 @@ def overturning_map(
     full : bool, optional
         Compute every cell. Default False: the map is adaptive (:mod:`rocking.study.adaptive`), refined on
         each part's outcome classes from a lattice of every ``coarse``-th cell; it can miss a feature of
-        another class smaller than ``coarse`` cells.
+        another class smaller than ``coarse`` cells along both axes.
     coarse : int, optional
         The coarse step of an adaptive map, cells: a power of two in [1,
         :data:`rocking.study.adaptive.MAX_COARSE`] (1 computes every cell). Default 16.
     verify : int, optional
         The first step of the verification of an adaptive map (:class:`rocking.study.adaptive.Refinement`): 0
         (none) or a power of two in [1, ``coarse``]; every region of a class that holds a square of ``verify x
-        verify`` cells is found. Default ``coarse``.
+        verify`` cells, or extends over ``coarse`` cells along an axis, is found. Default ``coarse``.
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles` (each round of an adaptive map is a call).
 
@@ -316,8 +317,10 @@ def overturning_map(
         computed; where not, the fields that do not follow from the outcome class are NaN or
         :data:`NOT_COMPUTED`). Their envelope over the directions, the direction that governs each cell and
         the damper's ``effect`` are a reduction over ``sign`` (:func:`envelope`).
-        ``config["refinement"]`` records ``adaptive``, ``coarse`` and ``verify``, ``summary["guarantee"]`` what
-        an adaptive map can miss (:func:`rocking.study.adaptive.guarantee`); ``run["responses"]`` counts the
+        ``config["refinement"]`` records ``adaptive``, ``coarse``, ``verify`` and ``edges`` (the verification
+        computed the edges of the coarse blocks), ``summary["guarantee"]`` what an adaptive map can miss
+        (:func:`rocking.study.adaptive.guarantee`) and the counts of :func:`inferred_counts` what rests on
+        cells not computed; ``run["responses"]`` counts the
         responses computed, ``run["responses_full_grid"]`` those of every cell, ``run["rounds"]`` the rounds of tiles.
 
     Raises
@@ -382,7 +385,9 @@ def overturning_map(
     Om, b = Omega.values(), beta.values()
     grids = {"Omega": Omega.record(), "beta": beta.record(), "tile": list(tile), "signs": signs}
     # A full map's tiles keep the configuration (and folders) they had before maps were adaptive.
-    refinement = {"adaptive": False} if full else {"adaptive": True, "coarse": coarse, "verify": verify}
+    refinement = (
+        {"adaptive": False} if full else {"adaptive": True, "coarse": coarse, "verify": verify, "edges": verify > 0}
+    )
     tiles_of = {} if full else {"refinement": refinement}
     record = tuning.record()
     parts, folders = dict(zip(PARTS, (None, tuning.case_args()))), {}
@@ -622,10 +627,13 @@ def saved_past_edges(env, half_width: float) -> np.ndarray:
 
 def map_summary(data, half_width: float) -> dict:
     """Cell counts: overturned per part, saved and lost by the damper (saved within the block's half-width
-    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed.
+    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed, and what of them is inferred.
 
     Counts of what a cell's outcome class does not tell (``t_max``, ``saved_past_edges``) are over the cells
     computed; ``saved_stroke_not_computed`` counts the saved cells whose damper stroke was not computed.
+    The cells an adaptive map did not compute took the class around them (:mod:`rocking.study.adaptive`), which
+    a region thinner than its guarantee can belie: :func:`inferred_counts` says how much of each count rests
+    on them, and how much more they could hold.
     """
     env = envelope(data)
     effect = env["effect"].values
@@ -640,4 +648,37 @@ def map_summary(data, half_width: float) -> dict:
     out["saved_past_edges"] = int(saved_past_edges(env, half_width).sum())
     out["saved_stroke_not_computed"] = int(((effect > 0) & ~data["computed"].sel(part="damper").values).sum())
     out["lost"] = int((effect < 0).sum())
+    return {**out, **inferred_counts(data, env)}
+
+
+def inferred_counts(data, env) -> dict:
+    """How much of a map's counts rests on cells not computed (``data["computed"]``; ``env`` its
+    :func:`envelope`), and how much more those cells could hold were their classes other than inferred.
+
+    Returns
+    -------
+    dict of int
+        ``{part}_inferred``: the cells of each part not computed; ``{part}_overturned_inferred``: of them, those
+        counted overturned; ``saved_inferred``, ``lost_inferred``: the cells counted saved (lost) of which a part
+        was not computed; ``saved_possible``, ``lost_possible``: the cells not counted saved (lost) that would
+        be, were the class of their parts not computed another (an upper bound: every such cell). All 0 for a
+        map that computed every cell.
+    """
+    computed = {p: data["computed"].sel(part=p).transpose("Omega", "beta").values for p in PARTS}
+    over = {p: env["overturned"].sel(part=p).values for p in PARTS}
+    effect = env["effect"].values
+    inferred = ~computed["bare"] | ~computed["damper"]
+    out = {}
+    for part in PARTS:
+        out[f"{part}_inferred"] = int((~computed[part]).sum())
+        out[f"{part}_overturned_inferred"] = int((over[part] & ~computed[part]).sum())
+    # Whether each part could be overturned, or safe, given what was computed.
+    could_over = {p: over[p] | ~computed[p] for p in PARTS}
+    could_safe = {p: ~over[p] | ~computed[p] for p in PARTS}
+    for name, counted, possible in (
+        ("saved", effect > 0, could_over["bare"] & could_safe["damper"]),
+        ("lost", effect < 0, could_safe["bare"] & could_over["damper"]),
+    ):
+        out[f"{name}_inferred"] = int((counted & inferred).sum())
+        out[f"{name}_possible"] = int((~counted & inferred & possible).sum())
     return out

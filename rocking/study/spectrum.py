@@ -7,12 +7,8 @@ the first overturning amplitude there are windows where the block survives),
 so a bisection from a safe to an overturning amplitude alone could land on
 any of its edges. :func:`beta_min` therefore
 
-1. scans ``beta`` on a grid: by default every amplitude, in one call of :func:`rocking.sim.cases.run_cases`
-   for every column of a tile at once; with ``coarse`` > 1 (``rocking spectrum --coarse STEP``) adaptively
-   (:func:`rocking.study.adaptive.refine_scan`): the outcome at every ``coarse``-th amplitude and the last,
-   then at the midpoint of each interval whose two ends differ in outcome class (safe, overturned after so
-   many impacts, no verdict), down to neighbouring amplitudes, one call per round; the amplitudes inside an
-   interval whose ends agree take their class,
+1. scans ``beta`` on a grid, every amplitude, in one call of :func:`rocking.sim.cases.run_cases` for every
+   column of a tile at once,
 2. bisects between the last safe scan amplitude below the first overturning
    one and that one, to a relative tolerance ``tol``; ``beta_min`` is the
    smallest amplitude found to overturn (the upper end of the final bracket),
@@ -26,27 +22,14 @@ bisected), ``BELOW`` (-1: the first scan amplitude overturns already;
 ``beta_min`` is then that amplitude, an upper bound) or ``ABOVE`` (+1: no
 scan amplitude overturns; ``beta_min`` is then the last one, a lower bound).
 
-An adaptive scan is verified from its coarse step (:func:`rocking.study.adaptive.refine_scan`): the amplitudes
-half a step off its lattice, then, at half the step each round, those near a class change, with the
-bisections they call for. What it can miss: a band of another class that lies entirely between two computed
-amplitudes of one class, narrower than the coarse step (a safe window, an overturning band, a band of another
-count of impacts), away from the class changes. Where the full scan has no such band, the adaptive scan
-gives its outcomes exactly
-(:func:`rocking.study.adaptive.narrowest_feature`), and with them ``beta_min``, the flags, the impacts and
-the windows, from fewer responses. A missed overturning band below the first one found moves ``beta_min`` up
-to that one. The overturning domain has such bands: on the bench spectrum (``rocking spectrum``'s grids,
-117 amplitudes of step 0.125; bench/adaptive_spectrum.py) some columns overturn at a single amplitude amid
-safe ones, and every coarse step above 2 misses some of them; the coarse step 4 moves one direction's
-``beta_min`` in one of the 236 columns (Omega = 3, negative pulses, with the damper: 1.86 to 3.25), not
-the envelope, and computes 1.8 times fewer scan responses (the coarse step 16: 4.6 times fewer, the same
-column; bench/adaptive_spectrum.py --coarse 4 8 16). A study's ``beta_min`` of one direction is a
-result the data carry, and an error of that size is not one a user can see: scans are full by default, and
-an adaptive scan is asked for. A finer scan sees more of such bands.
-
-The searches for a damper (:mod:`rocking.study.optimize`, :mod:`rocking.study.design`,
-:mod:`rocking.study.threshold`) scan every amplitude (:func:`beta_min`'s default ``coarse=1``): a missed
-overturning band raises the damped block's ``beta_min``, and so its gain, and a search for the largest gain
-would pick out exactly the dampers whose scans missed one.
+Every scan amplitude is computed, and no scan can do with fewer and give the same ``beta_min``: the
+overturning domain has bands of a single amplitude amid safe ones (bench spectrum, Omega = 3, negative pulses,
+with the damper: only beta = 1.875 overturns below 3.25), and a band that no computed amplitude falls in
+leaves no trace in the outcomes around it. An exact ``beta_min`` needs the outcome of every amplitude below
+it, and the windows of every one above: on the default grids, the amplitudes up to the first overturning one
+are 70 % of the scan and 73 % of its CPU time (5 pulse families, both signs, bare, with a damper, with stops;
+bench/adaptive_spectrum.py). The adaptive scans of earlier versions (``--coarse``) skipped the rest and could
+move ``beta_min`` up by more than 100 % (issue 35), for 1.0 to 1.25 times less CPU time: they are gone.
 """
 
 from __future__ import annotations
@@ -57,7 +40,6 @@ import numpy as np
 
 from ..model.params import ParameterError
 from ..sim.problem import STATUS
-from .adaptive import check_coarse, refine_scan
 from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
@@ -106,12 +88,11 @@ RESPONSE_COUNTS = ("responses", "scan_responses")
 #: The counts per column of :func:`beta_min`'s responses that ended without a verdict, and that reached ``t_max``.
 UNFINISHED = ("undetermined", "t_max")
 
-#: Default coarse step of the beta scan, amplitudes (:func:`scan_refinement`): 1, every amplitude (module
-#: docstring: an adaptive scan misses one-amplitude overturning bands of the bench spectrum). Verified, the
-#: adaptive steps 4, 8 and 16 move the same one beta_min of a single direction of the bench spectrum (1 column
-#: of 236) and none of the second block's, from 1.8, 3.1 and 4.6 times fewer scan responses
-#: (bench/adaptive_spectrum.py --coarse 2 4 8 16, --slender): 16 costs least; 2 computes every amplitude.
-SCAN_COARSE = 1
+#: How a spectrum's scans are refined, as its configuration records it: not at all, every amplitude is computed
+#: (module docstring). Recorded still so that the configurations, and the tiles, of the full scans of earlier
+#: versions keep their keys, and a study saved with their adaptive scans (``{"adaptive": True, "coarse": ...}``)
+#: says so (:func:`adaptive_scans`).
+FULL_SCAN = {"adaptive": False}
 
 
 def check_tol(tol) -> float:
@@ -121,18 +102,11 @@ def check_tol(tol) -> float:
     return float(tol)
 
 
-def scan_refinement(coarse) -> dict:
-    """How a study's ``beta`` scans are refined, as its configuration records it: ``{"adaptive": False}`` for
-    every amplitude (``coarse`` 1), else ``{"adaptive": True, "coarse": coarse, "verify": coarse}``: adaptive scans
-    are verified from their coarse step (:func:`rocking.study.adaptive.refine_scan`).
-
-    Raises
-    ------
-    ParameterError
-        Unless ``coarse`` is a power of two in range (:func:`rocking.study.adaptive.check_coarse`).
-    """
-    coarse = check_coarse(coarse)
-    return {"adaptive": False} if coarse == 1 else {"adaptive": True, "coarse": coarse, "verify": coarse}
+def adaptive_scans(config: dict) -> int:
+    """The coarse step of the adaptive scans of a spectrum saved by an earlier version (``config["refinement"]``),
+    0 for one that scanned every amplitude: such a study's ``beta_min`` can be too high (module docstring)."""
+    refinement = config.get("refinement", FULL_SCAN)
+    return int(refinement.get("coarse", 0)) if refinement.get("adaptive") else 0
 
 
 def _column(values, n: int) -> dict | None:
@@ -145,9 +119,7 @@ def _column(values, n: int) -> dict | None:
     return {k: v if k in FIXED else np.broadcast_to(np.asarray(v, float), (n,))[:, None] for k, v in values.items()}
 
 
-def beta_min(
-    setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL, sign=1, coarse: int = 1
-) -> dict:
+def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, tol: float = TOL, sign=1) -> dict:
     """Minimum overturning amplitude of each column ``(Omega[i], damper[.][i], sign[i])``: scan, then bisection.
 
     Parameters
@@ -167,11 +139,6 @@ def beta_min(
         Relative width of the final bracket, ``(hi - lo) <= tol * hi``.
     sign : int or array_like, shape (n,)
         Direction of the pulses of each column, +1 or -1.
-    coarse : int
-        The coarse step of the scan (:func:`rocking.study.adaptive.refine_scan`: every ``coarse``-th amplitude,
-        then bisections where neighbouring outcome classes differ), a power of two; 1 (the default) computes
-        every amplitude.
-
     Returns
     -------
     dict of ndarray
@@ -179,8 +146,7 @@ def beta_min(
         ``nan`` unless bracketed), ``flag`` (n,), ``impacts`` (n,: impacts
         before overturning at ``beta_min``, -1 if none), ``undetermined``
         (n,: responses of the scan and the bisection that ended without a
-        verdict, :func:`rocking.study.overturning_map.undetermined`, the scan's
-        amplitudes that take such a class without being computed included; they
+        verdict, :func:`rocking.study.overturning_map.undetermined`; they
         count as not overturned), ``t_max`` (n,: responses computed that reached ``t_max``,
         :func:`rocking.study.overturning_map.reached_t_max`), ``scan_outcome`` (n, m:
         :func:`rocking.study.overturning_map.outcome` along the scan, :data:`~rocking.study.vocabulary.FLIGHT`
@@ -194,14 +160,9 @@ def beta_min(
     sign = np.broadcast_to(np.asarray(sign), (n,))
     t_max = np.zeros(n, np.int64)
 
-    def classify(rows, indices):
-        sub = None if cols is None else {k: v if k in FIXED else v[rows, 0] for k, v in cols.items()}
-        r = respond(setting, Omega[rows], beta_scan[indices], sub, sign[rows])
-        np.add.at(t_max, rows, reached_t_max(r["status"]))
-        return response_classes(r["overturned"], r["impacts"], r["status"])
-
-    coarse = check_coarse(coarse)
-    classes, computed, _ = refine_scan(classify, (n, beta_scan.size), coarse, verify=coarse)
+    r = respond(setting, Omega[:, None], beta_scan[None, :], cols, sign[:, None])
+    t_max += reached_t_max(r["status"]).sum(axis=1)
+    classes = response_classes(r["overturned"], r["impacts"], r["status"])
     scan_outcome = np.where(classes >= 0, classes, SAFE)  # no verdict (class <= -2): not overturned
     # A run that ended in flight has no verdict, nor has the scan above it (every run there flies unless it
     # overturns first, docs/model.md section 14): a column is read up to its first flight, the lower bound of a
@@ -218,7 +179,7 @@ def beta_min(
     lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
     impacts = np.where(flag == ABOVE, -1, scan_outcome[rows, first])
     unknown = (classes <= -2).sum(axis=1)
-    scan_responses = computed.sum(axis=1)
+    scan_responses = np.full(n, beta_scan.size, np.int64)
     responses = scan_responses.copy()
     while True:
         active = np.flatnonzero((flag == BRACKETED) & (hi - lo > tol * hi))
@@ -269,12 +230,10 @@ def windows(beta_scan, scan_overturned) -> np.ndarray:
 
 
 def spectrum_tile(payload: tuple) -> dict:
-    """Some columns in every direction: ``(setting, damper_or_None, Omega values, beta_scan, tol, signs,
-    coarse)`` -> :func:`beta_min` of them, each array with an axis of the signs after that of ``Omega``."""
-    setting, damper, Omega, beta_scan, tol, signs, coarse = payload
-    res = beta_min(
-        setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs), coarse=coarse
-    )
+    """Some columns in every direction: ``(setting, damper_or_None, Omega values, beta_scan, tol, signs)`` ->
+    :func:`beta_min` of them, each array with an axis of the signs after that of ``Omega``."""
+    setting, damper, Omega, beta_scan, tol, signs = payload
+    res = beta_min(setting, repeat(Omega, signs), beta_scan, damper, tol=tol, sign=sign_column(len(Omega), signs))
     return {k: v.reshape(len(Omega), len(signs), *v.shape[1:]) for k, v in res.items()}
 
 
@@ -289,7 +248,6 @@ def minimum_overturning_spectrum(
     runs: str | Path = "out/runs",
     columns: int = COLUMNS,
     directions: str = "auto",
-    coarse: int = SCAN_COARSE,
     on_tile=None,
 ) -> Study:
     """``beta_min(Omega)`` of the bare block and with the damper ``tuning``, ``columns`` Omega values per tile;
@@ -305,8 +263,8 @@ def minimum_overturning_spectrum(
     Omega : Grid
         Pulse frequency ratios.
     beta : Grid
-        Scan amplitudes; the scan step bounds the width of the windows seen, and the coarse step that of
-        the features an adaptive scan sees (module docstring).
+        Scan amplitudes, every one computed; the scan step bounds the width of the windows and of the
+        overturning bands seen.
     execution : Execution
         Where the tiles run.
     tol : float
@@ -318,12 +276,6 @@ def minimum_overturning_spectrum(
     directions : {"auto", "both", "positive", "negative"}
         Signs of the pulses (:func:`rocking.study.directions.choose`): ``"auto"`` runs both unless the block
         and its damper are symmetric.
-    coarse : int, optional
-        The coarse step of the scans, amplitudes: a power of two in [1,
-        :data:`rocking.study.adaptive.MAX_COARSE`]. Default :data:`SCAN_COARSE`, 1: every amplitude. Above 1
-        the scans are adaptive (:func:`rocking.study.adaptive.refine_scan`), refined on the outcome classes
-        from every ``coarse``-th amplitude; they can miss a feature of another class narrower than ``coarse``
-        amplitudes (module docstring).
     on_tile : callable, optional
         Passed to :func:`rocking.study.tiles.run_tiles`.
 
@@ -334,16 +286,16 @@ def minimum_overturning_spectrum(
         ``(part, Omega, sign)`` (``part``: ``bare`` and ``damper``), ``scan_outcome`` also along ``beta_scan``.
         Their envelope over the directions (the smaller ``beta_min``, the direction that gives it) is a
         reduction over ``sign`` (:func:`envelope`), and the safe windows above it are read from its scan
-        (:func:`safe_windows`). ``config["refinement"]`` records how the scans were refined
-        (:func:`scan_refinement`); ``run["responses"]`` counts the responses computed (scans and
-        bisections), ``run["scan_responses"]`` those of the scans and ``run["scan_responses_full"]`` those of
-        scans of every amplitude. ``summary["t_max"]`` counts, per part, the responses that reached ``t_max``.
+        (:func:`safe_windows`). ``config["refinement"]`` records that every amplitude was scanned
+        (:data:`FULL_SCAN`); ``run["responses"]`` counts the responses computed (scans and bisections),
+        ``run["scan_responses"]`` those of the scans. ``summary["t_max"]`` counts, per part, the responses that
+        reached ``t_max``.
 
     Raises
     ------
     ParameterError
         Naming the parameter and its valid range, before any work: inputs of
-        the wrong type, a ``coarse`` that is not a power of two in range, more than
+        the wrong type, more than
         :data:`rocking.study.config.MAX_CELLS` cells, a folder that cannot be written, a back end or a Dask
         cluster that cannot be used.
     rocking.study.tiles.Interrupted
@@ -382,19 +334,17 @@ def minimum_overturning_spectrum(
     if not (is_count(columns) and columns >= 1):
         raise ParameterError(f"columns must be an integer >= 1 (Omega values per tile) (got {columns!r})")
     columns = int(columns)
-    refinement = scan_refinement(coarse)
     check_damper(tuning)
     chosen = choose(directions, setting.block, tuning)
     signs = chosen["signs"]
     Om, b = Omega.values(), beta.values()
-    # The refinement keys every spectrum's tiles, full ones too: they hold the counts of responses since.
     grids = {
         "Omega": Omega.record(),
         "beta": beta.record(),
         "beta_tol": tol,
         "columns": columns,
         "signs": signs,
-        "refinement": refinement,
+        "refinement": FULL_SCAN,
     }
     record = tuning.record()
     groups, where, folders = [], {}, {}
@@ -411,7 +361,7 @@ def minimum_overturning_spectrum(
         groups.append(part_tasks)
         for i in range(0, Om.size, columns):
             cols = slice(i, min(i + columns, Om.size))
-            payload = (setting, damper, Om[cols], b, tol, signs, refinement.get("coarse", 1))
+            payload = (setting, damper, Om[cols], b, tol, signs)
             n = cols.stop - cols.start
             expect = {
                 **dict.fromkeys((*COLUMN_FIELDS, *RESPONSE_COUNTS, "t_max"), (n, ns)),
@@ -442,8 +392,8 @@ def minimum_overturning_spectrum(
         "spectrum",
         config,
         data,
-        summary={**spectrum_summary(data), "t_max": t_max, "directions": chosen, "refinement": refinement},
-        run={**stats.record(), "run_folders": folders, **counts, "scan_responses_full": 2 * Om.size * ns * b.size},
+        summary={**spectrum_summary(data), "t_max": t_max, "directions": chosen, "refinement": FULL_SCAN},
+        run={**stats.record(), "run_folders": folders, **counts},
         tabulate=spectrum_tables,
     )
 
