@@ -197,8 +197,12 @@ def test_deep_and_huge_json_is_refused_before_it_is_parsed(tmp_path, capsys):
     deep.write_text('{"config": ' + "[" * 100_000 + "]" * 100_000 + "}")
     assert main(["map", "--config", str(deep)]) == 2
     assert "nested 100001 deep, at most 32" in _one_line(capsys)
-    assert main(["map", "--config", "/dev/zero"]) == 2  # not a regular file: never read to its end
-    assert "not a regular file" in _one_line(capsys)
+    assert main(["map", "--config", "/dev/zero"]) == 2  # a device: never opened
+    assert "under /dev: not an input file" in _one_line(capsys)
+    fifo = tmp_path / "fifo.json"
+    os.mkfifo(fifo)
+    assert main(["map", "--config", str(fifo)]) == 2  # not a regular file: never read (a FIFO would block)
+    assert "a FIFO" in _one_line(capsys)
     with pytest.raises(rocking.ParameterError, match="nested 100001 deep"):
         rocking.load(_copy_nc_beside(deep))
 
