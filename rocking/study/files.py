@@ -3,15 +3,19 @@
 A file is written atomically (:func:`atomic_write`: a temporary file renamed over it) or created anew
 (:func:`write_file`), with the mode of any new file, ``0666`` less the umask; a full disk raises
 :class:`DiskFull` naming the file, and nothing partial stays behind. What is read is bounded before it is
-read: a JSON record's size and nesting (:func:`read_json`), and an archive's arrays from the zip's headers
-(:func:`read_npz`: uncompressed members, each the size its ``.npy`` header says, within a limit); arrays are
+read: a JSON record's size and nesting (:func:`read_json`), an archive's arrays from the zip's headers
+(:func:`read_npz`: uncompressed members, each the size its ``.npy`` header says, within a limit), the storage of
+a NetCDF-4 file's datasets from its HDF5 metadata (:func:`check_hdf5`: in the file itself, unfiltered); arrays are
 read with ``allow_pickle=False``: nothing read from a file is executed. :func:`checksum` and :func:`layout`
 describe arrays (names, shapes, dtypes, content) for the records that check them.
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import errno
+import functools
 import hashlib
 import json
 import math
@@ -40,6 +44,18 @@ UNREADABLE = (Exception,)
 
 #: The first bytes of a zip archive (an ``.npz``).
 ZIP_MAGIC = b"PK\x03\x04"
+
+#: The first bytes of an HDF5 file (a NetCDF-4 file is one), where the NetCDF library writes them: at its start.
+HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
+
+#: Most links an HDF5 file of a study may hold (its variables, and the datasets of dimensions without one).
+MAX_HDF5_LINKS = 1000
+
+#: HDF5's constants (H5Fpublic.h, H5Ipublic.h, H5Lpublic.h, H5Dpublic.h; the same from 1.10 to 2.0).
+_H5P_DEFAULT, _H5F_ACC_RDONLY, _H5_INDEX_NAME, _H5_ITER_INC, _H5L_TYPE_HARD = 0, 0, 0, 0, 0
+_H5I_DATASET = 5
+#: The storage of a dataset that holds its own bytes in the file (H5D_layout_t): not virtual (other files').
+_H5D_LAYOUTS = {0: "compact", 1: "contiguous", 2: "chunked"}
 
 #: Largest JSON record read (a configuration of two grids of MAX_N explicit values is 5 MB), and its
 #: deepest nesting (a record is 5 deep): bounds checked before parsing, so that neither memory nor
@@ -259,6 +275,132 @@ def read_json(path: Path) -> object:
     if depth > MAX_JSON_DEPTH:
         raise ValueError(f"nested {depth} deep, at most {MAX_JSON_DEPTH}")
     return json.loads(text)
+
+
+def _hdf5_path() -> str | None:
+    """The file of the HDF5 library that the NetCDF library loaded (the same copy answers both), or None."""
+    import netCDF4  # noqa: F401  (loads the NetCDF library and its HDF5)
+
+    with suppress(OSError):
+        with open("/proc/self/maps") as maps:  # Linux: the libraries this process loaded
+            for line in maps:
+                name = line.rsplit("/", 1)[-1].strip()
+                if name.startswith("libhdf5") and not name.startswith("libhdf5_hl") and ".so" in name:
+                    return line[line.index("/") :].strip()
+    return ctypes.util.find_library("hdf5") or ctypes.util.find_library("hdf5_serial")
+
+
+@functools.cache
+def _hdf5() -> ctypes.CDLL:
+    """The HDF5 library, its functions typed (``hid_t`` is 64 bits since HDF5 1.10)."""
+    path = _hdf5_path()
+    if path is None:
+        raise ParameterError("cannot check a NetCDF file's storage: the HDF5 library of netCDF4 is not found")
+    lib = ctypes.CDLL(path)
+    hid, text = ctypes.c_int64, ctypes.c_char_p
+    for name, restype, argtypes in (
+        ("H5Fopen", hid, [text, ctypes.c_uint, hid]),
+        ("H5Fclose", ctypes.c_int, [hid]),
+        ("H5Lvisit2", ctypes.c_int, [hid, ctypes.c_int, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p]),
+        ("H5Oopen", hid, [hid, text, hid]),
+        ("H5Oclose", ctypes.c_int, [hid]),
+        ("H5Iget_type", ctypes.c_int, [hid]),
+        ("H5Dget_create_plist", hid, [hid]),
+        ("H5Pget_layout", ctypes.c_int, [hid]),
+        ("H5Pget_external_count", ctypes.c_int, [hid]),
+        ("H5Pget_nfilters", ctypes.c_int, [hid]),
+        ("H5Pclose", ctypes.c_int, [hid]),
+    ):
+        function = getattr(lib, name)
+        function.restype, function.argtypes = restype, argtypes
+    return lib
+
+
+#: ``herr_t (*)(hid_t group, const char *name, const H5L_info2_t *info, void *data)``: H5Lvisit2's callback.
+_VISIT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int64, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_void_p)
+
+
+def _links(lib: ctypes.CDLL, file: int) -> list[tuple[str, int]]:
+    """Every link of an open HDF5 file, depth first from its root: ``(path, link type)``, at most
+    :data:`MAX_HDF5_LINKS` + 1."""
+    found: list[tuple[str, int]] = []
+
+    def visit(group, name, info, data) -> int:
+        # H5L_info2_t starts with its H5L_type_t (an int): hard, soft or external.
+        found.append((name.decode("utf-8", "replace"), ctypes.c_int.from_address(info).value))
+        return 1 if len(found) > MAX_HDF5_LINKS else 0  # > 0 stops the visit
+
+    if lib.H5Lvisit2(file, _H5_INDEX_NAME, _H5_ITER_INC, _VISIT(visit), None) < 0:
+        raise ValueError("its HDF5 links cannot be read")
+    return found
+
+
+def _dataset_storage(lib: ctypes.CDLL, file: int, name: str) -> None:
+    """Refuse the object ``name`` of an open HDF5 file unless it is a dataset that keeps its bytes in the file,
+    unfiltered: not a group, not virtual (other datasets' bytes), not in external files, no filter (a filter
+    may be a plugin the file would choose)."""
+    shown_name = _name(name)
+    obj = lib.H5Oopen(file, name.encode(), _H5P_DEFAULT)
+    if obj < 0:
+        raise ValueError(f"its object {shown_name} cannot be opened")
+    try:
+        if lib.H5Iget_type(obj) != _H5I_DATASET:
+            raise ValueError(f"{shown_name} is not a dataset (a study's file holds datasets only, no groups)")
+        plist = lib.H5Dget_create_plist(obj)
+        if plist < 0:
+            raise ValueError(f"dataset {shown_name}: its storage cannot be read")
+        try:
+            layout, external, filters = (
+                lib.H5Pget_layout(plist),
+                lib.H5Pget_external_count(plist),
+                lib.H5Pget_nfilters(plist),
+            )
+        finally:
+            lib.H5Pclose(plist)
+    finally:
+        lib.H5Oclose(obj)
+    if layout not in _H5D_LAYOUTS:
+        raise ValueError(f"dataset {shown_name} is {'virtual' if layout == 3 else 'of an unknown storage'}")
+    if external != 0:
+        raise ValueError(f"dataset {shown_name} is stored in {external} external file(s), not in the file")
+    if filters != 0:
+        raise ValueError(f"dataset {shown_name} is filtered ({filters} filter(s)); a study's data are stored plain")
+
+
+def _name(name: str) -> str:
+    """A name read from a file, as a one-line message shows it."""
+    return name if name.isprintable() and len(name) <= 40 else repr(name[:40]) + ("..." if len(name) > 40 else "")
+
+
+def check_hdf5(path: Path) -> None:
+    """Refuse an HDF5 (NetCDF-4) file from its metadata, before any of its data are read: every link must be a
+    hard link to a dataset that keeps its own bytes in the file, unfiltered (:func:`_dataset_storage`); no
+    groups, soft or external links; at most :data:`MAX_HDF5_LINKS`.
+
+    Raises
+    ------
+    ValueError
+        With the reason, for a file that breaks these rules or that the HDF5 library cannot read.
+    ParameterError
+        If the HDF5 library cannot be found.
+    """
+    with open(path, "rb") as f:
+        if f.read(len(HDF5_MAGIC)) != HDF5_MAGIC:
+            raise ValueError("not a NetCDF-4 (HDF5) file")
+    lib = _hdf5()
+    file = lib.H5Fopen(os.fsencode(path), _H5F_ACC_RDONLY, _H5P_DEFAULT)
+    if file < 0:
+        raise ValueError("the HDF5 library cannot open it")
+    try:
+        links = _links(lib, file)
+        if len(links) > MAX_HDF5_LINKS:
+            raise ValueError(f"more than {MAX_HDF5_LINKS} HDF5 objects")
+        for name, kind in links:
+            if kind != _H5L_TYPE_HARD:
+                raise ValueError(f"{_name(name)} is a soft or external link (a study's file holds its own data)")
+            _dataset_storage(lib, file, name)
+    finally:
+        lib.H5Fclose(file)
 
 
 def describe(exc: BaseException) -> str:

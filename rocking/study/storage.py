@@ -28,7 +28,7 @@ import re
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
 
 import numpy as np
@@ -46,10 +46,11 @@ from .config import (
     versions,
     vertical_attrs,
 )
-from .dataset import read_netcdf, to_dataset
+from .dataset import to_dataset
 from .files import (
     MAX_STUDY_BYTES,
     DiskFull,
+    check_hdf5,
     checksum,
     describe,
     is_full,
@@ -452,24 +453,81 @@ def check_variables(kind: str, listed: dict, sizes: dict) -> None:
         raise ParameterError(f"{total} bytes in all, at most {MAX_STUDY_BYTES} in a study")
 
 
+#: dtype kinds of a saved variable as xarray stores them in NetCDF-4: a bool as a byte (its ``dtype`` attribute
+#: says bool); a text as a variable-length string (``str``).
+_STORED_KIND = {"b": "i"}
+
+
+def _stored_as(variable, dtype: np.dtype) -> bool:
+    """Whether the NetCDF ``variable`` stores values of the saved ``dtype`` as xarray writes them."""
+    if dtype.kind == "U":
+        return variable.dtype is str
+    stored = variable.dtype
+    size = 1 if dtype.kind == "b" else dtype.itemsize
+    kind = _STORED_KIND.get(dtype.kind, dtype.kind)
+    return isinstance(stored, np.dtype) and stored.kind == kind and stored.itemsize == size
+
+
+def _check_stored(nc: Path, file, listed: dict) -> None:
+    """Refuse the variables of the open NetCDF ``file`` unless they are those ``listed`` (name -> ``(dims, shape,
+    dtype)``, :func:`_shapes`), of those dimensions, shapes and dtypes as stored: read from its metadata, before any
+    data. The bytes then read are those of the shapes listed."""
+    if file.data_model != "NETCDF4" or file.groups:
+        raise ParameterError(f"{nc}: not a NetCDF-4 file of a study (a {file.data_model} file, or one with groups)")
+    found = file.variables
+    extra, missing = sorted(set(found) - set(listed)), sorted(set(listed) - set(found))
+    if extra or missing:
+        names = ", ".join(map(name_text, (extra + missing)[:5])) + (", ..." if len(extra + missing) > 5 else "")
+        raise ParameterError(f"{nc}: variable(s) {names} differ from those its JSON lists")
+    for name, (dims, shape, dtype) in listed.items():
+        variable = found[name]
+        if tuple(variable.dimensions) != dims or tuple(variable.shape) != shape or not _stored_as(variable, dtype):
+            raise ParameterError(f"{nc}: variable {name_text(name)} differs in dimensions, shape or type from its JSON")
+
+
+def _open_checked(nc: Path, listed: dict):
+    """The data of the NetCDF file ``nc``, read after its storage (:func:`rocking.study.files.check_hdf5`) and its
+    variables (:func:`_check_stored`) are checked; any failure of the NetCDF or HDF5 library is one line."""
+    import netCDF4
+    import xarray as xr
+
+    try:
+        check_hdf5(nc)
+        file = netCDF4.Dataset(nc, "r")
+    except ParameterError:
+        raise
+    except Exception as exc:  # noqa: BLE001  (a damaged file: any type, as UNREADABLE says)
+        raise ParameterError(f"{nc}: not a readable NetCDF file of a study ({describe(exc)})") from None
+    try:
+        _check_stored(nc, file, listed)
+        with xr.open_dataset(xr.backends.NetCDF4DataStore(file)) as opened:
+            return opened.load()
+    except ParameterError:
+        raise
+    except Exception as exc:  # noqa: BLE001
+        raise ParameterError(f"{nc}: not a readable NetCDF file of a study ({describe(exc)})") from None
+    finally:
+        with suppress(Exception):
+            file.close()
+
+
 def _read_data(nc: Path, record: dict):
-    """The data of a saved study, checked against its JSON record (layout and checksum); the file's size is
-    checked against the layout's before it is read."""
+    """The data of a saved study, checked against its JSON record: the file's size against the layout's, its
+    storage and variables (names, dimensions, shapes, dtypes) from its metadata, then, once read, its content
+    against the record's checksum."""
     listed = _shapes(record["variables"])
     limit = sum(math.prod(shape) * dtype.itemsize for _, shape, dtype in listed.values()) + NETCDF_OVERHEAD
     size = nc.stat().st_size
     if size > limit:
         raise ParameterError(f"{nc}: {size} bytes, more than the {limit} its JSON allows")
-    data = read_netcdf(nc)
+    data = _open_checked(nc, listed)
+    if not isinstance(data.attrs.get("kind"), str) or "config" not in data.attrs:
+        raise ParameterError(f"{nc}: not a rocking study (no kind and configuration in its attributes)")
     found = data_layout(data)
-    if set(found) != set(listed):
-        names = ", ".join(map(name_text, sorted(set(found) ^ set(listed))))
-        raise ParameterError(f"{nc}: variable(s) {names} differ from those its JSON lists")
-    wrong = sorted(k for k in listed if found[k] != record["variables"][k])
-    if wrong:
-        raise ParameterError(
-            f"{nc}: variable(s) {', '.join(map(name_text, wrong))} differ in shape or type from its JSON"
-        )
+    wrong = sorted(k for k in listed if found.get(k) != record["variables"][k])
+    if wrong or set(found) != set(listed):
+        names = ", ".join(map(name_text, (wrong or sorted(set(found) ^ set(listed)))[:5]))
+        raise ParameterError(f"{nc}: variable(s) {names} differ in shape or type from its JSON")
     if checksum(variables(data)) != record["variables_sha256"]:
         raise ParameterError(f"{nc}: its variables do not match the checksum of its JSON (changed or damaged)")
     data.attrs.clear()  # the configuration and summary are the record's, checked
