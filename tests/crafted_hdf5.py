@@ -25,6 +25,7 @@ def _lib() -> ctypes.CDLL:
         ("H5Sclose", ctypes.c_int, [hid]),
         ("H5Dcreate2", hid, [hid, ctypes.c_char_p, hid, hid, hid, hid, hid]),
         ("H5Dclose", ctypes.c_int, [hid]),
+        ("H5Ldelete", ctypes.c_int, [hid, ctypes.c_char_p, hid]),
     ):
         function = getattr(lib, name)
         function.restype, function.argtypes = restype, argtypes
@@ -36,12 +37,17 @@ def _global(lib: ctypes.CDLL, name: str) -> int:
     return ctypes.c_int64.in_dll(lib, name).value
 
 
-def add_dataset(path: Path, name: str, n: int, external: str | None = None, virtual: tuple | None = None) -> None:
-    """Add to the HDF5 file ``path`` a dataset ``name`` of ``n`` doubles, stored in the ``external`` file (from
-    its start, without end), or virtual: the dataset ``virtual[1]`` of the file ``virtual[0]``."""
+def add_dataset(
+    path: Path, name: str, n: int, external: str | None = None, virtual: tuple | None = None, replace: bool = False
+) -> None:
+    """Add to the HDF5 file ``path`` a dataset ``name`` of ``n`` doubles, never written, stored in the file, or in
+    the ``external`` file (from its start, without end), or virtual: the dataset ``virtual[1]`` of the file
+    ``virtual[0]``; ``replace``: in place of the dataset of that name."""
     lib = _lib()
     file = lib.H5Fopen(os.fsencode(path), RDWR, 0)
     assert file >= 0, path
+    if replace:
+        assert lib.H5Ldelete(file, name.encode(), 0) >= 0, name
     dims = (ctypes.c_uint64 * 1)(n)
     space = lib.H5Screate_simple(1, dims, None)
     dcpl = lib.H5Pcreate(_global(lib, "H5P_CLS_DATASET_CREATE_ID_g"))
