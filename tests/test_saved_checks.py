@@ -19,7 +19,11 @@ import pytest
 
 import rocking
 from rocking.cli.main import main
+from rocking.plot import figures
+from rocking.study import storage
+from rocking.study.config import config_hash
 from rocking.study.overturning_map import overturning_map
+from rocking.study.storage import summary_hash
 
 from .crafted_hdf5 import add_dataset
 
@@ -155,3 +159,168 @@ def test_a_saved_study_still_loads_as_saved(saved):
     record = json.loads((saved / "map.json").read_text())
     assert set(study.data.variables) == set(record["variables"])
     assert study.data["part"].values.tolist() == ["bare", "damper"] and study.data["computed"].dtype == np.bool_
+
+
+# --- saved strings and configuration fields (item 3) ------------------------------------------------------
+
+
+@pytest.fixture(scope="module")
+def variant(tmp_path_factory):
+    """A small map of a model variant (its damper names its model: a saved text in the figure's title), saved."""
+    folder = tmp_path_factory.mktemp("variant")
+    grids = rocking.Grid("Omega", 2.0, 6.0, 2), rocking.Grid("beta", 1.0, 6.0, 3)
+    damper = rocking.Variant("pendulum", {"m": 50.0, "l": 0.5, "x_p": 0.0, "y_p": 2.55, "k_phi": 0.0, "c_phi": 1.0})
+    execution = rocking.Execution(workers=1, progress=False)
+    block = rocking.Block.reference()
+    study = overturning_map(rocking.Setting(block), damper, *grids, execution, runs=folder / "runs", full=True)
+    rocking.save(study, folder)
+    return folder
+
+
+def _forged(source: Path, folder: Path, change) -> Path:
+    """A copy of the saved map at ``source`` whose record is changed by ``change(record)`` and its configuration's
+    hash made again (anyone can: the hash proves no origin): its stem."""
+    stem = _copy(source, folder)
+    record = json.loads(stem.with_suffix(".json").read_text())
+    change(record)
+    record["config_sha256"] = config_hash(record["config"])
+    record["summary_sha256"] = summary_hash(record["summary"])
+    stem.with_suffix(".json").write_text(json.dumps(record))
+    return stem
+
+
+def _set(*where):
+    """``change(record)`` setting ``record["config"][where...]`` to a value: ``_set("vertical")(value)``."""
+
+    def to(value):
+        def change(record):
+            node = record["config"]
+            for key in where[:-1]:
+                node = node[key]
+            node[where[-1]] = value
+
+        return change
+
+    return to
+
+
+SQRT_400 = "$" + "\\sqrt{" * 400 + "x" + "}" * 400 + "$"
+
+#: Hostile saved configurations of a map, each with what its one-line refusal says: the field and its range.
+HOSTILE = {
+    "vertical without phase": (_set("vertical")({"ratio": 0.5}), "config: setting: vertical: no phase in it"),
+    "vertical phase a text": (
+        _set("vertical")({"ratio": 0.5, "phase": "0"}),
+        "config: setting: vertical_phase must be",
+    ),
+    "vertical a list": (_set("vertical")([0.5, 0.0]), "config: setting: vertical must be an object of phase, ratio"),
+    "vertical ratio 11": (_set("vertical")({"ratio": 11.0, "phase": 0.0}), "vertical_ratio must be in [0, 10]"),
+    "directions.signs [1, -1, 7]": (
+        _set("directions", "signs")([1, -1, 7]),
+        "config: directions.signs must be the directions of the pulses",
+    ),
+    "directions unknown": (_set("directions", "directions")("sideways"), "directions.directions must be one of auto"),
+    "directions.reason a number": (_set("directions", "reason")(3), "directions.reason must be a sentence"),
+    "block.H a text": (_set("block", "H")("2"), "config: setting: H must be"),
+    "block.H 1e9": (_set("block", "H")(1e9), "config: setting: H must be in"),
+    "block an unknown field": (_set("block", "colour")(1), "config: setting: block: no field(s) colour"),
+    "rtol a list": (_set("rtol")([1e-8]), "config: setting: rtol must be"),
+    "t_after negative": (_set("t_after")(-1.0), "config: setting: t_after must be in"),
+    "backend unknown": (_set("backend")("fortran"), "config: setting: backend must be one of c, numpy"),
+    "pulse unknown": (_set("pulse")({"motion": "square"}), "config: setting: pulse must be one of"),
+    "pulse a text": (_set("pulse")("mp"), "config: setting: pulse must be an object of gamma_mp, motion, nu"),
+    "damper.gamma a text": (_set("damper", "gamma")("abc"), "config: damper: gamma must be"),
+    "damper.zeta 11": (_set("damper", "zeta")(11.0), "config: damper: zeta must be in [0, 10]"),
+    "damper an unknown field": (_set("damper", "mass")(1.0), "config: damper: no field(s) mass"),
+    "damper.stops a text": (_set("damper", "stops")("yes"), "config: damper: stops must be True or False"),
+    "Omega a number": (_set("Omega")(4), "config: Omega must be a grid"),
+    "tile a text": (_set("tile")("32"), "config: tile must be two integers"),
+    "refinement.coarse 3": (_set("refinement", "coarse")(3), "config: coarse must be a power of two"),
+    "refinement.adaptive a text": (_set("refinement", "adaptive")("yes"), "refinement.adaptive must be true"),
+    "signs a dict": (_set("signs")({"1": 1}), "config: signs must be the directions of the pulses"),
+    "an unknown field": (_set("colour")("red"), "config: colour: not a field of a saved study's configuration"),
+    "a kind of another study": (_set("kind")("spectrum"), "config: kind: 'spectrum', not map"),
+}
+
+
+@pytest.mark.parametrize("case", HOSTILE)
+def test_hostile_saved_configurations_are_refused_in_one_line(case, saved, tmp_path, capsys):
+    change, message = HOSTILE[case]
+    stem = _forged(saved, tmp_path, change)
+    with pytest.raises(rocking.ParameterError) as refused:
+        rocking.load(stem)
+    text = str(refused.value)
+    assert "\n" not in text and text.startswith(f"{stem}.json: ") and message in text, text
+    capsys.readouterr()
+    assert main(["redraw", str(stem)]) == 2
+    err = capsys.readouterr().err
+    assert err.count("\n") == 1 and message in err, err
+
+
+#: Fields of the other kinds' configurations, each with a wrong value and the refusal's words (the table is one).
+OTHER_FIELDS = {
+    "beta_tol": ("0.001", "beta_tol must be a relative tolerance in (0, 0.1]"),
+    "columns": (0, "columns must be an integer in [1, 100000]"),
+    "gammas": ([0.05, "x"], "gamma must be"),
+    "zeta": (-1.0, "zeta must be in [0, 10]"),
+    "h": ("0.05", "h must be"),
+    "stops": (False, "stops must be one of True"),
+    "refine": (10**6, "refine must be an integer in [0, 1000]"),
+    "e_ratio": (0.7, "e_ratio must be in"),
+    "M": (None, "M must be"),
+    "a_max_g": (0, "a_max_g must be a number > 0"),
+    "measure": ("pga2", "measure must be one of scale, pga"),
+    "suite": ({"n": 10**9}, "suite: its motions must number 1 to"),
+    "check": (1, "check must be one of None, none, tolerance"),
+    "dampers": ([{"gamma": 99.0}], "dampers[0]: gamma must be in"),
+    "levels": ({"low": 1, "high": 2}, "levels: scale must be linear or log"),
+}
+
+
+@pytest.mark.parametrize("field", OTHER_FIELDS)
+def test_every_field_of_every_kind_is_checked(field, saved):
+    config = json.loads((saved / "map.json").read_text())["config"]
+    value, message = OTHER_FIELDS[field]
+    with pytest.raises(rocking.ParameterError, match=re.escape(message)):
+        storage.check_fields("map", {**config, field: value})
+
+
+def test_a_saved_variant_loads_and_redraws(variant, capsys):
+    assert rocking.load(variant / "map").config["damper"]["model"] == "pendulum"
+    assert main(["redraw", str(variant / "map")]) == 0
+
+
+SAVED_TEXTS = {
+    "model of 100 kB": (_set("damper", "model")("m" * 100_000), "config.damper.model: a text of 100000 characters"),
+    "model with a line break": (_set("damper", "model")("pendulum\nx"), "with line breaks or control characters"),
+    "parameter not a name": (
+        _set("damper", "params")({"m$\\sqrt{x}$": 1.0}),
+        "damper.params: m$\\sqrt{x}$ must be a parameter's name",
+    ),
+    "summary text of 100 kB": (
+        lambda record: record["summary"].update(note="s" * 100_000),
+        "summary.note: a text of 100000 characters",
+    ),
+}
+
+
+@pytest.mark.parametrize("case", SAVED_TEXTS)
+def test_saved_texts_are_bounded_on_load(case, variant, tmp_path, capsys):
+    change, message = SAVED_TEXTS[case]
+    stem = _forged(variant, tmp_path, change)
+    with pytest.raises(rocking.ParameterError, match=re.escape(message)):
+        rocking.load(stem)
+    capsys.readouterr()
+    assert main(["redraw", str(stem)]) == 2
+    assert capsys.readouterr().err.count("\n") == 1
+
+
+def test_a_saved_text_is_never_mathtext_in_a_title(variant, tmp_path, capsys):
+    """A model name of nested square roots (depth 400: mathtext's RecursionError) within the bound of texts is drawn
+    as plain text, shortened, at once."""
+    stem = _forged(variant, tmp_path, _set("damper", "model")(SQRT_400))
+    assert rocking.load(stem).config["damper"]["model"] == SQRT_400  # within MAX_TEXT: a saved folder's path may be
+    start = time.perf_counter()
+    assert main(["redraw", str(stem)]) == 0
+    assert time.perf_counter() - start < 30
+    assert figures._saved_text(SQRT_400) == "..." + SQRT_400[-57:].replace("$", "\\$")

@@ -33,10 +33,17 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.checks import check_in_range
+from ..model.intensity import MEASURES
 from ..model.loading import ModelError, load_model
 from ..model.params import Block, ParameterError, shown
+from ..sim.accuracy import CHECKS
+from .adaptive import check_coarse, check_verify
 from .config import (
+    MAX_N,
     Grid,
+    Setting,
+    Tuning,
     check_signs,
     config_hash,
     is_count,
@@ -47,6 +54,7 @@ from .config import (
     vertical_attrs,
 )
 from .dataset import to_dataset
+from .directions import DIRECTIONS, SIGNS
 from .files import (
     MAX_STUDY_BYTES,
     DiskFull,
@@ -61,7 +69,10 @@ from .files import (
     write_file,
 )
 from .kinds import KINDS
+from .optimize import MAX_REFINE, check_gammas
+from .overturning_map import _check_tile
 from .result import Study
+from .spectrum import check_tol
 from .suite import MAX_MOTIONS
 from .vocabulary import PART_NAMES
 
@@ -288,6 +299,36 @@ def save(study: Study, folder: str | Path, name: str | None = None, command: dic
     return [folder / file for file in files]
 
 
+#: Longest text anywhere in a saved record, key or value: a model's folder is a path of at most 4096 bytes
+#: (PATH_MAX), every other text a name or a sentence.
+MAX_TEXT = 4096
+
+
+def check_texts(value) -> None:
+    """Refuse a text of a saved record (a key or a value, at any depth) longer than :data:`MAX_TEXT` characters or
+    not printable (a line break, a control character): each is shown in one line, in a message or a figure.
+
+    Raises
+    ------
+    ParameterError
+        Naming where the text is.
+    """
+    todo = [("", value)]
+    while todo:
+        where, node = todo.pop()
+        items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+        for key, child in items:
+            place = f"{where}.{key}" if isinstance(key, str) else f"{where}[{key}]"
+            for text in (key, child) if isinstance(key, str) else (child,):
+                if isinstance(text, str) and not (len(text) <= MAX_TEXT and text.isprintable()):
+                    controls = "" if text.isprintable() else " with line breaks or control characters"
+                    raise ParameterError(
+                        f"{name_text(place[1:])}: a text of {len(text)} characters{controls}; a saved study's texts "
+                        f"are at most {MAX_TEXT} printable characters"
+                    )
+            todo.append((place, child))
+
+
 def read_record(meta: Path) -> dict:
     """The JSON record of a saved study at ``meta``, checked to be one: bounded (:func:`read_json`), an object
     of this format with a known kind, its configuration, summary, arrays (their layout) and their checksum.
@@ -316,6 +357,10 @@ def read_record(meta: Path) -> dict:
             raise ParameterError(f"{meta}: not a saved study's JSON (no {kind.__name__} {key!r})")
     if record["kind"] not in KINDS:
         raise ParameterError(f"{meta}: unknown kind of study {shown(record['kind'])} (known: {', '.join(KINDS)})")
+    try:
+        check_texts(record)
+    except ParameterError as exc:
+        raise ParameterError(f"{meta}: {exc}") from None
     return record
 
 
@@ -366,25 +411,205 @@ def _counts(kind: str, config: dict) -> dict:
     return {}
 
 
-def _check_parts(config: dict) -> None:
-    """The block and the damper of a configuration, where it has them, of the types its tables read."""
-    if "block" in config:
-        block = config["block"]
-        if not isinstance(block, dict):
-            raise ParameterError(f"block must be the record of a rocking.Block (got {shown(block)})")
-        fields = inspect.signature(Block).parameters
-        unknown = [key for key in block if key not in fields]
-        if unknown:
-            raise ParameterError(
-                f"block: no field(s) {', '.join(map(name_text, unknown[:5]))} in a rocking.Block ({', '.join(fields)})"
-            )
-        try:
-            Block(**block)
-        except TypeError as exc:  # a field missing
-            raise ParameterError(f"block: {exc}") from None
-    damper = config.get("damper", {})
-    if not (isinstance(damper, dict) and isinstance(damper.get("params", {}), dict)):
-        raise ParameterError(f"damper must be the record of a damper (got {shown(damper)})")
+def _fields_of(name: str, record, required: set, optional: set = frozenset()) -> dict:
+    """``record`` if it is an object with the keys ``required`` and some of ``optional``, else a ParameterError."""
+    if not isinstance(record, dict):
+        fields = ", ".join(sorted(required | optional))
+        raise ParameterError(f"{name} must be an object of {fields} (got {shown(record)})")
+    missing, unknown = sorted(required - set(record)), sorted(set(record) - required - optional)
+    if missing or unknown:
+        found = f"no {', '.join(missing)}" if missing else f"no field(s) {', '.join(map(name_text, unknown[:5]))}"
+        raise ParameterError(f"{name}: {found} in it (its fields: {', '.join(sorted(required | optional))})")
+    return record
+
+
+def _block(record) -> Block:
+    """The :class:`Block` of a saved configuration's ``block``, by the ranges of the command line's block."""
+    fields = set(inspect.signature(Block).parameters)
+    block = _fields_of("block", record, {"H", "B"}, fields - {"H", "B"})
+    try:
+        return Block(**block)
+    except TypeError as exc:  # a field missing
+        raise ParameterError(f"block: {exc}") from None
+
+
+def _setting(config: dict) -> None:
+    """The block, pulse, vertical component and solver of a saved configuration, checked by :class:`Setting` (the
+    command line's table, :data:`rocking.model.checks.RANGES`) and recorded as a study records them."""
+    block = _block(config["block"]) if "block" in config else Block.reference()  # a threshold: blocks of its grids
+    pulse = _fields_of("pulse", config.get("pulse", {"motion": "sine"}), {"motion"}, {"gamma_mp", "nu"})
+    vertical = config.get("vertical", {})
+    if vertical != {}:
+        vertical = _fields_of("vertical", vertical, {"ratio", "phase"})
+    if pulse.get("gamma_mp") is not None:
+        check_in_range("gamma_mp", pulse["gamma_mp"])
+    setting = Setting(
+        block,
+        config.get("rtol"),
+        config.get("t_after"),
+        config.get("backend"),
+        pulse=pulse["motion"],
+        gamma_mp=pulse.get("gamma_mp"),
+        nu=pulse.get("nu", 0.0),
+        vertical_ratio=vertical.get("ratio", 0.0),
+        vertical_phase=vertical.get("phase", 0.0),
+    )
+    record = setting.record()
+    if "block" not in config:
+        del record["block"]
+    for key in ("pulse", "vertical"):
+        if key in config and key not in record:
+            raise ParameterError(f"{key}: {shown(config[key])} is what a study records by leaving {key} out")
+    for key, value in record.items():
+        if config.get(key) != value:
+            raise ParameterError(f"{key}: {shown(config.get(key))}, not as a study records it ({shown(value)})")
+
+
+#: A generated model's parameter, as a saved variant names it: a Python identifier (the generated code's name).
+_PARAMETER = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}")
+
+
+def _damper(name: str, record) -> None:
+    """A saved damper: a :class:`Tuning`'s record checked by :class:`Tuning` (the command line's ranges), or a
+    :class:`Variant`'s: its model's name or folder, its parameters (identifiers, finite numbers) and its hash."""
+    if isinstance(record, dict) and "model" in record:
+        variant = _fields_of(name, record, {"model", "params"}, {"model_sha256"})
+        if not (isinstance(variant["model"], str) and variant["model"]):
+            raise ParameterError(f"{name}.model must be a model's name or folder (got {shown(variant['model'])})")
+        params = variant["params"]
+        if not (isinstance(params, dict) and len(params) <= 64):
+            raise ParameterError(f"{name}.params must be at most 64 values by name (got {shown(params)})")
+        for key, value in params.items():
+            if not (_PARAMETER.fullmatch(key) and is_number(value)):
+                raise ParameterError(
+                    f"{name}.params: {name_text(key)} must be a parameter's name (a Python identifier) with a finite "
+                    f"number (got {shown(value)})"
+                )
+        digest = variant.get("model_sha256", "0" * 64)
+        if not (isinstance(digest, str) and re.fullmatch(r"[0-9a-f]{64}", digest)):
+            raise ParameterError(f"{name}.model_sha256 must be a SHA-256 in hexadecimal (got {shown(digest)})")
+        return
+    fields = inspect.signature(Tuning).parameters
+    tuning = _fields_of(name, record, set(), set(fields))
+    try:
+        Tuning(**tuning)
+    except ParameterError as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+
+
+def _dampers(name: str, value) -> None:
+    if not (isinstance(value, list) and 1 <= len(value) <= 8):
+        raise ParameterError(f"{name} must be a list of 1 to 8 dampers (got {shown(value)})")
+    for i, record in enumerate(value):
+        _damper(f"{name}[{i}]", record)
+
+
+def _directions(name: str, value, config: dict) -> None:
+    """The directions a study chose (:func:`rocking.study.directions.choose`): a choice, its signs, its reason."""
+    chosen = _fields_of(name, value, {"directions", "signs", "reason"})
+    if not (isinstance(chosen["directions"], str) and chosen["directions"] in DIRECTIONS):
+        raise ParameterError(
+            f"{name}.directions must be one of {', '.join(DIRECTIONS)} (got {shown(chosen['directions'])})"
+        )
+    signs = check_signs(f"{name}.signs", chosen["signs"])
+    if chosen["directions"] in SIGNS and signs != list(SIGNS[chosen["directions"]]):
+        raise ParameterError(f"{name}.signs must be {list(SIGNS[chosen['directions']])} for {chosen['directions']}")
+    if "signs" in config and config["signs"] != signs:
+        raise ParameterError(f"{name}.signs must be the study's signs {shown(config['signs'])} (got {shown(signs)})")
+    if not isinstance(chosen["reason"], str):
+        raise ParameterError(f"{name}.reason must be a sentence (got {shown(chosen['reason'])})")
+
+
+def _refinement(name: str, value) -> None:
+    refinement = _fields_of(name, value, {"adaptive"}, {"coarse", "verify"})
+    if not isinstance(refinement["adaptive"], bool):
+        raise ParameterError(f"{name}.adaptive must be true or false (got {shown(refinement['adaptive'])})")
+    if refinement["adaptive"]:
+        coarse = check_coarse(_fields_of(name, refinement, {"adaptive", "coarse", "verify"})["coarse"])
+        check_verify(refinement["verify"], coarse)
+    elif len(refinement) > 1:
+        raise ParameterError(f"{name}: coarse and verify are those of an adaptive refinement (adaptive is false)")
+
+
+def _count(low: int, high: int):
+    def check(name: str, value) -> None:
+        if not (is_count(value) and low <= value <= high):
+            raise ParameterError(f"{name} must be an integer in [{low}, {high}] (got {shown(value)})")
+
+    return check
+
+
+def _one_of(*choices):
+    def check(name: str, value) -> None:
+        if not any(value is c or (isinstance(c, str) and value == c) for c in choices):
+            raise ParameterError(f"{name} must be one of {', '.join(map(str, choices))} (got {shown(value)})")
+
+    return check
+
+
+def _positive(name: str, value) -> None:
+    if not (is_number(value) and value > 0):
+        raise ParameterError(f"{name} must be a number > 0 (got {shown(value)})")
+
+
+def _grid(name: str, value) -> None:
+    Grid.from_record(name, value)
+
+
+#: Every field of a saved configuration, each with its check: the functions the studies and the command line check
+#: their inputs with (:class:`Setting`, :class:`Tuning`, :class:`Grid`, the studies' own checks; the ranges of
+#: :data:`rocking.model.checks.RANGES`). ``check(name, value)``; those of the setting (block, pulse, vertical,
+#: solver) are checked together (:func:`_setting`), the directions against the signs (:func:`_directions`).
+SAVED_FIELDS: dict[str, Callable | None] = {
+    "kind": None,  # the record's kind: compared in check_config
+    **dict.fromkeys(("block", "rtol", "t_after", "backend", "pulse", "vertical"), None),  # _setting
+    "directions": None,  # _directions
+    "damper": _damper,
+    "dampers": _dampers,
+    **dict.fromkeys(("Omega", "beta", "Tm_ratio", "zeta_grid", "lam", "p", "levels"), _grid),
+    "signs": check_signs,
+    "tile": lambda name, value: _check_tile(value),
+    "refinement": _refinement,
+    "beta_tol": lambda name, value: check_tol(value),
+    "columns": _count(1, MAX_N),
+    "gammas": lambda name, value: check_gammas(value if isinstance(value, list) else None, name),
+    "zeta": check_in_range,
+    "h": check_in_range,
+    "stops": _one_of(True),
+    "refine": _count(0, MAX_REFINE),
+    "e_ratio": check_in_range,
+    "M": check_in_range,
+    "a_max_g": _positive,
+    "measure": _one_of("scale", *MEASURES),
+    "suite": lambda name, value: _motions(value),
+    "check": _one_of(None, *CHECKS),
+}
+
+
+def check_fields(kind: str, config: dict) -> None:
+    """Check every field of a saved ``config`` of a ``kind`` study by :data:`SAVED_FIELDS`: a field it does not
+    list is refused.
+
+    Raises
+    ------
+    ParameterError
+        In one line naming the field and its valid range.
+    """
+    unknown = [key for key in config if key not in SAVED_FIELDS]
+    if unknown:
+        raise ParameterError(f"{name_text(unknown[0])}: not a field of a saved study's configuration")
+    if config.get("kind", kind) != kind:
+        raise ParameterError(f"kind: {shown(config['kind'])}, not {kind} (the record's)")
+    try:
+        _setting(config)
+    except ParameterError as exc:
+        raise ParameterError(f"setting: {exc}") from None
+    for key, value in config.items():
+        check = SAVED_FIELDS[key]
+        if check is not None:
+            check(key, value)
+    if "directions" in config:
+        _directions("directions", config["directions"], config)
 
 
 def check_config(kind: str, config: dict) -> tuple[dict, dict]:
@@ -409,7 +634,7 @@ def check_config(kind: str, config: dict) -> tuple[dict, dict]:
         config_hash(config)
     except ValueError:
         raise ParameterError("holds NaN or infinity, which a saved configuration never does") from None
-    _check_parts(config)
+    check_fields(kind, config)
     expected = {}
     for key, dim in KINDS[kind].grids.items():
         expected[dim] = (key, Grid.from_record(key, config.get(key)).values())
