@@ -425,6 +425,8 @@ def _fields_of(name: str, record, required: set, optional: set = frozenset()) ->
 
 def _block(record) -> Block:
     """The :class:`Block` of a saved configuration's ``block``, by the ranges of the command line's block."""
+    if not isinstance(record, dict):
+        raise ParameterError(f"block must be the record of a rocking.Block (got {shown(record)})")
     fields = set(inspect.signature(Block).parameters)
     block = _fields_of("block", record, {"H", "B"}, fields - {"H", "B"})
     try:
