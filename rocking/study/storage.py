@@ -723,6 +723,8 @@ def _open_checked(nc: Path, listed: dict):
         file = netCDF4.Dataset(nc, "r")
     except ParameterError:
         raise
+    except ValueError as exc:  # check_hdf5's reasons
+        raise ParameterError(f"{nc}: {exc}") from None
     except Exception as exc:  # noqa: BLE001  (a damaged file: any type, as UNREADABLE says)
         raise ParameterError(f"{nc}: not a readable NetCDF file of a study ({describe(exc)})") from None
     try:
