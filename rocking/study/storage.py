@@ -13,8 +13,10 @@ older record removed first). The JSON is the mark of a complete study:
 process) leaves the older study whole or no study, never a mix. A full disk
 raises :class:`~rocking.study.files.DiskFull` naming the file, and nothing partial stays behind.
 
-What is read is bounded before it is read (:mod:`rocking.study.files`). A loaded study's configuration is
-checked against its arrays (:func:`check_config`, :func:`check_arrays`: grids, directions, shapes).
+What is read is bounded before it is read (:mod:`rocking.study.files`): the record's size, nesting and texts
+(:func:`check_texts`), the NetCDF file's storage and variables from its metadata (:func:`_open_checked`). A loaded
+study's configuration is checked field by field by the table of the command line's checks (:data:`SAVED_FIELDS`),
+and against its arrays (:func:`check_config`, :func:`check_variables`: grids, directions, shapes).
 """
 
 from __future__ import annotations
@@ -30,6 +32,7 @@ import tempfile
 from collections.abc import Callable, Iterator
 from contextlib import contextmanager, suppress
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -411,7 +414,7 @@ def _counts(kind: str, config: dict) -> dict:
     return {}
 
 
-def _fields_of(name: str, record, required: set, optional: set = frozenset()) -> dict:
+def _fields_of(name: str, record, required: set | frozenset, optional: set | frozenset = frozenset()) -> dict:
     """``record`` if it is an object with the keys ``required`` and some of ``optional``, else a ParameterError."""
     if not isinstance(record, dict):
         fields = ", ".join(sorted(required | optional))
@@ -445,11 +448,10 @@ def _setting(config: dict) -> None:
         vertical = _fields_of("vertical", vertical, {"ratio", "phase"})
     if pulse.get("gamma_mp") is not None:
         check_in_range("gamma_mp", pulse["gamma_mp"])
+    solver: dict[str, Any] = {key: config.get(key) for key in ("rtol", "t_after", "backend")}  # None: refused
     setting = Setting(
         block,
-        config.get("rtol"),
-        config.get("t_after"),
-        config.get("backend"),
+        **solver,
         pulse=pulse["motion"],
         gamma_mp=pulse.get("gamma_mp"),
         nu=pulse.get("nu", 0.0),
@@ -617,8 +619,7 @@ def check_fields(kind: str, config: dict) -> None:
 def check_config(kind: str, config: dict) -> tuple[dict, dict]:
     """Check a saved study's configuration: what its data's coordinates and dimensions must be.
 
-    Its grids (:attr:`rocking.study.kinds.Kind.grids`) and directions must be valid, its block and damper
-    of the types its tables read, and it must be plain JSON (no NaN).
+    Every field must be valid (:func:`check_fields`), and it must be plain JSON (no NaN).
 
     Returns
     -------
@@ -801,9 +802,12 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
     The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
-    study. Its configuration and summary are checked to be those saved with its results (their SHA-256s), its
-    configuration against the variables it lists (:func:`check_config`,
-    :func:`check_variables`) and the NetCDF file's size against that list, before the file is read.
+    study. Its texts are bounded (:func:`check_texts`), its configuration and summary are checked to be those
+    saved with its results (their SHA-256s: which anyone can make again, so they prove no origin), every field of
+    its configuration by the command line's table (:func:`check_fields`), its configuration against the variables it
+    lists (:func:`check_config`, :func:`check_variables`), and the NetCDF file's size, storage and variables
+    against that list from its metadata, before any of its data is read (:func:`_open_checked`: no external,
+    virtual or filtered datasets, no variable the record does not list).
 
     Raises
     ------
@@ -812,8 +816,9 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
         study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``variables``,
         an unknown kind, another format: a study saved by an earlier version is refused in one line), its
         configuration or summary was changed after it was saved, its configuration is not valid or contradicts
-        its variables, the ``.nc`` cannot be read (truncated,
-        damaged, not NetCDF, larger than its JSON says), or its variables differ from what the JSON lists;
+        its variables, the ``.nc`` cannot be read (truncated, damaged, not NetCDF-4, larger than its JSON says:
+        any failure of the NetCDF or HDF5 library), stores data outside itself, or its variables differ from what
+        the JSON lists;
         or if ``trust_model`` is not the model the study was run with.
     """
     stem = study_stem(path)
