@@ -19,6 +19,7 @@ import pytest
 
 import rocking
 from rocking.cli.main import main
+from rocking.model.stochastic import DEFAULT_SITE
 from rocking.plot import figures
 from rocking.study import storage
 from rocking.study.config import config_hash
@@ -271,6 +272,19 @@ OTHER_FIELDS = {
     "a_max_g": (0, "a_max_g must be a number > 0"),
     "measure": ("pga2", "measure must be one of scale, pga"),
     "suite": ({"n": 10**9}, "suite: its motions must number 1 to"),
+    "suite of a pulse out of range": (
+        {"pulses": [{"type": "RickerWavelet", "family": "ricker", "T_g": 1.0, "a_g": -3.0, "omega_g": 6.28}]},
+        "suite.pulses[0]: a_g must be",
+    ),
+    "suite of a pulse of another class": ({"pulses": [{"type": "os.system"}]}, "suite.pulses[0].type must be one of"),
+    "suite of files without hashes": (
+        {"files": [{"path": "/etc/passwd", "sha256": "x", "unit": "g"}]},
+        "suite.files[0] must be a path, its SHA-256 and its unit",
+    ),
+    "suite stochastic of a negative seed": (
+        {"stochastic": DEFAULT_SITE.record(), "seed": -1, "n": 3},
+        "seed must be an integer >= 0",
+    ),
     "check": (1, "check must be one of None, none, tolerance"),
     "dampers": ([{"gamma": 99.0}], "dampers[0]: gamma must be in"),
     "levels": ({"low": 1, "high": 2}, "levels: scale must be linear or log"),
@@ -282,7 +296,7 @@ def test_every_field_of_every_kind_is_checked(field, saved):
     config = json.loads((saved / "map.json").read_text())["config"]
     value, message = OTHER_FIELDS[field]
     with pytest.raises(rocking.ParameterError, match=re.escape(message)):
-        storage.check_fields("map", {**config, field: value})
+        storage.check_fields("map", {**config, field.split(" ")[0]: value})
 
 
 def test_a_saved_variant_loads_and_redraws(variant, capsys):

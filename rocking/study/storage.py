@@ -39,7 +39,10 @@ import numpy as np
 from ..model.checks import check_in_range
 from ..model.intensity import MEASURES
 from ..model.loading import ModelError, load_model
+from ..model.motion import PULSE_TYPES
+from ..model.motion import describe as describe_motion
 from ..model.params import Block, ParameterError, shown
+from ..model.stochastic import SiteModel
 from ..sim.accuracy import CHECKS
 from .adaptive import check_coarse, check_verify
 from .config import (
@@ -76,7 +79,7 @@ from .optimize import MAX_REFINE, check_gammas
 from .overturning_map import _check_tile
 from .result import Study
 from .spectrum import check_tol
-from .suite import MAX_MOTIONS
+from .suite import MAX_MOTIONS, Suite
 from .vocabulary import PART_NAMES
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
@@ -535,6 +538,63 @@ def _refinement(name: str, value) -> None:
         raise ParameterError(f"{name}: coarse and verify are those of an adaptive refinement (adaptive is false)")
 
 
+def _site(name: str, record) -> SiteModel:
+    """A stochastic suite's site model, checked by :class:`SiteModel`."""
+    site = _fields_of(name, record, set(), set(inspect.signature(SiteModel).parameters))
+    try:
+        return SiteModel(**site)
+    except (TypeError, ParameterError) as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+
+
+def _record_files(name: str, files) -> None:
+    """The record files of a suite as it saved them: each a path, its SHA-256 and its unit."""
+    if not isinstance(files, list):
+        raise ParameterError(f"{name} must be a list of record files (got {shown(files)})")
+    for i, file in enumerate(files):
+        entry = _fields_of(f"{name}[{i}]", file, {"path", "sha256", "unit"})
+        ok = isinstance(entry["path"], str) and entry["path"] and isinstance(entry["sha256"], str)
+        if not (ok and re.fullmatch(r"[0-9a-f]{64}", entry["sha256"]) and isinstance(entry["unit"], (str, type(None)))):
+            raise ParameterError(f"{name}[{i}] must be a path, its SHA-256 and its unit (got {shown(file)})")
+
+
+def _pulse(name: str, record) -> None:
+    """A pulse of a suite as :meth:`Suite.record` saves it, made again by its class (the ranges of its inputs)."""
+    classes = {cls.__name__: cls for cls, _ in PULSE_TYPES.values()}
+    kind = record.get("type") if isinstance(record, dict) else None
+    if not (isinstance(kind, str) and kind in classes):
+        raise ParameterError(f"{name}.type must be one of {', '.join(classes)} (got {shown(kind)})")
+    fields = set(inspect.signature(classes[kind]).parameters)
+    entry = _fields_of(name, record, {"type", "family", "T_g"}, fields)
+    try:
+        pulse = classes[kind](**{k: v for k, v in entry.items() if k in fields})
+    except (TypeError, ParameterError) as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+    if entry["family"] != describe_motion(pulse).family or entry["T_g"] != pulse.T_g:
+        raise ParameterError(f"{name}: its family and T_g must be those of its pulse")
+
+
+def _suite(name: str, value) -> None:
+    """A suite of motions as :meth:`Suite.record` saves it: record files, pulses (each made again) or a stochastic
+    suite (made again by :meth:`Suite.stochastic`)."""
+    _motions(value)
+    if "files" in value:
+        suite = _fields_of(name, value, {"files"}, {"vertical"})
+        _record_files(f"{name}.files", suite["files"])
+        if "vertical" in suite:
+            vertical = _fields_of(f"{name}.vertical", suite["vertical"], {"files", "convention"})
+            _record_files(f"{name}.vertical.files", vertical["files"])
+    elif "pulses" in value:
+        for i, pulse in enumerate(_fields_of(name, value, {"pulses"})["pulses"]):
+            _pulse(f"{name}.pulses[{i}]", pulse)
+    else:
+        suite = _fields_of(name, value, {"stochastic", "seed", "n"}, {"vertical"})
+        vertical = _fields_of(f"{name}.vertical", suite.get("vertical", {}), set(), {"ratio", "site", "convention"})
+        site = _site(f"{name}.stochastic", suite["stochastic"])
+        other = _site(f"{name}.vertical.site", vertical["site"]) if "site" in vertical else None
+        Suite.stochastic(site, suite["n"], suite["seed"], vertical.get("ratio", 0.0), other)
+
+
 def _count(low: int, high: int):
     def check(name: str, value) -> None:
         if not (is_count(value) and low <= value <= high):
@@ -585,7 +645,7 @@ SAVED_FIELDS: dict[str, Callable | None] = {
     "M": check_in_range,
     "a_max_g": _positive,
     "measure": _one_of("scale", *MEASURES),
-    "suite": lambda name, value: _motions(value),
+    "suite": _suite,
     "check": _one_of(None, *CHECKS),
 }
 
