@@ -270,7 +270,7 @@ OTHER_FIELDS = {
     "e_ratio": (0.7, "e_ratio must be in"),
     "M": (None, "M must be"),
     "a_max_g": (0, "a_max_g must be a number > 0"),
-    "measure": ("pga2", "measure must be one of scale, pga"),
+    "measure": ("pga2", "measure must be one of scale, pga, pgv, arias, cav, amplitude"),
     "suite": ({"n": 10**9}, "suite: its motions must number 1 to"),
     "suite of a pulse out of range": (
         {"pulses": [{"type": "RickerWavelet", "family": "ricker", "T_g": 1.0, "a_g": -3.0, "omega_g": 6.28}]},

@@ -37,7 +37,6 @@ from typing import Any
 import numpy as np
 
 from ..model.checks import check_in_range
-from ..model.intensity import MEASURES
 from ..model.loading import ModelError, load_model
 from ..model.motion import PULSE_TYPES
 from ..model.motion import describe as describe_motion
@@ -74,6 +73,7 @@ from .files import (
     write_csv,
     write_file,
 )
+from .ida import LEVELS
 from .kinds import KINDS
 from .optimize import MAX_REFINE, check_gammas
 from .overturning_map import _check_tile
@@ -644,7 +644,7 @@ SAVED_FIELDS: dict[str, Callable | None] = {
     "e_ratio": check_in_range,
     "M": check_in_range,
     "a_max_g": _positive,
-    "measure": _one_of("scale", *MEASURES),
+    "measure": _one_of(*LEVELS),
     "suite": _suite,
     "check": _one_of(None, *CHECKS),
 }
