@@ -319,20 +319,26 @@ def check_texts(value) -> None:
     ParameterError
         Naming where the text is.
     """
-    todo = [("", value)]
+    todo: list[tuple[tuple, object]] = [((), value)]
     while todo:
         where, node = todo.pop()
         items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
         for key, child in items:
-            place = f"{where}.{key}" if isinstance(key, str) else f"{where}[{key}]"
-            for text in (key, child) if isinstance(key, str) else (child,):
+            for text in (key, child):
                 if isinstance(text, str) and not (len(text) <= MAX_TEXT and text.isprintable()):
                     controls = "" if text.isprintable() else " with line breaks or control characters"
                     raise ParameterError(
-                        f"{name_text(place[1:])}: a text of {len(text)} characters{controls}; a saved study's texts "
+                        f"{_place((*where, key))}: a text of {len(text)} characters{controls}; a saved study's texts "
                         f"are at most {MAX_TEXT} printable characters"
                     )
-            todo.append((place, child))
+            if isinstance(child, (dict, list)):  # its keys: the depth is bounded (MAX_JSON_DEPTH), not a path's text
+                todo.append(((*where, key), child))
+
+
+def _place(keys: tuple) -> str:
+    """Where a value is in a record, from its keys (``config.damper.model``, ``summary.x[3]``), in one short line."""
+    text = "".join(f".{name_text(k)}" if isinstance(k, str) else f"[{k}]" for k in keys)[1:]
+    return text if len(text) <= 200 else text[:197] + "..."
 
 
 def read_record(meta: Path) -> dict:
