@@ -788,9 +788,7 @@ def _open_checked(nc: Path, listed: dict):
     try:
         check_hdf5(nc)
         file = netCDF4.Dataset(nc, "r")
-    except ParameterError:
-        raise
-    except ValueError as exc:  # check_hdf5's reasons
+    except (ValueError, ParameterError) as exc:  # check_hdf5's reasons; no HDF5 library found
         raise ParameterError(f"{nc}: {exc}") from None
     except Exception as exc:  # noqa: BLE001  (a damaged file: any type, as UNREADABLE says)
         raise ParameterError(f"{nc}: not a readable NetCDF file of a study ({describe(exc)})") from None
