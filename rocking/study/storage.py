@@ -785,13 +785,17 @@ def _open_checked(nc: Path, listed: dict):
     import netCDF4
     import xarray as xr
 
+    unreadable = f"{nc}: not a readable NetCDF file of a study"
     try:
         check_hdf5(nc)
-        file = netCDF4.Dataset(nc, "r")
-    except (ValueError, ParameterError) as exc:  # check_hdf5's reasons; no HDF5 library found
+    except (ValueError, ParameterError) as exc:  # its reasons, in one line; no HDF5 library found
         raise ParameterError(f"{nc}: {exc}") from None
     except Exception as exc:  # noqa: BLE001  (a damaged file: any type, as UNREADABLE says)
-        raise ParameterError(f"{nc}: not a readable NetCDF file of a study ({describe(exc)})") from None
+        raise ParameterError(f"{unreadable} ({describe(exc)})") from None
+    try:
+        file = netCDF4.Dataset(nc, "r")
+    except Exception as exc:  # noqa: BLE001
+        raise ParameterError(f"{unreadable} ({describe(exc)})") from None
     try:
         _check_stored(nc, file, listed)
         with xr.open_dataset(xr.backends.NetCDF4DataStore(file)) as opened:
@@ -799,7 +803,7 @@ def _open_checked(nc: Path, listed: dict):
     except ParameterError:
         raise
     except Exception as exc:  # noqa: BLE001
-        raise ParameterError(f"{nc}: not a readable NetCDF file of a study ({describe(exc)})") from None
+        raise ParameterError(f"{unreadable} ({describe(exc)})") from None
     finally:
         with suppress(Exception):
             file.close()
