@@ -4,8 +4,8 @@ naming the file, or read it whole (issue 36, item 2).
 A small map is saved from the command line (``rocking map``, 4 x 5 pulses, both directions); ``-n`` copies of its
 ``map.nc`` are damaged, each by one of: byte flips (1 to 16 bytes at random places), a truncation (at a random
 length), a zeroed block (64 to 4096 bytes at a random place); its JSON record is kept. Each copy is loaded
-(``rocking.load``) and redrawn (``rocking redraw``, in the same process), in worker processes of ``--batch`` copies
-with a time limit. Each copy ends as one of:
+(``rocking.load``) and redrawn (``rocking redraw``, in the same process), in worker processes of ``--batch`` copies,
+each copy with a time limit. Each copy ends as one of:
 
 - ``refused``: a ``ParameterError`` of one line naming the file, and ``redraw`` exits 2 printing that one line;
 - ``loaded``: the damage hit bytes that hold no data (the checksum of the variables is the record's), and
@@ -16,7 +16,7 @@ with a time limit. Each copy ends as one of:
 
 Usage::
 
-    python bench/damaged_nc.py [-n 400] [--seed 36] [--batch 50] [--timeout 120] [--json out.json]
+    python bench/damaged_nc.py [-n 400] [--seed 36] [--batch 50] [--timeout 60] [--json out.json]
 
 It prints the counts, and the copies that were not refused or loaded.
 """
@@ -27,6 +27,7 @@ import argparse
 import contextlib
 import io
 import json
+import selectors
 import shutil
 import subprocess
 import sys
@@ -109,25 +110,32 @@ def worker(stems: list[str]) -> None:
 
 
 def run_batches(made: list[dict], batch: int, timeout: float) -> None:
-    """Check every copy of ``made`` in worker processes, ``batch`` at a time; a worker that dies or hangs marks the
-    copy it was on (``crash``, ``hang``) and the next worker goes on after it."""
+    """Check every copy of ``made`` in worker processes, ``batch`` at a time; a copy without an answer within
+    ``timeout`` seconds is a ``hang`` (its worker is killed), a worker that dies marks its copy a ``crash``, and the
+    next worker goes on after it."""
     start = 0
     while start < len(made):
         chunk = made[start : start + batch]
         argv = [sys.executable, __file__, "--worker", *(c["stem"] for c in chunk)]
         process = subprocess.Popen(argv, stdout=subprocess.PIPE, stderr=subprocess.DEVNULL, text=True)
-        try:
-            out, _ = process.communicate(timeout=timeout)
-            failed = "crash" if process.returncode != 0 else None
-        except subprocess.TimeoutExpired:
-            process.kill()
-            out, _ = process.communicate()
-            failed = "hang"
-        lines = [json.loads(line) for line in out.splitlines() if line.startswith("{")]
-        for c, result in zip(chunk, lines):
-            c.update(result)
-        start += len(lines)
-        if failed and start < len(made):
+        with selectors.DefaultSelector() as selector:
+            selector.register(process.stdout, selectors.EVENT_READ)
+            failed = None
+            for c in chunk:
+                if not selector.select(timeout):
+                    process.kill()
+                    failed = "hang"
+                    break
+                line = process.stdout.readline()
+                if not line.startswith("{"):
+                    failed = "crash"
+                    break
+                c.update(json.loads(line))
+                start += 1
+        process.kill()
+        process.wait()
+        process.stdout.close()
+        if failed:
             made[start].update(outcome=failed, message=f"worker exit {process.returncode}")
             start += 1
 
@@ -137,7 +145,7 @@ def main(argv=None) -> int:
     parser.add_argument("-n", type=int, default=400, help="damaged copies (default 400)")
     parser.add_argument("--seed", type=int, default=36)
     parser.add_argument("--batch", type=int, default=50, help="copies per worker process")
-    parser.add_argument("--timeout", type=float, default=120.0, help="seconds a batch may take")
+    parser.add_argument("--timeout", type=float, default=60.0, help="seconds a copy may take")
     parser.add_argument("--json", type=Path, help="write every copy's outcome there")
     parser.add_argument("--worker", nargs="+", help=argparse.SUPPRESS)
     args = parser.parse_args(argv)
