@@ -36,7 +36,7 @@ import rocking  # noqa: E402
 from rocking.study.config import config_hash  # noqa: E402
 from rocking.study.overturning_map import overturning_map  # noqa: E402
 from rocking.study.storage import summary_hash  # noqa: E402
-from tests.crafted_hdf5 import add_dataset  # noqa: E402
+from tests.crafted_hdf5 import add_dataset, zero_global_heap  # noqa: E402
 
 SQRT_400 = "$" + "\\sqrt{" * 400 + "x" + "}" * 400 + "$"
 
@@ -92,6 +92,7 @@ ATTACKS = {
         "omd",
         lambda s: add_dataset(s.with_suffix(".nc"), "x_max", 16, external="/dev/zero", replace=True),
     ),
+    "global heap zeroed (HDF5 loops on it)": (2, "omd", lambda s: zero_global_heap(s.with_suffix(".nc"))),
     "damper.model of 100 kB": (3, "variant", _config(("damper", "model"), "m" * 100_000)),
     "damper.model of 1 MB": (3, "variant", _config(("damper", "model"), "m" * 1_000_000)),
     "damper.model nested $\\sqrt{}$ depth 400": (3, "variant", _config(("damper", "model"), SQRT_400)),

@@ -1,5 +1,6 @@
 """Hostile NetCDF-4 files for the tests and the bench: datasets added with the HDF5 library that the NetCDF library
-loads (through ctypes; the NetCDF library cannot make them): one stored in an external file, one virtual."""
+loads (through ctypes; the NetCDF library cannot make them): one stored in an external file, one virtual; and a
+global heap damaged so that the HDF5 library loops forever."""
 
 from __future__ import annotations
 
@@ -7,14 +8,15 @@ import ctypes
 import os
 from pathlib import Path
 
-from rocking.study.files import _hdf5
+from rocking.study.files import hdf5_library
+from rocking.study.hdf5_walk import load
 
 #: H5F_ACC_RDWR, H5F_UNLIMITED (the size of an external file without end).
 RDWR, UNLIMITED = 1, ctypes.c_uint64(-1).value
 
 
 def _lib() -> ctypes.CDLL:
-    lib = _hdf5()
+    lib = load(hdf5_library())
     hid, size = ctypes.c_int64, ctypes.c_uint64
     for name, restype, argtypes in (
         ("H5open", ctypes.c_int, []),
@@ -65,3 +67,12 @@ def add_dataset(
         lib.H5Pclose(dcpl)
         lib.H5Sclose(space)
         lib.H5Fclose(file)
+
+
+def zero_global_heap(nc: Path) -> None:
+    """Zero 530 bytes of the first global heap of ``nc`` (its strings): the HDF5 library, hence the NetCDF library,
+    then loops forever opening a dataset (found by bench/damaged_nc.py, copy 71 of seed 36)."""
+    data = bytearray(nc.read_bytes())
+    at = data.index(b"GCOL") + 384
+    data[at : at + 530] = bytes(530)
+    nc.write_bytes(bytes(data))

@@ -22,12 +22,12 @@ import rocking
 from rocking.cli.main import main
 from rocking.model.stochastic import DEFAULT_SITE
 from rocking.plot import figures
-from rocking.study import storage
+from rocking.study import files, storage
 from rocking.study.config import config_hash
 from rocking.study.overturning_map import TMaxWarning, overturning_map
 from rocking.study.storage import summary_hash
 
-from .crafted_hdf5 import add_dataset
+from .crafted_hdf5 import add_dataset, zero_global_heap
 
 ROOT = Path(__file__).resolve().parents[1]
 _spec = importlib.util.spec_from_file_location("rocking_bench_damaged_nc", ROOT / "bench" / "damaged_nc.py")
@@ -133,6 +133,17 @@ def test_an_external_fifo_never_blocks_and_nothing_is_allocated(saved, tmp_path)
         text, kib = _run_measured(argv, tmp_path)
         assert text.count("\n") == 0 and "dataset extra is stored in 1 external file(s)" in text, text
         assert kib < 1_000_000, kib  # far below the 2 GB of the dataset
+
+
+def test_metadata_the_hdf5_library_loops_on_is_refused_in_time(saved, tmp_path, capsys, monkeypatch):
+    monkeypatch.setattr(files, "HDF5_CHECK_SECONDS", 2.0)
+    stem = _copy(saved, tmp_path)
+    zero_global_heap(stem.with_suffix(".nc"))
+    start = time.perf_counter()
+    with pytest.raises(rocking.ParameterError, match=re.escape("its HDF5 metadata cannot be read in 2 s (damaged)")):
+        rocking.load(stem)
+    assert time.perf_counter() - start < 10
+    _redraw_one_line(stem, capsys)
 
 
 # --- damaged copies of a real map.nc: one line or the same data ------------------------------------------

@@ -23,6 +23,8 @@ import os
 import re
 import secrets
 import shutil
+import subprocess
+import sys
 import tempfile
 import zipfile
 from collections.abc import Callable
@@ -48,14 +50,8 @@ ZIP_MAGIC = b"PK\x03\x04"
 #: The first bytes of an HDF5 file (a NetCDF-4 file is one), where the NetCDF library writes them: at its start.
 HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
 
-#: Most links an HDF5 file of a study may hold (its variables, and the datasets of dimensions without one).
-MAX_HDF5_LINKS = 1000
-
-#: HDF5's constants (H5Fpublic.h, H5Ipublic.h, H5Lpublic.h, H5Dpublic.h; the same from 1.10 to 2.0).
-_H5P_DEFAULT, _H5F_ACC_RDONLY, _H5_INDEX_NAME, _H5_ITER_INC, _H5L_TYPE_HARD = 0, 0, 0, 0, 0
-_H5I_DATASET = 5
-#: The storage of a dataset that holds its own bytes in the file (H5D_layout_t): not virtual (other files').
-_H5D_LAYOUTS = {0: "compact", 1: "contiguous", 2: "chunked"}
+#: Seconds the check of a NetCDF file's HDF5 metadata may take (:func:`check_hdf5`; a study's takes milliseconds).
+HDF5_CHECK_SECONDS = 10.0
 
 #: Largest JSON record read (a configuration of two grids of MAX_N explicit values is 5 MB), and its
 #: deepest nesting (a record is 5 deep): bounds checked before parsing, so that neither memory nor
@@ -277,8 +273,15 @@ def read_json(path: Path) -> object:
     return json.loads(text)
 
 
-def _hdf5_path() -> str | None:
-    """The file of the HDF5 library that the NetCDF library loaded (the same copy answers both), or None."""
+@functools.cache
+def hdf5_library() -> str:
+    """The file of the HDF5 library that the NetCDF library loaded.
+
+    Raises
+    ------
+    ParameterError
+        If it is not found.
+    """
     import netCDF4  # noqa: F401  (loads the NetCDF library and its HDF5)
 
     with suppress(OSError):
@@ -287,120 +290,41 @@ def _hdf5_path() -> str | None:
                 name = line.rsplit("/", 1)[-1].strip()
                 if name.startswith("libhdf5") and not name.startswith("libhdf5_hl") and ".so" in name:
                     return line[line.index("/") :].strip()
-    return ctypes.util.find_library("hdf5") or ctypes.util.find_library("hdf5_serial")
-
-
-@functools.cache
-def _hdf5() -> ctypes.CDLL:
-    """The HDF5 library, its functions typed (``hid_t`` is 64 bits since HDF5 1.10)."""
-    path = _hdf5_path()
-    if path is None:
+    found = ctypes.util.find_library("hdf5") or ctypes.util.find_library("hdf5_serial")
+    if found is None:
         raise ParameterError("cannot check a NetCDF file's storage: the HDF5 library of netCDF4 is not found")
-    lib = ctypes.CDLL(path)
-    hid, text = ctypes.c_int64, ctypes.c_char_p
-    for name, restype, argtypes in (
-        ("H5Fopen", hid, [text, ctypes.c_uint, hid]),
-        ("H5Fclose", ctypes.c_int, [hid]),
-        ("H5Lvisit2", ctypes.c_int, [hid, ctypes.c_int, ctypes.c_int, ctypes.c_void_p, ctypes.c_void_p]),
-        ("H5Oopen", hid, [hid, text, hid]),
-        ("H5Oclose", ctypes.c_int, [hid]),
-        ("H5Iget_type", ctypes.c_int, [hid]),
-        ("H5Dget_create_plist", hid, [hid]),
-        ("H5Pget_layout", ctypes.c_int, [hid]),
-        ("H5Pget_external_count", ctypes.c_int, [hid]),
-        ("H5Pget_nfilters", ctypes.c_int, [hid]),
-        ("H5Pclose", ctypes.c_int, [hid]),
-    ):
-        function = getattr(lib, name)
-        function.restype, function.argtypes = restype, argtypes
-    return lib
-
-
-#: ``herr_t (*)(hid_t group, const char *name, const H5L_info2_t *info, void *data)``: H5Lvisit2's callback.
-_VISIT = ctypes.CFUNCTYPE(ctypes.c_int, ctypes.c_int64, ctypes.c_char_p, ctypes.c_void_p, ctypes.c_void_p)
-
-
-def _links(lib: ctypes.CDLL, file: int) -> list[tuple[str, int]]:
-    """Every link of an open HDF5 file, depth first from its root: ``(path, link type)``, at most
-    :data:`MAX_HDF5_LINKS` + 1."""
-    found: list[tuple[str, int]] = []
-
-    def visit(group, name, info, data) -> int:
-        # H5L_info2_t starts with its H5L_type_t (an int): hard, soft or external.
-        found.append((name.decode("utf-8", "replace"), ctypes.c_int.from_address(info).value))
-        return 1 if len(found) > MAX_HDF5_LINKS else 0  # > 0 stops the visit
-
-    if lib.H5Lvisit2(file, _H5_INDEX_NAME, _H5_ITER_INC, _VISIT(visit), None) < 0:
-        raise ValueError("its HDF5 links cannot be read")
     return found
-
-
-def _dataset_storage(lib: ctypes.CDLL, file: int, name: str) -> None:
-    """Refuse the object ``name`` of an open HDF5 file unless it is a dataset that keeps its bytes in the file,
-    unfiltered: not a group, not virtual (other datasets' bytes), not in external files, no filter (a filter
-    may be a plugin the file would choose)."""
-    shown_name = _name(name)
-    obj = lib.H5Oopen(file, name.encode(), _H5P_DEFAULT)
-    if obj < 0:
-        raise ValueError(f"its object {shown_name} cannot be opened")
-    try:
-        if lib.H5Iget_type(obj) != _H5I_DATASET:
-            raise ValueError(f"{shown_name} is not a dataset (a study's file holds datasets only, no groups)")
-        plist = lib.H5Dget_create_plist(obj)
-        if plist < 0:
-            raise ValueError(f"dataset {shown_name}: its storage cannot be read")
-        try:
-            layout, external, filters = (
-                lib.H5Pget_layout(plist),
-                lib.H5Pget_external_count(plist),
-                lib.H5Pget_nfilters(plist),
-            )
-        finally:
-            lib.H5Pclose(plist)
-    finally:
-        lib.H5Oclose(obj)
-    if layout not in _H5D_LAYOUTS:
-        raise ValueError(f"dataset {shown_name} is {'virtual' if layout == 3 else 'of an unknown storage'}")
-    if external != 0:
-        raise ValueError(f"dataset {shown_name} is stored in {external} external file(s), not in the file")
-    if filters != 0:
-        raise ValueError(f"dataset {shown_name} is filtered ({filters} filter(s)); a study's data are stored plain")
-
-
-def _name(name: str) -> str:
-    """A name read from a file, as a one-line message shows it."""
-    return name if name.isprintable() and len(name) <= 40 else repr(name[:40]) + ("..." if len(name) > 40 else "")
 
 
 def check_hdf5(path: Path) -> None:
     """Refuse an HDF5 (NetCDF-4) file from its metadata, before any of its data are read: every link must be a
-    hard link to a dataset that keeps its own bytes in the file, unfiltered (:func:`_dataset_storage`); no
-    groups, soft or external links; at most :data:`MAX_HDF5_LINKS`.
+    hard link to a dataset that keeps its own bytes in the file, unfiltered; no groups, soft or external links
+    (:mod:`rocking.study.hdf5_walk`). Checked in a process of its own within :data:`HDF5_CHECK_SECONDS`: the HDF5
+    library loops forever on some damaged metadata, and may crash on others.
 
     Raises
     ------
     ValueError
-        With the reason, for a file that breaks these rules or that the HDF5 library cannot read.
+        With the reason, for a file that breaks these rules or that the HDF5 library cannot read in time.
     ParameterError
         If the HDF5 library cannot be found.
     """
     with open(path, "rb") as f:
         if f.read(len(HDF5_MAGIC)) != HDF5_MAGIC:
             raise ValueError("not a NetCDF-4 (HDF5) file")
-    lib = _hdf5()
-    file = lib.H5Fopen(os.fsencode(path), _H5F_ACC_RDONLY, _H5P_DEFAULT)
-    if file < 0:
-        raise ValueError("the HDF5 library cannot open it")
+    walk = [sys.executable, "-I", "-S", str(Path(__file__).with_name("hdf5_walk.py")), hdf5_library(), str(path)]
     try:
-        links = _links(lib, file)
-        if len(links) > MAX_HDF5_LINKS:
-            raise ValueError(f"more than {MAX_HDF5_LINKS} HDF5 objects")
-        for name, kind in links:
-            if kind != _H5L_TYPE_HARD:
-                raise ValueError(f"{_name(name)} is a soft or external link (a study's file holds its own data)")
-            _dataset_storage(lib, file, name)
-    finally:
-        lib.H5Fclose(file)
+        done = subprocess.run(walk, capture_output=True, text=True, timeout=HDF5_CHECK_SECONDS, check=False)
+    except subprocess.TimeoutExpired:
+        raise ValueError(f"its HDF5 metadata cannot be read in {HDF5_CHECK_SECONDS:g} s (damaged)") from None
+    try:
+        answer = json.loads(done.stdout)
+    except ValueError:
+        answer = None
+    if not isinstance(answer, dict) or (answer.get("ok") is not True and not isinstance(answer.get("refused"), str)):
+        raise ValueError(f"the HDF5 library fails on its metadata (damaged; exit {done.returncode})")
+    if "refused" in answer:
+        raise ValueError(answer["refused"].splitlines()[0] if answer["refused"] else "refused")
 
 
 def describe(exc: BaseException) -> str:
