@@ -218,8 +218,8 @@ CONTRADICTIONS = {
     "Omega.n another": (("Omega", "n"), 5, "variables: Omega has 4 values along Omega, not 5"),
     "Omega.high": (("Omega", "high"), 7.0, "config: Omega gives other values than the coordinate Omega holds"),
     "signs 7": (("signs",), [1, -1, 7], "config: signs must be the directions of the pulses"),
-    "one sign": (("signs",), [1], "variables: bumper_force_max has 2 values along sign, not 1"),
-    "block a path": (("block",), "/etc/passwd", "config: block must be the record of a rocking.Block"),
+    "one sign": (("signs",), [1], "config: directions.signs must be the study's signs [1] (got [1, -1])"),
+    "block a path": (("block",), "/etc/passwd", "config: setting: block must be the record of a rocking.Block"),
 }
 
 

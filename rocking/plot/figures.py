@@ -208,13 +208,25 @@ def _stops_label(block: Block, record: dict) -> str:
     return "unlimited guide" if L is None else f"stops at L = {L:.3g} m"
 
 
+#: Most characters of a text read from a saved study (a model's name or folder) that a title shows.
+SAVED_TEXT_CHARS = 60
+
+
+def _saved_text(text: str) -> str:
+    """A text read from a saved study as a title shows it: at most :data:`SAVED_TEXT_CHARS` characters (a longer one
+    keeps its end: a folder's name), every ``$`` escaped, so that mathtext never parses it."""
+    if len(text) > SAVED_TEXT_CHARS:
+        text = "..." + text[3 - SAVED_TEXT_CHARS :]
+    return text.replace("$", r"\$")
+
+
 def _damper_label(config: dict) -> str:
     """The damper of a study for a title: the omd tuning, or a variant's model name and parameters with units."""
     d, block = config["damper"], _block(config)
     if "model" in d:
         units = _parameter_units(d["model"])
-        params = ", ".join(f"{k} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in d["params"].items())
-        return f"damper: model {d['model']}" + (f" ({params})" if params else "")
+        params = ", ".join(f"{_saved_text(k)} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in d["params"].items())
+        return f"damper: model {_saved_text(d['model'])}" + (f" ({params})" if params else "")
     T_m = 2 * np.pi / (d["omega_ratio"] * block.p)
     return (
         rf"damper $\gamma$ = {d['gamma']:g}, $\omega_m / p$ = {d['omega_ratio']:.3g} ($T_m$ = {T_m:.3g} s), "

@@ -6,17 +6,21 @@ file, ``0666`` less the umask; a full disk raises :class:`DiskFull` naming the f
 behind. Every output of rocking goes through them: a study's data, its figures, a response's figure and history.
 Two writers of one study's files into one folder are serialised by a lock on its name (:func:`name_lock`).
 
-What is read is bounded before it is read: a JSON record's size and nesting (:func:`read_json`), and an
-archive's arrays from the zip's headers (:func:`read_npz`: uncompressed members, each the size its ``.npy``
-header says, within a limit); arrays are read with ``allow_pickle=False``: nothing read from a file is
-executed; a file of the kernel or a device (under /proc, /sys, /dev) is never read
+What is read is bounded before it is read: a JSON record's size and nesting (:func:`read_json`), an archive's
+arrays from the zip's headers (:func:`read_npz`: uncompressed members, each the size its ``.npy`` header says,
+within a limit), the storage of a NetCDF-4 file's datasets from its HDF5 metadata (:func:`check_hdf5`: in the
+file itself, unfiltered); arrays are read with ``allow_pickle=False``: nothing read from a file is executed; a
+file of the kernel or a device (under /proc, /sys, /dev) is never read
 (:func:`rocking.model.records.input_refusal`). :func:`checksum` and :func:`layout` describe arrays (names,
 shapes, dtypes, content) for the records that check them.
 """
 
 from __future__ import annotations
 
+import ctypes
+import ctypes.util
 import errno
+import functools
 import hashlib
 import json
 import math
@@ -24,6 +28,8 @@ import os
 import re
 import secrets
 import shutil
+import subprocess
+import sys
 import tempfile
 import zipfile
 from collections.abc import Callable, Iterator
@@ -47,6 +53,12 @@ UNREADABLE = (Exception,)
 
 #: The first bytes of a zip archive (an ``.npz``).
 ZIP_MAGIC = b"PK\x03\x04"
+
+#: The first bytes of an HDF5 file (a NetCDF-4 file is one), where the NetCDF library writes them: at its start.
+HDF5_MAGIC = b"\x89HDF\r\n\x1a\n"
+
+#: Seconds the check of a NetCDF file's HDF5 metadata may take (:func:`check_hdf5`; a study's takes milliseconds).
+HDF5_CHECK_SECONDS = 10.0
 
 #: Largest JSON record read (a configuration of two grids of MAX_N explicit values is 5 MB), and its
 #: deepest nesting (a record is 5 deep): bounds checked before parsing, so that neither memory nor
@@ -312,6 +324,60 @@ def read_json(path: Path) -> object:
     if depth > MAX_JSON_DEPTH:
         raise ValueError(f"nested {depth} deep, at most {MAX_JSON_DEPTH}")
     return json.loads(text)
+
+
+@functools.cache
+def hdf5_library() -> str:
+    """The file of the HDF5 library that the NetCDF library loaded.
+
+    Raises
+    ------
+    ParameterError
+        If it is not found.
+    """
+    import netCDF4  # noqa: F401  (loads the NetCDF library and its HDF5)
+
+    with suppress(OSError):
+        with open("/proc/self/maps") as maps:  # Linux: the libraries this process loaded
+            for line in maps:
+                name = line.rsplit("/", 1)[-1].strip()
+                if name.startswith("libhdf5") and not name.startswith("libhdf5_hl") and ".so" in name:
+                    return line[line.index("/") :].strip()
+    found = ctypes.util.find_library("hdf5") or ctypes.util.find_library("hdf5_serial")
+    if found is None:
+        raise ParameterError("cannot check a NetCDF file's storage: the HDF5 library of netCDF4 is not found")
+    return found
+
+
+def check_hdf5(path: Path) -> None:
+    """Refuse an HDF5 (NetCDF-4) file from its metadata, before any of its data are read: every link must be a
+    hard link to a dataset that keeps its own bytes in the file, unfiltered; no groups, soft or external links
+    (:mod:`rocking.study.hdf5_walk`). Checked in a process of its own within :data:`HDF5_CHECK_SECONDS`: the HDF5
+    library loops forever on some damaged metadata, and may crash on others.
+
+    Raises
+    ------
+    ValueError
+        With the reason, for a file that breaks these rules or that the HDF5 library cannot read in time.
+    ParameterError
+        If the HDF5 library cannot be found.
+    """
+    with open(path, "rb") as f:
+        if f.read(len(HDF5_MAGIC)) != HDF5_MAGIC:
+            raise ValueError("not a NetCDF-4 (HDF5) file")
+    walk = [sys.executable, "-I", "-S", str(Path(__file__).with_name("hdf5_walk.py")), hdf5_library(), str(path)]
+    try:
+        done = subprocess.run(walk, capture_output=True, text=True, timeout=HDF5_CHECK_SECONDS, check=False)
+    except subprocess.TimeoutExpired:
+        raise ValueError(f"its HDF5 metadata cannot be read in {HDF5_CHECK_SECONDS:g} s (damaged)") from None
+    try:
+        answer = json.loads(done.stdout)
+    except ValueError:
+        answer = None
+    if not isinstance(answer, dict) or (answer.get("ok") is not True and not isinstance(answer.get("refused"), str)):
+        raise ValueError(f"the HDF5 library fails on its metadata (damaged; exit {done.returncode})")
+    if "refused" in answer:
+        raise ValueError(answer["refused"].splitlines()[0] if answer["refused"] else "refused")
 
 
 def describe(exc: BaseException) -> str:

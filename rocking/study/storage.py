@@ -13,8 +13,10 @@ older record removed first). The JSON is the mark of a complete study:
 process) leaves the older study whole or no study, never a mix. A full disk
 raises :class:`~rocking.study.files.DiskFull` naming the file, and nothing partial stays behind.
 
-What is read is bounded before it is read (:mod:`rocking.study.files`). A loaded study's configuration is
-checked against its arrays (:func:`check_config`, :func:`check_arrays`: grids, directions, shapes).
+What is read is bounded before it is read (:mod:`rocking.study.files`): the record's size, nesting and texts
+(:func:`check_texts`), the NetCDF file's storage and variables from its metadata (:func:`_open_checked`). A loaded
+study's configuration is checked field by field by the table of the command line's checks (:data:`SAVED_FIELDS`),
+and against its arrays (:func:`check_config`, :func:`check_variables`: grids, directions, shapes).
 """
 
 from __future__ import annotations
@@ -28,16 +30,26 @@ import re
 import shutil
 import tempfile
 from collections.abc import Callable, Iterator
-from contextlib import contextmanager
+from contextlib import contextmanager, suppress
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
+from ..model.checks import check_in_range
 from ..model.loading import ModelError, load_model
+from ..model.motion import PULSE_TYPES
+from ..model.motion import describe as describe_motion
 from ..model.params import Block, ParameterError, shown
 from ..model.records import input_refusal
+from ..model.stochastic import SiteModel
+from ..sim.accuracy import CHECKS
+from .adaptive import check_coarse, check_verify
 from .config import (
+    MAX_N,
     Grid,
+    Setting,
+    Tuning,
     check_signs,
     config_hash,
     is_count,
@@ -47,10 +59,12 @@ from .config import (
     versions,
     vertical_attrs,
 )
-from .dataset import read_netcdf, to_dataset
+from .dataset import to_dataset
+from .directions import DIRECTIONS, SIGNS
 from .files import (
     MAX_STUDY_BYTES,
     DiskFull,
+    check_hdf5,
     checksum,
     describe,
     is_full,
@@ -61,9 +75,13 @@ from .files import (
     write_csv,
     write_file,
 )
+from .ida import LEVELS
 from .kinds import KINDS
+from .optimize import MAX_REFINE, check_gammas
+from .overturning_map import _check_tile
 from .result import Study
-from .suite import MAX_MOTIONS
+from .spectrum import check_tol
+from .suite import MAX_MOTIONS, Suite
 from .vocabulary import PART_NAMES
 
 #: Version of the layout of a saved study's files: a study saved with another is refused, in one line.
@@ -289,6 +307,42 @@ def save(study: Study, folder: str | Path, name: str | None = None, command: dic
     return [folder / file for file in files]
 
 
+#: Longest text anywhere in a saved record, key or value: a model's folder is a path of at most 4096 bytes
+#: (PATH_MAX), every other text a name or a sentence.
+MAX_TEXT = 4096
+
+
+def check_texts(value) -> None:
+    """Refuse a text of a saved record (a key or a value, at any depth) longer than :data:`MAX_TEXT` characters or
+    not printable (a line break, a control character): each is shown in one line, in a message or a figure.
+
+    Raises
+    ------
+    ParameterError
+        Naming where the text is.
+    """
+    todo: list[tuple[tuple, object]] = [((), value)]
+    while todo:
+        where, node = todo.pop()
+        items = node.items() if isinstance(node, dict) else enumerate(node) if isinstance(node, list) else ()
+        for key, child in items:
+            for text in (key, child):
+                if isinstance(text, str) and not (len(text) <= MAX_TEXT and text.isprintable()):
+                    controls = "" if text.isprintable() else " with line breaks or control characters"
+                    raise ParameterError(
+                        f"{_place((*where, key))}: a text of {len(text)} characters{controls}; a saved study's texts "
+                        f"are at most {MAX_TEXT} printable characters"
+                    )
+            if isinstance(child, (dict, list)):  # its keys: the depth is bounded (MAX_JSON_DEPTH), not a path's text
+                todo.append(((*where, key), child))
+
+
+def _place(keys: tuple) -> str:
+    """Where a value is in a record, from its keys (``config.damper.model``, ``summary.x[3]``), in one short line."""
+    text = "".join(f".{name_text(k)}" if isinstance(k, str) else f"[{k}]" for k in keys)[1:]
+    return text if len(text) <= 200 else text[:197] + "..."
+
+
 def read_record(meta: Path) -> dict:
     """The JSON record of a saved study at ``meta``, checked to be one: bounded (:func:`read_json`), an object
     of this format with a known kind, its configuration, summary, arrays (their layout) and their checksum.
@@ -317,6 +371,10 @@ def read_record(meta: Path) -> dict:
             raise ParameterError(f"{meta}: not a saved study's JSON (no {kind.__name__} {key!r})")
     if record["kind"] not in KINDS:
         raise ParameterError(f"{meta}: unknown kind of study {shown(record['kind'])} (known: {', '.join(KINDS)})")
+    try:
+        check_texts(record)
+    except ParameterError as exc:
+        raise ParameterError(f"{meta}: {exc}") from None
     return record
 
 
@@ -367,32 +425,272 @@ def _counts(kind: str, config: dict) -> dict:
     return {}
 
 
-def _check_parts(config: dict) -> None:
-    """The block and the damper of a configuration, where it has them, of the types its tables read."""
-    if "block" in config:
-        block = config["block"]
-        if not isinstance(block, dict):
-            raise ParameterError(f"block must be the record of a rocking.Block (got {shown(block)})")
-        fields = inspect.signature(Block).parameters
-        unknown = [key for key in block if key not in fields]
-        if unknown:
-            raise ParameterError(
-                f"block: no field(s) {', '.join(map(name_text, unknown[:5]))} in a rocking.Block ({', '.join(fields)})"
-            )
-        try:
-            Block(**block)
-        except TypeError as exc:  # a field missing
-            raise ParameterError(f"block: {exc}") from None
-    damper = config.get("damper", {})
-    if not (isinstance(damper, dict) and isinstance(damper.get("params", {}), dict)):
-        raise ParameterError(f"damper must be the record of a damper (got {shown(damper)})")
+def _fields_of(name: str, record, required: set | frozenset, optional: set | frozenset = frozenset()) -> dict:
+    """``record`` if it is an object with the keys ``required`` and some of ``optional``, else a ParameterError."""
+    if not isinstance(record, dict):
+        fields = ", ".join(sorted(required | optional))
+        raise ParameterError(f"{name} must be an object of {fields} (got {shown(record)})")
+    missing, unknown = sorted(required - set(record)), sorted(set(record) - required - optional)
+    if missing or unknown:
+        found = f"no {', '.join(missing)}" if missing else f"no field(s) {', '.join(map(name_text, unknown[:5]))}"
+        raise ParameterError(f"{name}: {found} in it (its fields: {', '.join(sorted(required | optional))})")
+    return record
+
+
+def _block(record) -> Block:
+    """The :class:`Block` of a saved configuration's ``block``, by the ranges of the command line's block."""
+    if not isinstance(record, dict):
+        raise ParameterError(f"block must be the record of a rocking.Block (got {shown(record)})")
+    fields = set(inspect.signature(Block).parameters)
+    block = _fields_of("block", record, {"H", "B"}, fields - {"H", "B"})
+    try:
+        return Block(**block)
+    except TypeError as exc:  # a field missing
+        raise ParameterError(f"block: {exc}") from None
+
+
+def _setting(config: dict) -> None:
+    """The block, pulse, vertical component and solver of a saved configuration, checked by :class:`Setting` (the
+    command line's table, :data:`rocking.model.checks.RANGES`) and recorded as a study records them."""
+    block = _block(config["block"]) if "block" in config else Block.reference()  # a threshold: blocks of its grids
+    pulse = _fields_of("pulse", config.get("pulse", {"motion": "sine"}), {"motion"}, {"gamma_mp", "nu"})
+    vertical = config.get("vertical", {})
+    if vertical != {}:
+        vertical = _fields_of("vertical", vertical, {"ratio", "phase"})
+    if pulse.get("gamma_mp") is not None:
+        check_in_range("gamma_mp", pulse["gamma_mp"])
+    solver: dict[str, Any] = {key: config.get(key) for key in ("rtol", "t_after", "backend")}  # None: refused
+    setting = Setting(
+        block,
+        **solver,
+        pulse=pulse["motion"],
+        gamma_mp=pulse.get("gamma_mp"),
+        nu=pulse.get("nu", 0.0),
+        vertical_ratio=vertical.get("ratio", 0.0),
+        vertical_phase=vertical.get("phase", 0.0),
+    )
+    record = setting.record()
+    if "block" not in config:
+        del record["block"]
+    for key in ("pulse", "vertical"):
+        if key in config and key not in record:
+            raise ParameterError(f"{key}: {shown(config[key])} is what a study records by leaving {key} out")
+    for key, value in record.items():
+        if config.get(key) != value:
+            raise ParameterError(f"{key}: {shown(config.get(key))}, not as a study records it ({shown(value)})")
+
+
+#: A generated model's parameter, as a saved variant names it: a Python identifier (the generated code's name).
+_PARAMETER = re.compile(r"[A-Za-z_][A-Za-z0-9_]{0,63}")
+
+
+def _damper(name: str, record) -> None:
+    """A saved damper: a :class:`Tuning`'s record checked by :class:`Tuning` (the command line's ranges), or a
+    :class:`Variant`'s: its model's name or folder, its parameters (identifiers, finite numbers) and its hash."""
+    if isinstance(record, dict) and "model" in record:
+        variant = _fields_of(name, record, {"model", "params"}, {"model_sha256"})
+        if not (isinstance(variant["model"], str) and variant["model"]):
+            raise ParameterError(f"{name}.model must be a model's name or folder (got {shown(variant['model'])})")
+        params = variant["params"]
+        if not (isinstance(params, dict) and len(params) <= 64):
+            raise ParameterError(f"{name}.params must be at most 64 values by name (got {shown(params)})")
+        for key, value in params.items():
+            if not (_PARAMETER.fullmatch(key) and is_number(value)):
+                raise ParameterError(
+                    f"{name}.params: {name_text(key)} must be a parameter's name (a Python identifier) with a finite "
+                    f"number (got {shown(value)})"
+                )
+        digest = variant.get("model_sha256", "0" * 64)
+        if not (isinstance(digest, str) and re.fullmatch(r"[0-9a-f]{64}", digest)):
+            raise ParameterError(f"{name}.model_sha256 must be a SHA-256 in hexadecimal (got {shown(digest)})")
+        return
+    fields = inspect.signature(Tuning).parameters
+    tuning = _fields_of(name, record, set(), set(fields))
+    try:
+        Tuning(**tuning)
+    except ParameterError as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+
+
+def _dampers(name: str, value) -> None:
+    if not (isinstance(value, list) and 1 <= len(value) <= 8):
+        raise ParameterError(f"{name} must be a list of 1 to 8 dampers (got {shown(value)})")
+    for i, record in enumerate(value):
+        _damper(f"{name}[{i}]", record)
+
+
+def _directions(name: str, value, config: dict) -> None:
+    """The directions a study chose (:func:`rocking.study.directions.choose`): a choice, its signs, its reason."""
+    chosen = _fields_of(name, value, {"directions", "signs", "reason"})
+    if not (isinstance(chosen["directions"], str) and chosen["directions"] in DIRECTIONS):
+        raise ParameterError(
+            f"{name}.directions must be one of {', '.join(DIRECTIONS)} (got {shown(chosen['directions'])})"
+        )
+    signs = check_signs(f"{name}.signs", chosen["signs"])
+    if chosen["directions"] in SIGNS and signs != list(SIGNS[chosen["directions"]]):
+        raise ParameterError(f"{name}.signs must be {list(SIGNS[chosen['directions']])} for {chosen['directions']}")
+    if "signs" in config and config["signs"] != signs:
+        raise ParameterError(f"{name}.signs must be the study's signs {shown(config['signs'])} (got {shown(signs)})")
+    if not isinstance(chosen["reason"], str):
+        raise ParameterError(f"{name}.reason must be a sentence (got {shown(chosen['reason'])})")
+
+
+def _refinement(name: str, value) -> None:
+    # "edges" (the verification computed the coarse blocks' edges) is absent from maps saved before it.
+    refinement = _fields_of(name, value, {"adaptive"}, {"coarse", "verify", "edges"})
+    if not isinstance(refinement["adaptive"], bool):
+        raise ParameterError(f"{name}.adaptive must be true or false (got {shown(refinement['adaptive'])})")
+    if refinement["adaptive"]:
+        fields = _fields_of(name, refinement, {"adaptive", "coarse", "verify"}, {"edges"})
+        check_verify(refinement["verify"], check_coarse(fields["coarse"]))
+        if not isinstance(fields.get("edges", False), bool):
+            raise ParameterError(f"{name}.edges must be true or false (got {shown(fields['edges'])})")
+    elif len(refinement) > 1:
+        raise ParameterError(f"{name}: coarse, verify and edges belong to an adaptive refinement (adaptive is false)")
+
+
+def _site(name: str, record) -> SiteModel:
+    """A stochastic suite's site model, checked by :class:`SiteModel`."""
+    site = _fields_of(name, record, set(), set(inspect.signature(SiteModel).parameters))
+    try:
+        return SiteModel(**site)
+    except (TypeError, ParameterError) as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+
+
+def _record_files(name: str, files) -> None:
+    """The record files of a suite as it saved them: each a path, its SHA-256 and its unit."""
+    if not isinstance(files, list):
+        raise ParameterError(f"{name} must be a list of record files (got {shown(files)})")
+    for i, file in enumerate(files):
+        entry = _fields_of(f"{name}[{i}]", file, {"path", "sha256", "unit"})
+        ok = isinstance(entry["path"], str) and entry["path"] and isinstance(entry["sha256"], str)
+        if not (ok and re.fullmatch(r"[0-9a-f]{64}", entry["sha256"]) and isinstance(entry["unit"], (str, type(None)))):
+            raise ParameterError(f"{name}[{i}] must be a path, its SHA-256 and its unit (got {shown(file)})")
+
+
+def _pulse(name: str, record) -> None:
+    """A pulse of a suite as :meth:`Suite.record` saves it, made again by its class (the ranges of its inputs)."""
+    classes = {cls.__name__: cls for cls, _ in PULSE_TYPES.values()}
+    kind = record.get("type") if isinstance(record, dict) else None
+    if not (isinstance(kind, str) and kind in classes):
+        raise ParameterError(f"{name}.type must be one of {', '.join(classes)} (got {shown(kind)})")
+    fields = set(inspect.signature(classes[kind]).parameters)
+    entry = _fields_of(name, record, {"type", "family", "T_g"}, fields)
+    try:
+        pulse = classes[kind](**{k: v for k, v in entry.items() if k in fields})
+    except (TypeError, ParameterError) as exc:
+        raise ParameterError(f"{name}: {exc}") from None
+    if entry["family"] != describe_motion(pulse).family or entry["T_g"] != pulse.T_g:
+        raise ParameterError(f"{name}: its family and T_g must be those of its pulse")
+
+
+def _suite(name: str, value) -> None:
+    """A suite of motions as :meth:`Suite.record` saves it: record files, pulses (each made again) or a stochastic
+    suite (made again by :meth:`Suite.stochastic`)."""
+    _motions(value)
+    if "files" in value:
+        suite = _fields_of(name, value, {"files"}, {"vertical"})
+        _record_files(f"{name}.files", suite["files"])
+        if "vertical" in suite:
+            vertical = _fields_of(f"{name}.vertical", suite["vertical"], {"files", "convention"})
+            _record_files(f"{name}.vertical.files", vertical["files"])
+    elif "pulses" in value:
+        for i, pulse in enumerate(_fields_of(name, value, {"pulses"})["pulses"]):
+            _pulse(f"{name}.pulses[{i}]", pulse)
+    else:
+        suite = _fields_of(name, value, {"stochastic", "seed", "n"}, {"vertical"})
+        vertical = _fields_of(f"{name}.vertical", suite.get("vertical", {}), set(), {"ratio", "site", "convention"})
+        site = _site(f"{name}.stochastic", suite["stochastic"])
+        other = _site(f"{name}.vertical.site", vertical["site"]) if "site" in vertical else None
+        Suite.stochastic(site, suite["n"], suite["seed"], vertical.get("ratio", 0.0), other)
+
+
+def _count(low: int, high: int):
+    def check(name: str, value) -> None:
+        if not (is_count(value) and low <= value <= high):
+            raise ParameterError(f"{name} must be an integer in [{low}, {high}] (got {shown(value)})")
+
+    return check
+
+
+def _one_of(*choices):
+    def check(name: str, value) -> None:
+        if not any(value is c or (isinstance(c, str) and value == c) for c in choices):
+            raise ParameterError(f"{name} must be one of {', '.join(map(str, choices))} (got {shown(value)})")
+
+    return check
+
+
+def _positive(name: str, value) -> None:
+    if not (is_number(value) and value > 0):
+        raise ParameterError(f"{name} must be a number > 0 (got {shown(value)})")
+
+
+def _grid(name: str, value) -> None:
+    Grid.from_record(name, value)
+
+
+#: Every field of a saved configuration, each with its check: the functions the studies and the command line check
+#: their inputs with (:class:`Setting`, :class:`Tuning`, :class:`Grid`, the studies' own checks; the ranges of
+#: :data:`rocking.model.checks.RANGES`). ``check(name, value)``; those of the setting (block, pulse, vertical,
+#: solver) are checked together (:func:`_setting`), the directions against the signs (:func:`_directions`).
+SAVED_FIELDS: dict[str, Callable | None] = {
+    "kind": None,  # the record's kind: compared in check_config
+    **dict.fromkeys(("block", "rtol", "t_after", "backend", "pulse", "vertical"), None),  # _setting
+    "directions": None,  # _directions
+    "damper": _damper,
+    "dampers": _dampers,
+    **dict.fromkeys(("Omega", "beta", "Tm_ratio", "zeta_grid", "lam", "p", "levels"), _grid),
+    "signs": check_signs,
+    "tile": lambda name, value: _check_tile(value),
+    "refinement": _refinement,
+    "beta_tol": lambda name, value: check_tol(value),
+    "columns": _count(1, MAX_N),
+    "gammas": lambda name, value: check_gammas(value if isinstance(value, list) else None, name),
+    "zeta": check_in_range,
+    "h": check_in_range,
+    "stops": _one_of(True),
+    "refine": _count(0, MAX_REFINE),
+    "e_ratio": check_in_range,
+    "M": check_in_range,
+    "a_max_g": _positive,
+    "measure": _one_of(*LEVELS),
+    "suite": _suite,
+    "check": _one_of(None, *CHECKS),
+}
+
+
+def check_fields(kind: str, config: dict) -> None:
+    """Check every field of a saved ``config`` of a ``kind`` study by :data:`SAVED_FIELDS`: a field it does not
+    list is refused.
+
+    Raises
+    ------
+    ParameterError
+        In one line naming the field and its valid range.
+    """
+    unknown = [key for key in config if key not in SAVED_FIELDS]
+    if unknown:
+        raise ParameterError(f"{name_text(unknown[0])}: not a field of a saved study's configuration")
+    if config.get("kind", kind) != kind:
+        raise ParameterError(f"kind: {shown(config['kind'])}, not {kind} (the record's)")
+    try:
+        _setting(config)
+    except ParameterError as exc:
+        raise ParameterError(f"setting: {exc}") from None
+    for key, value in config.items():
+        check = SAVED_FIELDS[key]
+        if check is not None:
+            check(key, value)
+    if "directions" in config:
+        _directions("directions", config["directions"], config)
 
 
 def check_config(kind: str, config: dict) -> tuple[dict, dict]:
     """Check a saved study's configuration: what its data's coordinates and dimensions must be.
 
-    Its grids (:attr:`rocking.study.kinds.Kind.grids`) and directions must be valid, its block and damper
-    of the types its tables read, and it must be plain JSON (no NaN).
+    Every field must be valid (:func:`check_fields`), and it must be plain JSON (no NaN).
 
     Returns
     -------
@@ -410,7 +708,7 @@ def check_config(kind: str, config: dict) -> tuple[dict, dict]:
         config_hash(config)
     except ValueError:
         raise ParameterError("holds NaN or infinity, which a saved configuration never does") from None
-    _check_parts(config)
+    check_fields(kind, config)
     expected = {}
     for key, dim in KINDS[kind].grids.items():
         expected[dim] = (key, Grid.from_record(key, config.get(key)).values())
@@ -454,24 +752,85 @@ def check_variables(kind: str, listed: dict, sizes: dict) -> None:
         raise ParameterError(f"{total} bytes in all, at most {MAX_STUDY_BYTES} in a study")
 
 
+#: dtype kinds of a saved variable as xarray stores them in NetCDF-4: a bool as a byte (its ``dtype`` attribute
+#: says bool); a text as a variable-length string (``str``).
+_STORED_KIND = {"b": "i"}
+
+
+def _stored_as(variable, dtype: np.dtype) -> bool:
+    """Whether the NetCDF ``variable`` stores values of the saved ``dtype`` as xarray writes them."""
+    if dtype.kind == "U":
+        return variable.dtype is str
+    stored = variable.dtype
+    size = 1 if dtype.kind == "b" else dtype.itemsize
+    kind = _STORED_KIND.get(dtype.kind, dtype.kind)
+    return isinstance(stored, np.dtype) and stored.kind == kind and stored.itemsize == size
+
+
+def _check_stored(nc: Path, file, listed: dict) -> None:
+    """Refuse the variables of the open NetCDF ``file`` unless they are those ``listed`` (name -> ``(dims, shape,
+    dtype)``, :func:`_shapes`), of those dimensions, shapes and dtypes as stored: read from its metadata, before any
+    data. The bytes then read are those of the shapes listed."""
+    if file.data_model != "NETCDF4" or file.groups:
+        raise ParameterError(f"{nc}: not a NetCDF-4 file of a study (a {file.data_model} file, or one with groups)")
+    found = file.variables
+    extra, missing = sorted(set(found) - set(listed)), sorted(set(listed) - set(found))
+    if extra or missing:
+        names = ", ".join(map(name_text, (extra + missing)[:5])) + (", ..." if len(extra + missing) > 5 else "")
+        raise ParameterError(f"{nc}: variable(s) {names} differ from those its JSON lists")
+    for name, (dims, shape, dtype) in listed.items():
+        variable = found[name]
+        if tuple(variable.dimensions) != dims or tuple(variable.shape) != shape or not _stored_as(variable, dtype):
+            raise ParameterError(f"{nc}: variable {name_text(name)} differs in dimensions, shape or type from its JSON")
+
+
+def _open_checked(nc: Path, listed: dict):
+    """The data of the NetCDF file ``nc``, read after its storage (:func:`rocking.study.files.check_hdf5`) and its
+    variables (:func:`_check_stored`) are checked; any failure of the NetCDF or HDF5 library is one line."""
+    import netCDF4
+    import xarray as xr
+
+    unreadable = f"{nc}: not a readable NetCDF file of a study"
+    try:
+        check_hdf5(nc)
+    except (ValueError, ParameterError) as exc:  # its reasons, in one line; no HDF5 library found
+        raise ParameterError(f"{nc}: {exc}") from None
+    except Exception as exc:  # noqa: BLE001  (a damaged file: any type, as UNREADABLE says)
+        raise ParameterError(f"{unreadable} ({describe(exc)})") from None
+    try:
+        file = netCDF4.Dataset(nc, "r")
+    except Exception as exc:  # noqa: BLE001
+        raise ParameterError(f"{unreadable} ({describe(exc)})") from None
+    try:
+        _check_stored(nc, file, listed)
+        with xr.open_dataset(xr.backends.NetCDF4DataStore(file)) as opened:
+            return opened.load()
+    except ParameterError:
+        raise
+    except Exception as exc:  # noqa: BLE001
+        raise ParameterError(f"{unreadable} ({describe(exc)})") from None
+    finally:
+        with suppress(Exception):
+            file.close()
+
+
 def _read_data(nc: Path, record: dict):
-    """The data of a saved study, checked against its JSON record (layout and checksum); the file's size is
-    checked against the layout's before it is read."""
+    """The data of a saved study, checked against its JSON record: the file's size against the layout's, its
+    storage and variables (names, dimensions, shapes, dtypes) from its metadata, then, once read, its content
+    against the record's checksum."""
     listed = _shapes(record["variables"])
     limit = sum(math.prod(shape) * dtype.itemsize for _, shape, dtype in listed.values()) + NETCDF_OVERHEAD
     size = nc.stat().st_size
     if size > limit:
         raise ParameterError(f"{nc}: {size} bytes, more than the {limit} its JSON allows")
-    data = read_netcdf(nc)
+    data = _open_checked(nc, listed)
+    if not isinstance(data.attrs.get("kind"), str) or "config" not in data.attrs:
+        raise ParameterError(f"{nc}: not a rocking study (no kind and configuration in its attributes)")
     found = data_layout(data)
-    if set(found) != set(listed):
-        names = ", ".join(map(name_text, sorted(set(found) ^ set(listed))))
-        raise ParameterError(f"{nc}: variable(s) {names} differ from those its JSON lists")
-    wrong = sorted(k for k in listed if found[k] != record["variables"][k])
-    if wrong:
-        raise ParameterError(
-            f"{nc}: variable(s) {', '.join(map(name_text, wrong))} differ in shape or type from its JSON"
-        )
+    wrong = sorted(k for k in listed if found.get(k) != record["variables"][k])
+    if wrong or set(found) != set(listed):
+        names = ", ".join(map(name_text, (wrong or sorted(set(found) ^ set(listed)))[:5]))
+        raise ParameterError(f"{nc}: variable(s) {names} differ in shape or type from its JSON")
     if checksum(variables(data)) != record["variables_sha256"]:
         raise ParameterError(f"{nc}: its variables do not match the checksum of its JSON (changed or damaged)")
     data.attrs.clear()  # the configuration and summary are the record's, checked
@@ -516,9 +875,12 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
     (:func:`rocking.model.loading.saved_model`); a built-in model needs nothing.
 
     The JSON record is the mark of a whole study (:func:`save` writes it last): without it there is no
-    study. Its configuration and summary are checked to be those saved with its results (their SHA-256s), its
-    configuration against the variables it lists (:func:`check_config`,
-    :func:`check_variables`) and the NetCDF file's size against that list, before the file is read.
+    study. Its texts are bounded (:func:`check_texts`), its configuration and summary are checked to be those
+    saved with its results (their SHA-256s: which anyone can make again, so they prove no origin), every field of
+    its configuration by the command line's table (:func:`check_fields`), its configuration against the variables it
+    lists (:func:`check_config`, :func:`check_variables`), and the NetCDF file's size, storage and variables
+    against that list from its metadata, before any of its data is read (:func:`_open_checked`: no external,
+    virtual or filtered datasets, no variable the record does not list).
 
     Raises
     ------
@@ -527,8 +889,9 @@ def load(path: str | Path, *, trust_model: str | Path | None = None) -> Study:
         study's (not JSON, too large or deep, not an object, no ``kind``/``config``/``summary``/``variables``,
         an unknown kind, another format: a study saved by an earlier version is refused in one line), its
         configuration or summary was changed after it was saved, its configuration is not valid or contradicts
-        its variables, the ``.nc`` cannot be read (truncated,
-        damaged, not NetCDF, larger than its JSON says), or its variables differ from what the JSON lists;
+        its variables, the ``.nc`` cannot be read (truncated, damaged, not NetCDF-4, larger than its JSON says:
+        any failure of the NetCDF or HDF5 library), stores data outside itself, or its variables differ from what
+        the JSON lists;
         or if ``trust_model`` is not the model the study was run with.
     """
     stem = study_stem(path)
