@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "41c476b78d63fd811c25da0e954ad601b8a3f7bd5ac616de2e845a96372a8728",
-    "omd": "466f03c6a8ab0d746a4705110d3d3b9db2caf97cf2eb27577cbe517d9b115531",
-    "omd2": "53c58ac670017270e1f63d8598e4dd85366b233cbd256a465c6fa36aa2c69c27",
-    "omd_stops": "3db39f9ee54d9475f055ddda6df5737785eab9c6ac44d1ebae5e4eb3952c15df",
-    "omd_stops_hc": "c4e6bbc5b21b6139b994d0fa0507457a42f95cd0b5d72fd94940a6203a6da13b",
-    "pendulum": "0e7371c4f40a06bce271bdea1d3d505b1a7beca93d1d70e25948bfe58ee43009",
+    "block": "c95787c47c44f625daf86a9cb7960016be45a313ea404db44da46e27fcff93a1",
+    "omd": "45b38244fee59f715e4c137569ebd257ad8d5b6a452bc7f3e6c80ffe9c58aa09",
+    "omd2": "c8a32d25138e251b03252c14b8df4558d188e25f02cbaad432290eb69df419ec",
+    "omd_stops": "9fb1bb8e2cbca6006e4a8c1f76dc2b7321cc234fc6d2bf34a0397519e7724398",
+    "omd_stops_hc": "79f6a887e8e17f2d2bdca4b3ff58ff9f90eb0f6d60399ad56e9a61f66aae12ad",
+    "pendulum": "2f56efa32b3d6c1e8d7dab04e99aaa04475a5ce12d83eca51f2235dbb1ad5c36",
 }

@@ -27,6 +27,7 @@ import rocking
 import rocking.cli.study
 from rocking import Block, ParameterError
 from rocking.cli.study import add_study_commands
+from rocking.model import outputs
 from rocking.study import files, storage, tiles
 from rocking.study.config import MAX_CELLS, MAX_N, Grid, Setting, Tuning, Variant
 from rocking.study.optimize import optimal_damper
@@ -229,14 +230,14 @@ def _enospc(*args, **kwargs):
 def _full_at(monkeypatch, stage: str) -> None:
     """Make the writer of ``stage`` (``tile`` after 3 tiles, or a study's file) fail as on a full disk."""
     if stage == "map.nc, older xarray":  # it writes the file itself; the library's error has no errno
-        monkeypatch.setattr(files, "no_space", lambda folder: True)
+        monkeypatch.setattr(outputs, "no_space", lambda folder: True)
         error = {None: ValueError("invalid engine for creating bytes with to_netcdf")}
         monkeypatch.setattr(
             "xarray.Dataset.to_netcdf",
             lambda self, path=None, **k: _raise(error.get(path, RuntimeError("NetCDF: HDF error"))),
         )
         return
-    real = files.write_file
+    real = outputs.write_file
     tiles_written = []
 
     def write_file(path, write, mode="wb"):
@@ -248,7 +249,7 @@ def _full_at(monkeypatch, stage: str) -> None:
             _enospc()
         real(path, write, mode)
 
-    for module in (files, storage):  # the tiles' writer, and the study's
+    for module in (outputs, files, storage):  # every atomic write (tiles, NetCDF), the CSV tables, the study
         monkeypatch.setattr(module, "write_file", write_file)
 
 

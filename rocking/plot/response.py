@@ -15,8 +15,8 @@ from matplotlib.figure import Figure
 
 from ..model.loading import load_model
 from ..model.motion import describe, peak
+from ..model.outputs import atomic_write
 from ..model.params import RANGES, Block, Damper
-from ..study.files import atomic_write
 from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES
 
 #: The history's entries that are not a coordinate (rocking.sim.problem.Response.history).

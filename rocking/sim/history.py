@@ -345,8 +345,7 @@ def write(response, path, dt: float | None = None) -> None:
     suffix = Path(path).suffix.lower()
     if suffix not in HISTORY_FORMATS:
         raise ParameterError(f"history file must end in {' or '.join(HISTORY_FORMATS)} (got {str(path)!r})")
-    from ..study.files import atomic_write, replace_file  # as every output: a temporary file renamed over it
-    from ..study.storage import write_netcdf
+    from ..model.outputs import atomic_write, replace_file, write_netcdf  # as every output
 
     ds = to_dataset(response, dt)
     if suffix == ".nc":

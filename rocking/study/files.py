@@ -3,8 +3,9 @@
 A file is written atomically (:func:`atomic_write`: a temporary file in its folder renamed over it; a symbolic
 link in its place is replaced, never followed) or created anew (:func:`write_file`), with the mode of any new
 file, ``0666`` less the umask; a full disk raises :class:`DiskFull` naming the file, and nothing partial stays
-behind. Every output of rocking goes through them: a study's data, its figures, a response's figure and history.
-Two writers of one study's files into one folder are serialised by a lock on its name (:func:`name_lock`).
+behind (the writing side lives in :mod:`rocking.model.outputs`, below the simulator, which writes its histories
+alike). Two writers of one study's files into one folder are serialised by a lock on its name
+(:func:`name_lock`).
 
 What is read is bounded before it is read: a JSON record's size and nesting (:func:`read_json`), an archive's
 arrays from the zip's headers (:func:`read_npz`: uncompressed members, each the size its ``.npy`` header says,
@@ -19,26 +20,29 @@ from __future__ import annotations
 
 import ctypes
 import ctypes.util
-import errno
 import functools
 import hashlib
 import json
 import math
-import os
 import re
-import secrets
-import shutil
 import subprocess
 import sys
 import tempfile
 import zipfile
-from collections.abc import Callable, Iterator
+from collections.abc import Iterator
 from contextlib import ExitStack, contextmanager, suppress
 from pathlib import Path
 
 import numpy as np
 from numpy.lib import format as npy
 
+from ..model.outputs import FULL as FULL
+from ..model.outputs import DiskFull as DiskFull
+from ..model.outputs import atomic_write as atomic_write
+from ..model.outputs import is_full as is_full
+from ..model.outputs import no_space as no_space
+from ..model.outputs import replace_file as replace_file
+from ..model.outputs import write_file as write_file
 from ..model.params import ParameterError
 from ..model.records import input_refusal
 from ..sim.cbuild import lock
@@ -72,120 +76,6 @@ MAX_STUDY_BYTES = MAX_CELLS * 400
 
 #: Largest ``.npy`` header of a member (NumPy writes 128 bytes, more for many dimensions).
 MAX_NPY_HEADER = 4096
-
-#: errno values of a full disk: no space left, or the user's quota used up.
-FULL = frozenset({errno.ENOSPC, errno.EDQUOT})
-
-#: Free bytes below which a failed write that carries no errno (the NetCDF library's "HDF error") is
-#: a full disk: a write that does not fit fills the disk to its last blocks before it fails.
-FULL_MARGIN = 1 << 20
-
-#: Mode of a new file before the umask (os.open applies it, as for any file a program creates).
-NEW_FILE_MODE = 0o666
-
-
-class DiskFull(OSError):
-    """No space left on the disk (or quota used up) writing ``path``; nothing partial is left behind.
-
-    Attributes
-    ----------
-    path : Path
-        The file that did not fit (its final name, not a temporary one).
-    kept : int or None
-        Finished tiles of the study kept on disk, when known: a rerun resumes from them.
-    """
-
-    def __init__(self, path: str | Path, kept: int | None = None) -> None:
-        super().__init__(errno.ENOSPC, "No space left on device", str(path))
-        self.path, self.kept = Path(path), kept
-
-    def __str__(self) -> str:
-        kept = f": {self.kept} tiles kept" if self.kept is not None else ""
-        return f"disk full writing {self.path}{kept}"
-
-
-def is_full(exc: BaseException, folder: Path | None = None) -> bool:
-    """True if ``exc`` says the disk is full: its errno, or (``folder`` given) a library's error without one
-    (RuntimeError, OSError) while ``folder``'s disk is full (:func:`no_space`)."""
-    if isinstance(exc, OSError) and exc.errno in FULL:
-        return True
-    if folder is None or not isinstance(exc, (RuntimeError, OSError)) or getattr(exc, "errno", None):
-        return False
-    return no_space(folder)
-
-
-def no_space(folder: Path) -> bool:
-    """True if the disk of ``folder`` has less than :data:`FULL_MARGIN` bytes free (False if it cannot tell)."""
-    try:
-        return shutil.disk_usage(folder).free < FULL_MARGIN
-    except OSError:
-        return False
-
-
-def _new_file(path: Path) -> int:
-    """Create ``path`` (it must not exist), open for writing, with mode 0666 less the umask."""
-    return os.open(path, os.O_WRONLY | os.O_CREAT | os.O_EXCL | getattr(os, "O_BINARY", 0), NEW_FILE_MODE)
-
-
-def write_file(path: Path, write: Callable, mode: str = "wb") -> None:
-    """Create ``path`` and write it through ``write(file)``; ``mode``: ``"wb"``, or ``"w"`` (UTF-8 text)."""
-    text = {"encoding": "utf-8", "newline": ""} if "b" not in mode else {}
-    with os.fdopen(_new_file(path), mode, **text) as f:
-        write(f)
-
-
-def atomic_write(path: Path, write: Callable, mode: str = "wb") -> None:
-    """Write through ``write(file)`` to a temporary file next to ``path``, then rename it over ``path``
-    (:func:`replace_file`).
-
-    Parameters
-    ----------
-    path : Path
-        The file to write; its folder must exist.
-    write : callable
-        ``write(file)``, given the open temporary file.
-    mode : {"wb", "w"}, optional
-        Binary, or text (UTF-8, newlines as written).
-
-    Raises
-    ------
-    DiskFull
-        If the disk is full; the temporary file is removed.
-    """
-    replace_file(path, lambda tmp: write_file(tmp, write, mode))
-
-
-def replace_file(path: Path, make: Callable[[Path], None]) -> None:
-    """``make(tmp)`` creates the new file at a temporary name next to ``path``; it is then renamed over ``path``.
-
-    The one way rocking writes an output file (a study's files are made so in a temporary folder, then renamed).
-
-    Raises
-    ------
-    DiskFull
-        If the disk is full; the temporary file is removed.
-
-    Notes
-    -----
-    A reader (or a rerun after Ctrl-C or a killed process) sees either the old
-    file, or no file, or the whole new one. A symbolic link at ``path`` is
-    replaced by the new file: the file it points at is never written. The file
-    gets the mode of any new file (0666 less the umask; :func:`write_file`), not
-    a temporary file's 0600. No fsync: it would cost as much as a small tile's
-    work, and only a power cut can leave a damaged file, which :func:`load` and
-    :func:`rocking.study.tiles.load_tile` refuse.
-    """
-    tmp = path.with_name(f".{path.name}.{secrets.token_hex(8)}.tmp")
-    try:
-        make(tmp)
-        os.replace(tmp, path)
-    except BaseException as exc:
-        # Ctrl-C may come just after the rename (the signal is handled when os.replace returns): no tmp then.
-        with suppress(FileNotFoundError):
-            os.unlink(tmp)
-        if is_full(exc):
-            raise DiskFull(path) from None
-        raise
 
 
 @contextmanager

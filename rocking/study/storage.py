@@ -40,6 +40,7 @@ from ..model.checks import check_in_range
 from ..model.loading import ModelError, load_model
 from ..model.motion import PULSE_TYPES
 from ..model.motion import describe as describe_motion
+from ..model.outputs import write_netcdf
 from ..model.params import Block, ParameterError, shown
 from ..model.records import input_refusal
 from ..model.stochastic import SiteModel
@@ -152,22 +153,6 @@ def data_layout(data) -> dict:
     """Name -> ``{"dims": [...], "dtype": ..., "shape": [...]}`` of every variable of ``data``, JSON-ready."""
     shapes = layout(variables(data))
     return {name: {"dims": list(data[name].dims), **shapes[name]} for name in shapes}
-
-
-def write_netcdf(dataset, path: Path) -> None:
-    """Write ``dataset`` as NetCDF-4 into the new file ``path``, made in memory first.
-
-    The NetCDF library that fails to write a file (a full disk) keeps it open and refuses the next file of
-    the process ("NetCDF: HDF error"); in memory it never writes the disk, and a full disk is the OSError of
-    :func:`write_file`. An xarray that writes NetCDF-4 to files only (before 2025) writes the file itself:
-    a full disk is then told by the free space left beside the partial file (:func:`is_full`).
-    """
-    try:
-        data = dataset.to_netcdf(engine="netcdf4")
-    except ValueError:  # "invalid engine for creating bytes": an older xarray
-        dataset.to_netcdf(path, engine="netcdf4")
-        return
-    write_file(path, lambda f: f.write(data))
 
 
 def _record(study: Study, software: dict, files: list[str], command: dict | None) -> dict:
