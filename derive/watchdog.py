@@ -160,7 +160,7 @@ def _receive(reader, child, spec, stage: str, limit: float | None):
 def _watch(reader, child, spec, limit: float | None, log: StageLog) -> Built:
     """Follow the child's stages, printing them with their CPU time, until it sends its result; a stage past its
     CPU limit ends the child itself, and the clock's backstop (:data:`WALL_FACTOR`) kills it."""
-    wall, clock = (limit * WALL_FACTOR, "wall-clock time") if cpu_limited() else (limit, "time")
+    wall, clock = (limit * WALL_FACTOR, "wall-clock time") if limit and cpu_limited() else (limit, "time")
     stage, began, heartbeat, cpu = "start", time.monotonic(), HEARTBEAT, 0.0
     while True:
         elapsed = time.monotonic() - began

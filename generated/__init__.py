@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 7
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "c95787c47c44f625daf86a9cb7960016be45a313ea404db44da46e27fcff93a1",
-    "omd": "45b38244fee59f715e4c137569ebd257ad8d5b6a452bc7f3e6c80ffe9c58aa09",
-    "omd2": "c8a32d25138e251b03252c14b8df4558d188e25f02cbaad432290eb69df419ec",
-    "omd_stops": "9fb1bb8e2cbca6006e4a8c1f76dc2b7321cc234fc6d2bf34a0397519e7724398",
-    "omd_stops_hc": "79f6a887e8e17f2d2bdca4b3ff58ff9f90eb0f6d60399ad56e9a61f66aae12ad",
-    "pendulum": "2f56efa32b3d6c1e8d7dab04e99aaa04475a5ce12d83eca51f2235dbb1ad5c36",
+    "block": "6bfaf8e3a6db19ac79c2f31f90144ba1c2f17adebc8e53b255b31c00a1da6c04",
+    "omd": "0565f9215a325be16eb746215bf2fb1d014be67e869de75dbe062489054f30f8",
+    "omd2": "9626394bfbc753e3669dc3f17df5c00b863e5852ccd6e1ce6b010419909f07e9",
+    "omd_stops": "5cc360bcf03c0cd1cbe0fa0989dde659a4968e84bcbe70b016c64a1aea25711f",
+    "omd_stops_hc": "3e3f9fb2f0863b79d14a667c9ce7c794147af3211d1267da532a8f94c278232a",
+    "pendulum": "a93e51df7a3b75604b99c82d562a84ddedb233e21ca223d02f8301cb0b055055",
 }

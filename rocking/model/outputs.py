@@ -73,8 +73,8 @@ def _new_file(path: Path) -> int:
 
 def write_file(path: Path, write: Callable, mode: str = "wb") -> None:
     """Create ``path`` and write it through ``write(file)``; ``mode``: ``"wb"``, or ``"w"`` (UTF-8 text)."""
-    text = {"encoding": "utf-8", "newline": ""} if "b" not in mode else {}
-    with os.fdopen(_new_file(path), mode, **text) as f:
+    fd = _new_file(path)
+    with os.fdopen(fd, "wb") if "b" in mode else os.fdopen(fd, "w", encoding="utf-8", newline="") as f:
         write(f)
 
 
