@@ -78,3 +78,38 @@ def test_the_help_states_the_studies_defaults(capsys):
     text = " ".join(capsys.readouterr().out.split())
     tuning = Tuning()
     assert f"rocking.Tuning: omega_ratio {tuning.omega_ratio:g}, zeta {tuning.zeta:g}, h {tuning.h:g} m" in text
+
+
+# --- item 7: small things users notice ---------------------------------------------------------------------------
+
+
+def test_a_bumper_force_that_never_rose_prints_0(capsys):
+    """Pads that never push leave the largest force at -0.0: printed 0, not -0."""
+    (line,) = _summary(capsys, ["--gamma", "0.05", "--stops", "--beta", "0.5", "--Omega", "4"])
+    assert "0 stop contact(s), bumper force max 0 N" in line
+
+
+def test_the_history_messages_name_each_response(capsys, tmp_path):
+    path = tmp_path / "h.csv"
+    assert main(["simulate", "--gamma", "0.05", *PULSE, "--compare", "--history", str(path)]) == 0
+    err = capsys.readouterr().err.splitlines()
+    assert f"history (with damper) written to {path}" in err
+    assert f"history (block alone) written to {tmp_path / 'h-block_alone.csv'}" in err
+
+
+def test_the_envelopes_take_a_study_or_say_what_to_pass(tmp_path):
+    import rocking
+    from rocking.model.params import ParameterError
+    from rocking.study import overturning_map, spectrum
+
+    block = Block.reference()
+    grid = {"Omega": [4.0, 6.0], "beta": [2.0, 3.0], "workers": 1, "progress": False, "runs": tmp_path, "study": True}
+    study = rocking.overturning_map(block, Tuning(), **grid)
+    assert overturning_map.envelope(study).equals(overturning_map.envelope(study.data))
+    assert not overturning_map.envelope(study)["overturned"].sel(part="bare").isnull().any()
+    with pytest.raises(
+        ParameterError, match=r"^data must be a spectrum Study or its data, an xarray.Dataset \(got a map"
+    ):
+        spectrum.envelope(study)
+    with pytest.raises(ParameterError, match=r"data must be a map Study .*\(got dict\)"):
+        overturning_map.envelope({"status": 1})

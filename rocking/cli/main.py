@@ -466,7 +466,8 @@ def _stops_text(response, model: str | None) -> str:
     """``, N stop contact(s), bumper force max F N`` for a model with end stops (parameter ``L``), else nothing."""
     if model is None or "L" not in load_model(model).own_parameters:
         return ""
-    return f", {response.stop_contacts} stop contact(s), bumper force max {response.bumper_force_max:.4g} N"
+    # + 0.0: a force that never left 0 is -0.0 in a run whose pads never pushed, printed "-0".
+    return f", {response.stop_contacts} stop contact(s), bumper force max {response.bumper_force_max + 0.0:.4g} N"
 
 
 def _past_edge_text(response, block, model: str) -> str:
@@ -546,7 +547,7 @@ def _simulate(args) -> int:
     for label, path in histories.items():
         with _writing("--history", path):
             write_history(responses[label], path, args.history_dt)
-        print(f"history of the {label} written to {path}", file=sys.stderr)
+        print(f"history ({label}) written to {path}", file=sys.stderr)
     return 0
 
 
