@@ -113,3 +113,40 @@ def test_the_envelopes_take_a_study_or_say_what_to_pass(tmp_path):
         spectrum.envelope(study)
     with pytest.raises(ParameterError, match=r"data must be a map Study .*\(got dict\)"):
         overturning_map.envelope({"status": 1})
+
+
+@pytest.mark.parametrize("row", ["0,01;0,5", "0,01,0,5", "0,01 0,5", "0,01\t-0,5"])
+def test_a_decimal_comma_is_named_as_the_cause(tmp_path, row):
+    from rocking.model.params import ParameterError
+    from rocking.model.records import read_record
+
+    path = tmp_path / "record.csv"
+    path.write_text(f"time [s]; a [g]\n{row}\n")
+    message = "line 2: expected 2 column(s), got 4: decimal commas are not read: use a point (0.01, not 0,01)"
+    with pytest.raises(ParameterError, match=re.escape(message)):
+        read_record(path)
+
+
+@pytest.mark.parametrize("row", ["0.01,0.5,0.3", "1,2,3"])
+def test_other_extra_columns_are_not_called_decimal_commas(tmp_path, row):
+    from rocking.model.params import ParameterError
+    from rocking.model.records import read_record
+
+    path = tmp_path / "record.csv"
+    path.write_text(f"time [s], a [g]\n{row}\n")
+    with pytest.raises(ParameterError, match=r"expected 2 column\(s\), got 3$"):
+        read_record(path)
+
+
+def test_reprs_show_the_lengths_a_user_typed():
+    """Stops.at_edges of a 0.6 m base: L = 0.3 - 0.02 is 0.27999999999999997 in binary, shown 0.28."""
+    from rocking.model.params import Stops
+
+    block = Block(H=2.2, B=0.6, M=350.0, e=0.02)
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, h=0.05)
+    stops = Stops.at_edges(block, damper)
+    assert stops.L == 0.6 / 2 - 0.02 != 0.28  # the value itself is unchanged
+    assert repr(stops).startswith("Stops(L=0.28, k_b=")
+    text = repr(Damper(damper.m, damper.k_m, damper.c, damper.h, stops=stops))
+    assert text.startswith("Damper(m=17.5, k_m=") and "h=0.05, stops=Stops(L=0.28, " in text
+    assert repr(block) == "Block(H=2.2, B=0.6, M=350.0, e=0.02, I_G=151.666666667, g=9.81)"
