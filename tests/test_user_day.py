@@ -150,3 +150,17 @@ def test_reprs_show_the_lengths_a_user_typed():
     text = repr(Damper(damper.m, damper.k_m, damper.c, damper.h, stops=stops))
     assert text.startswith("Damper(m=17.5, k_m=") and "h=0.05, stops=Stops(L=0.28, " in text
     assert repr(block) == "Block(H=2.2, B=0.6, M=350.0, e=0.02, I_G=151.666666667, g=9.81)"
+
+
+def test_the_response_table_names_the_coordinates():
+    """Response._repr_html_ (Jupyter) says |x| with or without a damper, never the generated code's q[1]."""
+    import rocking
+
+    block = Block.reference()
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=1.5, Omega=8)
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, h=0.05)
+    for run in (rocking.simulate(block, None, pulse), rocking.simulate(block, damper, pulse)):
+        html = run._repr_html_()
+        assert "q[1]" not in html and "largest |x|" in html
+    bounded = rocking.simulate(block, None, pulse)
+    assert bounded.status == "bounded" and "|theta| and |x| below their maxima" in bounded._repr_html_()
