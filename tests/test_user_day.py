@@ -164,3 +164,24 @@ def test_the_response_table_names_the_coordinates():
         assert "q[1]" not in html and "largest |x|" in html
     bounded = rocking.simulate(block, None, pulse)
     assert bounded.status == "bounded" and "|theta| and |x| below their maxima" in bounded._repr_html_()
+
+
+def test_a_record_given_twice_in_two_formats_is_warned_of(tmp_path):
+    """The same samples as PEER .AT2 and as CSV (both in g): two files, one motion; the warning names both."""
+    from rocking.study.suite import DuplicateMotionWarning, Suite
+
+    values = [0.0063010, 0.0063250, -0.0012345, -0.0234567, 0.5, -0.25, 1.0e-5, 0.0]
+    at2 = tmp_path / "elc.AT2"
+    header = ["PEER NGA STRONG MOTION DATABASE RECORD", "El Centro", "ACCELERATION TIME SERIES IN UNITS OF G"]
+    at2.write_text("\n".join([*header, "NPTS=    8, DT=   .0100 SEC", *(f"{v:15.7E}" for v in values)]) + "\n")
+    csv = tmp_path / "elc.csv"
+    csv.write_text("time [s], a [g]\n" + "".join(f"{k * 0.01:.2f}, {v}\n" for k, v in enumerate(values)))
+    other = tmp_path / "other.csv"
+    other.write_text("time [s], a [g]\n" + "".join(f"{k * 0.01:.2f}, {2 * v}\n" for k, v in enumerate(values)))
+    with pytest.warns(DuplicateMotionWarning, match=r"motions .*elc\.AT2 and .*elc\.csv hold the same samples"):
+        Suite.from_files([at2, other, csv])
+    import warnings
+
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        assert len(Suite.from_files([at2, other])) == 2
