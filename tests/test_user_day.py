@@ -185,3 +185,23 @@ def test_a_record_given_twice_in_two_formats_is_warned_of(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         assert len(Suite.from_files([at2, other])) == 2
+
+
+def test_the_site_models_options_state_their_units(capsys):
+    """Each option of the stochastic site model in rocking fragility --help states the unit its SiteModel
+    docstring gives (the one place the model's units are declared besides the help)."""
+    from rocking.cli.study import SITE_HELP
+    from rocking.model.stochastic import SiteModel
+
+    with pytest.raises(SystemExit):
+        main(["fragility", "--help"])
+    text = " ".join(capsys.readouterr().out.split())
+    doc = " ".join(SiteModel.__doc__.split())
+    for option, (meaning, unit) in SITE_HELP.items():
+        entry = re.search(rf"--{option.replace('_', '-')} \S+ site model: ([^)]*\))", text)
+        assert entry and entry.group(1).startswith(meaning.replace("%%", "%")), option
+        described = re.search(rf"\b{option} : float(?:, optional)? (.*?)(?= \w+ : |$)", doc).group(1)
+        if unit:
+            assert f", {unit} (default " in entry.group(1) and re.search(rf", {re.escape(unit)}[,; ]", described)
+        else:
+            assert "ratio" in described  # zeta_f, the one without a unit
