@@ -205,3 +205,11 @@ def test_the_site_models_options_state_their_units(capsys):
             assert f", {unit} (default " in entry.group(1) and re.search(rf", {re.escape(unit)}[,; ]", described)
         else:
             assert "ratio" in described  # zeta_f, the one without a unit
+
+
+def test_a_list_of_numbers_in_a_message_is_short():
+    from rocking.cli.options import numbers_text
+
+    Omega = [5.2415714285714285 + 0.5 * k for k in range(9)]
+    assert numbers_text(Omega) == "5.242, 5.742, 6.242, 6.742, 7.242, 7.742 and 3 more"
+    assert numbers_text([1.0, 2.5]) == "1, 2.5"

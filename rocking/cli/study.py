@@ -82,6 +82,7 @@ from .options import (
     flags_of,
     given,
     named_as_flag,
+    numbers_text,
     params_from,
     python_default,
 )
@@ -864,8 +865,8 @@ def design_lines(study: Study) -> list[str]:
     )
     if s["gain_undefined_at"]:
         lines.append(
-            f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
-            "within the beta scan there; widen --beta)"
+            f"design: gain undefined at Omega = {numbers_text(s['gain_undefined_at'])} (the block alone does not "
+            "overturn within the beta scan there; widen --beta)"
         )
     return lines
 
