@@ -62,6 +62,17 @@ def default_text(func: Callable, name: str, unit: str = "") -> str:
     return f"default {value}{' ' + unit if unit else ''}"
 
 
+#: Most numbers a message lists before "and N more".
+LISTED = 6
+
+
+def numbers_text(values, cap: int = LISTED) -> str:
+    """``5.242, 5.818 and 3 more``: the first ``cap`` of ``values`` at 4 significant digits, for a message."""
+    values = list(values)
+    shown = ", ".join(f"{float(v):.4g}" for v in values[:cap])
+    return shown + (f" and {len(values) - cap} more" if len(values) > cap else "")
+
+
 def flag(name: str) -> str:
     """The flag of the Python parameter ``name`` (the module's flag rule)."""
     return "--" + name.replace("_", "-")

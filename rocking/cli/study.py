@@ -82,6 +82,7 @@ from .options import (
     flags_of,
     given,
     named_as_flag,
+    numbers_text,
     params_from,
     python_default,
 )
@@ -91,8 +92,32 @@ from .rerun import CURRENT, check_same, command_record
 VERTICAL_RATIOS = (0.0, 0.5, 1.0)
 VERTICAL_OMEGA, VERTICAL_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 
-#: Options of the stochastic site model (rocking.model.stochastic.SiteModel).
-SITE_OPTIONS = ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
+#: Options of the stochastic site model (rocking.model.stochastic.SiteModel): what each is, and its unit (its
+#: docstring's, Rezaeian and Der Kiureghian 2008).
+SITE_HELP = {
+    "arias": ("expected Arias intensity I_a", "m/s"),
+    "d595": ("significant duration D_5-95, from 5 %% to 95 %% of I_a", "s"),
+    "t_mid": ("time at which 45 %% of I_a is reached", "s"),
+    "f_mid": ("filter frequency at t_mid", "Hz"),
+    "f_slope": ("rate of change of the filter frequency", "Hz/s"),
+    "zeta_f": ("damping ratio of the filter, in (0, 1)", ""),
+    "f_c": ("corner of the high-pass filter", "Hz"),
+    "dt": ("time step of the samples", "s"),
+    "duration": ("length of each record", "s"),
+}
+SITE_OPTIONS = tuple(SITE_HELP)
+
+
+def _site_help(option: str) -> str:
+    """The help of a site model's option: what it is, its unit and its default (:data:`DEFAULT_SITE`'s)."""
+    meaning, unit = SITE_HELP[option]
+    default = f"{getattr(DEFAULT_SITE, option):g}"
+    return (
+        f"site model: {meaning}, {unit} (default {default} {unit})"
+        if unit
+        else f"site model: {meaning} (default {default})"
+    )
+
 
 #: The options of a suite of pulses besides ``--pulses``.
 PULSE_SUITE_OPTIONS = ("periods", "amplitude", "gamma_mp", "nu")
@@ -518,7 +543,7 @@ def _add_motions(p: argparse.ArgumentParser) -> None:
         g.add_argument(
             f"--{option.replace('_', '-')}",
             type=float,
-            help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
+            help=_site_help(option),
         )
     g.add_argument(
         "--vertical-ratio",
@@ -840,8 +865,8 @@ def design_lines(study: Study) -> list[str]:
     )
     if s["gain_undefined_at"]:
         lines.append(
-            f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
-            "within the beta scan there; widen --beta)"
+            f"design: gain undefined at Omega = {numbers_text(s['gain_undefined_at'])} (the block alone does not "
+            "overturn within the beta scan there; widen --beta)"
         )
     return lines
 

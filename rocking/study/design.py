@@ -41,7 +41,7 @@ import numpy as np
 from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
 from .config import Grid, Setting, is_count, part_config
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
-from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, study_data
 from .optimize import MAX_REFINE, at_edge, coarse_values, refinement
 from .overturning_map import PARTS, check_study, preflight, respond, warn_t_max, warn_undetermined
 from .result import Study
@@ -375,9 +375,11 @@ def _attrs(name: str, config: dict) -> dict:
 def envelope(data):
     """A design's ``beta_min`` reduced over ``sign`` (:func:`rocking.study.directions.beta_min_envelope`): the
     smaller ``beta_min`` of the directions of each part and Omega, with its ``beta_safe``, ``flag`` and
-    ``impacts``, and the responses without a verdict summed."""
+    ``impacts``, and the responses without a verdict summed. ``data``: a design :class:`~rocking.study.result.Study`
+    or its data."""
     import xarray as xr
 
+    data = study_data(data, ("design",))
     reduced = beta_min_envelope({k: data[k].transpose(..., "sign").values for k in COLUMN_FIELDS})
     reduced.pop("worst_sign_index")
     return xr.Dataset(

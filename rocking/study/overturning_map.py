@@ -460,8 +460,9 @@ def envelope(data):
     (:func:`rocking.study.directions.envelope`), and the damper's ``effect`` on it (``(Omega, beta)``).
 
     ``worst_sign`` is 0 where the direction that governs is not known: a safe cell not computed (which direction
-    governs a safe cell is told by ``theta_max``).
+    governs a safe cell is told by ``theta_max``). ``data``: a map :class:`~rocking.study.result.Study` or its data.
     """
+    data = directions.study_data(data, ("map",))
     status = data["status"]
     out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
     computed = data["computed"].transpose(*out["overturned"].dims).values

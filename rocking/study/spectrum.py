@@ -42,7 +42,7 @@ from ..model.params import ParameterError
 from ..sim.problem import STATUS
 from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
-from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, study_data
 from .overturning_map import (
     FIXED,
     PARTS,
@@ -418,9 +418,10 @@ def envelope(data):
     """A spectrum's results reduced over ``sign`` (:func:`rocking.study.directions.beta_min_envelope`): the
     smaller ``beta_min`` of the directions of each part and Omega, its ``beta_safe``, ``flag`` and
     ``impacts``, the responses without a verdict summed, the worse ``scan_outcome`` at each scan amplitude,
-    and ``worst_sign``."""
+    and ``worst_sign``. ``data``: a spectrum :class:`~rocking.study.result.Study` or its data."""
     import xarray as xr
 
+    data = study_data(data, ("spectrum",))
     reduced = beta_min_envelope({k: data[k].values for k in (*COLUMN_FIELDS, "scan_outcome")})
     index = reduced.pop("worst_sign_index")
     out = xr.Dataset(
