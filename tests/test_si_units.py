@@ -121,6 +121,10 @@ def test_a_beta_min_not_reached_in_the_scan_is_censored_with_its_lower_bound(tmp
     rocking.save(study, tmp_path / "o")
     csv = pd.read_csv(tmp_path / "o" / "spectrum.csv")
     assert csv["bare_beta_min [1]"].isna().all() and (csv["bare_beta_min_lower_bound [1]"] == 0.8).all()
+    # In SI units beside it: a_g = beta g tan(alpha), censored alike.
+    bound = 0.8 * rocking.Block.reference().a_g(1.0)
+    assert csv["bare_a_g_min [m/s^2]"].isna().all()
+    np.testing.assert_allclose(csv["bare_a_g_min_lower_bound [m/s^2]"], bound, rtol=1e-14)
     loaded = rocking.load(tmp_path / "o" / "spectrum.nc").data
     assert loaded["beta_min"].isnull().all() and (loaded["beta_min_lower_bound"] == 0.8).all()
     # Drawn as a bound (an open triangle, not joined), never as a point of the curve.

@@ -60,6 +60,8 @@ FIELDS: dict[str, tuple] = {
     "stroke_over_half_width": ("1", "largest damper stroke over the block's half-width B/2"),
     "stroke_over_L": ("1", "largest damper stroke over the stops' half-stroke L"),
     "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha); NaN where not reached in the scan"),
+    "a_g_min": ("m/s^2", "smallest overturning pulse amplitude a_g = beta_min g tan(alpha); NaN where not reached"),
+    "a_g_min_lower_bound": ("m/s^2", "lower bound of an a_g_min not reached in the scan (a_g_min NaN)"),
     "beta_min_lower_bound": (
         "1",
         "lower bound of a beta_min not reached in the scan (beta_min NaN): the last amplitude ratio scanned, none "
@@ -227,6 +229,19 @@ def si_coordinates(config: dict, coords: dict) -> dict:
             {"units": "s", "long_name": "damper period T_m of the coarse search"},
         )
     return out
+
+
+#: The amplitudes in SI units of a study's results (:func:`si_amplitudes`), each of its amplitude ratio.
+SI_AMPLITUDES = {"a_g_min": "beta_min", "a_g_min_lower_bound": "beta_min_lower_bound"}
+
+
+def si_amplitudes(config: dict, fields: dict) -> dict:
+    """The amplitudes ``a_g = beta g tan(alpha)`` (m/s^2, :meth:`rocking.Block.a_g`) of the amplitude ratios among
+    ``fields`` (:data:`SI_AMPLITUDES`), for a study of one block (none for another)."""
+    if "block" not in config:
+        return {}
+    block = Block(**config["block"])
+    return {si: block.a_g(np.asarray(fields[ratio], float)) for si, ratio in SI_AMPLITUDES.items() if ratio in fields}
 
 
 def to_dataset(study, versions: dict | None = None):

@@ -41,8 +41,8 @@ import numpy as np
 from ..model.params import ParameterError
 from ..sim.problem import STATUS
 from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
-from .dataset import coordinate_attrs, field_attrs, si_coordinates
-from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
+from .dataset import SI_AMPLITUDES, coordinate_attrs, field_attrs, si_amplitudes, si_coordinates
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, take
 from .overturning_map import (
     FIXED,
     PARTS,
@@ -72,6 +72,10 @@ COLUMNS = 8
 #: :data:`RESPONSE_COUNTS`.
 COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
 
+#: The variables of a censored ``beta_min`` (:func:`censored`) and of its amplitude in SI units, and their columns
+#: in the CSV, in order.
+CENSORED = ("beta_min_lower_bound", *SI_AMPLITUDES)
+
 #: The dimensions of every variable of a spectrum's data (:func:`spectrum_data`), coordinates included.
 DIMS = {
     "part": ("part",),
@@ -80,7 +84,7 @@ DIMS = {
     "sign": ("sign",),
     "T_g": ("Omega",),
     "a_g_beta_scan": ("beta_scan",),
-    **dict.fromkeys((*COLUMN_FIELDS, "beta_min_lower_bound"), ("part", "Omega", "sign")),
+    **dict.fromkeys((*COLUMN_FIELDS, *CENSORED), ("part", "Omega", "sign")),
     "scan_outcome": ("part", "Omega", "sign", "beta_scan"),
 }
 #: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
@@ -425,6 +429,7 @@ def spectrum_data(config: dict, Omega, beta_scan, signs, fields: dict):
     import xarray as xr
 
     fields = censored(fields)
+    fields |= si_amplitudes(config, fields)
 
     coords = {
         "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
@@ -447,6 +452,7 @@ def envelope(data):
     by_sign = {k: data[k].values for k in (*COLUMN_FIELDS, "scan_outcome")}
     reduced = censored(beta_min_envelope({**by_sign, "beta_min": beta_min_or_bound(data)}))
     index = reduced.pop("worst_sign_index")
+    reduced |= {k: take(data[k].values, index) for k in SI_AMPLITUDES if k in data}  # the governing direction's
     out = xr.Dataset(
         {
             k: (tuple(d for d in DIMS[k] if d != "sign"), v, data[k].attrs if k in data else field_attrs(k, {}))
@@ -483,8 +489,9 @@ def spectrum_tables(data, config: dict) -> dict:
     signs = data["sign"].values
     for part in PARTS:
         a, by_sign = env.sel(part=part), data.sel(part=part)
-        for k in ("beta_min", "beta_min_lower_bound", *COLUMN_FIELDS[1:]):
-            main[f"{part}_{k}"] = a[k].values
+        for k in ("beta_min", *CENSORED, *COLUMN_FIELDS[1:]):
+            if k in a:  # a spectrum saved before the censoring has none of CENSORED
+                main[f"{part}_{k}"] = a[k].values
         main[f"{part}_beta_min_is"] = flag_words(a["flag"].values)
         if signs.size > 1:
             main[f"{part}_worst_sign"] = a["worst_sign"].values
