@@ -158,6 +158,7 @@ SYMBOL_FLAGS = {
     "--B": (Block, "B"),
     "--M": (Block, "M"),
     "--Omega": (OneSinePulse.from_nondim, "Omega"),
+    "--T-g": (rocking.minimum_overturning_spectrum, "T_g"),
     "--T-m": (Damper.from_nondim, "T_m"),
     "--Tm-ratio": (Tuning, "Tm_ratio"),
     "--L": (rocking.Stops, "L"),

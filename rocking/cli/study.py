@@ -43,7 +43,7 @@ from ..model.stochastic import DEFAULT_SITE
 from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
-from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
+from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant, pulse_grids
 from ..study.design import design
 from ..study.directions import DIRECTIONS
 from ..study.files import DiskFull, make_folder, name_lock, no_space
@@ -64,7 +64,7 @@ from ..study.kinds import (
 from ..study.optimize import USELESS_GAIN, EdgeWarning, check_gammas
 from ..study.overturning_map import TMaxWarning, UndeterminedWarning, overturning_map
 from ..study.result import Study
-from ..study.spectrum import adaptive_scans, minimum_overturning_spectrum
+from ..study.spectrum import adaptive_scans, beta_min_or_bound, minimum_overturning_spectrum
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
@@ -72,6 +72,7 @@ from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thres
 from ..study.tiles import Execution, Interrupted, TileWarning
 from ..study.vocabulary import BELOW, BRACKETED, FIT_STATUSES
 from .options import (
+    acceleration,
     add_block_options,
     add_parser,
     block_from,
@@ -232,14 +233,41 @@ def _add_variant(p: argparse.ArgumentParser) -> None:
     )
 
 
-def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
+#: The alternatives in SI units of the grids of pulses: what each gives, evenly spaced (pulse_grids).
+SI_GRIDS = {
+    "T_g": "pulse periods T_g = 2 pi / omega_g, s, evenly spaced",
+    "a_g": "pulse amplitudes a_g, m/s^2, or g with a g suffix (0.5g), evenly spaced",
+}
+
+
+def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str, si: str | None = None) -> None:
+    """``--NAME MIN MAX N`` (default ``default``); with ``si``, its alternative in SI units (``--T-g``,
+    ``--a-g``), whose use leaves ``--NAME`` at None (:func:`_grid_values` applies the default)."""
     p.add_argument(
         f"--{name}",
         nargs=3,
         metavar=("MIN", "MAX", "N"),
-        default=default,
+        default=None if si else default,
         help=f"{text} (default {default[0]:g} {default[1]:g} {default[2]})",
     )
+    if si:
+        p.add_argument(flag(si), nargs=3, metavar=("MIN", "MAX", "N"), help=f"{SI_GRIDS[si]}: in place of --{name}")
+
+
+def _grid_values(args, params: dict) -> dict:
+    """The grid of ``--NAME``, or of its alternative in SI units when the kind has one (both kept, None if not
+    given, for :func:`rocking.study.config.pulse_grids` to refuse both; the default when neither is given)."""
+    name, si = params["name"], params.get("si")
+    values = getattr(args, name)
+    if si is None:
+        return {name: grid_from(name, values)}
+    alternative = getattr(args, si)
+    if values is None and alternative is None:
+        values = params["default"]
+    return {
+        name: None if values is None else grid_from(name, values),
+        si: None if alternative is None else grid_from(si, alternative),
+    }
 
 
 def _add_levels(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
@@ -327,12 +355,16 @@ def _add_tol(p: argparse.ArgumentParser) -> None:
 
 
 def grid_from(name: str, values, *, log: bool = False) -> Grid:
-    """A :class:`Grid` from the three strings ``MIN MAX N`` of an option."""
+    """A :class:`Grid` from the three strings ``MIN MAX N`` of the option of keyword ``name``; those of ``a_g``
+    are accelerations in m/s^2 or in g (:func:`~.options.acceleration`)."""
+    number = partial(acceleration, name=flag(name)) if name == "a_g" else float
     try:
-        low, high, n = float(values[0]), float(values[1]), int(values[2])
+        low, high, n = float(number(values[0])), float(number(values[1])), int(values[2])
+    except ParameterError:
+        raise
     except (TypeError, ValueError):
         raise ParameterError(
-            f"--{name} takes MIN MAX N: two numbers and an integer (got {' '.join(map(str, values))})"
+            f"{flag(name)} takes MIN MAX N: two numbers and an integer (got {' '.join(map(str, values))})"
         ) from None
     return Grid(name, low, high, n, log=log)
 
@@ -639,8 +671,8 @@ GROUPS = {
         lambda p, params, kind: _add_search(p, params["default"], kind.driver), lambda a, params: _search(a)
     ),
     "grid": Group(
-        lambda p, params, kind: _add_grid(p, params["name"], params["default"], params["help"]),
-        lambda args, params: {params["name"]: grid_from(params["name"], getattr(args, params["name"]))},
+        lambda p, params, kind: _add_grid(p, params["name"], params["default"], params["help"], params.get("si")),
+        _grid_values,
     ),
     "levels": Group(lambda p, params, kind: _add_levels(p, params["name"], params["default"], params["help"]), _levels),
     "tile": Group(
@@ -710,6 +742,9 @@ def run_study(name: str, args) -> int:
     values: dict = {}
     for group, params in kind.command.options:
         values |= GROUPS[group].collect(args, params)
+    if "T_g" in values:  # the grids of pulses, each given as ratios or in SI units
+        grids = {k: values.pop(k) for k in ("Omega", "beta", "T_g", "a_g")}
+        values |= pulse_grids(values["block"], **grids, shown=flag)
     if "setting" in kind.command.inputs:
         values["setting"] = Setting(values.pop("block"), **{k: values.pop(k) for k in SETTING if k in values})
     out = out_from(args)  # after every option is checked: bad parameters are refused before the folder is made
@@ -800,7 +835,9 @@ def spectrum_lines(study: Study) -> list[str]:
     if any(t_max.values()):
         lines.append("spectrum: " + _t_max_words(t_max["bare"], t_max["damper"], "responses")[2:])
     env = spectrum_envelope(study.data)
-    flag, beta_min = ({part: env[k].sel(part=part).values for part in ("bare", "damper")} for k in ("flag", "beta_min"))
+    flag = {part: env["flag"].sel(part=part).values for part in ("bare", "damper")}
+    # The damper's beta_min not reached in the scan: its lower bound, the gain's (the flag says so).
+    beta_min = {part: beta_min_or_bound(env.sel(part=part)) for part in ("bare", "damper")}
     both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
     if both.any():
         gain = beta_min["damper"][both] / beta_min["bare"][both]

@@ -437,6 +437,7 @@ def design_table(data) -> dict:
     bare = envelope(data).sel(part="bare")
     table = {
         "Omega": data["Omega"].values,
+        "T_g": data["T_g"].values,
         "bare_beta_min": bare["beta_min"].values,
         "bare_beta_min_is": flag_words(bare["flag"].values),
     }

@@ -593,7 +593,8 @@ def map_table(data, half_width: float, L: float | None = None) -> dict:
     ``L`` (above 1: in the bumpers), the damper's effect."""
     env = envelope(data)
     Om, b = np.meshgrid(data["Omega"].values, data["beta"].values, indexing="ij")
-    table = {"Omega": Om, "beta": b}
+    T_g, a_g = np.meshgrid(data["T_g"].values, data["a_g"].values, indexing="ij")
+    table = {"Omega": Om, "T_g": T_g, "beta": b, "a_g": a_g}
     signs = data["sign"].values
     for part in PARTS:
         a, by_sign = env.sel(part=part), data.sel(part=part)
