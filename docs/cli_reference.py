@@ -10,6 +10,7 @@ page, and ``tests/test_docs_reference.py`` checks that every command and option 
 from __future__ import annotations
 
 import argparse
+import copy
 import re
 from pathlib import Path
 
@@ -25,9 +26,15 @@ STATED_DEFAULT = re.compile(r"(?:^|[(;,] ?)default:? ")
 MARKUP = re.compile(r"([\\`*_{}\[\]<>|$~#+!])")
 
 
+#: A flag in a help text (``--k-m``), shown as code: as typed, and never joined into a dash by the typesetter.
+FLAG = re.compile(r"(?<![\w-])(--[A-Za-z][\w-]*)")
+
+
 def escape(text: str) -> str:
-    """``text`` as literal Markdown (no emphasis, table cell, math or link)."""
-    return MARKUP.sub(r"\\\1", " ".join(text.split()))
+    """``text`` as literal Markdown (no emphasis, table cell, math or link), its flags as code."""
+    parts = FLAG.split(" ".join(text.split()))
+    # split() with one group alternates: text, flag, text, ...
+    return "".join(f"`{part}`" if i % 2 else MARKUP.sub(r"\\\1", part) for i, part in enumerate(parts))
 
 
 def commands(parser: argparse.ArgumentParser) -> dict[str, tuple[str, argparse.ArgumentParser]]:
@@ -92,6 +99,10 @@ def invocation(parser: argparse.ArgumentParser, action: argparse.Action) -> str:
     """How the option is typed, as ``--help`` shows it: ``--Omega MIN MAX N``, ``--stops``, ``FILE``."""
     formatter = parser.formatter_class(prog=parser.prog, width=WIDTH)
     if action.option_strings:
+        if action.choices is not None and action.metavar is None:
+            # the choices are listed in the meaning: --pulse PULSE, not --pulse {sine,cosine,...}
+            action = copy.copy(action)
+            action.metavar = action.dest.upper()
         # a | would end the table's cell, even in code: NAME|FOLDER is written NAME/FOLDER
         return formatter._format_action_invocation(action).replace("|", "/")
     return formatter._metavar_formatter(action, action.dest)(1)[0].replace("|", "/")

@@ -57,5 +57,10 @@ autodoc_typehints = "description"
 # Each class's page (autosummary) documents its methods and attributes, not only their names.
 autodoc_default_options = {"members": True}
 
+# Quotes and ellipses typeset, dashes not: a flag typed in prose (--stops) stays two hyphens.
+smartquotes_action = "qe"
+
 html_theme = "furo"
+html_static_path = ["_static"]
+html_css_files = ["site.css"]
 html_title = f"rocking {version}"
