@@ -36,6 +36,8 @@ SITE.mkdir(exist_ok=True)
 shutil.copy(ROOT / "examples" / "tutorial.ipynb", SITE / "tutorial.ipynb")
 cli_reference.write(SITE / "cli.md")
 autosummary_generate = True
+# A class's page: its docstring, a table of its methods, then each documented (not __init__ twice).
+templates_path = ["_templates"]
 nb_execution_mode = "force"
 nb_execution_timeout = 600
 nb_execution_raise_on_error = True
