@@ -59,7 +59,7 @@ def default_of(action: argparse.Action) -> str:
         return "off"
     value = action.default
     if value not in (None, argparse.SUPPRESS) and value != []:
-        return " ".join(map(str, value)) if isinstance(value, (list, tuple)) else str(value)
+        return " ".join(map(number, value)) if isinstance(value, (list, tuple)) else number(value)
     if action.required:
         return "required"
     return stated_default(action.help or "")
@@ -84,6 +84,11 @@ def stated_default(text: str) -> str:
             end = i
             break
     return text[found.end() : end].strip()
+
+
+def number(value) -> str:
+    """A default as the help texts write it: ``2`` for ``2.0``, ``1e-08``; other values as they are."""
+    return f"{value:g}" if isinstance(value, float) else str(value)
 
 
 def meaning(parser: argparse.ArgumentParser, action: argparse.Action) -> str:
