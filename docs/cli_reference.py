@@ -26,15 +26,23 @@ STATED_DEFAULT = re.compile(r"(?:^|[(;,] ?)default:? ")
 MARKUP = re.compile(r"([\\`*_{}\[\]<>|$~#+!])")
 
 
-#: A flag in a help text (``--k-m``), shown as code: as typed, and never joined into a dash by the typesetter.
-FLAG = re.compile(r"(?<![\w-])(--[A-Za-z][\w-]*)")
+#: A flag in a help text (``--k-m``), shown as code: as typed, and never joined into a dash by the typesetter;
+#: a Python name (``rocking.Stops.at_edges``), shown as a link to its page in the API reference.
+TOKEN = re.compile(r"(?<![\w-])(--[A-Za-z][\w-]*)|\b(rocking(?:\.[A-Za-z_]\w*)+)")
 
 
 def escape(text: str) -> str:
-    """``text`` as literal Markdown (no emphasis, table cell, math or link), its flags as code."""
-    parts = FLAG.split(" ".join(text.split()))
-    # split() with one group alternates: text, flag, text, ...
-    return "".join(f"`{part}`" if i % 2 else MARKUP.sub(r"\\\1", part) for i, part in enumerate(parts))
+    """``text`` as literal Markdown (no emphasis, table cell, math or link), its flags as code and its Python
+    names as cross-references (a name the API reference does not document stays code, without a warning)."""
+    text = " ".join(text.split())
+    out, end = [], 0
+    for found in TOKEN.finditer(text):
+        out.append(MARKUP.sub(r"\\\1", text[end : found.start()]))
+        flag, name = found.groups()
+        out.append(f"`{flag}`" if flag else f"{{py:obj}}`{name}`")
+        end = found.end()
+    out.append(MARKUP.sub(r"\\\1", text[end:]))
+    return "".join(out)
 
 
 def commands(parser: argparse.ArgumentParser) -> dict[str, tuple[str, argparse.ArgumentParser]]:

@@ -150,3 +150,26 @@ def test_every_name_the_tutorial_uses_is_in_the_api_reference():
     # a method (Damper.from_nondim) is documented on its class's page
     missing = sorted(n for n in used if n not in entries and n.rpartition(".")[0] not in entries)
     assert not missing, f"the tutorial uses names not in docs/api.rst: {missing}"
+
+
+def _resolves(dotted: str) -> bool:
+    """Whether ``dotted`` (``rocking.Stops.at_edges``, ``rocking.model.records.read_record``) names an object."""
+    parts = dotted.split(".")
+    for cut in range(len(parts), 0, -1):
+        try:
+            obj = importlib.import_module(".".join(parts[:cut]))
+        except ModuleNotFoundError:
+            continue
+        for attr in parts[cut:]:
+            if not hasattr(obj, attr):
+                return False
+            obj = getattr(obj, attr)
+        return True
+    return False
+
+
+def test_every_python_name_the_command_line_reference_cites_exists(page):
+    # the help texts say which Python call each option sets: a renamed one must not leave a stale name there
+    cited = set(re.findall(r"\{py:obj\}`([\w.]+)`", page))
+    assert {"rocking.Block", "rocking.Stops.at_edges"} <= cited
+    assert not sorted(n for n in cited if not _resolves(n))
