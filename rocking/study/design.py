@@ -38,12 +38,21 @@ Units SI (m, kg, s, N); the pulse parameters are non-dimensional.
 
 from __future__ import annotations
 
+import json
 import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
+from ..model.params import (
+    BUMPER_DEPTH,
+    Damper,
+    ParameterError,
+    Stops,
+    check_in_range,
+    check_interval,
+    edge_stops,
+)
 from .config import Grid, Setting, is_count, part_config
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
@@ -220,7 +229,15 @@ def design(
         :func:`stroke_use`), ``stop_contacts``,
         ``bumper_force_max`` (N). The summary gives the damper in SI units (``m``, ``k_m``, ``c``,
         ``T_m``, ``L``, ``k_b``, ``c_b``) and non-dimensionally (``gamma``, ``Tm_ratio``, ``zeta``),
-        the worst gain and where, and the edge flags.
+        the worst gain and where, the edge flags and the ``verdict`` (:func:`verdict`). The damper built, with its
+        stops, for :func:`rocking.simulate` and every study: :func:`designed_damper`.
+
+    Warns
+    -----
+    DesignWarning
+        The design does not help over the band (its verdict is not ``"helps"``).
+    rocking.study.optimize.EdgeWarning
+        The optimal ``T_m p / (2 pi)`` or ``zeta`` is an end of its search range.
 
     Raises
     ------
@@ -496,6 +513,35 @@ def warn_design(summary: dict) -> None:
         warnings.warn(f"design: {found['text']}", DesignWarning, stacklevel=_user_stacklevel())
     for text in edge_warnings(summary):
         warnings.warn(text, EdgeWarning, stacklevel=_user_stacklevel())
+
+
+def designed_damper(result) -> Damper:
+    """The damper a design chose, built: a :class:`~rocking.Damper` with its :class:`~rocking.Stops`, in SI units,
+    that :func:`rocking.simulate` and every study (``damper=``) take as it is.
+
+    Parameters
+    ----------
+    result : Study or xarray.Dataset
+        What :func:`rocking.design` returned (``study=True`` or not), or a design read by :func:`rocking.load`.
+
+    Returns
+    -------
+    Damper
+        Mass ``m``, spring ``k_m``, dashpot ``c``, guide height ``h`` and stops at ``L`` with pads ``k_b``, ``c_b``
+        (the summary's ``damper``).
+    """
+    if isinstance(result, Study):
+        if result.kind != "design":
+            raise ParameterError(f"designed_damper takes a design's result (got a {result.kind} study)")
+        summary = result.summary
+    else:  # a Dataset: the summary is its JSON attribute
+        attrs = getattr(result, "attrs", {})
+        if attrs.get("kind") != "design" or "summary" not in attrs:
+            raise ParameterError(f"designed_damper takes a design's result (got {type(result).__name__})")
+        summary = json.loads(attrs["summary"])
+    d = summary["damper"]
+    stops = Stops(L=d["L_m"], k_b=d["k_b_N_per_m"], c_b=d["c_b_N_s_per_m"])
+    return Damper(m=d["m_kg"], k_m=d["k_m_N_per_m"], c=d["c_N_s_per_m"], h=d["h_m"], stops=stops)
 
 
 def design_tables(data, config: dict) -> dict:
