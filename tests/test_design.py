@@ -47,7 +47,9 @@ def test_design_is_the_best_damper_that_keeps_its_mass_on_the_block(small):
     beta_min = envelope(a)["beta_min"]
     np.testing.assert_allclose(a["gain_opt"], beta_min.sel(part="damper") / beta_min.sel(part="bare"))
     np.testing.assert_array_equal(beta_min, a["beta_min"].min("sign"))
-    assert a["candidate_r"].size == s["candidates"] == 3 * 2 + 2 + 1  # coarse, 2 along T_m, 1 along zeta
+    # Coarse, then 1 along T_m and 1 along zeta: the best is at T_m's largest and zeta's smallest, refined inwards.
+    assert (s["Tm_at_edge"], s["zeta_at_edge"]) == (1, -1)
+    assert a["candidate_r"].size == s["candidates"] == 3 * 2 + 1 + 1
     d = s["damper"]
     m, omega_m = d["gamma"] * SETTING.block.M, 2 * np.pi / d["T_m_s"]
     assert (d["m_kg"], d["k_m_N_per_m"]) == pytest.approx((m, m * omega_m**2))

@@ -97,3 +97,15 @@ def test_tuning_takes_Tm_ratio_as_the_mapping_does():
         rocking.Tuning(Tm_ratio=2.0, omega_ratio=3.0)
     with pytest.raises(rocking.ParameterError, match="Tm_ratio must be > 0"):
         rocking.Tuning(Tm_ratio=0.0)
+
+
+def test_the_default_pad_is_one_physical_pad_whatever_the_damper(designed):
+    """Stops.at_edges and the studies' stops=True: a 20 mm neoprene pad of 50 x 50 mm, E = 5 MPa (k_b = E A / t =
+    6.25e5 N/m), for a soft light damper, a stiff heavy one and the design alike; its damping ratio 0.2 on each
+    mass, hence one restitution (docs/model.md section 11)."""
+    soft = rocking.Damper.from_nondim(BLOCK, gamma=0.02, omega_ratio=0.5, zeta=0.05)
+    stiff = rocking.Damper.from_nondim(BLOCK, gamma=0.2, omega_ratio=10.0, zeta=0.3)
+    pads = [rocking.Stops.at_edges(BLOCK, damper) for damper in (soft, stiff)]
+    assert pads[0].k_b == pads[1].k_b == designed[0].summary["damper"]["k_b_N_per_m"] == 5e6 * 0.05 * 0.05 / 0.02
+    for pad, damper in zip(pads, (soft, stiff)):
+        assert pad.c_b / (2 * np.sqrt(pad.k_b * damper.m)) == pytest.approx(0.2)

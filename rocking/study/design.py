@@ -257,9 +257,9 @@ def design(
     ...     refine=1, runs=tempfile.mkdtemp())
     >>> d = study.summary["damper"]
     >>> round(d["m_kg"]), round(d["k_m_N_per_m"], 1), round(d["c_N_s_per_m"], 1)  # kg, N/m, N s/m
-    (50, 178.4, 3.8)
+    (50, 22.3, 1.3)
     >>> round(study.summary["worst_gain"], 2), study.summary["zeta_at_edge"]  # -1: the smallest zeta tried
-    (1.14, -1)
+    (1.15, -1)
     """
     Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
     zeta = Grid("zeta", *ZETA_GRID, log=True) if zeta is None else zeta
@@ -434,7 +434,7 @@ def design_summary(setting: Setting, data, damper: dict, L: float, r_edge: int, 
     block = setting.block
     m = damper["gamma"] * block.M
     omega_m = damper["omega_ratio"] * block.p
-    _, k_b, c_b = (float(v) for v in edge_stops(block, m, omega_m, block.B / 2 - L))
+    _, k_b, c_b = (float(v) for v in edge_stops(block, m, block.B / 2 - L))
     gain, Omega = data["gain_opt"].values, data["Omega"].values
     defined = np.isfinite(gain)
     i = int(np.nanargmin(gain)) if defined.any() else None
