@@ -109,3 +109,18 @@ def test_the_default_pad_is_one_physical_pad_whatever_the_damper(designed):
     assert pads[0].k_b == pads[1].k_b == designed[0].summary["damper"]["k_b_N_per_m"] == 5e6 * 0.05 * 0.05 / 0.02
     for pad, damper in zip(pads, (soft, stiff)):
         assert pad.c_b / (2 * np.sqrt(pad.k_b * damper.m)) == pytest.approx(0.2)
+
+
+def test_a_design_saved_before_the_verdict_prints_and_draws_the_same_words(designed):
+    """A design saved without `verdict` in its summary (before issue 38): its verdict is made from its summary by
+    the same function, for the command's line and the figure's title."""
+    import dataclasses
+
+    from rocking.cli.study import design_lines
+    from rocking.plot.figures import design_figure
+
+    study, _ = designed
+    old = dataclasses.replace(study, summary={k: v for k, v in study.summary.items() if k != "verdict"})
+    assert design_lines(old) == design_lines(study)
+    titles = [text.get_text() for text in design_figure(old).texts]
+    assert any("Damper design: makes some pulses worse" in t for t in titles)
