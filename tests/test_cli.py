@@ -51,8 +51,11 @@ def test_simulate_sign_is_the_pulses_sign(capsys):
     out = json.loads(capsys.readouterr().out)
     block = Block.reference()
     damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1, h=0.05)
-    down = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4, sign=-1))
-    up = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
+    # rocking simulate follows every run to rest (its --early-verdict does not).
+    down = rocking.simulate(
+        block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4, sign=-1), early_verdict=False
+    )
+    up = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4), early_verdict=False)
     assert out["pulse"]["sign"] == -1
     assert out["responses"]["with damper"].pop("mass_past_edge") is (down.x_max > block.B / 2)
     assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(down.summary(), sort_keys=True)
@@ -70,7 +73,7 @@ def test_simulate_pulse_is_the_family_of_the_python_api(capsys, pulse, motion):
     assert main(["simulate", "--no-damper", "--beta", "3", "--Omega", "4", *pulse, "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     block = Block.reference()
-    expected = rocking.simulate(block, None, motion(block))
+    expected = rocking.simulate(block, None, motion(block), early_verdict=False)
     assert out["responses"]["block alone"].pop("mass_past_edge") is None  # no damper, no mass
     assert json.dumps(out["responses"]["block alone"], sort_keys=True) == json.dumps(expected.summary(), sort_keys=True)
     for bad in (["--pulse", "cosine", "--psi", "1"], ["--pulse", "mp"], ["--gamma-mp", "2"]):
@@ -79,16 +82,17 @@ def test_simulate_pulse_is_the_family_of_the_python_api(capsys, pulse, motion):
 
 
 def test_simulate_with_only_H_B_M_is_rocking_simulate_of_the_same_block(capsys):
-    """e and h not given: the Python defaults (0), not the reference block's (the 344 differing verdicts)."""
+    """e not given: the Python default (0), not the reference block's (the 344 differing verdicts); h not given with
+    --gamma: the studies' (rocking.Tuning), as a study of the same block runs."""
     argv = ["simulate", "--H", "1.8", "--B", "0.45", "--M", "300", "--gamma", "0.05", "--omega-ratio", "1"]
     assert main([*argv, "--beta", "3", "--Omega", "4", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
 
     block = Block(H=1.8, B=0.45, M=300)
-    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1)
-    response = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1, h=Tuning().h)
+    response = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4), early_verdict=False)
     assert out["block"] == block.as_params() and out["block"]["e"] == 0.0
-    assert out["damper"] == damper.as_params() and out["damper"]["h"] == 0.0
+    assert out["damper"] == damper.as_params() and out["damper"]["h"] == Tuning().h
     # Through JSON on both sides: nan and inf compare as text.
     assert out["responses"]["with damper"].pop("mass_past_edge") is (response.x_max > block.B / 2)
     assert json.dumps(out["responses"]["with damper"], sort_keys=True) == json.dumps(response.summary(), sort_keys=True)
@@ -154,6 +158,7 @@ SYMBOL_FLAGS = {
     "--B": (Block, "B"),
     "--M": (Block, "M"),
     "--Omega": (OneSinePulse.from_nondim, "Omega"),
+    "--T-g": (rocking.minimum_overturning_spectrum, "T_g"),
     "--T-m": (Damper.from_nondim, "T_m"),
     "--Tm-ratio": (Tuning, "Tm_ratio"),
     "--L": (rocking.Stops, "L"),
@@ -273,7 +278,7 @@ def test_simulate_run_cut_at_max_events_has_no_verdict(capsys):
         (["simulate", "--H", "2", "--B", "0.5", "--beta", "2", "--Omega", "2"], "needs --M"),
         (["simulate", "--block", "reference", "--e", "0", "--beta", "2", "--Omega", "2"], "not both"),
         (["simulate", "--beta", "2", "--Omega", "0"], "Omega"),
-        (["simulate", "--gamma", "0.05", "--beta", "2", "--Omega", "2"], "--T-m"),
+        (["simulate", "--zeta", "0.1", "--beta", "2", "--Omega", "2"], "needs --gamma"),
         (["simulate", "--m", "5", "--beta", "2", "--Omega", "2"], "needs --k-m"),
         (["simulate", "--m", "5", "--k-m", "9", "--gamma", "0.1", "--beta", "2", "--Omega", "2"], "not both"),
         (["simulate", "--h", "0.05", "--beta", "2", "--Omega", "2"], "--h is the damper's guide height"),
@@ -436,9 +441,9 @@ def test_simulate_stops_are_stops_at_edges_with_their_contacts(capsys):
     assert main([*WIDE, "--stops", "--json"]) == 0
     out = json.loads(capsys.readouterr().out)
     block = Block(H=2, B=0.6, M=1000)
-    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1)
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1, h=Tuning().h)
     damper = Damper(damper.m, damper.k_m, damper.c, damper.h, stops=rocking.Stops.at_edges(block, damper))
-    expected = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4))
+    expected = rocking.simulate(block, damper, OneSinePulse.from_nondim(block, beta=3, Omega=4), early_verdict=False)
     got = out["responses"]["with damper"]
     assert out["model"] == "omd_stops" and out["damper"] == damper.as_params()
     assert got.pop("mass_past_edge") is False
@@ -542,7 +547,7 @@ def test_a_typo_gets_the_commands_usage_and_the_close_option(argv, close, capsys
     (["--scale", "nan"], "error: --scale must be finite (got nan)"),
     (["--beta", "3", "--Omega", "4", "--vertical-ratio", "-1"], "--vertical-ratio must be in [0, 10] (got -1.0)"),
     (["--beta", "3", "--Omega", "4", "--vertical-ratio", "1", "--vertical-phase", "9"], "error: --vertical-phase must"),
-    (["--beta", "3", "--Omega", "4", "--gamma", "0.05"], "error: give exactly one of --T-m or --omega-ratio"),
+    (["--beta", "3", "--Omega", "4", "--gamma", "0.05", "--omega-ratio", "0"], "error: --omega-ratio must be in"),
     (["--beta", "3", "--Omega", "4", "--history-dt", "1e-9", "--history", "h.csv"], "error: --history-dt must be"),
 ])  # fmt: skip
 def test_simulate_names_the_flag_the_user_typed(tmp_path, monkeypatch, capsys, argv, message):

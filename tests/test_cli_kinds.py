@@ -36,7 +36,11 @@ def test_every_kind_has_its_command_built_from_its_entry(name):
     assert getattr(api, command.function) is FUNCTIONS[name] and callable(getattr(rocking.cli.study, command.describe))
     args = _commands(parser)[name].parse_args([])
     for group, params in command.options:
-        if group in ("grid", "levels"):
+        if group == "grid" and "si" in params:  # left None, its default applied unless its SI alternative is given
+            assert getattr(args, params["name"]) is None and getattr(args, params["si"]) is None
+            grid = rocking.cli.study._grid_values(args, params)[params["name"]]
+            assert grid == rocking.cli.study.grid_from(params["name"], params["default"]), (name, params["name"])
+        elif group in ("grid", "levels"):
             assert tuple(getattr(args, params["name"])) == params["default"], (name, params["name"])
 
 

@@ -128,12 +128,12 @@ def test_the_option_is_checked():
         make_problem(block, None, pulse, early_verdict=2)
 
 
-def test_the_command_line_follows_to_rest_on_request(capsys):
+def test_the_command_line_follows_to_rest_unless_asked_for_the_early_verdict(capsys):
     from rocking.cli.main import main
 
     args = ["simulate", "--gamma", "0.05", "--omega-ratio", "1", "--h", "0.05", "--beta", "5", "--Omega", "4", "--json"]
     runs = []
-    for extra in ([], ["--follow-to-rest"]):
+    for extra in (["--early-verdict"], []):
         assert main(args + extra) == 0
         (response,) = json.loads(capsys.readouterr().out)["responses"].values()
         runs.append(response)

@@ -245,7 +245,7 @@ def test_study_csv_headers_carry_units_and_codes_their_words(tmp_path):
     )  # fmt: skip
     rocking.save(study, tmp_path / "o")
     header, first = ((tmp_path / "o" / "spectrum.csv").read_text().splitlines()[i].split(",") for i in (0, 1))
-    assert header[:3] == ["Omega [1]", "bare_beta_min [1]", "bare_beta_safe [1]"]
+    assert header[:4] == ["Omega [1]", "T_g [s]", "bare_beta_min [1]", "bare_beta_min_lower_bound [1]"]
     flag, text = header.index("bare_flag [1]"), header.index("bare_flag_text")
     assert text == flag + 1
     meanings = study.data["flag"].attrs["flag_meanings"].split()

@@ -51,7 +51,7 @@ from ..sim.history import write as write_history
 from ..sim.problem import SimulationError
 from ..sim.run import NAMES, simulate
 from ..sim.stroke import mass_past_edge
-from ..study.config import versions
+from ..study.config import Tuning, versions
 from ..study.kinds import KINDS
 from .options import (
     add_block_options,
@@ -66,6 +66,7 @@ from .options import (
     given,
     named_as_flag,
     params_from,
+    python_default,
 )
 from .rerun import apply_config
 from .study import add_study_commands, warnings_in_one_line
@@ -80,6 +81,8 @@ DESCRIPTION = (
 #: Damper options of simulate: in SI (rocking.Damper), or relative to the block (Damper.from_nondim); --h is both's.
 SI_DAMPER = ("m", "k_m", "c")
 NONDIM_DAMPER = ("gamma", "T_m", "omega_ratio", "zeta")
+#: Options of a damper relative to the block that default to the studies' (rocking.Tuning's own defaults).
+TUNING_DEFAULTS = ("omega_ratio", "zeta", "h")
 
 #: Top-level packages of the derive extra (pyproject.toml): their absence is a missing install, not a bug.
 DERIVE_EXTRA = ("sympy", "jinja2", "tomli")
@@ -148,12 +151,22 @@ def _damper(args, block) -> Damper | dict | None:
             "(--gamma with --T-m or --omega-ratio [--zeta] [--h]), not both"
         )
     if nondim:
-        return call_with(Damper.from_nondim, {**nondim, **h}, "a damper relative to the block", block)
+        if "gamma" not in nondim:  # said here, where the options given are not yet mixed with the defaults
+            raise ParameterError(f"a damper relative to the block needs --gamma too (got {flags({**nondim, **h})})")
+        values = {**_tuning_defaults(nondim), **nondim, **h}
+        return call_with(Damper.from_nondim, values, "a damper relative to the block", block)
     if si:
         return call_with(Damper, {**si, **h}, "a damper in SI")
     if h:
         raise ParameterError("--h is the damper's guide height: give the damper (--gamma or --m) or --no-damper")
     return None
+
+
+def _tuning_defaults(nondim: dict) -> dict:
+    """The studies' defaults (:class:`rocking.Tuning`) of the options of a damper relative to the block, so that
+    ``--gamma 0.05`` alone is the damper a study runs; none for ``omega_ratio`` when ``--T-m`` sets the tuning."""
+    names = [n for n in TUNING_DEFAULTS if not (n == "omega_ratio" and "T_m" in nondim)]
+    return {name: python_default(Tuning, name) for name in names}
 
 
 #: End-stop options of simulate, rocking.Stops(L, k_b, c_b): each replaces the value of --stops (Stops.at_edges).
@@ -375,7 +388,7 @@ def _print_summary(block, pulse, responses, models) -> None:
         print(
             f"  {label}: {_verdict(r)}; theta_max/alpha = {r.theta_max / block.alpha:.4f}, x_max = {r.x_max:.4g} m, "
             f"{r.uplifts} uplift(s), {r.impacts} impact(s){_stops_text(r, models[label])}, "
-            f"ended at t = {r.t_end:.3f} s ({r.status})"
+            f"ended at t = {r.t_end:.3f} s ({_status_text(r)})"
         )
         if r.status == "flight":
             print(
@@ -420,6 +433,16 @@ NO_VERDICT = {
 }
 
 
+def _status_text(response) -> str:
+    """The status of the summary line, ``bounded`` with what it means where it appears."""
+    if response.status != "bounded":
+        return response.status
+    return (
+        "bounded: from then on the energy left can no longer change the verdict, theta_max or x_max; "
+        "impacts counted until then"
+    )
+
+
 def _verdict(response) -> str:
     """The verdict word of the summary: ``OVERTURNS at t = ...``, ``survives`` only for a run that ended with its
     verdict, else ``no verdict (STATUS)``."""
@@ -443,7 +466,8 @@ def _stops_text(response, model: str | None) -> str:
     """``, N stop contact(s), bumper force max F N`` for a model with end stops (parameter ``L``), else nothing."""
     if model is None or "L" not in load_model(model).own_parameters:
         return ""
-    return f", {response.stop_contacts} stop contact(s), bumper force max {response.bumper_force_max:.4g} N"
+    # + 0.0: a force that never left 0 is -0.0 in a run whose pads never pushed, printed "-0".
+    return f", {response.stop_contacts} stop contact(s), bumper force max {response.bumper_force_max + 0.0:.4g} N"
 
 
 def _past_edge_text(response, block, model: str) -> str:
@@ -499,8 +523,11 @@ def _simulate(args) -> int:
     run = given(args, ("backend", "rtol", "t_max", "check"))
     if args.history_dt is not None:
         run["record_dt"] = args.history_dt
-    # A figure or a history shows the whole motion: no early verdict (docs/simulation.md, rule 4).
-    run["early_verdict"] = not (args.follow_to_rest or args.plot or args.history)
+    if args.early_verdict and args.follow_to_rest:
+        raise ParameterError("--early-verdict ends a run before rest: not with --follow-to-rest")
+    # The same run whatever the outputs asked for: followed to rest unless --early-verdict (docs/simulation.md,
+    # rule 4), so that the summary, the figure and the history tell of one motion.
+    run["early_verdict"] = args.early_verdict
     record = bool(args.plot or args.history)
     responses = {}
     models = {label: _model_of(args, d) for label, d in cases.items()}
@@ -520,7 +547,7 @@ def _simulate(args) -> int:
     for label, path in histories.items():
         with _writing("--history", path):
             write_history(responses[label], path, args.history_dt)
-        print(f"history of the {label} written to {path}", file=sys.stderr)
+        print(f"history ({label}) written to {path}", file=sys.stderr)
     return 0
 
 
@@ -573,25 +600,39 @@ def _history_files(history: str | None, labels: list[str]) -> dict[str, Path]:
     return {labels[0]: path, **others}
 
 
+def _tuning_text() -> str:
+    """``omega_ratio 1, zeta 0.05, h 0.05 m``: the studies' defaults of a damper relative to the block, read from
+    :class:`rocking.Tuning`."""
+    units = {"h": " m"}
+    return ", ".join(f"{n} {python_default(Tuning, n):g}{units.get(n, '')}" for n in TUNING_DEFAULTS)
+
+
 def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
     g = p.add_argument_group(
         "damper (none given: the bare block)",
         "In SI as rocking.Damper(m, k_m, c, h), or relative to the block as "
-        "rocking.Damper.from_nondim(block, gamma, T_m or omega_ratio, zeta, h).",
+        "rocking.Damper.from_nondim(block, gamma, T_m or omega_ratio, zeta, h) with the studies' defaults "
+        f"(rocking.Tuning: {_tuning_text()}), so that --gamma alone is the damper a study runs.",
     )
     g.add_argument("--m", type=float, help="mass, kg (with --k-m)")
     g.add_argument("--k-m", type=float, help="spring stiffness, N/m")
     g.add_argument("--c", type=float, help=f"dashpot coefficient, N s/m ({default_text(Damper, 'c')})")
     g.add_argument(
-        "--h", type=float, help=f"height of the guide above the top of the block, m ({default_text(Damper, 'h')})"
+        "--h",
+        type=float,
+        help=f"height of the guide above the top of the block, m ({default_text(Tuning, 'h', 'm')} with --gamma, "
+        f"as rocking.Tuning; {default_text(Damper, 'h', 'm')} with --m, as rocking.Damper)",
     )
-    g.add_argument("--gamma", type=float, help="mass ratio m/M (with --T-m or --omega-ratio)")
+    g.add_argument("--gamma", type=float, help="mass ratio m/M: a damper relative to the block")
     tuning = g.add_mutually_exclusive_group()
     tuning.add_argument("--T-m", type=float, help="damper period, s")
-    tuning.add_argument("--omega-ratio", type=float, help="damper frequency over the block's, omega_m / p")
-    g.add_argument(
-        "--zeta", type=float, help=f"damping ratio, with --gamma ({default_text(Damper.from_nondim, 'zeta')})"
+    tuning.add_argument(
+        "--omega-ratio",
+        type=float,
+        help=f"damper frequency over the block's, omega_m / p ({default_text(Tuning, 'omega_ratio')} "
+        "without --T-m, as rocking.Tuning)",
     )
+    g.add_argument("--zeta", type=float, help=f"damping ratio, with --gamma ({default_text(Tuning, 'zeta')})")
     g.add_argument("--no-damper", action="store_true", help="ignore the damper options: the bare block")
     g.add_argument("--model", help="model variant by name or generated folder (default: omd, or block without damper)")
     g.add_argument(
@@ -707,19 +748,23 @@ def _add_simulate(sub) -> None:
     )
     g.add_argument("--json", action="store_true", help="machine-readable result on stdout")
     g.add_argument(
-        "--follow-to-rest",
+        "--early-verdict",
         action="store_true",
-        help="follow the response to rest rather than end it once its verdict and maxima are final (the early "
-        "verdict, docs/simulation.md rule 4; impacts and t_end then count to rest)",
+        help="end the run once its verdict and maxima are final (status bounded, docs/simulation.md rule 4): "
+        "theta_max, x_max and the verdict are those of the run followed to rest, impacts and t_end count to that "
+        "instant (default: every run is followed to rest, with or without --plot and --history)",
     )
     g.add_argument(
-        "--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration (followed to rest)"
+        "--follow-to-rest",
+        action="store_true",
+        help="follow the response to rest: the default, kept so that older commands still run",
     )
+    g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     g.add_argument(
         "--history",
         metavar="FILE",
-        help="time history on a uniform grid with the loads (followed to rest), as Response.to_dataset: .csv "
+        help="time history on a uniform grid with the loads, as Response.to_dataset: .csv "
         "(units in the column names) or .nc (NetCDF); with --compare the block alone's goes to FILE-block_alone",
     )
     g.add_argument(

@@ -21,6 +21,7 @@ import inspect
 from collections.abc import Callable, Iterable
 
 from ..model.params import Block, ParameterError
+from ..model.records import STANDARD_GRAVITY
 
 #: Marks a parameter without a default in :func:`python_default`'s answer.
 REQUIRED = inspect.Parameter.empty
@@ -60,6 +61,17 @@ def default_text(func: Callable, name: str, unit: str = "") -> str:
     if isinstance(value, float):
         value = f"{value:g}"
     return f"default {value}{' ' + unit if unit else ''}"
+
+
+#: Most numbers a message lists before "and N more".
+LISTED = 6
+
+
+def numbers_text(values, cap: int = LISTED) -> str:
+    """``5.242, 5.818 and 3 more``: the first ``cap`` of ``values`` at 4 significant digits, for a message."""
+    values = list(values)
+    shown = ", ".join(f"{float(v):.4g}" for v in values[:cap])
+    return shown + (f" and {len(values) - cap} more" if len(values) > cap else "")
 
 
 def flag(name: str) -> str:
@@ -128,6 +140,27 @@ def call_with(func: Callable, values: dict, what: str, *positional, hint: str = 
         got = flags(values) or "none of its options"
         raise ParameterError(f"{what} needs {flags(missing)} too (got {got}){hint}")
     return func(*positional, **values)
+
+
+def acceleration(text: str, name: str) -> float:
+    """An acceleration typed as a number of m/s^2 (``4.9``) or of g with a ``g`` suffix (``0.5g``, g =
+    :data:`rocking.model.records.STANDARD_GRAVITY`), in m/s^2.
+
+    Raises
+    ------
+    ParameterError
+        Naming the option ``name`` (its flag) and the two forms, for any other text.
+    """
+    typed = str(text).strip()
+    in_g = typed.lower().endswith("g")
+    number = typed[:-1] if in_g else typed
+    try:
+        value = float(number)
+    except (TypeError, ValueError):
+        raise ParameterError(
+            f"{name} takes accelerations in m/s^2 (4.9) or in g with a g suffix (0.5g) (got {text!r})"
+        ) from None
+    return value * STANDARD_GRAVITY if in_g else value
 
 
 def add_parser(subparsers, name: str, text: str, description: str | None = None, **kwargs) -> argparse.ArgumentParser:

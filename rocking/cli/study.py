@@ -43,7 +43,7 @@ from ..model.stochastic import DEFAULT_SITE
 from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
-from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant
+from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant, pulse_grids
 from ..study.design import DesignWarning, design
 from ..study.design import verdict as design_verdict
 from ..study.directions import DIRECTIONS
@@ -65,7 +65,7 @@ from ..study.kinds import (
 from ..study.optimize import USELESS_GAIN, EdgeWarning, check_gammas
 from ..study.overturning_map import TMaxWarning, UndeterminedWarning, overturning_map
 from ..study.result import Study
-from ..study.spectrum import adaptive_scans, minimum_overturning_spectrum
+from ..study.spectrum import adaptive_scans, beta_min_or_bound, minimum_overturning_spectrum
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
@@ -73,6 +73,7 @@ from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thres
 from ..study.tiles import Execution, Interrupted, TileWarning
 from ..study.vocabulary import BELOW, BRACKETED, FIT_STATUSES
 from .options import (
+    acceleration,
     add_block_options,
     add_parser,
     block_from,
@@ -83,6 +84,7 @@ from .options import (
     flags_of,
     given,
     named_as_flag,
+    numbers_text,
     params_from,
     python_default,
 )
@@ -92,8 +94,32 @@ from .rerun import CURRENT, check_same, command_record
 VERTICAL_RATIOS = (0.0, 0.5, 1.0)
 VERTICAL_OMEGA, VERTICAL_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 
-#: Options of the stochastic site model (rocking.model.stochastic.SiteModel).
-SITE_OPTIONS = ("arias", "d595", "t_mid", "f_mid", "f_slope", "zeta_f", "f_c", "dt", "duration")
+#: Options of the stochastic site model (rocking.model.stochastic.SiteModel): what each is, and its unit (its
+#: docstring's, Rezaeian and Der Kiureghian 2008).
+SITE_HELP = {
+    "arias": ("expected Arias intensity I_a", "m/s"),
+    "d595": ("significant duration D_5-95, from 5 %% to 95 %% of I_a", "s"),
+    "t_mid": ("time at which 45 %% of I_a is reached", "s"),
+    "f_mid": ("filter frequency at t_mid", "Hz"),
+    "f_slope": ("rate of change of the filter frequency", "Hz/s"),
+    "zeta_f": ("damping ratio of the filter, in (0, 1)", ""),
+    "f_c": ("corner of the high-pass filter", "Hz"),
+    "dt": ("time step of the samples", "s"),
+    "duration": ("length of each record", "s"),
+}
+SITE_OPTIONS = tuple(SITE_HELP)
+
+
+def _site_help(option: str) -> str:
+    """The help of a site model's option: what it is, its unit and its default (:data:`DEFAULT_SITE`'s)."""
+    meaning, unit = SITE_HELP[option]
+    default = f"{getattr(DEFAULT_SITE, option):g}"
+    return (
+        f"site model: {meaning}, {unit} (default {default} {unit})"
+        if unit
+        else f"site model: {meaning} (default {default})"
+    )
+
 
 #: The options of a suite of pulses besides ``--pulses``.
 PULSE_SUITE_OPTIONS = ("periods", "amplitude", "gamma_mp", "nu")
@@ -208,14 +234,41 @@ def _add_variant(p: argparse.ArgumentParser) -> None:
     )
 
 
-def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
+#: The alternatives in SI units of the grids of pulses: what each gives, evenly spaced (pulse_grids).
+SI_GRIDS = {
+    "T_g": "pulse periods T_g = 2 pi / omega_g, s, evenly spaced",
+    "a_g": "pulse amplitudes a_g, m/s^2, or g with a g suffix (0.5g), evenly spaced",
+}
+
+
+def _add_grid(p: argparse.ArgumentParser, name: str, default: tuple, text: str, si: str | None = None) -> None:
+    """``--NAME MIN MAX N`` (default ``default``); with ``si``, its alternative in SI units (``--T-g``,
+    ``--a-g``), whose use leaves ``--NAME`` at None (:func:`_grid_values` applies the default)."""
     p.add_argument(
         f"--{name}",
         nargs=3,
         metavar=("MIN", "MAX", "N"),
-        default=default,
+        default=None if si else default,
         help=f"{text} (default {default[0]:g} {default[1]:g} {default[2]})",
     )
+    if si:
+        p.add_argument(flag(si), nargs=3, metavar=("MIN", "MAX", "N"), help=f"{SI_GRIDS[si]}: in place of --{name}")
+
+
+def _grid_values(args, params: dict) -> dict:
+    """The grid of ``--NAME``, or of its alternative in SI units when the kind has one (both kept, None if not
+    given, for :func:`rocking.study.config.pulse_grids` to refuse both; the default when neither is given)."""
+    name, si = params["name"], params.get("si")
+    values = getattr(args, name)
+    if si is None:
+        return {name: grid_from(name, values)}
+    alternative = getattr(args, si)
+    if values is None and alternative is None:
+        values = params["default"]
+    return {
+        name: None if values is None else grid_from(name, values),
+        si: None if alternative is None else grid_from(si, alternative),
+    }
 
 
 def _add_levels(p: argparse.ArgumentParser, name: str, default: tuple, text: str) -> None:
@@ -303,12 +356,16 @@ def _add_tol(p: argparse.ArgumentParser) -> None:
 
 
 def grid_from(name: str, values, *, log: bool = False) -> Grid:
-    """A :class:`Grid` from the three strings ``MIN MAX N`` of an option."""
+    """A :class:`Grid` from the three strings ``MIN MAX N`` of the option of keyword ``name``; those of ``a_g``
+    are accelerations in m/s^2 or in g (:func:`~.options.acceleration`)."""
+    number = partial(acceleration, name=flag(name)) if name == "a_g" else float
     try:
-        low, high, n = float(values[0]), float(values[1]), int(values[2])
+        low, high, n = float(number(values[0])), float(number(values[1])), int(values[2])
+    except ParameterError:
+        raise
     except (TypeError, ValueError):
         raise ParameterError(
-            f"--{name} takes MIN MAX N: two numbers and an integer (got {' '.join(map(str, values))})"
+            f"{flag(name)} takes MIN MAX N: two numbers and an integer (got {' '.join(map(str, values))})"
         ) from None
     return Grid(name, low, high, n, log=log)
 
@@ -519,7 +576,7 @@ def _add_motions(p: argparse.ArgumentParser) -> None:
         g.add_argument(
             f"--{option.replace('_', '-')}",
             type=float,
-            help=f"site model: {option} (default {getattr(DEFAULT_SITE, option):g})",
+            help=_site_help(option),
         )
     g.add_argument(
         "--vertical-ratio",
@@ -615,8 +672,8 @@ GROUPS = {
         lambda p, params, kind: _add_search(p, params["default"], kind.driver), lambda a, params: _search(a)
     ),
     "grid": Group(
-        lambda p, params, kind: _add_grid(p, params["name"], params["default"], params["help"]),
-        lambda args, params: {params["name"]: grid_from(params["name"], getattr(args, params["name"]))},
+        lambda p, params, kind: _add_grid(p, params["name"], params["default"], params["help"], params.get("si")),
+        _grid_values,
     ),
     "levels": Group(lambda p, params, kind: _add_levels(p, params["name"], params["default"], params["help"]), _levels),
     "tile": Group(
@@ -686,6 +743,9 @@ def run_study(name: str, args) -> int:
     values: dict = {}
     for group, params in kind.command.options:
         values |= GROUPS[group].collect(args, params)
+    if "T_g" in values:  # the grids of pulses, each given as ratios or in SI units
+        grids = {k: values.pop(k) for k in ("Omega", "beta", "T_g", "a_g")}
+        values |= pulse_grids(values["block"], **grids, shown=flag)
     if "setting" in kind.command.inputs:
         values["setting"] = Setting(values.pop("block"), **{k: values.pop(k) for k in SETTING if k in values})
     out = out_from(args)  # after every option is checked: bad parameters are refused before the folder is made
@@ -776,7 +836,9 @@ def spectrum_lines(study: Study) -> list[str]:
     if any(t_max.values()):
         lines.append("spectrum: " + _t_max_words(t_max["bare"], t_max["damper"], "responses")[2:])
     env = spectrum_envelope(study.data)
-    flag, beta_min = ({part: env[k].sel(part=part).values for part in ("bare", "damper")} for k in ("flag", "beta_min"))
+    flag = {part: env["flag"].sel(part=part).values for part in ("bare", "damper")}
+    # The damper's beta_min not reached in the scan: its lower bound, the gain's (the flag says so).
+    beta_min = {part: beta_min_or_bound(env.sel(part=part)) for part in ("bare", "damper")}
     both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
     if both.any():
         gain = beta_min["damper"][both] / beta_min["bare"][both]
@@ -842,8 +904,8 @@ def design_lines(study: Study) -> list[str]:
     )
     if s["gain_undefined_at"]:
         lines.append(
-            f"design: gain undefined at Omega = {s['gain_undefined_at']} (the block alone does not overturn "
-            "within the beta scan there; widen --beta)"
+            f"design: gain undefined at Omega = {numbers_text(s['gain_undefined_at'])} (the block alone does not "
+            "overturn within the beta scan there; widen --beta)"
         )
     return lines
 

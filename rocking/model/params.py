@@ -14,7 +14,7 @@ the valid range and the offending value; the ranges and the checks are those of
 from __future__ import annotations
 
 import math
-from dataclasses import dataclass
+from dataclasses import dataclass, fields
 from functools import cached_property
 from typing import cast, overload
 
@@ -57,6 +57,21 @@ def check_block(block: object, name: str = "block") -> Block:
     if not isinstance(block, Block):
         raise ParameterError(f"{name} must be a rocking.Block (got {type(block).__name__})")
     return block
+
+
+#: Significant digits of the floats of a repr: enough for any input typed, few enough to hide the last bit of a
+#: sum (``B/2 - depth`` is 0.27999999999999997 for B = 0.6 m and 20 mm pads).
+REPR_DIGITS = 12
+
+
+def rounded_repr(obj) -> str:
+    """``Name(field=value, ...)`` of a dataclass, as its generated repr but for floats, each the repr of its value
+    rounded to :data:`REPR_DIGITS` significant digits (``L=0.28``, not ``L=0.27999999999999997``): what a user reads,
+    not a bit-exact copy (``as_params()`` holds the exact values)."""
+    values = (getattr(obj, f.name) for f in fields(obj) if f.repr)
+    shown = (repr(float(f"{v:.{REPR_DIGITS}g}")) if isinstance(v, float) else repr(v) for v in values)
+    names = (f.name for f in fields(obj) if f.repr)
+    return f"{type(obj).__name__}({', '.join(f'{n}={v}' for n, v in zip(names, shown))})"
 
 
 def _require_one(name_a: str, a: object, name_b: str, b: object) -> None:
@@ -106,6 +121,8 @@ class Block:
     e: float = 0.0
     I_G: float | None = None
     g: float = 9.81
+
+    __repr__ = rounded_repr
 
     def __post_init__(self) -> None:
         H = check_in_range("H", self.H)
@@ -466,6 +483,8 @@ class Stops:
     n: float = 1.5
     e_b: float | None = None
 
+    __repr__ = rounded_repr
+
     def __post_init__(self) -> None:
         for field in ("L", "k_b", "c_b"):
             object.__setattr__(self, field, check_in_range(field, getattr(self, field)))
@@ -622,6 +641,8 @@ class Damper:
     c: float = 0.0
     h: float = 0.0
     stops: Stops | None = None
+
+    __repr__ = rounded_repr
 
     def __post_init__(self) -> None:
         if not (self.stops is None or isinstance(self.stops, Stops)):

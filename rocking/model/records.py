@@ -530,11 +530,27 @@ def _is_header(cells: list[str]) -> bool:
     return True
 
 
+#: A number written with a decimal comma ("0,01").
+_DECIMAL_COMMA = re.compile(r"[-+]?\d+,\d+", re.ASCII)
+
+
+def _decimal_comma(text: str, count: int) -> str:
+    """Why a row of ``count`` columns split into twice as many: ``": decimal commas are not read ..."``, or nothing.
+
+    A row without a point whose commas stand between digits, in twice the cells expected ("0,01;0,5" or
+    "0,01,0,5" for two columns), is written with decimal commas: each comma cut a number in two.
+    """
+    first = _DECIMAL_COMMA.search(text)
+    if first is None or "." in text or len(_CELL_SEPARATOR.split(text)) != 2 * count:
+        return ""
+    return f": decimal commas are not read: use a point ({first.group().replace(',', '.')}, not {first.group()})"
+
+
 def _row(path, text: str, number: int, count: int) -> tuple[list[str], list[float]]:
     """The ``count`` cells of a row, as written and as values; refused unless each is a :data:`NUMBER`."""
     cells = _CELL_SEPARATOR.split(text)
     if len(cells) != count:
-        raise _fail(path, f"expected {count} column(s), got {len(cells)}", number)
+        raise _fail(path, f"expected {count} column(s), got {len(cells)}{_decimal_comma(text, count)}", number)
     values = _plain(text, cells)
     if values is not None:
         return cells, values

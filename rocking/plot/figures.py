@@ -54,8 +54,8 @@ from ..study.ida import envelope as ida_envelope
 from ..study.kinds import KINDS
 from ..study.overturning_map import PARTS, envelope, half_stroke, saved_past_edges
 from ..study.result import Study
+from ..study.spectrum import beta_min_or_bound, safe_windows
 from ..study.spectrum import envelope as spectrum_envelope
-from ..study.spectrum import safe_windows
 from ..study.storage import load, study_stem
 from ..study.suite import motion_names
 from ..study.threshold import thresholds
@@ -552,6 +552,8 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     """``beta_min(Omega)`` with and without damper, windows as bars; gain of the damper."""
     env, block = spectrum_envelope(study.data), _block(study.config)
     a = {k: {part: env[k].sel(part=part).values for part in PARTS} for k in ("flag", "beta_min")}
+    # A beta_min not reached in the scan is censored (NaN): its lower bound is drawn as one, never on the curve.
+    a["beta_min"] = {part: beta_min_or_bound(env.sel(part=part)) for part in PARTS}
     Om = env["Omega"].values
     step = np.diff(Om).min() if Om.size > 1 else 1.0
     scan = study.config["beta"]
@@ -648,7 +650,8 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                 for code, up in ((ABOVE, True), (BELOW, False)):
                     sel = cell["flag"].values == code
                     if sel.any():
-                        _bounds(panel, data["Omega"].values[sel], cell["beta_min"].values[sel], arrow, colour, up)
+                        bound = beta_min_or_bound(cell)[sel]
+                        _bounds(panel, data["Omega"].values[sel], bound, arrow, colour, up)
                         bounded.add(up)
             beta_f = flight_beta(_block(study.config), study.config)
             if beta_f < study.config["beta"]["high"]:

@@ -321,11 +321,11 @@ class Response(ResponseFields):
         return ax.figure
 
     def _meaning(self, field) -> str:
-        """A field's meaning for a reader: the status's reason, ``q[1]`` by the name its model gives it."""
-        if field.name == "status":
-            return f"why the run ended: {STATUSES[STATUS.index(self.status)].doc}"
+        """A field's meaning for a reader: the status's reason, ``q[1]`` by the name its model gives it (``x``, the
+        name ``x_max`` carries, for the block alone and a run whose model is not known)."""
         names: list[str] = self.inputs.model.manifest["coordinates"] if self.inputs is not None else []
-        return field.doc.replace("q[1]", names[1]) if len(names) > 1 else field.doc
+        doc = f"why the run ended: {STATUSES[STATUS.index(self.status)].doc}" if field.name == "status" else field.doc
+        return doc.replace("q[1]", names[1] if len(names) > 1 else "x")
 
     def to_dataset(self, dt: float | None = None):
         """The recorded history on the uniform grid ``t = k dt`` as an ``xarray.Dataset``, with the loads of the model.

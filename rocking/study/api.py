@@ -16,6 +16,11 @@ rtol, t_after, backend
 pulse, gamma_mp, nu
     The pulse family of the pulse studies: ``"sine"`` (the paper's), ``"cosine"``, ``"ricker"``, ...,
     ``"mp"`` with its oscillations ``gamma_mp`` (> 1) and phase ``nu`` (rad).
+Omega, beta or T_g, a_g
+    The pulses of the maps, spectra and designs: frequency and amplitude ratios ``omega_g / p`` and
+    ``a_g / (g tan alpha)``, or in their place periods ``T_g = 2 pi / omega_g`` (s) and amplitudes ``a_g``
+    (m/s^2), as arrays or :class:`~rocking.study.config.Grid` (:func:`rocking.study.config.pulse_grids`;
+    docs/model.md section 9). Each quantity one way: ``Omega`` or ``T_g``, ``beta`` or ``a_g``.
 vertical_ratio, vertical_phase
     The maps' and spectra's vertical component of every pulse, ``rocking.Vertical(vertical_ratio,
     vertical_phase)`` (:class:`~rocking.study.config.Setting`, docs/model.md section 14): ratio in [0, 10]
@@ -46,7 +51,7 @@ from pathlib import Path
 import platformdirs
 
 from ..model.params import Block, Damper, ParameterError, check_block
-from .config import Grid, Setting, Tuning, Variant, tm_omega_ratio
+from .config import Grid, Setting, Tuning, Variant, pulse_grids, tm_omega_ratio
 from .design import REFINE
 from .design import design as _design
 from .ida import LEVELS
@@ -122,6 +127,13 @@ def _grid(name: str, values) -> Grid | None:
     return Grid.of(name, values)
 
 
+def _pulse_grids(block: Block, Omega, beta, T_g, a_g) -> tuple[Grid, Grid]:
+    """The ``Omega`` and ``beta`` grids of a study of pulses, each given as ratios or in SI units
+    (:func:`rocking.study.config.pulse_grids`)."""
+    grids = pulse_grids(block, _grid("Omega", Omega), _grid("beta", beta), _grid("T_g", T_g), _grid("a_g", a_g))
+    return grids["Omega"], grids["beta"]
+
+
 def _run(study_function, *args, workers, scheduler, dask_workers, progress: bool, runs, study: bool, **keywords):
     """``study_function(*args, execution, runs=runs, **keywords)``; its Study if ``study``, else its Dataset."""
     execution = Execution(workers=workers, scheduler=scheduler, dask_workers=dask_workers, progress=progress)
@@ -137,8 +149,10 @@ def overturning_map(
     block: Block,
     damper=None,
     *,
-    Omega,
-    beta,
+    Omega=None,
+    beta=None,
+    T_g=None,
+    a_g=None,
     directions: str = "auto",
     full: bool = False,
     coarse: int = COARSE,
@@ -169,6 +183,8 @@ def overturning_map(
         (with its :class:`~rocking.Stops`, e.g. :func:`rocking.designed_damper` of a design) runs as it is.
     Omega, beta : array_like or Grid
         Pulse frequency ratios ``omega_g / p`` and amplitude ratios ``a_g / (g tan alpha)``, increasing.
+    T_g, a_g : array_like or Grid, optional
+        In place of ``Omega`` and ``beta``: pulse periods ``T_g`` (s) and amplitudes ``a_g`` (m/s^2).
     directions, full, coarse, verify, tile
         As :func:`rocking.study.overturning_map.overturning_map`.
     rtol, t_after, pulse, gamma_mp, nu, backend, workers, scheduler, dask_workers, runs, progress, study
@@ -207,8 +223,7 @@ def overturning_map(
             vertical_phase=vertical_phase,
         ),
         _tuning(damper),
-        _grid("Omega", Omega),
-        _grid("beta", beta),
+        *_pulse_grids(check_block(block), Omega, beta, T_g, a_g),
         workers=workers,
         scheduler=scheduler,
         dask_workers=dask_workers,
@@ -227,8 +242,10 @@ def minimum_overturning_spectrum(
     block: Block,
     damper=None,
     *,
-    Omega,
-    beta,
+    Omega=None,
+    beta=None,
+    T_g=None,
+    a_g=None,
     beta_tol: float = TOL,
     directions: str = "auto",
     rtol: float = Setting.rtol,
@@ -281,8 +298,7 @@ def minimum_overturning_spectrum(
             vertical_phase=vertical_phase,
         ),
         _tuning(damper),
-        _grid("Omega", Omega),
-        _grid("beta", beta),
+        *_pulse_grids(check_block(block), Omega, beta, T_g, a_g),
         workers=workers,
         scheduler=scheduler,
         dask_workers=dask_workers,
@@ -365,8 +381,10 @@ def optimal_damper(
 def design(
     block: Block,
     *,
-    Omega,
-    beta,
+    Omega=None,
+    beta=None,
+    T_g=None,
+    a_g=None,
     gamma: float = Tuning.gamma,
     stroke: float | None = None,
     h: float = Tuning.h,
@@ -424,8 +442,7 @@ def design(
     return _run(
         _design,
         _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
-        _grid("Omega", Omega),
-        _grid("beta", beta),
+        *_pulse_grids(check_block(block), Omega, beta, T_g, a_g),
         workers=workers,
         scheduler=scheduler,
         dask_workers=dask_workers,

@@ -215,6 +215,54 @@ class Grid:
         return {"low": self.low, "high": self.high, "n": self.n, "scale": "log" if self.log else "linear"}
 
 
+def omega_grid(block: Block, T_g: Grid) -> Grid:
+    """The grid of ``Omega = omega_g / p = 2 pi / (T_g p)`` of the pulse periods ``T_g`` (s) on ``block``.
+
+    Its values are given explicitly (:meth:`Grid.of`), in increasing ``Omega`` (decreasing ``T_g``): a grid
+    even in ``T_g`` is not even in ``Omega``, and a saved study's record (:meth:`Grid.record`) keeps them, so a
+    rerun scans the same pulses.
+    """
+    return Grid.of("Omega", 2.0 * math.pi / (T_g.values()[::-1] * block.p))
+
+
+def beta_grid(block: Block, a_g: Grid) -> Grid:
+    """The grid of ``beta = a_g / (g tan alpha)`` (:meth:`rocking.Block.beta`) of the pulse amplitudes ``a_g``
+    (m/s^2) on ``block``: spaced as ``a_g`` is (the scaling is linear)."""
+    if a_g.points:
+        return Grid.of("beta", block.beta(np.array(a_g.points)))
+    return Grid("beta", block.beta(a_g.low), block.beta(a_g.high), a_g.n, log=a_g.log)
+
+
+def pulse_grids(block: Block, Omega=None, beta=None, T_g=None, a_g=None, shown=str) -> dict:
+    """The grids ``{"Omega": ..., "beta": ...}`` of a study of pulses, each given non-dimensionally or in SI units.
+
+    Parameters
+    ----------
+    block : Block
+        The block that sets the scales ``p`` and ``g tan(alpha)`` (docs/model.md section 9).
+    Omega, beta : Grid, optional
+        Frequency and amplitude ratios ``omega_g / p`` and ``a_g / (g tan alpha)``.
+    T_g, a_g : Grid, optional
+        In their place: pulse periods ``T_g = 2 pi / omega_g``, s (:func:`omega_grid`), and amplitudes, m/s^2
+        (:func:`beta_grid`).
+    shown : callable, optional
+        How a message names a keyword (the command line gives its flag).
+
+    Raises
+    ------
+    ParameterError
+        Naming both, for a quantity given both ways or neither.
+    """
+    out = {}
+    for name, ratio, si, convert in (("Omega", Omega, T_g, omega_grid), ("beta", beta, a_g, beta_grid)):
+        other = "T_g" if name == "Omega" else "a_g"
+        if (ratio is None) == (si is None):
+            how = "not both" if ratio is not None else "one of them"
+            raise ParameterError(f"give {shown(name)} or {shown(other)}, {how}")
+        out[name] = ratio if si is None else convert(block, si)
+    return out
+
+
 @dataclass(frozen=True)
 class Setting:
     """The block and the solver, shared by every response of a study.

@@ -59,7 +59,14 @@ FIELDS: dict[str, tuple] = {
     "outcome": ("1", "outcome: -1 safe, n >= 0 overturned after n impacts"),
     "stroke_over_half_width": ("1", "largest damper stroke over the block's half-width B/2"),
     "stroke_over_L": ("1", "largest damper stroke over the stops' half-stroke L"),
-    "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha)"),
+    "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha); NaN where not reached in the scan"),
+    "a_g_min": ("m/s^2", "smallest overturning pulse amplitude a_g = beta_min g tan(alpha); NaN where not reached"),
+    "a_g_min_lower_bound": ("m/s^2", "lower bound of an a_g_min not reached in the scan (a_g_min NaN)"),
+    "beta_min_lower_bound": (
+        "1",
+        "lower bound of a beta_min not reached in the scan (beta_min NaN): the last amplitude ratio scanned, none "
+        "overturning",
+    ),
     "beta_safe": ("1", "largest safe amplitude ratio below beta_min"),
     "flag": ("1", "how beta_min was found", FLAG_KEY),
     "undetermined": ("1", "responses without a verdict (max_events, max_steps, or flight)"),
@@ -121,6 +128,9 @@ COORDINATES = {
     "Omega": ("1", "pulse frequency ratio omega_g / p"),
     "beta": ("1", "pulse amplitude ratio a_g / (g tan alpha)"),
     "beta_scan": ("1", "scanned pulse amplitude ratio a_g / (g tan alpha)"),
+    # The SI coordinates beside Omega and beta (si_coordinates), and the CSV columns of the same names.
+    "T_g": ("s", "pulse period T_g = 2 pi / omega_g"),
+    "a_g": ("m/s^2", "pulse amplitude a_g = beta g tan(alpha)"),
     "sign": ("1", "direction of the pulse (+1: the paper's, -1: mirrored)"),
     "gamma": ("1", "damper mass ratio m / M"),
     "r_coarse": ("1", "damper period ratio T_m p / (2 pi) of the coarse search"),
@@ -207,19 +217,11 @@ def si_coordinates(config: dict, coords: dict) -> dict:
     block = Block(**config["block"])
     out = {}
     if "Omega" in coords:
-        out["T_g"] = (
-            "Omega",
-            2 * math.pi / (np.asarray(coords["Omega"][1]) * block.p),
-            {"units": "s", "long_name": "pulse period T_g = 2 pi / omega_g"},
-        )
+        out["T_g"] = ("Omega", 2 * math.pi / (np.asarray(coords["Omega"][1]) * block.p), coordinate_attrs("T_g", {}))
     for beta in ("beta", "beta_scan"):
         if beta in coords:
-            a_g = np.asarray(coords[beta][1]) * block.g * block.tan_alpha
-            out[f"a_g_{beta}" if beta != "beta" else "a_g"] = (
-                beta,
-                a_g,
-                {"units": "m/s^2", "long_name": "pulse amplitude a_g = beta g tan(alpha)"},
-            )
+            a_g = block.a_g(np.asarray(coords[beta][1]))
+            out[f"a_g_{beta}" if beta != "beta" else "a_g"] = (beta, a_g, coordinate_attrs("a_g", {}))
     if "r_coarse" in coords:
         out["T_m_coarse"] = (
             "r_coarse",
@@ -227,6 +229,19 @@ def si_coordinates(config: dict, coords: dict) -> dict:
             {"units": "s", "long_name": "damper period T_m of the coarse search"},
         )
     return out
+
+
+#: The amplitudes in SI units of a study's results (:func:`si_amplitudes`), each of its amplitude ratio.
+SI_AMPLITUDES = {"a_g_min": "beta_min", "a_g_min_lower_bound": "beta_min_lower_bound"}
+
+
+def si_amplitudes(config: dict, fields: dict) -> dict:
+    """The amplitudes ``a_g = beta g tan(alpha)`` (m/s^2, :meth:`rocking.Block.a_g`) of the amplitude ratios among
+    ``fields`` (:data:`SI_AMPLITUDES`), for a study of one block (none for another)."""
+    if "block" not in config:
+        return {}
+    block = Block(**config["block"])
+    return {si: block.a_g(np.asarray(fields[ratio], float)) for si, ratio in SI_AMPLITUDES.items() if ratio in fields}
 
 
 def to_dataset(study, versions: dict | None = None):

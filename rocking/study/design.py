@@ -55,7 +55,7 @@ from ..model.params import (
 )
 from .config import Grid, Setting, is_count, part_config
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
-from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, study_data
 from .ida import _user_stacklevel
 from .optimize import MAX_REFINE, USELESS_GAIN, EdgeWarning, at_edge, coarse_values, refinement
 from .overturning_map import PARTS, check_study, preflight, respond, warn_t_max, warn_undetermined
@@ -414,9 +414,11 @@ def _attrs(name: str, config: dict) -> dict:
 def envelope(data):
     """A design's ``beta_min`` reduced over ``sign`` (:func:`rocking.study.directions.beta_min_envelope`): the
     smaller ``beta_min`` of the directions of each part and Omega, with its ``beta_safe``, ``flag`` and
-    ``impacts``, and the responses without a verdict summed."""
+    ``impacts``, and the responses without a verdict summed. ``data``: a design :class:`~rocking.study.result.Study`
+    or its data."""
     import xarray as xr
 
+    data = study_data(data, ("design",))
     reduced = beta_min_envelope({k: data[k].transpose(..., "sign").values for k in COLUMN_FIELDS})
     reduced.pop("worst_sign_index")
     return xr.Dataset(
@@ -555,6 +557,7 @@ def design_table(data) -> dict:
     bare = envelope(data).sel(part="bare")
     table = {
         "Omega": data["Omega"].values,
+        "T_g": data["T_g"].values,
         "bare_beta_min": bare["beta_min"].values,
         "bare_beta_min_is": flag_words(bare["flag"].values),
     }

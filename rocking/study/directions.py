@@ -137,6 +137,28 @@ def response_envelope(by_sign: dict, unknown) -> dict:
     return out
 
 
+def study_data(data, kinds: tuple[str, ...]):
+    """The responses an ``envelope`` of the studies ``kinds`` reduces: ``data`` as it is (an
+    :class:`xarray.Dataset`), or the ``data`` of a :class:`rocking.study.result.Study` of one of ``kinds``.
+
+    Raises
+    ------
+    ParameterError
+        For a study of another kind, or anything else, in one line naming what to pass.
+    """
+    import xarray as xr
+
+    from .result import Study
+
+    what = " or ".join(kinds)
+    if isinstance(data, xr.Dataset):
+        return data
+    if isinstance(data, Study) and data.kind in kinds:
+        return data.data
+    got = f"a {data.kind} Study" if isinstance(data, Study) else type(data).__name__
+    raise ParameterError(f"data must be a {what} Study or its data, an xarray.Dataset (got {got})")
+
+
 def envelope(data, unknown):
     """The envelope of labelled responses over the directions: ``data`` (an :class:`xarray.Dataset` of the
     fields of :func:`response_envelope`) reduced over its dimension ``sign``.

@@ -414,7 +414,9 @@ def _own_attrs(name: str) -> dict:
 
 def envelope(data):
     """An IDA's responses reduced over ``sign`` (:func:`rocking.study.directions.envelope`), with ``sensitive``
-    where either direction is (where the responses were checked: an IDA without the check has no ``sensitive``)."""
+    where either direction is (where the responses were checked: an IDA without the check has no ``sensitive``).
+    ``data``: an IDA or fragility :class:`~rocking.study.result.Study`, or its data."""
+    data = directions.study_data(data, ("ida", "fragility"))
     status = data["status"]
     out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
     if SENSITIVE.name in data:

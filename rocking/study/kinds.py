@@ -88,8 +88,10 @@ class Kind:
     command: Command
 
 
-def _grid(name: str, default: tuple, text: str) -> tuple:
-    return ("grid", {"name": name, "default": default, "help": text})
+def _grid(name: str, default: tuple, text: str, si: str | None = None) -> tuple:
+    """A grid option; ``si``: the keyword of its alternative in SI units (``"T_g"`` for ``Omega``, ``"a_g"`` for
+    ``beta``: :func:`rocking.study.config.pulse_grids`)."""
+    return ("grid", {"name": name, "default": default, "help": text, **({"si": si} if si else {})})
 
 
 #: The options every pulse study ends with, after its own.
@@ -119,8 +121,8 @@ KINDS = {
                 ("block", {}),
                 ("damper", {"tuned": True}),
                 ("variant", {}),
-                _grid("Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p"),
-                _grid("beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)"),
+                _grid("Omega", MAP_OMEGA, "pulse frequency ratios omega_g / p", "T_g"),
+                _grid("beta", MAP_BETA, "pulse amplitude ratios a_g / (g tan alpha)", "a_g"),
                 ("tile", {}),
                 ("refinement", {}),
                 *_VERTICAL_STUDY,
@@ -142,8 +144,8 @@ KINDS = {
                 ("block", {}),
                 ("damper", {"tuned": True}),
                 ("variant", {}),
-                _grid("Omega", SPECTRUM_OMEGA, "pulse frequency ratios"),
-                _grid("beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)"),
+                _grid("Omega", SPECTRUM_OMEGA, "pulse frequency ratios", "T_g"),
+                _grid("beta", SPECTRUM_BETA, "scan amplitudes (the step bounds the windows seen)", "a_g"),
                 ("tol", {}),
                 *_VERTICAL_STUDY,
             ),
@@ -185,8 +187,8 @@ KINDS = {
             (
                 ("block", {}),
                 ("design damper", {"default": design.TM_GRID, "zeta_grid": design.ZETA_GRID}),
-                _grid("Omega", DESIGN_OMEGA, "the band of pulse frequency ratios"),
-                _grid("beta", DESIGN_BETA, "scan amplitudes of every beta_min"),
+                _grid("Omega", DESIGN_OMEGA, "the band of pulse frequency ratios", "T_g"),
+                _grid("beta", DESIGN_BETA, "scan amplitudes of every beta_min", "a_g"),
                 ("tol", {}),
                 *_PULSE_STUDY,
             ),

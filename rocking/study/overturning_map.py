@@ -460,8 +460,9 @@ def envelope(data):
     (:func:`rocking.study.directions.envelope`), and the damper's ``effect`` on it (``(Omega, beta)``).
 
     ``worst_sign`` is 0 where the direction that governs is not known: a safe cell not computed (which direction
-    governs a safe cell is told by ``theta_max``).
+    governs a safe cell is told by ``theta_max``). ``data``: a map :class:`~rocking.study.result.Study` or its data.
     """
+    data = directions.study_data(data, ("map",))
     status = data["status"]
     out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
     computed = data["computed"].transpose(*out["overturned"].dims).values
@@ -592,7 +593,8 @@ def map_table(data, half_width: float, L: float | None = None) -> dict:
     ``L`` (above 1: in the bumpers), the damper's effect."""
     env = envelope(data)
     Om, b = np.meshgrid(data["Omega"].values, data["beta"].values, indexing="ij")
-    table = {"Omega": Om, "beta": b}
+    T_g, a_g = np.meshgrid(data["T_g"].values, data["a_g"].values, indexing="ij")
+    table = {"Omega": Om, "T_g": T_g, "beta": b, "a_g": a_g}
     signs = data["sign"].values
     for part in PARTS:
         a, by_sign = env.sel(part=part), data.sel(part=part)

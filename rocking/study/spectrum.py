@@ -41,8 +41,8 @@ import numpy as np
 from ..model.params import ParameterError
 from ..sim.problem import STATUS
 from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
-from .dataset import coordinate_attrs, field_attrs, si_coordinates
-from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column
+from .dataset import SI_AMPLITUDES, coordinate_attrs, field_attrs, si_amplitudes, si_coordinates
+from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, study_data, take
 from .overturning_map import (
     FIXED,
     PARTS,
@@ -72,6 +72,10 @@ COLUMNS = 8
 #: :data:`RESPONSE_COUNTS`.
 COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
 
+#: The variables of a censored ``beta_min`` (:func:`censored`) and of its amplitude in SI units, and their columns
+#: in the CSV, in order.
+CENSORED = ("beta_min_lower_bound", *SI_AMPLITUDES)
+
 #: The dimensions of every variable of a spectrum's data (:func:`spectrum_data`), coordinates included.
 DIMS = {
     "part": ("part",),
@@ -80,7 +84,7 @@ DIMS = {
     "sign": ("sign",),
     "T_g": ("Omega",),
     "a_g_beta_scan": ("beta_scan",),
-    **dict.fromkeys(COLUMN_FIELDS, ("part", "Omega", "sign")),
+    **dict.fromkeys((*COLUMN_FIELDS, *CENSORED), ("part", "Omega", "sign")),
     "scan_outcome": ("part", "Omega", "sign", "beta_scan"),
 }
 #: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
@@ -398,10 +402,34 @@ def minimum_overturning_spectrum(
     )
 
 
+def censored(fields: dict) -> dict:
+    """``fields`` (:func:`beta_min`'s, or their envelope's) with each ``beta_min`` not reached in the scan (flag
+    ``ABOVE``) stored as a censored value: ``beta_min`` NaN, and ``beta_min_lower_bound`` the last amplitude
+    scanned without overturning (NaN where ``beta_min`` is a value): no plot or table in SI reads the scan's end as
+    a measured ``beta_min``."""
+    above = np.asarray(fields["flag"]) == ABOVE
+    beta = np.asarray(fields["beta_min"], float)
+    return {**fields, "beta_min": np.where(above, np.nan, beta), "beta_min_lower_bound": np.where(above, beta, np.nan)}
+
+
+def beta_min_or_bound(data) -> np.ndarray:
+    """The ``beta_min`` of a spectrum's data with the lower bound in place of each censored one (:func:`censored`;
+    the ``flag`` says which is which): what the envelope over the directions and the gains compare. A spectrum
+    saved before the censoring has the bound in ``beta_min`` already."""
+    beta = data["beta_min"].values
+    if "beta_min_lower_bound" not in data:
+        return beta
+    return np.where(np.isnan(beta), data["beta_min_lower_bound"].values, beta)
+
+
 def spectrum_data(config: dict, Omega, beta_scan, signs, fields: dict):
-    """A spectrum's results as labelled data: the :data:`COLUMN_FIELDS` of each part, Omega and direction, and
-    ``scan_outcome`` along ``beta_scan`` too, with the coordinates in non-dimensional and SI terms and units."""
+    """A spectrum's results as labelled data: the :data:`COLUMN_FIELDS` of each part, Omega and direction (a
+    ``beta_min`` not reached in the scan :func:`censored`), and ``scan_outcome`` along ``beta_scan`` too, with the
+    coordinates in non-dimensional and SI terms and units."""
     import xarray as xr
+
+    fields = censored(fields)
+    fields |= si_amplitudes(config, fields)
 
     coords = {
         "part": ("part", np.array(PARTS), {"long_name": "; ".join(f"{p}: {PART_NAMES[p]}" for p in PARTS)}),
@@ -418,13 +446,19 @@ def envelope(data):
     """A spectrum's results reduced over ``sign`` (:func:`rocking.study.directions.beta_min_envelope`): the
     smaller ``beta_min`` of the directions of each part and Omega, its ``beta_safe``, ``flag`` and
     ``impacts``, the responses without a verdict summed, the worse ``scan_outcome`` at each scan amplitude,
-    and ``worst_sign``."""
+    and ``worst_sign``. ``data``: a spectrum :class:`~rocking.study.result.Study` or its data."""
     import xarray as xr
 
-    reduced = beta_min_envelope({k: data[k].values for k in (*COLUMN_FIELDS, "scan_outcome")})
+    data = study_data(data, ("spectrum",))
+    by_sign = {k: data[k].values for k in (*COLUMN_FIELDS, "scan_outcome")}
+    reduced = censored(beta_min_envelope({**by_sign, "beta_min": beta_min_or_bound(data)}))
     index = reduced.pop("worst_sign_index")
+    reduced |= {k: take(data[k].values, index) for k in SI_AMPLITUDES if k in data}  # the governing direction's
     out = xr.Dataset(
-        {k: (tuple(d for d in DIMS[k] if d != "sign"), v, data[k].attrs) for k, v in reduced.items()},
+        {
+            k: (tuple(d for d in DIMS[k] if d != "sign"), v, data[k].attrs if k in data else field_attrs(k, {}))
+            for k, v in reduced.items()
+        },
         coords=data.drop_dims("sign").coords,
     )
     out["worst_sign"] = (("part", "Omega"), data["sign"].values[index], field_attrs("worst_sign", {}))
@@ -450,23 +484,30 @@ def spectrum_tables(data, config: dict) -> dict:
     """CSV tables: ``spectrum`` (one row per Omega: the envelope and, with two directions, each direction's
     ``beta_min``) and ``spectrum-windows`` (one row per window)."""
     env = envelope(data)
-    main = {"Omega": data["Omega"].values}
-    windows_table: dict[str, list] = {"part": [], "Omega": [], "beta_first_safe": [], "beta_last_safe": []}
+    main = {"Omega": data["Omega"].values, "T_g": data["T_g"].values}
+    windows_table: dict[str, list] = {"part": [], "Omega": [], "T_g": [], "beta_first_safe": [], "beta_last_safe": []}
+    period = dict(zip(main["Omega"].tolist(), main["T_g"].tolist()))
     signs = data["sign"].values
     for part in PARTS:
         a, by_sign = env.sel(part=part), data.sel(part=part)
-        for k in COLUMN_FIELDS:
-            main[f"{part}_{k}"] = a[k].values
+        for k in ("beta_min", *CENSORED, *COLUMN_FIELDS[1:]):
+            if k in a:  # a spectrum saved before the censoring has none of CENSORED
+                main[f"{part}_{k}"] = a[k].values
         main[f"{part}_beta_min_is"] = flag_words(a["flag"].values)
         if signs.size > 1:
             main[f"{part}_worst_sign"] = a["worst_sign"].values
             for i, sign in enumerate(signs):
                 main[f"{part}_beta_min_{SIGN_NAMES[sign]}"] = by_sign["beta_min"].values[:, i]
+                bound = by_sign["beta_min_lower_bound"].values[:, i] if "beta_min_lower_bound" in by_sign else None
+                main[f"{part}_beta_min_lower_bound_{SIGN_NAMES[sign]}"] = (
+                    np.full(main["Omega"].size, np.nan) if bound is None else bound
+                )
                 main[f"{part}_flag_{SIGN_NAMES[sign]}"] = by_sign["flag"].values[:, i]
         w = safe_windows(env, part)
         main[f"{part}_windows"] = np.array([np.sum(w[:, 0] == Om) for Om in main["Omega"]])
         windows_table["part"] += [part] * len(w)
         windows_table["Omega"] += list(w[:, 0])
+        windows_table["T_g"] += [period[Om] for Om in w[:, 0].tolist()]
         windows_table["beta_first_safe"] += list(w[:, 1])
         windows_table["beta_last_safe"] += list(w[:, 2])
     return {"spectrum": main, "spectrum-windows": {k: np.asarray(v) for k, v in windows_table.items()}}

@@ -14,7 +14,9 @@ of uncertain period, say, for a fragility against the pulse's amplitude.
 from __future__ import annotations
 
 import dataclasses
+import hashlib
 import os
+import warnings
 from collections.abc import Mapping
 from dataclasses import dataclass
 from pathlib import Path
@@ -36,6 +38,26 @@ OPTIONS_OF = {
     "stochastic": ("seed", "site", "vertical_ratio", "vertical_site"),
     "pulses": ("periods", "amplitude", "gamma_mp", "nu"),
 }
+
+
+class DuplicateMotionWarning(UserWarning):
+    """Two record files of a suite hold the same motion (the same dt and samples, in m/s^2): the suite counts it
+    twice, weighing it double in a fragility."""
+
+
+def _warn_if_seen(seen: dict, record: Record, path: Path) -> None:
+    """Warn (:class:`DuplicateMotionWarning`) if a file of ``seen`` (by dt and samples) held ``record`` already,
+    naming both; else add it."""
+    key = (record.dt, hashlib.sha256(record.acceleration.tobytes()).hexdigest())
+    if key in seen:
+        warnings.warn(
+            f"motions {seen[key]} and {path} hold the same samples ({len(record.acceleration)} at dt = "
+            f"{record.dt:g} s): the suite counts them as two motions",
+            DuplicateMotionWarning,
+            stacklevel=3,
+        )
+    else:
+        seen[key] = path
 
 
 @dataclass(frozen=True)
@@ -102,8 +124,10 @@ class Suite:
         if not 1 <= len(items) <= MAX_MOTIONS:
             raise ParameterError(f"a suite needs 1 to {MAX_MOTIONS} record files (got {len(items)})")
         verticals = _vertical_items(vertical_motions, unit, len(items))
+        seen: dict[tuple, Path] = {}
         for k, (path, own) in enumerate(items):
             record = read_record(path, own)
+            _warn_if_seen(seen, record, path)
             if verticals:
                 paired_vertical(record, _read_vertical(*verticals[k]), _vertical_label(verticals[k][0]))
         return cls(
