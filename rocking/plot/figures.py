@@ -827,13 +827,13 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_g.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
     found = s.get("verdict") or verdict(s)  # a design saved before the verdict was stored: from its summary
     helps = found["code"] == "helps"
-    worst = (
+    heading = (
         rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}"
         if s["worst_gain"] is not None
         else "worst gain undefined over the band"
     )
     # A design that does not help says so where its gain is read, in the verdict's words.
-    ax_g.set_title(worst if helps else f"{worst}:\n{VERDICTS[found['code']]}", fontsize=9)
+    ax_g.set_title(heading if helps else f"{heading}:\n{VERDICTS[found['code']]}", fontsize=9)
     _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
     r, z = data["r_coarse"].values, data["zeta_coarse"].values
     worst = data["candidate_worst_gain"].values[: r.size * z.size].reshape(z.size, r.size)
@@ -900,8 +900,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
         rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
         f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m"
     )
-    heading = "Damper design" if helps else f"Damper design: {VERDICTS[found['code']]}"
-    _title(fig, heading, study.config, damper=damper)
+    _title(fig, "Damper design" if helps else f"Damper design: {VERDICTS[found['code']]}", study.config, damper=damper)
     return fig
 
 
