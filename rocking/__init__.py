@@ -44,6 +44,7 @@ from .study.api import (
     threshold_map,
 )
 from .study.config import Grid, Setting, Tuning, Variant
+from .study.design import DesignWarning, designed_damper
 from .study.files import DiskFull
 from .study.fragility import FitWarning
 from .study.result import Study
@@ -57,6 +58,7 @@ __all__ = [
     "Block",
     "CBuildError",
     "Damper",
+    "DesignWarning",
     "DiskFull",
     "Execution",
     "FitWarning",
@@ -83,6 +85,7 @@ __all__ = [
     "Vertical",
     "available_models",
     "design",
+    "designed_damper",
     "fragility",
     "incremental_dynamic_analysis",
     "load",

@@ -9,10 +9,10 @@ import pytest
 
 import rocking
 from rocking import Block, Damper, OneSinePulse, Stops
-from rocking.cli.study import add_study_commands, design_verdict, edge_warnings
+from rocking.cli.study import add_study_commands
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.design import best_candidate, design, envelope, stroke_use
+from rocking.study.design import best_candidate, design, edge_warnings, envelope, stroke_use, verdict
 from rocking.study.overturning_map import TMaxWarning
 from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
@@ -47,7 +47,9 @@ def test_design_is_the_best_damper_that_keeps_its_mass_on_the_block(small):
     beta_min = envelope(a)["beta_min"]
     np.testing.assert_allclose(a["gain_opt"], beta_min.sel(part="damper") / beta_min.sel(part="bare"))
     np.testing.assert_array_equal(beta_min, a["beta_min"].min("sign"))
-    assert a["candidate_r"].size == s["candidates"] == 3 * 2 + 2 + 1  # coarse, 2 along T_m, 1 along zeta
+    # Coarse, then 1 along T_m and 1 along zeta: the best is at T_m's largest and zeta's smallest, refined inwards.
+    assert (s["Tm_at_edge"], s["zeta_at_edge"]) == (1, -1)
+    assert a["candidate_r"].size == s["candidates"] == 3 * 2 + 1 + 1
     d = s["damper"]
     m, omega_m = d["gamma"] * SETTING.block.M, 2 * np.pi / d["T_m_s"]
     assert (d["m_kg"], d["k_m_N_per_m"]) == pytest.approx((m, m * omega_m**2))
@@ -171,7 +173,7 @@ def test_cli_design_writes_data_and_prints_the_damper_in_si(tmp_path, capsys):
     assert "design: m = 50 kg (gamma = 0.05), k_m = " in out and "N s/m" in out
     assert "pulses of sign +1 and -1" in out
     summary = rocking.study.storage.load(tmp_path / "design").summary
-    assert f"design: {design_verdict(summary)}\n" in out  # the verdict in words, its own line
+    assert f"design: {summary['verdict']['text']}\n" in out  # the study's verdict in words, its own line
     for name in ("design.nc", "design.json", "design.csv", "design-candidates.csv", "design.png"):
         assert (tmp_path / name).is_file()
     assert rocking.study.storage.load(tmp_path / "design").summary["worst_gain"] > 0
@@ -220,7 +222,7 @@ def _summary(worst, lower_bound=False, Tm_edge=0, zeta_edge=0) -> dict:
     }
 
 
-@pytest.mark.parametrize("summary, verdict", [
+@pytest.mark.parametrize("summary, text", [
     (_summary(1.15), "helps: worst gain 1.15 over the band (at Omega = 2)"),
     (_summary(1.15, lower_bound=True),
      "helps: worst gain 1.15 over the band (at Omega = 2, a lower bound: the damped block survived the scan there)"),
@@ -229,19 +231,19 @@ def _summary(worst, lower_bound=False, Tm_edge=0, zeta_edge=0) -> dict:
     (_summary(0.93), "makes some pulses worse: worst gain 0.93 < 1 (at Omega = 2); no damper of this budget and "
                      "stroke helps over the whole band"),
     (_summary(None), "no verdict: the gain is undefined over the whole band (the block alone survives the beta scan; "
-                     "widen --beta)"),
+                     "widen beta= / --beta)"),
 ])  # fmt: skip
-def test_design_verdict_in_words(summary, verdict):
+def test_design_verdict_in_words(summary, text):
     """What the design achieved, in words: a gain of at most 1.01 (the Omega* threshold) is no useful gain."""
-    assert design_verdict(summary) == verdict
+    assert verdict(summary)["text"] == text
 
 
 def test_design_edge_warnings_name_the_option_that_widens_the_range():
     damper = {"Tm_ratio": 0.1, "zeta": 0.5}
-    assert edge_warnings(_summary(1.2), damper) == []
-    assert edge_warnings(_summary(1.2, Tm_edge=-1, zeta_edge=1), damper) == [
-        "the optimal T_m p / 2 pi = 0.1 is the smallest of its search range: the best may lie beyond; widen it with "
-        "--Tm-ratio MIN MAX N, MIN below 0.1",
-        "the optimal zeta = 0.5 is the largest of its search range: the best may lie beyond; widen it with "
-        "--zeta-grid MIN MAX N, MAX above 0.5",
+    assert edge_warnings({**_summary(1.2), "damper": damper}) == []
+    assert edge_warnings({**_summary(1.2, Tm_edge=-1, zeta_edge=1), "damper": damper}) == [
+        "design: the optimal T_m p / 2 pi = 0.1 is the smallest of its search range: the best may lie beyond; widen "
+        "it (Tm_ratio= / --Tm-ratio MIN MAX N, MIN below 0.1)",
+        "design: the optimal zeta = 0.5 is the largest of its search range: the best may lie beyond; widen it "
+        "(zeta_grid= / --zeta-grid MIN MAX N, MAX above 0.5)",
     ]

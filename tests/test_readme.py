@@ -62,11 +62,11 @@ def test_the_readme_simulate_output_is_what_simulate_prints(capsys):
     assert unlimited[2].removeprefix("  with damper: ") in text
     assert main([*argv, "--stops"]) == 0
     stops = capsys.readouterr().out
-    for quoted in ("OVERTURNS at t = 2.3420 s;", "2 stop contact(s), bumper force max 9186 N"):
+    for quoted in ("OVERTURNS at t = 2.3453 s;", "2 stop contact(s), bumper force max 6416 N"):
         assert quoted in stops and quoted in text, quoted
     assert main([*argv, "--stops", "--bumper-law", "hunt-crossley"]) == 0
     pads = capsys.readouterr().out
-    for quoted in ("OVERTURNS at t = 2.3389 s;", "2 stop contact(s), bumper force max 9956 N"):
+    for quoted in ("OVERTURNS at t = 2.3424 s;", "2 stop contact(s), bumper force max 7475 N"):
         assert quoted in pads and quoted in text, quoted
 
 

@@ -31,9 +31,9 @@ from ..model.motion import PULSE_TYPES, MavroeidisPapageorgiou, SampledMotion
 from ..model.params import (
     BUMPER_DAMPING_RATIO,
     BUMPER_DEPTH,
-    BUMPER_FREQUENCY_RATIO,
     BUMPER_LAWS,
     BUMPER_RESTITUTION,
+    BUMPER_STIFFNESS,
     RANGES,
     Damper,
     ParameterError,
@@ -652,8 +652,8 @@ def _add_simulate_damper(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--k-b",
         type=float,
-        help=f"bumper stiffness, N/m (default m ({BUMPER_FREQUENCY_RATIO:g} omega_m)^2: a "
-        f"bumper frequency {BUMPER_FREQUENCY_RATIO:g} times the damper's)",
+        help=f"bumper stiffness, N/m (default {BUMPER_STIFFNESS:g}: a neoprene pad 20 mm thick of 50 x 50 mm, "
+        "E A / t with E = 5 MPa)",
     )
     g.add_argument(
         "--c-b", type=float, help=f"bumper dashpot, N s/m (default: a damping ratio of {BUMPER_DAMPING_RATIO:g})"

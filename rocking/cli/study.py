@@ -44,7 +44,8 @@ from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant, pulse_grids
-from ..study.design import design
+from ..study.design import DesignWarning, design
+from ..study.design import verdict as design_verdict
 from ..study.directions import DIRECTIONS
 from ..study.files import DiskFull, make_folder, name_lock, no_space
 from ..study.fragility import FITTED, MEDIAN_PLACES, FitWarning, median_words
@@ -885,16 +886,17 @@ def threshold_lines(study: Study) -> list[str]:
 
 
 def design_lines(study: Study) -> list[str]:
-    """The damper designed, in SI units; the verdict in words; the warnings; how the stroke was used."""
+    """The damper designed, in SI units; its verdict (the study's, :func:`rocking.study.design.verdict`); how the
+    stroke was used. Its warnings are the study's own (:data:`STUDY_WARNINGS`), shown as it runs."""
     s, d = study.summary, study.summary["damper"]
     lines = [
         f"design: m = {d['m_kg']:.4g} kg (gamma = {d['gamma']:g}), k_m = {d['k_m_N_per_m']:.4g} N/m, "
         f"c = {d['c_N_s_per_m']:.4g} N s/m (T_m = {d['T_m_s']:.4g} s, T_m p / 2 pi = {d['Tm_ratio']:.3g}, "
         f"zeta = {d['zeta']:.3g}); stops at L = {d['L_m']:.3g} m, k_b = {d['k_b_N_per_m']:.4g} N/m, "
         f"c_b = {d['c_b_N_s_per_m']:.4g} N s/m",
-        f"design: {design_verdict(s)}",
+        # A design saved before the verdict was stored: the same words, from its summary.
+        f"design: {s.get('verdict', design_verdict(s))['text']}",
     ]
-    lines += [f"design: warning: {warning}" for warning in edge_warnings(s, d)]
     lines.append(
         f"design: stroke used at the pulses that overturn the block alone: up to {s['stroke_use_max']:.3g} L, "
         f"{s['stop_contacts_max']} stop contacts; {s['candidates_on_block']} of {s['candidates']} dampers tried "
@@ -906,43 +908,6 @@ def design_lines(study: Study) -> list[str]:
             "overturn within the beta scan there; widen --beta)"
         )
     return lines
-
-
-def design_verdict(summary: dict) -> str:
-    """What the design achieved, in words: it helps, gains nothing useful (worst gain <= USELESS_GAIN), makes some
-    pulse worse, or has no verdict (the gain is undefined over the whole band)."""
-    worst = summary["worst_gain"]
-    if worst is None:
-        return (
-            "no verdict: the gain is undefined over the whole band (the block alone survives the beta scan; "
-            "widen --beta)"
-        )
-    where = f"at Omega = {summary['worst_at_Omega']:.3g}"
-    bound = ", a lower bound: the damped block survived the scan there" if summary["worst_gain_is_lower_bound"] else ""
-    if worst > USELESS_GAIN:
-        return f"helps: worst gain {worst:.2f} over the band ({where}{bound})"
-    if worst >= 1.0:
-        return f"no useful gain (worst gain {worst:.2f} <= {USELESS_GAIN:g}, {where}{bound})"
-    return (
-        f"makes some pulses worse: worst gain {worst:.2f} < 1 ({where}{bound}); no damper of this budget and "
-        "stroke helps over the whole band"
-    )
-
-
-def edge_warnings(summary: dict, damper: dict) -> list[str]:
-    """One warning per optimal parameter at an end of its search range, with the option that widens it."""
-    out = []
-    for name, value, edge, option in (
-        ("T_m p / 2 pi", damper["Tm_ratio"], summary["Tm_at_edge"], "--Tm-ratio"),
-        ("zeta", damper["zeta"], summary["zeta_at_edge"], "--zeta-grid"),
-    ):
-        if edge:
-            end, bound = ("smallest", "MIN below") if edge < 0 else ("largest", "MAX above")
-            out.append(
-                f"the optimal {name} = {value:.3g} is the {end} of its search range: the best may lie "
-                f"beyond; widen it with {option} MIN MAX N, {bound} {value:.3g}"
-            )
-    return out
 
 
 def threshold_map_lines(study: Study) -> list[str]:
@@ -1120,7 +1085,15 @@ def _cmd_redraw(args) -> int:
 
 
 #: Warnings of a study, and of implausible inputs, that the command line shows as one line each, like its errors.
-STUDY_WARNINGS = (TileWarning, UndeterminedWarning, TMaxWarning, EdgeWarning, PlausibilityWarning, FitWarning)
+STUDY_WARNINGS = (
+    TileWarning,
+    UndeterminedWarning,
+    TMaxWarning,
+    EdgeWarning,
+    DesignWarning,
+    PlausibilityWarning,
+    FitWarning,
+)
 
 
 @contextmanager

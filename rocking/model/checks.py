@@ -358,9 +358,6 @@ RANGES: dict[str, Range] = {
     "chi_b": Range(0.0, 1e3, "", "damping factor chi(e_b) of a Hunt-Crossley pad, e_b in [1e-3, 1]"),
     # Rubber and elastomer pads restitute 0.3 - 0.7 (zeta_b 0.1 - 0.35); 10 as for the damper's zeta.
     "zeta_b": Range(0.0, 10.0, "", "damping ratio of a bumper, stiff for the explicit integrator above 10"),
-    # Stops.at_edges: omega_b = frequency_ratio omega_m, both within [1e-3 p, 1e4 p], so the ratio of the two
-    # lies within 1e7 of 1; beyond, k_b = m (frequency_ratio omega_m)^2 overflows before any check can tell.
-    "frequency_ratio": Range(1e-7, 1e7, "", "the pads' frequency over the damper's, omega_b / omega_m"),
     # --- the pulse (OneSinePulse, OneSinePulse.from_nondim)
     "a_g": Range(0.0, 1e5, "m/s^2", "up to 10,000 g, beyond any ground motion, shake table or centrifuge"),
     # Ground-motion pulses last 0.1 - 10 s; 1 ms to 1000 s bounds the pulse's share of a run.

@@ -301,12 +301,18 @@ HC_STOP_PARAMETERS = ("L", "k_b", "n_b", "chi_b")
 #: The contact laws of a bumper pad (docs/model.md section 11) and the model each runs on.
 BUMPER_LAWS = {"kelvin-voigt": "omd_stops", "hunt-crossley": "omd_stops_hc"}
 
-#: Default depth of a bumper pad at the block's edge, m: a 20 mm elastomer pad (Stops.at_edges).
+#: The default bumper pad at each of the block's edges (Stops.at_edges): a neoprene pad 20 mm thick (its depth,
+#: m) of 50 x 50 mm (its area, m^2) in compression, of modulus 5 MPa (Pa): an estimate of the compression modulus
+#: ``E0 (1 + 2 phi S^2)`` of a bonded block (Gent, Engineering with Rubber, 3rd ed. 2012; ``phi`` ~ 0.6) of a
+#: Shore A 50-60 neoprene (``E0 = 3 G``, ``G`` ~ 0.9-1.3 MPa) of shape factor ``S = 2500 / (4 x 50 x 20) = 0.625``:
+#: 4-6 MPa (docs/model.md section 11, "In the runtime").
 BUMPER_DEPTH = 0.02
-#: Default bumper frequency over the damper's, sqrt(k_b / m) / omega_m: a contact lasts 1/120 of the
-#: damper's period. On the bench map (bench/stops_map.py) the deepest contact then uses 13 mm of the
-#: 20 mm pad; at 20 the pad bottomed out (the stroke past B/2) in two thirds of the cells.
-BUMPER_FREQUENCY_RATIO = 60.0
+BUMPER_AREA = 2.5e-3
+BUMPER_MODULUS = 5e6
+#: Its stiffness, N/m: ``E A / t`` = 6.25e5 N/m, the same for every damper (a stiffness of the pad, not of the
+#: damper's spring): a 50 kg mass hitting it at 1 m/s crushes it by ``v sqrt(m / k_b)`` = 9 mm of its 20 mm.
+#: Rounded to the N/m: 625000, not the 625000.0000000001 of the floating-point product.
+BUMPER_STIFFNESS = float(round(BUMPER_MODULUS * BUMPER_AREA / BUMPER_DEPTH))
 #: The penetration at which a Hunt-Crossley pad's frequency is held to the range of a bumper's, m: 1 mm,
 #: where its tangent stiffness is n k_b delta^(n-1) (Stops.check_on).
 HC_REFERENCE_PENETRATION = 1e-3
@@ -543,7 +549,7 @@ class Stops:
         damper: Damper,
         *,
         depth: float = BUMPER_DEPTH,
-        frequency_ratio: float = BUMPER_FREQUENCY_RATIO,
+        k_b: float = BUMPER_STIFFNESS,
         zeta_b: float = BUMPER_DAMPING_RATIO,
         law: str = "kelvin-voigt",
         e_b: float = BUMPER_RESTITUTION,
@@ -557,8 +563,9 @@ class Stops:
             The block and its damper (``m > 0``).
         depth : float, optional
             The pads' depth, m, in (0, B/2). Default :data:`BUMPER_DEPTH` (20 mm).
-        frequency_ratio : float, optional
-            ``sqrt(k_b / m) / omega_m``, in [1e-7, 1e7]. Default :data:`BUMPER_FREQUENCY_RATIO` (60).
+        k_b : float, optional
+            The pads' stiffness, N/m. Default :data:`BUMPER_STIFFNESS`, 6.25e5 N/m: a neoprene pad 20 mm thick
+            of 50 x 50 mm and modulus 5 MPa, ``E A / t``, the same whatever the damper.
         zeta_b : float, optional
             The bumpers' damping ratio. Default :data:`BUMPER_DAMPING_RATIO` (0.2). Kelvin-Voigt only.
         law : {"kelvin-voigt", "hunt-crossley"}, optional
@@ -570,15 +577,15 @@ class Stops:
         Returns
         -------
         Stops
-            With ``k_b = m (frequency_ratio omega_m)^2`` and ``c_b = 2 zeta_b sqrt(k_b m)``;
-            Hunt-Crossley: ``k_b depth^(1 - n)`` of that ``k_b``, the same elastic force
-            where the pad is crushed to its full depth.
+            With ``k_b`` and ``c_b = 2 zeta_b sqrt(k_b m)`` (the restitution of ``zeta_b``, 0.57 by default, whatever
+            the mass); Hunt-Crossley: ``k_b depth^(1 - n)`` of that ``k_b``, the same elastic force where the pad is
+            crushed to its full depth.
         """
         check_block(block)
         depth = check_interval("depth", depth, 0.0, block.B / 2, "m", label="(0, B/2)")
-        frequency_ratio = check_in_range("frequency_ratio", frequency_ratio)
+        k_b = check_in_range("k_b", k_b)
         zeta_b = check_in_range("zeta_b", zeta_b)
-        L, k_b, c_b = edge_stops(block, damper.m, damper.omega_m, depth, frequency_ratio, zeta_b)
+        L, k_b, c_b = edge_stops(block, damper.m, depth, k_b, zeta_b)
         if law == "hunt-crossley":
             n = check_in_range("n", n, "n_b")
             stops = cls(L=float(L), k_b=float(k_b) * depth ** (1.0 - n), law=law, n=n, e_b=e_b)
@@ -586,16 +593,14 @@ class Stops:
         return cls(L=float(L), k_b=float(k_b), c_b=float(c_b), law=law).check_on(block, damper)
 
 
-def edge_stops(
-    block: Block, m, omega_m, depth=BUMPER_DEPTH, frequency_ratio=BUMPER_FREQUENCY_RATIO, zeta_b=BUMPER_DAMPING_RATIO
-) -> tuple:
-    """``(L, k_b, c_b)`` of :meth:`Stops.at_edges` for dampers of mass ``m`` and frequency ``omega_m`` (broadcasting).
+def edge_stops(block: Block, m, depth=BUMPER_DEPTH, k_b=BUMPER_STIFFNESS, zeta_b=BUMPER_DAMPING_RATIO) -> tuple:
+    """``(L, k_b, c_b)`` of :meth:`Stops.at_edges` for dampers of mass ``m`` (broadcasting).
 
-    ``L = B/2 - depth``, ``k_b = m (frequency_ratio omega_m)^2``, ``c_b = 2 zeta_b sqrt(k_b m)``; unchecked.
+    ``L = B/2 - depth``, the pads' ``k_b`` (N/m) and ``c_b = 2 zeta_b sqrt(k_b m)``; unchecked.
     """
-    m, omega_m = np.asarray(m, dtype=float), np.asarray(omega_m, dtype=float)
-    k_b = m * (frequency_ratio * omega_m) ** 2
-    return np.full(np.shape(k_b), block.B / 2 - depth), k_b, 2 * zeta_b * np.sqrt(k_b * m)
+    m = np.asarray(m, dtype=float)
+    k_b = np.full(np.shape(m), float(k_b))
+    return np.full(np.shape(m), block.B / 2 - depth), k_b, 2 * zeta_b * np.sqrt(k_b * m)
 
 
 @dataclass(frozen=True)

@@ -46,7 +46,7 @@ from ..model.loading import ModelError, saved_model
 from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from ..study.config import flight_beta
-from ..study.design import stroke_use
+from ..study.design import VERDICTS, stroke_use, verdict
 from ..study.files import DiskFull, atomic_write, name_lock
 from ..study.fragility import FITTED, MEDIAN_PLACES
 from ..study.ida import LEVELS
@@ -825,9 +825,15 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
     ax_g.set_ylabel(r"$G = \beta_{min}$(damper) / $\beta_{min}$(block)")
-    ax_g.set_title(
-        rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}", fontsize=9
+    found = s.get("verdict") or verdict(s)  # a design saved before the verdict was stored: from its summary
+    helps = found["code"] == "helps"
+    heading = (
+        rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}"
+        if s["worst_gain"] is not None
+        else "worst gain undefined over the band"
     )
+    # A design that does not help says so where its gain is read, in the verdict's words.
+    ax_g.set_title(heading if helps else f"{heading}:\n{VERDICTS[found['code']]}", fontsize=9)
     _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
     r, z = data["r_coarse"].values, data["zeta_coarse"].values
     worst = data["candidate_worst_gain"].values[: r.size * z.size].reshape(z.size, r.size)
@@ -843,7 +849,19 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
         label="mass past the block's edge",
     )
     d = s["damper"]
-    ax_map.plot([d["Tm_ratio"]], [d["zeta"]], "*", color=OKABE_ITO["yellow"], mec="k", ms=14, label="design")
+    if helps:
+        ax_map.plot([d["Tm_ratio"]], [d["zeta"]], "*", color=OKABE_ITO["yellow"], mec="k", ms=14, label="design")
+    else:  # no star for a damper that does not help: the best tried, named by the verdict
+        ax_map.plot(
+            [d["Tm_ratio"]],
+            [d["zeta"]],
+            "o",
+            mfc="none",
+            mec=OKABE_ITO["black"],
+            mew=1.5,
+            ms=12,
+            label=f"best tried: {VERDICTS[found['code']]}",
+        )
     ax_map.set_xscale("log")
     ax_map.set_yscale("log")
     ax_map.set_xlabel(r"$T_m p / 2\pi$")
@@ -882,7 +900,7 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
         rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
         f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m"
     )
-    _title(fig, "Damper design", study.config, damper=damper)
+    _title(fig, "Damper design" if helps else f"Damper design: {VERDICTS[found['code']]}", study.config, damper=damper)
     return fig
 
 

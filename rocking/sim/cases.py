@@ -318,7 +318,7 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
         values.update(m=m, k_m=k_m, c=c, h=h)
         T_m = 2 * np.pi / omega_m
         if stops:
-            values.update(zip(STOP_PARAMETERS, edge_stops(block, m, omega_m, depth)))
+            values.update(zip(STOP_PARAMETERS, edge_stops(block, m, depth)))
             _derived("L", values["L"], "B/2 minus the pads' depth of Stops.at_edges")
             _derived("omega_b", np.sqrt(values["k_b"] / m) / block.p, "the bumpers' frequency over p", "omega_b_ratio")
     missing = [name for name in model.parameters if name not in values]

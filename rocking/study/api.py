@@ -50,8 +50,8 @@ from pathlib import Path
 
 import platformdirs
 
-from ..model.params import Block, ParameterError, check_block
-from .config import Grid, Setting, Tuning, Variant, pulse_grids
+from ..model.params import Block, Damper, ParameterError, check_block
+from .config import Grid, Setting, Tuning, Variant, pulse_grids, tm_omega_ratio
 from .design import REFINE
 from .design import design as _design
 from .ida import LEVELS
@@ -86,11 +86,17 @@ def _setting(block, rtol: float, t_after: float, backend: str, pulse: str = "sin
 
 
 def _tuning(damper) -> Tuning | Variant:
-    """A study's damper from None (the default Tuning), a Tuning, a Variant, or a mapping of Tuning's keywords."""
+    """A study's damper from None (the default Tuning), a Tuning, a Variant, a built :class:`~rocking.Damper` (with
+    its :class:`~rocking.Stops`: the :class:`Variant` of its model and parameters, as :func:`rocking.simulate` runs
+    it), or a mapping of Tuning's keywords."""
     if damper is None:
         return Tuning()
     if isinstance(damper, Tuning | Variant):
         return damper
+    if isinstance(damper, Damper):
+        if damper.m == 0.0:
+            raise ParameterError("damper: a Damper of mass m = 0 is the block alone, which every study runs anyway")
+        return Variant(damper.model, damper.as_params())
     if isinstance(damper, Mapping):
         try:
             return Tuning(**with_omega_ratio(damper))
@@ -99,23 +105,20 @@ def _tuning(damper) -> Tuning | Variant:
                 f"damper: {exc} (keywords of rocking.Tuning: gamma, omega_ratio or Tm_ratio, zeta, h, stops)"
             ) from None
     raise ParameterError(
-        f"damper must be a rocking.Tuning, a rocking.Variant or a mapping such as {{'gamma': 0.05}} "
+        f"damper must be a rocking.Tuning, a rocking.Damper, a rocking.Variant or a mapping such as {{'gamma': 0.05}} "
         f"(got {type(damper).__name__})"
     )
 
 
 def with_omega_ratio(values: Mapping) -> dict:
     """Keywords of :class:`Tuning` with ``Tm_ratio`` (the damper's period ``T_m p / (2 pi)``, the command line's
-    ``--Tm-ratio``) given as its ``omega_ratio = 1 / Tm_ratio``."""
+    ``--Tm-ratio``) given as its ``omega_ratio = 1 / Tm_ratio`` (:func:`rocking.study.config.tm_omega_ratio`)."""
     values = dict(values)
     if "Tm_ratio" not in values:
         return values
     if "omega_ratio" in values:
         raise ParameterError("give the damper's Tm_ratio or its omega_ratio = 1 / Tm_ratio, not both")
-    Tm_ratio = values.pop("Tm_ratio")
-    if not (isinstance(Tm_ratio, int | float) and Tm_ratio > 0):
-        raise ParameterError(f"Tm_ratio must be > 0 (got {Tm_ratio!r})")
-    return {**values, "omega_ratio": 1.0 / Tm_ratio}
+    return {**values, "omega_ratio": tm_omega_ratio(values.pop("Tm_ratio"))}
 
 
 def _grid(name: str, values) -> Grid | None:
@@ -175,8 +178,9 @@ def overturning_map(
     Parameters
     ----------
     block : Block
-    damper : Tuning, Variant or mapping, optional
-        Default ``Tuning()`` (gamma 0.05, omega_ratio 1, zeta 0.05, h 0.05 m).
+    damper : Tuning, Damper, Variant or mapping, optional
+        Default ``Tuning()`` (gamma 0.05, omega_ratio 1, zeta 0.05, h 0.05 m). A built :class:`~rocking.Damper`
+        (with its :class:`~rocking.Stops`, e.g. :func:`rocking.designed_damper` of a design) runs as it is.
     Omega, beta : array_like or Grid
         Pulse frequency ratios ``omega_g / p`` and amplitude ratios ``a_g / (g tan alpha)``, increasing.
     T_g, a_g : array_like or Grid, optional
@@ -414,6 +418,16 @@ def design(
     xarray.Dataset
         Dimensions ``part``, ``Omega``, ``sign``, ``candidate``, ...; the damper in SI units in the attribute
         ``summary`` (JSON) and in the variables ``gain_opt``, ``stroke_use``, ``bumper_force_max`` (N).
+        What it achieved in the attributes ``verdict`` (``"helps"``, ``"no_useful_gain"``, ``"harms"``,
+        ``"undefined"``) and ``verdict_text``; the damper built, with its stops, for :func:`rocking.simulate` and
+        every study's ``damper``: :func:`rocking.designed_damper`.
+
+    Warns
+    -----
+    DesignWarning
+        The design does not help over the band: the verdict's sentence, as the command line prints it.
+    rocking.study.optimize.EdgeWarning
+        The optimal ``Tm_ratio`` or ``zeta`` is an end of its search range: widen it.
 
     Examples
     --------
@@ -423,7 +437,7 @@ def design(
     ...                     runs=tempfile.mkdtemp(), progress=False)
     >>> damper = json.loads(ds.attrs["summary"])["damper"]
     >>> round(damper["m_kg"]), round(damper["k_m_N_per_m"], 1)  # kg, N/m
-    (50, 178.4)
+    (50, 22.3)
     """
     return _run(
         _design,

@@ -393,7 +393,18 @@ def flight_beta(block: Block, config: dict) -> float:
     return 1.0 / (vertical["ratio"] * block.tan_alpha * lowest) if lowest > 0.0 else math.inf
 
 
-@dataclass(frozen=True)
+def tm_omega_ratio(Tm_ratio, omega_ratio=1.0) -> float:
+    """The ``omega_ratio = 1 / Tm_ratio`` of a damper given by its period ``T_m p / (2 pi)``; refused beside an
+    ``omega_ratio`` other than the default 1 or that one."""
+    if not (is_number(Tm_ratio) and Tm_ratio > 0):
+        raise ParameterError(f"Tm_ratio must be > 0 (got {shown(Tm_ratio)})")
+    converted = 1.0 / float(Tm_ratio)
+    if omega_ratio not in (1.0, converted):
+        raise ParameterError("give the damper's Tm_ratio or its omega_ratio = 1 / Tm_ratio, not both")
+    return converted
+
+
+@dataclass(frozen=True, init=False)
 class Tuning:
     """A damper relative to its block (``docs/model.md`` section 9).
 
@@ -403,6 +414,10 @@ class Tuning:
         Mass ratio ``m / M``, in [1e-10, 10] (default 0.05, the damper of docs/model.md section 9).
     omega_ratio : float, optional
         ``omega_m / p``, in [1e-3, 1e4]; ``T_m p / (2 pi) = 1 / omega_ratio``. Default 1.
+    Tm_ratio : float, optional
+        Instead of ``omega_ratio``: the damper's period ``T_m p / (2 pi)`` (> 0), the mapping's ``Tm_ratio`` and
+        the command line's ``--Tm-ratio``; it sets ``omega_ratio = 1 / Tm_ratio`` (refused beside another
+        ``omega_ratio`` than the default or that one). Read back as the property :attr:`Tm_ratio`.
     zeta : float, optional
         Damping ratio, in [0, 10]. Default 0.05.
     h : float, optional
@@ -422,6 +437,24 @@ class Tuning:
     h: float = 0.05
     stops: bool = False
     stroke: float | None = None
+
+    def __init__(
+        self,
+        gamma: float = 0.05,
+        omega_ratio: float = 1.0,
+        zeta: float = 0.05,
+        h: float = 0.05,
+        stops: bool = False,
+        stroke: float | None = None,
+        *,
+        Tm_ratio: float | None = None,
+    ) -> None:
+        if Tm_ratio is not None:
+            omega_ratio = tm_omega_ratio(Tm_ratio, omega_ratio)
+        values = {"gamma": gamma, "omega_ratio": omega_ratio, "zeta": zeta, "h": h, "stops": stops, "stroke": stroke}
+        for name, value in values.items():
+            object.__setattr__(self, name, value)
+        self.__post_init__()
 
     def __post_init__(self) -> None:
         # The ranges of Damper.from_nondim; JSON-ready floats, and one hash for 1 and 1.0.

@@ -268,6 +268,8 @@ def to_dataset(study, versions: dict | None = None):
         "versions": json.dumps(versions if versions is not None else current_versions(), sort_keys=True),
         "units": "SI (m, kg, s, rad, N); ratios are non-dimensional (units 1)",
     }
+    if isinstance(study.summary.get("verdict"), dict):  # a design's verdict: its code and its sentence
+        attrs["verdict"], attrs["verdict_text"] = study.summary["verdict"]["code"], study.summary["verdict"]["text"]
     if "guarantee" in study.summary:  # what an adaptive map can miss, in plain words beside the JSON
         attrs["guarantee"] = study.summary["guarantee"]
     return study.data.copy().assign_attrs(attrs)

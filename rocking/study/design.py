@@ -29,20 +29,35 @@ keeps its mass on the block (the best of all, flagged, if none does). Its
 *stroke use* there is reported: the largest ``|x| / L``, the stop contacts and
 the largest bumper force.
 
+What the design achieved is its *verdict* (:data:`VERDICTS`, :func:`verdict`): a code and its sentence, in the
+summary and the Dataset's attributes; a design that does not help warns a :class:`DesignWarning`, an optimum at an
+end of its search range an :class:`~rocking.study.optimize.EdgeWarning` (the command line prints the same).
+
 Units SI (m, kg, s, N); the pulse parameters are non-dimensional.
 """
 
 from __future__ import annotations
 
+import json
+import warnings
 from pathlib import Path
 
 import numpy as np
 
-from ..model.params import BUMPER_DEPTH, ParameterError, check_in_range, check_interval, edge_stops
+from ..model.params import (
+    BUMPER_DEPTH,
+    Damper,
+    ParameterError,
+    Stops,
+    check_in_range,
+    check_interval,
+    edge_stops,
+)
 from .config import Grid, Setting, is_count, part_config
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, study_data
-from .optimize import MAX_REFINE, at_edge, coarse_values, refinement
+from .ida import _user_stacklevel
+from .optimize import MAX_REFINE, USELESS_GAIN, EdgeWarning, at_edge, coarse_values, refinement
 from .overturning_map import PARTS, check_study, preflight, respond, warn_t_max, warn_undetermined
 from .result import Study
 from .spectrum import COLUMN_FIELDS, TOL, beta_min, check_tol
@@ -53,6 +68,20 @@ from .vocabulary import ABOVE, BRACKETED, PART_NAMES, flag_words
 TM_GRID = (0.1, 10.0, 13)
 ZETA_GRID = (0.02, 0.5, 5)
 REFINE = 2
+
+#: What a design achieved, by code: the sentence each code opens with (:func:`verdict` completes it). A worst gain
+#: above :data:`rocking.study.optimize.USELESS_GAIN` (the threshold of ``Omega*``) helps.
+VERDICTS = {
+    "helps": "helps",
+    "no_useful_gain": "no useful gain",
+    "harms": "makes some pulses worse",
+    "undefined": "no verdict",
+}
+
+
+class DesignWarning(UserWarning):
+    """The damper designed does not help over its band: it makes some pulses worse, gains nothing useful, or has no
+    verdict (the gain is undefined over the whole band); the verdict (:func:`verdict`) says which."""
 
 
 #: Arrays of :func:`band_tile`, each ``(nOmega, nsigns)``: the ``beta_min`` results, and the stroke at the
@@ -200,7 +229,15 @@ def design(
         :func:`stroke_use`), ``stop_contacts``,
         ``bumper_force_max`` (N). The summary gives the damper in SI units (``m``, ``k_m``, ``c``,
         ``T_m``, ``L``, ``k_b``, ``c_b``) and non-dimensionally (``gamma``, ``Tm_ratio``, ``zeta``),
-        the worst gain and where, and the edge flags.
+        the worst gain and where, the edge flags and the ``verdict`` (:func:`verdict`). The damper built, with its
+        stops, for :func:`rocking.simulate` and every study: :func:`designed_damper`.
+
+    Warns
+    -----
+    DesignWarning
+        The design does not help over the band (its verdict is not ``"helps"``).
+    rocking.study.optimize.EdgeWarning
+        The optimal ``T_m p / (2 pi)`` or ``zeta`` is an end of its search range.
 
     Raises
     ------
@@ -220,9 +257,9 @@ def design(
     ...     refine=1, runs=tempfile.mkdtemp())
     >>> d = study.summary["damper"]
     >>> round(d["m_kg"]), round(d["k_m_N_per_m"], 1), round(d["c_N_s_per_m"], 1)  # kg, N/m, N s/m
-    (50, 178.4, 3.8)
+    (50, 22.3, 1.3)
     >>> round(study.summary["worst_gain"], 2), study.summary["zeta_at_edge"]  # -1: the smallest zeta tried
-    (1.14, -1)
+    (1.15, -1)
     """
     Tm = Grid("Tm-ratio", *TM_GRID, log=True) if Tm is None else Tm
     zeta = Grid("zeta", *ZETA_GRID, log=True) if zeta is None else zeta
@@ -326,12 +363,14 @@ def design(
         "directions": chosen,
     }
     data = design_data(config, Om, signs, r_grid, z_grid, fields)
+    summary = design_summary(setting, data, damper, L, *edges)
+    warn_design(summary)
     return Study(
         "design",
         config,
         data,
         summary={
-            **design_summary(setting, data, damper, L, *edges),
+            **summary,
             "candidates": len(points),
             "candidates_on_block": int(on_block.sum()),
             "undetermined": unknown,
@@ -397,11 +436,11 @@ def design_summary(setting: Setting, data, damper: dict, L: float, r_edge: int, 
     block = setting.block
     m = damper["gamma"] * block.M
     omega_m = damper["omega_ratio"] * block.p
-    _, k_b, c_b = (float(v) for v in edge_stops(block, m, omega_m, block.B / 2 - L))
+    _, k_b, c_b = (float(v) for v in edge_stops(block, m, block.B / 2 - L))
     gain, Omega = data["gain_opt"].values, data["Omega"].values
     defined = np.isfinite(gain)
     i = int(np.nanargmin(gain)) if defined.any() else None
-    return {
+    summary = {
         "damper": {
             "m_kg": m,
             "k_m_N_per_m": m * omega_m**2,
@@ -424,6 +463,87 @@ def design_summary(setting: Setting, data, damper: dict, L: float, r_edge: int, 
         "stroke_use_max": float(np.nanmax(stroke_use(data), initial=0.0)),
         "stop_contacts_max": int(data["stop_contacts"].values.max()),
     }
+    return {**summary, "verdict": verdict(summary)}
+
+
+def verdict(summary: dict) -> dict:
+    """What a design achieved (its ``summary``'s worst gain and where): ``{"code": ..., "text": ...}``, the code a
+    key of :data:`VERDICTS` and the text its sentence: it helps (worst gain > ``USELESS_GAIN``), gains nothing
+    useful, makes some pulse worse (worst gain < 1), or has no verdict (the gain is undefined over the band)."""
+    worst = summary["worst_gain"]
+    if worst is None:
+        code = "undefined"
+        text = (
+            ": the gain is undefined over the whole band (the block alone survives the beta scan; widen beta= / --beta)"
+        )
+        return {"code": code, "text": VERDICTS[code] + text}
+    where = f"at Omega = {summary['worst_at_Omega']:.3g}"
+    bound = ", a lower bound: the damped block survived the scan there" if summary["worst_gain_is_lower_bound"] else ""
+    if worst > USELESS_GAIN:
+        code, text = "helps", f": worst gain {worst:.2f} over the band ({where}{bound})"
+    elif worst >= 1.0:
+        code, text = "no_useful_gain", f" (worst gain {worst:.2f} <= {USELESS_GAIN:g}, {where}{bound})"
+    else:
+        code = "harms"
+        text = f": worst gain {worst:.2f} < 1 ({where}{bound}); no damper of this budget and stroke helps"
+        text += " over the whole band"
+    return {"code": code, "text": VERDICTS[code] + text}
+
+
+def edge_warnings(summary: dict) -> list[str]:
+    """One sentence per optimal parameter of a design (its ``summary``) at an end of its search range, naming the
+    keyword (and option) that widens it."""
+    damper, out = summary["damper"], []
+    for name, value, edge, option in (
+        ("T_m p / 2 pi", damper["Tm_ratio"], summary["Tm_at_edge"], "Tm_ratio= / --Tm-ratio"),
+        ("zeta", damper["zeta"], summary["zeta_at_edge"], "zeta_grid= / --zeta-grid"),
+    ):
+        if edge:
+            end, bound = ("smallest", "MIN below") if edge < 0 else ("largest", "MAX above")
+            out.append(
+                f"design: the optimal {name} = {value:.3g} is the {end} of its search range: the best may lie "
+                f"beyond; widen it ({option} MIN MAX N, {bound} {value:.3g})"
+            )
+    return out
+
+
+def warn_design(summary: dict) -> None:
+    """Warn, attributed to the user's call, a :class:`DesignWarning` with the verdict of a design that does not
+    help, and an :class:`~rocking.study.optimize.EdgeWarning` per optimum at an end of its search range."""
+    found = summary["verdict"]
+    if found["code"] != "helps":
+        warnings.warn(f"design: {found['text']}", DesignWarning, stacklevel=_user_stacklevel())
+    for text in edge_warnings(summary):
+        warnings.warn(text, EdgeWarning, stacklevel=_user_stacklevel())
+
+
+def designed_damper(result) -> Damper:
+    """The damper a design chose, built: a :class:`~rocking.Damper` with its :class:`~rocking.Stops`, in SI units,
+    that :func:`rocking.simulate` and every study (``damper=``) take as it is.
+
+    Parameters
+    ----------
+    result : Study or xarray.Dataset
+        What :func:`rocking.design` returned (``study=True`` or not), or a design read by :func:`rocking.load`.
+
+    Returns
+    -------
+    Damper
+        Mass ``m``, spring ``k_m``, dashpot ``c``, guide height ``h`` and stops at ``L`` with pads ``k_b``, ``c_b``
+        (the summary's ``damper``).
+    """
+    if isinstance(result, Study):
+        if result.kind != "design":
+            raise ParameterError(f"designed_damper takes a design's result (got a {result.kind} study)")
+        summary = result.summary
+    else:  # a Dataset: the summary is its JSON attribute
+        attrs = getattr(result, "attrs", {})
+        if attrs.get("kind") != "design" or "summary" not in attrs:
+            raise ParameterError(f"designed_damper takes a design's result (got {type(result).__name__})")
+        summary = json.loads(attrs["summary"])
+    d = summary["damper"]
+    stops = Stops(L=d["L_m"], k_b=d["k_b_N_per_m"], c_b=d["c_b_N_s_per_m"])
+    return Damper(m=d["m_kg"], k_m=d["k_m_N_per_m"], c=d["c_N_s_per_m"], h=d["h_m"], stops=stops)
 
 
 def design_tables(data, config: dict) -> dict:
