@@ -13,6 +13,9 @@ ROOT = Path(__file__).resolve().parent.parent
 sys.path.insert(0, str(Path(__file__).parent))
 # The notebooks' kernels import the rocking of this tree, as this file does, whatever is installed.
 os.environ["PYTHONPATH"] = os.pathsep.join(filter(None, [str(ROOT), os.environ.get("PYTHONPATH")]))
+# Without ipywidgets (not a docs dependency) tqdm.auto warns at import, with the path of the build machine's
+# install, and falls back to its text bar: advice for a user's own Jupyter, noise on the site's pages.
+os.environ["PYTHONWARNINGS"] = ",".join(filter(None, [os.environ.get("PYTHONWARNINGS"), "ignore:IProgress not found"]))
 
 import cli_reference  # noqa: E402 - lives beside this file
 

@@ -54,13 +54,7 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
-from tqdm.std import TqdmWarning
-
-with warnings.catch_warnings():
-    # In a Jupyter kernel without ipywidgets, tqdm.auto warns at import (with the path of its install) and
-    # falls back to the text bar, which is what a study shows anyway: the fallback is not the user's concern.
-    warnings.filterwarnings("ignore", message="IProgress not found", category=TqdmWarning)
-    from tqdm.auto import tqdm
+from tqdm.auto import tqdm
 
 from ..model.params import ParameterError
 from .config import config_hash
