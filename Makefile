@@ -42,8 +42,8 @@ verify: $(STAMP)
 	$(VENV)/bin/rocking verify
 
 test: $(STAMP)
-	$(VENV)/bin/ruff check rocking derive tests bench setup.py
-	$(VENV)/bin/ruff format --check rocking derive tests bench setup.py docs/conf.py
+	$(VENV)/bin/ruff check rocking derive tests bench setup.py docs/conf.py docs/cli_reference.py
+	$(VENV)/bin/ruff format --check rocking derive tests bench setup.py docs/conf.py docs/cli_reference.py
 	$(PY) -m pytest -q -n $(JOBS) --dist loadgroup
 
 # The tests of both back ends where the math libraries differ from this machine's: NumPy's SIMD
