@@ -215,7 +215,7 @@ def test_the_response_title_names_the_excitation_and_the_damper_with_units():
         r"$\beta$ = 4",
         r"$\Omega$ = 3",
         "m = 50 kg",
-        f"k_m = {damper.k_m:.4g} N/m",
+        f"$k_{{m}}$ = {damper.k_m:.4g} N/m",
         "c = ",
         " N s/m",
     ):
@@ -234,7 +234,7 @@ def test_the_pendulum_gets_its_own_panel_in_radians():
     fig = response_figure(responses, block, damper=params, model="pendulum")
     ax_phi = fig.axes[1]
     assert ax_phi.get_ylabel() == "phi (rad)"
-    assert "l = 0.5 m" in fig._suptitle.get_text() and "c_phi = 10 N m s/rad" in fig._suptitle.get_text()
+    assert "l = 0.5 m" in fig._suptitle.get_text() and "$c_{phi}$ = 10 N m s/rad" in fig._suptitle.get_text()
     data = ax_phi.get_lines()[0].get_ydata()
     assert data.size > 10 and np.abs(data).max() > 0
     assert coordinate_unit("pendulum", "phi") == "rad" and coordinate_unit("omd", "x") == "m"

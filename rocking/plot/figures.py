@@ -72,6 +72,8 @@ from .style import (
     UNIT_TEXT,
     cycle,
     extend,
+    quantity,
+    symbol,
 )
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
@@ -187,9 +189,9 @@ def _block(config: dict) -> Block:
 
 def _block_label(block: Block) -> str:
     """The block for a title: its dimensions and mass, and the ``alpha`` and ``p`` of the non-dimensional axes."""
-    e = f", e = {block.e:.3g} m" if block.e else ""
+    e = f", e = {quantity(block.e, 'm', 3)}" if block.e else ""
     return (
-        rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg{e} "
+        f"block H = {quantity(block.H, 'm')}, B = {quantity(block.B, 'm')}, M = {quantity(block.M, 'kg')}{e} "
         rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
     )
 
@@ -225,7 +227,9 @@ def _damper_label(config: dict) -> str:
     d, block = config["damper"], _block(config)
     if "model" in d:
         units = _parameter_units(d["model"])
-        params = ", ".join(f"{_saved_text(k)} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in d["params"].items())
+        params = ", ".join(
+            f"{symbol(_saved_text(k))} = {quantity(v, units.get(k, ''))}" for k, v in d["params"].items()
+        )
         return f"damper: model {_saved_text(d['model'])}" + (f" ({params})" if params else "")
     T_m = 2 * np.pi / (d["omega_ratio"] * block.p)
     return (
@@ -878,9 +882,10 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_x.set_title(_stroke_text(Om, use, data["stop_contacts"].max("sign").values, d["L_m"], block.B / 2), fontsize=9)
     _legend_below(ax_x, ncols=3)
     damper = (
-        rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
+        f"design: m = {quantity(d['m_kg'], 'kg')}, $k_m$ = {quantity(d['k_m_N_per_m'], 'N/m')}, "
+        f"c = {quantity(d['c_N_s_per_m'], 'N s/m')} "
         rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
-        f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m"
+        f"h = {quantity(d['h_m'], 'm')}, stops at L = {quantity(d['L_m'], 'm', 3)}"
     )
     _title(fig, "Damper design", study.config, damper=damper)
     return fig

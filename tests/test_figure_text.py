@@ -1,0 +1,167 @@
+"""Figures that never mislead (issue 38 item 6), read from the drawn artists: every text inside the canvas, no power
+of ten in a title, legend entries that a reader tells apart, the ground motion drawn once, a record named."""
+
+from __future__ import annotations
+
+import re
+
+import numpy as np
+import pytest
+from matplotlib.backends.backend_agg import FigureCanvasAgg
+from matplotlib.text import Text
+
+import rocking
+from rocking import Block, Damper, Stops
+from rocking.plot.response import response_figure
+from rocking.plot.style import quantity, symbol
+
+#: A power of ten as Python's ``g`` format writes it (1.129e+04, 2e-05).
+POWER_OF_TEN = re.compile(r"\de[+-]\d")
+
+
+def drawn_texts(fig) -> list[Text]:
+    """The visible, non-empty texts of ``fig`` once drawn (titles, labels, tick labels, legend entries): of the tick
+    labels, those of the ticks in view (matplotlib keeps the others, undrawn)."""
+    FigureCanvasAgg(fig).draw()
+    axes = [ax for ax in fig.findobj(lambda a: hasattr(a, "_update_ticks"))]
+    every_tick = {id(t) for axis in axes for t in axis.get_ticklabels(which="both")}
+    drawn_ticks = {id(label) for axis in axes for tick in axis._update_ticks() for label in (tick.label1, tick.label2)}
+    return [
+        t
+        for t in fig.findobj(Text)
+        if t.get_visible() and t.get_text().strip() and (id(t) not in every_tick or id(t) in drawn_ticks)
+    ]
+
+
+def assert_inside_canvas(fig) -> None:
+    """Every drawn text lies within the figure (one pixel of slack for antialiasing)."""
+    texts = drawn_texts(fig)
+    canvas, renderer = fig.bbox, fig.canvas.get_renderer()
+    outside = [
+        t.get_text()
+        for t in texts
+        if (box := t.get_window_extent(renderer)).x0 < canvas.x0 - 1
+        or box.x1 > canvas.x1 + 1
+        or box.y0 < canvas.y0 - 1
+        or box.y1 > canvas.y1 + 1
+    ]
+    assert not outside, outside
+
+
+def titles(fig) -> list[str]:
+    """The figure's title and every axes' titles."""
+    found = [fig._suptitle.get_text()] if fig._suptitle else []
+    for ax in fig.axes:
+        found += [ax.get_title(loc) for loc in ("left", "center", "right")]
+    return [t for t in found if t]
+
+
+def assert_no_power_of_ten(fig) -> None:
+    bad = [t for t in titles(fig) if POWER_OF_TEN.search(t)]
+    assert not bad, bad
+
+
+def legend_entries(ax) -> list[tuple[str, tuple]]:
+    """Each entry of ``ax``'s legend: its label and what a reader sees of its handle (colour, style, marker, face)."""
+    legend = ax.get_legend()
+    if legend is None:
+        return []
+    entries = []
+    for handle, text in zip(legend.legend_handles, legend.get_texts()):
+        look = tuple(
+            str(getter())
+            for name in (
+                "get_color",
+                "get_linestyle",
+                "get_marker",
+                "get_markerfacecolor",
+                "get_facecolor",
+                "get_hatch",
+            )
+            if (getter := getattr(handle, name, None)) is not None
+        )
+        entries.append((text.get_text(), look))
+    return entries
+
+
+def assert_legends_distinct(fig) -> None:
+    """No two entries of a legend share a label, nor (with different labels) a look."""
+    for ax in fig.axes:
+        entries = legend_entries(ax)
+        labels = [label for label, _ in entries]
+        looks = [look for _, look in entries]
+        assert len(set(labels)) == len(labels), labels
+        assert len(set(looks)) == len(looks), entries
+
+
+def test_quantities_take_an_si_prefix_never_a_power_of_ten():
+    """The issue's stiffnesses in engineering notation; values that read well as they are stay so."""
+    assert quantity(11290.0, "N/m") == "11.29 kN/m"
+    assert quantity(406500.0, "N/m") == "406.5 kN/m"
+    assert quantity(1.285e6, "N/m") == "1.285 MN/m"
+    assert quantity(3206.0, "N s/m") == "3.206 kN s/m"
+    assert quantity(356.9, "N/m") == "356.9 N/m"
+    assert quantity(0.005, "m") == "5 mm" and quantity(0.02, "m") == "0.02 m" and quantity(2.2, "m") == "2.2 m"
+    assert quantity(350.0, "kg") == "350 kg" and quantity(-0.0, "N") == "0 N"
+    assert quantity(999.96, "N/m") == "1 kN/m"  # rounded first, then prefixed
+    assert not POWER_OF_TEN.search(quantity(1.2e5)) and "10^{5}" in quantity(1.2e5)
+    assert symbol("k_m") == "$k_{m}$" and symbol("L") == "L" and symbol("a$b") == r"a\$b"
+
+
+#: The issue's showcase (a 2.2 m x 0.6 m, 350 kg cabinet, e = 2 cm): its damper's line was clipped at both edges.
+SHOWCASE = Block(H=2.2, B=0.6, M=350.0, e=0.02)
+
+
+def _stops_responses():
+    block = SHOWCASE
+    damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    damper = Damper(damper.m, damper.k_m, damper.c, damper.h, stops=Stops.at_edges(block, damper))
+    pulse = rocking.OneSinePulse.from_nondim(block, beta=2.0, Omega=3.0)
+    responses = {
+        "with damper": rocking.simulate(block, damper, pulse, record=True, early_verdict=False),
+        "block alone": rocking.simulate(block, None, pulse, record=True, early_verdict=False),
+    }
+    return block, damper, pulse, responses
+
+
+@pytest.fixture(scope="module")
+def stops_run():
+    return _stops_responses()
+
+
+def test_a_response_with_stops_keeps_its_title_on_the_canvas_in_si_prefixes(stops_run):
+    """``simulate --plot`` with stops: the damper's line (m, k_m, c, h, L, k_b, c_b) fits the figure, its names
+    in mathtext ($k_m$, never a raw k_m) and its stiffnesses with a prefix (no 1.285e+06)."""
+    block, damper, pulse, responses = stops_run
+    fig = response_figure(responses, block, damper=damper, motion=pulse)
+    assert_inside_canvas(fig)
+    assert_no_power_of_ten(fig)
+    title = fig._suptitle.get_text()
+    assert f"$k_{{b}}$ = {quantity(damper.stops.k_b, 'N/m')}" in title and "kN/m" in title or "MN/m" in title
+    assert "k_m =" not in title.replace("$k_{m}$ =", "") and "$k_{m}$ = " in title
+    assert_legends_distinct(fig)
+
+
+def test_the_ground_motion_is_drawn_once_in_no_responses_colour(stops_run):
+    """The block alone overturns first: the ground goes on to the end of the longest run, one line, labelled (it
+was drawn per response, in the block alone's colour until it overturned, then in the damper's)."""
+    block, damper, pulse, responses = stops_run
+    ends = {label: r.history["t"][-1] for label, r in responses.items()}
+    assert responses["block alone"].overturned and ends["block alone"] < ends["with damper"]
+    fig = response_figure(responses, block, damper=damper, motion=pulse)
+    ax_th, ax_g = fig.axes[0], fig.axes[2]
+    colours = {line.get_label(): line.get_color() for line in ax_th.get_lines()}
+    ground = [line for line in ax_g.get_lines() if len(line.get_xdata()) > 2]
+    assert len(ground) == 1 and ground[0].get_label() == "ground motion"
+    assert ground[0].get_color() not in (colours["with damper"], colours["block alone"])
+    assert ground[0].get_xdata()[-1] == ends["with damper"]
+    assert "ground motion" in [label for label, _ in legend_entries(ax_g)]
+
+
+def test_a_records_response_names_the_record():
+    block = Block.reference()
+    record = rocking.SampledMotion(np.sin(np.linspace(0.0, 6.0, 200)), dt=0.01)
+    responses = {"block alone": rocking.simulate(block, None, record, record=True)}
+    fig = response_figure(responses, block, motion=record, record="RSN1063_NORTHR_RRS228.AT2")
+    assert fig._suptitle.get_text().startswith("record RSN1063_NORTHR_RRS228.AT2: PGA = 1 m/s$^2$")
+    assert_inside_canvas(fig)
