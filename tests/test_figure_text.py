@@ -12,8 +12,14 @@ from matplotlib.text import Text
 
 import rocking
 from rocking import Block, Damper, Stops
+from rocking.plot.figures import EFFECT_CLASSES, OUTCOME_CLASSES, map_figure
 from rocking.plot.response import response_figure
-from rocking.plot.style import quantity, symbol
+from rocking.plot.style import LIGHT, quantity, symbol
+from rocking.study.config import Grid, Setting, Tuning
+from rocking.study.overturning_map import overturning_map
+from rocking.study.tiles import Execution
+
+SERIAL = Execution(workers=1, progress=False)
 
 #: A power of ten as Python's ``g`` format writes it (1.129e+04, 2e-05).
 POWER_OF_TEN = re.compile(r"\de[+-]\d")
@@ -61,9 +67,15 @@ def assert_no_power_of_ten(fig) -> None:
     assert not bad, bad
 
 
-def legend_entries(ax) -> list[tuple[str, tuple]]:
-    """Each entry of ``ax``'s legend: its label and what a reader sees of its handle (colour, style, marker, face)."""
-    legend = ax.get_legend()
+def legends(fig) -> list:
+    """Every legend of ``fig``: its axes' and its own."""
+    return [ax.get_legend() for ax in fig.axes if ax.get_legend() is not None] + list(fig.legends)
+
+
+def legend_entries(legend) -> list[tuple[str, tuple]]:
+    """Each entry of ``legend`` (a Legend, or axes): its label and what a reader sees of its handle (colour, line
+    style, marker and its face, fill, hatch)."""
+    legend = legend.get_legend() if hasattr(legend, "get_legend") else legend
     if legend is None:
         return []
     entries = []
@@ -86,8 +98,8 @@ def legend_entries(ax) -> list[tuple[str, tuple]]:
 
 def assert_legends_distinct(fig) -> None:
     """No two entries of a legend share a label, nor (with different labels) a look."""
-    for ax in fig.axes:
-        entries = legend_entries(ax)
+    for legend in legends(fig):
+        entries = legend_entries(legend)
         labels = [label for label, _ in entries]
         looks = [look for _, look in entries]
         assert len(set(labels)) == len(labels), labels
@@ -144,7 +156,7 @@ def test_a_response_with_stops_keeps_its_title_on_the_canvas_in_si_prefixes(stop
 
 def test_the_ground_motion_is_drawn_once_in_no_responses_colour(stops_run):
     """The block alone overturns first: the ground goes on to the end of the longest run, one line, labelled (it
-was drawn per response, in the block alone's colour until it overturned, then in the damper's)."""
+    was drawn per response, in the block alone's colour until it overturned, then in the damper's)."""
     block, damper, pulse, responses = stops_run
     ends = {label: r.history["t"][-1] for label, r in responses.items()}
     assert responses["block alone"].overturned and ends["block alone"] < ends["with damper"]
@@ -165,3 +177,36 @@ def test_a_records_response_names_the_record():
     fig = response_figure(responses, block, motion=record, record="RSN1063_NORTHR_RRS228.AT2")
     assert fig._suptitle.get_text().startswith("record RSN1063_NORTHR_RRS228.AT2: PGA = 1 m/s$^2$")
     assert_inside_canvas(fig)
+
+
+def test_map_classes_never_share_a_look_across_the_panels():
+    """A reader matches the effect panel's classes against the outcome panels' legend: no effect class looks like an
+    outcome class (the stroke not computed was yellow with dots, as "after 2 impacts"), and the saved cells of
+    unknown stroke are a kind of saved (its blue), told apart by their hatch."""
+    looks = [(colour.lower(), hatch) for _, colour, hatch in (*OUTCOME_CLASSES, *EFFECT_CLASSES)]
+    shared = {look for look in looks if looks.count(look) > 1}
+    assert shared == {(LIGHT.lower(), "")}  # the safe background, "safe" and "safe either way"
+    saved, unknown = EFFECT_CLASSES[1], EFFECT_CLASSES[5]
+    assert unknown[0].startswith(saved[0]) and unknown[1] == saved[1] and unknown[2]
+
+
+@pytest.fixture(scope="module")
+def adaptive_map(tmp_path_factory):
+    return overturning_map(
+        Setting(Block.reference()),
+        Tuning(0.05),
+        Grid("Omega", 0.5, 15.0, 32),
+        Grid("beta", 1.0, 15.0, 32),
+        SERIAL,
+        runs=tmp_path_factory.mktemp("map"),
+        coarse=8,
+    )
+
+
+def test_an_adaptive_map_names_its_saved_cells_of_unknown_stroke_distinctly(adaptive_map):
+    fig = map_figure(adaptive_map)
+    labels = [label for legend in legends(fig) for label, _ in legend_entries(legend)]
+    assert EFFECT_CLASSES[5][0] in labels
+    assert_legends_distinct(fig)
+    assert_inside_canvas(fig)
+    assert_no_power_of_ten(fig)

@@ -96,7 +96,9 @@ EFFECT_CLASSES = (
     ("lost with the damper", OKABE_ITO["vermillion"], "xx"),
     ("overturned either way", GREY, ""),
     ("saved only with the mass past the edge (x_max > B/2)", OKABE_ITO["sky blue"], "//"),
-    ("saved, stroke not computed (cell of an adaptive map filled in)", OKABE_ITO["yellow"], ".."),
+    # Saved as the class above (its blue), told apart by a hatch no outcome class has: yellow dots read as the
+    # outcome "after 2 impacts" of the panels beside it.
+    ("saved by the damper, stroke not computed (an adaptive map's cell filled in)", OKABE_ITO["blue"], "--"),
     ("no verdict: a run ended in flight", OKABE_ITO["reddish purple"], "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
