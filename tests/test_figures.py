@@ -97,8 +97,9 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
     assert used <= PALETTE
     assert not _red_green_pair(used)
     for classes in (OUTCOME_CLASSES, EFFECT_CLASSES):
-        colours = [c for _, c, _ in classes]
-        assert len(set(colours)) == len(colours) and not _red_green_pair(colours)
+        # Each class its own look (colour and hatch: saved cells of unknown stroke share the saved blue).
+        looks = [(c, h) for _, c, h in classes]
+        assert len(set(looks)) == len(looks) and not _red_green_pair([c for c, _ in looks])
     # Saved and lost differ in grey print: by hatch.
     hatches = {label: hatch for label, _, hatch in EFFECT_CLASSES}
     assert hatches["lost with the damper"] != hatches["saved by the damper"]
