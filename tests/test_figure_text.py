@@ -210,3 +210,40 @@ def test_an_adaptive_map_names_its_saved_cells_of_unknown_stroke_distinctly(adap
     assert_legends_distinct(fig)
     assert_inside_canvas(fig)
     assert_no_power_of_ten(fig)
+
+
+@pytest.fixture(scope="module")
+def small_threshold(tmp_path_factory):
+    from rocking.study.threshold import threshold_map
+
+    return threshold_map(
+        Grid("lam", 3.0, 4.0, 2),
+        Grid("p", 1.5, 4.0, 2),
+        Grid("Omega", 2.0, 14.0, 4),
+        SERIAL,
+        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
+        runs=tmp_path_factory.mktemp("threshold"),
+    )
+
+
+def test_the_threshold_legends_list_what_is_drawn_each_entry_its_own_look(small_threshold):
+    """The right panel's unlimited and stops entries differ (as in the left panel: open markers for the stops); the
+    middle legend has an Omega* star only where one is drawn; every dotted line's meaning has a dotted entry."""
+    from rocking.plot.figures import threshold_figure
+
+    fig = threshold_figure(small_threshold)
+    assert_legends_distinct(fig)
+    assert_inside_canvas(fig)
+    assert_no_power_of_ten(fig)
+    ax_gain, ax_omega, ax_curve = fig.axes[:3]
+    stars = [line for line in ax_omega.get_lines() if line.get_marker() == "*" and np.isfinite(line.get_ydata()).any()]
+    starred = any(look[2] == "*" for _, look in legend_entries(ax_omega))
+    assert starred == bool(stars)
+    for ax in (ax_omega, ax_curve):
+        dotted = [line for line in ax.get_lines() if line.get_linestyle() == ":"]
+        entries = [look for _, look in legend_entries(ax) if ":" in look]
+        assert not dotted or entries, ax.get_title()
+    right = dict(legend_entries(ax_curve))
+    lam = small_threshold.data["lam"].values[0]
+    # Dashes do not show in a legend's short line: the marker's face tells them apart (index 3 of the look).
+    assert right[rf"$\lambda$ = {lam:.3g}, unlimited"][3] != right[rf"$\lambda$ = {lam:.3g}, stops"][3]

@@ -935,10 +935,13 @@ def _frequency_panel(ax, found) -> None:
     of each damper, measured where bracketed, else a bound (an arrow towards the unknown value)."""
     p, lams = found["p"].values, found["lam"].values
     dodge = 0.02 * (np.ptp(p) or 1.0)
+    handles = []
     for i, lam in enumerate(lams):
         style = cycle(i)
         safe = found["safe_from"].values[i]
-        ax.plot(p, safe, ":", color=style["color"], marker="_", ms=14, mew=2, label=rf"$\lambda$ = {lam:.3g}")
+        label = rf"$\lambda$ = {lam:.3g}"
+        ax.plot(p, safe, ":", color=style["color"], marker="_", ms=14, mew=2, label=label)
+        handles.append(Patch(color=style["color"], label=label))
         for k, (kind, (_, face)) in enumerate(GUIDES.items()):
             a = found.sel(part=kind).isel(lam=i)
             x = p + (k - 0.5) * dodge
@@ -952,16 +955,24 @@ def _frequency_panel(ax, found) -> None:
     ax.set_ylabel(r"$\Omega = \omega_g / p$")
     ax.set_ylim(0, float(found["Omega"][-1]) * 1.08)
     _size_axis(ax, found["p"].values)
-    handles = ax.get_legend_handles_labels()[0] + [
-        Line2D([], [], ls=":", marker="_", ms=14, mew=2, color="0.3", label="block alone safe from this $\\Omega$ on"),
-        Line2D([], [], ls="none", marker="*", ms=10, color="0.3", label=r"$\Omega^*$ (filled: unlimited; open: stops)"),
-    ]
-    if (found["status"].values == STATUSES.index("above_range")).any():
-        handles.append(
-            Line2D(
-                [], [], ls="none", marker="^", mfc="white", color="0.3", label=r"$\Omega^*$ above: still useful here"
+    status = found["status"].values
+    # The slendernesses by colour alone, and the dotted line by its style alone: the short line of a legend entry
+    # under a wide marker would read as solid.
+    handles.append(Line2D([], [], ls=":", lw=1.5, color="0.3", label="block alone safe from this $\\Omega$ on"))
+    # An entry for each mark drawn, none for a mark that appears nowhere.
+    marks = (
+        ("bracketed", "*", r"$\Omega^*$ (filled: unlimited; open: stops)"),
+        ("above_range", "^", r"$\Omega^*$ above the scan: still useful here"),
+        ("below_range", "v", r"$\Omega^*$ below the scan: useless here"),
+    )
+    for name, marker, label in marks:
+        if (status == STATUSES.index(name)).any():
+            face = "0.3" if marker == "*" else "white"
+            handles.append(
+                Line2D(
+                    [], [], ls="none", marker=marker, ms=10 if marker == "*" else 6, mfc=face, color="0.3", label=label
+                )
             )
-        )
     _legend_below(ax, handles, ncols=2)
     counts = {name: int((found["status"].values == n).sum()) for n, name in enumerate(STATUSES)}
     ax.set_title(
@@ -984,10 +995,15 @@ def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Fig
     _frequency_panel(axes[1], found)
     j = p.size // 2
     for i, lam in enumerate(data["lam"].values):
-        for kind, ls in (("unlimited", "-"), ("stops", "--")):
+        for kind, (ls, face) in GUIDES.items():  # as in the left panel: open markers and dashes for the stops
+            style = cycle(i)
             label = rf"$\lambda$ = {lam:.3g}, {kind}"
-            axes[2].plot(Om, data["gain"].sel(part=kind).values[i, j], ls, ms=4, label=label, **cycle(i))
-    axes[2].axhline(study.summary["useless_gain"], color=GREY, lw=0.8, ls=":")
+            gain = data["gain"].sel(part=kind).values[i, j]
+            axes[2].plot(Om, gain, ls, ms=5, mfc=face or style["color"], label=label, **style)
+    useless = study.summary["useless_gain"]
+    axes[2].axhline(
+        useless, color=GREY, lw=0.8, ls=":", label=rf"G = {useless:g}: $\Omega^*$ where the gain falls below it"
+    )
     _omega_axis(axes[2])
     _period_axis(axes[2], float(p[j]))
     axes[2].set_ylabel("best gain (envelopes over the directions)")
