@@ -642,3 +642,28 @@ def test_a_maps_pdf_holds_its_cells_as_images_not_paths(cabinet_map, tmp_path):
     (png, pdf) = draw(_resampled_map(cabinet_map, 300), tmp_path, "map")
     assert png.stat().st_size > 0 and pdf.stat().st_size < 2_000_000
     assert pdf.read_bytes().count(b"/Subtype /Image") >= 3
+
+
+def test_an_mp_spectrums_right_axis_is_the_peak_not_the_amplitude_parameter():
+    """A Mavroeidis-Papageorgiou pulse's ``a_g = A omega_g`` is not its peak (0.906 of it at gamma_MP = 2, nu = 0,
+    the issue's value): the right axis reads the peak ground acceleration, and the title says how the two relate."""
+    from rocking.model.motion import MavroeidisPapageorgiou, peak
+
+    block = Block.reference()
+    config = {
+        "block": block.as_params(),
+        "pulse": {"motion": "mp", "gamma_mp": 2.0, "nu": 0.0},
+        "damper": {"gamma": 0.05, "omega_ratio": 1.0, "zeta": 0.05, "h": 0.05},
+        "beta": {"low": 0.5, "high": 15.0, "n": 5},
+    }
+    fig = spectrum_figure_of(config, [1.0, 2.0, 4.0])
+    assert peak(MavroeidisPapageorgiou(1.0, 3.0, 2.0, 0.0)) == pytest.approx(0.906, abs=5e-4)
+    (right,) = [child for ax in fig.axes for child in ax.child_axes if child.get_ylabel()]
+    assert right.get_ylabel() == "peak ground acceleration (g)"
+    beta = 4.0
+    pulse = MavroeidisPapageorgiou.from_nondim(block, beta=beta, Omega=2.0, gamma_mp=2.0, nu=0.0)
+    assert right._functions[0](beta) == pytest.approx(peak(pulse) / block.g)
+    assert "(peak 0.906 $a_g$)" in fig._suptitle.get_text()
+    sine = spectrum_figure_of({**config, "pulse": {"motion": "sine"}}, [1.0, 2.0, 4.0])
+    (right,) = [child for ax in sine.axes for child in ax.child_axes if child.get_ylabel()]
+    assert right.get_ylabel() == "$a_g$ (g)" and right._functions[0](beta) == pytest.approx(beta * block.tan_alpha)

@@ -43,6 +43,7 @@ from matplotlib.patches import Patch, PathPatch
 from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
+from ..model.motion import MavroeidisPapageorgiou, peak
 from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from ..study.config import flight_beta
@@ -271,8 +272,14 @@ def _flight_line(ax, config: dict, beta_high: float) -> list[Line2D]:
 def _excitation_label(config: dict) -> str:
     """The pulses of a study in dimensional terms for its block: amplitude in g, period in s."""
     block = _block(config)
+    ratio = _peak_ratio(config)
+    amplitude = (
+        rf"$a_g = A \omega_g$ = {block.tan_alpha:.3g} $\beta$ g (peak {ratio:.3g} $a_g$)"
+        if ratio != 1.0
+        else (rf"$a_g$ = {block.tan_alpha:.3g} $\beta$ g")
+    )
     return (
-        rf"{_pulse_label(config)}: $a_g$ = {block.tan_alpha:.3g} $\beta$ g, "
+        rf"{_pulse_label(config)}: {amplitude}, "
         rf"$T_g = 2\pi / \omega_g$ = {2 * np.pi / block.p:.3g} s / $\Omega$; "
         f"{_directions_label(config)}"
     )
@@ -338,10 +345,22 @@ def _period_axis(ax, p: float) -> None:
     axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)")
 
 
-def _acceleration_axis(ax, tan_alpha: float) -> None:
-    """A right axis of the pulse amplitude ``a_g / g = beta tan(alpha)`` over a ``beta`` axis."""
-    axis = ax.secondary_yaxis("right", functions=(lambda b: b * tan_alpha, lambda a: a / tan_alpha))
-    axis.set_ylabel(r"$a_g$ (g)")
+def _peak_ratio(config: dict) -> float:
+    """The peak ground acceleration of a study's pulses over their amplitude ``a_g`` (``beta g tan(alpha)``): 1, but
+    for a Mavroeidis-Papageorgiou pulse, whose ``a_g = A omega_g`` is not its peak (0.906 of it at ``gamma_MP`` = 2,
+    ``nu`` = 0; :func:`rocking.model.motion.peak`, independent of ``omega_g``)."""
+    pulse = config.get("pulse", {"motion": "sine"})
+    if pulse["motion"] != "mp":
+        return 1.0
+    return peak(MavroeidisPapageorgiou(1.0, 1.0, pulse["gamma_mp"], pulse["nu"]))
+
+
+def _acceleration_axis(ax, config: dict) -> None:
+    """A right axis of the pulses' peak ground acceleration in g over a ``beta`` axis: ``a_g / g = beta tan(alpha)``
+    times :func:`_peak_ratio` (the amplitude itself but for a Mavroeidis-Papageorgiou pulse)."""
+    scale = _block(config).tan_alpha * _peak_ratio(config)
+    axis = ax.secondary_yaxis("right", functions=(lambda b: b * scale, lambda a: a / scale))
+    axis.set_ylabel(r"peak ground acceleration (g)" if _peak_ratio(config) != 1.0 else r"$a_g$ (g)")
 
 
 def _omega_axis(ax, label: str = r"$\Omega = \omega_g / p$") -> None:
@@ -524,7 +543,7 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
         _omega_axis(ax)
         _period_axis(ax, block.p)
     _beta_axis(axes[0])
-    _acceleration_axis(axes[2], block.tan_alpha)
+    _acceleration_axis(axes[2], study.config)
     _title(fig, "Overturning map", study.config, _refinement_label(study))
     return fig
 
@@ -602,7 +621,7 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     _omega_axis(ax)
     _beta_axis(ax)
     _period_axis(ax, block.p)
-    _acceleration_axis(ax, block.tan_alpha)
+    _acceleration_axis(ax, study.config)
     ax.set_title("minimum overturning amplitude", fontsize=9)
     handles = ax.get_legend_handles_labels()[0] + _flight_line(ax, study.config, scan["high"])
     for code, up in ((ABOVE, True), (BELOW, False)):
@@ -671,7 +690,7 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
         _omega_axis(panel)
         _period_axis(panel, block.p)
     _beta_axis(axes[0])
-    _acceleration_axis(axes[-1], block.tan_alpha)
+    _acceleration_axis(axes[-1], config)
     for up in sorted(bounded, reverse=True):
         handle = _bound_handle(up)
         if up:
