@@ -569,7 +569,9 @@ def test_the_design_figure_keeps_each_direction_visible_and_says_what_the_stroke
     for sign in data["sign"].values:
         line = lines[f"pulses of sign {sign:+d} alone"]
         beta_min = data["beta_min"].sel(sign=sign)
-        np.testing.assert_allclose(line.get_ydata(), beta_min.sel(part="damper") / beta_min.sel(part="bare"))
+        measured = (data["flag"].sel(sign=sign) == BRACKETED).all("part").values
+        ratio = (beta_min.sel(part="damper") / beta_min.sel(part="bare")).values
+        np.testing.assert_allclose(line.get_ydata(), np.where(measured, ratio, np.nan))
         assert line.get_zorder() > envelope.get_zorder() and line.get_linewidth() < envelope.get_linewidth()
     title = ax_x.get_title()
     assert f"stroke up to {np.nanmax(data['stroke_use']):.2f} L" in title
@@ -667,3 +669,30 @@ def test_an_mp_spectrums_right_axis_is_the_peak_not_the_amplitude_parameter():
     sine = spectrum_figure_of({**config, "pulse": {"motion": "sine"}}, [1.0, 2.0, 4.0])
     (right,) = [child for ax in sine.axes for child in ax.child_axes if child.get_ylabel()]
     assert right.get_ylabel() == "$a_g$ (g)" and right._functions[0](beta) == pytest.approx(beta * block.tan_alpha)
+
+
+def test_the_design_draws_a_directions_bounded_gain_as_a_bound_and_an_undefined_one_not_at_all(small_design):
+    """Where the scan bounds both blocks' beta_min (both survive it) a direction's gain is undefined: no point (it
+    was drawn as a measured 1.00, joined to its neighbours); where it bounds one, an open triangle, not on the line."""
+    import xarray as xr
+
+    from rocking.plot.figures import GAIN_BOUND, design_figure
+    from rocking.study.vocabulary import ABOVE
+
+    data = small_design.data.copy(deep=True)
+    sign = data["sign"].values[0]
+    flag = data["flag"].sel(sign=sign).transpose("part", "Omega").values.copy()
+    flag[:, 0] = ABOVE  # both survive the scan at the first Omega
+    flag[:, 1] = [0, ABOVE]  # (bare, damper): only the damped block does at the second
+    assert list(data["part"].values) == ["bare", "damper"]
+    data["flag"].loc[{"sign": sign}] = xr.DataArray(flag, dims=("part", "Omega"))
+    fig = design_figure(dataclasses.replace(small_design, data=data))
+    ax_g = fig.axes[0]
+    line = next(ln for ln in ax_g.get_lines() if ln.get_label() == f"pulses of sign {sign:+d} alone")
+    assert np.isnan(line.get_ydata()[:2]).all()
+    triangles = [c for c in ax_g.containers if isinstance(c, ErrorbarContainer)]
+    drawn_at = np.concatenate([c.lines[0].get_xdata() for c in triangles])
+    Om = data["Omega"].values
+    assert np.any(np.isclose(drawn_at, Om[1], atol=0.05 * np.ptp(Om))) and not np.any(np.isclose(drawn_at, Om[0]))
+    labels = [t.get_text() for t in ax_g.get_legend().get_texts()]
+    assert GAIN_BOUND[True] in labels and any("no gain where the scan only bounds both" in t for t in labels)

@@ -830,6 +830,27 @@ def _stroke_text(Omega, use, contacts, L: float, half_width: float) -> str:
     return text + (", past the block's edge" if use[i] * L > half_width else ", on the block")
 
 
+#: Legend of a gain the scan only bounds (its beta_min with the damper, or alone, is a bound), by ``up``.
+GAIN_BOUND = {
+    True: r"gain at least this: a $\beta_{min}$ the scan only bounds",
+    False: r"gain at most this: a $\beta_{min}$ the scan only bounds",
+}
+
+
+def _direction_gain(cell) -> tuple[np.ndarray, np.ndarray]:
+    """One direction's gain ``beta_min`` with the damper over ``beta_min`` alone at each ``Omega`` of a design's data
+    (``cell``: one ``sign``), and what each value is: ``measured``, a ``lower`` or ``upper`` bound (a ``beta_min``
+    the scan only bounds), or ``undefined`` (bounds either way: both blocks survive the scan, say)."""
+    ratios, flags = {}, {}
+    for part in PARTS:
+        ratios[part] = beta_min_or_bound(cell.sel(part=part))
+        flags[part] = cell["flag"].sel(part=part).values
+    up = (flags["damper"] == ABOVE) | (flags["bare"] == BELOW)
+    down = (flags["damper"] == BELOW) | (flags["bare"] == ABOVE)
+    kind = np.select([up & down, up, down], ["undefined", "lower", "upper"], "measured")
+    return ratios["damper"] / ratios["bare"], kind
+
+
 @_figure_function
 def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
@@ -837,15 +858,29 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     data, s, block = study.data, study.summary, _block(study.config)
     fig, ((ax_g, ax_map, ax_x),) = _panels((15, 6), (1, 3), fig, ax)
     Om = data["Omega"].values
-    beta_min = data["beta_min"].transpose("part", "Omega", "sign")
+    undefined_at, bounds = [], set()
     for i, sign in enumerate(data["sign"].values):
-        ratio = beta_min.sel(part="damper").values[:, i] / beta_min.sel(part="bare").values[:, i]
+        ratio, kind = _direction_gain(data.sel(sign=sign))
+        style = cycle(i + 1)
         # On top of the envelope: where one direction governs both blocks its gain is the envelope's.
         ax_g.plot(
-            Om, ratio, ("--", ":")[i % 2], ms=4, zorder=5, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1)
+            Om,
+            np.where(kind == "measured", ratio, np.nan),
+            ("--", ":")[i % 2],
+            ms=4,
+            zorder=5,
+            label=f"pulses of sign {sign:+d} alone",
+            **style,
         )
+        arrow = 0.06 * max(np.nanmax(ratio, initial=1.0), 1.0)
+        dodge = 0.01 * (np.ptp(Om) or 1.0) * (1 if i % 2 else -1)
+        for bound, up in (("lower", True), ("upper", False)):
+            _bounds(ax_g, Om[kind == bound] + dodge, ratio[kind == bound], arrow, style["color"], up)
+            bounds |= {up} if (kind == bound).any() else set()
+        undefined_at += [f"{sign:+d}"] if (kind == "undefined").any() else []
     envelope_style = {"color": PART_STYLE["damper"]["color"], "lw": 6, "alpha": 0.3, "solid_capstyle": "round"}
-    bounded = _gain_curve(ax_g, Om, data["gain_opt"].values, data["flag_opt"].values, envelope_style, ENVELOPE_GAIN)
+    if _gain_curve(ax_g, Om, data["gain_opt"].values, data["flag_opt"].values, envelope_style, ENVELOPE_GAIN):
+        bounds.add(True)
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
@@ -853,7 +888,15 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_g.set_title(
         rf"worst gain over the band: {s['worst_gain']:.3g} at $\Omega$ = {s['worst_at_Omega']:.3g}", fontsize=9
     )
-    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
+    handles = ax_g.get_legend_handles_labels()[0]
+    for up in sorted(bounds, reverse=True):  # of a gain: the words of _bound_handle are those of a beta_min
+        handle = _bound_handle(up)
+        handle.set_label(GAIN_BOUND[up])
+        handles.append(handle)
+    if undefined_at:  # no mark to show: the gap in the curve, said in words
+        words = f"pulses of sign {', '.join(undefined_at)}: no gain where the scan only bounds both blocks (gap)"
+        handles.append(Line2D([], [], ls="none", label=words))
+    _legend_below(ax_g, handles, ncols=1)
     r, z = data["r_coarse"].values, data["zeta_coarse"].values
     worst = data["candidate_worst_gain"].values[: r.size * z.size].reshape(z.size, r.size)
     norm, extension = _gain_norm(worst)
