@@ -247,3 +247,19 @@ def test_the_threshold_legends_list_what_is_drawn_each_entry_its_own_look(small_
     lam = small_threshold.data["lam"].values[0]
     # Dashes do not show in a legend's short line: the marker's face tells them apart (index 3 of the look).
     assert right[rf"$\lambda$ = {lam:.3g}, unlimited"][3] != right[rf"$\lambda$ = {lam:.3g}, stops"][3]
+
+
+@pytest.mark.parametrize("layout", [None, "constrained"])
+def test_a_map_drawn_in_the_users_axes_keeps_its_title_and_legends_clear(adaptive_map, layout):
+    """Into a figure of the user's own axes (pyplot's default layout, or a constrained one): the title overlaps no
+    panel, and no text leaves the canvas."""
+    from matplotlib.figure import Figure
+
+    fig = Figure(figsize=(15, 6.5), layout=layout)
+    axes = fig.subplots(1, 3)
+    map_figure(adaptive_map, ax=axes)
+    assert_inside_canvas(fig)
+    renderer = fig.canvas.get_renderer()
+    title = fig._suptitle.get_window_extent(renderer)
+    for ax in axes:
+        assert not title.overlaps(ax.get_tightbbox(renderer)), ax.get_title()

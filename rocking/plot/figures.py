@@ -471,6 +471,11 @@ def _panels(size: tuple, shape: tuple, fig=None, ax=None, **grid) -> tuple:
         axes = np.asarray(ax, dtype=object).ravel()
         if axes.size != np.prod(shape):
             raise ParameterError(f"ax= needs {np.prod(shape)} axes for this figure's panels, got {axes.size}")
+        root = axes[0].get_figure(root=True)
+        if root.get_layout_engine() is None:
+            # Axes laid out by hand or by default leave no room for the title above them and the legends below:
+            # a constrained layout makes it (a layout the user chose is kept).
+            root.set_layout_engine("constrained")
         return axes[0].get_figure(), axes.reshape(shape)
     fig = Figure(figsize=size, layout="constrained") if fig is None else fig
     return fig, np.asarray(fig.subplots(*shape, squeeze=False, **grid), dtype=object).reshape(shape)
@@ -486,7 +491,8 @@ PARAMETERS = """
     fig : Figure, optional
         A figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a new one.
     ax : sequence of Axes, optional
-        Axes to draw in instead, one per panel in reading order (their figure takes the title and legends).
+        Axes to draw in instead, one per panel in reading order (their figure takes the title and legends; a
+        figure without a layout engine is given a constrained layout, which makes room for them).
 
     Returns
     -------
