@@ -263,3 +263,11 @@ def test_a_map_drawn_in_the_users_axes_keeps_its_title_and_legends_clear(adaptiv
     title = fig._suptitle.get_window_extent(renderer)
     for ax in axes:
         assert not title.overlaps(ax.get_tightbbox(renderer)), ax.get_title()
+
+
+def test_long_title_lines_break_at_commas_never_inside_mathtext():
+    from rocking.plot.style import broken, fit
+
+    assert broken(r"a $\beta$ the scan, only $a, b$ bounds", 12) == "a $\\beta$ the scan,\nonly $a, b$ bounds"
+    assert broken("the worse direction with the damper", 15, " ") == "the worse\ndirection with\nthe damper"
+    assert fit("short, line", 8.0, 10) == "short, line"

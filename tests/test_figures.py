@@ -696,3 +696,18 @@ def test_the_design_draws_a_directions_bounded_gain_as_a_bound_and_an_undefined_
     assert np.any(np.isclose(drawn_at, Om[1], atol=0.05 * np.ptp(Om))) and not np.any(np.isclose(drawn_at, Om[0]))
     labels = [t.get_text() for t in ax_g.get_legend().get_texts()]
     assert GAIN_BOUND[True] in labels and any("no gain where the scan only bounds both" in t for t in labels)
+
+
+@pytest.mark.parametrize(("kind", "size"), [("spectrum", (8, 6)), ("design", (9, 6))])
+def test_a_figure_drawn_in_a_narrow_constrained_figure_keeps_its_title_and_legends_on_it(
+    spectrum, small_design, kind, size
+):
+    """The user's own axes in a constrained layout narrower than the figure's own: the title's long lines break
+    at commas and the legends take fewer columns and break, so that nothing drawn leaves the canvas (the title
+    and the design's gain legend did)."""
+    study, function = {"spectrum": (spectrum, spectrum_figure), "design": (small_design, figures.design_figure)}[kind]
+    fig = Figure(figsize=size, layout="constrained")
+    function(study, ax=fig.subplots(1, 2 if kind == "spectrum" else 3))
+    FigureCanvasAgg(fig).draw()
+    drawn = fig.get_tightbbox(fig.canvas.get_renderer())  # inches, every artist drawn
+    assert drawn.x0 >= -0.02 and drawn.y0 >= -0.02 and drawn.x1 <= size[0] + 0.02 and drawn.y1 <= size[1] + 0.02

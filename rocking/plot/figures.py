@@ -63,6 +63,7 @@ from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES
 from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
 from .style import (
+    CHAR_EM,
     DIVERGING,
     GREY,
     LIGHT,
@@ -71,8 +72,10 @@ from .style import (
     PART_STYLE,
     PULSE_NAMES,
     UNIT_TEXT,
+    broken,
     cycle,
     extend,
+    fit,
     quantity,
     symbol,
 )
@@ -124,9 +127,18 @@ def _edges(centres: np.ndarray, log: bool = False) -> np.ndarray:
 
 
 def _legend_below(ax, handles=None, ncols: int = 2) -> None:
-    """A legend under ``ax`` (below its axis label), so that it covers no data."""
-    kwargs = {} if handles is None else {"handles": handles}
-    ax.legend(**kwargs, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
+    """A legend under ``ax`` (below its axis label), so that it covers no data: no wider than its panel (fewer
+    columns, long entries broken between words), so that a narrow figure does not cut it."""
+    handles = ax.get_legend_handles_labels()[0] if handles is None else handles
+    labels = [h.get_label() for h in handles]
+    inches = ax.get_position().width * ax.get_figure(root=True).get_figwidth()
+    # Each entry's handle and padding take about 4 characters.
+    room = max(int(inches * 72 / (CHAR_EM * LEGEND["fontsize"])), 24)
+    longest = max((max(map(len, label.split("\n"))) + 4 for label in labels), default=1)
+    ncols = max(1, min(ncols, room // longest))
+    width = max(room // ncols - 4, 20)
+    labels = [broken(label, width, " ") for label in labels]
+    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
 
 
 def _runs(mask: np.ndarray) -> np.ndarray:
@@ -288,7 +300,12 @@ def _excitation_label(config: dict) -> str:
 def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = None) -> None:
     """The figure's title: what it shows, the pulses, the block and the damper of ``config`` (or ``damper``)."""
     damper = _damper_label(config) if damper is None else damper
-    fig.suptitle(f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}", fontsize=10)
+    _suptitle(fig, f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}")
+
+
+def _suptitle(fig, text: str, fontsize: float = 10) -> None:
+    """The figure's title, its long lines broken to fit the figure's width (:func:`~rocking.plot.style.fit`)."""
+    fig.suptitle(fit(text, fig.bbox.width / fig.dpi, fontsize), fontsize=fontsize)
 
 
 def _suite_label(suite: dict) -> str:
@@ -704,7 +721,8 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
         handles.append(handle)
     fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
     pulse = PULSE_NAMES[config.get("pulse", {"motion": "sine"})["motion"]]
-    fig.suptitle(
+    _suptitle(
+        fig,
         f"Minimum overturning spectrum under a vertical component: {pulse} with "
         rf"$\ddot y_g$ = r $a_g f(t)$ (> 0 up, in phase, the same for both signs)"
         f"\n{_block_label(block)}\n{_damper_label(config)}",
@@ -1089,7 +1107,8 @@ def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Fig
         f"{name} {cfg[key]['low']:g} to {cfg[key]['high']:g}{unit} ({cfg[key]['n']})"
         for key, name, unit in (("lam", r"$\lambda$ = H/B", ""), ("p", "p", " rad/s"))
     )
-    fig.suptitle(
+    _suptitle(
+        fig,
         f"Threshold frequency across geometries: one-sine pulses up to {study.summary['a_max_g']:g} g; "
         f"{_directions_label(cfg)}\nhomogeneous blocks of M = {cfg['M']:g} kg, e = {cfg['e_ratio']:g} B, {grid}\n"
         f"dampers (period optimised at each $\\Omega$): {dampers}",
@@ -1220,7 +1239,8 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
     config = study.config
-    fig.suptitle(
+    _suptitle(
+        fig,
         f"{title}: {_suite_label(config['suite'])}; {_directions_label(config, 'motions')}\n"
         f"{_block_label(_block(config))}\n{_damper_label(config)}",
         fontsize=10,

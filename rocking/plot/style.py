@@ -133,6 +133,31 @@ def wrap(parts: list[str], width: int = 95, sep: str = ", ") -> str:
     return "\n".join(lines)
 
 
+#: Width of an average character of a title (DejaVu Sans), in ems: how many characters a line of a figure holds.
+CHAR_EM = 0.55
+
+
+def fit(text: str, inches: float, fontsize: float) -> str:
+    """``text`` with each line longer than a figure ``inches`` wide holds at ``fontsize`` (points) broken at its
+    commas (:func:`wrap`; a comma inside mathtext, between ``$``, never), so that a title stays on its canvas."""
+    return broken(text, max(int(inches * 72 / (CHAR_EM * fontsize)), 20))
+
+
+def broken(text: str, width: int, sep: str = ", ") -> str:
+    """``text`` with each line longer than ``width`` characters broken at ``sep`` (:func:`wrap`), never inside
+    mathtext (between ``$``)."""
+    lines = []
+    for line in text.split("\n"):
+        parts: list[str] = []
+        for piece in line.split(sep):
+            if parts and parts[-1].count("$") % 2:  # inside mathtext: keep going
+                parts[-1] += sep + piece
+            else:
+                parts.append(piece)
+        lines.append(wrap(parts, width, sep))
+    return "\n".join(lines)
+
+
 def symbol(name: str) -> str:
     """A parameter's name as mathtext (``k_m`` as $k_m$, as every title writes it); a name that is not letters with
     one subscript (a variant's own) is kept as plain text, its ``$`` escaped."""
