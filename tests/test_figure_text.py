@@ -100,6 +100,7 @@ def assert_legends_distinct(fig) -> None:
     """No two entries of a legend share a label, nor (with different labels) a look."""
     for legend in legends(fig):
         entries = legend_entries(legend)
+        entries = [(label, look) for label, look in entries if label.strip()]  # blanks pad a legend's columns
         labels = [label for label, _ in entries]
         looks = [look for _, look in entries]
         assert len(set(labels)) == len(labels), labels
@@ -271,3 +272,54 @@ def test_long_title_lines_break_at_commas_never_inside_mathtext():
     assert broken(r"a $\beta$ the scan, only $a, b$ bounds", 12) == "a $\\beta$ the scan,\nonly $a, b$ bounds"
     assert broken("the worse direction with the damper", 15, " ") == "the worse\ndirection with\nthe damper"
     assert fit("short, line", 8.0, 10) == "short, line"
+
+
+@pytest.fixture(scope="module")
+def vertical_spectra(tmp_path_factory):
+    import warnings
+
+    runs = tmp_path_factory.mktemp("vertical")
+    studies = []
+    for ratio in (0.0, 1.0):
+        with warnings.catch_warnings():
+            warnings.simplefilter("ignore")  # the flights past beta_f, which the figure draws
+            studies.append(
+                rocking.minimum_overturning_spectrum(
+                    Block.reference(),
+                    Tuning(0.05),
+                    Omega=[10.0, 12.0],
+                    beta=Grid("beta", 0.5, 8.0, 16),
+                    vertical_ratio=ratio,
+                    runs=runs / f"{ratio:g}",
+                    workers=1,
+                    progress=False,
+                    study=True,
+                )
+            )
+    return studies
+
+
+def test_the_vertical_spectra_legend_has_a_column_per_ratio_and_bounds_side_by_side(vertical_spectra):
+    """Each ratio's entries in one column of the legend (they were split across columns), and the lower bounds of
+    the block alone and with the damper, at the same scan's end, side by side (they were drawn one over the
+    other), the block alone's open, the damper's filled."""
+    from matplotlib.container import ErrorbarContainer
+
+    from rocking.plot.figures import vertical_spectra_figure
+
+    fig = vertical_spectra_figure(vertical_spectra)
+    assert_inside_canvas(fig)
+    assert_legends_distinct(fig)
+    (legend,) = fig.legends
+    columns = legend._legend_handle_box.get_children()
+    ratios = [
+        {t.get_text().split(",")[0].split(":")[0] for t in column.findobj(Text) if t.get_text().startswith("r =")}
+        for column in columns
+    ]
+    assert [r for r in ratios if r] == [{"r = 0"}, {"r = 1"}]
+    for ax in fig.axes[:2]:
+        bounds = [c for c in ax.containers if isinstance(c, ErrorbarContainer)]
+        points = [(x, y) for c in bounds for x, y in zip(c.lines[0].get_xdata(), c.lines[0].get_ydata())]
+        assert bounds and len(set(points)) == len(points)
+        faces = {c.lines[0].get_markerfacecolor() for c in bounds}
+        assert "white" in faces and len(faces) > 1

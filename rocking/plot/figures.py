@@ -393,9 +393,9 @@ LOWER_BOUND = r"lower bound (no overturning up to the last $\beta$ scanned)"
 UPPER_BOUND = r"upper bound (overturns at the first $\beta$ scanned)"
 
 
-def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
-    """Values the scan only bounds: open triangles with an arrow of length ``arrow`` towards the unknown value,
-    not joined to the measured values."""
+def _bounds(ax, x, y, arrow: float, color, up: bool, label=None, face: str = "white") -> None:
+    """Values the scan only bounds: open triangles (or of the colour ``face``) with an arrow of length ``arrow``
+    towards the unknown value, not joined to the measured values."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     keep = np.isfinite(y)
     if keep.any():
@@ -407,7 +407,7 @@ def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
             uplims=not up,
             fmt="^" if up else "v",
             ms=6,
-            mfc="white",
+            mfc=face,
             color=color,
             ls="none",
             capsize=3,
@@ -679,11 +679,17 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     fig, (axes,) = _panels((13, 6.4), (1, len(signs)), fig, ax, sharex=True, sharey=True)
     scan = config["beta"]
     arrow = 0.03 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.03 * scan["high"]
-    handles, bounded = [], set()
+    groups, bounded = [], set()
+    Om = studies[0].data["Omega"].values
+    # The two parts' bounds lie at the same amplitudes (the scan's end): side by side, not one over the other,
+    # the block alone's open, the damper's filled.
+    dodge = {"bare": -0.2, "damper": 0.2}
+    step = float(np.min(np.diff(Om))) if Om.size > 1 else 1.0
     for i, study in enumerate(studies):
         ratio = study.config.get("vertical", {}).get("ratio", 0.0)
         colour = cycle(i)["color"]
         data = study.data
+        handles = []
         for panel, sign in zip(axes, signs):
             for part, line in (("bare", "--"), ("damper", "-")):
                 cell = data.sel(part=part, sign=sign)
@@ -699,7 +705,8 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                     sel = cell["flag"].values == code
                     if sel.any():
                         bound = beta_min_or_bound(cell)[sel]
-                        _bounds(panel, data["Omega"].values[sel], bound, arrow, colour, up)
+                        x = data["Omega"].values[sel] + dodge[part] * step
+                        _bounds(panel, x, bound, arrow, colour, up, face=colour if part == "damper" else "white")
                         bounded.add(up)
             beta_f = flight_beta(_block(study.config), study.config)
             if beta_f < study.config["beta"]["high"]:
@@ -707,6 +714,7 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                 if panel is axes[0]:
                     flight.set_label(rf"r = {ratio:g}: $\beta_f$ = {beta_f:.3g}, g + $\ddot y_g$ reaches 0 above")
                     handles.append(flight)
+        groups.append(handles)
     block = _block(config)
     for panel, sign in zip(axes, signs):
         panel.set_title(f"pulses of sign {sign:+d}", fontsize=9)
@@ -714,12 +722,18 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
         _period_axis(panel, block.p)
     _beta_axis(axes[0])
     _acceleration_axis(axes[-1], config)
+    bounds = []
     for up in sorted(bounded, reverse=True):
         handle = _bound_handle(up)
         if up:
             handle.set_label(r"lower bound (no overturning up to the last $\beta$ scanned or below $\beta_f$)")
-        handles.append(handle)
-    fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
+        handle.set_label(handle.get_label() + ";\nopen: block alone, filled: with damper")
+        bounds.append(handle)
+    groups += [bounds] if bounds else []
+    # A column per ratio (a legend fills its columns in turn): each group padded with blank entries to the longest.
+    rows = max(map(len, groups))
+    handles = [h for group in groups for h in group + [Line2D([], [], ls="none", label=" ")] * (rows - len(group))]
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(groups), **LEGEND)
     pulse = PULSE_NAMES[config.get("pulse", {"motion": "sine"})["motion"]]
     _suptitle(
         fig,
