@@ -323,3 +323,35 @@ def test_the_vertical_spectra_legend_has_a_column_per_ratio_and_bounds_side_by_s
         assert bounds and len(set(points)) == len(points)
         faces = {c.lines[0].get_markerfacecolor() for c in bounds}
         assert "white" in faces and len(faces) > 1
+
+
+def test_a_fragility_grid_shows_the_block_alone_beside_the_damper(tmp_path):
+    """Each motion's cell at each level tells both blocks apart (safe either way, saved, lost, overturned either way),
+    as a map's effect panel: it showed only "with the damper"."""
+    from rocking.plot.figures import ida_figure
+    from rocking.study.ida import envelope
+
+    pulses = [rocking.RickerWavelet.from_period(3.0, T) for T in (0.6, 1.3, 1.6)]
+    study = rocking.fragility(
+        Block.reference(),
+        Tuning(0.1),
+        motions=pulses,
+        levels=[2.0, 4.0, 8.0, 16.0],
+        im="pga",
+        t_after=3.0,
+        runs=tmp_path,
+        workers=1,
+        progress=False,
+        study=True,
+    )
+    fig = ida_figure(study)
+    ax_m = fig.axes[1]
+    over = envelope(study.data)["overturned"]
+    expected = (over.sel(part="bare").values == 1) + 2 * (over.sel(part="damper").values == 1)
+    (cells,) = [a for a in (*ax_m.images, *ax_m.collections) if getattr(a, "get_array", lambda: None)() is not None]
+    np.testing.assert_array_equal(np.asarray(cells.get_array()).reshape(expected.shape), expected)
+    assert (expected == 1).any()  # the damper saves some: the old grid drew these as plain "safe"
+    labels = [label for label, _ in legend_entries(ax_m)]
+    assert EFFECT_CLASSES[1][0] in labels and "block alone" in ax_m.get_title()
+    assert_inside_canvas(fig)
+    assert_legends_distinct(fig)

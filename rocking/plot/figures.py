@@ -1182,7 +1182,7 @@ def _median_outside(ax, place: str, style: dict, index: int) -> None:
 @_figure_function
 def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
-    band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
+    band, block alone and with the damper; and the outcome of every motion at every level, both blocks in one grid,
     resurrections marked."""
     data, measure_name = study.data, study.config["measure"]
     levels, curve_x = data["level"].values, data["curve_x"].values
@@ -1229,9 +1229,11 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
         "fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions", fontsize=9
     )
     _legend_below(ax_f)
-    over = ida_envelope(data)["overturned"].sel(part="damper").values.astype(int)
-    classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
-    handles = _classes(ax_m, levels, np.arange(over.shape[0]), (over == 1).astype(int).T, classes, xlog)
+    # Both blocks in one grid, as a map's effect panel: safe either way, saved, lost, overturned either way.
+    over = ida_envelope(data)["overturned"]
+    bare, damped = (over.sel(part=part).values.astype(int) == 1 for part in PARTS)
+    effect = (bare + 2 * damped).T
+    handles = _classes(ax_m, levels, np.arange(effect.shape[1]), effect, EFFECT_CLASSES[:4], xlog)
     if xlog:
         ax_m.set_xscale("log")
         _plain_ticks(ax_m.xaxis)
@@ -1244,12 +1246,12 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
             color=OKABE_ITO["blue"],
             ms=6,
             ls="none",
-            label="non-monotone: overturns, then survives a higher level",
+            label="with the damper, non-monotone: overturns, then survives a higher level",
         )
         handles += ax_m.get_legend_handles_labels()[0]
     ax_m.set_xlabel(measure)
     _motion_axis(ax_m, motion_names(study.config["suite"]))
-    ax_m.set_title("with the damper: outcome of each motion at each level", fontsize=9)
+    ax_m.set_title("outcome of each motion at each level, block alone and with the damper", fontsize=9)
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
     config = study.config
