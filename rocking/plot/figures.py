@@ -78,6 +78,7 @@ from .style import (
     fit,
     quantity,
     symbol,
+    visible,
 )
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
@@ -131,10 +132,13 @@ def _legend_below(ax, handles=None, ncols: int = 2) -> None:
     columns, long entries broken between words), so that a narrow figure does not cut it."""
     handles = ax.get_legend_handles_labels()[0] if handles is None else handles
     labels = [h.get_label() for h in handles]
-    inches = ax.get_position().width * ax.get_figure(root=True).get_figwidth()
+    # The panel's share of the figure's width (its position before the layout is narrower than it will be).
+    spec = ax.get_subplotspec()
+    share = len(spec.colspan) / spec.get_gridspec().ncols if spec is not None else ax.get_position().width
+    inches = share * ax.get_figure(root=True).get_figwidth()
     # Each entry's handle and padding take about 4 characters.
     room = max(int(inches * 72 / (CHAR_EM * LEGEND["fontsize"])), 24)
-    longest = max((max(map(len, label.split("\n"))) + 4 for label in labels), default=1)
+    longest = max((max(map(visible, label.split("\n"))) + 4 for label in labels), default=1)
     ncols = max(1, min(ncols, room // longest))
     width = max(room // ncols - 4, 20)
     labels = [broken(label, width, " ") for label in labels]
@@ -347,7 +351,10 @@ def _period_axis(ax, p: float) -> None:
         return 2 * np.pi / (p * np.maximum(np.asarray(x, float), 1e-9))
 
     low, high = sorted(ax.get_xlim())
-    inches = ax.get_position().width * ax.get_figure(root=True).get_figwidth()
+    # The panel's share of the figure's width (its position before the layout is narrower than it will be).
+    spec = ax.get_subplotspec()
+    share = len(spec.colspan) / spec.get_gridspec().ncols if spec is not None else ax.get_position().width
+    inches = share * ax.get_figure(root=True).get_figwidth()
     gap = (high - low) * max(TICK_GAP[0] / inches, TICK_GAP[1])
     # The periods crowd where Omega is small, and grow without bound towards an axis that starts at Omega = 0:
     # the left end counts as a tick.

@@ -9,6 +9,8 @@ a magnitude, ColorBrewer's PuOr for a gain about 1).
 
 from __future__ import annotations
 
+import re
+
 import numpy as np
 
 #: The Okabe-Ito palette by name (hex sRGB).
@@ -119,13 +121,18 @@ def quantity(value: float, unit: str = "", digits: int = 4) -> str:
     return f"{text}{space}{UNIT_TEXT.get(unit, unit)}"
 
 
+def visible(text: str) -> int:
+    """About how many characters ``text`` shows: mathtext's commands count one (``\\beta``), its ``$ { } ^ _`` none."""
+    return len(re.sub(r"[${}^_]", "", re.sub(r"\\[A-Za-z]+", "x", text)))
+
+
 def wrap(parts: list[str], width: int = 95, sep: str = ", ") -> str:
     """``parts`` joined by ``sep`` into lines of at most ``width`` characters (a part is never cut: mathtext
     stays whole), so that a title's line fits its figure."""
     lines = [""]
     for part in parts:
         joined = f"{lines[-1]}{sep}{part}" if lines[-1] else part
-        if lines[-1] and len(joined.replace("$", "")) > width:
+        if lines[-1] and visible(joined) > width:
             lines[-1] += sep.rstrip()
             lines.append(part)
         else:
