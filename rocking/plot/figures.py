@@ -686,7 +686,8 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     fig, (axes,) = _panels((13, 6.4), (1, len(signs)), fig, ax, sharex=True, sharey=True)
     scan = config["beta"]
     arrow = 0.03 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.03 * scan["high"]
-    groups, bounded = [], set()
+    groups: list[list] = []
+    bounded = set()
     Om = studies[0].data["Omega"].values
     # The two parts' bounds lie at the same amplitudes (the scan's end): side by side, not one over the other,
     # the block alone's open, the damper's filled.
@@ -696,7 +697,7 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
         ratio = study.config.get("vertical", {}).get("ratio", 0.0)
         colour = cycle(i)["color"]
         data = study.data
-        handles = []
+        handles: list = []
         for panel, sign in zip(axes, signs):
             for part, line in (("bare", "--"), ("damper", "-")):
                 cell = data.sel(part=part, sign=sign)
@@ -734,7 +735,7 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
         handle = _bound_handle(up)
         if up:
             handle.set_label(r"lower bound (no overturning up to the last $\beta$ scanned or below $\beta_f$)")
-        handle.set_label(handle.get_label() + ";\nopen: block alone, filled: with damper")
+        handle.set_label(f"{handle.get_label()};\nopen: block alone, filled: with damper")
         bounds.append(handle)
     groups += [bounds] if bounds else []
     # A column per ratio (a legend fills its columns in turn): each group padded with blank entries to the longest.
@@ -1042,7 +1043,7 @@ def _frequency_panel(ax, found) -> None:
     of each damper, measured where bracketed, else a bound (an arrow towards the unknown value)."""
     p, lams = found["p"].values, found["lam"].values
     dodge = 0.02 * (np.ptp(p) or 1.0)
-    handles = []
+    handles: list = []
     for i, lam in enumerate(lams):
         style = cycle(i)
         safe = found["safe_from"].values[i]

@@ -116,8 +116,8 @@ def quantity(value: float, unit: str = "", digits: int = 4) -> str:
         return f"{mantissa:g} {PREFIXES[power]}{UNIT_TEXT.get(unit, unit)}"
     text = f"{rounded:.{digits}g}"
     if "e" in text:
-        mantissa, exponent = text.split("e")
-        text = rf"{float(mantissa):g}$\times 10^{{{int(exponent)}}}$"
+        digits_part, exponent = text.split("e")
+        text = rf"{float(digits_part):g}$\times 10^{{{int(exponent)}}}$"
     return f"{text}{space}{UNIT_TEXT.get(unit, unit)}"
 
 
