@@ -97,8 +97,9 @@ def test_the_map_colours_come_from_the_palette_without_a_red_green_pair_and_clas
     assert used <= PALETTE
     assert not _red_green_pair(used)
     for classes in (OUTCOME_CLASSES, EFFECT_CLASSES):
-        colours = [c for _, c, _ in classes]
-        assert len(set(colours)) == len(colours) and not _red_green_pair(colours)
+        # Each class its own look (colour and hatch: saved cells of unknown stroke share the saved blue).
+        looks = [(c, h) for _, c, h in classes]
+        assert len(set(looks)) == len(looks) and not _red_green_pair([c for c, _ in looks])
     # Saved and lost differ in grey print: by hatch.
     hatches = {label: hatch for label, _, hatch in EFFECT_CLASSES}
     assert hatches["lost with the damper"] != hatches["saved by the damper"]
@@ -215,7 +216,7 @@ def test_the_response_title_names_the_excitation_and_the_damper_with_units():
         r"$\beta$ = 4",
         r"$\Omega$ = 3",
         "m = 50 kg",
-        f"k_m = {damper.k_m:.4g} N/m",
+        f"$k_{{m}}$ = {damper.k_m:.4g} N/m",
         "c = ",
         " N s/m",
     ):
@@ -234,7 +235,7 @@ def test_the_pendulum_gets_its_own_panel_in_radians():
     fig = response_figure(responses, block, damper=params, model="pendulum")
     ax_phi = fig.axes[1]
     assert ax_phi.get_ylabel() == "phi (rad)"
-    assert "l = 0.5 m" in fig._suptitle.get_text() and "c_phi = 10 N m s/rad" in fig._suptitle.get_text()
+    assert "l = 0.5 m" in fig._suptitle.get_text() and "$c_{phi}$ = 10 N m s/rad" in fig._suptitle.get_text()
     data = ax_phi.get_lines()[0].get_ydata()
     assert data.size > 10 and np.abs(data).max() > 0
     assert coordinate_unit("pendulum", "phi") == "rad" and coordinate_unit("omd", "x") == "m"
@@ -568,7 +569,9 @@ def test_the_design_figure_keeps_each_direction_visible_and_says_what_the_stroke
     for sign in data["sign"].values:
         line = lines[f"pulses of sign {sign:+d} alone"]
         beta_min = data["beta_min"].sel(sign=sign)
-        np.testing.assert_allclose(line.get_ydata(), beta_min.sel(part="damper") / beta_min.sel(part="bare"))
+        measured = (data["flag"].sel(sign=sign) == BRACKETED).all("part").values
+        ratio = (beta_min.sel(part="damper") / beta_min.sel(part="bare")).values
+        np.testing.assert_allclose(line.get_ydata(), np.where(measured, ratio, np.nan))
         assert line.get_zorder() > envelope.get_zorder() and line.get_linewidth() < envelope.get_linewidth()
     title = ax_x.get_title()
     assert f"stroke up to {np.nanmax(data['stroke_use']):.2f} L" in title
@@ -641,3 +644,70 @@ def test_a_maps_pdf_holds_its_cells_as_images_not_paths(cabinet_map, tmp_path):
     (png, pdf) = draw(_resampled_map(cabinet_map, 300), tmp_path, "map")
     assert png.stat().st_size > 0 and pdf.stat().st_size < 2_000_000
     assert pdf.read_bytes().count(b"/Subtype /Image") >= 3
+
+
+def test_an_mp_spectrums_right_axis_is_the_peak_not_the_amplitude_parameter():
+    """A Mavroeidis-Papageorgiou pulse's ``a_g = A omega_g`` is not its peak (0.906 of it at gamma_MP = 2, nu = 0,
+    the issue's value): the right axis reads the peak ground acceleration, and the title says how the two relate."""
+    from rocking.model.motion import MavroeidisPapageorgiou, peak
+
+    block = Block.reference()
+    config = {
+        "block": block.as_params(),
+        "pulse": {"motion": "mp", "gamma_mp": 2.0, "nu": 0.0},
+        "damper": {"gamma": 0.05, "omega_ratio": 1.0, "zeta": 0.05, "h": 0.05},
+        "beta": {"low": 0.5, "high": 15.0, "n": 5},
+    }
+    fig = spectrum_figure_of(config, [1.0, 2.0, 4.0])
+    assert peak(MavroeidisPapageorgiou(1.0, 3.0, 2.0, 0.0)) == pytest.approx(0.906, abs=5e-4)
+    (right,) = [child for ax in fig.axes for child in ax.child_axes if child.get_ylabel()]
+    assert right.get_ylabel() == "peak ground acceleration (g)"
+    beta = 4.0
+    pulse = MavroeidisPapageorgiou.from_nondim(block, beta=beta, Omega=2.0, gamma_mp=2.0, nu=0.0)
+    assert right._functions[0](beta) == pytest.approx(peak(pulse) / block.g)
+    assert "(peak 0.906 $a_g$)" in fig._suptitle.get_text()
+    sine = spectrum_figure_of({**config, "pulse": {"motion": "sine"}}, [1.0, 2.0, 4.0])
+    (right,) = [child for ax in sine.axes for child in ax.child_axes if child.get_ylabel()]
+    assert right.get_ylabel() == "$a_g$ (g)" and right._functions[0](beta) == pytest.approx(beta * block.tan_alpha)
+
+
+def test_the_design_draws_a_directions_bounded_gain_as_a_bound_and_an_undefined_one_not_at_all(small_design):
+    """Where the scan bounds both blocks' beta_min (both survive it) a direction's gain is undefined: no point (it
+    was drawn as a measured 1.00, joined to its neighbours); where it bounds one, an open triangle, not on the line."""
+    import xarray as xr
+
+    from rocking.plot.figures import GAIN_BOUND, design_figure
+    from rocking.study.vocabulary import ABOVE
+
+    data = small_design.data.copy(deep=True)
+    sign = data["sign"].values[0]
+    flag = data["flag"].sel(sign=sign).transpose("part", "Omega").values.copy()
+    flag[:, 0] = ABOVE  # both survive the scan at the first Omega
+    flag[:, 1] = [0, ABOVE]  # (bare, damper): only the damped block does at the second
+    assert list(data["part"].values) == ["bare", "damper"]
+    data["flag"].loc[{"sign": sign}] = xr.DataArray(flag, dims=("part", "Omega"))
+    fig = design_figure(dataclasses.replace(small_design, data=data))
+    ax_g = fig.axes[0]
+    line = next(ln for ln in ax_g.get_lines() if ln.get_label() == f"pulses of sign {sign:+d} alone")
+    assert np.isnan(line.get_ydata()[:2]).all()
+    triangles = [c for c in ax_g.containers if isinstance(c, ErrorbarContainer)]
+    drawn_at = np.concatenate([c.lines[0].get_xdata() for c in triangles])
+    Om = data["Omega"].values
+    assert np.any(np.isclose(drawn_at, Om[1], atol=0.05 * np.ptp(Om))) and not np.any(np.isclose(drawn_at, Om[0]))
+    labels = [t.get_text() for t in ax_g.get_legend().get_texts()]
+    assert GAIN_BOUND[True] in labels and any("no gain where the scan only bounds both" in t for t in labels)
+
+
+@pytest.mark.parametrize(("kind", "size"), [("spectrum", (8, 6)), ("design", (9, 6))])
+def test_a_figure_drawn_in_a_narrow_constrained_figure_keeps_its_title_and_legends_on_it(
+    spectrum, small_design, kind, size
+):
+    """The user's own axes in a constrained layout narrower than the figure's own: the title's long lines break
+    at commas and the legends take fewer columns and break, so that nothing drawn leaves the canvas (the title
+    and the design's gain legend did)."""
+    study, function = {"spectrum": (spectrum, spectrum_figure), "design": (small_design, figures.design_figure)}[kind]
+    fig = Figure(figsize=size, layout="constrained")
+    function(study, ax=fig.subplots(1, 2 if kind == "spectrum" else 3))
+    FigureCanvasAgg(fig).draw()
+    drawn = fig.get_tightbbox(fig.canvas.get_renderer())  # inches, every artist drawn
+    assert drawn.x0 >= -0.02 and drawn.y0 >= -0.02 and drawn.x1 <= size[0] + 0.02 and drawn.y1 <= size[1] + 0.02

@@ -542,7 +542,10 @@ def _simulate(args) -> int:
         from ..plot.response import plot_responses
 
         with _writing("--plot", args.plot):
-            path = plot_responses(responses, block, args.plot, damper=damper, model=args.model, motion=pulse)
+            record = Path(args.motion).name if args.motion else ""
+            path = plot_responses(
+                responses, block, args.plot, damper=damper, model=args.model, motion=pulse, record=record
+            )
         print(f"figure written to {path}", file=sys.stderr)
     for label, path in histories.items():
         with _writing("--history", path):

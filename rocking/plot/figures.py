@@ -43,6 +43,7 @@ from matplotlib.patches import Patch, PathPatch
 from matplotlib.ticker import FuncFormatter, MaxNLocator
 
 from ..model.loading import ModelError, saved_model
+from ..model.motion import MavroeidisPapageorgiou, peak
 from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from ..study.config import flight_beta
@@ -62,6 +63,7 @@ from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES
 from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
 from .style import (
+    CHAR_EM,
     DIVERGING,
     GREY,
     LIGHT,
@@ -70,8 +72,13 @@ from .style import (
     PART_STYLE,
     PULSE_NAMES,
     UNIT_TEXT,
+    broken,
     cycle,
     extend,
+    fit,
+    quantity,
+    symbol,
+    visible,
 )
 
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
@@ -94,7 +101,9 @@ EFFECT_CLASSES = (
     ("lost with the damper", OKABE_ITO["vermillion"], "xx"),
     ("overturned either way", GREY, ""),
     ("saved only with the mass past the edge (x_max > B/2)", OKABE_ITO["sky blue"], "//"),
-    ("saved, stroke not computed (cell of an adaptive map filled in)", OKABE_ITO["yellow"], ".."),
+    # Saved as the class above (its blue), told apart by a hatch no outcome class has: yellow dots read as the
+    # outcome "after 2 impacts" of the panels beside it.
+    ("saved by the damper, stroke not computed (an adaptive map's cell filled in)", OKABE_ITO["blue"], "--"),
     ("no verdict: a run ended in flight", OKABE_ITO["reddish purple"], "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
@@ -119,9 +128,21 @@ def _edges(centres: np.ndarray, log: bool = False) -> np.ndarray:
 
 
 def _legend_below(ax, handles=None, ncols: int = 2) -> None:
-    """A legend under ``ax`` (below its axis label), so that it covers no data."""
-    kwargs = {} if handles is None else {"handles": handles}
-    ax.legend(**kwargs, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
+    """A legend under ``ax`` (below its axis label), so that it covers no data: no wider than its panel (fewer
+    columns, long entries broken between words), so that a narrow figure does not cut it."""
+    handles = ax.get_legend_handles_labels()[0] if handles is None else handles
+    labels = [h.get_label() for h in handles]
+    # The panel's share of the figure's width (its position before the layout is narrower than it will be).
+    spec = ax.get_subplotspec()
+    share = len(spec.colspan) / spec.get_gridspec().ncols if spec is not None else ax.get_position().width
+    inches = share * ax.get_figure(root=True).get_figwidth()
+    # Each entry's handle and padding take about 4 characters.
+    room = max(int(inches * 72 / (CHAR_EM * LEGEND["fontsize"])), 24)
+    longest = max((max(map(visible, label.split("\n"))) + 4 for label in labels), default=1)
+    ncols = max(1, min(ncols, room // longest))
+    width = max(room // ncols - 4, 20)
+    labels = [broken(label, width, " ") for label in labels]
+    ax.legend(handles, labels, loc="upper center", bbox_to_anchor=(0.5, -0.16), ncols=ncols, **LEGEND)
 
 
 def _runs(mask: np.ndarray) -> np.ndarray:
@@ -187,9 +208,9 @@ def _block(config: dict) -> Block:
 
 def _block_label(block: Block) -> str:
     """The block for a title: its dimensions and mass, and the ``alpha`` and ``p`` of the non-dimensional axes."""
-    e = f", e = {block.e:.3g} m" if block.e else ""
+    e = f", e = {quantity(block.e, 'm', 3)}" if block.e else ""
     return (
-        rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg{e} "
+        f"block H = {quantity(block.H, 'm')}, B = {quantity(block.B, 'm')}, M = {quantity(block.M, 'kg')}{e} "
         rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
     )
 
@@ -225,7 +246,9 @@ def _damper_label(config: dict) -> str:
     d, block = config["damper"], _block(config)
     if "model" in d:
         units = _parameter_units(d["model"])
-        params = ", ".join(f"{_saved_text(k)} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in d["params"].items())
+        params = ", ".join(
+            f"{symbol(_saved_text(k))} = {quantity(v, units.get(k, ''))}" for k, v in d["params"].items()
+        )
         return f"damper: model {_saved_text(d['model'])}" + (f" ({params})" if params else "")
     T_m = 2 * np.pi / (d["omega_ratio"] * block.p)
     return (
@@ -265,8 +288,14 @@ def _flight_line(ax, config: dict, beta_high: float) -> list[Line2D]:
 def _excitation_label(config: dict) -> str:
     """The pulses of a study in dimensional terms for its block: amplitude in g, period in s."""
     block = _block(config)
+    ratio = _peak_ratio(config)
+    amplitude = (
+        rf"$a_g = A \omega_g$ = {block.tan_alpha:.3g} $\beta$ g (peak {ratio:.3g} $a_g$)"
+        if ratio != 1.0
+        else (rf"$a_g$ = {block.tan_alpha:.3g} $\beta$ g")
+    )
     return (
-        rf"{_pulse_label(config)}: $a_g$ = {block.tan_alpha:.3g} $\beta$ g, "
+        rf"{_pulse_label(config)}: {amplitude}, "
         rf"$T_g = 2\pi / \omega_g$ = {2 * np.pi / block.p:.3g} s / $\Omega$; "
         f"{_directions_label(config)}"
     )
@@ -275,7 +304,12 @@ def _excitation_label(config: dict) -> str:
 def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = None) -> None:
     """The figure's title: what it shows, the pulses, the block and the damper of ``config`` (or ``damper``)."""
     damper = _damper_label(config) if damper is None else damper
-    fig.suptitle(f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}", fontsize=10)
+    _suptitle(fig, f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}")
+
+
+def _suptitle(fig, text: str, fontsize: float = 10) -> None:
+    """The figure's title, its long lines broken to fit the figure's width (:func:`~rocking.plot.style.fit`)."""
+    fig.suptitle(fit(text, fig.bbox.width / fig.dpi, fontsize), fontsize=fontsize)
 
 
 def _suite_label(suite: dict) -> str:
@@ -317,7 +351,10 @@ def _period_axis(ax, p: float) -> None:
         return 2 * np.pi / (p * np.maximum(np.asarray(x, float), 1e-9))
 
     low, high = sorted(ax.get_xlim())
-    inches = ax.get_position().width * ax.get_figure(root=True).get_figwidth()
+    # The panel's share of the figure's width (its position before the layout is narrower than it will be).
+    spec = ax.get_subplotspec()
+    share = len(spec.colspan) / spec.get_gridspec().ncols if spec is not None else ax.get_position().width
+    inches = share * ax.get_figure(root=True).get_figwidth()
     gap = (high - low) * max(TICK_GAP[0] / inches, TICK_GAP[1])
     # The periods crowd where Omega is small, and grow without bound towards an axis that starts at Omega = 0:
     # the left end counts as a tick.
@@ -332,10 +369,22 @@ def _period_axis(ax, p: float) -> None:
     axis.set_xlabel(r"$T_g = 2\pi / \omega_g$ (s)")
 
 
-def _acceleration_axis(ax, tan_alpha: float) -> None:
-    """A right axis of the pulse amplitude ``a_g / g = beta tan(alpha)`` over a ``beta`` axis."""
-    axis = ax.secondary_yaxis("right", functions=(lambda b: b * tan_alpha, lambda a: a / tan_alpha))
-    axis.set_ylabel(r"$a_g$ (g)")
+def _peak_ratio(config: dict) -> float:
+    """The peak ground acceleration of a study's pulses over their amplitude ``a_g`` (``beta g tan(alpha)``): 1, but
+    for a Mavroeidis-Papageorgiou pulse, whose ``a_g = A omega_g`` is not its peak (0.906 of it at ``gamma_MP`` = 2,
+    ``nu`` = 0; :func:`rocking.model.motion.peak`, independent of ``omega_g``)."""
+    pulse = config.get("pulse", {"motion": "sine"})
+    if pulse["motion"] != "mp":
+        return 1.0
+    return peak(MavroeidisPapageorgiou(1.0, 1.0, pulse["gamma_mp"], pulse["nu"]))
+
+
+def _acceleration_axis(ax, config: dict) -> None:
+    """A right axis of the pulses' peak ground acceleration in g over a ``beta`` axis: ``a_g / g = beta tan(alpha)``
+    times :func:`_peak_ratio` (the amplitude itself but for a Mavroeidis-Papageorgiou pulse)."""
+    scale = _block(config).tan_alpha * _peak_ratio(config)
+    axis = ax.secondary_yaxis("right", functions=(lambda b: b * scale, lambda a: a / scale))
+    axis.set_ylabel(r"peak ground acceleration (g)" if _peak_ratio(config) != 1.0 else r"$a_g$ (g)")
 
 
 def _omega_axis(ax, label: str = r"$\Omega = \omega_g / p$") -> None:
@@ -351,9 +400,9 @@ LOWER_BOUND = r"lower bound (no overturning up to the last $\beta$ scanned)"
 UPPER_BOUND = r"upper bound (overturns at the first $\beta$ scanned)"
 
 
-def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
-    """Values the scan only bounds: open triangles with an arrow of length ``arrow`` towards the unknown value,
-    not joined to the measured values."""
+def _bounds(ax, x, y, arrow: float, color, up: bool, label=None, face: str = "white") -> None:
+    """Values the scan only bounds: open triangles (or of the colour ``face``) with an arrow of length ``arrow``
+    towards the unknown value, not joined to the measured values."""
     x, y = np.asarray(x, float), np.asarray(y, float)
     keep = np.isfinite(y)
     if keep.any():
@@ -365,7 +414,7 @@ def _bounds(ax, x, y, arrow: float, color, up: bool, label=None) -> None:
             uplims=not up,
             fmt="^" if up else "v",
             ms=6,
-            mfc="white",
+            mfc=face,
             color=color,
             ls="none",
             capsize=3,
@@ -446,6 +495,11 @@ def _panels(size: tuple, shape: tuple, fig=None, ax=None, **grid) -> tuple:
         axes = np.asarray(ax, dtype=object).ravel()
         if axes.size != np.prod(shape):
             raise ParameterError(f"ax= needs {np.prod(shape)} axes for this figure's panels, got {axes.size}")
+        root = axes[0].get_figure(root=True)
+        if root.get_layout_engine() is None:
+            # Axes laid out by hand or by default leave no room for the title above them and the legends below:
+            # a constrained layout makes it (a layout the user chose is kept).
+            root.set_layout_engine("constrained")
         return axes[0].get_figure(), axes.reshape(shape)
     fig = Figure(figsize=size, layout="constrained") if fig is None else fig
     return fig, np.asarray(fig.subplots(*shape, squeeze=False, **grid), dtype=object).reshape(shape)
@@ -461,7 +515,8 @@ PARAMETERS = """
     fig : Figure, optional
         A figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a new one.
     ax : sequence of Axes, optional
-        Axes to draw in instead, one per panel in reading order (their figure takes the title and legends).
+        Axes to draw in instead, one per panel in reading order (their figure takes the title and legends; a
+        figure without a layout engine is given a constrained layout, which makes room for them).
 
     Returns
     -------
@@ -518,7 +573,7 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
         _omega_axis(ax)
         _period_axis(ax, block.p)
     _beta_axis(axes[0])
-    _acceleration_axis(axes[2], block.tan_alpha)
+    _acceleration_axis(axes[2], study.config)
     _title(fig, "Overturning map", study.config, _refinement_label(study))
     return fig
 
@@ -596,7 +651,7 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     _omega_axis(ax)
     _beta_axis(ax)
     _period_axis(ax, block.p)
-    _acceleration_axis(ax, block.tan_alpha)
+    _acceleration_axis(ax, study.config)
     ax.set_title("minimum overturning amplitude", fontsize=9)
     handles = ax.get_legend_handles_labels()[0] + _flight_line(ax, study.config, scan["high"])
     for code, up in ((ABOVE, True), (BELOW, False)):
@@ -631,11 +686,18 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     fig, (axes,) = _panels((13, 6.4), (1, len(signs)), fig, ax, sharex=True, sharey=True)
     scan = config["beta"]
     arrow = 0.03 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.03 * scan["high"]
-    handles, bounded = [], set()
+    groups: list[list] = []
+    bounded = set()
+    Om = studies[0].data["Omega"].values
+    # The two parts' bounds lie at the same amplitudes (the scan's end): side by side, not one over the other,
+    # the block alone's open, the damper's filled.
+    dodge = {"bare": -0.2, "damper": 0.2}
+    step = float(np.min(np.diff(Om))) if Om.size > 1 else 1.0
     for i, study in enumerate(studies):
         ratio = study.config.get("vertical", {}).get("ratio", 0.0)
         colour = cycle(i)["color"]
         data = study.data
+        handles: list = []
         for panel, sign in zip(axes, signs):
             for part, line in (("bare", "--"), ("damper", "-")):
                 cell = data.sel(part=part, sign=sign)
@@ -651,7 +713,8 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                     sel = cell["flag"].values == code
                     if sel.any():
                         bound = beta_min_or_bound(cell)[sel]
-                        _bounds(panel, data["Omega"].values[sel], bound, arrow, colour, up)
+                        x = data["Omega"].values[sel] + dodge[part] * step
+                        _bounds(panel, x, bound, arrow, colour, up, face=colour if part == "damper" else "white")
                         bounded.add(up)
             beta_f = flight_beta(_block(study.config), study.config)
             if beta_f < study.config["beta"]["high"]:
@@ -659,21 +722,29 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                 if panel is axes[0]:
                     flight.set_label(rf"r = {ratio:g}: $\beta_f$ = {beta_f:.3g}, g + $\ddot y_g$ reaches 0 above")
                     handles.append(flight)
+        groups.append(handles)
     block = _block(config)
     for panel, sign in zip(axes, signs):
         panel.set_title(f"pulses of sign {sign:+d}", fontsize=9)
         _omega_axis(panel)
         _period_axis(panel, block.p)
     _beta_axis(axes[0])
-    _acceleration_axis(axes[-1], block.tan_alpha)
+    _acceleration_axis(axes[-1], config)
+    bounds = []
     for up in sorted(bounded, reverse=True):
         handle = _bound_handle(up)
         if up:
             handle.set_label(r"lower bound (no overturning up to the last $\beta$ scanned or below $\beta_f$)")
-        handles.append(handle)
-    fig.legend(handles=handles, loc="outside lower center", ncols=3, **LEGEND)
+        handle.set_label(f"{handle.get_label()};\nopen: block alone, filled: with damper")
+        bounds.append(handle)
+    groups += [bounds] if bounds else []
+    # A column per ratio (a legend fills its columns in turn): each group padded with blank entries to the longest.
+    rows = max(map(len, groups))
+    handles = [h for group in groups for h in group + [Line2D([], [], ls="none", label=" ")] * (rows - len(group))]
+    fig.legend(handles=handles, loc="outside lower center", ncols=len(groups), **LEGEND)
     pulse = PULSE_NAMES[config.get("pulse", {"motion": "sine"})["motion"]]
-    fig.suptitle(
+    _suptitle(
+        fig,
         f"Minimum overturning spectrum under a vertical component: {pulse} with "
         rf"$\ddot y_g$ = r $a_g f(t)$ (> 0 up, in phase, the same for both signs)"
         f"\n{_block_label(block)}\n{_damper_label(config)}",
@@ -805,6 +876,27 @@ def _stroke_text(Omega, use, contacts, L: float, half_width: float) -> str:
     return text + (", past the block's edge" if use[i] * L > half_width else ", on the block")
 
 
+#: Legend of a gain the scan only bounds (its beta_min with the damper, or alone, is a bound), by ``up``.
+GAIN_BOUND = {
+    True: r"gain at least this: a $\beta_{min}$ the scan only bounds",
+    False: r"gain at most this: a $\beta_{min}$ the scan only bounds",
+}
+
+
+def _direction_gain(cell) -> tuple[np.ndarray, np.ndarray]:
+    """One direction's gain ``beta_min`` with the damper over ``beta_min`` alone at each ``Omega`` of a design's data
+    (``cell``: one ``sign``), and what each value is: ``measured``, a ``lower`` or ``upper`` bound (a ``beta_min``
+    the scan only bounds), or ``undefined`` (bounds either way: both blocks survive the scan, say)."""
+    ratios, flags = {}, {}
+    for part in PARTS:
+        ratios[part] = beta_min_or_bound(cell.sel(part=part))
+        flags[part] = cell["flag"].sel(part=part).values
+    up = (flags["damper"] == ABOVE) | (flags["bare"] == BELOW)
+    down = (flags["damper"] == BELOW) | (flags["bare"] == ABOVE)
+    kind = np.select([up & down, up, down], ["undefined", "lower", "upper"], "measured")
+    return ratios["damper"] / ratios["bare"], kind
+
+
 @_figure_function
 def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The design: its gain over the band (per direction and the envelope), the worst gain of every damper of
@@ -812,15 +904,29 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     data, s, block = study.data, study.summary, _block(study.config)
     fig, ((ax_g, ax_map, ax_x),) = _panels((15, 6), (1, 3), fig, ax)
     Om = data["Omega"].values
-    beta_min = data["beta_min"].transpose("part", "Omega", "sign")
+    undefined_at, bounds = [], set()
     for i, sign in enumerate(data["sign"].values):
-        ratio = beta_min.sel(part="damper").values[:, i] / beta_min.sel(part="bare").values[:, i]
+        ratio, kind = _direction_gain(data.sel(sign=sign))
+        style = cycle(i + 1)
         # On top of the envelope: where one direction governs both blocks its gain is the envelope's.
         ax_g.plot(
-            Om, ratio, ("--", ":")[i % 2], ms=4, zorder=5, label=f"pulses of sign {sign:+d} alone", **cycle(i + 1)
+            Om,
+            np.where(kind == "measured", ratio, np.nan),
+            ("--", ":")[i % 2],
+            ms=4,
+            zorder=5,
+            label=f"pulses of sign {sign:+d} alone",
+            **style,
         )
+        arrow = 0.06 * max(np.nanmax(ratio, initial=1.0), 1.0)
+        dodge = 0.01 * (np.ptp(Om) or 1.0) * (1 if i % 2 else -1)
+        for bound, up in (("lower", True), ("upper", False)):
+            _bounds(ax_g, Om[kind == bound] + dodge, ratio[kind == bound], arrow, style["color"], up)
+            bounds |= {up} if (kind == bound).any() else set()
+        undefined_at += [f"{sign:+d}"] if (kind == "undefined").any() else []
     envelope_style = {"color": PART_STYLE["damper"]["color"], "lw": 6, "alpha": 0.3, "solid_capstyle": "round"}
-    bounded = _gain_curve(ax_g, Om, data["gain_opt"].values, data["flag_opt"].values, envelope_style, ENVELOPE_GAIN)
+    if _gain_curve(ax_g, Om, data["gain_opt"].values, data["flag_opt"].values, envelope_style, ENVELOPE_GAIN):
+        bounds.add(True)
     ax_g.axhline(1.0, color=GREY, lw=0.8)
     _omega_axis(ax_g)
     _period_axis(ax_g, block.p)
@@ -834,7 +940,15 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     )
     # A design that does not help says so where its gain is read, in the verdict's words.
     ax_g.set_title(heading if helps else f"{heading}:\n{VERDICTS[found['code']]}", fontsize=9)
-    _legend_below(ax_g, ax_g.get_legend_handles_labels()[0] + ([_bound_handle()] if bounded else []), ncols=1)
+    handles = ax_g.get_legend_handles_labels()[0]
+    for up in sorted(bounds, reverse=True):  # of a gain: the words of _bound_handle are those of a beta_min
+        handle = _bound_handle(up)
+        handle.set_label(GAIN_BOUND[up])
+        handles.append(handle)
+    if undefined_at:  # no mark to show: the gap in the curve, said in words
+        words = f"pulses of sign {', '.join(undefined_at)}: no gain where the scan only bounds both blocks (gap)"
+        handles.append(Line2D([], [], ls="none", label=words))
+    _legend_below(ax_g, handles, ncols=1)
     r, z = data["r_coarse"].values, data["zeta_coarse"].values
     worst = data["candidate_worst_gain"].values[: r.size * z.size].reshape(z.size, r.size)
     norm, extension = _gain_norm(worst)
@@ -896,9 +1010,10 @@ def design_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure
     ax_x.set_title(_stroke_text(Om, use, data["stop_contacts"].max("sign").values, d["L_m"], block.B / 2), fontsize=9)
     _legend_below(ax_x, ncols=3)
     damper = (
-        rf"design: m = {d['m_kg']:.4g} kg, $k_m$ = {d['k_m_N_per_m']:.4g} N/m, c = {d['c_N_s_per_m']:.4g} N s/m "
+        f"design: m = {quantity(d['m_kg'], 'kg')}, $k_m$ = {quantity(d['k_m_N_per_m'], 'N/m')}, "
+        f"c = {quantity(d['c_N_s_per_m'], 'N s/m')} "
         rf"($\gamma$ = {d['gamma']:g}, $T_m$ = {d['T_m_s']:.3g} s, $\zeta$ = {d['zeta']:.3g}), "
-        f"h = {d['h_m']:g} m, stops at L = {d['L_m']:.3g} m"
+        f"h = {quantity(d['h_m'], 'm')}, stops at L = {quantity(d['L_m'], 'm', 3)}"
     )
     _title(fig, "Damper design" if helps else f"Damper design: {VERDICTS[found['code']]}", study.config, damper=damper)
     return fig
@@ -946,10 +1061,13 @@ def _frequency_panel(ax, found) -> None:
     of each damper, measured where bracketed, else a bound (an arrow towards the unknown value)."""
     p, lams = found["p"].values, found["lam"].values
     dodge = 0.02 * (np.ptp(p) or 1.0)
+    handles: list = []
     for i, lam in enumerate(lams):
         style = cycle(i)
         safe = found["safe_from"].values[i]
-        ax.plot(p, safe, ":", color=style["color"], marker="_", ms=14, mew=2, label=rf"$\lambda$ = {lam:.3g}")
+        label = rf"$\lambda$ = {lam:.3g}"
+        ax.plot(p, safe, ":", color=style["color"], marker="_", ms=14, mew=2, label=label)
+        handles.append(Patch(color=style["color"], label=label))
         for k, (kind, (_, face)) in enumerate(GUIDES.items()):
             a = found.sel(part=kind).isel(lam=i)
             x = p + (k - 0.5) * dodge
@@ -963,16 +1081,24 @@ def _frequency_panel(ax, found) -> None:
     ax.set_ylabel(r"$\Omega = \omega_g / p$")
     ax.set_ylim(0, float(found["Omega"][-1]) * 1.08)
     _size_axis(ax, found["p"].values)
-    handles = ax.get_legend_handles_labels()[0] + [
-        Line2D([], [], ls=":", marker="_", ms=14, mew=2, color="0.3", label="block alone safe from this $\\Omega$ on"),
-        Line2D([], [], ls="none", marker="*", ms=10, color="0.3", label=r"$\Omega^*$ (filled: unlimited; open: stops)"),
-    ]
-    if (found["status"].values == STATUSES.index("above_range")).any():
-        handles.append(
-            Line2D(
-                [], [], ls="none", marker="^", mfc="white", color="0.3", label=r"$\Omega^*$ above: still useful here"
+    status = found["status"].values
+    # The slendernesses by colour alone, and the dotted line by its style alone: the short line of a legend entry
+    # under a wide marker would read as solid.
+    handles.append(Line2D([], [], ls=":", lw=1.5, color="0.3", label="block alone safe from this $\\Omega$ on"))
+    # An entry for each mark drawn, none for a mark that appears nowhere.
+    marks = (
+        ("bracketed", "*", r"$\Omega^*$ (filled: unlimited; open: stops)"),
+        ("above_range", "^", r"$\Omega^*$ above the scan: still useful here"),
+        ("below_range", "v", r"$\Omega^*$ below the scan: useless here"),
+    )
+    for name, marker, label in marks:
+        if (status == STATUSES.index(name)).any():
+            face = "0.3" if marker == "*" else "white"
+            handles.append(
+                Line2D(
+                    [], [], ls="none", marker=marker, ms=10 if marker == "*" else 6, mfc=face, color="0.3", label=label
+                )
             )
-        )
     _legend_below(ax, handles, ncols=2)
     counts = {name: int((found["status"].values == n).sum()) for n, name in enumerate(STATUSES)}
     ax.set_title(
@@ -995,10 +1121,15 @@ def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Fig
     _frequency_panel(axes[1], found)
     j = p.size // 2
     for i, lam in enumerate(data["lam"].values):
-        for kind, ls in (("unlimited", "-"), ("stops", "--")):
+        for kind, (ls, face) in GUIDES.items():  # as in the left panel: open markers and dashes for the stops
+            style = cycle(i)
             label = rf"$\lambda$ = {lam:.3g}, {kind}"
-            axes[2].plot(Om, data["gain"].sel(part=kind).values[i, j], ls, ms=4, label=label, **cycle(i))
-    axes[2].axhline(study.summary["useless_gain"], color=GREY, lw=0.8, ls=":")
+            gain = data["gain"].sel(part=kind).values[i, j]
+            axes[2].plot(Om, gain, ls, ms=5, mfc=face or style["color"], label=label, **style)
+    useless = study.summary["useless_gain"]
+    axes[2].axhline(
+        useless, color=GREY, lw=0.8, ls=":", label=rf"G = {useless:g}: $\Omega^*$ where the gain falls below it"
+    )
     _omega_axis(axes[2])
     _period_axis(axes[2], float(p[j]))
     axes[2].set_ylabel("best gain (envelopes over the directions)")
@@ -1016,7 +1147,8 @@ def threshold_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Fig
         f"{name} {cfg[key]['low']:g} to {cfg[key]['high']:g}{unit} ({cfg[key]['n']})"
         for key, name, unit in (("lam", r"$\lambda$ = H/B", ""), ("p", "p", " rad/s"))
     )
-    fig.suptitle(
+    _suptitle(
+        fig,
         f"Threshold frequency across geometries: one-sine pulses up to {study.summary['a_max_g']:g} g; "
         f"{_directions_label(cfg)}\nhomogeneous blocks of M = {cfg['M']:g} kg, e = {cfg['e_ratio']:g} B, {grid}\n"
         f"dampers (period optimised at each $\\Omega$): {dampers}",
@@ -1076,7 +1208,7 @@ def _median_outside(ax, place: str, style: dict, index: int) -> None:
 @_figure_function
 def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     """The fraction of motions that overturn the block at each level, with the fitted lognormal fragility and its
-    band, block alone and with the damper; and the outcome of every motion at every level (with the damper),
+    band, block alone and with the damper; and the outcome of every motion at every level, both blocks in one grid,
     resurrections marked."""
     data, measure_name = study.data, study.config["measure"]
     levels, curve_x = data["level"].values, data["curve_x"].values
@@ -1123,9 +1255,11 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
         "fraction of the motions that overturn the block; bands: 90 % bootstrap over the motions", fontsize=9
     )
     _legend_below(ax_f)
-    over = ida_envelope(data)["overturned"].sel(part="damper").values.astype(int)
-    classes = (("safe", LIGHT, ""), ("overturned", OKABE_ITO["vermillion"], "xx"))
-    handles = _classes(ax_m, levels, np.arange(over.shape[0]), (over == 1).astype(int).T, classes, xlog)
+    # Both blocks in one grid, as a map's effect panel: safe either way, saved, lost, overturned either way.
+    over = ida_envelope(data)["overturned"]
+    bare, damped = (over.sel(part=part).values.astype(int) == 1 for part in PARTS)
+    effect = (bare + 2 * damped).T
+    handles = _classes(ax_m, levels, np.arange(effect.shape[1]), effect, EFFECT_CLASSES[:4], xlog)
     if xlog:
         ax_m.set_xscale("log")
         _plain_ticks(ax_m.xaxis)
@@ -1138,16 +1272,17 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
             color=OKABE_ITO["blue"],
             ms=6,
             ls="none",
-            label="non-monotone: overturns, then survives a higher level",
+            label="with the damper, non-monotone: overturns, then survives a higher level",
         )
         handles += ax_m.get_legend_handles_labels()[0]
     ax_m.set_xlabel(measure)
     _motion_axis(ax_m, motion_names(study.config["suite"]))
-    ax_m.set_title("with the damper: outcome of each motion at each level", fontsize=9)
+    ax_m.set_title("outcome of each motion at each level, block alone and with the damper", fontsize=9)
     _legend_below(ax_m, handles)
     title = "Incremental dynamic analysis" if study.kind == "ida" else "Fragility"
     config = study.config
-    fig.suptitle(
+    _suptitle(
+        fig,
         f"{title}: {_suite_label(config['suite'])}; {_directions_label(config, 'motions')}\n"
         f"{_block_label(_block(config))}\n{_damper_label(config)}",
         fontsize=10,

@@ -17,7 +17,7 @@ from ..model.loading import load_model
 from ..model.motion import describe, peak
 from ..model.outputs import atomic_write
 from ..model.params import RANGES, Block, Damper
-from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES
+from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES, quantity, symbol, wrap
 
 #: The history's entries that are not a coordinate (rocking.sim.problem.Response.history).
 NOT_COORDINATES = ("t", "phase", "ag", "theta")
@@ -44,7 +44,7 @@ def _damper_text(damper, model: str | None = None) -> str:
     units = {k: r.unit for k, r in RANGES.items()}
     if model:
         units.update({p["name"]: p["unit"] for p in load_model(model).manifest["parameters"]})
-    return "damper " + ", ".join(f"{k} = {v:.4g} {units.get(k, '')}".rstrip() for k, v in params.items())
+    return "damper " + wrap([f"{symbol(k)} = {quantity(v, units.get(k, ''))}" for k, v in params.items()])
 
 
 def past_edge(histories: dict, name: str, half_width: float) -> list[str]:
@@ -63,9 +63,10 @@ def _flag_past_edge(ax, labels: list[str]) -> None:
         )
 
 
-def motion_label(motion, block: Block) -> str:
+def motion_label(motion, block: Block, name: str = "") -> str:
     """A ground motion for a title: its family, amplitude in m/s^2 and g, and period in s (a pulse; with its
-    ``beta`` and ``Omega`` for ``block``, docs/model.md section 9), or its peak and duration (a record).
+    ``beta`` and ``Omega`` for ``block``, docs/model.md section 9), or its peak and duration (a record, after its
+    ``name``: the file it was read from).
 
     The amplitude is the pulse's peak where the two agree; a Mavroeidis-Papageorgiou pulse's amplitude
     parameter is not its peak, so both are given, each named for what it is, with its ``gamma_MP`` and ``nu``.
@@ -74,7 +75,8 @@ def motion_label(motion, block: Block) -> str:
     top = peak(motion)
     direction = "" if d.a_g >= 0 else ", sign -1"
     if d.family == "sampled":
-        return f"sampled motion: PGA = {top:.3g} m/s$^2$ ({top / block.g:.3g} g), {d.t_p:.3g} s{direction}"
+        what = f"record {_escaped(name)}" if name else "sampled motion"
+        return f"{what}: PGA = {top:.3g} m/s$^2$ ({top / block.g:.3g} g), {d.t_p:.3g} s{direction}"
     a = abs(d.a_g)
     scales = rf"$\beta$ = {block.beta(a):.3g}, $\Omega$ = {d.omega_g / block.p:.3g}"
     if d.family == "mp":
@@ -87,6 +89,11 @@ def motion_label(motion, block: Block) -> str:
         rf"{PULSE_NAMES[d.family]}: peak $a_g$ = {a:.3g} m/s$^2$ ({a / block.g:.3g} g), $T_g$ = {d.T_g:.3g} s "
         rf"({scales}){direction}"
     )
+
+
+def _escaped(text: str) -> str:
+    """A text from outside (a file's name) as a title shows it: its ``$`` escaped, so that mathtext never parses it."""
+    return text.replace("$", r"\$")
 
 
 #: How far past the overturning line ``|theta| = alpha`` the rotation axis runs when a response overturns.
@@ -105,9 +112,8 @@ def _clip_overturned(ax, responses: dict, histories: dict, alpha: float, colours
         return
     limit = max(CLIP, 1.05 * max(standing, default=0.0))
     ax.set_ylim(-limit, limit)
-    for label, r in responses.items():
-        if not r.overturned:
-            continue
+    overturned = [label for label, r in responses.items() if r.overturned]
+    for k, label in enumerate(overturned):
         h = histories[label]
         ratio = h["theta"] / alpha
         out = np.flatnonzero(np.abs(ratio) > limit)
@@ -118,7 +124,7 @@ def _clip_overturned(ax, responses: dict, histories: dict, alpha: float, colours
         ax.annotate(
             f"overturns ({label})",
             (h["t"][at], side * limit),
-            xytext=(4, -10 * side),
+            xytext=(4, -10 * side * (1 + k)),  # one under the other: close times would overprint
             textcoords="offset points",
             fontsize=7,
             color=colours[label],
@@ -134,11 +140,12 @@ def plot_responses(
     damper=None,
     model: str | None = None,
     motion=None,
+    record: str = "",
 ) -> Path:
     """Draw recorded responses (:func:`response_figure`) and save the figure at ``path`` (its suffix picks the
     format: PNG, PDF, SVG); the path written. Written as every output is (:func:`rocking.study.files.atomic_write`:
     a temporary file renamed over ``path``, a symbolic link there replaced, not followed)."""
-    fig = response_figure(responses, block, title, damper=damper, model=model, motion=motion)
+    fig = response_figure(responses, block, title, damper=damper, model=model, motion=motion, record=record)
     FigureCanvasAgg(fig)
     path = Path(path)
     path.parent.mkdir(parents=True, exist_ok=True)
@@ -168,6 +175,7 @@ def response_figure(
     damper=None,
     model: str | None = None,
     motion=None,
+    record: str = "",
     fig: Figure | None = None,
 ) -> Figure:
     """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
@@ -188,6 +196,8 @@ def response_figure(
         The model of the damped responses (default: the ``omd`` family, a stroke ``x`` in m).
     motion : optional
         The ground motion of the responses (a pulse or a :class:`~rocking.model.motion.SampledMotion`).
+    record : str, optional
+        The name of a record ``motion`` was read from (its file), for the title.
     fig : Figure, optional
         An empty figure to draw in (a ``matplotlib.pyplot`` figure in a notebook, a subfigure); default a
         new one.
@@ -218,7 +228,6 @@ def response_figure(
     for label, r in responses.items():
         h, colour = histories[label], colours[label]
         ax_th.plot(h["t"], h["theta"] / block.alpha, color=colour, label=label)
-        ax_g.plot(h["t"], h["ag"], color=colour, label=label)
         for ax, name in zip(axes[1:-1], names):
             if name in h:
                 ax.plot(h["t"], h[name], color=colour, label=label)
@@ -241,6 +250,10 @@ def response_figure(
             ax.axhline(value, color=colour, lw=0.9, ls=ls, label=f"{label} = $\\pm${value:.3g} m")
             ax.axhline(-value, color=colour, lw=0.9, ls=ls)
         _flag_past_edge(ax, past_edge(histories, name, block.B / 2))
+    # One ground motion for every response: drawn once, in no response's colour, over the longest history (a
+    # response that overturns stops early; the ground goes on).
+    longest = max(histories.values(), key=lambda h: h["t"][-1])
+    ax_g.plot(longest["t"], longest["ag"], color=OKABE_ITO["black"], lw=1.0, label="ground motion")
     ax_g.set_ylabel(r"$\ddot{x}_g$ (m/s$^2$)")
     ax_g.secondary_yaxis("right", functions=(lambda a: a / block.g, lambda a: a * block.g)).set_ylabel(
         r"$\ddot{x}_g$ (g)"
@@ -253,10 +266,11 @@ def response_figure(
         own = [(h, text) for h, text in zip(handles, labels) if ax is ax_th or text not in responses]
         if own:
             ax.legend(*zip(*own), loc="upper left", bbox_to_anchor=(1.1, 1), fontsize=7, frameon=False)
-    title = title or ("" if motion is None else motion_label(motion, block))
+    title = title or ("" if motion is None else motion_label(motion, block, record))
     fig.suptitle(
         (f"{title}\n" if title else "")
-        + rf"block H = {block.H:.4g} m, B = {block.B:.4g} m, M = {block.M:.4g} kg, e = {block.e:.3g} m "
+        + f"block H = {quantity(block.H, 'm')}, B = {quantity(block.B, 'm')}, M = {quantity(block.M, 'kg')}, "
+        + f"e = {quantity(block.e, 'm', 3)} "
         + rf"($\alpha$ = {block.alpha:.3g} rad, p = {block.p:.3g} rad/s)"
         + f"\n{_damper_text(damper, model)}",
         fontsize=9,
