@@ -542,9 +542,9 @@ def _simulate(args) -> int:
         from ..plot.response import plot_responses
 
         with _writing("--plot", args.plot):
-            record = Path(args.motion).name if args.motion else ""
+            source = Path(args.motion).name if args.motion else ""
             path = plot_responses(
-                responses, block, args.plot, damper=damper, model=args.model, motion=pulse, record=record
+                responses, block, args.plot, damper=damper, model=args.model, motion=pulse, record=source
             )
         print(f"figure written to {path}", file=sys.stderr)
     for label, path in histories.items():
