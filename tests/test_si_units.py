@@ -134,3 +134,28 @@ def test_a_beta_min_not_reached_in_the_scan_is_censored_with_its_lower_bound(tmp
     assert any(line.get_marker() == "^" and line.get_markerfacecolor() == "white" for line in at_bound)
     curves = [line for line in ax.lines if line.get_linestyle() == "-"]
     assert len(curves) == 2 and all(np.isnan(np.asarray(line.get_ydata(), float)).all() for line in curves)
+
+
+def test_the_spectrums_gain_is_the_studys_words_in_python_and_on_the_command_line(tmp_path, capsys):
+    """Issue 38 item 1: the gain line the command prints is the study's (its summary and the Dataset's
+    ``gain_text``), so that Python tells the same; the command only prints it."""
+    argv = ["spectrum", "--H", "2.2", "--B", "0.6", "--M", "350", "--e", "0.02", "--gamma", "0.05"]
+    argv += ["--T-g", "0.3", "2", "4", "--a-g", "0.1g", "1.2g", "12", "--workers", "1", "--no-progress"]
+    assert main([*argv, "--out", str(tmp_path)]) == 0
+    printed = [line for line in capsys.readouterr().out.splitlines() if line.startswith("spectrum: gain")]
+    study = rocking.load(tmp_path / "spectrum")
+    gain = study.summary["gain"]
+    assert printed == [f"spectrum: {gain['text']}"] and gain["frequencies"] >= 1
+    assert gain["min"] <= gain["max"] and 0 <= gain["below_1"] <= gain["frequencies"]
+    block = _block()
+    tuned = {"gamma": 0.05}
+    ds = rocking.minimum_overturning_spectrum(
+        block,
+        tuned,
+        T_g=np.linspace(0.3, 2.0, 4),
+        a_g=np.linspace(0.1, 1.2, 12) * STANDARD_GRAVITY,
+        runs=tmp_path / "py",
+        workers=1,
+        progress=False,
+    )
+    assert ds.attrs["gain_text"] == gain["text"]

@@ -65,13 +65,13 @@ from ..study.kinds import (
 from ..study.optimize import USELESS_GAIN, EdgeWarning, check_gammas
 from ..study.overturning_map import TMaxWarning, UndeterminedWarning, overturning_map
 from ..study.result import Study
-from ..study.spectrum import adaptive_scans, beta_min_or_bound, minimum_overturning_spectrum
+from ..study.spectrum import adaptive_scans, gain_summary, minimum_overturning_spectrum
 from ..study.spectrum import envelope as spectrum_envelope
 from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.tiles import Execution, Interrupted, TileWarning
-from ..study.vocabulary import BELOW, BRACKETED, FIT_STATUSES
+from ..study.vocabulary import FIT_STATUSES
 from .options import (
     acceleration,
     add_block_options,
@@ -835,17 +835,10 @@ def spectrum_lines(study: Study) -> list[str]:
     t_max = study.summary.get("t_max", {})
     if any(t_max.values()):
         lines.append("spectrum: " + _t_max_words(t_max["bare"], t_max["damper"], "responses")[2:])
-    env = spectrum_envelope(study.data)
-    flag = {part: env["flag"].sel(part=part).values for part in ("bare", "damper")}
-    # The damper's beta_min not reached in the scan: its lower bound, the gain's (the flag says so).
-    beta_min = {part: beta_min_or_bound(env.sel(part=part)) for part in ("bare", "damper")}
-    both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
-    if both.any():
-        gain = beta_min["damper"][both] / beta_min["bare"][both]
-        lines.append(
-            f"spectrum: gain of the damper (the ratio of the envelopes) from {gain.min():.3g} to {gain.max():.3g} "
-            f"over {int(both.sum())} frequencies; below 1 at {int((gain < 1).sum())}"
-        )
+    # The study's words; a spectrum saved before they were stored: the same, from its data.
+    gain = study.summary.get("gain") or gain_summary(spectrum_envelope(study.data))
+    if gain["frequencies"]:
+        lines.append(f"spectrum: {gain['text']}")
     coarse = adaptive_scans(study.config)
     if coarse:
         lines.append(

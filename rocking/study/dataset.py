@@ -270,6 +270,8 @@ def to_dataset(study, versions: dict | None = None):
     }
     if isinstance(study.summary.get("verdict"), dict):  # a design's verdict: its code and its sentence
         attrs["verdict"], attrs["verdict_text"] = study.summary["verdict"]["code"], study.summary["verdict"]["text"]
+    if isinstance(study.summary.get("gain"), dict):  # a spectrum's gain of the damper, as its command says it
+        attrs["gain_text"] = study.summary["gain"]["text"]
     if "guarantee" in study.summary:  # what an adaptive map can miss, in plain words beside the JSON
         attrs["guarantee"] = study.summary["guarantee"]
     return study.data.copy().assign_attrs(attrs)

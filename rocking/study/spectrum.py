@@ -513,10 +513,36 @@ def spectrum_tables(data, config: dict) -> dict:
     return {"spectrum": main, "spectrum-windows": {k: np.asarray(v) for k, v in windows_table.items()}}
 
 
+def gain_summary(env) -> dict:
+    """The damper's gain over the frequencies where it is defined, from a spectrum's :func:`envelope` ``env``.
+
+    The gain is the ratio of the envelopes' ``beta_min``, damper over bare, where the bare block's is bracketed
+    and the damper's not below the scan (a damper's ``beta_min`` not reached in the scan counts by its lower
+    bound). Returns ``frequencies`` (how many), ``min``, ``max`` (None where there are none) and ``below_1`` (at
+    how many the damper makes the block overturn at a smaller amplitude), and ``text``, the sentence a command
+    prints.
+    """
+    flag = {part: env["flag"].sel(part=part).values for part in ("bare", "damper")}
+    beta_min = {part: beta_min_or_bound(env.sel(part=part)) for part in ("bare", "damper")}
+    both = (flag["bare"] == BRACKETED) & (flag["damper"] != BELOW)
+    if not both.any():
+        text = "gain of the damper undefined at every frequency (the bare block's beta_min is outside the scan)"
+        return {"frequencies": 0, "min": None, "max": None, "below_1": 0, "text": text}
+    gain = beta_min["damper"][both] / beta_min["bare"][both]
+    out: dict = {"frequencies": int(both.sum()), "min": float(gain.min()), "max": float(gain.max())}
+    out["below_1"] = int((gain < 1).sum())
+    out["text"] = (
+        f"gain of the damper (the ratio of the envelopes) from {out['min']:.3g} to {out['max']:.3g} over "
+        f"{out['frequencies']} frequencies; below 1 at {out['below_1']}"
+    )
+    return out
+
+
 def spectrum_summary(data) -> dict:
-    """Columns bracketed / out of the scan range, and windows found, per part."""
+    """Columns bracketed / out of the scan range, and windows found, per part; the damper's gain
+    (:func:`gain_summary`)."""
     env = envelope(data)
-    out = {}
+    out: dict = {"gain": gain_summary(env)}
     for part in PARTS:
         flag = env["flag"].sel(part=part).values
         out[part] = {
