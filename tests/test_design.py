@@ -12,11 +12,12 @@ from rocking import Block, Damper, OneSinePulse, Stops
 from rocking.cli.study import add_study_commands
 from rocking.model.params import ParameterError
 from rocking.study.config import Grid, Setting, Tuning
-from rocking.study.design import best_candidate, design, edge_warnings, envelope, stroke_use, verdict
+from rocking.study.design import best_candidate, design, design_table, edge_warnings, envelope, stroke_use, verdict
 from rocking.study.overturning_map import TMaxWarning
 from rocking.study.spectrum import envelope as spectrum_envelope
 from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
+from rocking.study.vocabulary import ABOVE
 
 SERIAL = Execution(workers=1, progress=False)
 SETTING = Setting(Block.reference())
@@ -247,3 +248,19 @@ def test_design_edge_warnings_name_the_option_that_widens_the_range():
         "design: the optimal zeta = 0.5 is the largest of its search range: the best may lie beyond; widen it "
         "(zeta_grid= / --zeta-grid MIN MAX N, MAX above 0.5)",
     ]
+
+
+def test_a_beta_min_not_reached_is_censored_in_the_designs_table(small):
+    """Issue 38 item 3: in design.csv a beta_min the scan did not reach is NaN beside its lower bound (the scan's
+    end), never the scan's end as a value; one direction's flag is set to ABOVE here so that the case is there."""
+    data = small.data.copy(deep=True)
+    data["flag"].loc[{"part": "damper", "sign": -1, "Omega": data["Omega"].values[0]}] = ABOVE
+    table = design_table(data)
+    for part in ("bare", "damper"):
+        for sign, name in ((1, "pos"), (-1, "neg")):
+            raw = data["beta_min"].sel(part=part, sign=sign).values
+            above = data["flag"].sel(part=part, sign=sign).values == ABOVE
+            value, bound = table[f"{part}_beta_min_{name}"], table[f"{part}_beta_min_lower_bound_{name}"]
+            np.testing.assert_array_equal(value, np.where(above, np.nan, raw))
+            np.testing.assert_array_equal(bound, np.where(above, raw, np.nan))
+    assert np.isnan(table["damper_beta_min_neg"][0]) and table["damper_beta_min_lower_bound_neg"][0] > 0

@@ -60,7 +60,7 @@ from .ida import _user_stacklevel
 from .optimize import MAX_REFINE, USELESS_GAIN, EdgeWarning, at_edge, coarse_values, refinement
 from .overturning_map import PARTS, check_study, preflight, respond, warn_t_max, warn_undetermined
 from .result import Study
-from .spectrum import COLUMN_FIELDS, TOL, beta_min, check_tol
+from .spectrum import COLUMN_FIELDS, TOL, beta_min, censored, check_tol
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
 from .vocabulary import ABOVE, BRACKETED, PART_NAMES, flag_words
 
@@ -554,17 +554,23 @@ def design_tables(data, config: dict) -> dict:
 
 def design_table(data) -> dict:
     """One CSV row per ``Omega`` of the band: the envelopes, the gain of the design, its stroke use."""
+    # A beta_min not reached in the scan is a censored value (spectrum.censored): NaN and its lower bound.
     bare = envelope(data).sel(part="bare")
+    enveloped = censored({"beta_min": bare["beta_min"].values, "flag": bare["flag"].values})
     table = {
         "Omega": data["Omega"].values,
         "T_g": data["T_g"].values,
-        "bare_beta_min": bare["beta_min"].values,
+        "bare_beta_min": enveloped["beta_min"],
+        "bare_beta_min_lower_bound": enveloped["beta_min_lower_bound"],
         "bare_beta_min_is": flag_words(bare["flag"].values),
     }
     beta = data["beta_min"].transpose("part", "Omega", "sign")
+    flag = data["flag"].transpose("part", "Omega", "sign")
     for i, sign in enumerate(data["sign"].values):
-        table[f"bare_beta_min_{SIGN_NAMES[sign]}"] = beta.sel(part="bare").values[:, i]
-        table[f"damper_beta_min_{SIGN_NAMES[sign]}"] = beta.sel(part="damper").values[:, i]
+        for part in ("bare", "damper"):
+            one = censored({"beta_min": beta.sel(part=part).values[:, i], "flag": flag.sel(part=part).values[:, i]})
+            table[f"{part}_beta_min_{SIGN_NAMES[sign]}"] = one["beta_min"]
+            table[f"{part}_beta_min_lower_bound_{SIGN_NAMES[sign]}"] = one["beta_min_lower_bound"]
     table.update(gain=data["gain_opt"].values, gain_lower_bound=data["flag_opt"].values == ABOVE)
     table.update(
         stroke_use=stroke_use(data),

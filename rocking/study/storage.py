@@ -136,11 +136,13 @@ def headed(columns: dict, data) -> dict:
 
 def _source(column: str, data):
     """The variable of ``data`` a table's column shows: its own name, or ``<part>_<name>[_pos|_neg]`` (one part,
-    one direction), or None. Data without parts may still hold one part's variables (an optimisation's
-    ``beta_min``, of the block alone): their columns name it too."""
+    one direction), or the value a ``<name>_lower_bound`` bounds, or None. Data without parts may still hold one
+    part's variables (an optimisation's ``beta_min``, of the block alone): their columns name it too."""
     parts = [str(p) for p in data["part"].values] if "part" in data.coords else list(PART_NAMES)
     names = [column, *(column[len(p) + 1 :] for p in parts if column.startswith(f"{p}_"))]
     names += [n.removesuffix(end) for n in names for end in ("_pos", "_neg") if n.endswith(end)]
+    # A censored value's lower bound (``beta_min_lower_bound``) is in the unit of the value.
+    names += [n.removesuffix("_lower_bound") for n in names if n.endswith("_lower_bound")]
     return next((data.variables[n] for n in names if n in data.variables), None)
 
 
