@@ -3,6 +3,8 @@ answer whatever the outputs asked for, the command's damper defaults are the stu
 
 from __future__ import annotations
 
+import json
+import math
 import re
 
 import pytest
@@ -87,6 +89,9 @@ def test_a_bumper_force_that_never_rose_prints_0(capsys):
     """Pads that never push leave the largest force at -0.0: printed 0, not -0."""
     (line,) = _summary(capsys, ["--gamma", "0.05", "--stops", "--beta", "0.5", "--Omega", "4"])
     assert "0 stop contact(s), bumper force max 0 N" in line
+    assert main(["simulate", "--gamma", "0.05", "--stops", "--beta", "0.5", "--Omega", "4", "--json"]) == 0
+    written = json.loads(capsys.readouterr().out)["responses"]["with damper"]["bumper_force_max"]
+    assert written == 0.0 and math.copysign(1.0, written) == 1.0  # JSON too: 0.0, never -0.0
 
 
 def test_the_history_messages_name_each_response(capsys, tmp_path):

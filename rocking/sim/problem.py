@@ -267,11 +267,13 @@ class Response(ResponseFields):
         return cls(*[value(get(name)) for name, value in _RESULT_VALUES], history=history)
 
     def summary(self) -> dict:
-        """The scalar results as a plain dict (JSON-ready; NaN times as ``None``)."""
+        """The scalar results as a plain dict (JSON-ready; NaN times as ``None``, a zero as 0.0, never -0.0)."""
         out = {}
         for f in SUMMARY:
             value = python_type(f)(getattr(self, f.name))
-            out[f.name] = None if isinstance(value, float) and np.isnan(value) else value
+            if isinstance(value, float):  # -0.0 + 0.0 is +0.0: a force that never acted reads 0, not -0
+                value = None if np.isnan(value) else value + 0.0
+            out[f.name] = value
         return out
 
     def _repr_html_(self) -> str:
