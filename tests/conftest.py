@@ -81,3 +81,20 @@ def c_model(tmp_path_factory):
         return cache[name]
 
     return get
+
+
+@pytest.fixture(scope="session")
+def small_threshold(tmp_path_factory):
+    """A threshold map of 2 x 2 geometries and 4 frequencies, computed once for the figures' tests."""
+    from rocking.study.config import Grid
+    from rocking.study.threshold import threshold_map
+    from rocking.study.tiles import Execution
+
+    return threshold_map(
+        Grid("lam", 3.0, 4.0, 2),
+        Grid("p", 1.5, 4.0, 2),
+        Grid("Omega", 2.0, 14.0, 4),
+        Execution(workers=1, progress=False),
+        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
+        runs=tmp_path_factory.mktemp("threshold"),
+    )

@@ -213,20 +213,6 @@ def test_an_adaptive_map_names_its_saved_cells_of_unknown_stroke_distinctly(adap
     assert_no_power_of_ten(fig)
 
 
-@pytest.fixture(scope="module")
-def small_threshold(tmp_path_factory):
-    from rocking.study.threshold import threshold_map
-
-    return threshold_map(
-        Grid("lam", 3.0, 4.0, 2),
-        Grid("p", 1.5, 4.0, 2),
-        Grid("Omega", 2.0, 14.0, 4),
-        SERIAL,
-        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
-        runs=tmp_path_factory.mktemp("threshold"),
-    )
-
-
 def test_the_threshold_legends_list_what_is_drawn_each_entry_its_own_look(small_threshold):
     """The right panel's unlimited and stops entries differ (as in the left panel: open markers for the stops); the
     middle legend has an Omega* star only where one is drawn; every dotted line's meaning has a dotted entry."""

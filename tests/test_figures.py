@@ -590,20 +590,6 @@ def test_an_mp_study_title_writes_gamma_mp_and_the_dampers_gamma():
     assert r"$\gamma_{MP}$ = 2" in title and r"damper $\gamma$ = 0.05" in title
 
 
-@pytest.fixture(scope="module")
-def small_threshold(tmp_path_factory):
-    from rocking.study.threshold import threshold_map
-
-    return threshold_map(
-        Grid("lam", 3.0, 4.0, 2),
-        Grid("p", 1.5, 4.0, 2),
-        Grid("Omega", 2.0, 14.0, 4),
-        SERIAL,
-        Tm=Grid("Tm", 0.3, 3.0, 3, log=True),
-        runs=tmp_path_factory.mktemp("threshold"),
-    )
-
-
 def test_the_threshold_figure_shows_what_the_study_found_per_geometry(small_threshold):
     """No heat map: per (lambda, p) the best gain of each damper (filled: unlimited, open: stops), the Omega from
     which the block alone survives, and Omega* as a star where bracketed, else an open triangle at its bound;
