@@ -48,6 +48,7 @@ import sympy as sp
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.numpy import NumPyPrinter
 
+from . import friction
 from .equations import EFFECTIVE_GRAVITY, Equations
 from .mechanics import ag, agy, coordinate_units, s
 from .names import escape_c_comment, escape_markdown, escape_python_doc
@@ -60,7 +61,8 @@ TEMPLATES = Path(__file__).parent / "templates"
 #: the regime function of pads that only push. 6: the law of each stop side (``stops``), the regime's inputs
 #: (``regime``: the indicators, then the memory v_in of each Hunt-Crossley side), stop_approach. 7: the vertical
 #: ground acceleration ``agy`` after ``ag``; the functions that hold it as gravity read ``g + agy``.
-MANIFEST_FORMAT = 7
+#: 8: the functions of a floor with friction (``friction``), each function's own ``inputs`` after the shared ones.
+MANIFEST_FORMAT = 8
 
 
 @dataclass(frozen=True)
@@ -86,6 +88,12 @@ class Function:
     effective_gravity : bool
         Whether its outputs are written with ``g`` standing for ``g + agy``
         (:class:`~rocking.derive.equations.Equations`).
+    inputs : tuple of Argument
+        Its own arguments after every function's (the friction's ``mu_slip``, the slip speed ``du``).
+    hoisted : bool
+        Whether the C back end splits it into a run's constants and the rest
+        (:func:`prepare_run`). The friction's functions are not: they read the parameters and the regime
+        of the stops directly, so that what a run without friction prepares stays as it was.
     """
 
     name: str
@@ -95,6 +103,8 @@ class Function:
     symbols: tuple
     in_run: bool = True
     effective_gravity: bool = False
+    inputs: tuple = ()
+    hoisted: bool = True
 
     @property
     def scalar(self) -> bool:
@@ -107,8 +117,11 @@ def _scalar(name: str, doc: str, output, symbol) -> Function:
     return Function(name, doc, (output,), ("",), (symbol,))
 
 
-def model_functions(eq: Equations) -> list[Function]:
-    """The generated interface of a derived model, in a fixed order: the table every back end follows."""
+def model_functions(eq: Equations, friction: bool = False) -> list[Function]:
+    """The generated interface of a derived model, in a fixed order: the table every back end follows.
+
+    ``friction``: the functions of a floor with friction (:func:`friction_functions`) come last.
+    """
     sysm = eq.system
     names = [str(q) for q in sysm.q]
     n = len(names)
@@ -264,12 +277,113 @@ def model_functions(eq: Equations) -> list[Function]:
             in_run=False,
         ),
     ]
+    if friction:
+        table += friction_functions(eq)
     gravity = sp.Symbol("g", real=True)
     return [
         dataclasses.replace(f, effective_gravity=any(o.has(gravity) for o in f.outputs))
-        if eq.vertical and f.name in EFFECTIVE_GRAVITY
+        if eq.vertical and f.name in EFFECTIVE_GRAVITY + FRICTION_GRAVITY
         else f
         for f in table
+    ]
+
+
+#: The friction's functions written with ``g`` standing for ``g + agy`` (from the accelerations and reactions).
+FRICTION_GRAVITY = ("slide_accel", "contact_slide_accel", "slide_uplift", "stick_force", "contact_stick_force")
+
+
+def friction_functions(eq: Equations) -> list[Function]:
+    """The functions of the phases of a floor with friction (docs/model.md section 15, :mod:`.friction`).
+
+    Each takes the arguments of every function, then its own (:attr:`Function.inputs`): ``mu_slip``, the
+    kinetic coefficient signed by the slip's direction (``mu_k sign(du)``), and for the slip's energy and
+    the impacts ``du``, the slip speed (before the impact).
+    """
+    sysm = eq.system
+    names = [str(q) for q in sysm.q]
+    acc = tuple("dd" + q for q in names) + ("ddu",)
+    ddu, N, F = (sp.Symbol(n, real=True) for n in ("ddu", "N", "F"))
+    P_t, P_n = sp.Symbol("P_t", real=True), sp.Symbol("P_n", real=True)
+    du_plus = sp.Symbol("du_plus", real=True)
+    mu = Argument(str(friction.mu_slip), "mu_k sign(du): the kinetic friction coefficient signed by the slip")
+    du = Argument(str(friction.du_before), "slip speed of the base relative to the ground [m/s]")
+    sliding, fimpact, held = friction.sliding(eq), friction.friction_impact(eq), friction.contact(eq)
+    after = tuple("d" + q + "_plus" for q in names) + ("du_plus", "P_t", "P_n")
+    after_symbols = tuple(_after_impact(d) for d in sysm.dq) + (du_plus, P_t, P_n)
+
+    def made(name, doc, outputs, labels, symbols, inputs):
+        return Function(name, doc, tuple(outputs), labels, symbols, in_run=False, inputs=inputs, hoisted=False)
+
+    return [
+        made(
+            "slide_accel",
+            "Accelerations while rocking about s with the pivot sliding (slide-rock), then the slip's ddu and the "
+            "floor's normal force N [N]; the friction force is -mu_slip N.",
+            [*sliding.slide_accel, sliding.slide_normal],
+            acc + ("N",),
+            tuple(sysm.ddq) + (ddu, N),
+            (mu,),
+        ),
+        made(
+            "contact_slide_accel",
+            "Accelerations in full contact with the base sliding (ddtheta = 0), then ddu and the floor's normal "
+            "force N [N].",
+            [*sliding.contact_slide_accel, sliding.contact_slide_normal],
+            acc + ("N",),
+            tuple(sysm.ddq) + (ddu, N),
+            (mu,),
+        ),
+        made(
+            "slide_uplift",
+            "Uplift function about the pivot s in full contact while the base slides.",
+            [sliding.slide_uplift],
+            ("",),
+            (sp.Symbol("u_s", real=True),),
+            (mu,),
+        ),
+        made(
+            "stick_force",
+            "Tangential force F = V_b and normal force N = N_b [N] the floor holds while rocking about s with "
+            "the pivot stuck (|F| <= mu_s N keeps it).",
+            held.stick_force,
+            ("F", "N"),
+            (F, N),
+            (),
+        ),
+        made(
+            "contact_stick_force",
+            "Tangential force F and normal force N [N] the floor holds in full contact with the base stuck.",
+            held.contact_stick_force,
+            ("F", "N"),
+            (F, N),
+            (),
+        ),
+        made(
+            "slip_energy",
+            "Kinetic energy [J] the slip speed du adds to the energy in the ground frame.",
+            [held.slip_energy],
+            ("",),
+            (sp.Symbol("E_u", real=True),),
+            (du,),
+        ),
+        made(
+            "impact_stick",
+            "Velocities after an impact at theta = 0 that ends rocking about s when the new corner sticks (du "
+            "after is 0), then the floor's impulses P_t, P_n [N s] on it; ag and agy are ignored.",
+            fimpact.stick,
+            after,
+            after_symbols,
+            (du,),
+        ),
+        made(
+            "impact_slide",
+            "Velocities after an impact at theta = 0 that ends rocking about s when the new corner slides, "
+            "P_t = -mu_slip P_n, then the impulses P_t, P_n [N s]; ag and agy are ignored.",
+            fimpact.slide,
+            after,
+            after_symbols,
+            (du, mu),
+        ),
     ]
 
 
@@ -529,7 +643,7 @@ def model_context(eq: Equations, spec) -> ModelContext:
     coordinates = tuple(str(q) for q in sysm.q)
     state = coordinates + tuple(str(d) for d in sysm.dq)
     params = tuple(str(p) for p in sysm.params)
-    functions = tuple(model_functions(eq))
+    functions = tuple(model_functions(eq, spec.friction))
     block = {p[0] for p in BLOCK_PARAMETERS}
     units = coordinate_units(spec)
     units.update({"d" + q: unit + "/s" for q, unit in units.items()})
@@ -547,7 +661,7 @@ def model_context(eq: Equations, spec) -> ModelContext:
         block_parameters=tuple(p for p in params if p in block),
         functions=functions,
         cse=tuple(common_subexpressions(f.outputs) for f in functions),
-        prepared=prepare_run(list(functions), state),
+        prepared=prepare_run([f for f in functions if f.hoisted], state),
         regime=tuple(str(on) for on, *_ in sysm.stops) + tuple(str(v) for v in eq.stop_memory),
         state_regime=tuple(eq.stop_regime),
         stops=tuple(
@@ -639,7 +753,12 @@ class NumpyGenerator(Generator):
         m = self.model
         printer = NumPyPrinter({"fully_qualified_modules": True})
         funcs = [
-            dict(_printed(f, c, printer), regime=bool(c.uses(m.regime)), effective_gravity=f.effective_gravity)
+            dict(
+                _printed(f, c, printer),
+                regime=bool(c.uses(m.regime)),
+                effective_gravity=f.effective_gravity,
+                inputs=list(f.inputs),
+            )
             for f, c in zip(m.functions, m.cse)
         ]
         regime = _state_regime(m, printer)
@@ -700,6 +819,7 @@ class CGenerator(Generator):
             "subs": [(str(a), printer.doprint(b)) for a, b in run.prepare.subs],
             "outs": [printer.doprint(o) for o in run.prepare.outputs],
         }
+        hoisted = [f for f in m.functions if f.hoisted]
         funcs = [
             dict(
                 _printed(f, c, printer),
@@ -709,11 +829,27 @@ class CGenerator(Generator):
                 state=_read(m.state, c),
                 constants=_read(run.constants, c),
             )
-            for f, c in zip(m.functions, run.functions)
+            for f, c in zip(hoisted, run.functions)
+        ]
+        direct = [
+            dict(
+                _printed(f, c, printer),
+                uses_s=bool(c.uses(["s"])),
+                uses_ag=bool(c.uses(["ag"])),
+                reads_agy=bool(c.uses(["agy"])) or f.effective_gravity,
+                effective_gravity=f.effective_gravity,
+                state=_read(m.state, c),
+                params=[(i, n) for i, n in _read(m.params, c) if not (f.effective_gravity and n == "g")],
+                regime=_read(m.regime, c),
+                inputs=[a.name for a in f.inputs],
+            )
+            for f, c in zip(m.functions, m.cse)
+            if not f.hoisted
         ]
         fields = {
             "prepare": prepare,
             "functions": funcs,
+            "direct": direct,
             "state_regime": _state_regime(m, printer),
             "n_constants": len(run.constants),
             "n_stops": len(m.stops),
@@ -795,7 +931,16 @@ class ManifestGenerator(Generator):
             "parameters": [_parameter_entry(p) for p in m.parameters],
             "block_parameters": list(m.block_parameters),
             "arguments": [a.name for a in m.arguments],
-            "functions": {f.name: {"outputs": len(f.outputs), "scalar": f.scalar, "doc": f.doc} for f in m.functions},
+            "functions": {
+                f.name: {
+                    "outputs": len(f.outputs),
+                    "scalar": f.scalar,
+                    "doc": f.doc,
+                    "inputs": [a.name for a in f.inputs],
+                }
+                for f in m.functions
+            },
+            "friction": any(f.inputs for f in m.functions),
             "regime": list(m.regime),
             "vertical": m.vertical,
             "stops": [dict(side) for side in m.stops],

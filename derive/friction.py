@@ -42,11 +42,16 @@ class Sliding:
         Full contact while the base slides: ``ddq`` (``ddtheta = 0``), then ``ddu``.
     slide_uplift : Expr
         The uplift margin of section 5 about ``s`` while the base slides in full contact.
+    slide_normal, contact_slide_normal : Expr
+        The floor's normal force ``N`` on the sliding contact, rocking and in full contact (the friction force
+        is ``-mu_slip N``).
     """
 
     slide_accel: list
     contact_slide_accel: list
     slide_uplift: sp.Expr
+    slide_normal: sp.Expr
+    contact_slide_normal: sp.Expr
 
 
 def _reaction(eq: Equations, which: int, ddq: list) -> sp.Expr:
@@ -87,12 +92,14 @@ def sliding(eq: Equations) -> Sliding:
     q, dq = eq.system.q, eq.system.dq
     rocking = list(eq.rocking_accel)
     ddu = _slip_acceleration(eq, rocking, {})
-    slide = [a.xreplace({ag: ag + ddu}) for a in rocking] + [ddu]
+    slide = [a.xreplace({ag: ag + ddu}) for a in rocking]
     held = {q[0]: 0, dq[0]: 0}
     contact = list(eq.contact_accel)
     ddu_c = _slip_acceleration(eq, contact, held)
-    contact_slide = [a.xreplace({ag: ag + ddu_c}) for a in contact] + [ddu_c]
-    return Sliding(slide, contact_slide, eq.uplift.xreplace({ag: ag + ddu_c}))
+    contact_slide = [a.xreplace({ag: ag + ddu_c}) for a in contact]
+    normal = _reaction(eq, 1, rocking).xreplace({ag: ag + ddu})
+    normal_c = _reaction(eq, 1, contact).subs(held).xreplace({ag: ag + ddu_c})
+    return Sliding(slide + [ddu], contact_slide + [ddu_c], eq.uplift.xreplace({ag: ag + ddu_c}), normal, normal_c)
 
 
 @dataclass(frozen=True)
@@ -167,3 +174,43 @@ def friction_impact(eq: Equations) -> FrictionImpact:
         velocities = [w[after[0]], *(w[a] for a in after[3:]), w[after[1]]]
         out.append([sp.cancel(v.subs(s**2, 1)) for v in (*velocities, w[P_t], w[P_n])])
     return FrictionImpact(*out)
+
+
+@dataclass(frozen=True)
+class Contact:
+    """What the floor must hold while the contact sticks, and the slip's share of the energy.
+
+    Attributes
+    ----------
+    stick_force : list of Expr
+        Rocking about ``s`` with the pivot held: the tangential force ``F = V_b`` and the normal force
+        ``N = N_b`` of the floor on the block and its bodies (``|F| <= mu_s N`` keeps it).
+    contact_stick_force : list of Expr
+        The same in full contact (``theta = dtheta = 0``).
+    slip_energy : Expr
+        The kinetic energy the slip ``du`` (:data:`du_before`) adds to the energy relative to the ground:
+        ``du P_x + m_total du^2 / 2``, ``P_x`` the horizontal momentum relative to the base.
+    """
+
+    stick_force: list
+    contact_stick_force: list
+    slip_energy: sp.Expr
+
+
+def contact(eq: Equations) -> Contact:
+    """The forces a sticking contact holds and the slip's energy, from the derived model ``eq``."""
+    sysm = eq.system
+    q, dq = sysm.q, sysm.dq
+    held = {q[0]: 0, dq[0]: 0}
+    rocking = [_reaction(eq, i, list(eq.rocking_accel)) for i in (0, 1)]
+    full = [_reaction(eq, i, list(eq.contact_accel)).subs(held) for i in (0, 1)]
+    t_ = sysm.x_g.args[0]
+    energy = sp.Integer(0)
+    for mass, _, X, _ in sysm.bodies:
+        relative = (X[0] - sysm.x_g).diff(t_)
+        energy += mass * (du_before * relative + du_before**2 / 2)
+    rates = {f.diff(t_): d for f, d in zip(sysm.qt, dq)}
+    energy = sp.expand(energy.xreplace(rates).xreplace(dict(zip(sysm.qt, q))))
+    if energy.has(t_):
+        raise SpecError("the slip's energy depends on the ground's motion")
+    return Contact(rocking, full, energy)

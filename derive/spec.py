@@ -144,6 +144,7 @@ class Spec:
     impact: dict[str, str] = field(default_factory=dict)
     source: str = ""
     stops: tuple[Stop, ...] = ()
+    friction: bool = False
 
     @property
     def all_parameters(self) -> tuple[Parameter, ...]:
@@ -187,7 +188,18 @@ def _check_keys(table: dict, allowed: set[str], where: str) -> None:
 
 
 #: Keys of the top-level table of a spec.
-_SPEC_KEYS = {"name", "title", "coordinates", "parameters", "bodies", "springs", "dashpots", "stops", "impact"}
+_SPEC_KEYS = {
+    "name",
+    "title",
+    "coordinates",
+    "parameters",
+    "bodies",
+    "springs",
+    "dashpots",
+    "stops",
+    "impact",
+    "ground",
+}
 
 
 def _model_name(data: dict) -> str:
@@ -439,6 +451,16 @@ def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
     return {c: impact[c] for c in coords}
 
 
+def _friction(table: dict) -> bool:
+    """``[ground] friction``: whether the model also gets the phases of a floor with friction (docs/model.md
+    section 15), a boolean."""
+    _check_keys(table, {"friction"}, "spec: ground")
+    value = table.get("friction", False)
+    if not isinstance(value, bool):
+        raise SpecError(f"spec: ground friction must be true or false, not {quote(str(value))}")
+    return value
+
+
 def parse_spec(data: dict, source: str = "") -> Spec:
     """Build a checked :class:`Spec` from the parsed TOML tables.
 
@@ -479,6 +501,7 @@ def parse_spec(data: dict, source: str = "") -> Spec:
             _stop(i, table, body_names, coords, known)
             for i, table in enumerate(_list(data.get("stops", []), "spec: stops"))
         ),
+        friction=_friction(_table(data.get("ground", {}), "spec: ground")),
     )
     _check_coordinates_used(spec)
     check_spec_cost(spec)  # before any other work on the expressions

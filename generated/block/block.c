@@ -532,3 +532,231 @@ void block_element_forces(double s, const double *y, double ag, double agy, cons
     block_prepare(s, NULL, p, cst);
     block_element_forces_prepared(y, ag, cst, out);
 }
+
+/* Accelerations while rocking about s with the pivot sliding (slide-rock), then the slip's ddu and the floor's normal force N [N]; the friction force is -mu_slip N.
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_slide_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip, double *out)
+{
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[BLOCK_P_g] + agy;
+    const double cse0 = 4*M;
+    const double cse1 = cse0*e;
+    const double cse2 = B*s;
+    const double cse3 = 1.0/((B*B)*M + (H*H)*M + 4*I_G + cse0*(e*e) + cse1*cse2);
+    const double cse4 = cos(theta);
+    const double cse5 = H*cse4;
+    const double cse6 = 2*M;
+    const double cse7 = cse5*cse6;
+    const double cse8 = sin(theta);
+    const double cse9 = cse1*cse8;
+    const double cse10 = cse2*cse8;
+    const double cse11 = cse10*cse6;
+    const double cse12 = cse11 + cse7 + cse9;
+    const double cse13 = M*e;
+    const double cse14 = cse13*cse8;
+    const double cse15 = (1.0/2.0)*M;
+    const double cse16 = cse15*cse5;
+    const double cse17 = cse10*cse15;
+    const double cse18 = cse3*(-cse14 - cse16 - cse17);
+    const double cse19 = H*cse8;
+    const double cse20 = cse15*cse19;
+    const double cse21 = cse13*cse4 + cse15*cse2*cse4 - cse20;
+    const double cse22 = M*ag;
+    const double cse23 = (dtheta*dtheta);
+    const double cse24 = 2*cse22;
+    const double cse25 = 4*e;
+    const double cse26 = M*g;
+    const double cse27 = cse26*cse4;
+    const double cse28 = 2*cse19*cse26 - 2*cse2*cse27 - cse25*cse27;
+    const double cse29 = cse10*cse24 + cse22*cse25*cse8 + cse24*cse5 + cse28;
+    const double cse30 = -M*g + cse14*cse23 + cse16*cse23 + cse17*cse23;
+    const double cse31 = ((1.0/2.0)*B*M*cse23*cse4*s + M*cse23*cse4*e - cse18*cse29 - cse20*cse23 - cse22 - mu_slip*(cse21*cse29*cse3 - cse30))/(M + cse12*cse18 + cse12*cse21*cse3*mu_slip);
+    const double cse32 = ag + cse31;
+    const double cse33 = cse11*cse32 + cse28 + cse32*cse7 + cse32*cse9;
+    out[0] = cse3*cse33;
+    out[1] = cse31;
+    out[2] = cse21*cse3*cse33 - cse30;
+}
+
+/* Accelerations in full contact with the base sliding (ddtheta = 0), then ddu and the floor's normal force N [N].
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_contact_slide_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip, double *out)
+{
+    (void)s;
+    (void)y;
+    (void)on;
+    const double M = p[0];
+    const double g = p[BLOCK_P_g] + agy;
+    const double cse0 = M*g;
+    out[0] = 0;
+    out[1] = (-M*ag - cse0*mu_slip)/M;
+    out[2] = cse0;
+}
+
+/* Uplift function about the pivot s in full contact while the base slides.
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+double block_slide_uplift(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip)
+{
+    (void)y;
+    (void)on;
+    const double M = p[0];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[BLOCK_P_g] + agy;
+    const double cse0 = M*g;
+    return -1.0/2.0*B*cse0 + (1.0/2.0)*H*M*s*(ag + (-M*ag - cse0*mu_slip)/M) - cse0*e*s;
+}
+
+/* Tangential force F = V_b and normal force N = N_b [N] the floor holds while rocking about s with the pivot stuck (|F| <= mu_s N keeps it).
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_stick_force(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out)
+{
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[BLOCK_P_g] + agy;
+    const double cse0 = M*ag;
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = sin(theta);
+    const double cse3 = (1.0/2.0)*M;
+    const double cse4 = cse2*cse3;
+    const double cse5 = H*cse4;
+    const double cse6 = cos(theta);
+    const double cse7 = M*e;
+    const double cse8 = cse6*cse7;
+    const double cse9 = B*s;
+    const double cse10 = cse3*cse6*cse9;
+    const double cse11 = cse2*cse7;
+    const double cse12 = H*cse6;
+    const double cse13 = cse12*cse3;
+    const double cse14 = cse4*cse9;
+    const double cse15 = 4*M;
+    const double cse16 = 1.0/((B*B)*M + (H*H)*M + 4*I_G + cse15*cse9*e + cse15*(e*e));
+    const double cse17 = 2*cse0;
+    const double cse18 = M*g;
+    const double cse19 = 4*e;
+    const double cse20 = cse18*cse6;
+    const double cse21 = 2*H*cse18*cse2 + cse0*cse19*cse2 + cse12*cse17 + cse17*cse2*cse9 - cse19*cse20 - 2*cse20*cse9;
+    out[0] = cse0 - cse1*cse10 + cse1*cse5 - cse1*cse8 + cse16*cse21*(-cse11 - cse13 - cse14);
+    out[1] = M*g - cse1*cse11 - cse1*cse13 - cse1*cse14 + cse16*cse21*(cse10 - cse5 + cse8);
+}
+
+/* Tangential force F and normal force N [N] the floor holds in full contact with the base stuck.
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_contact_stick_force(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out)
+{
+    (void)s;
+    (void)y;
+    (void)on;
+    const double M = p[0];
+    const double g = p[BLOCK_P_g] + agy;
+    out[0] = M*ag;
+    out[1] = M*g;
+}
+
+/* Kinetic energy [J] the slip speed du adds to the energy in the ground frame.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+double block_slip_energy(double s, const double *y, double ag, double agy, const double *p, const double *on, double du)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = dtheta*du;
+    const double cse1 = cse0*sin(theta);
+    const double cse2 = (1.0/2.0)*M;
+    return -B*cse1*cse2*s - H*cse0*cse2*cos(theta) - M*cse1*e + (1.0/2.0)*M*(du*du);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s when the new corner sticks (du after is 0), then the floor's impulses P_t, P_n [N s] on it; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_impact_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = 4*I_G;
+    const double cse1 = (B*B);
+    const double cse2 = (H*H);
+    const double cse3 = M*cse2;
+    const double cse4 = 4*(e*e);
+    const double cse5 = M*cse4;
+    const double cse6 = 1.0/(4*B*M*e*s - M*cse1 - cse0 - cse3 - cse5);
+    const double cse7 = cse0*dtheta;
+    const double cse8 = (M*M);
+    const double cse9 = cse8*du;
+    const double cse10 = B*s;
+    const double cse11 = cse10*cse9;
+    const double cse12 = cse8*dtheta;
+    const double cse13 = 2*H*e;
+    const double cse14 = cse10*cse12;
+    out[0] = cse6*(2*H*M*du + M*cse1*dtheta - cse3*dtheta - cse5*dtheta - cse7);
+    out[1] = 0;
+    out[2] = cse6*(-H*cse1*cse12 + M*cse0*du + cse1*cse9 - 4*cse11*e + cse13*cse14 + cse4*cse9);
+    out[3] = cse6*(-H*cse11 + M*cse10*cse7 + cse13*cse9 + cse14*cse2);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s when the new corner slides, P_t = -mu_slip P_n, then the impulses P_t, P_n [N s]; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_impact_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = 4*I_G;
+    const double cse1 = cse0*dtheta;
+    const double cse2 = (B*B);
+    const double cse3 = 4*M*(e*e);
+    const double cse4 = M*mu_slip;
+    const double cse5 = H*cse4;
+    const double cse6 = 2*e;
+    const double cse7 = cse5*cse6;
+    const double cse8 = B*s;
+    const double cse9 = M*cse2;
+    const double cse10 = 1.0/(B*H*M*mu_slip*s + 4*B*M*e*s - cse0 - cse3 - cse7 - cse9);
+    const double cse11 = cse1*cse8;
+    const double cse12 = cse8*dtheta;
+    const double cse13 = cse10*cse11;
+    out[0] = cse10*(M*cse2*dtheta - cse1 - cse3*dtheta - cse5*cse8*dtheta - cse7*dtheta);
+    out[1] = cse10*(B*H*M*du*mu_slip*s + 4*B*M*du*e*s - (H*H)*cse12*cse4 - H*M*cse12*cse6 + H*M*cse2*dtheta - cse0*du - cse11*mu_slip - cse3*du - cse7*du - cse9*du);
+    out[2] = -cse13*cse4;
+    out[3] = M*cse13;
+}

@@ -895,3 +895,427 @@ def element_forces(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
     """
     out = _broadcast((), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
     return out
+
+
+def slide_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, mu_slip, stop_on=None):
+    """Accelerations while rocking about s with the pivot sliding (slide-rock), then the slip's ddu and the floor's normal force N [N]; the friction force is -mu_slip N.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddtheta, ddu, N
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = 4*M
+    cse1 = cse0*e
+    cse2 = B*s
+    cse3 = (B**2*M + H**2*M + 4*I_G + cse0*e**2 + cse1*cse2)**(-1.0)
+    cse4 = numpy.cos(theta)
+    cse5 = H*cse4
+    cse6 = 2*M
+    cse7 = cse5*cse6
+    cse8 = numpy.sin(theta)
+    cse9 = cse1*cse8
+    cse10 = cse2*cse8
+    cse11 = cse10*cse6
+    cse12 = cse11 + cse7 + cse9
+    cse13 = M*e
+    cse14 = cse13*cse8
+    cse15 = (1/2)*M
+    cse16 = cse15*cse5
+    cse17 = cse10*cse15
+    cse18 = cse3*(-cse14 - cse16 - cse17)
+    cse19 = H*cse8
+    cse20 = cse15*cse19
+    cse21 = cse13*cse4 + cse15*cse2*cse4 - cse20
+    cse22 = M*ag
+    cse23 = dtheta**2
+    cse24 = 2*cse22
+    cse25 = 4*e
+    cse26 = M*g
+    cse27 = cse26*cse4
+    cse28 = 2*cse19*cse26 - 2*cse2*cse27 - cse25*cse27
+    cse29 = cse10*cse24 + cse22*cse25*cse8 + cse24*cse5 + cse28
+    cse30 = -M*g + cse14*cse23 + cse16*cse23 + cse17*cse23
+    cse31 = ((1/2)*B*M*cse23*cse4*s + M*cse23*cse4*e - cse18*cse29 - cse20*cse23 - cse22 - mu_slip*(cse21*cse29*cse3 - cse30))/(M + cse12*cse18 + cse12*cse21*cse3*mu_slip)
+    cse32 = ag + cse31
+    cse33 = cse11*cse32 + cse28 + cse32*cse7 + cse32*cse9
+    out = _broadcast((cse3*cse33, cse31, cse21*cse3*cse33 - cse30, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, mu_slip))
+    return out
+
+
+def contact_slide_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, mu_slip, stop_on=None):
+    """Accelerations in full contact with the base sliding (ddtheta = 0), then ddu and the floor's normal force N [N].
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddtheta, ddu, N
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*g
+    out = _broadcast((0, (-M*ag - cse0*mu_slip)/M, cse0, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, mu_slip))
+    return out
+
+
+def slide_uplift(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, mu_slip, stop_on=None):
+    """Uplift function about the pivot s in full contact while the base slides.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*g
+    out = _broadcast((-1/2*B*cse0 + (1/2)*H*M*s*(ag + (-M*ag - cse0*mu_slip)/M) - cse0*e*s, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, mu_slip))
+    return out[0]
+
+
+def stick_force(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Tangential force F = V_b and normal force N = N_b [N] the floor holds while rocking about s with the pivot stuck (|F| <= mu_s N keeps it).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        F, N
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*ag
+    cse1 = dtheta**2
+    cse2 = numpy.sin(theta)
+    cse3 = (1/2)*M
+    cse4 = cse2*cse3
+    cse5 = H*cse4
+    cse6 = numpy.cos(theta)
+    cse7 = M*e
+    cse8 = cse6*cse7
+    cse9 = B*s
+    cse10 = cse3*cse6*cse9
+    cse11 = cse2*cse7
+    cse12 = H*cse6
+    cse13 = cse12*cse3
+    cse14 = cse4*cse9
+    cse15 = 4*M
+    cse16 = (B**2*M + H**2*M + 4*I_G + cse15*cse9*e + cse15*e**2)**(-1.0)
+    cse17 = 2*cse0
+    cse18 = M*g
+    cse19 = 4*e
+    cse20 = cse18*cse6
+    cse21 = 2*H*cse18*cse2 + cse0*cse19*cse2 + cse12*cse17 + cse17*cse2*cse9 - cse19*cse20 - 2*cse20*cse9
+    out = _broadcast((cse0 - cse1*cse10 + cse1*cse5 - cse1*cse8 + cse16*cse21*(-cse11 - cse13 - cse14), M*g - cse1*cse11 - cse1*cse13 - cse1*cse14 + cse16*cse21*(cse10 - cse5 + cse8), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
+    return out
+
+
+def contact_stick_force(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Tangential force F and normal force N [N] the floor holds in full contact with the base stuck.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        F, N
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    out = _broadcast((M*ag, M*g, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
+    return out
+
+
+def slip_energy(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, stop_on=None):
+    """Kinetic energy [J] the slip speed du adds to the energy in the ground frame.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        slip speed of the base relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = dtheta*du
+    cse1 = cse0*numpy.sin(theta)
+    cse2 = (1/2)*M
+    out = _broadcast((-B*cse1*cse2*s - H*cse0*cse2*numpy.cos(theta) - M*cse1*e + (1/2)*M*du**2, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du))
+    return out[0]
+
+
+def impact_stick(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s when the new corner sticks (du after is 0), then the floor's impulses P_t, P_n [N s] on it; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        slip speed of the base relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, P_t, P_n
+    """
+    cse0 = 4*I_G
+    cse1 = B**2
+    cse2 = H**2
+    cse3 = M*cse2
+    cse4 = 4*e**2
+    cse5 = M*cse4
+    cse6 = (4*B*M*e*s - M*cse1 - cse0 - cse3 - cse5)**(-1.0)
+    cse7 = cse0*dtheta
+    cse8 = M**2
+    cse9 = cse8*du
+    cse10 = B*s
+    cse11 = cse10*cse9
+    cse12 = cse8*dtheta
+    cse13 = 2*H*e
+    cse14 = cse10*cse12
+    out = _broadcast((cse6*(2*H*M*du + M*cse1*dtheta - cse3*dtheta - cse5*dtheta - cse7), 0, cse6*(-H*cse1*cse12 + M*cse0*du + cse1*cse9 - 4*cse11*e + cse13*cse14 + cse4*cse9), cse6*(-H*cse11 + M*cse10*cse7 + cse13*cse9 + cse14*cse2), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du))
+    return out
+
+
+def impact_slide(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, mu_slip, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s when the new corner slides, P_t = -mu_slip P_n, then the impulses P_t, P_n [N s]; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        slip speed of the base relative to the ground [m/s]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, P_t, P_n
+    """
+    cse0 = 4*I_G
+    cse1 = cse0*dtheta
+    cse2 = B**2
+    cse3 = 4*M*e**2
+    cse4 = M*mu_slip
+    cse5 = H*cse4
+    cse6 = 2*e
+    cse7 = cse5*cse6
+    cse8 = B*s
+    cse9 = M*cse2
+    cse10 = (B*H*M*mu_slip*s + 4*B*M*e*s - cse0 - cse3 - cse7 - cse9)**(-1.0)
+    cse11 = cse1*cse8
+    cse12 = cse8*dtheta
+    cse13 = cse10*cse11
+    out = _broadcast((cse10*(M*cse2*dtheta - cse1 - cse3*dtheta - cse5*cse8*dtheta - cse7*dtheta), cse10*(B*H*M*du*mu_slip*s + 4*B*M*du*e*s - H**2*cse12*cse4 - H*M*cse12*cse6 + H*M*cse2*dtheta - cse0*du - cse11*mu_slip - cse3*du - cse7*du - cse9*du), -cse13*cse4, M*cse13, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, mu_slip))
+    return out

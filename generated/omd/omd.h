@@ -146,6 +146,36 @@ void omd_base_reaction_prepared(const double *y, double ag, const double *cst, d
 void omd_element_forces(double s, const double *y, double ag, double agy, const double *p, double *out);
 void omd_element_forces_prepared(const double *y, double ag, const double *cst, double *out);
 
+/* Accelerations while rocking about s with the pivot sliding (slide-rock), then the slip's ddu and the floor's normal force N [N]; the friction force is -mu_slip N.
+ * out: ddtheta, ddx, ddu, N */
+void omd_slide_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip, double *out);
+
+/* Accelerations in full contact with the base sliding (ddtheta = 0), then ddu and the floor's normal force N [N].
+ * out: ddtheta, ddx, ddu, N */
+void omd_contact_slide_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip, double *out);
+
+/* Uplift function about the pivot s in full contact while the base slides. */
+double omd_slide_uplift(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip);
+
+/* Tangential force F = V_b and normal force N = N_b [N] the floor holds while rocking about s with the pivot stuck (|F| <= mu_s N keeps it).
+ * out: F, N */
+void omd_stick_force(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out);
+
+/* Tangential force F and normal force N [N] the floor holds in full contact with the base stuck.
+ * out: F, N */
+void omd_contact_stick_force(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out);
+
+/* Kinetic energy [J] the slip speed du adds to the energy in the ground frame. */
+double omd_slip_energy(double s, const double *y, double ag, double agy, const double *p, const double *on, double du);
+
+/* Velocities after an impact at theta = 0 that ends rocking about s when the new corner sticks (du after is 0), then the floor's impulses P_t, P_n [N s] on it; ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, P_t, P_n */
+void omd_impact_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double *out);
+
+/* Velocities after an impact at theta = 0 that ends rocking about s when the new corner slides, P_t = -mu_slip P_n, then the impulses P_t, P_n [N s]; ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, P_t, P_n */
+void omd_impact_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double mu_slip, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD_NQ
@@ -197,6 +227,16 @@ void omd_element_forces_prepared(const double *y, double ag, const double *cst, 
 #define model_base_reaction_prepared omd_base_reaction_prepared
 #define model_element_forces omd_element_forces
 #define model_element_forces_prepared omd_element_forces_prepared
+/* The functions of a floor with friction (docs/model.md section 15). */
+#define MODEL_FRICTION 1
+#define model_slide_accel omd_slide_accel
+#define model_contact_slide_accel omd_contact_slide_accel
+#define model_slide_uplift omd_slide_uplift
+#define model_stick_force omd_stick_force
+#define model_contact_stick_force omd_contact_stick_force
+#define model_slip_energy omd_slip_energy
+#define model_impact_stick omd_impact_stick
+#define model_impact_slide omd_impact_slide
 #endif
 
 #endif

@@ -1460,3 +1460,749 @@ def element_forces(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k
     cse4 = k_b*numpy.select([numpy.greater(functools.reduce(numpy.minimum, [cse3, _vin1 - cse1]), 0),True], [1,0], default=numpy.nan)*functools.reduce(numpy.maximum, [0, cse3])**n_b
     out = _broadcast((c*dx + cse2 - cse4 + k_m*x + cse1*cse4/_vin1 + cse1*cse2/_vin0, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
     return out
+
+
+def slide_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, mu_slip, stop_on=None):
+    """Accelerations while rocking about s with the pivot sliding (slide-rock), then the slip's ddu and the floor's normal force N [N]; the friction force is -mu_slip N.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddtheta, ddx, ddu, N
+    """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*e
+    cse1 = B*s
+    cse2 = m*x
+    cse3 = B**2
+    cse4 = (1/4)*M
+    cse5 = (H**2*cse4 + I_G + M*e**2 + cse0*cse1 + cse1*cse2 + cse3*cse4 + (1/4)*cse3*m + m*x**2)**(-1.0)
+    cse6 = -H - h
+    cse7 = numpy.cos(theta)
+    cse8 = cse7*m
+    cse9 = H*cse8
+    cse10 = numpy.sin(theta)
+    cse11 = cse0*cse10
+    cse12 = cse8*h
+    cse13 = cse10*cse2
+    cse14 = (1/2)*M
+    cse15 = H*cse14
+    cse16 = cse15*cse7
+    cse17 = cse1*cse14
+    cse18 = cse10*cse17
+    cse19 = cse10*m
+    cse20 = (1/2)*cse1
+    cse21 = cse19*cse20
+    cse22 = cse11 + cse12 + cse13 + cse16 + cse18 + cse21 + cse9
+    cse23 = cse5*(cse22 + cse6*cse8)
+    cse24 = -cse23*cse6 - cse7
+    cse25 = -cse22
+    cse26 = cse10*cse15
+    cse27 = H*cse19
+    cse28 = cse19*h
+    cse29 = cse0*cse7 + cse17*cse7 + cse2*cse7 + cse20*cse8 - cse26 - cse27 - cse28
+    cse30 = M*ag
+    cse31 = ag*m
+    cse32 = dtheta**2
+    cse33 = cse31*cse7
+    cse34 = _on0*k_b*functools.reduce(numpy.maximum, [0, -L + x])**n_b
+    cse35 = g*m
+    cse36 = cse10*cse35
+    cse37 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
+    cse38 = chi_b*dx
+    cse39 = -1/2*B*cse32*m*s - _on1*cse37*k_b + _on1*cse37*cse38*k_b/_vin1 + c*dx - cse32*m*x + cse34 + cse36 + k_m*x + cse34*cse38/_vin0
+    cse40 = -cse33 - cse39
+    cse41 = cse10*cse30
+    cse42 = cse10*cse31
+    cse43 = (1/2)*H
+    cse44 = M*g
+    cse45 = cse44*cse7
+    cse46 = cse35*cse7
+    cse47 = dtheta*dx
+    cse48 = H*cse36 - cse1*cse47*m + cse10*cse43*cse44 - 2*cse2*cse47 - cse20*cse45 - cse20*cse46 + cse36*h - cse45*e - cse46*x
+    cse49 = H*cse33 + cse20*cse41 + cse20*cse42 + cse30*cse43*cse7 + cse33*h - cse40*cse6 + cse41*e + cse42*x + cse48
+    cse50 = cse49*cse5
+    cse51 = m**(-1.0)
+    cse52 = cse40*cse51 - cse50*cse6
+    cse53 = -M*g + cse10*cse2*cse32 + cse11*cse32 + cse12*cse32 + cse16*cse32 + cse18*cse32 + cse21*cse32 + cse32*cse9 - 2*cse7*dtheta*dx*m - g*m
+    cse54 = ((1/2)*B*M*cse32*cse7*s + (1/2)*B*cse32*cse7*m*s + M*cse32*cse7*e + 2*cse10*dtheta*dx*m - cse25*cse50 - cse26*cse32 - cse27*cse32 - cse28*cse32 - cse30 - cse31 + cse32*cse7*m*x - cse52*cse8 - mu_slip*(cse10*cse52*m + cse29*cse49*cse5 - cse53))/(M + cse23*cse25 + cse24*cse8 + m + mu_slip*(cse19*cse24 + cse23*cse29))
+    cse55 = ag + cse54
+    cse56 = -cse39 - cse55*cse8
+    cse57 = cse11*cse55 + cse12*cse55 + cse13*cse55 + cse16*cse55 + cse18*cse55 + cse21*cse55 + cse48 + cse55*cse9 - cse56*cse6
+    cse58 = cse5*cse57
+    cse59 = cse51*cse56 - cse58*cse6
+    out = _broadcast((cse58, cse59, cse54, cse10*cse59*m + cse29*cse5*cse57 - cse53, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, mu_slip))
+    return out
+
+
+def contact_slide_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, mu_slip, stop_on=None):
+    """Accelerations in full contact with the base sliding (ddtheta = 0), then ddu and the floor's normal force N [N].
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddtheta, ddx, ddu, N
+    """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = ag*m
+    cse1 = M*g + g*m
+    cse2 = _vin0*_vin1
+    cse3 = _on0*functools.reduce(numpy.maximum, [0, -L + x])**n_b
+    cse4 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
+    cse5 = chi_b*dx*k_b
+    cse6 = -_on1*_vin0*_vin1*cse4*k_b + _on1*_vin0*cse4*cse5 + _vin1*cse3*cse5 + c*cse2*dx + cse2*cse3*k_b + cse2*k_m*x
+    cse7 = 1/(_vin0*_vin1)
+    cse8 = (-M*ag - cse0 - cse1*mu_slip - cse7*(-cse0*cse2 - cse6))/M
+    out = _broadcast((0, cse7*(-cse2*m*(ag + cse8) - cse6)/m, cse8, cse1, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, mu_slip))
+    return out
+
+
+def slide_uplift(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, mu_slip, stop_on=None):
+    """Uplift function about the pivot s in full contact while the base slides.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*g
+    cse1 = (1/2)*B
+    cse2 = g*m
+    cse3 = c*dx
+    cse4 = H*s
+    cse5 = k_m*x
+    cse6 = h*s
+    cse7 = _on0*functools.reduce(numpy.maximum, [0, -L + x])**n_b
+    cse8 = cse7*k_b
+    cse9 = cse4*cse8
+    cse10 = cse6*cse8
+    cse11 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
+    cse12 = _vin0**(-1.0)
+    cse13 = chi_b*dx
+    cse14 = cse12*cse13
+    cse15 = _on1*cse11*k_b
+    cse16 = _vin1**(-1.0)
+    cse17 = cse13*cse16
+    cse18 = ag*m
+    cse19 = _vin0*_vin1
+    out = _broadcast(((1/2)*H*M*s*(ag + (-M*ag - cse12*cse16*(_on1*_vin0*_vin1*cse11*k_b - _vin0*cse13*cse15 - _vin1*cse13*cse8 - cse18*cse19 - cse19*cse3 - cse19*cse5 - cse19*cse7*k_b) - cse18 - mu_slip*(cse0 + cse2))/M) + H*_on1*cse11*k_b*s + _on1*cse11*h*k_b*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse10*cse14 - cse10 - cse14*cse9 - cse15*cse17*cse4 - cse15*cse17*cse6 - cse2*s*x - cse3*cse4 - cse3*cse6 - cse4*cse5 - cse5*cse6 - cse9, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, mu_slip))
+    return out[0]
+
+
+def stick_force(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
+    """Tangential force F = V_b and normal force N = N_b [N] the floor holds while rocking about s with the pivot stuck (|F| <= mu_s N keeps it).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        F, N
+    """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*ag
+    cse1 = ag*m
+    cse2 = numpy.sin(theta)
+    cse3 = cse2*m
+    cse4 = dtheta*dx
+    cse5 = 2*cse4
+    cse6 = dtheta**2
+    cse7 = H*cse3
+    cse8 = cse3*h
+    cse9 = (1/2)*H
+    cse10 = M*cse9
+    cse11 = cse10*cse2
+    cse12 = numpy.cos(theta)
+    cse13 = M*e
+    cse14 = cse12*cse13
+    cse15 = m*x
+    cse16 = cse15*cse6
+    cse17 = B*s
+    cse18 = (1/2)*cse17*cse6
+    cse19 = M*cse18
+    cse20 = cse12*m
+    cse21 = H*cse20
+    cse22 = cse13*cse2
+    cse23 = cse20*h
+    cse24 = cse10*cse12
+    cse25 = (1/2)*cse17
+    cse26 = M*cse25
+    cse27 = B**2
+    cse28 = (1/4)*M
+    cse29 = (H**2*cse28 + I_G + M*e**2 + cse13*cse17 + cse15*cse17 + cse27*cse28 + (1/4)*cse27*m + m*x**2)**(-1.0)
+    cse30 = cse1*cse12
+    cse31 = g*m
+    cse32 = cse2*cse31
+    cse33 = cse0*cse2
+    cse34 = cse1*cse2
+    cse35 = M*g
+    cse36 = cse12*cse35
+    cse37 = cse12*cse31
+    cse38 = -H - h
+    cse39 = _on0*k_b*functools.reduce(numpy.maximum, [0, -L + x])**n_b
+    cse40 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
+    cse41 = chi_b*dx
+    cse42 = (1/2)*B*cse6*m*s + _on1*cse40*k_b - _on1*cse40*cse41*k_b/_vin1 - c*dx - cse30 - cse32 - cse39 + cse6*m*x - k_m*x - cse39*cse41/_vin0
+    cse43 = H*cse30 + H*cse32 + cse0*cse12*cse9 - cse15*cse5 - cse17*cse4*m + cse2*cse35*cse9 + cse25*cse33 + cse25*cse34 - cse25*cse36 - cse25*cse37 + cse30*h + cse32*h + cse33*e + cse34*x - cse36*e - cse37*x - cse38*cse42
+    cse44 = cse29*cse43
+    cse45 = -cse38*cse44 + cse42/m
+    out = _broadcast((cse0 + cse1 + cse11*cse6 - cse12*cse16 - cse12*cse19 - cse14*cse6 - cse18*cse20 + cse20*cse45 - cse3*cse5 + cse44*(-cse15*cse2 - cse2*cse26 - cse21 - cse22 - cse23 - cse24 - cse25*cse3) + cse6*cse7 + cse6*cse8, M*g + 2*cse12*dtheta*dx*m - cse16*cse2 - cse18*cse3 - cse19*cse2 + cse2*cse45*m - cse21*cse6 - cse22*cse6 - cse23*cse6 - cse24*cse6 + cse29*cse43*(-cse11 + cse12*cse15 + cse12*cse26 + cse14 + cse20*cse25 - cse7 - cse8) + g*m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
+    return out
+
+
+def contact_stick_force(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, stop_on=None):
+    """Tangential force F and normal force N [N] the floor holds in full contact with the base stuck.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops; default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        F, N
+    """
+    _on0, _on1, _vin0, _vin1, = stop_on if stop_on is not None else _state_regime(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b)
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = ag*m
+    cse1 = _vin0*_vin1
+    cse2 = _on0*functools.reduce(numpy.maximum, [0, -L + x])**n_b
+    cse3 = chi_b*dx*k_b
+    cse4 = functools.reduce(numpy.maximum, [0, -L - x])**n_b
+    out = _broadcast((M*ag + cse0 + (_on1*_vin0*_vin1*cse4*k_b - _on1*_vin0*cse3*cse4 - _vin1*cse2*cse3 - c*cse1*dx - cse0*cse1 - cse1*cse2*k_b - cse1*k_m*x)/(_vin0*_vin1), M*g + g*m, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b))
+    return out
+
+
+def slip_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, du, stop_on=None):
+    """Kinetic energy [J] the slip speed du adds to the energy in the ground frame.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    du : array_like
+        slip speed of the base relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = du**2
+    cse1 = numpy.cos(theta)
+    cse2 = du*m
+    cse3 = cse1*cse2*dtheta
+    cse4 = dtheta*numpy.sin(theta)
+    cse5 = M*du
+    cse6 = cse4*cse5
+    cse7 = cse2*cse4
+    cse8 = (1/2)*B*s
+    out = _broadcast((-1/2*H*cse1*cse5*dtheta - H*cse3 + (1/2)*M*cse0 + (1/2)*cse0*m + cse1*du*dx*m - cse3*h - cse6*cse8 - cse6*e - cse7*cse8 - cse7*x, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, du))
+    return out[0]
+
+
+def impact_stick(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, du, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s when the new corner sticks (du after is 0), then the floor's impulses P_t, P_n [N s] on it; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    du : array_like
+        slip speed of the base relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, P_t, P_n
+    """
+    cse0 = 4*I_G
+    cse1 = cse0*dtheta
+    cse2 = 2*H
+    cse3 = M*du
+    cse4 = cse2*cse3
+    cse5 = H**2
+    cse6 = M*cse5
+    cse7 = cse6*dtheta
+    cse8 = B**2
+    cse9 = M*cse8
+    cse10 = cse9*dtheta
+    cse11 = cse8*m
+    cse12 = cse11*dtheta
+    cse13 = 4*e**2
+    cse14 = M*cse13
+    cse15 = cse14*dtheta
+    cse16 = 4*m
+    cse17 = cse16*x**2
+    cse18 = cse17*dtheta
+    cse19 = B*s
+    cse20 = M*cse19
+    cse21 = 4*e
+    cse22 = cse20*cse21
+    cse23 = cse16*cse19*x
+    cse24 = (cse0 + cse11 + cse14 + cse17 - cse22 - cse23 + cse6 + cse9)**(-1.0)
+    cse25 = cse0*du
+    cse26 = cse9*du
+    cse27 = 2*h
+    cse28 = H*dtheta
+    cse29 = dtheta*h
+    cse30 = M**2
+    cse31 = cse30*du
+    cse32 = m*x
+    cse33 = cse2*e
+    cse34 = cse19*cse30*dtheta
+    cse35 = cse19*m
+    out = _broadcast((cse24*(cse1 - cse10 - cse12 + cse15 + cse18 - cse4 + cse7), cse24*(cse0*dx - cse10*cse2 - cse10*cse27 + cse11*du + cse11*dx - cse12*cse2 - cse12*cse27 + cse14*du + cse14*dx + cse17*du + cse17*dx - cse19*cse21*cse3 + cse22*cse28 + cse22*cse29 - cse22*dx + cse23*cse28 + cse23*cse29 - cse23*du - cse23*dx + cse25 + cse26 - cse4*h - cse6*du + cse6*dx + cse9*dx), 0, cse24*(4*B*M*du*m*s*x + 4*B*cse30*du*e*s + H*M*cse8*dtheta*m + H*cse30*cse8*dtheta - M*cse25 - cse13*cse31 - cse17*cse3 - cse2*cse20*cse32*dtheta - cse26*m - cse31*cse8 - cse33*cse34), cse24*(B*H*M*du*m*s + B*H*cse30*du*s + 8*B*M*dtheta*e*m*s*x - cse1*cse20 - cse1*cse35 - cse15*cse35 - cse18*cse20 - cse31*cse33 - cse32*cse4 - cse34*cse5 - cse35*cse7), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, du))
+    return out
+
+
+def impact_slide(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, du, mu_slip, stop_on=None):
+    """Velocities after an impact at theta = 0 that ends rocking about s when the new corner slides, P_t = -mu_slip P_n, then the impulses P_t, P_n [N s]; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper: its force is k_b delta^n_b at rest [N/m^n_b]
+    n_b : array_like
+        exponent of the bumpers' force law (1: linear, 1.5: Hertzian contact; >= 1) [1]
+    chi_b : array_like
+        damping factor of each bumper, chi(e_b) for its restitution e_b [1]
+    du : array_like
+        slip speed of the base relative to the ground [m/s]
+    mu_slip : array_like
+        mu_k sign(du): the kinetic friction coefficient signed by the slip
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, P_t, P_n
+    """
+    cse0 = 4*I_G
+    cse1 = cse0*dtheta
+    cse2 = B**2
+    cse3 = M*cse2
+    cse4 = cse3*dtheta
+    cse5 = cse2*m
+    cse6 = 4*e**2
+    cse7 = M*cse6
+    cse8 = cse7*dtheta
+    cse9 = 4*m
+    cse10 = cse9*x**2
+    cse11 = cse10*dtheta
+    cse12 = M*e
+    cse13 = H*mu_slip
+    cse14 = 2*cse13
+    cse15 = cse12*cse14
+    cse16 = cse14*m
+    cse17 = cse16*x
+    cse18 = B*s
+    cse19 = cse13*cse18
+    cse20 = M*cse19
+    cse21 = cse19*m
+    cse22 = 4*cse18
+    cse23 = cse18*x
+    cse24 = cse23*cse9
+    cse25 = (cse0 + cse10 - cse12*cse22 + cse15 + cse17 - cse20 - cse21 - cse24 + cse3 + cse5 + cse7)**(-1.0)
+    cse26 = M*cse0
+    cse27 = cse3*m
+    cse28 = M**2
+    cse29 = cse2*cse28
+    cse30 = M*cse10
+    cse31 = M*cse24
+    cse32 = M*cse17
+    cse33 = cse28*cse6
+    cse34 = cse28*e
+    cse35 = cse22*cse34
+    cse36 = cse14*cse34
+    cse37 = cse20*m
+    cse38 = cse19*cse28
+    cse39 = (cse26 + cse27 + cse29 + cse30 - cse31 + cse32 + cse33 - cse35 + cse36 - cse37 - cse38)**(-1.0)
+    cse40 = cse29*dtheta
+    cse41 = 2*h
+    cse42 = cse4*m
+    cse43 = cse18*mu_slip
+    cse44 = cse1*cse43
+    cse45 = M*cse44
+    cse46 = cse44*m
+    cse47 = dtheta*h
+    cse48 = cse8*m
+    cse49 = cse43*cse48
+    cse50 = M*cse11
+    cse51 = cse43*cse50
+    cse52 = cse28*dtheta
+    cse53 = cse18*dtheta
+    cse54 = dtheta*m
+    cse55 = 8*cse12*cse23*cse54*mu_slip
+    cse56 = H**2*cse43
+    cse57 = 2*H
+    cse58 = M*cse54
+    cse59 = -H*cse40 - H*cse42 + cse23*cse57*cse58 + cse34*cse53*cse57 + cse52*cse56 + cse56*cse58
+    cse60 = cse45 + cse46 + cse49 + cse51 - cse55
+    cse61 = cse1*cse18
+    out = _broadcast((cse25*(cse1 + cse11 + cse15*dtheta + cse17*dtheta + cse20*dtheta + cse21*dtheta - cse4 - cse5*dtheta + cse8), cse39*(M*cse16*cse53*h + cse14*cse18*cse52*h + cse26*dx + cse27*dx + cse29*dx + cse30*dx + cse31*cse47 - cse31*dx + cse32*dx + cse33*dx + cse35*cse47 - cse35*dx + cse36*dx - cse37*dx - cse38*dx - cse40*cse41 - cse41*cse42 - cse45 - cse46 - cse49 - cse51 + cse55 + cse59), cse39*(cse26*du + cse27*du + cse29*du + cse30*du - cse31*du + cse32*du + cse33*du - cse35*du + cse36*du - cse37*du - cse38*du + cse59 + cse60), cse25*cse60, cse25*(8*B*M*dtheta*e*m*s*x - M*cse61 - cse18*cse48 - cse18*cse50 - cse61*m), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, n_b, chi_b, du, mu_slip))
+    return out

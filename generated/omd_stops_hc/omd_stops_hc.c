@@ -905,3 +905,464 @@ void omd_stops_hc_element_forces(double s, const double *y, double ag, double ag
     omd_stops_hc_prepare(s, on, p, cst);
     omd_stops_hc_element_forces_prepared(y, ag, cst, out);
 }
+
+/* Accelerations while rocking about s with the pivot sliding (slide-rock), then the slip's ddu and the floor's normal force N [N]; the friction force is -mu_slip N.
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_slide_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip, double *out)
+{
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double n_b = p[12];
+    const double chi_b = p[13];
+    const double g = p[OMD_STOPS_HC_P_g] + agy;
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double _vin0 = on[2];
+    const double _vin1 = on[3];
+    const double cse0 = M*e;
+    const double cse1 = B*s;
+    const double cse2 = m*x;
+    const double cse3 = (B*B);
+    const double cse4 = (1.0/4.0)*M;
+    const double cse5 = 1.0/((H*H)*cse4 + I_G + M*(e*e) + cse0*cse1 + cse1*cse2 + cse3*cse4 + (1.0/4.0)*cse3*m + m*(x*x));
+    const double cse6 = -H - h;
+    const double cse7 = cos(theta);
+    const double cse8 = cse7*m;
+    const double cse9 = H*cse8;
+    const double cse10 = sin(theta);
+    const double cse11 = cse0*cse10;
+    const double cse12 = cse8*h;
+    const double cse13 = cse10*cse2;
+    const double cse14 = (1.0/2.0)*M;
+    const double cse15 = H*cse14;
+    const double cse16 = cse15*cse7;
+    const double cse17 = cse1*cse14;
+    const double cse18 = cse10*cse17;
+    const double cse19 = cse10*m;
+    const double cse20 = (1.0/2.0)*cse1;
+    const double cse21 = cse19*cse20;
+    const double cse22 = cse11 + cse12 + cse13 + cse16 + cse18 + cse21 + cse9;
+    const double cse23 = cse5*(cse22 + cse6*cse8);
+    const double cse24 = -cse23*cse6 - cse7;
+    const double cse25 = -cse22;
+    const double cse26 = cse10*cse15;
+    const double cse27 = H*cse19;
+    const double cse28 = cse19*h;
+    const double cse29 = cse0*cse7 + cse17*cse7 + cse2*cse7 + cse20*cse8 - cse26 - cse27 - cse28;
+    const double cse30 = M*ag;
+    const double cse31 = ag*m;
+    const double cse32 = (dtheta*dtheta);
+    const double cse33 = cse31*cse7;
+    const double cse34 = _on0*k_b*pow(fmax(0, -L + x), n_b);
+    const double cse35 = g*m;
+    const double cse36 = cse10*cse35;
+    const double cse37 = pow(fmax(0, -L - x), n_b);
+    const double cse38 = chi_b*dx;
+    const double cse39 = -1.0/2.0*B*cse32*m*s - _on1*cse37*k_b + _on1*cse37*cse38*k_b/_vin1 + c*dx - cse32*m*x + cse34 + cse36 + k_m*x + cse34*cse38/_vin0;
+    const double cse40 = -cse33 - cse39;
+    const double cse41 = cse10*cse30;
+    const double cse42 = cse10*cse31;
+    const double cse43 = (1.0/2.0)*H;
+    const double cse44 = M*g;
+    const double cse45 = cse44*cse7;
+    const double cse46 = cse35*cse7;
+    const double cse47 = dtheta*dx;
+    const double cse48 = H*cse36 - cse1*cse47*m + cse10*cse43*cse44 - 2*cse2*cse47 - cse20*cse45 - cse20*cse46 + cse36*h - cse45*e - cse46*x;
+    const double cse49 = H*cse33 + cse20*cse41 + cse20*cse42 + cse30*cse43*cse7 + cse33*h - cse40*cse6 + cse41*e + cse42*x + cse48;
+    const double cse50 = cse49*cse5;
+    const double cse51 = 1.0/m;
+    const double cse52 = cse40*cse51 - cse50*cse6;
+    const double cse53 = -M*g + cse10*cse2*cse32 + cse11*cse32 + cse12*cse32 + cse16*cse32 + cse18*cse32 + cse21*cse32 + cse32*cse9 - 2*cse7*dtheta*dx*m - g*m;
+    const double cse54 = ((1.0/2.0)*B*M*cse32*cse7*s + (1.0/2.0)*B*cse32*cse7*m*s + M*cse32*cse7*e + 2*cse10*dtheta*dx*m - cse25*cse50 - cse26*cse32 - cse27*cse32 - cse28*cse32 - cse30 - cse31 + cse32*cse7*m*x - cse52*cse8 - mu_slip*(cse10*cse52*m + cse29*cse49*cse5 - cse53))/(M + cse23*cse25 + cse24*cse8 + m + mu_slip*(cse19*cse24 + cse23*cse29));
+    const double cse55 = ag + cse54;
+    const double cse56 = -cse39 - cse55*cse8;
+    const double cse57 = cse11*cse55 + cse12*cse55 + cse13*cse55 + cse16*cse55 + cse18*cse55 + cse21*cse55 + cse48 + cse55*cse9 - cse56*cse6;
+    const double cse58 = cse5*cse57;
+    const double cse59 = cse51*cse56 - cse58*cse6;
+    out[0] = cse58;
+    out[1] = cse59;
+    out[2] = cse54;
+    out[3] = cse10*cse59*m + cse29*cse5*cse57 - cse53;
+}
+
+/* Accelerations in full contact with the base sliding (ddtheta = 0), then ddu and the floor's normal force N [N].
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_contact_slide_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip, double *out)
+{
+    (void)s;
+    const double x = y[1];
+    const double dx = y[3];
+    const double M = p[0];
+    const double m = p[6];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double n_b = p[12];
+    const double chi_b = p[13];
+    const double g = p[OMD_STOPS_HC_P_g] + agy;
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double _vin0 = on[2];
+    const double _vin1 = on[3];
+    const double cse0 = ag*m;
+    const double cse1 = M*g + g*m;
+    const double cse2 = _vin0*_vin1;
+    const double cse3 = _on0*pow(fmax(0, -L + x), n_b);
+    const double cse4 = pow(fmax(0, -L - x), n_b);
+    const double cse5 = chi_b*dx*k_b;
+    const double cse6 = -_on1*_vin0*_vin1*cse4*k_b + _on1*_vin0*cse4*cse5 + _vin1*cse3*cse5 + c*cse2*dx + cse2*cse3*k_b + cse2*k_m*x;
+    const double cse7 = 1/(_vin0*_vin1);
+    const double cse8 = (-M*ag - cse0 - cse1*mu_slip - cse7*(-cse0*cse2 - cse6))/M;
+    out[0] = 0;
+    out[1] = cse7*(-cse2*m*(ag + cse8) - cse6)/m;
+    out[2] = cse8;
+    out[3] = cse1;
+}
+
+/* Uplift function about the pivot s in full contact while the base slides.
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+double omd_stops_hc_slide_uplift(double s, const double *y, double ag, double agy, const double *p, const double *on, double mu_slip)
+{
+    const double x = y[1];
+    const double dx = y[3];
+    const double M = p[0];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double n_b = p[12];
+    const double chi_b = p[13];
+    const double g = p[OMD_STOPS_HC_P_g] + agy;
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double _vin0 = on[2];
+    const double _vin1 = on[3];
+    const double cse0 = M*g;
+    const double cse1 = (1.0/2.0)*B;
+    const double cse2 = g*m;
+    const double cse3 = c*dx;
+    const double cse4 = H*s;
+    const double cse5 = k_m*x;
+    const double cse6 = h*s;
+    const double cse7 = _on0*pow(fmax(0, -L + x), n_b);
+    const double cse8 = cse7*k_b;
+    const double cse9 = cse4*cse8;
+    const double cse10 = cse6*cse8;
+    const double cse11 = pow(fmax(0, -L - x), n_b);
+    const double cse12 = 1.0/_vin0;
+    const double cse13 = chi_b*dx;
+    const double cse14 = cse12*cse13;
+    const double cse15 = _on1*cse11*k_b;
+    const double cse16 = 1.0/_vin1;
+    const double cse17 = cse13*cse16;
+    const double cse18 = ag*m;
+    const double cse19 = _vin0*_vin1;
+    return (1.0/2.0)*H*M*s*(ag + (-M*ag - cse12*cse16*(_on1*_vin0*_vin1*cse11*k_b - _vin0*cse13*cse15 - _vin1*cse13*cse8 - cse18*cse19 - cse19*cse3 - cse19*cse5 - cse19*cse7*k_b) - cse18 - mu_slip*(cse0 + cse2))/M) + H*_on1*cse11*k_b*s + _on1*cse11*h*k_b*s - cse0*cse1 - cse0*e*s - cse1*cse2 - cse10*cse14 - cse10 - cse14*cse9 - cse15*cse17*cse4 - cse15*cse17*cse6 - cse2*s*x - cse3*cse4 - cse3*cse6 - cse4*cse5 - cse5*cse6 - cse9;
+}
+
+/* Tangential force F = V_b and normal force N = N_b [N] the floor holds while rocking about s with the pivot stuck (|F| <= mu_s N keeps it).
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_stick_force(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out)
+{
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double n_b = p[12];
+    const double chi_b = p[13];
+    const double g = p[OMD_STOPS_HC_P_g] + agy;
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double _vin0 = on[2];
+    const double _vin1 = on[3];
+    const double cse0 = M*ag;
+    const double cse1 = ag*m;
+    const double cse2 = sin(theta);
+    const double cse3 = cse2*m;
+    const double cse4 = dtheta*dx;
+    const double cse5 = 2*cse4;
+    const double cse6 = (dtheta*dtheta);
+    const double cse7 = H*cse3;
+    const double cse8 = cse3*h;
+    const double cse9 = (1.0/2.0)*H;
+    const double cse10 = M*cse9;
+    const double cse11 = cse10*cse2;
+    const double cse12 = cos(theta);
+    const double cse13 = M*e;
+    const double cse14 = cse12*cse13;
+    const double cse15 = m*x;
+    const double cse16 = cse15*cse6;
+    const double cse17 = B*s;
+    const double cse18 = (1.0/2.0)*cse17*cse6;
+    const double cse19 = M*cse18;
+    const double cse20 = cse12*m;
+    const double cse21 = H*cse20;
+    const double cse22 = cse13*cse2;
+    const double cse23 = cse20*h;
+    const double cse24 = cse10*cse12;
+    const double cse25 = (1.0/2.0)*cse17;
+    const double cse26 = M*cse25;
+    const double cse27 = (B*B);
+    const double cse28 = (1.0/4.0)*M;
+    const double cse29 = 1.0/((H*H)*cse28 + I_G + M*(e*e) + cse13*cse17 + cse15*cse17 + cse27*cse28 + (1.0/4.0)*cse27*m + m*(x*x));
+    const double cse30 = cse1*cse12;
+    const double cse31 = g*m;
+    const double cse32 = cse2*cse31;
+    const double cse33 = cse0*cse2;
+    const double cse34 = cse1*cse2;
+    const double cse35 = M*g;
+    const double cse36 = cse12*cse35;
+    const double cse37 = cse12*cse31;
+    const double cse38 = -H - h;
+    const double cse39 = _on0*k_b*pow(fmax(0, -L + x), n_b);
+    const double cse40 = pow(fmax(0, -L - x), n_b);
+    const double cse41 = chi_b*dx;
+    const double cse42 = (1.0/2.0)*B*cse6*m*s + _on1*cse40*k_b - _on1*cse40*cse41*k_b/_vin1 - c*dx - cse30 - cse32 - cse39 + cse6*m*x - k_m*x - cse39*cse41/_vin0;
+    const double cse43 = H*cse30 + H*cse32 + cse0*cse12*cse9 - cse15*cse5 - cse17*cse4*m + cse2*cse35*cse9 + cse25*cse33 + cse25*cse34 - cse25*cse36 - cse25*cse37 + cse30*h + cse32*h + cse33*e + cse34*x - cse36*e - cse37*x - cse38*cse42;
+    const double cse44 = cse29*cse43;
+    const double cse45 = -cse38*cse44 + cse42/m;
+    out[0] = cse0 + cse1 + cse11*cse6 - cse12*cse16 - cse12*cse19 - cse14*cse6 - cse18*cse20 + cse20*cse45 - cse3*cse5 + cse44*(-cse15*cse2 - cse2*cse26 - cse21 - cse22 - cse23 - cse24 - cse25*cse3) + cse6*cse7 + cse6*cse8;
+    out[1] = M*g + 2*cse12*dtheta*dx*m - cse16*cse2 - cse18*cse3 - cse19*cse2 + cse2*cse45*m - cse21*cse6 - cse22*cse6 - cse23*cse6 - cse24*cse6 + cse29*cse43*(-cse11 + cse12*cse15 + cse12*cse26 + cse14 + cse20*cse25 - cse7 - cse8) + g*m;
+}
+
+/* Tangential force F and normal force N [N] the floor holds in full contact with the base stuck.
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_contact_stick_force(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out)
+{
+    (void)s;
+    const double x = y[1];
+    const double dx = y[3];
+    const double M = p[0];
+    const double m = p[6];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double n_b = p[12];
+    const double chi_b = p[13];
+    const double g = p[OMD_STOPS_HC_P_g] + agy;
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double _vin0 = on[2];
+    const double _vin1 = on[3];
+    const double cse0 = ag*m;
+    const double cse1 = _vin0*_vin1;
+    const double cse2 = _on0*pow(fmax(0, -L + x), n_b);
+    const double cse3 = chi_b*dx*k_b;
+    const double cse4 = pow(fmax(0, -L - x), n_b);
+    out[0] = M*ag + cse0 + (_on1*_vin0*_vin1*cse4*k_b - _on1*_vin0*cse3*cse4 - _vin1*cse2*cse3 - c*cse1*dx - cse0*cse1 - cse1*cse2*k_b - cse1*k_m*x)/(_vin0*_vin1);
+    out[1] = M*g + g*m;
+}
+
+/* Kinetic energy [J] the slip speed du adds to the energy in the ground frame.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+double omd_stops_hc_slip_energy(double s, const double *y, double ag, double agy, const double *p, const double *on, double du)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = (du*du);
+    const double cse1 = cos(theta);
+    const double cse2 = du*m;
+    const double cse3 = cse1*cse2*dtheta;
+    const double cse4 = dtheta*sin(theta);
+    const double cse5 = M*du;
+    const double cse6 = cse4*cse5;
+    const double cse7 = cse2*cse4;
+    const double cse8 = (1.0/2.0)*B*s;
+    return -1.0/2.0*H*cse1*cse5*dtheta - H*cse3 + (1.0/2.0)*M*cse0 + (1.0/2.0)*cse0*m + cse1*du*dx*m - cse3*h - cse6*cse8 - cse6*e - cse7*cse8 - cse7*x;
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s when the new corner sticks (du after is 0), then the floor's impulses P_t, P_n [N s] on it; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_impact_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = 4*I_G;
+    const double cse1 = cse0*dtheta;
+    const double cse2 = 2*H;
+    const double cse3 = M*du;
+    const double cse4 = cse2*cse3;
+    const double cse5 = (H*H);
+    const double cse6 = M*cse5;
+    const double cse7 = cse6*dtheta;
+    const double cse8 = (B*B);
+    const double cse9 = M*cse8;
+    const double cse10 = cse9*dtheta;
+    const double cse11 = cse8*m;
+    const double cse12 = cse11*dtheta;
+    const double cse13 = 4*(e*e);
+    const double cse14 = M*cse13;
+    const double cse15 = cse14*dtheta;
+    const double cse16 = 4*m;
+    const double cse17 = cse16*(x*x);
+    const double cse18 = cse17*dtheta;
+    const double cse19 = B*s;
+    const double cse20 = M*cse19;
+    const double cse21 = 4*e;
+    const double cse22 = cse20*cse21;
+    const double cse23 = cse16*cse19*x;
+    const double cse24 = 1.0/(cse0 + cse11 + cse14 + cse17 - cse22 - cse23 + cse6 + cse9);
+    const double cse25 = cse0*du;
+    const double cse26 = cse9*du;
+    const double cse27 = 2*h;
+    const double cse28 = H*dtheta;
+    const double cse29 = dtheta*h;
+    const double cse30 = (M*M);
+    const double cse31 = cse30*du;
+    const double cse32 = m*x;
+    const double cse33 = cse2*e;
+    const double cse34 = cse19*cse30*dtheta;
+    const double cse35 = cse19*m;
+    out[0] = cse24*(cse1 - cse10 - cse12 + cse15 + cse18 - cse4 + cse7);
+    out[1] = cse24*(cse0*dx - cse10*cse2 - cse10*cse27 + cse11*du + cse11*dx - cse12*cse2 - cse12*cse27 + cse14*du + cse14*dx + cse17*du + cse17*dx - cse19*cse21*cse3 + cse22*cse28 + cse22*cse29 - cse22*dx + cse23*cse28 + cse23*cse29 - cse23*du - cse23*dx + cse25 + cse26 - cse4*h - cse6*du + cse6*dx + cse9*dx);
+    out[2] = 0;
+    out[3] = cse24*(4*B*M*du*m*s*x + 4*B*cse30*du*e*s + H*M*cse8*dtheta*m + H*cse30*cse8*dtheta - M*cse25 - cse13*cse31 - cse17*cse3 - cse2*cse20*cse32*dtheta - cse26*m - cse31*cse8 - cse33*cse34);
+    out[4] = cse24*(B*H*M*du*m*s + B*H*cse30*du*s + 8*B*M*dtheta*e*m*s*x - cse1*cse20 - cse1*cse35 - cse15*cse35 - cse18*cse20 - cse31*cse33 - cse32*cse4 - cse34*cse5 - cse35*cse7);
+}
+
+/* Velocities after an impact at theta = 0 that ends rocking about s when the new corner slides, P_t = -mu_slip P_n, then the impulses P_t, P_n [N s]; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_impact_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = 4*I_G;
+    const double cse1 = cse0*dtheta;
+    const double cse2 = (B*B);
+    const double cse3 = M*cse2;
+    const double cse4 = cse3*dtheta;
+    const double cse5 = cse2*m;
+    const double cse6 = 4*(e*e);
+    const double cse7 = M*cse6;
+    const double cse8 = cse7*dtheta;
+    const double cse9 = 4*m;
+    const double cse10 = cse9*(x*x);
+    const double cse11 = cse10*dtheta;
+    const double cse12 = M*e;
+    const double cse13 = H*mu_slip;
+    const double cse14 = 2*cse13;
+    const double cse15 = cse12*cse14;
+    const double cse16 = cse14*m;
+    const double cse17 = cse16*x;
+    const double cse18 = B*s;
+    const double cse19 = cse13*cse18;
+    const double cse20 = M*cse19;
+    const double cse21 = cse19*m;
+    const double cse22 = 4*cse18;
+    const double cse23 = cse18*x;
+    const double cse24 = cse23*cse9;
+    const double cse25 = 1.0/(cse0 + cse10 - cse12*cse22 + cse15 + cse17 - cse20 - cse21 - cse24 + cse3 + cse5 + cse7);
+    const double cse26 = M*cse0;
+    const double cse27 = cse3*m;
+    const double cse28 = (M*M);
+    const double cse29 = cse2*cse28;
+    const double cse30 = M*cse10;
+    const double cse31 = M*cse24;
+    const double cse32 = M*cse17;
+    const double cse33 = cse28*cse6;
+    const double cse34 = cse28*e;
+    const double cse35 = cse22*cse34;
+    const double cse36 = cse14*cse34;
+    const double cse37 = cse20*m;
+    const double cse38 = cse19*cse28;
+    const double cse39 = 1.0/(cse26 + cse27 + cse29 + cse30 - cse31 + cse32 + cse33 - cse35 + cse36 - cse37 - cse38);
+    const double cse40 = cse29*dtheta;
+    const double cse41 = 2*h;
+    const double cse42 = cse4*m;
+    const double cse43 = cse18*mu_slip;
+    const double cse44 = cse1*cse43;
+    const double cse45 = M*cse44;
+    const double cse46 = cse44*m;
+    const double cse47 = dtheta*h;
+    const double cse48 = cse8*m;
+    const double cse49 = cse43*cse48;
+    const double cse50 = M*cse11;
+    const double cse51 = cse43*cse50;
+    const double cse52 = cse28*dtheta;
+    const double cse53 = cse18*dtheta;
+    const double cse54 = dtheta*m;
+    const double cse55 = 8*cse12*cse23*cse54*mu_slip;
+    const double cse56 = (H*H)*cse43;
+    const double cse57 = 2*H;
+    const double cse58 = M*cse54;
+    const double cse59 = -H*cse40 - H*cse42 + cse23*cse57*cse58 + cse34*cse53*cse57 + cse52*cse56 + cse56*cse58;
+    const double cse60 = cse45 + cse46 + cse49 + cse51 - cse55;
+    const double cse61 = cse1*cse18;
+    out[0] = cse25*(cse1 + cse11 + cse15*dtheta + cse17*dtheta + cse20*dtheta + cse21*dtheta - cse4 - cse5*dtheta + cse8);
+    out[1] = cse39*(M*cse16*cse53*h + cse14*cse18*cse52*h + cse26*dx + cse27*dx + cse29*dx + cse30*dx + cse31*cse47 - cse31*dx + cse32*dx + cse33*dx + cse35*cse47 - cse35*dx + cse36*dx - cse37*dx - cse38*dx - cse40*cse41 - cse41*cse42 - cse45 - cse46 - cse49 - cse51 + cse55 + cse59);
+    out[2] = cse39*(cse26*du + cse27*du + cse29*du + cse30*du - cse31*du + cse32*du + cse33*du - cse35*du + cse36*du - cse37*du - cse38*du + cse59 + cse60);
+    out[3] = cse25*cse60;
+    out[4] = cse25*(8*B*M*dtheta*e*m*s*x - M*cse61 - cse18*cse48 - cse18*cse50 - cse61*m);
+}
