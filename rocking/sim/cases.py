@@ -30,7 +30,7 @@ from ..model.params import (
 from ..model.pulse import check_signs
 from ..model.vertical import Vertical, check_vertical
 from . import boundary
-from .backends import BACKENDS
+from .backends import BACKENDS, for_floor
 from .batch import Cases, Packed
 from .boundary import MOTION
 from .problem import (
@@ -355,4 +355,4 @@ def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, n
     """
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise ParameterError(f"backend must be {' or '.join(map(repr, BACKENDS))} (got {backend!r})")
-    return BACKENDS[backend].simulate_cases(cases, threads)
+    return BACKENDS[for_floor(backend, cases.settings["mu_s"])].simulate_cases(cases, threads)
