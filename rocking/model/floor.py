@@ -13,7 +13,7 @@ import numpy as np
 
 from .checks import RANGES, ParameterError, as_real, shown
 
-__all__ = ["Floor", "check_pair", "floor_of"]
+__all__ = ["PAPER_FLOOR", "Floor", "check_pair", "floor_of"]
 
 #: Why a finite kinetic coefficient needs a finite static one.
 _NO_KINETIC = "a floor that never lets the base start sliding (mu_s = inf) has no kinetic friction to follow"
@@ -115,8 +115,9 @@ def floor_of(floor: object = None, mu: object = None, mu_k: object = None) -> Fl
     if mu is None:
         if mu_k is not None:
             raise ParameterError("mu_k is the kinetic friction beside mu=: give mu (the static) too")
-        return _DEFAULT
+        return PAPER_FLOOR
     return Floor(mu, mu_k)  # type: ignore[arg-type]
 
 
-_DEFAULT = Floor()
+#: The paper's floor: the base never slides.
+PAPER_FLOOR = Floor()
