@@ -540,7 +540,11 @@ def _simulate(args) -> int:
         model = {"model": args.model} if d is not None and args.model is not None else {}
         responses[label] = simulate(block, d, pulse, record=record, **run, **model)
     if args.json:
-        print(json.dumps(_payload(block, damper, pulse, args.model, responses, models), indent=2))
+        payload = _payload(block, damper, pulse, args.model, responses, models)
+        if floor is not None and floor.slides:  # the paper's floor is said by leaving it out (JSON has no inf)
+            payload["floor"] = floor.settings()
+            payload["units"].update(dict.fromkeys(payload["floor"], "1"))
+        print(json.dumps(payload, indent=2))
     else:
         _print_summary(block, pulse, responses, models)
     if args.plot:

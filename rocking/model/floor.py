@@ -95,10 +95,10 @@ class Floor:
 
     def settings(self) -> dict[str, float]:
         """The fields ``mu_s`` and ``mu_k`` of a run (:data:`rocking.sim.boundary.CASE`)."""
-        return {"mu_s": self.mu_s, "mu_k": float(self.mu_k)}  # type: ignore[arg-type]
+        return {"mu_s": self.mu_s, "mu_k": self.mu_s if self.mu_k is None else self.mu_k}  # never None once built
 
 
-def floor_of(floor: object = None, mu: object = None, mu_k: object = None) -> Floor:
+def floor_of(floor: object = None, mu: float | None = None, mu_k: float | None = None) -> Floor:
     """The :class:`Floor` of a call given ``floor=``, or its shorthand ``mu=`` (with ``mu_k=``), or neither.
 
     Raises
@@ -116,7 +116,7 @@ def floor_of(floor: object = None, mu: object = None, mu_k: object = None) -> Fl
         if mu_k is not None:
             raise ParameterError("mu_k is the kinetic friction beside mu=: give mu (the static) too")
         return PAPER_FLOOR
-    return Floor(mu, mu_k)  # type: ignore[arg-type]
+    return Floor(mu, mu_k)
 
 
 #: The paper's floor: the base never slides.
