@@ -320,3 +320,18 @@ def test_a_study_with_a_floor_is_saved_and_loads_with_it(tmp_path, monkeypatch):
     ):
         with pytest.raises(ParameterError, match=refused):
             check_fields("map", {**config, "floor": floor})
+
+
+def test_a_study_run_with_mu_inf_saves_plain_json_and_reruns_from_it(tmp_path, capsys):
+    """``--mu inf`` is valid (the paper's floor): the saved command keeps it as the text "inf", which strict JSON
+    holds and ``--config`` reads back."""
+    grids = ["--Omega", "2", "3", "2", "--beta", "1", "2", "2", "--full", "--no-progress"]
+    assert main(["map", "--mu", "inf", *grids, "--out", str(tmp_path / "a")]) == 0
+
+    def refuse(constant):
+        raise ValueError(f"not JSON: {constant}")
+
+    record = json.loads((tmp_path / "a" / "map.json").read_text(), parse_constant=refuse)
+    assert record["command"]["options"]["mu"] == "inf" and "floor" not in record["config"]
+    assert main(["map", "--config", str(tmp_path / "a" / "map.json"), "--out", str(tmp_path / "b")]) == 0
+    assert f"map: the configuration of {tmp_path / 'a' / 'map.json'}, rerun exactly" in capsys.readouterr().out
