@@ -154,12 +154,24 @@ def test_floor_and_its_shorthand_together_are_refused():
 
 
 def test_a_finite_friction_is_refused_by_a_back_end_that_does_not_follow_it():
-    assert not any(b.friction for b in backends.BACKENDS.values())  # until the lead's sliding phases: then flip
-    for backend in ("c", "numpy", "auto"):
-        with pytest.raises(ParameterError, match=r"^no back end follows a floor with friction yet \(mu_s = 0\.3\)"):
-            rocking.simulate(BLOCK, None, PULSES[0], mu=0.3, backend=backend)
-    with pytest.raises(ParameterError, match=r"^no back end follows a floor with friction yet \(mu_s = 0\.3\)"):
-        run_cases(pulse_cases(BLOCK, [2.0], [2.0], floor=Floor(0.3)), "c")
+    """Each back end that follows no friction (its flag in rocking.sim.backends) refuses a finite mu, a run or a
+    batch, naming one that does; while none does, every choice, "auto" included, is refused."""
+    able = [name for name, backend in backends.BACKENDS.items() if backend.friction]
+    for name in [n for n in backends.BACKENDS if n not in able] + ([] if able else ["auto"]):
+        expected = (
+            f"the {backends.LABELS[name]} back end does not follow a floor with friction yet (mu_s = 0.3): "
+            f"backend={able[0]!r}"
+            if able
+            else "no back end follows a floor with friction yet (mu_s = 0.3): give mu = inf (the default), the "
+            "paper's floor"
+        )
+        with pytest.raises(ParameterError) as refused:
+            rocking.simulate(BLOCK, None, PULSES[0], mu=0.3, backend=name)
+        assert str(refused.value) == expected
+        if name != "auto":
+            with pytest.raises(ParameterError) as refused:
+                run_cases(pulse_cases(BLOCK, [2.0], [2.0], floor=Floor(0.3)), name)
+            assert str(refused.value) == expected
 
 
 def test_the_refusal_names_the_back_end_that_follows_friction_and_auto_picks_it(monkeypatch):
