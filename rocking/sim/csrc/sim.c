@@ -50,11 +50,13 @@
 #endif
 
 /* Inline a function into every caller, so that each copy knows its constant arguments (the number of
- * components a stepper integrates). */
+ * components a stepper integrates); and keep one out of line (the stepper, as one function for its stages). */
 #if defined(__GNUC__) || defined(__clang__)
 #define ALWAYS_INLINE inline __attribute__((always_inline))
+#define NOINLINE __attribute__((noinline))
 #else
 #define ALWAYS_INLINE inline
+#define NOINLINE
 #endif
 
 /* pi and pi/2: M_PI is not C99. */
@@ -422,7 +424,7 @@ static void ode_rhs_slide(ode *o, double t, const double *y, double *dy)
 #endif
 
 /* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
-static void ode_rhs(ode *o, double t, const double *y, double *dy)
+static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
 {
 #ifdef MODEL_FRICTION
     if (o->sigma != 0)
@@ -572,6 +574,7 @@ static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const 
     d->n = o->ny;
     d->t = t;
     memcpy(d->y, y, sizeof d->y);
+    memcpy(d->y_old, y, sizeof d->y_old); /* its components not integrated stay */
     ode_rhs(o, t, y, d->f);
     /* initial_step evaluates the right-hand side once, unless the span is empty. */
     d->evaluations += (h_first > 0.0 || !(t_bound - t > 0.0)) ? 1 : 2;
@@ -615,7 +618,7 @@ static int ode_rhs_kind(const ode *o)
 
 /* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. rhs (ode_rhs_kind) is
  * a constant of each inlined copy: the stages of a step test the segment's kind once. */
-static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
+static ALWAYS_INLINE void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
     double acc[NS];
     const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
@@ -639,9 +642,9 @@ static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, 
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static inline void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
+static ALWAYS_INLINE void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
-    memcpy(d->k[0], d->f, sizeof d->f);
+    memcpy(d->k[0], d->f, (rhs == ODE_SLIDE ? NS : NY) * sizeof *d->f);
     dopri_stage(d, o, 1, h, t_new, y_new, rhs);
     dopri_stage(d, o, 2, h, t_new, y_new, rhs);
     dopri_stage(d, o, 3, h, t_new, y_new, rhs);
@@ -651,7 +654,7 @@ static inline void dopri_stages_of(dopri *d, ode *o, double h, double t_new, dou
     /* The last stage was evaluated at the 5th-order solution: y_new holds it. */
 }
 
-static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
+static ALWAYS_INLINE void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
 {
     switch (o->rhs) {
     case ODE_VERTICAL:
@@ -666,11 +669,6 @@ static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new
     case ODE_FREE_CONTACT:
         dopri_stages_of(d, o, h, t_new, y_new, ODE_FREE_CONTACT);
         break;
-#ifdef MODEL_FRICTION
-    case ODE_SLIDE:
-        dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
-        break;
-#endif
     default:
         dopri_stages_of(d, o, h, t_new, y_new, ODE_FREE_ROCKING);
         break;
@@ -705,7 +703,12 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (t_new > t_bound)
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
-        dopri_stages(d, o, h, t_new, y_new);
+#ifdef MODEL_FRICTION
+        if (ny == NS)
+            dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
+        else
+#endif
+            dopri_stages(d, o, h, t_new, y_new);
         d->evaluations += STAGES - 1;
         err = dopri_error(d, tol, h, y_new, ny);
         if (err < 1.0) {
@@ -716,7 +719,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
                 factor = min2(1.0, factor);
             d->t_old = d->t;
             d->h = h;
-            memcpy(d->y_old, d->y, sizeof d->y);
+            memcpy(d->y_old, d->y, ny * sizeof *d->y);
             d->t = t_new;
             memcpy(d->y, y_new, ny * sizeof *y_new);
             memcpy(d->f, d->k[STAGES - 1], ny * sizeof *d->f);
@@ -732,14 +735,34 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
     }
 }
 
-/* One accepted step (dopri_step_of) of the components of the segment's phase. */
-static int dopri_step(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+/* One accepted step (dopri_step_of) of a stuck contact's NY components. Its own function: with the sliding
+ * copy in the same one, gcc compiled this one to 20 % more instructions on the bench map. */
+static NOINLINE int dopri_step_stuck(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NY);
+}
+
+#ifdef MODEL_FRICTION
+/* One accepted step (dopri_step_of) of a sliding contact's NS components. */
+static NOINLINE int dopri_step_slide(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NS);
+}
+#endif
+
+/* A stepper: dopri_step_stuck or dopri_step_slide, chosen once per segment (dopri_stepper). */
+typedef int (*dopri_step_fn)(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step);
+
+/* The stepper of the components d integrates. */
+static dopri_step_fn dopri_stepper(const dopri *d)
 {
 #ifdef MODEL_FRICTION
     if (d->n == NS)
-        return dopri_step_of(d, o, tol, t_bound, max_step, NS);
+        return dopri_step_slide;
+#else
+    (void)d;
 #endif
-    return dopri_step_of(d, o, tol, t_bound, max_step, NY);
+    return dopri_step_stuck;
 }
 
 /* Take back the last accepted step and propose h_next instead. */
@@ -837,22 +860,33 @@ static double dopri_dense_bound(const dopri *d, int i)
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
+/* The first ny components of the dense output at th, the others constant over the step (dopri_dense). */
+static ALWAYS_INLINE void dopri_dense_of(const dopri *d, double th, double *y, int ny)
+{
+    int i;
+    for (i = 0; i < ny; ++i)
+        y[i] = dense_at(d, th, 1.0 - th, i);
+    for (; i < NS; ++i)
+        y[i] = d->y[i];
+}
+
 /* The whole state (NS components) on the dense output: dopri_dense1 of every integrated component, its
- * set-up once; the others are constant over the step. */
+ * set-up once. */
 static void dopri_dense(dopri *d, double t, double *y)
 {
     double th;
-    int i;
     if (t == d->t) {
         memcpy(y, d->y, sizeof d->y);
         return;
     }
     dopri_prepare_dense(d);
     th = (t - d->t_old) / d->h;
-    for (i = 0; i < d->n; ++i)
-        y[i] = dense_at(d, th, 1.0 - th, i);
-    for (; i < NS; ++i)
-        y[i] = d->y[i];
+#ifdef MODEL_FRICTION
+    if (d->n == NS)
+        dopri_dense_of(d, th, y, NS);
+    else
+#endif
+        dopri_dense_of(d, th, y, NY);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -892,7 +926,7 @@ typedef struct event_rule {
     int strict;
     int terminal;
     int component;
-    int times_pivot; /* the component is multiplied by the pivot s (1), by the slip's sign sigma (2) */
+    int times_pivot; /* the component is multiplied by the pivot s */
     double offset;
 } event_rule;
 
@@ -908,7 +942,7 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_X_PEAK:        sign change */
     {0, 1, 1, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_SETTLED:       sign change */
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_SLIP:           g > 0   ->  g <= 0 */
-    {-1, 1, 1, NS - 1, 2, 0.0},             /* EV_STOP:           g > 0   ->  g <= 0 (NS - 1: du) */
+    {-1, 1, 1, -1, 0, 0.0},                 /* EV_STOP:           g > 0   ->  g <= 0 */
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_LIFT_OFF:       g > 0   ->  g <= 0 */
     /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
@@ -972,11 +1006,9 @@ typedef struct event_ctx {
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
 } event_ctx;
 
-/* The factor of an event's component: the pivot s, the slip's sign sigma, or 1 (a product by 1 is exact). */
+/* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
 static double component_factor(const event_ctx *ec, const event_rule *e)
 {
-    if (e->times_pivot == 2)
-        return (double)ec->o->sigma;
     return e->times_pivot ? (double)ec->o->phase : 1.0;
 }
 
@@ -1013,7 +1045,7 @@ static void floor_force(ode *o, double t, const double *y, double *fn)
 #endif
 
 /* The uplift function about s at (t, y): with the base sliding, written with its friction force. */
-static double uplift_event(const event_ctx *ec, double s, double t, const double *y)
+static inline double uplift_event(const event_ctx *ec, double s, double t, const double *y)
 {
     double at_gravity[NK];
 #ifdef MODEL_FRICTION
@@ -1039,6 +1071,8 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     case EV_SLIP:
         floor_force(ec->o, t, y, fn);
         return ec->mu_s * fn[1] - fabs(fn[0]);
+    case EV_STOP:
+        return ec->o->sigma * y[NY + 1];
     case EV_LIFT_OFF:
         floor_force(ec->o, t, y, fn);
         return fn[1];
@@ -1064,7 +1098,7 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
  * each right to a few ulps of its terms, which may cancel. Most steps are far
  * below the critical angle: no atan2 there. A NaN tangent (the weights'
  * centre not above the ground) fails the test. */
-static double critical_event_bound(const event_ctx *ec, double t, const double *y)
+static ALWAYS_INLINE double critical_event_bound(const event_ctx *ec, double t, const double *y)
 {
     const double s = (double)ec->o->phase, ag = ode_ag(ec->o, t);
     const double z = s * model_critical_tangent_prepared(y, ag, about(ec->o->k, s));
@@ -1302,6 +1336,8 @@ typedef struct run {
     int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
     int friction;   /* the floor's mu_s is finite: the events of friction are watched (phases.py) */
     double atol[NS]; /* the case's, then those of u and du (simulate_one) */
+    unsigned exits[PHASE_COUNT]; /* phase_exit_events of each phase */
+    int codes[2][2];             /* phase_of each pair of constraints */
     double t_start; /* when the current rocking phase started, at theta = 0 */
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
@@ -1531,12 +1567,9 @@ static void step_peak(run *r, double t_end, const double *y_end)
 #endif
 
 /* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
-static void see_state(run *r, const double *y, int at_step_end)
+static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end)
 {
     r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
-#ifdef MODEL_FRICTION
-    r->res->u_max = max2(r->res->u_max, fabs(y[NY]));
-#endif
 #if NQ > 1
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
@@ -1570,24 +1603,31 @@ static void pass_event(run *r, int kind, double t)
     }
 }
 
-/* The code of the run's phase in the table (phases.h): its constraints, rocking about s and sliding. */
-static int phase_code(int s, int sigma)
+/* The code in the table (phases.h) of the phase with these constraints: rocking, sliding. */
+static int phase_of(int rocks, int slides)
 {
     int i;
     for (i = 0; i < PHASE_COUNT; ++i)
-        if (PHASES[i].rocks == (s != 0) && PHASES[i].slides == (sigma != 0))
+        if (PHASES[i].rocks == rocks && PHASES[i].slides == slides)
             return i;
     return -1; /* not reached: the table has every pair (phases.check_table) */
 }
 
-/* The phase `code` has an exit on the table's event `event`. */
-static int phase_exits_on(int code, int event)
+/* The code of the phase rocking about s (0: full contact) with the slip's sign sigma (0: stuck). */
+static int phase_code(const run *r, int s, int sigma)
 {
+    return r->codes[s != 0][sigma != 0];
+}
+
+/* The events the phase `code` has exits on, one bit per event of the table (read once per run: the table is
+ * scanned once, not at every segment). */
+static unsigned phase_exit_events(int code)
+{
+    unsigned events = 0;
     int i;
     for (i = 0; i < PHASES[code].n_exits; ++i)
-        if (PHASES[code].exits[i].event == event)
-            return 1;
-    return 0;
+        events |= 1u << PHASES[code].exits[i].event;
+    return events;
 }
 
 /* Where `event` under `guard` leads from the phase `code`: the first of its exits on that event whose guard is
@@ -1607,14 +1647,14 @@ static int phase_next(int code, int event, int guard)
  * of friction only on a floor with finite mu_s), and the reported extrema and crossings. */
 static void watched_events(const run *r, int *active)
 {
-    const int code = phase_code(r->phase, r->sigma);
-    const int rest = !r->o.pulse_on && phase_exits_on(code, PHASE_EVENT_REST);
+    const unsigned exits = r->exits[phase_code(r, r->phase, r->sigma)];
+    const int rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
     int k;
     for (k = 0; k < N_EVENTS; ++k)
         active[k] = 0;
-    active[EV_UPLIFT_A] = active[EV_UPLIFT_A_PRIME] = phase_exits_on(code, PHASE_EVENT_UPLIFT);
-    active[EV_IMPACT] = phase_exits_on(code, PHASE_EVENT_IMPACT);
-    active[EV_OVERTURN] = phase_exits_on(code, PHASE_EVENT_OVERTURN);
+    active[EV_UPLIFT_A] = active[EV_UPLIFT_A_PRIME] = exits >> PHASE_EVENT_UPLIFT & 1u;
+    active[EV_IMPACT] = exits >> PHASE_EVENT_IMPACT & 1u;
+    active[EV_OVERTURN] = exits >> PHASE_EVENT_OVERTURN & 1u;
     active[EV_REST] = rest;
     active[EV_SAFE] = rest && r->early && !r->safe;
     if (r->phase != 0) {
@@ -1622,9 +1662,9 @@ static void watched_events(const run *r, int *active)
         active[EV_CRITICAL] = isnan(r->res->t_critical);
     }
     if (r->friction) {
-        active[EV_SLIP] = phase_exits_on(code, PHASE_EVENT_SLIP);
-        active[EV_STOP] = phase_exits_on(code, PHASE_EVENT_STOP);
-        active[EV_LIFT_OFF] = phase_exits_on(code, PHASE_EVENT_LIFT_OFF);
+        active[EV_SLIP] = exits >> PHASE_EVENT_SLIP & 1u;
+        active[EV_STOP] = exits >> PHASE_EVENT_STOP & 1u;
+        active[EV_LIFT_OFF] = exits >> PHASE_EVENT_LIFT_OFF & 1u;
     }
     /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
     if (r->phase == 0 && r->safe)
@@ -1695,10 +1735,12 @@ static int run_segment(run *r, double t_bound)
     /* Sliding from du = 0 (a slip starts, reverses): sigma du must turn positive, or the stop event would
      * never fire, and friction would push the base along. */
     int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
+    int starting = lifting || slipping;
     /* A sampled motion while it acts: every step ends at the next sample time at
      * the latest (a kink of ag), inside the segment. ag is continuous there, so
      * the step's last stage is still the next one's first (FSAL). */
     const int sampled = r->c->motion == ROCKING_MOTION_SAMPLED && r->t < r->c->t_p;
+    dopri_step_fn dopri_step;
     int active[N_EVENTS];
     step_events found;
     segment_start saved;
@@ -1725,6 +1767,7 @@ static int run_segment(run *r, double t_bound)
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
+    dopri_step = dopri_stepper(&r->d);
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
@@ -1749,29 +1792,19 @@ static int run_segment(run *r, double t_bound)
             return segment_undone(r, &saved);
         if (stop_requested(r))
             return SEG_STOPPED;
-        if (lifting) {
-            if (!(s * r->d.y[0] > 0.0)) {
-                /* The block fell back within the first step (or never rose):
-                 * retry shorter; if even the shortest step cannot lift it, it
-                 * does not lift (a grazing uplift). */
+        if (starting) {
+            const int lifted = !lifting || s * r->d.y[0] > 0.0;
+            if (!(lifted && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
+                /* The block fell back within the first step (or never rose), or the base did not move
+                 * in the slip's direction: retry shorter; if even the shortest step cannot lift it (slip
+                 * it), it does not lift (slip): a grazing uplift (slip). */
                 const double h = 0.1 * r->d.h;
                 if (h < min_step_at(r->d.t_old))
-                    return SEG_NO_LIFT;
+                    return lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
                 dopri_undo(&r->d, h);
                 continue;
             }
-            lifting = 0;
-        }
-        if (slipping) {
-            if (!(r->sigma * r->d.y[NS - 1] > 0.0)) {
-                /* As a lift-off: the base did not move in the slip's direction within the first step. */
-                const double h = 0.1 * r->d.h;
-                if (h < min_step_at(r->d.t_old))
-                    return SEG_NO_SLIP;
-                dopri_undo(&r->d, h);
-                continue;
-            }
-            slipping = 0;
+            starting = 0;
         }
         events_scan(&r->events, &r->ec, &r->d, &found);
         for (k = 0; k < found.n_passed; ++k)
@@ -2273,7 +2306,7 @@ static int impact(run *r)
     double dq[NQ];
     const double s = (double)r->phase;
     const double dtheta_in = r->y[NQ];
-    const int code = phase_code(r->phase, r->sigma);
+    const int code = phase_code(r, r->phase, r->sigma);
     int sigma = 0, rests, ended;
 #if MODEL_NSTOPS > 0
     double before[NS];
@@ -2317,7 +2350,7 @@ static int impact(run *r)
 static int floor_at_start(run *r, int check_slip)
 {
     double fn[2];
-    const int code = phase_code(r->phase, r->sigma);
+    const int code = phase_code(r, r->phase, r->sigma);
     floor_force_at(r, r->t, r->y, fn);
     if (fn[1] <= 0.0)
         return enter(r, phase_next(code, PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase, 0);
@@ -2331,7 +2364,7 @@ static int floor_at_start(run *r, int check_slip)
 static int slip_stops(run *r)
 {
     double fn[2];
-    const int code = phase_code(r->phase, r->sigma), sigma = r->sigma;
+    const int code = phase_code(r, r->phase, r->sigma), sigma = r->sigma;
     r->sigma = 0;
     floor_force_at(r, r->t, r->y, fn);
     r->sigma = sigma;
@@ -2346,7 +2379,7 @@ static int slip_starts(run *r)
 {
     double fn[2];
     floor_force_at(r, r->t, r->y, fn);
-    return enter(r, phase_next(phase_code(r->phase, r->sigma), PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase,
+    return enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase,
                  fn[0] > 0.0 ? -1 : 1);
 }
 #endif
@@ -2429,7 +2462,7 @@ static void phase_machine(run *r)
             skip_uplift_check = 0;
             if (s != 0) { /* already above a threshold: uplift at this very instant */
                 r->res->uplifts += 1;
-                if (enter(r, phase_next(phase_code(0, r->sigma), PHASE_EVENT_UPLIFT, PHASE_GUARD_ALWAYS), s, r->sigma))
+                if (enter(r, phase_next(phase_code(r, 0, r->sigma), PHASE_EVENT_UPLIFT, PHASE_GUARD_ALWAYS), s, r->sigma))
                     return;
                 r->safe = 0;
                 if (events_exhausted(r)) {
@@ -2479,9 +2512,13 @@ static void phase_machine(run *r)
         /* In full contact also at the extrema of ag: no uplift is stepped over (rule 3). */
         if (r->phase == 0 && r->t < c->t_p)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
-        code = phase_code(r->phase, r->sigma);
+        code = phase_code(r, r->phase, r->sigma);
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
+#ifdef MODEL_FRICTION
+        /* du keeps its sign in a segment, so |u| is largest at one of its ends: the largest |u| at every step end. */
+        r->res->u_max = max2(r->res->u_max, fabs(r->y[NY]));
+#endif
         if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
             int stop_on[MAX_STOP_SIDES];
             memcpy(stop_on, r->k->stop_on, sizeof stop_on);
@@ -2619,7 +2656,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants k;
     const double zeros[NY] = {0.0};
     const int clear[MAX_STOP_SIDES] = {0};
-    int stop_on[MAX_STOP_SIDES];
+    int stop_on[MAX_STOP_SIDES], i;
     double reach = INFINITY; /* pad_reach; no stops: no bound */
 
     out->status = ROCKING_FAILED;
@@ -2650,6 +2687,11 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
 #endif
     r.tol.atol = r.atol;
     r.sigma = 0;
+    for (i = 0; i < 4; ++i) { /* without friction a run never slides: the stuck phases alone */
+        const int code = r.codes[i / 2][i % 2] = phase_of(i / 2, i % 2);
+        if (r.friction || i % 2 == 0)
+            r.exits[code] = phase_exit_events(code);
+    }
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
