@@ -535,14 +535,13 @@ static inline double rms_ratio(const double *v, const double *scale, int n)
     return sqrt(sum / n);
 }
 
-/* Hairer's initial step heuristic (SciPy's select_initial_step): a step whose
- * explicit Euler error estimate would be about 1 % of the tolerance. */
-static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0,
-                           double span)
+/* Hairer's initial step heuristic (SciPy's select_initial_step) over the first n components (a constant of
+ * each copy): a step whose explicit Euler error estimate would be about 1 % of the tolerance. */
+static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double t0, const double *y0,
+                                            const double *f0, double span, int n)
 {
     double scale[NS], y1[NS], f1[NS], df[NS];
     double d0, d1, d2, h0, h1;
-    const int n = o->ny;
     int i;
     if (span <= 0.0)
         return 0.0;
@@ -552,7 +551,8 @@ static double initial_step(ode *o, const tolerance *tol, double t0, const double
     d1 = rms_ratio(f0, scale, n);
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     h0 = fmin(h0, span);
-    memcpy(y1, y0, sizeof y1); /* the components not integrated, constant */
+    for (i = n; i < NS; ++i) /* the components not integrated, constant */
+        y1[i] = y0[i];
     for (i = 0; i < n; ++i)
         y1[i] = y0[i] + h0 * f0[i];
     ode_rhs(o, t0 + h0, y1, f1);
@@ -564,6 +564,16 @@ static double initial_step(ode *o, const tolerance *tol, double t0, const double
     else
         h1 = pow(0.01 / fmax(d1, d2), 1.0 / 5.0);
     return fmin(fmin(100.0 * h0, h1), span);
+}
+
+/* initial_step_of the components the segment integrates. */
+static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0, double span)
+{
+#ifdef MODEL_FRICTION
+    if (o->ny == NS)
+        return initial_step_of(o, tol, t0, y0, f0, span, NS);
+#endif
+    return initial_step_of(o, tol, t0, y0, f0, span, NY);
 }
 
 /* Start integrating at (t, y): f and the first step size, h_first if > 0,
@@ -860,18 +870,16 @@ static double dopri_dense_bound(const dopri *d, int i)
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
-/* The first ny components of the dense output at th, the others constant over the step (dopri_dense). */
+/* The first ny components of the dense output at th (dopri_dense). */
 static ALWAYS_INLINE void dopri_dense_of(const dopri *d, double th, double *y, int ny)
 {
     int i;
     for (i = 0; i < ny; ++i)
         y[i] = dense_at(d, th, 1.0 - th, i);
-    for (; i < NS; ++i)
-        y[i] = d->y[i];
 }
 
-/* The whole state (NS components) on the dense output: dopri_dense1 of every integrated component, its
- * set-up once. */
+/* The state on the dense output: dopri_dense1 of every integrated component, its set-up once; the others,
+ * constant over the step, are left in y as they are (the whole state at the step's end). */
 static void dopri_dense(dopri *d, double t, double *y)
 {
     double th;
@@ -907,6 +915,8 @@ enum event_kind {
     EV_SLIP,           /* stuck, finite mu_s: mu_s N - |F| falls from > 0 to 0 */
     EV_STOP,           /* sliding: sigma du falls from > 0 to 0 */
     EV_LIFT_OFF,       /* finite mu_s: the floor's normal force N falls from > 0 to 0 */
+    EV_SLIDE_UPLIFT_A, /* contact, sliding: u_{+1} with the friction force turns positive */
+    EV_SLIDE_UPLIFT_A_PRIME, /* contact, sliding: u_{-1} with the friction force turns positive */
     EV_GAP_CLOSE,      /* any phase: the contact of a stop side that does not push turns positive (one kind per side) */
     EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side that pushes falls to 0 */
     N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
@@ -944,6 +954,8 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_SLIP:           g > 0   ->  g <= 0 */
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_STOP:           g > 0   ->  g <= 0 */
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_LIFT_OFF:       g > 0   ->  g <= 0 */
+    {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A: g <= 0  ->  g > 0 */
+    {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A_PRIME */
     /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
     {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
@@ -1044,17 +1056,21 @@ static void floor_force(ode *o, double t, const double *y, double *fn)
 }
 #endif
 
-/* The uplift function about s at (t, y): with the base sliding, written with its friction force. */
+/* The uplift function about s at (t, y). */
 static inline double uplift_event(const event_ctx *ec, double s, double t, const double *y)
 {
     double at_gravity[NK];
-#ifdef MODEL_FRICTION
-    if (ec->o->sigma != 0)
-        return model_slide_uplift(s, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p, friction_on(ec->o),
-                                  ec->o->mu_slip);
-#endif
     return model_uplift_prepared(y, ode_ag(ec->o, t), gravity_constants(ec->o, s, t, at_gravity));
 }
+
+#ifdef MODEL_FRICTION
+/* The uplift function about s at (t, y) of a sliding base, written with its friction force. */
+static double slide_uplift_event(const event_ctx *ec, double s, double t, const double *y)
+{
+    return model_slide_uplift(s, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p, friction_on(ec->o),
+                              ec->o->mu_slip);
+}
+#endif
 
 /* g of an event that is a function of the model. */
 static double model_event(const event_ctx *ec, int kind, double t, const double *y)
@@ -1073,6 +1089,10 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
         return ec->mu_s * fn[1] - fabs(fn[0]);
     case EV_STOP:
         return ec->o->sigma * y[NY + 1];
+    case EV_SLIDE_UPLIFT_A:
+        return slide_uplift_event(ec, 1.0, t, y);
+    case EV_SLIDE_UPLIFT_A_PRIME:
+        return slide_uplift_event(ec, -1.0, t, y);
     case EV_LIFT_OFF:
         floor_force(ec->o, t, y, fn);
         return fn[1];
@@ -1213,15 +1233,33 @@ typedef struct step_events {
     double t_root[N_EVENTS];        /* by kind */
 } step_events;
 
-static void events_start(event_set *es, const event_ctx *ec, const int *active, double t, const double *y)
+/* A set of event kinds, one bit each. */
+typedef uint32_t event_mask;
+#if N_EVENTS > 32
+#error "more event kinds than an event_mask holds"
+#endif
+
+/* The least kind in a non-empty set. */
+static inline int first_event(event_mask m)
 {
-    int k;
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(m);
+#else
+    int k = 0;
+    while (!(m >> k & 1u))
+        ++k;
+    return k;
+#endif
+}
+
+/* Watch the events of the set `active`, in enum order, from (t, y). */
+static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y)
+{
     es->n = 0;
-    for (k = 0; k < N_EVENTS; ++k) {
+    for (; active != 0; active &= active - 1) {
+        const int k = first_event(active);
         const event_rule *e = &EVENT_RULES[k];
         watched *w = &es->w[es->n];
-        if (!active[k])
-            continue;
         w->kind = k;
         w->sense = e->sense;
         w->strict = e->strict;
@@ -1467,6 +1505,7 @@ static void record_samples(run *r, double t_stop)
     double y[NS];
     if (r->hist == NULL || !(dt > 0.0))
         return;
+    memcpy(y, r->d.y, sizeof y); /* the components not integrated */
     for (;;) {
         const double t = r->next_sample * dt;
         if (!(t < t_stop) || over_budget(r)) /* past the budget the segment is undone anyway */
@@ -1645,35 +1684,32 @@ static int phase_next(int code, int event, int guard)
 
 /* The events of docs/simulation.md for the current phase: the exits of its entry in the table (the events
  * of friction only on a floor with finite mu_s), and the reported extrema and crossings. */
-static void watched_events(const run *r, int *active)
+static event_mask watched_events(const run *r)
 {
     const unsigned exits = r->exits[phase_code(r, r->phase, r->sigma)];
-    const int rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
+    const event_mask rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
+    const event_mask uplift = exits >> PHASE_EVENT_UPLIFT & 1u;
+    const int up = r->sigma != 0 ? EV_SLIDE_UPLIFT_A : EV_UPLIFT_A; /* the pair of either */
+    event_mask active = uplift << up | uplift << (up + 1);
     int k;
-    for (k = 0; k < N_EVENTS; ++k)
-        active[k] = 0;
-    active[EV_UPLIFT_A] = active[EV_UPLIFT_A_PRIME] = exits >> PHASE_EVENT_UPLIFT & 1u;
-    active[EV_IMPACT] = exits >> PHASE_EVENT_IMPACT & 1u;
-    active[EV_OVERTURN] = exits >> PHASE_EVENT_OVERTURN & 1u;
-    active[EV_REST] = rest;
-    active[EV_SAFE] = rest && r->early && !r->safe;
-    if (r->phase != 0) {
-        active[EV_THETA_PEAK] = 1;
-        active[EV_CRITICAL] = isnan(r->res->t_critical);
-    }
+    active |= (event_mask)(exits >> PHASE_EVENT_IMPACT & 1u) << EV_IMPACT;
+    active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_OVERTURN;
+    active |= rest << EV_REST;
+    active |= (event_mask)(rest && r->early && !r->safe) << EV_SAFE;
+    if (r->phase != 0)
+        active |= (event_mask)1 << EV_THETA_PEAK | (event_mask)isnan(r->res->t_critical) << EV_CRITICAL;
     if (r->friction) {
-        active[EV_SLIP] = exits >> PHASE_EVENT_SLIP & 1u;
-        active[EV_STOP] = exits >> PHASE_EVENT_STOP & 1u;
-        active[EV_LIFT_OFF] = exits >> PHASE_EVENT_LIFT_OFF & 1u;
+        active |= (event_mask)(exits >> PHASE_EVENT_SLIP & 1u) << EV_SLIP;
+        active |= (event_mask)(exits >> PHASE_EVENT_STOP & 1u) << EV_STOP;
+        active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     }
     /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
-    if (r->phase == 0 && r->safe)
-        active[EV_SETTLED] = NQ > 1;
-    else
-        active[EV_X_PEAK] = NQ > 1;
+    if (NQ > 1)
+        active |= (event_mask)1 << (r->phase == 0 && r->safe ? EV_SETTLED : EV_X_PEAK);
     /* In every phase, each stop side's gap closing, or opening once its bumper acts (rule 6). */
     for (k = 0; k < MODEL_NSTOPS; ++k)
-        active[(r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k] = 1;
+        active |= (event_mask)1 << ((r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k);
+    return active;
 }
 
 /* What a segment changes in the results and the history before its end:
@@ -1741,7 +1777,6 @@ static int run_segment(run *r, double t_bound)
      * the step's last stage is still the next one's first (FSAL). */
     const int sampled = r->c->motion == ROCKING_MOTION_SAMPLED && r->t < r->c->t_p;
     dopri_step_fn dopri_step;
-    int active[N_EVENTS];
     step_events found;
     segment_start saved;
     int k;
@@ -1775,8 +1810,7 @@ static int run_segment(run *r, double t_bound)
     /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
     r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
 #endif
-    watched_events(r, active);
-    events_start(&r->events, &r->ec, active, r->t, r->y);
+    events_start(&r->events, &r->ec, watched_events(r), r->t, r->y);
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
@@ -1809,9 +1843,11 @@ static int run_segment(run *r, double t_bound)
         events_scan(&r->events, &r->ec, &r->d, &found);
         for (k = 0; k < found.n_passed; ++k)
             pass_event(r, found.passed[k], found.t_root[found.passed[k]]);
-        record_samples(r, found.t_stop);
-        if (over_budget(r))
-            return segment_undone(r, &saved);
+        if (r->hist != NULL) {
+            record_samples(r, found.t_stop);
+            if (over_budget(r)) /* the samples count (the step was checked above) */
+                return segment_undone(r, &saved);
+        }
         if (found.terminal >= 0) {
             r->t = found.t_stop;
             dopri_dense(&r->d, r->t, r->y);
@@ -1845,9 +1881,9 @@ static int slide_uplift_at_start(const run *r)
     event_ctx ec = r->ec;
     ode_at(r, r->t, &o);
     ec.o = &o;
-    if (uplift_event(&ec, 1.0, r->t, r->y) > 0.0)
+    if (slide_uplift_event(&ec, 1.0, r->t, r->y) > 0.0)
         return 1;
-    if (uplift_event(&ec, -1.0, r->t, r->y) > 0.0)
+    if (slide_uplift_event(&ec, -1.0, r->t, r->y) > 0.0)
         return -1;
     return 0;
 }
@@ -2444,7 +2480,7 @@ static void phase_machine(run *r)
     int skip_uplift_check = 0, skip_slip_check = 0;
     for (;;) {
         double t_bound;
-        int ended, code;
+        int ended;
         record(r, r->t, r->y, r->phase);
         if (r->t >= c->t_flight) { /* the base may leave the ground: out of scope (docs/model.md section 14) */
             r->res->status = ROCKING_FLIGHT;
@@ -2512,7 +2548,6 @@ static void phase_machine(run *r)
         /* In full contact also at the extrema of ag: no uplift is stepped over (rule 3). */
         if (r->phase == 0 && r->t < c->t_p)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
-        code = phase_code(r, r->phase, r->sigma);
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
 #ifdef MODEL_FRICTION
@@ -2562,8 +2597,10 @@ static void phase_machine(run *r)
             break;
         case EV_UPLIFT_A:
         case EV_UPLIFT_A_PRIME:
+        case EV_SLIDE_UPLIFT_A:
+        case EV_SLIDE_UPLIFT_A_PRIME:
             r->res->uplifts += 1;
-            if (enter(r, phase_next(code, PHASE_EVENT_UPLIFT, PHASE_GUARD_ALWAYS), ended == EV_UPLIFT_A ? 1 : -1,
+            if (enter(r, phase_next(phase_code(r, 0, r->sigma), PHASE_EVENT_UPLIFT, PHASE_GUARD_ALWAYS), ended == EV_UPLIFT_A || ended == EV_SLIDE_UPLIFT_A ? 1 : -1,
                       r->sigma))
                 return;
             r->safe = 0; /* not reached below the uplift energy; kept consistent if it were */
@@ -2587,7 +2624,8 @@ static void phase_machine(run *r)
         case EV_OVERTURN:
             r->res->overturned = 1;
             r->res->t_overturn = r->t;
-            enter(r, phase_next(code, PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase, r->sigma);
+            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase,
+                  r->sigma);
             return;
 #ifdef MODEL_FRICTION
         case EV_SLIP:
@@ -2599,7 +2637,8 @@ static void phase_machine(run *r)
                 return;
             break;
         case EV_LIFT_OFF:
-            enter(r, phase_next(code, PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase, r->sigma);
+            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase,
+                  r->sigma);
             return;
 #endif
         case EV_REST:
