@@ -1671,7 +1671,7 @@ static unsigned phase_exit_events(int code)
 
 /* Where `event` under `guard` leads from the phase `code`: the first of its exits on that event whose guard is
  * "always" or `guard`; a phase's code, an end (< 0), or PHASE_COUNT if the table has none (not reached). */
-static int phase_next(int code, int event, int guard)
+static inline int phase_next(int code, int event, int guard)
 {
     int i;
     for (i = 0; i < PHASES[code].n_exits; ++i) {
@@ -1788,11 +1788,12 @@ static int run_segment(run *r, double t_bound)
 
     segment_saved(r, &saved);
     r->o.phase = r->phase;
-    r->o.sigma = r->sigma;
-    r->o.ny = r->sigma != 0 ? NS : NY;
-    r->o.mu_slip = r->c->mu_k * r->sigma;
-    if (r->friction)
+    if (r->friction) { /* else the contact sticks throughout: as simulate_one set them */
+        r->o.sigma = r->sigma;
+        r->o.ny = r->sigma != 0 ? NS : NY;
+        r->o.mu_slip = r->c->mu_k * r->sigma;
         regime_inputs(r->k, r->o.on);
+    }
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
@@ -2134,7 +2135,7 @@ static int safe_at_t_max(const run *r)
 {
     double least = -INFINITY;
     int i;
-    if (!(r->t >= r->c->t_p && r->sigma == 0))
+    if (!(r->t >= r->c->t_p))
         return ROCKING_T_MAX;
     for (i = 1; i < ROCKING_BARRIER_TILTS; ++i) {
         const double at = least_at_tilt(r, HALF_PI * i / ROCKING_BARRIER_TILTS);
@@ -2229,7 +2230,7 @@ static void stops_read(run *r)
 static int verdict_final(run *r)
 {
     double energy;
-    if (!(r->verdict && r->sigma == 0 && r->t >= r->c->t_p && stops_clear(r)))
+    if (!(r->verdict && r->t >= r->c->t_p && stops_clear(r)))
         return 0;
     energy = energy_above_rest(r);
     return !(SHORTCUTS && verdict_refuted(r, energy)) && energy < verdict_bound(r);
@@ -2285,8 +2286,8 @@ static void rest_snap(run *r, const double *cst)
 }
 
 /* Into the phase `to` of the table after an event, or its end (to < 0: the status): about the pivot s where
- * it rocks, the slip's sign sigma where it slides (else the contact sticks, du = 0). A stuck contact that
- * starts sliding is a slip episode. Returns 1 where the run ends, else 0. */
+ * it rocks, the slip's sign sigma where it slides (else the contact sticks, du = 0). A contact that starts
+ * sliding, from stuck or the other way, is a slip episode. Returns 1 where the run ends, else 0. */
 static int enter(run *r, int to, int s, int sigma)
 {
     if (to < 0 || to >= PHASE_COUNT) {
@@ -2296,7 +2297,7 @@ static int enter(run *r, int to, int s, int sigma)
                                                     : ROCKING_FAILED; /* not reached: the table has the exit */
         return 1;
     }
-    r->res->slides += PHASES[to].slides && r->sigma == 0;
+    r->res->slides += PHASES[to].slides && sigma != r->sigma; /* from a stuck contact, or reversed */
     r->phase = PHASES[to].rocks ? s : 0;
     r->sigma = PHASES[to].slides ? sigma : 0;
 #ifdef MODEL_FRICTION
@@ -2551,8 +2552,10 @@ static void phase_machine(run *r)
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
 #ifdef MODEL_FRICTION
-        /* du keeps its sign in a segment, so |u| is largest at one of its ends: the largest |u| at every step end. */
-        r->res->u_max = max2(r->res->u_max, fabs(r->y[NY]));
+        /* du keeps its sign in a sliding segment, so |u| is largest at one of its ends: the largest |u| at every
+         * step end (a stuck segment's u is its start's, the end of the segment before). */
+        if (r->sigma != 0)
+            r->res->u_max = max2(r->res->u_max, fabs(r->y[NY]));
 #endif
         if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
             int stop_on[MAX_STOP_SIDES];
@@ -2713,13 +2716,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.tol.rtol = c->rtol;
     memcpy(r.atol, c->atol, NY * sizeof *c->atol);
 #ifdef MODEL_FRICTION
-    {
-        /* u and du on the scale the case's atol sets: the frequency w = atol(dtheta) / atol(theta) gives the
-         * length g / w^2 (for the default atol, 4/3 of the pivot's arm R: p^2 = 3 g / 4 R). */
-        const double w = c->atol[NQ] / c->atol[0], length = p[MODEL_P_GRAVITY] / (w * w);
-        r.atol[NY] = c->atol[0] * length;
-        r.atol[NY + 1] = c->atol[NQ] * length;
-    }
+    r.atol[NY] = c->atol[0]; /* u and du: the tolerances of theta and dtheta (docs/simulation.md, "Phases") */
+    r.atol[NY + 1] = c->atol[NQ];
     r.friction = isfinite(c->mu_s);
 #else
     r.friction = 0;
@@ -2767,7 +2765,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.ec.energy_safe = c->early_rest && !r.friction ? safe_energy(&k, reach) : NAN;
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
-    r.verdict = c->early_verdict != 0;
+    r.verdict = c->early_verdict != 0 && !r.friction; /* the energy does not bound the slip */
     r.bound_at[0] = r.bound_at[1] = r.least_tilt_at = NAN; /* no bound yet */
 #if NQ > 1
     r.arcs_at = NAN;
