@@ -25,6 +25,7 @@ Examples
 (True, True)
 """
 
+from .model.floor import Floor
 from .model.loading import Model, ModelError, available_models, load_model
 from .model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion
 from .model.params import Block, Damper, ParameterError, Stops
@@ -62,6 +63,7 @@ __all__ = [
     "DiskFull",
     "Execution",
     "FitWarning",
+    "Floor",
     "Grid",
     "Interrupted",
     "MavroeidisPapageorgiou",

@@ -20,8 +20,9 @@ from rocking.sim.problem import OPTIONS, make_problem
 ROOT = Path(__file__).resolve().parent.parent
 #: The modules that check a run's settings and options.
 CHECKING = ("rocking/sim/boundary.py", "rocking/sim/problem.py", "rocking/sim/accuracy.py")
-#: The options of make_problem that no range bounds: a name or object, and an array checked by its model.
-UNRANGED_OPTIONS = {"model", "y0"}
+#: The options of make_problem that no range bounds: a name or object, and an array checked by its model (a
+#: Floor's coefficients are its fields mu_s and mu_k, each checked against RANGES["mu"]).
+UNRANGED_OPTIONS = {"model", "y0", "floor"}
 
 BLOCK = Block(H=1.0, B=0.25, M=100.0)
 PULSE = OneSinePulse(a_g=3.0, omega_g=6.0)

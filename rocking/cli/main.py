@@ -55,6 +55,7 @@ from ..study.config import Tuning, versions
 from ..study.kinds import KINDS
 from .options import (
     add_block_options,
+    add_floor_options,
     add_parser,
     block_from,
     block_help,
@@ -63,6 +64,7 @@ from .options import (
     flag,
     flags,
     flags_of,
+    floor_from,
     given,
     named_as_flag,
     params_from,
@@ -528,6 +530,9 @@ def _simulate(args) -> int:
     # The same run whatever the outputs asked for: followed to rest unless --early-verdict (docs/simulation.md,
     # rule 4), so that the summary, the figure and the history tell of one motion.
     run["early_verdict"] = args.early_verdict
+    floor = floor_from(args)
+    if floor is not None:
+        run["floor"] = floor
     record = bool(args.plot or args.history)
     responses = {}
     models = {label: _model_of(args, d) for label, d in cases.items()}
@@ -535,7 +540,11 @@ def _simulate(args) -> int:
         model = {"model": args.model} if d is not None and args.model is not None else {}
         responses[label] = simulate(block, d, pulse, record=record, **run, **model)
     if args.json:
-        print(json.dumps(_payload(block, damper, pulse, args.model, responses, models), indent=2))
+        payload = _payload(block, damper, pulse, args.model, responses, models)
+        if floor is not None and floor.slides:  # the paper's floor is said by leaving it out (JSON has no inf)
+            payload["floor"] = floor.settings()
+            payload["units"].update(dict.fromkeys(payload["floor"], "1"))
+        print(json.dumps(payload, indent=2))
     else:
         _print_summary(block, pulse, responses, models)
     if args.plot:
@@ -737,6 +746,7 @@ def _add_simulate(sub) -> None:
     )
     g.add_argument("--scale", type=float, help="factor on the record (default 1)")
     g.add_argument("--pga", type=float, help="scale the record to this peak ground acceleration, m/s2")
+    add_floor_options(p)
     g = p.add_argument_group("run and output")
     g.add_argument("--backend", choices=NAMES, help=f"back end ({default_text(simulate, 'backend')})")
     g.add_argument(

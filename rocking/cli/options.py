@@ -20,6 +20,7 @@ import argparse
 import inspect
 from collections.abc import Callable, Iterable
 
+from ..model.floor import Floor, floor_of
 from ..model.params import Block, ParameterError
 from ..model.records import STANDARD_GRAVITY
 
@@ -246,6 +247,45 @@ def block_from(args: argparse.Namespace) -> Block:
     if si or mass:
         return call_with(Block, {**si, **mass}, "a block by its dimensions", hint=f"; or --block {DEFAULT_BLOCK}")
     return BLOCKS[named or DEFAULT_BLOCK]()
+
+
+# --- the floor ----------------------------------------------------------------------------------
+
+#: What ``--mu`` says, on every command that runs simulations.
+MU_HELP = (
+    "Coulomb friction of the floor, static (kinetic: --mu-k, default = --mu); default inf: the base never slides "
+    "(the paper's assumption)"
+)
+#: The floor's coefficients by the flags that give them, for the messages of :class:`~rocking.Floor`.
+FLOOR_FLAGS = {"mu_s": "--mu", "mu_k": "--mu-k"}
+
+
+def add_floor_options(p: argparse.ArgumentParser) -> None:
+    """``--mu`` and ``--mu-k``: the floor of every run of the command, as ``rocking.Floor(mu, mu_k)``."""
+    g = p.add_argument_group(
+        "floor", "As rocking.Floor(mu_s=--mu, mu_k=--mu-k), dimensionless (docs/model.md section 15)."
+    )
+    g.add_argument("--mu", type=float, metavar="MU", help=MU_HELP + "; in (0, inf]")
+    g.add_argument("--mu-k", type=float, metavar="MU_K", help="kinetic friction of the floor, in (0, --mu]")
+
+
+def floor_from(args: argparse.Namespace) -> Floor | None:
+    """The :class:`~rocking.Floor` of ``--mu`` and ``--mu-k``; ``None`` when neither is given (the paper's floor).
+
+    Raises
+    ------
+    ParameterError
+        Naming the flag (``--mu``, ``--mu-k``) and its range.
+    """
+    chosen = given(args, ("mu", "mu_k"))
+    if not chosen:
+        return None
+    try:
+        return floor_of(None, chosen.get("mu"), chosen.get("mu_k"))
+    except ParameterError as exc:
+        text = str(exc).replace("mu_k is the kinetic friction beside mu=: give mu", "--mu-k needs --mu")
+        text = text.replace("(0, mu_s]", "(0, --mu]")
+        raise ParameterError(named_as_flag(FLOOR_FLAGS, text)) from None
 
 
 # --- model variants ------------------------------------------------------------------------------

@@ -11,6 +11,7 @@ from __future__ import annotations
 
 import argparse
 import json
+import math
 from contextvars import ContextVar
 from pathlib import Path
 
@@ -37,9 +38,17 @@ CURRENT: ContextVar[dict | None] = ContextVar("rocking_command", default=None)
 
 
 def command_record(args: argparse.Namespace) -> dict:
-    """The command and the options of ``args`` that decide its results, JSON-ready."""
-    options = {k: v for k, v in sorted(vars(args).items()) if k not in EXECUTION}
+    """The command and the options of ``args`` that decide its results, JSON-ready.
+
+    An infinite number (``--mu inf``, the paper's floor) is kept as its text, which JSON holds and the option reads
+    back (:func:`_value`).
+    """
+    options = {k: _finite_or_text(v) for k, v in sorted(vars(args).items()) if k not in EXECUTION}
     return {"name": args.command, "options": json.loads(json.dumps(options, default=str))}
+
+
+def _finite_or_text(value):
+    return repr(value) if isinstance(value, float) and not math.isfinite(value) else value
 
 
 def _read(path: Path) -> dict:

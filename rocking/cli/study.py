@@ -75,6 +75,7 @@ from ..study.vocabulary import FIT_STATUSES
 from .options import (
     acceleration,
     add_block_options,
+    add_floor_options,
     add_parser,
     block_from,
     block_help,
@@ -82,6 +83,7 @@ from .options import (
     flag,
     flags,
     flags_of,
+    floor_from,
     given,
     named_as_flag,
     numbers_text,
@@ -128,7 +130,7 @@ PULSE_SUITE_OPTIONS = ("periods", "amplitude", "gamma_mp", "nu")
 DAMPER_OPTIONS = ("gamma", "Tm_ratio", "omega_ratio", "zeta", "h", "stops")
 
 #: Values of the option groups that make the study's Setting with the block, when its driver takes one.
-SETTING = ("rtol", "t_after", "backend", "pulse", "gamma_mp", "nu", "vertical_ratio", "vertical_phase")
+SETTING = ("rtol", "t_after", "backend", "pulse", "gamma_mp", "nu", "vertical_ratio", "vertical_phase", "floor")
 
 
 # --- options -------------------------------------------------------------------------
@@ -621,6 +623,12 @@ def _pulse(args, params: dict) -> dict:
     return pulse
 
 
+def _floor(args) -> dict:
+    """``floor=`` of the Setting from ``--mu`` and ``--mu-k``, when given."""
+    floor = floor_from(args)
+    return {} if floor is None else {"floor": floor}
+
+
 def _given(*names: str) -> Callable[[argparse.Namespace, dict], dict]:
     """The driver's keywords ``names``, those given, by the same names as the options."""
     return lambda args, params: given(args, names)
@@ -692,6 +700,7 @@ GROUPS = {
         lambda args, params: given(args, ("rtol", "t_after", "backend")) | {"execution": execution_from(args)},
     ),
     "check": Group(lambda p, params, kind: _add_check(p), _given("check")),
+    "floor": Group(lambda p, params, kind: add_floor_options(p), lambda args, params: _floor(args)),
 }
 
 

@@ -245,10 +245,12 @@ class Range:
         ``0`` is valid too (``m = 0``: no damper).
     integer : bool
         Only whole numbers (a count).
+    infinite : bool
+        ``+inf`` is valid too, as the upper bound (a floor's friction: ``inf`` never lets the base slide).
 
     Notes
     -----
-    A bound may be infinite (the side is unbounded); the values are finite numbers still.
+    A bound may be infinite (the side is unbounded); the values are finite numbers still, unless ``infinite``.
     """
 
     low: float
@@ -259,10 +261,11 @@ class Range:
     open_high: bool = False
     zero: bool = False
     integer: bool = False
+    infinite: bool = False
 
     def holds(self, x):
         """Elementwise: ``x`` lies in the range (NaN never does)."""
-        if isinstance(x, (float, int)) and not isinstance(x, bool):  # one number: no NumPy
+        if type(x) is float or type(x) is int:  # one number: no NumPy (a NumPy scalar's inf - inf warns)
             return self._holds(x)
         x = np.asarray(x, dtype=float)
         with np.errstate(invalid="ignore"):
@@ -272,6 +275,8 @@ class Range:
         above = x > self.low if self.open_low else x >= self.low
         below = x < self.high if self.open_high else x <= self.high
         inside = above & below & (x - x == 0)  # inf lies within an unbounded side, yet is no number
+        if self.infinite:
+            inside = inside | (x == math.inf)
         if self.integer:
             inside = inside & (x % 1 == 0)
         return inside | (x == 0.0) if self.zero else inside
@@ -282,7 +287,7 @@ class Range:
     def text(self, label: str | None = None) -> str:
         """``"in [0.001, 1000] m"`` (``label``, a symbolic form of the bounds, before the numbers)."""
         opening = "(" if self.open_low or math.isinf(self.low) else "["
-        closing = ")" if self.open_high or math.isinf(self.high) else "]"
+        closing = "]" if self.infinite else ")" if self.open_high or math.isinf(self.high) else "]"
         numeric = f"{opening}{self.low:g}, {self.high:g}{closing}"
         interval = f"{label} = {numeric}" if label else numeric
         return ("0 or in " if self.zero else "in ") + _with_unit(interval, self.unit)
@@ -294,7 +299,7 @@ class Range:
         bound (whose unit the message does not need), else ``"in [1e-12, 0.01]"``,
         ``"an integer in [1, 1e+08]"``.
         """
-        if math.isinf(self.high):
+        if math.isinf(self.high) and not self.infinite:
             if math.isinf(self.low):
                 return "an integer" if self.integer else "finite"
             relation = f"{'>' if self.open_low else '>='} {self.low:g}"
@@ -382,6 +387,16 @@ RANGES: dict[str, Range] = {
     # --- the other settings of a run (rocking.sim.boundary.CASE names an entry for each it checks)
     # 1e-12 is a few thousand roundings of a double: the tighter run of the tolerance check stops there.
     "rtol": Range(1e-12, 1e-2, "", "relative tolerance of the integrator"),
+    # --- the floor (rocking.Floor, docs/model.md section 15)
+    "mu": Range(
+        0.0,
+        math.inf,
+        "",
+        "Coulomb friction of the floor, dimensionless: > 0 (a floor without friction holds no block), inf: the "
+        "base never slides (the paper's floor)",
+        open_low=True,
+        infinite=True,
+    ),
     "max_steps": Range(1, math.inf, "", "the bound on a run's work (docs/simulation.md, rule 5)", integer=True),
     "real": Range(-math.inf, math.inf, "", "a number: its range is checked where the motion or run is built"),
     "positive": Range(0.0, math.inf, "", "a step or a length of time", open_low=True),

@@ -16,6 +16,7 @@ from typing import Protocol
 import numpy as np
 
 from ..model.loading import Model
+from ..model.params import ParameterError
 from . import c_backend
 from .batch import Cases
 from .boundary import STATUS
@@ -29,6 +30,9 @@ class BackendWarning(UserWarning):
 
 class Backend(Protocol):
     """What a back end does; every one gives the same results to the tolerance of its integrator."""
+
+    #: Its phase machine follows a floor with friction (docs/model.md section 15); else it runs only ``mu = inf``.
+    friction: bool
 
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         """One run given as :func:`rocking.sim.problem.resolve` gives it (checked: not checked again)."""
@@ -45,6 +49,8 @@ class Backend(Protocol):
 
 class _C:
     """:mod:`rocking.sim.c_backend`."""
+
+    friction = False
 
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         return c_backend.simulate_settings(model, p, settings, record)
@@ -65,6 +71,8 @@ class _NumPy:
     Its runs hold the GIL, one case at a time: Ctrl-C interrupts them as any Python code, and a study
     runs them in worker processes, which it terminates; nothing else stops them from outside.
     """
+
+    friction = False
 
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         from . import numpy_backend
@@ -94,6 +102,31 @@ BACKENDS: dict[str, Backend] = {"c": _C(), "numpy": _NumPy()}
 AUTO = "auto"
 #: Every choice of :func:`simulate`.
 NAMES = (AUTO, *BACKENDS)
+#: Each back end's name in a sentence.
+LABELS = {"c": "C", "numpy": "NumPy"}
+
+
+def for_floor(name: str, mu_s) -> str:
+    """The back end that runs on a floor of static friction ``mu_s`` what was asked of ``name`` (of :data:`NAMES`).
+
+    ``name`` itself for ``mu_s = inf`` (every element of a batch's column), or when it follows friction
+    (:attr:`Backend.friction`); for ``"auto"``, the first back end that does.
+
+    Raises
+    ------
+    ParameterError
+        A finite ``mu_s`` on a back end that does not follow friction, naming one that does.
+    """
+    mu_s = np.asarray(mu_s, dtype=float)
+    if np.all(np.isinf(mu_s)):
+        return name
+    able = [other for other, backend in BACKENDS.items() if backend.friction]
+    if name in able or (name == AUTO and able):
+        return name if name != AUTO else able[0]
+    who = "no back end follows" if name == AUTO or not able else f"the {LABELS[name]} back end does not follow"
+    hint = f"backend={able[0]!r}" if able else "give mu = inf (the default), the paper's floor"
+    shown_mu = float(mu_s[np.isfinite(mu_s)].ravel()[0])
+    raise ParameterError(f"{who} a floor with friction yet (mu_s = {shown_mu:g}): {hint}")
 
 
 def simulate(name: str, model: Model, p, settings: dict, record: bool = False) -> Response:
@@ -103,6 +136,7 @@ def simulate(name: str, model: Model, p, settings: dict, record: bool = False) -
     ``"auto"`` runs C, or NumPy with a :class:`BackendWarning` when C cannot be built (the warning
     points at the caller of :func:`rocking.simulate`).
     """
+    name = for_floor(name, settings["mu_s"])
     if name == AUTO:
         try:
             return _with_inputs(BACKENDS["c"].simulate(model, p, settings, record), model, p, settings, "c")

@@ -13,6 +13,7 @@ from functools import lru_cache
 
 import numpy as np
 
+from ..model.floor import check_pair
 from ..model.loading import Model
 from ..model.motion import FAMILIES
 from ..model.params import ParameterError
@@ -155,6 +156,7 @@ class Cases:
         for code in np.unique(columns["motion"]).astype(int):
             at = columns["motion"] == code
             check_motion(FAMILIES[code], columns["n_samples"][at], columns["pulse_dt"][at], columns["n_extrema"][at])
+        check_pair(columns["mu_s"], columns["mu_k"])
         unknown = sorted(set(self.settings) - set(columns))
         if unknown:
             raise ParameterError(f"cases: unknown setting(s) {', '.join(unknown)}")

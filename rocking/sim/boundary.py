@@ -31,7 +31,7 @@ from ..model import motion
 from ..model.checks import RANGES, ParameterError, shown
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 8
+API_VERSION = 9
 
 DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "series"
 
@@ -144,6 +144,15 @@ CASE = (
         None,
         math.inf,
     ),
+    Field(
+        "mu_s",
+        DOUBLE,
+        "",
+        "static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides",
+        "mu",
+        math.inf,
+    ),
+    Field("mu_k", DOUBLE, "", "kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf)", "mu", math.inf),
     Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "t_max"),
     Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "rtol"),
     Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
@@ -199,6 +208,10 @@ RESULT = (
         "N",
         "largest force of a bumper against its penetration, the peak of the dense output (rule 6)",
     ),
+    # A back end that does not follow friction leaves these at their defaults, the answer of a floor with mu = inf.
+    Field("u_max", DOUBLE, "m", "largest |u|, the peak slip of the base relative to the ground", None, 0.0),
+    Field("u_end", DOUBLE, "m", "the residual displacement of the base: u at the end (signed)", None, 0.0),
+    Field("slides", INT64, "", "slip episodes: times the base started sliding on the floor", None, 0),
 )
 
 
@@ -378,7 +391,7 @@ def check(name: str, value):
         return value
     if isinstance(value, (float, int, np.integer)):  # one number (a single run; a bool is 0 or 1): as it is
         # An int beyond int64 fits no field of the C structure (nor, beyond the doubles, a double).
-        if not (holds(valid, value) and (type(value) is float or INT64_MIN <= value <= INT64_MAX)):
+        if not (holds(valid, value) and (isinstance(value, float) or INT64_MIN <= value <= INT64_MAX)):
             raise ParameterError(f"{name} must be {valid_text(valid)} (got {_shown(value)})")
         return value
     try:

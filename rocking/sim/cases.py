@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import numpy as np
 
+from ..model.floor import Floor, floor_of
 from ..model.loading import Model, ModelError
 from ..model.motion import FAMILIES, SampledMotion, listed_extrema, timing
 from ..model.params import (
@@ -30,7 +31,7 @@ from ..model.params import (
 from ..model.pulse import check_signs
 from ..model.vertical import Vertical, check_vertical
 from . import boundary
-from .backends import BACKENDS
+from .backends import BACKENDS, for_floor
 from .batch import Cases, Packed
 from .boundary import MOTION
 from .problem import (
@@ -102,6 +103,7 @@ def pulse_cases(
     gamma_mp: float | None = None,
     nu: float = 0.0,
     vertical: object = None,
+    floor: Floor | None = None,
 ) -> Cases:
     """Cases for pulses ``(Omega, beta)`` and dampers ``(gamma, omega_ratio, zeta, h)``.
 
@@ -117,6 +119,8 @@ def pulse_cases(
     section 14):
     ``ddy_g = ratio a_g f(t + phase / omega_g)``, > 0 up, unsigned by ``sign``; a case where ``g + ddy_g``
     reaches 0 ends there with the status ``flight``. Default None: none (``ratio = 0`` is the same).
+    ``floor``: the floor of every case, a :class:`rocking.Floor` (docs/model.md section 15); default None: the
+    paper's, on which the base never slides.
 
     All array arguments broadcast together (docs/model.md section 9 for their
     meaning); the result is flattened in C order. ``gamma = 0`` everywhere
@@ -165,6 +169,7 @@ def pulse_cases(
     if checked is not None and checked.ratio > 0.0:
         columns.update(_vertical_columns(block, columns, checked, block.a_g(beta)))
         columns.update(margin_settings(motion, gamma_mp or 0.0, nu, checked, block))
+    columns.update(floor_of(floor).settings())
     return _cases(block, columns, 2 * np.pi / omega_g, damper, rtol, t_after, max_events, model, params, stops, stroke)
 
 
@@ -200,6 +205,7 @@ def sampled_cases(
     params: dict | None = None,
     stops: bool = False,
     stroke: float | None = None,
+    floor: Floor | None = None,
 ) -> Cases:
     """Cases for one sampled motion at the factors ``scale`` (as ``motion.scaled(scale)``) and dampers.
 
@@ -208,7 +214,7 @@ def sampled_cases(
     (``SampledMotion(a_v=...)``) is scaled with the horizontal one and unsigned (docs/model.md
     section 14), and a case where ``g + ddy_g`` reaches 0 ends there with the status ``flight``. ``scale`` (>= 0),
     ``sign`` and the damper arrays broadcast together, flattened in C order; the damper, ``model``,
-    ``params``, ``stops`` and ``stroke`` as for :func:`pulse_cases`.
+    ``params``, ``stops``, ``stroke`` and ``floor`` as for :func:`pulse_cases`.
     """
     check_block(block)
     if type(motion) is not SampledMotion:
@@ -232,6 +238,7 @@ def sampled_cases(
     }
     if motion.a_v is not None:
         columns.update(_vertical_samples(block, motion, motion.a_v, motion.scale * scale))
+    columns.update(floor_of(floor).settings())
     return _cases(block, columns, np.inf, damper, rtol, t_after, max_events, model, params, stops, stroke)
 
 
@@ -355,4 +362,4 @@ def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, n
     """
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise ParameterError(f"backend must be {' or '.join(map(repr, BACKENDS))} (got {backend!r})")
-    return BACKENDS[backend].simulate_cases(cases, threads)
+    return BACKENDS[for_floor(backend, cases.settings["mu_s"])].simulate_cases(cases, threads)

@@ -62,6 +62,10 @@ class ProblemFields:
         A sampled motion's vertical samples at k pulse_dt: f_v linear between them [m/s^2].
     t_flight : float
         First time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s].
+    mu_s : float
+        Static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides.
+    mu_k : float
+        Kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf).
     t_max : float
         End of the run if nothing ends it first [s].
     rtol : float
@@ -109,6 +113,8 @@ class ProblemFields:
     n_v_samples: int = 0
     v_samples: np.ndarray | None = None
     t_flight: float = math.inf
+    mu_s: float = math.inf
+    mu_k: float = math.inf
     t_max: float
     rtol: float
     atol: np.ndarray
@@ -153,6 +159,12 @@ class ResponseFields:
         it push (0 without stops); final at rest and bounded (rules 4, 6).
     bumper_force_max : float
         Largest force of a bumper against its penetration, the peak of the dense output (rule 6) [N].
+    u_max : float
+        Largest |u|, the peak slip of the base relative to the ground [m].
+    u_end : float
+        The residual displacement of the base: u at the end (signed) [m].
+    slides : int
+        Slip episodes: times the base started sliding on the floor.
     sensitive : bool
         The tolerance check's runs disagree (the verdict, or theta_max or x_max by more than 10 %): this
         response is its tightest run's (docs/simulation.md, Sensitivity to the tolerance).
@@ -177,6 +189,9 @@ class ResponseFields:
     t_end: float
     stop_contacts: int
     bumper_force_max: float
+    u_max: float = 0.0
+    u_end: float = 0.0
+    slides: int = 0
     sensitive: bool = False
     theta_max_low: float = math.nan
     theta_max_high: float = math.nan

@@ -20,6 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..model.floor import Floor, check_pair, floor_of
 from ..model.loading import Model, ModelError, load_model
 from ..model.motion import FAMILIES, SHAPES, describe, interpolate, margin_extrema, real_array, sample_piece
 from ..model.params import (
@@ -207,6 +208,7 @@ class Problem(ProblemFields):
         for name, count in _SERIES_SETTINGS:
             object.__setattr__(self, name, _series(name, getattr(self, name), getattr(self, count)))
         check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
+        check_pair(self.mu_s, self.mu_k)
         p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
         if p.shape != (len(self.model.parameters),):
             raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
@@ -649,6 +651,7 @@ def make_problem(
     early_verdict: bool = True,
     y0=None,
     phase0: int = CONTACT,
+    floor: Floor | None = None,
 ) -> Problem:
     """Resolve the physical description of a run into a :class:`Problem`.
 
@@ -699,6 +702,9 @@ def make_problem(
     phase0 : int
         Phase at ``t = 0``: 0 (full contact), +1 or -1 (rocking about ``A``
         or ``A'``); the rule is docs/simulation.md, "Initial state".
+    floor : Floor, optional
+        The floor's Coulomb friction (docs/model.md section 15); default ``None``, ``Floor()``: the
+        paper's floor, on which the base never slides (``mu_s = mu_k = inf``).
     """
     options = {
         "model": model,
@@ -713,6 +719,7 @@ def make_problem(
         "early_verdict": early_verdict,
         "y0": y0,
         "phase0": phase0,
+        "floor": floor,
     }
     model, p, settings = resolve(block, damper, pulse, options)
     return Problem(model=model, p=p, **settings)
@@ -745,6 +752,7 @@ _OPTION_CHECKS = {
     "early_rest": functools.partial(check_flag, "early_rest"),
     "early_verdict": functools.partial(check_flag, "early_verdict"),
     "phase0": _check_phase0,
+    "floor": floor_of,
 }
 #: The options that are fields of :data:`~rocking.sim.boundary.CASE`: when given, checked by the table as a
 #: :class:`Problem` checks them (in the table's order); the fields a run derives from checked objects are not.
@@ -852,6 +860,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
         phase0=options["phase0"],
         early_rest=options["early_rest"],
         early_verdict=options["early_verdict"],
+        **floor_of(options["floor"]).settings(),
     )
     for name in _CASE_OPTIONS if given else ():
         if name in given:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+from ..model.floor import floor_of
 from ..model.params import ParameterError
 from ..model.plausibility import check_run
 from . import backends
@@ -84,6 +85,9 @@ def simulate(
     t_max: float | None = None,
     record: bool = False,
     check: str | None = None,
+    floor=None,
+    mu=None,
+    mu_k=None,
     **settings,
 ) -> Response:
     """Response of ``block`` (with ``damper``, or ``None``) to ``pulse``.
@@ -117,6 +121,13 @@ def simulate(
         ``overturned_fraction`` and ``check_runs`` give the spread of the runs
         (docs/simulation.md, "Sensitivity to the tolerance"). Default: ``"tolerance"``
         for a :class:`SampledMotion` (records, stochastic motions), ``"none"`` for a pulse.
+    floor : Floor, optional
+        The floor's Coulomb friction (docs/model.md section 15); default ``None``: the paper's floor,
+        on which the base never slides (``mu_s = mu_k = inf``). Only a back end that follows friction
+        runs a finite one (``backend="auto"`` picks it); the others refuse it.
+    mu, mu_k : float, optional
+        Shorthand for ``floor=Floor(mu, mu_k)``: static and kinetic friction (``mu_k`` default ``mu``),
+        dimensionless; not beside ``floor``.
     **settings
         Further options of :func:`rocking.sim.problem.make_problem` (``model``,
         ``t_after``, ``dtheta_rest``, ``energy_rest``, ``max_events``, ``record_dt``,
@@ -179,6 +190,8 @@ def simulate(
         settings["rtol"] = rtol
     if t_max is not None:
         settings["t_max"] = t_max
+    if floor is not None or mu is not None or mu_k is not None:
+        settings["floor"] = floor_of(floor, mu, mu_k)
     model, p, case = resolve(block, damper, pulse, settings)
     check_run(block, model, p, pulse, stacklevel=2)
     # At the smallest valid rtol there is no tighter run to compare with: the response stands as it is.

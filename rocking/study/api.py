@@ -21,6 +21,10 @@ Omega, beta or T_g, a_g
     ``a_g / (g tan alpha)``, or in their place periods ``T_g = 2 pi / omega_g`` (s) and amplitudes ``a_g``
     (m/s^2), as arrays or :class:`~rocking.study.config.Grid` (:func:`rocking.study.config.pulse_grids`;
     docs/model.md section 9). Each quantity one way: ``Omega`` or ``T_g``, ``beta`` or ``a_g``.
+mu, mu_k
+    The floor of every response, ``rocking.Floor(mu, mu_k)`` (:class:`~rocking.study.config.Setting`,
+    docs/model.md section 15): static and kinetic Coulomb friction, dimensionless; default ``None``: the
+    paper's floor, on which the base never slides. Only a back end that follows friction runs a finite one.
 vertical_ratio, vertical_phase
     The maps' and spectra's vertical component of every pulse, ``rocking.Vertical(vertical_ratio,
     vertical_phase)`` (:class:`~rocking.study.config.Setting`, docs/model.md section 14): ratio in [0, 10]
@@ -50,6 +54,7 @@ from pathlib import Path
 
 import platformdirs
 
+from ..model.floor import floor_of
 from ..model.params import Block, Damper, ParameterError, check_block
 from .config import Grid, Setting, Tuning, Variant, pulse_grids, tm_omega_ratio
 from .design import REFINE
@@ -79,10 +84,22 @@ def runs_folder() -> Path:
     return Path(platformdirs.user_cache_dir(APP, appauthor=False)) / "runs"
 
 
-def _setting(block, rtol: float, t_after: float, backend: str, pulse: str = "sine", gamma_mp=None, nu=None, **vertical):
-    """The study's :class:`Setting`; ``vertical``: ``vertical_ratio`` and ``vertical_phase`` of the maps and spectra."""
+def _setting(
+    block, rtol: float, t_after: float, backend: str, pulse: str = "sine", gamma_mp=None, nu=None, *, floor, **vertical
+):
+    """The study's :class:`Setting`; ``floor``: ``(mu, mu_k)``; ``vertical``: ``vertical_ratio`` and
+    ``vertical_phase`` of the maps and spectra."""
     shape = {"gamma_mp": gamma_mp} | ({} if nu is None else {"nu": nu})
-    return Setting(check_block(block), rtol=rtol, t_after=t_after, backend=backend, pulse=pulse, **shape, **vertical)
+    return Setting(
+        check_block(block),
+        rtol=rtol,
+        t_after=t_after,
+        backend=backend,
+        pulse=pulse,
+        floor=floor_of(None, *floor),
+        **shape,
+        **vertical,
+    )
 
 
 def _tuning(damper) -> Tuning | Variant:
@@ -165,6 +182,8 @@ def overturning_map(
     nu: float | None = None,
     vertical_ratio: float = Setting.vertical_ratio,
     vertical_phase: float = Setting.vertical_phase,
+    mu: float | None = None,
+    mu_k: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -187,7 +206,7 @@ def overturning_map(
         In place of ``Omega`` and ``beta``: pulse periods ``T_g`` (s) and amplitudes ``a_g`` (m/s^2).
     directions, full, coarse, verify, tile
         As :func:`rocking.study.overturning_map.overturning_map`.
-    rtol, t_after, pulse, gamma_mp, nu, backend, workers, scheduler, dask_workers, runs, progress, study
+    rtol, t_after, pulse, gamma_mp, nu, mu, mu_k, backend, workers, scheduler, dask_workers, runs, progress, study
         Shared by every study (:mod:`rocking.study.api`).
     vertical_ratio, vertical_phase : float, optional
         The vertical component of every pulse (:mod:`rocking.study.api`); default none.
@@ -219,6 +238,7 @@ def overturning_map(
             pulse,
             gamma_mp,
             nu,
+            floor=(mu, mu_k),
             vertical_ratio=vertical_ratio,
             vertical_phase=vertical_phase,
         ),
@@ -255,6 +275,8 @@ def minimum_overturning_spectrum(
     nu: float | None = None,
     vertical_ratio: float = Setting.vertical_ratio,
     vertical_phase: float = Setting.vertical_phase,
+    mu: float | None = None,
+    mu_k: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -294,6 +316,7 @@ def minimum_overturning_spectrum(
             pulse,
             gamma_mp,
             nu,
+            floor=(mu, mu_k),
             vertical_ratio=vertical_ratio,
             vertical_phase=vertical_phase,
         ),
@@ -328,6 +351,8 @@ def optimal_damper(
     pulse: str = "sine",
     gamma_mp: float | None = None,
     nu: float | None = None,
+    mu: float | None = None,
+    mu_k: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -358,7 +383,7 @@ def optimal_damper(
     """
     return _run(
         _optimal_damper,
-        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(mu, mu_k)),
         gammas,
         _grid("Omega", Omega),
         _grid("beta", beta),
@@ -398,6 +423,8 @@ def design(
     pulse: str = "sine",
     gamma_mp: float | None = None,
     nu: float | None = None,
+    mu: float | None = None,
+    mu_k: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -441,7 +468,7 @@ def design(
     """
     return _run(
         _design,
-        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(mu, mu_k)),
         *_pulse_grids(check_block(block), Omega, beta, T_g, a_g),
         workers=workers,
         scheduler=scheduler,
@@ -550,6 +577,7 @@ def _ida(
     directions: str,
     rtol: float,
     t_after: float,
+    floor: tuple,
     backend: str,
     workers,
     scheduler,
@@ -560,7 +588,7 @@ def _ida(
     check: str | None,
 ):
     """The study of :func:`incremental_dynamic_analysis` (``measure="scale"``) or of :func:`fragility`."""
-    setting = _setting(block, rtol, t_after, backend)
+    setting = _setting(block, rtol, t_after, backend, floor=floor)
     return _run(
         _incremental_dynamic_analysis,
         setting,
@@ -600,6 +628,8 @@ def incremental_dynamic_analysis(
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
+    mu: float | None = None,
+    mu_k: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -637,7 +667,7 @@ def incremental_dynamic_analysis(
     pulses, periods, amplitude, gamma_mp, nu
         Instead: a family of pulses (``"sine"``, ``"ricker"``, ``"mp"``, ...), one per period (s), of
         amplitude ``amplitude`` (m/s^2, default 1 g) and the MP shape (:func:`rocking.study.suite.of_pulses`).
-    damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
+    damper, directions, rtol, t_after, mu, mu_k, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
     check : {"tolerance", "none"}, optional
         The tolerance check of every response, as :func:`rocking.simulate`'s (docs/simulation.md,
@@ -675,6 +705,7 @@ def incremental_dynamic_analysis(
         directions=directions,
         rtol=rtol,
         t_after=t_after,
+        floor=(mu, mu_k),
         backend=backend,
         workers=workers,
         scheduler=scheduler,
@@ -708,6 +739,8 @@ def fragility(
     directions: str = "auto",
     rtol: float = Setting.rtol,
     t_after: float = Setting.t_after,
+    mu: float | None = None,
+    mu_k: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -733,7 +766,7 @@ def fragility(
         the horizontal record's.
     pulses, periods, amplitude, gamma_mp, nu, check
         As :func:`incremental_dynamic_analysis`.
-    damper, directions, rtol, t_after, backend, workers, scheduler, dask_workers, runs, progress, study
+    damper, directions, rtol, t_after, mu, mu_k, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
 
     Returns
@@ -775,6 +808,7 @@ def fragility(
         directions=directions,
         rtol=rtol,
         t_after=t_after,
+        floor=(mu, mu_k),
         backend=backend,
         workers=workers,
         scheduler=scheduler,

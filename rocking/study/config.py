@@ -23,6 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..model.floor import PAPER_FLOOR, Floor, floor_of
 from ..model.loading import GENERATED, ModelError, load_model
 from ..model.motion import PULSE_TYPES, SHAPES, timing
 from ..model.params import Block, ParameterError, check_in_range, check_real, shown
@@ -286,6 +287,10 @@ class Setting:
         The vertical component of every pulse, :class:`rocking.Vertical` ``(vertical_ratio, vertical_phase)``
         (docs/model.md section 14): ``ddy_g = vertical_ratio a_g f(t + vertical_phase / omega_g)``, > 0 up,
         unsigned by the pulse's direction; the ratio in [0, 10], the lead in [0, 2 pi) rad. Default 0, 0: none.
+    floor : Floor, optional
+        The floor of every response, its Coulomb friction (docs/model.md section 15); default ``None``,
+        ``Floor()``: the paper's, on which the base never slides. Only a back end that follows friction runs a
+        finite one.
     """
 
     block: Block
@@ -297,6 +302,7 @@ class Setting:
     nu: float = 0.0
     vertical_ratio: float = 0.0
     vertical_phase: float = 0.0
+    floor: Floor = PAPER_FLOOR
 
     def __post_init__(self) -> None:
         if not isinstance(self.block, Block):
@@ -323,16 +329,23 @@ class Setting:
                 "vertical_phase is the lead of the vertical component: give it with vertical_ratio > 0"
             )
         object.__setattr__(self, "vertical_phase", phase)
+        object.__setattr__(self, "floor", floor_of(self.floor))
 
     @property
     def vertical(self) -> Vertical | None:
         """The pulses' vertical component, ``None`` for ``vertical_ratio = 0``."""
         return Vertical(self.vertical_ratio, self.vertical_phase) if self.vertical_ratio > 0.0 else None
 
+    def floor_args(self) -> dict:
+        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` and ``sampled_cases`` for the floor (none for
+        the paper's)."""
+        return {"floor": self.floor} if self.floor.slides else {}
+
     def pulse_args(self) -> dict:
-        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for the pulse family and its vertical
-        component."""
+        """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for the pulse family, its vertical
+        component and the floor."""
         vertical = {"vertical": self.vertical} if self.vertical is not None else {}
+        vertical.update(self.floor_args())
         if self.pulse == "sine":
             return vertical
         shape = {"gamma_mp": self.gamma_mp, "nu": self.nu} if self.pulse == "mp" else {}
@@ -344,14 +357,29 @@ class Setting:
 
     def record(self) -> dict:
         """JSON-ready description: the pulse family only when it is not the paper's one-sine, the vertical component
-        only when there is one (so the records, and the hashes of the tiles, of the studies without are unchanged)."""
+        only when there is one, the floor only when it has a finite friction (so the records, and the hashes of the
+        tiles, of the studies without are unchanged)."""
         record = {"block": self.block.as_params(), "rtol": self.rtol, "t_after": self.t_after, "backend": self.backend}
         if self.pulse != "sine":
             shape = {"gamma_mp": self.gamma_mp, "nu": self.nu} if self.pulse == "mp" else {}
             record["pulse"] = {"motion": self.pulse, **shape}
         if self.vertical is not None:
             record["vertical"] = self.vertical_record()
+        if self.floor.slides:
+            record["floor"] = self.floor.settings()
         return record
+
+
+def floor_attrs(config: dict) -> dict:
+    """Attributes of a study's Dataset naming its floor (``config["floor"]``, :meth:`Setting.record`; the paper's
+    when absent): ``mu_s``, ``mu_k`` and the convention, in words."""
+    floor = config.get("floor", PAPER_FLOOR.settings())
+    words = (
+        "Coulomb friction of the floor, static mu_s and kinetic mu_k, dimensionless (docs/model.md section 15)"
+        if math.isfinite(floor["mu_s"])
+        else "mu_s = mu_k = inf: the base never slides (the paper's floor)"
+    )
+    return {"mu_s": floor["mu_s"], "mu_k": floor["mu_k"], "floor": words}
 
 
 def vertical_attrs(config: dict) -> dict:

@@ -150,7 +150,7 @@ def motion_measure(motion, name: str) -> float:
 
 def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
     """The cases of ``motion`` (sampled or a pulse) at ``scales`` (rows) in the directions ``signs`` (columns)."""
-    common = {"rtol": setting.rtol, "t_after": setting.t_after, **damper}
+    common = {"rtol": setting.rtol, "t_after": setting.t_after, **setting.floor_args(), **damper}
     signs = np.asarray(signs)[None, :]
     if isinstance(motion, SampledMotion):
         return sampled_cases(setting.block, motion, scales[:, None], sign=signs, **common)

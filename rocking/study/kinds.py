@@ -95,13 +95,19 @@ def _grid(name: str, default: tuple, text: str, si: str | None = None) -> tuple:
 
 
 #: The options every pulse study ends with, after its own.
-_PULSE_STUDY: tuple[tuple[str, dict], ...] = (("directions", {}), ("pulse", {}), ("solver", {}))
+_PULSE_STUDY: tuple[tuple[str, dict], ...] = (("directions", {}), ("pulse", {}), ("floor", {}), ("solver", {}))
 #: Those of the maps and spectra, whose pulses may have a vertical component.
-_VERTICAL_STUDY: tuple[tuple[str, dict], ...] = (("directions", {}), ("pulse", {}), ("vertical", {}), ("solver", {}))
+_VERTICAL_STUDY: tuple[tuple[str, dict], ...] = (
+    ("directions", {}),
+    ("pulse", {}),
+    ("vertical", {}),
+    ("floor", {}),
+    ("solver", {}),
+)
 #: The options of the motions of ida and fragility, before their levels.
 _MOTIONS: tuple[tuple[str, dict], ...] = (("block", {}), ("damper", {"tuned": True}), ("variant", {}), ("motions", {}))
 #: The options of ida and fragility, after their levels.
-_MOTIONS_END: tuple[tuple[str, dict], ...] = (("directions", {}), ("solver", {}), ("check", {}))
+_MOTIONS_END: tuple[tuple[str, dict], ...] = (("directions", {}), ("floor", {}), ("solver", {}), ("check", {}))
 #: The positional arguments of the drivers of the studies of one damper, or of a model variant.
 _ONE_DAMPER = ("setting", "damper", "Omega", "beta", "execution")
 _MOTION_STUDY = ("setting", "damper", "suite", "levels", "execution")

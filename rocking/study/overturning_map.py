@@ -42,7 +42,18 @@ from ..sim.cases import pulse_cases, run_cases
 from ..sim.problem import STATUS
 from . import directions
 from .adaptive import COARSE, Refinement, check_coarse, check_verify, guarantee
-from .config import Grid, Setting, Tuning, Variant, check_cells, check_type, is_count, part_config, vertical_attrs
+from .config import (
+    Grid,
+    Setting,
+    Tuning,
+    Variant,
+    check_cells,
+    check_type,
+    floor_attrs,
+    is_count,
+    part_config,
+    vertical_attrs,
+)
 from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, choose
 from .result import Study
@@ -452,7 +463,7 @@ def map_data(config: dict, Omega, beta, signs, fields: dict, computed):
     coords.update(si_coordinates(config, coords))
     variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
     variables["computed"] = (DIMS["computed"], computed, field_attrs("computed", config))
-    return xr.Dataset(variables, coords=coords, attrs=vertical_attrs(config))
+    return xr.Dataset(variables, coords=coords, attrs={**vertical_attrs(config), **floor_attrs(config)})
 
 
 def envelope(data):

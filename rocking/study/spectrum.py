@@ -40,7 +40,7 @@ import numpy as np
 
 from ..model.params import ParameterError
 from ..sim.problem import STATUS
-from .config import Grid, Setting, Tuning, Variant, is_count, is_number, part_config, vertical_attrs
+from .config import Grid, Setting, Tuning, Variant, floor_attrs, is_count, is_number, part_config, vertical_attrs
 from .dataset import SI_AMPLITUDES, coordinate_attrs, field_attrs, si_amplitudes, si_coordinates
 from .directions import SIGN_NAMES, beta_min_envelope, choose, repeat, sign_column, study_data, take
 from .overturning_map import (
@@ -439,7 +439,7 @@ def spectrum_data(config: dict, Omega, beta_scan, signs, fields: dict):
     }
     coords.update(si_coordinates(config, coords))
     variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
-    return xr.Dataset(variables, coords=coords, attrs=vertical_attrs(config))
+    return xr.Dataset(variables, coords=coords, attrs={**vertical_attrs(config), **floor_attrs(config)})
 
 
 def envelope(data):

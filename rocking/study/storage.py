@@ -37,6 +37,7 @@ from typing import Any
 import numpy as np
 
 from ..model.checks import check_in_range
+from ..model.floor import Floor
 from ..model.loading import ModelError, load_model
 from ..model.motion import PULSE_TYPES
 from ..model.motion import describe as describe_motion
@@ -53,6 +54,7 @@ from .config import (
     Tuning,
     check_signs,
     config_hash,
+    floor_attrs,
     is_count,
     is_number,
     name_text,
@@ -446,6 +448,8 @@ def _setting(config: dict) -> None:
         vertical = _fields_of("vertical", vertical, {"ratio", "phase"})
     if pulse.get("gamma_mp") is not None:
         check_in_range("gamma_mp", pulse["gamma_mp"])
+    # A study saved before the floor had friction holds none: the paper's floor.
+    floor = _fields_of("floor", config["floor"], {"mu_s", "mu_k"}) if "floor" in config else {}
     solver: dict[str, Any] = {key: config.get(key) for key in ("rtol", "t_after", "backend")}  # None: refused
     setting = Setting(
         block,
@@ -455,11 +459,12 @@ def _setting(config: dict) -> None:
         nu=pulse.get("nu", 0.0),
         vertical_ratio=vertical.get("ratio", 0.0),
         vertical_phase=vertical.get("phase", 0.0),
+        floor=Floor(**floor),
     )
     record = setting.record()
     if "block" not in config:
         del record["block"]
-    for key in ("pulse", "vertical"):
+    for key in ("pulse", "vertical", "floor"):
         if key in config and key not in record:
             raise ParameterError(f"{key}: {shown(config[key])} is what a study records by leaving {key} out")
     for key, value in record.items():
@@ -624,7 +629,7 @@ def _grid(name: str, value) -> None:
 #: solver) are checked together (:func:`_setting`), the directions against the signs (:func:`_directions`).
 SAVED_FIELDS: dict[str, Callable | None] = {
     "kind": None,  # the record's kind: compared in check_config
-    **dict.fromkeys(("block", "rtol", "t_after", "backend", "pulse", "vertical"), None),  # _setting
+    **dict.fromkeys(("block", "rtol", "t_after", "backend", "pulse", "vertical", "floor"), None),  # _setting
     "directions": None,  # _directions
     "damper": _damper,
     "dampers": _dampers,
@@ -822,7 +827,7 @@ def _read_data(nc: Path, record: dict):
         raise ParameterError(f"{nc}: its variables do not match the checksum of its JSON (changed or damaged)")
     data.attrs.clear()  # the configuration and summary are the record's, checked
     if record["kind"] in ("map", "spectrum"):  # their pulses' vertical component, as the study made them
-        data.attrs.update(vertical_attrs(record["config"]))
+        data.attrs.update(vertical_attrs(record["config"]), **floor_attrs(record["config"]))
     return data
 
 

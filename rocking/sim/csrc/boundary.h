@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 8
+#define ROCKING_SIM_API_VERSION 9
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the energy bounds of the early rest and verdict (rule 4) */
 #define ROCKING_ARC_STEP 0.05 /* widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4) */
@@ -58,6 +58,8 @@ typedef struct rocking_case {
     int64_t n_v_samples; /* number of vertical samples of a sampled motion (0: none) */
     const double *v_samples; /* a sampled motion's vertical samples at k pulse_dt: f_v linear between them [m/s^2] */
     double t_flight; /* first time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s] */
+    double mu_s; /* static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides */
+    double mu_k; /* kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf) */
     double t_max; /* end of the run if nothing ends it first [s] */
     double rtol; /* relative tolerance of the integrator */
     const double *atol; /* absolute tolerance of each state component [state units] */
@@ -85,12 +87,15 @@ typedef struct rocking_result {
     double t_end; /* when the run ended [s] */
     int64_t stop_contacts; /* times an end stop's pad starts pushing: its gap closes, a released pad pushes again, or an impact makes it push (0 without stops); final at rest and bounded (rules 4, 6) */
     double bumper_force_max; /* largest force of a bumper against its penetration, the peak of the dense output (rule 6) [N] */
+    double u_max; /* largest |u|, the peak slip of the base relative to the ground [m] */
+    double u_end; /* the residual displacement of the base: u at the end (signed) [m] */
+    int64_t slides; /* slip episodes: times the base started sliding on the floor */
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(a_v) X(psi_v) X(n_v_samples) X(v_samples) X(t_flight) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
+#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(a_v) X(psi_v) X(n_v_samples) X(v_samples) X(t_flight) X(mu_s) X(mu_k) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
 
-#define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max)
+#define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max) X(u_max) X(u_end) X(slides)
 
 /* The constants in table order (rocking_constants). */
 #define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_BARRIER_TILTS) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_BELOW_BARRIER) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)

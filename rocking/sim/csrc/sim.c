@@ -2169,6 +2169,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     out->t_end = 0.0;
     out->stop_contacts = 0;
     out->bumper_force_max = 0.0;
+    /* The floor's slip: none, the answer of mu = inf, until this phase machine follows friction. */
+    out->u_max = out->u_end = 0.0;
+    out->slides = 0;
 
     r.c = c;
     r.tol.rtol = c->rtol;
