@@ -427,6 +427,10 @@ def slide_rock(M, I_G, B, H, e, g, a_g, omega_g, mu_s, mu_k=None, sign=1, t_afte
                 break
             first = ("rocks" if name.startswith("uplift") else "slides") if first == "none" else first
             s, sigma, counted = _transition(blk, name, s, sigma, t, y)
+            if sigma == 0 and _stick_or_reverse(blk, s, t, y):
+                # The phase starts stuck with more force than the floor holds (after an impact, say): a slip event
+                # sees only a crossing, so the slip starts here.
+                sigma, counted = _stick_or_reverse(blk, s, t, y), counted + " slide"
             for word in counted.split():
                 counts[word] += 1
         else:
