@@ -262,17 +262,23 @@ class _System:
         )
 
     def floor_force(self, phase: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> tuple[float, float]:
-        """``(F, N)``: the force the floor must hold on the stuck contact of ``phase`` (``CONTACT`` or ``s``)."""
-        if phase == CONTACT:
-            return self._friction("contact_stick_force", 1.0, y, ag, stop_on, agy)
-        return self._friction("stick_force", float(phase), y, ag, stop_on, agy)
+        """``(F, N)``: the force the floor must hold on the stuck contact of ``phase`` (``CONTACT`` or ``s``),
+        from the function the phase table names."""
+        entry = phase_of(phase != CONTACT, False)
+        return self._friction(entry.force, _pivot(phase), y, ag, stop_on, agy)
 
     def slide_accel(self, phase: int, sigma: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> tuple:
-        """``(ddq..., ddu, N)`` of the sliding phase of ``phase`` with the slip's direction ``sigma``."""
-        mu_slip = self.mu_k * sigma
-        if phase == CONTACT:
-            return self._friction("contact_slide_accel", 1.0, y, ag, stop_on, agy, mu_slip)
-        return self._friction("slide_accel", float(phase), y, ag, stop_on, agy, mu_slip)
+        """``(ddq..., ddu, N)`` of the sliding phase of ``phase`` with the slip's direction ``sigma``, from the
+        function the phase table names."""
+        entry = phase_of(phase != CONTACT, True)
+        return self._friction(entry.accel, _pivot(phase), y, ag, stop_on, agy, self.mu_k * sigma)
+
+    def phase_rhs(self, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> StateFunction:
+        """The right-hand side of the phase of the table with the pivot ``phase`` (``CONTACT`` or ``s``) and the
+        slip ``sigma``: :meth:`stuck_rhs` or :meth:`slide_rhs`."""
+        if sigma:
+            return self.slide_rhs(phase, sigma, ground, stop_on, vertical)
+        return self.stuck_rhs(phase, ground, stop_on, vertical)
 
     def slide_rhs(self, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> StateFunction:
         """``(dq, ddq, du, ddu)`` of the sliding phase of ``phase`` (``CONTACT`` or ``s``) on the state with
@@ -456,39 +462,24 @@ class _System:
         lead = float(p.psi_v) / omega_g
         return lambda t: a_v * shape(t + lead, omega_g, phase, t_c, gamma, math)
 
-    def rocking_rhs(self, s: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
-        """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase) in the regime ``stop_on``.
+    def stuck_rhs(self, phase: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
+        """``y' = (dq, ddq)`` of a stuck phase, ``ddq`` from the function the phase table names: rocking about the
+        pivot ``s = phase`` (fixed for the phase), ``f_s(y, ag)``, or in full contact (``phase = CONTACT``),
+        ``c(y, ag)``, in the regime ``stop_on`` of the segment.
 
-        The regime is that of the segment (rule 6): a gap event ends it, so its
-        steps never see a bumper's force switch on or off.
+        The regime is that of the segment (rule 6): a gap event ends it, so its steps never see a bumper's
+        force switch on or off. In full contact the whole state is integrated, ``theta`` and ``dtheta``
+        included: the generated ``contact_accel`` returns ``ddtheta = 0`` and ``dtheta = 0``, so both stay
+        exactly 0, and the error norm runs over the same ``2 n`` components in every phase.
         """
         n = self.n
         regime = self.regime(stop_on)
+        accel, s = phase_of(phase != CONTACT, False).accel, _pivot(phase)
 
         def rhs(t, y):
             dy = np.empty_like(y)
             dy[:n] = y[n:]
-            dy[n:] = self._call("rocking_accel", s, y, ground(t), regime, agy=vertical(t))
-            return dy
-
-        return rhs
-
-    def contact_rhs(self, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
-        """``y' = (dq, c(y, ag))``: full contact in the regime ``stop_on`` of the segment.
-
-        The whole state is integrated, ``theta`` and ``dtheta`` included: the
-        generated ``contact_accel`` returns ``ddtheta = 0`` and ``dtheta = 0``,
-        so both stay exactly 0, and the error norm runs over the same ``2 n``
-        components in every phase.
-        """
-        n = self.n
-        regime = self.regime(stop_on)
-
-        def rhs(t, y):
-            dy = np.empty_like(y)
-            dy[:n] = y[n:]
-            # contact_accel ignores s; +1 is as good as any.
-            dy[n:] = self._call("contact_accel", 1.0, y, ground(t), regime, agy=vertical(t))
+            dy[n:] = self._call(accel, s, y, ground(t), regime, agy=vertical(t))
             return dy
 
         return rhs
@@ -663,6 +654,11 @@ def _lower(a: float, b: float) -> float:
 
 #: The smallest double above 0: an exact 0 of an event function moved to one side of it.
 _TINY = 5e-324
+
+
+def _pivot(phase: int) -> float:
+    """The ``s`` a generated function takes in ``phase``: the pivot, or +1 in full contact (where it is ignored)."""
+    return 1.0 if phase == CONTACT else float(phase)
 
 
 def _zero_below(function: StateFunction) -> StateFunction:
@@ -1081,13 +1077,9 @@ def integrate_segment(
     pulse_on = t0 < problem.t_p
     ground, vertical = system.ground(pulse_on, t0), system.vertical(pulse_on, t0)
     n = system.n
+    rhs = system.phase_rhs(phase, sigma, ground, stop_on, vertical)
     if sigma:
-        rhs = system.slide_rhs(phase, sigma, ground, stop_on, vertical)
         y0 = np.concatenate([y0, slip])
-    elif phase == CONTACT:
-        rhs = system.contact_rhs(ground, stop_on, vertical)
-    else:
-        rhs = system.rocking_rhs(phase, ground, stop_on, vertical)
     # While the pulse acts, the uplift functions move with ag(t) even when the
     # state does not (the bare block: error estimate 0, so the step would grow
     # tenfold per step); a bounded step keeps an uplift from being stepped over.
