@@ -1151,7 +1151,7 @@ def integrate_segment(
     crossings = [float(min(times)) for e, times in zip(events, sol.t_events) if e.name == CRITICAL and len(times)]
     # Step ends (first and last included) and every located event point.
     points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
-    peaks = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
+    peaks: dict[int | str, float] = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
     peaks["u"] = float(np.max(np.abs(points[:, 2 * n]))) if sigma else abs(slip[0])
     bumper = 0.0
     if system.n_stops:
@@ -1410,7 +1410,7 @@ def uplift_at_start(run: _Run) -> int:
     """
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     for s in (+1, -1):
-        if run.system.uplift(s, run.y, ground(run.t), run.stop_on, vertical(run.t), run.sigma) > 0.0:
+        if run.system.uplift(s, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t), run.sigma) > 0.0:
             return s
     return 0
 
@@ -1463,7 +1463,7 @@ def verdict_final(run: _Run) -> bool:
     if at != run.bound_at:
         run.bound_at, run.bound = at, run.system.verdict_bound(*at)
     s = -1 if run.phase < 0 else 1
-    return run.system.energy_above_rest(run.y, run.stop_on, s) < run.bound
+    return run.system.energy_above_rest(run.y, tuple(run.stop_on), s) < run.bound
 
 
 def end_at_start(run: _Run) -> str | None:
@@ -1474,7 +1474,7 @@ def end_at_start(run: _Run) -> str | None:
     stroke is left to settle, up to the next extremum of ``q[1]``; the run
     is then marked safe unless that extremum is now.
     """
-    energy = run.system.energy_above_rest(run.y, run.stop_on)
+    energy = run.system.energy_above_rest(run.y, tuple(run.stop_on))
     # For the bare block E(y) = E(0) in full contact: rest at once.
     if energy < run.system.rest_energy:
         return "rest"
