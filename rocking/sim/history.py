@@ -62,6 +62,9 @@ EVENT_KINDS = {
     "bumper_release": "an end stop's bumper stops pushing (its force falls to 0, or its gap opens)",
     "pulse_end": "the ground motion ends (t_p)",
     "overturn": "|theta| reaches pi/2: the run ends",
+    "slip": "the contact starts to slide (a floor with friction, docs/model.md section 15)",
+    "stick": "the slip stops and the floor holds the contact",
+    "reverse": "the slip stops and goes on the other way",
 }
 
 #: What the quantities of every model are: name -> (unit, long name). Coordinates come from the manifest.
@@ -355,6 +358,11 @@ def events(response):
     for contact in contacts:
         for i in np.flatnonzero((contact[1:] > 0.0) != (contact[:-1] > 0.0)) + 1:
             kind = "bumper_contact" if contact[i] > 0.0 else "bumper_release"
+            rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
+    if "slide" in history:
+        slide = history["slide"]
+        for i in np.flatnonzero(slide[1:] != slide[:-1]) + 1:
+            kind = "slip" if slide[i - 1] == 0 else "stick" if slide[i] == 0 else "reverse"
             rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
     if settings["t_p"] <= response.t_end:
         i = min(np.searchsorted(t, settings["t_p"]), len(t) - 1)

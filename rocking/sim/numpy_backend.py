@@ -1369,13 +1369,15 @@ def slip_row(run: _Run) -> tuple:
 
 
 def start_slip(run: _Run) -> None:
-    """A stuck contact that must hold more than ``mu_s N`` slides, against the force it held (section 15)."""
+    """A stuck contact that must hold more than ``mu_s N`` slides, against the force it held (section 15); the
+    history gets the instant in the sliding phase."""
     if not run.system.friction or run.sigma:
         return
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
     if abs(float(F)) > run.system.mu_s * float(N):
         slide_against(run, float(F))
+        record(run)
 
 
 def slide_against(run: _Run, F: float) -> None:
