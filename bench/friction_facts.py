@@ -88,6 +88,7 @@ def paper_floor(backend: str, damper: bool) -> tuple[rocking.Response, rocking.R
 def identical(one: rocking.Response, other: rocking.Response) -> bool:
     """Every result and every column of the history equal, bit for bit."""
     h, k = one.history, other.history
+    assert h is not None and k is not None, "recorded runs"
     return (
         one.summary() == other.summary() and h.keys() == k.keys() and all(h[c].tobytes() == k[c].tobytes() for c in h)
     )
@@ -100,9 +101,8 @@ def holding_floor(backend: str, damper: bool, mu: float = 1e3) -> tuple[rocking.
     gives neither (the slip is not bounded by the energy), so the two runs end by the same rule only without.
     """
     block = table_block()
-    options = {"early_verdict": False, "early_rest": False, "record": True}
-    args = (backend, block, table_damper(block) if damper else None, one_sine())
-    return run(*args, **options), run(*args, mu=mu, **options)
+    args = (backend, block, table_damper(block) if damper else None, one_sine(), True)
+    return run(*args, early_verdict=False, early_rest=False), run(*args, mu=mu, early_verdict=False, early_rest=False)
 
 
 # --------------------------------------------------------------------------- (b)
@@ -135,9 +135,10 @@ def ramp() -> rocking.SampledMotion:
     return rocking.SampledMotion(RAMP_PEAK * t / RAMP_TIME, dt=RAMP_DT)
 
 
-def first_event(history: dict) -> str:
+def first_event(history: dict | None) -> str:
     """How a history first leaves rest: ``"slides"`` (a sliding row first), ``"rocks"`` (a rocking row first),
     ``"both"`` (the same row) or ``"none"``."""
+    assert history is not None, "a recorded run"
     slides, rocks = np.flatnonzero(history["slide"] != 0), np.flatnonzero(history["phase"] != 0)
     first_slide = slides[0] if slides.size else math.inf
     first_rock = rocks[0] if rocks.size else math.inf
@@ -172,9 +173,10 @@ def free_rocking(backend: str, b_over_h: float, mu: float = 0.7) -> rocking.Resp
     return run(backend, block, None, pulse, True, mu=mu, y0=[0.2 * block.alpha, 0.0], phase0=1, t_max=3.0)
 
 
-def restitutions(history: dict) -> np.ndarray:
+def restitutions(history: dict | None) -> np.ndarray:
     """``dtheta+ / dtheta-`` of each impact of a history: the pairs of rows at one instant whose pivot changes
     from ``s`` to ``-s`` (an impact that brings the block to rest ends in full contact: not counted)."""
+    assert history is not None, "a recorded run"
     phase, t, dtheta = history["phase"], history["t"], history["dtheta"]
     k = np.flatnonzero((t[1:] == t[:-1]) & (phase[:-1] != 0) & (phase[1:] == -phase[:-1]))
     return dtheta[k + 1] / dtheta[k]
@@ -187,14 +189,22 @@ def ground_frame_energy(response: rocking.Response, slip: bool = True) -> tuple[
     """``(t, E, E_rest)`` of a recorded run on a floor with friction: ``E`` the generated ``energy`` plus
     ``slip_energy(du)`` at each row (docs/model.md section 15; without it if not ``slip``: the balance's check),
     ``E_rest`` the energy at rest."""
-    h, model, p = response.history, response.inputs.model, list(response.inputs.p)
+    h, inputs = response.history, response.inputs
+    assert h is not None and inputs is not None, "a recorded run"
+    model, p = inputs.model, list(inputs.p)
     state = [h[name] for name in model.state]
     s = np.where(h["phase"] == 0, 1.0, h["phase"]).astype(float)  # in full contact theta = 0: either pivot
-    energy = np.asarray(model.functions.energy(s, *state, 0.0, 0.0, *p), dtype=float)
+    energy = np.asarray(model.functions.energy(s, *state, 0.0, 0.0, *p), dtype=np.float64)
     if slip:
-        energy = energy + np.asarray(model.functions.slip_energy(s, *state, 0.0, 0.0, *p, h["du"]), dtype=float)
+        energy = energy + np.asarray(model.functions.slip_energy(s, *state, 0.0, 0.0, *p, h["du"]), dtype=np.float64)
     rest = float(model.functions.energy(1.0, *np.zeros(len(state)), 0.0, 0.0, *p))
     return h["t"], energy, rest
+
+
+def t_p(response: rocking.Response) -> float:
+    """The end of a run's ground motion, s."""
+    assert response.inputs is not None, "a response with its inputs"
+    return float(response.inputs.settings["t_p"])
 
 
 def energy_rise(response: rocking.Response, slip: bool = True) -> tuple[float, float]:
@@ -202,7 +212,7 @@ def energy_rise(response: rocking.Response, slip: bool = True) -> tuple[float, f
     largest ``|E|`` of the run, J: the energy measured from the floor, whose size (``M g H / 2`` and more) sets
     the integrator's error on it (a relative error ``rtol`` of the state is one of about ``rtol |E|`` on ``E``)."""
     t, energy, _ = ground_frame_energy(response, slip)
-    after = energy[t >= response.inputs.settings["t_p"]]
+    after = energy[t >= t_p(response)]
     return float(np.max(np.diff(after))), float(np.max(np.abs(energy)))
 
 
@@ -260,7 +270,7 @@ def relative(a: float, b: float) -> float:
 
 
 def measure_a(backend: str) -> dict:
-    out = {}
+    out: dict[str, object] = {}
     for damper in (False, True):
         key = "omd" if damper else "block"
         plain, infinite = paper_floor(backend, damper)
@@ -349,10 +359,9 @@ def measure_f(backend: str) -> tuple[dict, dict]:
     # is the same: the verdict only ends a run whose maxima are final).
     no_slip = run(backend, table_block(), None, one_sine(), True, early_verdict=False)
     alpha = table_block().alpha
-    rows, runs = [], {"no slip": no_slip}
+    rows, runs = [], {"no slip": no_slip} | {mu: table_run(backend, mu, record=True) for mu in TABLE_MUS}
     for mu in TABLE_MUS:
-        r, ref = table_run(backend, mu, record=True), table_reference(mu)
-        runs[mu] = r
+        r, ref = runs[mu], table_reference(mu)
         rows.append(
             {
                 "mu": mu,
@@ -515,7 +524,7 @@ def figure_e(runs: dict, path: Path) -> None:
             ax.plot(t, (energy - rest) / 1e3, color=style["color"], lw=1.4, label=label)
             sliding = r.history["slide"] != 0
             ax.plot(t[sliding], (energy[sliding] - rest) / 1e3, ls="none", marker=".", ms=4, color=style["color"])
-            ax.axvline(r.inputs.settings["t_p"], color=style["color"], ls=":", lw=1.0)
+            ax.axvline(t_p(r), color=style["color"], ls=":", lw=1.0)
         ax.plot([], [], ls="none", marker=".", color="0.3", label="rows where the base slides")
         ax.plot([], [], ls=":", color="0.3", label="end of the pulse $t_p$")
         ax.set_ylabel(r"$E - E_{rest}$ [kJ]")
