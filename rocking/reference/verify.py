@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model.checks import ParameterError, Range, shown
 from ..model.loading import Model, ModelError
-from . import paper
+from . import paper, sliding
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
@@ -103,15 +103,19 @@ CANCELLATION_FLOOR = 1e-2
 def rel_error(got, ref) -> float:
     """Largest relative error of ``got`` against the reference ``ref`` over the cases.
 
-    The error is ``|got - ref| / max(|ref|, CANCELLATION_FLOOR * median |ref|)``.
+    The error is ``|got - ref| / max(|ref|, CANCELLATION_FLOOR * median |ref|)``. A NaN on one side only is an
+    infinite error (a NaN reference would otherwise compare equal to anything); NaN on both sides is none (the
+    functions documented as NaN somewhere, ``critical_tangent``).
     """
     got = np.asarray(got, dtype=np.longdouble)
     ref = np.broadcast_to(np.asarray(ref, dtype=np.longdouble), got.shape)
     if got.size == 0:
         return 0.0
+    if np.any(np.isnan(got) != np.isnan(ref)):
+        return math.inf
     size = np.abs(ref)
-    scale = np.maximum(size, CANCELLATION_FLOOR * np.median(size))
-    same = got == ref  # equal infinities are no error
+    scale = np.maximum(size, CANCELLATION_FLOOR * np.nanmedian(size))
+    same = (got == ref) | np.isnan(ref)  # equal infinities are no error
     with np.errstate(invalid="ignore"):  # inf - inf where both are inf: masked by `same`
         diff = np.abs(got - ref)
     err = np.divide(diff, scale, out=np.zeros_like(scale), where=(scale > 0) & ~same)
@@ -119,7 +123,22 @@ def rel_error(got, ref) -> float:
 
 
 #: Functions that only make sense at theta = 0 (and dtheta = 0 in full contact).
-_STATE_OF = {"contact_accel": "contact", "uplift": "contact", "impact": "impact"}
+_STATE_OF = {
+    "contact_accel": "contact",
+    "uplift": "contact",
+    "impact": "impact",
+    "contact_slide_accel": "contact",
+    "slide_uplift": "contact",
+    "contact_stick_force": "contact",
+    "impact_stick": "impact",
+    "impact_slide": "impact",
+}
+
+
+def friction_inputs(rng: np.random.Generator, n: int) -> dict[str, np.ndarray]:
+    """The arguments of a floor with friction for ``n`` cases: ``mu_slip`` in (-1, 1) (a kinetic coefficient up
+    to 1, either slip direction) and the slip speed ``du`` in (-2, 2) m/s."""
+    return {"mu_slip": rng.uniform(-1.0, 1.0, n), "du": rng.uniform(-2.0, 2.0, n)}
 
 
 def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict[str, tuple]:
@@ -169,7 +188,30 @@ def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict
                 zero,
             ),
             "element_forces": (paper.guide_force(x, dx, k_m, c, **stops),),
-        }
+        } | (_friction_results(v, stops) if "mu_slip" in v else {})
+
+
+def _friction_results(v: dict, stops: dict) -> dict[str, tuple]:
+    """The hand-typed value of each function of a floor with friction (docs/model.md section 15,
+    :mod:`rocking.reference.sliding`), by name, at the arguments ``v`` (with ``mu_slip`` and ``du``)."""
+    s, th, x, dth, dx, ag, agy, mu, du = (
+        v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag", "agy", "mu_slip", "du")
+    )
+    M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
+    body = (M, I_G, B, H, e, g, m, h, k_m, c)
+    contact = sliding.contact_slide_accel(x, dx, ag, agy, mu, M, g, m, k_m, c, **stops)
+    hit = (s, x, dth, dx, du, mu, M, I_G, B, H, e, m, h)
+    return {
+        "slide_accel": sliding.slide_rock_accel(s, th, x, dth, dx, ag, agy, mu, *body, **stops),
+        "contact_slide_accel": contact,
+        # Section 5's margin with the sliding base's acceleration ddx_g + ddu for ddx_g.
+        "slide_uplift": (paper.uplift_margin(s, x, dx, ag + contact[2], agy, M, B, H, e, g, m, h, k_m, c, **stops),),
+        "stick_force": sliding.stick_force(s, th, x, dth, dx, ag, agy, *body, **stops),
+        "contact_stick_force": sliding.contact_stick_force(x, dx, ag, agy, *body, **stops),
+        "slip_energy": (sliding.slip_energy(s, th, x, dth, dx, du, M, B, H, e, m, h),),
+        "impact_stick": sliding.friction_impact(*hit, stick=True),
+        "impact_slide": sliding.friction_impact(*hit, stick=False),
+    }
 
 
 def _affine(loads, zero) -> tuple:
@@ -192,6 +234,10 @@ def _select(model: Model, results: dict) -> dict:
             "block_accelerations": [0, 1, 3, 4],
             "base_reaction": [0, 1, 3, 4, 6, 7],
             "element_forces": [],
+            "slide_accel": [0, 2, 3],
+            "contact_slide_accel": [0, 2, 3],
+            "impact_stick": [0, 2, 3, 4],
+            "impact_slide": [0, 2, 3, 4],
         }
         results = {k: tuple(val[i] for i in keep.get(k, range(len(val)))) for k, val in results.items()}
         # Without attached bodies nothing but the ground can lift the block.
@@ -270,11 +316,15 @@ def verify(
     floor = hunt_crossley[0] if hunt_crossley else None
     law = model.manifest["options"]["impact_laws"].get("x", "momentum")
     rng = np.random.default_rng(seed)
+    # Their own stream: the cases of the other functions are those of a model without friction.
+    friction = np.random.default_rng((seed, 15)) if model.manifest.get("friction") else None
     if evaluate is None:
         evaluate = lambda name, v: _numpy_eval(model, name, v)
     checks = []
     for s in (1, -1):
         v = random_cases(rng, n, s, damper, stops, bool(hunt_crossley))
+        if friction is not None:
+            v.update(friction_inputs(friction, n))
         zero = np.zeros(n)
         cases = {
             "rocking": v,
@@ -298,7 +348,15 @@ def verify(
 
 def _numpy_eval(model: Model, name: str, v: dict):
     fn = getattr(model.functions, name)
-    return fn(v["s"], *(v[k] for k in model.state), v["ag"], v["agy"], *(v[k] for k in model.parameters))
+    inputs = model.manifest["functions"][name]["inputs"]  # a floor with friction's mu_slip, du
+    return fn(
+        v["s"],
+        *(v[k] for k in model.state),
+        v["ag"],
+        v["agy"],
+        *(v[k] for k in model.parameters),
+        *(v[k] for k in inputs),
+    )
 
 
 def report(model: Model, checks: list[Check]) -> str:
