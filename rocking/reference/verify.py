@@ -404,12 +404,12 @@ def _numpy_eval(model: Model, name: str, v: dict):
 def report(model: Model, checks: list[Check]) -> str:
     """A short human-readable report."""
     lines = [f"model {model.name}: generated code against the hand-written equations of docs/model.md"]
+    width = max((len(c.function) for c in checks), default=0)
     for c in checks:
         pivot = "A " if c.pivot == 1 else "A'"
         status = "ok" if c.ok else "MISMATCH"
-        lines.append(
-            f"  {c.function:<15} pivot {pivot}  {c.cases:>6} cases  max rel. error {c.max_rel_error:9.2e}  {status}"
-        )
+        error = f"max rel. error {c.max_rel_error:9.2e}"
+        lines.append(f"  {c.function:<{width}} pivot {pivot}  {c.cases:>6} cases  {error}  {status}")
     bad = sum(not c.ok for c in checks)
     lines.append(f"{len(checks) - bad} passed, {bad} failed (tolerance {TOLERANCE:g})")
     return "\n".join(lines)
