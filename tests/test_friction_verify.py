@@ -265,3 +265,13 @@ def test_the_stick_forces_hold_the_contact_at_zero_slip(models):
         v["x"], v["dx"], v["ag"], v["agy"], -F / N, v["M"], v["g"], v["m"], v["k_m"], v["c"], **stops
     )
     assert np.max(np.abs(ddu) / (np.abs(v["ag"]) + v["g"])) < 1e-12 and rel_error(N_slide, N) < 1e-15
+
+
+def test_model_md_quotes_the_count_verify_gives(models):
+    """docs/model.md section 15 states how many functions and checks `rocking verify` has per friction model."""
+    from pathlib import Path
+
+    text = " ".join((Path(__file__).resolve().parent.parent / "docs" / "model.md").read_text("utf-8").split())
+    for model in models.values():
+        checks = verify(model, n=2, seed=1)
+        assert f"{len(checks) // 2} functions per model, {len(checks)} checks" in text
