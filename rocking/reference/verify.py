@@ -20,9 +20,10 @@ from . import paper, sliding
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
-#: Random cases per pivot: a case's arrays take about 5 kB at the peak (``rocking verify --cases 100000``, the
-#: four models: 0.6 GB and 26 s, measured), so the bound keeps a check within a laptop's memory and a minute.
-CASES = Range(1, 100_000, "", "a case takes about 5 kB: 0.6 GB at the bound", integer=True)
+#: Random cases per pivot: a case's arrays take about 10 kB at the peak (``rocking verify --cases 100000``, the
+#: four models with the functions of a floor with friction: 0.95 GB and 119 s of CPU on a shared machine, measured),
+#: so the bound keeps a check within a laptop's memory and a few minutes.
+CASES = Range(1, 100_000, "", "a case takes about 10 kB: 1 GB at the bound", integer=True)
 #: Seeds of the random cases: those of numpy.random.default_rng.
 SEEDS = Range(0, math.inf, "", "the seeds of numpy.random.default_rng", integer=True)
 #: The shipped models that :mod:`rocking.reference.paper` writes by hand (docs/model.md sections 3-7 and 11).
