@@ -139,6 +139,7 @@ COORDINATES = {
     "T_g": ("s", "pulse period T_g = 2 pi / omega_g"),
     "a_g": ("m/s^2", "pulse amplitude a_g = beta g tan(alpha)"),
     "sign": ("1", "direction of the pulse (+1: the paper's, -1: mirrored)"),
+    "mu": ("1", "Coulomb friction of the floor, static = kinetic (mu_s = mu_k = mu)"),
     "gamma": ("1", "damper mass ratio m / M"),
     "r_coarse": ("1", "damper period ratio T_m p / (2 pi) of the coarse search"),
     "zeta_coarse": ("1", "damping ratio of the coarse search"),

@@ -633,7 +633,8 @@ SAVED_FIELDS: dict[str, Callable | None] = {
     "directions": None,  # _directions
     "damper": _damper,
     "dampers": _dampers,
-    **dict.fromkeys(("Omega", "beta", "Tm_ratio", "zeta_grid", "lam", "p", "levels"), _grid),
+    **dict.fromkeys(("Omega", "beta", "Tm_ratio", "zeta_grid", "lam", "p", "levels", "mu"), _grid),
+    "pulse_Omega": _positive,
     "signs": check_signs,
     "tile": lambda name, value: _check_tile(value),
     "refinement": _refinement,
