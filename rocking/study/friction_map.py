@@ -24,10 +24,10 @@ from pathlib import Path
 import numpy as np
 
 from ..model.floor import Floor
-from ..model.params import ParameterError
+from ..model.params import Block, ParameterError
 from ..sim.problem import STATUS
 from . import directions
-from .config import Grid, Setting, Tuning, Variant, is_number, part_config, vertical_attrs
+from .config import Grid, Setting, Tuning, Variant, is_number, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import SIGN_NAMES, choose
 from .overturning_map import (
@@ -184,10 +184,7 @@ def friction_data(config: dict, mu, beta, signs, fields: dict):
     sign)``, with the amplitudes in SI terms and the pulses' frequency (``Omega``, ``T_g``) as attributes."""
     import xarray as xr
 
-    from ..model.params import Block
-
     block = Block(**config["block"])
-    Omega = config["pulse_Omega"]
     coords = {
         "mu": ("mu", mu, coordinate_attrs("mu", config)),
         "beta": ("beta", beta, coordinate_attrs("beta", config)),
@@ -195,14 +192,19 @@ def friction_data(config: dict, mu, beta, signs, fields: dict):
         "sign": ("sign", np.array(signs), coordinate_attrs("sign", config)),
     }
     variables = {k: (DIMS[k], v, field_attrs(k, config)) for k, v in fields.items()}
-    attrs = {
+    return xr.Dataset(variables, coords=coords, attrs=friction_attrs(config))
+
+
+def friction_attrs(config: dict) -> dict:
+    """Attributes of a regime map's Dataset (``config``: its configuration): the pulses' one frequency, ratio and
+    period, and the floor of each cell, in words."""
+    Omega = config["pulse_Omega"]
+    return {
         "Omega": Omega,
-        "T_g": 2 * math.pi / (Omega * block.p),
+        "T_g": 2 * math.pi / (Omega * Block(**config["block"]).p),
         "pulse_frequency": "every pulse's Omega = omega_g / p (1) and period T_g = 2 pi / omega_g (s)",
         "floor": "each cell's floor: Coulomb friction mu_s = mu_k = mu (docs/model.md section 15)",
-        **vertical_attrs(config),
     }
-    return xr.Dataset(variables, coords=coords, attrs=attrs)
 
 
 def envelope(data):

@@ -78,6 +78,7 @@ from .files import (
     write_csv,
     write_file,
 )
+from .friction_map import friction_attrs
 from .ida import LEVELS
 from .kinds import KINDS
 from .optimize import MAX_REFINE, check_gammas
@@ -829,6 +830,8 @@ def _read_data(nc: Path, record: dict):
     data.attrs.clear()  # the configuration and summary are the record's, checked
     if record["kind"] in ("map", "spectrum"):  # their pulses' vertical component, as the study made them
         data.attrs.update(vertical_attrs(record["config"]), **floor_attrs(record["config"]))
+    if record["kind"] == "friction":  # its pulses' one frequency
+        data.attrs.update(friction_attrs(record["config"]))
     return data
 
 
