@@ -772,7 +772,11 @@ def _add_simulate(sub) -> None:
         action="store_true",
         help="follow the response to rest: the default, kept so that older commands still run",
     )
-    g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
+    g.add_argument(
+        "--plot",
+        metavar="FILE",
+        help="figure of theta/alpha, the base's slip u on a floor with friction (--mu), x and the ground acceleration",
+    )
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     g.add_argument(
         "--history",

@@ -646,7 +646,7 @@ def friction_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
     damper = _damper_label(config) if "damper" in config else "block alone"
     _suptitle(
         fig,
-        f"Regime map: {_pulse_label(config)}, {frequency}; {_directions_label(config)}\n"
+        f"Regime map: {_pulse_label(config)}, {frequency}\n{_directions_label(config)}\n"
         f"{_block_label(block)}\n{damper}",
     )
     return fig
