@@ -628,7 +628,8 @@ def friction_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
         fontsize=8,
         bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1.5},
     )
-    x = np.linspace(*axis.get_xlim(), 50)
+    low, high = axis.get_xlim()
+    x = np.linspace(low, high, 50)
     hold = axis.plot(
         x,
         x / block.tan_alpha,

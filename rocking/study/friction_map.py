@@ -20,6 +20,7 @@ from __future__ import annotations
 import dataclasses
 import math
 from pathlib import Path
+from typing import Any
 
 import numpy as np
 
@@ -68,7 +69,7 @@ def check_Omega(Omega) -> float:
     return float(Omega)
 
 
-def friction_tile(payload: tuple) -> dict:
+def friction_tile(payload: Any) -> dict:
     """One tile: ``(setting, damper_or_None, Omega, mu_values, beta_values, signs)`` -> arrays ``(nmu, nbeta,
     nsigns)`` of :data:`FIELDS`, each floor ``rocking.Floor(mu)``."""
     setting, damper, Omega, mu, beta, signs = payload
