@@ -169,3 +169,26 @@ def test_the_friction_command_parses_and_writes(tmp_path, capsys):
     assert json.loads((tmp_path / "friction.json").read_text())["config"]["pulse_Omega"] == pytest.approx(
         2 * np.pi / (0.5 * BLOCK.p)
     )
+
+
+def test_an_adaptive_map_fills_in_the_regime_not_a_status(tmp_path):
+    """The cells an adaptive map on a finite floor does not compute take the regime around them, and no status."""
+    study = rocking.overturning_map(
+        BLOCK,
+        {"gamma": 0.05},
+        T_g=[0.5, 0.6, 0.7, 0.8, 0.9],
+        a_g=[0.1 * G, 0.12 * G, 0.14 * G, 0.16 * G, 0.18 * G],
+        mu=0.5,
+        coarse=4,
+        backend="numpy",
+        runs=tmp_path / "runs",
+        progress=False,
+        workers=1,
+        study=True,
+    )
+    data = study.data
+    filled = ~data["computed"].values
+    assert filled.any()  # every pulse below the uplift and slip thresholds: rest throughout, filled in
+    assert (data["regime"].values[filled] == REST).all()
+    assert (data["status"].values[filled] == -1).all()
+    assert study.tables["map"]["bare_regime"].tolist() == ["rest"] * 25

@@ -625,7 +625,8 @@ def _fill(fields: dict, refinement: Refinement) -> None:
     filled = refinement.fill()
     classes = refinement.classes[filled]  # (cells, signs)
     overturned = classes >= 0
-    status = np.where(overturned, STATUS.index("overturned"), np.where(classes <= -2, -2 - classes, NOT_COMPUTED))
+    no_verdict = (classes <= -2) & (classes > REGIME_CLASS)  # a regime's class lies below every status's
+    status = np.where(overturned, STATUS.index("overturned"), np.where(no_verdict, -2 - classes, NOT_COMPUTED))
     fields["overturned"][filled] = overturned
     fields["impacts"][filled] = np.where(overturned, classes, NOT_COMPUTED)
     fields["status"][filled] = status
