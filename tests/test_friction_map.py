@@ -192,3 +192,14 @@ def test_an_adaptive_map_fills_in_the_regime_not_a_status(tmp_path):
     assert (data["regime"].values[filled] == REST).all()
     assert (data["status"].values[filled] == -1).all()
     assert study.tables["map"]["bare_regime"].tolist() == ["rest"] * 25
+
+
+def test_simulate_says_how_far_the_base_slid(capsys):
+    """The issue's sliding-only model: peak 31.45 mm, residual 1.57 mm at mu = 0.2, a_g = 0.4 g, T_g = 0.5 s."""
+    from rocking.cli.main import main
+
+    argv = ["simulate", "--H", "2", "--B", "0.5", "--M", "1000", "--a-g", str(0.4 * G), "--omega-g", str(4 * np.pi)]
+    assert main([*argv, "--mu", "0.2", "--backend", "numpy"]) == 0
+    line = next(x for x in capsys.readouterr().out.splitlines() if "the base slid" in x)
+    peak, residual = (float(line.split(f"{name} = ")[1].split(" mm")[0]) for name in ("u_max", "u_end"))
+    assert peak == pytest.approx(31.45, rel=0.01) and residual == pytest.approx(1.57, rel=0.01)
