@@ -44,7 +44,7 @@ from .overturning_map import (
 )
 from .result import Study
 from .tiles import LOCAL, Execution, Task, run_folder, run_tiles
-from .vocabulary import REGIMES, combined_regime, regime
+from .vocabulary import REGIMES, combined_regime, regime, resolution_of
 
 #: Result fields kept per response.
 FIELDS = ("overturned", "impacts", "theta_max", "status", "u_max", "u_end", "slides")
@@ -164,7 +164,8 @@ def friction_map(
             fields[k][rows, cols] = arrays[k]
 
     stats = run_tiles(tasks, place, execution, backend=setting.backend, desc="friction map", on_tile=on_tile)
-    fields["regime"] = regime(fields["overturned"], fields["theta_max"], fields["slides"])
+    resolution = resolution_of(setting.rtol, setting.block.alpha)
+    fields["regime"] = regime(fields["overturned"], fields["theta_max"], fields["u_max"], resolution)
     config = {"kind": "friction", **setting.record(), **({} if damper is None else {"damper": record})}
     config.update(grids, directions=chosen)
     data = friction_data(config, m, b, signs, fields)

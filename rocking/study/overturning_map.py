@@ -68,6 +68,7 @@ from .vocabulary import (
     SLIDES_AND_ROCKS,
     combined_regime,
     regime,
+    resolution_of,
 )
 
 #: Result fields kept per response.
@@ -207,12 +208,14 @@ def response_classes(overturned, impacts, status, regimes=None) -> np.ndarray:
     return np.where(undetermined(status), -2 - np.asarray(status), classes)
 
 
-def with_regime(arrays: dict) -> dict:
+def with_regime(arrays: dict, setting: Setting) -> dict:
     """The arrays of responses on a floor with friction (their :data:`SLIP_FIELDS`) with their ``regime``
-    (:func:`rocking.study.vocabulary.regime`); ``arrays`` itself on the paper's floor."""
-    if "slides" not in arrays:
+    (:func:`rocking.study.vocabulary.regime`, at ``setting``'s resolution); ``arrays`` itself on the paper's
+    floor."""
+    if "u_max" not in arrays:
         return arrays
-    return {**arrays, "regime": regime(arrays["overturned"], arrays["theta_max"], arrays["slides"])}
+    resolution = resolution_of(setting.rtol, setting.block.alpha)
+    return {**arrays, "regime": regime(arrays["overturned"], arrays["theta_max"], arrays["u_max"], resolution)}
 
 
 def effect(bare_overturned, damper_overturned, unknown=False) -> np.ndarray:
@@ -554,7 +557,7 @@ def _full(setting, parts: dict, folders: dict, grid: tuple, fields: dict, execut
 
     def place(task: Task, tile_arrays: dict) -> None:
         index, rows, cols = where[task.path]
-        arrays = with_regime(tile_arrays)
+        arrays = with_regime(tile_arrays, setting)
         for k in fields:
             fields[k][index, rows, cols] = arrays[k]
 
@@ -579,7 +582,7 @@ def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, ex
 
     def place(task: Task, tile_arrays: dict) -> None:
         part, r, c = where[task.path]
-        arrays = with_regime(tile_arrays)
+        arrays = with_regime(tile_arrays, setting)
         for k in fields:
             fields[k][PARTS.index(part), r, c] = arrays[k]
         over, impacts, status = (arrays[k] for k in ("overturned", "impacts", "status"))

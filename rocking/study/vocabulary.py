@@ -52,12 +52,23 @@ def flag_words(flag) -> np.ndarray:
     return np.array([FLAG_WORDS[BELOW], FLAG_WORDS[BRACKETED], FLAG_WORDS[ABOVE]], object)[np.asarray(flag) + 1]
 
 
-def regime(overturned, theta_max, slides) -> np.ndarray:
-    """The :data:`REGIMES` code of each response from its ``overturned``, ``theta_max`` (rad: above 0 where the
-    base lifted) and ``slides`` (slip episodes: above 0 where the base slipped)."""
-    lifted, slipped = np.asarray(theta_max) > 0.0, np.asarray(slides) > 0
+def regime(overturned, theta_max, u_max, resolution: float = 0.0) -> np.ndarray:
+    """The :data:`REGIMES` code of each response from its ``overturned``, ``theta_max`` (rad) and ``u_max`` (m).
+
+    The base lifted where ``theta_max`` passes ``resolution``, and slipped where ``u_max`` does: the integrator's
+    absolute tolerance on both, ``rtol alpha`` (:func:`resolution_of`). Below it a motion is round-off, not
+    resolved: on Shenton's line ``mu = B/H`` a sliding block's ``theta_max`` is some 1e-17 alpha, and where
+    ``a_g = mu g`` exactly a slip's ``u_max`` some 1e-32 m.
+    """
+    lifted, slipped = np.asarray(theta_max) > resolution, np.asarray(u_max) > resolution
     moved = np.where(slipped, np.where(lifted, SLIDES_AND_ROCKS, SLIDES), np.where(lifted, ROCKS, REST))
     return np.where(overturned, OVERTURNS, moved)
+
+
+def resolution_of(rtol: float, alpha: float) -> float:
+    """The integrator's absolute tolerance on ``theta`` (rad), ``rtol alpha`` (rocking.sim.problem.default_settings),
+    which the NumPy back end gives the slip ``u`` (m) too: what :func:`regime` tells from no motion."""
+    return rtol * alpha
 
 
 def regime_label(code: int) -> str:
