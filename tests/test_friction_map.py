@@ -204,3 +204,23 @@ def test_simulate_says_how_far_the_base_slid(capsys):
     line = next(x for x in capsys.readouterr().out.splitlines() if "the base slid" in x)
     peak, residual = (float(line.split(f"{name} = ")[1].split(" mm")[0]) for name in ("u_max", "u_end"))
     assert peak == pytest.approx(31.45, rel=0.01) and residual == pytest.approx(1.57, rel=0.01)
+
+
+def test_an_interrupted_friction_map_resumes_from_its_tiles(tmp_path):
+    """The regime map runs on the studies' tiles: an interruption keeps the finished ones, a rerun loads them."""
+    from rocking.study.config import Grid, Setting
+    from rocking.study.friction_map import friction_map
+    from rocking.study.tiles import Execution, Interrupted
+
+    setting = Setting(BLOCK, backend="numpy")
+    grids = (4.7, Grid("mu", 0.15, 0.5, 2), Grid("beta", 1.2, 1.6, 2))
+    serial = Execution(workers=1, progress=False)
+
+    def interrupt(task):
+        raise KeyboardInterrupt
+
+    with pytest.raises(Interrupted):
+        friction_map(setting, *grids, serial, runs=tmp_path, tile=(1, 2), on_tile=interrupt)
+    resumed = friction_map(setting, *grids, serial, runs=tmp_path, tile=(1, 2))
+    assert (resumed.run["tiles_reused"], resumed.run["tiles_computed"]) == (1, 1)
+    assert friction_envelope(resumed.data)["regime"].values.tolist() == [[SLIDES, SLIDES], [ROCKS, ROCKS]]
