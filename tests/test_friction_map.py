@@ -13,7 +13,7 @@ import numpy as np
 import pytest
 
 import rocking
-from rocking.cli.study import add_study_commands
+from rocking.cli.study import add_study_commands, map_lines
 from rocking.plot.figures import MAP_SLID_CLASSES, _outcome_classes, friction_figure, map_figure
 from rocking.study.friction_map import envelope as friction_envelope
 from rocking.study.overturning_map import FIELDS, envelope, response_classes
@@ -81,6 +81,7 @@ def test_a_map_on_a_floor_with_friction_classes_slides_and_rocks(tmp_path):
     assert data["u_max"].attrs["units"] == "m" and data["u_end"].attrs["units"] == "m"
     assert data["regime"].attrs["flag_meanings"].split()[1:] == list(REGIMES.values())
     assert sliding.summary["bare_slid"] == 1 and rocking_.summary["bare_slid"] == 0
+    assert "the base slid without overturning in 1 cells alone" in " ".join(map_lines(sliding))
     # The figure's classes: slid (not overturned) apart from safe; the legend names it.
     env = envelope(data)
     cls = _outcome_classes(env, "bare", env["overturned"].sel(part="bare").values, np.zeros((1, 1), int), False)

@@ -818,6 +818,11 @@ def map_lines(study: Study) -> list[str]:
         + _per_part_words(s["bare_undetermined"], s["damper_undetermined"], "cells", "without a verdict")
         + _t_max_words(s["bare_t_max"], s["damper_t_max"], "cells")
     ]
+    if "bare_slid" in s:  # a floor with friction
+        lines.append(
+            f"map: the base slid without overturning in {s['bare_slid']} cells alone, {s['damper_slid']} with the "
+            "damper (their regime, u_max and u_end are in the data and the table)"
+        )
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
         lines += [
