@@ -320,7 +320,16 @@ def _excitation_label(config: dict) -> str:
 def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = None) -> None:
     """The figure's title: what it shows, the pulses, the block and the damper of ``config`` (or ``damper``)."""
     damper = _damper_label(config) if damper is None else damper
-    _suptitle(fig, f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}")
+    block = _block_label(_block(config)) + _floor_label(config)
+    _suptitle(fig, f"{what}: {_excitation_label(config)}{extra}\n{block}\n{damper}")
+
+
+def _floor_label(config: dict) -> str:
+    """A study's floor with friction for a title (docs/model.md section 15); nothing for the paper's."""
+    floor = config.get("floor")
+    if floor is None:
+        return ""
+    return rf"; floor $\mu_s$ = {floor['mu_s']:g}, $\mu_k$ = {floor['mu_k']:g}"
 
 
 def _suptitle(fig, text: str, fontsize: float = 10) -> None:
