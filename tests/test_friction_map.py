@@ -89,6 +89,8 @@ def test_a_map_on_a_floor_with_friction_classes_slides_and_rocks(tmp_path):
     fig = map_figure(sliding)
     labels = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
     assert "not overturned, slides" in labels
+    assert r"floor $\mu_s$ = 0.2, $\mu_k$ = 0.2" in fig.get_suptitle()
+    assert "floor" not in map_figure(_map(tmp_path)).get_suptitle()  # the paper's floor: the title it had
     table = sliding.tables["map"]
     assert table["bare_regime"].tolist() == ["slides"]
 
