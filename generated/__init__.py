@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 8
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "0c0bac1fa3ce7eda5d6920addf165ee1c9a0312dee475bf16331dd731e9b5fd4",
-    "omd": "012190ca22f7181ca38d35b05e7c1a4e61584540b93883adfcf5caa08ffdb2a2",
-    "omd2": "307277a8cec32914e7fca6aabb58d50892e58b77687418cf256bba5e6b28d601",
-    "omd_stops": "e36049f7f52ca13bae624025dcc485846cdcb82c528400959ae02fa2edfee050",
-    "omd_stops_hc": "cb712a7bdecba3d5f3d61c0da74867e0f777e53cce17953bc6d5641b18a6333c",
-    "pendulum": "02e606cb674ff8b9820c53133545b49a04c345b9b04d96c3b8ff8079800e6463",
+    "block": "8cc2e4ca14b7e4ab61bf6a8b8780ce82777b15555f3d0e9210c98716a04648d8",
+    "omd": "c8726fdddeef626f98ba2994933a1737bf2075c349ca56fc116baef87f934205",
+    "omd2": "77e9221509fed1f3086d0e1cb74cab66e5846e920b5737ef38e8c9ec778eeaeb",
+    "omd_stops": "9034c5c168333fa31a01e90f5c81c8701cd6238153e98f0f458a088d29f0b7aa",
+    "omd_stops_hc": "985ed6ca2f57fcfe69af5a30f98444415c3d7db79a182bd70b1d43328ec523e3",
+    "pendulum": "0850a849c0a36f40a81b8aba2bc7158312fa76e22e0ddd906ee5a0c2c1d66c51",
 }

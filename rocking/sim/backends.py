@@ -72,7 +72,7 @@ class _NumPy:
     runs them in worker processes, which it terminates; nothing else stops them from outside.
     """
 
-    friction = False
+    friction = True
 
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         from . import numpy_backend

@@ -62,6 +62,9 @@ EVENT_KINDS = {
     "bumper_release": "an end stop's bumper stops pushing (its force falls to 0, or its gap opens)",
     "pulse_end": "the ground motion ends (t_p)",
     "overturn": "|theta| reaches pi/2: the run ends",
+    "slip": "the contact starts to slide (a floor with friction, docs/model.md section 15)",
+    "stick": "the slip stops and the floor holds the contact",
+    "reverse": "the slip stops and goes on the other way",
 }
 
 #: What the quantities of every model are: name -> (unit, long name). Coordinates come from the manifest.
@@ -86,6 +89,13 @@ _LOADS = {
     "E_potential": ("J", "potential energy above rest (weights, springs, bumpers)"),
     "E_total": ("J", "mechanical energy above rest, E_kinetic + E_potential"),
     "phase": ("1", "phase: 0 full contact, +1 rocking about A, -1 rocking about A'"),
+}
+#: The slip of the base on a floor with friction (docs/model.md section 15): V_b and N_b are then the floor's
+#: tangential and normal forces F and N on the contact.
+_SLIP = {
+    "u": ("m", "slip of the base relative to the ground, > 0 to the right"),
+    "du": ("m/s", "slip speed of the base"),
+    "slide": ("1", "slip: 0 the contact sticks, +1 or -1 it slides that way"),
 }
 
 
@@ -184,8 +194,21 @@ def _affine(outputs: list, ddq: list, quantities: int) -> list[np.ndarray]:
     return [row[0] + sum(c * a for c, a in zip(row[1:], ddq)) for row in rows]
 
 
-def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarray]:
-    """Every variable of the dataset on ``rows`` of ``history``, by name (``t`` first)."""
+def _sliding(fn, s, y, ag, agy, p, contact, slide, mu_k: float) -> tuple[list, np.ndarray]:
+    """``(ddq, ddu)`` of the sliding rows (``slide != 0``; the others' are NaN, not read), from the phase's
+    generated accelerations with ``mu_slip = mu_k slide`` (docs/model.md section 15)."""
+    mu_slip = mu_k * slide.astype(float)
+    both = [
+        _evaluate(getattr(fn, name), s, y, ag, agy, p + [mu_slip]) for name in ("contact_slide_accel", "slide_accel")
+    ]
+    accel = [np.where(contact, c, r) for c, r in zip(*both)]
+    return accel[: len(accel) - 2], accel[-2]
+
+
+def quantities(model, p, history: dict, rows: np.ndarray, mu_k: float = math.inf) -> dict[str, np.ndarray]:
+    """Every variable of the dataset on ``rows`` of ``history``, by name (``t`` first); on a floor with friction
+    (kinetic ``mu_k``, the history's ``slide`` column) the sliding rows' accelerations and the floor's forces are
+    those of the sliding phases, in the frame of the base (``a_g + ddu``)."""
     n = model.nq
     phase = history["phase"][rows]
     y = [history[name][rows] for name in model.state]
@@ -200,15 +223,24 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
         np.where(contact, c, r)
         for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, agy, p), _evaluate(fn.rocking_accel, s, y, ag, agy, p))
     ]
+    base = ag  # the acceleration of the base: the ground's while the contact sticks
+    slip = {name: history[name][rows] for name in ("u", "du", "slide") if name in history}
+    if slip and np.any(slip["slide"]):
+        sliding = slip["slide"] != 0
+        with np.errstate(all="ignore"):  # the stuck rows' sliding accelerations are not read
+            slid, ddu = _sliding(fn, s, y, ag, agy, p, contact, slip["slide"], mu_k)
+        ddq = [np.where(sliding, a, b) for a, b in zip(slid, ddq)]
+        base = np.where(sliding, ag + ddu, ag)
     out = {"t": history["t"][rows]}
     out.update(zip(model.state[:n], y[:n]))
     out.update(zip(model.state[n:], y[n:]))
     out.update({"dd" + q: a for q, a in zip(model.coordinates, ddq)})
     out["phase"] = phase
+    out.update(slip)
     out["a_g"] = ag
     out["a_gy"] = agy
-    out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, ag, agy, p), ddq, 2)
-    out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, ag, agy, p), ddq, 3)
+    out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, base, agy, p), ddq, 2)
+    out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, base, agy, p), ddq, 3)
     out.update({"F_" + q: f for q, f in zip(model.coordinates[1:], _evaluate(fn.element_forces, s, y, ag, agy, p))})
     bumpers = _evaluate(fn.stop_forces, s, y, ag, agy, p)
     if bumpers:
@@ -219,6 +251,8 @@ def quantities(model, p, history: dict, rows: np.ndarray) -> dict[str, np.ndarra
     pushing = [(c > 0.0).astype(float) for c in _evaluate(fn.stop_contact, s, y, ag, agy, p)]
     potential = np.asarray(fn.energy(s, *y[:n], *[zero] * n, ag, agy, *p, stop_on=pushing or None), dtype=float)
     rest = _evaluate(fn.energy, 1.0, [zero] * (2 * n), zero, zero, p)[0]
+    if slip:  # the slip's kinetic energy, in the ground frame as the rest
+        energy = energy + _evaluate(fn.slip_energy, s, y, ag, agy, p + [slip["du"]])[0]
     out["E_kinetic"] = energy - potential
     out["E_potential"] = potential - rest
     out["E_total"] = energy - rest
@@ -234,6 +268,7 @@ def attributes(model) -> dict[str, tuple[str, str]]:
     attrs.update({"d" + q: (units["d" + q], f"velocity of {q}") for q in model.coordinates})
     attrs.update({"dd" + q: (units[q] + "/s^2", f"acceleration of {q}") for q in model.coordinates})
     attrs["phase"] = _LOADS["phase"]
+    attrs.update(_SLIP)
     attrs.update({k: _LOADS[k] for k in ("a_g", "a_gy", "a_top", "a_cm", "V_b", "N_b", "M_b")})
     for q in model.coordinates[1:]:
         force = "N m" if units[q] == "rad" else "N"
@@ -255,7 +290,7 @@ def to_dataset(response, dt: float | None = None):
     history, dt = recorded(response, dt)
     inputs = run_inputs(response)
     model = inputs.model
-    values = quantities(model, inputs.p, history, _grid_rows(history, dt, response.t_end))
+    values = quantities(model, inputs.p, history, _grid_rows(history, dt, response.t_end), inputs.settings["mu_k"])
     attrs = attributes(model)
     t = values.pop("t")
     variables = {k: ("t", v, {"units": attrs[k][0], "long_name": attrs[k][1]}) for k, v in values.items()}
@@ -323,6 +358,11 @@ def events(response):
     for contact in contacts:
         for i in np.flatnonzero((contact[1:] > 0.0) != (contact[:-1] > 0.0)) + 1:
             kind = "bumper_contact" if contact[i] > 0.0 else "bumper_release"
+            rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
+    if "slide" in history:
+        slide = history["slide"]
+        for i in np.flatnonzero(slide[1:] != slide[:-1]) + 1:
+            kind = "slip" if slide[i - 1] == 0 else "stick" if slide[i] == 0 else "reverse"
             rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
     if settings["t_p"] <= response.t_end:
         i = min(np.searchsorted(t, settings["t_p"]), len(t) - 1)

@@ -63,6 +63,7 @@ from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from ..model.params import ParameterError
 from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
 from .history import first_sample_after
+from .phases import of as phase_of
 from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
@@ -82,6 +83,12 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 
 #: How a rocking segment from ``theta = 0`` ends when the block cannot rise at all.
 NO_LIFT = "no lift"
+#: The events of a floor with friction (rocking.sim.phases.EVENTS).
+SLIP, STOP, LIFT_OFF = "slip", "stop", "lift-off"
+#: What a history holds after the state on a floor with friction: the slip [m], its speed [m/s], its direction.
+SLIP_COLUMNS = ("u", "du", "slide")
+#: A sliding base's uplift margin below this fraction of the weight's moment about the corner is rounding.
+SLIDE_UPLIFT_ROUNDING = 64 * np.finfo(float).eps
 
 #: Terminal events of the end stops (rule 6): a side's bumper starts pushing (its gap closes, or a released
 #: pad's force turns positive again), or stops (its force falls to 0, or the gap opens).
@@ -219,6 +226,15 @@ class _System:
         # Rest (rule 4) with stops also needs the mass out of every pad's reach (NaN: no bound, energy_rest alone).
         reach = problem.energy_rest if math.isnan(self.pad_reach) else self.pad_reach
         self.rest_energy = min(problem.energy_rest, reach)
+        # A floor with friction (docs/model.md section 15): mu_s = inf keeps the contact stuck, as the paper's.
+        self.mu_s, self.mu_k = float(problem.mu_s), float(problem.mu_k)
+        self.friction = math.isfinite(self.mu_s)
+        # Where mu_k = tan(alpha_s) a sliding base's uplift margin is 0 up to rounding for as long as it slides: a
+        # margin within rounding of the weight's moment about the corner is no uplift (docs/simulation.md).
+        zeros = np.zeros(2 * self.n)
+        self.slide_uplift_floor = {
+            s: SLIDE_UPLIFT_ROUNDING * abs(float(self._call("uplift", s, zeros, 0.0))) for s in (1, -1)
+        }
 
     def _safe_energy(self) -> float | None:
         """The early rest's bound: the least energy above rest at which the attached bodies can lift the block,
@@ -244,7 +260,83 @@ class _System:
         # y.tolist(): Python floats, not NumPy scalars, in the generated arithmetic. stop_on: the regime
         # of the stops as 0.0 / 1.0 per side, what sim.c prepares its constants with; None: that of y.
         params = self.params if params is None else params
-        return getattr(self.functions, name)(s, *y.tolist(), ag, agy, *params, stop_on=stop_on)
+        return getattr(self.functions, name)(s, *y[: 2 * self.n].tolist(), ag, agy, *params, stop_on=stop_on)
+
+    def _friction(self, name: str, s: float, y: np.ndarray, ag: float, stop_on: tuple, agy: float, *inputs):
+        """A generated function of the floor with friction at the first ``2 n`` components of ``y`` (the
+        slip ``u``, ``du`` after them are its inputs, not its state), in the regime ``stop_on``."""
+        return getattr(self.functions, name)(
+            s, *y[: 2 * self.n].tolist(), ag, agy, *self.params, *inputs, stop_on=self.regime(stop_on)
+        )
+
+    def floor_force(self, phase: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> tuple[float, float]:
+        """``(F, N)``: the force the floor must hold on the stuck contact of ``phase`` (``CONTACT`` or ``s``),
+        from the function the phase table names."""
+        entry = phase_of(phase != CONTACT, False)
+        return self._friction(entry.force, _pivot(phase), y, ag, stop_on, agy)
+
+    def slide_accel(self, phase: int, sigma: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> tuple:
+        """``(ddq..., ddu, N)`` of the sliding phase of ``phase`` with the slip's direction ``sigma``, from the
+        function the phase table names."""
+        entry = phase_of(phase != CONTACT, True)
+        return self._friction(entry.accel, _pivot(phase), y, ag, stop_on, agy, self.mu_k * sigma)
+
+    def phase_rhs(self, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> StateFunction:
+        """The right-hand side of the phase of the table with the pivot ``phase`` (``CONTACT`` or ``s``) and the
+        slip ``sigma``: :meth:`stuck_rhs` or :meth:`slide_rhs`."""
+        if sigma:
+            return self.slide_rhs(phase, sigma, ground, stop_on, vertical)
+        return self.stuck_rhs(phase, ground, stop_on, vertical)
+
+    def slide_rhs(self, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> StateFunction:
+        """``(dq, ddq, du, ddu)`` of the sliding phase of ``phase`` (``CONTACT`` or ``s``) on the state with
+        the slip ``u``, ``du`` after the ``2 n`` components; ``sigma`` the slip's direction (the segment's)."""
+        n = self.n
+
+        def rhs(t, y):
+            dy = np.empty_like(y)
+            dy[:n] = y[n : 2 * n]
+            dy[2 * n] = y[2 * n + 1]
+            out = self.slide_accel(phase, sigma, y, ground(t), stop_on, vertical(t))
+            dy[n : 2 * n] = out[:n]
+            dy[2 * n + 1] = out[n]
+            return dy
+
+        return rhs
+
+    def slip_energy(self, y: np.ndarray, du: float) -> float:
+        """The kinetic energy the slip speed ``du`` adds to the energy in the ground frame (0 when stuck)."""
+        if du == 0.0:
+            return 0.0
+        return float(self._friction("slip_energy", 1.0, y, 0.0, (False,) * self.n_stops, 0.0, du))
+
+    def friction_impact(self, s: int, y: np.ndarray, du: float, stop_on: tuple) -> tuple[np.ndarray, float, int]:
+        """The impact that ends rocking about ``s`` on a floor with friction (docs/model.md section 15).
+
+        Returns
+        -------
+        y : ndarray
+            The state after it (``theta = 0``).
+        du : float
+            The slip speed after it.
+        sigma : int
+            0 when the new corner holds (``|P_t| <= mu_s P_n``), else the direction it slides in.
+        """
+        n = self.n
+        after = np.array(y[: 2 * n], dtype=float)
+        after[0] = 0.0
+        out = self._friction("impact_stick", float(s), after, 0.0, stop_on, 0.0, du)
+        P_t, P_n = float(out[n + 1]), float(out[n + 2])
+        if abs(P_t) <= self.mu_s * P_n:
+            if du == 0.0:
+                # From a stuck pivot the stuck map is section 6's: the same operations as without friction.
+                return self.impact(s, y, 0.0), 0.0, 0
+            after[n:] = out[:n]
+            return after, 0.0, 0
+        sigma = -1 if P_t > 0.0 else 1
+        out = self._friction("impact_slide", float(s), after, 0.0, stop_on, 0.0, du, self.mu_k * sigma)
+        after[n:] = out[:n]
+        return after, float(out[n]), sigma
 
     def _at(self, theta: float, x: float = 0.0) -> np.ndarray:
         """The state at rest velocities with ``theta`` and ``q[1] = x``, the other coordinates 0."""
@@ -378,39 +470,24 @@ class _System:
         lead = float(p.psi_v) / omega_g
         return lambda t: a_v * shape(t + lead, omega_g, phase, t_c, gamma, math)
 
-    def rocking_rhs(self, s: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
-        """``y' = (dq, f_s(y, ag))``: rocking about the pivot ``s`` (fixed for the phase) in the regime ``stop_on``.
+    def stuck_rhs(self, phase: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
+        """``y' = (dq, ddq)`` of a stuck phase, ``ddq`` from the function the phase table names: rocking about the
+        pivot ``s = phase`` (fixed for the phase), ``f_s(y, ag)``, or in full contact (``phase = CONTACT``),
+        ``c(y, ag)``, in the regime ``stop_on`` of the segment.
 
-        The regime is that of the segment (rule 6): a gap event ends it, so its
-        steps never see a bumper's force switch on or off.
+        The regime is that of the segment (rule 6): a gap event ends it, so its steps never see a bumper's
+        force switch on or off. In full contact the whole state is integrated, ``theta`` and ``dtheta``
+        included: the generated ``contact_accel`` returns ``ddtheta = 0`` and ``dtheta = 0``, so both stay
+        exactly 0, and the error norm runs over the same ``2 n`` components in every phase.
         """
         n = self.n
         regime = self.regime(stop_on)
+        accel, s = phase_of(phase != CONTACT, False).accel, _pivot(phase)
 
         def rhs(t, y):
             dy = np.empty_like(y)
             dy[:n] = y[n:]
-            dy[n:] = self._call("rocking_accel", s, y, ground(t), regime, agy=vertical(t))
-            return dy
-
-        return rhs
-
-    def contact_rhs(self, ground: Callable[[float], float], stop_on: tuple, vertical) -> StateFunction:
-        """``y' = (dq, c(y, ag))``: full contact in the regime ``stop_on`` of the segment.
-
-        The whole state is integrated, ``theta`` and ``dtheta`` included: the
-        generated ``contact_accel`` returns ``ddtheta = 0`` and ``dtheta = 0``,
-        so both stay exactly 0, and the error norm runs over the same ``2 n``
-        components in every phase.
-        """
-        n = self.n
-        regime = self.regime(stop_on)
-
-        def rhs(t, y):
-            dy = np.empty_like(y)
-            dy[:n] = y[n:]
-            # contact_accel ignores s; +1 is as good as any.
-            dy[n:] = self._call("contact_accel", 1.0, y, ground(t), regime, agy=vertical(t))
+            dy[n:] = self._call(accel, s, y, ground(t), regime, agy=vertical(t))
             return dy
 
         return rhs
@@ -478,10 +555,11 @@ class _System:
         t = sol.t
         h = np.diff(t)
         inner = (t[:-1, None] + h[:, None] * PEAK_SAMPLES[None, 1:-1]).ravel()
-        states = np.asarray(sol.sol(inner), dtype=float)
+        states = np.asarray(sol.sol(inner), dtype=float)[: 2 * self.n]
         forces = self.functions.stop_forces(1.0, *states, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
         inner = np.max(np.asarray(forces, dtype=float), axis=0).reshape(len(h), -1)
-        forces = self.functions.stop_forces(1.0, *sol.y, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
+        ends = sol.y[: 2 * self.n]
+        forces = self.functions.stop_forces(1.0, *ends, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
         ends = np.max(np.asarray(forces, dtype=float), axis=0)
         samples = np.column_stack([ends[:-1], inner, ends[1:]])
         for j in range(len(h)):
@@ -500,13 +578,17 @@ class _System:
         """The largest force of any bumper against its penetration over ``states`` (rows), 0 without stops."""
         if self.n_stops == 0 or len(states) == 0:
             return 0.0
-        states = np.asarray(states, dtype=float).T
+        states = np.asarray(states, dtype=float)[:, : 2 * self.n].T
         forces = self.functions.stop_forces(1.0, *states, 0.0, 0.0, *self.params, stop_on=self._memory_regime())
         return float(max(np.max(f) for f in forces))
 
-    def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float = 0.0) -> float:
+    def uplift(self, s: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float = 0.0, sigma: int = 0) -> float:
         """Uplift function ``u_s`` in the regime ``stop_on``: the block leaves full contact about ``s`` when it
-        turns positive (``agy``: the vertical ground acceleration)."""
+        turns positive (``agy``: the vertical ground acceleration; ``sigma``: the direction of the base's slip,
+        0 when it sticks)."""
+        if sigma:
+            margin = float(self._friction("slide_uplift", s, y, ag, stop_on, agy, self.mu_k * sigma))
+            return margin - self.slide_uplift_floor[s]
         return float(self._call("uplift", s, y, ag, self.regime(stop_on), agy=agy))
 
     def critical_angle(self, s: int, y: np.ndarray, ag: float) -> float:
@@ -583,6 +665,11 @@ def _lower(a: float, b: float) -> float:
 _TINY = 5e-324
 
 
+def _pivot(phase: int) -> float:
+    """The ``s`` a generated function takes in ``phase``: the pivot, or +1 in full contact (where it is ignored)."""
+    return 1.0 if phase == CONTACT else float(phase)
+
+
 def _zero_below(function: StateFunction) -> StateFunction:
     """``function`` with an exact 0 read as just below 0.
 
@@ -626,14 +713,58 @@ class _Event:
         return self.function(t, y)
 
 
-def uplift_event(system: _System, s: int, ground: Callable[[float], float], stop_on: tuple, vertical) -> _Event:
-    """Full contact: ``u_s`` turns positive (uplift about ``A`` for ``s = +1``, ``A'`` for ``-1``)."""
+def uplift_event(
+    system: _System, s: int, ground: Callable[[float], float], stop_on: tuple, vertical, sigma: int = 0
+) -> _Event:
+    """Full contact: ``u_s`` turns positive (uplift about ``A`` for ``s = +1``, ``A'`` for ``-1``); ``sigma``: the
+    direction of the base's slip (0: it sticks)."""
     return _Event(
         UPLIFT_A if s == 1 else UPLIFT_A_PRIME,
-        _zero_below(lambda t, y: system.uplift(s, y, ground(t), stop_on, vertical(t))),
+        _zero_below(lambda t, y: system.uplift(s, y, ground(t), stop_on, vertical(t), sigma)),
         terminal=True,
         direction=+1,
     )
+
+
+def slip_event(system: _System, phase: int, ground, stop_on: tuple, vertical) -> _Event:
+    """A stuck contact: the force it must hold reaches ``mu_s N`` (docs/model.md section 15)."""
+
+    def margin(t, y):
+        F, N = system.floor_force(phase, y, ground(t), stop_on, vertical(t))
+        return system.mu_s * float(N) - abs(float(F))
+
+    return _Event(SLIP, _zero_above(margin), terminal=True, direction=-1)
+
+
+def stop_event(system: _System, sigma: int) -> _Event:
+    """A sliding contact: the slip speed ``du`` returns to 0."""
+    n = system.n
+    return _Event(STOP, lambda t, y: sigma * y[2 * n + 1], terminal=True, direction=-1)
+
+
+def lift_off_event(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> _Event:
+    """The floor's normal force on the contact returns to 0: the block would fly (docs/model.md section 16)."""
+
+    def normal(t, y):
+        if sigma:
+            return float(system.slide_accel(phase, sigma, y, ground(t), stop_on, vertical(t))[-1])
+        return float(system.floor_force(phase, y, ground(t), stop_on, vertical(t))[1])
+
+    return _Event(LIFT_OFF, _zero_above(normal), terminal=True, direction=-1)
+
+
+def friction_events(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> list:
+    """The events of a floor with friction that ``phase`` with the slip ``sigma`` watches (its exits in
+    :data:`rocking.sim.phases.PHASES`); none on the paper's floor."""
+    if not system.friction:
+        return []
+    table = {e.event for e in phase_of(phase != CONTACT, sigma != 0).exits}
+    events = [lift_off_event(system, phase, sigma, ground, stop_on, vertical)] if LIFT_OFF in table else []
+    if SLIP in table:
+        events.append(slip_event(system, phase, ground, stop_on, vertical))
+    if STOP in table:
+        events.append(stop_event(system, sigma))
+    return events
 
 
 def impact_event(s: int) -> _Event:
@@ -708,6 +839,7 @@ def watched_events(
     settling: bool = False,
     stop_on: tuple = (),
     vertical=lambda t: 0.0,
+    sigma: int = 0,
 ):
     """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases", "End" and rule 6).
 
@@ -736,6 +868,8 @@ def watched_events(
         else its closing.
     vertical : callable
         The segment's ``agy(t)``.
+    sigma : int
+        The direction of the base's slip, 0 while it sticks (docs/model.md section 15).
 
     Returns
     -------
@@ -744,11 +878,12 @@ def watched_events(
     # q[1] is the damper's coordinate: its extrema give x_max, in every phase.
     damper = [extremum_event(system.n, 1)] if system.n > 1 else []
     gaps = [gap_event(system, i, acting) for i, acting in enumerate(stop_on)]
+    gaps += friction_events(system, phase, sigma, ground, stop_on, vertical)
     if phase == CONTACT:
         if settling and system.n > 1:
             damper = [settled_event(system.n)]
-        events = [uplift_event(system, s, ground, stop_on, vertical) for s in (+1, -1)] + damper
-        if after_pulse:
+        events = [uplift_event(system, s, ground, stop_on, vertical, sigma) for s in (+1, -1)] + damper
+        if after_pulse and not sigma:
             events.append(rest_event(system, energy_rest, stop_on))
             if safe_energy is not None and not settling:
                 events.append(safe_event(system, safe_energy, stop_on))
@@ -786,6 +921,8 @@ class _Segment:
         The stop side of a gap event (-1 otherwise).
     bumper_force : float
         The largest bumper force of the segment (rule 6; sim.c's ``see_state`` and ``step_peak``).
+    slip : tuple of float
+        ``(u, du)`` at the end (docs/model.md section 15).
     """
 
     t: float
@@ -796,11 +933,12 @@ class _Segment:
     dense: OdeSolution | None = None
     side: int = -1
     bumper_force: float = 0.0
+    slip: tuple = (0.0, 0.0)
 
 
 def lift_off_step(
     rhs: StateFunction,
-    s: int,
+    started: Callable[[np.ndarray], bool],
     t0: float,
     y0: np.ndarray,
     t_bound: float,
@@ -808,7 +946,8 @@ def lift_off_step(
     work: _Work | None = None,
     **options,
 ) -> float | None:
-    """A first step after which the block has risen: ``s theta > 0`` at its end.
+    """A first step after which the phase has begun: the block has risen (``s theta > 0``) from ``theta = 0``,
+    the slip has grown (``sign(du) du > 0``) from ``du = 0``.
 
     Tries ``first_step`` (``None``: SciPy's own, Hairer's heuristic), then ten
     times shorter each time, down to SciPy's smallest step (10 ulps of ``t0``).
@@ -817,11 +956,11 @@ def lift_off_step(
     Parameters
     ----------
     rhs : callable
-        Right-hand side of the rocking phase about ``s``.
-    s : int
-        The pivot.
+        Right-hand side of the phase.
+    started : callable
+        Whether the phase has begun at the state at a step's end.
     t0, y0 : float, ndarray
-        Start of the phase (``theta = 0``).
+        Start of the phase.
     t_bound : float
         End of the segment.
     first_step : float or None
@@ -847,11 +986,23 @@ def lift_off_step(
         if work is not None and not repeat:
             work.add(probe.nfev - 1)
         repeat = False
-        if s * probe.y[0] > 0.0:
+        if started(probe.y):
             return probe.step_size
         first_step = 0.1 * probe.step_size
         if first_step < 10 * (np.nextafter(t0, np.inf) - t0):
             return None
+
+
+def _started(phase: int, sigma: int, y0: np.ndarray, n: int) -> Callable[[np.ndarray], bool]:
+    """Whether a phase that starts at ``y0`` has begun at ``y``: what starts at 0 has moved its way, ``theta``
+    about the pivot ``phase``, the slip ``du`` in its direction ``sigma``."""
+    rising = phase != CONTACT and y0[0] == 0.0
+    slipping = sigma != 0 and y0[2 * n + 1] == 0.0
+
+    def started(y: np.ndarray) -> bool:
+        return (not rising or phase * y[0] > 0.0) and (not slipping or sigma * y[2 * n + 1] > 0.0)
+
+    return started
 
 
 def after_gap(system: _System, event: _Event, dense: OdeSolution, t: float, y: np.ndarray):
@@ -896,6 +1047,8 @@ def integrate_segment(
     work: _Work | None = None,
     stop_on: tuple = (),
     bumper_best: float = 0.0,
+    sigma: int = 0,
+    slip: tuple = (0.0, 0.0),
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -928,6 +1081,11 @@ def integrate_segment(
         side and the events (see :func:`watched_events`).
     bumper_best : float
         The largest bumper force before the segment (the steps that cannot pass it are not searched).
+    sigma : int
+        The direction of the base's slip, 0 while it sticks: a sliding phase integrates the slip ``u``, ``du``
+        (``slip`` at the start) after the ``2 n`` components (docs/model.md section 15).
+    slip : tuple of float
+        ``(u, du)`` at the start.
 
     Returns
     -------
@@ -940,15 +1098,14 @@ def integrate_segment(
     """
     pulse_on = t0 < problem.t_p
     ground, vertical = system.ground(pulse_on, t0), system.vertical(pulse_on, t0)
-    if phase == CONTACT:
-        rhs = system.contact_rhs(ground, stop_on, vertical)
-        # While the pulse acts, the uplift functions move with ag(t) even when the
-        # state does not (the bare block: error estimate 0, so the step would grow
-        # tenfold per step); a bounded step keeps an uplift from being stepped over.
-        max_step = problem.contact_max_step if pulse_on else np.inf
-    else:
-        rhs = system.rocking_rhs(phase, ground, stop_on, vertical)
-        max_step = np.inf
+    n = system.n
+    rhs = system.phase_rhs(phase, sigma, ground, stop_on, vertical)
+    if sigma:
+        y0 = np.concatenate([y0, slip])
+    # While the pulse acts, the uplift functions move with ag(t) even when the
+    # state does not (the bare block: error estimate 0, so the step would grow
+    # tenfold per step); a bounded step keeps an uplift from being stepped over.
+    max_step = problem.contact_max_step if phase == CONTACT and pulse_on else np.inf
     plain_rhs = rhs
     if work is not None:
         rhs = work.counted(rhs)
@@ -963,8 +1120,11 @@ def integrate_segment(
         settling=settling,
         stop_on=stop_on,
         vertical=vertical,
+        sigma=sigma,
     )
-    options = {"rtol": problem.rtol, "atol": problem.atol, "max_step": max_step}
+    # The slip's components take the tolerance of the first coordinate's (a length or an angle, as u's scale).
+    atol = np.concatenate([problem.atol, problem.atol[[0, n]]]) if sigma else problem.atol
+    options = {"rtol": problem.rtol, "atol": atol, "max_step": max_step}
 
     def solve(first_step=None):
         sol = solve_ivp(
@@ -986,14 +1146,18 @@ def integrate_segment(
         first_step = min(first_step, t_bound - t0)
     sol = solve(first_step)
     fired = [e for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
-    if [e.name for e in fired] == [IMPACT] and sol.t[-1] == t0:
-        # A phase from theta = 0 whose first step ends with s theta <= 0: solve_ivp
-        # sees "s theta falls to 0" at the start (Brent returns the bracket's end
-        # where the function is exactly 0). Either the step was too long to see the
-        # block rise and fall back, or it does not rise at all (a grazing uplift).
-        first_step = lift_off_step(plain_rhs, phase, t0, y0, t_bound, first_step, work, **options)
+    if [e.name for e in fired] in ([IMPACT], [STOP]) and sol.t[-1] == t0:
+        # A phase from theta = 0 whose first step ends with s theta <= 0 (from du = 0, sign(du) du <= 0):
+        # solve_ivp sees "s theta falls to 0" at the start (Brent returns the bracket's end where the
+        # function is exactly 0). Either the step was too long to see the block rise and fall back (the slip
+        # grow and stop), or it does not rise at all (a grazing uplift).
+        first_step = lift_off_step(
+            plain_rhs, _started(phase, sigma, y0, n), t0, y0, t_bound, first_step, work, **options
+        )
         if first_step is None:
-            return _Segment(t=t0, y=np.array(y0), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, dense=None)
+            return _Segment(
+                t=t0, y=np.array(y0[: 2 * n]), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, slip=tuple(slip)
+            )
         if work is not None:
             # The new solve starts (1 evaluation) and repeats the step the last try
             # took (accepted at once: 6), which sim.c does not: not counted (rule 5).
@@ -1004,12 +1168,15 @@ def integrate_segment(
     t_end, y_end = float(sol.t[-1]), np.array(sol.y[:, -1])
     if [e.name for e in fired] == [IMPACT]:
         y_end[0] = 0.0  # the impact is at theta = 0; the located root is 0 only to the tolerance
+    if [e.name for e in fired] == [STOP]:
+        y_end[2 * n + 1] = 0.0  # likewise the slip speed at its stop
     if fired and fired[0].name in (GAP_CLOSE, GAP_OPEN):
         t_end, y_end = after_gap(system, fired[0], sol.sol, t_end, y_end)
     crossings = [float(min(times)) for e, times in zip(events, sol.t_events) if e.name == CRITICAL and len(times)]
     # Step ends (first and last included) and every located event point.
     points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
-    peaks = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
+    peaks: dict[int | str, float] = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
+    peaks["u"] = float(np.max(np.abs(points[:, 2 * n]))) if sigma else abs(slip[0])
     bumper = 0.0
     if system.n_stops:
         # The start, the step ends and the terminal event; while a pad pushes, each step's peak (rule 6).
@@ -1018,7 +1185,8 @@ def integrate_segment(
             bumper = max(bumper, system.bumper_peak(sol, bumper_best))
     return _Segment(
         t=t_end,
-        y=y_end,
+        y=y_end[: 2 * n],
+        slip=(float(y_end[2 * n]), float(y_end[2 * n + 1])) if sigma else tuple(slip),
         event=fired[0].name if fired else None,
         t_critical=crossings[0] if crossings else math.nan,
         peaks=peaks,
@@ -1035,7 +1203,8 @@ def integrate_segment(
 
 @dataclass
 class _History:
-    """Recorded rows ``(t, y, phase)`` in time order, events included."""
+    """Recorded rows ``(t, y, phase)`` in time order, events included; on a floor with friction ``y`` ends with
+    the slip ``u``, ``du`` and the slip's direction (``slide``: 0 stuck, +1 or -1)."""
 
     rows: list = field(default_factory=list)
 
@@ -1059,22 +1228,28 @@ class _History:
         lo = first_sample_after(t0, dt)
         return lo, max(lo, first_sample_after(t1, dt, strict=False))
 
-    def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float) -> None:
-        """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``."""
+    def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float, slip=None) -> None:
+        """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``; ``slip``: what a row
+        ends with on a floor with friction, ``(u, du, slide)`` of a stuck segment, ``(slide,)`` of a sliding
+        one (whose dense output holds ``u`` and ``du``), ``None`` on the paper's floor."""
         if dense is None or dt <= 0.0:  # events only, or a segment that did not integrate (no lift)
             return
         times = np.arange(*self.sample_range(t0, t1, dt)) * dt
         if times.size:
             for t, y in zip(times, dense(times).T):
-                self.rows.append((float(t), np.array(y), int(phase)))
+                row = np.array(y) if slip is None else np.concatenate([y, slip])
+                self.rows.append((float(t), row, int(phase)))
 
     def as_dict(self, problem: Problem) -> dict:
         """``t``, each state component by name, ``phase`` and ``ag`` as arrays."""
         t = np.array([row[0] for row in self.rows])
         y = np.array([row[1] for row in self.rows]).reshape(len(self.rows), -1)
         history = {"t": t}
-        for i, name in enumerate(problem.model.state):
+        names = list(problem.model.state) + (list(SLIP_COLUMNS) if math.isfinite(problem.mu_s) else [])
+        for i, name in enumerate(names):
             history[name] = y[:, i]
+        if "slide" in history:
+            history["slide"] = history["slide"].astype(int)
         history["phase"] = np.array([row[2] for row in self.rows], dtype=int)
         history["ag"] = np.asarray(problem.ground_acceleration(t), dtype=float).reshape(t.shape)
         return history
@@ -1091,6 +1266,8 @@ class _Tally:
     t_critical: float = math.nan
     stop_contacts: int = 0
     bumper_force_max: float = 0.0
+    u_max: float = 0.0
+    slides: int = 0
 
     def see_state(self, y: np.ndarray, system: _System) -> None:
         self.theta_max = max(self.theta_max, abs(float(y[0])))
@@ -1102,6 +1279,7 @@ class _Tally:
         self.theta_max = max(self.theta_max, segment.peaks[0])
         self.x_max = max(self.x_max, segment.peaks.get(1, 0.0))
         self.bumper_force_max = max(self.bumper_force_max, segment.bumper_force)
+        self.u_max = max(self.u_max, segment.peaks.get("u", 0.0))
         if math.isnan(self.t_critical):
             self.t_critical = segment.t_critical
 
@@ -1171,6 +1349,11 @@ class _Run:
         The last bound of the early verdict, and the ``(theta_max, x_max)`` it is for.
     side : int
         The stop side whose gap event ended the last segment (-1: none).
+    sigma : int
+        The direction of the base's slip: 0 while the contact sticks, +1 or -1 while it slides (the phase is
+        :func:`rocking.sim.phases.of` ``(phase != CONTACT, sigma != 0)``; docs/model.md section 15).
+    u, du : float
+        The slip of the base relative to the ground [m] and its speed [m/s].
     """
 
     problem: Problem
@@ -1192,12 +1375,51 @@ class _Run:
     bound_at: tuple = (math.nan, math.nan)
     bound: float = -math.inf
     side: int = -1
+    sigma: int = 0
+    u: float = 0.0
+    du: float = 0.0
 
 
 def record(run: _Run) -> None:
-    """Append the current state to the history, if the run keeps one."""
+    """Append the current state to the history, if the run keeps one (with the slip on a floor with friction)."""
     if run.history is not None:
-        run.history.add(run.t, run.y, run.phase)
+        y = np.concatenate([run.y, slip_row(run)]) if run.system.friction else run.y
+        run.history.add(run.t, y, run.phase)
+
+
+def slip_row(run: _Run) -> tuple:
+    """``(u, du, slide)`` of the run's state: what a history's row ends with on a floor with friction."""
+    return (run.u, run.du, float(run.sigma))
+
+
+def start_slip(run: _Run) -> None:
+    """A stuck contact that must hold more than ``mu_s N`` slides, against the force it held (section 15); the
+    history gets the instant in the sliding phase."""
+    if not run.system.friction or run.sigma:
+        return
+    ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
+    F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
+    if abs(float(F)) > run.system.mu_s * float(N):
+        slide_against(run, float(F))
+        record(run)
+
+
+def slide_against(run: _Run, F: float) -> None:
+    """The stuck contact starts to slide against the force ``F`` it held: a new slip episode."""
+    run.sigma = -1 if F > 0.0 else 1
+    run.tally.slides += 1
+
+
+def stop_slip(run: _Run) -> None:
+    """The slip speed is back to 0: the contact sticks if it can hold the force, else the slip reverses."""
+    run.du = 0.0
+    ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
+    F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
+    if abs(float(F)) <= run.system.mu_s * float(N):
+        run.sigma = 0
+    else:
+        run.sigma = 0
+        slide_against(run, float(F))  # it stopped for an instant: the slip in the other direction is a new episode
 
 
 def events_exhausted(run: _Run) -> bool:
@@ -1214,7 +1436,7 @@ def uplift_at_start(run: _Run) -> int:
     """
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     for s in (+1, -1):
-        if run.system.uplift(s, run.y, ground(run.t), run.stop_on, vertical(run.t)) > 0.0:
+        if run.system.uplift(s, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t), run.sigma) > 0.0:
             return s
     return 0
 
@@ -1233,7 +1455,9 @@ def status_at_t_max(run: _Run) -> str:
         s = -1 if run.phase < 0 else 1
         # A released pad may push again: its elastic energy counts wherever the mass is in it (rule 4).
         loaded = tuple(run.system.stop_gap(i, run.y) > 0.0 for i in range(run.system.n_stops))
-        if run.system.energy_above_rest(run.y, loaded, s) < run.system.barrier_bound():
+        # The slip's kinetic energy counts: friction only dissipates it (docs/model.md section 15).
+        energy = run.system.energy_above_rest(run.y, loaded, s) + run.system.slip_energy(run.y, run.du)
+        if energy < run.system.barrier_bound():
             return "below_barrier"
     return "t_max"
 
@@ -1258,13 +1482,14 @@ def verdict_final(run: _Run) -> bool:
     The verdict, the maxima, ``t_critical`` and the bumpers' results are then final (no bumper may act now).
     The bound is kept until a maximum grows.
     """
-    if not (run.verdict and run.t >= run.problem.t_p and stops_clear(run)):
+    # On a floor with friction the energy bounds theta and q[1], not the slip, which may go on: no early verdict.
+    if not (run.verdict and run.t >= run.problem.t_p and stops_clear(run)) or run.system.friction:
         return False
     at = (run.tally.theta_max, run.tally.x_max)
     if at != run.bound_at:
         run.bound_at, run.bound = at, run.system.verdict_bound(*at)
     s = -1 if run.phase < 0 else 1
-    return run.system.energy_above_rest(run.y, run.stop_on, s) < run.bound
+    return run.system.energy_above_rest(run.y, tuple(run.stop_on), s) < run.bound
 
 
 def end_at_start(run: _Run) -> str | None:
@@ -1275,7 +1500,7 @@ def end_at_start(run: _Run) -> str | None:
     stroke is left to settle, up to the next extremum of ``q[1]``; the run
     is then marked safe unless that extremum is now.
     """
-    energy = run.system.energy_above_rest(run.y, run.stop_on)
+    energy = run.system.energy_above_rest(run.y, tuple(run.stop_on))
     # For the bare block E(y) = E(0) in full contact: rest at once.
     if energy < run.system.rest_energy:
         return "rest"
@@ -1400,7 +1625,12 @@ def impact(run: _Run) -> str | None:
     """
     n = run.system.n
     s, dtheta_in, before = run.phase, run.y[n], run.y
-    run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on, run.t)(run.t))
+    if run.system.friction:
+        sliding = run.sigma
+        run.y, run.du, run.sigma = run.system.friction_impact(s, run.y, run.du, tuple(run.stop_on))
+        run.tally.slides += bool(run.sigma) and not sliding
+    else:
+        run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on, run.t)(run.t))
     run.tally.impacts += 1
     if abs(run.y[n]) < run.problem.dtheta_rest:
         rest_snap(run, -s)
@@ -1432,7 +1662,7 @@ def contact_start(run: _Run) -> str | None:
     run.skip_uplift_check = False
     if s:
         return uplift(run, s)
-    return None if run.pulse_on else end_at_start(run)
+    return None if run.pulse_on or run.sigma else end_at_start(run)
 
 
 def run_segment(run: _Run, t_bound: float) -> str | None:
@@ -1469,6 +1699,8 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         work=run.work,
         stop_on=tuple(run.stop_on),
         bumper_best=run.tally.bumper_force_max,
+        sigma=run.sigma,
+        slip=(run.u, run.du),
     )
     run.first_step = None
     run.side = segment.side
@@ -1478,8 +1710,10 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         run.work.add(hi - lo)
     run.tally.see_segment(segment)
     if run.history is not None:
-        run.history.add_samples(segment.dense, run.t, segment.t, run.phase, run.problem.record_dt)
+        slip = None if not run.system.friction else (float(run.sigma),) if run.sigma else slip_row(run)
+        run.history.add_samples(segment.dense, run.t, segment.t, run.phase, run.problem.record_dt, slip)
     run.t, run.y = segment.t, segment.y
+    run.u, run.du = segment.slip
     return segment.event
 
 
@@ -1500,6 +1734,19 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
         return uplift(run, 1 if event == UPLIFT_A else -1)
     elif event == IMPACT:
         return impact(run)
+    elif event == SLIP:
+        F, _ = run.system.floor_force(
+            run.phase,
+            run.y,
+            run.system.ground(run.pulse_on, run.t)(run.t),
+            tuple(run.stop_on),
+            run.system.vertical(run.pulse_on, run.t)(run.t),
+        )
+        slide_against(run, float(F))
+    elif event == STOP:
+        stop_slip(run)
+    elif event == LIFT_OFF:
+        return "flight"
     elif event == NO_LIFT:
         # The block never rose: back to full contact (the uplift stays counted).
         run.y[0] = run.y[run.system.n] = 0.0
@@ -1544,6 +1791,7 @@ def phase_machine(run: _Run) -> str:
             return status_at_t_max(run)
         run.pulse_on = run.t < problem.t_p
         read_regime(run)
+        start_slip(run)
         if run.phase == CONTACT:
             status = contact_start(run)
             if status is not None:
@@ -1589,6 +1837,9 @@ def finish(run: _Run, status: str) -> Response:
         status=status,
         stop_contacts=tally.stop_contacts,
         bumper_force_max=tally.bumper_force_max,
+        u_max=max(tally.u_max, abs(run.u)),
+        u_end=run.u,
+        slides=tally.slides,
         history=run.history.as_dict(run.problem) if run.history is not None else None,
     )
 
@@ -1632,7 +1883,8 @@ def simulate(problem: Problem, record: bool = False) -> Response:
         y=y,
         phase=int(problem.phase0),
         history=_History() if record else None,
-        safe_energy=system.safe_energy if problem.early_rest else None,
+        # The uplift energy bounds a stuck contact's lifting: a sliding one may lift below it (rule 4).
+        safe_energy=system.safe_energy if problem.early_rest and not system.friction else None,
         work=_Work(int(problem.max_steps)),
         stop_on=[system.stop_contact(i, y) > 0.0 for i in range(system.n_stops)],
         verdict=bool(problem.early_verdict),

@@ -113,7 +113,8 @@ class WithMemory:
         def with_memory(*args, stop_on=None):
             if stop_on is None:
                 off = tuple(np.zeros_like(self._memory[0]) for _ in range(self._n))
-                contacts = self._functions.stop_contact(*args, stop_on=off + self._memory)
+                shared = args[: len(self._functions.ARGUMENTS)]  # a friction function's own inputs come after
+                contacts = self._functions.stop_contact(*shared, stop_on=off + self._memory)
                 stop_on = tuple((np.asarray(c) > 0.0).astype(float) for c in contacts)
             return function(*args, stop_on=tuple(stop_on)[: self._n] + self._memory)
 

@@ -209,6 +209,11 @@ class Problem(ProblemFields):
             object.__setattr__(self, name, _series(name, getattr(self, name), getattr(self, count)))
         check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
         check_pair(self.mu_s, self.mu_k)
+        if math.isfinite(self.mu_s) and not self.model.manifest.get("friction", False):
+            raise ParameterError(
+                f"mu_s = {self.mu_s:g}: model {self.model.name!r} has no phases of a floor with friction (its spec "
+                "does not say [ground] friction = true); mu = inf is the only floor it takes"
+            )
         p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
         if p.shape != (len(self.model.parameters),):
             raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
