@@ -23,6 +23,7 @@ stops them too (:func:`_stoppable`).
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import signal
 import threading
@@ -414,7 +415,7 @@ def simulate_settings(model: Model, p, settings: dict, record: bool = False) -> 
     if result.status == boundary.FAILED.value:
         raise _failed(f"at t = {result.t_end:.17g}")
     return Response.from_record(
-        result, _history_arrays(buffers, n, model.state, bool(model.manifest.get("friction"))) if record else None
+        result, _history_arrays(buffers, n, model.state, math.isfinite(settings["mu_s"])) if record else None
     )
 
 
@@ -442,8 +443,9 @@ def _history(buffers: dict[str, np.ndarray]) -> _History:
 
 
 def _history_arrays(buffers: dict[str, np.ndarray], n: int, state, friction: bool) -> dict[str, np.ndarray]:
-    """The history's columns: ``t``, the state, ``phase``, ``ag``; with ``friction`` also :data:`FLOOR_COLUMNS`
-    and ``slide`` (the slip's sign: 0 stuck, +1 / -1 sliding)."""
+    """The history's columns: ``t``, the state, ``phase``, ``ag``; on a floor with friction (``friction``: a
+    finite ``mu_s``, as the NumPy back end's ``SLIP_COLUMNS``) also :data:`FLOOR_COLUMNS` and ``slide`` (the slip's
+    sign: 0 stuck, +1 / -1 sliding)."""
     history = {"t": buffers["t"][:n].copy()}
     for i, name in enumerate(state):
         history[name] = buffers["y"][:n, i].copy()

@@ -1015,6 +1015,9 @@ typedef struct event_ctx {
     double energy_rest; /* the rest threshold on E(y) - E(0) */
     double energy_safe; /* below it the block can never uplift again; NaN: no bound (rule 4) */
     double mu_s;        /* the floor's static friction (inf: the contact never slips) */
+    /* Per pivot (s = +1, -1), the least sliding base's uplift margin that is no rounding: SLIDE_UPLIFT_ROUNDING
+     * times the weight's moment about the corner (mu_k = tan alpha keeps the margin at 0 while it slides). */
+    double slide_uplift_floor[2];
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
 } event_ctx;
 
@@ -1064,11 +1067,13 @@ static inline double uplift_event(const event_ctx *ec, double s, double t, const
 }
 
 #ifdef MODEL_FRICTION
-/* The uplift function about s at (t, y) of a sliding base, written with its friction force. */
+/* The uplift function about s at (t, y) of a sliding base, written with its friction force, less the rounding
+ * of the weight's moment (ec->slide_uplift_floor, as numpy_backend's). */
 static double slide_uplift_event(const event_ctx *ec, double s, double t, const double *y)
 {
     return model_slide_uplift(s, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p, friction_on(ec->o),
-                              ec->o->mu_slip);
+                              ec->o->mu_slip) -
+           ec->slide_uplift_floor[s < 0.0];
 }
 #endif
 
@@ -2286,8 +2291,8 @@ static void rest_snap(run *r, const double *cst)
 }
 
 /* Into the phase `to` of the table after an event, or its end (to < 0: the status): about the pivot s where
- * it rocks, the slip's sign sigma where it slides (else the contact sticks, du = 0). A contact that starts
- * sliding, from stuck or the other way, is a slip episode. Returns 1 where the run ends, else 0. */
+ * it rocks, the slip's sign sigma where it slides (else the contact sticks, du = 0). A stuck contact that
+ * starts sliding is a slip episode (slip_stops counts a reversal). Returns 1 where the run ends, else 0. */
 static int enter(run *r, int to, int s, int sigma)
 {
     if (to < 0 || to >= PHASE_COUNT) {
@@ -2297,7 +2302,7 @@ static int enter(run *r, int to, int s, int sigma)
                                                     : ROCKING_FAILED; /* not reached: the table has the exit */
         return 1;
     }
-    r->res->slides += PHASES[to].slides && sigma != r->sigma; /* from a stuck contact, or reversed */
+    r->res->slides += PHASES[to].slides && r->sigma == 0;
     r->phase = PHASES[to].rocks ? s : 0;
     r->sigma = PHASES[to].slides ? sigma : 0;
 #ifdef MODEL_FRICTION
@@ -2382,7 +2387,7 @@ static int impact(run *r)
 
 #ifdef MODEL_FRICTION
 /* The floor's force on a contact where a segment starts: the run ends in flight where N <= 0 (lift-off); a
- * stuck contact the floor cannot hold, |F| > mu_s N, slips at once against F (unless check_slip is 0: a slip
+ * stuck contact the floor cannot hold, |F| >= mu_s N, slips at once against F (unless check_slip is 0: a slip
  * that could not start there). Returns 1 where the run ends, else 0. */
 static int floor_at_start(run *r, int check_slip)
 {
@@ -2391,13 +2396,16 @@ static int floor_at_start(run *r, int check_slip)
     floor_force_at(r, r->t, r->y, fn);
     if (fn[1] <= 0.0)
         return enter(r, phase_next(code, PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase, 0);
-    if (check_slip && r->sigma == 0 && r->c->mu_s * fn[1] - fabs(fn[0]) < 0.0)
+    /* At the floor's limit too: a phase that starts there (an uplift where ag crosses mu_s g as the uplift
+     * threshold, mu_s = tan alpha) holds its contact only to rounding (the slip event needs it to fall from > 0). */
+    if (check_slip && r->sigma == 0 && r->c->mu_s * fn[1] - fabs(fn[0]) <= 0.0)
         return enter(r, phase_next(code, PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase, fn[0] > 0.0 ? -1 : 1);
     return 0;
 }
 
 /* Where a slip ends (du = 0): the stuck phase's force decides; the contact holds if |F| <= mu_s N, else the
- * slip reverses, against F. Returns 1 where the run ends. */
+ * slip reverses, against F: it stopped for an instant, the slip the other way is a new episode. Returns 1
+ * where the run ends. */
 static int slip_stops(run *r)
 {
     double fn[2];
@@ -2405,6 +2413,7 @@ static int slip_stops(run *r)
     r->sigma = 0;
     floor_force_at(r, r->t, r->y, fn);
     r->sigma = sigma;
+    r->res->slides += fabs(fn[0]) > r->c->mu_s * fn[1];
     return enter(r,
                  phase_next(code, PHASE_EVENT_STOP,
                             fabs(fn[0]) <= r->c->mu_s * fn[1] ? PHASE_GUARD_HOLDS : PHASE_GUARD_SLIPS),
@@ -2753,6 +2762,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.ec.energy_zero = model_energy_prepared(zeros, 0.0, about(&k, 1.0));
     r.ec.energy_rest = c->energy_rest;
     r.ec.mu_s = c->mu_s;
+    if (r.friction) { /* numpy_backend's SLIDE_UPLIFT_ROUNDING: 64 eps of the weight's moment about each corner */
+        r.ec.slide_uplift_floor[0] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, 1.0)));
+        r.ec.slide_uplift_floor[1] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, -1.0)));
+    }
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
 #if NQ > 1 && MODEL_NSTOPS > 0
