@@ -66,7 +66,7 @@ def test_pure_sliding_is_the_closed_form(mu_s, mu_k, sign):
     assert r.slides >= 1
 
 
-@pytest.mark.parametrize(("a_g", "mu"), [(0.3, 0.255), (0.3, 0.26), (0.5, 0.3)])
+@pytest.mark.parametrize(("a_g", "mu"), [(0.3, 0.255), (0.4, 0.26), (0.5, 0.3)])
 def test_slide_rock_is_the_reference_simulators(a_g, mu):
     """The bare block that slides and rocks (slip, uplift, a slipping pivot, impacts) against the hand-typed
     reference simulator: theta_max and u_max to 1e-5 (relative)."""
@@ -76,6 +76,28 @@ def test_slide_rock_is_the_reference_simulators(a_g, mu):
     assert r.uplifts >= 1 and r.u_max > 0.0
     assert r.theta_max == pytest.approx(ref.theta_max, rel=1e-5)
     assert r.u_max == pytest.approx(ref.u_max, rel=1e-5)
+
+
+@pytest.mark.parametrize(
+    ("block", "with_damper", "a_g", "omega", "mu", "mu_k"),
+    [
+        (BLOCK, False, 0.4, OMEGA, 0.26, None),  # slide, uplift, a slipping pivot, impacts that slip
+        (BLOCK, False, 0.5, OMEGA, 0.3, 0.25),  # mu_k < mu_s
+        (rocking.Block.reference(), True, 0.5, 3.0, 0.1, None),  # the damper: sliding only
+        (rocking.Block.reference(), True, 0.4, 3.0, 0.3, None),  # the damper: slides, rocks, overturns
+    ],
+)
+def test_c_follows_the_floor_as_numpy_does(block, with_damper, a_g, omega, mu, mu_k):
+    """The two back ends follow the same phase table (rocking.sim.phases): the same phases, events and counts,
+    and their results to the integrators' error (rtol = 1e-10; never bit for bit across libm and NumPy)."""
+    damper = (
+        rocking.Damper(m=0.05 * block.M, k_m=0.05 * block.M * (0.9 * block.p) ** 2, c=100.0) if with_damper else None
+    )
+    pulse = rocking.OneSinePulse(a_g=a_g * G, omega_g=omega if block is BLOCK else omega * block.p)
+    c, numpy = (rocking.simulate(block, damper, pulse, backend=b, mu=mu, mu_k=mu_k, rtol=1e-10) for b in ("c", "numpy"))
+    assert (c.status, c.slides, c.uplifts, c.impacts) == (numpy.status, numpy.slides, numpy.uplifts, numpy.impacts)
+    for name in ("theta_max", "x_max", "u_max", "u_end"):
+        assert getattr(c, name) == pytest.approx(getattr(numpy, name), rel=1e-6, abs=1e-12), name
 
 
 def test_the_history_follows_the_floor():
