@@ -1933,7 +1933,7 @@ static double slip_energy(const run *r)
 #endif
 
 /* The energy above rest, the slip's included. */
-static double energy_above_rest(const run *r)
+static inline double energy_above_rest(const run *r)
 {
     const double energy = model_energy_prepared(r->y, 0.0, about(r->o.k, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero;
 #ifdef MODEL_FRICTION
