@@ -2304,11 +2304,7 @@ static int enter(run *r, int to, int s, int sigma)
     }
     r->res->slides += PHASES[to].slides && r->sigma == 0;
     r->phase = PHASES[to].rocks ? s : 0;
-    r->sigma = PHASES[to].slides ? sigma : 0;
-#ifdef MODEL_FRICTION
-    if (r->sigma == 0)
-        r->y[NY + 1] = 0.0;
-#endif
+    r->sigma = PHASES[to].slides ? sigma : 0; /* a stuck phase is entered with du = 0: a stop, a holding impact */
     return 0;
 }
 
