@@ -31,3 +31,16 @@ def test_a_base_sliding_on_mu_equal_to_tan_alpha_does_not_lift_on_rounding(backe
     (once: uplift, no lift, uplift... at one instant, then max_steps)."""
     r = rocking.simulate(BLOCK, None, _pulse(2.34919750254842), mu=0.25, backend=backend)
     assert r.status == "rest" and r.theta_max < 1e-12 and r.u_max > 0.05
+
+
+def test_both_back_ends_record_the_same_floor_columns():
+    """The floor's N and F at each row: the same columns, in the same order, the same values to the tolerance."""
+    runs = {
+        backend: rocking.simulate(BLOCK, None, _pulse(2.2), mu=0.26, backend=backend, rtol=1e-10, record=True)
+        for backend in ("c", "numpy")
+    }
+    c, n = runs["c"].history, runs["numpy"].history
+    assert list(c) == list(n) and list(c)[-5:] == ["u", "du", "N", "F", "slide"]
+    assert np.array_equal(c["slide"], n["slide"])
+    scale = float(np.max(np.abs(n["N"])))
+    assert np.max(np.abs(c["N"] - n["N"])) < 1e-6 * scale and np.max(np.abs(c["F"] - n["F"])) < 1e-6 * scale

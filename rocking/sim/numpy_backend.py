@@ -1840,8 +1840,33 @@ def finish(run: _Run, status: str) -> Response:
         u_max=max(tally.u_max, abs(run.u)),
         u_end=run.u,
         slides=tally.slides,
-        history=run.history.as_dict(run.problem) if run.history is not None else None,
+        history=floor_forces(run.system, run.history.as_dict(run.problem)) if run.history is not None else None,
     )
+
+
+def floor_forces(system: _System, history: dict) -> dict:
+    """``history`` with the floor's normal force ``N`` and tangential force ``F`` on the block [N] at each row,
+    on a floor with friction (as sim.c records them): the stuck phase's from its force function, the sliding
+    one's ``N`` from its accelerations and ``F = -mu_k slide N``."""
+    if not system.friction:
+        return history
+    t_p, n = system.problem.t_p, system.n
+    normal, tangential = np.empty(len(history["t"])), np.empty(len(history["t"]))
+    names = system.problem.model.state
+    for i, t in enumerate(history["t"]):
+        y = np.array([history[name][i] for name in names])
+        phase, sigma, on = int(history["phase"][i]), int(history["slide"][i]), t < t_p
+        ag, agy = history["ag"][i], system.vertical(on, t)(t)
+        regime = tuple(system.stop_contact(j, y) > 0.0 for j in range(system.n_stops))
+        if sigma:
+            normal[i] = float(system.slide_accel(phase, sigma, y, ag, regime, agy)[n + 1])
+            tangential[i] = -system.mu_k * sigma * normal[i]
+        else:
+            force = system.floor_force(phase, y, ag, regime, agy)
+            tangential[i], normal[i] = float(force[0]), float(force[1])
+    columns = {**history, "N": normal, "F": tangential}
+    # The order of sim.c's histories (c_backend.FLOOR_COLUMNS): the state, phase and ag, then the floor's.
+    return {k: columns[k] for k in ("t", *names, "phase", "ag", "u", "du", "N", "F", "slide")}
 
 
 def simulate(problem: Problem, record: bool = False) -> Response:
