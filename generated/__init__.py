@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 8
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "8cc2e4ca14b7e4ab61bf6a8b8780ce82777b15555f3d0e9210c98716a04648d8",
-    "omd": "c8726fdddeef626f98ba2994933a1737bf2075c349ca56fc116baef87f934205",
-    "omd2": "77e9221509fed1f3086d0e1cb74cab66e5846e920b5737ef38e8c9ec778eeaeb",
-    "omd_stops": "9034c5c168333fa31a01e90f5c81c8701cd6238153e98f0f458a088d29f0b7aa",
-    "omd_stops_hc": "985ed6ca2f57fcfe69af5a30f98444415c3d7db79a182bd70b1d43328ec523e3",
-    "pendulum": "0850a849c0a36f40a81b8aba2bc7158312fa76e22e0ddd906ee5a0c2c1d66c51",
+    "block": "3c82b6eb7191398d6109439b67791b6a66737438b7d9d7a3efbe307eaa4ca8e1",
+    "omd": "32c1121b929c37adf169f7b879f8c35c8ccf515f6be9e7cde40e142529875d30",
+    "omd2": "bf5f00a3251c0c20088d6e54a903f18c78611890575f89c6b7e2f992e18eb9bc",
+    "omd_stops": "b251ef99c122bcf55e4d6310e2aa1922ed1af25c538db761be76387921394428",
+    "omd_stops_hc": "50a128c42df3cd4573ca084effdc8772200d7857d4d8fe0d80105f6b696f3a0a",
+    "pendulum": "5650aca4db5c96e651edadd401bf35aceaed2c3aa4376318a86518856cfe9d53",
 }
