@@ -18,12 +18,12 @@ from ..model.loading import load_model
 from ..model.motion import describe, peak
 from ..model.outputs import atomic_write
 from ..model.params import RANGES, Block, Damper
-from ..sim.numpy_backend import SLIP_COLUMNS
+from ..sim.history import FLOOR_COLUMNS
 from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES, quantity, symbol, wrap
 
 #: The history's entries that are not a coordinate of the damper (rocking.sim.problem.Response.history): the base's
 #: slip ``u`` (m), its speed and its sliding direction on a floor with friction have a panel of their own.
-NOT_COORDINATES = ("t", "phase", "ag", "theta", *SLIP_COLUMNS)
+NOT_COORDINATES = ("t", "phase", "ag", "theta", *FLOOR_COLUMNS)
 #: The slip panel's unit: mm, m per unit.
 SLIP_UNIT = ("mm", 1e-3)
 

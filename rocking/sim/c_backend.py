@@ -39,6 +39,7 @@ from . import boundary, cbuild
 from .batch import Cases
 from .boundary import CASE, DOUBLES, RESULT, SERIES
 from .cbuild import CBuildError
+from .history import FLOOR_COLUMNS
 from .problem import RESULT_FIELDS, Problem, Response, SimulationError
 
 __all__ = [
@@ -93,9 +94,9 @@ class _History(ctypes.Structure):
     ]
 
 
-#: The floor's columns of a history (sim.h's ``rocking_history.floor``, in its order), of a model with friction:
-#: the slip u [m], its speed du [m/s], the floor's normal force N and tangential force F on the block [N].
-FLOOR_COLUMNS = ("u", "du", "N", "F")
+#: sim.h's ``rocking_history.floor``, in its order: the floor's columns of a history but the slip's sign, which
+#: has its own buffer (``slide``).
+FLOOR_BUFFER = FLOOR_COLUMNS[:-1]
 
 
 class _Control(ctypes.Structure):
@@ -425,7 +426,7 @@ def _history_buffers(capacity: int, ny: int) -> dict[str, np.ndarray]:
         "y": np.empty((capacity, ny)),
         "phase": np.empty(capacity, dtype=np.int32),
         "ag": np.empty(capacity),
-        "floor": np.empty((capacity, len(FLOOR_COLUMNS))),
+        "floor": np.empty((capacity, len(FLOOR_BUFFER))),
         "slide": np.empty(capacity, dtype=np.int32),
     }
 
@@ -444,15 +445,14 @@ def _history(buffers: dict[str, np.ndarray]) -> _History:
 
 def _history_arrays(buffers: dict[str, np.ndarray], n: int, state, friction: bool) -> dict[str, np.ndarray]:
     """The history's columns: ``t``, the state, ``phase``, ``ag``; on a floor with friction (``friction``: a
-    finite ``mu_s``, as the NumPy back end's ``SLIP_COLUMNS``) also :data:`FLOOR_COLUMNS` and ``slide`` (the slip's
-    sign: 0 stuck, +1 / -1 sliding)."""
+    finite ``mu_s``) also :data:`~rocking.sim.history.FLOOR_COLUMNS`, the floor's buffer then the slip's sign."""
     history = {"t": buffers["t"][:n].copy()}
     for i, name in enumerate(state):
         history[name] = buffers["y"][:n, i].copy()
     history["phase"] = buffers["phase"][:n].astype(int)
     history["ag"] = buffers["ag"][:n].copy()
     if friction:
-        for i, name in enumerate(FLOOR_COLUMNS):
+        for i, name in enumerate(FLOOR_BUFFER):
             history[name] = buffers["floor"][:n, i].copy()
         history["slide"] = buffers["slide"][:n].astype(int)
     return history

@@ -90,6 +90,10 @@ _LOADS = {
     "E_total": ("J", "mechanical energy above rest, E_kinetic + E_potential"),
     "phase": ("1", "phase: 0 full contact, +1 rocking about A, -1 rocking about A'"),
 }
+#: The columns a history holds after the state, ``phase`` and ``ag`` on a floor with friction, both back ends, in
+#: this order: the slip u [m], its speed du [m/s], the floor's normal and tangential forces N and F on the block
+#: [N], and the slip's sign (0 stuck, +1 / -1 sliding).
+FLOOR_COLUMNS = ("u", "du", "N", "F", "slide")
 #: The slip of the base on a floor with friction (docs/model.md section 15): V_b and N_b are then the floor's
 #: tangential and normal forces F and N on the contact.
 _SLIP = {

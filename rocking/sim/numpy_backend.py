@@ -62,7 +62,7 @@ from scipy.integrate import RK45, OdeSolution, solve_ivp
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from ..model.params import ParameterError
 from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
-from .history import first_sample_after
+from .history import FLOOR_COLUMNS, first_sample_after
 from .phases import of as phase_of
 from .problem import Problem, Response, SimulationError
 
@@ -85,7 +85,8 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 NO_LIFT = "no lift"
 #: The events of a floor with friction (rocking.sim.phases.EVENTS).
 SLIP, STOP, LIFT_OFF = "slip", "stop", "lift-off"
-#: What a history holds after the state on a floor with friction: the slip [m], its speed [m/s], its direction.
+#: What a history's row holds after the state on a floor with friction: the slip [m], its speed [m/s], its
+#: direction (the floor's forces are computed at the end, :func:`floor_forces`).
 SLIP_COLUMNS = ("u", "du", "slide")
 #: A sliding base's uplift margin below this fraction of the weight's moment about the corner is rounding.
 SLIDE_UPLIFT_ROUNDING = 64 * np.finfo(float).eps
@@ -1865,8 +1866,7 @@ def floor_forces(system: _System, history: dict) -> dict:
             force = system.floor_force(phase, y, ag, regime, agy)
             tangential[i], normal[i] = float(force[0]), float(force[1])
     columns = {**history, "N": normal, "F": tangential}
-    # The order of sim.c's histories (c_backend.FLOOR_COLUMNS): the state, phase and ag, then the floor's.
-    return {k: columns[k] for k in ("t", *names, "phase", "ag", "u", "du", "N", "F", "slide")}
+    return {k: columns[k] for k in ("t", *names, "phase", "ag", *FLOOR_COLUMNS)}
 
 
 def simulate(problem: Problem, record: bool = False) -> Response:
