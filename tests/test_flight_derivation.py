@@ -2,6 +2,8 @@
 Newton and Euler typed by hand (rocking/reference/flight.py), the centroid's parabola, Housner's restitution
 (docs/model.md section 6) and the energy of a landing (docs/model.md section 16)."""
 
+from functools import partial
+
 import numpy as np
 import pytest
 from scipy.integrate import solve_ivp
@@ -190,21 +192,6 @@ def test_a_level_landing_with_the_damper_is_section_6s_impact(models, s):
         assert du == 0.0 and dv == 0.0 and P_n > 0.0
 
 
-def _land(model, args, du, dv, e_n, mu_s, mu_k):
-    """A landing as a back end would choose it: stick if the floor holds the corner (``|P_t| <= mu_s P_n``,
-    ``P_n > 0``), else slide in the direction ``sigma`` in which the slip keeps its sign through the landing (before
-    and after) with ``P_n > 0``. Returns the outputs and the law: ``"stick"``, ``"slide"``, or ``""`` (neither is
-    consistent: the slip would reverse within the landing)."""
-    out = model.functions.landing_stick(*args, du, dv, e_n)
-    if out[-1] > 0.0 and abs(out[-2]) <= mu_s * out[-1]:
-        return out, "stick"
-    for sigma in (1.0, -1.0):
-        out = model.functions.landing_slide(*args, du, dv, e_n, sigma * mu_k)
-        if out[-1] > 0.0 and sigma * du >= 0.0 and sigma * out[model.nq] >= 0.0:
-            return out, "slide"
-    return out, ""
-
-
 def _energy(model, args, dq, dc):
     """flight_energy at the coordinates of ``args`` with the velocities ``dq`` and the corner's ``dc`` on the floor."""
     nq = model.nq
@@ -225,7 +212,13 @@ def test_energy_never_rises_at_a_plastic_landing(models, name):
             args = [a[i] for a in _args(model, v)]
             mu_s = rng.uniform(0.05, 1.0)
             dc = (v["du"][i], v["dv"][i])
-            out, law = _land(model, args, *dc, 0.0, mu_s, mu_s * rng.uniform(0.5, 1.0))
+            out, law = ref.landing_law(
+                partial(model.functions.landing_stick, *args, *dc, 0.0),
+                partial(model.functions.landing_slide, *args, *dc, 0.0),
+                dc[0],
+                mu_s,
+                mu_s * rng.uniform(0.5, 1.0),
+            )
             laws[law] += 1
             if law:
                 before = _energy(model, args, args[1 + nq : 1 + 2 * nq], dc)

@@ -153,3 +153,23 @@ def parabola(X0, Y0, VX0, VY0, ag, agy, g, t):
     """The position at ``t`` of a point that starts at ``(X0, Y0)`` with ``(VX0, VY0)`` and accelerates by
     ``(-ddx_g, -(g + ddy_g))`` relative to a ground of constant acceleration: the centroid of a flying system."""
     return X0 + VX0 * t - ag * t**2 / 2, Y0 + VY0 * t - (g + agy) * t**2 / 2
+
+
+def landing_law(stick, slide, du, mu_s, mu_k):
+    """The law of a landing (docs/model.md section 16) and its outputs, from the two maps of one landing.
+
+    ``stick()`` and ``slide(mu_slip)`` return a landing map's outputs, the slip speed after at index -4 and the
+    impulses ``(P_t, P_n)`` last. The corner sticks if the floor holds it (``P_n > 0``, ``|P_t| <= mu_s P_n``);
+    else it slides in the direction ``sigma`` in which the slip keeps its sign through the landing
+    (``sigma du >= 0`` before and after) with ``P_n > 0``. Returns ``(outputs, law)``, ``law`` ``"stick"``,
+    ``"slide"`` or ``""``: neither is consistent (the slip would reverse within the landing, or the sliding impulse
+    would pull: the model does not follow the impulse through the landing).
+    """
+    out = stick()
+    if out[-1] > 0.0 and abs(out[-2]) <= mu_s * out[-1]:
+        return out, "stick"
+    for sigma in (1.0, -1.0):
+        out = slide(sigma * mu_k)
+        if out[-1] > 0.0 and sigma * du >= 0.0 and sigma * out[-4] >= 0.0:
+            return out, "slide"
+    return out, ""
