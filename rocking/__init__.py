@@ -38,6 +38,7 @@ from .sim.run import BackendWarning, simulate
 from .study.api import (
     design,
     fragility,
+    friction_map,
     incremental_dynamic_analysis,
     minimum_overturning_spectrum,
     optimal_damper,
@@ -89,6 +90,7 @@ __all__ = [
     "design",
     "designed_damper",
     "fragility",
+    "friction_map",
     "incremental_dynamic_analysis",
     "load",
     "load_model",

@@ -30,10 +30,27 @@ class CModel:
         dbl, ptr = ctypes.c_double, ctypes.POINTER(ctypes.c_double)
         self.ny = len(model.state)
         self.np = len(model.parameters)
+        # The functions without a prepared form (a floor with friction's) take the stops' regime `on` after `p`,
+        # then their own inputs (model.h).
+        self.direct = {
+            n for n in model.manifest["functions"] if not hasattr(self.lib, f"{model.c_prefix}_{n}_prepared")
+        }
         for name, info in model.manifest["functions"].items():
             fn = getattr(self.lib, f"{model.c_prefix}_{name}")
             fn.restype = dbl if info["scalar"] else None
-            fn.argtypes = [dbl, ptr, dbl, dbl, ptr] + ([] if info["scalar"] else [ptr])
+            own = [ptr] + [dbl] * len(info["inputs"]) if name in self.direct else []
+            fn.argtypes = [dbl, ptr, dbl, dbl, ptr] + own + ([] if info["scalar"] else [ptr])
+
+    def regime(self, values: dict) -> np.ndarray:
+        """The stops' regime of each state, cases along the first axis: a side acts where its contact is > 0,
+        then a Hunt-Crossley pad's memory v_in, the approach speed of a contact starting there (model.h)."""
+        stops = self.model.manifest["stops"]
+        if not stops:
+            return np.zeros(np.shape(values["s"]) + (0,))
+        acting = [c > 0 for c in self("stop_contact", values)]
+        floors = [side["approach_floor"] for side in stops]
+        memory = [np.maximum(a, f) for a, f in zip(self("stop_approach", values), floors)]
+        return np.stack([*acting, *memory][: len(self.model.manifest["regime"])], axis=-1).astype(float)
 
     def __call__(self, name: str, values: dict):
         """Evaluate ``name`` case by case on arrays of values keyed by argument name."""
@@ -43,16 +60,23 @@ class CModel:
         s = np.broadcast_to(np.asarray(values["s"], float), y.shape[:-1])
         ag = np.broadcast_to(np.asarray(values["ag"], float), y.shape[:-1])
         agy = np.broadcast_to(np.asarray(values.get("agy", 0.0), float), y.shape[:-1])
+        own: list = []
+        if name in self.direct:
+            on = np.broadcast_to(self.regime(dict(values, s=s)), y.shape[:-1] + (len(self.model.manifest["regime"]),))
+            inputs = [np.broadcast_to(np.asarray(values[k], float), y.shape[:-1]) for k in info["inputs"]]
         fn = getattr(self.lib, f"{self.model.c_prefix}_{name}")
         out = np.zeros(y.shape[:-1] + (info["outputs"],))
         as_ptr = lambda a: a.ctypes.data_as(ctypes.POINTER(ctypes.c_double))
         for i in np.ndindex(y.shape[:-1]):
             yi, pi = np.ascontiguousarray(y[i]), np.ascontiguousarray(p[i])
+            if name in self.direct:
+                oni = np.ascontiguousarray(on[i])
+                own = [as_ptr(oni) if oni.size else None, *(float(a[i]) for a in inputs)]
             if info["scalar"]:
-                out[i][0] = fn(s[i], as_ptr(yi), ag[i], agy[i], as_ptr(pi))
+                out[i][0] = fn(s[i], as_ptr(yi), ag[i], agy[i], as_ptr(pi), *own)
             else:
                 oi = np.zeros(info["outputs"])
-                fn(s[i], as_ptr(yi), ag[i], agy[i], as_ptr(pi), as_ptr(oi))
+                fn(s[i], as_ptr(yi), ag[i], agy[i], as_ptr(pi), *own, as_ptr(oi))
                 out[i][:] = oi
         return out[..., 0] if info["scalar"] else tuple(np.moveaxis(out, -1, 0))
 

@@ -46,6 +46,9 @@ def studies(tmp_path_factory):
         ),
         "threshold": rocking.threshold_map(lam=[4.0], p=[2.0], Omega=[4.0, 14.0], Tm_ratio=[0.5, 2.0], refine=0, **few),
         "ida": rocking.incremental_dynamic_analysis(BLOCK, motions=pulses, scales=[0.5, 1.0, 2.0], t_after=5.0, **few),
+        "friction": rocking.friction_map(
+            rocking.Block(2.0, 0.5, 1000.0), T_g=0.5, mu=[0.15, 0.5], a_g=[3.0, 4.0], directions="both", **few
+        ),
         "fragility": rocking.fragility(
             BLOCK,
             {"gamma": 0.05, "stops": True},

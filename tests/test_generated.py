@@ -16,9 +16,12 @@ from rocking.reference.verify import BY_HAND, TOLERANCE, random_cases, verify
 
 @pytest.mark.parametrize("name", BY_HAND)
 def test_generated_numpy_matches_model_md(name):
-    checks = verify(load_model(name), n=1000, seed=1)
+    """Every generated function on both pivots: the paper's 20 and a floor with friction's 8 (section 15)."""
+    model = load_model(name)
+    checks = verify(model, n=1000, seed=1)
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 40 and not bad, bad
+    assert {c.function for c in checks} == set(model.manifest["functions"])
+    assert len(checks) == 2 * len(model.manifest["functions"]) == 56 and not bad, bad
 
 
 @pytest.mark.parametrize("name", BY_HAND)
@@ -27,7 +30,7 @@ def test_generated_c_matches_model_md(name, c_model):
     model = load_model(name)
     checks = verify(model, n=1000, seed=2, evaluate=c_model(name))
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 40 and not bad, bad
+    assert len(checks) == 2 * len(model.manifest["functions"]) == 56 and not bad, bad
 
 
 def _reference_params(**over):

@@ -21,6 +21,7 @@ FUNCTIONS = {
     "threshold": rocking.threshold_map,
     "ida": rocking.incremental_dynamic_analysis,
     "fragility": rocking.fragility,
+    "friction": rocking.friction_map,
 }
 
 #: Commands of the command line only, and why.

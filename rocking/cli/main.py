@@ -392,6 +392,11 @@ def _print_summary(block, pulse, responses, models) -> None:
             f"{r.uplifts} uplift(s), {r.impacts} impact(s){_stops_text(r, models[label])}, "
             f"ended at t = {r.t_end:.3f} s ({_status_text(r)})"
         )
+        if r.slides:  # a floor with friction (docs/model.md section 15): the base slipped
+            print(
+                f"  {label}: the base slid: peak u_max = {r.u_max * 1e3:.4g} mm, residual u_end = "
+                f"{r.u_end * 1e3:.4g} mm, {r.slides} slip episode(s)"
+            )
         if r.status == "flight":
             print(
                 f"  {label}: FLIGHT: g + ddy_g reached 0 at t = {r.t_end:.4f} s, the base may leave the ground; "
@@ -772,7 +777,11 @@ def _add_simulate(sub) -> None:
         action="store_true",
         help="follow the response to rest: the default, kept so that older commands still run",
     )
-    g.add_argument("--plot", metavar="FILE", help="figure of theta/alpha, x and the ground acceleration")
+    g.add_argument(
+        "--plot",
+        metavar="FILE",
+        help="figure of theta/alpha, the base's slip u on a floor with friction (--mu), x and the ground acceleration",
+    )
     g.add_argument("--compare", action="store_true", help="also run the block alone, on the same axes")
     g.add_argument(
         "--history",

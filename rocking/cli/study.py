@@ -43,7 +43,7 @@ from ..model.stochastic import DEFAULT_SITE
 from ..plot.figures import draw, draw_vertical_spectra, redraw
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
-from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant, pulse_grids
+from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant, omega_grid, pulse_grids
 from ..study.design import DesignWarning, design
 from ..study.design import verdict as design_verdict
 from ..study.directions import DIRECTIONS
@@ -71,7 +71,7 @@ from ..study.storage import save
 from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.tiles import Execution, Interrupted, TileWarning
-from ..study.vocabulary import FIT_STATUSES
+from ..study.vocabulary import FIT_STATUSES, REGIMES, regime_label
 from .options import (
     acceleration,
     add_block_options,
@@ -136,7 +136,7 @@ SETTING = ("rtol", "t_after", "backend", "pulse", "gamma_mp", "nu", "vertical_ra
 # --- options -------------------------------------------------------------------------
 
 
-def _add_solver(p: argparse.ArgumentParser) -> None:
+def _add_solver(p: argparse.ArgumentParser, backend: str | None = None) -> None:
     g = p.add_argument_group(
         "solver and execution",
         "As rocking.Setting(block, rtol, t_after, backend) and "
@@ -150,7 +150,8 @@ def _add_solver(p: argparse.ArgumentParser) -> None:
     g.add_argument(
         "--t-after", type=float, help=f"time followed after the pulse, s ({default_text(Setting, 't_after')})"
     )
-    g.add_argument("--backend", help=f"{' or '.join(BACKENDS)} ({default_text(Setting, 'backend')})")
+    default = default_text(Setting, "backend") if backend is None else f"default {backend}"
+    g.add_argument("--backend", help=f"{' or '.join(BACKENDS)} ({default})")
     g.add_argument(
         "--workers", type=int, help="local workers (default: all cores): threads on the C back end, processes on NumPy"
     )
@@ -344,6 +345,24 @@ def _add_search(p, default: tuple, function) -> None:
         type=int,
         help=f"refinement points each side of the best coarse point ({default_text(function, 'refine')})",
     )
+
+
+def _add_frequency(p: argparse.ArgumentParser, default: float) -> None:
+    """``--Omega X`` or ``--T-g X``: the one frequency of every pulse of a regime map."""
+    g = p.add_mutually_exclusive_group()
+    g.add_argument("--Omega", type=float, help=f"every pulse's frequency ratio omega_g / p (default {default:g})")
+    g.add_argument("--T-g", type=float, help="every pulse's period T_g = 2 pi / omega_g, s: in place of --Omega")
+
+
+def _frequency(args, params: dict) -> dict:
+    """``Omega`` of a regime map: ``--Omega``, or ``--T-g`` for the block of the options, or the default."""
+    if args.T_g is None:
+        return {"Omega": params["default"] if args.Omega is None else args.Omega}
+    try:
+        periods = Grid.of("T_g", [args.T_g])
+    except ParameterError as exc:
+        raise ParameterError(str(exc).replace("T_g", "--T-g")) from None
+    return {"Omega": float(omega_grid(block_from(args), periods).values()[0])}
 
 
 def _add_tol(p: argparse.ArgumentParser) -> None:
@@ -695,10 +714,16 @@ GROUPS = {
     "vertical": Group(lambda p, params, kind: _add_vertical(p), _given("vertical_ratio", "vertical_phase")),
     "motions": Group(lambda p, params, kind: _add_motions(p), lambda args, params: {"suite": _suite_from(args)}),
     "im": Group(lambda p, params, kind: _add_im(p), lambda args, params: {"measure_name": args.im}),
+    # A kind's own default back end (the regime map's: one that follows friction) beside Setting's.
     "solver": Group(
-        lambda p, params, kind: _add_solver(p),
-        lambda args, params: given(args, ("rtol", "t_after", "backend")) | {"execution": execution_from(args)},
+        lambda p, params, kind: _add_solver(p, params.get("backend")),
+        lambda args, params: (
+            {k: v for k, v in params.items() if k == "backend"}
+            | given(args, ("rtol", "t_after", "backend"))
+            | {"execution": execution_from(args)}
+        ),
     ),
+    "frequency": Group(lambda p, params, kind: _add_frequency(p, params["default"]), _frequency),
     "check": Group(lambda p, params, kind: _add_check(p), _given("check")),
     "floor": Group(lambda p, params, kind: add_floor_options(p), lambda args, params: _floor(args)),
 }
@@ -755,6 +780,9 @@ def run_study(name: str, args) -> int:
     if "T_g" in values:  # the grids of pulses, each given as ratios or in SI units
         grids = {k: values.pop(k) for k in ("Omega", "beta", "T_g", "a_g")}
         values |= pulse_grids(values["block"], **grids, shown=flag)
+    elif "a_g" in values:  # the amplitudes alone (a regime map's one frequency is its own option, --Omega)
+        amplitudes = {k: values.pop(k) for k in ("beta", "a_g")}
+        values["beta"] = pulse_grids(values["block"], Grid.of("Omega", [1.0]), **amplitudes, shown=flag)["beta"]
     if "setting" in kind.command.inputs:
         values["setting"] = Setting(values.pop("block"), **{k: values.pop(k) for k in SETTING if k in values})
     out = out_from(args)  # after every option is checked: bad parameters are refused before the folder is made
@@ -790,6 +818,11 @@ def map_lines(study: Study) -> list[str]:
         + _per_part_words(s["bare_undetermined"], s["damper_undetermined"], "cells", "without a verdict")
         + _t_max_words(s["bare_t_max"], s["damper_t_max"], "cells")
     ]
+    if "bare_slid" in s:  # a floor with friction
+        lines.append(
+            f"map: the base slid without overturning in {s['bare_slid']} cells alone, {s['damper_slid']} with the "
+            "damper (their regime, u_max and u_end are in the data and the table)"
+        )
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
         lines += [
@@ -829,6 +862,19 @@ def _per_part_words(bare: int, damper: int, what: str, happened: str) -> str:
     if not bare + damper:
         return ""
     return f"; {bare} {what} alone and {damper} with the damper {happened}"
+
+
+def friction_lines(study: Study) -> list[str]:
+    """What a regime map shows: the cells of each regime, Shenton's boundary, runs without a verdict."""
+    s = study.summary
+    counts = ", ".join(f"{s[name]} {regime_label(code)}" for code, name in REGIMES.items())
+    lines = [f"friction: {s['cells']} cells: {counts}; Shenton's boundary mu = B/H = {s['B_over_H']:.3g}"]
+    if s["undetermined"] or s["t_max"]:
+        lines.append(
+            f"friction: {s['undetermined']} cells without a verdict, {s['t_max']} reached t_max (follow them "
+            "longer: --t-after)"
+        )
+    return lines
 
 
 def spectrum_lines(study: Study) -> list[str]:

@@ -50,6 +50,7 @@ from ..study.config import flight_beta
 from ..study.design import VERDICTS, stroke_use, verdict
 from ..study.files import DiskFull, atomic_write, name_lock
 from ..study.fragility import FITTED, MEDIAN_PLACES
+from ..study.friction_map import envelope as friction_envelope
 from ..study.ida import LEVELS
 from ..study.ida import envelope as ida_envelope
 from ..study.kinds import KINDS
@@ -60,7 +61,7 @@ from ..study.spectrum import envelope as spectrum_envelope
 from ..study.storage import load, study_stem
 from ..study.suite import motion_names
 from ..study.threshold import thresholds
-from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES
+from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES, REGIMES, SLIDES, SLIDES_AND_ROCKS, regime_label
 from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
 from .style import (
     CHAR_EM,
@@ -81,8 +82,20 @@ from .style import (
     visible,
 )
 
+#: Colour and hatch of each regime of a response on a floor with friction (rocking.study.vocabulary.REGIMES), in
+#: the order of their codes: the regime map's classes, and the map's where the base slid.
+REGIME_STYLE = (
+    (LIGHT, ""),
+    (OKABE_ITO["yellow"], ""),
+    (OKABE_ITO["bluish green"], ""),
+    (OKABE_ITO["sky blue"], "++"),
+    (OKABE_ITO["vermillion"], ""),
+)
+#: The regime map's classes: label, colour and hatch by regime code.
+REGIME_CLASSES = tuple((regime_label(code), *REGIME_STYLE[code]) for code in REGIMES)
 #: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
-#: not overturn and a run flew.
+#: not overturn and a run flew, or on a floor with friction 6 or 7 where it did not overturn and the base slid
+#: (:data:`MAP_SLID_CLASSES`).
 OUTCOME_CLASSES = (
     ("safe", LIGHT, ""),
     ("overturned, no impact", OKABE_ITO["vermillion"], ""),
@@ -90,7 +103,10 @@ OUTCOME_CLASSES = (
     ("after 2 impacts", OKABE_ITO["yellow"], ".."),
     ("after 3 or more impacts", OKABE_ITO["reddish purple"], "xx"),
     ("no verdict: g + ddy_g reached 0 (flight)", GREY, "\\\\"),
+    *(("not overturned, " + regime_label(code), *REGIME_STYLE[code]) for code in (SLIDES, SLIDES_AND_ROCKS)),
 )
+#: The outcome class of a map's cell that did not overturn, by the regime in which its base slid.
+MAP_SLID_CLASSES = {SLIDES: 6, SLIDES_AND_ROCKS: 7}
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
 #: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), 5 for saved
 #: cells whose damped response an adaptive map did not compute (its stroke is not known), and 6 for cells
@@ -304,7 +320,16 @@ def _excitation_label(config: dict) -> str:
 def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = None) -> None:
     """The figure's title: what it shows, the pulses, the block and the damper of ``config`` (or ``damper``)."""
     damper = _damper_label(config) if damper is None else damper
-    _suptitle(fig, f"{what}: {_excitation_label(config)}{extra}\n{_block_label(_block(config))}\n{damper}")
+    block = _block_label(_block(config)) + _floor_label(config)
+    _suptitle(fig, f"{what}: {_excitation_label(config)}{extra}\n{block}\n{damper}")
+
+
+def _floor_label(config: dict) -> str:
+    """A study's floor with friction for a title (docs/model.md section 15); nothing for the paper's."""
+    floor = config.get("floor")
+    if floor is None:
+        return ""
+    return rf"; floor $\mu_s$ = {floor['mu_s']:g}, $\mu_k$ = {floor['mu_k']:g}"
 
 
 def _suptitle(fig, text: str, fontsize: float = 10) -> None:
@@ -544,14 +569,13 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
         for part in PARTS
     }
     fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
+    cls = {part: _outcome_classes(env, part, over[part], impacts[part], flew[part]) for part in PARTS}
     for ax, part in zip(axes, PARTS):
-        cls = np.where(over[part], np.minimum(impacts[part] + 1, 4), np.where(flew[part], 5, 0))
-        handles = _classes(ax, Om, beta, cls, OUTCOME_CLASSES)
+        handles = _classes(ax, Om, beta, cls[part], OUTCOME_CLASSES)
         ax.set_title(PART_STYLE[part]["label"])
     # One legend of the outcomes, as wide as both outcome panels: the same classes, the same colours.
     present = {h.get_label(): h for h in handles}
-    bare_cls = np.where(over["bare"], np.minimum(impacts["bare"] + 1, 4), np.where(flew["bare"], 5, 0))
-    for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(bare_cls)):
+    for label, c, h in (OUTCOME_CLASSES[k] for k in np.unique(cls["bare"])):
         present.setdefault(label, Patch(facecolor=c, edgecolor=HATCH_COLOUR, hatch=h, lw=0.5, label=label))
     order = [label for label, _, _ in OUTCOME_CLASSES if label in present]
     flight = [line for ax in axes for line in _flight_line(ax, study.config, float(beta[-1]))][:1]
@@ -575,6 +599,66 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     _beta_axis(axes[0])
     _acceleration_axis(axes[2], study.config)
     _title(fig, "Overturning map", study.config, _refinement_label(study))
+    return fig
+
+
+def _outcome_classes(env, part: str, over, impacts, flew) -> np.ndarray:
+    """The :data:`OUTCOME_CLASSES` of a part's cells (``env``: the map's envelope): overturned after so many
+    impacts, flew, or on a floor with friction slid without overturning (:data:`MAP_SLID_CLASSES`), else safe."""
+    safe = np.zeros(over.shape, int)
+    if "regime" in env:
+        regime = env["regime"].sel(part=part).values
+        for code, k in MAP_SLID_CLASSES.items():
+            safe[regime == code] = k
+    return np.where(over, np.minimum(impacts + 1, 4), np.where(flew, 5, safe))
+
+
+@_figure_function
+def friction_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
+    """The regime map over floors and amplitudes at one pulse frequency: rest, rocks, slides, slides and rocks,
+    overturns (both directions of each pulse together), with Shenton's boundary ``mu = B/H`` between sliding and
+    rocking first and the floor's static hold ``a_g = mu g``."""
+    data, config = study.data, study.config
+    block = _block(config)
+    env = friction_envelope(data)
+    mu, beta = data["mu"].values, data["beta"].values
+    fig, ((axis,),) = _panels((7.5, 6.4), (1, 1), fig, ax)
+    handles = _classes(axis, mu, beta, env["regime"].values, REGIME_CLASSES)
+    ratio = block.B / block.H
+    line = axis.axvline(
+        ratio, color=OKABE_ITO["black"], lw=1.4, zorder=5, label=f"$\\mu = B/H$ = {ratio:.3g} (Shenton)"
+    )
+    axis.annotate(
+        "slides first | rocks first",
+        (ratio, 0.98),
+        xycoords=("data", "axes fraction"),
+        ha="center",
+        va="top",
+        fontsize=8,
+        bbox={"facecolor": "white", "edgecolor": "none", "alpha": 0.8, "pad": 1.5},
+    )
+    low, high = axis.get_xlim()
+    x = np.linspace(low, high, 50)
+    hold = axis.plot(
+        x,
+        x / block.tan_alpha,
+        color=OKABE_ITO["black"],
+        ls=":",
+        lw=1.2,
+        label=r"$a_g = \mu g$ (the floor's static hold)",
+    )
+    axis.set_ylim(*_edges(beta)[[0, -1]])
+    axis.set_xlabel(r"$\mu = \mu_s = \mu_k$ (floor's Coulomb friction)")
+    _beta_axis(axis)
+    _acceleration_axis(axis, config)
+    _legend_below(axis, [*handles, line, *hold], ncols=2)
+    frequency = f"$\\Omega$ = {data.attrs['Omega']:.3g} ($T_g$ = {data.attrs['T_g']:.3g} s)"
+    damper = _damper_label(config) if "damper" in config else "block alone"
+    _suptitle(
+        fig,
+        f"Regime map: {_pulse_label(config)}, {frequency}\n{_directions_label(config)}\n"
+        f"{_block_label(block)}\n{damper}",
+    )
     return fig
 
 

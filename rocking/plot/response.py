@@ -1,4 +1,5 @@
-"""Figure of a time history: theta/alpha, every coordinate of the damper and the ground acceleration.
+"""Figure of a time history: theta/alpha, the base's slip on a floor with friction, every coordinate of the damper
+and the ground acceleration.
 
 Each coordinate of the model's attached bodies has its own panel, named as the model names it and in its own
 unit, the one its model's manifest records (rad for an angle, m for a displacement). Written with matplotlib's
@@ -17,10 +18,14 @@ from ..model.loading import load_model
 from ..model.motion import describe, peak
 from ..model.outputs import atomic_write
 from ..model.params import RANGES, Block, Damper
+from ..sim.numpy_backend import SLIP_COLUMNS
 from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES, quantity, symbol, wrap
 
-#: The history's entries that are not a coordinate (rocking.sim.problem.Response.history).
-NOT_COORDINATES = ("t", "phase", "ag", "theta")
+#: The history's entries that are not a coordinate of the damper (rocking.sim.problem.Response.history): the base's
+#: slip ``u`` (m), its speed and its sliding direction on a floor with friction have a panel of their own.
+NOT_COORDINATES = ("t", "phase", "ag", "theta", *SLIP_COLUMNS)
+#: The slip panel's unit: mm, m per unit.
+SLIP_UNIT = ("mm", 1e-3)
 
 
 def coordinate_unit(model, name: str) -> str:
@@ -167,6 +172,25 @@ def rotation_axes(ax, response, alpha: float, label: str = "") -> None:
     ax.set_ylabel(r"$\theta / \alpha$")
 
 
+def _slip_panel(ax, responses: dict, histories: dict, colours: dict) -> None:
+    """The base's slip ``u(t)`` of each response on a floor with friction, in mm, its peak and residual said."""
+    unit, scale = SLIP_UNIT
+    for label, h in histories.items():
+        if "u" not in h:
+            continue
+        r = responses[label]
+        ax.plot(
+            h["t"],
+            h["u"] / scale,
+            color=colours[label],
+            label=f"{label}: peak {r.u_max / scale:.3g} {unit}, residual {r.u_end / scale:.3g} {unit}",
+        )
+    ax.axhline(0.0, color=GREY, lw=0.8)
+    ax.set_ylabel(f"base slip u ({unit})")
+    ax.grid(True, alpha=0.3)
+    ax.legend(loc="upper left", bbox_to_anchor=(1.1, 1), fontsize=7, frameon=False)
+
+
 def response_figure(
     responses: dict,
     block: Block,
@@ -178,7 +202,8 @@ def response_figure(
     record: str = "",
     fig: Figure | None = None,
 ) -> Figure:
-    """Recorded responses on shared time axes: ``theta / alpha``, each coordinate of the damper, the ground.
+    """Recorded responses on shared time axes: ``theta / alpha``, the base's slip ``u`` (mm, for responses on a
+    floor with friction), each coordinate of the damper, the ground.
 
     Parameters
     ----------
@@ -221,10 +246,14 @@ def response_figure(
         )
     )
     units = {name: coordinate_unit(model, name) if model else "m" for name in names}
-    fig = Figure(figsize=(8, 3 + 2 * len(names)), layout="constrained") if fig is None else fig
-    axes = fig.subplots(2 + len(names), 1, sharex=True)
+    slip = any("u" in h for h in histories.values())
+    fig = Figure(figsize=(8, 3 + 2 * (len(names) + slip)), layout="constrained") if fig is None else fig
+    axes = fig.subplots(2 + slip + len(names), 1, sharex=True)
     ax_th, ax_g = axes[0], axes[-1]
     colours = dict(zip(histories, CYCLE))
+    if slip:  # under the rotation; the loops below draw the other panels
+        _slip_panel(axes[1], responses, histories, colours)
+        axes = np.delete(axes, 1)
     for label, r in responses.items():
         h, colour = histories[label], colours[label]
         ax_th.plot(h["t"], h["theta"] / block.alpha, color=colour, label=label)

@@ -113,11 +113,17 @@ def forcing(s, theta, x, dtheta, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **sto
 
 
 def rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
-    """``(ddtheta, ddx)`` from (R1), (R2) by solving the 2x2 system numerically."""
+    """``(ddtheta, ddx)`` from (R1), (R2), the 2x2 system solved by hand.
+
+    ``ddtheta`` by the Schur complement of ``m22 = m``: with ``m12 / m22 = -eta``,
+    ``ddtheta = (f1 + eta f2) / (m11 - m eta^2)``, finite as ``m -> 0`` (the bare block: Housner's
+    equation, where ``m11 m22 - m12^2`` would give 0 / 0); then ``ddx = (f2 - m12 ddtheta) / m``.
+    """
     (a, b), (_, d) = mass_matrix(s, theta, x, M, I_G, B, H, e, m, h)
     f1, f2 = forcing(s, theta, x, dtheta, dx, ag, agy, M, B, H, e, g, m, h, k_m, c, **stops)
-    det = a * d - b * b
-    return (d * f1 - b * f2) / det, (a * f2 - b * f1) / det
+    eta = H + h
+    ddtheta = (f1 + eta * f2) / (a - m * eta**2)
+    return ddtheta, (f2 - b * ddtheta) / d
 
 
 def contact_accel(x, dx, ag, m, k_m, c, **stops):

@@ -30,6 +30,7 @@ import numpy as np
 from scipy.optimize import brentq
 
 from ..model.checks import ParameterError
+from . import paper
 
 #: Points per pulse of the scan that brackets the end of an episode before Brent's method refines it.
 SCAN_POINTS = 4096
@@ -173,14 +174,134 @@ def slide_rock_frame_accel(s, theta, dtheta, ag, mu_slip, M, I_G, B, H, e, g):
     return top / (1 + (mu_slip * Q - P) * M * P / I_s)
 
 
-def contact_slide_frame_accel(x, dx, mu_slip, M, g, m, k_m, c):
+def contact_slide_frame_accel(x, dx, mu_slip, M, g, m, k_m, c, **stops):
     """The block with its damper in full contact while its base slides: ``ddx_g + ddu``, typed by hand.
 
-    docs/model.md section 15: the mass follows (C1) in the sliding frame, ``m (a + ddx) = -(k_m x + c dx)``, so
-    the shear is ``V_b = M a - (k_m x + c dx)``; with ``N_b = (M + m) g`` Coulomb's ``V_b = -mu_slip N_b`` gives
-    ``a = (k_m x + c dx - mu_slip (M + m) g) / M``.
+    docs/model.md section 15: the mass follows (C1) in the sliding frame, ``m (a + ddx) = -G(x, dx)``, so
+    the shear is ``V_b = M a - G(x, dx)``; with ``N_b = (M + m) g`` Coulomb's ``V_b = -mu_slip N_b`` gives
+    ``a = (G(x, dx) - mu_slip (M + m) g) / M``. ``G`` is :func:`paper.guide_force`, the bumpers' with ``stops``.
     """
-    return (k_m * x + c * dx - mu_slip * (M + m) * g) / M
+    return (paper.guide_force(x, dx, k_m, c, **stops) - mu_slip * (M + m) * g) / M
+
+
+def _loaded(m, ddx):
+    """``ddx`` where the mass has one; 0 where it is 0 (the bare block), whose ``ddx`` is 0 / 0 and carries no load."""
+    return np.where(m == 0, 0.0, ddx)
+
+
+def stick_force(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
+    """``(F, N)`` the floor holds while rocking about a sticking pivot ``s``: section 13's ``(V_b, N_b)`` at the
+    accelerations of (R1)-(R2) (:func:`paper.rocking_accel`, :func:`paper.base_reaction`, typed by hand)."""
+    ddtheta, ddx = paper.rocking_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops)
+    V, N, _ = paper.base_reaction(s, theta, x, dtheta, dx, ddtheta, _loaded(m, ddx), ag, agy, M, I_G, B, H, e, g, m, h)
+    return V, N
+
+
+def contact_stick_force(x, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
+    """``(F, N)`` the floor holds in full contact with the base stuck: section 13's ``(V_b, N_b)`` at
+    ``theta = dtheta = ddtheta = 0`` and the mass's (C1), ``F = M ddx_g - G(x, dx)``, ``N = (M + m)(g + ddy_g)``."""
+    zero = 0 * x
+    ddx = paper.contact_accel(x, dx, ag, m, k_m, c, **stops)
+    V, N, _ = paper.base_reaction(1, zero, x, zero, dx, zero, _loaded(m, ddx), ag, agy, M, I_G, B, H, e, g, m, h)
+    return V, N
+
+
+def slide_rock_accel(s, theta, x, dtheta, dx, ag, agy, mu_slip, M, I_G, B, H, e, g, m, h, k_m, c, **stops):
+    """Rocking about ``s`` while the pivot slides, with the damper: ``(ddtheta, ddx, ddu, N)``, typed by hand.
+
+    docs/model.md section 15: (R1)-(R2) with the frame accelerated by ``a = ddx_g + ddu``
+    (:func:`paper.rocking_accel`), section 13's shear and normal force at those accelerations
+    (:func:`paper.base_reaction`), and Coulomb's ``V_b + mu_slip N_b = 0``. The balance is affine in ``ddu``
+    (the accelerations are affine in ``a``, the reactions in ``a`` and the accelerations): its values at
+    ``ddu = 0`` and ``ddu = 1`` give its root. For the bare block (``m = 0``) this is
+    :func:`slide_rock_frame_accel`.
+    """
+
+    def at(ddu):
+        a = ag + ddu
+        ddtheta, ddx = paper.rocking_accel(s, theta, x, dtheta, dx, a, agy, M, I_G, B, H, e, g, m, h, k_m, c, **stops)
+        V, N, _ = paper.base_reaction(
+            s, theta, x, dtheta, dx, ddtheta, _loaded(m, ddx), a, agy, M, I_G, B, H, e, g, m, h
+        )
+        return V + mu_slip * N, ddtheta, ddx, N
+
+    r0, r1 = at(0.0)[0], at(1.0)[0]
+    ddu = -r0 / (r1 - r0)
+    _, ddtheta, ddx, N = at(ddu)
+    return ddtheta, ddx, ddu, N
+
+
+def contact_slide_accel(x, dx, ag, agy, mu_slip, M, g, m, k_m, c, **stops):
+    """Full contact while the base slides: ``(0, ddx, ddu, N)``, typed by hand.
+
+    docs/model.md section 15: ``a`` of :func:`contact_slide_frame_accel` (gravity ``g + ddy_g``, section 14), the
+    mass's (C1) at ``a`` (:func:`paper.contact_accel`), ``ddu = a - ddx_g`` and ``N = (M + m)(g + ddy_g)``.
+    """
+    a = contact_slide_frame_accel(x, dx, mu_slip, M, g + agy, m, k_m, c, **stops)
+    return 0 * x, paper.contact_accel(x, dx, a, m, k_m, c, **stops), a - ag, (M + m) * (g + agy)
+
+
+def horizontal_momentum(s, theta, x, dtheta, dx, M, B, H, e, m, h):
+    """``P_x``: the horizontal momentum of the block and the mass relative to the contact, from their positions.
+
+    docs/model.md sections 1 and 15: from the pivot ``s``, ``X_G = -s B/2 + d_s cos(theta) - H/2 sin(theta)`` and
+    ``X_m = -s B/2 + xi_s cos(theta) - eta sin(theta)`` (``xi_s' = dx``), so
+    ``P_x = -M dtheta (d_s sin + H/2 cos) + m (dx cos - dtheta (xi_s sin + eta cos))``.
+    """
+    d, xi = paper.arms(s, x, B, e)
+    sin, cos = np.sin(theta), np.cos(theta)
+    return -M * dtheta * (d * sin + H / 2 * cos) + m * (dx * cos - dtheta * (xi * sin + (H + h) * cos))
+
+
+def slip_energy(s, theta, x, dtheta, dx, du, M, B, H, e, m, h):
+    """The kinetic energy the slip speed ``du`` adds: ``du P_x + (M + m) du^2 / 2`` (docs/model.md section 15).
+
+    Every body's horizontal velocity gains ``du``, so ``sum m (v + du)^2 / 2 - sum m v^2 / 2`` is this, with
+    :func:`horizontal_momentum`; the rotation's energy does not change.
+    """
+    return du * horizontal_momentum(s, theta, x, dtheta, dx, M, B, H, e, m, h) + (M + m) * du**2 / 2
+
+
+def friction_impact(s, x, dtheta, dx, du, mu_slip, M, I_G, B, H, e, m, h, stick=True):
+    """The impact of the corner ``-s`` at ``theta = 0`` with the damper, on a floor with friction, typed by hand.
+
+    docs/model.md section 15, Newton and Euler with impulses. Before it the old pivot moves at ``(du, 0)``:
+    ``G`` at ``(d_s, H/2)`` from it moves at ``(du - H/2 dtheta, d_s dtheta)``, the mass at ``(xi_s, eta)``
+    at ``(du - eta dtheta + dx, xi_s dtheta)``. The floor's impulse ``(P_t, P_n)`` acts on the new corner alone,
+    at ``r = (s B - d_s, -H/2)`` from ``G``; the guide's on the mass is normal to it (vertical), so the mass keeps
+    its absolute horizontal momentum (the momentum law, (I2)). Then the system's momentum
+    ``M dvG + m dvm = (P_t, P_n)``, its angular momentum about the new corner (the floor's impulse has no
+    moment there) is kept, the corner's normal velocity after is 0, and it sticks (``du+ = 0``) or slides
+    (``P_t = -mu_slip P_n``). Every balance is affine in ``omega+``: two evaluations give it.
+
+    Returns
+    -------
+    tuple
+        ``(dtheta+, dx+, du+, P_t, P_n)``; ``du+`` is the base's slip speed after (every point of the base moves
+        alike at ``theta = 0``).
+    """
+    d, xi = paper.arms(s, x, B, e)
+    eta = H + h
+    rx, ry = s * B - d, -H / 2
+    vGx, vGy = du - dtheta * H / 2, dtheta * d
+    vmx, vmy = vGx - dtheta * (eta - H / 2) + dx, vGy + dtheta * (x - e)
+
+    def after(w):
+        """Velocities and impulses after the impact at ``omega+ = w``, and the angular momentum balance's residue."""
+        gy = -w * rx  # the new corner's normal velocity is 0
+        my = gy + w * (x - e)  # the mass is carried vertically by the block
+        P_n = M * (gy - vGy) + m * (my - vmy)
+        gx = -w * H / 2 if stick else vGx - mu_slip * P_n / M  # the mass keeps its own horizontal momentum
+        # Angular momentum about the new corner: G at (-rx, -ry) from it, the mass at (x - s B/2, eta), whose
+        # horizontal velocity does not change.
+        residue = I_G * (w - dtheta) + M * (-rx * (gy - vGy) + ry * (gx - vGx)) + m * (x - s * B / 2) * (my - vmy)
+        return residue, gx, P_n
+
+    r0, r1 = after(0.0)[0], after(1.0)[0]
+    w = -r0 / (r1 - r0)
+    _, gx, P_n = after(w)
+    dx_plus = vmx - (gx - w * (eta - H / 2))
+    return w, dx_plus, gx - w * ry, M * (gx - vGx), P_n
 
 
 def corner_impact(s, dtheta, du, mu_slip, M, I_G, B, H, e, stick=True):

@@ -16,13 +16,14 @@ import numpy as np
 
 from ..model.checks import ParameterError, Range, shown
 from ..model.loading import Model, ModelError
-from . import paper
+from . import paper, sliding
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
-#: Random cases per pivot: a case's arrays take about 5 kB at the peak (``rocking verify --cases 100000``, the
-#: four models: 0.6 GB and 26 s, measured), so the bound keeps a check within a laptop's memory and a minute.
-CASES = Range(1, 100_000, "", "a case takes about 5 kB: 0.6 GB at the bound", integer=True)
+#: Random cases per pivot: a case's arrays take about 10 kB at the peak (``rocking verify --cases 100000``, the
+#: four models with the functions of a floor with friction: 0.95 GB and 119 s of CPU on a shared machine, measured),
+#: so the bound keeps a check within a laptop's memory and a few minutes.
+CASES = Range(1, 100_000, "", "a case takes about 10 kB: 1 GB at the bound", integer=True)
 #: Seeds of the random cases: those of numpy.random.default_rng.
 SEEDS = Range(0, math.inf, "", "the seeds of numpy.random.default_rng", integer=True)
 #: The shipped models that :mod:`rocking.reference.paper` writes by hand (docs/model.md sections 3-7 and 11).
@@ -98,20 +99,33 @@ def random_cases(
 #: that size: there the result is a difference of much larger terms, and double
 #: precision itself cannot give it to a relative 1e-12.
 CANCELLATION_FLOOR = 1e-2
+#: Unit roundoff of the doubles the generated code computes in: an argument's last bit, relative.
+ROUNDOFF = 2.0**-53
+#: Random roundings of the arguments over which :func:`spread` takes the reference's largest move.
+ROUNDINGS = 2
 
 
-def rel_error(got, ref) -> float:
+def rel_error(got, ref, spread=None) -> float:
     """Largest relative error of ``got`` against the reference ``ref`` over the cases.
 
-    The error is ``|got - ref| / max(|ref|, CANCELLATION_FLOOR * median |ref|)``.
+    The error is ``|got - ref| / max(|ref|, CANCELLATION_FLOOR * median |ref|, spread / ROUNDOFF)``. ``spread``
+    (:func:`spread`) is how far the reference moves when its arguments move by their last bit: where it moves
+    more than ``ROUNDOFF |ref|``, ``ref`` is the small difference of terms of about ``spread / ROUNDOFF``, and
+    double precision itself gives it no better than that. A NaN on one side only is an infinite error (a NaN
+    reference would otherwise compare equal to anything); NaN on both sides is none (the functions documented as
+    NaN somewhere, ``critical_tangent``).
     """
     got = np.asarray(got, dtype=np.longdouble)
     ref = np.broadcast_to(np.asarray(ref, dtype=np.longdouble), got.shape)
     if got.size == 0:
         return 0.0
+    if np.any(np.isnan(got) != np.isnan(ref)):
+        return math.inf
     size = np.abs(ref)
-    scale = np.maximum(size, CANCELLATION_FLOOR * np.median(size))
-    same = got == ref  # equal infinities are no error
+    scale = np.maximum(size, CANCELLATION_FLOOR * np.nanmedian(size))
+    if spread is not None:
+        scale = np.maximum(scale, np.asarray(spread, dtype=np.longdouble) / ROUNDOFF)
+    same = (got == ref) | np.isnan(ref)  # equal infinities are no error
     with np.errstate(invalid="ignore"):  # inf - inf where both are inf: masked by `same`
         diff = np.abs(got - ref)
     err = np.divide(diff, scale, out=np.zeros_like(scale), where=(scale > 0) & ~same)
@@ -119,7 +133,31 @@ def rel_error(got, ref) -> float:
 
 
 #: Functions that only make sense at theta = 0 (and dtheta = 0 in full contact).
-_STATE_OF = {"contact_accel": "contact", "uplift": "contact", "impact": "impact"}
+_STATE_OF = {
+    "contact_accel": "contact",
+    "uplift": "contact",
+    "impact": "impact",
+    "contact_slide_accel": "contact",
+    "slide_uplift": "contact",
+    "contact_stick_force": "contact",
+    "impact_stick": "impact",
+    "impact_slide": "impact",
+}
+
+
+def friction_inputs(rng: np.random.Generator, n: int) -> dict[str, np.ndarray]:
+    """The arguments of a floor with friction for ``n`` cases: ``mu_slip`` in (-1, 1) (a kinetic coefficient up
+    to 1, either slip direction) and the slip speed ``du`` in (-2, 2) m/s."""
+    return {"mu_slip": rng.uniform(-1.0, 1.0, n), "du": rng.uniform(-2.0, 2.0, n)}
+
+
+def _stops(v: dict, floor: float | None) -> dict:
+    """The keywords of the end stops in :mod:`paper`'s functions: none, bumpers, or pads of least approach speed
+    ``floor``."""
+    stops = {k: v[k] for k in ("L", "k_b", "c_b", "n_b", "chi_b") if k in v}
+    if "n_b" in stops:
+        stops["floor"] = floor
+    return stops
 
 
 def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict[str, tuple]:
@@ -129,9 +167,7 @@ def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict
     M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
     (m11, m12), (m21, m22) = paper.mass_matrix(s, th, x, M, I_G, B, H, e, m, h)
     zero, one = 0 * th, 0 * th + 1
-    stops = {k: v[k] for k in ("L", "k_b", "c_b", "n_b", "chi_b") if k in v}
-    if "n_b" in stops:
-        stops["floor"] = floor
+    stops = _stops(v, floor)
     gaps = paper.stop_gaps(x, stops["L"]) if stops else ()
     forces = paper.stop_forces(x, dx, **stops) if stops else ()
     contacts = paper.stop_contact(x, dx, **stops) if stops else ()
@@ -172,6 +208,32 @@ def _paper_results(v: dict, impact_law: str, floor: float | None = None) -> dict
         }
 
 
+def _friction_results(v: dict, floor: float | None = None) -> dict[str, tuple]:
+    """The hand-typed value of each function of a floor with friction (docs/model.md section 15,
+    :mod:`rocking.reference.sliding`), by name, at the arguments ``v`` (with ``mu_slip`` and ``du``)."""
+    stops = _stops(v, floor)
+    s, th, x, dth, dx, ag, agy, mu, du = (
+        v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag", "agy", "mu_slip", "du")
+    )
+    M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
+    body = (M, I_G, B, H, e, g, m, h, k_m, c)
+    slid = sliding.contact_slide_frame_accel(x, dx, mu, M, g + agy, m, k_m, c, **stops)  # ddx_g + ddu
+    hit = (s, x, dth, dx, du, mu, M, I_G, B, H, e, m, h)
+    # Without a damper (m = 0) the outputs of x are undefined and dropped by _select.
+    with np.errstate(divide="ignore", invalid="ignore"):
+        return {
+            "slide_accel": sliding.slide_rock_accel(s, th, x, dth, dx, ag, agy, mu, *body, **stops),
+            "contact_slide_accel": sliding.contact_slide_accel(x, dx, ag, agy, mu, M, g, m, k_m, c, **stops),
+            # Section 5's margin with the sliding base's acceleration ddx_g + ddu for ddx_g.
+            "slide_uplift": (paper.uplift_margin(s, x, dx, slid, agy, M, B, H, e, g, m, h, k_m, c, **stops),),
+            "stick_force": sliding.stick_force(s, th, x, dth, dx, ag, agy, *body, **stops),
+            "contact_stick_force": sliding.contact_stick_force(x, dx, ag, agy, *body, **stops),
+            "slip_energy": (sliding.slip_energy(s, th, x, dth, dx, du, M, B, H, e, m, h),),
+            "impact_stick": sliding.friction_impact(*hit, stick=True),
+            "impact_slide": sliding.friction_impact(*hit, stick=False),
+        }
+
+
 def _affine(loads, zero) -> tuple:
     """The layout of the generated functions affine in ``(ddtheta, ddx)``: per quantity of ``loads(ddtheta, ddx)``,
     its value at rest accelerations, then its coefficients (exact differences: ``loads`` is affine)."""
@@ -192,13 +254,34 @@ def _select(model: Model, results: dict) -> dict:
             "block_accelerations": [0, 1, 3, 4],
             "base_reaction": [0, 1, 3, 4, 6, 7],
             "element_forces": [],
+            "slide_accel": [0, 2, 3],
+            "contact_slide_accel": [0, 2, 3],
+            "impact_stick": [0, 2, 3, 4],
+            "impact_slide": [0, 2, 3, 4],
         }
         results = {k: tuple(val[i] for i in keep.get(k, range(len(val)))) for k, val in results.items()}
-        # Without attached bodies nothing but the ground can lift the block.
-        results["uplift_energy"] = (np.full_like(results["energy"][0], np.inf),)
-        # Nothing to minimise over: the least potential is the block's own.
-        results["least_potential"] = results["least_stroke_potential"]
+        if "energy" in results:  # the functions of the paper (not those of a floor with friction alone)
+            # Without attached bodies nothing but the ground can lift the block.
+            results["uplift_energy"] = (np.full_like(results["energy"][0], np.inf),)
+            # Nothing to minimise over: the least potential is the block's own.
+            results["least_potential"] = results["least_stroke_potential"]
     return results
+
+
+def spread(results: Callable[[dict], dict], v: dict, rng: np.random.Generator) -> dict[str, tuple]:
+    """How far each output of ``results(v)`` moves when the arguments ``v`` (but the pivot) are rounded the
+    other way: its largest change over :data:`ROUNDINGS` draws of a relative ``+-ROUNDOFF`` on every argument
+    of every case, by name as ``results`` gives them. ``v`` in extended precision, where that move is exact.
+    """
+    ref = results(v)
+    moved = [
+        results({k: a if k == "s" else a * (1 + rng.choice((-ROUNDOFF, ROUNDOFF), a.shape)) for k, a in v.items()})
+        for _ in range(ROUNDINGS)
+    ]
+    return {
+        name: tuple(np.max([np.abs(r[name][i] - out) for r in moved], axis=0) for i, out in enumerate(outs))
+        for name, outs in ref.items()
+    }
 
 
 def _check_model_kind(model: Model) -> bool:
@@ -270,11 +353,15 @@ def verify(
     floor = hunt_crossley[0] if hunt_crossley else None
     law = model.manifest["options"]["impact_laws"].get("x", "momentum")
     rng = np.random.default_rng(seed)
+    # Their own stream: the cases of the other functions are those of a model without friction.
+    friction = np.random.default_rng((seed, 15)) if model.manifest.get("friction") else None
     if evaluate is None:
         evaluate = lambda name, v: _numpy_eval(model, name, v)
     checks = []
     for s in (1, -1):
         v = random_cases(rng, n, s, damper, stops, bool(hunt_crossley))
+        if friction is not None:
+            v.update(friction_inputs(friction, n))
         zero = np.zeros(n)
         cases = {
             "rocking": v,
@@ -283,33 +370,47 @@ def verify(
         }
         # The hand-written reference runs in extended precision, so that the
         # error measured is the generated code's.
-        refs = {
-            kind: _select(model, _paper_results({k: a.astype(np.longdouble) for k, a in vals.items()}, law, floor))
-            for kind, vals in cases.items()
-        }
+        exact = {kind: {k: a.astype(np.longdouble) for k, a in vals.items()} for kind, vals in cases.items()}
+        refs = {kind: _select(model, _paper_results(vals, law, floor)) for kind, vals in exact.items()}
+        # The slide phases divide by the slope of the floor's balance, which vanishes where sliding is singular
+        # (Painlevé), and stiff bumpers load them with forces that cancel: compared at the size of their terms.
+        spreads: dict[str, dict] = {kind: {} for kind in cases}
+        if friction is not None:
+            for kind, vals in exact.items():
+                spreads[kind] = spread(lambda w: _select(model, _friction_results(w, floor)), vals, friction)
+                refs[kind].update(_select(model, _friction_results(vals, floor)))
         for name in refs["rocking"]:
             kind = _STATE_OF.get(name, "rocking")
             got = evaluate(name, cases[kind])
             got = got if isinstance(got, tuple) else (got,)
-            err = max((rel_error(a, b) for a, b in zip(got, refs[kind][name], strict=True)), default=0.0)
+            moves = spreads[kind].get(name, (None,) * len(got))
+            err = max((rel_error(a, b, d) for a, b, d in zip(got, refs[kind][name], moves, strict=True)), default=0.0)
             checks.append(Check(name, s, n, err))
     return checks
 
 
 def _numpy_eval(model: Model, name: str, v: dict):
     fn = getattr(model.functions, name)
-    return fn(v["s"], *(v[k] for k in model.state), v["ag"], v["agy"], *(v[k] for k in model.parameters))
+    inputs = model.manifest["functions"][name]["inputs"]  # a floor with friction's mu_slip, du
+    return fn(
+        v["s"],
+        *(v[k] for k in model.state),
+        v["ag"],
+        v["agy"],
+        *(v[k] for k in model.parameters),
+        *(v[k] for k in inputs),
+    )
 
 
 def report(model: Model, checks: list[Check]) -> str:
     """A short human-readable report."""
     lines = [f"model {model.name}: generated code against the hand-written equations of docs/model.md"]
+    width = max((len(c.function) for c in checks), default=0)
     for c in checks:
         pivot = "A " if c.pivot == 1 else "A'"
         status = "ok" if c.ok else "MISMATCH"
-        lines.append(
-            f"  {c.function:<15} pivot {pivot}  {c.cases:>6} cases  max rel. error {c.max_rel_error:9.2e}  {status}"
-        )
+        error = f"max rel. error {c.max_rel_error:9.2e}"
+        lines.append(f"  {c.function:<{width}} pivot {pivot}  {c.cases:>6} cases  {error}  {status}")
     bad = sum(not c.ok for c in checks)
     lines.append(f"{len(checks) - bad} passed, {bad} failed (tolerance {TOLERANCE:g})")
     return "\n".join(lines)

@@ -52,6 +52,7 @@ import sys
 from collections.abc import Mapping
 from pathlib import Path
 
+import numpy as np
 import platformdirs
 
 from ..model.floor import floor_of
@@ -59,6 +60,8 @@ from ..model.params import Block, Damper, ParameterError, check_block
 from .config import Grid, Setting, Tuning, Variant, pulse_grids, tm_omega_ratio
 from .design import REFINE
 from .design import design as _design
+from .friction_map import TILE as FRICTION_TILE
+from .friction_map import friction_map as _friction_map
 from .ida import LEVELS
 from .ida import incremental_dynamic_analysis as _incremental_dynamic_analysis
 from .optimize import REFINE as OPTIMIZE_REFINE
@@ -254,6 +257,89 @@ def overturning_map(
         full=full,
         coarse=coarse,
         verify=verify,
+        tile=tuple(tile),
+    )
+
+
+def friction_map(
+    block: Block,
+    damper=None,
+    *,
+    Omega=None,
+    T_g=None,
+    mu,
+    beta=None,
+    a_g=None,
+    directions: str = "auto",
+    tile: tuple[int, int] = FRICTION_TILE,
+    rtol: float = Setting.rtol,
+    t_after: float = Setting.t_after,
+    pulse: str = "sine",
+    gamma_mp: float | None = None,
+    nu: float | None = None,
+    backend: str = "numpy",
+    workers: int | None = None,
+    scheduler: str | None = None,
+    dask_workers: int | None = None,
+    runs: str | Path | None = None,
+    progress: bool = True,
+    study: bool = False,
+):
+    """The regime map of ``block`` (alone, or with ``damper``) over floors ``mu`` and pulse amplitudes, at one
+    pulse frequency (:mod:`rocking.study.friction_map`, Shenton 1996's regime charts).
+
+    Parameters
+    ----------
+    block : Block
+    damper : Tuning, Damper, Variant or mapping, optional
+        The damper on the block; default ``None``: the block alone.
+    Omega : float
+        The pulses' frequency ratio ``omega_g / p``; or ``T_g``, their period (s).
+    mu : array_like or Grid
+        The floors' Coulomb friction, static = kinetic (``rocking.Floor(mu)``), increasing, > 0.
+    beta : array_like or Grid
+        Pulse amplitude ratios ``a_g / (g tan alpha)``, increasing; or ``a_g``, amplitudes (m/s^2).
+    directions, tile
+        As :func:`rocking.study.friction_map.friction_map`.
+    rtol, t_after, pulse, gamma_mp, nu, backend, workers, scheduler, dask_workers, runs, progress, study
+        Shared by every study (:mod:`rocking.study.api`); the back end must follow friction: default
+        ``"numpy"``.
+
+    Returns
+    -------
+    xarray.Dataset
+        Every response, dimensions ``mu``, ``beta``, ``sign``: its ``regime`` (rest, rocks, slides, slides and
+        rocks, overturns), ``u_max``, ``u_end`` (m), ``theta_max`` (rad), ...; both directions together:
+        :func:`rocking.study.friction_map.envelope`.
+
+    Examples
+    --------
+    >>> import tempfile, rocking
+    >>> ds = rocking.friction_map(rocking.Block(2.0, 0.5, 1000.0), T_g=0.5, mu=[0.15, 0.5], a_g=[3.0, 4.0],
+    ...                           runs=tempfile.mkdtemp(), progress=False, workers=1)
+    >>> ds["regime"].attrs["flag_meanings"]
+    'not_computed rest rocks slides slides_and_rocks overturns'
+    >>> ds["regime"].sel(sign=1).values  # rows: mu, columns: a_g; 2 slides, 1 rocks
+    array([[2, 2],
+           [1, 1]])
+    """
+    # One frequency, given as a ratio or a period: a grid of one value, checked and converted as the maps' are.
+    one = {k: None if v is None else Grid.of(k, np.atleast_1d(v)) for k, v in (("Omega", Omega), ("T_g", T_g))}
+    grids = pulse_grids(check_block(block), one["Omega"], _grid("beta", beta), one["T_g"], _grid("a_g", a_g))
+    return _run(
+        _friction_map,
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(None, None)),
+        float(grids["Omega"].values()[0]),
+        _grid("mu", mu),
+        grids["beta"],
+        workers=workers,
+        scheduler=scheduler,
+        dask_workers=dask_workers,
+        progress=progress,
+        runs=runs,
+        study=study,
+        damper=None if damper is None else _tuning(damper),
+        directions=directions,
         tile=tuple(tile),
     )
 

@@ -33,7 +33,7 @@ from ..sim.boundary import RESULT, STATUSES
 from .config import config_hash
 from .config import versions as current_versions
 from .files import describe
-from .vocabulary import FLAG_WORDS, FLIGHT, PART_NAMES, SAFE, THRESHOLD_STATUSES
+from .vocabulary import FLAG_WORDS, FLIGHT, NOT_COMPUTED, PART_NAMES, REGIMES, SAFE, THRESHOLD_STATUSES
 
 #: NetCDF attribute conventions followed.
 CONVENTIONS = "CF-1.10"
@@ -46,6 +46,7 @@ FLAG_KEY = FLAG_WORDS
 EFFECT_KEY = {-1: "lost", 0: "unchanged", 1: "saved"}
 SIGN_KEY = {-1: "negative", 0: "not_known", 1: "positive"}
 THRESHOLD_STATUS_KEY = dict(enumerate(THRESHOLD_STATUSES))
+REGIME_KEY = {NOT_COMPUTED: "not_computed", **REGIMES}
 
 #: What a field means, by name: ``(units, long name[, key])``.
 _RESULTS = {f.name: (f.unit or "1", f.doc) for f in RESULT}
@@ -57,6 +58,12 @@ FIELDS: dict[str, tuple] = {
     "worst_sign": ("1", "direction of the pulse that governs the envelope", SIGN_KEY),
     "effect": ("1", "effect of the damper on overturning", EFFECT_KEY),
     "outcome": ("1", "outcome: -1 safe, n >= 0 overturned after n impacts"),
+    "regime": (
+        "1",
+        "what the block did on the floor with friction: rest, rocks (the base lifted), slides (the base slipped, "
+        "never lifted), slides and rocks (both), overturns",
+        REGIME_KEY,
+    ),
     "stroke_over_half_width": ("1", "largest damper stroke over the block's half-width B/2"),
     "stroke_over_L": ("1", "largest damper stroke over the stops' half-stroke L"),
     "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha); NaN where not reached in the scan"),
@@ -132,6 +139,7 @@ COORDINATES = {
     "T_g": ("s", "pulse period T_g = 2 pi / omega_g"),
     "a_g": ("m/s^2", "pulse amplitude a_g = beta g tan(alpha)"),
     "sign": ("1", "direction of the pulse (+1: the paper's, -1: mirrored)"),
+    "mu": ("1", "Coulomb friction of the floor, static = kinetic (mu_s = mu_k = mu)"),
     "gamma": ("1", "damper mass ratio m / M"),
     "r_coarse": ("1", "damper period ratio T_m p / (2 pi) of the coarse search"),
     "zeta_coarse": ("1", "damping ratio of the coarse search"),

@@ -11,7 +11,7 @@ from __future__ import annotations
 from collections.abc import Callable
 from dataclasses import dataclass
 
-from . import design, ida, optimize, overturning_map, spectrum, threshold
+from . import design, friction_map, ida, optimize, overturning_map, spectrum, threshold
 
 #: Default grids (MIN, MAX, N) of the commands; docs/model.md section 9 gives the ranges. The beta
 #: scans of spectra start at 0.5, below the uplift threshold (about 0.9 .. 1.1 for the reference
@@ -22,6 +22,9 @@ OPTIMIZE_OMEGA, OPTIMIZE_BETA = (0.5, 15.0, 30), (0.5, 15.0, 59)
 OPTIMIZE_GAMMAS = (0.02, 0.05, 0.1)
 #: The band of pulses of ``design`` and its beta scan (reaching above the damped block's beta_min at Omega = 8).
 DESIGN_OMEGA, DESIGN_BETA = (2.0, 8.0, 7), (0.5, 25.0, 50)
+#: Default grids of the regime map over floors and amplitudes, and its pulses' frequency ratio: the issue-37 block
+#: (H = 2 m, B = 0.5 m) under a one-sine pulse of T_g = 0.5 s has Omega = 4.7; mu spans Shenton's B/H = 0.25.
+FRICTION_MU, FRICTION_BETA, FRICTION_OMEGA = (0.1, 0.6, 26), (0.4, 2.4, 26), 4.7
 #: Default levels of ida (scale factors) and fragility (PGA, m/s^2).
 IDA_SCALES, FRAGILITY_LEVELS = (0.25, 4.0, 16), (0.5, 10.0, 20)
 
@@ -226,6 +229,29 @@ KINDS = {
             "The threshold frequency Omega* (above it the best damper gains less than 1 %) over a grid of "
             "slenderness lambda = H/B and size p, for the unlimited guide and the stops at the block's edges, both "
             "directions; the beta scan rises until the block overturns or the pulse passes --a-max g.",
+        ),
+    ),
+    "friction": Kind(
+        friction_map.friction_map,
+        {"mu": "mu", "beta": "beta"},
+        friction_map.friction_tables,
+        "friction_figure",
+        friction_map.DIMS.__getitem__,
+        Command(
+            "regime map over floors and amplitudes (mu, beta) at one Omega: rest, rocks, slides, slides and "
+            "rocks, overturns",
+            (
+                ("block", {}),
+                ("frequency", {"default": FRICTION_OMEGA}),
+                _grid("mu", FRICTION_MU, "Coulomb friction of the floors, static = kinetic"),
+                _grid("beta", FRICTION_BETA, "pulse amplitude ratios a_g / (g tan alpha)", "a_g"),
+                ("directions", {}),
+                ("pulse", {}),
+                ("solver", {"backend": "numpy"}),
+            ),
+            ("setting", "Omega", "mu", "beta", "execution"),
+            "friction_map",
+            "friction_lines",
         ),
     ),
     "ida": Kind(

@@ -58,10 +58,29 @@ from .dataset import coordinate_attrs, field_attrs, si_coordinates
 from .directions import SIGN_NAMES, choose
 from .result import Study
 from .tiles import LOCAL, Execution, Interrupted, Task, TileStats, interleave, run_folder, run_tiles
-from .vocabulary import NOT_COMPUTED, PART_NAMES, SAFE
+from .vocabulary import (
+    NOT_COMPUTED,
+    OVERTURNS,
+    PART_NAMES,
+    REGIMES,
+    SAFE,
+    SLIDES,
+    SLIDES_AND_ROCKS,
+    combined_regime,
+    regime,
+    resolution_of,
+)
 
 #: Result fields kept per response.
 FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contacts", "bumper_force_max")
+
+#: Result fields kept per response beside :data:`FIELDS` on a floor with friction (docs/model.md section 15): the
+#: peak slip and the residual displacement of the base, m, and its slip episodes. A map on the paper's floor has
+#: none of them (its data are those it had before friction), nor its ``regime``.
+SLIP_FIELDS = ("u_max", "u_end", "slides")
+
+#: The regimes in which the base slid without overturning.
+SLID = (SLIDES, SLIDES_AND_ROCKS)
 
 #: The parts of a map: the block alone, and with its damper (the coordinate ``part`` of its data).
 PARTS = ("bare", "damper")
@@ -74,13 +93,17 @@ DIMS = {
     "sign": ("sign",),
     "T_g": ("Omega",),
     "a_g": ("beta",),
-    **dict.fromkeys(FIELDS, ("part", "Omega", "beta", "sign")),
+    **dict.fromkeys((*FIELDS, *SLIP_FIELDS, "regime"), ("part", "Omega", "beta", "sign")),
     "computed": ("part", "Omega", "beta"),
 }
 
 #: The integer fields of :data:`FIELDS` (and ``overturned``), with their types: :data:`NOT_COMPUTED` where a
 #: cell of an adaptive map was not computed and its class does not give them.
-INTEGERS = {"overturned": bool, "impacts": int, "status": int, "stop_contacts": int}
+INTEGERS = {"overturned": bool, "impacts": int, "status": int, "stop_contacts": int, "slides": int, "regime": int}
+
+#: The refinement class of a response that did not overturn on a floor with friction is this minus its regime
+#: (:data:`rocking.study.vocabulary.REGIMES`): below every ``-2 - status`` of :func:`response_classes`.
+REGIME_CLASS = -100
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
 FIXED = ("model", "params", "stops", "stroke")
@@ -111,7 +134,7 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None, sign=1) -
     Returns
     -------
     dict of ndarray
-        The arrays :data:`FIELDS`.
+        The arrays :func:`response_fields`.
     """
     arrays = {k: v for k, v in (damper or {}).items() if k not in FIXED}
     shapes = (np.shape(Omega), np.shape(beta), np.shape(sign), *(np.shape(v) for v in arrays.values()))
@@ -126,7 +149,12 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None, sign=1) -
         **(damper or {"gamma": 0.0}),
     )
     result = run_cases(cases, backend=setting.backend, threads=1)
-    return {k: result[k].reshape(np.broadcast_shapes(*shapes)) for k in FIELDS}
+    return {k: result[k].reshape(np.broadcast_shapes(*shapes)) for k in response_fields(setting)}
+
+
+def response_fields(setting: Setting) -> tuple[str, ...]:
+    """The result fields :func:`respond` keeps: :data:`FIELDS`, and :data:`SLIP_FIELDS` on a floor with friction."""
+    return (*FIELDS, *SLIP_FIELDS) if setting.floor.slides else FIELDS
 
 
 def preflight(setting: Setting, damper: dict | None = None) -> None:
@@ -169,10 +197,25 @@ def undetermined(status) -> np.ndarray:
     return np.isin(status, [STATUS.index(name) for name in NO_VERDICT])
 
 
-def response_classes(overturned, impacts, status) -> np.ndarray:
+def response_classes(overturned, impacts, status, regimes=None) -> np.ndarray:
     """The class of each response that an adaptive map refines on: its :func:`outcome`, or ``-2 - status`` for a
-    response without a verdict (:func:`undetermined`), which no cell around it can tell."""
-    return np.where(undetermined(status), -2 - np.asarray(status), outcome(overturned, impacts))
+    response without a verdict (:func:`undetermined`), which no cell around it can tell. ``regimes`` (on a floor
+    with friction, :func:`rocking.study.vocabulary.regime`) part the responses that did not overturn by what
+    they did: :data:`REGIME_CLASS` minus their regime."""
+    classes = outcome(overturned, impacts)
+    if regimes is not None:
+        classes = np.where(np.asarray(overturned), classes, REGIME_CLASS - np.asarray(regimes))
+    return np.where(undetermined(status), -2 - np.asarray(status), classes)
+
+
+def with_regime(arrays: dict, setting: Setting) -> dict:
+    """The arrays of responses on a floor with friction (their :data:`SLIP_FIELDS`) with their ``regime``
+    (:func:`rocking.study.vocabulary.regime`, at ``setting``'s resolution); ``arrays`` itself on the paper's
+    floor."""
+    if "u_max" not in arrays:
+        return arrays
+    resolution = resolution_of(setting.rtol, setting.block.alpha)
+    return {**arrays, "regime": regime(arrays["overturned"], arrays["theta_max"], arrays["u_max"], resolution)}
 
 
 def effect(bare_overturned, damper_overturned, unknown=False) -> np.ndarray:
@@ -403,10 +446,11 @@ def overturning_map(
     record = tuning.record()
     parts, folders = dict(zip(PARTS, (None, tuning.case_args()))), {}
     shape = (len(PARTS), Om.size, b.size, len(signs))
+    kept = (*response_fields(setting), "regime") if setting.floor.slides else FIELDS
     fields: dict[str, np.ndarray] = {
-        k: np.full(shape, False if k == "overturned" else NOT_COMPUTED, dtype) for k, dtype in INTEGERS.items()
+        k: np.full(shape, False if k == "overturned" else NOT_COMPUTED, INTEGERS[k]) for k in kept if k in INTEGERS
     }
-    fields.update({k: np.full(shape, np.nan) for k in FIELDS if k not in INTEGERS})
+    fields.update({k: np.full(shape, np.nan) for k in kept if k not in INTEGERS})
     for part, described in zip(PARTS, (None, record)):
         config = part_config("map", part, setting, damper=described, **grids, **tiles_of)
         folders[part] = run_folder(runs, config)
@@ -483,6 +527,10 @@ def envelope(data):
     unknown = undetermined(bare["status"].values) | undetermined(damper["status"].values)
     change = effect(bare["overturned"].values, damper["overturned"].values, unknown)
     out["effect"] = (("Omega", "beta"), change, field_attrs("effect", {}))
+    if "regime" in data:  # a floor with friction: what the pulse did in either direction, the larger slip
+        by_sign = data[["regime", "u_max"]].transpose(..., "sign")
+        out["regime"] = (by_sign["regime"].dims[:-1], combined_regime(by_sign["regime"].values), data["regime"].attrs)
+        out["u_max"] = (by_sign["u_max"].dims[:-1], directions.largest(by_sign["u_max"].values), data["u_max"].attrs)
     return out
 
 
@@ -502,15 +550,16 @@ def _full(setting, parts: dict, folders: dict, grid: tuple, fields: dict, execut
             for j in range(0, b.size, tile[1]):
                 rows, cols = slice(i, i + tile[0]), slice(j, j + tile[1])
                 payload = (setting, damper, Om[rows], b[cols], signs)
-                expect = dict.fromkeys(FIELDS, (Om[rows].size, b[cols].size, len(signs)))
+                expect = dict.fromkeys(response_fields(setting), (Om[rows].size, b[cols].size, len(signs)))
                 task = Task(folders[part] / f"tile-{i}-{j}.npz", map_tile, payload, expect)
                 part_tasks.append(task)
                 where[task.path] = (index, rows, cols)
 
     def place(task: Task, tile_arrays: dict) -> None:
         index, rows, cols = where[task.path]
-        for k in FIELDS:
-            fields[k][index, rows, cols] = tile_arrays[k]
+        arrays = with_regime(tile_arrays, setting)
+        for k in fields:
+            fields[k][index, rows, cols] = arrays[k]
 
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="map", on_tile=on_tile)
     return stats, 1, np.ones((len(parts), Om.size, b.size), bool)
@@ -533,10 +582,11 @@ def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, ex
 
     def place(task: Task, tile_arrays: dict) -> None:
         part, r, c = where[task.path]
-        for k in FIELDS:
-            fields[k][PARTS.index(part), r, c] = tile_arrays[k]
-        over, impacts, status = (tile_arrays[k] for k in ("overturned", "impacts", "status"))
-        refinements[part].record(r, c, response_classes(over, impacts, status))
+        arrays = with_regime(tile_arrays, setting)
+        for k in fields:
+            fields[k][PARTS.index(part), r, c] = arrays[k]
+        over, impacts, status = (arrays[k] for k in ("overturned", "impacts", "status"))
+        refinements[part].record(r, c, response_classes(over, impacts, status, arrays.get("regime")))
 
     while not all(r.done for r in refinements.values()):
         groups = []
@@ -546,7 +596,7 @@ def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, ex
             for first in range(0, rows.size, chunk):
                 r, c = rows[first : first + chunk], cols[first : first + chunk]
                 key = hashlib.sha256(np.stack([r, c]).tobytes()).hexdigest()[:16]
-                expect = dict.fromkeys(FIELDS, (r.size, len(signs)))
+                expect = dict.fromkeys(response_fields(setting), (r.size, len(signs)))
                 path = folders[part] / f"round-{rounds}-{key}.npz"
                 part_tasks.append(Task(path, cells_tile, (setting, damper, Om[r], b[c], signs), expect))
                 where[path] = (part, r, c)
@@ -573,14 +623,19 @@ def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, ex
 def _fill(fields: dict, refinement: Refinement) -> None:
     """Give the cells of one part (``fields``: its arrays ``(Omega, beta, sign)``) that were not computed what
     their class tells: overturned or not, the impacts of an overturned cell, the status of an overturned cell or
-    of one without a verdict."""
+    of one without a verdict, and on a floor with friction the regime (``u_max``, ``u_end`` stay NaN and
+    ``slides`` :data:`NOT_COMPUTED`)."""
     filled = refinement.fill()
     classes = refinement.classes[filled]  # (cells, signs)
     overturned = classes >= 0
-    status = np.where(overturned, STATUS.index("overturned"), np.where(classes <= -2, -2 - classes, NOT_COMPUTED))
+    no_verdict = (classes <= -2) & (classes > REGIME_CLASS)  # a regime's class lies below every status's
+    status = np.where(overturned, STATUS.index("overturned"), np.where(no_verdict, -2 - classes, NOT_COMPUTED))
     fields["overturned"][filled] = overturned
     fields["impacts"][filled] = np.where(overturned, classes, NOT_COMPUTED)
     fields["status"][filled] = status
+    if "regime" in fields:  # a floor with friction: what a cell that did not overturn did is its class too
+        moved = np.where(classes <= REGIME_CLASS, REGIME_CLASS - classes, NOT_COMPUTED)
+        fields["regime"][filled] = np.where(overturned, OVERTURNS, moved)
 
 
 def half_stroke(block, record: dict) -> float | None:
@@ -620,6 +675,9 @@ def map_table(data, half_width: float, L: float | None = None) -> dict:
             over, impacts = by_sign["overturned"].values, by_sign["impacts"].values
             for i, sign in enumerate(signs):
                 table[f"{part}_outcome_{SIGN_NAMES[sign]}"] = outcome(over[..., i], impacts[..., i])
+        if "regime" in env:  # a floor with friction: what the pulse did, the larger peak slip of its directions
+            table[f"{part}_regime"] = np.array([*REGIMES.values(), "not_computed"], object)[a["regime"].values]
+            table[f"{part}_u_max"] = a["u_max"].values
     stroke = env["x_max"].sel(part="damper").values
     table["damper_stroke_over_half_width"] = stroke / half_width
     if L is not None:
@@ -657,6 +715,8 @@ def map_summary(data, half_width: float) -> dict:
         out[f"{part}_overturned"] = int(a["overturned"].values.sum())
         out[f"{part}_t_max"] = int((status == STATUS.index("t_max")).sum())
         out[f"{part}_undetermined"] = int(undetermined(status).sum())
+        if "regime" in env:  # a floor with friction: the cells where the base slid (and did not overturn)
+            out[f"{part}_slid"] = int(np.isin(env["regime"].sel(part=part).values, SLID).sum())
     out["saved"] = int((effect > 0).sum())
     out["saved_past_edges"] = int(saved_past_edges(env, half_width).sum())
     out["saved_stroke_not_computed"] = int(((effect > 0) & ~data["computed"].sel(part="damper").values).sum())

@@ -78,6 +78,7 @@ from .files import (
     write_csv,
     write_file,
 )
+from .friction_map import friction_attrs
 from .ida import LEVELS
 from .kinds import KINDS
 from .optimize import MAX_REFINE, check_gammas
@@ -633,7 +634,8 @@ SAVED_FIELDS: dict[str, Callable | None] = {
     "directions": None,  # _directions
     "damper": _damper,
     "dampers": _dampers,
-    **dict.fromkeys(("Omega", "beta", "Tm_ratio", "zeta_grid", "lam", "p", "levels"), _grid),
+    **dict.fromkeys(("Omega", "beta", "Tm_ratio", "zeta_grid", "lam", "p", "levels", "mu"), _grid),
+    "pulse_Omega": _positive,
     "signs": check_signs,
     "tile": lambda name, value: _check_tile(value),
     "refinement": _refinement,
@@ -828,6 +830,8 @@ def _read_data(nc: Path, record: dict):
     data.attrs.clear()  # the configuration and summary are the record's, checked
     if record["kind"] in ("map", "spectrum"):  # their pulses' vertical component, as the study made them
         data.attrs.update(vertical_attrs(record["config"]), **floor_attrs(record["config"]))
+    if record["kind"] == "friction":  # its pulses' one frequency
+        data.attrs.update(friction_attrs(record["config"]))
     return data
 
 
