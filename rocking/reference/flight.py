@@ -135,6 +135,48 @@ def block_landing(s, theta, dtheta, du, dv, M, I_G, B, H, e, e_n=0.0, mu_slip=0.
     return w, z[..., 0] - w * rc[..., 1], z[..., 1] + w * rc[..., 0], M * z[..., 3], M * z[..., 4]
 
 
+def omd_landing(s, theta, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n=0.0, mu_slip=0.0, stick=True):
+    """The block with its damper landing on the corner ``s``: ``(dtheta+, dx+, du+, dv+, P_t, P_n)``.
+
+    Newton and Euler with impulses: the floor's ``P = (P_t, P_n)`` at the corner, ``rc = -R r_G`` from ``G``, and the
+    guide's ``Lambda n`` on the mass (``n = R (0, 1)``; the spring and dashpot carry none, so the mass keeps its
+    momentum along the guide, the momentum law of section 6), ``-Lambda n`` on the block at the mass:
+    ``M (v_G+ - v_G-) = P - Lambda n``, ``I_G (omega+ - omega-) = rc x P - Lambda rho_x``,
+    ``m (v_m+ - v_m-) = Lambda n`` with ``v_m = v_G + omega J R rho + dx R (1, 0)``; the corner's normal velocity
+    after is ``-e_n dv`` and either its slip is 0 (``stick``) or ``P_t = -mu_slip P_n``.
+    """
+    s, theta, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n, mu_slip = _arrays(
+        s, theta, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n, mu_slip
+    )
+    rc = -_rotate(theta, _vec(s * B / 2 + e, H / 2))
+    rho = _vec(x - e, H + h - H / 2)
+    Jr = _rotate(theta, rho @ _J.T)  # J R rho = R J rho
+    t, n = _rotate(theta, _vec(np.ones_like(x), 0.0)), _rotate(theta, _vec(0.0, np.ones_like(x)))
+    vG = _vec(du + dtheta * rc[..., 1], dv - dtheta * rc[..., 0])
+    vm = vG + dtheta[..., None] * Jr + dx[..., None] * t
+    # Unknowns: v_G+ (2), omega+, dx+, and the impulses per unit block mass Lambda / M, P_t / M, P_n / M.
+    A = np.zeros(s.shape + (7, 7))
+    b = np.zeros(s.shape + (7,))
+    k, r = M / I_G, m / M
+    for i in (0, 1):
+        A[..., i, i], A[..., i, 4], A[..., i, 5 + i] = 1.0, n[..., i], -1.0
+        b[..., i] = vG[..., i]
+        A[..., 3 + i, i], A[..., 3 + i, 2], A[..., 3 + i, 3] = r, r * Jr[..., i], r * t[..., i]
+        A[..., 3 + i, 4] = -n[..., i]
+        b[..., 3 + i] = r * vm[..., i]
+    A[..., 2, 2], A[..., 2, 4], A[..., 2, 5], A[..., 2, 6] = 1.0, k * rho[..., 0], k * rc[..., 1], -k * rc[..., 0]
+    b[..., 2] = dtheta
+    A[..., 5, 1], A[..., 5, 2] = 1.0, rc[..., 0]
+    b[..., 5] = -e_n * dv
+    if stick:
+        A[..., 6, 0], A[..., 6, 2] = 1.0, -rc[..., 1]
+    else:
+        A[..., 6, 5], A[..., 6, 6] = 1.0, mu_slip
+    z = np.linalg.solve(A, b[..., None])[..., 0]
+    w = z[..., 2]
+    return w, z[..., 3], z[..., 0] - w * rc[..., 1], z[..., 1] + w * rc[..., 0], M * z[..., 5], M * z[..., 6]
+
+
 def block_energy(s, theta, dtheta, v, du, dv, M, I_G, B, H, e, g):
     """The bare block's energy in flight, relative to the ground: ``M |v_G|^2 / 2 + I_G dtheta^2 / 2 + M g y_G``."""
     r_G = _rotate(theta, _vec(s * B / 2 + e, H / 2))
