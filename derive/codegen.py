@@ -90,11 +90,12 @@ class Function:
         Whether its outputs are written with ``g`` standing for ``g + agy``
         (:class:`~rocking.derive.equations.Equations`).
     inputs : tuple of Argument
-        Its own arguments after every function's (the friction's ``mu_slip``, the slip speed ``du``).
+        Its own arguments after every function's (the friction's ``mu_slip``, the slip speed ``du``; the flying
+        corner's ``u``, ``v``, ``du``, ``dv`` and a landing's ``e_n``).
     hoisted : bool
         Whether the C back end splits it into a run's constants and the rest
-        (:func:`prepare_run`). The friction's functions are not: they read the parameters and the regime
-        of the stops directly, so that what a run without friction prepares stays as it was.
+        (:func:`prepare_run`). The functions of friction and of flight are not: they read the parameters and
+        the regime of the stops directly, so that what a run without them prepares stays as it was.
     """
 
     name: str

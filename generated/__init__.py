@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "0b8632b9049963c16035e07adb5c9b26fdbc7679b291bbd7c7bd59d1b1a7f75e",
-    "omd": "2fe9552dba9516308972694a58bf3cb5141ee059c274440a3133bcaf42b85e1a",
-    "omd2": "cc3995d48e7e0781f689fdbbffabd375339d532045cd26324b13dfd7435c8d78",
-    "omd_stops": "2b666d90f87f017aa9af3355b23bf0a383d507e9543c00661862eb525908d91b",
-    "omd_stops_hc": "0006dd763e5d3c474e609d4acbc4354cdd1f17a295eb1728c8ac877f60c54372",
-    "pendulum": "54459d8240b51a0e1aaba54f2a2257ec7c676f754bd322501832d3139074989c",
+    "block": "ac2cf37e431b8b59a209a25af3ee94fd98781881c94be746cf5973e59718f0c8",
+    "omd": "a5a0af9cf799dea578854d411be0b38d548b688deac07bd7c7cd3ceefd7505e8",
+    "omd2": "b238cd1285d41cbb0c486cd645025a7b9eabc896f57107abb91814d6052da9bf",
+    "omd_stops": "adb967564776f65f1cbc5e62dbaf73da9fe98824e8d93baec7b14eb509e3ead1",
+    "omd_stops_hc": "ffb687499ac18129226176950bbcdfa02fdf5f55d41a187311049e6f2ffcb54f",
+    "pendulum": "11d768c8fd0eb31452b55c03fc452d768b0a7cdeedaf9b57af7107e7d89659e4",
 }
