@@ -419,6 +419,9 @@ def flight_functions(eq: Equations) -> list[Function]:
         sp.Symbol(n, real=True) for n in ("du_plus", "dv_plus", "P_t", "P_n")
     )
     other = ("u_o", "v_o", "du_o", "dv_o")
+    flat = flight.flat_landing(eq)
+    flat_after = after[:-1] + ("P_s", "P_o")
+    flat_symbols = after_symbols[:-1] + tuple(sp.Symbol(n, real=True) for n in ("P_s", "P_o"))
 
     def made(name, doc, outputs, labels, symbols, inputs):
         return Function(name, doc, tuple(outputs), labels, symbols, in_run=False, inputs=inputs, hoisted=False)
@@ -475,6 +478,25 @@ def flight_functions(eq: Equations) -> list[Function]:
             landing.slide,
             after,
             after_symbols,
+            (du, dv, e_n, mu),
+        ),
+        made(
+            "flat_landing_stick",
+            "Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, "
+            "dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid "
+            "while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.",
+            flat.stick,
+            flat_after,
+            flat_symbols,
+            (du, dv, e_n),
+        ),
+        made(
+            "flat_landing_slide",
+            "Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + "
+            "P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.",
+            flat.slide,
+            flat_after,
+            flat_symbols,
             (du, dv, e_n, mu),
         ),
     ]

@@ -43,6 +43,7 @@ dv = sp.Symbol("dv", real=True)
 #: The normal coefficient of restitution of a landing: 0 plastic (the default), 1 elastic.
 e_n = sp.Symbol("e_n", real=True)
 
+
 def _parameter(eq: Equations, name: str) -> sp.Symbol:
     """The parameter symbol ``name`` of the model."""
     return eq.system.params[[p.name for p in eq.system.params].index(name)]
@@ -192,4 +193,49 @@ def landing(eq: Equations) -> Landing:
         slip = sp.Integer(0) if law == "stick" else du + jump[0]
         after = [d + j for d, j in zip(eq.system.dq, dr)] + [slip, -e_n * dv]
         out.append([*after, *(K * jump)])
+    return Landing(*out)
+
+
+def flat_landing(eq: Equations) -> Landing:
+    """The base landing flat on both corners at ``theta = 0`` (docs/model.md section 16).
+
+    The floor's normal impulses ``P_s`` at the reference corner and ``P_o`` at the other, at ``(s B, 0)`` from it in
+    the block frame (its vertical moves by ``s B`` per unit ``theta``: the generalised impulse on ``theta`` is
+    ``s B P_o``), and the tangential ``P_t``. After it ``dtheta = 0`` (full contact), ``dv = -e_n dv`` and
+    ``du = 0`` (``stick``) or ``P_t = -mu_slip (P_s + P_o)`` (``slide``); the attached coordinates take no impulse.
+    Each list holds ``dq`` after (``dtheta`` first, 0), ``du``, ``dv``, then ``P_t``, ``P_s``, ``P_o``: a flat
+    landing needs ``P_s >= 0`` and ``P_o >= 0`` (else one corner lands alone).
+    """
+    fr = frame(eq)
+    sysm = eq.system
+    B = _parameter(eq, "B")
+    level = {sysm.q[0]: 0}
+    M_rr, M_rc = fr.M_rr.subs(level), fr.M_rc.subs(level)
+    d_theta = -sysm.dq[0]
+    d_u = sp.Symbol("_du_jump", real=True)
+    jump = sp.Matrix([d_u, -(1 + e_n) * dv])
+    # The attached coordinates take no impulse: their rows give their jumps (finite as their masses vanish).
+    if len(sysm.q) > 1:
+        rest = -(M_rr[1:, 0] * d_theta + M_rc[1:, :] * jump)
+        d_q = list(M_rr[1:, 1:].LUsolve(rest).applyfunc(sp.cancel))
+    else:
+        d_q = []
+    d_r = sp.Matrix([d_theta, *d_q])
+    moment = (M_rr[0, :] * d_r + M_rc[0, :] * jump)[0]
+    impulse = M_rc.T * d_r + fr.m * jump
+    closures = {"stick": -du, "slide": sp.solve(impulse[0] + mu_slip * impulse[1], d_u)}
+    out = []
+    for law in ("stick", "slide"):
+        if law == "slide" and len(closures["slide"]) != 1:
+            raise SpecError("the flat landing's sliding impulse has no unique solution")
+        value = closures[law] if law == "stick" else closures[law][0]
+        at = {d_u: value}
+        P_o = s * moment.xreplace(at) / B
+        P_n = impulse[1].xreplace(at)
+        slip = sp.Integer(0) if law == "stick" else du + value
+        after = [sp.Integer(0), *(d + j.xreplace(at) for d, j in zip(sysm.dq[1:], d_q)), slip, -e_n * dv]
+        out.append(
+            [sp.cancel(_reduce(x)) for x in after]
+            + [sp.cancel(_reduce(x)) for x in (impulse[0].xreplace(at), P_n - P_o, P_o)]
+        )
     return Landing(*out)

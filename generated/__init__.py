@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "ac2cf37e431b8b59a209a25af3ee94fd98781881c94be746cf5973e59718f0c8",
-    "omd": "a5a0af9cf799dea578854d411be0b38d548b688deac07bd7c7cd3ceefd7505e8",
-    "omd2": "b238cd1285d41cbb0c486cd645025a7b9eabc896f57107abb91814d6052da9bf",
-    "omd_stops": "adb967564776f65f1cbc5e62dbaf73da9fe98824e8d93baec7b14eb509e3ead1",
-    "omd_stops_hc": "ffb687499ac18129226176950bbcdfa02fdf5f55d41a187311049e6f2ffcb54f",
-    "pendulum": "11d768c8fd0eb31452b55c03fc452d768b0a7cdeedaf9b57af7107e7d89659e4",
+    "block": "f7e83e5be634c51b35e315f5373a7ec792b76070ef93a7de0d18ff9faa123db6",
+    "omd": "239e1198798c089ed9bbb96c0bf6263bc6772086cd0e4edad38642973ef58012",
+    "omd2": "21b25fc07ebf7a7548315115282e69c03f46bb95655d2de05bbd56cd78bf1b6e",
+    "omd_stops": "1466f4ffca24e0776e2e80c1ae82beff8070d819e149d00af0692e021e15cae6",
+    "omd_stops_hc": "edc193a3f90a49777e602dac933958d9010334c225b08460b537d5eb80e67097",
+    "pendulum": "35648a727ef8e7629244ac95d05f469fb8256fcdd170a831515a9b4ab021e5a9",
 }

@@ -106,8 +106,52 @@ def test_landing_with_the_damper_is_newton_euler_with_impulses(models, s, stick)
     assert max(rel_error(a[pushes], b[pushes]) for a, b in zip(got, want)) < 1e-12
 
 
+@pytest.mark.parametrize("s", [1, -1])
+@pytest.mark.parametrize("stick", [True, False])
+def test_bare_block_flat_landing_is_newton_euler_with_impulses(models, s, stick):
+    """Both corners land at theta = 0, spinning or not: no spin after, the impulses split between the corners by
+    Euler's equation about G (rocking.reference.flight.block_flat_landing, by hand)."""
+    model = models["block"]
+    v = _cases("block", s, 25)
+    v["theta"] = np.zeros(N)
+    fn = model.functions.flat_landing_stick if stick else model.functions.flat_landing_slide
+    extra = (v["du"], v["dv"], v["e_n"]) + (() if stick else (v["mu"],))
+    dtheta, *got = fn(*_args(model, v), *extra)
+    block = [v[k] for k in ("M", "I_G", "B", "H", "e")]
+    want = ref.block_flat_landing(s, v["dtheta"], v["du"], v["dv"], *block, v["e_n"], v["mu"], stick)
+    assert np.all(dtheta == 0.0) and np.all(got[1] == -v["e_n"] * v["dv"])
+    assert np.all(got[0] == 0.0) if stick else rel_error(got[0], want[0]) < 1e-12
+    assert max(rel_error(a, b) for a, b in zip(got[2:], want[2:])) < 1e-12
+
+
+@pytest.mark.parametrize("s", [1, -1])
+def test_a_flat_drop_splits_its_impulse_by_the_lever_rule(models, s):
+    """A block with its damper dropped flat (no spin, no slip, the mass swinging), plastic: the floor takes the
+    system's vertical momentum, the corners share it as statics share the weight of the system's centroid
+    (P_o / P_n = (B/2 + s e_C) / B, e_C = (M e + m x) / (M + m)), and the mass keeps its velocity along the guide."""
+    model = models["omd"]
+    v = _cases("omd", s, 26)
+    v.update(theta=np.zeros(N), dtheta=np.zeros(N), du=np.zeros(N))
+    dtheta, dx, du, dv, P_t, P_s, P_o = model.functions.flat_landing_stick(*_args(model, v), v["du"], v["dv"], 0.0)
+    total = v["M"] + v["m"]
+    e_C = (v["M"] * v["e"] + v["m"] * v["x"]) / total
+    assert np.all(dtheta == 0.0) and np.all(du == 0.0) and np.all(dv == 0.0)
+    assert rel_error(dx, v["dx"]) < 1e-12 and np.max(np.abs(P_t) / (total * np.abs(v["dv"]))) < 1e-12
+    assert rel_error(P_s + P_o, -total * v["dv"]) < 1e-12
+    assert rel_error(P_o / (P_s + P_o), (v["B"] / 2 + s * e_C) / v["B"]) < 1e-12
+
+
 #: The functions of flight and landing (docs/model.md section 16), held against rocking.reference.flight here.
-FLIGHT = ("flight_accel", "corner_heights", "flight_corner", "flight_energy", "landing_stick", "landing_slide")
+FLIGHT = (
+    "flight_accel",
+    "corner_heights",
+    "flight_corner",
+    "flight_energy",
+    "landing_stick",
+    "landing_slide",
+    "flat_landing_stick",
+    "flat_landing_slide",
+)
 
 
 @pytest.mark.parametrize("name", ["block", "omd"])

@@ -976,3 +976,85 @@ void block_landing_slide(double s, const double *y, double ag, double agy, const
     out[3] = cse36*cse39 + cse40;
     out[4] = cse13*cse37 + cse38*cse40;
 }
+
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = dv*e_n;
+    const double cse1 = M*du;
+    const double cse2 = M*dtheta;
+    const double cse3 = M*dv;
+    const double cse4 = 2*B;
+    const double cse5 = cse3*cse4;
+    const double cse6 = cse2*s;
+    const double cse7 = (B*B)*cse6;
+    const double cse8 = M*cse0;
+    const double cse9 = cse4*cse8;
+    const double cse10 = 4*s;
+    const double cse11 = cse10*e;
+    const double cse12 = (H*H)*cse6 - 2*H*cse1*s + I_G*cse10*dtheta + cse10*cse2*(e*e) + cse11*cse3 + cse11*cse8;
+    const double cse13 = (1.0/4.0)/B;
+    out[0] = 0;
+    out[1] = 0;
+    out[2] = -cse0;
+    out[3] = (1.0/2.0)*H*cse2 - cse1;
+    out[4] = cse13*(cse12 - cse5 - cse7 - cse9);
+    out[5] = cse13*(-4*B*cse2*e - cse12 - cse5 - cse7 - cse9);
+}
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = dv*mu_slip;
+    const double cse1 = (1.0/2.0)*dtheta;
+    const double cse2 = dtheta*mu_slip;
+    const double cse3 = cse2*e;
+    const double cse4 = cse0*e_n;
+    const double cse5 = B*cse1*mu_slip*s;
+    const double cse6 = dv*e_n;
+    const double cse7 = M*cse0;
+    const double cse8 = M*cse3;
+    const double cse9 = M*cse4;
+    const double cse10 = M*dv;
+    const double cse11 = 2*B;
+    const double cse12 = cse10*cse11;
+    const double cse13 = dtheta*s;
+    const double cse14 = (B*B)*M*cse13;
+    const double cse15 = M*cse6;
+    const double cse16 = cse11*cse15;
+    const double cse17 = 4*cse13;
+    const double cse18 = 4*e;
+    const double cse19 = cse18*s;
+    const double cse20 = B*M;
+    const double cse21 = 2*H*s;
+    const double cse22 = H*cse2*cse20 + I_G*cse17 + M*cse17*(e*e) + cse10*cse19 + cse15*cse19 + cse21*cse7 + cse21*cse8 + cse21*cse9;
+    const double cse23 = (1.0/4.0)/B;
+    out[0] = 0;
+    out[1] = -H*cse1 + cse0 + cse3 + cse4 + cse5 + du;
+    out[2] = -cse6;
+    out[3] = M*cse5 + cse7 + cse8 + cse9;
+    out[4] = cse23*(-cse12 - cse14 - cse16 + cse22);
+    out[5] = cse23*(-cse12 - cse14 - cse16 - cse18*cse20*dtheta - cse22);
+}

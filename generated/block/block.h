@@ -193,6 +193,14 @@ void block_landing_stick(double s, const double *y, double ag, double agy, const
  * out: dtheta_plus, du_plus, dv_plus, P_t, P_n */
 void block_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out);
 
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * out: dtheta_plus, du_plus, dv_plus, P_t, P_s, P_o */
+void block_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out);
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * out: dtheta_plus, du_plus, dv_plus, P_t, P_s, P_o */
+void block_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ BLOCK_NQ
@@ -261,6 +269,8 @@ void block_landing_slide(double s, const double *y, double ag, double agy, const
 #define model_flight_energy block_flight_energy
 #define model_landing_stick block_landing_stick
 #define model_landing_slide block_landing_slide
+#define model_flat_landing_stick block_flat_landing_stick
+#define model_flat_landing_slide block_flat_landing_slide
 #endif
 
 #endif

@@ -1688,3 +1688,133 @@ def landing_slide(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu
     cse40 = cse13*cse27
     out = _broadcast((-cse14*cse38*(-H*cse6 - cse0*cse1*cse7 - cse1*cse5) - cse14*(-cse0*cse2 + cse3*cse5 + cse6*cse7) + dtheta, cse39 + du, -dv*e_n, cse36*cse39 + cse40, cse13*cse37 + cse38*cse40, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip))
     return out
+
+
+def flat_landing_stick(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = dv*e_n
+    cse1 = M*du
+    cse2 = M*dtheta
+    cse3 = M*dv
+    cse4 = 2*B
+    cse5 = cse3*cse4
+    cse6 = cse2*s
+    cse7 = B**2*cse6
+    cse8 = M*cse0
+    cse9 = cse4*cse8
+    cse10 = 4*s
+    cse11 = cse10*e
+    cse12 = H**2*cse6 - 2*H*cse1*s + I_G*cse10*dtheta + cse10*cse2*e**2 + cse11*cse3 + cse11*cse8
+    cse13 = (1/4)/B
+    out = _broadcast((0, 0, -cse0, (1/2)*H*cse2 - cse1, cse13*(cse12 - cse5 - cse7 - cse9), cse13*(-4*B*cse2*e - cse12 - cse5 - cse7 - cse9), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n))
+    return out
+
+
+def flat_landing_slide(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    mu_slip : array_like
+        mu_k times the sign of the corner's slip: P_t = -mu_slip P_n
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = dv*mu_slip
+    cse1 = (1/2)*dtheta
+    cse2 = dtheta*mu_slip
+    cse3 = cse2*e
+    cse4 = cse0*e_n
+    cse5 = B*cse1*mu_slip*s
+    cse6 = dv*e_n
+    cse7 = M*cse0
+    cse8 = M*cse3
+    cse9 = M*cse4
+    cse10 = M*dv
+    cse11 = 2*B
+    cse12 = cse10*cse11
+    cse13 = dtheta*s
+    cse14 = B**2*M*cse13
+    cse15 = M*cse6
+    cse16 = cse11*cse15
+    cse17 = 4*cse13
+    cse18 = 4*e
+    cse19 = cse18*s
+    cse20 = B*M
+    cse21 = 2*H*s
+    cse22 = H*cse2*cse20 + I_G*cse17 + M*cse17*e**2 + cse10*cse19 + cse15*cse19 + cse21*cse7 + cse21*cse8 + cse21*cse9
+    cse23 = (1/4)/B
+    out = _broadcast((0, -H*cse1 + cse0 + cse3 + cse4 + cse5 + du, -cse6, M*cse5 + cse7 + cse8 + cse9, cse23*(-cse12 - cse14 - cse16 + cse22), cse23*(-cse12 - cse14 - cse16 - cse18*cse20*dtheta - cse22), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip))
+    return out

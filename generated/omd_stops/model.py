@@ -2809,3 +2809,198 @@ def landing_slide(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_
     cse87 = cse26*cse59
     out = _broadcast((-cse13*cse27 - cse27*cse31*cse84 + dtheta, cse26*(cse13*cse85 - cse6) + cse86*(-cse0 + cse31*cse85) + dx, cse86 + du, -dv*e_n, cse82*cse86 + cse87, cse26*cse83 + cse84*cse87, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, du, dv, e_n, mu_slip))
     return out
+
+
+def flat_landing_stick(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, du, dv, e_n, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = H*dtheta
+    cse1 = dv*e_n
+    cse2 = M*du
+    cse3 = 2*B
+    cse4 = M*dv
+    cse5 = cse3*cse4
+    cse6 = cse3*m
+    cse7 = cse6*dv
+    cse8 = B**2
+    cse9 = dtheta*s
+    cse10 = M*cse9
+    cse11 = cse10*cse8
+    cse12 = cse8*cse9*m
+    cse13 = M*cse1
+    cse14 = cse13*cse3
+    cse15 = cse1*cse6
+    cse16 = 4*cse9
+    cse17 = 4*s
+    cse18 = cse17*e
+    cse19 = m*x
+    cse20 = cse17*cse19
+    cse21 = H**2*cse10 - 2*H*cse2*s + I_G*cse16 + M*cse16*e**2 + cse1*cse20 + cse13*cse18 + cse16*m*x**2 + cse18*cse4 + cse20*dv
+    cse22 = (1/4)/B
+    cse23 = 4*B*dtheta
+    out = _broadcast((0, -cse0 - dtheta*h + du + dx, 0, -cse1, (1/2)*M*cse0 - cse2, cse22*(-cse11 - cse12 - cse14 - cse15 + cse21 - cse5 - cse7), cse22*(-M*cse23*e - cse11 - cse12 - cse14 - cse15 - cse19*cse23 - cse21 - cse5 - cse7), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, du, dv, e_n))
+    return out
+
+
+def flat_landing_slide(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, du, dv, e_n, mu_slip, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    L : array_like
+        half-stroke: free travel of the mass from the centre line to either bumper [m]
+    k_b : array_like
+        stiffness of each bumper [N/m]
+    c_b : array_like
+        damping coefficient of each bumper [N s/m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    mu_slip : array_like
+        mu_k times the sign of the corner's slip: P_t = -mu_slip P_n
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = M*dtheta
+    cse1 = H*cse0
+    cse2 = 2*M
+    cse3 = cse2*dtheta
+    cse4 = dv*mu_slip
+    cse5 = cse2*cse4
+    cse6 = cse4*m
+    cse7 = 2*cse6
+    cse8 = e*mu_slip
+    cse9 = cse3*cse8
+    cse10 = dv*e_n
+    cse11 = cse10*mu_slip
+    cse12 = cse11*cse2
+    cse13 = dtheta*m
+    cse14 = cse13*mu_slip
+    cse15 = cse14*x
+    cse16 = 2*cse15
+    cse17 = cse11*m
+    cse18 = 2*cse17
+    cse19 = B*s
+    cse20 = cse0*cse19*mu_slip
+    cse21 = cse14*cse19
+    cse22 = cse12 + cse16 + cse18 + cse20 + cse21 + cse5 + cse7 + cse9
+    cse23 = (1/2)/M
+    cse24 = B*dv
+    cse25 = cse2*cse24
+    cse26 = 2*m
+    cse27 = cse24*cse26
+    cse28 = B**2*s
+    cse29 = cse0*cse28
+    cse30 = cse13*cse28
+    cse31 = B*cse10
+    cse32 = cse2*cse31
+    cse33 = cse26*cse31
+    cse34 = 4*s
+    cse35 = cse34*dv
+    cse36 = M*e
+    cse37 = m*x
+    cse38 = H*s
+    cse39 = cse10*cse34
+    cse40 = B*H*cse14 + B*cse1*mu_slip + I_G*cse34*dtheta + cse0*cse34*e**2 + cse12*cse38 + cse13*cse34*x**2 + cse16*cse38 + cse18*cse38 + cse35*cse36 + cse35*cse37 + cse36*cse39 + cse37*cse39 + cse38*cse5 + cse38*cse7 + cse38*cse9
+    cse41 = (1/4)/B
+    cse42 = 4*B
+    out = _broadcast((0, cse23*(2*M*dx - cse1 - cse22 - cse3*h), cse23*(-cse1 + cse2*du + cse22), -cse10, M*cse11 + M*cse4 + cse0*cse8 + cse15 + cse17 + (1/2)*cse20 + (1/2)*cse21 + cse6, cse41*(-cse25 - cse27 - cse29 - cse30 - cse32 - cse33 + cse40), cse41*(-cse0*cse42*e - cse13*cse42*x - cse25 - cse27 - cse29 - cse30 - cse32 - cse33 - cse40), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, L, k_b, c_b, du, dv, e_n, mu_slip))
+    return out

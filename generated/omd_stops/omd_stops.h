@@ -202,6 +202,14 @@ void omd_stops_landing_stick(double s, const double *y, double ag, double agy, c
  * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_n */
 void omd_stops_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out);
 
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o */
+void omd_stops_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out);
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o */
+void omd_stops_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD_STOPS_NQ
@@ -270,6 +278,8 @@ void omd_stops_landing_slide(double s, const double *y, double ag, double agy, c
 #define model_flight_energy omd_stops_flight_energy
 #define model_landing_stick omd_stops_landing_stick
 #define model_landing_slide omd_stops_landing_slide
+#define model_flat_landing_stick omd_stops_flat_landing_stick
+#define model_flat_landing_slide omd_stops_flat_landing_slide
 #endif
 
 #endif

@@ -1776,3 +1776,124 @@ void omd_stops_hc_landing_slide(double s, const double *y, double ag, double agy
     out[4] = cse82*cse86 + cse87;
     out[5] = cse26*cse83 + cse84*cse87;
 }
+
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = H*dtheta;
+    const double cse1 = dv*e_n;
+    const double cse2 = M*du;
+    const double cse3 = 2*B;
+    const double cse4 = M*dv;
+    const double cse5 = cse3*cse4;
+    const double cse6 = cse3*m;
+    const double cse7 = cse6*dv;
+    const double cse8 = (B*B);
+    const double cse9 = dtheta*s;
+    const double cse10 = M*cse9;
+    const double cse11 = cse10*cse8;
+    const double cse12 = cse8*cse9*m;
+    const double cse13 = M*cse1;
+    const double cse14 = cse13*cse3;
+    const double cse15 = cse1*cse6;
+    const double cse16 = 4*cse9;
+    const double cse17 = 4*s;
+    const double cse18 = cse17*e;
+    const double cse19 = m*x;
+    const double cse20 = cse17*cse19;
+    const double cse21 = (H*H)*cse10 - 2*H*cse2*s + I_G*cse16 + M*cse16*(e*e) + cse1*cse20 + cse13*cse18 + cse16*m*(x*x) + cse18*cse4 + cse20*dv;
+    const double cse22 = (1.0/4.0)/B;
+    const double cse23 = 4*B*dtheta;
+    out[0] = 0;
+    out[1] = -cse0 - dtheta*h + du + dx;
+    out[2] = 0;
+    out[3] = -cse1;
+    out[4] = (1.0/2.0)*M*cse0 - cse2;
+    out[5] = cse22*(-cse11 - cse12 - cse14 - cse15 + cse21 - cse5 - cse7);
+    out[6] = cse22*(-M*cse23*e - cse11 - cse12 - cse14 - cse15 - cse19*cse23 - cse21 - cse5 - cse7);
+}
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_hc_prepare takes it (NULL without stops). */
+void omd_stops_hc_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = M*dtheta;
+    const double cse1 = H*cse0;
+    const double cse2 = 2*M;
+    const double cse3 = cse2*dtheta;
+    const double cse4 = dv*mu_slip;
+    const double cse5 = cse2*cse4;
+    const double cse6 = cse4*m;
+    const double cse7 = 2*cse6;
+    const double cse8 = e*mu_slip;
+    const double cse9 = cse3*cse8;
+    const double cse10 = dv*e_n;
+    const double cse11 = cse10*mu_slip;
+    const double cse12 = cse11*cse2;
+    const double cse13 = dtheta*m;
+    const double cse14 = cse13*mu_slip;
+    const double cse15 = cse14*x;
+    const double cse16 = 2*cse15;
+    const double cse17 = cse11*m;
+    const double cse18 = 2*cse17;
+    const double cse19 = B*s;
+    const double cse20 = cse0*cse19*mu_slip;
+    const double cse21 = cse14*cse19;
+    const double cse22 = cse12 + cse16 + cse18 + cse20 + cse21 + cse5 + cse7 + cse9;
+    const double cse23 = (1.0/2.0)/M;
+    const double cse24 = B*dv;
+    const double cse25 = cse2*cse24;
+    const double cse26 = 2*m;
+    const double cse27 = cse24*cse26;
+    const double cse28 = (B*B)*s;
+    const double cse29 = cse0*cse28;
+    const double cse30 = cse13*cse28;
+    const double cse31 = B*cse10;
+    const double cse32 = cse2*cse31;
+    const double cse33 = cse26*cse31;
+    const double cse34 = 4*s;
+    const double cse35 = cse34*dv;
+    const double cse36 = M*e;
+    const double cse37 = m*x;
+    const double cse38 = H*s;
+    const double cse39 = cse10*cse34;
+    const double cse40 = B*H*cse14 + B*cse1*mu_slip + I_G*cse34*dtheta + cse0*cse34*(e*e) + cse12*cse38 + cse13*cse34*(x*x) + cse16*cse38 + cse18*cse38 + cse35*cse36 + cse35*cse37 + cse36*cse39 + cse37*cse39 + cse38*cse5 + cse38*cse7 + cse38*cse9;
+    const double cse41 = (1.0/4.0)/B;
+    const double cse42 = 4*B;
+    out[0] = 0;
+    out[1] = cse23*(2*M*dx - cse1 - cse22 - cse3*h);
+    out[2] = cse23*(-cse1 + cse2*du + cse22);
+    out[3] = -cse10;
+    out[4] = M*cse11 + M*cse4 + cse0*cse8 + cse15 + cse17 + (1.0/2.0)*cse20 + (1.0/2.0)*cse21 + cse6;
+    out[5] = cse41*(-cse25 - cse27 - cse29 - cse30 - cse32 - cse33 + cse40);
+    out[6] = cse41*(-cse0*cse42*e - cse13*cse42*x - cse25 - cse27 - cse29 - cse30 - cse32 - cse33 - cse40);
+}

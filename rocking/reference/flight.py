@@ -177,6 +177,24 @@ def omd_landing(s, theta, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n=0.0,
     return w, z[..., 3], z[..., 0] - w * rc[..., 1], z[..., 1] + w * rc[..., 0], M * z[..., 5], M * z[..., 6]
 
 
+def block_flat_landing(s, dtheta, du, dv, M, I_G, B, H, e, e_n=0.0, mu_slip=0.0, stick=True):
+    """The bare block landing flat on both corners at ``theta = 0``: ``(du+, dv+, P_t, P_s, P_o)``; ``dtheta+ = 0``.
+
+    Newton and Euler with the floor's impulses, ``P_t`` and ``P_s`` at the corner ``s``, ``-(d_s, H/2)`` from ``G``,
+    and ``P_o`` at the other, ``(s B/2 - e, -H/2)`` from ``G``: ``G`` moves at ``v_G = (du - H/2 dtheta,
+    dv + d_s dtheta)`` before; after, no spin and the base's normal velocity ``-e_n dv``, so
+    ``P_n = P_s + P_o = -M ((1 + e_n) dv + d_s dtheta)``, and ``P_t = -M v_Gx`` (``stick``) or ``-mu_slip P_n``;
+    the moment about ``G``, ``-I_G dtheta = -d_s P_s + H/2 P_t + (s B/2 - e) P_o``, gives
+    ``P_o = (d_s P_n - H/2 P_t - I_G dtheta) / (s B)``.
+    """
+    d = s * B / 2 + e
+    P_n = -M * ((1 + e_n) * dv + d * dtheta)
+    vGx = du - H / 2 * dtheta
+    P_t = -M * vGx if stick else -mu_slip * P_n
+    P_o = (d * P_n - H / 2 * P_t - I_G * dtheta) / (s * B)
+    return vGx + P_t / M, -e_n * dv, P_t, P_n - P_o, P_o
+
+
 def block_energy(s, theta, dtheta, v, du, dv, M, I_G, B, H, e, g):
     """The bare block's energy in flight, relative to the ground: ``M |v_G|^2 / 2 + I_G dtheta^2 / 2 + M g y_G``."""
     r_G = _rotate(theta, _vec(s * B / 2 + e, H / 2))
