@@ -320,6 +320,28 @@ def test_energy_never_rises_at_a_plastic_landing(models, name):
     assert laws["stick"] > 100 and laws["slide"] > 100
 
 
+@pytest.mark.parametrize("name", ["block", "omd"])
+def test_energy_never_rises_at_a_plastic_flat_landing(models, name):
+    """Both corners at theta = 0, spinning and slipping, sticking: where both corners push (P_s, P_o >= 0)."""
+    model = models[name]
+    nq = model.nq
+    worst, flat = -np.inf, 0
+    for s in (1, -1):
+        v = _cases(name, s, 27 + s, n=200)
+        # A little spin and slip: more, and the impulse that stops them tips the block onto one corner.
+        v.update(theta=np.zeros(200), dtheta=0.05 * v["dtheta"], du=0.1 * v["du"])
+        for i in range(200):
+            args = [a[i] for a in _args(model, v)]
+            dc = (v["du"][i], v["dv"][i])
+            out = model.functions.flat_landing_stick(*args, *dc, 0.0)
+            if out[-2] >= 0.0 and out[-1] >= 0.0:
+                flat += 1
+                before = _energy(model, args, args[1 + nq : 1 + 2 * nq], dc)
+                kinetic = before - _energy(model, args, [0.0] * nq, (0.0, 0.0))
+                worst = max(worst, (_energy(model, args, out[:nq], out[nq:-3]) - before) / kinetic)
+    assert flat > 100 and worst <= 1e-12
+
+
 def test_a_bouncing_sticking_landing_can_add_energy(models):
     """With e_n > 0 Newton's restitution of the normal velocity and a sticking corner can give back more energy than
     the landing took (a known flaw of Newton's restitution with friction, Stronge 1991): a back end must know it. A
