@@ -9,6 +9,7 @@ set-up of the cases, not the build). Printed as one line::
     python bench/instructions.py            # the whole map: about a minute
     python bench/instructions.py -n 20      # a 20 x 20 map
     python bench/instructions.py --vertical-ratio 0.5   # every pulse with an in-phase vertical component
+    python bench/instructions.py --mu 0.3   # on a floor with friction mu_s = mu_k = 0.3 (docs/model.md section 15)
 
 A change to sim.c or to the generated model is judged by the change of this figure on a busy
 machine, where times vary by tens of percent from one run to the next.
@@ -28,6 +29,7 @@ sys.path.insert(0, os.path.dirname(os.path.abspath(__file__)))
 
 from bench_map import map_cases  # noqa: E402
 
+from rocking import Floor  # noqa: E402
 from rocking.sim.cases import run_cases  # noqa: E402
 
 #: The C function whose instructions are counted (with its callees): sim.c's one run, which the batch entry
@@ -35,14 +37,19 @@ from rocking.sim.cases import run_cases  # noqa: E402
 ENTRY = "simulate_one"
 
 
-def run_map(n: int, vertical_ratio: float = 0.0) -> int:
+def floor_of(mu: float):
+    """The floor of friction ``mu`` (static and kinetic), None for ``inf`` (the paper's)."""
+    return None if mu == float("inf") else Floor(mu)
+
+
+def run_map(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> int:
     """Run the ``n x n`` bench map on the C batch, one thread; the number of responses."""
-    cases = map_cases(n, vertical_ratio)[-1]
+    cases = map_cases(n, vertical_ratio, floor_of(mu))[-1]
     run_cases(cases, "c", 1)
     return len(cases)
 
 
-def measure(n: int, vertical_ratio: float = 0.0) -> dict | None:
+def measure(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> dict | None:
     """The instructions per response of the ``n x n`` bench map under callgrind; ``None`` without valgrind.
 
     Raises
@@ -53,7 +60,7 @@ def measure(n: int, vertical_ratio: float = 0.0) -> dict | None:
     valgrind = shutil.which("valgrind")
     if valgrind is None:
         return None
-    run_cases(map_cases(1)[-1], "c", 1)  # the library built and cached outside valgrind
+    run_cases(map_cases(1, 0.0, floor_of(mu))[-1], "c", 1)  # the library built and cached outside valgrind
     with tempfile.TemporaryDirectory() as tmp:
         command = [
             valgrind,
@@ -68,6 +75,8 @@ def measure(n: int, vertical_ratio: float = 0.0) -> dict | None:
             str(n),
             "--vertical-ratio",
             repr(vertical_ratio),
+            "--mu",
+            repr(mu),
         ]
         done = subprocess.run(command, capture_output=True, text=True)
         collected = re.search(r"Collected : (\d+)", done.stderr)
@@ -81,6 +90,7 @@ def measure(n: int, vertical_ratio: float = 0.0) -> dict | None:
         "instructions_per_response": int(collected.group(1)) / count,
         "entry": ENTRY,
         "vertical_ratio": vertical_ratio,
+        "mu": mu,
         "by_part": split,
     }
 
@@ -126,6 +136,8 @@ def line(result: dict | None) -> str:
     if result is None:
         return "bench map: instructions per response skipped (valgrind not found; apt-get install valgrind)"
     vertical = f", in-phase vertical ratio {result['vertical_ratio']:g}" if result.get("vertical_ratio") else ""
+    if result.get("mu", float("inf")) != float("inf"):
+        vertical += f", floor mu = {result['mu']:g}"
     text = (
         f"bench map{vertical}: {result['instructions_per_response']:,.0f} instructions per response "
         f"(callgrind, {result['responses']:,} responses, {result['entry']})"
@@ -141,12 +153,15 @@ def main(argv=None) -> int:
     parser.add_argument(
         "--vertical-ratio", type=float, default=0.0, help="in-phase vertical component of every pulse (default 0)"
     )
+    parser.add_argument(
+        "--mu", type=float, default=float("inf"), help="the floor's friction, static = kinetic (default inf)"
+    )
     parser.add_argument("--inside", action="store_true", help=argparse.SUPPRESS)  # the run callgrind watches
     args = parser.parse_args(argv)
     if args.inside:
-        print(f"responses {run_map(args.n, args.vertical_ratio)}")
+        print(f"responses {run_map(args.n, args.vertical_ratio, args.mu)}")
         return 0
-    print(line(measure(args.n, args.vertical_ratio)))
+    print(line(measure(args.n, args.vertical_ratio, args.mu)))
     return 0
 
 

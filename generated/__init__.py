@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "f7e83e5be634c51b35e315f5373a7ec792b76070ef93a7de0d18ff9faa123db6",
-    "omd": "239e1198798c089ed9bbb96c0bf6263bc6772086cd0e4edad38642973ef58012",
-    "omd2": "21b25fc07ebf7a7548315115282e69c03f46bb95655d2de05bbd56cd78bf1b6e",
-    "omd_stops": "1466f4ffca24e0776e2e80c1ae82beff8070d819e149d00af0692e021e15cae6",
-    "omd_stops_hc": "edc193a3f90a49777e602dac933958d9010334c225b08460b537d5eb80e67097",
-    "pendulum": "35648a727ef8e7629244ac95d05f469fb8256fcdd170a831515a9b4ab021e5a9",
+    "block": "2791be583e2e33a129f96ac29420f2ab6a4e9bb1e6e6f47eaac91136706873a9",
+    "omd": "e95f1de6d636bf67126a1c944a80648f5b3c4cb9f96af1e39b3c624c5b2297bc",
+    "omd2": "2f72b46ac6a3b61170b95ecb188feb569fc4230c52da89900c62bfc57510d547",
+    "omd_stops": "abfbb71eeafac2a6e1aab2b21b9df47e7bb6b23703e3bb2a2cb3319ab5e5d21a",
+    "omd_stops_hc": "442db918faa6688943133e87850c5d06fbddce0405311b3447d47d35df556477",
+    "pendulum": "dfa71df24945e5aa5bb213a641afd58703a404c5c246c75816b1b9d7f2b857df",
 }

@@ -176,6 +176,7 @@ def test_a_finite_friction_is_refused_by_a_back_end_that_does_not_follow_it():
 
 def test_the_refusal_names_the_back_end_that_follows_friction_and_auto_picks_it(monkeypatch):
     """Once a back end follows friction (its flag, declared once in rocking.sim.backends), the others name it."""
+    monkeypatch.setattr(backends.BACKENDS["c"], "friction", False)
     monkeypatch.setattr(backends.BACKENDS["numpy"], "friction", True)
     with pytest.raises(ParameterError) as refused:
         rocking.simulate(BLOCK, None, PULSES[0], mu=0.3, backend="c")
@@ -257,7 +258,8 @@ def test_every_study_of_pulses_and_motions_takes_mu_and_mu_k():
             function(BLOCK, mu=0.3, mu_k=0.4, progress=False, **arguments)
 
 
-def test_a_study_command_with_a_finite_friction_is_refused_in_one_line(capsys, tmp_path):
+def test_a_study_command_with_a_finite_friction_is_refused_in_one_line(capsys, tmp_path, monkeypatch):
+    monkeypatch.setattr(backends.BACKENDS["c"], "friction", False)  # the refusal of a back end that does not follow it
     code = main(["map", "--mu", "0.3", "--Omega", "2", "3", "2", "--beta", "1", "2", "2", "--out", str(tmp_path)])
     err = capsys.readouterr().err
     assert code != 0 and err.count("\n") == 1

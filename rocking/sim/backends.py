@@ -50,7 +50,7 @@ class Backend(Protocol):
 class _C:
     """:mod:`rocking.sim.c_backend`."""
 
-    friction = False
+    friction = True
 
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         return c_backend.simulate_settings(model, p, settings, record)

@@ -23,6 +23,7 @@ stops them too (:func:`_stoppable`).
 from __future__ import annotations
 
 import ctypes
+import math
 import os
 import signal
 import threading
@@ -81,7 +82,20 @@ CASE_DTYPE, RESULT_DTYPE = _record(CASE), _record(RESULT)
 class _History(ctypes.Structure):
     """``rocking_history`` of sim.h."""
 
-    _fields_ = [("capacity", ctypes.c_int64), ("t", _dbl_p), ("y", _dbl_p), ("phase", _i32_p), ("ag", _dbl_p)]
+    _fields_ = [
+        ("capacity", ctypes.c_int64),
+        ("t", _dbl_p),
+        ("y", _dbl_p),
+        ("phase", _i32_p),
+        ("ag", _dbl_p),
+        ("floor", _dbl_p),
+        ("slide", _i32_p),
+    ]
+
+
+#: The floor's columns of a history (sim.h's ``rocking_history.floor``, in its order), of a model with friction:
+#: the slip u [m], its speed du [m/s], the floor's normal force N and tangential force F on the block [N].
+FLOOR_COLUMNS = ("u", "du", "N", "F")
 
 
 class _Control(ctypes.Structure):
@@ -400,7 +414,9 @@ def simulate_settings(model: Model, p, settings: dict, record: bool = False) -> 
         capacity = int(n)  # the run is deterministic: the same run again, with room for all of it
     if result.status == boundary.FAILED.value:
         raise _failed(f"at t = {result.t_end:.17g}")
-    return Response.from_record(result, _history_arrays(buffers, n, model.state) if record else None)
+    return Response.from_record(
+        result, _history_arrays(buffers, n, model.state, math.isfinite(settings["mu_s"])) if record else None
+    )
 
 
 def _history_buffers(capacity: int, ny: int) -> dict[str, np.ndarray]:
@@ -409,6 +425,8 @@ def _history_buffers(capacity: int, ny: int) -> dict[str, np.ndarray]:
         "y": np.empty((capacity, ny)),
         "phase": np.empty(capacity, dtype=np.int32),
         "ag": np.empty(capacity),
+        "floor": np.empty((capacity, len(FLOOR_COLUMNS))),
+        "slide": np.empty(capacity, dtype=np.int32),
     }
 
 
@@ -419,15 +437,24 @@ def _history(buffers: dict[str, np.ndarray]) -> _History:
         buffers["y"].ctypes.data_as(_dbl_p),
         buffers["phase"].ctypes.data_as(_i32_p),
         buffers["ag"].ctypes.data_as(_dbl_p),
+        buffers["floor"].ctypes.data_as(_dbl_p),
+        buffers["slide"].ctypes.data_as(_i32_p),
     )
 
 
-def _history_arrays(buffers: dict[str, np.ndarray], n: int, state) -> dict[str, np.ndarray]:
+def _history_arrays(buffers: dict[str, np.ndarray], n: int, state, friction: bool) -> dict[str, np.ndarray]:
+    """The history's columns: ``t``, the state, ``phase``, ``ag``; on a floor with friction (``friction``: a
+    finite ``mu_s``, as the NumPy back end's ``SLIP_COLUMNS``) also :data:`FLOOR_COLUMNS` and ``slide`` (the slip's
+    sign: 0 stuck, +1 / -1 sliding)."""
     history = {"t": buffers["t"][:n].copy()}
     for i, name in enumerate(state):
         history[name] = buffers["y"][:n, i].copy()
     history["phase"] = buffers["phase"][:n].astype(int)
     history["ag"] = buffers["ag"][:n].copy()
+    if friction:
+        for i, name in enumerate(FLOOR_COLUMNS):
+            history[name] = buffers["floor"][:n, i].copy()
+        history["slide"] = buffers["slide"][:n].astype(int)
     return history
 
 

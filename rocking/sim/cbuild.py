@@ -209,6 +209,7 @@ def _sources(model, csrc: Path) -> dict[str, Path]:
         "sim.c": csrc / "sim.c",
         "sim.h": csrc / "sim.h",
         "boundary.h": csrc / "boundary.h",
+        "phases.h": csrc / "phases.h",
         model.c_source.name: model.c_source,
         model.c_header.name: model.c_header,
     }

@@ -87,6 +87,8 @@ NO_LIFT = "no lift"
 SLIP, STOP, LIFT_OFF = "slip", "stop", "lift-off"
 #: What a history holds after the state on a floor with friction: the slip [m], its speed [m/s], its direction.
 SLIP_COLUMNS = ("u", "du", "slide")
+#: A sliding base's uplift margin below this fraction of the weight's moment about the corner is rounding.
+SLIDE_UPLIFT_ROUNDING = 64 * np.finfo(float).eps
 
 #: Terminal events of the end stops (rule 6): a side's bumper starts pushing (its gap closes, or a released
 #: pad's force turns positive again), or stops (its force falls to 0, or the gap opens).
@@ -227,6 +229,12 @@ class _System:
         # A floor with friction (docs/model.md section 15): mu_s = inf keeps the contact stuck, as the paper's.
         self.mu_s, self.mu_k = float(problem.mu_s), float(problem.mu_k)
         self.friction = math.isfinite(self.mu_s)
+        # Where mu_k = tan(alpha_s) a sliding base's uplift margin is 0 up to rounding for as long as it slides: a
+        # margin within rounding of the weight's moment about the corner is no uplift (docs/simulation.md).
+        zeros = np.zeros(2 * self.n)
+        self.slide_uplift_floor = {
+            s: SLIDE_UPLIFT_ROUNDING * abs(float(self._call("uplift", s, zeros, 0.0))) for s in (1, -1)
+        }
 
     def _safe_energy(self) -> float | None:
         """The early rest's bound: the least energy above rest at which the attached bodies can lift the block,
@@ -579,7 +587,8 @@ class _System:
         turns positive (``agy``: the vertical ground acceleration; ``sigma``: the direction of the base's slip,
         0 when it sticks)."""
         if sigma:
-            return float(self._friction("slide_uplift", s, y, ag, stop_on, agy, self.mu_k * sigma))
+            margin = float(self._friction("slide_uplift", s, y, ag, stop_on, agy, self.mu_k * sigma))
+            return margin - self.slide_uplift_floor[s]
         return float(self._call("uplift", s, y, ag, self.regime(stop_on), agy=agy))
 
     def critical_angle(self, s: int, y: np.ndarray, ag: float) -> float:
@@ -929,7 +938,7 @@ class _Segment:
 
 def lift_off_step(
     rhs: StateFunction,
-    s: int,
+    started: Callable[[np.ndarray], bool],
     t0: float,
     y0: np.ndarray,
     t_bound: float,
@@ -937,7 +946,8 @@ def lift_off_step(
     work: _Work | None = None,
     **options,
 ) -> float | None:
-    """A first step after which the block has risen: ``s theta > 0`` at its end.
+    """A first step after which the phase has begun: the block has risen (``s theta > 0``) from ``theta = 0``,
+    the slip has grown (``sign(du) du > 0``) from ``du = 0``.
 
     Tries ``first_step`` (``None``: SciPy's own, Hairer's heuristic), then ten
     times shorter each time, down to SciPy's smallest step (10 ulps of ``t0``).
@@ -946,11 +956,11 @@ def lift_off_step(
     Parameters
     ----------
     rhs : callable
-        Right-hand side of the rocking phase about ``s``.
-    s : int
-        The pivot.
+        Right-hand side of the phase.
+    started : callable
+        Whether the phase has begun at the state at a step's end.
     t0, y0 : float, ndarray
-        Start of the phase (``theta = 0``).
+        Start of the phase.
     t_bound : float
         End of the segment.
     first_step : float or None
@@ -976,11 +986,23 @@ def lift_off_step(
         if work is not None and not repeat:
             work.add(probe.nfev - 1)
         repeat = False
-        if s * probe.y[0] > 0.0:
+        if started(probe.y):
             return probe.step_size
         first_step = 0.1 * probe.step_size
         if first_step < 10 * (np.nextafter(t0, np.inf) - t0):
             return None
+
+
+def _started(phase: int, sigma: int, y0: np.ndarray, n: int) -> Callable[[np.ndarray], bool]:
+    """Whether a phase that starts at ``y0`` has begun at ``y``: what starts at 0 has moved its way, ``theta``
+    about the pivot ``phase``, the slip ``du`` in its direction ``sigma``."""
+    rising = phase != CONTACT and y0[0] == 0.0
+    slipping = sigma != 0 and y0[2 * n + 1] == 0.0
+
+    def started(y: np.ndarray) -> bool:
+        return (not rising or phase * y[0] > 0.0) and (not slipping or sigma * y[2 * n + 1] > 0.0)
+
+    return started
 
 
 def after_gap(system: _System, event: _Event, dense: OdeSolution, t: float, y: np.ndarray):
@@ -1124,12 +1146,14 @@ def integrate_segment(
         first_step = min(first_step, t_bound - t0)
     sol = solve(first_step)
     fired = [e for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
-    if [e.name for e in fired] == [IMPACT] and sol.t[-1] == t0:
-        # A phase from theta = 0 whose first step ends with s theta <= 0: solve_ivp
-        # sees "s theta falls to 0" at the start (Brent returns the bracket's end
-        # where the function is exactly 0). Either the step was too long to see the
-        # block rise and fall back, or it does not rise at all (a grazing uplift).
-        first_step = lift_off_step(plain_rhs, phase, t0, y0, t_bound, first_step, work, **options)
+    if [e.name for e in fired] in ([IMPACT], [STOP]) and sol.t[-1] == t0:
+        # A phase from theta = 0 whose first step ends with s theta <= 0 (from du = 0, sign(du) du <= 0):
+        # solve_ivp sees "s theta falls to 0" at the start (Brent returns the bracket's end where the
+        # function is exactly 0). Either the step was too long to see the block rise and fall back (the slip
+        # grow and stop), or it does not rise at all (a grazing uplift).
+        first_step = lift_off_step(
+            plain_rhs, _started(phase, sigma, y0, n), t0, y0, t_bound, first_step, work, **options
+        )
         if first_step is None:
             return _Segment(
                 t=t0, y=np.array(y0[: 2 * n]), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, slip=tuple(slip)
@@ -1816,8 +1840,33 @@ def finish(run: _Run, status: str) -> Response:
         u_max=max(tally.u_max, abs(run.u)),
         u_end=run.u,
         slides=tally.slides,
-        history=run.history.as_dict(run.problem) if run.history is not None else None,
+        history=floor_forces(run.system, run.history.as_dict(run.problem)) if run.history is not None else None,
     )
+
+
+def floor_forces(system: _System, history: dict) -> dict:
+    """``history`` with the floor's normal force ``N`` and tangential force ``F`` on the block [N] at each row,
+    on a floor with friction (as sim.c records them): the stuck phase's from its force function, the sliding
+    one's ``N`` from its accelerations and ``F = -mu_k slide N``."""
+    if not system.friction:
+        return history
+    t_p, n = system.problem.t_p, system.n
+    normal, tangential = np.empty(len(history["t"])), np.empty(len(history["t"]))
+    names = system.problem.model.state
+    for i, t in enumerate(history["t"]):
+        y = np.array([history[name][i] for name in names])
+        phase, sigma, on = int(history["phase"][i]), int(history["slide"][i]), t < t_p
+        ag, agy = history["ag"][i], system.vertical(on, t)(t)
+        regime = tuple(system.stop_contact(j, y) > 0.0 for j in range(system.n_stops))
+        if sigma:
+            normal[i] = float(system.slide_accel(phase, sigma, y, ag, regime, agy)[n + 1])
+            tangential[i] = -system.mu_k * sigma * normal[i]
+        else:
+            force = system.floor_force(phase, y, ag, regime, agy)
+            tangential[i], normal[i] = float(force[0]), float(force[1])
+    columns = {**history, "N": normal, "F": tangential}
+    # The order of sim.c's histories (c_backend.FLOOR_COLUMNS): the state, phase and ag, then the floor's.
+    return {k: columns[k] for k in ("t", *names, "phase", "ag", "u", "du", "N", "F", "slide")}
 
 
 def simulate(problem: Problem, record: bool = False) -> Response:

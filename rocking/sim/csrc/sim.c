@@ -35,10 +35,29 @@
 #include ROCKING_MODEL_HEADER
 #endif
 
+#include "phases.h"
 #include "sim.h"
 
 #define NQ MODEL_NQ
 #define NY MODEL_NY
+/* The state a run carries: (q, dq), and on a model with friction the slip u = y[NY] and its speed
+ * du = y[NY + 1] (docs/model.md section 15). A stuck phase integrates the first NY components alone, with
+ * the operations of a model without friction; a sliding phase all NS. */
+#ifdef MODEL_FRICTION
+#define NS (NY + 2)
+#else
+#define NS NY
+#endif
+
+/* Inline a function into every caller, so that each copy knows its constant arguments (the number of
+ * components a stepper integrates); and keep one out of line (the stepper, as one function for its stages). */
+#if defined(__GNUC__) || defined(__clang__)
+#define ALWAYS_INLINE inline __attribute__((always_inline))
+#define NOINLINE __attribute__((noinline))
+#else
+#define ALWAYS_INLINE inline
+#define NOINLINE
+#endif
 
 /* pi and pi/2: M_PI is not C99. */
 #define PI 3.14159265358979323846
@@ -293,6 +312,10 @@ static double vertical_at(const rocking_case *c, double t)
 typedef struct ode {
     const constants *k; /* of the model's parameters */
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
+    int sigma;       /* 0: the contact sticks; +1 / -1: it slides, du of that sign */
+    int ny;          /* the components integrated: NY stuck, NS sliding */
+    double mu_slip;  /* mu_k sigma: the friction force on the block is -mu_slip N */
+    double on[2 * MAX_STOP_SIDES]; /* the regime's inputs of the friction functions (regime_inputs) */
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
     int pulse_on;    /* the segment lies in [0, t_p] */
     int vertical;    /* pulse_on and the motion has a vertical component */
@@ -365,9 +388,49 @@ static void ode_rhs_vertical(ode *o, double t, const double *y, double *dy)
     memcpy(dy, y + NQ, NQ * sizeof *dy);
 }
 
-/* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
-static void ode_rhs(ode *o, double t, const double *y, double *dy)
+#ifdef MODEL_FRICTION
+/* The regime's inputs of the friction functions: NULL without stops (they read none). */
+static const double *friction_on(const ode *o)
 {
+    return MODEL_NSTOPS > 0 ? o->on : NULL;
+}
+
+/* The vertical ground acceleration of the segment at t (0 without one). */
+static double ode_agy(const ode *o, double t)
+{
+    return o->vertical ? vertical_in(o->c, o->piece, t) : 0.0;
+}
+
+/* The accelerations of a sliding phase, then ddu and the floor's normal force N, into out[NQ + 2]. */
+static void slide_accel(ode *o, double t, const double *y, double *out)
+{
+    const double ag = ode_ag(o, t), agy = ode_agy(o, t);
+    if (o->phase == 0)
+        model_contact_slide_accel(1.0, y, ag, agy, o->k->p, friction_on(o), o->mu_slip, out);
+    else
+        model_slide_accel((double)o->phase, y, ag, agy, o->k->p, friction_on(o), o->mu_slip, out);
+}
+
+/* The right-hand side of a sliding phase: y' = (dq, ddq, du, ddu), NS components. */
+static void ode_rhs_slide(ode *o, double t, const double *y, double *dy)
+{
+    double out[NQ + 2];
+    slide_accel(o, t, y, out);
+    memcpy(dy, y + NQ, NQ * sizeof *dy);
+    memcpy(dy + NQ, out, NQ * sizeof *dy);
+    dy[NY] = y[NY + 1];
+    dy[NY + 1] = out[NQ];
+}
+#endif
+
+/* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
+static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
+{
+#ifdef MODEL_FRICTION
+    if (o->sigma != 0)
+        ode_rhs_slide(o, t, y, dy);
+    else
+#endif
     if (o->vertical)
         ode_rhs_vertical(o, t, y, dy);
     else
@@ -420,15 +483,18 @@ static const double RK_D[STAGES] = {-12715105075.0 / 11282082432.0,  0.0,
 
 typedef struct tolerance {
     double rtol;
-    const double *atol; /* NY values */
+    const double *atol; /* NS values */
 } tolerance;
 
+/* The integrator's state. It integrates the first n components (NY or NS); y and y_old hold all NS, the
+ * others constant (a stuck contact's u and du = 0), so that the whole state reads from it. */
 typedef struct dopri {
-    double t, y[NY], f[NY]; /* current point; f = rhs(t, y) */
+    int n;
+    double t, y[NS], f[NS]; /* current point; f = rhs(t, y) */
     double t_old, h;        /* the last accepted step: [t_old, t], h = t - t_old */
-    double y_old[NY];
-    double k[STAGES][NY];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
-    double dense[5][NY];    /* its continuous extension, once dense_ready */
+    double y_old[NS];
+    double k[STAGES][NS];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
+    double dense[5][NS];    /* its continuous extension, once dense_ready */
     int dense_ready;
     double h_next; /* proposed size of the next step */
     int64_t evaluations; /* of the right-hand side, over the whole run (rule 5) */
@@ -457,40 +523,42 @@ static int below_min_step(double h, double t)
     return h <= 16.0 * DBL_EPSILON * fabs(t) && h < min_step_at(t);
 }
 
-/* RMS norm of v / scale (Hairer's norm). */
-static double rms_ratio(const double *v, const double *scale)
+/* RMS norm of v / scale over n components (Hairer's norm). */
+static inline double rms_ratio(const double *v, const double *scale, int n)
 {
     double sum = 0.0;
     int i;
-    for (i = 0; i < NY; ++i) {
+    for (i = 0; i < n; ++i) {
         const double r = v[i] / scale[i];
         sum += r * r;
     }
-    return sqrt(sum / NY);
+    return sqrt(sum / n);
 }
 
-/* Hairer's initial step heuristic (SciPy's select_initial_step): a step whose
- * explicit Euler error estimate would be about 1 % of the tolerance. */
-static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0,
-                           double span)
+/* Hairer's initial step heuristic (SciPy's select_initial_step) over the first n components (a constant of
+ * each copy): a step whose explicit Euler error estimate would be about 1 % of the tolerance. */
+static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double t0, const double *y0,
+                                            const double *f0, double span, int n)
 {
-    double scale[NY], y1[NY], f1[NY], df[NY];
+    double scale[NS], y1[NS], f1[NS], df[NS];
     double d0, d1, d2, h0, h1;
     int i;
     if (span <= 0.0)
         return 0.0;
-    for (i = 0; i < NY; ++i)
+    for (i = 0; i < n; ++i)
         scale[i] = tol->atol[i] + tol->rtol * fabs(y0[i]);
-    d0 = rms_ratio(y0, scale);
-    d1 = rms_ratio(f0, scale);
+    d0 = rms_ratio(y0, scale, n);
+    d1 = rms_ratio(f0, scale, n);
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     h0 = fmin(h0, span);
-    for (i = 0; i < NY; ++i)
+    for (i = n; i < NS; ++i) /* the components not integrated, constant */
+        y1[i] = y0[i];
+    for (i = 0; i < n; ++i)
         y1[i] = y0[i] + h0 * f0[i];
     ode_rhs(o, t0 + h0, y1, f1);
-    for (i = 0; i < NY; ++i)
+    for (i = 0; i < n; ++i)
         df[i] = f1[i] - f0[i];
-    d2 = rms_ratio(df, scale) / h0;
+    d2 = rms_ratio(df, scale, n) / h0;
     if (d1 <= 1e-15 && d2 <= 1e-15)
         h1 = fmax(1e-6, h0 * 1e-3);
     else
@@ -498,13 +566,25 @@ static double initial_step(ode *o, const tolerance *tol, double t0, const double
     return fmin(fmin(100.0 * h0, h1), span);
 }
 
+/* initial_step_of the components the segment integrates. */
+static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0, double span)
+{
+#ifdef MODEL_FRICTION
+    if (o->ny == NS)
+        return initial_step_of(o, tol, t0, y0, f0, span, NS);
+#endif
+    return initial_step_of(o, tol, t0, y0, f0, span, NY);
+}
+
 /* Start integrating at (t, y): f and the first step size, h_first if > 0,
  * else by Hairer's heuristic. */
 static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const double *y, double t_bound,
                         double h_first)
 {
+    d->n = o->ny;
     d->t = t;
     memcpy(d->y, y, sizeof d->y);
+    memcpy(d->y_old, y, sizeof d->y_old); /* its components not integrated stay */
     ode_rhs(o, t, y, d->f);
     /* initial_step evaluates the right-hand side once, unless the span is empty. */
     d->evaluations += (h_first > 0.0 || !(t_bound - t > 0.0)) ? 1 : 2;
@@ -519,24 +599,26 @@ static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const 
  * the stages, each inlined call keeps the components in vector registers and
  * loads each weight once (with the stages inside the components' loop, gcc
  * loaded them again for every pair of components). */
-static inline void combine_stages(const double (*k)[NY], const double *w, int n, double *acc)
+static inline void combine_stages(const double (*k)[NS], const double *w, int n, double *acc, int ny)
 {
     int i, j;
-    for (i = 0; i < NY; ++i)
+    for (i = 0; i < ny; ++i)
         acc[i] = 0.0 + w[0] * k[0][i];
 #pragma GCC unroll 8
     for (j = 1; j < n; ++j)
-        for (i = 0; i < NY; ++i)
+        for (i = 0; i < ny; ++i)
             acc[i] += w[j] * k[j][i];
 }
 
-/* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the ground
- * moves vertically, else whether the pulse acts and whether in full contact. */
-enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING };
+/* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the contact slides,
+ * whether the ground moves vertically, else whether the pulse acts and whether in full contact. */
+enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING, ODE_SLIDE };
 
 /* The right-hand side of the ode o's segment (enum above). */
 static int ode_rhs_kind(const ode *o)
 {
+    if (o->sigma != 0)
+        return ODE_SLIDE;
     if (o->vertical)
         return ODE_VERTICAL;
     if (o->pulse_on)
@@ -546,14 +628,20 @@ static int ode_rhs_kind(const ode *o)
 
 /* Stage s (1..6) of a step of size h: its point into y, f there into d->k[s]. rhs (ode_rhs_kind) is
  * a constant of each inlined copy: the stages of a step test the segment's kind once. */
-static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
+static ALWAYS_INLINE void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
-    double acc[NY];
+    double acc[NS];
     const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
+    const int ny = rhs == ODE_SLIDE ? NS : NY;
     int i;
-    combine_stages((const double(*)[NY])d->k, RK_A[s], s, acc);
-    for (i = 0; i < NY; ++i)
+    combine_stages((const double(*)[NS])d->k, RK_A[s], s, acc, ny);
+    for (i = 0; i < ny; ++i)
         y[i] = d->y[i] + h * acc[i];
+#ifdef MODEL_FRICTION
+    if (rhs == ODE_SLIDE)
+        ode_rhs_slide(o, t, y, d->k[s]);
+    else
+#endif
     if (rhs == ODE_VERTICAL)
         ode_rhs_vertical(o, t, y, d->k[s]);
     else
@@ -564,9 +652,9 @@ static inline void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, 
 /* The stages of a step of size h from d->t, into d->k; the new state into y_new.
  * Written out stage by stage (the coefficients stay in the tableau): each
  * combination then has a constant length the compiler can specialise. */
-static inline void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
+static ALWAYS_INLINE void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
-    memcpy(d->k[0], d->f, sizeof d->f);
+    memcpy(d->k[0], d->f, (rhs == ODE_SLIDE ? NS : NY) * sizeof *d->f);
     dopri_stage(d, o, 1, h, t_new, y_new, rhs);
     dopri_stage(d, o, 2, h, t_new, y_new, rhs);
     dopri_stage(d, o, 3, h, t_new, y_new, rhs);
@@ -576,7 +664,7 @@ static inline void dopri_stages_of(dopri *d, ode *o, double h, double t_new, dou
     /* The last stage was evaluated at the 5th-order solution: y_new holds it. */
 }
 
-static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
+static ALWAYS_INLINE void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new)
 {
     switch (o->rhs) {
     case ODE_VERTICAL:
@@ -597,24 +685,25 @@ static void dopri_stages(dopri *d, ode *o, double h, double t_new, double *y_new
     }
 }
 
-static double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new)
+static inline double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new, int ny)
 {
-    double err[NY], scale[NY];
+    double err[NS], scale[NS];
     int i;
-    combine_stages((const double(*)[NY])d->k, RK_E, STAGES, err);
-    for (i = 0; i < NY; ++i) {
+    combine_stages((const double(*)[NS])d->k, RK_E, STAGES, err, ny);
+    for (i = 0; i < ny; ++i) {
         const double a = fabs(d->y[i]), b = fabs(y_new[i]);
         err[i] *= h;
         scale[i] = tol->atol[i] + tol->rtol * (a > b ? a : b);
     }
-    return rms_ratio(err, scale);
+    return rms_ratio(err, scale, ny);
 }
 
-/* One accepted step towards t_bound, at most max_step long. Returns 0, or -1
- * when the error cannot be controlled above the smallest step. */
-static int dopri_step(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+/* One accepted step of the first ny components (a constant of each copy) towards t_bound, at most
+ * max_step long. Returns 0, or -1 when the error cannot be controlled above the smallest step. */
+static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step,
+                                       int ny)
 {
-    double y_new[NY];
+    double y_new[NS];
     double h = min2(d->h_next, max_step);
     int rejected = 0;
     if (!(h > 0.0) || below_min_step(h, d->t)) /* NaN included */
@@ -624,9 +713,14 @@ static int dopri_step(dopri *d, ode *o, const tolerance *tol, double t_bound, do
         if (t_new > t_bound)
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
-        dopri_stages(d, o, h, t_new, y_new);
+#ifdef MODEL_FRICTION
+        if (ny == NS)
+            dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
+        else
+#endif
+            dopri_stages(d, o, h, t_new, y_new);
         d->evaluations += STAGES - 1;
-        err = dopri_error(d, tol, h, y_new);
+        err = dopri_error(d, tol, h, y_new, ny);
         if (err < 1.0) {
             /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
             double factor =
@@ -635,10 +729,10 @@ static int dopri_step(dopri *d, ode *o, const tolerance *tol, double t_bound, do
                 factor = min2(1.0, factor);
             d->t_old = d->t;
             d->h = h;
-            memcpy(d->y_old, d->y, sizeof d->y);
+            memcpy(d->y_old, d->y, ny * sizeof *d->y);
             d->t = t_new;
-            memcpy(d->y, y_new, sizeof y_new);
-            memcpy(d->f, d->k[STAGES - 1], sizeof d->f);
+            memcpy(d->y, y_new, ny * sizeof *y_new);
+            memcpy(d->f, d->k[STAGES - 1], ny * sizeof *d->f);
             d->dense_ready = 0;
             d->h_next = h * factor;
             return 0;
@@ -649,6 +743,36 @@ static int dopri_step(dopri *d, ode *o, const tolerance *tol, double t_bound, do
         if (!(h > 0.0) || below_min_step(h, d->t))
             return -1;
     }
+}
+
+/* One accepted step (dopri_step_of) of a stuck contact's NY components. Its own function: with the sliding
+ * copy in the same one, gcc compiled this one to 20 % more instructions on the bench map. */
+static NOINLINE int dopri_step_stuck(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NY);
+}
+
+#ifdef MODEL_FRICTION
+/* One accepted step (dopri_step_of) of a sliding contact's NS components. */
+static NOINLINE int dopri_step_slide(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NS);
+}
+#endif
+
+/* A stepper: dopri_step_stuck or dopri_step_slide, chosen once per segment (dopri_stepper). */
+typedef int (*dopri_step_fn)(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step);
+
+/* The stepper of the components d integrates. */
+static dopri_step_fn dopri_stepper(const dopri *d)
+{
+#ifdef MODEL_FRICTION
+    if (d->n == NS)
+        return dopri_step_slide;
+#else
+    (void)d;
+#endif
+    return dopri_step_stuck;
 }
 
 /* Take back the last accepted step and propose h_next instead. */
@@ -662,16 +786,13 @@ static void dopri_undo(dopri *d, double h_next)
     d->h_next = h_next;
 }
 
-/* Coefficients of the continuous extension, computed only for the steps that
- * need it (an event to locate, a sample to record). */
-static void dopri_prepare_dense(dopri *d)
+/* Coefficients of the continuous extension of the first ny components (dopri_prepare_dense). */
+static ALWAYS_INLINE void dopri_prepare_dense_of(dopri *d, int ny)
 {
-    double sum[NY];
+    double sum[NS];
     int i;
-    if (d->dense_ready)
-        return;
-    combine_stages((const double(*)[NY])d->k, RK_D, STAGES, sum);
-    for (i = 0; i < NY; ++i) {
+    combine_stages((const double(*)[NS])d->k, RK_D, STAGES, sum, ny);
+    for (i = 0; i < ny; ++i) {
         const double dy = d->y[i] - d->y_old[i];
         const double bspl = d->h * d->k[0][i] - dy;
         d->dense[0][i] = d->y_old[i];
@@ -680,6 +801,20 @@ static void dopri_prepare_dense(dopri *d)
         d->dense[3][i] = dy - d->h * d->k[STAGES - 1][i] - bspl;
         d->dense[4][i] = d->h * sum[i];
     }
+}
+
+/* Coefficients of the continuous extension, computed only for the steps that
+ * need it (an event to locate, a sample to record). */
+static void dopri_prepare_dense(dopri *d)
+{
+    if (d->dense_ready)
+        return;
+#ifdef MODEL_FRICTION
+    if (d->n == NS)
+        dopri_prepare_dense_of(d, NS);
+    else
+#endif
+        dopri_prepare_dense_of(d, NY);
     d->dense_ready = 1;
 }
 
@@ -735,19 +870,31 @@ static double dopri_dense_bound(const dopri *d, int i)
     return b * (1.0 + 16.0 * DBL_EPSILON);
 }
 
-/* The whole state on the dense output: dopri_dense1 of every component, its set-up once. */
+/* The first ny components of the dense output at th (dopri_dense). */
+static ALWAYS_INLINE void dopri_dense_of(const dopri *d, double th, double *y, int ny)
+{
+    int i;
+    for (i = 0; i < ny; ++i)
+        y[i] = dense_at(d, th, 1.0 - th, i);
+}
+
+/* The state on the dense output: dopri_dense1 of every integrated component, its set-up once; the others,
+ * constant over the step, are left in y as they are (the whole state at the step's end). */
 static void dopri_dense(dopri *d, double t, double *y)
 {
     double th;
-    int i;
     if (t == d->t) {
         memcpy(y, d->y, sizeof d->y);
         return;
     }
     dopri_prepare_dense(d);
     th = (t - d->t_old) / d->h;
-    for (i = 0; i < NY; ++i)
-        y[i] = dense_at(d, th, 1.0 - th, i);
+#ifdef MODEL_FRICTION
+    if (d->n == NS)
+        dopri_dense_of(d, th, y, NS);
+    else
+#endif
+        dopri_dense_of(d, th, y, NY);
 }
 
 /* ------------------------------------------------------------------------ */
@@ -765,6 +912,11 @@ enum event_kind {
     EV_THETA_PEAK,     /* rocking: dtheta changes sign (theta_max) */
     EV_X_PEAK,         /* any phase, with a damper: dq[1] changes sign (x_max) */
     EV_SETTLED,        /* contact once safe: dq[1] changes sign, the last extremum (ends the run) */
+    EV_SLIP,           /* stuck, finite mu_s: mu_s N - |F| falls from > 0 to 0 */
+    EV_STOP,           /* sliding: sigma du falls from > 0 to 0 */
+    EV_LIFT_OFF,       /* finite mu_s: the floor's normal force N falls from > 0 to 0 */
+    EV_SLIDE_UPLIFT_A, /* contact, sliding: u_{+1} with the friction force turns positive */
+    EV_SLIDE_UPLIFT_A_PRIME, /* contact, sliding: u_{-1} with the friction force turns positive */
     EV_GAP_CLOSE,      /* any phase: the contact of a stop side that does not push turns positive (one kind per side) */
     EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side that pushes falls to 0 */
     N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
@@ -799,6 +951,11 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {0, 1, 0, NQ, 0, 0.0},                  /* EV_THETA_PEAK:     sign change */
     {0, 1, 0, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_X_PEAK:        sign change */
     {0, 1, 1, NQ > 1 ? NQ + 1 : -1, 0, 0.0}, /* EV_SETTLED:       sign change */
+    {-1, 1, 1, -1, 0, 0.0},                 /* EV_SLIP:           g > 0   ->  g <= 0 */
+    {-1, 1, 1, -1, 0, 0.0},                 /* EV_STOP:           g > 0   ->  g <= 0 */
+    {-1, 1, 1, -1, 0, 0.0},                 /* EV_LIFT_OFF:       g > 0   ->  g <= 0 */
+    {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A: g <= 0  ->  g > 0 */
+    {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A_PRIME */
     /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
     {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
@@ -857,6 +1014,10 @@ typedef struct event_ctx {
     double energy_zero; /* E(0), the energy of the rest state */
     double energy_rest; /* the rest threshold on E(y) - E(0) */
     double energy_safe; /* below it the block can never uplift again; NaN: no bound (rule 4) */
+    double mu_s;        /* the floor's static friction (inf: the contact never slips) */
+    /* Per pivot (s = +1, -1), the least sliding base's uplift margin that is no rounding: SLIDE_UPLIFT_ROUNDING
+     * times the weight's moment about the corner (mu_k = tan alpha keeps the margin at 0 while it slides). */
+    double slide_uplift_floor[2];
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
 } event_ctx;
 
@@ -879,15 +1040,68 @@ static double critical_event(const event_ctx *ec, const double *y, double ag)
     return s * y[0] - s * model_critical_angle_prepared(y, ag, about(ec->o->k, s));
 }
 
+#ifdef MODEL_FRICTION
+/* The floor's force on the block's contact at (t, y) in the segment's phase, (F, N) into fn: what the stuck
+ * contact must hold, or the sliding one's -mu_slip N and N (phases.py, each phase's force). */
+static void floor_force(ode *o, double t, const double *y, double *fn)
+{
+    const double ag = ode_ag(o, t), agy = ode_agy(o, t);
+    if (o->sigma != 0) {
+        double out[NQ + 2];
+        slide_accel(o, t, y, out);
+        fn[1] = out[NQ + 1];
+        fn[0] = -o->mu_slip * fn[1];
+    } else if (o->phase == 0) {
+        model_contact_stick_force(1.0, y, ag, agy, o->k->p, friction_on(o), fn);
+    } else {
+        model_stick_force((double)o->phase, y, ag, agy, o->k->p, friction_on(o), fn);
+    }
+}
+#endif
+
+/* The uplift function about s at (t, y). */
+static inline double uplift_event(const event_ctx *ec, double s, double t, const double *y)
+{
+    double at_gravity[NK];
+    return model_uplift_prepared(y, ode_ag(ec->o, t), gravity_constants(ec->o, s, t, at_gravity));
+}
+
+#ifdef MODEL_FRICTION
+/* The uplift function about s at (t, y) of a sliding base, written with its friction force, less the rounding
+ * of the weight's moment (ec->slide_uplift_floor, as numpy_backend's). */
+static double slide_uplift_event(const event_ctx *ec, double s, double t, const double *y)
+{
+    return model_slide_uplift(s, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p, friction_on(ec->o),
+                              ec->o->mu_slip) -
+           ec->slide_uplift_floor[s < 0.0];
+}
+#endif
+
 /* g of an event that is a function of the model. */
 static double model_event(const event_ctx *ec, int kind, double t, const double *y)
 {
-    double at_gravity[NK];
+#ifdef MODEL_FRICTION
+    double fn[2];
+#endif
     switch (kind) {
     case EV_UPLIFT_A:
-        return model_uplift_prepared(y, ode_ag(ec->o, t), gravity_constants(ec->o, 1.0, t, at_gravity));
+        return uplift_event(ec, 1.0, t, y);
     case EV_UPLIFT_A_PRIME:
-        return model_uplift_prepared(y, ode_ag(ec->o, t), gravity_constants(ec->o, -1.0, t, at_gravity));
+        return uplift_event(ec, -1.0, t, y);
+#ifdef MODEL_FRICTION
+    case EV_SLIP:
+        floor_force(ec->o, t, y, fn);
+        return ec->mu_s * fn[1] - fabs(fn[0]);
+    case EV_STOP:
+        return ec->o->sigma * y[NY + 1];
+    case EV_SLIDE_UPLIFT_A:
+        return slide_uplift_event(ec, 1.0, t, y);
+    case EV_SLIDE_UPLIFT_A_PRIME:
+        return slide_uplift_event(ec, -1.0, t, y);
+    case EV_LIFT_OFF:
+        floor_force(ec->o, t, y, fn);
+        return fn[1];
+#endif
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
         return (model_energy_prepared(y, 0.0, about(ec->o->k, 1.0)) - ec->energy_zero) - ec->energy_rest;
@@ -909,7 +1123,7 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
  * each right to a few ulps of its terms, which may cancel. Most steps are far
  * below the critical angle: no atan2 there. A NaN tangent (the weights'
  * centre not above the ground) fails the test. */
-static double critical_event_bound(const event_ctx *ec, double t, const double *y)
+static ALWAYS_INLINE double critical_event_bound(const event_ctx *ec, double t, const double *y)
 {
     const double s = (double)ec->o->phase, ag = ode_ag(ec->o, t);
     const double z = s * model_critical_tangent_prepared(y, ag, about(ec->o->k, s));
@@ -933,7 +1147,7 @@ static inline double event_value(const event_ctx *ec, int kind, double t, const 
 static double event_on_dense(const event_ctx *ec, dopri *d, int kind, double t)
 {
     const event_rule *e = &EVENT_RULES[kind];
-    double y[NY];
+    double y[NS];
     if (e->component >= 0)
         return component_event(component_factor(ec, e), e->offset, dopri_dense1(d, t, e->component));
     dopri_dense(d, t, y);
@@ -1024,15 +1238,33 @@ typedef struct step_events {
     double t_root[N_EVENTS];        /* by kind */
 } step_events;
 
-static void events_start(event_set *es, const event_ctx *ec, const int *active, double t, const double *y)
+/* A set of event kinds, one bit each. */
+typedef uint32_t event_mask;
+#if N_EVENTS > 32
+#error "more event kinds than an event_mask holds"
+#endif
+
+/* The least kind in a non-empty set. */
+static inline int first_event(event_mask m)
 {
-    int k;
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_ctz(m);
+#else
+    int k = 0;
+    while (!(m >> k & 1u))
+        ++k;
+    return k;
+#endif
+}
+
+/* Watch the events of the set `active`, in enum order, from (t, y). */
+static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y)
+{
     es->n = 0;
-    for (k = 0; k < N_EVENTS; ++k) {
+    for (; active != 0; active &= active - 1) {
+        const int k = first_event(active);
         const event_rule *e = &EVENT_RULES[k];
         watched *w = &es->w[es->n];
-        if (!active[k])
-            continue;
         w->kind = k;
         w->sense = e->sense;
         w->strict = e->strict;
@@ -1123,7 +1355,7 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 /* ------------------------------------------------------------------------ */
 
 /* How a segment ended, besides an event (enum event_kind). */
-enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3, SEG_MAX_STEPS = -4, SEG_STOPPED = -5 };
+enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3, SEG_MAX_STEPS = -4, SEG_STOPPED = -5, SEG_NO_SLIP = -6 };
 
 #if NQ > 1
 /* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
@@ -1142,8 +1374,13 @@ typedef struct run {
     event_ctx ec;
     dopri d;
     event_set events;
-    double t, y[NY]; /* the state between segments */
+    double t, y[NS]; /* the state between segments */
     int phase;
+    int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
+    int friction;   /* the floor's mu_s is finite: the events of friction are watched (phases.py) */
+    double atol[NS]; /* the case's, then those of u and du (simulate_one) */
+    unsigned exits[PHASE_COUNT]; /* phase_exit_events of each phase */
+    int codes[2][2];             /* phase_of each pair of constraints */
     double t_start; /* when the current rocking phase started, at theta = 0 */
     double h_first; /* first step of the next segment; 0: Hairer's heuristic */
     int early;  /* the early rest of rule 4 applies: early_rest and a positive uplift energy */
@@ -1166,10 +1403,52 @@ typedef struct run {
     /* history */
     rocking_history *hist;
     int64_t n_rec;
-    double last_t, last_y[NY];
-    int last_phase;
+    double last_t, last_y[NS];
+    int last_phase, last_sigma;
     double next_sample; /* index of the next record_dt multiple to sample */
 } run;
+
+#ifdef MODEL_FRICTION
+/* The ode of the run's phase at t outside a segment (a check at its start, a guard at its end, a sample's
+ * force): the pulse acts before t_p, as at the start of a segment. */
+static void ode_at(const run *r, double t, ode *o)
+{
+    *o = r->o;
+    o->phase = r->phase;
+    o->sigma = r->sigma;
+    o->mu_slip = r->c->mu_k * r->sigma;
+    o->pulse_on = t < r->c->t_p;
+    o->vertical = o->pulse_on && r->c->a_v != 0.0;
+    o->piece = r->c->motion == ROCKING_MOTION_SAMPLED ? pulse_piece(r->c, t) : 0.0;
+    o->memo_t = NAN;
+    o->cst = about(r->k, (double)r->phase);
+    regime_inputs(r->k, o->on);
+}
+
+/* The floor's force (F, N) on the contact at (t, y) in the run's phase (floor_force), outside a segment. */
+static void floor_force_at(const run *r, double t, const double *y, double *fn)
+{
+    ode o;
+    ode_at(r, t, &o);
+    floor_force(&o, t, y, fn);
+}
+#endif
+
+/* The floor's columns of a history sample: u, du, N, F. */
+static void record_floor(const run *r, double t, const double *y, double *out)
+{
+#ifdef MODEL_FRICTION
+    double fn[2];
+    floor_force_at(r, t, y, fn);
+    out[0] = y[NY];
+    out[1] = y[NY + 1];
+    out[2] = fn[1];
+    out[3] = fn[0];
+#else
+    (void)r, (void)t, (void)y;
+    out[0] = out[1] = out[2] = out[3] = 0.0;
+#endif
+}
 
 /* Append a history sample, unless it repeats the last one exactly (a segment
  * restarting where the previous one ended). Counts past the capacity. */
@@ -1179,8 +1458,8 @@ static void record(run *r, double t, const double *y, int phase)
     int i, same;
     if (h == NULL)
         return;
-    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase;
-    for (i = 0; same && i < NY; ++i)
+    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase && r->sigma == r->last_sigma;
+    for (i = 0; same && i < NS; ++i)
         same = y[i] == r->last_y[i];
     if (same)
         return;
@@ -1189,11 +1468,16 @@ static void record(run *r, double t, const double *y, int phase)
         memcpy(h->y + r->n_rec * NY, y, NY * sizeof *y);
         h->phase[r->n_rec] = phase;
         h->ag[r->n_rec] = pulse_at(r->c, t);
+        if (h->floor != NULL)
+            record_floor(r, t, y, h->floor + 4 * r->n_rec);
+        if (h->slide != NULL)
+            h->slide[r->n_rec] = r->sigma;
     }
     ++r->n_rec;
     r->last_t = t;
     memcpy(r->last_y, y, sizeof r->last_y);
     r->last_phase = phase;
+    r->last_sigma = r->sigma;
 }
 
 /* The least index k >= 0 whose sample time k dt is > t (history.py's
@@ -1223,9 +1507,10 @@ static int over_budget(const run *r)
 static void record_samples(run *r, double t_stop)
 {
     const double dt = r->c->record_dt;
-    double y[NY];
+    double y[NS];
     if (r->hist == NULL || !(dt > 0.0))
         return;
+    memcpy(y, r->d.y, sizeof y); /* the components not integrated */
     for (;;) {
         const double t = r->next_sample * dt;
         if (!(t < t_stop) || over_budget(r)) /* past the budget the segment is undone anyway */
@@ -1267,7 +1552,7 @@ static double bumper_force(const run *r, const double *y)
 /* bumper_force on the last step's dense output at t_old + x (t_end - t_old). */
 static double bumper_force_in_step(run *r, double t_end, double x)
 {
-    double y[NY];
+    double y[NS];
     dopri_dense(&r->d, r->d.t_old + x * (t_end - r->d.t_old), y);
     return bumper_force(r, y);
 }
@@ -1326,7 +1611,7 @@ static void step_peak(run *r, double t_end, const double *y_end)
 #endif
 
 /* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
-static void see_state(run *r, const double *y, int at_step_end)
+static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end)
 {
     r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
 #if NQ > 1
@@ -1362,34 +1647,80 @@ static void pass_event(run *r, int kind, double t)
     }
 }
 
-/* The events of docs/simulation.md for the current phase. */
-static void watched_events(const run *r, int *active)
+/* The code in the table (phases.h) of the phase with these constraints: rocking, sliding. */
+static int phase_of(int rocks, int slides)
 {
+    int i;
+    for (i = 0; i < PHASE_COUNT; ++i)
+        if (PHASES[i].rocks == rocks && PHASES[i].slides == slides)
+            return i;
+    return -1; /* not reached: the table has every pair (phases.check_table) */
+}
+
+/* The code of the phase rocking about s (0: full contact) with the slip's sign sigma (0: stuck). */
+static int phase_code(const run *r, int s, int sigma)
+{
+    return r->codes[s != 0][sigma != 0];
+}
+
+/* The events the phase `code` has exits on, one bit per event of the table (read once per run: the table is
+ * scanned once, not at every segment). */
+static unsigned phase_exit_events(int code)
+{
+    unsigned events = 0;
+    int i;
+    for (i = 0; i < PHASES[code].n_exits; ++i)
+        events |= 1u << PHASES[code].exits[i].event;
+    return events;
+}
+
+/* Where `event` under `guard` leads from the phase `code`: the first of its exits on that event whose guard is
+ * "always" or `guard`; a phase's code, an end (< 0), or PHASE_COUNT if the table has none (not reached). */
+static inline int phase_next(int code, int event, int guard)
+{
+    int i;
+    for (i = 0; i < PHASES[code].n_exits; ++i) {
+        const phase_exit *e = &PHASES[code].exits[i];
+        if (e->event == event && (e->guard == PHASE_GUARD_ALWAYS || e->guard == guard))
+            return e->to;
+    }
+    return PHASE_COUNT;
+}
+
+/* The events of docs/simulation.md for the current phase: the exits of its entry in the table (the events
+ * of friction only on a floor with finite mu_s), and the reported extrema and crossings. */
+static event_mask watched_events(const run *r)
+{
+    const unsigned exits = r->exits[phase_code(r, r->phase, r->sigma)];
+    const event_mask rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
+    const event_mask uplift = exits >> PHASE_EVENT_UPLIFT & 1u;
+    const int up = r->sigma != 0 ? EV_SLIDE_UPLIFT_A : EV_UPLIFT_A; /* the pair of either */
+    event_mask active = uplift << up | uplift << (up + 1);
     int k;
-    for (k = 0; k < N_EVENTS; ++k)
-        active[k] = 0;
-    if (r->phase == 0) {
-        active[EV_UPLIFT_A] = active[EV_UPLIFT_A_PRIME] = 1;
-        active[EV_REST] = !r->o.pulse_on;
-        active[EV_SAFE] = !r->o.pulse_on && r->early && !r->safe;
-    } else {
-        active[EV_IMPACT] = active[EV_OVERTURN] = active[EV_THETA_PEAK] = 1;
-        active[EV_CRITICAL] = isnan(r->res->t_critical);
+    active |= (event_mask)(exits >> PHASE_EVENT_IMPACT & 1u) << EV_IMPACT;
+    active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_OVERTURN;
+    active |= rest << EV_REST;
+    active |= (event_mask)(rest && r->early && !r->safe) << EV_SAFE;
+    if (r->phase != 0)
+        active |= (event_mask)1 << EV_THETA_PEAK | (event_mask)isnan(r->res->t_critical) << EV_CRITICAL;
+    if (r->friction) {
+        active |= (event_mask)(exits >> PHASE_EVENT_SLIP & 1u) << EV_SLIP;
+        active |= (event_mask)(exits >> PHASE_EVENT_STOP & 1u) << EV_STOP;
+        active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     }
     /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
-    if (r->phase == 0 && r->safe)
-        active[EV_SETTLED] = NQ > 1;
-    else
-        active[EV_X_PEAK] = NQ > 1;
+    if (NQ > 1)
+        active |= (event_mask)1 << (r->phase == 0 && r->safe ? EV_SETTLED : EV_X_PEAK);
     /* In every phase, each stop side's gap closing, or opening once its bumper acts (rule 6). */
     for (k = 0; k < MODEL_NSTOPS; ++k)
-        active[(r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k] = 1;
+        active |= (event_mask)1 << ((r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k);
+    return active;
 }
 
 /* What a segment changes in the results and the history before its end:
  * restored when the work passes max_steps inside it (rule 5). */
 typedef struct segment_start {
-    double theta_max, x_max, t_critical, bumper_force_max;
+    double theta_max, x_max, t_critical, bumper_force_max, u_max;
     int64_t n_rec;
 } segment_start;
 
@@ -1399,6 +1730,7 @@ static void segment_saved(const run *r, segment_start *saved)
     saved->x_max = r->res->x_max;
     saved->t_critical = r->res->t_critical;
     saved->bumper_force_max = r->res->bumper_force_max;
+    saved->u_max = r->res->u_max;
     saved->n_rec = r->n_rec;
 }
 
@@ -1411,11 +1743,13 @@ static int segment_undone(run *r, const segment_start *saved)
     r->res->x_max = saved->x_max;
     r->res->t_critical = saved->t_critical;
     r->res->bumper_force_max = saved->bumper_force_max;
+    r->res->u_max = saved->u_max;
     if (r->hist != NULL) {
         r->n_rec = saved->n_rec; /* its last row is the segment's start */
         r->last_t = r->t;
         memcpy(r->last_y, r->y, sizeof r->last_y);
         r->last_phase = r->phase;
+        r->last_sigma = r->sigma;
     }
     return SEG_MAX_STEPS;
 }
@@ -1428,7 +1762,7 @@ static int stop_requested(const run *r)
 
 /* Integrate the current phase from (r->t, r->y) until t_bound or a terminal
  * event; (r->t, r->y) is then the segment's end. Returns the event, or
- * SEG_BOUND, SEG_FAILED, SEG_NO_LIFT, SEG_MAX_STEPS (then (r->t, r->y) is
+ * SEG_BOUND, SEG_FAILED, SEG_NO_LIFT, SEG_NO_SLIP, SEG_MAX_STEPS (then (r->t, r->y) is
  * still the segment's start), SEG_STOPPED. */
 static int run_segment(run *r, double t_bound)
 {
@@ -1439,11 +1773,15 @@ static int run_segment(run *r, double t_bound)
     /* Rocking from theta = 0 (an uplift, an impact): s theta must turn
      * positive, or the impact event (armed by s theta > 0) would never fire. */
     int lifting = r->phase != 0 && r->y[0] == 0.0;
+    /* Sliding from du = 0 (a slip starts, reverses): sigma du must turn positive, or the stop event would
+     * never fire, and friction would push the base along. */
+    int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
+    int starting = lifting || slipping;
     /* A sampled motion while it acts: every step ends at the next sample time at
      * the latest (a kink of ag), inside the segment. ag is continuous there, so
      * the step's last stage is still the next one's first (FSAL). */
     const int sampled = r->c->motion == ROCKING_MOTION_SAMPLED && r->t < r->c->t_p;
-    int active[N_EVENTS];
+    dopri_step_fn dopri_step;
     step_events found;
     segment_start saved;
     int k;
@@ -1455,6 +1793,12 @@ static int run_segment(run *r, double t_bound)
 
     segment_saved(r, &saved);
     r->o.phase = r->phase;
+    if (r->friction) { /* else the contact sticks throughout: as simulate_one set them */
+        r->o.sigma = r->sigma;
+        r->o.ny = r->sigma != 0 ? NS : NY;
+        r->o.mu_slip = r->c->mu_k * r->sigma;
+        regime_inputs(r->k, r->o.on);
+    }
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
@@ -1464,6 +1808,7 @@ static int run_segment(run *r, double t_bound)
     if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
+    dopri_step = dopri_stepper(&r->d);
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
@@ -1471,8 +1816,7 @@ static int run_segment(run *r, double t_bound)
     /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
     r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
 #endif
-    watched_events(r, active);
-    events_start(&r->events, &r->ec, active, r->t, r->y);
+    events_start(&r->events, &r->ec, watched_events(r), r->t, r->y);
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
@@ -1488,25 +1832,28 @@ static int run_segment(run *r, double t_bound)
             return segment_undone(r, &saved);
         if (stop_requested(r))
             return SEG_STOPPED;
-        if (lifting) {
-            if (!(s * r->d.y[0] > 0.0)) {
-                /* The block fell back within the first step (or never rose):
-                 * retry shorter; if even the shortest step cannot lift it, it
-                 * does not lift (a grazing uplift). */
+        if (starting) {
+            const int lifted = !lifting || s * r->d.y[0] > 0.0;
+            if (!(lifted && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
+                /* The block fell back within the first step (or never rose), or the base did not move
+                 * in the slip's direction: retry shorter; if even the shortest step cannot lift it (slip
+                 * it), it does not lift (slip): a grazing uplift (slip). */
                 const double h = 0.1 * r->d.h;
                 if (h < min_step_at(r->d.t_old))
-                    return SEG_NO_LIFT;
+                    return lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
                 dopri_undo(&r->d, h);
                 continue;
             }
-            lifting = 0;
+            starting = 0;
         }
         events_scan(&r->events, &r->ec, &r->d, &found);
         for (k = 0; k < found.n_passed; ++k)
             pass_event(r, found.passed[k], found.t_root[found.passed[k]]);
-        record_samples(r, found.t_stop);
-        if (over_budget(r))
-            return segment_undone(r, &saved);
+        if (r->hist != NULL) {
+            record_samples(r, found.t_stop);
+            if (over_budget(r)) /* the samples count (the step was checked above) */
+                return segment_undone(r, &saved);
+        }
         if (found.terminal >= 0) {
             r->t = found.t_stop;
             dopri_dense(&r->d, r->t, r->y);
@@ -1517,6 +1864,8 @@ static int run_segment(run *r, double t_bound)
             see_state(r, r->y, 0);
             if (found.terminal == EV_IMPACT)
                 r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
+            if (found.terminal == EV_STOP)
+                r->y[NS - 1] = 0.0; /* the slip stops at du = 0 */
             return found.terminal;
         }
 #if MODEL_NSTOPS > 0
@@ -1530,9 +1879,29 @@ static int run_segment(run *r, double t_bound)
     return SEG_BOUND;
 }
 
+#ifdef MODEL_FRICTION
+/* uplift_at_start where the base slides: its uplift functions written with the friction force. */
+static int slide_uplift_at_start(const run *r)
+{
+    ode o;
+    event_ctx ec = r->ec;
+    ode_at(r, r->t, &o);
+    ec.o = &o;
+    if (slide_uplift_event(&ec, 1.0, r->t, r->y) > 0.0)
+        return 1;
+    if (slide_uplift_event(&ec, -1.0, r->t, r->y) > 0.0)
+        return -1;
+    return 0;
+}
+#endif
+
 /* Pivot whose uplift function is already positive when full contact starts, else 0. */
 static int uplift_at_start(const run *r)
 {
+#ifdef MODEL_FRICTION
+    if (r->sigma != 0)
+        return slide_uplift_at_start(r);
+#endif
     const double ag = r->t < r->c->t_p ? pulse_at(r->c, r->t) : 0.0;
     const double agy = r->t < r->c->t_p ? vertical_at(r->c, r->t) : 0.0;
     double at_gravity[2][NK];
@@ -1549,9 +1918,29 @@ static int uplift_at_start(const run *r)
     return 0;
 }
 
-static double energy_above_rest(const run *r)
+#ifdef MODEL_FRICTION
+/* The kinetic energy the slip speed adds to the energy (0 where the contact sticks). */
+static double slip_energy(const run *r)
 {
-    return model_energy_prepared(r->y, 0.0, about(r->o.k, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero;
+    if (r->y[NY + 1] != 0.0) {
+        double on[2 * MAX_STOP_SIDES];
+        regime_inputs(r->k, on);
+        return model_slip_energy(r->phase < 0 ? -1.0 : 1.0, r->y, 0.0, 0.0, r->k->p, MODEL_NSTOPS > 0 ? on : NULL,
+                                 r->y[NY + 1]);
+    }
+    return 0.0;
+}
+#endif
+
+/* The energy above rest, the slip's included. */
+static inline double energy_above_rest(const run *r)
+{
+    const double energy = model_energy_prepared(r->y, 0.0, about(r->o.k, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero;
+#ifdef MODEL_FRICTION
+    if (r->y[NY + 1] != 0.0)
+        return energy + slip_energy(r);
+#endif
+    return energy;
 }
 
 /* Settling ends before it starts: nothing to settle without attached bodies,
@@ -1732,6 +2121,11 @@ static double loaded_energy_above_rest(const run *r)
     }
     if (other) {
         constants_prepare(&loaded, r->k->p, stop_on);
+#ifdef MODEL_FRICTION
+        if (r->y[NY + 1] != 0.0)
+            return model_energy_prepared(r->y, 0.0, about(&loaded, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero +
+                   slip_energy(r);
+#endif
         return model_energy_prepared(r->y, 0.0, about(&loaded, r->phase < 0 ? -1.0 : 1.0)) - r->ec.energy_zero;
     }
 #endif
@@ -1896,37 +2290,141 @@ static void rest_snap(run *r, const double *cst)
     r->y[NQ] = 0.0;
 }
 
+/* Into the phase `to` of the table after an event, or its end (to < 0: the status): about the pivot s where
+ * it rocks, the slip's sign sigma where it slides (else the contact sticks, du = 0). A stuck contact that
+ * starts sliding is a slip episode (slip_stops counts a reversal). Returns 1 where the run ends, else 0. */
+static int enter(run *r, int to, int s, int sigma)
+{
+    if (to < 0 || to >= PHASE_COUNT) {
+        r->res->status = to == PHASE_END_OVERTURNED ? ROCKING_OVERTURNED
+                         : to == PHASE_END_REST     ? ROCKING_REST
+                         : to == PHASE_END_FLIGHT   ? ROCKING_FLIGHT
+                                                    : ROCKING_FAILED; /* not reached: the table has the exit */
+        return 1;
+    }
+    r->res->slides += PHASES[to].slides && r->sigma == 0;
+    r->phase = PHASES[to].rocks ? s : 0;
+    r->sigma = PHASES[to].slides ? sigma : 0; /* a stuck phase is entered with du = 0: a stop, a holding impact */
+    return 0;
+}
+
+#ifdef MODEL_FRICTION
+/* The impact with friction (docs/model.md section 15) about s: the velocities after it into dq and du
+ * (r->y[NY + 1]); the corner holds (returns 0) if the impulse that stops it is within mu_s P_n, else it slides
+ * through the impact against that impulse (returns the sign of du after it). */
+static int impact_friction(run *r, double s, double *dq)
+{
+    double on[2 * MAX_STOP_SIDES], stick[NQ + 3], slide[NQ + 3];
+    const double du = r->y[NY + 1];
+    const double *inputs = MODEL_NSTOPS > 0 ? on : NULL;
+    regime_inputs(r->k, on);
+    model_impact_stick(s, r->y, 0.0, 0.0, r->k->p, inputs, du, stick);
+    if (fabs(stick[NQ + 1]) <= r->c->mu_s * stick[NQ + 2]) {
+        /* From a stuck pivot the map is (I1)-(I2): the prepared one gives the bits of a floor that never slips. */
+        if (du == 0.0)
+            model_impact_prepared(r->y, ode_ag(&r->o, r->t), about(r->o.k, s), dq);
+        else
+            memcpy(dq, stick, NQ * sizeof *dq);
+        r->y[NY + 1] = 0.0;
+        return 0;
+    }
+    model_impact_slide(s, r->y, 0.0, 0.0, r->k->p, inputs, du, r->c->mu_k * (stick[NQ + 1] > 0.0 ? -1.0 : 1.0),
+                       slide);
+    memcpy(dq, slide, NQ * sizeof *dq);
+    r->y[NY + 1] = slide[NQ];
+    return (slide[NQ] > 0.0) - (slide[NQ] < 0.0);
+}
+#endif
+
 /* The impact that ends rocking about s: theta = 0 already, dq = J_s(y); the
- * block rests if the outgoing |dtheta| is below dtheta_rest. */
-static void impact(run *r)
+ * block rests if the outgoing |dtheta| is below dtheta_rest. Where the table
+ * leads (enter); returns 1 where the run ends. */
+static int impact(run *r)
 {
     double dq[NQ];
     const double s = (double)r->phase;
     const double dtheta_in = r->y[NQ];
+    const int code = phase_code(r, r->phase, r->sigma);
+    int sigma = 0, rests, ended;
 #if MODEL_NSTOPS > 0
-    double before[NY];
+    double before[NS];
     memcpy(before, r->y, sizeof before);
 #endif
-    model_impact_prepared(r->y, ode_ag(&r->o, r->t), about(r->o.k, s), dq);
+#ifdef MODEL_FRICTION
+    if (r->friction)
+        sigma = impact_friction(r, s, dq);
+    else
+#endif
+        model_impact_prepared(r->y, ode_ag(&r->o, r->t), about(r->o.k, s), dq);
     memcpy(r->y + NQ, dq, sizeof dq);
     r->res->impacts += 1;
-    if (fabs(r->y[NQ]) < r->c->dtheta_rest) {
+    rests = fabs(r->y[NQ]) < r->c->dtheta_rest;
+    if (rests) {
         rest_snap(r, about(r->o.k, -s)); /* the new pivot's mass matrix */
-        r->phase = 0;
     } else {
         /* The corner that just hit the ground is the new pivot. The next
          * half-cycle lasts about this one times |dtheta+ / dtheta-|: its first
          * step is a fraction of that (docs/simulation.md, Integration). */
         const double h = ROCKING_FIRST_STEP_FRACTION * (r->t - r->t_start) * fabs(r->y[NQ] / dtheta_in);
-        r->phase = -r->phase;
         r->h_first = isfinite(h) ? h : 0.0;
     }
+    ended = enter(r,
+                  phase_next(code, PHASE_EVENT_IMPACT,
+                             sigma != 0 ? (rests ? PHASE_GUARD_RESTS_SLIDING : PHASE_GUARD_ROCKS_SLIDING)
+                                        : (rests ? PHASE_GUARD_RESTS : PHASE_GUARD_ROCKS)),
+                  -r->phase, sigma);
 #if MODEL_NSTOPS > 0
     /* The velocities jumped: the pads' memory and regime follow the state (rule 6). */
     stop_memory_jump(r->k, before, r->y);
     stops_read(r);
 #endif
+    return ended;
 }
+
+#ifdef MODEL_FRICTION
+/* The floor's force on a contact where a segment starts: the run ends in flight where N <= 0 (lift-off); a
+ * stuck contact the floor cannot hold, |F| >= mu_s N, slips at once against F (unless check_slip is 0: a slip
+ * that could not start there). Returns 1 where the run ends, else 0. */
+static int floor_at_start(run *r, int check_slip)
+{
+    double fn[2];
+    const int code = phase_code(r, r->phase, r->sigma);
+    floor_force_at(r, r->t, r->y, fn);
+    if (fn[1] <= 0.0)
+        return enter(r, phase_next(code, PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase, 0);
+    /* At the floor's limit too: a phase that starts there (an uplift where ag crosses mu_s g as the uplift
+     * threshold, mu_s = tan alpha) holds its contact only to rounding (the slip event needs it to fall from > 0). */
+    if (check_slip && r->sigma == 0 && r->c->mu_s * fn[1] - fabs(fn[0]) <= 0.0)
+        return enter(r, phase_next(code, PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase, fn[0] > 0.0 ? -1 : 1);
+    return 0;
+}
+
+/* Where a slip ends (du = 0): the stuck phase's force decides; the contact holds if |F| <= mu_s N, else the
+ * slip reverses, against F: it stopped for an instant, the slip the other way is a new episode. Returns 1
+ * where the run ends. */
+static int slip_stops(run *r)
+{
+    double fn[2];
+    const int code = phase_code(r, r->phase, r->sigma), sigma = r->sigma;
+    r->sigma = 0;
+    floor_force_at(r, r->t, r->y, fn);
+    r->sigma = sigma;
+    r->res->slides += fabs(fn[0]) > r->c->mu_s * fn[1];
+    return enter(r,
+                 phase_next(code, PHASE_EVENT_STOP,
+                            fabs(fn[0]) <= r->c->mu_s * fn[1] ? PHASE_GUARD_HOLDS : PHASE_GUARD_SLIPS),
+                 r->phase, fn[0] > 0.0 ? -1 : 1);
+}
+
+/* Where the slip event fires: the stuck contact starts sliding against F. Returns 1 where the run ends. */
+static int slip_starts(run *r)
+{
+    double fn[2];
+    floor_force_at(r, r->t, r->y, fn);
+    return enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase,
+                 fn[0] > 0.0 ? -1 : 1);
+}
+#endif
 
 /* The first extremum of a periodic shape after t: omega_g t + phase = pi/2 + k pi
  * (the one-sine: phase psi; the one-cosine: phase pi/2). The same operations
@@ -1985,7 +2483,7 @@ static double next_extremum(const rocking_case *c, double t)
 static void phase_machine(run *r)
 {
     const rocking_case *c = r->c;
-    int skip_uplift_check = 0;
+    int skip_uplift_check = 0, skip_slip_check = 0;
     for (;;) {
         double t_bound;
         int ended;
@@ -2006,7 +2504,8 @@ static void phase_machine(run *r)
             skip_uplift_check = 0;
             if (s != 0) { /* already above a threshold: uplift at this very instant */
                 r->res->uplifts += 1;
-                r->phase = s;
+                if (enter(r, phase_next(phase_code(r, 0, r->sigma), PHASE_EVENT_UPLIFT, PHASE_GUARD_ALWAYS), s, r->sigma))
+                    return;
                 r->safe = 0;
                 if (events_exhausted(r)) {
                     r->res->status = ROCKING_MAX_EVENTS;
@@ -2014,6 +2513,20 @@ static void phase_machine(run *r)
                 }
                 continue;
             }
+        }
+#ifdef MODEL_FRICTION
+        if (r->friction) {
+            const int sigma = r->sigma;
+            if (floor_at_start(r, !skip_slip_check))
+                return;
+            skip_slip_check = 0;
+            if (r->sigma != sigma)
+                continue;
+        }
+#else
+        (void)skip_slip_check;
+#endif
+        if (r->phase == 0 && r->sigma == 0) {
             if (r->t >= c->t_p) {
                 const double energy = energy_above_rest(r);
                 /* For the bare block E(y) = E(0) in full contact: rest at once. */
@@ -2043,6 +2556,12 @@ static void phase_machine(run *r)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
         ended = run_segment(r, t_bound);
         record(r, r->t, r->y, r->phase);
+#ifdef MODEL_FRICTION
+        /* du keeps its sign in a sliding segment, so |u| is largest at one of its ends: the largest |u| at every
+         * step end (a stuck segment's u is its start's, the end of the segment before). */
+        if (r->sigma != 0)
+            r->res->u_max = max2(r->res->u_max, fabs(r->y[NY]));
+#endif
         if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
             int stop_on[MAX_STOP_SIDES];
             memcpy(stop_on, r->k->stop_on, sizeof stop_on);
@@ -2077,10 +2596,21 @@ static void phase_machine(run *r)
             r->phase = 0;
             skip_uplift_check = 1;
             break;
+        case SEG_NO_SLIP:
+            /* A grazing slip: the base cannot move against F, the contact stays stuck; not a slip episode.
+             * |F| is still barely above mu_s N: the start check would slip it again, forever. */
+            r->sigma = 0;
+            r->res->slides -= 1;
+            skip_slip_check = 1;
+            break;
         case EV_UPLIFT_A:
         case EV_UPLIFT_A_PRIME:
+        case EV_SLIDE_UPLIFT_A:
+        case EV_SLIDE_UPLIFT_A_PRIME:
             r->res->uplifts += 1;
-            r->phase = ended == EV_UPLIFT_A ? 1 : -1;
+            if (enter(r, phase_next(phase_code(r, 0, r->sigma), PHASE_EVENT_UPLIFT, PHASE_GUARD_ALWAYS), ended == EV_UPLIFT_A || ended == EV_SLIDE_UPLIFT_A ? 1 : -1,
+                      r->sigma))
+                return;
             r->safe = 0; /* not reached below the uplift energy; kept consistent if it were */
             if (events_exhausted(r)) {
                 r->res->status = ROCKING_MAX_EVENTS;
@@ -2088,7 +2618,8 @@ static void phase_machine(run *r)
             }
             break;
         case EV_IMPACT:
-            impact(r);
+            if (impact(r))
+                return;
             if (events_exhausted(r)) {
                 r->res->status = ROCKING_MAX_EVENTS;
                 return;
@@ -2101,8 +2632,23 @@ static void phase_machine(run *r)
         case EV_OVERTURN:
             r->res->overturned = 1;
             r->res->t_overturn = r->t;
-            r->res->status = ROCKING_OVERTURNED;
+            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase,
+                  r->sigma);
             return;
+#ifdef MODEL_FRICTION
+        case EV_SLIP:
+            if (slip_starts(r))
+                return;
+            break;
+        case EV_STOP:
+            if (slip_stops(r))
+                return;
+            break;
+        case EV_LIFT_OFF:
+            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase,
+                  r->sigma);
+            return;
+#endif
         case EV_REST:
         case EV_SETTLED:
             r->res->status = ROCKING_REST;
@@ -2122,10 +2668,9 @@ static int initial_state(const rocking_case *c, double *y, int *phase)
 {
     int i;
     *phase = c->phase0;
-    if (c->y0 == NULL) {
-        memset(y, 0, NY * sizeof *y);
+    memset(y, 0, NS * sizeof *y); /* a run starts with the contact stuck, u = 0 */
+    if (c->y0 == NULL)
         return *phase == 0 ? 0 : -1;
-    }
     for (i = 0; i < NY; ++i) {
         if (!isfinite(c->y0[i]))
             return -1;
@@ -2158,7 +2703,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants k;
     const double zeros[NY] = {0.0};
     const int clear[MAX_STOP_SIDES] = {0};
-    int stop_on[MAX_STOP_SIDES];
+    int stop_on[MAX_STOP_SIDES], i;
     double reach = INFINITY; /* pad_reach; no stops: no bound */
 
     out->status = ROCKING_FAILED;
@@ -2169,13 +2714,26 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     out->t_end = 0.0;
     out->stop_contacts = 0;
     out->bumper_force_max = 0.0;
-    /* The floor's slip: none, the answer of mu = inf, until this phase machine follows friction. */
     out->u_max = out->u_end = 0.0;
     out->slides = 0;
 
     r.c = c;
     r.tol.rtol = c->rtol;
-    r.tol.atol = c->atol;
+    memcpy(r.atol, c->atol, NY * sizeof *c->atol);
+#ifdef MODEL_FRICTION
+    r.atol[NY] = c->atol[0]; /* u and du: the tolerances of theta and dtheta (docs/simulation.md, "Phases") */
+    r.atol[NY + 1] = c->atol[NQ];
+    r.friction = isfinite(c->mu_s);
+#else
+    r.friction = 0;
+#endif
+    r.tol.atol = r.atol;
+    r.sigma = 0;
+    for (i = 0; i < 4; ++i) { /* without friction a run never slides: the stuck phases alone */
+        const int code = r.codes[i / 2][i % 2] = phase_of(i / 2, i % 2);
+        if (r.friction || i % 2 == 0)
+            r.exits[code] = phase_exit_events(code);
+    }
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
@@ -2183,6 +2741,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.k = &k;
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
+    r.o.sigma = 0;
+    r.o.ny = NY;
+    r.o.mu_slip = 0.0;
     r.o.pulse_on = 1;
     r.o.vertical = 0;
     r.o.rhs = ode_rhs_kind(&r.o);
@@ -2196,6 +2757,11 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_regime(&k, stop_on);
     r.ec.energy_zero = model_energy_prepared(zeros, 0.0, about(&k, 1.0));
     r.ec.energy_rest = c->energy_rest;
+    r.ec.mu_s = c->mu_s;
+    if (r.friction) { /* numpy_backend's SLIDE_UPLIFT_ROUNDING: 64 eps of the weight's moment about each corner */
+        r.ec.slide_uplift_floor[0] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, 1.0)));
+        r.ec.slide_uplift_floor[1] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, -1.0)));
+    }
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
 #if NQ > 1 && MODEL_NSTOPS > 0
@@ -2204,10 +2770,11 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     if (!isnan(reach))
         r.ec.energy_rest = fmin(c->energy_rest, reach);
 #endif
-    r.ec.energy_safe = c->early_rest ? safe_energy(&k, reach) : NAN;
+    /* The settling of rule 4 assumes a stuck contact: none on a floor that can slip. */
+    r.ec.energy_safe = c->early_rest && !r.friction ? safe_energy(&k, reach) : NAN;
     r.early = !isnan(r.ec.energy_safe);
     r.safe = 0;
-    r.verdict = c->early_verdict != 0;
+    r.verdict = c->early_verdict != 0 && !r.friction; /* the energy does not bound the slip */
     r.bound_at[0] = r.bound_at[1] = r.least_tilt_at = NAN; /* no bound yet */
 #if NQ > 1
     r.arcs_at = NAN;
@@ -2223,7 +2790,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.hist = history;
     r.n_rec = 0;
     r.last_t = 0.0;
-    r.last_phase = 0;
+    r.last_phase = r.last_sigma = 0;
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
@@ -2234,6 +2801,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
 
     phase_machine(&r);
     out->t_end = r.t;
+#ifdef MODEL_FRICTION
+    out->u_end = r.y[NY];
+#endif
     record(&r, r.t, r.y, r.phase);
     return r.n_rec;
 }

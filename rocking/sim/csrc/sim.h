@@ -48,6 +48,9 @@ typedef struct rocking_history {
     double *y;       /* [capacity * model_ny()], one state after the other */
     int32_t *phase;  /* [capacity], enum rocking_phase */
     double *ag;      /* [capacity], ground acceleration at t */
+    double *floor;   /* NULL, or [capacity * 4]: the slip u, its speed du, the floor's normal force N and
+                        tangential force F on the block (a model with friction; else zeros) */
+    int32_t *slide;  /* NULL, or [capacity]: the slip's sign sigma, 0 while the contact sticks */
 } rocking_history;
 
 /* Sizes of the model the library was built with. */
