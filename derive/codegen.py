@@ -48,7 +48,7 @@ import sympy as sp
 from sympy.printing.c import C99CodePrinter
 from sympy.printing.numpy import NumPyPrinter
 
-from . import friction
+from . import flight, friction
 from .equations import EFFECTIVE_GRAVITY, Equations
 from .mechanics import ag, agy, coordinate_units, s
 from .names import escape_c_comment, escape_markdown, escape_python_doc
@@ -62,7 +62,8 @@ TEMPLATES = Path(__file__).parent / "templates"
 #: (``regime``: the indicators, then the memory v_in of each Hunt-Crossley side), stop_approach. 7: the vertical
 #: ground acceleration ``agy`` after ``ag``; the functions that hold it as gravity read ``g + agy``.
 #: 8: the functions of a floor with friction (``friction``), each function's own ``inputs`` after the shared ones.
-MANIFEST_FORMAT = 8
+#: 9: the functions of flight and landing (``flight``).
+MANIFEST_FORMAT = 9
 
 
 @dataclass(frozen=True)
@@ -89,11 +90,12 @@ class Function:
         Whether its outputs are written with ``g`` standing for ``g + agy``
         (:class:`~rocking.derive.equations.Equations`).
     inputs : tuple of Argument
-        Its own arguments after every function's (the friction's ``mu_slip``, the slip speed ``du``).
+        Its own arguments after every function's (the friction's ``mu_slip``, the slip speed ``du``; the flying
+        corner's ``u``, ``v``, ``du``, ``dv`` and a landing's ``e_n``).
     hoisted : bool
         Whether the C back end splits it into a run's constants and the rest
-        (:func:`prepare_run`). The friction's functions are not: they read the parameters and the regime
-        of the stops directly, so that what a run without friction prepares stays as it was.
+        (:func:`prepare_run`). The functions of friction and of flight are not: they read the parameters and
+        the regime of the stops directly, so that what a run without them prepares stays as it was.
     """
 
     name: str
@@ -117,10 +119,11 @@ def _scalar(name: str, doc: str, output, symbol) -> Function:
     return Function(name, doc, (output,), ("",), (symbol,))
 
 
-def model_functions(eq: Equations, friction: bool = False) -> list[Function]:
+def model_functions(eq: Equations, friction: bool = False, flies: bool = False) -> list[Function]:
     """The generated interface of a derived model, in a fixed order: the table every back end follows.
 
-    ``friction``: the functions of a floor with friction (:func:`friction_functions`) come last.
+    ``friction``: the functions of a floor with friction (:func:`friction_functions`) come after the others;
+    ``flies``: those of flight and landing (:func:`flight_functions`) last.
     """
     sysm = eq.system
     names = [str(q) for q in sysm.q]
@@ -279,10 +282,12 @@ def model_functions(eq: Equations, friction: bool = False) -> list[Function]:
     ]
     if friction:
         table += friction_functions(eq)
+    if flies:
+        table += flight_functions(eq)
     gravity = sp.Symbol("g", real=True)
     return [
         dataclasses.replace(f, effective_gravity=any(o.has(gravity) for o in f.outputs))
-        if eq.vertical and f.name in EFFECTIVE_GRAVITY + FRICTION_GRAVITY
+        if eq.vertical and f.name in EFFECTIVE_GRAVITY + FRICTION_GRAVITY + FLIGHT_GRAVITY
         else f
         for f in table
     ]
@@ -290,6 +295,8 @@ def model_functions(eq: Equations, friction: bool = False) -> list[Function]:
 
 #: The friction's functions written with ``g`` standing for ``g + agy`` (from the accelerations and reactions).
 FRICTION_GRAVITY = ("slide_accel", "contact_slide_accel", "slide_uplift", "stick_force", "contact_stick_force")
+#: The flight's functions written so (the flight's accelerations, from the rocking ones).
+FLIGHT_GRAVITY = ("flight_accel",)
 
 
 def friction_functions(eq: Equations) -> list[Function]:
@@ -383,6 +390,114 @@ def friction_functions(eq: Equations) -> list[Function]:
             after,
             after_symbols,
             (du, mu),
+        ),
+    ]
+
+
+def flight_functions(eq: Equations) -> list[Function]:
+    """The functions of flight and landing (docs/model.md section 16, :mod:`.flight`), not hoisted.
+
+    The state of a flying block is its rocking state about a reference corner ``s`` and that corner's
+    displacement ``(u, v)`` relative to its place at rest on the ground, with the rates ``du``, ``dv``: the
+    functions take those they need as their own inputs. The restitution ``e_n`` and ``mu_slip`` of a landing too.
+    """
+    sysm = eq.system
+    names = [str(q) for q in sysm.q]
+    acc = tuple("dd" + q for q in names) + ("ddu", "ddv")
+    corner = {
+        "u": "horizontal displacement of the corner s from its place at rest on the ground [m]",
+        "v": "height of the corner s above the floor [m]",
+        "du": "horizontal velocity of the corner s relative to the ground [m/s]",
+        "dv": "vertical velocity of the corner s relative to the ground [m/s]",
+    }
+    u, v, du, dv = (Argument(name, doc) for name, doc in corner.items())
+    e_n = Argument(str(flight.e_n), "normal coefficient of restitution of the landing, in [0, 1]; 0: plastic")
+    mu = Argument(str(friction.mu_slip), "mu_k times the sign of the corner's slip: P_t = -mu_slip P_n")
+    landing = flight.landing(eq)
+    after = tuple("d" + q + "_plus" for q in names) + ("du_plus", "dv_plus", "P_t", "P_n")
+    after_symbols = tuple(_after_impact(d) for d in sysm.dq) + tuple(
+        sp.Symbol(n, real=True) for n in ("du_plus", "dv_plus", "P_t", "P_n")
+    )
+    other = ("u_o", "v_o", "du_o", "dv_o")
+    flat = flight.flat_landing(eq)
+    flat_after = after[:-1] + ("P_s", "P_o")
+    flat_symbols = after_symbols[:-1] + tuple(sp.Symbol(n, real=True) for n in ("P_s", "P_o"))
+
+    def made(name, doc, outputs, labels, symbols, inputs):
+        return Function(name, doc, tuple(outputs), labels, symbols, in_run=False, inputs=inputs, hoisted=False)
+
+    return [
+        made(
+            "flight_accel",
+            "Accelerations in flight, the block free of the floor: ddq, then ddu and ddv of the corner s (its "
+            "horizontal and vertical acceleration relative to the ground).",
+            flight.flight_accel(eq),
+            acc,
+            tuple(sysm.ddq) + tuple(sp.Symbol(n, real=True) for n in ("ddu", "ddv")),
+            (),
+        ),
+        made(
+            "corner_heights",
+            "Heights [m] above the floor of the corner s (v itself) and of the corner -s: a landing where one "
+            "reaches 0 moving down.",
+            flight.corner_heights(eq),
+            ("y_s", "y_other"),
+            tuple(sp.Symbol(n, real=True) for n in ("y_s", "y_other")),
+            (v,),
+        ),
+        made(
+            "flight_corner",
+            "The corner -s's u, v, du, dv from those of the corner s: the flying state about the other corner "
+            "(u from its own place at rest).",
+            flight.other_corner(eq),
+            other,
+            tuple(sp.Symbol(n, real=True) for n in other),
+            (u, v, du, dv),
+        ),
+        made(
+            "flight_energy",
+            "Mechanical energy [J] in the ground frame while flying: energy with the corner's velocity and height.",
+            [flight.flight_energy(eq)],
+            ("",),
+            (sp.Symbol("E", real=True),),
+            (v, du, dv),
+        ),
+        made(
+            "landing_stick",
+            "Velocities after the corner s lands and sticks (du after is 0, dv after is -e_n dv), then the floor's "
+            "impulses P_t, P_n [N s] on it; valid while |P_t| <= mu_s P_n; ag and agy are ignored.",
+            landing.stick,
+            after,
+            after_symbols,
+            (du, dv, e_n),
+        ),
+        made(
+            "landing_slide",
+            "Velocities after the corner s lands and slides, P_t = -mu_slip P_n (dv after is -e_n dv), then the "
+            "impulses P_t, P_n [N s]; ag and agy are ignored.",
+            landing.slide,
+            after,
+            after_symbols,
+            (du, dv, e_n, mu),
+        ),
+        made(
+            "flat_landing_stick",
+            "Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, "
+            "dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid "
+            "while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.",
+            flat.stick,
+            flat_after,
+            flat_symbols,
+            (du, dv, e_n),
+        ),
+        made(
+            "flat_landing_slide",
+            "Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + "
+            "P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.",
+            flat.slide,
+            flat_after,
+            flat_symbols,
+            (du, dv, e_n, mu),
         ),
     ]
 
@@ -643,7 +758,7 @@ def model_context(eq: Equations, spec) -> ModelContext:
     coordinates = tuple(str(q) for q in sysm.q)
     state = coordinates + tuple(str(d) for d in sysm.dq)
     params = tuple(str(p) for p in sysm.params)
-    functions = tuple(model_functions(eq, spec.friction))
+    functions = tuple(model_functions(eq, spec.friction, spec.flight))
     block = {p[0] for p in BLOCK_PARAMETERS}
     units = coordinate_units(spec)
     units.update({"d" + q: unit + "/s" for q, unit in units.items()})
@@ -854,6 +969,7 @@ class CGenerator(Generator):
             "n_constants": len(run.constants),
             "n_stops": len(m.stops),
             "n_regime": len(m.regime),
+            "flight": any(f.name == "flight_accel" for f in m.functions),
             "stop_floors": ", ".join(repr(side["approach_floor"]) for side in m.stops),
             "prefix": m.name,
             "PREFIX": m.name.upper(),
@@ -883,6 +999,10 @@ class LatexGenerator(Generator):
             names[dq] = r"\dot{" + sp.latex(q) + "}"
             names[ddq] = r"\ddot{" + sp.latex(q) + "}"
             names[_after_impact(dq)] = r"\dot{" + sp.latex(q) + "}^{+}"
+        for name in ("u", "v"):  # the flying corner's rates (docs/model.md section 16)
+            names[sp.Symbol("d" + name, real=True)] = rf"\dot{{{name}}}"
+            names[sp.Symbol("dd" + name, real=True)] = rf"\ddot{{{name}}}"
+            names[sp.Symbol(f"d{name}_plus", real=True)] = rf"\dot{{{name}}}^{{+}}"
         names.update({sp.Symbol(on, real=True): rf"\mathrm{{on}}_{{{i}}}" for i, on in enumerate(self.model.regime)})
         names.update(
             {
@@ -940,7 +1060,8 @@ class ManifestGenerator(Generator):
                 }
                 for f in m.functions
             },
-            "friction": any(f.inputs for f in m.functions),
+            "friction": any(f.name == "slide_accel" for f in m.functions),
+            "flight": any(f.name == "flight_accel" for f in m.functions),
             "regime": list(m.regime),
             "vertical": m.vertical,
             "stops": [dict(side) for side in m.stops],

@@ -145,6 +145,7 @@ class Spec:
     source: str = ""
     stops: tuple[Stop, ...] = ()
     friction: bool = False
+    flight: bool = False
 
     @property
     def all_parameters(self) -> tuple[Parameter, ...]:
@@ -451,14 +452,23 @@ def _impact_laws(table: dict, coords: tuple) -> dict[str, str]:
     return {c: impact[c] for c in coords}
 
 
-def _friction(table: dict) -> bool:
-    """``[ground] friction``: whether the model also gets the phases of a floor with friction (docs/model.md
-    section 15), a boolean."""
-    _check_keys(table, {"friction"}, "spec: ground")
-    value = table.get("friction", False)
-    if not isinstance(value, bool):
-        raise SpecError(f"spec: ground friction must be true or false, not {quote(str(value))}")
-    return value
+def _ground(table: dict) -> tuple[bool, bool]:
+    """``[ground] friction`` and ``flight``: whether the model also gets the phases of a floor with friction
+    (docs/model.md section 15) and those of flight and landing (section 16), two booleans.
+
+    Flight needs friction: its takeoff is where the floor's normal force of a friction phase reaches 0, and a
+    landing is an impact with friction.
+    """
+    _check_keys(table, {"friction", "flight"}, "spec: ground")
+    values = []
+    for key in ("friction", "flight"):
+        value = table.get(key, False)
+        if not isinstance(value, bool):
+            raise SpecError(f"spec: ground {key} must be true or false, not {quote(str(value))}")
+        values.append(value)
+    if values[1] and not values[0]:
+        raise SpecError("spec: ground flight = true needs friction = true (takeoff and landing are the floor's)")
+    return values[0], values[1]
 
 
 def parse_spec(data: dict, source: str = "") -> Spec:
@@ -487,6 +497,7 @@ def parse_spec(data: dict, source: str = "") -> Spec:
     known = _symbols(names)
     bodies = _bodies(data.get("bodies", []), known)
     body_names = [b.name for b in bodies]
+    ground = _ground(_table(data.get("ground", {}), "spec: ground"))
     spec = Spec(
         name=name,
         title=check_text(data.get("title", name), "spec: title", "title"),
@@ -501,7 +512,8 @@ def parse_spec(data: dict, source: str = "") -> Spec:
             _stop(i, table, body_names, coords, known)
             for i, table in enumerate(_list(data.get("stops", []), "spec: stops"))
         ),
-        friction=_friction(_table(data.get("ground", {}), "spec: ground")),
+        friction=ground[0],
+        flight=ground[1],
     )
     _check_coordinates_used(spec)
     check_spec_cost(spec)  # before any other work on the expressions

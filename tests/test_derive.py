@@ -78,8 +78,9 @@ def test_every_file_follows_the_one_table_of_functions(name):
     header = re.findall(rf"^\w+ {name}_(\w+)\(double s, const double \*y,", (folder / f"{name}.h").read_text(), re.M)
     source = re.findall(rf"^\w+ {name}_(\w+)\(double s, const double \*y,", (folder / f"{name}.c").read_text(), re.M)
     latex = re.findall(r"^## `(\w+)`$", (folder / "EQUATIONS.md").read_text(), re.M)
-    friction = 8 if manifest["friction"] else 0  # the functions of a floor with friction come last
-    assert python == header == source == latex and len(python) == 20 + friction
+    friction = 8 if manifest["friction"] else 0  # the functions of a floor with friction come after the others
+    flight = 8 if manifest["flight"] else 0  # those of flight and landing last
+    assert python == header == source == latex and len(python) == 20 + friction + flight
     assert sorted(python) == sorted(manifest["functions"]) == list(manifest["functions"])
 
 

@@ -12,6 +12,13 @@ from scipy.integrate import solve_ivp
 
 from rocking import load_model
 from rocking.reference.verify import BY_HAND, TOLERANCE, random_cases, verify
+from tests.test_flight_derivation import FLIGHT
+
+
+def _verified(model) -> set:
+    """The functions rocking verify holds: all but flight and landing's (section 16), which
+    tests/test_flight_derivation.py holds against rocking.reference.flight (not yet part of rocking verify)."""
+    return set(model.manifest["functions"]) - set(FLIGHT)
 
 
 @pytest.mark.parametrize("name", BY_HAND)
@@ -20,8 +27,8 @@ def test_generated_numpy_matches_model_md(name):
     model = load_model(name)
     checks = verify(model, n=1000, seed=1)
     bad = [c for c in checks if not c.ok]
-    assert {c.function for c in checks} == set(model.manifest["functions"])
-    assert len(checks) == 2 * len(model.manifest["functions"]) == 56 and not bad, bad
+    assert {c.function for c in checks} == _verified(model)
+    assert len(checks) == 2 * len(_verified(model)) == 56 and not bad, bad
 
 
 @pytest.mark.parametrize("name", BY_HAND)
@@ -30,7 +37,7 @@ def test_generated_c_matches_model_md(name, c_model):
     model = load_model(name)
     checks = verify(model, n=1000, seed=2, evaluate=c_model(name))
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 2 * len(model.manifest["functions"]) == 56 and not bad, bad
+    assert len(checks) == 2 * len(_verified(model)) == 56 and not bad, bad
 
 
 def _reference_params(**over):

@@ -760,3 +760,301 @@ void block_impact_slide(double s, const double *y, double ag, double agy, const 
     out[2] = -cse13*cse4;
     out[3] = M*cse13;
 }
+
+/* Accelerations in flight, the block free of the floor: ddq, then ddu and ddv of the corner s (its horizontal and vertical acceleration relative to the ground).
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_flight_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out)
+{
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[BLOCK_P_g] + agy;
+    const double cse0 = 1.0/M;
+    const double cse1 = cos(theta);
+    const double cse2 = M*(dtheta*dtheta);
+    const double cse3 = cse2*e;
+    const double cse4 = sin(theta);
+    const double cse5 = (1.0/2.0)*cse2;
+    const double cse6 = H*cse5;
+    const double cse7 = B*cse5*s;
+    out[0] = 0;
+    out[1] = cse0*(-M*ag + cse1*cse3 + cse1*cse7 - cse4*cse6);
+    out[2] = cse0*(-M*g + cse1*cse6 + cse3*cse4 + cse4*cse7);
+}
+
+/* Heights [m] above the floor of the corner s (v itself) and of the corner -s: a landing where one reaches 0 moving down.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_corner_heights(double s, const double *y, double ag, double agy, const double *p, const double *on, double v, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double B = p[2];
+    out[0] = v;
+    out[1] = B*s*sin(theta) + v;
+}
+
+/* The corner -s's u, v, du, dv from those of the corner s: the flying state about the other corner (u from its own place at rest).
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_flight_corner(double s, const double *y, double ag, double agy, const double *p, const double *on, double u, double v, double du, double dv, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double B = p[2];
+    const double cse0 = B*s;
+    const double cse1 = cse0*cos(theta);
+    const double cse2 = cse0*sin(theta);
+    out[0] = -cse0 + cse1 + u;
+    out[1] = cse2 + v;
+    out[2] = -cse2*dtheta + du;
+    out[3] = cse1*dtheta + dv;
+}
+
+/* Mechanical energy [J] in the ground frame while flying: energy with the corner's velocity and height.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+double block_flight_energy(double s, const double *y, double ag, double agy, const double *p, const double *on, double v, double du, double dv)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[5];
+    const double cse0 = M*g;
+    const double cse1 = (dtheta*dtheta);
+    const double cse2 = (1.0/2.0)*cse1;
+    const double cse3 = (1.0/2.0)*M;
+    const double cse4 = sin(theta);
+    const double cse5 = cse4*e;
+    const double cse6 = cse3*g;
+    const double cse7 = cos(theta);
+    const double cse8 = H*cse7;
+    const double cse9 = M*dtheta;
+    const double cse10 = cse7*dv;
+    const double cse11 = B*s;
+    const double cse12 = cse11*cse4;
+    const double cse13 = cse3*dtheta;
+    const double cse14 = cse13*du;
+    const double cse15 = (1.0/8.0)*M*cse1;
+    const double cse16 = M*cse2;
+    return (B*B)*cse15 + (H*H)*cse15 - H*cse13*cse4*dv + I_G*cse2 + cse0*cse5 + cse0*v + cse10*cse11*cse13 + cse10*cse9*e + cse11*cse16*e - cse12*cse14 + cse12*cse6 - cse14*cse8 + cse16*(e*e) + cse3*(du*du) + cse3*(dv*dv) - cse5*cse9*du + cse6*cse8;
+}
+
+/* Velocities after the corner s lands and sticks (du after is 0, dv after is -e_n dv), then the floor's impulses P_t, P_n [N s] on it; valid while |P_t| <= mu_s P_n; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = 2*M;
+    const double cse1 = cos(theta);
+    const double cse2 = H*cse1;
+    const double cse3 = sin(theta);
+    const double cse4 = 4*M;
+    const double cse5 = cse4*e;
+    const double cse6 = cse0*cse3;
+    const double cse7 = B*s;
+    const double cse8 = 4*I_G;
+    const double cse9 = (B*B);
+    const double cse10 = (H*H);
+    const double cse11 = (e*e);
+    const double cse12 = 1.0/(M*cse10 + M*cse9 + cse11*cse4 + cse5*cse7 + cse8);
+    const double cse13 = cse1*cse7;
+    const double cse14 = -e_n - 1;
+    const double cse15 = M*cse12*cse8;
+    const double cse16 = (M*M)*cse12;
+    const double cse17 = cse10*cse16;
+    const double cse18 = (cse1*cse1);
+    const double cse19 = cse16*cse9;
+    const double cse20 = cse18*cse19;
+    const double cse21 = 4*cse16;
+    const double cse22 = cse21*e;
+    const double cse23 = cse2*cse3;
+    const double cse24 = cse22*cse23;
+    const double cse25 = cse17*cse18;
+    const double cse26 = cse11*cse21;
+    const double cse27 = cse18*cse26;
+    const double cse28 = cse18*cse22;
+    const double cse29 = cse28*cse7;
+    const double cse30 = 2*cse16*cse23*cse7;
+    const double cse31 = H*cse16;
+    const double cse32 = 2*cse31;
+    const double cse33 = cse1*cse3;
+    const double cse34 = H*cse28 + cse13*cse22*cse3 - cse17*cse33 + cse18*cse32*cse7 + cse19*cse33 + cse26*cse33 - cse31*cse7 - cse32*e;
+    out[0] = -cse12*cse14*dv*(-H*cse6 + cse0*cse13 + cse1*cse5) + cse12*du*(-cse0*cse2 - cse3*cse5 - cse6*cse7) + dtheta;
+    out[1] = 0;
+    out[2] = -dv*e_n;
+    out[3] = cse14*cse34*dv - du*(cse15 + cse17 + cse20 - cse24 - cse25 + cse27 + cse29 - cse30);
+    out[4] = cse14*dv*(cse15 + cse19 - cse20 + cse22*cse7 + cse24 + cse25 + cse26 - cse27 - cse29 + cse30) - cse34*du;
+}
+
+/* Velocities after the corner s lands and slides, P_t = -mu_slip P_n (dv after is -e_n dv), then the impulses P_t, P_n [N s]; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = 2*M;
+    const double cse1 = sin(theta);
+    const double cse2 = H*cse1;
+    const double cse3 = cos(theta);
+    const double cse4 = 4*M;
+    const double cse5 = cse4*e;
+    const double cse6 = cse0*cse3;
+    const double cse7 = B*s;
+    const double cse8 = 4*I_G;
+    const double cse9 = (B*B);
+    const double cse10 = (H*H);
+    const double cse11 = (e*e);
+    const double cse12 = 1.0/(M*cse10 + M*cse9 + cse11*cse4 + cse5*cse7 + cse8);
+    const double cse13 = dv*(-e_n - 1);
+    const double cse14 = cse12*cse13;
+    const double cse15 = (M*M)*cse12;
+    const double cse16 = H*cse15;
+    const double cse17 = 2*cse16;
+    const double cse18 = cse15*cse9;
+    const double cse19 = cse1*cse3;
+    const double cse20 = (cse3*cse3);
+    const double cse21 = 4*cse15;
+    const double cse22 = cse21*e;
+    const double cse23 = cse20*cse22;
+    const double cse24 = cse10*cse15;
+    const double cse25 = cse11*cse21;
+    const double cse26 = cse22*cse7;
+    const double cse27 = H*cse23 - cse16*cse7 + cse17*cse20*cse7 - cse17*e + cse18*cse19 - cse19*cse24 + cse19*cse25 + cse19*cse26;
+    const double cse28 = M*cse12*cse8;
+    const double cse29 = cse18*cse20;
+    const double cse30 = cse2*cse3;
+    const double cse31 = cse22*cse30;
+    const double cse32 = cse20*cse24;
+    const double cse33 = cse20*cse25;
+    const double cse34 = cse23*cse7;
+    const double cse35 = 2*cse15*cse30*cse7;
+    const double cse36 = cse24 + cse28 + cse29 - cse31 - cse32 + cse33 + cse34 - cse35;
+    const double cse37 = cse18 + cse25 + cse26 + cse28 - cse29 + cse31 + cse32 - cse33 - cse34 + cse35;
+    const double cse38 = (-cse27 - cse37*mu_slip)/(cse27*mu_slip + cse36);
+    const double cse39 = cse13*cse38;
+    const double cse40 = cse13*cse27;
+    out[0] = -cse14*cse38*(-H*cse6 - cse0*cse1*cse7 - cse1*cse5) - cse14*(-cse0*cse2 + cse3*cse5 + cse6*cse7) + dtheta;
+    out[1] = cse39 + du;
+    out[2] = -dv*e_n;
+    out[3] = cse36*cse39 + cse40;
+    out[4] = cse13*cse37 + cse38*cse40;
+}
+
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = dv*e_n;
+    const double cse1 = M*du;
+    const double cse2 = M*dtheta;
+    const double cse3 = M*dv;
+    const double cse4 = 2*B;
+    const double cse5 = cse3*cse4;
+    const double cse6 = cse2*s;
+    const double cse7 = (B*B)*cse6;
+    const double cse8 = M*cse0;
+    const double cse9 = cse4*cse8;
+    const double cse10 = 4*s;
+    const double cse11 = cse10*e;
+    const double cse12 = (H*H)*cse6 - 2*H*cse1*s + I_G*cse10*dtheta + cse10*cse2*(e*e) + cse11*cse3 + cse11*cse8;
+    const double cse13 = (1.0/4.0)/B;
+    out[0] = 0;
+    out[1] = 0;
+    out[2] = -cse0;
+    out[3] = (1.0/2.0)*H*cse2 - cse1;
+    out[4] = cse13*(cse12 - cse5 - cse7 - cse9);
+    out[5] = cse13*(-4*B*cse2*e - cse12 - cse5 - cse7 - cse9);
+}
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as block_prepare takes it (NULL without stops). */
+void block_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double dtheta = y[1];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double cse0 = dv*mu_slip;
+    const double cse1 = (1.0/2.0)*dtheta;
+    const double cse2 = dtheta*mu_slip;
+    const double cse3 = cse2*e;
+    const double cse4 = cse0*e_n;
+    const double cse5 = B*cse1*mu_slip*s;
+    const double cse6 = dv*e_n;
+    const double cse7 = M*cse0;
+    const double cse8 = M*cse3;
+    const double cse9 = M*cse4;
+    const double cse10 = M*dv;
+    const double cse11 = 2*B;
+    const double cse12 = cse10*cse11;
+    const double cse13 = dtheta*s;
+    const double cse14 = (B*B)*M*cse13;
+    const double cse15 = M*cse6;
+    const double cse16 = cse11*cse15;
+    const double cse17 = 4*cse13;
+    const double cse18 = 4*e;
+    const double cse19 = cse18*s;
+    const double cse20 = B*M;
+    const double cse21 = 2*H*s;
+    const double cse22 = H*cse2*cse20 + I_G*cse17 + M*cse17*(e*e) + cse10*cse19 + cse15*cse19 + cse21*cse7 + cse21*cse8 + cse21*cse9;
+    const double cse23 = (1.0/4.0)/B;
+    out[0] = 0;
+    out[1] = -H*cse1 + cse0 + cse3 + cse4 + cse5 + du;
+    out[2] = -cse6;
+    out[3] = M*cse5 + cse7 + cse8 + cse9;
+    out[4] = cse23*(-cse12 - cse14 - cse16 + cse22);
+    out[5] = cse23*(-cse12 - cse14 - cse16 - cse18*cse20*dtheta - cse22);
+}

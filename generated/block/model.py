@@ -1319,3 +1319,502 @@ def impact_slide(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, mu_slip, sto
     cse13 = cse10*cse11
     out = _broadcast((cse10*(M*cse2*dtheta - cse1 - cse3*dtheta - cse5*cse8*dtheta - cse7*dtheta), cse10*(B*H*M*du*mu_slip*s + 4*B*M*du*e*s - H**2*cse12*cse4 - H*M*cse12*cse6 + H*M*cse2*dtheta - cse0*du - cse11*mu_slip - cse3*du - cse7*du - cse9*du), -cse13*cse4, M*cse13, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, mu_slip))
     return out
+
+
+def flight_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, stop_on=None):
+    """Accelerations in flight, the block free of the floor: ddq, then ddu and ddv of the corner s (its horizontal and vertical acceleration relative to the ground).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddtheta, ddu, ddv
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M**(-1.0)
+    cse1 = numpy.cos(theta)
+    cse2 = M*dtheta**2
+    cse3 = cse2*e
+    cse4 = numpy.sin(theta)
+    cse5 = (1/2)*cse2
+    cse6 = H*cse5
+    cse7 = B*cse5*s
+    out = _broadcast((0, cse0*(-M*ag + cse1*cse3 + cse1*cse7 - cse4*cse6), cse0*(-M*g + cse1*cse6 + cse3*cse4 + cse4*cse7), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g))
+    return out
+
+
+def corner_heights(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, v, stop_on=None):
+    """Heights [m] above the floor of the corner s (v itself) and of the corner -s: a landing where one reaches 0 moving down.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    v : array_like
+        height of the corner s above the floor [m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        y_s, y_other
+    """
+    out = _broadcast((v, B*s*numpy.sin(theta) + v, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, v))
+    return out
+
+
+def flight_corner(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, u, v, du, dv, stop_on=None):
+    """The corner -s's u, v, du, dv from those of the corner s: the flying state about the other corner (u from its own place at rest).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    u : array_like
+        horizontal displacement of the corner s from its place at rest on the ground [m]
+    v : array_like
+        height of the corner s above the floor [m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        u_o, v_o, du_o, dv_o
+    """
+    cse0 = B*s
+    cse1 = cse0*numpy.cos(theta)
+    cse2 = cse0*numpy.sin(theta)
+    out = _broadcast((-cse0 + cse1 + u, cse2 + v, -cse2*dtheta + du, cse1*dtheta + dv, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, u, v, du, dv))
+    return out
+
+
+def flight_energy(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, v, du, dv, stop_on=None):
+    """Mechanical energy [J] in the ground frame while flying: energy with the corner's velocity and height.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    v : array_like
+        height of the corner s above the floor [m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = M*g
+    cse1 = dtheta**2
+    cse2 = (1/2)*cse1
+    cse3 = (1/2)*M
+    cse4 = numpy.sin(theta)
+    cse5 = cse4*e
+    cse6 = cse3*g
+    cse7 = numpy.cos(theta)
+    cse8 = H*cse7
+    cse9 = M*dtheta
+    cse10 = cse7*dv
+    cse11 = B*s
+    cse12 = cse11*cse4
+    cse13 = cse3*dtheta
+    cse14 = cse13*du
+    cse15 = (1/8)*M*cse1
+    cse16 = M*cse2
+    out = _broadcast((B**2*cse15 + H**2*cse15 - H*cse13*cse4*dv + I_G*cse2 + cse0*cse5 + cse0*v + cse10*cse11*cse13 + cse10*cse9*e + cse11*cse16*e - cse12*cse14 + cse12*cse6 - cse14*cse8 + cse16*e**2 + cse3*du**2 + cse3*dv**2 - cse5*cse9*du + cse6*cse8, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, v, du, dv))
+    return out[0]
+
+
+def landing_stick(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, stop_on=None):
+    """Velocities after the corner s lands and sticks (du after is 0, dv after is -e_n dv), then the floor's impulses P_t, P_n [N s] on it; valid while |P_t| <= mu_s P_n; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, dv_plus, P_t, P_n
+    """
+    cse0 = 2*M
+    cse1 = numpy.cos(theta)
+    cse2 = H*cse1
+    cse3 = numpy.sin(theta)
+    cse4 = 4*M
+    cse5 = cse4*e
+    cse6 = cse0*cse3
+    cse7 = B*s
+    cse8 = 4*I_G
+    cse9 = B**2
+    cse10 = H**2
+    cse11 = e**2
+    cse12 = (M*cse10 + M*cse9 + cse11*cse4 + cse5*cse7 + cse8)**(-1.0)
+    cse13 = cse1*cse7
+    cse14 = -e_n - 1
+    cse15 = M*cse12*cse8
+    cse16 = M**2*cse12
+    cse17 = cse10*cse16
+    cse18 = cse1**2
+    cse19 = cse16*cse9
+    cse20 = cse18*cse19
+    cse21 = 4*cse16
+    cse22 = cse21*e
+    cse23 = cse2*cse3
+    cse24 = cse22*cse23
+    cse25 = cse17*cse18
+    cse26 = cse11*cse21
+    cse27 = cse18*cse26
+    cse28 = cse18*cse22
+    cse29 = cse28*cse7
+    cse30 = 2*cse16*cse23*cse7
+    cse31 = H*cse16
+    cse32 = 2*cse31
+    cse33 = cse1*cse3
+    cse34 = H*cse28 + cse13*cse22*cse3 - cse17*cse33 + cse18*cse32*cse7 + cse19*cse33 + cse26*cse33 - cse31*cse7 - cse32*e
+    out = _broadcast((-cse12*cse14*dv*(-H*cse6 + cse0*cse13 + cse1*cse5) + cse12*du*(-cse0*cse2 - cse3*cse5 - cse6*cse7) + dtheta, 0, -dv*e_n, cse14*cse34*dv - du*(cse15 + cse17 + cse20 - cse24 - cse25 + cse27 + cse29 - cse30), cse14*dv*(cse15 + cse19 - cse20 + cse22*cse7 + cse24 + cse25 + cse26 - cse27 - cse29 + cse30) - cse34*du, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n))
+    return out
+
+
+def landing_slide(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip, stop_on=None):
+    """Velocities after the corner s lands and slides, P_t = -mu_slip P_n (dv after is -e_n dv), then the impulses P_t, P_n [N s]; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    mu_slip : array_like
+        mu_k times the sign of the corner's slip: P_t = -mu_slip P_n
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, dv_plus, P_t, P_n
+    """
+    cse0 = 2*M
+    cse1 = numpy.sin(theta)
+    cse2 = H*cse1
+    cse3 = numpy.cos(theta)
+    cse4 = 4*M
+    cse5 = cse4*e
+    cse6 = cse0*cse3
+    cse7 = B*s
+    cse8 = 4*I_G
+    cse9 = B**2
+    cse10 = H**2
+    cse11 = e**2
+    cse12 = (M*cse10 + M*cse9 + cse11*cse4 + cse5*cse7 + cse8)**(-1.0)
+    cse13 = dv*(-e_n - 1)
+    cse14 = cse12*cse13
+    cse15 = M**2*cse12
+    cse16 = H*cse15
+    cse17 = 2*cse16
+    cse18 = cse15*cse9
+    cse19 = cse1*cse3
+    cse20 = cse3**2
+    cse21 = 4*cse15
+    cse22 = cse21*e
+    cse23 = cse20*cse22
+    cse24 = cse10*cse15
+    cse25 = cse11*cse21
+    cse26 = cse22*cse7
+    cse27 = H*cse23 - cse16*cse7 + cse17*cse20*cse7 - cse17*e + cse18*cse19 - cse19*cse24 + cse19*cse25 + cse19*cse26
+    cse28 = M*cse12*cse8
+    cse29 = cse18*cse20
+    cse30 = cse2*cse3
+    cse31 = cse22*cse30
+    cse32 = cse20*cse24
+    cse33 = cse20*cse25
+    cse34 = cse23*cse7
+    cse35 = 2*cse15*cse30*cse7
+    cse36 = cse24 + cse28 + cse29 - cse31 - cse32 + cse33 + cse34 - cse35
+    cse37 = cse18 + cse25 + cse26 + cse28 - cse29 + cse31 + cse32 - cse33 - cse34 + cse35
+    cse38 = (-cse27 - cse37*mu_slip)/(cse27*mu_slip + cse36)
+    cse39 = cse13*cse38
+    cse40 = cse13*cse27
+    out = _broadcast((-cse14*cse38*(-H*cse6 - cse0*cse1*cse7 - cse1*cse5) - cse14*(-cse0*cse2 + cse3*cse5 + cse6*cse7) + dtheta, cse39 + du, -dv*e_n, cse36*cse39 + cse40, cse13*cse37 + cse38*cse40, ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip))
+    return out
+
+
+def flat_landing_stick(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = dv*e_n
+    cse1 = M*du
+    cse2 = M*dtheta
+    cse3 = M*dv
+    cse4 = 2*B
+    cse5 = cse3*cse4
+    cse6 = cse2*s
+    cse7 = B**2*cse6
+    cse8 = M*cse0
+    cse9 = cse4*cse8
+    cse10 = 4*s
+    cse11 = cse10*e
+    cse12 = H**2*cse6 - 2*H*cse1*s + I_G*cse10*dtheta + cse10*cse2*e**2 + cse11*cse3 + cse11*cse8
+    cse13 = (1/4)/B
+    out = _broadcast((0, 0, -cse0, (1/2)*H*cse2 - cse1, cse13*(cse12 - cse5 - cse7 - cse9), cse13*(-4*B*cse2*e - cse12 - cse5 - cse7 - cse9), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n))
+    return out
+
+
+def flat_landing_slide(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    dtheta : array_like
+        time derivative of theta
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    mu_slip : array_like
+        mu_k times the sign of the corner's slip: P_t = -mu_slip P_n
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = dv*mu_slip
+    cse1 = (1/2)*dtheta
+    cse2 = dtheta*mu_slip
+    cse3 = cse2*e
+    cse4 = cse0*e_n
+    cse5 = B*cse1*mu_slip*s
+    cse6 = dv*e_n
+    cse7 = M*cse0
+    cse8 = M*cse3
+    cse9 = M*cse4
+    cse10 = M*dv
+    cse11 = 2*B
+    cse12 = cse10*cse11
+    cse13 = dtheta*s
+    cse14 = B**2*M*cse13
+    cse15 = M*cse6
+    cse16 = cse11*cse15
+    cse17 = 4*cse13
+    cse18 = 4*e
+    cse19 = cse18*s
+    cse20 = B*M
+    cse21 = 2*H*s
+    cse22 = H*cse2*cse20 + I_G*cse17 + M*cse17*e**2 + cse10*cse19 + cse15*cse19 + cse21*cse7 + cse21*cse8 + cse21*cse9
+    cse23 = (1/4)/B
+    out = _broadcast((0, -H*cse1 + cse0 + cse3 + cse4 + cse5 + du, -cse6, M*cse5 + cse7 + cse8 + cse9, cse23*(-cse12 - cse14 - cse16 + cse22), cse23*(-cse12 - cse14 - cse16 - cse18*cse20*dtheta - cse22), ), (s, theta, dtheta, ag, agy, M, I_G, B, H, e, g, du, dv, e_n, mu_slip))
+    return out

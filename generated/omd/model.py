@@ -1903,3 +1903,764 @@ def impact_slide(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m
     cse61 = cse1*cse18
     out = _broadcast((cse25*(cse1 + cse11 + cse15*dtheta + cse17*dtheta + cse20*dtheta + cse21*dtheta - cse4 - cse5*dtheta + cse8), cse39*(M*cse16*cse53*h + cse14*cse18*cse52*h + cse26*dx + cse27*dx + cse29*dx + cse30*dx + cse31*cse47 - cse31*dx + cse32*dx + cse33*dx + cse35*cse47 - cse35*dx + cse36*dx - cse37*dx - cse38*dx - cse40*cse41 - cse41*cse42 - cse45 - cse46 - cse49 - cse51 + cse55 + cse59), cse39*(cse26*du + cse27*du + cse29*du + cse30*du - cse31*du + cse32*du + cse33*du - cse35*du + cse36*du - cse37*du - cse38*du + cse59 + cse60), cse25*cse60, cse25*(8*B*M*dtheta*e*m*s*x - M*cse61 - cse18*cse48 - cse18*cse50 - cse61*m), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, mu_slip))
     return out
+
+
+def flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, stop_on=None):
+    """Accelerations in flight, the block free of the floor: ddq, then ddu and ddv of the corner s (its horizontal and vertical acceleration relative to the ground).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        ddtheta, ddx, ddu, ddv
+    """
+    # The vertical ground acceleration enters these equations only with gravity (derived).
+    g = g + agy
+    cse0 = M*m
+    cse1 = 2*cse0*x
+    cse2 = dtheta*dx
+    cse3 = (1/2)*H
+    cse4 = -cse3 - h
+    cse5 = c*dx
+    cse6 = k_m*x
+    cse7 = dtheta**2
+    cse8 = -M*cse5 - M*cse6 + M*cse7*m*x - cse0*cse7*e - cse5*m - cse6*m
+    cse9 = (2*M*dtheta*dx*e*m - cse1*cse2 - cse4*cse8)/(I_G*M + I_G*m + cse0*e**2 + cse0*x**2 - cse1*e)
+    cse10 = -cse4*cse9 + cse8/(M*m)
+    cse11 = (M + m)**(-1.0)
+    cse12 = numpy.sin(theta)
+    cse13 = cse12*m
+    cse14 = H*cse13
+    cse15 = cse13*h
+    cse16 = M*cse3
+    cse17 = cse12*cse16
+    cse18 = numpy.cos(theta)
+    cse19 = cse18*m
+    cse20 = H*cse19
+    cse21 = M*e
+    cse22 = cse12*cse21
+    cse23 = cse19*h
+    cse24 = cse13*x
+    cse25 = cse16*cse18
+    cse26 = (1/2)*B*s
+    cse27 = M*cse26
+    cse28 = cse12*cse27
+    cse29 = cse13*cse26
+    out = _broadcast((cse9, cse10, cse11*((1/2)*B*M*cse18*cse7*s + (1/2)*B*cse18*cse7*m*s - M*ag + M*cse18*cse7*e - ag*m - cse10*cse19 + 2*cse12*dtheta*dx*m - cse14*cse7 - cse15*cse7 - cse17*cse7 + cse18*cse7*m*x - cse9*(-cse20 - cse22 - cse23 - cse24 - cse25 - cse28 - cse29)), cse11*(-M*g - cse10*cse13 - 2*cse19*cse2 + cse20*cse7 + cse22*cse7 + cse23*cse7 + cse24*cse7 + cse25*cse7 + cse28*cse7 + cse29*cse7 - cse9*(-cse14 - cse15 - cse17 + cse18*cse21 + cse18*cse27 + cse19*cse26 + cse19*x) - g*m), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c))
+    return out
+
+
+def corner_heights(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, v, stop_on=None):
+    """Heights [m] above the floor of the corner s (v itself) and of the corner -s: a landing where one reaches 0 moving down.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    v : array_like
+        height of the corner s above the floor [m]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        y_s, y_other
+    """
+    out = _broadcast((v, B*s*numpy.sin(theta) + v, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, v))
+    return out
+
+
+def flight_corner(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, u, v, du, dv, stop_on=None):
+    """The corner -s's u, v, du, dv from those of the corner s: the flying state about the other corner (u from its own place at rest).
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    u : array_like
+        horizontal displacement of the corner s from its place at rest on the ground [m]
+    v : array_like
+        height of the corner s above the floor [m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        u_o, v_o, du_o, dv_o
+    """
+    cse0 = B*s
+    cse1 = cse0*numpy.cos(theta)
+    cse2 = cse0*numpy.sin(theta)
+    out = _broadcast((-cse0 + cse1 + u, cse2 + v, -cse2*dtheta + du, cse1*dtheta + dv, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, u, v, du, dv))
+    return out
+
+
+def flight_energy(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, v, du, dv, stop_on=None):
+    """Mechanical energy [J] in the ground frame while flying: energy with the corner's velocity and height.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    v : array_like
+        height of the corner s above the floor [m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    ndarray
+    """
+    cse0 = g*v
+    cse1 = dtheta**2
+    cse2 = (1/2)*cse1
+    cse3 = du**2
+    cse4 = (1/2)*M
+    cse5 = dv**2
+    cse6 = (1/2)*m
+    cse7 = x**2
+    cse8 = dx*m
+    cse9 = cse8*dtheta
+    cse10 = numpy.cos(theta)
+    cse11 = cse10*m
+    cse12 = cse11*g
+    cse13 = numpy.sin(theta)
+    cse14 = cse13*g
+    cse15 = M*e
+    cse16 = cse11*du
+    cse17 = cse13*dv
+    cse18 = m*x
+    cse19 = H*cse4
+    cse20 = cse10*cse19
+    cse21 = cse1*m
+    cse22 = dtheta*dv
+    cse23 = cse10*cse22
+    cse24 = B*s
+    cse25 = cse14*cse24
+    cse26 = dtheta*du
+    cse27 = H*dtheta
+    cse28 = cse17*m
+    cse29 = cse13*cse26
+    cse30 = dtheta*h
+    cse31 = B**2
+    cse32 = (1/8)*M*cse1
+    cse33 = H**2
+    cse34 = cse2*m
+    cse35 = M*cse2
+    cse36 = cse24*cse29
+    cse37 = cse23*cse24
+    out = _broadcast((H*cse12 + H*cse21*h - H*cse9 + I_G*cse2 + M*cse0 + cse0*m + cse11*cse22*x + cse12*h + cse14*cse15 + cse14*cse18 + cse15*cse23 - cse15*cse29 - cse16*cse27 - cse16*cse30 + cse16*dx - cse17*cse19*dtheta + cse17*cse8 - cse18*cse29 - cse20*cse26 + cse20*g + (1/8)*cse21*cse31 + cse24*cse34*x + cse24*cse35*e + cse25*cse4 + cse25*cse6 - cse27*cse28 - cse28*cse30 + cse3*cse4 + cse3*cse6 + cse31*cse32 + cse32*cse33 + cse33*cse34 + cse34*cse7 + cse34*h**2 + cse35*e**2 - cse36*cse4 - cse36*cse6 + cse37*cse4 + cse37*cse6 + cse4*cse5 + cse5*cse6 + cse6*dx**2 + (1/2)*cse7*k_m - cse9*h, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, v, du, dv))
+    return out[0]
+
+
+def landing_stick(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n, stop_on=None):
+    """Velocities after the corner s lands and sticks (du after is 0, dv after is -e_n dv), then the floor's impulses P_t, P_n [N s] on it; valid while |P_t| <= mu_s P_n; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_n
+    """
+    cse0 = e**2
+    cse1 = M*cse0
+    cse2 = m*x**2
+    cse3 = M*e
+    cse4 = B*s
+    cse5 = cse3*cse4
+    cse6 = m*x
+    cse7 = cse4*cse6
+    cse8 = B**2
+    cse9 = M*cse8
+    cse10 = cse8*m
+    cse11 = H**2
+    cse12 = M*cse11
+    cse13 = (I_G + cse1 + (1/4)*cse10 + (1/4)*cse12 + cse2 + cse5 + cse7 + (1/4)*cse9)**(-1.0)
+    cse14 = numpy.cos(theta)
+    cse15 = cse14*m
+    cse16 = H*cse15
+    cse17 = numpy.sin(theta)
+    cse18 = cse17*cse3
+    cse19 = cse17*m
+    cse20 = (1/2)*M
+    cse21 = H*cse14
+    cse22 = cse17*cse20
+    cse23 = (1/2)*cse4
+    cse24 = -H - h
+    cse25 = cse13*(-cse15*cse24 - cse15*h - cse16 - cse18 - cse19*cse23 - cse19*x - cse20*cse21 - cse22*cse4)
+    cse26 = cse15*x
+    cse27 = cse14*cse4
+    cse28 = cse13*(-H*cse19 - H*cse22 + cse14*cse3 + cse15*cse23 - cse19*cse24 - cse19*h + cse20*cse27 + cse26)
+    cse29 = -e_n - 1
+    cse30 = cse29*dv
+    cse31 = 2*H
+    cse32 = 4*I_G
+    cse33 = 4*cse1
+    cse34 = 4*cse2
+    cse35 = 4*cse7
+    cse36 = (cse10 + cse12 + cse32 + cse33 + cse34 + cse35 + 4*cse5 + cse9)**(-1.0)
+    cse37 = M*cse36
+    cse38 = cse37*cse6
+    cse39 = M**2*cse36
+    cse40 = H*cse39
+    cse41 = 2*cse40
+    cse42 = cse36*m
+    cse43 = M*cse4*cse42
+    cse44 = cse32*cse36
+    cse45 = cse15*cse17
+    cse46 = cse36*cse45
+    cse47 = cse14**2
+    cse48 = H*cse47
+    cse49 = 8*cse36
+    cse50 = cse39*cse8
+    cse51 = cse14*cse17
+    cse52 = 4*cse39
+    cse53 = cse52*e
+    cse54 = cse11*cse39
+    cse55 = cse0*cse52
+    cse56 = -H*cse43 - cse12*cse46 + 4*cse17*cse26*cse37*cse4 + cse17*cse27*cse53 + cse18*cse26*cse49 - cse31*cse38 + cse31*cse43*cse47 - cse33*cse46 + 4*cse38*cse48 - cse4*cse40 + cse4*cse41*cse47 - cse41*e - cse44*cse45 + cse46*cse9 + cse48*cse53 + cse50*cse51 - cse51*cse54 + cse51*cse55
+    cse57 = cse44*m
+    cse58 = cse12*cse42
+    cse59 = cse47*cse50
+    cse60 = cse47*cse54
+    cse61 = cse47*cse57
+    cse62 = cse33*cse42
+    cse63 = cse47*cse55
+    cse64 = cse42*cse9
+    cse65 = cse47*cse64
+    cse66 = cse47*cse58
+    cse67 = cse3*cse49*cse6
+    cse68 = cse47*cse62
+    cse69 = cse17*cse21
+    cse70 = cse53*cse69
+    cse71 = cse4*cse53
+    cse72 = cse47*cse71
+    cse73 = cse47*cse67
+    cse74 = cse16*cse17*cse37
+    cse75 = 4*cse74*x
+    cse76 = 2*cse4
+    cse77 = cse39*cse69*cse76
+    cse78 = cse35*cse37
+    cse79 = cse47*cse78
+    cse80 = cse74*cse76
+    cse81 = M*cse44 + cse34*cse37
+    out = _broadcast((cse25*du - cse28*cse30 + dtheta, cse30*(-cse17 + cse24*cse28) - du*(-cse14 + cse24*cse25) + dx, 0, -dv*e_n, cse29*cse56*dv - du*(cse54 + cse57 + cse58 + cse59 - cse60 - cse61 + cse62 + cse63 + cse65 - cse66 - cse67 - cse68 - cse70 + cse72 + cse73 - cse75 - cse77 + cse79 - cse80 + cse81), cse29*dv*(cse50 + cse55 - cse59 + cse60 + cse61 - cse63 + cse64 - cse65 + cse66 + cse68 + cse70 + cse71 - cse72 - cse73 + cse75 + cse77 + cse78 - cse79 + cse80 + cse81) - cse56*du, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n))
+    return out
+
+
+def landing_slide(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n, mu_slip, stop_on=None):
+    """Velocities after the corner s lands and slides, P_t = -mu_slip P_n (dv after is -e_n dv), then the impulses P_t, P_n [N s]; ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    mu_slip : array_like
+        mu_k times the sign of the corner's slip: P_t = -mu_slip P_n
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_n
+    """
+    cse0 = numpy.cos(theta)
+    cse1 = M*e
+    cse2 = cse0*cse1
+    cse3 = cse0*m
+    cse4 = cse3*x
+    cse5 = (1/2)*M
+    cse6 = numpy.sin(theta)
+    cse7 = H*cse6
+    cse8 = cse6*m
+    cse9 = B*s
+    cse10 = cse0*cse5
+    cse11 = (1/2)*cse9
+    cse12 = -H - h
+    cse13 = -H*cse8 + cse10*cse9 + cse11*cse3 - cse12*cse8 + cse2 + cse4 - cse5*cse7 - cse8*h
+    cse14 = e**2
+    cse15 = M*cse14
+    cse16 = m*x**2
+    cse17 = cse1*cse9
+    cse18 = m*x
+    cse19 = cse18*cse9
+    cse20 = B**2
+    cse21 = M*cse20
+    cse22 = cse20*m
+    cse23 = H**2
+    cse24 = M*cse23
+    cse25 = (I_G + cse15 + cse16 + cse17 + cse19 + (1/4)*cse21 + (1/4)*cse22 + (1/4)*cse24)**(-1.0)
+    cse26 = dv*(-e_n - 1)
+    cse27 = cse25*cse26
+    cse28 = H*cse3
+    cse29 = cse8*x
+    cse30 = cse6*cse9
+    cse31 = -H*cse10 - cse1*cse6 - cse11*cse8 - cse12*cse3 - cse28 - cse29 - cse3*h - cse30*cse5
+    cse32 = 2*H
+    cse33 = 4*I_G
+    cse34 = 4*cse15
+    cse35 = 4*cse16
+    cse36 = 4*cse19
+    cse37 = (4*cse17 + cse21 + cse22 + cse24 + cse33 + cse34 + cse35 + cse36)**(-1.0)
+    cse38 = M*cse37
+    cse39 = cse18*cse38
+    cse40 = M**2*cse37
+    cse41 = H*cse40
+    cse42 = 2*cse41
+    cse43 = cse37*m
+    cse44 = M*cse43*cse9
+    cse45 = cse33*cse37
+    cse46 = cse3*cse6
+    cse47 = cse37*cse46
+    cse48 = cse0**2
+    cse49 = H*cse48
+    cse50 = 8*cse37
+    cse51 = cse20*cse40
+    cse52 = cse0*cse6
+    cse53 = 4*cse40
+    cse54 = cse53*e
+    cse55 = 4*cse38*cse4
+    cse56 = cse23*cse40
+    cse57 = cse14*cse53
+    cse58 = cse54*cse9
+    cse59 = -H*cse44 + cse2*cse29*cse50 + cse21*cse47 - cse24*cse47 + cse30*cse55 - cse32*cse39 + cse32*cse44*cse48 - cse34*cse47 + 4*cse39*cse49 - cse41*cse9 + cse42*cse48*cse9 - cse42*e - cse45*cse46 + cse49*cse54 + cse51*cse52 - cse52*cse56 + cse52*cse57 + cse52*cse58
+    cse60 = cse45*m
+    cse61 = cse24*cse43
+    cse62 = cse48*cse51
+    cse63 = cse48*cse56
+    cse64 = cse48*cse60
+    cse65 = cse34*cse43
+    cse66 = cse48*cse57
+    cse67 = cse21*cse43
+    cse68 = cse48*cse67
+    cse69 = cse48*cse61
+    cse70 = cse1*cse18*cse50
+    cse71 = cse48*cse65
+    cse72 = cse0*cse7
+    cse73 = cse54*cse72
+    cse74 = cse48*cse58
+    cse75 = cse48*cse70
+    cse76 = cse55*cse7
+    cse77 = 2*cse40*cse72*cse9
+    cse78 = cse36*cse38
+    cse79 = cse48*cse78
+    cse80 = 2*cse28*cse30*cse38
+    cse81 = M*cse45 + cse35*cse38
+    cse82 = cse56 + cse60 + cse61 + cse62 - cse63 - cse64 + cse65 + cse66 + cse68 - cse69 - cse70 - cse71 - cse73 + cse74 + cse75 - cse76 - cse77 + cse79 - cse80 + cse81
+    cse83 = cse51 + cse57 + cse58 - cse62 + cse63 + cse64 - cse66 + cse67 - cse68 + cse69 + cse71 + cse73 - cse74 - cse75 + cse76 + cse77 + cse78 - cse79 + cse80 + cse81
+    cse84 = (-cse59 - cse83*mu_slip)/(cse59*mu_slip + cse82)
+    cse85 = cse12*cse25
+    cse86 = cse26*cse84
+    cse87 = cse26*cse59
+    out = _broadcast((-cse13*cse27 - cse27*cse31*cse84 + dtheta, cse26*(cse13*cse85 - cse6) + cse86*(-cse0 + cse31*cse85) + dx, cse86 + du, -dv*e_n, cse82*cse86 + cse87, cse26*cse83 + cse84*cse87, ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n, mu_slip))
+    return out
+
+
+def flat_landing_stick(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = H*dtheta
+    cse1 = dv*e_n
+    cse2 = M*du
+    cse3 = 2*B
+    cse4 = M*dv
+    cse5 = cse3*cse4
+    cse6 = cse3*m
+    cse7 = cse6*dv
+    cse8 = B**2
+    cse9 = dtheta*s
+    cse10 = M*cse9
+    cse11 = cse10*cse8
+    cse12 = cse8*cse9*m
+    cse13 = M*cse1
+    cse14 = cse13*cse3
+    cse15 = cse1*cse6
+    cse16 = 4*cse9
+    cse17 = 4*s
+    cse18 = cse17*e
+    cse19 = m*x
+    cse20 = cse17*cse19
+    cse21 = H**2*cse10 - 2*H*cse2*s + I_G*cse16 + M*cse16*e**2 + cse1*cse20 + cse13*cse18 + cse16*m*x**2 + cse18*cse4 + cse20*dv
+    cse22 = (1/4)/B
+    cse23 = 4*B*dtheta
+    out = _broadcast((0, -cse0 - dtheta*h + du + dx, 0, -cse1, (1/2)*M*cse0 - cse2, cse22*(-cse11 - cse12 - cse14 - cse15 + cse21 - cse5 - cse7), cse22*(-M*cse23*e - cse11 - cse12 - cse14 - cse15 - cse19*cse23 - cse21 - cse5 - cse7), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n))
+    return out
+
+
+def flat_landing_slide(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n, mu_slip, stop_on=None):
+    """Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+
+    Parameters
+    ----------
+    s : array_like
+        pivot: +1 rocking about A (left corner), -1 about A' (right corner)
+    theta : array_like
+        rocking angle [rad]
+    x : array_like
+        coordinate x of the attached bodies
+    dtheta : array_like
+        time derivative of theta
+    dx : array_like
+        time derivative of x
+    ag : array_like
+        ground acceleration ddx_g [m/s^2], positive to the right
+    agy : array_like
+        vertical ground acceleration ddy_g [m/s^2], positive up
+    M : array_like
+        block mass [kg]
+    I_G : array_like
+        centroidal moment of inertia of the block [kg m^2]
+    B : array_like
+        base width [m]
+    H : array_like
+        height [m]
+    e : array_like
+        eccentricity of the centroid G (positive towards A') [m]
+    g : array_like
+        gravity [m/s^2]
+    m : array_like
+        damper mass [kg]
+    h : array_like
+        height of the guide above the top side of the block [m]
+    k_m : array_like
+        stiffness of the damper spring [N/m]
+    c : array_like
+        damping coefficient of the damper dashpot [N s/m]
+    du : array_like
+        horizontal velocity of the corner s relative to the ground [m/s]
+    dv : array_like
+        vertical velocity of the corner s relative to the ground [m/s]
+    e_n : array_like
+        normal coefficient of restitution of the landing, in [0, 1]; 0: plastic
+    mu_slip : array_like
+        mu_k times the sign of the corner's slip: P_t = -mu_slip P_n
+    stop_on : sequence of array_like, optional
+        Regime of the end stops (ignored); default: that of the state.
+
+    Returns
+    -------
+    tuple of ndarray
+        dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o
+    """
+    cse0 = M*dtheta
+    cse1 = H*cse0
+    cse2 = 2*M
+    cse3 = cse2*dtheta
+    cse4 = dv*mu_slip
+    cse5 = cse2*cse4
+    cse6 = cse4*m
+    cse7 = 2*cse6
+    cse8 = e*mu_slip
+    cse9 = cse3*cse8
+    cse10 = dv*e_n
+    cse11 = cse10*mu_slip
+    cse12 = cse11*cse2
+    cse13 = dtheta*m
+    cse14 = cse13*mu_slip
+    cse15 = cse14*x
+    cse16 = 2*cse15
+    cse17 = cse11*m
+    cse18 = 2*cse17
+    cse19 = B*s
+    cse20 = cse0*cse19*mu_slip
+    cse21 = cse14*cse19
+    cse22 = cse12 + cse16 + cse18 + cse20 + cse21 + cse5 + cse7 + cse9
+    cse23 = (1/2)/M
+    cse24 = B*dv
+    cse25 = cse2*cse24
+    cse26 = 2*m
+    cse27 = cse24*cse26
+    cse28 = B**2*s
+    cse29 = cse0*cse28
+    cse30 = cse13*cse28
+    cse31 = B*cse10
+    cse32 = cse2*cse31
+    cse33 = cse26*cse31
+    cse34 = 4*s
+    cse35 = cse34*dv
+    cse36 = M*e
+    cse37 = m*x
+    cse38 = H*s
+    cse39 = cse10*cse34
+    cse40 = B*H*cse14 + B*cse1*mu_slip + I_G*cse34*dtheta + cse0*cse34*e**2 + cse12*cse38 + cse13*cse34*x**2 + cse16*cse38 + cse18*cse38 + cse35*cse36 + cse35*cse37 + cse36*cse39 + cse37*cse39 + cse38*cse5 + cse38*cse7 + cse38*cse9
+    cse41 = (1/4)/B
+    cse42 = 4*B
+    out = _broadcast((0, cse23*(2*M*dx - cse1 - cse22 - cse3*h), cse23*(-cse1 + cse2*du + cse22), -cse10, M*cse11 + M*cse4 + cse0*cse8 + cse15 + cse17 + (1/2)*cse20 + (1/2)*cse21 + cse6, cse41*(-cse25 - cse27 - cse29 - cse30 - cse32 - cse33 + cse40), cse41*(-cse0*cse42*e - cse13*cse42*x - cse25 - cse27 - cse29 - cse30 - cse32 - cse33 - cse40), ), (s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, du, dv, e_n, mu_slip))
+    return out

@@ -1329,3 +1329,519 @@ void omd_stops_impact_slide(double s, const double *y, double ag, double agy, co
     out[3] = cse25*cse60;
     out[4] = cse25*(8*B*M*dtheta*e*m*s*x - M*cse61 - cse18*cse48 - cse18*cse50 - cse61*m);
 }
+
+/* Accelerations in flight, the block free of the floor: ddq, then ddu and ddv of the corner s (its horizontal and vertical acceleration relative to the ground).
+ * Computed from the parameters at each call, g the effective gravity g + agy; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_flight_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out)
+{
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double k_m = p[8];
+    const double c = p[9];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double c_b = p[12];
+    const double g = p[OMD_STOPS_P_g] + agy;
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double cse0 = M*m;
+    const double cse1 = 2*cse0*x;
+    const double cse2 = dtheta*dx;
+    const double cse3 = (1.0/2.0)*H;
+    const double cse4 = -cse3 - h;
+    const double cse5 = c*dx;
+    const double cse6 = k_m*x;
+    const double cse7 = L*k_b;
+    const double cse8 = M*_on1;
+    const double cse9 = M*_on0;
+    const double cse10 = c_b*dx;
+    const double cse11 = k_b*x;
+    const double cse12 = _on0*m;
+    const double cse13 = _on1*m;
+    const double cse14 = (dtheta*dtheta);
+    const double cse15 = L*M*_on0*k_b + L*_on0*k_b*m + M*cse14*m*x - M*cse5 - M*cse6 - _on1*cse7*m - cse0*cse14*e - cse10*cse12 - cse10*cse13 - cse10*cse8 - cse10*cse9 - cse11*cse12 - cse11*cse13 - cse11*cse8 - cse11*cse9 - cse5*m - cse6*m - cse7*cse8;
+    const double cse16 = (2*M*dtheta*dx*e*m - cse1*cse2 - cse15*cse4)/(I_G*M + I_G*m + cse0*(e*e) + cse0*(x*x) - cse1*e);
+    const double cse17 = -cse16*cse4 + cse15/(M*m);
+    const double cse18 = 1.0/(M + m);
+    const double cse19 = sin(theta);
+    const double cse20 = cse19*m;
+    const double cse21 = H*cse20;
+    const double cse22 = cse20*h;
+    const double cse23 = M*cse3;
+    const double cse24 = cse19*cse23;
+    const double cse25 = cos(theta);
+    const double cse26 = cse25*m;
+    const double cse27 = H*cse26;
+    const double cse28 = M*e;
+    const double cse29 = cse19*cse28;
+    const double cse30 = cse26*h;
+    const double cse31 = cse20*x;
+    const double cse32 = cse23*cse25;
+    const double cse33 = (1.0/2.0)*B*s;
+    const double cse34 = M*cse33;
+    const double cse35 = cse19*cse34;
+    const double cse36 = cse20*cse33;
+    out[0] = cse16;
+    out[1] = cse17;
+    out[2] = cse18*((1.0/2.0)*B*M*cse14*cse25*s + (1.0/2.0)*B*cse14*cse25*m*s - M*ag + M*cse14*cse25*e - ag*m - cse14*cse21 - cse14*cse22 - cse14*cse24 + cse14*cse25*m*x - cse16*(-cse27 - cse29 - cse30 - cse31 - cse32 - cse35 - cse36) - cse17*cse26 + 2*cse19*dtheta*dx*m);
+    out[3] = cse18*(-M*g + cse14*cse27 + cse14*cse29 + cse14*cse30 + cse14*cse31 + cse14*cse32 + cse14*cse35 + cse14*cse36 - cse16*(-cse21 - cse22 - cse24 + cse25*cse28 + cse25*cse34 + cse26*cse33 + cse26*x) - cse17*cse20 - 2*cse2*cse26 - g*m);
+}
+
+/* Heights [m] above the floor of the corner s (v itself) and of the corner -s: a landing where one reaches 0 moving down.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_corner_heights(double s, const double *y, double ag, double agy, const double *p, const double *on, double v, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double B = p[2];
+    out[0] = v;
+    out[1] = B*s*sin(theta) + v;
+}
+
+/* The corner -s's u, v, du, dv from those of the corner s: the flying state about the other corner (u from its own place at rest).
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_flight_corner(double s, const double *y, double ag, double agy, const double *p, const double *on, double u, double v, double du, double dv, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double dtheta = y[2];
+    const double B = p[2];
+    const double cse0 = B*s;
+    const double cse1 = cse0*cos(theta);
+    const double cse2 = cse0*sin(theta);
+    out[0] = -cse0 + cse1 + u;
+    out[1] = cse2 + v;
+    out[2] = -cse2*dtheta + du;
+    out[3] = cse1*dtheta + dv;
+}
+
+/* Mechanical energy [J] in the ground frame while flying: energy with the corner's velocity and height.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+double omd_stops_flight_energy(double s, const double *y, double ag, double agy, const double *p, const double *on, double v, double du, double dv)
+{
+    (void)ag;
+    (void)agy;
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double g = p[5];
+    const double m = p[6];
+    const double h = p[7];
+    const double k_m = p[8];
+    const double L = p[10];
+    const double k_b = p[11];
+    const double _on0 = on[0];
+    const double _on1 = on[1];
+    const double cse0 = g*v;
+    const double cse1 = _on1*k_b;
+    const double cse2 = L*x;
+    const double cse3 = (dtheta*dtheta);
+    const double cse4 = (1.0/2.0)*cse3;
+    const double cse5 = (du*du);
+    const double cse6 = (1.0/2.0)*M;
+    const double cse7 = (dv*dv);
+    const double cse8 = (1.0/2.0)*m;
+    const double cse9 = (x*x);
+    const double cse10 = (1.0/2.0)*cse9;
+    const double cse11 = dx*m;
+    const double cse12 = cse11*dtheta;
+    const double cse13 = cos(theta);
+    const double cse14 = cse13*m;
+    const double cse15 = cse14*g;
+    const double cse16 = _on0*k_b;
+    const double cse17 = sin(theta);
+    const double cse18 = cse17*g;
+    const double cse19 = M*e;
+    const double cse20 = cse14*du;
+    const double cse21 = cse17*dv;
+    const double cse22 = m*x;
+    const double cse23 = (1.0/2.0)*(L*L);
+    const double cse24 = H*cse6;
+    const double cse25 = cse13*cse24;
+    const double cse26 = cse3*m;
+    const double cse27 = dtheta*dv;
+    const double cse28 = cse13*cse27;
+    const double cse29 = B*s;
+    const double cse30 = cse18*cse29;
+    const double cse31 = dtheta*du;
+    const double cse32 = H*dtheta;
+    const double cse33 = cse21*m;
+    const double cse34 = cse17*cse31;
+    const double cse35 = dtheta*h;
+    const double cse36 = (B*B);
+    const double cse37 = (1.0/8.0)*M*cse3;
+    const double cse38 = (H*H);
+    const double cse39 = cse4*m;
+    const double cse40 = M*cse4;
+    const double cse41 = cse29*cse34;
+    const double cse42 = cse28*cse29;
+    return -H*cse12 + H*cse15 + H*cse26*h + I_G*cse4 + M*cse0 + cse0*m + cse1*cse10 + cse1*cse2 + cse1*cse23 + cse10*cse16 + cse10*k_m + cse11*cse21 - cse12*h + cse14*cse27*x + cse15*h - cse16*cse2 + cse16*cse23 + cse18*cse19 + cse18*cse22 + cse19*cse28 - cse19*cse34 - cse20*cse32 - cse20*cse35 + cse20*dx - cse21*cse24*dtheta - cse22*cse34 - cse25*cse31 + cse25*g + (1.0/8.0)*cse26*cse36 + cse29*cse39*x + cse29*cse40*e + cse30*cse6 + cse30*cse8 - cse32*cse33 - cse33*cse35 + cse36*cse37 + cse37*cse38 + cse38*cse39 + cse39*cse9 + cse39*(h*h) + cse40*(e*e) - cse41*cse6 - cse41*cse8 + cse42*cse6 + cse42*cse8 + cse5*cse6 + cse5*cse8 + cse6*cse7 + cse7*cse8 + cse8*(dx*dx);
+}
+
+/* Velocities after the corner s lands and sticks (du after is 0, dv after is -e_n dv), then the floor's impulses P_t, P_n [N s] on it; valid while |P_t| <= mu_s P_n; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = (e*e);
+    const double cse1 = M*cse0;
+    const double cse2 = m*(x*x);
+    const double cse3 = M*e;
+    const double cse4 = B*s;
+    const double cse5 = cse3*cse4;
+    const double cse6 = m*x;
+    const double cse7 = cse4*cse6;
+    const double cse8 = (B*B);
+    const double cse9 = M*cse8;
+    const double cse10 = cse8*m;
+    const double cse11 = (H*H);
+    const double cse12 = M*cse11;
+    const double cse13 = 1.0/(I_G + cse1 + (1.0/4.0)*cse10 + (1.0/4.0)*cse12 + cse2 + cse5 + cse7 + (1.0/4.0)*cse9);
+    const double cse14 = cos(theta);
+    const double cse15 = cse14*m;
+    const double cse16 = H*cse15;
+    const double cse17 = sin(theta);
+    const double cse18 = cse17*cse3;
+    const double cse19 = cse17*m;
+    const double cse20 = (1.0/2.0)*M;
+    const double cse21 = H*cse14;
+    const double cse22 = cse17*cse20;
+    const double cse23 = (1.0/2.0)*cse4;
+    const double cse24 = -H - h;
+    const double cse25 = cse13*(-cse15*cse24 - cse15*h - cse16 - cse18 - cse19*cse23 - cse19*x - cse20*cse21 - cse22*cse4);
+    const double cse26 = cse15*x;
+    const double cse27 = cse14*cse4;
+    const double cse28 = cse13*(-H*cse19 - H*cse22 + cse14*cse3 + cse15*cse23 - cse19*cse24 - cse19*h + cse20*cse27 + cse26);
+    const double cse29 = -e_n - 1;
+    const double cse30 = cse29*dv;
+    const double cse31 = 2*H;
+    const double cse32 = 4*I_G;
+    const double cse33 = 4*cse1;
+    const double cse34 = 4*cse2;
+    const double cse35 = 4*cse7;
+    const double cse36 = 1.0/(cse10 + cse12 + cse32 + cse33 + cse34 + cse35 + 4*cse5 + cse9);
+    const double cse37 = M*cse36;
+    const double cse38 = cse37*cse6;
+    const double cse39 = (M*M)*cse36;
+    const double cse40 = H*cse39;
+    const double cse41 = 2*cse40;
+    const double cse42 = cse36*m;
+    const double cse43 = M*cse4*cse42;
+    const double cse44 = cse32*cse36;
+    const double cse45 = cse15*cse17;
+    const double cse46 = cse36*cse45;
+    const double cse47 = (cse14*cse14);
+    const double cse48 = H*cse47;
+    const double cse49 = 8*cse36;
+    const double cse50 = cse39*cse8;
+    const double cse51 = cse14*cse17;
+    const double cse52 = 4*cse39;
+    const double cse53 = cse52*e;
+    const double cse54 = cse11*cse39;
+    const double cse55 = cse0*cse52;
+    const double cse56 = -H*cse43 - cse12*cse46 + 4*cse17*cse26*cse37*cse4 + cse17*cse27*cse53 + cse18*cse26*cse49 - cse31*cse38 + cse31*cse43*cse47 - cse33*cse46 + 4*cse38*cse48 - cse4*cse40 + cse4*cse41*cse47 - cse41*e - cse44*cse45 + cse46*cse9 + cse48*cse53 + cse50*cse51 - cse51*cse54 + cse51*cse55;
+    const double cse57 = cse44*m;
+    const double cse58 = cse12*cse42;
+    const double cse59 = cse47*cse50;
+    const double cse60 = cse47*cse54;
+    const double cse61 = cse47*cse57;
+    const double cse62 = cse33*cse42;
+    const double cse63 = cse47*cse55;
+    const double cse64 = cse42*cse9;
+    const double cse65 = cse47*cse64;
+    const double cse66 = cse47*cse58;
+    const double cse67 = cse3*cse49*cse6;
+    const double cse68 = cse47*cse62;
+    const double cse69 = cse17*cse21;
+    const double cse70 = cse53*cse69;
+    const double cse71 = cse4*cse53;
+    const double cse72 = cse47*cse71;
+    const double cse73 = cse47*cse67;
+    const double cse74 = cse16*cse17*cse37;
+    const double cse75 = 4*cse74*x;
+    const double cse76 = 2*cse4;
+    const double cse77 = cse39*cse69*cse76;
+    const double cse78 = cse35*cse37;
+    const double cse79 = cse47*cse78;
+    const double cse80 = cse74*cse76;
+    const double cse81 = M*cse44 + cse34*cse37;
+    out[0] = cse25*du - cse28*cse30 + dtheta;
+    out[1] = cse30*(-cse17 + cse24*cse28) - du*(-cse14 + cse24*cse25) + dx;
+    out[2] = 0;
+    out[3] = -dv*e_n;
+    out[4] = cse29*cse56*dv - du*(cse54 + cse57 + cse58 + cse59 - cse60 - cse61 + cse62 + cse63 + cse65 - cse66 - cse67 - cse68 - cse70 + cse72 + cse73 - cse75 - cse77 + cse79 - cse80 + cse81);
+    out[5] = cse29*dv*(cse50 + cse55 - cse59 + cse60 + cse61 - cse63 + cse64 - cse65 + cse66 + cse68 + cse70 + cse71 - cse72 - cse73 + cse75 + cse77 + cse78 - cse79 + cse80 + cse81) - cse56*du;
+}
+
+/* Velocities after the corner s lands and slides, P_t = -mu_slip P_n (dv after is -e_n dv), then the impulses P_t, P_n [N s]; ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double theta = y[0];
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = cos(theta);
+    const double cse1 = M*e;
+    const double cse2 = cse0*cse1;
+    const double cse3 = cse0*m;
+    const double cse4 = cse3*x;
+    const double cse5 = (1.0/2.0)*M;
+    const double cse6 = sin(theta);
+    const double cse7 = H*cse6;
+    const double cse8 = cse6*m;
+    const double cse9 = B*s;
+    const double cse10 = cse0*cse5;
+    const double cse11 = (1.0/2.0)*cse9;
+    const double cse12 = -H - h;
+    const double cse13 = -H*cse8 + cse10*cse9 + cse11*cse3 - cse12*cse8 + cse2 + cse4 - cse5*cse7 - cse8*h;
+    const double cse14 = (e*e);
+    const double cse15 = M*cse14;
+    const double cse16 = m*(x*x);
+    const double cse17 = cse1*cse9;
+    const double cse18 = m*x;
+    const double cse19 = cse18*cse9;
+    const double cse20 = (B*B);
+    const double cse21 = M*cse20;
+    const double cse22 = cse20*m;
+    const double cse23 = (H*H);
+    const double cse24 = M*cse23;
+    const double cse25 = 1.0/(I_G + cse15 + cse16 + cse17 + cse19 + (1.0/4.0)*cse21 + (1.0/4.0)*cse22 + (1.0/4.0)*cse24);
+    const double cse26 = dv*(-e_n - 1);
+    const double cse27 = cse25*cse26;
+    const double cse28 = H*cse3;
+    const double cse29 = cse8*x;
+    const double cse30 = cse6*cse9;
+    const double cse31 = -H*cse10 - cse1*cse6 - cse11*cse8 - cse12*cse3 - cse28 - cse29 - cse3*h - cse30*cse5;
+    const double cse32 = 2*H;
+    const double cse33 = 4*I_G;
+    const double cse34 = 4*cse15;
+    const double cse35 = 4*cse16;
+    const double cse36 = 4*cse19;
+    const double cse37 = 1.0/(4*cse17 + cse21 + cse22 + cse24 + cse33 + cse34 + cse35 + cse36);
+    const double cse38 = M*cse37;
+    const double cse39 = cse18*cse38;
+    const double cse40 = (M*M)*cse37;
+    const double cse41 = H*cse40;
+    const double cse42 = 2*cse41;
+    const double cse43 = cse37*m;
+    const double cse44 = M*cse43*cse9;
+    const double cse45 = cse33*cse37;
+    const double cse46 = cse3*cse6;
+    const double cse47 = cse37*cse46;
+    const double cse48 = (cse0*cse0);
+    const double cse49 = H*cse48;
+    const double cse50 = 8*cse37;
+    const double cse51 = cse20*cse40;
+    const double cse52 = cse0*cse6;
+    const double cse53 = 4*cse40;
+    const double cse54 = cse53*e;
+    const double cse55 = 4*cse38*cse4;
+    const double cse56 = cse23*cse40;
+    const double cse57 = cse14*cse53;
+    const double cse58 = cse54*cse9;
+    const double cse59 = -H*cse44 + cse2*cse29*cse50 + cse21*cse47 - cse24*cse47 + cse30*cse55 - cse32*cse39 + cse32*cse44*cse48 - cse34*cse47 + 4*cse39*cse49 - cse41*cse9 + cse42*cse48*cse9 - cse42*e - cse45*cse46 + cse49*cse54 + cse51*cse52 - cse52*cse56 + cse52*cse57 + cse52*cse58;
+    const double cse60 = cse45*m;
+    const double cse61 = cse24*cse43;
+    const double cse62 = cse48*cse51;
+    const double cse63 = cse48*cse56;
+    const double cse64 = cse48*cse60;
+    const double cse65 = cse34*cse43;
+    const double cse66 = cse48*cse57;
+    const double cse67 = cse21*cse43;
+    const double cse68 = cse48*cse67;
+    const double cse69 = cse48*cse61;
+    const double cse70 = cse1*cse18*cse50;
+    const double cse71 = cse48*cse65;
+    const double cse72 = cse0*cse7;
+    const double cse73 = cse54*cse72;
+    const double cse74 = cse48*cse58;
+    const double cse75 = cse48*cse70;
+    const double cse76 = cse55*cse7;
+    const double cse77 = 2*cse40*cse72*cse9;
+    const double cse78 = cse36*cse38;
+    const double cse79 = cse48*cse78;
+    const double cse80 = 2*cse28*cse30*cse38;
+    const double cse81 = M*cse45 + cse35*cse38;
+    const double cse82 = cse56 + cse60 + cse61 + cse62 - cse63 - cse64 + cse65 + cse66 + cse68 - cse69 - cse70 - cse71 - cse73 + cse74 + cse75 - cse76 - cse77 + cse79 - cse80 + cse81;
+    const double cse83 = cse51 + cse57 + cse58 - cse62 + cse63 + cse64 - cse66 + cse67 - cse68 + cse69 + cse71 + cse73 - cse74 - cse75 + cse76 + cse77 + cse78 - cse79 + cse80 + cse81;
+    const double cse84 = (-cse59 - cse83*mu_slip)/(cse59*mu_slip + cse82);
+    const double cse85 = cse12*cse25;
+    const double cse86 = cse26*cse84;
+    const double cse87 = cse26*cse59;
+    out[0] = -cse13*cse27 - cse27*cse31*cse84 + dtheta;
+    out[1] = cse26*(cse13*cse85 - cse6) + cse86*(-cse0 + cse31*cse85) + dx;
+    out[2] = cse86 + du;
+    out[3] = -dv*e_n;
+    out[4] = cse82*cse86 + cse87;
+    out[5] = cse26*cse83 + cse84*cse87;
+}
+
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = H*dtheta;
+    const double cse1 = dv*e_n;
+    const double cse2 = M*du;
+    const double cse3 = 2*B;
+    const double cse4 = M*dv;
+    const double cse5 = cse3*cse4;
+    const double cse6 = cse3*m;
+    const double cse7 = cse6*dv;
+    const double cse8 = (B*B);
+    const double cse9 = dtheta*s;
+    const double cse10 = M*cse9;
+    const double cse11 = cse10*cse8;
+    const double cse12 = cse8*cse9*m;
+    const double cse13 = M*cse1;
+    const double cse14 = cse13*cse3;
+    const double cse15 = cse1*cse6;
+    const double cse16 = 4*cse9;
+    const double cse17 = 4*s;
+    const double cse18 = cse17*e;
+    const double cse19 = m*x;
+    const double cse20 = cse17*cse19;
+    const double cse21 = (H*H)*cse10 - 2*H*cse2*s + I_G*cse16 + M*cse16*(e*e) + cse1*cse20 + cse13*cse18 + cse16*m*(x*x) + cse18*cse4 + cse20*dv;
+    const double cse22 = (1.0/4.0)/B;
+    const double cse23 = 4*B*dtheta;
+    out[0] = 0;
+    out[1] = -cse0 - dtheta*h + du + dx;
+    out[2] = 0;
+    out[3] = -cse1;
+    out[4] = (1.0/2.0)*M*cse0 - cse2;
+    out[5] = cse22*(-cse11 - cse12 - cse14 - cse15 + cse21 - cse5 - cse7);
+    out[6] = cse22*(-M*cse23*e - cse11 - cse12 - cse14 - cse15 - cse19*cse23 - cse21 - cse5 - cse7);
+}
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * Computed from the parameters at each call; on: the regime of the stops
+ * as omd_stops_prepare takes it (NULL without stops). */
+void omd_stops_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out)
+{
+    (void)ag;
+    (void)agy;
+    (void)on;
+    const double x = y[1];
+    const double dtheta = y[2];
+    const double dx = y[3];
+    const double M = p[0];
+    const double I_G = p[1];
+    const double B = p[2];
+    const double H = p[3];
+    const double e = p[4];
+    const double m = p[6];
+    const double h = p[7];
+    const double cse0 = M*dtheta;
+    const double cse1 = H*cse0;
+    const double cse2 = 2*M;
+    const double cse3 = cse2*dtheta;
+    const double cse4 = dv*mu_slip;
+    const double cse5 = cse2*cse4;
+    const double cse6 = cse4*m;
+    const double cse7 = 2*cse6;
+    const double cse8 = e*mu_slip;
+    const double cse9 = cse3*cse8;
+    const double cse10 = dv*e_n;
+    const double cse11 = cse10*mu_slip;
+    const double cse12 = cse11*cse2;
+    const double cse13 = dtheta*m;
+    const double cse14 = cse13*mu_slip;
+    const double cse15 = cse14*x;
+    const double cse16 = 2*cse15;
+    const double cse17 = cse11*m;
+    const double cse18 = 2*cse17;
+    const double cse19 = B*s;
+    const double cse20 = cse0*cse19*mu_slip;
+    const double cse21 = cse14*cse19;
+    const double cse22 = cse12 + cse16 + cse18 + cse20 + cse21 + cse5 + cse7 + cse9;
+    const double cse23 = (1.0/2.0)/M;
+    const double cse24 = B*dv;
+    const double cse25 = cse2*cse24;
+    const double cse26 = 2*m;
+    const double cse27 = cse24*cse26;
+    const double cse28 = (B*B)*s;
+    const double cse29 = cse0*cse28;
+    const double cse30 = cse13*cse28;
+    const double cse31 = B*cse10;
+    const double cse32 = cse2*cse31;
+    const double cse33 = cse26*cse31;
+    const double cse34 = 4*s;
+    const double cse35 = cse34*dv;
+    const double cse36 = M*e;
+    const double cse37 = m*x;
+    const double cse38 = H*s;
+    const double cse39 = cse10*cse34;
+    const double cse40 = B*H*cse14 + B*cse1*mu_slip + I_G*cse34*dtheta + cse0*cse34*(e*e) + cse12*cse38 + cse13*cse34*(x*x) + cse16*cse38 + cse18*cse38 + cse35*cse36 + cse35*cse37 + cse36*cse39 + cse37*cse39 + cse38*cse5 + cse38*cse7 + cse38*cse9;
+    const double cse41 = (1.0/4.0)/B;
+    const double cse42 = 4*B;
+    out[0] = 0;
+    out[1] = cse23*(2*M*dx - cse1 - cse22 - cse3*h);
+    out[2] = cse23*(-cse1 + cse2*du + cse22);
+    out[3] = -cse10;
+    out[4] = M*cse11 + M*cse4 + cse0*cse8 + cse15 + cse17 + (1.0/2.0)*cse20 + (1.0/2.0)*cse21 + cse6;
+    out[5] = cse41*(-cse25 - cse27 - cse29 - cse30 - cse32 - cse33 + cse40);
+    out[6] = cse41*(-cse0*cse42*e - cse13*cse42*x - cse25 - cse27 - cse29 - cse30 - cse32 - cse33 - cse40);
+}

@@ -179,6 +179,37 @@ void omd_stops_impact_stick(double s, const double *y, double ag, double agy, co
  * out: dtheta_plus, dx_plus, du_plus, P_t, P_n */
 void omd_stops_impact_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double mu_slip, double *out);
 
+/* Accelerations in flight, the block free of the floor: ddq, then ddu and ddv of the corner s (its horizontal and vertical acceleration relative to the ground).
+ * out: ddtheta, ddx, ddu, ddv */
+void omd_stops_flight_accel(double s, const double *y, double ag, double agy, const double *p, const double *on, double *out);
+
+/* Heights [m] above the floor of the corner s (v itself) and of the corner -s: a landing where one reaches 0 moving down.
+ * out: y_s, y_other */
+void omd_stops_corner_heights(double s, const double *y, double ag, double agy, const double *p, const double *on, double v, double *out);
+
+/* The corner -s's u, v, du, dv from those of the corner s: the flying state about the other corner (u from its own place at rest).
+ * out: u_o, v_o, du_o, dv_o */
+void omd_stops_flight_corner(double s, const double *y, double ag, double agy, const double *p, const double *on, double u, double v, double du, double dv, double *out);
+
+/* Mechanical energy [J] in the ground frame while flying: energy with the corner's velocity and height. */
+double omd_stops_flight_energy(double s, const double *y, double ag, double agy, const double *p, const double *on, double v, double du, double dv);
+
+/* Velocities after the corner s lands and sticks (du after is 0, dv after is -e_n dv), then the floor's impulses P_t, P_n [N s] on it; valid while |P_t| <= mu_s P_n; ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_n */
+void omd_stops_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out);
+
+/* Velocities after the corner s lands and slides, P_t = -mu_slip P_n (dv after is -e_n dv), then the impulses P_t, P_n [N s]; ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_n */
+void omd_stops_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out);
+
+/* Velocities after the base lands flat on both corners at theta = 0 and sticks (dtheta and du after are 0, dv after is -e_n dv), then the floor's impulses P_t and P_s, P_o [N s] on the corners s and -s; valid while P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); theta, ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o */
+void omd_stops_flat_landing_stick(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double *out);
+
+/* Velocities after the base lands flat on both corners at theta = 0 and slides, P_t = -mu_slip (P_s + P_o), then the impulses P_t, P_s, P_o [N s]; theta, ag and agy are ignored.
+ * out: dtheta_plus, dx_plus, du_plus, dv_plus, P_t, P_s, P_o */
+void omd_stops_flat_landing_slide(double s, const double *y, double ag, double agy, const double *p, const double *on, double du, double dv, double e_n, double mu_slip, double *out);
+
 /* Model-independent names, for a runtime compiled against one model. */
 #ifdef ROCKING_GENERIC_NAMES
 #define MODEL_NQ OMD_STOPS_NQ
@@ -230,8 +261,9 @@ void omd_stops_impact_slide(double s, const double *y, double ag, double agy, co
 #define model_base_reaction_prepared omd_stops_base_reaction_prepared
 #define model_element_forces omd_stops_element_forces
 #define model_element_forces_prepared omd_stops_element_forces_prepared
-/* The functions of a floor with friction (docs/model.md section 15). */
+/* The functions of a floor with friction (docs/model.md section 15), then of flight and landing (section 16). */
 #define MODEL_FRICTION 1
+#define MODEL_FLIGHT 1
 #define model_slide_accel omd_stops_slide_accel
 #define model_contact_slide_accel omd_stops_contact_slide_accel
 #define model_slide_uplift omd_stops_slide_uplift
@@ -240,6 +272,14 @@ void omd_stops_impact_slide(double s, const double *y, double ag, double agy, co
 #define model_slip_energy omd_stops_slip_energy
 #define model_impact_stick omd_stops_impact_stick
 #define model_impact_slide omd_stops_impact_slide
+#define model_flight_accel omd_stops_flight_accel
+#define model_corner_heights omd_stops_corner_heights
+#define model_flight_corner omd_stops_flight_corner
+#define model_flight_energy omd_stops_flight_energy
+#define model_landing_stick omd_stops_landing_stick
+#define model_landing_slide omd_stops_landing_slide
+#define model_flat_landing_stick omd_stops_flat_landing_stick
+#define model_flat_landing_slide omd_stops_flat_landing_slide
 #endif
 
 #endif
