@@ -25,6 +25,7 @@ import warnings
 from dataclasses import replace
 from pathlib import Path
 from types import FrameType
+from typing import Any
 
 import numpy as np
 
@@ -155,7 +156,9 @@ def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
     if isinstance(motion, SampledMotion):
         return sampled_cases(setting.block, motion, scales[:, None], sign=signs, **common)
     d, block = describe(motion), setting.block
-    shape = {"psi": d.phase} if d.family == "sine" else {"gamma_mp": d.shape, "nu": d.phase} if d.family == "mp" else {}
+    shape: dict[str, Any] = (
+        {"psi": d.phase} if d.family == "sine" else {"gamma_mp": d.shape, "nu": d.phase} if d.family == "mp" else {}
+    )
     return pulse_cases(
         block,
         d.omega_g / block.p,
