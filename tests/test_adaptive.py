@@ -140,6 +140,24 @@ def refine(classes: np.ndarray, coarse: int, verify: int = 0) -> tuple[np.ndarra
     return got[..., 0], computed
 
 
+def test_near_is_scipys_maximum_filter_of_the_cells_given():
+    """The cells near others, in NumPy, against scipy.ndimage.maximum_filter (zero beyond the grid's edges) over
+    random grids, cells and radii: one radius, and one per axis."""
+    from scipy import ndimage
+
+    rng = np.random.default_rng(40)
+    for trial in range(300):
+        shape = tuple(int(n) for n in rng.integers(1, 30, 2))
+        rows, cols = (rng.integers(0, n, rng.integers(0, 12)) for n in shape)
+        rows, cols = rows[: min(rows.size, cols.size)], cols[: min(rows.size, cols.size)]
+        radius = int(rng.integers(0, 12)) if trial % 2 else rng.integers(0, 12, 2)
+        hit = np.zeros(shape, bool)
+        hit[rows, cols] = True
+        size = tuple(2 * np.broadcast_to(radius, 2) + 1)
+        expected = ndimage.maximum_filter(hit, size=size, mode="constant")
+        np.testing.assert_array_equal(adaptive.near(shape, rows, cols, radius), expected)
+
+
 def test_what_an_unverified_adaptive_map_can_miss():
     """A straight boundary is found exactly; an island smaller than the coarse step that no computed cell
     touches is missed without the verification; a finer coarse step, or a larger island, finds it."""

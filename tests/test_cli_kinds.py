@@ -71,7 +71,7 @@ def test_a_kind_registered_at_run_time_gets_its_command(monkeypatch, tmp_path, c
     monkeypatch.setitem(KINDS, "toy", kind)
     monkeypatch.setattr(rocking.cli.study, "toy_lines", lambda study: ["toy: done", "toy: twice"], raising=False)
     reported = []
-    monkeypatch.setattr(rocking.cli.study, "_report", lambda study, out: reported.append((study, out)))
+    monkeypatch.setattr(rocking.cli.study, "_report", lambda study, out, formats: reported.append((study, out)))
 
     parser = _commands(build_parser())["toy"]
     assert _helps(build_parser())["toy"] == "a toy study over Omega"

@@ -627,7 +627,7 @@ def test_a_maps_pdf_holds_its_cells_as_images_not_paths(cabinet_map, tmp_path):
     are images, the axes and text stay vector."""
     from rocking.plot.figures import draw
 
-    (png, pdf) = draw(_resampled_map(cabinet_map, 300), tmp_path, "map")
+    (png, pdf) = draw(_resampled_map(cabinet_map, 300), tmp_path, "map", ("png", "pdf"))
     assert png.stat().st_size > 0 and pdf.stat().st_size < 2_000_000
     assert pdf.read_bytes().count(b"/Subtype /Image") >= 3
 

@@ -161,7 +161,7 @@ def test_the_friction_command_parses_and_writes(tmp_path, capsys):
     parser = argparse.ArgumentParser(prog="rocking")
     add_study_commands(parser.add_subparsers(dest="command", required=True))
     argv = ["friction", "--H", "2", "--B", "0.5", "--M", "1000", "--T-g", "0.5", "--mu", "0.15", "0.5", "2"]
-    argv += ["--a-g", "0.4g", "0.4g", "1", "--out", str(tmp_path), "--workers", "1", "--no-progress"]
+    argv += ["--a-g", "0.4g", "0.4g", "1", "--out", str(tmp_path), "--workers", "1", "--no-progress", "--pdf"]
     args = parser.parse_args(argv)
     assert args.func(args) == 0
     assert "1 slides" in capsys.readouterr().out

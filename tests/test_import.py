@@ -158,3 +158,54 @@ def _described(found: list[list[str]], graph: dict[str, set[str]]) -> str:
         "circle of " + ", ".join(c) + ": " + "; ".join(f"{m} imports {sorted(graph[m] & set(c))}" for m in c)
         for c in found
     )
+
+
+# --- a command's start (issue 40: its fixed cost) -------------------------------------------------
+
+
+def _heavy_after(code: str) -> list[str]:
+    """The libraries of :data:`HEAVY` that ``code`` imports in a new interpreter (a module set to None, which
+    cannot be imported, is not imported)."""
+    probe = f"{code}\nimport sys\nprint('imported:', *(m for m in {HEAVY!r} if sys.modules.get(m) is not None))"
+    run = subprocess.run([sys.executable, "-c", probe], capture_output=True, text=True, check=True)
+    last = run.stdout.splitlines()[-1].split()
+    assert last[0] == "imported:", run.stdout
+    return last[1:]
+
+
+def test_the_command_line_and_its_help_import_no_heavy_library():
+    assert _heavy_after("from rocking.cli.main import build_parser\nbuild_parser().format_help()") == []
+
+
+def test_simulate_without_a_figure_imports_no_heavy_library():
+    code = "from rocking.cli.main import main\nassert main(['simulate', '--beta', '3', '--Omega', '4']) == 0"
+    assert _heavy_after(code) == []
+
+
+def test_a_map_command_hides_dask_from_xarray_and_writes_its_figure_as_png_only(tmp_path):
+    """In the command's own process (main() reads sys.argv) an adaptive map imports what it writes with (xarray
+    and NetCDF, matplotlib for its figure) and no more: no SciPy, and xarray builds its Datasets without Dask;
+    the figure is a PNG, a PDF only on request (--pdf, --formats)."""
+    argv = ["rocking", "map", "--Omega", "1", "10", "2", "--beta", "1", "10", "2", "--workers", "1"]
+    argv += ["--no-progress", "--out", str(tmp_path)]
+    code = f"import sys\nsys.argv = {argv!r}\nfrom rocking.cli.main import main\nassert main() == 0"
+    assert sorted(_heavy_after(code)) == ["matplotlib", "netCDF4", "pandas", "xarray"]
+    assert sorted(p.name for p in tmp_path.glob("map.*")) == ["map.csv", "map.json", "map.nc", "map.png"]
+
+
+def test_dask_stays_importable_when_a_dask_scheduler_is_asked_for():
+    code = (
+        "import argparse, sys\nfrom rocking.cli.main import hide_dask\n"
+        "hide_dask(argparse.Namespace(scheduler=None, dask_workers=2))\nimport dask\n"
+        "hide_dask(argparse.Namespace(command='simulate'))\nassert sys.modules['dask'] is dask"
+    )
+    assert "dask" in _heavy_after(code)
+
+
+def test_without_a_dask_scheduler_the_command_hides_dask():
+    code = (
+        "import argparse\nfrom rocking.cli.main import hide_dask\n"
+        "hide_dask(argparse.Namespace(scheduler=None, dask_workers=None))\n"
+        "try:\n    import dask\nexcept ModuleNotFoundError:\n    pass\nelse:\n    raise AssertionError('dask imported')"
+    )
+    assert _heavy_after(code) == []

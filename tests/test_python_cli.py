@@ -50,6 +50,8 @@ FORMS = {
 COMMAND_LINE_ONLY = {
     "out": "the folder of the files the command writes; Python returns the data (runs=: where the tiles are kept)",
     "no_progress": "progress=False",
+    "formats": "the formats of the figure the command draws; Python returns the data: rocking.plot.figures.draw",
+    "pdf": "--formats png,pdf",
     "config": "reruns a saved study with its options; in Python, call the function again",
     "help": "argparse's",
 }

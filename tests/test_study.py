@@ -451,22 +451,17 @@ def test_every_generated_file_keys_the_tiles(tmp_path):
 def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, capsys):
     out = str(tmp_path)
     grids = ["--Omega", "2", "5", "3", "--beta", "0.5", "5", "6"]
-    assert cli(["map", *tiny(*grids, "--out", out)]) == 0
+    # The PDF on request only: --pdf, or --formats.
+    assert cli(["map", *tiny(*grids, "--out", out, "--pdf")]) == 0
     assert cli(["spectrum", *tiny(*grids, "--out", out)]) == 0
-    assert (
-        cli(
-            [
-                "optimize",
-                *tiny(*grids, "--gammas", "0.05", "0.1", "--Tm-ratio", "0.5", "2", "3", "--refine", "1", "--out", out),
-            ]
-        )
-        == 0
-    )
+    optimize = ["--gammas", "0.05", "0.1", "--Tm-ratio", "0.5", "2", "3", "--refine", "1"]
+    assert cli(["optimize", *tiny(*grids, *optimize, "--out", out, "--formats", "PNG,pdf")]) == 0
     printed = capsys.readouterr().out
     assert "saved" in printed and "Omega*" in printed and str(tmp_path) in printed
     kinds = ("map", "spectrum", "optimize")
+    assert not (tmp_path / "spectrum.pdf").exists()
     for kind in kinds:
-        for ext in ("nc", "csv", "json", "png", "pdf"):
+        for ext in ("nc", "csv", "json", "png") + ("pdf",) * (kind != "spectrum"):
             assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0, (kind, ext)
         record = json.loads((tmp_path / f"{kind}.json").read_text())
         assert record["config"]["kind"] == kind and record["config_sha256"]
@@ -475,17 +470,18 @@ def test_cli_writes_data_and_figures_and_redraws_them(tmp_path, monkeypatch, cap
 
     for kind in kinds:
         (tmp_path / f"{kind}.png").unlink()
-        (tmp_path / f"{kind}.pdf").unlink()
+        (tmp_path / f"{kind}.pdf").unlink(missing_ok=True)
 
     def no_simulation(*args, **kwargs):
         raise AssertionError("redraw must not simulate")
 
     monkeypatch.setattr("rocking.study.overturning_map.run_cases", no_simulation)
     assert cli(["redraw", out]) == 0
-    assert cli(["redraw", str(tmp_path / "spectrum.nc")]) == 0
+    assert [p.name for p in tmp_path.glob("*.pdf")] == []
+    assert cli(["redraw", str(tmp_path / "spectrum.nc"), "--pdf"]) == 0
+    assert (tmp_path / "spectrum.pdf").stat().st_size > 0
     for kind in kinds:
-        for ext in ("png", "pdf"):
-            assert (tmp_path / f"{kind}.{ext}").stat().st_size > 0
+        assert (tmp_path / f"{kind}.png").stat().st_size > 0
     # Any of a study's files names it, its CSV table too: the figures keep the study's stem.
     assert cli(["redraw", str(tmp_path / "map.csv")]) == 0
     assert not list(tmp_path.glob("map.csv.*"))

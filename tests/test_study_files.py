@@ -278,7 +278,7 @@ def test_a_full_disk_gives_one_line_keeps_the_tiles_and_a_rerun_completes(stage,
 
 
 def test_a_full_disk_at_the_figures_keeps_the_published_study(tmp_path, monkeypatch, capsys):
-    argv = ["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path)]
+    argv = ["map", *GRIDS, "--workers", "1", "--no-progress", "--out", str(tmp_path), "--pdf"]
     with monkeypatch.context() as patched:
         patched.setattr("matplotlib.figure.Figure.savefig", _enospc)
         patched.setattr(rocking.cli.study, "no_space", lambda folder: True)

@@ -94,7 +94,7 @@ def test_redraw_replaces_a_linked_figure_and_never_writes_through_it(studies, tm
     victim = _victim(tmp_path)
     _planted_link(out / "map.png", victim)
     _planted_link(out / "map.pdf", victim)
-    redraw(out / "map.json")
+    redraw(out / "map.json", ("png", "pdf"))
     _assert_replaced(out / "map.png", victim, PNG)
     _assert_replaced(out / "map.pdf", victim, b"%PDF")
     assert not _leftovers(out)
@@ -106,7 +106,7 @@ def test_a_command_saving_into_out_replaces_linked_files_and_never_writes_throug
     victim = _victim(tmp_path)
     for name in ("map.pdf", "map.png", "map.nc", "map.csv", "map.json"):
         _planted_link(out / name, victim)
-    rocking.cli.study._report(studies[0], out, "map")
+    rocking.cli.study._report(studies[0], out, ("png", "pdf"), "map")
     for name, magic in (("map.png", PNG), ("map.pdf", b"%PDF"), ("map.nc", b"\x89HDF"), ("map.json", b"{")):
         _assert_replaced(out / name, victim, magic)
     assert not _leftovers(out)
@@ -155,7 +155,7 @@ def _saver(study, out: Path, rounds: int, expected: dict, queue) -> None:
     that the PNG there is the one of the data there."""
     wrong = 0
     for _ in range(rounds):
-        rocking.cli.study._report(study, out, "map")
+        rocking.cli.study._report(study, out, ("png",), "map")
         config, png = _snapshot(out)
         wrong += expected[config] != png
     queue.put(wrong)

@@ -86,6 +86,9 @@ NONDIM_DAMPER = ("gamma", "T_m", "omega_ratio", "zeta")
 #: Options of a damper relative to the block that default to the studies' (rocking.Tuning's own defaults).
 TUNING_DEFAULTS = ("omega_ratio", "zeta", "h")
 
+#: The options that run a study's tiles on Dask (rocking.Execution's): without them, a command never uses Dask.
+DASK_OPTIONS = ("scheduler", "dask_workers")
+
 #: Top-level packages of the derive extra (pyproject.toml): their absence is a missing install, not a bug.
 DERIVE_EXTRA = ("sympy", "jinja2", "tomli")
 DERIVE_INSTALL = 'pip install "rocking[derive]"'
@@ -896,7 +899,7 @@ def main(argv: list[str] | None = None) -> int:
         stdout went away (``rocking simulate --json | head``).
     """
     try:
-        code = _run(argv)
+        code = _run(argv, own_process=argv is None)
         # Flushed here, so that a reader gone away is seen now and not as an exception at exit.
         sys.stdout.flush()
         return code
@@ -906,8 +909,22 @@ def main(argv: list[str] | None = None) -> int:
         return 1
 
 
-def _run(argv: list[str] | None) -> int:
-    """:func:`main` but for a closed stdout."""
+def hide_dask(args: argparse.Namespace) -> None:
+    """Make Dask unimportable in this process unless ``args`` ask for a Dask scheduler (:data:`DASK_OPTIONS`).
+
+    xarray imports ``dask.array`` at its first Dataset when Dask is installed (0.5 s of CPU, as much as a small
+    study's computation), only to tell Dask arrays apart, which rocking never gives it: Dask runs the tiles of
+    ``--scheduler`` and ``--dask-workers`` only. A module set to None in :data:`sys.modules` raises
+    ModuleNotFoundError when imported (the import system's rule), which xarray takes for Dask not installed.
+    Only in a process that is the command's own (:func:`main` without arguments): not in a caller's, whose
+    xarray may hold Dask arrays.
+    """
+    if not any(getattr(args, name, None) is not None for name in DASK_OPTIONS):
+        sys.modules.setdefault("dask", None)  # type: ignore[arg-type]
+
+
+def _run(argv: list[str] | None, own_process: bool = False) -> int:
+    """:func:`main` but for a closed stdout; ``own_process``: the process is the command's (:func:`hide_dask`)."""
     argv = sys.argv[1:] if argv is None else list(argv)
     if argv[:1] == ["derive"]:
         # argparse cannot pass options it does not know through a subparser (its REMAINDER
@@ -920,6 +937,8 @@ def _run(argv: list[str] | None) -> int:
     try:
         if getattr(args, "config", None):
             args = apply_config(parser, args, argv)
+        if own_process:
+            hide_dask(args)
         return args.func(args)
     except (ParameterError, ModelError) as exc:
         flags = flags_of(_subcommand(parser, args.command))

@@ -24,6 +24,7 @@ from ..study.storage import read_record
 #: Options that say where and how a study runs, not what it computes: never saved, never read back.
 EXECUTION = frozenset(
     {"command", "func", "config", "rerun", "out", "workers", "scheduler", "dask_workers", "no_progress"}
+    | {"formats", "pdf"}  # the figure's files
 )
 
 #: Options of earlier versions that are gone, by command, and why. A saved study that did not give one (its saved

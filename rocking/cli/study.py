@@ -2,8 +2,8 @@
 
 :func:`add_study_commands` adds them to the ``rocking`` parser's subparsers;
 each sets ``func(args) -> exit code``. A study writes ``<out>/<kind>.nc``,
-``.csv``, ``.json``, ``.png`` and ``.pdf``, and keeps its finished tiles in
-``<out>/runs`` so that an interrupted run resumes where it stopped.
+``.csv``, ``.json`` and ``.png`` (its figure also as ``.pdf`` with ``--pdf``, in other formats with ``--formats``),
+and keeps its finished tiles in ``<out>/runs`` so that an interrupted run resumes where it stopped.
 
 A kind's command is data of its registry entry (:class:`rocking.study.kinds.Command`): its help, its option
 groups by name, the positional arguments of its driver and its summary lines. The option groups are the
@@ -40,7 +40,7 @@ from ..model.params import ParameterError
 from ..model.plausibility import PlausibilityWarning
 from ..model.records import UNITS
 from ..model.stochastic import DEFAULT_SITE
-from ..plot.figures import draw, draw_vertical_spectra, redraw
+from ..plot import DEFAULT_FORMATS, FORMATS, check_formats
 from ..sim.accuracy import CHECKS
 from ..study.api import with_omega_ratio
 from ..study.config import BACKENDS, PULSES, Grid, Setting, Tuning, Variant, omega_grid, pulse_grids
@@ -158,12 +158,28 @@ def _add_solver(p: argparse.ArgumentParser, backend: str | None = None) -> None:
     g.add_argument("--scheduler", metavar="ADDRESS", help="run on the Dask cluster at ADDRESS (tcp://host:port)")
     g.add_argument("--dask-workers", type=int, metavar="N", help="run on a local Dask cluster of N worker processes")
     g.add_argument("--out", default="out", help="output folder (default out); finished tiles are kept in OUT/runs")
+    _add_formats(g)
     g.add_argument("--no-progress", action="store_true", help="no progress bar")
     g.add_argument(
         "--config",
         metavar="SAVED.json",
         help="rerun the study saved in SAVED.json with its options (those given here win: --out, --workers, ...)",
     )
+
+
+def _add_formats(p) -> None:
+    p.add_argument(
+        "--formats",
+        metavar="LIST",
+        help=f"formats of the figure, comma-separated, of {', '.join(FORMATS)} (default {','.join(DEFAULT_FORMATS)})",
+    )
+    p.add_argument("--pdf", action="store_true", help="also write the figure as PDF (as --formats png,pdf)")
+
+
+def formats_from(args) -> tuple[str, ...]:
+    """The figure's formats that ``--formats`` and ``--pdf`` ask for (default :data:`rocking.plot.DEFAULT_FORMATS`)."""
+    formats = DEFAULT_FORMATS if args.formats is None else check_formats(args.formats.split(","), "--formats")
+    return formats + ("pdf",) if args.pdf and "pdf" not in formats else formats
 
 
 def _add_check(p: argparse.ArgumentParser) -> None:
@@ -732,8 +748,9 @@ GROUPS = {
 # --- commands --------------------------------------------------------------------------
 
 
-def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
-    """Save the study's data and figure as ``name`` (default: its kind); print where they are and how it ran."""
+def _report(study: Study, out: Path, formats: tuple[str, ...], name: str | None = None) -> list[Path]:
+    """Save the study's data and its figure in ``formats`` as ``name`` (default: its kind); print where they are and
+    how it ran."""
     current = CURRENT.get() or {}
     run = study.run
     kept = run["tiles_computed"] + run["tiles_reused"]
@@ -744,13 +761,15 @@ def _report(study: Study, out: Path, name: str | None = None) -> list[Path]:
         except DiskFull as exc:
             raise DiskFull(exc.path, kept=kept) from None
         try:
-            paths += draw(study, out, name)
+            from ..plot.figures import draw  # matplotlib: here, not at the command's start
+
+            paths += draw(study, out, name, formats)
         except Exception:
             # matplotlib's writers fail on a full disk in their own ways (an OSError, or an AttributeError of the PDF
             # stream): the free space tells. The data are published; the figures are redrawn by a rerun or redraw.
             if not no_space(out):
                 raise
-            raise DiskFull(out / f"{name or study.kind}.png and .pdf", kept=kept) from None
+            raise DiskFull(out / f"{name or study.kind}.{' and .'.join(formats)}", kept=kept) from None
     print(
         f"{study.kind}: {run['tiles_computed']} tiles computed, {run['tiles_reused']} reused, "
         f"{run['wall_s']:.1f} s; wrote {', '.join(str(p) for p in paths)}"
@@ -785,10 +804,11 @@ def run_study(name: str, args) -> int:
         values["beta"] = pulse_grids(values["block"], Grid.of("Omega", [1.0]), **amplitudes, shown=flag)["beta"]
     if "setting" in kind.command.inputs:
         values["setting"] = Setting(values.pop("block"), **{k: values.pop(k) for k in SETTING if k in values})
+    formats = formats_from(args)
     out = out_from(args)  # after every option is checked: bad parameters are refused before the folder is made
     inputs = [values.pop(k) for k in kind.command.inputs]
     study = _driver(kind)(*inputs, runs=out / "runs", **values)
-    _report(study, out)
+    _report(study, out, formats)
     _print(globals()[kind.command.describe](study))
     return 0
 
@@ -1053,8 +1073,8 @@ def _sensitive_words(study: Study, a, responses: int) -> str:
 def _cmd_demo(args) -> int:
     """The damper as built: stops at the block's edges beside the paper's unlimited guide (full maps and spectra,
     both directions), the design answer, and ``Omega*`` across geometries; each on its command's default grids."""
-    setting, execution, out = setting_from(args), execution_from(args), out_from(args)
-    tuning = tuning_from(args)
+    setting, execution, formats = setting_from(args), execution_from(args), formats_from(args)
+    tuning, out = tuning_from(args), out_from(args)
     dampers = (("", replace(tuning, stops=True)), ("-unlimited", replace(tuning, stops=False, stroke=None)))
     start = time.perf_counter()
     runs = out / "runs"
@@ -1063,14 +1083,14 @@ def _cmd_demo(args) -> int:
         study = overturning_map(
             setting, damper, grid_from("Omega", MAP_OMEGA), grid_from("beta", MAP_BETA), execution, runs=runs, full=True
         )
-        _report(study, out, f"map{suffix}")
+        _report(study, out, formats, f"map{suffix}")
         _print(map_lines(study))
     for suffix, damper in dampers:
         Omega, beta = grid_from("Omega", SPECTRUM_OMEGA), grid_from("beta", SPECTRUM_BETA)
         study = minimum_overturning_spectrum(setting, damper, Omega, beta, execution, runs=runs, **_tol(args))
-        _report(study, out, f"spectrum{suffix}")
+        _report(study, out, formats, f"spectrum{suffix}")
         _print(spectrum_lines(study))
-    _vertical_spectra(setting, replace(tuning, stops=True), execution, out, runs, **_tol(args))
+    _vertical_spectra(setting, replace(tuning, stops=True), execution, out, runs, formats, **_tol(args))
     study = design(
         setting,
         grid_from("Omega", DESIGN_OMEGA),
@@ -1081,7 +1101,7 @@ def _cmd_demo(args) -> int:
         runs=runs,
         **_tol(args),
     )
-    _report(study, out)
+    _report(study, out, formats)
     _print(design_lines(study))
     grids = [grid_from(name, default) for name, default in (("lam", LAM_GRID), ("p", P_GRID), ("Omega", OMEGA_GRID))]
     study = threshold_map(
@@ -1096,7 +1116,7 @@ def _cmd_demo(args) -> int:
         runs=runs,
         **_tol(args),
     )
-    _report(study, out)
+    _report(study, out, formats)
     _print(threshold_map_lines(study))
     print(
         f"demo: done in {time.perf_counter() - start:.0f} s; figures in {out}/ (map, map-unlimited, spectrum, "
@@ -1105,10 +1125,12 @@ def _cmd_demo(args) -> int:
     return 0
 
 
-def _vertical_spectra(setting: Setting, damper: Tuning, execution: Execution, out: Path, runs: Path, **tol) -> None:
+def _vertical_spectra(
+    setting: Setting, damper: Tuning, execution: Execution, out: Path, runs: Path, formats: tuple[str, ...], **tol
+) -> None:
     """The demo's spectra of the block alone and with ``damper`` under pulses with the vertical ratios
     :data:`VERTICAL_RATIOS` (in phase), both directions, saved as ``spectrum-vertical-<ratio>`` (``0p5`` for 0.5)
-    and drawn together as ``spectrum-vertical.png``."""
+    and drawn together as ``spectrum-vertical.png`` (and the other ``formats``)."""
     studies = []
     for ratio in VERTICAL_RATIOS:
         Omega, beta = grid_from("Omega", VERTICAL_OMEGA), grid_from("beta", VERTICAL_BETA)
@@ -1119,15 +1141,20 @@ def _vertical_spectra(setting: Setting, damper: Tuning, execution: Execution, ou
         # No dot in a stem: rocking redraw and load read "spectrum-vertical-0.5" as the stem of a ".5" file.
         save(study, out, f"spectrum-vertical-{ratio:g}".replace(".", "p"))
         studies.append(study)
-    paths = draw_vertical_spectra(studies, out)
+    from ..plot.figures import draw_vertical_spectra
+
+    paths = draw_vertical_spectra(studies, out, formats=formats)
     print(
         f"spectrum, vertical ratios {', '.join(f'{r:g}' for r in VERTICAL_RATIOS)}: wrote {', '.join(map(str, paths))}"
     )
 
 
 def _cmd_redraw(args) -> int:
+    from ..plot.figures import redraw
+
+    formats = formats_from(args)
     for path in args.paths:
-        written = redraw(path)
+        written = redraw(path, formats)
         print(f"redrew {', '.join(str(p) for p in written)}")
     return 0
 
@@ -1238,5 +1265,6 @@ def add_study_commands(subparsers) -> None:
 
     p = add_parser(subparsers, "redraw", "redraw figures from saved study data, without recomputing")
     p.add_argument("paths", nargs="+", help="a saved study (.nc, .json or their stem) or a folder of them")
+    _add_formats(p)
     p.set_defaults(func=_guarded(_cmd_redraw))
     FLAGS["redraw"] = flags_of(p)

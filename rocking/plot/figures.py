@@ -3,8 +3,9 @@
 Every figure is drawn from a :class:`rocking.study.config.Study` as
 :func:`rocking.study.storage.load` reads it back, so :func:`redraw` re-renders a
 figure from its ``.nc``/``.json`` without recomputing anything. Figures are
-written as PNG and PDF with matplotlib's Agg canvas (no pyplot, no display); each figure function also
-draws in a figure (``fig=``) or axes (``ax=``) it is given, and returns the figure, as pandas and xarray do.
+written as PNG (PDF or SVG on request: :data:`rocking.plot.FORMATS`) with matplotlib's Agg canvas (no pyplot,
+no display); each figure function also draws in a figure (``fig=``) or axes (``ax=``) it is given, and returns
+the figure, as pandas and xarray do.
 A map's cells are an image (on a log axis, a rasterized mesh) and its hatches one region path per class,
 rasterized: drawing a million cells costs about what 2,500 do, and a PDF is vector only in its axes and text.
 
@@ -63,6 +64,7 @@ from ..study.suite import motion_names
 from ..study.threshold import thresholds
 from ..study.vocabulary import ABOVE, BELOW, BRACKETED, FIT_STATUSES, REGIMES, SLIDES, SLIDES_AND_ROCKS, regime_label
 from ..study.vocabulary import THRESHOLD_STATUSES as STATUSES
+from . import DEFAULT_FORMATS, check_formats
 from .style import (
     CHAR_EM,
     DIVERGING,
@@ -837,9 +839,11 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     return fig
 
 
-def draw_vertical_spectra(studies, folder: str | Path, name: str = "spectrum-vertical") -> list[Path]:
-    """Draw :func:`vertical_spectra_figure` of ``studies`` as ``<folder>/<name>.png`` and ``.pdf``."""
-    return write_figure(vertical_spectra_figure(studies), Path(folder), name)
+def draw_vertical_spectra(
+    studies, folder: str | Path, name: str = "spectrum-vertical", formats: tuple[str, ...] = DEFAULT_FORMATS
+) -> list[Path]:
+    """Draw :func:`vertical_spectra_figure` of ``studies`` as ``<folder>/<name>.<format>`` for each of ``formats``."""
+    return write_figure(vertical_spectra_figure(studies), Path(folder), name, formats)
 
 
 def _threshold_text(t: dict) -> str:
@@ -1378,16 +1382,20 @@ def ida_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
 FIGURES = {name: globals()[kind.figure] for name, kind in KINDS.items()}
 
 
-def draw(study: Study, folder: str | Path, name: str | None = None) -> list[Path]:
-    """Draw the figure of ``study`` as ``<folder>/<name>.png`` and ``.pdf`` (name: the study's kind)."""
+def draw(
+    study: Study, folder: str | Path, name: str | None = None, formats: tuple[str, ...] = DEFAULT_FORMATS
+) -> list[Path]:
+    """Draw the figure of ``study`` as ``<folder>/<name>.<format>`` for each of ``formats`` (:data:`FORMATS
+    <rocking.plot.FORMATS>`; default the PNG alone), name: the study's kind."""
     if study.kind not in FIGURES:
         raise ParameterError(f"no figure for a study of kind {study.kind!r} (known: {', '.join(FIGURES)})")
-    return write_figure(FIGURES[study.kind](study), Path(folder), name or study.kind)
+    formats = check_formats(formats)  # before the figure is drawn
+    return write_figure(FIGURES[study.kind](study), Path(folder), name or study.kind, formats)
 
 
-def write_figure(fig: Figure, folder: Path, name: str) -> list[Path]:
-    """Write ``fig`` as ``<folder>/<name>.png`` and ``.pdf``: laid out once, for the PNG, the PDF with the same
-    layout (a second constrained layout costs as much as the PDF's drawing and moves nothing that shows).
+def write_figure(fig: Figure, folder: Path, name: str, formats: tuple[str, ...] = DEFAULT_FORMATS) -> list[Path]:
+    """Write ``fig`` as ``<folder>/<name>.<format>`` for each of ``formats``: laid out once, for the first, the others
+    with the same layout (a second constrained layout costs as much as a PDF's drawing and moves nothing that shows).
 
     Each file is written as a study's data are (:func:`rocking.study.files.atomic_write`: a temporary file renamed
     over it, a symbolic link in its place replaced, not followed), under the lock on ``name`` in ``folder``
@@ -1396,7 +1404,7 @@ def write_figure(fig: Figure, folder: Path, name: str) -> list[Path]:
     """
     FigureCanvasAgg(fig)
     folder.mkdir(parents=True, exist_ok=True)
-    paths = [folder / f"{name}.{ext}" for ext in ("png", "pdf")]
+    paths = [folder / f"{name}.{ext}" for ext in check_formats(formats)]
     with name_lock(folder, name):
         for path in paths:
             save_figure(fig, path, dpi=150)
@@ -1429,13 +1437,13 @@ def save_figure(fig: Figure, path: Path, dpi: float) -> None:
 UNFIT = (KeyError, IndexError, TypeError, ValueError, AttributeError)
 
 
-def _redraw_one(stem: Path) -> list[Path]:
+def _redraw_one(stem: Path, formats: tuple[str, ...]) -> list[Path]:
     """Draw the study saved at ``stem`` next to it, under the lock on its name (a save of it waits: the figures are
     those of the data read); a ParameterError naming it if its data do not fit."""
     with name_lock(stem.parent, stem.name):
         study = load(stem)
         try:
-            return draw(study, stem.parent, stem.name)
+            return draw(study, stem.parent, stem.name, formats)
         except ParameterError:
             raise
         except UNFIT as exc:  # the file passed load()'s checks but is not what this version of rocking writes
@@ -1446,10 +1454,10 @@ def _redraw_one(stem: Path) -> list[Path]:
             ) from exc
 
 
-def redraw(path: str | Path) -> list[Path]:
+def redraw(path: str | Path, formats: tuple[str, ...] = DEFAULT_FORMATS) -> list[Path]:
     """Redraw figures from saved data: one study (its ``.nc``, ``.json`` or stem) or every study in a folder.
 
-    The figures are written next to the data, under the same stem.
+    The figures are written next to the data, under the same stem, in each of ``formats`` (default the PNG).
 
     Raises
     ------
@@ -1468,5 +1476,5 @@ def redraw(path: str | Path) -> list[Path]:
         raise ParameterError(f"no saved study (<name>.nc with <name>.json) in {path}")
     written = []
     for stem in stems:
-        written += _redraw_one(study_stem(stem))
+        written += _redraw_one(study_stem(stem), formats)
     return written

@@ -27,7 +27,6 @@ from collections.abc import Callable
 from dataclasses import dataclass
 
 import numpy as np
-from scipy.optimize import brentq
 
 from ..model.checks import ParameterError
 from . import paper
@@ -148,6 +147,8 @@ def _episode(a: float, w: float, friction: float, d: float, t0: float, u0: float
     ahead = d * np.array([speed(t) for t in grid])
     stopped = np.flatnonzero(ahead <= 0.0)
     if stopped.size:
+        from scipy.optimize import brentq  # here: the command's parser imports this module, and SciPy costs 0.3 s
+
         i = stopped[0]
         t1 = brentq(lambda t: d * speed(t), grid[i - 1] if i else t0 + 1e-15, grid[i], xtol=1e-15, rtol=1e-15)
         return t1, slip(t1)

@@ -54,7 +54,6 @@ from multiprocessing import get_context
 from pathlib import Path
 
 import numpy as np
-from tqdm.auto import tqdm
 
 from ..model.params import ParameterError
 from .config import config_hash
@@ -628,6 +627,8 @@ def run_tiles(
     def store(task: Task, arrays: dict) -> None:
         save_tile(task.path, arrays)
         stats.salvaged += 1
+
+    from tqdm.auto import tqdm  # here: asyncio and the notebook checks of tqdm.auto cost a command's start 15 ms
 
     try:
         todo = _reuse(tasks, place, stats)
