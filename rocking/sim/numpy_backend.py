@@ -83,6 +83,8 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 
 #: How a rocking segment from ``theta = 0`` ends when the block cannot rise at all.
 NO_LIFT = "no lift"
+#: A slip that cannot start: even the shortest first step turns the slip speed back (sim.c's SEG_NO_SLIP).
+NO_SLIP = "no slip"
 #: The events of a floor with friction (rocking.sim.phases.EVENTS).
 SLIP, STOP, LIFT_OFF = "slip", "stop", "lift-off"
 #: What a history's row holds after the state on a floor with friction: the slip [m], its speed [m/s], its
@@ -878,6 +880,7 @@ def watched_events(
     """
     # q[1] is the damper's coordinate: its extrema give x_max, in every phase.
     damper = [extremum_event(system.n, 1)] if system.n > 1 else []
+    # The stops' gaps and the floor's events may end any phase.
     gaps = [gap_event(system, i, acting) for i, acting in enumerate(stop_on)]
     gaps += friction_events(system, phase, sigma, ground, stop_on, vertical)
     if phase == CONTACT:
@@ -1156,8 +1159,9 @@ def integrate_segment(
             plain_rhs, _started(phase, sigma, y0, n), t0, y0, t_bound, first_step, work, **options
         )
         if first_step is None:
+            end = NO_LIFT if fired[0].name == IMPACT else NO_SLIP
             return _Segment(
-                t=t0, y=np.array(y0[: 2 * n]), event=NO_LIFT, t_critical=math.nan, peaks={0: 0.0}, slip=tuple(slip)
+                t=t0, y=np.array(y0[: 2 * n]), event=end, t_critical=math.nan, peaks={0: 0.0}, slip=tuple(slip)
             )
         if work is not None:
             # The new solve starts (1 evaluation) and repeats the step the last try
@@ -1355,6 +1359,8 @@ class _Run:
         :func:`rocking.sim.phases.of` ``(phase != CONTACT, sigma != 0)``; docs/model.md section 15).
     u, du : float
         The slip of the base relative to the ground [m] and its speed [m/s].
+    skip_slip_check : bool
+        The next turn starts without the slip check: after a slip that could not start (``NO_SLIP``).
     """
 
     problem: Problem
@@ -1379,6 +1385,7 @@ class _Run:
     sigma: int = 0
     u: float = 0.0
     du: float = 0.0
+    skip_slip_check: bool = False
 
 
 def record(run: _Run) -> None:
@@ -1395,8 +1402,9 @@ def slip_row(run: _Run) -> tuple:
 
 def start_slip(run: _Run) -> None:
     """A stuck contact that must hold more than ``mu_s N`` slides, against the force it held (section 15); the
-    history gets the instant in the sliding phase."""
-    if not run.system.friction or run.sigma:
+    history gets the instant in the sliding phase. Not checked once after a slip that could not start."""
+    skip, run.skip_slip_check = run.skip_slip_check, False
+    if not run.system.friction or run.sigma or skip:
         return
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
@@ -1746,6 +1754,12 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
         slide_against(run, float(F))
     elif event == STOP:
         stop_slip(run)
+    elif event == NO_SLIP:
+        # A grazing slip: the base cannot move against F, the contact stays stuck (not a slip episode). |F| is
+        # still barely above mu_s N: the start check would slip it again, forever.
+        run.sigma = 0
+        run.tally.slides -= 1
+        run.skip_slip_check = True
     elif event == LIFT_OFF:
         return "flight"
     elif event == NO_LIFT:
