@@ -21,6 +21,7 @@ from rocking.cli.main import build_parser, main
 from rocking.cli.options import floor_from
 from rocking.cli.study import GROUPS
 from rocking.model.floor import check_pair
+from rocking.model.loading import load_model
 from rocking.sim import backends
 from rocking.sim.batch import Cases
 from rocking.sim.boundary import CASE, RESULT, field_named
@@ -183,10 +184,11 @@ def test_the_refusal_names_the_back_end_that_follows_friction_and_auto_picks_it(
     assert (
         str(refused.value) == "the C back end does not follow a floor with friction yet (mu_s = 0.3): backend='numpy'"
     )
-    assert backends.for_floor("auto", 0.3) == "numpy" and backends.for_floor("auto", math.inf) == "auto"
-    assert backends.for_floor("c", np.array([np.inf, np.inf])) == "c"
+    omd = load_model("omd")
+    assert backends.for_floor("auto", 0.3, omd) == "numpy" and backends.for_floor("auto", math.inf, omd) == "auto"
+    assert backends.for_floor("c", np.array([np.inf, np.inf]), omd) == "c"
     with pytest.raises(ParameterError, match=r"^the C back end does not follow .*\(mu_s = 0\.5\): backend='numpy'$"):
-        backends.for_floor("c", np.array([np.inf, 0.5]))
+        backends.for_floor("c", np.array([np.inf, 0.5]), omd)
 
 
 class _Spy:

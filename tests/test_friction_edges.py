@@ -44,3 +44,26 @@ def test_both_back_ends_record_the_same_floor_columns():
     assert np.array_equal(c["slide"], n["slide"])
     scale = float(np.max(np.abs(n["N"])))
     assert np.max(np.abs(c["N"] - n["N"])) < 1e-6 * scale and np.max(np.abs(c["F"] - n["F"])) < 1e-6 * scale
+
+
+@pytest.mark.parametrize(
+    "ground, message",
+    [
+        ({"friction": "yes"}, r"^spec: ground friction must be true or false"),
+        ({"friction": 1}, r"^spec: ground friction must be true or false"),
+        ({"frictoin": True}, r"frictoin"),
+        ("friction", r"ground"),
+    ],
+)
+def test_a_specs_ground_table_takes_booleans_and_known_keys_only(ground, message):
+    """A spec from a stranger: a wrong [ground] entry is refused in one line (nothing derived)."""
+    from rocking.derive.spec import SpecError, parse_spec
+
+    with pytest.raises(SpecError, match=message):
+        parse_spec({"name": "floored", "ground": ground})
+
+
+def test_a_finite_floor_on_a_model_without_its_phases_is_refused_in_one_line():
+    with pytest.raises(rocking.ParameterError, match=r"has no phases of a floor with friction"):
+        pendulum = {"m": 20.0, "l": 0.5, "x_p": 0.0, "y_p": 1.5, "k_phi": 10.0, "c_phi": 1.0}
+        rocking.simulate(BLOCK, pendulum, _pulse(2.0), mu=0.3, model="pendulum")

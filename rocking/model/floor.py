@@ -98,6 +98,25 @@ class Floor:
         return {"mu_s": self.mu_s, "mu_k": self.mu_s if self.mu_k is None else self.mu_k}  # never None once built
 
 
+def check_model_floor(mu_s, model) -> None:
+    """Refuse a finite ``mu_s`` (any element of a batch's column) on a model without the phases of a floor with
+    friction: its spec does not say ``[ground] friction = true`` (manifest ``"friction"``).
+
+    Raises
+    ------
+    ParameterError
+        Naming the model and the floor it takes.
+    """
+    mu_s = np.asarray(mu_s, dtype=float)
+    if np.all(np.isinf(mu_s)) or model.manifest.get("friction", False):
+        return
+    shown_mu = float(mu_s[np.isfinite(mu_s)].ravel()[0])
+    raise ParameterError(
+        f"mu_s = {shown_mu:g}: model {model.name!r} has no phases of a floor with friction (its spec does not say "
+        "[ground] friction = true); mu = inf is the only floor it takes"
+    )
+
+
 def floor_of(floor: object = None, mu: float | None = None, mu_k: float | None = None) -> Floor:
     """The :class:`Floor` of a call given ``floor=``, or its shorthand ``mu=`` (with ``mu_k=``), or neither.
 

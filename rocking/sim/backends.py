@@ -15,6 +15,7 @@ from typing import Protocol
 
 import numpy as np
 
+from ..model.floor import check_model_floor
 from ..model.loading import Model
 from ..model.params import ParameterError
 from . import c_backend
@@ -106,7 +107,7 @@ NAMES = (AUTO, *BACKENDS)
 LABELS = {"c": "C", "numpy": "NumPy"}
 
 
-def for_floor(name: str, mu_s) -> str:
+def for_floor(name: str, mu_s, model: Model) -> str:
     """The back end that runs on a floor of static friction ``mu_s`` what was asked of ``name`` (of :data:`NAMES`).
 
     ``name`` itself for ``mu_s = inf`` (every element of a batch's column), or when it follows friction
@@ -115,11 +116,13 @@ def for_floor(name: str, mu_s) -> str:
     Raises
     ------
     ParameterError
-        A finite ``mu_s`` on a back end that does not follow friction, naming one that does.
+        A finite ``mu_s`` on a model without the phases of a floor with friction (its spec does not say
+        ``[ground] friction = true``), or on a back end that does not follow friction, naming one that does.
     """
     mu_s = np.asarray(mu_s, dtype=float)
     if np.all(np.isinf(mu_s)):
         return name
+    check_model_floor(mu_s, model)
     able = [other for other, backend in BACKENDS.items() if backend.friction]
     if name in able or (name == AUTO and able):
         return name if name != AUTO else able[0]
@@ -136,7 +139,7 @@ def simulate(name: str, model: Model, p, settings: dict, record: bool = False) -
     ``"auto"`` runs C, or NumPy with a :class:`BackendWarning` when C cannot be built (the warning
     points at the caller of :func:`rocking.simulate`).
     """
-    name = for_floor(name, settings["mu_s"])
+    name = for_floor(name, settings["mu_s"], model)
     if name == AUTO:
         try:
             return _with_inputs(BACKENDS["c"].simulate(model, p, settings, record), model, p, settings, "c")

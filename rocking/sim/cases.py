@@ -362,4 +362,4 @@ def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, n
     """
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise ParameterError(f"backend must be {' or '.join(map(repr, BACKENDS))} (got {backend!r})")
-    return BACKENDS[for_floor(backend, cases.settings["mu_s"])].simulate_cases(cases, threads)
+    return BACKENDS[for_floor(backend, cases.settings["mu_s"], cases.model)].simulate_cases(cases, threads)

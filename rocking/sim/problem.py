@@ -20,7 +20,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..model.floor import Floor, check_pair, floor_of
+from ..model.floor import Floor, check_model_floor, check_pair, floor_of
 from ..model.loading import Model, ModelError, load_model
 from ..model.motion import FAMILIES, SHAPES, describe, interpolate, margin_extrema, real_array, sample_piece
 from ..model.params import (
@@ -209,11 +209,7 @@ class Problem(ProblemFields):
             object.__setattr__(self, name, _series(name, getattr(self, name), getattr(self, count)))
         check_motion(FAMILIES[self.motion], self.n_samples, self.pulse_dt, self.n_extrema)
         check_pair(self.mu_s, self.mu_k)
-        if math.isfinite(self.mu_s) and not self.model.manifest.get("friction", False):
-            raise ParameterError(
-                f"mu_s = {self.mu_s:g}: model {self.model.name!r} has no phases of a floor with friction (its spec "
-                "does not say [ground] friction = true); mu = inf is the only floor it takes"
-            )
+        check_model_floor(self.mu_s, self.model)
         p = np.ascontiguousarray(self.p, dtype=float).reshape(-1)
         if p.shape != (len(self.model.parameters),):
             raise ParameterError(f"p must hold {len(self.model.parameters)} numbers {self.model.parameters}")
