@@ -168,7 +168,9 @@ def test_the_friction_command_parses_and_writes(tmp_path, capsys):
     for suffix in ("nc", "json", "csv", "png", "pdf"):
         assert (tmp_path / f"friction.{suffix}").is_file()
     back = load(tmp_path / "friction")
-    assert back.kind == "friction" and back.config["backend"] == "numpy"
+    assert (
+        back.kind == "friction" and back.config["backend"] == "c"
+    )  # both back ends follow friction: the studies' default
     assert back.data["mu"].values.tolist() == [0.15, 0.5]
     assert json.loads((tmp_path / "friction.json").read_text())["config"]["pulse_Omega"] == pytest.approx(
         2 * np.pi / (0.5 * BLOCK.p)

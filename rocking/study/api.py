@@ -277,7 +277,7 @@ def friction_map(
     pulse: str = "sine",
     gamma_mp: float | None = None,
     nu: float | None = None,
-    backend: str = "numpy",
+    backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
     dask_workers: int | None = None,
@@ -302,8 +302,7 @@ def friction_map(
     directions, tile
         As :func:`rocking.study.friction_map.friction_map`.
     rtol, t_after, pulse, gamma_mp, nu, backend, workers, scheduler, dask_workers, runs, progress, study
-        Shared by every study (:mod:`rocking.study.api`); the back end must follow friction: default
-        ``"numpy"``.
+        Shared by every study (:mod:`rocking.study.api`); both back ends follow friction: default ``"c"``.
 
     Returns
     -------

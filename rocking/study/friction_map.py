@@ -99,7 +99,7 @@ def friction_map(
     ----------
     setting : Setting
         Block, pulse family and solver; its floor must be the paper's (the grid ``mu`` sets each cell's), its
-        back end one that follows friction (``"numpy"``).
+        back end one that follows friction (both do).
     Omega : float
         The pulses' frequency ratio ``omega_g / p``.
     mu, beta : Grid

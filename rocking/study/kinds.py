@@ -247,7 +247,7 @@ KINDS = {
                 _grid("beta", FRICTION_BETA, "pulse amplitude ratios a_g / (g tan alpha)", "a_g"),
                 ("directions", {}),
                 ("pulse", {}),
-                ("solver", {"backend": "numpy"}),
+                ("solver", {}),
             ),
             ("setting", "Omega", "mu", "beta", "execution"),
             "friction_map",
