@@ -49,7 +49,7 @@ def block_flight_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g):
     return np.zeros(shape), np.broadcast_to(a[..., 0], shape), np.broadcast_to(a[..., 1], shape)
 
 
-def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c):
+def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, guide=None):
     """The block with its damper in flight: ``(ddtheta, ddx, ddu, ddv)``.
 
     Unknowns: ``a_G`` (in the block frame, ``R^T a_G``), ``ddtheta``, ``ddx`` and the guide's normal force ``N_g`` on
@@ -62,13 +62,14 @@ def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h,
     - mass:   ``m a_m = -m (ddx_g, g + ddy_g) - G t + N_g n``, with
       ``a_m = a_G + ddtheta R J rho - dtheta^2 R rho + 2 dtheta dx R J (1, 0) + ddx t``.
 
-    Written in the block frame (multiplied by ``R^T``), five linear equations.
+    Written in the block frame (multiplied by ``R^T``), five linear equations. ``guide``, if given, is ``G`` itself:
+    with end stops, their force added (:func:`rocking.reference.paper.guide_force`).
     """
     s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c = _arrays(
         s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c
     )
     shape = s.shape
-    G = k_m * x + c * dx
+    G = k_m * x + c * dx if guide is None else np.broadcast_to(np.asarray(guide, dtype=float), shape)
     rho = _vec(x - e, H + h - H / 2)
     gravity = _rotate(-theta, _vec(-ag, -(g + agy)))  # per unit mass, in the block frame
     Jrho = rho @ _J.T
@@ -200,6 +201,36 @@ def block_energy(s, theta, dtheta, v, du, dv, M, I_G, B, H, e, g):
     r_G = _rotate(theta, _vec(s * B / 2 + e, H / 2))
     vG = _vec(du, dv) + dtheta[..., None] * (r_G @ _J.T)
     return M * (vG[..., 0] ** 2 + vG[..., 1] ** 2) / 2 + I_G * dtheta**2 / 2 + M * g * (v + r_G[..., 1])
+
+
+def omd_energy(s, theta, x, dtheta, dx, v, du, dv, M, I_G, B, H, e, g, m, h, k_m, stored=None):
+    """The block and its damper's energy in flight, relative to the ground: the kinetic energies of the block
+    (``M |v_G|^2 / 2 + I_G dtheta^2 / 2``) and of the mass (``m |v_m|^2 / 2``), their weights' potential, and the
+    energy ``stored`` in the guide's elements (default the spring's ``k_m x^2 / 2``; with end stops, the pads' added).
+
+    The corner ``s`` is at height ``v`` moving at ``(du, dv)``; ``G`` at ``R r_G`` from it, the mass at
+    ``R (xi_s, eta)``, moving along the guide ``R (1, 0)`` at ``dx`` besides.
+    """
+    r_G = _rotate(theta, _vec(s * B / 2 + e, H / 2))
+    r_m = _rotate(theta, _vec(s * B / 2 + x, H + h))
+    corner = _vec(du, dv)
+    vG = corner + np.asarray(dtheta)[..., None] * (r_G @ _J.T)
+    vm = (
+        corner
+        + np.asarray(dtheta)[..., None] * (r_m @ _J.T)
+        + np.asarray(dx)[..., None] * _rotate(theta, _vec(1.0, 0.0))
+    )
+    kinetic = M * np.sum(vG**2, axis=-1) / 2 + I_G * dtheta**2 / 2 + m * np.sum(vm**2, axis=-1) / 2
+    weights = M * g * (v + r_G[..., 1]) + m * g * (v + r_m[..., 1])
+    return kinetic + weights + (k_m * x**2 / 2 if stored is None else stored)
+
+
+def other_corner(s, theta, dtheta, u, v, du, dv, B):
+    """The corner ``-s``'s ``(u, v, du, dv)`` from the corner ``s``'s: it is at ``R (s B, 0)`` from the corner ``s``,
+    and its ``u`` is counted from its own place at rest, ``s B`` to the right of the corner ``s``'s."""
+    arm = _rotate(theta, _vec(s * B, 0.0))
+    rate = np.asarray(dtheta)[..., None] * (arm @ _J.T)
+    return u + arm[..., 0] - s * B, v + arm[..., 1], du + rate[..., 0], dv + rate[..., 1]
 
 
 def centroid(theta, u, v, s, B, H, e):
