@@ -11,28 +11,19 @@ from hypothesis import strategies as st
 from scipy.integrate import solve_ivp
 
 from rocking import load_model
-from rocking.reference.verify import BY_HAND, TOLERANCE, random_cases, unchecked, verify
+from rocking.reference.verify import BY_HAND, TOLERANCE, random_cases, verify
 from tests.test_flight_derivation import FLIGHT
-
-#: Checks per model, both pivots (docs/model.md section 16): the bare block's flat landings are checked too.
-_COUNT = {("theta",): 72, ("theta", "x"): 68}
-
-
-def _verified(model) -> set:
-    """The functions rocking verify holds: all but the flat landings with the damper, which have no reference typed
-    by hand (section 16)."""
-    return set(model.manifest["functions"]) - set(unchecked(model))
 
 
 @pytest.mark.parametrize("name", BY_HAND)
 def test_generated_numpy_matches_model_md(name):
     """Every generated function on both pivots: the paper's 20, a floor with friction's 8 (section 15) and flight's
-    8 (section 16), but the 2 flat landings with the damper."""
+    8 (section 16)."""
     model = load_model(name)
     checks = verify(model, n=1000, seed=1)
     bad = [c for c in checks if not c.ok]
-    assert {c.function for c in checks} == _verified(model) and set(FLIGHT) <= set(model.manifest["functions"])
-    assert len(checks) == 2 * len(_verified(model)) == _COUNT[model.coordinates] and not bad, bad
+    assert {c.function for c in checks} == set(model.manifest["functions"]) >= set(FLIGHT)
+    assert len(checks) == 2 * len(model.manifest["functions"]) == 72 and not bad, bad
 
 
 @pytest.mark.parametrize("name", BY_HAND)
@@ -41,7 +32,7 @@ def test_generated_c_matches_model_md(name, c_model):
     model = load_model(name)
     checks = verify(model, n=1000, seed=2, evaluate=c_model(name))
     bad = [c for c in checks if not c.ok]
-    assert len(checks) == 2 * len(_verified(model)) == _COUNT[model.coordinates] and not bad, bad
+    assert len(checks) == 2 * len(model.manifest["functions"]) == 72 and not bad, bad
 
 
 def _reference_params(**over):

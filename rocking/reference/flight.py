@@ -196,6 +196,29 @@ def block_flat_landing(s, dtheta, du, dv, M, I_G, B, H, e, e_n=0.0, mu_slip=0.0,
     return vGx + P_t / M, -e_n * dv, P_t, P_n - P_o, P_o
 
 
+def omd_flat_landing(s, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n=0.0, mu_slip=0.0, stick=True):
+    """The block with its damper landing flat at ``theta = 0``: ``(dx+, du+, dv+, P_t, P_s, P_o)``; ``dtheta+ = 0``.
+
+    :func:`block_flat_landing` with the guide's impulse ``Lambda`` on the mass, vertical at ``theta = 0``, and
+    ``-Lambda`` on the block at the mass, ``rho = (x - e, eta - H/2)`` from ``G`` (``eta = H + h``); the spring and
+    dashpot carry none (the attached coordinates take no impulse). The mass moves at ``(du - eta dtheta + dx,
+    dv + xi_s dtheta)`` before (``xi_s = s B/2 + x``) and at ``(du+ + dx+, dv+)`` after: it keeps its horizontal
+    velocity, and ``Lambda = m (dv+ - dv - xi_s dtheta)``. The block's vertical momentum gives
+    ``P_n = P_s + P_o = M (dv+ - dv - d_s dtheta) + Lambda``, its horizontal ``P_t = M (du+ - du + H/2 dtheta)``,
+    and its moment about ``G``, ``-I_G dtheta = -d_s P_s + H/2 P_t + (s B - d_s) P_o - (x - e) Lambda``, gives
+    ``P_o = (d_s P_n - H/2 P_t - I_G dtheta + (x - e) Lambda) / (s B)``.
+    """
+    d, xi = s * B / 2 + e, s * B / 2 + x
+    dv_plus = -e_n * dv
+    Lam = m * (dv_plus - dv - xi * dtheta)
+    P_n = M * (dv_plus - dv - d * dtheta) + Lam
+    vGx = du - H / 2 * dtheta
+    P_t = -M * vGx if stick else -mu_slip * P_n
+    du_plus = vGx + P_t / M
+    P_o = (d * P_n - H / 2 * P_t - I_G * dtheta + (x - e) * Lam) / (s * B)
+    return du - (H + h) * dtheta + dx - du_plus, du_plus, dv_plus + 0 * du_plus, P_t, P_n - P_o, P_o
+
+
 def block_energy(s, theta, dtheta, v, du, dv, M, I_G, B, H, e, g):
     """The bare block's energy in flight, relative to the ground: ``M |v_G|^2 / 2 + I_G dtheta^2 / 2 + M g y_G``."""
     r_G = _rotate(theta, _vec(s * B / 2 + e, H / 2))
