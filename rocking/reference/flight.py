@@ -25,14 +25,22 @@ def _rotate(theta, r):
     return np.stack([c * r[..., 0] - s_ * r[..., 1], s_ * r[..., 0] + c * r[..., 1]], axis=-1)
 
 
+def _float(*values):
+    """The floating type of ``values``: at least double, extended if one of them is (``rocking verify`` runs the
+    references in extended precision)."""
+    return np.result_type(*(np.asarray(a) for a in values), np.float64)
+
+
 def _arrays(*values):
     """``values`` as float arrays of their common shape."""
-    return np.broadcast_arrays(*(np.asarray(a, dtype=float) for a in values))
+    kind = _float(*values)
+    return np.broadcast_arrays(*(np.asarray(a, dtype=kind) for a in values))
 
 
 def _vec(a, b):
     """Stack two broadcast arrays on a last axis of 2."""
-    a, b = np.broadcast_arrays(np.asarray(a, dtype=float), np.asarray(b, dtype=float))
+    kind = _float(a, b)
+    a, b = np.broadcast_arrays(np.asarray(a, dtype=kind), np.asarray(b, dtype=kind))
     return np.stack([a, b], axis=-1)
 
 
@@ -46,7 +54,7 @@ def block_flight_accel(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g):
     shape = np.broadcast(s, theta, dtheta, ag, agy, M, I_G, B, H, e, g).shape
     r_G = _vec(s * B / 2 + e, H / 2)
     a = _vec(-ag, -(g + agy)) + np.asarray(dtheta**2)[..., None] * _rotate(theta, r_G)
-    return np.zeros(shape), np.broadcast_to(a[..., 0], shape), np.broadcast_to(a[..., 1], shape)
+    return np.zeros(shape, a.dtype), np.broadcast_to(a[..., 0], shape), np.broadcast_to(a[..., 1], shape)
 
 
 def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, guide=None):
@@ -69,12 +77,12 @@ def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h,
         s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c
     )
     shape = s.shape
-    G = k_m * x + c * dx if guide is None else np.broadcast_to(np.asarray(guide, dtype=float), shape)
+    G = k_m * x + c * dx if guide is None else np.broadcast_to(np.asarray(guide, dtype=s.dtype), shape)
     rho = _vec(x - e, H + h - H / 2)
     gravity = _rotate(-theta, _vec(-ag, -(g + agy)))  # per unit mass, in the block frame
     Jrho = rho @ _J.T
-    A = np.zeros(shape + (5, 5))
-    b = np.zeros(shape + (5,))
+    A = np.zeros(shape + (5, 5), s.dtype)
+    b = np.zeros(shape + (5,), s.dtype)
     # Unknowns: a_G (2, block frame), ddtheta, ddx, N_g.
     A[..., 0, 0], A[..., 1, 1] = M, M
     A[..., 1, 4] = 1.0
@@ -97,9 +105,28 @@ def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h,
     return ddtheta, ddx, a_c[..., 0], a_c[..., 1]
 
 
+def _linear(A, b):
+    """The solution of the linear systems ``A z = b`` (batched on the leading axes), by Gauss's elimination with
+    partial pivoting in the arrays' own precision (numpy.linalg has no extended one)."""
+    shape, n = b.shape, b.shape[-1]
+    A, b = A.reshape(-1, n, n).copy(), b.reshape(-1, n).copy()
+    rows = np.arange(len(b))
+    for k in range(n):
+        p = k + np.argmax(np.abs(A[:, k:, k]), axis=1)
+        A[rows, k], A[rows, p] = A[rows, p], A[rows, k].copy()
+        b[rows, k], b[rows, p] = b[rows, p], b[rows, k].copy()
+        f = A[:, k + 1 :, k] / A[:, k, k][:, None]
+        A[:, k + 1 :] -= f[..., None] * A[:, k, None, :]
+        b[:, k + 1 :] -= f * b[:, k, None]
+    z = np.zeros_like(b)
+    for k in reversed(range(n)):
+        z[:, k] = (b[:, k] - np.sum(A[:, k, k + 1 :] * z[:, k + 1 :], axis=1)) / A[:, k, k]
+    return z.reshape(shape)
+
+
 def _solve(A, b):
     """``(a_G, ddtheta, ddx)`` of :func:`omd_flight_accel`'s linear system."""
-    z = np.linalg.solve(A, b[..., None])[..., 0]
+    z = _linear(A, b)
     return z[..., :2], z[..., 2], z[..., 3]
 
 
@@ -119,8 +146,8 @@ def block_landing(s, theta, dtheta, du, dv, M, I_G, B, H, e, e_n=0.0, mu_slip=0.
     vG = _vec(du + dtheta * rc[..., 1], dv - dtheta * rc[..., 0])
     # Unknowns: v_G+ (2), omega+ and the impulse per unit mass P / M (rows scaled alike: a well-conditioned system).
     k = M / I_G
-    A = np.zeros(s.shape + (5, 5))
-    b = np.zeros(s.shape + (5,))
+    A = np.zeros(s.shape + (5, 5), s.dtype)
+    b = np.zeros(s.shape + (5,), s.dtype)
     A[..., 0, 0], A[..., 0, 3] = 1.0, -1.0
     A[..., 1, 1], A[..., 1, 4] = 1.0, -1.0
     A[..., 2, 2], A[..., 2, 3], A[..., 2, 4] = 1.0, k * rc[..., 1], -k * rc[..., 0]
@@ -131,7 +158,7 @@ def block_landing(s, theta, dtheta, du, dv, M, I_G, B, H, e, e_n=0.0, mu_slip=0.
         A[..., 4, 0], A[..., 4, 2] = 1.0, -rc[..., 1]
     else:
         A[..., 4, 3], A[..., 4, 4] = 1.0, mu_slip
-    z = np.linalg.solve(A, b[..., None])[..., 0]
+    z = _linear(A, b)
     w = z[..., 2]
     return w, z[..., 0] - w * rc[..., 1], z[..., 1] + w * rc[..., 0], M * z[..., 3], M * z[..., 4]
 
@@ -156,8 +183,8 @@ def omd_landing(s, theta, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n=0.0,
     vG = _vec(du + dtheta * rc[..., 1], dv - dtheta * rc[..., 0])
     vm = vG + dtheta[..., None] * Jr + dx[..., None] * t
     # Unknowns: v_G+ (2), omega+, dx+, and the impulses per unit block mass Lambda / M, P_t / M, P_n / M.
-    A = np.zeros(s.shape + (7, 7))
-    b = np.zeros(s.shape + (7,))
+    A = np.zeros(s.shape + (7, 7), s.dtype)
+    b = np.zeros(s.shape + (7,), s.dtype)
     k, r = M / I_G, m / M
     for i in (0, 1):
         A[..., i, i], A[..., i, 4], A[..., i, 5 + i] = 1.0, n[..., i], -1.0
@@ -173,7 +200,7 @@ def omd_landing(s, theta, x, dtheta, dx, du, dv, M, I_G, B, H, e, m, h, e_n=0.0,
         A[..., 6, 0], A[..., 6, 2] = 1.0, -rc[..., 1]
     else:
         A[..., 6, 5], A[..., 6, 6] = 1.0, mu_slip
-    z = np.linalg.solve(A, b[..., None])[..., 0]
+    z = _linear(A, b)
     w = z[..., 2]
     return w, z[..., 3], z[..., 0] - w * rc[..., 1], z[..., 1] + w * rc[..., 0], M * z[..., 5], M * z[..., 6]
 
