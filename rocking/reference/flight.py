@@ -106,8 +106,10 @@ def omd_flight_accel(s, theta, x, dtheta, dx, ag, agy, M, I_G, B, H, e, g, m, h,
 
 
 def _linear(A, b):
-    """The solution of the linear systems ``A z = b`` (batched on the leading axes), by Gauss's elimination with
-    partial pivoting in the arrays' own precision (numpy.linalg has no extended one)."""
+    """The solution of the linear systems ``A z = b`` (batched on the leading axes): numpy.linalg's in double
+    precision, Gauss's elimination with partial pivoting in extended precision (numpy.linalg has none)."""
+    if A.dtype == np.float64:
+        return np.linalg.solve(A, b[..., None])[..., 0]
     shape, n = b.shape, b.shape[-1]
     A, b = A.reshape(-1, n, n).copy(), b.reshape(-1, n).copy()
     rows = np.arange(len(b))
