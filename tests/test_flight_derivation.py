@@ -141,6 +141,21 @@ def test_a_flat_drop_splits_its_impulse_by_the_lever_rule(models, s):
     assert rel_error(P_o / (P_s + P_o), (v["B"] / 2 + s * e_C) / v["B"]) < 1e-12
 
 
+@pytest.mark.parametrize("stick", [True, False])
+def test_the_flat_landing_by_hand_with_a_massless_damper_is_the_bare_blocks(stick):
+    """rocking.reference.flight.omd_flat_landing, which rocking verify holds the damper's flat landings to, is (L3)
+    typed for the bare block once the mass is 0, the damper's state anything (its dx+ keeps the mass's velocity)."""
+    v = _cases("omd", 1, 29)
+    block = [v[k] for k in ("M", "I_G", "B", "H", "e")]
+    rates = [v[k] for k in ("dtheta", "du", "dv")]
+    want = ref.block_flat_landing(1, *rates, *block, v["e_n"], v["mu"], stick)
+    dx, *got = ref.omd_flat_landing(
+        1, v["x"], v["dtheta"], v["dx"], v["du"], v["dv"], *block, 0.0, v["h"], v["e_n"], v["mu"], stick
+    )
+    assert max(rel_error(a, b) for a, b in zip(got, want, strict=True)) < 1e-12
+    assert rel_error(dx + got[0], v["du"] - (v["H"] + v["h"]) * v["dtheta"] + v["dx"]) < 1e-12
+
+
 #: The functions of flight and landing (docs/model.md section 16), held against rocking.reference.flight here.
 FLIGHT = (
     "flight_accel",

@@ -268,7 +268,7 @@ def test_the_stick_forces_hold_the_contact_at_zero_slip(models):
 
 
 def test_model_md_quotes_the_count_verify_gives(models):
-    """docs/model.md section 15 states how many functions and checks `rocking verify` has per friction model."""
+    """docs/model.md section 16 states how many functions and checks `rocking verify` has per model."""
     from pathlib import Path
 
     text = " ".join((Path(__file__).resolve().parent.parent / "docs" / "model.md").read_text("utf-8").split())

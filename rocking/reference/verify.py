@@ -16,7 +16,7 @@ import numpy as np
 
 from ..model.checks import ParameterError, Range, shown
 from ..model.loading import Model, ModelError
-from . import paper, sliding
+from . import flight, paper, sliding
 
 #: Largest relative error accepted between generated and hand-written results.
 TOLERANCE = 1e-12
@@ -151,6 +151,19 @@ def friction_inputs(rng: np.random.Generator, n: int) -> dict[str, np.ndarray]:
     return {"mu_slip": rng.uniform(-1.0, 1.0, n), "du": rng.uniform(-2.0, 2.0, n)}
 
 
+#: The arguments of flight and landing beside a floor with friction's (:func:`flight_inputs`).
+FLIGHT_INPUTS = ("u", "v", "dv", "e_n")
+
+
+def flight_inputs(rng: np.random.Generator, n: int) -> dict[str, np.ndarray]:
+    """The arguments of flight and landing for ``n`` cases, beside a floor with friction's ``mu_slip`` and ``du``
+    (:func:`friction_inputs`, which every flying model has): the corner's ``u`` in (-1, 1) m and height ``v`` in
+    (0, 1) m, its vertical speed ``dv`` in (-2, 0) m/s (a corner lands moving down) and the restitution ``e_n`` in
+    [0, 1]."""
+    bounds = {"u": (-1.0, 1.0), "v": (0.0, 1.0), "dv": (-2.0, 0.0), "e_n": (0.0, 1.0)}
+    return {k: rng.uniform(*bounds[k], n) for k in FLIGHT_INPUTS}
+
+
 def _stops(v: dict, floor: float | None) -> dict:
     """The keywords of the end stops in :mod:`paper`'s functions: none, bumpers, or pads of least approach speed
     ``floor``."""
@@ -234,6 +247,53 @@ def _friction_results(v: dict, floor: float | None = None) -> dict[str, tuple]:
         }
 
 
+def _flight_results(v: dict, damper: bool, floor: float | None = None) -> dict[str, tuple]:
+    """The hand-typed value of each function of flight and landing (docs/model.md section 16,
+    :mod:`rocking.reference.flight`), by name, at the arguments ``v`` (with ``u``, ``v``, ``du``, ``dv``, ``e_n`` and
+    ``mu_slip``), of the block with its ``damper`` or without, in the layout of the model with the damper
+    (:func:`_select` keeps the bare block's)."""
+    stops = _stops(v, floor)
+    s, th, x, dth, dx, ag, agy = (v[k] for k in ("s", "theta", "x", "dtheta", "dx", "ag", "agy"))
+    M, I_G, B, H, e, g, m, h, k_m, c = (v[k] for k in ("M", "I_G", "B", "H", "e", "g", "m", "h", "k_m", "c"))
+    u, height, du, dv, e_n, mu = (v[k] for k in ("u", "v", "du", "dv", "e_n", "mu_slip"))
+    zero = 0 * th
+    corner = flight.other_corner(s, th, dth, u, height, du, dv, B)
+    if not damper:
+        ddth, ddu, ddv = flight.block_flight_accel(s, th, dth, ag, agy, M, I_G, B, H, e, g)
+        accel = (ddth, zero, ddu, ddv)
+        energy = flight.block_energy(s, th, dth, height, du, dv, M, I_G, B, H, e, g)
+        stick = flight.block_landing(s, th, dth, du, dv, M, I_G, B, H, e, e_n, mu, stick=True)
+        slide = flight.block_landing(s, th, dth, du, dv, M, I_G, B, H, e, e_n, mu, stick=False)
+        stick, slide = ((w, zero, *rest) for w, *rest in (stick, slide))
+        flat_stick = flight.block_flat_landing(s, dth, du, dv, M, I_G, B, H, e, e_n, mu, stick=True)
+        flat_slide = flight.block_flat_landing(s, dth, du, dv, M, I_G, B, H, e, e_n, mu, stick=False)
+        flats = {name: (zero, zero, *out) for name, out in (("stick", flat_stick), ("slide", flat_slide))}
+    else:
+        guide = paper.guide_force(x, dx, k_m, c, **stops)
+        accel = flight.omd_flight_accel(s, th, x, dth, dx, ag, agy, M, I_G, B, H, e, g, m, h, k_m, c, guide=guide)
+        pads = np.where(paper.pushes(x, dx, **stops), paper.pad(x, dx, **stops)[3], 0.0) if stops else 0.0
+        energy = flight.omd_energy(
+            s, th, x, dth, dx, height, du, dv, M, I_G, B, H, e, g, m, h, k_m, k_m * x**2 / 2 + pads
+        )
+        body = (s, th, x, dth, dx, du, dv, M, I_G, B, H, e, m, h, e_n, mu)
+        stick, slide = flight.omd_landing(*body, stick=True), flight.omd_landing(*body, stick=False)
+        flat = (s, x, dth, dx, du, dv, M, I_G, B, H, e, m, h, e_n, mu)
+        flats = {law: (zero, *flight.omd_flat_landing(*flat, stick=law == "stick")) for law in ("stick", "slide")}
+    # A sticking corner's slip after is 0 by definition: the reference's solve gives it to its rounding only.
+    stick = (*stick[:2], zero, *stick[3:])
+    results = {
+        "flight_accel": accel,
+        "corner_heights": (height, corner[1]),
+        "flight_corner": corner,
+        "flight_energy": (energy,),
+        "landing_stick": stick,
+        "landing_slide": slide,
+    }
+    flats["stick"] = (*flats["stick"][:2], zero, *flats["stick"][3:])
+    results.update(flat_landing_stick=flats["stick"], flat_landing_slide=flats["slide"])
+    return results
+
+
 def _affine(loads, zero) -> tuple:
     """The layout of the generated functions affine in ``(ddtheta, ddx)``: per quantity of ``loads(ddtheta, ddx)``,
     its value at rest accelerations, then its coefficients (exact differences: ``loads`` is affine)."""
@@ -258,6 +318,11 @@ def _select(model: Model, results: dict) -> dict:
             "contact_slide_accel": [0, 2, 3],
             "impact_stick": [0, 2, 3, 4],
             "impact_slide": [0, 2, 3, 4],
+            "flight_accel": [0, 2, 3],
+            "landing_stick": [0, 2, 3, 4, 5],
+            "landing_slide": [0, 2, 3, 4, 5],
+            "flat_landing_stick": [0, 2, 3, 4, 5, 6],
+            "flat_landing_slide": [0, 2, 3, 4, 5, 6],
         }
         results = {k: tuple(val[i] for i in keep.get(k, range(len(val)))) for k, val in results.items()}
         if "energy" in results:  # the functions of the paper (not those of a floor with friction alone)
@@ -355,6 +420,7 @@ def verify(
     rng = np.random.default_rng(seed)
     # Their own stream: the cases of the other functions are those of a model without friction.
     friction = np.random.default_rng((seed, 15)) if model.manifest.get("friction") else None
+    flying = np.random.default_rng((seed, 16)) if model.manifest.get("flight") else None
     if evaluate is None:
         evaluate = lambda name, v: _numpy_eval(model, name, v)
     checks = []
@@ -362,6 +428,8 @@ def verify(
         v = random_cases(rng, n, s, damper, stops, bool(hunt_crossley))
         if friction is not None:
             v.update(friction_inputs(friction, n))
+        if flying is not None:
+            v.update(flight_inputs(flying, n))
         zero = np.zeros(n)
         cases = {
             "rocking": v,
@@ -377,8 +445,17 @@ def verify(
         spreads: dict[str, dict] = {kind: {} for kind in cases}
         if friction is not None:
             for kind, vals in exact.items():
-                spreads[kind] = spread(lambda w: _select(model, _friction_results(w, floor)), vals, friction)
+                # Without flight's arguments: rounding them too would draw more from the stream, and move the cases.
+                alone = {k: a for k, a in vals.items() if k not in FLIGHT_INPUTS}
+                spreads[kind] = spread(lambda w: _select(model, _friction_results(w, floor)), alone, friction)
                 refs[kind].update(_select(model, _friction_results(vals, floor)))
+        if flying is not None:
+            # Stiff bumpers load flight_accel with forces that cancel, as they do the slide phases (2.6e-12 of it
+            # otherwise, omd_stops, 20000 cases, seed 2): flight's functions are compared at the size of their
+            # terms too, the roundings drawn from flight's own stream.
+            flown = lambda w: _select(model, _flight_results(w, damper, floor))  # noqa: E731
+            spreads["rocking"].update(spread(flown, exact["rocking"], flying))
+            refs["rocking"].update(flown(exact["rocking"]))
         for name in refs["rocking"]:
             kind = _STATE_OF.get(name, "rocking")
             got = evaluate(name, cases[kind])
