@@ -235,9 +235,11 @@ class _System:
         # Where mu_k = tan(alpha_s) a sliding base's uplift margin is 0 up to rounding for as long as it slides: a
         # margin within rounding of the weight's moment about the corner is no uplift (docs/simulation.md).
         zeros = np.zeros(2 * self.n)
-        self.slide_uplift_floor = {
-            s: SLIDE_UPLIFT_ROUNDING * abs(float(self._call("uplift", s, zeros, 0.0))) for s in (1, -1)
-        }
+        self.slide_uplift_floor = (
+            {s: SLIDE_UPLIFT_ROUNDING * abs(float(self._call("uplift", s, zeros, 0.0))) for s in (1, -1)}
+            if self.friction
+            else {}
+        )
 
     def _safe_energy(self) -> float | None:
         """The early rest's bound: the least energy above rest at which the attached bodies can lift the block,

@@ -91,7 +91,7 @@ GUARDS = {
 #: How a run can end in a phase (statuses of :data:`rocking.sim.boundary.STATUSES`).
 ENDS = ("overturned", "rest", "flight")
 
-#: The phases, in the order of their codes (the index in this table, :func:`code`).
+#: The phases, in the order of their codes (a phase's code is its index in this table, as csrc/phases.h numbers them).
 PHASES = (
     Phase(
         "contact",
@@ -164,11 +164,6 @@ def phase(name: str) -> Phase:
         if p.name == name:
             return p
     raise KeyError(name)
-
-
-def code(name: str) -> int:
-    """The code of the phase ``name``: its index in :data:`PHASES`."""
-    return PHASES.index(phase(name))
 
 
 def of(rocks: bool, slides: bool) -> Phase:
