@@ -52,7 +52,7 @@ INFINITE = (
 def test_a_floor_defaults_to_the_papers_and_its_kinetic_friction_to_the_static():
     assert (Floor().mu_s, Floor().mu_k, Floor().slides) == (math.inf, math.inf, False)
     assert (Floor(0.3).mu_k, Floor(0.3, 0.2).mu_k, Floor(0.3).slides) == (0.3, 0.2, True)
-    assert Floor(1).settings() == {"mu_s": 1.0, "mu_k": 1.0} and type(Floor(1).mu_s) is float
+    assert Floor(1).settings() == {"mu_s": 1.0, "mu_k": 1.0, "e_n": 0.0} and type(Floor(1).mu_s) is float
 
 
 @pytest.mark.parametrize(
@@ -83,7 +83,7 @@ def test_a_floor_out_of_range_is_refused_in_one_line_naming_the_coefficient_and_
 
 def test_the_floor_and_the_slip_are_fields_of_the_boundary_with_the_papers_values_by_default():
     assert [field_named(CASE, n).default for n in ("mu_s", "mu_k")] == [math.inf, math.inf]
-    assert [(f.name, f.unit, f.default) for f in RESULT[-3:]] == [
+    assert [(f.name, f.unit, f.default) for f in RESULT[-6:-3]] == [
         ("u_max", "m", 0.0),
         ("u_end", "m", 0.0),
         ("slides", "", 0),
@@ -219,7 +219,7 @@ def test_simulate_passes_mu_and_mu_k_to_the_run_from_python_and_the_command_line
     assert [(s["mu_s"], s["mu_k"]) for s in spy.settings] == [(0.5, 0.4), (0.6, 0.6), (0.3, 0.2)]
     assert {"u_max", "u_end", "slides"} <= set(payload["responses"]["block alone"])
     assert payload["units"]["u_max"] == "m" and payload["units"]["slides"] == "1"
-    assert payload["floor"] == {"mu_s": 0.3, "mu_k": 0.2}
+    assert payload["floor"] == {"mu_s": 0.3, "mu_k": 0.2, "e_n": 0.0}
 
 
 @pytest.mark.parametrize(

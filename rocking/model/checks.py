@@ -397,6 +397,7 @@ RANGES: dict[str, Range] = {
         open_low=True,
         infinite=True,
     ),
+    "e_n": Range(0.0, 1.0, "", "normal restitution of a landing: 0 plastic (the default), 1 elastic"),
     "max_steps": Range(1, math.inf, "", "the bound on a run's work (docs/simulation.md, rule 5)", integer=True),
     "real": Range(-math.inf, math.inf, "", "a number: its range is checked where the motion or run is built"),
     "positive": Range(0.0, math.inf, "", "a step or a length of time", open_low=True),

@@ -11,7 +11,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from .checks import RANGES, ParameterError, as_real, shown
+from .checks import RANGES, ParameterError, as_real, check_in_range, shown
 
 __all__ = ["PAPER_FLOOR", "Floor", "check_pair", "floor_of"]
 
@@ -63,6 +63,8 @@ class Floor:
         Static coefficient, in ``(0, inf]``; default ``inf``: the base never slides (the paper's floor).
     mu_k : float, optional
         Kinetic coefficient, in ``(0, mu_s]``; default ``mu_s``. Finite only with a finite ``mu_s``.
+    e_n : float, optional
+        Normal restitution of a landing after flight, in ``[0, 1]`` (docs/model.md section 16); default 0: plastic.
 
     Raises
     ------
@@ -73,13 +75,14 @@ class Floor:
     --------
     >>> import rocking
     >>> rocking.Floor(0.3)
-    Floor(mu_s=0.3, mu_k=0.3)
+    Floor(mu_s=0.3, mu_k=0.3, e_n=0.0)
     >>> rocking.Floor().slides
     False
     """
 
     mu_s: float = math.inf
     mu_k: float | None = None
+    e_n: float = 0.0
 
     def __post_init__(self) -> None:
         mu_s = _coefficient("mu_s", self.mu_s)
@@ -87,6 +90,7 @@ class Floor:
         check_pair(mu_s, mu_k)
         object.__setattr__(self, "mu_s", mu_s)
         object.__setattr__(self, "mu_k", mu_k)
+        object.__setattr__(self, "e_n", check_in_range("e_n", self.e_n))
 
     @property
     def slides(self) -> bool:
@@ -94,8 +98,9 @@ class Floor:
         return math.isfinite(self.mu_s)
 
     def settings(self) -> dict[str, float]:
-        """The fields ``mu_s`` and ``mu_k`` of a run (:data:`rocking.sim.boundary.CASE`)."""
-        return {"mu_s": self.mu_s, "mu_k": self.mu_s if self.mu_k is None else self.mu_k}  # never None once built
+        """The fields ``mu_s``, ``mu_k`` and ``e_n`` of a run (:data:`rocking.sim.boundary.CASE`)."""
+        mu_k = self.mu_s if self.mu_k is None else self.mu_k  # never None once built
+        return {"mu_s": self.mu_s, "mu_k": mu_k, "e_n": self.e_n}
 
 
 def check_model_floor(mu_s, model) -> None:

@@ -31,7 +31,7 @@ from ..model import motion
 from ..model.checks import RANGES, ParameterError, shown
 
 #: Bumped whenever :data:`CASE`, :data:`RESULT` or an entry point of ``sim.h`` changes.
-API_VERSION = 9
+API_VERSION = 10
 
 DOUBLE, INT64, INT32, DOUBLES, SERIES = "double", "int64", "int32", "doubles", "series"
 
@@ -153,6 +153,14 @@ CASE = (
         math.inf,
     ),
     Field("mu_k", DOUBLE, "", "kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf)", "mu", math.inf),
+    Field(
+        "e_n",
+        DOUBLE,
+        "",
+        "normal restitution of a landing (docs/model.md section 16): 0 plastic (the default), 1 elastic",
+        "e_n",
+        0.0,
+    ),
     Field("t_max", DOUBLE, "s", "end of the run if nothing ends it first", "t_max"),
     Field("rtol", DOUBLE, "", "relative tolerance of the integrator", "rtol"),
     Field("atol", DOUBLES, "state units", "absolute tolerance of each state component"),
@@ -212,6 +220,19 @@ RESULT = (
     Field("u_max", DOUBLE, "m", "largest |u|, the peak slip of the base relative to the ground", None, 0.0),
     Field("u_end", DOUBLE, "m", "the residual displacement of the base: u at the end (signed)", None, 0.0),
     Field("slides", INT64, "", "slip episodes: times the base started sliding on the floor", None, 0),
+    # A back end or a model that does not follow flight leaves these at 0: such a run ends with the status flight.
+    Field(
+        "flight_time", DOUBLE, "s", "the total time the block spent off the floor (docs/model.md section 16)", None, 0.0
+    ),
+    Field(
+        "jump_max",
+        DOUBLE,
+        "m",
+        "largest height above the floor a base corner reached in flight (the highest base point's peak)",
+        None,
+        0.0,
+    ),
+    Field("flights", INT64, "", "takeoffs: times the block left the floor", None, 0),
 )
 
 
@@ -287,12 +308,23 @@ STATUSES = (
     Code("max_events", 3, "uplifts + impacts reached max_events"),
     Code("max_steps", 4, "the work of the run passed max_steps (rule 5)"),
     Code("bounded", 5, "after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4)"),
-    Code("flight", 6, "g + agy(t) <= 0 in contact or rocking: the base may leave the ground, out of scope"),
+    Code(
+        "flight",
+        6,
+        "the floor's normal force reached 0 on a model without flight functions: the base may leave the ground, out "
+        "of its scope (docs/model.md sections 14, 16)",
+    ),
     Code(
         "below_barrier",
         7,
         "t_max reached after the pulse, the energy below the least potential on the way to overturning: safe, its "
         "maxima those until t_max (rule 4)",
+    ),
+    Code(
+        "jammed",
+        8,
+        "a landing with no consistent impulse, neither sticking nor sliding (Painleve's jam, docs/model.md section "
+        "16): out of the model, no verdict",
     ),
 )
 #: Status code of a run whose step size underflowed (a non-finite right-hand side); never a result.

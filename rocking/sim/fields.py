@@ -66,6 +66,8 @@ class ProblemFields:
         Static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides.
     mu_k : float
         Kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf).
+    e_n : float
+        Normal restitution of a landing (docs/model.md section 16): 0 plastic (the default), 1 elastic.
     t_max : float
         End of the run if nothing ends it first [s].
     rtol : float
@@ -115,6 +117,7 @@ class ProblemFields:
     t_flight: float = math.inf
     mu_s: float = math.inf
     mu_k: float = math.inf
+    e_n: float = 0.0
     t_max: float
     rtol: float
     atol: np.ndarray
@@ -165,6 +168,12 @@ class ResponseFields:
         The residual displacement of the base: u at the end (signed) [m].
     slides : int
         Slip episodes: times the base started sliding on the floor.
+    flight_time : float
+        The total time the block spent off the floor (docs/model.md section 16) [s].
+    jump_max : float
+        Largest height above the floor a base corner reached in flight (the highest base point's peak) [m].
+    flights : int
+        Takeoffs: times the block left the floor.
     sensitive : bool
         The tolerance check's runs disagree (the verdict, or theta_max or x_max by more than 10 %): this
         response is its tightest run's (docs/simulation.md, Sensitivity to the tolerance).
@@ -192,6 +201,9 @@ class ResponseFields:
     u_max: float = 0.0
     u_end: float = 0.0
     slides: int = 0
+    flight_time: float = 0.0
+    jump_max: float = 0.0
+    flights: int = 0
     sensitive: bool = False
     theta_max_low: float = math.nan
     theta_max_high: float = math.nan

@@ -764,6 +764,7 @@ def friction_events(system: _System, phase: int, sigma: int, ground, stop_on: tu
     if not system.friction:
         return []
     table = {e.event for e in phase_of(phase != CONTACT, sigma != 0).exits}
+    # Not yet followed here: a lift-off on a floor with friction ends the run (status flight, section 14).
     events = [lift_off_event(system, phase, sigma, ground, stop_on, vertical)] if LIFT_OFF in table else []
     if SLIP in table:
         events.append(slip_event(system, phase, ground, stop_on, vertical))

@@ -46,14 +46,18 @@ class Phase:
     name : str
         How statuses, events and histories call it.
     rocks : bool
-        The block rocks about a corner ``s`` (else its base is in full contact, ``theta = dtheta = 0``).
+        The block rocks about a corner ``s`` (else its base is in full contact, ``theta = dtheta = 0``); in flight,
+        ``s`` is the reference corner of the flying state.
     slides : bool
         The contact slides: the slip ``u`` and its speed ``du`` are integrated and the floor's tangential force is
         ``F = -mu_k sign(du) N`` (else ``u`` is held, ``du = 0``, and the floor holds ``|F| <= mu_s N``).
+    flies : bool
+        The block is off the floor: the reference corner's height ``v`` and its rate ``dv`` are integrated too, and
+        the floor holds nothing (docs/model.md section 16).
     accel : str
         The generated function of its accelerations.
     force : str
-        The generated function that gives the floor's force on the contact, ``(F, N)`` or ``N`` last.
+        The generated function that gives the floor's force on the contact, ``(F, N)`` or ``N`` last; ``""``: none.
     exits : tuple of Exit
         What ends it, in the order the guards are tried for one event.
     """
@@ -61,6 +65,7 @@ class Phase:
     name: str
     rocks: bool
     slides: bool
+    flies: bool
     accel: str
     force: str
     exits: tuple
@@ -75,6 +80,7 @@ EVENTS = {
     "stop": "the slip speed du returns to 0",
     "lift-off": "the floor's normal force N on the contact returns to 0",
     "rest": "the energy above rest falls below energy_rest in full contact after the motion (rules 2, 4)",
+    "landing": "the height of a base corner above the floor returns to 0 moving down (docs/model.md section 16)",
 }
 
 #: The conditions on the state at an event that choose between exits.
@@ -86,10 +92,12 @@ GUARDS = {
     "rocks": "after an impact the corner holds and |dtheta| >= dtheta_rest: it rocks on about that corner, -s",
     "rests-sliding": "after an impact the corner slides through it and |dtheta| < dtheta_rest",
     "rocks-sliding": "after an impact the corner slides through it and |dtheta| >= dtheta_rest",
+    "bounces": "after a landing the corner leaves the floor again: dv after it (-e_n dv before) above the bounce speed",
+    "jams": "a landing with no consistent impulse (Painleve's jam: neither sticking nor sliding holds)",
 }
 
 #: How a run can end in a phase (statuses of :data:`rocking.sim.boundary.STATUSES`).
-ENDS = ("overturned", "rest", "flight")
+ENDS = ("overturned", "rest", "jammed")
 
 #: The phases, in the order of their codes (a phase's code is its index in this table, as csrc/phases.h numbers them).
 PHASES = (
@@ -97,6 +105,7 @@ PHASES = (
         "contact",
         rocks=False,
         slides=False,
+        flies=False,
         accel="contact_accel",
         force="contact_stick_force",
         exits=(
@@ -110,6 +119,7 @@ PHASES = (
         "contact-slide",
         rocks=False,
         slides=True,
+        flies=False,
         accel="contact_slide_accel",
         force="contact_slide_accel",
         exits=(
@@ -123,6 +133,7 @@ PHASES = (
         "rocking",
         rocks=True,
         slides=False,
+        flies=False,
         accel="rocking_accel",
         force="stick_force",
         exits=(
@@ -139,6 +150,7 @@ PHASES = (
         "slide-rock",
         rocks=True,
         slides=True,
+        flies=False,
         accel="slide_accel",
         force="slide_accel",
         exits=(
@@ -152,10 +164,30 @@ PHASES = (
             Exit("overturn", "always", "overturned"),
         ),
     ),
+    Phase(
+        "flight",
+        rocks=True,
+        slides=True,
+        flies=True,
+        accel="flight_accel",
+        force="",
+        exits=(
+            Exit("landing", "rests", "contact"),
+            Exit("landing", "rocks", "rocking"),
+            Exit("landing", "rests-sliding", "contact-slide"),
+            Exit("landing", "rocks-sliding", "slide-rock"),
+            Exit("landing", "bounces", "flight"),
+            Exit("landing", "jams", "jammed"),
+            Exit("overturn", "always", "overturned"),
+        ),
+    ),
 )
 
 #: The events each phase watches only on a floor with friction (``mu_s`` finite).
-FRICTION_EVENTS = ("slip", "stop", "lift-off")
+FRICTION_EVENTS = ("slip", "stop")
+#: The events each phase watches only on a model with flight functions (``[ground] flight = true``); a model
+#: without them ends the run with the status ``flight`` where the table enters the flight phase (section 14).
+FLIGHT_EVENTS = ("lift-off", "landing")
 
 
 def phase(name: str) -> Phase:
@@ -166,12 +198,12 @@ def phase(name: str) -> Phase:
     raise KeyError(name)
 
 
-def of(rocks: bool, slides: bool) -> Phase:
+def of(rocks: bool, slides: bool, flies: bool = False) -> Phase:
     """The phase with these constraints."""
     for p in PHASES:
-        if p.rocks == rocks and p.slides == slides:
+        if (p.rocks, p.slides, p.flies) == (rocks, slides, flies):
             return p
-    raise KeyError((rocks, slides))
+    raise KeyError((rocks, slides, flies))
 
 
 def next_phase(current: str, event: str, guard: str) -> str:
@@ -183,7 +215,7 @@ def next_phase(current: str, event: str, guard: str) -> str:
 
 
 def check_table() -> None:
-    """Every exit names a known event, guard and target; every phase's pair of flags is its own.
+    """Every exit names a known event, guard and target; every phase's flags are its own.
 
     Raises
     ------
@@ -191,7 +223,7 @@ def check_table() -> None:
         Naming the first entry that is not.
     """
     names = {p.name for p in PHASES}
-    if len({(p.rocks, p.slides) for p in PHASES}) != len(PHASES):
+    if len({(p.rocks, p.slides, p.flies) for p in PHASES}) != len(PHASES):
         raise ValueError("two phases have the same constraints")
     for p in PHASES:
         for e in p.exits:
@@ -235,10 +267,10 @@ def c_header() -> str:
         "    int event, guard, to;",
         "} phase_exit;",
         "",
-        "/* One phase: rocks about s (else full contact), slides (u, du integrated), its exits. */",
+        "/* One phase: rocks about s (else full contact), slides (u, du integrated), flies (v, dv too), its exits. */",
         "typedef struct phase_rule {",
         "    const char *name;",
-        "    int rocks, slides, n_exits;",
+        "    int rocks, slides, flies, n_exits;",
         "    phase_exit exits[PHASE_MAX_EXITS];",
         "} phase_rule;",
         "",
@@ -248,7 +280,8 @@ def c_header() -> str:
         exits = ", ".join(
             f"{{PHASE_EVENT_{_c_name(e.event)}, PHASE_GUARD_{_c_name(e.guard)}, {target(e.to)}}}" for e in p.exits
         )
-        lines.append(f'    {{"{p.name}", {int(p.rocks)}, {int(p.slides)}, {len(p.exits)}, {{{exits}}}}},')
+        flags = f"{int(p.rocks)}, {int(p.slides)}, {int(p.flies)}"
+        lines.append(f'    {{"{p.name}", {flags}, {len(p.exits)}, {{{exits}}}}},')
     lines += ["};", "", "#endif", ""]
     return "\n".join(lines)
 

@@ -366,7 +366,8 @@ class Setting:
         if self.vertical is not None:
             record["vertical"] = self.vertical_record()
         if self.floor.slides:
-            record["floor"] = self.floor.settings()
+            # A plastic landing, the default, is said by leaving e_n out: records and hashes saved before flight stay.
+            record["floor"] = {k: v for k, v in self.floor.settings().items() if k != "e_n" or v}
         return record
 
 

@@ -4,7 +4,7 @@
 
 #include <stdint.h>
 
-#define ROCKING_SIM_API_VERSION 9
+#define ROCKING_SIM_API_VERSION 10
 
 #define ROCKING_SAFE_MARGIN 1e-09 /* relative margin below the energy bounds of the early rest and verdict (rule 4) */
 #define ROCKING_ARC_STEP 0.05 /* widest arc of tilts [rad] on which the early verdict bounds the potential (rule 4) */
@@ -19,8 +19,9 @@ enum rocking_status {
     ROCKING_MAX_EVENTS = 3, /* uplifts + impacts reached max_events */
     ROCKING_MAX_STEPS = 4, /* the work of the run passed max_steps (rule 5) */
     ROCKING_BOUNDED = 5, /* after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4) */
-    ROCKING_FLIGHT = 6, /* g + agy(t) <= 0 in contact or rocking: the base may leave the ground, out of scope */
+    ROCKING_FLIGHT = 6, /* the floor's normal force reached 0 on a model without flight functions: the base may leave the ground, out of its scope (docs/model.md sections 14, 16) */
     ROCKING_BELOW_BARRIER = 7, /* t_max reached after the pulse, the energy below the least potential on the way to overturning: safe, its maxima those until t_max (rule 4) */
+    ROCKING_JAMMED = 8, /* a landing with no consistent impulse, neither sticking nor sliding (Painleve's jam, docs/model.md section 16): out of the model, no verdict */
     ROCKING_FAILED = -1, /* the step size underflowed (non-finite right-hand side, ...) */
     ROCKING_STOPPED = -2, /* stopped by the caller's stop flag (Python: KeyboardInterrupt) */
 };
@@ -60,6 +61,7 @@ typedef struct rocking_case {
     double t_flight; /* first time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s] */
     double mu_s; /* static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides */
     double mu_k; /* kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf) */
+    double e_n; /* normal restitution of a landing (docs/model.md section 16): 0 plastic (the default), 1 elastic */
     double t_max; /* end of the run if nothing ends it first [s] */
     double rtol; /* relative tolerance of the integrator */
     const double *atol; /* absolute tolerance of each state component [state units] */
@@ -90,14 +92,17 @@ typedef struct rocking_result {
     double u_max; /* largest |u|, the peak slip of the base relative to the ground [m] */
     double u_end; /* the residual displacement of the base: u at the end (signed) [m] */
     int64_t slides; /* slip episodes: times the base started sliding on the floor */
+    double flight_time; /* the total time the block spent off the floor (docs/model.md section 16) [s] */
+    double jump_max; /* largest height above the floor a base corner reached in flight (the highest base point's peak) [m] */
+    int64_t flights; /* takeoffs: times the block left the floor */
 } rocking_result;
 
 /* The fields in table order, for the layout the library reports (rocking_layout). */
-#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(a_v) X(psi_v) X(n_v_samples) X(v_samples) X(t_flight) X(mu_s) X(mu_k) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
+#define ROCKING_CASE_FIELDS(X) X(motion) X(a_g) X(omega_g) X(psi) X(t_c) X(shape) X(t_p) X(n_extrema) X(extrema) X(pulse_dt) X(n_samples) X(samples) X(a_v) X(psi_v) X(n_v_samples) X(v_samples) X(t_flight) X(mu_s) X(mu_k) X(e_n) X(t_max) X(rtol) X(atol) X(contact_max_step) X(dtheta_rest) X(energy_rest) X(max_events) X(max_steps) X(record_dt) X(y0) X(phase0) X(early_rest) X(early_verdict)
 
-#define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max) X(u_max) X(u_end) X(slides)
+#define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max) X(u_max) X(u_end) X(slides) X(flight_time) X(jump_max) X(flights)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_BARRIER_TILTS) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_BELOW_BARRIER) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_BARRIER_TILTS) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_BELOW_BARRIER) X(ROCKING_JAMMED) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
 
 #endif
