@@ -169,7 +169,7 @@ CASE = (
     Field(
         "energy_rest", DOUBLE, "J", "full contact after the pulse ends once E(y) - E(0) is below this", "nonnegative"
     ),
-    Field("max_events", INT64, "", "the run ends when uplifts + impacts reach this", "max_events"),
+    Field("max_events", INT64, "", "the run ends when uplifts + impacts + flights reach this", "max_events"),
     Field(
         "max_steps",
         INT64,
@@ -305,7 +305,7 @@ STATUSES = (
     Code("overturned", 0, "|theta| reached pi/2"),
     Code("rest", 1, "back in full contact after the pulse, below energy_rest or below the uplift energy"),
     Code("t_max", 2, "t_max reached"),
-    Code("max_events", 3, "uplifts + impacts reached max_events"),
+    Code("max_events", 3, "uplifts + impacts + flights reached max_events"),
     Code("max_steps", 4, "the work of the run passed max_steps (rule 5)"),
     Code("bounded", 5, "after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4)"),
     Code(
@@ -375,13 +375,18 @@ CONSTANTS = (
     Constant("FIRST_STEP_FRACTION", 0.25, "first step after an impact, as a fraction of the expected half-cycle"),
     Constant("RICKER_ANTI_PEAK", motion.RICKER_ANTI_PEAK, "peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2"),
     Constant("BARRIER_TILTS", 64, "a run at t_max is bounded at the tilts k pi / (2 BARRIER_TILTS), 0 < k < it"),
+    Constant(
+        "FLAT_LANDING",
+        1e-12,
+        "a landing is flat, on both corners, where |sin theta| is at most this (docs/model.md section 16): rounding",
+    ),
 )
 
 STATUS = tuple(code.name for code in STATUSES)
 #: Statuses of a run cut short by a bound on its work: whether the block would overturn is not known.
 UNDETERMINED = ("max_events", "max_steps")
 CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
-SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _, _TILTS = (constant.value for constant in CONSTANTS)
+SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _, _TILTS, FLAT_LANDING = (constant.value for constant in CONSTANTS)
 BARRIER_TILTS = int(_TILTS)
 #: The code of each ground-motion family by name.
 MOTION = {code.name: code.value for code in MOTIONS}

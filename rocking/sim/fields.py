@@ -81,7 +81,7 @@ class ProblemFields:
     energy_rest : float
         Full contact after the pulse ends once E(y) - E(0) is below this [J].
     max_events : int
-        The run ends when uplifts + impacts reach this.
+        The run ends when uplifts + impacts + flights reach this.
     max_steps : int
         Bound on the work of a run: right-hand-side evaluations plus recorded samples (rule 5).
     record_dt : float

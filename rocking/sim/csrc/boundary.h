@@ -11,12 +11,13 @@
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
 #define ROCKING_RICKER_ANTI_PEAK 0.9758915363849756 /* peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2 */
 #define ROCKING_BARRIER_TILTS 64 /* a run at t_max is bounded at the tilts k pi / (2 BARRIER_TILTS), 0 < k < it */
+#define ROCKING_FLAT_LANDING 1e-12 /* a landing is flat, on both corners, where |sin theta| is at most this (docs/model.md section 16): rounding */
 
 enum rocking_status {
     ROCKING_OVERTURNED = 0, /* |theta| reached pi/2 */
     ROCKING_REST = 1, /* back in full contact after the pulse, below energy_rest or below the uplift energy */
     ROCKING_T_MAX = 2, /* t_max reached */
-    ROCKING_MAX_EVENTS = 3, /* uplifts + impacts reached max_events */
+    ROCKING_MAX_EVENTS = 3, /* uplifts + impacts + flights reached max_events */
     ROCKING_MAX_STEPS = 4, /* the work of the run passed max_steps (rule 5) */
     ROCKING_BOUNDED = 5, /* after the pulse, the energy keeps |theta| and |q[1]| below their maxima: final (rule 4) */
     ROCKING_FLIGHT = 6, /* the floor's normal force reached 0 on a model without flight functions: the base may leave the ground, out of its scope (docs/model.md sections 14, 16) */
@@ -68,7 +69,7 @@ typedef struct rocking_case {
     double contact_max_step; /* largest step in full contact while t < t_p [s] */
     double dtheta_rest; /* an impact with outgoing |dtheta| below this ends rocking [rad/s] */
     double energy_rest; /* full contact after the pulse ends once E(y) - E(0) is below this [J] */
-    int64_t max_events; /* the run ends when uplifts + impacts reach this */
+    int64_t max_events; /* the run ends when uplifts + impacts + flights reach this */
     int64_t max_steps; /* bound on the work of a run: right-hand-side evaluations plus recorded samples (rule 5) */
     double record_dt; /* spacing of a recorded history (<= 0: events only) [s] */
     const double *y0; /* initial state (NULL / None: at rest) [state units] */
@@ -103,6 +104,6 @@ typedef struct rocking_result {
 #define ROCKING_RESULT_FIELDS(X) X(status) X(overturned) X(impacts) X(uplifts) X(t_overturn) X(t_critical) X(theta_max) X(x_max) X(t_end) X(stop_contacts) X(bumper_force_max) X(u_max) X(u_end) X(slides) X(flight_time) X(jump_max) X(flights)
 
 /* The constants in table order (rocking_constants). */
-#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_BARRIER_TILTS) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_BELOW_BARRIER) X(ROCKING_JAMMED) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
+#define ROCKING_CONSTANTS(X) X(ROCKING_SAFE_MARGIN) X(ROCKING_ARC_STEP) X(ROCKING_FIRST_STEP_FRACTION) X(ROCKING_RICKER_ANTI_PEAK) X(ROCKING_BARRIER_TILTS) X(ROCKING_FLAT_LANDING) X(ROCKING_OVERTURNED) X(ROCKING_REST) X(ROCKING_T_MAX) X(ROCKING_MAX_EVENTS) X(ROCKING_MAX_STEPS) X(ROCKING_BOUNDED) X(ROCKING_FLIGHT) X(ROCKING_BELOW_BARRIER) X(ROCKING_JAMMED) X(ROCKING_FAILED) X(ROCKING_STOPPED) X(ROCKING_CONTACT) X(ROCKING_PIVOT_A) X(ROCKING_PIVOT_A_PRIME) X(ROCKING_MOTION_SINE) X(ROCKING_MOTION_COSINE) X(ROCKING_MOTION_RICKER) X(ROCKING_MOTION_RICKER_ANTI) X(ROCKING_MOTION_MP) X(ROCKING_MOTION_SAMPLED)
 
 #endif
