@@ -114,6 +114,10 @@ class Floor:
     mu_k: float = math.inf
     e_n: float = 0.0
 
+    def holds(self, F: float, N: float) -> bool:
+        """Whether the floor holds a contact that needs the tangential force ``F`` under the normal ``N``."""
+        return math.isinf(self.mu_s) or abs(F) <= self.mu_s * N
+
 
 @dataclass
 class Run:
@@ -128,7 +132,7 @@ class Run:
     impacts: int = 0
     uplifts: int = 0
     slides: int = 0
-    #: Every landing: ``(t, law, energy before, energy after, omega before, omega after)``.
+    #: Every landing: ``(t, law, energy before, energy after, omega before, omega after, the corner's dv before)``.
     landings: list = field(default_factory=list)
 
 
@@ -198,7 +202,7 @@ def corner_law(body: Body, floor: Floor, k: int, z, dv_after: float):
     """The corner ``k``'s impulse by the landing law (``rocking.reference.flight.landing_law``'s rule, typed again):
     ``(z+, law)`` with ``law`` 0 (stuck), ``+-1`` (sliding that way) or ``None`` (neither: jammed)."""
     zs, Pt, Pn = impulse(body, k, z, dv_after, None)
-    if Pn > 0 and abs(Pt) <= floor.mu_s * Pn:
+    if Pn > 0 and floor.holds(Pt, Pn):
         return zs, 0
     du = body.corner(k, z)[1][0]
     for sigma in (1, -1):
@@ -215,7 +219,7 @@ def flat_law(body: Body, floor: Floor, z, dv_after: float):
         k = 1 if PA > PB else -1  # the corner that pulls leaves the floor: the other lands alone
         zk, law = corner_law(body, floor, k, z, dv_after)
         return zk, law, k
-    if abs(Pt) <= floor.mu_s * (PA + PB):
+    if floor.holds(Pt, PA + PB):
         return zs, 0, 0
     du = z[3]
     for sigma in (1, -1) if du == 0 else (int(np.sign(du)),):
@@ -321,7 +325,15 @@ class _Sim:
         later = [s for s in self.ground.kinks if s > t + 1e-15]
         end = min([self.t_max, *later])
         step = self.ground.t_p / 256 if t < self.ground.t_p else np.inf
-        sol = solve_ivp(rhs, (t, end), y0, "DOP853", events=fns, rtol=self.rtol, atol=1e-14, max_step=step)
+        first = None
+        if self.phase[0] == "rocking" and y0[0] == 0.0:
+            # Rocking from theta = 0 swings back within ~2 |omega / ddtheta|: a first step past that would see the
+            # impact at the start (docs/simulation.md's grazing lift-off).
+            dd = abs(rhs(t, y0)[1])
+            first = min(end - t, 0.05 * abs(y0[1]) / dd) if dd > 0 and y0[1] != 0 else None
+        sol = solve_ivp(
+            rhs, (t, end), y0, "DOP853", events=fns, rtol=self.rtol, atol=1e-14, max_step=step, first_step=first
+        )
         zs = [to_z(y) for y in sol.y.T] + [to_z(y) for ye in sol.y_events for y in ye]
         self._maxima(zs)
         hits = [(te[0], name, ye[0]) for name, te, ye in zip(ev, sol.t_events, sol.y_events, strict=True) if te.size]
@@ -358,7 +370,7 @@ class _Sim:
                 elif min(NA, NB) < 0:
                     self.run.uplifts += 1
                     self.phase = ("rocking", 1 if NB < 0 else -1, sigma)
-                elif sigma == 0 and abs(F) > fl.mu_s * (NA + NB):
+                elif sigma == 0 and not fl.holds(F, NA + NB):
                     self.run.slides += 1
                     self.phase = ("contact", -int(np.sign(F)))
                 else:
@@ -368,7 +380,7 @@ class _Sim:
                 _, _, F, N = self._rocking(t, k, sigma, self.z[2], self.z[5])
                 if N < 0:
                     self.takeoff()
-                elif sigma == 0 and abs(F) > fl.mu_s * N:
+                elif sigma == 0 and not fl.holds(F, N):
                     self.run.slides += 1
                     self.phase = ("rocking", k, -int(np.sign(F)))
                 else:
@@ -419,7 +431,7 @@ class _Sim:
                 if kind == "contact"
                 else self._rocking(t, k, 0, self.z[2], self.z[5])[2:]
             )
-            sigma = 0 if abs(F) <= fl.mu_s * N else -int(np.sign(F))
+            sigma = 0 if fl.holds(F, N) else -int(np.sign(F))
             r.slides += sigma != 0
             self.phase = ("contact", sigma) if kind == "contact" else ("rocking", k, sigma)
         elif name == "impact":
@@ -428,7 +440,9 @@ class _Sim:
             z[2] = 0.0
             zs, Pt, Pn = impulse(b, -k, z, 0.0, None)
             law = 0
-            if abs(Pt) > fl.mu_s * Pn:
+            if Pn <= 0:
+                raise RuntimeError(f"an impact at t = {t} whose corner leaves the floor")
+            if not fl.holds(Pt, Pn):
                 law = -int(np.sign(Pt))
                 zs, Pt, Pn = impulse(b, -k, z, 0.0, law * fl.mu_k)
                 r.slides += law != self.phase[2]
@@ -452,7 +466,7 @@ class _Sim:
             zp, law, k = flat_law(b, fl, z, -fl.e_n * dv)
         else:
             zp, law = corner_law(b, fl, k, z, -fl.e_n * dv)
-        r.landings.append((t, law, before, b.energy(zp), z[5], zp[5]))
+        r.landings.append((t, law, before, b.energy(zp), z[5], zp[5], dv))
         if law is None:
             r.status = "jammed"
             return
@@ -491,3 +505,28 @@ def simulate(body: Body, ground: Ground, floor: Floor, t_max: float, dtheta_rest
             sim.start(t)
     sim.run.t_end = t
     return sim.run
+
+
+def free_flight(g: float, dt: float, a_v) -> tuple[float, float, float]:
+    """A body at rest on a floor whose vertical acceleration is the samples ``a_v`` [m/s^2], ``dt`` apart and linear
+    between them, the last one held after: ``(t_takeoff, t_landing, dv_landing)`` in closed form.
+
+    It leaves the floor where ``g + ddy_g`` first reaches 0 and then, relative to the floor, ``ddv = -(g + ddy_g)``:
+    on each piece between two samples ``v`` is a cubic in time, whose first root past the takeoff is the landing
+    (``numpy.roots``). During a plateau at ``ddy_g = -c g``, ``v = (c - 1) g t^2 / 2`` from its start.
+    """
+    a = -(g + np.asarray(a_v, float))  # the free body's acceleration relative to the floor
+    k = int(np.flatnonzero(a >= 0)[0])
+    t0 = dt * k if k == 0 else dt * (k - 1) - dt * a[k - 1] / (a[k] - a[k - 1])  # the root on the ramp
+    t, v, dv, i = t0, 0.0, 0.0, k + (t0 == dt * k)
+    while True:
+        end, slope = (dt * i, (a[i] - a[i - 1]) / dt) if i < len(a) else (math.inf, 0.0)
+        acc = a[-1] if i >= len(a) else a[i - 1] + slope * (t - dt * (i - 1))
+        roots = np.roots([slope / 6, acc / 2, dv, v])  # v(t + s)
+        hits = [r.real for r in roots if abs(r.imag) <= 1e-9 * abs(r) and 1e-12 < r.real <= end - t]
+        if hits:
+            s = min(hits)
+            return t0, t + s, dv + acc * s + slope * s**2 / 2
+        s = end - t
+        v, dv = v + dv * s + acc * s**2 / 2 + slope * s**3 / 6, dv + acc * s + slope * s**2 / 2
+        t, i = end, i + 1
