@@ -1,0 +1,138 @@
+"""The runs that hold flight to outside facts (issue 39, item 5): one case, run by the reference and by a back end.
+
+A case is the reference block (docs/model.md section 9) under a one-sine pulse with a vertical component past the
+flight threshold (``g + ddy_g`` reaches 0), on the paper's floor or one with friction. :func:`reference` runs it
+with :mod:`tests.flight_reference` (Newton and Euler typed by hand), :func:`project` with ``rocking.simulate``;
+both at rest on the floor at ``t = 0``, followed to rest (no early verdict), the same ``dtheta_rest`` and
+``t_max``.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+
+import numpy as np
+
+import rocking
+from tests import flight_reference as ref
+
+#: The tolerance of the project's runs; the reference runs at 1e-11 (its events to the integrator's tolerance).
+RTOL = 1e-10
+#: Time followed after the pulse [s]: the block comes to rest within it (at most ~11 s in the random cases).
+T_AFTER = 15.0
+#: The drop of the floor (item 5): ``ddy_g = -DROP g`` for ``PLATEAU`` seconds, sampled every ``DROP_DT``.
+DROP, PLATEAU, DROP_DT = 1.5, 0.1, 0.01
+
+
+@dataclass(frozen=True)
+class Case:
+    """A one-sine pulse of ``beta`` and ``Omega`` (docs/model.md section 9) in the direction ``sign``, its vertical
+    component ``ratio`` times it with the lead ``phase`` [rad], on a floor of ``mu_s``, ``mu_k`` (``inf``: no slip)."""
+
+    beta: float
+    Omega: float
+    sign: int
+    ratio: float
+    phase: float
+    mu_s: float
+    mu_k: float
+
+    @property
+    def block(self) -> rocking.Block:
+        return rocking.Block.reference()
+
+    @property
+    def pulse(self) -> rocking.OneSinePulse:
+        return rocking.OneSinePulse.from_nondim(
+            self.block,
+            beta=self.beta,
+            Omega=self.Omega,
+            sign=self.sign,
+            vertical=rocking.Vertical(self.ratio, self.phase),
+        )
+
+    @property
+    def dtheta_rest(self) -> float:
+        return 1e-3 * self.block.alpha * self.block.p
+
+
+def random_cases(n: int = 20, seed: int = 39) -> list[Case]:
+    """``n`` cases past the flight threshold, ``r beta tan(alpha) > 1`` by 5 to 60 %: both directions, the vertical in
+    phase (odd cases) or with a random lead, and every other pair on a floor with friction."""
+    rng = np.random.default_rng(seed)
+    tan_alpha = rocking.Block.reference().tan_alpha
+    cases = []
+    for i in range(n):
+        ratio = rng.uniform(0.5, 1.5)
+        beta = rng.uniform(1.05, 1.6) / (ratio * tan_alpha)
+        Omega, sign = rng.uniform(2.0, 12.0), int(rng.choice([-1, 1]))
+        phase = 0.0 if i % 2 else rng.uniform(0.0, 2 * math.pi)
+        mu_s = math.inf if i % 4 < 2 else rng.uniform(0.3, 1.0)
+        cases.append(Case(beta, Omega, sign, ratio, phase, mu_s, mu_s if math.isinf(mu_s) else 0.8 * mu_s))
+    return cases
+
+
+def body(block: rocking.Block) -> ref.Body:
+    return ref.Body(block.M, block.I_G, block.B, block.H, block.e, block.g)
+
+
+def reference(case: Case) -> ref.Run:
+    """The case run by the reference (rtol 1e-11)."""
+    p = case.pulse
+    ground = ref.Ground.one_sine(p.a_g, p.omega_g, case.sign, case.ratio, case.phase)
+    return ref.simulate(body(case.block), ground, ref.Floor(case.mu_s, case.mu_k), p.t_p + T_AFTER, case.dtheta_rest)
+
+
+def project(case: Case, backend: str, record: bool = False) -> rocking.Response:
+    """The case run by a back end of the project at :data:`RTOL`."""
+    floor = None if math.isinf(case.mu_s) else rocking.Floor(case.mu_s, case.mu_k)
+    return rocking.simulate(
+        case.block,
+        None,
+        case.pulse,
+        backend=backend,
+        rtol=RTOL,
+        t_after=T_AFTER,
+        early_verdict=False,
+        dtheta_rest=case.dtheta_rest,
+        floor=floor,
+        record=record,
+    )
+
+
+def differences(run: ref.Run, response) -> dict:
+    """The relative differences of ``theta_max``, ``jump_max``, ``flight_time`` (to the reference's value) and
+    whether the status and the counts of flights and impacts agree."""
+
+    def rel(a: float, b: float) -> float:
+        return abs(a - b) / max(abs(b), 1e-300) if (a, b) != (0.0, 0.0) else 0.0
+
+    return {
+        "same": (response.status, response.flights, response.impacts) == (run.status, run.flights, run.impacts),
+        "theta_max": rel(response.theta_max, run.theta_max),
+        "jump_max": rel(response.jump_max, run.jump_max),
+        "flight_time": rel(response.flight_time, run.flight_time),
+    }
+
+
+def drop_samples(g: float) -> np.ndarray:
+    """The floor's drop as vertical samples ``DROP_DT`` apart: 0, then ``-DROP g`` for ``PLATEAU`` s, then 0 (ramps
+    of one sample between), long enough for the landing and the rest after it."""
+    n = round(PLATEAU / DROP_DT)
+    return np.r_[0.0, np.full(n + 1, -DROP * g), np.zeros(60)]
+
+
+def landings(history: dict) -> list[tuple[int, int]]:
+    """The rows of a landing in a recorded history: ``(i, i + 1)``, flying at ``i``, on the floor at ``i + 1``."""
+    fly = np.asarray(history["fly"])
+    return [(i, i + 1) for i in np.flatnonzero((fly[:-1] == 1.0) & (fly[1:] == 0.0))]
+
+
+def history_energy(block: rocking.Block, history: dict, i: int) -> float:
+    """The bare block's energy at the row ``i`` of a history, from its own columns (the reference corner ``phase``
+    in flight, the pivot rocking, the corner A in full contact): kinetic relative to the ground plus the weight's."""
+    k = int(history["phase"][i]) or 1
+    get = {name: float(history[name][i]) for name in ("theta", "dtheta", "u", "du", "v", "dv")}
+    z = body(block).centroid(k, get["theta"], get["u"], get["du"], get["dtheta"], get["v"], get["dv"])
+    return body(block).energy(z)

@@ -1,0 +1,138 @@
+"""Outside facts of flight and landing (issue 39, item 5; docs/model.md section 16): the yardstick itself.
+
+:mod:`tests.flight_reference` follows the bare block through contact, rocking, flight, impacts and landings with
+Newton and Euler typed by hand, independent of ``derive/``, ``generated/`` and ``rocking.sim``. Here it is held to
+facts from outside the code before the back ends are held to it (``tests/draft_flight_backends.py`` until they
+fly): the project's runs where nothing flies, Newton and Euler typed a second time (``rocking.reference.flight``),
+the floor's drop in closed form, Housner's restitution at a level landing on a corner, and the energy at every
+landing of the random runs. ``python bench/flight_facts.py`` prints every figure.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+import pytest
+
+import rocking
+from rocking.reference import flight as hand
+from tests import flight_reference as ref
+from tests.flight_cases import Case, body, drop_samples, random_cases, reference
+
+
+@pytest.fixture(scope="module")
+def runs():
+    """The 20 random vertical pulses past the flight threshold, run by the reference (about 4 s)."""
+    return [(case, reference(case)) for case in random_cases()]
+
+
+@pytest.mark.parametrize(
+    ("beta", "Omega", "sign", "mu"),
+    [(2.07, 3.0, 1, math.inf), (3.3, 7.0, -1, math.inf), (2.6, 5.0, 1, 0.96), (2.64, 4.0, -1, 0.82)],
+)
+def test_reference_is_the_project_where_nothing_flies(beta, Omega, sign, mu):
+    """A horizontal pulse: the reference and the NumPy back end (rtol 1e-10) agree on the status and every count,
+    and on theta_max to 1e-7 relative (measured: at most 3.3e-9 on 12 random pulses, bench/flight_facts.py)."""
+    case = Case(beta, Omega, sign, 0.0, 0.0, mu, mu)
+    run = reference(case)
+    floor = None if math.isinf(mu) else rocking.Floor(mu)
+    got = rocking.simulate(
+        case.block,
+        None,
+        rocking.OneSinePulse.from_nondim(case.block, beta=beta, Omega=Omega, sign=sign),
+        backend="numpy",
+        rtol=1e-10,
+        t_after=15.0,
+        early_verdict=False,
+        dtheta_rest=case.dtheta_rest,
+        floor=floor,
+    )
+    assert (got.status, got.impacts, got.uplifts, got.slides) == (run.status, run.impacts, run.uplifts, run.slides)
+    assert got.theta_max == pytest.approx(run.theta_max, rel=1e-7)
+    assert run.impacts > 0 or run.slides > 0
+
+
+def _random_state(rng, s):
+    """A tilted block flying down, about the corner ``s``: ``z`` of the reference and its corner's ``(du, dv)``."""
+    blk = rocking.Block.reference()
+    theta = s * rng.uniform(1e-3, 0.6)
+    z = body(blk).centroid(
+        s, theta, rng.uniform(-1, 1), rng.uniform(-2, 2), rng.uniform(-3, 3), 0.0, rng.uniform(-2, -0.1)
+    )
+    return blk, theta, z, body(blk).corner(s, z)[1]
+
+
+@pytest.mark.parametrize("s", [1, -1])
+def test_impulses_are_newton_euler_typed_twice(s):
+    """The reference's impulses at a corner (stick, slide, any e_n) and on both corners at theta = 0 are
+    ``rocking.reference.flight``'s block_landing and block_flat_landing, typed apart: velocities and impulses per
+    unit mass to 1e-12 m/s on random flying states."""
+    rng = np.random.default_rng(5)
+    worst = 0.0
+    for _ in range(100):
+        blk, theta, z, (du, dv) = _random_state(rng, s)
+        e_n, mu = rng.uniform(0, 1), rng.uniform(-1, 1)
+        args = (blk.M, blk.I_G, blk.B, blk.H, blk.e, e_n, mu)
+        for stick in (True, False):
+            law = None if stick else mu
+            zp, Pt, Pn = ref.impulse(body(blk), s, z, -e_n * dv, law)
+            got = (zp[5], *body(blk).corner(s, zp)[1], Pt / blk.M, Pn / blk.M)
+            w, du_p, dv_p, Pt_h, Pn_h = hand.block_landing(s, theta, z[5], du, dv, *args, stick)
+            worst = max(worst, np.max(np.abs(np.subtract(got, (w, du_p, dv_p, Pt_h / blk.M, Pn_h / blk.M)))))
+            flat = z.copy()
+            flat[2] = 0.0
+            du_c, dv_c = body(blk).corner(s, flat)[1]
+            zf, Pt, PA, PB = ref.flat_impulse(body(blk), flat, -e_n * dv_c, law)
+            Ps, Po = (PA, PB) if s == 1 else (PB, PA)
+            du_f, dv_f, Pt_h, Ps_h, Po_h = hand.block_flat_landing(s, z[5], du_c, dv_c, *args, stick)
+            got = np.array([zf[3], zf[4], Pt / blk.M, Ps / blk.M, Po / blk.M])
+            worst = max(worst, np.max(np.abs(got - (du_f, dv_f, Pt_h / blk.M, Ps_h / blk.M, Po_h / blk.M))))
+    assert worst < 1e-12  # velocities [m/s] and impulses per unit mass [m/s]
+
+
+def test_floor_drop_reference():
+    """The floor drops at -1.5 g for 0.1 s (sampled every 0.01 s, ramps of one sample): the reference's takeoff,
+    flight time and landing speed are the closed form's (:func:`tests.flight_reference.free_flight`) to 1e-12;
+    without the ramps the closed form is ``0.1 (1 + (1 + sqrt 3) / 2)`` s and ``sqrt(3) g / 20`` m/s."""
+    blk = rocking.Block.reference()
+    a_v = drop_samples(blk.g)
+    t0, t1, dv = ref.free_flight(blk.g, 0.01, a_v)
+    for mu in (math.inf, 0.5):
+        run = ref.simulate(body(blk), ref.Ground.sampled(0.01, 0 * a_v, a_v), ref.Floor(mu, mu), 1.0, 1e-3)
+        assert (run.status, run.flights, len(run.landings)) == ("rest", 1, 1)
+        assert run.flight_time == pytest.approx(t1 - t0, rel=1e-12)
+        assert run.landings[0][6] == pytest.approx(dv, rel=1e-12)
+    fine = 1e-4
+    t0, t1, dv = ref.free_flight(blk.g, fine, np.r_[np.full(round(0.1 / fine) + 1, -1.5 * blk.g), 0.0])
+    assert t1 - t0 == pytest.approx(0.1 * (1 + (1 + math.sqrt(3)) / 2), abs=2 * fine)
+    assert -dv == pytest.approx(math.sqrt(3) * blk.g / 20, rel=1e-5)
+
+
+@pytest.mark.parametrize("e", [0.0, 0.025])
+@pytest.mark.parametrize("s", [1, -1])
+def test_housner_at_a_level_landing(s, e):
+    """e_n = 0: the corner -s lands at theta = 0 while the corner s is at rest on the floor. Both corners together
+    would pull at s, so -s lands alone: Housner's ``dtheta+ / dtheta- = 1 - 3/2 sin^2 alpha`` for the symmetric
+    block (docs/model.md 10.1), section 6's (I1) with m = 0 for an eccentric one, to 1e-13; a mu = 0.5 floor
+    holds it (the same)."""
+    blk = rocking.Block(H=2.0, B=0.5, M=1000.0, e=e)
+    omega = -s * 0.7  # swinging back to theta = 0 about s
+    z = body(blk).centroid(s, 0.0, 0.0, 0.0, omega)
+    d_s, d_o = s * blk.B / 2 + e, -s * blk.B / 2 + e
+    I_o = blk.I_G + blk.M * (d_o**2 + blk.H**2 / 4)
+    ratio = (blk.I_G + blk.M * (blk.H**2 / 4 + d_s * d_o)) / I_o
+    if e == 0.0:
+        assert ratio == pytest.approx(1 - 1.5 * math.sin(blk.alpha) ** 2, rel=1e-15)
+    for mu in (math.inf, 0.5):
+        zp, law, k = ref.flat_law(body(blk), ref.Floor(mu, mu), z, 0.0)
+        assert (law, k) == (0, -s)
+        assert zp[5] / omega == pytest.approx(ratio, rel=1e-13)
+
+
+def test_energy_never_rises_at_a_plastic_landing(runs):
+    """Every landing of the 20 random runs (stick and slide, e_n = 0) takes energy, none adds any (to 1e-12 of it)."""
+    landings = [landing for _, run in runs for landing in run.landings]
+    assert len(landings) >= 20 and {law for _, law, *_ in landings} >= {0, 1, -1}
+    assert all(after <= before * (1 + 1e-12) for _, _, before, after, *_ in landings)
+    assert max(after - before for _, _, before, after, *_ in landings) < 0.0
