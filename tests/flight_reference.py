@@ -507,26 +507,32 @@ def simulate(body: Body, ground: Ground, floor: Floor, t_max: float, dtheta_rest
     return sim.run
 
 
-def free_flight(g: float, dt: float, a_v) -> tuple[float, float, float]:
+def free_flight(g: float, dt: float, a_v) -> tuple[float, float, float, float]:
     """A body at rest on a floor whose vertical acceleration is the samples ``a_v`` [m/s^2], ``dt`` apart and linear
-    between them, the last one held after: ``(t_takeoff, t_landing, dv_landing)`` in closed form.
+    between them, the last one held after: ``(t_takeoff, t_landing, dv_landing, v_max)`` in closed form.
 
     It leaves the floor where ``g + ddy_g`` first reaches 0 and then, relative to the floor, ``ddv = -(g + ddy_g)``:
     on each piece between two samples ``v`` is a cubic in time, whose first root past the takeoff is the landing
-    (``numpy.roots``). During a plateau at ``ddy_g = -c g``, ``v = (c - 1) g t^2 / 2`` from its start.
+    and the roots of whose derivative are its peaks (``numpy.roots``). During a plateau at ``ddy_g = -c g``,
+    ``v = (c - 1) g t^2 / 2`` from its start.
     """
     a = -(g + np.asarray(a_v, float))  # the free body's acceleration relative to the floor
     k = int(np.flatnonzero(a >= 0)[0])
     t0 = dt * k if k == 0 else dt * (k - 1) - dt * a[k - 1] / (a[k] - a[k - 1])  # the root on the ramp
-    t, v, dv, i = t0, 0.0, 0.0, k + (t0 == dt * k)
+    t, v, dv, i, peak = t0, 0.0, 0.0, k + (t0 == dt * k), 0.0
     while True:
         end, slope = (dt * i, (a[i] - a[i - 1]) / dt) if i < len(a) else (math.inf, 0.0)
         acc = a[-1] if i >= len(a) else a[i - 1] + slope * (t - dt * (i - 1))
-        roots = np.roots([slope / 6, acc / 2, dv, v])  # v(t + s)
-        hits = [r.real for r in roots if abs(r.imag) <= 1e-9 * abs(r) and 1e-12 < r.real <= end - t]
-        if hits:
-            s = min(hits)
-            return t0, t + s, dv + acc * s + slope * s**2 / 2
-        s = end - t
-        v, dv = v + dv * s + acc * s**2 / 2 + slope * s**3 / 6, dv + acc * s + slope * s**2 / 2
+        cubic = np.array([slope / 6, acc / 2, dv, v])  # v(t + s)
+        landing = _roots_within(cubic, end - t)
+        span = min(landing) if landing else end - t
+        peak = max([peak, *(np.polyval(cubic, s) for s in _roots_within(np.polyder(cubic), span))])
+        if landing:
+            return t0, t + span, np.polyval(np.polyder(cubic), span), peak
+        v, dv = np.polyval(cubic, span), np.polyval(np.polyder(cubic), span)
         t, i = end, i + 1
+
+
+def _roots_within(coefficients, span: float) -> list[float]:
+    """The real roots in ``(0, span]`` of a polynomial (numpy's order of ``coefficients``)."""
+    return [r.real for r in np.roots(coefficients) if abs(r.imag) <= 1e-9 * abs(r) and 1e-12 < r.real <= span]

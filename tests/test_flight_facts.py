@@ -92,19 +92,20 @@ def test_impulses_are_newton_euler_typed_twice(s):
 
 
 def test_floor_drop_reference():
-    """The floor drops at -1.5 g for 0.1 s (sampled every 0.01 s, ramps of one sample): the reference's takeoff,
-    flight time and landing speed are the closed form's (:func:`tests.flight_reference.free_flight`) to 1e-12;
+    """The floor drops at -1.5 g for 0.1 s (sampled every 0.01 s, ramps of one sample): the reference's flight time,
+    landing speed and peak height are the closed form's (:func:`tests.flight_reference.free_flight`) to 1e-12;
     without the ramps the closed form is ``0.1 (1 + (1 + sqrt 3) / 2)`` s and ``sqrt(3) g / 20`` m/s."""
     blk = rocking.Block.reference()
     a_v = drop_samples(blk.g)
-    t0, t1, dv = ref.free_flight(blk.g, 0.01, a_v)
+    t0, t1, dv, peak = ref.free_flight(blk.g, 0.01, a_v)
     for mu in (math.inf, 0.5):
         run = ref.simulate(body(blk), ref.Ground.sampled(0.01, 0 * a_v, a_v), ref.Floor(mu, mu), 1.0, 1e-3)
         assert (run.status, run.flights, len(run.landings)) == ("rest", 1, 1)
         assert run.flight_time == pytest.approx(t1 - t0, rel=1e-12)
         assert run.landings[0][6] == pytest.approx(dv, rel=1e-12)
+        assert run.jump_max == pytest.approx(peak, rel=1e-12)
     fine = 1e-4
-    t0, t1, dv = ref.free_flight(blk.g, fine, np.r_[np.full(round(0.1 / fine) + 1, -1.5 * blk.g), 0.0])
+    t0, t1, dv, _ = ref.free_flight(blk.g, fine, np.r_[np.full(round(0.1 / fine) + 1, -1.5 * blk.g), 0.0])
     assert t1 - t0 == pytest.approx(0.1 * (1 + (1 + math.sqrt(3)) / 2), abs=2 * fine)
     assert -dv == pytest.approx(math.sqrt(3) * blk.g / 20, rel=10 * fine)
 
