@@ -1,0 +1,225 @@
+"""Every figure of flight's outside facts (issue 39, item 5; docs/model.md section 16).
+
+    python bench/flight_facts.py [--cases 20] [--seed 39]
+
+The yardstick is ``tests/flight_reference.py``: the bare block on a floor it can leave, Newton and Euler with contact
+forces and impulses typed by hand (independent of derive/, generated/ and rocking.sim). Printed:
+
+1. the reference against the NumPy back end where nothing flies (horizontal pulses, mu = inf and finite);
+2. its impulses against ``rocking.reference.flight`` (typed apart);
+3. the floor's drop at -1.5 g for 0.1 s: the closed form, the reference and both back ends;
+4. Housner's restitution at a level landing on a corner (e_n = 0);
+5. the energy at every landing of the random runs (reference, and both back ends' histories);
+6. the random vertical pulses past the flight threshold: reference against both back ends (status, flights,
+   impacts; theta_max, jump_max, flight_time).
+
+A back end that does not follow flight yet ends those runs with the status ``flight``: the script says so.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+sys.path.insert(0, str(Path(__file__).resolve().parent.parent))
+
+import rocking  # noqa: E402
+from rocking.reference import flight as hand  # noqa: E402
+from tests import flight_reference as ref  # noqa: E402
+from tests.flight_cases import (  # noqa: E402
+    DROP_DT,
+    Case,
+    body,
+    differences,
+    drop_samples,
+    history_energy,
+    landings,
+    project,
+    random_cases,
+    reference,
+)
+
+BACKENDS = ("numpy", "c")
+
+
+def flies(response) -> bool:
+    """Whether the back end followed the run past a takeoff (not ended there with the status ``flight``)."""
+    return response.status != "flight"
+
+
+def follows_flight(backend: str) -> bool:
+    """Whether ``backend`` follows flight: the floor's drop does not end with the status ``flight``."""
+    a_v = drop_samples(rocking.Block.reference().g)
+    motion = rocking.SampledMotion(np.zeros_like(a_v), dt=DROP_DT, a_v=a_v)
+    return flies(rocking.simulate(rocking.Block.reference(), None, motion, backend=backend, check="none"))
+
+
+def ground_runs(n: int, seed: int) -> None:
+    """1. Horizontal pulses, no flight: the reference and the NumPy back end at rtol 1e-10."""
+    rng = np.random.default_rng(seed)
+    worst, same = 0.0, 0
+    for i in range(n):
+        mu = math.inf if i % 2 else float(rng.uniform(0.2, 1.0))
+        case = Case(rng.uniform(1.2, 4.0), rng.uniform(2.0, 12.0), int(rng.choice([-1, 1])), 0.0, 0.0, mu, mu)
+        run = reference(case)
+        got = rocking.simulate(
+            case.block,
+            None,
+            rocking.OneSinePulse.from_nondim(case.block, beta=case.beta, Omega=case.Omega, sign=case.sign),
+            backend="numpy",
+            rtol=1e-10,
+            t_after=15.0,
+            early_verdict=False,
+            dtheta_rest=case.dtheta_rest,
+            floor=None if math.isinf(mu) else rocking.Floor(mu),
+        )
+        same += (got.status, got.impacts, got.uplifts, got.slides) == (run.status, run.impacts, run.uplifts, run.slides)
+        worst = max(worst, differences(run, got)["theta_max"])
+    print(
+        f"1. where nothing flies ({n} horizontal pulses, half at mu in [0.2, 1]): status and counts agree, {same}/{n};"
+    )
+    print(f"   theta_max, largest relative difference to NumPy at rtol 1e-10: {worst:.2g}")
+
+
+def impulses(n: int, seed: int) -> None:
+    """2. The reference's impulses against rocking.reference.flight's, on random flying states."""
+    rng = np.random.default_rng(seed)
+    blk = rocking.Block.reference()
+    b, worst = body(blk), 0.0
+    args = (blk.M, blk.I_G, blk.B, blk.H, blk.e)
+    for _ in range(n):
+        s = int(rng.choice([-1, 1]))
+        theta = s * rng.uniform(1e-3, 0.6)
+        z = b.centroid(s, theta, rng.uniform(-1, 1), rng.uniform(-2, 2), rng.uniform(-3, 3), 0.0, rng.uniform(-2, -0.1))
+        du, dv = b.corner(s, z)[1]
+        e_n, mu = rng.uniform(0, 1), rng.uniform(-1, 1)
+        for stick in (True, False):
+            zp, Pt, Pn = ref.impulse(b, s, z, -e_n * dv, None if stick else mu)
+            want = hand.block_landing(s, theta, z[5], du, dv, *args, e_n, mu, stick)
+            got = (zp[5], *b.corner(s, zp)[1], Pt, Pn)
+            scale = (1, 1, 1, blk.M, blk.M)
+            worst = max(worst, max(abs(x - y) / k for x, y, k in zip(got, want, scale, strict=True)))
+    print(f"2. landing impulses vs rocking.reference.flight.block_landing ({2 * n} stick and slide, random e_n):")
+    print(f"   largest difference {worst:.2g} m/s (velocities, impulses per unit mass)")
+
+
+def floor_drop() -> None:
+    """3. The floor drops at -1.5 g for 0.1 s, sampled every 0.01 s."""
+    blk = rocking.Block.reference()
+    g, a_v = blk.g, drop_samples(blk.g)
+    t0, t1, dv, peak = ref.free_flight(g, DROP_DT, a_v)
+    ideal = 0.1 * (1 + (1 + math.sqrt(3)) / 2), math.sqrt(3) * g / 20
+    print("3. the floor drops at -1.5 g for 0.1 s and stops; without ramps the flight lasts 0.1 (1 + (1 + sqrt 3) / 2)")
+    print(f"   = {ideal[0]:.10f} s and lands at sqrt(3) g / 20 = {ideal[1]:.10f} m/s. Sampled every {DROP_DT} s with")
+    print(f"   one-sample ramps, closed form: takeoff {t0:.10f} s, flight {t1 - t0:.12f} s, landing dv {dv:.12f} m/s,")
+    print(f"   peak height {peak:.12f} m")
+    for mu in (math.inf, 0.5):
+        run = ref.simulate(body(blk), ref.Ground.sampled(DROP_DT, 0 * a_v, a_v), ref.Floor(mu, mu), 1.0, 1e-3)
+        print(
+            f"   reference mu={mu}: flight {run.flight_time:.12f} s ({run.flight_time / (t1 - t0) - 1:+.1e}), landing "
+            f"dv {run.landings[0][6]:.12f} ({run.landings[0][6] / dv - 1:+.1e}), jump_max {run.jump_max:.12f} "
+            f"({run.jump_max / peak - 1:+.1e}), {run.status}"
+        )
+        for backend in BACKENDS:
+            motion = rocking.SampledMotion(np.zeros_like(a_v), dt=DROP_DT, a_v=a_v)
+            floor = None if math.isinf(mu) else rocking.Floor(mu)
+            got = rocking.simulate(
+                blk, None, motion, backend=backend, rtol=1e-10, check="none", record=True, floor=floor
+            )
+            if not flies(got):
+                print(
+                    f"   {backend:5} mu={mu}: ends at t = {got.t_end:.10f} s with the status flight (does not fly yet)"
+                )
+                continue
+            rows = landings(got.history)
+            land = f"landing dv {got.history['dv'][rows[0][0]]:.12f}" if rows else "no landing row"
+            print(
+                f"   {backend:5} mu={mu}: flight {got.flight_time:.12f} s ({got.flight_time / (t1 - t0) - 1:+.1e}), "
+                f"{land}, jump_max {got.jump_max:.12f} ({got.jump_max / peak - 1:+.1e}), {got.status}, "
+                f"flights {got.flights}"
+            )
+
+
+def housner() -> None:
+    """4. The corner -s lands at theta = 0 while the corner s is at rest: Housner's ratio."""
+    blk = rocking.Block(H=2.0, B=0.5, M=1000.0)
+    want = 1 - 1.5 * math.sin(blk.alpha) ** 2
+    z = body(blk).centroid(1, 0.0, 0.0, 0.0, -0.7)
+    for mu in (math.inf, 0.5):
+        zp, law, k = ref.flat_law(body(blk), ref.Floor(mu, mu), z, 0.0)
+        print(
+            f"4. level landing on a corner, mu={mu}: lands on corner {k:+d} alone ({'stuck' if law == 0 else law}), "
+            f"dtheta+/dtheta- = {zp[5] / -0.7:.15f}, Housner 1 - 3/2 sin^2 alpha = {want:.15f} "
+            f"({zp[5] / -0.7 / want - 1:+.1e})"
+        )
+
+
+def random_runs(n: int, seed: int) -> None:
+    """5 and 6. The random vertical pulses: energy at landings and agreement with both back ends."""
+    cases = random_cases(n, seed)
+    start = time.perf_counter()
+    runs = [reference(case) for case in cases]
+    took = time.perf_counter() - start
+    laws = [law for run in runs for _, law, *_ in run.landings]
+    rises = [after - before for run in runs for _, _, before, after, *_ in run.landings]
+    print(
+        f"5. energy at the landings of {n} random runs (reference, e_n = 0): {len(laws)} landings "
+        f"({laws.count(0)} stuck, {laws.count(1) + laws.count(-1)} sliding, {laws.count(None)} jammed); "
+        f"largest change {max(rises):.4g} J (never > 0)"
+    )
+    statuses = [run.status for run in runs]
+    print(
+        f"6. {n} random vertical pulses past the flight threshold (reference {took:.1f} s): "
+        f"{statuses.count('overturned')} overturn, {statuses.count('rest')} rest, "
+        f"{sum(run.flights for run in runs)} flights, {sum(len(run.landings) for run in runs)} landings"
+    )
+    for backend in BACKENDS:
+        if not follows_flight(backend):
+            print(f"   {backend:5}: does not follow flight yet (the runs end with the status flight)")
+            continue
+        rows, same, changes = [], 0, []
+        worst = dict.fromkeys(("theta_max", "jump_max", "flight_time"), 0.0)
+        for case, run in zip(cases, runs, strict=True):
+            got = project(case, backend, record=True)
+            diff = differences(run, got)
+            same += diff["same"]
+            for name in worst:
+                worst[name] = max(worst[name], diff[name])
+            if not diff["same"]:
+                rows.append(
+                    f"     differs: {case} reference {(run.status, run.flights, run.impacts)} "
+                    f"{backend} {(got.status, got.flights, got.impacts)}"
+                )
+            for before, after in landings(got.history):
+                e0, e1 = (history_energy(case.block, got.history, i) for i in (before, after))
+                changes.append((e1 - e0) / abs(e0))
+        print(
+            f"   {backend:5} (rtol 1e-10): status, flights, impacts agree in {same}/{n}; largest relative difference "
+            + ", ".join(f"{k} {v:.2g}" for k, v in worst.items())
+        )
+        print(
+            f"          energy at its {len(changes)} landings: largest relative change {max(changes, default=0):+.2g}"
+        )
+        for row in rows:
+            print(row)
+
+
+def main(argv=None) -> None:
+    parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
+    parser.add_argument("--cases", type=int, default=20, help="random vertical pulses (default 20)")
+    parser.add_argument("--seed", type=int, default=39, help="their seed (default 39, the tests')")
+    args = parser.parse_args(argv)
+    ground_runs(12, 1)
+    impulses(2000, 5)
+    floor_drop()
+    housner()
+    random_runs(args.cases, args.seed)
+
+
+if __name__ == "__main__":
+    main()
