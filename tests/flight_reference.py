@@ -1,29 +1,30 @@
-"""The bare block on a floor it can leave: Newton and Euler with contact forces and impulses, typed by hand.
+"""The block on a floor it can leave: Newton and Euler with contact forces and impulses, typed by hand.
 
-The outside check of issue 39 (docs/model.md sections 6, 15 and 16): independent of ``derive/``, ``generated/``,
-``rocking.sim`` and ``rocking.reference``. One rigid body, its centroid ``G`` at ``(X, Y)`` relative to the ground
-(``(e, H / 2)`` at rest), turned by ``theta``; its base corners ``k = +1`` (``A``, left) and ``k = -1`` (``A'``,
-right) at ``r_k = (-k B / 2 - e, -H / 2)`` from ``G`` in the block frame, at rest at ``(-k B / 2, 0)``. The ground
-accelerates by ``(ddx_g, ddy_g)``: relative to it every body carries ``-M (ddx_g, g + ddy_g)``.
+The outside check of issue 39 (docs/model.md sections 6, 11, 15 and 16): independent of ``derive/``, ``generated/``,
+``rocking.sim`` and ``rocking.reference``. The block is one rigid body, its centroid ``G`` at ``(X, Y)`` relative to
+the ground (``(e, H / 2)`` at rest), turned by ``theta``; its base corners ``k = +1`` (``A``, left) and ``k = -1``
+(``A'``, right) at ``r_k = (-k B / 2 - e, -H / 2)`` from ``G`` in the block frame, at rest at ``(-k B / 2, 0)``. The
+damper, if any, is a point mass ``m`` on a guide along the block's ``x`` at ``rho = (x - e, H + h - H / 2)`` from
+``G``, held by a spring ``k_m`` and a dashpot ``c`` (the force ``G_x = k_m x + c dx`` on the mass, ``-G_x`` along
+the guide, and its reaction on the block) and by the guide's normal force ``N_g``. The ground accelerates by
+``(ddx_g, ddy_g)``: relative to it every body carries ``-(mass) (ddx_g, g + ddy_g)``.
 
-Each contact state writes Newton and Euler, ``M a_G = F + M (-ddx_g, -(g + ddy_g))`` and
-``I_G ddtheta = sum (R r_k) x F_k``, with its constraints, and solves the linear system for the accelerations
-and the floor's forces:
+Every contact state is the same linear system (:func:`dynamics`): Newton for the block and the mass, Euler for the
+block about ``G``, and the contact's constraints, with the unknowns ``a_G``, ``ddtheta``, ``ddx``, ``N_g`` and the
+floor's forces: in ``flight`` none; ``rocking`` about ``k``: the corner ``k``'s normal acceleration is 0 and its
+tangential one too (stuck) or ``F = -mu_k sigma N`` (sliding in the direction ``sigma``); full ``contact``: both
+corners' normal accelerations are 0 (so ``ddtheta = 0``) and the base's tangential one too or Coulomb's. It uplifts
+where a corner's ``N`` falls to 0, takes off where every ``N`` does, slips where ``|F|`` reaches ``mu_s N``.
 
-- ``contact``: both corners on the floor, ``theta = dtheta = ddtheta = 0``, ``a_Gy = 0`` and ``a_Gx = 0`` (stuck)
-  or ``F = -mu_k sigma (N_A + N_A')`` (sliding in the direction ``sigma``); it uplifts where a corner's ``N`` falls
-  to 0, takes off where both do;
-- ``rocking`` about ``k``: the corner ``k`` does not move (stuck) or only along the floor with
-  ``F = -mu_k sigma N``; it takes off where ``N`` falls to 0, impacts where ``theta`` reaches 0;
-- ``flight``: no force, ``a_G = (-ddx_g, -(g + ddy_g))``, ``ddtheta = 0``; a corner lands where its height falls
-  to 0.
+Impacts and landings are the same equations with impulses (:func:`impulses`): the floor's on the corners that touch,
+the guide's normal to it on the mass (none along it: the mass keeps its momentum along the guide, the momentum law
+of section 6), the touching corners' normal velocity ``-e_n`` times the one before (0 at an impact, Housner's), the
+slip after 0 (stick, if the floor holds ``|P_t| <= mu_s P_n``) or ``P_t = -mu_k sigma P_n``. A flat landing
+(``|sin theta| <= FLAT``) puts both corners down; where one would pull, the other lands alone.
 
-Impacts and landings are Newton and Euler with impulses at the corners that touch: ``M dv_G = P``,
-``I_G domega = sum (R r_k) x P_k``, the touching corner's normal velocity ``-e_n`` times the one before (0 at an
-impact, as Housner's), its slip 0 (stick, if ``|P_t| <= mu_s P_n``) or ``P_t = -mu_k sigma P_n``. A flat landing
-(``|sin theta| <= FLAT``) puts both corners down with ``omega+ = 0``; where one would pull, the other lands alone.
-Each state is integrated by SciPy's DOP853 with its exits as events; the phases follow docs/simulation.md's
-rules (rest snap below ``dtheta_rest``, rest in full contact after the motion, ``t_max``).
+Each state is integrated by SciPy's DOP853 with its exits as events; the phases follow docs/simulation.md's rules:
+the rest snap below ``dtheta_rest`` (the mass keeps its absolute velocity), rest in full contact after the motion
+once the damper's energy is below ``energy_rest``, and ``t_max``; no early rest or verdict.
 """
 
 from __future__ import annotations
@@ -39,9 +40,27 @@ from scipy.integrate import solve_ivp
 FLAT = 1e-12
 
 
+def _rot(theta: float, x: float, y: float) -> np.ndarray:
+    c, s = math.cos(theta), math.sin(theta)
+    return np.array([c * x - s * y, s * x + c * y])
+
+
+def _cross(a, b) -> float:
+    return a[0] * b[1] - a[1] * b[0]
+
+
+def _perp(a) -> np.ndarray:
+    """``J a``, the quarter turn: ``d/dt (R r) = omega J R r``."""
+    return np.array([-a[1], a[0]])
+
+
 @dataclass(frozen=True)
 class Body:
-    """The bare block: mass [kg], centroidal inertia [kg m^2], base and height [m], eccentricity [m], gravity."""
+    """The block [kg, kg m^2, m, m, m, m/s^2] and its damper (``m = 0``: none) [kg, m, N/m, N s/m].
+
+    A state ``z`` is ``(X, Y, theta, vX, vY, omega, x, dx)``: the centroid relative to the ground, the tilt, their
+    rates, the mass's place on the guide and its rate.
+    """
 
     M: float
     I_G: float
@@ -49,27 +68,141 @@ class Body:
     H: float
     e: float
     g: float
+    m: float = 0.0
+    h: float = 0.0
+    k_m: float = 0.0
+    c: float = 0.0
 
     def r(self, k: int, theta: float) -> np.ndarray:
         """The corner ``k`` from ``G``, ``R(theta) r_k`` [m]."""
-        x, y = -k * self.B / 2 - self.e, -self.H / 2
-        c, s = math.cos(theta), math.sin(theta)
-        return np.array([c * x - s * y, s * x + c * y])
+        return _rot(theta, -k * self.B / 2 - self.e, -self.H / 2)
+
+    def rho(self, theta: float, x: float) -> np.ndarray:
+        """The mass from ``G`` [m]."""
+        return _rot(theta, x - self.e, self.h + self.H / 2)
 
     def corner(self, k: int, z) -> tuple[np.ndarray, np.ndarray]:
-        """Position and velocity of the corner ``k`` relative to its place at rest, from ``z = (X, Y, theta, vX,
-        vY, omega)``: ``(u, v)`` and ``(du, dv)``."""
+        """The corner ``k``'s ``(u, v)`` from its place at rest and ``(du, dv)``."""
         r = self.r(k, z[2])
-        return np.array([z[0] + r[0] + k * self.B / 2, z[1] + r[1]]), np.array([z[3] - z[5] * r[1], z[4] + z[5] * r[0]])
+        return np.array([z[0] + r[0] + k * self.B / 2, z[1] + r[1]]), np.array([z[3], z[4]]) + z[5] * _perp(r)
 
-    def centroid(self, k: int, theta: float, u: float, du: float, omega: float, v=0.0, dv=0.0) -> np.ndarray:
+    def centroid(self, k, theta, u, du, omega, v=0.0, dv=0.0, *, x=0.0, dx=0.0) -> np.ndarray:
         """``z`` of the block whose corner ``k`` is at ``(u, v)`` from its rest moving at ``(du, dv)``."""
         r = self.r(k, theta)
-        return np.array([u - k * self.B / 2 - r[0], v - r[1], theta, du + omega * r[1], dv - omega * r[0], omega])
+        vG = np.array([du, dv]) - omega * _perp(r)
+        return np.array([u - k * self.B / 2 - r[0], v - r[1], theta, vG[0], vG[1], omega, x, dx])
+
+    def mass_velocity(self, z) -> np.ndarray:
+        rho = self.rho(z[2], z[6])
+        return np.array([z[3], z[4]]) + z[5] * _perp(rho) + z[7] * _rot(z[2], 1.0, 0.0)
+
+    def damper_energy(self, z) -> float:
+        return self.k_m * z[6] ** 2 / 2 + self.m * float(np.sum(self.mass_velocity(z) ** 2)) / 2
 
     def energy(self, z) -> float:
-        """Kinetic energy relative to the ground plus the weight's potential above the floor [J]."""
-        return self.M * (z[3] ** 2 + z[4] ** 2) / 2 + self.I_G * z[5] ** 2 / 2 + self.M * self.g * z[1]
+        """Kinetic energy relative to the ground, the weights' potential above the floor and the spring's [J]."""
+        kinetic = self.M * (z[3] ** 2 + z[4] ** 2) / 2 + self.I_G * z[5] ** 2 / 2
+        weights = self.M * self.g * z[1] + self.m * self.g * (z[1] + self.rho(z[2], z[6])[1])
+        return kinetic + weights + self.damper_energy(z)
+
+
+def _system(body: Body, z, contacts, law: int, mu_k: float):
+    """The matrix shared by the forces and the impulses, and the rows' parts that depend on neither.
+
+    Unknowns: ``(a_G or v_G+) (2), ddtheta or omega+, [ddx or dx+, N_g or Lambda], F or P_t, N_k or P_k per
+    contact``. Rows: the block's Newton (2) and Euler about ``G``, the mass's Newton (2, with a damper), each
+    contact's normal constraint, then the tangential one (stick: the first contact's, else Coulomb's).
+    """
+    theta, x = z[2], z[6]
+    t, n = _rot(theta, 1.0, 0.0), _rot(theta, 0.0, 1.0)
+    rho, d = body.rho(theta, x), body.m > 0
+    rs = [body.r(k, theta) for k in contacts]
+    nu = 3 + 2 * d + (len(contacts) + 1 if contacts else 0)
+    A = np.zeros((nu, nu))
+    A[0, 0] = A[1, 1] = body.M
+    A[2, 2] = body.I_G
+    f = 3 + 2 * d  # the first floor unknown
+    if d:
+        A[0:2, 4] = n  # -N_g n on the block, moved to the left
+        A[2, 4] = _cross(rho, n)
+        A[3:5, 0:2] = body.m * np.eye(2)
+        A[3:5, 2] = body.m * _perp(rho)
+        A[3:5, 3] = body.m * t
+        A[3:5, 4] = -n
+    if contacts:
+        A[0, f] = -1.0  # the tangential force, at the first contact
+        A[2, f] = rs[0][1]  # -(r x (F, 0)) = r_y F
+        for j, r in enumerate(rs):
+            A[1, f + 1 + j] = -1.0
+            A[2, f + 1 + j] = -r[0]
+            row = 3 + 2 * d + j
+            A[row, 1], A[row, 2] = 1.0, r[0]  # the corner's normal rate: (v_G + omega J r)_y
+        last = nu - 1
+        if law == 0:
+            A[last, 0], A[last, 2] = 1.0, -rs[0][1]
+        else:
+            A[last, f] = 1.0
+            A[last, f + 1 :] = mu_k * law
+    return A, t, n, rho, rs
+
+
+def dynamics(body: Body, z, ag: float, agy: float, contacts=(), law: int = 0, mu_k: float = 0.0):
+    """The accelerations and the floor's forces in a contact state: ``(ddtheta, ddx, a_G, F, N)``, ``N`` one per
+    contact (``contacts``: the corners on the floor; ``law`` 0 stuck, else the slip's direction)."""
+    A, t, n, rho, rs = _system(body, z, contacts, law, mu_k)
+    omega, dx, d = z[5], z[7], body.m > 0
+    gravity = np.array([-ag, -(body.g + agy)])
+    G = body.k_m * z[6] + body.c * dx
+    b = np.zeros(len(A))
+    b[0:2] = body.M * gravity + G * t
+    b[2] = G * _cross(rho, t)
+    if d:
+        b[3:5] = body.m * gravity - G * t + body.m * omega**2 * rho - 2 * body.m * omega * dx * _perp(t)
+    for j, r in enumerate(rs):
+        b[3 + 2 * d + j] = omega**2 * r[1]
+    if contacts and law == 0:
+        b[-1] = omega**2 * rs[0][0]
+    sol = np.linalg.solve(A, b)
+    f = 3 + 2 * d
+    return sol[2], sol[3] if d else 0.0, sol[0:2], (sol[f] if contacts else 0.0), sol[f + 1 :]
+
+
+def corner_rate(body: Body, k: int, z, ddtheta: float, a_G) -> np.ndarray:
+    """The corner ``k``'s acceleration ``(ddu, ddv)``: ``a_G + ddtheta J r - omega^2 r``."""
+    r = body.r(k, z[2])
+    return a_G + ddtheta * _perp(r) - z[5] ** 2 * r
+
+
+def impulses(body: Body, z, contacts, dv_after: float, mu: float | None):
+    """The floor's impulses on the corners ``contacts``: ``(z+, P_t, P)``, ``P`` one per contact.
+
+    Momentum and angular momentum of the block about ``G`` and the mass's momentum change by the impulses; the
+    touching corners' normal velocity after is ``dv_after``; their slip after 0 (``mu=None``) or ``P_t = -mu P_n``.
+    """
+    d = body.m > 0
+    A, t, n, rho, rs = _system(body, z, contacts, 0 if mu is None else 1, 0.0 if mu is None else mu)
+    b = np.zeros(len(A))
+    b[0:2] = body.M * np.array([z[3], z[4]])
+    b[2] = body.I_G * z[5]
+    if d:
+        b[3:5] = body.m * body.mass_velocity(z)
+    b[3 + 2 * d : 3 + 2 * d + len(contacts)] = dv_after
+    sol = np.linalg.solve(A, b)
+    f = 3 + 2 * d
+    after = np.array([z[0], z[1], z[2], sol[0], sol[1], sol[2], z[6], sol[3] if d else 0.0])
+    return after, sol[f], sol[f + 1 :]
+
+
+def impulse(body: Body, k: int, z, dv_after: float, mu: float | None):
+    """The corner ``k`` alone: ``(z+, P_t, P_n)``."""
+    after, Pt, P = impulses(body, z, (k,), dv_after, mu)
+    return after, Pt, P[0]
+
+
+def flat_impulse(body: Body, z, dv_after: float, mu: float | None):
+    """Both corners at ``theta = 0``: ``(z+, P_t, P_A, P_A')``; ``omega+ = 0`` follows."""
+    after, Pt, (PA, PB) = impulses(body, z, (1, -1), dv_after, mu)
+    return after, Pt, PA, PB
 
 
 @dataclass(frozen=True)
@@ -126,6 +259,7 @@ class Run:
     status: str = "t_max"
     t_end: float = 0.0
     theta_max: float = 0.0
+    x_max: float = 0.0
     jump_max: float = 0.0
     flight_time: float = 0.0
     flights: int = 0
@@ -136,68 +270,6 @@ class Run:
     landings: list = field(default_factory=list)
 
 
-def _solve(A, b):
-    return np.linalg.solve(np.asarray(A, float), np.asarray(b, float))
-
-
-def contact_forces(body: Body, ag: float, agy: float, sigma: int, mu_k: float) -> tuple[float, float, float, float]:
-    """Full contact: ``(ddu, F, N_A, N_A')``; ``sigma = 0`` stuck, else sliding that way.
-
-    Unknowns ``a_Gx, F, N_A, N_A'``: ``M a_Gx = F - M ddx_g``, ``0 = N_A + N_A' - M (g + ddy_g)``, the moment about
-    ``G`` ``0 = (r_A)_x N_A + (r_A')_x N_A' + H/2 F`` and ``a_Gx = 0`` or ``F = -mu_k sigma (N_A + N_A')``.
-    """
-    M, h = body.M, body.H / 2
-    ra, rb = body.r(1, 0.0)[0], body.r(-1, 0.0)[0]
-    last = [1.0, 0.0, 0.0, 0.0] if sigma == 0 else [0.0, 1.0, mu_k * sigma, mu_k * sigma]
-    a, F, NA, NB = _solve([[M, -1, 0, 0], [0, 0, 1, 1], [0, h, ra, rb], last], [-M * ag, M * (body.g + agy), 0.0, 0.0])
-    return a, F, NA, NB
-
-
-def rocking_forces(body: Body, k: int, theta, omega, ag, agy, sigma: int, mu_k: float):
-    """Rocking about the corner ``k``: ``(ddtheta, ddu, F, N)``; ``sigma = 0`` stuck, else its slip's direction.
-
-    Unknowns ``a_G, ddtheta, F, N``: Newton, Euler about ``G`` (``r x (F, N) = r_x N - r_y F``), the corner's
-    acceleration ``a_G + ddtheta J r - omega^2 r`` with no normal part, and no tangential one (stuck) or
-    ``F = -mu_k sigma N``.
-    """
-    M, r = body.M, body.r(k, theta)
-    last = [1, 0, -r[1], 0, 0] if sigma == 0 else [0, 0, 0, 1, mu_k * sigma]
-    A = [[M, 0, 0, -1, 0], [0, M, 0, 0, -1], [0, 0, body.I_G, r[1], -r[0]], [0, 1, r[0], 0, 0], last]
-    b = [-M * ag, -M * (body.g + agy), 0.0, omega**2 * r[1], omega**2 * r[0] if sigma == 0 else 0.0]
-    aX, _, dd, F, N = _solve(A, b)
-    return dd, aX - dd * r[1] - omega**2 * r[0], F, N
-
-
-def impulse(body: Body, k: int, z, dv_after: float, mu: float | None):
-    """The floor's impulse on the corner ``k`` alone: ``(z+, P_t, P_n)``.
-
-    ``M (v_G+ - v_G-) = P``, ``I_G (omega+ - omega-) = r x P``, the corner's normal velocity after ``dv_after``,
-    its slip after 0 (``mu=None``: stick) or ``P_t = -mu P_n`` (``mu = mu_k sigma``).
-    """
-    M, r = body.M, body.r(k, z[2])
-    last = [1, 0, -r[1], 0, 0] if mu is None else [0, 0, 0, 1, mu]
-    A = [[M, 0, 0, -1, 0], [0, M, 0, 0, -1], [0, 0, body.I_G, r[1], -r[0]], [0, 1, r[0], 0, 0], last]
-    b = [M * z[3], M * z[4], body.I_G * z[5], dv_after, 0.0]
-    vX, vY, w, Pt, Pn = _solve(A, b)
-    return np.array([z[0], z[1], z[2], vX, vY, w]), Pt, Pn
-
-
-def flat_impulse(body: Body, z, dv_after: float, mu: float | None):
-    """Both corners land at ``theta = 0``: ``(z+, P_t, P_A, P_A')`` with ``omega+ = 0``, ``v_Gy+ = dv_after``.
-
-    ``M dv_G = (P_t, P_A + P_A')``, ``-I_G omega- = (r_A)_x P_A + (r_A')_x P_A' + H/2 P_t``; ``v_Gx+ = 0`` (stick)
-    or ``P_t = -mu (P_A + P_A')``.
-    """
-    M, h = body.M, body.H / 2
-    ra, rb = body.r(1, 0.0)[0], body.r(-1, 0.0)[0]
-    last = [1, 0, 0, 0] if mu is None else [0, 1, mu, mu]
-    vX, Pt, PA, PB = _solve(
-        [[M, -1, 0, 0], [0, 0, 1, 1], [0, h, ra, rb], last],
-        [M * z[3], M * (dv_after - z[4]), -body.I_G * z[5], 0.0],
-    )
-    return np.array([z[0], z[1], 0.0, vX, dv_after, 0.0]), Pt, PA, PB
-
-
 def corner_law(body: Body, floor: Floor, k: int, z, dv_after: float):
     """The corner ``k``'s impulse by the landing law (``rocking.reference.flight.landing_law``'s rule, typed again):
     ``(z+, law)`` with ``law`` 0 (stuck), ``+-1`` (sliding that way) or ``None`` (neither: jammed)."""
@@ -205,7 +277,7 @@ def corner_law(body: Body, floor: Floor, k: int, z, dv_after: float):
     if Pn > 0 and floor.holds(Pt, Pn):
         return zs, 0
     du = body.corner(k, z)[1][0]
-    for sigma in (1, -1):
+    for sigma in (1, -1) if math.isfinite(floor.mu_k) else ():
         zp, Pt, Pn = impulse(body, k, z, dv_after, sigma * floor.mu_k)
         if Pn > 0 and sigma * du >= 0 and sigma * body.corner(k, zp)[1][0] >= 0:
             return zp, sigma
@@ -222,7 +294,7 @@ def flat_law(body: Body, floor: Floor, z, dv_after: float):
     if floor.holds(Pt, PA + PB):
         return zs, 0, 0
     du = z[3]
-    for sigma in (1, -1) if du == 0 else (int(np.sign(du)),):
+    for sigma in ((1, -1) if du == 0 else (int(np.sign(du)),)) if math.isfinite(floor.mu_k) else ():
         zp, Pt, PA, PB = flat_impulse(body, z, dv_after, sigma * floor.mu_k)
         if min(PA, PB) >= 0 and sigma * zp[3] >= 0:
             return zp, sigma, 0
@@ -230,73 +302,107 @@ def flat_law(body: Body, floor: Floor, z, dv_after: float):
 
 
 class _Sim:
-    """One run: the phase, its state ``z`` and the counts, advanced segment by segment."""
+    """One run: the phase, the state ``z`` and the counts, advanced segment by segment.
 
-    def __init__(self, body, ground, floor, t_max, dtheta_rest, rtol):
+    The phases: ``("contact", sigma)``, ``("rocking", k, sigma)`` (``sigma`` 0 stuck, else the slip's direction) and
+    ``("flight", armed)``, ``armed`` whether each corner may land (one that left the floor at height 0 only once it
+    has risen). Each integrates its own coordinates: ``(x, dx, u, du)`` in contact, ``(theta, omega, x, dx, u,
+    du)`` rocking (the corner ``k`` at ``(u, 0)``), ``z`` in flight.
+    """
+
+    def __init__(self, body, ground, floor, t_max, dtheta_rest, energy_rest, rtol):
         self.body, self.ground, self.floor, self.t_max = body, ground, floor, t_max
-        self.dtheta_rest, self.rtol = dtheta_rest, rtol
+        self.dtheta_rest, self.energy_rest, self.rtol = dtheta_rest, energy_rest, rtol
         self.run = Run()
         self.z = body.centroid(1, 0.0, 0.0, 0.0, 0.0)
-        self.phase: tuple = ("contact", 0)  # ("contact", sigma), ("rocking", k, sigma), ("flight", armed)
+        self.phase: tuple = ("contact", 0)
+        self._t = 0.0  # the start of the current segment
 
-    # --- the phases' right-hand sides and exits ---------------------------------------------------------------
-    def _rocking(self, t, k, sigma, theta, omega):
-        g = self.ground
-        return rocking_forces(self.body, k, theta, omega, g.ax(t), g.ay(t), sigma, self.floor.mu_k)
-
-    def _contact(self, t, sigma):
-        g = self.ground
-        return contact_forces(self.body, g.ax(t), g.ay(t), sigma, self.floor.mu_k)
+    def forces(self, t, z, phase=None):
+        """``(ddtheta, ddx, a_G, F, N)`` of ``phase`` (default the current one) at ``(t, z)``."""
+        kind, *rest = phase or self.phase
+        contacts = {"contact": (1, -1), "rocking": (rest[0],) if rest else (), "flight": ()}[kind]
+        law = rest[-1] if kind != "flight" else 0
+        return dynamics(self.body, z, self.ground.ax(t), self.ground.ay(t), contacts, law, self.floor.mu_k)
 
     def _setup(self):
-        """``(y0, rhs, events, names, to_z)`` of the current phase; an event named ``""`` only reports a peak."""
-        b, fl, kind = self.body, self.floor, self.phase[0]
-        finite = math.isfinite(fl.mu_s)
-        if kind == "contact":
-            sigma = self.phase[1]
-            u, du = b.corner(1, self.z)[0][0], self.z[3]
+        """``(y0, rhs, events, to_z)`` of the current phase; an event whose name is blank only reports a peak."""
+        return {"contact": self._contact, "rocking": self._rocking, "flight": self._flight}[self.phase[0]]()
 
-            def rhs(t, y):
-                return [y[1], self._contact(t, sigma)[0]]
+    def _contact(self):
+        b, fl, z = self.body, self.floor, self.z
+        finite = math.isfinite(self.floor.mu_s)
+        sigma = self.phase[1]
+        (u, _), (du, _) = b.corner(1, z)
 
-            ev = {
-                "uplift+1": lambda t, y: self._contact(t, sigma)[3],  # the corner A' leaves the floor
-                "uplift-1": lambda t, y: self._contact(t, sigma)[2],
-                "takeoff": lambda t, y: sum(self._contact(t, sigma)[2:]),
-            }
-            if sigma == 0 and finite:
-                ev["slip"] = lambda t, y: fl.mu_s * sum(self._contact(t, 0)[2:]) - abs(self._contact(t, 0)[1])
-            elif sigma:
-                ev["stop"] = lambda t, y: sigma * y[1]
-            return [u, du], rhs, ev, lambda y: b.centroid(1, 0.0, y[0], y[1], 0.0)
-        if kind == "rocking":
-            _, k, sigma = self.phase
-            (u, _), (du, _) = b.corner(k, self.z)
+        def to_z(y):
+            return b.centroid(1, 0.0, y[2], y[3], 0.0, x=y[0], dx=y[1])
 
-            def rhs(t, y):
-                dd, ddu, _, _ = self._rocking(t, k, sigma, y[0], y[1])
-                return [y[1], dd, y[3], ddu]
+        def rhs(t, y):
+            _, ddx, a_G, _, _ = self.forces(t, to_z(y))
+            return [y[1], ddx, y[3], a_G[0]]
 
-            ev = {
-                "impact": lambda t, y: k * y[0],
-                "overturn": lambda t, y: math.pi / 2 - abs(y[0]),
-                "takeoff": lambda t, y: self._rocking(t, k, sigma, y[0], y[1])[3],
-                "": lambda t, y: y[1],
-            }
-            if sigma == 0 and finite:
+        def N(t, y, j):
+            return self.forces(t, to_z(y))[4][j]
 
-                def slip(t, y):
-                    _, _, F, N = self._rocking(t, k, 0, y[0], y[1])
-                    return fl.mu_s * N - abs(F)
+        ev = {
+            "uplift+1": lambda t, y: N(t, y, 1),  # the corner A' leaves the floor: rocking about A
+            "uplift-1": lambda t, y: N(t, y, 0),
+            "takeoff": lambda t, y: N(t, y, 0) + N(t, y, 1),
+            "  ": lambda t, y: y[1],
+        }
+        if sigma == 0 and finite:
 
-                ev["slip"] = slip
-            elif sigma:
-                ev["stop"] = lambda t, y: sigma * y[3]
-            return [self.z[2], self.z[5], u, du], rhs, ev, lambda y: b.centroid(k, y[0], y[2], y[3], y[1])
+            def slip(t, y):
+                *_, F, Ns = self.forces(t, to_z(y))
+                return fl.mu_s * sum(Ns) - abs(F)
+
+            ev["slip"] = slip
+        elif sigma:
+            ev["stop"] = lambda t, y: sigma * y[3]
+        if sigma == 0 and b.m > 0 and self.ground.t_p <= self._t:
+            ev["rest"] = lambda t, y: b.damper_energy(to_z(y)) - self.energy_rest
+        return [z[6], z[7], u, du], rhs, ev, to_z
+
+    def _rocking(self):
+        b, fl, z = self.body, self.floor, self.z
+        finite = math.isfinite(self.floor.mu_s)
+        _, k, sigma = self.phase
+        (u, _), (du, _) = b.corner(k, z)
+
+        def to_z(y):
+            return b.centroid(k, y[0], y[4], y[5], y[1], x=y[2], dx=y[3])
+
+        def rhs(t, y):
+            zz = to_z(y)
+            dd, ddx, a_G, _, _ = self.forces(t, zz)
+            return [y[1], dd, y[3], ddx, y[5], corner_rate(b, k, zz, dd, a_G)[0]]
+
+        ev = {
+            "impact": lambda t, y: k * y[0],
+            "overturn": lambda t, y: math.pi / 2 - abs(y[0]),
+            "takeoff": lambda t, y: self.forces(t, to_z(y))[4][0],
+            " ": lambda t, y: y[1],
+            "  ": lambda t, y: y[3],
+        }
+        if sigma == 0 and finite:
+
+            def slip(t, y):
+                *_, F, (N,) = self.forces(t, to_z(y))
+                return fl.mu_s * N - abs(F)
+
+            ev["slip"] = slip
+        elif sigma:
+            ev["stop"] = lambda t, y: sigma * y[5]
+        return [z[2], z[5], z[6], z[7], u, du], rhs, ev, to_z
+
+    def _flight(self):
+        b, z = self.body, self.z
         armed = self.phase[1]
 
         def rhs(t, y):
-            return [y[3], y[4], y[5], -self.ground.ax(t), -self.ground.ay(t) - b.g, 0.0]
+            dd, ddx, a_G, _, _ = self.forces(t, y)
+            return [y[3], y[4], y[5], a_G[0], a_G[1], dd, y[7], ddx]
 
         def height(k):
             def f(t, y):
@@ -311,80 +417,72 @@ class _Sim:
             "land+1": height(1),
             "land-1": height(-1),
             "overturn": lambda t, y: math.pi / 2 - abs(y[2]),
-            "": lambda t, y: b.corner(1, y)[1][1],
-            " ": lambda t, y: b.corner(-1, y)[1][1],
+            " ": lambda t, y: b.corner(1, y)[1][1],
+            "  ": lambda t, y: b.corner(-1, y)[1][1],
+            "   ": lambda t, y: y[5],
+            "    ": lambda t, y: y[7],
         }
-        return list(self.z), rhs, ev, np.array
+        return list(z), rhs, ev, np.array
 
-    # --- one segment ------------------------------------------------------------------------------------------
     def segment(self, t):
+        """Integrate the phase from ``t`` to its first exit, a kink of the motion or ``t_max``: ``(t, exit)``."""
+        self._t = t
         y0, rhs, ev, to_z = self._setup()
         fns = list(ev.values())
         for name, fn in zip(ev, fns, strict=True):
             fn.terminal, fn.direction = bool(name.strip()), -1 if name.strip() else 0
-        later = [s for s in self.ground.kinks if s > t + 1e-15]
-        end = min([self.t_max, *later])
+        end = min([self.t_max, *(s for s in self.ground.kinks if s > t + 1e-15)])
         step = self.ground.t_p / 256 if t < self.ground.t_p else np.inf
         first = None
-        if self.phase[0] == "rocking" and y0[0] == 0.0:
+        if self.phase[0] == "rocking" and y0[0] == 0.0 and y0[1] != 0.0:
             # Rocking from theta = 0 swings back within ~2 |omega / ddtheta|: a first step past that would see the
             # impact at the start (docs/simulation.md's grazing lift-off).
             dd = abs(rhs(t, y0)[1])
-            first = min(end - t, 0.05 * abs(y0[1]) / dd) if dd > 0 and y0[1] != 0 else None
+            first = min(end - t, 0.05 * abs(y0[1]) / dd) if dd > 0 else None
         sol = solve_ivp(
             rhs, (t, end), y0, "DOP853", events=fns, rtol=self.rtol, atol=1e-14, max_step=step, first_step=first
         )
-        zs = [to_z(y) for y in sol.y.T] + [to_z(y) for ye in sol.y_events for y in ye]
-        self._maxima(zs)
-        hits = [(te[0], name, ye[0]) for name, te, ye in zip(ev, sol.t_events, sol.y_events, strict=True) if te.size]
-        hits = [h for h in hits if h[1].strip()]
+        self._maxima([to_z(y) for y in sol.y.T] + [to_z(y) for ye in sol.y_events for y in ye])
+        hits = [
+            (te[0], name, ye[0])
+            for name, te, ye in zip(ev, sol.t_events, sol.y_events, strict=True)
+            if te.size and name.strip()
+        ]
+        t_end = min(h[0] for h in hits) if hits else float(sol.t[-1])
         if self.phase[0] == "flight":
-            self.run.flight_time += (min(hits)[0] if hits else sol.t[-1]) - t
+            self.run.flight_time += t_end - t
         if not hits:
             self.z = to_z(sol.y[:, -1])
-            return float(sol.t[-1]), None
-        first = min(h[0] for h in hits)
+            return t_end, None
         # Where both corners' N fall to 0 together (a vertical motion alone) the block takes off, not uplifts.
-        t_hit, name, y = min((h for h in hits if h[0] <= first + 1e-12), key=lambda h: h[1] != "takeoff")
+        t_hit, name, y = min((h for h in hits if h[0] <= t_end + 1e-12), key=lambda h: h[1] != "takeoff")
         self.z = to_z(y)
         return float(t_hit), name
 
     def _maxima(self, zs):
         r = self.run
         r.theta_max = max(r.theta_max, *(abs(z[2]) for z in zs))
+        r.x_max = max(r.x_max, *(abs(z[6]) for z in zs))
         if self.phase[0] == "flight":
             r.jump_max = max(r.jump_max, *(self.body.corner(k, z)[0][1] for z in zs for k in (1, -1)))
 
-    # --- transitions --------------------------------------------------------------------------------------------
     def start(self, t):
         """The checks where a phase on the floor starts: takeoff, uplift and slip at once (an event sees only a
         crossing)."""
-        fl = self.floor
         for _ in range(4):
             kind = self.phase[0]
-            if kind == "contact":
-                sigma = self.phase[1]
-                _, F, NA, NB = self._contact(t, sigma)
-                if NA + NB < 0:
-                    self.takeoff()
-                elif min(NA, NB) < 0:
-                    self.run.uplifts += 1
-                    self.phase = ("rocking", 1 if NB < 0 else -1, sigma)
-                elif sigma == 0 and not fl.holds(F, NA + NB):
-                    self.run.slides += 1
-                    self.phase = ("contact", -int(np.sign(F)))
-                else:
-                    return
-            elif kind == "rocking":
-                _, k, sigma = self.phase
-                _, _, F, N = self._rocking(t, k, sigma, self.z[2], self.z[5])
-                if N < 0:
-                    self.takeoff()
-                elif sigma == 0 and not fl.holds(F, N):
-                    self.run.slides += 1
-                    self.phase = ("rocking", k, -int(np.sign(F)))
-                else:
-                    return
+            if kind == "flight":
+                return
+            *_, F, N = self.forces(t, self.z)
+            sigma = self.phase[-1]
+            if sum(N) < 0:
+                self.takeoff()
+            elif kind == "contact" and min(N) < 0:
+                self.run.uplifts += 1
+                self.phase = ("rocking", 1 if N[1] < 0 else -1, sigma)
+            elif sigma == 0 and not self.floor.holds(F, sum(N)):
+                self.run.slides += 1
+                self.phase = (*self.phase[:-1], -int(np.sign(F)))
             else:
                 return
 
@@ -393,70 +491,69 @@ class _Sim:
         self.run.flights += 1
         self.phase = ("flight", {j: self.body.corner(j, self.z)[0][1] > 1e-9 * self.body.B for j in (1, -1)})
 
-    def on_floor(self, z, law, k):
-        """The phase after an impact or a landing left the corner ``k`` (0: both) on the floor with ``law``."""
-        self.z = z
-        if k == 0:
-            self.phase = ("contact", law)
-        elif abs(z[5]) < self.dtheta_rest and z[2] == 0.0:  # the rest snap of an impact
-            self.z = self.body.centroid(k, 0.0, self.body.corner(k, z)[0][0], self.body.corner(k, z)[1][0], 0.0)
-            self.phase = ("contact", int(np.sign(self.z[3])))
-        else:
-            self.phase = ("rocking", k, law)
+    def rest_snap(self, k: int, z, law: int):
+        """Full contact on the corner ``k``'s side at ``omega = 0`` after an impact of ``law``: the base keeps its
+        slip speed (0 if the corner stuck) and the mass its absolute velocity (docs/simulation.md, rule 2)."""
+        b = self.body
+        (u, _), (du, _) = b.corner(k, z)
+        du = du if law else 0.0
+        eta = b.H + b.h
+        self.z = b.centroid(k, 0.0, u, du, 0.0, x=z[6], dx=z[7] - eta * z[5] if b.m > 0 else 0.0)
+        self.phase = ("contact", int(np.sign(du)))
 
     def event(self, t, name):
         b, fl, r = self.body, self.floor, self.run
         kind = self.phase[0]
+        if name in ("slip", "uplift+1", "uplift-1") and sum(self.forces(t, self.z)[4]) <= 1e-9 * (b.M + b.m) * b.g:
+            name = "takeoff"  # every N reaches 0 at once (a vertical motion alone): nothing holds the block
         if name == "overturn":
             r.status = "overturned"
+        elif name == "rest":
+            r.status = "rest"
         elif name == "takeoff":
             self.takeoff()
         elif name.startswith("uplift"):
             r.uplifts += 1
             self.phase = ("rocking", int(name[-2:]), self.phase[1])
         elif name == "slip":
-            if kind == "contact":
-                F = self._contact(t, 0)[1]
-                self.phase = ("contact", -int(np.sign(F)))
-            else:
-                F = self._rocking(t, self.phase[1], 0, self.z[2], self.z[5])[2]
-                self.phase = ("rocking", self.phase[1], -int(np.sign(F)))
+            F = self.forces(t, self.z)[3]
+            self.phase = (*self.phase[:-1], -int(np.sign(F)))
             r.slides += 1
         elif name == "stop":
             k = 1 if kind == "contact" else self.phase[1]
-            u = b.corner(k, self.z)[0][0]
-            self.z = b.centroid(k, self.z[2], u, 0.0, self.z[5])
-            F, N = (
-                (self._contact(t, 0)[1], sum(self._contact(t, 0)[2:]))
-                if kind == "contact"
-                else self._rocking(t, k, 0, self.z[2], self.z[5])[2:]
-            )
-            sigma = 0 if fl.holds(F, N) else -int(np.sign(F))
+            z = self.z
+            self.z = b.centroid(k, z[2], b.corner(k, z)[0][0], 0.0, z[5], x=z[6], dx=z[7])
+            stuck = (*self.phase[:-1], 0)
+            *_, F, N = self.forces(t, self.z, stuck)
+            sigma = 0 if fl.holds(F, sum(N)) else -int(np.sign(F))
             r.slides += sigma != 0
-            self.phase = ("contact", sigma) if kind == "contact" else ("rocking", k, sigma)
+            self.phase = (*self.phase[:-1], sigma)
         elif name == "impact":
-            k = self.phase[1]
-            z = self.z.copy()
-            z[2] = 0.0
-            zs, Pt, Pn = impulse(b, -k, z, 0.0, None)
-            law = 0
-            if Pn <= 0:
-                raise RuntimeError(f"an impact at t = {t} whose corner leaves the floor")
-            if not fl.holds(Pt, Pn):
-                law = -int(np.sign(Pt))
-                zs, Pt, Pn = impulse(b, -k, z, 0.0, law * fl.mu_k)
-                r.slides += law != self.phase[2]
-            r.impacts += 1
-            if abs(zs[5]) < self.dtheta_rest:  # the rest snap: the base keeps its slip speed
-                du = b.corner(-k, zs)[1][0]
-                self.z = b.centroid(-k, 0.0, b.corner(-k, zs)[0][0], du, 0.0)
-                self.phase = ("contact", int(np.sign(du)) if law else 0)
-            else:
-                self.z, self.phase = zs, ("rocking", -k, law)
-        else:  # a landing
+            self.impact(t, self.phase[1])
+        else:
             self.land(t, int(name[-2:]))
 
+    def impact(self, t, k):
+        """``theta`` reached 0 rocking about ``k``: the corner ``-k`` strikes (Housner's, with friction)."""
+        b, fl, r = self.body, self.floor, self.run
+        z = self.z.copy()
+        z[2] = 0.0
+        zs, Pt, Pn = impulse(b, -k, z, 0.0, None)
+        if Pn <= 0:
+            raise RuntimeError(f"an impact at t = {t} whose corner leaves the floor")
+        law = 0
+        if not fl.holds(Pt, Pn):
+            law = -int(np.sign(Pt))
+            zs, Pt, Pn = impulse(b, -k, z, 0.0, law * fl.mu_k)
+            r.slides += law != self.phase[2]
+        r.impacts += 1
+        if abs(zs[5]) < self.dtheta_rest:
+            self.rest_snap(-k, zs, law)
+        else:
+            self.z, self.phase = zs, ("rocking", -k, law)
+
     def land(self, t, k):
+        """The corner ``k`` reached the floor moving down."""
         b, fl, r = self.body, self.floor, self.run
         z = self.z.copy()
         dv = b.corner(k, z)[1][1]
@@ -470,28 +567,37 @@ class _Sim:
         if law is None:
             r.status = "jammed"
             return
-        if law and law != 0:
-            r.slides += 1
+        r.slides += law != 0
         if -fl.e_n * dv > self.dtheta_rest * b.B / 2:  # bounces: flight goes on, the corner armed once it rises
             self.z = zp
             self.phase = ("flight", {j: j != k and k != 0 for j in (1, -1)})
             return
-        if k:  # the corner is on the floor: exactly, and with no normal velocity
-            (u, _), (du, _) = b.corner(k, zp)
-            zp = b.centroid(k, zp[2], u, du, zp[5])
-        else:
-            zp[1], zp[4] = b.H / 2, 0.0
-        self.on_floor(zp, law, k)
+        if k == 0:
+            zp[1], zp[4] = b.H / 2, 0.0  # the base on the floor, exactly
+            self.z, self.phase = zp, ("contact", law)
+            return
+        (u, _), (du, _) = b.corner(k, zp)
+        self.z = b.centroid(k, zp[2], u, du, zp[5], x=zp[6], dx=zp[7])
+        self.phase = ("rocking", k, law)
 
 
-def simulate(body: Body, ground: Ground, floor: Floor, t_max: float, dtheta_rest: float, rtol: float = 1e-11) -> Run:
-    """The bare block at rest on the floor at ``t = 0`` under ``ground``, followed to rest, overturning, a jam or
-    ``t_max``: the counts and maxima of :class:`Run`."""
-    sim = _Sim(body, ground, floor, t_max, dtheta_rest, rtol)
+def simulate(
+    body: Body,
+    ground: Ground,
+    floor: Floor,
+    t_max: float,
+    dtheta_rest: float,
+    energy_rest: float = 0.0,
+    rtol: float = 1e-11,
+) -> Run:
+    """The block at rest on the floor at ``t = 0`` under ``ground``, followed to rest, overturning, a jam or
+    ``t_max``: the counts and maxima of :class:`Run`. Rest: full contact, stuck, after the motion, the damper's
+    energy below ``energy_rest`` (the bare block at once)."""
+    sim = _Sim(body, ground, floor, t_max, dtheta_rest, energy_rest, rtol)
     t, last, stalled = 0.0, -1.0, 0
     sim.start(t)
     while sim.run.status == "t_max" and t < t_max:
-        if sim.phase == ("contact", 0) and t >= ground.t_p:
+        if sim.phase == ("contact", 0) and t >= ground.t_p and body.damper_energy(sim.z) <= energy_rest:
             sim.run.status = "rest"
             break
         t, name = sim.segment(t)
