@@ -196,7 +196,7 @@ def random_runs(n: int, seed: int) -> None:
                     f"{backend} {(got.status, got.flights, got.impacts)}"
                 )
             for before, after in landings(got.history):
-                e0, e1 = (history_energy(case.block, got.history, i) for i in (before, after))
+                e0, e1 = (history_energy(case.block, case.the_damper, got.history, i) for i in (before, after))
                 changes.append((e1 - e0) / abs(e0))
         print(
             f"   {backend:5} (rtol 1e-10): status, flights, impacts agree in {same}/{n}; largest relative difference "

@@ -78,7 +78,7 @@ def test_energy_never_rises_at_a_landing(runs, backend):
     for case, _ in runs:
         got = project(case, backend, record=True)
         for before, after in landings(got.history):
-            e0, e1 = (history_energy(case.block, got.history, i) for i in (before, after))
+            e0, e1 = (history_energy(case.block, case.the_damper, got.history, i) for i in (before, after))
             assert e1 <= e0 * (1 + 1e-12), (case, got.history["t"][before], e0, e1)
             count += 1
     assert count >= 20

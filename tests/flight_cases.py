@@ -1,10 +1,10 @@
 """The runs that hold flight to outside facts (issue 39, item 5): one case, run by the reference and by a back end.
 
-A case is the reference block (docs/model.md section 9) under a one-sine pulse with a vertical component past the
-flight threshold (``g + ddy_g`` reaches 0), on the paper's floor or one with friction. :func:`reference` runs it
-with :mod:`tests.flight_reference` (Newton and Euler typed by hand), :func:`project` with ``rocking.simulate``;
-both at rest on the floor at ``t = 0``, followed to rest (no early verdict), the same ``dtheta_rest`` and
-``t_max``.
+A case is the reference block (docs/model.md section 9), bare or with a damper, under a one-sine pulse with a
+vertical component past the flight threshold (``g + ddy_g`` reaches 0), on the paper's floor or one with friction.
+:func:`reference` runs it with :mod:`tests.flight_reference` (Newton and Euler typed by hand), :func:`project` with
+``rocking.simulate``; both at rest on the floor at ``t = 0``, followed to rest or ``t_max`` (no early verdict or
+rest), the same ``dtheta_rest``, ``energy_rest`` and ``t_max``.
 """
 
 from __future__ import annotations
@@ -28,7 +28,8 @@ DROP, PLATEAU, DROP_DT = 1.5, 0.1, 0.01
 @dataclass(frozen=True)
 class Case:
     """A one-sine pulse of ``beta`` and ``Omega`` (docs/model.md section 9) in the direction ``sign``, its vertical
-    component ``ratio`` times it with the lead ``phase`` [rad], on a floor of ``mu_s``, ``mu_k`` (``inf``: no slip)."""
+    component ``ratio`` times it with the lead ``phase`` [rad], on a floor of ``mu_s``, ``mu_k`` (``inf``: no slip);
+    ``damper`` the keywords of ``rocking.Damper.from_nondim`` (``None``: the bare block)."""
 
     beta: float
     Omega: float
@@ -37,10 +38,15 @@ class Case:
     phase: float
     mu_s: float
     mu_k: float
+    damper: tuple[tuple[str, float], ...] | None = None
 
     @property
     def block(self) -> rocking.Block:
         return rocking.Block.reference()
+
+    @property
+    def the_damper(self) -> rocking.Damper | None:
+        return None if self.damper is None else rocking.Damper.from_nondim(self.block, **dict(self.damper))
 
     @property
     def pulse(self) -> rocking.OneSinePulse:
@@ -49,17 +55,28 @@ class Case:
             beta=self.beta,
             Omega=self.Omega,
             sign=self.sign,
-            vertical=rocking.Vertical(self.ratio, self.phase),
+            vertical=rocking.Vertical(self.ratio, self.phase) if self.ratio else None,
         )
 
     @property
     def dtheta_rest(self) -> float:
         return 1e-3 * self.block.alpha * self.block.p
 
+    @property
+    def energy_rest(self) -> float:
+        """The project's default (docs/simulation.md rule 4): ``1e-8 M g B / 2``."""
+        return 1e-8 * self.block.M * self.block.g * self.block.B / 2
 
-def random_cases(n: int = 20, seed: int = 39) -> list[Case]:
+    @property
+    def t_after(self) -> float:
+        """Followed after the pulse: to rest for the bare block; a damper's decay would take minutes, so 4 s."""
+        return T_AFTER if self.damper is None else 4.0
+
+
+def random_cases(n: int = 20, seed: int = 39, damper: bool = False) -> list[Case]:
     """``n`` cases past the flight threshold, ``r beta tan(alpha) > 1`` by 5 to 60 %: both directions, the vertical in
-    phase (odd cases) or with a random lead, and every other pair on a floor with friction."""
+    phase (odd cases) or with a random lead, and every other pair on a floor with friction; ``damper``: each with a
+    random damper (mass ratio 0.02 to 0.2, tuned 0.5 to 2 times ``p``, damping ratio 0.02 to 0.2, ``h = 0.05`` m)."""
     rng = np.random.default_rng(seed)
     tan_alpha = rocking.Block.reference().tan_alpha
     cases = []
@@ -69,48 +86,81 @@ def random_cases(n: int = 20, seed: int = 39) -> list[Case]:
         Omega, sign = rng.uniform(2.0, 12.0), int(rng.choice([-1, 1]))
         phase = 0.0 if i % 2 else rng.uniform(0.0, 2 * math.pi)
         mu_s = math.inf if i % 4 < 2 else rng.uniform(0.3, 1.0)
-        cases.append(Case(beta, Omega, sign, ratio, phase, mu_s, mu_s if math.isinf(mu_s) else 0.8 * mu_s))
+        tuned = (
+            (("gamma", rng.uniform(0.02, 0.2)), ("omega_ratio", rng.uniform(0.5, 2)), ("zeta", rng.uniform(0.02, 0.2)))
+            if damper
+            else None
+        )
+        cases.append(
+            Case(
+                beta,
+                Omega,
+                sign,
+                ratio,
+                phase,
+                mu_s,
+                mu_s if math.isinf(mu_s) else 0.8 * mu_s,
+                None if tuned is None else (*tuned, ("h", 0.05)),
+            )
+        )
     return cases
 
 
-def body(block: rocking.Block) -> ref.Body:
-    return ref.Body(block.M, block.I_G, block.B, block.H, block.e, block.g)
+def body(block: rocking.Block, damper: rocking.Damper | None = None) -> ref.Body:
+    """The reference's body of ``block`` and ``damper``."""
+    d = {} if damper is None else {k: damper.as_params()[k] for k in ("m", "h", "k_m", "c")}
+    return ref.Body(block.M, block.I_G, block.B, block.H, block.e, block.g, **d)
 
 
 def reference(case: Case) -> ref.Run:
     """The case run by the reference (rtol 1e-11)."""
     p = case.pulse
     ground = ref.Ground.one_sine(p.a_g, p.omega_g, case.sign, case.ratio, case.phase)
-    return ref.simulate(body(case.block), ground, ref.Floor(case.mu_s, case.mu_k), p.t_p + T_AFTER, case.dtheta_rest)
+    return ref.simulate(
+        body(case.block, case.the_damper),
+        ground,
+        ref.Floor(case.mu_s, case.mu_k),
+        p.t_p + case.t_after,
+        case.dtheta_rest,
+        case.energy_rest,
+    )
 
 
 def project(case: Case, backend: str, record: bool = False) -> rocking.Response:
-    """The case run by a back end of the project at :data:`RTOL`."""
+    """The case run by a back end of the project at :data:`RTOL`: no early verdict, no early rest (rule 4)."""
     floor = None if math.isinf(case.mu_s) else rocking.Floor(case.mu_s, case.mu_k)
     return rocking.simulate(
         case.block,
-        None,
+        case.the_damper,
         case.pulse,
         backend=backend,
         rtol=RTOL,
-        t_after=T_AFTER,
+        t_after=case.t_after,
         early_verdict=False,
+        early_rest=False,
         dtheta_rest=case.dtheta_rest,
+        energy_rest=case.energy_rest,
         floor=floor,
         record=record,
     )
 
 
+#: The project's statuses the reference calls ``t_max``: at ``t_max`` after the pulse, below the overturning barrier.
+SAME_STATUS = {"below_barrier": "t_max"}
+
+
 def differences(run: ref.Run, response) -> dict:
-    """The relative differences of ``theta_max``, ``jump_max``, ``flight_time`` (to the reference's value) and
-    whether the status and the counts of flights and impacts agree."""
+    """The relative differences of ``theta_max``, ``x_max``, ``jump_max``, ``flight_time`` (to the reference's value)
+    and whether the status and the counts of flights and impacts agree."""
 
     def rel(a: float, b: float) -> float:
         return abs(a - b) / max(abs(b), 1e-300) if (a, b) != (0.0, 0.0) else 0.0
 
+    status = SAME_STATUS.get(response.status, response.status)
     return {
-        "same": (response.status, response.flights, response.impacts) == (run.status, run.flights, run.impacts),
+        "same": (status, response.flights, response.impacts) == (run.status, run.flights, run.impacts),
         "theta_max": rel(response.theta_max, run.theta_max),
+        "x_max": rel(response.x_max, run.x_max),
         "jump_max": rel(response.jump_max, run.jump_max),
         "flight_time": rel(response.flight_time, run.flight_time),
     }
@@ -129,10 +179,14 @@ def landings(history: dict) -> list[tuple[int, int]]:
     return [(i, i + 1) for i in np.flatnonzero((fly[:-1] == 1.0) & (fly[1:] == 0.0))]
 
 
-def history_energy(block: rocking.Block, history: dict, i: int) -> float:
-    """The bare block's energy at the row ``i`` of a history, from its own columns (the reference corner ``phase``
-    in flight, the pivot rocking, the corner A in full contact): kinetic relative to the ground plus the weight's."""
+def history_energy(block: rocking.Block, damper, history: dict, i: int) -> float:
+    """The energy at the row ``i`` of a history, from its own columns (the reference corner ``phase`` in flight, the
+    pivot rocking, the corner A in full contact): kinetic relative to the ground, the weights' and the spring's."""
     k = int(history["phase"][i]) or 1
-    get = {name: float(history[name][i]) for name in ("theta", "dtheta", "u", "du", "v", "dv")}
-    z = body(block).centroid(k, get["theta"], get["u"], get["du"], get["dtheta"], get["v"], get["dv"])
-    return body(block).energy(z)
+    get = {
+        name: float(history[name][i]) if name in history else 0.0
+        for name in ("theta", "dtheta", "u", "du", "v", "dv", "x", "dx")
+    }
+    b = body(block, damper)
+    z = b.centroid(k, get["theta"], get["u"], get["du"], get["dtheta"], get["v"], get["dv"], x=get["x"], dx=get["dx"])
+    return b.energy(z)
