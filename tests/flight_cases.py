@@ -15,6 +15,7 @@ from dataclasses import dataclass
 import numpy as np
 
 import rocking
+from rocking.reference import flight as hand
 from tests import flight_reference as ref
 
 #: The tolerance of the project's runs; the reference runs at 1e-11 (its events to the integrator's tolerance).
@@ -190,3 +191,53 @@ def history_energy(block: rocking.Block, damper, history: dict, i: int) -> float
     b = body(block, damper)
     z = b.centroid(k, get["theta"], get["u"], get["du"], get["dtheta"], get["v"], get["dv"], x=get["x"], dx=get["dx"])
     return b.energy(z)
+
+
+def typed_twice(n: int, seed: int, s: int, damper: bool = False) -> float:
+    """The largest difference between the reference and ``rocking.reference.flight`` (typed apart) on ``n`` random
+    flying states about the corner ``s``: the impulses at the corner (stick and slide, any ``e_n``) and on both
+    corners at ``theta = 0``, and with ``damper`` (random ones) the accelerations in flight too. In m/s, rad/s, m/s^2,
+    rad/s^2, impulses per unit mass."""
+    rng = np.random.default_rng(seed)
+    blk, worst = rocking.Block.reference(), 0.0
+    for _ in range(n):
+        tuned = rocking.Damper.from_nondim(
+            blk, gamma=rng.uniform(0.02, 0.3), omega_ratio=rng.uniform(0.5, 2), zeta=rng.uniform(0, 0.3), h=0.1
+        )
+        b = body(blk, tuned if damper else None)
+        theta, x, dx = s * rng.uniform(1e-3, 0.6), rng.uniform(-0.5, 0.5) * damper, rng.uniform(-2, 2) * damper
+        u, du, omega, dv = rng.uniform(-1, 1), rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(-2, -0.1)
+        z = b.centroid(s, theta, u, du, omega, 0.0, dv, x=x, dx=dx)
+        e_n, mu, M = rng.uniform(0, 1), rng.uniform(-1, 1), blk.M
+        body_args = (blk.M, blk.I_G, blk.B, blk.H, blk.e)
+        d = (b.m, b.h)
+        if damper:
+            ag, agy = rng.uniform(-10, 10), rng.uniform(-20, 5)
+            dd, ddx, a_G, _, _ = ref.dynamics(b, z, ag, agy)
+            want = hand.omd_flight_accel(s, theta, x, omega, dx, ag, agy, *body_args, blk.g, *d, b.k_m, b.c)
+            worst = max(worst, np.max(np.abs(np.subtract((dd, ddx, *ref.corner_rate(b, s, z, dd, a_G)), want))))
+        flat = z.copy()
+        flat[2] = 0.0
+        du_c, dv_c = b.corner(s, flat)[1]
+        for stick in (True, False):
+            law = None if stick else mu
+            zp, Pt, Pn = ref.impulse(b, s, z, -e_n * dv, law)
+            zf, Pf, PA, PB = ref.flat_impulse(b, flat, -e_n * dv_c, law)
+            Ps, Po = (PA, PB) if s == 1 else (PB, PA)
+            if damper:
+                got = (zp[5], zp[7], *b.corner(s, zp)[1], Pt / M, Pn / M)
+                want = hand.omd_landing(s, theta, x, omega, dx, du, dv, *body_args, *d, e_n, mu, stick)
+                got_flat = (zf[7], zf[3], zf[4], Pf / M, Ps / M, Po / M)
+                want_flat = hand.omd_flat_landing(s, x, omega, dx, du_c, dv_c, *body_args, *d, e_n, mu, stick)
+            else:
+                got = (zp[5], *b.corner(s, zp)[1], Pt / M, Pn / M)
+                want = hand.block_landing(s, theta, omega, du, dv, *body_args, e_n, mu, stick)
+                got_flat = (zf[3], zf[4], Pf / M, Ps / M, Po / M)
+                want_flat = hand.block_flat_landing(s, omega, du_c, dv_c, *body_args, e_n, mu, stick)
+            scale = np.ones(len(got))
+            scale[-2:] = M
+            worst = max(worst, np.max(np.abs(np.subtract(got, np.divide(want, scale)))))
+            scale = np.ones(len(got_flat))
+            scale[-3:] = M
+            worst = max(worst, np.max(np.abs(np.subtract(got_flat, np.divide(want_flat, scale)))))
+    return float(worst)
