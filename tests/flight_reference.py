@@ -305,8 +305,7 @@ class _Sim:
     """One run: the phase, the state ``z`` and the counts, advanced segment by segment.
 
     The phases: ``("contact", sigma)``, ``("rocking", k, sigma)`` (``sigma`` 0 stuck, else the slip's direction) and
-    ``("flight", armed)``, ``armed`` whether each corner may land (one that left the floor at height 0 only once it
-    has risen). Each integrates its own coordinates: ``(x, dx, u, du)`` in contact, ``(theta, omega, x, dx, u,
+    ``("flight",)``. Each integrates its own coordinates: ``(x, dx, u, du)`` in contact, ``(theta, omega, x, dx, u,
     du)`` rocking (the corner ``k`` at ``(u, 0)``), ``z`` in flight.
     """
 
@@ -397,19 +396,26 @@ class _Sim:
         return [z[2], z[5], z[6], z[7], u, du], rhs, ev, to_z
 
     def _flight(self):
-        b, z = self.body, self.z
-        armed = self.phase[1]
+        b, z, t0 = self.body, self.z, self._t
 
         def rhs(t, y):
             dd, ddx, a_G, _, _ = self.forces(t, y)
             return [y[3], y[4], y[5], a_G[0], a_G[1], dd, y[7], ddx]
 
         def height(k):
+            (_, v0), (_, dv0) = b.corner(k, z)
+            if v0 > 1e-9 * b.B:
+                return lambda t, y: b.corner(k, y)[0][1]
+            if dv0 > 0:
+                # A bounce: the root of v / (t - t0), whose value at t0 is the limit dv0 > 0, is the next landing.
+                return lambda t, y: b.corner(k, y)[0][1] / (t - t0) if t > t0 else dv0
+            armed = []
+
             def f(t, y):
+                # A takeoff at rest rises as (t - t0)^3, under the rounding of v at first: armed once it has risen.
                 v = b.corner(k, y)[0][1]
-                if not armed[k] and v > 0:
-                    armed[k] = True  # a corner that took off at height 0 lands only once it has risen
-                return v if armed[k] else 1.0
+                armed.extend([True] if v > 0 and not armed else [])
+                return v if armed else 1.0
 
             return f
 
@@ -487,9 +493,9 @@ class _Sim:
                 return
 
     def takeoff(self):
-        """Into flight; a corner on the floor (the pivot, or both from full contact) lands only once it has risen."""
+        """Into flight (the corners on the floor land only once they have risen: :meth:`_flight`)."""
         self.run.flights += 1
-        self.phase = ("flight", {j: self.body.corner(j, self.z)[0][1] > 1e-9 * self.body.B for j in (1, -1)})
+        self.phase = ("flight",)
 
     def rest_snap(self, k: int, z, law: int):
         """Full contact on the corner ``k``'s side at ``omega = 0`` after an impact of ``law``: the base keeps its
@@ -568,9 +574,9 @@ class _Sim:
             r.status = "jammed"
             return
         r.slides += law != 0
-        if -fl.e_n * dv > self.dtheta_rest * b.B / 2:  # bounces: flight goes on, the corner armed once it rises
+        if -fl.e_n * dv > self.dtheta_rest * b.B / 2:  # bounces: flight goes on
             self.z = zp
-            self.phase = ("flight", {j: j != k and k != 0 for j in (1, -1)})
+            self.phase = ("flight",)
             return
         if k == 0:
             zp[1], zp[4] = b.H / 2, 0.0  # the base on the floor, exactly

@@ -10,6 +10,7 @@ landing of the random runs. ``python bench/flight_facts.py`` prints every figure
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -78,6 +79,20 @@ def test_floor_drop_reference():
     t0, t1, dv, _ = ref.free_flight(blk.g, fine, np.r_[np.full(round(0.1 / fine) + 1, -1.5 * blk.g), 0.0])
     assert t1 - t0 == pytest.approx(0.1 * (1 + (1 + math.sqrt(3)) / 2), abs=2 * fine)
     assert -dv == pytest.approx(math.sqrt(3) * blk.g / 20, rel=10 * fine)
+
+
+@pytest.mark.parametrize("e_n", [0.5, 0.8])
+def test_floor_drop_bounces(e_n):
+    """The same drop landing with a normal restitution e_n: the base bounces at e_n^k times the first landing's
+    speed, each flight 2 e_n^k |dv| / g long, until the speed is below dtheta_rest B / 2 (docs/model.md section 16,
+    step 4); the total flight time of that series to 1e-12, one takeoff, rest."""
+    blk = rocking.Block.reference()
+    a_v, rest = drop_samples(blk.g), 1e-3 * blk.alpha * blk.p
+    t0, t1, dv, _ = ref.free_flight(blk.g, 0.01, a_v)
+    bounces = list(itertools.takewhile(lambda k: e_n**k * abs(dv) > rest * blk.B / 2, itertools.count(1)))
+    run = ref.simulate(body(blk), ref.Ground.sampled(0.01, 0 * a_v, a_v), ref.Floor(e_n=e_n), 3.0, rest)
+    assert (run.status, run.flights, len(run.landings)) == ("rest", 1, len(bounces) + 1)
+    assert run.flight_time == pytest.approx(t1 - t0 + sum(2 * e_n**k * abs(dv) / blk.g for k in bounces), rel=1e-12)
 
 
 @pytest.mark.parametrize("e", [0.0, 0.025])
