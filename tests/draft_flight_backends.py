@@ -7,6 +7,7 @@ A draft, not collected by pytest (its name is not ``test_*``) until both back en
 
 from __future__ import annotations
 
+import itertools
 import math
 
 import numpy as np
@@ -16,6 +17,7 @@ import rocking
 from tests import flight_reference as ref
 from tests.flight_cases import (
     DROP_DT,
+    Case,
     differences,
     drop_samples,
     history_energy,
@@ -69,6 +71,36 @@ def test_floor_drop(backend, mu):
     [(i, _)] = landings(got.history)
     assert got.history["t"][i] == pytest.approx(t1, rel=1e-8)
     assert got.history["dv"][i] == pytest.approx(dv, rel=1e-8)
+
+
+@pytest.mark.parametrize("e_n", [0.5, 0.8])
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_floor_drop_bounces(backend, e_n):
+    """(b) with restitution: the base bounces at e_n^k times the first landing's speed until it is below
+    dtheta_rest B / 2; the total flight time is the geometric series' (the reference's to 1e-12,
+    tests/test_flight_facts.py)."""
+    block = rocking.Block.reference()
+    a_v, rest = drop_samples(block.g), 1e-3 * block.alpha * block.p
+    t0, t1, dv, _ = ref.free_flight(block.g, DROP_DT, a_v)
+    bounces = list(itertools.takewhile(lambda k: e_n**k * abs(dv) > rest * block.B / 2, itertools.count(1)))
+    motion = rocking.SampledMotion(np.zeros_like(a_v), dt=DROP_DT, a_v=a_v)
+    got = rocking.simulate(
+        block, None, motion, backend=backend, rtol=1e-10, check="none", floor=rocking.Floor(e_n=e_n), dtheta_rest=rest
+    )
+    assert got.status == "rest"
+    assert got.flight_time == pytest.approx(t1 - t0 + sum(2 * e_n**k * abs(dv) / block.g for k in bounces), rel=1e-8)
+
+
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_a_fast_rocking_block_takes_off(backend):
+    """No vertical motion: the reference block rocking fast under a horizontal one-sine (beta 2.07, Omega 3) lifts
+    its pivot where the rocking phase's N reaches 0 (docs/model.md section 16), flies once and overturns, as the
+    reference does."""
+    case = Case(2.07, 3.0, 1, 0.0, 0.0, math.inf, math.inf)
+    run, got = reference(case), project(case, backend)
+    diff = differences(run, got)
+    assert diff["same"] and run.flights == 1
+    assert max(diff["jump_max"], diff["flight_time"]) < TOLERANCE["jump_max"]
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
