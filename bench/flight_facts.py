@@ -125,6 +125,7 @@ def floor_drop() -> None:
                     f"   {backend:5} mu={mu}: ends at t = {got.t_end:.10f} s with the status flight (does not fly yet)"
                 )
                 continue
+            assert got.history is not None
             rows = landings(got.history)
             land = f"landing dv {got.history['dv'][rows[0][0]]:.12f}" if rows else "no landing row"
             print(
@@ -185,6 +186,7 @@ def random_runs(n: int, seed: int, damper: bool) -> None:
                     f"     differs: {case} reference {(run.status, run.flights, run.impacts)} "
                     f"{backend} {(got.status, got.flights, got.impacts)}"
                 )
+            assert got.history is not None
             for before, after in landings(got.history):
                 e0, e1 = (history_energy(case.block, case.the_damper, got.history, i) for i in (before, after))
                 changes.append((e1 - e0) / abs(e0))

@@ -110,7 +110,8 @@ def random_cases(n: int = 20, seed: int = 39, damper: bool = False) -> list[Case
 def body(block: rocking.Block, damper: rocking.Damper | None = None) -> ref.Body:
     """The reference's body of ``block`` and ``damper``."""
     d = {} if damper is None else {k: damper.as_params()[k] for k in ("m", "h", "k_m", "c")}
-    return ref.Body(block.M, block.I_G, block.B, block.H, block.e, block.g, **d)
+    I_G = block.as_params()["I_G"]  # Block stores None for the homogeneous default
+    return ref.Body(block.M, I_G, block.B, block.H, block.e, block.g, **d)
 
 
 def reference(case: Case) -> ref.Run:
@@ -177,7 +178,7 @@ def drop_samples(g: float) -> np.ndarray:
 def landings(history: dict) -> list[tuple[int, int]]:
     """The rows of a landing in a recorded history: ``(i, i + 1)``, flying at ``i``, on the floor at ``i + 1``."""
     fly = np.asarray(history["fly"])
-    return [(i, i + 1) for i in np.flatnonzero((fly[:-1] == 1.0) & (fly[1:] == 0.0))]
+    return [(int(i), int(i) + 1) for i in np.flatnonzero((fly[:-1] == 1.0) & (fly[1:] == 0.0))]
 
 
 def history_energy(block: rocking.Block, damper, history: dict, i: int) -> float:
@@ -209,13 +210,13 @@ def typed_twice(n: int, seed: int, s: int, damper: bool = False) -> float:
         u, du, omega, dv = rng.uniform(-1, 1), rng.uniform(-2, 2), rng.uniform(-3, 3), rng.uniform(-2, -0.1)
         z = b.centroid(s, theta, u, du, omega, 0.0, dv, x=x, dx=dx)
         e_n, mu, M = rng.uniform(0, 1), rng.uniform(-1, 1), blk.M
-        body_args = (blk.M, blk.I_G, blk.B, blk.H, blk.e)
+        body_args = (blk.M, b.I_G, blk.B, blk.H, blk.e)
         d = (b.m, b.h)
         if damper:
             ag, agy = rng.uniform(-10, 10), rng.uniform(-20, 5)
             dd, ddx, a_G, _, _ = ref.dynamics(b, z, ag, agy)
-            want = hand.omd_flight_accel(s, theta, x, omega, dx, ag, agy, *body_args, blk.g, *d, b.k_m, b.c)
-            worst = max(worst, np.max(np.abs(np.subtract((dd, ddx, *ref.corner_rate(b, s, z, dd, a_G)), want))))
+            accel = hand.omd_flight_accel(s, theta, x, omega, dx, ag, agy, *body_args, blk.g, *d, b.k_m, b.c)
+            worst = max(worst, np.max(np.abs(np.subtract((dd, ddx, *ref.corner_rate(b, s, z, dd, a_G)), accel))))
         flat = z.copy()
         flat[2] = 0.0
         du_c, dv_c = b.corner(s, flat)[1]
@@ -224,6 +225,9 @@ def typed_twice(n: int, seed: int, s: int, damper: bool = False) -> float:
             zp, Pt, Pn = ref.impulse(b, s, z, -e_n * dv, law)
             zf, Pf, PA, PB = ref.flat_impulse(b, flat, -e_n * dv_c, law)
             Ps, Po = (PA, PB) if s == 1 else (PB, PA)
+            got: tuple
+            want: tuple
+            got_flat: tuple
             if damper:
                 got = (zp[5], zp[7], *b.corner(s, zp)[1], Pt / M, Pn / M)
                 want = hand.omd_landing(s, theta, x, omega, dx, du, dv, *body_args, *d, e_n, mu, stick)

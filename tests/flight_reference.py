@@ -630,7 +630,7 @@ def free_flight(g: float, dt: float, a_v) -> tuple[float, float, float, float]:
     """
     a = -(g + np.asarray(a_v, float))  # the free body's acceleration relative to the floor
     k = int(np.flatnonzero(a >= 0)[0])
-    t0 = dt * k if k == 0 else dt * (k - 1) - dt * a[k - 1] / (a[k] - a[k - 1])  # the root on the ramp
+    t0 = dt * k if k == 0 else float(dt * (k - 1) - dt * a[k - 1] / (a[k] - a[k - 1]))  # the root on the ramp
     t, v, dv, i, peak = t0, 0.0, 0.0, k + (t0 == dt * k), 0.0
     while True:
         end, slope = (dt * i, (a[i] - a[i - 1]) / dt) if i < len(a) else (math.inf, 0.0)
@@ -638,13 +638,13 @@ def free_flight(g: float, dt: float, a_v) -> tuple[float, float, float, float]:
         cubic = np.array([slope / 6, acc / 2, dv, v])  # v(t + s)
         landing = _roots_within(cubic, end - t)
         span = min(landing) if landing else end - t
-        peak = max([peak, *(np.polyval(cubic, s) for s in _roots_within(np.polyder(cubic), span))])
+        peak = max([peak, *(float(np.polyval(cubic, s)) for s in _roots_within(np.polyder(cubic), span))])
         if landing:
-            return t0, t + span, np.polyval(np.polyder(cubic), span), peak
-        v, dv = np.polyval(cubic, span), np.polyval(np.polyder(cubic), span)
+            return float(t0), t + span, float(np.polyval(np.polyder(cubic), span)), peak
+        v, dv = float(np.polyval(cubic, span)), float(np.polyval(np.polyder(cubic), span))
         t, i = end, i + 1
 
 
 def _roots_within(coefficients, span: float) -> list[float]:
     """The real roots in ``(0, span]`` of a polynomial (numpy's order of ``coefficients``)."""
-    return [r.real for r in np.roots(coefficients) if abs(r.imag) <= 1e-9 * abs(r) and 1e-12 < r.real <= span]
+    return [float(r.real) for r in np.roots(coefficients) if abs(r.imag) <= 1e-9 * abs(r) and 1e-12 < r.real <= span]
