@@ -63,7 +63,9 @@ from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from ..model.params import ParameterError
 from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
 from .history import FLOOR_COLUMNS, first_sample_after
+from .phases import ENDS, next_phase
 from .phases import of as phase_of
+from .phases import phase as table_phase
 from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
@@ -1364,6 +1366,9 @@ class _Run:
         The slip of the base relative to the ground [m] and its speed [m/s].
     skip_slip_check : bool
         The next turn starts without the slip check: after a slip that could not start (``NO_SLIP``).
+    flying : bool
+        The block is off the floor (the phase ``flight``, docs/model.md section 16): ``phase`` is the reference
+        corner ``s``, the slip ``u``, ``du`` and the height ``v``, ``dv`` are in the state.
     """
 
     problem: Problem
@@ -1389,6 +1394,7 @@ class _Run:
     u: float = 0.0
     du: float = 0.0
     skip_slip_check: bool = False
+    flying: bool = False
 
 
 def record(run: _Run) -> None:
@@ -1396,6 +1402,31 @@ def record(run: _Run) -> None:
     if run.history is not None:
         y = np.concatenate([run.y, slip_row(run)]) if run.system.friction else run.y
         run.history.add(run.t, y, run.phase)
+
+
+def current_phase(run: _Run) -> str:
+    """The name of the run's phase in :data:`rocking.sim.phases.PHASES`."""
+    return phase_of(run.phase != CONTACT, run.sigma != 0 or run.flying, run.flying).name
+
+
+def follow(run: _Run, event: str, guard: str, pivot: int = CONTACT, sigma: int = 0) -> str | None:
+    """The exit of the phase table that ``event`` under ``guard`` takes from the run's phase: enter the next phase,
+    rocking about ``pivot`` (in flight: its reference corner) if it rocks, the slip ``sigma`` if it slides on the
+    floor (in flight the slip is in the state: 0), or end the run.
+
+    Returns
+    -------
+    str or None
+        The end of the run (one of :data:`rocking.sim.phases.ENDS`, a status), else ``None``.
+    """
+    to = next_phase(current_phase(run), event, guard)
+    if to in ENDS:
+        return to
+    entry = table_phase(to)
+    run.phase = pivot if entry.rocks else CONTACT
+    run.flying = entry.flies
+    run.sigma = sigma if entry.slides and not entry.flies else 0
+    return None
 
 
 def slip_row(run: _Run) -> tuple:
@@ -1416,9 +1447,10 @@ def start_slip(run: _Run) -> None:
         record(run)
 
 
-def slide_against(run: _Run, F: float) -> None:
-    """The stuck contact starts to slide against the force ``F`` it held: a new slip episode."""
-    run.sigma = -1 if F > 0.0 else 1
+def slide_against(run: _Run, F: float, event: str = SLIP, guard: str = "always") -> None:
+    """The stuck contact starts to slide against the force ``F`` it held (the exit ``event`` under ``guard``): a
+    new slip episode."""
+    follow(run, event, guard, run.phase, -1 if F > 0.0 else 1)
     run.tally.slides += 1
 
 
@@ -1428,10 +1460,10 @@ def stop_slip(run: _Run) -> None:
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
     if abs(float(F)) <= run.system.mu_s * float(N):
-        run.sigma = 0
+        follow(run, STOP, "holds", run.phase)
     else:
-        run.sigma = 0
-        slide_against(run, float(F))  # it stopped for an instant: the slip in the other direction is a new episode
+        # It stopped for an instant: the slip in the other direction is a new episode.
+        slide_against(run, float(F), STOP, "slips")
 
 
 def events_exhausted(run: _Run) -> bool:
@@ -1534,7 +1566,7 @@ def uplift(run: _Run, s: int) -> str | None:
         ``"max_events"`` if this uplift exhausts ``max_events``, else ``None``.
     """
     run.tally.uplifts += 1
-    run.phase = s
+    follow(run, "uplift", "always", s, run.sigma)
     run.safe = False  # not reached below the uplift energy; kept consistent if it were
     return "max_events" if events_exhausted(run) else None
 
@@ -1637,18 +1669,18 @@ def impact(run: _Run) -> str | None:
     """
     n = run.system.n
     s, dtheta_in, before = run.phase, run.y[n], run.y
+    sigma = 0
     if run.system.friction:
-        sliding = run.sigma
-        run.y, run.du, run.sigma = run.system.friction_impact(s, run.y, run.du, tuple(run.stop_on))
-        run.tally.slides += bool(run.sigma) and not sliding
+        run.y, run.du, sigma = run.system.friction_impact(s, run.y, run.du, tuple(run.stop_on))
+        run.tally.slides += bool(sigma) and not run.sigma
     else:
         run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on, run.t)(run.t))
     run.tally.impacts += 1
-    if abs(run.y[n]) < run.problem.dtheta_rest:
+    rests = abs(run.y[n]) < run.problem.dtheta_rest
+    follow(run, IMPACT, ("rests" if rests else "rocks") + ("-sliding" if sigma else ""), -s, sigma)
+    if rests:
         rest_snap(run, -s)
-        run.phase = CONTACT
     else:
-        run.phase = -s
         run.first_step = _first_step_after_impact(run.t - run.t_start, run.y[n], dtheta_in)
     if run.system.n_stops:
         # The velocities jumped: the pads' memory and regime follow the state (rule 6).
@@ -1764,16 +1796,16 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
         run.tally.slides -= 1
         run.skip_slip_check = True
     elif event == LIFT_OFF:
-        return "flight"
+        return "flight"  # not yet followed: the base may leave the ground (docs/model.md section 14)
     elif event == NO_LIFT:
         # The block never rose: back to full contact (the uplift stays counted).
         run.y[0] = run.y[run.system.n] = 0.0
         run.phase = CONTACT
         run.skip_uplift_check = True
     elif event == OVERTURN:
-        return "overturned"
+        return follow(run, "overturn", "always")
     elif event in (REST, SETTLED):
-        return "rest"
+        return follow(run, "rest", "always")  # settled: the damper's last extremum below the uplift energy
     elif event == SAFE:
         run.safe = stops_clear(run)  # the next contact phase settles (not rechecked: E is at the bound)
     elif event in (GAP_CLOSE, GAP_OPEN):
