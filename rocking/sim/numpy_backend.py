@@ -346,6 +346,25 @@ class _System:
 
         return rhs
 
+    def takeoff_margin(self, phase: int, sigma: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> float:
+        """What the ``lift-off`` of ``phase`` with the slip ``sigma`` watches: > 0 while the contact holds.
+
+        The floor's normal force ``N`` (:meth:`floor_normal`), save on a stuck corner of a floor without friction
+        (``mu_s = inf``): there ``N`` can reach 0 while the floor holds a tangential force ``F`` (a finite floor
+        slides first, and its ``F`` vanishes with ``N``), and letting go of ``F`` may drive the corner into the
+        floor. The block takes off where ``N <= 0`` and the free flight lifts the corner: the larger of ``N`` and
+        minus the corner's vertical acceleration in flight (``flight_accel``'s ``ddv``) falls to 0 (its sign
+        alone matters: where either is > 0, the floor holds). Elsewhere ``N`` alone: a full contact's ``N``
+        reaches 0 with ``F = 0`` (an uplift comes first where ``ag`` is not 0).
+        """
+        N = self.floor_normal(phase, sigma, y, ag, stop_on, agy)
+        if N > 0.0 or self.friction or phase == CONTACT:
+            return N
+        out = self.functions.flight_accel(
+            float(phase), *y[: 2 * self.n].tolist(), ag, agy, *self.params, stop_on=self.regime(stop_on)
+        )
+        return max(N, -float(out[self.n + 1]))
+
     def corner_landing(self, s: int, y: np.ndarray, du: float, dv: float) -> tuple | None:
         """The corner ``s`` lands alone (docs/model.md section 16, :func:`rocking.reference.flight.landing_law`).
 
@@ -873,10 +892,10 @@ def stop_event(system: _System, sigma: int) -> _Event:
 def lift_off_event(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> _Event:
     """The floor's normal force on the contact returns to 0: the block takes off (docs/model.md section 16)."""
 
-    def normal(t, y):
-        return system.floor_normal(phase, sigma, y, ground(t), stop_on, vertical(t))
+    def margin(t, y):
+        return system.takeoff_margin(phase, sigma, y, ground(t), stop_on, vertical(t))
 
-    return _Event(LIFT_OFF, _zero_above(normal), terminal=True, direction=-1)
+    return _Event(LIFT_OFF, _zero_above(margin), terminal=True, direction=-1)
 
 
 def floor_events(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> list:
@@ -895,13 +914,18 @@ def floor_events(system: _System, phase: int, sigma: int, ground, stop_on: tuple
     return events
 
 
-def landing_event(system: _System, s: int, other: bool) -> _Event:
+def landing_event(system: _System, s: int, other: bool, y0: np.ndarray) -> _Event:
     """In flight about the reference corner ``s``: the height of the corner ``s`` (``other``: ``-s``) falls to 0.
 
-    A height that is 0 where the flight starts (after a takeoff or a bounce) is armed only once positive: until
-    then the function reads 1, so the corner that just left the floor is not found landing at once.
+    A corner on the floor where the segment starts (``y0``) without rising (a takeoff: ``dv = 0``) is armed only
+    once its height is positive: until then the function reads 1, so the corner that just left the floor is not
+    found landing at once (its height may dip by rounding). One that rises (a bounce) is armed at once: its 0 at
+    the start reads as above the floor, and a short hop that lands within the first step is still found.
     """
-    n, armed = system.n, [False]
+    n = system.n
+    u, du, v, dv = (float(c) for c in y0[2 * n : 2 * n + 4])
+    _, v_o, _, dv_o = system.flight_corner(s, y0, u, v, du, dv) if other else (0.0, v, 0.0, dv)
+    armed = [v_o > 0.0 or dv_o > 0.0]
 
     def height(t, y):
         h = float(system._flight("corner_heights", float(s), y, y[2 * n + 2])[1]) if other else float(y[2 * n + 2])
@@ -924,11 +948,12 @@ def height_peak_event(system: _System, s: int, other: bool) -> _Event:
     return _Event(HEIGHT_PEAK, rate, terminal=False, direction=-1)
 
 
-def flight_events(system: _System, s: int, ground, want_critical: bool) -> list:
+def flight_events(system: _System, s: int, ground, want_critical: bool, y0: np.ndarray) -> list:
     """The events of a flight about the reference corner ``s`` but the stops' (docs/simulation.md, "Phases"):
     each corner's landing, the overturning, and the reported extrema (theta, q[1], each corner's height, the
-    first critical-angle crossing); no rest, no settling, no early verdict."""
-    events = [landing_event(system, s, False), landing_event(system, s, True)]
+    first critical-angle crossing); no rest, no settling, no early verdict. ``y0``: the flying state at the
+    segment's start."""
+    events = [landing_event(system, s, False, y0), landing_event(system, s, True, y0)]
     events.append(_Event(OVERTURN, lambda t, y: abs(y[0]) - math.pi / 2, terminal=True, direction=+1))
     events += [extremum_event(system.n, k) for k in range(min(system.n, 2))]
     events += [height_peak_event(system, s, False), height_peak_event(system, s, True)]
@@ -1011,6 +1036,7 @@ def watched_events(
     vertical=lambda t: 0.0,
     sigma: int = 0,
     flying: bool = False,
+    y0: np.ndarray | None = None,
 ):
     """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases", "End" and rule 6).
 
@@ -1043,6 +1069,8 @@ def watched_events(
         The direction of the base's slip, 0 while it sticks (docs/model.md section 15).
     flying : bool
         The block flies about the reference corner ``phase`` (docs/model.md section 16).
+    y0 : ndarray or None
+        In flight, the flying state at the segment's start (where its landings are armed).
 
     Returns
     -------
@@ -1053,7 +1081,7 @@ def watched_events(
     # The stops' gaps and the floor's events may end any phase.
     gaps = [gap_event(system, i, acting) for i, acting in enumerate(stop_on)]
     if flying:
-        return flight_events(system, phase, ground, want_critical) + gaps
+        return flight_events(system, phase, ground, want_critical, y0) + gaps
     gaps += floor_events(system, phase, sigma, ground, stop_on, vertical)
     if phase == CONTACT:
         if settling and system.n > 1:
@@ -1309,6 +1337,7 @@ def integrate_segment(
         vertical=vertical,
         sigma=sigma,
         flying=flying,
+        y0=y0,
     )
     # The slip's (and the height's) components take the tolerance of the first coordinate's (a length or an
     # angle, as u's scale).
@@ -1901,13 +1930,14 @@ def impact(run: _Run) -> str | None:
 
 
 def lifts_at_start(run: _Run) -> bool:
-    """A phase on the floor of a model with flight starts with ``N < 0``: it takes off at once (an event sees only
-    a sign change inside a step), as the slip check does at a start."""
+    """A phase on the floor of a model with flight starts below its takeoff margin (``N < 0``,
+    :meth:`_System.takeoff_margin`): it takes off at once (an event sees only a sign change inside a step), as the
+    slip check does at a start."""
     system = run.system
     if run.flying or not system.flies or not system.watches_lift_off(run.phase):
         return False
     ground, vertical = system.ground(run.pulse_on, run.t), system.vertical(run.pulse_on, run.t)
-    return system.floor_normal(run.phase, run.sigma, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t)) < 0.0
+    return system.takeoff_margin(run.phase, run.sigma, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t)) < 0.0
 
 
 def takeoff(run: _Run) -> str | None:
