@@ -1081,6 +1081,7 @@ def watched_events(
     # The stops' gaps and the floor's events may end any phase.
     gaps = [gap_event(system, i, acting) for i, acting in enumerate(stop_on)]
     if flying:
+        assert y0 is not None  # a flight's landings are armed from its start
         return flight_events(system, phase, ground, want_critical, y0) + gaps
     gaps += floor_events(system, phase, sigma, ground, stop_on, vertical)
     if phase == CONTACT:
