@@ -114,8 +114,10 @@ def body(block: rocking.Block, damper: rocking.Damper | None = None) -> ref.Body
     return ref.Body(block.M, I_G, block.B, block.H, block.e, block.g, **d)
 
 
-def reference(case: Case) -> ref.Run:
-    """The case run by the reference (rtol 1e-11)."""
+def reference(case: Case, lifts: bool = True) -> ref.Run:
+    """The case run by the reference (rtol 1e-11); ``lifts``: a stuck corner on the paper's floor takes off only where
+    the free flight lifts it, as the back ends decided (docs/simulation.md, "Flight"); else where its ``N`` reaches 0.
+    """
     p = case.pulse
     ground = ref.Ground.one_sine(p.a_g, p.omega_g, case.sign, case.ratio, case.phase)
     return ref.simulate(
@@ -125,6 +127,7 @@ def reference(case: Case) -> ref.Run:
         p.t_p + case.t_after,
         case.dtheta_rest,
         case.energy_rest,
+        lifts=lifts,
     )
 
 

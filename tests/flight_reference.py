@@ -309,9 +309,9 @@ class _Sim:
     du)`` rocking (the corner ``k`` at ``(u, 0)``), ``z`` in flight.
     """
 
-    def __init__(self, body, ground, floor, t_max, dtheta_rest, energy_rest, rtol):
+    def __init__(self, body, ground, floor, t_max, dtheta_rest, energy_rest, rtol, lifts):
         self.body, self.ground, self.floor, self.t_max = body, ground, floor, t_max
-        self.dtheta_rest, self.energy_rest, self.rtol = dtheta_rest, energy_rest, rtol
+        self.dtheta_rest, self.energy_rest, self.rtol, self.lifts = dtheta_rest, energy_rest, rtol, lifts
         self.run = Run()
         self.z = body.centroid(1, 0.0, 0.0, 0.0, 0.0)
         self.phase: tuple = ("contact", 0)
@@ -380,7 +380,7 @@ class _Sim:
         ev = {
             "impact": lambda t, y: k * y[0],
             "overturn": lambda t, y: math.pi / 2 - abs(y[0]),
-            "takeoff": lambda t, y: self.forces(t, to_z(y))[4][0],
+            "takeoff": lambda t, y: self.takeoff_margin(t, to_z(y)),
             " ": lambda t, y: y[1],
             "  ": lambda t, y: y[3],
         }
@@ -481,7 +481,7 @@ class _Sim:
                 return
             *_, F, N = self.forces(t, self.z)
             sigma = self.phase[-1]
-            if sum(N) < 0:
+            if (sum(N) if kind == "contact" else self.takeoff_margin(t, self.z)) < 0:
                 self.takeoff()
             elif kind == "contact" and min(N) < 0:
                 self.run.uplifts += 1
@@ -491,6 +491,16 @@ class _Sim:
                 self.phase = (*self.phase[:-1], -int(np.sign(F)))
             else:
                 return
+
+    def takeoff_margin(self, t, z) -> float:
+        """What a rocking phase's takeoff watches, falling to 0: ``N``; with ``lifts``, on a stuck corner of a floor
+        without friction, the larger of ``N`` and minus the corner's vertical acceleration in free flight (the NumPy
+        back end's decision, docs/simulation.md "Flight": it takes off only where the free flight lifts it)."""
+        N = self.forces(t, z)[4][0]
+        if not self.lifts or N > 0 or math.isfinite(self.floor.mu_s) or self.phase[-1] != 0:
+            return N
+        dd, _, a_G, _, _ = self.forces(t, z, ("flight",))
+        return max(N, -corner_rate(self.body, self.phase[1], z, dd, a_G)[1])
 
     def takeoff(self):
         """Into flight (the corners on the floor land only once they have risen: :meth:`_flight`)."""
@@ -595,11 +605,14 @@ def simulate(
     dtheta_rest: float,
     energy_rest: float = 0.0,
     rtol: float = 1e-11,
+    lifts: bool = False,
 ) -> Run:
     """The block at rest on the floor at ``t = 0`` under ``ground``, followed to rest, overturning, a jam or
     ``t_max``: the counts and maxima of :class:`Run`. Rest: full contact, stuck, after the motion, the damper's
-    energy below ``energy_rest`` (the bare block at once)."""
-    sim = _Sim(body, ground, floor, t_max, dtheta_rest, energy_rest, rtol)
+    energy below ``energy_rest`` (the bare block at once). ``lifts``: a stuck corner of a floor without friction
+    takes off only where the free flight lifts it too (:meth:`_Sim.takeoff_margin`); default: where its ``N``
+    reaches 0 (the spec of issue 39)."""
+    sim = _Sim(body, ground, floor, t_max, dtheta_rest, energy_rest, rtol, lifts)
     t, last, stalled = 0.0, -1.0, 0
     sim.start(t)
     while sim.run.status == "t_max" and t < t_max:
