@@ -158,11 +158,17 @@ def random_runs(n: int, seed: int, damper: bool) -> None:
         f"({laws.count(0)} stuck, {laws.count(1) + laws.count(-1)} sliding, {laws.count(None)} jammed); "
         f"largest change {max(rises):.4g} J (never > 0)"
     )
+    spec = [reference(case, lifts=False) for case in cases]
+    changed = sum((a.status, a.flights, a.impacts) != (b.status, b.flights, b.impacts) for a, b in zip(runs, spec))
     statuses = [run.status for run in runs]
     print(
         f"6. {what}, {n} random vertical pulses past the flight threshold (reference {took:.1f} s): "
         f"{statuses.count('overturned')} overturn, {statuses.count('rest')} rest, {statuses.count('t_max')} t_max, "
         f"{sum(run.flights for run in runs)} flights, {sum(len(run.landings) for run in runs)} landings"
+    )
+    print(
+        f"   (a stuck corner of the paper's floor takes off where N <= 0 and the free flight lifts it, as the back "
+        f"ends decided; where N alone reaches 0, the spec's rule, {changed} of the {n} runs would end otherwise)"
     )
     for backend in BACKENDS:
         if not follows_flight(backend):

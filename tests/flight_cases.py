@@ -9,6 +9,7 @@ rest), the same ``dtheta_rest``, ``energy_rest`` and ``t_max``.
 
 from __future__ import annotations
 
+import functools
 import math
 from dataclasses import dataclass
 
@@ -114,6 +115,7 @@ def body(block: rocking.Block, damper: rocking.Damper | None = None) -> ref.Body
     return ref.Body(block.M, I_G, block.B, block.H, block.e, block.g, **d)
 
 
+@functools.cache  # a test module and the next share their runs (a Case is frozen, so hashable)
 def reference(case: Case, lifts: bool = True) -> ref.Run:
     """The case run by the reference (rtol 1e-11); ``lifts``: a stuck corner on the paper's floor takes off only where
     the free flight lifts it, as the back ends decided (docs/simulation.md, "Flight"); else where its ``N`` reaches 0.

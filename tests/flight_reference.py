@@ -35,6 +35,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 from scipy.integrate import solve_ivp
+from scipy.linalg.lapack import dgesv
 
 #: A landing is flat, on both corners, where ``|sin theta|`` is at most this (docs/model.md section 16).
 FLAT = 1e-12
@@ -43,6 +44,14 @@ FLAT = 1e-12
 def _rot(theta: float, x: float, y: float) -> np.ndarray:
     c, s = math.cos(theta), math.sin(theta)
     return np.array([c * x - s * y, s * x + c * y])
+
+
+def _solve(A, b) -> np.ndarray:
+    """``A^-1 b`` by LAPACK's dgesv (numpy.linalg.solve's, without its checks: a fifth of its cost here)."""
+    _, _, z, info = dgesv(A, b)
+    if info:
+        raise np.linalg.LinAlgError(f"a singular system (dgesv info {info})")
+    return z
 
 
 def _cross(a, b) -> float:
@@ -107,28 +116,33 @@ class Body:
 
 
 def _system(body: Body, z, contacts, law: int, mu_k: float):
-    """The matrix shared by the forces and the impulses, and the rows' parts that depend on neither.
+    """The matrix shared by the forces and the impulses, and the vectors its right-hand sides are made of.
 
     Unknowns: ``(a_G or v_G+) (2), ddtheta or omega+, [ddx or dx+, N_g or Lambda], F or P_t, N_k or P_k per
     contact``. Rows: the block's Newton (2) and Euler about ``G``, the mass's Newton (2, with a damper), each
-    contact's normal constraint, then the tangential one (stick: the first contact's, else Coulomb's).
+    contact's normal constraint, then the tangential one (stick: the first contact's, else Coulomb's). Vectors as
+    tuples of floats: ``t``, ``n`` the guide's directions, ``rho`` the mass from ``G``, ``rs`` the contacts from
+    ``G`` (a run evaluates this some ten thousand times: no small arrays).
     """
-    theta, x = z[2], z[6]
-    t, n = _rot(theta, 1.0, 0.0), _rot(theta, 0.0, 1.0)
-    rho, d = body.rho(theta, x), body.m > 0
-    rs = [body.r(k, theta) for k in contacts]
+    c, s = math.cos(z[2]), math.sin(z[2])
+    t, n = (c, s), (-s, c)
+    px, py = z[6] - body.e, body.h + body.H / 2
+    rho = (c * px - s * py, s * px + c * py)
+    rs = [(c * qx - s * qy, s * qx + c * qy) for qx, qy in ((-k * body.B / 2 - body.e, -body.H / 2) for k in contacts)]
+    d = body.m > 0
     nu = 3 + 2 * d + (len(contacts) + 1 if contacts else 0)
     A = np.zeros((nu, nu))
     A[0, 0] = A[1, 1] = body.M
     A[2, 2] = body.I_G
     f = 3 + 2 * d  # the first floor unknown
     if d:
-        A[0:2, 4] = n  # -N_g n on the block, moved to the left
-        A[2, 4] = _cross(rho, n)
-        A[3:5, 0:2] = body.m * np.eye(2)
-        A[3:5, 2] = body.m * _perp(rho)
-        A[3:5, 3] = body.m * t
-        A[3:5, 4] = -n
+        m = body.m
+        A[0, 4], A[1, 4] = n  # -N_g n on the block, moved to the left
+        A[2, 4] = rho[0] * n[1] - rho[1] * n[0]
+        A[3, 0] = A[4, 1] = m
+        A[3, 2], A[4, 2] = -m * rho[1], m * rho[0]  # m J rho
+        A[3, 3], A[4, 3] = m * t[0], m * t[1]
+        A[3, 4], A[4, 4] = -n[0], -n[1]
     if contacts:
         A[0, f] = -1.0  # the tangential force, at the first contact
         A[2, f] = rs[0][1]  # -(r x (F, 0)) = r_y F
@@ -143,26 +157,28 @@ def _system(body: Body, z, contacts, law: int, mu_k: float):
         else:
             A[last, f] = 1.0
             A[last, f + 1 :] = mu_k * law
-    return A, t, n, rho, rs
+    return A, t, rho, rs
 
 
 def dynamics(body: Body, z, ag: float, agy: float, contacts=(), law: int = 0, mu_k: float = 0.0):
     """The accelerations and the floor's forces in a contact state: ``(ddtheta, ddx, a_G, F, N)``, ``N`` one per
     contact (``contacts``: the corners on the floor; ``law`` 0 stuck, else the slip's direction)."""
-    A, t, n, rho, rs = _system(body, z, contacts, law, mu_k)
+    A, t, rho, rs = _system(body, z, contacts, law, mu_k)
     omega, dx, d = z[5], z[7], body.m > 0
-    gravity = np.array([-ag, -(body.g + agy)])
+    gx, gy = -ag, -(body.g + agy)
     G = body.k_m * z[6] + body.c * dx
     b = np.zeros(len(A))
-    b[0:2] = body.M * gravity + G * t
-    b[2] = G * _cross(rho, t)
+    b[0], b[1] = body.M * gx + G * t[0], body.M * gy + G * t[1]
+    b[2] = G * (rho[0] * t[1] - rho[1] * t[0])
     if d:
-        b[3:5] = body.m * gravity - G * t + body.m * omega**2 * rho - 2 * body.m * omega * dx * _perp(t)
+        m, w2, cor = body.m, omega**2, 2 * body.m * omega * dx
+        b[3] = m * gx - G * t[0] + m * w2 * rho[0] + cor * t[1]  # -2 m omega dx J t
+        b[4] = m * gy - G * t[1] + m * w2 * rho[1] - cor * t[0]
     for j, r in enumerate(rs):
         b[3 + 2 * d + j] = omega**2 * r[1]
     if contacts and law == 0:
         b[-1] = omega**2 * rs[0][0]
-    sol = np.linalg.solve(A, b)
+    sol = _solve(A, b)
     f = 3 + 2 * d
     return sol[2], sol[3] if d else 0.0, sol[0:2], (sol[f] if contacts else 0.0), sol[f + 1 :]
 
@@ -180,14 +196,14 @@ def impulses(body: Body, z, contacts, dv_after: float, mu: float | None):
     touching corners' normal velocity after is ``dv_after``; their slip after 0 (``mu=None``) or ``P_t = -mu P_n``.
     """
     d = body.m > 0
-    A, t, n, rho, rs = _system(body, z, contacts, 0 if mu is None else 1, 0.0 if mu is None else mu)
+    A, *_ = _system(body, z, contacts, 0 if mu is None else 1, 0.0 if mu is None else mu)
     b = np.zeros(len(A))
     b[0:2] = body.M * np.array([z[3], z[4]])
     b[2] = body.I_G * z[5]
     if d:
         b[3:5] = body.m * body.mass_velocity(z)
     b[3 + 2 * d : 3 + 2 * d + len(contacts)] = dv_after
-    sol = np.linalg.solve(A, b)
+    sol = _solve(A, b)
     f = 3 + 2 * d
     after = np.array([z[0], z[1], z[2], sol[0], sol[1], sol[2], z[6], sol[3] if d else 0.0])
     return after, sol[f], sol[f + 1 :]
