@@ -464,6 +464,8 @@ class _Sim:
         sol = solve_ivp(
             rhs, (t, end), y0, "DOP853", events=fns, rtol=self.rtol, atol=1e-14, max_step=step, first_step=first
         )
+        if not sol.success:  # e.g. the sliding corner's effective mass through 0 (Painleve): out of this model
+            raise RuntimeError(f"{sol.message} at t = {sol.t[-1]} in the phase {self.phase}")
         self._maxima([to_z(y) for y in sol.y.T] + [to_z(y) for ye in sol.y_events for y in ye])
         hits = [
             (te[0], name, ye[0])
