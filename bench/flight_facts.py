@@ -7,7 +7,8 @@ Euler with contact forces and impulses typed by hand (independent of derive/, ge
 
 1. the reference against the NumPy back end where nothing flies (horizontal pulses, mu = inf and finite);
 2. its accelerations and impulses against ``rocking.reference.flight`` (typed apart);
-3. the floor's drop at -1.5 g for 0.1 s: the closed form, the reference and both back ends;
+3. the floor's drop at -1.5 g for 0.1 s: the closed form, the reference and both back ends; with restitution, the
+   series of bounces; a fast rocking block that takes off under a horizontal pulse;
 4. Housner's restitution at a level landing on a corner (e_n = 0);
 5. the energy at every landing of the random runs (reference, and both back ends' histories);
 6. the random vertical pulses past the flight threshold, bare block and with random dampers: reference against both
@@ -130,6 +131,49 @@ def floor_drop() -> None:
             )
 
 
+def bounces() -> None:
+    """3b. The drop landing with restitution: the geometric series of bounces; 3c. a fast rocking block's takeoff."""
+    blk = rocking.Block.reference()
+    a_v, rest = drop_samples(blk.g), 1e-3 * blk.alpha * blk.p
+    for e_n in (0.5, 0.8):
+        k, series = ref.bounce_series(blk.g, DROP_DT, a_v, e_n, rest * blk.B / 2)
+        run = ref.simulate(body(blk), ref.Ground.sampled(DROP_DT, 0 * a_v, a_v), ref.Floor(e_n=e_n), 3.0, rest)
+        line = (
+            f"   e_n={e_n}: {k} bounces, series {series:.12f} s; reference {run.flight_time:.12f} "
+            f"({run.flight_time / series - 1:+.1e})"
+        )
+        for backend in BACKENDS:
+            if follows_flight(backend):
+                motion = rocking.SampledMotion(np.zeros_like(a_v), dt=DROP_DT, a_v=a_v)
+                got = rocking.simulate(
+                    blk,
+                    None,
+                    motion,
+                    backend=backend,
+                    rtol=1e-10,
+                    check="none",
+                    floor=rocking.Floor(e_n=e_n),
+                    dtheta_rest=rest,
+                )
+                line += f"; {backend} {got.flight_time:.12f} ({got.flight_time / series - 1:+.1e}) {got.status}"
+        print(line)
+    case = Case(6.0, 2.0, -1, 0.0, 0.0, math.inf, math.inf)
+    run = reference(case)
+    line = (
+        f"   a fast rocking block, horizontal one-sine beta 6, Omega 2, to the left: reference {run.status}, "
+        f"{run.flights} flight of {run.flight_time:.10f} s, jump_max {run.jump_max:.10f} m"
+    )
+    for backend in BACKENDS:
+        if follows_flight(backend):
+            got = project(case, backend)
+            diff = differences(run, got)
+            line += (
+                f"; {backend} {got.status}, {got.flights} flight, relative difference flight_time "
+                f"{diff['flight_time']:.1e}, jump_max {diff['jump_max']:.1e}"
+            )
+    print(line)
+
+
 def housner() -> None:
     """4. The corner -s lands at theta = 0 while the corner s is at rest: Housner's ratio."""
     blk = rocking.Block(H=2.0, B=0.5, M=1000.0)
@@ -211,6 +255,7 @@ def main(argv=None) -> None:
     ground_runs(12, 2, damper=True)
     impulses(1000)
     floor_drop()
+    bounces()
     housner()
     random_runs(args.cases, args.seed, damper=False)
     random_runs(args.cases, args.seed + 1, damper=True)

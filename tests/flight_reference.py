@@ -29,6 +29,7 @@ once the damper's energy is below ``energy_rest``, and ``t_max``; no early rest 
 
 from __future__ import annotations
 
+import itertools
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field
@@ -674,6 +675,15 @@ def free_flight(g: float, dt: float, a_v) -> tuple[float, float, float, float]:
             return float(t0), t + span, float(np.polyval(np.polyder(cubic), span)), peak
         v, dv = float(np.polyval(cubic, span)), float(np.polyval(np.polyder(cubic), span))
         t, i = end, i + 1
+
+
+def bounce_series(g: float, dt: float, a_v, e_n: float, threshold: float) -> tuple[int, float]:
+    """The floor's drop of :func:`free_flight` landing with Newton's restitution ``e_n`` on a still floor: the base
+    leaves again at ``e_n^k |dv|`` for each ``k`` while that is above ``threshold`` (docs/model.md section 16,
+    step 4), each flight ``2 e_n^k |dv| / g`` long. ``(bounces, total flight time [s])``."""
+    t0, t1, dv, _ = free_flight(g, dt, a_v)
+    speeds = list(itertools.takewhile(lambda w: w > threshold, (e_n**k * abs(dv) for k in itertools.count(1))))
+    return len(speeds), t1 - t0 + sum(2 * w / g for w in speeds)
 
 
 def _roots_within(coefficients, span: float) -> list[float]:
