@@ -24,7 +24,9 @@ slip after 0 (stick, if the floor holds ``|P_t| <= mu_s P_n``) or ``P_t = -mu_k 
 
 Each state is integrated by SciPy's DOP853 with its exits as events; the phases follow docs/simulation.md's rules:
 the rest snap below ``dtheta_rest`` (the mass keeps its absolute velocity), rest in full contact after the motion
-once the damper's energy is below ``energy_rest``, and ``t_max``; no early rest or verdict.
+once the damper's energy is below ``energy_rest``, and ``t_max``; no early rest or verdict. Where the spec of issue
+39 and the back ends part (a stuck corner of the paper's floor whose ``N`` reaches 0 while its free flight would
+drive it into the floor), :func:`simulate` follows either (``lifts``).
 """
 
 from __future__ import annotations
@@ -53,10 +55,6 @@ def _solve(A, b) -> np.ndarray:
     if info:
         raise np.linalg.LinAlgError(f"a singular system (dgesv info {info})")
     return z
-
-
-def _cross(a, b) -> float:
-    return a[0] * b[1] - a[1] * b[0]
 
 
 def _perp(a) -> np.ndarray:
