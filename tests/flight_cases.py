@@ -158,14 +158,15 @@ SAME_STATUS = {"below_barrier": "t_max"}
 
 def differences(run: ref.Run, response) -> dict:
     """The relative differences of ``theta_max``, ``x_max``, ``jump_max``, ``flight_time`` (to the reference's value)
-    and whether the status and the counts of flights and impacts agree."""
+    and whether the status and the counts of flights, impacts, uplifts and slides agree."""
 
     def rel(a: float, b: float) -> float:
         return abs(a - b) / max(abs(b), 1e-300) if (a, b) != (0.0, 0.0) else 0.0
 
     status = SAME_STATUS.get(response.status, response.status)
+    counts = ("flights", "impacts", "uplifts", "slides")
     return {
-        "same": (status, response.flights, response.impacts) == (run.status, run.flights, run.impacts),
+        "same": (status, *(getattr(response, k) for k in counts)) == (run.status, *(getattr(run, k) for k in counts)),
         "theta_max": rel(response.theta_max, run.theta_max),
         "x_max": rel(response.x_max, run.x_max),
         "jump_max": rel(response.jump_max, run.jump_max),

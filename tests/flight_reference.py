@@ -280,6 +280,8 @@ class Run:
     flights: int = 0
     impacts: int = 0
     uplifts: int = 0
+    #: Slip episodes on the floor (a stuck contact that slips, a slip that reverses, an impact that slides from a
+    #: stuck or the other way): a sliding landing counts none, as the back ends count (the spec is silent).
     slides: int = 0
     #: Every landing: ``(t, law, energy before, energy after, omega before, omega after, the corner's dv before)``.
     landings: list = field(default_factory=list)
@@ -600,7 +602,6 @@ class _Sim:
         if law is None:
             r.status = "jammed"
             return
-        r.slides += law != 0
         if -fl.e_n * dv > self.dtheta_rest * b.B / 2:  # bounces: flight goes on
             self.z = zp
             self.phase = ("flight",)

@@ -40,7 +40,7 @@ def test_reference_is_the_project_where_nothing_flies(beta, Omega, sign, mu, dam
     case = Case(beta, Omega, sign, 0.0, 0.0, mu, mu, damper)
     run, got = reference(case), project(case, "numpy")
     diff = differences(run, got)
-    assert diff["same"] and (got.uplifts, got.slides) == (run.uplifts, run.slides)
+    assert diff["same"]
     assert max(diff["theta_max"], diff["x_max"]) < 1e-7
     assert run.flights == 0 and (run.impacts > 0 or run.slides > 0)
 
