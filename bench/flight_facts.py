@@ -204,6 +204,7 @@ def random_runs(n: int, seed: int, damper: bool) -> None:
     )
     spec = [reference(case, lifts=False) for case in cases]
     changed = sum((a.status, a.flights, a.impacts) != (b.status, b.flights, b.impacts) for a, b in zip(runs, spec))
+    sunk = [run.lowest for run in spec if run.lowest < -1e-9]
     statuses = [run.status for run in runs]
     print(
         f"6. {what}, {n} random vertical pulses past the flight threshold (reference {took:.1f} s): "
@@ -211,8 +212,10 @@ def random_runs(n: int, seed: int, damper: bool) -> None:
         f"{sum(run.flights for run in runs)} flights, {sum(len(run.landings) for run in runs)} landings"
     )
     print(
-        f"   (a stuck corner of the paper's floor takes off where N <= 0 and the free flight lifts it, as the back "
-        f"ends decided; where N alone reaches 0, the spec's rule, {changed} of the {n} runs would end otherwise)"
+        f"   a stuck corner of the paper's floor takes off where N <= 0 and the free flight lifts it, as the back ends"
+        f" decided: no corner below the floor in flight (lowest {min(run.lowest for run in runs):.1e} m). Where N alone"
+        f" reaches 0 (the spec's rule) {changed} of the {n} runs end otherwise, and in {len(sunk)} a corner goes"
+        f" through the floor in flight, down to {min(sunk, default=0.0):.2g} m"
     )
     for backend in BACKENDS:
         if not follows_flight(backend):

@@ -276,6 +276,9 @@ class Run:
     theta_max: float = 0.0
     x_max: float = 0.0
     jump_max: float = 0.0
+    #: The lowest a corner went in flight [m]: below 0, it went through the floor (a takeoff the free flight does not
+    #: lift, the spec's rule: ``simulate(..., lifts=False)``).
+    lowest: float = 0.0
     flight_time: float = 0.0
     flights: int = 0
     impacts: int = 0
@@ -489,7 +492,8 @@ class _Sim:
         r.theta_max = max(r.theta_max, *(abs(z[2]) for z in zs))
         r.x_max = max(r.x_max, *(abs(z[6]) for z in zs))
         if self.phase[0] == "flight":
-            r.jump_max = max(r.jump_max, *(self.body.corner(k, z)[0][1] for z in zs for k in (1, -1)))
+            heights = [self.body.corner(k, z)[0][1] for z in zs for k in (1, -1)]
+            r.jump_max, r.lowest = max(r.jump_max, *heights), min(r.lowest, *heights)
 
     def start(self, t):
         """The checks where a phase on the floor starts: takeoff, uplift and slip at once (an event sees only a
