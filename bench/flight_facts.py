@@ -188,6 +188,12 @@ def housner() -> None:
         )
 
 
+def weight(case: Case) -> float:
+    """The weight of the case's block and damper [N]."""
+    damper = case.the_damper
+    return (case.block.M + (0.0 if damper is None else damper.m)) * case.block.g
+
+
 def random_runs(n: int, seed: int, damper: bool) -> None:
     """5 and 6. The random vertical pulses: energy at landings and agreement with both back ends."""
     cases = random_cases(n, seed, damper)
@@ -205,6 +211,7 @@ def random_runs(n: int, seed: int, damper: bool) -> None:
     spec = [reference(case, lifts=False) for case in cases]
     changed = sum((a.status, a.flights, a.impacts) != (b.status, b.flights, b.impacts) for a, b in zip(runs, spec))
     sunk = [run.lowest for run in spec if run.lowest < -1e-9]
+    pulls = [run.least_N / weight(case) for run, case in zip(runs, cases, strict=True)]
     statuses = [run.status for run in runs]
     print(
         f"6. {what}, {n} random vertical pulses past the flight threshold (reference {took:.1f} s): "
@@ -213,7 +220,9 @@ def random_runs(n: int, seed: int, damper: bool) -> None:
     )
     print(
         f"   a stuck corner of the paper's floor takes off where N <= 0 and the free flight lifts it, as the back ends"
-        f" decided: no corner below the floor in flight (lowest {min(run.lowest for run in runs):.1e} m). Where N alone"
+        f" decided: no corner below the floor in flight (lowest {min(run.lowest for run in runs):.1e} m), the floor"
+        f" pulling meanwhile in {sum(p < -1e-9 for p in pulls)} runs, down to {min(pulls):.2g}"
+        f" of the weight. Where N alone"
         f" reaches 0 (the spec's rule) {changed} of the {n} runs end otherwise, and in {len(sunk)} a corner goes"
         f" through the floor in flight, down to {min(sunk, default=0.0):.2g} m"
     )

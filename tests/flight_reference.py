@@ -279,6 +279,9 @@ class Run:
     #: The lowest a corner went in flight [m]: below 0, it went through the floor (a takeoff the free flight does not
     #: lift, the spec's rule: ``simulate(..., lifts=False)``).
     lowest: float = 0.0
+    #: The least normal force on a rocking corner [N]: below 0 the floor pulls (a stuck corner of the paper's floor
+    #: waiting for the free flight to lift it: ``lifts=True``).
+    least_N: float = math.inf
     flight_time: float = 0.0
     flights: int = 0
     impacts: int = 0
@@ -470,7 +473,8 @@ class _Sim:
         )
         if not sol.success:  # e.g. the sliding corner's effective mass through 0 (Painleve): out of this model
             raise RuntimeError(f"{sol.message} at t = {sol.t[-1]} in the phase {self.phase}")
-        self._maxima([to_z(y) for y in sol.y.T] + [to_z(y) for ye in sol.y_events for y in ye])
+        ts = [*sol.t, *(t for te in sol.t_events for t in te)]
+        self._maxima(ts, [to_z(y) for y in sol.y.T] + [to_z(y) for ye in sol.y_events for y in ye])
         hits = [
             (te[0], name, ye[0])
             for name, te, ye in zip(ev, sol.t_events, sol.y_events, strict=True)
@@ -487,10 +491,13 @@ class _Sim:
         self.z = to_z(y)
         return float(t_hit), name
 
-    def _maxima(self, zs):
+    def _maxima(self, ts, zs):
+        """The maxima over the points ``(ts, zs)`` of a segment (its steps' ends and its events)."""
         r = self.run
         r.theta_max = max(r.theta_max, *(abs(z[2]) for z in zs))
         r.x_max = max(r.x_max, *(abs(z[6]) for z in zs))
+        if self.phase[0] == "rocking":
+            r.least_N = min(r.least_N, *(self.forces(t, z)[4][0] for t, z in zip(ts, zs, strict=True)))
         if self.phase[0] == "flight":
             heights = [self.body.corner(k, z)[0][1] for z in zs for k in (1, -1)]
             r.jump_max, r.lowest = max(r.jump_max, *heights), min(r.lowest, *heights)
