@@ -37,9 +37,9 @@ TOLERANCE = 1e-7
 
 @pytest.fixture(scope="module", params=BACKENDS)
 def responses(request):
-    """The 20 random vertical pulses past the flight threshold of the bare block and 5 with random dampers, run by
+    """The 20 random vertical pulses past the flight threshold of the bare block and 10 with random dampers, run by
     the reference and by the back end (recorded): ``(case, run, response)``."""
-    cases = random_cases() + random_cases(5, 40, damper=True)
+    cases = random_cases() + random_cases(10, 40, damper=True)
     return [(case, reference(case), project(case, request.param, record=True)) for case in cases]
 
 
