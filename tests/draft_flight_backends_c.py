@@ -4,8 +4,9 @@ Run it by hand, ``python -m pytest -q -n 0 tests/draft_flight_backends_c.py``; o
 ``tests/test_flight_backends.py`` and this file goes. It fails on the C back end of branch ``fc`` (18729a5): a fast
 rocking block under a horizontal pulse on the paper's floor is never let off the floor (its N falls to -0.66 of the
 weight, the floor pulling, and it overturns on the floor at 0.706 s where NumPy and the reference fly and overturn
-in the air at 0.779 s), and with a damper the corners' height peak in flight (jump_max) is missed by 0.9 to 2.7 %
-(runs 8, 11 and 16 of ``random_cases(20, 40, damper=True)``).
+in the air at 0.779 s), and with a damper jump_max is short by 0.9 to 2.7 % where the highest point is the corner
+-s's (the raised corner's; the reference corner's peaks are right): runs 8, 11 and 16 of
+``random_cases(20, 40, damper=True)``.
 """
 
 from __future__ import annotations
