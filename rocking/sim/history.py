@@ -94,6 +94,10 @@ _LOADS = {
 #: this order: the slip u [m], its speed du [m/s], the floor's normal and tangential forces N and F on the block
 #: [N], and the slip's sign (0 stuck, +1 / -1 sliding).
 FLOOR_COLUMNS = ("u", "du", "N", "F", "slide")
+#: The columns a history of a model with flight holds after :data:`FLOOR_COLUMNS` (on every floor), both back
+#: ends, in this order: the reference corner's height v above the floor [m], its rate dv [m/s], and 1.0 in flight,
+#: else 0.0 (docs/model.md section 16).
+FLIGHT_COLUMNS = ("v", "dv", "fly")
 #: The slip of the base on a floor with friction (docs/model.md section 15): V_b and N_b are then the floor's
 #: tangential and normal forces F and N on the contact.
 _SLIP = {

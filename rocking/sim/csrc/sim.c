@@ -48,6 +48,18 @@
 #else
 #define NS NY
 #endif
+/* A model with flight functions (docs/model.md section 16) integrates in flight the rocking state and u, du
+ * of the reference corner, then its height v = y[NY + 2] above the floor and its rate dv = y[NY + 3]: NF
+ * components. NA: all that a state holds. */
+#ifdef MODEL_FLIGHT
+#ifndef MODEL_FRICTION
+#error "a model with flight functions has those of friction too (derive/)"
+#endif
+#define NF (NY + 4)
+#define NA NF
+#else
+#define NA NS
+#endif
 
 /* Inline a function into every caller, so that each copy knows its constant arguments (the number of
  * components a stepper integrates); and keep one out of line (the stepper, as one function for its stages). */
@@ -61,6 +73,12 @@
 
 /* pi and pi/2: M_PI is not C99. */
 #define PI 3.14159265358979323846
+/* The model has flight functions: the lift-off event on every floor, and the flight phase (docs/model.md 16). */
+#ifdef MODEL_FLIGHT
+#define FLIGHT 1
+#else
+#define FLIGHT 0
+#endif
 #define HALF_PI 1.57079632679489661923
 
 /* ------------------------------------------------------------------------ */
@@ -313,7 +331,8 @@ typedef struct ode {
     const constants *k; /* of the model's parameters */
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
     int sigma;       /* 0: the contact sticks; +1 / -1: it slides, du of that sign */
-    int ny;          /* the components integrated: NY stuck, NS sliding */
+    int flying;      /* the block flies, its reference corner s = phase (docs/model.md section 16) */
+    int ny;          /* the components integrated: NY stuck, NS sliding, NF flying */
     double mu_slip;  /* mu_k sigma: the friction force on the block is -mu_slip N */
     double on[2 * MAX_STOP_SIDES]; /* the regime's inputs of the friction functions (regime_inputs) */
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
@@ -423,9 +442,30 @@ static void ode_rhs_slide(ode *o, double t, const double *y, double *dy)
 }
 #endif
 
+#ifdef MODEL_FLIGHT
+/* The right-hand side in flight: y' = (dq, ddq, du, ddu, dv, ddv), NF components, ddu and ddv those of the
+ * reference corner s = o->phase relative to the ground (generated flight_accel). */
+static void ode_rhs_flight(ode *o, double t, const double *y, double *dy)
+{
+    double out[NQ + 2];
+    model_flight_accel((double)o->phase, y, ode_ag(o, t), ode_agy(o, t), o->k->p, friction_on(o), out);
+    memcpy(dy, y + NQ, NQ * sizeof *dy);
+    memcpy(dy + NQ, out, NQ * sizeof *dy);
+    dy[NY] = y[NY + 1];
+    dy[NY + 1] = out[NQ];
+    dy[NY + 2] = y[NY + 3];
+    dy[NY + 3] = out[NQ + 1];
+}
+#endif
+
 /* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
 static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
 {
+#ifdef MODEL_FLIGHT
+    if (o->flying)
+        ode_rhs_flight(o, t, y, dy);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (o->sigma != 0)
         ode_rhs_slide(o, t, y, dy);
@@ -490,11 +530,11 @@ typedef struct tolerance {
  * others constant (a stuck contact's u and du = 0), so that the whole state reads from it. */
 typedef struct dopri {
     int n;
-    double t, y[NS], f[NS]; /* current point; f = rhs(t, y) */
+    double t, y[NA], f[NA]; /* current point; f = rhs(t, y) */
     double t_old, h;        /* the last accepted step: [t_old, t], h = t - t_old */
-    double y_old[NS];
-    double k[STAGES][NS];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
-    double dense[5][NS];    /* its continuous extension, once dense_ready */
+    double y_old[NA];
+    double k[STAGES][NA];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
+    double dense[5][NA];    /* its continuous extension, once dense_ready */
     int dense_ready;
     double h_next; /* proposed size of the next step */
     int64_t evaluations; /* of the right-hand side, over the whole run (rule 5) */
@@ -540,7 +580,7 @@ static inline double rms_ratio(const double *v, const double *scale, int n)
 static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double t0, const double *y0,
                                             const double *f0, double span, int n)
 {
-    double scale[NS], y1[NS], f1[NS], df[NS];
+    double scale[NA], y1[NA], f1[NA], df[NA];
     double d0, d1, d2, h0, h1;
     int i;
     if (span <= 0.0)
@@ -551,7 +591,7 @@ static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double
     d1 = rms_ratio(f0, scale, n);
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     h0 = fmin(h0, span);
-    for (i = n; i < NS; ++i) /* the components not integrated, constant */
+    for (i = n; i < NA; ++i) /* the components not integrated, constant */
         y1[i] = y0[i];
     for (i = 0; i < n; ++i)
         y1[i] = y0[i] + h0 * f0[i];
@@ -569,6 +609,10 @@ static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double
 /* initial_step_of the components the segment integrates. */
 static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0, double span)
 {
+#ifdef MODEL_FLIGHT
+    if (o->ny == NF)
+        return initial_step_of(o, tol, t0, y0, f0, span, NF);
+#endif
 #ifdef MODEL_FRICTION
     if (o->ny == NS)
         return initial_step_of(o, tol, t0, y0, f0, span, NS);
@@ -599,7 +643,7 @@ static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const 
  * the stages, each inlined call keeps the components in vector registers and
  * loads each weight once (with the stages inside the components' loop, gcc
  * loaded them again for every pair of components). */
-static inline void combine_stages(const double (*k)[NS], const double *w, int n, double *acc, int ny)
+static inline void combine_stages(const double (*k)[NA], const double *w, int n, double *acc, int ny)
 {
     int i, j;
     for (i = 0; i < ny; ++i)
@@ -612,11 +656,13 @@ static inline void combine_stages(const double (*k)[NS], const double *w, int n,
 
 /* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the contact slides,
  * whether the ground moves vertically, else whether the pulse acts and whether in full contact. */
-enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING, ODE_SLIDE };
+enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING, ODE_SLIDE, ODE_FLIGHT };
 
 /* The right-hand side of the ode o's segment (enum above). */
 static int ode_rhs_kind(const ode *o)
 {
+    if (o->flying)
+        return ODE_FLIGHT;
     if (o->sigma != 0)
         return ODE_SLIDE;
     if (o->vertical)
@@ -630,13 +676,18 @@ static int ode_rhs_kind(const ode *o)
  * a constant of each inlined copy: the stages of a step test the segment's kind once. */
 static ALWAYS_INLINE void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
-    double acc[NS];
+    double acc[NA];
     const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
-    const int ny = rhs == ODE_SLIDE ? NS : NY;
+    const int ny = rhs == ODE_FLIGHT ? NA : rhs == ODE_SLIDE ? NS : NY;
     int i;
-    combine_stages((const double(*)[NS])d->k, RK_A[s], s, acc, ny);
+    combine_stages((const double(*)[NA])d->k, RK_A[s], s, acc, ny);
     for (i = 0; i < ny; ++i)
         y[i] = d->y[i] + h * acc[i];
+#ifdef MODEL_FLIGHT
+    if (rhs == ODE_FLIGHT)
+        ode_rhs_flight(o, t, y, d->k[s]);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (rhs == ODE_SLIDE)
         ode_rhs_slide(o, t, y, d->k[s]);
@@ -654,7 +705,7 @@ static ALWAYS_INLINE void dopri_stage(dopri *d, ode *o, int s, double h, double 
  * combination then has a constant length the compiler can specialise. */
 static ALWAYS_INLINE void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
-    memcpy(d->k[0], d->f, (rhs == ODE_SLIDE ? NS : NY) * sizeof *d->f);
+    memcpy(d->k[0], d->f, (rhs == ODE_FLIGHT ? NA : rhs == ODE_SLIDE ? NS : NY) * sizeof *d->f);
     dopri_stage(d, o, 1, h, t_new, y_new, rhs);
     dopri_stage(d, o, 2, h, t_new, y_new, rhs);
     dopri_stage(d, o, 3, h, t_new, y_new, rhs);
@@ -687,9 +738,9 @@ static ALWAYS_INLINE void dopri_stages(dopri *d, ode *o, double h, double t_new,
 
 static inline double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new, int ny)
 {
-    double err[NS], scale[NS];
+    double err[NA], scale[NA];
     int i;
-    combine_stages((const double(*)[NS])d->k, RK_E, STAGES, err, ny);
+    combine_stages((const double(*)[NA])d->k, RK_E, STAGES, err, ny);
     for (i = 0; i < ny; ++i) {
         const double a = fabs(d->y[i]), b = fabs(y_new[i]);
         err[i] *= h;
@@ -703,7 +754,7 @@ static inline double dopri_error(const dopri *d, const tolerance *tol, double h,
 static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step,
                                        int ny)
 {
-    double y_new[NS];
+    double y_new[NA];
     double h = min2(d->h_next, max_step);
     int rejected = 0;
     if (!(h > 0.0) || below_min_step(h, d->t)) /* NaN included */
@@ -713,6 +764,11 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (t_new > t_bound)
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
+#ifdef MODEL_FLIGHT
+        if (ny == NF)
+            dopri_stages_of(d, o, h, t_new, y_new, ODE_FLIGHT);
+        else
+#endif
 #ifdef MODEL_FRICTION
         if (ny == NS)
             dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
@@ -760,12 +816,24 @@ static NOINLINE int dopri_step_slide(dopri *d, ode *o, const tolerance *tol, dou
 }
 #endif
 
+#ifdef MODEL_FLIGHT
+/* One accepted step (dopri_step_of) of a flying block's NF components. */
+static NOINLINE int dopri_step_flight(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NF);
+}
+#endif
+
 /* A stepper: dopri_step_stuck or dopri_step_slide, chosen once per segment (dopri_stepper). */
 typedef int (*dopri_step_fn)(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step);
 
 /* The stepper of the components d integrates. */
 static dopri_step_fn dopri_stepper(const dopri *d)
 {
+#ifdef MODEL_FLIGHT
+    if (d->n == NF)
+        return dopri_step_flight;
+#endif
 #ifdef MODEL_FRICTION
     if (d->n == NS)
         return dopri_step_slide;
@@ -789,9 +857,9 @@ static void dopri_undo(dopri *d, double h_next)
 /* Coefficients of the continuous extension of the first ny components (dopri_prepare_dense). */
 static ALWAYS_INLINE void dopri_prepare_dense_of(dopri *d, int ny)
 {
-    double sum[NS];
+    double sum[NA];
     int i;
-    combine_stages((const double(*)[NS])d->k, RK_D, STAGES, sum, ny);
+    combine_stages((const double(*)[NA])d->k, RK_D, STAGES, sum, ny);
     for (i = 0; i < ny; ++i) {
         const double dy = d->y[i] - d->y_old[i];
         const double bspl = d->h * d->k[0][i] - dy;
@@ -809,6 +877,11 @@ static void dopri_prepare_dense(dopri *d)
 {
     if (d->dense_ready)
         return;
+#ifdef MODEL_FLIGHT
+    if (d->n == NF)
+        dopri_prepare_dense_of(d, NF);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (d->n == NS)
         dopri_prepare_dense_of(d, NS);
@@ -889,6 +962,11 @@ static void dopri_dense(dopri *d, double t, double *y)
     }
     dopri_prepare_dense(d);
     th = (t - d->t_old) / d->h;
+#ifdef MODEL_FLIGHT
+    if (d->n == NF)
+        dopri_dense_of(d, th, y, NF);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (d->n == NS)
         dopri_dense_of(d, th, y, NS);
@@ -917,6 +995,12 @@ enum event_kind {
     EV_LIFT_OFF,       /* finite mu_s: the floor's normal force N falls from > 0 to 0 */
     EV_SLIDE_UPLIFT_A, /* contact, sliding: u_{+1} with the friction force turns positive */
     EV_SLIDE_UPLIFT_A_PRIME, /* contact, sliding: u_{-1} with the friction force turns positive */
+    EV_LANDING_S,      /* flight: the reference corner's height v falls from > 0 to 0 */
+    EV_LANDING_O,      /* flight: the other corner's height falls from > 0 to 0 */
+    EV_FLIGHT_OVERTURN, /* flight: |theta| reaches pi/2 */
+    EV_JUMP_S,         /* flight: dv falls from > 0 to 0, a peak of v (jump_max) */
+    EV_JUMP_O,         /* flight: the other corner's rate falls from > 0 to 0, a peak of its height (jump_max) */
+    EV_U_PEAK,         /* flight: du changes sign (u_max) */
     EV_GAP_CLOSE,      /* any phase: the contact of a stop side that does not push turns positive (one kind per side) */
     EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side that pushes falls to 0 */
     N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
@@ -956,6 +1040,12 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_LIFT_OFF:       g > 0   ->  g <= 0 */
     {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A: g <= 0  ->  g > 0 */
     {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A_PRIME */
+    {-1, 1, 1, NY + 2, 0, 0.0},             /* EV_LANDING_S:      g > 0   ->  g <= 0 (a start at v = 0 is not "before") */
+    {-1, 1, 1, -1, 0, 0.0},                 /* EV_LANDING_O:      g > 0   ->  g <= 0 */
+    {+1, 1, 1, -1, 0, 0.0},                 /* EV_FLIGHT_OVERTURN: g < 0  ->  g >= 0 */
+    {-1, 1, 0, NY + 3, 0, 0.0},             /* EV_JUMP_S:         g > 0   ->  g <= 0 */
+    {-1, 1, 0, -1, 0, 0.0},                 /* EV_JUMP_O:         g > 0   ->  g <= 0 */
+    {0, 1, 0, NY + 1, 0, 0.0},              /* EV_U_PEAK:         sign change */
     /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
     {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
@@ -1019,6 +1109,7 @@ typedef struct event_ctx {
      * times the weight's moment about the corner (mu_k = tan alpha keeps the margin at 0 while it slides). */
     double slide_uplift_floor[2];
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
+    const double *u_max;             /* the largest |u| so far */
 } event_ctx;
 
 /* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
@@ -1056,6 +1147,54 @@ static void floor_force(ode *o, double t, const double *y, double *fn)
     } else {
         model_stick_force((double)o->phase, y, ag, agy, o->k->p, friction_on(o), fn);
     }
+}
+#endif
+
+#ifdef MODEL_FRICTION
+/* The floor's normal force N at (t, y) in the segment's phase, the lift-off event's g. Rocking with the pivot
+ * stuck, from the generated base reaction, N_b = out + sum_j coeff_j ddq_j, with the accelerations f[NQ...] at
+ * (t, y) when the caller has them (the FSAL derivative at a step's end, f = NULL: evaluated): the rocking
+ * steps watch N at the cost of that one call. Else the phase's force (floor_force). */
+static double lift_off_value(const event_ctx *ec, double t, const double *y, const double *f)
+{
+    ode *o = ec->o;
+    double fn[2];
+    if (o->phase != 0 && o->sigma == 0) {
+        double at_gravity[NK], out[3 * (NQ + 1)], dy[NA], n;
+        const double *cst = gravity_constants(o, (double)o->phase, t, at_gravity);
+        int j;
+        if (f == NULL) {
+            ode_rhs(o, t, y, dy);
+            f = dy;
+        }
+        model_base_reaction_prepared(y, ode_ag(o, t), cst, out);
+        n = out[NQ + 1];
+        for (j = 0; j < NQ; ++j)
+            n += out[NQ + 2 + j] * f[NQ + j];
+        return n;
+    }
+    floor_force(o, t, y, fn);
+    return fn[1];
+}
+#endif
+
+#ifdef MODEL_FLIGHT
+/* The other corner's height above the floor in flight (generated corner_heights). */
+static double other_corner_height(const event_ctx *ec, double t, const double *y)
+{
+    double h[2];
+    model_corner_heights((double)ec->o->phase, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p,
+                         friction_on(ec->o), y[NY + 2], h);
+    return h[1];
+}
+
+/* The other corner's vertical rate in flight (generated flight_corner). */
+static double other_corner_rate(const event_ctx *ec, double t, const double *y)
+{
+    double c[4];
+    model_flight_corner((double)ec->o->phase, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p,
+                        friction_on(ec->o), y[NY], y[NY + 2], y[NY + 1], y[NY + 3], c);
+    return c[3];
 }
 #endif
 
@@ -1099,8 +1238,15 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     case EV_SLIDE_UPLIFT_A_PRIME:
         return slide_uplift_event(ec, -1.0, t, y);
     case EV_LIFT_OFF:
-        floor_force(ec->o, t, y, fn);
-        return fn[1];
+        return lift_off_value(ec, t, y, NULL);
+#endif
+#ifdef MODEL_FLIGHT
+    case EV_LANDING_O:
+        return other_corner_height(ec, t, y);
+    case EV_FLIGHT_OVERTURN:
+        return fabs(y[0]) - HALF_PI;
+    case EV_JUMP_O:
+        return other_corner_rate(ec, t, y);
 #endif
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
@@ -1135,11 +1281,17 @@ static ALWAYS_INLINE double critical_event_bound(const event_ctx *ec, double t, 
 
 /* g at a step's end: exact, except that a value known to be < 0 may be a
  * bound (critical_event_bound); locating an event uses exact values only. */
-static inline double event_value(const event_ctx *ec, int kind, double t, const double *y)
+static inline double event_value(const event_ctx *ec, int kind, double t, const double *y, const double *f)
 {
     const event_rule *e = &EVENT_RULES[kind];
     if (e->component >= 0)
         return component_event(component_factor(ec, e), e->offset, y[e->component]);
+#ifdef MODEL_FRICTION
+    if (kind == EV_LIFT_OFF)
+        return lift_off_value(ec, t, y, f);
+#else
+    (void)f;
+#endif
     return SHORTCUTS && kind == EV_CRITICAL ? critical_event_bound(ec, t, y) : model_event(ec, kind, t, y);
 }
 
@@ -1147,7 +1299,7 @@ static inline double event_value(const event_ctx *ec, int kind, double t, const 
 static double event_on_dense(const event_ctx *ec, dopri *d, int kind, double t)
 {
     const event_rule *e = &EVENT_RULES[kind];
-    double y[NS];
+    double y[NA];
     if (e->component >= 0)
         return component_event(component_factor(ec, e), e->offset, dopri_dense1(d, t, e->component));
     dopri_dense(d, t, y);
@@ -1257,8 +1409,9 @@ static inline int first_event(event_mask m)
 #endif
 }
 
-/* Watch the events of the set `active`, in enum order, from (t, y). */
-static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y)
+/* Watch the events of the set `active`, in enum order, from (t, y), f the derivative there. */
+static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y,
+                         const double *f)
 {
     es->n = 0;
     for (; active != 0; active &= active - 1) {
@@ -1271,7 +1424,7 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
         w->component = e->component;
         w->factor = component_factor(ec, e);
         w->offset = e->offset;
-        es->g[es->n++] = event_value(ec, k, t, y);
+        es->g[es->n++] = event_value(ec, k, t, y, f);
     }
 }
 
@@ -1296,6 +1449,8 @@ static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
         return dopri_dense_bound(d, 0) <= *ec->theta_max;
     if (kind == EV_X_PEAK)
         return NQ > 1 && dopri_dense_bound(d, 1) <= *ec->x_max;
+    if (kind == EV_U_PEAK)
+        return dopri_dense_bound(d, NY) <= *ec->u_max;
     return 0;
 }
 
@@ -1326,7 +1481,7 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
             es->have_contacts = 1;
             g_new = es->contacts[gap_side(k)];
         } else {
-            g_new = event_value(ec, k, d->t, d->y);
+            g_new = event_value(ec, k, d->t, d->y, d->f);
         }
         sense = event_sense(w->sense, g_old);
         es->g[i] = g_new;
@@ -1374,11 +1529,14 @@ typedef struct run {
     event_ctx ec;
     dopri d;
     event_set events;
-    double t, y[NS]; /* the state between segments */
+    double t, y[NA]; /* the state between segments */
     int phase;
     int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
+    int flying;     /* in flight about the reference corner s = phase (0 sigma) */
+    double t_takeoff; /* when the current flight started */
+    double base;    /* the base width B [m], from corner_heights (the bounce speed of a landing) */
     int friction;   /* the floor's mu_s is finite: the events of friction are watched (phases.py) */
-    double atol[NS]; /* the case's, then those of u and du (simulate_one) */
+    double atol[NA]; /* the case's, then those of u and du (simulate_one) */
     unsigned exits[PHASE_COUNT]; /* phase_exit_events of each phase */
     int codes[2][2];             /* phase_of each pair of constraints */
     double t_start; /* when the current rocking phase started, at theta = 0 */
@@ -1403,8 +1561,8 @@ typedef struct run {
     /* history */
     rocking_history *hist;
     int64_t n_rec;
-    double last_t, last_y[NS];
-    int last_phase, last_sigma;
+    double last_t, last_y[NA];
+    int last_phase, last_sigma, last_flying;
     double next_sample; /* index of the next record_dt multiple to sample */
 } run;
 
@@ -1416,6 +1574,7 @@ static void ode_at(const run *r, double t, ode *o)
     *o = r->o;
     o->phase = r->phase;
     o->sigma = r->sigma;
+    o->flying = r->flying;
     o->mu_slip = r->c->mu_k * r->sigma;
     o->pulse_on = t < r->c->t_p;
     o->vertical = o->pulse_on && r->c->a_v != 0.0;
@@ -1438,8 +1597,9 @@ static void floor_force_at(const run *r, double t, const double *y, double *fn)
 static void record_floor(const run *r, double t, const double *y, double *out)
 {
 #ifdef MODEL_FRICTION
-    double fn[2];
-    floor_force_at(r, t, y, fn);
+    double fn[2] = {0.0, 0.0}; /* in flight the floor holds nothing */
+    if (!r->flying)
+        floor_force_at(r, t, y, fn);
     out[0] = y[NY];
     out[1] = y[NY + 1];
     out[2] = fn[1];
@@ -1450,6 +1610,19 @@ static void record_floor(const run *r, double t, const double *y, double *out)
 #endif
 }
 
+/* The flight's columns of a history sample: the reference corner's height v, its rate dv, and 1 in flight. */
+static void record_flight(const run *r, const double *y, double *out)
+{
+#ifdef MODEL_FLIGHT
+    out[0] = y[NY + 2];
+    out[1] = y[NY + 3];
+#else
+    (void)y;
+    out[0] = out[1] = 0.0;
+#endif
+    out[2] = r->flying ? 1.0 : 0.0;
+}
+
 /* Append a history sample, unless it repeats the last one exactly (a segment
  * restarting where the previous one ended). Counts past the capacity. */
 static void record(run *r, double t, const double *y, int phase)
@@ -1458,8 +1631,9 @@ static void record(run *r, double t, const double *y, int phase)
     int i, same;
     if (h == NULL)
         return;
-    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase && r->sigma == r->last_sigma;
-    for (i = 0; same && i < NS; ++i)
+    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase && r->sigma == r->last_sigma &&
+           r->flying == r->last_flying;
+    for (i = 0; same && i < NA; ++i)
         same = y[i] == r->last_y[i];
     if (same)
         return;
@@ -1472,12 +1646,15 @@ static void record(run *r, double t, const double *y, int phase)
             record_floor(r, t, y, h->floor + 4 * r->n_rec);
         if (h->slide != NULL)
             h->slide[r->n_rec] = r->sigma;
+        if (h->flight != NULL)
+            record_flight(r, y, h->flight + 3 * r->n_rec);
     }
     ++r->n_rec;
     r->last_t = t;
     memcpy(r->last_y, y, sizeof r->last_y);
     r->last_phase = phase;
     r->last_sigma = r->sigma;
+    r->last_flying = r->flying;
 }
 
 /* The least index k >= 0 whose sample time k dt is > t (history.py's
@@ -1507,7 +1684,7 @@ static int over_budget(const run *r)
 static void record_samples(run *r, double t_stop)
 {
     const double dt = r->c->record_dt;
-    double y[NS];
+    double y[NA];
     if (r->hist == NULL || !(dt > 0.0))
         return;
     memcpy(y, r->d.y, sizeof y); /* the components not integrated */
@@ -1552,7 +1729,7 @@ static double bumper_force(const run *r, const double *y)
 /* bumper_force on the last step's dense output at t_old + x (t_end - t_old). */
 static double bumper_force_in_step(run *r, double t_end, double x)
 {
-    double y[NS];
+    double y[NA];
     dopri_dense(&r->d, r->d.t_old + x * (t_end - r->d.t_old), y);
     return bumper_force(r, y);
 }
@@ -1642,6 +1819,21 @@ static void pass_event(run *r, int kind, double t)
         r->res->x_max = max2(r->res->x_max, fabs(dopri_dense1(&r->d, t, 1)));
         break;
 #endif
+#ifdef MODEL_FLIGHT
+    case EV_JUMP_S:
+        r->res->jump_max = max2(r->res->jump_max, dopri_dense1(&r->d, t, NY + 2));
+        break;
+    case EV_JUMP_O: {
+        double y[NA];
+        memcpy(y, r->d.y, sizeof y);
+        dopri_dense(&r->d, t, y);
+        r->res->jump_max = max2(r->res->jump_max, other_corner_height(&r->ec, t, y));
+        break;
+    }
+    case EV_U_PEAK:
+        r->res->u_max = max2(r->res->u_max, fabs(dopri_dense1(&r->d, t, NY)));
+        break;
+#endif
     default:
         break;
     }
@@ -1661,6 +1853,12 @@ static int phase_of(int rocks, int slides)
 static int phase_code(const run *r, int s, int sigma)
 {
     return r->codes[s != 0][sigma != 0];
+}
+
+/* The code of the run's current phase (flight included). */
+static int current_code(const run *r)
+{
+    return r->flying ? PHASE_FLIGHT : phase_code(r, r->phase, r->sigma);
 }
 
 /* The events the phase `code` has exits on, one bit per event of the table (read once per run: the table is
@@ -1687,16 +1885,42 @@ static inline int phase_next(int code, int event, int guard)
     return PHASE_COUNT;
 }
 
+/* Each stop side's gap closing, or opening once its bumper acts: watched in every phase (rule 6). */
+static event_mask gap_events(const run *r)
+{
+    event_mask active = 0;
+    int k;
+    for (k = 0; k < MODEL_NSTOPS; ++k)
+        active |= (event_mask)1 << ((r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k);
+    (void)r;
+    return active;
+}
+
+/* The events of the flight phase (its exits `exits`): the landing of either corner, overturning, and the
+ * reported extrema: theta's, q[1]'s, u's, each corner's height (jump_max), and t_critical. */
+static event_mask flight_events(const run *r, unsigned exits)
+{
+    const event_mask landing = exits >> PHASE_EVENT_LANDING & 1u;
+    event_mask active = landing << EV_LANDING_S | landing << EV_LANDING_O;
+    active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_FLIGHT_OVERTURN;
+    active |= (event_mask)1 << EV_JUMP_S | (event_mask)1 << EV_JUMP_O | (event_mask)1 << EV_U_PEAK;
+    active |= (event_mask)1 << EV_THETA_PEAK | (event_mask)isnan(r->res->t_critical) << EV_CRITICAL;
+    if (NQ > 1)
+        active |= (event_mask)1 << EV_X_PEAK;
+    return active | gap_events(r);
+}
+
 /* The events of docs/simulation.md for the current phase: the exits of its entry in the table (the events
  * of friction only on a floor with finite mu_s), and the reported extrema and crossings. */
 static event_mask watched_events(const run *r)
 {
-    const unsigned exits = r->exits[phase_code(r, r->phase, r->sigma)];
+    const unsigned exits = r->exits[current_code(r)];
     const event_mask rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
     const event_mask uplift = exits >> PHASE_EVENT_UPLIFT & 1u;
     const int up = r->sigma != 0 ? EV_SLIDE_UPLIFT_A : EV_UPLIFT_A; /* the pair of either */
     event_mask active = uplift << up | uplift << (up + 1);
-    int k;
+    if (r->flying)
+        return flight_events(r, exits);
     active |= (event_mask)(exits >> PHASE_EVENT_IMPACT & 1u) << EV_IMPACT;
     active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_OVERTURN;
     active |= rest << EV_REST;
@@ -1706,21 +1930,21 @@ static event_mask watched_events(const run *r)
     if (r->friction) {
         active |= (event_mask)(exits >> PHASE_EVENT_SLIP & 1u) << EV_SLIP;
         active |= (event_mask)(exits >> PHASE_EVENT_STOP & 1u) << EV_STOP;
-        active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     }
+    /* The floor's N on every floor of a model with flight; in the stuck full contact without a vertical
+     * component N is the system's weight, constant (tests/test_c_flight.py checks it): not watched there. */
+    if (r->friction || (FLIGHT && (r->phase != 0 || r->o.vertical)))
+        active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
     if (NQ > 1)
         active |= (event_mask)1 << (r->phase == 0 && r->safe ? EV_SETTLED : EV_X_PEAK);
-    /* In every phase, each stop side's gap closing, or opening once its bumper acts (rule 6). */
-    for (k = 0; k < MODEL_NSTOPS; ++k)
-        active |= (event_mask)1 << ((r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k);
-    return active;
+    return active | gap_events(r);
 }
 
 /* What a segment changes in the results and the history before its end:
  * restored when the work passes max_steps inside it (rule 5). */
 typedef struct segment_start {
-    double theta_max, x_max, t_critical, bumper_force_max, u_max;
+    double theta_max, x_max, t_critical, bumper_force_max, u_max, jump_max;
     int64_t n_rec;
 } segment_start;
 
@@ -1731,6 +1955,7 @@ static void segment_saved(const run *r, segment_start *saved)
     saved->t_critical = r->res->t_critical;
     saved->bumper_force_max = r->res->bumper_force_max;
     saved->u_max = r->res->u_max;
+    saved->jump_max = r->res->jump_max;
     saved->n_rec = r->n_rec;
 }
 
@@ -1744,12 +1969,14 @@ static int segment_undone(run *r, const segment_start *saved)
     r->res->t_critical = saved->t_critical;
     r->res->bumper_force_max = saved->bumper_force_max;
     r->res->u_max = saved->u_max;
+    r->res->jump_max = saved->jump_max;
     if (r->hist != NULL) {
         r->n_rec = saved->n_rec; /* its last row is the segment's start */
         r->last_t = r->t;
         memcpy(r->last_y, r->y, sizeof r->last_y);
         r->last_phase = r->phase;
         r->last_sigma = r->sigma;
+        r->last_flying = r->flying;
     }
     return SEG_MAX_STEPS;
 }
@@ -1772,7 +1999,7 @@ static int run_segment(run *r, double t_bound)
     const double max_step = (r->phase == 0 && r->t < r->c->t_p) ? r->c->contact_max_step : INFINITY;
     /* Rocking from theta = 0 (an uplift, an impact): s theta must turn
      * positive, or the impact event (armed by s theta > 0) would never fire. */
-    int lifting = r->phase != 0 && r->y[0] == 0.0;
+    int lifting = !r->flying && r->phase != 0 && r->y[0] == 0.0;
     /* Sliding from du = 0 (a slip starts, reverses): sigma du must turn positive, or the stop event would
      * never fire, and friction would push the base along. */
     int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
@@ -1784,6 +2011,7 @@ static int run_segment(run *r, double t_bound)
     dopri_step_fn dopri_step;
     step_events found;
     segment_start saved;
+    event_mask active;
     int k;
 #if MODEL_NSTOPS > 0
     int pushing = 0; /* a pad pushes in this segment (its regime is constant) */
@@ -1793,11 +2021,13 @@ static int run_segment(run *r, double t_bound)
 
     segment_saved(r, &saved);
     r->o.phase = r->phase;
-    if (r->friction) { /* else the contact sticks throughout: as simulate_one set them */
+    if (r->friction || FLIGHT) { /* else the contact sticks throughout: as simulate_one set them */
         r->o.sigma = r->sigma;
-        r->o.ny = r->sigma != 0 ? NS : NY;
-        r->o.mu_slip = r->c->mu_k * r->sigma;
-        regime_inputs(r->k, r->o.on);
+        r->o.flying = r->flying;
+        r->o.ny = r->flying ? NA : r->sigma != 0 ? NS : NY;
+        r->o.mu_slip = r->friction ? r->c->mu_k * r->sigma : 0.0;
+        if (r->friction || MODEL_NSTOPS > 0)
+            regime_inputs(r->k, r->o.on);
     }
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
@@ -1805,7 +2035,7 @@ static int run_segment(run *r, double t_bound)
     r->o.rhs = ode_rhs_kind(&r->o);
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
-    if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
+    if (!r->flying && r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
     dopri_step = dopri_stepper(&r->d);
@@ -1816,7 +2046,14 @@ static int run_segment(run *r, double t_bound)
     /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
     r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
 #endif
-    events_start(&r->events, &r->ec, watched_events(r), r->t, r->y);
+    active = watched_events(r);
+    events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
+    /* N <= 0 where the phase starts (after an impact, a landing, at t = 0): the block takes off at once (the
+     * event sees only a sign change inside a step). */
+    if (active >> EV_LIFT_OFF & 1u)
+        for (k = 0; k < r->events.n; ++k)
+            if (r->events.w[k].kind == EV_LIFT_OFF && !(r->events.g[k] > 0.0))
+                return EV_LIFT_OFF;
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
@@ -2243,7 +2480,7 @@ static int verdict_final(run *r)
 
 static int events_exhausted(const run *r)
 {
-    return r->res->uplifts + r->res->impacts >= r->c->max_events;
+    return r->res->uplifts + r->res->impacts + r->res->flights >= r->c->max_events;
 }
 
 /* The rest snap after an impact (rule 2): dtheta = 0, and each other
@@ -2295,19 +2532,43 @@ static void rest_snap(run *r, const double *cst)
  * starts sliding is a slip episode (slip_stops counts a reversal). Returns 1 where the run ends, else 0. */
 static int enter(run *r, int to, int s, int sigma)
 {
-    /* This back end does not follow flight yet: the base leaves the floor, out of scope (section 14). */
-    if (to < 0 || to >= PHASE_COUNT || PHASES[to].flies) {
+    /* A model without flight functions does not follow flight: the base leaves the floor, out of its scope
+     * (section 14). */
+    if (to < 0 || to >= PHASE_COUNT || (!FLIGHT && PHASES[to].flies)) {
         r->res->status = to == PHASE_END_OVERTURNED ? ROCKING_OVERTURNED
                          : to == PHASE_END_REST     ? ROCKING_REST
+                         : to == PHASE_END_JAMMED   ? ROCKING_JAMMED
                          : to >= 0                  ? ROCKING_FLIGHT
                                                     : ROCKING_FAILED; /* not reached: the table has the exit */
         return 1;
     }
-    r->res->slides += PHASES[to].slides && r->sigma == 0;
+    /* A slip episode: the base starts sliding on the floor (from a stuck contact, or landing from flight). */
+    r->res->slides += PHASES[to].slides && !PHASES[to].flies && r->sigma == 0;
     r->phase = PHASES[to].rocks ? s : 0;
-    r->sigma = PHASES[to].slides ? sigma : 0; /* a stuck phase is entered with du = 0: a stop, a holding impact */
+    /* A stuck phase is entered with du = 0: a stop, a holding impact; in flight the contact neither sticks
+     * nor slides (sigma 0), u and du are integrated. */
+    r->sigma = PHASES[to].slides && !PHASES[to].flies ? sigma : 0;
+    r->flying = PHASES[to].flies;
     return 0;
 }
+
+#ifdef MODEL_FRICTION
+/* The lift-off event: the block leaves the floor about the reference corner s, the pivot when rocking, +1 from
+ * full contact; u and du as they are, v = dv = 0 (docs/model.md section 16). Where the table leads (a model
+ * without flight ends the run there); returns 1 where the run ends. */
+static int takeoff(run *r)
+{
+    const int s = r->phase != 0 ? r->phase : 1;
+    if (enter(r, phase_next(current_code(r), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), s, 0))
+        return 1;
+#ifdef MODEL_FLIGHT
+    r->y[NY + 2] = r->y[NY + 3] = 0.0;
+    r->res->flights += 1;
+    r->t_takeoff = r->t;
+#endif
+    return 0;
+}
+#endif
 
 #ifdef MODEL_FRICTION
 /* The impact with friction (docs/model.md section 15) about s: the velocities after it into dq and du
@@ -2348,7 +2609,7 @@ static int impact(run *r)
     const int code = phase_code(r, r->phase, r->sigma);
     int sigma = 0, rests, ended;
 #if MODEL_NSTOPS > 0
-    double before[NS];
+    double before[NA];
     memcpy(before, r->y, sizeof before);
 #endif
 #ifdef MODEL_FRICTION
@@ -2392,7 +2653,7 @@ static int floor_at_start(run *r, int check_slip)
     const int code = phase_code(r, r->phase, r->sigma);
     floor_force_at(r, r->t, r->y, fn);
     if (fn[1] <= 0.0)
-        return enter(r, phase_next(code, PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase, 0);
+        return takeoff(r);
     /* At the floor's limit too: a phase that starts there (an uplift where ag crosses mu_s g as the uplift
      * threshold, mu_s = tan alpha) holds its contact only to rounding (the slip event needs it to fall from > 0). */
     if (check_slip && r->sigma == 0 && r->c->mu_s * fn[1] - fabs(fn[0]) <= 0.0)
@@ -2424,6 +2685,142 @@ static int slip_starts(run *r)
     floor_force_at(r, r->t, r->y, fn);
     return enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase,
                  fn[0] > 0.0 ? -1 : 1);
+}
+#endif
+
+#ifdef MODEL_FLIGHT
+/* How a landing's impulse is consistent (docs/model.md section 16; rocking/reference/flight.py landing_law). */
+enum { LAW_JAM, LAW_STICK, LAW_SLIDE };
+
+/* The direction a landing tries to slide in first: the slip's before it, or with du = 0 against the sticking
+ * impulse P_t. */
+static int slide_first(double du, double p_t)
+{
+    if (du != 0.0)
+        return du > 0.0 ? 1 : -1;
+    return p_t > 0.0 ? -1 : 1;
+}
+
+/* The flying state about the other corner: (u, v, du, dv) <- flight_corner, s <- -s (theta, q, their rates
+ * unchanged). */
+static void switch_corner(run *r, const double *on)
+{
+    double c[4];
+    model_flight_corner((double)r->phase, r->y, 0.0, 0.0, r->k->p, on, r->y[NY], r->y[NY + 2], r->y[NY + 1],
+                        r->y[NY + 3], c);
+    r->y[NY] = c[0];
+    r->y[NY + 2] = c[1];
+    r->y[NY + 1] = c[2];
+    r->y[NY + 3] = c[3];
+    r->phase = -r->phase;
+}
+
+/* The landing of the reference corner alone (landing_law): sticks if the floor holds it, P_n > 0 and
+ * |P_t| <= mu_s P_n; else slides in the direction sigma in which the slip keeps its sign through it, with
+ * P_n > 0; else jams. out: dq+, du+, dv+, P_t, P_n (NQ + 4). */
+static int corner_law(const run *r, const double *on, double *out, int *sigma)
+{
+    const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
+    int i, first;
+    model_landing_stick(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, out);
+    if (out[NQ + 3] > 0.0 && (!r->friction || fabs(out[NQ + 2]) <= r->c->mu_s * out[NQ + 3]))
+        return LAW_STICK;
+    if (!r->friction)
+        return LAW_JAM;
+    first = slide_first(du, out[NQ + 2]);
+    for (i = 0; i < 2; ++i) {
+        const int sg = i == 0 ? first : -first;
+        model_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, sg * r->c->mu_k, out);
+        if (out[NQ + 3] > 0.0 && sg * du >= 0.0 && sg * out[NQ] >= 0.0) {
+            *sigma = sg;
+            return LAW_SLIDE;
+        }
+    }
+    return LAW_JAM;
+}
+
+/* The flat landing on both corners at theta = 0: sticks if P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); else
+ * slides in the direction sigma (slide_first first) with sigma du >= 0 before and after and P_s, P_o >= 0.
+ * Where neither holds and one corner's impulse would pull (< 0), the other lands alone: *alone is then the
+ * corner that lands (+1: s, -1: -s) and LAW_JAM returned, else 0. out: dq+, du+, dv+, P_t, P_s, P_o (NQ + 5). */
+static int flat_law(const run *r, const double *on, double *out, int *sigma, int *alone)
+{
+    const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
+    int i, first, pulls;
+    model_flat_landing_stick(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, out);
+    /* The corner whose impulse pulls: +1 (s) or -1 (-s), 2 both, 0 neither. */
+    pulls = out[NQ + 3] < 0.0 ? (out[NQ + 4] < 0.0 ? 2 : 1) : (out[NQ + 4] < 0.0 ? -1 : 0);
+    if (pulls == 0 && (!r->friction || fabs(out[NQ + 2]) <= r->c->mu_s * (out[NQ + 3] + out[NQ + 4])))
+        return LAW_STICK;
+    if (r->friction) {
+        first = slide_first(du, out[NQ + 2]);
+        for (i = 0; i < 2; ++i) {
+            const int sg = i == 0 ? first : -first;
+            if (!(sg * du >= 0.0))
+                continue;
+            model_flat_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, sg * r->c->mu_k, out);
+            if (out[NQ + 3] >= 0.0 && out[NQ + 4] >= 0.0 && sg * out[NQ] >= 0.0) {
+                *sigma = sg;
+                return LAW_SLIDE;
+            }
+            if (pulls == 0)
+                pulls = out[NQ + 3] < 0.0 ? (out[NQ + 4] < 0.0 ? 2 : 1) : (out[NQ + 4] < 0.0 ? -1 : 0);
+        }
+    }
+    *alone = pulls == 1 || pulls == -1 ? -pulls : 0;
+    return LAW_JAM;
+}
+
+/* The landing of the corner s (other = 0) or -s (other = 1) at the state r->y (docs/model.md section 16,
+ * rocking/reference/flight.py landing_law): the new velocities, and where the table leads: the phase on the
+ * floor, on in flight where the corner bounces (dv after it above the speed of a corner turning at
+ * dtheta_rest), or the end jammed. Returns 1 where the run ends. */
+static int landing(run *r, int other)
+{
+    double on[2 * MAX_STOP_SIDES], out[NQ + 5], before[NA];
+    const double *inputs = MODEL_NSTOPS > 0 ? on : NULL;
+    int law, sigma = 0, alone = 0, flat = 0, guard, ended;
+    memcpy(before, r->y, sizeof before);
+    regime_inputs(r->k, on);
+    if (other)
+        switch_corner(r, inputs);
+    r->y[NY + 2] = 0.0;
+    if (fabs(sin(r->y[0])) <= ROCKING_FLAT_LANDING) {
+        r->y[0] = 0.0;
+        law = flat_law(r, inputs, out, &sigma, &alone);
+        flat = law != LAW_JAM;
+        if (alone < 0)
+            switch_corner(r, inputs);
+        if (alone != 0)
+            law = corner_law(r, inputs, out, &sigma);
+    } else {
+        law = corner_law(r, inputs, out, &sigma);
+    }
+    if (law == LAW_JAM) {
+        guard = PHASE_GUARD_JAMS;
+    } else {
+        memcpy(r->y + NQ, out, NQ * sizeof *out);
+        r->y[NY + 1] = out[NQ];
+        r->y[NY + 3] = out[NQ + 1];
+        if (r->y[NY + 3] > r->c->dtheta_rest * r->base / 2.0) {
+            guard = PHASE_GUARD_BOUNCES;
+            r->res->flights += 1; /* it leaves the floor again */
+        } else {
+            r->y[NY + 3] = 0.0;
+            r->res->flight_time += r->t - r->t_takeoff;
+            guard = flat ? (law == LAW_STICK ? PHASE_GUARD_RESTS : PHASE_GUARD_RESTS_SLIDING)
+                         : (law == LAW_STICK ? PHASE_GUARD_ROCKS : PHASE_GUARD_ROCKS_SLIDING);
+        }
+    }
+    ended = enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, guard), r->phase, sigma);
+    if (ended) /* jammed: the run ends in flight (simulate_one counts its time) */
+        return 1;
+#if MODEL_NSTOPS > 0
+    /* The velocities jumped: the pads' memory and regime follow the state (rule 6). */
+    stop_memory_jump(r->k, before, r->y);
+    stops_read(r);
+#endif
+    return 0;
 }
 #endif
 
@@ -2484,17 +2881,19 @@ static double next_extremum(const rocking_case *c, double t)
 static void phase_machine(run *r)
 {
     const rocking_case *c = r->c;
+    /* A model with flight follows it: t_flight ends nothing (docs/model.md section 16). */
+    const double t_flight = FLIGHT ? INFINITY : c->t_flight;
     int skip_uplift_check = 0, skip_slip_check = 0;
     for (;;) {
         double t_bound;
         int ended;
         record(r, r->t, r->y, r->phase);
-        if (r->t >= c->t_flight) { /* the base may leave the ground: out of scope (docs/model.md section 14) */
+        if (r->t >= t_flight) { /* the base may leave the ground: out of scope (docs/model.md section 14) */
             r->res->status = ROCKING_FLIGHT;
             return;
         }
         if (r->t >= c->t_max) {
-            r->res->status = safe_at_t_max(r);
+            r->res->status = r->flying ? ROCKING_T_MAX : safe_at_t_max(r);
             return;
         }
 #if MODEL_NSTOPS > 0
@@ -2516,11 +2915,18 @@ static void phase_machine(run *r)
             }
         }
 #ifdef MODEL_FRICTION
-        if (r->friction) {
+        if (r->friction && !r->flying) {
             const int sigma = r->sigma;
             if (floor_at_start(r, !skip_slip_check))
                 return;
             skip_slip_check = 0;
+            if (r->flying) { /* N <= 0 at the start: it took off */
+                if (events_exhausted(r)) {
+                    r->res->status = ROCKING_MAX_EVENTS;
+                    return;
+                }
+                continue;
+            }
             if (r->sigma != sigma)
                 continue;
         }
@@ -2551,7 +2957,7 @@ static void phase_machine(run *r)
             }
         }
         /* Every segment stops at the pulse's end: no step straddles its kink. */
-        t_bound = r->t < c->t_p ? fmin(fmin(c->t_p, c->t_max), c->t_flight) : c->t_max;
+        t_bound = r->t < c->t_p ? fmin(fmin(c->t_p, c->t_max), t_flight) : c->t_max;
         /* In full contact also at the extrema of ag: no uplift is stepped over (rule 3). */
         if (r->phase == 0 && r->t < c->t_p)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
@@ -2560,7 +2966,7 @@ static void phase_machine(run *r)
 #ifdef MODEL_FRICTION
         /* du keeps its sign in a sliding segment, so |u| is largest at one of its ends: the largest |u| at every
          * step end (a stuck segment's u is its start's, the end of the segment before). */
-        if (r->sigma != 0)
+        if (r->sigma != 0 || r->flying) /* in flight between the located extrema of u (EV_U_PEAK) */
             r->res->u_max = max2(r->res->u_max, fabs(r->y[NY]));
 #endif
         if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
@@ -2576,7 +2982,7 @@ static void phase_machine(run *r)
         switch (ended) {
         case SEG_BOUND:
             if (t_bound == c->t_max) {
-                r->res->status = safe_at_t_max(r);
+                r->res->status = r->flying ? ROCKING_T_MAX : safe_at_t_max(r);
                 return;
             }
             break; /* a breakpoint: the same phase restarts from there */
@@ -2631,10 +3037,10 @@ static void phase_machine(run *r)
             }
             break;
         case EV_OVERTURN:
+        case EV_FLIGHT_OVERTURN:
             r->res->overturned = 1;
             r->res->t_overturn = r->t;
-            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase,
-                  r->sigma);
+            enter(r, phase_next(current_code(r), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase, r->sigma);
             return;
 #ifdef MODEL_FRICTION
         case EV_SLIP:
@@ -2646,9 +3052,24 @@ static void phase_machine(run *r)
                 return;
             break;
         case EV_LIFT_OFF:
-            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase,
-                  r->sigma);
-            return;
+            if (takeoff(r))
+                return;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            break;
+#endif
+#ifdef MODEL_FLIGHT
+        case EV_LANDING_S:
+        case EV_LANDING_O:
+            if (landing(r, ended == EV_LANDING_O))
+                return;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            break;
 #endif
         case EV_REST:
         case EV_SETTLED:
@@ -2664,12 +3085,28 @@ static void phase_machine(run *r)
     }
 }
 
+/* The base width B [m]: the height of the corner -s above the corner s of a block turned by pi/2 (generated
+ * corner_heights; the model header names no parameter B). 0 without flight. */
+static double base_width(const constants *k)
+{
+#ifdef MODEL_FLIGHT
+    double y[NY] = {0.0}, h[2], on[2 * MAX_STOP_SIDES];
+    y[0] = HALF_PI;
+    regime_inputs(k, on);
+    model_corner_heights(1.0, y, 0.0, 0.0, k->p, MODEL_NSTOPS > 0 ? on : NULL, 0.0, h);
+    return h[1];
+#else
+    (void)k;
+    return 0.0;
+#endif
+}
+
 /* The initial state: at rest, or a valid (y0, phase0). Returns 0 or -1. */
 static int initial_state(const rocking_case *c, double *y, int *phase)
 {
     int i;
     *phase = c->phase0;
-    memset(y, 0, NS * sizeof *y); /* a run starts with the contact stuck, u = 0 */
+    memset(y, 0, NA * sizeof *y); /* a run starts with the contact stuck, u = 0 */
     if (c->y0 == NULL)
         return *phase == 0 ? 0 : -1;
     for (i = 0; i < NY; ++i) {
@@ -2717,6 +3154,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     out->bumper_force_max = 0.0;
     out->u_max = out->u_end = 0.0;
     out->slides = 0;
+    out->flight_time = out->jump_max = 0.0;
+    out->flights = 0;
 
     r.c = c;
     r.tol.rtol = c->rtol;
@@ -2728,6 +3167,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
 #else
     r.friction = 0;
 #endif
+#ifdef MODEL_FLIGHT
+    r.atol[NY + 2] = c->atol[0]; /* v and dv: those of u and du */
+    r.atol[NY + 3] = c->atol[NQ];
+#endif
     r.tol.atol = r.atol;
     r.sigma = 0;
     for (i = 0; i < 4; ++i) { /* without friction a run never slides: the stuck phases alone */
@@ -2735,6 +3178,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
         if (r.friction || i % 2 == 0)
             r.exits[code] = phase_exit_events(code);
     }
+    r.exits[PHASE_FLIGHT] = FLIGHT ? phase_exit_events(PHASE_FLIGHT) : 0u;
+    r.flying = 0;
+    r.t_takeoff = 0.0;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
@@ -2743,6 +3189,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
     r.o.sigma = 0;
+    r.o.flying = 0;
     r.o.ny = NY;
     r.o.mu_slip = 0.0;
     r.o.pulse_on = 1;
@@ -2765,6 +3212,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     }
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
+    r.ec.u_max = &out->u_max;
 #if NQ > 1 && MODEL_NSTOPS > 0
     /* With stops, rest (rule 4) also needs the mass out of every pad's reach (NaN: no bound, energy_rest alone). */
     reach = pad_reach(&r);
@@ -2791,7 +3239,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.hist = history;
     r.n_rec = 0;
     r.last_t = 0.0;
-    r.last_phase = r.last_sigma = 0;
+    r.last_phase = r.last_sigma = r.last_flying = 0;
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
@@ -2800,8 +3248,11 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_regime(&k, stop_on);
     see_state(&r, r.y, 0);
 
+    r.base = base_width(&k);
     phase_machine(&r);
     out->t_end = r.t;
+    if (r.flying) /* the run ended in flight */
+        out->flight_time += r.t - r.t_takeoff;
 #ifdef MODEL_FRICTION
     out->u_end = r.y[NY];
 #endif
