@@ -1155,23 +1155,29 @@ static void floor_force(ode *o, double t, const double *y, double *fn)
  * stuck, from the generated base reaction, N_b = out + sum_j coeff_j ddq_j, with the accelerations f[NQ...] at
  * (t, y) when the caller has them (the FSAL derivative at a step's end, f = NULL: evaluated): the rocking
  * steps watch N at the cost of that one call. Else the phase's force (floor_force). */
+static ALWAYS_INLINE double rocking_normal_force(ode *o, double t, const double *y, const double *f,
+                                                 const double *cst)
+{
+    double out[3 * (NQ + 1)], n;
+    int j;
+    model_base_reaction_prepared(y, ode_ag(o, t), cst, out);
+    n = out[NQ + 1];
+    for (j = 0; j < NQ; ++j)
+        n += out[NQ + 2 + j] * f[NQ + j];
+    return n;
+}
+
 static double lift_off_value(const event_ctx *ec, double t, const double *y, const double *f)
 {
     ode *o = ec->o;
     double fn[2];
     if (o->phase != 0 && o->sigma == 0) {
-        double at_gravity[NK], out[3 * (NQ + 1)], dy[NA], n;
-        const double *cst = gravity_constants(o, (double)o->phase, t, at_gravity);
-        int j;
+        double at_gravity[NK], dy[NA];
         if (f == NULL) {
             ode_rhs(o, t, y, dy);
             f = dy;
         }
-        model_base_reaction_prepared(y, ode_ag(o, t), cst, out);
-        n = out[NQ + 1];
-        for (j = 0; j < NQ; ++j)
-            n += out[NQ + 2 + j] * f[NQ + j];
-        return n;
+        return rocking_normal_force(o, t, y, f, gravity_constants(o, (double)o->phase, t, at_gravity));
     }
     floor_force(o, t, y, fn);
     return fn[1];
@@ -1480,6 +1486,11 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
                 stop_contacts_at(ec->o->k, d->y, es->contacts);
             es->have_contacts = 1;
             g_new = es->contacts[gap_side(k)];
+#ifdef MODEL_FRICTION
+        } else if (k == EV_LIFT_OFF && (ec->o->rhs == ODE_FREE_ROCKING || ec->o->rhs == ODE_PULSE_ROCKING)) {
+            /* Every step of a level rocking segment: lift_off_value's own operations, inline. */
+            g_new = rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst);
+#endif
         } else {
             g_new = event_value(ec, k, d->t, d->y, d->f);
         }
@@ -2552,6 +2563,16 @@ static int enter(run *r, int to, int s, int sigma)
     return 0;
 }
 
+#ifdef MODEL_FLIGHT
+/* The floor's normal force on the contact is <= 0 at the run's state: the block takes off. */
+static int takes_off(const run *r)
+{
+    double fn[2];
+    floor_force_at(r, r->t, r->y, fn);
+    return fn[1] <= 0.0;
+}
+#endif
+
 #ifdef MODEL_FRICTION
 /* The lift-off event: the block leaves the floor about the reference corner s, the pivot when rocking, +1 from
  * full contact; u and du as they are, v = dv = 0 (docs/model.md section 16). Where the table leads (a model
@@ -2898,6 +2919,19 @@ static void phase_machine(run *r)
         }
 #if MODEL_NSTOPS > 0
         stops_read(r);
+#endif
+#ifdef MODEL_FLIGHT
+        /* N <= 0 where full contact starts: the block takes off at once, before any uplift (a pivot needs the
+         * floor to push); a rocking phase checks it where its segment starts (run_segment). */
+        if (r->phase == 0 && !r->flying && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) && takes_off(r)) {
+            if (takeoff(r))
+                return;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            continue;
+        }
 #endif
         if (r->phase == 0) {
             const int s = skip_uplift_check ? 0 : uplift_at_start(r);
