@@ -1186,7 +1186,7 @@ static double lift_off_value(const event_ctx *ec, double t, const double *y, con
 
 #ifdef MODEL_FLIGHT
 /* The other corner's height above the floor in flight (generated corner_heights). */
-static double other_corner_height(const event_ctx *ec, double t, const double *y)
+static double corner_height_other(const event_ctx *ec, double t, const double *y)
 {
     double h[2];
     model_corner_heights((double)ec->o->phase, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p,
@@ -1195,7 +1195,7 @@ static double other_corner_height(const event_ctx *ec, double t, const double *y
 }
 
 /* The other corner's vertical rate in flight (generated flight_corner). */
-static double other_corner_rate(const event_ctx *ec, double t, const double *y)
+static double corner_rate_other(const event_ctx *ec, double t, const double *y)
 {
     double c[4];
     model_flight_corner((double)ec->o->phase, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p,
@@ -1248,11 +1248,11 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
 #endif
 #ifdef MODEL_FLIGHT
     case EV_LANDING_O:
-        return other_corner_height(ec, t, y);
+        return corner_height_other(ec, t, y);
     case EV_FLIGHT_OVERTURN:
         return fabs(y[0]) - HALF_PI;
     case EV_JUMP_O:
-        return other_corner_rate(ec, t, y);
+        return corner_rate_other(ec, t, y);
 #endif
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
@@ -1838,7 +1838,7 @@ static void pass_event(run *r, int kind, double t)
         double y[NA];
         memcpy(y, r->d.y, sizeof y);
         dopri_dense(&r->d, t, y);
-        r->res->jump_max = max2(r->res->jump_max, other_corner_height(&r->ec, t, y));
+        r->res->jump_max = max2(r->res->jump_max, corner_height_other(&r->ec, t, y));
         break;
     }
     case EV_U_PEAK:
@@ -1867,7 +1867,7 @@ static int phase_code(const run *r, int s, int sigma)
 }
 
 /* The code of the run's current phase (flight included). */
-static int current_code(const run *r)
+static int phase_current(const run *r)
 {
     return r->flying ? PHASE_FLIGHT : phase_code(r, r->phase, r->sigma);
 }
@@ -1925,7 +1925,7 @@ static event_mask flight_events(const run *r, unsigned exits)
  * of friction only on a floor with finite mu_s), and the reported extrema and crossings. */
 static event_mask watched_events(const run *r)
 {
-    const unsigned exits = r->exits[current_code(r)];
+    const unsigned exits = r->exits[phase_current(r)];
     const event_mask rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
     const event_mask uplift = exits >> PHASE_EVENT_UPLIFT & 1u;
     const int up = r->sigma != 0 ? EV_SLIDE_UPLIFT_A : EV_UPLIFT_A; /* the pair of either */
@@ -2565,7 +2565,7 @@ static int enter(run *r, int to, int s, int sigma)
 
 #ifdef MODEL_FLIGHT
 /* The floor's normal force on the contact is <= 0 at the run's state: the block takes off. */
-static int takes_off(const run *r)
+static int lift_off_at_start(const run *r)
 {
     double fn[2];
     floor_force_at(r, r->t, r->y, fn);
@@ -2580,7 +2580,7 @@ static int takes_off(const run *r)
 static int takeoff(run *r)
 {
     const int s = r->phase != 0 ? r->phase : 1;
-    if (enter(r, phase_next(current_code(r), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), s, 0))
+    if (enter(r, phase_next(phase_current(r), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), s, 0))
         return 1;
 #ifdef MODEL_FLIGHT
     r->y[NY + 2] = r->y[NY + 3] = 0.0;
@@ -2714,17 +2714,17 @@ static int slip_starts(run *r)
 enum { LAW_JAM, LAW_STICK, LAW_SLIDE };
 
 /* The direction a landing tries to slide in first: the slip's before it, or with du = 0 against the sticking
- * impulse P_t. */
-static int slide_first(double du, double p_t)
+ * impulse push = P_t. */
+static int slide_first(double du, double push)
 {
     if (du != 0.0)
         return du > 0.0 ? 1 : -1;
-    return p_t > 0.0 ? -1 : 1;
+    return push > 0.0 ? -1 : 1;
 }
 
 /* The flying state about the other corner: (u, v, du, dv) <- flight_corner, s <- -s (theta, q, their rates
  * unchanged). */
-static void switch_corner(run *r, const double *on)
+static void corner_switch(run *r, const double *on)
 {
     double c[4];
     model_flight_corner((double)r->phase, r->y, 0.0, 0.0, r->k->p, on, r->y[NY], r->y[NY + 2], r->y[NY + 1],
@@ -2739,7 +2739,7 @@ static void switch_corner(run *r, const double *on)
 /* The landing of the reference corner alone (landing_law): sticks if the floor holds it, P_n > 0 and
  * |P_t| <= mu_s P_n; else slides in the direction sigma in which the slip keeps its sign through it, with
  * P_n > 0; else jams. out: dq+, du+, dv+, P_t, P_n (NQ + 4). */
-static int corner_law(const run *r, const double *on, double *out, int *sigma)
+static int law_corner(const run *r, const double *on, double *out, int *sigma)
 {
     const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
     int i, first;
@@ -2764,7 +2764,7 @@ static int corner_law(const run *r, const double *on, double *out, int *sigma)
  * slides in the direction sigma (slide_first first) with sigma du >= 0 before and after and P_s, P_o >= 0.
  * Where neither holds and one corner's impulse would pull (< 0), the other lands alone: *alone is then the
  * corner that lands (+1: s, -1: -s) and LAW_JAM returned, else 0. out: dq+, du+, dv+, P_t, P_s, P_o (NQ + 5). */
-static int flat_law(const run *r, const double *on, double *out, int *sigma, int *alone)
+static int law_flat(const run *r, const double *on, double *out, int *sigma, int *alone)
 {
     const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
     int i, first, pulls;
@@ -2804,18 +2804,18 @@ static int landing(run *r, int other)
     memcpy(before, r->y, sizeof before);
     regime_inputs(r->k, on);
     if (other)
-        switch_corner(r, inputs);
+        corner_switch(r, inputs);
     r->y[NY + 2] = 0.0;
     if (fabs(sin(r->y[0])) <= ROCKING_FLAT_LANDING) {
         r->y[0] = 0.0;
-        law = flat_law(r, inputs, out, &sigma, &alone);
+        law = law_flat(r, inputs, out, &sigma, &alone);
         flat = law != LAW_JAM;
         if (alone < 0)
-            switch_corner(r, inputs);
+            corner_switch(r, inputs);
         if (alone != 0)
-            law = corner_law(r, inputs, out, &sigma);
+            law = law_corner(r, inputs, out, &sigma);
     } else {
-        law = corner_law(r, inputs, out, &sigma);
+        law = law_corner(r, inputs, out, &sigma);
     }
     if (law == LAW_JAM) {
         guard = PHASE_GUARD_JAMS;
@@ -2923,7 +2923,7 @@ static void phase_machine(run *r)
 #ifdef MODEL_FLIGHT
         /* N <= 0 where full contact starts: the block takes off at once, before any uplift (a pivot needs the
          * floor to push); a rocking phase checks it where its segment starts (run_segment). */
-        if (r->phase == 0 && !r->flying && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) && takes_off(r)) {
+        if (r->phase == 0 && !r->flying && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) && lift_off_at_start(r)) {
             if (takeoff(r))
                 return;
             if (events_exhausted(r)) {
@@ -3074,7 +3074,7 @@ static void phase_machine(run *r)
         case EV_FLIGHT_OVERTURN:
             r->res->overturned = 1;
             r->res->t_overturn = r->t;
-            enter(r, phase_next(current_code(r), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase, r->sigma);
+            enter(r, phase_next(phase_current(r), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase, r->sigma);
             return;
 #ifdef MODEL_FRICTION
         case EV_SLIP:
@@ -3121,7 +3121,7 @@ static void phase_machine(run *r)
 
 /* The base width B [m]: the height of the corner -s above the corner s of a block turned by pi/2 (generated
  * corner_heights; the model header names no parameter B). 0 without flight. */
-static double base_width(const constants *k)
+static double flight_base_width(const constants *k)
 {
 #ifdef MODEL_FLIGHT
     double y[NY] = {0.0}, h[2], on[2 * MAX_STOP_SIDES];
@@ -3282,7 +3282,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_regime(&k, stop_on);
     see_state(&r, r.y, 0);
 
-    r.base = base_width(&k);
+    r.base = flight_base_width(&k);
     phase_machine(&r);
     out->t_end = r.t;
     if (r.flying) /* the run ended in flight */
