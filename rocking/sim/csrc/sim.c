@@ -2630,6 +2630,31 @@ static int lift_off_at_start(const run *r)
 }
 #endif
 
+#ifdef MODEL_FLIGHT
+/* Free of the floor at the takeoff, the reference corner would accelerate down (ddv < 0): N touched 0 while the
+ * floor's friction force held the corner down (mu_s = inf), which flight would drop: it cannot rise. */
+static int corner_sinks(const run *r)
+{
+    ode o;
+    double dy[NA];
+    ode_at(r, r->t, &o);
+    ode_rhs_flight(&o, r->t, r->y, dy);
+    return dy[NY + 3] < 0.0;
+}
+
+/* A grazing takeoff (its corner cannot rise): the block stays in the phase it took off from, no flight; its
+ * N <= 0 there is not checked again until it is positive (skip_lift_check). */
+static void no_takeoff(run *r)
+{
+    r->res->flights -= 1;
+    r->flying = 0;
+    r->phase = r->takeoff_phase;
+    r->sigma = r->takeoff_sigma;
+    r->y[NY + 3] = 0.0;
+    r->skip_lift_check = 1;
+}
+#endif
+
 #ifdef MODEL_FRICTION
 /* The lift-off event: the block leaves the floor about the reference corner s, the pivot when rocking, +1 from
  * full contact; u and du as they are, v = dv = 0 (docs/model.md section 16). Where the table leads (a model
@@ -2645,6 +2670,8 @@ static int takeoff(run *r)
     r->takeoff_phase = phase;
     r->takeoff_sigma = sigma;
     r->t_takeoff = r->t;
+    if (corner_sinks(r))
+        no_takeoff(r);
 #endif
     return 0;
 }
@@ -3110,16 +3137,8 @@ static void phase_machine(run *r)
             break;
 #endif
 #ifdef MODEL_FLIGHT
-        case SEG_NO_TAKEOFF:
-            /* A grazing takeoff: the corners cannot rise (the floor's N touched 0 and its friction force keeps the
-             * corner down, mu_s = inf): the block stays in the phase it took off from; its N <= 0 there is not
-             * checked again until it is positive. */
-            r->res->flights -= 1;
-            r->flying = 0;
-            r->phase = r->takeoff_phase;
-            r->sigma = r->takeoff_sigma;
-            r->y[NY + 3] = 0.0;
-            r->skip_lift_check = 1;
+        case SEG_NO_TAKEOFF: /* a grazing takeoff its first step shows (corner_sinks: at once) */
+            no_takeoff(r);
             break;
 #endif
         case SEG_NO_SLIP:
