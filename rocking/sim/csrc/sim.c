@@ -1543,7 +1543,7 @@ static int corner_rising(const double *y)
 }
 
 /* The height of the corner other than the reference one in a flying state y at t (0 without flight). */
-static double other_height(const event_ctx *ec, double t, const double *y)
+static double corner_other_height(const event_ctx *ec, double t, const double *y)
 {
 #ifdef MODEL_FLIGHT
     return corner_height_other(ec, t, y);
@@ -1587,8 +1587,8 @@ typedef struct run {
     int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
     int flying;     /* in flight about the reference corner s = phase (0 sigma) */
     double t_takeoff; /* when the current flight started */
-    int settle_guard, settle_sigma; /* the last landing's guard and slip had it not bounced */
-    int takeoff_phase, takeoff_sigma; /* the phase the current flight took off from: s, sigma */
+    int law_guard, law_sigma; /* the last landing's guard and slip had it not bounced */
+    int lift_phase, lift_sigma; /* the phase the current flight took off from: s, sigma */
     int skip_lift_check; /* the next segment does not check N <= 0 at its start (a grazing takeoff) */
     double base;    /* the base width B [m], from corner_heights (the bounce speed of a landing) */
     int friction;   /* the floor's mu_s is finite: the events of friction are watched (phases.py) */
@@ -2063,7 +2063,7 @@ static int run_segment(run *r, double t_bound)
      * would never fire and the corner would sink through the floor; so must the other corner's height where
      * it starts at 0 too (a flat base). */
     int launching = r->flying && corner_height(r->y) == 0.0;
-    int flat_start = 0;
+    int corner_flat = 0;
     int starting = lifting || slipping || launching;
     /* A sampled motion while it acts: every step ends at the next sample time at
      * the latest (a kink of ag), inside the segment. ag is continuous there, so
@@ -2100,7 +2100,7 @@ static int run_segment(run *r, double t_bound)
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
     dopri_step = dopri_stepper(&r->d);
-    flat_start = launching && other_height(&r->ec, r->t, r->y) == 0.0;
+    corner_flat = launching && corner_other_height(&r->ec, r->t, r->y) == 0.0;
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
@@ -2135,7 +2135,7 @@ static int run_segment(run *r, double t_bound)
         if (starting) {
             const int lifted = !lifting || s * r->d.y[0] > 0.0;
             const int bounced =
-                !launching || (corner_height(r->d.y) > 0.0 && !(flat_start && !(other_height(&r->ec, r->d.t, r->d.y) > 0.0)));
+                !launching || (corner_height(r->d.y) > 0.0 && !(corner_flat && !(corner_other_height(&r->ec, r->d.t, r->d.y) > 0.0)));
             if (!(lifted && bounced && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
                 /* The block fell back within the first step (or never rose), or the base did not move
                  * in the slip's direction, or the corner fell back to the floor: retry shorter; if even the
@@ -2644,12 +2644,12 @@ static int corner_sinks(const run *r)
 
 /* A grazing takeoff (its corner cannot rise): the block stays in the phase it took off from, no flight; its
  * N <= 0 there is not checked again until it is positive (skip_lift_check). */
-static void no_takeoff(run *r)
+static void lift_off_grazing(run *r)
 {
     r->res->flights -= 1;
     r->flying = 0;
-    r->phase = r->takeoff_phase;
-    r->sigma = r->takeoff_sigma;
+    r->phase = r->lift_phase;
+    r->sigma = r->lift_sigma;
     r->y[NY + 3] = 0.0;
     r->skip_lift_check = 1;
 }
@@ -2667,11 +2667,11 @@ static int takeoff(run *r)
 #ifdef MODEL_FLIGHT
     r->y[NY + 2] = r->y[NY + 3] = 0.0;
     r->res->flights += 1;
-    r->takeoff_phase = phase;
-    r->takeoff_sigma = sigma;
+    r->lift_phase = phase;
+    r->lift_sigma = sigma;
     r->t_takeoff = r->t;
     if (corner_sinks(r))
-        no_takeoff(r);
+        lift_off_grazing(r);
 #endif
     return 0;
 }
@@ -2911,8 +2911,8 @@ static int landing(run *r, int other)
         r->y[NY + 3] = out[NQ + 1];
         guard = flat ? (law == LAW_STICK ? PHASE_GUARD_RESTS : PHASE_GUARD_RESTS_SLIDING)
                      : (law == LAW_STICK ? PHASE_GUARD_ROCKS : PHASE_GUARD_ROCKS_SLIDING);
-        r->settle_guard = guard;
-        r->settle_sigma = sigma;
+        r->law_guard = guard;
+        r->law_sigma = sigma;
         if (r->y[NY + 3] > r->c->dtheta_rest * r->base / 2.0) {
             guard = PHASE_GUARD_BOUNCES;
             r->res->flights += 1; /* it leaves the floor again */
@@ -3132,13 +3132,13 @@ static void phase_machine(run *r)
             r->res->flights -= 1;
             r->res->flight_time += r->t - r->t_takeoff;
             r->y[NY + 3] = 0.0;
-            if (enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, r->settle_guard), r->phase, r->settle_sigma))
+            if (enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, r->law_guard), r->phase, r->law_sigma))
                 return;
             break;
 #endif
 #ifdef MODEL_FLIGHT
         case SEG_NO_TAKEOFF: /* a grazing takeoff its first step shows (corner_sinks: at once) */
-            no_takeoff(r);
+            lift_off_grazing(r);
             break;
 #endif
         case SEG_NO_SLIP:
@@ -3319,9 +3319,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.exits[PHASE_FLIGHT] = FLIGHT ? phase_exit_events(PHASE_FLIGHT) : 0u;
     r.flying = 0;
     r.t_takeoff = 0.0;
-    r.settle_guard = PHASE_GUARD_RESTS;
-    r.settle_sigma = 0;
-    r.takeoff_phase = r.takeoff_sigma = r.skip_lift_check = 0;
+    r.law_guard = PHASE_GUARD_RESTS;
+    r.law_sigma = 0;
+    r.lift_phase = r.lift_sigma = r.skip_lift_check = 0;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
