@@ -105,16 +105,16 @@ def test_a_block_on_a_dropping_floor_flies_and_lands_as_newton_says():
 
 
 def test_an_elastic_floor_bounces_the_block_until_its_speed_is_spent():
-    """With restitution e_n each landing sends the block up at e_n times its landing speed V: flights of
+    """With restitution e_n each landing sends the block up at e_n times its landing speed V: hops of
     2 e_n^k V / g (a parabola under g, the floor at rest), until the speed is at most the bounce threshold
-    dtheta_rest B / 2; each bounce is a flight (max_events counts it)."""
+    dtheta_rest B / 2; the bounces go on one flight (one takeoff)."""
     e_n = 0.5
     t_flight, dv_land, _ = _drop_closed_form()
     r = rocking.simulate(BLOCK, None, _drop_motion(), backend="c", floor=Floor(e_n=e_n), rtol=1e-12)
     threshold = r.inputs.settings["dtheta_rest"] * BLOCK.B / 2
     speeds = [-dv_land * e_n**k for k in range(1, 200)]
     bounces = [v for v in speeds if v > threshold]
-    assert r.flights == 1 + len(bounces) and r.status == "rest"
+    assert len(bounces) >= 3 and r.flights == 1 and r.status == "rest"
     assert r.flight_time == pytest.approx(t_flight + sum(2 * v / G for v in bounces), rel=1e-9)
 
 

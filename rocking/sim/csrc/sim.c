@@ -1000,7 +1000,6 @@ enum event_kind {
     EV_FLIGHT_OVERTURN, /* flight: |theta| reaches pi/2 */
     EV_JUMP_S,         /* flight: dv falls from > 0 to 0, a peak of v (jump_max) */
     EV_JUMP_O,         /* flight: the other corner's rate falls from > 0 to 0, a peak of its height (jump_max) */
-    EV_U_PEAK,         /* flight: du changes sign (u_max) */
     EV_GAP_CLOSE,      /* any phase: the contact of a stop side that does not push turns positive (one kind per side) */
     EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side that pushes falls to 0 */
     N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
@@ -1045,7 +1044,6 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {+1, 1, 1, -1, 0, 0.0},                 /* EV_FLIGHT_OVERTURN: g < 0  ->  g >= 0 */
     {-1, 1, 0, NY + 3, 0, 0.0},             /* EV_JUMP_S:         g > 0   ->  g <= 0 */
     {-1, 1, 0, -1, 0, 0.0},                 /* EV_JUMP_O:         g > 0   ->  g <= 0 */
-    {0, 1, 0, NY + 1, 0, 0.0},              /* EV_U_PEAK:         sign change */
     /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
     {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
@@ -1167,6 +1165,26 @@ static ALWAYS_INLINE double rocking_normal_force(ode *o, double t, const double 
     return n;
 }
 
+/* The lift-off event's g on a stuck corner from its N = n: on a floor without friction (mu_s = inf) N can reach
+ * 0 while the floor holds a tangential force, and letting go of it may drive the corner into the floor: the
+ * block takes off where N <= 0 and the free flight lifts the corner, the larger of N and minus the corner's
+ * vertical acceleration in flight falling to 0 (numpy_backend's takeoff_margin; docs/simulation.md, "Flight").
+ * The flight's acceleration only where N <= 0. */
+static double takeoff_margin(const event_ctx *ec, double t, const double *y, double n)
+{
+#ifdef MODEL_FLIGHT
+    ode *o = ec->o;
+    double out[NQ + 2];
+    if (n > 0.0 || isfinite(ec->mu_s))
+        return n;
+    model_flight_accel((double)o->phase, y, ode_ag(o, t), ode_agy(o, t), o->k->p, friction_on(o), out);
+    return max2(n, -out[NQ + 1]);
+#else
+    (void)ec, (void)t, (void)y;
+    return n;
+#endif
+}
+
 static double lift_off_value(const event_ctx *ec, double t, const double *y, const double *f)
 {
     ode *o = ec->o;
@@ -1177,7 +1195,7 @@ static double lift_off_value(const event_ctx *ec, double t, const double *y, con
             ode_rhs(o, t, y, dy);
             f = dy;
         }
-        return rocking_normal_force(o, t, y, f, gravity_constants(o, (double)o->phase, t, at_gravity));
+        return takeoff_margin(ec, t, y, rocking_normal_force(o, t, y, f, gravity_constants(o, (double)o->phase, t, at_gravity)));
     }
     floor_force(o, t, y, fn);
     return fn[1];
@@ -1455,8 +1473,6 @@ static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
         return dopri_dense_bound(d, 0) <= *ec->theta_max;
     if (kind == EV_X_PEAK)
         return NQ > 1 && dopri_dense_bound(d, 1) <= *ec->x_max;
-    if (kind == EV_U_PEAK)
-        return dopri_dense_bound(d, NY) <= *ec->u_max;
     return 0;
 }
 
@@ -1489,7 +1505,7 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 #ifdef MODEL_FRICTION
         } else if (k == EV_LIFT_OFF && (ec->o->rhs == ODE_FREE_ROCKING || ec->o->rhs == ODE_PULSE_ROCKING)) {
             /* Every step of a level rocking segment: lift_off_value's own operations, inline. */
-            g_new = rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst);
+            g_new = takeoff_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
 #endif
         } else {
             g_new = event_value(ec, k, d->t, d->y, d->f);
@@ -1561,8 +1577,7 @@ enum {
     SEG_MAX_STEPS = -4,
     SEG_STOPPED = -5,
     SEG_NO_SLIP = -6,
-    SEG_NO_BOUNCE = -7,
-    SEG_NO_TAKEOFF = -8
+    SEG_NO_TAKEOFF = -7
 };
 
 #if NQ > 1
@@ -1587,7 +1602,6 @@ typedef struct run {
     int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
     int flying;     /* in flight about the reference corner s = phase (0 sigma) */
     double t_takeoff; /* when the current flight started */
-    int law_guard, law_sigma; /* the last landing's guard and slip had it not bounced */
     int lift_phase, lift_sigma; /* the phase the current flight took off from: s, sigma */
     int skip_lift_check; /* the next segment does not check N <= 0 at its start (a grazing takeoff) */
     double base;    /* the base width B [m], from corner_heights (the bounce speed of a landing) */
@@ -1858,9 +1872,27 @@ static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end)
 #endif
 }
 
+/* In flight, the largest |u| and corner height (u_max, jump_max) at the flying state y at t: at every step end
+ * and located event point, the segment's start and end (the located peaks of the heights among them). */
+static void see_flight(run *r, double t, const double *y)
+{
+#ifdef MODEL_FLIGHT
+    r->res->u_max = max2(r->res->u_max, fabs(y[NY]));
+    r->res->jump_max = max2(r->res->jump_max, max2(y[NY + 2], corner_height_other(&r->ec, t, y)));
+#else
+    (void)r, (void)t, (void)y;
+#endif
+}
+
 /* A non-terminal event located at t inside the last step. */
 static void pass_event(run *r, int kind, double t)
 {
+    if (r->flying) {
+        double y[NA];
+        memcpy(y, r->d.y, sizeof y);
+        dopri_dense(&r->d, t, y);
+        see_flight(r, t, y);
+    }
     switch (kind) {
     case EV_CRITICAL:
         if (isnan(r->res->t_critical))
@@ -1876,19 +1908,6 @@ static void pass_event(run *r, int kind, double t)
         break;
 #endif
 #ifdef MODEL_FLIGHT
-    case EV_JUMP_S:
-        r->res->jump_max = max2(r->res->jump_max, dopri_dense1(&r->d, t, NY + 2));
-        break;
-    case EV_JUMP_O: {
-        double y[NA];
-        memcpy(y, r->d.y, sizeof y);
-        dopri_dense(&r->d, t, y);
-        r->res->jump_max = max2(r->res->jump_max, corner_height_other(&r->ec, t, y));
-        break;
-    }
-    case EV_U_PEAK:
-        r->res->u_max = max2(r->res->u_max, fabs(dopri_dense1(&r->d, t, NY)));
-        break;
 #endif
     default:
         break;
@@ -1959,7 +1978,7 @@ static event_mask flight_events(const run *r, unsigned exits)
     const event_mask landing = exits >> PHASE_EVENT_LANDING & 1u;
     event_mask active = landing << EV_LANDING_S | landing << EV_LANDING_O;
     active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_FLIGHT_OVERTURN;
-    active |= (event_mask)1 << EV_JUMP_S | (event_mask)1 << EV_JUMP_O | (event_mask)1 << EV_U_PEAK;
+    active |= (event_mask)1 << EV_JUMP_S | (event_mask)1 << EV_JUMP_O;
     active |= (event_mask)1 << EV_THETA_PEAK | (event_mask)isnan(r->res->t_critical) << EV_CRITICAL;
     if (NQ > 1)
         active |= (event_mask)1 << EV_X_PEAK;
@@ -1987,9 +2006,9 @@ static event_mask watched_events(const run *r)
         active |= (event_mask)(exits >> PHASE_EVENT_SLIP & 1u) << EV_SLIP;
         active |= (event_mask)(exits >> PHASE_EVENT_STOP & 1u) << EV_STOP;
     }
-    /* The floor's N on every floor of a model with flight; in the stuck full contact without a vertical
-     * component N is the system's weight, constant (tests/test_c_flight.py checks it): not watched there. */
-    if (r->friction || (FLIGHT && (r->phase != 0 || r->o.vertical)))
+    /* The floor's N on every floor of a model with flight; in full contact without a vertical component N is
+     * the system's weight, constant (tests/test_c_flight.py checks it): not watched there. */
+    if ((r->friction || FLIGHT) && (r->phase != 0 || r->o.vertical))
         active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
     if (NQ > 1)
@@ -2043,6 +2062,25 @@ static int stop_requested(const run *r)
     return r->stop != NULL && *r->stop != 0;
 }
 
+/* A flight's landings where its segment starts: a corner on the floor that rises (a bounce) is armed at once,
+ * its 0 read as above the floor, so that a short hop landing within the first step is still found (one that
+ * does not rise, a takeoff, is armed once its height is positive: the events' strict rule). */
+static void landings_armed(run *r)
+{
+#ifdef MODEL_FLIGHT
+    int k;
+    for (k = 0; k < r->events.n; ++k) {
+        const int kind = r->events.w[k].kind;
+        if (!(r->events.g[k] == 0.0 && (kind == EV_LANDING_S || kind == EV_LANDING_O)))
+            continue;
+        if ((kind == EV_LANDING_S ? r->y[NY + 3] : corner_rate_other(&r->ec, r->t, r->y)) > 0.0)
+            r->events.g[k] = DBL_MIN;
+    }
+#else
+    (void)r;
+#endif
+}
+
 /* Integrate the current phase from (r->t, r->y) until t_bound or a terminal
  * event; (r->t, r->y) is then the segment's end. Returns the event, or
  * SEG_BOUND, SEG_FAILED, SEG_NO_LIFT, SEG_NO_SLIP, SEG_MAX_STEPS (then (r->t, r->y) is
@@ -2059,10 +2097,10 @@ static int run_segment(run *r, double t_bound)
     /* Sliding from du = 0 (a slip starts, reverses): sigma du must turn positive, or the stop event would
      * never fire, and friction would push the base along. */
     int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
-    /* Flying from v = 0 (a takeoff, a bounce): v must turn positive, or the landing event (armed by v > 0)
-     * would never fire and the corner would sink through the floor; so must the other corner's height where
-     * it starts at 0 too (a flat base). */
-    int launching = r->flying && corner_height(r->y) == 0.0;
+    /* Taking off from v = dv = 0: v must turn positive, or the landing event (armed by v > 0) would never fire
+     * and the corner would sink through the floor; so must the other corner's height where it starts at 0 too
+     * (a flat base). (A bounce, dv > 0, has its landing armed at once: landings_armed.) */
+    int launching = r->flying && corner_height(r->y) == 0.0 && !corner_rising(r->y);
     int corner_flat = 0;
     int starting = lifting || slipping || launching;
     /* A sampled motion while it acts: every step ends at the next sample time at
@@ -2114,9 +2152,11 @@ static int run_segment(run *r, double t_bound)
      * event sees only a sign change inside a step). */
     if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check)
         for (k = 0; k < r->events.n; ++k)
-            if (r->events.w[k].kind == EV_LIFT_OFF && !(r->events.g[k] > 0.0))
+            if (r->events.w[k].kind == EV_LIFT_OFF && r->events.g[k] < 0.0)
                 return EV_LIFT_OFF;
     r->skip_lift_check = 0;
+    if (r->flying)
+        landings_armed(r);
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
@@ -2143,9 +2183,7 @@ static int run_segment(run *r, double t_bound)
                  * grazing uplift (slip, bounce). */
                 const double h = 0.1 * r->d.h;
                 if (h < min_step_at(r->d.t_old))
-                    return !bounced ? (corner_rising(r->y) ? SEG_NO_BOUNCE : SEG_NO_TAKEOFF)
-                           : lifted ? SEG_NO_SLIP
-                                    : SEG_NO_LIFT;
+                    return !bounced ? SEG_NO_TAKEOFF : lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
                 dopri_undo(&r->d, h);
                 continue;
             }
@@ -2167,6 +2205,8 @@ static int run_segment(run *r, double t_bound)
                 step_peak(r, r->t, r->y);
 #endif
             see_state(r, r->y, 0);
+            if (r->flying)
+                see_flight(r, r->t, r->y);
             if (found.terminal == EV_IMPACT)
                 r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
             if (found.terminal == EV_STOP)
@@ -2178,6 +2218,8 @@ static int run_segment(run *r, double t_bound)
             step_peak(r, r->d.t, r->d.y);
 #endif
         see_state(r, r->d.y, 1);
+        if (r->flying)
+            see_flight(r, r->d.t, r->d.y);
     }
     r->t = t_bound;
     memcpy(r->y, r->d.y, sizeof r->y);
@@ -2621,27 +2663,16 @@ static int enter(run *r, int to, int s, int sigma)
 }
 
 #ifdef MODEL_FLIGHT
-/* The floor's normal force on the contact is <= 0 at the run's state: the block takes off. */
+/* The floor's normal force on the contact is < 0 at the run's state: the block takes off at once. */
 static int lift_off_at_start(const run *r)
 {
     double fn[2];
     floor_force_at(r, r->t, r->y, fn);
-    return fn[1] <= 0.0;
+    return fn[1] < 0.0;
 }
 #endif
 
 #ifdef MODEL_FLIGHT
-/* Free of the floor at the takeoff, the reference corner would accelerate down (ddv < 0): N touched 0 while the
- * floor's friction force held the corner down (mu_s = inf), which flight would drop: it cannot rise. */
-static int corner_sinks(const run *r)
-{
-    ode o;
-    double dy[NA];
-    ode_at(r, r->t, &o);
-    ode_rhs_flight(&o, r->t, r->y, dy);
-    return dy[NY + 3] < 0.0;
-}
-
 /* A grazing takeoff (its corner cannot rise): the block stays in the phase it took off from, no flight; its
  * N <= 0 there is not checked again until it is positive (skip_lift_check). */
 static void lift_off_grazing(run *r)
@@ -2670,8 +2701,7 @@ static int takeoff(run *r)
     r->lift_phase = phase;
     r->lift_sigma = sigma;
     r->t_takeoff = r->t;
-    if (corner_sinks(r))
-        lift_off_grazing(r);
+    r->safe = 0;
 #endif
     return 0;
 }
@@ -2846,35 +2876,35 @@ static int law_corner(const run *r, const double *on, double *out, int *sigma)
     return LAW_JAM;
 }
 
-/* The flat landing on both corners at theta = 0: sticks if P_s, P_o >= 0 and |P_t| <= mu_s (P_s + P_o); else
- * slides in the direction sigma (slide_first first) with sigma du >= 0 before and after and P_s, P_o >= 0.
- * Where neither holds and one corner's impulse would pull (< 0), the other lands alone: *alone is then the
- * corner that lands (+1: s, -1: -s) and LAW_JAM returned, else 0. out: dq+, du+, dv+, P_t, P_s, P_o (NQ + 5). */
+/* The flat landing on both corners at theta = 0 (numpy_backend's flat_landing): the law the floor allows,
+ * stuck if |P_t| <= mu_s (P_s + P_o), else sliding in the direction sigma (slide_first first) with sigma du >= 0
+ * before and after; under it both corners push (P_s, P_o >= 0): that law; one would pull: the other lands alone,
+ * *alone the corner that lands (+1: s, -1: -s) and LAW_JAM returned; else (no law, both pull) LAW_JAM with
+ * *alone 0. out: dq+, du+, dv+, P_t, P_s, P_o (NQ + 5). */
 static int law_flat(const run *r, const double *on, double *out, int *sigma, int *alone)
 {
     const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
-    int i, first, pulls;
+    int i, first, law = LAW_JAM;
+    *alone = 0;
     model_flat_landing_stick(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, out);
-    /* The corner whose impulse pulls: +1 (s) or -1 (-s), 2 both, 0 neither. */
-    pulls = out[NQ + 3] < 0.0 ? (out[NQ + 4] < 0.0 ? 2 : 1) : (out[NQ + 4] < 0.0 ? -1 : 0);
-    if (pulls == 0 && (!r->friction || fabs(out[NQ + 2]) <= r->c->mu_s * (out[NQ + 3] + out[NQ + 4])))
-        return LAW_STICK;
-    if (r->friction) {
+    if (fabs(out[NQ + 2]) <= r->c->mu_s * (out[NQ + 3] + out[NQ + 4])) {
+        law = LAW_STICK;
+    } else if (r->friction) {
         first = slide_first(du, out[NQ + 2]);
-        for (i = 0; i < 2; ++i) {
+        for (i = 0; i < 2 && law == LAW_JAM; ++i) {
             const int sg = i == 0 ? first : -first;
-            if (!(sg * du >= 0.0))
-                continue;
             model_flat_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, sg * r->c->mu_k, out);
-            if (out[NQ + 3] >= 0.0 && out[NQ + 4] >= 0.0 && sg * out[NQ] >= 0.0) {
+            if (sg * du >= 0.0 && sg * out[NQ] >= 0.0) {
+                law = LAW_SLIDE;
                 *sigma = sg;
-                return LAW_SLIDE;
             }
-            if (pulls == 0)
-                pulls = out[NQ + 3] < 0.0 ? (out[NQ + 4] < 0.0 ? 2 : 1) : (out[NQ + 4] < 0.0 ? -1 : 0);
         }
     }
-    *alone = pulls == 1 || pulls == -1 ? -pulls : 0;
+    if (law == LAW_JAM || (out[NQ + 3] >= 0.0 && out[NQ + 4] >= 0.0))
+        return law;
+    if (!(out[NQ + 3] < 0.0 && out[NQ + 4] < 0.0))
+        *alone = out[NQ + 4] < 0.0 ? 1 : -1;
+    *sigma = 0;
     return LAW_JAM;
 }
 
@@ -2886,7 +2916,7 @@ static int landing(run *r, int other)
 {
     double on[2 * MAX_STOP_SIDES], out[NQ + 5], before[NA];
     const double *inputs = MODEL_NSTOPS > 0 ? on : NULL;
-    int law, sigma = 0, alone = 0, flat = 0, guard, ended;
+    int law, sigma = 0, alone = 0, flat = 0, rests = 0, guard, ended, s;
     memcpy(before, r->y, sizeof before);
     regime_inputs(r->k, on);
     if (other)
@@ -2909,21 +2939,23 @@ static int landing(run *r, int other)
         memcpy(r->y + NQ, out, NQ * sizeof *out);
         r->y[NY + 1] = out[NQ];
         r->y[NY + 3] = out[NQ + 1];
-        guard = flat ? (law == LAW_STICK ? PHASE_GUARD_RESTS : PHASE_GUARD_RESTS_SLIDING)
-                     : (law == LAW_STICK ? PHASE_GUARD_ROCKS : PHASE_GUARD_ROCKS_SLIDING);
-        r->law_guard = guard;
-        r->law_sigma = sigma;
         if (r->y[NY + 3] > r->c->dtheta_rest * r->base / 2.0) {
-            guard = PHASE_GUARD_BOUNCES;
-            r->res->flights += 1; /* it leaves the floor again */
+            guard = PHASE_GUARD_BOUNCES; /* the flight goes on (one flight: no takeoff) */
         } else {
             r->y[NY + 3] = 0.0;
             r->res->flight_time += r->t - r->t_takeoff;
+            /* A corner landing alone at theta = 0 below dtheta_rest rests on the base (rule 2's snap below). */
+            rests = r->y[0] == 0.0 && (flat || fabs(r->y[NQ]) < r->c->dtheta_rest);
+            guard = rests ? (law == LAW_STICK ? PHASE_GUARD_RESTS : PHASE_GUARD_RESTS_SLIDING)
+                          : (law == LAW_STICK ? PHASE_GUARD_ROCKS : PHASE_GUARD_ROCKS_SLIDING);
         }
     }
-    ended = enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, guard), r->phase, sigma);
+    s = r->phase;
+    ended = enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, guard), s, sigma);
     if (ended) /* jammed: the run ends in flight (simulate_one counts its time) */
         return 1;
+    if (rests && !flat)
+        rest_snap(r, about(r->o.k, (double)s));
 #if MODEL_NSTOPS > 0
     /* The velocities jumped: the pads' memory and regime follow the state (rule 6). */
     stop_memory_jump(r->k, before, r->y);
@@ -3127,17 +3159,7 @@ static void phase_machine(run *r)
             skip_uplift_check = 1;
             break;
 #ifdef MODEL_FLIGHT
-        case SEG_NO_BOUNCE:
-            /* A grazing bounce: the corner cannot rise, the landing does not bounce (nor counts a flight). */
-            r->res->flights -= 1;
-            r->res->flight_time += r->t - r->t_takeoff;
-            r->y[NY + 3] = 0.0;
-            if (enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, r->law_guard), r->phase, r->law_sigma))
-                return;
-            break;
-#endif
-#ifdef MODEL_FLIGHT
-        case SEG_NO_TAKEOFF: /* a grazing takeoff its first step shows (corner_sinks: at once) */
+        case SEG_NO_TAKEOFF:
             lift_off_grazing(r);
             break;
 #endif
@@ -3319,8 +3341,6 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.exits[PHASE_FLIGHT] = FLIGHT ? phase_exit_events(PHASE_FLIGHT) : 0u;
     r.flying = 0;
     r.t_takeoff = 0.0;
-    r.law_guard = PHASE_GUARD_RESTS;
-    r.law_sigma = 0;
     r.lift_phase = r.lift_sigma = r.skip_lift_check = 0;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
