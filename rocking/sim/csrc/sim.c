@@ -1469,6 +1469,8 @@ static void events_drop(event_set *es, int kind)
  * whole step), and not reported. */
 static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 {
+    if (ec->o->flying) /* in flight every located point counts towards u_max and jump_max (see_flight) */
+        return 0;
     if (kind == EV_THETA_PEAK)
         return dopri_dense_bound(d, 0) <= *ec->theta_max;
     if (kind == EV_X_PEAK)
@@ -2652,8 +2654,8 @@ static int enter(run *r, int to, int s, int sigma)
                                                     : ROCKING_FAILED; /* not reached: the table has the exit */
         return 1;
     }
-    /* A slip episode: the base starts sliding on the floor (from a stuck contact, or landing from flight). */
-    r->res->slides += PHASES[to].slides && !PHASES[to].flies && r->sigma == 0;
+    /* A slip episode: a stuck contact starts sliding (not a landing that slides on: numpy_backend's count). */
+    r->res->slides += PHASES[to].slides && !PHASES[to].flies && r->sigma == 0 && !r->flying;
     r->phase = PHASES[to].rocks ? s : 0;
     /* A stuck phase is entered with du = 0: a stop, a holding impact; in flight the contact neither sticks
      * nor slides (sigma 0), u and du are integrated. */
@@ -2951,6 +2953,7 @@ static int landing(run *r, int other)
         }
     }
     s = r->phase;
+    r->res->u_max = max2(r->res->u_max, fabs(r->y[NY])); /* the corner that lands: its own u */
     ended = enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, guard), s, sigma);
     if (ended) /* jammed: the run ends in flight (simulate_one counts its time) */
         return 1;
