@@ -1,12 +1,12 @@
 """DRAFT, not collected by pytest (its name is not ``test_*``): ``tests/test_flight_backends.py`` for the C back end.
 
 Run it by hand, ``python -m pytest -q -n 0 tests/draft_flight_backends_c.py``; once green, "c" joins ``BACKENDS`` of
-``tests/test_flight_backends.py`` and this file goes. It fails on the C back end of branch ``fc`` (18729a5): a fast
-rocking block under a horizontal pulse on the paper's floor is never let off the floor (its N falls to -0.66 of the
-weight, the floor pulling, and it overturns on the floor at 0.706 s where NumPy and the reference fly and overturn
-in the air at 0.779 s), and with a damper jump_max is short by 0.9 to 2.7 % where the highest point is the corner
--s's (the raised corner's; the reference corner's peaks are right): runs 8, 11 and 16 of
-``random_cases(20, 40, damper=True)``.
+``tests/test_flight_backends.py`` and this file goes. On main at 18729a5 (C merged) two tests fail: a fast rocking
+block under a horizontal pulse on the paper's floor is never let off the floor (its N falls to -0.66 of the weight,
+the floor pulling, and it overturns on the floor at 0.706 s where NumPy and the reference fly and overturn in the air
+at 0.779 s; branch fc's 7475b5f flies it); and with a damper jump_max is short by 0.9 to 2.7 % where the highest
+point is the corner -s's (the raised corner's; the reference corner's peaks are right): runs 8, 11 and 16 of
+``random_cases(20, 40, damper=True)`` (still at fc's 7475b5f).
 """
 
 from __future__ import annotations
