@@ -9,6 +9,7 @@ would change.
 
 from __future__ import annotations
 
+import functools
 import math
 
 import numpy as np
@@ -28,36 +29,41 @@ from tests.flight_cases import (
     reference,
 )
 
-#: The back ends that follow flight; the C back end joins when its flight lands.
-BACKENDS = ("numpy",)
+#: The back ends that follow flight.
+BACKENDS = ("numpy", "c")
+#: Those held to the reference run by run: C joins when tests/draft_flight_backends_c.py is green (on main at 18729a5
+#: it misses a fast rocking block's takeoff without a vertical component and a raised corner's peak with a damper).
+AGREE = ("numpy",)
 #: theta_max, x_max, jump_max and flight_time of a back end at rtol 1e-10 against the reference at 1e-11, relative:
 #: the largest measured over 20 + 20 runs is 9.5e-9 (bench/flight_facts.py), ten times it rounded up.
 TOLERANCE = 1e-7
 
 
-@pytest.fixture(scope="module", params=BACKENDS)
-def responses(request):
+@functools.cache
+def responses(backend: str) -> list:
     """The 20 random vertical pulses past the flight threshold of the bare block and 10 with random dampers, run by
-    the reference and by the back end (recorded): ``(case, run, response)``."""
+    the reference and by ``backend`` (recorded): ``(case, run, response)``."""
     cases = random_cases() + random_cases(10, 40, damper=True)
-    return [(case, reference(case), project(case, request.param, record=True)) for case in cases]
+    return [(case, reference(case), project(case, backend, record=True)) for case in cases]
 
 
-def test_random_vertical_pulses_are_the_reference(responses):
+@pytest.mark.parametrize("backend", AGREE)
+def test_random_vertical_pulses_are_the_reference(backend):
     """(a) Each run: the same status and counts of flights, impacts, uplifts and slides; theta_max, x_max, jump_max
     and flight_time within :data:`TOLERANCE`; at least 20 flights of the bare block."""
-    for case, run, got in responses:
+    for case, run, got in responses(backend):
         diff = differences(run, got)
         assert diff["same"], (case, got.summary(), run)
         assert max(diff[name] for name in ("theta_max", "x_max", "jump_max", "flight_time")) < TOLERANCE, (case, diff)
-    assert sum(run.flights for case, run, _ in responses if case.damper is None) >= 20
+    assert sum(run.flights for case, run, _ in responses(backend) if case.damper is None) >= 20
 
 
-def test_energy_never_rises_at_a_landing(responses):
+@pytest.mark.parametrize("backend", BACKENDS)
+def test_energy_never_rises_at_a_landing(backend):
     """(c) At every landing of the runs' histories (e_n = 0), the energy computed from the history's own columns
     (:func:`tests.flight_cases.history_energy`) after is below the one before."""
     count = 0
-    for case, _, got in responses:
+    for case, _, got in responses(backend):
         for before, after in landings(got.history):
             e0, e1 = (history_energy(case.block, case.the_damper, got.history, i) for i in (before, after))
             assert e1 < e0, (case, got.history["t"][before], e0, e1)
@@ -102,7 +108,7 @@ def test_floor_drop_bounces(backend, e_n):
     assert got.flight_time == pytest.approx(total, rel=1e-8)
 
 
-@pytest.mark.parametrize("backend", BACKENDS)
+@pytest.mark.parametrize("backend", AGREE)
 def test_a_fast_rocking_block_takes_off(backend):
     """No vertical motion: the reference block rocking fast to overturning under a horizontal one-sine (beta 6,
     Omega 2, to the left) lifts its pivot where the rocking phase's N has reached 0 and the free flight lifts the
