@@ -1538,6 +1538,39 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 /* 4. The phase machine                                                      */
 /* ------------------------------------------------------------------------ */
 
+/* The reference corner's height v in a flying state y (0 without flight). */
+static double corner_height(const double *y)
+{
+#ifdef MODEL_FLIGHT
+    return y[NY + 2];
+#else
+    (void)y;
+    return 0.0;
+#endif
+}
+
+/* The reference corner leaves the floor: v = 0 and dv > 0 (a bounce; a takeoff has dv = 0). */
+static int corner_rising(const double *y)
+{
+#ifdef MODEL_FLIGHT
+    return y[NY + 2] == 0.0 && y[NY + 3] > 0.0;
+#else
+    (void)y;
+    return 0;
+#endif
+}
+
+/* The height of the corner other than the reference one in a flying state y at t (0 without flight). */
+static double corner_other_height(const event_ctx *ec, double t, const double *y)
+{
+#ifdef MODEL_FLIGHT
+    return corner_height_other(ec, t, y);
+#else
+    (void)ec, (void)t, (void)y;
+    return 0.0;
+#endif
+}
+
 /* How a segment ended, besides an event (enum event_kind). */
 enum {
     SEG_BOUND = -1,
@@ -1545,7 +1578,8 @@ enum {
     SEG_NO_LIFT = -3,
     SEG_MAX_STEPS = -4,
     SEG_STOPPED = -5,
-    SEG_NO_SLIP = -6
+    SEG_NO_SLIP = -6,
+    SEG_NO_TAKEOFF = -7
 };
 
 #if NQ > 1
@@ -1570,6 +1604,8 @@ typedef struct run {
     int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
     int flying;     /* in flight about the reference corner s = phase (0 sigma) */
     double t_takeoff; /* when the current flight started */
+    int lift_phase, lift_sigma; /* the phase the current flight took off from: s, sigma */
+    int skip_lift_check; /* the next segment does not check N <= 0 at its start (a grazing takeoff) */
     double base;    /* the base width B [m], from corner_heights (the bounce speed of a landing) */
     int friction;   /* the floor's mu_s is finite: the events of friction are watched (phases.py) */
     double atol[NA]; /* the case's, then those of u and du (simulate_one) */
@@ -2063,7 +2099,12 @@ static int run_segment(run *r, double t_bound)
     /* Sliding from du = 0 (a slip starts, reverses): sigma du must turn positive, or the stop event would
      * never fire, and friction would push the base along. */
     int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
-    int starting = lifting || slipping;
+    /* Taking off from v = dv = 0: v must turn positive, or the landing event (armed by v > 0) would never fire
+     * and the corner would sink through the floor; so must the other corner's height where it starts at 0 too
+     * (a flat base). (A bounce, dv > 0, has its landing armed at once: flight_landings_armed.) */
+    int launching = r->flying && corner_height(r->y) == 0.0 && !corner_rising(r->y);
+    int corner_flat = 0;
+    int starting = lifting || slipping || launching;
     /* A sampled motion while it acts: every step ends at the next sample time at
      * the latest (a kink of ag), inside the segment. ag is continuous there, so
      * the step's last stage is still the next one's first (FSAL). */
@@ -2099,6 +2140,7 @@ static int run_segment(run *r, double t_bound)
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
     dopri_step = dopri_stepper(&r->d);
+    corner_flat = launching && corner_other_height(&r->ec, r->t, r->y) == 0.0;
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
@@ -2110,10 +2152,11 @@ static int run_segment(run *r, double t_bound)
     events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
     /* N <= 0 where the phase starts (after an impact, a landing, at t = 0): the block takes off at once (the
      * event sees only a sign change inside a step). */
-    if (active >> EV_LIFT_OFF & 1u)
+    if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check)
         for (k = 0; k < r->events.n; ++k)
             if (r->events.w[k].kind == EV_LIFT_OFF && r->events.g[k] < 0.0)
                 return EV_LIFT_OFF;
+    r->skip_lift_check = 0;
     if (r->flying)
         flight_landings_armed(r);
     if (r->hist != NULL && r->c->record_dt > 0.0)
@@ -2133,14 +2176,16 @@ static int run_segment(run *r, double t_bound)
             return SEG_STOPPED;
         if (starting) {
             const int lifted = !lifting || s * r->d.y[0] > 0.0;
-            if (!(lifted && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
+            const int bounced =
+                !launching || (corner_height(r->d.y) > 0.0 && !(corner_flat && !(corner_other_height(&r->ec, r->d.t, r->d.y) > 0.0)));
+            if (!(lifted && bounced && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
                 /* The block fell back within the first step (or never rose), or the base did not move
                  * in the slip's direction, or the corner fell back to the floor: retry shorter; if even the
                  * shortest step cannot lift it (slip it, bounce it), it does not lift (slip, bounce): a
                  * grazing uplift (slip, bounce). */
                 const double h = 0.1 * r->d.h;
                 if (h < min_step_at(r->d.t_old))
-                    return lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
+                    return !bounced ? SEG_NO_TAKEOFF : lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
                 dopri_undo(&r->d, h);
                 continue;
             }
@@ -2629,18 +2674,34 @@ static int lift_off_at_start(const run *r)
 }
 #endif
 
+#ifdef MODEL_FLIGHT
+/* A grazing takeoff (its corner cannot rise): the block stays in the phase it took off from, no flight; its
+ * N <= 0 there is not checked again until it is positive (skip_lift_check). */
+static void lift_off_grazing(run *r)
+{
+    r->res->flights -= 1;
+    r->flying = 0;
+    r->phase = r->lift_phase;
+    r->sigma = r->lift_sigma;
+    r->y[NY + 3] = 0.0;
+    r->skip_lift_check = 1;
+}
+#endif
+
 #ifdef MODEL_FRICTION
 /* The lift-off event: the block leaves the floor about the reference corner s, the pivot when rocking, +1 from
  * full contact; u and du as they are, v = dv = 0 (docs/model.md section 16). Where the table leads (a model
  * without flight ends the run there); returns 1 where the run ends. */
 static int takeoff(run *r)
 {
-    const int s = r->phase != 0 ? r->phase : 1;
+    const int s = r->phase != 0 ? r->phase : 1, phase = r->phase, sigma = r->sigma;
     if (enter(r, phase_next(phase_current(r), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), s, 0))
         return 1;
 #ifdef MODEL_FLIGHT
     r->y[NY + 2] = r->y[NY + 3] = 0.0;
     r->res->flights += 1;
+    r->lift_phase = phase;
+    r->lift_sigma = sigma;
     r->t_takeoff = r->t;
     r->safe = 0;
 #endif
@@ -2730,7 +2791,7 @@ static int floor_at_start(run *r, int check_slip)
     double fn[2];
     const int code = phase_code(r, r->phase, r->sigma);
     floor_force_at(r, r->t, r->y, fn);
-    if (fn[1] <= 0.0)
+    if (fn[1] <= 0.0 && !r->skip_lift_check)
         return takeoff(r);
     /* At the floor's limit too: a phase that starts there (an uplift where ag crosses mu_s g as the uplift
      * threshold, mu_s = tan alpha) holds its contact only to rounding (the slip event needs it to fall from > 0). */
@@ -2985,7 +3046,8 @@ static void phase_machine(run *r)
 #ifdef MODEL_FLIGHT
         /* N <= 0 where full contact starts: the block takes off at once, before any uplift (a pivot needs the
          * floor to push); a rocking phase checks it where its segment starts (run_segment). */
-        if (r->phase == 0 && !r->flying && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) && lift_off_at_start(r)) {
+        if (r->phase == 0 && !r->flying && !r->skip_lift_check && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) &&
+            lift_off_at_start(r)) {
             if (takeoff(r))
                 return;
             if (events_exhausted(r)) {
@@ -3099,6 +3161,11 @@ static void phase_machine(run *r)
             r->phase = 0;
             skip_uplift_check = 1;
             break;
+#ifdef MODEL_FLIGHT
+        case SEG_NO_TAKEOFF:
+            lift_off_grazing(r);
+            break;
+#endif
         case SEG_NO_SLIP:
             /* A grazing slip: the base cannot move against F, the contact stays stuck; not a slip episode.
              * |F| is still barely above mu_s N: the start check would slip it again, forever. */
@@ -3277,6 +3344,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.exits[PHASE_FLIGHT] = FLIGHT ? phase_exit_events(PHASE_FLIGHT) : 0u;
     r.flying = 0;
     r.t_takeoff = 0.0;
+    r.lift_phase = r.lift_sigma = r.skip_lift_check = 0;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
