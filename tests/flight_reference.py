@@ -42,6 +42,8 @@ from scipy.linalg.lapack import dgesv
 
 #: A landing is flat, on both corners, where ``|sin theta|`` is at most this (docs/model.md section 16).
 FLAT = 1e-12
+#: How far along the free flight a stuck corner's takeoff looks whether the corner rises [s] (:meth:`_Sim.sinks`).
+PROBE = 1e-6
 
 
 def _rot(theta: float, x: float, y: float) -> np.ndarray:
@@ -339,6 +341,7 @@ class _Sim:
         self.z = body.centroid(1, 0.0, 0.0, 0.0, 0.0)
         self.phase: tuple = ("contact", 0)
         self._t = 0.0  # the start of the current segment
+        self.armed: list = [True]  # the rocking phase's takeoff: emptied by a graze until its margin is positive
 
     def forces(self, t, z, phase=None):
         """``(ddtheta, ddx, a_G, F, N)`` of ``phase`` (default the current one) at ``(t, z)``."""
@@ -400,10 +403,17 @@ class _Sim:
             dd, ddx, a_G, _, _ = self.forces(t, zz)
             return [y[1], dd, y[3], ddx, y[5], corner_rate(b, k, zz, dd, a_G)[0]]
 
+        armed, t0 = self.armed, self._t
+
+        def takeoff(t, y):
+            margin = self.takeoff_margin(t, to_z(y))
+            armed.extend([True] if margin > 0 and t > t0 and not armed else [])
+            return margin if armed else -1.0  # after a graze: armed once the margin is positive past the start
+
         ev = {
             "impact": lambda t, y: k * y[0],
             "overturn": lambda t, y: math.pi / 2 - abs(y[0]),
-            "takeoff": lambda t, y: self.takeoff_margin(t, to_z(y)),
+            "takeoff": takeoff,
             " ": lambda t, y: y[1],
             "  ": lambda t, y: y[3],
         }
@@ -511,8 +521,15 @@ class _Sim:
                 return
             *_, F, N = self.forces(t, self.z)
             sigma = self.phase[-1]
-            if (sum(N) if kind == "contact" else self.takeoff_margin(t, self.z)) < 0:
-                self.takeoff()
+            if (
+                kind == "contact"
+                and sum(N) < 0
+                or kind == "rocking"
+                and self.armed
+                and self.takeoff_margin(t, self.z) < 0
+            ):
+                if not self.takeoff(t):
+                    return
             elif kind == "contact" and min(N) < 0:
                 self.run.uplifts += 1
                 self.phase = ("rocking", 1 if N[1] < 0 else -1, sigma)
@@ -532,10 +549,33 @@ class _Sim:
         dd, _, a_G, _, _ = self.forces(t, z, ("flight",))
         return max(N, -corner_rate(self.body, self.phase[1], z, dd, a_G)[1])
 
-    def takeoff(self):
-        """Into flight (the corners on the floor land only once they have risen: :meth:`_flight`)."""
+    def sinks(self, t: float) -> bool:
+        """With ``lifts``, at the takeoff of a stuck corner of a floor without friction: whether the free flight
+        fails to lift it. Its vertical acceleration is 0 there (up to rounding) when the takeoff is the free flight's
+        margin's, so it is read ``PROBE`` seconds along the flight itself (integrated, rtol 1e-12): not positive, the
+        corner would go into the floor, and the takeoff grazes (the back ends' decision, docs/simulation.md
+        "Flight")."""
+        if not self.lifts or self.phase[0] != "rocking" or self.phase[-1] != 0 or math.isfinite(self.floor.mu_s):
+            return False
+
+        def rhs(t, y):
+            dd, ddx, a_G, _, _ = self.forces(t, y, ("flight",))
+            return [y[3], y[4], y[5], a_G[0], a_G[1], dd, y[7], ddx]
+
+        z = solve_ivp(rhs, (t, t + PROBE), self.z, "DOP853", rtol=1e-12, atol=1e-15).y[:, -1]
+        dd, _, a_G, _, _ = self.forces(t + PROBE, z, ("flight",))
+        return not corner_rate(self.body, self.phase[1], z, dd, a_G)[1] > 0
+
+    def takeoff(self, t: float) -> bool:
+        """Into flight (the corners on the floor land only once they have risen: :meth:`_flight`), unless the
+        takeoff grazes (:meth:`sinks`): then the pivot is held and its takeoff disarmed until its margin is
+        positive. Whether the block took off."""
+        if self.sinks(t):
+            self.armed = []
+            return False
         self.run.flights += 1
         self.phase = ("flight",)
+        return True
 
     def rest_snap(self, k: int, z, law: int):
         """Full contact on the corner ``k``'s side at ``omega = 0`` after an impact of ``law``: the base keeps its
@@ -552,12 +592,13 @@ class _Sim:
         kind = self.phase[0]
         if name in ("slip", "uplift+1", "uplift-1") and sum(self.forces(t, self.z)[4]) <= 1e-9 * (b.M + b.m) * b.g:
             name = "takeoff"  # every N reaches 0 at once (a vertical motion alone): nothing holds the block
+        self.armed = [True]
         if name == "overturn":
             r.status = "overturned"
         elif name == "rest":
             r.status = "rest"
         elif name == "takeoff":
-            self.takeoff()
+            self.takeoff(t)
         elif name.startswith("uplift"):
             r.uplifts += 1
             self.phase = ("rocking", int(name[-2:]), self.phase[1])
