@@ -2881,6 +2881,39 @@ static void corner_switch(run *r, const double *on)
     r->phase = -r->phase;
 }
 
+/* The reference corner lands on a floor without friction (mu_s = inf) where the sticking impulse (out, from
+ * landing_stick) would pull, P_n <= 0: the cone of the floor's impulses is the half-plane P_n >= 0, and the
+ * plastic landing is the tangential impulse alone, which stops the slip (du+ = 0) and lifts the corner
+ * (dv+ = dv - W_nt du / W_tt > 0 exactly where the sticking P_n < 0; docs/model.md section 16). Built from the
+ * sticking and the frictionless landings (landing_slide at mu_slip = 0): the velocities after a landing are
+ * linear in its impulse; numpy_backend's tangential_landing. out: dq+, du+, dv+, P_t, P_n; 0 where it does not
+ * lift the corner. */
+static int tangential_landing(const run *r, const double *on, double *out)
+{
+    double free[NQ + 4], before[NQ + 2], a_n[NQ + 2], a_t[NQ + 2], p_t;
+    const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
+    const double P_t = out[NQ + 2], P_n = out[NQ + 3];
+    int j;
+    model_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, 0.0, free);
+    if (!(free[NQ + 3] > 0.0) || P_t == 0.0)
+        return 0;
+    for (j = 0; j < NQ; ++j)
+        before[j] = r->y[NQ + j];
+    before[NQ] = du;
+    before[NQ + 1] = dv;
+    for (j = 0; j < NQ + 2; ++j) {
+        a_n[j] = (free[j] - before[j]) / free[NQ + 3];
+        a_t[j] = (out[j] - before[j] - a_n[j] * P_n) / P_t;
+    }
+    p_t = -du / a_t[NQ];
+    for (j = 0; j < NQ + 2; ++j)
+        out[j] = before[j] + a_t[j] * p_t;
+    out[NQ] = 0.0;
+    out[NQ + 2] = p_t;
+    out[NQ + 3] = 0.0;
+    return out[NQ + 1] >= 0.0;
+}
+
 /* The landing of the reference corner alone (landing_law): sticks if the floor holds it, P_n > 0 and
  * |P_t| <= mu_s P_n; else slides in the direction sigma in which the slip keeps its sign through it, with
  * P_n > 0; else jams. out: dq+, du+, dv+, P_t, P_n (NQ + 4). */
@@ -2892,7 +2925,7 @@ static int law_corner(const run *r, const double *on, double *out, int *sigma)
     if (out[NQ + 3] > 0.0 && (!r->friction || fabs(out[NQ + 2]) <= r->c->mu_s * out[NQ + 3]))
         return LAW_STICK;
     if (!r->friction)
-        return LAW_JAM;
+        return tangential_landing(r, on, out) ? LAW_STICK : LAW_JAM;
     first = slide_first(du, out[NQ + 2]);
     for (i = 0; i < 2; ++i) {
         const int sg = i == 0 ? first : -first;
