@@ -190,11 +190,12 @@ def corner_rate(body: Body, k: int, z, ddtheta: float, a_G) -> np.ndarray:
     return a_G + ddtheta * _perp(r) - z[5] ** 2 * r
 
 
-def impulses(body: Body, z, contacts, dv_after: float, mu: float | None):
+def impulses(body: Body, z, contacts, dv_after: float, mu: float | None, normal: bool = True):
     """The floor's impulses on the corners ``contacts``: ``(z+, P_t, P)``, ``P`` one per contact.
 
     Momentum and angular momentum of the block about ``G`` and the mass's momentum change by the impulses; the
-    touching corners' normal velocity after is ``dv_after``; their slip after 0 (``mu=None``) or ``P_t = -mu P_n``.
+    touching corners' normal velocity after is ``dv_after`` (``normal=False``: no normal impulse instead, the
+    tangential impulse alone); their slip after 0 (``mu=None``) or ``P_t = -mu P_n``.
     """
     d = body.m > 0
     A, *_ = _system(body, z, contacts, 0 if mu is None else 1, 0.0 if mu is None else mu)
@@ -204,15 +205,20 @@ def impulses(body: Body, z, contacts, dv_after: float, mu: float | None):
     if d:
         b[3:5] = body.m * body.mass_velocity(z)
     b[3 + 2 * d : 3 + 2 * d + len(contacts)] = dv_after
+    if not normal:
+        for j in range(len(contacts)):
+            A[3 + 2 * d + j] = 0.0
+            A[3 + 2 * d + j, 3 + 2 * d + 1 + j] = 1.0
+            b[3 + 2 * d + j] = 0.0
     sol = _solve(A, b)
     f = 3 + 2 * d
     after = np.array([z[0], z[1], z[2], sol[0], sol[1], sol[2], z[6], sol[3] if d else 0.0])
     return after, sol[f], sol[f + 1 :]
 
 
-def impulse(body: Body, k: int, z, dv_after: float, mu: float | None):
+def impulse(body: Body, k: int, z, dv_after: float, mu: float | None, normal: bool = True):
     """The corner ``k`` alone: ``(z+, P_t, P_n)``."""
-    after, Pt, P = impulses(body, z, (k,), dv_after, mu)
+    after, Pt, P = impulses(body, z, (k,), dv_after, mu, normal)
     return after, Pt, P[0]
 
 
@@ -301,6 +307,11 @@ def corner_law(body: Body, floor: Floor, k: int, z, dv_after: float):
     zs, Pt, Pn = impulse(body, k, z, dv_after, None)
     if Pn > 0 and floor.holds(Pt, Pn):
         return zs, 0
+    if math.isinf(floor.mu_s):
+        # The floor's impulses fill the half-plane P_n >= 0: where sticking would pull, the tangential impulse
+        # alone stops the slip and the corner leaves the floor (the back ends' decision, docs/model.md section 16).
+        zt, _, _ = impulse(body, k, z, dv_after, None, normal=False)
+        return (zt, 0) if body.corner(k, zt)[1][1] >= 0 else (z, None)
     du = body.corner(k, z)[1][0]
     for sigma in (1, -1) if math.isfinite(floor.mu_k) else ():
         zp, Pt, Pn = impulse(body, k, z, dv_after, sigma * floor.mu_k)
@@ -654,7 +665,7 @@ class _Sim:
         if law is None:
             r.status = "jammed"
             return
-        if -fl.e_n * dv > self.dtheta_rest * b.B / 2:  # bounces: flight goes on
+        if b.corner(k or 1, zp)[1][1] > self.dtheta_rest * b.B / 2:  # bounces (or leaves tangentially): flight goes on
             self.z = zp
             self.phase = ("flight",)
             return

@@ -125,3 +125,31 @@ def test_energy_never_rises_at_a_plastic_landing(n, seed, damper):
     landings = [landing for run in runs for landing in run.landings]
     assert len(landings) >= 10 and {law for _, law, *_ in landings} == {0, 1, -1}
     assert max(after - before for _, _, before, after, *_ in landings) < 0.0
+
+
+@pytest.mark.parametrize("damper", [False, True])
+def test_tangential_landing_where_sticking_would_pull(damper):
+    """mu_s = inf: where the sticking impulse of a corner landing would pull (P_n < 0), the floor's impulse is the
+    tangential one alone (docs/model.md section 16): the slip stops, the corner leaves the floor (dv+ > 0), and the
+    energy falls by du-^2 / (2 W_tt), W_tt the corner's slip speed per unit tangential impulse; where sticking pushes
+    (P_n > 0) the tangential impulse alone would drive the corner into the floor (the same inequality)."""
+    rng = np.random.default_rng(11)
+    blk = rocking.Block.reference()
+    tuned = rocking.Damper.from_nondim(blk, gamma=0.1, omega_ratio=1.0, zeta=0.05, h=0.05) if damper else None
+    b, pulled = body(blk, tuned), 0
+    for _ in range(400):
+        s = int(rng.choice([-1, 1]))
+        theta, omega = s * rng.uniform(0.05, 1.4), rng.uniform(-6, 6)
+        z = b.centroid(s, theta, 0.0, rng.uniform(-3, 3), omega, 0.0, rng.uniform(-1, -0.01), x=0.1 * damper)
+        du, before = b.corner(s, z)[1][0], b.energy(z)
+        _, _, P_n = ref.impulse(b, s, z, 0.0, None)
+        zt, P_t, P_0 = ref.impulse(b, s, z, 0.0, None, normal=False)
+        du_t, dv_t = b.corner(s, zt)[1]
+        assert P_0 == 0.0 and abs(du_t) < 1e-12 * (1 + abs(du))
+        assert (dv_t > 0) == (P_n < 0)
+        if P_n < 0:
+            pulled += 1
+            law_z, law = ref.corner_law(b, ref.Floor(), s, z, 0.0)
+            assert law == 0 and np.array_equal(law_z, zt)
+            assert before - b.energy(zt) == pytest.approx(du**2 / (2 * (-du / P_t)), rel=1e-9)
+    assert pulled >= 10
