@@ -1,0 +1,367 @@
+/* The C batch in lanes (lanes.h): included by sim.c after simulate_one, whose types and functions it uses.
+ *
+ * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
+ * a rocking step (dopri_step_of calls lanes_stages), the lane posts the request and switches back to the
+ * scheduler (lanes_run); once every lane waits (or has no case left), the scheduler computes all their
+ * stages over vectors (lanes_kernel.h) and resumes each lane, which goes on with its scalar step-size control,
+ * events and phases until its next rocking step. A lane whose run ends takes the next case of the batch.
+ */
+#include <stdlib.h>
+
+#include "lanes.h"
+
+#if defined(__x86_64__) && (defined(__GNUC__) || defined(__clang__)) && defined(ROCKING_LANES_MODEL)
+#include ROCKING_LANES_MODEL
+#endif
+#ifndef LANES_MODEL
+#define LANES_MODEL 0
+#endif
+
+/* The runs in flight at once: enough to fill an AVX-512 vector of doubles; a narrower one takes them in turn. */
+#define LANES_RUNS 8
+/* The stack of a lane: simulate_one needs a few kB (its run, the scalar stages); far more, never touched. */
+#define LANES_STACK (256 * 1024)
+
+enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_READY, LANE_DONE };
+
+typedef struct lanes lanes;
+
+typedef struct lane {
+    void *sp;      /* the stack pointer of the coroutine while it is suspended */
+    lanes *owner;  /* the scheduler */
+    int state;     /* LANE_* */
+    int64_t i;     /* the case it runs */
+    /* a request for the stages of a step (lanes_stages) and its answer, err */
+    dopri *d;
+    ode *o;
+    const tolerance *tol;
+    double h, t_new, *y_new, err;
+} lane;
+
+/* The scalar stages and error estimate of a step (dopri_step_of's own). */
+static double scalar_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+{
+    dopri_stages(d, o, h, t_new, y_new);
+    return dopri_error(d, tol, h, y_new, NY);
+}
+
+/* The scalar loop of rocking_simulate_batch: case i exactly as rocking_simulate runs it. */
+static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                         const rocking_control *control)
+{
+    int64_t i;
+    for (i = 0; i < n; ++i) {
+        if (control != NULL && control->stop != NULL && *control->stop != 0) {
+            out[i].status = ROCKING_STOPPED; /* the rest of the batch is not run */
+            continue;
+        }
+        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control, NULL);
+    }
+}
+
+#if LANES_MODEL
+
+/* ---- vector sin and cos ------------------------------------------------------------------------------ */
+
+/* The kernels of fdlibm's k_sin.c and k_cos.c (sin and cos on [-pi/4, pi/4], error below one unit in the
+ * last place) and the parts of pi/2 of its e_rem_pio2.c:
+ *   Copyright (C) 1993 by Sun Microsystems, Inc. All rights reserved.
+ *   Developed at SunPro, a Sun Microsystems, Inc. business.
+ *   Permission to use, copy, modify, and distribute this software is freely granted, provided that this
+ *   notice is preserved. */
+#define LANES_S1 -1.66666666666666324348e-01
+#define LANES_S2 8.33333333332248946124e-03
+#define LANES_S3 -1.98412698298579493134e-04
+#define LANES_S4 2.75573137070700676789e-06
+#define LANES_S5 -2.50507602534068634195e-08
+#define LANES_S6 1.58969099521155010221e-10
+#define LANES_C1 4.16666666666666019037e-02
+#define LANES_C2 -1.38888888888741095749e-03
+#define LANES_C3 2.48015872894767294178e-05
+#define LANES_C4 -2.75573143513906633035e-07
+#define LANES_C5 2.08757232129817482790e-09
+#define LANES_C6 -1.13596475577881948265e-11
+#define LANES_INVPIO2 6.36619772367581382433e-01 /* 2 / pi */
+#define LANES_PIO2_1 1.57079632673412561417e+00  /* the first 33 bits of pi/2 */
+#define LANES_PIO2_2 6.07710050630396597660e-11  /* the next 33 bits */
+#define LANES_PIO2_2T 2.02226624879595063154e-21 /* pi/2 - PIO2_1 - PIO2_2 */
+/* 1.5 2^52: x + LANES_SHIFTER - LANES_SHIFTER rounds x to an integer, which the low bits of the sum hold. */
+#define LANES_SHIFTER 6755399441055744.0
+/* Where n PIO2_1 and n PIO2_2 stay exact (|n| < 2^20) with a margin; larger arguments go to libm. */
+#define LANES_TRIG_MAX 1.0e5
+
+/* ---- the kernels, one per vector width --------------------------------------------------------------- */
+
+#define LW 2
+#define LTARGET "sse2"
+#define LNAME(x) x##_sse2
+#include "lanes_kernel.h"
+#undef LW
+#undef LTARGET
+#undef LNAME
+
+#define LW 4
+#define LTARGET "avx2"
+#define LNAME(x) x##_avx2
+#include "lanes_kernel.h"
+#undef LW
+#undef LTARGET
+#undef LNAME
+
+#define LW 8
+#define LTARGET "avx512f"
+#define LNAME(x) x##_avx512
+#include "lanes_kernel.h"
+#undef LW
+#undef LTARGET
+#undef LNAME
+
+typedef void (*lanes_kernel)(lane *const *ls);
+
+/* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
+
+/* Save the callee-saved registers, MXCSR and the x87 control word on the current stack and its pointer into
+ * *save, then resume the stack `to` saved the same way (or prepared by lane_start). */
+void rocking_lanes_switch(void **save, void *to) __attribute__((visibility("hidden")));
+/* A new lane's first code: lane_main(r12), on the lane's stack. */
+void rocking_lanes_start(void) __attribute__((visibility("hidden")));
+__asm__(".pushsection .text\n"
+        ".p2align 4\n"
+        ".globl rocking_lanes_switch\n"
+        ".hidden rocking_lanes_switch\n"
+        ".type rocking_lanes_switch, @function\n"
+        "rocking_lanes_switch:\n"
+        "    pushq %rbp\n"
+        "    pushq %rbx\n"
+        "    pushq %r12\n"
+        "    pushq %r13\n"
+        "    pushq %r14\n"
+        "    pushq %r15\n"
+        "    subq $16, %rsp\n"
+        "    stmxcsr 8(%rsp)\n"
+        "    fnstcw (%rsp)\n"
+        "    movq %rsp, (%rdi)\n"
+        "    movq %rsi, %rsp\n"
+        "    ldmxcsr 8(%rsp)\n"
+        "    fldcw (%rsp)\n"
+        "    addq $16, %rsp\n"
+        "    popq %r15\n"
+        "    popq %r14\n"
+        "    popq %r13\n"
+        "    popq %r12\n"
+        "    popq %rbx\n"
+        "    popq %rbp\n"
+        "    ret\n"
+        ".size rocking_lanes_switch, .-rocking_lanes_switch\n"
+        ".p2align 4\n"
+        ".globl rocking_lanes_start\n"
+        ".hidden rocking_lanes_start\n"
+        ".type rocking_lanes_start, @function\n"
+        "rocking_lanes_start:\n"
+        "    movq %r12, %rdi\n"
+        "    callq *%r13\n"
+        "    ud2\n"
+        ".size rocking_lanes_start, .-rocking_lanes_start\n"
+        ".popsection\n");
+
+struct lanes {
+    void *sp; /* the scheduler's stack pointer while a lane runs */
+    int width;
+    lanes_kernel kernel;
+    lane lane[LANES_RUNS];
+    unsigned char *stacks;
+    /* the batch */
+    int64_t n, next;
+    const double *p;
+    const rocking_case *cases;
+    rocking_result *out;
+    const rocking_control *control;
+};
+
+/* Run the lane l (until it waits for stages or its run ends). */
+static void lane_resume(lane *l)
+{
+    l->state = LANE_RUNNING;
+    rocking_lanes_switch(&l->owner->sp, l->sp);
+}
+
+/* The coroutine of a lane: the runs of the cases the scheduler gives it, one after the other. */
+static void lane_main(lane *l)
+{
+    for (;;) {
+        const lanes *b = l->owner;
+        simulate_one(b->p + l->i * MODEL_NP, b->cases + l->i, b->out + l->i, NULL, b->control, l);
+        l->state = LANE_DONE;
+        rocking_lanes_switch(&l->sp, l->owner->sp);
+    }
+}
+
+/* The first frame of lane l on its stack [stack, stack + size): what rocking_lanes_switch pops, then its
+ * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call. */
+static void lane_start(lane *l, unsigned char *stack, size_t size)
+{
+    uint64_t *top = (uint64_t *)(((uintptr_t)(stack + size)) & ~(uintptr_t)15);
+    uint64_t *sp = top - 11; /* 88 bytes: control words, 6 registers, the return address; then 16 free */
+    uint32_t mxcsr;
+    uint16_t fpcw;
+    __asm__ volatile("stmxcsr %0" : "=m"(mxcsr));
+    __asm__ volatile("fnstcw %0" : "=m"(fpcw));
+    memset(sp, 0, 11 * sizeof *sp);
+    memcpy(sp, &fpcw, sizeof fpcw);
+    memcpy(sp + 1, &mxcsr, sizeof mxcsr);
+    sp[4] = (uint64_t)(uintptr_t)lane_main; /* r13 */
+    sp[5] = (uint64_t)(uintptr_t)l;         /* r12 */
+    sp[8] = (uint64_t)(uintptr_t)rocking_lanes_start;
+    l->sp = sp;
+    l->state = LANE_IDLE;
+}
+
+/* Give lane l the next case of the batch and run it, until it waits for stages; 0 if none is left. Cases
+ * read after the stop flag is set end as the scalar loop leaves them. */
+static int lane_take(lanes *b, lane *l)
+{
+    while (b->next < b->n) {
+        const int64_t i = b->next++;
+        if (b->control != NULL && b->control->stop != NULL && *b->control->stop != 0) {
+            b->out[i].status = ROCKING_STOPPED;
+            continue;
+        }
+        l->i = i;
+        lane_resume(l);
+        if (l->state == LANE_WAITING)
+            return 1;
+    }
+    l->state = LANE_IDLE;
+    return 0;
+}
+
+/* The stages of the waiting lanes, b->width at a time (the last vector padded with its last lane again). */
+static void lanes_serve(lanes *b, lane **waiting, int n)
+{
+    int first, j;
+    for (first = 0; first < n; first += b->width) {
+        lane *ls[LANES_RUNS];
+        for (j = 0; j < b->width; ++j)
+            ls[j] = waiting[first + j < n ? first + j : n - 1];
+        b->kernel(ls);
+    }
+    for (j = 0; j < n; ++j)
+        waiting[j]->state = LANE_READY;
+}
+
+/* Every case of the batch b through its lanes. */
+static void lanes_run(lanes *b)
+{
+    for (;;) {
+        lane *waiting[LANES_RUNS];
+        int n = 0, j;
+        for (j = 0; j < LANES_RUNS; ++j) {
+            lane *l = &b->lane[j];
+            if (l->state == LANE_READY)
+                lane_resume(l);
+            if (l->state == LANE_WAITING || lane_take(b, l))
+                waiting[n++] = l;
+        }
+        if (n == 0)
+            return;
+        lanes_serve(b, waiting, n);
+    }
+}
+
+/* The vector width a batch now uses (rocking_lanes). */
+static int lanes_width(void)
+{
+    const char *on = getenv("ROCKING_LANES"), *isa = getenv("ROCKING_LANES_ISA");
+    int cap = 8;
+    if (on != NULL && strcmp(on, "0") == 0)
+        return 0;
+    if (isa != NULL && strcmp(isa, "sse2") == 0)
+        cap = 2;
+    else if (isa != NULL && strcmp(isa, "avx2") == 0)
+        cap = 4;
+    __builtin_cpu_init();
+    if (cap >= 8 && __builtin_cpu_supports("avx512f"))
+        return 8;
+    if (cap >= 4 && __builtin_cpu_supports("avx2"))
+        return 4;
+    return 2;
+}
+
+/* Run the batch in lanes: 1, or 0 if it cannot (the lanes are off, or no memory for their stacks). */
+static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                       const rocking_control *control)
+{
+    lanes b;
+    int j;
+    b.width = lanes_width();
+    if (b.width == 0 || n < 2)
+        return 0;
+    b.kernel = b.width == 8 ? stages_avx512 : b.width == 4 ? stages_avx2 : stages_sse2;
+    b.stacks = malloc((size_t)LANES_RUNS * LANES_STACK);
+    if (b.stacks == NULL)
+        return 0;
+    b.n = n;
+    b.next = 0;
+    b.p = p;
+    b.cases = cases;
+    b.out = out;
+    b.control = control;
+    for (j = 0; j < LANES_RUNS; ++j) {
+        b.lane[j].owner = &b;
+        lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
+    }
+    lanes_run(&b);
+    free(b.stacks);
+    return 1;
+}
+
+/* The stages of a step of the lane's run: over vectors with the other lanes' for a rocking phase without a
+ * vertical component or a slide, else scalar here. */
+static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+{
+    lane *l = o->lane;
+    if (o->rhs != ODE_PULSE_ROCKING && o->rhs != ODE_FREE_ROCKING)
+        return scalar_stages(d, o, tol, h, t_new, y_new);
+    l->d = d;
+    l->o = o;
+    l->tol = tol;
+    l->h = h;
+    l->t_new = t_new;
+    l->y_new = y_new;
+    l->state = LANE_WAITING;
+    rocking_lanes_switch(&l->sp, l->owner->sp);
+    return l->err;
+}
+
+int rocking_lanes(void)
+{
+    return lanes_width();
+}
+
+#else /* no lanes: every batch scalar */
+
+static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+{
+    return scalar_stages(d, o, tol, h, t_new, y_new); /* not reached: no run has a lane */
+}
+
+static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                       const rocking_control *control)
+{
+    (void)n, (void)p, (void)cases, (void)out, (void)control;
+    return 0;
+}
+
+int rocking_lanes(void)
+{
+    return 0;
+}
+
+#endif
+
+void rocking_simulate_batch_lanes(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                                  const rocking_control *control, int32_t on)
+{
+    if (on == 0 || !lanes_batch(n, p, cases, out, control))
+        batch_scalar(n, p, cases, out, control);
+}

@@ -1,0 +1,155 @@
+/* The stages of the lanes' steps over vectors of LW doubles, compiled for the instruction set LTARGET:
+ * included by lanes.c once per width, with LW, LTARGET and LNAME (a suffix per width) defined. */
+
+#define VD LNAME(vd)
+#define VL LNAME(vl)
+#define LATTR static inline __attribute__((always_inline, target(LTARGET)))
+
+typedef double VD __attribute__((vector_size(LW * 8)));
+typedef int64_t VL __attribute__((vector_size(LW * 8)));
+
+/* Every element of a vector c. */
+LATTR VD LNAME(splat)(double c)
+{
+    VD v;
+    int j;
+    for (j = 0; j < LW; ++j)
+        v[j] = c;
+    return v;
+}
+
+/* sin and cos of x, elementwise: x reduced to r in about [-pi/4, pi/4] by x - n pi/2 with pi/2 in three parts
+ * of 33 bits (exact products for |n| < 2^20), then fdlibm's kernels (lanes.c). An element out of
+ * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) is libm's. */
+LATTR void LNAME(sincos)(VD x, VD *s, VD *c)
+{
+    const VD shifted = x * LANES_INVPIO2 + LANES_SHIFTER;
+    const VD n = shifted - LANES_SHIFTER;
+    const VL q = (VL)shifted; /* the low bits of the mantissa: n mod 4 */
+    const VD r = ((x - n * LANES_PIO2_1) - n * LANES_PIO2_2) - n * LANES_PIO2_2T;
+    const VD z = r * r;
+    const VD v = z * r;
+    const VD ps = LANES_S2 + z * (LANES_S3 + z * (LANES_S4 + z * (LANES_S5 + z * LANES_S6)));
+    const VD sin_r = r + v * (LANES_S1 + z * ps);
+    const VD pc = z * (LANES_C1 + z * (LANES_C2 + z * (LANES_C3 + z * (LANES_C4 + z * (LANES_C5 + z * LANES_C6)))));
+    const VD hz = 0.5 * z;
+    const VD w = 1.0 - hz;
+    const VD cos_r = w + (((1.0 - w) - hz) + z * pc);
+    /* Quadrant n mod 4: (sin, cos) = (s_r, c_r), (c_r, -s_r), (-s_r, -c_r), (-c_r, s_r). */
+    const VL odd = -(q & 1);
+    const VL sbits = (odd & (VL)cos_r) | (~odd & (VL)sin_r);
+    const VL cbits = (odd & (VL)sin_r) | (~odd & (VL)cos_r);
+    const VL inside = (x <= LANES_TRIG_MAX) & (x >= -LANES_TRIG_MAX);
+    int j;
+    *s = (VD)(sbits ^ ((q & 2) << 62));
+    *c = (VD)(cbits ^ (((q + 1) & 2) << 62));
+    for (j = 0; j < LW; ++j)
+        if (!inside[j]) {
+            (*s)[j] = sin(x[j]);
+            (*c)[j] = cos(x[j]);
+        }
+}
+
+#define LANES_SINCOS LNAME(sincos)
+LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR)
+#undef LANES_SINCOS
+
+/* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), any other
+ * motion by ode_ag, 0 after the pulse. sine[j]: lane j's pulse is a one-sine acting; any_sine: one of them is. */
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const int *sine, int any_sine)
+{
+    VD ag = LNAME(splat)(0.0);
+    int j;
+    if (any_sine) {
+        VD a, omega, psi, s, c;
+        for (j = 0; j < LW; ++j) {
+            a[j] = ls[j]->o->c->a_g;
+            omega[j] = ls[j]->o->c->omega_g;
+            psi[j] = ls[j]->o->c->psi;
+        }
+        LNAME(sincos)(omega * t + psi, &s, &c);
+        ag = a * s;
+    }
+    for (j = 0; j < LW; ++j)
+        if (!sine[j])
+            ag[j] = ls[j]->o->pulse_on ? ode_ag(ls[j]->o, t[j]) : 0.0;
+    return ag;
+}
+
+/* The stages and the error estimate of the steps the LW lanes ls ask for (lanes_stages), dopri_stages_of and
+ * dopri_error over vectors: the stages into each lane's d->k, the new state into its y_new, the error into
+ * its err. */
+static __attribute__((target(LTARGET))) void LNAME(stages)(lane *const *ls)
+{
+    static const int used[] = LANES_CST_USED;
+    VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
+    int sine[LW], any_sine = 0, i, j, s;
+    for (j = 0; j < LW; ++j) {
+        const lane *l = ls[j];
+        t0[j] = l->d->t;
+        h[j] = l->h;
+        t_new[j] = l->t_new;
+        rtol[j] = l->tol->rtol;
+        for (i = 0; i < NY; ++i) {
+            y0[i][j] = l->d->y[i];
+            k[0][i][j] = l->d->f[i];
+            atol[i][j] = l->tol->atol[i];
+        }
+        for (i = 0; i < (int)(sizeof used / sizeof *used); ++i)
+            cst[used[i]][j] = l->o->cst[used[i]];
+        sine[j] = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
+        any_sine |= sine[j];
+    }
+    ag_new = LNAME(splat)(0.0);
+    for (s = 1; s < STAGES; ++s) {
+        VD acc[NY], ag, t;
+        for (i = 0; i < NY; ++i) {
+            acc[i] = 0.0 + RK_A[s][0] * k[0][i];
+            for (j = 1; j < s; ++j)
+                acc[i] += RK_A[s][j] * k[j][i];
+            y[i] = y0[i] + h * acc[i];
+        }
+        if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
+            if (RK_C[s - 1] != 1.0)
+                ag_new = LNAME(ground)(ls, t_new, sine, any_sine);
+            t = t_new;
+            ag = ag_new;
+        } else {
+            t = t0 + RK_C[s] * h;
+            ag = LNAME(ground)(ls, t, sine, any_sine);
+        }
+        LNAME(rocking_accel)(y, ag, cst, k[s] + NQ);
+        for (i = 0; i < NQ; ++i)
+            k[s][i] = y[NQ + i];
+    }
+    {
+        VD sum = LNAME(splat)(0.0);
+        const VL magnitude = (VL){0} + INT64_MAX; /* the bits of a double but its sign: fabs */
+        for (i = 0; i < NY; ++i) {
+            VD err = 0.0 + RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & magnitude), b = (VD)((VL)y[i] & magnitude), r;
+            VL larger = a > b;
+            for (s = 1; s < STAGES; ++s)
+                err += RK_E[s] * k[s][i];
+            err *= h;
+            r = err / (atol[i] + rtol * (VD)((larger & (VL)a) | (~larger & (VL)b)));
+            sum += r * r;
+        }
+        for (j = 0; j < LW; ++j) {
+            lane *l = ls[j];
+            for (s = 0; s < STAGES; ++s)
+                for (i = 0; i < NY; ++i)
+                    l->d->k[s][i] = k[s][i][j];
+            for (i = 0; i < NY; ++i)
+                l->y_new[i] = y[i][j];
+            l->err = sqrt(sum[j] / NY);
+            if (sine[j]) {
+                l->o->memo_t = t_new[j];
+                l->o->memo_ag = ag_new[j];
+            }
+        }
+    }
+}
+
+#undef LATTR
+#undef VD
+#undef VL
