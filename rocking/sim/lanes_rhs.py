@@ -99,8 +99,9 @@ def vector_rhs(text: str, prefix: str) -> str:
 
     It defines ``LANES_MODEL`` (1 if the rocking accelerations could be written over vectors, else 0) and, if 1,
     ``LANES_CST_USED`` (the constants the function reads, an initializer) and the macro
-    ``LANES_DEFINE_RHS(name, attributes)``, which defines ``attributes void name(const VD *y, VD ag, const VD *cst,
-    VD *out)`` for the vector type ``VD`` and the ``LANES_SINCOS`` in scope where it is expanded.
+    ``LANES_DEFINE_RHS(name, attributes, extra)``, which defines ``attributes void name(const VD *y, VD ag,
+    const VD *cst, VD *out, extra)`` for the vector type ``VD`` and the ``LANES_SINCOS`` in scope where it is
+    expanded (``extra``: a parameter that macro may read).
     """
     body = _body(text, prefix)
     lines = _lines(body) if body is not None else None
@@ -110,7 +111,7 @@ def vector_rhs(text: str, prefix: str) -> str:
     statements, used = lines
     cst = ", ".join(str(i) for i in sorted(used))
     macro = " \\\n".join(
-        ["#define LANES_DEFINE_RHS(name, attributes)", "    attributes void name(const VD *y, VD ag, const VD *cst, VD *out)", "    {"]
+        ["#define LANES_DEFINE_RHS(name, attributes, extra)", "    attributes void name(const VD *y, VD ag, const VD *cst, VD *out, extra)", "    {"]
         + [f"        {s}" for s in statements]
         + ["    }"]
     )

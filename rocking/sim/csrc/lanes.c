@@ -116,7 +116,7 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #undef LTARGET
 #undef LNAME
 
-typedef void (*lanes_kernel)(lane *const *ls);
+typedef int (*lanes_kernel)(lane *const *ls);
 
 /* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
 
@@ -243,7 +243,9 @@ static void lanes_serve(lanes *b, lane **waiting, int n)
         lane *ls[LANES_RUNS];
         for (j = 0; j < b->width; ++j)
             ls[j] = waiting[first + j < n ? first + j : n - 1];
-        b->kernel(ls);
+        if (b->kernel(ls)) /* a sin or cos out of the vector range: these steps scalar */
+            for (j = 0; j < b->width && first + j < n; ++j)
+                ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
     }
     for (j = 0; j < n; ++j)
         waiting[j]->state = LANE_READY;

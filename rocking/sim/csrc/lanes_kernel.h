@@ -20,8 +20,9 @@ LATTR VD LNAME(splat)(double c)
 
 /* sin and cos of x, elementwise: x reduced to r in about [-pi/4, pi/4] by x - n pi/2 with pi/2 in three parts
  * of 33 bits (exact products for |n| < 2^20), then fdlibm's kernels (lanes.c). An element out of
- * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) is libm's. */
-LATTR void LNAME(sincos)(VD x, VD *s, VD *c)
+ * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) sets its element of *outside: the caller then does
+ * without these values. */
+LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *outside)
 {
     const VD shifted = x * LANES_INVPIO2 + LANES_SHIFTER;
     const VD n = shifted - LANES_SHIFTER;
@@ -39,51 +40,52 @@ LATTR void LNAME(sincos)(VD x, VD *s, VD *c)
     const VL odd = -(q & 1);
     const VL sbits = (odd & (VL)cos_r) | (~odd & (VL)sin_r);
     const VL cbits = (odd & (VL)sin_r) | (~odd & (VL)cos_r);
-    const VL inside = (x <= LANES_TRIG_MAX) & (x >= -LANES_TRIG_MAX);
-    int j;
     *s = (VD)(sbits ^ ((q & 2) << 62));
     *c = (VD)(cbits ^ (((q + 1) & 2) << 62));
-    for (j = 0; j < LW; ++j)
-        if (!inside[j]) {
-            (*s)[j] = sin(x[j]);
-            (*c)[j] = cos(x[j]);
-        }
+    *outside |= ~((x <= LANES_TRIG_MAX) & (x >= -LANES_TRIG_MAX));
 }
 
-#define LANES_SINCOS LNAME(sincos)
-LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR)
+/* The generated right-hand side's sincos: the flag of the arguments out of range is the caller's `outside`. */
+#define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, outside)
+LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *outside)
 #undef LANES_SINCOS
 
+/* A one-sine pulse of each lane: its amplitude, circular frequency and phase. */
+typedef struct LNAME(sines) {
+    VD a, omega, psi;
+    int sine[LW]; /* lane j's pulse is a one-sine acting */
+    int any, all; /* one of them is; all are */
+} LNAME(sines);
+
 /* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), any other
- * motion by ode_ag, 0 after the pulse. sine[j]: lane j's pulse is a one-sine acting; any_sine: one of them is. */
-LATTR VD LNAME(ground)(lane *const *ls, const VD t, const int *sine, int any_sine)
+ * motion by ode_ag, 0 after the pulse. */
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *outside)
 {
-    VD ag = LNAME(splat)(0.0);
+    VD ag = LNAME(splat)(0.0), c;
     int j;
-    if (any_sine) {
-        VD a, omega, psi, s, c;
-        for (j = 0; j < LW; ++j) {
-            a[j] = ls[j]->o->c->a_g;
-            omega[j] = ls[j]->o->c->omega_g;
-            psi[j] = ls[j]->o->c->psi;
-        }
-        LNAME(sincos)(omega * t + psi, &s, &c);
-        ag = a * s;
-    }
-    for (j = 0; j < LW; ++j)
-        if (!sine[j])
-            ag[j] = ls[j]->o->pulse_on ? ode_ag(ls[j]->o, t[j]) : 0.0;
+    if (p->any)
+        LNAME(sincos)(p->omega * t + p->psi, &ag, &c, outside);
+    ag = p->a * ag;
+    if (!p->all)
+        for (j = 0; j < LW; ++j)
+            if (!p->sine[j])
+                ag[j] = ls[j]->o->pulse_on ? ode_ag(ls[j]->o, t[j]) : 0.0;
     return ag;
 }
 
 /* The stages and the error estimate of the steps the LW lanes ls ask for (lanes_stages), dopri_stages_of and
  * dopri_error over vectors: the stages into each lane's d->k, the new state into its y_new, the error into
- * its err. */
-static __attribute__((target(LTARGET))) void LNAME(stages)(lane *const *ls)
+ * its err. Returns 0, or 1 if an argument of sin or cos was out of the vector functions' range: the caller
+ * then computes these steps scalar. */
+static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 {
     static const int used[] = LANES_CST_USED;
     VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
-    int sine[LW], any_sine = 0, i, j, s;
+    VL outside = (VL){0};
+    LNAME(sines) pulse;
+    int i, j, s;
+    pulse.any = 0;
+    pulse.all = 1;
     for (j = 0; j < LW; ++j) {
         const lane *l = ls[j];
         t0[j] = l->d->t;
@@ -97,31 +99,38 @@ static __attribute__((target(LTARGET))) void LNAME(stages)(lane *const *ls)
         }
         for (i = 0; i < (int)(sizeof used / sizeof *used); ++i)
             cst[used[i]][j] = l->o->cst[used[i]];
-        sine[j] = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
-        any_sine |= sine[j];
+        pulse.sine[j] = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
+        pulse.a[j] = pulse.sine[j] ? l->o->c->a_g : 0.0;
+        pulse.omega[j] = pulse.sine[j] ? l->o->c->omega_g : 0.0;
+        pulse.psi[j] = pulse.sine[j] ? l->o->c->psi : 0.0;
+        pulse.any |= pulse.sine[j];
+        pulse.all &= pulse.sine[j];
     }
     ag_new = LNAME(splat)(0.0);
+#pragma GCC unroll 8
     for (s = 1; s < STAGES; ++s) {
-        VD acc[NY], ag, t;
+        VD acc[NY], ag;
         for (i = 0; i < NY; ++i) {
             acc[i] = 0.0 + RK_A[s][0] * k[0][i];
+#pragma GCC unroll 8
             for (j = 1; j < s; ++j)
                 acc[i] += RK_A[s][j] * k[j][i];
             y[i] = y0[i] + h * acc[i];
         }
         if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
             if (RK_C[s - 1] != 1.0)
-                ag_new = LNAME(ground)(ls, t_new, sine, any_sine);
-            t = t_new;
+                ag_new = LNAME(ground)(ls, t_new, &pulse, &outside);
             ag = ag_new;
         } else {
-            t = t0 + RK_C[s] * h;
-            ag = LNAME(ground)(ls, t, sine, any_sine);
+            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, &pulse, &outside);
         }
-        LNAME(rocking_accel)(y, ag, cst, k[s] + NQ);
+        LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &outside);
         for (i = 0; i < NQ; ++i)
             k[s][i] = y[NQ + i];
     }
+    for (j = 0; j < LW; ++j)
+        if (outside[j])
+            return 1;
     {
         VD sum = LNAME(splat)(0.0);
         const VL magnitude = (VL){0} + INT64_MAX; /* the bits of a double but its sign: fabs */
@@ -142,12 +151,13 @@ static __attribute__((target(LTARGET))) void LNAME(stages)(lane *const *ls)
             for (i = 0; i < NY; ++i)
                 l->y_new[i] = y[i][j];
             l->err = sqrt(sum[j] / NY);
-            if (sine[j]) {
+            if (pulse.sine[j]) {
                 l->o->memo_t = t_new[j];
                 l->o->memo_ag = ag_new[j];
             }
         }
     }
+    return 0;
 }
 
 #undef LATTR
