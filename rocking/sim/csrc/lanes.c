@@ -169,6 +169,7 @@ struct lanes {
     int width;
     lanes_kernel kernel;
     lane lane[LANES_RUNS];
+    int runs; /* the lanes of the batch: LANES_RUNS, fewer for a batch of fewer cases */
     unsigned char *stacks;
     /* the batch */
     int64_t n, next;
@@ -241,10 +242,12 @@ static void lanes_serve(lanes *b, lane **waiting, int n)
     int first, j;
     for (first = 0; first < n; first += b->width) {
         lane *ls[LANES_RUNS];
+        int scalar;
         for (j = 0; j < b->width; ++j)
             ls[j] = waiting[first + j < n ? first + j : n - 1];
-        if (b->kernel(ls)) /* a sin or cos out of the vector range: these steps scalar */
-            for (j = 0; j < b->width && first + j < n; ++j)
+        scalar = b->kernel(ls);
+        for (j = 0; j < b->width && first + j < n; ++j)
+            if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
                 ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
     }
     for (j = 0; j < n; ++j)
@@ -257,7 +260,7 @@ static void lanes_run(lanes *b)
     for (;;) {
         lane *waiting[LANES_RUNS];
         int n = 0, j;
-        for (j = 0; j < LANES_RUNS; ++j) {
+        for (j = 0; j < b->runs; ++j) {
             lane *l = &b->lane[j];
             if (l->state == LANE_READY)
                 lane_resume(l);
@@ -295,11 +298,13 @@ static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, ro
 {
     lanes b;
     int j;
+    /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
+    const int runs = n < LANES_RUNS ? (int)n : LANES_RUNS;
     b.width = lanes_width();
-    if (b.width == 0 || n < 2)
+    if (b.width == 0 || n < 1)
         return 0;
     b.kernel = b.width == 8 ? stages_avx512 : b.width == 4 ? stages_avx2 : stages_sse2;
-    b.stacks = malloc((size_t)LANES_RUNS * LANES_STACK);
+    b.stacks = malloc((size_t)runs * LANES_STACK);
     if (b.stacks == NULL)
         return 0;
     b.n = n;
@@ -308,7 +313,8 @@ static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, ro
     b.cases = cases;
     b.out = out;
     b.control = control;
-    for (j = 0; j < LANES_RUNS; ++j) {
+    b.runs = runs;
+    for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
         lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
     }

@@ -75,15 +75,15 @@ LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *o
 
 /* The stages and the error estimate of the steps the LW lanes ls ask for (lanes_stages), dopri_stages_of and
  * dopri_error over vectors: the stages into each lane's d->k, the new state into its y_new, the error into
- * its err. Returns 0, or 1 if an argument of sin or cos was out of the vector functions' range: the caller
- * then computes these steps scalar. */
+ * its err; except the lanes where an argument of sin or cos was out of the vector functions' range: their
+ * bits in the mask returned, the caller computes those steps scalar. */
 static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 {
     static const int used[] = LANES_CST_USED;
     VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
     VL outside = (VL){0};
     LNAME(sines) pulse;
-    int i, j, s;
+    int i, j, s, scalar = 0;
     pulse.any = 0;
     pulse.all = 1;
     for (j = 0; j < LW; ++j) {
@@ -129,8 +129,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
             k[s][i] = y[NQ + i];
     }
     for (j = 0; j < LW; ++j)
-        if (outside[j])
-            return 1;
+        scalar |= outside[j] != 0 ? 1 << j : 0;
     {
         VD sum = LNAME(splat)(0.0);
         const VL magnitude = (VL){0} + INT64_MAX; /* the bits of a double but its sign: fabs */
@@ -145,6 +144,8 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
         }
         for (j = 0; j < LW; ++j) {
             lane *l = ls[j];
+            if (scalar & (1 << j))
+                continue;
             for (s = 0; s < STAGES; ++s)
                 for (i = 0; i < NY; ++i)
                     l->d->k[s][i] = k[s][i][j];
@@ -157,7 +158,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
             }
         }
     }
-    return 0;
+    return scalar;
 }
 
 #undef LATTR
