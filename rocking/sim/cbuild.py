@@ -233,7 +233,9 @@ def _lanes_model(model) -> str:
 
 def _lanes_rhs():
     """rocking/sim/lanes_rhs.py, read by path: this module needs the standard library alone (setup.py)."""
-    spec = importlib.util.spec_from_file_location("_rocking_lanes_rhs", Path(__file__).resolve().parent / "lanes_rhs.py")
+    spec = importlib.util.spec_from_file_location(
+        "_rocking_lanes_rhs", Path(__file__).resolve().parent / "lanes_rhs.py"
+    )
     module = importlib.util.module_from_spec(spec)
     spec.loader.exec_module(module)
     return module

@@ -71,7 +71,8 @@ def _expression(expr: str, known: set[str], used: set[int], trig: dict[str, str]
 
 def _lines(body: list[str]) -> tuple[list[str], set[int]] | None:
     """The vector statements of ``body`` and the constants it reads, or None if refused."""
-    known, used, trig = {"ag"}, set(), {}
+    known, used = {"ag"}, set[int]()
+    trig: dict[str, str] = {}  # the arguments of sin and cos, in the order met
     out = []
     for line in body:
         if line == "(void)ag;":
@@ -85,12 +86,16 @@ def _lines(body: list[str]) -> tuple[list[str], set[int]] | None:
         if expr is None:
             return None
         # One reduction for both sin and cos of an argument, before its first use.
-        out += [f"VD {trig[a]}_s, {trig[a]}_c; LANES_SINCOS({a}, &{trig[a]}_s, &{trig[a]}_c);" for a in trig.keys() - before]
+        out += [
+            f"VD {trig[a]}_s, {trig[a]}_c; LANES_SINCOS({a}, &{trig[a]}_s, &{trig[a]}_c);"
+            for a in trig
+            if a not in before
+        ]
         if define:
             known.add(define.group(1))
             out.append(f"const VD {define.group(1)} = {expr};")
         else:
-            out.append(f"out[{store.group(1)}] = {expr};")
+            out.append(f"out[{m.group(1)}] = {expr};")
     return out, used
 
 
@@ -111,7 +116,11 @@ def vector_rhs(text: str, prefix: str) -> str:
     statements, used = lines
     cst = ", ".join(str(i) for i in sorted(used))
     macro = " \\\n".join(
-        ["#define LANES_DEFINE_RHS(name, attributes, extra)", "    attributes void name(const VD *y, VD ag, const VD *cst, VD *out, extra)", "    {"]
+        [
+            "#define LANES_DEFINE_RHS(name, attributes, extra)",
+            "    attributes void name(const VD *y, VD ag, const VD *cst, VD *out, extra)",
+            "    {",
+        ]
         + [f"        {s}" for s in statements]
         + ["    }"]
     )
