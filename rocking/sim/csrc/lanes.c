@@ -292,8 +292,9 @@ static int lanes_width(void)
     return 2;
 }
 
-/* Run the batch in lanes: 1, or 0 if it cannot (the lanes are off, or no memory for their stacks). */
-static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+/* Run the batch in lanes: 1, or 0 if it cannot (the lanes are off, or no memory for their stacks). Out of line:
+ * bench/instructions.py counts the lanes' instructions from its entry. */
+static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
                        const rocking_control *control)
 {
     lanes b;
