@@ -36,6 +36,7 @@ typedef struct lane {
     ode *o;
     const tolerance *tol;
     double h, t_new, *y_new, err;
+    double power; /* err^ERROR_EXPONENT, computed with the stages over vectors (NAN: not) */
 } lane;
 
 /* The scalar stages and error estimate of a step (dopri_step_of's own). */
@@ -87,6 +88,27 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #define LANES_PIO2_2T 2.02226624879595063154e-21 /* pi/2 - PIO2_1 - PIO2_2 */
 /* 1.5 2^52: x + LANES_SHIFTER - LANES_SHIFTER rounds x to an integer, which the low bits of the sum hold. */
 #define LANES_SHIFTER 6755399441055744.0
+/* fdlibm's e_log.c (Lg1..Lg7, ln 2 in two parts) and e_exp.c (P1..P5, 1 / ln 2), same notice. */
+#define LANES_LG1 6.666666666666735130e-01
+#define LANES_LG2 3.999999999940941908e-01
+#define LANES_LG3 2.857142874366239149e-01
+#define LANES_LG4 2.222219843214978396e-01
+#define LANES_LG5 1.818357216161805012e-01
+#define LANES_LG6 1.531383769920937332e-01
+#define LANES_LG7 1.479819860511658591e-01
+#define LANES_LN2_HI 6.93147180369123816490e-01
+#define LANES_LN2_LO 1.90821492927058770002e-10
+#define LANES_INVLN2 1.44269504088896338700e+00
+#define LANES_P1 1.66666666666666019037e-01
+#define LANES_P2 -2.77777777770155933842e-03
+#define LANES_P3 6.61375632143793436117e-05
+#define LANES_P4 -1.65339022054652515390e-06
+#define LANES_P5 4.13813679705723846039e-08
+#define LANES_SQRT2 1.41421356237309504880
+/* The bits of a double: its mantissa, those of 1.0 and of LANES_SHIFTER (below). */
+#define LANES_MANTISSA 0x000fffffffffffffLL
+#define LANES_ONE_BITS 0x3ff0000000000000LL
+#define LANES_SHIFTER_BITS 0x4338000000000000LL
 /* Where n PIO2_1 and n PIO2_2 stay exact (|n| < 2^20) with a margin; larger arguments go to libm. */
 #define LANES_TRIG_MAX 1.0e5
 
@@ -338,8 +360,16 @@ static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, doub
     l->t_new = t_new;
     l->y_new = y_new;
     l->state = LANE_WAITING;
+    l->power = NAN;
     rocking_lanes_switch(&l->sp, l->owner->sp);
     return l->err;
+}
+
+/* err^ERROR_EXPONENT for the step whose error lanes_stages returned last: computed with its stages if they were
+ * (the same err), else libm's. */
+static double lanes_error_power(const lane *l, double err)
+{
+    return l->power == l->power && l->err == err ? l->power : pow(err, ERROR_EXPONENT);
 }
 
 int rocking_lanes(void)
@@ -352,6 +382,12 @@ int rocking_lanes(void)
 static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
 {
     return scalar_stages(d, o, tol, h, t_new, y_new); /* not reached: no run has a lane */
+}
+
+static double lanes_error_power(const lane *l, double err)
+{
+    (void)l;
+    return pow(err, ERROR_EXPONENT); /* not reached */
 }
 
 static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,

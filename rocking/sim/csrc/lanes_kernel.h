@@ -45,6 +45,30 @@ LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *outside)
     *outside |= ~((x <= LANES_TRIG_MAX) & (x >= -LANES_TRIG_MAX));
 }
 
+/* x^ERROR_EXPONENT (the step-size control's power of the error) for x a positive normal double: fdlibm's log
+ * and exp (lanes.c), a few units in the last place from libm's pow. Another x sets its element of *outside. */
+LATTR VD LNAME(error_power)(VD x, VL *outside)
+{
+    const VL bits = (VL)x;
+    const VD m1 = (VD)((bits & LANES_MANTISSA) | LANES_ONE_BITS); /* x = 2^e m1, m1 in [1, 2) */
+    const VL big = m1 > LANES_SQRT2;                              /* then m in [sqrt(1/2), sqrt(2)) */
+    const VD m = (VD)((big & (VL)(0.5 * m1)) | (~big & (VL)m1));
+    const VD e = (VD)((((bits >> 52) & 0x7ff) - 1023 - big) + LANES_SHIFTER_BITS) - LANES_SHIFTER;
+    const VD f = m - 1.0, s = f / (2.0 + f), z = s * s, w = z * z;
+    const VD r = z * (LANES_LG1 + w * (LANES_LG3 + w * (LANES_LG5 + w * LANES_LG7))) +
+                 w * (LANES_LG2 + w * (LANES_LG4 + w * LANES_LG6));
+    const VD hfsq = 0.5 * f * f;
+    const VD y = ERROR_EXPONENT * (e * LANES_LN2_HI - ((hfsq - (s * (hfsq + r) + e * LANES_LN2_LO)) - f));
+    /* exp(y) = 2^k exp(t), t = y - k ln 2 in [-ln(2)/2, ln(2)/2] */
+    const VD shifted = y * LANES_INVLN2 + LANES_SHIFTER;
+    const VD k = shifted - LANES_SHIFTER;
+    const VD hi = y - k * LANES_LN2_HI, lo = k * LANES_LN2_LO, t = hi - lo, tt = t * t;
+    const VD c = t - tt * (LANES_P1 + tt * (LANES_P2 + tt * (LANES_P3 + tt * (LANES_P4 + tt * LANES_P5))));
+    const VD et = 1.0 - ((lo - (t * c) / (2.0 - c)) - hi);
+    *outside |= ~((x >= DBL_MIN) & (x <= DBL_MAX));
+    return (VD)((VL)et + (((VL)shifted - LANES_SHIFTER_BITS) << 52));
+}
+
 /* The generated right-hand side's sincos: the flag of the arguments out of range is the caller's `outside`. */
 #define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, outside)
 LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *outside)
@@ -142,16 +166,22 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
             r = err / (atol[i] + rtol * (VD)((larger & (VL)a) | (~larger & (VL)b)));
             sum += r * r;
         }
+        VD err, power;
+        VL odd = (VL){0};
+        for (j = 0; j < LW; ++j)
+            err[j] = sqrt(sum[j] / NY);
+        power = LNAME(error_power)(err, &odd);
         for (j = 0; j < LW; ++j) {
             lane *l = ls[j];
             if (scalar & (1 << j))
                 continue;
+            l->err = err[j];
+            l->power = odd[j] ? pow(err[j], ERROR_EXPONENT) : power[j];
             for (s = 0; s < STAGES; ++s)
                 for (i = 0; i < NY; ++i)
                     l->d->k[s][i] = k[s][i][j];
             for (i = 0; i < NY; ++i)
                 l->y_new[i] = y[i][j];
-            l->err = sqrt(sum[j] / NY);
             if (pulse.sine[j]) {
                 l->o->memo_t = t_new[j];
                 l->o->memo_ag = ag_new[j];

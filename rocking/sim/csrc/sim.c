@@ -699,8 +699,16 @@ static inline double dopri_error(const dopri *d, const tolerance *tol, double h,
     return rms_ratio(err, scale, ny);
 }
 
-/* The stages and error of a step of a run in a lane (lanes.c). */
+/* The stages and error of a step of a run in a lane, and that error's power (lanes.c). */
+struct lane;
 static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new);
+static double lanes_error_power(const struct lane *l, double err);
+
+/* err^ERROR_EXPONENT for the step-size control. */
+static inline double error_power(const ode *o, double err)
+{
+    return o->lane != NULL ? lanes_error_power(o->lane, err) : pow(err, ERROR_EXPONENT);
+}
 
 /* One accepted step of the first ny components (a constant of each copy) towards t_bound, at most
  * max_step long. Returns 0, or -1 when the error cannot be controlled above the smallest step. */
@@ -732,7 +740,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (err < 1.0) {
             /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
             double factor =
-                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * error_power(o, err));
             if (rejected) /* no growth right after a rejection */
                 factor = min2(1.0, factor);
             d->t_old = d->t;
@@ -746,7 +754,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
             return 0;
         }
         /* fmax ignores a NaN error: a non-finite state shrinks the step until it fails. */
-        h *= fmax(MIN_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+        h *= fmax(MIN_FACTOR, SAFETY * error_power(o, err));
         rejected = 1;
         if (!(h > 0.0) || below_min_step(h, d->t))
             return -1;
