@@ -103,7 +103,7 @@ def vector_rhs(text: str, prefix: str) -> str:
     """The header lanes.c includes for the model of C source ``text`` and prefix ``prefix``.
 
     It defines ``LANES_MODEL`` (1 if the rocking accelerations could be written over vectors, else 0) and, if 1,
-    ``LANES_CST_USED`` (the constants the function reads, an initializer) and the macro
+    ``LANES_CST_USED(X)`` (``X(i)`` for each constant ``cst[i]`` the function reads) and the macro
     ``LANES_DEFINE_RHS(name, attributes, extra)``, which defines ``attributes void name(const VD *y, VD ag,
     const VD *cst, VD *out, extra)`` for the vector type ``VD`` and the ``LANES_SINCOS`` in scope where it is
     expanded (``extra``: a parameter that macro may read).
@@ -114,7 +114,6 @@ def vector_rhs(text: str, prefix: str) -> str:
     if lines is None:
         return head + "#define LANES_MODEL 0\n"
     statements, used = lines
-    cst = ", ".join(str(i) for i in sorted(used))
     macro = " \\\n".join(
         [
             "#define LANES_DEFINE_RHS(name, attributes, extra)",
@@ -124,4 +123,5 @@ def vector_rhs(text: str, prefix: str) -> str:
         + [f"        {s}" for s in statements]
         + ["    }"]
     )
-    return f"{head}#define LANES_MODEL 1\n#define LANES_CST_USED {{{cst}}}\n{macro}\n"
+    gather = " ".join(f"X({i})" for i in sorted(used))
+    return f"{head}#define LANES_MODEL 1\n#define LANES_CST_USED(X) {gather}\n{macro}\n"

@@ -103,7 +103,6 @@ LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *o
  * bits in the mask returned, the caller computes those steps scalar. */
 static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 {
-    static const int used[] = LANES_CST_USED;
     VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
     VL outside = (VL){0};
     LNAME(sines) pulse;
@@ -121,8 +120,9 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
             k[0][i][j] = l->d->f[i];
             atol[i][j] = l->tol->atol[i];
         }
-        for (i = 0; i < (int)(sizeof used / sizeof *used); ++i)
-            cst[used[i]][j] = l->o->cst[used[i]];
+#define GATHER(i) cst[i][j] = l->o->cst[i];
+        LANES_CST_USED(GATHER)
+#undef GATHER
         pulse.sine[j] = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
         pulse.a[j] = pulse.sine[j] ? l->o->c->a_g : 0.0;
         pulse.omega[j] = pulse.sine[j] ? l->o->c->omega_g : 0.0;
