@@ -1,10 +1,10 @@
 /* The C batch in lanes (lanes.h): included by sim.c after simulate_one, whose types and functions it uses.
  *
  * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
- * a rocking step (dopri_step_of calls lanes_stages), the lane posts the request and switches back to the
- * scheduler (lanes_run); once every lane waits (or has no case left), the scheduler computes all their
- * stages over vectors (lanes_kernel.h) and resumes each lane, which goes on with its scalar step-size control,
- * events and phases until its next rocking step. A lane whose run ends takes the next case of the batch.
+ * a rocking step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
+ * (lane_next); the last lane of a round computes the stages of every waiting lane over vectors (lanes_kernel.h)
+ * and each goes on, in turn, with its scalar step-size control, events and phases until its next rocking step.
+ * A lane whose run ends takes the next case of the batch.
  */
 #include <stdlib.h>
 
@@ -22,7 +22,8 @@
 /* The stack of a lane: simulate_one needs a few kB (its run, the scalar stages); far more, never touched. */
 #define LANES_STACK (256 * 1024)
 
-enum { LANE_IDLE, LANE_RUNNING, LANE_WAITING, LANE_READY, LANE_DONE };
+/* A lane waits for the stages of its step, is ready to go on (they are computed), or has no case left. */
+enum { LANE_WAITING, LANE_READY, LANE_FINISHED };
 
 typedef struct lanes lanes;
 
@@ -30,7 +31,7 @@ typedef struct lane {
     void *sp;      /* the stack pointer of the coroutine while it is suspended */
     lanes *owner;  /* the scheduler */
     int state;     /* LANE_* */
-    int64_t i;     /* the case it runs */
+    int slot;      /* its index in its scheduler's lanes */
     /* a request for the stages of a step (lanes_stages) and its answer, err */
     dopri *d;
     ode *o;
@@ -201,26 +202,79 @@ struct lanes {
     const rocking_control *control;
 };
 
-/* Run the lane l (until it waits for stages or its run ends). */
-static void lane_resume(lane *l)
+/* The next case of the batch b, or -1 if none is left. Cases read after the stop flag is set end as the scalar
+ * loop leaves them. */
+static int64_t lanes_take(lanes *b)
 {
-    l->state = LANE_RUNNING;
-    rocking_lanes_switch(&l->owner->sp, l->sp);
+    while (b->next < b->n) {
+        const int64_t i = b->next++;
+        if (b->control == NULL || b->control->stop == NULL || *b->control->stop == 0)
+            return i;
+        b->out[i].status = ROCKING_STOPPED;
+    }
+    return -1;
 }
 
-/* The coroutine of a lane: the runs of the cases the scheduler gives it, one after the other. */
+/* The stages of the waiting lanes, b->width at a time (the last vector padded with its last lane again); they are
+ * then ready. */
+static void lanes_serve(lanes *b)
+{
+    lane *waiting[LANES_RUNS];
+    int n = 0, first, j;
+    for (j = 0; j < b->runs; ++j)
+        if (b->lane[j].state == LANE_WAITING)
+            waiting[n++] = &b->lane[j];
+    for (first = 0; first < n; first += b->width) {
+        lane *ls[LANES_RUNS];
+        int scalar;
+        for (j = 0; j < b->width; ++j)
+            ls[j] = waiting[first + j < n ? first + j : n - 1];
+        scalar = b->kernel(ls);
+        for (j = 0; j < b->width && first + j < n; ++j)
+            if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
+                ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
+    }
+    for (j = 0; j < n; ++j)
+        waiting[j]->state = LANE_READY;
+}
+
+/* Lane l waits for its stages or has finished: run the next ready lane in slot order; after the last, serve
+ * the waiting lanes and run the first of them (l itself: return at once); when none waits, back to the caller
+ * of the batch. One switch per step of a lane, from lane to lane: a round of the lanes ends in the vector
+ * stages, on the stack of the lane that ends it. */
+static void lane_next(lane *l)
+{
+    lanes *b = l->owner;
+    int j;
+    for (j = l->slot + 1; j < b->runs; ++j)
+        if (b->lane[j].state == LANE_READY) {
+            rocking_lanes_switch(&l->sp, b->lane[j].sp);
+            return;
+        }
+    lanes_serve(b);
+    for (j = 0; j < b->runs; ++j)
+        if (b->lane[j].state == LANE_READY) {
+            if (&b->lane[j] != l)
+                rocking_lanes_switch(&l->sp, b->lane[j].sp);
+            return;
+        }
+    rocking_lanes_switch(&l->sp, b->sp); /* every lane has finished: not resumed again */
+}
+
+/* The coroutine of a lane: runs of the batch's cases, one after the other, until none is left. */
 static void lane_main(lane *l)
 {
-    for (;;) {
-        const lanes *b = l->owner;
-        simulate_one(b->p + l->i * MODEL_NP, b->cases + l->i, b->out + l->i, NULL, b->control, l);
-        l->state = LANE_DONE;
-        rocking_lanes_switch(&l->sp, l->owner->sp);
-    }
+    lanes *b = l->owner;
+    int64_t i;
+    while ((i = lanes_take(b)) >= 0)
+        simulate_one(b->p + i * MODEL_NP, b->cases + i, b->out + i, NULL, b->control, l);
+    l->state = LANE_FINISHED;
+    lane_next(l);
 }
 
 /* The first frame of lane l on its stack [stack, stack + size): what rocking_lanes_switch pops, then its
- * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call. */
+ * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call. The lane is
+ * ready: its first switch starts it. */
 static void lane_start(lane *l, unsigned char *stack, size_t size)
 {
     uint64_t *top = (uint64_t *)(((uintptr_t)(stack + size)) & ~(uintptr_t)15);
@@ -236,63 +290,7 @@ static void lane_start(lane *l, unsigned char *stack, size_t size)
     sp[5] = (uint64_t)(uintptr_t)l;         /* r12 */
     sp[8] = (uint64_t)(uintptr_t)rocking_lanes_start;
     l->sp = sp;
-    l->state = LANE_IDLE;
-}
-
-/* Give lane l the next case of the batch and run it, until it waits for stages; 0 if none is left. Cases
- * read after the stop flag is set end as the scalar loop leaves them. */
-static int lane_take(lanes *b, lane *l)
-{
-    while (b->next < b->n) {
-        const int64_t i = b->next++;
-        if (b->control != NULL && b->control->stop != NULL && *b->control->stop != 0) {
-            b->out[i].status = ROCKING_STOPPED;
-            continue;
-        }
-        l->i = i;
-        lane_resume(l);
-        if (l->state == LANE_WAITING)
-            return 1;
-    }
-    l->state = LANE_IDLE;
-    return 0;
-}
-
-/* The stages of the waiting lanes, b->width at a time (the last vector padded with its last lane again). */
-static void lanes_serve(lanes *b, lane **waiting, int n)
-{
-    int first, j;
-    for (first = 0; first < n; first += b->width) {
-        lane *ls[LANES_RUNS];
-        int scalar;
-        for (j = 0; j < b->width; ++j)
-            ls[j] = waiting[first + j < n ? first + j : n - 1];
-        scalar = b->kernel(ls);
-        for (j = 0; j < b->width && first + j < n; ++j)
-            if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
-                ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
-    }
-    for (j = 0; j < n; ++j)
-        waiting[j]->state = LANE_READY;
-}
-
-/* Every case of the batch b through its lanes. */
-static void lanes_run(lanes *b)
-{
-    for (;;) {
-        lane *waiting[LANES_RUNS];
-        int n = 0, j;
-        for (j = 0; j < b->runs; ++j) {
-            lane *l = &b->lane[j];
-            if (l->state == LANE_READY)
-                lane_resume(l);
-            if (l->state == LANE_WAITING || lane_take(b, l))
-                waiting[n++] = l;
-        }
-        if (n == 0)
-            return;
-        lanes_serve(b, waiting, n);
-    }
+    l->state = LANE_READY;
 }
 
 /* The vector width a batch now uses (rocking_lanes). */
@@ -339,9 +337,10 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.runs = runs;
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
+        b.lane[j].slot = j;
         lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
     }
-    lanes_run(&b);
+    rocking_lanes_switch(&b.sp, b.lane[0].sp); /* back when every lane has finished */
     free(b.stacks);
     return 1;
 }
@@ -361,7 +360,7 @@ static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, doub
     l->y_new = y_new;
     l->state = LANE_WAITING;
     l->power = NAN;
-    rocking_lanes_switch(&l->sp, l->owner->sp);
+    lane_next(l);
     return l->err;
 }
 
