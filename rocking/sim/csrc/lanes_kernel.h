@@ -74,26 +74,29 @@ LATTR VD LNAME(error_power)(VD x, VL *outside)
 LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *outside)
 #undef LANES_SINCOS
 
-/* A one-sine pulse of each lane: its amplitude, circular frequency and phase. */
+/* The ground motion of each lane: a one-sine pulse acting (its amplitude, circular frequency and phase), another
+ * motion acting, or none (after the pulse). */
 typedef struct LNAME(sines) {
     VD a, omega, psi;
-    int sine[LW]; /* lane j's pulse is a one-sine acting */
-    int any, all; /* one of them is; all are */
+    VL sine;       /* -1 where the lane's pulse is a one-sine acting */
+    int other[LW]; /* the lane's pulse is another motion, acting */
+    int any_sine, any_other;
 } LNAME(sines);
 
-/* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), any other
+/* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), another
  * motion by ode_ag, 0 after the pulse. */
 LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *outside)
 {
-    VD ag = LNAME(splat)(0.0), c;
+    VD ag = LNAME(splat)(0.0), s, c;
     int j;
-    if (p->any)
-        LNAME(sincos)(p->omega * t + p->psi, &ag, &c, outside);
-    ag = p->a * ag;
-    if (!p->all)
+    if (p->any_sine) {
+        LNAME(sincos)(p->omega * t + p->psi, &s, &c, outside);
+        ag = (VD)((VL)(p->a * s) & p->sine);
+    }
+    if (p->any_other)
         for (j = 0; j < LW; ++j)
-            if (!p->sine[j])
-                ag[j] = ls[j]->o->pulse_on ? ode_ag(ls[j]->o, t[j]) : 0.0;
+            if (p->other[j])
+                ag[j] = ode_ag(ls[j]->o, t[j]);
     return ag;
 }
 
@@ -107,8 +110,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
     VL outside = (VL){0};
     LNAME(sines) pulse;
     int i, j, s, scalar = 0;
-    pulse.any = 0;
-    pulse.all = 1;
+    pulse.any_sine = pulse.any_other = 0;
     for (j = 0; j < LW; ++j) {
         const lane *l = ls[j];
         t0[j] = l->d->t;
@@ -123,12 +125,16 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 #define GATHER(i) cst[i][j] = l->o->cst[i];
         LANES_CST_USED(GATHER)
 #undef GATHER
-        pulse.sine[j] = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
-        pulse.a[j] = pulse.sine[j] ? l->o->c->a_g : 0.0;
-        pulse.omega[j] = pulse.sine[j] ? l->o->c->omega_g : 0.0;
-        pulse.psi[j] = pulse.sine[j] ? l->o->c->psi : 0.0;
-        pulse.any |= pulse.sine[j];
-        pulse.all &= pulse.sine[j];
+        {
+            const int sine = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
+            pulse.sine[j] = -sine;
+            pulse.a[j] = sine ? l->o->c->a_g : 0.0;
+            pulse.omega[j] = sine ? l->o->c->omega_g : 0.0;
+            pulse.psi[j] = sine ? l->o->c->psi : 0.0;
+            pulse.other[j] = l->o->pulse_on && !sine;
+            pulse.any_sine |= sine;
+            pulse.any_other |= pulse.other[j];
+        }
     }
     ag_new = LNAME(splat)(0.0);
 #pragma GCC unroll 8
@@ -182,7 +188,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
                     l->d->k[s][i] = k[s][i][j];
             for (i = 0; i < NY; ++i)
                 l->y_new[i] = y[i][j];
-            if (pulse.sine[j]) {
+            if (pulse.sine[j]) { /* ode_ag's memo, as the scalar stages leave it */
                 l->o->memo_t = t_new[j];
                 l->o->memo_ag = ag_new[j];
             }
