@@ -19,8 +19,9 @@
 
 /* The runs in flight at once: enough to fill an AVX-512 vector of doubles; a narrower one takes them in turn. */
 #define LANES_RUNS 8
-/* The stack of a lane: simulate_one needs a few kB (its run, the scalar stages); far more, never touched. */
-#define LANES_STACK (256 * 1024)
+/* The stack of a lane: simulate_one and the vector stages need tens of kB (a run, the constants of a model over
+ * vectors); far more, of which the pages never touched cost nothing. */
+#define LANES_STACK (1024 * 1024)
 
 /* A lane waits for the stages of its step, is ready to go on (they are computed), or has no case left. */
 enum { LANE_WAITING, LANE_READY, LANE_FINISHED };
