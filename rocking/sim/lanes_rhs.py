@@ -17,20 +17,22 @@ from __future__ import annotations
 
 import re
 
-__all__ = ["FUNCTION", "vector_rhs"]
+__all__ = ["FUNCTIONS", "vector_rhs"]
 
-#: The generated function the lanes evaluate (the accelerations while rocking).
-FUNCTION = "rocking_accel_prepared"
+#: The generated functions the lanes evaluate, by the macro that defines each over vectors: the accelerations
+#: while rocking (required) and in full contact (optional: without it, full contact is stepped scalar).
+FUNCTIONS = {"LANES_DEFINE_RHS": "rocking_accel_prepared", "LANES_DEFINE_CONTACT": "contact_accel_prepared"}
 
 _SIGNATURE = "void {prefix}_{name}(const double *y, double ag, const double *cst, double *out)\n{{\n"
 _DEFINE = re.compile(r"const double (\w+) = (.+);")
 _OUT = re.compile(r"out\[(\d+)\] = (.+);")
+_UNUSED = re.compile(r"\(void\)(ag|y|cst);")
 _TOKEN = re.compile(r"\s*(?:(\d+\.\d+(?:e[+-]?\d+)?|\d+)|(\w+)\[(\d+)\]|(sin|cos)\((\w+)\)|(\w+)|([-+*/()]))")
 
 
-def _body(text: str, prefix: str) -> list[str] | None:
-    """The lines of ``prefix``'s generated rocking accelerations, or None if the C has no such function."""
-    head = _SIGNATURE.format(prefix=prefix, name=FUNCTION)
+def _body(text: str, prefix: str, name: str) -> list[str] | None:
+    """The lines of ``prefix``'s generated function ``name``, or None if the C has no such function."""
+    head = _SIGNATURE.format(prefix=prefix, name=name)
     start = text.find(head)
     if start < 0:
         return None
@@ -39,13 +41,15 @@ def _body(text: str, prefix: str) -> list[str] | None:
 
 
 def _expression(expr: str, known: set[str], used: set[int], trig: dict[str, str]) -> str | None:
-    """``expr`` over vectors, or None if it holds anything but the straight-line arithmetic above."""
-    parts, pos = [], 0
+    """``expr`` over vectors, or None if it holds anything but the straight-line arithmetic above. An expression
+    of numbers alone is a double: it is added to a vector of zeros (a vector is not assigned a double)."""
+    parts, pos, vector = [], 0, False
     while pos < len(expr):
         m = _TOKEN.match(expr, pos)
         if m is None:
             return None
         number, array, index, func, arg, name, op = m.groups()
+        vector |= number is None and op is None
         if number is not None:
             parts.append(number)
         elif array is not None:
@@ -66,16 +70,16 @@ def _expression(expr: str, known: set[str], used: set[int], trig: dict[str, str]
         else:
             parts.append(op)
         pos = m.end()
-    return "".join(parts)
+    return "".join(parts) if vector else f"(VD){{0}} + ({''.join(parts)})"
 
 
-def _lines(body: list[str]) -> tuple[list[str], set[int]] | None:
-    """The vector statements of ``body`` and the constants it reads, or None if refused."""
-    known, used = {"ag"}, set[int]()
+def _lines(body: list[str], used: set[int]) -> list[str] | None:
+    """The vector statements of ``body`` (the constants it reads added to ``used``), or None if refused."""
+    known = {"ag"}
     trig: dict[str, str] = {}  # the arguments of sin and cos, in the order met
     out = []
     for line in body:
-        if line == "(void)ag;":
+        if _UNUSED.fullmatch(line):
             continue
         define, store = _DEFINE.fullmatch(line), _OUT.fullmatch(line)
         m = define or store
@@ -96,32 +100,45 @@ def _lines(body: list[str]) -> tuple[list[str], set[int]] | None:
             out.append(f"const VD {define.group(1)} = {expr};")
         else:
             out.append(f"out[{m.group(1)}] = {expr};")
-    return out, used
+    return out
+
+
+def _macro(macro: str, statements: list[str]) -> str:
+    return " \\\n".join(
+        [
+            f"#define {macro}(name, attributes, extra)",
+            "    attributes void name(const VD *y, VD ag, const VD *cst, VD *out, extra)",
+            "    {",
+            "        (void)y, (void)ag, (void)cst;",
+        ]
+        + [f"        {s}" for s in statements]
+        + ["    }"]
+    )
 
 
 def vector_rhs(text: str, prefix: str) -> str:
     """The header lanes.c includes for the model of C source ``text`` and prefix ``prefix``.
 
     It defines ``LANES_MODEL`` (1 if the rocking accelerations could be written over vectors, else 0) and, if 1,
-    ``LANES_CST_USED(X)`` (``X(i)`` for each constant ``cst[i]`` the function reads) and the macro
-    ``LANES_DEFINE_RHS(name, attributes, extra)``, which defines ``attributes void name(const VD *y, VD ag,
-    const VD *cst, VD *out, extra)`` for the vector type ``VD`` and the ``LANES_SINCOS`` in scope where it is
-    expanded (``extra``: a parameter that macro may read).
+    ``LANES_CONTACT`` (1 if those of full contact could too), ``LANES_CST_USED(X)`` (``X(i)`` for each constant
+    ``cst[i]`` they read) and the macros of :data:`FUNCTIONS`: ``LANES_DEFINE_RHS(name, attributes, extra)``
+    defines ``attributes void name(const VD *y, VD ag, const VD *cst, VD *out, extra)`` for the vector type ``VD``
+    and the ``LANES_SINCOS`` in scope where it is expanded (``extra``: a parameter that macro may read).
     """
-    body = _body(text, prefix)
-    lines = _lines(body) if body is not None else None
-    head = f"/* {prefix}_{FUNCTION} over lanes: written by rocking.sim.lanes_rhs at build time, do not edit. */\n"
-    if lines is None:
+    head = f"/* {prefix}'s accelerations over lanes: written by rocking.sim.lanes_rhs at build time, do not edit. */\n"
+    used: set[int] = set()
+    macros = {}
+    for macro, name in FUNCTIONS.items():
+        body = _body(text, prefix, name)
+        found = set[int]()
+        statements = _lines(body, found) if body is not None else None
+        if statements is not None:
+            macros[macro] = _macro(macro, statements)
+            used |= found
+    if "LANES_DEFINE_RHS" not in macros:
         return head + "#define LANES_MODEL 0\n"
-    statements, used = lines
-    macro = " \\\n".join(
-        [
-            "#define LANES_DEFINE_RHS(name, attributes, extra)",
-            "    attributes void name(const VD *y, VD ag, const VD *cst, VD *out, extra)",
-            "    {",
-        ]
-        + [f"        {s}" for s in statements]
-        + ["    }"]
-    )
     gather = " ".join(f"X({i})" for i in sorted(used))
-    return f"{head}#define LANES_MODEL 1\n#define LANES_CST_USED(X) {gather}\n{macro}\n"
+    return (
+        f"{head}#define LANES_MODEL 1\n#define LANES_CONTACT {int('LANES_DEFINE_CONTACT' in macros)}\n"
+        f"#define LANES_CST_USED(X) {gather}\n" + "\n".join(macros.values()) + "\n"
+    )

@@ -351,7 +351,8 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
 static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
 {
     lane *l = o->lane;
-    if (o->rhs != ODE_PULSE_ROCKING && o->rhs != ODE_FREE_ROCKING)
+    const int contact = o->rhs == ODE_PULSE_CONTACT || o->rhs == ODE_FREE_CONTACT;
+    if (!(o->rhs == ODE_PULSE_ROCKING || o->rhs == ODE_FREE_ROCKING || (LANES_CONTACT && contact)))
         return scalar_stages(d, o, tol, h, t_new, y_new);
     l->d = d;
     l->o = o;

@@ -3,13 +3,14 @@
  *
  * Each run is the scalar phase machine of sim.c itself, on a stack of its own (a coroutine): events, phase
  * changes, impacts, verdicts and the step-size control are the scalar code, case by case. Only the six
- * stages and the error estimate of a step of a rocking phase without a vertical component and without slip
- * (the right-hand sides ODE_PULSE_ROCKING, ODE_FREE_ROCKING) are computed over vectors: every element goes
+ * stages and the error estimate of a step without a vertical component and without slip, rocking or in full
+ * contact (the right-hand sides ODE_*_ROCKING, ODE_*_CONTACT), and the power of that error the step-size
+ * control takes, are computed over vectors: every element goes
  * through the operations of the scalar stages, in their order, except sin and cos (of theta, of a one-sine
- * pulse), which lanes.c computes with its own vector functions (at most about one unit in the last place
+ * pulse) and that power, which lanes.c computes with its own vector functions (a few units in the last place
  * from libm's). The results then differ from the scalar path's by the last bits of those values, carried
- * along the run (tests/test_lanes.py bounds the difference). Every other step (full contact, a slide, a
- * vertical component) is the scalar step, in place.
+ * along the run (tests/test_lanes.py bounds the difference). Every other step (a slide, a vertical component,
+ * full contact of a model whose contact accelerations are not straight-line) is the scalar step, in place.
  *
  * When the batch runs scalar instead (rocking_simulate_batch_lanes with lanes = 0, or rocking_lanes() = 0):
  *   - the environment variable ROCKING_LANES is "0";

@@ -72,6 +72,9 @@ LATTR VD LNAME(error_power)(VD x, VL *outside)
 /* The generated right-hand side's sincos: the flag of the arguments out of range is the caller's `outside`. */
 #define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, outside)
 LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *outside)
+#if LANES_CONTACT
+LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *outside __attribute__((unused)))
+#endif
 #undef LANES_SINCOS
 
 /* The ground motion of each lane: a one-sine pulse acting (its amplitude, circular frequency and phase), another
@@ -107,9 +110,9 @@ LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *o
 static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 {
     VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
-    VL outside = (VL){0};
+    VL outside = (VL){0}, contact = (VL){0}; /* contact: -1 where the lane is in full contact */
     LNAME(sines) pulse;
-    int i, j, s, scalar = 0;
+    int i, j, s, scalar = 0, any_contact = 0, any_rocking = 0;
     pulse.any_sine = pulse.any_other = 0;
     for (j = 0; j < LW; ++j) {
         const lane *l = ls[j];
@@ -125,6 +128,9 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 #define GATHER(i) cst[i][j] = l->o->cst[i];
         LANES_CST_USED(GATHER)
 #undef GATHER
+        contact[j] = -(l->o->phase == 0);
+        any_contact |= l->o->phase == 0;
+        any_rocking |= l->o->phase != 0;
         {
             const int sine = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
             pulse.sine[j] = -sine;
@@ -154,7 +160,19 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
         } else {
             ag = LNAME(ground)(ls, t0 + RK_C[s] * h, &pulse, &outside);
         }
-        LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &outside);
+        if (any_rocking)
+            LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &outside);
+        else
+            for (i = 0; i < NQ; ++i)
+                k[s][NQ + i] = LNAME(splat)(0.0);
+#if LANES_CONTACT
+        if (any_contact) {
+            VD in_contact[NQ];
+            LNAME(contact_accel)(y, ag, cst, in_contact, &outside);
+            for (i = 0; i < NQ; ++i)
+                k[s][NQ + i] = (VD)((contact & (VL)in_contact[i]) | (~contact & (VL)k[s][NQ + i]));
+        }
+#endif
         for (i = 0; i < NQ; ++i)
             k[s][i] = y[NQ + i];
     }
