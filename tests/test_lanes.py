@@ -122,7 +122,8 @@ def test_the_switch_is_the_scalar_path(monkeypatch):
 
 def test_a_model_the_lanes_cannot_evaluate_runs_scalar():
     """A Hunt-Crossley pad's accelerations hold pow and fmax: the lanes refuse the model (its batch is scalar),
-    and the rewriting of a straight-line body keeps its operations in order."""
+    and the rewriting of a straight-line body keeps its operations in order (tests/test_lanes.py's maps check
+    the rewritten code against the scalar path)."""
     from rocking import load_model
 
     hc = load_model("omd_stops_hc")
@@ -132,6 +133,10 @@ def test_a_model_the_lanes_cannot_evaluate_runs_scalar():
     header = vector_rhs(omd.c_source.read_text(), omd.c_prefix)
     assert "#define LANES_MODEL 1" in header and "LANES_SINCOS(theta, &lanes_theta_s, &lanes_theta_c)" in header
     assert "out[1] = cse7*cst17+cse8*cst16;" in header
+    assert "#define LANES_CONTACT 1" in header  # full contact over vectors too
+    block = load_model("block")
+    # The bare block's ddtheta = 0 in full contact: a double, added to zeros to make a vector.
+    assert "out[0] = (VD){0} + (0);" in vector_rhs(block.c_source.read_text(), block.c_prefix)
 
 
 def test_the_stop_flag_stops_the_lanes():
