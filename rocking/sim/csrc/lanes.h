@@ -14,7 +14,8 @@
  *
  * When the batch runs scalar instead (rocking_simulate_batch_lanes with lanes = 0, or rocking_lanes() = 0):
  *   - the environment variable ROCKING_LANES is "0";
- *   - the machine is not x86-64 (the coroutines switch stacks with a few lines of x86-64 assembly);
+ *   - the machine is not x86-64 with ELF objects (Linux, the BSDs: the coroutines switch stacks with a few
+ *     lines of System V x86-64 assembly);
  *   - the model's rocking accelerations are not straight-line arithmetic with sin and cos alone
  *     (rocking/sim/lanes_rhs.py; e.g. a Hunt-Crossley pad's pow);
  *   - the stacks of the coroutines cannot be allocated.
