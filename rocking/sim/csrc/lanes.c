@@ -1,9 +1,9 @@
 /* The C batch in lanes (lanes.h): included by sim.c after simulate_one, whose types and functions it uses.
  *
  * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
- * a rocking step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
+ * a step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
  * (lane_next); the last lane of a round computes the stages of every waiting lane over vectors (lanes_kernel.h)
- * and each goes on, in turn, with its scalar step-size control, events and phases until its next rocking step.
+ * and each goes on, in turn, with its scalar step-size control, events and phases until its next step.
  * A lane whose run ends takes the next case of the batch.
  */
 #include <stdlib.h>
@@ -347,8 +347,8 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     return 1;
 }
 
-/* The stages of a step of the lane's run: over vectors with the other lanes' for a rocking phase without a
- * vertical component or a slide, else scalar here. */
+/* The stages of a step of the lane's run: over vectors with the other lanes' for a rocking phase or full contact
+ * without a vertical component or a slide (full contact where the model's header has it), else scalar here. */
 static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
 {
     lane *l = o->lane;

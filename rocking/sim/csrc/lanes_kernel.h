@@ -128,9 +128,12 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
 #define GATHER(i) cst[i][j] = l->o->cst[i];
         LANES_CST_USED(GATHER)
 #undef GATHER
-        contact[j] = -(l->o->phase == 0);
-        any_contact |= l->o->phase == 0;
-        any_rocking |= l->o->phase != 0;
+        {
+            const int in_contact = l->o->rhs == ODE_PULSE_CONTACT || l->o->rhs == ODE_FREE_CONTACT;
+            contact[j] = -in_contact;
+            any_contact |= in_contact;
+            any_rocking |= !in_contact;
+        }
         {
             const int sine = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
             pulse.sine[j] = -sine;
