@@ -549,8 +549,8 @@ def _simulate(args) -> int:
         responses[label] = simulate(block, d, pulse, record=record, **run, **model)
     if args.json:
         payload = _payload(block, damper, pulse, args.model, responses, models)
-        if floor is not None and floor.slides:  # the paper's floor is said by leaving it out (JSON has no inf)
-            payload["floor"] = floor.settings()
+        if floor is not None and (floor.slides or floor.e_n):  # the paper's floor is said by leaving it out
+            payload["floor"] = {k: v for k, v in floor.settings().items() if math.isfinite(v)}  # JSON has no inf
             payload["units"].update(dict.fromkeys(payload["floor"], "1"))
         print(json.dumps(payload, indent=2))
     else:

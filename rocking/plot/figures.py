@@ -327,11 +327,11 @@ def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = N
 
 
 def _floor_label(config: dict) -> str:
-    """A study's floor with friction for a title (docs/model.md section 15); nothing for the paper's."""
-    floor = config.get("floor")
-    if floor is None:
-        return ""
-    return rf"; floor $\mu_s$ = {floor['mu_s']:g}, $\mu_k$ = {floor['mu_k']:g}"
+    """A study's floor with friction (docs/model.md section 15) and its landings' restitution where they bounce
+    (section 16) for a title; nothing for the paper's."""
+    floor = config.get("floor", {})
+    friction = rf"; floor $\mu_s$ = {floor['mu_s']:g}, $\mu_k$ = {floor['mu_k']:g}" if "mu_s" in floor else ""
+    return friction + (f"; landings e_n = {floor['e_n']:g}" if floor.get("e_n") else "")
 
 
 def _suptitle(fig, text: str, fontsize: float = 10) -> None:
