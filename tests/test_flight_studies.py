@@ -4,11 +4,25 @@ the flight results."""
 
 import math
 
+import numpy as np
 import pytest
 
 import rocking
 from rocking.cli.main import main
-from rocking.study.config import Setting, config_hash
+from rocking.sim.problem import STATUS
+from rocking.study import overturning_map as overturning_map_module
+from rocking.study.config import Grid, Setting, Tuning, config_hash
+from rocking.study.overturning_map import (
+    FLIES_AND_LANDS_CLASS,
+    FLIES_AND_OVERTURNS_CLASS,
+    FLIGHT_FIELDS,
+    envelope,
+    overturning_map,
+    response_classes,
+    undetermined,
+)
+from rocking.study.tiles import Execution
+from rocking.study.vocabulary import NOT_COMPUTED
 
 BLOCK = rocking.Block.reference()
 
@@ -45,3 +59,66 @@ def test_a_saved_floor_is_read_back_only_as_a_study_records_it(floor):
     config = {**Setting(BLOCK).record(), "floor": floor}
     with pytest.raises(rocking.ParameterError, match=r"^(e_n must be in \[0, 1\]|floor: )"):
         _setting(config)
+
+
+def _flying(real_run_cases, beta_of_flight: float):
+    """``run_cases`` whose responses of amplitude ``a_g`` above ``beta_of_flight g tan(alpha)`` flew once (the
+    study layer's reading of flights, before a back end flies: their verdicts stay the back end's)."""
+
+    def run_cases(cases, backend="c", threads=1):
+        result = dict(real_run_cases(cases, backend, threads))
+        flew = np.abs(cases.settings["a_g"]) > beta_of_flight * BLOCK.g * BLOCK.tan_alpha
+        result["flights"] = np.where(flew, 1, 0)
+        result["flight_time"] = np.where(flew, 0.01, 0.0)
+        result["jump_max"] = np.where(flew, 1e-3, 0.0)
+        return result
+
+    return run_cases
+
+
+def _vertical_map(tmp_path, **kwargs):
+    setting = Setting(BLOCK, vertical_ratio=0.5)
+    grids = (Grid("Omega", 2.0, 10.0, 17), Grid("beta", 1.0, 7.0, 17))  # below beta_f = 8: no status flight
+    return overturning_map(setting, Tuning(0.05), *grids, Execution(workers=1, progress=False), runs=tmp_path, **kwargs)
+
+
+def test_a_map_keeps_the_flights_and_refines_on_the_classes_of_responses_that_flew(tmp_path, monkeypatch):
+    monkeypatch.setattr(overturning_map_module, "run_cases", _flying(overturning_map_module.run_cases, 4.2))
+    full = _vertical_map(tmp_path / "full", full=True)
+    data = full.data
+    for k in (*FLIGHT_FIELDS, "flew"):
+        assert data[k].dims == ("part", "Omega", "beta", "sign")
+    assert data["flight_time"].attrs["units"] == "s" and data["jump_max"].attrs["units"] == "m"
+    assert data["flew"].attrs["flag_meanings"] == "not_computed on_the_floor flew"
+    flew = data["flew"].values == 1
+    assert np.array_equal(flew, data["flights"].values > 0) and flew[:, :, data["beta"].values > 4.2].all()
+    classes = response_classes(*(data[k].values for k in ("overturned", "impacts", "status")), None, data["flights"])
+    over = data["overturned"].values
+    assert np.array_equal(classes == FLIES_AND_OVERTURNS_CLASS, flew & over)
+    assert np.array_equal(classes == FLIES_AND_LANDS_CLASS, flew & ~over)
+    env = envelope(data)
+    s = full.summary
+    for part in ("bare", "damper"):
+        governing = env["flew"].sel(part=part).values == 1
+        a = env["overturned"].sel(part=part).values
+        assert s[f"{part}_flies_and_lands"] == (governing & ~a).sum()
+        assert s[f"{part}_flies_and_overturns"] == (governing & a).sum()
+        assert s[f"{part}_undetermined"] == 0  # a response that flew and landed has its verdict
+    # An adaptive map refines on those classes: where its cells were filled in, they take what the class tells.
+    adaptive = _vertical_map(tmp_path / "adaptive", coarse=4).data
+    computed = adaptive["computed"].values[..., None] & np.ones(adaptive["sign"].size, bool)
+    assert not computed.all()
+    assert np.array_equal(adaptive["overturned"].values, over)
+    assert np.array_equal(adaptive["flew"].values, data["flew"].values)
+    grounded = ~computed & (adaptive["flew"].values == 0)
+    assert (adaptive["flights"].values[grounded] == 0).all() and (adaptive["jump_max"].values[grounded] == 0).all()
+    aloft = ~computed & (adaptive["flew"].values == 1)
+    assert aloft.any() and np.isnan(adaptive["jump_max"].values[aloft]).all()
+    assert (adaptive["flights"].values[aloft] == NOT_COMPUTED).all()
+
+
+def test_a_jammed_landing_and_a_flight_without_flight_functions_have_no_verdict():
+    status = np.array([STATUS.index(name) for name in ("jammed", "flight", "rest", "overturned")])
+    assert undetermined(status).tolist() == [True, True, False, False]
+    classes = response_classes([False, False, False, True], [0, 0, 0, 2], status, None, [1, 0, 1, 1])
+    assert classes.tolist() == [-2 - status[0], -2 - status[1], FLIES_AND_LANDS_CLASS, FLIES_AND_OVERTURNS_CLASS]

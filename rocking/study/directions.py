@@ -114,7 +114,7 @@ def largest(values) -> np.ndarray:
 
 
 #: Fields of a response taken from the worse direction; the others are the largest over the directions.
-FROM_WORST = ("impacts", "status")
+FROM_WORST = ("impacts", "status", "flew")
 
 
 def response_envelope(by_sign: dict, unknown) -> dict:
