@@ -21,6 +21,8 @@ from rocking.study.overturning_map import (
     response_classes,
     undetermined,
 )
+from rocking.study.spectrum import envelope as spectrum_envelope
+from rocking.study.spectrum import minimum_overturning_spectrum
 from rocking.study.tiles import Execution
 from rocking.study.vocabulary import NOT_COMPUTED
 
@@ -122,3 +124,23 @@ def test_a_jammed_landing_and_a_flight_without_flight_functions_have_no_verdict(
     assert undetermined(status).tolist() == [True, True, False, False]
     classes = response_classes([False, False, False, True], [0, 0, 0, 2], status, None, [1, 0, 1, 1])
     assert classes.tolist() == [-2 - status[0], -2 - status[1], FLIES_AND_LANDS_CLASS, FLIES_AND_OVERTURNS_CLASS]
+
+
+def test_a_spectrum_counts_the_responses_that_flew_and_says_whether_beta_min_flew(tmp_path, monkeypatch):
+    monkeypatch.setattr(overturning_map_module, "run_cases", _flying(overturning_map_module.run_cases, 2.2))
+    setting = Setting(BLOCK, vertical_ratio=0.5)
+    scan = Grid("beta", 0.5, 7.5, 15)
+    study = minimum_overturning_spectrum(
+        setting, Tuning(0.05), Grid("Omega", 2.0, 12.0, 6), scan, Execution(workers=1, progress=False), runs=tmp_path
+    )
+    data = study.data
+    beta_min, flew = data["beta_min"].values, data["beta_min_flew"].values
+    assert data["flown"].dims == ("part", "Omega", "sign") and np.isfinite(beta_min).any()
+    # The planted flights are those above beta = 2.2: beta_min's response flew exactly where beta_min lies above.
+    assert np.array_equal(flew == 1, np.nan_to_num(beta_min) > 2.2)
+    scanned = np.count_nonzero(scan.values() > 2.2)
+    assert (data["flown"].values >= scanned).all()  # every scan amplitude above, and the bisection's there
+    env = spectrum_envelope(data)
+    for part in ("bare", "damper"):
+        assert study.summary[part]["flown"] == env["flown"].sel(part=part).sum()
+        assert study.summary[part]["flown"] == data["flown"].sel(part=part).sum()

@@ -71,7 +71,12 @@ FIELDS: dict[str, tuple] = {
         "landed, or flew and overturned",
         FLEW_KEY,
     ),
-    "flown": ("1", "responses whose base left the floor and landed (flights > 0), with a verdict"),
+    "flown": ("1", "responses of the scan and the bisection whose base left the floor and came to a verdict"),
+    "beta_min_flew": (
+        "1",
+        "the response that overturns at beta_min flew first (flights > 0: flies and overturns); 0 where it did not "
+        "or beta_min is not reached",
+    ),
     "stroke_over_half_width": ("1", "largest damper stroke over the block's half-width B/2"),
     "stroke_over_L": ("1", "largest damper stroke over the stops' half-stroke L"),
     "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha); NaN where not reached in the scan"),
