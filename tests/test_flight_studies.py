@@ -10,8 +10,10 @@ import pytest
 import rocking
 from rocking.cli.main import main
 from rocking.sim.problem import STATUS
+from rocking.study import ida as ida_module
 from rocking.study import overturning_map as overturning_map_module
 from rocking.study.config import Grid, Setting, Tuning, config_hash
+from rocking.study.fragility import FitWarning
 from rocking.study.overturning_map import (
     FLIES_AND_LANDS_CLASS,
     FLIES_AND_OVERTURNS_CLASS,
@@ -144,3 +146,29 @@ def test_a_spectrum_counts_the_responses_that_flew_and_says_whether_beta_min_fle
     for part in ("bare", "damper"):
         assert study.summary[part]["flown"] == env["flown"].sel(part=part).sum()
         assert study.summary[part]["flown"] == data["flown"].sel(part=part).sum()
+
+
+def test_an_ida_with_a_vertical_component_keeps_the_flights_and_counts_how_they_ended(tmp_path, monkeypatch):
+    real = ida_module.run_cases
+
+    def run_cases(cases, backend="c", threads=1):  # the responses that rocked past alpha / 3 flew (planted)
+        result = dict(real(cases, backend, threads))
+        flew = result["theta_max"] > BLOCK.alpha / 3
+        return {**result, "flights": flew.astype(np.int64), "flight_time": 0.01 * flew, "jump_max": 1e-3 * flew}
+
+    monkeypatch.setattr(ida_module, "run_cases", run_cases)
+    site = rocking.model.stochastic.SiteModel(arias=0.5, d595=3.0, t_mid=2.0, f_mid=4.0, f_slope=-0.1, zeta_f=0.2)
+    suite = rocking.study.suite.suite_of(stochastic=3, seed=7, site=site, vertical_ratio=0.3)
+    with pytest.warns(FitWarning):
+        study = ida_module.incremental_dynamic_analysis(
+            Setting(BLOCK), Tuning(0.05), suite, Grid("level", 1.0, 4.0, 4), Execution(workers=1, progress=False),
+            runs=tmp_path, check="none",
+        )  # fmt: skip
+    data = study.data
+    assert data["jump_max"].dims == ("part", "motion", "level", "sign") and data["jump_max"].attrs["units"] == "m"
+    flew, over = data["flights"].values > 0, data["overturned"].values.astype(bool)
+    assert flew.any() and (flew & over).any()
+    assert data["flies_and_lands"].values.tolist() == (flew & ~over).sum(axis=(1, 2, 3)).tolist()
+    assert data["flies_and_overturns"].values.tolist() == (flew & over).sum(axis=(1, 2, 3)).tolist()
+    plain = rocking.study.suite.suite_of(stochastic=1, seed=7, site=site)
+    assert "flights" not in ida_module.response_fields(plain) and "flights" in ida_module.response_fields(suite)
