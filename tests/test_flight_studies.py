@@ -49,6 +49,11 @@ def test_a_setting_passes_a_floor_whose_landings_bounce_even_where_it_never_slid
 def test_the_command_line_takes_the_landings_restitution_and_a_saved_study_keeps_it(tmp_path, capsys):
     argv = ["map", "--Omega", "4", "4", "1", "--beta", "2", "3", "2", "--full", "--workers", "1", "--no-progress"]
     assert main([*argv, "--vertical-ratio", "0.5", "--e-n", "0.5", "--out", str(tmp_path)]) == 0
+    s = rocking.load(tmp_path / "map.nc").summary
+    flew = s["bare_flies_and_lands"] + s["bare_flies_and_overturns"]
+    assert f"map: the base flew in {flew} cells alone ({s['bare_flies_and_overturns']} then overturned)" in (
+        capsys.readouterr().out
+    )
     saved = rocking.load(tmp_path / "map.nc")
     assert saved.config["floor"] == {"e_n": 0.5}
     assert saved.data.attrs["e_n"] == 0.5 and math.isinf(saved.data.attrs["mu_s"])
