@@ -47,6 +47,15 @@ def test_a_setting_passes_a_floor_whose_landings_bounce_even_where_it_never_slid
     assert config_hash(plastic.record()) != config_hash(bouncing.record())
 
 
+def test_the_python_studies_take_the_landings_restitution_as_the_command_line_does(tmp_path):
+    study = rocking.overturning_map(
+        BLOCK, None, Omega=[4.0], beta=[2.0], e_n=0.5, mu=0.6, runs=tmp_path, workers=1, progress=False, study=True
+    )
+    assert study.config["floor"] == {"mu_s": 0.6, "mu_k": 0.6, "e_n": 0.5}
+    with pytest.raises(rocking.ParameterError, match=r"^e_n must be in \[0, 1\] \(got -0.1\)"):
+        rocking.minimum_overturning_spectrum(BLOCK, None, Omega=[4.0], beta=[2.0], e_n=-0.1, runs=tmp_path)
+
+
 def test_the_command_line_takes_the_landings_restitution_and_a_saved_study_keeps_it(tmp_path, capsys):
     argv = ["map", "--Omega", "4", "4", "1", "--beta", "2", "3", "2", "--full", "--workers", "1", "--no-progress"]
     assert main([*argv, "--vertical-ratio", "0.5", "--e-n", "0.5", "--out", str(tmp_path)]) == 0

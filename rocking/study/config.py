@@ -288,9 +288,9 @@ class Setting:
         (docs/model.md section 14): ``ddy_g = vertical_ratio a_g f(t + vertical_phase / omega_g)``, > 0 up,
         unsigned by the pulse's direction; the ratio in [0, 10], the lead in [0, 2 pi) rad. Default 0, 0: none.
     floor : Floor, optional
-        The floor of every response, its Coulomb friction (docs/model.md section 15); default ``None``,
-        ``Floor()``: the paper's, on which the base never slides. Only a back end that follows friction runs a
-        finite one.
+        The floor of every response, its Coulomb friction (docs/model.md section 15) and its landings' normal
+        restitution ``e_n`` (section 16); default ``None``, ``Floor()``: the paper's, on which the base never
+        slides, with plastic landings. Only a back end that follows friction runs a finite one.
     """
 
     block: Block
