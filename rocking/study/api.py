@@ -106,7 +106,7 @@ def _setting(
     )
 
 
-def _floor(mu, mu_k, e_n) -> Floor:
+def _floor(mu, mu_k, e_n=None) -> Floor:
     """The :class:`Floor` of a study's ``mu``, ``mu_k`` (:func:`rocking.model.floor.floor_of`) and ``e_n`` (None:
     plastic)."""
     floor = floor_of(None, mu, mu_k)

@@ -191,7 +191,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
     impacts = np.where(flag == ABOVE, -1, scan_outcome[rows, first])
     unknown = (classes <= -2).sum(axis=1)
-    flew = _flew(r, classes)  # (n, m), None without a vertical component
+    flew = _flew(r["flights"], classes) if "flights" in r else None  # (n, m); a vertical component only
     if flew is not None:
         flown_runs, beta_min_flew = flew.sum(axis=1), np.where(flag == ABOVE, False, flew[rows, first])
     scan_responses = np.full(n, beta_scan.size, np.int64)
@@ -207,7 +207,7 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
         lo[active[~up]] = mid[~up]
         if flew is not None:
-            flew_mid = _flew(r, response_classes(r["overturned"], r["impacts"], r["status"]))
+            flew_mid = _flew(r["flights"], response_classes(r["overturned"], r["impacts"], r["status"]))
             flown_runs[active] += flew_mid
             beta_min_flew[active[up]] = flew_mid[up]
         unknown[active] += undetermined(r["status"])
@@ -227,12 +227,10 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     }
 
 
-def _flew(responses: dict, classes) -> np.ndarray | None:
-    """Where ``responses`` with a vertical component (their ``flights``; None without) flew and came to a verdict
-    (their ``classes``, :func:`rocking.study.overturning_map.response_classes`, no status without a verdict)."""
-    if "flights" not in responses:
-        return None
-    return (np.asarray(responses["flights"]) > 0) & (np.asarray(classes) > -2)
+def _flew(flights, classes) -> np.ndarray:
+    """Where responses flew (their ``flights``) and came to a verdict (their ``classes``,
+    :func:`rocking.study.overturning_map.response_classes`: no status without a verdict)."""
+    return (np.asarray(flights) > 0) & (np.asarray(classes) > -2)
 
 
 def unfinished(counts: dict) -> np.ndarray:
