@@ -8,7 +8,7 @@ the pulse. Both directions of each pulse, their envelope (the governing directio
 cells and the responses (every direction) that flew, and how they ended: flew and landed without overturning, flew
 and overturned, without a verdict (jammed, or a bound); and the same below and above beta_f::
 
-    python bench/flight_studies.py map [--ratio 1] [--n 40] [--workers 2]
+    python bench/flight_studies.py map [--ratio 1] [--n 40] [--workers 2] [--backend c]
 
 ``spectra``: the demo's vertical spectra (``rocking demo`` draws them as docs/figures/spectrum-vertical.png: the
 same grids, ratios 0, 0.5, 1, the damper with stops, both directions) into ``--out``, and per ratio and part the
@@ -41,11 +41,13 @@ def map_counts(data, beta_f: float) -> dict:
     flew, flew and landed, flew and overturned, have no verdict; over the whole grid and above ``beta_f``."""
     env = envelope(data)
     above = data["beta"].values > beta_f
-    no_verdict = np.isin(data["status"].values, [STATUS.index(s) for s in NO_VERDICT])
+    verdictless = [STATUS.index(s) for s in NO_VERDICT]
+    no_verdict = np.isin(data["status"].values, verdictless)
     jammed = data["status"].values == STATUS.index("jammed")
     out = {}
     for index, part in enumerate(("bare", "damper")):
-        flew, over = env["flew"].sel(part=part).values == 1, env["overturned"].sel(part=part).values
+        over = env["overturned"].sel(part=part).values
+        flew = (env["flew"].sel(part=part).values == 1) & ~np.isin(env["status"].sel(part=part).values, verdictless)
         each_flew = data["flew"].values[index] == 1
         each_over = data["overturned"].values[index].astype(bool)
         for where, cells in (("all", np.ones_like(above)), ("above beta_f", above)):
@@ -59,7 +61,7 @@ def map_counts(data, beta_f: float) -> dict:
                 "cells overturned": int((over & sel).sum()),
                 "responses": int(each.sum()),
                 "responses flew": int((each_flew & each).sum()),
-                "responses flew, landed": int((each_flew & ~each_over & each).sum()),
+                "responses flew, landed": int((each_flew & ~each_over & ~no_verdict[index] & each).sum()),
                 "responses flew, overturned": int((each_flew & each_over & each).sum()),
                 "responses no verdict": int((no_verdict[index] & each).sum()),
                 "responses jammed": int((jammed[index] & each).sum()),
@@ -69,7 +71,7 @@ def map_counts(data, beta_f: float) -> dict:
 
 def run_map(args) -> None:
     block = Block.reference()
-    setting = Setting(block, vertical_ratio=args.ratio)
+    setting = Setting(block, vertical_ratio=args.ratio, backend=args.backend)
     Omega, beta = Grid("Omega", 0.5, 15.0, args.n), Grid("beta", 0.5, 15.0, args.n)
     beta_f = flight_beta(block, setting.record())
     start = time.perf_counter()
@@ -105,7 +107,7 @@ def run_spectra(args) -> None:
 
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    setting = Setting(Block.reference())
+    setting = Setting(Block.reference(), backend=args.backend)
     start = time.perf_counter()
     _vertical_spectra(setting, DAMPER, Execution(workers=args.workers, progress=False), out, out / "runs", ("png",))
     print(f"vertical spectra: Omega {VERTICAL_OMEGA}, beta {VERTICAL_BETA}; {time.perf_counter() - start:.1f} s")
@@ -134,6 +136,7 @@ def main() -> None:
     parser.add_argument("--ratio", type=float, default=1.0, help="vertical ratio r of the map (default 1)")
     parser.add_argument("--n", type=int, default=40, help="Omega and beta values of the map (default 40)")
     parser.add_argument("--workers", type=int, default=2)
+    parser.add_argument("--backend", default="c", choices=("c", "numpy"))
     parser.add_argument("--out", default="build/flight-spectra", help="folder of the spectra and their figure")
     args = parser.parse_args()
     run_map(args) if args.what == "map" else run_spectra(args)

@@ -95,18 +95,18 @@ REGIME_STYLE = (
 )
 #: The regime map's classes: label, colour and hatch by regime code.
 REGIME_CLASSES = tuple((regime_label(code), *REGIME_STYLE[code]) for code in REGIMES)
-#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
-#: not overturn and a run ended in flight (a model without flight functions), or on a floor with friction 6 or 7
-#: where it did not overturn and the base slid (:data:`MAP_SLID_CLASSES`), or with a vertical component 8 or 9 where
-#: the governing response flew and landed, or flew and overturned (:data:`MAP_FLEW_CLASSES`, docs/model.md
-#: section 16).
+#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell
+#: did not overturn and a run ended in flight (a model without flight functions) or jammed at a landing, or on a
+#: floor with friction 6 or 7 where it did not overturn and the base slid (:data:`MAP_SLID_CLASSES`), or with a
+#: vertical component 8 or 9 where the governing response flew and landed, or flew and overturned
+#: (:data:`MAP_FLEW_CLASSES`, docs/model.md section 16).
 OUTCOME_CLASSES = (
     ("safe", LIGHT, ""),
     ("overturned, no impact", OKABE_ITO["vermillion"], ""),
     ("overturned after 1 impact", OKABE_ITO["orange"], "//"),
     ("after 2 impacts", OKABE_ITO["yellow"], ".."),
     ("after 3 or more impacts", OKABE_ITO["reddish purple"], "xx"),
-    ("no verdict: g + ddy_g reached 0 (flight)", GREY, "\\\\"),
+    ("no verdict: a run ended in flight or jammed at a landing", GREY, "\\\\"),
     *(("not overturned, " + regime_label(code), *REGIME_STYLE[code]) for code in (SLIDES, SLIDES_AND_ROCKS)),
     ("flies and lands, not overturned", OKABE_ITO["blue"], "oo"),
     ("flies and overturns", OKABE_ITO["black"], "oo"),
@@ -118,7 +118,8 @@ MAP_SLID_CLASSES = {SLIDES: 6, SLIDES_AND_ROCKS: 7}
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
 #: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), 5 for saved
 #: cells whose damped response an adaptive map did not compute (its stroke is not known), and 6 for cells
-#: where a part that did not overturn flew (a vertical component: no verdict, docs/model.md section 14).
+#: where a part that did not overturn ended in flight or jammed at a landing (no verdict, docs/model.md sections
+#: 14, 16).
 EFFECT_CLASSES = (
     ("safe either way", LIGHT, ""),
     ("saved by the damper", OKABE_ITO["blue"], ""),
@@ -128,7 +129,7 @@ EFFECT_CLASSES = (
     # Saved as the class above (its blue), told apart by a hatch no outcome class has: yellow dots read as the
     # outcome "after 2 impacts" of the panels beside it.
     ("saved by the damper, stroke not computed (an adaptive map's cell filled in)", OKABE_ITO["blue"], "--"),
-    ("no verdict: a run ended in flight", OKABE_ITO["reddish purple"], "\\\\"),
+    ("no verdict: a run ended in flight or jammed at a landing", OKABE_ITO["reddish purple"], "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
 HATCH_COLOUR = "#333333"
@@ -573,11 +574,9 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     Om, beta = data["Omega"].values, data["beta"].values
     over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
     # Cells that did not overturn in either direction but ended in flight in one, on a model without flight
-    # functions: no verdict (docs/model.md section 14).
-    flew = {
-        part: (data["status"].sel(part=part) == STATUS.index("flight")).any("sign").values & ~over[part]
-        for part in PARTS
-    }
+    # functions, or jammed at a landing: no verdict (docs/model.md sections 14, 16).
+    ended = [STATUS.index("flight"), STATUS.index("jammed")]
+    flew = {part: data["status"].sel(part=part).isin(ended).any("sign").values & ~over[part] for part in PARTS}
     fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
     cls = {part: _outcome_classes(env, part, over[part], impacts[part], flew[part]) for part in PARTS}
     for ax, part in zip(axes, PARTS):
@@ -624,7 +623,7 @@ def _outcome_classes(env, part: str, over, impacts, flew) -> np.ndarray:
             safe[regime == code] = k
     classes = np.where(over, np.minimum(impacts + 1, 4), np.where(flew, 5, safe))
     if "flew" in env:  # a vertical component: the governing response flew, and landed or overturned
-        landed = env["flew"].sel(part=part).values == 1
+        landed = (env["flew"].sel(part=part).values == 1) & ~flew
         classes = np.where(landed, np.where(over, MAP_FLEW_CLASSES[True], MAP_FLEW_CLASSES[False]), classes)
     return classes
 

@@ -769,8 +769,8 @@ def map_summary(data, half_width: float) -> dict:
         out[f"{part}_undetermined"] = int(undetermined(status).sum())
         if "regime" in env:  # a floor with friction: the cells where the base slid (and did not overturn)
             out[f"{part}_slid"] = int(np.isin(env["regime"].sel(part=part).values, SLID).sum())
-        if "flew" in env:  # a vertical component: the cells whose governing response flew, and how they ended
-            flew = env["flew"].sel(part=part).values == 1
+        if "flew" in env:  # a vertical component: the cells whose governing response flew to a verdict, and how
+            flew = (env["flew"].sel(part=part).values == 1) & ~undetermined(status)
             out[f"{part}_flies_and_lands"] = int((flew & ~a["overturned"].values).sum())
             out[f"{part}_flies_and_overturns"] = int((flew & a["overturned"].values).sum())
     out["saved"] = int((effect > 0).sum())
