@@ -9,7 +9,7 @@ import pytest
 
 import rocking
 from rocking.cli.main import main
-from rocking.plot.figures import map_figure
+from rocking.plot.figures import map_figure, vertical_spectra_figure
 from rocking.sim.problem import STATUS
 from rocking.study import ida as ida_module
 from rocking.study import overturning_map as overturning_map_module
@@ -164,6 +164,9 @@ def test_a_spectrum_counts_the_responses_that_flew_and_says_whether_beta_min_fle
     for part in ("bare", "damper"):
         assert study.summary[part]["flown"] == env["flown"].sel(part=part).sum()
         assert study.summary[part]["flown"] == data["flown"].sel(part=part).sum()
+    # The vertical spectra figure rings those beta_min, with a legend entry that says so.
+    labels = [t.get_text() for legend in vertical_spectra_figure([study]).legends for t in legend.get_texts()]
+    assert any(label.startswith("ringed: the response overturning") for label in labels)
 
 
 def test_an_ida_with_a_vertical_component_keeps_the_flights_and_counts_how_they_ended(tmp_path, monkeypatch):
