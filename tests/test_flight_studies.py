@@ -123,8 +123,11 @@ def test_a_map_keeps_the_flights_and_refines_on_the_classes_of_responses_that_fl
         assert s[f"{part}_flies_and_lands"] == (governing & ~a).sum()
         assert s[f"{part}_flies_and_overturns"] == (governing & a).sum()
         assert s[f"{part}_undetermined"] == 0  # a response that flew and landed has its verdict
-    # The map's figure draws them as classes of their own, with their legend entries.
-    labels = {t.get_text() for legend in map_figure(full).legends for t in legend.get_texts()}
+    # The map's figure draws them as classes of their own, with their legend entries, from the saved study too.
+    rocking.save(full, tmp_path / "saved")
+    loaded = rocking.load(tmp_path / "saved" / "map.nc")
+    assert loaded.summary == full.summary and np.array_equal(loaded.data["flew"].values, data["flew"].values)
+    labels = {t.get_text() for legend in map_figure(loaded).legends for t in legend.get_texts()}
     assert {"flies and lands, not overturned", "flies and overturns"} <= labels
     # An adaptive map refines on those classes: where its cells were filled in, they take what the class tells.
     adaptive = _vertical_map(tmp_path / "adaptive", coarse=4).data
