@@ -7,6 +7,8 @@ and with the paper where they meet.
 
 from __future__ import annotations
 
+import math
+
 import numpy as np
 import pytest
 
@@ -275,3 +277,27 @@ def test_model_md_quotes_the_count_verify_gives(models):
     for model in models.values():
         checks = verify(model, n=2, seed=1)
         assert f"{len(checks) // 2} functions per model, {len(checks)} checks" in text
+
+
+def test_a_reference_that_is_zero_everywhere_agrees_only_with_zero():
+    """rel_error has no scale where the reference is exactly 0 in every case: any other value is an infinite
+    error, not none (the bare block's ddtheta in flight, a sticking corner's du after a landing)."""
+    from rocking.reference.verify import rel_error
+
+    assert rel_error(np.zeros(4), np.zeros(4)) == 0.0
+    assert rel_error(np.array([0.0, 0.0, 1e-300, 0.0]), np.zeros(4)) == math.inf
+
+
+def test_the_papers_functions_compared_at_the_size_of_their_terms_still_catch_a_change_of_1e_11():
+    """The paper's functions are compared at the size of their terms too (the impact's momenta cancel): a change
+    of 1e-11 of any of them is still a mismatch, and nothing else is."""
+    model = load_model("omd")
+    changed = ("mass_matrix", "forcing", "rocking_accel", "impact", "energy", "uplift")
+
+    def evaluate(name, v):
+        out = _numpy_eval(model, name, v)
+        if name not in changed:
+            return out
+        return tuple(o * (1 + 1e-11) for o in out) if isinstance(out, tuple) else out * (1 + 1e-11)
+
+    assert {c.function for c in verify(model, n=300, seed=8, evaluate=evaluate) if not c.ok} == set(changed)

@@ -18,6 +18,8 @@ from rocking.sim.problem import resolve, vertical_of
 
 BLOCK = Block.reference()
 DAMPER = Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+#: A model without flight functions (docs/model.md section 16): its runs still end with the status flight.
+PENDULUM = dict(m=0.05 * BLOCK.M, l=0.5, x_p=0.0, y_p=BLOCK.H + 0.55, k_phi=0.0, c_phi=20.0)
 
 
 @pytest.fixture(params=["c", "numpy"])
@@ -177,9 +179,10 @@ def test_the_energy_balances_with_the_work_of_the_vertical_ground(backend):
 
 
 def test_where_the_ground_falls_faster_than_gravity_the_run_ends_in_flight(backend):
-    """``g + ddy_g <= 0`` while the block stands or rocks: status ``flight`` at that instant, never an answer."""
+    """``g + ddy_g <= 0`` while the block stands or rocks, on a model without flight functions (the pendulum;
+    those with them fly: tests/test_flight_numpy.py): status ``flight`` at that instant, never an answer."""
     pulse = OneSinePulse.from_nondim(BLOCK, beta=3.0, Omega=4.0, vertical=Vertical(3.0))
-    r = rocking.simulate(BLOCK, DAMPER, pulse, backend=backend)
+    r = rocking.simulate(BLOCK, PENDULUM, pulse, model="pendulum", backend=backend)
     t, settings = r.t_end, r.inputs.settings
     assert r.status == "flight" and not r.overturned
     assert BLOCK.g + vertical_of(settings, t) == pytest.approx(0.0, abs=1e-9)
@@ -199,7 +202,9 @@ def test_the_command_line_takes_a_vertical_ratio_and_a_record_pair(tmp_path, cap
     """``--vertical-ratio`` is ``Vertical`` of the pulse; ``--vertical FILE`` pairs records of one dt, else one line."""
     from rocking.cli.main import main
 
-    assert main(["simulate", "--no-damper", "--beta", "3", "--Omega", "4", "--vertical-ratio", "3"]) == 0
+    pendulum = [x for p in ("m=50", "l=0.5", "x_p=0", "y_p=2.55", "k_phi=0", "c_phi=5.5") for x in ("--param", p)]
+    argv = ["simulate", "--model", "pendulum", *pendulum, "--beta", "3", "--Omega", "4", "--vertical-ratio", "3"]
+    assert main(argv) == 0  # a model without flight functions: the run ends where the ground pulls past gravity
     assert "FLIGHT: g + ddy_g reached 0" in capsys.readouterr().out
     t = np.arange(0.0, 1.0, 0.01)
     np.savetxt(tmp_path / "h.csv", np.column_stack((t, 3.0 * np.sin(2 * np.pi * t))), header="t [s], a [m/s2]")

@@ -313,6 +313,8 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
             f"model {model.name!r} takes no vertical ground motion: its energies hold g beside the weights "
             "(docs/model.md section 14); give the pulses no vertical component"
         )
+    if model.manifest.get("flight", False) and "t_flight" in columns:
+        columns = {**columns, "t_flight": np.full(np.shape(columns["t_flight"]), np.inf)}  # flight followed
     shape = gamma.shape
     values = {k: np.full(shape, v) for k, v in block.as_params().items()}
     T_m = np.full(shape, np.inf)

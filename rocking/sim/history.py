@@ -65,6 +65,8 @@ EVENT_KINDS = {
     "slip": "the contact starts to slide (a floor with friction, docs/model.md section 15)",
     "stick": "the slip stops and the floor holds the contact",
     "reverse": "the slip stops and goes on the other way",
+    "takeoff": "the floor's normal force reaches 0: the block flies (section 16; phase_after: its reference corner)",
+    "landing": "a base corner reaches the floor: the block rocks, stands, or bounces on (phase_after 0: flat)",
 }
 
 #: What the quantities of every model are: name -> (unit, long name). Coordinates come from the manifest.
@@ -94,12 +96,19 @@ _LOADS = {
 #: this order: the slip u [m], its speed du [m/s], the floor's normal and tangential forces N and F on the block
 #: [N], and the slip's sign (0 stuck, +1 / -1 sliding).
 FLOOR_COLUMNS = ("u", "du", "N", "F", "slide")
+#: The columns a history of a model with flight holds after :data:`FLOOR_COLUMNS` (on every floor, both back
+#: ends, in this order): the reference corner's height v above the floor [m] ("y of the base"), its rate dv [m/s],
+#: and 1.0 in flight, else 0.0 (docs/model.md section 16; in flight N = F = 0 and phase is the reference corner).
+FLIGHT_COLUMNS = ("v", "dv", "fly")
 #: The slip of the base on a floor with friction (docs/model.md section 15): V_b and N_b are then the floor's
 #: tangential and normal forces F and N on the contact.
 _SLIP = {
-    "u": ("m", "slip of the base relative to the ground, > 0 to the right"),
+    "u": ("m", "slip of the base relative to the ground, > 0 to the right (in flight: the reference corner's)"),
     "du": ("m/s", "slip speed of the base"),
     "slide": ("1", "slip: 0 the contact sticks, +1 or -1 it slides that way"),
+    "v": ("m", "height of the reference corner above the floor (y of the base; 0 on the floor)"),
+    "dv": ("m/s", "vertical speed of the reference corner"),
+    "fly": ("1", "1 in flight (the block off the floor; phase: its reference corner), else 0"),
 }
 
 
@@ -228,13 +237,20 @@ def quantities(model, p, history: dict, rows: np.ndarray, mu_k: float = math.inf
         for c, r in zip(_evaluate(fn.contact_accel, s, y, ag, agy, p), _evaluate(fn.rocking_accel, s, y, ag, agy, p))
     ]
     base = ag  # the acceleration of the base: the ground's while the contact sticks
-    slip = {name: history[name][rows] for name in ("u", "du", "slide") if name in history}
+    slip = {name: history[name][rows] for name in ("u", "du", "slide", *FLIGHT_COLUMNS) if name in history}
     if slip and np.any(slip["slide"]):
         sliding = slip["slide"] != 0
         with np.errstate(all="ignore"):  # the stuck rows' sliding accelerations are not read
             slid, ddu = _sliding(fn, s, y, ag, agy, p, contact, slip["slide"], mu_k)
         ddq = [np.where(sliding, a, b) for a, b in zip(slid, ddq)]
         base = np.where(sliding, ag + ddu, ag)
+    flying = slip["fly"] != 0.0 if "fly" in slip else np.zeros(ag.shape, dtype=bool)
+    if np.any(flying):
+        # In flight (docs/model.md section 16): the accelerations of flight_accel, the reference corner's horizontal
+        # acceleration ag + ddu (its vertical one does not enter the horizontal accelerations of a_top and a_cm).
+        flown = _evaluate(fn.flight_accel, s, y, ag, agy, p)
+        ddq = [np.where(flying, a, b) for a, b in zip(flown[:n], ddq)]
+        base = np.where(flying, ag + flown[n], base)
     out = {"t": history["t"][rows]}
     out.update(zip(model.state[:n], y[:n]))
     out.update(zip(model.state[n:], y[n:]))
@@ -244,7 +260,9 @@ def quantities(model, p, history: dict, rows: np.ndarray, mu_k: float = math.inf
     out["a_g"] = ag
     out["a_gy"] = agy
     out["a_top"], out["a_cm"] = _affine(_evaluate(fn.block_accelerations, s, y, base, agy, p), ddq, 2)
-    out["V_b"], out["N_b"], out["M_b"] = _affine(_evaluate(fn.base_reaction, s, y, base, agy, p), ddq, 3)
+    # No floor under a flying block: its reactions are 0.
+    reactions = _affine(_evaluate(fn.base_reaction, s, y, base, agy, p), ddq, 3)
+    out["V_b"], out["N_b"], out["M_b"] = (np.where(flying, 0.0, r) for r in reactions)
     out.update({"F_" + q: f for q, f in zip(model.coordinates[1:], _evaluate(fn.element_forces, s, y, ag, agy, p))})
     bumpers = _evaluate(fn.stop_forces, s, y, ag, agy, p)
     if bumpers:
@@ -257,6 +275,14 @@ def quantities(model, p, history: dict, rows: np.ndarray, mu_k: float = math.inf
     rest = _evaluate(fn.energy, 1.0, [zero] * (2 * n), zero, zero, p)[0]
     if slip:  # the slip's kinetic energy, in the ground frame as the rest
         energy = energy + _evaluate(fn.slip_energy, s, y, ag, agy, p + [slip["du"]])[0]
+    if np.any(flying):  # in flight: with the corner's velocity and height (generated flight_energy)
+        heights = [slip["v"], slip["du"], slip["dv"]]
+        energy = np.where(flying, _evaluate(fn.flight_energy, s, y, ag, agy, p + heights)[0], energy)
+        lifted = np.asarray(
+            fn.flight_energy(s, *y[:n], *[zero] * n, ag, agy, *p, slip["v"], zero, zero, stop_on=pushing or None),
+            dtype=float,
+        )
+        potential = np.where(flying, lifted, potential)
     out["E_kinetic"] = energy - potential
     out["E_potential"] = potential - rest
     out["E_total"] = energy - rest
@@ -272,7 +298,7 @@ def attributes(model) -> dict[str, tuple[str, str]]:
     attrs.update({"d" + q: (units["d" + q], f"velocity of {q}") for q in model.coordinates})
     attrs.update({"dd" + q: (units[q] + "/s^2", f"acceleration of {q}") for q in model.coordinates})
     attrs["phase"] = _LOADS["phase"]
-    attrs.update(_SLIP)
+    attrs.update(_SLIP)  # those a history holds (quantities gives the dataset's, in this order)
     attrs.update({k: _LOADS[k] for k in ("a_g", "a_gy", "a_top", "a_cm", "V_b", "N_b", "M_b")})
     for q in model.coordinates[1:]:
         force = "N m" if units[q] == "rad" else "N"
@@ -348,7 +374,16 @@ def events(response):
     history = response.history
     t, phase, theta, dtheta = (history[k] for k in ("t", "phase", "theta", "dtheta"))
     rows = []
-    for i in np.flatnonzero(phase[1:] != phase[:-1]) + 1:
+    flying = history["fly"] != 0.0 if "fly" in history else np.zeros(t.shape, dtype=bool)
+    # A row pair that enters or leaves flight, or lands within it (a bounce): the flight's events, not the floor's.
+    aloft = np.concatenate([[False], flying[1:] | flying[:-1]])
+    for i in np.flatnonzero(flying[1:] != flying[:-1]) + 1:
+        rows.append((float(t[i]), "takeoff" if flying[i] else "landing", int(phase[i - 1]), int(phase[i])))
+    if np.any(flying):
+        dv = history["dv"]
+        bounce = flying[1:] & flying[:-1] & (t[1:] == t[:-1]) & (dv[:-1] < 0.0) & (dv[1:] > 0.0)
+        rows += [(float(t[i]), "landing", int(phase[i - 1]), int(phase[i])) for i in np.flatnonzero(bounce) + 1]
+    for i in np.flatnonzero((phase[1:] != phase[:-1]) & ~aloft[1:]) + 1:
         before, after = int(phase[i - 1]), int(phase[i])
         if before == CONTACT:
             kind = "uplift"
@@ -365,7 +400,7 @@ def events(response):
             rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
     if "slide" in history:
         slide = history["slide"]
-        for i in np.flatnonzero(slide[1:] != slide[:-1]) + 1:
+        for i in np.flatnonzero((slide[1:] != slide[:-1]) & (flying[1:] == flying[:-1])) + 1:
             kind = "slip" if slide[i - 1] == 0 else "stick" if slide[i] == 0 else "reverse"
             rows.append((float(t[i]), kind, int(phase[i]), int(phase[i])))
     if settings["t_p"] <= response.t_end:

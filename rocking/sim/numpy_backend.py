@@ -61,9 +61,11 @@ from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from ..model.params import ParameterError
-from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, SAFE_MARGIN, STATUS
-from .history import FLOOR_COLUMNS, first_sample_after
+from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, FLAT_LANDING, SAFE_MARGIN, STATUS
+from .history import FLIGHT_COLUMNS, FLOOR_COLUMNS, first_sample_after
+from .phases import ENDS, next_phase
 from .phases import of as phase_of
+from .phases import phase as table_phase
 from .problem import Problem, Response, SimulationError
 
 __all__ = ["simulate"]
@@ -87,6 +89,13 @@ NO_LIFT = "no lift"
 NO_SLIP = "no slip"
 #: The events of a floor with friction (rocking.sim.phases.EVENTS).
 SLIP, STOP, LIFT_OFF = "slip", "stop", "lift-off"
+#: The event ``landing`` of the flight phase (docs/model.md section 16) at the reference corner ``s``, at ``-s``.
+LANDING, LANDING_OTHER = "landing", "landing -s"
+#: The terminal events that end the run through the table's exit: overturning, rest, and the settling's last
+#: extremum of the damper below the uplift energy (a rest, rule 4).
+TABLE_ENDS = {OVERTURN: "overturn", REST: "rest", SETTLED: "rest"}
+#: Non-terminal events of flight: a corner's height peaks (for ``jump_max``).
+HEIGHT_PEAK = "height peak"
 #: What a history's row holds after the state on a floor with friction: the slip [m], its speed [m/s], its
 #: direction (the floor's forces are computed at the end, :func:`floor_forces`).
 SLIP_COLUMNS = ("u", "du", "slide")
@@ -240,6 +249,18 @@ class _System:
             if self.friction
             else {}
         )
+        # A model with flight functions follows flight on every floor (docs/model.md section 16); its history
+        # holds the floor's columns then, mu_s = inf included.
+        self.flies = bool(problem.model.manifest.get("flight", False))
+        self.floor_columns = self.friction or self.flies
+        self.e_n = float(problem.e_n)
+        # A landing whose corner leaves at more than the speed of a corner of the block turning at dtheta_rest
+        # bounces (the spec of issue 39, point 4): below it, the block stays on the floor.
+        half_base = 0.5 * self.params[problem.model.parameters.index("B")] if self.flies else math.nan
+        self.bounce_speed = float(problem.dtheta_rest) * half_base
+        # Without a vertical component a full contact's N is the weight of the system, constant (the damper and
+        # the bumpers act horizontally in the block frame; tests/test_flight_numpy.py checks it): not watched there.
+        self.constant_contact_normal = float(problem.a_v) == 0.0
 
     def _safe_energy(self) -> float | None:
         """The early rest's bound: the least energy above rest at which the attached bodies can lift the block,
@@ -286,9 +307,123 @@ class _System:
         entry = phase_of(phase != CONTACT, True)
         return self._friction(entry.accel, _pivot(phase), y, ag, stop_on, agy, self.mu_k * sigma)
 
-    def phase_rhs(self, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> StateFunction:
+    def floor_normal(self, phase: int, sigma: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> float:
+        """The floor's normal force ``N`` [N] on the contact of ``phase`` with the slip ``sigma`` (the state ``y``
+        with ``u``, ``du`` after ``2 n`` components when sliding): the force function of the phase table."""
+        if sigma:
+            return float(self.slide_accel(phase, sigma, y, ag, stop_on, agy)[-1])
+        return float(self.floor_force(phase, y, ag, stop_on, agy)[1])
+
+    def watches_lift_off(self, phase: int) -> bool:
+        """The phase on the floor watches its ``lift-off``: every phase of a model with flight (any floor), or of a
+        floor with friction; full contact only where its ``N`` can change (a vertical component)."""
+        if not (self.flies or self.friction):
+            return False
+        return phase != CONTACT or not self.constant_contact_normal
+
+    def _flight(self, name: str, s: float, y: np.ndarray, *inputs, ag: float = 0.0, agy: float = 0.0):
+        """A generated function of flight at the rocking state ``y[:2 n]`` with the ``inputs`` of its manifest
+        (the regime of the stops that of the state: none of these functions depends on it)."""
+        return getattr(self.functions, name)(s, *y[: 2 * self.n].tolist(), ag, agy, *self.params, *inputs)
+
+    def flight_corner(self, s: int, y: np.ndarray, u: float, v: float, du: float, dv: float) -> tuple:
+        """``(u, v, du, dv)`` of the corner ``-s``: the flying state taken about the other corner."""
+        return tuple(float(c) for c in self._flight("flight_corner", float(s), y, u, v, du, dv))
+
+    def flight_rhs(self, s: int, ground, stop_on: tuple, vertical) -> StateFunction:
+        """``(dq, ddq, du, ddu, dv, ddv)`` of the flight about the reference corner ``s`` on the state with ``u``,
+        ``du``, ``v``, ``dv`` after the ``2 n`` components (generated ``flight_accel``, in the regime ``stop_on``)."""
+        n, regime, accel = self.n, self.regime(stop_on), self.functions.flight_accel
+
+        def rhs(t, y):
+            dy = np.empty_like(y)
+            dy[:n] = y[n : 2 * n]
+            out = accel(float(s), *y[: 2 * n].tolist(), ground(t), vertical(t), *self.params, stop_on=regime)
+            dy[n : 2 * n] = out[:n]
+            dy[2 * n], dy[2 * n + 1] = y[2 * n + 1], out[n]
+            dy[2 * n + 2], dy[2 * n + 3] = y[2 * n + 3], out[n + 1]
+            return dy
+
+        return rhs
+
+    def takeoff_margin(self, phase: int, sigma: int, y: np.ndarray, ag: float, stop_on: tuple, agy: float) -> float:
+        """What the ``lift-off`` of ``phase`` with the slip ``sigma`` watches: > 0 while the contact holds.
+
+        The floor's normal force ``N`` (:meth:`floor_normal`), save on a stuck corner of a floor without friction
+        (``mu_s = inf``): there ``N`` can reach 0 while the floor holds a tangential force ``F`` (a finite floor
+        slides first, and its ``F`` vanishes with ``N``), and letting go of ``F`` may drive the corner into the
+        floor. The block takes off where ``N <= 0`` and the free flight lifts the corner: the larger of ``N`` and
+        minus the corner's vertical acceleration in flight (``flight_accel``'s ``ddv``) falls to 0 (its sign
+        alone matters: where either is > 0, the floor holds). Elsewhere ``N`` alone: a full contact's ``N``
+        reaches 0 with ``F = 0`` (an uplift comes first where ``ag`` is not 0).
+        """
+        N = self.floor_normal(phase, sigma, y, ag, stop_on, agy)
+        if N > 0.0 or self.friction or phase == CONTACT:
+            return N
+        out = self.functions.flight_accel(
+            float(phase), *y[: 2 * self.n].tolist(), ag, agy, *self.params, stop_on=self.regime(stop_on)
+        )
+        return max(N, -float(out[self.n + 1]))
+
+    def corner_landing(self, s: int, y: np.ndarray, du: float, dv: float) -> tuple | None:
+        """The corner ``s`` lands alone (docs/model.md section 16, :func:`rocking.reference.flight.landing_law`).
+
+        Returns
+        -------
+        tuple or None
+            ``(dq, du, dv, sigma)`` after it, ``sigma`` 0 when the corner sticks (``P_n > 0``,
+            ``|P_t| <= mu_s P_n``), else the direction it slides in; ``None``: no law holds (a jam).
+        """
+        n = self.n
+        out = [float(c) for c in self._flight("landing_stick", float(s), y, du, dv, self.e_n)]
+        P_t, P_n = out[-2], out[-1]
+        if P_n > 0.0 and abs(P_t) <= self.mu_s * P_n:
+            return out[:n], 0.0, out[n + 1], 0
+        if not self.friction:
+            return None
+        for sigma in _slide_directions(du, P_t):
+            out = [float(c) for c in self._flight("landing_slide", float(s), y, du, dv, self.e_n, sigma * self.mu_k)]
+            if out[-1] > 0.0 and sigma * du >= 0.0 and sigma * out[n] >= 0.0:
+                return out[:n], out[n], out[n + 1], sigma
+        return None
+
+    def flat_landing(self, s: int, y: np.ndarray, du: float, dv: float) -> tuple:
+        """The base lands flat on both corners (``theta = 0`` in ``y``; docs/model.md section 16).
+
+        Returns
+        -------
+        tuple
+            ``("flat", (dq, du, dv, sigma))`` when both corners push (``P_s, P_o >= 0``) under the law the floor
+            allows (stuck if ``|P_t| <= mu_s (P_s + P_o)``, else sliding as :meth:`corner_landing`);
+            ``("corner", c)`` where under that law the corner ``-c`` would pull: the corner ``c`` lands alone;
+            ``("jam", None)`` where no law holds.
+        """
+        n = self.n
+        out = [float(c) for c in self._flight("flat_landing_stick", float(s), y, du, dv, self.e_n)]
+        P_t = out[-3]
+        law = out if abs(P_t) <= self.mu_s * (out[-2] + out[-1]) else None
+        sigma = 0
+        if law is None and self.friction:
+            for sigma in _slide_directions(du, P_t):
+                slide = self._flight("flat_landing_slide", float(s), y, du, dv, self.e_n, sigma * self.mu_k)
+                slide = [float(c) for c in slide]
+                if sigma * du >= 0.0 and sigma * slide[n] >= 0.0:
+                    law = slide
+                    break
+        if law is None:
+            return "jam", None
+        P_s, P_o = law[-2], law[-1]
+        if P_s >= 0.0 and P_o >= 0.0:
+            return "flat", (law[:n], law[n], law[n + 1], sigma)
+        if P_s < 0.0 and P_o < 0.0:
+            return "jam", None
+        return "corner", s if P_o < 0.0 else -s
+
+    def phase_rhs(self, phase: int, sigma: int, ground, stop_on: tuple, vertical, flying: bool = False):
         """The right-hand side of the phase of the table with the pivot ``phase`` (``CONTACT`` or ``s``) and the
-        slip ``sigma``: :meth:`stuck_rhs` or :meth:`slide_rhs`."""
+        slip ``sigma``: :meth:`stuck_rhs`, :meth:`slide_rhs`, or in flight :meth:`flight_rhs`."""
+        if flying:
+            return self.flight_rhs(phase, ground, stop_on, vertical)
         if sigma:
             return self.slide_rhs(phase, sigma, ground, stop_on, vertical)
         return self.stuck_rhs(phase, ground, stop_on, vertical)
@@ -656,6 +791,13 @@ def step_peak(force: Callable[[float], float], samples: np.ndarray) -> float:
     return max(best, fc, fd)
 
 
+def _slide_directions(du: float, P_t: float) -> tuple[int, int]:
+    """The directions a landing's slide is tried in: that of the slip before it first, or with none, against the
+    sticking impulse ``P_t`` (the spec of issue 39)."""
+    first = (1 if du > 0.0 else -1) if du != 0.0 else (-1 if P_t > 0.0 else 1)
+    return first, -first
+
+
 def _lower(a: float, b: float) -> float:
     """The lesser of two values, NaN if either is (sim.c's ``lower``)."""
     return a if (a < b or math.isnan(a)) else b
@@ -748,28 +890,75 @@ def stop_event(system: _System, sigma: int) -> _Event:
 
 
 def lift_off_event(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> _Event:
-    """The floor's normal force on the contact returns to 0: the block would fly (docs/model.md section 16)."""
+    """The floor's normal force on the contact returns to 0: the block takes off (docs/model.md section 16)."""
 
-    def normal(t, y):
-        if sigma:
-            return float(system.slide_accel(phase, sigma, y, ground(t), stop_on, vertical(t))[-1])
-        return float(system.floor_force(phase, y, ground(t), stop_on, vertical(t))[1])
+    def margin(t, y):
+        return system.takeoff_margin(phase, sigma, y, ground(t), stop_on, vertical(t))
 
-    return _Event(LIFT_OFF, _zero_above(normal), terminal=True, direction=-1)
+    return _Event(LIFT_OFF, _zero_above(margin), terminal=True, direction=-1)
 
 
-def friction_events(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> list:
-    """The events of a floor with friction that ``phase`` with the slip ``sigma`` watches (its exits in
-    :data:`rocking.sim.phases.PHASES`); none on the paper's floor."""
-    if not system.friction:
-        return []
+def floor_events(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> list:
+    """The events of the floor that ``phase`` with the slip ``sigma`` watches (its exits in
+    :data:`rocking.sim.phases.PHASES`): the lift-off (:meth:`_System.watches_lift_off`), and on a floor with
+    friction the slip and its stop."""
     table = {e.event for e in phase_of(phase != CONTACT, sigma != 0).exits}
-    # Not yet followed here: a lift-off on a floor with friction ends the run (status flight, section 14).
-    events = [lift_off_event(system, phase, sigma, ground, stop_on, vertical)] if LIFT_OFF in table else []
+    watch = LIFT_OFF in table and system.watches_lift_off(phase)
+    events = [lift_off_event(system, phase, sigma, ground, stop_on, vertical)] if watch else []
+    if not system.friction:
+        return events
     if SLIP in table:
         events.append(slip_event(system, phase, ground, stop_on, vertical))
     if STOP in table:
         events.append(stop_event(system, sigma))
+    return events
+
+
+def landing_event(system: _System, s: int, other: bool, y0: np.ndarray) -> _Event:
+    """In flight about the reference corner ``s``: the height of the corner ``s`` (``other``: ``-s``) falls to 0.
+
+    A corner on the floor where the segment starts (``y0``) without rising (a takeoff: ``dv = 0``) is armed only
+    once its height is positive: until then the function reads 1, so the corner that just left the floor is not
+    found landing at once (its height may dip by rounding). One that rises (a bounce) is armed at once: its 0 at
+    the start reads as above the floor, and a short hop that lands within the first step is still found.
+    """
+    n = system.n
+    u, du, v, dv = (float(c) for c in y0[2 * n : 2 * n + 4])
+    _, v_o, _, dv_o = system.flight_corner(s, y0, u, v, du, dv) if other else (0.0, v, 0.0, dv)
+    armed = [v_o > 0.0 or dv_o > 0.0]
+
+    def height(t, y):
+        h = float(system._flight("corner_heights", float(s), y, y[2 * n + 2])[1]) if other else float(y[2 * n + 2])
+        armed[0] = armed[0] or h > 0.0
+        return h if armed[0] else 1.0
+
+    return _Event(LANDING_OTHER if other else LANDING, _zero_above(height), terminal=True, direction=-1)
+
+
+def height_peak_event(system: _System, s: int, other: bool) -> _Event:
+    """In flight: the vertical speed of the corner ``s`` (``other``: ``-s``) vanishes, where its height may peak
+    (reported: ``jump_max``)."""
+    n = system.n
+
+    def rate(t, y):
+        if not other:
+            return y[2 * n + 3]
+        return float(system.flight_corner(s, y, y[2 * n], y[2 * n + 2], y[2 * n + 1], y[2 * n + 3])[3])
+
+    return _Event(HEIGHT_PEAK, rate, terminal=False, direction=-1)
+
+
+def flight_events(system: _System, s: int, ground, want_critical: bool, y0: np.ndarray) -> list:
+    """The events of a flight about the reference corner ``s`` but the stops' (docs/simulation.md, "Phases"):
+    each corner's landing, the overturning, and the reported extrema (theta, q[1], each corner's height, the
+    first critical-angle crossing); no rest, no settling, no early verdict. ``y0``: the flying state at the
+    segment's start."""
+    events = [landing_event(system, s, False, y0), landing_event(system, s, True, y0)]
+    events.append(_Event(OVERTURN, lambda t, y: abs(y[0]) - math.pi / 2, terminal=True, direction=+1))
+    events += [extremum_event(system.n, k) for k in range(min(system.n, 2))]
+    events += [height_peak_event(system, s, False), height_peak_event(system, s, True)]
+    if want_critical:
+        events.append(critical_event(system, s, ground))
     return events
 
 
@@ -846,6 +1035,8 @@ def watched_events(
     stop_on: tuple = (),
     vertical=lambda t: 0.0,
     sigma: int = 0,
+    flying: bool = False,
+    y0: np.ndarray | None = None,
 ):
     """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases", "End" and rule 6).
 
@@ -876,6 +1067,10 @@ def watched_events(
         The segment's ``agy(t)``.
     sigma : int
         The direction of the base's slip, 0 while it sticks (docs/model.md section 15).
+    flying : bool
+        The block flies about the reference corner ``phase`` (docs/model.md section 16).
+    y0 : ndarray or None
+        In flight, the flying state at the segment's start (where its landings are armed).
 
     Returns
     -------
@@ -885,7 +1080,10 @@ def watched_events(
     damper = [extremum_event(system.n, 1)] if system.n > 1 else []
     # The stops' gaps and the floor's events may end any phase.
     gaps = [gap_event(system, i, acting) for i, acting in enumerate(stop_on)]
-    gaps += friction_events(system, phase, sigma, ground, stop_on, vertical)
+    if flying:
+        assert y0 is not None  # a flight's landings are armed from its start
+        return flight_events(system, phase, ground, want_critical, y0) + gaps
+    gaps += floor_events(system, phase, sigma, ground, stop_on, vertical)
     if phase == CONTACT:
         if settling and system.n > 1:
             damper = [settled_event(system.n)]
@@ -930,6 +1128,8 @@ class _Segment:
         The largest bumper force of the segment (rule 6; sim.c's ``see_state`` and ``step_peak``).
     slip : tuple of float
         ``(u, du)`` at the end (docs/model.md section 15).
+    lift : tuple of float
+        ``(v, dv)`` at the end of a flight (docs/model.md section 16).
     """
 
     t: float
@@ -941,6 +1141,7 @@ class _Segment:
     side: int = -1
     bumper_force: float = 0.0
     slip: tuple = (0.0, 0.0)
+    lift: tuple = (0.0, 0.0)
 
 
 def lift_off_step(
@@ -1056,6 +1257,8 @@ def integrate_segment(
     bumper_best: float = 0.0,
     sigma: int = 0,
     slip: tuple = (0.0, 0.0),
+    flying: bool = False,
+    lift: tuple = (0.0, 0.0),
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -1093,6 +1296,11 @@ def integrate_segment(
         (``slip`` at the start) after the ``2 n`` components (docs/model.md section 15).
     slip : tuple of float
         ``(u, du)`` at the start.
+    flying : bool
+        The block flies about the reference corner ``phase``: ``u``, ``du`` and ``v``, ``dv`` (``lift`` at the
+        start) are integrated after the ``2 n`` components (docs/model.md section 16).
+    lift : tuple of float
+        ``(v, dv)`` at the start.
 
     Returns
     -------
@@ -1106,9 +1314,10 @@ def integrate_segment(
     pulse_on = t0 < problem.t_p
     ground, vertical = system.ground(pulse_on, t0), system.vertical(pulse_on, t0)
     n = system.n
-    rhs = system.phase_rhs(phase, sigma, ground, stop_on, vertical)
-    if sigma:
-        y0 = np.concatenate([y0, slip])
+    rhs = system.phase_rhs(phase, sigma, ground, stop_on, vertical, flying)
+    extra = (*slip, *lift) if flying else tuple(slip) if sigma else ()
+    if extra:
+        y0 = np.concatenate([y0, extra])
     # While the pulse acts, the uplift functions move with ag(t) even when the
     # state does not (the bare block: error estimate 0, so the step would grow
     # tenfold per step); a bounded step keeps an uplift from being stepped over.
@@ -1128,9 +1337,12 @@ def integrate_segment(
         stop_on=stop_on,
         vertical=vertical,
         sigma=sigma,
+        flying=flying,
+        y0=y0,
     )
-    # The slip's components take the tolerance of the first coordinate's (a length or an angle, as u's scale).
-    atol = np.concatenate([problem.atol, problem.atol[[0, n]]]) if sigma else problem.atol
+    # The slip's (and the height's) components take the tolerance of the first coordinate's (a length or an
+    # angle, as u's scale).
+    atol = np.concatenate([problem.atol, np.tile(problem.atol[[0, n]], len(extra) // 2)]) if extra else problem.atol
     options = {"rtol": problem.rtol, "atol": atol, "max_step": max_step}
 
     def solve(first_step=None):
@@ -1184,7 +1396,13 @@ def integrate_segment(
     # Step ends (first and last included) and every located event point.
     points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
     peaks: dict[int | str, float] = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
-    peaks["u"] = float(np.max(np.abs(points[:, 2 * n]))) if sigma else abs(slip[0])
+    peaks["u"] = float(np.max(np.abs(points[:, 2 * n]))) if extra else abs(slip[0])
+    if flying:
+        # Each corner's height at every point, the located height peaks among them.
+        heights = system.functions.corner_heights(
+            float(phase), *points[:, : 2 * n].T, 0.0, 0.0, *system.params, points[:, 2 * n + 2]
+        )
+        peaks["jump"] = float(max(np.max(np.asarray(h, dtype=float)) for h in heights))
     bumper = 0.0
     if system.n_stops:
         # The start, the step ends and the terminal event; while a pad pushes, each step's peak (rule 6).
@@ -1194,7 +1412,8 @@ def integrate_segment(
     return _Segment(
         t=t_end,
         y=y_end[: 2 * n],
-        slip=(float(y_end[2 * n]), float(y_end[2 * n + 1])) if sigma else tuple(slip),
+        slip=(float(y_end[2 * n]), float(y_end[2 * n + 1])) if extra else tuple(slip),
+        lift=(float(y_end[2 * n + 2]), float(y_end[2 * n + 3])) if flying else (0.0, 0.0),
         event=fired[0].name if fired else None,
         t_critical=crossings[0] if crossings else math.nan,
         peaks=peaks,
@@ -1236,24 +1455,23 @@ class _History:
         lo = first_sample_after(t0, dt)
         return lo, max(lo, first_sample_after(t1, dt, strict=False))
 
-    def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float, slip=None) -> None:
-        """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``; ``slip``: what a row
-        ends with on a floor with friction, ``(u, du, slide)`` of a stuck segment, ``(slide,)`` of a sliding
-        one (whose dense output holds ``u`` and ``du``), ``None`` on the paper's floor."""
+    def add_samples(self, dense, t0: float, t1: float, phase: int, dt: float, layout) -> None:
+        """Append the dense output at the multiples of ``dt`` strictly inside ``(t0, t1)``, each made a row by
+        ``layout`` (:func:`row_layout`)."""
         if dense is None or dt <= 0.0:  # events only, or a segment that did not integrate (no lift)
             return
         times = np.arange(*self.sample_range(t0, t1, dt)) * dt
         if times.size:
             for t, y in zip(times, dense(times).T):
-                row = np.array(y) if slip is None else np.concatenate([y, slip])
-                self.rows.append((float(t), row, int(phase)))
+                self.rows.append((float(t), layout(y), int(phase)))
 
-    def as_dict(self, problem: Problem) -> dict:
-        """``t``, each state component by name, ``phase`` and ``ag`` as arrays."""
+    def as_dict(self, problem: Problem, system: _System) -> dict:
+        """``t``, each state component by name, ``phase`` and ``ag`` as arrays, then the floor's columns."""
         t = np.array([row[0] for row in self.rows])
         y = np.array([row[1] for row in self.rows]).reshape(len(self.rows), -1)
         history = {"t": t}
-        names = list(problem.model.state) + (list(SLIP_COLUMNS) if math.isfinite(problem.mu_s) else [])
+        floor = list(SLIP_COLUMNS) if system.floor_columns else []
+        names = list(problem.model.state) + floor + (list(FLIGHT_COLUMNS) if system.flies else [])
         for i, name in enumerate(names):
             history[name] = y[:, i]
         if "slide" in history:
@@ -1276,6 +1494,9 @@ class _Tally:
     bumper_force_max: float = 0.0
     u_max: float = 0.0
     slides: int = 0
+    flights: int = 0
+    flight_time: float = 0.0
+    jump_max: float = 0.0
 
     def see_state(self, y: np.ndarray, system: _System) -> None:
         self.theta_max = max(self.theta_max, abs(float(y[0])))
@@ -1288,6 +1509,7 @@ class _Tally:
         self.x_max = max(self.x_max, segment.peaks.get(1, 0.0))
         self.bumper_force_max = max(self.bumper_force_max, segment.bumper_force)
         self.u_max = max(self.u_max, segment.peaks.get("u", 0.0))
+        self.jump_max = max(self.jump_max, segment.peaks.get("jump", 0.0))
         if math.isnan(self.t_critical):
             self.t_critical = segment.t_critical
 
@@ -1364,6 +1586,11 @@ class _Run:
         The slip of the base relative to the ground [m] and its speed [m/s].
     skip_slip_check : bool
         The next turn starts without the slip check: after a slip that could not start (``NO_SLIP``).
+    flying : bool
+        The block is off the floor (the phase ``flight``, docs/model.md section 16): ``phase`` is the reference
+        corner ``s``, the slip ``u``, ``du`` and the height ``v``, ``dv`` are in the state.
+    v, dv : float
+        The reference corner's height above the floor [m] and its rate [m/s] (0 on the floor).
     """
 
     problem: Problem
@@ -1389,25 +1616,68 @@ class _Run:
     u: float = 0.0
     du: float = 0.0
     skip_slip_check: bool = False
+    flying: bool = False
+    v: float = 0.0
+    dv: float = 0.0
 
 
 def record(run: _Run) -> None:
-    """Append the current state to the history, if the run keeps one (with the slip on a floor with friction)."""
+    """Append the current state to the history, if the run keeps one (with the floor's columns where it has them)."""
     if run.history is not None:
-        y = np.concatenate([run.y, slip_row(run)]) if run.system.friction else run.y
+        y = np.concatenate([run.y, slip_row(run)]) if run.system.floor_columns else run.y
         run.history.add(run.t, y, run.phase)
 
 
+def current_phase(run: _Run) -> str:
+    """The name of the run's phase in :data:`rocking.sim.phases.PHASES`."""
+    return phase_of(run.phase != CONTACT, run.sigma != 0 or run.flying, run.flying).name
+
+
+def follow(run: _Run, event: str, guard: str, pivot: int = CONTACT, sigma: int = 0) -> str | None:
+    """The exit of the phase table that ``event`` under ``guard`` takes from the run's phase: enter the next phase,
+    rocking about ``pivot`` (in flight: its reference corner) if it rocks, the slip ``sigma`` if it slides on the
+    floor (in flight the slip is in the state: 0), or end the run.
+
+    Returns
+    -------
+    str or None
+        The end of the run (one of :data:`rocking.sim.phases.ENDS`, a status), else ``None``.
+    """
+    to = next_phase(current_phase(run), event, guard)
+    if to in ENDS:
+        return to
+    entry = table_phase(to)
+    run.phase = pivot if entry.rocks else CONTACT
+    run.flying = entry.flies
+    run.sigma = sigma if entry.slides and not entry.flies else 0
+    return None
+
+
 def slip_row(run: _Run) -> tuple:
-    """``(u, du, slide)`` of the run's state: what a history's row ends with on a floor with friction."""
-    return (run.u, run.du, float(run.sigma))
+    """What a history's row ends with after the state where it has the floor's columns: ``(u, du, slide)``, and
+    for a model with flight ``(v, dv, fly)``."""
+    row = (run.u, run.du, float(run.sigma))
+    return row + (run.v, run.dv, float(run.flying)) if run.system.flies else row
+
+
+def row_layout(run: _Run) -> Callable[[np.ndarray], np.ndarray]:
+    """How a segment's dense state becomes a history's row (:func:`slip_row`'s columns after the state): the
+    dense output holds ``u``, ``du`` of a sliding segment and ``u``, ``du``, ``v``, ``dv`` of a flight."""
+    n2, tail = 2 * run.system.n, slip_row(run)
+    if not run.system.floor_columns:
+        return lambda y: np.asarray(y)
+    if run.flying:
+        return lambda y: np.concatenate([y[: n2 + 2], [0.0], y[n2 + 2 : n2 + 4], [1.0]])
+    if run.sigma:
+        return lambda y: np.concatenate([y[: n2 + 2], tail[2:]])
+    return lambda y: np.concatenate([y, tail])
 
 
 def start_slip(run: _Run) -> None:
     """A stuck contact that must hold more than ``mu_s N`` slides, against the force it held (section 15); the
     history gets the instant in the sliding phase. Not checked once after a slip that could not start."""
     skip, run.skip_slip_check = run.skip_slip_check, False
-    if not run.system.friction or run.sigma or skip:
+    if not run.system.friction or run.sigma or skip or run.flying:
         return
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
@@ -1416,9 +1686,10 @@ def start_slip(run: _Run) -> None:
         record(run)
 
 
-def slide_against(run: _Run, F: float) -> None:
-    """The stuck contact starts to slide against the force ``F`` it held: a new slip episode."""
-    run.sigma = -1 if F > 0.0 else 1
+def slide_against(run: _Run, F: float, event: str = SLIP, guard: str = "always") -> None:
+    """The stuck contact starts to slide against the force ``F`` it held (the exit ``event`` under ``guard``): a
+    new slip episode."""
+    follow(run, event, guard, run.phase, -1 if F > 0.0 else 1)
     run.tally.slides += 1
 
 
@@ -1428,15 +1699,15 @@ def stop_slip(run: _Run) -> None:
     ground, vertical = run.system.ground(run.pulse_on, run.t), run.system.vertical(run.pulse_on, run.t)
     F, N = run.system.floor_force(run.phase, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t))
     if abs(float(F)) <= run.system.mu_s * float(N):
-        run.sigma = 0
+        follow(run, STOP, "holds", run.phase)
     else:
-        run.sigma = 0
-        slide_against(run, float(F))  # it stopped for an instant: the slip in the other direction is a new episode
+        # It stopped for an instant: the slip in the other direction is a new episode.
+        slide_against(run, float(F), STOP, "slips")
 
 
 def events_exhausted(run: _Run) -> bool:
-    """``uplifts + impacts`` has reached ``max_events``."""
-    return run.tally.uplifts + run.tally.impacts >= run.problem.max_events
+    """``uplifts + impacts + flights`` has reached ``max_events``."""
+    return run.tally.uplifts + run.tally.impacts + run.tally.flights >= run.problem.max_events
 
 
 def uplift_at_start(run: _Run) -> int:
@@ -1463,7 +1734,7 @@ def status_at_t_max(run: _Run) -> str:
     """Why a run that reached ``t_max`` ended: ``"below_barrier"`` after the pulse with an energy that can never
     carry the block to overturning (:meth:`_System.barrier_bound`: safe, its maxima those until ``t_max``), else
     ``"t_max"`` (no verdict)."""
-    if run.t >= run.problem.t_p:
+    if run.t >= run.problem.t_p and not run.flying:  # in flight: no verdict (the spec of issue 39)
         s = -1 if run.phase < 0 else 1
         # A released pad may push again: its elastic energy counts wherever the mass is in it (rule 4).
         loaded = tuple(run.system.stop_gap(i, run.y) > 0.0 for i in range(run.system.n_stops))
@@ -1534,7 +1805,7 @@ def uplift(run: _Run, s: int) -> str | None:
         ``"max_events"`` if this uplift exhausts ``max_events``, else ``None``.
     """
     run.tally.uplifts += 1
-    run.phase = s
+    follow(run, "uplift", "always", s, run.sigma)
     run.safe = False  # not reached below the uplift energy; kept consistent if it were
     return "max_events" if events_exhausted(run) else None
 
@@ -1637,18 +1908,18 @@ def impact(run: _Run) -> str | None:
     """
     n = run.system.n
     s, dtheta_in, before = run.phase, run.y[n], run.y
+    sigma = 0
     if run.system.friction:
-        sliding = run.sigma
-        run.y, run.du, run.sigma = run.system.friction_impact(s, run.y, run.du, tuple(run.stop_on))
-        run.tally.slides += bool(run.sigma) and not sliding
+        run.y, run.du, sigma = run.system.friction_impact(s, run.y, run.du, tuple(run.stop_on))
+        run.tally.slides += bool(sigma) and not run.sigma
     else:
         run.y = run.system.impact(s, run.y, run.system.ground(run.pulse_on, run.t)(run.t))
     run.tally.impacts += 1
-    if abs(run.y[n]) < run.problem.dtheta_rest:
+    rests = abs(run.y[n]) < run.problem.dtheta_rest
+    follow(run, IMPACT, ("rests" if rests else "rocks") + ("-sliding" if sigma else ""), -s, sigma)
+    if rests:
         rest_snap(run, -s)
-        run.phase = CONTACT
     else:
-        run.phase = -s
         run.first_step = _first_step_after_impact(run.t - run.t_start, run.y[n], dtheta_in)
     if run.system.n_stops:
         # The velocities jumped: the pads' memory and regime follow the state (rule 6).
@@ -1657,6 +1928,93 @@ def impact(run: _Run) -> str | None:
     if events_exhausted(run):
         return "max_events"
     return "bounded" if run.phase != CONTACT and verdict_final(run) else None
+
+
+def lifts_at_start(run: _Run) -> bool:
+    """A phase on the floor of a model with flight starts below its takeoff margin (``N < 0``,
+    :meth:`_System.takeoff_margin`): it takes off at once (an event sees only a sign change inside a step), as the
+    slip check does at a start."""
+    system = run.system
+    if run.flying or not system.flies or not system.watches_lift_off(run.phase):
+        return False
+    ground, vertical = system.ground(run.pulse_on, run.t), system.vertical(run.pulse_on, run.t)
+    return system.takeoff_margin(run.phase, run.sigma, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t)) < 0.0
+
+
+def takeoff(run: _Run) -> str | None:
+    """The floor's normal force reached 0: the block flies (docs/model.md section 16), or, on a model without
+    flight functions, the run ends with the status ``flight`` (section 14).
+
+    The reference corner is the pivot, ``+1`` from full contact; ``u``, ``du`` go on, ``v = dv = 0``.
+
+    Returns
+    -------
+    str or None
+        ``"flight"`` on a model without flight; ``"max_events"`` if this takeoff exhausts ``max_events``.
+    """
+    if not run.system.flies:
+        return "flight"
+    follow(run, LIFT_OFF, "always", run.phase if run.phase != CONTACT else 1)
+    run.v = run.dv = 0.0
+    run.safe = False
+    run.tally.flights += 1
+    return "max_events" if events_exhausted(run) else None
+
+
+def landing(run: _Run, other: bool) -> str | None:
+    """A base corner reached the floor moving down: the landing map of docs/model.md section 16, then the phase
+    the table's guard names (the spec of issue 39, "Landing").
+
+    The corner that lands becomes the reference (``other``: the corner ``-s``); within :data:`FLAT_LANDING` of
+    ``theta = 0`` the base lands flat on both corners unless one would pull, then the other lands alone. A corner
+    that leaves the floor faster than :attr:`_System.bounce_speed` bounces: the flight goes on.
+
+    Returns
+    -------
+    str or None
+        ``"jammed"`` where no landing law holds, else ``None``.
+    """
+    system, n = run.system, run.system.n
+    before = run.y.copy()
+    s, u, du, dv = run.phase, run.u, run.du, run.dv
+    if other:
+        u, _, du, dv = system.flight_corner(s, run.y, u, run.v, du, dv)
+        s = -s
+    y = run.y.copy()
+    flat = abs(math.sin(float(y[0]))) <= FLAT_LANDING
+    if flat:
+        y[0] = 0.0
+        kind, outcome = system.flat_landing(s, y, du, dv)
+        if kind == "corner":
+            if outcome != s:  # at theta = 0 the other corner's u, v are the same, its rates are not
+                u, _, du, dv = system.flight_corner(s, y, u, 0.0, du, dv)
+                s = outcome
+            outcome = system.corner_landing(s, y, du, dv)
+            flat = False
+    else:
+        outcome = system.corner_landing(s, y, du, dv)
+    run.y, run.u = y, u
+    run.v = 0.0
+    if outcome is None:
+        run.phase = s
+        return follow(run, "landing", "jams")
+    dq, run.du, dv_after, sigma = outcome
+    run.y[n:] = dq
+    if dv_after > system.bounce_speed:
+        run.dv = dv_after
+        follow(run, "landing", "bounces", s)
+    else:
+        run.dv = 0.0
+        rests = y[0] == 0.0 and (flat or abs(run.y[n]) < run.problem.dtheta_rest)
+        guard = ("rests" if rests else "rocks") + ("-sliding" if sigma else "")
+        follow(run, "landing", guard, s, sigma)
+        if rests and not flat:
+            rest_snap(run, s)  # a corner's landing at theta = 0 below dtheta_rest: at rest on the base (rule 2)
+    if system.n_stops:
+        # The velocities jumped: the pads' memory and regime follow the state (rule 6).
+        system.jump_memory(before, run.y)
+        read_regime(run)
+    return None
 
 
 def contact_start(run: _Run) -> str | None:
@@ -1694,7 +2052,7 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         The work passed ``max_steps`` inside the segment: ``run`` is left at
         the segment's start, untouched (rule 5).
     """
-    if run.phase != CONTACT and run.y[0] == 0.0:
+    if run.phase != CONTACT and run.y[0] == 0.0 and not run.flying:
         run.t_start = run.t  # a half-cycle starts (not a restart at the pulse's end)
     segment = integrate_segment(
         run.problem,
@@ -1713,6 +2071,8 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         bumper_best=run.tally.bumper_force_max,
         sigma=run.sigma,
         slip=(run.u, run.du),
+        flying=run.flying,
+        lift=(run.v, run.dv),
     )
     run.first_step = None
     run.side = segment.side
@@ -1721,11 +2081,14 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         lo, hi = _History.sample_range(run.t, segment.t, run.problem.record_dt)
         run.work.add(hi - lo)
     run.tally.see_segment(segment)
+    if run.flying:
+        run.tally.flight_time += segment.t - run.t
     if run.history is not None:
-        slip = None if not run.system.friction else (float(run.sigma),) if run.sigma else slip_row(run)
-        run.history.add_samples(segment.dense, run.t, segment.t, run.phase, run.problem.record_dt, slip)
+        run.history.add_samples(segment.dense, run.t, segment.t, run.phase, run.problem.record_dt, row_layout(run))
     run.t, run.y = segment.t, segment.y
     run.u, run.du = segment.slip
+    if run.flying:
+        run.v, run.dv = segment.lift
     return segment.event
 
 
@@ -1764,16 +2127,16 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
         run.tally.slides -= 1
         run.skip_slip_check = True
     elif event == LIFT_OFF:
-        return "flight"
+        return takeoff(run)
+    elif event in (LANDING, LANDING_OTHER):
+        return landing(run, event == LANDING_OTHER)
     elif event == NO_LIFT:
         # The block never rose: back to full contact (the uplift stays counted).
         run.y[0] = run.y[run.system.n] = 0.0
         run.phase = CONTACT
         run.skip_uplift_check = True
-    elif event == OVERTURN:
-        return "overturned"
-    elif event in (REST, SETTLED):
-        return "rest"
+    elif event in TABLE_ENDS:
+        return follow(run, TABLE_ENDS[event], "always")
     elif event == SAFE:
         run.safe = stops_clear(run)  # the next contact phase settles (not rechecked: E is at the bound)
     elif event in (GAP_CLOSE, GAP_OPEN):
@@ -1809,8 +2172,13 @@ def phase_machine(run: _Run) -> str:
             return status_at_t_max(run)
         run.pulse_on = run.t < problem.t_p
         read_regime(run)
+        if lifts_at_start(run):
+            status = takeoff(run)
+            if status is not None:
+                return status
+            continue  # flies from this very instant: recorded in flight first
         start_slip(run)
-        if run.phase == CONTACT:
+        if run.phase == CONTACT and not run.flying:
             status = contact_start(run)
             if status is not None:
                 return status
@@ -1822,7 +2190,7 @@ def phase_machine(run: _Run) -> str:
             if run.pulse_on
             else problem.t_max
         )
-        if run.phase == CONTACT and run.pulse_on:
+        if run.phase == CONTACT and run.pulse_on and not run.flying:
             t_bound = min(t_bound, next_extremum(problem, run.t))
         try:
             event = run_segment(run, t_bound)
@@ -1842,7 +2210,7 @@ def finish(run: _Run, status: str) -> Response:
     """
     assert status in STATUS
     record(run)
-    tally = run.tally
+    tally, history = run.tally, run.history
     return Response(
         overturned=status == "overturned",
         t_overturn=run.t if status == "overturned" else math.nan,
@@ -1858,7 +2226,10 @@ def finish(run: _Run, status: str) -> Response:
         u_max=max(tally.u_max, abs(run.u)),
         u_end=run.u,
         slides=tally.slides,
-        history=floor_forces(run.system, run.history.as_dict(run.problem)) if run.history is not None else None,
+        flights=tally.flights,
+        flight_time=tally.flight_time,
+        jump_max=tally.jump_max,
+        history=None if history is None else floor_forces(run.system, history.as_dict(run.problem, run.system)),
     )
 
 
@@ -1866,9 +2237,10 @@ def floor_forces(system: _System, history: dict) -> dict:
     """``history`` with the floor's normal force ``N`` and tangential force ``F`` on the block [N] at each row,
     on a floor with friction (as sim.c records them): the stuck phase's from its force function, the sliding
     one's ``N`` from its accelerations and ``F = -mu_k slide N``."""
-    if not system.friction:
+    if not system.floor_columns:
         return history
     t_p, n = system.problem.t_p, system.n
+    flying = history["fly"] if system.flies else np.zeros(len(history["t"]))
     normal, tangential = np.empty(len(history["t"])), np.empty(len(history["t"]))
     names = system.problem.model.state
     for i, t in enumerate(history["t"]):
@@ -1876,14 +2248,17 @@ def floor_forces(system: _System, history: dict) -> dict:
         phase, sigma, on = int(history["phase"][i]), int(history["slide"][i]), t < t_p
         ag, agy = history["ag"][i], system.vertical(on, t)(t)
         regime = tuple(system.stop_contact(j, y) > 0.0 for j in range(system.n_stops))
-        if sigma:
+        if flying[i]:
+            normal[i] = tangential[i] = 0.0  # no floor under a flying block
+        elif sigma:
             normal[i] = float(system.slide_accel(phase, sigma, y, ag, regime, agy)[n + 1])
             tangential[i] = -system.mu_k * sigma * normal[i]
         else:
             force = system.floor_force(phase, y, ag, regime, agy)
             tangential[i], normal[i] = float(force[0]), float(force[1])
     columns = {**history, "N": normal, "F": tangential}
-    return {k: columns[k] for k in ("t", *names, "phase", "ag", *FLOOR_COLUMNS)}
+    flight = FLIGHT_COLUMNS if system.flies else ()
+    return {k: columns[k] for k in ("t", *names, "phase", "ag", *FLOOR_COLUMNS, *flight)}
 
 
 def simulate(problem: Problem, record: bool = False) -> Response:

@@ -612,10 +612,11 @@ def motion_settings(motion) -> dict:
     }
 
 
-def flight_settings(settings: Mapping, block: Block) -> dict:
+def flight_settings(settings: Mapping, block: Block, flies: bool = False) -> dict:
     """``t_flight`` of :data:`~rocking.sim.boundary.CASE` for the motion of ``settings``: where ``g + ddy_g``
-    first reaches 0 (docs/model.md section 14), ``inf`` without a vertical component."""
-    if settings["a_v"] == 0.0:
+    first reaches 0 (docs/model.md section 14), ``inf`` without a vertical component, and for a model that
+    follows flight (``flies``: its manifest's ``flight``; docs/model.md section 16), whose runs go on there."""
+    if settings["a_v"] == 0.0 or flies:
         return {"t_flight": math.inf}
     t = flight_time(
         lambda t: vertical_of(settings, t), block.g, settings["t_p"], settings["omega_g"], settings["pulse_dt"]
@@ -844,7 +845,7 @@ def resolve(block: Block, damper, pulse, given: Mapping) -> tuple[Model, tuple |
             "(docs/model.md section 14); give the motion no vertical component"
         )
     settings = motion_settings(motion)
-    settings.update(flight_settings(settings, block))
+    settings.update(flight_settings(settings, block, bool(model.manifest.get("flight", False))))
     if motion.family != "sampled":
         settings.update(margin_settings(motion.family, motion.shape, motion.phase, pulse.vertical, block))
     settings.update(
