@@ -791,9 +791,14 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     bounded = set()
     ringed = False
     Om = studies[0].data["Omega"].values
-    # The two parts' bounds lie at the same amplitudes (the scan's end): side by side, not one over the other,
-    # the block alone's open, the damper's filled.
-    dodge = {"bare": -0.2, "damper": 0.2}
+    # The parts' bounds lie at the same amplitudes (the scan's end, for every ratio whose runs fly and land): side
+    # by side, a slot per ratio and part within 0.6 of a step, not one over the other, the block alone's open, the
+    # damper's filled.
+    slots = 2 * len(studies)
+
+    def dodge(i: int, part: str) -> float:
+        return (2 * i + (part == "damper") - (slots - 1) / 2) * 0.6 / slots
+
     step = float(np.min(np.diff(Om))) if Om.size > 1 else 1.0
     for i, study in enumerate(studies):
         ratio = study.config.get("vertical", {}).get("ratio", 0.0)
@@ -819,7 +824,7 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                     sel = cell["flag"].values == code
                     if sel.any():
                         bound = beta_min_or_bound(cell)[sel]
-                        x = data["Omega"].values[sel] + dodge[part] * step
+                        x = data["Omega"].values[sel] + dodge(i, part) * step
                         _bounds(panel, x, bound, arrow, colour, up, face=colour if part == "damper" else "white")
                         bounded.add(up)
             beta_f = flight_beta(_block(study.config), study.config)
