@@ -12,9 +12,10 @@ and overturned, without a verdict (jammed, or a bound); and the same below and a
 
 ``spectra``: the demo's vertical spectra (``rocking demo`` draws them as docs/figures/spectrum-vertical.png: the
 same grids, ratios 0, 0.5, 1, the damper with stops, both directions) into ``--out``, and per ratio and part the
-frequencies whose ``beta_min`` lies above beta_f, and at how many the response overturning at ``beta_min`` flew::
+frequencies whose ``beta_min`` lies above beta_f, and at how many the response overturning at ``beta_min`` flew, and
+the ``beta_min`` of each direction at one ``Omega`` (``--at``, default 6.5)::
 
-    python bench/flight_studies.py spectra --out build/flight-spectra
+    python bench/flight_studies.py spectra --out build/flight-spectra [--at 6.5]
 """
 
 from __future__ import annotations
@@ -128,6 +129,17 @@ def run_spectra(args) -> None:
                 f" of {beta_min.size} (Omega, sign) columns, above beta_f at {past}, its response flew at {flew}; "
                 f"responses without a verdict {int(cell['undetermined'].sum())}"
             )
+            at = cell.sel(Omega=args.at, method="nearest")
+            print(
+                f"  {'':{len(f'r = {ratio:g} (beta_f = {beta_f:.4g})')}s}  at Omega = {float(at['Omega']):g}: "
+                + ", ".join(f"sign {int(sign):+d} beta_min {_value(at.sel(sign=sign))}" for sign in at["sign"].values)
+            )
+
+
+def _value(column) -> str:
+    """A column's ``beta_min``, or its lower bound (``> x``) where the scan did not reach it."""
+    beta = float(column["beta_min"])
+    return f"{beta:.3g}" if np.isfinite(beta) else f"> {float(column['beta_min_lower_bound']):.3g}"
 
 
 def main() -> None:
@@ -138,6 +150,7 @@ def main() -> None:
     parser.add_argument("--workers", type=int, default=2)
     parser.add_argument("--backend", default="c", choices=("c", "numpy"))
     parser.add_argument("--out", default="build/flight-spectra", help="folder of the spectra and their figure")
+    parser.add_argument("--at", type=float, default=6.5, help="the spectra's Omega whose beta_min are printed")
     args = parser.parse_args()
     run_map(args) if args.what == "map" else run_spectra(args)
 
