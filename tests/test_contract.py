@@ -36,6 +36,7 @@ from scipy.optimize import brentq
 import rocking
 from rocking import Block, Damper, OneSinePulse, ParameterError, load_model
 from rocking.sim import c_backend, numpy_backend
+from rocking.sim.history import FLIGHT_COLUMNS, FLOOR_COLUMNS
 from rocking.sim.problem import CONTACT, STATUS, default_settings, make_problem
 from rocking.sim.run import run
 
@@ -104,7 +105,10 @@ def check_history(response, problem) -> None:
     """What every history must satisfy (docs/simulation.md, "History"; rules 1 to 3)."""
     h = response.history
     model = problem.model
-    assert list(h) == ["t", *model.state, "phase", "ag"]
+    # The floor's columns on a floor with friction, and on every floor for a model with flight (its v, dv, fly too).
+    flies = bool(model.manifest.get("flight", False))
+    floor = [*FLOOR_COLUMNS, *(FLIGHT_COLUMNS if flies else ())] if flies or math.isfinite(problem.mu_s) else []
+    assert list(h) == ["t", *model.state, "phase", "ag", *floor]
     n = len(h["t"])
     assert all(len(v) == n for v in h.values())
     t, phase = h["t"], h["phase"]
