@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "2791be583e2e33a129f96ac29420f2ab6a4e9bb1e6e6f47eaac91136706873a9",
-    "omd": "e95f1de6d636bf67126a1c944a80648f5b3c4cb9f96af1e39b3c624c5b2297bc",
-    "omd2": "2f72b46ac6a3b61170b95ecb188feb569fc4230c52da89900c62bfc57510d547",
-    "omd_stops": "abfbb71eeafac2a6e1aab2b21b9df47e7bb6b23703e3bb2a2cb3319ab5e5d21a",
-    "omd_stops_hc": "442db918faa6688943133e87850c5d06fbddce0405311b3447d47d35df556477",
-    "pendulum": "dfa71df24945e5aa5bb213a641afd58703a404c5c246c75816b1b9d7f2b857df",
+    "block": "0da8fbaccf3c21f9c98d67567502633532aa8e47fa19ae6756cea14706a85c74",
+    "omd": "62419f0af7ee3272c38a93a648ccf8f46a0d5a2a88b8e34a801f64473191ec39",
+    "omd2": "56cb2f5985b8a3c795030173ee66bab40b57c4e93ce4f8d46061b207a38ed4d2",
+    "omd_stops": "a12f890e37e18994c9e2c7f84222fdde4693228195b8e1b3b0c74bfdd4e7eed2",
+    "omd_stops_hc": "edb502e2263e590a31dc84cc36640fb7671e9adffe39468579ae414aeecab80f",
+    "pendulum": "4f9752b7f1eef2615f2c5855215200e7f33bc8e4e559e7b90eb1d2cc48dd2f3a",
 }

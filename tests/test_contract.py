@@ -130,9 +130,11 @@ def check_history(response, problem) -> None:
 
 
 def impact_rows(history: dict) -> list[int]:
-    """Rows ``i`` recorded just before an impact: ``(i, i + 1)`` at one instant, out of a rocking phase."""
+    """Rows ``i`` recorded just before an impact: ``(i, i + 1)`` at one instant, out of a rocking phase (not a
+    takeoff or a landing: a history of a model with flight marks its rows in flight, ``fly``)."""
     t, phase = history["t"], history["phase"]
-    return [i for i in np.flatnonzero(np.diff(t) == 0) if phase[i] != CONTACT]
+    fly = history.get("fly", np.zeros_like(t))
+    return [i for i in np.flatnonzero(np.diff(t) == 0) if phase[i] != CONTACT and fly[i] == fly[i + 1] == 0.0]
 
 
 # --------------------------------------------------------------------------- #

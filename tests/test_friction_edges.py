@@ -40,7 +40,7 @@ def test_both_back_ends_record_the_same_floor_columns():
         for backend in ("c", "numpy")
     }
     c, n = runs["c"].history, runs["numpy"].history
-    assert list(c) == list(n) and list(c)[-5:] == ["u", "du", "N", "F", "slide"]
+    assert list(c) == list(n) and list(c)[-8:] == ["u", "du", "N", "F", "slide", "v", "dv", "fly"]
     assert np.array_equal(c["slide"], n["slide"])
     scale = float(np.max(np.abs(n["N"])))
     assert np.max(np.abs(c["N"] - n["N"])) < 1e-6 * scale and np.max(np.abs(c["F"] - n["F"])) < 1e-6 * scale

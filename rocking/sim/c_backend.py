@@ -39,7 +39,7 @@ from . import boundary, cbuild
 from .batch import Cases
 from .boundary import CASE, DOUBLES, RESULT, SERIES
 from .cbuild import CBuildError
-from .history import FLOOR_COLUMNS
+from .history import FLIGHT_COLUMNS, FLOOR_COLUMNS
 from .problem import RESULT_FIELDS, Problem, Response, SimulationError
 
 __all__ = [
@@ -91,6 +91,7 @@ class _History(ctypes.Structure):
         ("ag", _dbl_p),
         ("floor", _dbl_p),
         ("slide", _i32_p),
+        ("flight", _dbl_p),
     ]
 
 
@@ -416,7 +417,10 @@ def simulate_settings(model: Model, p, settings: dict, record: bool = False) -> 
     if result.status == boundary.FAILED.value:
         raise _failed(f"at t = {result.t_end:.17g}")
     return Response.from_record(
-        result, _history_arrays(buffers, n, model.state, math.isfinite(settings["mu_s"])) if record else None
+        result,
+        _history_arrays(buffers, n, model.state, math.isfinite(settings["mu_s"]), bool(model.manifest.get("flight")))
+        if record
+        else None,
     )
 
 
@@ -428,6 +432,7 @@ def _history_buffers(capacity: int, ny: int) -> dict[str, np.ndarray]:
         "ag": np.empty(capacity),
         "floor": np.empty((capacity, len(FLOOR_BUFFER))),
         "slide": np.empty(capacity, dtype=np.int32),
+        "flight": np.empty((capacity, len(FLIGHT_COLUMNS))),
     }
 
 
@@ -440,21 +445,29 @@ def _history(buffers: dict[str, np.ndarray]) -> _History:
         buffers["ag"].ctypes.data_as(_dbl_p),
         buffers["floor"].ctypes.data_as(_dbl_p),
         buffers["slide"].ctypes.data_as(_i32_p),
+        buffers["flight"].ctypes.data_as(_dbl_p),
     )
 
 
-def _history_arrays(buffers: dict[str, np.ndarray], n: int, state, friction: bool) -> dict[str, np.ndarray]:
+def _history_arrays(
+    buffers: dict[str, np.ndarray], n: int, state, friction: bool, flight: bool = False
+) -> dict[str, np.ndarray]:
     """The history's columns: ``t``, the state, ``phase``, ``ag``; on a floor with friction (``friction``: a
-    finite ``mu_s``) also :data:`~rocking.sim.history.FLOOR_COLUMNS`, the floor's buffer then the slip's sign."""
+    finite ``mu_s``) or on any floor of a model with flight (``flight``) also
+    :data:`~rocking.sim.history.FLOOR_COLUMNS`, the floor's buffer then the slip's sign; with flight then
+    :data:`~rocking.sim.history.FLIGHT_COLUMNS` (docs/model.md section 16)."""
     history = {"t": buffers["t"][:n].copy()}
     for i, name in enumerate(state):
         history[name] = buffers["y"][:n, i].copy()
     history["phase"] = buffers["phase"][:n].astype(int)
     history["ag"] = buffers["ag"][:n].copy()
-    if friction:
+    if friction or flight:
         for i, name in enumerate(FLOOR_BUFFER):
             history[name] = buffers["floor"][:n, i].copy()
         history["slide"] = buffers["slide"][:n].astype(int)
+    if flight:
+        for i, name in enumerate(FLIGHT_COLUMNS):
+            history[name] = buffers["flight"][:n, i].copy()
     return history
 
 

@@ -48,6 +48,18 @@
 #else
 #define NS NY
 #endif
+/* A model with flight functions (docs/model.md section 16) integrates in flight the rocking state and u, du
+ * of the reference corner, then its height v = y[NY + 2] above the floor and its rate dv = y[NY + 3]: NF
+ * components. NA: all that a state holds. */
+#ifdef MODEL_FLIGHT
+#ifndef MODEL_FRICTION
+#error "a model with flight functions has those of friction too (derive/)"
+#endif
+#define NF (NY + 4)
+#define NA NF
+#else
+#define NA NS
+#endif
 
 /* Inline a function into every caller, so that each copy knows its constant arguments (the number of
  * components a stepper integrates); and keep one out of line (the stepper, as one function for its stages). */
@@ -61,6 +73,12 @@
 
 /* pi and pi/2: M_PI is not C99. */
 #define PI 3.14159265358979323846
+/* The model has flight functions: the lift-off event on every floor, and the flight phase (docs/model.md 16). */
+#ifdef MODEL_FLIGHT
+#define FLIGHT 1
+#else
+#define FLIGHT 0
+#endif
 #define HALF_PI 1.57079632679489661923
 
 /* ------------------------------------------------------------------------ */
@@ -313,7 +331,8 @@ typedef struct ode {
     const constants *k; /* of the model's parameters */
     int phase;       /* 0: full contact; +1 / -1: rocking about A / A' */
     int sigma;       /* 0: the contact sticks; +1 / -1: it slides, du of that sign */
-    int ny;          /* the components integrated: NY stuck, NS sliding */
+    int flying;      /* the block flies, its reference corner s = phase (docs/model.md section 16) */
+    int ny;          /* the components integrated: NY stuck, NS sliding, NF flying */
     double mu_slip;  /* mu_k sigma: the friction force on the block is -mu_slip N */
     double on[2 * MAX_STOP_SIDES]; /* the regime's inputs of the friction functions (regime_inputs) */
     const double *cst; /* the constants of the phase: about(k, phase), those of s = +1 in full contact */
@@ -423,9 +442,30 @@ static void ode_rhs_slide(ode *o, double t, const double *y, double *dy)
 }
 #endif
 
+#ifdef MODEL_FLIGHT
+/* The right-hand side in flight: y' = (dq, ddq, du, ddu, dv, ddv), NF components, ddu and ddv those of the
+ * reference corner s = o->phase relative to the ground (generated flight_accel). */
+static void ode_rhs_flight(ode *o, double t, const double *y, double *dy)
+{
+    double out[NQ + 2];
+    model_flight_accel((double)o->phase, y, ode_ag(o, t), ode_agy(o, t), o->k->p, friction_on(o), out);
+    memcpy(dy, y + NQ, NQ * sizeof *dy);
+    memcpy(dy + NQ, out, NQ * sizeof *dy);
+    dy[NY] = y[NY + 1];
+    dy[NY + 1] = out[NQ];
+    dy[NY + 2] = y[NY + 3];
+    dy[NY + 3] = out[NQ + 1];
+}
+#endif
+
 /* y' = (dq, accelerations of the phase) at (t, y), outside the stages of a step. */
 static inline void ode_rhs(ode *o, double t, const double *y, double *dy)
 {
+#ifdef MODEL_FLIGHT
+    if (o->flying)
+        ode_rhs_flight(o, t, y, dy);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (o->sigma != 0)
         ode_rhs_slide(o, t, y, dy);
@@ -490,11 +530,11 @@ typedef struct tolerance {
  * others constant (a stuck contact's u and du = 0), so that the whole state reads from it. */
 typedef struct dopri {
     int n;
-    double t, y[NS], f[NS]; /* current point; f = rhs(t, y) */
+    double t, y[NA], f[NA]; /* current point; f = rhs(t, y) */
     double t_old, h;        /* the last accepted step: [t_old, t], h = t - t_old */
-    double y_old[NS];
-    double k[STAGES][NS];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
-    double dense[5][NS];    /* its continuous extension, once dense_ready */
+    double y_old[NA];
+    double k[STAGES][NA];   /* its stages: k[0] = f(t_old), k[6] = f(t) */
+    double dense[5][NA];    /* its continuous extension, once dense_ready */
     int dense_ready;
     double h_next; /* proposed size of the next step */
     int64_t evaluations; /* of the right-hand side, over the whole run (rule 5) */
@@ -540,7 +580,7 @@ static inline double rms_ratio(const double *v, const double *scale, int n)
 static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double t0, const double *y0,
                                             const double *f0, double span, int n)
 {
-    double scale[NS], y1[NS], f1[NS], df[NS];
+    double scale[NA], y1[NA], f1[NA], df[NA];
     double d0, d1, d2, h0, h1;
     int i;
     if (span <= 0.0)
@@ -551,7 +591,7 @@ static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double
     d1 = rms_ratio(f0, scale, n);
     h0 = (d0 < 1e-5 || d1 < 1e-5) ? 1e-6 : 0.01 * d0 / d1;
     h0 = fmin(h0, span);
-    for (i = n; i < NS; ++i) /* the components not integrated, constant */
+    for (i = n; i < NA; ++i) /* the components not integrated, constant */
         y1[i] = y0[i];
     for (i = 0; i < n; ++i)
         y1[i] = y0[i] + h0 * f0[i];
@@ -569,6 +609,10 @@ static ALWAYS_INLINE double initial_step_of(ode *o, const tolerance *tol, double
 /* initial_step_of the components the segment integrates. */
 static double initial_step(ode *o, const tolerance *tol, double t0, const double *y0, const double *f0, double span)
 {
+#ifdef MODEL_FLIGHT
+    if (o->ny == NF)
+        return initial_step_of(o, tol, t0, y0, f0, span, NF);
+#endif
 #ifdef MODEL_FRICTION
     if (o->ny == NS)
         return initial_step_of(o, tol, t0, y0, f0, span, NS);
@@ -599,7 +643,7 @@ static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const 
  * the stages, each inlined call keeps the components in vector registers and
  * loads each weight once (with the stages inside the components' loop, gcc
  * loaded them again for every pair of components). */
-static inline void combine_stages(const double (*k)[NS], const double *w, int n, double *acc, int ny)
+static inline void combine_stages(const double (*k)[NA], const double *w, int n, double *acc, int ny)
 {
     int i, j;
     for (i = 0; i < ny; ++i)
@@ -612,11 +656,13 @@ static inline void combine_stages(const double (*k)[NS], const double *w, int n,
 
 /* The right-hand sides of a segment, one set of stages each (dopri_stages): whether the contact slides,
  * whether the ground moves vertically, else whether the pulse acts and whether in full contact. */
-enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING, ODE_SLIDE };
+enum { ODE_VERTICAL, ODE_PULSE_CONTACT, ODE_PULSE_ROCKING, ODE_FREE_CONTACT, ODE_FREE_ROCKING, ODE_SLIDE, ODE_FLIGHT };
 
 /* The right-hand side of the ode o's segment (enum above). */
 static int ode_rhs_kind(const ode *o)
 {
+    if (o->flying)
+        return ODE_FLIGHT;
     if (o->sigma != 0)
         return ODE_SLIDE;
     if (o->vertical)
@@ -630,13 +676,18 @@ static int ode_rhs_kind(const ode *o)
  * a constant of each inlined copy: the stages of a step test the segment's kind once. */
 static ALWAYS_INLINE void dopri_stage(dopri *d, ode *o, int s, double h, double t_new, double *y, int rhs)
 {
-    double acc[NS];
+    double acc[NA];
     const double t = RK_C[s] == 1.0 ? t_new : d->t + RK_C[s] * h; /* the last stages sit at t_new, maybe a breakpoint */
-    const int ny = rhs == ODE_SLIDE ? NS : NY;
+    const int ny = rhs == ODE_FLIGHT ? NA : rhs == ODE_SLIDE ? NS : NY;
     int i;
-    combine_stages((const double(*)[NS])d->k, RK_A[s], s, acc, ny);
+    combine_stages((const double(*)[NA])d->k, RK_A[s], s, acc, ny);
     for (i = 0; i < ny; ++i)
         y[i] = d->y[i] + h * acc[i];
+#ifdef MODEL_FLIGHT
+    if (rhs == ODE_FLIGHT)
+        ode_rhs_flight(o, t, y, d->k[s]);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (rhs == ODE_SLIDE)
         ode_rhs_slide(o, t, y, d->k[s]);
@@ -654,7 +705,7 @@ static ALWAYS_INLINE void dopri_stage(dopri *d, ode *o, int s, double h, double 
  * combination then has a constant length the compiler can specialise. */
 static ALWAYS_INLINE void dopri_stages_of(dopri *d, ode *o, double h, double t_new, double *y_new, int rhs)
 {
-    memcpy(d->k[0], d->f, (rhs == ODE_SLIDE ? NS : NY) * sizeof *d->f);
+    memcpy(d->k[0], d->f, (rhs == ODE_FLIGHT ? NA : rhs == ODE_SLIDE ? NS : NY) * sizeof *d->f);
     dopri_stage(d, o, 1, h, t_new, y_new, rhs);
     dopri_stage(d, o, 2, h, t_new, y_new, rhs);
     dopri_stage(d, o, 3, h, t_new, y_new, rhs);
@@ -687,9 +738,9 @@ static ALWAYS_INLINE void dopri_stages(dopri *d, ode *o, double h, double t_new,
 
 static inline double dopri_error(const dopri *d, const tolerance *tol, double h, const double *y_new, int ny)
 {
-    double err[NS], scale[NS];
+    double err[NA], scale[NA];
     int i;
-    combine_stages((const double(*)[NS])d->k, RK_E, STAGES, err, ny);
+    combine_stages((const double(*)[NA])d->k, RK_E, STAGES, err, ny);
     for (i = 0; i < ny; ++i) {
         const double a = fabs(d->y[i]), b = fabs(y_new[i]);
         err[i] *= h;
@@ -703,7 +754,7 @@ static inline double dopri_error(const dopri *d, const tolerance *tol, double h,
 static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step,
                                        int ny)
 {
-    double y_new[NS];
+    double y_new[NA];
     double h = min2(d->h_next, max_step);
     int rejected = 0;
     if (!(h > 0.0) || below_min_step(h, d->t)) /* NaN included */
@@ -713,6 +764,11 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (t_new > t_bound)
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
+#ifdef MODEL_FLIGHT
+        if (ny == NF)
+            dopri_stages_of(d, o, h, t_new, y_new, ODE_FLIGHT);
+        else
+#endif
 #ifdef MODEL_FRICTION
         if (ny == NS)
             dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
@@ -760,12 +816,24 @@ static NOINLINE int dopri_step_slide(dopri *d, ode *o, const tolerance *tol, dou
 }
 #endif
 
+#ifdef MODEL_FLIGHT
+/* One accepted step (dopri_step_of) of a flying block's NF components. */
+static NOINLINE int dopri_step_flight(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NF);
+}
+#endif
+
 /* A stepper: dopri_step_stuck or dopri_step_slide, chosen once per segment (dopri_stepper). */
 typedef int (*dopri_step_fn)(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step);
 
 /* The stepper of the components d integrates. */
 static dopri_step_fn dopri_stepper(const dopri *d)
 {
+#ifdef MODEL_FLIGHT
+    if (d->n == NF)
+        return dopri_step_flight;
+#endif
 #ifdef MODEL_FRICTION
     if (d->n == NS)
         return dopri_step_slide;
@@ -789,9 +857,9 @@ static void dopri_undo(dopri *d, double h_next)
 /* Coefficients of the continuous extension of the first ny components (dopri_prepare_dense). */
 static ALWAYS_INLINE void dopri_prepare_dense_of(dopri *d, int ny)
 {
-    double sum[NS];
+    double sum[NA];
     int i;
-    combine_stages((const double(*)[NS])d->k, RK_D, STAGES, sum, ny);
+    combine_stages((const double(*)[NA])d->k, RK_D, STAGES, sum, ny);
     for (i = 0; i < ny; ++i) {
         const double dy = d->y[i] - d->y_old[i];
         const double bspl = d->h * d->k[0][i] - dy;
@@ -809,6 +877,11 @@ static void dopri_prepare_dense(dopri *d)
 {
     if (d->dense_ready)
         return;
+#ifdef MODEL_FLIGHT
+    if (d->n == NF)
+        dopri_prepare_dense_of(d, NF);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (d->n == NS)
         dopri_prepare_dense_of(d, NS);
@@ -889,6 +962,11 @@ static void dopri_dense(dopri *d, double t, double *y)
     }
     dopri_prepare_dense(d);
     th = (t - d->t_old) / d->h;
+#ifdef MODEL_FLIGHT
+    if (d->n == NF)
+        dopri_dense_of(d, th, y, NF);
+    else
+#endif
 #ifdef MODEL_FRICTION
     if (d->n == NS)
         dopri_dense_of(d, th, y, NS);
@@ -917,6 +995,11 @@ enum event_kind {
     EV_LIFT_OFF,       /* finite mu_s: the floor's normal force N falls from > 0 to 0 */
     EV_SLIDE_UPLIFT_A, /* contact, sliding: u_{+1} with the friction force turns positive */
     EV_SLIDE_UPLIFT_A_PRIME, /* contact, sliding: u_{-1} with the friction force turns positive */
+    EV_LANDING_S,      /* flight: the reference corner's height v falls from > 0 to 0 */
+    EV_LANDING_O,      /* flight: the other corner's height falls from > 0 to 0 */
+    EV_FLIGHT_OVERTURN, /* flight: |theta| reaches pi/2 */
+    EV_JUMP_S,         /* flight: dv falls from > 0 to 0, a peak of v (jump_max) */
+    EV_JUMP_O,         /* flight: the other corner's rate falls from > 0 to 0, a peak of its height (jump_max) */
     EV_GAP_CLOSE,      /* any phase: the contact of a stop side that does not push turns positive (one kind per side) */
     EV_GAP_OPEN = EV_GAP_CLOSE + MAX_STOP_SIDES, /* any phase: that of a side that pushes falls to 0 */
     N_EVENTS = EV_GAP_OPEN + MAX_STOP_SIDES
@@ -956,6 +1039,11 @@ static const event_rule EVENT_RULES[N_EVENTS] = {
     {-1, 1, 1, -1, 0, 0.0},                 /* EV_LIFT_OFF:       g > 0   ->  g <= 0 */
     {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A: g <= 0  ->  g > 0 */
     {+1, 0, 1, -1, 0, 0.0},                 /* EV_SLIDE_UPLIFT_A_PRIME */
+    {-1, 1, 1, NY + 2, 0, 0.0},             /* EV_LANDING_S:      g > 0   ->  g <= 0 (a start at v = 0 is not "before") */
+    {-1, 1, 1, -1, 0, 0.0},                 /* EV_LANDING_O:      g > 0   ->  g <= 0 */
+    {+1, 1, 1, -1, 0, 0.0},                 /* EV_FLIGHT_OVERTURN: g < 0  ->  g >= 0 */
+    {-1, 1, 0, NY + 3, 0, 0.0},             /* EV_JUMP_S:         g > 0   ->  g <= 0 */
+    {-1, 1, 0, -1, 0, 0.0},                 /* EV_JUMP_O:         g > 0   ->  g <= 0 */
     /* EV_GAP_CLOSE + i: g <= 0 -> g > 0, and EV_GAP_OPEN + i: g > 0 -> g <= 0; g the side's contact. */
     {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0}, {+1, 0, 1, -1, 0, 0.0},
     {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}, {-1, 1, 1, -1, 0, 0.0}
@@ -1019,6 +1107,7 @@ typedef struct event_ctx {
      * times the weight's moment about the corner (mu_k = tan alpha keeps the margin at 0 while it slides). */
     double slide_uplift_floor[2];
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
+    const double *u_max;             /* the largest |u| so far */
 } event_ctx;
 
 /* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
@@ -1056,6 +1145,80 @@ static void floor_force(ode *o, double t, const double *y, double *fn)
     } else {
         model_stick_force((double)o->phase, y, ag, agy, o->k->p, friction_on(o), fn);
     }
+}
+#endif
+
+#ifdef MODEL_FRICTION
+/* The floor's normal force N at (t, y) in the segment's phase, the lift-off event's g. Rocking with the pivot
+ * stuck, from the generated base reaction, N_b = out + sum_j coeff_j ddq_j, with the accelerations f[NQ...] at
+ * (t, y) when the caller has them (the FSAL derivative at a step's end, f = NULL: evaluated): the rocking
+ * steps watch N at the cost of that one call. Else the phase's force (floor_force). */
+static ALWAYS_INLINE double rocking_normal_force(ode *o, double t, const double *y, const double *f,
+                                                 const double *cst)
+{
+    double out[3 * (NQ + 1)], n;
+    int j;
+    model_base_reaction_prepared(y, ode_ag(o, t), cst, out);
+    n = out[NQ + 1];
+    for (j = 0; j < NQ; ++j)
+        n += out[NQ + 2 + j] * f[NQ + j];
+    return n;
+}
+
+/* The lift-off event's g on a stuck corner from its N = n: on a floor without friction (mu_s = inf) N can reach
+ * 0 while the floor holds a tangential force, and letting go of it may drive the corner into the floor: the
+ * block takes off where N <= 0 and the free flight lifts the corner, the larger of N and minus the corner's
+ * vertical acceleration in flight falling to 0 (numpy_backend's takeoff_margin; docs/simulation.md, "Flight").
+ * The flight's acceleration only where N <= 0. */
+static double takeoff_margin(const event_ctx *ec, double t, const double *y, double n)
+{
+#ifdef MODEL_FLIGHT
+    ode *o = ec->o;
+    double out[NQ + 2];
+    if (n > 0.0 || isfinite(ec->mu_s))
+        return n;
+    model_flight_accel((double)o->phase, y, ode_ag(o, t), ode_agy(o, t), o->k->p, friction_on(o), out);
+    return max2(n, -out[NQ + 1]);
+#else
+    (void)ec, (void)t, (void)y;
+    return n;
+#endif
+}
+
+static double lift_off_value(const event_ctx *ec, double t, const double *y, const double *f)
+{
+    ode *o = ec->o;
+    double fn[2];
+    if (o->phase != 0 && o->sigma == 0) {
+        double at_gravity[NK], dy[NA];
+        if (f == NULL) {
+            ode_rhs(o, t, y, dy);
+            f = dy;
+        }
+        return takeoff_margin(ec, t, y, rocking_normal_force(o, t, y, f, gravity_constants(o, (double)o->phase, t, at_gravity)));
+    }
+    floor_force(o, t, y, fn);
+    return fn[1];
+}
+#endif
+
+#ifdef MODEL_FLIGHT
+/* The other corner's height above the floor in flight (generated corner_heights). */
+static double corner_height_other(const event_ctx *ec, double t, const double *y)
+{
+    double h[2];
+    model_corner_heights((double)ec->o->phase, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p,
+                         friction_on(ec->o), y[NY + 2], h);
+    return h[1];
+}
+
+/* The other corner's vertical rate in flight (generated flight_corner). */
+static double corner_rate_other(const event_ctx *ec, double t, const double *y)
+{
+    double c[4];
+    model_flight_corner((double)ec->o->phase, y, ode_ag(ec->o, t), ode_agy(ec->o, t), ec->o->k->p,
+                        friction_on(ec->o), y[NY], y[NY + 2], y[NY + 1], y[NY + 3], c);
+    return c[3];
 }
 #endif
 
@@ -1099,8 +1262,15 @@ static double model_event(const event_ctx *ec, int kind, double t, const double 
     case EV_SLIDE_UPLIFT_A_PRIME:
         return slide_uplift_event(ec, -1.0, t, y);
     case EV_LIFT_OFF:
-        floor_force(ec->o, t, y, fn);
-        return fn[1];
+        return lift_off_value(ec, t, y, NULL);
+#endif
+#ifdef MODEL_FLIGHT
+    case EV_LANDING_O:
+        return corner_height_other(ec, t, y);
+    case EV_FLIGHT_OVERTURN:
+        return fabs(y[0]) - HALF_PI;
+    case EV_JUMP_O:
+        return corner_rate_other(ec, t, y);
 #endif
     case EV_REST:
         /* In full contact the energy does not depend on the pivot. */
@@ -1135,11 +1305,17 @@ static ALWAYS_INLINE double critical_event_bound(const event_ctx *ec, double t, 
 
 /* g at a step's end: exact, except that a value known to be < 0 may be a
  * bound (critical_event_bound); locating an event uses exact values only. */
-static inline double event_value(const event_ctx *ec, int kind, double t, const double *y)
+static inline double event_value(const event_ctx *ec, int kind, double t, const double *y, const double *f)
 {
     const event_rule *e = &EVENT_RULES[kind];
     if (e->component >= 0)
         return component_event(component_factor(ec, e), e->offset, y[e->component]);
+#ifdef MODEL_FRICTION
+    if (kind == EV_LIFT_OFF)
+        return lift_off_value(ec, t, y, f);
+#else
+    (void)f;
+#endif
     return SHORTCUTS && kind == EV_CRITICAL ? critical_event_bound(ec, t, y) : model_event(ec, kind, t, y);
 }
 
@@ -1147,7 +1323,7 @@ static inline double event_value(const event_ctx *ec, int kind, double t, const 
 static double event_on_dense(const event_ctx *ec, dopri *d, int kind, double t)
 {
     const event_rule *e = &EVENT_RULES[kind];
-    double y[NS];
+    double y[NA];
     if (e->component >= 0)
         return component_event(component_factor(ec, e), e->offset, dopri_dense1(d, t, e->component));
     dopri_dense(d, t, y);
@@ -1257,8 +1433,9 @@ static inline int first_event(event_mask m)
 #endif
 }
 
-/* Watch the events of the set `active`, in enum order, from (t, y). */
-static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y)
+/* Watch the events of the set `active`, in enum order, from (t, y), f the derivative there. */
+static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y,
+                         const double *f)
 {
     es->n = 0;
     for (; active != 0; active &= active - 1) {
@@ -1271,7 +1448,7 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
         w->component = e->component;
         w->factor = component_factor(ec, e);
         w->offset = e->offset;
-        es->g[es->n++] = event_value(ec, k, t, y);
+        es->g[es->n++] = event_value(ec, k, t, y, f);
     }
 }
 
@@ -1292,6 +1469,8 @@ static void events_drop(event_set *es, int kind)
  * whole step), and not reported. */
 static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 {
+    if (ec->o->flying) /* in flight every located point counts towards u_max and jump_max (see_flight) */
+        return 0;
     if (kind == EV_THETA_PEAK)
         return dopri_dense_bound(d, 0) <= *ec->theta_max;
     if (kind == EV_X_PEAK)
@@ -1325,8 +1504,13 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
                 stop_contacts_at(ec->o->k, d->y, es->contacts);
             es->have_contacts = 1;
             g_new = es->contacts[gap_side(k)];
+#ifdef MODEL_FRICTION
+        } else if (k == EV_LIFT_OFF && (ec->o->rhs == ODE_FREE_ROCKING || ec->o->rhs == ODE_PULSE_ROCKING)) {
+            /* Every step of a level rocking segment: lift_off_value's own operations, inline. */
+            g_new = takeoff_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
+#endif
         } else {
-            g_new = event_value(ec, k, d->t, d->y);
+            g_new = event_value(ec, k, d->t, d->y, d->f);
         }
         sense = event_sense(w->sense, g_old);
         es->g[i] = g_new;
@@ -1354,8 +1538,49 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 /* 4. The phase machine                                                      */
 /* ------------------------------------------------------------------------ */
 
+/* The reference corner's height v in a flying state y (0 without flight). */
+static double corner_height(const double *y)
+{
+#ifdef MODEL_FLIGHT
+    return y[NY + 2];
+#else
+    (void)y;
+    return 0.0;
+#endif
+}
+
+/* The reference corner leaves the floor: v = 0 and dv > 0 (a bounce; a takeoff has dv = 0). */
+static int corner_rising(const double *y)
+{
+#ifdef MODEL_FLIGHT
+    return y[NY + 2] == 0.0 && y[NY + 3] > 0.0;
+#else
+    (void)y;
+    return 0;
+#endif
+}
+
+/* The height of the corner other than the reference one in a flying state y at t (0 without flight). */
+static double corner_other_height(const event_ctx *ec, double t, const double *y)
+{
+#ifdef MODEL_FLIGHT
+    return corner_height_other(ec, t, y);
+#else
+    (void)ec, (void)t, (void)y;
+    return 0.0;
+#endif
+}
+
 /* How a segment ended, besides an event (enum event_kind). */
-enum { SEG_BOUND = -1, SEG_FAILED = -2, SEG_NO_LIFT = -3, SEG_MAX_STEPS = -4, SEG_STOPPED = -5, SEG_NO_SLIP = -6 };
+enum {
+    SEG_BOUND = -1,
+    SEG_FAILED = -2,
+    SEG_NO_LIFT = -3,
+    SEG_MAX_STEPS = -4,
+    SEG_STOPPED = -5,
+    SEG_NO_SLIP = -6,
+    SEG_NO_TAKEOFF = -7
+};
 
 #if NQ > 1
 /* The arcs that cover the tilts [0, theta_m] (least_on_arcs), with the constants of their outer
@@ -1374,11 +1599,16 @@ typedef struct run {
     event_ctx ec;
     dopri d;
     event_set events;
-    double t, y[NS]; /* the state between segments */
+    double t, y[NA]; /* the state between segments */
     int phase;
     int sigma;      /* the contact: 0 stuck, +1 / -1 sliding with du of that sign (constant in a segment) */
+    int flying;     /* in flight about the reference corner s = phase (0 sigma) */
+    double t_takeoff; /* when the current flight started */
+    int lift_phase, lift_sigma; /* the phase the current flight took off from: s, sigma */
+    int skip_lift_check; /* the next segment does not check N <= 0 at its start (a grazing takeoff) */
+    double base;    /* the base width B [m], from corner_heights (the bounce speed of a landing) */
     int friction;   /* the floor's mu_s is finite: the events of friction are watched (phases.py) */
-    double atol[NS]; /* the case's, then those of u and du (simulate_one) */
+    double atol[NA]; /* the case's, then those of u and du (simulate_one) */
     unsigned exits[PHASE_COUNT]; /* phase_exit_events of each phase */
     int codes[2][2];             /* phase_of each pair of constraints */
     double t_start; /* when the current rocking phase started, at theta = 0 */
@@ -1403,8 +1633,8 @@ typedef struct run {
     /* history */
     rocking_history *hist;
     int64_t n_rec;
-    double last_t, last_y[NS];
-    int last_phase, last_sigma;
+    double last_t, last_y[NA];
+    int last_phase, last_sigma, last_flying;
     double next_sample; /* index of the next record_dt multiple to sample */
 } run;
 
@@ -1416,6 +1646,7 @@ static void ode_at(const run *r, double t, ode *o)
     *o = r->o;
     o->phase = r->phase;
     o->sigma = r->sigma;
+    o->flying = r->flying;
     o->mu_slip = r->c->mu_k * r->sigma;
     o->pulse_on = t < r->c->t_p;
     o->vertical = o->pulse_on && r->c->a_v != 0.0;
@@ -1438,8 +1669,9 @@ static void floor_force_at(const run *r, double t, const double *y, double *fn)
 static void record_floor(const run *r, double t, const double *y, double *out)
 {
 #ifdef MODEL_FRICTION
-    double fn[2];
-    floor_force_at(r, t, y, fn);
+    double fn[2] = {0.0, 0.0}; /* in flight the floor holds nothing */
+    if (!r->flying)
+        floor_force_at(r, t, y, fn);
     out[0] = y[NY];
     out[1] = y[NY + 1];
     out[2] = fn[1];
@@ -1450,6 +1682,19 @@ static void record_floor(const run *r, double t, const double *y, double *out)
 #endif
 }
 
+/* The flight's columns of a history sample: the reference corner's height v, its rate dv, and 1 in flight. */
+static void record_flight(const run *r, const double *y, double *out)
+{
+#ifdef MODEL_FLIGHT
+    out[0] = y[NY + 2];
+    out[1] = y[NY + 3];
+#else
+    (void)y;
+    out[0] = out[1] = 0.0;
+#endif
+    out[2] = r->flying ? 1.0 : 0.0;
+}
+
 /* Append a history sample, unless it repeats the last one exactly (a segment
  * restarting where the previous one ended). Counts past the capacity. */
 static void record(run *r, double t, const double *y, int phase)
@@ -1458,8 +1703,9 @@ static void record(run *r, double t, const double *y, int phase)
     int i, same;
     if (h == NULL)
         return;
-    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase && r->sigma == r->last_sigma;
-    for (i = 0; same && i < NS; ++i)
+    same = r->n_rec > 0 && t == r->last_t && phase == r->last_phase && r->sigma == r->last_sigma &&
+           r->flying == r->last_flying;
+    for (i = 0; same && i < NA; ++i)
         same = y[i] == r->last_y[i];
     if (same)
         return;
@@ -1472,12 +1718,15 @@ static void record(run *r, double t, const double *y, int phase)
             record_floor(r, t, y, h->floor + 4 * r->n_rec);
         if (h->slide != NULL)
             h->slide[r->n_rec] = r->sigma;
+        if (h->flight != NULL)
+            record_flight(r, y, h->flight + 3 * r->n_rec);
     }
     ++r->n_rec;
     r->last_t = t;
     memcpy(r->last_y, y, sizeof r->last_y);
     r->last_phase = phase;
     r->last_sigma = r->sigma;
+    r->last_flying = r->flying;
 }
 
 /* The least index k >= 0 whose sample time k dt is > t (history.py's
@@ -1507,7 +1756,7 @@ static int over_budget(const run *r)
 static void record_samples(run *r, double t_stop)
 {
     const double dt = r->c->record_dt;
-    double y[NS];
+    double y[NA];
     if (r->hist == NULL || !(dt > 0.0))
         return;
     memcpy(y, r->d.y, sizeof y); /* the components not integrated */
@@ -1552,7 +1801,7 @@ static double bumper_force(const run *r, const double *y)
 /* bumper_force on the last step's dense output at t_old + x (t_end - t_old). */
 static double bumper_force_in_step(run *r, double t_end, double x)
 {
-    double y[NS];
+    double y[NA];
     dopri_dense(&r->d, r->d.t_old + x * (t_end - r->d.t_old), y);
     return bumper_force(r, y);
 }
@@ -1625,9 +1874,27 @@ static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end)
 #endif
 }
 
+/* In flight, the largest |u| and corner height (u_max, jump_max) at the flying state y at t: at every step end
+ * and located event point, the segment's start and end (the located peaks of the heights among them). */
+static void see_flight(run *r, double t, const double *y)
+{
+#ifdef MODEL_FLIGHT
+    r->res->u_max = max2(r->res->u_max, fabs(y[NY]));
+    r->res->jump_max = max2(r->res->jump_max, max2(y[NY + 2], corner_height_other(&r->ec, t, y)));
+#else
+    (void)r, (void)t, (void)y;
+#endif
+}
+
 /* A non-terminal event located at t inside the last step. */
 static void pass_event(run *r, int kind, double t)
 {
+    if (r->flying) {
+        double y[NA];
+        memcpy(y, r->d.y, sizeof y);
+        dopri_dense(&r->d, t, y);
+        see_flight(r, t, y);
+    }
     switch (kind) {
     case EV_CRITICAL:
         if (isnan(r->res->t_critical))
@@ -1641,6 +1908,8 @@ static void pass_event(run *r, int kind, double t)
     case EV_X_PEAK:
         r->res->x_max = max2(r->res->x_max, fabs(dopri_dense1(&r->d, t, 1)));
         break;
+#endif
+#ifdef MODEL_FLIGHT
 #endif
     default:
         break;
@@ -1661,6 +1930,12 @@ static int phase_of(int rocks, int slides)
 static int phase_code(const run *r, int s, int sigma)
 {
     return r->codes[s != 0][sigma != 0];
+}
+
+/* The code of the run's current phase (flight included). */
+static int phase_current(const run *r)
+{
+    return r->flying ? PHASE_FLIGHT : phase_code(r, r->phase, r->sigma);
 }
 
 /* The events the phase `code` has exits on, one bit per event of the table (read once per run: the table is
@@ -1687,16 +1962,42 @@ static inline int phase_next(int code, int event, int guard)
     return PHASE_COUNT;
 }
 
+/* Each stop side's gap closing, or opening once its bumper acts: watched in every phase (rule 6). */
+static event_mask gap_events(const run *r)
+{
+    event_mask active = 0;
+    int k;
+    for (k = 0; k < MODEL_NSTOPS; ++k)
+        active |= (event_mask)1 << ((r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k);
+    (void)r;
+    return active;
+}
+
+/* The events of the flight phase (its exits `exits`): the landing of either corner, overturning, and the
+ * reported extrema: theta's, q[1]'s, u's, each corner's height (jump_max), and t_critical. */
+static event_mask flight_events(const run *r, unsigned exits)
+{
+    const event_mask landing = exits >> PHASE_EVENT_LANDING & 1u;
+    event_mask active = landing << EV_LANDING_S | landing << EV_LANDING_O;
+    active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_FLIGHT_OVERTURN;
+    active |= (event_mask)1 << EV_JUMP_S | (event_mask)1 << EV_JUMP_O;
+    active |= (event_mask)1 << EV_THETA_PEAK | (event_mask)isnan(r->res->t_critical) << EV_CRITICAL;
+    if (NQ > 1)
+        active |= (event_mask)1 << EV_X_PEAK;
+    return active | gap_events(r);
+}
+
 /* The events of docs/simulation.md for the current phase: the exits of its entry in the table (the events
  * of friction only on a floor with finite mu_s), and the reported extrema and crossings. */
 static event_mask watched_events(const run *r)
 {
-    const unsigned exits = r->exits[phase_code(r, r->phase, r->sigma)];
+    const unsigned exits = r->exits[phase_current(r)];
     const event_mask rest = !r->o.pulse_on && (exits >> PHASE_EVENT_REST & 1u);
     const event_mask uplift = exits >> PHASE_EVENT_UPLIFT & 1u;
     const int up = r->sigma != 0 ? EV_SLIDE_UPLIFT_A : EV_UPLIFT_A; /* the pair of either */
     event_mask active = uplift << up | uplift << (up + 1);
-    int k;
+    if (r->flying)
+        return flight_events(r, exits);
     active |= (event_mask)(exits >> PHASE_EVENT_IMPACT & 1u) << EV_IMPACT;
     active |= (event_mask)(exits >> PHASE_EVENT_OVERTURN & 1u) << EV_OVERTURN;
     active |= rest << EV_REST;
@@ -1706,21 +2007,21 @@ static event_mask watched_events(const run *r)
     if (r->friction) {
         active |= (event_mask)(exits >> PHASE_EVENT_SLIP & 1u) << EV_SLIP;
         active |= (event_mask)(exits >> PHASE_EVENT_STOP & 1u) << EV_STOP;
-        active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     }
+    /* The floor's N on every floor of a model with flight; in full contact without a vertical component N is
+     * the system's weight, constant (tests/test_c_flight.py checks it): not watched there. */
+    if ((r->friction || FLIGHT) && (r->phase != 0 || r->o.vertical))
+        active |= (event_mask)(exits >> PHASE_EVENT_LIFT_OFF & 1u) << EV_LIFT_OFF;
     /* Once safe, the next extremum of q[1] is the last one: it ends the run. */
     if (NQ > 1)
         active |= (event_mask)1 << (r->phase == 0 && r->safe ? EV_SETTLED : EV_X_PEAK);
-    /* In every phase, each stop side's gap closing, or opening once its bumper acts (rule 6). */
-    for (k = 0; k < MODEL_NSTOPS; ++k)
-        active |= (event_mask)1 << ((r->k->stop_on[k] ? EV_GAP_OPEN : EV_GAP_CLOSE) + k);
-    return active;
+    return active | gap_events(r);
 }
 
 /* What a segment changes in the results and the history before its end:
  * restored when the work passes max_steps inside it (rule 5). */
 typedef struct segment_start {
-    double theta_max, x_max, t_critical, bumper_force_max, u_max;
+    double theta_max, x_max, t_critical, bumper_force_max, u_max, jump_max;
     int64_t n_rec;
 } segment_start;
 
@@ -1731,6 +2032,7 @@ static void segment_saved(const run *r, segment_start *saved)
     saved->t_critical = r->res->t_critical;
     saved->bumper_force_max = r->res->bumper_force_max;
     saved->u_max = r->res->u_max;
+    saved->jump_max = r->res->jump_max;
     saved->n_rec = r->n_rec;
 }
 
@@ -1744,12 +2046,14 @@ static int segment_undone(run *r, const segment_start *saved)
     r->res->t_critical = saved->t_critical;
     r->res->bumper_force_max = saved->bumper_force_max;
     r->res->u_max = saved->u_max;
+    r->res->jump_max = saved->jump_max;
     if (r->hist != NULL) {
         r->n_rec = saved->n_rec; /* its last row is the segment's start */
         r->last_t = r->t;
         memcpy(r->last_y, r->y, sizeof r->last_y);
         r->last_phase = r->phase;
         r->last_sigma = r->sigma;
+        r->last_flying = r->flying;
     }
     return SEG_MAX_STEPS;
 }
@@ -1758,6 +2062,25 @@ static int segment_undone(run *r, const segment_start *saved)
 static int stop_requested(const run *r)
 {
     return r->stop != NULL && *r->stop != 0;
+}
+
+/* A flight's landings where its segment starts: a corner on the floor that rises (a bounce) is armed at once,
+ * its 0 read as above the floor, so that a short hop landing within the first step is still found (one that
+ * does not rise, a takeoff, is armed once its height is positive: the events' strict rule). */
+static void landings_armed(run *r)
+{
+#ifdef MODEL_FLIGHT
+    int k;
+    for (k = 0; k < r->events.n; ++k) {
+        const int kind = r->events.w[k].kind;
+        if (!(r->events.g[k] == 0.0 && (kind == EV_LANDING_S || kind == EV_LANDING_O)))
+            continue;
+        if ((kind == EV_LANDING_S ? r->y[NY + 3] : corner_rate_other(&r->ec, r->t, r->y)) > 0.0)
+            r->events.g[k] = DBL_MIN;
+    }
+#else
+    (void)r;
+#endif
 }
 
 /* Integrate the current phase from (r->t, r->y) until t_bound or a terminal
@@ -1772,11 +2095,16 @@ static int run_segment(run *r, double t_bound)
     const double max_step = (r->phase == 0 && r->t < r->c->t_p) ? r->c->contact_max_step : INFINITY;
     /* Rocking from theta = 0 (an uplift, an impact): s theta must turn
      * positive, or the impact event (armed by s theta > 0) would never fire. */
-    int lifting = r->phase != 0 && r->y[0] == 0.0;
+    int lifting = !r->flying && r->phase != 0 && r->y[0] == 0.0;
     /* Sliding from du = 0 (a slip starts, reverses): sigma du must turn positive, or the stop event would
      * never fire, and friction would push the base along. */
     int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
-    int starting = lifting || slipping;
+    /* Taking off from v = dv = 0: v must turn positive, or the landing event (armed by v > 0) would never fire
+     * and the corner would sink through the floor; so must the other corner's height where it starts at 0 too
+     * (a flat base). (A bounce, dv > 0, has its landing armed at once: landings_armed.) */
+    int launching = r->flying && corner_height(r->y) == 0.0 && !corner_rising(r->y);
+    int corner_flat = 0;
+    int starting = lifting || slipping || launching;
     /* A sampled motion while it acts: every step ends at the next sample time at
      * the latest (a kink of ag), inside the segment. ag is continuous there, so
      * the step's last stage is still the next one's first (FSAL). */
@@ -1784,6 +2112,7 @@ static int run_segment(run *r, double t_bound)
     dopri_step_fn dopri_step;
     step_events found;
     segment_start saved;
+    event_mask active;
     int k;
 #if MODEL_NSTOPS > 0
     int pushing = 0; /* a pad pushes in this segment (its regime is constant) */
@@ -1793,11 +2122,13 @@ static int run_segment(run *r, double t_bound)
 
     segment_saved(r, &saved);
     r->o.phase = r->phase;
-    if (r->friction) { /* else the contact sticks throughout: as simulate_one set them */
+    if (r->friction || FLIGHT) { /* else the contact sticks throughout: as simulate_one set them */
         r->o.sigma = r->sigma;
-        r->o.ny = r->sigma != 0 ? NS : NY;
-        r->o.mu_slip = r->c->mu_k * r->sigma;
-        regime_inputs(r->k, r->o.on);
+        r->o.flying = r->flying;
+        r->o.ny = r->flying ? NA : r->sigma != 0 ? NS : NY;
+        r->o.mu_slip = r->friction ? r->c->mu_k * r->sigma : 0.0;
+        if (r->friction || MODEL_NSTOPS > 0)
+            regime_inputs(r->k, r->o.on);
     }
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
@@ -1805,10 +2136,11 @@ static int run_segment(run *r, double t_bound)
     r->o.rhs = ode_rhs_kind(&r->o);
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
-    if (r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
+    if (!r->flying && r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
     dopri_step = dopri_stepper(&r->d);
+    corner_flat = launching && corner_other_height(&r->ec, r->t, r->y) == 0.0;
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
@@ -1816,7 +2148,17 @@ static int run_segment(run *r, double t_bound)
     /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
     r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
 #endif
-    events_start(&r->events, &r->ec, watched_events(r), r->t, r->y);
+    active = watched_events(r);
+    events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
+    /* N <= 0 where the phase starts (after an impact, a landing, at t = 0): the block takes off at once (the
+     * event sees only a sign change inside a step). */
+    if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check)
+        for (k = 0; k < r->events.n; ++k)
+            if (r->events.w[k].kind == EV_LIFT_OFF && r->events.g[k] < 0.0)
+                return EV_LIFT_OFF;
+    r->skip_lift_check = 0;
+    if (r->flying)
+        landings_armed(r);
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
@@ -1834,13 +2176,16 @@ static int run_segment(run *r, double t_bound)
             return SEG_STOPPED;
         if (starting) {
             const int lifted = !lifting || s * r->d.y[0] > 0.0;
-            if (!(lifted && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
+            const int bounced =
+                !launching || (corner_height(r->d.y) > 0.0 && !(corner_flat && !(corner_other_height(&r->ec, r->d.t, r->d.y) > 0.0)));
+            if (!(lifted && bounced && (!slipping || r->sigma * r->d.y[NS - 1] > 0.0))) {
                 /* The block fell back within the first step (or never rose), or the base did not move
-                 * in the slip's direction: retry shorter; if even the shortest step cannot lift it (slip
-                 * it), it does not lift (slip): a grazing uplift (slip). */
+                 * in the slip's direction, or the corner fell back to the floor: retry shorter; if even the
+                 * shortest step cannot lift it (slip it, bounce it), it does not lift (slip, bounce): a
+                 * grazing uplift (slip, bounce). */
                 const double h = 0.1 * r->d.h;
                 if (h < min_step_at(r->d.t_old))
-                    return lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
+                    return !bounced ? SEG_NO_TAKEOFF : lifted ? SEG_NO_SLIP : SEG_NO_LIFT;
                 dopri_undo(&r->d, h);
                 continue;
             }
@@ -1862,6 +2207,8 @@ static int run_segment(run *r, double t_bound)
                 step_peak(r, r->t, r->y);
 #endif
             see_state(r, r->y, 0);
+            if (r->flying)
+                see_flight(r, r->t, r->y);
             if (found.terminal == EV_IMPACT)
                 r->y[0] = 0.0; /* the impact is at theta = 0; the root is 0 only to the tolerance */
             if (found.terminal == EV_STOP)
@@ -1873,6 +2220,8 @@ static int run_segment(run *r, double t_bound)
             step_peak(r, r->d.t, r->d.y);
 #endif
         see_state(r, r->d.y, 1);
+        if (r->flying)
+            see_flight(r, r->d.t, r->d.y);
     }
     r->t = t_bound;
     memcpy(r->y, r->d.y, sizeof r->y);
@@ -2243,7 +2592,7 @@ static int verdict_final(run *r)
 
 static int events_exhausted(const run *r)
 {
-    return r->res->uplifts + r->res->impacts >= r->c->max_events;
+    return r->res->uplifts + r->res->impacts + r->res->flights >= r->c->max_events;
 }
 
 /* The rest snap after an impact (rule 2): dtheta = 0, and each other
@@ -2295,19 +2644,70 @@ static void rest_snap(run *r, const double *cst)
  * starts sliding is a slip episode (slip_stops counts a reversal). Returns 1 where the run ends, else 0. */
 static int enter(run *r, int to, int s, int sigma)
 {
-    /* This back end does not follow flight yet: the base leaves the floor, out of scope (section 14). */
-    if (to < 0 || to >= PHASE_COUNT || PHASES[to].flies) {
+    /* A model without flight functions does not follow flight: the base leaves the floor, out of its scope
+     * (section 14). */
+    if (to < 0 || to >= PHASE_COUNT || (!FLIGHT && PHASES[to].flies)) {
         r->res->status = to == PHASE_END_OVERTURNED ? ROCKING_OVERTURNED
                          : to == PHASE_END_REST     ? ROCKING_REST
+                         : to == PHASE_END_JAMMED   ? ROCKING_JAMMED
                          : to >= 0                  ? ROCKING_FLIGHT
                                                     : ROCKING_FAILED; /* not reached: the table has the exit */
         return 1;
     }
-    r->res->slides += PHASES[to].slides && r->sigma == 0;
+    /* A slip episode: a stuck contact starts sliding (not a landing that slides on: numpy_backend's count). */
+    r->res->slides += PHASES[to].slides && !PHASES[to].flies && r->sigma == 0 && !r->flying;
     r->phase = PHASES[to].rocks ? s : 0;
-    r->sigma = PHASES[to].slides ? sigma : 0; /* a stuck phase is entered with du = 0: a stop, a holding impact */
+    /* A stuck phase is entered with du = 0: a stop, a holding impact; in flight the contact neither sticks
+     * nor slides (sigma 0), u and du are integrated. */
+    r->sigma = PHASES[to].slides && !PHASES[to].flies ? sigma : 0;
+    r->flying = PHASES[to].flies;
     return 0;
 }
+
+#ifdef MODEL_FLIGHT
+/* The floor's normal force on the contact is < 0 at the run's state: the block takes off at once. */
+static int lift_off_at_start(const run *r)
+{
+    double fn[2];
+    floor_force_at(r, r->t, r->y, fn);
+    return fn[1] < 0.0;
+}
+#endif
+
+#ifdef MODEL_FLIGHT
+/* A grazing takeoff (its corner cannot rise): the block stays in the phase it took off from, no flight; its
+ * N <= 0 there is not checked again until it is positive (skip_lift_check). */
+static void lift_off_grazing(run *r)
+{
+    r->res->flights -= 1;
+    r->flying = 0;
+    r->phase = r->lift_phase;
+    r->sigma = r->lift_sigma;
+    r->y[NY + 3] = 0.0;
+    r->skip_lift_check = 1;
+}
+#endif
+
+#ifdef MODEL_FRICTION
+/* The lift-off event: the block leaves the floor about the reference corner s, the pivot when rocking, +1 from
+ * full contact; u and du as they are, v = dv = 0 (docs/model.md section 16). Where the table leads (a model
+ * without flight ends the run there); returns 1 where the run ends. */
+static int takeoff(run *r)
+{
+    const int s = r->phase != 0 ? r->phase : 1, phase = r->phase, sigma = r->sigma;
+    if (enter(r, phase_next(phase_current(r), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), s, 0))
+        return 1;
+#ifdef MODEL_FLIGHT
+    r->y[NY + 2] = r->y[NY + 3] = 0.0;
+    r->res->flights += 1;
+    r->lift_phase = phase;
+    r->lift_sigma = sigma;
+    r->t_takeoff = r->t;
+    r->safe = 0;
+#endif
+    return 0;
+}
+#endif
 
 #ifdef MODEL_FRICTION
 /* The impact with friction (docs/model.md section 15) about s: the velocities after it into dq and du
@@ -2348,7 +2748,7 @@ static int impact(run *r)
     const int code = phase_code(r, r->phase, r->sigma);
     int sigma = 0, rests, ended;
 #if MODEL_NSTOPS > 0
-    double before[NS];
+    double before[NA];
     memcpy(before, r->y, sizeof before);
 #endif
 #ifdef MODEL_FRICTION
@@ -2391,8 +2791,8 @@ static int floor_at_start(run *r, int check_slip)
     double fn[2];
     const int code = phase_code(r, r->phase, r->sigma);
     floor_force_at(r, r->t, r->y, fn);
-    if (fn[1] <= 0.0)
-        return enter(r, phase_next(code, PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase, 0);
+    if (fn[1] <= 0.0 && !r->skip_lift_check)
+        return takeoff(r);
     /* At the floor's limit too: a phase that starts there (an uplift where ag crosses mu_s g as the uplift
      * threshold, mu_s = tan alpha) holds its contact only to rounding (the slip event needs it to fall from > 0). */
     if (check_slip && r->sigma == 0 && r->c->mu_s * fn[1] - fabs(fn[0]) <= 0.0)
@@ -2424,6 +2824,147 @@ static int slip_starts(run *r)
     floor_force_at(r, r->t, r->y, fn);
     return enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_SLIP, PHASE_GUARD_ALWAYS), r->phase,
                  fn[0] > 0.0 ? -1 : 1);
+}
+#endif
+
+#ifdef MODEL_FLIGHT
+/* How a landing's impulse is consistent (docs/model.md section 16; rocking/reference/flight.py landing_law). */
+enum { LAW_JAM, LAW_STICK, LAW_SLIDE };
+
+/* The direction a landing tries to slide in first: the slip's before it, or with du = 0 against the sticking
+ * impulse push = P_t. */
+static int slide_first(double du, double push)
+{
+    if (du != 0.0)
+        return du > 0.0 ? 1 : -1;
+    return push > 0.0 ? -1 : 1;
+}
+
+/* The flying state about the other corner: (u, v, du, dv) <- flight_corner, s <- -s (theta, q, their rates
+ * unchanged). */
+static void corner_switch(run *r, const double *on)
+{
+    double c[4];
+    model_flight_corner((double)r->phase, r->y, 0.0, 0.0, r->k->p, on, r->y[NY], r->y[NY + 2], r->y[NY + 1],
+                        r->y[NY + 3], c);
+    r->y[NY] = c[0];
+    r->y[NY + 2] = c[1];
+    r->y[NY + 1] = c[2];
+    r->y[NY + 3] = c[3];
+    r->phase = -r->phase;
+}
+
+/* The landing of the reference corner alone (landing_law): sticks if the floor holds it, P_n > 0 and
+ * |P_t| <= mu_s P_n; else slides in the direction sigma in which the slip keeps its sign through it, with
+ * P_n > 0; else jams. out: dq+, du+, dv+, P_t, P_n (NQ + 4). */
+static int law_corner(const run *r, const double *on, double *out, int *sigma)
+{
+    const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
+    int i, first;
+    model_landing_stick(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, out);
+    if (out[NQ + 3] > 0.0 && (!r->friction || fabs(out[NQ + 2]) <= r->c->mu_s * out[NQ + 3]))
+        return LAW_STICK;
+    if (!r->friction)
+        return LAW_JAM;
+    first = slide_first(du, out[NQ + 2]);
+    for (i = 0; i < 2; ++i) {
+        const int sg = i == 0 ? first : -first;
+        model_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, sg * r->c->mu_k, out);
+        if (out[NQ + 3] > 0.0 && sg * du >= 0.0 && sg * out[NQ] >= 0.0) {
+            *sigma = sg;
+            return LAW_SLIDE;
+        }
+    }
+    return LAW_JAM;
+}
+
+/* The flat landing on both corners at theta = 0 (numpy_backend's flat_landing): the law the floor allows,
+ * stuck if |P_t| <= mu_s (P_s + P_o), else sliding in the direction sigma (slide_first first) with sigma du >= 0
+ * before and after; under it both corners push (P_s, P_o >= 0): that law; one would pull: the other lands alone,
+ * *alone the corner that lands (+1: s, -1: -s) and LAW_JAM returned; else (no law, both pull) LAW_JAM with
+ * *alone 0. out: dq+, du+, dv+, P_t, P_s, P_o (NQ + 5). */
+static int law_flat(const run *r, const double *on, double *out, int *sigma, int *alone)
+{
+    const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
+    int i, first, law = LAW_JAM;
+    *alone = 0;
+    model_flat_landing_stick(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, out);
+    if (fabs(out[NQ + 2]) <= r->c->mu_s * (out[NQ + 3] + out[NQ + 4])) {
+        law = LAW_STICK;
+    } else if (r->friction) {
+        first = slide_first(du, out[NQ + 2]);
+        for (i = 0; i < 2 && law == LAW_JAM; ++i) {
+            const int sg = i == 0 ? first : -first;
+            model_flat_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, sg * r->c->mu_k, out);
+            if (sg * du >= 0.0 && sg * out[NQ] >= 0.0) {
+                law = LAW_SLIDE;
+                *sigma = sg;
+            }
+        }
+    }
+    if (law == LAW_JAM || (out[NQ + 3] >= 0.0 && out[NQ + 4] >= 0.0))
+        return law;
+    if (!(out[NQ + 3] < 0.0 && out[NQ + 4] < 0.0))
+        *alone = out[NQ + 4] < 0.0 ? 1 : -1;
+    *sigma = 0;
+    return LAW_JAM;
+}
+
+/* The landing of the corner s (other = 0) or -s (other = 1) at the state r->y (docs/model.md section 16,
+ * rocking/reference/flight.py landing_law): the new velocities, and where the table leads: the phase on the
+ * floor, on in flight where the corner bounces (dv after it above the speed of a corner turning at
+ * dtheta_rest), or the end jammed. Returns 1 where the run ends. */
+static int landing(run *r, int other)
+{
+    double on[2 * MAX_STOP_SIDES], out[NQ + 5], before[NA];
+    const double *inputs = MODEL_NSTOPS > 0 ? on : NULL;
+    int law, sigma = 0, alone = 0, flat = 0, rests = 0, guard, ended, s;
+    memcpy(before, r->y, sizeof before);
+    regime_inputs(r->k, on);
+    if (other)
+        corner_switch(r, inputs);
+    r->y[NY + 2] = 0.0;
+    if (fabs(sin(r->y[0])) <= ROCKING_FLAT_LANDING) {
+        r->y[0] = 0.0;
+        law = law_flat(r, inputs, out, &sigma, &alone);
+        flat = law != LAW_JAM;
+        if (alone < 0)
+            corner_switch(r, inputs);
+        if (alone != 0)
+            law = law_corner(r, inputs, out, &sigma);
+    } else {
+        law = law_corner(r, inputs, out, &sigma);
+    }
+    if (law == LAW_JAM) {
+        guard = PHASE_GUARD_JAMS;
+    } else {
+        memcpy(r->y + NQ, out, NQ * sizeof *out);
+        r->y[NY + 1] = out[NQ];
+        r->y[NY + 3] = out[NQ + 1];
+        if (r->y[NY + 3] > r->c->dtheta_rest * r->base / 2.0) {
+            guard = PHASE_GUARD_BOUNCES; /* the flight goes on (one flight: no takeoff) */
+        } else {
+            r->y[NY + 3] = 0.0;
+            r->res->flight_time += r->t - r->t_takeoff;
+            /* A corner landing alone at theta = 0 below dtheta_rest rests on the base (rule 2's snap below). */
+            rests = r->y[0] == 0.0 && (flat || fabs(r->y[NQ]) < r->c->dtheta_rest);
+            guard = rests ? (law == LAW_STICK ? PHASE_GUARD_RESTS : PHASE_GUARD_RESTS_SLIDING)
+                          : (law == LAW_STICK ? PHASE_GUARD_ROCKS : PHASE_GUARD_ROCKS_SLIDING);
+        }
+    }
+    s = r->phase;
+    r->res->u_max = max2(r->res->u_max, fabs(r->y[NY])); /* the corner that lands: its own u */
+    ended = enter(r, phase_next(PHASE_FLIGHT, PHASE_EVENT_LANDING, guard), s, sigma);
+    if (ended) /* jammed: the run ends in flight (simulate_one counts its time) */
+        return 1;
+    if (rests && !flat)
+        rest_snap(r, about(r->o.k, (double)s));
+#if MODEL_NSTOPS > 0
+    /* The velocities jumped: the pads' memory and regime follow the state (rule 6). */
+    stop_memory_jump(r->k, before, r->y);
+    stops_read(r);
+#endif
+    return 0;
 }
 #endif
 
@@ -2484,21 +3025,37 @@ static double next_extremum(const rocking_case *c, double t)
 static void phase_machine(run *r)
 {
     const rocking_case *c = r->c;
+    /* A model with flight follows it: t_flight ends nothing (docs/model.md section 16). */
+    const double t_flight = FLIGHT ? INFINITY : c->t_flight;
     int skip_uplift_check = 0, skip_slip_check = 0;
     for (;;) {
         double t_bound;
         int ended;
         record(r, r->t, r->y, r->phase);
-        if (r->t >= c->t_flight) { /* the base may leave the ground: out of scope (docs/model.md section 14) */
+        if (r->t >= t_flight) { /* the base may leave the ground: out of scope (docs/model.md section 14) */
             r->res->status = ROCKING_FLIGHT;
             return;
         }
         if (r->t >= c->t_max) {
-            r->res->status = safe_at_t_max(r);
+            r->res->status = r->flying ? ROCKING_T_MAX : safe_at_t_max(r);
             return;
         }
 #if MODEL_NSTOPS > 0
         stops_read(r);
+#endif
+#ifdef MODEL_FLIGHT
+        /* N <= 0 where full contact starts: the block takes off at once, before any uplift (a pivot needs the
+         * floor to push); a rocking phase checks it where its segment starts (run_segment). */
+        if (r->phase == 0 && !r->flying && !r->skip_lift_check && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) &&
+            lift_off_at_start(r)) {
+            if (takeoff(r))
+                return;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            continue;
+        }
 #endif
         if (r->phase == 0) {
             const int s = skip_uplift_check ? 0 : uplift_at_start(r);
@@ -2516,11 +3073,18 @@ static void phase_machine(run *r)
             }
         }
 #ifdef MODEL_FRICTION
-        if (r->friction) {
+        if (r->friction && !r->flying) {
             const int sigma = r->sigma;
             if (floor_at_start(r, !skip_slip_check))
                 return;
             skip_slip_check = 0;
+            if (r->flying) { /* N <= 0 at the start: it took off */
+                if (events_exhausted(r)) {
+                    r->res->status = ROCKING_MAX_EVENTS;
+                    return;
+                }
+                continue;
+            }
             if (r->sigma != sigma)
                 continue;
         }
@@ -2551,7 +3115,7 @@ static void phase_machine(run *r)
             }
         }
         /* Every segment stops at the pulse's end: no step straddles its kink. */
-        t_bound = r->t < c->t_p ? fmin(fmin(c->t_p, c->t_max), c->t_flight) : c->t_max;
+        t_bound = r->t < c->t_p ? fmin(fmin(c->t_p, c->t_max), t_flight) : c->t_max;
         /* In full contact also at the extrema of ag: no uplift is stepped over (rule 3). */
         if (r->phase == 0 && r->t < c->t_p)
             t_bound = fmin(t_bound, next_extremum(c, r->t));
@@ -2560,7 +3124,7 @@ static void phase_machine(run *r)
 #ifdef MODEL_FRICTION
         /* du keeps its sign in a sliding segment, so |u| is largest at one of its ends: the largest |u| at every
          * step end (a stuck segment's u is its start's, the end of the segment before). */
-        if (r->sigma != 0)
+        if (r->sigma != 0 || r->flying) /* in flight between the located extrema of u (EV_U_PEAK) */
             r->res->u_max = max2(r->res->u_max, fabs(r->y[NY]));
 #endif
         if (gap_side(ended) >= 0) { /* a breakpoint: the same phase restarts with the bumper on or off */
@@ -2576,7 +3140,7 @@ static void phase_machine(run *r)
         switch (ended) {
         case SEG_BOUND:
             if (t_bound == c->t_max) {
-                r->res->status = safe_at_t_max(r);
+                r->res->status = r->flying ? ROCKING_T_MAX : safe_at_t_max(r);
                 return;
             }
             break; /* a breakpoint: the same phase restarts from there */
@@ -2597,6 +3161,11 @@ static void phase_machine(run *r)
             r->phase = 0;
             skip_uplift_check = 1;
             break;
+#ifdef MODEL_FLIGHT
+        case SEG_NO_TAKEOFF:
+            lift_off_grazing(r);
+            break;
+#endif
         case SEG_NO_SLIP:
             /* A grazing slip: the base cannot move against F, the contact stays stuck; not a slip episode.
              * |F| is still barely above mu_s N: the start check would slip it again, forever. */
@@ -2631,10 +3200,10 @@ static void phase_machine(run *r)
             }
             break;
         case EV_OVERTURN:
+        case EV_FLIGHT_OVERTURN:
             r->res->overturned = 1;
             r->res->t_overturn = r->t;
-            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase,
-                  r->sigma);
+            enter(r, phase_next(phase_current(r), PHASE_EVENT_OVERTURN, PHASE_GUARD_ALWAYS), r->phase, r->sigma);
             return;
 #ifdef MODEL_FRICTION
         case EV_SLIP:
@@ -2646,9 +3215,24 @@ static void phase_machine(run *r)
                 return;
             break;
         case EV_LIFT_OFF:
-            enter(r, phase_next(phase_code(r, r->phase, r->sigma), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), r->phase,
-                  r->sigma);
-            return;
+            if (takeoff(r))
+                return;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            break;
+#endif
+#ifdef MODEL_FLIGHT
+        case EV_LANDING_S:
+        case EV_LANDING_O:
+            if (landing(r, ended == EV_LANDING_O))
+                return;
+            if (events_exhausted(r)) {
+                r->res->status = ROCKING_MAX_EVENTS;
+                return;
+            }
+            break;
 #endif
         case EV_REST:
         case EV_SETTLED:
@@ -2664,12 +3248,28 @@ static void phase_machine(run *r)
     }
 }
 
+/* The base width B [m]: the height of the corner -s above the corner s of a block turned by pi/2 (generated
+ * corner_heights; the model header names no parameter B). 0 without flight. */
+static double flight_base_width(const constants *k)
+{
+#ifdef MODEL_FLIGHT
+    double y[NY] = {0.0}, h[2], on[2 * MAX_STOP_SIDES];
+    y[0] = HALF_PI;
+    regime_inputs(k, on);
+    model_corner_heights(1.0, y, 0.0, 0.0, k->p, MODEL_NSTOPS > 0 ? on : NULL, 0.0, h);
+    return h[1];
+#else
+    (void)k;
+    return 0.0;
+#endif
+}
+
 /* The initial state: at rest, or a valid (y0, phase0). Returns 0 or -1. */
 static int initial_state(const rocking_case *c, double *y, int *phase)
 {
     int i;
     *phase = c->phase0;
-    memset(y, 0, NS * sizeof *y); /* a run starts with the contact stuck, u = 0 */
+    memset(y, 0, NA * sizeof *y); /* a run starts with the contact stuck, u = 0 */
     if (c->y0 == NULL)
         return *phase == 0 ? 0 : -1;
     for (i = 0; i < NY; ++i) {
@@ -2717,6 +3317,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     out->bumper_force_max = 0.0;
     out->u_max = out->u_end = 0.0;
     out->slides = 0;
+    out->flight_time = out->jump_max = 0.0;
+    out->flights = 0;
 
     r.c = c;
     r.tol.rtol = c->rtol;
@@ -2728,6 +3330,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
 #else
     r.friction = 0;
 #endif
+#ifdef MODEL_FLIGHT
+    r.atol[NY + 2] = c->atol[0]; /* v and dv: those of u and du */
+    r.atol[NY + 3] = c->atol[NQ];
+#endif
     r.tol.atol = r.atol;
     r.sigma = 0;
     for (i = 0; i < 4; ++i) { /* without friction a run never slides: the stuck phases alone */
@@ -2735,6 +3341,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
         if (r.friction || i % 2 == 0)
             r.exits[code] = phase_exit_events(code);
     }
+    r.exits[PHASE_FLIGHT] = FLIGHT ? phase_exit_events(PHASE_FLIGHT) : 0u;
+    r.flying = 0;
+    r.t_takeoff = 0.0;
+    r.lift_phase = r.lift_sigma = r.skip_lift_check = 0;
     memset(k.memory, 0, sizeof k.memory);
     constants_prepare(&k, p, clear);
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
@@ -2743,6 +3353,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
     r.o.phase = 0;
     r.o.sigma = 0;
+    r.o.flying = 0;
     r.o.ny = NY;
     r.o.mu_slip = 0.0;
     r.o.pulse_on = 1;
@@ -2765,6 +3376,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     }
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
+    r.ec.u_max = &out->u_max;
 #if NQ > 1 && MODEL_NSTOPS > 0
     /* With stops, rest (rule 4) also needs the mass out of every pad's reach (NaN: no bound, energy_rest alone). */
     reach = pad_reach(&r);
@@ -2791,7 +3403,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.hist = history;
     r.n_rec = 0;
     r.last_t = 0.0;
-    r.last_phase = r.last_sigma = 0;
+    r.last_phase = r.last_sigma = r.last_flying = 0;
     r.next_sample = 0.0;
     if (!pulse_valid(c) || initial_state(c, r.y, &r.phase) != 0)
         return -1;
@@ -2800,8 +3412,11 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_regime(&k, stop_on);
     see_state(&r, r.y, 0);
 
+    r.base = flight_base_width(&k);
     phase_machine(&r);
     out->t_end = r.t;
+    if (r.flying) /* the run ended in flight */
+        out->flight_time += r.t - r.t_takeoff;
 #ifdef MODEL_FRICTION
     out->u_end = r.y[NY];
 #endif

@@ -51,6 +51,8 @@ typedef struct rocking_history {
     double *floor;   /* NULL, or [capacity * 4]: the slip u, its speed du, the floor's normal force N and
                         tangential force F on the block (a model with friction; else zeros) */
     int32_t *slide;  /* NULL, or [capacity]: the slip's sign sigma, 0 while the contact sticks */
+    double *flight;  /* NULL, or [capacity * 3]: the reference corner's height v above the floor, its rate dv,
+                        and 1.0 in flight, else 0.0 (a model with flight; else zeros) */
 } rocking_history;
 
 /* Sizes of the model the library was built with. */
