@@ -3,6 +3,7 @@ response that flew is a class of its own (it flew and landed, or flew and overtu
 the flight results."""
 
 import math
+import warnings
 
 import numpy as np
 import pytest
@@ -19,6 +20,7 @@ from rocking.study.overturning_map import (
     FLIES_AND_LANDS_CLASS,
     FLIES_AND_OVERTURNS_CLASS,
     FLIGHT_FIELDS,
+    UndeterminedWarning,
     envelope,
     overturning_map,
     response_classes,
@@ -197,3 +199,27 @@ def test_an_ida_with_a_vertical_component_keeps_the_flights_and_counts_how_they_
     assert data["flies_and_overturns"].values.tolist() == (flew & over).sum(axis=(1, 2, 3)).tolist()
     plain = rocking.study.suite.suite_of(stochastic=1, seed=7, site=site)
     assert "flights" not in ida_module.response_fields(plain) and "flights" in ida_module.response_fields(suite)
+
+
+def test_a_vertical_map_past_beta_f_holds_each_cells_flights_and_its_adaptive_map_the_same_classes(tmp_path):
+    setting = Setting(BLOCK, vertical_ratio=1.0)  # beta_f = 4
+    grids = (Grid("Omega", 4.0, 12.0, 17), Grid("beta", 2.0, 8.0, 17))
+    serial = Execution(workers=1, progress=False)
+    with warnings.catch_warnings():
+        warnings.simplefilter("ignore", UndeterminedWarning)  # jammed landings: counted, no verdict
+        full = overturning_map(setting, Tuning(0.05, stops=True), *grids, serial, runs=tmp_path, full=True)
+        adaptive = overturning_map(setting, Tuning(0.05, stops=True), *grids, serial, runs=tmp_path, coarse=4)
+    data = full.data
+    flew = data["flew"].values == 1
+    assert flew.any() and (flew & data["overturned"].values).any() and (flew & ~data["overturned"].values).any()
+    # Each cell is the single run of its pulse (the block alone here, with its flights).
+    for Omega, beta in ((8.0, 5.0), (12.0, 7.25), (4.5, 6.5)):
+        cell = data.sel(part="bare", Omega=Omega, beta=beta, sign=1)
+        pulse = rocking.OneSinePulse.from_nondim(BLOCK, beta=beta, Omega=Omega, vertical=rocking.Vertical(1.0))
+        r = rocking.simulate(BLOCK, None, pulse)
+        assert (cell["flights"], cell["flight_time"], cell["jump_max"]) == (r.flights, r.flight_time, r.jump_max)
+        assert STATUS[int(cell["status"])] == r.status
+    # The adaptive map, refined on the classes of flight too, finds the same overturning and flights.
+    assert not adaptive.data["computed"].values.all()
+    for k in ("overturned", "flew"):
+        assert np.array_equal(adaptive.data[k].values, data[k].values), k
