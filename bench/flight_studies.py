@@ -16,6 +16,11 @@ frequencies whose ``beta_min`` lies above beta_f, and at how many the response o
 the ``beta_min`` of each direction at one ``Omega`` (``--at``, default 6.5)::
 
     python bench/flight_studies.py spectra --out build/flight-spectra [--at 6.5]
+
+``horizontal``: the demo map's pulses without a vertical component: the responses whose pivot lifted off while
+rocking (the floor's normal force reached 0, docs/model.md section 16) and how they ended::
+
+    python bench/flight_studies.py horizontal
 """
 
 from __future__ import annotations
@@ -103,6 +108,31 @@ def run_map(args) -> None:
         )
 
 
+def run_horizontal(args) -> None:
+    """The demo map's pulses without a vertical component (kinds.MAP_OMEGA x MAP_BETA, both signs, the block alone
+    and with the damper): the responses whose pivot lifted off (flights > 0), and how they ended, by status."""
+    from rocking.sim.cases import pulse_cases, run_cases
+    from rocking.study.kinds import MAP_BETA, MAP_OMEGA
+
+    block = Block.reference()
+    Omega, beta = Grid("Omega", *MAP_OMEGA).values(), Grid("beta", *MAP_BETA).values()
+    start = time.perf_counter()
+    print(f"horizontal pulses only: the demo map's grid, Omega {MAP_OMEGA}, beta {MAP_BETA}, both signs")
+    for part, damper in (("bare", {"gamma": 0.0}), ("damper", DAMPER.case_args())):
+        for sign in (1, -1):
+            cases = pulse_cases(block, Omega[:, None], beta[None, :], sign=sign, **damper)
+            result = run_cases(cases, backend=args.backend)
+            flew = (result["flights"] > 0).reshape(Omega.size, beta.size)
+            status = result["status"].reshape(flew.shape)
+            ended = {STATUS[k]: int(np.sum(flew & (status == k))) for k in np.unique(status[flew])}
+            lowest = float(np.min(np.broadcast_to(beta[None, :], flew.shape)[flew])) if flew.any() else np.nan
+            print(
+                f"  {part:6s} sign {sign:+d}: {flew.sum()} of {flew.size} responses flew (from beta = {lowest:.3g}); "
+                f"their statuses {ended}"
+            )
+    print(f"  {time.perf_counter() - start:.1f} s")
+
+
 def run_spectra(args) -> None:
     from rocking.cli.study import VERTICAL_BETA, VERTICAL_OMEGA, VERTICAL_RATIOS, _vertical_spectra
 
@@ -144,7 +174,7 @@ def _value(column) -> str:
 
 def main() -> None:
     parser = argparse.ArgumentParser(description=__doc__.split("\n")[0])
-    parser.add_argument("what", nargs="?", default="map", choices=("map", "spectra"))
+    parser.add_argument("what", nargs="?", default="map", choices=("map", "spectra", "horizontal"))
     parser.add_argument("--ratio", type=float, default=1.0, help="vertical ratio r of the map (default 1)")
     parser.add_argument("--n", type=int, default=40, help="Omega and beta values of the map (default 40)")
     parser.add_argument("--workers", type=int, default=2)
@@ -152,7 +182,7 @@ def main() -> None:
     parser.add_argument("--out", default="build/flight-spectra", help="folder of the spectra and their figure")
     parser.add_argument("--at", type=float, default=6.5, help="the spectra's Omega whose beta_min are printed")
     args = parser.parse_args()
-    run_map(args) if args.what == "map" else run_spectra(args)
+    {"map": run_map, "spectra": run_spectra, "horizontal": run_horizontal}[args.what](args)
 
 
 if __name__ == "__main__":
