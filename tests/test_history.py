@@ -70,6 +70,13 @@ def test_every_variable_has_units_and_a_long_name(runs):
         "E_potential": "J",
         "E_total": "J",
         "phase": "1",
+        # omd follows flight: its history holds the floor's slip and the corner's height on every floor (section 16).
+        "u": "m",
+        "du": "m/s",
+        "slide": "1",
+        "v": "m",
+        "dv": "m/s",
+        "fly": "1",
     }
     assert {k: ds[k].attrs["units"] for k in ds.data_vars} == expected
     assert ds["t"].attrs["units"] == "s"

@@ -87,6 +87,8 @@ CRITICAL, EXTREMUM = "critical angle", "extremum"
 NO_LIFT = "no lift"
 #: A slip that cannot start: even the shortest first step turns the slip speed back (sim.c's SEG_NO_SLIP).
 NO_SLIP = "no slip"
+#: A takeoff whose corner cannot rise: even the shortest first step of the flight leaves it on or below the floor.
+NO_TAKEOFF = "no takeoff"
 #: The events of a floor with friction (rocking.sim.phases.EVENTS).
 SLIP, STOP, LIFT_OFF = "slip", "stop", "lift-off"
 #: The event ``landing`` of the flight phase (docs/model.md section 16) at the reference corner ``s``, at ``-s``.
@@ -889,22 +891,35 @@ def stop_event(system: _System, sigma: int) -> _Event:
     return _Event(STOP, lambda t, y: sigma * y[2 * n + 1], terminal=True, direction=-1)
 
 
-def lift_off_event(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> _Event:
-    """The floor's normal force on the contact returns to 0: the block takes off (docs/model.md section 16)."""
+def lift_off_event(
+    system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical, grazed: float | None = None
+) -> _Event:
+    """The floor's normal force on the contact returns to 0 (:meth:`_System.takeoff_margin`): the block takes off
+    (docs/model.md section 16).
+
+    ``grazed``: the segment starts at this time where a takeoff grazed (``NO_TAKEOFF``), its margin 0 up to
+    rounding: the event is armed only once the margin is positive after it (until then it reads -1), lest it
+    find that root again.
+    """
+    armed = [grazed is None]
 
     def margin(t, y):
-        return system.takeoff_margin(phase, sigma, y, ground(t), stop_on, vertical(t))
+        value = system.takeoff_margin(phase, sigma, y, ground(t), stop_on, vertical(t))
+        armed[0] = armed[0] or (t > grazed and value > 0.0)
+        return value if armed[0] else -1.0
 
     return _Event(LIFT_OFF, _zero_above(margin), terminal=True, direction=-1)
 
 
-def floor_events(system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical) -> list:
+def floor_events(
+    system: _System, phase: int, sigma: int, ground, stop_on: tuple, vertical, grazed: float | None = None
+) -> list:
     """The events of the floor that ``phase`` with the slip ``sigma`` watches (its exits in
     :data:`rocking.sim.phases.PHASES`): the lift-off (:meth:`_System.watches_lift_off`), and on a floor with
     friction the slip and its stop."""
     table = {e.event for e in phase_of(phase != CONTACT, sigma != 0).exits}
     watch = LIFT_OFF in table and system.watches_lift_off(phase)
-    events = [lift_off_event(system, phase, sigma, ground, stop_on, vertical)] if watch else []
+    events = [lift_off_event(system, phase, sigma, ground, stop_on, vertical, grazed)] if watch else []
     if not system.friction:
         return events
     if SLIP in table:
@@ -1037,6 +1052,7 @@ def watched_events(
     sigma: int = 0,
     flying: bool = False,
     y0: np.ndarray | None = None,
+    grazed: float | None = None,
 ):
     """The events watched in one segment of ``phase`` (docs/simulation.md, "Phases", "End" and rule 6).
 
@@ -1071,6 +1087,8 @@ def watched_events(
         The block flies about the reference corner ``phase`` (docs/model.md section 16).
     y0 : ndarray or None
         In flight, the flying state at the segment's start (where its landings are armed).
+    grazed : float or None
+        The segment starts at this time where a takeoff grazed (:func:`lift_off_event`).
 
     Returns
     -------
@@ -1083,7 +1101,7 @@ def watched_events(
     if flying:
         assert y0 is not None  # a flight's landings are armed from its start
         return flight_events(system, phase, ground, want_critical, y0) + gaps
-    gaps += floor_events(system, phase, sigma, ground, stop_on, vertical)
+    gaps += floor_events(system, phase, sigma, ground, stop_on, vertical, grazed)
     if phase == CONTACT:
         if settling and system.n > 1:
             damper = [settled_event(system.n)]
@@ -1213,6 +1231,47 @@ def _started(phase: int, sigma: int, y0: np.ndarray, n: int) -> Callable[[np.nda
     return started
 
 
+def _peaks(system: _System, phase: int, points: np.ndarray, extra: tuple, flying: bool, slip: tuple) -> dict:
+    """The largest ``|theta|``, ``|q[1]|``, ``|u|`` (``"u"``) and in flight corner height (``"jump"``) over the
+    ``points`` of a segment (rows: its step ends and located events)."""
+    n = system.n
+    peaks: dict[int | str, float] = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(n, 2))}
+    peaks["u"] = float(np.max(np.abs(points[:, 2 * n]))) if extra else abs(slip[0])
+    if flying:
+        # Each corner's height at every point, the located height peaks among them.
+        heights = system.functions.corner_heights(
+            float(phase), *points[:, : 2 * n].T, 0.0, 0.0, *system.params, points[:, 2 * n + 2]
+        )
+        peaks["jump"] = float(max(np.max(np.asarray(h, dtype=float)) for h in heights))
+    return peaks
+
+
+def _launch_step(system, phase, flying, lift, rhs, t0, y0, t_bound, first_step, work, options) -> tuple:
+    """``(first_step, grounded)`` of a segment: a flight from ``v = dv = 0`` (a takeoff) whose corner must rise in
+    its first step (and the other one too where it starts on the floor, a flat base), or its landing, armed once
+    its height is positive, would never be found: the first step that lifts it (:func:`lift_off_step`), or
+    ``grounded`` where even the shortest does not. Other segments keep ``first_step``."""
+    if not (flying and lift[0] == 0.0 and not lift[1] > 0.0):
+        return first_step, False
+    # The probe's retries count as work (rule 5); its first try stands for the step the solve then takes.
+    first_step = lift_off_step(rhs, _launched(system, phase, y0), t0, y0, t_bound, first_step, work, **options)
+    return first_step, first_step is None
+
+
+def _launched(system: _System, s: int, y0: np.ndarray) -> Callable[[np.ndarray], bool]:
+    """Whether a flight about ``s`` that starts with its corner on the floor (``y0``, ``v = dv = 0``) has left it
+    at ``y``: its height is positive, and so is the other corner's where it starts at 0 too (a flat base)."""
+    n = system.n
+    flat = float(system._flight("corner_heights", float(s), y0, y0[2 * n + 2])[1]) == 0.0
+
+    def launched(y: np.ndarray) -> bool:
+        if not y[2 * n + 2] > 0.0:
+            return False
+        return not flat or float(system._flight("corner_heights", float(s), y, y[2 * n + 2])[1]) > 0.0
+
+    return launched
+
+
 def after_gap(system: _System, event: _Event, dense: OdeSolution, t: float, y: np.ndarray):
     """The state of a gap event on the side after its root: the next segment's regime from its first stage.
 
@@ -1259,6 +1318,7 @@ def integrate_segment(
     slip: tuple = (0.0, 0.0),
     flying: bool = False,
     lift: tuple = (0.0, 0.0),
+    grazed: bool = False,
 ) -> _Segment:
     """Integrate ``phase`` from ``(t0, y0)`` until a terminal event or ``t_bound``.
 
@@ -1301,6 +1361,8 @@ def integrate_segment(
         start) are integrated after the ``2 n`` components (docs/model.md section 16).
     lift : tuple of float
         ``(v, dv)`` at the start.
+    grazed : bool
+        A takeoff grazed at ``t0`` (:func:`lift_off_event`).
 
     Returns
     -------
@@ -1339,6 +1401,7 @@ def integrate_segment(
         sigma=sigma,
         flying=flying,
         y0=y0,
+        grazed=t0 if grazed else None,
     )
     # The slip's (and the height's) components take the tolerance of the first coordinate's (a length or an
     # angle, as u's scale).
@@ -1363,6 +1426,13 @@ def integrate_segment(
 
     if first_step is not None:
         first_step = min(first_step, t_bound - t0)
+    first_step, grounded = _launch_step(
+        system, phase, flying, lift, plain_rhs, t0, y0, t_bound, first_step, work, options
+    )
+    if grounded:
+        return _Segment(
+            t=t0, y=np.array(y0[: 2 * n]), event=NO_TAKEOFF, t_critical=math.nan, peaks={0: 0.0}, slip=tuple(slip)
+        )
     sol = solve(first_step)
     fired = [e for e, times in zip(events, sol.t_events) if e.terminal and len(times)]
     if [e.name for e in fired] in ([IMPACT], [STOP]) and sol.t[-1] == t0:
@@ -1395,14 +1465,7 @@ def integrate_segment(
     crossings = [float(min(times)) for e, times in zip(events, sol.t_events) if e.name == CRITICAL and len(times)]
     # Step ends (first and last included) and every located event point.
     points = np.vstack([sol.y.T] + [ys for ys in sol.y_events if len(ys)])
-    peaks: dict[int | str, float] = {k: float(np.max(np.abs(points[:, k]))) for k in range(min(system.n, 2))}
-    peaks["u"] = float(np.max(np.abs(points[:, 2 * n]))) if extra else abs(slip[0])
-    if flying:
-        # Each corner's height at every point, the located height peaks among them.
-        heights = system.functions.corner_heights(
-            float(phase), *points[:, : 2 * n].T, 0.0, 0.0, *system.params, points[:, 2 * n + 2]
-        )
-        peaks["jump"] = float(max(np.max(np.asarray(h, dtype=float)) for h in heights))
+    peaks = _peaks(system, phase, points, extra, flying, slip)
     bumper = 0.0
     if system.n_stops:
         # The start, the step ends and the terminal event; while a pad pushes, each step's peak (rule 6).
@@ -1591,6 +1654,11 @@ class _Run:
         corner ``s``, the slip ``u``, ``du`` and the height ``v``, ``dv`` are in the state.
     v, dv : float
         The reference corner's height above the floor [m] and its rate [m/s] (0 on the floor).
+    takeoff_from : tuple
+        ``(phase, sigma)`` of the phase the last takeoff left (a grazing takeoff returns there: ``NO_TAKEOFF``).
+    grazed : bool
+        The next segment starts where a takeoff grazed: no takeoff check at its start, and its lift-off is
+        armed once its margin is positive (:func:`lift_off_event`).
     """
 
     problem: Problem
@@ -1619,6 +1687,8 @@ class _Run:
     flying: bool = False
     v: float = 0.0
     dv: float = 0.0
+    takeoff_from: tuple = (CONTACT, 0)
+    grazed: bool = False
 
 
 def record(run: _Run) -> None:
@@ -1935,7 +2005,7 @@ def lifts_at_start(run: _Run) -> bool:
     :meth:`_System.takeoff_margin`): it takes off at once (an event sees only a sign change inside a step), as the
     slip check does at a start."""
     system = run.system
-    if run.flying or not system.flies or not system.watches_lift_off(run.phase):
+    if run.flying or run.grazed or not system.flies or not system.watches_lift_off(run.phase):
         return False
     ground, vertical = system.ground(run.pulse_on, run.t), system.vertical(run.pulse_on, run.t)
     return system.takeoff_margin(run.phase, run.sigma, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t)) < 0.0
@@ -1954,6 +2024,7 @@ def takeoff(run: _Run) -> str | None:
     """
     if not run.system.flies:
         return "flight"
+    run.takeoff_from = (run.phase, run.sigma)
     follow(run, LIFT_OFF, "always", run.phase if run.phase != CONTACT else 1)
     run.v = run.dv = 0.0
     run.safe = False
@@ -2073,7 +2144,9 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
         slip=(run.u, run.du),
         flying=run.flying,
         lift=(run.v, run.dv),
+        grazed=run.grazed,
     )
+    run.grazed = False
     run.first_step = None
     run.side = segment.side
     if run.history is not None and segment.dense is not None:
@@ -2090,6 +2163,24 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
     if run.flying:
         run.v, run.dv = segment.lift
     return segment.event
+
+
+def grazing(run: _Run, event: str) -> None:
+    """A phase that could not start: back to the one before it, not counted.
+
+    ``NO_SLIP``: a grazing slip, the base cannot move against ``F``: the contact stays stuck (not a slip
+    episode); ``|F|`` is still barely above ``mu_s N``, so the start check would slip it again, forever: skipped
+    once. ``NO_TAKEOFF``: a grazing takeoff, ``N`` touched 0 but the free flight cannot lift the corner: the block
+    stays in the phase it took off from (not a flight); its lift-off is armed again once its margin is positive.
+    """
+    if event == NO_SLIP:
+        run.sigma = 0
+        run.tally.slides -= 1
+        run.skip_slip_check = True
+        return
+    run.tally.flights -= 1
+    run.flying, run.phase, run.sigma, run.dv = False, run.takeoff_from[0], run.takeoff_from[1], 0.0
+    run.grazed = True
 
 
 def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
@@ -2120,12 +2211,8 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
         slide_against(run, float(F))
     elif event == STOP:
         stop_slip(run)
-    elif event == NO_SLIP:
-        # A grazing slip: the base cannot move against F, the contact stays stuck (not a slip episode). |F| is
-        # still barely above mu_s N: the start check would slip it again, forever.
-        run.sigma = 0
-        run.tally.slides -= 1
-        run.skip_slip_check = True
+    elif event in (NO_SLIP, NO_TAKEOFF):
+        grazing(run, event)
     elif event == LIFT_OFF:
         return takeoff(run)
     elif event in (LANDING, LANDING_OTHER):

@@ -1170,7 +1170,7 @@ static ALWAYS_INLINE double rocking_normal_force(ode *o, double t, const double 
  * block takes off where N <= 0 and the free flight lifts the corner, the larger of N and minus the corner's
  * vertical acceleration in flight falling to 0 (numpy_backend's takeoff_margin; docs/simulation.md, "Flight").
  * The flight's acceleration only where N <= 0. */
-static double takeoff_margin(const event_ctx *ec, double t, const double *y, double n)
+static double lift_off_margin(const event_ctx *ec, double t, const double *y, double n)
 {
 #ifdef MODEL_FLIGHT
     ode *o = ec->o;
@@ -1195,7 +1195,7 @@ static double lift_off_value(const event_ctx *ec, double t, const double *y, con
             ode_rhs(o, t, y, dy);
             f = dy;
         }
-        return takeoff_margin(ec, t, y, rocking_normal_force(o, t, y, f, gravity_constants(o, (double)o->phase, t, at_gravity)));
+        return lift_off_margin(ec, t, y, rocking_normal_force(o, t, y, f, gravity_constants(o, (double)o->phase, t, at_gravity)));
     }
     floor_force(o, t, y, fn);
     return fn[1];
@@ -1507,7 +1507,7 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
 #ifdef MODEL_FRICTION
         } else if (k == EV_LIFT_OFF && (ec->o->rhs == ODE_FREE_ROCKING || ec->o->rhs == ODE_PULSE_ROCKING)) {
             /* Every step of a level rocking segment: lift_off_value's own operations, inline. */
-            g_new = takeoff_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
+            g_new = lift_off_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
 #endif
         } else {
             g_new = event_value(ec, k, d->t, d->y, d->f);
@@ -2067,7 +2067,7 @@ static int stop_requested(const run *r)
 /* A flight's landings where its segment starts: a corner on the floor that rises (a bounce) is armed at once,
  * its 0 read as above the floor, so that a short hop landing within the first step is still found (one that
  * does not rise, a takeoff, is armed once its height is positive: the events' strict rule). */
-static void landings_armed(run *r)
+static void flight_landings_armed(run *r)
 {
 #ifdef MODEL_FLIGHT
     int k;
@@ -2101,7 +2101,7 @@ static int run_segment(run *r, double t_bound)
     int slipping = r->sigma != 0 && r->y[NS - 1] == 0.0;
     /* Taking off from v = dv = 0: v must turn positive, or the landing event (armed by v > 0) would never fire
      * and the corner would sink through the floor; so must the other corner's height where it starts at 0 too
-     * (a flat base). (A bounce, dv > 0, has its landing armed at once: landings_armed.) */
+     * (a flat base). (A bounce, dv > 0, has its landing armed at once: flight_landings_armed.) */
     int launching = r->flying && corner_height(r->y) == 0.0 && !corner_rising(r->y);
     int corner_flat = 0;
     int starting = lifting || slipping || launching;
@@ -2158,7 +2158,7 @@ static int run_segment(run *r, double t_bound)
                 return EV_LIFT_OFF;
     r->skip_lift_check = 0;
     if (r->flying)
-        landings_armed(r);
+        flight_landings_armed(r);
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
