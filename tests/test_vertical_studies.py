@@ -70,7 +70,7 @@ def test_a_spectrum_reads_a_flight_model_past_beta_f_and_a_model_without_flight_
     with pytest.warns(UndeterminedWarning, match="status flight"):
         study = rocking.minimum_overturning_spectrum(
             BLOCK, Variant("pendulum", PENDULUM), Omega=[10.0], beta=beta, vertical_ratio=1.0, runs=tmp_path,
-            workers=1, progress=False, study=True, backend="numpy", directions="positive",
+            workers=1, progress=False, study=True, directions="positive",
         )  # fmt: skip
     # A one-sine in phase: g + ddy_g <= 0 once ratio beta tan(alpha) >= 1, beta >= 4 on the reference block.
     assert flight_beta(BLOCK, study.config) == pytest.approx(1.0 / BLOCK.tan_alpha, rel=1e-9)
@@ -163,14 +163,13 @@ def test_the_runs_of_a_sampled_motion_carry_its_vertical_component():
     t = np.arange(0.0, 3.0, 0.01)
     motion = rocking.SampledMotion(3.0 * np.sin(2 * np.pi * t), dt=0.01, a_v=4.0 * np.sin(3 * np.pi * t + 0.3))
     cases = rocking.sim.cases.sampled_cases(BLOCK, motion, [0.5, 2.0, 3.0], sign=-1, gamma=0.05)
-    result = rocking.sim.cases.run_cases(cases, "numpy")  # the back end that follows flight
+    result = rocking.sim.cases.run_cases(cases, "c")
     damper = rocking.Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     for k, scale in enumerate((0.5, 2.0, 3.0)):
         one = rocking.simulate(
             BLOCK,
             damper,
             rocking.SampledMotion(motion.a, 0.01, a_v=motion.a_v, scale=scale, sign=-1),
-            backend="numpy",
         )
         status = rocking.sim.boundary.STATUS[result["status"][k]]
         assert result["theta_max"][k] == one.theta_max and status == one.status
@@ -208,7 +207,7 @@ def test_the_map_lines_count_the_cells_that_flew_and_those_without_a_verdict_per
     # flies and lands (docs/model.md section 16); the pendulum has no flight functions: no verdict there.
     pendulum = [x for name, value in PENDULUM.items() for x in ("--param", f"{name}={value!r}")]
     argv = ["map", "--Omega", "10", "10", "1", "--beta", "2", "6", "3", "--full", "--workers", "1", "--no-progress"]
-    argv += ["--model", "pendulum", *pendulum, "--backend", "numpy", "--directions", "positive"]
+    argv += ["--model", "pendulum", *pendulum, "--directions", "positive"]
     assert main([*argv, "--vertical-ratio", "1", "--out", str(tmp_path)]) == 0
     s = rocking.load(tmp_path / "map.nc").summary
     out = capsys.readouterr().out
