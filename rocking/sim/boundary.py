@@ -380,13 +380,19 @@ CONSTANTS = (
         1e-12,
         "a landing is flat, on both corners, where |sin theta| is at most this (docs/model.md section 16): rounding",
     ),
+    Constant(
+        "TAKEOFF_PROBE",
+        1e-6,
+        "a stuck corner of a floor without friction whose free flight does not lift it at N = 0 is tried this much "
+        "later [s] along the flight (docs/simulation.md, Flight)",
+    ),
 )
 
 STATUS = tuple(code.name for code in STATUSES)
 #: Statuses of a run cut short by a bound on its work: whether the block would overturn is not known.
 UNDETERMINED = ("max_events", "max_steps")
 CONTACT, PIVOT_A, PIVOT_A_PRIME = (code.value for code in PHASES)
-SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _, _TILTS, FLAT_LANDING = (constant.value for constant in CONSTANTS)
+SAFE_MARGIN, ARC_STEP, FIRST_STEP_FRACTION, _, _TILTS, FLAT_LANDING, TAKEOFF_PROBE = (c.value for c in CONSTANTS)
 BARRIER_TILTS = int(_TILTS)
 #: The code of each ground-motion family by name.
 MOTION = {code.name: code.value for code in MOTIONS}

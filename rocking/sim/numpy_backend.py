@@ -61,7 +61,16 @@ from scipy.integrate import RK45, OdeSolution, solve_ivp
 
 from ..model.motion import FAMILIES, SHAPES, interpolate, sample_piece
 from ..model.params import ParameterError
-from .boundary import ARC_STEP, BARRIER_TILTS, CONTACT, FIRST_STEP_FRACTION, FLAT_LANDING, SAFE_MARGIN, STATUS
+from .boundary import (
+    ARC_STEP,
+    BARRIER_TILTS,
+    CONTACT,
+    FIRST_STEP_FRACTION,
+    FLAT_LANDING,
+    SAFE_MARGIN,
+    STATUS,
+    TAKEOFF_PROBE,
+)
 from .history import FLIGHT_COLUMNS, FLOOR_COLUMNS, first_sample_after
 from .phases import ENDS, next_phase
 from .phases import of as phase_of
@@ -366,6 +375,29 @@ class _System:
             float(phase), *y[: 2 * self.n].tolist(), ag, agy, *self.params, stop_on=self.regime(stop_on)
         )
         return max(N, -float(out[self.n + 1]))
+
+    def corner_sinks(self, t: float, phase: int, sigma: int, y: np.ndarray, pulse_on: bool, stop_on: tuple) -> bool:
+        """At a takeoff of a stuck corner of a floor without friction: the free flight does not lift the corner.
+
+        The margin's zero where ``-ddv`` reaches 0 leaves ``ddv = 0`` up to rounding, and whether the flight rises
+        is then the sign of its own rate of change, which differs from the one along the phase on the floor: ``ddv``
+        is read :data:`TAKEOFF_PROBE` along the flight (one Euler step of the rocking state), at either zero of the
+        margin alike (at ``N``'s, ``ddv > 0`` there too). True where it is not positive: the takeoff grazes, the
+        pivot is held (docs/simulation.md, "Flight").
+        """
+        if self.friction or phase == CONTACT or sigma:
+            return False
+        n, ground, vertical = self.n, self.ground(pulse_on, t), self.vertical(pulse_on, t)
+
+        def accel(at: float, state: np.ndarray) -> np.ndarray:
+            return self.functions.flight_accel(
+                float(phase), *state.tolist(), ground(at), vertical(at), *self.params, stop_on=self.regime(stop_on)
+            )
+
+        out = accel(t, y[: 2 * n])
+        rates = [float(v) for v in y[n : 2 * n]] + [float(a) for a in out[:n]]
+        probe = np.array([float(y[j]) + TAKEOFF_PROBE * rates[j] for j in range(2 * n)])
+        return not float(accel(t + TAKEOFF_PROBE, probe)[n + 1]) > 0.0
 
     def corner_landing(self, s: int, y: np.ndarray, du: float, dv: float) -> tuple | None:
         """The corner ``s`` lands alone (docs/model.md section 16, :func:`rocking.reference.flight.landing_law`).
@@ -2024,6 +2056,9 @@ def takeoff(run: _Run) -> str | None:
     """
     if not run.system.flies:
         return "flight"
+    if run.system.corner_sinks(run.t, run.phase, run.sigma, run.y, run.pulse_on, tuple(run.stop_on)):
+        run.grazed = True  # no flight: the pivot is held, its lift-off armed again once its margin is positive
+        return None
     run.takeoff_from = (run.phase, run.sigma)
     follow(run, LIFT_OFF, "always", run.phase if run.phase != CONTACT else 1)
     run.v = run.dv = 0.0

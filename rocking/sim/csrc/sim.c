@@ -2675,6 +2675,27 @@ static int lift_off_at_start(const run *r)
 #endif
 
 #ifdef MODEL_FLIGHT
+/* At a takeoff of a stuck corner of a floor without friction: 1 where the free flight does not lift the corner.
+ * The margin's zero where -ddv reaches 0 leaves ddv = 0 up to rounding, and whether the flight rises is then the
+ * sign of its own rate of change: ddv is read TAKEOFF_PROBE along the flight (one Euler step of the rocking state)
+ * at either zero of the margin alike, as numpy_backend's corner_sinks does (docs/simulation.md, "Flight"). */
+static int corner_sinks(run *r)
+{
+    double out[NQ + 2], probe[NY];
+    const double t = r->t + ROCKING_TAKEOFF_PROBE;
+    int j;
+    if (r->friction || r->phase == 0 || r->sigma != 0)
+        return 0;
+    model_flight_accel((double)r->phase, r->y, ode_ag(&r->o, r->t), ode_agy(&r->o, r->t), r->k->p, friction_on(&r->o),
+                       out);
+    for (j = 0; j < NQ; ++j) {
+        probe[j] = r->y[j] + ROCKING_TAKEOFF_PROBE * r->y[NQ + j];
+        probe[NQ + j] = r->y[NQ + j] + ROCKING_TAKEOFF_PROBE * out[j];
+    }
+    model_flight_accel((double)r->phase, probe, ode_ag(&r->o, t), ode_agy(&r->o, t), r->k->p, friction_on(&r->o), out);
+    return !(out[NQ + 1] > 0.0);
+}
+
 /* A grazing takeoff (its corner cannot rise): the block stays in the phase it took off from, no flight; its
  * N <= 0 there is not checked again until it is positive (skip_lift_check). */
 static void lift_off_grazing(run *r)
@@ -2695,6 +2716,12 @@ static void lift_off_grazing(run *r)
 static int takeoff(run *r)
 {
     const int s = r->phase != 0 ? r->phase : 1, phase = r->phase, sigma = r->sigma;
+#ifdef MODEL_FLIGHT
+    if (corner_sinks(r)) {
+        r->skip_lift_check = 1; /* no flight: the pivot is held, its lift-off armed by a sign change again */
+        return 0;
+    }
+#endif
     if (enter(r, phase_next(phase_current(r), PHASE_EVENT_LIFT_OFF, PHASE_GUARD_ALWAYS), s, 0))
         return 1;
 #ifdef MODEL_FLIGHT
