@@ -70,6 +70,7 @@ docs: $(DOCS_STAMP)
 
 bench: $(STAMP)
 	$(PY) bench/run.py --json bench/last.json
+	$(PY) bench/lanes.py --json bench/lanes.json
 	$(PY) bench/adaptive.py
 	$(PY) bench/adaptive_spectrum.py --json bench/adaptive-spectrum.json
 	$(PY) bench/cli_map.py --json bench/cli-400.json

@@ -7,11 +7,18 @@ tangential force F the floor holds there, and the vertical acceleration of the p
 (``flight_accel``), which would drive it into the floor::
 
     .venv/bin/python bench/flight_takeoff.py
+
+``--map``: a 60 x 60 map of the reference block (Omega 0.5-15, beta 1-15, one-sines of sign +1, without and with the
+demo's damper) on the C back end, on the paper's floor (mu_s = inf) and on floors of mu = 0.5, 0.8 and 2: the
+responses that flew, ended jammed, overturned (docs/model.md section 16, "On a floor that never slides")::
+
+    .venv/bin/python bench/flight_takeoff.py --map
 """
 
 from __future__ import annotations
 
 import math
+import sys
 
 import numpy as np
 
@@ -34,5 +41,24 @@ def main() -> None:
     )
 
 
+def floors_map() -> None:
+    from rocking.sim.cases import pulse_cases, run_cases
+    from rocking.sim.problem import STATUS
+    from rocking.study.config import Grid
+
+    block = rocking.Block.reference()
+    Omega, beta = Grid("Omega", 0.5, 15.0, 60).values(), Grid("beta", 1.0, 15.0, 60).values()
+    damper = {"gamma": 0.05, "omega_ratio": 1.0, "zeta": 0.05, "h": 0.05}
+    for mu in (math.inf, 2.0, 0.8, 0.5):
+        floor = {} if math.isinf(mu) else {"floor": rocking.Floor(mu)}
+        for name, args in (("bare", {}), ("damper", damper)):
+            r = run_cases(pulse_cases(block, Omega[:, None], beta[None, :], sign=1, **args, **floor))
+            status, flew = np.asarray(r["status"]), np.asarray(r["flights"]) > 0
+            print(
+                f"mu {mu:g} {name:6s}: {flew.sum()} of {status.size} flew, "
+                f"{(status == STATUS.index('jammed')).sum()} jammed, {(status == 0).sum()} overturned"
+            )
+
+
 if __name__ == "__main__":
-    main()
+    floors_map() if "--map" in sys.argv[1:] else main()

@@ -10,6 +10,12 @@ set-up of the cases, not the build). Printed as one line::
     python bench/instructions.py -n 20      # a 20 x 20 map
     python bench/instructions.py --vertical-ratio 0.5   # every pulse with an in-phase vertical component
     python bench/instructions.py --mu 0.3   # on a floor with friction mu_s = mu_k = 0.3 (docs/model.md section 15)
+    python bench/instructions.py --lanes    # the batch in lanes (rocking/sim/csrc/lanes.h), AVX2 vectors
+
+The scalar path is counted with the lanes off (``ROCKING_LANES=0``); the lanes inside sim.c's ``lanes_batch``
+(lanes.c), which holds the vector stages, the scheduler and each run (``simulate_one`` on the lanes' own
+stacks). Under valgrind, which runs no AVX-512, the lanes are AVX2's (4 doubles per vector);
+``--isa sse2`` counts SSE2's.
 
 A change to sim.c or to the generated model is judged by the change of this figure on a busy
 machine, where times vary by tens of percent from one run to the next.
@@ -35,6 +41,8 @@ from rocking.sim.cases import run_cases  # noqa: E402
 #: The C function whose instructions are counted (with its callees): sim.c's one run, which the batch entry
 #: point calls per case. callgrind does not see the exported ``rocking_simulate_batch`` entered from libffi.
 ENTRY = "simulate_one"
+#: The function of the lanes' count: the batch in lanes, which calls the vector stages outside any one run.
+LANES_ENTRY = "lanes_batch"
 
 
 def floor_of(mu: float):
@@ -49,8 +57,11 @@ def run_map(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> in
     return len(cases)
 
 
-def measure(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> dict | None:
+def measure(
+    n: int, vertical_ratio: float = 0.0, mu: float = float("inf"), lanes: bool = False, isa: str = "avx2"
+) -> dict | None:
     """The instructions per response of the ``n x n`` bench map under callgrind; ``None`` without valgrind.
+    ``lanes``: the batch in lanes, its vectors capped at ``isa`` (ROCKING_LANES_ISA); else the scalar path.
 
     Raises
     ------
@@ -61,12 +72,14 @@ def measure(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> di
     if valgrind is None:
         return None
     run_cases(map_cases(1, 0.0, floor_of(mu))[-1], "c", 1)  # the library built and cached outside valgrind
+    entry = LANES_ENTRY if lanes else ENTRY
+    env = {**os.environ, "ROCKING_LANES": "1" if lanes else "0", "ROCKING_LANES_ISA": isa}
     with tempfile.TemporaryDirectory() as tmp:
         command = [
             valgrind,
             "--tool=callgrind",
             "--collect-atstart=no",
-            f"--toggle-collect={ENTRY}",
+            f"--toggle-collect={entry}",
             f"--callgrind-out-file={tmp}/callgrind.out",
             sys.executable,
             os.path.abspath(__file__),
@@ -78,17 +91,19 @@ def measure(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> di
             "--mu",
             repr(mu),
         ]
-        done = subprocess.run(command, capture_output=True, text=True)
+        done = subprocess.run(command, capture_output=True, text=True, env=env)
         collected = re.search(r"Collected : (\d+)", done.stderr)
         responses = re.search(r"^responses (\d+)$", done.stdout, re.M)
         if done.returncode != 0 or not (collected and responses) or int(collected.group(1)) == 0:
             raise RuntimeError(f"callgrind run failed ({done.returncode}): {done.stderr.strip()[-500:]}")
         count = int(responses.group(1))
         split = by_part(f"{tmp}/callgrind.out", count)
+        width = re.search(r"^lanes (\d+)$", done.stdout, re.M)
     return {
         "responses": count,
         "instructions_per_response": int(collected.group(1)) / count,
-        "entry": ENTRY,
+        "entry": entry,
+        "lanes": int(width.group(1)) if (lanes and width) else 0,
         "vertical_ratio": vertical_ratio,
         "mu": mu,
         "by_part": split,
@@ -99,7 +114,7 @@ def measure(n: int, vertical_ratio: float = 0.0, mu: float = float("inf")) -> di
 _ANNOTATED = re.compile(r"^\s*([\d,]+)\s+\(\s*[\d.]+%\)\s+(.*):([^:\s]+)(?: \[(.*)\])?$")
 
 #: The parts of :func:`by_part`, in the order printed.
-PARTS = ("libm sin and cos", "libm pow", "libm other", "generated model", "integrator (sim.c)")
+PARTS = ("libm sin and cos", "libm pow", "libm other", "generated model", "integrator (sim.c)", "lanes' vector stages")
 
 
 def part_of(function: str, where: str, model_prefix: str) -> str:
@@ -109,6 +124,8 @@ def part_of(function: str, where: str, model_prefix: str) -> str:
         if "sin" in function or "cos" in function:
             return "libm sin and cos"
         return "libm pow" if "pow" in function else "libm other"
+    if function.startswith("stages_"):  # lanes_kernel.h's, the vector right-hand side and sin/cos inlined
+        return "lanes' vector stages"
     return "generated model" if function.startswith(model_prefix + "_") else "integrator (sim.c)"
 
 
@@ -138,12 +155,14 @@ def line(result: dict | None) -> str:
     vertical = f", in-phase vertical ratio {result['vertical_ratio']:g}" if result.get("vertical_ratio") else ""
     if result.get("mu", float("inf")) != float("inf"):
         vertical += f", floor mu = {result['mu']:g}"
+    path = f" in lanes ({result['lanes']} doubles per vector)" if result.get("lanes") else ""
     text = (
-        f"bench map{vertical}: {result['instructions_per_response']:,.0f} instructions per response "
+        f"bench map{vertical}{path}: {result['instructions_per_response']:,.0f} instructions per response "
         f"(callgrind, {result['responses']:,} responses, {result['entry']})"
     )
     if result.get("by_part"):
-        text += ": " + ", ".join(f"{part} {count:,.0f}" for part, count in result["by_part"].items())
+        parts = [(part, count) for part, count in result["by_part"].items() if count or part in PARTS[:5]]
+        text += ": " + ", ".join(f"{part} {count:,.0f}" for part, count in parts)
     return text
 
 
@@ -156,12 +175,19 @@ def main(argv=None) -> int:
     parser.add_argument(
         "--mu", type=float, default=float("inf"), help="the floor's friction, static = kinetic (default inf)"
     )
+    parser.add_argument("--lanes", action="store_true", help="the batch in lanes (default: the scalar path)")
+    parser.add_argument(
+        "--isa", choices=["avx2", "sse2"], default="avx2", help="the lanes' widest vectors (default avx2)"
+    )
     parser.add_argument("--inside", action="store_true", help=argparse.SUPPRESS)  # the run callgrind watches
     args = parser.parse_args(argv)
     if args.inside:
+        from rocking.sim import c_backend
+
         print(f"responses {run_map(args.n, args.vertical_ratio, args.mu)}")
+        print(f"lanes {c_backend.lanes(map_cases(1)[-1].model)}")
         return 0
-    print(line(measure(args.n, args.vertical_ratio, args.mu)))
+    print(line(measure(args.n, args.vertical_ratio, args.mu, args.lanes, args.isa)))
     return 0
 
 

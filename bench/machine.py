@@ -7,16 +7,23 @@ import os
 import platform
 import sys
 
+#: The vector instruction sets the C batch's lanes choose from (rocking/sim/csrc/lanes.h), widest first.
+VECTOR_FLAGS = ("avx512f", "avx2", "sse2")
+
 
 def machine() -> dict:
-    """Where and when this run measured: the date (UTC), the CPU, its cores, the load on them, Python."""
+    """Where and when this run measured: the date (UTC), the CPU, its cores and vector instruction sets, the load
+    on them, Python."""
+    info = open("/proc/cpuinfo").read().splitlines() if os.path.exists("/proc/cpuinfo") else []
     model = next(
-        (line.split(":", 1)[1].strip() for line in open("/proc/cpuinfo") if line.startswith("model name")),
+        (line.split(":", 1)[1].strip() for line in info if line.startswith("model name")),
         platform.processor() or platform.machine(),
     )
+    flags = next((set(line.split(":", 1)[1].split()) for line in info if line.startswith("flags")), set())
     return {
         "date": datetime.datetime.now(datetime.timezone.utc).strftime("%Y-%m-%d %H:%M UTC"),
         "cpu": model,
+        "cpu_vector_flags": [f for f in VECTOR_FLAGS if f in flags],
         "cores": os.cpu_count(),
         "load_average_1min": os.getloadavg()[0],
         "python": platform.python_version(),

@@ -60,6 +60,20 @@ def render(results: dict) -> str:
                 f"integrator (sim.c) {part['integrator (sim.c)']:,.0f}"
             )
         lines.append(text + ".")
+    if "c_lanes" in sim:
+        width = sim["c_lanes"]
+        lanes = f"in lanes of {width} doubles per vector" if width else "scalar (no lanes)"
+        text = (
+            f"The C path ran {lanes} (CPU: {', '.join(m.get('cpu_vector_flags', [])) or 'no vector flags read'}): "
+            f"{sim['c_scalar_over_lanes_cpu']:.2f}x fewer CPU seconds per response than its scalar path"
+        )
+        if "instructions_lanes" in results:
+            counted = results["instructions_lanes"]
+            text += (
+                f"; {counted['instructions_per_response']:,.0f} instructions per response in lanes of "
+                f"{counted['lanes']} (callgrind runs no AVX-512)"
+            )
+        lines.append(text + ".")
     lines += [
         f"End stops at the block's edges (`Stops.at_edges`) cost {stops['stops_over_free_time']:.2f}x the time "
         f"per response of the unlimited damper on the same map (median of 3 paired runs), with "

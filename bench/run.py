@@ -32,6 +32,7 @@ from bench_map import GAMMA, H_MASS, OMEGA_RATIO, ZETA, map_cases  # noqa: E402
 from machine import machine  # noqa: E402
 
 from rocking import Block, SampledMotion  # noqa: E402
+from rocking.sim import c_backend  # noqa: E402
 from rocking.sim.cases import pulse_cases, run_cases, sampled_cases  # noqa: E402
 
 #: Stochastic motions of the fragility whose CPU is split (bench/split.py).
@@ -57,6 +58,8 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
     # Best of three: the machine is shared, and the slowest runs measure the neighbours.
     runs = [cpu_timed(run_cases, cases, "c", 1) for _ in range(3)]
     c_res, c_time, c_cpu = min(runs, key=lambda r: r[1])
+    # The scalar path of the same batch (the lanes off), in turn with it: the lanes' gain in one run.
+    scalar_cpu = min(cpu_timed(run_cases, cases, "c", 1, False)[2] for _ in range(3))
     n = len(cases)
     pick = np.random.default_rng(seed).choice(n, size=n_subset, replace=False)
     from rocking.sim import numpy_backend
@@ -83,6 +86,9 @@ def bench_simulator(n_grid: int, n_subset: int, seed: int) -> dict:
         "c_seconds": c_time,
         "c_responses_per_s_per_core": n / c_time,
         "c_responses_per_cpu_s": n / c_cpu,
+        "c_lanes": c_backend.lanes(cases.model),
+        "c_scalar_responses_per_cpu_s": n / scalar_cpu,
+        "c_scalar_over_lanes_cpu": scalar_cpu / c_cpu,
         "numpy_ms_per_response": 1e3 * np_per,
         "baseline_ms_per_response": 1e3 * base_per,
         "baseline_lambdify_s": t_lambdify,
@@ -327,7 +333,9 @@ def main(argv=None) -> int:
     print(f"simulator, {sim['map']} map at rtol 1e-8 ({sim['responses']} responses, ", end="")
     print(f"{sim['overturned_fraction']:.0%} overturn):")
     print(f"  C path        {sim['c_responses_per_s_per_core']:10.0f} responses/s/core  (target >= 10,000); ", end="")
-    print(f"{sim['c_responses_per_cpu_s']:.0f} per CPU second")
+    print(f"{sim['c_responses_per_cpu_s']:.0f} per CPU second, in lanes of {sim['c_lanes']} doubles per vector")
+    print(f"  C scalar      {sim['c_scalar_responses_per_cpu_s']:10.0f} per CPU second: the lanes take ", end="")
+    print(f"{sim['c_scalar_over_lanes_cpu']:.2f}x fewer CPU seconds per response (target with AVX2 >= 2.5)")
     print(f"  NumPy path    {sim['numpy_ms_per_response']:10.2f} ms/response   ", end="")
     print(f"C is {sim['speedup_c_vs_numpy']:.0f}x faster")
     print(f"  baseline      {sim['baseline_ms_per_response']:10.2f} ms/response   ", end="")
@@ -339,6 +347,8 @@ def main(argv=None) -> int:
 
         results["instructions"] = instructions.measure(args.grid)
         print(instructions.line(results["instructions"]))
+        results["instructions_lanes"] = instructions.measure(args.grid, lanes=True)
+        print(instructions.line(results["instructions_lanes"]))
     rec = results["record"] = bench_record(args.record_scales, args.record_subset)
     print(f"record, {rec['record']}, {rec['responses']} scales ({rec['overturned_fraction']:.0%} overturn):")
     print(f"  C path        {rec['c_responses_per_s_per_core']:10.0f} responses/s/core  ", end="")

@@ -312,7 +312,8 @@ def _assert_batch_is_single_runs(batch: dict, problems) -> None:
 
 
 def test_batch_equals_single_runs():
-    """simulate_cases(Cases.of(problems)) gives each problem's simulate(), bit for bit, whatever differs per case."""
+    """simulate_cases(Cases.of(problems), lanes=False) gives each problem's simulate(), bit for bit, whatever differs
+    per case (the lanes: tests/test_lanes.py)."""
     problems = _map(4, 5) + [
         problem(1.5, 8.0, DAMPER, psi=0.5, rtol=1e-6),
         problem(0.5, 3.0, DAMPER, max_events=3),
@@ -320,12 +321,14 @@ def test_batch_equals_single_runs():
         dataclasses.replace(problem(1.5, 4.0, DAMPER), early_rest=False, dtheta_rest=0.0),
         problem(2.5, 5.0, DAMPER, t_max=2.0, record_dt=0.5),
     ]
-    batch = cb.simulate_cases(Cases.of(problems), threads=1)
+    batch = cb.simulate_cases(Cases.of(problems), threads=1, lanes=False)
     assert batch["overturned"].dtype == bool and batch["status"].dtype == np.int64
     assert len(set(batch["status"].tolist())) >= 3  # the map holds different outcomes
     _assert_batch_is_single_runs(batch, problems)
     # Without the early rest a run ends no sooner, with the same verdict.
-    early = cb.simulate_cases(Cases.of(dataclasses.replace(pr, early_rest=True) for pr in problems), threads=1)
+    early = cb.simulate_cases(
+        Cases.of(dataclasses.replace(pr, early_rest=True) for pr in problems), threads=1, lanes=False
+    )
     assert np.all(batch["t_end"] >= early["t_end"]) and np.any(batch["t_end"] > early["t_end"])
     assert same(batch["overturned"], early["overturned"])
 
@@ -334,7 +337,7 @@ def test_batch_of_the_bare_block():
     problems = _map(3, 3, damper=None)
     cases = Cases.of(problems)
     assert cases.model.name == "block" and len(cases) == 9
-    _assert_batch_is_single_runs(cb.simulate_cases(cases, threads=2), problems)
+    _assert_batch_is_single_runs(cb.simulate_cases(cases, threads=2, lanes=False), problems)
 
 
 def test_pulse_cases_are_the_problems_of_make_problem():
@@ -342,7 +345,7 @@ def test_pulse_cases_are_the_problems_of_make_problem():
     Omega, beta = np.meshgrid([2.0, 5.0], [1.5, 3.0, 6.0])
     cases = pulse_cases(BLOCK, Omega, beta, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     problems = [problem(b, o, DAMPER) for o, b in zip(Omega.ravel(), beta.ravel())]
-    _assert_batch_is_single_runs(cb.simulate_cases(cases, threads=1), problems)
+    _assert_batch_is_single_runs(cb.simulate_cases(cases, threads=1, lanes=False), problems)
 
 
 def test_threads_give_identical_results():

@@ -226,3 +226,36 @@ def test_the_paper_floor_without_vertical_motion_stays_on_the_floor_and_agrees_w
         assert (r.status, r.impacts, r.uplifts) == (c.status, c.impacts, c.uplifts)
         for name in ("theta_max", "x_max", "t_end"):
             assert getattr(r, name) == pytest.approx(getattr(c, name), rel=1e-8, abs=1e-12)
+
+
+def test_on_a_floor_without_friction_a_landing_whose_sticking_impulse_would_pull_is_tangential_alone():
+    """mu_s = inf: the floor's impulses fill the half-plane P_n >= 0. Where the sticking impulse would pull, the
+    plastic landing is the tangential impulse alone (docs/model.md section 16), checked here by Newton and Euler
+    for the bare block, not by the generated code: no vertical impulse, so the centroid's vertical velocity
+    dv + Q dtheta is kept; M times the change of its horizontal velocity du - P dtheta and I_G / P times the change
+    of dtheta are the same impulse P_t; the corner stops sliding and leaves the floor; energy is lost."""
+    block = Block(H=2.0, B=0.5, M=1000.0, e=0.03)
+    system = nb._System(make_problem(block, None, OneSinePulse.from_nondim(block, beta=2.0, Omega=3.0)))
+    rng, found = np.random.default_rng(39), 0
+    for _ in range(400):
+        s = int(rng.choice((-1, 1)))
+        y = np.array([s * rng.uniform(0.05, 1.2), rng.uniform(-3.0, 3.0)])
+        du, dv = rng.uniform(-2.0, 2.0), -rng.uniform(0.01, 1.0)
+        stick = [float(c) for c in system._flight("landing_stick", float(s), y, du, dv, 0.0)]
+        if stick[-1] > 0.0:
+            continue
+        dq, du_after, dv_after, sigma = system.corner_landing(s, y, du, dv)
+        found += 1
+        d_s = s * block.B / 2 + block.e  # G from the corner s, horizontally, at theta = 0 (docs/model.md section 2)
+        P = block.H / 2 * math.cos(y[0]) + d_s * math.sin(y[0])
+        Q = d_s * math.cos(y[0]) - block.H / 2 * math.sin(y[0])
+        impulse = block.M * ((du_after - P * dq[0]) - (du - P * y[1]))
+        assert (du_after, sigma) == (0.0, 0) and dv_after > 0.0
+        assert dv_after + Q * dq[0] == pytest.approx(dv + Q * y[1], rel=1e-12, abs=1e-12)
+        assert block.I_G * (dq[0] - y[1]) == pytest.approx(P * impulse, rel=1e-10, abs=1e-9)
+        energy = [
+            0.5 * block.M * ((a - P * w) ** 2 + (b + Q * w) ** 2) + 0.5 * block.I_G * w**2
+            for a, b, w in ((du, dv, y[1]), (du_after, dv_after, dq[0]))
+        ]
+        assert energy[1] < energy[0]
+    assert found >= 20

@@ -314,9 +314,9 @@ def test_a_study_with_a_floor_is_saved_and_loads_with_it(tmp_path, monkeypatch):
     spy = []
     run = backends.BACKENDS["c"].simulate_cases
 
-    def simulate_cases(cases, threads=1):
+    def simulate_cases(cases, threads=1, lanes=True):
         spy.append((cases.settings["mu_s"].copy(), cases.settings["mu_k"].copy()))
-        return run(cases, threads)
+        return run(cases, threads, lanes)
 
     monkeypatch.setattr(backends.BACKENDS["c"], "friction", True, raising=False)
     monkeypatch.setattr(backends.BACKENDS["c"], "simulate_cases", simulate_cases, raising=False)

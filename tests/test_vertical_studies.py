@@ -39,7 +39,9 @@ def test_each_cell_of_a_map_with_a_vertical_component_is_a_single_run_with_it(tm
                 for part, run in (("bare", None), ("damper", damper)):
                     r = rocking.simulate(BLOCK, run, pulse)
                     cell = data.sel(part=part, Omega=Omega, beta=beta, sign=sign)
-                    assert cell["theta_max"].item() == r.theta_max and cell["impacts"].item() == r.impacts
+                    # The map's batch runs in lanes: its maxima to issue 40's bound (tests/test_lanes.py).
+                    assert cell["theta_max"].item() == pytest.approx(r.theta_max, rel=1e-7)
+                    assert cell["impacts"].item() == r.impacts
     assert data.attrs["vertical_ratio"] == 0.8 and data.attrs["vertical_phase"] == 0.5
     assert "> 0 up" in data.attrs["vertical_component"] and plain.data.attrs["vertical_ratio"] == 0.0
     assert study.config["vertical"] == {"ratio": 0.8, "phase": 0.5} and "vertical" not in plain.config

@@ -38,8 +38,9 @@ class Backend(Protocol):
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         """One run given as :func:`rocking.sim.problem.resolve` gives it (checked: not checked again)."""
 
-    def simulate_cases(self, cases: Cases, threads: int = 1) -> dict[str, np.ndarray]:
-        """Every case of ``cases`` from rest, without history: one array per field of ``RESULT_FIELDS``."""
+    def simulate_cases(self, cases: Cases, threads: int = 1, lanes: bool = True) -> dict[str, np.ndarray]:
+        """Every case of ``cases`` from rest, without history: one array per field of ``RESULT_FIELDS``; ``lanes``:
+        several cases at once over vectors where the back end can (the C batch's lanes), else ignored."""
 
     def request_stop(self) -> None:
         """Stop the runs of this back end running now in this process, if it can stop them from outside."""
@@ -56,8 +57,8 @@ class _C:
     def simulate(self, model: Model, p, settings: dict, record: bool = False) -> Response:
         return c_backend.simulate_settings(model, p, settings, record)
 
-    def simulate_cases(self, cases: Cases, threads: int = 1) -> dict[str, np.ndarray]:
-        return c_backend.simulate_cases(cases, threads=threads)
+    def simulate_cases(self, cases: Cases, threads: int = 1, lanes: bool = True) -> dict[str, np.ndarray]:
+        return c_backend.simulate_cases(cases, threads=threads, lanes=lanes)
 
     def request_stop(self) -> None:
         c_backend.request_stop()
@@ -80,7 +81,7 @@ class _NumPy:
 
         return numpy_backend.simulate(Problem(model=model, p=p, **settings), record)
 
-    def simulate_cases(self, cases: Cases, threads: int = 1) -> dict[str, np.ndarray]:
+    def simulate_cases(self, cases: Cases, threads: int = 1, lanes: bool = True) -> dict[str, np.ndarray]:
         from . import numpy_backend
 
         out = {k: np.zeros(len(cases), dtype=t) for k, t in RESULT_FIELDS.items()}

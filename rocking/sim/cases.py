@@ -356,12 +356,13 @@ def _cases(block, columns, T_g, damper, rtol, t_after, max_events, model, params
     )
 
 
-def run_cases(cases: Cases, backend: str = "c", threads: int = 1) -> dict[str, np.ndarray]:
+def run_cases(cases: Cases, backend: str = "c", threads: int = 1, lanes: bool = True) -> dict[str, np.ndarray]:
     """Simulate every case on ``backend`` (a name of :data:`rocking.sim.backends.BACKENDS`); a dict of arrays keyed
-    by :data:`rocking.sim.problem.RESULT_FIELDS`.
+    by :data:`rocking.sim.problem.RESULT_FIELDS`. ``lanes``: the C batch's lanes (rocking.sim.c_backend.simulate_cases),
+    False for its scalar path.
 
     ``status`` holds indices into :data:`rocking.sim.boundary.STATUS`.
     """
     if not isinstance(backend, str) or backend not in BACKENDS:
         raise ParameterError(f"backend must be {' or '.join(map(repr, BACKENDS))} (got {backend!r})")
-    return BACKENDS[for_floor(backend, cases.settings["mu_s"], cases.model)].simulate_cases(cases, threads)
+    return BACKENDS[for_floor(backend, cases.settings["mu_s"], cases.model)].simulate_cases(cases, threads, lanes)

@@ -72,6 +72,7 @@ from __future__ import annotations
 
 import contextlib
 import hashlib
+import importlib.util
 import json
 import os
 import shlex
@@ -118,6 +119,9 @@ CODE = (Path(__file__).resolve().parent, Path(__file__).resolve())
 
 #: Flags of every build: portable (no -march=native), position independent.
 CFLAGS = ("-std=c99", "-O2", "-fPIC", "-shared", "-Wall", "-Wextra")
+
+#: The header lanes.c includes, written beside the staged sources at build time (:func:`_lanes_model`).
+LANES_MODEL = "lanes_model.h"
 
 #: Part of the source key: bump to invalidate every cached library.
 _KEY_VERSION = b"rocking-cbuild-2"
@@ -210,9 +214,31 @@ def _sources(model, csrc: Path) -> dict[str, Path]:
         "sim.h": csrc / "sim.h",
         "boundary.h": csrc / "boundary.h",
         "phases.h": csrc / "phases.h",
+        "lanes.c": csrc / "lanes.c",
+        "lanes.h": csrc / "lanes.h",
+        "lanes_kernel.h": csrc / "lanes_kernel.h",
         model.c_source.name: model.c_source,
         model.c_header.name: model.c_header,
     }
+
+
+def _lanes_model(model) -> str:
+    """The header of the model's right-hand side over lanes (rocking.sim.lanes_rhs), derived from its C source."""
+    try:
+        text = model.c_source.read_text()
+    except OSError as exc:
+        raise CBuildError(f"cannot read C source {model.c_source}: {exc.strerror or exc}") from None
+    return _lanes_rhs().vector_rhs(text, model.c_prefix)
+
+
+def _lanes_rhs():
+    """rocking/sim/lanes_rhs.py, read by path: this module needs the standard library alone (setup.py)."""
+    spec = importlib.util.spec_from_file_location(
+        "_rocking_lanes_rhs", Path(__file__).resolve().parent / "lanes_rhs.py"
+    )
+    module = importlib.util.module_from_spec(spec)
+    spec.loader.exec_module(module)
+    return module
 
 
 def build_command(model, output: Path, *, cc: list[str] | None = None, csrc: Path | None = None) -> list[str]:
@@ -225,6 +251,7 @@ def build_command(model, output: Path, *, cc: list[str] | None = None, csrc: Pat
         f"-I{csrc}",
         f"-I{model.c_header.parent}",
         f'-DROCKING_MODEL_HEADER="{model.c_header.name}"',
+        *([f'-DROCKING_LANES_MODEL="{LANES_MODEL}"'] if (csrc / LANES_MODEL).exists() else []),
         str(csrc / "sim.c"),
         str(model.c_source),
         "-o",
@@ -263,6 +290,7 @@ def _source_key(model, cc_args, csrc: Path) -> str:
     machine = os.uname().machine if hasattr(os, "uname") else ""
     return _digest(
         *parts,
+        ("lanes model", _lanes_model(model).encode()),
         ("flags", "\0".join(CFLAGS).encode()),
         ("cc arguments", "\0".join(cc_args).encode()),
         ("header", model.c_header.name.encode()),
@@ -566,6 +594,7 @@ def _staged(model, csrc: Path, folder: Path) -> SimpleNamespace:
     (folder / "model").mkdir()
     for name, path in _sources(model, csrc).items():
         (folder / ("model" if path.parent == model.folder else "csrc") / name).write_bytes(path.read_bytes())
+    (folder / "csrc" / LANES_MODEL).write_text(_lanes_model(model))
     staged = folder / "model"
     return SimpleNamespace(
         folder=staged,

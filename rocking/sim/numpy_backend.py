@@ -414,12 +414,39 @@ class _System:
         if P_n > 0.0 and abs(P_t) <= self.mu_s * P_n:
             return out[:n], 0.0, out[n + 1], 0
         if not self.friction:
-            return None
+            return self.tangential_landing(s, y, du, dv, out)
         for sigma in _slide_directions(du, P_t):
             out = [float(c) for c in self._flight("landing_slide", float(s), y, du, dv, self.e_n, sigma * self.mu_k)]
             if out[-1] > 0.0 and sigma * du >= 0.0 and sigma * out[n] >= 0.0:
                 return out[:n], out[n], out[n + 1], sigma
         return None
+
+    def tangential_landing(self, s: int, y: np.ndarray, du: float, dv: float, stick: list) -> tuple | None:
+        """The corner ``s`` lands on a floor without friction (``mu_s = inf``) where the sticking impulse ``stick``
+        (``landing_stick``'s outputs) would pull, ``P_n <= 0``.
+
+        The cone of the floor's impulses is then the half-plane ``P_n >= 0``, and the plastic landing is the
+        tangential impulse alone: it stops the slip (``du = 0`` after) and lifts the corner, ``dv`` after it
+        ``dv - W_nt du / W_tt > 0`` exactly where the sticking ``P_n < 0`` (docs/model.md section 16). Built from
+        the sticking and the frictionless landings (``landing_slide`` at ``mu_slip = 0``): the velocities after a
+        landing are linear in its impulse. The operations of sim.c's ``tangential_landing``.
+
+        Returns
+        -------
+        tuple or None
+            ``(dq, du, dv, 0)`` after it, as :meth:`corner_landing`; ``None`` where it does not lift the corner.
+        """
+        n = self.n
+        free = [float(c) for c in self._flight("landing_slide", float(s), y, du, dv, self.e_n, 0.0)]
+        before = [float(c) for c in y[n : 2 * n]] + [du, dv]
+        P_t, P_n, P_0 = stick[n + 2], stick[n + 3], free[n + 3]
+        if not P_0 > 0.0 or P_t == 0.0:
+            return None
+        a_n = [(free[j] - before[j]) / P_0 for j in range(n + 2)]
+        a_t = [(stick[j] - before[j] - a_n[j] * P_n) / P_t for j in range(n + 2)]
+        p_t = -du / a_t[n]
+        after = [before[j] + a_t[j] * p_t for j in range(n + 2)]
+        return (after[:n], 0.0, after[n + 1], 0) if after[n + 1] >= 0.0 else None
 
     def flat_landing(self, s: int, y: np.ndarray, du: float, dv: float) -> tuple:
         """The base lands flat on both corners (``theta = 0`` in ``y``; docs/model.md section 16).

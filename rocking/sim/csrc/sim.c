@@ -344,6 +344,7 @@ typedef struct ode {
     /* The last a_g f(t) of an analytic motion and its t: a step's last two stages
      * and its events all read it at the step's end. */
     double memo_t, memo_ag;
+    struct lane *lane; /* the lane of a batch in lanes running this run (lanes.c), or NULL */
 } ode;
 
 /* Ground acceleration inside a segment. A segment never straddles t_p, so it
@@ -749,6 +750,17 @@ static inline double dopri_error(const dopri *d, const tolerance *tol, double h,
     return rms_ratio(err, scale, ny);
 }
 
+/* The stages and error of a step of a run in a lane, and that error's power (lanes.c). */
+struct lane;
+static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new);
+static double lanes_error_power(const struct lane *l, double err);
+
+/* err^ERROR_EXPONENT for the step-size control. */
+static inline double error_power(const ode *o, double err)
+{
+    return o->lane != NULL ? lanes_error_power(o->lane, err) : pow(err, ERROR_EXPONENT);
+}
+
 /* One accepted step of the first ny components (a constant of each copy) towards t_bound, at most
  * max_step long. Returns 0, or -1 when the error cannot be controlled above the smallest step. */
 static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step,
@@ -764,23 +776,27 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (t_new > t_bound)
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
+        if (ny == NY && o->lane != NULL) {
+            err = lanes_stages(d, o, tol, h, t_new, y_new);
+        } else {
 #ifdef MODEL_FLIGHT
-        if (ny == NF)
-            dopri_stages_of(d, o, h, t_new, y_new, ODE_FLIGHT);
-        else
+            if (ny == NF)
+                dopri_stages_of(d, o, h, t_new, y_new, ODE_FLIGHT);
+            else
 #endif
 #ifdef MODEL_FRICTION
-        if (ny == NS)
-            dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
-        else
+            if (ny == NS)
+                dopri_stages_of(d, o, h, t_new, y_new, ODE_SLIDE);
+            else
 #endif
-            dopri_stages(d, o, h, t_new, y_new);
+                dopri_stages(d, o, h, t_new, y_new);
+            err = dopri_error(d, tol, h, y_new, ny);
+        }
         d->evaluations += STAGES - 1;
-        err = dopri_error(d, tol, h, y_new, ny);
         if (err < 1.0) {
             /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
             double factor =
-                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * error_power(o, err));
             if (rejected) /* no growth right after a rejection */
                 factor = min2(1.0, factor);
             d->t_old = d->t;
@@ -794,7 +810,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
             return 0;
         }
         /* fmax ignores a NaN error: a non-finite state shrinks the step until it fails. */
-        h *= fmax(MIN_FACTOR, SAFETY * pow(err, ERROR_EXPONENT));
+        h *= fmax(MIN_FACTOR, SAFETY * error_power(o, err));
         rejected = 1;
         if (!(h > 0.0) || below_min_step(h, d->t))
             return -1;
@@ -2881,6 +2897,39 @@ static void corner_switch(run *r, const double *on)
     r->phase = -r->phase;
 }
 
+/* The reference corner lands on a floor without friction (mu_s = inf) where the sticking impulse (out, from
+ * landing_stick) would pull, P_n <= 0: the cone of the floor's impulses is the half-plane P_n >= 0, and the
+ * plastic landing is the tangential impulse alone, which stops the slip (du+ = 0) and lifts the corner
+ * (dv+ = dv - W_nt du / W_tt > 0 exactly where the sticking P_n < 0; docs/model.md section 16). Built from the
+ * sticking and the frictionless landings (landing_slide at mu_slip = 0): the velocities after a landing are
+ * linear in its impulse; numpy_backend's tangential_landing. out: dq+, du+, dv+, P_t, P_n; 0 where it does not
+ * lift the corner. */
+static int tangential_landing(const run *r, const double *on, double *out)
+{
+    double free[NQ + 4], before[NQ + 2], a_n[NQ + 2], a_t[NQ + 2], p_t;
+    const double s = (double)r->phase, du = r->y[NY + 1], dv = r->y[NY + 3];
+    const double P_t = out[NQ + 2], P_n = out[NQ + 3];
+    int j;
+    model_landing_slide(s, r->y, 0.0, 0.0, r->k->p, on, du, dv, r->c->e_n, 0.0, free);
+    if (!(free[NQ + 3] > 0.0) || P_t == 0.0)
+        return 0;
+    for (j = 0; j < NQ; ++j)
+        before[j] = r->y[NQ + j];
+    before[NQ] = du;
+    before[NQ + 1] = dv;
+    for (j = 0; j < NQ + 2; ++j) {
+        a_n[j] = (free[j] - before[j]) / free[NQ + 3];
+        a_t[j] = (out[j] - before[j] - a_n[j] * P_n) / P_t;
+    }
+    p_t = -du / a_t[NQ];
+    for (j = 0; j < NQ + 2; ++j)
+        out[j] = before[j] + a_t[j] * p_t;
+    out[NQ] = 0.0;
+    out[NQ + 2] = p_t;
+    out[NQ + 3] = 0.0;
+    return out[NQ + 1] >= 0.0;
+}
+
 /* The landing of the reference corner alone (landing_law): sticks if the floor holds it, P_n > 0 and
  * |P_t| <= mu_s P_n; else slides in the direction sigma in which the slip keeps its sign through it, with
  * P_n > 0; else jams. out: dq+, du+, dv+, P_t, P_n (NQ + 4). */
@@ -2892,7 +2941,7 @@ static int law_corner(const run *r, const double *on, double *out, int *sigma)
     if (out[NQ + 3] > 0.0 && (!r->friction || fabs(out[NQ + 2]) <= r->c->mu_s * out[NQ + 3]))
         return LAW_STICK;
     if (!r->friction)
-        return LAW_JAM;
+        return tangential_landing(r, on, out) ? LAW_STICK : LAW_JAM;
     first = slide_first(du, out[NQ + 2]);
     for (i = 0; i < 2; ++i) {
         const int sg = i == 0 ? first : -first;
@@ -3325,7 +3374,7 @@ static int pulse_valid(const rocking_case *c)
 }
 
 static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
-                            const rocking_control *control)
+                            const rocking_control *control, struct lane *lane)
 {
     run r;
     constants k;
@@ -3389,6 +3438,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.o.c = c;
     r.o.piece = 0.0;
     r.o.memo_t = NAN;
+    r.o.lane = lane;
     r.ec.o = &r.o;
     /* In full contact the energy does not depend on the pivot: E(0) with s = +1,
      * in the regime of the rest state. */
@@ -3451,6 +3501,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     return r.n_rec;
 }
 
+#include "lanes.c" /* the batch in lanes */
+
 /* ------------------------------------------------------------------------ */
 /* 5. Entry points                                                           */
 /* ------------------------------------------------------------------------ */
@@ -3485,20 +3537,13 @@ void rocking_constants(double *out)
 int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
                          const rocking_control *control)
 {
-    return simulate_one(p, c, out, history, control);
+    return simulate_one(p, c, out, history, control, NULL);
 }
 
 void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
                             const rocking_control *control)
 {
-    int64_t i;
-    for (i = 0; i < n; ++i) {
-        if (control != NULL && control->stop != NULL && *control->stop != 0) {
-            out[i].status = ROCKING_STOPPED; /* the rest of the batch is not run */
-            continue;
-        }
-        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control);
-    }
+    rocking_simulate_batch_lanes(n, p, cases, out, control, 1); /* lanes.c */
 }
 
 /* ------------------------------------------------------------------------- */

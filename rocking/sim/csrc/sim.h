@@ -109,7 +109,10 @@ int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result 
 
 /* Simulate n runs of the same model without history: case i with the
  * parameters p + i * model_np() (row-major n x model_np()), result in out[i].
- * Case i gives exactly what rocking_simulate gives for it; an inconsistent
+ * The runs go in lanes (lanes.h): case i gives rocking_simulate's statuses, events
+ * and verdicts, its maxima to the last bits of sin and cos; with the lanes off
+ * (ROCKING_LANES=0, rocking_simulate_batch_lanes) exactly what rocking_simulate
+ * gives for it. An inconsistent
  * y0 / phase0 leaves its result with status ROCKING_FAILED. Once the stop
  * flag is set, the run in progress and every later one end with status
  * ROCKING_STOPPED. */

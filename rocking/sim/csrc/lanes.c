@@ -1,0 +1,414 @@
+/* The C batch in lanes (lanes.h): included by sim.c after simulate_one, whose types and functions it uses.
+ *
+ * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
+ * a step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
+ * (lane_next); the last lane of a round computes the stages of every waiting lane over vectors (lanes_kernel.h)
+ * and each goes on, in turn, with its scalar step-size control, events and phases until its next step.
+ * A lane whose run ends takes the next case of the batch.
+ */
+#include <stdlib.h>
+
+#include "lanes.h"
+
+/* x86-64 with the System V calling convention in ELF objects (Linux, the BSDs): the stack switch below. */
+#if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__)) && defined(ROCKING_LANES_MODEL)
+#include ROCKING_LANES_MODEL
+#endif
+#ifndef LANES_MODEL
+#define LANES_MODEL 0
+#endif
+
+/* The runs in flight at once: enough to fill an AVX-512 vector of doubles; a narrower one takes them in turn. */
+#define LANES_RUNS 8
+/* The stack of a lane: simulate_one and the vector stages need tens of kB (a run, the constants of a model over
+ * vectors); far more, of which the pages never touched cost nothing. */
+#define LANES_STACK (1024 * 1024)
+
+/* A lane waits for the stages of its step, is ready to go on (they are computed), or has no case left. */
+enum { LANE_WAITING, LANE_READY, LANE_FINISHED };
+
+typedef struct lanes lanes;
+
+typedef struct lane {
+    void *sp;      /* the stack pointer of the coroutine while it is suspended */
+    lanes *owner;  /* the scheduler */
+    int state;     /* LANE_* */
+    int slot;      /* its index in its scheduler's lanes */
+    /* a request for the stages of a step (lanes_stages) and its answer, err */
+    dopri *d;
+    ode *o;
+    const tolerance *tol;
+    double h, t_new, *y_new, err;
+    double power; /* err^ERROR_EXPONENT, computed with the stages over vectors (NAN: not) */
+} lane;
+
+/* The scalar stages and error estimate of a step (dopri_step_of's own). */
+static double scalar_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+{
+    dopri_stages(d, o, h, t_new, y_new);
+    return dopri_error(d, tol, h, y_new, NY);
+}
+
+/* The scalar loop of rocking_simulate_batch: case i exactly as rocking_simulate runs it. */
+static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                         const rocking_control *control)
+{
+    int64_t i;
+    for (i = 0; i < n; ++i) {
+        if (control != NULL && control->stop != NULL && *control->stop != 0) {
+            out[i].status = ROCKING_STOPPED; /* the rest of the batch is not run */
+            continue;
+        }
+        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control, NULL);
+    }
+}
+
+#if LANES_MODEL
+
+/* ---- vector sin and cos ------------------------------------------------------------------------------ */
+
+/* The kernels of fdlibm's k_sin.c and k_cos.c (sin and cos on [-pi/4, pi/4], error below one unit in the
+ * last place) and the parts of pi/2 of its e_rem_pio2.c:
+ *   Copyright (C) 1993 by Sun Microsystems, Inc. All rights reserved.
+ *   Developed at SunPro, a Sun Microsystems, Inc. business.
+ *   Permission to use, copy, modify, and distribute this software is freely granted, provided that this
+ *   notice is preserved. */
+#define LANES_S1 -1.66666666666666324348e-01
+#define LANES_S2 8.33333333332248946124e-03
+#define LANES_S3 -1.98412698298579493134e-04
+#define LANES_S4 2.75573137070700676789e-06
+#define LANES_S5 -2.50507602534068634195e-08
+#define LANES_S6 1.58969099521155010221e-10
+#define LANES_C1 4.16666666666666019037e-02
+#define LANES_C2 -1.38888888888741095749e-03
+#define LANES_C3 2.48015872894767294178e-05
+#define LANES_C4 -2.75573143513906633035e-07
+#define LANES_C5 2.08757232129817482790e-09
+#define LANES_C6 -1.13596475577881948265e-11
+#define LANES_INVPIO2 6.36619772367581382433e-01 /* 2 / pi */
+#define LANES_PIO2_1 1.57079632673412561417e+00  /* the first 33 bits of pi/2 */
+#define LANES_PIO2_2 6.07710050630396597660e-11  /* the next 33 bits */
+#define LANES_PIO2_2T 2.02226624879595063154e-21 /* pi/2 - PIO2_1 - PIO2_2 */
+/* 1.5 2^52: x + LANES_SHIFTER - LANES_SHIFTER rounds x to an integer, which the low bits of the sum hold. */
+#define LANES_SHIFTER 6755399441055744.0
+/* fdlibm's e_log.c (Lg1..Lg7, ln 2 in two parts) and e_exp.c (P1..P5, 1 / ln 2), same notice. */
+#define LANES_LG1 6.666666666666735130e-01
+#define LANES_LG2 3.999999999940941908e-01
+#define LANES_LG3 2.857142874366239149e-01
+#define LANES_LG4 2.222219843214978396e-01
+#define LANES_LG5 1.818357216161805012e-01
+#define LANES_LG6 1.531383769920937332e-01
+#define LANES_LG7 1.479819860511658591e-01
+#define LANES_LN2_HI 6.93147180369123816490e-01
+#define LANES_LN2_LO 1.90821492927058770002e-10
+#define LANES_INVLN2 1.44269504088896338700e+00
+#define LANES_P1 1.66666666666666019037e-01
+#define LANES_P2 -2.77777777770155933842e-03
+#define LANES_P3 6.61375632143793436117e-05
+#define LANES_P4 -1.65339022054652515390e-06
+#define LANES_P5 4.13813679705723846039e-08
+#define LANES_SQRT2 1.41421356237309504880
+/* The bits of a double: its mantissa, those of 1.0 and of LANES_SHIFTER (below). */
+#define LANES_MANTISSA 0x000fffffffffffffLL
+#define LANES_ONE_BITS 0x3ff0000000000000LL
+#define LANES_SHIFTER_BITS 0x4338000000000000LL
+/* Where n PIO2_1 and n PIO2_2 stay exact (|n| < 2^20) with a margin; larger arguments go to libm. */
+#define LANES_TRIG_MAX 1.0e5
+
+/* ---- the kernels, one per vector width --------------------------------------------------------------- */
+
+#define LW 2
+#define LTARGET "sse2"
+#define LNAME(x) x##_sse2
+#include "lanes_kernel.h"
+#undef LW
+#undef LTARGET
+#undef LNAME
+
+#define LW 4
+#define LTARGET "avx2"
+#define LNAME(x) x##_avx2
+#include "lanes_kernel.h"
+#undef LW
+#undef LTARGET
+#undef LNAME
+
+#define LW 8
+#define LTARGET "avx512f"
+#define LNAME(x) x##_avx512
+#include "lanes_kernel.h"
+#undef LW
+#undef LTARGET
+#undef LNAME
+
+typedef int (*lanes_kernel)(lane *const *ls);
+
+/* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
+
+/* Save the callee-saved registers, MXCSR and the x87 control word on the current stack and its pointer into
+ * *save, then resume the stack `to` saved the same way (or prepared by lane_start). */
+void rocking_lanes_switch(void **save, void *to) __attribute__((visibility("hidden")));
+/* A new lane's first code: lane_main(r12), on the lane's stack. */
+void rocking_lanes_start(void) __attribute__((visibility("hidden")));
+__asm__(".pushsection .text\n"
+        ".p2align 4\n"
+        ".globl rocking_lanes_switch\n"
+        ".hidden rocking_lanes_switch\n"
+        ".type rocking_lanes_switch, @function\n"
+        "rocking_lanes_switch:\n"
+        "    pushq %rbp\n"
+        "    pushq %rbx\n"
+        "    pushq %r12\n"
+        "    pushq %r13\n"
+        "    pushq %r14\n"
+        "    pushq %r15\n"
+        "    subq $16, %rsp\n"
+        "    stmxcsr 8(%rsp)\n"
+        "    fnstcw (%rsp)\n"
+        "    movq %rsp, (%rdi)\n"
+        "    movq %rsi, %rsp\n"
+        "    ldmxcsr 8(%rsp)\n"
+        "    fldcw (%rsp)\n"
+        "    addq $16, %rsp\n"
+        "    popq %r15\n"
+        "    popq %r14\n"
+        "    popq %r13\n"
+        "    popq %r12\n"
+        "    popq %rbx\n"
+        "    popq %rbp\n"
+        "    ret\n"
+        ".size rocking_lanes_switch, .-rocking_lanes_switch\n"
+        ".p2align 4\n"
+        ".globl rocking_lanes_start\n"
+        ".hidden rocking_lanes_start\n"
+        ".type rocking_lanes_start, @function\n"
+        "rocking_lanes_start:\n"
+        "    movq %r12, %rdi\n"
+        "    callq *%r13\n"
+        "    ud2\n"
+        ".size rocking_lanes_start, .-rocking_lanes_start\n"
+        ".popsection\n");
+
+struct lanes {
+    void *sp; /* the scheduler's stack pointer while a lane runs */
+    int width;
+    lanes_kernel kernel;
+    lane lane[LANES_RUNS];
+    int runs; /* the lanes of the batch: LANES_RUNS, fewer for a batch of fewer cases */
+    unsigned char *stacks;
+    /* the batch */
+    int64_t n, next;
+    const double *p;
+    const rocking_case *cases;
+    rocking_result *out;
+    const rocking_control *control;
+};
+
+/* The next case of the batch b, or -1 if none is left. Cases read after the stop flag is set end as the scalar
+ * loop leaves them. */
+static int64_t lanes_take(lanes *b)
+{
+    while (b->next < b->n) {
+        const int64_t i = b->next++;
+        if (b->control == NULL || b->control->stop == NULL || *b->control->stop == 0)
+            return i;
+        b->out[i].status = ROCKING_STOPPED;
+    }
+    return -1;
+}
+
+/* The stages of the waiting lanes, b->width at a time (the last vector padded with its last lane again); they are
+ * then ready. */
+static void lanes_serve(lanes *b)
+{
+    lane *waiting[LANES_RUNS];
+    int n = 0, first, j;
+    for (j = 0; j < b->runs; ++j)
+        if (b->lane[j].state == LANE_WAITING)
+            waiting[n++] = &b->lane[j];
+    for (first = 0; first < n; first += b->width) {
+        lane *ls[LANES_RUNS];
+        int scalar;
+        for (j = 0; j < b->width; ++j)
+            ls[j] = waiting[first + j < n ? first + j : n - 1];
+        scalar = b->kernel(ls);
+        for (j = 0; j < b->width && first + j < n; ++j)
+            if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
+                ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
+    }
+    for (j = 0; j < n; ++j)
+        waiting[j]->state = LANE_READY;
+}
+
+/* Lane l waits for its stages or has finished: run the next ready lane in slot order; after the last, serve
+ * the waiting lanes and run the first of them (l itself: return at once); when none waits, back to the caller
+ * of the batch. One switch per step of a lane, from lane to lane: a round of the lanes ends in the vector
+ * stages, on the stack of the lane that ends it. */
+static void lane_next(lane *l)
+{
+    lanes *b = l->owner;
+    int j;
+    for (j = l->slot + 1; j < b->runs; ++j)
+        if (b->lane[j].state == LANE_READY) {
+            rocking_lanes_switch(&l->sp, b->lane[j].sp);
+            return;
+        }
+    lanes_serve(b);
+    for (j = 0; j < b->runs; ++j)
+        if (b->lane[j].state == LANE_READY) {
+            if (&b->lane[j] != l)
+                rocking_lanes_switch(&l->sp, b->lane[j].sp);
+            return;
+        }
+    rocking_lanes_switch(&l->sp, b->sp); /* every lane has finished: not resumed again */
+}
+
+/* The coroutine of a lane: runs of the batch's cases, one after the other, until none is left. */
+static void lane_main(lane *l)
+{
+    lanes *b = l->owner;
+    int64_t i;
+    while ((i = lanes_take(b)) >= 0)
+        simulate_one(b->p + i * MODEL_NP, b->cases + i, b->out + i, NULL, b->control, l);
+    l->state = LANE_FINISHED;
+    lane_next(l);
+}
+
+/* The first frame of lane l on its stack [stack, stack + size): what rocking_lanes_switch pops, then its
+ * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call. The lane is
+ * ready: its first switch starts it. */
+static void lane_start(lane *l, unsigned char *stack, size_t size)
+{
+    uint64_t *top = (uint64_t *)(((uintptr_t)(stack + size)) & ~(uintptr_t)15);
+    uint64_t *sp = top - 11; /* 88 bytes: control words, 6 registers, the return address; then 16 free */
+    uint32_t mxcsr;
+    uint16_t fpcw;
+    __asm__ volatile("stmxcsr %0" : "=m"(mxcsr));
+    __asm__ volatile("fnstcw %0" : "=m"(fpcw));
+    memset(sp, 0, 11 * sizeof *sp);
+    memcpy(sp, &fpcw, sizeof fpcw);
+    memcpy(sp + 1, &mxcsr, sizeof mxcsr);
+    sp[4] = (uint64_t)(uintptr_t)lane_main; /* r13 */
+    sp[5] = (uint64_t)(uintptr_t)l;         /* r12 */
+    sp[8] = (uint64_t)(uintptr_t)rocking_lanes_start;
+    l->sp = sp;
+    l->state = LANE_READY;
+}
+
+/* The vector width a batch now uses (rocking_lanes). */
+static int lanes_width(void)
+{
+    const char *on = getenv("ROCKING_LANES"), *isa = getenv("ROCKING_LANES_ISA");
+    int cap = 8;
+    if (on != NULL && strcmp(on, "0") == 0)
+        return 0;
+    if (isa != NULL && strcmp(isa, "sse2") == 0)
+        cap = 2;
+    else if (isa != NULL && strcmp(isa, "avx2") == 0)
+        cap = 4;
+    __builtin_cpu_init();
+    if (cap >= 8 && __builtin_cpu_supports("avx512f"))
+        return 8;
+    if (cap >= 4 && __builtin_cpu_supports("avx2"))
+        return 4;
+    return 2;
+}
+
+/* Run the batch in lanes: 1, or 0 if it cannot (the lanes are off, or no memory for their stacks). Out of line:
+ * bench/instructions.py counts the lanes' instructions from its entry. */
+static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                       const rocking_control *control)
+{
+    lanes b;
+    int j;
+    /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
+    const int runs = n < LANES_RUNS ? (int)n : LANES_RUNS;
+    b.width = lanes_width();
+    if (b.width == 0 || n < 1)
+        return 0;
+    b.kernel = b.width == 8 ? stages_avx512 : b.width == 4 ? stages_avx2 : stages_sse2;
+    b.stacks = malloc((size_t)runs * LANES_STACK);
+    if (b.stacks == NULL)
+        return 0;
+    b.n = n;
+    b.next = 0;
+    b.p = p;
+    b.cases = cases;
+    b.out = out;
+    b.control = control;
+    b.runs = runs;
+    for (j = 0; j < runs; ++j) {
+        b.lane[j].owner = &b;
+        b.lane[j].slot = j;
+        lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
+    }
+    rocking_lanes_switch(&b.sp, b.lane[0].sp); /* back when every lane has finished */
+    free(b.stacks);
+    return 1;
+}
+
+/* The stages of a step of the lane's run: over vectors with the other lanes' for a rocking phase or full contact
+ * without a vertical component or a slide (full contact where the model's header has it), else scalar here. */
+static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+{
+    lane *l = o->lane;
+    const int contact = o->rhs == ODE_PULSE_CONTACT || o->rhs == ODE_FREE_CONTACT;
+    if (!(o->rhs == ODE_PULSE_ROCKING || o->rhs == ODE_FREE_ROCKING || (LANES_CONTACT && contact)))
+        return scalar_stages(d, o, tol, h, t_new, y_new);
+    l->d = d;
+    l->o = o;
+    l->tol = tol;
+    l->h = h;
+    l->t_new = t_new;
+    l->y_new = y_new;
+    l->state = LANE_WAITING;
+    l->power = NAN;
+    lane_next(l);
+    return l->err;
+}
+
+/* err^ERROR_EXPONENT for the step whose error lanes_stages returned last: computed with its stages if they were
+ * (the same err), else libm's. */
+static double lanes_error_power(const lane *l, double err)
+{
+    return l->power == l->power && l->err == err ? l->power : pow(err, ERROR_EXPONENT);
+}
+
+int rocking_lanes(void)
+{
+    return lanes_width();
+}
+
+#else /* no lanes: every batch scalar */
+
+static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+{
+    return scalar_stages(d, o, tol, h, t_new, y_new); /* not reached: no run has a lane */
+}
+
+static double lanes_error_power(const lane *l, double err)
+{
+    (void)l;
+    return pow(err, ERROR_EXPONENT); /* not reached */
+}
+
+static int lanes_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                       const rocking_control *control)
+{
+    (void)n, (void)p, (void)cases, (void)out, (void)control;
+    return 0;
+}
+
+int rocking_lanes(void)
+{
+    return 0;
+}
+
+#endif
+
+void rocking_simulate_batch_lanes(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
+                                  const rocking_control *control, int32_t on)
+{
+    if (on == 0 || !lanes_batch(n, p, cases, out, control))
+        batch_scalar(n, p, cases, out, control);
+}

@@ -1,0 +1,223 @@
+/* The stages of the lanes' steps over vectors of LW doubles, compiled for the instruction set LTARGET:
+ * included by lanes.c once per width, with LW, LTARGET and LNAME (a suffix per width) defined. */
+
+#define VD LNAME(vd)
+#define VL LNAME(vl)
+#define LATTR static inline __attribute__((always_inline, target(LTARGET)))
+
+typedef double VD __attribute__((vector_size(LW * 8)));
+typedef int64_t VL __attribute__((vector_size(LW * 8)));
+
+/* Every element of a vector c. */
+LATTR VD LNAME(splat)(double c)
+{
+    VD v;
+    int j;
+    for (j = 0; j < LW; ++j)
+        v[j] = c;
+    return v;
+}
+
+/* sin and cos of x, elementwise: x reduced to r in about [-pi/4, pi/4] by x - n pi/2 with pi/2 in three parts
+ * of 33 bits (exact products for |n| < 2^20), then fdlibm's kernels (lanes.c). An element out of
+ * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) sets its element of *outside: the caller then does
+ * without these values. */
+LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *outside)
+{
+    const VD shifted = x * LANES_INVPIO2 + LANES_SHIFTER;
+    const VD n = shifted - LANES_SHIFTER;
+    const VL q = (VL)shifted; /* the low bits of the mantissa: n mod 4 */
+    const VD r = ((x - n * LANES_PIO2_1) - n * LANES_PIO2_2) - n * LANES_PIO2_2T;
+    const VD z = r * r;
+    const VD v = z * r;
+    const VD ps = LANES_S2 + z * (LANES_S3 + z * (LANES_S4 + z * (LANES_S5 + z * LANES_S6)));
+    const VD sin_r = r + v * (LANES_S1 + z * ps);
+    const VD pc = z * (LANES_C1 + z * (LANES_C2 + z * (LANES_C3 + z * (LANES_C4 + z * (LANES_C5 + z * LANES_C6)))));
+    const VD hz = 0.5 * z;
+    const VD w = 1.0 - hz;
+    const VD cos_r = w + (((1.0 - w) - hz) + z * pc);
+    /* Quadrant n mod 4: (sin, cos) = (s_r, c_r), (c_r, -s_r), (-s_r, -c_r), (-c_r, s_r). */
+    const VL odd = -(q & 1);
+    const VL sbits = (odd & (VL)cos_r) | (~odd & (VL)sin_r);
+    const VL cbits = (odd & (VL)sin_r) | (~odd & (VL)cos_r);
+    *s = (VD)(sbits ^ ((q & 2) << 62));
+    *c = (VD)(cbits ^ (((q + 1) & 2) << 62));
+    *outside |= ~((x <= LANES_TRIG_MAX) & (x >= -LANES_TRIG_MAX));
+}
+
+/* x^ERROR_EXPONENT (the step-size control's power of the error) for x a positive normal double: fdlibm's log
+ * and exp (lanes.c), a few units in the last place from libm's pow. Another x sets its element of *outside. */
+LATTR VD LNAME(error_power)(VD x, VL *outside)
+{
+    const VL bits = (VL)x;
+    const VD m1 = (VD)((bits & LANES_MANTISSA) | LANES_ONE_BITS); /* x = 2^e m1, m1 in [1, 2) */
+    const VL big = m1 > LANES_SQRT2;                              /* then m in [sqrt(1/2), sqrt(2)) */
+    const VD m = (VD)((big & (VL)(0.5 * m1)) | (~big & (VL)m1));
+    const VD e = (VD)((((bits >> 52) & 0x7ff) - 1023 - big) + LANES_SHIFTER_BITS) - LANES_SHIFTER;
+    const VD f = m - 1.0, s = f / (2.0 + f), z = s * s, w = z * z;
+    const VD r = z * (LANES_LG1 + w * (LANES_LG3 + w * (LANES_LG5 + w * LANES_LG7))) +
+                 w * (LANES_LG2 + w * (LANES_LG4 + w * LANES_LG6));
+    const VD hfsq = 0.5 * f * f;
+    const VD y = ERROR_EXPONENT * (e * LANES_LN2_HI - ((hfsq - (s * (hfsq + r) + e * LANES_LN2_LO)) - f));
+    /* exp(y) = 2^k exp(t), t = y - k ln 2 in [-ln(2)/2, ln(2)/2] */
+    const VD shifted = y * LANES_INVLN2 + LANES_SHIFTER;
+    const VD k = shifted - LANES_SHIFTER;
+    const VD hi = y - k * LANES_LN2_HI, lo = k * LANES_LN2_LO, t = hi - lo, tt = t * t;
+    const VD c = t - tt * (LANES_P1 + tt * (LANES_P2 + tt * (LANES_P3 + tt * (LANES_P4 + tt * LANES_P5))));
+    const VD et = 1.0 - ((lo - (t * c) / (2.0 - c)) - hi);
+    *outside |= ~((x >= DBL_MIN) & (x <= DBL_MAX));
+    return (VD)((VL)et + (((VL)shifted - LANES_SHIFTER_BITS) << 52));
+}
+
+/* The generated right-hand side's sincos: the flag of the arguments out of range is the caller's `outside`. */
+#define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, outside)
+LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *outside)
+#if LANES_CONTACT
+LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *outside __attribute__((unused)))
+#endif
+#undef LANES_SINCOS
+
+/* The ground motion of each lane: a one-sine pulse acting (its amplitude, circular frequency and phase), another
+ * motion acting, or none (after the pulse). */
+typedef struct LNAME(sines) {
+    VD a, omega, psi;
+    VL sine;       /* -1 where the lane's pulse is a one-sine acting */
+    int other[LW]; /* the lane's pulse is another motion, acting */
+    int any_sine, any_other;
+} LNAME(sines);
+
+/* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), another
+ * motion by ode_ag, 0 after the pulse. */
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *outside)
+{
+    VD ag = LNAME(splat)(0.0), s, c;
+    int j;
+    if (p->any_sine) {
+        LNAME(sincos)(p->omega * t + p->psi, &s, &c, outside);
+        ag = (VD)((VL)(p->a * s) & p->sine);
+    }
+    if (p->any_other)
+        for (j = 0; j < LW; ++j)
+            if (p->other[j])
+                ag[j] = ode_ag(ls[j]->o, t[j]);
+    return ag;
+}
+
+/* The stages and the error estimate of the steps the LW lanes ls ask for (lanes_stages), dopri_stages_of and
+ * dopri_error over vectors: the stages into each lane's d->k, the new state into its y_new, the error into
+ * its err; except the lanes where an argument of sin or cos was out of the vector functions' range: their
+ * bits in the mask returned, the caller computes those steps scalar. */
+static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
+{
+    VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
+    VL outside = (VL){0}, contact = (VL){0}; /* contact: -1 where the lane is in full contact */
+    LNAME(sines) pulse;
+    int i, j, s, scalar = 0, any_contact = 0, any_rocking = 0;
+    pulse.any_sine = pulse.any_other = 0;
+    for (j = 0; j < LW; ++j) {
+        const lane *l = ls[j];
+        t0[j] = l->d->t;
+        h[j] = l->h;
+        t_new[j] = l->t_new;
+        rtol[j] = l->tol->rtol;
+        for (i = 0; i < NY; ++i) {
+            y0[i][j] = l->d->y[i];
+            k[0][i][j] = l->d->f[i];
+            atol[i][j] = l->tol->atol[i];
+        }
+#define GATHER(i) cst[i][j] = l->o->cst[i];
+        LANES_CST_USED(GATHER)
+#undef GATHER
+        {
+            const int in_contact = l->o->rhs == ODE_PULSE_CONTACT || l->o->rhs == ODE_FREE_CONTACT;
+            contact[j] = -in_contact;
+            any_contact |= in_contact;
+            any_rocking |= !in_contact;
+        }
+        {
+            const int sine = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
+            pulse.sine[j] = -sine;
+            pulse.a[j] = sine ? l->o->c->a_g : 0.0;
+            pulse.omega[j] = sine ? l->o->c->omega_g : 0.0;
+            pulse.psi[j] = sine ? l->o->c->psi : 0.0;
+            pulse.other[j] = l->o->pulse_on && !sine;
+            pulse.any_sine |= sine;
+            pulse.any_other |= pulse.other[j];
+        }
+    }
+    ag_new = LNAME(splat)(0.0);
+#pragma GCC unroll 8
+    for (s = 1; s < STAGES; ++s) {
+        VD acc[NY], ag;
+        for (i = 0; i < NY; ++i) {
+            acc[i] = 0.0 + RK_A[s][0] * k[0][i];
+#pragma GCC unroll 8
+            for (j = 1; j < s; ++j)
+                acc[i] += RK_A[s][j] * k[j][i];
+            y[i] = y0[i] + h * acc[i];
+        }
+        if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
+            if (RK_C[s - 1] != 1.0)
+                ag_new = LNAME(ground)(ls, t_new, &pulse, &outside);
+            ag = ag_new;
+        } else {
+            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, &pulse, &outside);
+        }
+        if (any_rocking)
+            LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &outside);
+        else
+            for (i = 0; i < NQ; ++i)
+                k[s][NQ + i] = LNAME(splat)(0.0);
+#if LANES_CONTACT
+        if (any_contact) {
+            VD in_contact[NQ];
+            LNAME(contact_accel)(y, ag, cst, in_contact, &outside);
+            for (i = 0; i < NQ; ++i)
+                k[s][NQ + i] = (VD)((contact & (VL)in_contact[i]) | (~contact & (VL)k[s][NQ + i]));
+        }
+#endif
+        for (i = 0; i < NQ; ++i)
+            k[s][i] = y[NQ + i];
+    }
+    for (j = 0; j < LW; ++j)
+        scalar |= outside[j] != 0 ? 1 << j : 0;
+    {
+        VD sum = LNAME(splat)(0.0);
+        const VL magnitude = (VL){0} + INT64_MAX; /* the bits of a double but its sign: fabs */
+        for (i = 0; i < NY; ++i) {
+            VD err = 0.0 + RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & magnitude), b = (VD)((VL)y[i] & magnitude), r;
+            VL larger = a > b;
+            for (s = 1; s < STAGES; ++s)
+                err += RK_E[s] * k[s][i];
+            err *= h;
+            r = err / (atol[i] + rtol * (VD)((larger & (VL)a) | (~larger & (VL)b)));
+            sum += r * r;
+        }
+        VD err, power;
+        VL odd = (VL){0};
+        for (j = 0; j < LW; ++j)
+            err[j] = sqrt(sum[j] / NY);
+        power = LNAME(error_power)(err, &odd);
+        for (j = 0; j < LW; ++j) {
+            lane *l = ls[j];
+            if (scalar & (1 << j))
+                continue;
+            l->err = err[j];
+            l->power = odd[j] ? pow(err[j], ERROR_EXPONENT) : power[j];
+            for (s = 0; s < STAGES; ++s)
+                for (i = 0; i < NY; ++i)
+                    l->d->k[s][i] = k[s][i][j];
+            for (i = 0; i < NY; ++i)
+                l->y_new[i] = y[i][j];
+            if (pulse.sine[j]) { /* ode_ag's memo, as the scalar stages leave it */
+                l->o->memo_t = t_new[j];
+                l->o->memo_ag = ag_new[j];
+            }
+        }
+    }
+    return scalar;
+}
+
+#undef LATTR
+#undef VD
+#undef VL
