@@ -217,8 +217,11 @@ def test_a_vertical_map_past_beta_f_holds_each_cells_flights_and_its_adaptive_ma
         cell = data.sel(part="bare", Omega=Omega, beta=beta, sign=1)
         pulse = rocking.OneSinePulse.from_nondim(BLOCK, beta=beta, Omega=Omega, vertical=rocking.Vertical(1.0))
         r = rocking.simulate(BLOCK, None, pulse)
-        assert (cell["flights"], cell["flight_time"], cell["jump_max"]) == (r.flights, r.flight_time, r.jump_max)
-        assert STATUS[int(cell["status"])] == r.status
+        assert int(cell["flights"]) == r.flights and STATUS[int(cell["status"])] == r.status
+        # The map's batch runs in lanes: its values to issue 40's bound (tests/test_lanes.py).
+        assert (float(cell["flight_time"]), float(cell["jump_max"])) == pytest.approx(
+            (r.flight_time, r.jump_max), rel=1e-7
+        )
     # The adaptive map, refined on the classes of flight too, finds the same overturning and flights.
     assert not adaptive.data["computed"].values.all()
     for k in ("overturned", "flew"):

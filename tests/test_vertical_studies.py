@@ -174,8 +174,9 @@ def test_the_runs_of_a_sampled_motion_carry_its_vertical_component():
             rocking.SampledMotion(motion.a, 0.01, a_v=motion.a_v, scale=scale, sign=-1),
         )
         status = rocking.sim.boundary.STATUS[result["status"][k]]
-        assert result["theta_max"][k] == one.theta_max and status == one.status
-        assert result["flights"][k] == one.flights and result["jump_max"][k] == one.jump_max
+        # The batch runs in lanes: its maxima to issue 40's bound (tests/test_lanes.py), counts identical.
+        assert result["theta_max"][k] == pytest.approx(one.theta_max, rel=1e-7) and status == one.status
+        assert result["flights"][k] == one.flights and result["jump_max"][k] == pytest.approx(one.jump_max, rel=1e-7)
     # 0.5 x 4 m/s^2 < g: on the floor; 3 x 4 m/s^2 > g: the omd flies (docs/model.md section 16), no status flight.
     assert result["flights"][0] == 0 and result["flights"][2] > 0
     assert rocking.sim.boundary.STATUS[result["status"][2]] != "flight"
