@@ -172,18 +172,22 @@ def rotation_axes(ax, response, alpha: float, label: str = "") -> None:
     ax.set_ylabel(r"$\theta / \alpha$")
 
 
-def _slips(response, history) -> bool:
-    """The response's base can slip (a floor with friction) or slipped (its ``u`` moved in flight)."""
-    return "u" in history and (response.inputs.settings["mu_s"] < np.inf or bool(np.any(history["u"] != 0.0)))
+def _slips(response, history: dict) -> bool:
+    """The response's base may move on the floor: it has a floor with friction, or it flew (a model with flight
+    records ``u`` on the paper's floor too, 0 unless it flies: docs/model.md section 16)."""
+    if "u" not in history:
+        return False
+    inputs = response.inputs
+    return bool((inputs is not None and np.isfinite(inputs.settings["mu_s"])) or np.any(history["u"]))
 
 
 def _slip_panel(ax, responses: dict, histories: dict, colours: dict) -> None:
     """The base's slip ``u(t)`` of each response on a floor with friction, in mm, its peak and residual said."""
     unit, scale = SLIP_UNIT
     for label, h in histories.items():
-        if not _slips(responses[label], h):
-            continue
         r = responses[label]
+        if not _slips(r, h):
+            continue
         ax.plot(
             h["t"],
             h["u"] / scale,
@@ -251,8 +255,6 @@ def response_figure(
         )
     )
     units = {name: coordinate_unit(model, name) if model else "m" for name in names}
-    # A flight model records the floor's columns on every floor: the slip panel where the base can slip (a finite
-    # floor) or slipped (in flight).
     slip = any(_slips(responses[label], h) for label, h in histories.items())
     fig = Figure(figsize=(8, 3 + 2 * (len(names) + slip)), layout="constrained") if fig is None else fig
     axes = fig.subplots(2 + slip + len(names), 1, sharex=True)
