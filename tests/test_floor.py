@@ -332,7 +332,7 @@ def test_a_study_with_a_floor_is_saved_and_loads_with_it(tmp_path, monkeypatch):
         ({"mu_s": 0.5, "mu_k": 0.6}, r"^setting: mu_k must be in \(0, mu_s\] = \(0, 0\.5\] \(got 0\.6\)"),
         ({"mu_s": 0.5}, r"^setting: floor: no mu_k in it"),
         ({"mu_s": math.inf, "mu_k": math.inf}, r"^setting: floor: .* is what a study records by leaving floor out"),
-        (0.5, r"^setting: floor must be an object of mu_k, mu_s"),
+        (0.5, r"^setting: floor must be an object of e_n, mu_k, mu_s"),
     ):
         with pytest.raises(ParameterError, match=refused):
             check_fields("map", {**config, "floor": floor})

@@ -10,10 +10,10 @@ from matplotlib.container import ErrorbarContainer
 import rocking
 from rocking.cli.main import main
 from rocking.plot.figures import vertical_spectra_figure
-from rocking.study.config import Setting, flight_beta
+from rocking.study.config import Setting, Variant, flight_beta
 from rocking.study.overturning_map import UndeterminedWarning
 from rocking.study.spectrum import envelope, safe_windows
-from rocking.study.vocabulary import ABOVE, FLIGHT
+from rocking.study.vocabulary import ABOVE, BRACKETED, FLIGHT
 
 BLOCK = rocking.Block.reference()
 OMEGA, BETA = [2.0, 4.0, 8.0], [1.0, 2.5, 4.5]
@@ -54,31 +54,49 @@ def test_ratio_zero_is_the_study_without_a_vertical_component(tmp_path):
         assert np.array_equal(plain.data[name].values, zero.data[name].values, equal_nan=True)
 
 
-def test_a_spectrum_knows_where_the_ground_pulls_past_gravity(tmp_path):
+#: A pendulum damper whose bob hangs at the omd's mass point (H + h), gamma = 0.05, tuned near p, zeta = 0.05: a model
+#: without flight functions (tests/test_study_variants.py).
+PENDULUM_L = 0.5
+PENDULUM = {
+    "m": 0.05 * BLOCK.M,
+    "l": PENDULUM_L,
+    "x_p": 0.0,
+    "y_p": BLOCK.H + 0.05 + PENDULUM_L,
+    "k_phi": max(0.05 * BLOCK.M * PENDULUM_L**2 * (BLOCK.p**2 - BLOCK.g / PENDULUM_L), 0.0),
+    "c_phi": 2 * 0.05 * 0.05 * BLOCK.M * PENDULUM_L**2 * BLOCK.p,
+}
+
+
+def test_a_spectrum_reads_a_flight_model_past_beta_f_and_a_model_without_flight_up_to_it(tmp_path):
     beta = rocking.Grid("beta", 0.5, 8.0, 16)
     with pytest.warns(UndeterminedWarning, match="status flight"):
         study = rocking.minimum_overturning_spectrum(
-            BLOCK, None, Omega=[10.0], beta=beta, vertical_ratio=1.0, runs=tmp_path, workers=1, progress=False,
-            study=True,
+            BLOCK, Variant("pendulum", PENDULUM), Omega=[10.0], beta=beta, vertical_ratio=1.0, runs=tmp_path,
+            workers=1, progress=False, study=True, directions="positive",
         )  # fmt: skip
     # A one-sine in phase: g + ddy_g <= 0 once ratio beta tan(alpha) >= 1, beta >= 4 on the reference block.
     assert flight_beta(BLOCK, study.config) == pytest.approx(1.0 / BLOCK.tan_alpha, rel=1e-9)
     assert flight_beta(BLOCK, {}) == math.inf
-    data = study.data
-    # At Omega = 10 the block survives up to beta = 4: past it every run of the scan (4.5 .. 8) ends with status
-    # flight, without a verdict, and beta_min is not reached in the scan.
-    assert (data["flag"] == ABOVE).all()
-    assert (data["undetermined"] == np.count_nonzero(beta.values() > 4.0)).all()
+    bare, damped = (study.data.sel(part=part, sign=1, Omega=10.0) for part in ("bare", "damper"))
+    # The block alone flies (docs/model.md section 16): its column is read to its end, its runs past beta_f fly and
+    # land to a verdict, and it overturns above beta_f = 4 after a flight.
+    assert not (bare["scan_outcome"] == FLIGHT).any() and bare["flag"] == BRACKETED
+    assert bare["beta_min"] > 4.0 and bare["beta_min_flew"] == 1 and bare["flown"] > 0
+    # The pendulum has no flight functions: at Omega = 10 it survives up to beta = 4, past it every run of the scan
+    # (4.5 .. 8) ends with status flight, without a verdict, and beta_min is not reached in the scan.
+    assert damped["flag"] == ABOVE and damped["undetermined"] == np.count_nonzero(beta.values() > 4.0)
     # The lower bound is the last amplitude with a verdict, below the flights, which are no safe window.
-    assert data["beta_min"].isnull().all() and (data["beta_min_lower_bound"] == 4.0).all()  # censored
-    assert (data["scan_outcome"].sel(beta_scan=slice(4.5, None)) == FLIGHT).all()
-    assert len(safe_windows(envelope(data), "bare")) == 0
-    # Its figure draws that lower bound, an open triangle at beta = 4, with its legend entry.
+    assert np.isnan(damped["beta_min"]) and damped["beta_min_lower_bound"] == 4.0  # censored
+    assert (damped["scan_outcome"].sel(beta_scan=slice(4.5, None)) == FLIGHT).all()
+    assert damped["flown"] == 0 and len(safe_windows(envelope(study.data), "damper")) == 0
+    # Its figure draws that lower bound, a filled triangle at beta = 4, with its legend entry, and rings the block
+    # alone's beta_min.
     fig = vertical_spectra_figure([study])
     bounds = [c for ax in fig.axes for c in ax.containers if isinstance(c, ErrorbarContainer)]
     assert bounds and all(c.lines[0].get_ydata().tolist() == [4.0] for c in bounds)
     labels = [t.get_text() for legend in fig.legends for t in legend.get_texts()]
     assert any(label.startswith("lower bound") and "beta_f" in label for label in labels)
+    assert any(label.startswith("ringed") for label in labels)
 
 
 @pytest.mark.parametrize(
@@ -151,12 +169,17 @@ def test_the_runs_of_a_sampled_motion_carry_its_vertical_component():
     damper = rocking.Damper.from_nondim(BLOCK, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     for k, scale in enumerate((0.5, 2.0, 3.0)):
         one = rocking.simulate(
-            BLOCK, damper, rocking.SampledMotion(motion.a, 0.01, a_v=motion.a_v, scale=scale, sign=-1)
+            BLOCK,
+            damper,
+            rocking.SampledMotion(motion.a, 0.01, a_v=motion.a_v, scale=scale, sign=-1),
         )
-        assert (
-            result["theta_max"][k] == one.theta_max and rocking.sim.boundary.STATUS[result["status"][k]] == one.status
-        )
-    assert rocking.sim.boundary.STATUS[result["status"][2]] == "flight"  # 3 x 4 m/s^2 > g
+        status = rocking.sim.boundary.STATUS[result["status"][k]]
+        # The batch runs in lanes: its maxima to issue 40's bound (tests/test_lanes.py), counts identical.
+        assert result["theta_max"][k] == pytest.approx(one.theta_max, rel=1e-7) and status == one.status
+        assert result["flights"][k] == one.flights and result["jump_max"][k] == pytest.approx(one.jump_max, rel=1e-7)
+    # 0.5 x 4 m/s^2 < g: on the floor; 3 x 4 m/s^2 > g: the omd flies (docs/model.md section 16), no status flight.
+    assert result["flights"][0] == 0 and result["flights"][2] > 0
+    assert rocking.sim.boundary.STATUS[result["status"][2]] != "flight"
 
 
 def test_the_command_line_suite_takes_a_vertical_ratio(tmp_path, capsys):
@@ -182,11 +205,18 @@ def test_the_command_line_suite_takes_a_vertical_ratio(tmp_path, capsys):
     assert "error: --vertical-ratio must be in [0, 10]" in capsys.readouterr().err
 
 
-def test_the_map_line_counts_the_cells_without_a_verdict_per_part(tmp_path, capsys):
-    # beta_f = 4 at ratio 1: the cells at beta 5 and 6 fly unless they overturn first, in each part.
+def test_the_map_lines_count_the_cells_that_flew_and_those_without_a_verdict_per_part(tmp_path, capsys):
+    # beta_f = 4 at ratio 1: the cells at beta 5 and 6 leave the floor unless they overturn first. The block alone
+    # flies and lands (docs/model.md section 16); the pendulum has no flight functions: no verdict there.
+    pendulum = [x for name, value in PENDULUM.items() for x in ("--param", f"{name}={value!r}")]
     argv = ["map", "--Omega", "10", "10", "1", "--beta", "2", "6", "3", "--full", "--workers", "1", "--no-progress"]
+    argv += ["--model", "pendulum", *pendulum, "--directions", "positive"]
     assert main([*argv, "--vertical-ratio", "1", "--out", str(tmp_path)]) == 0
     s = rocking.load(tmp_path / "map.nc").summary
-    assert s["bare_undetermined"] > 0 and s["bare_undetermined"] <= s["cells"]
-    words = f"{s['bare_undetermined']} cells alone and {s['damper_undetermined']} with the damper without a verdict"
-    assert words in capsys.readouterr().out
+    out = capsys.readouterr().out
+    assert s["bare_undetermined"] == 0 and 0 < s["damper_undetermined"] <= s["cells"]
+    words = f"0 cells alone and {s['damper_undetermined']} with the damper without a verdict"
+    assert words in out
+    flew = s["bare_flies_and_lands"] + s["bare_flies_and_overturns"]
+    assert flew > 0 and s["damper_flies_and_lands"] + s["damper_flies_and_overturns"] == 0
+    assert f"map: the base flew in {flew} cells alone ({s['bare_flies_and_overturns']} then overturned)" in out

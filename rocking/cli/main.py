@@ -400,10 +400,16 @@ def _print_summary(block, pulse, responses, models) -> None:
                 f"  {label}: the base slid: peak u_max = {r.u_max * 1e3:.4g} mm, residual u_end = "
                 f"{r.u_end * 1e3:.4g} mm, {r.slides} slip episode(s)"
             )
+        if r.flights:  # a flight model (docs/model.md section 16): the base left the floor and landed
+            print(
+                f"  {label}: the base flew: {r.flights} flight(s), {r.flight_time:.4g} s off the floor in all, "
+                f"highest base point {r.jump_max * 1e3:.4g} mm above it"
+            )
         if r.status == "flight":
             print(
-                f"  {label}: FLIGHT: g + ddy_g reached 0 at t = {r.t_end:.4f} s, the base may leave the ground; "
-                "free flight is out of the model's scope (docs/model.md section 14), the results stop there"
+                f"  {label}: FLIGHT: the floor's normal force reached 0 at t = {r.t_end:.4f} s, the base may leave "
+                "the ground; this model has no flight functions (docs/model.md sections 14, 16), the results stop "
+                "there"
             )
         if r.status in NO_VERDICT:
             print(f"  {label}: NO VERDICT: {_no_verdict_text(r)}")
@@ -440,6 +446,11 @@ NO_VERDICT = {
         "a larger --rtol (or --history-dt) takes less work",
     ),
     "failed": ("the integrator failed at t = {t_end:g} s (step size underflow)", "check the inputs"),
+    "jammed": (
+        "a landing at t = {t_end:g} s had no consistent impulse, neither sticking nor sliding (docs/model.md "
+        "section 16)",
+        "the rigid landing laws have no answer there: a verdict needs a compliant contact",
+    ),
 }
 
 
@@ -549,8 +560,8 @@ def _simulate(args) -> int:
         responses[label] = simulate(block, d, pulse, record=record, **run, **model)
     if args.json:
         payload = _payload(block, damper, pulse, args.model, responses, models)
-        if floor is not None and floor.slides:  # the paper's floor is said by leaving it out (JSON has no inf)
-            payload["floor"] = floor.settings()
+        if floor is not None and (floor.slides or floor.e_n):  # the paper's floor is said by leaving it out
+            payload["floor"] = {k: v for k, v in floor.settings().items() if math.isfinite(v)}  # JSON has no inf
             payload["units"].update(dict.fromkeys(payload["floor"], "1"))
         print(json.dumps(payload, indent=2))
     else:

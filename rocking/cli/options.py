@@ -257,31 +257,43 @@ MU_HELP = (
     "(the paper's assumption)"
 )
 #: The floor's coefficients by the flags that give them, for the messages of :class:`~rocking.Floor`.
-FLOOR_FLAGS = {"mu_s": "--mu", "mu_k": "--mu-k"}
+FLOOR_FLAGS = {"mu_s": "--mu", "mu_k": "--mu-k", "e_n": "--e-n"}
 
 
 def add_floor_options(p: argparse.ArgumentParser) -> None:
-    """``--mu`` and ``--mu-k``: the floor of every run of the command, as ``rocking.Floor(mu, mu_k)``."""
+    """``--mu``, ``--mu-k`` and ``--e-n``: the floor of every run of the command, as
+    ``rocking.Floor(mu, mu_k, e_n)``."""
     g = p.add_argument_group(
-        "floor", "As rocking.Floor(mu_s=--mu, mu_k=--mu-k), dimensionless (docs/model.md section 15)."
+        "floor",
+        "As rocking.Floor(mu_s=--mu, mu_k=--mu-k, e_n=--e-n), dimensionless (docs/model.md sections 15 and 16).",
     )
     g.add_argument("--mu", type=float, metavar="MU", help=MU_HELP + "; in (0, inf]")
     g.add_argument("--mu-k", type=float, metavar="MU_K", help="kinetic friction of the floor, in (0, --mu]")
+    g.add_argument(
+        "--e-n",
+        type=float,
+        metavar="E_N",
+        help="normal restitution of a landing after flight (docs/model.md section 16), in [0, 1]; "
+        + default_text(Floor, "e_n")
+        + ": plastic",
+    )
 
 
 def floor_from(args: argparse.Namespace) -> Floor | None:
-    """The :class:`~rocking.Floor` of ``--mu`` and ``--mu-k``; ``None`` when neither is given (the paper's floor).
+    """The :class:`~rocking.Floor` of ``--mu``, ``--mu-k`` and ``--e-n``; ``None`` when none is given (the paper's
+    floor, plastic landings).
 
     Raises
     ------
     ParameterError
-        Naming the flag (``--mu``, ``--mu-k``) and its range.
+        Naming the flag (``--mu``, ``--mu-k``, ``--e-n``) and its range.
     """
-    chosen = given(args, ("mu", "mu_k"))
+    chosen = given(args, ("mu", "mu_k", "e_n"))
     if not chosen:
         return None
     try:
-        return floor_of(None, chosen.get("mu"), chosen.get("mu_k"))
+        floor = floor_of(None, chosen.get("mu"), chosen.get("mu_k"))
+        return Floor(floor.mu_s, floor.mu_k, chosen["e_n"]) if "e_n" in chosen else floor
     except ParameterError as exc:
         text = str(exc).replace("mu_k is the kinetic friction beside mu=: give mu", "--mu-k needs --mu")
         text = text.replace("(0, mu_s]", "(0, --mu]")

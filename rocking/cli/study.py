@@ -843,6 +843,13 @@ def map_lines(study: Study) -> list[str]:
             f"map: the base slid without overturning in {s['bare_slid']} cells alone, {s['damper_slid']} with the "
             "damper (their regime, u_max and u_end are in the data and the table)"
         )
+    if "bare_flies_and_lands" in s:  # a vertical component (docs/model.md section 16)
+        lines.append(
+            f"map: the base flew in {s['bare_flies_and_lands'] + s['bare_flies_and_overturns']} cells alone "
+            f"({s['bare_flies_and_overturns']} then overturned), "
+            f"{s['damper_flies_and_lands'] + s['damper_flies_and_overturns']} with the damper "
+            f"({s['damper_flies_and_overturns']} then overturned); flights, flight_time and jump_max are in the data"
+        )
     refinement, run = study.config["refinement"], study.run
     if refinement["adaptive"]:
         lines += [
@@ -906,6 +913,12 @@ def spectrum_lines(study: Study) -> list[str]:
         lines.append(
             f"spectrum, {part}: beta_min bracketed at {s['bracketed']} frequencies, "
             f"not reached in the scan at {s['not_overturned_in_scan']}; {s['windows']} safe windows above beta_min"
+            + (
+                f"; {s['flown']} responses flew and landed to a verdict, beta_min's flew at {s['beta_min_flew']} "
+                "frequencies"
+                if "flown" in s
+                else ""
+            )
         )
     t_max = study.summary.get("t_max", {})
     if any(t_max.values()):

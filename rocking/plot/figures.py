@@ -95,24 +95,31 @@ REGIME_STYLE = (
 )
 #: The regime map's classes: label, colour and hatch by regime code.
 REGIME_CLASSES = tuple((regime_label(code), *REGIME_STYLE[code]) for code in REGIMES)
-#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell did
-#: not overturn and a run flew, or on a floor with friction 6 or 7 where it did not overturn and the base slid
-#: (:data:`MAP_SLID_CLASSES`).
+#: Outcome classes of a map cell: label, colour and hatch; the class is min(outcome + 1, 4), or 5 where the cell
+#: did not overturn and a run ended in flight (a model without flight functions) or jammed at a landing, or on a
+#: floor with friction 6 or 7 where it did not overturn and the base slid (:data:`MAP_SLID_CLASSES`), or with a
+#: vertical component 8 or 9 where the governing response flew and landed, or flew and overturned
+#: (:data:`MAP_FLEW_CLASSES`, docs/model.md section 16).
 OUTCOME_CLASSES = (
     ("safe", LIGHT, ""),
     ("overturned, no impact", OKABE_ITO["vermillion"], ""),
     ("overturned after 1 impact", OKABE_ITO["orange"], "//"),
     ("after 2 impacts", OKABE_ITO["yellow"], ".."),
     ("after 3 or more impacts", OKABE_ITO["reddish purple"], "xx"),
-    ("no verdict: g + ddy_g reached 0 (flight)", GREY, "\\\\"),
+    ("no verdict: a run ended in flight or jammed at a landing", GREY, "\\\\"),
     *(("not overturned, " + regime_label(code), *REGIME_STYLE[code]) for code in (SLIDES, SLIDES_AND_ROCKS)),
+    ("flies and lands, not overturned", OKABE_ITO["blue"], "oo"),
+    ("flies and overturns", OKABE_ITO["black"], "oo"),
 )
+#: The outcome class of a map's cell whose governing response flew: landed without overturning, overturned.
+MAP_FLEW_CLASSES = {False: 8, True: 9}
 #: The outcome class of a map's cell that did not overturn, by the regime in which its base slid.
 MAP_SLID_CLASSES = {SLIDES: 6, SLIDES_AND_ROCKS: 7}
 #: Effect classes: bare overturned + 2 x damped overturned, 4 for cells saved only with the
 #: damper's mass past the block's edge (rocking.study.overturning_map.saved_past_edges), 5 for saved
 #: cells whose damped response an adaptive map did not compute (its stroke is not known), and 6 for cells
-#: where a part that did not overturn flew (a vertical component: no verdict, docs/model.md section 14).
+#: where a part that did not overturn ended in flight or jammed at a landing (no verdict, docs/model.md sections
+#: 14, 16).
 EFFECT_CLASSES = (
     ("safe either way", LIGHT, ""),
     ("saved by the damper", OKABE_ITO["blue"], ""),
@@ -122,7 +129,7 @@ EFFECT_CLASSES = (
     # Saved as the class above (its blue), told apart by a hatch no outcome class has: yellow dots read as the
     # outcome "after 2 impacts" of the panels beside it.
     ("saved by the damper, stroke not computed (an adaptive map's cell filled in)", OKABE_ITO["blue"], "--"),
-    ("no verdict: a run ended in flight", OKABE_ITO["reddish purple"], "\\\\"),
+    ("no verdict: a run ended in flight or jammed at a landing", OKABE_ITO["reddish purple"], "\\\\"),
 )
 #: Colour of the hatches over the classes' colours.
 HATCH_COLOUR = "#333333"
@@ -294,12 +301,13 @@ def _vertical_label(config: dict) -> str:
 
 
 def _flight_line(ax, config: dict, beta_high: float) -> list[Line2D]:
-    """The amplitude above which ``g + ddy_g`` reaches 0 (runs end with the status flight, no verdict), as a dashed
-    line when it lies below ``beta_high``; its legend handle, or none."""
+    """The amplitude above which ``g + ddy_g`` reaches 0 (the base may fly: a flight model follows it, a model
+    without flight functions ends with the status flight, no verdict), as a dashed line when it lies below
+    ``beta_high``; its legend handle, or none."""
     beta_f = flight_beta(_block(config), config)
     if not beta_f < beta_high:
         return []
-    label = rf"$\beta$ = {beta_f:.3g}: above, g + $\ddot y_g$ reaches 0 (flight, no verdict)"
+    label = rf"$\beta$ = {beta_f:.3g}: above, g + $\ddot y_g$ reaches 0 (the base may fly)"
     return [ax.axhline(beta_f, color=GREY, ls="--", lw=1.2, zorder=5, label=label)]
 
 
@@ -327,11 +335,11 @@ def _title(fig, what: str, config: dict, extra: str = "", damper: str | None = N
 
 
 def _floor_label(config: dict) -> str:
-    """A study's floor with friction for a title (docs/model.md section 15); nothing for the paper's."""
-    floor = config.get("floor")
-    if floor is None:
-        return ""
-    return rf"; floor $\mu_s$ = {floor['mu_s']:g}, $\mu_k$ = {floor['mu_k']:g}"
+    """A study's floor with friction (docs/model.md section 15) and its landings' restitution where they bounce
+    (section 16) for a title; nothing for the paper's."""
+    floor = config.get("floor", {})
+    friction = rf"; floor $\mu_s$ = {floor['mu_s']:g}, $\mu_k$ = {floor['mu_k']:g}" if "mu_s" in floor else ""
+    return friction + (f"; landings e_n = {floor['e_n']:g}" if floor.get("e_n") else "")
 
 
 def _suptitle(fig, text: str, fontsize: float = 10) -> None:
@@ -565,11 +573,10 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
     env = envelope(data)
     Om, beta = data["Omega"].values, data["beta"].values
     over, impacts = ({part: env[k].sel(part=part).values for part in PARTS} for k in ("overturned", "impacts"))
-    # Cells that did not overturn in either direction but flew in one: no verdict (docs/model.md section 14).
-    flew = {
-        part: (data["status"].sel(part=part) == STATUS.index("flight")).any("sign").values & ~over[part]
-        for part in PARTS
-    }
+    # Cells that did not overturn in either direction but ended in flight in one, on a model without flight
+    # functions, or jammed at a landing: no verdict (docs/model.md sections 14, 16).
+    ended = [STATUS.index("flight"), STATUS.index("jammed")]
+    flew = {part: data["status"].sel(part=part).isin(ended).any("sign").values & ~over[part] for part in PARTS}
     fig, (axes,) = _panels((15, 6.2), (1, 3), fig, ax, sharex=True, sharey=True)
     cls = {part: _outcome_classes(env, part, over[part], impacts[part], flew[part]) for part in PARTS}
     for ax, part in zip(axes, PARTS):
@@ -606,13 +613,19 @@ def map_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figure:
 
 def _outcome_classes(env, part: str, over, impacts, flew) -> np.ndarray:
     """The :data:`OUTCOME_CLASSES` of a part's cells (``env``: the map's envelope): overturned after so many
-    impacts, flew, or on a floor with friction slid without overturning (:data:`MAP_SLID_CLASSES`), else safe."""
+    impacts, ended in flight without a verdict, or on a floor with friction slid without overturning
+    (:data:`MAP_SLID_CLASSES`), else safe; with a vertical component a cell whose governing response flew is
+    :data:`MAP_FLEW_CLASSES`."""
     safe = np.zeros(over.shape, int)
     if "regime" in env:
         regime = env["regime"].sel(part=part).values
         for code, k in MAP_SLID_CLASSES.items():
             safe[regime == code] = k
-    return np.where(over, np.minimum(impacts + 1, 4), np.where(flew, 5, safe))
+    classes = np.where(over, np.minimum(impacts + 1, 4), np.where(flew, 5, safe))
+    if "flew" in env:  # a vertical component: the governing response flew, and landed or overturned
+        landed = (env["flew"].sel(part=part).values == 1) & ~flew
+        classes = np.where(landed, np.where(over, MAP_FLEW_CLASSES[True], MAP_FLEW_CLASSES[False]), classes)
+    return classes
 
 
 @_figure_function
@@ -760,11 +773,13 @@ def spectrum_figure(study: Study, *, fig: Figure | None = None, ax=None) -> Figu
 def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> Figure:
     """``beta_min(Omega)`` of spectra that differ only in their pulses' vertical ratio (docs/model.md section 14),
     one panel per direction: the block alone dashed, with its damper solid, a colour per ratio; each ratio's
-    ``beta_f`` (above it the ground pulls past gravity: flight, no verdict) dotted in its colour.
+    ``beta_f`` (above it the ground pulls past gravity: the base may fly) dotted in its colour.
 
-    The bracketed ``beta_min`` are joined; where the scan found no overturning up to its last amplitude, or up
-    to the one before its first flight (past ``beta_f`` a run ends in flight), that amplitude is an open
-    triangle pointing up (a lower bound), and where it overturned at its first amplitude, one pointing down.
+    The bracketed ``beta_min`` are joined, ringed where the response that overturns there flew first (flies and
+    overturns, docs/model.md section 16); where the scan found no overturning up to its last amplitude, or, on a
+    model without flight functions, up to the one before its first flight (past ``beta_f`` such a run ends in
+    flight, no verdict), that amplitude is an open triangle pointing up (a lower bound), and where it overturned
+    at its first amplitude, one pointing down.
     """
     studies = sorted(studies, key=lambda st: st.config.get("vertical", {}).get("ratio", 0.0))
     config = studies[0].config
@@ -774,10 +789,16 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     arrow = 0.03 * (scan["high"] - scan["low"]) if scan["n"] > 1 else 0.03 * scan["high"]
     groups: list[list] = []
     bounded = set()
+    ringed = False
     Om = studies[0].data["Omega"].values
-    # The two parts' bounds lie at the same amplitudes (the scan's end): side by side, not one over the other,
-    # the block alone's open, the damper's filled.
-    dodge = {"bare": -0.2, "damper": 0.2}
+    # The parts' bounds lie at the same amplitudes (the scan's end, for every ratio whose runs fly and land): side
+    # by side, a slot per ratio and part within 0.6 of a step, not one over the other, the block alone's open, the
+    # damper's filled.
+    slots = 2 * len(studies)
+
+    def dodge(i: int, part: str) -> float:
+        return (2 * i + (part == "damper") - (slots - 1) / 2) * 0.6 / slots
+
     step = float(np.min(np.diff(Om))) if Om.size > 1 else 1.0
     for i, study in enumerate(studies):
         ratio = study.config.get("vertical", {}).get("ratio", 0.0)
@@ -795,18 +816,24 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
                 )
                 if panel is axes[0]:
                     handles += drawn
+                if "beta_min_flew" in cell:  # a vertical component: the overturning response at beta_min flew
+                    flew = cell["beta_min_flew"].values == 1
+                    panel.plot(data["Omega"].values[flew], bracketed[flew], "o", mfc="none", mec=colour, ms=9)
+                    ringed |= bool(flew.any())
                 for code, up in ((ABOVE, True), (BELOW, False)):
                     sel = cell["flag"].values == code
                     if sel.any():
                         bound = beta_min_or_bound(cell)[sel]
-                        x = data["Omega"].values[sel] + dodge[part] * step
+                        x = data["Omega"].values[sel] + dodge(i, part) * step
                         _bounds(panel, x, bound, arrow, colour, up, face=colour if part == "damper" else "white")
                         bounded.add(up)
             beta_f = flight_beta(_block(study.config), study.config)
             if beta_f < study.config["beta"]["high"]:
                 flight = panel.axhline(beta_f, color=colour, ls=":", lw=1.5)
                 if panel is axes[0]:
-                    flight.set_label(rf"r = {ratio:g}: $\beta_f$ = {beta_f:.3g}, g + $\ddot y_g$ reaches 0 above")
+                    flight.set_label(
+                        rf"r = {ratio:g}: $\beta_f$ = {beta_f:.3g}, g + $\ddot y_g$ reaches 0 above (flight)"
+                    )
                     handles.append(flight)
         groups.append(handles)
     block = _block(config)
@@ -820,9 +847,16 @@ def vertical_spectra_figure(studies, *, fig: Figure | None = None, ax=None) -> F
     for up in sorted(bounded, reverse=True):
         handle = _bound_handle(up)
         if up:
-            handle.set_label(r"lower bound (no overturning up to the last $\beta$ scanned or below $\beta_f$)")
+            handle.set_label(
+                r"lower bound (no overturning up to the last $\beta$ scanned, or below $\beta_f$ on a model without "
+                "flight functions)"
+            )
         handle.set_label(f"{handle.get_label()};\nopen: block alone, filled: with damper")
         bounds.append(handle)
+    if ringed:
+        ring = Line2D([], [], ls="none", marker="o", mfc="none", mec=HATCH_COLOUR, ms=9)
+        bounds.append(ring)
+        ring.set_label(r"ringed: the response overturning at $\beta_{min}$ flew first (flies and overturns)")
     groups += [bounds] if bounds else []
     # A column per ratio (a legend fills its columns in turn): each group padded with blank entries to the longest.
     rows = max(map(len, groups))

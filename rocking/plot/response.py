@@ -18,12 +18,12 @@ from ..model.loading import load_model
 from ..model.motion import describe, peak
 from ..model.outputs import atomic_write
 from ..model.params import RANGES, Block, Damper
-from ..sim.history import FLOOR_COLUMNS
+from ..sim.history import FLIGHT_COLUMNS, FLOOR_COLUMNS
 from .style import CYCLE, GREY, OKABE_ITO, PULSE_NAMES, quantity, symbol, wrap
 
 #: The history's entries that are not a coordinate of the damper (rocking.sim.problem.Response.history): the base's
 #: slip ``u`` (m), its speed and its sliding direction on a floor with friction have a panel of their own.
-NOT_COORDINATES = ("t", "phase", "ag", "theta", *FLOOR_COLUMNS)
+NOT_COORDINATES = ("t", "phase", "ag", "theta", *FLOOR_COLUMNS, *FLIGHT_COLUMNS)
 #: The slip panel's unit: mm, m per unit.
 SLIP_UNIT = ("mm", 1e-3)
 
@@ -172,13 +172,22 @@ def rotation_axes(ax, response, alpha: float, label: str = "") -> None:
     ax.set_ylabel(r"$\theta / \alpha$")
 
 
+def _slips(response, history: dict) -> bool:
+    """The response's base may move on the floor: it has a floor with friction, or it flew (a model with flight
+    records ``u`` on the paper's floor too, 0 unless it flies: docs/model.md section 16)."""
+    if "u" not in history:
+        return False
+    inputs = response.inputs
+    return bool((inputs is not None and np.isfinite(inputs.settings["mu_s"])) or np.any(history["u"]))
+
+
 def _slip_panel(ax, responses: dict, histories: dict, colours: dict) -> None:
     """The base's slip ``u(t)`` of each response on a floor with friction, in mm, its peak and residual said."""
     unit, scale = SLIP_UNIT
     for label, h in histories.items():
-        if "u" not in h:
-            continue
         r = responses[label]
+        if not _slips(r, h):
+            continue
         ax.plot(
             h["t"],
             h["u"] / scale,
@@ -246,7 +255,7 @@ def response_figure(
         )
     )
     units = {name: coordinate_unit(model, name) if model else "m" for name in names}
-    slip = any("u" in h for h in histories.values())
+    slip = any(_slips(responses[label], h) for label, h in histories.items())
     fig = Figure(figsize=(8, 3 + 2 * (len(names) + slip)), layout="constrained") if fig is None else fig
     axes = fig.subplots(2 + slip + len(names), 1, sharex=True)
     ax_th, ax_g = axes[0], axes[-1]

@@ -21,10 +21,11 @@ Omega, beta or T_g, a_g
     ``a_g / (g tan alpha)``, or in their place periods ``T_g = 2 pi / omega_g`` (s) and amplitudes ``a_g``
     (m/s^2), as arrays or :class:`~rocking.study.config.Grid` (:func:`rocking.study.config.pulse_grids`;
     docs/model.md section 9). Each quantity one way: ``Omega`` or ``T_g``, ``beta`` or ``a_g``.
-mu, mu_k
-    The floor of every response, ``rocking.Floor(mu, mu_k)`` (:class:`~rocking.study.config.Setting`,
-    docs/model.md section 15): static and kinetic Coulomb friction, dimensionless; default ``None``: the
-    paper's floor, on which the base never slides. Only a back end that follows friction runs a finite one.
+mu, mu_k, e_n
+    The floor of every response, ``rocking.Floor(mu, mu_k, e_n)`` (:class:`~rocking.study.config.Setting`,
+    docs/model.md sections 15 and 16): static and kinetic Coulomb friction, dimensionless, and the normal
+    restitution of a landing after flight, in [0, 1]; default ``None``: the paper's floor, on which the base
+    never slides, with plastic landings (``e_n = 0``). Only a back end that follows friction runs a finite one.
 vertical_ratio, vertical_phase
     The maps' and spectra's vertical component of every pulse, ``rocking.Vertical(vertical_ratio,
     vertical_phase)`` (:class:`~rocking.study.config.Setting`, docs/model.md section 14): ratio in [0, 10]
@@ -55,7 +56,7 @@ from pathlib import Path
 import numpy as np
 import platformdirs
 
-from ..model.floor import floor_of
+from ..model.floor import Floor, floor_of
 from ..model.params import Block, Damper, ParameterError, check_block
 from .config import Grid, Setting, Tuning, Variant, pulse_grids, tm_omega_ratio
 from .design import REFINE
@@ -90,7 +91,7 @@ def runs_folder() -> Path:
 def _setting(
     block, rtol: float, t_after: float, backend: str, pulse: str = "sine", gamma_mp=None, nu=None, *, floor, **vertical
 ):
-    """The study's :class:`Setting`; ``floor``: ``(mu, mu_k)``; ``vertical``: ``vertical_ratio`` and
+    """The study's :class:`Setting`; ``floor``: ``(mu, mu_k, e_n)``; ``vertical``: ``vertical_ratio`` and
     ``vertical_phase`` of the maps and spectra."""
     shape = {"gamma_mp": gamma_mp} | ({} if nu is None else {"nu": nu})
     return Setting(
@@ -99,10 +100,17 @@ def _setting(
         t_after=t_after,
         backend=backend,
         pulse=pulse,
-        floor=floor_of(None, *floor),
+        floor=_floor(*floor),
         **shape,
         **vertical,
     )
+
+
+def _floor(mu, mu_k, e_n=None) -> Floor:
+    """The :class:`Floor` of a study's ``mu``, ``mu_k`` (:func:`rocking.model.floor.floor_of`) and ``e_n`` (None:
+    plastic)."""
+    floor = floor_of(None, mu, mu_k)
+    return floor if e_n is None else Floor(floor.mu_s, floor.mu_k, e_n)
 
 
 def _tuning(damper) -> Tuning | Variant:
@@ -187,6 +195,7 @@ def overturning_map(
     vertical_phase: float = Setting.vertical_phase,
     mu: float | None = None,
     mu_k: float | None = None,
+    e_n: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -209,7 +218,7 @@ def overturning_map(
         In place of ``Omega`` and ``beta``: pulse periods ``T_g`` (s) and amplitudes ``a_g`` (m/s^2).
     directions, full, coarse, verify, tile
         As :func:`rocking.study.overturning_map.overturning_map`.
-    rtol, t_after, pulse, gamma_mp, nu, mu, mu_k, backend, workers, scheduler, dask_workers, runs, progress, study
+    rtol, t_after, pulse, gamma_mp, nu, mu, mu_k, e_n, backend, workers, scheduler, dask_workers, runs, progress, study
         Shared by every study (:mod:`rocking.study.api`).
     vertical_ratio, vertical_phase : float, optional
         The vertical component of every pulse (:mod:`rocking.study.api`); default none.
@@ -241,7 +250,7 @@ def overturning_map(
             pulse,
             gamma_mp,
             nu,
-            floor=(mu, mu_k),
+            floor=(mu, mu_k, e_n),
             vertical_ratio=vertical_ratio,
             vertical_phase=vertical_phase,
         ),
@@ -362,6 +371,7 @@ def minimum_overturning_spectrum(
     vertical_phase: float = Setting.vertical_phase,
     mu: float | None = None,
     mu_k: float | None = None,
+    e_n: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -401,7 +411,7 @@ def minimum_overturning_spectrum(
             pulse,
             gamma_mp,
             nu,
-            floor=(mu, mu_k),
+            floor=(mu, mu_k, e_n),
             vertical_ratio=vertical_ratio,
             vertical_phase=vertical_phase,
         ),
@@ -438,6 +448,7 @@ def optimal_damper(
     nu: float | None = None,
     mu: float | None = None,
     mu_k: float | None = None,
+    e_n: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -468,7 +479,7 @@ def optimal_damper(
     """
     return _run(
         _optimal_damper,
-        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(mu, mu_k)),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(mu, mu_k, e_n)),
         gammas,
         _grid("Omega", Omega),
         _grid("beta", beta),
@@ -510,6 +521,7 @@ def design(
     nu: float | None = None,
     mu: float | None = None,
     mu_k: float | None = None,
+    e_n: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -553,7 +565,7 @@ def design(
     """
     return _run(
         _design,
-        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(mu, mu_k)),
+        _setting(block, rtol, t_after, backend, pulse, gamma_mp, nu, floor=(mu, mu_k, e_n)),
         *_pulse_grids(check_block(block), Omega, beta, T_g, a_g),
         workers=workers,
         scheduler=scheduler,
@@ -715,6 +727,7 @@ def incremental_dynamic_analysis(
     t_after: float = Setting.t_after,
     mu: float | None = None,
     mu_k: float | None = None,
+    e_n: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -752,7 +765,7 @@ def incremental_dynamic_analysis(
     pulses, periods, amplitude, gamma_mp, nu
         Instead: a family of pulses (``"sine"``, ``"ricker"``, ``"mp"``, ...), one per period (s), of
         amplitude ``amplitude`` (m/s^2, default 1 g) and the MP shape (:func:`rocking.study.suite.of_pulses`).
-    damper, directions, rtol, t_after, mu, mu_k, backend, workers, scheduler, dask_workers, runs, progress, study
+    damper, directions, rtol, t_after, mu, mu_k, e_n, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
     check : {"tolerance", "none"}, optional
         The tolerance check of every response, as :func:`rocking.simulate`'s (docs/simulation.md,
@@ -790,7 +803,7 @@ def incremental_dynamic_analysis(
         directions=directions,
         rtol=rtol,
         t_after=t_after,
-        floor=(mu, mu_k),
+        floor=(mu, mu_k, e_n),
         backend=backend,
         workers=workers,
         scheduler=scheduler,
@@ -826,6 +839,7 @@ def fragility(
     t_after: float = Setting.t_after,
     mu: float | None = None,
     mu_k: float | None = None,
+    e_n: float | None = None,
     backend: str = "c",
     workers: int | None = None,
     scheduler: str | None = None,
@@ -851,7 +865,7 @@ def fragility(
         the horizontal record's.
     pulses, periods, amplitude, gamma_mp, nu, check
         As :func:`incremental_dynamic_analysis`.
-    damper, directions, rtol, t_after, mu, mu_k, backend, workers, scheduler, dask_workers, runs, progress, study
+    damper, directions, rtol, t_after, mu, mu_k, e_n, backend, workers, scheduler, dask_workers, runs, progress, study
         As :func:`overturning_map`.
 
     Returns
@@ -893,7 +907,7 @@ def fragility(
         directions=directions,
         rtol=rtol,
         t_after=t_after,
-        floor=(mu, mu_k),
+        floor=(mu, mu_k, e_n),
         backend=backend,
         workers=workers,
         scheduler=scheduler,

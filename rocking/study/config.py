@@ -288,9 +288,9 @@ class Setting:
         (docs/model.md section 14): ``ddy_g = vertical_ratio a_g f(t + vertical_phase / omega_g)``, > 0 up,
         unsigned by the pulse's direction; the ratio in [0, 10], the lead in [0, 2 pi) rad. Default 0, 0: none.
     floor : Floor, optional
-        The floor of every response, its Coulomb friction (docs/model.md section 15); default ``None``,
-        ``Floor()``: the paper's, on which the base never slides. Only a back end that follows friction runs a
-        finite one.
+        The floor of every response, its Coulomb friction (docs/model.md section 15) and its landings' normal
+        restitution ``e_n`` (section 16); default ``None``, ``Floor()``: the paper's, on which the base never
+        slides, with plastic landings. Only a back end that follows friction runs a finite one.
     """
 
     block: Block
@@ -338,8 +338,13 @@ class Setting:
 
     def floor_args(self) -> dict:
         """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` and ``sampled_cases`` for the floor (none for
-        the paper's)."""
-        return {"floor": self.floor} if self.floor.slides else {}
+        the paper's: no friction, plastic landings)."""
+        return {"floor": self.floor} if self.has_floor else {}
+
+    @property
+    def has_floor(self) -> bool:
+        """The floor is not the paper's: a finite friction, or landings that bounce (``e_n > 0``)."""
+        return self.floor.slides or self.floor.e_n > 0.0
 
     def pulse_args(self) -> dict:
         """Keyword arguments of :func:`rocking.sim.cases.pulse_cases` for the pulse family, its vertical
@@ -357,30 +362,35 @@ class Setting:
 
     def record(self) -> dict:
         """JSON-ready description: the pulse family only when it is not the paper's one-sine, the vertical component
-        only when there is one, the floor only when it has a finite friction (so the records, and the hashes of the
-        tiles, of the studies without are unchanged)."""
+        only when there is one, the floor only when it is not the paper's (:attr:`has_floor`: so the records, and
+        the hashes of the tiles, of the studies without are unchanged)."""
         record = {"block": self.block.as_params(), "rtol": self.rtol, "t_after": self.t_after, "backend": self.backend}
         if self.pulse != "sine":
             shape = {"gamma_mp": self.gamma_mp, "nu": self.nu} if self.pulse == "mp" else {}
             record["pulse"] = {"motion": self.pulse, **shape}
         if self.vertical is not None:
             record["vertical"] = self.vertical_record()
-        if self.floor.slides:
-            # A plastic landing, the default, is said by leaving e_n out: records and hashes saved before flight stay.
-            record["floor"] = {k: v for k, v in self.floor.settings().items() if k != "e_n" or v}
+        if self.has_floor:
+            # A plastic landing, the default, is said by leaving e_n out (records and hashes saved before flight
+            # stay), and a floor that never slides by leaving mu_s, mu_k out (JSON has no inf).
+            record["floor"] = {k: v for k, v in self.floor.settings().items() if v if k == "e_n" or math.isfinite(v)}
         return record
 
 
 def floor_attrs(config: dict) -> dict:
     """Attributes of a study's Dataset naming its floor (``config["floor"]``, :meth:`Setting.record`; the paper's
-    when absent): ``mu_s``, ``mu_k`` and the convention, in words."""
+    when absent): ``mu_s``, ``mu_k``, ``e_n`` where landings bounce, and the convention, in words."""
     floor = config.get("floor", PAPER_FLOOR.settings())
     words = (
         "Coulomb friction of the floor, static mu_s and kinetic mu_k, dimensionless (docs/model.md section 15)"
-        if math.isfinite(floor["mu_s"])
+        if math.isfinite(floor.get("mu_s", math.inf))
         else "mu_s = mu_k = inf: the base never slides (the paper's floor)"
     )
-    return {"mu_s": floor["mu_s"], "mu_k": floor["mu_k"], "floor": words}
+    e_n = floor.get("e_n", 0.0)  # left out of a record: plastic, and of the attributes (those saved before stay)
+    if e_n:
+        words += f"; landings after flight with normal restitution e_n = {e_n:g} (docs/model.md section 16)"
+    mu_s, mu_k = (floor.get(k, math.inf) for k in ("mu_s", "mu_k"))
+    return {"mu_s": mu_s, "mu_k": mu_k, **({"e_n": e_n} if e_n else {}), "floor": words}
 
 
 def vertical_attrs(config: dict) -> dict:

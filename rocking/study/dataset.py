@@ -47,6 +47,7 @@ EFFECT_KEY = {-1: "lost", 0: "unchanged", 1: "saved"}
 SIGN_KEY = {-1: "negative", 0: "not_known", 1: "positive"}
 THRESHOLD_STATUS_KEY = dict(enumerate(THRESHOLD_STATUSES))
 REGIME_KEY = {NOT_COMPUTED: "not_computed", **REGIMES}
+FLEW_KEY = {NOT_COMPUTED: "not_computed", 0: "on_the_floor", 1: "flew"}
 
 #: What a field means, by name: ``(units, long name[, key])``.
 _RESULTS = {f.name: (f.unit or "1", f.doc) for f in RESULT}
@@ -64,6 +65,18 @@ FIELDS: dict[str, tuple] = {
         "never lifted), slides and rocks (both), overturns",
         REGIME_KEY,
     ),
+    "flew": (
+        "1",
+        "the base left the floor (flights > 0, docs/model.md section 16): with a verdict, the response flew and "
+        "landed, or flew and overturned",
+        FLEW_KEY,
+    ),
+    "flown": ("1", "responses of the scan and the bisection whose base left the floor and came to a verdict"),
+    "beta_min_flew": (
+        "1",
+        "the response that overturns at beta_min flew first (flights > 0: flies and overturns); 0 where it did not "
+        "or beta_min is not reached",
+    ),
     "stroke_over_half_width": ("1", "largest damper stroke over the block's half-width B/2"),
     "stroke_over_L": ("1", "largest damper stroke over the stops' half-stroke L"),
     "beta_min": ("1", "smallest overturning amplitude ratio a_g / (g tan alpha); NaN where not reached in the scan"),
@@ -76,12 +89,12 @@ FIELDS: dict[str, tuple] = {
     ),
     "beta_safe": ("1", "largest safe amplitude ratio below beta_min"),
     "flag": ("1", "how beta_min was found", FLAG_KEY),
-    "undetermined": ("1", "responses without a verdict (max_events, max_steps, or flight)"),
+    "undetermined": ("1", "responses without a verdict (max_events, max_steps, flight or jammed)"),
     "scan_outcome": (
         "1",
         f"outcome at each scan amplitude: {SAFE} not overturned (safe, or no verdict: counted in "
-        f"undetermined), {FLIGHT} flight (g + ddy_g reached 0: no verdict here nor above), n >= 0 overturned "
-        "after n impacts",
+        f"undetermined), {FLIGHT} flight (g + ddy_g reached 0 on a model without flight functions: no verdict here "
+        "nor above), n >= 0 overturned after n impacts",
     ),
     "windows": ("1", "safe windows above beta_min: Omega, first and last safe scan amplitude"),
     "gain": ("1", "gain: beta_min with the damper over beta_min of the block alone"),

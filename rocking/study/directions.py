@@ -114,7 +114,7 @@ def largest(values) -> np.ndarray:
 
 
 #: Fields of a response taken from the worse direction; the others are the largest over the directions.
-FROM_WORST = ("impacts", "status")
+FROM_WORST = ("impacts", "status", "flew")
 
 
 def response_envelope(by_sign: dict, unknown) -> dict:
@@ -186,13 +186,17 @@ def beta_min_envelope(by_sign: dict) -> dict:
     """The envelope of :func:`rocking.study.spectrum.beta_min` over the directions (last axis).
 
     The smallest ``beta_min``; its ``beta_safe``, ``flag`` and ``impacts`` (those of the
-    governing direction); ``undetermined`` summed; ``scan_outcome`` (``(..., n_signs, m)``)
+    governing direction); ``undetermined`` summed; with a vertical component ``flown`` summed and the governing
+    direction's ``beta_min_flew``; ``scan_outcome`` (``(..., n_signs, m)``)
     the worse outcome per scan amplitude (overturned in either direction, with the fewer
     impacts); and ``worst_sign_index``.
     """
     index = np.argmin(by_sign["beta_min"], axis=-1)
     out = {k: take(by_sign[k], index) for k in ("beta_min", "beta_safe", "flag", "impacts")}
     out["undetermined"] = np.sum(by_sign["undetermined"], axis=-1)
+    if "flown" in by_sign:  # a vertical component: the flights summed, whether the governing beta_min's flew
+        out["flown"] = np.sum(by_sign["flown"], axis=-1)
+        out["beta_min_flew"] = take(by_sign["beta_min_flew"], index)
     if "scan_outcome" in by_sign:
         scan = np.asarray(by_sign["scan_outcome"])
         over = scan >= 0

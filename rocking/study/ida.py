@@ -52,6 +52,7 @@ from .fragility import (
 )
 from .overturning_map import (
     FIELDS,
+    FLIGHT_FIELDS,
     PARTS,
     check_damper,
     check_study,
@@ -93,6 +94,9 @@ FIT = ("median", "dispersion", "median_low", "median_high", "dispersion_low", "d
 #: :data:`~rocking.study.fragility.MEDIAN_PLACES`), its log-likelihood, its bootstrap's resamples, and the
 #: responses without a verdict.
 COUNTS = ("fit_status", "median_extrapolated", "log_likelihood", "resamples", "undetermined")
+#: What the runs of a suite with a vertical component give per part beside :data:`COUNTS` (docs/model.md section
+#: 16): the responses that flew and landed without overturning, and those that flew and overturned.
+FLIGHT_COUNTS = ("flies_and_lands", "flies_and_overturns")
 #: Units, meaning and key of the variables of an IDA that :data:`rocking.study.dataset.FIELDS` does not label.
 OWN_FIELDS: dict[str, tuple] = {
     "fit_status": ("1", "outcome of the lognormal fit", dict(enumerate(FIT_STATUSES))),
@@ -108,6 +112,8 @@ OWN_FIELDS: dict[str, tuple] = {
         "1",
         "responses of the motion (levels and directions) sensitive to the tolerance; NaN: not checked",
     ),
+    "flies_and_lands": ("1", "responses whose base left the floor and landed, to a verdict, without overturning"),
+    "flies_and_overturns": ("1", "responses whose base left the floor and that overturned"),
 }
 
 #: The dimensions of every variable of an IDA's or a fragility's data (:func:`ida_data`), coordinates included.
@@ -115,10 +121,10 @@ DIMS = {
     **{dim: (dim,) for dim in ("part", "motion", "level", "sign", "curve_x")},
     "im": ("motion",),
     "vertical_motion": ("motion",),
-    **dict.fromkeys((*FIELDS, SENSITIVE.name), ("part", "motion", "level", "sign")),
+    **dict.fromkeys((*FIELDS, *FLIGHT_FIELDS, SENSITIVE.name), ("part", "motion", "level", "sign")),
     **dict.fromkeys(("first", "last_safe", "reversals", "sensitive_responses"), ("part", "motion")),
     **dict.fromkeys(("fraction", "sensitive_fraction"), ("part", "level")),
-    **dict.fromkeys((*FIT, *COUNTS), ("part",)),
+    **dict.fromkeys((*FIT, *COUNTS, *FLIGHT_COUNTS), ("part",)),
     **dict.fromkeys(("curve", "band_low", "band_high"), ("part", "curve_x")),
 }
 
@@ -202,9 +208,16 @@ def ida_tile(payload: tuple) -> dict:
         result = checked_fields(run_at, setting.rtol)
     else:
         result = {**run_at(setting.rtol, 1.0), SENSITIVE.name: np.zeros(len(levels) * len(signs), dtype=bool)}
-    result = {k: result[k] for k in (*FIELDS, SENSITIVE.name)}
+    result = {k: result[k] for k in (*response_fields(suite), SENSITIVE.name)}
     shape = (len(levels), len(signs))
     return {**{k: v.reshape(shape) for k, v in result.items()}, "im": np.array([value])}
+
+
+def response_fields(suite: Suite) -> tuple[str, ...]:
+    """The result fields an IDA keeps per response: the map's :data:`~rocking.study.overturning_map.FIELDS`, and its
+    :data:`~rocking.study.overturning_map.FLIGHT_FIELDS` for a suite with a vertical component."""
+    vertical = suite.vertical_ratio > 0.0 or bool(suite.vertical_files)
+    return (*FIELDS, *FLIGHT_FIELDS) if vertical else FIELDS
 
 
 def _damper_args(tuning: Tuning | Variant) -> dict:
@@ -300,9 +313,9 @@ def incremental_dynamic_analysis(
     im = np.full(n, np.nan)
     groups, where, folders = [], {}, {}
     shape = (len(PARTS), n, lv.size, len(signs))
-    fields = {
-        k: np.zeros(shape, float if k in ("theta_max", "x_max", "bumper_force_max") else np.int64) for k in FIELDS
-    }
+    kept = response_fields(suite)
+    floats = ("theta_max", "x_max", "bumper_force_max", "flight_time", "jump_max")
+    fields = {k: np.zeros(shape, float if k in floats else np.int64) for k in kept}
     fields[SENSITIVE.name] = np.zeros(shape, bool)
     # One answer for the whole suite: its motions are all records and stochastic motions, or all pulses.
     is_checked = tolerance_checked(check, suite.motion(0), setting.rtol)
@@ -312,7 +325,7 @@ def incremental_dynamic_analysis(
         tasks = []
         for i in range(n):
             payload = (setting, damper, suite, i, lv, measure_name, signs, check)
-            expect = {**dict.fromkeys((*FIELDS, SENSITIVE.name), (lv.size, len(signs))), "im": (1,)}
+            expect = {**dict.fromkeys((*kept, SENSITIVE.name), (lv.size, len(signs))), "im": (1,)}
             task = Task(folder / f"motion-{i}.npz", ida_tile, payload, expect)
             tasks.append(task)
             where[task.path] = (part, i)
@@ -320,7 +333,7 @@ def incremental_dynamic_analysis(
 
     def place(task: Task, tile: dict) -> None:
         part, i = where[task.path]
-        for k in (*FIELDS, SENSITIVE.name):
+        for k in (*kept, SENSITIVE.name):
             fields[k][PARTS.index(part), i] = tile[k]
         im[i] = tile["im"][0]
 
@@ -332,7 +345,8 @@ def incremental_dynamic_analysis(
     positive = lv[lv > 0]
     curve_x = np.geomspace(positive.min(), positive.max(), CURVE_POINTS) if positive.size else lv
     both = response_envelope({k: fields[k] for k in FIELDS}, unknown)
-    results: dict[str, list] = {k: [] for k in (*RESULTS, *FIT, *COUNTS)}
+    flight_counts = FLIGHT_COUNTS if "flights" in fields else ()
+    results: dict[str, list] = {k: [] for k in (*RESULTS, *FIT, *COUNTS, *flight_counts)}
     for index, part in enumerate(PARTS):
         over = both["overturned"][index].astype(bool)
         ida = (
@@ -349,6 +363,11 @@ def incremental_dynamic_analysis(
         results["sensitive_fraction"].append(sensitive.mean(axis=(0, 2)) if is_checked else np.full(lv.size, np.nan))
         results["sensitive_responses"].append(sensitive.sum(axis=(1, 2)) if is_checked else np.full(n, np.nan))
         results["undetermined"].append(unknown[index].sum())
+        if flight_counts:  # each run that flew to a verdict, by how it ended
+            flew = (fields["flights"][index] > 0) & ~unknown[index]
+            overturned = fields["overturned"][index].astype(bool)
+            results["flies_and_lands"].append((flew & ~overturned).sum())
+            results["flies_and_overturns"].append((flew & overturned).sum())
         uncertain = uncertain_verdicts(fields["overturned"][index], sensitive)
         fit, curves = _fit(lv, over, uncertain, curve_x)
         for message in _fit_messages(n, lv, results["fraction"][-1], fit, LEVELS[measure_name]):

@@ -79,6 +79,11 @@ FIELDS = ("overturned", "impacts", "theta_max", "x_max", "status", "stop_contact
 #: none of them (its data are those it had before friction), nor its ``regime``.
 SLIP_FIELDS = ("u_max", "u_end", "slides")
 
+#: Result fields kept per response beside :data:`FIELDS` where the pulses have a vertical component (docs/model.md
+#: section 16): the takeoffs, the time off the floor, s, and the highest base point's peak height, m; with
+#: ``flew`` (:func:`with_flew`), which an adaptive map's class gives where a cell was not computed.
+FLIGHT_FIELDS = ("flights", "flight_time", "jump_max")
+
 #: The regimes in which the base slid without overturning.
 SLID = (SLIDES, SLIDES_AND_ROCKS)
 
@@ -93,17 +98,31 @@ DIMS = {
     "sign": ("sign",),
     "T_g": ("Omega",),
     "a_g": ("beta",),
-    **dict.fromkeys((*FIELDS, *SLIP_FIELDS, "regime"), ("part", "Omega", "beta", "sign")),
+    **dict.fromkeys((*FIELDS, *SLIP_FIELDS, "regime", *FLIGHT_FIELDS, "flew"), ("part", "Omega", "beta", "sign")),
     "computed": ("part", "Omega", "beta"),
 }
 
 #: The integer fields of :data:`FIELDS` (and ``overturned``), with their types: :data:`NOT_COMPUTED` where a
 #: cell of an adaptive map was not computed and its class does not give them.
-INTEGERS = {"overturned": bool, "impacts": int, "status": int, "stop_contacts": int, "slides": int, "regime": int}
+INTEGERS = {
+    "overturned": bool,
+    "impacts": int,
+    "status": int,
+    "stop_contacts": int,
+    "slides": int,
+    "regime": int,
+    "flights": int,
+    "flew": int,
+}
 
 #: The refinement class of a response that did not overturn on a floor with friction is this minus its regime
 #: (:data:`rocking.study.vocabulary.REGIMES`): below every ``-2 - status`` of :func:`response_classes`.
 REGIME_CLASS = -100
+
+#: The refinement classes of a response that flew (``flights > 0``, docs/model.md section 16) and landed to a
+#: verdict without overturning, and of one that flew and overturned (its impacts not told): classes of their own,
+#: below every ``-2 - status`` of :func:`response_classes` and above every regime's.
+FLIES_AND_LANDS_CLASS, FLIES_AND_OVERTURNS_CLASS = -50, -51
 
 #: Keys of a damper's keyword arguments that are fixed for a whole study (not per case arrays).
 FIXED = ("model", "params", "stops", "stroke")
@@ -153,8 +172,10 @@ def respond(setting: Setting, Omega, beta, damper: dict | None = None, sign=1) -
 
 
 def response_fields(setting: Setting) -> tuple[str, ...]:
-    """The result fields :func:`respond` keeps: :data:`FIELDS`, and :data:`SLIP_FIELDS` on a floor with friction."""
-    return (*FIELDS, *SLIP_FIELDS) if setting.floor.slides else FIELDS
+    """The result fields :func:`respond` keeps: :data:`FIELDS`, :data:`SLIP_FIELDS` on a floor with friction and
+    :data:`FLIGHT_FIELDS` with a vertical component."""
+    slip = SLIP_FIELDS if setting.floor.slides else ()
+    return (*FIELDS, *slip, *(FLIGHT_FIELDS if setting.vertical is not None else ()))
 
 
 def preflight(setting: Setting, damper: dict | None = None) -> None:
@@ -186,26 +207,41 @@ def outcome(overturned, impacts) -> np.ndarray:
     return np.where(overturned, impacts, SAFE)
 
 
-#: The statuses without a verdict: a bound on the run's work, or the ground's pull past gravity (``flight``: the base
-#: may leave the ground, out of the model's scope, docs/model.md section 14; only with a vertical component).
-NO_VERDICT = (*UNDETERMINED, "flight")
+#: The statuses without a verdict: a bound on the run's work, the floor's normal force reaching 0 on a model without
+#: flight functions (``flight``: the base may leave the ground, out of that model's scope, docs/model.md section 14),
+#: or a landing with no consistent impulse (``jammed``, section 16). A flight model's response that flew and landed
+#: has the verdict it came to: a class of its own (:data:`FLIES_AND_LANDS_CLASS`).
+NO_VERDICT = (*UNDETERMINED, "flight", "jammed")
 
 
 def undetermined(status) -> np.ndarray:
     """Where a run ended without a verdict (:data:`NO_VERDICT`): cut short by a bound on its work (``max_events``,
-    ``max_steps``), or where ``g + ddy_g`` reached 0 (``flight``)."""
+    ``max_steps``), where the base would leave the ground on a model without flight functions (``flight``), or
+    jammed at a landing (``jammed``)."""
     return np.isin(status, [STATUS.index(name) for name in NO_VERDICT])
 
 
-def response_classes(overturned, impacts, status, regimes=None) -> np.ndarray:
+def response_classes(overturned, impacts, status, regimes=None, flights=None) -> np.ndarray:
     """The class of each response that an adaptive map refines on: its :func:`outcome`, or ``-2 - status`` for a
     response without a verdict (:func:`undetermined`), which no cell around it can tell. ``regimes`` (on a floor
     with friction, :func:`rocking.study.vocabulary.regime`) part the responses that did not overturn by what
-    they did: :data:`REGIME_CLASS` minus their regime."""
+    they did: :data:`REGIME_CLASS` minus their regime. ``flights`` (with a vertical component) part those that
+    flew: :data:`FLIES_AND_LANDS_CLASS` and :data:`FLIES_AND_OVERTURNS_CLASS`."""
     classes = outcome(overturned, impacts)
     if regimes is not None:
         classes = np.where(np.asarray(overturned), classes, REGIME_CLASS - np.asarray(regimes))
+    if flights is not None:
+        flew = np.where(np.asarray(overturned), FLIES_AND_OVERTURNS_CLASS, FLIES_AND_LANDS_CLASS)
+        classes = np.where(np.asarray(flights) > 0, flew, classes)
     return np.where(undetermined(status), -2 - np.asarray(status), classes)
+
+
+def with_flew(arrays: dict) -> dict:
+    """The arrays of responses with a vertical component (their :data:`FLIGHT_FIELDS`) with ``flew``: 1 where the
+    base left the ground (``flights > 0``), else 0; ``arrays`` itself without."""
+    if "flights" not in arrays:
+        return arrays
+    return {**arrays, "flew": (np.asarray(arrays["flights"]) > 0).astype(np.int64)}
 
 
 def with_regime(arrays: dict, setting: Setting) -> dict:
@@ -229,8 +265,9 @@ def warn_undetermined(study: str, count: int) -> None:
     if count:
         warnings.warn(
             f"{study}: {count} response(s) ended at a bound on their work (status {' or '.join(UNDETERMINED)}) "
-            "or, with a vertical component, where g + ddy_g reached 0 (status flight, out of the model's scope: "
-            "docs/model.md section 14) before overturning or coming to rest; they count as not overturned (a map "
+            "or, with a vertical component, where the base would leave the ground on a model without flight "
+            "functions (status flight, docs/model.md section 14) or at a landing with no consistent impulse (status "
+            "jammed, section 16) before overturning or coming to rest; they count as not overturned (a map "
             "leaves the damper's effect there at 0). A damper far stiffer than the block (omega_ratio >> 10) with "
             "little damping needs many steps: docs/simulation.md, rule 5",
             UndeterminedWarning,
@@ -239,7 +276,7 @@ def warn_undetermined(study: str, count: int) -> None:
 
 
 class UndeterminedWarning(UserWarning):
-    """Some responses of a study ended without a verdict (status ``max_events``, ``max_steps`` or ``flight``)."""
+    """Some responses of a study ended without a verdict (a status of :data:`NO_VERDICT`)."""
 
 
 def reached_t_max(status) -> np.ndarray:
@@ -446,7 +483,8 @@ def overturning_map(
     record = tuning.record()
     parts, folders = dict(zip(PARTS, (None, tuning.case_args()))), {}
     shape = (len(PARTS), Om.size, b.size, len(signs))
-    kept = (*response_fields(setting), "regime") if setting.floor.slides else FIELDS
+    kept = (*response_fields(setting), *(("regime",) if setting.floor.slides else ()))
+    kept += ("flew",) if setting.vertical is not None else ()
     fields: dict[str, np.ndarray] = {
         k: np.full(shape, False if k == "overturned" else NOT_COMPUTED, INTEGERS[k]) for k in kept if k in INTEGERS
     }
@@ -519,7 +557,8 @@ def envelope(data):
     """
     data = directions.study_data(data, ("map",))
     status = data["status"]
-    out = directions.envelope(data[list(FIELDS)], status.copy(data=undetermined(status.values)))
+    flight = [k for k in (*FLIGHT_FIELDS, "flew") if k in data]  # with a vertical component
+    out = directions.envelope(data[[*FIELDS, *flight]], status.copy(data=undetermined(status.values)))
     computed = data["computed"].transpose(*out["overturned"].dims).values
     not_known = ~computed & ~out["overturned"].values & ~undetermined(out["status"].values)
     out["worst_sign"] = out["worst_sign"].copy(data=np.where(not_known, 0, out["worst_sign"].values))
@@ -557,7 +596,7 @@ def _full(setting, parts: dict, folders: dict, grid: tuple, fields: dict, execut
 
     def place(task: Task, tile_arrays: dict) -> None:
         index, rows, cols = where[task.path]
-        arrays = with_regime(tile_arrays, setting)
+        arrays = with_flew(with_regime(tile_arrays, setting))
         for k in fields:
             fields[k][index, rows, cols] = arrays[k]
 
@@ -582,11 +621,12 @@ def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, ex
 
     def place(task: Task, tile_arrays: dict) -> None:
         part, r, c = where[task.path]
-        arrays = with_regime(tile_arrays, setting)
+        arrays = with_flew(with_regime(tile_arrays, setting))
         for k in fields:
             fields[k][PARTS.index(part), r, c] = arrays[k]
         over, impacts, status = (arrays[k] for k in ("overturned", "impacts", "status"))
-        refinements[part].record(r, c, response_classes(over, impacts, status, arrays.get("regime")))
+        classes = response_classes(over, impacts, status, arrays.get("regime"), arrays.get("flights"))
+        refinements[part].record(r, c, classes)
 
     while not all(r.done for r in refinements.values()):
         groups = []
@@ -622,17 +662,24 @@ def _adaptive(setting, parts: dict, folders: dict, grid: tuple, fields: dict, ex
 
 def _fill(fields: dict, refinement: Refinement) -> None:
     """Give the cells of one part (``fields``: its arrays ``(Omega, beta, sign)``) that were not computed what
-    their class tells: overturned or not, the impacts of an overturned cell, the status of an overturned cell or
-    of one without a verdict, and on a floor with friction the regime (``u_max``, ``u_end`` stay NaN and
-    ``slides`` :data:`NOT_COMPUTED`)."""
+    their class tells: overturned or not, the impacts of a cell that overturned without flying, the status of an
+    overturned cell or of one without a verdict, on a floor with friction the regime (``u_max``, ``u_end`` stay NaN
+    and ``slides`` :data:`NOT_COMPUTED`), and with a vertical component whether it flew (``flights``,
+    ``flight_time``, ``jump_max`` are 0 where it did not, else :data:`NOT_COMPUTED` and NaN)."""
     filled = refinement.fill()
     classes = refinement.classes[filled]  # (cells, signs)
-    overturned = classes >= 0
-    no_verdict = (classes <= -2) & (classes > REGIME_CLASS)  # a regime's class lies below every status's
+    flew = (classes == FLIES_AND_LANDS_CLASS) | (classes == FLIES_AND_OVERTURNS_CLASS)
+    overturned = (classes >= 0) | (classes == FLIES_AND_OVERTURNS_CLASS)
+    no_verdict = (classes <= -2) & (classes > -2 - len(STATUS))  # the classes of flights and regimes lie below
     status = np.where(overturned, STATUS.index("overturned"), np.where(no_verdict, -2 - classes, NOT_COMPUTED))
     fields["overturned"][filled] = overturned
-    fields["impacts"][filled] = np.where(overturned, classes, NOT_COMPUTED)
+    fields["impacts"][filled] = np.where(classes >= 0, classes, NOT_COMPUTED)
     fields["status"][filled] = status
+    if "flew" in fields:  # a vertical component: a class with a verdict says whether the base flew
+        fields["flew"][filled] = np.where(no_verdict, NOT_COMPUTED, flew)
+        grounded = ~no_verdict & ~flew
+        for k in FLIGHT_FIELDS:
+            fields[k][filled] = np.where(grounded, 0, fields[k][filled])
     if "regime" in fields:  # a floor with friction: what a cell that did not overturn did is its class too
         moved = np.where(classes <= REGIME_CLASS, REGIME_CLASS - classes, NOT_COMPUTED)
         fields["regime"][filled] = np.where(overturned, OVERTURNS, moved)
@@ -675,6 +722,9 @@ def map_table(data, half_width: float, L: float | None = None) -> dict:
             over, impacts = by_sign["overturned"].values, by_sign["impacts"].values
             for i, sign in enumerate(signs):
                 table[f"{part}_outcome_{SIGN_NAMES[sign]}"] = outcome(over[..., i], impacts[..., i])
+        if "flew" in env:  # a vertical component: whether the governing response flew, the highest jump
+            table[f"{part}_flew"] = a["flew"].values
+            table[f"{part}_jump_max"] = a["jump_max"].values
         if "regime" in env:  # a floor with friction: what the pulse did, the larger peak slip of its directions
             table[f"{part}_regime"] = np.array([*REGIMES.values(), "not_computed"], object)[a["regime"].values]
             table[f"{part}_u_max"] = a["u_max"].values
@@ -698,7 +748,9 @@ def saved_past_edges(env, half_width: float) -> np.ndarray:
 
 def map_summary(data, half_width: float) -> dict:
     """Cell counts: overturned per part, saved and lost by the damper (saved within the block's half-width
-    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed, and what of them is inferred.
+    ``B/2`` or only past it), runs that hit ``t_max`` or a bound, cells computed, and what of them is inferred;
+    with a vertical component the cells whose governing response flew and landed without overturning
+    (``{part}_flies_and_lands``) or flew and overturned (``{part}_flies_and_overturns``).
 
     Counts of what a cell's outcome class does not tell (``t_max``, ``saved_past_edges``) are over the cells
     computed; ``saved_stroke_not_computed`` counts the saved cells whose damper stroke was not computed.
@@ -717,6 +769,10 @@ def map_summary(data, half_width: float) -> dict:
         out[f"{part}_undetermined"] = int(undetermined(status).sum())
         if "regime" in env:  # a floor with friction: the cells where the base slid (and did not overturn)
             out[f"{part}_slid"] = int(np.isin(env["regime"].sel(part=part).values, SLID).sum())
+        if "flew" in env:  # a vertical component: the cells whose governing response flew to a verdict, and how
+            flew = (env["flew"].sel(part=part).values == 1) & ~undetermined(status)
+            out[f"{part}_flies_and_lands"] = int((flew & ~a["overturned"].values).sum())
+            out[f"{part}_flies_and_overturns"] = int((flew & a["overturned"].values).sum())
     out["saved"] = int((effect > 0).sum())
     out["saved_past_edges"] = int(saved_past_edges(env, half_width).sum())
     out["saved_stroke_not_computed"] = int(((effect > 0) & ~data["computed"].sel(part="damper").values).sum())

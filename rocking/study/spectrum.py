@@ -71,6 +71,10 @@ COLUMNS = 8
 #: What :func:`beta_min` gives per column (each of shape (n,)), besides ``scan_outcome`` and the counts of
 #: :data:`RESPONSE_COUNTS`.
 COLUMN_FIELDS = ("beta_min", "beta_safe", "flag", "impacts", "undetermined")
+#: What :func:`beta_min` gives per column beside :data:`COLUMN_FIELDS` where the pulses have a vertical component
+#: (docs/model.md section 16): the responses that flew and landed to a verdict, and whether the one that overturns
+#: at ``beta_min`` flew first (flies and overturns).
+FLIGHT_COLUMNS = ("flown", "beta_min_flew")
 
 #: The variables of a censored ``beta_min`` (:func:`censored`) and of its amplitude in SI units, and their columns
 #: in the CSV, in order.
@@ -84,7 +88,7 @@ DIMS = {
     "sign": ("sign",),
     "T_g": ("Omega",),
     "a_g_beta_scan": ("beta_scan",),
-    **dict.fromkeys((*COLUMN_FIELDS, *CENSORED), ("part", "Omega", "sign")),
+    **dict.fromkeys((*COLUMN_FIELDS, *FLIGHT_COLUMNS, *CENSORED), ("part", "Omega", "sign")),
     "scan_outcome": ("part", "Omega", "sign", "beta_scan"),
 }
 #: How many responses :func:`beta_min` computed per column: in all, and of them for the scan.
@@ -155,7 +159,10 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         :func:`rocking.study.overturning_map.reached_t_max`), ``scan_outcome`` (n, m:
         :func:`rocking.study.overturning_map.outcome` along the scan, :data:`~rocking.study.vocabulary.FLIGHT`
         where a run ended in flight: a column is read below its first flight only), ``responses``
-        (n,: responses computed, scan and bisection) and ``scan_responses`` (n,: of them, the scan's).
+        (n,: responses computed, scan and bisection) and ``scan_responses`` (n,: of them, the scan's); with a
+        vertical component :data:`FLIGHT_COLUMNS`: ``flown`` (n,: responses of the scan and the bisection that
+        flew and came to a verdict) and ``beta_min_flew`` (n,: 1 where the response that overturns at
+        ``beta_min`` flew first, 0 elsewhere).
     """
     Omega = np.atleast_1d(np.asarray(Omega, float))
     beta_scan = np.asarray(beta_scan, float)
@@ -168,9 +175,10 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     t_max += reached_t_max(r["status"]).sum(axis=1)
     classes = response_classes(r["overturned"], r["impacts"], r["status"])
     scan_outcome = np.where(classes >= 0, classes, SAFE)  # no verdict (class <= -2): not overturned
-    # A run that ended in flight has no verdict, nor has the scan above it (every run there flies unless it
-    # overturns first, docs/model.md section 14): a column is read up to its first flight, the lower bound of a
-    # beta_min not reached is the amplitude before it, and the flights keep their own outcome (no safe window).
+    # On a model without flight functions a run that ended in flight has no verdict, nor has the scan above it
+    # (every run there flies unless it overturns first, docs/model.md section 14): a column is read up to its first
+    # flight, the lower bound of a beta_min not reached is the amplitude before it, and the flights keep their own
+    # outcome (no safe window). A flight model's runs fly and land to a verdict (section 16): no status flight.
     flight = classes == -2 - STATUS.index("flight")
     flown = np.cumsum(flight, axis=1) > 0
     scan_outcome = np.where(flight, FLIGHT, scan_outcome)
@@ -183,6 +191,9 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
     lo = np.where(flag == BRACKETED, beta_scan[np.maximum(first - 1, 0)], np.nan)
     impacts = np.where(flag == ABOVE, -1, scan_outcome[rows, first])
     unknown = (classes <= -2).sum(axis=1)
+    flew = _flew(r["flights"], classes) if "flights" in r else None  # (n, m); a vertical component only
+    if flew is not None:
+        flown_runs, beta_min_flew = flew.sum(axis=1), np.where(flag == ABOVE, False, flew[rows, first])
     scan_responses = np.full(n, beta_scan.size, np.int64)
     responses = scan_responses.copy()
     while True:
@@ -195,6 +206,10 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         up = r["overturned"]
         hi[active[up]], impacts[active[up]] = mid[up], r["impacts"][up]
         lo[active[~up]] = mid[~up]
+        if flew is not None:
+            flew_mid = _flew(r["flights"], response_classes(r["overturned"], r["impacts"], r["status"]))
+            flown_runs[active] += flew_mid
+            beta_min_flew[active[up]] = flew_mid[up]
         unknown[active] += undetermined(r["status"])
         t_max[active] += reached_t_max(r["status"])
         responses[active] += 1
@@ -208,7 +223,14 @@ def beta_min(setting: Setting, Omega, beta_scan, damper: dict | None = None, *, 
         "scan_outcome": scan_outcome,
         "responses": responses,
         "scan_responses": scan_responses,
+        **({} if flew is None else {"flown": flown_runs, "beta_min_flew": beta_min_flew.astype(np.int64)}),
     }
+
+
+def _flew(flights, classes) -> np.ndarray:
+    """Where responses flew (their ``flights``) and came to a verdict (their ``classes``,
+    :func:`rocking.study.overturning_map.response_classes`: no status without a verdict)."""
+    return (np.asarray(flights) > 0) & (np.asarray(classes) > -2)
 
 
 def unfinished(counts: dict) -> np.ndarray:
@@ -353,9 +375,11 @@ def minimum_overturning_spectrum(
     record = tuning.record()
     groups, where, folders = [], {}, {}
     ns = len(signs)
+    columns_kept = (*COLUMN_FIELDS, *(FLIGHT_COLUMNS if setting.vertical is not None else ()))
+    integers = ("flag", "impacts", "undetermined", *columns_kept[len(COLUMN_FIELDS) :])
     fields = {
         **{k: np.full((len(PARTS), Om.size, ns), np.nan) for k in ("beta_min", "beta_safe")},
-        **{k: np.zeros((len(PARTS), Om.size, ns), np.int64) for k in ("flag", "impacts", "undetermined")},
+        **{k: np.zeros((len(PARTS), Om.size, ns), np.int64) for k in integers},
         "scan_outcome": np.zeros((len(PARTS), Om.size, ns, b.size), np.int64),
     }
     for part, damper, described in zip(PARTS, (None, tuning.case_args()), (None, record)):
@@ -368,7 +392,7 @@ def minimum_overturning_spectrum(
             payload = (setting, damper, Om[cols], b, tol, signs)
             n = cols.stop - cols.start
             expect = {
-                **dict.fromkeys((*COLUMN_FIELDS, *RESPONSE_COUNTS, "t_max"), (n, ns)),
+                **dict.fromkeys((*columns_kept, *RESPONSE_COUNTS, "t_max"), (n, ns)),
                 "scan_outcome": (n, ns, b.size),
             }
             task = Task(folder / f"columns-{cols.start}-{cols.stop}.npz", spectrum_tile, payload, expect)
@@ -380,7 +404,7 @@ def minimum_overturning_spectrum(
 
     def place(task: Task, tile: dict) -> None:
         part, cols = where[task.path]
-        for k in (*COLUMN_FIELDS, "scan_outcome"):
+        for k in (*columns_kept, "scan_outcome"):
             fields[k][PARTS.index(part), cols] = tile[k]
         for k in RESPONSE_COUNTS:
             counts[k] += int(tile[k].sum())
@@ -450,7 +474,7 @@ def envelope(data):
     import xarray as xr
 
     data = study_data(data, ("spectrum",))
-    by_sign = {k: data[k].values for k in (*COLUMN_FIELDS, "scan_outcome")}
+    by_sign = {k: data[k].values for k in (*COLUMN_FIELDS, *FLIGHT_COLUMNS, "scan_outcome") if k in data}
     reduced = censored(beta_min_envelope({**by_sign, "beta_min": beta_min_or_bound(data)}))
     index = reduced.pop("worst_sign_index")
     reduced |= {k: take(data[k].values, index) for k in SI_AMPLITUDES if k in data}  # the governing direction's
@@ -490,7 +514,7 @@ def spectrum_tables(data, config: dict) -> dict:
     signs = data["sign"].values
     for part in PARTS:
         a, by_sign = env.sel(part=part), data.sel(part=part)
-        for k in ("beta_min", *CENSORED, *COLUMN_FIELDS[1:]):
+        for k in ("beta_min", *CENSORED, *COLUMN_FIELDS[1:], *FLIGHT_COLUMNS):
             if k in a:  # a spectrum saved before the censoring has none of CENSORED
                 main[f"{part}_{k}"] = a[k].values
         main[f"{part}_beta_min_is"] = flag_words(a["flag"].values)
@@ -552,4 +576,7 @@ def spectrum_summary(data) -> dict:
             "windows": int(len(safe_windows(env, part))),
             "undetermined": int(env["undetermined"].sel(part=part).values.sum()),
         }
+        if "flown" in env:  # a vertical component: the responses that flew and landed to a verdict
+            out[part]["flown"] = int(env["flown"].sel(part=part).values.sum())
+            out[part]["beta_min_flew"] = int(env["beta_min_flew"].sel(part=part).values.sum())
     return out

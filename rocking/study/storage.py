@@ -427,6 +427,15 @@ def _fields_of(name: str, record, required: set | frozenset, optional: set | fro
     return record
 
 
+def _floor_fields(record) -> dict:
+    """A saved floor's fields: ``mu_s`` and ``mu_k`` with ``e_n`` optional (a floor with friction), or ``e_n`` alone
+    (landings that bounce on a floor that never slides: JSON has no inf)."""
+    friction = not isinstance(record, dict) or bool({"mu_s", "mu_k"} & set(record))
+    if friction:
+        return _fields_of("floor", record, {"mu_s", "mu_k"}, {"e_n"})
+    return _fields_of("floor", record, {"e_n"})
+
+
 def _block(record) -> Block:
     """The :class:`Block` of a saved configuration's ``block``, by the ranges of the command line's block."""
     if not isinstance(record, dict):
@@ -449,8 +458,9 @@ def _setting(config: dict) -> None:
         vertical = _fields_of("vertical", vertical, {"ratio", "phase"})
     if pulse.get("gamma_mp") is not None:
         check_in_range("gamma_mp", pulse["gamma_mp"])
-    # A study saved before the floor had friction holds none: the paper's floor.
-    floor = _fields_of("floor", config["floor"], {"mu_s", "mu_k"}) if "floor" in config else {}
+    # A study saved before the floor had friction holds none: the paper's floor; one that never slides but whose
+    # landings bounce, only e_n.
+    floor = _floor_fields(config["floor"]) if "floor" in config else {}
     solver: dict[str, Any] = {key: config.get(key) for key in ("rtol", "t_after", "backend")}  # None: refused
     setting = Setting(
         block,

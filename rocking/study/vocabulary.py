@@ -18,8 +18,9 @@ PART_NAMES = {
 
 #: Outcome of a response that does not overturn (otherwise: the impacts before overturning).
 SAFE = -1
-#: A spectrum's scan outcome where the run ended in flight (``g + ddy_g`` reached 0 with a vertical component,
-#: docs/model.md section 14): no verdict, and none at the amplitudes above it.
+#: A spectrum's scan outcome where the run ended in flight (the floor's normal force reached 0 on a model without
+#: flight functions, docs/model.md sections 14, 16): no verdict, and none at the amplitudes above it. A flight
+#: model's runs fly and land to a verdict: they never end so.
 FLIGHT = -2
 
 #: The regime of a response on a floor with friction (docs/model.md section 15), by code: it never left rest
