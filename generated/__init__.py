@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "0da8fbaccf3c21f9c98d67567502633532aa8e47fa19ae6756cea14706a85c74",
-    "omd": "62419f0af7ee3272c38a93a648ccf8f46a0d5a2a88b8e34a801f64473191ec39",
-    "omd2": "56cb2f5985b8a3c795030173ee66bab40b57c4e93ce4f8d46061b207a38ed4d2",
-    "omd_stops": "a12f890e37e18994c9e2c7f84222fdde4693228195b8e1b3b0c74bfdd4e7eed2",
-    "omd_stops_hc": "edb502e2263e590a31dc84cc36640fb7671e9adffe39468579ae414aeecab80f",
-    "pendulum": "4f9752b7f1eef2615f2c5855215200e7f33bc8e4e559e7b90eb1d2cc48dd2f3a",
+    "block": "39be37815bc0170760ae654525edceb463b1ee519a2592161194ee8072062a57",
+    "omd": "0b7d03d8fd0c82210fd7c7d8ceeec60476067972ae11890fcdeaaade7d294f2e",
+    "omd2": "c5c61514b19d04ead95a5eee82b2e2eef348fb1954889196ad57988e10c4f5ab",
+    "omd_stops": "1a3ebbb886d5da8da5adba8ce2a79acd879b2ababd0fc8d74f48f51e5c145689",
+    "omd_stops_hc": "b6f6dcb778f91062952c96d83edf05e51e843ec5a08348aa79f49923903161d6",
+    "pendulum": "84977fb4e6bee410c13971f96c50373d87cda472af31b1b9dd85d681ba92b409",
 }

@@ -377,7 +377,7 @@ CONSTANTS = (
     Constant("BARRIER_TILTS", 64, "a run at t_max is bounded at the tilts k pi / (2 BARRIER_TILTS), 0 < k < it"),
     Constant(
         "FLAT_LANDING",
-        1e-12,
+        1e-13,
         "a landing is flat, on both corners, where |sin theta| is at most this (docs/model.md section 16): rounding",
     ),
     Constant(

@@ -11,7 +11,7 @@
 #define ROCKING_FIRST_STEP_FRACTION 0.25 /* first step after an impact, as a fraction of the expected half-cycle */
 #define ROCKING_RICKER_ANTI_PEAK 0.9758915363849756 /* peak of u (3 - 2 u^2) exp(-u^2), at u^2 = (3 - sqrt 6) / 2 */
 #define ROCKING_BARRIER_TILTS 64 /* a run at t_max is bounded at the tilts k pi / (2 BARRIER_TILTS), 0 < k < it */
-#define ROCKING_FLAT_LANDING 1e-12 /* a landing is flat, on both corners, where |sin theta| is at most this (docs/model.md section 16): rounding */
+#define ROCKING_FLAT_LANDING 1e-13 /* a landing is flat, on both corners, where |sin theta| is at most this (docs/model.md section 16): rounding */
 #define ROCKING_TAKEOFF_PROBE 1e-06 /* a stuck corner of a floor without friction whose free flight does not lift it at N = 0 is tried this much later [s] along the flight (docs/simulation.md, Flight) */
 
 enum rocking_status {
