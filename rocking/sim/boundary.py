@@ -140,7 +140,8 @@ CASE = (
         "t_flight",
         DOUBLE,
         "s",
-        "first time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never)",
+        "first time g + agy(t) <= 0, from the motion: a model without flight functions ends there with status "
+        "flight (inf: never, and for a model with them, which flies)",
         None,
         math.inf,
     ),

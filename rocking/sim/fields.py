@@ -61,7 +61,8 @@ class ProblemFields:
     v_samples : np.ndarray | None
         A sampled motion's vertical samples at k pulse_dt: f_v linear between them [m/s^2].
     t_flight : float
-        First time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s].
+        First time g + agy(t) <= 0, from the motion: a model without flight functions ends there with status
+        flight (inf: never, and for a model with them, which flies) [s].
     mu_s : float
         Static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides.
     mu_k : float

@@ -60,7 +60,7 @@ typedef struct rocking_case {
     double psi_v; /* lead of the vertical shape: f_v(t) = f(t + psi_v / omega_g) [rad] */
     int64_t n_v_samples; /* number of vertical samples of a sampled motion (0: none) */
     const double *v_samples; /* a sampled motion's vertical samples at k pulse_dt: f_v linear between them [m/s^2] */
-    double t_flight; /* first time g + agy(t) <= 0, from the motion: the run ends there with status flight (inf: never) [s] */
+    double t_flight; /* first time g + agy(t) <= 0, from the motion: a model without flight functions ends there with status flight (inf: never, and for a model with them, which flies) [s] */
     double mu_s; /* static Coulomb friction of the floor (docs/model.md section 15); inf: the base never slides */
     double mu_k; /* kinetic Coulomb friction of the floor, <= mu_s (inf with mu_s = inf) */
     double e_n; /* normal restitution of a landing (docs/model.md section 16): 0 plastic (the default), 1 elastic */
