@@ -68,3 +68,17 @@ def test_csv_of_a_map(tmp_path):
     assert np.isnan(columns["damper_theta_max [rad]"]).any()  # cells not computed
     write_csv(tmp_path / "map.csv", columns)
     assert (tmp_path / "map.csv").read_text() == plain_csv(columns)
+
+
+def test_progress_bar_only_when_asked(tmp_path, capsys):
+    # tqdm is imported for a bar shown only (tests/test_import.py: a map without one does not load it).
+    from rocking import Block, Setting, Tuning
+    from rocking.study.config import Grid
+    from rocking.study.overturning_map import overturning_map
+    from rocking.study.tiles import Execution
+
+    grids = Grid("Omega", 2.0, 6.0, 2), Grid("beta", 1.0, 9.0, 2)
+    for shown in (False, True):
+        execution = Execution(workers=1, progress=shown)
+        overturning_map(Setting(Block.reference()), Tuning(0.05), *grids, execution, runs=tmp_path / str(shown))
+        assert ("tile" in capsys.readouterr().err) is shown
