@@ -82,3 +82,26 @@ def test_progress_bar_only_when_asked(tmp_path, capsys):
         execution = Execution(workers=1, progress=shown)
         overturning_map(Setting(Block.reference()), Tuning(0.05), *grids, execution, runs=tmp_path / str(shown))
         assert ("tile" in capsys.readouterr().err) is shown
+
+
+def test_a_figure_laid_out_once_is_the_one_savefig_lays_out(tmp_path):
+    # write_figure lays a figure out once, without savefig's draw that renders nothing: the same pixels.
+    import matplotlib.image as mimg
+    from matplotlib.backends.backend_agg import FigureCanvasAgg
+
+    from rocking import Block, Setting, Tuning
+    from rocking.plot.figures import DPI, map_figure, write_figure
+    from rocking.study.config import Grid
+    from rocking.study.overturning_map import overturning_map
+    from rocking.study.tiles import Execution
+
+    grids = Grid("Omega", 1.0, 10.0, 9), Grid("beta", 1.0, 10.0, 9)
+    execution = Execution(workers=1, progress=False)
+    study = overturning_map(Setting(Block.reference()), Tuning(0.05), *grids, execution, runs=tmp_path / "runs")
+    write_figure(map_figure(study), tmp_path, "once", ("png",))
+    fig = map_figure(study)
+    FigureCanvasAgg(fig)
+    assert fig.get_layout_engine() is not None
+    fig.savefig(tmp_path / "savefig.png", dpi=DPI)
+    once, plain = (mimg.imread(tmp_path / f"{name}.png") for name in ("once", "savefig"))
+    assert once.shape == plain.shape and np.array_equal(once, plain)

@@ -1393,9 +1393,13 @@ def draw(
     return write_figure(FIGURES[study.kind](study), Path(folder), name or study.kind, formats)
 
 
+#: Dots per inch of every figure file (the PNG's pixels; a PDF's rasterized cells).
+DPI = 150
+
+
 def write_figure(fig: Figure, folder: Path, name: str, formats: tuple[str, ...] = DEFAULT_FORMATS) -> list[Path]:
-    """Write ``fig`` as ``<folder>/<name>.<format>`` for each of ``formats``: laid out once, for the first, the others
-    with the same layout (a second constrained layout costs as much as a PDF's drawing and moves nothing that shows).
+    """Write ``fig`` as ``<folder>/<name>.<format>`` for each of ``formats``: laid out once (:func:`lay_out`), each
+    file with that layout.
 
     Each file is written as a study's data are (:func:`rocking.study.files.atomic_write`: a temporary file renamed
     over it, a symbolic link in its place replaced, not followed), under the lock on ``name`` in ``folder``
@@ -1406,10 +1410,23 @@ def write_figure(fig: Figure, folder: Path, name: str, formats: tuple[str, ...] 
     folder.mkdir(parents=True, exist_ok=True)
     paths = [folder / f"{name}.{ext}" for ext in check_formats(formats)]
     with name_lock(folder, name):
+        lay_out(fig, DPI)
         for path in paths:
-            save_figure(fig, path, dpi=150)
-            fig.set_layout_engine("none")
+            save_figure(fig, path, dpi=DPI)
     return paths
+
+
+def lay_out(fig: Figure, dpi: float) -> None:
+    """Run the layout engine of ``fig`` (on an Agg canvas) once, at ``dpi``, as matplotlib's ``savefig`` would, and
+    take the engine off: ``savefig`` of a figure with an engine draws it twice, once without rendering to lay it
+    out and once to render it (the layout is most of a figure's cost); a second format would lay it out again, and
+    moved nothing that shows. The files are those ``savefig`` writes with the engine (tests/test_fast_paths.py)."""
+    engine = fig.get_layout_engine()
+    if engine is None:
+        return
+    fig.set_dpi(dpi)  # the text's extents at the files' dpi, as savefig measures them
+    engine.execute(fig)
+    fig.set_layout_engine(None)
 
 
 def save_figure(fig: Figure, path: Path, dpi: float) -> None:
