@@ -105,3 +105,18 @@ def test_a_figure_laid_out_once_is_the_one_savefig_lays_out(tmp_path):
     fig.savefig(tmp_path / "savefig.png", dpi=DPI)
     once, plain = (mimg.imread(tmp_path / f"{name}.png") for name in ("once", "savefig"))
     assert once.shape == plain.shape and np.array_equal(once, plain)
+
+
+def test_a_figure_laid_out_once_keeps_no_engine_whatever_the_rc_params(tmp_path):
+    # None as a layout engine stands for the rcParams' engine: a tight one would be refused beside a colour bar.
+    from matplotlib import rc_context
+    from matplotlib.figure import Figure
+
+    from rocking.plot.figures import write_figure
+
+    fig = Figure(layout="constrained")
+    ax = fig.subplots()
+    fig.colorbar(ax.imshow(np.arange(6.0).reshape(2, 3)), ax=ax)
+    with rc_context({"figure.autolayout": True, "figure.constrained_layout.use": True}):
+        written = write_figure(fig, tmp_path, "bar", ("png", "pdf"))
+    assert [p.name for p in written] == ["bar.png", "bar.pdf"] and fig.get_layout_engine() is None
