@@ -16,6 +16,7 @@ loaded, whose loading is part of the fixed cost.
 
     python bench/cli_map.py                            # 5 runs of each: about 4 minutes on 2 cores
     python bench/cli_map.py -n 200 --runs 1 --json out/cli-200.json
+    python bench/cli_map.py --coarse 32 --verify 16 --json out/cli-400-32.json   # another refinement
 """
 
 from __future__ import annotations
@@ -53,10 +54,12 @@ SPEEDUP = 5.0
 FIXED_CPU_S = 1.2
 
 
-def command(n: int, workers: int, full: bool, out: str) -> list[str]:
-    """The ``rocking map`` command line of an ``n x n`` map into the folder ``out``."""
+def command(n: int, workers: int, full: bool, out: str, refine: dict | None = None) -> list[str]:
+    """The ``rocking map`` command line of an ``n x n`` map into the folder ``out``; ``refine``: the adaptive map's
+    ``coarse`` and ``verify`` if not the default."""
     grids = ["--Omega", "1", "10", str(n), "--beta", "1", "10", str(n)]
-    return [ROCKING, "map", *grids, "--workers", str(workers), "--no-progress", "--out", out] + ["--full"] * full
+    steps = ["--full"] if full else [f"--{key}={value}" for key, value in (refine or {}).items()]
+    return [ROCKING, "map", *grids, "--workers", str(workers), "--no-progress", "--out", out, *steps]
 
 
 def cpu(who: int) -> float:
@@ -72,7 +75,7 @@ def timed_command(argv: list[str]) -> dict:
     return {"wall_s": time.perf_counter() - start, "cpu_s": cpu(resource.RUSAGE_CHILDREN) - before}
 
 
-def simulation(n: int, workers: int, full: bool, runs: str):
+def simulation(n: int, workers: int, full: bool, runs: str, refine: dict | None = None):
     """The map of the command computed in this process on fresh tiles ``runs``: the study, and its wall and CPU
     times (of every thread of this process, its workers')."""
     grids = Grid("Omega", 1.0, 10.0, n), Grid("beta", 1.0, 10.0, n)
@@ -84,6 +87,7 @@ def simulation(n: int, workers: int, full: bool, runs: str):
         Execution(workers=workers, progress=False),
         runs=runs,
         full=full,
+        **(refine or {}),
     )
     return study, {"wall_s": time.perf_counter() - start, "cpu_s": cpu(resource.RUSAGE_SELF) - before}
 
@@ -132,7 +136,7 @@ def start_up(runs: int) -> float:
     return min(timed_command([ROCKING, "--version"])["wall_s"] for _ in range(runs))
 
 
-def measure(n: int, workers: int, runs: int) -> dict:
+def measure(n: int, workers: int, runs: int, refine: dict | None = None) -> dict:
     """Every figure of the bench: each command and simulation ``runs`` times, alternating, and the best of each
     (the shortest: on a shared machine, the other loads only add to a time); their medians too."""
     samples: dict = {key: [] for key in ("adaptive", "full", "adaptive_simulation", "full_simulation", "fixed")}
@@ -141,12 +145,12 @@ def measure(n: int, workers: int, runs: int) -> dict:
             samples["fixed"].append(timed_command(command(FIXED, workers, True, out)))
         for full, name in ((False, "adaptive"), (True, "full")):
             with tempfile.TemporaryDirectory() as out:
-                samples[name].append(timed_command(command(n, workers, full, out)))
+                samples[name].append(timed_command(command(n, workers, full, out, refine)))
             with tempfile.TemporaryDirectory() as tmp:
-                study, times = simulation(n, workers, full, tmp)
+                study, times = simulation(n, workers, full, tmp, refine)
                 samples[f"{name}_simulation"].append(times | {"responses": study.run["responses"]})
     with tempfile.TemporaryDirectory() as tmp:
-        study, _ = simulation(n, workers, False, f"{tmp}/runs")
+        study, _ = simulation(n, workers, False, f"{tmp}/runs", refine)
         # Each round into a new folder: the writers refuse to replace a file (storage.save publishes by renames).
         each = [outputs(study, Path(tempfile.mkdtemp(dir=tmp))) for _ in range(runs)]
         written = {file: min(times[file] for times in each) for file in each[0]}
@@ -255,14 +259,17 @@ def main(argv=None) -> int:
     parser.add_argument("-n", type=int, default=400, help="values of Omega and of beta (default 400)")
     parser.add_argument("--workers", type=int, default=2, help="local workers of every map (default 2)")
     parser.add_argument("--runs", type=int, default=5, help="runs of each command and simulation (default 5)")
+    parser.add_argument("--coarse", type=int, help="coarse step of the adaptive map (default: the command's)")
+    parser.add_argument("--verify", type=int, help="first verification step of the adaptive map (default: --coarse)")
     parser.add_argument("--json", help="also write the figures to this file")
     args = parser.parse_args(argv)
     started = machine()
-    result = measure(args.n, args.workers, args.runs)
+    refine = {key: value for key in ("coarse", "verify") if (value := getattr(args, key)) is not None}
+    result = measure(args.n, args.workers, args.runs, refine)
     report(result)
     if args.json:
         commands = {
-            name: " ".join(["rocking", *command(args.n, args.workers, full, "FRESH_FOLDER")[1:]])
+            name: " ".join(["rocking", *command(args.n, args.workers, full, "FRESH_FOLDER", refine)[1:]])
             for full, name in ((False, "adaptive"), (True, "full"))
         }
         record = {"command": command_line("cli_map.py", argv), "commands": commands, "machine": started | ended()}
