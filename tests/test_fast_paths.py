@@ -32,6 +32,7 @@ def awkward_columns(n: int, seed: int = 0) -> dict:
         "signed_zeros": rng.choice([0.0, -0.0, np.nan], n),
         "spread": spread,
         "float32": rng.standard_normal(n).astype(np.float32),
+        "longdouble": np.repeat(np.arange(3, dtype=np.longdouble) / 3, -(-n // 3))[:n],
         "codes": rng.integers(-1, 5, n),
         "counts": rng.integers(0, 10**9, n),
         "flags": rng.random(n) < 0.5,

@@ -302,7 +302,7 @@ def csv_texts(values: np.ndarray) -> list[str]:
     formatting is most of a table's writing time. Floats are told apart by their bits (``-0.0`` is not ``0.0``).
     """
     text = repr if values.dtype.kind == "f" else str
-    if values.dtype.kind in "biuf":
+    if values.dtype.kind in "biuf" and values.itemsize <= 8:  # a float's bits as an integer of its size
         keys = values.view(f"i{values.itemsize}") if values.dtype.kind == "f" else values
         first, inverse = np.unique(keys, return_index=True, return_inverse=True)[1:]
         if 2 * first.size < values.size:
