@@ -12,8 +12,9 @@ import pytest
 
 import rocking
 
-#: Libraries ``import rocking`` must not load: each costs from a tenth of a second to a second.
-HEAVY = ("scipy", "pandas", "xarray", "matplotlib", "dask", "netCDF4", "sympy", "jinja2")
+#: Libraries ``import rocking`` must not load: each costs from a tenth of a second to a second (tqdm 15 ms, with the
+#: asyncio its notebook support imports: a study imports it only for a progress bar shown).
+HEAVY = ("scipy", "pandas", "xarray", "matplotlib", "dask", "netCDF4", "sympy", "jinja2", "tqdm")
 
 #: ``import rocking`` against ``import numpy``, which it needs anyway (best of several runs each): 2.6 measured
 #: on the 2-core development machine while it ran other work (4.8 s in all before the lazy imports of SciPy).

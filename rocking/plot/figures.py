@@ -32,10 +32,13 @@ joined to measured values.
 
 from __future__ import annotations
 
+from collections.abc import Iterator
+from contextlib import contextmanager
 from pathlib import Path
 
 import matplotlib.path as mpath
 import numpy as np
+from matplotlib import rc_context
 from matplotlib.backends.backend_agg import FigureCanvasAgg
 from matplotlib.colors import BoundaryNorm, ListedColormap, LogNorm
 from matplotlib.figure import Figure
@@ -1427,9 +1430,13 @@ def draw(
     return write_figure(FIGURES[study.kind](study), Path(folder), name or study.kind, formats)
 
 
+#: Dots per inch of every figure file (the PNG's pixels; a PDF's rasterized cells).
+DPI = 150
+
+
 def write_figure(fig: Figure, folder: Path, name: str, formats: tuple[str, ...] = DEFAULT_FORMATS) -> list[Path]:
-    """Write ``fig`` as ``<folder>/<name>.<format>`` for each of ``formats``: laid out once, for the first, the others
-    with the same layout (a second constrained layout costs as much as a PDF's drawing and moves nothing that shows).
+    """Write ``fig`` as ``<folder>/<name>.<format>`` for each of ``formats``: laid out once (:func:`laid_out`), each
+    file with that layout.
 
     Each file is written as a study's data are (:func:`rocking.study.files.atomic_write`: a temporary file renamed
     over it, a symbolic link in its place replaced, not followed), under the lock on ``name`` in ``folder``
@@ -1439,11 +1446,30 @@ def write_figure(fig: Figure, folder: Path, name: str, formats: tuple[str, ...] 
     FigureCanvasAgg(fig)
     folder.mkdir(parents=True, exist_ok=True)
     paths = [folder / f"{name}.{ext}" for ext in check_formats(formats)]
-    with name_lock(folder, name):
+    with name_lock(folder, name), laid_out(fig, DPI):
         for path in paths:
-            save_figure(fig, path, dpi=150)
-            fig.set_layout_engine("none")
+            save_figure(fig, path, dpi=DPI)
     return paths
+
+
+#: rcParams under which a figure without a layout engine keeps none: matplotlib reads ``None`` as these ask.
+NO_LAYOUT_ENGINE = {"figure.autolayout": False, "figure.constrained_layout.use": False}
+
+
+@contextmanager
+def laid_out(fig: Figure, dpi: float) -> Iterator[Figure]:
+    """``fig`` (on an Agg canvas) laid out once by its layout engine at ``dpi``, as matplotlib's ``savefig`` lays it
+    out, then without an engine while the context lasts: ``savefig`` of a figure with an engine draws it twice, once
+    without rendering to lay it out and once to render it (the layout is most of a figure's cost), and would lay
+    it out again for a second format. The files are those ``savefig`` writes with the engine
+    (tests/test_fast_paths.py)."""
+    with rc_context(NO_LAYOUT_ENGINE):
+        engine = fig.get_layout_engine()
+        if engine is not None:
+            fig.set_dpi(dpi)  # the text's extents at the files' dpi, as savefig measures them
+            engine.execute(fig)
+            fig.set_layout_engine(None)
+        yield fig
 
 
 def save_figure(fig: Figure, path: Path, dpi: float) -> None:

@@ -278,21 +278,36 @@ def describe(exc: BaseException) -> str:
 
 def write_csv(path: Path, columns: dict, chunk: int = 10_000) -> None:
     """Write equal-length columns as CSV with a header into the new file ``path`` (:func:`save` writes it in
-    its temporary folder); floats as their shortest exact ``repr``.
+    its temporary folder); floats as their shortest exact ``repr``, other values as ``str``.
 
     Rows are formatted ``chunk`` at a time, so that a big map needs no Python
     object per value of the whole table at once.
     """
     names = list(columns)
     data = [np.asarray(columns[k]).ravel() for k in names]
-    row = ",".join("%r" if d.dtype.kind == "f" else "%s" for d in data) + "\n"
 
     def write(f) -> None:
         f.write(",".join(names) + "\n")
         for start in range(0, len(data[0]) if data else 0, chunk):
-            f.writelines(row % values for values in zip(*(d[start : start + chunk].tolist() for d in data)))
+            rows = zip(*(csv_texts(d[start : start + chunk]) for d in data))
+            f.write("\n".join(map(",".join, rows)) + "\n")  # joins: twice as fast as a "%s,%s,..." per row
 
     write_file(path, write, mode="w")
+
+
+def csv_texts(values: np.ndarray) -> list[str]:
+    """The texts of a 1-d column of a CSV table: ``repr`` of each float, ``str`` of anything else.
+
+    A column of few distinct values (a map's grid coordinates, its codes and counts) formats each of them once:
+    formatting is most of a table's writing time. Floats are told apart by their bits (``-0.0`` is not ``0.0``).
+    """
+    text = repr if values.dtype.kind == "f" else str
+    if values.dtype.kind in "biuf" and values.itemsize <= 8:  # a float's bits as an integer of its size
+        keys = values.view(f"i{values.itemsize}") if values.dtype.kind == "f" else values
+        first, inverse = np.unique(keys, return_index=True, return_inverse=True)[1:]
+        if 2 * first.size < values.size:
+            return np.array([text(v) for v in values[first].tolist()], object)[inverse].tolist()
+    return list(map(text, values.tolist()))
 
 
 def make_folder(folder: str | Path, what: str) -> Path:

@@ -628,12 +628,10 @@ def run_tiles(
         save_tile(task.path, arrays)
         stats.salvaged += 1
 
-    from tqdm.auto import tqdm  # here: asyncio and the notebook checks of tqdm.auto cost a command's start 15 ms
-
     try:
         todo = _reuse(tasks, place, stats)
         with (
-            tqdm(total=len(tasks), initial=stats.reused, desc=desc, unit="tile", disable=not execution.progress) as bar,
+            _progress_bar(execution.progress, total=len(tasks), initial=stats.reused, desc=desc, unit="tile") as bar,
             _executor(execution, todo, backend, store) as workers,
         ):
             for task, arrays in workers.results(todo):
@@ -649,6 +647,29 @@ def run_tiles(
         raise DiskFull(exc.path, kept=_kept(tasks)) from None
     stats.wall = time.perf_counter() - start
     return stats
+
+
+class _NoBar:
+    """The progress bar of a run without one (``progress=False``): tqdm is then not imported."""
+
+    def __enter__(self) -> _NoBar:
+        return self
+
+    def __exit__(self, *exc) -> None:
+        return None
+
+    def update(self, n: int = 1) -> None:
+        return None
+
+
+def _progress_bar(shown: bool, **options):
+    """A tqdm progress bar of ``options`` on stderr if ``shown``, else one that shows nothing: tqdm.auto is
+    imported only for a bar shown (it and the asyncio and notebook checks it imports cost a command 15 ms)."""
+    if not shown:
+        return _NoBar()
+    from tqdm.auto import tqdm
+
+    return tqdm(**options)
 
 
 def _kept(tasks: Sequence[Task]) -> int:
