@@ -2212,7 +2212,7 @@ static int run_segment(run *r, double t_bound)
                 continue;
             }
             starting = 0;
-            if (launching) /* the takeoff's state, now that the block flies (see below) */
+            if (launching) /* the takeoff's state, now that the block flies (see above) */
                 see_flight(r, r->t, r->y);
         }
         events_scan(&r->events, &r->ec, &r->d, &found);
