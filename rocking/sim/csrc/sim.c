@@ -2173,8 +2173,14 @@ static int run_segment(run *r, double t_bound)
             if (r->events.w[k].kind == EV_LIFT_OFF && r->events.g[k] < 0.0)
                 return EV_LIFT_OFF;
     r->skip_lift_check = 0;
-    if (r->flying)
+    /* The flight's start counts towards u_max and jump_max as its other points do (numpy_backend's _peaks): a
+     * takeoff while the raised corner falls (with a damper) has its highest point there. A takeoff's start counts
+     * once its first step has lifted the corner: a grazing one (SEG_NO_TAKEOFF) is no flight. */
+    if (r->flying) {
         flight_landings_armed(r);
+        if (!launching)
+            see_flight(r, r->t, r->y);
+    }
     if (r->hist != NULL && r->c->record_dt > 0.0)
         r->next_sample = record_first_sample(r->t, r->c->record_dt);
 
@@ -2206,6 +2212,8 @@ static int run_segment(run *r, double t_bound)
                 continue;
             }
             starting = 0;
+            if (launching) /* the takeoff's state, now that the block flies (see above) */
+                see_flight(r, r->t, r->y);
         }
         events_scan(&r->events, &r->ec, &r->d, &found);
         for (k = 0; k < found.n_passed; ++k)
