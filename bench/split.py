@@ -3,7 +3,7 @@
 `python bench/split.py [--map N] [--fragility N]`: a full ``N x N`` overturning map (the bench map's block and
 damper, both directions) and a fragility of ``N`` stochastic motions (4 PGA levels, both directions), each on
 one worker in this process, after a warm-up that builds and loads the C libraries. The CPU of this process is
-split by timing every call of the C batch (``rocking_simulate_batch``) and every stochastic motion drawn;
+split by timing every call of the C batch (``rocking_simulate_batch_lanes``, which the batch calls, lanes or not) and every stochastic motion drawn;
 imports are done before and excluded (they are a fixed cost of a process, about 1.5 s of CPU with xarray,
 pandas and matplotlib, whatever the study's size). CPU time, not wall time: the machine is shared.
 """
@@ -50,7 +50,7 @@ def timing():
         lib = library(*args, **kwargs)
         if id(lib) not in wrapped:
             wrapped.add(id(lib))
-            batch = lib.lib.rocking_simulate_batch
+            batch = lib.lib.rocking_simulate_batch_lanes
 
             def timed_batch(n, *rest):
                 start = time.process_time()
@@ -58,7 +58,7 @@ def timing():
                 spent["c_s"] += time.process_time() - start
                 spent["responses"] += n
 
-            lib.lib.rocking_simulate_batch = timed_batch
+            lib.lib.rocking_simulate_batch_lanes = timed_batch
         return lib
 
     def timed_synthesize(*args, **kwargs):

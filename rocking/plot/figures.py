@@ -35,6 +35,7 @@ from __future__ import annotations
 from collections.abc import Iterator
 from contextlib import contextmanager
 from pathlib import Path
+from typing import Any
 
 import matplotlib.path as mpath
 import numpy as np
@@ -1453,7 +1454,7 @@ def write_figure(fig: Figure, folder: Path, name: str, formats: tuple[str, ...] 
 
 
 #: rcParams under which a figure without a layout engine keeps none: matplotlib reads ``None`` as these ask.
-NO_LAYOUT_ENGINE = {"figure.autolayout": False, "figure.constrained_layout.use": False}
+NO_LAYOUT_ENGINE: dict[Any, Any] = {"figure.autolayout": False, "figure.constrained_layout.use": False}
 
 
 @contextmanager
