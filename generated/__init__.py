@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "39be37815bc0170760ae654525edceb463b1ee519a2592161194ee8072062a57",
-    "omd": "0b7d03d8fd0c82210fd7c7d8ceeec60476067972ae11890fcdeaaade7d294f2e",
-    "omd2": "c5c61514b19d04ead95a5eee82b2e2eef348fb1954889196ad57988e10c4f5ab",
-    "omd_stops": "1a3ebbb886d5da8da5adba8ce2a79acd879b2ababd0fc8d74f48f51e5c145689",
-    "omd_stops_hc": "b6f6dcb778f91062952c96d83edf05e51e843ec5a08348aa79f49923903161d6",
-    "pendulum": "84977fb4e6bee410c13971f96c50373d87cda472af31b1b9dd85d681ba92b409",
+    "block": "3f167058cd52cbed8385639ae639dfe81cd1902fdb98fd07519cf89a222696d8",
+    "omd": "87804fa92f47f578a5d1037a8dfbaa24518ba257c0a19488b26e56172f64be54",
+    "omd2": "4613e7c299dcf878f8a804e93dc274839018df224b3ec195d36aae0da4528d0b",
+    "omd_stops": "f3a75f378a9490f59b35ac015266829918ac3ac00e7991934a517eba8ca2f99f",
+    "omd_stops_hc": "4dadea63c9541a248fc6c39bb8e2be28631a80f49e9aa28be7645c6379829756",
+    "pendulum": "467d5626d1ac2ed2e703fd6f9408640ccfed67ec9681ba69283318af9edc438d",
 }

@@ -1124,6 +1124,10 @@ typedef struct event_ctx {
     double slide_uplift_floor[2];
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
     const double *u_max;             /* the largest |u| so far */
+    /* normal_bound's constants, read per run (normal_bound_read): the weight m_t g [N], the damper's mass [kg], per
+     * pivot (s = +1, -1) |sum_i m_i (a_i, b_i)| [kg m]; ready 0: not read, or the model is not of their form. */
+    int nb_ready;
+    double nb_weight, nb_mass, nb_rho[2];
 } event_ctx;
 
 /* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
@@ -1180,6 +1184,101 @@ static ALWAYS_INLINE double rocking_normal_force(ode *o, double t, const double 
         n += out[NQ + 2 + j] * f[NQ + j];
     return n;
 }
+
+#ifdef MODEL_FLIGHT
+/* A lower bound of the floor's N on a stuck corner without a vertical component, from the step's FSAL derivative f
+ * at a few products' cost (the exact N costs the generated base reaction, its sin and cos: a sixth of a rocking
+ * run's instructions). The whole system's vertical momentum: N = m_t g + sum_i m_i ddy_i, each body a point fixed
+ * in the block frame at (a_i, b_i) from the pivot, ddy_i = a_i (ddtheta cos - dtheta^2 sin) - b_i (ddtheta sin +
+ * dtheta^2 cos), and the damper's mass m moving along the block's x by q[1], + m (x (...) + ddx sin + 2 dx dtheta
+ * cos); so N >= m_t g - (rho_s + m |x|) (|ddtheta| + dtheta^2) - m (|ddx| + 2 |dx dtheta|), rho_s = |sum_i m_i
+ * (a_i, b_i)|. -inf where it proves nothing (within 1e-6 of the weight of 0), or where it does not apply. */
+static ALWAYS_INLINE double normal_bound(const event_ctx *ec, const double *y, const double *f)
+{
+    const double w = y[NQ], spin = fabs(f[NQ]) + w * w;
+#if NQ > 1
+    const double x = fabs(y[1]), dx = fabs(y[NQ + 1]), ddx = fabs(f[NQ + 1]);
+#else
+    const double x = 0.0, dx = 0.0, ddx = 0.0;
+#endif
+    double bound;
+    if (!ec->nb_ready || ec->o->vertical)
+        return -INFINITY;
+    bound = ec->nb_weight - (ec->nb_rho[ec->o->phase < 0] + ec->nb_mass * x) * spin -
+            ec->nb_mass * (ddx + 2.0 * dx * fabs(w));
+    return bound > 1e-6 * ec->nb_weight ? bound : -INFINITY;
+}
+
+/* N_b of the generated base reaction about s at y with the accelerations dd (NQ values), no vertical component. */
+static double normal_at(const constants *k, double s, const double *y, const double *dd)
+{
+    double out[3 * (NQ + 1)], n;
+    int j;
+    model_base_reaction_prepared(y, 0.0, about(k, s), out);
+    n = out[NQ + 1];
+    for (j = 0; j < NQ; ++j)
+        n += out[NQ + 2 + j] * dd[j];
+    return n;
+}
+
+/* normal_bound's constants from the generated base reaction (the weight at rest; per pivot, at theta = 0 and
+ * dtheta = 1, the moment sum_i m_i b_i from the dtheta^2 term and sum_i m_i a_i from ddtheta's coefficient; the
+ * damper's mass from ddx's coefficient at theta = pi/2), then the form checked on two states of every kind of
+ * term: where the generated N differs from it by more than rounding (a model of another form) the bound stays
+ * off. */
+static void normal_bound_read(event_ctx *ec, const constants *k)
+{
+    static const double trial[2][2 * NQ + NQ] = {
+#if NQ > 1
+        {0.31, 0.12, -1.7, 0.9, 2.3, -1.1},
+        {-0.83, -0.27, 0.6, -2.2, -0.4, 3.1},
+#else
+        {0.31, -1.7, 2.3},
+        {-0.83, 0.6, -0.4},
+#endif
+    };
+    double y[NY] = {0.0}, dd[NQ] = {0.0}, out[3 * (NQ + 1)];
+    double X[2], Y[2], s;
+    int i, ok = 1;
+    ec->nb_ready = 0;
+    ec->nb_weight = normal_at(k, 1.0, y, dd);
+    ec->nb_mass = 0.0;
+#if NQ > 1
+    y[0] = PI / 2.0;
+    model_base_reaction_prepared(y, 0.0, about(k, 1.0), out);
+    ec->nb_mass = out[NQ + 3];
+    y[0] = 0.0;
+#endif
+    for (i = 0; i < 2; ++i) {
+        s = i == 0 ? 1.0 : -1.0;
+        y[NQ] = 1.0;
+        model_base_reaction_prepared(y, 0.0, about(k, s), out);
+        X[i] = out[NQ + 2];
+        Y[i] = ec->nb_weight - out[NQ + 1];
+        y[NQ] = 0.0;
+        ec->nb_rho[i] = sqrt(X[i] * X[i] + Y[i] * Y[i]);
+    }
+    for (i = 0; i < 4 && ok; ++i) {
+        const double *v = trial[i % 2];
+        const int p = i / 2;
+        const double th = v[0], c = cos(th), sn = sin(th), w = v[NQ], ddt = v[2 * NQ];
+        double expect, got, x = 0.0, dx = 0.0, ddx = 0.0;
+        int j;
+        for (j = 0; j < NY; ++j)
+            y[j] = v[j];
+        for (j = 0; j < NQ; ++j)
+            dd[j] = v[NY + j];
+#if NQ > 1
+        x = v[1], dx = v[NQ + 1], ddx = v[2 * NQ + 1];
+#endif
+        expect = ec->nb_weight + (X[p] + ec->nb_mass * x) * (ddt * c - w * w * sn) - Y[p] * (ddt * sn + w * w * c) +
+                 ec->nb_mass * (ddx * sn + 2.0 * dx * w * c);
+        got = normal_at(k, p == 0 ? 1.0 : -1.0, y, dd);
+        ok = isfinite(got) && fabs(got - expect) <= 1e-9 * (fabs(ec->nb_weight) + 10.0 * (ec->nb_rho[p] + ec->nb_mass));
+    }
+    ec->nb_ready = ok && ec->nb_weight > 0.0 && isfinite(ec->nb_rho[0]) && isfinite(ec->nb_rho[1]);
+}
+#endif
 
 /* The lift-off event's g on a stuck corner from its N = n: on a floor without friction (mu_s = inf) N can reach
  * 0 while the floor holds a tangential force, and letting go of it may drive the corner into the floor: the
@@ -1522,8 +1621,13 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
             g_new = es->contacts[gap_side(k)];
 #ifdef MODEL_FRICTION
         } else if (k == EV_LIFT_OFF && (ec->o->rhs == ODE_FREE_ROCKING || ec->o->rhs == ODE_PULSE_ROCKING)) {
-            /* Every step of a level rocking segment: lift_off_value's own operations, inline. */
-            g_new = lift_off_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
+            /* Every step of a level rocking segment: lift_off_value's own operations, inline, unless a bound proves
+             * N > 0 (its sign is all the detection reads; a root is located with the exact N). */
+#ifdef MODEL_FLIGHT
+            g_new = normal_bound(ec, d->y, d->f);
+            if (!(g_new > 0.0))
+#endif
+                g_new = lift_off_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
 #endif
         } else {
             g_new = event_value(ec, k, d->t, d->y, d->f);
@@ -3459,6 +3563,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
         r.ec.slide_uplift_floor[0] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, 1.0)));
         r.ec.slide_uplift_floor[1] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, -1.0)));
     }
+#ifdef MODEL_FLIGHT
+    normal_bound_read(&r.ec, &k);
+#endif
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
     r.ec.u_max = &out->u_max;
