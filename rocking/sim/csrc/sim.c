@@ -1126,8 +1126,8 @@ typedef struct event_ctx {
     const double *u_max;             /* the largest |u| so far */
     /* normal_bound's constants, read per run (normal_bound_read): the weight m_t g [N], the damper's mass [kg], per
      * pivot (s = +1, -1) |sum_i m_i (a_i, b_i)| [kg m]; ready 0: not read, or the model is not of their form. */
-    int nb_ready;
-    double nb_weight, nb_mass, nb_rho[2];
+    int bound_ready;
+    double bound_weight, bound_mass, bound_rho[2];
 } event_ctx;
 
 /* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
@@ -1202,11 +1202,11 @@ static ALWAYS_INLINE double normal_bound(const event_ctx *ec, const double *y, c
     const double x = 0.0, dx = 0.0, ddx = 0.0;
 #endif
     double bound;
-    if (!ec->nb_ready || ec->o->vertical)
+    if (!ec->bound_ready || ec->o->vertical)
         return -INFINITY;
-    bound = ec->nb_weight - (ec->nb_rho[ec->o->phase < 0] + ec->nb_mass * x) * spin -
-            ec->nb_mass * (ddx + 2.0 * dx * fabs(w));
-    return bound > 1e-6 * ec->nb_weight ? bound : -INFINITY;
+    bound = ec->bound_weight - (ec->bound_rho[ec->o->phase < 0] + ec->bound_mass * x) * spin -
+            ec->bound_mass * (ddx + 2.0 * dx * fabs(w));
+    return bound > 1e-6 * ec->bound_weight ? bound : -INFINITY;
 }
 
 /* N_b of the generated base reaction about s at y with the accelerations dd (NQ values), no vertical component. */
@@ -1240,13 +1240,13 @@ static void normal_bound_read(event_ctx *ec, const constants *k)
     double y[NY] = {0.0}, dd[NQ] = {0.0}, out[3 * (NQ + 1)];
     double X[2], Y[2], s;
     int i, ok = 1;
-    ec->nb_ready = 0;
-    ec->nb_weight = normal_at(k, 1.0, y, dd);
-    ec->nb_mass = 0.0;
+    ec->bound_ready = 0;
+    ec->bound_weight = normal_at(k, 1.0, y, dd);
+    ec->bound_mass = 0.0;
 #if NQ > 1
     y[0] = PI / 2.0;
     model_base_reaction_prepared(y, 0.0, about(k, 1.0), out);
-    ec->nb_mass = out[NQ + 3];
+    ec->bound_mass = out[NQ + 3];
     y[0] = 0.0;
 #endif
     for (i = 0; i < 2; ++i) {
@@ -1254,9 +1254,9 @@ static void normal_bound_read(event_ctx *ec, const constants *k)
         y[NQ] = 1.0;
         model_base_reaction_prepared(y, 0.0, about(k, s), out);
         X[i] = out[NQ + 2];
-        Y[i] = ec->nb_weight - out[NQ + 1];
+        Y[i] = ec->bound_weight - out[NQ + 1];
         y[NQ] = 0.0;
-        ec->nb_rho[i] = sqrt(X[i] * X[i] + Y[i] * Y[i]);
+        ec->bound_rho[i] = sqrt(X[i] * X[i] + Y[i] * Y[i]);
     }
     for (i = 0; i < 4 && ok; ++i) {
         const double *v = trial[i % 2];
@@ -1271,12 +1271,12 @@ static void normal_bound_read(event_ctx *ec, const constants *k)
 #if NQ > 1
         x = v[1], dx = v[NQ + 1], ddx = v[2 * NQ + 1];
 #endif
-        expect = ec->nb_weight + (X[p] + ec->nb_mass * x) * (ddt * c - w * w * sn) - Y[p] * (ddt * sn + w * w * c) +
-                 ec->nb_mass * (ddx * sn + 2.0 * dx * w * c);
+        expect = ec->bound_weight + (X[p] + ec->bound_mass * x) * (ddt * c - w * w * sn) - Y[p] * (ddt * sn + w * w * c) +
+                 ec->bound_mass * (ddx * sn + 2.0 * dx * w * c);
         got = normal_at(k, p == 0 ? 1.0 : -1.0, y, dd);
-        ok = isfinite(got) && fabs(got - expect) <= 1e-9 * (fabs(ec->nb_weight) + 10.0 * (ec->nb_rho[p] + ec->nb_mass));
+        ok = isfinite(got) && fabs(got - expect) <= 1e-9 * (fabs(ec->bound_weight) + 10.0 * (ec->bound_rho[p] + ec->bound_mass));
     }
-    ec->nb_ready = ok && ec->nb_weight > 0.0 && isfinite(ec->nb_rho[0]) && isfinite(ec->nb_rho[1]);
+    ec->bound_ready = ok && ec->bound_weight > 0.0 && isfinite(ec->bound_rho[0]) && isfinite(ec->bound_rho[1]);
 }
 #endif
 
