@@ -1223,8 +1223,8 @@ static double normal_at(const constants *k, double s, const double *y, const dou
 
 /* normal_bound's constants from the generated base reaction (the weight at rest; per pivot, at theta = 0 and
  * dtheta = 1, the moment sum_i m_i b_i from the dtheta^2 term and sum_i m_i a_i from ddtheta's coefficient; the
- * damper's mass from ddx's coefficient at theta = pi/2), then the form checked on two states of every kind of
- * term: where the generated N differs from it by more than rounding (a model of another form) the bound stays
+ * damper's mass from ddx's coefficient at theta = pi/2), then the form checked on a state of every kind of term
+ * about each pivot: where the generated N differs from it by more than rounding (a model of another form) the bound stays
  * off. */
 static void normal_bound_read(event_ctx *ec, const constants *k)
 {
@@ -1258,9 +1258,9 @@ static void normal_bound_read(event_ctx *ec, const constants *k)
         y[NQ] = 0.0;
         ec->bound_rho[i] = sqrt(X[i] * X[i] + Y[i] * Y[i]);
     }
-    for (i = 0; i < 4 && ok; ++i) {
-        const double *v = trial[i % 2];
-        const int p = i / 2;
+    for (i = 0; i < 2 && ok; ++i) { /* a state per pivot */
+        const double *v = trial[i];
+        const int p = i;
         const double th = v[0], c = cos(th), sn = sin(th), w = v[NQ], ddt = v[2 * NQ];
         double expect, got, x = 0.0, dx = 0.0, ddx = 0.0;
         int j;
