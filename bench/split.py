@@ -1,11 +1,11 @@
 """Where a study's CPU goes: inside the C batch calls, generating motions, and the rest (Python).
 
 `python bench/split.py [--map N] [--fragility N]`: a full ``N x N`` overturning map (the bench map's block and
-damper, both directions) and a fragility of ``N`` stochastic motions (4 PGA levels, both directions), each on
-one worker in this process, after a warm-up that builds and loads the C libraries. The CPU of this process is
-split by timing every call of the C batch (``rocking_simulate_batch_lanes``, which the batch calls, lanes or
-not) and every stochastic motion drawn; imports are done before and excluded (they are a fixed cost of a process, about 1.5 s of CPU with xarray,
-pandas and matplotlib, whatever the study's size). CPU time, not wall time: the machine is shared.
+damper, both directions) and a fragility of ``N`` stochastic motions (4 PGA levels, both directions), each on one
+worker in this process, after a warm-up that builds and loads the C libraries. The CPU of this process is split by
+timing every call of the C batch (``rocking_simulate_batch_lanes``, which the batch calls, lanes or not) and every
+stochastic motion drawn; imports are done before and excluded (they are a fixed cost of a process, about 1.5 s of
+CPU with xarray, pandas and matplotlib, whatever the study's size). CPU time, not wall time: the machine is shared.
 """
 
 from __future__ import annotations
