@@ -755,16 +755,23 @@ struct lane;
 static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new);
 static double lanes_error_power(const struct lane *l, double err);
 
-/* err^ERROR_EXPONENT for the step-size control. */
-static inline double error_power(const ode *o, double err)
+/* How a copy of dopri_step_of steps (a constant of each copy): libm's pow alone (a run outside the lanes: the
+ * scalar path keeps its own code), a run in a lane (the stages over vectors, lanes.c), or either, read from the
+ * run (the slip's and the flight's steppers). */
+enum { STEP_SCALAR, STEP_LANE, STEP_EITHER };
+
+/* err^ERROR_EXPONENT for the step-size control: libm's, or the lanes' for a run in a lane (how: dopri_step_of's). */
+static inline double error_power(const ode *o, double err, int how)
 {
-    return o->lane != NULL ? lanes_error_power(o->lane, err) : pow(err, ERROR_EXPONENT);
+    if (how == STEP_SCALAR)
+        return pow(err, ERROR_EXPONENT);
+    return how == STEP_LANE || o->lane != NULL ? lanes_error_power(o->lane, err) : pow(err, ERROR_EXPONENT);
 }
 
 /* One accepted step of the first ny components (a constant of each copy) towards t_bound, at most
  * max_step long. Returns 0, or -1 when the error cannot be controlled above the smallest step. */
 static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step,
-                                       int ny)
+                                       int ny, int how)
 {
     double y_new[NA];
     double h = min2(d->h_next, max_step);
@@ -776,7 +783,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (t_new > t_bound)
             t_new = t_bound;
         h = t_new - d->t; /* the step actually taken, so that t_old + h == t exactly */
-        if (ny == NY && o->lane != NULL) {
+        if (how == STEP_LANE) {
             err = lanes_stages(d, o, tol, h, t_new, y_new);
         } else {
 #ifdef MODEL_FLIGHT
@@ -796,7 +803,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
         if (err < 1.0) {
             /* Below SATURATED the factor is MAX_FACTOR anyway: no pow (small rocking is nearly exact). */
             double factor =
-                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * error_power(o, err));
+                SHORTCUTS && err < SATURATED ? MAX_FACTOR : min2(MAX_FACTOR, SAFETY * error_power(o, err, how));
             if (rejected) /* no growth right after a rejection */
                 factor = min2(1.0, factor);
             d->t_old = d->t;
@@ -810,7 +817,7 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
             return 0;
         }
         /* fmax ignores a NaN error: a non-finite state shrinks the step until it fails. */
-        h *= fmax(MIN_FACTOR, SAFETY * error_power(o, err));
+        h *= fmax(MIN_FACTOR, SAFETY * error_power(o, err, how));
         rejected = 1;
         if (!(h > 0.0) || below_min_step(h, d->t))
             return -1;
@@ -821,14 +828,20 @@ static ALWAYS_INLINE int dopri_step_of(dopri *d, ode *o, const tolerance *tol, d
  * copy in the same one, gcc compiled this one to 20 % more instructions on the bench map. */
 static NOINLINE int dopri_step_stuck(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
 {
-    return dopri_step_of(d, o, tol, t_bound, max_step, NY);
+    return dopri_step_of(d, o, tol, t_bound, max_step, NY, STEP_SCALAR);
+}
+
+/* dopri_step_stuck of a run in a lane: its stages over vectors (lanes.c). */
+static NOINLINE int dopri_step_lane(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
+{
+    return dopri_step_of(d, o, tol, t_bound, max_step, NY, STEP_LANE);
 }
 
 #ifdef MODEL_FRICTION
 /* One accepted step (dopri_step_of) of a sliding contact's NS components. */
 static NOINLINE int dopri_step_slide(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
 {
-    return dopri_step_of(d, o, tol, t_bound, max_step, NS);
+    return dopri_step_of(d, o, tol, t_bound, max_step, NS, STEP_EITHER);
 }
 #endif
 
@@ -836,15 +849,15 @@ static NOINLINE int dopri_step_slide(dopri *d, ode *o, const tolerance *tol, dou
 /* One accepted step (dopri_step_of) of a flying block's NF components. */
 static NOINLINE int dopri_step_flight(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step)
 {
-    return dopri_step_of(d, o, tol, t_bound, max_step, NF);
+    return dopri_step_of(d, o, tol, t_bound, max_step, NF, STEP_EITHER);
 }
 #endif
 
 /* A stepper: dopri_step_stuck or dopri_step_slide, chosen once per segment (dopri_stepper). */
 typedef int (*dopri_step_fn)(dopri *d, ode *o, const tolerance *tol, double t_bound, double max_step);
 
-/* The stepper of the components d integrates. */
-static dopri_step_fn dopri_stepper(const dopri *d)
+/* The stepper of the components d integrates, for the run o (in a lane or not). */
+static dopri_step_fn dopri_stepper(const dopri *d, const ode *o)
 {
 #ifdef MODEL_FLIGHT
     if (d->n == NF)
@@ -856,7 +869,7 @@ static dopri_step_fn dopri_stepper(const dopri *d)
 #else
     (void)d;
 #endif
-    return dopri_step_stuck;
+    return o->lane != NULL ? dopri_step_lane : dopri_step_stuck;
 }
 
 /* Take back the last accepted step and propose h_next instead. */
@@ -2259,7 +2272,7 @@ static int run_segment(run *r, double t_bound)
     if (!r->flying && r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
         r->t_start = r->t;
     dopri_start(&r->d, &r->o, &r->tol, r->t, r->y, t_bound, r->h_first);
-    dopri_step = dopri_stepper(&r->d);
+    dopri_step = dopri_stepper(&r->d, &r->o);
     corner_flat = launching && corner_other_height(&r->ec, r->t, r->y) == 0.0;
     r->h_first = 0.0;
     if (over_budget(r))
