@@ -2875,6 +2875,19 @@ static int takeoff(run *r)
 #endif
     return 0;
 }
+
+/* takeoff, then the run's end where the takeoff ends it or exhausts max_events (its flight counts); returns 1
+ * where the run ends. */
+static int lift_off_counted(run *r)
+{
+    if (takeoff(r))
+        return 1;
+    if (events_exhausted(r)) {
+        r->res->status = ROCKING_MAX_EVENTS;
+        return 1;
+    }
+    return 0;
+}
 #endif
 
 #ifdef MODEL_FRICTION
@@ -3249,12 +3262,8 @@ static void phase_machine(run *r)
          * floor to push); a rocking phase checks it where its segment starts (run_segment). */
         if (r->phase == 0 && !r->flying && !r->skip_lift_check && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) &&
             lift_off_at_start(r)) {
-            if (takeoff(r))
+            if (lift_off_counted(r))
                 return;
-            if (events_exhausted(r)) {
-                r->res->status = ROCKING_MAX_EVENTS;
-                return;
-            }
             continue;
         }
 #endif
@@ -3416,12 +3425,8 @@ static void phase_machine(run *r)
                 return;
             break;
         case EV_LIFT_OFF:
-            if (takeoff(r))
+            if (lift_off_counted(r))
                 return;
-            if (events_exhausted(r)) {
-                r->res->status = ROCKING_MAX_EVENTS;
-                return;
-            }
             break;
 #endif
 #ifdef MODEL_FLIGHT
