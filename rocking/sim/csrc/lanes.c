@@ -53,13 +53,14 @@ static double scalar_stages(dopri *d, ode *o, const tolerance *tol, double h, do
 static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
                          const rocking_control *control)
 {
+    bound_memo memo = {0};
     int64_t i;
     for (i = 0; i < n; ++i) {
         if (control != NULL && control->stop != NULL && *control->stop != 0) {
             out[i].status = ROCKING_STOPPED; /* the rest of the batch is not run */
             continue;
         }
-        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control, NULL);
+        simulate_one(p + i * MODEL_NP, cases + i, out + i, NULL, control, NULL, &memo);
     }
 }
 
@@ -202,6 +203,7 @@ struct lanes {
     const rocking_case *cases;
     rocking_result *out;
     const rocking_control *control;
+    bound_memo memo; /* shared by the lanes: a run reads it at its start, between two switches */
 };
 
 /* The next case of the batch b, or -1 if none is left. Cases read after the stop flag is set end as the scalar
@@ -269,7 +271,7 @@ static void lane_main(lane *l)
     lanes *b = l->owner;
     int64_t i;
     while ((i = lanes_take(b)) >= 0)
-        simulate_one(b->p + i * MODEL_NP, b->cases + i, b->out + i, NULL, b->control, l);
+        simulate_one(b->p + i * MODEL_NP, b->cases + i, b->out + i, NULL, b->control, l, &b->memo);
     l->state = LANE_FINISHED;
     lane_next(l);
 }
@@ -336,6 +338,7 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.cases = cases;
     b.out = out;
     b.control = control;
+    b.memo.have = 0;
     b.runs = runs;
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;

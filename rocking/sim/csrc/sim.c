@@ -1125,6 +1125,23 @@ static int is_before(double phi, int strict)
     return strict ? phi < 0.0 : phi <= 0.0;
 }
 
+/* normal_bound's constants, read per run (normal_bound_read): the weight m_t g [N], the damper's mass [kg], per
+ * pivot (s = +1, -1) sum_i m_i (a_i, b_i) [kg m] and its length; ready 0: not read, or the model is not of their
+ * form. */
+typedef struct bound_constants {
+    int ready;
+    double weight, mass, a[2], b[2], rho[2];
+} bound_constants;
+
+/* normal_bound's constants of the last run of a batch: the cases of a study share their block and damper, and
+ * the constants depend on the parameters alone (normal_bound_read evaluates six generated base reactions, about
+ * a hundredth of a run). have 0: none yet. */
+typedef struct bound_memo {
+    int have;
+    double p[MODEL_NP];
+    bound_constants bound;
+} bound_memo;
+
 /* The events' context: what their functions depend on besides (t, y). */
 typedef struct event_ctx {
     ode *o;
@@ -1137,10 +1154,10 @@ typedef struct event_ctx {
     double slide_uplift_floor[2];
     const double *theta_max, *x_max; /* the largest |y[0]|, |y[1]| so far (the run's results) */
     const double *u_max;             /* the largest |u| so far */
-    /* normal_bound's constants, read per run (normal_bound_read): the weight m_t g [N], the damper's mass [kg], per
-     * pivot (s = +1, -1) |sum_i m_i (a_i, b_i)| [kg m]; ready 0: not read, or the model is not of their form. */
-    int bound_ready;
-    double bound_weight, bound_mass, bound_rho[2];
+    bound_constants bound;
+    /* The segment rocks on a stuck corner without a vertical component (normal_bound applies), about the pivot of
+     * index bound_side (0: s = +1). */
+    int bound_live, bound_side;
 } event_ctx;
 
 /* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
@@ -1214,12 +1231,32 @@ static ALWAYS_INLINE double normal_bound(const event_ctx *ec, const double *y, c
 #else
     const double x = 0.0, dx = 0.0, ddx = 0.0;
 #endif
-    double bound;
-    if (!ec->bound_ready || ec->o->vertical)
-        return -INFINITY;
-    bound = ec->bound_weight - (ec->bound_rho[ec->o->phase < 0] + ec->bound_mass * x) * spin -
-            ec->bound_mass * (ddx + 2.0 * dx * fabs(w));
-    return bound > 1e-6 * ec->bound_weight ? bound : -INFINITY;
+    const double bound = ec->bound.weight - (ec->bound.rho[ec->bound_side] + ec->bound.mass * x) * spin -
+                         ec->bound.mass * (ddx + 2.0 * dx * fabs(w));
+    return bound > 1e-6 * ec->bound.weight ? bound : -INFINITY;
+}
+
+/* normal_bound's second try, where |sin| <= 1 and |cos| <= 1 prove nothing (a strong pulse, a fast swing): N of
+ * the same form is W + A cos(theta) + B sin(theta), with A = (a + m x) ddtheta - b dtheta^2 + 2 m dx dtheta and
+ * B = m ddx - (a + m x) dtheta^2 - b ddtheta, and with |theta| = t, sin t in [t - t^3 / 6, t] and cos t in
+ * [1 - t^2 / 2, 1 - t^2 / 2 + t^4 / 24] for every t >= 0 (Taylor's remainders), each term at its least end. A
+ * few products more than normal_bound; the generated N costs its sin and cos. -inf where it proves nothing, within
+ * 1e-6 of the weight, or 1e-9 of the terms (the rounding of their sum and of the generated N's). */
+static NOINLINE double normal_bound_near(const event_ctx *ec, const double *y, const double *f)
+{
+    const double th = fabs(y[0]), th2 = th * th, w = y[NQ], ddt = f[NQ];
+#if NQ > 1
+    const double x = y[1], dx = y[NQ + 1], ddx = f[NQ + 1];
+#else
+    const double x = 0.0, dx = 0.0, ddx = 0.0;
+#endif
+    const double m = ec->bound.mass, a = ec->bound.a[ec->bound_side] + m * x, b = ec->bound.b[ec->bound_side];
+    const double A = a * ddt - b * w * w + 2.0 * m * dx * w;
+    const double B = (y[0] < 0.0 ? -1.0 : 1.0) * (m * ddx - a * w * w - b * ddt); /* times sin |theta| */
+    const double cos_lo = 1.0 - 0.5 * th2, cos_hi = cos_lo + th2 * th2 / 24.0;
+    const double sin_lo = th - th * th2 / 6.0, sin_hi = th;
+    const double bound = ec->bound.weight + A * (A >= 0.0 ? cos_lo : cos_hi) + B * (B >= 0.0 ? sin_lo : sin_hi);
+    return bound > 1e-6 * ec->bound.weight + 1e-9 * (fabs(A) + fabs(B)) ? bound : -INFINITY;
 }
 
 /* N_b of the generated base reaction about s at y with the accelerations dd (NQ values), no vertical component. */
@@ -1237,9 +1274,9 @@ static double normal_at(const constants *k, double s, const double *y, const dou
 /* normal_bound's constants from the generated base reaction (the weight at rest; per pivot, at theta = 0 and
  * dtheta = 1, the moment sum_i m_i b_i from the dtheta^2 term and sum_i m_i a_i from ddtheta's coefficient; the
  * damper's mass from ddx's coefficient at theta = pi/2), then the form checked on a state of every kind of term
- * about each pivot: where the generated N differs from it by more than rounding (a model of another form) the bound stays
- * off. */
-static void normal_bound_read(event_ctx *ec, const constants *k)
+ * about each pivot: where the generated N differs from it by more than rounding (a model of another form) the
+ * bound stays off. */
+static void normal_bound_read(bound_constants *b, const constants *k)
 {
     static const double trial[2][2 * NQ + NQ] = {
 #if NQ > 1
@@ -1251,29 +1288,25 @@ static void normal_bound_read(event_ctx *ec, const constants *k)
 #endif
     };
     double y[NY] = {0.0}, dd[NQ] = {0.0}, out[3 * (NQ + 1)];
-    double X[2], Y[2], s;
     int i, ok = 1;
-    ec->bound_ready = 0;
-    ec->bound_weight = normal_at(k, 1.0, y, dd);
-    ec->bound_mass = 0.0;
+    b->weight = normal_at(k, 1.0, y, dd);
+    b->mass = 0.0;
 #if NQ > 1
     y[0] = PI / 2.0;
     model_base_reaction_prepared(y, 0.0, about(k, 1.0), out);
-    ec->bound_mass = out[NQ + 3];
+    b->mass = out[NQ + 3];
     y[0] = 0.0;
 #endif
     for (i = 0; i < 2; ++i) {
-        s = i == 0 ? 1.0 : -1.0;
         y[NQ] = 1.0;
-        model_base_reaction_prepared(y, 0.0, about(k, s), out);
-        X[i] = out[NQ + 2];
-        Y[i] = ec->bound_weight - out[NQ + 1];
+        model_base_reaction_prepared(y, 0.0, about(k, i == 0 ? 1.0 : -1.0), out);
+        b->a[i] = out[NQ + 2];
+        b->b[i] = b->weight - out[NQ + 1];
         y[NQ] = 0.0;
-        ec->bound_rho[i] = sqrt(X[i] * X[i] + Y[i] * Y[i]);
+        b->rho[i] = sqrt(b->a[i] * b->a[i] + b->b[i] * b->b[i]);
     }
     for (i = 0; i < 2 && ok; ++i) { /* a state per pivot */
         const double *v = trial[i];
-        const int p = i;
         const double th = v[0], c = cos(th), sn = sin(th), w = v[NQ], ddt = v[2 * NQ];
         double expect, got, x = 0.0, dx = 0.0, ddx = 0.0;
         int j;
@@ -1284,12 +1317,27 @@ static void normal_bound_read(event_ctx *ec, const constants *k)
 #if NQ > 1
         x = v[1], dx = v[NQ + 1], ddx = v[2 * NQ + 1];
 #endif
-        expect = ec->bound_weight + (X[p] + ec->bound_mass * x) * (ddt * c - w * w * sn) - Y[p] * (ddt * sn + w * w * c) +
-                 ec->bound_mass * (ddx * sn + 2.0 * dx * w * c);
-        got = normal_at(k, p == 0 ? 1.0 : -1.0, y, dd);
-        ok = isfinite(got) && fabs(got - expect) <= 1e-9 * (fabs(ec->bound_weight) + 10.0 * (ec->bound_rho[p] + ec->bound_mass));
+        expect = b->weight + (b->a[i] + b->mass * x) * (ddt * c - w * w * sn) - b->b[i] * (ddt * sn + w * w * c) +
+                 b->mass * (ddx * sn + 2.0 * dx * w * c);
+        got = normal_at(k, i == 0 ? 1.0 : -1.0, y, dd);
+        ok = isfinite(got) && fabs(got - expect) <= 1e-9 * (fabs(b->weight) + 10.0 * (b->rho[i] + b->mass));
     }
-    ec->bound_ready = ok && ec->bound_weight > 0.0 && isfinite(ec->bound_rho[0]) && isfinite(ec->bound_rho[1]);
+    b->ready = ok && b->weight > 0.0 && isfinite(b->rho[0]) && isfinite(b->rho[1]);
+}
+
+/* normal_bound's constants of the parameters p into b, from memo where it holds those of p (memo may be NULL). */
+static void normal_bound_of(bound_constants *b, const constants *k, const double *p, bound_memo *memo)
+{
+    if (memo != NULL && memo->have && memcmp(memo->p, p, sizeof memo->p) == 0) {
+        *b = memo->bound;
+        return;
+    }
+    normal_bound_read(b, k);
+    if (memo != NULL) {
+        memcpy(memo->p, p, sizeof memo->p);
+        memo->bound = *b;
+        memo->have = 1;
+    }
 }
 #endif
 
@@ -1327,6 +1375,21 @@ static double lift_off_value(const event_ctx *ec, double t, const double *y, con
     }
     floor_force(o, t, y, fn);
     return fn[1];
+}
+
+/* The lift-off event's g at a step's end or a segment's start, f the derivative there: a bound of N where one
+ * proves N > 0 (normal_bound, normal_bound_near: its sign is all the detection reads, and a root is located with
+ * exact values), else lift_off_value. */
+static ALWAYS_INLINE double lift_off_at_end(const event_ctx *ec, double t, const double *y, const double *f)
+{
+#ifdef MODEL_FLIGHT
+    if (ec->bound_live) {
+        double n = normal_bound(ec, y, f);
+        if (n > 0.0 || (n = normal_bound_near(ec, y, f)) > 0.0)
+            return n;
+    }
+#endif
+    return lift_off_value(ec, t, y, f);
 }
 #endif
 
@@ -1433,14 +1496,14 @@ static ALWAYS_INLINE double critical_event_bound(const event_ctx *ec, double t, 
 
 /* g at a step's end: exact, except that a value known to be < 0 may be a
  * bound (critical_event_bound); locating an event uses exact values only. */
-static inline double event_value(const event_ctx *ec, int kind, double t, const double *y, const double *f)
+static ALWAYS_INLINE double event_value(const event_ctx *ec, int kind, double t, const double *y, const double *f)
 {
     const event_rule *e = &EVENT_RULES[kind];
     if (e->component >= 0)
         return component_event(component_factor(ec, e), e->offset, y[e->component]);
 #ifdef MODEL_FRICTION
     if (kind == EV_LIFT_OFF)
-        return lift_off_value(ec, t, y, f);
+        return lift_off_at_end(ec, t, y, f);
 #else
     (void)f;
 #endif
@@ -1609,7 +1672,7 @@ static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 /* Check every watched event over the step just accepted: detection from the
  * values at both ends, location on the dense output, the earliest terminal
  * event wins and the non-terminal ones after it are dropped. */
-static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_events *out)
+static ALWAYS_INLINE void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_events *out)
 {
     int fired[N_EVENTS];
     int i, n_fired = 0;
@@ -1633,27 +1696,29 @@ static void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_event
             es->have_contacts = 1;
             g_new = es->contacts[gap_side(k)];
 #ifdef MODEL_FRICTION
-        } else if (k == EV_LIFT_OFF && (ec->o->rhs == ODE_FREE_ROCKING || ec->o->rhs == ODE_PULSE_ROCKING)) {
-            /* Every step of a level rocking segment: lift_off_value's own operations, inline, unless a bound proves
-             * N > 0 (its sign is all the detection reads; a root is located with the exact N). */
-#ifdef MODEL_FLIGHT
-            g_new = normal_bound(ec, d->y, d->f);
-            if (!(g_new > 0.0))
-#endif
-                g_new = lift_off_margin(ec, d->t, d->y, rocking_normal_force(ec->o, d->t, d->y, d->f, ec->o->cst));
+        } else if (k == EV_LIFT_OFF) {
+            g_new = lift_off_at_end(ec, d->t, d->y, d->f);
 #endif
         } else {
             g_new = event_value(ec, k, d->t, d->y, d->f);
         }
-        sense = event_sense(w->sense, g_old);
         es->g[i] = g_new;
+        /* g keeps its strict sign over the step: neither sense can find its "before" at one end only. */
+        if ((g_old > 0.0 && g_new > 0.0) || (g_old < 0.0 && g_new < 0.0))
+            continue;
+        sense = event_sense(w->sense, g_old);
         if (!is_before(sense * g_old, w->strict) || is_before(sense * g_new, w->strict) ||
             (SHORTCUTS && peak_below_max(ec, d, k)))
             continue;
         fired[n_fired++] = k;
-        /* The value at the step's start may be a bound (g_new is exact: a bound is only ever "before"). */
+        /* The value at the step's start may be a bound (g_new is exact: a bound is only ever "before"); the
+         * derivative there is the step's first stage. */
         if (k == EV_CRITICAL)
             g_old = model_event(ec, k, d->t_old, d->y_old);
+#ifdef MODEL_FRICTION
+        if (k == EV_LIFT_OFF)
+            g_old = lift_off_value(ec, d->t_old, d->y_old, d->k[0]);
+#endif
         out->t_root[k] = locate_event(ec, d, k, sense, d->t_old, sense * g_old, d->t, sense * g_new);
         if (EVENT_RULES[k].terminal && (out->terminal < 0 || out->t_root[k] < out->t_stop)) {
             out->terminal = k;
@@ -2267,6 +2332,8 @@ static int run_segment(run *r, double t_bound)
     r->o.pulse_on = r->t < r->c->t_p;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
     r->o.rhs = ode_rhs_kind(&r->o);
+    r->ec.bound_live = r->ec.bound.ready && (r->o.rhs == ODE_FREE_ROCKING || r->o.rhs == ODE_PULSE_ROCKING);
+    r->ec.bound_side = r->phase < 0;
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
     if (!r->flying && r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
@@ -3504,7 +3571,7 @@ static int pulse_valid(const rocking_case *c)
 }
 
 static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
-                            const rocking_control *control, struct lane *lane)
+                            const rocking_control *control, struct lane *lane, bound_memo *memo)
 {
     run r;
     constants k;
@@ -3581,8 +3648,11 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
         r.ec.slide_uplift_floor[0] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, 1.0)));
         r.ec.slide_uplift_floor[1] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, -1.0)));
     }
+    r.ec.bound.ready = r.ec.bound_live = r.ec.bound_side = 0;
 #ifdef MODEL_FLIGHT
-    normal_bound_read(&r.ec, &k);
+    normal_bound_of(&r.ec.bound, &k, p, memo);
+#else
+    (void)memo;
 #endif
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
@@ -3670,7 +3740,7 @@ void rocking_constants(double *out)
 int64_t rocking_simulate(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
                          const rocking_control *control)
 {
-    return simulate_one(p, c, out, history, control, NULL);
+    return simulate_one(p, c, out, history, control, NULL, NULL);
 }
 
 void rocking_simulate_batch(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
