@@ -1703,8 +1703,9 @@ static ALWAYS_INLINE void events_scan(event_set *es, const event_ctx *ec, dopri 
             g_new = event_value(ec, k, d->t, d->y, d->f);
         }
         es->g[i] = g_new;
-        /* g keeps its strict sign over the step: neither sense can find its "before" at one end only. */
-        if ((g_old > 0.0 && g_new > 0.0) || (g_old < 0.0 && g_new < 0.0))
+        /* g keeps its strict sign over the step: neither sense can find its "before" at one end only (a product
+         * that underflows to 0, or a NaN, goes on to the full test). */
+        if (g_old * g_new > 0.0)
             continue;
         sense = event_sense(w->sense, g_old);
         if (!is_before(sense * g_old, w->strict) || is_before(sense * g_new, w->strict) ||
