@@ -171,3 +171,22 @@ def test_a_horizontal_pulse_lifts_the_pivot_where_the_exact_normal_force_says(da
     assert c.flights >= 1 and (c.status, c.flights, c.impacts, c.uplifts) == (n.status, n.flights, n.impacts, n.uplifts)
     for name in ("flight_time", "jump_max", "theta_max", "t_end"):
         assert getattr(c, name) == pytest.approx(getattr(n, name), rel=1e-8), name
+
+
+def test_random_strong_horizontal_pulses_lift_the_pivot_alike_on_both_back_ends():
+    """sim.c reads a rocking step's N from two bounds before the generated N (normal_bound, then normal_bound_near
+    with sin and cos between their Taylor bounds); neither may hide a takeoff. On strong one-sine pulses (beta 8 to 20,
+    both signs, bare and damped) the C back end lifts the pivot, flies and lands where NumPy, which evaluates N
+    at every step, does."""
+    rng = np.random.default_rng(40)
+    flew = 0
+    for i in range(24):
+        damper = DAMPER if i % 2 else None
+        beta, Omega = rng.uniform(8.0, 20.0), rng.uniform(1.0, 4.0)
+        pulse = OneSinePulse.from_nondim(BLOCK, beta=beta, Omega=Omega, sign=1 if i % 4 < 2 else -1)
+        c, n = (rocking.simulate(BLOCK, damper, pulse, backend=b, rtol=1e-10) for b in ("c", "numpy"))
+        case = f"case {i}: beta {beta:.3f}, Omega {Omega:.3f}"
+        assert (c.status, c.flights, c.impacts, c.uplifts) == (n.status, n.flights, n.impacts, n.uplifts), case
+        assert c.t_end == pytest.approx(n.t_end, rel=1e-7), case
+        flew += c.flights > 0
+    assert flew >= 6
