@@ -1253,8 +1253,8 @@ static NOINLINE double normal_bound_near(const event_ctx *ec, const double *y, c
     const double m = ec->bound.mass, a = ec->bound.a[ec->bound_side] + m * x, b = ec->bound.b[ec->bound_side];
     const double A = a * ddt - b * w * w + 2.0 * m * dx * w;
     const double B = (y[0] < 0.0 ? -1.0 : 1.0) * (m * ddx - a * w * w - b * ddt); /* times sin |theta| */
-    const double cos_lo = 1.0 - 0.5 * th2, cos_hi = cos_lo + th2 * th2 / 24.0;
-    const double sin_lo = th - th * th2 / 6.0, sin_hi = th;
+    const double th4 = th2 * th2, cos_hi = 1.0 - 0.5 * th2 + th4 / 24.0, cos_lo = cos_hi - th4 * th2 / 720.0;
+    const double sin_lo = th - th * th2 / 6.0, sin_hi = sin_lo + th * th4 / 120.0;
     const double bound = ec->bound.weight + A * (A >= 0.0 ? cos_lo : cos_hi) + B * (B >= 0.0 ? sin_lo : sin_hi);
     return bound > 1e-6 * ec->bound.weight + 1e-9 * (fabs(A) + fabs(B)) ? bound : -INFINITY;
 }
