@@ -150,7 +150,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
     for (s = 1; s < STAGES; ++s) {
         VD acc[NY], ag;
         for (i = 0; i < NY; ++i) {
-            acc[i] = 0.0 + RK_A[s][0] * k[0][i];
+            acc[i] = RK_A[s][0] * k[0][i];
 #pragma GCC unroll 8
             for (j = 1; j < s; ++j)
                 acc[i] += RK_A[s][j] * k[j][i];
@@ -185,7 +185,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
         VD sum = LNAME(splat)(0.0);
         const VL magnitude = (VL){0} + INT64_MAX; /* the bits of a double but its sign: fabs */
         for (i = 0; i < NY; ++i) {
-            VD err = 0.0 + RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & magnitude), b = (VD)((VL)y[i] & magnitude), r;
+            VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & magnitude), b = (VD)((VL)y[i] & magnitude), r;
             VL larger = a > b;
             for (s = 1; s < STAGES; ++s)
                 err += RK_E[s] * k[s][i];

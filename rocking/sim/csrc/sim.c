@@ -639,8 +639,9 @@ static void dopri_start(dopri *d, ode *o, const tolerance *tol, double t, const 
     d->dense_ready = 0;
 }
 
-/* acc = sum_j w[j] k[j] over the first n stages, summed from 0.0 in stage
- * order. Every call has a constant n and w (a row of a table): unrolled over
+/* acc = sum_j w[j] k[j] over the first n stages, summed in stage order from
+ * the first product (a sum from 0.0 differs only in a zero's sign, and cost
+ * one addition per component and stage). Every call has a constant n and w (a row of a table): unrolled over
  * the stages, each inlined call keeps the components in vector registers and
  * loads each weight once (with the stages inside the components' loop, gcc
  * loaded them again for every pair of components). */
@@ -648,7 +649,7 @@ static inline void combine_stages(const double (*k)[NA], const double *w, int n,
 {
     int i, j;
     for (i = 0; i < ny; ++i)
-        acc[i] = 0.0 + w[0] * k[0][i];
+        acc[i] = w[0] * k[0][i];
 #pragma GCC unroll 8
     for (j = 1; j < n; ++j)
         for (i = 0; i < ny; ++i)
