@@ -926,7 +926,7 @@ static void dopri_prepare_dense(dopri *d)
  * finds the step needs no location, and then no other component. */
 static void dense_component(const dopri *d, int i, double *c)
 {
-    double sum = 0.0 + RK_D[0] * d->k[0][i];
+    double sum = RK_D[0] * d->k[0][i];
     int j;
     for (j = 1; j < STAGES; ++j)
         sum += RK_D[j] * d->k[j][i];
@@ -1157,8 +1157,9 @@ typedef struct event_ctx {
     const double *u_max;             /* the largest |u| so far */
     bound_constants bound;
     /* The segment rocks on a stuck corner without a vertical component (normal_bound applies), about the pivot of
-     * index bound_side (0: s = +1). */
+     * index bound_side (0: s = +1), whose rho is bound_rho. */
     int bound_live, bound_side;
+    double bound_rho;
 } event_ctx;
 
 /* The factor of an event's component: the pivot s, or 1 (a product by 1 is exact). */
@@ -1232,7 +1233,7 @@ static ALWAYS_INLINE double normal_bound(const event_ctx *ec, const double *y, c
 #else
     const double x = 0.0, dx = 0.0, ddx = 0.0;
 #endif
-    const double bound = ec->bound.weight - (ec->bound.rho[ec->bound_side] + ec->bound.mass * x) * spin -
+    const double bound = ec->bound.weight - (ec->bound_rho + ec->bound.mass * x) * spin -
                          ec->bound.mass * (ddx + 2.0 * dx * fabs(w));
     return bound > 1e-6 * ec->bound.weight ? bound : -INFINITY;
 }
@@ -2336,6 +2337,7 @@ static int run_segment(run *r, double t_bound)
     r->o.rhs = ode_rhs_kind(&r->o);
     r->ec.bound_live = r->ec.bound.ready && (r->o.rhs == ODE_FREE_ROCKING || r->o.rhs == ODE_PULSE_ROCKING);
     r->ec.bound_side = r->phase < 0;
+    r->ec.bound_rho = r->ec.bound.rho[r->ec.bound_side];
     if (sampled)
         r->o.piece = pulse_piece(r->c, r->t);
     if (!r->flying && r->phase != 0 && r->y[0] == 0.0) /* a half-cycle starts (not a restart at t_p) */
