@@ -29,12 +29,6 @@ from ..sim.batch import Cases, Packed
 from ..sim.cases import pulse_cases, sampled_cases
 from .config import Setting
 
-#: The settings of a sampled motion's cases that :func:`rocking.sim.cases.sampled_cases` takes from the motion
-#: (its amplitude at each case's scale and direction, its samples and their timing): every other setting and the
-#: parameters are the same for every motion of a tile (``tests/test_batches.py`` holds it against the cases of each
-#: motion built alone).
-MOTION_SETTINGS = ("a_g", "t_p", "t_max", "pulse_dt", "n_samples", "samples")
-
 
 def motion_cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict) -> Cases:
     """The cases of ``motion`` (sampled or a pulse) at ``scales`` (rows) in the directions ``signs`` (columns)."""
@@ -131,27 +125,38 @@ def tile_cases(setting: Setting, motions: Sequence, scales: np.ndarray, signs, d
     ``signs``: motion by motion, level by level, direction by direction.
 
     The first motion's cases are built and checked by :func:`motion_cases`. Those of the other motions, sampled
-    without a vertical component, are its rows with the settings a motion gives (:data:`MOTION_SETTINGS`) set as
-    :func:`~rocking.sim.cases.sampled_cases` sets them; other motions (pulses, vertical components) are built one at
-    a time.
+    without a vertical component, are its rows with the settings a motion gives them set as
+    :func:`~rocking.sim.cases.sampled_cases` sets them (:func:`_motion_settings`); other motions (pulses, vertical
+    components) are built one at a time.
     """
     if not _plain(motions):
         return _stacked([motion_cases(setting, m, s, signs, damper) for m, s in zip(motions, scales)])
     first = motion_cases(setting, motions[0], scales[0], signs, damper)
     _check_peaks(motions[1:], scales[1:])
-    count, per = len(motions), len(first)
-    settings = {k: _tiled(v, count) for k, v in first.settings.items()}
+    own = _motion_settings(motions, scales, signs, setting.t_after)
+    settings = {k: own[k] if k in own else _tiled(v, len(motions)) for k, v in first.settings.items()}
+    return Rows(first.model, np.tile(first.p, (len(motions), 1)), settings)
+
+
+def _motion_settings(motions: Sequence[SampledMotion], scales: np.ndarray, signs, t_after: float) -> dict:
+    """What each sampled motion gives its cases (:func:`~rocking.sim.cases.sampled_cases`), one row per case: its
+    amplitude ``a_g`` at each scale and direction, the end of its record and of its runs, its samples and their
+    spacing; every other setting is the same for every motion (``tests/test_batches.py`` holds them all against
+    the cases of each motion built alone)."""
+    per = scales.shape[1] * len(signs)
     sign = np.asarray(signs, dtype=np.int64)[None, :]
     a_g = [sign * m.sign * (m.scale * scale[:, None]) for m, scale in zip(motions, scales)]
-    settings["a_g"] = np.concatenate([a.ravel() for a in a_g])
-    for name, value in (("t_p", [m.t_p for m in motions]), ("pulse_dt", [m.dt for m in motions])):
-        settings[name] = np.repeat(np.array(value, dtype=float), per)
-    settings["n_samples"] = np.repeat(np.array([m.n for m in motions], dtype=float), per)
-    settings["t_max"] = settings["t_p"] + setting.t_after
+    t_p = np.repeat(np.array([m.t_p for m in motions], dtype=float), per)
     samples = [m.a for m in motions]
-    starts = np.cumsum([0] + [a.size for a in samples[:-1]])
-    settings["samples"] = Packed(np.concatenate(samples).astype(float), np.repeat(starts.astype(np.int64), per))
-    return Rows(first.model, np.tile(first.p, (count, 1)), settings)
+    starts = np.cumsum([0] + [a.size for a in samples[:-1]]).astype(np.int64)
+    return {
+        "a_g": np.concatenate([a.ravel() for a in a_g]),
+        "t_p": t_p,
+        "t_max": t_p + t_after,
+        "pulse_dt": np.repeat(np.array([m.dt for m in motions], dtype=float), per),
+        "n_samples": np.repeat(np.array([m.n for m in motions], dtype=float), per),
+        "samples": Packed(np.concatenate(samples).astype(float), np.repeat(starts, per)),
+    }
 
 
 def _placed(base: np.ndarray, rows: np.ndarray, values: np.ndarray) -> np.ndarray:
