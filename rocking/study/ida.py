@@ -72,10 +72,13 @@ from .vocabulary import FIT_STATUSES, PART_NAMES
 LEVELS = {"scale": "", **MEASURES, "amplitude": "m/s^2"}
 #: Samples of an analytic pulse over its duration for its intensity measures (relative error below 1e-7).
 PULSE_SAMPLES = 20_001
-#: Responses (motions x levels x directions) a tile runs at the tolerance asked for (:func:`tile_bounds`): its
-#: own costs (building and checking its batches, replaying the tolerance check, writing its file) small beside
-#: its runs', and tiles enough to keep a few workers busy on a suite of tens of motions.
-TILE_RESPONSES = 256
+#: Responses (motions x levels x directions) a tile runs at the tolerance asked for, about, at most
+#: (:func:`tile_bounds`): enough that its own costs (building and checking its batches, replaying the tolerance
+#: check, writing its file) are small beside its runs'.
+TILE_RESPONSES = 512
+#: Tiles a part is cut into at least, where it has the motions: work for several workers on a suite of a few
+#: tens of motions.
+MIN_TILES = 4
 #: Points of the fitted curve and its band, and bootstrap resamples.
 CURVE_POINTS, RESAMPLES = 101, 400
 
@@ -198,10 +201,11 @@ def ida_tile(payload: tuple) -> dict:
 
 
 def tile_bounds(motions: int, per_motion: int) -> list[tuple[int, int]]:
-    """The ``(first, stop)`` motions of each tile of a part: :data:`TILE_RESPONSES` responses or so (at least one
-    motion), the tiles as even as the motions allow. A function of the study's size only, not of where it runs:
-    a rerun finds its tiles whatever its workers."""
-    tiles = min(motions, max(1, -(-motions * per_motion // TILE_RESPONSES)))
+    """The ``(first, stop)`` motions of each tile of a part of ``motions`` motions of ``per_motion`` responses
+    each: about :data:`TILE_RESPONSES` responses or fewer, in :data:`MIN_TILES` tiles at least (a motion each at
+    least), as even as the motions allow. A function of the study's size only, not of where it runs: a rerun finds
+    its tiles whatever its workers."""
+    tiles = min(motions, max(MIN_TILES, -(-motions * per_motion // TILE_RESPONSES)))
     edges = [i * motions // tiles for i in range(tiles + 1)]
     return list(zip(edges[:-1], edges[1:]))
 
