@@ -6,9 +6,10 @@ intensity measure (``"pga"``, ``"pgv"``, ``"arias"``, ``"cav"``,
 :mod:`rocking.model.intensity`, or ``"amplitude"``, the ``a_g`` of a suite of pulses; each
 motion scaled so that its measure equals the level: linear in the scale, quadratic for the
 Arias intensity), in both directions
-(:mod:`rocking.study.directions`), for the block alone and with the damper. One tile is one
-motion of one part: the motion is made in the tile (:meth:`Suite.motion`), so memory does
-not grow with the suite.
+(:mod:`rocking.study.directions`), for the block alone and with the damper. A tile is a few
+motions of one part (:func:`tile_bounds`), each run of their responses one batch
+(:mod:`rocking.study.batches`): the motions are made in the tile (:meth:`Suite.motion`), so
+memory does not grow with the suite.
 
 The outcome of a motion at a level is the envelope over the directions. The study reports
 what the analysis shows, non-monotone outcomes included (a motion that overturns the block
