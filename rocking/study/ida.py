@@ -26,6 +26,7 @@ import warnings
 from dataclasses import replace
 from pathlib import Path
 from types import FrameType
+from typing import Any
 
 import numpy as np
 
@@ -170,7 +171,7 @@ def tolerance_checked(check: str | None, motion, rtol: float) -> bool:
     return check_choice(check, motion) == "tolerance" and tighter_rtol(rtol) != rtol
 
 
-def ida_tile(payload: tuple) -> dict:
+def ida_tile(payload: Any) -> dict:
     """Motions ``first`` to ``stop - 1`` of one part at every level and direction: arrays ``(motions, levels,
     signs)`` of the map's :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (motions,):
     each motion's measure (:func:`motion_measure`).
