@@ -95,8 +95,8 @@ def _stacked(parts: Sequence[Cases]) -> Rows:
 
 
 def _plain(motions: Sequence) -> bool:
-    """Whether every motion is sampled without a vertical component: then their cases differ in
-    :data:`MOTION_SETTINGS` only."""
+    """Whether every motion is sampled without a vertical component: then their cases differ only in what
+    :func:`_motion_settings` sets."""
     return all(type(m) is SampledMotion and m.a_v is None for m in motions)
 
 
@@ -176,8 +176,8 @@ def checked_rows(run: Callable[[float, float, np.ndarray], dict], rtol: float, n
 
     The ladder is replayed on the runs made so far, a stand-in given for the next (any run: which responses a run
     counts is decided before it is made, from the runs above it); the next run is then made on the responses it
-    counts (its ``counted``), the others holding the first run's results, which no rung reads. After the last run,
-    the ladder is replayed on the runs made.
+    counts (its ``counted``), the others holding the first run's results, which the ladder does not count there.
+    After the last run, the ladder is replayed on the runs made.
 
     Parameters
     ----------
