@@ -271,7 +271,8 @@ def test_an_ida_of_pulses_runs_each_response_once(tmp_path, monkeypatch):
         Execution(workers=1, progress=False),
         runs=tmp_path,
     )
-    assert len(calls) == 2 * len(pulses)  # one batch a pulse and a part: none again
+    assert sum(calls) == study.run["responses"]  # each response once: none again
+    assert len(calls) == study.run["tiles_computed"]  # one batch a tile
     # Not checked: no response is marked sensitive or not, and the fraction is unknown (NaN), not 0.
     assert "sensitive" not in study.data and np.isnan(study.data["sensitive_fraction"]).all()
 
@@ -281,6 +282,11 @@ def _counted_runs(monkeypatch) -> list:
     calls, real = [], ida_module.run_cases
     monkeypatch.setattr(ida_module, "run_cases", lambda cases, **kw: calls.append(len(cases)) or real(cases, **kw))
     return calls
+
+
+def _responses(data) -> int:
+    """The responses of an IDA's data: parts, motions, levels and directions."""
+    return int(np.prod([data.sizes[dim] for dim in ("part", "motion", "level", "sign")]))
 
 
 def test_ida_check_turns_the_tolerance_check_on_for_pulses_and_off_for_records(tmp_path, monkeypatch):
@@ -293,7 +299,7 @@ def test_ida_check_turns_the_tolerance_check_on_for_pulses_and_off_for_records(t
     ds = rocking.incremental_dynamic_analysis(
         block, {"gamma": 0.05}, motions=pulses, scales=[0.5, 2.0], check="tolerance", runs=tmp_path / "p", **few
     )
-    assert len(calls) == 3 * 2 * len(pulses)  # each pulse and part: its run and the first rung's two
+    assert sum(calls) == 3 * _responses(ds)  # each response: its run and the first rung's two, none again
     assert json.loads(ds.attrs["config"])["check"] == "tolerance"
     calls.clear()
     path = _noise_file(tmp_path)
@@ -301,7 +307,7 @@ def test_ida_check_turns_the_tolerance_check_on_for_pulses_and_off_for_records(t
         BLOCK, None, motions=[path], unit="m/s2", scales=[NOISE.scale], directions="both", check="none",
         runs=tmp_path / "r", **few,
     )  # fmt: skip
-    assert len(calls) == 2 and "sensitive" not in ds  # not checked: not marked either way
+    assert sum(calls) == _responses(ds) and "sensitive" not in ds  # not checked: not marked either way
     checked = rocking.incremental_dynamic_analysis(
         BLOCK, None, motions=[path], unit="m/s2", scales=[NOISE.scale], directions="both", runs=tmp_path / "r", **few
     )
@@ -324,12 +330,12 @@ def test_cli_ida_check(tmp_path, monkeypatch, capsys):
     argv = ["ida", "--pulses", "sine", "--periods", "0.5", "1", "--scales", "0.5", "2", "2", "--workers", "1"]
     argv += ["--no-progress", "--t-after", "5", "--out", str(tmp_path)]
     assert main([*argv, "--check", "tolerance"]) == 0
-    assert len(calls) == 3 * 2 * 2
+    assert sum(calls) == 3 * _responses(rocking.load(tmp_path / "ida.json").data)
     assert rocking.load(tmp_path / "ida.json").config["check"] == "tolerance"
     assert "responses sensitive to the tolerance" in capsys.readouterr().out
     calls.clear()
     assert main([*argv, "--check", "none"]) == 0
-    assert len(calls) == 2 * 2
+    assert sum(calls) == _responses(rocking.load(tmp_path / "ida.json").data)
     with pytest.raises(SystemExit):
         main([*argv, "--check", "fast"])
     assert "--check: invalid choice: 'fast' (choose from" in capsys.readouterr().err

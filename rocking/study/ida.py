@@ -6,9 +6,10 @@ intensity measure (``"pga"``, ``"pgv"``, ``"arias"``, ``"cav"``,
 :mod:`rocking.model.intensity`, or ``"amplitude"``, the ``a_g`` of a suite of pulses; each
 motion scaled so that its measure equals the level: linear in the scale, quadratic for the
 Arias intensity), in both directions
-(:mod:`rocking.study.directions`), for the block alone and with the damper. One tile is one
-motion of one part: the motion is made in the tile (:meth:`Suite.motion`), so memory does
-not grow with the suite.
+(:mod:`rocking.study.directions`), for the block alone and with the damper. A tile is a few
+motions of one part (:func:`tile_bounds`), each run of their responses one batch
+(:mod:`rocking.study.batches`): the motions are made in the tile (:meth:`Suite.motion`), so
+memory does not grow with the suite.
 
 The outcome of a motion at a level is the envelope over the directions. The study reports
 what the analysis shows, non-monotone outcomes included (a motion that overturns the block
@@ -30,11 +31,12 @@ from typing import Any
 import numpy as np
 
 from ..model.intensity import MEASURES, measure
-from ..model.motion import SampledMotion, describe
+from ..model.motion import SampledMotion
 from ..model.params import ParameterError
-from ..sim.accuracy import SENSITIVE, check_choice, checked_fields, tighter_rtol
-from ..sim.cases import pulse_cases, run_cases, sampled_cases
+from ..sim.accuracy import SENSITIVE, check_choice, tighter_rtol
+from ..sim.cases import run_cases
 from . import directions
+from .batches import checked_rows, tile_cases
 from .config import Grid, Setting, Tuning, Variant, part_config
 from .dataset import coordinate_attrs, field_attrs
 from .directions import choose, response_envelope
@@ -72,6 +74,13 @@ from .vocabulary import FIT_STATUSES, PART_NAMES
 LEVELS = {"scale": "", **MEASURES, "amplitude": "m/s^2"}
 #: Samples of an analytic pulse over its duration for its intensity measures (relative error below 1e-7).
 PULSE_SAMPLES = 20_001
+#: Responses (motions x levels x directions) a tile runs at the tolerance asked for, about, at most
+#: (:func:`tile_bounds`): enough that its own costs (building and checking its batches, replaying the tolerance
+#: check, writing its file) are small beside its runs'.
+TILE_RESPONSES = 512
+#: Tiles a part is cut into at least, where it has the motions: work for several workers on a suite of a few
+#: tens of motions.
+MIN_TILES = 4
 #: Points of the fitted curve and its band, and bootstrap resamples.
 CURVE_POINTS, RESAMPLES = 101, 400
 
@@ -155,27 +164,6 @@ def motion_measure(motion, name: str) -> float:
     return measure(name, motion.acceleration(t), t[1])  # every measure is blind to the sign
 
 
-def _cases(setting: Setting, motion, scales: np.ndarray, signs, damper: dict):
-    """The cases of ``motion`` (sampled or a pulse) at ``scales`` (rows) in the directions ``signs`` (columns)."""
-    common = {"rtol": setting.rtol, "t_after": setting.t_after, **setting.floor_args(), **damper}
-    signs = np.asarray(signs)[None, :]
-    if isinstance(motion, SampledMotion):
-        return sampled_cases(setting.block, motion, scales[:, None], sign=signs, **common)
-    d, block = describe(motion), setting.block
-    shape: dict[str, Any] = (
-        {"psi": d.phase} if d.family == "sine" else {"gamma_mp": d.shape, "nu": d.phase} if d.family == "mp" else {}
-    )
-    return pulse_cases(
-        block,
-        d.omega_g / block.p,
-        motion.beta(block) * scales[:, None],
-        sign=motion.sign * signs,
-        motion=d.family,
-        **shape,
-        **common,
-    )
-
-
 def tolerance_checked(check: str | None, motion, rtol: float) -> bool:
     """Whether the responses to ``motion`` are run again at a tighter tolerance: ``check`` (or its default for the
     motion, :func:`rocking.sim.accuracy.check_choice`) is ``"tolerance"``, and a tighter tolerance than ``rtol``
@@ -183,34 +171,45 @@ def tolerance_checked(check: str | None, motion, rtol: float) -> bool:
     return check_choice(check, motion) == "tolerance" and tighter_rtol(rtol) != rtol
 
 
-def ida_tile(payload: tuple) -> dict:
-    """One motion of one part at every level and direction: arrays ``(levels, signs)`` of the map's
-    :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (1,): the motion's measure
-    (:func:`motion_measure`).
+def ida_tile(payload: Any) -> dict:
+    """Motions ``first`` to ``stop - 1`` of one part at every level and direction: arrays ``(motions, levels,
+    signs)`` of the map's :data:`~rocking.study.overturning_map.FIELDS` and ``sensitive``, and ``im`` (motions,):
+    each motion's measure (:func:`motion_measure`).
 
-    The responses are checked down the ladder of tolerances as ``check`` says
-    (:func:`tolerance_checked`: by default a sampled motion's, not a pulse's;
-    :func:`rocking.sim.accuracy.tolerance_check`; ``sensitive`` marks those whose runs disagree, which hold
-    their tightest run's results; all False where no check ran, which the study then drops).
+    Each run is one batch of every motion's cases (:func:`rocking.study.batches.tile_cases`). The responses are
+    checked down the ladder of tolerances as ``check`` says (:func:`tolerance_checked`: by default a sampled
+    motion's, not a pulse's; :func:`rocking.study.batches.checked_rows`, each run below the first made on the
+    responses the ladder still counts; ``sensitive`` marks those whose runs disagree, which hold their tightest
+    run's results; all False where no check ran, which the study then drops).
 
-    ``payload = (setting, damper_or_None, suite, i, levels, name, signs, check)``.
+    ``payload = (setting, damper_or_None, suite, first, stop, levels, name, signs, check)``.
     """
-    setting, damper, suite, i, levels, name, signs, check = payload
-    motion = suite.motion(i)
-    value = motion_measure(motion, name)
-    scales = scales_for(levels, value, name)
+    setting, damper, suite, first, stop, levels, name, signs, check = payload
+    motions = [suite.motion(i) for i in range(first, stop)]
+    values = np.array([motion_measure(motion, name) for motion in motions])
+    scales = np.stack([scales_for(levels, value, name) for value in values])
+    n = scales.size * len(signs)
 
-    def run_at(rtol: float, factor: float) -> dict:
-        cases = _cases(replace(setting, rtol=rtol), motion, scales * factor, signs, damper or {})
+    def run_at(rtol: float, factor: float, rows: np.ndarray) -> dict:
+        cases = tile_cases(replace(setting, rtol=rtol), motions, scales * factor, signs, damper or {}).take(rows)
         return run_cases(cases, backend=setting.backend, threads=1)
 
-    if tolerance_checked(check, motion, setting.rtol):
-        result = checked_fields(run_at, setting.rtol)
+    if tolerance_checked(check, motions[0], setting.rtol):
+        result = checked_rows(run_at, setting.rtol, n)
     else:
-        result = {**run_at(setting.rtol, 1.0), SENSITIVE.name: np.zeros(len(levels) * len(signs), dtype=bool)}
-    result = {k: result[k] for k in (*response_fields(suite), SENSITIVE.name)}
-    shape = (len(levels), len(signs))
-    return {**{k: v.reshape(shape) for k, v in result.items()}, "im": np.array([value])}
+        result = {**run_at(setting.rtol, 1.0, np.ones(n, bool)), SENSITIVE.name: np.zeros(n, dtype=bool)}
+    shape = (len(motions), len(levels), len(signs))
+    return {**{k: result[k].reshape(shape) for k in (*response_fields(suite), SENSITIVE.name)}, "im": values}
+
+
+def tile_bounds(motions: int, per_motion: int) -> list[tuple[int, int]]:
+    """The ``(first, stop)`` motions of each tile of a part of ``motions`` motions of ``per_motion`` responses
+    each: about :data:`TILE_RESPONSES` responses or fewer, in :data:`MIN_TILES` tiles at least (a motion each at
+    least), as even as the motions allow. A function of the study's size only, not of where it runs: a rerun finds
+    its tiles whatever its workers."""
+    tiles = min(motions, max(MIN_TILES, -(-motions * per_motion // TILE_RESPONSES)))
+    edges = [i * motions // tiles for i in range(tiles + 1)]
+    return list(zip(edges[:-1], edges[1:]))
 
 
 def response_fields(suite: Suite) -> tuple[str, ...]:
@@ -323,19 +322,20 @@ def incremental_dynamic_analysis(
         folder = run_folder(runs, part_config("ida", part, setting, damper=described, **grids))
         folders[part] = folder.name
         tasks = []
-        for i in range(n):
-            payload = (setting, damper, suite, i, lv, measure_name, signs, check)
-            expect = {**dict.fromkeys((*kept, SENSITIVE.name), (lv.size, len(signs))), "im": (1,)}
-            task = Task(folder / f"motion-{i}.npz", ida_tile, payload, expect)
+        for first, stop in tile_bounds(n, lv.size * len(signs)):
+            payload = (setting, damper, suite, first, stop, lv, measure_name, signs, check)
+            size = stop - first
+            expect = {**dict.fromkeys((*kept, SENSITIVE.name), (size, lv.size, len(signs))), "im": (size,)}
+            task = Task(folder / f"motions-{first}-{stop}.npz", ida_tile, payload, expect)
             tasks.append(task)
-            where[task.path] = (part, i)
+            where[task.path] = (part, first, stop)
         groups.append(tasks)
 
     def place(task: Task, tile: dict) -> None:
-        part, i = where[task.path]
+        part, first, stop = where[task.path]
         for k in (*kept, SENSITIVE.name):
-            fields[k][PARTS.index(part), i] = tile[k]
-        im[i] = tile["im"][0]
+            fields[k][PARTS.index(part), first:stop] = tile[k]
+        im[first:stop] = tile["im"]
 
     preflight(setting, tuning.case_args())
     stats = run_tiles(interleave(*groups), place, execution, backend=setting.backend, desc="ida", on_tile=on_tile)
