@@ -1134,14 +1134,15 @@ typedef struct bound_constants {
     double weight, mass, a[2], b[2], rho[2];
 } bound_constants;
 
-/* normal_bound's constants of the last run of a batch: the cases of a study share their block and damper, and
- * the constants depend on the parameters alone (normal_bound_read evaluates six generated base reactions, about
- * a hundredth of a run). have 0: none yet. */
-typedef struct bound_memo {
+/* What a run prepares from its parameters alone, kept from the last run of a batch: the cases of a study share
+ * their block and damper. The constants about either pivot with every pad released (two model_prepare), and
+ * normal_bound's (six generated base reactions): about a hundredth of a run. have 0: none yet. */
+typedef struct params_memo {
     int have;
     double p[MODEL_NP];
+    double about[2][NK];
     bound_constants bound;
-} bound_memo;
+} params_memo;
 
 /* The events' context: what their functions depend on besides (t, y). */
 typedef struct event_ctx {
@@ -1327,20 +1328,6 @@ static void normal_bound_read(bound_constants *b, const constants *k)
     b->ready = ok && b->weight > 0.0 && isfinite(b->rho[0]) && isfinite(b->rho[1]);
 }
 
-/* normal_bound's constants of the parameters p into b, from memo where it holds those of p (memo may be NULL). */
-static void normal_bound_of(bound_constants *b, const constants *k, const double *p, bound_memo *memo)
-{
-    if (memo != NULL && memo->have && memcmp(memo->p, p, sizeof memo->p) == 0) {
-        *b = memo->bound;
-        return;
-    }
-    normal_bound_read(b, k);
-    if (memo != NULL) {
-        memcpy(memo->p, p, sizeof memo->p);
-        memo->bound = *b;
-        memo->have = 1;
-    }
-}
 #endif
 
 /* The lift-off event's g on a stuck corner from its N = n: on a floor without friction (mu_s = inf) N can reach
@@ -3574,8 +3561,22 @@ static int pulse_valid(const rocking_case *c)
     return 1;
 }
 
+/* memo holds what the parameters p prepare (memo may be NULL). */
+static int memo_holds(const params_memo *memo, const double *p)
+{
+    return memo != NULL && memo->have && memcmp(memo->p, p, sizeof memo->p) == 0;
+}
+
+/* constants_prepare(k, p, clear) from memo, which holds p's. */
+static void constants_known(constants *k, const double *p, const int *clear, const params_memo *memo)
+{
+    memcpy(k->stop_on, clear, sizeof k->stop_on);
+    k->p = p;
+    memcpy(k->about, memo->about, sizeof k->about);
+}
+
 static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
-                            const rocking_control *control, struct lane *lane, bound_memo *memo)
+                            const rocking_control *control, struct lane *lane, params_memo *memo)
 {
     run r;
     constants k;
@@ -3583,6 +3584,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     const int clear[MAX_STOP_SIDES] = {0};
     int stop_on[MAX_STOP_SIDES], i;
     double reach = INFINITY; /* pad_reach; no stops: no bound */
+    const int known = memo_holds(memo, p);
 
     out->status = ROCKING_FAILED;
     out->overturned = 0;
@@ -3623,7 +3625,15 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.t_takeoff = 0.0;
     r.lift_phase = r.lift_sigma = r.skip_lift_check = 0;
     memset(k.memory, 0, sizeof k.memory);
-    constants_prepare(&k, p, clear);
+    if (known)
+        constants_known(&k, p, clear, memo);
+    else
+        constants_prepare(&k, p, clear);
+    if (!known && memo != NULL) {
+        memcpy(memo->p, p, sizeof memo->p);
+        memcpy(memo->about, k.about, sizeof memo->about);
+        memo->have = 0; /* until its bound too is read */
+    }
     stop_memory_start(&k, zeros, clear); /* E(0) in the regime of the rest state, its memory too */
     r.k = &k;
     r.o.k = &k;
@@ -3654,10 +3664,16 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     }
     r.ec.bound.ready = r.ec.bound_live = r.ec.bound_side = 0;
 #ifdef MODEL_FLIGHT
-    normal_bound_of(&r.ec.bound, &k, p, memo);
-#else
-    (void)memo;
+    if (known) {
+        r.ec.bound = memo->bound;
+    } else {
+        normal_bound_read(&r.ec.bound, &k);
+        if (memo != NULL)
+            memo->bound = r.ec.bound;
+    }
 #endif
+    if (!known && memo != NULL)
+        memo->have = 1;
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
     r.ec.u_max = &out->u_max;
