@@ -1813,6 +1813,7 @@ typedef struct run {
 #if NQ > 1
     double arcs_at;
     arcs tilts;
+    double stroke_at, least_stroke; /* verdict_refuted's least at the stroke x_max upright, and its x_max */
 #endif
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
@@ -2737,13 +2738,15 @@ static int verdict_refuted(run *r, double energy)
     double least;
     least = least_at_tilt_kept(r, r->res->theta_max);
 #if NQ > 1
-    {
+    if (!(r->res->x_max == r->stroke_at)) { /* after the pulse x_max seldom grows: kept */
         double y[NY] = {0.0};
+        r->stroke_at = r->res->x_max;
         y[1] = r->res->x_max;
-        least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
+        r->least_stroke = model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0));
         y[1] = -r->res->x_max;
-        least = lower(least, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
+        r->least_stroke = lower(r->least_stroke, model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0)));
     }
+    least = lower(least, r->least_stroke); /* lower propagates a NaN: the same least in either order */
 #endif
     return energy >= below_least(least, zero) + 8.0 * DBL_EPSILON * (fabs(least) + fabs(zero));
 }
@@ -3690,7 +3693,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.verdict = c->early_verdict != 0 && !r.friction; /* the energy does not bound the slip */
     r.bound_at[0] = r.bound_at[1] = r.least_tilt_at = NAN; /* no bound yet */
 #if NQ > 1
-    r.arcs_at = NAN;
+    r.arcs_at = r.stroke_at = NAN;
 #endif
     r.bound = -INFINITY;
     r.t = 0.0;
