@@ -353,18 +353,18 @@ typedef struct ode {
  * see one linear piece: one smooth function per step, no kink inside. */
 static double ode_ag(ode *o, double t)
 {
+    if (t == o->memo_t) /* set below alone, and cleared where a segment starts */
+        return o->memo_ag;
     if (!o->pulse_on)
         return 0.0;
     if (o->c->motion == ROCKING_MOTION_SAMPLED)
         return o->c->a_g * interpolate(o->c, o->c->samples, o->piece, t);
-    if (t != o->memo_t) {
-        o->memo_t = t;
-        /* The one-sine, the common pulse, without pulse_shape's call and switch (the same operations). */
-        if (o->c->motion == ROCKING_MOTION_SINE)
-            o->memo_ag = o->c->a_g * sin(o->c->omega_g * t + o->c->psi);
-        else
-            o->memo_ag = o->c->a_g * pulse_shape(o->c, t);
-    }
+    o->memo_t = t;
+    /* The one-sine, the common pulse, without pulse_shape's call and switch (the same operations). */
+    if (o->c->motion == ROCKING_MOTION_SINE)
+        o->memo_ag = o->c->a_g * sin(o->c->omega_g * t + o->c->psi);
+    else
+        o->memo_ag = o->c->a_g * pulse_shape(o->c, t);
     return o->memo_ag;
 }
 
@@ -2321,6 +2321,7 @@ static int run_segment(run *r, double t_bound)
     }
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
+    r->o.memo_t = NAN; /* a last a_g f(t) of the pulse is none once it has ended */
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
     r->o.rhs = ode_rhs_kind(&r->o);
     r->ec.bound_live = r->ec.bound.ready && (r->o.rhs == ODE_FREE_ROCKING || r->o.rhs == ODE_PULSE_ROCKING);
