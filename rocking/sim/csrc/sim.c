@@ -1664,6 +1664,7 @@ static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 static ALWAYS_INLINE void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_events *out)
 {
     int fired[N_EVENTS];
+    const int n = es->n;
     int i, n_fired = 0;
     out->terminal = -1;
     out->t_stop = d->t;
@@ -1671,7 +1672,7 @@ static ALWAYS_INLINE void events_scan(event_set *es, const event_ctx *ec, dopri 
     es->have_contacts = 0;
     /* The values at the step's end become those at the next step's start; after
      * a terminal event the segment ends, and they are read no more. */
-    for (i = 0; i < es->n; ++i) {
+    for (i = 0; i < n; ++i) {
         const watched *w = &es->w[i];
         const int k = w->kind;
         double g_old = es->g[i], g_new;
