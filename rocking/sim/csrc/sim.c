@@ -1132,6 +1132,7 @@ static int is_before(double phi, int strict)
 typedef struct bound_constants {
     int ready;
     double weight, mass, a[2], b[2], rho[2];
+    double floor; /* what normal_bound must exceed: 1e-6 of the weight (its rounding, and that of the N it bounds) */
 } bound_constants;
 
 /* What a run prepares from its parameters alone, kept from the last run of a batch: the cases of a study share
@@ -1225,7 +1226,8 @@ static ALWAYS_INLINE double rocking_normal_force(ode *o, double t, const double 
  * in the block frame at (a_i, b_i) from the pivot, ddy_i = a_i (ddtheta cos - dtheta^2 sin) - b_i (ddtheta sin +
  * dtheta^2 cos), and the damper's mass m moving along the block's x by q[1], + m (x (...) + ddx sin + 2 dx dtheta
  * cos); so N >= m_t g - (rho_s + m |x|) (|ddtheta| + dtheta^2) - m (|ddx| + 2 |dx dtheta|), rho_s = |sum_i m_i
- * (a_i, b_i)|. -inf where it proves nothing (within 1e-6 of the weight of 0), or where it does not apply. */
+ * (a_i, b_i)|. It proves N > 0 where it exceeds bound.floor (1e-6 of the weight); only where the segment's
+ * bound_live says it applies. */
 static ALWAYS_INLINE double normal_bound(const event_ctx *ec, const double *y, const double *f)
 {
     const double w = y[NQ], spin = fabs(f[NQ]) + w * w;
@@ -1234,9 +1236,7 @@ static ALWAYS_INLINE double normal_bound(const event_ctx *ec, const double *y, c
 #else
     const double x = 0.0, dx = 0.0, ddx = 0.0;
 #endif
-    const double bound = ec->bound.weight - (ec->bound_rho + ec->bound.mass * x) * spin -
-                         ec->bound.mass * (ddx + 2.0 * dx * fabs(w));
-    return bound > 1e-6 * ec->bound.weight ? bound : -INFINITY;
+    return ec->bound.weight - (ec->bound_rho + ec->bound.mass * x) * spin - ec->bound.mass * (ddx + 2.0 * dx * fabs(w));
 }
 
 /* normal_bound's second try, where |sin| <= 1 and |cos| <= 1 prove nothing (a strong pulse, a fast swing): N of
@@ -1326,6 +1326,7 @@ static void normal_bound_read(bound_constants *b, const constants *k)
         ok = isfinite(got) && fabs(got - expect) <= 1e-9 * (fabs(b->weight) + 10.0 * (b->rho[i] + b->mass));
     }
     b->ready = ok && b->weight > 0.0 && isfinite(b->rho[0]) && isfinite(b->rho[1]);
+    b->floor = 1e-6 * b->weight;
 }
 
 #endif
@@ -1374,7 +1375,7 @@ static ALWAYS_INLINE double lift_off_at_end(const event_ctx *ec, double t, const
 #ifdef MODEL_FLIGHT
     if (ec->bound_live) {
         double n = normal_bound(ec, y, f);
-        if (n > 0.0 || (n = normal_bound_near(ec, y, f)) > 0.0)
+        if (n > ec->bound.floor || (n = normal_bound_near(ec, y, f)) > 0.0)
             return n;
     }
 #endif
