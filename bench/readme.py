@@ -2,8 +2,9 @@
 
 ``python bench/readme.py`` rewrites each block of README.md between its markers (:func:`markers`) from its
 file (:data:`BLOCKS`): the speed figures of the last `make bench` (bench/last.json), the adaptive maps
-against full ones (bench/adaptive-400.json, bench/adaptive-1000.json), the 400 x 400 map from the command line
-(bench/cli-400.json), each written by the command it names.
+against full ones (bench/adaptive-400.json, bench/adaptive-1000.json), what each pair of an adaptive map's steps
+saves and misses (bench/adaptive-steps.json), the 400 x 400 map from the command line (bench/cli-400.json), each
+written by the command it names.
 tests/test_readme.py fails when a block and its file differ, so a figure in the README is always the one a
 run measured, with its date, machine and load.
 """
@@ -17,6 +18,7 @@ from pathlib import Path
 from adaptive import table
 from adaptive_filament import table as filament_table
 from adaptive_spectrum import table as spectrum_table
+from adaptive_steps import table as steps_table
 from cli_map import files_line, targets_line
 from cli_map import table as cli_table
 
@@ -125,6 +127,11 @@ def render_adaptive_filament(result: dict) -> str:
     return f"{measured_by(result)}\n\n{filament_table(result)}"
 
 
+def render_adaptive_steps(result: dict) -> str:
+    """Each pair of an adaptive map's steps over the bench's maps, and the command and machine that measured it."""
+    return f"{measured_by(result)}\n\n{steps_table(result['maps'])}"
+
+
 def render_cli(results: dict) -> str:
     """The command line's maps against their simulations, each file's time and the targets, and the command and
     machine that measured them."""
@@ -139,6 +146,7 @@ BLOCKS = {
     "cli-400": ("bench/cli-400.json", render_cli),
     "adaptive-spectrum": ("bench/adaptive-spectrum.json", render_adaptive_spectrum),
     "adaptive-filament": ("bench/adaptive-filament.json", render_adaptive_filament),
+    "adaptive-steps": ("bench/adaptive-steps.json", render_adaptive_steps),
 }
 
 
