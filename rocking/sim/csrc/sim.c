@@ -1614,6 +1614,20 @@ static inline int first_event(event_mask m)
 #endif
 }
 
+/* The index in an event_set started from the set m (events_start) of its event kind. */
+static inline int event_index(event_mask m, int kind)
+{
+    m &= ((event_mask)1 << kind) - 1u;
+#if defined(__GNUC__) || defined(__clang__)
+    return __builtin_popcount(m);
+#else
+    int n = 0;
+    for (; m != 0; m &= m - 1)
+        ++n;
+    return n;
+#endif
+}
+
 /* Watch the events of the set `active`, in enum order, from (t, y), f the derivative there. */
 static void events_start(event_set *es, const event_ctx *ec, event_mask active, double t, const double *y,
                          const double *f)
@@ -2347,10 +2361,8 @@ static int run_segment(run *r, double t_bound)
     events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
     /* N <= 0 where the phase starts (after an impact, a landing, at t = 0): the block takes off at once (the
      * event sees only a sign change inside a step). */
-    if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check)
-        for (k = 0; k < r->events.n; ++k)
-            if (r->events.w[k].kind == EV_LIFT_OFF && r->events.g[k] < 0.0)
-                return EV_LIFT_OFF;
+    if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check && r->events.g[event_index(active, EV_LIFT_OFF)] < 0.0)
+        return EV_LIFT_OFF;
     r->skip_lift_check = 0;
     /* The flight's start counts towards u_max and jump_max as its other points do (numpy_backend's _peaks): a
      * takeoff while the raised corner falls (with a damper) has its highest point there. A takeoff's start counts
