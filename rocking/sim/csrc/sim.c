@@ -1585,6 +1585,7 @@ typedef struct event_set {
     double g[N_EVENTS];  /* g of w[i] */
     int have_contacts;   /* contacts holds every stop side's contact at the last step end */
     double contacts[MAX_STOP_SIDES];
+    int lift_last; /* the last event watched is the lift-off, and normal_bound applies (events_scan's first test) */
 } event_set;
 
 /* What the events of one accepted step found. */
@@ -1645,6 +1646,7 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
         w->offset = e->offset;
         es->g[es->n++] = event_value(ec, k, t, y, f);
     }
+    es->lift_last = FLIGHT && es->n > 0 && es->w[es->n - 1].kind == EV_LIFT_OFF && ec->bound_live;
 }
 
 /* Stop watching an event for the rest of the segment. */
@@ -1657,6 +1659,7 @@ static void events_drop(event_set *es, int kind)
             es->g[j++] = es->g[i];
         }
     es->n = j;
+    es->lift_last = es->lift_last && kind != EV_LIFT_OFF;
 }
 
 /* An extremum of theta or x inside the last step that cannot raise the
@@ -1679,12 +1682,21 @@ static int peak_below_max(const event_ctx *ec, const dopri *d, int kind)
 static ALWAYS_INLINE void events_scan(event_set *es, const event_ctx *ec, dopri *d, step_events *out)
 {
     int fired[N_EVENTS];
-    const int n = es->n;
+    int n = es->n;
     int i, n_fired = 0;
     out->terminal = -1;
     out->t_stop = d->t;
     out->n_passed = 0;
     es->have_contacts = 0;
+#ifdef MODEL_FLIGHT
+    if (es->lift_last) { /* most steps: N's bound > 0 at both ends, no takeoff to test (the loop's rule, first) */
+        const double g_new = normal_bound(ec, d->y, d->f);
+        if (g_new > ec->bound.floor && es->g[n - 1] > 0.0) {
+            es->g[n - 1] = g_new;
+            --n;
+        }
+    }
+#endif
     /* The values at the step's end become those at the next step's start; after
      * a terminal event the segment ends, and they are read no more. */
     for (i = 0; i < n; ++i) {
