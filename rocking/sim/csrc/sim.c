@@ -2275,6 +2275,10 @@ static int segment_undone(run *r, const segment_start *saved)
     return SEG_MAX_STEPS;
 }
 
+/* The caller's stop flag is read after the first step of a segment and every STOP_POLL + 1 steps after it (a
+ * few microseconds apart). */
+#define STOP_POLL 15u
+
 /* The caller's stop flag is set. */
 static int stop_requested(const run *r)
 {
@@ -2326,6 +2330,7 @@ static int run_segment(run *r, double t_bound)
      * the latest (a kink of ag), inside the segment. ag is continuous there, so
      * the step's last stage is still the next one's first (FSAL). */
     const int sampled = r->c->motion == ROCKING_MOTION_SAMPLED && r->t < r->c->t_p;
+    unsigned polls = 0;
     dopri_step_fn dopri_step;
     step_events found;
     segment_start saved;
@@ -2397,7 +2402,7 @@ static int run_segment(run *r, double t_bound)
             return over_budget(r) ? segment_undone(r, &saved) : SEG_FAILED;
         if (over_budget(r))
             return segment_undone(r, &saved);
-        if (stop_requested(r))
+        if ((polls++ & STOP_POLL) == 0 && stop_requested(r))
             return SEG_STOPPED;
         if (starting) {
             const int lifted = !lifting || s * r->d.y[0] > 0.0;
