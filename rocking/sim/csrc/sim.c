@@ -1136,12 +1136,14 @@ typedef struct bound_constants {
 } bound_constants;
 
 /* What a run prepares from its parameters alone, kept from the last run of a batch: the cases of a study share
- * their block and damper. The constants about either pivot with every pad released (two model_prepare), and
- * normal_bound's (six generated base reactions): about a hundredth of a run. have 0: none yet. */
+ * their block and damper. The constants about either pivot with every pad released (two model_prepare), E(0),
+ * normal_bound's (six generated base reactions) and, without stops, the base's width in flight: about a
+ * hundredth of a run. have 0: none yet. */
 typedef struct params_memo {
     int have;
     double p[MODEL_NP];
     double about[2][NK];
+    double energy_zero, base;
     bound_constants bound;
 } params_memo;
 
@@ -3690,7 +3692,9 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
      * in the regime of the rest state. */
     stop_regime(&k, zeros, stop_on);
     constants_regime(&k, stop_on);
-    r.ec.energy_zero = model_energy_prepared(zeros, 0.0, about(&k, 1.0));
+    r.ec.energy_zero = known ? memo->energy_zero : model_energy_prepared(zeros, 0.0, about(&k, 1.0));
+    if (!known && memo != NULL)
+        memo->energy_zero = r.ec.energy_zero;
     r.ec.energy_rest = c->energy_rest;
     r.ec.mu_s = c->mu_s;
     if (r.friction) { /* numpy_backend's SLIDE_UPLIFT_ROUNDING: 64 eps of the weight's moment about each corner */
@@ -3747,7 +3751,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     constants_regime(&k, stop_on);
     see_state(&r, r.y, 0);
 
-    r.base = flight_base_width(&k);
+    /* Without stops the width depends on the parameters alone (with them, on the regime's inputs too). */
+    r.base = MODEL_NSTOPS == 0 && known ? memo->base : flight_base_width(&k);
+    if (MODEL_NSTOPS == 0 && memo != NULL)
+        memo->base = r.base;
     phase_machine(&r);
     out->t_end = r.t;
     if (r.flying) /* the run ended in flight */
