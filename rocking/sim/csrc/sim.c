@@ -2356,7 +2356,8 @@ static int run_segment(run *r, double t_bound)
     }
     r->o.cst = about(r->k, (double)r->phase);
     r->o.pulse_on = r->t < r->c->t_p;
-    r->o.memo_t = NAN; /* a last a_g f(t) of the pulse is none once it has ended */
+    if (!r->o.pulse_on) /* a last a_g f(t) of the pulse is none once it has ended */
+        r->o.memo_t = NAN;
     r->o.vertical = r->o.pulse_on && r->c->a_v != 0.0;
     r->o.rhs = ode_rhs_kind(&r->o);
     r->ec.bound_live = r->ec.bound.ready && (r->o.rhs == ODE_FREE_ROCKING || r->o.rhs == ODE_PULSE_ROCKING);
