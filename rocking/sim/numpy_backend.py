@@ -1207,6 +1207,8 @@ class _Segment:
         ``(u, du)`` at the end (docs/model.md section 15).
     lift : tuple of float
         ``(v, dv)`` at the end of a flight (docs/model.md section 16).
+    step : float or None
+        The size of its last step, whole (an event's step too), where it watched the lift-off.
     """
 
     t: float
@@ -1219,6 +1221,7 @@ class _Segment:
     bumper_force: float = 0.0
     slip: tuple = (0.0, 0.0)
     lift: tuple = (0.0, 0.0)
+    step: float | None = None
 
 
 def lift_off_step(
@@ -1303,6 +1306,14 @@ def _peaks(system: _System, phase: int, points: np.ndarray, extra: tuple, flying
         )
         peaks["jump"] = float(max(np.max(np.asarray(h, dtype=float)) for h in heights))
     return peaks
+
+
+def _last_step(dense) -> float | None:
+    """The whole size of the last step of a dense output (``None`` for none)."""
+    if dense is None or not dense.interpolants:
+        return None
+    last = dense.interpolants[-1]
+    return float(last.t - last.t_old)
 
 
 def _launch_step(system, phase, flying, lift, rhs, t0, y0, t_bound, first_step, work, options) -> tuple:
@@ -1467,6 +1478,10 @@ def integrate_segment(
     atol = np.concatenate([problem.atol, np.tile(problem.atol[[0, n]], len(extra) // 2)]) if extra else problem.atol
     options = {"rtol": problem.rtol, "atol": atol, "max_step": max_step}
 
+    # A grazing takeoff starts the next segment with the last step's size (run_machine's takeoff): the dense
+    # output's last piece spans that step whole.
+    lifts = any(e.name == LIFT_OFF for e in events)
+
     def solve(first_step=None):
         sol = solve_ivp(
             rhs,
@@ -1475,7 +1490,7 @@ def integrate_segment(
             method="RK45",
             events=events,
             # A gap event needs the dense output to step onto the side after the root (after_gap).
-            dense_output=record or system.n_stops > 0,
+            dense_output=record or system.n_stops > 0 or lifts,
             first_step=first_step,
             **options,
         )
@@ -1542,6 +1557,7 @@ def integrate_segment(
         dense=sol.sol,
         side=fired[0].side if fired else -1,
         bumper_force=bumper,
+        step=_last_step(sol.sol) if lifts else None,
     )
 
 
@@ -1748,6 +1764,7 @@ class _Run:
     dv: float = 0.0
     takeoff_from: tuple = (CONTACT, 0)
     grazed: bool = False
+    last_step: float | None = None
 
 
 def record(run: _Run) -> None:
@@ -2070,11 +2087,13 @@ def lifts_at_start(run: _Run) -> bool:
     return system.takeoff_margin(run.phase, run.sigma, run.y, ground(run.t), tuple(run.stop_on), vertical(run.t)) < 0.0
 
 
-def takeoff(run: _Run) -> str | None:
+def takeoff(run: _Run, step: float | None = None) -> str | None:
     """The floor's normal force reached 0: the block flies (docs/model.md section 16), or, on a model without
     flight functions, the run ends with the status ``flight`` (section 14).
 
-    The reference corner is the pivot, ``+1`` from full contact; ``u``, ``du`` go on, ``v = dv = 0``.
+    The reference corner is the pivot, ``+1`` from full contact; ``u``, ``du`` go on, ``v = dv = 0``. A grazing
+    takeoff stays on the floor; the next segment then starts with ``step``, the size of the step in which the
+    lift-off fired (``None``: at a phase's start, SciPy's own), as sim.c's ``takeoff`` does.
 
     Returns
     -------
@@ -2085,6 +2104,7 @@ def takeoff(run: _Run) -> str | None:
         return "flight"
     if run.system.corner_sinks(run.t, run.phase, run.sigma, run.y, run.pulse_on, tuple(run.stop_on)):
         run.grazed = True  # no flight: the pivot is held, its lift-off armed again once its margin is positive
+        run.first_step = step
         return None
     run.takeoff_from = (run.phase, run.sigma)
     follow(run, LIFT_OFF, "always", run.phase if run.phase != CONTACT else 1)
@@ -2210,6 +2230,7 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
     )
     run.grazed = False
     run.first_step = None
+    run.last_step = segment.step
     run.side = segment.side
     if run.history is not None and segment.dense is not None:
         # Rule 5: recorded samples count as work, before any of them is kept.
@@ -2276,7 +2297,7 @@ def segment_end(run: _Run, event: str | None, t_bound: float) -> str | None:
     elif event in (NO_SLIP, NO_TAKEOFF):
         grazing(run, event)
     elif event == LIFT_OFF:
-        return takeoff(run)
+        return takeoff(run, run.last_step)
     elif event in (LANDING, LANDING_OTHER):
         return landing(run, event == LANDING_OTHER)
     elif event == NO_LIFT:

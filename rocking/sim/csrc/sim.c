@@ -2949,13 +2949,16 @@ static void lift_off_grazing(run *r)
 #ifdef MODEL_FRICTION
 /* The lift-off event: the block leaves the floor about the reference corner s, the pivot when rocking, +1 from
  * full contact; u and du as they are, v = dv = 0 (docs/model.md section 16). Where the table leads (a model
- * without flight ends the run there); returns 1 where the run ends. */
-static int takeoff(run *r)
+ * without flight ends the run there); returns 1 where the run ends. A grazing takeoff stays on the floor, and
+ * the next segment starts with step, the size of the step in which the event fired (0 at a phase's start:
+ * Hairer's heuristic), as numpy_backend's takeoff does. */
+static int takeoff(run *r, double step)
 {
     const int s = r->phase != 0 ? r->phase : 1, phase = r->phase, sigma = r->sigma;
 #ifdef MODEL_FLIGHT
     if (corner_sinks(r)) {
         r->skip_lift_check = 1; /* no flight: the pivot is held, its lift-off armed by a sign change again */
+        r->h_first = step;
         return 0;
     }
 #endif
@@ -2974,9 +2977,9 @@ static int takeoff(run *r)
 
 /* takeoff, then the run's end where the takeoff ends it or exhausts max_events (its flight counts); returns 1
  * where the run ends. */
-static int lift_off_counted(run *r)
+static int lift_off_counted(run *r, double step)
 {
-    if (takeoff(r))
+    if (takeoff(r, step))
         return 1;
     if (events_exhausted(r)) {
         r->res->status = ROCKING_MAX_EVENTS;
@@ -3069,7 +3072,7 @@ static int floor_at_start(run *r, int check_slip)
     const int code = phase_code(r, r->phase, r->sigma);
     floor_force_at(r, r->t, r->y, fn);
     if (fn[1] <= 0.0 && !r->skip_lift_check)
-        return takeoff(r);
+        return takeoff(r, 0.0);
     /* At the floor's limit too: a phase that starts there (an uplift where ag crosses mu_s g as the uplift
      * threshold, mu_s = tan alpha) holds its contact only to rounding (the slip event needs it to fall from > 0). */
     if (check_slip && r->sigma == 0 && r->c->mu_s * fn[1] - fabs(fn[0]) <= 0.0)
@@ -3358,7 +3361,7 @@ static void phase_machine(run *r)
          * floor to push); a rocking phase checks it where its segment starts (run_segment). */
         if (r->phase == 0 && !r->flying && !r->skip_lift_check && (r->friction || (r->t < c->t_p && c->a_v != 0.0)) &&
             lift_off_at_start(r)) {
-            if (lift_off_counted(r))
+            if (lift_off_counted(r, 0.0))
                 return;
             continue;
         }
@@ -3520,8 +3523,8 @@ static void phase_machine(run *r)
             if (slip_stops(r))
                 return;
             break;
-        case EV_LIFT_OFF:
-            if (lift_off_counted(r))
+        case EV_LIFT_OFF: /* at a segment's start too (run_segment), where no step was taken: d.h is 0 */
+            if (lift_off_counted(r, r->d.h))
                 return;
             break;
 #endif
