@@ -651,6 +651,8 @@ class _System:
         a_g = float(p.a_g)
         if self.family == "sampled":
             samples, dt = p.samples, float(p.pulse_dt)
+            if samples is None:
+                raise SimulationError("a sampled motion without its samples (rocking.sim.cases builds them)")
             k = sample_piece(t0, dt, p.n_samples)
             return lambda t: a_g * float(interpolate(samples, dt, k, t))
         shape, omega_g, phase, t_c, gamma = SHAPES[self.family], float(p.omega_g), float(p.psi), p.t_c, p.shape
@@ -1992,7 +1994,8 @@ def next_extremum(problem: Problem, t: float) -> float:
         return min(
             [periodic_extremum(w, phase, t)] + [periodic_extremum(w, phase + math.pi / 2 - d, t) for d in offsets]
         )
-    later = [tk for tk in (problem.t_c + float(phi) / w for phi in problem.extrema[: problem.n_extrema]) if tk > t]
+    offsets = () if problem.extrema is None else problem.extrema[: problem.n_extrema]
+    later = [tk for tk in (problem.t_c + float(phi) / w for phi in offsets) if tk > t]
     return later[0] if later else math.inf
 
 
@@ -2232,7 +2235,7 @@ def run_segment(run: _Run, t_bound: float) -> str | None:
     run.first_step = None
     run.last_step = segment.step
     run.side = segment.side
-    if run.history is not None and segment.dense is not None:
+    if run.history is not None and segment.dense is not None and run.work is not None:
         # Rule 5: recorded samples count as work, before any of them is kept.
         lo, hi = _History.sample_range(run.t, segment.t, run.problem.record_dt)
         run.work.add(hi - lo)
