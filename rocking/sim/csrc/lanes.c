@@ -53,7 +53,7 @@ static double scalar_stages(dopri *d, ode *o, const tolerance *tol, double h, do
 static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, rocking_result *out,
                          const rocking_control *control)
 {
-    params_memo memo = {0};
+    memo_prepared memo = {0};
     int64_t i;
     for (i = 0; i < n; ++i) {
         if (control != NULL && control->stop != NULL && *control->stop != 0) {
@@ -203,7 +203,7 @@ struct lanes {
     const rocking_case *cases;
     rocking_result *out;
     const rocking_control *control;
-    params_memo memo; /* shared by the lanes: a run reads it at its start, between two switches */
+    memo_prepared memo; /* shared by the lanes: a run reads it at its start, between two switches */
 };
 
 /* The next case of the batch b, or -1 if none is left. Cases read after the stop flag is set end as the scalar

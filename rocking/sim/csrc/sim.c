@@ -1139,13 +1139,13 @@ typedef struct bound_constants {
  * their block and damper. The constants about either pivot with every pad released (two model_prepare), E(0),
  * normal_bound's (six generated base reactions) and, without stops, the base's width in flight: about a
  * hundredth of a run. have 0: none yet. */
-typedef struct params_memo {
+typedef struct memo_prepared {
     int have;
     double p[MODEL_NP];
     double about[2][NK];
     double energy_zero, base;
     bound_constants bound;
-} params_memo;
+} memo_prepared;
 
 /* The events' context: what their functions depend on besides (t, y). */
 typedef struct event_ctx {
@@ -1843,7 +1843,7 @@ typedef struct run {
 #if NQ > 1
     double arcs_at;
     arcs tilts;
-    double stroke_at, least_stroke; /* verdict_refuted's least at the stroke x_max upright, and its x_max */
+    double least_stroke_at, least_stroke; /* verdict_refuted's least at the stroke x_max upright, and its x_max */
 #endif
     rocking_result *res;
     const volatile int32_t *stop;  /* the caller's stop flag, or NULL */
@@ -2773,9 +2773,9 @@ static int verdict_refuted(run *r, double energy)
     double least;
     least = least_at_tilt_kept(r, r->res->theta_max);
 #if NQ > 1
-    if (!(r->res->x_max == r->stroke_at)) { /* after the pulse x_max seldom grows: kept */
+    if (!(r->res->x_max == r->least_stroke_at)) { /* after the pulse x_max seldom grows: kept */
         double y[NY] = {0.0};
-        r->stroke_at = r->res->x_max;
+        r->least_stroke_at = r->res->x_max;
         y[1] = r->res->x_max;
         r->least_stroke = model_least_stroke_potential_prepared(y, 0.0, about(r->k, 1.0));
         y[1] = -r->res->x_max;
@@ -3603,13 +3603,13 @@ static int pulse_valid(const rocking_case *c)
 }
 
 /* memo holds what the parameters p prepare (memo may be NULL). */
-static int memo_holds(const params_memo *memo, const double *p)
+static int memo_holds(const memo_prepared *memo, const double *p)
 {
     return memo != NULL && memo->have && memcmp(memo->p, p, sizeof memo->p) == 0;
 }
 
 /* constants_prepare(k, p, clear) from memo, which holds p's. */
-static void constants_known(constants *k, const double *p, const int *clear, const params_memo *memo)
+static void constants_known(constants *k, const double *p, const int *clear, const memo_prepared *memo)
 {
     memcpy(k->stop_on, clear, sizeof k->stop_on);
     k->p = p;
@@ -3617,7 +3617,7 @@ static void constants_known(constants *k, const double *p, const int *clear, con
 }
 
 static int64_t simulate_one(const double *p, const rocking_case *c, rocking_result *out, rocking_history *history,
-                            const rocking_control *control, struct lane *lane, params_memo *memo)
+                            const rocking_control *control, struct lane *lane, memo_prepared *memo)
 {
     run r;
     constants k;
@@ -3733,7 +3733,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.verdict = c->early_verdict != 0 && !r.friction; /* the energy does not bound the slip */
     r.bound_at[0] = r.bound_at[1] = r.least_tilt_at = NAN; /* no bound yet */
 #if NQ > 1
-    r.arcs_at = r.stroke_at = NAN;
+    r.arcs_at = r.least_stroke_at = NAN;
 #endif
     r.bound = -INFINITY;
     r.t = 0.0;
