@@ -3705,7 +3705,8 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
         r.ec.slide_uplift_floor[0] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, 1.0)));
         r.ec.slide_uplift_floor[1] = 64.0 * DBL_EPSILON * fabs(model_uplift_prepared(zeros, 0.0, about(&k, -1.0)));
     }
-    r.ec.bound.ready = r.ec.bound_live = r.ec.bound_side = 0;
+    memset(&r.ec.bound, 0, sizeof r.ec.bound); /* not ready: normal_bound off (a model without flight) */
+    r.ec.bound_live = r.ec.bound_side = 0;
 #ifdef MODEL_FLIGHT
     if (known) {
         r.ec.bound = memo->bound;
