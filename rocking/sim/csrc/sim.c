@@ -3716,8 +3716,10 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
             memo->bound = r.ec.bound;
     }
 #endif
-    if (!known && memo != NULL)
+    if (!known && memo != NULL) {
+        memo->base = MODEL_NSTOPS == 0 ? flight_base_width(&k) : NAN;
         memo->have = 1;
+    }
     r.ec.theta_max = &out->theta_max;
     r.ec.x_max = &out->x_max;
     r.ec.u_max = &out->u_max;
@@ -3757,9 +3759,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     see_state(&r, r.y, 0);
 
     /* Without stops the width depends on the parameters alone (with them, on the regime's inputs too). */
-    r.base = MODEL_NSTOPS == 0 && known ? memo->base : flight_base_width(&k);
-    if (MODEL_NSTOPS == 0 && memo != NULL)
-        memo->base = r.base;
+    r.base = MODEL_NSTOPS == 0 && memo != NULL ? memo->base : flight_base_width(&k);
     phase_machine(&r);
     out->t_end = r.t;
     if (r.flying) /* the run ended in flight */
