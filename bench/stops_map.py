@@ -9,7 +9,10 @@ instructions of the C library (load-independent) when run under callgrind::
     valgrind --tool=callgrind --callgrind-out-file=cg.stops python bench/stops_map.py stops
     callgrind_annotate --inclusive=yes cg.free | grep simulate_one      # divide by the responses
 
-or the wall time of one C pass without it (``--time``).
+or, with ``--time``, the CPU time of the stops' map over the free one in paired runs (median of
+``--pairs``), the batch's lanes on and off (``ROCKING_LANES=0`` in the environment also turns them off)::
+
+    python bench/stops_map.py stops --time
 """
 
 from __future__ import annotations
@@ -34,11 +37,35 @@ def cases(kind: str, n: int):
     return block, pulse_cases(block, Omega, beta, model=model, params=params, rtol=1e-8)
 
 
+def paired_ratio(n: int, pairs: int, lanes: bool) -> float:
+    """The median over ``pairs`` paired runs of the stops' map's CPU time over the free one's (C path, one thread)."""
+    _, free = cases("free", n)
+    _, stopped = cases("stops", n)
+    for kind in ("free", "stops"):  # build and load outside the timing
+        run_cases(cases(kind, 1)[1], "c", 1, lanes)
+    ratios = []
+    for _ in range(pairs):
+        seconds = []
+        for batch in (free, stopped):
+            start = time.process_time()
+            run_cases(batch, "c", 1, lanes)
+            seconds.append(time.process_time() - start)
+        ratios.append(seconds[1] / seconds[0])
+    return float(np.median(ratios))
+
+
 def main(argv=None) -> int:
     parser = argparse.ArgumentParser(description=__doc__.splitlines()[0])
     parser.add_argument("kind", choices=["free", "stops"])
     parser.add_argument("-n", type=int, default=50, help="grid size per axis (default 50)")
+    parser.add_argument("--time", action="store_true", help="the CPU time over the free map's, lanes on and off")
+    parser.add_argument("--pairs", type=int, default=5, help="paired runs of --time (default 5)")
     args = parser.parse_args(argv)
+    if args.time:
+        for lanes in (True, False):
+            ratio = paired_ratio(args.n, args.pairs, lanes)
+            print(f"stops over free, lanes {'on' if lanes else 'off'}: {ratio:.3f}x CPU (median of {args.pairs} pairs)")
+        return 0
     block, batch = cases(args.kind, args.n)
     start = time.perf_counter()
     res = run_cases(batch, "c", 1)
