@@ -2016,14 +2016,15 @@ static double bumper_force_in_step(run *r, double t_end, double x)
  * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
  * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
- * neighbours. The same operations as numpy_backend.step_peak. */
-static void step_peak(run *r, double t_end, const double *y_end)
+ * neighbours. The same operations as numpy_backend.step_peak. f_start: the force at the step's start (the last
+ * step's end, or the segment's start: the same state in every component). Returns the force at y_end. */
+static double step_peak(run *r, double f_start, double t_end, const double *y_end)
 {
     const int n = PEAK_POINTS - 1;
     const double g = 0.5 * (sqrt(5.0) - 1.0);
     double f[PEAK_POINTS], a, b, c, d, fc, fd, best;
     int i, k = 0;
-    f[0] = bumper_force(r, r->d.y_old);
+    f[0] = f_start;
     for (i = 1; i < n; ++i)
         f[i] = bumper_force_in_step(r, t_end, (double)i / n);
     f[n] = bumper_force(r, y_end);
@@ -2033,12 +2034,12 @@ static void step_peak(run *r, double t_end, const double *y_end)
     best = f[k];
     /* At the maximum so far too: a step that starts at it (the last one's end) may climb past it. */
     if (!(best >= r->res->bumper_force_max && best > 0.0))
-        return;
+        return f[n];
     r->res->bumper_force_max = best;
     if (k == n && 3.0 * f[n] - 4.0 * f[n - 1] + f[n - 2] > 0.0)
-        return;
+        return f[n];
     if (k == 0 && -3.0 * f[0] + 4.0 * f[1] - f[2] < 0.0)
-        return;
+        return f[n];
     a = (double)(k > 0 ? k - 1 : 0) / n;
     b = (double)(k < n ? k + 1 : n) / n;
     c = b - g * (b - a);
@@ -2057,21 +2058,25 @@ static void step_peak(run *r, double t_end, const double *y_end)
         }
     }
     r->res->bumper_force_max = max2(r->res->bumper_force_max, max2(fc, fd));
+    return f[n];
 }
 #endif
 
-/* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
-static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end)
+/* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known); force:
+ * the bumpers' largest force at y where known (bumper_force), else NULL. */
+static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end, const double *force)
 {
     r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
 #if NQ > 1
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
 #if MODEL_NSTOPS > 0
-    if (!(at_step_end && pads_apart(&r->events)))
+    if (force != NULL)
+        r->res->bumper_force_max = max2(r->res->bumper_force_max, *force);
+    else if (!(at_step_end && pads_apart(&r->events)))
         r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, y));
 #else
-    (void)at_step_end;
+    (void)at_step_end, (void)force;
 #endif
 }
 
@@ -2316,6 +2321,7 @@ static int run_segment(run *r, double t_bound)
     event_mask active;
     int k;
 #if MODEL_NSTOPS > 0
+    double force;    /* the bumpers' largest force at the last step's end (the segment's start first) */
     int pushing = 0; /* a pad pushes in this segment (its regime is constant) */
     for (k = 0; k < MODEL_NSTOPS; ++k)
         pushing |= r->k->stop_on[k];
@@ -2350,7 +2356,8 @@ static int run_segment(run *r, double t_bound)
         return segment_undone(r, &saved);
 #if MODEL_NSTOPS > 0
     /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
-    r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
+    force = bumper_force(r, r->y);
+    r->res->bumper_force_max = max2(r->res->bumper_force_max, force);
 #endif
     active = watched_events(r);
     events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
@@ -2416,9 +2423,11 @@ static int run_segment(run *r, double t_bound)
             dopri_dense(&r->d, r->t, r->y);
 #if MODEL_NSTOPS > 0
             if (pushing)
-                step_peak(r, r->t, r->y);
+                force = step_peak(r, force, r->t, r->y);
+            see_state(r, r->y, 0, pushing ? &force : NULL);
+#else
+            see_state(r, r->y, 0, NULL);
 #endif
-            see_state(r, r->y, 0);
             if (r->flying)
                 see_flight(r, r->t, r->y);
             if (found.terminal == EV_IMPACT)
@@ -2429,9 +2438,11 @@ static int run_segment(run *r, double t_bound)
         }
 #if MODEL_NSTOPS > 0
         if (pushing)
-            step_peak(r, r->d.t, r->d.y);
+            force = step_peak(r, force, r->d.t, r->d.y);
+        see_state(r, r->d.y, 1, pushing ? &force : NULL);
+#else
+        see_state(r, r->d.y, 1, NULL);
 #endif
-        see_state(r, r->d.y, 1);
         if (r->flying)
             see_flight(r, r->d.t, r->d.y);
     }
@@ -3694,7 +3705,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     stop_memory_start(&k, r.y, clear); /* a contact in progress at the start starts there (docs/model.md 11) */
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_regime(&k, stop_on);
-    see_state(&r, r.y, 0);
+    see_state(&r, r.y, 0, NULL);
 
     r.base = flight_base_width(&k);
     phase_machine(&r);
