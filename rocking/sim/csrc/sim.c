@@ -149,25 +149,42 @@ typedef struct regime_store {
     double about[KEPT_REGIMES > 0 ? KEPT_REGIMES : 1][2][NK];
 } regime_store;
 
+#if KEPT_REGIMES > 0
+/* The store's index of the regime stop_on. */
+static int regime_key(const int *stop_on)
+{
+    int i, key = 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        key |= (stop_on[i] != 0) << i;
+    return key;
+}
+#endif
+
+/* Keep k's constants for its regime (none kept where a pad's memory makes the regimes a continuum). */
+static void regime_keep(regime_store *store, const constants *k)
+{
+#if KEPT_REGIMES > 0
+    const int key = regime_key(k->stop_on);
+    memcpy(store->about[key], k->about, sizeof k->about);
+    store->ready[key] = 1;
+#else
+    (void)store, (void)k;
+#endif
+}
+
 /* k in the regime stop_on: the kept constants of that regime, or prepared (and kept). */
 static void constants_switch(constants *k, regime_store *store, const int *stop_on)
 {
 #if KEPT_REGIMES > 0
-    int i, key = 0;
-    for (i = 0; i < MODEL_NSTOPS; ++i)
-        key |= (stop_on[i] != 0) << i;
+    const int key = regime_key(stop_on);
     if (store->ready[key]) {
         memcpy(k->stop_on, stop_on, sizeof k->stop_on);
         memcpy(k->about, store->about[key], sizeof k->about);
         return;
     }
-    constants_prepare(k, k->p, stop_on);
-    memcpy(store->about[key], k->about, sizeof k->about);
-    store->ready[key] = 1;
-#else
-    (void)store;
-    constants_prepare(k, k->p, stop_on);
 #endif
+    constants_prepare(k, k->p, stop_on);
+    regime_keep(store, k);
 }
 
 /* The constants about the pivot s at the effective gravity g + agy: the vertical ground
@@ -3693,6 +3710,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.k = &k;
     r.o.k = &k;
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
+    regime_keep(&r.regimes, &k); /* the rest state's regime, where a released pad lets the mass go */
     r.o.phase = 0;
     r.o.sigma = 0;
     r.o.flying = 0;
