@@ -1558,6 +1558,16 @@ static int event_sense(int sense, double g_old)
  * kept half the tolerance away from both ends: once the after side has converged, the next trial lands just across
  * the root and closes the bracket. */
 #define NUDGE_PART (1.0 / 16.0)
+
+/* Stop side i's contact on the dense output of the last step (event_on_dense for its events: that one stays
+ * inlined in locate_event alone). */
+static double contact_on_dense(const event_ctx *ec, dopri *d, int i, double t)
+{
+    double y[NA];
+    dopri_dense(d, t, y);
+    return stop_contact(ec->o->k, y, i);
+}
+
 static double locate_kinked(const event_ctx *ec, dopri *d, int kind, int sense, double ta, double phi_a, double tb,
                             double phi_b)
 {
@@ -1586,7 +1596,7 @@ static double locate_kinked(const event_ctx *ec, dopri *d, int kind, int sense, 
             tc = ta + 0.5 * (tb - ta);
         if (!(tc > ta && tc < tb)) /* no double left between the ends */
             break;
-        phi_c = sense * event_on_dense(ec, d, kind, tc);
+        phi_c = sense * contact_on_dense(ec, d, gap_side(kind), tc);
         if (is_before(phi_c, strict)) {
             ta = tc;
             phi_a = phi_c;
