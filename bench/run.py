@@ -153,8 +153,8 @@ def bench_stops(n_grid: int, pairs: int = 3) -> dict:
     import stops_map
 
     block = stops_map.cases("free", 1)[0]
-    ratio, res = stops_map.paired_ratio(n_grid, pairs, lanes=True)
-    scalar, _ = stops_map.paired_ratio(n_grid, pairs, lanes=False)
+    ratio, _, res = stops_map.paired_ratio(n_grid, pairs, lanes=True)
+    scalar, _, _ = stops_map.paired_ratio(n_grid, pairs, lanes=False)
     return {
         "stops_over_free_time": ratio,
         "stops_over_free_time_scalar": scalar,
