@@ -1676,7 +1676,7 @@ typedef struct event_set {
     int n;
     watched w[N_EVENTS]; /* in enum order (ties go to the first) */
     double g[N_EVENTS];  /* g of w[i] */
-    int have_contacts;   /* contacts holds every stop side's contact at the last step end */
+    int have_contacts;   /* contacts holds every stop side's contact at the last step end (the segment's start first) */
     double contacts[MAX_STOP_SIDES];
 } event_set;
 
@@ -1712,6 +1712,7 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
                          const double *f)
 {
     es->n = 0;
+    es->have_contacts = 0;
     for (; active != 0; active &= active - 1) {
         const int k = first_event(active);
         const event_rule *e = &EVENT_RULES[k];
@@ -1722,7 +1723,14 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
         w->component = e->component;
         w->factor = component_factor(ec, e);
         w->offset = e->offset;
-        es->g[es->n++] = event_value(ec, k, t, y, f);
+        if (gap_side(k) >= 0) { /* every side's contact from one call, as in events_scan */
+            if (!es->have_contacts)
+                stop_contacts_at(ec->o->k, y, es->contacts);
+            es->have_contacts = 1;
+            es->g[es->n++] = es->contacts[gap_side(k)];
+        } else {
+            es->g[es->n++] = event_value(ec, k, t, y, f);
+        }
     }
 }
 
@@ -2402,7 +2410,7 @@ static int run_segment(run *r, double t_bound)
     event_mask active;
     int k;
 #if MODEL_NSTOPS > 0
-    double force;    /* the bumpers' largest force at the last step's end (the segment's start first) */
+    double force = 0.0; /* the bumpers' largest force at the last step's end (the segment's start first) */
     int pushing = 0; /* a pad pushes in this segment (its regime is constant) */
     for (k = 0; k < MODEL_NSTOPS; ++k)
         pushing |= r->k->stop_on[k];
@@ -2435,13 +2443,16 @@ static int run_segment(run *r, double t_bound)
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
-#if MODEL_NSTOPS > 0
-    /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
-    force = bumper_force(r, r->y);
-    r->res->bumper_force_max = max2(r->res->bumper_force_max, force);
-#endif
     active = watched_events(r);
     events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
+#if MODEL_NSTOPS > 0
+    /* After a jump of the velocities the start is a state no step end has shown (rule 6); where no pad pushes and
+     * every contact there is <= 0 (read by events_start), every bumper force is 0 (pads_apart). */
+    if (pushing || !pads_apart(&r->events)) {
+        force = bumper_force(r, r->y);
+        r->res->bumper_force_max = max2(r->res->bumper_force_max, force);
+    }
+#endif
     /* N <= 0 where the phase starts (after an impact, a landing, at t = 0): the block takes off at once (the
      * event sees only a sign change inside a step). */
     if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check)
