@@ -339,3 +339,32 @@ def test_a_guide_beyond_the_edges_needs_the_explicit_override(backend):
     stops = Stops(L=0.3, k_b=1e5, c_b=100.0, beyond_edges=True)
     r = public_simulate(REFERENCE, dataclasses.replace(TUNED, stops=stops), STILL, backend=backend)
     assert r.status == "rest" and r.stop_contacts == 0
+
+
+@pytest.mark.parametrize("zeta_b", [0.0, 0.2])
+def test_a_stops_events_are_located_just_after_their_roots(backend, zeta_b):
+    """Rule 6: each closing (delta turns > 0) and release (k_b delta + c_b ddelta falls to <= 0; delta itself without
+    damping) is located to 4 eps t, and the next segment starts on the side after it: there the event's function
+    is its rate times at most 4 eps t (16 eps t allowed, with the rounding of delta = |x| - L), of that side's
+    sign."""
+    k_b = 1e4
+    e, tau, t1 = flights(k_b, zeta_b)
+    r = run(free_mass(k_b, zeta_b, t1 + 2 * tau + 2 * FREE["L"] / (e * V0) + 0.05), backend=backend, record=True)
+    h = r.history
+    eps = np.finfo(float).eps
+    delta = np.abs(h["x"]) - FREE["L"]
+    ddelta = np.sign(h["x"]) * h["dx"]
+    push = k_b * delta + bumper(k_b, zeta_b)["c_b"] * ddelta
+    slack = 16 * eps * h["t"] * np.abs(ddelta) + 2 * eps * FREE["L"]  # in delta
+    near = np.abs(delta) <= 1e-9 * FREE["L"]
+    closing = near & (ddelta > 0.0) & (delta > 0.0)
+    assert closing.sum() == r.stop_contacts == 2
+    assert np.all(delta[closing] <= slack[closing])
+    if zeta_b == 0.0:
+        released = near & (ddelta < 0.0) & (delta <= 0.0)
+        assert released.sum() == r.stop_contacts
+        assert np.all(-delta[released] <= slack[released])
+    else:  # the pad lets go inside its gap, where its force, hence the mass's acceleration, is 0: its rate k_b ddelta
+        released = (delta > 1e-9 * FREE["L"]) & (ddelta < 0.0) & (np.abs(push) <= 1e-6 * V0 * math.sqrt(k_b))
+        assert released.sum() == r.stop_contacts
+        assert np.all((push[released] <= 0.0) & (-push[released] <= k_b * slack[released]))

@@ -149,25 +149,42 @@ typedef struct regime_store {
     double about[KEPT_REGIMES > 0 ? KEPT_REGIMES : 1][2][NK];
 } regime_store;
 
+#if KEPT_REGIMES > 0
+/* The store's index of the regime stop_on. */
+static int regime_key(const int *stop_on)
+{
+    int i, key = 0;
+    for (i = 0; i < MODEL_NSTOPS; ++i)
+        key |= (stop_on[i] != 0) << i;
+    return key;
+}
+#endif
+
+/* Keep k's constants for its regime (none kept where a pad's memory makes the regimes a continuum). */
+static void regime_keep(regime_store *store, const constants *k)
+{
+#if KEPT_REGIMES > 0
+    const int key = regime_key(k->stop_on);
+    memcpy(store->about[key], k->about, sizeof k->about);
+    store->ready[key] = 1;
+#else
+    (void)store, (void)k;
+#endif
+}
+
 /* k in the regime stop_on: the kept constants of that regime, or prepared (and kept). */
 static void constants_switch(constants *k, regime_store *store, const int *stop_on)
 {
 #if KEPT_REGIMES > 0
-    int i, key = 0;
-    for (i = 0; i < MODEL_NSTOPS; ++i)
-        key |= (stop_on[i] != 0) << i;
+    const int key = regime_key(stop_on);
     if (store->ready[key]) {
         memcpy(k->stop_on, stop_on, sizeof k->stop_on);
         memcpy(k->about, store->about[key], sizeof k->about);
         return;
     }
-    constants_prepare(k, k->p, stop_on);
-    memcpy(store->about[key], k->about, sizeof k->about);
-    store->ready[key] = 1;
-#else
-    (void)store;
-    constants_prepare(k, k->p, stop_on);
 #endif
+    constants_prepare(k, k->p, stop_on);
+    regime_keep(store, k);
 }
 
 /* The constants about the pivot s at the effective gravity g + agy: the vertical ground
@@ -1519,16 +1536,82 @@ static int event_sense(int sense, double g_old)
     return sense ? sense : (g_old > 0.0 ? -1 : +1);
 }
 
+/* Locate a stop side's event (gap_side(kind) >= 0) as locate_event does. Its contact min(delta, k_b delta +
+ * c_b ddelta) has a kink between slopes up to k_b / c_b times apart on the side "before" its root; past the root it
+ * is the smooth branch that crosses 0 (delta for a closing, the bracket for a release). A regula falsi across the
+ * kink creeps from the flat branch: Illinois alone took 26 trials to locate a closing and 72 a release (100
+ * responses of bench/stops_map.py stops), and with a bisection after each trial that kept more than half the
+ * bracket 14 and 32 on average (400 responses: -n 20; these trials, 7 and 9). So the trials interpolate the points "after" the root, on its branch: inversely quadratic through
+ * the last three, else the secant through the last two, else (the first trial: only the step's end is after it)
+ * the bisection. An interpolation that falls before the root lands near it: the next trial is NUDGE_PART of the
+ * bracket past it; one that falls before again, the regula falsi between the ends; then the bisection. A trial is
+ * kept half the tolerance away from both ends: once the after side has converged, the next trial lands just across
+ * the root and closes the bracket. */
+#define NUDGE_PART (1.0 / 16.0)
+
+/* Stop side i's contact on the dense output of the last step (event_on_dense for its events: that one stays
+ * inlined in locate_event alone). */
+static double contact_on_dense(const event_ctx *ec, dopri *d, int i, double t)
+{
+    double y[NA];
+    dopri_dense(d, t, y);
+    return stop_contact(ec->o->k, y, i);
+}
+
+static double locate_kinked(const event_ctx *ec, dopri *d, int kind, int sense, double ta, double phi_a, double tb,
+                            double phi_b)
+{
+    enum { BISECT, INTERPOLATE, NUDGE, FALSI } how = BISECT; /* the next trial */
+    const int strict = EVENT_RULES[kind].strict;
+    const double tol = 4.0 * DBL_EPSILON * max2(fabs(ta), fabs(tb));
+    double t_prev = tb, phi_prev = phi_b; /* the point "after" before tb (none yet: tb itself) */
+    double t_prev2 = tb, phi_prev2 = phi_b; /* and the one before it */
+    int iter;
+    for (iter = 0; iter < 200 && tb - ta > tol; ++iter) {
+        double tc, phi_c;
+        if (how == INTERPOLATE && phi_prev2 != phi_prev && phi_prev2 != phi_b && phi_b != phi_prev)
+            tc = t_prev2 * (phi_prev * phi_b) / ((phi_prev2 - phi_prev) * (phi_prev2 - phi_b)) +
+                 t_prev * (phi_prev2 * phi_b) / ((phi_prev - phi_prev2) * (phi_prev - phi_b)) +
+                 tb * (phi_prev2 * phi_prev) / ((phi_b - phi_prev2) * (phi_b - phi_prev));
+        else if (how == INTERPOLATE && phi_b != phi_prev)
+            tc = tb - phi_b * ((tb - t_prev) / (phi_b - phi_prev));
+        else if (how == FALSI && phi_b != phi_a)
+            tc = tb - phi_b * ((tb - ta) / (phi_b - phi_a));
+        else if (how == NUDGE)
+            tc = ta + NUDGE_PART * (tb - ta);
+        else
+            tc = ta + 0.5 * (tb - ta);
+        tc = min2(max2(tc, ta + 0.5 * tol), tb - 0.5 * tol); /* a NaN becomes the lower limit */
+        if (!(tc > ta && tc < tb)) /* NaN, or rounding at the ends */
+            tc = ta + 0.5 * (tb - ta);
+        if (!(tc > ta && tc < tb)) /* no double left between the ends */
+            break;
+        phi_c = sense * contact_on_dense(ec, d, gap_side(kind), tc);
+        if (is_before(phi_c, strict)) {
+            ta = tc;
+            phi_a = phi_c;
+            how = how == INTERPOLATE ? NUDGE : how == NUDGE ? FALSI : how == FALSI ? BISECT : FALSI;
+        } else {
+            /* An interpolation that did not halve |phi| there has left the branch's smooth part: bisect. */
+            how = how == INTERPOLATE && fabs(phi_c) > 0.5 * fabs(phi_b) ? BISECT : INTERPOLATE;
+            t_prev2 = t_prev;
+            phi_prev2 = phi_prev;
+            t_prev = tb;
+            phi_prev = phi_b;
+            tb = tc;
+            phi_b = phi_c;
+        }
+    }
+    return tb;
+}
+
 /* Locate an event that fired in the last step: phi = sense g is "before" at ta
  * and not at tb. Illinois: regula falsi that halves the value kept at an end
  * that survived twice, so that both ends converge. A trial point is kept at
  * least half the tolerance away from both ends: once one end has converged,
  * the next trial lands just across the root and closes the bracket (plain
  * regula falsi would creep towards it from one side). Bisection only as a
- * safety net, and for the stops' events after a trial that kept more than half
- * the bracket: their contact min(delta, bracket) has a kink near its root,
- * between slopes up to k_b / c_b times apart, where the halving takes dozens of
- * trials to balance the ends. Returns the end of the final bracket on the
+ * safety net; a stop side's event has its own trials (locate_kinked). Returns the end of the final bracket on the
  * "after" side, so that the event has happened at the returned time;
  * |dt| <= 4 eps t. */
 static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, double ta, double phi_a, double tb,
@@ -1536,14 +1619,13 @@ static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, d
 {
     const int strict = EVENT_RULES[kind].strict;
     const double tol = 4.0 * DBL_EPSILON * max2(fabs(ta), fabs(tb));
-    const int kinked = gap_side(kind) >= 0;
     int kept = 0; /* +1: ta moved last time (tb kept), -1: tb moved */
-    int bisect = 0;
     int iter;
+    if (gap_side(kind) >= 0)
+        return locate_kinked(ec, d, kind, sense, ta, phi_a, tb, phi_b);
     for (iter = 0; iter < 200 && tb - ta > tol; ++iter) {
-        const double width = tb - ta;
         double tc, phi_c;
-        if (!bisect && iter < 40 && phi_b != phi_a) {
+        if (iter < 40 && phi_b != phi_a) {
             tc = tb - phi_b * ((tb - ta) / (phi_b - phi_a));
             tc = min2(max2(tc, ta + 0.5 * tol), tb - 0.5 * tol); /* a NaN becomes the lower limit */
         } else {
@@ -1567,7 +1649,6 @@ static double locate_event(const event_ctx *ec, dopri *d, int kind, int sense, d
                 phi_a *= 0.5;
             kept = -1;
         }
-        bisect = kinked && !bisect && tb - ta > 0.5 * width;
     }
     return tb;
 }
@@ -1585,7 +1666,7 @@ typedef struct event_set {
     int n;
     watched w[N_EVENTS]; /* in enum order (ties go to the first) */
     double g[N_EVENTS];  /* g of w[i] */
-    int have_contacts;   /* contacts holds every stop side's contact at the last step end */
+    int have_contacts;   /* contacts holds every stop side's contact at the last step end (the segment's start first) */
     double contacts[MAX_STOP_SIDES];
     int lift_last; /* the last event watched is the lift-off, and normal_bound applies (events_scan's first test) */
 } event_set;
@@ -1636,6 +1717,7 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
                          const double *f)
 {
     es->n = 0;
+    es->have_contacts = 0;
     for (; active != 0; active &= active - 1) {
         const int k = first_event(active);
         const event_rule *e = &EVENT_RULES[k];
@@ -1646,7 +1728,14 @@ static void events_start(event_set *es, const event_ctx *ec, event_mask active, 
         w->component = e->component;
         w->factor = component_factor(ec, e);
         w->offset = e->offset;
-        es->g[es->n++] = event_value(ec, k, t, y, f);
+        if (gap_side(k) >= 0) { /* every side's contact from one call, as in events_scan */
+            if (!es->have_contacts)
+                stop_contacts_at(ec->o->k, y, es->contacts);
+            es->have_contacts = 1;
+            es->g[es->n++] = es->contacts[gap_side(k)];
+        } else {
+            es->g[es->n++] = event_value(ec, k, t, y, f);
+        }
     }
     es->lift_last = FLIGHT && es->n > 0 && es->w[es->n - 1].kind == EV_LIFT_OFF && ec->bound_live;
 }
@@ -2034,14 +2123,15 @@ static double bumper_force_in_step(run *r, double t_end, double x)
  * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
  * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
- * neighbours. The same operations as numpy_backend.step_peak. */
-static void step_peak(run *r, double t_end, const double *y_end)
+ * neighbours. The same operations as numpy_backend.step_peak. f_start: the force at the step's start (the last
+ * step's end, or the segment's start: the same state in every component). Returns the force at y_end. */
+static double step_peak(run *r, double f_start, double t_end, const double *y_end)
 {
     const int n = PEAK_POINTS - 1;
     const double g = 0.5 * (sqrt(5.0) - 1.0);
     double f[PEAK_POINTS], a, b, c, d, fc, fd, best;
     int i, k = 0;
-    f[0] = bumper_force(r, r->d.y_old);
+    f[0] = f_start;
     for (i = 1; i < n; ++i)
         f[i] = bumper_force_in_step(r, t_end, (double)i / n);
     f[n] = bumper_force(r, y_end);
@@ -2051,12 +2141,12 @@ static void step_peak(run *r, double t_end, const double *y_end)
     best = f[k];
     /* At the maximum so far too: a step that starts at it (the last one's end) may climb past it. */
     if (!(best >= r->res->bumper_force_max && best > 0.0))
-        return;
+        return f[n];
     r->res->bumper_force_max = best;
     if (k == n && 3.0 * f[n] - 4.0 * f[n - 1] + f[n - 2] > 0.0)
-        return;
+        return f[n];
     if (k == 0 && -3.0 * f[0] + 4.0 * f[1] - f[2] < 0.0)
-        return;
+        return f[n];
     a = (double)(k > 0 ? k - 1 : 0) / n;
     b = (double)(k < n ? k + 1 : n) / n;
     c = b - g * (b - a);
@@ -2075,21 +2165,25 @@ static void step_peak(run *r, double t_end, const double *y_end)
         }
     }
     r->res->bumper_force_max = max2(r->res->bumper_force_max, max2(fc, fd));
+    return f[n];
 }
 #endif
 
-/* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known). */
-static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end)
+/* The maxima at the state y, or at the last step's end (at_step_end: the stops' contacts there are known); force:
+ * the bumpers' largest force at y where known (bumper_force), else NULL. */
+static ALWAYS_INLINE void see_state(run *r, const double *y, int at_step_end, const double *force)
 {
     r->res->theta_max = max2(r->res->theta_max, fabs(y[0]));
 #if NQ > 1
     r->res->x_max = max2(r->res->x_max, fabs(y[1]));
 #endif
 #if MODEL_NSTOPS > 0
-    if (!(at_step_end && pads_apart(&r->events)))
+    if (force != NULL)
+        r->res->bumper_force_max = max2(r->res->bumper_force_max, *force);
+    else if (!(at_step_end && pads_apart(&r->events)))
         r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, y));
 #else
-    (void)at_step_end;
+    (void)at_step_end, (void)force;
 #endif
 }
 
@@ -2339,6 +2433,7 @@ static int run_segment(run *r, double t_bound)
     event_mask active;
     int k;
 #if MODEL_NSTOPS > 0
+    double force = 0.0; /* the bumpers' largest force at the last step's end (the segment's start first) */
     int pushing = 0; /* a pad pushes in this segment (its regime is constant) */
     for (k = 0; k < MODEL_NSTOPS; ++k)
         pushing |= r->k->stop_on[k];
@@ -2373,12 +2468,16 @@ static int run_segment(run *r, double t_bound)
     r->h_first = 0.0;
     if (over_budget(r))
         return segment_undone(r, &saved);
-#if MODEL_NSTOPS > 0
-    /* After a jump of the velocities the start is a state no step end has shown (rule 6). */
-    r->res->bumper_force_max = max2(r->res->bumper_force_max, bumper_force(r, r->y));
-#endif
     active = watched_events(r);
     events_start(&r->events, &r->ec, active, r->t, r->y, r->d.f);
+#if MODEL_NSTOPS > 0
+    /* After a jump of the velocities the start is a state no step end has shown (rule 6); where no pad pushes and
+     * every contact there is <= 0 (read by events_start), every bumper force is 0 (pads_apart). */
+    if (pushing || !pads_apart(&r->events)) {
+        force = bumper_force(r, r->y);
+        r->res->bumper_force_max = max2(r->res->bumper_force_max, force);
+    }
+#endif
     /* N <= 0 where the phase starts (after an impact, a landing, at t = 0): the block takes off at once (the
      * event sees only a sign change inside a step). */
     if (active >> EV_LIFT_OFF & 1u && !r->skip_lift_check && r->events.g[event_index(active, EV_LIFT_OFF)] < 0.0)
@@ -2439,9 +2538,11 @@ static int run_segment(run *r, double t_bound)
             dopri_dense(&r->d, r->t, r->y);
 #if MODEL_NSTOPS > 0
             if (pushing)
-                step_peak(r, r->t, r->y);
+                force = step_peak(r, force, r->t, r->y);
+            see_state(r, r->y, 0, pushing ? &force : NULL);
+#else
+            see_state(r, r->y, 0, NULL);
 #endif
-            see_state(r, r->y, 0);
             if (r->flying)
                 see_flight(r, r->t, r->y);
             if (found.terminal == EV_IMPACT)
@@ -2452,9 +2553,11 @@ static int run_segment(run *r, double t_bound)
         }
 #if MODEL_NSTOPS > 0
         if (pushing)
-            step_peak(r, r->d.t, r->d.y);
+            force = step_peak(r, force, r->d.t, r->d.y);
+        see_state(r, r->d.y, 1, pushing ? &force : NULL);
+#else
+        see_state(r, r->d.y, 1, NULL);
 #endif
-        see_state(r, r->d.y, 1);
         if (r->flying)
             see_flight(r, r->d.t, r->d.y);
     }
@@ -3679,6 +3782,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     r.k = &k;
     r.o.k = &k;
     memset(r.regimes.ready, 0, sizeof r.regimes.ready);
+    regime_keep(&r.regimes, &k); /* the rest state's regime, where a released pad lets the mass go */
     r.o.phase = 0;
     r.o.sigma = 0;
     r.o.flying = 0;
@@ -3756,7 +3860,7 @@ static int64_t simulate_one(const double *p, const rocking_case *c, rocking_resu
     stop_memory_start(&k, r.y, clear); /* a contact in progress at the start starts there (docs/model.md 11) */
     stop_regime(&k, r.y, stop_on); /* the regime starts from the initial state (rule 6) */
     constants_regime(&k, stop_on);
-    see_state(&r, r.y, 0);
+    see_state(&r, r.y, 0, NULL);
 
     /* Without stops the width depends on the parameters alone (with them, on the regime's inputs too). */
     r.base = MODEL_NSTOPS == 0 && memo != NULL ? memo->base : flight_base_width(&k);
