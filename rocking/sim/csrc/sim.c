@@ -1543,11 +1543,11 @@ static int event_sense(int sense, double g_old)
  * responses of bench/stops_map.py stops), and with a bisection after each trial that kept more than half the
  * bracket 14 and 32 on average (400 responses: -n 20; these trials, 7 and 9). So the trials interpolate the points "after" the root, on its branch: inversely quadratic through
  * the last three, else the secant through the last two, else (the first trial: only the step's end is after it)
- * the bisection. An interpolation that falls before the root lands near it: the next trial is NUDGE_PART of the
+ * the bisection. An interpolation that falls before the root lands near it: the next trial is LOCATE_NUDGE of the
  * bracket past it; one that falls before again, the regula falsi between the ends; then the bisection. A trial is
  * kept half the tolerance away from both ends: once the after side has converged, the next trial lands just across
  * the root and closes the bracket. */
-#define NUDGE_PART (1.0 / 16.0)
+#define LOCATE_NUDGE (1.0 / 16.0)
 
 /* Stop side i's contact on the dense output of the last step (event_on_dense for its events: that one stays
  * inlined in locate_event alone). */
@@ -1578,7 +1578,7 @@ static double locate_kinked(const event_ctx *ec, dopri *d, int kind, int sense, 
         else if (how == FALSI && phi_b != phi_a)
             tc = tb - phi_b * ((tb - ta) / (phi_b - phi_a));
         else if (how == NUDGE)
-            tc = ta + NUDGE_PART * (tb - ta);
+            tc = ta + LOCATE_NUDGE * (tb - ta);
         else
             tc = ta + 0.5 * (tb - ta);
         tc = min2(max2(tc, ta + 0.5 * tol), tb - 0.5 * tol); /* a NaN becomes the lower limit */
@@ -2123,15 +2123,15 @@ static double bumper_force_in_step(run *r, double t_end, double x)
  * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
  * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
- * neighbours. The same operations as numpy_backend.step_peak. f_start: the force at the step's start (the last
- * step's end, or the segment's start: the same state in every component). Returns the force at y_end. */
-static double step_peak(run *r, double f_start, double t_end, const double *y_end)
+ * neighbours. The same operations as numpy_backend.step_peak. bumper_at_start: the force at the step's start
+ * (the last step's end, or the segment's start: the same state in every component). Returns the force at y_end. */
+static double step_peak(run *r, double bumper_at_start, double t_end, const double *y_end)
 {
     const int n = PEAK_POINTS - 1;
     const double g = 0.5 * (sqrt(5.0) - 1.0);
     double f[PEAK_POINTS], a, b, c, d, fc, fd, best;
     int i, k = 0;
-    f[0] = f_start;
+    f[0] = bumper_at_start;
     for (i = 1; i < n; ++i)
         f[i] = bumper_force_in_step(r, t_end, (double)i / n);
     f[n] = bumper_force(r, y_end);
