@@ -77,9 +77,11 @@ def render(results: dict) -> str:
             )
         lines.append(text + ".")
     lines += [
-        f"End stops at the block's edges (`Stops.at_edges`) cost {stops['stops_over_free_time']:.2f}x the time "
-        f"per response of the unlimited damper on the same map (median of 3 paired runs), with "
-        f"{stops['stop_contacts_per_response']:.1f} contacts per response. `rocking threshold` on its default grid "
+        f"End stops at the block's edges (`Stops.at_edges`) cost {stops['stops_over_free_time']:.2f}x the CPU time "
+        f"per response of the unlimited damper on the same map in lanes, "
+        f"{stops['stops_over_free_time_scalar']:.2f}x on the scalar path (medians of 3 paired "
+        f"runs), with {stops['stop_contacts_per_response']:.1f} contacts per response. `rocking threshold` on its "
+        f"default grid "
         f"takes {st['threshold_seconds']:.1f} s on 2 workers; a fragility of 1,000 stochastic motions x 4 levels x "
         f"2 directions x 2 parts {st['fragility_1000_seconds']:.0f} s.",
     ]
