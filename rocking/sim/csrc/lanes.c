@@ -40,7 +40,24 @@ typedef struct lane {
     const tolerance *tol;
     double h, t_new, *y_new, err;
     double power; /* err^ERROR_EXPONENT, computed with the stages over vectors (NAN: not) */
+    unsigned segment; /* counts the segments of the lane's runs: a new one may have new constants */
 } lane;
+
+/* The vectors of a lanes_cache's data: the model's constants, the absolute and relative tolerances, the one-sine
+ * pulse's amplitude, circular frequency and phase, and the masks of the lanes whose one-sine pulse acts, and of
+ * those in full contact. */
+enum { LC_CST = 0, LC_ATOL = NK, LC_RTOL = NK + NY, LC_A, LC_OMEGA, LC_PSI, LC_SINE, LC_CONTACT, LC_VECTORS };
+
+/* The values of a segment of the runs of the lanes of a vector (the model's constants, the tolerances, the
+ * pulse, full contact or not): the same over the segment, gathered into vectors when one of its lanes starts a
+ * new one (lanes_kernel.h's refresh), not at every step. */
+typedef struct lanes_cache {
+    const lane *who[LANES_RUNS]; /* the lane of each element, and the segment its values are of */
+    unsigned segment[LANES_RUNS];
+    int other[LANES_RUNS]; /* the element's pulse acts and is not a one-sine */
+    int any_contact, any_rocking, any_sine, any_other;
+    double data[LC_VECTORS * LANES_RUNS] __attribute__((aligned(64))); /* LC_*, each LANES_RUNS doubles at most */
+} lanes_cache;
 
 /* The scalar stages and error estimate of a step (dopri_step_of's own). */
 static double scalar_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
@@ -142,7 +159,7 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #undef LTARGET
 #undef LNAME
 
-typedef int (*lanes_kernel)(lane *const *ls);
+typedef int (*lanes_kernel)(lane *const *ls, lanes_cache *cache);
 
 /* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
 
@@ -195,6 +212,7 @@ struct lanes {
     int width;
     lanes_kernel kernel;
     lane lane[LANES_RUNS];
+    lanes_cache cache[LANES_RUNS / 2]; /* one per vector of the lanes, the narrowest vectors 2 doubles wide */
     int runs; /* the lanes of the batch: LANES_RUNS, fewer for a batch of fewer cases */
     unsigned char *stacks;
     /* the batch */
@@ -233,7 +251,7 @@ static void lanes_serve(lanes *b)
         int scalar;
         for (j = 0; j < b->width; ++j)
             ls[j] = waiting[first + j < n ? first + j : n - 1];
-        scalar = b->kernel(ls);
+        scalar = b->kernel(ls, &b->cache[first / b->width]);
         for (j = 0; j < b->width && first + j < n; ++j)
             if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
                 ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
@@ -340,8 +358,11 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.control = control;
     b.memo.have = 0;
     b.runs = runs;
+    for (j = 0; j < LANES_RUNS / 2; ++j)
+        memset(b.cache[j].who, 0, sizeof b.cache[j].who); /* no lane yet */
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
+        b.lane[j].segment = 0;
         b.lane[j].slot = j;
         lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
     }
@@ -358,6 +379,8 @@ static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, doub
     const int contact = o->rhs == ODE_PULSE_CONTACT || o->rhs == ODE_FREE_CONTACT;
     if (!(o->rhs == ODE_PULSE_ROCKING || o->rhs == ODE_FREE_ROCKING || (LANES_CONTACT && contact)))
         return scalar_stages(d, o, tol, h, t_new, y_new);
+    if (d->h == 0.0) /* a segment starts (dopri_start), or its last step was taken back (dopri_undo) */
+        ++l->segment;
     l->d = d;
     l->o = o;
     l->tol = tol;

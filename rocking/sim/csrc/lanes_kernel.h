@@ -77,73 +77,104 @@ LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *outside __attribute__((unu
 #endif
 #undef LANES_SINCOS
 
-/* The ground motion of each lane: a one-sine pulse acting (its amplitude, circular frequency and phase), another
- * motion acting, or none (after the pulse). */
-typedef struct LNAME(sines) {
-    VD a, omega, psi;
-    VL sine;       /* -1 where the lane's pulse is a one-sine acting */
-    int other[LW]; /* the lane's pulse is another motion, acting */
-    int any_sine, any_other;
-} LNAME(sines);
+/* A vector of the LW lanes' values of E(j), j the lane: built from the scalars (no stores of single elements
+ * followed by a load of the whole vector, which the CPU cannot forward). */
+#if LW == 2
+#define LGATHER(E) ((VD){E(0), E(1)})
+#elif LW == 4
+#define LGATHER(E) ((VD){E(0), E(1), E(2), E(3)})
+#else
+#define LGATHER(E) ((VD){E(0), E(1), E(2), E(3), E(4), E(5), E(6), E(7)})
+#endif
 
 /* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), another
  * motion by ode_ag, 0 after the pulse. */
-LATTR VD LNAME(ground)(lane *const *ls, const VD t, const LNAME(sines) *p, VL *outside)
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, const VD *v, VL *outside)
 {
     VD ag = LNAME(splat)(0.0), s, c;
     int j;
-    if (p->any_sine) {
-        LNAME(sincos)(p->omega * t + p->psi, &s, &c, outside);
-        ag = (VD)((VL)(p->a * s) & p->sine);
+    if (cache->any_sine) {
+        LNAME(sincos)(v[LC_OMEGA] * t + v[LC_PSI], &s, &c, outside);
+        ag = (VD)((VL)(v[LC_A] * s) & (VL)v[LC_SINE]);
     }
-    if (p->any_other)
+    if (cache->any_other)
         for (j = 0; j < LW; ++j)
-            if (p->other[j])
+            if (cache->other[j])
                 ag[j] = ode_ag(ls[j]->o, t[j]);
     return ag;
+}
+
+/* The segment's values of the lanes ls in cache, written again for those whose run has started a segment since
+ * (or that were not there); the flags of the cache recomputed if any was. Out of line: rarely called. */
+static __attribute__((noinline, target(LTARGET))) void LNAME(refresh)(lane *const *ls, lanes_cache *cache)
+{
+    VD *v = (VD *)cache->data;
+    const int64_t set = -1;
+    double mask; /* every bit set */
+    int i, j;
+    memcpy(&mask, &set, sizeof mask);
+    for (j = 0; j < LW; ++j) {
+        const lane *l = ls[j];
+        int sine, contact;
+        if (cache->who[j] == l && cache->segment[j] == l->segment)
+            continue;
+        cache->who[j] = l;
+        cache->segment[j] = l->segment;
+        for (i = 0; i < NY; ++i)
+            v[LC_ATOL + i][j] = l->tol->atol[i];
+        v[LC_RTOL][j] = l->tol->rtol;
+#define GATHER(i) v[LC_CST + i][j] = l->o->cst[i];
+        LANES_CST_USED(GATHER)
+#undef GATHER
+        contact = l->o->rhs == ODE_PULSE_CONTACT || l->o->rhs == ODE_FREE_CONTACT;
+        sine = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
+        v[LC_CONTACT][j] = contact ? mask : 0.0;
+        v[LC_SINE][j] = sine ? mask : 0.0;
+        v[LC_A][j] = sine ? l->o->c->a_g : 0.0;
+        v[LC_OMEGA][j] = sine ? l->o->c->omega_g : 0.0;
+        v[LC_PSI][j] = sine ? l->o->c->psi : 0.0;
+        cache->other[j] = l->o->pulse_on && !sine;
+    }
+    cache->any_contact = cache->any_rocking = cache->any_sine = cache->any_other = 0;
+    for (j = 0; j < LW; ++j) {
+        const int contact = ((VL)v[LC_CONTACT])[j] != 0;
+        cache->any_contact |= contact;
+        cache->any_rocking |= !contact;
+        cache->any_sine |= ((VL)v[LC_SINE])[j] != 0;
+        cache->any_other |= cache->other[j];
+    }
 }
 
 /* The stages and the error estimate of the steps the LW lanes ls ask for (lanes_stages), dopri_stages_of and
  * dopri_error over vectors: the stages into each lane's d->k, the new state into its y_new, the error into
  * its err; except the lanes where an argument of sin or cos was out of the vector functions' range: their
- * bits in the mask returned, the caller computes those steps scalar. */
-static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
+ * bits in the mask returned, the caller computes those steps scalar. cache: the segments' values of the lanes
+ * of this vector (refreshed here where they changed). */
+static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes_cache *cache)
 {
-    VD t0, h, t_new, y0[NY], k[STAGES][NY], y[NY], cst[NK], atol[NY], rtol, ag_new;
-    VL outside = (VL){0}, contact = (VL){0}; /* contact: -1 where the lane is in full contact */
-    LNAME(sines) pulse;
-    int i, j, s, scalar = 0, any_contact = 0, any_rocking = 0;
-    pulse.any_sine = pulse.any_other = 0;
-    for (j = 0; j < LW; ++j) {
-        const lane *l = ls[j];
-        t0[j] = l->d->t;
-        h[j] = l->h;
-        t_new[j] = l->t_new;
-        rtol[j] = l->tol->rtol;
-        for (i = 0; i < NY; ++i) {
-            y0[i][j] = l->d->y[i];
-            k[0][i][j] = l->d->f[i];
-            atol[i][j] = l->tol->atol[i];
-        }
-#define GATHER(i) cst[i][j] = l->o->cst[i];
-        LANES_CST_USED(GATHER)
-#undef GATHER
-        {
-            const int in_contact = l->o->rhs == ODE_PULSE_CONTACT || l->o->rhs == ODE_FREE_CONTACT;
-            contact[j] = -in_contact;
-            any_contact |= in_contact;
-            any_rocking |= !in_contact;
-        }
-        {
-            const int sine = l->o->pulse_on && l->o->c->motion == ROCKING_MOTION_SINE;
-            pulse.sine[j] = -sine;
-            pulse.a[j] = sine ? l->o->c->a_g : 0.0;
-            pulse.omega[j] = sine ? l->o->c->omega_g : 0.0;
-            pulse.psi[j] = sine ? l->o->c->psi : 0.0;
-            pulse.other[j] = l->o->pulse_on && !sine;
-            pulse.any_sine |= sine;
-            pulse.any_other |= pulse.other[j];
-        }
+    VD k[STAGES][NY], y[NY], ag_new;
+    const VD *v = (const VD *)cache->data, *cst = v + LC_CST, rtol = v[LC_RTOL];
+    VL outside = (VL){0};
+    int i, j, s, scalar = 0, stale = 0;
+    for (j = 0; j < LW; ++j)
+        stale |= cache->who[j] != ls[j] || cache->segment[j] != ls[j]->segment;
+    if (stale)
+        LNAME(refresh)(ls, cache);
+#define T0(j) ls[j]->d->t
+#define H(j) ls[j]->h
+#define T_NEW(j) ls[j]->t_new
+    const VD t0 = LGATHER(T0), h = LGATHER(H), t_new = LGATHER(T_NEW);
+#undef T0
+#undef H
+#undef T_NEW
+    VD y0[NY];
+    for (i = 0; i < NY; ++i) {
+#define Y0(j) ls[j]->d->y[i]
+#define F0(j) ls[j]->d->f[i]
+        y0[i] = LGATHER(Y0);
+        k[0][i] = LGATHER(F0);
+#undef Y0
+#undef F0
     }
     ag_new = LNAME(splat)(0.0);
 #pragma GCC unroll 8
@@ -158,22 +189,22 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
         }
         if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
             if (RK_C[s - 1] != 1.0)
-                ag_new = LNAME(ground)(ls, t_new, &pulse, &outside);
+                ag_new = LNAME(ground)(ls, t_new, cache, v, &outside);
             ag = ag_new;
         } else {
-            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, &pulse, &outside);
+            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, v, &outside);
         }
-        if (any_rocking)
+        if (cache->any_rocking)
             LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &outside);
         else
             for (i = 0; i < NQ; ++i)
                 k[s][NQ + i] = LNAME(splat)(0.0);
 #if LANES_CONTACT
-        if (any_contact) {
+        if (cache->any_contact) {
             VD in_contact[NQ];
             LNAME(contact_accel)(y, ag, cst, in_contact, &outside);
             for (i = 0; i < NQ; ++i)
-                k[s][NQ + i] = (VD)((contact & (VL)in_contact[i]) | (~contact & (VL)k[s][NQ + i]));
+                k[s][NQ + i] = (VD)(((VL)v[LC_CONTACT] & (VL)in_contact[i]) | (~(VL)v[LC_CONTACT] & (VL)k[s][NQ + i]));
         }
 #endif
         for (i = 0; i < NQ; ++i)
@@ -190,7 +221,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
             for (s = 1; s < STAGES; ++s)
                 err += RK_E[s] * k[s][i];
             err *= h;
-            r = err / (atol[i] + rtol * (VD)((larger & (VL)a) | (~larger & (VL)b)));
+            r = err / (v[LC_ATOL + i] + rtol * (VD)((larger & (VL)a) | (~larger & (VL)b)));
             sum += r * r;
         }
         VD err, power;
@@ -209,7 +240,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
                     l->d->k[s][i] = k[s][i][j];
             for (i = 0; i < NY; ++i)
                 l->y_new[i] = y[i][j];
-            if (pulse.sine[j]) { /* ode_ag's memo, as the scalar stages leave it */
+            if (((VL)v[LC_SINE])[j]) { /* ode_ag's memo, as the scalar stages leave it */
                 l->o->memo_t = t_new[j];
                 l->o->memo_ag = ag_new[j];
             }
@@ -218,6 +249,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls)
     return scalar;
 }
 
+#undef LGATHER
 #undef LATTR
 #undef VD
 #undef VL
