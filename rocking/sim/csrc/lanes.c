@@ -2,9 +2,9 @@
  *
  * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
  * a step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
- * (lane_next); the last lane of a round computes the stages of every waiting lane over vectors (lanes_kernel.h)
+ * (lane_next); the last lane of a round computes the stages of every lane over vectors (lanes_kernel.h)
  * and each goes on, in turn, with its scalar step-size control, events and phases until its next step.
- * A lane whose run ends takes the next case of the batch.
+ * A lane whose run ends takes the next case of the batch; with none left, it leaves the round.
  */
 #include <stdlib.h>
 
@@ -24,16 +24,12 @@
  * vectors); far more, of which the pages never touched cost nothing. */
 #define LANES_STACK (1024 * 1024)
 
-/* A lane waits for the stages of its step, is ready to go on (they are computed), or has no case left. */
-enum { LANE_WAITING, LANE_READY, LANE_FINISHED };
-
 typedef struct lanes lanes;
 
 typedef struct lane {
     void *sp;      /* the stack pointer of the coroutine while it is suspended */
     lanes *owner;  /* the scheduler */
-    int state;     /* LANE_* */
-    int slot;      /* its index in its scheduler's lanes */
+    int index;     /* its place in the round (lanes' active) */
     /* a request for the stages of a step (lanes_stages) and its answer, err */
     dopri *d;
     ode *o;
@@ -163,8 +159,10 @@ typedef int (*lanes_kernel)(lane *const *ls, lanes_cache *cache);
 
 /* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
 
-/* Save the callee-saved registers, MXCSR and the x87 control word on the current stack and its pointer into
- * *save, then resume the stack `to` saved the same way (or prepared by lane_start). */
+/* Save the callee-saved registers on the current stack and its pointer into *save, then resume the stack `to`
+ * saved the same way (or prepared by lane_start). MXCSR and the x87 control word, callee-saved too, are not
+ * switched: every lane runs with the batch caller's, which no code changes across a switch (libm restores
+ * what it sets inside a call). */
 void rocking_lanes_switch(void **save, void *to) __attribute__((visibility("hidden")));
 /* A new lane's first code: lane_main(r12), on the lane's stack. */
 void rocking_lanes_start(void) __attribute__((visibility("hidden")));
@@ -180,14 +178,8 @@ __asm__(".pushsection .text\n"
         "    pushq %r13\n"
         "    pushq %r14\n"
         "    pushq %r15\n"
-        "    subq $16, %rsp\n"
-        "    stmxcsr 8(%rsp)\n"
-        "    fnstcw (%rsp)\n"
         "    movq %rsp, (%rdi)\n"
         "    movq %rsi, %rsp\n"
-        "    ldmxcsr 8(%rsp)\n"
-        "    fldcw (%rsp)\n"
-        "    addq $16, %rsp\n"
         "    popq %r15\n"
         "    popq %r14\n"
         "    popq %r13\n"
@@ -212,8 +204,11 @@ struct lanes {
     int width;
     lanes_kernel kernel;
     lane lane[LANES_RUNS];
-    lanes_cache cache[LANES_RUNS / 2]; /* one per vector of the lanes, the narrowest vectors 2 doubles wide */
-    int runs; /* the lanes of the batch: LANES_RUNS, fewer for a batch of fewer cases */
+    /* The round: the lanes that still have a run, in the order they run; each posts its step (or leaves), the
+     * last then serves them all. */
+    lane *active[LANES_RUNS];
+    int n_active;
+    lanes_cache cache[LANES_RUNS / 2]; /* one per vector of the round, the narrowest vectors 2 doubles wide */
     unsigned char *stacks;
     /* the batch */
     int64_t n, next;
@@ -237,50 +232,55 @@ static int64_t lanes_take(lanes *b)
     return -1;
 }
 
-/* The stages of the waiting lanes, b->width at a time (the last vector padded with its last lane again); they are
- * then ready. */
+/* The stages of every lane of the round, b->width at a time (the last vector padded with its last lane again). */
 static void lanes_serve(lanes *b)
 {
-    lane *waiting[LANES_RUNS];
-    int n = 0, first, j;
-    for (j = 0; j < b->runs; ++j)
-        if (b->lane[j].state == LANE_WAITING)
-            waiting[n++] = &b->lane[j];
+    const int n = b->n_active;
+    int first, j;
     for (first = 0; first < n; first += b->width) {
-        lane *ls[LANES_RUNS];
+        lane *padded[LANES_RUNS], *const *ls = b->active + first;
         int scalar;
-        for (j = 0; j < b->width; ++j)
-            ls[j] = waiting[first + j < n ? first + j : n - 1];
+        if (first + b->width > n) {
+            for (j = 0; j < b->width; ++j)
+                padded[j] = b->active[first + j < n ? first + j : n - 1];
+            ls = padded;
+        }
         scalar = b->kernel(ls, &b->cache[first / b->width]);
-        for (j = 0; j < b->width && first + j < n; ++j)
-            if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
+        for (j = 0; scalar != 0 && j < b->width && first + j < n; ++j)
+            if (scalar >> j & 1) /* a sin or cos out of the vector functions' range: this step scalar */
                 ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
     }
-    for (j = 0; j < n; ++j)
-        waiting[j]->state = LANE_READY;
 }
 
-/* Lane l waits for its stages or has finished: run the next ready lane in slot order; after the last, serve
- * the waiting lanes and run the first of them (l itself: return at once); when none waits, back to the caller
- * of the batch. One switch per step of a lane, from lane to lane: a round of the lanes ends in the vector
- * stages, on the stack of the lane that ends it. */
-static void lane_next(lane *l)
+/* Lane l has posted its step (lanes_stages) or left the round: run the lane at place `next` of the round; past
+ * the last, serve the round and run its first lane (l itself: return at once); when none is left, back to the
+ * caller of the batch. One switch per step of a lane, from lane to lane: a round ends in the vector stages, on
+ * the stack of the lane that ends it. */
+static void lane_next(lane *l, int next)
 {
     lanes *b = l->owner;
-    int j;
-    for (j = l->slot + 1; j < b->runs; ++j)
-        if (b->lane[j].state == LANE_READY) {
-            rocking_lanes_switch(&l->sp, b->lane[j].sp);
-            return;
-        }
+    if (next < b->n_active) {
+        rocking_lanes_switch(&l->sp, b->active[next]->sp);
+        return;
+    }
+    if (b->n_active == 0) {
+        rocking_lanes_switch(&l->sp, b->sp); /* not resumed again */
+        return;
+    }
     lanes_serve(b);
-    for (j = 0; j < b->runs; ++j)
-        if (b->lane[j].state == LANE_READY) {
-            if (&b->lane[j] != l)
-                rocking_lanes_switch(&l->sp, b->lane[j].sp);
-            return;
-        }
-    rocking_lanes_switch(&l->sp, b->sp); /* every lane has finished: not resumed again */
+    if (b->active[0] != l)
+        rocking_lanes_switch(&l->sp, b->active[0]->sp);
+}
+
+/* Lane l leaves the round of b: the lanes after it move up a place. */
+static void lanes_leave(lanes *b, const lane *l)
+{
+    int j;
+    for (j = l->index; j + 1 < b->n_active; ++j) {
+        b->active[j] = b->active[j + 1];
+        b->active[j]->index = j;
+    }
+    --b->n_active;
 }
 
 /* The coroutine of a lane: runs of the batch's cases, one after the other, until none is left. */
@@ -290,29 +290,22 @@ static void lane_main(lane *l)
     int64_t i;
     while ((i = lanes_take(b)) >= 0)
         simulate_one(b->p + i * MODEL_NP, b->cases + i, b->out + i, NULL, b->control, l, &b->memo);
-    l->state = LANE_FINISHED;
-    lane_next(l);
+    lanes_leave(b, l);
+    lane_next(l, l->index); /* the lane that took its place */
 }
 
 /* The first frame of lane l on its stack [stack, stack + size): what rocking_lanes_switch pops, then its
- * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call. The lane is
- * ready: its first switch starts it. */
+ * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call (the stack
+ * pointer at `top`, a multiple of 16, once all is popped). Its first switch starts it. */
 static void lane_start(lane *l, unsigned char *stack, size_t size)
 {
     uint64_t *top = (uint64_t *)(((uintptr_t)(stack + size)) & ~(uintptr_t)15);
-    uint64_t *sp = top - 11; /* 88 bytes: control words, 6 registers, the return address; then 16 free */
-    uint32_t mxcsr;
-    uint16_t fpcw;
-    __asm__ volatile("stmxcsr %0" : "=m"(mxcsr));
-    __asm__ volatile("fnstcw %0" : "=m"(fpcw));
-    memset(sp, 0, 11 * sizeof *sp);
-    memcpy(sp, &fpcw, sizeof fpcw);
-    memcpy(sp + 1, &mxcsr, sizeof mxcsr);
-    sp[4] = (uint64_t)(uintptr_t)lane_main; /* r13 */
-    sp[5] = (uint64_t)(uintptr_t)l;         /* r12 */
-    sp[8] = (uint64_t)(uintptr_t)rocking_lanes_start;
+    uint64_t *sp = top - 7; /* r15, r14, r13, r12, rbx, rbp, the return address */
+    memset(sp, 0, 7 * sizeof *sp);
+    sp[2] = (uint64_t)(uintptr_t)lane_main; /* r13 */
+    sp[3] = (uint64_t)(uintptr_t)l;         /* r12 */
+    sp[6] = (uint64_t)(uintptr_t)rocking_lanes_start;
     l->sp = sp;
-    l->state = LANE_READY;
 }
 
 /* The vector width a batch now uses (rocking_lanes). */
@@ -357,13 +350,14 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.out = out;
     b.control = control;
     b.memo.have = 0;
-    b.runs = runs;
+    b.n_active = runs;
     for (j = 0; j < LANES_RUNS / 2; ++j)
         memset(b.cache[j].who, 0, sizeof b.cache[j].who); /* no lane yet */
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
         b.lane[j].segment = 0;
-        b.lane[j].slot = j;
+        b.lane[j].index = j;
+        b.active[j] = &b.lane[j];
         lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
     }
     rocking_lanes_switch(&b.sp, b.lane[0].sp); /* back when every lane has finished */
@@ -387,9 +381,8 @@ static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, doub
     l->h = h;
     l->t_new = t_new;
     l->y_new = y_new;
-    l->state = LANE_WAITING;
     l->power = NAN;
-    lane_next(l);
+    lane_next(l, l->index + 1);
     return l->err;
 }
 
