@@ -104,6 +104,41 @@ LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, co
     return ag;
 }
 
+/* rows[j][i] = cols[i][j] for the NY components i and the LW lanes j: with 2 x 2 or 4 x 4 transposes of the
+ * vectors where the width allows (an element extracted and stored alone costs two instructions). */
+LATTR void LNAME(transpose)(const VD *cols, double *const *rows)
+{
+    int i = 0, j;
+#if LW == 2
+    typedef int64_t mask __attribute__((vector_size(16)));
+    for (; i + 2 <= NY; i += 2) {
+        const VD r0 = __builtin_shuffle(cols[i], cols[i + 1], (mask){0, 2});
+        const VD r1 = __builtin_shuffle(cols[i], cols[i + 1], (mask){1, 3});
+        memcpy(rows[0] + i, &r0, sizeof r0);
+        memcpy(rows[1] + i, &r1, sizeof r1);
+    }
+#elif LW == 4
+    typedef int64_t mask __attribute__((vector_size(32)));
+    for (; i + 4 <= NY; i += 4) {
+        const VD t0 = __builtin_shuffle(cols[i], cols[i + 1], (mask){0, 4, 2, 6});
+        const VD t1 = __builtin_shuffle(cols[i], cols[i + 1], (mask){1, 5, 3, 7});
+        const VD t2 = __builtin_shuffle(cols[i + 2], cols[i + 3], (mask){0, 4, 2, 6});
+        const VD t3 = __builtin_shuffle(cols[i + 2], cols[i + 3], (mask){1, 5, 3, 7});
+        const VD r0 = __builtin_shuffle(t0, t2, (mask){0, 1, 4, 5});
+        const VD r1 = __builtin_shuffle(t1, t3, (mask){0, 1, 4, 5});
+        const VD r2 = __builtin_shuffle(t0, t2, (mask){2, 3, 6, 7});
+        const VD r3 = __builtin_shuffle(t1, t3, (mask){2, 3, 6, 7});
+        memcpy(rows[0] + i, &r0, sizeof r0);
+        memcpy(rows[1] + i, &r1, sizeof r1);
+        memcpy(rows[2] + i, &r2, sizeof r2);
+        memcpy(rows[3] + i, &r3, sizeof r3);
+    }
+#endif
+    for (; i < NY; ++i)
+        for (j = 0; j < LW; ++j)
+            rows[j][i] = cols[i][j];
+}
+
 /* The segment's values of the lanes ls in cache, written again for those whose run has started a segment since
  * (or that were not there); the flags of the cache recomputed if any was. Out of line: rarely called. */
 static __attribute__((noinline, target(LTARGET))) void LNAME(refresh)(lane *const *ls, lanes_cache *cache)
@@ -229,17 +264,33 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         for (j = 0; j < LW; ++j)
             err[j] = sqrt(sum[j] / NY);
         power = LNAME(error_power)(err, &odd);
+        if (scalar == 0) { /* each lane's stages and new state at once (else lane by lane: those of the others) */
+            double *rows[LW], *stages[LW]; /* the lanes' d->k, rows of NA doubles */
+            for (j = 0; j < LW; ++j) {
+                rows[j] = ls[j]->y_new;
+                stages[j] = ls[j]->d->k[0];
+            }
+            LNAME(transpose)(y, rows);
+#pragma GCC unroll 8
+            for (s = 0; s < STAGES; ++s) {
+                for (j = 0; j < LW; ++j)
+                    rows[j] = stages[j] + s * NA;
+                LNAME(transpose)(k[s], rows);
+            }
+        }
         for (j = 0; j < LW; ++j) {
             lane *l = ls[j];
             if (scalar & (1 << j))
                 continue;
             l->err = err[j];
             l->power = odd[j] ? pow(err[j], ERROR_EXPONENT) : power[j];
-            for (s = 0; s < STAGES; ++s)
+            if (scalar != 0) {
+                for (s = 0; s < STAGES; ++s)
+                    for (i = 0; i < NY; ++i)
+                        l->d->k[s][i] = k[s][i][j];
                 for (i = 0; i < NY; ++i)
-                    l->d->k[s][i] = k[s][i][j];
-            for (i = 0; i < NY; ++i)
-                l->y_new[i] = y[i][j];
+                    l->y_new[i] = y[i][j];
+            }
             if (((VL)v[LC_SINE])[j]) { /* ode_ag's memo, as the scalar stages leave it */
                 l->o->memo_t = t_new[j];
                 l->o->memo_ag = ag_new[j];
