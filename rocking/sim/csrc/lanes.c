@@ -12,6 +12,8 @@
 
 /* x86-64 with the System V calling convention in ELF objects (Linux, the BSDs): the stack switch below. */
 #if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__)) && defined(ROCKING_LANES_MODEL)
+#include <immintrin.h>
+
 #include ROCKING_LANES_MODEL
 #endif
 #ifndef LANES_MODEL

@@ -104,6 +104,18 @@ LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, co
     return ag;
 }
 
+/* The square root of each element (correctly rounded, as libm's sqrt). */
+LATTR VD LNAME(sqrt)(VD x)
+{
+#if LW == 2
+    return (VD)_mm_sqrt_pd((__m128d)x);
+#elif LW == 4
+    return (VD)_mm256_sqrt_pd((__m256d)x);
+#else
+    return (VD)_mm512_sqrt_pd((__m512d)x);
+#endif
+}
+
 /* rows[j][i] = cols[i][j] for the NY components i and the LW lanes j: with 2 x 2 or 4 x 4 transposes of the
  * vectors where the width allows (an element extracted and stored alone costs two instructions). */
 LATTR void LNAME(transpose)(const VD *cols, double *const *rows)
@@ -261,8 +273,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         }
         VD err, power;
         VL odd = (VL){0};
-        for (j = 0; j < LW; ++j)
-            err[j] = sqrt(sum[j] / NY);
+        err = LNAME(sqrt)(sum / NY);
         power = LNAME(error_power)(err, &odd);
         if (scalar == 0) { /* each lane's stages and new state at once (else lane by lane: those of the others) */
             double *rows[LW], *stages[LW]; /* the lanes' d->k, rows of NA doubles */
