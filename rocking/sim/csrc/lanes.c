@@ -124,8 +124,9 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #define LANES_P4 -1.65339022054652515390e-06
 #define LANES_P5 4.13813679705723846039e-08
 #define LANES_SQRT2 1.41421356237309504880
-/* The bits of a double: its mantissa, those of 1.0 and of LANES_SHIFTER (below). */
+/* The bits of a double: its mantissa, all but its sign, those of 1.0 and of LANES_SHIFTER (below). */
 #define LANES_MANTISSA 0x000fffffffffffffLL
+#define LANES_MAGNITUDE 0x7fffffffffffffffLL
 #define LANES_ONE_BITS 0x3ff0000000000000LL
 #define LANES_SHIFTER_BITS 0x4338000000000000LL
 /* Where n PIO2_1 and n PIO2_2 stay exact (|n| < 2^20) with a margin; larger arguments go to libm. */

@@ -20,9 +20,9 @@ LATTR VD LNAME(splat)(double c)
 
 /* sin and cos of x, elementwise: x reduced to r in about [-pi/4, pi/4] by x - n pi/2 with pi/2 in three parts
  * of 33 bits (exact products for |n| < 2^20), then fdlibm's kernels (lanes.c). An element out of
- * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) sets its element of *outside: the caller then does
+ * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) clears its element of *inside: the caller then does
  * without these values. */
-LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *outside)
+LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *inside)
 {
     const VD shifted = x * LANES_INVPIO2 + LANES_SHIFTER;
     const VD n = shifted - LANES_SHIFTER;
@@ -42,12 +42,13 @@ LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *outside)
     const VL cbits = (odd & (VL)sin_r) | (~odd & (VL)cos_r);
     *s = (VD)(sbits ^ ((q & 2) << 62));
     *c = (VD)(cbits ^ (((q + 1) & 2) << 62));
-    *outside |= ~((x <= LANES_TRIG_MAX) & (x >= -LANES_TRIG_MAX));
+    /* |x| <= max, false for a NaN (and no negation of a mask, which SSE2 has no instruction for) */
+    *inside &= (VD)((VL)x & LANES_MAGNITUDE) <= LANES_TRIG_MAX;
 }
 
 /* x^ERROR_EXPONENT (the step-size control's power of the error) for x a positive normal double: fdlibm's log
- * and exp (lanes.c), a few units in the last place from libm's pow. Another x sets its element of *outside. */
-LATTR VD LNAME(error_power)(VD x, VL *outside)
+ * and exp (lanes.c), a few units in the last place from libm's pow. Another x clears its element of *inside. */
+LATTR VD LNAME(error_power)(VD x, VL *inside)
 {
     const VL bits = (VL)x;
     const VD m1 = (VD)((bits & LANES_MANTISSA) | LANES_ONE_BITS); /* x = 2^e m1, m1 in [1, 2) */
@@ -65,15 +66,15 @@ LATTR VD LNAME(error_power)(VD x, VL *outside)
     const VD hi = y - k * LANES_LN2_HI, lo = k * LANES_LN2_LO, t = hi - lo, tt = t * t;
     const VD c = t - tt * (LANES_P1 + tt * (LANES_P2 + tt * (LANES_P3 + tt * (LANES_P4 + tt * LANES_P5))));
     const VD et = 1.0 - ((lo - (t * c) / (2.0 - c)) - hi);
-    *outside |= ~((x >= DBL_MIN) & (x <= DBL_MAX));
+    *inside &= (x >= DBL_MIN) & (x <= DBL_MAX);
     return (VD)((VL)et + (((VL)shifted - LANES_SHIFTER_BITS) << 52));
 }
 
-/* The generated right-hand side's sincos: the flag of the arguments out of range is the caller's `outside`. */
-#define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, outside)
-LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *outside)
+/* The generated right-hand side's sincos: the mask of the arguments in range is the caller's `inside`. */
+#define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, inside)
+LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *inside)
 #if LANES_CONTACT
-LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *outside __attribute__((unused)))
+LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *inside __attribute__((unused)))
 #endif
 #undef LANES_SINCOS
 
@@ -89,12 +90,12 @@ LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *outside __attribute__((unu
 
 /* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), another
  * motion by ode_ag, 0 after the pulse. */
-LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, const VD *v, VL *outside)
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, const VD *v, VL *inside)
 {
     VD ag = LNAME(splat)(0.0), s, c;
     int j;
     if (cache->any_sine) {
-        LNAME(sincos)(v[LC_OMEGA] * t + v[LC_PSI], &s, &c, outside);
+        LNAME(sincos)(v[LC_OMEGA] * t + v[LC_PSI], &s, &c, inside);
         ag = (VD)((VL)(v[LC_A] * s) & (VL)v[LC_SINE]);
     }
     if (cache->any_other)
@@ -201,7 +202,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 {
     VD k[STAGES][NY], y[NY], ag_new;
     const VD *v = (const VD *)cache->data, *cst = v + LC_CST, rtol = v[LC_RTOL];
-    VL outside = (VL){0};
+    VL inside = (VL){0} - 1; /* the lanes whose arguments of sin and cos were all in range */
     int i, j, s, scalar = 0, stale = 0;
     for (j = 0; j < LW; ++j)
         stale |= cache->who[j] != ls[j] || cache->segment[j] != ls[j]->segment;
@@ -236,20 +237,20 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         }
         if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
             if (RK_C[s - 1] != 1.0)
-                ag_new = LNAME(ground)(ls, t_new, cache, v, &outside);
+                ag_new = LNAME(ground)(ls, t_new, cache, v, &inside);
             ag = ag_new;
         } else {
-            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, v, &outside);
+            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, v, &inside);
         }
         if (cache->any_rocking)
-            LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &outside);
+            LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &inside);
         else
             for (i = 0; i < NQ; ++i)
                 k[s][NQ + i] = LNAME(splat)(0.0);
 #if LANES_CONTACT
         if (cache->any_contact) {
             VD in_contact[NQ];
-            LNAME(contact_accel)(y, ag, cst, in_contact, &outside);
+            LNAME(contact_accel)(y, ag, cst, in_contact, &inside);
             for (i = 0; i < NQ; ++i)
                 k[s][NQ + i] = (VD)(((VL)v[LC_CONTACT] & (VL)in_contact[i]) | (~(VL)v[LC_CONTACT] & (VL)k[s][NQ + i]));
         }
@@ -258,12 +259,11 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
             k[s][i] = y[NQ + i];
     }
     for (j = 0; j < LW; ++j)
-        scalar |= outside[j] != 0 ? 1 << j : 0;
+        scalar |= inside[j] == 0 ? 1 << j : 0;
     {
         VD sum = LNAME(splat)(0.0);
-        const VL magnitude = (VL){0} + INT64_MAX; /* the bits of a double but its sign: fabs */
         for (i = 0; i < NY; ++i) {
-            VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & magnitude), b = (VD)((VL)y[i] & magnitude), r;
+            VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & LANES_MAGNITUDE), b = (VD)((VL)y[i] & LANES_MAGNITUDE), r;
             VL larger = a > b;
             for (s = 1; s < STAGES; ++s)
                 err += RK_E[s] * k[s][i];
@@ -272,9 +272,9 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
             sum += r * r;
         }
         VD err, power;
-        VL odd = (VL){0};
+        VL normal = (VL){0} - 1;
         err = LNAME(sqrt)(sum / NY);
-        power = LNAME(error_power)(err, &odd);
+        power = LNAME(error_power)(err, &normal);
         if (scalar == 0) { /* each lane's stages and new state at once (else lane by lane: those of the others) */
             double *rows[LW], *stages[LW]; /* the lanes' d->k, rows of NA doubles */
             for (j = 0; j < LW; ++j) {
@@ -294,7 +294,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
             if (scalar & (1 << j))
                 continue;
             l->err = err[j];
-            l->power = odd[j] ? pow(err[j], ERROR_EXPONENT) : power[j];
+            l->power = normal[j] ? power[j] : pow(err[j], ERROR_EXPONENT);
             if (scalar != 0) {
                 for (s = 0; s < STAGES; ++s)
                     for (i = 0; i < NY; ++i)
