@@ -2,7 +2,7 @@
  *
  * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
  * a step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
- * (lane_next); the last lane of a round computes the stages of every lane over vectors (lanes_kernel.h)
+ * (lane_next); the last lane of a round computes the stages of every lane over a vector (lanes_kernel.h)
  * and each goes on, in turn, with its scalar step-size control, events and phases until its next step.
  * A lane whose run ends takes the next case of the batch; with none left, it leaves the round.
  */
@@ -20,7 +20,9 @@
 #define LANES_MODEL 0
 #endif
 
-/* The runs in flight at once: enough to fill an AVX-512 vector of doubles; a narrower one takes them in turn. */
+/* The runs in flight at most: an AVX-512 vector of doubles. A batch runs as many as its vectors are wide: more
+ * runs in flight, in turn over two vectors or more, cost more CPU time (their states evict each other from the
+ * caches: 8 runs over AVX2 vectors of 4, 8 % more time on the bench map, SSE2 with 4 or 8 runs, 4 % and 7 %). */
 #define LANES_RUNS 8
 /* The stack of a lane: simulate_one and the vector stages need tens of kB (a run, the constants of a model over
  * vectors); far more, of which the pages never touched cost nothing. */
@@ -207,11 +209,11 @@ struct lanes {
     int width;
     lanes_kernel kernel;
     lane lane[LANES_RUNS];
-    /* The round: the lanes that still have a run, in the order they run; each posts its step (or leaves), the
-     * last then serves them all. */
+    /* The round: the lanes that still have a run (width at most), in the order they run; each posts its step (or
+     * leaves), the last then serves them all. */
     lane *active[LANES_RUNS];
     int n_active;
-    lanes_cache cache[LANES_RUNS / 2]; /* one per vector of the round, the narrowest vectors 2 doubles wide */
+    lanes_cache cache;
     unsigned char *stacks;
     /* the batch */
     int64_t n, next;
@@ -235,24 +237,21 @@ static int64_t lanes_take(lanes *b)
     return -1;
 }
 
-/* The stages of every lane of the round, b->width at a time (the last vector padded with its last lane again). */
+/* The stages of every lane of the round over a vector (fewer lanes than its width: padded with the last again). */
 static void lanes_serve(lanes *b)
 {
     const int n = b->n_active;
-    int first, j;
-    for (first = 0; first < n; first += b->width) {
-        lane *padded[LANES_RUNS], *const *ls = b->active + first;
-        int scalar;
-        if (first + b->width > n) {
-            for (j = 0; j < b->width; ++j)
-                padded[j] = b->active[first + j < n ? first + j : n - 1];
-            ls = padded;
-        }
-        scalar = b->kernel(ls, &b->cache[first / b->width]);
-        for (j = 0; scalar != 0 && j < b->width && first + j < n; ++j)
-            if (scalar >> j & 1) /* a sin or cos out of the vector functions' range: this step scalar */
-                ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
+    lane *padded[LANES_RUNS], *const *ls = b->active;
+    int scalar, j;
+    if (n < b->width) {
+        for (j = 0; j < b->width; ++j)
+            padded[j] = b->active[j < n ? j : n - 1];
+        ls = padded;
     }
+    scalar = b->kernel(ls, &b->cache);
+    for (j = 0; scalar != 0 && j < n; ++j)
+        if (scalar >> j & 1) /* a sin or cos out of the vector functions' range: this step scalar */
+            ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
 }
 
 /* Lane l has posted its step (lanes_stages) or left the round: run the lane at place `next` of the round; past
@@ -336,12 +335,12 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
                        const rocking_control *control)
 {
     lanes b;
-    int j;
-    /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
-    const int runs = n < LANES_RUNS ? (int)n : LANES_RUNS;
+    int j, runs;
     b.width = lanes_width();
     if (b.width == 0 || n < 1)
         return 0;
+    /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
+    runs = n < b.width ? (int)n : b.width;
     b.kernel = b.width == 8 ? stages_avx512 : b.width == 4 ? stages_avx2 : stages_sse2;
     b.stacks = malloc((size_t)runs * LANES_STACK);
     if (b.stacks == NULL)
@@ -354,8 +353,7 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.control = control;
     b.memo.have = 0;
     b.n_active = runs;
-    for (j = 0; j < LANES_RUNS / 2; ++j)
-        memset(b.cache[j].who, 0, sizeof b.cache[j].who); /* no lane yet */
+    memset(b.cache.who, 0, sizeof b.cache.who); /* no lane yet */
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
         b.lane[j].segment = 0;
