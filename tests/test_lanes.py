@@ -109,6 +109,21 @@ def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch):
     assert same_bits(first, cb.simulate_cases(cases, threads=3))
 
 
+@pytest.mark.parametrize("cases", [lambda: bench_map(5), lambda: stops_map(4)], ids=["bench", "stops"])
+def test_a_case_does_not_depend_on_its_neighbours(cases):
+    """A vector keeps the values of its lanes' segments (constants, tolerances, pulse) from step to step, gathered
+    again when a lane starts a segment or a case: a case's results are the same bits in the batch, in the batch
+    reversed (other cases beside it and before it in its lane) and alone (a batch of one). The stops map changes
+    the model's constants within a run (a pad's regime)."""
+    cases = cases()
+    together = cb.simulate_cases(cases, threads=1)
+    reversed_ = cb.simulate_cases(Cases.of([cases.problem(i) for i in range(len(cases))][::-1]), threads=1)
+    assert same_bits(together, {k: v[::-1] for k, v in reversed_.items()})
+    for i in (0, len(cases) // 2, len(cases) - 1):
+        alone = cb.simulate_cases(Cases.of([cases.problem(i)]), threads=1)
+        assert same_bits({k: v[i : i + 1] for k, v in together.items()}, alone)
+
+
 def test_the_switch_is_the_scalar_path(monkeypatch):
     """ROCKING_LANES=0 turns the lanes off: the batch is then lanes=False's, which is rocking_simulate's bit for bit
     (tests/test_c_backend.py); the keyword is checked."""
