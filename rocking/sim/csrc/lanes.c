@@ -111,6 +111,8 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #define LANES_PIO2_1 1.57079632673412561417e+00  /* the first 33 bits of pi/2 */
 #define LANES_PIO2_2 6.07710050630396597660e-11  /* the next 33 bits */
 #define LANES_PIO2_2T 2.02226624879595063154e-21 /* pi/2 - PIO2_1 - PIO2_2 */
+/* Below pi/4: x 2/pi rounds to n = 0, and the reduction leaves x as it is. */
+#define LANES_PIO4 0.785
 /* 1.5 2^52: x + LANES_SHIFTER - LANES_SHIFTER rounds x to an integer, which the low bits of the sum hold. */
 #define LANES_SHIFTER 6755399441055744.0
 /* fdlibm's e_log.c (Lg1..Lg7, ln 2 in two parts) and e_exp.c (P1..P5, 1 / ln 2), same notice. */

@@ -18,6 +18,31 @@ LATTR VD LNAME(splat)(double c)
     return v;
 }
 
+/* Whether every element of the mask m (0 or -1 each) is set: their sign bits at once. */
+LATTR int LNAME(all)(VL m)
+{
+#if LW == 2
+    return _mm_movemask_pd((__m128d)m) == 3;
+#elif LW == 4
+    return _mm256_movemask_pd((__m256d)m) == 15;
+#else
+    return _mm512_test_epi64_mask((__m512i)m, (__m512i)m) == 0xff;
+#endif
+}
+
+/* fdlibm's kernels of sin and cos of r in [-pi/4, pi/4], elementwise (lanes.c). */
+LATTR void LNAME(sincos_kernel)(VD r, VD *s, VD *c)
+{
+    const VD z = r * r;
+    const VD v = z * r;
+    const VD ps = LANES_S2 + z * (LANES_S3 + z * (LANES_S4 + z * (LANES_S5 + z * LANES_S6)));
+    const VD pc = z * (LANES_C1 + z * (LANES_C2 + z * (LANES_C3 + z * (LANES_C4 + z * (LANES_C5 + z * LANES_C6)))));
+    const VD hz = 0.5 * z;
+    const VD w = 1.0 - hz;
+    *s = r + v * (LANES_S1 + z * ps);
+    *c = w + (((1.0 - w) - hz) + z * pc);
+}
+
 /* sin and cos of x, elementwise: x reduced to r in about [-pi/4, pi/4] by x - n pi/2 with pi/2 in three parts
  * of 33 bits (exact products for |n| < 2^20), then fdlibm's kernels (lanes.c). An element out of
  * [-LANES_TRIG_MAX, LANES_TRIG_MAX] (or not finite) clears its element of *inside: the caller then does
@@ -28,14 +53,8 @@ LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *inside)
     const VD n = shifted - LANES_SHIFTER;
     const VL q = (VL)shifted; /* the low bits of the mantissa: n mod 4 */
     const VD r = ((x - n * LANES_PIO2_1) - n * LANES_PIO2_2) - n * LANES_PIO2_2T;
-    const VD z = r * r;
-    const VD v = z * r;
-    const VD ps = LANES_S2 + z * (LANES_S3 + z * (LANES_S4 + z * (LANES_S5 + z * LANES_S6)));
-    const VD sin_r = r + v * (LANES_S1 + z * ps);
-    const VD pc = z * (LANES_C1 + z * (LANES_C2 + z * (LANES_C3 + z * (LANES_C4 + z * (LANES_C5 + z * LANES_C6)))));
-    const VD hz = 0.5 * z;
-    const VD w = 1.0 - hz;
-    const VD cos_r = w + (((1.0 - w) - hz) + z * pc);
+    VD sin_r, cos_r;
+    LNAME(sincos_kernel)(r, &sin_r, &cos_r);
     /* Quadrant n mod 4: (sin, cos) = (s_r, c_r), (c_r, -s_r), (-s_r, -c_r), (-c_r, s_r). */
     const VL odd = -(q & 1);
     const VL sbits = (odd & (VL)cos_r) | (~odd & (VL)sin_r);
@@ -70,8 +89,18 @@ LATTR VD LNAME(error_power)(VD x, VL *inside)
     return (VD)((VL)et + (((VL)shifted - LANES_SHIFTER_BITS) << 52));
 }
 
+/* sincos of the block's angle: within [-pi/4, pi/4] in every lane mostly, where the reduction leaves x as it is
+ * (n = 0, r = x: the same bits) and is skipped. */
+LATTR void LNAME(sincos_angle)(VD x, VD *s, VD *c, VL *inside)
+{
+    if (LNAME(all)((VD)((VL)x & LANES_MAGNITUDE) <= LANES_PIO4))
+        LNAME(sincos_kernel)(x, s, c);
+    else
+        LNAME(sincos)(x, s, c, inside);
+}
+
 /* The generated right-hand side's sincos: the mask of the arguments in range is the caller's `inside`. */
-#define LANES_SINCOS(x, s, c) LNAME(sincos)(x, s, c, inside)
+#define LANES_SINCOS(x, s, c) LNAME(sincos_angle)(x, s, c, inside)
 LANES_DEFINE_RHS(LNAME(rocking_accel), LATTR, VL *inside)
 #if LANES_CONTACT
 LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *inside __attribute__((unused)))
