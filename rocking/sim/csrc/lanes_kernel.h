@@ -233,6 +233,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
     const VD *v = (const VD *)cache->data, *cst = v + LC_CST, rtol = v[LC_RTOL];
     VL inside = (VL){0} - 1; /* the lanes whose arguments of sin and cos were all in range */
     int i, j, s, scalar = 0, stale = 0;
+#pragma GCC unroll 8
     for (j = 0; j < LW; ++j)
         stale |= cache->who[j] != ls[j] || cache->segment[j] != ls[j]->segment;
     if (stale)
@@ -245,6 +246,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 #undef H
 #undef T_NEW
     VD y0[NY];
+#pragma GCC unroll 8
     for (i = 0; i < NY; ++i) {
 #define Y0(j) ls[j]->d->y[i]
 #define F0(j) ls[j]->d->f[i]
@@ -257,6 +259,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 #pragma GCC unroll 8
     for (s = 1; s < STAGES; ++s) {
         VD acc[NY], ag;
+#pragma GCC unroll 8
         for (i = 0; i < NY; ++i) {
             acc[i] = RK_A[s][0] * k[0][i];
 #pragma GCC unroll 8
@@ -271,29 +274,36 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         } else {
             ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, v, &inside);
         }
-        if (cache->any_rocking)
+        if (cache->any_rocking) {
             LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &inside);
-        else
+        } else {
+#pragma GCC unroll 8
             for (i = 0; i < NQ; ++i)
                 k[s][NQ + i] = LNAME(splat)(0.0);
+        }
 #if LANES_CONTACT
         if (cache->any_contact) {
             VD in_contact[NQ];
             LNAME(contact_accel)(y, ag, cst, in_contact, &inside);
+#pragma GCC unroll 8
             for (i = 0; i < NQ; ++i)
                 k[s][NQ + i] = (VD)(((VL)v[LC_CONTACT] & (VL)in_contact[i]) | (~(VL)v[LC_CONTACT] & (VL)k[s][NQ + i]));
         }
 #endif
+#pragma GCC unroll 8
         for (i = 0; i < NQ; ++i)
             k[s][i] = y[NQ + i];
     }
+#pragma GCC unroll 8
     for (j = 0; j < LW; ++j)
         scalar |= inside[j] == 0 ? 1 << j : 0;
     {
         VD sum = LNAME(splat)(0.0);
+#pragma GCC unroll 8
         for (i = 0; i < NY; ++i) {
             VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & LANES_MAGNITUDE), b = (VD)((VL)y[i] & LANES_MAGNITUDE), r;
             VL larger = a > b;
+#pragma GCC unroll 8
             for (s = 1; s < STAGES; ++s)
                 err += RK_E[s] * k[s][i];
             err *= h;
@@ -306,6 +316,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         power = LNAME(error_power)(err, &normal);
         if (scalar == 0) { /* each lane's stages and new state at once (else lane by lane: those of the others) */
             double *rows[LW], *stages[LW]; /* the lanes' d->k, rows of NA doubles */
+#pragma GCC unroll 8
             for (j = 0; j < LW; ++j) {
                 rows[j] = ls[j]->y_new;
                 stages[j] = ls[j]->d->k[0];
@@ -313,6 +324,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
             LNAME(transpose)(y, rows);
 #pragma GCC unroll 8
             for (s = 0; s < STAGES; ++s) {
+#pragma GCC unroll 8
                 for (j = 0; j < LW; ++j)
                     rows[j] = stages[j] + s * NA;
                 LNAME(transpose)(k[s], rows);
