@@ -153,6 +153,7 @@ LATTR void LNAME(transpose)(const VD *cols, double *const *rows)
     int i = 0, j;
 #if LW == 2
     typedef int64_t mask __attribute__((vector_size(16)));
+#pragma GCC unroll 8
     for (; i + 2 <= NY; i += 2) {
         const VD r0 = __builtin_shuffle(cols[i], cols[i + 1], (mask){0, 2});
         const VD r1 = __builtin_shuffle(cols[i], cols[i + 1], (mask){1, 3});
@@ -161,6 +162,7 @@ LATTR void LNAME(transpose)(const VD *cols, double *const *rows)
     }
 #elif LW == 4
     typedef int64_t mask __attribute__((vector_size(32)));
+#pragma GCC unroll 8
     for (; i + 4 <= NY; i += 4) {
         const VD t0 = __builtin_shuffle(cols[i], cols[i + 1], (mask){0, 4, 2, 6});
         const VD t1 = __builtin_shuffle(cols[i], cols[i + 1], (mask){1, 5, 3, 7});
