@@ -48,6 +48,18 @@ def stops_map(n: int) -> Cases:
     return pulse_cases(BLOCK, *grid(n), model="omd_stops", params=params, rtol=1e-8)
 
 
+#: Dampers of the other variants (tests/test_variants.py's): omd2 integrates 6 components, which the lanes write
+#: back by a 4 x 4 transpose and 2 more, or 3 of 2 x 2.
+VARIANTS = {
+    "pendulum": dict(m=50.0, l=0.4, x_p=0.05, y_p=2.3, k_phi=60.0, c_phi=8.0),
+    "omd2": dict(m1=40.0, h=0.05, k1=300.0, c1=11.0, m2=30.0, k2=500.0, c2=9.0),
+}
+
+
+def variant_map(name: str, n: int) -> Cases:
+    return pulse_cases(BLOCK, *grid(n), model=name, params=VARIANTS[name], rtol=1e-8)
+
+
 def no_early_verdict(cases: Cases) -> Cases:
     return Cases(cases.model, cases.p, {**cases.settings, "early_verdict": False})
 
@@ -81,6 +93,8 @@ def same_bits(a: dict, b: dict) -> bool:
         pytest.param(lambda: bench_map(4, vertical=Vertical(0.5)), id="vertical"),
         pytest.param(lambda: bench_map(4, floor=Floor(0.4)), id="friction"),
         pytest.param(lambda: pulse_cases(BLOCK, *grid(5)), id="bare-block"),
+        pytest.param(lambda: variant_map("pendulum", 4), id="pendulum"),
+        pytest.param(lambda: variant_map("omd2", 5), id="omd2"),
     ],
 )
 def test_lanes_give_the_scalar_verdicts(cases):
@@ -93,14 +107,15 @@ def test_lanes_give_the_scalar_verdicts(cases):
     assert_scalar_results(lanes, scalar)
 
 
-def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch):
+@pytest.mark.parametrize("cases", [lambda: bench_map(6), lambda: variant_map("omd2", 4)], ids=["omd", "omd2"])
+def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch, cases):
     """A case's lanes results are a function of the case alone: the same bits with AVX-512, AVX2 or SSE2 vectors
     (ROCKING_LANES_ISA), in one batch or in chunks on threads."""
-    cases = bench_map(6)
+    cases = cases()
     widths = {}
     for isa in ("sse2", "avx2", ""):
         monkeypatch.setenv("ROCKING_LANES_ISA", isa)
-        widths[cb.lanes("omd")] = cb.simulate_cases(cases, threads=1)
+        widths[cb.lanes(cases.model)] = cb.simulate_cases(cases, threads=1)
     assert 2 in widths
     if len(widths) < 2:
         pytest.skip("SSE2 alone on this CPU: one width")
