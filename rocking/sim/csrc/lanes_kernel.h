@@ -146,41 +146,72 @@ LATTR VD LNAME(sqrt)(VD x)
 #endif
 }
 
-/* rows[j][i] = cols[i][j] for the NY components i and the LW lanes j: with 2 x 2 or 4 x 4 transposes of the
- * vectors where the width allows (an element extracted and stored alone costs two instructions). */
-LATTR void LNAME(transpose)(const VD *cols, double *const *rows)
+/* Transposes of LW x LW blocks of doubles where the width allows (2 x 2, 4 x 4): a lane's NY values are then
+ * stored or loaded LW at a time, not element by element (two instructions each). */
+#if LW <= 4
+#define LBLOCK LW
+#else
+#define LBLOCK 1 /* AVX-512: element by element */
+#endif
+
+/* out[j][i] = in[i][j] for i, j < LW (LBLOCK > 1). */
+LATTR void LNAME(transpose_block)(const VD *in, VD *out)
 {
-    int i = 0, j;
 #if LW == 2
     typedef int64_t mask __attribute__((vector_size(16)));
-#pragma GCC unroll 8
-    for (; i + 2 <= NY; i += 2) {
-        const VD r0 = __builtin_shuffle(cols[i], cols[i + 1], (mask){0, 2});
-        const VD r1 = __builtin_shuffle(cols[i], cols[i + 1], (mask){1, 3});
-        memcpy(rows[0] + i, &r0, sizeof r0);
-        memcpy(rows[1] + i, &r1, sizeof r1);
-    }
+    out[0] = __builtin_shuffle(in[0], in[1], (mask){0, 2});
+    out[1] = __builtin_shuffle(in[0], in[1], (mask){1, 3});
 #elif LW == 4
     typedef int64_t mask __attribute__((vector_size(32)));
-#pragma GCC unroll 8
-    for (; i + 4 <= NY; i += 4) {
-        const VD t0 = __builtin_shuffle(cols[i], cols[i + 1], (mask){0, 4, 2, 6});
-        const VD t1 = __builtin_shuffle(cols[i], cols[i + 1], (mask){1, 5, 3, 7});
-        const VD t2 = __builtin_shuffle(cols[i + 2], cols[i + 3], (mask){0, 4, 2, 6});
-        const VD t3 = __builtin_shuffle(cols[i + 2], cols[i + 3], (mask){1, 5, 3, 7});
-        const VD r0 = __builtin_shuffle(t0, t2, (mask){0, 1, 4, 5});
-        const VD r1 = __builtin_shuffle(t1, t3, (mask){0, 1, 4, 5});
-        const VD r2 = __builtin_shuffle(t0, t2, (mask){2, 3, 6, 7});
-        const VD r3 = __builtin_shuffle(t1, t3, (mask){2, 3, 6, 7});
-        memcpy(rows[0] + i, &r0, sizeof r0);
-        memcpy(rows[1] + i, &r1, sizeof r1);
-        memcpy(rows[2] + i, &r2, sizeof r2);
-        memcpy(rows[3] + i, &r3, sizeof r3);
-    }
+    const VD t0 = __builtin_shuffle(in[0], in[1], (mask){0, 4, 2, 6});
+    const VD t1 = __builtin_shuffle(in[0], in[1], (mask){1, 5, 3, 7});
+    const VD t2 = __builtin_shuffle(in[2], in[3], (mask){0, 4, 2, 6});
+    const VD t3 = __builtin_shuffle(in[2], in[3], (mask){1, 5, 3, 7});
+    out[0] = __builtin_shuffle(t0, t2, (mask){0, 1, 4, 5});
+    out[1] = __builtin_shuffle(t1, t3, (mask){0, 1, 4, 5});
+    out[2] = __builtin_shuffle(t0, t2, (mask){2, 3, 6, 7});
+    out[3] = __builtin_shuffle(t1, t3, (mask){2, 3, 6, 7});
+#else
+    (void)in, (void)out; /* not called */
 #endif
+}
+
+/* rows[j][i] = cols[i][j] for the NY components i and the LW lanes j. */
+LATTR void LNAME(store_rows)(const VD *cols, double *const *rows)
+{
+    int i = 0, j;
+#pragma GCC unroll 8
+    for (; LBLOCK > 1 && i + LBLOCK <= NY; i += LBLOCK) {
+        VD block[LW];
+        LNAME(transpose_block)(cols + i, block);
+#pragma GCC unroll 8
+        for (j = 0; j < LW; ++j)
+            memcpy(rows[j] + i, &block[j], sizeof block[j]);
+    }
+#pragma GCC unroll 8
     for (; i < NY; ++i)
+#pragma GCC unroll 8
         for (j = 0; j < LW; ++j)
             rows[j][i] = cols[i][j];
+}
+
+/* cols[i][j] = rows[j][i] for the NY components i and the LW lanes j. */
+LATTR void LNAME(load_rows)(const double *const *rows, VD *cols)
+{
+    int i = 0, j;
+#pragma GCC unroll 8
+    for (; LBLOCK > 1 && i + LBLOCK <= NY; i += LBLOCK) {
+        VD block[LW];
+#pragma GCC unroll 8
+        for (j = 0; j < LW; ++j)
+            memcpy(&block[j], rows[j] + i, sizeof block[j]);
+        LNAME(transpose_block)(block, cols + i);
+    }
+#pragma GCC unroll 8
+    for (; i < NY; ++i)
+#pragma GCC unroll 8
+        for (j = 0; j < LW; ++j)
+            cols[i][j] = rows[j][i];
 }
 
 /* The segment's values of the lanes ls in cache, written again for those whose run has started a segment since
@@ -248,14 +279,15 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 #undef H
 #undef T_NEW
     VD y0[NY];
+    {
+        const double *y_rows[LW], *f_rows[LW];
 #pragma GCC unroll 8
-    for (i = 0; i < NY; ++i) {
-#define Y0(j) ls[j]->d->y[i]
-#define F0(j) ls[j]->d->f[i]
-        y0[i] = LGATHER(Y0);
-        k[0][i] = LGATHER(F0);
-#undef Y0
-#undef F0
+        for (j = 0; j < LW; ++j) {
+            y_rows[j] = ls[j]->d->y;
+            f_rows[j] = ls[j]->d->f;
+        }
+        LNAME(load_rows)(y_rows, y0);
+        LNAME(load_rows)(f_rows, k[0]);
     }
     ag_new = LNAME(splat)(0.0);
 #pragma GCC unroll 8
@@ -323,13 +355,13 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
                 rows[j] = ls[j]->y_new;
                 stages[j] = ls[j]->d->k[0];
             }
-            LNAME(transpose)(y, rows);
+            LNAME(store_rows)(y, rows);
 #pragma GCC unroll 8
             for (s = 0; s < STAGES; ++s) {
 #pragma GCC unroll 8
                 for (j = 0; j < LW; ++j)
                     rows[j] = stages[j] + s * NA;
-                LNAME(transpose)(k[s], rows);
+                LNAME(store_rows)(k[s], rows);
             }
         }
         for (j = 0; j < LW; ++j) {
@@ -355,6 +387,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 }
 
 #undef LGATHER
+#undef LBLOCK
 #undef LATTR
 #undef VD
 #undef VL
