@@ -146,15 +146,27 @@ LATTR VD LNAME(sqrt)(VD x)
 #endif
 }
 
-/* Transposes of LW x LW blocks of doubles where the width allows (2 x 2, 4 x 4): a lane's NY values are then
- * stored or loaded LW at a time, not element by element (two instructions each). */
+/* Transposes of blocks of doubles: a lane's NY values are then stored or loaded 2 or 4 at a time, not element by
+ * element (two instructions each). LBLOCK components at a time: LW x LW blocks for SSE2 and AVX2, for AVX-512
+ * two 4 x 4 blocks, one per half of the vectors (lanes 0-3, 4-7). */
 #if LW <= 4
 #define LBLOCK LW
 #else
-#define LBLOCK 1 /* AVX-512: element by element */
+#define LBLOCK 4
+
+/* The 4 x 4 block a[0..3] transposed in place. */
+LATTR void LNAME(transpose4)(__m256d *a)
+{
+    const __m256d t0 = _mm256_unpacklo_pd(a[0], a[1]), t1 = _mm256_unpackhi_pd(a[0], a[1]);
+    const __m256d t2 = _mm256_unpacklo_pd(a[2], a[3]), t3 = _mm256_unpackhi_pd(a[2], a[3]);
+    a[0] = _mm256_permute2f128_pd(t0, t2, 0x20);
+    a[1] = _mm256_permute2f128_pd(t1, t3, 0x20);
+    a[2] = _mm256_permute2f128_pd(t0, t2, 0x31);
+    a[3] = _mm256_permute2f128_pd(t1, t3, 0x31);
+}
 #endif
 
-/* out[j][i] = in[i][j] for i, j < LW (LBLOCK > 1). */
+/* out[j][i] = in[i][j] for i, j < LW (SSE2 and AVX2). */
 LATTR void LNAME(transpose_block)(const VD *in, VD *out)
 {
 #if LW == 2
@@ -172,7 +184,7 @@ LATTR void LNAME(transpose_block)(const VD *in, VD *out)
     out[2] = __builtin_shuffle(t0, t2, (mask){2, 3, 6, 7});
     out[3] = __builtin_shuffle(t1, t3, (mask){2, 3, 6, 7});
 #else
-    (void)in, (void)out; /* not called */
+    (void)in, (void)out; /* AVX-512: transpose4 on each half */
 #endif
 }
 
@@ -181,12 +193,28 @@ LATTR void LNAME(store_rows)(const VD *cols, double *const *rows)
 {
     int i = 0, j;
 #pragma GCC unroll 8
-    for (; LBLOCK > 1 && i + LBLOCK <= NY; i += LBLOCK) {
+    for (; i + LBLOCK <= NY; i += LBLOCK) {
+#if LW == 8
+        __m256d lo[4], hi[4];
+#pragma GCC unroll 8
+        for (j = 0; j < 4; ++j) {
+            lo[j] = _mm512_castpd512_pd256((__m512d)cols[i + j]);
+            hi[j] = _mm512_extractf64x4_pd((__m512d)cols[i + j], 1);
+        }
+        LNAME(transpose4)(lo);
+        LNAME(transpose4)(hi);
+#pragma GCC unroll 8
+        for (j = 0; j < 4; ++j) {
+            _mm256_storeu_pd(rows[j] + i, lo[j]);
+            _mm256_storeu_pd(rows[4 + j] + i, hi[j]);
+        }
+#else
         VD block[LW];
         LNAME(transpose_block)(cols + i, block);
 #pragma GCC unroll 8
         for (j = 0; j < LW; ++j)
             memcpy(rows[j] + i, &block[j], sizeof block[j]);
+#endif
     }
 #pragma GCC unroll 8
     for (; i < NY; ++i)
@@ -200,12 +228,26 @@ LATTR void LNAME(load_rows)(const double *const *rows, VD *cols)
 {
     int i = 0, j;
 #pragma GCC unroll 8
-    for (; LBLOCK > 1 && i + LBLOCK <= NY; i += LBLOCK) {
+    for (; i + LBLOCK <= NY; i += LBLOCK) {
+#if LW == 8
+        __m256d lo[4], hi[4];
+#pragma GCC unroll 8
+        for (j = 0; j < 4; ++j) {
+            lo[j] = _mm256_loadu_pd(rows[j] + i);
+            hi[j] = _mm256_loadu_pd(rows[4 + j] + i);
+        }
+        LNAME(transpose4)(lo);
+        LNAME(transpose4)(hi);
+#pragma GCC unroll 8
+        for (j = 0; j < 4; ++j)
+            cols[i + j] = (VD)_mm512_insertf64x4(_mm512_castpd256_pd512(lo[j]), hi[j], 1);
+#else
         VD block[LW];
 #pragma GCC unroll 8
         for (j = 0; j < LW; ++j)
             memcpy(&block[j], rows[j] + i, sizeof block[j]);
         LNAME(transpose_block)(block, cols + i);
+#endif
     }
 #pragma GCC unroll 8
     for (; i < NY; ++i)
