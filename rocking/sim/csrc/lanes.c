@@ -22,14 +22,16 @@
 
 /* The runs in flight at most: an AVX-512 vector of doubles. A batch runs as many as its vectors are wide: more
  * runs in flight, in turn over two vectors or more, cost more CPU time (their states evict each other from the
- * caches: 8 runs over AVX2 vectors of 4, 8 % more time on the bench map, SSE2 with 4 or 8 runs, 4 % and 7 %). */
+ * caches; measured on the bench map before the stacks were staggered: 8 runs over AVX2 vectors of 4, 8 % more
+ * time, SSE2 with 4 or 8 runs, 4 % and 7 %). */
 #define LANES_RUNS 8
 /* The stack of a lane: simulate_one and the vector stages need tens of kB (a run, the constants of a model over
  * vectors); far more, of which the pages never touched cost nothing. */
 #define LANES_STACK (1024 * 1024)
 /* The tops of the lanes' stacks are this much apart beyond a multiple of LANES_STACK: the same frames of the lanes
- * (a run's state) then fall into different sets of the caches (37 lines: 8 lanes, 8 sets of 64 bytes apart in
- * 4 kB), not all into one (bench map, AVX-512 vectors of 8 runs: 9 % less time, AVX2 1 %). */
+ * (a run's state) then fall into different sets of the caches, not all into one (37 lines of 64 bytes: the tops
+ * of 8 lanes on 8 different lines modulo 4 kB, the span of the first level's sets; bench map, AVX-512 vectors of
+ * 8 runs: 9 % less time, AVX2 1 %). */
 #define LANES_STAGGER (37 * 64)
 
 typedef struct lanes lanes;
