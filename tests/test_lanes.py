@@ -139,6 +139,19 @@ def test_a_case_does_not_depend_on_its_neighbours(cases):
         assert same_bits({k: v[i : i + 1] for k, v in together.items()}, alone)
 
 
+def test_each_case_steps_with_its_own_tolerance():
+    """Cases of two tolerances in one batch, alternating: each case's results are the same bits as in a batch of
+    its tolerance alone (a vector's tolerances are gathered again with its segment values)."""
+    cases = bench_map(6)
+    rtol = np.where(np.arange(len(cases)) % 2 == 0, 1e-8, 1e-6)
+    mixed = Cases(cases.model, cases.p, {**cases.settings, "rtol": rtol})
+    together = cb.simulate_cases(mixed, threads=1)
+    for value in (1e-8, 1e-6):
+        at = np.flatnonzero(rtol == value)
+        alone = cb.simulate_cases(Cases.of([mixed.problem(i) for i in at]), threads=1)
+        assert same_bits({k: v[at] for k, v in together.items()}, alone)
+
+
 def test_the_switch_is_the_scalar_path(monkeypatch):
     """ROCKING_LANES=0 turns the lanes off: the batch is then lanes=False's, which is rocking_simulate's bit for bit
     (tests/test_c_backend.py); the keyword is checked."""

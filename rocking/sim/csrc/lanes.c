@@ -142,6 +142,34 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 /* Where n PIO2_1 and n PIO2_2 stay exact (|n| < 2^20) with a margin; larger arguments go to libm. */
 #define LANES_TRIG_MAX 1.0e5
 
+/* The constants of the vector functions that are not in the generated code, by name (LANES_<name>): each is
+ * splatted over a vector in a table per width (lanes_kernel.h's LK), whose elements the compiler then reads as
+ * operands from memory, rather than building each vector from its scalar at every use (SSE2: two instructions). */
+#define LANES_CONSTANTS(X)                                                                                         \
+    X(S1) X(S2) X(S3) X(S4) X(S5) X(S6) X(C1) X(C2) X(C3) X(C4) X(C5) X(C6) X(INVPIO2) X(PIO2_1) X(PIO2_2)          \
+    X(PIO2_2T) X(PIO4) X(TRIG_MAX) X(SHIFTER) X(LG1) X(LG2) X(LG3) X(LG4) X(LG5) X(LG6) X(LG7) X(LN2_HI) X(LN2_LO)   \
+    X(INVLN2) X(P1) X(P2) X(P3) X(P4) X(P5) X(SQRT2) X(EXPONENT) X(NORMAL_MIN) X(NORMAL_MAX) X(HALF) X(ONE) X(TWO)
+#define LANES_EXPONENT ERROR_EXPONENT
+#define LANES_NORMAL_MIN DBL_MIN
+#define LANES_NORMAL_MAX DBL_MAX
+#define LANES_HALF 0.5
+#define LANES_ONE 1.0
+#define LANES_TWO 2.0
+/* The same for the bit masks, a table of vectors of 64-bit integers (lanes_kernel.h's LM). */
+#define LANES_MASKS(X) X(MANTISSA) X(MAGNITUDE) X(ONE_BITS) X(SHIFTER_BITS)
+enum {
+#define LANES_INDEX(name) LK_##name,
+    LANES_CONSTANTS(LANES_INDEX)
+#undef LANES_INDEX
+    LK_COUNT
+};
+enum {
+#define LANES_INDEX(name) LM_##name,
+    LANES_MASKS(LANES_INDEX)
+#undef LANES_INDEX
+    LM_COUNT
+};
+
 /* ---- the kernels, one per vector width --------------------------------------------------------------- */
 
 #define LW 2

@@ -8,6 +8,45 @@
 typedef double VD __attribute__((vector_size(LW * 8)));
 typedef int64_t VL __attribute__((vector_size(LW * 8)));
 
+/* A vector of LW times c, as an initializer. */
+#if LW == 2
+#define LSPLAT(c) {c, c}
+#elif LW == 4
+#define LSPLAT(c) {c, c, c, c}
+#else
+#define LSPLAT(c) {c, c, c, c, c, c, c, c}
+#endif
+
+static const VD LNAME(constants)[LK_COUNT] = {
+#define LANES_ROW(name) [LK_##name] = LSPLAT(LANES_##name),
+    LANES_CONSTANTS(LANES_ROW)
+#undef LANES_ROW
+};
+static const VL LNAME(masks)[LM_COUNT] = {
+#define LANES_ROW(name) [LM_##name] = LSPLAT(LANES_##name),
+    LANES_MASKS(LANES_ROW)
+#undef LANES_ROW
+};
+
+/* The tables of constants (lanes.c's LANES_CONSTANTS, LANES_MASKS), their addresses hidden from the compiler: it
+ * then reads the vectors from memory where they are used, instead of folding them back into scalars to splat at
+ * each use. */
+LATTR const VD *LNAME(table)(void)
+{
+    const VD *k = LNAME(constants);
+    __asm__("" : "+r"(k));
+    return k;
+}
+
+LATTR const VL *LNAME(mask_table)(void)
+{
+    const VL *m = LNAME(masks);
+    __asm__("" : "+r"(m));
+    return m;
+}
+#define LK(name) lk[LK_##name]
+#define LM(name) lm[LM_##name]
+
 /* Every element of a vector c. */
 LATTR VD LNAME(splat)(double c)
 {
@@ -33,14 +72,15 @@ LATTR int LNAME(all)(VL m)
 /* fdlibm's kernels of sin and cos of r in [-pi/4, pi/4], elementwise (lanes.c). */
 LATTR void LNAME(sincos_kernel)(VD r, VD *s, VD *c)
 {
+    const VD *lk = LNAME(table)();
     const VD z = r * r;
     const VD v = z * r;
-    const VD ps = LANES_S2 + z * (LANES_S3 + z * (LANES_S4 + z * (LANES_S5 + z * LANES_S6)));
-    const VD pc = z * (LANES_C1 + z * (LANES_C2 + z * (LANES_C3 + z * (LANES_C4 + z * (LANES_C5 + z * LANES_C6)))));
-    const VD hz = 0.5 * z;
-    const VD w = 1.0 - hz;
-    *s = r + v * (LANES_S1 + z * ps);
-    *c = w + (((1.0 - w) - hz) + z * pc);
+    const VD ps = LK(S2) + z * (LK(S3) + z * (LK(S4) + z * (LK(S5) + z * LK(S6))));
+    const VD pc = z * (LK(C1) + z * (LK(C2) + z * (LK(C3) + z * (LK(C4) + z * (LK(C5) + z * LK(C6))))));
+    const VD hz = LK(HALF) * z;
+    const VD w = LK(ONE) - hz;
+    *s = r + v * (LK(S1) + z * ps);
+    *c = w + (((LK(ONE) - w) - hz) + z * pc);
 }
 
 /* sin and cos of x, elementwise: x reduced to r in about [-pi/4, pi/4] by x - n pi/2 with pi/2 in three parts
@@ -49,10 +89,12 @@ LATTR void LNAME(sincos_kernel)(VD r, VD *s, VD *c)
  * without these values. */
 LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *inside)
 {
-    const VD shifted = x * LANES_INVPIO2 + LANES_SHIFTER;
-    const VD n = shifted - LANES_SHIFTER;
+    const VD *lk = LNAME(table)();
+    const VL *lm = LNAME(mask_table)();
+    const VD shifted = x * LK(INVPIO2) + LK(SHIFTER);
+    const VD n = shifted - LK(SHIFTER);
     const VL q = (VL)shifted; /* the low bits of the mantissa: n mod 4 */
-    const VD r = ((x - n * LANES_PIO2_1) - n * LANES_PIO2_2) - n * LANES_PIO2_2T;
+    const VD r = ((x - n * LK(PIO2_1)) - n * LK(PIO2_2)) - n * LK(PIO2_2T);
     VD sin_r, cos_r;
     LNAME(sincos_kernel)(r, &sin_r, &cos_r);
     /* Quadrant n mod 4: (sin, cos) = (s_r, c_r), (c_r, -s_r), (-s_r, -c_r), (-c_r, s_r). */
@@ -62,38 +104,41 @@ LATTR void LNAME(sincos)(VD x, VD *s, VD *c, VL *inside)
     *s = (VD)(sbits ^ ((q & 2) << 62));
     *c = (VD)(cbits ^ (((q + 1) & 2) << 62));
     /* |x| <= max, false for a NaN (and no negation of a mask, which SSE2 has no instruction for) */
-    *inside &= (VD)((VL)x & LANES_MAGNITUDE) <= LANES_TRIG_MAX;
+    *inside &= (VD)((VL)x & LM(MAGNITUDE)) <= LK(TRIG_MAX);
 }
 
 /* x^ERROR_EXPONENT (the step-size control's power of the error) for x a positive normal double: fdlibm's log
  * and exp (lanes.c), a few units in the last place from libm's pow. Another x clears its element of *inside. */
 LATTR VD LNAME(error_power)(VD x, VL *inside)
 {
+    const VD *lk = LNAME(table)();
+    const VL *lm = LNAME(mask_table)();
     const VL bits = (VL)x;
-    const VD m1 = (VD)((bits & LANES_MANTISSA) | LANES_ONE_BITS); /* x = 2^e m1, m1 in [1, 2) */
-    const VL big = m1 > LANES_SQRT2;                              /* then m in [sqrt(1/2), sqrt(2)) */
-    const VD m = (VD)((big & (VL)(0.5 * m1)) | (~big & (VL)m1));
-    const VD e = (VD)((((bits >> 52) & 0x7ff) - 1023 - big) + LANES_SHIFTER_BITS) - LANES_SHIFTER;
-    const VD f = m - 1.0, s = f / (2.0 + f), z = s * s, w = z * z;
-    const VD r = z * (LANES_LG1 + w * (LANES_LG3 + w * (LANES_LG5 + w * LANES_LG7))) +
-                 w * (LANES_LG2 + w * (LANES_LG4 + w * LANES_LG6));
-    const VD hfsq = 0.5 * f * f;
-    const VD y = ERROR_EXPONENT * (e * LANES_LN2_HI - ((hfsq - (s * (hfsq + r) + e * LANES_LN2_LO)) - f));
+    const VD m1 = (VD)((bits & LM(MANTISSA)) | LM(ONE_BITS)); /* x = 2^e m1, m1 in [1, 2) */
+    const VL big = m1 > LK(SQRT2);                            /* then m in [sqrt(1/2), sqrt(2)) */
+    const VD m = (VD)((big & (VL)(LK(HALF) * m1)) | (~big & (VL)m1));
+    const VD e = (VD)((((bits >> 52) & 0x7ff) - 1023 - big) + LM(SHIFTER_BITS)) - LK(SHIFTER);
+    const VD f = m - LK(ONE), s = f / (LK(TWO) + f), z = s * s, w = z * z;
+    const VD r = z * (LK(LG1) + w * (LK(LG3) + w * (LK(LG5) + w * LK(LG7)))) + w * (LK(LG2) + w * (LK(LG4) + w * LK(LG6)));
+    const VD hfsq = LK(HALF) * f * f;
+    const VD y = LK(EXPONENT) * (e * LK(LN2_HI) - ((hfsq - (s * (hfsq + r) + e * LK(LN2_LO))) - f));
     /* exp(y) = 2^k exp(t), t = y - k ln 2 in [-ln(2)/2, ln(2)/2] */
-    const VD shifted = y * LANES_INVLN2 + LANES_SHIFTER;
-    const VD k = shifted - LANES_SHIFTER;
-    const VD hi = y - k * LANES_LN2_HI, lo = k * LANES_LN2_LO, t = hi - lo, tt = t * t;
-    const VD c = t - tt * (LANES_P1 + tt * (LANES_P2 + tt * (LANES_P3 + tt * (LANES_P4 + tt * LANES_P5))));
-    const VD et = 1.0 - ((lo - (t * c) / (2.0 - c)) - hi);
-    *inside &= (x >= DBL_MIN) & (x <= DBL_MAX);
-    return (VD)((VL)et + (((VL)shifted - LANES_SHIFTER_BITS) << 52));
+    const VD shifted = y * LK(INVLN2) + LK(SHIFTER);
+    const VD k = shifted - LK(SHIFTER);
+    const VD hi = y - k * LK(LN2_HI), lo = k * LK(LN2_LO), t = hi - lo, tt = t * t;
+    const VD c = t - tt * (LK(P1) + tt * (LK(P2) + tt * (LK(P3) + tt * (LK(P4) + tt * LK(P5)))));
+    const VD et = LK(ONE) - ((lo - (t * c) / (LK(TWO) - c)) - hi);
+    *inside &= (x >= LK(NORMAL_MIN)) & (x <= LK(NORMAL_MAX));
+    return (VD)((VL)et + (((VL)shifted - LM(SHIFTER_BITS)) << 52));
 }
 
 /* sincos of the block's angle: within [-pi/4, pi/4] in every lane mostly, where the reduction leaves x as it is
  * (n = 0, r = x: the same bits) and is skipped. */
 LATTR void LNAME(sincos_angle)(VD x, VD *s, VD *c, VL *inside)
 {
-    if (LNAME(all)((VD)((VL)x & LANES_MAGNITUDE) <= LANES_PIO4))
+    const VD *lk = LNAME(table)();
+    const VL *lm = LNAME(mask_table)();
+    if (LNAME(all)((VD)((VL)x & LM(MAGNITUDE)) <= LK(PIO4)))
         LNAME(sincos_kernel)(x, s, c);
     else
         LNAME(sincos)(x, s, c, inside);
@@ -305,7 +350,8 @@ static __attribute__((noinline, target(LTARGET))) void LNAME(refresh)(lane *cons
 static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes_cache *cache)
 {
     VD k[STAGES][NY], y[NY], ag_new;
-    const VD *v = (const VD *)cache->data, *cst = v + LC_CST, rtol = v[LC_RTOL];
+    const VD *v = (const VD *)cache->data, *cst = v + LC_CST; /* read after the refresh below */
+    const VL *lm = LNAME(mask_table)();
     VL inside = (VL){0} - 1; /* the lanes whose arguments of sin and cos were all in range */
     int i, j, s, scalar = 0, stale = 0;
 #pragma GCC unroll 8
@@ -377,13 +423,13 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         VD sum = LNAME(splat)(0.0);
 #pragma GCC unroll 8
         for (i = 0; i < NY; ++i) {
-            VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & LANES_MAGNITUDE), b = (VD)((VL)y[i] & LANES_MAGNITUDE), r;
+            VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & LM(MAGNITUDE)), b = (VD)((VL)y[i] & LM(MAGNITUDE)), r;
             VL larger = a > b;
 #pragma GCC unroll 8
             for (s = 1; s < STAGES; ++s)
                 err += RK_E[s] * k[s][i];
             err *= h;
-            r = err / (v[LC_ATOL + i] + rtol * (VD)((larger & (VL)a) | (~larger & (VL)b)));
+            r = err / (v[LC_ATOL + i] + v[LC_RTOL] * (VD)((larger & (VL)a) | (~larger & (VL)b)));
             sum += r * r;
         }
         VD err, power;
@@ -429,6 +475,9 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 }
 
 #undef LGATHER
+#undef LSPLAT
+#undef LK
+#undef LM
 #undef LBLOCK
 #undef LATTR
 #undef VD
