@@ -404,7 +404,7 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
 
 /* The stages of a step of the lane's run: over vectors with the other lanes' for a rocking phase or full contact
  * without a vertical component or a slide (full contact where the model's header has it), else scalar here. */
-static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
 {
     lane *l = o->lane;
     const int contact = o->rhs == ODE_PULSE_CONTACT || o->rhs == ODE_FREE_CONTACT;
