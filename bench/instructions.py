@@ -124,7 +124,7 @@ def part_of(function: str, where: str, model_prefix: str) -> str:
         if "sin" in function or "cos" in function:
             return "libm sin and cos"
         return "libm pow" if "pow" in function else "libm other"
-    if function.startswith("stages_"):  # lanes_kernel.h's, the vector right-hand side and sin/cos inlined
+    if function.startswith(("stages_", "refresh_")):  # lanes_kernel.h's (right-hand side, sin/cos inlined)
         return "lanes' vector stages"
     return "generated model" if function.startswith(model_prefix + "_") else "integrator (sim.c)"
 

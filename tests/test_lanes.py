@@ -48,6 +48,18 @@ def stops_map(n: int) -> Cases:
     return pulse_cases(BLOCK, *grid(n), model="omd_stops", params=params, rtol=1e-8)
 
 
+#: Dampers of the other variants (tests/test_variants.py's): omd2 integrates 6 components, which the lanes write
+#: back by a 4 x 4 transpose and 2 more, or 3 of 2 x 2.
+VARIANTS = {
+    "pendulum": dict(m=50.0, l=0.4, x_p=0.05, y_p=2.3, k_phi=60.0, c_phi=8.0),
+    "omd2": dict(m1=40.0, h=0.05, k1=300.0, c1=11.0, m2=30.0, k2=500.0, c2=9.0),
+}
+
+
+def variant_map(name: str, n: int) -> Cases:
+    return pulse_cases(BLOCK, *grid(n), model=name, params=VARIANTS[name], rtol=1e-8)
+
+
 def no_early_verdict(cases: Cases) -> Cases:
     return Cases(cases.model, cases.p, {**cases.settings, "early_verdict": False})
 
@@ -81,6 +93,8 @@ def same_bits(a: dict, b: dict) -> bool:
         pytest.param(lambda: bench_map(4, vertical=Vertical(0.5)), id="vertical"),
         pytest.param(lambda: bench_map(4, floor=Floor(0.4)), id="friction"),
         pytest.param(lambda: pulse_cases(BLOCK, *grid(5)), id="bare-block"),
+        pytest.param(lambda: variant_map("pendulum", 4), id="pendulum"),
+        pytest.param(lambda: variant_map("omd2", 5), id="omd2"),
     ],
 )
 def test_lanes_give_the_scalar_verdicts(cases):
@@ -93,20 +107,49 @@ def test_lanes_give_the_scalar_verdicts(cases):
     assert_scalar_results(lanes, scalar)
 
 
-def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch):
+@pytest.mark.parametrize("cases", [lambda: bench_map(6), lambda: variant_map("omd2", 4)], ids=["omd", "omd2"])
+def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch, cases):
     """A case's lanes results are a function of the case alone: the same bits with AVX-512, AVX2 or SSE2 vectors
     (ROCKING_LANES_ISA), in one batch or in chunks on threads."""
-    cases = bench_map(6)
+    cases = cases()
     widths = {}
     for isa in ("sse2", "avx2", ""):
         monkeypatch.setenv("ROCKING_LANES_ISA", isa)
-        widths[cb.lanes("omd")] = cb.simulate_cases(cases, threads=1)
+        widths[cb.lanes(cases.model)] = cb.simulate_cases(cases, threads=1)
     assert 2 in widths
     if len(widths) < 2:
         pytest.skip("SSE2 alone on this CPU: one width")
     first = next(iter(widths.values()))
     assert all(same_bits(first, other) for other in widths.values())
     assert same_bits(first, cb.simulate_cases(cases, threads=3))
+
+
+@pytest.mark.parametrize("cases", [lambda: bench_map(5), lambda: stops_map(4)], ids=["bench", "stops"])
+def test_a_case_does_not_depend_on_its_neighbours(cases):
+    """A vector keeps the values of its lanes' segments (constants, tolerances, pulse) from step to step, gathered
+    again when a lane starts a segment or a case: a case's results are the same bits in the batch, in the batch
+    reversed (other cases beside it and before it in its lane) and alone (a batch of one). The stops map changes
+    the model's constants within a run (a pad's regime)."""
+    cases = cases()
+    together = cb.simulate_cases(cases, threads=1)
+    reversed_ = cb.simulate_cases(Cases.of([cases.problem(i) for i in range(len(cases))][::-1]), threads=1)
+    assert same_bits(together, {k: v[::-1] for k, v in reversed_.items()})
+    for i in (0, len(cases) // 2, len(cases) - 1):
+        alone = cb.simulate_cases(Cases.of([cases.problem(i)]), threads=1)
+        assert same_bits({k: v[i : i + 1] for k, v in together.items()}, alone)
+
+
+def test_each_case_steps_with_its_own_tolerance():
+    """Cases of two tolerances in one batch, alternating: each case's results are the same bits as in a batch of
+    its tolerance alone (a vector's tolerances are gathered again with its segment values)."""
+    cases = bench_map(6)
+    rtol = np.where(np.arange(len(cases)) % 2 == 0, 1e-8, 1e-6)
+    mixed = Cases(cases.model, cases.p, {**cases.settings, "rtol": rtol})
+    together = cb.simulate_cases(mixed, threads=1)
+    for value in (1e-8, 1e-6):
+        at = np.flatnonzero(rtol == value)
+        alone = cb.simulate_cases(Cases.of([mixed.problem(i) for i in at]), threads=1)
+        assert same_bits({k: v[at] for k, v in together.items()}, alone)
 
 
 def test_the_switch_is_the_scalar_path(monkeypatch):

@@ -2,9 +2,9 @@
  *
  * Each lane is a coroutine that runs simulate_one on a stack of its own. When its run needs the stages of
  * a step (dopri_step_of calls lanes_stages), the lane posts the request and switches to the next lane
- * (lane_next); the last lane of a round computes the stages of every waiting lane over vectors (lanes_kernel.h)
+ * (lane_next); the last lane of a round computes the stages of every lane over a vector (lanes_kernel.h)
  * and each goes on, in turn, with its scalar step-size control, events and phases until its next step.
- * A lane whose run ends takes the next case of the batch.
+ * A lane whose run ends takes the next case of the batch; with none left, it leaves the round.
  */
 #include <stdlib.h>
 
@@ -12,35 +12,58 @@
 
 /* x86-64 with the System V calling convention in ELF objects (Linux, the BSDs): the stack switch below. */
 #if defined(__x86_64__) && defined(__ELF__) && (defined(__GNUC__) || defined(__clang__)) && defined(ROCKING_LANES_MODEL)
+#include <immintrin.h>
+
 #include ROCKING_LANES_MODEL
 #endif
 #ifndef LANES_MODEL
 #define LANES_MODEL 0
 #endif
 
-/* The runs in flight at once: enough to fill an AVX-512 vector of doubles; a narrower one takes them in turn. */
+/* The runs in flight at most: an AVX-512 vector of doubles. A batch runs as many as its vectors are wide: more
+ * runs in flight, in turn over two vectors or more, cost more CPU time (their states evict each other from the
+ * caches; measured on the bench map before the stacks were staggered: 8 runs over AVX2 vectors of 4, 8 % more
+ * time, SSE2 with 4 or 8 runs, 4 % and 7 %). */
 #define LANES_RUNS 8
 /* The stack of a lane: simulate_one and the vector stages need tens of kB (a run, the constants of a model over
  * vectors); far more, of which the pages never touched cost nothing. */
 #define LANES_STACK (1024 * 1024)
-
-/* A lane waits for the stages of its step, is ready to go on (they are computed), or has no case left. */
-enum { LANE_WAITING, LANE_READY, LANE_FINISHED };
+/* The tops of the lanes' stacks are this much apart beyond a multiple of LANES_STACK: the same frames of the lanes
+ * (a run's state) then fall into different sets of the caches, not all into one (37 lines of 64 bytes: the tops
+ * of 8 lanes on 8 different lines modulo 4 kB, the span of the first level's sets; bench map, AVX-512 vectors of
+ * 8 runs: 9 % less time, AVX2 1 %). */
+#define LANES_STAGGER (37 * 64)
 
 typedef struct lanes lanes;
 
 typedef struct lane {
     void *sp;      /* the stack pointer of the coroutine while it is suspended */
     lanes *owner;  /* the scheduler */
-    int state;     /* LANE_* */
-    int slot;      /* its index in its scheduler's lanes */
+    int index;     /* its place in the round (lanes' active) */
     /* a request for the stages of a step (lanes_stages) and its answer, err */
     dopri *d;
     ode *o;
     const tolerance *tol;
     double h, t_new, *y_new, err;
     double power; /* err^ERROR_EXPONENT, computed with the stages over vectors (NAN: not) */
+    unsigned segment; /* counts the segments of the lane's runs: a new one may have new constants */
 } lane;
+
+/* The vectors of a lanes_cache's data: the model's constants, the absolute and relative tolerances, the one-sine
+ * pulse's amplitude, circular frequency and phase, and the masks of the lanes whose one-sine pulse acts, and of
+ * those in full contact. */
+enum { LC_CST = 0, LC_ATOL = NK, LC_RTOL = NK + NY, LC_A, LC_OMEGA, LC_PSI, LC_SINE, LC_CONTACT, LC_VECTORS };
+
+/* The values of a segment of the runs of the lanes of a vector (the model's constants, the tolerances, the
+ * pulse, full contact or not): the same over the segment, gathered into vectors when one of its lanes starts a
+ * new one (lanes_kernel.h's refresh), not at every step. */
+typedef struct lanes_cache {
+    const lane *who[LANES_RUNS]; /* the lane of each element, and the segment its values are of */
+    unsigned segment[LANES_RUNS];
+    int other[LANES_RUNS]; /* the element's pulse acts and is not a one-sine */
+    int any_contact, any_rocking, any_sine, any_other;
+    double data[LC_VECTORS * LANES_RUNS] __attribute__((aligned(64))); /* LC_*, each LANES_RUNS doubles at most */
+} lanes_cache;
 
 /* The scalar stages and error estimate of a step (dopri_step_of's own). */
 static double scalar_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
@@ -90,6 +113,8 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #define LANES_PIO2_1 1.57079632673412561417e+00  /* the first 33 bits of pi/2 */
 #define LANES_PIO2_2 6.07710050630396597660e-11  /* the next 33 bits */
 #define LANES_PIO2_2T 2.02226624879595063154e-21 /* pi/2 - PIO2_1 - PIO2_2 */
+/* Below pi/4: x 2/pi rounds to n = 0, and the reduction leaves x as it is. */
+#define LANES_PIO4 0.785
 /* 1.5 2^52: x + LANES_SHIFTER - LANES_SHIFTER rounds x to an integer, which the low bits of the sum hold. */
 #define LANES_SHIFTER 6755399441055744.0
 /* fdlibm's e_log.c (Lg1..Lg7, ln 2 in two parts) and e_exp.c (P1..P5, 1 / ln 2), same notice. */
@@ -109,12 +134,41 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #define LANES_P4 -1.65339022054652515390e-06
 #define LANES_P5 4.13813679705723846039e-08
 #define LANES_SQRT2 1.41421356237309504880
-/* The bits of a double: its mantissa, those of 1.0 and of LANES_SHIFTER (below). */
+/* The bits of a double: its mantissa, all but its sign, those of 1.0 and of LANES_SHIFTER (below). */
 #define LANES_MANTISSA 0x000fffffffffffffLL
+#define LANES_MAGNITUDE 0x7fffffffffffffffLL
 #define LANES_ONE_BITS 0x3ff0000000000000LL
 #define LANES_SHIFTER_BITS 0x4338000000000000LL
 /* Where n PIO2_1 and n PIO2_2 stay exact (|n| < 2^20) with a margin; larger arguments go to libm. */
 #define LANES_TRIG_MAX 1.0e5
+
+/* The constants of the vector functions that are not in the generated code, by name (LANES_<name>): each is
+ * splatted over a vector in a table per width (lanes_kernel.h's LK), whose elements the compiler then reads as
+ * operands from memory, rather than building each vector from its scalar at every use (SSE2: two instructions). */
+#define LANES_CONSTANTS(X)                                                                                         \
+    X(S1) X(S2) X(S3) X(S4) X(S5) X(S6) X(C1) X(C2) X(C3) X(C4) X(C5) X(C6) X(INVPIO2) X(PIO2_1) X(PIO2_2)          \
+    X(PIO2_2T) X(PIO4) X(TRIG_MAX) X(SHIFTER) X(LG1) X(LG2) X(LG3) X(LG4) X(LG5) X(LG6) X(LG7) X(LN2_HI) X(LN2_LO)   \
+    X(INVLN2) X(P1) X(P2) X(P3) X(P4) X(P5) X(SQRT2) X(EXPONENT) X(NORMAL_MIN) X(NORMAL_MAX) X(HALF) X(ONE) X(TWO)
+#define LANES_EXPONENT ERROR_EXPONENT
+#define LANES_NORMAL_MIN DBL_MIN
+#define LANES_NORMAL_MAX DBL_MAX
+#define LANES_HALF 0.5
+#define LANES_ONE 1.0
+#define LANES_TWO 2.0
+/* The same for the bit masks, a table of vectors of 64-bit integers (lanes_kernel.h's LM). */
+#define LANES_MASKS(X) X(MANTISSA) X(MAGNITUDE) X(ONE_BITS) X(SHIFTER_BITS)
+enum {
+#define LANES_INDEX(name) LK_##name,
+    LANES_CONSTANTS(LANES_INDEX)
+#undef LANES_INDEX
+    LK_COUNT
+};
+enum {
+#define LANES_INDEX(name) LM_##name,
+    LANES_MASKS(LANES_INDEX)
+#undef LANES_INDEX
+    LM_COUNT
+};
 
 /* ---- the kernels, one per vector width --------------------------------------------------------------- */
 
@@ -142,12 +196,14 @@ static void batch_scalar(int64_t n, const double *p, const rocking_case *cases, 
 #undef LTARGET
 #undef LNAME
 
-typedef int (*lanes_kernel)(lane *const *ls);
+typedef int (*lanes_kernel)(lane *const *ls, lanes_cache *cache);
 
 /* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
 
-/* Save the callee-saved registers, MXCSR and the x87 control word on the current stack and its pointer into
- * *save, then resume the stack `to` saved the same way (or prepared by lane_start). */
+/* Save the callee-saved registers on the current stack and its pointer into *save, then resume the stack `to`
+ * saved the same way (or prepared by lane_start). MXCSR and the x87 control word, callee-saved too, are not
+ * switched: every lane runs with the batch caller's, which no code changes across a switch (libm restores
+ * what it sets inside a call). */
 void rocking_lanes_switch(void **save, void *to) __attribute__((visibility("hidden")));
 /* A new lane's first code: lane_main(r12), on the lane's stack. */
 void rocking_lanes_start(void) __attribute__((visibility("hidden")));
@@ -163,14 +219,8 @@ __asm__(".pushsection .text\n"
         "    pushq %r13\n"
         "    pushq %r14\n"
         "    pushq %r15\n"
-        "    subq $16, %rsp\n"
-        "    stmxcsr 8(%rsp)\n"
-        "    fnstcw (%rsp)\n"
         "    movq %rsp, (%rdi)\n"
         "    movq %rsi, %rsp\n"
-        "    ldmxcsr 8(%rsp)\n"
-        "    fldcw (%rsp)\n"
-        "    addq $16, %rsp\n"
         "    popq %r15\n"
         "    popq %r14\n"
         "    popq %r13\n"
@@ -195,7 +245,11 @@ struct lanes {
     int width;
     lanes_kernel kernel;
     lane lane[LANES_RUNS];
-    int runs; /* the lanes of the batch: LANES_RUNS, fewer for a batch of fewer cases */
+    /* The round: the lanes that still have a run (width at most), in the order they run; each posts its step (or
+     * leaves), the last then serves them all. */
+    lane *active[LANES_RUNS];
+    int n_active;
+    lanes_cache cache;
     unsigned char *stacks;
     /* the batch */
     int64_t n, next;
@@ -219,50 +273,52 @@ static int64_t lanes_take(lanes *b)
     return -1;
 }
 
-/* The stages of the waiting lanes, b->width at a time (the last vector padded with its last lane again); they are
- * then ready. */
+/* The stages of every lane of the round over a vector (fewer lanes than its width: padded with the last again). */
 static void lanes_serve(lanes *b)
 {
-    lane *waiting[LANES_RUNS];
-    int n = 0, first, j;
-    for (j = 0; j < b->runs; ++j)
-        if (b->lane[j].state == LANE_WAITING)
-            waiting[n++] = &b->lane[j];
-    for (first = 0; first < n; first += b->width) {
-        lane *ls[LANES_RUNS];
-        int scalar;
+    const int n = b->n_active;
+    lane *padded[LANES_RUNS], *const *ls = b->active;
+    int scalar, j;
+    if (n < b->width) {
         for (j = 0; j < b->width; ++j)
-            ls[j] = waiting[first + j < n ? first + j : n - 1];
-        scalar = b->kernel(ls);
-        for (j = 0; j < b->width && first + j < n; ++j)
-            if (scalar & (1 << j)) /* a sin or cos out of the vector functions' range: this step scalar */
-                ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
+            padded[j] = b->active[j < n ? j : n - 1];
+        ls = padded;
     }
-    for (j = 0; j < n; ++j)
-        waiting[j]->state = LANE_READY;
+    scalar = b->kernel(ls, &b->cache);
+    for (j = 0; scalar != 0 && j < n; ++j)
+        if (scalar >> j & 1) /* a sin or cos out of the vector functions' range: this step scalar */
+            ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
 }
 
-/* Lane l waits for its stages or has finished: run the next ready lane in slot order; after the last, serve
- * the waiting lanes and run the first of them (l itself: return at once); when none waits, back to the caller
- * of the batch. One switch per step of a lane, from lane to lane: a round of the lanes ends in the vector
- * stages, on the stack of the lane that ends it. */
-static void lane_next(lane *l)
+/* Lane l has posted its step (lanes_stages) or left the round: run the lane at place `next` of the round; past
+ * the last, serve the round and run its first lane (l itself: return at once); when none is left, back to the
+ * caller of the batch. One switch per step of a lane, from lane to lane: a round ends in the vector stages, on
+ * the stack of the lane that ends it. */
+static void lane_next(lane *l, int next)
 {
     lanes *b = l->owner;
-    int j;
-    for (j = l->slot + 1; j < b->runs; ++j)
-        if (b->lane[j].state == LANE_READY) {
-            rocking_lanes_switch(&l->sp, b->lane[j].sp);
-            return;
-        }
+    if (next < b->n_active) {
+        rocking_lanes_switch(&l->sp, b->active[next]->sp);
+        return;
+    }
+    if (b->n_active == 0) {
+        rocking_lanes_switch(&l->sp, b->sp); /* not resumed again */
+        return;
+    }
     lanes_serve(b);
-    for (j = 0; j < b->runs; ++j)
-        if (b->lane[j].state == LANE_READY) {
-            if (&b->lane[j] != l)
-                rocking_lanes_switch(&l->sp, b->lane[j].sp);
-            return;
-        }
-    rocking_lanes_switch(&l->sp, b->sp); /* every lane has finished: not resumed again */
+    if (b->active[0] != l)
+        rocking_lanes_switch(&l->sp, b->active[0]->sp);
+}
+
+/* Lane l leaves the round of b: the lanes after it move up a place. */
+static void lanes_leave(lanes *b, const lane *l)
+{
+    int j;
+    for (j = l->index; j + 1 < b->n_active; ++j) {
+        b->active[j] = b->active[j + 1];
+        b->active[j]->index = j;
+    }
+    --b->n_active;
 }
 
 /* The coroutine of a lane: runs of the batch's cases, one after the other, until none is left. */
@@ -272,29 +328,22 @@ static void lane_main(lane *l)
     int64_t i;
     while ((i = lanes_take(b)) >= 0)
         simulate_one(b->p + i * MODEL_NP, b->cases + i, b->out + i, NULL, b->control, l, &b->memo);
-    l->state = LANE_FINISHED;
-    lane_next(l);
+    lanes_leave(b, l);
+    lane_next(l, l->index); /* the lane that took its place */
 }
 
 /* The first frame of lane l on its stack [stack, stack + size): what rocking_lanes_switch pops, then its
- * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call. The lane is
- * ready: its first switch starts it. */
+ * return into rocking_lanes_start, which calls lane_main(l) with the stack aligned as for a call (the stack
+ * pointer at `top`, a multiple of 16, once all is popped). Its first switch starts it. */
 static void lane_start(lane *l, unsigned char *stack, size_t size)
 {
     uint64_t *top = (uint64_t *)(((uintptr_t)(stack + size)) & ~(uintptr_t)15);
-    uint64_t *sp = top - 11; /* 88 bytes: control words, 6 registers, the return address; then 16 free */
-    uint32_t mxcsr;
-    uint16_t fpcw;
-    __asm__ volatile("stmxcsr %0" : "=m"(mxcsr));
-    __asm__ volatile("fnstcw %0" : "=m"(fpcw));
-    memset(sp, 0, 11 * sizeof *sp);
-    memcpy(sp, &fpcw, sizeof fpcw);
-    memcpy(sp + 1, &mxcsr, sizeof mxcsr);
-    sp[4] = (uint64_t)(uintptr_t)lane_main; /* r13 */
-    sp[5] = (uint64_t)(uintptr_t)l;         /* r12 */
-    sp[8] = (uint64_t)(uintptr_t)rocking_lanes_start;
+    uint64_t *sp = top - 7; /* r15, r14, r13, r12, rbx, rbp, the return address */
+    memset(sp, 0, 7 * sizeof *sp);
+    sp[2] = (uint64_t)(uintptr_t)lane_main; /* r13 */
+    sp[3] = (uint64_t)(uintptr_t)l;         /* r12 */
+    sp[6] = (uint64_t)(uintptr_t)rocking_lanes_start;
     l->sp = sp;
-    l->state = LANE_READY;
 }
 
 /* The vector width a batch now uses (rocking_lanes). */
@@ -322,12 +371,12 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
                        const rocking_control *control)
 {
     lanes b;
-    int j;
-    /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
-    const int runs = n < LANES_RUNS ? (int)n : LANES_RUNS;
+    int j, runs;
     b.width = lanes_width();
     if (b.width == 0 || n < 1)
         return 0;
+    /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
+    runs = n < b.width ? (int)n : b.width;
     b.kernel = b.width == 8 ? stages_avx512 : b.width == 4 ? stages_avx2 : stages_sse2;
     b.stacks = malloc((size_t)runs * LANES_STACK);
     if (b.stacks == NULL)
@@ -339,11 +388,14 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.out = out;
     b.control = control;
     b.memo.have = 0;
-    b.runs = runs;
+    b.n_active = runs;
+    memset(b.cache.who, 0, sizeof b.cache.who); /* no lane yet */
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
-        b.lane[j].slot = j;
-        lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK);
+        b.lane[j].segment = 0;
+        b.lane[j].index = j;
+        b.active[j] = &b.lane[j];
+        lane_start(&b.lane[j], b.stacks + (size_t)j * LANES_STACK, LANES_STACK - (size_t)j * LANES_STAGGER);
     }
     rocking_lanes_switch(&b.sp, b.lane[0].sp); /* back when every lane has finished */
     free(b.stacks);
@@ -352,21 +404,22 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
 
 /* The stages of a step of the lane's run: over vectors with the other lanes' for a rocking phase or full contact
  * without a vertical component or a slide (full contact where the model's header has it), else scalar here. */
-static NOINLINE double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
+static double lanes_stages(dopri *d, ode *o, const tolerance *tol, double h, double t_new, double *y_new)
 {
     lane *l = o->lane;
     const int contact = o->rhs == ODE_PULSE_CONTACT || o->rhs == ODE_FREE_CONTACT;
     if (!(o->rhs == ODE_PULSE_ROCKING || o->rhs == ODE_FREE_ROCKING || (LANES_CONTACT && contact)))
         return scalar_stages(d, o, tol, h, t_new, y_new);
+    if (d->h == 0.0) /* a segment starts (dopri_start), or its last step was taken back (dopri_undo) */
+        ++l->segment;
     l->d = d;
     l->o = o;
     l->tol = tol;
     l->h = h;
     l->t_new = t_new;
     l->y_new = y_new;
-    l->state = LANE_WAITING;
     l->power = NAN;
-    lane_next(l);
+    lane_next(l, l->index + 1);
     return l->err;
 }
 
