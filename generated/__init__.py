@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "3f167058cd52cbed8385639ae639dfe81cd1902fdb98fd07519cf89a222696d8",
-    "omd": "87804fa92f47f578a5d1037a8dfbaa24518ba257c0a19488b26e56172f64be54",
-    "omd2": "4613e7c299dcf878f8a804e93dc274839018df224b3ec195d36aae0da4528d0b",
-    "omd_stops": "f3a75f378a9490f59b35ac015266829918ac3ac00e7991934a517eba8ca2f99f",
-    "omd_stops_hc": "4dadea63c9541a248fc6c39bb8e2be28631a80f49e9aa28be7645c6379829756",
-    "pendulum": "467d5626d1ac2ed2e703fd6f9408640ccfed67ec9681ba69283318af9edc438d",
+    "block": "1c17a61dd8dfa4d90c07b71f9711580a02686cd5f035e5013e8a0b26c71f1299",
+    "omd": "f53302ee68262648ba09f423c49f1cc8802f0b0af897a31721d5cb32bd1ff635",
+    "omd2": "f78855e72883209c75f57771143cb6367478427d56f9f55c507e6ad260d57cfd",
+    "omd_stops": "54ea31c93b3cb283b6f56031dd6a7c3202b8659ef1ad35f06a32b58ea2c10c89",
+    "omd_stops_hc": "ef875a122e5e74fe9843a82a1b7582d00c834e13db4c6eb60508cfd4d547f806",
+    "pendulum": "b18a99a85a450d5361aa55f8e7cba276a5a7008cecb0b65a9e9189bf10998340",
 }
