@@ -333,7 +333,8 @@ def test_installed_package_derives_a_spec_from_any_folder(tmp_path):
     assert "block: derived in" in run.stdout
     assert json.loads((out / "manifest.json").read_text())["model"] == "block"
     for path in (GENERATED / "block").iterdir():
-        assert (out / path.name).read_text() == path.read_text(), path.name
+        if path.is_file():  # not the bytecode cache `make setup` compiles
+            assert (out / path.name).read_text() == path.read_text(), path.name
     check = python("-m", "rocking.derive", "--check", "--variant", "block")
     assert check.returncode == 0 and "up to date" in check.stdout, check.stdout + check.stderr
 
