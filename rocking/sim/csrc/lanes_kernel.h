@@ -163,16 +163,18 @@ LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *inside __attribute__((unus
 #endif
 
 /* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), another
- * motion by ode_ag, 0 after the pulse. */
-LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, const VD *v, VL *inside)
+ * motion by ode_ag, 0 after the pulse. any_sine, any_other: the cache's flags, read once per step (ode_ag's
+ * calls would make the compiler read them again at each stage). */
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, int any_sine, int any_other,
+                       const VD *v, VL *inside)
 {
     VD ag = LNAME(splat)(0.0), s, c;
     int j;
-    if (cache->any_sine) {
+    if (any_sine) {
         LNAME(sincos)(v[LC_OMEGA] * t + v[LC_PSI], &s, &c, inside);
         ag = (VD)((VL)(v[LC_A] * s) & (VL)v[LC_SINE]);
     }
-    if (cache->any_other)
+    if (any_other)
         for (j = 0; j < LW; ++j)
             if (cache->other[j])
                 ag[j] = ode_ag(ls[j]->o, t[j]);
@@ -188,6 +190,19 @@ LATTR VD LNAME(sqrt)(VD x)
     return (VD)_mm256_sqrt_pd((__m256d)x);
 #else
     return (VD)_mm512_sqrt_pd((__m512d)x);
+#endif
+}
+
+/* The larger of a and b, elementwise: a > b ? a : b, the second operand where either is a NaN (maxpd's rule),
+ * as dopri_error's scale takes it. */
+LATTR VD LNAME(max)(VD a, VD b)
+{
+#if LW == 2
+    return (VD)_mm_max_pd((__m128d)a, (__m128d)b);
+#elif LW == 4
+    return (VD)_mm256_max_pd((__m256d)a, (__m256d)b);
+#else
+    return (VD)_mm512_max_pd((__m512d)a, (__m512d)b);
 #endif
 }
 
@@ -359,6 +374,8 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         stale |= cache->who[j] != ls[j] || cache->segment[j] != ls[j]->segment;
     if (stale)
         LNAME(refresh)(ls, cache);
+    const int any_sine = cache->any_sine, any_other = cache->any_other;
+    const int any_rocking = cache->any_rocking, any_contact = cache->any_contact;
 #define T0(j) ls[j]->d->t
 #define H(j) ls[j]->h
 #define T_NEW(j) ls[j]->t_new
@@ -391,12 +408,12 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         }
         if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
             if (RK_C[s - 1] != 1.0)
-                ag_new = LNAME(ground)(ls, t_new, cache, v, &inside);
+                ag_new = LNAME(ground)(ls, t_new, cache, any_sine, any_other, v, &inside);
             ag = ag_new;
         } else {
-            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, v, &inside);
+            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, any_sine, any_other, v, &inside);
         }
-        if (cache->any_rocking) {
+        if (any_rocking) {
             LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &inside);
         } else {
 #pragma GCC unroll 8
@@ -404,7 +421,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
                 k[s][NQ + i] = LNAME(splat)(0.0);
         }
 #if LANES_CONTACT
-        if (cache->any_contact) {
+        if (any_contact) {
             VD in_contact[NQ];
             LNAME(contact_accel)(y, ag, cst, in_contact, &inside);
 #pragma GCC unroll 8
@@ -424,12 +441,11 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
 #pragma GCC unroll 8
         for (i = 0; i < NY; ++i) {
             VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & LM(MAGNITUDE)), b = (VD)((VL)y[i] & LM(MAGNITUDE)), r;
-            VL larger = a > b;
 #pragma GCC unroll 8
             for (s = 1; s < STAGES; ++s)
                 err += RK_E[s] * k[s][i];
             err *= h;
-            r = err / (v[LC_ATOL + i] + v[LC_RTOL] * (VD)((larger & (VL)a) | (~larger & (VL)b)));
+            r = err / (v[LC_ATOL + i] + v[LC_RTOL] * LNAME(max)(a, b));
             sum += r * r;
         }
         VD err, power;
@@ -452,6 +468,7 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
                 LNAME(store_rows)(k[s], rows);
             }
         }
+#pragma GCC unroll 8
         for (j = 0; j < LW; ++j) {
             lane *l = ls[j];
             if (scalar & (1 << j))
