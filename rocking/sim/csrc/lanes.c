@@ -20,10 +20,10 @@
 #define LANES_MODEL 0
 #endif
 
-/* The runs in flight at most: an AVX-512 vector of doubles. A batch runs as many as its vectors are wide: more
- * runs in flight, in turn over two vectors or more, cost more CPU time (their states evict each other from the
- * caches; measured on the bench map before the stacks were staggered: 8 runs over AVX2 vectors of 4, 8 % more
- * time, SSE2 with 4 or 8 runs, 4 % and 7 %). */
+/* The runs in flight at most: an AVX-512 vector of doubles. A batch runs as many as a call of its kernel computes
+ * (a vector; SSE2: LANES_SSE2_GROUPS vectors side by side): more runs in flight, in turn over calls, cost more CPU
+ * time (their states evict each other from the caches; measured on the bench map before the stacks were staggered:
+ * 8 runs over AVX2 vectors of 4, 8 % more time, SSE2 with 4 or 8 runs in turn over vectors of 2, 4 % and 7 %). */
 #define LANES_RUNS 8
 /* The stack of a lane: simulate_one and the vector stages need tens of kB (a run, the constants of a model over
  * vectors); far more, of which the pages never touched cost nothing. */
@@ -172,31 +172,44 @@ enum {
 
 /* ---- the kernels, one per vector width --------------------------------------------------------------- */
 
+/* The vectors of 2 doubles (SSE2) a call of the kernel computes side by side: one stage's chain of operations
+ * waits on the previous stage's, and the other vector's fill the wait (AVX2 and AVX-512: one vector a call). Two
+ * vectors of 2 runs rather than one: the kernel's time per run about 9 % less, the scalar code's more (4 runs in
+ * flight evict each other's state), in all 1 % less CPU time on the bench map (bench/compare.py, 20 paired runs,
+ * ROCKING_LANES_ISA=sse2). */
+#define LANES_SSE2_GROUPS 2
+
 #define LW 2
+#define LG LANES_SSE2_GROUPS
 #define LTARGET "sse2"
 #define LNAME(x) x##_sse2
 #include "lanes_kernel.h"
 #undef LW
+#undef LG
 #undef LTARGET
 #undef LNAME
 
 #define LW 4
+#define LG 1
 #define LTARGET "avx2"
 #define LNAME(x) x##_avx2
 #include "lanes_kernel.h"
 #undef LW
+#undef LG
 #undef LTARGET
 #undef LNAME
 
 #define LW 8
+#define LG 1
 #define LTARGET "avx512f"
 #define LNAME(x) x##_avx512
 #include "lanes_kernel.h"
 #undef LW
+#undef LG
 #undef LTARGET
 #undef LNAME
 
-typedef int (*lanes_kernel)(lane *const *ls, lanes_cache *cache);
+typedef int (*lanes_kernel)(lane *const *ls, lanes_cache *caches);
 
 /* ---- the coroutines (x86-64) ------------------------------------------------------------------------- */
 
@@ -249,7 +262,7 @@ struct lanes {
      * leaves), the last then serves them all. */
     lane *active[LANES_RUNS];
     int n_active;
-    lanes_cache cache;
+    lanes_cache cache[LANES_SSE2_GROUPS]; /* those of each vector of a round */
     unsigned char *stacks;
     /* the batch */
     int64_t n, next;
@@ -284,7 +297,7 @@ static void lanes_serve(lanes *b)
             padded[j] = b->active[j < n ? j : n - 1];
         ls = padded;
     }
-    scalar = b->kernel(ls, &b->cache);
+    scalar = b->kernel(ls, b->cache);
     for (j = 0; scalar != 0 && j < n; ++j)
         if (scalar >> j & 1) /* a sin or cos out of the vector functions' range: this step scalar */
             ls[j]->err = scalar_stages(ls[j]->d, ls[j]->o, ls[j]->tol, ls[j]->h, ls[j]->t_new, ls[j]->y_new);
@@ -376,8 +389,10 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     if (b.width == 0 || n < 1)
         return 0;
     /* A batch of a single case too: each run's results do not depend on how a batch is cut. */
-    runs = n < b.width ? (int)n : b.width;
     b.kernel = b.width == 8 ? stages_avx512 : b.width == 4 ? stages_avx2 : stages_sse2;
+    if (b.width == 2)
+        b.width *= LANES_SSE2_GROUPS; /* the runs of a round */
+    runs = n < b.width ? (int)n : b.width;
     b.stacks = malloc((size_t)runs * LANES_STACK);
     if (b.stacks == NULL)
         return 0;
@@ -389,7 +404,8 @@ static NOINLINE int lanes_batch(int64_t n, const double *p, const rocking_case *
     b.control = control;
     b.memo.have = 0;
     b.n_active = runs;
-    memset(b.cache.who, 0, sizeof b.cache.who); /* no lane yet */
+    for (j = 0; j < LANES_SSE2_GROUPS; ++j)
+        memset(b.cache[j].who, 0, sizeof b.cache[j].who); /* no lane yet */
     for (j = 0; j < runs; ++j) {
         b.lane[j].owner = &b;
         b.lane[j].segment = 0;

@@ -1,5 +1,6 @@
 /* The stages of the lanes' steps over vectors of LW doubles, compiled for the instruction set LTARGET:
- * included by lanes.c once per width, with LW, LTARGET and LNAME (a suffix per width) defined. */
+ * included by lanes.c once per width, with LW, LTARGET, LNAME (a suffix per width) and LG defined: the groups of
+ * LW lanes a call computes side by side, stage by stage (LG LW lanes in all). */
 
 #define VD LNAME(vd)
 #define VL LNAME(vl)
@@ -165,8 +166,8 @@ LANES_DEFINE_CONTACT(LNAME(contact_accel), LATTR, VL *inside __attribute__((unus
 /* The ground acceleration of each lane at its t: a one-sine pulse over vectors (ode_ag's operations), another
  * motion by ode_ag, 0 after the pulse. any_sine, any_other: the cache's flags, read once per step (ode_ag's
  * calls would make the compiler read them again at each stage). */
-LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, int any_sine, int any_other,
-                       const VD *v, VL *inside)
+LATTR VD LNAME(ground)(lane *const *ls, const VD t, const int *other, int any_sine, int any_other, const VD *v,
+                       VL *inside)
 {
     VD ag = LNAME(splat)(0.0), s, c;
     int j;
@@ -176,7 +177,7 @@ LATTR VD LNAME(ground)(lane *const *ls, const VD t, const lanes_cache *cache, in
     }
     if (any_other)
         for (j = 0; j < LW; ++j)
-            if (cache->other[j])
+            if (other[j])
                 ag[j] = ode_ag(ls[j]->o, t[j]);
     return ag;
 }
@@ -357,137 +358,167 @@ static __attribute__((noinline, target(LTARGET))) void LNAME(refresh)(lane *cons
     }
 }
 
-/* The stages and the error estimate of the steps the LW lanes ls ask for (lanes_stages), dopri_stages_of and
- * dopri_error over vectors: the stages into each lane's d->k, the new state into its y_new, the error into
- * its err; except the lanes where an argument of sin or cos was out of the vector functions' range: their
- * bits in the mask returned, the caller computes those steps scalar. cache: the segments' values of the lanes
- * of this vector (refreshed here where they changed). */
-static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes_cache *cache)
+/* The stages and the error estimate of the steps the LG LW lanes ls ask for (lanes_stages), dopri_stages_of and
+ * dopri_error over vectors, group g of LW lanes from ls[LW g]: the stages into each lane's d->k, the new state
+ * into its y_new, the error into its err; except the lanes where an argument of sin or cos was out of the vector
+ * functions' range: their bits in the mask returned, the caller computes those steps scalar. caches[g]: the
+ * segments' values of group g's lanes (refreshed here where they changed). The groups go side by side, stage by
+ * stage: each stage's chain of operations (its point, sin and cos, the accelerations' division) waits on the
+ * previous stage's, and the other groups' fill the wait. */
+static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes_cache *caches)
 {
-    VD k[STAGES][NY], y[NY], ag_new;
-    const VD *v = (const VD *)cache->data, *cst = v + LC_CST; /* read after the refresh below */
+    VD k[LG][STAGES][NY], y[LG][NY], y0[LG][NY], ag_new[LG], t0[LG], h[LG], t_new[LG];
+    VL inside[LG]; /* the lanes whose arguments of sin and cos were all in range */
     const VL *lm = LNAME(mask_table)();
-    VL inside = (VL){0} - 1; /* the lanes whose arguments of sin and cos were all in range */
-    int i, j, s, scalar = 0, stale = 0;
+    int any_sine[LG], any_other[LG], any_rocking[LG], any_contact[LG]; /* the caches' flags, read once */
+    int g, i, j, s, scalar = 0;
+#pragma GCC unroll 4
+    for (g = 0; g < LG; ++g) {
+        lane *const *gl = ls + LW * g;
+        lanes_cache *cache = caches + g;
+        int stale = 0;
 #pragma GCC unroll 8
-    for (j = 0; j < LW; ++j)
-        stale |= cache->who[j] != ls[j] || cache->segment[j] != ls[j]->segment;
-    if (stale)
-        LNAME(refresh)(ls, cache);
-    const int any_sine = cache->any_sine, any_other = cache->any_other;
-    const int any_rocking = cache->any_rocking, any_contact = cache->any_contact;
-#define T0(j) ls[j]->d->t
-#define H(j) ls[j]->h
-#define T_NEW(j) ls[j]->t_new
-    const VD t0 = LGATHER(T0), h = LGATHER(H), t_new = LGATHER(T_NEW);
+        for (j = 0; j < LW; ++j)
+            stale |= cache->who[j] != gl[j] || cache->segment[j] != gl[j]->segment;
+        if (stale)
+            LNAME(refresh)(gl, cache);
+        any_sine[g] = cache->any_sine;
+        any_other[g] = cache->any_other;
+        any_rocking[g] = cache->any_rocking;
+        any_contact[g] = cache->any_contact;
+        const double *y_rows[LW], *f_rows[LW];
+#define T0(j) gl[j]->d->t
+#define H(j) gl[j]->h
+#define T_NEW(j) gl[j]->t_new
+        t0[g] = LGATHER(T0);
+        h[g] = LGATHER(H);
+        t_new[g] = LGATHER(T_NEW);
 #undef T0
 #undef H
 #undef T_NEW
-    VD y0[NY];
-    {
-        const double *y_rows[LW], *f_rows[LW];
 #pragma GCC unroll 8
         for (j = 0; j < LW; ++j) {
-            y_rows[j] = ls[j]->d->y;
-            f_rows[j] = ls[j]->d->f;
+            y_rows[j] = gl[j]->d->y;
+            f_rows[j] = gl[j]->d->f;
         }
-        LNAME(load_rows)(y_rows, y0);
-        LNAME(load_rows)(f_rows, k[0]);
+        LNAME(load_rows)(y_rows, y0[g]);
+        LNAME(load_rows)(f_rows, k[g][0]);
+        ag_new[g] = LNAME(splat)(0.0);
+        inside[g] = (VL){0} - 1;
     }
-    ag_new = LNAME(splat)(0.0);
     /* A loop, not unrolled: the kernel's code is then less than half as long (SSE2: 19 kB, 8 kB), the CPU fetches
      * it faster and it leaves more of the instruction cache to the lanes' scalar code (bench map, SSE2: about 1 %
      * less CPU time; AVX2 the same or less). */
 #pragma GCC unroll 1
     for (s = 1; s < STAGES; ++s) {
-        VD acc[NY], ag;
+#pragma GCC unroll 4
+        for (g = 0; g < LG; ++g) {
+            const VD *v = (const VD *)caches[g].data, *cst = v + LC_CST; /* after the refresh */
+            lane *const *gl = ls + LW * g;
+            const int *other = caches[g].other;
+            VD acc[NY], ag;
 #pragma GCC unroll 8
-        for (i = 0; i < NY; ++i) {
-            acc[i] = RK_A[s][0] * k[0][i];
+            for (i = 0; i < NY; ++i) {
+                acc[i] = RK_A[s][0] * k[g][0][i];
 #pragma GCC unroll 8
-            for (j = 1; j < s; ++j)
-                acc[i] += RK_A[s][j] * k[j][i];
-            y[i] = y0[i] + h * acc[i];
-        }
-        if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
-            if (RK_C[s - 1] != 1.0)
-                ag_new = LNAME(ground)(ls, t_new, cache, any_sine, any_other, v, &inside);
-            ag = ag_new;
-        } else {
-            ag = LNAME(ground)(ls, t0 + RK_C[s] * h, cache, any_sine, any_other, v, &inside);
-        }
-        if (any_rocking) {
-            LNAME(rocking_accel)(y, ag, cst, k[s] + NQ, &inside);
-        } else {
+                for (j = 1; j < s; ++j)
+                    acc[i] += RK_A[s][j] * k[g][j][i];
+                y[g][i] = y0[g][i] + h[g] * acc[i];
+            }
+            if (RK_C[s] == 1.0) { /* the last stages sit at t_new: one ground acceleration there (ode_ag's memo) */
+                if (RK_C[s - 1] != 1.0)
+                    ag_new[g] = LNAME(ground)(gl, t_new[g], other, any_sine[g], any_other[g], v, &inside[g]);
+                ag = ag_new[g];
+            } else {
+                ag = LNAME(ground)(gl, t0[g] + RK_C[s] * h[g], other, any_sine[g], any_other[g], v, &inside[g]);
+            }
+            if (any_rocking[g]) {
+                LNAME(rocking_accel)(y[g], ag, cst, k[g][s] + NQ, &inside[g]);
+            } else {
 #pragma GCC unroll 8
-            for (i = 0; i < NQ; ++i)
-                k[s][NQ + i] = LNAME(splat)(0.0);
-        }
+                for (i = 0; i < NQ; ++i)
+                    k[g][s][NQ + i] = LNAME(splat)(0.0);
+            }
 #if LANES_CONTACT
-        if (any_contact) {
-            VD in_contact[NQ];
-            LNAME(contact_accel)(y, ag, cst, in_contact, &inside);
+            if (any_contact[g]) {
+                const VL contact = (VL)v[LC_CONTACT];
+                VD in_contact[NQ];
+                LNAME(contact_accel)(y[g], ag, cst, in_contact, &inside[g]);
 #pragma GCC unroll 8
-            for (i = 0; i < NQ; ++i)
-                k[s][NQ + i] = (VD)(((VL)v[LC_CONTACT] & (VL)in_contact[i]) | (~(VL)v[LC_CONTACT] & (VL)k[s][NQ + i]));
-        }
+                for (i = 0; i < NQ; ++i)
+                    k[g][s][NQ + i] = (VD)((contact & (VL)in_contact[i]) | (~contact & (VL)k[g][s][NQ + i]));
+            }
 #endif
 #pragma GCC unroll 8
-        for (i = 0; i < NQ; ++i)
-            k[s][i] = y[NQ + i];
+            for (i = 0; i < NQ; ++i)
+                k[g][s][i] = y[g][NQ + i];
+        }
     }
+#pragma GCC unroll 4
+    for (g = 0; g < LG; ++g)
 #pragma GCC unroll 8
-    for (j = 0; j < LW; ++j)
-        scalar |= inside[j] == 0 ? 1 << j : 0;
-    {
+        for (j = 0; j < LW; ++j)
+            scalar |= inside[g][j] == 0 ? 1 << (LW * g + j) : 0;
+    VD err[LG], power[LG];
+    VL normal[LG];
+#pragma GCC unroll 4
+    for (g = 0; g < LG; ++g) {
+        const VD *v = (const VD *)caches[g].data;
         VD sum = LNAME(splat)(0.0);
 #pragma GCC unroll 8
         for (i = 0; i < NY; ++i) {
-            VD err = RK_E[0] * k[0][i], a = (VD)((VL)y0[i] & LM(MAGNITUDE)), b = (VD)((VL)y[i] & LM(MAGNITUDE)), r;
+            VD e = RK_E[0] * k[g][0][i], a = (VD)((VL)y0[g][i] & LM(MAGNITUDE)), b = (VD)((VL)y[g][i] & LM(MAGNITUDE)), r;
 #pragma GCC unroll 8
             for (s = 1; s < STAGES; ++s)
-                err += RK_E[s] * k[s][i];
-            err *= h;
-            r = err / (v[LC_ATOL + i] + v[LC_RTOL] * LNAME(max)(a, b));
+                e += RK_E[s] * k[g][s][i];
+            e *= h[g];
+            r = e / (v[LC_ATOL + i] + v[LC_RTOL] * LNAME(max)(a, b));
             sum += r * r;
         }
-        VD err, power;
-        VL normal = (VL){0} - 1;
-        err = LNAME(sqrt)(sum / NY);
-        power = LNAME(error_power)(err, &normal);
-        if (scalar == 0) { /* each lane's stages and new state at once (else lane by lane: those of the others) */
+        normal[g] = (VL){0} - 1;
+        err[g] = LNAME(sqrt)(sum / NY);
+        power[g] = LNAME(error_power)(err[g], &normal[g]);
+    }
+    if (scalar == 0) { /* each lane's stages and new state at once (else lane by lane: those of the others) */
+#pragma GCC unroll 4
+        for (g = 0; g < LG; ++g) {
+            lane *const *gl = ls + LW * g;
             double *rows[LW], *stages[LW]; /* the lanes' d->k, rows of NA doubles */
 #pragma GCC unroll 8
             for (j = 0; j < LW; ++j) {
-                rows[j] = ls[j]->y_new;
-                stages[j] = ls[j]->d->k[0];
+                rows[j] = gl[j]->y_new;
+                stages[j] = gl[j]->d->k[0];
             }
-            LNAME(store_rows)(y, rows);
+            LNAME(store_rows)(y[g], rows);
 #pragma GCC unroll 8
             for (s = 0; s < STAGES; ++s) {
 #pragma GCC unroll 8
                 for (j = 0; j < LW; ++j)
                     rows[j] = stages[j] + s * NA;
-                LNAME(store_rows)(k[s], rows);
+                LNAME(store_rows)(k[g][s], rows);
             }
         }
+    }
+#pragma GCC unroll 4
+    for (g = 0; g < LG; ++g) {
+        const VD *v = (const VD *)caches[g].data;
 #pragma GCC unroll 8
         for (j = 0; j < LW; ++j) {
-            lane *l = ls[j];
-            if (scalar & (1 << j))
+            lane *l = ls[LW * g + j];
+            if (scalar & (1 << (LW * g + j)))
                 continue;
-            l->err = err[j];
-            l->power = normal[j] ? power[j] : pow(err[j], ERROR_EXPONENT);
+            l->err = err[g][j];
+            l->power = normal[g][j] ? power[g][j] : pow(err[g][j], ERROR_EXPONENT);
             if (scalar != 0) {
                 for (s = 0; s < STAGES; ++s)
                     for (i = 0; i < NY; ++i)
-                        l->d->k[s][i] = k[s][i][j];
+                        l->d->k[s][i] = k[g][s][i][j];
                 for (i = 0; i < NY; ++i)
-                    l->y_new[i] = y[i][j];
+                    l->y_new[i] = y[g][i][j];
             }
             if (((VL)v[LC_SINE])[j]) { /* ode_ag's memo, as the scalar stages leave it */
-                l->o->memo_t = t_new[j];
-                l->o->memo_ag = ag_new[j];
+                l->o->memo_t = t_new[g][j];
+                l->o->memo_ag = ag_new[g][j];
             }
         }
     }
