@@ -467,7 +467,8 @@ static __attribute__((target(LTARGET))) int LNAME(stages)(lane *const *ls, lanes
         VD sum = LNAME(splat)(0.0);
 #pragma GCC unroll 8
         for (i = 0; i < NY; ++i) {
-            VD e = RK_E[0] * k[g][0][i], a = (VD)((VL)y0[g][i] & LM(MAGNITUDE)), b = (VD)((VL)y[g][i] & LM(MAGNITUDE)), r;
+            const VD a = (VD)((VL)y0[g][i] & LM(MAGNITUDE)), b = (VD)((VL)y[g][i] & LM(MAGNITUDE));
+            VD e = RK_E[0] * k[g][0][i], r;
 #pragma GCC unroll 8
             for (s = 1; s < STAGES; ++s)
                 e += RK_E[s] * k[g][s][i];
