@@ -113,7 +113,7 @@ def test_lanes_do_not_depend_on_the_width_or_the_cut(monkeypatch, cases):
     (ROCKING_LANES_ISA), in one batch or in chunks on threads."""
     cases = cases()
     widths = {}
-    for isa in ("sse2", "avx2", ""):
+    for isa in ("sse2", "avx2", "avx512", ""):
         monkeypatch.setenv("ROCKING_LANES_ISA", isa)
         widths[cb.lanes(cases.model)] = cb.simulate_cases(cases, threads=1)
     assert 2 in widths

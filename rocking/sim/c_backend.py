@@ -503,9 +503,9 @@ def _records(cases: Cases) -> np.ndarray:
 
 
 def lanes(model: str | Model = "omd") -> int:
-    """The doubles per vector the batch of ``model`` runs its lanes with now: 8 (AVX-512F), 4 (AVX2), 2 (SSE2),
-    or 0 when it runs scalar (``ROCKING_LANES=0``, a machine other than x86-64, a model whose rocking
-    accelerations the lanes cannot evaluate); ``ROCKING_LANES_ISA=sse2`` or ``avx2`` caps the width
+    """The doubles per vector the batch of ``model`` runs its lanes with now: 4 (AVX2), 2 (SSE2), 8 (AVX-512F, on
+    request), or 0 when it runs scalar (``ROCKING_LANES=0``, a machine other than x86-64, a model whose rocking
+    accelerations the lanes cannot evaluate); ``ROCKING_LANES_ISA=sse2`` caps the width, ``avx512`` allows 8
     (rocking/sim/csrc/lanes.h)."""
     return int(library(model).lib.rocking_lanes())
 

@@ -19,8 +19,9 @@
  *   - the model's rocking accelerations are not straight-line arithmetic with sin and cos alone
  *     (rocking/sim/lanes_rhs.py; e.g. a Hunt-Crossley pad's pow);
  *   - the stacks of the coroutines cannot be allocated.
- * The width follows the CPU (AVX-512F: 8 doubles per vector, AVX2: 4, else SSE2: 2), capped by the
- * environment variable ROCKING_LANES_ISA = "sse2", "avx2" or "avx512" (to measure a narrower machine).
+ * The width follows the CPU: AVX2's 4 doubles per vector, else SSE2's 2; the environment variable
+ * ROCKING_LANES_ISA = "sse2" caps it (to measure a narrower machine), "avx512" allows AVX-512F's 8 (lanes.c's
+ * lanes_width says why they are not the default).
  */
 #ifndef ROCKING_LANES_H
 #define ROCKING_LANES_H
