@@ -20,6 +20,7 @@ motion (``Equations.vertical``).
 
 from __future__ import annotations
 
+from collections.abc import Sequence
 from dataclasses import dataclass
 
 import sympy as sp
@@ -142,13 +143,13 @@ class Equations:
     uplift_energy: sp.Expr
     least_potential: sp.Expr
     least_stroke_potential: sp.Expr
-    stop_gaps: list = ()
-    stop_forces: list = ()
-    stop_contact: list = ()
-    block_accelerations: list = ()
-    base_reaction: list = ()
-    element_forces: list = ()
-    stop_regime: list = ()
+    stop_gaps: Sequence = ()
+    stop_forces: Sequence = ()
+    stop_contact: Sequence = ()
+    block_accelerations: Sequence = ()
+    base_reaction: Sequence = ()
+    element_forces: Sequence = ()
+    stop_regime: Sequence = ()
     stop_memory: tuple = ()
     stop_approach: tuple = ()
     vertical: bool = True
@@ -379,7 +380,7 @@ def _least_uplift_energy(E, u, z):
 
 def _stop_regions(sysm: System) -> list[dict]:
     """Every assignment of the stops' indicators with at most one side of each stop acting, all off first."""
-    regions = [{}]
+    regions: list[dict] = [{}]
     for on, _, _, _, stop, _ in sysm.stops:
         sides = [o for o, _, _, _, j, _ in sysm.stops if j == stop]
         regions = [{**r, on: 0} for r in regions] + [{**r, on: 1} for r in regions if not any(r.get(o) for o in sides)]

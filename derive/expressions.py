@@ -110,7 +110,8 @@ def _parse_tree(text: str, where: str) -> ast.expr:
         reason = getattr(exc, "msg", None) or type(exc).__name__
         raise SpecError(f"{where}: cannot parse {quote(text)} ({reason})") from None
     # Depth and size by an explicit stack: the tree of a hostile text must not overflow Python's.
-    stack, nodes = [(tree, 1)], 0
+    stack: list[tuple[ast.AST, int]] = [(tree, 1)]
+    nodes = 0
     while stack:
         node, depth = stack.pop()
         nodes += 1

@@ -187,6 +187,7 @@ def check_model_name(name) -> str:
     if not (isinstance(name, str) and name.isascii() and len(name) <= MAX_NAME and NAME_PATTERN.fullmatch(name)):
         raise SpecError(f"spec: name must be an identifier, got {quote(name)} (use {NAME_RULE})")
     lower = name.lower()
+    reason: str | None
     if name in FILE_NAMES or lower in {n.lower() for n in FILE_NAMES}:
         reason = "a module or file name the generated folder or the simulator's compilation would confuse it with"
     elif lower in RUNTIME_C_PREFIXES or lower.startswith(("rocking", "model")):

@@ -20,6 +20,7 @@ free text are held to the rules of :mod:`rocking.derive.names`.
 
 from __future__ import annotations
 
+import sys
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -29,9 +30,9 @@ from .cost import check_spec_cost
 from .expressions import parse_expression
 from .names import NAME_PATTERN, SpecError, check_model_name, check_symbol, check_text, quote
 
-try:
+if sys.version_info >= (3, 11):
     import tomllib
-except ModuleNotFoundError:  # Python 3.10: the same parser, from PyPI
+else:  # Python 3.10: the same parser, from PyPI
     import tomli as tomllib
 
 #: Parameters of the rocking block, shared by every model, in argument order.
@@ -235,7 +236,7 @@ def _derived_names(coords: tuple) -> dict[str, str]:
     dict
         Each derived name, with what it is (for messages).
     """
-    derived = {}
+    derived: dict[str, str] = {}
     for q in ("theta",) + tuple(coords):
         for name, what in ((f"d{q}", "velocity"), (f"dd{q}", "acceleration"), (f"d{q}_plus", "velocity after impact")):
             derived.setdefault(name, f"the {what} of coordinate {q!r}")

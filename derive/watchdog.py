@@ -27,6 +27,7 @@ import signal
 import sys
 import time
 from dataclasses import dataclass
+from typing import Protocol
 
 try:  # POSIX only; without it the limit is the clock's
     import resource
@@ -51,6 +52,14 @@ WALL_FACTOR = 10.0
 CPU_EXIT = 152
 
 
+class TextStream(Protocol):
+    """What :class:`StageLog` prints to: any object with ``write`` and ``flush``, as :func:`print` needs."""
+
+    def write(self, text: str, /) -> object: ...
+
+    def flush(self) -> object: ...
+
+
 class DerivationFailed(SpecError):
     """The derivation of a spec that passed every check ran past a stage's time limit, or its process failed."""
 
@@ -71,7 +80,7 @@ class StageLog:
 
     model: str
     verbose: bool = False
-    stream: object = None
+    stream: TextStream | None = None
 
     def _print(self, text: str) -> None:
         print(f"derive {self.model}: {text}", file=self.stream or sys.stderr, flush=True)

@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "1c17a61dd8dfa4d90c07b71f9711580a02686cd5f035e5013e8a0b26c71f1299",
-    "omd": "f53302ee68262648ba09f423c49f1cc8802f0b0af897a31721d5cb32bd1ff635",
-    "omd2": "f78855e72883209c75f57771143cb6367478427d56f9f55c507e6ad260d57cfd",
-    "omd_stops": "54ea31c93b3cb283b6f56031dd6a7c3202b8659ef1ad35f06a32b58ea2c10c89",
-    "omd_stops_hc": "ef875a122e5e74fe9843a82a1b7582d00c834e13db4c6eb60508cfd4d547f806",
-    "pendulum": "b18a99a85a450d5361aa55f8e7cba276a5a7008cecb0b65a9e9189bf10998340",
+    "block": "82b3f6b4067b7f71b4128a6ba96643e2aa46a5f7cfd47e4da689efc415bb0602",
+    "omd": "51780a1c24ecbe8d5f72c867a723a6d86e6d460e5dfc0272143abea75169ff9b",
+    "omd2": "117788f7114eea41b435361110db16c781501ed23cbb93c32ba41990263cc831",
+    "omd_stops": "b309a28048cd4b696886077358a573238319c42efa4ed90a79e22efad0d86665",
+    "omd_stops_hc": "c27efd115a3b75916488aa92b1f2235129e3e8d96a183a822f93b53c30b8a1a9",
+    "pendulum": "0f803bfff47ad4c3671f303bee891d46cabb0764034616f9cb0602fda94ad6f9",
 }

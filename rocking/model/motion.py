@@ -21,6 +21,7 @@ from __future__ import annotations
 import math
 from collections.abc import Callable
 from dataclasses import dataclass, field, replace
+from typing import TypedDict
 
 import numpy as np
 from numpy.typing import ArrayLike
@@ -263,11 +264,15 @@ class _Analytic:
     follow from them (:func:`timing`).
     """
 
-    family: str = ""
     a_g: float
     omega_g: float
     sign: int
     vertical: Vertical | None
+
+    @property
+    def family(self) -> str:
+        """The family's name, a key of :data:`SHAPES` (each subclass gives its own)."""
+        raise NotImplementedError
 
     def _check(self) -> None:
         check_sign(self.sign)
@@ -319,7 +324,7 @@ class _Analytic:
         return self.omega_g / block.p
 
     @classmethod
-    def from_nondim(cls, block: Block, *, beta: float, Omega: float, **shape):
+    def from_nondim(cls: Callable[..., _Analytic], block: Block, *, beta: float, Omega: float, **shape):
         """The motion scaled to ``block``: ``a_g = beta g tan(alpha)``, ``omega_g = Omega p``.
 
         Parameters
@@ -615,9 +620,15 @@ class SampledMotion:
         return int(self.a.size)
 
     @property
+    def _dt(self) -> float:
+        """The sample spacing ``dt``, s, typed as what it is once built."""
+        assert self.dt is not None  # __post_init__ stores it, from t when dt was not given
+        return self.dt
+
+    @property
     def t_p(self) -> float:
         """End of the record, ``(n - 1) dt``, s."""
-        return (self.n - 1) * self.dt
+        return (self.n - 1) * self._dt
 
     @property
     def pga(self) -> float:
@@ -640,8 +651,8 @@ class SampledMotion:
     def acceleration(self, t: ArrayLike) -> float | np.ndarray:
         """Ground acceleration ``sign scale a(t)`` on ``[0, t_p]``, 0 outside, m/s^2 (float for a scalar ``t``)."""
         t = np.asarray(t, dtype=float)
-        k = sample_piece(t, self.dt, self.n)
-        acc = np.where((t >= 0.0) & (t <= self.t_p), self.sign * self.scale * interpolate(self.a, self.dt, k, t), 0.0)
+        k = sample_piece(t, self._dt, self.n)
+        acc = np.where((t >= 0.0) & (t <= self.t_p), self.sign * self.scale * interpolate(self.a, self._dt, k, t), 0.0)
         return float(acc) if acc.ndim == 0 else acc
 
 
@@ -718,6 +729,16 @@ class Description:
     v_samples: np.ndarray | None = None
 
 
+class _Shared(TypedDict, total=False):
+    """The fields of a :class:`Description` that a one-sine pulse and the other analytic pulses share."""
+
+    omega_g: float
+    t_p: float
+    T_g: float
+    a_v: float
+    phase_v: float
+
+
 def family_of(motion: object) -> str:
     """The family of ``motion`` if its exact type is registered, else a one-line :class:`ParameterError`."""
     family = REGISTRY.get(type(motion))
@@ -744,14 +765,14 @@ def describe(motion: object) -> Description:
             motion.sign * motion.scale,
             t_p=motion.t_p,
             samples=motion.a,
-            dt=motion.dt,
+            dt=motion._dt,
             a_v=0.0 if motion.a_v is None else motion.scale,
             v_samples=motion.a_v,
         )
     assert isinstance(motion, (OneSinePulse, _Analytic))  # family_of admits the registered types only
-    common = {"omega_g": motion.omega_g, "t_p": motion.t_p, "T_g": 2 * math.pi / motion.omega_g}
+    common: _Shared = {"omega_g": motion.omega_g, "t_p": motion.t_p, "T_g": 2 * math.pi / motion.omega_g}
     if motion.vertical is not None:  # unsigned by the direction (docs/model.md section 14)
-        common.update(a_v=motion.vertical.ratio * motion.a_g, phase_v=motion.vertical.phase)
+        common["a_v"], common["phase_v"] = motion.vertical.ratio * motion.a_g, motion.vertical.phase
     if isinstance(motion, OneSinePulse):
         return Description("sine", motion.sign * motion.a_g, phase=motion.psi, **common)
     extrema = listed_extrema(motion.family, motion.shape_parameter, motion.phase)

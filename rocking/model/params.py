@@ -193,6 +193,7 @@ class Block:
         it is kept as the reference inertia of the non-dimensional presentation, not
         the pivot inertia ``I_s`` of the equations of motion.
         """
+        assert self.I_G is not None  # __post_init__ stores the homogeneous value in place of None
         return self.I_G + self.M * self.R**2
 
     @cached_property
@@ -211,6 +212,7 @@ class Block:
         dict
             Keys ``"M"``, ``"I_G"``, ``"B"``, ``"H"``, ``"e"``, ``"g"``.
         """
+        assert self.I_G is not None  # __post_init__ stores the homogeneous value in place of None
         return {
             "M": self.M,
             "I_G": self.I_G,

@@ -509,13 +509,14 @@ def _agreed_unit(path, given: str | None, stated: str | None, number: int | None
             f"the header states accelerations in {stated} but the unit given is {given}: correct one of them",
             number,
         )
-    if given is None and stated is None:
+    unit = given if given is not None else stated
+    if unit is None:
         raise _fail(
             path,
             f"give the unit of the accelerations ({', '.join(UNITS)}): the file does not state it "
             "(a header such as 'time [s], a [g]' would)",
         )
-    return given or stated
+    return unit
 
 
 def _is_header(cells: list[str]) -> bool:
@@ -577,6 +578,7 @@ def _column_rows(path, lines, unit: str | None, time_column: bool) -> tuple[arra
             continue
         if not where:  # the first row: the unit is settled before any value is read
             unit = _agreed_unit(path, unit, stated, header_line)
+        assert unit is not None  # agreed at the first row
         cells, values = _row(path, text, number, 2 if time_column else 1)
         accelerations.extend(_acceleration(path, cells[-1:], values[-1:], UNITS[unit], unit, number))
         if time_column:
@@ -671,6 +673,7 @@ def read_columns(path, unit: str | None = None, *, dt: float | None = None, time
         raise _fail(path, f"a record needs at least 2 samples (got {len(where)})")
     if time_column:
         dt = _checked_step(path, "the time step", uniform_step(np.frombuffer(times), path, where), where[-1])
+    assert dt is not None and unit is not None  # dt given or read from the times; unit agreed at the first row
     _checked_length(path, len(where), dt, where[-1])
     return _plausible(Record(np.frombuffer(accelerations) * UNITS[unit], float(dt), str(path)), unit)
 

@@ -133,6 +133,7 @@ class SiteModel:
     @property
     def times(self) -> np.ndarray:
         """The sample times ``t_k = k dt``, s, up to ``duration``."""
+        assert self.duration is not None  # __post_init__ stores the default in place of None
         return np.arange(int(round(self.duration / self.dt)) + 1) * self.dt
 
     def record(self) -> dict:

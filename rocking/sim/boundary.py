@@ -82,6 +82,10 @@ class Field:
     default: object = _REQUIRED
     count: str | None = None
 
+    def __post_init__(self) -> None:
+        if (self.kind == SERIES) != (self.count is not None):  # what a Problem's checks of the series rely on
+            raise ValueError(f"field {self.name!r}: a SERIES has a count, no other field has one")
+
     @property
     def required(self) -> bool:
         return self.default is _REQUIRED
@@ -462,7 +466,7 @@ def valid_text(valid: str) -> str:
     return valid if valid in CODES else RANGES[valid].rule()
 
 
-def _shown(value: float) -> str:
+def _shown(value: float | np.integer | np.ndarray) -> str:
     if isinstance(value, (int, np.integer)):
         return shown(value)  # exactly, or by its magnitude beyond the doubles
     value = float(value)
@@ -606,7 +610,8 @@ def python_fields() -> str:
 
 def constant_values() -> tuple[float, ...]:
     """What ``rocking_constants`` of the C library must report, in its order."""
-    return tuple(float(c.value) for c in (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES, *MOTIONS))
+    named: tuple[Constant | Code, ...] = (*CONSTANTS, *STATUSES, FAILED, STOPPED, *PHASES, *MOTIONS)
+    return tuple(float(c.value) for c in named)
 
 
 def _md_rows(fields: tuple[Field, ...], with_valid: bool) -> list[str]:

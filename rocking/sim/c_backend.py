@@ -109,7 +109,8 @@ class _Control(ctypes.Structure):
 def _layout(structure, dtype: np.dtype, fields) -> list[int]:
     """Offsets of ``fields`` then the size, as ctypes lays ``structure`` out; the NumPy record must agree."""
     offsets = [getattr(structure, f.name).offset for f in fields] + [ctypes.sizeof(structure)]
-    assert offsets == [dtype.fields[f.name][1] for f in fields] + [dtype.itemsize]
+    record = dtype.fields  # None only for a dtype that is no record
+    assert record is not None and offsets == [record[f.name][1] for f in fields] + [dtype.itemsize]
     return offsets
 
 
@@ -327,7 +328,7 @@ def _address(values, keep: list) -> int | None:
     return array.__array_interface__["data"][0]
 
 
-def _case(settings: dict, keep: list) -> _Case:
+def _case(settings: dict, keep: list) -> ctypes.Structure:
     """``settings`` (every field of :data:`~rocking.sim.boundary.CASE` by name) as a ``rocking_case``.
 
     Its arrays stay owned by ``settings`` or by ``keep``, which the caller holds during the run.
@@ -424,7 +425,7 @@ def simulate_settings(model: Model, p, settings: dict, record: bool = False) -> 
     return Response.from_record(
         result,
         _history_arrays(buffers, n, model.state, math.isfinite(settings["mu_s"]), bool(model.manifest.get("flight")))
-        if record
+        if buffers is not None  # exactly when record
         else None,
     )
 

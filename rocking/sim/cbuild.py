@@ -89,7 +89,7 @@ from types import SimpleNamespace
 try:  # POSIX only; without it concurrent processes are still safe, only duplicated.
     import fcntl
 except ImportError:  # pragma: no cover - Windows
-    fcntl = None
+    fcntl = None  # type: ignore[assignment]  # typeshed's module is always there; None marks its absence
 
 __all__ = [
     "CFLAGS",

@@ -15,8 +15,9 @@ import inspect
 import math
 import numbers
 import os
-from collections.abc import Mapping
+from collections.abc import Callable, Mapping
 from dataclasses import dataclass, field
+from typing import Any
 
 import numpy as np
 
@@ -162,7 +163,7 @@ def check_motion(family: str, n_samples, pulse_dt, n_extrema) -> None:
 
 #: The number settings of a Problem with their Python types, and the series with the field that counts them.
 _SCALAR_SETTINGS = tuple((f.name, python_type(f)) for f in CASE if f.kind not in (DOUBLES, SERIES))
-_SERIES_SETTINGS = tuple((f.name, f.count) for f in CASE if f.kind == SERIES)
+_SERIES_SETTINGS = tuple((f.name, f.count) for f in CASE if f.count is not None)  # a SERIES has a count (Field)
 
 
 def ground_shape(problem: Problem, t):
@@ -170,6 +171,7 @@ def ground_shape(problem: Problem, t):
     family = FAMILIES[problem.motion]
     if family == "sampled":
         dt, samples = problem.pulse_dt, problem.samples
+        assert samples is not None  # a sampled Problem holds its samples (check_motion, _series)
         return interpolate(samples, dt, sample_piece(t, dt, problem.n_samples), t)
     return SHAPES[family](t, problem.omega_g, problem.psi, problem.t_c, problem.shape, np)
 
@@ -234,7 +236,7 @@ class Problem(ProblemFields):
 
 
 #: Each result's name and the function from its C number to its Python value, in the order of RESULT.
-_RESULT_VALUES = tuple(
+_RESULT_VALUES: tuple[tuple[str, Callable[[Any], Any]], ...] = tuple(
     (f.name, (lambda code: STATUS[int(code)]) if f.name == "status" else python_type(f)) for f in RESULT
 )
 
@@ -267,7 +269,7 @@ class Response(ResponseFields):
     def from_record(cls, record, history: dict | None = None) -> Response:
         """A response from a C ``rocking_result`` (or a row of a NumPy record array) and a history."""
         get = record.__getitem__ if isinstance(record, np.void) else record.__getattribute__
-        return cls(*[value(get(name)) for name, value in _RESULT_VALUES], history=history)
+        return cls(**{name: value(get(name)) for name, value in _RESULT_VALUES}, history=history)
 
     def summary(self) -> dict:
         """The scalar results as a plain dict (JSON-ready; NaN times as ``None``, a zero as 0.0, never -0.0)."""
@@ -398,6 +400,7 @@ def default_settings(block: Block, T_g, T_m, rtol: float, nq: int) -> dict:
     """
     alpha, p = block.alpha, block.p
     scale = [alpha] * nq + [alpha * p] * nq
+    atol: list[float] | np.ndarray
     if type(T_g) is float and type(T_m) is float:  # one run: the same numbers without NumPy's cost per call
         shortest, atol = min(T_g, 2 * math.pi / p, T_m), [rtol * x for x in scale]
     else:
@@ -454,8 +457,10 @@ def _damper_mapping(damper: object) -> dict | None:
         return None
     if isinstance(damper, Damper):
         return damper.as_params()
-    if not isinstance(damper, Mapping) and callable(getattr(damper, "as_params", None)):
-        damper = damper.as_params()
+    if not isinstance(damper, Mapping):
+        as_params = getattr(damper, "as_params", None)
+        if callable(as_params):
+            damper = as_params()
     if not isinstance(damper, Mapping):
         raise ParameterError(
             f"damper must be a rocking.Damper, a mapping of the model's own parameters by name, or None "
@@ -490,7 +495,7 @@ def own_parameters(model: Model, values: Mapping, block: Block, damper: Damper |
         return {k: values[k] for k in own}
     checked = {k: check_real(k, values[k]) for k in own}
     if set(own) == set(DAMPER_PARAMETERS):
-        Damper(**checked).check_on(block)
+        Damper(**checked, stops=None).check_on(block)
         return checked
     if set(own) == set(DAMPER_PARAMETERS + STOP_PARAMETERS):
         stops = Stops(checked["L"], checked["k_b"], checked["c_b"])
@@ -724,7 +729,7 @@ def make_problem(
         "floor": floor,
     }
     model, p, settings = resolve(block, damper, pulse, options)
-    return Problem(model=model, p=p, **settings)
+    return Problem(model=model, p=np.asarray(p, dtype=float), **settings)
 
 
 def _check_phase0(value: object) -> int:
@@ -746,7 +751,7 @@ OPTIONS = {
     for name, parameter in inspect.signature(make_problem).parameters.items()
     if parameter.kind is inspect.Parameter.KEYWORD_ONLY
 }
-_OPTION_CHECKS = {
+_OPTION_CHECKS: dict[str, Callable[[Any], object]] = {
     "rtol": _check_rtol,
     "dtheta_rest": functools.partial(_optional_real, "dtheta_rest"),
     "energy_rest": functools.partial(_optional_real, "energy_rest"),
