@@ -822,7 +822,7 @@ class _System:
 PEAK_SAMPLES = np.linspace(0.0, 1.0, 3)
 #: Where it is looked at too when the peak is searched for on a Kelvin-Voigt pad's quartic.
 PEAK_QUARTERS = (0.25, 0.75)
-#: A Hunt-Crossley pad's golden-section search for that peak stops at this width, in fractions of the step.
+#: A Hunt-Crossley pad's search for that peak narrows its bracket to this width, in fractions of the step.
 PEAK_WIDTH = 1e-5
 #: The Newton iteration for the crest of a Kelvin-Voigt pad's quartic stops at this width, in fractions of the step.
 PEAK_ROOT_WIDTH = 1e-9
@@ -834,8 +834,8 @@ def step_peak(force: Callable[[float], float], samples: np.ndarray, quartic: boo
     The largest sample, or at an end of the step the end itself where the parabola through it and its two
     neighbours still climbs there; otherwise, with ``quartic`` (every pad Kelvin-Voigt: the force
     ``k_b delta + c_b ddelta`` is affine in the state and the dense output a quartic in ``x``, so the force is the
-    quartic through the ends, :data:`PEAK_QUARTERS` and the middle), the force at :func:`quartic_peak`; else the
-    golden-section search between the largest sample's neighbours (sim.c's ``step_peak``, the same operations).
+    quartic through the ends, :data:`PEAK_QUARTERS` and the middle), the force at :func:`quartic_peak`; else
+    :func:`peak_search` between the largest sample's neighbours (sim.c's ``step_peak``, the same operations).
     """
     k = int(np.argmax(samples))
     n = len(samples) - 1
@@ -849,20 +849,74 @@ def step_peak(force: Callable[[float], float], samples: np.ndarray, quartic: boo
         x = quartic_peak((float(samples[0]), quarter, float(samples[1]), three, float(samples[2])))
         best = max(best, quarter, three)
         return max(best, force(x)) if 0.0 < x < 1.0 else best
-    a, b = float(PEAK_SAMPLES[max(k - 1, 0)]), float(PEAK_SAMPLES[min(k + 1, n)])
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = force(c), force(d)
-    while b - a > PEAK_WIDTH:
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = force(c)
+    if k == 1:  # the middle, best of three: the ends bracket it and give the first parabola
+        ends = ((0.0, float(samples[0])), (1.0, float(samples[2])))
+        (w, fw), (v, fv) = ends if samples[0] > samples[2] else ends[::-1]
+        return max(best, peak_search(force, 0.0, 1.0, (0.5, best), (w, fw), (v, fv)))
+    return max(best, peak_search(force, 0.0 if k == 0 else 0.5, 0.5 if k == 0 else 1.0))
+
+
+def peak_search(
+    force: Callable[[float], float],
+    a: float,
+    b: float,
+    *known: tuple[float, float],
+) -> float:
+    """The largest ``force(x)`` over ``[a, b]``, which brackets a crest: Brent's search for a minimum (Brent 1973,
+    "localmin") on the force's negative, a parabola through the three best points where it falls well inside the
+    bracket, else a golden section of its larger part, until the bracket is :data:`PEAK_WIDTH` wide about the best
+    point. ``known``: none (a golden point is read first), or the best point in ``(a, b)`` and two others (the
+    bracket's ends), each ``(x, force(x))`` (sim.c's ``peak_search``, the same operations).
+    """
+    golden, tol = 0.5 * (3.0 - math.sqrt(5.0)), 0.25 * PEAK_WIDTH
+    if known:
+        (x, fx), (w, fw), (v, fv) = known
+        d = e = b - a  # the known points' parabola is tried at once
+    else:
+        x = w = v = a + golden * (b - a)
+        fx = fw = fv = force(x)
+        d = e = 0.0
+    for _ in range(100):
+        m = 0.5 * (a + b)
+        if abs(x - m) <= 2.0 * tol - 0.5 * (b - a):
+            break
+        if abs(e) > tol:  # the parabola's vertex u = x + p / q through (x, -fx), (w, -fw), (v, -fv)
+            s = (x - w) * (fv - fx)
+            q = (x - v) * (fw - fx)
+            p = (x - v) * q - (x - w) * s
+            q = 2.0 * (q - s)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            s, e = e, d
+            if abs(p) >= abs(0.5 * q * s) or p <= q * (a - x) or p >= q * (b - x):
+                e = a - x if x >= m else b - x
+                d = golden * e
+            else:
+                d = p / q
+                if (x + d) - a < 2.0 * tol or b - (x + d) < 2.0 * tol:
+                    d = tol if m > x else -tol
         else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = force(d)
-    return max(best, fc, fd)
+            e = a - x if x >= m else b - x
+            d = golden * e
+        u = x + d if abs(d) >= tol else x + (tol if d >= 0.0 else -tol)
+        fu = force(u)
+        if fu >= fx:
+            if u >= x:
+                a = x
+            else:
+                b = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu >= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu >= fv or v == x or v == w:
+                v, fv = u, fu
+    return fx
 
 
 def _quartic_slope(c: tuple[float, ...], s: float, second: bool = False) -> float:

@@ -2116,8 +2116,8 @@ static double bumper_force_in_step(run *r, double t_end, double x)
 
 /* Where a step's dense output is looked at for the peak of a bumper's force: its ends and middle, then where the
  * peak is searched for its quarters too (numpy_backend.PEAK_SAMPLES, PEAK_QUARTERS). A Hunt-Crossley pad's
- * golden-section search for it stops at PEAK_WIDTH of the step, the Newton iteration on a Kelvin-Voigt pad's
- * quartic at PEAK_ROOT_WIDTH (numpy_backend.step_peak). */
+ * search for it narrows its bracket to PEAK_WIDTH of the step, the Newton iteration on a Kelvin-Voigt pad's
+ * quartic stops at PEAK_ROOT_WIDTH (numpy_backend.step_peak). */
 #define PEAK_POINTS 3
 #define PEAK_WIDTH 1e-5
 #define PEAK_ROOT_WIDTH 1e-9
@@ -2201,13 +2201,82 @@ static double quartic_peak(const double *f)
 }
 #endif
 
+#if MODEL_NREGIME > MODEL_NSTOPS
+/* The largest bumper force on the last step's dense output up to t_end over the step fractions [a, b], which
+ * bracket a crest: Brent's search for a minimum (Brent 1973, "localmin") on the force's negative, a parabola
+ * through the three best points where it falls well inside the bracket, else a golden section of its larger
+ * part, until the bracket is PEAK_WIDTH wide about the best point. x, w, v (in (a, b), or x < 0: a golden
+ * point is read and w, v are x) with their forces fx, fw, fv: the best point and two others known (the
+ * bracket's ends). The same operations as numpy_backend.peak_search. */
+static double peak_search(run *r, double t_end, double a, double b, double x, double fx, double w, double fw, double v,
+                          double fv)
+{
+    const double golden = 0.5 * (3.0 - sqrt(5.0)), tol = 0.25 * PEAK_WIDTH;
+    double d = 0.0, e = 0.0, u, fu, m, p, q, s;
+    int i;
+    if (x < 0.0) {
+        x = w = v = a + golden * (b - a);
+        fx = fw = fv = bumper_force_in_step(r, t_end, x);
+    } else {
+        d = e = b - a; /* the known points' parabola is tried at once */
+    }
+    for (i = 0; i < 100; ++i) {
+        m = 0.5 * (a + b);
+        if (fabs(x - m) <= 2.0 * tol - 0.5 * (b - a))
+            break;
+        if (fabs(e) > tol) { /* the parabola's vertex u = x + p / q through (x, -fx), (w, -fw), (v, -fv) */
+            s = (x - w) * (fv - fx);
+            q = (x - v) * (fw - fx);
+            p = (x - v) * q - (x - w) * s;
+            q = 2.0 * (q - s);
+            if (q > 0.0)
+                p = -p;
+            q = fabs(q);
+            s = e;
+            e = d;
+            if (fabs(p) >= fabs(0.5 * q * s) || p <= q * (a - x) || p >= q * (b - x)) {
+                e = x >= m ? a - x : b - x;
+                d = golden * e;
+            } else {
+                d = p / q;
+                if ((x + d) - a < 2.0 * tol || b - (x + d) < 2.0 * tol)
+                    d = m > x ? tol : -tol;
+            }
+        } else {
+            e = x >= m ? a - x : b - x;
+            d = golden * e;
+        }
+        u = fabs(d) >= tol ? x + d : x + (d >= 0.0 ? tol : -tol);
+        fu = bumper_force_in_step(r, t_end, u);
+        if (fu >= fx) {
+            if (u >= x)
+                a = x;
+            else
+                b = x;
+            v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+        } else {
+            if (u < x)
+                a = u;
+            else
+                b = u;
+            if (fu >= fw || w == x) {
+                v = w, fv = fw, w = u, fw = fu;
+            } else if (fu >= fv || v == x || v == w) {
+                v = u, fv = fu;
+            }
+        }
+    }
+    return fx;
+}
+#endif
+
 /* While a pad pushes, the peak of the bumpers' force over the last step up to t_end (rule 6): the dense
  * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
  * its two neighbours still climbs there; otherwise, where every pad is Kelvin-Voigt, at the largest point of
  * the quartic through the step's ends, quarters and middle (the force k_b delta + c_b ddelta is affine in the
- * state, the dense output a quartic in the step's fraction: the quartic is the force), else the
- * golden-section search between the largest sample's neighbours. The same operations as
+ * state, the dense output a quartic in the step's fraction: the quartic is the force), else peak_search
+ * between the largest sample's neighbours. The same operations as
  * numpy_backend.step_peak. bumper_at_start: the force at the step's start (the last step's end, or the
  * segment's start: the same state in every component). Returns the force at y_end. */
 static double step_peak(run *r, double bumper_at_start, double t_end, const double *y_end)
@@ -2244,26 +2313,12 @@ static double step_peak(run *r, double bumper_at_start, double t_end, const doub
         r->res->bumper_force_max = best;
     }
 #else
-    {
-        const double g = 0.5 * (sqrt(5.0) - 1.0);
-        double a = (double)(k > 0 ? k - 1 : 0) / n, b = (double)(k < n ? k + 1 : n) / n, c, d, fc, fd;
-        c = b - g * (b - a);
-        d = a + g * (b - a);
-        fc = bumper_force_in_step(r, t_end, c);
-        fd = bumper_force_in_step(r, t_end, d);
-        while (b - a > PEAK_WIDTH) {
-            if (fc > fd) {
-                b = d, d = c, fd = fc;
-                c = b - g * (b - a);
-                fc = bumper_force_in_step(r, t_end, c);
-            } else {
-                a = c, c = d, fc = fd;
-                d = a + g * (b - a);
-                fd = bumper_force_in_step(r, t_end, d);
-            }
-        }
-        r->res->bumper_force_max = max2(r->res->bumper_force_max, max2(fc, fd));
-    }
+    if (k == 1) /* the middle, best of three: the ends bracket it and give the first parabola */
+        best = peak_search(r, t_end, 0.0, 1.0, 0.5, f[1], f[0] > f[2] ? 0.0 : 1.0, max2(f[0], f[2]),
+                           f[0] > f[2] ? 1.0 : 0.0, f[0] > f[2] ? f[2] : f[0]);
+    else
+        best = peak_search(r, t_end, k == 0 ? 0.0 : 0.5, k == 0 ? 0.5 : 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    r->res->bumper_force_max = max2(r->res->bumper_force_max, best);
 #endif
     return f[n];
 }
