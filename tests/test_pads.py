@@ -17,6 +17,7 @@ import numpy as np
 import pytest
 
 import rocking
+from rocking.generated import BUILTIN_MANIFESTS
 from rocking.sim import numpy_backend
 from rocking.sim.history import quantities
 from rocking.sim.pad_memory import memory
@@ -184,6 +185,37 @@ def test_step_peak_finds_the_crest_of_a_step(name, quartic):
         assert found == pytest.approx(peak, rel=1e-14, abs=0.0) and len(calls) <= 3
     else:
         assert peak - found <= curvature * numpy_backend.PEAK_WIDTH**2 / 2 and len(calls) <= 12
+
+
+@pytest.mark.parametrize("name", [n for n in BUILTIN_MANIFESTS if rocking.load_model(n).manifest.get("stops")])
+def test_a_kelvin_voigt_pads_force_is_affine_in_the_state(name):
+    """step_peak takes a Kelvin-Voigt pad's force over a step for the quartic through five of its values (sim.c and
+    numpy_backend, where every pad is Kelvin-Voigt): that holds while the force is affine in the state. Along
+    random chords of states where the first pad pushes (delta > 0 and k_b delta + c_b ddelta > 0, a convex set),
+    the force of each built-in model with such pads is linear to rounding; a Hunt-Crossley pad's is not."""
+    model = rocking.load_model(name)
+    kelvin_voigt = all(side["law"] == "kelvin-voigt" for side in model.manifest["stops"])
+    damper = rocking.Damper.from_nondim(rocking.Block.reference(), gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
+    law = "kelvin-voigt" if kelvin_voigt else "hunt-crossley"
+    params = {**damper.as_params(), **rocking.Stops.at_edges(rocking.Block.reference(), damper, law=law).as_params()}
+    problem = make_problem(rocking.Block.reference(), params, rocking.OneSinePulse(a_g=1.0, omega_g=5.0), model=name)
+    memory = () if kelvin_voigt else (1.0,) * len(model.manifest["stops"])  # a Hunt-Crossley side's v_in [m/s]
+    rng = np.random.default_rng(3)
+    L = params["L"]
+    worst = 0.0
+    for _ in range(20):
+        # theta, x, dtheta, dx: the mass 1-20 mm into the pad, moving further in (the force > 0)
+        ends = [
+            np.array([*rng.uniform(-0.1, 0.1, 1), L + rng.uniform(1e-3, 0.02), *rng.uniform(0, 2, 2)]) for _ in "ab"
+        ]
+        fractions = (0.0, 0.3, 1.0)
+        states = np.array([ends[0] + f * (ends[1] - ends[0]) for f in fractions]).T
+        on = (1.0, 0.0) + memory
+        forces = model.functions.stop_forces(1.0, *states, 0.0, 0.0, *problem.p, stop_on=on)[0]
+        assert np.all(np.asarray(forces) > 0.0)
+        line = forces[0] + fractions[1] * (forces[2] - forces[0])
+        worst = max(worst, abs(forces[1] - line) / forces[1])
+    assert worst < 1e-12 if kelvin_voigt else worst > 1e-6
 
 
 @pytest.mark.parametrize("backend", BACKENDS)
