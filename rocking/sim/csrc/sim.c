@@ -2122,7 +2122,14 @@ static double bumper_force_in_step(run *r, double t_end, double x)
 #define PEAK_WIDTH 1e-5
 #define PEAK_ROOT_WIDTH 1e-9
 
-#if MODEL_NREGIME == MODEL_NSTOPS
+/* Every pad Kelvin-Voigt (no Hunt-Crossley memory in the regime): the pads' force is affine in the state. */
+#if MODEL_NREGIME > MODEL_NSTOPS
+#define PADS_AFFINE 0
+#else
+#define PADS_AFFINE 1
+#endif
+
+#if PADS_AFFINE
 /* The derivative of the quartic c[0] + c[1] s + ... + c[4] s^4 at s (d = 1) or its second derivative (d = 2). */
 static double quartic_slope(const double *c, double s, int d)
 {
@@ -2201,7 +2208,7 @@ static double quartic_peak(const double *f)
 }
 #endif
 
-#if MODEL_NREGIME > MODEL_NSTOPS
+#if !PADS_AFFINE
 /* The largest bumper force on the last step's dense output up to t_end over the step fractions [a, b], which
  * bracket a crest: Brent's search for a minimum (Brent 1973, "localmin") on the force's negative, a parabola
  * through the three best points where it falls well inside the bracket, else a golden section of its larger
@@ -2300,7 +2307,7 @@ static double step_peak(run *r, double bumper_at_start, double t_end, const doub
         return f[n];
     if (k == 0 && -3.0 * f[0] + 4.0 * f[1] - f[2] < 0.0)
         return f[n];
-#if MODEL_NREGIME == MODEL_NSTOPS
+#if PADS_AFFINE
     {
         double q[5], x;
         q[0] = f[0], q[2] = f[1], q[4] = f[2];
