@@ -2,7 +2,8 @@
 
 The map of `make bench` (50 x 50, Omega and beta in [1, 10], the reference block, gamma = 0.05,
 omega_m = p, zeta = 0.05, h = 0.05 m, rtol = 1e-8), with the paper's unlimited guide (model omd)
-or with `Stops.at_edges` (model omd_stops). Prints the outcomes of both and, per response, the
+or with `Stops.at_edges` (model omd_stops; with ``--law hunt-crossley``, omd_stops_hc: Hunt-Crossley pads of
+the same restitution, outcomes and instructions only). Prints the outcomes of both and, per response, the
 instructions of the C library (load-independent) when run under callgrind: the scalar path's
 simulate_one, or every call into the library (the batch in lanes switches stacks, which hides
 simulate_one's calls from callgrind; callgrind runs no AVX-512)::
@@ -32,9 +33,9 @@ from rocking import Block, Damper, Stops
 from rocking.sim.cases import pulse_cases, run_cases
 
 
-def cases(kind: str, n: int, pick: np.ndarray | None = None):
+def cases(kind: str, n: int, pick: np.ndarray | None = None, law: str = "kelvin-voigt"):
     """The block and the map's cases of ``kind`` ("free" or "stops"), those of the mask ``pick`` over its
-    ``n * n`` cells (in the order of the results) if given."""
+    ``n * n`` cells (in the order of the results) if given; ``law``: the pads' (``Stops.at_edges``' defaults)."""
     block = Block.reference()
     damper = Damper.from_nondim(block, gamma=0.05, omega_ratio=1.0, zeta=0.05, h=0.05)
     Omega, beta = np.meshgrid(np.linspace(1, 10, n), np.linspace(1, 10, n), indexing="ij")
@@ -42,8 +43,9 @@ def cases(kind: str, n: int, pick: np.ndarray | None = None):
         Omega, beta = Omega.ravel()[pick], beta.ravel()[pick]
     params = damper.as_params()
     if kind == "stops":
-        params = {**params, **Stops.at_edges(block, damper).as_params()}
-    model = "omd_stops" if kind == "stops" else "omd"
+        params = {**params, **Stops.at_edges(block, damper, law=law).as_params()}
+    models = {"free": "omd", "kelvin-voigt": "omd_stops", "hunt-crossley": "omd_stops_hc"}
+    model = models[law if kind == "stops" else kind]
     return block, pulse_cases(block, Omega, beta, model=model, params=params, rtol=1e-8)
 
 
@@ -82,6 +84,9 @@ def main(argv=None) -> int:
     parser.add_argument("--time", action="store_true", help="the CPU time over the free map's, lanes on and off")
     parser.add_argument("--pairs", type=int, default=5, help="paired runs of --time (default 5)")
     parser.add_argument("--split", action="store_true", help="--time also over the cases without and with a contact")
+    parser.add_argument(
+        "--law", choices=["kelvin-voigt", "hunt-crossley"], default="kelvin-voigt", help="the pads' law (stops' map)"
+    )
     args = parser.parse_args(argv)
     if args.time:
         print_ratios(args.n, args.pairs)
@@ -90,7 +95,7 @@ def main(argv=None) -> int:
             print_ratios(args.n, args.pairs, ~touch, " where the mass reaches no pad")
             print_ratios(args.n, args.pairs, touch, " where it does")
         return 0
-    block, batch = cases(args.kind, args.n)
+    block, batch = cases(args.kind, args.n, law=args.law)
     start = time.perf_counter()
     res = run_cases(batch, "c", 1)
     seconds = time.perf_counter() - start

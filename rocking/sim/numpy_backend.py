@@ -774,7 +774,7 @@ class _System:
                 def force(x: float, t0: float = t0, step: float = step) -> float:
                     return self.bumper_force(sol.sol(t0 + x * step))
 
-                best = step_peak(force, row)
+                best = step_peak(force, row, quartic=not self.memory)
         return best
 
     def largest_bumper_force(self, states: np.ndarray) -> float:
@@ -820,16 +820,22 @@ class _System:
 
 #: Where a step's dense output is looked at for the peak of a bumper's force, in fractions of the step (rule 6).
 PEAK_SAMPLES = np.linspace(0.0, 1.0, 3)
-#: The golden-section search for that peak stops at this width, in fractions of the step.
+#: Where it is looked at too when the peak is searched for on a Kelvin-Voigt pad's quartic.
+PEAK_QUARTERS = (0.25, 0.75)
+#: A Hunt-Crossley pad's search for that peak narrows its bracket to this width, in fractions of the step.
 PEAK_WIDTH = 1e-5
+#: The Newton iteration for the crest of a Kelvin-Voigt pad's quartic stops at this width, in fractions of the step.
+PEAK_ROOT_WIDTH = 1e-9
 
 
-def step_peak(force: Callable[[float], float], samples: np.ndarray) -> float:
+def step_peak(force: Callable[[float], float], samples: np.ndarray, quartic: bool = False) -> float:
     """The largest ``force(x)`` over a step, ``x`` in ``[0, 1]``, from its values at :data:`PEAK_SAMPLES`.
 
     The largest sample, or at an end of the step the end itself where the parabola through it and its two
-    neighbours still climbs there; otherwise the golden-section search between the largest sample's
-    neighbours (sim.c's ``step_peak``, the same operations).
+    neighbours still climbs there; otherwise, with ``quartic`` (every pad Kelvin-Voigt: the force
+    ``k_b delta + c_b ddelta`` is affine in the state and the dense output a quartic in ``x``, so the force is the
+    quartic through the ends, :data:`PEAK_QUARTERS` and the middle), the force at :func:`quartic_peak`; else
+    :func:`peak_search` between the largest sample's neighbours (sim.c's ``step_peak``, the same operations).
     """
     k = int(np.argmax(samples))
     n = len(samples) - 1
@@ -838,20 +844,146 @@ def step_peak(force: Callable[[float], float], samples: np.ndarray) -> float:
         return best
     if k == 0 and -3.0 * samples[0] + 4.0 * samples[1] - samples[2] < 0.0:
         return best
-    a, b = float(PEAK_SAMPLES[max(k - 1, 0)]), float(PEAK_SAMPLES[min(k + 1, n)])
-    g = 0.5 * (math.sqrt(5.0) - 1.0)
-    c, d = b - g * (b - a), a + g * (b - a)
-    fc, fd = force(c), force(d)
-    while b - a > PEAK_WIDTH:
-        if fc > fd:
-            b, d, fd = d, c, fc
-            c = b - g * (b - a)
-            fc = force(c)
+    if quartic:
+        quarter, three = force(PEAK_QUARTERS[0]), force(PEAK_QUARTERS[1])
+        x = quartic_peak((float(samples[0]), quarter, float(samples[1]), three, float(samples[2])))
+        best = max(best, quarter, three)
+        return max(best, force(x)) if 0.0 < x < 1.0 else best
+    if k == 1:  # the middle, best of three: the ends bracket it and give the first parabola
+        ends = ((0.0, float(samples[0])), (1.0, float(samples[2])))
+        (w, fw), (v, fv) = ends if samples[0] > samples[2] else ends[::-1]
+        return max(best, peak_search(force, 0.0, 1.0, (0.5, best), (w, fw), (v, fv)))
+    return max(best, peak_search(force, 0.0 if k == 0 else 0.5, 0.5 if k == 0 else 1.0))
+
+
+def peak_search(
+    force: Callable[[float], float],
+    a: float,
+    b: float,
+    *known: tuple[float, float],
+) -> float:
+    """The largest ``force(x)`` over ``[a, b]``, which brackets a crest: Brent's search for a minimum (Brent 1973,
+    "localmin") on the force's negative, a parabola through the three best points where it falls well inside the
+    bracket, else a golden section of its larger part, until the bracket is :data:`PEAK_WIDTH` wide about the best
+    point. ``known``: none (a golden point is read first), or the best point in ``(a, b)`` and two others (the
+    bracket's ends), each ``(x, force(x))`` (sim.c's ``peak_search``, the same operations).
+    """
+    golden, tol = 0.5 * (3.0 - math.sqrt(5.0)), 0.25 * PEAK_WIDTH
+    if known:
+        (x, fx), (w, fw), (v, fv) = known
+        d = e = b - a  # the known points' parabola is tried at once
+    else:
+        x = w = v = a + golden * (b - a)
+        fx = fw = fv = force(x)
+        d = e = 0.0
+    for _ in range(100):
+        m = 0.5 * (a + b)
+        if abs(x - m) <= 2.0 * tol - 0.5 * (b - a):
+            break
+        if abs(e) > tol:  # the parabola's vertex u = x + p / q through (x, -fx), (w, -fw), (v, -fv)
+            s = (x - w) * (fv - fx)
+            q = (x - v) * (fw - fx)
+            p = (x - v) * q - (x - w) * s
+            q = 2.0 * (q - s)
+            if q > 0.0:
+                p = -p
+            q = abs(q)
+            s, e = e, d
+            if abs(p) >= abs(0.5 * q * s) or p <= q * (a - x) or p >= q * (b - x):
+                e = a - x if x >= m else b - x
+                d = golden * e
+            else:
+                d = p / q
+                if (x + d) - a < 2.0 * tol or b - (x + d) < 2.0 * tol:
+                    d = tol if m > x else -tol
         else:
-            a, c, fc = c, d, fd
-            d = a + g * (b - a)
-            fd = force(d)
-    return max(best, fc, fd)
+            e = a - x if x >= m else b - x
+            d = golden * e
+        u = x + d if abs(d) >= tol else x + (tol if d >= 0.0 else -tol)
+        fu = force(u)
+        if fu >= fx:
+            if u >= x:
+                a = x
+            else:
+                b = x
+            v, fv, w, fw, x, fx = w, fw, x, fx, u, fu
+        else:
+            if u < x:
+                a = u
+            else:
+                b = u
+            if fu >= fw or w == x:
+                v, fv, w, fw = w, fw, u, fu
+            elif fu >= fv or v == x or v == w:
+                v, fv = u, fu
+    return fx
+
+
+def _quartic_slope(c: tuple[float, ...], s: float, second: bool = False) -> float:
+    """The derivative of the quartic ``c[0] + c[1] s + ... + c[4] s^4`` at ``s``, or its second derivative."""
+    if second:
+        return 2.0 * c[2] + s * (6.0 * c[3] + s * 12.0 * c[4])
+    return c[1] + s * (2.0 * c[2] + s * (3.0 * c[3] + s * 4.0 * c[4]))
+
+
+def _quartic_crest(c: tuple[float, ...], lo: float, hi: float) -> float:
+    """The root in ``[lo, hi]`` of the quartic's derivative, > 0 at ``lo``, < 0 at ``hi`` and monotone between:
+    Newton's iteration kept inside the shrinking bracket, bisection where it leaves it, to :data:`PEAK_ROOT_WIDTH`
+    (sim.c's ``quartic_crest``)."""
+    s = 0.5 * (lo + hi)
+    for _ in range(64):
+        slope = _quartic_slope(c, s)
+        if slope > 0.0:
+            lo = s
+        elif slope < 0.0:
+            hi = s
+        else:
+            return s
+        curve = _quartic_slope(c, s, second=True)
+        step = slope / curve if curve != 0.0 else math.nan
+        nxt = s - step
+        if not lo < nxt < hi:  # NaN too
+            nxt = 0.5 * (lo + hi)
+        if abs(nxt - s) < PEAK_ROOT_WIDTH or hi - lo < PEAK_ROOT_WIDTH:
+            return nxt
+        s = nxt
+    return s
+
+
+def quartic_peak(f: tuple[float, ...]) -> float:
+    """Where in ``[0, 1]`` the quartic through ``f`` at ``x = 0, 1/4, 1/2, 3/4, 1`` is largest.
+
+    At a crest (a root of its cubic derivative where that falls through 0; the derivative is monotone between
+    the roots of the quadratic second derivative) or at an end (sim.c's ``quartic_peak``, the same operations).
+    """
+    # The quartic in s = 2 x - 1 on the nodes -1, -1/2, 0, 1/2, 1: its even and odd parts.
+    far, near = 0.5 * (f[0] + f[4]), 0.5 * (f[1] + f[3])
+    rise, step = 0.5 * (f[4] - f[0]), 0.5 * (f[3] - f[1])
+    c4 = (4.0 / 3.0) * (far - 4.0 * near + 3.0 * f[2])
+    c3 = (4.0 / 3.0) * (rise - 2.0 * step)
+    c = (f[2], rise - c3, far - f[2] - c4, c3, c4)
+    best_s, best = (1.0, f[4]) if f[4] > f[0] else (-1.0, f[0])
+    # The roots of the second derivative 12 c4 s^2 + 6 c3 s + 2 c2 in (-1, 1) cut [-1, 1] where the slope turns.
+    cuts = [-1.0]
+    a, b = 6.0 * c4, 3.0 * c3
+    q = b * b - 4.0 * a * c[2]
+    if a != 0.0 and q >= 0.0:
+        r = -0.5 * (b + math.copysign(math.sqrt(q), b))
+        one, two = (c[2] / r if r != 0.0 else 0.0), r / a
+        lo, hi = min(one, two), max(one, two)
+        cuts += [lo] if -1.0 < lo < 1.0 else []
+        cuts += [hi] if -1.0 < hi < 1.0 and hi != lo else []
+    elif a == 0.0 and b != 0.0 and -1.0 < -c[2] / b < 1.0:
+        cuts.append(-c[2] / b)
+    cuts.append(1.0)
+    for lo, hi in zip(cuts[:-1], cuts[1:]):
+        if not (_quartic_slope(c, lo) > 0.0 and _quartic_slope(c, hi) < 0.0):
+            continue
+        root = _quartic_crest(c, lo, hi)
+        value = c[0] + root * (c[1] + root * (c[2] + root * (c[3] + root * c[4])))
+        if value > best:
+            best_s, best = root, value
+    return 0.5 * (best_s + 1.0)
 
 
 def _slide_directions(du: float, P_t: float) -> tuple[int, int]:

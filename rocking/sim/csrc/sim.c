@@ -2114,22 +2114,182 @@ static double bumper_force_in_step(run *r, double t_end, double x)
     return bumper_force(r, y);
 }
 
-/* Where a step's dense output is looked at for the peak of a bumper's force: its ends and middle;
- * the golden-section search for it stops at PEAK_WIDTH of the step (numpy_backend.step_peak). */
+/* Where a step's dense output is looked at for the peak of a bumper's force: its ends and middle, then where the
+ * peak is searched for its quarters too (numpy_backend.PEAK_SAMPLES, PEAK_QUARTERS). A Hunt-Crossley pad's
+ * search for it narrows its bracket to PEAK_WIDTH of the step, the Newton iteration on a Kelvin-Voigt pad's
+ * quartic stops at PEAK_ROOT_WIDTH (numpy_backend.step_peak). */
 #define PEAK_POINTS 3
 #define PEAK_WIDTH 1e-5
+#define PEAK_ROOT_WIDTH 1e-9
+
+/* Every pad Kelvin-Voigt (no Hunt-Crossley memory in the regime): the pads' force is affine in the state. */
+#if MODEL_NREGIME > MODEL_NSTOPS
+#define PADS_AFFINE 0
+#else
+#define PADS_AFFINE 1
+#endif
+
+#if PADS_AFFINE
+/* The derivative of the quartic c[0] + c[1] s + ... + c[4] s^4 at s (d = 1) or its second derivative (d = 2). */
+static double quartic_slope(const double *c, double s, int d)
+{
+    if (d == 2)
+        return 2.0 * c[2] + s * (6.0 * c[3] + s * 12.0 * c[4]);
+    return c[1] + s * (2.0 * c[2] + s * (3.0 * c[3] + s * 4.0 * c[4]));
+}
+
+/* The root of the quartic's derivative in [lo, hi] where it falls through 0 (> 0 at lo, < 0 at hi, monotone
+ * between): Newton's iteration kept inside the shrinking bracket, bisection where it leaves it, to PEAK_ROOT_WIDTH. */
+static double quartic_crest(const double *c, double lo, double hi)
+{
+    double s = 0.5 * (lo + hi), next, slope;
+    int i;
+    for (i = 0; i < 64; ++i) {
+        slope = quartic_slope(c, s, 1);
+        if (slope > 0.0)
+            lo = s;
+        else if (slope < 0.0)
+            hi = s;
+        else
+            return s;
+        next = s - slope / quartic_slope(c, s, 2);
+        if (!(next > lo && next < hi)) /* NaN too */
+            next = 0.5 * (lo + hi);
+        if (fabs(next - s) < PEAK_ROOT_WIDTH || hi - lo < PEAK_ROOT_WIDTH)
+            return next;
+        s = next;
+    }
+    return s;
+}
+
+/* Where in [0, 1] the quartic through f at x = 0, 1/4, 1/2, 3/4, 1 is largest: at a crest (a root of its cubic
+ * derivative where that falls through 0; the derivative is monotone between the roots of the quadratic second
+ * derivative), or at an end. The same operations as numpy_backend.quartic_peak. */
+static double quartic_peak(const double *f)
+{
+    /* The quartic in s = 2 x - 1 on the nodes -1, -1/2, 0, 1/2, 1: its even and odd parts. */
+    const double far = 0.5 * (f[0] + f[4]), near = 0.5 * (f[1] + f[3]);
+    const double rise = 0.5 * (f[4] - f[0]), step = 0.5 * (f[3] - f[1]);
+    double c[5], cuts[4], best_s = -1.0, best, a, b, q, root, value;
+    int n = 0, i;
+    c[0] = f[2];
+    c[4] = (4.0 / 3.0) * (far - 4.0 * near + 3.0 * f[2]);
+    c[2] = far - f[2] - c[4];
+    c[3] = (4.0 / 3.0) * (rise - 2.0 * step);
+    c[1] = rise - c[3];
+    best = f[0];
+    if (f[4] > best)
+        best_s = 1.0, best = f[4];
+    /* The roots of the second derivative 12 c4 s^2 + 6 c3 s + 2 c2 in (-1, 1) cut [-1, 1] where the slope turns. */
+    cuts[n++] = -1.0;
+    a = 6.0 * c[4], b = 3.0 * c[3];
+    q = b * b - 4.0 * a * c[2];
+    if (a != 0.0 && q >= 0.0) {
+        const double r = -0.5 * (b + copysign(sqrt(q), b));
+        const double one = r != 0.0 ? c[2] / r : 0.0, two = r / a;
+        const double lo = fmin(one, two), hi = fmax(one, two);
+        if (lo > -1.0 && lo < 1.0)
+            cuts[n++] = lo;
+        if (hi > -1.0 && hi < 1.0 && hi != lo)
+            cuts[n++] = hi;
+    } else if (a == 0.0 && b != 0.0 && -c[2] / b > -1.0 && -c[2] / b < 1.0) {
+        cuts[n++] = -c[2] / b;
+    }
+    cuts[n++] = 1.0;
+    for (i = 0; i + 1 < n; ++i) {
+        if (!(quartic_slope(c, cuts[i], 1) > 0.0 && quartic_slope(c, cuts[i + 1], 1) < 0.0))
+            continue;
+        root = quartic_crest(c, cuts[i], cuts[i + 1]);
+        value = c[0] + root * (c[1] + root * (c[2] + root * (c[3] + root * c[4])));
+        if (value > best)
+            best_s = root, best = value;
+    }
+    return 0.5 * (best_s + 1.0);
+}
+#endif
+
+#if !PADS_AFFINE
+/* The largest bumper force on the last step's dense output up to t_end over the step fractions [a, b], which
+ * bracket a crest: Brent's search for a minimum (Brent 1973, "localmin") on the force's negative, a parabola
+ * through the three best points where it falls well inside the bracket, else a golden section of its larger
+ * part, until the bracket is PEAK_WIDTH wide about the best point. x, w, v (in (a, b), or x < 0: a golden
+ * point is read and w, v are x) with their forces fx, fw, fv: the best point and two others known (the
+ * bracket's ends). The same operations as numpy_backend.peak_search. */
+static double peak_search(run *r, double t_end, double a, double b, double x, double fx, double w, double fw, double v,
+                          double fv)
+{
+    const double golden = 0.5 * (3.0 - sqrt(5.0)), tol = 0.25 * PEAK_WIDTH;
+    double d = 0.0, e = 0.0, u, fu, m, p, q, s;
+    int i;
+    if (x < 0.0) {
+        x = w = v = a + golden * (b - a);
+        fx = fw = fv = bumper_force_in_step(r, t_end, x);
+    } else {
+        d = e = b - a; /* the known points' parabola is tried at once */
+    }
+    for (i = 0; i < 100; ++i) {
+        m = 0.5 * (a + b);
+        if (fabs(x - m) <= 2.0 * tol - 0.5 * (b - a))
+            break;
+        if (fabs(e) > tol) { /* the parabola's vertex u = x + p / q through (x, -fx), (w, -fw), (v, -fv) */
+            s = (x - w) * (fv - fx);
+            q = (x - v) * (fw - fx);
+            p = (x - v) * q - (x - w) * s;
+            q = 2.0 * (q - s);
+            if (q > 0.0)
+                p = -p;
+            q = fabs(q);
+            s = e;
+            e = d;
+            if (fabs(p) >= fabs(0.5 * q * s) || p <= q * (a - x) || p >= q * (b - x)) {
+                e = x >= m ? a - x : b - x;
+                d = golden * e;
+            } else {
+                d = p / q;
+                if ((x + d) - a < 2.0 * tol || b - (x + d) < 2.0 * tol)
+                    d = m > x ? tol : -tol;
+            }
+        } else {
+            e = x >= m ? a - x : b - x;
+            d = golden * e;
+        }
+        u = fabs(d) >= tol ? x + d : x + (d >= 0.0 ? tol : -tol);
+        fu = bumper_force_in_step(r, t_end, u);
+        if (fu >= fx) {
+            if (u >= x)
+                a = x;
+            else
+                b = x;
+            v = w, fv = fw, w = x, fw = fx, x = u, fx = fu;
+        } else {
+            if (u < x)
+                a = u;
+            else
+                b = u;
+            if (fu >= fw || w == x) {
+                v = w, fv = fw, w = u, fw = fu;
+            } else if (fu >= fv || v == x || v == w) {
+                v = u, fv = fu;
+            }
+        }
+    }
+    return fx;
+}
+#endif
 
 /* While a pad pushes, the peak of the bumpers' force over the last step up to t_end (rule 6): the dense
  * output at the step's ends and middle; where the largest of those reaches bumper_force_max, the step's
  * maximum: the largest sample, or at an end of the step the end itself where the parabola through it and
- * its two neighbours still climbs there, otherwise the golden-section search between the largest sample's
- * neighbours. The same operations as numpy_backend.step_peak. bumper_at_start: the force at the step's start
- * (the last step's end, or the segment's start: the same state in every component). Returns the force at y_end. */
+ * its two neighbours still climbs there; otherwise, where every pad is Kelvin-Voigt, at the largest point of
+ * the quartic through the step's ends, quarters and middle (the force k_b delta + c_b ddelta is affine in the
+ * state, the dense output a quartic in the step's fraction: the quartic is the force), else peak_search
+ * between the largest sample's neighbours. The same operations as
+ * numpy_backend.step_peak. bumper_at_start: the force at the step's start (the last step's end, or the
+ * segment's start: the same state in every component). Returns the force at y_end. */
 static double step_peak(run *r, double bumper_at_start, double t_end, const double *y_end)
 {
     const int n = PEAK_POINTS - 1;
-    const double g = 0.5 * (sqrt(5.0) - 1.0);
-    double f[PEAK_POINTS], a, b, c, d, fc, fd, best;
+    double f[PEAK_POINTS], best;
     int i, k = 0;
     f[0] = bumper_at_start;
     for (i = 1; i < n; ++i)
@@ -2147,24 +2307,26 @@ static double step_peak(run *r, double bumper_at_start, double t_end, const doub
         return f[n];
     if (k == 0 && -3.0 * f[0] + 4.0 * f[1] - f[2] < 0.0)
         return f[n];
-    a = (double)(k > 0 ? k - 1 : 0) / n;
-    b = (double)(k < n ? k + 1 : n) / n;
-    c = b - g * (b - a);
-    d = a + g * (b - a);
-    fc = bumper_force_in_step(r, t_end, c);
-    fd = bumper_force_in_step(r, t_end, d);
-    while (b - a > PEAK_WIDTH) {
-        if (fc > fd) {
-            b = d, d = c, fd = fc;
-            c = b - g * (b - a);
-            fc = bumper_force_in_step(r, t_end, c);
-        } else {
-            a = c, c = d, fc = fd;
-            d = a + g * (b - a);
-            fd = bumper_force_in_step(r, t_end, d);
-        }
+#if PADS_AFFINE
+    {
+        double q[5], x;
+        q[0] = f[0], q[2] = f[1], q[4] = f[2];
+        q[1] = bumper_force_in_step(r, t_end, 0.25);
+        q[3] = bumper_force_in_step(r, t_end, 0.75);
+        x = quartic_peak(q);
+        best = max2(best, max2(q[1], q[3]));
+        if (x > 0.0 && x < 1.0)
+            best = max2(best, bumper_force_in_step(r, t_end, x));
+        r->res->bumper_force_max = best;
     }
-    r->res->bumper_force_max = max2(r->res->bumper_force_max, max2(fc, fd));
+#else
+    if (k == 1) /* the middle, best of three: the ends bracket it and give the first parabola */
+        best = peak_search(r, t_end, 0.0, 1.0, 0.5, f[1], f[0] > f[2] ? 0.0 : 1.0, max2(f[0], f[2]),
+                           f[0] > f[2] ? 1.0 : 0.0, f[0] > f[2] ? f[2] : f[0]);
+    else
+        best = peak_search(r, t_end, k == 0 ? 0.0 : 0.5, k == 0 ? 0.5 : 1.0, -1.0, 0.0, 0.0, 0.0, 0.0, 0.0);
+    r->res->bumper_force_max = max2(r->res->bumper_force_max, best);
+#endif
     return f[n];
 }
 #endif
