@@ -246,3 +246,27 @@ def test_the_command_starts_one_blas_thread_unless_told_otherwise():
     assert _blas_threads("import rocking.cli.main") == ["1", "1"]
     assert _blas_threads("import rocking.cli.main", {"OMP_NUM_THREADS": "3"}) == ["1", "3"]
     assert _blas_threads("import numpy, rocking.cli.main") == ["-", "-"]
+
+
+def test_preload_in_a_callers_process_neither_imports_nor_freezes():
+    code = (
+        "import gc, sys\nfrom rocking.cli import preload\npreload('xarray')\n"
+        "print('xarray' in sys.modules, gc.get_freeze_count(), gc.isenabled())"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split() == ["False", "0", "True"]
+
+
+def test_a_map_command_loads_its_libraries_frozen_and_collects_the_rest(tmp_path):
+    """In the command's own process the study's libraries load with the collector paused and are frozen; the
+    collector runs again afterwards (for what the study and its figure make), and the files are written."""
+    argv = ["rocking", "map", "--Omega", "1", "10", "2", "--beta", "1", "10", "2", "--workers", "1"]
+    argv += ["--no-progress", "--out", str(tmp_path)]
+    code = (
+        f"import gc, sys\nsys.argv = {argv!r}\nfrom rocking.cli.main import main\nassert main() == 0\n"
+        "import weakref\nclass Cycle: pass\nc = Cycle(); c.me = c; dead = weakref.ref(c); del c\ngc.collect()\n"
+        "print(gc.isenabled(), gc.get_freeze_count() > 100_000, dead() is None)"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split()[-3:] == ["True", "True", "True"]
+    assert sorted(p.name for p in tmp_path.glob("map.*")) == ["map.csv", "map.json", "map.nc", "map.png"]

@@ -10,8 +10,12 @@ product the command computes, a fragility's bootstrap (resamples x motions x lev
 thread. A variable already set is kept, and a process that loaded NumPy before (a user's, a test's) is left alone.
 """
 
+from __future__ import annotations
+
+import gc
 import os
 import sys
+from importlib import import_module
 
 #: The variables that set how many threads the BLAS libraries NumPy may load start (OpenBLAS; an OpenMP build).
 BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")
@@ -19,3 +23,38 @@ BLAS_THREADS = ("OPENBLAS_NUM_THREADS", "OMP_NUM_THREADS")
 if "numpy" not in sys.modules:
     for name in BLAS_THREADS:
         os.environ.setdefault(name, "1")
+
+#: Whether this process is the command's own (:func:`claim_process`), where :func:`preload` may change how the
+#: cyclic garbage collector treats it.
+_own_process = False
+
+
+def claim_process() -> None:
+    """Mark this process as the command's own (``rocking.cli.main.main`` called without arguments, as the console
+    script and ``python -m rocking`` do), not a caller's."""
+    global _own_process
+    _own_process = True
+
+
+def preload(*modules: str) -> None:
+    """Import ``modules``, which the command is about to use, in its own process (:func:`claim_process`) with the
+    cyclic garbage collector paused, then exempt every object alive from later collections (:func:`gc.freeze`).
+
+    A library's import makes objects that live as long as the process (modules, classes, functions, tables): the
+    collections its allocations trigger, the full ones that scan them again as the heap grows, and the last one at
+    the interpreter's exit free none of them. On a 2 x 2 map they cost 0.2 s of CPU: 0.08 s while xarray, pandas and
+    matplotlib load and the figure is built, 0.13 s more at exit (0.17 s against 0.04 s frozen). Objects made later
+    (a study's, a figure's) are collected as before. Elsewhere (a caller's process, whose objects are its own):
+    nothing, the modules load where they are first used.
+    """
+    if not _own_process:
+        return
+    enabled = gc.isenabled()
+    gc.disable()
+    try:
+        for module in modules:
+            import_module(module)
+    finally:
+        gc.freeze()
+        if enabled:
+            gc.enable()
