@@ -7,12 +7,14 @@ import os
 import subprocess
 import sys
 import time
+from importlib import metadata
 from pathlib import Path
 
 import pytest
 
 import rocking
 from rocking.cli import BLAS_THREADS
+from rocking.study.config import RECORDED_PACKAGES, installed_version
 
 #: Libraries ``import rocking`` must not load: each costs from a tenth of a second to a second (tqdm 15 ms, with the
 #: asyncio its notebook support imports: a study imports it only for a progress bar shown).
@@ -270,3 +272,12 @@ def test_a_map_command_loads_its_libraries_frozen_and_collects_the_rest(tmp_path
     run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
     assert run.stdout.split()[-3:] == ["True", "True", "True"]
     assert sorted(p.name for p in tmp_path.glob("map.*")) == ["map.csv", "map.json", "map.nc", "map.png"]
+
+
+@pytest.mark.parametrize("package", [*RECORDED_PACKAGES, "xarray", "rocking", "no-such-package"])
+def test_a_version_read_from_the_metadata_header_is_importlib_metadatas(package):
+    try:
+        expected = metadata.version(package)
+    except metadata.PackageNotFoundError:
+        expected = None
+    assert installed_version(package) == expected
