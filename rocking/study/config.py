@@ -635,7 +635,7 @@ def versions() -> dict:
     Read from the installed distributions' metadata (:func:`installed_version`): nothing is imported (SymPy and
     Dask are heavy and not needed to write a study).
     """
-    out = {"python": platform.python_version(), "rocking": __version__}
+    out: dict = {"python": platform.python_version(), "rocking": __version__}
     out |= {package: installed_version(package) for package in RECORDED_PACKAGES}
     out["model_sha256"] = {name: model_hash(name) for name in ("block", "omd")}
     return out
