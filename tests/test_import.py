@@ -274,6 +274,15 @@ def test_a_map_command_loads_its_libraries_frozen_and_collects_the_rest(tmp_path
     assert sorted(p.name for p in tmp_path.glob("map.*")) == ["map.csv", "map.json", "map.nc", "map.png"]
 
 
+def test_a_command_that_loads_no_library_freezes_what_it_loaded():
+    code = (
+        "import gc, sys\nsys.argv = ['rocking', 'simulate', '--beta', '3', '--Omega', '4']\n"
+        "from rocking.cli.main import main\nassert main() == 0\nprint(gc.isenabled(), gc.get_freeze_count() > 10_000)"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split()[-2:] == ["True", "True"]
+
+
 @pytest.mark.parametrize("package", [*RECORDED_PACKAGES, "xarray", "rocking", "no-such-package"])
 def test_a_version_read_from_the_metadata_header_is_importlib_metadatas(package):
     try:

@@ -32,9 +32,12 @@ _own_process = False
 
 def claim_process() -> None:
     """Mark this process as the command's own (``rocking.cli.main.main`` called without arguments, as the console
-    script and ``python -m rocking`` do), not a caller's."""
+    script and ``python -m rocking`` do), not a caller's, and exempt what it has loaded (the command's modules,
+    NumPy, its parser) from later collections (:func:`gc.freeze`, as :func:`preload` does): 0.015 s of the CPU of
+    ``rocking --help`` and ``rocking simulate``, mostly the last collection at the interpreter's exit."""
     global _own_process
     _own_process = True
+    gc.freeze()
 
 
 def preload(*modules: str) -> None:
