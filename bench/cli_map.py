@@ -20,6 +20,7 @@ loaded, whose loading is part of the fixed cost.
     python bench/cli_map.py                            # 5 runs of each: about 4 minutes on 2 cores
     python bench/cli_map.py -n 200 --runs 1 --json out/cli-200.json
     python bench/cli_map.py --coarse 32 --verify 16 --json out/cli-400-32.json   # another refinement
+    python bench/cli_map.py --fixed --runs 20          # the fixed cost alone: about a minute
 """
 
 from __future__ import annotations
@@ -194,6 +195,30 @@ def measure(n: int, workers: int, runs: int, refine: dict | None = None) -> dict
     return result | ratios(result)
 
 
+def measure_fixed(workers: int, runs: int) -> dict:
+    """The command's fixed cost alone: the 2 x 2 map's command ``runs`` times (its best and median) and the commands
+    that answer at once (their best of ``runs``)."""
+    bytecode()
+    samples = []
+    for _ in range(runs):
+        with tempfile.TemporaryDirectory() as out:
+            samples.append(timed_command(command(FIXED, workers, True, out)))
+    result = {"workers": workers, "runs": runs, "samples": {"fixed": samples}}
+    result["fixed"] = {key: min(v[key] for v in samples) for key in samples[0]}
+    result["fixed_median"] = {key: statistics.median(v[key] for v in samples) for key in samples[0]}
+    return result | {"quick_cpu_s": quick(runs)}
+
+
+def fixed_line(r: dict) -> str:
+    """The fixed cost's figures (:func:`measure_fixed`) against issue 40's targets, as one sentence."""
+    best, median = r["fixed"], r["fixed_median"]
+    return (
+        f"The command on a {FIXED} x {FIXED} map (--full, {r['workers']} workers), best of {r['runs']} runs: "
+        f"wall {best['wall_s']:.2f} s, CPU {best['cpu_s']:.2f} s (median {median['cpu_s']:.2f} s; "
+        f"at most {FIXED_CPU_S:g} s)."
+    ) + quick_text(r["quick_cpu_s"])
+
+
 def ratios(result: dict) -> dict:
     """The ratios of the best times of ``result``, of the wall times and of the CPU's: each command over its
     simulation, full over adaptive; what the command adds to the adaptive map and may add for the target."""
@@ -302,8 +327,20 @@ def main(argv=None) -> int:
     parser.add_argument("--coarse", type=int, help="coarse step of the adaptive map (default: the command's)")
     parser.add_argument("--verify", type=int, help="first verification step of the adaptive map (default: --coarse)")
     parser.add_argument("--json", help="also write the figures to this file")
+    parser.add_argument(
+        "--fixed", action="store_true", help="only the fixed cost: the 2 x 2 map and the commands that answer at once"
+    )
     args = parser.parse_args(argv)
     started = machine()
+    if args.fixed:
+        result = measure_fixed(args.workers, args.runs)
+        print(fixed_line(result))
+        if args.json:
+            record = {"command": command_line("cli_map.py", argv), "machine": started | ended()}
+            with open(args.json, "w") as f:
+                json.dump(record | result, f, indent=2)
+                f.write("\n")
+        return 0
     refine = {key: value for key in ("coarse", "verify") if (value := getattr(args, key)) is not None}
     result = measure(args.n, args.workers, args.runs, refine)
     report(result)

@@ -25,79 +25,108 @@ Examples
 (True, True)
 """
 
-from .model.floor import Floor
-from .model.loading import Model, ModelError, available_models, load_model
-from .model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion
-from .model.params import Block, Damper, ParameterError, Stops
-from .model.plausibility import PlausibilityWarning
-from .model.pulse import OneSinePulse
-from .model.vertical import Vertical
-from .sim.cbuild import CBuildError
-from .sim.problem import Response, SimulationError
-from .sim.run import BackendWarning, simulate
-from .study.api import (
-    design,
-    fragility,
-    friction_map,
-    incremental_dynamic_analysis,
-    minimum_overturning_spectrum,
-    optimal_damper,
-    overturning_map,
-    threshold_map,
-)
-from .study.config import Grid, Setting, Tuning, Variant
-from .study.design import DesignWarning, designed_damper
-from .study.files import DiskFull
-from .study.fragility import FitWarning
-from .study.result import Study
-from .study.storage import load, save
-from .study.suite import Suite
-from .study.tiles import Execution, Interrupted, TileWarning
+from __future__ import annotations
+
+from importlib import import_module
+from typing import TYPE_CHECKING, Any
+
 from .version import __version__ as __version__
 
-__all__ = [
-    "BackendWarning",
-    "Block",
-    "CBuildError",
-    "Damper",
-    "DesignWarning",
-    "DiskFull",
-    "Execution",
-    "FitWarning",
-    "Floor",
-    "Grid",
-    "Interrupted",
-    "MavroeidisPapageorgiou",
-    "Model",
-    "ModelError",
-    "OneCosinePulse",
-    "OneSinePulse",
-    "ParameterError",
-    "PlausibilityWarning",
-    "Response",
-    "RickerWavelet",
-    "SampledMotion",
-    "Setting",
-    "SimulationError",
-    "Stops",
-    "Study",
-    "Suite",
-    "TileWarning",
-    "Tuning",
-    "Variant",
-    "Vertical",
-    "available_models",
-    "design",
-    "designed_damper",
-    "fragility",
-    "friction_map",
-    "incremental_dynamic_analysis",
-    "load",
-    "load_model",
-    "minimum_overturning_spectrum",
-    "optimal_damper",
-    "overturning_map",
-    "save",
-    "simulate",
-    "threshold_map",
-]
+#: The public names, each with the module that defines it, imported at the name's first use (PEP 562): ``import
+#: rocking`` loads no NumPy, so that the ``rocking`` command chooses how many threads NumPy's BLAS starts before
+#: NumPy loads (:mod:`rocking.cli`). Type checkers read the same names from the imports below.
+PUBLIC = {
+    "Floor": ".model.floor",
+    "Model": ".model.loading",
+    "ModelError": ".model.loading",
+    "available_models": ".model.loading",
+    "load_model": ".model.loading",
+    "MavroeidisPapageorgiou": ".model.motion",
+    "OneCosinePulse": ".model.motion",
+    "RickerWavelet": ".model.motion",
+    "SampledMotion": ".model.motion",
+    "Block": ".model.params",
+    "Damper": ".model.params",
+    "ParameterError": ".model.params",
+    "Stops": ".model.params",
+    "PlausibilityWarning": ".model.plausibility",
+    "OneSinePulse": ".model.pulse",
+    "Vertical": ".model.vertical",
+    "CBuildError": ".sim.cbuild",
+    "Response": ".sim.problem",
+    "SimulationError": ".sim.problem",
+    "BackendWarning": ".sim.run",
+    "simulate": ".sim.run",
+    "design": ".study.api",
+    "fragility": ".study.api",
+    "friction_map": ".study.api",
+    "incremental_dynamic_analysis": ".study.api",
+    "minimum_overturning_spectrum": ".study.api",
+    "optimal_damper": ".study.api",
+    "overturning_map": ".study.api",
+    "threshold_map": ".study.api",
+    "Grid": ".study.config",
+    "Setting": ".study.config",
+    "Tuning": ".study.config",
+    "Variant": ".study.config",
+    "DesignWarning": ".study.design",
+    "designed_damper": ".study.design",
+    "DiskFull": ".study.files",
+    "FitWarning": ".study.fragility",
+    "Study": ".study.result",
+    "load": ".study.storage",
+    "save": ".study.storage",
+    "Suite": ".study.suite",
+    "Execution": ".study.tiles",
+    "Interrupted": ".study.tiles",
+    "TileWarning": ".study.tiles",
+}
+
+__all__ = sorted(PUBLIC)
+
+
+def __getattr__(name: str) -> Any:
+    """The public ``name``, imported from its module at its first use and kept here."""
+    if name not in PUBLIC:
+        raise AttributeError(f"module {__name__!r} has no attribute {name!r}")
+    value = getattr(import_module(PUBLIC[name], __name__), name)
+    globals()[name] = value
+    return value
+
+
+def __dir__() -> list[str]:
+    """The module's names with the public ones not imported yet."""
+    return sorted(set(globals()) | set(__all__))
+
+
+# The names of PUBLIC for type checkers and readers (tests/test_import.py holds the two the same); F401: ruff does
+# not read __all__ from PUBLIC.
+if TYPE_CHECKING:
+    from .model.floor import Floor  # noqa: F401
+    from .model.loading import Model, ModelError, available_models, load_model  # noqa: F401
+    from .model.motion import MavroeidisPapageorgiou, OneCosinePulse, RickerWavelet, SampledMotion  # noqa: F401
+    from .model.params import Block, Damper, ParameterError, Stops  # noqa: F401
+    from .model.plausibility import PlausibilityWarning  # noqa: F401
+    from .model.pulse import OneSinePulse  # noqa: F401
+    from .model.vertical import Vertical  # noqa: F401
+    from .sim.cbuild import CBuildError  # noqa: F401
+    from .sim.problem import Response, SimulationError  # noqa: F401
+    from .sim.run import BackendWarning, simulate  # noqa: F401
+    from .study.api import (  # noqa: F401
+        design,
+        fragility,
+        friction_map,
+        incremental_dynamic_analysis,
+        minimum_overturning_spectrum,
+        optimal_damper,
+        overturning_map,
+        threshold_map,
+    )
+    from .study.config import Grid, Setting, Tuning, Variant  # noqa: F401
+    from .study.design import DesignWarning, designed_damper  # noqa: F401
+    from .study.files import DiskFull  # noqa: F401
+    from .study.fragility import FitWarning  # noqa: F401
+    from .study.result import Study  # noqa: F401
+    from .study.storage import load, save  # noqa: F401
+    from .study.suite import Suite  # noqa: F401
+    from .study.tiles import Execution, Interrupted, TileWarning  # noqa: F401

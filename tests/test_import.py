@@ -3,14 +3,18 @@
 from __future__ import annotations
 
 import ast
+import os
 import subprocess
 import sys
 import time
+from importlib import metadata
 from pathlib import Path
 
 import pytest
 
 import rocking
+from rocking.cli import BLAS_THREADS
+from rocking.study.config import RECORDED_PACKAGES, installed_version
 
 #: Libraries ``import rocking`` must not load: each costs from a tenth of a second to a second (tqdm 15 ms, with the
 #: asyncio its notebook support imports: a study imports it only for a progress bar shown).
@@ -210,3 +214,79 @@ def test_without_a_dask_scheduler_the_command_hides_dask():
         "try:\n    import dask\nexcept ModuleNotFoundError:\n    pass\nelse:\n    raise AssertionError('dask imported')"
     )
     assert _heavy_after(code) == []
+
+
+def test_import_rocking_loads_no_numpy_and_its_names_load_at_first_use():
+    code = "import sys, rocking; print('numpy' in sys.modules, rocking.Block.__module__, 'numpy' in sys.modules)"
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split() == ["False", "rocking.model.params", "True"]
+
+
+def test_public_names_for_type_checkers_are_those_imported_at_first_use():
+    """rocking/__init__.py's imports for type checkers name each name of PUBLIC from its module, and no other."""
+    tree = ast.parse(Path(rocking.__file__).read_text(encoding="utf-8"))
+    (block,) = [n for n in tree.body if isinstance(n, ast.If) and ast.unparse(n.test) == "TYPE_CHECKING"]
+    imported = {alias.name: "." + node.module for node in block.body for alias in node.names}
+    assert imported == rocking.PUBLIC
+    assert sorted(dir(rocking)) == sorted(set(dir(rocking)) | set(rocking.__all__))
+    with pytest.raises(AttributeError, match="no attribute 'simulated'"):
+        rocking.simulated  # noqa: B018
+
+
+def _blas_threads(code: str, environ: dict | None = None) -> list[str]:
+    """OPENBLAS_NUM_THREADS and OMP_NUM_THREADS after ``code`` in a new interpreter without them (but ``environ``)."""
+    env = {k: v for k, v in os.environ.items() if k not in BLAS_THREADS} | (environ or {})
+    probe = f"{code}\nimport os\nprint(*(os.environ.get(name, '-') for name in {BLAS_THREADS!r}))"
+    return subprocess.run(
+        [sys.executable, "-c", probe], capture_output=True, text=True, check=True, env=env
+    ).stdout.split()
+
+
+def test_the_command_starts_one_blas_thread_unless_told_otherwise():
+    """The command's process (rocking.cli imported before NumPy) sets one BLAS thread before NumPy loads; a variable
+    given is kept, and a process that loaded NumPy first is left alone."""
+    assert _blas_threads("import rocking.cli.main") == ["1", "1"]
+    assert _blas_threads("import rocking.cli.main", {"OMP_NUM_THREADS": "3"}) == ["1", "3"]
+    assert _blas_threads("import numpy, rocking.cli.main") == ["-", "-"]
+
+
+def test_preload_in_a_callers_process_neither_imports_nor_freezes():
+    code = (
+        "import gc, sys\nfrom rocking.cli import preload\npreload('xarray')\n"
+        "print('xarray' in sys.modules, gc.get_freeze_count(), gc.isenabled())"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split() == ["False", "0", "True"]
+
+
+def test_a_map_command_loads_its_libraries_frozen_and_collects_the_rest(tmp_path):
+    """In the command's own process the study's libraries load with the collector paused and are frozen; the
+    collector runs again afterwards (for what the study and its figure make), and the files are written."""
+    argv = ["rocking", "map", "--Omega", "1", "10", "2", "--beta", "1", "10", "2", "--workers", "1"]
+    argv += ["--no-progress", "--out", str(tmp_path)]
+    code = (
+        f"import gc, sys\nsys.argv = {argv!r}\nfrom rocking.cli.main import main\nassert main() == 0\n"
+        "import weakref\nclass Cycle: pass\nc = Cycle(); c.me = c; dead = weakref.ref(c); del c\ngc.collect()\n"
+        "print(gc.isenabled(), gc.get_freeze_count() > 100_000, dead() is None)"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split()[-3:] == ["True", "True", "True"]
+    assert sorted(p.name for p in tmp_path.glob("map.*")) == ["map.csv", "map.json", "map.nc", "map.png"]
+
+
+def test_a_command_that_loads_no_library_freezes_what_it_loaded():
+    code = (
+        "import gc, sys\nsys.argv = ['rocking', 'simulate', '--beta', '3', '--Omega', '4']\n"
+        "from rocking.cli.main import main\nassert main() == 0\nprint(gc.isenabled(), gc.get_freeze_count() > 10_000)"
+    )
+    run = subprocess.run([sys.executable, "-c", code], capture_output=True, text=True, check=True)
+    assert run.stdout.split()[-2:] == ["True", "True"]
+
+
+@pytest.mark.parametrize("package", [*RECORDED_PACKAGES, "xarray", "rocking", "no-such-package"])
+def test_a_version_read_from_the_metadata_header_is_importlib_metadatas(package):
+    try:
+        expected = metadata.version(package)
+    except metadata.PackageNotFoundError:
+        expected = None
+    assert installed_version(package) == expected

@@ -53,6 +53,7 @@ from ..sim.run import NAMES, simulate
 from ..sim.stroke import mass_past_edge
 from ..study.config import Tuning, versions
 from ..study.kinds import KINDS
+from . import claim_process
 from .options import (
     add_block_options,
     add_floor_options,
@@ -950,6 +951,7 @@ def _run(argv: list[str] | None, own_process: bool = False) -> int:
             args = apply_config(parser, args, argv)
         if own_process:
             hide_dask(args)
+            claim_process()
         return args.func(args)
     except (ParameterError, ModelError) as exc:
         flags = flags_of(_subcommand(parser, args.command))

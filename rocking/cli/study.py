@@ -72,6 +72,7 @@ from ..study.suite import Suite, split_unit, suite_of
 from ..study.threshold import LAM_GRID, OMEGA_GRID, P_GRID, threshold_map, thresholds
 from ..study.tiles import Execution, Interrupted, TileWarning
 from ..study.vocabulary import FIT_STATUSES, REGIMES, regime_label
+from . import preload
 from .options import (
     acceleration,
     add_block_options,
@@ -91,6 +92,10 @@ from .options import (
     python_default,
 )
 from .rerun import CURRENT, check_same, command_record
+
+#: The libraries a study's command makes its data and figures with, loaded (:func:`rocking.cli.preload`) once its
+#: options are checked.
+STUDY_LIBRARIES = ("xarray", "rocking.plot.figures")
 
 #: The demo's spectra under a vertical component: its ratios and modest grids (about 20 s on 2 cores).
 VERTICAL_RATIOS = (0.0, 0.5, 1.0)
@@ -806,6 +811,7 @@ def run_study(name: str, args) -> int:
         values["setting"] = Setting(values.pop("block"), **{k: values.pop(k) for k in SETTING if k in values})
     formats = formats_from(args)
     out = out_from(args)  # after every option is checked: bad parameters are refused before the folder is made
+    preload(*STUDY_LIBRARIES)  # now that the study will run
     inputs = [values.pop(k) for k in kind.command.inputs]
     study = _driver(kind)(*inputs, runs=out / "runs", **values)
     _report(study, out, formats)
@@ -1088,6 +1094,7 @@ def _cmd_demo(args) -> int:
     both directions), the design answer, and ``Omega*`` across geometries; each on its command's default grids."""
     setting, execution, formats = setting_from(args), execution_from(args), formats_from(args)
     tuning, out = tuning_from(args), out_from(args)
+    preload(*STUDY_LIBRARIES)
     dampers = (("", replace(tuning, stops=True)), ("-unlimited", replace(tuning, stops=False, stroke=None)))
     start = time.perf_counter()
     runs = out / "runs"
@@ -1163,9 +1170,10 @@ def _vertical_spectra(
 
 
 def _cmd_redraw(args) -> int:
+    formats = formats_from(args)
+    preload(*STUDY_LIBRARIES)
     from ..plot.figures import redraw
 
-    formats = formats_from(args)
     for path in args.paths:
         written = redraw(path, formats)
         print(f"redrew {', '.join(str(p) for p in written)}")
