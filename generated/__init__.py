@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "82b3f6b4067b7f71b4128a6ba96643e2aa46a5f7cfd47e4da689efc415bb0602",
-    "omd": "51780a1c24ecbe8d5f72c867a723a6d86e6d460e5dfc0272143abea75169ff9b",
-    "omd2": "117788f7114eea41b435361110db16c781501ed23cbb93c32ba41990263cc831",
-    "omd_stops": "b309a28048cd4b696886077358a573238319c42efa4ed90a79e22efad0d86665",
-    "omd_stops_hc": "c27efd115a3b75916488aa92b1f2235129e3e8d96a183a822f93b53c30b8a1a9",
-    "pendulum": "0f803bfff47ad4c3671f303bee891d46cabb0764034616f9cb0602fda94ad6f9",
+    "block": "b6f6f299789d8788f6d9e8b4a9cebee2b3963106c504b4f12682c33d5ad9aa80",
+    "omd": "6f9d44ee7381d65f65a35b014a1f5ba37d80ea4c8e3d498f3705cc7b45c59470",
+    "omd2": "3d5c3f43b675183cf1d62484e391296c7bf9dc3be097a9ab2b93daf55420c033",
+    "omd_stops": "22c98ccef58fc4453525b6d927f1c5802894922878e98b45495e6eea30fdadce",
+    "omd_stops_hc": "7eced9d421021172df5bd45f3d9d128e18117c394ccbd1e5201ff77c03caca30",
+    "pendulum": "101a178244af96b02f84481c4cb750e921d86832e3030b9865db02d6ccd981d4",
 }

@@ -34,11 +34,11 @@ from types import ModuleType
 
 import numpy as np
 
-import rocking.generated
+import rocking.generated as generated_package
 
-GENERATED = Path(rocking.generated.__file__).resolve().parent
+GENERATED = Path(generated_package.__file__).resolve().parent
 #: The manifest layout this runtime reads; the derivation declares it.
-MANIFEST_FORMAT = rocking.generated.MANIFEST_FORMAT
+MANIFEST_FORMAT = generated_package.MANIFEST_FORMAT
 
 
 class ModelError(ValueError):
@@ -139,7 +139,7 @@ class Model:
 
 def available_models() -> list[str]:
     """Names of the models installed in :mod:`rocking.generated`."""
-    return sorted(rocking.generated.BUILTIN_MANIFESTS)
+    return sorted(generated_package.BUILTIN_MANIFESTS)
 
 
 def load_model(model: str | Path | Model = "omd") -> Model:
@@ -167,7 +167,7 @@ def load_model(model: str | Path | Model = "omd") -> Model:
     loaded = _LOADED.get(key)
     if loaded is None:
         if _is_builtin(model):
-            loaded = _load_folder(_builtin_folder(str(model)), rocking.generated.BUILTIN_MANIFESTS[model])
+            loaded = _load_folder(_builtin_folder(str(model)), generated_package.BUILTIN_MANIFESTS[model])
         else:
             loaded = _load_folder(_user_folder(model))
             _NAMED[loaded.folder] = loaded
@@ -215,7 +215,7 @@ _NAMED: dict[Path, Model] = {}
 
 def _is_builtin(model: str | os.PathLike) -> bool:
     """Whether ``model`` is a built-in model's name (a :class:`~pathlib.Path` is always a folder)."""
-    return isinstance(model, str) and model in rocking.generated.BUILTIN_MANIFESTS
+    return isinstance(model, str) and model in generated_package.BUILTIN_MANIFESTS
 
 
 def _builtin_folder(name: str) -> Path:
