@@ -97,7 +97,8 @@ RUNTIME_C_PREFIXES = frozenset(
     "hist over rest segment stop velocity bumper gap sa sig sigint bound least stops verdict arcs at have kept "
     "memo pads regime gravity psi v vertical pad loaded always check first floor friction impact mu slide slip u "
     "uint32 corner e flight jump law lift ag any batch cos in lane lanes p scalar sin size stages tangential uint16 "
-    "uint64 uintptr vector normal f lc lk lm ln2 load mask one pio2 shifter sincos store transpose trig best quartic".split()
+    "uint64 uintptr vector normal f lc lk lm ln2 load mask one pio2 shifter sincos store transpose trig best "
+    "quartic".split()
 )
 
 #: Every reserved symbol name, with the reason a message gives; the first reason that applies wins.

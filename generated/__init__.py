@@ -5,10 +5,10 @@ MANIFEST_FORMAT = 9
 
 #: SHA-256 of the manifest.json of each built-in model (the manifest holds those of its files).
 BUILTIN_MANIFESTS = {
-    "block": "b6f6f299789d8788f6d9e8b4a9cebee2b3963106c504b4f12682c33d5ad9aa80",
-    "omd": "6f9d44ee7381d65f65a35b014a1f5ba37d80ea4c8e3d498f3705cc7b45c59470",
-    "omd2": "3d5c3f43b675183cf1d62484e391296c7bf9dc3be097a9ab2b93daf55420c033",
-    "omd_stops": "22c98ccef58fc4453525b6d927f1c5802894922878e98b45495e6eea30fdadce",
-    "omd_stops_hc": "7eced9d421021172df5bd45f3d9d128e18117c394ccbd1e5201ff77c03caca30",
-    "pendulum": "101a178244af96b02f84481c4cb750e921d86832e3030b9865db02d6ccd981d4",
+    "block": "890832da511d09147c628bef1e0b49e4c342d78c8b4ac1edf3d24ef313953fee",
+    "omd": "1134fe1cd9c75535805a8fc4309b6f4b537bc4478bd6a7bbfaecd193cf316f81",
+    "omd2": "b94b12909d0dd15906d74104604a2a9eae4bbdd4b1e2521fd6e5b959181786af",
+    "omd_stops": "7d3b728706a49d4925992d42868da2c08fde29ab4c62df62f9272aff0662649f",
+    "omd_stops_hc": "e5ebb339500e4e2f207d937dcc7ee277372a2304a9e3549960cc0c3db47ccc74",
+    "pendulum": "bc7114c9351fd9b6a826e9363114f899e11b34f8b9f54f8add4ce8423d2fa65c",
 }
